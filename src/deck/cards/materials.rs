@@ -1,0 +1,122 @@
+//! Materials: isotropic `MAT1` and orthotropic plane-stress `MAT8`.
+
+use crate::deck::error::{DeckError, Loc};
+use crate::deck::fields::RawCard;
+use crate::deck::reader::FieldReader;
+
+/// `MAT1` — isotropic material.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | MID | int > 0 | required | material id |
+/// | 3 | E | real | see below | Young's modulus |
+/// | 4 | G | real | see below | shear modulus |
+/// | 5 | NU | real | see below | Poisson's ratio |
+/// | 6 | RHO | real | 0.0 | mass density |
+/// | 7 | A | real | 0.0 | thermal expansion (kept, unused) |
+/// | 8 | TREF | real | 0.0 | reference temperature (kept, unused) |
+/// | 9 | GE | real | 0.0 | structural damping coefficient |
+/// | cont. 2–5 | ST SC SS MCSID | | blank | stress limits (kept, unused) |
+///
+/// As in Nastran, two of E, G, NU give the third (G = E / (2(1+NU))); E alone gives NU = 0 and
+/// G = E/2; at least one of E and G must be given.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mat1 {
+    pub id: u32,
+    pub e: f64,
+    pub g: f64,
+    pub nu: f64,
+    pub rho: f64,
+    pub a: f64,
+    pub tref: f64,
+    pub ge: f64,
+    /// Which of E, G, NU were given on the card (the rest are derived).
+    pub given: [bool; 3],
+    pub loc: Loc,
+}
+
+impl Mat1 {
+    /// Read a `MAT1` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "MID");
+        f.set_id(id);
+        let (e, g, nu) = (f.opt_real(2, "E"), f.opt_real(3, "G"), f.opt_real(4, "NU"));
+        let given = [e.is_some(), g.is_some(), nu.is_some()];
+        let (e, g, nu) = match (e, g, nu) {
+            (Some(e), Some(g), Some(nu)) => (e, g, nu),
+            (Some(e), None, Some(nu)) => (e, e / (2.0 * (1.0 + nu)), nu),
+            (Some(e), Some(g), None) => (e, g, e / (2.0 * g) - 1.0),
+            (None, Some(g), Some(nu)) => (2.0 * (1.0 + nu) * g, g, nu),
+            (Some(e), None, None) => (e, e / 2.0, 0.0),
+            (None, Some(g), None) => (0.0, g, 0.0),
+            (None, None, _) => {
+                f.error(2, "E", "at least one of E and G must be given");
+                (0.0, 0.0, 0.0)
+            }
+        };
+        let rho = f.real_or(5, "RHO", 0.0);
+        let a = f.real_or(6, "A", 0.0);
+        let tref = f.real_or(7, "TREF", 0.0);
+        let ge = f.real_or(8, "GE", 0.0);
+        for (i, name) in [(9, "ST"), (10, "SC"), (11, "SS")] {
+            f.opt_real(i, name);
+        }
+        f.id0_or(12, "MCSID", 0);
+        let loc = f.loc();
+        f.finish(12)?;
+        Ok(Mat1 { id, e, g, nu, rho, a, tref, ge, given, loc })
+    }
+}
+
+/// `MAT8` — orthotropic material for shells (plane stress).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | MID | int > 0 | required | material id |
+/// | 3 | E1 | real | required | modulus along the fibres |
+/// | 4 | E2 | real | required | transverse modulus |
+/// | 5 | NU12 | real | required | Poisson's ratio (strain in 2 from stress in 1) |
+/// | 6 | G12 | real | 0.0 | in-plane shear modulus |
+/// | 7 | G1Z | real | blank | transverse shear modulus 1–Z; blank = rigid in transverse shear |
+/// | 8 | G2Z | real | blank | transverse shear modulus 2–Z; blank = rigid in transverse shear |
+/// | 9 | RHO | real | 0.0 | mass density |
+/// | cont. 2–9, 2–4 | A1 A2 TREF Xt Xc Yt Yc S GE F12 STRN | real | | thermal, strength, damping (GE used; rest kept, unused) |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mat8 {
+    pub id: u32,
+    pub e1: f64,
+    pub e2: f64,
+    pub nu12: f64,
+    pub g12: f64,
+    pub g1z: Option<f64>,
+    pub g2z: Option<f64>,
+    pub rho: f64,
+    pub ge: f64,
+    pub loc: Loc,
+}
+
+impl Mat8 {
+    /// Read a `MAT8` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "MID");
+        f.set_id(id);
+        let e1 = f.real(2, "E1");
+        let e2 = f.real(3, "E2");
+        let nu12 = f.real(4, "NU12");
+        let g12 = f.real_or(5, "G12", 0.0);
+        let g1z = f.opt_real(6, "G1Z");
+        let g2z = f.opt_real(7, "G2Z");
+        let rho = f.real_or(8, "RHO", 0.0);
+        for (i, name) in [(9, "A1"), (10, "A2"), (11, "TREF"), (12, "Xt"), (13, "Xc"), (14, "Yt"), (15, "Yc"), (16, "S")] {
+            f.opt_real(i, name);
+        }
+        let ge = f.real_or(17, "GE", 0.0);
+        f.opt_real(18, "F12");
+        f.opt_real(19, "STRN");
+        let loc = f.loc();
+        f.finish(19)?;
+        Ok(Mat8 { id, e1, e2, nu12, g12, g1z, g2z, rho, ge, loc })
+    }
+}

@@ -1,0 +1,156 @@
+//! Typed bulk-data cards: one struct per card, each with a `from_card` constructor that reads
+//! its fields through a [`FieldReader`](super::reader::FieldReader) and reports every bad field.
+//!
+//! Field layouts, defaults and meanings follow the public Nastran Quick Reference for the
+//! standard cards and `DESIGN.md` §3 for the extension cards; each struct's doc comment carries
+//! its field table. Cards are dispatched by name through [`PARSERS`], the one table that says
+//! which cards paraflex reads; a card not in it is reported as unsupported by name and line.
+
+mod constraints;
+mod design;
+mod dynamic;
+mod elements;
+mod extension;
+mod geometry;
+mod loads;
+mod materials;
+mod param;
+mod properties;
+mod rigid;
+
+pub use constraints::{Aset1, Spc, Spc1, Spcadd};
+pub use design::{Ddval, Desvar};
+pub use dynamic::{Darea, Dload, Eigrl, Freq, FreqKind, Rload1, Tabled1, Tload1, Tstep};
+pub use elements::{Celas1, Celas2, Chexa, Conm2, Cpenta, Cquad4, Ctetra, Ctria3};
+pub use extension::{Pmor, Pmpar, PmparKind, Pval, Sensor, SensorKind, Tablef, Tinteg};
+pub use geometry::{Cord2, CordKind, Grid};
+pub use loads::{Force, ForceKind, Grav, Load};
+pub use materials::{Mat1, Mat8};
+pub use param::{Param, ParamValue};
+pub use properties::{Pcomp, Pelas, Ply, Pshell, Psolid};
+pub use rigid::{Rbe2, Rbe3, Rbe3Group};
+
+use super::error::DeckError;
+use super::fields::RawCard;
+
+/// Every bulk-data card of a deck, by kind, in input order.
+#[derive(Debug, Default, Clone)]
+pub struct BulkData {
+    pub grids: Vec<Grid>,
+    pub coords: Vec<Cord2>,
+    pub cquad4: Vec<Cquad4>,
+    pub ctria3: Vec<Ctria3>,
+    pub chexa: Vec<Chexa>,
+    pub cpenta: Vec<Cpenta>,
+    pub ctetra: Vec<Ctetra>,
+    pub celas1: Vec<Celas1>,
+    pub celas2: Vec<Celas2>,
+    pub conm2: Vec<Conm2>,
+    pub rbe2: Vec<Rbe2>,
+    pub rbe3: Vec<Rbe3>,
+    pub mat1: Vec<Mat1>,
+    pub mat8: Vec<Mat8>,
+    pub pshell: Vec<Pshell>,
+    pub pcomp: Vec<Pcomp>,
+    pub psolid: Vec<Psolid>,
+    pub pelas: Vec<Pelas>,
+    pub spc: Vec<Spc>,
+    pub spc1: Vec<Spc1>,
+    pub spcadd: Vec<Spcadd>,
+    pub aset1: Vec<Aset1>,
+    /// FORCE and MOMENT cards.
+    pub forces: Vec<Force>,
+    pub grav: Vec<Grav>,
+    pub load: Vec<Load>,
+    pub eigrl: Vec<Eigrl>,
+    /// FREQ, FREQ1 and FREQ2 cards.
+    pub freq: Vec<Freq>,
+    pub tstep: Vec<Tstep>,
+    pub tload1: Vec<Tload1>,
+    pub rload1: Vec<Rload1>,
+    pub darea: Vec<Darea>,
+    pub tabled1: Vec<Tabled1>,
+    pub dload: Vec<Dload>,
+    pub params: Vec<Param>,
+    pub desvar: Vec<Desvar>,
+    pub ddval: Vec<Ddval>,
+    pub pmpar: Vec<Pmpar>,
+    pub pmor: Vec<Pmor>,
+    pub pval: Vec<Pval>,
+    pub sensors: Vec<Sensor>,
+    pub tablef: Vec<Tablef>,
+    pub tinteg: Vec<Tinteg>,
+}
+
+/// A card constructor that stores its result in [`BulkData`].
+pub type CardParser = fn(&RawCard, &mut BulkData) -> Result<(), Vec<DeckError>>;
+
+/// Name → parser table of every supported bulk-data card.
+pub static PARSERS: &[(&str, CardParser)] = &[
+    ("GRID", |c, b| Ok(b.grids.push(Grid::from_card(c)?))),
+    ("CORD2R", |c, b| Ok(b.coords.push(Cord2::from_card(c, CordKind::Rectangular)?))),
+    ("CORD2C", |c, b| Ok(b.coords.push(Cord2::from_card(c, CordKind::Cylindrical)?))),
+    ("CQUAD4", |c, b| Ok(b.cquad4.push(Cquad4::from_card(c)?))),
+    ("CTRIA3", |c, b| Ok(b.ctria3.push(Ctria3::from_card(c)?))),
+    ("CHEXA", |c, b| Ok(b.chexa.push(Chexa::from_card(c)?))),
+    ("CPENTA", |c, b| Ok(b.cpenta.push(Cpenta::from_card(c)?))),
+    ("CTETRA", |c, b| Ok(b.ctetra.push(Ctetra::from_card(c)?))),
+    ("CELAS1", |c, b| Ok(b.celas1.push(Celas1::from_card(c)?))),
+    ("CELAS2", |c, b| Ok(b.celas2.push(Celas2::from_card(c)?))),
+    ("CONM2", |c, b| Ok(b.conm2.push(Conm2::from_card(c)?))),
+    ("RBE2", |c, b| Ok(b.rbe2.push(Rbe2::from_card(c)?))),
+    ("RBE3", |c, b| Ok(b.rbe3.push(Rbe3::from_card(c)?))),
+    ("MAT1", |c, b| Ok(b.mat1.push(Mat1::from_card(c)?))),
+    ("MAT8", |c, b| Ok(b.mat8.push(Mat8::from_card(c)?))),
+    ("PSHELL", |c, b| Ok(b.pshell.push(Pshell::from_card(c)?))),
+    ("PCOMP", |c, b| Ok(b.pcomp.push(Pcomp::from_card(c)?))),
+    ("PSOLID", |c, b| Ok(b.psolid.push(Psolid::from_card(c)?))),
+    ("PELAS", |c, b| Ok(b.pelas.extend(Pelas::from_card(c)?))),
+    ("SPC", |c, b| Ok(b.spc.extend(Spc::from_card(c)?))),
+    ("SPC1", |c, b| Ok(b.spc1.push(Spc1::from_card(c)?))),
+    ("SPCADD", |c, b| Ok(b.spcadd.push(Spcadd::from_card(c)?))),
+    ("ASET1", |c, b| Ok(b.aset1.push(Aset1::from_card(c)?))),
+    ("FORCE", |c, b| Ok(b.forces.push(Force::from_card(c, ForceKind::Force)?))),
+    ("MOMENT", |c, b| Ok(b.forces.push(Force::from_card(c, ForceKind::Moment)?))),
+    ("GRAV", |c, b| Ok(b.grav.push(Grav::from_card(c)?))),
+    ("LOAD", |c, b| Ok(b.load.push(Load::from_card(c)?))),
+    ("EIGRL", |c, b| Ok(b.eigrl.push(Eigrl::from_card(c)?))),
+    ("FREQ", |c, b| Ok(b.freq.push(Freq::from_card(c, "FREQ")?))),
+    ("FREQ1", |c, b| Ok(b.freq.push(Freq::from_card(c, "FREQ1")?))),
+    ("FREQ2", |c, b| Ok(b.freq.push(Freq::from_card(c, "FREQ2")?))),
+    ("TSTEP", |c, b| Ok(b.tstep.push(Tstep::from_card(c)?))),
+    ("TLOAD1", |c, b| Ok(b.tload1.push(Tload1::from_card(c)?))),
+    ("RLOAD1", |c, b| Ok(b.rload1.push(Rload1::from_card(c)?))),
+    ("DAREA", |c, b| Ok(b.darea.extend(Darea::from_card(c)?))),
+    ("TABLED1", |c, b| Ok(b.tabled1.push(Tabled1::from_card(c)?))),
+    ("DLOAD", |c, b| Ok(b.dload.push(Dload::from_card(c)?))),
+    ("PARAM", |c, b| Ok(b.params.push(Param::from_card(c)?))),
+    ("DESVAR", |c, b| Ok(b.desvar.push(Desvar::from_card(c)?))),
+    ("DDVAL", |c, b| Ok(b.ddval.push(Ddval::from_card(c)?))),
+    ("PMPAR", |c, b| Ok(b.pmpar.push(Pmpar::from_card(c)?))),
+    ("PMOR", |c, b| Ok(b.pmor.push(Pmor::from_card(c)?))),
+    ("PVAL", |c, b| Ok(b.pval.push(Pval::from_card(c)?))),
+    ("SENSOR", |c, b| Ok(b.sensors.push(Sensor::from_card(c)?))),
+    ("TABLEF", |c, b| Ok(b.tablef.push(Tablef::from_card(c)?))),
+    ("TINTEG", |c, b| Ok(b.tinteg.push(Tinteg::from_card(c)?))),
+];
+
+/// The parser for a card name (upper case), if paraflex supports the card.
+pub fn parser_for(name: &str) -> Option<CardParser> {
+    PARSERS.iter().find(|(n, _)| *n == name).map(|(_, p)| *p)
+}
+
+/// Parse one raw card into `bulk`. Unsupported cards are an error naming the card.
+pub fn parse_card(card: &RawCard, bulk: &mut BulkData) -> Result<(), Vec<DeckError>> {
+    match parser_for(&card.name) {
+        Some(parse) => parse(card, bulk),
+        None => Err(vec![DeckError::at(
+            &card.loc,
+            format!(
+                "unsupported bulk data card '{}': paraflex reads {}",
+                card.name,
+                PARSERS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(" ")
+            ),
+        )]),
+    }
+}

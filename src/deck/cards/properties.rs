@@ -1,0 +1,263 @@
+//! Properties: `PSHELL`, `PCOMP`, `PSOLID`, `PELAS`.
+
+use crate::deck::error::{DeckError, Loc};
+use crate::deck::fields::RawCard;
+use crate::deck::reader::FieldReader;
+
+/// `PSHELL` — homogeneous shell property.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | PID | int > 0 | required | property id |
+/// | 3 | MID1 | int > 0 | blank | membrane material |
+/// | 4 | T | real | required | thickness |
+/// | 5 | MID2 | int > 0 | blank | bending material (blank: no bending stiffness) |
+/// | 6 | 12I/T³ | real | 1.0 | bending inertia ratio |
+/// | 7 | MID3 | int > 0 | blank | transverse shear material (blank: no transverse shear flexibility) |
+/// | 8 | TS/T | real | 0.833333 | transverse shear thickness ratio |
+/// | 9 | NSM | real | 0.0 | non-structural mass per area |
+/// | cont. 2–3 | Z1 Z2 | real | −T/2, T/2 | fibre distances for strain output |
+/// | cont. 4 | MID4 | int | blank | membrane–bending coupling: not supported, must be blank |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pshell {
+    pub id: u32,
+    pub mid1: Option<u32>,
+    pub t: f64,
+    pub mid2: Option<u32>,
+    pub bending_ratio: f64,
+    pub mid3: Option<u32>,
+    pub ts_t: f64,
+    pub nsm: f64,
+    pub z1: f64,
+    pub z2: f64,
+    pub loc: Loc,
+}
+
+impl Pshell {
+    /// Read a `PSHELL` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "PID");
+        f.set_id(id);
+        let mid1 = f.opt_id(2, "MID1");
+        let t = f.real(3, "T");
+        let mid2 = f.opt_id(4, "MID2");
+        let bending_ratio = f.real_or(5, "12I/T**3", 1.0);
+        let mid3 = f.opt_id(6, "MID3");
+        let ts_t = f.real_or(7, "TS/T", 0.833333);
+        let nsm = f.real_or(8, "NSM", 0.0);
+        let z1 = f.real_or(9, "Z1", -t / 2.0);
+        let z2 = f.real_or(10, "Z2", t / 2.0);
+        if !f.value(11).is_blank() {
+            f.error(11, "MID4", "membrane-bending coupling (MID4) is not supported; leave blank");
+        }
+        let loc = f.loc();
+        f.finish(11)?;
+        Ok(Pshell { id, mid1, t, mid2, bending_ratio, mid3, ts_t, nsm, z1, z2, loc })
+    }
+}
+
+/// One ply of a `PCOMP`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Ply {
+    pub mid: u32,
+    pub t: f64,
+    /// Fibre angle in degrees from the element material x axis.
+    pub theta: f64,
+    /// Stress/strain output requested for this ply (`SOUT = YES`).
+    pub sout: bool,
+}
+
+/// `PCOMP` — layered composite shell property (classical lamination theory).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | PID | int > 0 | required | property id |
+/// | 3 | Z0 | real | −(total thickness)/2 | distance from the reference plane to the bottom surface |
+/// | 4 | NSM | real | 0.0 | non-structural mass per area |
+/// | 5 | SB | real | 0.0 | allowable interlaminar shear (kept, unused) |
+/// | 6 | FT | name | blank | failure theory (kept, unused) |
+/// | 7 | TREF | real | 0.0 | (kept, unused) |
+/// | 8 | GE | real | 0.0 | structural damping coefficient |
+/// | 9 | LAM | blank or `SYM` | blank | `SYM`: plies given are the lower half of a symmetric laminate |
+/// | cont. | MIDi Ti THETAi SOUTi | int, real, real, YES/NO | previous ply's MID and T; THETA 0.0; NO | plies from bottom to top, two per line |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pcomp {
+    pub id: u32,
+    /// Z0 as given (blank = −total/2, resolved once the plies are known).
+    pub z0: Option<f64>,
+    pub nsm: f64,
+    pub sb: f64,
+    pub ft: Option<String>,
+    pub tref: f64,
+    pub ge: f64,
+    /// True for `LAM = SYM`.
+    pub symmetric: bool,
+    /// Plies as written (the lower half when symmetric).
+    pub plies: Vec<Ply>,
+    pub loc: Loc,
+}
+
+impl Pcomp {
+    /// Read a `PCOMP` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "PID");
+        f.set_id(id);
+        let z0 = f.opt_real(2, "Z0");
+        let nsm = f.real_or(3, "NSM", 0.0);
+        let sb = f.real_or(4, "SB", 0.0);
+        let ft = f.opt_text(5, "FT");
+        let tref = f.real_or(6, "TREF", 0.0);
+        let ge = f.real_or(7, "GE", 0.0);
+        let lam = f.keyword(8, "LAM", &["SYM", "MEM", "BEND", "SMEAR", "SMCORE"], Some(""));
+        let symmetric = lam == "SYM";
+        if !lam.is_empty() && !symmetric {
+            f.error(8, "LAM", format!("LAM = {lam} is not supported; paraflex supports blank and SYM"));
+        }
+        let mut plies: Vec<Ply> = Vec::new();
+        let len = f.len();
+        let mut i = 9;
+        while i <= len {
+            let blank_ply = (i..i + 4).all(|k| f.value(k).is_blank());
+            if !blank_ply {
+                let k = plies.len() + 1;
+                let prev = plies.last().cloned();
+                let mid = match (f.opt_id(i, &format!("MID{k}")), &prev) {
+                    (Some(m), _) => m,
+                    (None, Some(p)) => p.mid,
+                    (None, None) => {
+                        f.error(i, "MID1", "the first ply needs a material id");
+                        0
+                    }
+                };
+                let t = match (f.opt_real(i + 1, &format!("T{k}")), &prev) {
+                    (Some(t), _) => t,
+                    (None, Some(p)) => p.t,
+                    (None, None) => {
+                        f.error(i + 1, "T1", "the first ply needs a thickness");
+                        0.0
+                    }
+                };
+                let theta = f.real_or(i + 2, &format!("THETA{k}"), 0.0);
+                let sout = f.keyword(i + 3, &format!("SOUT{k}"), &["YES", "NO"], Some("NO")) == "YES";
+                plies.push(Ply { mid, t, theta, sout });
+            }
+            i += 4;
+        }
+        if plies.is_empty() {
+            f.card_error("no ply given (MID1 T1 THETA1 SOUT1 on the continuation)");
+        }
+        let loc = f.loc();
+        f.finish(len.max(8))?;
+        Ok(Pcomp { id, z0, nsm, sb, ft, tref, ge, symmetric, plies, loc })
+    }
+
+    /// Every ply through the thickness, bottom to top (the mirror image appended for `SYM`).
+    pub fn full_stack(&self) -> Vec<Ply> {
+        let mut stack = self.plies.clone();
+        if self.symmetric {
+            stack.extend(self.plies.iter().rev().cloned());
+        }
+        stack
+    }
+
+    /// Total laminate thickness.
+    pub fn thickness(&self) -> f64 {
+        let half: f64 = self.plies.iter().map(|p| p.t).sum();
+        if self.symmetric { 2.0 * half } else { half }
+    }
+
+    /// Z0 with its default (−thickness/2) applied.
+    pub fn z0_resolved(&self) -> f64 {
+        self.z0.unwrap_or(-0.5 * self.thickness())
+    }
+}
+
+/// `PSOLID` — solid element property.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | PID | int > 0 | required | property id |
+/// | 3 | MID | int > 0 | required | MAT1 id |
+/// | 4 | CORDM | int ≥ −1 | 0 | material coordinate system (no effect for isotropic MAT1) |
+/// | 5 | IN | int or name | blank | integration network: kept, not used (paraflex picks its own rule) |
+/// | 6 | STRESS | int or name | blank | stress output location: kept, not used |
+/// | 7 | ISOP | int or name | blank | integration scheme: kept, not used |
+/// | 8 | FCTN | name | SMECH | only SMECH (structural) is supported |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Psolid {
+    pub id: u32,
+    pub mid: u32,
+    pub cordm: i64,
+    /// IN, STRESS, ISOP as written (kept and noted, no effect on paraflex's formulation).
+    pub kept: Vec<String>,
+    pub loc: Loc,
+}
+
+impl Psolid {
+    /// Read a `PSOLID` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "PID");
+        f.set_id(id);
+        let mid = f.id(2, "MID");
+        let cordm = f.int_or(3, "CORDM", 0);
+        if cordm < -1 {
+            f.error(3, "CORDM", format!("expected -1 or a system id >= 0, found {cordm}"));
+        }
+        let mut kept = Vec::new();
+        for (i, name) in [(4, "IN"), (5, "STRESS"), (6, "ISOP")] {
+            let v = f.value(i);
+            if !v.is_blank() {
+                kept.push(format!("{name}={}", v.describe()));
+            }
+        }
+        let fctn = f.keyword(7, "FCTN", &["SMECH", "PFLUID", "FFLUID"], Some("SMECH"));
+        if fctn != "SMECH" {
+            f.error(7, "FCTN", format!("FCTN = {fctn} is not supported; only SMECH (structural)"));
+        }
+        let loc = f.loc();
+        f.finish(7)?;
+        Ok(Psolid { id, mid, cordm, kept, loc })
+    }
+}
+
+/// `PELAS` — scalar spring property (one or two per card).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | PID1 | int > 0 | required | property id |
+/// | 3 | K1 | real | required | stiffness |
+/// | 4 | GE1 | real | 0.0 | structural damping coefficient |
+/// | 5 | S1 | real | 0.0 | stress coefficient (kept, unused) |
+/// | 6–9 | PID2 K2 GE2 S2 | | blank | an optional second property |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pelas {
+    pub id: u32,
+    pub k: f64,
+    pub ge: f64,
+    pub s: f64,
+    pub loc: Loc,
+}
+
+impl Pelas {
+    /// Read a `PELAS` card (one or two properties).
+    pub fn from_card(card: &RawCard) -> Result<Vec<Self>, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let mut out = Vec::new();
+        for first in [1, 5] {
+            if first == 5 && (5..=8).all(|i| f.value(i).is_blank()) {
+                break;
+            }
+            let id = f.id(first, "PID");
+            f.set_id(id);
+            let k = f.real(first + 1, "K");
+            let ge = f.real_or(first + 2, "GE", 0.0);
+            let s = f.real_or(first + 3, "S", 0.0);
+            out.push(Pelas { id, k, ge, s, loc: f.loc() });
+        }
+        f.finish(8)?;
+        Ok(out)
+    }
+}

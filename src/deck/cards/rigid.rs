@@ -1,0 +1,161 @@
+//! Rigid elements `RBE2` and `RBE3`, imposed by elimination of dependent DOFs (DESIGN.md §4).
+
+use crate::deck::error::{DeckError, Loc};
+use crate::deck::fields::RawCard;
+use crate::deck::reader::{Dofs, FieldReader};
+use crate::deck::value::Value;
+
+/// `RBE2` — rigid body: the CM components of every dependent grid follow the independent grid.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | EID | int > 0 | required | element id |
+/// | 3 | GN | int > 0 | required | independent grid |
+/// | 4 | CM | components | required | dependent components |
+/// | 5 … | GM1 GM2 … | int > 0 | ≥ 1 required | dependent grids (`THRU` allowed) |
+/// | after the grids | ALPHA | real | 0.0 | thermal expansion (kept; no thermal loads in paraflex) |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rbe2 {
+    pub id: u32,
+    pub gn: u32,
+    pub cm: Dofs,
+    pub gm: Vec<u32>,
+    pub alpha: f64,
+    pub loc: Loc,
+}
+
+impl Rbe2 {
+    /// Read an `RBE2` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "EID");
+        f.set_id(id);
+        let gn = f.id(2, "GN");
+        let cm = f.dofs(3, "CM");
+        if cm.is_empty() {
+            f.error(3, "CM", "expected the dependent components, e.g. 123456");
+        }
+        let len = f.len();
+        let alpha_at = (4..=len).find(|&i| matches!(f.value(i), Value::Real(_)));
+        let mut gm = Vec::new();
+        let mut i = 4;
+        let grids_end = alpha_at.map_or(len, |a| a - 1);
+        while i <= grids_end {
+            if matches!(f.value(i), Value::Text(t) if t.eq_ignore_ascii_case("THRU")) {
+                match (gm.last().copied(), f.opt_id(i + 1, "GM")) {
+                    (Some(lo), Some(hi)) if hi >= lo && hi - lo <= 10_000_000 => gm.extend(lo + 1..=hi),
+                    _ => f.error(i, "GM", "THRU needs increasing grid ids before and after it"),
+                }
+                i += 2;
+                continue;
+            }
+            if let Some(g) = f.opt_id(i, "GM") {
+                gm.push(g);
+            }
+            i += 1;
+        }
+        if gm.is_empty() {
+            f.card_error("no dependent grid (GM1 …) given");
+        }
+        let alpha = alpha_at.map_or(0.0, |a| f.real(a, "ALPHA"));
+        let loc = f.loc();
+        f.finish(alpha_at.unwrap_or(len).max(4))?;
+        Ok(Rbe2 { id, gn, cm, gm, alpha, loc })
+    }
+}
+
+/// One weighted group of independent grids of an `RBE3`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Rbe3Group {
+    pub weight: f64,
+    pub components: Dofs,
+    pub grids: Vec<u32>,
+}
+
+/// `RBE3` — interpolation element: the reference grid moves with the weighted average of the
+/// independent grids.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | EID | int > 0 | required | element id |
+/// | 3 | — | blank | | |
+/// | 4 | REFGRID | int > 0 | required | dependent (reference) grid |
+/// | 5 | REFC | components | required | dependent components |
+/// | 6 … | WT1 C1 G1,1 G1,2 … WT2 C2 G2,1 … | real, components, ids | ≥ 1 group | weighted independent groups |
+/// | then | `UM` GM1 CM1 GM2 CM2 … | | blank | extra dependent DOFs (not supported: error) |
+/// | then | `ALPHA` value | real | 0.0 | thermal expansion (kept, unused) |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rbe3 {
+    pub id: u32,
+    pub refgrid: u32,
+    pub refc: Dofs,
+    pub groups: Vec<Rbe3Group>,
+    pub alpha: f64,
+    pub loc: Loc,
+}
+
+impl Rbe3 {
+    /// Read an `RBE3` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "EID");
+        f.set_id(id);
+        let refgrid = f.id(3, "REFGRID");
+        let refc = f.dofs(4, "REFC");
+        if refc.is_empty() {
+            f.error(4, "REFC", "expected the dependent components, e.g. 123456");
+        }
+        let len = f.len();
+        let mut groups: Vec<Rbe3Group> = Vec::new();
+        let mut alpha = 0.0;
+        let mut i = 5;
+        while i <= len {
+            match f.value(i) {
+                Value::Blank => i += 1,
+                Value::Real(w) => {
+                    let components = f.dofs(i + 1, "C");
+                    if components.is_empty() {
+                        f.error(i + 1, "C", "expected the components of this weight group");
+                    }
+                    let mut group = Rbe3Group { weight: *w, components, grids: Vec::new() };
+                    i += 2;
+                    while i <= len && matches!(f.value(i), Value::Int(_) | Value::Blank) {
+                        if let Some(g) = f.opt_id(i, "G") {
+                            group.grids.push(g);
+                        }
+                        i += 1;
+                    }
+                    if group.grids.is_empty() {
+                        f.error(i.min(len), "G", "weight group has no grid");
+                    }
+                    if *w <= 0.0 {
+                        f.error(i, "WT", format!("weights must be > 0, found {w:e}"));
+                    }
+                    groups.push(group);
+                }
+                Value::Text(t) if t.eq_ignore_ascii_case("ALPHA") => {
+                    alpha = f.real(i + 1, "ALPHA");
+                    i += 2;
+                    if f.opt_real(i, "TREF").is_some() {
+                        i += 1;
+                    }
+                }
+                Value::Text(t) if t.eq_ignore_ascii_case("UM") => {
+                    f.error(i, "UM", "UM (extra dependent DOFs) is not supported");
+                    i = len + 1;
+                }
+                _ => {
+                    let found = f.value(i).describe();
+                    f.error(i, "WT", format!("expected a weight (real), UM or ALPHA, found {found}"));
+                    i += 1;
+                }
+            }
+        }
+        if groups.is_empty() {
+            f.card_error("no weighted group of independent grids (WT1 C1 G1,1 …) given");
+        }
+        let loc = f.loc();
+        f.finish(len.max(5))?;
+        Ok(Rbe3 { id, refgrid, refc, groups, alpha, loc })
+    }
+}

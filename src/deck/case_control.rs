@@ -1,0 +1,422 @@
+//! Case control: subcases, sets, titles, selections (`SPC = 1`, `METHOD = 10`, …), output
+//! requests with describers (`DISPLACEMENT(PRINT,SORT1) = ALL`) and the paraflex extension
+//! statements (`PROM`, `ROM`, `PVAL`, `SENSOR`, `ESTIM`, `MEAS`).
+//!
+//! Command names may be abbreviated to their first four characters, as in Nastran
+//! (`DISP`, `SPCF`, `FREQ`). Statements above the first `SUBCASE` are defaults for every
+//! subcase ([`CaseControl::subcases`] resolves them).
+
+use super::error::{DeckError, Diagnostics, Loc};
+
+/// What an output request or `SENSOR` selects.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+pub enum Target {
+    /// `ALL`.
+    All,
+    /// `NONE`.
+    None,
+    /// A `SET` id.
+    Set(u32),
+}
+
+/// An output request such as `STRAIN(PLOT,FIBER) = 5`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct OutputRequest {
+    /// Canonical command name (`DISPLACEMENT`, `SPCFORCES`, `STRAIN`, …).
+    pub name: &'static str,
+    /// Describers in upper case, as written.
+    pub describers: Vec<String>,
+    /// What is requested.
+    pub target: Target,
+    /// Where it was written.
+    #[serde(skip)]
+    pub loc: Loc,
+}
+
+/// A case-control `SET n = …` list of ids (`THRU` ranges expanded).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CaseSet {
+    pub id: u32,
+    pub ids: Vec<u32>,
+    #[serde(skip)]
+    pub loc: Loc,
+}
+
+/// The statements of one subcase (or the defaults above the first `SUBCASE`).
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct Subcase {
+    /// Subcase id (0 for the global defaults).
+    pub id: u32,
+    pub title: Option<String>,
+    pub subtitle: Option<String>,
+    pub label: Option<String>,
+    pub spc: Option<u32>,
+    pub load: Option<u32>,
+    pub method: Option<u32>,
+    pub frequency: Option<u32>,
+    pub dload: Option<u32>,
+    pub tstep: Option<u32>,
+    /// `PROM = id` (PMOR card of a `SOL PROM` run).
+    pub prom: Option<u32>,
+    /// `ROM = 'path.h5'`, relative to the deck.
+    pub rom: Option<String>,
+    pub pval: Option<u32>,
+    /// `SENSOR = ALL | set`.
+    pub sensor: Option<Target>,
+    /// `ESTIM = id` (EKF card).
+    pub estim: Option<u32>,
+    /// `MEAS = id` (MEASF card).
+    pub meas: Option<u32>,
+    pub outputs: Vec<OutputRequest>,
+    /// Positions of the selections, by canonical name, for cross-reference messages.
+    #[serde(skip)]
+    pub locs: Vec<(&'static str, Loc)>,
+}
+
+impl Subcase {
+    /// Where selection `name` (canonical) was written, if it was.
+    pub fn loc_of(&self, name: &str) -> Option<&Loc> {
+        self.locs.iter().rev().find(|(n, _)| *n == name).map(|(_, l)| l)
+    }
+
+    /// This subcase's statements on top of `defaults`.
+    fn over(&self, defaults: &Subcase) -> Subcase {
+        let mut out = self.clone();
+        macro_rules! inherit { ($($f:ident),*) => { $( if out.$f.is_none() { out.$f = defaults.$f.clone(); } )* } }
+        inherit!(title, subtitle, label, spc, load, method, frequency, dload, tstep, prom, rom, pval, sensor, estim, meas);
+        let own: Vec<&str> = out.outputs.iter().map(|o| o.name).collect();
+        let inherited: Vec<OutputRequest> =
+            defaults.outputs.iter().filter(|o| !own.contains(&o.name)).cloned().collect();
+        out.outputs.splice(0..0, inherited);
+        let mut locs = defaults.locs.clone();
+        locs.extend(out.locs);
+        out.locs = locs;
+        out
+    }
+}
+
+/// The case control section.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct CaseControl {
+    /// Statements above the first `SUBCASE`.
+    pub global: Subcase,
+    /// Explicit subcases in input order.
+    pub explicit: Vec<Subcase>,
+    /// `SET` definitions (global scope, as paraflex does not scope sets to subcases).
+    pub sets: Vec<CaseSet>,
+    /// `PARAM` statements given in case control, as `(name, value text, position)`.
+    #[serde(skip)]
+    pub params: Vec<(String, String, Loc)>,
+    /// A `SET` statement still waiting for its continuation line.
+    #[serde(skip)]
+    pending_set: Option<(Loc, String)>,
+}
+
+/// Canonical case-control commands that select a bulk-data id.
+const SELECTIONS: &[&str] =
+    &["SPC", "LOAD", "METHOD", "FREQUENCY", "DLOAD", "TSTEP", "PROM", "PVAL", "ESTIM", "MEAS"];
+
+/// Output requests paraflex parses.
+const OUTPUTS: &[&str] = &[
+    "DISPLACEMENT", "VELOCITY", "ACCELERATION", "SPCFORCES", "STRAIN", "STRESS", "FORCE", "OLOAD",
+    "GPFORCE", "ESE", "MPCFORCES", "GPWG", "ELSTRESS", "ELFORCE", "VECTOR", "PRESSURE", "EKE", "EDE",
+];
+
+/// Statements accepted and ignored (printing and bookkeeping options that do not change results).
+const IGNORED: &[&str] =
+    &["ECHO", "LINE", "MAXLINES", "ANALYSIS", "GROUNDCHECK", "WEIGHTCHECK", "MEFFMASS", "SEALL", "SUPER", "OUTPUT"];
+
+/// Match `word` to a canonical name: exact, or an abbreviation of at least four characters.
+fn canonical(word: &str, names: &[&'static str]) -> Option<&'static str> {
+    let w = word.to_ascii_uppercase();
+    if let Some(n) = names.iter().find(|n| **n == w) {
+        return Some(n);
+    }
+    if w.len() < 4 {
+        return None;
+    }
+    names.iter().find(|n| n.starts_with(&w)).copied()
+}
+
+/// `word[(describers)] = value` split into its parts.
+struct Statement<'a> {
+    word: &'a str,
+    describers: Vec<String>,
+    value: Option<&'a str>,
+}
+
+fn split_statement(text: &str) -> Statement<'_> {
+    let end_word = text.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(text.len());
+    let word = &text[..end_word];
+    let mut rest = text[end_word..].trim_start();
+    let mut describers = Vec::new();
+    if let Some(inner) = rest.strip_prefix('(') {
+        let close = inner.find(')').unwrap_or(inner.len());
+        describers = inner[..close].split(',').map(|d| d.trim().to_ascii_uppercase()).filter(|d| !d.is_empty()).collect();
+        rest = inner.get(close + 1..).unwrap_or("").trim_start();
+    }
+    let value = rest.strip_prefix('=').map(str::trim);
+    Statement { word, describers, value }
+}
+
+/// Parse a `SET` list: ids, `THRU` ranges, `ALL` not allowed. Errors are messages.
+fn parse_set_list(text: &str) -> Result<Vec<u32>, String> {
+    let mut ids: Vec<u32> = Vec::new();
+    let tokens: Vec<&str> = text.split([',', ' ']).map(str::trim).filter(|t| !t.is_empty()).collect();
+    let mut i = 0;
+    while i < tokens.len() {
+        let t = tokens[i];
+        if t.eq_ignore_ascii_case("THRU") {
+            let lo = *ids.last().ok_or("THRU needs an id before it")?;
+            let hi: u32 = tokens.get(i + 1).and_then(|h| h.parse().ok()).ok_or("THRU needs an id after it")?;
+            if hi < lo || hi - lo > 50_000_000 {
+                return Err(format!("bad THRU range {lo} THRU {hi}"));
+            }
+            ids.extend(lo + 1..=hi);
+            i += 2;
+            continue;
+        }
+        if t.eq_ignore_ascii_case("EXCEPT") {
+            return Err("EXCEPT in SET lists is not supported; list the ids explicitly".into());
+        }
+        let id: u32 = t.parse().map_err(|_| format!("expected an id or THRU, found '{t}'"))?;
+        ids.push(id);
+        i += 1;
+    }
+    if ids.is_empty() {
+        return Err("SET has no ids".into());
+    }
+    Ok(ids)
+}
+
+fn parse_target(value: &str) -> Result<Target, String> {
+    match value.to_ascii_uppercase().as_str() {
+        "ALL" => Ok(Target::All),
+        "NONE" => Ok(Target::None),
+        v => v.parse::<u32>().map(Target::Set).map_err(|_| format!("expected ALL, NONE or a SET id, found '{value}'")),
+    }
+}
+
+fn strip_quotes(value: &str) -> Option<&str> {
+    let v = value.trim();
+    v.strip_prefix('\'').and_then(|s| s.strip_suffix('\'')).or_else(|| (!v.is_empty()).then_some(v))
+}
+
+impl CaseControl {
+    fn current(&mut self) -> &mut Subcase {
+        self.explicit.last_mut().unwrap_or(&mut self.global)
+    }
+
+    /// Read one case-control line (comments already removed).
+    pub fn read_line(&mut self, loc: &Loc, text: &str, diag: &mut Diagnostics) {
+        if let Some((set_loc, mut acc)) = self.pending_set.take() {
+            acc.push_str(text);
+            return self.read_set(&set_loc, acc, diag);
+        }
+        let text = text.trim();
+        let st = split_statement(text);
+        let word = st.word.to_ascii_uppercase();
+        let err = |msg: String| DeckError::at(loc, msg).on_card(word.clone());
+        match word.as_str() {
+            "TITLE" | "SUBTITLE" | "LABEL" => {
+                let value = text.split_once('=').map(|(_, v)| v.trim().to_string()).unwrap_or_default();
+                let sub = self.current();
+                match word.as_str() {
+                    "TITLE" => sub.title = Some(value),
+                    "SUBTITLE" => sub.subtitle = Some(value),
+                    _ => sub.label = Some(value),
+                }
+            }
+            "SUBCASE" => {
+                let rest = text[st.word.len()..].trim();
+                match rest.parse::<u32>() {
+                    Ok(id) if id > 0 => {
+                        if self.explicit.iter().any(|s| s.id == id) {
+                            diag.error(err(format!("SUBCASE {id} defined twice")));
+                        }
+                        self.explicit.push(Subcase { id, ..Subcase::default() });
+                    }
+                    _ => diag.error(err(format!("expected a positive subcase id, found '{rest}'"))),
+                }
+            }
+            "SET" => self.read_set(loc, text.to_string(), diag),
+            "PARAM" => {
+                let parts: Vec<&str> = text.splitn(3, ',').collect();
+                if parts.len() == 3 {
+                    self.params.push((parts[1].trim().to_ascii_uppercase(), parts[2].trim().to_string(), loc.clone()));
+                } else {
+                    diag.error(err("expected PARAM,NAME,VALUE".into()));
+                }
+            }
+            "ROM" => match st.value.and_then(strip_quotes) {
+                Some(path) => {
+                    let sub = self.current();
+                    sub.rom = Some(path.to_string());
+                    sub.locs.push(("ROM", loc.clone()));
+                }
+                None => diag.error(err("expected ROM = 'file.h5'".into())),
+            },
+            "SENSOR" => match st.value.map(parse_target) {
+                Some(Ok(t)) => {
+                    let sub = self.current();
+                    sub.sensor = Some(t);
+                    sub.locs.push(("SENSOR", loc.clone()));
+                }
+                Some(Err(m)) => diag.error(err(m)),
+                None => diag.error(err("expected SENSOR = ALL | NONE | set id".into())),
+            },
+            _ => self.read_command(loc, &word, st, diag),
+        }
+    }
+
+    fn read_command(&mut self, loc: &Loc, word: &str, st: Statement<'_>, diag: &mut Diagnostics) {
+        let err = |msg: String| DeckError::at(loc, msg).on_card(word.to_string());
+        if let Some(name) = canonical(word, SELECTIONS) {
+            let Some(value) = st.value else {
+                return diag.error(err(format!("expected {name} = id")));
+            };
+            let Ok(id) = value.parse::<u32>() else {
+                return diag.error(err(format!("expected {name} = a positive id, found '{value}'")));
+            };
+            let sub = self.current();
+            let slot = match name {
+                "SPC" => &mut sub.spc,
+                "LOAD" => &mut sub.load,
+                "METHOD" => &mut sub.method,
+                "FREQUENCY" => &mut sub.frequency,
+                "DLOAD" => &mut sub.dload,
+                "TSTEP" => &mut sub.tstep,
+                "PROM" => &mut sub.prom,
+                "PVAL" => &mut sub.pval,
+                "ESTIM" => &mut sub.estim,
+                _ => &mut sub.meas,
+            };
+            *slot = Some(id);
+            sub.locs.push((name, loc.clone()));
+        } else if let Some(name) = canonical(word, OUTPUTS) {
+            let target = match st.value.map(parse_target) {
+                Some(Ok(t)) => t,
+                Some(Err(m)) => return diag.error(err(m)),
+                None => return diag.error(err(format!("expected {name}(describers) = ALL | NONE | set id"))),
+            };
+            let req = OutputRequest { name, describers: st.describers, target, loc: loc.clone() };
+            self.current().outputs.push(req);
+        } else if let Some(name) = canonical(word, IGNORED) {
+            diag.warn_at(loc, format!("case control '{name}' is accepted and ignored"));
+        } else {
+            diag.error(err(format!(
+                "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SET PARAM ROM SENSOR {} and output requests {}",
+                SELECTIONS.join(" "),
+                OUTPUTS.join(" ")
+            )));
+        }
+    }
+
+    fn read_set(&mut self, loc: &Loc, text: String, diag: &mut Diagnostics) {
+        if text.trim_end().ends_with(',') {
+            self.pending_set = Some((loc.clone(), text));
+            return;
+        }
+        let Some((head, list)) = text.split_once('=') else {
+            return diag.error(DeckError::at(loc, "expected SET n = id, id THRU id, ...").on_card("SET"));
+        };
+        let id_text = head.trim()[3..].trim();
+        let id = match id_text.parse::<u32>() {
+            Ok(id) if id > 0 => id,
+            _ => return diag.error(DeckError::at(loc, format!("expected a positive SET id, found '{id_text}'")).on_card("SET")),
+        };
+        match parse_set_list(list) {
+            Ok(ids) => {
+                if self.sets.iter().any(|s| s.id == id) {
+                    diag.error(DeckError::at(loc, format!("SET {id} defined twice")).on_card("SET"));
+                }
+                self.sets.push(CaseSet { id, ids, loc: loc.clone() });
+            }
+            Err(m) => diag.error(DeckError::at(loc, m).on_card(format!("SET {id}"))),
+        }
+    }
+
+    /// Report a `SET` left open by a trailing comma at the end of the section.
+    pub fn finish(&mut self, diag: &mut Diagnostics) {
+        if let Some((loc, _)) = self.pending_set.take() {
+            diag.error(DeckError::at(&loc, "SET list ends with ',' but no continuation line follows").on_card("SET"));
+        }
+    }
+
+    /// The subcases to run, each with the global defaults applied. A deck without `SUBCASE`
+    /// has one subcase, id 1.
+    pub fn subcases(&self) -> Vec<Subcase> {
+        if self.explicit.is_empty() {
+            let mut only = self.global.clone();
+            only.id = 1;
+            return vec![only];
+        }
+        self.explicit.iter().map(|s| s.over(&self.global)).collect()
+    }
+
+    /// The `SET` with this id.
+    pub fn set(&self, id: u32) -> Option<&CaseSet> {
+        self.sets.iter().find(|s| s.id == id)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+    use std::sync::Arc;
+
+    fn read(lines: &[&str]) -> (CaseControl, Diagnostics) {
+        let file: Arc<Path> = Arc::from(Path::new("c.dat"));
+        let mut cc = CaseControl::default();
+        let mut d = Diagnostics::default();
+        for (i, l) in lines.iter().enumerate() {
+            cc.read_line(&Loc::new(&file, i as u32 + 1), l, &mut d);
+        }
+        cc.finish(&mut d);
+        (cc, d)
+    }
+
+    #[test]
+    fn subcases_inherit_globals() {
+        let (cc, d) = read(&[
+            "TITLE = Plate test",
+            "SPC = 1",
+            "DISP(PRINT,SORT1) = ALL",
+            "SUBCASE 10",
+            "  LOAD = 5",
+            "  STRAIN(FIBER) = 3",
+            "SUBCASE 20",
+            "  METH = 7",
+            "  DISPLACEMENT = NONE",
+            "SET 3 = 1, 2,",
+            "   10 THRU 12",
+        ]);
+        assert!(d.is_ok(), "{:?}", d.errors);
+        let subs = cc.subcases();
+        assert_eq!(subs.len(), 2);
+        assert_eq!((subs[0].spc, subs[0].load, subs[0].title.as_deref()), (Some(1), Some(5), Some("Plate test")));
+        assert_eq!(subs[0].outputs.len(), 2);
+        assert_eq!(subs[1].method, Some(7));
+        assert_eq!(subs[1].outputs.len(), 1);
+        assert_eq!(subs[1].outputs[0].target, Target::None);
+        assert_eq!(cc.set(3).unwrap().ids, vec![1, 2, 10, 11, 12]);
+    }
+
+    #[test]
+    fn extension_statements() {
+        let (cc, d) = read(&["ROM = 'out/blade.h5'", "PVAL = 3", "SENSOR = ALL", "PROM = 1"]);
+        assert!(d.is_ok(), "{:?}", d.errors);
+        let s = &cc.subcases()[0];
+        assert_eq!(s.rom.as_deref(), Some("out/blade.h5"));
+        assert_eq!((s.pval, s.prom, s.sensor.clone()), (Some(3), Some(1), Some(Target::All)));
+    }
+
+    #[test]
+    fn bad_statements_are_located() {
+        let (_, d) = read(&["SPC = X", "MPC = 3", "SET 4 = 1 THRU", "ECHO = NONE"]);
+        assert_eq!(d.errors.len(), 3, "{:?}", d.errors);
+        assert!(d.errors[1].to_string().starts_with("c.dat:2: MPC"));
+        assert_eq!(d.warnings.len(), 1);
+    }
+}

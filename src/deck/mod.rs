@@ -1,0 +1,192 @@
+//! Reading Nastran input decks: executive control, case control and bulk data.
+//!
+//! The reader follows Nastran conventions (DESIGN.md §3) so that decks written by Nastran users,
+//! pyNastran or meshio are read as Nastran reads them:
+//! - [`source`] walks the files (comments, tabs, `INCLUDE`);
+//! - [`fields`] slices bulk lines into small, large or free fields and joins continuations;
+//! - [`value`] lexes each field (integers, reals with Nastran shorthand, names);
+//! - [`cards`] turns raw cards into one typed struct per card through [`reader::FieldReader`];
+//! - [`executive`] and [`case_control`] read the sections above `BEGIN BULK`.
+//!
+//! Every error is collected with its `file:line`, card and field; [`Deck::read`] returns them
+//! all at once. The deck module computes nothing physical.
+
+pub mod cards;
+pub mod case_control;
+pub mod error;
+pub mod executive;
+pub mod fields;
+pub mod reader;
+pub mod source;
+pub mod value;
+
+use std::path::{Path, PathBuf};
+
+pub use cards::BulkData;
+pub use case_control::CaseControl;
+pub use error::{DeckError, DeckErrors, Diagnostics, Loc, Warning};
+pub use executive::{Executive, Solution};
+
+use fields::CardAssembler;
+use source::{Line, LineVisitor, SourceWalker};
+
+/// A deck as read: the three sections, every file it came from, and the warnings.
+#[derive(Debug, Clone)]
+pub struct Deck {
+    /// The main deck file.
+    pub path: PathBuf,
+    /// Every file read (main deck first, then includes in reading order).
+    pub files: Vec<PathBuf>,
+    pub executive: Executive,
+    pub case: CaseControl,
+    pub bulk: BulkData,
+    /// False for a bulk-data-only file (no `CEND` / `BEGIN BULK`).
+    pub has_control_sections: bool,
+    /// Accepted input worth mentioning.
+    pub warnings: Vec<Warning>,
+}
+
+impl Deck {
+    /// Read a deck and everything it includes. On any error, returns all errors found.
+    pub fn read(path: &Path) -> Result<Deck, DeckErrors> {
+        let mut builder = Builder::new(path);
+        let mut diag = Diagnostics::default();
+        let mut walker = SourceWalker::new();
+        walker.walk(path, None, &mut builder, &mut diag);
+        builder.finish(&mut diag);
+        if !diag.is_ok() {
+            return Err(DeckErrors { errors: diag.errors });
+        }
+        let Builder { executive, case, bulk, section_seen, .. } = builder;
+        let has_control_sections = section_seen;
+        let mut warnings = diag.warnings;
+        if !has_control_sections {
+            warnings.push(Warning {
+                loc: None,
+                message: "no executive or case control section (no CEND / BEGIN BULK): read as bulk data only".into(),
+            });
+        }
+        Ok(Deck { path: path.to_path_buf(), files: walker.files, executive, case, bulk, has_control_sections, warnings })
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Section {
+    /// Before the first significant line.
+    Start,
+    Executive,
+    Case,
+    Bulk,
+    /// After `ENDDATA`: everything is ignored.
+    Done,
+}
+
+/// Executive statements that mark a file as a full deck when they come first.
+const EXECUTIVE_WORDS: &[&str] =
+    &["SOL", "ID", "TIME", "DIAG", "APP", "CEND", "NASTRAN", "ASSIGN", "INIT", "ECHOON", "ECHOOFF", "GEOMCHECK"];
+
+struct Builder {
+    section: Section,
+    section_seen: bool,
+    executive: Executive,
+    case: CaseControl,
+    bulk: BulkData,
+    assembler: CardAssembler,
+    /// Position of the last line read, for errors about the end of the deck.
+    last_loc: Loc,
+}
+
+impl Builder {
+    fn new(path: &Path) -> Self {
+        Builder {
+            last_loc: Loc { file: std::sync::Arc::from(path), line: 1 },
+            section: Section::Start,
+            section_seen: false,
+            executive: Executive::default(),
+            case: CaseControl::default(),
+            bulk: BulkData::default(),
+            assembler: CardAssembler::new(),
+        }
+    }
+
+    fn parse(&mut self, card: fields::RawCard, diag: &mut Diagnostics) {
+        if let Err(errors) = cards::parse_card(&card, &mut self.bulk) {
+            diag.errors.extend(errors);
+        }
+    }
+
+    fn finish(&mut self, diag: &mut Diagnostics) {
+        if let Some(card) = self.assembler.finish() {
+            self.parse(card, diag);
+        }
+        self.case.finish(diag);
+        match self.section {
+            Section::Start => diag.error(DeckError::at(&self.last_loc, "the deck is empty: no statement or card found")),
+            Section::Executive | Section::Case => {
+                let missing = if self.section == Section::Executive { "CEND" } else { "BEGIN BULK" };
+                diag.error(DeckError::at(&self.last_loc, format!("the deck ends before {missing}: no bulk data was read")));
+            }
+            Section::Bulk | Section::Done => {}
+        }
+    }
+}
+
+fn first_word(text: &str) -> String {
+    text.trim_start().chars().take_while(|c| c.is_ascii_alphanumeric()).collect::<String>().to_ascii_uppercase()
+}
+
+fn is_begin_bulk(text: &str) -> bool {
+    let t = text.trim().to_ascii_uppercase();
+    t.starts_with("BEGIN") && t[5..].trim_start().starts_with("BULK")
+}
+
+impl LineVisitor for Builder {
+    fn line(&mut self, line: Line<'_>, diag: &mut Diagnostics) {
+        let text = line.text;
+        self.last_loc.clone_from(line.loc);
+        if self.section == Section::Start {
+            let word = first_word(text);
+            self.section = if EXECUTIVE_WORDS.contains(&word.as_str()) {
+                self.section_seen = true;
+                Section::Executive
+            } else if is_begin_bulk(text) {
+                self.section_seen = true;
+                Section::Case
+            } else {
+                Section::Bulk
+            };
+        }
+        match self.section {
+            Section::Start | Section::Done => {}
+            Section::Executive => {
+                if first_word(text) == "CEND" {
+                    self.section = Section::Case;
+                } else {
+                    self.executive.read_line(line.loc, text, diag);
+                }
+            }
+            Section::Case => {
+                if is_begin_bulk(text) {
+                    self.section = Section::Bulk;
+                } else {
+                    self.case.read_line(line.loc, text, diag);
+                }
+            }
+            Section::Bulk => {
+                if first_word(text) == "ENDDATA" {
+                    self.section = Section::Done;
+                    if let Some(card) = self.assembler.finish() {
+                        self.parse(card, diag);
+                    }
+                    return;
+                }
+                if is_begin_bulk(text) {
+                    return;
+                }
+                if let Some(card) = self.assembler.push_line(line.loc, text, diag) {
+                    self.parse(card, diag);
+                }
+            }
+        }
+    }
+}

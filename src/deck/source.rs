@@ -1,0 +1,259 @@
+//! Reading deck files line by line, with `$` comments removed, tabs expanded and `INCLUDE`
+//! statements followed (relative to the including file, nested, cycles reported).
+//!
+//! The walk is streaming: each line is handed to a visitor as soon as it is read, so a
+//! million-grid deck is never held as a list of lines.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use super::error::{DeckError, Diagnostics, Loc};
+
+/// One preprocessed input line.
+#[derive(Debug)]
+pub struct Line<'a> {
+    /// File and line number.
+    pub loc: &'a Loc,
+    /// The text with the comment removed, tabs expanded to 8-column stops, and trailing blanks
+    /// and line ends removed.
+    pub text: &'a str,
+}
+
+/// Receives the lines of a deck in reading order.
+pub trait LineVisitor {
+    /// Called once per non-empty line (comment-only lines are skipped).
+    fn line(&mut self, line: Line<'_>, diag: &mut Diagnostics);
+}
+
+/// Maximum include nesting depth; deeper nesting is reported (it is almost certainly a cycle
+/// through differently spelled paths).
+const MAX_INCLUDE_DEPTH: usize = 64;
+
+/// Walks a deck file and everything it includes.
+pub struct SourceWalker {
+    stack: Vec<PathBuf>,
+    /// Every file read, in order (the main deck first).
+    pub files: Vec<PathBuf>,
+}
+
+impl SourceWalker {
+    /// A walker with nothing read yet.
+    pub fn new() -> Self {
+        SourceWalker { stack: Vec::new(), files: Vec::new() }
+    }
+
+    /// Read `path` (and its includes) and feed every line to `visitor`. A file that cannot be
+    /// read is reported at `included_from` (or without position for the main file).
+    pub fn walk(
+        &mut self,
+        path: &Path,
+        included_from: Option<&Loc>,
+        visitor: &mut dyn LineVisitor,
+        diag: &mut Diagnostics,
+    ) {
+        let canonical = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+        let here = included_from.cloned().unwrap_or_else(|| Loc::new(&Arc::from(path), 0));
+        if let Some(pos) = self.stack.iter().position(|p| *p == canonical) {
+            let cycle: Vec<String> =
+                self.stack[pos..].iter().chain(std::iter::once(&canonical)).map(|p| p.display().to_string()).collect();
+            diag.error(DeckError::at(&here, format!("INCLUDE cycle: {}", cycle.join(" -> "))).on_card("INCLUDE"));
+            return;
+        }
+        if self.stack.len() >= MAX_INCLUDE_DEPTH {
+            diag.error(
+                DeckError::at(&here, format!("INCLUDE nested deeper than {MAX_INCLUDE_DEPTH} levels"))
+                    .on_card("INCLUDE"),
+            );
+            return;
+        }
+        let bytes = match std::fs::read(path) {
+            Ok(b) => b,
+            Err(e) => {
+                let msg = format!("cannot read '{}': {e}", path.display());
+                let err = DeckError::at(&here, msg);
+                diag.error(if included_from.is_some() { err.on_card("INCLUDE") } else { err });
+                return;
+            }
+        };
+        self.stack.push(canonical);
+        self.files.push(path.to_path_buf());
+        let file: Arc<Path> = Arc::from(path);
+        let text = String::from_utf8_lossy(&bytes);
+        self.walk_text(&file, &text, visitor, diag);
+        self.stack.pop();
+    }
+
+    fn walk_text(&mut self, file: &Arc<Path>, text: &str, visitor: &mut dyn LineVisitor, diag: &mut Diagnostics) {
+        let mut lines = text.lines().enumerate();
+        let mut expanded = String::new();
+        let mut loc = Loc::new(file, 0);
+        while let Some((index, raw)) = lines.next() {
+            loc.line = index as u32 + 1;
+            let Some(content) = preprocess(raw, &mut expanded, &loc, diag) else { continue };
+            if let Some(rest) = include_argument(content) {
+                let mut argument = rest.trim().to_string();
+                // A quoted file name may continue on following lines until the closing quote.
+                while argument.starts_with('\'') && argument.matches('\'').count() < 2 {
+                    match lines.next() {
+                        Some((_, next)) => argument.push_str(strip_comment(next).trim()),
+                        None => break,
+                    }
+                }
+                self.follow_include(&loc, &argument, visitor, diag);
+                continue;
+            }
+            visitor.line(Line { loc: &loc, text: content }, diag);
+        }
+    }
+
+    fn follow_include(&mut self, loc: &Loc, argument: &str, visitor: &mut dyn LineVisitor, diag: &mut Diagnostics) {
+        let name = match argument.strip_prefix('\'') {
+            Some(quoted) => match quoted.find('\'') {
+                Some(end) => quoted[..end].to_string(),
+                None => {
+                    diag.error(DeckError::at(loc, "INCLUDE file name has no closing quote").on_card("INCLUDE"));
+                    return;
+                }
+            },
+            None => argument.to_string(),
+        };
+        if name.is_empty() {
+            diag.error(DeckError::at(loc, "INCLUDE needs a file name, e.g. INCLUDE 'mesh.bdf'").on_card("INCLUDE"));
+            return;
+        }
+        let base = loc.file.parent().unwrap_or(Path::new(""));
+        let target = base.join(&name);
+        self.walk(&target, Some(loc), visitor, diag);
+    }
+}
+
+impl Default for SourceWalker {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// If `line` is an `INCLUDE` statement, the rest of the line after the keyword.
+fn include_argument(line: &str) -> Option<&str> {
+    let head = line.get(..7)?;
+    if !head.eq_ignore_ascii_case("INCLUDE") {
+        return None;
+    }
+    let rest = &line[7..];
+    (rest.is_empty() || rest.starts_with([' ', '\'', '\t'])).then_some(rest)
+}
+
+/// Remove a `$` comment (outside quotes).
+fn strip_comment(line: &str) -> &str {
+    let mut in_quote = false;
+    for (i, c) in line.char_indices() {
+        match c {
+            '\'' => in_quote = !in_quote,
+            '$' if !in_quote => return &line[..i],
+            _ => {}
+        }
+    }
+    line
+}
+
+/// Comment removal, control-character check and tab expansion. Returns `None` for lines that
+/// are empty after comment removal or that were reported as errors.
+fn preprocess<'a>(raw: &'a str, expanded: &'a mut String, loc: &Loc, diag: &mut Diagnostics) -> Option<&'a str> {
+    let content = strip_comment(raw.strip_suffix('\r').unwrap_or(raw));
+    if content.trim().is_empty() {
+        return None;
+    }
+    if let Some(bad) = content.chars().find(|&c| (c.is_control() && c != '\t') || c == '\u{FFFD}') {
+        diag.error(DeckError::at(
+            loc,
+            format!("line contains a non-text character (U+{:04X}); is this a binary file?", bad as u32),
+        ));
+        return None;
+    }
+    let content = content.trim_end();
+    if !content.contains('\t') {
+        return Some(content);
+    }
+    expanded.clear();
+    for c in content.chars() {
+        if c == '\t' {
+            let pad = 8 - expanded.chars().count() % 8;
+            expanded.extend(std::iter::repeat_n(' ', pad));
+        } else {
+            expanded.push(c);
+        }
+    }
+    Some(expanded.as_str())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Collect(Vec<(u32, String, String)>);
+    impl LineVisitor for Collect {
+        fn line(&mut self, line: Line<'_>, _: &mut Diagnostics) {
+            let name = line.loc.file.file_name().unwrap().to_string_lossy().to_string();
+            self.0.push((line.loc.line, name, line.text.to_string()));
+        }
+    }
+
+    fn walk(path: &Path) -> (Collect, Diagnostics) {
+        let mut c = Collect(Vec::new());
+        let mut d = Diagnostics::default();
+        SourceWalker::new().walk(path, None, &mut c, &mut d);
+        (c, d)
+    }
+
+    #[test]
+    fn comments_tabs_and_includes() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("sub")).unwrap();
+        std::fs::write(dir.path().join("main.dat"), "$ header\nGRID\t1\t\t0.\nINCLUDE 'sub/a.bdf'\nENDDATA $ end\n")
+            .unwrap();
+        std::fs::write(dir.path().join("sub/a.bdf"), "include 'b.bdf'\nCARD A\n").unwrap();
+        std::fs::write(dir.path().join("sub/b.bdf"), "CARD B\r\n").unwrap();
+        let (c, d) = walk(&dir.path().join("main.dat"));
+        assert!(d.is_ok(), "{:?}", d.errors);
+        let texts: Vec<_> = c.0.iter().map(|(l, f, t)| format!("{f}:{l}:{t}")).collect();
+        assert_eq!(texts, ["main.dat:2:GRID    1               0.", "b.bdf:1:CARD B", "a.bdf:2:CARD A", "main.dat:4:ENDDATA"]);
+    }
+
+    #[test]
+    fn include_cycle_is_reported_with_the_chain() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("a.bdf"), "INCLUDE 'b.bdf'\n").unwrap();
+        std::fs::write(dir.path().join("b.bdf"), "GRID,1\nINCLUDE 'a.bdf'\n").unwrap();
+        let (_, d) = walk(&dir.path().join("a.bdf"));
+        assert_eq!(d.errors.len(), 1);
+        let msg = d.errors[0].to_string();
+        assert!(msg.contains("b.bdf:2") && msg.contains("INCLUDE cycle"), "{msg}");
+    }
+
+    #[test]
+    fn missing_include_names_the_including_line() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("a.bdf"), "GRID,1\n\nINCLUDE 'nope.bdf'\n").unwrap();
+        let (_, d) = walk(&dir.path().join("a.bdf"));
+        assert!(d.errors[0].to_string().contains("a.bdf:3: INCLUDE: cannot read"), "{}", d.errors[0]);
+    }
+
+    #[test]
+    fn multi_line_quoted_include() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("long")).unwrap();
+        std::fs::write(dir.path().join("long/name.bdf"), "X\n").unwrap();
+        std::fs::write(dir.path().join("a.bdf"), "INCLUDE 'long/\n name.bdf'\n").unwrap();
+        let (c, d) = walk(&dir.path().join("a.bdf"));
+        assert!(d.is_ok(), "{:?}", d.errors);
+        assert_eq!(c.0.len(), 1);
+    }
+
+    #[test]
+    fn binary_garbage_is_an_error_with_line() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("a.bdf"), b"GRID,1\n\x00\x01\xff\xfe\n").unwrap();
+        let (_, d) = walk(&dir.path().join("a.bdf"));
+        assert!(d.errors[0].to_string().contains("a.bdf:2"), "{}", d.errors[0]);
+    }
+}

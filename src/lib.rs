@@ -1,0 +1,14 @@
+//! paraflex: a file-driven solver for structural and flexible-multibody dynamics in the style of
+//! a Nastran-type FE code, implementing the parametric reduced-order modelling, multibody and
+//! virtual-sensing methods of the thesis in `shared/seed/thesis.txt`.
+//!
+//! Data flow (see `DESIGN.md` §1): [`deck`] (text → typed cards with source positions) →
+//! [`model`] (cross-referenced, validated) → solution sequences → [`io`] (HDF5 + XDMF).
+//! The library never prints; the binary renders errors and progress.
+
+pub mod deck;
+pub mod io;
+pub mod model;
+
+/// Version string written into every HDF5 group (`paraflex_version` attribute).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -1,0 +1,1 @@
+//! Cross-referenced model (in progress).
