@@ -22,13 +22,39 @@ fn orientation(f: &mut FieldReader, i: usize) -> ShellOrientation {
     }
 }
 
-/// Reject the corner-thickness continuation of shells (TFLAG, Ti), which paraflex does not model.
-fn reject_corner_thickness(f: &mut FieldReader, first: usize, count: usize) {
-    for i in first..first + count {
-        if !f.value(i).is_blank() {
-            f.error(i, "TFLAG/Ti", "corner thicknesses are not supported; the PSHELL/PCOMP thickness is used, leave blank");
+/// Corner thicknesses of a shell (continuation: TFLAG, T1 … Tn).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct CornerThickness {
+    /// TFLAG = 1: the Ti are ratios of the property thickness; 0: actual thicknesses.
+    pub relative: bool,
+    /// Ti per corner; `None` = the property thickness (or ratio 1.0).
+    pub t: [Option<f64>; 4],
+}
+
+/// Read the corner-thickness continuation (TFLAG at `first`, then `count` corner values).
+/// Returns `None` when all are blank.
+fn corner_thickness(f: &mut FieldReader, first: usize, count: usize) -> Option<CornerThickness> {
+    if (first..=first + count).all(|i| f.value(i).is_blank()) {
+        return None;
+    }
+    let relative = match f.int_or(first, "TFLAG", 0) {
+        0 => false,
+        1 => true,
+        other => {
+            f.error(first, "TFLAG", format!("expected 0 or 1, found {other}"));
+            false
+        }
+    };
+    let mut t = [None; 4];
+    for (k, slot) in t.iter_mut().take(count).enumerate() {
+        *slot = f.opt_real(first + 1 + k, &format!("T{}", k + 1));
+        if let Some(v) = *slot {
+            if v <= 0.0 {
+                f.error(first + 1 + k, &format!("T{}", k + 1), format!("expected a thickness > 0, found {v:e}"));
+            }
         }
     }
+    Some(CornerThickness { relative, t })
 }
 
 /// `CQUAD4` — four-node shell.
@@ -40,7 +66,8 @@ fn reject_corner_thickness(f: &mut FieldReader, first: usize, count: usize) {
 /// | 4–7 | G1–G4 | int > 0 | required | grids, in order around the element |
 /// | 8 | THETA/MCID | real or int | 0.0 | material orientation angle (deg) or system id |
 /// | 9 | ZOFFS | real | 0.0 | offset of the reference plane from the grids |
-/// | cont. 4–8 | TFLAG T1–T4 | | blank | corner thicknesses: not supported, must be blank |
+/// | cont. 4 | TFLAG | 0 or 1 | 0 | 1: T1–T4 are ratios of the property thickness |
+/// | cont. 5–8 | T1–T4 | real > 0 | property T | corner thicknesses (bilinear over the element) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cquad4 {
     pub id: u32,
@@ -48,6 +75,7 @@ pub struct Cquad4 {
     pub nodes: [u32; 4],
     pub orientation: ShellOrientation,
     pub zoffs: f64,
+    pub corner_thickness: Option<CornerThickness>,
     pub loc: Loc,
 }
 
@@ -61,10 +89,10 @@ impl Cquad4 {
         let nodes = [f.id(3, "G1"), f.id(4, "G2"), f.id(5, "G3"), f.id(6, "G4")];
         let orientation = orientation(&mut f, 7);
         let zoffs = f.real_or(8, "ZOFFS", 0.0);
-        reject_corner_thickness(&mut f, 11, 5);
+        let corner_thickness = corner_thickness(&mut f, 11, 4);
         let loc = f.loc();
         f.finish(15)?;
-        Ok(Cquad4 { id, pid, nodes, orientation, zoffs, loc })
+        Ok(Cquad4 { id, pid, nodes, orientation, zoffs, corner_thickness, loc })
     }
 }
 
@@ -77,7 +105,8 @@ impl Cquad4 {
 /// | 4–6 | G1–G3 | int > 0 | required | grids |
 /// | 7 | THETA/MCID | real or int | 0.0 | material orientation angle (deg) or system id |
 /// | 8 | ZOFFS | real | 0.0 | offset of the reference plane from the grids |
-/// | cont. 4–7 | TFLAG T1–T3 | | blank | corner thicknesses: not supported, must be blank |
+/// | cont. 4 | TFLAG | 0 or 1 | 0 | 1: T1–T3 are ratios of the property thickness |
+/// | cont. 5–7 | T1–T3 | real > 0 | property T | corner thicknesses (linear over the element) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ctria3 {
     pub id: u32,
@@ -85,6 +114,7 @@ pub struct Ctria3 {
     pub nodes: [u32; 3],
     pub orientation: ShellOrientation,
     pub zoffs: f64,
+    pub corner_thickness: Option<CornerThickness>,
     pub loc: Loc,
 }
 
@@ -98,10 +128,10 @@ impl Ctria3 {
         let nodes = [f.id(3, "G1"), f.id(4, "G2"), f.id(5, "G3")];
         let orientation = orientation(&mut f, 6);
         let zoffs = f.real_or(7, "ZOFFS", 0.0);
-        reject_corner_thickness(&mut f, 11, 4);
+        let corner_thickness = corner_thickness(&mut f, 11, 3);
         let loc = f.loc();
         f.finish(14)?;
-        Ok(Ctria3 { id, pid, nodes, orientation, zoffs, loc })
+        Ok(Ctria3 { id, pid, nodes, orientation, zoffs, corner_thickness, loc })
     }
 }
 

@@ -21,7 +21,7 @@ mod rigid;
 pub use constraints::{Aset1, Spc, Spc1, Spcadd};
 pub use design::{Ddval, Desvar};
 pub use dynamic::{Darea, Dload, Eigrl, Freq, FreqKind, Rload1, Tabled1, Tload1, Tstep};
-pub use elements::{Celas1, Celas2, Chexa, Conm2, Cpenta, Cquad4, Ctetra, Ctria3};
+pub use elements::{Celas1, Celas2, Chexa, Conm2, CornerThickness, Cpenta, Cquad4, Ctetra, Ctria3, ShellOrientation, SpringEnd};
 pub use extension::{Pmor, Pmpar, PmparKind, Pval, Sensor, SensorKind, Tablef, Tinteg};
 pub use geometry::{Cord2, CordKind, Grid};
 pub use loads::{Force, ForceKind, Grav, Load};
