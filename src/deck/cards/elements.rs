@@ -66,8 +66,8 @@ fn corner_thickness(f: &mut FieldReader, first: usize, count: usize) -> Option<C
 /// | 4–7 | G1–G4 | int > 0 | required | grids, in order around the element |
 /// | 8 | THETA/MCID | real or int | 0.0 | material orientation angle (deg) or system id |
 /// | 9 | ZOFFS | real | 0.0 | offset of the reference plane from the grids |
-/// | cont. 4 | TFLAG | 0 or 1 | 0 | 1: T1–T4 are ratios of the property thickness |
-/// | cont. 5–8 | T1–T4 | real > 0 | property T | corner thicknesses (bilinear over the element) |
+/// | cont. 3 | TFLAG | 0 or 1 | 0 | 1: T1–T4 are ratios of the property thickness |
+/// | cont. 4–7 | T1–T4 | real > 0 | property T | corner thicknesses (bilinear over the element) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cquad4 {
     pub id: u32,
@@ -89,9 +89,9 @@ impl Cquad4 {
         let nodes = [f.id(3, "G1"), f.id(4, "G2"), f.id(5, "G3"), f.id(6, "G4")];
         let orientation = orientation(&mut f, 7);
         let zoffs = f.real_or(8, "ZOFFS", 0.0);
-        let corner_thickness = corner_thickness(&mut f, 11, 4);
+        let corner_thickness = corner_thickness(&mut f, 10, 4);
         let loc = f.loc();
-        f.finish(15)?;
+        f.finish(14)?;
         Ok(Cquad4 { id, pid, nodes, orientation, zoffs, corner_thickness, loc })
     }
 }
@@ -105,8 +105,8 @@ impl Cquad4 {
 /// | 4–6 | G1–G3 | int > 0 | required | grids |
 /// | 7 | THETA/MCID | real or int | 0.0 | material orientation angle (deg) or system id |
 /// | 8 | ZOFFS | real | 0.0 | offset of the reference plane from the grids |
-/// | cont. 4 | TFLAG | 0 or 1 | 0 | 1: T1–T3 are ratios of the property thickness |
-/// | cont. 5–7 | T1–T3 | real > 0 | property T | corner thicknesses (linear over the element) |
+/// | cont. 3 | TFLAG | 0 or 1 | 0 | 1: T1–T3 are ratios of the property thickness |
+/// | cont. 4–6 | T1–T3 | real > 0 | property T | corner thicknesses (linear over the element) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ctria3 {
     pub id: u32,
@@ -128,9 +128,9 @@ impl Ctria3 {
         let nodes = [f.id(3, "G1"), f.id(4, "G2"), f.id(5, "G3")];
         let orientation = orientation(&mut f, 6);
         let zoffs = f.real_or(7, "ZOFFS", 0.0);
-        let corner_thickness = corner_thickness(&mut f, 11, 3);
+        let corner_thickness = corner_thickness(&mut f, 10, 3);
         let loc = f.loc();
-        f.finish(14)?;
+        f.finish(13)?;
         Ok(Ctria3 { id, pid, nodes, orientation, zoffs, corner_thickness, loc })
     }
 }
