@@ -1,0 +1,325 @@
+//! The deck reader against committed decks and small hand-written ones (DESIGN.md §3).
+//!
+//! - Conformance: `decks/conformance/<model>_{small,large,free}.bdf` are one model written by
+//!   pyNastran in the three field formats; read, they must give the same typed cards, field by
+//!   field (positions aside).
+//! - Conventions: INCLUDE relative to the including file, Nastran real shorthand, tabs, large
+//!   fields with `*` continuations, free-field continuations, case-insensitive names, comments
+//!   anywhere, and what executive and case control record.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use paraflex::deck::cards::BulkData;
+use paraflex::deck::{Deck, Loc, Solution};
+
+// ---------------------------------------------------------------------------------------------
+// helpers
+
+fn conformance(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("decks/conformance").join(name)
+}
+
+fn read(path: &Path) -> Deck {
+    Deck::read(path).unwrap_or_else(|e| panic!("{} should read cleanly:\n{e}", path.display()))
+}
+
+/// Write `files` (relative path, text) into a fresh directory and read the first one.
+fn read_files(files: &[(&str, &str)]) -> (tempfile::TempDir, Result<Deck, paraflex::deck::DeckErrors>) {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in files {
+        let path = dir.path().join(name);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, text).unwrap();
+    }
+    let deck = Deck::read(&dir.path().join(files[0].0));
+    (dir, deck)
+}
+
+/// Read a one-file deck that must be clean.
+fn read_text(text: &str) -> Deck {
+    let (_dir, deck) = read_files(&[("deck.dat", text)]);
+    deck.unwrap_or_else(|e| panic!("deck should read cleanly:\n{e}\n--- deck ---\n{text}"))
+}
+
+/// Every position in `bulk` replaced by one dummy position, so that the same cards read from
+/// differently formatted files compare equal.
+fn without_locs(bulk: &BulkData) -> BulkData {
+    let dummy = Loc { file: Arc::from(Path::new("-")), line: 0 };
+    let mut b = bulk.clone();
+    macro_rules! clear {
+        ($($field:ident),* $(,)?) => { $( for card in &mut b.$field { card.loc = dummy.clone(); } )* };
+    }
+    clear!(
+        grids, coords, cquad4, ctria3, chexa, cpenta, ctetra, celas1, celas2, conm2, rbe2, rbe3, mat1, mat8,
+        pshell, pcomp, psolid, pelas, spc, spc1, spcadd, aset1, forces, grav, load, eigrl, freq, tstep, tload1,
+        rload1, darea, tabled1, dload, params, desvar, ddval, pmpar, pmor, pval, sensors, tablef, tinteg,
+    );
+    b
+}
+
+/// Compare two bulk sections card kind by card kind, with a readable message on the first
+/// difference of each kind.
+fn assert_same_bulk(a: &BulkData, b: &BulkData, what: &str) {
+    let (a, b) = (without_locs(a), without_locs(b));
+    let mut diffs = Vec::new();
+    macro_rules! compare {
+        ($($field:ident),* $(,)?) => { $(
+            if a.$field.len() != b.$field.len() {
+                diffs.push(format!("{}: {} vs {} cards", stringify!($field), a.$field.len(), b.$field.len()));
+            } else if let Some((x, y)) = a.$field.iter().zip(&b.$field).find(|(x, y)| x != y) {
+                diffs.push(format!("{}: first difference\n  {x:?}\n  {y:?}", stringify!($field)));
+            }
+        )* };
+    }
+    compare!(
+        grids, coords, cquad4, ctria3, chexa, cpenta, ctetra, celas1, celas2, conm2, rbe2, rbe3, mat1, mat8,
+        pshell, pcomp, psolid, pelas, spc, spc1, spcadd, aset1, forces, grav, load, eigrl, freq, tstep, tload1,
+        rload1, darea, tabled1, dload, params, desvar, ddval, pmpar, pmor, pval, sensors, tablef, tinteg,
+    );
+    assert!(diffs.is_empty(), "{what}:\n{}", diffs.join("\n"));
+}
+
+fn card_count(b: &BulkData) -> usize {
+    b.grids.len() + b.coords.len() + b.cquad4.len() + b.ctria3.len() + b.chexa.len() + b.cpenta.len() + b.ctetra.len()
+}
+
+// ---------------------------------------------------------------------------------------------
+// conformance decks: small, large and free field give the same cards
+
+/// Models whose three files carry exactly the same values.
+const EXACT_MODELS: &[&str] = &["mixed", "pcomp_plate", "plate_pshell", "solid_hexa", "solid_tetra"];
+
+#[test]
+fn small_large_and_free_field_decks_give_identical_bulk_data() {
+    for model in EXACT_MODELS {
+        let small = read(&conformance(&format!("{model}_small.bdf")));
+        assert!(card_count(&small.bulk) > 0, "{model}: no cards read");
+        for format in ["large", "free"] {
+            let other = read(&conformance(&format!("{model}_{format}.bdf")));
+            assert_same_bulk(&small.bulk, &other.bulk, &format!("{model}: small vs {format}"));
+            assert_eq!(small.executive.sol, other.executive.sol, "{model} {format}: SOL");
+            assert_eq!(small.case.global.method, other.case.global.method, "{model} {format}: METHOD");
+            assert_eq!(small.case.global.spc, other.case.global.spc, "{model} {format}: SPC");
+        }
+    }
+}
+
+/// Points equal within `1e-6` of their magnitude (at least 1): what survives rounding a
+/// coordinate to an 8-column small field (about 7 significant digits).
+fn assert_points_close(p: [f64; 3], q: [f64; 3], what: &str) {
+    let scale = p.iter().map(|v| v.abs()).fold(1.0, f64::max);
+    for (x, y) in p.iter().zip(&q) {
+        assert!((x - y).abs() <= 1e-6 * scale, "{what}: {p:?} vs {q:?}");
+    }
+}
+
+/// meshio writes grid coordinates rounded to the field width: 8 columns in its small- and
+/// free-field files (`0.285714`), 16 in its large-field (`default`) files (`0.285714285714`).
+/// So grids are compared within the small-field rounding, and everything else exactly.
+fn assert_same_mesh(a: &BulkData, b: &BulkData, what: &str) {
+    assert_eq!(a.grids.len(), b.grids.len(), "{what}: grids");
+    for (g, h) in a.grids.iter().zip(&b.grids) {
+        assert_eq!((g.id, g.cp, g.cd, g.ps), (h.id, h.cp, h.cd, h.ps), "{what}");
+        assert_points_close(g.x, h.x, &format!("{what}: GRID {}", g.id));
+    }
+    let (mut a, mut b) = (a.clone(), b.clone());
+    a.grids.clear();
+    b.grids.clear();
+    assert_same_bulk(&a, &b, what);
+}
+
+#[test]
+fn meshio_decks_agree_across_formats() {
+    let tet = read(&conformance("meshio_box_tet_small.bdf"));
+    assert!(!tet.bulk.ctetra.is_empty());
+    for other in ["meshio_box_tet_free.bdf", "meshio_box_tet_default.bdf"] {
+        assert_same_mesh(&tet.bulk, &read(&conformance(other)).bulk, &format!("meshio_box_tet_small vs {other}"));
+    }
+    let hex = read(&conformance("meshio_box_hex_default.bdf"));
+    assert!(!hex.bulk.chexa.is_empty());
+    assert_same_mesh(&hex.bulk, &read(&conformance("meshio_box_hex_large.bdf")).bulk, "meshio_box_hex default vs large");
+}
+
+/// `conm2_coords`: everything is identical except the CORD2R points. pyNastran writes the
+/// CORD2R A/B/C points with full precision in the large-field file (16 columns,
+/// `-.0211395339889`) but has to round them to 8 columns in the small- and free-field files
+/// (`-.02114`), so the three files genuinely carry different numbers. The rounding is ~7
+/// significant digits of the largest coordinate of the point, so the points are compared with
+/// a tolerance of 1e-6 relative to the point's magnitude (not to each component, which for a
+/// small component like -0.0211 differs by ~2e-5 relatively).
+#[test]
+fn conm2_coords_decks_agree_up_to_cord2r_rounding() {
+    let small = read(&conformance("conm2_coords_small.bdf"));
+    assert!(!small.bulk.conm2.is_empty() && !small.bulk.coords.is_empty());
+    for format in ["large", "free"] {
+        let other = read(&conformance(&format!("conm2_coords_{format}.bdf")));
+        let what = format!("conm2_coords: small vs {format}");
+        assert_eq!(small.bulk.coords.len(), other.bulk.coords.len(), "{what}: coordinate systems");
+        for (a, b) in small.bulk.coords.iter().zip(&other.bulk.coords) {
+            assert_eq!((a.id, a.kind, a.rid), (b.id, b.kind, b.rid), "{what}");
+            for (p, q) in [(a.a, b.a), (a.b, b.b), (a.c, b.c)] {
+                assert_points_close(p, q, &format!("{what}: CORD {}", a.id));
+            }
+        }
+        // The rest must be identical: compare with the coordinate systems taken out.
+        let (mut s, mut o) = (small.bulk.clone(), other.bulk.clone());
+        s.coords.clear();
+        o.coords.clear();
+        assert_same_bulk(&s, &o, &what);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// field formats and conventions
+
+const HEAD: &str = "SOL 103\nCEND\nBEGIN BULK\n";
+
+#[test]
+fn include_paths_are_relative_to_the_including_file_and_nest() {
+    let (dir, deck) = read_files(&[
+        ("main.dat", "SOL 101\nCEND\nBEGIN BULK\nINCLUDE 'mesh/part.bdf'\nGRID    9               9.      0.      0.\nENDDATA\n"),
+        // part.bdf is in mesh/: 'sub/grids.bdf' is mesh/sub/grids.bdf, '../props.bdf' is next to main.dat.
+        ("mesh/part.bdf", "$ part\nINCLUDE 'sub/grids.bdf'\ninclude '../props.bdf'\n"),
+        ("mesh/sub/grids.bdf", "GRID    1               0.      0.      0.\n$\nGRID    2               1.      0.      0.\n"),
+        ("props.bdf", "MAT1    1       7.+10           .3      2700.\n"),
+    ]);
+    let deck = deck.unwrap_or_else(|e| panic!("{e}"));
+    let ids: Vec<u32> = deck.bulk.grids.iter().map(|g| g.id).collect();
+    assert_eq!(ids, [1, 2, 9], "grids in reading order");
+    assert_eq!(deck.bulk.mat1.len(), 1);
+    let names: Vec<String> =
+        deck.files.iter().map(|p| p.strip_prefix(dir.path()).unwrap().to_string_lossy().replace('\\', "/")).collect();
+    assert_eq!(names, ["main.dat", "mesh/part.bdf", "mesh/sub/grids.bdf", "mesh/../props.bdf"]);
+    // Positions point into the included file.
+    let g2 = &deck.bulk.grids[1];
+    assert!(g2.loc.file.ends_with("grids.bdf") && g2.loc.line == 3, "{}", g2.loc);
+}
+
+#[test]
+fn nastran_real_shorthand() {
+    let deck = read_text(&format!(
+        "{HEAD}GRID    1               1.-3    7.+1    -1.D-3\nGRID    2               .5      -2.5E-1 1.5d+2\nMAT1    1       7.+10           .33     2.7+3\n"
+    ));
+    assert_eq!(deck.bulk.grids[0].x, [1e-3, 70.0, -1e-3]);
+    assert_eq!(deck.bulk.grids[1].x, [0.5, -0.25, 150.0]);
+    let m = &deck.bulk.mat1[0];
+    assert_eq!((m.e, m.nu, m.rho), (7e10, 0.33, 2700.0));
+}
+
+#[test]
+fn tab_separated_small_fields_read_like_spaces() {
+    let tabs = read_text(&format!("{HEAD}GRID\t1\t\t1.5\t2.5\t3.5\nCQUAD4\t10\t1\t1\t2\t3\t4\n"));
+    let spaces = read_text(&format!(
+        "{HEAD}GRID    1               1.5     2.5     3.5\nCQUAD4  10      1       1       2       3       4\n"
+    ));
+    assert_eq!(tabs.bulk.grids[0].x, [1.5, 2.5, 3.5]);
+    assert_same_bulk(&tabs.bulk, &spaces.bulk, "tabs vs spaces");
+}
+
+#[test]
+fn large_field_with_star_continuations() {
+    let large = read_text(&format!(
+        "{HEAD}\
+GRID*                  1                             1.5             2.5\n\
+*                    3.5\n\
+CHEXA*                 1               1               1               2\n\
+*                      3               4               5               6\n\
+*                      7               8\n"
+    ));
+    let small = read_text(&format!(
+        "{HEAD}GRID    1               1.5     2.5     3.5\nCHEXA   1       1       1       2       3       4       5       6\n        7       8\n"
+    ));
+    assert_eq!(large.bulk.chexa[0].nodes, [1, 2, 3, 4, 5, 6, 7, 8]);
+    assert_same_bulk(&large.bulk, &small.bulk, "large vs small");
+    assert_eq!(large.bulk.chexa[0].loc.line, 6, "a card's position is its first line");
+}
+
+#[test]
+fn free_field_continuations() {
+    let plus = read_text(&format!("{HEAD}CHEXA,1,1,1,2,3,4,5,6,+C1\n+C1,7,8\n"));
+    let blank = read_text(&format!("{HEAD}CHEXA,1,1,1,2,3,4,5,6\n,7,8\n"));
+    let small = read_text(&format!("{HEAD}CHEXA   1       1       1       2       3       4       5       6\n+       7       8\n"));
+    assert_eq!(plus.bulk.chexa[0].nodes, [1, 2, 3, 4, 5, 6, 7, 8]);
+    assert_same_bulk(&plus.bulk, &blank.bulk, "'+' vs blank free-field continuation");
+    assert_same_bulk(&plus.bulk, &small.bulk, "free vs small");
+}
+
+#[test]
+fn names_are_case_insensitive() {
+    let lower = read_text(
+        "sol semodes\ncend\nmethod = 7\nspc = 1\nbegin bulk\ngrid,1,,0.,0.,0.\ngrid    2               1.      0.      0.\nspc1,1,123456,1\neigrl,7,,,4\nenddata\n",
+    );
+    let upper = read_text(
+        "SOL SEMODES\nCEND\nMETHOD = 7\nSPC = 1\nBEGIN BULK\nGRID,1,,0.,0.,0.\nGRID    2               1.      0.      0.\nSPC1,1,123456,1\nEIGRL,7,,,4\nENDDATA\n",
+    );
+    assert_same_bulk(&lower.bulk, &upper.bulk, "lower vs upper case");
+    assert_eq!(lower.bulk.grids.len(), 2);
+    assert_eq!(lower.executive.sol.as_ref().map(|s| s.0), Some(Solution::Modal));
+    assert_eq!(lower.case.global.method, Some(7));
+}
+
+#[test]
+fn comments_everywhere() {
+    let deck = read_text(
+        "$ header comment\n\
+         SOL 103 $ modes\n\
+         $ between statements\n\
+         CEND$ no space before the comment\n\
+         $\n\
+         METHOD = 1 $ selects EIGRL 1\n\
+         BEGIN BULK $ bulk starts\n\
+         $ a card with a comment between its lines\n\
+         CHEXA   1       1       1       2       3       4       5       6       +C1\n\
+         $ inside the card\n\
+         +C1     7       8 $ trailing\n\
+         GRID,1,,0.,0.,0. $ free-field trailing comment\n\
+         EIGRL   1                       6\n\
+         ENDDATA $ end\n\
+         text after ENDDATA is ignored\n",
+    );
+    assert_eq!(deck.bulk.chexa[0].nodes, [1, 2, 3, 4, 5, 6, 7, 8]);
+    assert_eq!(deck.bulk.grids.len(), 1);
+    assert_eq!(deck.bulk.eigrl.len(), 1);
+    assert_eq!(deck.case.global.method, Some(1));
+    assert_eq!(deck.executive.sol.as_ref().map(|s| s.0), Some(Solution::Modal));
+}
+
+#[test]
+fn executive_and_case_control_are_recorded() {
+    let deck = read_text(
+        "ID PARAFLEX, TEST\nTIME 10\nSOL 101\nCEND\nTITLE = a title, with = signs\nSPC = 1\nSET 5 = 1, 3 THRU 6,\n  10\n\
+         DISP(PRINT) = 5\nSUBCASE 1\n  LOAD = 2\nSUBCASE 2\n  LOAD = 3\n  SPC = 4\nBEGIN BULK\nGRID,1,,0.,0.,0.\nENDDATA\n",
+    );
+    assert!(deck.has_control_sections);
+    assert_eq!(deck.executive.sol.as_ref().map(|s| s.0), Some(Solution::Statics));
+    assert_eq!(deck.executive.recorded.len(), 2);
+    assert_eq!(deck.case.global.title.as_deref(), Some("a title, with = signs"));
+    assert_eq!(deck.case.sets.len(), 1);
+    assert_eq!(deck.case.sets[0].ids, [1, 3, 4, 5, 6, 10]);
+    let subcases = deck.case.subcases();
+    let summary: Vec<(u32, Option<u32>, Option<u32>)> = subcases.iter().map(|s| (s.id, s.spc, s.load)).collect();
+    assert_eq!(summary, [(1, Some(1), Some(2)), (2, Some(4), Some(3))], "SPC inherited from above the first SUBCASE");
+    assert!(subcases.iter().all(|s| s.outputs.iter().any(|o| o.name == "DISPLACEMENT")));
+}
+
+#[test]
+fn bulk_only_file_reads_with_a_warning() {
+    let deck = read_text("GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\n");
+    assert!(!deck.has_control_sections);
+    assert_eq!(deck.bulk.grids.len(), 2);
+    assert!(deck.warnings.iter().any(|w| w.message.contains("bulk data only")));
+}
+
+#[test]
+fn every_error_is_collected_with_its_position() {
+    let (_dir, deck) = read_files(&[(
+        "deck.dat",
+        "SOL 103\nCEND\nBEGIN BULK\nGRID    1               1       0.      0.\nCQUAD4  10      1.      1       2       3       4\nCBAR    1\n",
+    )]);
+    let errors = deck.expect_err("three errors").errors;
+    let lines: Vec<u32> = errors.iter().map(|e| e.loc.line).collect();
+    assert_eq!(lines, [4, 5, 6], "{errors:?}");
+    assert_eq!(errors[1].card.as_deref(), Some("CQUAD4 10"));
+    assert_eq!(errors[1].field.as_deref(), Some("field 3 (PID)"));
+}
