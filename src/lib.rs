@@ -7,7 +7,9 @@
 //! The library never prints; the binary renders errors and progress.
 
 pub mod deck;
+pub mod fe;
 pub mod io;
+pub mod linalg;
 pub mod model;
 
 /// Version string written into every HDF5 group (`paraflex_version` attribute).

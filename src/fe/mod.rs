@@ -1,0 +1,15 @@
+//! Element formulations (DESIGN.md §4–§5): shells, solids, springs and masses, each returning
+//! its matrices split into affine parts so that K(p) = Σ f_i(p) K_i exactly.
+//!
+//! Conventions for every element here:
+//! - six DOFs per grid (T1 T2 T3 R1 R2 R3) in the basic system, grid-major: row `6·a + c` is
+//!   component `c` of the element's grid `a` (in the order the grids are given);
+//! - matrices are dense `faer::Mat<f64>` of size `6·nodes`, symmetric;
+//! - element kernels are pure functions of geometry (basic coordinates) and material/section
+//!   data, and know nothing of decks, cards or global DOF numbering.
+
+pub mod affine;
+pub mod laminate;
+pub mod lumped;
+pub mod shell;
+pub mod solid;
