@@ -1,1 +1,11 @@
-//! HDF5 and XDMF output (in progress).
+//! HDF5 and XDMF output (DESIGN.md §8).
+//!
+//! - [`hdf5_file`]: [`OutputFile`], written under a temporary name and renamed on commit, plus
+//!   typed dataset/attribute helpers and the [`IoError`] type.
+
+pub mod hdf5_file;
+
+pub use hdf5_file::{
+    IoError, OutputFile, SCHEMA_VERSION, set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str,
+    set_attr_strings, write_f64, write_rows3, write_strings, write_u32,
+};
