@@ -346,7 +346,7 @@ impl Celas2 {
 /// | 4 | CID | int ≥ −1 | 0 | system of the offset and inertia; −1: X1–X3 are the basic coordinates of the centre of gravity |
 /// | 5 | M | real | 0.0 | mass |
 /// | 6–8 | X1 X2 X3 | real | 0.0 | offset from the grid (or CG location when CID = −1) |
-/// | cont. 3–8 | I11 I21 I22 I31 I32 I33 | real | 0.0 | inertia about the CG (Nastran sign convention: Iij = −∫ xi xj dm off the diagonal) |
+/// | cont. 2–7 | I11 I21 I22 I31 I32 I33 | real | 0.0 | inertia about the CG (Nastran sign convention: Iij = −∫ xi xj dm off the diagonal) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Conm2 {
     pub id: u32,
@@ -380,10 +380,10 @@ impl Conm2 {
         let names = ["I11", "I21", "I22", "I31", "I32", "I33"];
         let mut inertia = [0.0; 6];
         for (k, name) in names.iter().enumerate() {
-            inertia[k] = f.real_or(10 + k, name, 0.0);
+            inertia[k] = f.real_or(9 + k, name, 0.0);
         }
         let loc = f.loc();
-        f.finish(15)?;
+        f.finish(14)?;
         Ok(Conm2 { id, grid, cid, mass, offset, inertia, loc })
     }
 }

@@ -60,7 +60,7 @@ pub enum CordKind {
 /// | 3 | RID | int ≥ 0 | 0 | system in which A, B, C are given |
 /// | 4–6 | A1 A2 A3 | real | 0.0 | origin |
 /// | 7–9 | B1 B2 B3 | real | 0.0 | a point on the z axis |
-/// | 10–12 | C1 C2 C3 | real | 0.0 | a point in the x–z plane |
+/// | cont. 2–4 | C1 C2 C3 | real | 0.0 | a point in the x–z plane |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cord2 {
     pub id: u32,
