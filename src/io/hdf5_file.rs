@@ -329,12 +329,34 @@ pub fn set_attr_f64s(loc: &Location, name: &str, values: &[f64]) -> Result<(), I
     replace_attr::<f64>(loc, name, &[values.len()], |a| a.write_raw(values))
 }
 
+/// Serializes tests that spawn processes against tests that hold HDF5 files open.
+///
+/// HDF5 opens files without `O_CLOEXEC` and holds an `flock` on them; a child process spawned
+/// while another test thread has a file open inherits the descriptor and keeps the lock after
+/// the parent closes it, so a later open fails with "unable to lock file". Tests that open
+/// HDF5 files take [`shared`](std::sync::RwLock::read) access, tests that spawn take exclusive.
+#[cfg(test)]
+pub(crate) static TEST_SPAWN_LOCK: std::sync::RwLock<()> = std::sync::RwLock::new(());
+
+/// Shared guard for tests that open HDF5 files (see [`TEST_SPAWN_LOCK`]).
+#[cfg(test)]
+pub(crate) fn hdf5_test_guard() -> std::sync::RwLockReadGuard<'static, ()> {
+    TEST_SPAWN_LOCK.read().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Exclusive guard for tests that spawn child processes (see [`TEST_SPAWN_LOCK`]).
+#[cfg(test)]
+pub(crate) fn spawn_test_guard() -> std::sync::RwLockWriteGuard<'static, ()> {
+    TEST_SPAWN_LOCK.write().unwrap_or_else(|e| e.into_inner())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn commit_renames_and_stamps_groups() {
+        let _guard = hdf5_test_guard();
         let dir = tempfile::tempdir().expect("tempdir");
         let out = dir.path().join("a.h5");
         let f = OutputFile::create(&out).expect("create");
@@ -366,6 +388,7 @@ mod tests {
 
     #[test]
     fn drop_without_commit_leaves_nothing() {
+        let _guard = hdf5_test_guard();
         let dir = tempfile::tempdir().expect("tempdir");
         let out = dir.path().join("b.h5");
         {
@@ -378,6 +401,7 @@ mod tests {
 
     #[test]
     fn shape_mismatch_is_an_error_naming_the_dataset() {
+        let _guard = hdf5_test_guard();
         let dir = tempfile::tempdir().expect("tempdir");
         let f = OutputFile::create(dir.path().join("c.h5")).expect("create");
         let g = f.group("x").expect("group");
@@ -390,6 +414,7 @@ mod tests {
 
     #[test]
     fn create_in_missing_directory_names_the_path() {
+        let _guard = hdf5_test_guard();
         let dir = tempfile::tempdir().expect("tempdir");
         let out = dir.path().join("no/such/dir/d.h5");
         let msg = OutputFile::create(&out).unwrap_err().to_string();
