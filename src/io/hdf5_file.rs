@@ -14,9 +14,9 @@
 
 use std::path::{Path, PathBuf};
 
-use hdf5_metno as hdf5;
 use hdf5::types::VarLenUnicode;
 use hdf5::{Dataset, Group, H5Type, Location};
+use hdf5_metno as hdf5;
 
 /// Schema version written into the `schema` attribute of every group.
 pub const SCHEMA_VERSION: i64 = 1;
@@ -66,13 +66,29 @@ pub enum IoError {
 
 impl IoError {
     /// Wraps an HDF5 library error with the file and the operation.
-    pub(crate) fn hdf5(path: impl Into<PathBuf>, what: impl Into<String>, cause: hdf5::Error) -> Self {
-        IoError::Hdf5 { path: path.into(), what: what.into(), cause }
+    pub(crate) fn hdf5(
+        path: impl Into<PathBuf>,
+        what: impl Into<String>,
+        cause: hdf5::Error,
+    ) -> Self {
+        IoError::Hdf5 {
+            path: path.into(),
+            what: what.into(),
+            cause,
+        }
     }
 
     /// Wraps an operating-system error with the file and the operation.
-    pub(crate) fn fs(path: impl Into<PathBuf>, what: impl Into<String>, cause: std::io::Error) -> Self {
-        IoError::Fs { path: path.into(), what: what.into(), cause }
+    pub(crate) fn fs(
+        path: impl Into<PathBuf>,
+        what: impl Into<String>,
+        cause: std::io::Error,
+    ) -> Self {
+        IoError::Fs {
+            path: path.into(),
+            what: what.into(),
+            cause,
+        }
     }
 
     /// Reports inconsistent input data.
@@ -81,7 +97,11 @@ impl IoError {
         what: impl Into<String>,
         reason: impl Into<String>,
     ) -> Self {
-        IoError::InvalidData { path: path.into(), what: what.into(), reason: reason.into() }
+        IoError::InvalidData {
+            path: path.into(),
+            what: what.into(),
+            reason: reason.into(),
+        }
     }
 }
 
@@ -106,7 +126,11 @@ impl OutputFile {
             .with_fapl(|fapl| fapl.fclose_degree(hdf5::file::FileCloseDegree::Strong))
             .create(&tmp_path)
             .map_err(|e| IoError::hdf5(&tmp_path, "create HDF5 file", e))?;
-        let out = OutputFile { file: Some(file), tmp_path, final_path };
+        let out = OutputFile {
+            file: Some(file),
+            tmp_path,
+            final_path,
+        };
         stamp(out.root()?)?;
         Ok(out)
     }
@@ -125,7 +149,11 @@ impl OutputFile {
     pub fn root(&self) -> Result<&Group, IoError> {
         match &self.file {
             Some(file) => Ok(file),
-            None => Err(IoError::invalid(&self.final_path, "/", "file is already closed")),
+            None => Err(IoError::invalid(
+                &self.final_path,
+                "/",
+                "file is already closed",
+            )),
         }
     }
 
@@ -140,9 +168,9 @@ impl OutputFile {
                     .group(part)
                     .map_err(|e| IoError::hdf5(&self.tmp_path, format!("open group {path}"), e))?
             } else {
-                let created = group
-                    .create_group(part)
-                    .map_err(|e| IoError::hdf5(&self.tmp_path, format!("create group {path}"), e))?;
+                let created = group.create_group(part).map_err(|e| {
+                    IoError::hdf5(&self.tmp_path, format!("create group {path}"), e)
+                })?;
                 stamp(&created)?;
                 created
             };
@@ -153,11 +181,17 @@ impl OutputFile {
     /// Flushes and closes the file, then renames it to its final name. Returns the final path.
     pub fn commit(mut self) -> Result<PathBuf, IoError> {
         if let Some(file) = self.file.take() {
-            file.flush().map_err(|e| IoError::hdf5(&self.tmp_path, "flush", e))?;
-            file.close().map_err(|e| IoError::hdf5(&self.tmp_path, "close", e))?;
+            file.flush()
+                .map_err(|e| IoError::hdf5(&self.tmp_path, "flush", e))?;
+            file.close()
+                .map_err(|e| IoError::hdf5(&self.tmp_path, "close", e))?;
         }
         std::fs::rename(&self.tmp_path, &self.final_path).map_err(|e| {
-            IoError::fs(&self.final_path, format!("rename {} to it", self.tmp_path.display()), e)
+            IoError::fs(
+                &self.final_path,
+                format!("rename {} to it", self.tmp_path.display()),
+                e,
+            )
         })?;
         // Nothing left for `Drop` to remove.
         self.tmp_path = PathBuf::new();
@@ -219,7 +253,11 @@ fn stamp(group: &Group) -> Result<(), IoError> {
 /// Full HDF5 name of `name` inside `group`, for messages.
 fn object_name(group: &Location, name: &str) -> String {
     let parent = group.name();
-    if parent.ends_with('/') { format!("{parent}{name}") } else { format!("{parent}/{name}") }
+    if parent.ends_with('/') {
+        format!("{parent}{name}")
+    } else {
+        format!("{parent}/{name}")
+    }
 }
 
 /// Writes a dataset of `shape` (row-major) from a flat slice.
@@ -235,7 +273,10 @@ fn write_array<T: H5Type>(
         return Err(IoError::invalid(
             group.filename(),
             &what,
-            format!("shape {shape:?} needs {expected} values, got {}", data.len()),
+            format!(
+                "shape {shape:?} needs {expected} values, got {}",
+                data.len()
+            ),
         ));
     }
     let ds = group
@@ -251,12 +292,22 @@ fn write_array<T: H5Type>(
 }
 
 /// Writes an `f64` dataset of `shape` (row-major, e.g. `[n, 3]`) from a flat slice.
-pub fn write_f64(group: &Group, name: &str, data: &[f64], shape: &[usize]) -> Result<Dataset, IoError> {
+pub fn write_f64(
+    group: &Group,
+    name: &str,
+    data: &[f64],
+    shape: &[usize],
+) -> Result<Dataset, IoError> {
     write_array(group, name, data, shape)
 }
 
 /// Writes a `u32` dataset of `shape` (row-major) from a flat slice.
-pub fn write_u32(group: &Group, name: &str, data: &[u32], shape: &[usize]) -> Result<Dataset, IoError> {
+pub fn write_u32(
+    group: &Group,
+    name: &str,
+    data: &[u32],
+    shape: &[usize],
+) -> Result<Dataset, IoError> {
     write_array(group, name, data, shape)
 }
 
@@ -271,7 +322,11 @@ fn to_varlen(loc: &Location, what: &str, values: &[&str]) -> Result<Vec<VarLenUn
         .iter()
         .map(|s| {
             s.parse::<VarLenUnicode>().map_err(|e| {
-                IoError::invalid(loc.filename(), what, format!("string {s:?} not storable: {e}"))
+                IoError::invalid(
+                    loc.filename(),
+                    what,
+                    format!("string {s:?} not storable: {e}"),
+                )
             })
         })
         .collect()
@@ -297,8 +352,12 @@ fn replace_attr<T: H5Type>(
         loc.delete_attr(name).map_err(err)?;
     }
     let builder = loc.new_attr::<T>();
-    let attr = if shape.is_empty() { builder.create(name) } else { builder.shape(shape).create(name) }
-        .map_err(err)?;
+    let attr = if shape.is_empty() {
+        builder.create(name)
+    } else {
+        builder.shape(shape).create(name)
+    }
+    .map_err(err)?;
     write(&attr).map_err(err)
 }
 
@@ -381,9 +440,22 @@ mod tests {
         }
         let g = h.group("results/1/modal").unwrap();
         assert_eq!(g.attr("n").unwrap().read_scalar::<i64>().unwrap(), 4);
-        assert_eq!(g.dataset("frequency_hz").unwrap().read_raw::<f64>().unwrap(), [1.0, 2.0]);
-        let names = g.dataset("names").unwrap().read_raw::<VarLenUnicode>().unwrap();
-        assert_eq!(names.iter().map(|s| s.as_str()).collect::<Vec<_>>(), ["a", "b"]);
+        assert_eq!(
+            g.dataset("frequency_hz")
+                .unwrap()
+                .read_raw::<f64>()
+                .unwrap(),
+            [1.0, 2.0]
+        );
+        let names = g
+            .dataset("names")
+            .unwrap()
+            .read_raw::<VarLenUnicode>()
+            .unwrap();
+        assert_eq!(
+            names.iter().map(|s| s.as_str()).collect::<Vec<_>>(),
+            ["a", "b"]
+        );
     }
 
     #[test]

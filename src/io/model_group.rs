@@ -36,7 +36,11 @@ pub struct ModelInfo {
 pub fn write_model(file: &OutputFile, mesh: &MeshArrays, info: &ModelInfo) -> Result<(), IoError> {
     check_mesh(file, mesh)?;
     let model = file.group("model")?;
-    for (name, value) in [("title", &info.title), ("deck", &info.deck), ("sol", &info.sol)] {
+    for (name, value) in [
+        ("title", &info.title),
+        ("deck", &info.deck),
+        ("sol", &info.sol),
+    ] {
         if let Some(value) = value {
             set_attr_str(&model, name, value)?;
         }
@@ -58,7 +62,12 @@ fn write_block(file: &OutputFile, block: &ElementBlock) -> Result<(), IoError> {
     let group = file.group(&format!("model/elements/{}", block.card))?;
     let m = block.ids.len();
     write_u32(&group, "ids", &block.ids, &[m])?;
-    let conn = write_u32(&group, "connectivity", &block.connectivity, &[m, block.nodes_per_element])?;
+    let conn = write_u32(
+        &group,
+        "connectivity",
+        &block.connectivity,
+        &[m, block.nodes_per_element],
+    )?;
     set_attr_str(&conn, "indexing", CONNECTIVITY_INDEXING)?;
     write_u32(&group, "pid", &block.pids, &[m])?;
     Ok(())
@@ -69,18 +78,30 @@ fn check_mesh(file: &OutputFile, mesh: &MeshArrays) -> Result<(), IoError> {
     let bad = |what: &str, reason: String| Err(IoError::invalid(file.temp_path(), what, reason));
     let n = mesh.grid_ids.len();
     if mesh.xyz.len() != n {
-        return bad("/model/xyz", format!("{} rows for {n} grid ids", mesh.xyz.len()));
+        return bad(
+            "/model/xyz",
+            format!("{} rows for {n} grid ids", mesh.xyz.len()),
+        );
     }
     if let Some(w) = mesh.grid_ids.windows(2).find(|w| w[0] >= w[1]) {
-        return bad("/model/grid_ids", format!("not sorted increasing at {} then {}", w[0], w[1]));
+        return bad(
+            "/model/grid_ids",
+            format!("not sorted increasing at {} then {}", w[0], w[1]),
+        );
     }
     let mut seen = std::collections::BTreeSet::new();
     for block in &mesh.blocks {
         let what = format!("/model/elements/{}", block.card);
         let card_ok = !block.card.is_empty()
-            && block.card.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+            && block
+                .card
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_');
         if !card_ok {
-            return bad(&what, "card name must be non-empty ASCII letters/digits/_".into());
+            return bad(
+                &what,
+                "card name must be non-empty ASCII letters/digits/_".into(),
+            );
         }
         if !seen.insert(block.card) {
             return bad(&what, "two blocks with the same card name".into());
@@ -185,7 +206,11 @@ pub(crate) fn test_mesh() -> MeshArrays {
             connectivity: vec![0, 0],
         },
     ];
-    MeshArrays { grid_ids, xyz, blocks }
+    MeshArrays {
+        grid_ids,
+        xyz,
+        blocks,
+    }
 }
 
 #[cfg(test)]
@@ -218,7 +243,14 @@ mod tests {
         assert_eq!(read_str_attr(&model, "title"), "two quads and friends");
         assert_eq!(read_str_attr(&model, "deck"), "decks/verify/mixed.bdf");
         assert!(model.attr("sol").is_err());
-        assert_eq!(model.attr("n_elements").unwrap().read_scalar::<i64>().unwrap(), 6);
+        assert_eq!(
+            model
+                .attr("n_elements")
+                .unwrap()
+                .read_scalar::<i64>()
+                .unwrap(),
+            6
+        );
         assert_eq!(read_grid_ids(&h).unwrap(), mesh.grid_ids);
         let xyz = model.dataset("xyz").unwrap();
         assert_eq!(xyz.shape(), [15, 3]);
@@ -227,8 +259,14 @@ mod tests {
         for block in &mesh.blocks {
             let g = h.group(&format!("model/elements/{}", block.card)).unwrap();
             assert_eq!(read_str_attr(&g, "paraflex_version"), crate::VERSION);
-            assert_eq!(g.dataset("ids").unwrap().read_raw::<u32>().unwrap(), block.ids);
-            assert_eq!(g.dataset("pid").unwrap().read_raw::<u32>().unwrap(), block.pids);
+            assert_eq!(
+                g.dataset("ids").unwrap().read_raw::<u32>().unwrap(),
+                block.ids
+            );
+            assert_eq!(
+                g.dataset("pid").unwrap().read_raw::<u32>().unwrap(),
+                block.pids
+            );
             let conn = g.dataset("connectivity").unwrap();
             assert_eq!(conn.shape(), [block.ids.len(), block.nodes_per_element]);
             assert_eq!(conn.read_raw::<u32>().unwrap(), block.connectivity);
@@ -244,15 +282,22 @@ mod tests {
         let mut mesh = test_mesh();
         mesh.blocks[0].connectivity[5] = 99;
         let f = OutputFile::create(&out).expect("create");
-        let msg = write_model(&f, &mesh, &ModelInfo::default()).unwrap_err().to_string();
-        assert!(msg.contains("CQUAD4") && msg.contains("element 102") && msg.contains("99"), "{msg}");
+        let msg = write_model(&f, &mesh, &ModelInfo::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            msg.contains("CQUAD4") && msg.contains("element 102") && msg.contains("99"),
+            "{msg}"
+        );
         drop(f);
         assert!(!out.exists());
 
         let mut mesh = test_mesh();
         mesh.blocks[1].card = "CQUAD4";
         let f = OutputFile::create(&out).expect("create");
-        let msg = write_model(&f, &mesh, &ModelInfo::default()).unwrap_err().to_string();
+        let msg = write_model(&f, &mesh, &ModelInfo::default())
+            .unwrap_err()
+            .to_string();
         assert!(msg.contains("same card"), "{msg}");
     }
 

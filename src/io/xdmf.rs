@@ -103,9 +103,12 @@ pub fn xdmf_path_for(h5_path: &Path) -> PathBuf {
 /// Writes `<h5 stem>.xdmf` next to `h5_path` (temporary name, then rename) describing the
 /// `/model` group that [`write_model`](super::write_model) wrote from the same `mesh`.
 pub fn write_xdmf(h5_path: &Path, mesh: &MeshArrays) -> Result<XdmfWritten, IoError> {
-    let h5_name = h5_path.file_name().and_then(|n| n.to_str()).ok_or_else(|| {
-        IoError::invalid(h5_path, "XDMF file", "HDF5 file name is not valid UTF-8")
-    })?;
+    let h5_name = h5_path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .ok_or_else(|| {
+            IoError::invalid(h5_path, "XDMF file", "HDF5 file name is not valid UTF-8")
+        })?;
     let (xml, skipped) = xdmf_text(h5_name, mesh);
     let path = xdmf_path_for(h5_path);
     write_file_atomically(&path, xml.as_bytes())?;
@@ -125,7 +128,10 @@ pub fn xdmf_text(h5_name: &str, mesh: &MeshArrays) -> (String, Vec<String>) {
     for block in &mesh.blocks {
         let k = block.nodes_per_element;
         let Some(topology) = Topology::for_block(block.card, k) else {
-            skipped.push(format!("{}: no XDMF topology for {k} nodes per element", block.card));
+            skipped.push(format!(
+                "{}: no XDMF topology for {k} nodes per element",
+                block.card
+            ));
             continue;
         };
         if block.ids.is_empty() {
@@ -151,7 +157,11 @@ fn write_grid(
     let k = block.nodes_per_element;
     let heavy = |what: &str| format!("{h5}:/model/elements/{card}/{what}");
     writeln!(s, "      <Grid Name=\"{card}\" GridType=\"Uniform\">")?;
-    writeln!(s, "        <Topology {} NumberOfElements=\"{m}\">", topology.xml_attrs())?;
+    writeln!(
+        s,
+        "        <Topology {} NumberOfElements=\"{m}\">",
+        topology.xml_attrs()
+    )?;
     writeln!(
         s,
         "          <DataItem Dimensions=\"{m} {k}\" NumberType=\"UInt\" Precision=\"4\" \
@@ -167,7 +177,10 @@ fn write_grid(
     )?;
     writeln!(s, "        </Geometry>")?;
     for (name, dataset) in [("element_id", "ids"), ("property_id", "pid")] {
-        writeln!(s, "        <Attribute Name=\"{name}\" AttributeType=\"Scalar\" Center=\"Cell\">")?;
+        writeln!(
+            s,
+            "        <Attribute Name=\"{name}\" AttributeType=\"Scalar\" Center=\"Cell\">"
+        )?;
         writeln!(
             s,
             "          <DataItem Dimensions=\"{m}\" NumberType=\"UInt\" Precision=\"4\" \
@@ -208,7 +221,11 @@ mod tests {
         while let Some(start) = rest.find('<') {
             let end = rest[start..].find('>').expect("unclosed tag") + start;
             let tag = &rest[start + 1..end];
-            assert_eq!(tag.matches('"').count() % 2, 0, "unbalanced quotes in <{tag}>");
+            assert_eq!(
+                tag.matches('"').count() % 2,
+                0,
+                "unbalanced quotes in <{tag}>"
+            );
             if tag.starts_with('?') || tag.ends_with('/') {
                 // declaration or empty element
             } else if let Some(name) = tag.strip_prefix('/') {
@@ -234,8 +251,14 @@ mod tests {
              Format=\"HDF\">run.h5:/model/elements/CQUAD4/connectivity</DataItem>"
         ));
         assert!(xml.contains("TopologyType=\"Hexahedron\" NumberOfElements=\"1\""));
-        assert!(xml.contains("TopologyType=\"Polyvertex\" NodesPerElement=\"1\" NumberOfElements=\"1\""));
-        assert!(xml.contains("TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"1\""));
+        assert!(
+            xml.contains(
+                "TopologyType=\"Polyvertex\" NodesPerElement=\"1\" NumberOfElements=\"1\""
+            )
+        );
+        assert!(
+            xml.contains("TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"1\"")
+        );
         assert!(xml.contains("Dimensions=\"15 3\""));
         assert!(xml.contains("run.h5:/model/elements/CTRIA3/ids"));
         assert!(!xml.contains("/tmp"));
