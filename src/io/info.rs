@@ -85,14 +85,23 @@ pub struct DatasetSummary {
 
 /// Opens `path` read-only and summarises it; see the module documentation.
 ///
-/// Errors: the file cannot be opened as HDF5 (missing, not HDF5, corrupt) → [`IoError::Hdf5`];
-/// an HDF5 file without the root `schema` attribute → [`IoError::NotParaflex`]. Both name `path`.
+/// Errors, all naming `path`: missing or unreadable → [`IoError::Fs`]; not HDF5 or corrupt →
+/// [`IoError::Hdf5`]; a directory, or an HDF5 file without the root `schema` attribute →
+/// [`IoError::NotParaflex`].
 pub fn describe(path: impl AsRef<Path>) -> Result<FileSummary, IoError> {
     let path = path.as_ref();
     let err = |what: &str| {
         let what = what.to_owned();
         move |e| IoError::hdf5(path, what, e)
     };
+    // Plain file-system problems get the OS message rather than HDF5's verbose one.
+    let meta = std::fs::metadata(path).map_err(|e| IoError::fs(path, "open", e))?;
+    if meta.is_dir() {
+        return Err(IoError::NotParaflex {
+            path: path.to_owned(),
+            reason: "is a directory".into(),
+        });
+    }
     let file = hdf5::File::open(path).map_err(err("open as HDF5"))?;
     let names = file.attr_names().map_err(err("list attributes of /"))?;
     if !names.iter().any(|n| n == "schema") {
