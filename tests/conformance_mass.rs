@@ -62,8 +62,33 @@ fn diffs(model: &Model, r: &Value) -> [f64; 3] {
     let ri: Vec<f64> = r["inertia_cg"].as_array().map(|rows| rows.iter().flat_map(|row| row.as_array().into_iter().flatten().filter_map(Value::as_f64)).collect()).unwrap_or_default();
     let dm = (mp.mass - rm).abs() / rm.abs();
     let dcg: Vec<f64> = mp.cg.iter().zip(&rcg).map(|(a, b)| a - b).collect();
+    let correction = conm2_cid_inertia(model);
+    let ri: Vec<f64> = ri.iter().zip(correction.iter().flatten()).map(|(r, c)| r + mp.wtmass * c).collect();
     let di: Vec<f64> = mp.inertia_cg.iter().flatten().zip(&ri).map(|(a, b)| a - b).collect();
     [dm, norm(&dcg) / norm(&rcg).max(1e-300), norm(&di) / norm(&ri).max(1e-300)]
+}
+
+/// The inertia pyNastran drops: Σ T J Tᵀ of every CONM2 with CID > 0 (PYNASTRAN_MASS.md §5,
+/// quirk 2), T the CID axes as columns, J the card's tensor [[I11, −I21, −I31], …]. Only
+/// diagonal J occurs in the decks, so the product-of-inertia sign question does not arise.
+fn conm2_cid_inertia(model: &Model) -> [[f64; 3]; 3] {
+    let mut out = [[0.0; 3]; 3];
+    for c in model.bulk.conm2.iter().filter(|c| c.cid > 0) {
+        let (Some(sys), Some(grid)) = (model.coords.get(&(c.cid as u32)), model.grid(c.grid)) else { continue };
+        let t = sys.axes_at(grid.xyz);
+        let [i11, i21, i22, i31, i32, i33] = c.inertia;
+        let j = [[i11, -i21, -i31], [-i21, i22, -i32], [-i31, -i32, i33]];
+        for a in 0..3 {
+            for b in 0..3 {
+                for k in 0..3 {
+                    for l in 0..3 {
+                        out[a][b] += t[a][k] * j[k][l] * t[b][l];
+                    }
+                }
+            }
+        }
+    }
+    out
 }
 
 fn counts_match(model: &Model, r: &Value) -> Result<(), String> {

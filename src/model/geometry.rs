@@ -2,7 +2,8 @@
 //!
 //! # Integrals
 //! Every element is treated as its isoparametric map x(ξ) = Σ Nᵢ(ξ) pᵢ:
-//! - `CTRIA3`: flat triangle, area ½|(p2−p1)×(p3−p1)|, centroid = node mean (both exact).
+//! - `CTRIA3`: flat triangle, area ½|(p2−p1)×(p3−p1)|, centroid = node mean (both exact);
+//!   with a linearly varying density (corner thicknesses) the closed-form moments are used.
 //! - `CQUAD4`: bilinear surface, A = ∫|x_ξ × x_η| dξ dη and centroid ∫x dA / A with an 8×8
 //!   Gauss–Legendre rule. For a planar quad |x_ξ × x_η| is linear in (ξ, η), so the rule is exact
 //!   to round-off; for a warped quad the integrand is smooth and the rule converges exponentially.
@@ -284,10 +285,30 @@ pub fn tria_area_centroid(p: &[[f64; 3]; 3]) -> (f64, [f64; 3]) {
     (0.5 * norm(cross(sub(p[1], p[0]), sub(p[2], p[0]))), super::vec3::mean(p))
 }
 
+/// ∫w dA and ∫x w dA / ∫w dA over a flat triangle for a density w linear between the corner
+/// values (exact: ∫Nᵢ dA = A/3, ∫Nᵢ Nⱼ dA = A(1 + δᵢⱼ)/12).
+pub fn tria_weighted(p: &[[f64; 3]; 3], w: [f64; 3]) -> (f64, [f64; 3]) {
+    let (area, mean) = tria_area_centroid(p);
+    let total = area * (w[0] + w[1] + w[2]) / 3.0;
+    let sum_p = add(add(p[0], p[1]), p[2]);
+    let mut moment = [0.0; 3];
+    for k in 0..3 {
+        moment = add(moment, scale(add(sum_p, p[k]), w[k] * area / 12.0));
+    }
+    let c = if total != 0.0 { scale(moment, 1.0 / total) } else { mean };
+    (total, c)
+}
+
 /// Area ∫|x_ξ × x_η| and centroid of the bilinear CQUAD4 surface (8×8 Gauss–Legendre).
 pub fn quad_area_centroid(p: &[[f64; 3]; 4]) -> (f64, [f64; 3]) {
+    quad_weighted(p, [1.0; 4])
+}
+
+/// ∫w dA and ∫x w dA / ∫w dA over the bilinear CQUAD4 surface for a density w interpolated
+/// bilinearly between the corner values (8×8 Gauss–Legendre, exact for planar quads).
+pub fn quad_weighted(p: &[[f64; 3]; 4], w: [f64; 4]) -> (f64, [f64; 3]) {
     let g = gauss_legendre(8);
-    let mut area = 0.0;
+    let mut total = 0.0;
     let mut moment = [0.0; 3];
     for &(xi, wx) in &g {
         for &(eta, we) in &g {
@@ -297,18 +318,20 @@ pub fn quad_area_centroid(p: &[[f64; 3]; 4]) -> (f64, [f64; 3]) {
             let mut x = [0.0; 3];
             let mut a = [0.0; 3];
             let mut b = [0.0; 3];
+            let mut density = 0.0;
             for k in 0..4 {
                 x = add(x, scale(p[k], n[k] / 4.0));
                 a = add(a, scale(p[k], dxi[k] / 4.0));
                 b = add(b, scale(p[k], deta[k] / 4.0));
+                density += w[k] * n[k] / 4.0;
             }
-            let da = norm(cross(a, b)) * wx * we;
-            area += da;
-            moment = add(moment, scale(x, da));
+            let dm = norm(cross(a, b)) * wx * we * density;
+            total += dm;
+            moment = add(moment, scale(x, dm));
         }
     }
-    let c = if area > 0.0 { scale(moment, 1.0 / area) } else { super::vec3::mean(p) };
-    (area, c)
+    let c = if total != 0.0 { scale(moment, 1.0 / total) } else { super::vec3::mean(p) };
+    (total, c)
 }
 
 /// Outcome of a shape check: errors make the element unusable, warnings are reported.

@@ -3,7 +3,8 @@
 //! Convention (the same as pyNastran's `mass_properties`, with exact geometry):
 //! - every element's mass is a point mass at the element's exact centroid (∫x dA / A for shells,
 //!   ∫x dV / V for solids, see [`geometry`](super::geometry)); element rotary inertia is not added;
-//! - shells: m = A · (ρ t + NSM) for `PSHELL` (ρ of MID1, or of MID2 when MID1 is blank) and
+//! - shells: m = ∫(ρ t + NSM) dA for `PSHELL`, t bilinear/linear between the corner thicknesses
+//!   when the element gives them (pyNastran uses the mean corner thickness × A), (ρ of MID1, or of MID2 when MID1 is blank) and
 //!   m = A · (Σ over the full stack ρᵢ tᵢ + NSM) for `PCOMP` (LAM = SYM doubles the plies, not
 //!   NSM); ZOFFS and the PCOMP Z0 do not move the mass point (as in pyNastran);
 //! - solids: m = ρ V with ρ of the PSOLID's MAT1;
@@ -26,7 +27,7 @@
 //! are −Σ m dx dy (negative products). WTMASS multiplies mass and inertia because that is the
 //! mass that enters the mass matrix (Nastran's GPWG prints weight units, i.e. without WTMASS).
 
-use crate::deck::cards::Conm2;
+use crate::deck::cards::{Conm2, CornerThickness};
 
 use super::geometry;
 use super::vec3::{add, scale, sub};
@@ -85,13 +86,17 @@ impl Model {
         match e.kind {
             ElementKind::Quad4 => {
                 let q = <[[f64; 3]; 4]>::try_from(p).ok()?;
-                let (area, c) = geometry::quad_area_centroid(&q);
-                Some(MassPoint { mass: area * self.mass_per_area(e.property?)?, point: c, inertia: None })
+                let card = self.bulk.cquad4.get(e.card)?;
+                let w = self.corner_densities::<4>(e.property?, card.corner_thickness.as_ref())?;
+                let (mass, point) = geometry::quad_weighted(&q, w);
+                Some(MassPoint { mass, point, inertia: None })
             }
             ElementKind::Tria3 => {
                 let t = <[[f64; 3]; 3]>::try_from(p).ok()?;
-                let (area, c) = geometry::tria_area_centroid(&t);
-                Some(MassPoint { mass: area * self.mass_per_area(e.property?)?, point: c, inertia: None })
+                let card = self.bulk.ctria3.get(e.card)?;
+                let w = self.corner_densities::<3>(e.property?, card.corner_thickness.as_ref())?;
+                let (mass, point) = geometry::tria_weighted(&t, w);
+                Some(MassPoint { mass, point, inertia: None })
             }
             ElementKind::Hexa8 | ElementKind::Penta6 | ElementKind::Tetra4 | ElementKind::Tetra10 => {
                 let shape = e.kind.solid_shape()?;
@@ -105,18 +110,31 @@ impl Model {
         }
     }
 
-    /// Shell mass per unit area of a PSHELL or PCOMP.
-    fn mass_per_area(&self, prop: PropertyRef) -> Option<f64> {
+    /// Shell mass per unit area at each corner: ρ tᵢ + NSM for a PSHELL (tᵢ from the element's
+    /// corner thicknesses: TFLAG = 1 ratios of T, TFLAG = 0 actual values, blank = T), and
+    /// Σ ρᵢ tᵢ + NSM over the full stack for a PCOMP (corner thicknesses do not apply to PCOMP).
+    fn corner_densities<const N: usize>(&self, prop: PropertyRef, corners: Option<&CornerThickness>) -> Option<[f64; N]> {
         match prop {
             PropertyRef::Pshell(i) => {
                 let ps = self.bulk.pshell.get(i)?;
                 let rho = ps.mid1.or(ps.mid2).and_then(|m| self.rho(m)).unwrap_or(0.0);
-                Some(ps.nsm + rho * ps.t)
+                let mut out = [ps.nsm + rho * ps.t; N];
+                if let Some(c) = corners {
+                    for (k, slot) in out.iter_mut().enumerate() {
+                        let t = match c.t.get(k).copied().flatten() {
+                            Some(ti) if c.relative => ti * ps.t,
+                            Some(ti) => ti,
+                            None => ps.t,
+                        };
+                        *slot = ps.nsm + rho * t;
+                    }
+                }
+                Some(out)
             }
             PropertyRef::Pcomp(i) => {
                 let pc = self.bulk.pcomp.get(i)?;
                 let plies: f64 = pc.full_stack().iter().map(|ply| self.rho(ply.mid).unwrap_or(0.0) * ply.t).sum();
-                Some(plies + pc.nsm)
+                Some([plies + pc.nsm; N])
             }
             PropertyRef::Psolid(_) | PropertyRef::Pelas(_) => None,
         }
