@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use paraflex::deck::{Deck, Warning};
+use paraflex::deck::{Deck, DeckErrors, Warning};
+use paraflex::model::{CheckSummary, Model};
 
 #[derive(Parser)]
 #[command(name = "paraflex", version, about = "Parametric structural and flexible-multibody dynamics from Nastran decks")]
@@ -53,11 +54,34 @@ fn print_warnings(warnings: &[Warning]) {
     }
 }
 
-fn read_deck(path: &Path) -> Result<Deck, Failure> {
-    Deck::read(path).map_err(|errors| {
+/// Read and validate a deck; on failure print every error (exit code 2).
+fn load_model(path: &Path) -> Result<(Deck, Model), Failure> {
+    let report = |errors: DeckErrors| {
         eprintln!("{errors}");
         Failure(2)
-    })
+    };
+    let deck = Deck::read(path).map_err(report)?;
+    let model = Model::build(&deck).map_err(|errors| report(DeckErrors { errors }))?;
+    Ok((deck, model))
+}
+
+/// The human-readable form of `paraflex check`.
+fn print_summary(path: &Path, s: &CheckSummary) {
+    println!("{}", path.display());
+    println!("  solution     {}", s.sol.unwrap_or("(none)"));
+    println!("  grids        {} ({} DOFs)", s.grids, s.dofs);
+    let list = |m: &std::collections::BTreeMap<&str, usize>| {
+        m.iter().filter(|(_, n)| **n > 0).map(|(k, n)| format!("{k} {n}")).collect::<Vec<_>>().join(", ")
+    };
+    println!("  elements     {}", list(&s.elements));
+    println!("  rigid        {}", list(&s.rigid));
+    println!("  properties   {}", list(&s.properties));
+    println!("  materials    {}", list(&s.materials));
+    println!("  mass         {:.6e} (WTMASS {})", s.mass, s.wtmass);
+    println!("  cg           [{:.6e}, {:.6e}, {:.6e}]", s.cg[0], s.cg[1], s.cg[2]);
+    println!("  inertia (cg) [{:.6e}, {:.6e}, {:.6e}]", s.inertia_cg[0][0], s.inertia_cg[0][1], s.inertia_cg[0][2]);
+    println!("               [{:.6e}, {:.6e}, {:.6e}]", s.inertia_cg[1][0], s.inertia_cg[1][1], s.inertia_cg[1][2]);
+    println!("               [{:.6e}, {:.6e}, {:.6e}]", s.inertia_cg[2][0], s.inertia_cg[2][1], s.inertia_cg[2][2]);
 }
 
 fn main() -> ExitCode {
@@ -77,20 +101,46 @@ mod commands {
     use super::*;
 
     pub fn check(path: &Path, json: bool) -> Result<(), Failure> {
-        let deck = read_deck(path)?;
-        print_warnings(&deck.warnings);
+        let (_, model) = load_model(path)?;
+        let summary = model.summary();
         if json {
-            let summary = serde_json::json!({ "cards": deck.bulk.grids.len() });
-            println!("{summary}");
+            println!("{}", serde_json::to_string(&summary).unwrap_or_default());
         } else {
-            println!("{}: read {} grids", path.display(), deck.bulk.grids.len());
+            print_warnings(&model.warnings);
+            print_summary(path, &summary);
         }
         Ok(())
     }
 
-    pub fn run(path: &Path, _output: Option<&Path>) -> Result<(), Failure> {
-        let deck = read_deck(path)?;
-        print_warnings(&deck.warnings);
+    /// Write `/model` (and the XDMF file next to it) for a validated model.
+    fn write_model_file(deck: &Deck, model: &Model, out: &Path) -> Result<PathBuf, paraflex::io::IoError> {
+        let mesh = model.mesh_arrays();
+        let info = paraflex::io::ModelInfo {
+            title: deck.case.subcases().first().and_then(|s| s.title.clone()),
+            deck: Some(deck.path.display().to_string()),
+            sol: deck.executive.sol.as_ref().map(|(sol, _)| sol.name().to_string()),
+        };
+        let file = paraflex::io::OutputFile::create(out)?;
+        paraflex::io::write_model(&file, &mesh, &info)?;
+        let written = file.commit()?;
+        let xdmf = paraflex::io::write_xdmf(&written, &mesh)?;
+        for skipped in &xdmf.skipped {
+            eprintln!("warning: not drawn in the XDMF file: {skipped}");
+        }
+        Ok(written)
+    }
+
+    pub fn run(path: &Path, output: Option<&Path>) -> Result<(), Failure> {
+        let (deck, model) = load_model(path)?;
+        print_warnings(&model.warnings);
+        let out = output.map(Path::to_path_buf).unwrap_or_else(|| path.with_extension("h5"));
+        match write_model_file(&deck, &model, &out) {
+            Ok(written) => eprintln!("wrote the model to {}", written.display()),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return Err(Failure(2));
+            }
+        }
         match &deck.executive.sol {
             Some((sol, text)) => {
                 eprintln!("error: SOL {text} ({}) is not available in this version of paraflex", sol.name());
@@ -100,8 +150,16 @@ mod commands {
         Err(Failure(3))
     }
 
-    pub fn info(file: &Path, _json: bool) -> Result<(), Failure> {
-        eprintln!("error: cannot describe '{}': HDF5 support is not built yet", file.display());
-        Err(Failure(2))
+    pub fn info(file: &Path, json: bool) -> Result<(), Failure> {
+        let summary = paraflex::io::describe(file).map_err(|e| {
+            eprintln!("error: {e}");
+            Failure(2)
+        })?;
+        if json {
+            println!("{}", serde_json::to_string_pretty(&summary).unwrap_or_default());
+        } else {
+            print!("{summary}");
+        }
+        Ok(())
     }
 }
