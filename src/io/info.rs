@@ -151,9 +151,13 @@ fn describe_model(file: &hdf5::File, path: &Path) -> Result<ModelSummary, IoErro
             .and_then(|g| g.groups())
             .map_err(|e| IoError::hdf5(path, "list /model/elements", e))?;
         for g in groups {
-            let count = g
-                .dataset("ids")
-                .map(|d| d.shape().first().copied().unwrap_or(0));
+            // Distinct ids: rigid elements are stored as one row per leg.
+            let count = g.dataset("ids").and_then(|d| d.read_raw::<u32>()).map(|ids| {
+                let mut ids = ids;
+                ids.sort_unstable();
+                ids.dedup();
+                ids.len()
+            });
             elements.insert(basename(&g.name()), count.unwrap_or(0));
         }
     }
