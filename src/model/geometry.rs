@@ -31,6 +31,7 @@
 //! - skew: the smaller angle between the lines joining opposite edge midpoints < [`SKEW_MIN`] →
 //!   warning.
 
+use std::sync::OnceLock;
 use super::vec3::{add, cross, dot, norm, scale, sub, triple};
 
 /// Solids: Jacobian ratio (min/max det J) below which a warning is issued.
@@ -84,14 +85,24 @@ impl SolidShape {
     }
 
     /// Quadrature rule (natural point, weight), exact for the volume and first-moment integrands.
-    fn rule(self) -> Vec<([f64; 3], f64)> {
+    fn rule(self) -> &'static [([f64; 3], f64)] {
+        static RULES: OnceLock<[Vec<([f64; 3], f64)>; 3]> = OnceLock::new();
+        let rules = RULES.get_or_init(|| [SolidShape::Hexa8.compute_rule(), SolidShape::Penta6.compute_rule(), SolidShape::Tetra4.compute_rule()]);
+        match self {
+            SolidShape::Hexa8 => &rules[0],
+            SolidShape::Penta6 => &rules[1],
+            SolidShape::Tetra4 | SolidShape::Tetra10 => &rules[2],
+        }
+    }
+
+    fn compute_rule(self) -> Vec<([f64; 3], f64)> {
         match self {
             SolidShape::Hexa8 => {
                 let g = gauss_legendre(3);
                 let mut out = Vec::with_capacity(27);
-                for &(a, wa) in &g {
-                    for &(b, wb) in &g {
-                        for &(c, wc) in &g {
+                for &(a, wa) in g {
+                    for &(b, wb) in g {
+                        for &(c, wc) in g {
                             out.push(([a, b, c], wa * wb * wc));
                         }
                     }
@@ -102,7 +113,7 @@ impl SolidShape {
                 let g = gauss_legendre(3);
                 let mut out = Vec::new();
                 for (rs, w) in triangle_rule(4) {
-                    for &(z, wz) in &g {
+                    for &(z, wz) in g {
                         out.push(([rs[0], rs[1], z], w * wz));
                     }
                 }
@@ -167,7 +178,7 @@ impl SolidShape {
         let mut moment = [0.0; 3];
         let mut min_det = f64::INFINITY;
         let mut max_det = f64::NEG_INFINITY;
-        for (q, w) in self.rule() {
+        for &(q, w) in self.rule() {
             let (n, d) = self.shape(q);
             let det = jacobian_det(&d, p);
             let x = p.iter().zip(&n).fold([0.0; 3], |acc, (pi, ni)| add(acc, scale(*pi, *ni)));
@@ -228,7 +239,15 @@ fn jacobian_det(d: &[[f64; 3]], p: &[[f64; 3]]) -> f64 {
 }
 
 /// Gauss–Legendre points and weights on [−1, 1] (Newton iteration on Pₙ, to round-off).
-pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+/// Gauss–Legendre rule with `n` points on [−1, 1] (1 ≤ n ≤ 8; other values are clamped),
+/// computed once and shared.
+pub fn gauss_legendre(n: usize) -> &'static [(f64, f64)] {
+    static RULES: OnceLock<Vec<Vec<(f64, f64)>>> = OnceLock::new();
+    let rules = RULES.get_or_init(|| (0..=8).map(compute_gauss_legendre).collect());
+    &rules[n.clamp(1, 8)]
+}
+
+fn compute_gauss_legendre(n: usize) -> Vec<(f64, f64)> {
     let mut out = Vec::with_capacity(n);
     for i in 0..n {
         let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
@@ -255,7 +274,7 @@ pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
 /// Collapsed (Duffy) rule on the unit triangle {r, s ≥ 0, r + s ≤ 1}: exact for polynomials of
 /// degree ≤ 2n − 2.
 fn triangle_rule(n: usize) -> Vec<([f64; 2], f64)> {
-    let g: Vec<(f64, f64)> = gauss_legendre(n).into_iter().map(|(x, w)| (0.5 * (x + 1.0), 0.5 * w)).collect();
+    let g: Vec<(f64, f64)> = gauss_legendre(n).iter().map(|&(x, w)| (0.5 * (x + 1.0), 0.5 * w)).collect();
     let mut out = Vec::with_capacity(n * n);
     for &(u, wu) in &g {
         for &(v, wv) in &g {
@@ -267,7 +286,7 @@ fn triangle_rule(n: usize) -> Vec<([f64; 2], f64)> {
 
 /// Collapsed rule on the unit tetrahedron: exact for polynomials of degree ≤ 2n − 3.
 fn tetra_rule(n: usize) -> Vec<([f64; 3], f64)> {
-    let g: Vec<(f64, f64)> = gauss_legendre(n).into_iter().map(|(x, w)| (0.5 * (x + 1.0), 0.5 * w)).collect();
+    let g: Vec<(f64, f64)> = gauss_legendre(n).iter().map(|&(x, w)| (0.5 * (x + 1.0), 0.5 * w)).collect();
     let mut out = Vec::with_capacity(n * n * n);
     for &(u, wu) in &g {
         for &(v, wv) in &g {
@@ -310,8 +329,8 @@ pub fn quad_weighted(p: &[[f64; 3]; 4], w: [f64; 4]) -> (f64, [f64; 3]) {
     let g = gauss_legendre(8);
     let mut total = 0.0;
     let mut moment = [0.0; 3];
-    for &(xi, wx) in &g {
-        for &(eta, we) in &g {
+    for &(xi, wx) in g {
+        for &(eta, we) in g {
             let n = [(1. - xi) * (1. - eta), (1. + xi) * (1. - eta), (1. + xi) * (1. + eta), (1. - xi) * (1. + eta)];
             let dxi = [-(1. - eta), 1. - eta, 1. + eta, -(1. + eta)];
             let deta = [-(1. - xi), -(1. + xi), 1. + xi, 1. - xi];
