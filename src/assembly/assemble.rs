@@ -206,8 +206,9 @@ impl AffineOperator {
 
     /// A CSC matrix of this operator's pattern with the given values.
     pub fn matrix(&self, values: Vec<f64>) -> Result<CscMatrix<f64>, AssemblyError> {
+        super::dofs::check_len("values for the pattern", self.pattern.nnz(), values.len())?;
         CscMatrix::try_from_pattern_and_values((*self.pattern).clone(), values)
-            .map_err(|_| AssemblyError::SizeMismatch { what: "values for the pattern", expected: self.pattern.nnz(), found: 0 })
+            .map_err(|_| AssemblyError::PatternMismatch { what: "internal: pattern rejected by CscMatrix" })
     }
 
     /// y = A x for values on this operator's pattern.

@@ -127,8 +127,8 @@ impl Partition {
         let mut source = Vec::new();
         for &j in cols.members() {
             let mut c = Vec::new();
-            for k in offs[j]..offs[j + 1] {
-                if let Some(r) = rows.position(minor[k]) {
+            for (k, &i) in minor.iter().enumerate().take(offs[j + 1]).skip(offs[j]) {
+                if let Some(r) = rows.position(i) {
                     c.push(r);
                     source.push(k);
                 }

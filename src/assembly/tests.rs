@@ -109,9 +109,9 @@ fn three_spring_chain_with_spc() {
     // AUTOSPC removed everything but T1 of grids 2–4
     assert_eq!(s.sets.f.members(), &[t1(1), t1(2), t1(3)]);
     let expected = [[300., -200., 0.], [-200., 500., -300.], [0., -300., 300.]];
-    for i in 0..3 {
-        for j in 0..3 {
-            assert!(close(s.k_ff[(i, j)], expected[i][j]), "K_ff[{i},{j}] = {}", s.k_ff[(i, j)]);
+    for (i, row) in expected.iter().enumerate() {
+        for (j, &v) in row.iter().enumerate() {
+            assert!(close(s.k_ff[(i, j)], v), "K_ff[{i},{j}] = {}", s.k_ff[(i, j)]);
         }
     }
     let u2 = 0.1;
