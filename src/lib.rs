@@ -6,6 +6,7 @@
 //! [`model`] (cross-referenced, validated) → solution sequences → [`io`] (HDF5 + XDMF).
 //! The library never prints; the binary renders errors and progress.
 
+pub mod assembly;
 pub mod deck;
 pub mod fe;
 pub mod io;
