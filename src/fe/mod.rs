@@ -12,4 +12,6 @@ pub mod affine;
 pub mod laminate;
 pub mod lumped;
 pub mod shell;
+#[cfg(test)]
+mod shell_tests;
 pub mod solid;
