@@ -13,3 +13,6 @@ pub mod laminate;
 pub mod lumped;
 pub mod shell;
 pub mod solid;
+mod solid_shape;
+#[cfg(test)]
+mod solid_tests;
