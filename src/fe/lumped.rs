@@ -7,21 +7,21 @@
 //! component 0..6 = T1 T2 T3 R1 R2 R3 in the basic system, as in [`crate::fe`].
 //!
 //! # Scalar spring (CELAS1, CELAS2)
-//! Between DOFs a and b: K = k [[1, −1], [−1, 1]] over (a, b); grounded (one grid blank):
-//! K = [k] on the remaining DOF. Affine in k (eq. 3.23): one [`Coefficient::Lumped`] part with
+//! Between DOFs a and b: `K = k [[1, −1], [−1, 1]]` over (a, b); grounded (one grid blank):
+//! `K = [k]` on the remaining DOF. Affine in k (eq. 3.23): one [`Coefficient::Lumped`] part with
 //! the k = 1 matrix. The CELAS2 damping GE and stress coefficient S are not part of K.
 //!
 //! # Concentrated mass (CONM2)
 //! Mass m whose centre of gravity sits at offset X from the grid (X in the basic system),
 //! inertia tensor J about the CG (3×3 in the basic system, the caller has already turned
 //! Nastran's Iij = −∫xixj dm products of inertia into a tensor). A rigid offset gives the CG
-//! velocity v_cg = v + ω × X = v − [X]× ω, where [X]× is the cross-product matrix
-//! ([X]× y = X × y). The kinetic energy ½ m v_cgᵀ v_cg + ½ ωᵀ J ω = ½ qᵀ M q with
+//! velocity `v_cg = v + ω × X = v − [X]× ω`, where `[X]×` is the cross-product matrix
+//! (`[X]× y = X × y`). The kinetic energy ½ m v_cgᵀ v_cg + ½ ωᵀ J ω = ½ qᵀ M q with
 //! q = (v, ω) then gives
 //!
-//! M = [[m I, −m [X]×], [m [X]×, J − m [X]×[X]×]],
+//! `M = [[m I, −m [X]×], [m [X]×, J − m [X]×[X]×]]`,
 //!
-//! where −[X]×[X]× = |X|² I − X Xᵀ (the parallel-axis term). The CONM2 mass parameter
+//! where `−[X]×[X]× = |X|² I − X Xᵀ` (the parallel-axis term). The CONM2 mass parameter
 //! (eq. 3.25) scales the whole element — m and J together, as a denser material would — so
 //! M(p) = (p / m) M with one [`Coefficient::Lumped`] part M / m, i.e. the matrix at unit mass
 //! with J/m. A CONM2 with m = 0 (pure inertia) cannot be parametrized that way and is refused.
@@ -126,7 +126,7 @@ impl Conm2 {
     }
 
     /// 6×6 mass matrix at the grid (T1 T2 T3 R1 R2 R3):
-    /// M = [[m I, −m [X]×], [m [X]×, J − m [X]×[X]×]].
+    /// `M = [[m I, −m [X]×], [m [X]×, J − m [X]×[X]×]]`.
     pub fn mass_matrix(&self) -> Mat<f64> {
         let (m, x) = (self.mass, self.offset);
         let cross = [[0.0, -x[2], x[1]], [x[2], 0.0, -x[0]], [-x[1], x[0], 0.0]];

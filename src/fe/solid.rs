@@ -14,7 +14,7 @@
 //! Strains are engineering strains ε = [εxx, εyy, εzz, γxy, γyz, γzx]. The isotropic
 //! constitutive matrix is split into the Lamé parts of eq. 3.13,
 //!
-//! D = λ D_λ + μ D_μ,  D_λ = [[𝟏, 0], [0, 0]] (𝟏 the 3×3 matrix of ones),
+//! D = λ D_λ + μ D_μ,  `D_λ = [[𝟏, 0], [0, 0]]` (𝟏 the 3×3 matrix of ones),
 //! D_μ = diag(2, 2, 2, 1, 1, 1),
 //!
 //! λ = Eν/((1+ν)(1−2ν)), μ = E/(2(1+ν)). With Cartesian shape-function gradients g_a = ∇N_a the
@@ -54,7 +54,7 @@
 //!
 //! so that ∫ ∇P_k dV = det J₀ J₀⁻ᵀ ∫ ∇_ξ P_k dξ = 0 exactly under 2×2×2 Gauss: a constant stress
 //! does no work on the modes, α = 0 for a linear field, and the element passes the patch test on
-//! distorted meshes. The 33×33 matrix [[K_uu, K_uα], [K_αu, K_αα]] is condensed statically,
+//! distorted meshes. The 33×33 matrix `[[K_uu, K_uα], [K_αu, K_αα]]` is condensed statically,
 //! K = K_uu − K_uα K_αα⁻¹ K_αu (Cholesky of K_αα), and symmetrized to round-off. At the centroid
 //! ∇_ξ P_k = 0, so the centroid strain of [`strain_at_centroid`] needs no α and no material.
 //!
