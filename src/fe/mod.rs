@@ -15,3 +15,6 @@ pub mod shell;
 #[cfg(test)]
 mod shell_tests;
 pub mod solid;
+mod solid_shape;
+#[cfg(test)]
+mod solid_tests;
