@@ -10,13 +10,20 @@
 //!
 //! - [`cholesky`]: [`SymbolicFactor`] (ordering + symbolic analysis, once per pattern) and
 //!   [`Factor`] (numeric LLᵀ or LDLᵀ, many per pattern, in parallel if wanted).
+//! - [`eigen`]: shift-invert Lanczos for K φ = λ M φ with EIGRL request semantics and a
+//!   Sturm-sequence missed-mode check ([`solve_modes`]).
 
 pub mod cholesky;
+pub mod eigen;
 mod error;
 mod progress;
 mod sparse;
 
 pub use cholesky::{Factor, FactorKind, FactorVariant, Inertia, SolveScratch, SymbolicFactor};
+pub use eigen::{
+    EigenProblem, EigenRequest, EigenResult, LanczosOptions, SturmCheck, solve_modes, sturm_check,
+    sturm_count,
+};
 pub use error::LinalgError;
 pub use progress::Progress;
 pub use sparse::{full_from_upper, sym_matvec};

@@ -55,6 +55,19 @@ pub(crate) fn matvec_unchecked(a: &CscMatrix<f64>, x: &[f64], y: &mut [f64]) {
     }
 }
 
+/// Largest absolute column sum ‖A‖₁ (= ‖A‖∞ for symmetric A).
+pub(crate) fn norm_1(a: &CscMatrix<f64>) -> f64 {
+    let offsets = a.col_offsets();
+    (0..a.ncols())
+        .map(|j| {
+            a.values()[offsets[j]..offsets[j + 1]]
+                .iter()
+                .map(|v| v.abs())
+                .sum::<f64>()
+        })
+        .fold(0.0, f64::max)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
