@@ -1,2 +1,29 @@
 //! Thin wrappers over faer (DESIGN.md §6): sparse Cholesky/LDLᵀ with one symbolic analysis
 //! reused by every numeric factorization, and a shift-invert eigen solver.
+//!
+//! Storage convention: every symmetric sparse matrix handed to this module is a
+//! `nalgebra_sparse::CscMatrix<f64>` holding the **full** pattern (both triangles, as produced
+//! by COO → CSC assembly). Matrices that arrive as one triangle (symmetric Matrix Market
+//! files) are converted with [`full_from_upper`]. All matrices of one analysis (K, M, K − σM,
+//! K(p) at every parameter sample) must share one identical pattern: assembly stores explicit
+//! zeros where M has no entry, so that `values()` slices line up entry by entry.
+//!
+//! - [`cholesky`]: [`SymbolicFactor`] (ordering + symbolic analysis, once per pattern) and
+//!   [`Factor`] (numeric LLᵀ or LDLᵀ, many per pattern, in parallel if wanted).
+//! - [`eigen`]: shift-invert Lanczos for K φ = λ M φ with EIGRL request semantics and a
+//!   Sturm-sequence missed-mode check ([`solve_modes`]).
+
+pub mod cholesky;
+pub mod eigen;
+mod error;
+mod progress;
+mod sparse;
+
+pub use cholesky::{Factor, FactorKind, FactorVariant, Inertia, SolveScratch, SymbolicFactor};
+pub use eigen::{
+    EigenProblem, EigenRequest, EigenResult, LanczosOptions, SturmCheck, solve_modes, sturm_check,
+    sturm_count,
+};
+pub use error::LinalgError;
+pub use progress::Progress;
+pub use sparse::{full_from_upper, sym_matvec};
