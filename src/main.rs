@@ -9,6 +9,8 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use paraflex::deck::{Deck, DeckErrors, Warning};
 use paraflex::model::{CheckSummary, Model};
+use paraflex::sequence::{self, RunContext, RunOptions, Sequence};
+use std::time::Instant;
 
 #[derive(Parser)]
 #[command(name = "paraflex", version, about = "Parametric structural and flexible-multibody dynamics from Nastran decks")]
@@ -115,11 +117,7 @@ mod commands {
     /// Write `/model` (and the XDMF file next to it) for a validated model.
     fn write_model_file(deck: &Deck, model: &Model, out: &Path) -> Result<PathBuf, paraflex::io::IoError> {
         let mesh = model.mesh_arrays();
-        let info = paraflex::io::ModelInfo {
-            title: deck.case.subcases().first().and_then(|s| s.title.clone()),
-            deck: Some(deck.path.display().to_string()),
-            sol: deck.executive.sol.as_ref().map(|(sol, _)| sol.name().to_string()),
-        };
+        let info = model_info(deck);
         let file = paraflex::io::OutputFile::create(out)?;
         paraflex::io::write_model(&file, &mesh, &info)?;
         let written = file.commit()?;
@@ -134,20 +132,58 @@ mod commands {
         let (deck, model) = load_model(path)?;
         print_warnings(&model.warnings);
         let out = output.map(Path::to_path_buf).unwrap_or_else(|| path.with_extension("h5"));
-        match write_model_file(&deck, &model, &out) {
-            Ok(written) => eprintln!("wrote the model to {}", written.display()),
-            Err(e) => {
-                eprintln!("error: {e}");
-                return Err(Failure(2));
+        let available = deck.executive.sol.as_ref().and_then(|(sol, _)| Sequence::of_solution(*sol));
+        if available.is_none() {
+            match write_model_file(&deck, &model, &out) {
+                Ok(written) => eprintln!("wrote the model to {}", written.display()),
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return Err(Failure(2));
+                }
             }
-        }
-        match &deck.executive.sol {
-            Some((sol, text)) => {
-                eprintln!("error: SOL {text} ({}) is not available in this version of paraflex", sol.name());
+            match &deck.executive.sol {
+                Some((sol, text)) => {
+                    eprintln!("error: SOL {text} ({}) is not available in this version of paraflex", sol.name());
+                }
+                None => eprintln!("error: the deck has no SOL statement; nothing to run"),
             }
-            None => eprintln!("error: the deck has no SOL statement; nothing to run"),
+            return Err(Failure(3));
         }
-        Err(Failure(3))
+        let io_failure = |e: paraflex::io::IoError| {
+            eprintln!("error: {e}");
+            Failure(2)
+        };
+        let start = Instant::now();
+        let mesh = model.mesh_arrays();
+        let file = paraflex::io::OutputFile::create(&out).map_err(io_failure)?;
+        paraflex::io::write_model(&file, &mesh, &model_info(&deck)).map_err(io_failure)?;
+        let bars = progress::Bars::new();
+        let ctx = RunContext { deck: &deck, model: &model, output: &file, progress: &bars, options: RunOptions::default() };
+        let result = sequence::run(&ctx);
+        bars.finish();
+        let summary = result.map_err(|e| {
+            eprintln!("error: {e}");
+            Failure(4)
+        })?;
+        let written = file.commit().map_err(io_failure)?;
+        let xdmf = paraflex::io::write_xdmf(&written, &mesh).map_err(io_failure)?;
+        for skipped in &xdmf.skipped {
+            eprintln!("warning: not drawn in the XDMF file: {skipped}");
+        }
+        for w in &summary.warnings {
+            eprintln!("warning: {w}");
+        }
+        report::print(path, &summary, start.elapsed());
+        eprintln!("wrote {}", written.display());
+        Ok(())
+    }
+
+    fn model_info(deck: &Deck) -> paraflex::io::ModelInfo {
+        paraflex::io::ModelInfo {
+            title: deck.case.subcases().first().and_then(|s| s.title.clone()),
+            deck: Some(deck.path.display().to_string()),
+            sol: deck.executive.sol.as_ref().map(|(sol, _)| sol.name().to_string()),
+        }
     }
 
     pub fn info(file: &Path, json: bool) -> Result<(), Failure> {
@@ -161,5 +197,114 @@ mod commands {
             print!("{summary}");
         }
         Ok(())
+    }
+}
+
+/// Console rendering of a run summary.
+mod report {
+    use std::path::Path;
+    use std::time::Duration;
+
+    use paraflex::sequence::{RunSummary, SubcaseResult, sturm_line};
+
+    pub fn print(path: &Path, s: &RunSummary, total: Duration) {
+        println!("{} — {}", path.display(), s.sequence.name());
+        for sub in &s.subcases {
+            match &sub.result {
+                SubcaseResult::Modal(m) => {
+                    println!("subcase {}: {} mode(s), f-set {} DOFs, NORM = {:?}", sub.id, m.frequencies_hz.len(), m.f_size, m.norm);
+                    println!("  {:>4}  {:>14}  {:>14}  {:>10}", "mode", "f [Hz]", "gen. mass", "residual");
+                    for (k, f) in m.frequencies_hz.iter().enumerate() {
+                        println!("  {:>4}  {:>14}  {:>14}  {:>10}", k + 1, sci(*f, 6), sci(m.generalized_mass[k], 6), sci(m.residuals[k], 1));
+                    }
+                    println!("  {}", sturm_line(&m.sturm));
+                }
+                SubcaseResult::Statics(st) => {
+                    println!("subcase {}: f-set {} DOFs", sub.id, st.f_size);
+                    println!("  max |u| (translation)  {} at GRID {}", sci(st.max_translation.1, 6), st.max_translation.0);
+                    println!("  max |component|        {} at GRID {} component {}", sci(st.max_component.2, 6), st.max_component.0, st.max_component.1);
+                    let f = |v: &[f64; 6]| format!("F = [{}, {}, {}]", sci(v[0], 6), sci(v[1], 6), sci(v[2], 6));
+                    println!("  applied load           {}", f(&st.applied));
+                    println!("  SPC reaction           {}", f(&st.reaction));
+                }
+            }
+            if sub.autospc.is_empty() {
+                println!("  AUTOSPC: none");
+            } else {
+                let list: Vec<String> = sub.autospc.iter().map(|d| format!("{}/{}", d.grid, d.component)).collect();
+                println!("  AUTOSPC: {} DOF(s) (GRID/component): {}", list.len(), abbreviate(&list, 12));
+            }
+        }
+        let steps: Vec<String> = s.timings.iter().map(|(name, d)| format!("{name} {:.3} s", d.as_secs_f64())).collect();
+        println!("timings: {}; total {:.3} s", steps.join(", "), total.as_secs_f64());
+    }
+
+    /// 1.234568E+01 style (fixed-width exponent).
+    fn sci(x: f64, digits: usize) -> String {
+        let s = format!("{x:.digits$e}");
+        match s.split_once('e') {
+            Some((mantissa, exp)) => format!("{mantissa}E{:+03}", exp.parse::<i32>().unwrap_or(0)),
+            None => s,
+        }
+    }
+
+    fn abbreviate(list: &[String], max: usize) -> String {
+        if list.len() <= max {
+            list.join(" ")
+        } else {
+            format!("{} … (+{} more; the full list is in the warning above and the HDF5 `autospc` attribute)", list[..max].join(" "), list.len() - max)
+        }
+    }
+}
+
+/// indicatif progress bars behind the library's `Progress` trait (only on a terminal).
+mod progress {
+    use std::io::IsTerminal;
+    use std::sync::Mutex;
+
+    use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+    use paraflex::linalg::Progress;
+
+    pub struct Bars {
+        enabled: bool,
+        current: Mutex<Option<(String, ProgressBar)>>,
+    }
+
+    impl Bars {
+        pub fn new() -> Self {
+            Bars { enabled: std::io::stderr().is_terminal(), current: Mutex::new(None) }
+        }
+
+        pub fn finish(&self) {
+            if let Ok(mut cur) = self.current.lock() {
+                if let Some((_, bar)) = cur.take() {
+                    bar.finish_and_clear();
+                }
+            }
+        }
+    }
+
+    impl Progress for Bars {
+        fn step(&self, what: &str, done: usize, total: usize) {
+            if !self.enabled {
+                return;
+            }
+            let Ok(mut cur) = self.current.lock() else { return };
+            let same = cur.as_ref().is_some_and(|(name, _)| name == what);
+            if !same {
+                if let Some((_, bar)) = cur.take() {
+                    bar.finish_and_clear();
+                }
+                let bar = ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
+                let style = ProgressStyle::with_template("{msg:32} [{bar:30}] {pos}/{len} {elapsed}").unwrap_or_else(|_| ProgressStyle::default_bar());
+                bar.set_style(style.progress_chars("=> "));
+                bar.set_message(what.to_string());
+                *cur = Some((what.to_string(), bar));
+            }
+            if let Some((_, bar)) = cur.as_ref() {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+            }
+        }
     }
 }

@@ -13,8 +13,9 @@
 //! | SENSOR = n | case-control SET n, whose ids are SENSOR ids |
 //! | output request = n | case-control SET n |
 //!
-//! Errors point at the statement (`Subcase::loc_of`). Every output request gets one warning
-//! "not honoured by SOL x in this version": no solution sequence writes results yet.
+//! Errors point at the statement (`Subcase::loc_of`). Every output request that the solution
+//! sequence does not write ([`HONOURED`], kept in step with `crate::sequence`) gets one warning
+//! "not honoured by SOL x in this version".
 
 use std::collections::HashSet;
 
@@ -22,6 +23,19 @@ use crate::deck::case_control::{Subcase, Target};
 use crate::deck::{Deck, DeckError, Loc, Warning};
 
 use super::build::Refs;
+use crate::deck::Solution;
+
+/// Output requests each solution sequence writes (see `crate::sequence`): STATICS writes
+/// displacements always, SPC forces and strains on request; MODAL writes mode shapes on request.
+pub const HONOURED: &[(Solution, &[&str])] = &[
+    (Solution::Statics, &["DISPLACEMENT", "SPCFORCES", "STRAIN"]),
+    (Solution::Modal, &["DISPLACEMENT"]),
+];
+
+fn honoured(deck: &Deck, request: &str) -> bool {
+    let Some((sol, _)) = &deck.executive.sol else { return false };
+    HONOURED.iter().any(|(s, names)| s == sol && names.contains(&request))
+}
 
 /// Run the checks for every subcase.
 pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warning>) {
@@ -86,7 +100,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>, warnings: &m
             {
                 errors.push(DeckError::at(&out.loc, format!("{} = {id}: no case-control SET {id}", out.name)).on_card(out.name.to_string()));
             }
-            if warned.insert(out.loc.clone()) {
+            if !honoured(deck, out.name) && warned.insert(out.loc.clone()) {
                 warnings.push(Warning {
                     loc: Some(out.loc.to_string()),
                     message: format!("output request {} is not honoured by SOL {sol} in this version", out.name),
