@@ -41,14 +41,16 @@ fn check_json_is_the_model_summary_for_every_conformance_deck() {
 }
 
 #[test]
-fn run_writes_model_and_xdmf_then_reports_the_missing_solution() {
+fn run_demo_writes_model_results_and_xdmf_and_prints_the_frequency_table() {
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("demo.h5");
     let deck = root().join("decks/demo/bracket_plate.dat");
     let result = paraflex().arg("run").arg(&deck).arg("-o").arg(&out).output().expect("runs");
-    assert_eq!(result.status.code(), Some(3), "{}", String::from_utf8_lossy(&result.stderr));
-    let stderr = String::from_utf8_lossy(&result.stderr);
-    assert!(stderr.contains("SOL 103 (MODAL) is not available in this version"), "{stderr}");
+    assert_eq!(result.status.code(), Some(0), "{}", String::from_utf8_lossy(&result.stderr));
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    for line in ["MODAL", "f [Hz]", "gen. mass", "residual", "Sturm check", "consistent", "AUTOSPC", "timings"] {
+        assert!(stdout.contains(line), "{line} missing in\n{stdout}");
+    }
     assert!(out.exists() && dir.path().join("demo.xdmf").exists());
     let leftovers: Vec<_> = std::fs::read_dir(dir.path()).expect("dir").filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().contains(".tmp")).collect();
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
@@ -58,6 +60,21 @@ fn run_writes_model_and_xdmf_then_reports_the_missing_solution() {
     let summary: serde_json::Value = serde_json::from_slice(&info.stdout).expect("json");
     assert_eq!(summary["model"]["n_grids"], 190, "{summary}");
     assert_eq!(summary["model"]["elements"]["RBE2"], 1, "{summary}");
+    assert!(summary["results"].to_string().contains("frequency_hz"), "{summary}");
+}
+
+#[test]
+fn run_writes_model_and_xdmf_then_reports_an_unavailable_solution() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let text = std::fs::read_to_string(root().join("decks/demo/bracket_plate.dat")).expect("demo deck");
+    let deck = dir.path().join("transient.dat");
+    std::fs::write(&deck, text.replacen("SOL 103", "SOL 112", 1)).expect("write");
+    let out = dir.path().join("transient.h5");
+    let result = paraflex().arg("run").arg(&deck).arg("-o").arg(&out).output().expect("runs");
+    assert_eq!(result.status.code(), Some(3), "{}", String::from_utf8_lossy(&result.stderr));
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(stderr.contains("SOL 112") && stderr.contains("is not available in this version"), "{stderr}");
+    assert!(out.exists() && dir.path().join("transient.xdmf").exists());
 }
 
 #[test]

@@ -1,0 +1,159 @@
+//! SOL 101 (STATICS) through `paraflex::sequence::run`, against analytic references.
+
+use std::io::Write;
+
+use paraflex::deck::Deck;
+use paraflex::io::OutputFile;
+use paraflex::model::Model;
+use paraflex::sequence::statics::StaticsSummary;
+use paraflex::sequence::{RunContext, RunError, RunOptions, RunSummary, SubcaseResult, run};
+
+fn run_deck(text: &str) -> (Result<RunSummary, RunError>, tempfile::TempDir) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("deck.dat");
+    std::fs::File::create(&path).and_then(|mut f| f.write_all(text.as_bytes())).expect("write deck");
+    let deck = Deck::read(&path).unwrap_or_else(|e| panic!("deck: {e}"));
+    let model = Model::build(&deck).unwrap_or_else(|e| panic!("model: {:?}", e.iter().map(|x| x.to_string()).collect::<Vec<_>>()));
+    let file = OutputFile::create(dir.path().join("out.h5")).expect("output");
+    let ctx = RunContext { deck: &deck, model: &model, output: &file, progress: &|_: &str, _: usize, _: usize| {}, options: RunOptions { parallel: false } };
+    let result = run(&ctx);
+    if result.is_ok() {
+        file.commit().expect("commit");
+    }
+    (result, dir)
+}
+
+fn statics(s: &RunSummary, k: usize) -> &StaticsSummary {
+    match &s.subcases[k].result {
+        SubcaseResult::Statics(m) => m,
+        other => panic!("not statics: {other:?}"),
+    }
+}
+
+const E: f64 = 2.0e11;
+const L: f64 = 1.0;
+const B: f64 = 0.1;
+const T: f64 = 0.01;
+const NX: usize = 20;
+
+/// CQUAD4 strip L × B (NX × 1 elements), thickness T, ν = 0 (so plate and beam bending agree),
+/// clamped at x = 0 (123456), tip grids tied by an RBE2 to grid 1000 at the tip centre.
+fn strip(case: &str, extra: &str) -> String {
+    let mut s = format!("SOL 101\nCEND\n{case}BEGIN BULK\nPSHELL,1,1,{T:?},1,,1\nMAT1,1,{E:?},,0.,7850.\n{extra}");
+    for i in 0..=NX {
+        let x = i as f64 * L / NX as f64;
+        s += &format!("GRID,{},,{x:.12e},0.,0.\nGRID,{},,{x:.12e},{B:?},0.\n", 1 + i, 101 + i);
+    }
+    for i in 0..NX {
+        s += &format!("CQUAD4,{},1,{},{},{},{}\n", 1 + i, 1 + i, 2 + i, 102 + i, 101 + i);
+    }
+    s += &format!("SPC1,1,123456,1,101\nGRID,1000,,{L:?},{:?},0.\nRBE2,2000,1000,123456,{},{}\nENDDATA\n", B / 2.0, 1 + NX, 101 + NX);
+    s
+}
+
+/// Tip load P (z) on the RBE2 hub: w = P L³ / (3 E I), I = B T³ / 12. Tolerance 0.5 %: transverse
+/// shear adds ≈ 3EI/(κGA L²) ~ 1e-4 at L/T = 100, and MITC4 with 20 elements along the span
+/// reproduces the cubic deflection to well below that; ν = 0 removes the plate/beam difference.
+/// The sum of SPC forces balances the applied load (forces and moments) to 1e-8 · P L: the
+/// imbalance is Σ(K u) over a rigid translation, i.e. the round-off of the shell matrices' rigid
+/// modes (entries ~E·T = 2e9 against results ~P = 10), not a solver error (see the spring test
+/// below for the 1e-10 balance of exactly rigid-free matrices).
+#[test]
+fn cquad4_cantilever_tip_deflection_and_reaction_balance() {
+    let p = 10.0;
+    let deck = strip("SPC = 1\nLOAD = 5\nSPCFORCES = ALL\nDISPLACEMENT = ALL\n", &format!("FORCE,5,1000,,{p:?},0.,0.,1.\n"));
+    let (r, dir) = run_deck(&deck);
+    let s = r.expect("run");
+    let st = statics(&s, 0);
+    let w = p * L.powi(3) / (3.0 * E * B * T.powi(3) / 12.0);
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+    let u: Vec<f64> = file.dataset("results/1/statics/displacement").expect("u").read_raw().expect("read");
+    // grid 1000 (the RBE2 hub) is the last grid in id order
+    let hub = &u[u.len() - 6..];
+    assert!((hub[2] - w).abs() < 5e-3 * w, "tip {} vs PL³/3EI {w}", hub[2]);
+    let slope = p * L * L / (2.0 * E * B * T.powi(3) / 12.0);
+    assert!((hub[4] + slope).abs() < 5e-3 * slope, "tip rotation {} vs −PL²/2EI {}", hub[4], -slope);
+    // the tip grids move with the hub (RBE2): any of them may hold the maximum
+    assert!((st.max_translation.1 - hub[2]).abs() < 1e-12 * w, "{:?}", st.max_translation);
+    let scale = p * L;
+    for k in 0..6 {
+        assert!((st.reaction[k] + st.applied[k]).abs() <= 1e-8 * scale, "component {k}: reaction {:?} vs applied {:?}", st.reaction, st.applied);
+    }
+    assert!((st.applied[2] - p).abs() < 1e-12);
+    // the file holds n×6 displacements and SPC forces, in /model/grid_ids order
+    let n = 2 * (NX + 1) + 1;
+    for name in ["displacement", "spc_force"] {
+        assert_eq!(file.dataset(&format!("results/1/statics/{name}")).expect(name).shape(), vec![n, 6]);
+    }
+    assert!(file.dataset("results/1/statics/strain").is_err(), "strain written without STRAIN");
+}
+
+/// Two subcases with the same SPC share one factorization; a load scaled by 2 doubles u, and
+/// STRAIN writes top/bottom membrane strains: at the root, ε_x(top) = −ε_x(bottom) ≈ M c / (E I).
+#[test]
+fn two_subcases_share_the_factor_and_strains_follow_beam_theory() {
+    let p = 10.0;
+    let case = "SPC = 1\nSTRAIN = ALL\nSUBCASE 1\n  LOAD = 5\nSUBCASE 2\n  LOAD = 6\n";
+    let deck = strip(case, &format!("FORCE,5,1000,,{p:?},0.,0.,1.\nLOAD,6,2.,1.,5\n"));
+    let (r, dir) = run_deck(&deck);
+    let s = r.expect("run");
+    let (a, b) = (statics(&s, 0), statics(&s, 1));
+    assert!((b.max_component.2 - 2.0 * a.max_component.2).abs() < 1e-12 * a.max_component.2.abs());
+    let choleskys = s.timings.iter().filter(|(n, _)| n.contains("Cholesky")).count();
+    assert_eq!(choleskys, 1, "{:?}", s.timings);
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+    let top: Vec<f64> = file.dataset("results/1/statics/strain/CQUAD4/top").expect("top").read_raw().expect("read");
+    let bottom: Vec<f64> = file.dataset("results/1/statics/strain/CQUAD4/bottom").expect("bottom").read_raw().expect("read");
+    let ids: Vec<u32> = file.dataset("results/1/statics/strain/CQUAD4/ids").expect("ids").read_raw().expect("read");
+    assert_eq!(ids.len(), NX);
+    // element 1 centroid at x = L/(2 NX): M = P (L − x), ε = M (T/2) / (E I); w > 0 bends the
+    // top fibre (z = +T/2) into compression at the root
+    let x = 0.5 * L / NX as f64;
+    let eps = p * (L - x) * (T / 2.0) / (E * B * T.powi(3) / 12.0);
+    assert!((top[0] + eps).abs() < 0.02 * eps && (bottom[0] - eps).abs() < 0.02 * eps, "top {} bottom {} vs ±{eps}", top[0], bottom[0]);
+}
+
+/// A CHEXA cube with PARAM,AUTOSPC,NO: the rotations of solid-only grids have no stiffness and
+/// the Cholesky fails; the error names the GRID and the component and suggests SPC / AUTOSPC.
+#[test]
+fn mechanism_with_autospc_no_names_grid_and_component() {
+    let mut deck = String::from("SOL 101\nCEND\nSPC = 1\nLOAD = 2\nBEGIN BULK\nPARAM,AUTOSPC,NO\nPSOLID,1,1\nMAT1,1,2.1e11,,0.3,7850.\nFORCE,2,8,,1.,0.,0.,1.\n");
+    let c = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [0., 0., 1.], [1., 0., 1.], [1., 1., 1.], [0., 1., 1.]];
+    for (k, x) in c.iter().enumerate() {
+        deck += &format!("GRID,{},,{:?},{:?},{:?}\n", k + 1, x[0], x[1], x[2]);
+    }
+    deck += "CHEXA,1,1,1,2,3,4,5,6,\n+,7,8\nSPC1,1,123,1,2,3,4\nENDDATA\n";
+    let (r, _dir) = run_deck(&deck);
+    let e = r.expect_err("mechanism");
+    assert!(matches!(e, RunError::Mechanism { subcase: 1, .. }), "{e:?}");
+    let msg = e.to_string();
+    assert!(msg.contains("GRID ") && msg.contains("component ") && msg.contains("AUTOSPC"), "{msg}");
+    // with AUTOSPC (the default) the same deck solves
+    let (ok, _dir) = run_deck(&deck.replace("PARAM,AUTOSPC,NO\n", ""));
+    let s = ok.expect("with AUTOSPC");
+    assert_eq!(s.subcases[0].autospc.len(), 8 * 3);
+}
+
+/// Springs (rigid-mode free to the last bit) from a loaded grid to three clamped grids along
+/// x, y, z: the SPC forces at the clamped grids sum to −F to 1e-10, and the displacement of
+/// the loaded grid is F_i / k_i.
+#[test]
+fn spring_reactions_balance_the_load_to_round_off() {
+    let (k, f) = ([1.0e3, 2.0e3, 4.0e3], [3.0, -2.0, 5.0]);
+    let deck = format!(
+        "SOL 101\nCEND\nSPC = 1\nLOAD = 2\nSPCFORCES = ALL\nBEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,0.,1.,0.\nGRID,4,,0.,0.,1.\n\
+         CELAS2,1,{:?},1,1,2,1\nCELAS2,2,{:?},1,2,3,2\nCELAS2,3,{:?},1,3,4,3\nSPC1,1,123456,2,3,4\nFORCE,2,1,,1.,{:?},{:?},{:?}\nENDDATA\n",
+        k[0], k[1], k[2], f[0], f[1], f[2]
+    );
+    let (r, dir) = run_deck(&deck);
+    let s = r.expect("run");
+    let st = statics(&s, 0);
+    for c in 0..3 {
+        assert!((st.reaction[c] + f[c]).abs() <= 1e-10 * 5.0, "{:?}", st.reaction);
+    }
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+    let u: Vec<f64> = file.dataset("results/1/statics/displacement").expect("u").read_raw().expect("read");
+    for c in 0..3 {
+        assert!((u[c] - f[c] / k[c]).abs() <= 1e-12, "{:?}", &u[..3]);
+    }
+}
