@@ -252,7 +252,7 @@ mod report {
         if list.len() <= max {
             list.join(" ")
         } else {
-            format!("{} … (+{} more; the full list is in the warning above and the HDF5 `autospc` attribute)", list[..max].join(" "), list.len() - max)
+            format!("{} … (+{} more; full list: the `autospc` dataset of the results group)", list[..max].join(" "), list.len() - max)
         }
     }
 }

@@ -172,8 +172,10 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
     let mut warnings = Vec::new();
     for s in &subcases {
         if !s.autospc.is_empty() {
-            let list: Vec<String> = s.autospc.iter().map(|d| format!("{}/{}", d.grid, d.component)).collect();
-            warnings.push(format!("subcase {}: AUTOSPC constrained {} DOF(s) without stiffness (GRID/component): {}", s.id, list.len(), list.join(" ")));
+            const SHOWN: usize = 60;
+            let list: Vec<String> = s.autospc.iter().take(SHOWN).map(|d| format!("{}/{}", d.grid, d.component)).collect();
+            let more = if s.autospc.len() > SHOWN { format!(" … (+{} more, all in the results group's `autospc` dataset)", s.autospc.len() - SHOWN) } else { String::new() };
+            warnings.push(format!("subcase {}: AUTOSPC constrained {} DOF(s) without stiffness (GRID/component): {}{more}", s.id, s.autospc.len(), list.join(" ")));
         }
         if let SubcaseResult::Modal(m) = &s.result {
             let bad: Vec<String> = m.residuals.iter().enumerate().filter(|(_, r)| !(**r <= RESIDUAL_WARNING)).map(|(k, r)| format!("{} ({r:.1e})", k + 1)).collect();
@@ -338,6 +340,18 @@ impl Constrained {
             None => RunError::Linalg { subcase, source: e },
         }
     }
+}
+
+/// The AUTOSPC list of a result group: attribute `autospc_count` and, when non-empty, the
+/// dataset `autospc` (k×2 u32: GRID id, component 1–6). A dataset, not an attribute: the lists
+/// of solid models (three rotations per grid) exceed HDF5's 64 KiB attribute limit.
+pub fn write_autospc(group: &hdf5_metno::Group, report: &AutoSpcReport) -> Result<(), IoError> {
+    crate::io::set_attr_i64(group, "autospc_count", report.names.len() as i64)?;
+    if !report.names.is_empty() {
+        let flat: Vec<u32> = report.names.iter().flat_map(|d| [d.grid, u32::from(d.component)]).collect();
+        crate::io::write_u32(group, "autospc", &flat, &[report.names.len(), 2])?;
+    }
+    Ok(())
 }
 
 /// The output request `name` of a subcase, unless absent or `= NONE`.

@@ -17,7 +17,7 @@
 use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary, requested};
 use crate::assembly::recover::recover_g;
 use crate::deck::case_control::Subcase;
-use crate::io::{set_attr_f64, set_attr_i64, set_attr_str, set_attr_strings, write_f64};
+use crate::io::{set_attr_f64, set_attr_i64, set_attr_str, write_f64};
 use crate::linalg::{EigenProblem, EigenRequest, EigenResult, LanczosOptions, SturmCheck, SymbolicFactor, solve_modes};
 
 /// Eigenvector normalization (EIGRL NORM).
@@ -112,11 +112,7 @@ fn write_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcas
     set_attr_i64(&group, "sturm_consistent", i64::from(r.sturm.is_consistent()))?;
     set_attr_f64(&group, "shift", r.shift)?;
     set_attr_str(&group, "norm", if norm == Norm::Max { "MAX" } else { "MASS" })?;
-    let autospc: Vec<String> = c.autospc.names.iter().map(|d| format!("{}/{}", d.grid, d.component)).collect();
-    set_attr_i64(&group, "autospc_count", autospc.len() as i64)?;
-    if !autospc.is_empty() {
-        set_attr_strings(&group, "autospc", &autospc.iter().map(String::as_str).collect::<Vec<_>>())?;
-    }
+    super::write_autospc(&group, &c.autospc)?;
     let shapes_written = requested(sub, "DISPLACEMENT").is_some();
     if shapes_written {
         let n = st.map.grids();

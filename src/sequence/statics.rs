@@ -23,7 +23,7 @@ use crate::assembly::loads::{Mass, load_vector, reduce_load};
 use crate::assembly::recover::{expand_f_to_n, spc_forces};
 use crate::deck::case_control::Subcase;
 use crate::fe::{shell, solid};
-use crate::io::{set_attr_i64, set_attr_strings, write_f64, write_u32};
+use crate::io::{write_f64, write_u32};
 use crate::linalg::{Factor, SymbolicFactor, sym_matvec};
 
 /// What one static subcase found (basic system).
@@ -111,11 +111,7 @@ fn solve_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcas
     if requested(sub, "SPCFORCES").is_some() {
         write_f64(&group, "spc_force", &q, &[n, 6])?;
     }
-    let autospc: Vec<String> = c.autospc.names.iter().map(|d| format!("{}/{}", d.grid, d.component)).collect();
-    set_attr_i64(&group, "autospc_count", autospc.len() as i64)?;
-    if !autospc.is_empty() {
-        set_attr_strings(&group, "autospc", &autospc.iter().map(String::as_str).collect::<Vec<_>>())?;
-    }
+    super::write_autospc(&group, &c.autospc)?;
     if let Some(req) = requested(sub, "STRAIN") {
         write_strains(ctx, st, &group, &u, |eid| selected(ctx.deck, req, eid))?;
     }
