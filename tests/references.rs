@@ -496,7 +496,7 @@ fn calculix_pcomp_plate_90() {
 /// vs 238.9/337.8/372.8/461.9 Hz with the RBE2 (consistent) — so the flexible-plate + rigid
 /// patch + corner springs combination differs between the codes, not paraflex's RBE2 kinematics.
 #[test]
-#[ignore = "known: paraflex f1..f10 = 54.26, 81.78 (×2), 137.76 (×2), 226.51, 337.78, 403.81, 409.23, 474.44 Hz vs CalculiX 58.41, 83.98, 144.86, 214.77, 368.77, 452.62, 481.68, 487.53 (−7.1 %, −2.6 %, −4.9 %, +5.5 %, −8.4 %, −10.8 %, −15.0 %, −2.7 %; tol 2 %/5 %). Mode 6: AUTOSPC wrongly removes the boundary grids' drilling R3 (with AUTOSPC NO: 214.78 Hz); the rest is unexplained (paraflex RBE2 checked against a stiff patch and the rigid-body case) — see the doc comment"]
+#[ignore = "known: paraflex f1..f10 = 54.26, 81.78 (×2), 137.76 (×2), 214.78, 337.78, 403.81, 409.23, 474.44 Hz vs CalculiX 58.41, 83.98 (×2), 144.86 (×2), 214.77, 368.77, 452.62, 481.68, 487.53 (−7.1 %, −2.6 %, −4.9 %, 0.0 %, −8.4 %, −10.8 %, −15.0 %, −2.7 %; tol 2 %/5 %). Mode 6 was AUTOSPC removing drilling DOFs (fixed: per-grid test); the rest is unexplained (paraflex RBE2 checked against a stiff patch and the rigid-body case; suspect the CalculiX rigid body on expanded S4 shells) — see the doc comment"]
 fn calculix_rbe_spring_mass() {
     calculix("rbe_spring_mass");
 }

@@ -8,8 +8,12 @@
 //! error, as in Nastran. One DOF given two different values in one set is an error.
 //!
 //! AUTOSPC ([`autospc`]): after the g → n reduction, every n-set DOF not already in s whose
-//! stiffness diagonal is ≤ [`AUTOSPC_RATIO`] × the largest diagonal of K_nn is constrained to
-//! zero and listed (GRID, component) in an [`AutoSpcReport`] for the solver to print. Typical
+//! stiffness diagonal is ≤ [`AUTOSPC_RATIO`] × the largest diagonal of the same grid's
+//! translations (T1–T3) or rotations (R1–R3) — Nastran's grid-point singularity test, on the
+//! diagonal — or ≤ [`AUTOSPC_FLOOR`] × the largest diagonal of K_nn, is constrained to zero and
+//! listed (GRID, component) in an [`AutoSpcReport`] for the solver to print. The test is per grid
+//! so that stiffness elsewhere (a stiff RBE hub, a heavy spring) does not make a shell's drilling
+//! stiffness look like none. Typical
 //! finds: rotations of grids attached only to solids, drilling rotations of flat shells without
 //! drilling stiffness, components of spring-only grids. `PARAM,AUTOSPC,NO` disables it (the
 //! caller checks `model.params.autospc`). A mechanism with non-zero diagonals is not detected
@@ -25,8 +29,12 @@ use super::error::{AssemblyError, DofName};
 use crate::deck::reader::Dofs;
 use crate::model::Model;
 
-/// AUTOSPC threshold: diagonal ≤ ratio × max diagonal counts as "no stiffness".
+/// AUTOSPC threshold: a diagonal ≤ ratio × the largest diagonal of its grid's translation or
+/// rotation triple counts as "no stiffness" (Nastran's EPZERO default).
 pub const AUTOSPC_RATIO: f64 = 1e-8;
+
+/// Diagonals ≤ this × the largest diagonal of K_nn are numerically zero whatever the grid.
+pub const AUTOSPC_FLOOR: f64 = 1e-14;
 
 /// Constrained g DOFs with their enforced values and where each constraint came from.
 #[derive(Debug, Clone, PartialEq)]
@@ -173,12 +181,20 @@ pub fn autospc(op: &AffineOperator, k_nn: &[f64], n: &DofSet, s_mask: &[bool], m
     super::dofs::check_len("K_nn values", op.pattern().nnz(), k_nn.len())?;
     let diag = op.diagonal(k_nn);
     let max = diag.iter().fold(0.0_f64, |m, d| m.max(d.abs()));
+    // Largest diagonal of each (grid, translations | rotations) triple among the n-set DOFs.
+    let mut triple_max: std::collections::HashMap<usize, f64> = std::collections::HashMap::new();
+    for (k, &g) in n.members().iter().enumerate() {
+        let entry = triple_max.entry(g / 3).or_insert(0.0);
+        *entry = entry.max(diag[k].abs());
+    }
     let mut report = AutoSpcReport { max_diagonal: max, ..Default::default() };
     for (k, &g) in n.members().iter().enumerate() {
         if s_mask.get(g).copied().unwrap_or(false) {
             continue;
         }
-        if diag[k].abs() <= AUTOSPC_RATIO * max {
+        let local = triple_max.get(&(g / 3)).copied().unwrap_or(0.0);
+        let d = diag[k].abs();
+        if d <= AUTOSPC_RATIO * local || d <= AUTOSPC_FLOOR * max {
             report.dofs.push(g);
             report.names.push(map.name(g));
         }
