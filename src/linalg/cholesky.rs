@@ -193,7 +193,7 @@ impl SymbolicFactor {
     }
 
     /// Checks that `a` has exactly the analysed pattern and returns its values.
-    fn values_of<'a>(&self, a: &'a CscMatrix<f64>) -> Result<&'a [f64], LinalgError> {
+    pub(crate) fn values_of<'a>(&self, a: &'a CscMatrix<f64>) -> Result<&'a [f64], LinalgError> {
         if a.col_offsets() != self.inner.col_ptr.as_slice()
             || a.row_indices() != self.inner.row_idx.as_slice()
         {

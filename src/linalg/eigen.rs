@@ -209,7 +209,7 @@ fn solve_modes_from(
             got: start.map_or(0, <[f64]>::len),
         });
     }
-    let bounds = Bounds::from_request(request)?;
+    let mut bounds = Bounds::from_request(request)?;
     progress.step("eigen: factor K - sigma M", 0, 1);
     let (sigma, op_factor) = choose_shift(problem, &bounds, request.shift_hz, par)?;
     let below_sigma = op_factor.inertia().negative;
@@ -223,6 +223,8 @@ fn solve_modes_from(
         Some(u) => Some(inertia_near(problem, u, 1.0, par)?),
         None => None,
     };
+    // A V2 on an eigenvalue was moved up: the returned modes follow the counted interval.
+    bounds.upper = upper.map(|(shift, _)| shift);
     progress.step("eigen: factor K - sigma M", 1, 1);
     let target = Target {
         lower: bounds.lower,
@@ -345,23 +347,8 @@ fn validate(problem: &EigenProblem) -> Result<(), LinalgError> {
             ncols: k.ncols(),
         });
     }
-    if k.nrows() != problem.symbolic.nrows() {
-        return Err(LinalgError::DimensionMismatch {
-            expected: problem.symbolic.nrows(),
-            got: k.nrows(),
-        });
-    }
-    for a in [k, m] {
-        if a.col_offsets() != k.col_offsets()
-            || a.row_indices() != k.row_indices()
-            || a.nnz() != problem.symbolic.nnz()
-        {
-            return Err(LinalgError::PatternMismatch {
-                expected: problem.symbolic.nnz(),
-                got: a.nnz(),
-            });
-        }
-    }
+    problem.symbolic.values_of(k)?;
+    problem.symbolic.values_of(m)?;
     Ok(())
 }
 
@@ -625,8 +612,8 @@ impl<'a> Lanczos<'a> {
             }
             self.apply_op(None)?;
             self.ensure_size(j + 1);
-            let (_, norm) = self.orthogonalize(j);
-            if norm > 0.0 {
+            let (norm0, norm) = self.orthogonalize(j);
+            if norm > 1e-8 * norm0 {
                 for (dst, &x) in self.v.col_as_slice_mut(j).iter_mut().zip(&self.w) {
                     *dst = x / norm;
                 }
@@ -764,7 +751,7 @@ impl<'a> Lanczos<'a> {
         if k + room > self.m {
             self.ensure_size(k + room);
         }
-        if inject || m == self.n {
+        if inject {
             return self.random_start(k);
         }
         let (residual, rest) = self.v.as_mut().split_at_col_mut(m);
@@ -1292,6 +1279,9 @@ mod tests {
     }
 
     /// Benchmark (run on demand, release):
+    /// 2 cores, faer 0.24 AMD ordering: n = 300 300, nnz(L) = 3.4·10⁸, analyse 1.6 s, one LDLᵀ
+    /// 88 s, 24 modes in 363 s (two LDLᵀ — shift and Sturm check — plus about 120 solves),
+    /// max relative eigenvalue error 9·10⁻¹⁴, max residual 1.5·10⁻¹².
     /// `cargo test --release --lib linalg::eigen::tests::bench_laplacian_300k -- --ignored --nocapture`
     #[test]
     #[ignore]
