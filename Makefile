@@ -5,6 +5,7 @@ SHELL := /bin/bash
 VENV := .venv
 PY := $(VENV)/bin/python
 CARGO ?= cargo
+BIN := $(or $(CARGO_TARGET_DIR),target)/release/paraflex
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
 # Debian packages: HDF5 for the hdf5 crate; the shared libraries the PyPI gmsh wheel loads.
@@ -15,7 +16,9 @@ DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcurso
 
 demo: deps
 	$(CARGO) build --release --quiet
-	./target/release/paraflex check decks/demo/bracket_plate.dat
+	$(BIN) check decks/demo/bracket_plate.dat
+	@mkdir -p out
+	$(BIN) run decks/demo/bracket_plate.dat -o out/demo.h5
 
 test: deps
 	$(CARGO) test --quiet

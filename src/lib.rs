@@ -6,11 +6,13 @@
 //! [`model`] (cross-referenced, validated) → solution sequences → [`io`] (HDF5 + XDMF).
 //! The library never prints; the binary renders errors and progress.
 
+pub mod assembly;
 pub mod deck;
 pub mod fe;
 pub mod io;
 pub mod linalg;
 pub mod model;
+pub mod sequence;
 
 /// Version string written into every HDF5 group (`paraflex_version` attribute).
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -7,7 +7,10 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use paraflex::deck::{Deck, Warning};
+use paraflex::deck::{Deck, DeckErrors, Warning};
+use paraflex::model::{CheckSummary, Model};
+use paraflex::sequence::{self, RunContext, RunOptions, Sequence};
+use std::time::Instant;
 
 #[derive(Parser)]
 #[command(name = "paraflex", version, about = "Parametric structural and flexible-multibody dynamics from Nastran decks")]
@@ -53,11 +56,34 @@ fn print_warnings(warnings: &[Warning]) {
     }
 }
 
-fn read_deck(path: &Path) -> Result<Deck, Failure> {
-    Deck::read(path).map_err(|errors| {
+/// Read and validate a deck; on failure print every error (exit code 2).
+fn load_model(path: &Path) -> Result<(Deck, Model), Failure> {
+    let report = |errors: DeckErrors| {
         eprintln!("{errors}");
         Failure(2)
-    })
+    };
+    let deck = Deck::read(path).map_err(report)?;
+    let model = Model::build(&deck).map_err(|errors| report(DeckErrors { errors }))?;
+    Ok((deck, model))
+}
+
+/// The human-readable form of `paraflex check`.
+fn print_summary(path: &Path, s: &CheckSummary) {
+    println!("{}", path.display());
+    println!("  solution     {}", s.sol.unwrap_or("(none)"));
+    println!("  grids        {} ({} DOFs)", s.grids, s.dofs);
+    let list = |m: &std::collections::BTreeMap<&str, usize>| {
+        m.iter().filter(|(_, n)| **n > 0).map(|(k, n)| format!("{k} {n}")).collect::<Vec<_>>().join(", ")
+    };
+    println!("  elements     {}", list(&s.elements));
+    println!("  rigid        {}", list(&s.rigid));
+    println!("  properties   {}", list(&s.properties));
+    println!("  materials    {}", list(&s.materials));
+    println!("  mass         {:.6e} (WTMASS {})", s.mass, s.wtmass);
+    println!("  cg           [{:.6e}, {:.6e}, {:.6e}]", s.cg[0], s.cg[1], s.cg[2]);
+    println!("  inertia (cg) [{:.6e}, {:.6e}, {:.6e}]", s.inertia_cg[0][0], s.inertia_cg[0][1], s.inertia_cg[0][2]);
+    println!("               [{:.6e}, {:.6e}, {:.6e}]", s.inertia_cg[1][0], s.inertia_cg[1][1], s.inertia_cg[1][2]);
+    println!("               [{:.6e}, {:.6e}, {:.6e}]", s.inertia_cg[2][0], s.inertia_cg[2][1], s.inertia_cg[2][2]);
 }
 
 fn main() -> ExitCode {
@@ -77,31 +103,208 @@ mod commands {
     use super::*;
 
     pub fn check(path: &Path, json: bool) -> Result<(), Failure> {
-        let deck = read_deck(path)?;
-        print_warnings(&deck.warnings);
+        let (_, model) = load_model(path)?;
+        let summary = model.summary();
         if json {
-            let summary = serde_json::json!({ "cards": deck.bulk.grids.len() });
-            println!("{summary}");
+            println!("{}", serde_json::to_string(&summary).unwrap_or_default());
         } else {
-            println!("{}: read {} grids", path.display(), deck.bulk.grids.len());
+            print_warnings(&model.warnings);
+            print_summary(path, &summary);
         }
         Ok(())
     }
 
-    pub fn run(path: &Path, _output: Option<&Path>) -> Result<(), Failure> {
-        let deck = read_deck(path)?;
-        print_warnings(&deck.warnings);
-        match &deck.executive.sol {
-            Some((sol, text)) => {
-                eprintln!("error: SOL {text} ({}) is not available in this version of paraflex", sol.name());
-            }
-            None => eprintln!("error: the deck has no SOL statement; nothing to run"),
+    /// Write `/model` (and the XDMF file next to it) for a validated model.
+    fn write_model_file(deck: &Deck, model: &Model, out: &Path) -> Result<PathBuf, paraflex::io::IoError> {
+        let mesh = model.mesh_arrays();
+        let info = model_info(deck);
+        let file = paraflex::io::OutputFile::create(out)?;
+        paraflex::io::write_model(&file, &mesh, &info)?;
+        let written = file.commit()?;
+        let xdmf = paraflex::io::write_xdmf(&written, &mesh)?;
+        for skipped in &xdmf.skipped {
+            eprintln!("warning: not drawn in the XDMF file: {skipped}");
         }
-        Err(Failure(3))
+        Ok(written)
     }
 
-    pub fn info(file: &Path, _json: bool) -> Result<(), Failure> {
-        eprintln!("error: cannot describe '{}': HDF5 support is not built yet", file.display());
-        Err(Failure(2))
+    pub fn run(path: &Path, output: Option<&Path>) -> Result<(), Failure> {
+        let (deck, model) = load_model(path)?;
+        print_warnings(&model.warnings);
+        let out = output.map(Path::to_path_buf).unwrap_or_else(|| path.with_extension("h5"));
+        let available = deck.executive.sol.as_ref().and_then(|(sol, _)| Sequence::of_solution(*sol));
+        if available.is_none() {
+            match write_model_file(&deck, &model, &out) {
+                Ok(written) => eprintln!("wrote the model to {}", written.display()),
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return Err(Failure(2));
+                }
+            }
+            match &deck.executive.sol {
+                Some((sol, text)) => {
+                    eprintln!("error: SOL {text} ({}) is not available in this version of paraflex", sol.name());
+                }
+                None => eprintln!("error: the deck has no SOL statement; nothing to run"),
+            }
+            return Err(Failure(3));
+        }
+        let io_failure = |e: paraflex::io::IoError| {
+            eprintln!("error: {e}");
+            Failure(2)
+        };
+        let start = Instant::now();
+        let mesh = model.mesh_arrays();
+        let file = paraflex::io::OutputFile::create(&out).map_err(io_failure)?;
+        paraflex::io::write_model(&file, &mesh, &model_info(&deck)).map_err(io_failure)?;
+        let bars = progress::Bars::new();
+        let ctx = RunContext { deck: &deck, model: &model, output: &file, progress: &bars, options: RunOptions::default() };
+        let result = sequence::run(&ctx);
+        bars.finish();
+        let summary = result.map_err(|e| {
+            eprintln!("error: {e}");
+            Failure(4)
+        })?;
+        let written = file.commit().map_err(io_failure)?;
+        let xdmf = paraflex::io::write_xdmf(&written, &mesh).map_err(io_failure)?;
+        for skipped in &xdmf.skipped {
+            eprintln!("warning: not drawn in the XDMF file: {skipped}");
+        }
+        for w in &summary.warnings {
+            eprintln!("warning: {w}");
+        }
+        report::print(path, &summary, start.elapsed());
+        eprintln!("wrote {}", written.display());
+        Ok(())
+    }
+
+    fn model_info(deck: &Deck) -> paraflex::io::ModelInfo {
+        paraflex::io::ModelInfo {
+            title: deck.case.subcases().first().and_then(|s| s.title.clone()),
+            deck: Some(deck.path.display().to_string()),
+            sol: deck.executive.sol.as_ref().map(|(sol, _)| sol.name().to_string()),
+        }
+    }
+
+    pub fn info(file: &Path, json: bool) -> Result<(), Failure> {
+        let summary = paraflex::io::describe(file).map_err(|e| {
+            eprintln!("error: {e}");
+            Failure(2)
+        })?;
+        if json {
+            println!("{}", serde_json::to_string_pretty(&summary).unwrap_or_default());
+        } else {
+            print!("{summary}");
+        }
+        Ok(())
+    }
+}
+
+/// Console rendering of a run summary.
+mod report {
+    use std::path::Path;
+    use std::time::Duration;
+
+    use paraflex::sequence::{RunSummary, SubcaseResult, sturm_line};
+
+    pub fn print(path: &Path, s: &RunSummary, total: Duration) {
+        println!("{} — {}", path.display(), s.sequence.name());
+        for sub in &s.subcases {
+            match &sub.result {
+                SubcaseResult::Modal(m) => {
+                    println!("subcase {}: {} mode(s), f-set {} DOFs, NORM = {:?}", sub.id, m.frequencies_hz.len(), m.f_size, m.norm);
+                    println!("  {:>4}  {:>14}  {:>14}  {:>10}", "mode", "f [Hz]", "gen. mass", "residual");
+                    for (k, f) in m.frequencies_hz.iter().enumerate() {
+                        println!("  {:>4}  {:>14}  {:>14}  {:>10}", k + 1, sci(*f, 6), sci(m.generalized_mass[k], 6), sci(m.residuals[k], 1));
+                    }
+                    println!("  {}", sturm_line(&m.sturm));
+                }
+                SubcaseResult::Statics(st) => {
+                    println!("subcase {}: f-set {} DOFs", sub.id, st.f_size);
+                    println!("  max |u| (translation)  {} at GRID {}", sci(st.max_translation.1, 6), st.max_translation.0);
+                    println!("  max |component|        {} at GRID {} component {}", sci(st.max_component.2, 6), st.max_component.0, st.max_component.1);
+                    let f = |v: &[f64; 6]| format!("F = [{}, {}, {}]", sci(v[0], 6), sci(v[1], 6), sci(v[2], 6));
+                    println!("  applied load           {}", f(&st.applied));
+                    println!("  SPC reaction           {}", f(&st.reaction));
+                }
+            }
+            if sub.autospc.is_empty() {
+                println!("  AUTOSPC: none");
+            } else {
+                let list: Vec<String> = sub.autospc.iter().map(|d| format!("{}/{}", d.grid, d.component)).collect();
+                println!("  AUTOSPC: {} DOF(s) (GRID/component): {}", list.len(), abbreviate(&list, 12));
+            }
+        }
+        let steps: Vec<String> = s.timings.iter().map(|(name, d)| format!("{name} {:.3} s", d.as_secs_f64())).collect();
+        println!("timings: {}; total {:.3} s", steps.join(", "), total.as_secs_f64());
+    }
+
+    /// 1.234568E+01 style (fixed-width exponent).
+    fn sci(x: f64, digits: usize) -> String {
+        let s = format!("{x:.digits$e}");
+        match s.split_once('e') {
+            Some((mantissa, exp)) => format!("{mantissa}E{:+03}", exp.parse::<i32>().unwrap_or(0)),
+            None => s,
+        }
+    }
+
+    fn abbreviate(list: &[String], max: usize) -> String {
+        if list.len() <= max {
+            list.join(" ")
+        } else {
+            format!("{} … (+{} more; the full list is in the warning above and the HDF5 `autospc` attribute)", list[..max].join(" "), list.len() - max)
+        }
+    }
+}
+
+/// indicatif progress bars behind the library's `Progress` trait (only on a terminal).
+mod progress {
+    use std::io::IsTerminal;
+    use std::sync::Mutex;
+
+    use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+    use paraflex::linalg::Progress;
+
+    pub struct Bars {
+        enabled: bool,
+        current: Mutex<Option<(String, ProgressBar)>>,
+    }
+
+    impl Bars {
+        pub fn new() -> Self {
+            Bars { enabled: std::io::stderr().is_terminal(), current: Mutex::new(None) }
+        }
+
+        pub fn finish(&self) {
+            if let Ok(mut cur) = self.current.lock() {
+                if let Some((_, bar)) = cur.take() {
+                    bar.finish_and_clear();
+                }
+            }
+        }
+    }
+
+    impl Progress for Bars {
+        fn step(&self, what: &str, done: usize, total: usize) {
+            if !self.enabled {
+                return;
+            }
+            let Ok(mut cur) = self.current.lock() else { return };
+            let same = cur.as_ref().is_some_and(|(name, _)| name == what);
+            if !same {
+                if let Some((_, bar)) = cur.take() {
+                    bar.finish_and_clear();
+                }
+                let bar = ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
+                let style = ProgressStyle::with_template("{msg:32} [{bar:30}] {pos}/{len} {elapsed}").unwrap_or_else(|_| ProgressStyle::default_bar());
+                bar.set_style(style.progress_chars("=> "));
+                bar.set_message(what.to_string());
+                *cur = Some((what.to_string(), bar));
+            }
+            if let Some((_, bar)) = cur.as_ref() {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+            }
+        }
     }
 }

@@ -15,8 +15,7 @@
 //!
 //! Decks listed in [`MODEL_LAYER`] are syntactically valid: their problems (dangling and
 //! duplicate ids, non-physical materials, degenerate elements) are found by the model
-//! validation layer. Until it is merged they are only checked not to panic; the ignored test
-//! [`model_layer_rejects_its_bad_decks`] holds their full expectations.
+//! validation layer ([`model_layer_rejects_its_bad_decks`]).
 
 use std::path::{Path, PathBuf};
 
@@ -157,15 +156,8 @@ fn reader_rejects_every_bad_deck_at_its_location() {
 }
 
 #[test]
-fn model_layer_decks_do_not_panic() {
-    let decks: Vec<Expectation> = bad_decks().into_iter().filter(|d| MODEL_LAYER.contains(&d.name.as_str())).collect();
-    assert_eq!(decks.len(), MODEL_LAYER.len());
-    run_all(&decks, panic_problem);
-}
-
-#[test]
-#[ignore = "needs model validation (being merged)"]
 fn model_layer_rejects_its_bad_decks() {
     let decks: Vec<Expectation> = bad_decks().into_iter().filter(|d| MODEL_LAYER.contains(&d.name.as_str())).collect();
+    assert_eq!(decks.len(), MODEL_LAYER.len());
     run_all(&decks, problem);
 }

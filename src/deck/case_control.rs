@@ -7,6 +7,7 @@
 //! subcase ([`CaseControl::subcases`] resolves them).
 
 use super::error::{DeckError, Diagnostics, Loc};
+use super::reader::expand_thru;
 
 /// What an output request or `SENSOR` selects.
 #[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
@@ -159,6 +160,11 @@ fn split_statement(text: &str) -> Statement<'_> {
     Statement { word, describers, value }
 }
 
+/// A positive id in the range bulk-data ids use (1 … 2³¹ − 1).
+fn parse_id(text: &str) -> Option<u32> {
+    text.parse::<u32>().ok().filter(|&id| id > 0 && id <= u32::MAX / 2)
+}
+
 /// Parse a `SET` list: ids, `THRU` ranges, `ALL` not allowed. Errors are messages.
 fn parse_set_list(text: &str) -> Result<Vec<u32>, String> {
     let mut ids: Vec<u32> = Vec::new();
@@ -168,18 +174,15 @@ fn parse_set_list(text: &str) -> Result<Vec<u32>, String> {
         let t = tokens[i];
         if t.eq_ignore_ascii_case("THRU") {
             let lo = *ids.last().ok_or("THRU needs an id before it")?;
-            let hi: u32 = tokens.get(i + 1).and_then(|h| h.parse().ok()).ok_or("THRU needs an id after it")?;
-            if hi < lo || hi - lo > 50_000_000 {
-                return Err(format!("bad THRU range {lo} THRU {hi}"));
-            }
-            ids.extend(lo + 1..=hi);
+            let hi = tokens.get(i + 1).and_then(|h| parse_id(h)).ok_or("THRU needs an id after it")?;
+            expand_thru(&mut ids, lo, hi)?;
             i += 2;
             continue;
         }
         if t.eq_ignore_ascii_case("EXCEPT") {
             return Err("EXCEPT in SET lists is not supported; list the ids explicitly".into());
         }
-        let id: u32 = t.parse().map_err(|_| format!("expected an id or THRU, found '{t}'"))?;
+        let id = parse_id(t).ok_or_else(|| format!("expected an id (1 to {}) or THRU, found '{t}'", u32::MAX / 2))?;
         ids.push(id);
         i += 1;
     }
@@ -320,10 +323,10 @@ impl CaseControl {
         let Some((head, list)) = text.split_once('=') else {
             return diag.error(DeckError::at(loc, "expected SET n = id, id THRU id, ...").on_card("SET"));
         };
-        let id_text = head.trim()[3..].trim();
-        let id = match id_text.parse::<u32>() {
-            Ok(id) if id > 0 => id,
-            _ => return diag.error(DeckError::at(loc, format!("expected a positive SET id, found '{id_text}'")).on_card("SET")),
+        let id_text = head.trim().get(3..).unwrap_or("").trim();
+        let id = match parse_id(id_text) {
+            Some(id) => id,
+            None => return diag.error(DeckError::at(loc, format!("expected a positive SET id, found '{id_text}'")).on_card("SET")),
         };
         match parse_set_list(list) {
             Ok(ids) => {

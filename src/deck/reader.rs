@@ -319,8 +319,13 @@ impl<'a> FieldReader<'a> {
     /// A list of ids starting at field `from` to the end of the card, with `id1 THRU id2` ranges
     /// expanded. Blank fields are skipped.
     pub fn id_list(&mut self, from: usize, name: &str) -> Vec<u32> {
-        let mut ids = Vec::new();
         let end = self.len();
+        self.id_list_until(from, end, name)
+    }
+
+    /// [`id_list`](Self::id_list) over fields `from..=end` only.
+    pub fn id_list_until(&mut self, from: usize, end: usize, name: &str) -> Vec<u32> {
+        let mut ids = Vec::new();
         let mut i = from;
         while i <= end {
             let is_thru = matches!(self.value(i), Value::Text(t) if t.eq_ignore_ascii_case("THRU"));
@@ -330,12 +335,8 @@ impl<'a> FieldReader<'a> {
                     i += 2;
                     continue;
                 };
-                if hi < lo {
-                    self.error(i + 1, name, format!("THRU range {lo} THRU {hi} is decreasing"));
-                } else if hi - lo > 50_000_000 {
-                    self.error(i + 1, name, format!("THRU range {lo} THRU {hi} is too long"));
-                } else {
-                    ids.extend(lo + 1..=hi);
+                if let Err(message) = expand_thru(&mut ids, lo, hi) {
+                    self.error(i + 1, name, message);
                 }
                 i += 2;
                 continue;
@@ -375,6 +376,25 @@ impl<'a> FieldReader<'a> {
     pub fn into_errors(self) -> Vec<DeckError> {
         self.errors
     }
+}
+
+/// The most ids one list (a card's or a case-control SET's, `THRU` ranges expanded) may hold:
+/// 10 million, 40 MB of ids — far above any real model's set, small enough that a typo such as
+/// `1 THRU 4000000000` is an error instead of exhausting memory.
+pub const MAX_LISTED_IDS: usize = 10_000_000;
+
+/// Append `lo+1 ..= hi` to `ids` (which ends with `lo`), refusing decreasing ranges and lists
+/// longer than [`MAX_LISTED_IDS`].
+pub fn expand_thru(ids: &mut Vec<u32>, lo: u32, hi: u32) -> Result<(), String> {
+    if hi < lo {
+        return Err(format!("THRU range {lo} THRU {hi} is decreasing"));
+    }
+    let total = ids.len() as u64 + u64::from(hi - lo);
+    if total > MAX_LISTED_IDS as u64 {
+        return Err(format!("THRU range {lo} THRU {hi} makes the list longer than {MAX_LISTED_IDS} ids"));
+    }
+    ids.extend((lo..=hi).skip(1));
+    Ok(())
 }
 
 /// A CSV column selected by index or header name.

@@ -1,1 +1,1118 @@
-//! (being written)
+//! Shell section stiffness and mass by classical lamination theory (thesis §2.2.3, eq. 2.7–2.9;
+//! affine splits §3.3, eq. 3.13–3.22; DESIGN.md §4–§5).
+//!
+//! A [`ShellSection`] holds the stress resultants of the reference plane (the grid plane of the
+//! element) per unit generalized strain:
+//!
+//! ```text
+//! ⎡N⎤   ⎡A B 0⎤ ⎡ε⁰⎤      N = [Nx Ny Nxy], M = [Mx My Mxy] (per unit length)
+//! ⎢M⎥ = ⎢B D 0⎥ ⎢κ ⎥      ε⁰ = [εx εy γxy] of the reference plane, κ = [κx κy κxy]
+//! ⎣Q⎦   ⎣0 0 S⎦ ⎣γ ⎦      Q = [Qxz Qyz], γ = [γxz γyz]
+//! ```
+//!
+//! with, for plies k of reduced stiffness Q̄_k between z_k and z_{k+1} (z along the element
+//! normal, measured from the reference plane):
+//!
+//! ```text
+//! A = Σ Q̄_k (z_{k+1} − z_k),   B = ½ Σ Q̄_k (z_{k+1}² − z_k²),   D = ⅓ Σ Q̄_k (z_{k+1}³ − z_k³)
+//! S = 5/6 Σ Q̄s_k (z_{k+1} − z_k)
+//! ```
+//!
+//! This is eq. 2.9 of the thesis; note that its printed factors ½ and ⅓ are attached to the
+//! bending and coupling terms the other way round — the line above is the standard CLT result
+//! (B is the first moment, D the second), which the tests check against hand calculations.
+//!
+//! **Transverse shear.** S uses the shear-correction factor 5/6 on the thickness-weighted
+//! rotated ply shear moduli (Q̄s = Rᵀ diag(G1Z, G2Z) R). The energy-consistent factors of a
+//! general laminate depend non-linearly on the ply properties and angles; the simple factor
+//! keeps S affine in every parameter of §5 (DESIGN.md), which is why it is used.
+//!
+//! **Drilling stiffness.** `drill = DRILL_FRACTION · A66` (Hughes–Brezzi penalty modulus γ,
+//! per unit area; see [`crate::fe::shell`]). Being a fixed multiple of A66 it is affine in
+//! every parameter A66 is.
+//!
+//! **Kirchhoff sections.** A PSHELL without MID3 (or a ply without G1Z/G2Z) means "no
+//! transverse-shear flexibility". The element is Mindlin–Reissner, so this is represented by a
+//! stiff penalty: S = [`KIRCHHOFF_SHEAR_PENALTY`] · G · t (G the in-plane shear modulus). For an
+//! element of size L the shear flexibility is then ~ 1/(100·(L/t)²) of the bending one;
+//! MITC elements do not lock, so the penalty costs nothing but a little conditioning.
+//!
+//! **Mass.** [`ShellMass`] holds ∫ρ dz (+ NSM), ∫ρ z dz and ∫ρ z² dz about the reference plane.
+
+use super::affine::{Coefficient, CoefficientValues};
+
+/// Drilling penalty modulus as a fraction of the in-plane shear stiffness A66.
+pub const DRILL_FRACTION: f64 = 1.0e-3;
+
+/// Transverse shear stiffness of a Kirchhoff (no MID3 / no G1Z, G2Z) section, as a multiple
+/// of G·t.
+pub const KIRCHHOFF_SHEAR_PENALTY: f64 = 1.0e2;
+
+/// Mass per unit reference area of a shell section (about the reference plane).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ShellMass {
+    /// Translational mass per area, ∫ρ dz + NSM.
+    pub rho_t: f64,
+    /// First moment per area, ∫ρ z dz (non-zero for offset sections; couples translation and
+    /// rotation).
+    pub rho_s: f64,
+    /// Rotary inertia per area about the reference plane, ∫ρ z² dz = Σ ρ_k (z_{k+1}³ − z_k³)/3.
+    pub rho_i: f64,
+}
+
+/// Stress-resultant stiffness and mass of a shell section (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ShellSection {
+    /// Membrane stiffness A (force/length), order [xx, yy, xy].
+    pub a: [[f64; 3]; 3],
+    /// Membrane–bending coupling B (force).
+    pub b: [[f64; 3]; 3],
+    /// Bending stiffness D (force·length).
+    pub d: [[f64; 3]; 3],
+    /// Transverse-shear stiffness S (force/length), order [xz, yz].
+    pub s: [[f64; 2]; 2],
+    /// Drilling penalty modulus γ per unit area (force/length), `DRILL_FRACTION · A66`.
+    pub drill: f64,
+    /// Mass per unit area.
+    pub mass: ShellMass,
+}
+
+/// Homogeneous isotropic section, PSHELL with MAT1 for MID1 = MID2 = MID3.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IsotropicShell {
+    /// Young's modulus E.
+    pub e: f64,
+    /// Poisson's ratio ν.
+    pub nu: f64,
+    /// Density ρ.
+    pub rho: f64,
+    /// Thickness T.
+    pub t: f64,
+    /// Bending ratio 12I/T³; `None` = MID2 absent: no bending and no transverse-shear
+    /// stiffness (membrane only).
+    pub bending_ratio: Option<f64>,
+    /// Shear thickness ratio TS/T (Nastran default 0.833333); `None` = MID3 absent: Kirchhoff
+    /// section, S = `KIRCHHOFF_SHEAR_PENALTY` · G · T.
+    pub shear_ratio: Option<f64>,
+    /// Non-structural mass per area.
+    pub nsm: f64,
+    /// Offset of the mid-surface from the reference (grid) plane along the normal (ZOFFS).
+    pub zoffs: f64,
+}
+
+/// One orthotropic ply (MAT8 data, thickness and angle).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ply {
+    /// Modulus along the fibres.
+    pub e1: f64,
+    /// Modulus across the fibres.
+    pub e2: f64,
+    /// Major Poisson's ratio ν12.
+    pub nu12: f64,
+    /// In-plane shear modulus G12.
+    pub g12: f64,
+    /// Transverse shear modulus G1Z (fibre–normal plane); `None` = rigid in transverse shear
+    /// (penalty `KIRCHHOFF_SHEAR_PENALTY · G12`).
+    pub g1z: Option<f64>,
+    /// Transverse shear modulus G2Z; `None` as for `g1z`.
+    pub g2z: Option<f64>,
+    /// Density.
+    pub rho: f64,
+    /// Thickness.
+    pub t: f64,
+    /// Fibre angle Θ in degrees from the material x axis, about the element normal.
+    pub theta_deg: f64,
+}
+
+/// A laminate (PCOMP): plies from bottom to top.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Laminate {
+    /// Plies, bottom (most negative z) first.
+    pub plies: Vec<Ply>,
+    /// Distance from the reference plane to the bottom surface (Z0); `None` = −h/2.
+    pub z0: Option<f64>,
+    /// Non-structural mass per area.
+    pub nsm: f64,
+    /// LAM = SYM: `plies` is the bottom half; the full stack is `plies` followed by its mirror.
+    pub symmetric: bool,
+}
+
+/// Section data an element property can carry.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SectionData {
+    /// PSHELL with an isotropic material.
+    Isotropic(IsotropicShell),
+    /// PCOMP, or PSHELL with MAT8 as a one-ply laminate ([`ShellSection::orthotropic`]).
+    Laminate(Laminate),
+}
+
+/// The parameter a section is split by in [`affine_sections`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SectionParameter {
+    /// Young's modulus at fixed ν (isotropic): stiffness ∝ E (eq. 3.15).
+    E,
+    /// Poisson's ratio (isotropic): λ* = Eν/(1−ν²) and μ parts (eq. 3.13–3.14, plane stress).
+    Nu,
+    /// Density: mass ∝ ρ, NSM constant (eq. 3.16). Laminates need one density for all plies.
+    Rho,
+    /// Angle-ply angle Θ: every ply at sign(θ_k)·Θ (θ_k ≥ 0 → +Θ), eq. 3.17–3.18.
+    Theta,
+    /// Common ply thickness h: h, h², h³ (eq. 3.19–3.22). All plies must have equal thickness;
+    /// Z0 is taken proportional to h (exact for the default Z0 = −h_total/2).
+    Tply,
+}
+
+/// Errors of section construction and affine splitting.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SectionError {
+    /// A quantity that must be positive is not.
+    #[error("{what} must be positive, got {value}")]
+    NonPositive {
+        /// Name of the quantity, e.g. "thickness T" or "ply 3 thickness".
+        what: String,
+        /// The value given.
+        value: f64,
+    },
+    /// Poisson's ratio outside (−1, 0.5) (isotropic) or making the ply compliance indefinite.
+    #[error("{what}: Poisson's ratio {value} makes the material indefinite")]
+    Poisson {
+        /// Which material, e.g. "MAT1" or "ply 2".
+        what: String,
+        /// The ratio.
+        value: f64,
+    },
+    /// A laminate without plies.
+    #[error("laminate has no plies")]
+    NoPlies,
+    /// The parameter does not apply to this kind of section.
+    #[error("parameter {parameter:?} does not apply to a {section} section")]
+    UnsupportedParameter {
+        /// The parameter asked for.
+        parameter: SectionParameter,
+        /// "isotropic" or "laminate".
+        section: &'static str,
+    },
+    /// TPLY needs all plies of one thickness, RHO one density.
+    #[error(
+        "parameter {parameter:?} needs equal {what} in all plies: ply 1 has {first}, ply {ply} has {value}"
+    )]
+    NotUniform {
+        /// The parameter asked for.
+        parameter: SectionParameter,
+        /// "thickness" or "density".
+        what: &'static str,
+        /// Value of the first ply.
+        first: f64,
+        /// 1-based index of the first differing ply.
+        ply: usize,
+        /// Its value.
+        value: f64,
+    },
+}
+
+type M3 = [[f64; 3]; 3];
+type M2 = [[f64; 2]; 2];
+
+fn m3_scale(m: &M3, f: f64) -> M3 {
+    m.map(|r| r.map(|x| x * f))
+}
+
+fn m3_add(a: &M3, b: &M3) -> M3 {
+    std::array::from_fn(|i| std::array::from_fn(|j| a[i][j] + b[i][j]))
+}
+
+fn m2_scale(m: &M2, f: f64) -> M2 {
+    m.map(|r| r.map(|x| x * f))
+}
+
+fn m2_add(a: &M2, b: &M2) -> M2 {
+    std::array::from_fn(|i| std::array::from_fn(|j| a[i][j] + b[i][j]))
+}
+
+impl ShellMass {
+    /// `f · self`.
+    pub fn scaled(&self, f: f64) -> Self {
+        Self {
+            rho_t: f * self.rho_t,
+            rho_s: f * self.rho_s,
+            rho_i: f * self.rho_i,
+        }
+    }
+
+    /// `self + other`.
+    pub fn plus(&self, o: &Self) -> Self {
+        Self {
+            rho_t: self.rho_t + o.rho_t,
+            rho_s: self.rho_s + o.rho_s,
+            rho_i: self.rho_i + o.rho_i,
+        }
+    }
+
+    /// True when every entry is zero.
+    pub fn is_zero(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+impl ShellSection {
+    /// `f · self` (stiffness and mass).
+    pub fn scaled(&self, f: f64) -> Self {
+        Self {
+            a: m3_scale(&self.a, f),
+            b: m3_scale(&self.b, f),
+            d: m3_scale(&self.d, f),
+            s: m2_scale(&self.s, f),
+            drill: f * self.drill,
+            mass: self.mass.scaled(f),
+        }
+    }
+
+    /// `self + other` (stiffness and mass).
+    pub fn plus(&self, o: &Self) -> Self {
+        Self {
+            a: m3_add(&self.a, &o.a),
+            b: m3_add(&self.b, &o.b),
+            d: m3_add(&self.d, &o.d),
+            s: m2_add(&self.s, &o.s),
+            drill: self.drill + o.drill,
+            mass: self.mass.plus(&o.mass),
+        }
+    }
+
+    /// True when all stiffness entries (A, B, D, S, drill) are zero.
+    pub fn stiffness_is_zero(&self) -> bool {
+        let z = Self {
+            mass: ShellMass::default(),
+            ..*self
+        };
+        z == Self::default()
+    }
+
+    /// The same section without its mass.
+    pub fn without_mass(&self) -> Self {
+        Self {
+            mass: ShellMass::default(),
+            ..*self
+        }
+    }
+
+    /// The mass only (zero stiffness).
+    pub fn mass_only(mass: ShellMass) -> Self {
+        Self {
+            mass,
+            ..Self::default()
+        }
+    }
+
+    /// Homogeneous isotropic PSHELL section:
+    /// A = Q·T, B = Q·T·z₀, D = Q·(r·T³/12 + T·z₀²), S = (TS/T)·G·T·I₂, with the plane-stress
+    /// Q = E/(1−ν²)[[1,ν,0],[ν,1,0],[0,0,(1−ν)/2]], r = 12I/T³ and z₀ = ZOFFS (the offset
+    /// reference plane adds the parallel-axis terms of A). Mass ρT + NSM, ρT·z₀,
+    /// ρ(T³/12 + T·z₀²).
+    pub fn isotropic(p: &IsotropicShell) -> Result<Self, SectionError> {
+        validate_isotropic(p)?;
+        let lam = p.e * p.nu / (1.0 - p.nu * p.nu);
+        let mu = p.e / (2.0 * (1.0 + p.nu));
+        let mut s = isotropic_unit(p, lam, mu);
+        s.mass = isotropic_mass(p, p.rho);
+        Ok(s)
+    }
+
+    /// PSHELL with a MAT8 material: a one-ply laminate of thickness `ply.t` whose mid-surface is
+    /// `zoffs` above the reference plane (12I/T³ = 1, TS/T = 5/6).
+    pub fn orthotropic(ply: &Ply, zoffs: f64, nsm: f64) -> Result<Self, SectionError> {
+        let lam = Laminate {
+            plies: vec![*ply],
+            z0: Some(zoffs - 0.5 * ply.t),
+            nsm,
+            symmetric: false,
+        };
+        Self::laminate(&lam)
+    }
+
+    /// Laminate section by CLT (eq. 2.8–2.9, module documentation). Ply stiffness is rotated
+    /// as Q̄ = T_εᵀ Q T_ε with the engineering-strain rotation T_ε(Θ).
+    pub fn laminate(l: &Laminate) -> Result<Self, SectionError> {
+        let plies = expand_plies(l)?;
+        let z = ply_interfaces(&plies, l.z0);
+        let mut out = Self::default();
+        for (k, p) in plies.iter().enumerate() {
+            let (z1, z2) = (z[k], z[k + 1]);
+            let q = qbar_rotated(&ply_q(p), p.theta_deg);
+            let g = qbar_shear_rotated(p, p.theta_deg);
+            out.a = m3_add(&out.a, &m3_scale(&q, z2 - z1));
+            out.b = m3_add(&out.b, &m3_scale(&q, 0.5 * (z2 * z2 - z1 * z1)));
+            out.d = m3_add(&out.d, &m3_scale(&q, (z2.powi(3) - z1.powi(3)) / 3.0));
+            out.s = m2_add(&out.s, &m2_scale(&g, SHEAR_CORRECTION * (z2 - z1)));
+            out.mass = out.mass.plus(&ply_mass(p.rho, z1, z2));
+        }
+        out.mass.rho_t += l.nsm;
+        out.drill = DRILL_FRACTION * out.a[2][2];
+        Ok(out)
+    }
+}
+
+/// Shear-correction factor on the thickness-weighted transverse shear moduli.
+const SHEAR_CORRECTION: f64 = 5.0 / 6.0;
+
+fn validate_isotropic(p: &IsotropicShell) -> Result<(), SectionError> {
+    positive("Young's modulus E", p.e)?;
+    positive("thickness T", p.t)?;
+    if let Some(r) = p.bending_ratio {
+        positive("bending ratio 12I/T³", r)?;
+    }
+    if let Some(r) = p.shear_ratio {
+        positive("shear ratio TS/T", r)?;
+    }
+    if !(p.nu > -1.0 && p.nu < 0.5) {
+        return Err(SectionError::Poisson {
+            what: "MAT1".into(),
+            value: p.nu,
+        });
+    }
+    Ok(())
+}
+
+fn positive(what: &str, value: f64) -> Result<(), SectionError> {
+    if value > 0.0 && value.is_finite() {
+        Ok(())
+    } else {
+        Err(SectionError::NonPositive {
+            what: what.into(),
+            value,
+        })
+    }
+}
+
+/// Isotropic section stiffness for given plane-stress λ* and μ (no mass); linear in (λ*, μ).
+fn isotropic_unit(p: &IsotropicShell, lam: f64, mu: f64) -> ShellSection {
+    let q = [
+        [lam + 2.0 * mu, lam, 0.0],
+        [lam, lam + 2.0 * mu, 0.0],
+        [0.0, 0.0, mu],
+    ];
+    let (t, z0) = (p.t, p.zoffs);
+    let a = m3_scale(&q, t);
+    let (b, d, s) = match p.bending_ratio {
+        None => ([[0.0; 3]; 3], [[0.0; 3]; 3], [[0.0; 2]; 2]),
+        Some(r) => {
+            let ts = p.shear_ratio.unwrap_or(KIRCHHOFF_SHEAR_PENALTY) * mu * t;
+            (
+                m3_scale(&q, t * z0),
+                m3_scale(&q, r * t.powi(3) / 12.0 + t * z0 * z0),
+                [[ts, 0.0], [0.0, ts]],
+            )
+        }
+    };
+    ShellSection {
+        a,
+        b,
+        d,
+        s,
+        drill: DRILL_FRACTION * mu * t,
+        mass: ShellMass::default(),
+    }
+}
+
+/// Isotropic section mass for density `rho` (with the NSM).
+fn isotropic_mass(p: &IsotropicShell, rho: f64) -> ShellMass {
+    let (t, z0) = (p.t, p.zoffs);
+    ShellMass {
+        rho_t: rho * t + p.nsm,
+        rho_s: rho * t * z0,
+        rho_i: rho * (t.powi(3) / 12.0 + t * z0 * z0),
+    }
+}
+
+/// Full ply stack (mirrored when symmetric), validated.
+fn expand_plies(l: &Laminate) -> Result<Vec<Ply>, SectionError> {
+    if l.plies.is_empty() {
+        return Err(SectionError::NoPlies);
+    }
+    for (k, p) in l.plies.iter().enumerate() {
+        let n = k + 1;
+        positive(&format!("ply {n} thickness"), p.t)?;
+        positive(&format!("ply {n} E1"), p.e1)?;
+        positive(&format!("ply {n} E2"), p.e2)?;
+        positive(&format!("ply {n} G12"), p.g12)?;
+        if let Some(g) = p.g1z {
+            positive(&format!("ply {n} G1Z"), g)?;
+        }
+        if let Some(g) = p.g2z {
+            positive(&format!("ply {n} G2Z"), g)?;
+        }
+        if p.nu12 * p.nu12 * p.e2 / p.e1 >= 1.0 {
+            return Err(SectionError::Poisson {
+                what: format!("ply {n}"),
+                value: p.nu12,
+            });
+        }
+    }
+    let mut plies = l.plies.clone();
+    if l.symmetric {
+        plies.extend(l.plies.iter().rev());
+    }
+    Ok(plies)
+}
+
+/// Interface coordinates z_0 < z_1 < … < z_n measured from the reference plane.
+fn ply_interfaces(plies: &[Ply], z0: Option<f64>) -> Vec<f64> {
+    let h: f64 = plies.iter().map(|p| p.t).sum();
+    let mut z = vec![z0.unwrap_or(-0.5 * h)];
+    for p in plies {
+        z.push(z[z.len() - 1] + p.t);
+    }
+    z
+}
+
+fn ply_mass(rho: f64, z1: f64, z2: f64) -> ShellMass {
+    ShellMass {
+        rho_t: rho * (z2 - z1),
+        rho_s: rho * 0.5 * (z2 * z2 - z1 * z1),
+        rho_i: rho * (z2.powi(3) - z1.powi(3)) / 3.0,
+    }
+}
+
+/// Plane-stress reduced stiffness of a ply in its own axes (1 = fibre):
+/// Q11 = E1/Δ, Q22 = E2/Δ, Q12 = ν12·E2/Δ, Q66 = G12, Δ = 1 − ν12ν21, ν21 = ν12E2/E1.
+fn ply_q(p: &Ply) -> M3 {
+    let del = 1.0 - p.nu12 * p.nu12 * p.e2 / p.e1;
+    let (q11, q22, q12) = (p.e1 / del, p.e2 / del, p.nu12 * p.e2 / del);
+    [[q11, q12, 0.0], [q12, q22, 0.0], [0.0, 0.0, p.g12]]
+}
+
+/// Transverse shear moduli (G1Z, G2Z) of a ply, penalty for the absent ones.
+fn ply_g(p: &Ply) -> (f64, f64) {
+    let pen = KIRCHHOFF_SHEAR_PENALTY * p.g12;
+    (p.g1z.unwrap_or(pen), p.g2z.unwrap_or(pen))
+}
+
+/// Q̄ = T_εᵀ Q T_ε, T_ε = [[c², s², cs], [s², c², −cs], [−2cs, 2cs, c²−s²]] (engineering strains
+/// of the laminate axes → ply axes).
+fn qbar_rotated(q: &M3, theta_deg: f64) -> M3 {
+    let (s, c) = theta_deg.to_radians().sin_cos();
+    let t = [
+        [c * c, s * s, c * s],
+        [s * s, c * c, -c * s],
+        [-2.0 * c * s, 2.0 * c * s, c * c - s * s],
+    ];
+    std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            let mut v = 0.0;
+            for k in 0..3 {
+                for l in 0..3 {
+                    v += t[k][i] * q[k][l] * t[l][j];
+                }
+            }
+            v
+        })
+    })
+}
+
+/// Q̄s = Rᵀ diag(G1Z, G2Z) R with R = [[c, s], [−s, c]] (order xz, yz).
+fn qbar_shear_rotated(p: &Ply, theta_deg: f64) -> M2 {
+    let (s, c) = theta_deg.to_radians().sin_cos();
+    let (g1, g2) = ply_g(p);
+    [
+        [g1 * c * c + g2 * s * s, (g1 - g2) * c * s],
+        [(g1 - g2) * c * s, g1 * s * s + g2 * c * c],
+    ]
+}
+
+/// The five Θ functions of eq. 3.18 in the order of [`THETA_COEFFICIENTS`].
+const THETA_COEFFICIENTS: [Coefficient; 5] = [
+    Coefficient::Cos4,
+    Coefficient::Sin4,
+    Coefficient::Cos2Sin2,
+    Coefficient::CosSin3,
+    Coefficient::Cos3Sin,
+];
+
+/// Q̄(Θ) = Σ_i f_i(Θ) X_i over the functions of eq. 3.18 (order of `THETA_COEFFICIENTS`):
+/// Q̄11 = Q11c⁴ + Q22s⁴ + 2(Q12+2Q66)c²s², Q̄22 likewise with Q11↔Q22,
+/// Q̄12 = Q12(c⁴+s⁴) + (Q11+Q22−4Q66)c²s², Q̄66 = Q66(c⁴+s⁴) + (Q11+Q22−2Q12−2Q66)c²s²,
+/// Q̄16 = (Q11−Q12−2Q66)c³s + (Q12−Q22+2Q66)cs³, Q̄26 likewise with c³s↔cs³.
+/// The odd functions (cs³, c³s) are multiplied by `sign` (−1 for a ply at −Θ).
+fn qbar_parts(q: &M3, sign: f64) -> [M3; 5] {
+    let (q11, q22, q12, q66) = (q[0][0], q[1][1], q[0][1], q[2][2]);
+    let sym = |a11: f64, a22: f64, a12: f64, a66: f64, a16: f64, a26: f64| -> M3 {
+        [[a11, a12, a16], [a12, a22, a26], [a16, a26, a66]]
+    };
+    let (p, r) = (q11 - q12 - 2.0 * q66, q12 - q22 + 2.0 * q66);
+    [
+        sym(q11, q22, q12, q66, 0.0, 0.0),
+        sym(q22, q11, q12, q66, 0.0, 0.0),
+        sym(
+            2.0 * (q12 + 2.0 * q66),
+            2.0 * (q12 + 2.0 * q66),
+            q11 + q22 - 4.0 * q66,
+            q11 + q22 - 2.0 * q12 - 2.0 * q66,
+            0.0,
+            0.0,
+        ),
+        sym(0.0, 0.0, 0.0, 0.0, sign * r, sign * p),
+        sym(0.0, 0.0, 0.0, 0.0, sign * p, sign * r),
+    ]
+}
+
+/// Q̄s(Θ) = Σ f_i X_i: c² = c⁴ + c²s², s² = s⁴ + c²s², cs = c³s + cs³, so
+/// Q̄s_xx = G1Z c² + G2Z s², Q̄s_yy = G1Z s² + G2Z c², Q̄s_xy = (G1Z − G2Z) cs.
+fn qbar_shear_parts(p: &Ply, sign: f64) -> [M2; 5] {
+    let (g1, g2) = ply_g(p);
+    let odd = sign * (g1 - g2);
+    [
+        [[g1, 0.0], [0.0, g2]],
+        [[g2, 0.0], [0.0, g1]],
+        [[g1 + g2, 0.0], [0.0, g1 + g2]],
+        [[0.0, odd], [odd, 0.0]],
+        [[0.0, odd], [odd, 0.0]],
+    ]
+}
+
+/// Σ_i f_i(v) section_i.
+pub fn evaluate(parts: &[(Coefficient, ShellSection)], v: &CoefficientValues) -> ShellSection {
+    parts.iter().fold(ShellSection::default(), |acc, (c, s)| {
+        acc.plus(&s.scaled(c.value(v)))
+    })
+}
+
+/// Split a section into affine parts, Σ f_i(p) section_i = section(p) exactly (stiffness and
+/// mass; parts with zero stiffness carry mass only and vice versa):
+///
+/// | parameter | isotropic | laminate |
+/// |---|---|---|
+/// | `E` | (E: stiffness/E), (Constant: mass) | refused |
+/// | `Nu` | (λ*: Q_λ parts), (μ: Q_μ, S, drill), (Constant: mass) | refused |
+/// | `Rho` | (Rho: mass/ρ without NSM), (Constant: stiffness, NSM) | same, one ply density |
+/// | `Theta` | refused | five functions of eq. 3.18, (Constant: mass) |
+/// | `Tply` | refused | (H: A, S, drill, ρt), (H²: B, ρs), (H³: D, ρi), (Constant: NSM) |
+///
+/// With Q_λ = [[1,1,0],[1,1,0],[0,0,0]] and Q_μ = [[2,0,0],[0,2,0],[0,0,1]] (eq. 3.13 in plane
+/// stress). `Theta` uses the Θ functions for A, B, D, S and the drill (∝ A66) without a
+/// constant term (c⁴ + 2c²s² + s⁴ = 1 makes one unnecessary).
+pub fn affine_sections(
+    data: &SectionData,
+    parameter: SectionParameter,
+) -> Result<Vec<(Coefficient, ShellSection)>, SectionError> {
+    match data {
+        SectionData::Isotropic(p) => affine_isotropic(p, parameter),
+        SectionData::Laminate(l) => affine_laminate(l, parameter),
+    }
+}
+
+fn affine_isotropic(
+    p: &IsotropicShell,
+    parameter: SectionParameter,
+) -> Result<Vec<(Coefficient, ShellSection)>, SectionError> {
+    let full = ShellSection::isotropic(p)?;
+    let mass = ShellSection::mass_only(full.mass);
+    Ok(match parameter {
+        SectionParameter::E => {
+            vec![
+                (Coefficient::E, full.without_mass().scaled(1.0 / p.e)),
+                (Coefficient::Constant, mass),
+            ]
+        }
+        SectionParameter::Nu => vec![
+            (Coefficient::LambdaPlaneStress, isotropic_unit(p, 1.0, 0.0)),
+            (Coefficient::Mu, isotropic_unit(p, 0.0, 1.0)),
+            (Coefficient::Constant, mass),
+        ],
+        SectionParameter::Rho => {
+            let unit = IsotropicShell { nsm: 0.0, ..*p };
+            vec![
+                (
+                    Coefficient::Rho,
+                    ShellSection::mass_only(isotropic_mass(&unit, 1.0)),
+                ),
+                (
+                    Coefficient::Constant,
+                    ShellSection {
+                        mass: ShellMass {
+                            rho_t: p.nsm,
+                            ..ShellMass::default()
+                        },
+                        ..full
+                    },
+                ),
+            ]
+        }
+        SectionParameter::Theta | SectionParameter::Tply => {
+            return Err(SectionError::UnsupportedParameter {
+                parameter,
+                section: "isotropic",
+            });
+        }
+    })
+}
+
+fn affine_laminate(
+    l: &Laminate,
+    parameter: SectionParameter,
+) -> Result<Vec<(Coefficient, ShellSection)>, SectionError> {
+    let plies = expand_plies(l)?;
+    let full = ShellSection::laminate(l)?;
+    let nsm_only = ShellSection::mass_only(ShellMass {
+        rho_t: l.nsm,
+        ..ShellMass::default()
+    });
+    let z = ply_interfaces(&plies, l.z0);
+    match parameter {
+        SectionParameter::Theta => {
+            let mut parts: Vec<(Coefficient, ShellSection)> = THETA_COEFFICIENTS
+                .iter()
+                .map(|&c| (c, ShellSection::default()))
+                .collect();
+            for (k, p) in plies.iter().enumerate() {
+                let sign = if p.theta_deg >= 0.0 { 1.0 } else { -1.0 };
+                let (z1, z2) = (z[k], z[k + 1]);
+                let qs = qbar_parts(&ply_q(p), sign);
+                let gs = qbar_shear_parts(p, sign);
+                for (i, (_, s)) in parts.iter_mut().enumerate() {
+                    s.a = m3_add(&s.a, &m3_scale(&qs[i], z2 - z1));
+                    s.b = m3_add(&s.b, &m3_scale(&qs[i], 0.5 * (z2 * z2 - z1 * z1)));
+                    s.d = m3_add(&s.d, &m3_scale(&qs[i], (z2.powi(3) - z1.powi(3)) / 3.0));
+                    s.s = m2_add(&s.s, &m2_scale(&gs[i], SHEAR_CORRECTION * (z2 - z1)));
+                }
+            }
+            for (_, s) in &mut parts {
+                s.drill = DRILL_FRACTION * s.a[2][2];
+            }
+            parts.push((Coefficient::Constant, ShellSection::mass_only(full.mass)));
+            Ok(parts)
+        }
+        SectionParameter::Tply => {
+            uniform(&plies, parameter, "thickness", |p| p.t)?;
+            // Scale-free laminate: every length divided by the ply thickness h.
+            let h = plies[0].t;
+            let unit = Laminate {
+                plies: l.plies.iter().map(|p| Ply { t: 1.0, ..*p }).collect(),
+                z0: l.z0.map(|z0| z0 / h),
+                nsm: 0.0,
+                symmetric: l.symmetric,
+            };
+            let u = ShellSection::laminate(&unit)?;
+            let zero3 = [[0.0; 3]; 3];
+            let part = |a: M3, b: M3, d: M3, s: M2, drill: f64, mass: ShellMass| ShellSection {
+                a,
+                b,
+                d,
+                s,
+                drill,
+                mass,
+            };
+            Ok(vec![
+                (
+                    Coefficient::H,
+                    part(
+                        u.a,
+                        zero3,
+                        zero3,
+                        u.s,
+                        u.drill,
+                        ShellMass {
+                            rho_t: u.mass.rho_t,
+                            ..ShellMass::default()
+                        },
+                    ),
+                ),
+                (
+                    Coefficient::H2,
+                    part(
+                        zero3,
+                        u.b,
+                        zero3,
+                        [[0.0; 2]; 2],
+                        0.0,
+                        ShellMass {
+                            rho_s: u.mass.rho_s,
+                            ..ShellMass::default()
+                        },
+                    ),
+                ),
+                (
+                    Coefficient::H3,
+                    part(
+                        zero3,
+                        zero3,
+                        u.d,
+                        [[0.0; 2]; 2],
+                        0.0,
+                        ShellMass {
+                            rho_i: u.mass.rho_i,
+                            ..ShellMass::default()
+                        },
+                    ),
+                ),
+                (Coefficient::Constant, nsm_only),
+            ])
+        }
+        SectionParameter::Rho => {
+            uniform(&plies, parameter, "density", |p| p.rho)?;
+            let mut unit_mass = ShellMass::default();
+            for k in 0..plies.len() {
+                unit_mass = unit_mass.plus(&ply_mass(1.0, z[k], z[k + 1]));
+            }
+            Ok(vec![
+                (Coefficient::Rho, ShellSection::mass_only(unit_mass)),
+                (Coefficient::Constant, full.without_mass().plus(&nsm_only)),
+            ])
+        }
+        SectionParameter::E | SectionParameter::Nu => Err(SectionError::UnsupportedParameter {
+            parameter,
+            section: "laminate",
+        }),
+    }
+}
+
+/// Check that `value` is the same for every ply.
+fn uniform(
+    plies: &[Ply],
+    parameter: SectionParameter,
+    what: &'static str,
+    value: impl Fn(&Ply) -> f64,
+) -> Result<(), SectionError> {
+    let first = value(&plies[0]);
+    match plies.iter().position(|p| value(p) != first) {
+        None => Ok(()),
+        Some(k) => Err(SectionError::NotUniform {
+            parameter,
+            what,
+            first,
+            ply: k + 1,
+            value: value(&plies[k]),
+        }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ply(theta_deg: f64) -> Ply {
+        // T300/5208-like ply: E1 = 181 GPa, E2 = 10.3 GPa, ν12 = 0.28, G12 = 7.17 GPa.
+        Ply {
+            e1: 181.0e9,
+            e2: 10.3e9,
+            nu12: 0.28,
+            g12: 7.17e9,
+            g1z: Some(7.17e9),
+            g2z: Some(3.0e9),
+            rho: 1600.0,
+            t: 0.125e-3,
+            theta_deg,
+        }
+    }
+
+    fn close3(a: &M3, b: &M3, tol: f64) -> bool {
+        let scale = a
+            .iter()
+            .chain(b.iter())
+            .flatten()
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        a.iter()
+            .flatten()
+            .zip(b.iter().flatten())
+            .all(|(x, y)| (x - y).abs() <= tol * scale.max(f64::MIN_POSITIVE))
+    }
+
+    fn sections_close(a: &ShellSection, b: &ShellSection, tol: f64) -> bool {
+        let near = |x: f64, y: f64, s: f64| (x - y).abs() <= tol * s.max(f64::MIN_POSITIVE);
+        let sd = b.s.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        close3(&a.a, &b.a, tol)
+            && close3(&a.d, &b.d, tol)
+            && (close3(&a.b, &b.b, tol) || {
+                // B of a symmetric laminate is round-off: compare to the A·h scale.
+                let s = b.a[0][0] * 1e-3;
+                a.b.iter()
+                    .flatten()
+                    .zip(b.b.iter().flatten())
+                    .all(|(x, y)| near(*x, *y, s))
+            })
+            && a.s
+                .iter()
+                .flatten()
+                .zip(b.s.iter().flatten())
+                .all(|(x, y)| near(*x, *y, sd))
+            && near(a.drill, b.drill, b.drill.abs())
+            && near(a.mass.rho_t, b.mass.rho_t, b.mass.rho_t.abs())
+            && near(a.mass.rho_s, b.mass.rho_s, b.mass.rho_t.abs() * 1e-3)
+            && near(a.mass.rho_i, b.mass.rho_i, b.mass.rho_i.abs())
+    }
+
+    /// [0/90]s, each ply t = 0.125 mm, h = 0.5 mm. With Δ = 1 − ν12²E2/E1:
+    /// Q11 = E1/Δ, Q22 = E2/Δ, Q12 = ν12E2/Δ, Q66 = G12 (90° ply: Q11 ↔ Q22).
+    /// A11 = A22 = (Q11 + Q22)·2t, A12 = Q12·4t, A66 = G12·4t, A16 = A26 = 0, B = 0.
+    /// D11 = Q11·(0.25³ − 0.125³)·2/3 mm³ + Q22·0.125³·2/3 mm³, D22 with Q11 ↔ Q22,
+    /// D12 = Q12·h³/12, D66 = G12·h³/12.
+    #[test]
+    fn cross_ply_0_90_s_by_hand() {
+        let lam = Laminate {
+            plies: vec![ply(0.0), ply(90.0)],
+            z0: None,
+            nsm: 0.0,
+            symmetric: true,
+        };
+        let s = ShellSection::laminate(&lam).unwrap();
+        let p = ply(0.0);
+        let del = 1.0 - p.nu12 * p.nu12 * p.e2 / p.e1;
+        let (q11, q22, q12, q66) = (p.e1 / del, p.e2 / del, p.nu12 * p.e2 / del, p.g12);
+        let t = 0.125e-3;
+        let h = 4.0 * t;
+        let a = [
+            [(q11 + q22) * 2.0 * t, q12 * 4.0 * t, 0.0],
+            [q12 * 4.0 * t, (q11 + q22) * 2.0 * t, 0.0],
+            [0.0, 0.0, q66 * 4.0 * t],
+        ];
+        let outer = (0.25e-3f64.powi(3) - 0.125e-3f64.powi(3)) * 2.0 / 3.0;
+        let inner = 0.125e-3f64.powi(3) * 2.0 / 3.0;
+        let d = [
+            [q11 * outer + q22 * inner, q12 * h.powi(3) / 12.0, 0.0],
+            [q12 * h.powi(3) / 12.0, q22 * outer + q11 * inner, 0.0],
+            [0.0, 0.0, q66 * h.powi(3) / 12.0],
+        ];
+        assert!(close3(&s.a, &a, 1e-13), "{:?}\n{:?}", s.a, a);
+        assert!(close3(&s.d, &d, 1e-13), "{:?}\n{:?}", s.d, d);
+        assert!(s.b.iter().flatten().all(|x| x.abs() < 1e-12 * q11 * t * t));
+        // S = 5/6·(G1Z·2t + G2Z·2t) in both directions (0° and 90° plies swap G1Z, G2Z).
+        let sxx = 5.0 / 6.0 * (7.17e9 + 3.0e9) * 2.0 * t;
+        assert!((s.s[0][0] - sxx).abs() < 1e-12 * sxx && (s.s[1][1] - sxx).abs() < 1e-12 * sxx);
+        assert!((s.drill - DRILL_FRACTION * q66 * h).abs() < 1e-12 * s.drill);
+        assert!((s.mass.rho_t - 1600.0 * h).abs() < 1e-12);
+    }
+
+    /// Antisymmetric [+45/−45], t each, h = 2t. At ±45°: c⁴ = s⁴ = c²s² = cs³ = c³s = 1/4, so
+    /// Q̄11 = Q̄22 = (Q11 + Q22 + 2Q12 + 4Q66)/4, Q̄12 = (Q11 + Q22 + 2Q12 − 4Q66)/4,
+    /// Q̄66 = (Q11 + Q22 − 2Q12)/4, Q̄16 = Q̄26 = ±(Q11 − Q22)/4.
+    /// A = Q̄·h with A16 = A26 = 0; B16 = B26 = ½[Q̄16⁻(0 − t²) + Q̄16⁺(t² − 0)] = −(Q11−Q22)t²/4
+    /// (bottom ply +45: Q̄16⁺(0 − t²)/2 + Q̄16⁻(t² − 0)/2 with Q̄16⁻ = −Q̄16⁺), other B = 0;
+    /// D = Q̄·h³/12 with D16 = D26 = 0.
+    #[test]
+    fn antisymmetric_angle_ply_by_hand() {
+        let lam = Laminate {
+            plies: vec![ply(45.0), ply(-45.0)],
+            z0: None,
+            nsm: 0.0,
+            symmetric: false,
+        };
+        let s = ShellSection::laminate(&lam).unwrap();
+        let p = ply(0.0);
+        let del = 1.0 - p.nu12 * p.nu12 * p.e2 / p.e1;
+        let (q11, q22, q12, q66) = (p.e1 / del, p.e2 / del, p.nu12 * p.e2 / del, p.g12);
+        let t = 0.125e-3;
+        let h = 2.0 * t;
+        let qb11 = (q11 + q22 + 2.0 * q12 + 4.0 * q66) / 4.0;
+        let qb12 = (q11 + q22 + 2.0 * q12 - 4.0 * q66) / 4.0;
+        let qb66 = (q11 + q22 - 2.0 * q12) / 4.0;
+        let qb16 = (q11 - q22) / 4.0;
+        let a = [
+            [qb11 * h, qb12 * h, 0.0],
+            [qb12 * h, qb11 * h, 0.0],
+            [0.0, 0.0, qb66 * h],
+        ];
+        let b16 = -qb16 * t * t;
+        let b = [[0.0, 0.0, b16], [0.0, 0.0, b16], [b16, b16, 0.0]];
+        let h3 = h.powi(3) / 12.0;
+        let d = [
+            [qb11 * h3, qb12 * h3, 0.0],
+            [qb12 * h3, qb11 * h3, 0.0],
+            [0.0, 0.0, qb66 * h3],
+        ];
+        assert!(close3(&s.a, &a, 1e-13), "{:?}\n{:?}", s.a, a);
+        assert!(close3(&s.b, &b, 1e-13), "{:?}\n{:?}", s.b, b);
+        assert!(close3(&s.d, &d, 1e-13), "{:?}\n{:?}", s.d, d);
+    }
+
+    /// Isotropic PSHELL by hand, with offset: B = A·z₀, D = Eh³/(12(1−ν²))·r + A z₀².
+    #[test]
+    fn isotropic_offset_by_hand() {
+        let p = IsotropicShell {
+            e: 70e9,
+            nu: 0.3,
+            rho: 2700.0,
+            t: 2e-3,
+            bending_ratio: Some(1.0),
+            shear_ratio: Some(5.0 / 6.0),
+            nsm: 0.5,
+            zoffs: 1e-3,
+        };
+        let s = ShellSection::isotropic(&p).unwrap();
+        let a11 = 70e9 * 2e-3 / (1.0 - 0.09);
+        assert!((s.a[0][0] - a11).abs() < 1e-12 * a11);
+        assert!((s.b[0][1] - 0.3 * a11 * 1e-3).abs() < 1e-12 * a11 * 1e-3);
+        let d11 = a11 * (4e-6 / 12.0 + 1e-6);
+        assert!((s.d[0][0] - d11).abs() < 1e-12 * d11);
+        let g = 70e9 / 2.6;
+        assert!((s.s[0][0] - 5.0 / 6.0 * g * 2e-3).abs() < 1e-3);
+        assert!((s.mass.rho_t - (2700.0 * 2e-3 + 0.5)).abs() < 1e-12);
+        // A MAT8 single layer with isotropic constants equals the PSHELL (TS/T = 5/6).
+        let ply = Ply {
+            e1: 70e9,
+            e2: 70e9,
+            nu12: 0.3,
+            g12: g,
+            g1z: Some(g),
+            g2z: Some(g),
+            rho: 2700.0,
+            t: 2e-3,
+            theta_deg: 30.0,
+        };
+        let o = ShellSection::orthotropic(&ply, 1e-3, 0.5).unwrap();
+        assert!(sections_close(&o, &s, 1e-12), "{o:?}\n{s:?}");
+    }
+
+    #[test]
+    fn bad_input_is_an_error() {
+        let p = IsotropicShell {
+            e: 1.0,
+            nu: 0.5,
+            rho: 1.0,
+            t: 1.0,
+            bending_ratio: Some(1.0),
+            shear_ratio: None,
+            nsm: 0.0,
+            zoffs: 0.0,
+        };
+        assert!(matches!(
+            ShellSection::isotropic(&p),
+            Err(SectionError::Poisson { .. })
+        ));
+        let p = IsotropicShell {
+            t: 0.0,
+            nu: 0.3,
+            ..p
+        };
+        assert!(matches!(
+            ShellSection::isotropic(&p),
+            Err(SectionError::NonPositive { .. })
+        ));
+        let lam = Laminate {
+            plies: vec![],
+            z0: None,
+            nsm: 0.0,
+            symmetric: false,
+        };
+        assert_eq!(ShellSection::laminate(&lam), Err(SectionError::NoPlies));
+        let lam = Laminate {
+            plies: vec![
+                ply(0.0),
+                Ply {
+                    t: 1e-3,
+                    ..ply(0.0)
+                },
+            ],
+            z0: None,
+            nsm: 0.0,
+            symmetric: false,
+        };
+        assert!(matches!(
+            affine_sections(&SectionData::Laminate(lam), SectionParameter::Tply),
+            Err(SectionError::NotUniform { ply: 2, .. })
+        ));
+    }
+
+    /// Deterministic pseudo-random numbers in [0, 1) (xorshift).
+    fn rand(state: &mut u64) -> f64 {
+        *state ^= *state << 13;
+        *state ^= *state >> 7;
+        *state ^= *state << 17;
+        (*state >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn iso(e: f64, nu: f64, rho: f64) -> IsotropicShell {
+        IsotropicShell {
+            e,
+            nu,
+            rho,
+            t: 3e-3,
+            bending_ratio: Some(0.9),
+            shear_ratio: Some(0.8),
+            nsm: 0.7,
+            zoffs: 4e-4,
+        }
+    }
+
+    fn angle_ply(theta: f64, t: f64, rho: f64, z0: Option<f64>) -> Laminate {
+        let mut plies: Vec<Ply> = [1.0, -1.0, 1.0, -1.0, -1.0]
+            .iter()
+            .map(|&s| Ply {
+                t,
+                rho,
+                ..ply(s * theta)
+            })
+            .collect();
+        plies[4].g1z = None;
+        Laminate {
+            plies,
+            z0,
+            nsm: 0.2,
+            symmetric: false,
+        }
+    }
+
+    #[test]
+    fn affine_sections_reproduce_direct_sections() {
+        let mut st = 0x2545_f491_4f6c_dd1d_u64;
+        for _ in 0..3 {
+            let v = CoefficientValues {
+                e: 1e9 + 1e11 * rand(&mut st),
+                nu: 0.45 * rand(&mut st),
+                rho: 500.0 + 5000.0 * rand(&mut st),
+                theta_deg: 90.0 * rand(&mut st),
+                h: 1e-4 + 1e-3 * rand(&mut st),
+                lumped: 0.0,
+            };
+            let nominal = iso(70e9, 0.3, 2700.0);
+            for (param, direct) in [
+                (SectionParameter::E, iso(v.e, 0.3, 2700.0)),
+                (SectionParameter::Nu, iso(v.e, v.nu, 2700.0)),
+                (SectionParameter::Rho, iso(70e9, 0.3, v.rho)),
+            ] {
+                let parts = affine_sections(&SectionData::Isotropic(nominal), param).unwrap();
+                let v = if param == SectionParameter::E {
+                    CoefficientValues { nu: 0.3, ..v }
+                } else {
+                    v
+                };
+                let got = evaluate(&parts, &v);
+                let want = ShellSection::isotropic(&direct).unwrap();
+                assert!(
+                    sections_close(&got, &want, 1e-13),
+                    "{param:?}\n{got:?}\n{want:?}"
+                );
+            }
+            let base = angle_ply(20.0, 0.125e-3, 1600.0, None);
+            for (param, direct) in [
+                (
+                    SectionParameter::Theta,
+                    angle_ply(v.theta_deg, 0.125e-3, 1600.0, None),
+                ),
+                (SectionParameter::Tply, angle_ply(20.0, v.h, 1600.0, None)),
+                (
+                    SectionParameter::Rho,
+                    angle_ply(20.0, 0.125e-3, v.rho, None),
+                ),
+            ] {
+                let parts = affine_sections(&SectionData::Laminate(base.clone()), param).unwrap();
+                let got = evaluate(&parts, &v);
+                let want = ShellSection::laminate(&direct).unwrap();
+                assert!(
+                    sections_close(&got, &want, 1e-12),
+                    "{param:?}\n{got:?}\n{want:?}"
+                );
+            }
+            // Explicit Z0 scales with h under TPLY.
+            let base = angle_ply(20.0, 0.125e-3, 1600.0, Some(-0.2e-3));
+            let parts =
+                affine_sections(&SectionData::Laminate(base), SectionParameter::Tply).unwrap();
+            let want = ShellSection::laminate(&angle_ply(
+                20.0,
+                v.h,
+                1600.0,
+                Some(-0.2e-3 * v.h / 0.125e-3),
+            ))
+            .unwrap();
+            assert!(sections_close(&evaluate(&parts, &v), &want, 1e-12));
+        }
+    }
+}

@@ -4,7 +4,9 @@
 //! Conventions for every element here:
 //! - six DOFs per grid (T1 T2 T3 R1 R2 R3) in the basic system, grid-major: row `6·a + c` is
 //!   component `c` of the element's grid `a` (in the order the grids are given);
-//! - matrices are dense `faer::Mat<f64>` of size `6·nodes`, symmetric;
+//! - matrices are dense `faer::Mat<f64>` of size `6·nodes`, symmetric — except the solids,
+//!   which have no rotational DOFs and return `3·nodes` translational matrices
+//!   ([`solid::expand_to_six_dofs`] scatters them into the 6-DOF layout);
 //! - element kernels are pure functions of geometry (basic coordinates) and material/section
 //!   data, and know nothing of decks, cards or global DOF numbering.
 
@@ -12,4 +14,9 @@ pub mod affine;
 pub mod laminate;
 pub mod lumped;
 pub mod shell;
+#[cfg(test)]
+mod shell_tests;
 pub mod solid;
+mod solid_shape;
+#[cfg(test)]
+mod solid_tests;

@@ -1,1 +1,494 @@
-//! (being written)
+//! Isotropic 3-D solid elements: CHEXA 8 (incompatible modes), CPENTA 6, CTETRA 4, CTETRA 10
+//! (DESIGN.md §4–§5; thesis §2.1 and eq. 3.13–3.16).
+//!
+//! # Translational matrices (3 DOFs per grid)
+//! Solids have no rotational stiffness or mass. Unlike the rest of [`crate::fe`], every function
+//! here returns **3·n × 3·n** matrices over the translations only, grid-major: row `3·a + c` is
+//! component T(c+1) of the element's grid `a`, in the basic system. [`expand_to_six_dofs`] and
+//! [`expand_affine_to_six_dofs`] scatter them into the uniform 6·n layout of [`crate::fe`]
+//! (R1–R3 rows and columns zero; the assembly AUTOSPCs rotations that nothing else touches).
+//! The 3·n form halves the storage of the blade models (mostly solids) and keeps the kernels and
+//! their tests free of structurally zero rows.
+//!
+//! # Constitutive law and affine parts
+//! Strains are engineering strains ε = [εxx, εyy, εzz, γxy, γyz, γzx]. The isotropic
+//! constitutive matrix is split into the Lamé parts of eq. 3.13,
+//!
+//! D = λ D_λ + μ D_μ,  `D_λ = [[𝟏, 0], [0, 0]]` (𝟏 the 3×3 matrix of ones),
+//! D_μ = diag(2, 2, 2, 1, 1, 1),
+//!
+//! λ = Eν/((1+ν)(1−2ν)), μ = E/(2(1+ν)). With Cartesian shape-function gradients g_a = ∇N_a the
+//! 3×3 block (a, b) of K = ∫ Bᵀ D B dV is therefore, componentwise (i, j),
+//!
+//! K_ab,ij = ∫ λ g_a,i g_b,j + μ (g_a,j g_b,i + δ_ij g_a · g_b) dV,
+//!
+//! which is how the kernels evaluate it. K is linear in (λ, μ) for CPENTA and CTETRA, so the
+//! Lamé parts K_λ, K_μ of eq. 3.14 are exact; K ∝ E at fixed ν (eq. 3.15) for every element,
+//! CHEXA included (static condensation commutes with scaling D). Mass M ∝ ρ (eq. 3.16).
+//! For CHEXA with incompatible modes the condensed matrix K_uu − K_ua K_aa⁻¹ K_au is *not*
+//! affine in (λ, μ): [`affine_stiffness`] refuses [`StiffnessParametrization::Lame`] for it
+//! (DESIGN.md §5: refuse rather than approximate).
+//!
+//! # Elements and quadrature
+//! | element | stiffness | consistent mass (exact) | lumped mass |
+//! |---|---|---|---|
+//! | CHEXA 8 | 2×2×2 Gauss + 9 incompatible modes, condensed | 3×3×3 Gauss | row sum |
+//! | CPENTA 6 | 3-point triangle × 2-point Gauss | collapsed 3×3 triangle × 3 Gauss | row sum |
+//! | CTETRA 4 | 1 point (constant strain) | 4-point, degree 2 | row sum (ρV/4 each) |
+//! | CTETRA 10 | 4-point, degree 2 | collapsed 5×5×5, degree 7 (curved edges too) | HRZ |
+//!
+//! Node orders and shape functions are documented in `solid_shape.rs`. The consistent mass is
+//! M_ab = ρ ∫ N_a N_b dV · I₃. Lumping by row sum is positive for the linear elements
+//! (N_a ≥ 0); for CTETRA 10 the row sums of the corner nodes are negative, so the HRZ scheme
+//! (Hinton, Rock & Zienkiewicz 1976) is used instead: m_a = M_aa · ρV / Σ_b M_bb, i.e. the
+//! diagonal of the consistent mass scaled to the total mass (straight edges: corners ρV/36,
+//! mid-edge nodes 4ρV/27).
+//!
+//! ## CHEXA 8 with incompatible modes
+//! Wilson's incompatible modes P₁ = 1 − ξ², P₂ = 1 − η², P₃ = 1 − ζ², one per displacement
+//! component (9 internal DOFs α), in the form of Taylor, Beresford & Wilson, "A non-conforming
+//! element for stress analysis", IJNME 10 (1976) 1211–1219 (QM6): their Cartesian gradients use
+//! the Jacobian J₀ at the element centre and are scaled by det J₀ / det J,
+//!
+//! ∇P_k(ξ) = (det J₀ / det J(ξ)) · J₀⁻ᵀ ∇_ξ P_k(ξ),
+//!
+//! so that ∫ ∇P_k dV = det J₀ J₀⁻ᵀ ∫ ∇_ξ P_k dξ = 0 exactly under 2×2×2 Gauss: a constant stress
+//! does no work on the modes, α = 0 for a linear field, and the element passes the patch test on
+//! distorted meshes. The 33×33 matrix `[[K_uu, K_uα], [K_αu, K_αα]]` is condensed statically,
+//! K = K_uu − K_uα K_αα⁻¹ K_αu (Cholesky of K_αα), and symmetrized to round-off. At the centroid
+//! ∇_ξ P_k = 0, so the centroid strain of [`strain_at_centroid`] needs no α and no material.
+//!
+//! # Geometry errors
+//! Every evaluation point (integration points, and the centre for CHEXA) checks the Jacobian:
+//! det J ≤ 10⁻¹⁰ · |J₁||J₂||J₃| (columns J_k = ∂x/∂ξ_k; i.e. a scaled Jacobian at or below 10⁻¹⁰,
+//! which includes det J ≤ 0 and NaN) returns [`SolidError::NonPositiveJacobian`] naming the
+//! point. Grids must be ordered so that the natural axes are right-handed (for CHEXA: G1–G4
+//! counter-clockwise seen from G5–G8); mirrored orderings are reported, not silently reordered.
+
+use super::affine::{AffineMatrix, Coefficient};
+use super::solid_shape::{self as shape, Gauss, MAX_NODES, QuadPoint};
+use faer::linalg::solvers::Solve;
+use faer::{Mat, MatRef, Side};
+use std::fmt;
+
+/// The solid element topologies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SolidKind {
+    /// CHEXA with 8 grids (trilinear + incompatible modes).
+    Hexa8,
+    /// CPENTA with 6 grids (linear wedge).
+    Penta6,
+    /// CTETRA with 4 grids (constant strain).
+    Tetra4,
+    /// CTETRA with 10 grids (quadratic).
+    Tetra10,
+}
+
+impl SolidKind {
+    /// Number of grids.
+    pub fn nodes(self) -> usize {
+        match self {
+            SolidKind::Hexa8 => 8,
+            SolidKind::Penta6 => 6,
+            SolidKind::Tetra4 => 4,
+            SolidKind::Tetra10 => 10,
+        }
+    }
+
+    /// Number of (translational) DOFs of the matrices returned here: 3 · nodes.
+    pub fn dofs(self) -> usize {
+        3 * self.nodes()
+    }
+}
+
+impl fmt::Display for SolidKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            SolidKind::Hexa8 => "CHEXA",
+            SolidKind::Penta6 => "CPENTA",
+            SolidKind::Tetra4 => "CTETRA (4 grids)",
+            SolidKind::Tetra10 => "CTETRA (10 grids)",
+        })
+    }
+}
+
+/// Isotropic elastic constants (MAT1 E and ν).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Isotropic {
+    pub e: f64,
+    pub nu: f64,
+}
+
+impl Isotropic {
+    /// Lamé constants (λ, μ) of eq. 3.13.
+    pub fn lame(self) -> Lame {
+        Lame {
+            lambda: self.e * self.nu / ((1.0 + self.nu) * (1.0 - 2.0 * self.nu)),
+            mu: self.e / (2.0 * (1.0 + self.nu)),
+        }
+    }
+}
+
+/// Lamé constants: D = λ D_λ + μ D_μ (eq. 3.13).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lame {
+    pub lambda: f64,
+    pub mu: f64,
+}
+
+/// Where a Jacobian was evaluated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EvalPoint {
+    /// Integration point `index` (0-based) of a rule of `of` points.
+    Integration { index: usize, of: usize },
+    /// The element centre (CHEXA incompatible modes) or centroid (strain recovery).
+    Centre,
+}
+
+impl fmt::Display for EvalPoint {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EvalPoint::Integration { index, of } => write!(f, "integration point {} of {}", index + 1, of),
+            EvalPoint::Centre => f.write_str("the element centre"),
+        }
+    }
+}
+
+/// Errors of the solid kernels.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolidError {
+    #[error("{kind}: {got} grid coordinates given, {expected} expected")]
+    NodeCount { kind: SolidKind, expected: usize, got: usize },
+    #[error(
+        "{kind}: det J = {det:.4e} at {at}, (ξ, η, ζ) = ({:.4}, {:.4}, {:.4}), scaled Jacobian {scaled:.3e}: the element is inverted or degenerate (check the grid order and coincident grids)",
+        xi[0], xi[1], xi[2]
+    )]
+    NonPositiveJacobian { kind: SolidKind, at: EvalPoint, xi: [f64; 3], det: f64, scaled: f64 },
+    #[error("{kind}: {got} displacement values given, {expected} expected (3 translations per grid)")]
+    DisplacementLength { kind: SolidKind, expected: usize, got: usize },
+    #[error(
+        "ν cannot be a parameter of CHEXA with incompatible modes (static condensation is not affine in λ, μ); parametrize E with ν fixed (K ∝ E is exact), or mesh the parametrized region with CPENTA/CTETRA"
+    )]
+    NuNotAffineForIncompatibleHexa,
+    #[error(
+        "CHEXA: the incompatible-mode block K_αα is not positive definite (λ = {lambda:.4e}, μ = {mu:.4e}); static condensation needs μ > 0 and 3λ + 2μ > 0 (E > 0, −1 < ν < ½)"
+    )]
+    CondensationFailed { lambda: f64, mu: f64 },
+}
+
+/// Scaled-Jacobian threshold: det J ≤ this · |J₁||J₂||J₃| counts as inverted or degenerate.
+const MIN_SCALED_JACOBIAN: f64 = 1e-10;
+
+/// Shape values, Cartesian gradients and det J at one point.
+struct PointEval {
+    n: [f64; MAX_NODES],
+    g: [[f64; 3]; MAX_NODES],
+    det: f64,
+}
+
+/// J_ij = ∂x_i/∂ξ_j = Σ_a x_a,i ∂N_a/∂ξ_j.
+fn jacobian(xyz: &[[f64; 3]], dn: &[[f64; 3]]) -> [[f64; 3]; 3] {
+    let mut j = [[0.0; 3]; 3];
+    for (x, d) in xyz.iter().zip(dn) {
+        for r in 0..3 {
+            for c in 0..3 {
+                j[r][c] += x[r] * d[c];
+            }
+        }
+    }
+    j
+}
+
+fn det3(j: &[[f64; 3]; 3]) -> f64 {
+    j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1]) - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+        + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0])
+}
+
+/// J⁻ᵀ = cofactor(J) / det J.
+fn inverse_transpose(j: &[[f64; 3]; 3], det: f64) -> [[f64; 3]; 3] {
+    let c = |r0: usize, r1: usize, c0: usize, c1: usize| j[r0][c0] * j[r1][c1] - j[r0][c1] * j[r1][c0];
+    [
+        [c(1, 2, 1, 2) / det, -c(1, 2, 0, 2) / det, c(1, 2, 0, 1) / det],
+        [-c(0, 2, 1, 2) / det, c(0, 2, 0, 2) / det, -c(0, 2, 0, 1) / det],
+        [c(0, 1, 1, 2) / det, -c(0, 1, 0, 2) / det, c(0, 1, 0, 1) / det],
+    ]
+}
+
+fn mat_vec(a: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|r| a[r][0] * v[0] + a[r][1] * v[1] + a[r][2] * v[2])
+}
+
+/// Jacobian, its determinant and J⁻ᵀ at `xi`, with the degeneracy check.
+fn checked_jacobian(
+    kind: SolidKind,
+    xyz: &[[f64; 3]],
+    dn: &[[f64; 3]],
+    xi: [f64; 3],
+    at: EvalPoint,
+) -> Result<(f64, [[f64; 3]; 3]), SolidError> {
+    let j = jacobian(xyz, dn);
+    let det = det3(&j);
+    let norms: f64 = (0..3).map(|c| (j[0][c] * j[0][c] + j[1][c] * j[1][c] + j[2][c] * j[2][c]).sqrt()).product();
+    let scaled = det / norms;
+    if scaled.is_nan() || scaled <= MIN_SCALED_JACOBIAN {
+        return Err(SolidError::NonPositiveJacobian { kind, at, xi, det, scaled });
+    }
+    Ok((det, inverse_transpose(&j, det)))
+}
+
+fn evaluate(kind: SolidKind, xyz: &[[f64; 3]], xi: [f64; 3], at: EvalPoint) -> Result<PointEval, SolidError> {
+    let n = kind.nodes();
+    let s = shape::shape(kind, xi);
+    let (det, jit) = checked_jacobian(kind, xyz, &s.dn[..n], xi, at)?;
+    let mut g = [[0.0; 3]; MAX_NODES];
+    for (ga, &da) in g.iter_mut().zip(&s.dn[..n]) {
+        *ga = mat_vec(&jit, da);
+    }
+    Ok(PointEval { n: s.n, g, det })
+}
+
+fn check_nodes(kind: SolidKind, xyz: &[[f64; 3]]) -> Result<(), SolidError> {
+    if xyz.len() == kind.nodes() {
+        Ok(())
+    } else {
+        Err(SolidError::NodeCount { kind, expected: kind.nodes(), got: xyz.len() })
+    }
+}
+
+/// Evaluates every point of `rule`, naming the failing one.
+fn evaluate_rule(kind: SolidKind, xyz: &[[f64; 3]], rule: &[QuadPoint]) -> Result<Vec<(f64, PointEval)>, SolidError> {
+    let of = rule.len();
+    rule.iter()
+        .enumerate()
+        .map(|(index, p)| Ok((p.w, evaluate(kind, xyz, p.xi, EvalPoint::Integration { index, of })?)))
+        .collect()
+}
+
+/// Adds w · K_ab,ij = w (λ g_a,i g_b,j + μ (g_a,j g_b,i + δ_ij g_a·g_b)) for all pseudo-nodes of
+/// `g` into the row-major `ndof × ndof` buffer `k` (ndof = 3 · g.len()).
+fn add_lame_blocks(k: &mut [f64], g: &[[f64; 3]], lame: Lame, w: f64) {
+    let ndof = 3 * g.len();
+    for (a, ga) in g.iter().enumerate() {
+        for (b, gb) in g.iter().enumerate() {
+            let dot = ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2];
+            for i in 0..3 {
+                let row = &mut k[(3 * a + i) * ndof + 3 * b..][..3];
+                for (j, kij) in row.iter_mut().enumerate() {
+                    let diag = if i == j { dot } else { 0.0 };
+                    *kij += w * (lame.lambda * ga[i] * gb[j] + lame.mu * (ga[j] * gb[i] + diag));
+                }
+            }
+        }
+    }
+}
+
+fn stiffness_rule(kind: SolidKind) -> Vec<QuadPoint> {
+    match kind {
+        SolidKind::Hexa8 => shape::hexa_rule(Gauss::Two),
+        SolidKind::Penta6 => shape::wedge_stiffness_rule(),
+        SolidKind::Tetra4 => shape::tet_centroid_rule(),
+        SolidKind::Tetra10 => shape::tet_four_rule(),
+    }
+}
+
+/// Stiffness for Lamé constants `lame` (3·n × 3·n), the kernel behind [`stiffness`] and
+/// [`affine_stiffness`].
+fn stiffness_lame(kind: SolidKind, xyz: &[[f64; 3]], lame: Lame) -> Result<Mat<f64>, SolidError> {
+    check_nodes(kind, xyz)?;
+    let n = kind.nodes();
+    let points = evaluate_rule(kind, xyz, &stiffness_rule(kind))?;
+    if kind == SolidKind::Hexa8 {
+        return hexa_incompatible(xyz, lame, &points);
+    }
+    let nd = 3 * n;
+    let mut k = vec![0.0; nd * nd];
+    for (w, p) in &points {
+        add_lame_blocks(&mut k, &p.g[..n], lame, w * p.det);
+    }
+    Ok(Mat::from_fn(nd, nd, |i, j| k[i * nd + j]))
+}
+
+/// CHEXA 8 with the Taylor–Beresford–Wilson incompatible modes, statically condensed (module
+/// doc). `points` are the evaluated 2×2×2 Gauss points.
+fn hexa_incompatible(xyz: &[[f64; 3]], lame: Lame, points: &[(f64, PointEval)]) -> Result<Mat<f64>, SolidError> {
+    const NU: usize = 24;
+    const NA: usize = 9;
+    const ND: usize = NU + NA;
+    let kind = SolidKind::Hexa8;
+    let centre = shape::shape(kind, [0.0; 3]);
+    let (det0, j0it) = checked_jacobian(kind, xyz, &centre.dn[..8], [0.0; 3], EvalPoint::Centre)?;
+    let rule = shape::hexa_rule(Gauss::Two);
+    let mut k = vec![0.0; ND * ND];
+    let mut g = [[0.0; 3]; 11];
+    for (q, (w, p)) in rule.iter().zip(points) {
+        g[..8].copy_from_slice(&p.g[..8]);
+        for m in 0..3 {
+            let mut dp = [0.0; 3];
+            dp[m] = -2.0 * q.xi[m];
+            g[8 + m] = mat_vec(&j0it, dp).map(|v| v * det0 / p.det);
+        }
+        add_lame_blocks(&mut k, &g, lame, w * p.det);
+    }
+    let kaa = Mat::from_fn(NA, NA, |i, j| k[(NU + i) * ND + NU + j]);
+    let llt = kaa.llt(Side::Lower).map_err(|_| SolidError::CondensationFailed { lambda: lame.lambda, mu: lame.mu })?;
+    let mut x = Mat::from_fn(NA, NU, |i, j| k[(NU + i) * ND + j]);
+    llt.solve_in_place(x.as_mut());
+    let condensed = |i: usize, j: usize| k[i * ND + j] - (0..NA).map(|m| k[i * ND + NU + m] * x[(m, j)]).sum::<f64>();
+    let kc = Mat::from_fn(NU, NU, condensed);
+    Ok(Mat::from_fn(NU, NU, |i, j| 0.5 * (kc[(i, j)] + kc[(j, i)])))
+}
+
+/// Element stiffness K (3·n × 3·n, translations only; see the module doc) of an isotropic solid
+/// with grids at `xyz` (basic coordinates, Nastran order).
+pub fn stiffness(kind: SolidKind, xyz: &[[f64; 3]], material: Isotropic) -> Result<Mat<f64>, SolidError> {
+    stiffness_lame(kind, xyz, material.lame())
+}
+
+/// Which material constants of a solid's stiffness are parameters (DESIGN.md §5).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StiffnessParametrization {
+    /// Nothing parametrized: one [`Coefficient::Constant`] part, K at the given material.
+    Fixed(Isotropic),
+    /// E varies at fixed ν (eq. 3.15): one [`Coefficient::E`] part, K at E = 1. Exact for every
+    /// element, CHEXA with incompatible modes included.
+    YoungsModulus { nu: f64 },
+    /// ν (and possibly E) varies: parts [`Coefficient::Lambda`] (K at λ = 1, μ = 0) and
+    /// [`Coefficient::Mu`] (K at λ = 0, μ = 1), eq. 3.14. Refused for CHEXA.
+    Lame,
+}
+
+/// Affine parts of the element stiffness (3·n × 3·n), K(p) = Σ f_i(p) K_i exactly.
+///
+/// Errors: [`SolidError::NuNotAffineForIncompatibleHexa`] for CHEXA with
+/// [`StiffnessParametrization::Lame`]; geometry errors as [`stiffness`].
+pub fn affine_stiffness(
+    kind: SolidKind,
+    xyz: &[[f64; 3]],
+    parametrization: StiffnessParametrization,
+) -> Result<AffineMatrix, SolidError> {
+    let parts = match parametrization {
+        StiffnessParametrization::Fixed(m) => vec![(Coefficient::Constant, stiffness(kind, xyz, m)?)],
+        StiffnessParametrization::YoungsModulus { nu } => {
+            vec![(Coefficient::E, stiffness(kind, xyz, Isotropic { e: 1.0, nu })?)]
+        }
+        StiffnessParametrization::Lame if kind == SolidKind::Hexa8 => {
+            return Err(SolidError::NuNotAffineForIncompatibleHexa);
+        }
+        StiffnessParametrization::Lame => vec![
+            (Coefficient::Lambda, stiffness_lame(kind, xyz, Lame { lambda: 1.0, mu: 0.0 })?),
+            (Coefficient::Mu, stiffness_lame(kind, xyz, Lame { lambda: 0.0, mu: 1.0 })?),
+        ],
+    };
+    Ok(AffineMatrix { parts })
+}
+
+/// Consistent or lumped mass.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MassLumping {
+    /// M_ab = ρ ∫ N_a N_b dV · I₃, integrated exactly.
+    Consistent,
+    /// Diagonal: row sums (CHEXA, CPENTA, CTETRA 4) or HRZ (CTETRA 10); module doc.
+    Lumped,
+}
+
+fn mass_rule(kind: SolidKind) -> Vec<QuadPoint> {
+    match kind {
+        SolidKind::Hexa8 => shape::hexa_rule(Gauss::Three),
+        SolidKind::Penta6 => shape::wedge_mass_rule(),
+        SolidKind::Tetra4 => shape::tet_four_rule(),
+        SolidKind::Tetra10 => shape::tet_collapsed_rule(Gauss::Five),
+    }
+}
+
+/// Element mass (3·n × 3·n, translations only) for density `rho`.
+pub fn mass(kind: SolidKind, xyz: &[[f64; 3]], rho: f64, lumping: MassLumping) -> Result<Mat<f64>, SolidError> {
+    check_nodes(kind, xyz)?;
+    let n = kind.nodes();
+    let mut m = vec![0.0; n * n];
+    for (w, p) in evaluate_rule(kind, xyz, &mass_rule(kind))? {
+        for a in 0..n {
+            for b in 0..n {
+                m[a * n + b] += rho * w * p.det * p.n[a] * p.n[b];
+            }
+        }
+    }
+    if lumping == MassLumping::Lumped {
+        let diag: Vec<f64> = match kind {
+            SolidKind::Tetra10 => {
+                let total: f64 = m.iter().sum();
+                let trace: f64 = (0..n).map(|a| m[a * n + a]).sum();
+                (0..n).map(|a| m[a * n + a] * total / trace).collect()
+            }
+            _ => (0..n).map(|a| m[a * n..][..n].iter().sum()).collect(),
+        };
+        m.iter_mut().for_each(|v| *v = 0.0);
+        for (a, d) in diag.into_iter().enumerate() {
+            m[a * n + a] = d;
+        }
+    }
+    Ok(Mat::from_fn(3 * n, 3 * n, |i, j| if i % 3 == j % 3 { m[(i / 3) * n + j / 3] } else { 0.0 }))
+}
+
+/// Whether the density is a parameter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MassParametrization {
+    /// One [`Coefficient::Constant`] part, M at density `rho`.
+    Fixed { rho: f64 },
+    /// One [`Coefficient::Rho`] part, M at ρ = 1 (eq. 3.16).
+    Density,
+}
+
+/// Affine parts of the element mass (3·n × 3·n).
+pub fn affine_mass(
+    kind: SolidKind,
+    xyz: &[[f64; 3]],
+    lumping: MassLumping,
+    parametrization: MassParametrization,
+) -> Result<AffineMatrix, SolidError> {
+    let part = match parametrization {
+        MassParametrization::Fixed { rho } => (Coefficient::Constant, mass(kind, xyz, rho, lumping)?),
+        MassParametrization::Density => (Coefficient::Rho, mass(kind, xyz, 1.0, lumping)?),
+    };
+    Ok(AffineMatrix { parts: vec![part] })
+}
+
+/// Strain [εxx, εyy, εzz, γxy, γyz, γzx] (engineering shear) at the element centroid from the
+/// element's translations `u` (3·n values, grid-major), ε = Σ_a B_a(centroid) u_a. For CHEXA
+/// the incompatible modes have zero gradient at the centre, so this is the full element strain.
+pub fn strain_at_centroid(kind: SolidKind, xyz: &[[f64; 3]], u: &[f64]) -> Result<[f64; 6], SolidError> {
+    check_nodes(kind, xyz)?;
+    let n = kind.nodes();
+    if u.len() != 3 * n {
+        return Err(SolidError::DisplacementLength { kind, expected: 3 * n, got: u.len() });
+    }
+    let p = evaluate(kind, xyz, shape::centroid(kind), EvalPoint::Centre)?;
+    // displacement gradient H_ij = ∂u_i/∂x_j
+    let mut h = [[0.0; 3]; 3];
+    for (ga, ua) in p.g[..n].iter().zip(u.chunks_exact(3)) {
+        for i in 0..3 {
+            for j in 0..3 {
+                h[i][j] += ua[i] * ga[j];
+            }
+        }
+    }
+    Ok([h[0][0], h[1][1], h[2][2], h[0][1] + h[1][0], h[1][2] + h[2][1], h[2][0] + h[0][2]])
+}
+
+/// Scatters a 3·n × 3·n translational matrix into the 6·n × 6·n layout of [`crate::fe`]:
+/// entry (3a + c, 3b + d) goes to (6a + c, 6b + d); rotational rows and columns are zero.
+pub fn expand_to_six_dofs(m: MatRef<'_, f64>) -> Mat<f64> {
+    let n = m.nrows() / 3;
+    let map = |i: usize| 6 * (i / 3) + i % 3;
+    let mut out = Mat::<f64>::zeros(6 * n, 6 * n);
+    for j in 0..3 * n {
+        for i in 0..3 * n {
+            out[(map(i), map(j))] = m[(i, j)];
+        }
+    }
+    out
+}
+
+/// [`expand_to_six_dofs`] applied to every part.
+pub fn expand_affine_to_six_dofs(a: &AffineMatrix) -> AffineMatrix {
+    AffineMatrix { parts: a.parts.iter().map(|(c, m)| (*c, expand_to_six_dofs(m.as_ref()))).collect() }
+}

@@ -1,1 +1,20 @@
-//! HDF5 and XDMF output (in progress).
+//! HDF5 and XDMF output (DESIGN.md §8).
+//!
+//! - [`hdf5_file`]: [`OutputFile`], written under a temporary name and renamed on commit, plus
+//!   typed dataset/attribute helpers and the [`IoError`] type.
+//! - [`model_group`]: [`write_model`] fills `/model` from [`MeshArrays`](crate::model::MeshArrays).
+//! - [`xdmf`]: [`write_xdmf`] writes `<out>.xdmf` next to the HDF5 file for ParaView.
+//! - [`info`]: [`describe`] summarises any paraflex HDF5 file (`paraflex info`).
+
+pub mod hdf5_file;
+pub mod info;
+pub mod model_group;
+pub mod xdmf;
+
+pub use hdf5_file::{
+    IoError, OutputFile, SCHEMA_VERSION, set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str,
+    set_attr_strings, write_f64, write_rows3, write_strings, write_u32,
+};
+pub use info::{DatasetSummary, FileSummary, ModelSummary, PromSummary, ResultSummary, describe};
+pub use model_group::{CONNECTIVITY_INDEXING, ModelInfo, read_grid_ids, write_model};
+pub use xdmf::{XdmfWritten, write_xdmf, xdmf_path_for};

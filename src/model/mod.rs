@@ -1,5 +1,236 @@
 //! The cross-referenced, validated model built from a [`Deck`](crate::deck::Deck).
+//!
+//! [`Model::build`] runs every check in one pass and returns either the model or *all* errors,
+//! each located at the offending card:
+//! - [`ids`]: duplicate ids per id space;
+//! - [`coords`]: `CORD2R`/`CORD2C` resolution (RID chains, cycles, degenerate definitions);
+//! - [`build`]: grids in basic, elements and rigid elements with their grids and properties;
+//! - [`xref`]: every other reference (materials, sets, loads, tables, sensors, parameters);
+//! - [`values`]: out-of-range material, property and mass values;
+//! - [`pmpar`]: `PMPAR` references, bounds and nominal values;
+//! - [`geometry`]: exact element integrals and shape checks;
+//! - [`params`]: the `PARAM`s paraflex uses ([`params::KNOWN_PARAMS`]);
+//! - [`case`]: case-control selections and output requests;
+//! - [`mass`]: mass properties; [`summary`]: the check summary and mesh arrays.
 
+pub mod build;
+pub mod case;
+pub mod coords;
+pub mod geometry;
+pub mod ids;
+pub mod mass;
 pub mod mesh;
+pub mod params;
+pub mod pmpar;
+pub mod summary;
+pub mod values;
+pub mod vec3;
+pub mod xref;
 
+use std::collections::HashMap;
+
+use crate::deck::case_control::Subcase;
+use crate::deck::reader::Dofs;
+use crate::deck::{BulkData, Loc, Solution, Warning};
+
+pub use coords::CoordSystem;
+pub use mass::MassProperties;
 pub use mesh::{ElementBlock, MeshArrays};
+pub use params::ModelParams;
+pub use summary::CheckSummary;
+
+/// A grid point with its location in the basic system.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridPoint {
+    pub id: u32,
+    /// Location in the basic system.
+    pub xyz: [f64; 3],
+    /// System the card's coordinates were given in.
+    pub cp: u32,
+    /// Displacement (output) system; resolved in [`Model::coords`].
+    pub cd: u32,
+    /// Permanent single-point constraints.
+    pub ps: Dofs,
+    pub loc: Loc,
+}
+
+/// Element types of the model (the mass element CONM2 and the springs included).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ElementKind {
+    Quad4,
+    Tria3,
+    Hexa8,
+    Penta6,
+    Tetra4,
+    Tetra10,
+    Celas1,
+    Celas2,
+    Conm2,
+}
+
+impl ElementKind {
+    /// The bulk-data card name (a 10-node tetra is a `CTETRA`).
+    pub fn card(self) -> &'static str {
+        match self {
+            ElementKind::Quad4 => "CQUAD4",
+            ElementKind::Tria3 => "CTRIA3",
+            ElementKind::Hexa8 => "CHEXA",
+            ElementKind::Penta6 => "CPENTA",
+            ElementKind::Tetra4 | ElementKind::Tetra10 => "CTETRA",
+            ElementKind::Celas1 => "CELAS1",
+            ElementKind::Celas2 => "CELAS2",
+            ElementKind::Conm2 => "CONM2",
+        }
+    }
+
+    /// Name of the output block (`CTETRA10` for the 10-node tetra), see [`ElementBlock::card`].
+    pub fn block_name(self) -> &'static str {
+        match self {
+            ElementKind::Tetra10 => "CTETRA10",
+            k => k.card(),
+        }
+    }
+
+    /// The solid shape, for solids.
+    pub fn solid_shape(self) -> Option<geometry::SolidShape> {
+        match self {
+            ElementKind::Hexa8 => Some(geometry::SolidShape::Hexa8),
+            ElementKind::Penta6 => Some(geometry::SolidShape::Penta6),
+            ElementKind::Tetra4 => Some(geometry::SolidShape::Tetra4),
+            ElementKind::Tetra10 => Some(geometry::SolidShape::Tetra10),
+            _ => None,
+        }
+    }
+
+    /// True for CQUAD4 and CTRIA3.
+    pub fn is_shell(self) -> bool {
+        matches!(self, ElementKind::Quad4 | ElementKind::Tria3)
+    }
+}
+
+/// A property by kind and position in its [`BulkData`] vector.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PropertyRef {
+    Pshell(usize),
+    Pcomp(usize),
+    Psolid(usize),
+    Pelas(usize),
+}
+
+impl PropertyRef {
+    /// Card name.
+    pub fn card(self) -> &'static str {
+        match self {
+            PropertyRef::Pshell(_) => "PSHELL",
+            PropertyRef::Pcomp(_) => "PCOMP",
+            PropertyRef::Psolid(_) => "PSOLID",
+            PropertyRef::Pelas(_) => "PELAS",
+        }
+    }
+}
+
+/// A material by kind and position in its [`BulkData`] vector.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MaterialRef {
+    Mat1(usize),
+    Mat8(usize),
+}
+
+impl MaterialRef {
+    /// Card name.
+    pub fn card(self) -> &'static str {
+        match self {
+            MaterialRef::Mat1(_) => "MAT1",
+            MaterialRef::Mat8(_) => "MAT8",
+        }
+    }
+}
+
+/// A cross-referenced element.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Element {
+    pub id: u32,
+    pub kind: ElementKind,
+    /// Position of the card in its [`BulkData`] vector (`bulk.cquad4[card]`, …).
+    pub card: usize,
+    /// The property, for elements that have one.
+    pub property: Option<PropertyRef>,
+    /// Grid indices into [`Model::grids`], in card order (grounded spring ends omitted).
+    pub nodes: Vec<usize>,
+}
+
+/// Kind of a rigid element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RigidKind {
+    Rbe2,
+    Rbe3,
+}
+
+/// A cross-referenced rigid element.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rigid {
+    pub id: u32,
+    pub kind: RigidKind,
+    /// Position in `bulk.rbe2` / `bulk.rbe3`.
+    pub card: usize,
+    /// RBE2: the independent grid GN; RBE3: the reference grid (grid indices).
+    pub hub: usize,
+    /// RBE2: dependent grids; RBE3: independent grids of all groups (grid indices).
+    pub legs: Vec<usize>,
+}
+
+/// The validated model.
+#[derive(Debug, Clone)]
+pub struct Model {
+    /// The solution sequence requested by `SOL`.
+    pub sol: Option<Solution>,
+    /// Grids sorted by id.
+    pub grids: Vec<GridPoint>,
+    /// Grid id → index into [`Model::grids`].
+    pub grid_index: HashMap<u32, usize>,
+    /// Coordinate systems by id (basic = 0 included).
+    pub coords: HashMap<u32, CoordSystem>,
+    /// Elements sorted by id.
+    pub elements: Vec<Element>,
+    /// Element id → index into [`Model::elements`].
+    pub element_index: HashMap<u32, usize>,
+    /// Rigid elements sorted by id.
+    pub rigids: Vec<Rigid>,
+    /// Property id → property.
+    pub properties: HashMap<u32, PropertyRef>,
+    /// Material id → material.
+    pub materials: HashMap<u32, MaterialRef>,
+    /// The cards themselves (the typed structs the references point into).
+    pub bulk: BulkData,
+    /// The subcases with the global defaults applied.
+    pub subcases: Vec<Subcase>,
+    /// Values of the PARAMs paraflex uses.
+    pub params: ModelParams,
+    /// Accepted input worth mentioning (the deck's warnings first).
+    pub warnings: Vec<Warning>,
+}
+
+impl Model {
+    /// Grid by id.
+    pub fn grid(&self, id: u32) -> Option<&GridPoint> {
+        self.grid_index.get(&id).and_then(|&i| self.grids.get(i))
+    }
+
+    /// Element by id.
+    pub fn element(&self, id: u32) -> Option<&Element> {
+        self.element_index.get(&id).and_then(|&i| self.elements.get(i))
+    }
+
+    /// Basic locations of an element's grids.
+    pub fn positions(&self, element: &Element) -> Vec<[f64; 3]> {
+        element.nodes.iter().filter_map(|&i| self.grids.get(i)).map(|g| g.xyz).collect()
+    }
+
+    /// Mass density of a material (MAT1 or MAT8 RHO).
+    pub fn rho(&self, mid: u32) -> Option<f64> {
+        match self.materials.get(&mid)? {
+            MaterialRef::Mat1(i) => self.bulk.mat1.get(*i).map(|m| m.rho),
+            MaterialRef::Mat8(i) => self.bulk.mat8.get(*i).map(|m| m.rho),
+        }
+    }
+}

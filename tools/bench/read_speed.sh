@@ -8,6 +8,6 @@ DECK=${BENCH_DIR:-/tmp}/paraflex_big_${N}.bdf
 [ -f "$DECK" ] || .venv/bin/python tools/bench/make_big_deck.py "$N" "$DECK"
 echo "deck: $DECK ($(du -h "$DECK" | cut -f1))"
 echo "== paraflex check (read + validate + mass properties)"
-/usr/bin/time -f "paraflex: %e s wall, %M kB peak RSS" ./target/release/paraflex check "$DECK" > /dev/null
+/usr/bin/time -f "paraflex: %e s wall, %M kB peak RSS" "${CARGO_TARGET_DIR:-target}/release/paraflex" check "$DECK" > /dev/null
 echo "== pyNastran read_bdf + cross_reference"
 .venv/bin/python tools/bench/read_pynastran.py "$DECK"

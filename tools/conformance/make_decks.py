@@ -460,6 +460,140 @@ def model_mixed() -> BDF:
     return model
 
 
+# --------------------------------------------------------------------------
+# regular-geometry models: pyNastran's mass formulas are exact on them
+# (flat parallelogram quads, triangles, right-prism hexas/wedges, tetras,
+# CONM2 with CID 0/-1 and diagonal inertia), so paraflex must agree to 1e-10
+# --------------------------------------------------------------------------
+def add_parallelogram_grid(model: BDF, nid0: int, nx: int, ny: int, dx: float, dy: float,
+                           shear: float, origin=(0.0, 0.0, 0.0)) -> dict:
+    """Flat grid of parallelograms: x = i dx + j shear, y = j dy."""
+    nid = {}
+    for j in range(ny):
+        for i in range(nx):
+            n = nid0 + 100 * (j + 1) + (i + 1)
+            model.add_grid(n, [r4(origin[0] + dx * i + shear * j), r4(origin[1] + dy * j), r4(origin[2])])
+            nid[i, j] = n
+    return nid
+
+
+def model_plate_regular() -> BDF:
+    model = new_model("plate_regular: flat parallelogram CQUAD4 + CTRIA3, PSHELL + NSM")
+    model.add_mat1(1, 7.1e10, None, 0.33, rho=2700.0)
+    model.add_mat1(2, 2.1e11, None, 0.29, rho=7850.0)
+    model.add_pshell(1, mid1=1, t=0.002, mid2=1, mid3=1, nsm=0.35)
+    model.add_pshell(2, mid2=2, t=0.0015, nsm=0.1)            # MID1 blank: rho of MID2
+    nid = add_parallelogram_grid(model, 0, 7, 5, 0.25, 0.2, 0.05)
+    eid = 0
+    for j in range(4):
+        for i in range(6):
+            n1, n2, n3, n4 = nid[i, j], nid[i + 1, j], nid[i + 1, j + 1], nid[i, j + 1]
+            if i < 4:
+                eid += 1
+                model.add_cquad4(eid, 1, [n1, n2, n3, n4], theta_mcid=15.0 * (i % 2))
+            else:
+                eid += 1
+                model.add_ctria3(eid, 2, [n1, n2, n3])
+                eid += 1
+                model.add_ctria3(eid, 1, [n1, n3, n4])
+    model.add_spc1(1, "123456", [nid[0, j] for j in range(5)])
+    return model
+
+
+def model_pcomp_regular() -> BDF:
+    model = new_model("pcomp_regular: angle-ply PCOMP and LAM=SYM on a parallelogram mesh")
+    model.add_mat8(2, 1.4e11, 9.0e9, 0.3, g12=5.0e9, g1z=4.5e9, g2z=3.0e9, rho=1600.0)
+    model.add_mat8(3, 4.5e10, 1.2e10, 0.28, g12=4.5e9, g1z=4.0e9, g2z=3.5e9, rho=1950.0)
+    model.add_pcomp(10, mids=[2, 2, 3, 2, 2, 3, 2, 2],
+                    thicknesses=[1.25e-4, 1.25e-4, 2.0e-4, 1.25e-4, 1.25e-4, 2.0e-4, 1.25e-4, 1.25e-4],
+                    thetas=[30.0, -30.0, 30.0, -30.0, -30.0, 30.0, -30.0, 30.0], nsm=0.12)
+    model.add_pcomp(11, mids=[2, 3, 2, 2], thicknesses=[1.5e-4, 2.5e-4, 1.5e-4, 1.0e-4],
+                    thetas=[45.0, -45.0, 45.0, -45.0], nsm=0.05, lam="SYM")
+    nid = add_parallelogram_grid(model, 0, 7, 5, 0.3, 0.25, -0.06, origin=(0.1, 0.2, 0.3))
+    eid = 0
+    for j in range(4):
+        for i in range(6):
+            n1, n2, n3, n4 = nid[i, j], nid[i + 1, j], nid[i + 1, j + 1], nid[i, j + 1]
+            pid = 10 if i < 3 else 11
+            eid += 1
+            if (i, j) == (5, 3):
+                model.add_ctria3(eid, pid, [n1, n2, n4])
+                eid += 1
+                model.add_ctria3(eid, pid, [n2, n3, n4])
+            else:
+                model.add_cquad4(eid, pid, [n1, n2, n3, n4])
+    model.add_spc1(1, "123456", [nid[0, j] for j in range(5)])
+    return model
+
+
+def model_solid_regular() -> BDF:
+    model = new_model("solid_regular: box CHEXA + right-prism CPENTA, PARAM WTMASS")
+    model.add_param("WTMASS", [0.5])
+    model.add_mat1(1, 7.0e10, None, 0.33, rho=2700.0)
+    model.add_mat1(2, 2.1e11, None, 0.29, rho=7850.0)
+    model.add_psolid(1, 1)
+    model.add_psolid(2, 2)
+    xs, ys, zs = [0.0, 0.5, 0.8, 1.4, 1.7], [0.0, 0.4, 0.9, 1.2], [0.0, 0.3, 0.75]
+    nid = {}
+    for k, z in enumerate(zs):
+        for j, y in enumerate(ys):
+            for i, x in enumerate(xs):
+                n = 1000 * k + 20 * j + i + 1
+                model.add_grid(n, [x, y, z])
+                nid[i, j, k] = n
+    eid = 0
+    for k in range(len(zs) - 1):
+        for j in range(len(ys) - 1):
+            for i in range(len(xs) - 1):
+                a, b = nid[i, j, k], nid[i + 1, j, k]
+                c, d = nid[i + 1, j + 1, k], nid[i, j + 1, k]
+                e, f = nid[i, j, k + 1], nid[i + 1, j, k + 1]
+                g, h = nid[i + 1, j + 1, k + 1], nid[i, j + 1, k + 1]
+                eid += 1
+                if i == len(xs) - 2:
+                    model.add_cpenta(eid, 2, [a, b, c, e, f, g])
+                    eid += 1
+                    model.add_cpenta(eid, 2, [a, c, d, e, g, h])
+                else:
+                    model.add_chexa(eid, 1, [a, b, c, d, e, f, g, h])
+    model.add_spc1(1, "123", [nid[0, j, k] for j in range(len(ys)) for k in range(len(zs))])
+    return model
+
+
+def model_tetra_regular() -> BDF:
+    model = new_model("tetra_regular: CTETRA 4-node and 10-node blocks", with_spc=False)
+    add_tetra_block(model, 0, 0, 1, 1, n=(3, 3, 2), seed=11)
+    add_tetra_block(model, 10000, 1000, 2, 2, origin=(1.5, 0.0, 0.0), n=(3, 2, 2), seed=12,
+                    tet10=True, rho=4430.0)
+    return model
+
+
+def model_conm2_regular() -> BDF:
+    model = new_model("conm2_regular: CONM2 offsets with CID 0, -1 and a rotated CORD2R", with_spc=False)
+    rot = _rot("z", 30.0) @ _rot("y", 20.0) @ _rot("x", 10.0)
+    origin = np.array([1.5, -0.5, 0.25])
+    model.add_cord2r(10, list(map(float, origin)), list(map(float, origin + rot[:, 2])),
+                     list(map(float, origin + rot[:, 0] + 0.5 * rot[:, 2])))
+    model.add_mat1(1, 7.0e10, None, 0.33, rho=2800.0)
+    model.add_pshell(1, mid1=1, t=0.003, nsm=0.8)
+    nid = add_parallelogram_grid(model, 0, 3, 3, 0.4, 0.3, 0.1)
+    model.add_grid(901, [0.25, 0.2, 0.0], cp=10)
+    model.add_grid(902, [-0.3, 0.1, 0.4], cp=10)
+    eid = 0
+    for j in range(2):
+        for i in range(2):
+            eid += 1
+            model.add_cquad4(eid, 1, [nid[i, j], nid[i + 1, j], nid[i + 1, j + 1], nid[i, j + 1]])
+    model.add_conm2(101, nid[0, 0], 12.5, cid=0, X=[0.1, -0.2, 0.05], I=[0.8, 0.0, 1.1, 0.0, 0.0, 0.6])
+    model.add_conm2(102, nid[2, 1], 4.0, cid=-1, X=[0.4, 0.9, -0.3], I=[0.2, 0.0, 0.25, 0.0, 0.0, 0.3])
+    model.add_conm2(103, nid[2, 2], 2.0, cid=0, X=[-0.05, 0.0, 0.12], I=[0.05, 0.0, 0.07, 0.0, 0.0, 0.09])
+    # rotated CORD2R: offset rotated; diagonal inertia in the CID axes (pyNastran drops it,
+    # tests/conformance_mass.rs adds the rotated tensor T J T^T to the reference)
+    model.add_conm2(104, 901, 7.5, cid=10, X=[0.3, 0.1, -0.2], I=[0.4, 0.0, 0.9, 0.0, 0.0, 1.3])
+    model.add_conm2(105, 902, 1.5, cid=10, X=[0.0, 0.0, 0.1])
+    return model
+
+
 MODELS = {
     "plate_pshell": model_plate_pshell,
     "pcomp_plate": model_pcomp_plate,
@@ -467,6 +601,11 @@ MODELS = {
     "solid_tetra": model_solid_tetra,
     "conm2_coords": model_conm2_coords,
     "mixed": model_mixed,
+    "plate_regular": model_plate_regular,
+    "pcomp_regular": model_pcomp_regular,
+    "solid_regular": model_solid_regular,
+    "tetra_regular": model_tetra_regular,
+    "conm2_regular": model_conm2_regular,
 }
 
 

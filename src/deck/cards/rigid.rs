@@ -37,23 +37,8 @@ impl Rbe2 {
         }
         let len = f.len();
         let alpha_at = (4..=len).find(|&i| matches!(f.value(i), Value::Real(_)));
-        let mut gm = Vec::new();
-        let mut i = 4;
         let grids_end = alpha_at.map_or(len, |a| a - 1);
-        while i <= grids_end {
-            if matches!(f.value(i), Value::Text(t) if t.eq_ignore_ascii_case("THRU")) {
-                match (gm.last().copied(), f.opt_id(i + 1, "GM")) {
-                    (Some(lo), Some(hi)) if hi >= lo && hi - lo <= 10_000_000 => gm.extend(lo + 1..=hi),
-                    _ => f.error(i, "GM", "THRU needs increasing grid ids before and after it"),
-                }
-                i += 2;
-                continue;
-            }
-            if let Some(g) = f.opt_id(i, "GM") {
-                gm.push(g);
-            }
-            i += 1;
-        }
+        let gm = f.id_list_until(4, grids_end, "GM");
         if gm.is_empty() {
             f.card_error("no dependent grid (GM1 …) given");
         }

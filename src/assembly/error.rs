@@ -1,0 +1,69 @@
+//! Typed errors of assembly and set reduction. Each names the grid and component (1–6) or the
+//! card involved; none is a panic.
+
+use thiserror::Error;
+
+/// A DOF as the user knows it: GRID id and component 1–6.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct DofName {
+    pub grid: u32,
+    /// Component 1–6 (T1 T2 T3 R1 R2 R3).
+    pub component: u8,
+}
+
+impl std::fmt::Display for DofName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "GRID {} component {}", self.grid, self.component)
+    }
+}
+
+/// Errors of assembly, constraint elimination and loads.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum AssemblyError {
+    /// A DOF is dependent in two rigid elements.
+    #[error("{dof} is dependent in both {first} and {second}")]
+    DependentTwice { dof: DofName, first: String, second: String },
+    /// A dependent DOF is also constrained by an SPC or GRID PS.
+    #[error("{dof} is dependent in {rigid} and also constrained by {constraint}")]
+    DependentConstrained { dof: DofName, rigid: String, constraint: String },
+    /// A cycle of rigid elements (each depends on the next).
+    #[error("rigid elements form a dependency cycle: {}", rigids.join(" → "))]
+    RigidCycle { rigids: Vec<String> },
+    /// The weighted least-squares fit of an RBE3 is singular (e.g. collinear independent grids
+    /// with rotational REFC, or only one independent grid).
+    #[error("RBE3 {id}: the independent grids do not determine the reference motion (weighted fit matrix is singular); add non-collinear grids or rotational components")]
+    Rbe3Singular { id: u32 },
+    /// An RBE2 independent grid and a dependent grid coincide with components that make no sense.
+    #[error("{card}: grid {grid} is referenced but does not exist")]
+    MissingGrid { card: String, grid: u32 },
+    /// A coordinate system is referenced but not resolved.
+    #[error("{card}: CID = {cid} does not exist")]
+    MissingCoord { card: String, cid: u32 },
+    /// The SPC set does not exist.
+    #[error("SPC = {sid} selects no SPC/SPC1/SPCADD set {sid}")]
+    NoSpcSet { sid: u32 },
+    /// SPCADD references another SPCADD (not allowed, as in Nastran) or a missing set.
+    #[error("SPCADD {sid}: {reason}")]
+    BadSpcadd { sid: u32, reason: String },
+    /// Two different enforced values for one DOF in one SPC set.
+    #[error("{dof} has two enforced values in SPC set {sid}: {a} and {b}")]
+    ConflictingEnforced { dof: DofName, sid: u32, a: f64, b: f64 },
+    /// The LOAD set does not exist.
+    #[error("LOAD = {sid} selects no LOAD/FORCE/MOMENT/GRAV set {sid}")]
+    NoLoadSet { sid: u32 },
+    /// A LOAD card references another LOAD (not allowed, as in Nastran) or a missing set.
+    #[error("LOAD {sid}: {reason}")]
+    BadLoad { sid: u32, reason: String },
+    /// GRAV needs the assembled mass matrix.
+    #[error("load set {sid} contains GRAV, which needs the assembled mass matrix M_gg")]
+    MassRequired { sid: u32 },
+    /// A DOF index outside the g-set (an element contribution from a caller).
+    #[error("DOF index {index} is outside the g-set of {size} DOFs")]
+    DofOutOfRange { index: usize, size: usize },
+    /// Sizes that must agree do not.
+    #[error("{what}: expected {expected}, found {found}")]
+    SizeMismatch { what: &'static str, expected: usize, found: usize },
+    /// Affine parts of one operator that do not share its pattern.
+    #[error("matrix pattern differs from the operator's pattern ({what})")]
+    PatternMismatch { what: &'static str },
+}

@@ -1,0 +1,187 @@
+//! The s-set: SPC / SPC1 / SPCADD (case control `SPC = sid`), GRID PS and AUTOSPC.
+//!
+//! Components are in the global (CD) frame of the grid, as in Nastran. An `SPC` may enforce a
+//! non-zero value D; the values are kept in the g-set vector [`SpcSet::enforced`] and enter the
+//! reduced load as −K_fs u_s ([`loads::reduce_load`](super::loads::reduce_load)).
+//!
+//! `SPCADD sid S1 S2 …` is the union of the SPC/SPC1 sets Si; an SPCADD of an SPCADD is an
+//! error, as in Nastran. One DOF given two different values in one set is an error.
+//!
+//! AUTOSPC ([`autospc`]): after the g → n reduction, every n-set DOF not already in s whose
+//! stiffness diagonal is ≤ [`AUTOSPC_RATIO`] × the largest diagonal of K_nn is constrained to
+//! zero and listed (GRID, component) in an [`AutoSpcReport`] for the solver to print. Typical
+//! finds: rotations of grids attached only to solids, drilling rotations of flat shells without
+//! drilling stiffness, components of spring-only grids. `PARAM,AUTOSPC,NO` disables it (the
+//! caller checks `model.params.autospc`). A mechanism with non-zero diagonals is not detected
+//! here; the factorization reports its failing index, named with
+//! [`DofMap::dof_name`](super::dofs::DofMap::dof_name).
+
+use std::collections::BTreeSet;
+
+use super::assemble::AffineOperator;
+use super::constraints::RigidElimination;
+use super::dofs::{DofMap, DofSet};
+use super::error::{AssemblyError, DofName};
+use crate::deck::reader::Dofs;
+use crate::model::Model;
+
+/// AUTOSPC threshold: diagonal ≤ ratio × max diagonal counts as "no stiffness".
+pub const AUTOSPC_RATIO: f64 = 1e-8;
+
+/// Constrained g DOFs with their enforced values and where each constraint came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpcSet {
+    /// s-set mask over g.
+    pub mask: Vec<bool>,
+    /// Enforced values over g (0 outside s).
+    pub enforced: Vec<f64>,
+    /// The card that constrained each DOF ("SPC 1", "SPC1 1", "GRID 7 PS", "AUTOSPC").
+    pub source: Vec<Option<String>>,
+}
+
+impl SpcSet {
+    /// No constraint.
+    pub fn empty(map: &DofMap) -> Self {
+        SpcSet { mask: vec![false; map.size()], enforced: vec![0.0; map.size()], source: vec![None; map.size()] }
+    }
+
+    /// GRID PS of every grid plus the SPC set `sid` (if any).
+    pub fn of_model(model: &Model, map: &DofMap, sid: Option<u32>) -> Result<Self, AssemblyError> {
+        let mut out = SpcSet::empty(map);
+        for (i, g) in model.grids.iter().enumerate() {
+            for c in g.ps.components() {
+                out.set(map, DofMap::dof(i, c - 1), 0.0, format!("GRID {} PS", g.id), None)?;
+            }
+        }
+        let Some(sid) = sid else { return Ok(out) };
+        let b = &model.bulk;
+        let adds: Vec<_> = b.spcadd.iter().filter(|a| a.sid == sid).collect();
+        let sets: Vec<u32> = if adds.is_empty() {
+            vec![sid]
+        } else {
+            let mut sets = BTreeSet::new();
+            for a in &adds {
+                for &s in &a.sets {
+                    if b.spcadd.iter().any(|x| x.sid == s) {
+                        return Err(AssemblyError::BadSpcadd { sid, reason: format!("S = {s} is itself an SPCADD (nested SPCADD is not allowed)") });
+                    }
+                    if !b.spc.iter().any(|x| x.sid == s) && !b.spc1.iter().any(|x| x.sid == s) {
+                        return Err(AssemblyError::BadSpcadd { sid, reason: format!("S = {s} selects no SPC/SPC1 set") });
+                    }
+                    sets.insert(s);
+                }
+            }
+            sets.into_iter().collect()
+        };
+        let mut found = false;
+        for &s in &sets {
+            for spc in b.spc.iter().filter(|x| x.sid == s) {
+                found = true;
+                let grid = grid_of(model, spc.grid, &format!("SPC {s}"))?;
+                out.add_components(map, grid, spc.components, spc.value, &format!("SPC {s}"), sid)?;
+            }
+            for spc in b.spc1.iter().filter(|x| x.sid == s) {
+                found = true;
+                for &g in &spc.grids {
+                    let grid = grid_of(model, g, &format!("SPC1 {s}"))?;
+                    out.add_components(map, grid, spc.components, 0.0, &format!("SPC1 {s}"), sid)?;
+                }
+            }
+        }
+        if found { Ok(out) } else { Err(AssemblyError::NoSpcSet { sid }) }
+    }
+
+    fn add_components(&mut self, map: &DofMap, grid: usize, comps: Dofs, value: f64, source: &str, sid: u32) -> Result<(), AssemblyError> {
+        for c in comps.components() {
+            self.set(map, DofMap::dof(grid, c - 1), value, source.to_string(), Some(sid))?;
+        }
+        Ok(())
+    }
+
+    /// Constrain one g DOF to `value`; a different value already set is an error.
+    pub fn set(&mut self, map: &DofMap, dof: usize, value: f64, source: String, sid: Option<u32>) -> Result<(), AssemblyError> {
+        let size = self.mask.len();
+        if dof >= size {
+            return Err(AssemblyError::DofOutOfRange { index: dof, size });
+        }
+        if self.mask[dof] && self.enforced[dof] != value {
+            return Err(AssemblyError::ConflictingEnforced { dof: map.name(dof), sid: sid.unwrap_or(0), a: self.enforced[dof], b: value });
+        }
+        if !self.mask[dof] {
+            self.source[dof] = Some(source);
+        }
+        self.mask[dof] = true;
+        self.enforced[dof] = value;
+        Ok(())
+    }
+
+    /// Error if a constrained DOF is dependent in a rigid element.
+    pub fn check_against_rigids(&self, rigid: &RigidElimination, map: &DofMap) -> Result<(), AssemblyError> {
+        for (i, (&s, &m)) in self.mask.iter().zip(&rigid.m_mask).enumerate() {
+            if s && m {
+                return Err(AssemblyError::DependentConstrained {
+                    dof: map.name(i),
+                    rigid: rigid.owner(i).unwrap_or("a rigid element").to_string(),
+                    constraint: self.source[i].clone().unwrap_or_else(|| "an SPC".into()),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Add the DOFs AUTOSPC found (enforced value 0).
+    pub fn add_autospc(&mut self, report: &AutoSpcReport) {
+        for &d in &report.dofs {
+            if d < self.mask.len() && !self.mask[d] {
+                self.mask[d] = true;
+                self.enforced[d] = 0.0;
+                self.source[d] = Some("AUTOSPC".into());
+            }
+        }
+    }
+}
+
+fn grid_of(model: &Model, id: u32, card: &str) -> Result<usize, AssemblyError> {
+    model.grid_index.get(&id).copied().ok_or(AssemblyError::MissingGrid { card: card.to_string(), grid: id })
+}
+
+/// The DOFs AUTOSPC constrained, for the solver to print.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct AutoSpcReport {
+    /// g indices, increasing.
+    pub dofs: Vec<usize>,
+    /// (GRID, component) of each.
+    pub names: Vec<DofName>,
+    /// Largest diagonal of K_nn (the reference of the ratio).
+    pub max_diagonal: f64,
+}
+
+impl std::fmt::Display for AutoSpcReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "AUTOSPC constrained {} DOF(s) with stiffness ≤ {AUTOSPC_RATIO:e} × {:e}:", self.names.len(), self.max_diagonal)?;
+        for n in &self.names {
+            write!(f, " {}/{}", n.grid, n.component)?;
+        }
+        Ok(())
+    }
+}
+
+/// Find n-set DOFs outside s with no stiffness in K_nn (values `k_nn` on `op`'s pattern,
+/// typically K at the nominal parameters).
+pub fn autospc(op: &AffineOperator, k_nn: &[f64], n: &DofSet, s_mask: &[bool], map: &DofMap) -> Result<AutoSpcReport, AssemblyError> {
+    super::dofs::check_len("K_nn size (n-set)", n.len(), op.ncols())?;
+    super::dofs::check_len("K_nn values", op.pattern().nnz(), k_nn.len())?;
+    let diag = op.diagonal(k_nn);
+    let max = diag.iter().fold(0.0_f64, |m, d| m.max(d.abs()));
+    let mut report = AutoSpcReport { max_diagonal: max, ..Default::default() };
+    for (k, &g) in n.members().iter().enumerate() {
+        if s_mask.get(g).copied().unwrap_or(false) {
+            continue;
+        }
+        if diag[k].abs() <= AUTOSPC_RATIO * max {
+            report.dofs.push(g);
+            report.names.push(map.name(g));
+        }
+    }
+    Ok(report)
+}

@@ -1,0 +1,402 @@
+//! [`Model::build`]: grids, elements and rigid elements with their references, then the other
+//! checks ([`xref`](super::xref), [`values`](super::values), [`pmpar`](super::pmpar),
+//! [`params`](super::params), [`case`](super::case)). Every error of every check is collected.
+
+use std::collections::{BTreeMap, HashMap};
+
+use crate::deck::cards::BulkData;
+use crate::deck::{Deck, DeckError, Loc, Warning};
+
+use super::coords::{self, CoordSystem};
+use super::geometry::{self, ShapeReport};
+use super::ids::{entry, index};
+use super::{Element, ElementKind, GridPoint, MaterialRef, Model, PropertyRef, Rigid, RigidKind};
+
+/// At most this many element ids are listed in one grouped geometry warning.
+const LISTED_IDS: usize = 10;
+
+impl Model {
+    /// Build and validate the model of a deck. On error, returns every error found, sorted by
+    /// file and line.
+    pub fn build(deck: &Deck) -> Result<Model, Vec<DeckError>> {
+        let bulk = &deck.bulk;
+        let mut errors: Vec<DeckError> = Vec::new();
+        let mut warnings: Vec<Warning> = deck.warnings.clone();
+
+        index(
+            bulk.coords.iter().map(|c| entry(c.id, coords::kind_name(c.kind), &c.loc, ())).collect(),
+            "coordinate system",
+            &mut errors,
+        );
+        let coords = coords::resolve(&bulk.coords, &mut errors);
+        let (grids, grid_index) = build_grids(bulk, &coords, &mut errors);
+        let properties = index_properties(bulk, &mut errors);
+        let materials = index_materials(bulk, &mut errors);
+        let refs = Refs { bulk, coords: &coords, grid_index: &grid_index, properties: &properties, materials: &materials };
+        let mut quality = Quality::default();
+        let mut elements = build_elements(&refs, &grids, &mut errors, &mut quality);
+        elements.sort_by_key(|e| e.id);
+        let mut rigids = build_rigids(&refs, &mut errors);
+        rigids.sort_by_key(|r| r.id);
+        let element_index = element_id_space(bulk, &mut errors);
+        let element_index: HashMap<u32, usize> = {
+            // map ids to positions in the sorted element list (rigid ids are not in it)
+            let by_id: HashMap<u32, usize> = elements.iter().enumerate().map(|(i, e)| (e.id, i)).collect();
+            element_index.keys().filter_map(|id| by_id.get(id).map(|&i| (*id, i))).collect()
+        };
+
+        super::xref::check(&refs, deck, &mut errors);
+        super::values::check(&refs, &mut errors, &mut warnings);
+        super::pmpar::check(&refs, &mut errors);
+        let params = super::params::read(&bulk.params, &deck.case, &mut errors, &mut warnings);
+        super::case::check(deck, &refs, &mut errors, &mut warnings);
+        warnings.extend(quality.into_warnings());
+
+        if !errors.is_empty() {
+            errors.sort_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));
+            return Err(errors);
+        }
+        Ok(Model {
+            sol: deck.executive.sol.as_ref().map(|(s, _)| *s),
+            grids,
+            grid_index,
+            coords,
+            elements,
+            element_index,
+            rigids,
+            properties,
+            materials,
+            bulk: bulk.clone(),
+            subcases: deck.case.subcases(),
+            params,
+            warnings,
+        })
+    }
+}
+
+/// The id maps every cross-reference check looks things up in.
+pub struct Refs<'a> {
+    pub bulk: &'a BulkData,
+    pub coords: &'a HashMap<u32, CoordSystem>,
+    pub grid_index: &'a HashMap<u32, usize>,
+    pub properties: &'a HashMap<u32, PropertyRef>,
+    pub materials: &'a HashMap<u32, MaterialRef>,
+}
+
+impl Refs<'_> {
+    /// The grid index of `id`, or an error "`FIELD = id` does not exist" on `card` at `loc`.
+    pub fn grid(&self, id: u32, field: &str, card: &str, loc: &Loc, errors: &mut Vec<DeckError>) -> Option<usize> {
+        let found = self.grid_index.get(&id).copied();
+        if found.is_none() {
+            errors.push(DeckError::at(loc, format!("{field} = {id} does not exist (no GRID {id})")).on_card(card));
+        }
+        found
+    }
+
+    /// Check a coordinate system reference (0 = basic always exists).
+    pub fn coord(&self, id: u32, field: &str, card: &str, loc: &Loc, errors: &mut Vec<DeckError>) -> Option<&CoordSystem> {
+        let found = self.coords.get(&id);
+        if found.is_none() {
+            errors.push(
+                DeckError::at(loc, format!("{field} = {id} does not exist or is in error (no usable CORD2R/CORD2C {id})"))
+                    .on_card(card),
+            );
+        }
+        found
+    }
+}
+
+fn build_grids(
+    bulk: &BulkData,
+    coords: &HashMap<u32, CoordSystem>,
+    errors: &mut Vec<DeckError>,
+) -> (Vec<GridPoint>, HashMap<u32, usize>) {
+    let unique = index(bulk.grids.iter().enumerate().map(|(i, g)| entry(g.id, "GRID", &g.loc, i)).collect(), "grid", errors);
+    let mut order: Vec<usize> = unique.into_values().collect();
+    order.sort_by_key(|&i| bulk.grids[i].id);
+    let mut grids = Vec::with_capacity(order.len());
+    for i in order {
+        let g = &bulk.grids[i];
+        let card = format!("GRID {}", g.id);
+        if !g.x.iter().all(|v| v.is_finite()) {
+            errors.push(DeckError::at(&g.loc, "X1-X3 must be finite numbers").on_card(card.clone()));
+        }
+        let xyz = match coords.get(&g.cp) {
+            Some(sys) => sys.point_to_basic(g.x),
+            None => {
+                errors.push(
+                    DeckError::at(&g.loc, format!("CP = {} does not exist or is in error (no usable CORD2R/CORD2C {})", g.cp, g.cp))
+                        .on_card(card.clone()),
+                );
+                g.x
+            }
+        };
+        if !coords.contains_key(&g.cd) {
+            errors.push(
+                DeckError::at(&g.loc, format!("CD = {} does not exist or is in error (no usable CORD2R/CORD2C {})", g.cd, g.cd))
+                    .on_card(card),
+            );
+        }
+        grids.push(GridPoint { id: g.id, xyz, cp: g.cp, cd: g.cd, ps: g.ps, loc: g.loc.clone() });
+    }
+    let grid_index = grids.iter().enumerate().map(|(i, g)| (g.id, i)).collect();
+    (grids, grid_index)
+}
+
+fn index_properties(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32, PropertyRef> {
+    let mut entries = Vec::new();
+    entries.extend(bulk.pshell.iter().enumerate().map(|(i, p)| entry(p.id, "PSHELL", &p.loc, PropertyRef::Pshell(i))));
+    entries.extend(bulk.pcomp.iter().enumerate().map(|(i, p)| entry(p.id, "PCOMP", &p.loc, PropertyRef::Pcomp(i))));
+    entries.extend(bulk.psolid.iter().enumerate().map(|(i, p)| entry(p.id, "PSOLID", &p.loc, PropertyRef::Psolid(i))));
+    entries.extend(bulk.pelas.iter().enumerate().map(|(i, p)| entry(p.id, "PELAS", &p.loc, PropertyRef::Pelas(i))));
+    index(entries, "property", errors)
+}
+
+fn index_materials(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32, MaterialRef> {
+    let mut entries = Vec::new();
+    entries.extend(bulk.mat1.iter().enumerate().map(|(i, m)| entry(m.id, "MAT1", &m.loc, MaterialRef::Mat1(i))));
+    entries.extend(bulk.mat8.iter().enumerate().map(|(i, m)| entry(m.id, "MAT8", &m.loc, MaterialRef::Mat8(i))));
+    index(entries, "material", errors)
+}
+
+/// The element id space (elements, CONM2, CELAS, RBE2, RBE3); returns id → () for the ids.
+fn element_id_space(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32, ()> {
+    let mut e = Vec::new();
+    e.extend(bulk.cquad4.iter().map(|c| entry(c.id, "CQUAD4", &c.loc, ())));
+    e.extend(bulk.ctria3.iter().map(|c| entry(c.id, "CTRIA3", &c.loc, ())));
+    e.extend(bulk.chexa.iter().map(|c| entry(c.id, "CHEXA", &c.loc, ())));
+    e.extend(bulk.cpenta.iter().map(|c| entry(c.id, "CPENTA", &c.loc, ())));
+    e.extend(bulk.ctetra.iter().map(|c| entry(c.id, "CTETRA", &c.loc, ())));
+    e.extend(bulk.celas1.iter().map(|c| entry(c.id, "CELAS1", &c.loc, ())));
+    e.extend(bulk.celas2.iter().map(|c| entry(c.id, "CELAS2", &c.loc, ())));
+    e.extend(bulk.conm2.iter().map(|c| entry(c.id, "CONM2", &c.loc, ())));
+    e.extend(bulk.rbe2.iter().map(|c| entry(c.id, "RBE2", &c.loc, ())));
+    e.extend(bulk.rbe3.iter().map(|c| entry(c.id, "RBE3", &c.loc, ())));
+    e.sort_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));
+    index(e, "element", errors)
+}
+
+/// Geometry warnings grouped by (card, check): one warning per group.
+#[derive(Default)]
+struct Quality {
+    groups: BTreeMap<(&'static str, &'static str), Vec<String>>,
+}
+
+impl Quality {
+    fn add(&mut self, card: &'static str, id: u32, report: &ShapeReport) {
+        for (check, value) in &report.warnings {
+            self.groups.entry((card, check)).or_default().push(format!("{id} ({value})"));
+        }
+    }
+
+    fn into_warnings(self) -> Vec<Warning> {
+        self.groups
+            .into_iter()
+            .map(|((card, check), items)| {
+                let more = items.len().saturating_sub(LISTED_IDS);
+                let mut list = items.iter().take(LISTED_IDS).cloned().collect::<Vec<_>>().join(", ");
+                if more > 0 {
+                    list.push_str(&format!(" and {more} more"));
+                }
+                Warning {
+                    loc: None,
+                    message: format!("{} {card} element(s) fail the {check} check (see model::geometry for the limits): {list}", items.len()),
+                }
+            })
+            .collect()
+    }
+}
+
+/// Resolve the grids of an element; errors name each missing or repeated grid.
+fn resolve_nodes(refs: &Refs, ids: &[u32], names: &[&str], card: &str, loc: &Loc, errors: &mut Vec<DeckError>) -> Option<Vec<usize>> {
+    let mut out = Vec::with_capacity(ids.len());
+    let mut ok = true;
+    for (k, &id) in ids.iter().enumerate() {
+        let name = names.get(k).copied().unwrap_or("G");
+        if let Some(j) = ids[..k].iter().position(|&x| x == id) {
+            let first = names.get(j).copied().unwrap_or("G");
+            errors.push(DeckError::at(loc, format!("{first} and {name} are both grid {id} (repeated grid)")).on_card(card));
+            ok = false;
+            continue;
+        }
+        match refs.grid(id, name, card, loc, errors) {
+            Some(i) => out.push(i),
+            None => ok = false,
+        }
+    }
+    ok.then_some(out)
+}
+
+/// Resolve a property and check its kind.
+fn resolve_property(
+    refs: &Refs,
+    pid: u32,
+    allowed: &[&str],
+    card: &str,
+    loc: &Loc,
+    errors: &mut Vec<DeckError>,
+) -> Option<PropertyRef> {
+    let wanted = allowed.join(" or ");
+    match refs.properties.get(&pid) {
+        None => {
+            errors.push(DeckError::at(loc, format!("PID = {pid} does not exist (no {wanted} {pid})")).on_card(card));
+            None
+        }
+        Some(p) if !allowed.contains(&p.card()) => {
+            errors.push(
+                DeckError::at(loc, format!("PID = {pid} is a {}; a {} needs a {wanted}", p.card(), card.split(' ').next().unwrap_or(card)))
+                    .on_card(card),
+            );
+            None
+        }
+        Some(p) => Some(*p),
+    }
+}
+
+/// (id, pid, grids, kind, position in its card vector, card name, location) of a solid card.
+type SolidCard<'a> = (u32, u32, &'a [u32], ElementKind, usize, &'static str, &'a Loc);
+
+const G: [&str; 10] = ["G1", "G2", "G3", "G4", "G5", "G6", "G7", "G8", "G9", "G10"];
+
+fn build_elements(refs: &Refs, grids: &[GridPoint], errors: &mut Vec<DeckError>, quality: &mut Quality) -> Vec<Element> {
+    let b = refs.bulk;
+    let mut out = Vec::new();
+    let pos = |nodes: &[usize]| -> Vec<[f64; 3]> { nodes.iter().filter_map(|&i| grids.get(i)).map(|g| g.xyz).collect() };
+    let shell = ["PSHELL", "PCOMP"];
+    let solid = ["PSOLID"];
+
+    for (i, c) in b.cquad4.iter().enumerate() {
+        let card = format!("CQUAD4 {}", c.id);
+        let nodes = resolve_nodes(refs, &c.nodes, &G, &card, &c.loc, errors);
+        let prop = resolve_property(refs, c.pid, &shell, &card, &c.loc, errors);
+        if let Some(nodes) = nodes {
+            if let Ok(p) = <[[f64; 3]; 4]>::try_from(pos(&nodes)) {
+                let report = geometry::check_quad(&p, &c.nodes);
+                shape_errors(&report, &card, &c.loc, errors);
+                quality.add("CQUAD4", c.id, &report);
+            }
+            out.push(Element { id: c.id, kind: ElementKind::Quad4, card: i, property: prop, nodes });
+        }
+    }
+    for (i, c) in b.ctria3.iter().enumerate() {
+        let card = format!("CTRIA3 {}", c.id);
+        let nodes = resolve_nodes(refs, &c.nodes, &G, &card, &c.loc, errors);
+        let prop = resolve_property(refs, c.pid, &shell, &card, &c.loc, errors);
+        if let Some(nodes) = nodes {
+            if let Ok(p) = <[[f64; 3]; 3]>::try_from(pos(&nodes)) {
+                let report = geometry::check_tria(&p, &c.nodes);
+                shape_errors(&report, &card, &c.loc, errors);
+                quality.add("CTRIA3", c.id, &report);
+            }
+            out.push(Element { id: c.id, kind: ElementKind::Tria3, card: i, property: prop, nodes });
+        }
+    }
+    let mut solids: Vec<SolidCard> = Vec::new();
+    solids.extend(b.chexa.iter().enumerate().map(|(i, c)| (c.id, c.pid, &c.nodes[..], ElementKind::Hexa8, i, "CHEXA", &c.loc)));
+    solids.extend(b.cpenta.iter().enumerate().map(|(i, c)| (c.id, c.pid, &c.nodes[..], ElementKind::Penta6, i, "CPENTA", &c.loc)));
+    for (i, c) in b.ctetra.iter().enumerate() {
+        let kind = if c.nodes.len() == 10 { ElementKind::Tetra10 } else { ElementKind::Tetra4 };
+        solids.push((c.id, c.pid, &c.nodes[..], kind, i, "CTETRA", &c.loc));
+    }
+    for (id, pid, ids, kind, i, name, loc) in solids {
+        let card = format!("{name} {id}");
+        let nodes = resolve_nodes(refs, ids, &G, &card, loc, errors);
+        let prop = resolve_property(refs, pid, &solid, &card, loc, errors);
+        let Some(nodes) = nodes else { continue };
+        if let Some(shape) = kind.solid_shape() {
+            let p = pos(&nodes);
+            if p.len() == shape.nodes() {
+                let (_, report) = geometry::check_solid(shape, &p, ids);
+                shape_errors(&report, &card, loc, errors);
+                quality.add(name, id, &report);
+            }
+        }
+        out.push(Element { id, kind, card: i, property: prop, nodes });
+    }
+    for (i, c) in b.celas1.iter().enumerate() {
+        let card = format!("CELAS1 {}", c.id);
+        let ids: Vec<u32> = c.ends.iter().filter_map(|e| e.grid).collect();
+        let nodes = resolve_nodes_allow_same(refs, &ids, &card, &c.loc, errors);
+        let prop = resolve_property(refs, c.pid, &["PELAS"], &card, &c.loc, errors);
+        if let Some(nodes) = nodes {
+            out.push(Element { id: c.id, kind: ElementKind::Celas1, card: i, property: prop, nodes });
+        }
+    }
+    for (i, c) in b.celas2.iter().enumerate() {
+        let card = format!("CELAS2 {}", c.id);
+        let ids: Vec<u32> = c.ends.iter().filter_map(|e| e.grid).collect();
+        if let Some(nodes) = resolve_nodes_allow_same(refs, &ids, &card, &c.loc, errors) {
+            out.push(Element { id: c.id, kind: ElementKind::Celas2, card: i, property: None, nodes });
+        }
+    }
+    for (i, c) in b.conm2.iter().enumerate() {
+        let card = format!("CONM2 {}", c.id);
+        let node = refs.grid(c.grid, "G", &card, &c.loc, errors);
+        if let Ok(cid) = u32::try_from(c.cid) {
+            refs.coord(cid, "CID", &card, &c.loc, errors);
+        }
+        if let Some(n) = node {
+            out.push(Element { id: c.id, kind: ElementKind::Conm2, card: i, property: None, nodes: vec![n] });
+        }
+    }
+    out
+}
+
+/// Spring ends may be two components of one grid, so repeats are allowed.
+fn resolve_nodes_allow_same(refs: &Refs, ids: &[u32], card: &str, loc: &Loc, errors: &mut Vec<DeckError>) -> Option<Vec<usize>> {
+    let mut ok = true;
+    let mut out = Vec::new();
+    for (k, &id) in ids.iter().enumerate() {
+        match refs.grid(id, ["G1", "G2"].get(k).copied().unwrap_or("G"), card, loc, errors) {
+            Some(i) => out.push(i),
+            None => ok = false,
+        }
+    }
+    ok.then_some(out)
+}
+
+fn shape_errors(report: &ShapeReport, card: &str, loc: &Loc, errors: &mut Vec<DeckError>) {
+    for e in &report.errors {
+        errors.push(DeckError::at(loc, e.clone()).on_card(card));
+    }
+}
+
+fn build_rigids(refs: &Refs, errors: &mut Vec<DeckError>) -> Vec<Rigid> {
+    let b = refs.bulk;
+    let mut out = Vec::new();
+    for (i, r) in b.rbe2.iter().enumerate() {
+        let card = format!("RBE2 {}", r.id);
+        let hub = refs.grid(r.gn, "GN", &card, &r.loc, errors);
+        let mut legs = Vec::with_capacity(r.gm.len());
+        let mut ok = hub.is_some();
+        for &g in &r.gm {
+            if g == r.gn {
+                errors.push(DeckError::at(&r.loc, format!("GM = {g} is also the independent grid GN")).on_card(card.clone()));
+                ok = false;
+            } else if let Some(j) = refs.grid(g, "GM", &card, &r.loc, errors) {
+                legs.push(j);
+            } else {
+                ok = false;
+            }
+        }
+        if let (true, Some(hub)) = (ok, hub) {
+            out.push(Rigid { id: r.id, kind: RigidKind::Rbe2, card: i, hub, legs });
+        }
+    }
+    for (i, r) in b.rbe3.iter().enumerate() {
+        let card = format!("RBE3 {}", r.id);
+        let hub = refs.grid(r.refgrid, "REFGRID", &card, &r.loc, errors);
+        let mut legs = Vec::new();
+        let mut ok = hub.is_some();
+        for g in r.groups.iter().flat_map(|grp| grp.grids.iter()) {
+            match refs.grid(*g, "Gi,j", &card, &r.loc, errors) {
+                Some(j) => legs.push(j),
+                None => ok = false,
+            }
+        }
+        if let (true, Some(hub)) = (ok, hub) {
+            out.push(Rigid { id: r.id, kind: RigidKind::Rbe3, card: i, hub, legs });
+        }
+    }
+    out
+}

@@ -1,0 +1,115 @@
+//! Case-control checks, per subcase (global defaults applied):
+//!
+//! | selection | must exist |
+//! |---|---|
+//! | SPC | SPC / SPC1 / SPCADD set |
+//! | LOAD | LOAD / FORCE / MOMENT / GRAV set |
+//! | METHOD | EIGRL |
+//! | FREQUENCY | FREQ / FREQ1 / FREQ2 set |
+//! | DLOAD | DLOAD / TLOAD1 / RLOAD1 set |
+//! | TSTEP | TSTEP |
+//! | PROM | PMOR |
+//! | PVAL | PVAL |
+//! | SENSOR = n | case-control SET n, whose ids are SENSOR ids |
+//! | output request = n | case-control SET n |
+//!
+//! Errors point at the statement (`Subcase::loc_of`). Every output request that the solution
+//! sequence does not write ([`HONOURED`], kept in step with `crate::sequence`) gets one warning
+//! "not honoured by SOL x in this version".
+
+use std::collections::HashSet;
+
+use crate::deck::case_control::{Subcase, Target};
+use crate::deck::{Deck, DeckError, Loc, Warning};
+
+use super::build::Refs;
+use crate::deck::Solution;
+
+/// Output requests each solution sequence writes (see `crate::sequence`): STATICS writes
+/// displacements always, SPC forces and strains on request; MODAL writes mode shapes on request.
+pub const HONOURED: &[(Solution, &[&str])] = &[
+    (Solution::Statics, &["DISPLACEMENT", "SPCFORCES", "STRAIN"]),
+    (Solution::Modal, &["DISPLACEMENT"]),
+];
+
+fn honoured(deck: &Deck, request: &str) -> bool {
+    let Some((sol, _)) = &deck.executive.sol else { return false };
+    HONOURED.iter().any(|(s, names)| s == sol && names.contains(&request))
+}
+
+/// Run the checks for every subcase.
+pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warning>) {
+    let b = refs.bulk;
+    let set_of = |ids: Vec<u32>| -> HashSet<u32> { ids.into_iter().collect() };
+    let spc = set_of(b.spc.iter().map(|s| s.sid).chain(b.spc1.iter().map(|s| s.sid)).chain(b.spcadd.iter().map(|s| s.sid)).collect());
+    let load = set_of(b.load.iter().map(|s| s.sid).chain(b.forces.iter().map(|s| s.sid)).chain(b.grav.iter().map(|s| s.sid)).collect());
+    let method = set_of(b.eigrl.iter().map(|s| s.sid).collect());
+    let freq = set_of(b.freq.iter().map(|s| s.sid).collect());
+    let dload = set_of(b.dload.iter().map(|s| s.sid).chain(b.tload1.iter().map(|s| s.sid)).chain(b.rload1.iter().map(|s| s.sid)).collect());
+    let tstep = set_of(b.tstep.iter().map(|s| s.sid).collect());
+    let prom = set_of(b.pmor.iter().map(|s| s.id).collect());
+    let pval = set_of(b.pval.iter().map(|s| s.id).collect());
+    let sensors = set_of(b.sensors.iter().map(|s| s.id).collect());
+
+    let fallback = deck.executive.sol_loc.clone().unwrap_or_else(|| Loc { file: std::sync::Arc::from(deck.path.as_path()), line: 1 });
+    let mut reported: HashSet<(String, Loc)> = HashSet::new();
+    let sol = deck.executive.sol.as_ref().map(|(_, text)| text.clone()).unwrap_or_else(|| "(none)".into());
+    let mut warned: HashSet<Loc> = HashSet::new();
+
+    for sub in deck.case.subcases() {
+        let loc = |name: &str| sub.loc_of(name).cloned().unwrap_or_else(|| fallback.clone());
+        let mut need = |name: &str, id: Option<u32>, have: &HashSet<u32>, cards: &str| {
+            if let Some(id) = id
+                && !have.contains(&id)
+            {
+                let at = loc(name);
+                if reported.insert((format!("{name} {id}"), at.clone())) {
+                    errors.push(DeckError::at(&at, format!("{name} = {id} selects no {cards} set {id}{}", subcase_text(&sub))).on_card(name.to_string()));
+                }
+            }
+        };
+        need("SPC", sub.spc, &spc, "SPC/SPC1/SPCADD");
+        need("LOAD", sub.load, &load, "LOAD/FORCE/MOMENT/GRAV");
+        need("METHOD", sub.method, &method, "EIGRL");
+        need("FREQUENCY", sub.frequency, &freq, "FREQ/FREQ1/FREQ2");
+        need("DLOAD", sub.dload, &dload, "DLOAD/TLOAD1/RLOAD1");
+        need("TSTEP", sub.tstep, &tstep, "TSTEP");
+        need("PROM", sub.prom, &prom, "PMOR");
+        need("PVAL", sub.pval, &pval, "PVAL");
+        if let Some(Target::Set(id)) = sub.sensor {
+            let at = loc("SENSOR");
+            match deck.case.set(id) {
+                None => {
+                    if reported.insert((format!("SENSOR {id}"), at.clone())) {
+                        errors.push(DeckError::at(&at, format!("SENSOR = {id}: no case-control SET {id}")).on_card("SENSOR"));
+                    }
+                }
+                Some(set) => {
+                    for s in set.ids.iter().filter(|s| !sensors.contains(s)) {
+                        if reported.insert((format!("SENSOR {id} {s}"), set.loc.clone())) {
+                            errors.push(DeckError::at(&set.loc, format!("SET {id} lists {s}, but there is no SENSOR {s} (required by SENSOR = {id})")).on_card(format!("SET {id}")));
+                        }
+                    }
+                }
+            }
+        }
+        for out in &sub.outputs {
+            if let Target::Set(id) = out.target
+                && deck.case.set(id).is_none()
+                && reported.insert((format!("{} {id}", out.name), out.loc.clone()))
+            {
+                errors.push(DeckError::at(&out.loc, format!("{} = {id}: no case-control SET {id}", out.name)).on_card(out.name.to_string()));
+            }
+            if !honoured(deck, out.name) && warned.insert(out.loc.clone()) {
+                warnings.push(Warning {
+                    loc: Some(out.loc.to_string()),
+                    message: format!("output request {} is not honoured by SOL {sol} in this version", out.name),
+                });
+            }
+        }
+    }
+}
+
+fn subcase_text(sub: &Subcase) -> String {
+    format!(" (subcase {})", sub.id)
+}

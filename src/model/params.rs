@@ -1,0 +1,143 @@
+//! The `PARAM`s paraflex uses, in one table ([`KNOWN_PARAMS`]), and their values.
+//!
+//! Bulk `PARAM` cards and case-control `PARAM` statements are both read; a case-control value
+//! overrides a bulk value (they apply to every subcase, as paraflex does not scope PARAMs).
+//! A bad value of a known PARAM is an error; unknown names are accepted and listed in ONE
+//! warning ("accepted and ignored: …"). Integer values are accepted for real PARAMs.
+
+use crate::deck::cards::{Param, ParamValue};
+use crate::deck::{CaseControl, DeckError, Loc, Warning};
+
+/// Type of a PARAM value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParamType {
+    /// `YES` / `NO`.
+    YesNo,
+    /// Integer.
+    Int,
+    /// Real (an integer is accepted).
+    Real,
+}
+
+/// One known PARAM: name, type, the rule its value must satisfy, and what it does.
+pub struct KnownParam {
+    pub name: &'static str,
+    pub kind: ParamType,
+    /// The rule, as shown in error messages.
+    pub rule: &'static str,
+    /// Check of a numeric value (ignored for YES/NO).
+    pub ok: fn(f64) -> bool,
+    /// Meaning and default.
+    pub doc: &'static str,
+}
+
+/// The PARAMs paraflex reads.
+pub const KNOWN_PARAMS: &[KnownParam] = &[
+    KnownParam { name: "AUTOSPC", kind: ParamType::YesNo, rule: "YES or NO", ok: |_| true, doc: "constrain singular DOFs automatically; default YES" },
+    KnownParam { name: "WTMASS", kind: ParamType::Real, rule: "a real > 0", ok: |v| v > 0.0, doc: "mass scale (mass matrix = WTMASS × input mass); default 1.0" },
+    KnownParam { name: "COUPMASS", kind: ParamType::Int, rule: "-1 (lumped) or 1 (coupled)", ok: |v| v == -1.0 || v == 1.0, doc: "mass formulation; default -1 (lumped), as Nastran" },
+    KnownParam { name: "K6ROT", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "shell drilling stiffness factor; default 100.0 (MSC Nastran)" },
+    KnownParam { name: "GRDPNT", kind: ParamType::Int, rule: "an integer >= -1", ok: |v| v >= -1.0, doc: "grid-point weight generator reference grid; -1 (default) = off, 0 = basic origin" },
+    KnownParam { name: "ALPHA1", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "Rayleigh damping α (C = αM + βK); default 0" },
+    KnownParam { name: "BETA1", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "Rayleigh damping β; default 0" },
+    KnownParam { name: "G", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "overall structural damping coefficient; default 0" },
+];
+
+/// Values of the known PARAMs (defaults as in [`KNOWN_PARAMS`]).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ModelParams {
+    pub autospc: bool,
+    pub wtmass: f64,
+    /// −1 lumped, 1 coupled.
+    pub coupmass: i64,
+    pub k6rot: f64,
+    pub grdpnt: i64,
+    pub alpha1: f64,
+    pub beta1: f64,
+    pub g: f64,
+}
+
+impl Default for ModelParams {
+    fn default() -> Self {
+        ModelParams { autospc: true, wtmass: 1.0, coupmass: -1, k6rot: 100.0, grdpnt: -1, alpha1: 0.0, beta1: 0.0, g: 0.0 }
+    }
+}
+
+/// A PARAM value reduced to what the table needs.
+enum Value {
+    Num(f64, bool),
+    Text(String),
+}
+
+fn from_card(v: &ParamValue) -> Value {
+    match v {
+        ParamValue::Int(i) => Value::Num(*i as f64, true),
+        ParamValue::Real(r) => Value::Num(*r, false),
+        ParamValue::Complex(r, _) => Value::Num(*r, false),
+        ParamValue::Text(t) => Value::Text(t.to_ascii_uppercase()),
+    }
+}
+
+fn from_text(t: &str) -> Value {
+    let t = t.trim();
+    if let Ok(i) = t.parse::<i64>() {
+        return Value::Num(i as f64, true);
+    }
+    match t.replace(['D', 'd'], "E").parse::<f64>() {
+        Ok(r) => Value::Num(r, false),
+        Err(_) => Value::Text(t.to_ascii_uppercase()),
+    }
+}
+
+/// Read every PARAM: validate the known ones, warn once about the rest.
+pub fn read(bulk_params: &[Param], case: &CaseControl, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warning>) -> ModelParams {
+    let mut out = ModelParams::default();
+    let mut unknown: Vec<String> = Vec::new();
+    let items = bulk_params
+        .iter()
+        .map(|p| (p.name.to_ascii_uppercase(), from_card(&p.value), &p.loc))
+        .chain(case.params.iter().map(|(n, v, loc)| (n.to_ascii_uppercase(), from_text(v), loc)));
+    for (name, value, loc) in items {
+        match KNOWN_PARAMS.iter().find(|k| k.name == name) {
+            None => {
+                if !unknown.contains(&name) {
+                    unknown.push(name);
+                }
+            }
+            Some(known) => apply(known, value, loc, &mut out, errors),
+        }
+    }
+    if !unknown.is_empty() {
+        warnings.push(Warning { loc: None, message: format!("PARAMs accepted and ignored: {}", unknown.join(", ")) });
+    }
+    out
+}
+
+fn apply(known: &KnownParam, value: Value, loc: &Loc, out: &mut ModelParams, errors: &mut Vec<DeckError>) {
+    let fail = |errors: &mut Vec<DeckError>, found: String| {
+        errors.push(DeckError::at(loc, format!("{} must be {}, found {found}", known.name, known.rule)).on_card(format!("PARAM {}", known.name)));
+    };
+    match (known.kind, value) {
+        (ParamType::YesNo, Value::Text(t)) if t == "YES" || t == "NO" => {
+            if known.name == "AUTOSPC" {
+                out.autospc = t == "YES";
+            }
+        }
+        (ParamType::YesNo, Value::Text(t)) => fail(errors, t),
+        (ParamType::YesNo, Value::Num(v, _)) => fail(errors, v.to_string()),
+        (ParamType::Int, Value::Num(v, true)) | (ParamType::Real, Value::Num(v, _)) if v.is_finite() && (known.ok)(v) => {
+            match known.name {
+                "WTMASS" => out.wtmass = v,
+                "COUPMASS" => out.coupmass = v as i64,
+                "K6ROT" => out.k6rot = v,
+                "GRDPNT" => out.grdpnt = v as i64,
+                "ALPHA1" => out.alpha1 = v,
+                "BETA1" => out.beta1 = v,
+                "G" => out.g = v,
+                _ => {}
+            }
+        }
+        (_, Value::Num(v, _)) => fail(errors, v.to_string()),
+        (_, Value::Text(t)) => fail(errors, format!("'{t}'")),
+    }
+}

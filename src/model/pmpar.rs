@@ -1,0 +1,101 @@
+//! `PMPAR` checks: unique ids and names, REFID by KIND, bounds and nominal value.
+//!
+//! | KIND | REFID | nominal value |
+//! |---|---|---|
+//! | E, RHO, NU | MAT1 | E, RHO, NU of the MAT1 |
+//! | THETA | PCOMP | the common magnitude Θ of the ply angles, which must all be +Θ or −Θ |
+//! | TPLY | PCOMP | the common ply thickness, which all plies must share |
+//! | K | PELAS | K |
+//! | MASS | CONM2 (element id) | M |
+//!
+//! Errors: LOW > HIGH, nominal outside [LOW, HIGH], non-finite bounds, a THETA laminate whose
+//! angles are not ±Θ of one Θ, a TPLY laminate with unequal ply thicknesses.
+
+use crate::deck::cards::{Pmpar, PmparKind};
+use crate::deck::DeckError;
+
+use super::build::Refs;
+use super::ids::{entry, index};
+
+/// Relative tolerance for "equal" ply angle magnitudes and thicknesses.
+pub const EQUAL_REL: f64 = 1e-9;
+
+/// Run the checks.
+pub fn check(refs: &Refs, errors: &mut Vec<DeckError>) {
+    let b = refs.bulk;
+    index(b.pmpar.iter().map(|p| entry(p.id, "PMPAR", &p.loc, ())).collect(), "PMPAR", errors);
+    index(b.pmpar.iter().map(|p| entry(p.name.to_ascii_uppercase(), "PMPAR", &p.loc, ())).collect(), "PMPAR name", errors);
+    for p in &b.pmpar {
+        let card = format!("PMPAR {}", p.id);
+        let err = |m: String| DeckError::at(&p.loc, m).on_card(card.clone());
+        if !p.low.is_finite() || !p.high.is_finite() {
+            errors.push(err("LOW and HIGH must be finite".into()));
+            continue;
+        }
+        if p.low > p.high {
+            errors.push(err(format!("LOW = {} > HIGH = {}", p.low, p.high)));
+        }
+        match nominal(refs, p) {
+            Err(message) => errors.push(err(message)),
+            Ok(value) if value < p.low || value > p.high => errors.push(err(format!(
+                "nominal {} = {value} (from {} {}) lies outside [LOW, HIGH] = [{}, {}]",
+                p.kind.name(),
+                p.kind.target_card(),
+                p.refid,
+                p.low,
+                p.high
+            ))),
+            Ok(_) => {}
+        }
+    }
+}
+
+/// The nominal value of a parameter: the referenced card's value.
+pub fn nominal(refs: &Refs, p: &Pmpar) -> Result<f64, String> {
+    let b = refs.bulk;
+    let missing = || format!("REFID = {} does not exist (no {} {}) for KIND = {}", p.refid, p.kind.target_card(), p.refid, p.kind.name());
+    match p.kind {
+        PmparKind::E | PmparKind::Rho | PmparKind::Nu => {
+            let m = b.mat1.iter().find(|m| m.id == p.refid).ok_or_else(missing)?;
+            Ok(match p.kind {
+                PmparKind::E => m.e,
+                PmparKind::Rho => m.rho,
+                _ => m.nu,
+            })
+        }
+        PmparKind::Theta => {
+            let c = b.pcomp.iter().find(|c| c.id == p.refid).ok_or_else(missing)?;
+            let first = c.plies.first().map(|ply| ply.theta.abs()).ok_or_else(|| "the PCOMP has no ply".to_string())?;
+            for (k, ply) in c.plies.iter().enumerate() {
+                if (ply.theta.abs() - first).abs() > EQUAL_REL * first.max(1.0) {
+                    return Err(format!(
+                        "KIND = THETA needs every ply angle of PCOMP {} to be +Θ or −Θ of one Θ; ply 1 has {} and ply {} has {}",
+                        c.id,
+                        c.plies[0].theta,
+                        k + 1,
+                        ply.theta
+                    ));
+                }
+            }
+            Ok(first)
+        }
+        PmparKind::Tply => {
+            let c = b.pcomp.iter().find(|c| c.id == p.refid).ok_or_else(missing)?;
+            let first = c.plies.first().map(|ply| ply.t).ok_or_else(|| "the PCOMP has no ply".to_string())?;
+            for (k, ply) in c.plies.iter().enumerate() {
+                if (ply.t - first).abs() > EQUAL_REL * first.abs() {
+                    return Err(format!(
+                        "KIND = TPLY needs equal ply thicknesses in PCOMP {}; ply 1 has {} and ply {} has {}",
+                        c.id,
+                        first,
+                        k + 1,
+                        ply.t
+                    ));
+                }
+            }
+            Ok(first)
+        }
+        PmparKind::K => b.pelas.iter().find(|e| e.id == p.refid).map(|e| e.k).ok_or_else(missing),
+        PmparKind::Mass => b.conm2.iter().find(|c| c.id == p.refid).map(|c| c.mass).ok_or_else(missing),
+    }
+}

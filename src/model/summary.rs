@@ -1,0 +1,137 @@
+//! [`CheckSummary`] (what `paraflex check` prints as JSON) and [`MeshArrays`] for output.
+
+use std::collections::BTreeMap;
+
+use super::mesh::{ElementBlock, MeshArrays};
+use super::{ElementKind, Model, RigidKind};
+
+/// Counts and mass properties of a model, serialized as
+/// `{"grids", "elements": {card: n}, "rigid": {"RBE2", "RBE3"}, "dofs", "mass", "cg",
+/// "inertia_cg", "warnings", "sol", "subcases", "materials", "properties", "coords", "wtmass"}`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct CheckSummary {
+    pub grids: usize,
+    /// Every element card by name (CELAS1, CELAS2 and CONM2 included; a 10-node CTETRA counts
+    /// as CTETRA).
+    pub elements: BTreeMap<&'static str, usize>,
+    /// RBE2 and RBE3 counts (both keys always present).
+    pub rigid: BTreeMap<&'static str, usize>,
+    /// 6 × grids.
+    pub dofs: usize,
+    pub mass: f64,
+    pub cg: [f64; 3],
+    pub inertia_cg: [[f64; 3]; 3],
+    /// Every warning, rendered.
+    pub warnings: Vec<String>,
+    /// The solution sequence (`MODAL`, …) or null.
+    pub sol: Option<&'static str>,
+    /// Subcase ids.
+    pub subcases: Vec<u32>,
+    /// Material cards by name.
+    pub materials: BTreeMap<&'static str, usize>,
+    /// Property cards by name.
+    pub properties: BTreeMap<&'static str, usize>,
+    /// Number of coordinate systems (basic excluded).
+    pub coords: usize,
+    /// PARAM,WTMASS applied to mass and inertia.
+    pub wtmass: f64,
+}
+
+impl Model {
+    /// The check summary.
+    pub fn summary(&self) -> CheckSummary {
+        let mut elements = BTreeMap::new();
+        for e in &self.elements {
+            *elements.entry(e.kind.card()).or_insert(0) += 1;
+        }
+        let mut rigid = BTreeMap::from([("RBE2", 0), ("RBE3", 0)]);
+        for r in &self.rigids {
+            let name = match r.kind {
+                RigidKind::Rbe2 => "RBE2",
+                RigidKind::Rbe3 => "RBE3",
+            };
+            *rigid.entry(name).or_insert(0) += 1;
+        }
+        let b = &self.bulk;
+        let nonzero = |pairs: &[(&'static str, usize)]| pairs.iter().copied().filter(|(_, n)| *n > 0).collect::<BTreeMap<_, _>>();
+        let mp = self.mass_properties();
+        CheckSummary {
+            grids: self.grids.len(),
+            elements,
+            rigid,
+            dofs: 6 * self.grids.len(),
+            mass: mp.mass,
+            cg: mp.cg,
+            inertia_cg: mp.inertia_cg,
+            warnings: self.warnings.iter().map(|w| w.to_string()).collect(),
+            sol: self.sol.map(|s| s.name()),
+            subcases: self.subcases.iter().map(|s| s.id).collect(),
+            materials: nonzero(&[("MAT1", b.mat1.len()), ("MAT8", b.mat8.len())]),
+            properties: nonzero(&[("PSHELL", b.pshell.len()), ("PCOMP", b.pcomp.len()), ("PSOLID", b.psolid.len()), ("PELAS", b.pelas.len())]),
+            coords: self.coords.len().saturating_sub(1),
+            wtmass: mp.wtmass,
+        }
+    }
+
+    /// Grids and connectivity as flat arrays (see [`MeshArrays`]). Blocks are in the order
+    /// CQUAD4, CTRIA3, CHEXA, CPENTA, CTETRA, CTETRA10, CELAS1, CELAS2, CONM2, RBE2, RBE3.
+    pub fn mesh_arrays(&self) -> MeshArrays {
+        let mut blocks: BTreeMap<ElementKind, ElementBlock> = BTreeMap::new();
+        for e in &self.elements {
+            let per = match e.kind {
+                ElementKind::Celas1 | ElementKind::Celas2 => 2,
+                _ => e.nodes.len(),
+            };
+            let block = blocks.entry(e.kind).or_insert_with(|| ElementBlock {
+                card: e.kind.block_name(),
+                ids: Vec::new(),
+                pids: Vec::new(),
+                nodes_per_element: per,
+                connectivity: Vec::new(),
+            });
+            block.ids.push(e.id);
+            block.pids.push(self.pid_of(e));
+            let mut conn: Vec<u32> = e.nodes.iter().map(|&n| n as u32).collect();
+            while conn.len() < per {
+                // a grounded spring end repeats the spring's grid
+                conn.push(conn.first().copied().unwrap_or(0));
+            }
+            block.connectivity.extend(conn);
+        }
+        let mut out: Vec<ElementBlock> = blocks.into_values().collect();
+        for kind in [RigidKind::Rbe2, RigidKind::Rbe3] {
+            let mut block = ElementBlock {
+                card: if kind == RigidKind::Rbe2 { "RBE2" } else { "RBE3" },
+                ids: Vec::new(),
+                pids: Vec::new(),
+                nodes_per_element: 2,
+                connectivity: Vec::new(),
+            };
+            for r in self.rigids.iter().filter(|r| r.kind == kind) {
+                for &leg in &r.legs {
+                    block.ids.push(r.id);
+                    block.pids.push(0);
+                    block.connectivity.extend([r.hub as u32, leg as u32]);
+                }
+            }
+            if !block.ids.is_empty() {
+                out.push(block);
+            }
+        }
+        MeshArrays { grid_ids: self.grids.iter().map(|g| g.id).collect(), xyz: self.grids.iter().map(|g| g.xyz).collect(), blocks: out }
+    }
+
+    fn pid_of(&self, e: &super::Element) -> u32 {
+        let b = &self.bulk;
+        match e.kind {
+            ElementKind::Quad4 => b.cquad4.get(e.card).map(|c| c.pid),
+            ElementKind::Tria3 => b.ctria3.get(e.card).map(|c| c.pid),
+            ElementKind::Hexa8 => b.chexa.get(e.card).map(|c| c.pid),
+            ElementKind::Penta6 => b.cpenta.get(e.card).map(|c| c.pid),
+            ElementKind::Tetra4 | ElementKind::Tetra10 => b.ctetra.get(e.card).map(|c| c.pid),
+            ElementKind::Celas1 => b.celas1.get(e.card).map(|c| c.pid),
+            ElementKind::Celas2 | ElementKind::Conm2 => None,
+        }
+        .unwrap_or(0)
+    }
+}

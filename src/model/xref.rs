@@ -1,0 +1,285 @@
+//! Cross-references between bulk cards (grids and properties of elements are resolved in
+//! [`build`](super::build)):
+//!
+//! | card | field | must exist |
+//! |---|---|---|
+//! | PSHELL | MID1 MID2 MID3 | MAT1 or MAT8 |
+//! | PCOMP | MIDi | MAT8 or MAT1 |
+//! | PSOLID | MID | MAT1 (a MAT8 is an error: it is a plane-stress shell material) |
+//! | SPC, SPC1, ASET1, DAREA, FORCE/MOMENT | grids | GRID |
+//! | FORCE/MOMENT, GRAV | CID | coordinate system |
+//! | SPCADD | Si | SPC/SPC1 set |
+//! | LOAD | Li | FORCE/MOMENT/GRAV set |
+//! | TLOAD1, RLOAD1 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/GRAV/LOAD) |
+//! | TLOAD1 TID, RLOAD1 TC/TD (≠ 0) | table | TABLED1 or TABLEF |
+//! | DLOAD | Li | TLOAD1/RLOAD1 set |
+//! | DESVAR | DDVAL | DDVAL |
+//! | SENSOR | REF | GRID (DISP/VEL/ACCEL) or element (STRAIN); SURF only on shells |
+//! | PVAL | NAMEi | PMPAR name |
+//! | PMOR | BSET | at least one ASET1 card |
+//! | TINTEG | ID | TSTEP |
+//!
+//! Problems of a property are reported on the property, with "required by" naming the elements
+//! that use it.
+
+use std::collections::{HashMap, HashSet};
+
+use crate::deck::cards::SensorKind;
+use crate::deck::{Deck, DeckError, Loc};
+
+use super::build::Refs;
+use super::ids::{entry, index};
+use super::MaterialRef;
+
+/// Run every check of the table above.
+pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
+    let b = refs.bulk;
+    let users = property_users(refs);
+    let required_by = |pid: u32| -> String {
+        match users.get(&pid) {
+            Some(list) if !list.is_empty() => format!(" (required by {})", list.join(", ")),
+            _ => String::new(),
+        }
+    };
+
+    // property → material
+    for p in &b.pshell {
+        let card = format!("PSHELL {}", p.id);
+        if p.mid1.is_none() && p.mid2.is_none() {
+            errors.push(DeckError::at(&p.loc, format!("neither MID1 nor MID2 is given: the shell has no stiffness and no mass{}", required_by(p.id))).on_card(&card));
+        }
+        for (name, mid) in [("MID1", p.mid1), ("MID2", p.mid2), ("MID3", p.mid3)] {
+            if let Some(mid) = mid {
+                material(refs, mid, name, &["MAT1", "MAT8"], &card, &p.loc, &required_by(p.id), errors);
+            }
+        }
+    }
+    for p in &b.pcomp {
+        let card = format!("PCOMP {}", p.id);
+        let mut seen = HashSet::new();
+        for (k, ply) in p.plies.iter().enumerate() {
+            if seen.insert(ply.mid) {
+                material(refs, ply.mid, &format!("MID{}", k + 1), &["MAT8", "MAT1"], &card, &p.loc, &required_by(p.id), errors);
+            }
+        }
+    }
+    for p in &b.psolid {
+        let card = format!("PSOLID {}", p.id);
+        material(refs, p.mid, "MID", &["MAT1"], &card, &p.loc, &required_by(p.id), errors);
+    }
+
+    // grids and systems of constraints and loads
+    for s in &b.spc {
+        refs.grid(s.grid, "G", &format!("SPC {}", s.sid), &s.loc, errors);
+    }
+    for s in &b.spc1 {
+        for g in &s.grids {
+            refs.grid(*g, "G", &format!("SPC1 {}", s.sid), &s.loc, errors);
+        }
+    }
+    for a in &b.aset1 {
+        for g in &a.grids {
+            refs.grid(*g, "G", "ASET1", &a.loc, errors);
+        }
+    }
+    for d in &b.darea {
+        refs.grid(d.grid, "P", &format!("DAREA {}", d.sid), &d.loc, errors);
+    }
+    for f in &b.forces {
+        let card = format!("{} {}", force_name(f), f.sid);
+        refs.grid(f.grid, "G", &card, &f.loc, errors);
+        refs.coord(f.cid, "CID", &card, &f.loc, errors);
+    }
+    for g in &b.grav {
+        refs.coord(g.cid, "CID", &format!("GRAV {}", g.sid), &g.loc, errors);
+    }
+
+    // sets
+    let spc_sets: HashSet<u32> = b.spc.iter().map(|s| s.sid).chain(b.spc1.iter().map(|s| s.sid)).collect();
+    for s in &b.spcadd {
+        for id in &s.sets {
+            if !spc_sets.contains(id) {
+                errors.push(DeckError::at(&s.loc, format!("S = {id} does not exist (no SPC or SPC1 set {id})")).on_card(format!("SPCADD {}", s.sid)));
+            }
+        }
+    }
+    let static_sets: HashSet<u32> = b.forces.iter().map(|f| f.sid).chain(b.grav.iter().map(|g| g.sid)).collect();
+    for l in &b.load {
+        for (_, id) in &l.terms {
+            if !static_sets.contains(id) {
+                errors.push(DeckError::at(&l.loc, format!("L = {id} does not exist (no FORCE, MOMENT or GRAV set {id})")).on_card(format!("LOAD {}", l.sid)));
+            }
+        }
+    }
+    let excite: HashSet<u32> =
+        b.darea.iter().map(|d| d.sid).chain(static_sets.iter().copied()).chain(b.load.iter().map(|l| l.sid)).collect();
+    let tables = index(
+        b.tabled1.iter().map(|t| entry(t.id, "TABLED1", &t.loc, ())).chain(b.tablef.iter().map(|t| entry(t.id, "TABLEF", &t.loc, ()))).collect(),
+        "table",
+        errors,
+    );
+    let table = |id: u32, field: &str, card: &str, loc: &Loc, errors: &mut Vec<DeckError>| {
+        if !tables.contains_key(&id) {
+            errors.push(DeckError::at(loc, format!("{field} = {id} does not exist (no TABLED1 or TABLEF {id})")).on_card(card));
+        }
+    };
+    for t in &b.tload1 {
+        let card = format!("TLOAD1 {}", t.sid);
+        if !excite.contains(&t.excite_id) {
+            errors.push(DeckError::at(&t.loc, format!("EXCITEID = {} does not exist (no DAREA or static load set {})", t.excite_id, t.excite_id)).on_card(&card));
+        }
+        table(t.tid, "TID", &card, &t.loc, errors);
+    }
+    for r in &b.rload1 {
+        let card = format!("RLOAD1 {}", r.sid);
+        if !excite.contains(&r.excite_id) {
+            errors.push(DeckError::at(&r.loc, format!("EXCITEID = {} does not exist (no DAREA or static load set {})", r.excite_id, r.excite_id)).on_card(&card));
+        }
+        for (name, id) in [("TC", r.tc), ("TD", r.td)] {
+            if id != 0 {
+                table(id, name, &card, &r.loc, errors);
+            }
+        }
+        if r.tc == 0 && r.td == 0 {
+            errors.push(DeckError::at(&r.loc, "TC and TD are both 0: the load is zero at every frequency").on_card(&card));
+        }
+    }
+    let dynamic: HashSet<u32> = b.tload1.iter().map(|t| t.sid).chain(b.rload1.iter().map(|r| r.sid)).collect();
+    for d in &b.dload {
+        for (_, id) in &d.terms {
+            if !dynamic.contains(id) {
+                errors.push(DeckError::at(&d.loc, format!("L = {id} does not exist (no TLOAD1 or RLOAD1 set {id})")).on_card(format!("DLOAD {}", d.sid)));
+            }
+        }
+    }
+
+    // single-id spaces
+    index(b.eigrl.iter().map(|c| entry(c.sid, "EIGRL", &c.loc, ())).collect(), "EIGRL", errors);
+    let tsteps = index(b.tstep.iter().map(|c| entry(c.sid, "TSTEP", &c.loc, ())).collect(), "TSTEP", errors);
+    index(b.tinteg.iter().map(|c| entry(c.id, "TINTEG", &c.loc, ())).collect(), "TINTEG", errors);
+    index(b.desvar.iter().map(|c| entry(c.id, "DESVAR", &c.loc, ())).collect(), "DESVAR", errors);
+    let ddvals = index(b.ddval.iter().map(|c| entry(c.id, "DDVAL", &c.loc, ())).collect(), "DDVAL", errors);
+    index(b.pmor.iter().map(|c| entry(c.id, "PMOR", &c.loc, ())).collect(), "PMOR", errors);
+    index(b.pval.iter().map(|c| entry(c.id, "PVAL", &c.loc, ())).collect(), "PVAL", errors);
+    index(b.sensors.iter().map(|c| entry(c.id, "SENSOR", &c.loc, ())).collect(), "SENSOR", errors);
+    index(b.sensors.iter().map(|c| entry(c.name.to_ascii_uppercase(), "SENSOR", &c.loc, ())).collect(), "SENSOR name", errors);
+
+    for t in &b.tinteg {
+        if !tsteps.contains_key(&t.id) {
+            errors.push(DeckError::at(&t.loc, format!("ID = {} does not exist (no TSTEP {})", t.id, t.id)).on_card(format!("TINTEG {}", t.id)));
+        }
+    }
+    for d in &b.desvar {
+        if let Some(id) = d.ddval
+            && !ddvals.contains_key(&id)
+        {
+            errors.push(DeckError::at(&d.loc, format!("DDVAL = {id} does not exist (no DDVAL {id})")).on_card(format!("DESVAR {}", d.id)));
+        }
+    }
+    for p in &b.pmor {
+        if p.bset.is_some() && b.aset1.is_empty() {
+            errors.push(DeckError::at(&p.loc, "BSET is given but the deck has no ASET1 card (the a-set is empty)").on_card(format!("PMOR {}", p.id)));
+        }
+    }
+    let names: HashSet<String> = b.pmpar.iter().map(|p| p.name.to_ascii_uppercase()).collect();
+    for p in &b.pval {
+        for (name, _) in &p.values {
+            if !names.contains(&name.to_ascii_uppercase()) {
+                errors.push(DeckError::at(&p.loc, format!("NAME = {name} does not exist (no PMPAR named {name})")).on_card(format!("PVAL {}", p.id)));
+            }
+        }
+    }
+    sensors(refs, errors);
+    let _ = deck;
+}
+
+fn force_name(f: &crate::deck::cards::Force) -> &'static str {
+    match f.kind {
+        crate::deck::cards::ForceKind::Force => "FORCE",
+        crate::deck::cards::ForceKind::Moment => "MOMENT",
+    }
+}
+
+/// SENSOR REF by kind, and SURF only on shells.
+fn sensors(refs: &Refs, errors: &mut Vec<DeckError>) {
+    let b = refs.bulk;
+    let mut element_kind: HashMap<u32, &'static str> = HashMap::new();
+    for (name, ids) in [
+        ("CQUAD4", b.cquad4.iter().map(|c| c.id).collect::<Vec<_>>()),
+        ("CTRIA3", b.ctria3.iter().map(|c| c.id).collect()),
+        ("CHEXA", b.chexa.iter().map(|c| c.id).collect()),
+        ("CPENTA", b.cpenta.iter().map(|c| c.id).collect()),
+        ("CTETRA", b.ctetra.iter().map(|c| c.id).collect()),
+        ("CELAS1", b.celas1.iter().map(|c| c.id).collect()),
+        ("CELAS2", b.celas2.iter().map(|c| c.id).collect()),
+        ("CONM2", b.conm2.iter().map(|c| c.id).collect()),
+    ] {
+        for id in ids {
+            element_kind.entry(id).or_insert(name);
+        }
+    }
+    for s in &b.sensors {
+        let card = format!("SENSOR {}", s.id);
+        match s.kind {
+            SensorKind::Disp | SensorKind::Vel | SensorKind::Accel => {
+                refs.grid(s.reference, "REF", &card, &s.loc, errors);
+                if let Some(surf) = s.surface {
+                    errors.push(DeckError::at(&s.loc, format!("SURF = {surf} is only meaningful for STRAIN sensors on shells; leave blank")).on_card(&card));
+                }
+            }
+            SensorKind::Strain => match element_kind.get(&s.reference).copied() {
+                None => errors.push(DeckError::at(&s.loc, format!("REF = {} does not exist (no element {})", s.reference, s.reference)).on_card(&card)),
+                Some("CQUAD4" | "CTRIA3") => {}
+                Some(kind @ ("CHEXA" | "CPENTA" | "CTETRA")) => {
+                    if let Some(surf) = s.surface {
+                        errors.push(DeckError::at(&s.loc, format!("SURF = {surf} is only for shells; REF = {} is a {kind}", s.reference)).on_card(&card));
+                    }
+                }
+                Some(kind) => errors.push(
+                    DeckError::at(&s.loc, format!("REF = {} is a {kind}; STRAIN sensors need a shell or solid element", s.reference)).on_card(&card),
+                ),
+            },
+        }
+        if !s.direction.iter().all(|v| v.is_finite()) || s.direction.iter().all(|v| *v == 0.0) {
+            errors.push(DeckError::at(&s.loc, "direction X Y Z must be finite and not zero").on_card(&card));
+        }
+    }
+}
+
+/// Check a material reference of a property.
+#[allow(clippy::too_many_arguments)]
+fn material(refs: &Refs, mid: u32, field: &str, allowed: &[&str], card: &str, loc: &Loc, required_by: &str, errors: &mut Vec<DeckError>) {
+    let wanted = allowed.join(" or ");
+    match refs.materials.get(&mid) {
+        None => errors.push(DeckError::at(loc, format!("{field} = {mid} does not exist (no {wanted} {mid}){required_by}")).on_card(card)),
+        Some(m) if !allowed.contains(&m.card()) => {
+            let why = match m {
+                MaterialRef::Mat8(_) => ": MAT8 is a plane-stress (shell) material",
+                MaterialRef::Mat1(_) => "",
+            };
+            errors.push(DeckError::at(loc, format!("{field} = {mid} is a {}; {} needs a {wanted}{why}{required_by}", m.card(), card.split(' ').next().unwrap_or(card))).on_card(card));
+        }
+        Some(_) => {}
+    }
+}
+
+/// Property id → up to three users ("CQUAD4 101") and a count of the rest.
+fn property_users(refs: &Refs) -> HashMap<u32, Vec<String>> {
+    let b = refs.bulk;
+    let mut users: HashMap<u32, Vec<String>> = HashMap::new();
+    let mut push = |pid: u32, name: &str, id: u32| {
+        let list = users.entry(pid).or_default();
+        if list.len() < 3 {
+            list.push(format!("{name} {id}"));
+        } else if list.len() == 3 {
+            list.push("…".into());
+        }
+    };
+    b.cquad4.iter().for_each(|c| push(c.pid, "CQUAD4", c.id));
+    b.ctria3.iter().for_each(|c| push(c.pid, "CTRIA3", c.id));
+    b.chexa.iter().for_each(|c| push(c.pid, "CHEXA", c.id));
+    b.cpenta.iter().for_each(|c| push(c.pid, "CPENTA", c.id));
+    b.ctetra.iter().for_each(|c| push(c.pid, "CTETRA", c.id));
+    b.celas1.iter().for_each(|c| push(c.pid, "CELAS1", c.id));
+    users
+}

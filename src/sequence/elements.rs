@@ -1,0 +1,393 @@
+//! Model → element [`Contribution`]s of K and M: which `fe` kernel each card/property/material
+//! combination calls, and with what data.
+//!
+//! | element | property / material | kernel |
+//! |---|---|---|
+//! | CQUAD4, CTRIA3 | PSHELL + MAT1 | [`ShellSection::isotropic`]: MID1 membrane, MID2 bending with 12I/T³, MID3 transverse shear with TS/T; MID2 blank = membrane only, MID3 blank = Kirchhoff penalty (see [`crate::fe::laminate`]) |
+//! | CQUAD4, CTRIA3 | PSHELL + MAT8 | [`ShellSection::orthotropic`], one ply of thickness T (MID2 = MID1 and 12I/T³ = 1 required; MID3 blank = Kirchhoff penalty, else G1Z/G2Z of the MAT8 with factor 5/6) |
+//! | CQUAD4, CTRIA3 | PCOMP (plies MAT8 or MAT1) | [`ShellSection::laminate`] of [`Pcomp::full_stack`], bottom at Z0 + ZOFFS, NSM |
+//! | CHEXA, CPENTA, CTETRA | PSOLID + MAT1 | [`solid`] (translations, expanded to 6 DOFs per grid) |
+//! | CELAS1 / CELAS2 | PELAS k / k on the card | [`ScalarSpring`], components in the grid's CD frame (as in Nastran) |
+//! | CONM2 | — | [`Conm2`] with the CG offset and inertia tensor from [`Model::element_mass`] |
+//!
+//! Shell details:
+//! - material x axis: THETA rotates the projected G1→G2 direction by θ about the element normal
+//!   (n = (x₃−x₁)×(x₄−x₂) for quads, (x₂−x₁)×(x₃−x₁) for triangles); MCID takes the x axis of that
+//!   system at the element centroid, projected on the element plane by the kernel;
+//! - ZOFFS moves the reference plane: PSHELL mid-surface at ZOFFS, PCOMP bottom at Z0 + ZOFFS;
+//! - corner thicknesses (T1…T4, TFLAG): the element uses the **mean** corner thickness for
+//!   stiffness and mass (exact for the mass of a parallelogram with bilinear thickness, an
+//!   approximation of the stiffness of a tapered element); refused for PCOMP, whose thickness is
+//!   the ply stack;
+//! - PSHELL with a MID2 or MID3 different from MID1 is refused (one material per section).
+//!
+//! Mass: `PARAM,COUPMASS` = 1 gives consistent shell and solid masses, anything else (default
+//! −1) lumped, as in Nastran; `PARAM,WTMASS` multiplies every mass matrix, CONM2 included.
+//!
+//! Affine parts: every kernel is called through its affine entry point and each coefficient
+//! is bound by [`bind`] — today always [`Binding::Fixed`] at the nominal value, so the operators
+//! have only the constant part. PMPAR bindings replace [`bind`] and the section split (one
+//! place, [`shell_parts`]) without touching the rest.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use rayon::prelude::*;
+
+use super::RunError;
+use crate::assembly::assemble::Binding;
+use crate::assembly::{Contribution, DofMap, GridFrames};
+use crate::deck::cards::{CornerThickness, Pcomp, ShellOrientation, SpringEnd};
+use crate::fe::affine::{AffineMatrix, Coefficient, CoefficientValues};
+use crate::fe::laminate::{IsotropicShell, Laminate, Ply, ShellSection};
+use crate::fe::lumped::{Conm2, GridComponent, ScalarSpring};
+use crate::fe::{shell, solid};
+use crate::linalg::Progress;
+use crate::model::{Element, ElementKind, MaterialRef, Model, PropertyRef};
+
+/// Element matrices of a model, ready for assembly, plus what strain recovery needs.
+#[derive(Debug, Clone, Default)]
+pub struct ElementMatrices {
+    /// Stiffness contributions (global frames).
+    pub stiffness: Vec<Contribution>,
+    /// Mass contributions (global frames, WTMASS applied).
+    pub mass: Vec<Contribution>,
+    /// Recovery data of each shell, by index into `model.elements`.
+    pub shells: Vec<(usize, ShellRecovery)>,
+}
+
+/// What a shell's strain recovery needs besides geometry and displacements.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShellRecovery {
+    /// Material x direction (basic), `None` = G1→G2.
+    pub material_x: Option<[f64; 3]>,
+    /// (z_top, z_bottom) of the reported fibres, from the grid plane.
+    pub fibres: (f64, f64),
+}
+
+/// What one element contributes.
+#[derive(Default)]
+struct Built {
+    k: Option<Contribution>,
+    m: Option<Contribution>,
+    shell: Option<ShellRecovery>,
+}
+
+/// Element matrices of every element of `model` (in parallel when `parallel`).
+pub fn element_matrices(model: &Model, frames: &GridFrames, parallel: bool, progress: &dyn Progress) -> Result<ElementMatrices, RunError> {
+    let total = model.elements.len();
+    let done = AtomicUsize::new(0);
+    let step = (total / 100).max(1);
+    let one = |e: &Element| {
+        let r = element(model, frames, e);
+        let d = done.fetch_add(1, Ordering::Relaxed) + 1;
+        if d % step == 0 || d == total {
+            progress.step("element matrices", d, total);
+        }
+        r
+    };
+    let built: Vec<Built> = if parallel {
+        model.elements.par_iter().map(one).collect::<Result<_, _>>()?
+    } else {
+        model.elements.iter().map(one).collect::<Result<_, _>>()?
+    };
+    let mut out = ElementMatrices::default();
+    for (i, b) in built.into_iter().enumerate() {
+        out.stiffness.extend(b.k);
+        out.mass.extend(b.m);
+        if let Some(s) = b.shell {
+            out.shells.push((i, s));
+        }
+    }
+    Ok(out)
+}
+
+/// The binding of every element coefficient: frozen at the nominal value (no PMPAR binding
+/// yet). `nominal` holds the element's material / lumped values.
+pub fn bind(nominal: CoefficientValues) -> impl Fn(Coefficient) -> Binding {
+    move |c| Binding::Fixed(c.value(&nominal))
+}
+
+fn err(e: &Element, reason: impl ToString) -> RunError {
+    RunError::Element { card: e.kind.card(), id: e.id, reason: reason.to_string() }
+}
+
+fn element(model: &Model, frames: &GridFrames, e: &Element) -> Result<Built, RunError> {
+    let lumped = model.params.coupmass != 1;
+    let wtmass = model.params.wtmass;
+    let xyz = model.positions(e);
+    let mut built = match e.kind {
+        ElementKind::Quad4 | ElementKind::Tria3 => shell_element(model, frames, e, &xyz, lumped)?,
+        ElementKind::Hexa8 | ElementKind::Penta6 | ElementKind::Tetra4 | ElementKind::Tetra10 => solid_element(model, frames, e, &xyz, lumped)?,
+        ElementKind::Celas1 | ElementKind::Celas2 => spring_element(model, e)?,
+        ElementKind::Conm2 => conm2_element(model, frames, e)?,
+    };
+    if let Some(m) = built.m.as_mut() {
+        if wtmass != 1.0 {
+            for (_, part) in m.parts.iter_mut() {
+                *part = &*part * faer::Scale(wtmass);
+            }
+        }
+    }
+    Ok(built)
+}
+
+/// The shell fields shared by CQUAD4 and CTRIA3.
+struct ShellCard {
+    pid: u32,
+    orientation: ShellOrientation,
+    zoffs: f64,
+    corners: Option<CornerThickness>,
+}
+
+fn shell_card(model: &Model, e: &Element) -> Option<ShellCard> {
+    let b = &model.bulk;
+    match e.kind {
+        ElementKind::Quad4 => b.cquad4.get(e.card).map(|c| ShellCard { pid: c.pid, orientation: c.orientation, zoffs: c.zoffs, corners: c.corner_thickness }),
+        ElementKind::Tria3 => b.ctria3.get(e.card).map(|c| ShellCard { pid: c.pid, orientation: c.orientation, zoffs: c.zoffs, corners: c.corner_thickness }),
+        _ => None,
+    }
+}
+
+/// Mean corner thickness (module doc), or `t` without corner thicknesses.
+fn mean_thickness(t: f64, corners: Option<&CornerThickness>, n: usize) -> f64 {
+    match corners {
+        None => t,
+        Some(c) => {
+            let each = c.t.iter().take(n).map(|ti| match (ti, c.relative) {
+                (Some(r), true) => r * t,
+                (Some(v), false) => *v,
+                (None, _) => t,
+            });
+            each.sum::<f64>() / n as f64
+        }
+    }
+}
+
+fn ply_of_material(model: &Model, mid: u32, t: f64, theta_deg: f64, with_shear: bool) -> Option<Ply> {
+    Some(match *model.materials.get(&mid)? {
+        MaterialRef::Mat8(i) => {
+            let m = model.bulk.mat8.get(i)?;
+            let (g1z, g2z) = if with_shear { (m.g1z, m.g2z) } else { (None, None) };
+            Ply { e1: m.e1, e2: m.e2, nu12: m.nu12, g12: m.g12, g1z, g2z, rho: m.rho, t, theta_deg }
+        }
+        MaterialRef::Mat1(i) => {
+            let m = model.bulk.mat1.get(i)?;
+            let g = if with_shear { Some(m.g) } else { None };
+            Ply { e1: m.e, e2: m.e, nu12: m.nu, g12: m.g, g1z: g, g2z: g, rho: m.rho, t, theta_deg }
+        }
+    })
+}
+
+/// The section of a shell and the fibres its strains are reported at.
+fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<(ShellSection, (f64, f64)), RunError> {
+    let n = e.nodes.len();
+    let zoffs = card.zoffs;
+    let section = |r: Result<ShellSection, crate::fe::laminate::SectionError>| r.map_err(|x| err(e, x));
+    match e.property {
+        Some(PropertyRef::Pshell(i)) => {
+            let p = model.bulk.pshell.get(i).ok_or_else(|| err(e, format!("PSHELL {} missing", card.pid)))?;
+            let mid1 = p.mid1.ok_or_else(|| err(e, format!("PSHELL {}: a section without membrane material MID1 is not supported", p.id)))?;
+            for (name, mid) in [("MID2", p.mid2), ("MID3", p.mid3)] {
+                if let Some(m) = mid.filter(|m| *m != mid1) {
+                    return Err(err(e, format!("PSHELL {}: {name} = {m} differs from MID1 = {mid1}; sections with different membrane, bending and shear materials are not supported", p.id)));
+                }
+            }
+            let t = mean_thickness(p.t, card.corners.as_ref(), n);
+            let scale = t / p.t;
+            let fibres = (zoffs + p.z2 * scale, zoffs + p.z1 * scale);
+            match model.materials.get(&mid1) {
+                Some(MaterialRef::Mat1(mi)) => {
+                    let m = &model.bulk.mat1[*mi];
+                    let data = IsotropicShell {
+                        e: m.e,
+                        nu: m.nu,
+                        rho: m.rho,
+                        t,
+                        bending_ratio: p.mid2.map(|_| p.bending_ratio),
+                        shear_ratio: p.mid3.map(|_| p.ts_t),
+                        nsm: p.nsm,
+                        zoffs,
+                    };
+                    Ok((section(ShellSection::isotropic(&data))?, fibres))
+                }
+                Some(MaterialRef::Mat8(_)) => {
+                    if p.mid2.is_none() || p.bending_ratio != 1.0 {
+                        return Err(err(e, format!("PSHELL {} with MAT8 {mid1}: needs MID2 = MID1 and 12I/T³ = 1 (membrane-only or scaled-bending orthotropic sections are not supported)", p.id)));
+                    }
+                    let ply = ply_of_material(model, mid1, t, 0.0, p.mid3.is_some()).ok_or_else(|| err(e, format!("material {mid1} missing")))?;
+                    Ok((section(ShellSection::orthotropic(&ply, zoffs, p.nsm))?, fibres))
+                }
+                None => Err(err(e, format!("PSHELL {}: material {mid1} missing", p.id))),
+            }
+        }
+        Some(PropertyRef::Pcomp(i)) => {
+            let p: &Pcomp = model.bulk.pcomp.get(i).ok_or_else(|| err(e, format!("PCOMP {} missing", card.pid)))?;
+            if card.corners.is_some() {
+                return Err(err(e, format!("corner thicknesses with PCOMP {} are not supported (the thickness is the ply stack); remove T1–T4", p.id)));
+            }
+            let plies = p
+                .full_stack()
+                .iter()
+                .map(|ply| ply_of_material(model, ply.mid, ply.t, ply.theta, true).ok_or_else(|| err(e, format!("PCOMP {}: material {} missing", p.id, ply.mid))))
+                .collect::<Result<Vec<_>, _>>()?;
+            let bottom = p.z0_resolved() + zoffs;
+            let lam = Laminate { plies, z0: Some(bottom), nsm: p.nsm, symmetric: false };
+            Ok((section(ShellSection::laminate(&lam))?, (bottom + p.thickness(), bottom)))
+        }
+        other => Err(err(e, format!("property {} is not a shell property", other.map_or("(none)", |p| p.card())))),
+    }
+}
+
+/// The affine section parts of a shell: the whole section as the constant part. A PMPAR
+/// binding would split it here with [`crate::fe::laminate::affine_sections`].
+pub fn shell_parts(section: ShellSection) -> Vec<(Coefficient, ShellSection)> {
+    vec![(Coefficient::Constant, section)]
+}
+
+fn normalize(v: [f64; 3]) -> Option<[f64; 3]> {
+    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    (n > 0.0).then(|| v.map(|x| x / n))
+}
+
+/// Material x axis of a shell (module doc); `None` = the kernel's default G1→G2.
+fn material_axis(model: &Model, e: &Element, xyz: &[[f64; 3]], orientation: ShellOrientation) -> Result<Option<[f64; 3]>, RunError> {
+    use crate::model::vec3::{cross, dot, sub};
+    match orientation {
+        ShellOrientation::Theta(t) if t == 0.0 => Ok(None),
+        ShellOrientation::Theta(theta) => {
+            let n = if xyz.len() == 4 { cross(sub(xyz[2], xyz[0]), sub(xyz[3], xyz[1])) } else { cross(sub(xyz[1], xyz[0]), sub(xyz[2], xyz[0])) };
+            let n = normalize(n).ok_or_else(|| err(e, "zero area"))?;
+            let g12 = sub(xyz[1], xyz[0]);
+            let d = dot(g12, n);
+            let x = normalize([g12[0] - d * n[0], g12[1] - d * n[1], g12[2] - d * n[2]]).ok_or_else(|| err(e, "G1→G2 is normal to the element"))?;
+            let y = cross(n, x);
+            let (s, c) = theta.to_radians().sin_cos();
+            Ok(Some(std::array::from_fn(|i| c * x[i] + s * y[i])))
+        }
+        ShellOrientation::Mcid(cid) => {
+            let cs = model.coords.get(&cid).ok_or_else(|| err(e, format!("MCID = {cid} does not exist")))?;
+            let k = xyz.len() as f64;
+            let centroid: [f64; 3] = std::array::from_fn(|i| xyz.iter().map(|p| p[i]).sum::<f64>() / k);
+            let axes = cs.axes_at(centroid);
+            Ok(Some([axes[0][0], axes[1][0], axes[2][0]]))
+        }
+    }
+}
+
+fn shell_element(model: &Model, frames: &GridFrames, e: &Element, xyz: &[[f64; 3]], lumped: bool) -> Result<Built, RunError> {
+    let card = shell_card(model, e).ok_or_else(|| err(e, "card missing"))?;
+    let (section, fibres) = shell_section(model, e, &card)?;
+    let material_x = material_axis(model, e, xyz, card.orientation)?;
+    let parts = shell_parts(section);
+    let k = shell::affine_stiffness(xyz, &parts, material_x).map_err(|x| err(e, x))?;
+    let m = shell::affine_mass(xyz, &parts, lumped).map_err(|x| err(e, x))?;
+    let nominal = CoefficientValues::default();
+    Ok(Built {
+        k: nonempty(&k).then(|| Contribution::from_affine(frames, &e.nodes, &k, bind(nominal))),
+        m: nonempty(&m).then(|| Contribution::from_affine(frames, &e.nodes, &m, bind(nominal))),
+        shell: Some(ShellRecovery { material_x, fibres }),
+    })
+}
+
+fn nonempty(a: &AffineMatrix) -> bool {
+    !a.parts.is_empty()
+}
+
+fn solid_kind(kind: ElementKind) -> Option<solid::SolidKind> {
+    Some(match kind {
+        ElementKind::Hexa8 => solid::SolidKind::Hexa8,
+        ElementKind::Penta6 => solid::SolidKind::Penta6,
+        ElementKind::Tetra4 => solid::SolidKind::Tetra4,
+        ElementKind::Tetra10 => solid::SolidKind::Tetra10,
+        _ => return None,
+    })
+}
+
+/// The solid kernel's topology of a solid element.
+pub fn solid_kind_of(kind: ElementKind) -> Option<solid::SolidKind> {
+    solid_kind(kind)
+}
+
+fn solid_element(model: &Model, frames: &GridFrames, e: &Element, xyz: &[[f64; 3]], lumped: bool) -> Result<Built, RunError> {
+    let kind = solid_kind(e.kind).ok_or_else(|| err(e, "not a solid"))?;
+    let Some(PropertyRef::Psolid(i)) = e.property else {
+        return Err(err(e, "a solid needs a PSOLID"));
+    };
+    let p = &model.bulk.psolid[i];
+    let m = match model.materials.get(&p.mid) {
+        Some(MaterialRef::Mat1(mi)) => &model.bulk.mat1[*mi],
+        Some(MaterialRef::Mat8(_)) => return Err(err(e, format!("PSOLID {}: MAT8 {} is a shell material; solids need MAT1", p.id, p.mid))),
+        None => return Err(err(e, format!("PSOLID {}: material {} missing", p.id, p.mid))),
+    };
+    let iso = solid::Isotropic { e: m.e, nu: m.nu };
+    let k = solid::affine_stiffness(kind, xyz, solid::StiffnessParametrization::Fixed(iso)).map_err(|x| err(e, x))?;
+    let lumping = if lumped { solid::MassLumping::Lumped } else { solid::MassLumping::Consistent };
+    let mass = solid::affine_mass(kind, xyz, lumping, solid::MassParametrization::Fixed { rho: m.rho }).map_err(|x| err(e, x))?;
+    let nominal = CoefficientValues { e: m.e, nu: m.nu, rho: m.rho, ..Default::default() };
+    let k6 = solid::expand_affine_to_six_dofs(&k);
+    let m6 = solid::expand_affine_to_six_dofs(&mass);
+    Ok(Built {
+        k: Some(Contribution::from_affine(frames, &e.nodes, &k6, bind(nominal))),
+        m: (m.rho != 0.0).then(|| Contribution::from_affine(frames, &e.nodes, &m6, bind(nominal))),
+        shell: None,
+    })
+}
+
+/// A contribution whose rows are g DOFs given directly (no frame rotation).
+fn on_dofs(dofs: Vec<usize>, matrix: &AffineMatrix, nominal: CoefficientValues) -> Contribution {
+    let mut c = Contribution::from_affine(&GridFrames::default(), &[], matrix, bind(nominal));
+    c.dofs = dofs;
+    c
+}
+
+fn spring_end(model: &Model, e: &Element, end: SpringEnd) -> Result<Option<GridComponent>, RunError> {
+    match end.grid {
+        Some(g) if end.component > 0 => {
+            let grid = *model.grid_index.get(&g).ok_or_else(|| err(e, format!("grid {g} missing")))?;
+            Ok(Some(GridComponent { grid, component: usize::from(end.component) - 1 }))
+        }
+        _ => Ok(None),
+    }
+}
+
+fn spring_element(model: &Model, e: &Element) -> Result<Built, RunError> {
+    let (k, ends) = match e.kind {
+        ElementKind::Celas1 => {
+            let c = &model.bulk.celas1[e.card];
+            let Some(PropertyRef::Pelas(i)) = e.property else {
+                return Err(err(e, format!("PID {} is not a PELAS", c.pid)));
+            };
+            (model.bulk.pelas[i].k, c.ends)
+        }
+        _ => {
+            let c = &model.bulk.celas2[e.card];
+            (c.k, c.ends)
+        }
+    };
+    let spring = ScalarSpring::new(spring_end(model, e, ends[0])?, spring_end(model, e, ends[1])?).map_err(|x| err(e, x))?;
+    let dofs = spring.dofs.iter().map(|d| DofMap::dof(d.grid, d.component)).collect();
+    let nominal = CoefficientValues { lumped: k, ..Default::default() };
+    Ok(Built { k: Some(on_dofs(dofs, &spring.affine_stiffness(), nominal)), m: None, shell: None })
+}
+
+fn conm2_element(model: &Model, frames: &GridFrames, e: &Element) -> Result<Built, RunError> {
+    // The CG location and the inertia tensor (basic, negative products) come from the model's
+    // mass-property code, so the CONM2 CID / sign conventions live in one place (model::mass).
+    let point = model.element_mass(e).ok_or_else(|| err(e, "cannot resolve the CONM2 location (grid or CID missing)"))?;
+    let node = *e.nodes.first().ok_or_else(|| err(e, "no grid"))?;
+    let grid = model.grids[node].xyz;
+    let offset = std::array::from_fn(|i| point.point[i] - grid[i]);
+    let conm2 = Conm2::new(point.mass, offset, point.inertia.unwrap_or([[0.0; 3]; 3])).map_err(|x| err(e, x))?;
+    let matrix = if point.mass != 0.0 {
+        conm2.affine_mass().map_err(|x| err(e, x))?
+    } else {
+        AffineMatrix { parts: vec![(Coefficient::Constant, conm2.mass_matrix())] }
+    };
+    let nominal = CoefficientValues { lumped: point.mass, ..Default::default() };
+    Ok(Built { k: None, m: Some(Contribution::from_affine(frames, &[node], &matrix, bind(nominal))), shell: None })
+}
+
+/// Element displacements (basic, 6 per grid, grid-major) from basic n×6 rows.
+pub fn element_displacements(rows: &[f64], nodes: &[usize]) -> Vec<f64> {
+    nodes.iter().flat_map(|&a| rows[6 * a..6 * a + 6].iter().copied()).collect()
+}

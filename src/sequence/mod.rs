@@ -1,0 +1,367 @@
+//! Solution sequences (DESIGN.md §1–§2): the only place that turns case control into calls.
+//!
+//! One driver per sequence, selected by [`Sequence`] from the deck's `SOL` statement, each
+//! taking a [`RunContext`] (deck, model, output file, progress sink, options):
+//!
+//! | `SOL` | driver | per subcase |
+//! |---|---|---|
+//! | `101`, `STATICS` | [`statics::run`] | `SPC`, `LOAD` → u, SPC forces, centroid strains |
+//! | `103`, `MODAL` | [`modal::run`] | `SPC`, `METHOD` (EIGRL) → frequencies, generalized masses, residuals, shapes |
+//!
+//! Both drivers share the structure setup of [`Structure::build`]: element matrices
+//! ([`elements`]), one grid-block pattern for K and M, rigid elimination g → n with one plan,
+//! and per SPC set the f-set with AUTOSPC. Everything the user must see (AUTOSPC lists, Sturm
+//! check, timings) is returned in a [`RunSummary`]; the library never prints, long steps report
+//! through [`Progress`].
+//!
+//! Output (HDF5, DESIGN.md §8; full layout in the README "Output file" section):
+//!
+//! ```text
+//! /results/<subcase>/modal/{frequency_hz (m), generalized_mass (m), residual (m), eigenvalue (m),
+//!                           shapes (m×n×6, only with DISPLACEMENT)}
+//!     attrs: sturm_shift, sturm_count, sturm_found, sturm_consistent, shift, norm, autospc
+//! /results/<subcase>/statics/{displacement (n×6), spc_force (n×6, only with SPCFORCES),
+//!                             strain/<CARD>/... (only with STRAIN)}
+//! ```
+//!
+//! Vectors are written in the basic system (rotated back from the grids' CD frames).
+
+pub mod elements;
+pub mod modal;
+pub mod statics;
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use faer::Par;
+use nalgebra_sparse::CscMatrix;
+
+use crate::assembly::error::DofName;
+use crate::assembly::reduce::{GToN, Partition};
+use crate::assembly::spc::{AutoSpcReport, SpcSet, autospc};
+use crate::assembly::{AffineOperator, AssemblyError, DofMap, GridFrames, ParamKey, RigidElimination, Sets};
+use crate::deck::case_control::{OutputRequest, Subcase, Target};
+use crate::deck::{Deck, Solution};
+use crate::io::{IoError, OutputFile};
+use crate::linalg::{LinalgError, Progress, SturmCheck};
+use crate::model::Model;
+
+/// The solution sequences paraflex can run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sequence {
+    /// SOL 101: linear statics.
+    Statics,
+    /// SOL 103: normal modes.
+    Modal,
+}
+
+impl Sequence {
+    /// The driver for a `SOL`, or `None` when that solution is not available yet.
+    pub fn of_solution(sol: Solution) -> Option<Self> {
+        match sol {
+            Solution::Statics => Some(Sequence::Statics),
+            Solution::Modal => Some(Sequence::Modal),
+            _ => None,
+        }
+    }
+
+    /// Name as in DESIGN.md (`STATICS`, `MODAL`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Sequence::Statics => "STATICS",
+            Sequence::Modal => "MODAL",
+        }
+    }
+}
+
+/// Options of a run that are not in the deck.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RunOptions {
+    /// Use rayon / faer parallelism (element matrices, assembly, factorization).
+    pub parallel: bool,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        RunOptions { parallel: true }
+    }
+}
+
+impl RunOptions {
+    fn par(&self) -> Par {
+        if self.parallel { Par::rayon(0) } else { Par::Seq }
+    }
+}
+
+/// Everything a driver needs.
+pub struct RunContext<'a> {
+    pub deck: &'a Deck,
+    pub model: &'a Model,
+    /// The output file (already holding `/model`); drivers add `/results`.
+    pub output: &'a OutputFile,
+    pub progress: &'a dyn Progress,
+    pub options: RunOptions,
+}
+
+/// Result of a run, for the console.
+#[derive(Debug, Clone)]
+pub struct RunSummary {
+    pub sequence: Sequence,
+    pub subcases: Vec<SubcaseSummary>,
+    /// Wall-clock time of each step, in order.
+    pub timings: Vec<(String, Duration)>,
+    /// Things the user should know (AUTOSPC lists, inconsistent Sturm checks, …).
+    pub warnings: Vec<String>,
+}
+
+/// One subcase's outcome.
+#[derive(Debug, Clone)]
+pub struct SubcaseSummary {
+    pub id: u32,
+    /// DOFs AUTOSPC constrained (empty when none or AUTOSPC is off).
+    pub autospc: Vec<DofName>,
+    pub result: SubcaseResult,
+}
+
+/// Per-sequence outcome of a subcase.
+#[derive(Debug, Clone)]
+pub enum SubcaseResult {
+    Modal(modal::ModalSummary),
+    Statics(statics::StaticsSummary),
+}
+
+/// Errors of a run. Each says where (element, GRID and component, subcase) and what to do.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The deck's SOL has no driver yet.
+    #[error("SOL {0} is not available in this version of paraflex")]
+    NotAvailable(String),
+    /// The deck has no SOL statement.
+    #[error("the deck has no SOL statement; nothing to run")]
+    NoSolution,
+    /// An element whose property or material combination is not supported, or whose
+    /// geometry the element kernel rejects.
+    #[error("{card} {id}: {reason}")]
+    Element { card: &'static str, id: u32, reason: String },
+    /// K_ff is singular: a mechanism or a missing constraint.
+    #[error(
+        "subcase {subcase}: the stiffness matrix is singular at {dof} ({detail}); the structure is a mechanism or is not constrained there — add an SPC (or GRID PS) for this DOF, or let PARAM,AUTOSPC,YES remove DOFs without stiffness"
+    )]
+    Mechanism { subcase: u32, dof: DofName, detail: String },
+    /// A subcase lacks a selection the sequence needs.
+    #[error("subcase {subcase}: {what}")]
+    Case { subcase: u32, what: String },
+    #[error(transparent)]
+    Assembly(#[from] AssemblyError),
+    #[error("subcase {subcase}: {source}")]
+    Linalg { subcase: u32, source: LinalgError },
+    #[error(transparent)]
+    Io(#[from] IoError),
+}
+
+/// Runs the deck's solution sequence (see the module documentation).
+pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
+    let (sol, text) = ctx.deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
+    let sequence = Sequence::of_solution(*sol).ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
+    let mut clock = Clock::default();
+    let structure = Structure::build(ctx, &mut clock)?;
+    let subcases = match sequence {
+        Sequence::Statics => statics::run(ctx, &structure, &mut clock)?,
+        Sequence::Modal => modal::run(ctx, &structure, &mut clock)?,
+    };
+    let mut warnings = Vec::new();
+    for s in &subcases {
+        if !s.autospc.is_empty() {
+            let list: Vec<String> = s.autospc.iter().map(|d| format!("{}/{}", d.grid, d.component)).collect();
+            warnings.push(format!("subcase {}: AUTOSPC constrained {} DOF(s) without stiffness (GRID/component): {}", s.id, list.len(), list.join(" ")));
+        }
+        if let SubcaseResult::Modal(m) = &s.result {
+            let bad: Vec<String> = m.residuals.iter().enumerate().filter(|(_, r)| !(**r <= RESIDUAL_WARNING)).map(|(k, r)| format!("{} ({r:.1e})", k + 1)).collect();
+            if !bad.is_empty() {
+                warnings.push(format!(
+                    "subcase {}: mode(s) {} have residual ‖Kφ − λMφ‖/‖Kφ‖ above {RESIDUAL_WARNING:e}: not trustworthy (more modes requested than the mass matrix has finite ones?)",
+                    s.id,
+                    bad.join(", ")
+                ));
+            }
+            if !m.sturm.is_consistent() {
+                warnings.push(format!(
+                    "subcase {}: Sturm check found {} eigenvalue(s) below {:.6e} Hz that Lanczos did not return",
+                    s.id,
+                    m.sturm.missing(),
+                    lambda_to_hz(m.sturm.shift)
+                ));
+            }
+        }
+    }
+    Ok(RunSummary { sequence, subcases, timings: clock.steps, warnings })
+}
+
+/// Modes with a larger residual are flagged in the run's warnings.
+pub const RESIDUAL_WARNING: f64 = 1e-6;
+
+/// f = √max(λ, 0)/2π.
+pub fn lambda_to_hz(lambda: f64) -> f64 {
+    lambda.max(0.0).sqrt() / (2.0 * std::f64::consts::PI)
+}
+
+/// Step timings.
+#[derive(Debug, Default)]
+pub struct Clock {
+    steps: Vec<(String, Duration)>,
+}
+
+impl Clock {
+    /// Runs `f` and records its duration under `name`.
+    pub fn time<T>(&mut self, name: impl Into<String>, f: impl FnOnce() -> T) -> T {
+        let start = Instant::now();
+        let out = f();
+        self.steps.push((name.into(), start.elapsed()));
+        out
+    }
+}
+
+/// The assembled structure shared by every subcase: K and M on one g pattern, reduced to n.
+pub struct Structure {
+    pub map: DofMap,
+    pub frames: GridFrames,
+    pub rigid: RigidElimination,
+    /// K_nn and M_nn as affine operators on one shared pattern.
+    pub k_nn: AffineOperator,
+    pub m_nn: AffineOperator,
+    /// K_gg and M_gg (GRAV loads need M_gg).
+    pub k_gg: AffineOperator,
+    pub m_gg: AffineOperator,
+    /// Element data needed for output recovery (strains).
+    pub elements: elements::ElementMatrices,
+}
+
+impl Structure {
+    /// Element matrices, assembly on one pattern, rigid elimination.
+    pub fn build(ctx: &RunContext, clock: &mut Clock) -> Result<Self, RunError> {
+        let model = ctx.model;
+        let map = DofMap::of_model(model);
+        let frames = GridFrames::of_model(model);
+        let elements = clock.time("element matrices", || elements::element_matrices(model, &frames, ctx.options.parallel, ctx.progress))?;
+        let (k_gg, m_gg) = clock.time("assembly", || -> Result<_, RunError> {
+            ctx.progress.step("assembly", 0, 2);
+            let lists = elements.stiffness.iter().chain(&elements.mass).map(|c| c.dofs.as_slice());
+            let pattern = Arc::new(crate::assembly::pattern::grid_block_pattern(map.grids(), lists)?);
+            let k = AffineOperator::assemble(pattern.clone(), &elements.stiffness, ctx.options.parallel)?;
+            ctx.progress.step("assembly", 1, 2);
+            let m = AffineOperator::assemble(pattern, &elements.mass, ctx.options.parallel)?;
+            ctx.progress.step("assembly", 2, 2);
+            Ok((k, m))
+        })?;
+        let (rigid, k_nn, m_nn) = clock.time("rigid elimination g → n", || -> Result<_, RunError> {
+            let rigid = RigidElimination::of_model(model, &frames, &map)?;
+            let plan = GToN::new(k_gg.pattern().clone(), &rigid.t)?;
+            Ok((rigid.clone(), plan.apply(&k_gg)?, plan.apply(&m_gg)?))
+        })?;
+        Ok(Structure { map, frames, rigid, k_nn, m_nn, k_gg, m_gg, elements })
+    }
+
+    /// Weights of the affine parts at the nominal parameters (PMPAR bindings are all frozen
+    /// at their nominal values for now, so only the constant part exists).
+    pub fn nominal_weights(op: &AffineOperator) -> Vec<f64> {
+        op.weights(|k| if k == ParamKey::Constant { 1.0 } else { 0.0 })
+    }
+
+    /// u_g (global frames) → n × 6 rows in basic.
+    pub fn to_basic_rows(&self, u_g: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; u_g.len()];
+        for grid in 0..self.map.grids() {
+            let b = 6 * grid;
+            let t = self.frames.to_basic(grid, [u_g[b], u_g[b + 1], u_g[b + 2]]);
+            let r = self.frames.to_basic(grid, [u_g[b + 3], u_g[b + 4], u_g[b + 5]]);
+            out[b..b + 3].copy_from_slice(&t);
+            out[b + 3..b + 6].copy_from_slice(&r);
+        }
+        out
+    }
+}
+
+/// The constrained system of one SPC set: sets, AUTOSPC, K_ff / M_ff on one pattern.
+pub struct Constrained {
+    pub spc: SpcSet,
+    pub sets: Sets,
+    pub autospc: AutoSpcReport,
+    /// K_nn at the nominal parameters (values on `k_nn`'s pattern).
+    pub k_nn_values: Vec<f64>,
+    pub k_ff: CscMatrix<f64>,
+    pub m_ff: CscMatrix<f64>,
+    /// K_fs for enforced displacements.
+    pub k_fs: AffineOperator,
+}
+
+impl Constrained {
+    /// The s-set of `SPC = sid` (plus GRID PS and AUTOSPC when enabled) and the f-set matrices.
+    pub fn build(model: &Model, st: &Structure, sid: Option<u32>) -> Result<Self, RunError> {
+        let mut spc = SpcSet::of_model(model, &st.map, sid)?;
+        spc.check_against_rigids(&st.rigid, &st.map)?;
+        let mut k_nn_values = vec![0.0; st.k_nn.pattern().nnz()];
+        st.k_nn.evaluate_into(&Structure::nominal_weights(&st.k_nn), &mut k_nn_values)?;
+        let autospc = if model.params.autospc {
+            autospc(&st.k_nn, &k_nn_values, &st.rigid.n, &spc.mask, &st.map)?
+        } else {
+            AutoSpcReport::default()
+        };
+        spc.add_autospc(&autospc);
+        let sets = Sets::new(&st.map, &st.rigid.m_mask, &spc.mask)?;
+        let ff = Partition::new(st.k_nn.pattern().clone(), &sets.f_in_n, &sets.f_in_n)?;
+        let k_ff = ff.apply(&st.k_nn)?;
+        let m_ff = ff.apply(&st.m_nn)?;
+        let k_ff = k_ff.evaluate(&Structure::nominal_weights(&k_ff))?;
+        let m_ff = m_ff.evaluate(&Structure::nominal_weights(&m_ff))?;
+        let k_fs = crate::assembly::reduce::partition(&st.k_nn, &sets.f_in_n, &sets.s_in_n)?;
+        Ok(Constrained { spc, sets, autospc, k_nn_values, k_ff, m_ff, k_fs })
+    }
+
+    /// Whether K_ff has (relatively) no stiffness on the diagonal at f index `i`.
+    fn no_stiffness(&self, i: usize) -> bool {
+        let diag = |j: usize| self.k_ff.get_entry(j, j).map_or(0.0, |v| v.into_value().abs());
+        let max = (0..self.k_ff.nrows()).map(diag).fold(0.0_f64, f64::max);
+        diag(i) <= crate::assembly::spc::AUTOSPC_RATIO * max
+    }
+
+    /// Map a factorization failure at f index `index` to (GRID, component).
+    pub fn mechanism(&self, st: &Structure, subcase: u32, e: LinalgError) -> RunError {
+        // LLᵀ of K_ff failing is a mechanism; a zero pivot of K − σM (eigen) is one only when
+        // K_ff itself has no stiffness there (otherwise σ hit an eigenvalue: report it as is).
+        let index = match e {
+            LinalgError::NotPositiveDefinite { index, .. } => Some(index),
+            LinalgError::Singular { index } if self.no_stiffness(index) => Some(index),
+            _ => None,
+        };
+        match index.and_then(|i| self.sets.f.members().get(i)).and_then(|&g| st.map.dof_name(g)) {
+            Some(dof) => RunError::Mechanism { subcase, dof, detail: e.to_string() },
+            None => RunError::Linalg { subcase, source: e },
+        }
+    }
+}
+
+/// The output request `name` of a subcase, unless absent or `= NONE`.
+pub fn requested<'a>(sub: &'a Subcase, name: &str) -> Option<&'a OutputRequest> {
+    sub.outputs.iter().rev().find(|o| o.name == name).filter(|o| o.target != Target::None)
+}
+
+/// Whether an id passes an output request's target (`ALL` or a `SET`).
+pub fn selected(deck: &Deck, request: &OutputRequest, id: u32) -> bool {
+    match request.target {
+        Target::All => true,
+        Target::None => false,
+        Target::Set(s) => deck.case.set(s).is_some_and(|set| set.ids.contains(&id)),
+    }
+}
+
+/// Sturm check as stored in the output and printed.
+pub fn sturm_line(s: &SturmCheck) -> String {
+    format!(
+        "Sturm check at {:.6e} Hz: {} eigenvalue(s) below, {} found + {} below the shift — {}",
+        lambda_to_hz(s.shift),
+        s.negative_pivots,
+        s.found,
+        s.below_lower,
+        if s.is_consistent() { "consistent".to_string() } else { format!("{} MISSING", s.missing()) }
+    )
+}

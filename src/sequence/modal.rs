@@ -1,0 +1,146 @@
+//! SOL 103 (MODAL): normal modes of K_ff φ = λ M_ff φ for every subcase.
+//!
+//! Per subcase: `METHOD = sid` selects an `EIGRL` (V1, V2, ND, SHFSCL, NORM); `SPC = sid` and
+//! AUTOSPC give the f-set ([`Constrained`]); one symbolic analysis of the K_ff/M_ff pattern is
+//! shared by every subcase with the same f-set. The shift-invert Lanczos of
+//! [`crate::linalg::eigen`] searches from the bottom of the spectrum when V1 is blank or ≤ 0:
+//! σ = 0 when K_ff is safely positive definite, a negative shift otherwise (−(2π·SHFSCL)², or
+//! −(2π·1 Hz)² without SHFSCL), so free-free structures return their rigid-body modes at
+//! ≈ 0 Hz. A zero pivot of K − σM (a DOF with neither stiffness nor mass, e.g. with
+//! PARAM,AUTOSPC,NO) is reported as a mechanism with its GRID and component.
+//!
+//! Normalization: NORM = MASS (default) gives φᵀMφ = 1; NORM = MAX scales each mode so that its
+//! largest f-set component is 1, and the generalized mass is then φᵀMφ. The residual is
+//! ‖Kφ − λMφ‖/‖Kφ‖ (see [`EigenResult::residuals`]). The Sturm check compares the number of
+//! negative pivots of K − sM, s just above the highest mode returned, with the modes found.
+
+use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary, requested};
+use crate::assembly::recover::recover_g;
+use crate::deck::case_control::Subcase;
+use crate::io::{set_attr_f64, set_attr_i64, set_attr_str, set_attr_strings, write_f64};
+use crate::linalg::{EigenProblem, EigenRequest, EigenResult, LanczosOptions, SturmCheck, SymbolicFactor, solve_modes};
+
+/// Eigenvector normalization (EIGRL NORM).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Norm {
+    Mass,
+    Max,
+}
+
+/// What one modal subcase found.
+#[derive(Debug, Clone)]
+pub struct ModalSummary {
+    /// λ = ω² (raw Rayleigh quotients; rigid-body modes may be slightly negative).
+    pub eigenvalues: Vec<f64>,
+    pub frequencies_hz: Vec<f64>,
+    /// φᵀMφ in the chosen normalization.
+    pub generalized_mass: Vec<f64>,
+    /// ‖Kφ − λMφ‖/‖Kφ‖.
+    pub residuals: Vec<f64>,
+    pub sturm: SturmCheck,
+    /// Lanczos shift σ (rad²/s²).
+    pub shift: f64,
+    pub norm: Norm,
+    /// Size of the eigenproblem (f-set).
+    pub f_size: usize,
+    /// Whether the mode shapes were written (DISPLACEMENT requested).
+    pub shapes_written: bool,
+}
+
+/// Runs every subcase.
+pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+    let mut symbolic_cache: Vec<(Vec<usize>, SymbolicFactor)> = Vec::new();
+    let mut out = Vec::new();
+    let par = ctx.options.par();
+    for sub in &ctx.model.subcases {
+        let id = sub.id;
+        let method = sub.method.ok_or_else(|| RunError::Case { subcase: id, what: "SOL 103 needs METHOD = <EIGRL sid> in case control".into() })?;
+        let eigrl = ctx
+            .model
+            .bulk
+            .eigrl
+            .iter()
+            .find(|e| e.sid == method)
+            .ok_or_else(|| RunError::Case { subcase: id, what: format!("METHOD = {method} selects no EIGRL card") })?;
+        let norm = if eigrl.norm.eq_ignore_ascii_case("MAX") { Norm::Max } else { Norm::Mass };
+        let c = clock.time(format!("subcase {id}: constraints"), || Constrained::build(ctx.model, st, sub.spc))?;
+        let f = c.sets.f.members().to_vec();
+        let symbolic = match symbolic_cache.iter().find(|(key, _)| *key == f) {
+            Some((_, s)) => s.clone(),
+            None => {
+                let s = clock.time(format!("subcase {id}: symbolic analysis"), || SymbolicFactor::analyze(c.k_ff.pattern()))
+                    .map_err(|e| RunError::Linalg { subcase: id, source: e })?;
+                symbolic_cache.push((f, s.clone()));
+                s
+            }
+        };
+        let request = EigenRequest { v1_hz: eigrl.v1, v2_hz: eigrl.v2, nd: eigrl.nd.map(|n| n as usize), shift_hz: eigrl.shfscl };
+        let problem = EigenProblem { k: &c.k_ff, m: &c.m_ff, symbolic: &symbolic };
+        let result = clock
+            .time(format!("subcase {id}: Lanczos"), || solve_modes(&problem, &request, &LanczosOptions::default(), par, ctx.progress))
+            .map_err(|e| c.mechanism(st, id, e))?;
+        let summary = clock.time(format!("subcase {id}: output"), || write_subcase(ctx, st, &c, sub, norm, result))?;
+        out.push(SubcaseSummary { id, autospc: c.autospc.names.clone(), result: SubcaseResult::Modal(summary) });
+    }
+    Ok(out)
+}
+
+fn write_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase, norm: Norm, mut r: EigenResult) -> Result<ModalSummary, RunError> {
+    let id = sub.id;
+    let m = r.eigenvalues.len();
+    let nf = r.vectors.nrows();
+    let mut generalized_mass = vec![1.0; m];
+    if norm == Norm::Max {
+        for j in 0..m {
+            let s = (0..nf).fold(0.0_f64, |acc, i| acc.max(r.vectors[(i, j)].abs()));
+            if s > 0.0 {
+                for i in 0..nf {
+                    r.vectors[(i, j)] /= s;
+                }
+                generalized_mass[j] = 1.0 / (s * s);
+            }
+        }
+    }
+    let group = ctx.output.group(&format!("results/{id}/modal"))?;
+    write_f64(&group, "frequency_hz", &r.frequencies_hz, &[m])?;
+    write_f64(&group, "eigenvalue", &r.eigenvalues, &[m])?;
+    write_f64(&group, "generalized_mass", &generalized_mass, &[m])?;
+    write_f64(&group, "residual", &r.residuals, &[m])?;
+    set_attr_f64(&group, "sturm_shift", r.sturm.shift)?;
+    set_attr_i64(&group, "sturm_count", r.sturm.negative_pivots as i64)?;
+    set_attr_i64(&group, "sturm_found", (r.sturm.found + r.sturm.below_lower) as i64)?;
+    set_attr_i64(&group, "sturm_consistent", i64::from(r.sturm.is_consistent()))?;
+    set_attr_f64(&group, "shift", r.shift)?;
+    set_attr_str(&group, "norm", if norm == Norm::Max { "MAX" } else { "MASS" })?;
+    let autospc: Vec<String> = c.autospc.names.iter().map(|d| format!("{}/{}", d.grid, d.component)).collect();
+    set_attr_i64(&group, "autospc_count", autospc.len() as i64)?;
+    if !autospc.is_empty() {
+        set_attr_strings(&group, "autospc", &autospc.iter().map(String::as_str).collect::<Vec<_>>())?;
+    }
+    let shapes_written = requested(sub, "DISPLACEMENT").is_some();
+    if shapes_written {
+        let n = st.map.grids();
+        let zero = vec![0.0; st.map.size()];
+        let mut shapes = Vec::with_capacity(m * 6 * n);
+        let mut u_f = vec![0.0; nf];
+        for j in 0..m {
+            for (i, u) in u_f.iter_mut().enumerate() {
+                *u = r.vectors[(i, j)];
+            }
+            let u_g = recover_g(&u_f, &c.sets, &zero, &st.rigid)?;
+            shapes.extend(st.to_basic_rows(&u_g));
+        }
+        write_f64(&group, "shapes", &shapes, &[m, n, 6])?;
+    }
+    Ok(ModalSummary {
+        eigenvalues: r.eigenvalues,
+        frequencies_hz: r.frequencies_hz,
+        generalized_mass,
+        residuals: r.residuals,
+        sturm: r.sturm,
+        shift: r.shift,
+        norm,
+        f_size: nf,
+        shapes_written,
+    })
+}

@@ -1,0 +1,200 @@
+//! SOL 101 (STATICS): K_ff u_f = P_f for every subcase, by sparse Cholesky.
+//!
+//! Order (as `assembly::tests::solve`, with the sparse LLᵀ):
+//! 1. f-set of `SPC = sid` (+ GRID PS, AUTOSPC) — [`Constrained`];
+//! 2. K_ff = LLᵀ: one symbolic analysis *and* one numeric factor per distinct f-set, shared by
+//!    every subcase with that f-set (K does not depend on the load). A failing pivot is a
+//!    mechanism, reported with its GRID and component;
+//! 3. P_g of `LOAD = sid` (FORCE, MOMENT, GRAV with M_gg), P_f = (Tᵀ P_g)_f − K_fs u_s;
+//! 4. u_g = T [u_f; u_s]; SPC forces q_s = (K_nn u_n − P_n)_s.
+//!
+//! Output in the basic system: `displacement` (n×6) always, `spc_force` (n×6) only with
+//! `SPCFORCES`, centroid strains only with `STRAIN` (elements of its SET, or ALL):
+//! `strain/<CQUAD4|CTRIA3>/{ids (m), top (m×3), bottom (m×3)}` — [εx, εy, γxy] in the element
+//! material system at the fibres Z2 (top) and Z1 (bottom) of the PSHELL (the laminate's top and
+//! bottom surfaces for PCOMP) — and `strain/<CHEXA|CPENTA|CTETRA|CTETRA10>/{ids (m),
+//! centroid (m×6)}` — [εxx, εyy, εzz, γxy, γyz, γzx] in basic (engineering shear strains).
+
+use super::elements::{element_displacements, solid_kind_of};
+use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary, requested, selected};
+use crate::assembly::loads::{Mass, load_vector, reduce_load};
+use crate::assembly::recover::{expand_f_to_n, spc_forces};
+use crate::deck::case_control::Subcase;
+use crate::fe::{shell, solid};
+use crate::io::{set_attr_i64, set_attr_strings, write_f64, write_u32};
+use crate::linalg::{Factor, SymbolicFactor};
+
+/// What one static subcase found (basic system).
+#[derive(Debug, Clone)]
+pub struct StaticsSummary {
+    /// Largest translation magnitude: (GRID id, |u|).
+    pub max_translation: (u32, f64),
+    /// Largest |component| of all six: (GRID id, component 1–6, value).
+    pub max_component: (u32, u8, f64),
+    /// Σ applied forces and moments about the origin (basic): [Fx, Fy, Fz, Mx, My, Mz].
+    pub applied: [f64; 6],
+    /// Σ SPC forces and moments about the origin (basic).
+    pub reaction: [f64; 6],
+    /// Size of K_ff.
+    pub f_size: usize,
+}
+
+/// Runs every subcase.
+pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+    let mut factors: Vec<(Vec<usize>, Factor)> = Vec::new();
+    let mut symbolic: Option<(Vec<usize>, SymbolicFactor)> = None;
+    let par = ctx.options.par();
+    let mut m_gg_values = vec![0.0; st.m_gg.pattern().nnz()];
+    st.m_gg.evaluate_into(&Structure::nominal_weights(&st.m_gg), &mut m_gg_values)?;
+    let mut out = Vec::new();
+    for sub in &ctx.model.subcases {
+        let id = sub.id;
+        let c = clock.time(format!("subcase {id}: constraints"), || Constrained::build(ctx.model, st, sub.spc))?;
+        let f = c.sets.f.members().to_vec();
+        if !factors.iter().any(|(key, _)| *key == f) {
+            let sym = match &symbolic {
+                Some((key, s)) if *key == f => s.clone(),
+                _ => {
+                    let s = clock
+                        .time(format!("subcase {id}: symbolic analysis"), || SymbolicFactor::analyze(c.k_ff.pattern()))
+                        .map_err(|e| RunError::Linalg { subcase: id, source: e })?;
+                    symbolic = Some((f.clone(), s.clone()));
+                    s
+                }
+            };
+            ctx.progress.step("factorization", 0, 1);
+            let factor = clock.time(format!("subcase {id}: Cholesky"), || sym.factor_llt(&c.k_ff, par)).map_err(|e| c.mechanism(st, id, e))?;
+            ctx.progress.step("factorization", 1, 1);
+            factors.push((f.clone(), factor));
+        }
+        let factor = &factors.iter().find(|(key, _)| *key == f).map(|(_, fa)| fa).ok_or(RunError::NoSolution)?;
+        let summary = clock.time(format!("subcase {id}: solve and output"), || solve_subcase(ctx, st, &c, sub, factor, &m_gg_values))?;
+        out.push(SubcaseSummary { id, autospc: c.autospc.names.clone(), result: SubcaseResult::Statics(summary) });
+    }
+    Ok(out)
+}
+
+fn solve_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase, factor: &Factor, m_gg_values: &[f64]) -> Result<StaticsSummary, RunError> {
+    let id = sub.id;
+    let model = ctx.model;
+    let p_g = match sub.load {
+        Some(sid) => load_vector(model, &st.frames, &st.map, sid, Some(Mass { operator: &st.m_gg, values: m_gg_values }))?,
+        None => vec![0.0; st.map.size()],
+    };
+    let k_fs_values = c.k_fs.evaluate(&Structure::nominal_weights(&c.k_fs))?.values().to_vec();
+    let mut u_f = reduce_load(&p_g, &st.rigid, &c.sets, &c.k_fs, &k_fs_values, &c.spc.enforced)?;
+    factor.solve_in_place(&mut u_f).map_err(|e| RunError::Linalg { subcase: id, source: e })?;
+    let u_n = expand_f_to_n(&u_f, &c.sets, &c.spc.enforced)?;
+    let u_g = st.rigid.expand(&u_n)?;
+    let p_n = st.rigid.reduce_vector(&p_g)?;
+    let q_s = spc_forces(&st.k_nn, &c.k_nn_values, &u_n, &p_n, &c.sets)?;
+    let mut q_g = vec![0.0; st.map.size()];
+    c.sets.s.scatter_into(&q_s, &mut q_g)?;
+
+    let n = st.map.grids();
+    let u = st.to_basic_rows(&u_g);
+    let q = st.to_basic_rows(&q_g);
+    let p = st.to_basic_rows(&p_g);
+    let group = ctx.output.group(&format!("results/{id}/statics"))?;
+    write_f64(&group, "displacement", &u, &[n, 6])?;
+    if requested(sub, "SPCFORCES").is_some() {
+        write_f64(&group, "spc_force", &q, &[n, 6])?;
+    }
+    let autospc: Vec<String> = c.autospc.names.iter().map(|d| format!("{}/{}", d.grid, d.component)).collect();
+    set_attr_i64(&group, "autospc_count", autospc.len() as i64)?;
+    if !autospc.is_empty() {
+        set_attr_strings(&group, "autospc", &autospc.iter().map(String::as_str).collect::<Vec<_>>())?;
+    }
+    if let Some(req) = requested(sub, "STRAIN") {
+        write_strains(ctx, st, &group, &u, |eid| selected(ctx.deck, req, eid))?;
+    }
+
+    let grid_id = |g: usize| st.map.grid_id(g).unwrap_or(0);
+    let mut max_translation: (u32, f64) = (0, 0.0);
+    let mut max_component: (u32, u8, f64) = (0, 1, 0.0);
+    for g in 0..n {
+        let r = &u[6 * g..6 * g + 6];
+        let mag = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+        if mag > max_translation.1 {
+            max_translation = (grid_id(g), mag);
+        }
+        for (k, v) in r.iter().enumerate() {
+            if v.abs() > max_component.2.abs() {
+                max_component = (grid_id(g), k as u8 + 1, *v);
+            }
+        }
+    }
+    Ok(StaticsSummary { max_translation, max_component, applied: resultant(model, &p), reaction: resultant(model, &q), f_size: c.sets.f.len() })
+}
+
+/// Σ forces and Σ (moments + x × F) about the basic origin of n×6 basic rows.
+fn resultant(model: &crate::model::Model, rows: &[f64]) -> [f64; 6] {
+    let mut out = [0.0; 6];
+    for (g, grid) in model.grids.iter().enumerate() {
+        let r = &rows[6 * g..6 * g + 6];
+        let f = [r[0], r[1], r[2]];
+        let m = crate::model::vec3::cross(grid.xyz, f);
+        for k in 0..3 {
+            out[k] += f[k];
+            out[3 + k] += r[3 + k] + m[k];
+        }
+    }
+    out
+}
+
+/// Strain blocks by output name, in element order.
+#[derive(Default)]
+struct Block {
+    ids: Vec<u32>,
+    a: Vec<f64>,
+    b: Vec<f64>,
+}
+
+fn write_strains(ctx: &RunContext, st: &Structure, group: &hdf5_metno::Group, u: &[f64], keep: impl Fn(u32) -> bool) -> Result<(), RunError> {
+    let model = ctx.model;
+    let mut shells: std::collections::BTreeMap<&'static str, Block> = Default::default();
+    for (idx, rec) in &st.elements.shells {
+        let e = &model.elements[*idx];
+        if !keep(e.id) {
+            continue;
+        }
+        let xyz = model.positions(e);
+        let ue = element_displacements(u, &e.nodes);
+        let bad = |reason: String| RunError::Element { card: e.kind.card(), id: e.id, reason };
+        let strains = match (xyz.len(), ue.len()) {
+            (4, 24) => shell::quad4_strains(&[xyz[0], xyz[1], xyz[2], xyz[3]], rec.material_x, rec.fibres, &std::array::from_fn(|i| ue[i])),
+            (3, 18) => shell::tria3_strains(&[xyz[0], xyz[1], xyz[2]], rec.material_x, rec.fibres, &std::array::from_fn(|i| ue[i])),
+            (k, _) => return Err(bad(format!("a shell with {k} grids"))),
+        }
+        .map_err(|x| bad(x.to_string()))?;
+        let block = shells.entry(e.kind.block_name()).or_default();
+        block.ids.push(e.id);
+        block.a.extend(strains.top);
+        block.b.extend(strains.bottom);
+    }
+    for (name, b) in &shells {
+        let g = ctx.output.group(&format!("{}/strain/{name}", group.name()))?;
+        write_u32(&g, "ids", &b.ids, &[b.ids.len()])?;
+        write_f64(&g, "top", &b.a, &[b.ids.len(), 3])?;
+        write_f64(&g, "bottom", &b.b, &[b.ids.len(), 3])?;
+    }
+    let mut solids: std::collections::BTreeMap<&'static str, Block> = Default::default();
+    for e in &model.elements {
+        let Some(kind) = solid_kind_of(e.kind) else { continue };
+        if !keep(e.id) {
+            continue;
+        }
+        let xyz = model.positions(e);
+        let ut: Vec<f64> = e.nodes.iter().flat_map(|&a| u[6 * a..6 * a + 3].iter().copied()).collect();
+        let eps = solid::strain_at_centroid(kind, &xyz, &ut).map_err(|x| RunError::Element { card: e.kind.card(), id: e.id, reason: x.to_string() })?;
+        let block = solids.entry(e.kind.block_name()).or_default();
+        block.ids.push(e.id);
+        block.a.extend(eps);
+    }
+    for (name, b) in &solids {
+        let g = ctx.output.group(&format!("{}/strain/{name}", group.name()))?;
+        write_u32(&g, "ids", &b.ids, &[b.ids.len()])?;
+        write_f64(&g, "centroid", &b.a, &[b.ids.len(), 6])?;
+    }
+    Ok(())
+}

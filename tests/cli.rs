@@ -1,0 +1,83 @@
+//! The `paraflex` command as a user runs it: exit codes, JSON summary, output files.
+
+use std::path::PathBuf;
+
+use assert_cmd::Command;
+use paraflex::deck::Deck;
+use paraflex::model::Model;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn paraflex() -> Command {
+    let mut cmd = Command::cargo_bin("paraflex").expect("binary built");
+    cmd.env("HDF5_USE_FILE_LOCKING", "FALSE");
+    cmd
+}
+
+/// `paraflex check --json` prints exactly the library's summary (the numbers the pyNastran
+/// conformance test in tests/conformance_mass.rs compares), for every conformance deck.
+#[test]
+fn check_json_is_the_model_summary_for_every_conformance_deck() {
+    let mut decks: Vec<PathBuf> = std::fs::read_dir(root().join("decks/conformance"))
+        .expect("decks/conformance")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "bdf"))
+        .collect();
+    decks.sort();
+    assert!(decks.len() >= 30, "expected the conformance decks, found {}", decks.len());
+    for deck in decks {
+        let out = paraflex().arg("check").arg("--json").arg(&deck).output().expect("runs");
+        assert!(out.status.success(), "{}: {}", deck.display(), String::from_utf8_lossy(&out.stderr));
+        let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+        let model = Model::build(&Deck::read(&deck).expect("reads")).expect("builds");
+        let expected = serde_json::to_value(model.summary()).expect("serializes");
+        assert_eq!(printed, expected, "{}", deck.display());
+        for key in ["grids", "elements", "rigid", "dofs", "mass", "cg", "inertia_cg", "warnings"] {
+            assert!(printed.get(key).is_some(), "{}: key {key} missing", deck.display());
+        }
+    }
+}
+
+#[test]
+fn run_writes_model_and_xdmf_then_reports_the_missing_solution() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("demo.h5");
+    let deck = root().join("decks/demo/bracket_plate.dat");
+    let result = paraflex().arg("run").arg(&deck).arg("-o").arg(&out).output().expect("runs");
+    assert_eq!(result.status.code(), Some(3), "{}", String::from_utf8_lossy(&result.stderr));
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(stderr.contains("SOL 103 (MODAL) is not available in this version"), "{stderr}");
+    assert!(out.exists() && dir.path().join("demo.xdmf").exists());
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path()).expect("dir").filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().contains(".tmp")).collect();
+    assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
+
+    let info = paraflex().arg("info").arg("--json").arg(&out).output().expect("runs");
+    assert!(info.status.success(), "{}", String::from_utf8_lossy(&info.stderr));
+    let summary: serde_json::Value = serde_json::from_slice(&info.stdout).expect("json");
+    assert_eq!(summary["model"]["n_grids"], 190, "{summary}");
+    assert_eq!(summary["model"]["elements"]["RBE2"], 1, "{summary}");
+}
+
+#[test]
+fn invalid_deck_writes_nothing_and_exits_2() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let deck = dir.path().join("bad.dat");
+    std::fs::write(&deck, "SOL 103\nCEND\nBEGIN BULK\nGRID,1,,0.,0.,0.\nCQUAD4,1,1,1,2,3,4\nENDDATA\n").expect("write");
+    let out = dir.path().join("bad.h5");
+    let result = paraflex().arg("run").arg(&deck).arg("-o").arg(&out).output().expect("runs");
+    assert_eq!(result.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(stderr.contains("bad.dat:5"), "{stderr}");
+    assert_eq!(std::fs::read_dir(dir.path()).expect("dir").count(), 1, "only the deck remains");
+}
+
+#[test]
+fn check_text_names_the_deck_and_counts() {
+    let deck = root().join("decks/demo/bracket_plate.dat");
+    let out = paraflex().arg("check").arg(&deck).output().expect("runs");
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("CQUAD4 160") && text.contains("190 (1140 DOFs)"), "{text}");
+}

@@ -1,0 +1,140 @@
+//! Bad input: every problem is reported in one pass, located at the card, never a panic.
+
+use std::io::Write;
+
+use paraflex::deck::Deck;
+use paraflex::model::Model;
+
+fn build(text: &str) -> Result<Model, Vec<String>> {
+    let mut file = tempfile::Builder::new().suffix(".bdf").tempfile().expect("temp file");
+    file.write_all(text.as_bytes()).expect("write deck");
+    let deck = Deck::read(file.path()).map_err(|e| e.errors.iter().map(|x| x.to_string()).collect::<Vec<_>>())?;
+    Model::build(&deck).map_err(|e| e.iter().map(|x| x.to_string()).collect())
+}
+
+const BAD: &str = "SOL 103
+CEND
+METHOD = 7
+SPC = 1
+DISP = 5
+BEGIN BULK
+GRID,1,,0.,0.,0.
+GRID,2,,1.,0.,0.
+GRID,3,,1.,1.,0.
+GRID,3,,1.,1.,0.
+GRID,4,,0.,1.,0.,9
+CQUAD4,101,1,1,2,77,4
+CQUAD4,101,1,1,2,3,4
+CTRIA3,102,2,1,2,3
+CHEXA,103,1,1,2,3,4,5,6,
++,7,8
+PSHELL,1,8,0.
+PSOLID,2,8
+MAT8,8,1.e10,1.e9,0.3,0.
+MAT1,9,-1.,,0.7,-2.
+CONM2,104,66,,-1.
+CORD2R,5,6,0.,0.,0.,0.,0.,1.
++,1.,0.,0.
+CORD2R,6,5,0.,0.,0.,0.,0.,1.
++,1.,0.,0.
+CORD2R,7,,0.,0.,0.,0.,0.,0.
++,1.,0.,0.
+PMPAR,1,EMOD,E,9,1.,2.
+PARAM,WTMASS,-1.
+PARAM,POST,-1
+PARAM,PRTMAXIM,YES
+ENDDATA
+";
+
+#[test]
+fn every_error_is_collected_with_its_card() {
+    let errors = build(BAD).expect_err("the deck is invalid");
+    let expect = [
+        "CQUAD4 101: G3 = 77 does not exist",
+        "duplicate grid id 3",
+        "duplicate element id 101",
+        "CTRIA3 102: PID = 2 is a PSOLID; a CTRIA3 needs a PSHELL or PCOMP",
+        "CHEXA 103: PID = 1 is a PSHELL; a CHEXA needs a PSOLID",
+        "CHEXA 103: G5 = 5 does not exist",
+        "PSHELL 1: T = 0e0 must be > 0",
+        "PSOLID 2: MID = 8 is a MAT8",
+        "required by CTRIA3 102",
+        "MAT8 8: G12 = 0e0 must be > 0",
+        "MAT1 9: E = -1e0 must be > 0",
+        "MAT1 9: NU = 0.7 must lie in (−1, 0.5)",
+        "MAT1 9: RHO = -2e0 must be ≥ 0",
+        "CONM2 104: G = 66 does not exist",
+        "CONM2 104: M = -1e0 must be ≥ 0",
+        "RID cycle",
+        "CORD2R 7: degenerate system: A and B coincide",
+        "GRID 4: CD = 9 does not exist",
+        "PMPAR 1: nominal E = -1 (from MAT1 9) lies outside [LOW, HIGH] = [1, 2]",
+        "PARAM WTMASS: WTMASS must be a real > 0",
+        "METHOD = 7 selects no EIGRL set 7",
+        "SPC = 1 selects no SPC/SPC1/SPCADD set 1",
+        "DISPLACEMENT = 5: no case-control SET 5",
+    ];
+    let missing: Vec<&str> = expect.iter().copied().filter(|e| !errors.iter().any(|x| x.contains(e))).collect();
+    assert!(missing.is_empty(), "missing {missing:#?}\nin {errors:#?}");
+    // every error is located file:line
+    assert!(errors.iter().all(|e| e.contains(".bdf:")), "{errors:#?}");
+}
+
+#[test]
+fn good_deck_warns_once_about_unknown_params_and_output_requests() {
+    let deck = "SOL 103
+CEND
+METHOD = 1
+DISP = ALL
+STRESS = ALL
+BEGIN BULK
+PARAM,POST,-1
+PARAM,PRTMAXIM,YES
+PARAM,WTMASS,0.5
+EIGRL,1,,,4
+GRID,1,,0.,0.,0.
+GRID,2,,2.,0.,0.
+GRID,3,,3.,1.,0.
+GRID,4,,1.,1.,0.
+CQUAD4,1,1,1,2,3,4
+PSHELL,1,1,0.1
+MAT1,1,1.e7,,0.3,2.
+PSOLID,5,1,,2
+ENDDATA
+";
+    let model = build(deck).expect("valid deck");
+    let w: Vec<String> = model.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(w.iter().filter(|x| x.contains("accepted and ignored: POST, PRTMAXIM")).count(), 1, "{w:#?}");
+    // SOL 103 writes mode shapes for DISPLACEMENT (sequence::modal), but no stresses
+    assert!(w.iter().any(|x| x.contains("STRESS is not honoured by SOL 103")), "{w:#?}");
+    assert!(!w.iter().any(|x| x.contains("DISPLACEMENT is not honoured")), "{w:#?}");
+    assert!(w.iter().any(|x| x.contains("PSOLID IN/STRESS/ISOP are kept")), "{w:#?}");
+    // parallelogram 2 × 1, t = 0.1, rho = 2: m = 0.4, × WTMASS 0.5
+    let mp = model.mass_properties();
+    assert!((mp.mass - 0.2).abs() < 1e-14 && (mp.cg[0] - 1.5).abs() < 1e-14, "{mp:?}");
+    let s = model.summary();
+    assert_eq!(s.elements.get("CQUAD4"), Some(&1));
+    assert_eq!(s.rigid.get("RBE2"), Some(&0));
+    let mesh = model.mesh_arrays();
+    assert_eq!(mesh.grid_ids, vec![1, 2, 3, 4]);
+    assert_eq!(mesh.blocks[0].connectivity, vec![0, 1, 2, 3]);
+}
+
+#[test]
+fn conm2_inertia_is_rotated_from_its_cid() {
+    // CID 10: local x = basic y, local y = −basic x, z = z. I11 = 1 (about local x = basic y).
+    let deck = "BEGIN BULK
+CORD2R,10,,0.,0.,0.,0.,0.,1.
++,0.,1.,0.
+GRID,1,,0.,0.,0.
+CONM2,1,1,10,2.,1.,0.,0.
+,1.,0.,2.,0.,0.,3.
+ENDDATA
+";
+    let model = build(deck).expect("valid deck");
+    let mp = model.mass_properties();
+    // offset (1,0,0) local → (0,1,0) basic; tensor diag(1,2,3) local → diag(2,1,3) basic
+    assert!((mp.cg[1] - 1.0).abs() < 1e-14 && mp.cg[0].abs() < 1e-14, "{mp:?}");
+    let i = mp.inertia_cg;
+    assert!((i[0][0] - 2.0).abs() < 1e-14 && (i[1][1] - 1.0).abs() < 1e-14 && (i[2][2] - 3.0).abs() < 1e-14, "{i:?}");
+}

@@ -1,0 +1,177 @@
+//! SOL 103 (MODAL) through `paraflex::sequence::run`, against analytic references.
+//! Decks are written here (small, generated meshes); tolerances are stated with their reasons.
+
+use std::io::Write;
+
+use paraflex::deck::Deck;
+use paraflex::io::OutputFile;
+use paraflex::model::Model;
+use paraflex::sequence::modal::ModalSummary;
+use paraflex::sequence::{RunContext, RunError, RunOptions, RunSummary, SubcaseResult, run};
+
+const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
+
+/// Run a deck text through deck → model → sequence with an HDF5 file in a temp directory.
+fn run_deck(text: &str) -> (Result<RunSummary, RunError>, tempfile::TempDir) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("deck.dat");
+    std::fs::File::create(&path).and_then(|mut f| f.write_all(text.as_bytes())).expect("write deck");
+    let deck = Deck::read(&path).unwrap_or_else(|e| panic!("deck: {e}"));
+    let model = Model::build(&deck).unwrap_or_else(|e| panic!("model: {:?}", e.iter().map(|x| x.to_string()).collect::<Vec<_>>()));
+    let file = OutputFile::create(dir.path().join("out.h5")).expect("output");
+    let ctx = RunContext { deck: &deck, model: &model, output: &file, progress: &|_: &str, _: usize, _: usize| {}, options: RunOptions { parallel: false } };
+    let result = run(&ctx);
+    if result.is_ok() {
+        file.commit().expect("commit");
+    }
+    (result, dir)
+}
+
+fn modal(s: &RunSummary) -> &ModalSummary {
+    match &s.subcases[0].result {
+        SubcaseResult::Modal(m) => m,
+        other => panic!("not modal: {other:?}"),
+    }
+}
+
+/// Two masses on two springs in series, grounded (CELAS2 + CONM2):
+/// K = [[k1+k2, −k2], [−k2, k2]], M = diag(m1, m2), m1 m2 λ² − (m1 k2 + m2(k1+k2)) λ + k1 k2 = 0.
+/// The 2-DOF eigenproblem is solved exactly, so the tolerance is round-off (1e-10).
+#[test]
+fn two_dof_spring_mass_matches_the_analytic_2x2_eigenproblem() {
+    let (k1, k2, m1, m2): (f64, f64, f64, f64) = (1.0e4, 2.5e3, 2.0, 0.5);
+    let deck = format!(
+        "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nCELAS2,1,{k1:?},1,1\nCELAS2,2,{k2:?},1,1,2,1\nCONM2,3,1,,{m1:?}\nCONM2,4,2,,{m2:?}\nEIGRL,1,,,2\nENDDATA\n"
+    );
+    let (r, _dir) = run_deck(&deck);
+    let s = r.expect("run");
+    let m = modal(&s);
+    let (a, b, c) = (m1 * m2, -(m1 * k2 + m2 * (k1 + k2)), k1 * k2);
+    let disc = (b * b - 4.0 * a * c).sqrt();
+    let lambdas = [(-b - disc) / (2.0 * a), (-b + disc) / (2.0 * a)];
+    assert_eq!(m.frequencies_hz.len(), 2);
+    for (got, l) in m.frequencies_hz.iter().zip(lambdas) {
+        let f = l.sqrt() / TWO_PI;
+        assert!((got - f).abs() <= 1e-10 * f, "{got} vs {f}");
+    }
+    assert!(m.generalized_mass.iter().all(|g| (g - 1.0).abs() < 1e-12));
+    assert!(m.residuals.iter().all(|r| *r < 1e-10), "{:?}", m.residuals);
+    assert!(m.sturm.is_consistent());
+    // every other DOF has no stiffness: AUTOSPC lists them (2 grids × 5 components)
+    assert_eq!(s.subcases[0].autospc.len(), 10);
+}
+
+/// RBE2 + CONM2: grid 1 on grounded springs (kt in T1–T3, k4, k5, k6 in R1–R3), a mass m
+/// with inertia I (I11 = I22 = I33) at grid 2, at distance d along y, tied to grid 1 by an
+/// RBE2. About grid 1 the pairs (T1, R3) and (T3, R1) are coupled by m d, with
+/// K = diag(kt, kr), M = [[m, ∓m d], [∓m d, m d² + I]]:
+/// m I λ² − (kt (m d² + I) + kr m) λ + kt kr = 0; T2 alone gives kt/m and R2 gives k5/I.
+/// (With I = 0 the mass is rank one per pair; see the report about singular M.)
+#[test]
+fn rbe2_with_offset_conm2_matches_the_rigid_link_eigenproblem() {
+    let (kt, k4, k5, k6, m, d, i): (f64, f64, f64, f64, f64, f64, f64) = (1.0e4, 2.0e3, 1.0e3, 3.0e3, 2.0, 0.5, 1.0e-3);
+    let deck = format!(
+        "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,0.,{d:?},0.\nRBE2,9,1,123456,2\nCONM2,10,2,,{m:?},,,,,\n,{i:?},,{i:?},,,{i:?}\n\
+         CELAS2,1,{kt:?},1,1\nCELAS2,2,{kt:?},1,2\nCELAS2,3,{kt:?},1,3\nCELAS2,4,{k4:?},1,4\nCELAS2,5,{k5:?},1,5\nCELAS2,6,{k6:?},1,6\nEIGRL,1,,,6\nENDDATA\n"
+    );
+    let (r, _dir) = run_deck(&deck);
+    let s = r.expect("run");
+    let got = &modal(&s).frequencies_hz;
+    let pair = |kr: f64| {
+        let (a, b, c) = (m * i, -(kt * (m * d * d + i) + kr * m), kt * kr);
+        let disc = (b * b - 4.0 * a * c).sqrt();
+        [(-b - disc) / (2.0 * a), (-b + disc) / (2.0 * a)]
+    };
+    let mut expected: Vec<f64> = [vec![kt / m, k5 / i], pair(k4).to_vec(), pair(k6).to_vec()].concat().iter().map(|l| l.sqrt() / TWO_PI).collect();
+    expected.sort_by(f64::total_cmp);
+    assert_eq!(got.len(), 6, "{got:?}");
+    for (g, e) in got.iter().zip(&expected) {
+        assert!((g - e).abs() <= 1e-9 * e, "{got:?} vs {expected:?}");
+    }
+}
+
+/// A CHEXA box mesh nx × ny × nz of size lx × ly × lz (grid ids from 1, x fastest).
+fn hexa_mesh(n: [usize; 3], l: [f64; 3]) -> String {
+    let mut s = String::new();
+    let id = |i: usize, j: usize, k: usize| 1 + i + (n[0] + 1) * (j + (n[1] + 1) * k);
+    for k in 0..=n[2] {
+        for j in 0..=n[1] {
+            for i in 0..=n[0] {
+                let x = [i as f64 * l[0] / n[0] as f64, j as f64 * l[1] / n[1] as f64, k as f64 * l[2] / n[2] as f64];
+                s += &format!("GRID,{},,{:.12e},{:.12e},{:.12e}\n", id(i, j, k), x[0], x[1], x[2]);
+            }
+        }
+    }
+    let mut e = 1;
+    for k in 0..n[2] {
+        for j in 0..n[1] {
+            for i in 0..n[0] {
+                let g = [id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k), id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)];
+                s += &format!("CHEXA,{e},1,{},{},{},{},{},{},\n+,{},{}\n", g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7]);
+                e += 1;
+            }
+        }
+    }
+    s + "PSOLID,1,1\nMAT1,1,2.1e11,,0.3,7850.\n"
+}
+
+/// A free-free solid block has exactly six rigid-body modes (≈ 0 Hz; rotational DOFs of the
+/// solid-only grids are removed by AUTOSPC), then elastic ones. "≈ 0": below 1e-4 of the first
+/// elastic frequency (round-off of a K with entries ~1e11 gives |λ| ~ 1e-5 ‖K‖).
+#[test]
+fn free_free_solid_block_has_exactly_six_rigid_modes() {
+    let deck = format!("SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,9\n{}ENDDATA\n", hexa_mesh([3, 2, 2], [0.3, 0.2, 0.2]));
+    let (r, _dir) = run_deck(&deck);
+    let s = r.expect("run");
+    let m = modal(&s);
+    let f = &m.frequencies_hz;
+    assert_eq!(f.len(), 9);
+    let elastic = f[6];
+    assert!(elastic > 1000.0, "{f:?}");
+    assert!(f[..6].iter().all(|x| *x < 1e-4 * elastic), "{f:?}");
+    assert!(f[7] >= f[6] && f[8] >= f[7]);
+    assert!(m.sturm.is_consistent(), "{:?}", m.sturm);
+    assert!(m.shift < 0.0, "free-free needs a negative shift, got {}", m.shift);
+}
+
+/// CHEXA cantilever L = 1, square section h = 0.05 (L/h = 20), 20 × 2 × 2 incompatible-mode
+/// hexahedra, clamped face at x = 0. Euler–Bernoulli: f₁ = (1.8751²/2π) √(EI/(ρA L⁴)).
+/// Tolerance 3 %: shear deformation and rotary inertia lower f₁ by ≈ 0.3 % at L/h = 20
+/// (Timoshenko), the fully clamped face (Poisson contraction prevented) stiffens slightly, and
+/// 20 elements along the span leave a discretization error of a few tenths of a percent.
+#[test]
+fn chexa_cantilever_first_bending_frequency_vs_euler_bernoulli() {
+    let (l, h, e, rho) = (1.0, 0.05, 2.1e11, 7850.0);
+    let n = [20, 2, 2];
+    let mut spc = String::new();
+    for k in 0..=n[2] {
+        for j in 0..=n[1] {
+            spc += &format!("SPC1,1,123,{}\n", 1 + (n[0] + 1) * (j + (n[1] + 1) * k));
+        }
+    }
+    let deck = format!("SOL 103\nCEND\nSPC = 1\nMETHOD = 1\nDISPLACEMENT = ALL\nBEGIN BULK\nEIGRL,1,,,2\n{spc}{}ENDDATA\n", hexa_mesh(n, [l, h, h]));
+    let (r, dir) = run_deck(&deck);
+    let s = r.expect("run");
+    let m = modal(&s);
+    let inertia = h.powi(4) / 12.0;
+    let f_eb = 1.8751_f64.powi(2) / TWO_PI * (e * inertia / (rho * h * h * l.powi(4))).sqrt();
+    // the section is square: two equal bending modes (y and z)
+    for f in &m.frequencies_hz {
+        assert!((f - f_eb).abs() < 0.03 * f_eb, "{f} vs Euler–Bernoulli {f_eb}");
+    }
+    assert!(m.shapes_written);
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+    let shapes = file.dataset("results/1/modal/shapes").expect("shapes");
+    assert_eq!(shapes.shape(), vec![2, 21 * 3 * 3, 6]);
+}
+
+/// PARAM,AUTOSPC,NO on a solid model leaves the rotational DOFs with neither stiffness nor mass:
+/// the run fails naming the GRID and component and suggesting SPC / AUTOSPC.
+#[test]
+fn mechanism_without_autospc_names_grid_and_component() {
+    let deck = format!("SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nPARAM,AUTOSPC,NO\nEIGRL,1,,,3\n{}ENDDATA\n", hexa_mesh([1, 1, 1], [1.0, 1.0, 1.0]));
+    let (r, _dir) = run_deck(&deck);
+    let e = r.expect_err("mechanism").to_string();
+    assert!(e.contains("GRID ") && e.contains("component ") && e.contains("AUTOSPC") && e.contains("SPC"), "{e}");
+    assert!(["component 4", "component 5", "component 6"].iter().any(|c| e.contains(c)), "{e}");
+}
