@@ -882,7 +882,7 @@ fn next_uniform(state: &mut u64) -> f64 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::linalg::cholesky::tests::chain;
     use nalgebra_sparse::CooMatrix;
@@ -1206,7 +1206,7 @@ mod tests {
     /// Finite-difference Laplacian (5-point stencil in 2-D, 7-point in 3-D) on a grid of
     /// `dims` points with unit spacing and Dirichlet boundaries; its eigenvalues are
     /// Σ_d 4 sin²(i_d π / (2(n_d+1))), i_d = 1..n_d.
-    fn laplacian(dims: &[usize]) -> CscMatrix<f64> {
+    pub(crate) fn laplacian(dims: &[usize]) -> CscMatrix<f64> {
         let n: usize = dims.iter().product();
         let strides: Vec<usize> = (0..dims.len())
             .map(|d| dims[..d].iter().product())
