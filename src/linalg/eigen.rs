@@ -1278,68 +1278,94 @@ pub(crate) mod tests {
         assert_modes(&result, &m, &laplacian_eigenvalues(&dims, 6), 1e-10);
     }
 
-    /// Benchmark (run on demand, release):
-    /// 2 cores, faer 0.24 AMD ordering: n = 300 300, nnz(L) = 3.4·10⁸, analyse 1.6 s, one LDLᵀ
-    /// 88 s, 24 modes in 363 s (two LDLᵀ — shift and Sturm check — plus about 120 solves),
-    /// max relative eigenvalue error 9·10⁻¹⁴, max residual 1.5·10⁻¹².
+    /// Benchmark (run on demand, release), AMD against METIS nested dissection on the 7-point
+    /// Laplacian of 70×66×65 = 300 300 points (nnz(A) = 2.1·10⁶), 2 cores shared with other
+    /// jobs (load average ≈ 6 during the run, so times are upper bounds):
+    ///
+    /// | ordering | nnz(L) | analyse | one LDLᵀ, `Par::rayon(2)` | `Par::Seq` | 24 modes |
+    /// |---|---|---|---|---|---|
+    /// | AMD (faer) | 3.36·10⁸ (2.7 GB) | 1.7 s | 41 s (88 s in an earlier run) | — | 363 s (earlier run) |
+    /// | METIS ND   | 1.70·10⁸ (1.4 GB) | 5.9 s | 46 s | 44 s | 152 s |
+    ///
+    /// Both supernodal. ND halves the factor, hence the memory and every solve of the Lanczos
+    /// run (two LDLᵀ — shift and Sturm check — plus about 120 solves, 2 restarts): max relative
+    /// eigenvalue error 9.8·10⁻¹⁴, max residual 1.6·10⁻¹². Analysis is slower (METIS on the
+    /// uncompressible 300k-vertex graph; a 6-DOF FE pattern hands METIS a 36× smaller graph).
+    /// `Par::rayon(2)` gave no speedup over `Par::Seq` on the loaded machine.
     /// `cargo test --release --lib linalg::eigen::tests::bench_laplacian_300k -- --ignored --nocapture`
     #[test]
     #[ignore]
     fn bench_laplacian_300k() {
+        use crate::linalg::{FactorVariant, Ordering};
         use std::time::Instant;
         let dims = [70, 66, 65];
         let k = laplacian(&dims);
         let m = lumped(&k, 1.0);
-        let par = Par::rayon(0);
-        let t0 = Instant::now();
-        let symbolic = SymbolicFactor::analyze(k.pattern()).unwrap();
-        let t_analyze = t0.elapsed();
-        let t1 = Instant::now();
-        let factor = symbolic.factor_ldlt(&k, par).unwrap();
-        let t_factor = t1.elapsed();
-        let problem = EigenProblem {
-            k: &k,
-            m: &m,
-            symbolic: &symbolic,
-        };
-        let t2 = Instant::now();
-        let request = EigenRequest {
-            nd: Some(24),
-            ..Default::default()
-        };
-        let result = solve_modes(
-            &problem,
-            &request,
-            &LanczosOptions::default(),
-            par,
-            &quiet(),
-        )
-        .unwrap();
-        let t_eigen = t2.elapsed();
-        let exact = laplacian_eigenvalues(&dims, 24);
-        let err = result
-            .eigenvalues
-            .iter()
-            .zip(&exact)
-            .map(|(a, b)| ((a - b) / b).abs())
-            .fold(0.0, f64::max);
-        let res = result.residuals.iter().copied().fold(0.0, f64::max);
-        println!(
-            "n = {}, nnz(A) = {}, nnz(L) = {}, analyze {:.2?}, one LDLᵀ {:.2?}, eigen total {:.2?} \
-             ({} modes, {} restarts), max rel. eigenvalue error {:.1e}, max residual {:.1e}, Sturm {:?}",
-            k.nrows(),
-            k.nnz(),
-            symbolic.factor_nnz(),
-            t_analyze,
-            t_factor,
-            t_eigen,
-            result.eigenvalues.len(),
-            result.restarts,
-            err,
-            res,
-            result.sturm
-        );
-        drop(factor);
-        assert!(err < 1e-10 && result.sturm.is_consistent());
+        let par = Par::rayon(2);
+        for ordering in [Ordering::NestedDissection, Ordering::Amd] {
+            let t0 = Instant::now();
+            let symbolic =
+                SymbolicFactor::analyze_with(k.pattern(), FactorVariant::Auto, ordering).unwrap();
+            let t_analyze = t0.elapsed();
+            let t1 = Instant::now();
+            let factor = symbolic.factor_ldlt(&k, par).unwrap();
+            let t_par = t1.elapsed();
+            drop(factor);
+            println!(
+                "{ordering:?}: n = {}, nnz(A) = {}, nnz(L) = {} ({:?}), analyze {:.2?}, \
+                 one LDLᵀ {:.2?} (Par::rayon(2))",
+                k.nrows(),
+                k.nnz(),
+                symbolic.factor_nnz(),
+                symbolic.variant(),
+                t_analyze,
+                t_par,
+            );
+            if ordering == Ordering::Amd {
+                // The full AMD eigen run takes 6 min; its numbers are in the doc comment.
+                continue;
+            }
+            let t1 = Instant::now();
+            drop(symbolic.factor_ldlt(&k, Par::Seq).unwrap());
+            println!("{ordering:?}: one LDLᵀ {:.2?} (Par::Seq)", t1.elapsed());
+            let problem = EigenProblem {
+                k: &k,
+                m: &m,
+                symbolic: &symbolic,
+            };
+            let t2 = Instant::now();
+            let request = EigenRequest {
+                nd: Some(24),
+                ..Default::default()
+            };
+            let result = solve_modes(
+                &problem,
+                &request,
+                &LanczosOptions::default(),
+                par,
+                &quiet(),
+            )
+            .unwrap();
+            let t_eigen = t2.elapsed();
+            let exact = laplacian_eigenvalues(&dims, 24);
+            let err = result
+                .eigenvalues
+                .iter()
+                .zip(&exact)
+                .map(|(a, b)| ((a - b) / b).abs())
+                .fold(0.0, f64::max);
+            let res = result.residuals.iter().copied().fold(0.0, f64::max);
+            println!(
+                "{ordering:?}: eigen total {:.2?} ({} modes, {} restarts), max rel. eigenvalue \
+                 error {:.1e}, max residual {:.1e}, Sturm {:?}",
+                t_eigen,
+                result.eigenvalues.len(),
+                result.restarts,
+                err,
+                res,
+                result.sturm
+            );
+            assert!(err < 1e-10 && result.sturm.is_consistent());
+        }
     }
 }
