@@ -18,12 +18,17 @@
 //! **Permutation convention** (same as faer's `PermRef` forward array and METIS' `perm`):
 //! `perm[k]` is the caller's index of the k-th eliminated unknown, i.e. the permuted matrix is
 //! A'[k, l] = A[perm[k], perm[l]].
+//!
+//! **Threads.** METIS keeps its random-number state in a process global and installs signal
+//! handlers around each call, so calls are serialized by a lock: concurrent analyses stay
+//! correct and every ordering is reproducible (METIS' default seed).
 
 use metis_sys::{
     METIS_NOPTIONS, METIS_NodeND, METIS_SetDefaultOptions, idx_t,
     moptions_et_METIS_OPTION_NUMBERING, rstatus_et_METIS_ERROR_MEMORY, rstatus_et_METIS_OK,
 };
 use nalgebra_sparse::pattern::SparsityPattern;
+use std::sync::Mutex;
 
 use super::LinalgError;
 
@@ -157,6 +162,9 @@ pub fn nested_dissection(pattern: &SparsityPattern) -> Result<Vec<usize>, Linalg
     Ok(perm)
 }
 
+/// Serializes METIS calls (see the module doc).
+static METIS_LOCK: Mutex<()> = Mutex::new(());
+
 /// Quotient graph of the supervariables in METIS' CSR layout (no self loops).
 struct QuotientGraph {
     xadj: Vec<idx_t>,
@@ -199,6 +207,10 @@ impl QuotientGraph {
         let mut options = [0 as idx_t; METIS_NOPTIONS as usize];
         let mut perm = vec![0 as idx_t; nv];
         let mut iperm = vec![0 as idx_t; nv];
+        // Nothing under the lock can panic, so a poisoned lock holds no broken state.
+        let guard = METIS_LOCK
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
         // SAFETY: `options` has METIS_NOPTIONS entries; xadj has nvtxs + 1 entries, adjncy
         // xadj[nvtxs] entries in 0..nvtxs without self loops, vwgt/perm/iperm nvtxs entries,
         // all exclusively borrowed for the duration of the calls.
@@ -215,6 +227,7 @@ impl QuotientGraph {
                 iperm.as_mut_ptr(),
             )
         };
+        drop(guard);
         match status {
             s if s == rstatus_et_METIS_OK => {}
             s if s == rstatus_et_METIS_ERROR_MEMORY => return Err(LinalgError::OutOfMemory),
@@ -340,6 +353,21 @@ pub(crate) mod tests {
             last.abs_diff(n / 2) < n / 10,
             "last eliminated vertex {last}"
         );
+    }
+
+    /// Orderings computed concurrently equal the sequential one (METIS calls are serialized).
+    #[test]
+    fn concurrent_orderings_are_reproducible() {
+        let a = laplacian(&[12, 11, 10]);
+        let reference = nested_dissection(a.pattern()).unwrap();
+        std::thread::scope(|scope| {
+            let runs: Vec<_> = (0..4)
+                .map(|_| scope.spawn(|| nested_dissection(a.pattern()).unwrap()))
+                .collect();
+            for run in runs {
+                assert_eq!(run.join().unwrap(), reference);
+            }
+        });
     }
 
     #[test]
