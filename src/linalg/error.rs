@@ -44,6 +44,12 @@ pub enum LinalgError {
         wanted: usize,
         restarts: usize,
     },
+    /// A dimension or entry count does not fit the 32-bit indices of METIS.
+    #[error("{value} exceeds the 32-bit index range of the METIS ordering")]
+    IndexOverflow { value: usize },
+    /// METIS returned an error status (or an invalid permutation) for a valid graph.
+    #[error("METIS nested-dissection ordering failed with status {status}")]
+    OrderingFailed { status: i32 },
     /// faer ran out of memory or overflowed an index type.
     #[error("out of memory or index overflow in the sparse factorization")]
     OutOfMemory,

@@ -10,16 +10,21 @@
 //!
 //! - [`cholesky`]: [`SymbolicFactor`] (ordering + symbolic analysis, once per pattern) and
 //!   [`Factor`] (numeric LLᵀ or LDLᵀ, many per pattern, in parallel if wanted).
+//! - [`ordering`]: METIS nested dissection on the supervariable (compressed) graph, used by
+//!   the symbolic analysis of large patterns.
 //! - [`eigen`]: shift-invert Lanczos for K φ = λ M φ with EIGRL request semantics and a
 //!   Sturm-sequence missed-mode check ([`solve_modes`]).
 
 pub mod cholesky;
 pub mod eigen;
 mod error;
+pub mod ordering;
 mod progress;
 mod sparse;
 
-pub use cholesky::{Factor, FactorKind, FactorVariant, Inertia, SolveScratch, SymbolicFactor};
+pub use cholesky::{
+    Factor, FactorKind, FactorVariant, Inertia, Ordering, SolveScratch, SymbolicFactor,
+};
 pub use eigen::{
     EigenProblem, EigenRequest, EigenResult, LanczosOptions, SturmCheck, solve_modes, sturm_check,
     sturm_count,
