@@ -349,6 +349,26 @@ impl<'a> FieldReader<'a> {
         ids
     }
 
+    /// The one or two (grid, components, value) triples of `SPC`/`DAREA`-style cards, at fields
+    /// 3–5 and 6–8. `names` are the field names; a blank value is `default`, or an error when
+    /// `default` is `None`.
+    pub fn grid_component_values(&mut self, names: [&str; 3], default: Option<f64>) -> Vec<(u32, Dofs, f64)> {
+        let mut out = Vec::new();
+        for first in [2, 5] {
+            if first == 5 && (5..=7).all(|i| self.value(i).is_blank()) {
+                break;
+            }
+            let grid = self.id(first, names[0]);
+            let components = self.dofs(first + 1, names[1]);
+            let value = match default {
+                Some(d) => self.real_or(first + 2, names[2], d),
+                None => self.real(first + 2, names[2]),
+            };
+            out.push((grid, components, value));
+        }
+        out
+    }
+
     /// Every non-blank field from `from` to the end of the card, read as reals.
     pub fn real_list(&mut self, from: usize, name: &str) -> Vec<f64> {
         let end = self.len();

@@ -26,16 +26,12 @@ impl Spc {
         let mut f = FieldReader::new(card);
         let sid = f.id(1, "SID");
         f.set_id(sid);
-        let mut out = Vec::new();
-        for first in [2, 5] {
-            if first == 5 && (5..=7).all(|i| f.value(i).is_blank()) {
-                break;
-            }
-            let grid = f.id(first, "G");
-            let components = f.dofs(first + 1, "C");
-            let value = f.real_or(first + 2, "D", 0.0);
-            out.push(Spc { sid, grid, components, value, loc: f.loc() });
-        }
+        let loc = f.loc();
+        let out = f
+            .grid_component_values(["G", "C", "D"], Some(0.0))
+            .into_iter()
+            .map(|(grid, components, value)| Spc { sid, grid, components, value, loc: loc.clone() })
+            .collect();
         f.finish(7)?;
         Ok(out)
     }

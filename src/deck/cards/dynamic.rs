@@ -317,16 +317,12 @@ impl Darea {
         let mut f = FieldReader::new(card);
         let sid = f.id(1, "SID");
         f.set_id(sid);
-        let mut out = Vec::new();
-        for first in [2, 5] {
-            if first == 5 && (5..=7).all(|i| f.value(i).is_blank()) {
-                break;
-            }
-            let grid = f.id(first, "P");
-            let components = f.dofs(first + 1, "C");
-            let scale = f.real(first + 2, "A");
-            out.push(Darea { sid, grid, components, scale, loc: f.loc() });
-        }
+        let loc = f.loc();
+        let out = f
+            .grid_component_values(["P", "C", "A"], None)
+            .into_iter()
+            .map(|(grid, components, scale)| Darea { sid, grid, components, scale, loc: loc.clone() })
+            .collect();
         f.finish(7)?;
         Ok(out)
     }
