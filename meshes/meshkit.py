@@ -164,3 +164,34 @@ def _write_atomically(path: Path, text: str) -> None:
     tmp = path.with_suffix(path.suffix + ".tmp")
     tmp.write_text(text)
     tmp.replace(path)
+
+
+def set_shell_mcid(path: Path, mcid: int) -> None:
+    """Give every CQUAD4/CTRIA3 of an include written by :func:`write_mesh_include` the material
+    system ``mcid`` (field 8 of CQUAD4, field 7 of CTRIA3; meshio leaves it blank, i.e. THETA =
+    0: the material x axis along each element's G1→G2 edge, which varies across a free mesh).
+    With MCID the x axis of that system projected onto each element is the material x axis, so
+    a PCOMP layup has one orientation over the whole component; MCID = 0 is the basic system."""
+    field_of = {"CQUAD4": 8, "CTRIA3": 7}
+    out = []
+    for line in path.read_text().splitlines(keepends=True):
+        name = line[:8].strip()
+        if name in field_of:
+            body = line.rstrip("\n").rstrip()
+            start = 8 * (field_of[name] - 1)
+            if len(body) > start or "," in body or name + "*" in line[:8]:
+                raise ValueError(f"{path.name}: unexpected element line {line!r}")
+            line = body.ljust(start) + f"{mcid:>8d}\n"
+        out.append(line)
+    _write_atomically(path, "".join(out))
+
+
+def fit_large_field(mesh: SceneMesh) -> None:
+    """Round the grid coordinates in place so that meshio's large-field GRID writer can print
+    them: it asserts ≤ 16 characters for ``np.format_float_scientific(x, precision=11)``, which a
+    negative coordinate with 12 significant digits (``-1.23456789012E-3``, 17 characters) or a
+    round-off value like ``-1.2E-19`` breaks. Coordinates become 11 significant digits (a
+    relative change ≤ 5e-12) and |x| < 1e-9 becomes 0 (gmsh round-off around zero)."""
+    pts = mesh.points
+    pts[np.abs(pts) < 1e-9] = 0.0
+    mesh.points = np.array([[float(f"{x:.10e}") for x in row] for row in pts]).reshape(pts.shape)
