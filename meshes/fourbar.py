@@ -25,7 +25,7 @@ Choices (the thesis shows the lengths only in Fig. 4.2, which is not in the text
   (ids 1000001, 1000002), the joint of the multibody model; ASET1 123456 on both masters
   (boundary DOFs for static modes, as in §4.5 for the Robolink links).
 
-Sizes: "test" 2 mm elements with 12 segments per hole (committed includes, fast tests);
+Sizes: "test" 2.5 mm elements with 12 segments per hole (committed includes, fast tests);
 "full" 0.5 mm with 32 segments per hole (Table 4.1 density, ``make meshes-full``).
 Elements are quads with some triangles (gmsh frontal-Delaunay for quads + recombination).
 Every shell element carries MCID = 0 (basic system), so the composite layup of the coupler
@@ -49,7 +49,7 @@ LINKS = {              # component → joint-to-joint length (m), choice (see do
     "coupler": 0.350,
     "output_crank": 0.300,
 }
-SIZES = {"test": (0.002, 12), "full": (0.0005, 32)}  # element size (m), segments per hole
+SIZES = {"test": (0.0025, 12), "full": (0.0005, 32)}  # element size (m), segments per hole
 MASTER_BASE = 1000001
 SURFACE, HOLE1, HOLE2 = 1, 11, 12  # physical group tags
 PID = 1

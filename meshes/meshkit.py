@@ -195,3 +195,11 @@ def fit_large_field(mesh: SceneMesh) -> None:
     pts = mesh.points
     pts[np.abs(pts) < 1e-9] = 0.0
     mesh.points = np.array([[float(f"{x:.10e}") for x in row] for row in pts]).reshape(pts.shape)
+
+
+def fix_tetra10_cards(path: Path) -> None:
+    """meshio 5.3.5 writes 10-node tetrahedra as ``CTETRA_`` (its internal name for them); the
+    Nastran card is ``CTETRA`` with 10 grids. Rename them in an include written by
+    :func:`write_mesh_include`."""
+    text = path.read_text()
+    _write_atomically(path, text.replace("\nCTETRA_ ", "\nCTETRA  "))

@@ -1,6 +1,7 @@
 //! Helpers shared by the solution-sequence integration tests.
 
 use std::io::Write;
+use std::path::Path;
 
 use paraflex::deck::Deck;
 use paraflex::io::OutputFile;
@@ -8,17 +9,30 @@ use paraflex::model::Model;
 use paraflex::sequence::{RunContext, RunError, RunOptions, RunSummary, run};
 
 /// Run a deck text through deck → model → sequence with an HDF5 file in a temp directory.
+#[allow(dead_code)] // each test crate that includes this module uses one of the two runners
 pub fn run_deck(text: &str) -> (Result<RunSummary, RunError>, tempfile::TempDir) {
     let dir = tempfile::tempdir().expect("temp dir");
     let path = dir.path().join("deck.dat");
     std::fs::File::create(&path).and_then(|mut f| f.write_all(text.as_bytes())).expect("write deck");
-    let deck = Deck::read(&path).unwrap_or_else(|e| panic!("deck: {e}"));
-    let model = Model::build(&deck).unwrap_or_else(|e| panic!("model: {:?}", e.iter().map(|x| x.to_string()).collect::<Vec<_>>()));
+    let (result, _model, dir) = run_in(&path, dir);
+    (result, dir)
+}
+
+/// Run the deck file at `path` (its INCLUDEs resolve relative to it) with the HDF5 file
+/// `out.h5` in a new temp directory; also returns the model (mass properties, grids).
+#[allow(dead_code)]
+pub fn run_deck_file(path: &Path) -> (Result<RunSummary, RunError>, Model, tempfile::TempDir) {
+    run_in(path, tempfile::tempdir().expect("temp dir"))
+}
+
+fn run_in(path: &Path, dir: tempfile::TempDir) -> (Result<RunSummary, RunError>, Model, tempfile::TempDir) {
+    let deck = Deck::read(path).unwrap_or_else(|e| panic!("{}: deck: {e}", path.display()));
+    let model = Model::build(&deck).unwrap_or_else(|e| panic!("{}: model: {:?}", path.display(), e.iter().map(|x| x.to_string()).collect::<Vec<_>>()));
     let file = OutputFile::create(dir.path().join("out.h5")).expect("output");
     let ctx = RunContext { deck: &deck, model: &model, output: &file, progress: &|_: &str, _: usize, _: usize| {}, options: RunOptions { parallel: false } };
     let result = run(&ctx);
     if result.is_ok() {
         file.commit().expect("commit");
     }
-    (result, dir)
+    (result, model, dir)
 }
