@@ -39,6 +39,15 @@ $(VENV)/.installed: tools/requirements.txt
 	$(PY) -m pip install --quiet --disable-pip-version-check -r tools/requirements.txt
 	@touch $@
 
+# Mesh includes of the case-study scenes (meshes/README.md): the committed "test" variants,
+# and the large "full" variants in meshes/full/ (not committed).
+.PHONY: meshes meshes-full
+meshes: deps
+	$(PY) meshes/build.py
+
+meshes-full: deps
+	$(PY) meshes/build.py --full
+
 # Reading speed against pyNastran on a generated 1-million-grid deck (not part of the tests).
 bench-read: deps
 	$(CARGO) build --release --quiet
