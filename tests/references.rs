@@ -489,9 +489,9 @@ fn calculix_pcomp_plate_90() {
 /// The deck was 8 × 8 until paraflex and CalculiX disagreed by up to 15 %; the cause was CalculiX's
 /// S4 (expanded to C3D8I) on the coarse mesh, not the constraints: against S8R on 32 × 32
 /// (`additional_runs.s8r_32x32` of the JSON) S4 8 × 8 was +10.5 % in mode 1 and +9…+24 % in modes
-/// 7–10, paraflex 8 × 8 +2.7 % and +4…+6 %, and S4 was as stiff with a stiff S4 patch instead of the
-/// rigid body and on the plain free plate (Leissa's λ² = 35.02 pair: S4 506 Hz, paraflex 443,
-/// Leissa 436). A free plate with the RBE2 (or an RBE3) has exactly 6 zero modes in paraflex
+/// 7–10, paraflex 8 × 8 +2.7 % and +4…+6 % (investigation runs, not stored: S4 was as stiff with a
+/// stiff S4 patch instead of the rigid body and on the plain free plate, Leissa's λ² = 35.02 pair
+/// S4 506 Hz, paraflex 443, Leissa 436). A free plate with the RBE2 (or an RBE3) has exactly 6 zero modes in paraflex
 /// (tests/null_space.rs). On 16 × 16 both codes are within 2.1 % (modes 1–6) and 4.7 % (7–10) of
 /// S8R 32 × 32 and within 2.2 % of each other; tolerances and their reasons are in the JSON
 /// (`tolerance.justification`) and tools/calculix/README.md.

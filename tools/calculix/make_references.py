@@ -673,9 +673,9 @@ def case_rbe(name: str):
     The mesh is 16 x 16 (12.5 mm), not 8 x 8: on 8 x 8 ccx's S4 (expanded to C3D8I) is far from
     converged for this plate with a rigid centre - against S8R on 32 x 32 (s8r_32x32) mode 1 was
     +10.5 % and modes 7-10 +9 to +24 %, while paraflex's MITC4 on the same 8 x 8 mesh was +2.7 % and
-    +4 to +6 %; S4 is as stiff without any rigid body (a stiff S4 patch instead of the *RIGID BODY,
-    and the plain free plate: its Leissa lambda^2 = 35.02 pair is 506 Hz with S4 8 x 8, 443 Hz with
-    paraflex, 436 Hz by Leissa). So the 8 x 8 comparison measured the coarse-mesh error of two
+    +4 to +6 %; S4 is as stiff without any rigid body (investigation runs, not stored: a stiff S4
+    patch instead of the *RIGID BODY, and the plain free plate: its Leissa lambda^2 = 35.02 pair is
+    506 Hz with S4 8 x 8, 443 Hz with paraflex, 436 Hz by Leissa). So the 8 x 8 comparison measured the coarse-mesh error of two
     different linear shells, not the RBE2 / CONM2 / CELAS2 modelling the case is for. On 16 x 16
     both linear shells are above s8r_32x32 by <= 2.1 % (S4) and <= 1.2 % (paraflex) in modes 1-6,
     2.8-4.7 % and 2.4-3.1 % in modes 7-10; s8r_16x16 and s8r_32x32 record the convergence, s4_8x8
@@ -932,8 +932,8 @@ register("rbe_spring_mass", lambda: case_rbe("rbe_spring_mass"), dict(
         "(E x 1e5, additional_runs.rigidcheck) ccx reproduces the 6-dof rigid-body-on-springs analytic "
         "frequencies, which verifies the springs, the mass cluster and the rigid body. Mesh: 16 x 16, because "
         "on the former 8 x 8 mesh ccx's S4 was too stiff against S8R on 32 x 32 (additional_runs.s4_8x8, "
-        "s8r_32x32: mode 1 +10.5 %, modes 7-10 +9 to +24 %), also without a rigid body (stiff S4 patch, plain "
-        "free plate), while paraflex's MITC4 on 8 x 8 was +2.7 % and +4 to +6 %: the 8 x 8 comparison "
+        "s8r_32x32: mode 1 +10.5 %, modes 7-10 +9 to +24 %), also without a rigid body (investigation runs, "
+        "not stored: stiff S4 patch, plain free plate), while paraflex's MITC4 on 8 x 8 was +2.7 % and +4 to +6 %: the 8 x 8 comparison "
         "measured two linear shells' coarse-mesh errors, not the constraint modelling. Modes 1-6 of the real "
         "model are the spring modes lowered by plate flexibility (mode 1: corner-supported plate bending under "
         "the central mass), modes 7-10 plate flexural modes. Modes 2/3 and 4/5 are degenerate pairs (x/y "
