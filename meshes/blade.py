@@ -47,7 +47,8 @@ Includes written (grids and elements from 1; extra grids and elements from 10000
   blade_rbe.bdf  flange centre grid 1000001, bolt grids 1000002-1000005, RBE2 1000001 from the
                  flange centre to the bolted face and the bolt grids (CM 123), ASET1 123 on
                  three blade grids (PMOR static modes: 3 grids × 3 translations = Table 3.1's
-                 9 static modes). The bolt springs (CELAS2, Table 3.2's K) are in the deck.
+                 9 static modes). The bolt springs (CELAS2, Table 3.2's K) and the material are
+                 in decks/blade/blade_ti_bolts.bdf.
 """
 from __future__ import annotations
 
