@@ -1330,7 +1330,10 @@ mod tests {
         };
         let s = ShellSection::pshell(&membrane_only).unwrap();
         assert!(close3(&s.a, &a, 1e-14));
-        assert_eq!((s.b, s.d, s.s), ([[0.0; 3]; 3], [[0.0; 3]; 3], [[0.0; 2]; 2]));
+        assert_eq!(
+            (s.b, s.d, s.s),
+            ([[0.0; 3]; 3], [[0.0; 3]; 3], [[0.0; 2]; 2])
+        );
         // MID3 blank: S = 100 · r · G2 · T.
         let kirchhoff = PshellSection { shear: None, ..p };
         let s = ShellSection::pshell(&kirchhoff).unwrap();
@@ -1376,7 +1379,10 @@ mod tests {
             Err(SectionError::NonPositive { .. })
         ));
         assert!(matches!(
-            ShellSection::pshell(&PshellSection { bending_ratio: 0.0, ..ok }),
+            ShellSection::pshell(&PshellSection {
+                bending_ratio: 0.0,
+                ..ok
+            }),
             Err(SectionError::NonPositive { .. })
         ));
         for bad in [
@@ -1386,7 +1392,10 @@ mod tests {
                 shear: None,
                 ..ok
             },
-            PshellSection { bending: None, ..ok },
+            PshellSection {
+                bending: None,
+                ..ok
+            },
             PshellSection {
                 bending: None,
                 shear: None,
@@ -1577,9 +1586,18 @@ mod tests {
                 for mid in [1, 2, 4] {
                     let (e0, nu0, rho0) = mat1_of(&nominal, mid);
                     for (param, direct) in [
-                        (SectionParameter::E, with_mat1(&nominal, mid, v.e, nu0, rho0)),
-                        (SectionParameter::Nu, with_mat1(&nominal, mid, v.e, v.nu, rho0)),
-                        (SectionParameter::Rho, with_mat1(&nominal, mid, e0, nu0, v.rho)),
+                        (
+                            SectionParameter::E,
+                            with_mat1(&nominal, mid, v.e, nu0, rho0),
+                        ),
+                        (
+                            SectionParameter::Nu,
+                            with_mat1(&nominal, mid, v.e, v.nu, rho0),
+                        ),
+                        (
+                            SectionParameter::Rho,
+                            with_mat1(&nominal, mid, e0, nu0, v.rho),
+                        ),
                     ] {
                         let data = SectionData::Pshell {
                             section: nominal,

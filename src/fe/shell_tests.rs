@@ -524,11 +524,7 @@ fn clamped_plate_does_not_lock() {
     let mut ratios = Vec::new();
     for tl in [1e-2, 1e-3, 1e-4] {
         let t = tl * l;
-        let k = quad_mesh_stiffness(
-            &xyz,
-            &quads,
-            &ShellSection::pshell(&iso(e, nu, t)).unwrap(),
-        );
+        let k = quad_mesh_stiffness(&xyz, &quads, &ShellSection::pshell(&iso(e, nu, t)).unwrap());
         let d = e * t.powi(3) / (12.0 * (1.0 - nu * nu));
         let mut point_load = vec![0.0; k.nrows()];
         point_load[6 * centre + 2] = 0.25; // a quarter of P = 1
@@ -658,10 +654,17 @@ fn affine_stiffness_and_mass_match_direct_matrices() {
             bending_ratio: 0.55,
             shear_ratio: 0.75,
             coupling: Some(m(4, 4e9, 0.15, 90.0)),
-            ..PshellSection { membrane: Some(m1), shear: Some(m1), ..iso_data(70e9, 0.33, 2700.0) }
+            ..PshellSection {
+                membrane: Some(m1),
+                shear: Some(m1),
+                ..iso_data(70e9, 0.33, 2700.0)
+            }
         }
     };
-    let pshell = |section, parametrized| SectionData::Pshell { section, parametrized };
+    let pshell = |section, parametrized| SectionData::Pshell {
+        section,
+        parametrized,
+    };
     let ply = |theta_deg: f64, t: f64| Ply {
         e1: 140e9,
         e2: 10e9,
@@ -720,11 +723,30 @@ fn affine_stiffness_and_mass_match_direct_matrices() {
         ),
     ];
     // Distinct materials: the parameter on each of them (ν at E: that material's nominal).
-    for (mid, e0, nu0, rho0) in [(1, 70e9, 0.33, 2700.0), (2, 190e9, 0.27, 7700.0), (4, 4e9, 0.15, 90.0)] {
+    for (mid, e0, nu0, rho0) in [
+        (1, 70e9, 0.33, 2700.0),
+        (2, 190e9, 0.27, 7700.0),
+        (4, 4e9, 0.15, 90.0),
+    ] {
         let nominal = mixed(mid, e0, nu0, rho0);
-        cases.push((pshell(nominal, mid), SectionParameter::E, nu0, ShellSection::pshell(&mixed(mid, v.e, nu0, rho0))));
-        cases.push((pshell(nominal, mid), SectionParameter::Nu, nu0, ShellSection::pshell(&mixed(mid, v.e, v.nu, rho0))));
-        cases.push((pshell(nominal, mid), SectionParameter::Rho, nu0, ShellSection::pshell(&mixed(mid, e0, nu0, v.rho))));
+        cases.push((
+            pshell(nominal, mid),
+            SectionParameter::E,
+            nu0,
+            ShellSection::pshell(&mixed(mid, v.e, nu0, rho0)),
+        ));
+        cases.push((
+            pshell(nominal, mid),
+            SectionParameter::Nu,
+            nu0,
+            ShellSection::pshell(&mixed(mid, v.e, v.nu, rho0)),
+        ));
+        cases.push((
+            pshell(nominal, mid),
+            SectionParameter::Rho,
+            nu0,
+            ShellSection::pshell(&mixed(mid, e0, nu0, v.rho)),
+        ));
     }
     for (data, param, nu_at_e, direct) in cases {
         let direct = direct.unwrap();
