@@ -323,6 +323,26 @@ fn analytic_ss_plate_modal() {
     analytic_modal("ss_plate_modal", &[0, 1, 2], true, |j| Some((mindlin[j], "Mindlin SS plate (JSON independent_checks)", 1e-6)));
 }
 
+/// PSHELL with distinct MID1 (aluminium: membrane, mass, MID3 shear with TS/T = 0.8) and MID2
+/// (steel with 12I/T³ = 0.6), NSM: the Kirchhoff frequencies with D = (12I/T³)·E2 T³/(12(1−ν2²))
+/// and mass ρ1 T + NSM; converges to the exact Mindlin plate with those roles.
+#[test]
+fn analytic_ss_plate_pshell_roles_modal() {
+    let r = json("reference/analytic/ss_plate_pshell_roles_modal.json");
+    let mindlin = f64s(&r["independent_checks"]["mindlin_Hz"]);
+    analytic_modal("ss_plate_pshell_roles_modal", &[0, 1, 2], true, |j| Some((mindlin[j], "Mindlin SS plate (JSON independent_checks)", 1e-6)));
+}
+
+/// The same PSHELL with MID3 blank (rigid in transverse shear): converges to the Mindlin plate
+/// with paraflex's shear penalty (`independent_checks`), which lies within 0.04 % of Kirchhoff
+/// (the remaining difference is the rotary inertia ρ1 T³/12).
+#[test]
+fn analytic_ss_plate_pshell_kirchhoff_modal() {
+    let r = json("reference/analytic/ss_plate_pshell_kirchhoff_modal.json");
+    let limit = f64s(&r["independent_checks"]["mindlin_Hz"]);
+    analytic_modal("ss_plate_pshell_kirchhoff_modal", &[0, 1, 2], true, |j| Some((limit[j], "penalty-shear Mindlin SS plate (JSON independent_checks)", 1e-6)));
+}
+
 /// Timoshenko values. The finest mesh (80×4×8, 2560 CHEXA) takes ~60–100 s at opt-level 0, so
 /// the default test runs the coarse and medium meshes only and reports them: the JSON gives
 /// tolerances for the finest mesh only, so nothing is asserted on them beyond a clean run

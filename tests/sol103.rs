@@ -159,3 +159,95 @@ fn mechanism_without_autospc_names_grid_and_component() {
     assert!(e.contains("GRID ") && e.contains("component ") && e.contains("AUTOSPC") && e.contains("SPC"), "{e}");
     assert!(["component 4", "component 5", "component 6"].iter().any(|c| e.contains(c)), "{e}");
 }
+
+/// A CQUAD4 plate mesh nx × ny of size lx × ly in the plane spanned by the basic x axis and
+/// `y_dir` (a unit vector), grid ids from 1 (x fastest), all elements PID 1; `clamp` adds
+/// SPC1 123456 on the grids at x = 0 (set 1).
+fn quad_plate(n: [usize; 2], l: [f64; 2], y_dir: [f64; 3], clamp: bool) -> String {
+    let mut s = String::new();
+    let id = |i: usize, j: usize| 1 + i + (n[0] + 1) * j;
+    for j in 0..=n[1] {
+        for i in 0..=n[0] {
+            let (x, y) = (i as f64 * l[0] / n[0] as f64, j as f64 * l[1] / n[1] as f64);
+            s += &format!("GRID,{},,{:.15e},{:.15e},{:.15e}\n", id(i, j), x + y * y_dir[0], y * y_dir[1], y * y_dir[2]);
+            if clamp && i == 0 {
+                s += &format!("SPC1,1,123456,{}\n", id(i, j));
+            }
+        }
+    }
+    let mut e = 1;
+    for j in 0..n[1] {
+        for i in 0..n[0] {
+            s += &format!("CQUAD4,{e},1,{},{},{},{}\n", id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            e += 1;
+        }
+    }
+    s
+}
+
+/// Modal run of a clamped 8 × 3 aluminium-membrane plate with the given PSHELL and extra
+/// material cards (consistent mass).
+fn clamped_plate_modes(pshell: &str, modes: usize) -> RunSummary {
+    let deck = format!(
+        "SOL 103\nCEND\nSPC = 1\nMETHOD = 1\nBEGIN BULK\nPARAM,COUPMASS,1\nEIGRL,1,,,{modes}\nMAT1,1,7.0e10,,0.33,2700.\nMAT1,2,2.0e11,,0.28,7800.\nMAT1,3,{:?},,0.28,7800.\n{pshell}\n{}ENDDATA\n",
+        2.0e11 * 0.43,
+        quad_plate([8, 3], [0.4, 0.15], [0.0, 1.0, 0.0], true)
+    );
+    let (r, _dir) = run_deck(&deck);
+    r.expect("run")
+}
+
+/// Nastran PSHELL: D = (12I/T³)·T³/12·Q2, so 12I/T³ = k with MID2 E gives the same bending
+/// stiffness as 12I/T³ = 1 with a MID2 of modulus k·E (same ν); MID1 (membrane, mass, and
+/// here MID3 shear) is untouched. The two models have the same K and M to round-off (k·E·T³/12
+/// evaluated in two orders: 1 ulp), so every frequency agrees to the eigensolver's round-off:
+/// tolerance 1e-10 (residuals are below 1e-10 and the spectrum is well separated).
+#[test]
+fn pshell_bending_ratio_equals_scaled_bending_modulus() {
+    let a = clamped_plate_modes("PSHELL,1,1,0.004,2,0.43,1,0.8,0.5", 6);
+    let b = clamped_plate_modes("PSHELL,1,1,0.004,3,1.0,1,0.8,0.5", 6);
+    let (fa, fb) = (&modal(&a).frequencies_hz, &modal(&b).frequencies_hz);
+    assert_eq!(fa.len(), 6);
+    for (x, y) in fa.iter().zip(fb) {
+        assert!((x - y).abs() <= 1e-10 * y, "{fa:?}\n{fb:?}");
+    }
+    // 12I/T³ = 1 with MID2 = 2: the first mode (bending of a thin plate, L/T = 100) scales
+    // with √D, i.e. by 1/√0.43, up to the transverse-shear share of its energy (~(T/L)² ≈ 1e-4
+    // times a mode factor) — 0.5 % covers that with margin.
+    let c = clamped_plate_modes("PSHELL,1,1,0.004,2,1.0,1,0.8,0.5", 6);
+    let ratio = modal(&c).frequencies_hz[0] / fa[0];
+    assert!((ratio * 0.43_f64.sqrt() - 1.0).abs() < 5e-3, "{ratio}");
+}
+
+/// MID2 blank: membrane only. In a flat plate the membrane (T1, T2, R3) and bending (T3, R1,
+/// R2) problems decouple exactly, so the membrane-only plate's frequencies are the in-plane
+/// frequencies of the full shell: each must appear among the full shell's 30 lowest modes
+/// (to 1e-9, the eigensolver's round-off on well-separated modes). AUTOSPC removes T3, R1 and
+/// R2 of every free grid (no stiffness there: Nastran's membrane has none either).
+#[test]
+fn membrane_only_pshell_is_the_in_plane_part_of_the_shell() {
+    let membrane = clamped_plate_modes("PSHELL,1,1,0.004,,,,,0.5", 4);
+    let full = clamped_plate_modes("PSHELL,1,1,0.004,1,1.0,1,0.8,0.5", 30);
+    let free_grids = 9 * 4 - 4;
+    let auto = &membrane.subcases[0].autospc;
+    assert_eq!(auto.len(), 3 * free_grids, "{auto:?}");
+    assert!(auto.iter().all(|d| [3, 4, 5].contains(&d.component)), "{auto:?}");
+    let fm = &modal(&membrane).frequencies_hz;
+    let ff = &modal(&full).frequencies_hz;
+    assert!(fm[0] > ff[0] * 5.0, "the in-plane modes lie far above the first bending mode");
+    for f in fm {
+        let nearest = ff.iter().map(|x| (x - f).abs()).fold(f64::INFINITY, f64::min);
+        assert!(nearest <= 1e-9 * f, "membrane mode {f} Hz is not among the shell's {ff:?}");
+    }
+}
+
+/// Nastran: an element offset (ZOFFS) needs MID1 and MID2; a membrane-only PSHELL with ZOFFS
+/// is an error naming the rule.
+#[test]
+fn zoffs_on_a_membrane_only_pshell_is_an_error() {
+    let mesh = quad_plate([1, 1], [1.0, 1.0], [0.0, 1.0, 0.0], true).replace("CQUAD4,1,1,1,2,4,3", "CQUAD4,1,1,1,2,4,3,,0.001");
+    let deck = format!("SOL 103\nCEND\nSPC = 1\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,2\nMAT1,1,7.0e10,,0.33,2700.\nPSHELL,1,1,0.004\n{mesh}ENDDATA\n");
+    let (r, _dir) = run_deck(&deck);
+    let e = r.expect_err("ZOFFS without MID2").to_string();
+    assert!(e.contains("ZOFFS") && e.contains("MID2"), "{e}");
+}

@@ -31,11 +31,21 @@
 //! per unit area; see [`crate::fe::shell`]). Being a fixed multiple of A66 it is affine in
 //! every parameter A66 is.
 //!
-//! **Kirchhoff sections.** A PSHELL without MID3 (or a ply without G1Z/G2Z) means "no
-//! transverse-shear flexibility". The element is Mindlin–Reissner, so this is represented by a
-//! stiff penalty: S = [`KIRCHHOFF_SHEAR_PENALTY`] · G · t (G the in-plane shear modulus). For an
-//! element of size L the shear flexibility is then ~ 1/(100·(L/t)²) of the bending one;
-//! MITC elements do not lock, so the penalty costs nothing but a little conditioning.
+//! **PSHELL.** A homogeneous PSHELL is not a laminate: Nastran gives each of membrane (MID1),
+//! bending (MID2 with 12I/T³), transverse shear (MID3 with TS/T) and membrane–bending coupling
+//! (MID4) its own material, A = T·Q1, B = T²·Q4, D = (12I/T³)·T³/12·Q2, S = (TS/T)·T·G3
+//! ([`PshellSection`]). The PSHELL shear factor is the card's TS/T (default 0.833333), not the
+//! laminate's 5/6.
+//!
+//! **Kirchhoff sections.** A PSHELL with MID2 but without MID3 (or a ply without G1Z/G2Z) means
+//! "no transverse-shear flexibility" (Nastran: rigid in transverse shear). The element is
+//! Mindlin–Reissner, so this is represented by a stiff penalty: S = [`KIRCHHOFF_SHEAR_PENALTY`]
+//! · (12I/T³) · G · T for a PSHELL (G the in-plane shear modulus of MID2), the modulus
+//! `KIRCHHOFF_SHEAR_PENALTY` · G12 for a ply. Against the bending stiffness D ~ (12I/T³)·E·T³/12
+//! of an element of size L the shear flexibility is then ~ 1/(100·(L/T)²·12G/E) of the bending
+//! one, whatever 12I/T³; MITC elements do not lock, so the penalty costs nothing but a little
+//! conditioning (at most 100/(TS/T) ≈ 120 times the shear stiffness of the same section with
+//! MID3 given). The penalty is linear in the MID2 constants, so it splits with them.
 //!
 //! **Mass.** [`ShellMass`] holds ∫ρ dz (+ NSM), ∫ρ z dz and ∫ρ z² dz about the reference plane.
 
@@ -77,23 +87,83 @@ pub struct ShellSection {
     pub mass: ShellMass,
 }
 
-/// Homogeneous isotropic section, PSHELL with MAT1 for MID1 = MID2 = MID3.
+/// Plane-stress material of one PSHELL role, in the element material axes.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct IsotropicShell {
-    /// Young's modulus E.
-    pub e: f64,
-    /// Poisson's ratio ν.
-    pub nu: f64,
-    /// Density ρ.
+pub enum ShellMaterial {
+    /// MAT1: plane-stress Q = E/(1−ν²)[[1,ν,0],[ν,1,0],[0,0,(1−ν)/2]]; transverse shear
+    /// G = E/(2(1+ν)) in both directions.
+    Isotropic {
+        /// Young's modulus E.
+        e: f64,
+        /// Poisson's ratio ν.
+        nu: f64,
+    },
+    /// MAT8: Q of [`Ply`] in its own axes (1 = material x); transverse shear diag(G1Z, G2Z),
+    /// a blank modulus meaning rigid (penalty `KIRCHHOFF_SHEAR_PENALTY · G12`).
+    Orthotropic {
+        /// Modulus along material x.
+        e1: f64,
+        /// Modulus along material y.
+        e2: f64,
+        /// Major Poisson's ratio ν12.
+        nu12: f64,
+        /// In-plane shear modulus G12.
+        g12: f64,
+        /// Transverse shear modulus G1Z; `None` = rigid.
+        g1z: Option<f64>,
+        /// Transverse shear modulus G2Z; `None` = rigid.
+        g2z: Option<f64>,
+    },
+}
+
+/// The material of one PSHELL role (MID1 … MID4): its card id, constants and density.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RoleMaterial {
+    /// Material id (MAT1 / MAT8), which PMPAR parameters refer to.
+    pub mid: u32,
+    /// Elastic constants.
+    pub material: ShellMaterial,
+    /// Density (used only by the mass role: MID1, or MID2 when MID1 is blank).
     pub rho: f64,
-    /// Thickness T.
+}
+
+/// PSHELL section with Nastran's roles (MSC/NX Quick Reference Guide, PSHELL):
+///
+/// ```text
+/// A = T·Q1          B = T²·Q4          D = (12I/T³)·T³/12·Q2          S = (TS/T)·T·G3
+/// ```
+///
+/// with Q1, Q2, Q4 the plane-stress matrices of MID1 (membrane), MID2 (bending), MID4
+/// (membrane–bending coupling) and G3 the transverse-shear matrix of MID3 (MAT1: G·I, MAT8:
+/// diag(G1Z, G2Z)). A blank role contributes nothing, except:
+/// - MID2 blank: membrane only (no B, D, S); MID3 and MID4 must then be blank;
+/// - MID3 blank with MID2 given: rigid in transverse shear, represented by the stiff penalty
+///   S = `KIRCHHOFF_SHEAR_PENALTY` · (12I/T³) · G2 · T · I₂ with G2 the in-plane shear modulus
+///   of MID2 (module documentation; the factor 12I/T³ keeps the penalty-to-bending ratio
+///   independent of it).
+///
+/// The reference plane lies ZOFFS below the mid-surface (z₀ = `zoffs`, the rigid offset of
+/// Nastran's ZOFFS): ε_mid = ε + z₀κ, M_ref = M_mid + z₀N give
+/// B_ref = B + z₀A and D_ref = D + 2z₀B + z₀²A. Nastran requires MID1 and MID2 for an offset.
+///
+/// Mass (Nastran: "from the density using the membrane thickness and membrane material"):
+/// ρT + NSM, ρT·z₀ and ρ(T³/12 + T·z₀²) per area, ρ of MID1 (of MID2 when MID1 is blank).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PshellSection {
+    /// Membrane thickness T.
     pub t: f64,
-    /// Bending ratio 12I/T³; `None` = MID2 absent: no bending and no transverse-shear
-    /// stiffness (membrane only).
-    pub bending_ratio: Option<f64>,
-    /// Shear thickness ratio TS/T (Nastran default 0.833333); `None` = MID3 absent: Kirchhoff
-    /// section, S = `KIRCHHOFF_SHEAR_PENALTY` · G · T.
-    pub shear_ratio: Option<f64>,
+    /// MID1.
+    pub membrane: Option<RoleMaterial>,
+    /// MID2.
+    pub bending: Option<RoleMaterial>,
+    /// 12I/T³ (used with MID2).
+    pub bending_ratio: f64,
+    /// MID3.
+    pub shear: Option<RoleMaterial>,
+    /// TS/T (used with MID3).
+    pub shear_ratio: f64,
+    /// MID4.
+    pub coupling: Option<RoleMaterial>,
     /// Non-structural mass per area.
     pub nsm: f64,
     /// Offset of the mid-surface from the reference (grid) plane along the normal (ZOFFS).
@@ -140,9 +210,15 @@ pub struct Laminate {
 /// Section data an element property can carry.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SectionData {
-    /// PSHELL with an isotropic material.
-    Isotropic(IsotropicShell),
-    /// PCOMP, or PSHELL with MAT8 as a one-ply laminate ([`ShellSection::orthotropic`]).
+    /// PSHELL; the E, NU and RHO parameters act on the material `parametrized` (a material
+    /// id): every role using it is split, the other roles go to the constant part.
+    Pshell {
+        /// The section.
+        section: PshellSection,
+        /// Material id the parameter refers to (PMPAR REFID).
+        parametrized: u32,
+    },
+    /// PCOMP.
     Laminate(Laminate),
 }
 
@@ -184,12 +260,15 @@ pub enum SectionError {
     /// A laminate without plies.
     #[error("laminate has no plies")]
     NoPlies,
+    /// A PSHELL role combination Nastran does not allow (e.g. MID3 without MID2).
+    #[error("PSHELL: {0}")]
+    Roles(String),
     /// The parameter does not apply to this kind of section.
     #[error("parameter {parameter:?} does not apply to a {section} section")]
     UnsupportedParameter {
         /// The parameter asked for.
         parameter: SectionParameter,
-        /// "isotropic" or "laminate".
+        /// "PSHELL", "MAT8 PSHELL" or "laminate".
         section: &'static str,
     },
     /// TPLY needs all plies of one thickness, RHO one density.
@@ -304,30 +383,12 @@ impl ShellSection {
         }
     }
 
-    /// Homogeneous isotropic PSHELL section:
-    /// A = Q·T, B = Q·T·z₀, D = Q·(r·T³/12 + T·z₀²), S = (TS/T)·G·T·I₂, with the plane-stress
-    /// Q = E/(1−ν²)[[1,ν,0],[ν,1,0],[0,0,(1−ν)/2]], r = 12I/T³ and z₀ = ZOFFS (the offset
-    /// reference plane adds the parallel-axis terms of A). Mass ρT + NSM, ρT·z₀,
-    /// ρ(T³/12 + T·z₀²).
-    pub fn isotropic(p: &IsotropicShell) -> Result<Self, SectionError> {
-        validate_isotropic(p)?;
-        let lam = p.e * p.nu / (1.0 - p.nu * p.nu);
-        let mu = p.e / (2.0 * (1.0 + p.nu));
-        let mut s = isotropic_unit(p, lam, mu);
-        s.mass = isotropic_mass(p, p.rho);
+    /// PSHELL section ([`PshellSection`]): stiffness and mass.
+    pub fn pshell(p: &PshellSection) -> Result<Self, SectionError> {
+        validate_pshell(p)?;
+        let mut s = pshell_stiffness(p, |m| role_matrices(&m.material));
+        s.mass = pshell_mass(p, mass_material(p)?.rho);
         Ok(s)
-    }
-
-    /// PSHELL with a MAT8 material: a one-ply laminate of thickness `ply.t` whose mid-surface is
-    /// `zoffs` above the reference plane (12I/T³ = 1, TS/T = 5/6).
-    pub fn orthotropic(ply: &Ply, zoffs: f64, nsm: f64) -> Result<Self, SectionError> {
-        let lam = Laminate {
-            plies: vec![*ply],
-            z0: Some(zoffs - 0.5 * ply.t),
-            nsm,
-            symmetric: false,
-        };
-        Self::laminate(&lam)
     }
 
     /// Laminate section by CLT (eq. 2.8–2.9, module documentation). Ply stiffness is rotated
@@ -355,20 +416,82 @@ impl ShellSection {
 /// Shear-correction factor on the thickness-weighted transverse shear moduli.
 const SHEAR_CORRECTION: f64 = 5.0 / 6.0;
 
-fn validate_isotropic(p: &IsotropicShell) -> Result<(), SectionError> {
-    positive("Young's modulus E", p.e)?;
+fn validate_pshell(p: &PshellSection) -> Result<(), SectionError> {
     positive("thickness T", p.t)?;
-    if let Some(r) = p.bending_ratio {
-        positive("bending ratio 12I/T³", r)?;
+    let roles = [
+        ("MID1", p.membrane),
+        ("MID2", p.bending),
+        ("MID3", p.shear),
+        ("MID4", p.coupling),
+    ];
+    for (name, role) in roles {
+        if let Some(m) = role {
+            validate_material(&format!("{name} = {}", m.mid), &m.material)?;
+        }
     }
-    if let Some(r) = p.shear_ratio {
-        positive("shear ratio TS/T", r)?;
+    let rule = |ok: bool, what: &str| {
+        if ok {
+            Ok(())
+        } else {
+            Err(SectionError::Roles(what.to_string()))
+        }
+    };
+    mass_material(p)?;
+    rule(
+        p.shear.is_none() || p.bending.is_some(),
+        "MID3 must be blank unless MID2 is given",
+    )?;
+    rule(
+        p.coupling.is_none() || (p.membrane.is_some() && p.bending.is_some()),
+        "MID4 must be blank unless MID1 and MID2 are given",
+    )?;
+    rule(
+        p.zoffs == 0.0 || (p.membrane.is_some() && p.bending.is_some()),
+        "an offset (ZOFFS) needs MID1 and MID2",
+    )?;
+    if p.bending.is_some() {
+        positive("bending ratio 12I/T³", p.bending_ratio)?;
     }
-    if !(p.nu > -1.0 && p.nu < 0.5) {
-        return Err(SectionError::Poisson {
-            what: "MAT1".into(),
-            value: p.nu,
-        });
+    if p.shear.is_some() {
+        positive("shear ratio TS/T", p.shear_ratio)?;
+    }
+    Ok(())
+}
+
+fn validate_material(what: &str, m: &ShellMaterial) -> Result<(), SectionError> {
+    match *m {
+        ShellMaterial::Isotropic { e, nu } => {
+            positive(&format!("{what}: Young's modulus E"), e)?;
+            if !(nu > -1.0 && nu < 0.5) {
+                return Err(SectionError::Poisson {
+                    what: what.to_string(),
+                    value: nu,
+                });
+            }
+        }
+        ShellMaterial::Orthotropic {
+            e1,
+            e2,
+            nu12,
+            g12,
+            g1z,
+            g2z,
+        } => {
+            positive(&format!("{what}: E1"), e1)?;
+            positive(&format!("{what}: E2"), e2)?;
+            positive(&format!("{what}: G12"), g12)?;
+            for (name, g) in [("G1Z", g1z), ("G2Z", g2z)] {
+                if let Some(g) = g {
+                    positive(&format!("{what}: {name}"), g)?;
+                }
+            }
+            if nu12 * nu12 * e2 / e1 >= 1.0 {
+                return Err(SectionError::Poisson {
+                    what: what.to_string(),
+                    value: nu12,
+                });
+            }
+        }
     }
     Ok(())
 }
@@ -384,38 +507,80 @@ fn positive(what: &str, value: f64) -> Result<(), SectionError> {
     }
 }
 
-/// Isotropic section stiffness for given plane-stress λ* and μ (no mass); linear in (λ*, μ).
-fn isotropic_unit(p: &IsotropicShell, lam: f64, mu: f64) -> ShellSection {
-    let q = [
-        [lam + 2.0 * mu, lam, 0.0],
-        [lam, lam + 2.0 * mu, 0.0],
-        [0.0, 0.0, mu],
-    ];
-    let (t, z0) = (p.t, p.zoffs);
-    let a = m3_scale(&q, t);
-    let (b, d, s) = match p.bending_ratio {
-        None => ([[0.0; 3]; 3], [[0.0; 3]; 3], [[0.0; 2]; 2]),
-        Some(r) => {
-            let ts = p.shear_ratio.unwrap_or(KIRCHHOFF_SHEAR_PENALTY) * mu * t;
-            (
-                m3_scale(&q, t * z0),
-                m3_scale(&q, r * t.powi(3) / 12.0 + t * z0 * z0),
-                [[ts, 0.0], [0.0, ts]],
-            )
+/// In-plane Q and transverse-shear G of an isotropic material given by its plane-stress
+/// λ* = Eν/(1−ν²) and μ = E/(2(1+ν)): Q = λ*·Q_λ + μ·Q_μ, G = μ·I₂ (linear in (λ*, μ)).
+fn isotropic_matrices(lam: f64, mu: f64) -> (M3, M2) {
+    (
+        [
+            [lam + 2.0 * mu, lam, 0.0],
+            [lam, lam + 2.0 * mu, 0.0],
+            [0.0, 0.0, mu],
+        ],
+        [[mu, 0.0], [0.0, mu]],
+    )
+}
+
+/// In-plane Q and transverse-shear G of a role material (see [`ShellMaterial`]).
+fn role_matrices(m: &ShellMaterial) -> (M3, M2) {
+    match *m {
+        ShellMaterial::Isotropic { e, nu } => {
+            isotropic_matrices(e * nu / (1.0 - nu * nu), e / (2.0 * (1.0 + nu)))
         }
-    };
-    ShellSection {
-        a,
-        b,
-        d,
-        s,
-        drill: DRILL_FRACTION * mu * t,
-        mass: ShellMass::default(),
+        ShellMaterial::Orthotropic {
+            e1,
+            e2,
+            nu12,
+            g12,
+            g1z,
+            g2z,
+        } => {
+            let (g1, g2) = transverse_moduli(g12, g1z, g2z);
+            (orthotropic_q(e1, e2, nu12, g12), [[g1, 0.0], [0.0, g2]])
+        }
     }
 }
 
-/// Isotropic section mass for density `rho` (with the NSM).
-fn isotropic_mass(p: &IsotropicShell, rho: f64) -> ShellMass {
+/// PSHELL stiffness ([`PshellSection`]) with the (Q, G) of each role given by `mats`; linear
+/// in those matrices, which is what the affine split relies on.
+fn pshell_stiffness(p: &PshellSection, mats: impl Fn(&RoleMaterial) -> (M3, M2)) -> ShellSection {
+    let (t, z0) = (p.t, p.zoffs);
+    let mut s = ShellSection::default();
+    if let Some(m) = &p.membrane {
+        let (q, _) = mats(m);
+        s.a = m3_scale(&q, t);
+        s.b = m3_scale(&q, t * z0);
+        s.d = m3_scale(&q, t * z0 * z0);
+        s.drill = DRILL_FRACTION * t * q[2][2];
+    }
+    if let Some(m) = &p.coupling {
+        let (q, _) = mats(m);
+        s.b = m3_add(&s.b, &m3_scale(&q, t * t));
+        s.d = m3_add(&s.d, &m3_scale(&q, 2.0 * z0 * t * t));
+    }
+    if let Some(m) = &p.bending {
+        let (q, _) = mats(m);
+        s.d = m3_add(&s.d, &m3_scale(&q, p.bending_ratio * t.powi(3) / 12.0));
+        if p.shear.is_none() {
+            let k = KIRCHHOFF_SHEAR_PENALTY * p.bending_ratio * t * q[2][2];
+            s.s = [[k, 0.0], [0.0, k]];
+        }
+    }
+    if let Some(m) = &p.shear {
+        let (_, g) = mats(m);
+        s.s = m2_scale(&g, p.shear_ratio * t);
+    }
+    s
+}
+
+/// The material whose density gives the PSHELL mass: MID1, or MID2 when MID1 is blank.
+fn mass_material(p: &PshellSection) -> Result<RoleMaterial, SectionError> {
+    p.membrane
+        .or(p.bending)
+        .ok_or_else(|| SectionError::Roles("MID1 or MID2 must be given".into()))
+}
+
+/// PSHELL mass for density `rho` (with the NSM).
+fn pshell_mass(p: &PshellSection, rho: f64) -> ShellMass {
     let (t, z0) = (p.t, p.zoffs);
     ShellMass {
         rho_t: rho * t + p.nsm,
@@ -476,15 +641,25 @@ fn ply_mass(rho: f64, z1: f64, z2: f64) -> ShellMass {
 /// Plane-stress reduced stiffness of a ply in its own axes (1 = fibre):
 /// Q11 = E1/Δ, Q22 = E2/Δ, Q12 = ν12·E2/Δ, Q66 = G12, Δ = 1 − ν12ν21, ν21 = ν12E2/E1.
 fn ply_q(p: &Ply) -> M3 {
-    let del = 1.0 - p.nu12 * p.nu12 * p.e2 / p.e1;
-    let (q11, q22, q12) = (p.e1 / del, p.e2 / del, p.nu12 * p.e2 / del);
-    [[q11, q12, 0.0], [q12, q22, 0.0], [0.0, 0.0, p.g12]]
+    orthotropic_q(p.e1, p.e2, p.nu12, p.g12)
+}
+
+/// The Q of [`ply_q`] from the constants.
+fn orthotropic_q(e1: f64, e2: f64, nu12: f64, g12: f64) -> M3 {
+    let del = 1.0 - nu12 * nu12 * e2 / e1;
+    let (q11, q22, q12) = (e1 / del, e2 / del, nu12 * e2 / del);
+    [[q11, q12, 0.0], [q12, q22, 0.0], [0.0, 0.0, g12]]
 }
 
 /// Transverse shear moduli (G1Z, G2Z) of a ply, penalty for the absent ones.
 fn ply_g(p: &Ply) -> (f64, f64) {
-    let pen = KIRCHHOFF_SHEAR_PENALTY * p.g12;
-    (p.g1z.unwrap_or(pen), p.g2z.unwrap_or(pen))
+    transverse_moduli(p.g12, p.g1z, p.g2z)
+}
+
+/// (G1Z, G2Z), a blank one replaced by the penalty `KIRCHHOFF_SHEAR_PENALTY · G12`.
+fn transverse_moduli(g12: f64, g1z: Option<f64>, g2z: Option<f64>) -> (f64, f64) {
+    let pen = KIRCHHOFF_SHEAR_PENALTY * g12;
+    (g1z.unwrap_or(pen), g2z.unwrap_or(pen))
 }
 
 /// Q̄ = T_εᵀ Q T_ε, T_ε = [[c², s², cs], [s², c², −cs], [−2cs, 2cs, c²−s²]] (engineering strains
@@ -579,52 +754,97 @@ pub fn evaluate(parts: &[(Coefficient, ShellSection)], v: &CoefficientValues) ->
 /// Split a section into affine parts, Σ f_i(p) section_i = section(p) exactly (stiffness and
 /// mass; parts with zero stiffness carry mass only and vice versa):
 ///
-/// | parameter | isotropic | laminate |
+/// | parameter | PSHELL (material m = `parametrized`) | laminate |
 /// |---|---|---|
-/// | `E` | (E: stiffness/E), (Constant: mass) | refused |
-/// | `Nu` | (λ*: Q_λ parts), (μ: Q_μ, S, drill), (Constant: mass) | refused |
-/// | `Rho` | (Rho: mass/ρ without NSM), (Constant: stiffness, NSM) | same, one ply density |
+/// | `E` | (E: roles using m, with E = 1), (Constant: other roles, mass) | refused |
+/// | `Nu` | (λ*: roles using m with Q_λ), (μ: with Q_μ and G = I₂), (Constant: other roles, mass) | refused |
+/// | `Rho` | (Rho: mass/ρ without NSM), (Constant: stiffness, NSM) when m is the mass material; else all constant | same, one ply density |
 /// | `Theta` | refused | five functions of eq. 3.18, (Constant: mass) |
 /// | `Tply` | refused | (H: A, S, drill, ρt), (H²: B, ρs), (H³: D, ρi), (Constant: NSM) |
 ///
 /// With Q_λ = [[1,1,0],[1,1,0],[0,0,0]] and Q_μ = [[2,0,0],[0,2,0],[0,0,1]] (eq. 3.13 in plane
-/// stress). `Theta` uses the Θ functions for A, B, D, S and the drill (∝ A66) without a
-/// constant term (c⁴ + 2c²s² + s⁴ = 1 makes one unnecessary).
+/// stress). A PSHELL is linear in the Q, G of each role (A, B, D, S, drill and the Kirchhoff
+/// penalty alike, [`PshellSection`]), so E on the MID2 material scales D only, E on the MID1
+/// material A, the drill and the offset terms z₀A, z₀²A, and so on. E and NU need m to be a
+/// MAT1 (isotropic) material. `Theta` uses the Θ functions for A, B, D, S and the drill (∝ A66)
+/// without a constant term (c⁴ + 2c²s² + s⁴ = 1 makes one unnecessary).
 pub fn affine_sections(
     data: &SectionData,
     parameter: SectionParameter,
 ) -> Result<Vec<(Coefficient, ShellSection)>, SectionError> {
     match data {
-        SectionData::Isotropic(p) => affine_isotropic(p, parameter),
+        SectionData::Pshell {
+            section,
+            parametrized,
+        } => affine_pshell(section, *parametrized, parameter),
         SectionData::Laminate(l) => affine_laminate(l, parameter),
     }
 }
 
-fn affine_isotropic(
-    p: &IsotropicShell,
+fn affine_pshell(
+    p: &PshellSection,
+    target: u32,
     parameter: SectionParameter,
 ) -> Result<Vec<(Coefficient, ShellSection)>, SectionError> {
-    let full = ShellSection::isotropic(p)?;
+    let full = ShellSection::pshell(p)?;
+    let zero = ([[0.0; 3]; 3], [[0.0; 2]; 2]);
+    let others = pshell_stiffness(p, |m| {
+        if m.mid == target {
+            zero
+        } else {
+            role_matrices(&m.material)
+        }
+    });
     let mass = ShellSection::mass_only(full.mass);
+    // The target's ν (isotropic; all roles of one id share the material).
+    let target_nu = || {
+        let roles = [p.membrane, p.bending, p.shear, p.coupling];
+        let mut nu = None;
+        for m in roles.iter().flatten().filter(|m| m.mid == target) {
+            match m.material {
+                ShellMaterial::Isotropic { nu: n, .. } => nu = Some(n),
+                ShellMaterial::Orthotropic { .. } => {
+                    return Err(SectionError::UnsupportedParameter {
+                        parameter,
+                        section: "MAT8 PSHELL",
+                    });
+                }
+            }
+        }
+        Ok(nu.unwrap_or(0.0))
+    };
+    let unit = |lam: f64, mu: f64| {
+        pshell_stiffness(p, |m| {
+            if m.mid == target {
+                isotropic_matrices(lam, mu)
+            } else {
+                zero
+            }
+        })
+    };
     Ok(match parameter {
         SectionParameter::E => {
-            vec![
-                (Coefficient::E, full.without_mass().scaled(1.0 / p.e)),
-                (Coefficient::Constant, mass),
-            ]
-        }
-        SectionParameter::Nu => vec![
-            (Coefficient::LambdaPlaneStress, isotropic_unit(p, 1.0, 0.0)),
-            (Coefficient::Mu, isotropic_unit(p, 0.0, 1.0)),
-            (Coefficient::Constant, mass),
-        ],
-        SectionParameter::Rho => {
-            let unit = IsotropicShell { nsm: 0.0, ..*p };
+            let nu = target_nu()?;
             vec![
                 (
-                    Coefficient::Rho,
-                    ShellSection::mass_only(isotropic_mass(&unit, 1.0)),
+                    Coefficient::E,
+                    unit(nu / (1.0 - nu * nu), 1.0 / (2.0 * (1.0 + nu))),
                 ),
+                (Coefficient::Constant, others.plus(&mass)),
+            ]
+        }
+        SectionParameter::Nu => {
+            target_nu()?;
+            vec![
+                (Coefficient::LambdaPlaneStress, unit(1.0, 0.0)),
+                (Coefficient::Mu, unit(0.0, 1.0)),
+                (Coefficient::Constant, others.plus(&mass)),
+            ]
+        }
+        SectionParameter::Rho if mass_material(p)?.mid == target => {
+            let unit_mass = pshell_mass(&PshellSection { nsm: 0.0, ..*p }, 1.0);
+            vec![
+                (Coefficient::Rho, ShellSection::mass_only(unit_mass)),
                 (
                     Coefficient::Constant,
                     ShellSection {
@@ -637,10 +857,11 @@ fn affine_isotropic(
                 ),
             ]
         }
+        SectionParameter::Rho => vec![(Coefficient::Constant, full)],
         SectionParameter::Theta | SectionParameter::Tply => {
             return Err(SectionError::UnsupportedParameter {
                 parameter,
-                section: "isotropic",
+                section: "PSHELL",
             });
         }
     })
@@ -786,6 +1007,36 @@ fn uniform(
 }
 
 #[cfg(test)]
+impl PshellSection {
+    /// MID1 = MID2 = MID3 = `m`, 12I/T³ = 1, TS/T = 5/6, no NSM, no offset (tests).
+    pub(crate) fn homogeneous(m: RoleMaterial, t: f64) -> Self {
+        Self {
+            t,
+            membrane: Some(m),
+            bending: Some(m),
+            bending_ratio: 1.0,
+            shear: Some(m),
+            shear_ratio: 5.0 / 6.0,
+            coupling: None,
+            nsm: 0.0,
+            zoffs: 0.0,
+        }
+    }
+}
+
+#[cfg(test)]
+impl RoleMaterial {
+    /// A MAT1 role material (tests).
+    pub(crate) fn mat1(mid: u32, e: f64, nu: f64, rho: f64) -> Self {
+        Self {
+            mid,
+            material: ShellMaterial::Isotropic { e, nu },
+            rho,
+        }
+    }
+}
+
+#[cfg(test)]
 mod tests {
     use super::*;
 
@@ -926,17 +1177,12 @@ mod tests {
     /// Isotropic PSHELL by hand, with offset: B = A·z₀, D = Eh³/(12(1−ν²))·r + A z₀².
     #[test]
     fn isotropic_offset_by_hand() {
-        let p = IsotropicShell {
-            e: 70e9,
-            nu: 0.3,
-            rho: 2700.0,
-            t: 2e-3,
-            bending_ratio: Some(1.0),
-            shear_ratio: Some(5.0 / 6.0),
+        let p = PshellSection {
             nsm: 0.5,
             zoffs: 1e-3,
+            ..PshellSection::homogeneous(RoleMaterial::mat1(1, 70e9, 0.3, 2700.0), 2e-3)
         };
-        let s = ShellSection::isotropic(&p).unwrap();
+        let s = ShellSection::pshell(&p).unwrap();
         let a11 = 70e9 * 2e-3 / (1.0 - 0.09);
         assert!((s.a[0][0] - a11).abs() < 1e-12 * a11);
         assert!((s.b[0][1] - 0.3 * a11 * 1e-3).abs() < 1e-12 * a11 * 1e-3);
@@ -945,7 +1191,8 @@ mod tests {
         let g = 70e9 / 2.6;
         assert!((s.s[0][0] - 5.0 / 6.0 * g * 2e-3).abs() < 1e-3);
         assert!((s.mass.rho_t - (2700.0 * 2e-3 + 0.5)).abs() < 1e-12);
-        // A MAT8 single layer with isotropic constants equals the PSHELL (TS/T = 5/6).
+        // A PSHELL whose roles are one MAT8 with isotropic constants, and a one-ply PCOMP of
+        // it (CLT, shear factor 5/6 = TS/T here), both equal the MAT1 PSHELL.
         let ply = Ply {
             e1: 70e9,
             e2: 70e9,
@@ -955,37 +1202,241 @@ mod tests {
             g2z: Some(g),
             rho: 2700.0,
             t: 2e-3,
-            theta_deg: 30.0,
+            theta_deg: 0.0,
         };
-        let o = ShellSection::orthotropic(&ply, 1e-3, 0.5).unwrap();
+        let mat8 = RoleMaterial {
+            mid: 8,
+            material: ShellMaterial::Orthotropic {
+                e1: ply.e1,
+                e2: ply.e2,
+                nu12: ply.nu12,
+                g12: g,
+                g1z: ply.g1z,
+                g2z: ply.g2z,
+            },
+            rho: 2700.0,
+        };
+        let o = ShellSection::pshell(&PshellSection {
+            nsm: 0.5,
+            zoffs: 1e-3,
+            ..PshellSection::homogeneous(mat8, 2e-3)
+        })
+        .unwrap();
         assert!(sections_close(&o, &s, 1e-12), "{o:?}\n{s:?}");
+        let lam = Laminate {
+            plies: vec![ply],
+            z0: Some(1e-3 - 1e-3),
+            nsm: 0.5,
+            symmetric: false,
+        };
+        let l = ShellSection::laminate(&lam).unwrap();
+        assert!(sections_close(&l, &s, 1e-12), "{l:?}\n{s:?}");
+    }
+
+    fn mat8(mid: u32) -> RoleMaterial {
+        let p = ply(0.0);
+        RoleMaterial {
+            mid,
+            material: ShellMaterial::Orthotropic {
+                e1: p.e1,
+                e2: p.e2,
+                nu12: p.nu12,
+                g12: p.g12,
+                g1z: p.g1z,
+                g2z: None,
+            },
+            rho: p.rho,
+        }
+    }
+
+    /// A PSHELL with four different materials (Nastran QRG PSHELL): MID1 MAT1 (E1, ν1),
+    /// MID2 MAT1 (E2, ν2), MID3 MAT8 (G1Z given, G2Z blank = penalty 100·G12), MID4 MAT1,
+    /// offset z₀, r = 12I/T³, ts = TS/T:
+    /// A = T Q1, B = T² Q4 + z₀ T Q1, D = r T³/12 Q2 + 2 z₀ T² Q4 + z₀² T Q1,
+    /// S = ts T diag(G1Z, 100 G12), drill = 10⁻³ A66, mass ρ1 T + NSM, ρ1 T z₀, ρ1(T³/12 + T z₀²).
+    #[test]
+    fn distinct_role_materials_by_hand() {
+        let (t, z0, r, ts, nsm) = (4e-3, 1.5e-3, 0.37, 0.7, 0.25);
+        let m1 = RoleMaterial::mat1(1, 70e9, 0.33, 2700.0);
+        let m2 = RoleMaterial::mat1(2, 210e9, 0.28, 7850.0);
+        let m4 = RoleMaterial::mat1(4, 3e9, 0.1, 1.0);
+        let p = PshellSection {
+            t,
+            membrane: Some(m1),
+            bending: Some(m2),
+            bending_ratio: r,
+            shear: Some(mat8(3)),
+            shear_ratio: ts,
+            coupling: Some(m4),
+            nsm,
+            zoffs: z0,
+        };
+        let s = ShellSection::pshell(&p).unwrap();
+        let q = |e: f64, nu: f64| {
+            let c = e / (1.0 - nu * nu);
+            [
+                [c, c * nu, 0.0],
+                [c * nu, c, 0.0],
+                [0.0, 0.0, e / (2.0 * (1.0 + nu))],
+            ]
+        };
+        let (q1, q2, q4) = (q(70e9, 0.33), q(210e9, 0.28), q(3e9, 0.1));
+        let lin = |terms: &[(&M3, f64)]| -> M3 {
+            std::array::from_fn(|i| {
+                std::array::from_fn(|j| terms.iter().map(|(m, f)| m[i][j] * f).sum())
+            })
+        };
+        let a = lin(&[(&q1, t)]);
+        let b = lin(&[(&q4, t * t), (&q1, z0 * t)]);
+        let d = lin(&[
+            (&q2, r * t.powi(3) / 12.0),
+            (&q4, 2.0 * z0 * t * t),
+            (&q1, z0 * z0 * t),
+        ]);
+        assert!(close3(&s.a, &a, 1e-14), "{:?}\n{a:?}", s.a);
+        assert!(close3(&s.b, &b, 1e-14), "{:?}\n{b:?}", s.b);
+        assert!(close3(&s.d, &d, 1e-14), "{:?}\n{d:?}", s.d);
+        let p8 = ply(0.0);
+        let sxx = ts * t * p8.g1z.unwrap();
+        let syy = ts * t * KIRCHHOFF_SHEAR_PENALTY * p8.g12;
+        assert!((s.s[0][0] - sxx).abs() <= 1e-15 * sxx && (s.s[1][1] - syy).abs() <= 1e-15 * syy);
+        assert_eq!((s.s[0][1], s.s[1][0]), (0.0, 0.0));
+        assert!((s.drill - DRILL_FRACTION * a[2][2]).abs() <= 1e-15 * s.drill);
+        let want = ShellMass {
+            rho_t: 2700.0 * t + nsm,
+            rho_s: 2700.0 * t * z0,
+            rho_i: 2700.0 * (t.powi(3) / 12.0 + t * z0 * z0),
+        };
+        assert!((s.mass.rho_t - want.rho_t).abs() <= 1e-15 * want.rho_t);
+        assert!((s.mass.rho_s - want.rho_s).abs() <= 1e-15 * want.rho_s);
+        assert!((s.mass.rho_i - want.rho_i).abs() <= 1e-15 * want.rho_i);
+        // MID1 blank: no membrane, no drill, mass from MID2 (Nastran).
+        let bending_only = PshellSection {
+            membrane: None,
+            coupling: None,
+            zoffs: 0.0,
+            ..p
+        };
+        let s = ShellSection::pshell(&bending_only).unwrap();
+        assert_eq!((s.a, s.b, s.drill), ([[0.0; 3]; 3], [[0.0; 3]; 3], 0.0));
+        assert!((s.mass.rho_t - (7850.0 * t + nsm)).abs() <= 1e-15 * s.mass.rho_t);
+        // MID2 blank: membrane only.
+        let membrane_only = PshellSection {
+            bending: None,
+            shear: None,
+            coupling: None,
+            zoffs: 0.0,
+            ..p
+        };
+        let s = ShellSection::pshell(&membrane_only).unwrap();
+        assert!(close3(&s.a, &a, 1e-14));
+        assert_eq!(
+            (s.b, s.d, s.s),
+            ([[0.0; 3]; 3], [[0.0; 3]; 3], [[0.0; 2]; 2])
+        );
+        // MID3 blank: S = 100 · r · G2 · T.
+        let kirchhoff = PshellSection { shear: None, ..p };
+        let s = ShellSection::pshell(&kirchhoff).unwrap();
+        let pen = KIRCHHOFF_SHEAR_PENALTY * r * q2[2][2] * t;
+        assert!((s.s[0][0] - pen).abs() <= 1e-15 * pen && s.s[0][1] == 0.0);
+        assert_eq!(s.s[0][0], s.s[1][1]);
+    }
+
+    /// 12I/T³ = k with MID2 E is the same section as 12I/T³ = 1 with MID2 E·k (D ∝ r·E), and
+    /// as 12I/T³ = 1 with a MID2 of k·E in the Kirchhoff penalty too.
+    #[test]
+    fn bending_ratio_equals_scaled_bending_modulus() {
+        let k = 0.43;
+        let m1 = RoleMaterial::mat1(1, 70e9, 0.33, 2700.0);
+        let base = PshellSection {
+            bending_ratio: k,
+            bending: Some(RoleMaterial::mat1(2, 200e9, 0.3, 0.0)),
+            shear: None,
+            ..PshellSection::homogeneous(m1, 3e-3)
+        };
+        let scaled = PshellSection {
+            bending_ratio: 1.0,
+            bending: Some(RoleMaterial::mat1(2, 200e9 * k, 0.3, 0.0)),
+            ..base
+        };
+        let (a, b) = (
+            ShellSection::pshell(&base).unwrap(),
+            ShellSection::pshell(&scaled).unwrap(),
+        );
+        assert!(sections_close(&a, &b, 1e-15), "{a:?}\n{b:?}");
     }
 
     #[test]
     fn bad_input_is_an_error() {
-        let p = IsotropicShell {
-            e: 1.0,
-            nu: 0.5,
-            rho: 1.0,
-            t: 1.0,
-            bending_ratio: Some(1.0),
-            shear_ratio: None,
-            nsm: 0.0,
-            zoffs: 0.0,
-        };
+        let m = RoleMaterial::mat1(1, 1.0, 0.5, 1.0);
         assert!(matches!(
-            ShellSection::isotropic(&p),
+            ShellSection::pshell(&PshellSection::homogeneous(m, 1.0)),
             Err(SectionError::Poisson { .. })
         ));
-        let p = IsotropicShell {
-            t: 0.0,
-            nu: 0.3,
-            ..p
-        };
+        let ok = PshellSection::homogeneous(RoleMaterial::mat1(1, 1.0, 0.3, 1.0), 1.0);
         assert!(matches!(
-            ShellSection::isotropic(&p),
+            ShellSection::pshell(&PshellSection { t: 0.0, ..ok }),
             Err(SectionError::NonPositive { .. })
         ));
+        assert!(matches!(
+            ShellSection::pshell(&PshellSection {
+                bending_ratio: 0.0,
+                ..ok
+            }),
+            Err(SectionError::NonPositive { .. })
+        ));
+        for bad in [
+            PshellSection {
+                membrane: None,
+                bending: None,
+                shear: None,
+                ..ok
+            },
+            PshellSection {
+                bending: None,
+                ..ok
+            },
+            PshellSection {
+                bending: None,
+                shear: None,
+                zoffs: 0.1,
+                ..ok
+            },
+            PshellSection {
+                membrane: None,
+                zoffs: 0.1,
+                ..ok
+            },
+            PshellSection {
+                membrane: None,
+                coupling: Some(RoleMaterial::mat1(4, 1.0, 0.3, 1.0)),
+                ..ok
+            },
+        ] {
+            assert!(
+                matches!(ShellSection::pshell(&bad), Err(SectionError::Roles(_))),
+                "{bad:?}"
+            );
+        }
+        // E and NU need a MAT1 target; THETA and TPLY do not apply to a PSHELL.
+        let orth = PshellSection::homogeneous(mat8(8), 1e-3);
+        for (section, target, param) in [
+            (orth, 8, SectionParameter::E),
+            (orth, 8, SectionParameter::Nu),
+            (ok, 1, SectionParameter::Theta),
+            (ok, 1, SectionParameter::Tply),
+        ] {
+            assert!(matches!(
+                affine_sections(
+                    &SectionData::Pshell {
+                        section,
+                        parametrized: target
+                    },
+                    param
+                ),
+                Err(SectionError::UnsupportedParameter { .. })
+            ));
+        }
         let lam = Laminate {
             plies: vec![],
             z0: None,
@@ -1019,16 +1470,50 @@ mod tests {
         (*state >> 11) as f64 / (1u64 << 53) as f64
     }
 
-    fn iso(e: f64, nu: f64, rho: f64) -> IsotropicShell {
-        IsotropicShell {
-            e,
-            nu,
-            rho,
+    /// A PSHELL with distinct MID1 (= MID3), MID2 and MID4 materials, 12I/T³ ≠ 1, TS/T ≠ 5/6,
+    /// NSM and an offset; `kirchhoff` leaves MID3 blank (penalty ∝ the MID2 constants).
+    fn mixed_pshell(kirchhoff: bool) -> PshellSection {
+        let m1 = RoleMaterial::mat1(1, 70e9, 0.33, 2700.0);
+        PshellSection {
             t: 3e-3,
-            bending_ratio: Some(0.9),
-            shear_ratio: Some(0.8),
+            membrane: Some(m1),
+            bending: Some(RoleMaterial::mat1(2, 200e9, 0.28, 7800.0)),
+            bending_ratio: 0.6,
+            shear: (!kirchhoff).then_some(m1),
+            shear_ratio: 0.8,
+            coupling: Some(RoleMaterial::mat1(4, 5e9, 0.2, 100.0)),
             nsm: 0.7,
             zoffs: 4e-4,
+        }
+    }
+
+    /// `p` with every role of material `mid` given E, ν, ρ.
+    fn with_mat1(p: &PshellSection, mid: u32, e: f64, nu: f64, rho: f64) -> PshellSection {
+        let swap = |r: Option<RoleMaterial>| {
+            r.map(|m| {
+                if m.mid == mid {
+                    RoleMaterial::mat1(mid, e, nu, rho)
+                } else {
+                    m
+                }
+            })
+        };
+        PshellSection {
+            membrane: swap(p.membrane),
+            bending: swap(p.bending),
+            shear: swap(p.shear),
+            coupling: swap(p.coupling),
+            ..*p
+        }
+    }
+
+    /// Nominal (E, ν, ρ) of material `mid` in `p`.
+    fn mat1_of(p: &PshellSection, mid: u32) -> (f64, f64, f64) {
+        let roles = [p.membrane, p.bending, p.shear, p.coupling];
+        let m = roles.iter().flatten().find(|m| m.mid == mid).unwrap();
+        match m.material {
+            ShellMaterial::Isotropic { e, nu } => (e, nu, m.rho),
+            ShellMaterial::Orthotropic { .. } => unreachable!("mat1 only"),
         }
     }
 
@@ -1050,6 +1535,41 @@ mod tests {
         }
     }
 
+    /// E on the MID2 material scales D only; with MID3 blank also the Kirchhoff penalty (∝ G2).
+    /// E on the MID1 = MID3 material scales A, the offset terms z₀A, z₀²A, S and the drill.
+    #[test]
+    fn parameter_scales_only_the_roles_of_its_material() {
+        for kirchhoff in [false, true] {
+            let p = mixed_pshell(kirchhoff);
+            let split = |mid| {
+                let data = SectionData::Pshell {
+                    section: p,
+                    parametrized: mid,
+                };
+                affine_sections(&data, SectionParameter::E).unwrap()
+            };
+            let e2 = split(2)[0].1;
+            assert_eq!(split(2)[0].0, Coefficient::E);
+            assert_eq!((e2.a, e2.b, e2.drill), ([[0.0; 3]; 3], [[0.0; 3]; 3], 0.0));
+            assert!(e2.mass.is_zero() && e2.d[0][0] > 0.0);
+            assert_eq!(e2.s[0][0] > 0.0, kirchhoff);
+            let e1 = split(1)[0].1;
+            let z0 = p.zoffs;
+            assert!(e1.a[0][0] > 0.0 && e1.drill > 0.0);
+            assert!((e1.b[0][0] - z0 * e1.a[0][0]).abs() <= 1e-15 * e1.a[0][0]);
+            assert!((e1.d[0][0] - z0 * z0 * e1.a[0][0]).abs() <= 1e-15 * e1.a[0][0]);
+            assert_eq!(e1.s[0][0] > 0.0, !kirchhoff);
+            // RHO on a material that is not the mass material (MID1): nothing to split.
+            let data = SectionData::Pshell {
+                section: p,
+                parametrized: 2,
+            };
+            let rho2 = affine_sections(&data, SectionParameter::Rho).unwrap();
+            assert_eq!(rho2.len(), 1);
+            assert_eq!(rho2[0].0, Coefficient::Constant);
+        }
+    }
+
     #[test]
     fn affine_sections_reproduce_direct_sections() {
         let mut st = 0x2545_f491_4f6c_dd1d_u64;
@@ -1062,24 +1582,41 @@ mod tests {
                 h: 1e-4 + 1e-3 * rand(&mut st),
                 lumped: 0.0,
             };
-            let nominal = iso(70e9, 0.3, 2700.0);
-            for (param, direct) in [
-                (SectionParameter::E, iso(v.e, 0.3, 2700.0)),
-                (SectionParameter::Nu, iso(v.e, v.nu, 2700.0)),
-                (SectionParameter::Rho, iso(70e9, 0.3, v.rho)),
-            ] {
-                let parts = affine_sections(&SectionData::Isotropic(nominal), param).unwrap();
-                let v = if param == SectionParameter::E {
-                    CoefficientValues { nu: 0.3, ..v }
-                } else {
-                    v
-                };
-                let got = evaluate(&parts, &v);
-                let want = ShellSection::isotropic(&direct).unwrap();
-                assert!(
-                    sections_close(&got, &want, 1e-13),
-                    "{param:?}\n{got:?}\n{want:?}"
-                );
+            for nominal in [mixed_pshell(false), mixed_pshell(true)] {
+                for mid in [1, 2, 4] {
+                    let (e0, nu0, rho0) = mat1_of(&nominal, mid);
+                    for (param, direct) in [
+                        (
+                            SectionParameter::E,
+                            with_mat1(&nominal, mid, v.e, nu0, rho0),
+                        ),
+                        (
+                            SectionParameter::Nu,
+                            with_mat1(&nominal, mid, v.e, v.nu, rho0),
+                        ),
+                        (
+                            SectionParameter::Rho,
+                            with_mat1(&nominal, mid, e0, nu0, v.rho),
+                        ),
+                    ] {
+                        let data = SectionData::Pshell {
+                            section: nominal,
+                            parametrized: mid,
+                        };
+                        let parts = affine_sections(&data, param).unwrap();
+                        let v = if param == SectionParameter::E {
+                            CoefficientValues { nu: nu0, ..v }
+                        } else {
+                            v
+                        };
+                        let got = evaluate(&parts, &v);
+                        let want = ShellSection::pshell(&direct).unwrap();
+                        assert!(
+                            sections_close(&got, &want, 1e-13),
+                            "material {mid} {param:?}\n{got:?}\n{want:?}"
+                        );
+                    }
+                }
             }
             let base = angle_ply(20.0, 0.125e-3, 1600.0, None);
             for (param, direct) in [

@@ -7,8 +7,8 @@ use faer::{Mat, Side};
 
 use super::affine::CoefficientValues;
 use super::laminate::{
-    IsotropicShell, Laminate, Ply, SectionData, SectionParameter, ShellSection, affine_sections,
-    evaluate,
+    Laminate, Ply, PshellSection, RoleMaterial, SectionData, SectionParameter, ShellSection,
+    affine_sections, evaluate,
 };
 use super::shell::{
     ShellError, affine_mass, affine_stiffness, quad4_mass, quad4_stiffness, quad4_strains,
@@ -18,20 +18,11 @@ use super::shell::{
 type V3 = [f64; 3];
 
 fn steel(t: f64, nu: f64) -> ShellSection {
-    ShellSection::isotropic(&iso(210e9, nu, t)).unwrap()
+    ShellSection::pshell(&iso(210e9, nu, t)).unwrap()
 }
 
-fn iso(e: f64, nu: f64, t: f64) -> IsotropicShell {
-    IsotropicShell {
-        e,
-        nu,
-        rho: 7850.0,
-        t,
-        bending_ratio: Some(1.0),
-        shear_ratio: Some(5.0 / 6.0),
-        nsm: 0.0,
-        zoffs: 0.0,
-    }
+fn iso(e: f64, nu: f64, t: f64) -> PshellSection {
+    PshellSection::homogeneous(RoleMaterial::mat1(1, e, nu, 7850.0), t)
 }
 
 /// Dense assembly of element matrices given by their grid lists.
@@ -279,16 +270,10 @@ fn macneal_harder_membrane_and_bending_patch_test() {
             [t[0], t[1], t[2], r[0], r[1], r[2]]
         })
         .collect();
-    let section = ShellSection::isotropic(&IsotropicShell {
-        e: 1e6,
-        nu: 0.25,
-        rho: 1.0,
-        t: 0.001,
-        bending_ratio: Some(1.0),
-        shear_ratio: Some(5.0 / 6.0),
-        nsm: 0.0,
-        zoffs: 0.0,
-    })
+    let section = ShellSection::pshell(&PshellSection::homogeneous(
+        RoleMaterial::mat1(1, 1e6, 0.25, 1.0),
+        0.001,
+    ))
     .unwrap();
     let mx = rotate([1.0, 0.0, 0.0]);
     let els: Vec<_> = quads
@@ -539,11 +524,7 @@ fn clamped_plate_does_not_lock() {
     let mut ratios = Vec::new();
     for tl in [1e-2, 1e-3, 1e-4] {
         let t = tl * l;
-        let k = quad_mesh_stiffness(
-            &xyz,
-            &quads,
-            &ShellSection::isotropic(&iso(e, nu, t)).unwrap(),
-        );
+        let k = quad_mesh_stiffness(&xyz, &quads, &ShellSection::pshell(&iso(e, nu, t)).unwrap());
         let d = e * t.powi(3) / (12.0 * (1.0 - nu * nu));
         let mut point_load = vec![0.0; k.nrows()];
         point_load[6 * centre + 2] = 0.25; // a quarter of P = 1
@@ -584,7 +565,7 @@ fn clamped_plate_does_not_lock() {
 fn shell_cantilever_tip_deflection() {
     let (e, l, b, t, p) = (1.0e7, 10.0, 1.0, 0.1, 1.0);
     let (xyz, quads) = grid_mesh(20, 2, l, b, |_, _| 0.0);
-    let sec = ShellSection::isotropic(&iso(e, 0.0, t)).unwrap();
+    let sec = ShellSection::pshell(&iso(e, 0.0, t)).unwrap();
     let k = quad_mesh_stiffness(&xyz, &quads, &sec);
     let root: Vec<usize> = (0..xyz.len()).filter(|&a| xyz[a][0] < 1e-12).collect();
     let tip: Vec<usize> = (0..xyz.len()).filter(|&a| xyz[a][0] > l - 1e-12).collect();
@@ -652,15 +633,37 @@ fn affine_stiffness_and_mass_match_direct_matrices() {
     .to_vec();
     let tria: Vec<V3> = vec![[0.0, 0.0, 0.0], [1.0, 0.2, 0.3], [0.3, 0.8, -0.2]];
     let mx = Some([1.0, 0.3, 0.0]);
-    let iso_data = |e, nu, rho| IsotropicShell {
-        e,
-        nu,
-        rho,
-        t: 0.01,
-        bending_ratio: Some(1.0),
-        shear_ratio: Some(5.0 / 6.0),
+    // Homogeneous PSHELL (material 1 in every role) and one with distinct MID1 = MID3 (1),
+    // MID2 (2) and MID4 (4) materials, 12I/T³ = 0.55 and TS/T = 0.75.
+    let iso_data = |e, nu, rho| PshellSection {
         nsm: 0.3,
         zoffs: 0.002,
+        ..PshellSection::homogeneous(RoleMaterial::mat1(1, e, nu, rho), 0.01)
+    };
+    let mixed = |mid: u32, e, nu, rho| {
+        let m = |id: u32, e0: f64, nu0: f64, rho0: f64| {
+            if id == mid {
+                RoleMaterial::mat1(id, e, nu, rho)
+            } else {
+                RoleMaterial::mat1(id, e0, nu0, rho0)
+            }
+        };
+        let m1 = m(1, 70e9, 0.33, 2700.0);
+        PshellSection {
+            bending: Some(m(2, 190e9, 0.27, 7700.0)),
+            bending_ratio: 0.55,
+            shear_ratio: 0.75,
+            coupling: Some(m(4, 4e9, 0.15, 90.0)),
+            ..PshellSection {
+                membrane: Some(m1),
+                shear: Some(m1),
+                ..iso_data(70e9, 0.33, 2700.0)
+            }
+        }
+    };
+    let pshell = |section, parametrized| SectionData::Pshell {
+        section,
+        parametrized,
     };
     let ply = |theta_deg: f64, t: f64| Ply {
         e1: 140e9,
@@ -687,38 +690,69 @@ fn affine_stiffness_and_mass_match_direct_matrices() {
         h: 0.4e-3,
         lumped: 0.0,
     };
-    let cases = [
+    let mut cases = vec![
         (
-            SectionData::Isotropic(iso_data(70e9, 0.3, 2700.0)),
+            pshell(iso_data(70e9, 0.3, 2700.0), 1),
             SectionParameter::E,
-            ShellSection::isotropic(&iso_data(v.e, 0.3, 2700.0)),
+            0.3,
+            ShellSection::pshell(&iso_data(v.e, 0.3, 2700.0)),
         ),
         (
-            SectionData::Isotropic(iso_data(70e9, 0.3, 2700.0)),
+            pshell(iso_data(70e9, 0.3, 2700.0), 1),
             SectionParameter::Nu,
-            ShellSection::isotropic(&iso_data(v.e, v.nu, 2700.0)),
+            0.3,
+            ShellSection::pshell(&iso_data(v.e, v.nu, 2700.0)),
         ),
         (
-            SectionData::Isotropic(iso_data(70e9, 0.3, 2700.0)),
+            pshell(iso_data(70e9, 0.3, 2700.0), 1),
             SectionParameter::Rho,
-            ShellSection::isotropic(&iso_data(70e9, 0.3, v.rho)),
+            0.3,
+            ShellSection::pshell(&iso_data(70e9, 0.3, v.rho)),
         ),
         (
             SectionData::Laminate(lam(20.0, 0.25e-3)),
             SectionParameter::Theta,
+            0.3,
             ShellSection::laminate(&lam(v.theta_deg, 0.25e-3)),
         ),
         (
             SectionData::Laminate(lam(20.0, 0.25e-3)),
             SectionParameter::Tply,
+            0.3,
             ShellSection::laminate(&lam(20.0, v.h)),
         ),
     ];
-    for (data, param, direct) in cases {
+    // Distinct materials: the parameter on each of them (ν at E: that material's nominal).
+    for (mid, e0, nu0, rho0) in [
+        (1, 70e9, 0.33, 2700.0),
+        (2, 190e9, 0.27, 7700.0),
+        (4, 4e9, 0.15, 90.0),
+    ] {
+        let nominal = mixed(mid, e0, nu0, rho0);
+        cases.push((
+            pshell(nominal, mid),
+            SectionParameter::E,
+            nu0,
+            ShellSection::pshell(&mixed(mid, v.e, nu0, rho0)),
+        ));
+        cases.push((
+            pshell(nominal, mid),
+            SectionParameter::Nu,
+            nu0,
+            ShellSection::pshell(&mixed(mid, v.e, v.nu, rho0)),
+        ));
+        cases.push((
+            pshell(nominal, mid),
+            SectionParameter::Rho,
+            nu0,
+            ShellSection::pshell(&mixed(mid, e0, nu0, v.rho)),
+        ));
+    }
+    for (data, param, nu_at_e, direct) in cases {
         let direct = direct.unwrap();
         let parts = affine_sections(&data, param).unwrap();
         let v = if param == SectionParameter::E {
-            CoefficientValues { nu: 0.3, ..v }
+            CoefficientValues { nu: nu_at_e, ..v }
         } else {
             v
         };

@@ -4,7 +4,7 @@
 //! |---|---|
 //! | MAT1 | E > 0 when given; G > 0 (given or derived); −1 < ν < 0.5 (given or derived); ρ ≥ 0; all finite |
 //! | MAT8 | E1, E2, G12 > 0; ρ ≥ 0; G1Z, G2Z > 0 when given; ν12² < E1/E2 (positive-definite compliance) |
-//! | PSHELL | T > 0; NSM finite |
+//! | PSHELL | T > 0; 12I/T³ > 0, TS/T > 0; NSM, Z1, Z2 finite |
 //! | PCOMP | every ply T > 0; NSM finite |
 //! | PELAS, CELAS2 | K finite |
 //! | CONM2 | M ≥ 0; I11, I22, I33 ≥ 0; all finite |
@@ -74,7 +74,12 @@ pub fn check(refs: &Refs, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warnin
             bad(errors, &p.loc, card.clone(), format!("T = {:e} must be > 0", p.t));
         }
         if ![p.nsm, p.bending_ratio, p.ts_t, p.z1, p.z2].iter().all(|v| v.is_finite()) {
-            bad(errors, &p.loc, card, "every value must be finite".into());
+            bad(errors, &p.loc, card.clone(), "every value must be finite".into());
+        }
+        for (name, v) in [("12I/T**3", p.bending_ratio), ("TS/T", p.ts_t)] {
+            if v <= 0.0 {
+                bad(errors, &p.loc, card.clone(), format!("{name} = {v:e} must be > 0"));
+            }
         }
     }
     for p in &b.pcomp {

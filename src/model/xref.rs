@@ -3,7 +3,7 @@
 //!
 //! | card | field | must exist |
 //! |---|---|---|
-//! | PSHELL | MID1 MID2 MID3 | MAT1 or MAT8 |
+//! | PSHELL | MID1 MID2 MID3 MID4 | MAT1 or MAT8; MID1 or MID2 given; MID3 blank unless MID2 is given; MID4 blank unless MID1 and MID2 are given, and different from both (Nastran) |
 //! | PCOMP | MIDi | MAT8 or MAT1 |
 //! | PSOLID | MID | MAT1 (a MAT8 is an error: it is a plane-stress shell material) |
 //! | SPC, SPC1, ASET1, DAREA, FORCE/MOMENT | grids | GRID |
@@ -48,7 +48,18 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         if p.mid1.is_none() && p.mid2.is_none() {
             errors.push(DeckError::at(&p.loc, format!("neither MID1 nor MID2 is given: the shell has no stiffness and no mass{}", required_by(p.id))).on_card(&card));
         }
-        for (name, mid) in [("MID1", p.mid1), ("MID2", p.mid2), ("MID3", p.mid3)] {
+        if p.mid3.is_some() && p.mid2.is_none() {
+            errors.push(DeckError::at(&p.loc, format!("MID3 must be blank unless MID2 is given (a membrane-only shell has no transverse shear){}", required_by(p.id))).on_card(&card));
+        }
+        if let Some(m4) = p.mid4 {
+            if p.mid1.is_none() || p.mid2.is_none() {
+                errors.push(DeckError::at(&p.loc, format!("MID4 must be blank unless MID1 and MID2 are given{}", required_by(p.id))).on_card(&card));
+            }
+            if p.mid1 == Some(m4) || p.mid2 == Some(m4) {
+                errors.push(DeckError::at(&p.loc, format!("MID4 = {m4} may not equal MID1 or MID2 (use ZOFFS for an offset symmetric section){}", required_by(p.id))).on_card(&card));
+            }
+        }
+        for (name, mid) in [("MID1", p.mid1), ("MID2", p.mid2), ("MID3", p.mid3), ("MID4", p.mid4)] {
             if let Some(mid) = mid {
                 material(refs, mid, name, &["MAT1", "MAT8"], &card, &p.loc, &required_by(p.id), errors);
             }

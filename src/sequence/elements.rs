@@ -3,8 +3,7 @@
 //!
 //! | element | property / material | kernel |
 //! |---|---|---|
-//! | CQUAD4, CTRIA3 | PSHELL + MAT1 | [`ShellSection::isotropic`]: MID1 membrane, MID2 bending with 12I/T³, MID3 transverse shear with TS/T; MID2 blank = membrane only, MID3 blank = Kirchhoff penalty (see [`crate::fe::laminate`]) |
-//! | CQUAD4, CTRIA3 | PSHELL + MAT8 | [`ShellSection::orthotropic`], one ply of thickness T (MID2 = MID1 and 12I/T³ = 1 required; MID3 blank = Kirchhoff penalty, else G1Z/G2Z of the MAT8 with factor 5/6) |
+//! | CQUAD4, CTRIA3 | PSHELL, each of MID1…MID4 MAT1 or MAT8 | [`ShellSection::pshell`]: MID1 membrane, MID2 bending with 12I/T³, MID3 transverse shear with TS/T (MAT1 G, MAT8 G1Z/G2Z), MID4 membrane–bending coupling; MID1 blank = no membrane, MID2 blank = membrane only, MID3 blank = Kirchhoff penalty (see [`PshellSection`]) |
 //! | CQUAD4, CTRIA3 | PCOMP (plies MAT8 or MAT1) | [`ShellSection::laminate`] of [`Pcomp::full_stack`], bottom at Z0 + ZOFFS, NSM |
 //! | CHEXA, CPENTA, CTETRA | PSOLID + MAT1 | [`solid`] (translations, expanded to 6 DOFs per grid) |
 //! | CELAS1 / CELAS2 | PELAS k / k on the card | [`ScalarSpring`], components in the grid's CD frame (as in Nastran) |
@@ -19,7 +18,8 @@
 //!   stiffness and mass (exact for the mass of a parallelogram with bilinear thickness, an
 //!   approximation of the stiffness of a tapered element); refused for PCOMP, whose thickness is
 //!   the ply stack;
-//! - PSHELL with a MID2 or MID3 different from MID1 is refused (one material per section).
+//! - PSHELL: ZOFFS needs MID1 and MID2 (Nastran); a role combination Nastran forbids (MID3
+//!   without MID2, MID4 without MID1 and MID2) is an error of the section.
 //!
 //! Mass: `PARAM,COUPMASS` = 1 gives consistent shell and solid masses, anything else (default
 //! −1) lumped, as in Nastran; `PARAM,WTMASS` multiplies every mass matrix, CONM2 included.
@@ -38,7 +38,7 @@ use crate::assembly::assemble::Binding;
 use crate::assembly::{Contribution, DofMap, GridFrames};
 use crate::deck::cards::{CornerThickness, Pcomp, ShellOrientation, SpringEnd};
 use crate::fe::affine::{AffineMatrix, Coefficient, CoefficientValues};
-use crate::fe::laminate::{IsotropicShell, Laminate, Ply, ShellSection};
+use crate::fe::laminate::{Laminate, Ply, PshellSection, RoleMaterial, ShellMaterial, ShellSection};
 use crate::fe::lumped::{Conm2, GridComponent, ScalarSpring};
 use crate::fe::{shell, solid};
 use crate::linalg::Progress;
@@ -163,17 +163,30 @@ fn mean_thickness(t: f64, corners: Option<&CornerThickness>, n: usize) -> f64 {
     }
 }
 
-fn ply_of_material(model: &Model, mid: u32, t: f64, theta_deg: f64, with_shear: bool) -> Option<Ply> {
+fn ply_of_material(model: &Model, mid: u32, t: f64, theta_deg: f64) -> Option<Ply> {
     Some(match *model.materials.get(&mid)? {
         MaterialRef::Mat8(i) => {
             let m = model.bulk.mat8.get(i)?;
-            let (g1z, g2z) = if with_shear { (m.g1z, m.g2z) } else { (None, None) };
-            Ply { e1: m.e1, e2: m.e2, nu12: m.nu12, g12: m.g12, g1z, g2z, rho: m.rho, t, theta_deg }
+            Ply { e1: m.e1, e2: m.e2, nu12: m.nu12, g12: m.g12, g1z: m.g1z, g2z: m.g2z, rho: m.rho, t, theta_deg }
         }
         MaterialRef::Mat1(i) => {
             let m = model.bulk.mat1.get(i)?;
-            let g = if with_shear { Some(m.g) } else { None };
-            Ply { e1: m.e, e2: m.e, nu12: m.nu, g12: m.g, g1z: g, g2z: g, rho: m.rho, t, theta_deg }
+            Ply { e1: m.e, e2: m.e, nu12: m.nu, g12: m.g, g1z: Some(m.g), g2z: Some(m.g), rho: m.rho, t, theta_deg }
+        }
+    })
+}
+
+/// A MAT1 / MAT8 as the material of a PSHELL role.
+fn shell_material(model: &Model, mid: u32) -> Option<RoleMaterial> {
+    Some(match *model.materials.get(&mid)? {
+        MaterialRef::Mat1(i) => {
+            let m = model.bulk.mat1.get(i)?;
+            RoleMaterial { mid, material: ShellMaterial::Isotropic { e: m.e, nu: m.nu }, rho: m.rho }
+        }
+        MaterialRef::Mat8(i) => {
+            let m = model.bulk.mat8.get(i)?;
+            let material = ShellMaterial::Orthotropic { e1: m.e1, e2: m.e2, nu12: m.nu12, g12: m.g12, g1z: m.g1z, g2z: m.g2z };
+            RoleMaterial { mid, material, rho: m.rho }
         }
     })
 }
@@ -186,39 +199,22 @@ fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<(ShellS
     match e.property {
         Some(PropertyRef::Pshell(i)) => {
             let p = model.bulk.pshell.get(i).ok_or_else(|| err(e, format!("PSHELL {} missing", card.pid)))?;
-            let mid1 = p.mid1.ok_or_else(|| err(e, format!("PSHELL {}: a section without membrane material MID1 is not supported", p.id)))?;
-            for (name, mid) in [("MID2", p.mid2), ("MID3", p.mid3)] {
-                if let Some(m) = mid.filter(|m| *m != mid1) {
-                    return Err(err(e, format!("PSHELL {}: {name} = {m} differs from MID1 = {mid1}; sections with different membrane, bending and shear materials are not supported", p.id)));
-                }
-            }
+            let role = |mid: Option<u32>| mid.map(|m| shell_material(model, m).ok_or_else(|| err(e, format!("PSHELL {}: material {m} missing", p.id)))).transpose();
             let t = mean_thickness(p.t, card.corners.as_ref(), n);
             let scale = t / p.t;
             let fibres = (zoffs + p.z2 * scale, zoffs + p.z1 * scale);
-            match model.materials.get(&mid1) {
-                Some(MaterialRef::Mat1(mi)) => {
-                    let m = &model.bulk.mat1[*mi];
-                    let data = IsotropicShell {
-                        e: m.e,
-                        nu: m.nu,
-                        rho: m.rho,
-                        t,
-                        bending_ratio: p.mid2.map(|_| p.bending_ratio),
-                        shear_ratio: p.mid3.map(|_| p.ts_t),
-                        nsm: p.nsm,
-                        zoffs,
-                    };
-                    Ok((section(ShellSection::isotropic(&data))?, fibres))
-                }
-                Some(MaterialRef::Mat8(_)) => {
-                    if p.mid2.is_none() || p.bending_ratio != 1.0 {
-                        return Err(err(e, format!("PSHELL {} with MAT8 {mid1}: needs MID2 = MID1 and 12I/T³ = 1 (membrane-only or scaled-bending orthotropic sections are not supported)", p.id)));
-                    }
-                    let ply = ply_of_material(model, mid1, t, 0.0, p.mid3.is_some()).ok_or_else(|| err(e, format!("material {mid1} missing")))?;
-                    Ok((section(ShellSection::orthotropic(&ply, zoffs, p.nsm))?, fibres))
-                }
-                None => Err(err(e, format!("PSHELL {}: material {mid1} missing", p.id))),
-            }
+            let data = PshellSection {
+                t,
+                membrane: role(p.mid1)?,
+                bending: role(p.mid2)?,
+                bending_ratio: p.bending_ratio,
+                shear: role(p.mid3)?,
+                shear_ratio: p.ts_t,
+                coupling: role(p.mid4)?,
+                nsm: p.nsm,
+                zoffs,
+            };
+            Ok((section(ShellSection::pshell(&data))?, fibres))
         }
         Some(PropertyRef::Pcomp(i)) => {
             let p: &Pcomp = model.bulk.pcomp.get(i).ok_or_else(|| err(e, format!("PCOMP {} missing", card.pid)))?;
@@ -228,7 +224,7 @@ fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<(ShellS
             let plies = p
                 .full_stack()
                 .iter()
-                .map(|ply| ply_of_material(model, ply.mid, ply.t, ply.theta, true).ok_or_else(|| err(e, format!("PCOMP {}: material {} missing", p.id, ply.mid))))
+                .map(|ply| ply_of_material(model, ply.mid, ply.t, ply.theta).ok_or_else(|| err(e, format!("PCOMP {}: material {} missing", p.id, ply.mid))))
                 .collect::<Result<Vec<_>, _>>()?;
             let bottom = p.z0_resolved() + zoffs;
             let lam = Laminate { plies, z0: Some(bottom), nsm: p.nsm, symmetric: false };

@@ -658,23 +658,88 @@ def case_cantilever_beam_solid_modal(write):
 
 
 def case_ss_plate_modal(write):
-    name = "ss_plate_modal"
-    a = bb = 0.5
     t = 0.005
     E, nu, rho = STEEL["E"], STEEL["nu"], STEEL["rho"]
-    G = E / (2 * (1 + nu))
     D = E * t ** 3 / (12 * (1 - nu ** 2))
+    return ss_plate_case(
+        write, "ss_plate_modal", t, D=D, kGt=KAPPA_SHELL * E / (2 * (1 + nu)) * t, mA=rho * t,
+        mI=rho * t ** 3 / 12, mat_bulk=None,
+        what="steel plate", description="square steel plate",
+        inputs={"E": E, "nu": nu, "rho": rho, "D": D},
+        formula="f_mn = (pi/2) (m^2/a^2 + n^2/b^2) sqrt(D/(rho t)), D = E t^3/(12(1-nu^2))",
+        shear_note="Mindlin shear + rotary inertia (kappa 5/6, exact for SS)",
+        provenance_extra="", hard=False)
+
+
+# PSHELL roles (Nastran QRG PSHELL): MID1 membrane + mass, MID2 bending with 12I/T^3, MID3 shear
+# with TS/T.  Aluminium membrane/shear, steel bending material scaled by 12I/T^3 = 0.6, NSM.
+PSHELL_ROLES = {"ratio": 0.6, "ts_t": 0.8, "nsm": 2.0}
+PSHELL_PROVENANCE = (" PSHELL semantics: MSC Nastran Quick Reference Guide, PSHELL (membrane T G1, "
+                     "bending (12I/T^3) T^3/12 G2, transverse shear (TS/T) T G3, structural mass "
+                     "from the density of MID1 times T, plus NSM).")
+
+
+def case_ss_plate_pshell_roles(write, kirchhoff):
+    """SS plate whose PSHELL has distinct MID1 (aluminium: membrane, mass, and shear unless
+    `kirchhoff`), MID2 (steel, 12I/T^3 = 0.6) and NSM; `kirchhoff` leaves MID3 blank."""
+    t = 0.005
+    r, ts_t, nsm = PSHELL_ROLES["ratio"], PSHELL_ROLES["ts_t"], PSHELL_ROLES["nsm"]
+    E2, nu2 = STEEL["E"], STEEL["nu"]
+    E1, nu1, rho1 = ALU["E"], ALU["nu"], ALU["rho"]
+    D = r * E2 * t ** 3 / (12 * (1 - nu2 ** 2))
+    G1, G2 = E1 / (2 * (1 + nu1)), E2 / (2 * (1 + nu2))
+    mA = rho1 * t + nsm
+    mI = rho1 * t ** 3 / 12  # paraflex's rotary inertia: rho(MID1) T^3/12, NSM without
+    if kirchhoff:
+        # MID3 blank = rigid in transverse shear; paraflex's penalty (README, fe::laminate):
+        # S = 100 (12I/T^3) G(MID2) T
+        kGt = 100.0 * r * G2 * t
+        mid3 = None
+        shear_note = ("paraflex's rigid-shear penalty S = 100 (12I/T^3) G2 T and rotary inertia "
+                      "(exact for SS)")
+    else:
+        kGt = ts_t * G1 * t
+        mid3 = 1
+        shear_note = "Mindlin shear (TS/T G(MID1) T) + rotary inertia (exact for SS)"
+    bulk = [card("PSHELL", 1, 1, float(t), 2, float(r), mid3, float(ts_t), float(nsm)),
+            card("MAT1", 1, float(E1), None, float(nu1), float(rho1)),
+            card("MAT1", 2, float(E2), None, float(nu2), float(STEEL["rho"]))]
+    name = "ss_plate_pshell_%s_modal" % ("kirchhoff" if kirchhoff else "roles")
+    return ss_plate_case(
+        write, name, t, D=D, kGt=kGt, mA=mA, mI=mI, mat_bulk=bulk,
+        what="PSHELL plate (MID1 Al, MID2 steel, 12I/T^3 %g%s)" % (r, ", MID3 blank" if kirchhoff else ""),
+        description="square plate, PSHELL MID1 = aluminium (membrane, mass%s), MID2 = steel with "
+                    "12I/T^3 = %g, NSM = %g kg/m^2%s" % ("" if kirchhoff else ", MID3 shear with TS/T = %g" % ts_t,
+                                                         r, nsm, ", MID3 blank (rigid in shear)" if kirchhoff else ""),
+        inputs={"E_mid1": E1, "nu_mid1": nu1, "rho_mid1": rho1, "E_mid2": E2, "nu_mid2": nu2,
+                "rho_mid2_unused": STEEL["rho"], "bending_ratio_12I_T3": r,
+                "ts_t": None if kirchhoff else ts_t, "nsm": nsm, "D": D, "mass_per_area": mA},
+        formula="f_mn = (pi/2) (m^2/a^2 + n^2/b^2) sqrt(D/m), D = (12I/T^3) E2 t^3/(12(1-nu2^2)), "
+                "m = rho1 t + NSM",
+        shear_note=shear_note, provenance_extra=PSHELL_PROVENANCE, hard=True)
+
+
+def ss_plate_case(write, name, t, D, kGt, mA, mI, mat_bulk, what, description, inputs, formula,
+                  shear_note, provenance_extra, hard):
+    """Simply supported square plate 0.5 x 0.5 m: Kirchhoff frequencies sqrt(D/mA) (values),
+    the exact Mindlin limit with shear stiffness kGt and rotary inertia mI (independent check),
+    meshes 10^2, 20^2, 40^2 CQUAD4.  mat_bulk: PSHELL/MAT cards (None: steel PSHELL).
+    hard: hard simple support (the edge-tangential rotation fixed too, for which the Mindlin
+    Navier solution is exact) and the membrane DOFs T1, T2, R3 fixed everywhere (a flat plate
+    without offset or MID4 decouples membrane and bending exactly: this removes only the
+    in-plane modes); otherwise soft support with the in-plane rigid motion removed."""
+    a = bb = 0.5
     modes = sorted([(m, n) for m in range(1, 5) for n in range(1, 5)],
                    key=lambda mn: (mn[0] ** 2 / a ** 2 + mn[1] ** 2 / bb ** 2, mn))[:6]
-    f_k = [math.pi / 2 * (m * m / a ** 2 + n * n / bb ** 2) * math.sqrt(D / (rho * t))
+    f_k = [math.pi / 2 * (m * m / a ** 2 + n * n / bb ** 2) * math.sqrt(D / mA)
            for m, n in modes]
     lam_leissa = [math.pi ** 2 * (m * m + n * n * (a / bb) ** 2) for m, n in modes]
     for (m, n), f, lam in zip(modes, f_k, lam_leissa):
         check("f_%d%d vs Leissa lambda = w a^2 sqrt(rho t/D) = %.4f" % (m, n, lam),
-              f, lam / (2 * math.pi * a ** 2) * math.sqrt(D / (rho * t)), 1e-14)
-    # Mindlin (shear + rotary inertia; exact for hard simple support), kappa = 5/6
-    f_m = [timoshenko_dispersion(math.pi * math.hypot(m / a, n / bb), D, KAPPA_SHELL * G * t,
-                                 rho * t, rho * t ** 3 / 12) for m, n in modes]
+              f, lam / (2 * math.pi * a ** 2) * math.sqrt(D / mA), 1e-14)
+    # Mindlin (shear + rotary inertia; exact for hard simple support)
+    f_m = [timoshenko_dispersion(math.pi * math.hypot(m / a, n / bb), D, kGt, mA, mI)
+           for m, n in modes]
     mindlin = [(fm - fk) / fk for fm, fk in zip(f_m, f_k)]
     meshes, disc = [], []
     for k, n_el in enumerate([10, 20, 40]):
@@ -684,11 +749,9 @@ def case_ss_plate_modal(write):
         dk = []
         for m, n in modes:
             nm = max(m, n) + 1
-            fe = timoshenko_fe_1d(a, D, KAPPA_SHELL * G * t, rho * t, rho * t ** 3 / 12,
-                                  n_el, nm, bc="ss")
-            ex = [(fe[j - 1] - timoshenko_dispersion(j * math.pi / a, D, KAPPA_SHELL * G * t,
-                  rho * t, rho * t ** 3 / 12)) / timoshenko_dispersion(j * math.pi / a, D,
-                  KAPPA_SHELL * G * t, rho * t, rho * t ** 3 / 12) for j in (m, n)]
+            fe = timoshenko_fe_1d(a, D, kGt, mA, mI, n_el, nm, bc="ss")
+            ex = [(fe[j - 1] - timoshenko_dispersion(j * math.pi / a, D, kGt, mA, mI))
+                  / timoshenko_dispersion(j * math.pi / a, D, kGt, mA, mI) for j in (m, n)]
             kx2, ky2 = (m / a) ** 2, (n / bb) ** 2
             dk.append((kx2 * ex[0] + ky2 * ex[1]) / (kx2 + ky2))
         disc.append(dk)
@@ -696,43 +759,62 @@ def case_ss_plate_modal(write):
         meshes.append({"deck": deck, "elements": n_el * n_el, "h": h, "nx": n_el, "ny": n_el})
         if write:
             grids, quads = shell_grid_mesh(a, bb, n_el, n_el)
-            bulk = shell_bulk(grids, quads, t, STEEL)
+            if mat_bulk is None:
+                bulk = shell_bulk(grids, quads, t, STEEL)
+            else:
+                bulk = ["PARAM,COUPMASS,1"] + grid_cards(grids)
+                bulk += [card("CQUAD4", e, 1, g1, g2, g3, g4) for e, g1, g2, g3, g4 in quads]
+                bulk += mat_bulk
             edge = [g for g, x, y, z in grids if x in (0.0, a) or y in (0.0, bb)]
-            bulk.append(spc1(1, "3", edge))
-            corner1 = [g for g, x, y, z in grids if x == 0.0 and y == 0.0][0]
-            corner2 = [g for g, x, y, z in grids if x == a and y == 0.0][0]
-            bulk.append(spc1(1, "12", [corner1]))
-            bulk.append(spc1(1, "2", [corner2]))
+            if hard:
+                for g, x, y, z in grids:
+                    comps = "126" + ("3" if g in edge else "") + ("4" if x in (0.0, a) else "") \
+                        + ("5" if y in (0.0, bb) else "")
+                    bulk.append(spc1(1, "".join(sorted(comps)), [g]))
+                bc = ("hard simple support: T3 = 0 on every edge grid, R1 = 0 on x = 0, a and "
+                      "R2 = 0 on y = 0, b; membrane T1, T2, R3 = 0 on every grid")
+            else:
+                bulk.append(spc1(1, "3", edge))
+                corner1 = [g for g, x, y, z in grids if x == 0.0 and y == 0.0][0]
+                corner2 = [g for g, x, y, z in grids if x == a and y == 0.0][0]
+                bulk.append(spc1(1, "12", [corner1]))
+                bulk.append(spc1(1, "2", [corner2]))
+                bc = ("T3 = 0 on every edge grid; in-plane rigid motion removed by T1,T2 "
+                      "at grid %d (0,0) and T2 at grid %d (a,0)" % (corner1, corner2))
             bulk.append(card("EIGRL", 10, None, None, 8))
-            write_deck(deck, ["analytic case %s: simply supported steel plate %g x %g x %g m, "
-                              "CQUAD4 %dx%d" % (name, a, bb, t, n_el, n_el),
-                              "T3 = 0 on every edge grid; in-plane rigid motion removed by T1,T2 "
-                              "at grid %d (0,0) and T2 at grid %d (a,0)" % (corner1, corner2),
-                              "reference: %s/%s.json" % (REF_DIR, name)],
+            write_deck(deck, ["analytic case %s: simply supported %s %g x %g x %g m, "
+                              "CQUAD4 %dx%d" % (name, what, a, bb, t, n_el, n_el),
+                              bc, "reference: %s/%s.json" % (REF_DIR, name)],
                        103, modal_case_control("%s n%d" % (name, k + 1)), bulk)
     tol, just = [], []
     for i, (m, n) in enumerate(modes):
         t_i = abs(mindlin[i]) + 2 * abs(disc[2][i])
         tol.append(float("%.2g" % (1.25 * t_i)))
-        just.append("mode (%d,%d): Mindlin shear + rotary inertia (kappa 5/6, exact for SS) %+.3f%%"
+        just.append("mode (%d,%d): %s %+.3f%%"
                     " vs Kirchhoff; discretization on 40x40 estimated %+.3f%% from the 1D "
                     "analogue (simply supported linear one-point-shear Timoshenko elements, "
                     "consistent mass, x and y errors weighted by kx^2, ky^2), counted twice for "
-                    "the 2D element; soft simple support (rotations free) adds only a boundary "
-                    "layer of width ~t, O(t/a) = 1e-2 of the shear effect; (sum) x1.25 -> %.2g"
-                    % (m, n, 100 * mindlin[i], 100 * disc[2][i], tol[-1]))
+                    "the 2D element; %s; (sum) x1.25 -> %.2g"
+                    % (m, n, shear_note, 100 * mindlin[i], 100 * disc[2][i],
+                       "hard simple support: the Mindlin Navier solution is exact" if hard else
+                       "soft simple support (rotations free) adds only a boundary "
+                       "layer of width ~t, O(t/a) = 1e-2 of the shear effect", tol[-1]))
     ref = {
         "case": name,
-        "description": "simply supported square steel plate %g x %g x %g m, CQUAD4: first six "
-                       "modes (Kirchhoff)" % (a, bb, t),
+        "description": "simply supported %s %g x %g x %g m, CQUAD4: first six "
+                       "modes (Kirchhoff)" % (description, a, bb, t),
         "provenance": LEISSA + "(Navier solution, lambda = omega a^2 sqrt(rho t/D) = "
                       "pi^2 (m^2 + n^2 (a/b)^2)); Timoshenko & Woinowsky-Krieger, \"Theory of "
                       "Plates and Shells\" 2nd ed. 1959, sec. 28 (Navier solution). Mindlin "
-                      "correction: Mindlin, J. Appl. Mech. 18 (1951) 31-38.",
-        "formula": "f_mn = (pi/2) (m^2/a^2 + n^2/b^2) sqrt(D/(rho t)), D = E t^3/(12(1-nu^2))",
-        "inputs": {"a": a, "b": bb, "t": t, "E": E, "nu": nu, "rho": rho, "D": D,
-                   "mn": [list(mn) for mn in modes]},
-        "boundary_conditions": "SPC1 T3 on all edge grids (rotations free: soft simple support);"
+                      "correction: Mindlin, J. Appl. Mech. 18 (1951) 31-38." + provenance_extra,
+        "formula": formula,
+        "inputs": dict({"a": a, "b": bb, "t": t}, **inputs, mn=[list(mn) for mn in modes]),
+        "boundary_conditions": ("hard simple support: SPC1 T3 on all edge grids, R1 on x = 0, a,"
+                                " R2 on y = 0, b (the edge-tangential rotation; Mindlin Navier "
+                                "solution exact); membrane T1, T2, R3 fixed on every grid (flat "
+                                "plate, no offset, no MID4: membrane and bending decouple exactly,"
+                                " only in-plane modes are removed)") if hard else
+                               "SPC1 T3 on all edge grids (rotations free: soft simple support);"
                                " in-plane rigid-body motion removed by T1,T2 at the corner (0,0)"
                                " and T2 at the corner (a,0) (statically determinate, no effect "
                                "on the bending modes of a flat plate)",
@@ -1033,6 +1115,8 @@ CASES = {
     "cantilever_plate_modal": case_cantilever_plate_modal,
     "cantilever_beam_solid_modal": case_cantilever_beam_solid_modal,
     "ss_plate_modal": case_ss_plate_modal,
+    "ss_plate_pshell_roles_modal": lambda w: case_ss_plate_pshell_roles(w, kirchhoff=False),
+    "ss_plate_pshell_kirchhoff_modal": lambda w: case_ss_plate_pshell_roles(w, kirchhoff=True),
     "cantilever_static": lambda w: case_cantilever_static(w, solid=False),
     "cantilever_static_solid": lambda w: case_cantilever_static(w, solid=True),
     "two_dof_spring_mass": case_two_dof_spring_mass,

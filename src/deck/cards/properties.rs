@@ -3,21 +3,25 @@
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
+use crate::deck::value::Value;
 
-/// `PSHELL` — homogeneous shell property.
+/// `PSHELL` — homogeneous shell property (Nastran semantics: each role has its own material).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | PID | int > 0 | required | property id |
-/// | 3 | MID1 | int > 0 | blank | membrane material |
-/// | 4 | T | real | required | thickness |
-/// | 5 | MID2 | int > 0 | blank | bending material (blank: no bending stiffness) |
-/// | 6 | 12I/T³ | real | 1.0 | bending inertia ratio |
-/// | 7 | MID3 | int > 0 | blank | transverse shear material (blank: no transverse shear flexibility) |
-/// | 8 | TS/T | real | 0.833333 | transverse shear thickness ratio |
+/// | 3 | MID1 | int > 0 | blank | membrane material (MAT1 or MAT8): A = T·Q1; blank: no membrane stiffness |
+/// | 4 | T | real > 0 | required | membrane thickness |
+/// | 5 | MID2 | int > 0 | blank | bending material (MAT1 or MAT8): D = (12I/T³)·T³/12·Q2; blank: membrane only (no bending, no transverse shear); −1 (plane strain) is refused |
+/// | 6 | 12I/T³ | real > 0 | 1.0 | bending inertia ratio |
+/// | 7 | MID3 | int > 0 | blank | transverse-shear material: S = (TS/T)·T·G3 with G3 = G·I (MAT1), diag(G1Z, G2Z) (MAT8); must be blank unless MID2 is given; blank: rigid in transverse shear (stiff penalty, see `fe::laminate`) |
+/// | 8 | TS/T | real > 0 | 0.833333 | transverse shear thickness ratio |
 /// | 9 | NSM | real | 0.0 | non-structural mass per area |
 /// | cont. 2–3 | Z1 Z2 | real | −T/2, T/2 | fibre distances for strain output |
-/// | cont. 4 | MID4 | int | blank | membrane–bending coupling: not supported, must be blank |
+/// | cont. 4 | MID4 | int > 0 | blank | membrane–bending coupling material: B = T²·Q4; needs MID1 and MID2, differs from both |
+///
+/// Mass per area ρT + NSM with ρ of MID1 (of MID2 when MID1 is blank). ZOFFS on the element
+/// needs MID1 and MID2, as in Nastran.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pshell {
     pub id: u32,
@@ -30,6 +34,7 @@ pub struct Pshell {
     pub nsm: f64,
     pub z1: f64,
     pub z2: f64,
+    pub mid4: Option<u32>,
     pub loc: Loc,
 }
 
@@ -41,19 +46,22 @@ impl Pshell {
         f.set_id(id);
         let mid1 = f.opt_id(2, "MID1");
         let t = f.real(3, "T");
-        let mid2 = f.opt_id(4, "MID2");
+        let mid2 = if let Value::Int(-1) = f.value(4) {
+            f.error(4, "MID2", "MID2 = -1 (plane strain) is not supported; paraflex shells are plane stress");
+            None
+        } else {
+            f.opt_id(4, "MID2")
+        };
         let bending_ratio = f.real_or(5, "12I/T**3", 1.0);
         let mid3 = f.opt_id(6, "MID3");
         let ts_t = f.real_or(7, "TS/T", 0.833333);
         let nsm = f.real_or(8, "NSM", 0.0);
         let z1 = f.real_or(9, "Z1", -t / 2.0);
         let z2 = f.real_or(10, "Z2", t / 2.0);
-        if !f.value(11).is_blank() {
-            f.error(11, "MID4", "membrane-bending coupling (MID4) is not supported; leave blank");
-        }
+        let mid4 = f.opt_id(11, "MID4");
         let loc = f.loc();
         f.finish(11)?;
-        Ok(Pshell { id, mid1, t, mid2, bending_ratio, mid3, ts_t, nsm, z1, z2, loc })
+        Ok(Pshell { id, mid1, t, mid2, bending_ratio, mid3, ts_t, nsm, z1, z2, mid4, loc })
     }
 }
 
