@@ -19,7 +19,8 @@
 //! ```text
 //! /results/<subcase>/modal/{frequency_hz (m), generalized_mass (m), residual (m), eigenvalue (m),
 //!                           shapes (m×n×6, only with DISPLACEMENT)}
-//!     attrs: sturm_shift, sturm_count, sturm_found, sturm_consistent, shift, norm, autospc
+//!     attrs: sturm_shift, sturm_count, sturm_found, sturm_consistent, shift, norm, autospc,
+//!            massless_count, finite_exhausted
 //! /results/<subcase>/statics/{displacement (n×6), spc_force (n×6, only with SPCFORCES),
 //!                             strain/<CARD>/... (only with STRAIN)}
 //! ```
@@ -185,6 +186,19 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
                     "subcase {}: mode(s) {} have residual ‖Kφ − λMφ‖/‖Kφ‖ above {RESIDUAL_WARNING:e}: not trustworthy (more modes requested than the mass matrix has finite ones?)",
                     s.id,
                     bad.join(", ")
+                ));
+            }
+            if m.finite_exhausted {
+                let why = if m.massless > 0 {
+                    format!("M is singular on {} massless f-set DOF(s) (no mass on that row)", m.massless)
+                } else {
+                    "M is rank-deficient on DOFs that have mass (e.g. an offset CONM2 without inertia)".to_string()
+                };
+                warnings.push(format!(
+                    "subcase {}: only {} finite mode(s) exist above the lower bound, ND = {} asked for more: {why}; the other eigenvalues are infinite and are not returned",
+                    s.id,
+                    m.eigenvalues.len(),
+                    m.nd.map_or("(blank)".to_string(), |n| n.to_string()),
                 ));
             }
             if !m.sturm.is_consistent() {
