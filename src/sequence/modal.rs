@@ -19,7 +19,7 @@
 //! ND asks for more, only the finite modes are returned and the run warns (see
 //! [`crate::linalg::eigen`], "Singular M").
 
-use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary, requested};
+use super::{Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary};
 use crate::assembly::recover::recover_g;
 use crate::deck::case_control::Subcase;
 use crate::io::{set_attr_f64, set_attr_i64, set_attr_str, write_f64};
@@ -127,8 +127,9 @@ fn write_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcas
     set_attr_i64(&group, "massless_count", r.massless as i64)?;
     set_attr_i64(&group, "finite_exhausted", i64::from(r.finite_exhausted))?;
     super::write_autospc(&group, &c.autospc)?;
-    let shapes_written = requested(sub, "DISPLACEMENT").is_some();
-    if shapes_written {
+    let rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
+    let shapes_written = rows.is_some();
+    if let Some(rows) = rows {
         let n = st.map.grids();
         let zero = vec![0.0; st.map.size()];
         let mut shapes = Vec::with_capacity(m * 6 * n);
@@ -140,7 +141,7 @@ fn write_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcas
             let u_g = recover_g(&u_f, &c.sets, &zero, &st.rigid)?;
             shapes.extend(st.to_basic_rows(&u_g));
         }
-        write_f64(&group, "shapes", &shapes, &[m, n, 6])?;
+        rows.write(&group, "shapes", &shapes, &[m], &st.map)?;
     }
     Ok(ModalSummary {
         eigenvalues: r.eigenvalues,
