@@ -274,7 +274,9 @@ fn analytic_modal(case: &str, meshes: &[usize], assert_convergence: bool, conver
     let mut t = Table::default();
     let mut per_mesh: Vec<Vec<f64>> = Vec::new();
     for &k in meshes {
-        let f = run_deck(&decks[k]).frequencies();
+        let run = run_deck(&decks[k]);
+        let f = run.frequencies();
+        check_mode_count(&r, &run, &f);
         let name = format!("{case} ({})", mesh_label(&r, k));
         let finest = k == decks.len() - 1;
         for (j, v) in values.iter().enumerate() {
@@ -291,6 +293,18 @@ fn analytic_modal(case: &str, meshes: &[usize], assert_convergence: bool, conver
         }
     }
     t.finish(&if meshes == [0, 1, 2] { case.to_string() } else { format!("{case}_meshes_{meshes:?}") });
+}
+
+/// Cases with a singular mass matrix carry `expected_mode_count`: exactly that many modes (no
+/// infinite eigenvalue at an absurd frequency), and the "only N finite mode(s)" warning exactly
+/// when the EIGRL's ND asked for more.
+fn check_mode_count(r: &Value, run: &Run, f: &[f64]) {
+    let Some(count) = r["expected_mode_count"].as_u64() else { return };
+    let count = count as usize;
+    assert_eq!(f.len(), count, "{}: frequencies {f:?}", r["case"]);
+    let warned = run.summary.warnings.iter().any(|w| w.contains(&format!("only {count} finite mode(s)")));
+    let nd_too_large = r["inputs"]["eigrl"]["ND"].as_u64().is_some_and(|nd| nd as usize > count);
+    assert_eq!(warned, nd_too_large, "{}: warnings {:?}", r["case"], run.summary.warnings);
 }
 
 fn mesh_label(r: &Value, k: usize) -> String {
@@ -368,6 +382,18 @@ fn analytic_cantilever_beam_solid_modal_finest() {
 #[test]
 fn analytic_two_dof_spring_mass() {
     analytic_modal("two_dof_spring_mass", &[0], true, |_| None);
+}
+
+/// Singular M (4 of 7 DOFs massless): ND = 10 returns the 3 finite modes and warns.
+#[test]
+fn analytic_massless_spring_chain() {
+    analytic_modal("massless_spring_chain", &[0], true, |_| None);
+}
+
+/// Same model, V1..V2 range reaching far above the highest finite mode: modes 2 and 3 only.
+#[test]
+fn analytic_massless_spring_chain_range() {
+    analytic_modal("massless_spring_chain_range", &[0], true, |_| None);
 }
 
 fn analytic_static(case: &str) {

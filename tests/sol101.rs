@@ -142,3 +142,66 @@ fn spring_reactions_balance_the_load_to_round_off() {
         assert!((u[c] - f[c] / k[c]).abs() <= 1e-12, "{:?}", &u[..3]);
     }
 }
+
+/// Output requests select what is stored, with one writer for every grid-point output
+/// (`GridRows`, shared with SOL 103 shapes): `DISPLACEMENT = SET` and `SPCFORCES = SET` keep the
+/// rows of the SET's grids (ids not naming a grid are ignored) with a `<name>_grid_ids` dataset,
+/// equal to the same rows of the `ALL` run; `= NONE` and an absent `SPCFORCES`/`STRAIN` store
+/// nothing; without any DISPLACEMENT request every grid is written (the documented default);
+/// `STRAIN = SET` keeps the SET's elements.
+#[test]
+fn output_requests_store_only_the_requested_sets() {
+    let load = "FORCE,5,1000,,10.,0.,0.,1.\n";
+    let read = |dir: &tempfile::TempDir, name: &str| -> Option<(Vec<usize>, Vec<f64>)> {
+        let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+        let d = file.dataset(&format!("results/1/statics/{name}")).ok()?;
+        Some((d.shape(), d.read_raw().expect("read")))
+    };
+    let read_ids = |dir: &tempfile::TempDir, name: &str| -> Vec<u32> {
+        let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+        file.dataset(&format!("results/1/statics/{name}")).expect(name).read_raw().expect("read")
+    };
+    // reference run: everything for every grid; grid rows in increasing id order
+    let (all, all_dir) = run_deck(&strip("SPC = 1\nLOAD = 5\nDISPLACEMENT = ALL\nSPCFORCES = ALL\n", load));
+    all.expect("run");
+    let ids: Vec<u32> = (1..=NX as u32 + 1).chain(101..=101 + NX as u32).chain([1000]).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
+    let (shape, u_all) = read(&all_dir, "displacement").expect("displacement");
+    assert_eq!(shape, vec![ids.len(), 6]);
+    let (_, q_all) = read(&all_dir, "spc_force").expect("spc_force");
+    let row = |v: &[f64], id: u32| -> Vec<f64> {
+        let g = ids.iter().position(|&x| x == id).expect("grid");
+        v[6 * g..6 * g + 6].to_vec()
+    };
+
+    // SETs: 99999 is no grid; SET 2 lists the clamped grids and one free grid
+    let case = "SET 1 = 1000, 3, 99999, 2\nSET 2 = 1, 101, 5\nSET 3 = 2, 4\nSPC = 1\nLOAD = 5\nDISPLACEMENT = 1\nSPCFORCES(PLOT) = 2\nSTRAIN = 3\n";
+    let (r, dir) = run_deck(&strip(case, load));
+    r.expect("run");
+    let (shape, u) = read(&dir, "displacement").expect("displacement");
+    assert_eq!(shape, vec![3, 6]);
+    assert_eq!(read_ids(&dir, "displacement_grid_ids"), vec![2, 3, 1000]);
+    let (shape, q) = read(&dir, "spc_force").expect("spc_force");
+    assert_eq!(shape, vec![3, 6]);
+    assert_eq!(read_ids(&dir, "spc_force_grid_ids"), vec![1, 5, 101]);
+    for (k, id) in [2, 3, 1000].into_iter().enumerate() {
+        assert_eq!(u[6 * k..6 * k + 6], row(&u_all, id)[..], "displacement of GRID {id}");
+    }
+    for (k, id) in [1, 5, 101].into_iter().enumerate() {
+        assert_eq!(q[6 * k..6 * k + 6], row(&q_all, id)[..], "SPC force of GRID {id}");
+    }
+    assert!(q[..6].iter().any(|x| x.abs() > 1.0), "the clamped grid 1 carries a reaction: {:?}", &q[..6]);
+    assert_eq!(read_ids(&dir, "strain/CQUAD4/ids"), vec![2, 4]);
+    assert!(read(&all_dir, "displacement_grid_ids").is_none(), "ALL writes no id list (rows are /model/grid_ids)");
+
+    // NONE stores nothing; absent SPCFORCES / STRAIN store nothing
+    let (r, dir) = run_deck(&strip("SPC = 1\nLOAD = 5\nDISPLACEMENT = NONE\n", load));
+    r.expect("run");
+    for name in ["displacement", "spc_force", "strain"] {
+        assert!(read(&dir, name).is_none() && hdf5_metno::File::open(dir.path().join("out.h5")).unwrap().group(&format!("results/1/statics/{name}")).is_err(), "{name} written");
+    }
+
+    // no DISPLACEMENT request at all: the default writes every grid
+    let (r, dir) = run_deck(&strip("SPC = 1\nLOAD = 5\n", load));
+    r.expect("run");
+    assert_eq!(read(&dir, "displacement").expect("default displacement"), (vec![ids.len(), 6], u_all));
+}

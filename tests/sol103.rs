@@ -250,4 +250,55 @@ fn zoffs_on_a_membrane_only_pshell_is_an_error() {
     let (r, _dir) = run_deck(&deck);
     let e = r.expect_err("ZOFFS without MID2").to_string();
     assert!(e.contains("ZOFFS") && e.contains("MID2"), "{e}");
+
+/// The rigid-link model above with I = 0: M on grid 1's six DOFs has rank 3 (T2, and one
+/// combination per coupled pair) with only R2 massless, so only the exhaustion of the Krylov
+/// space can tell that 3 finite modes exist. ND = 6 returns those 3 and the warning, never a
+/// mode at an "infinite" frequency. With I = 0 each pair's quadratic degenerates to
+/// λ = kt kr / (m (kt d² + kr)) (a massless combination carries no inertia); T2 gives kt/m.
+#[test]
+fn offset_conm2_without_inertia_returns_only_the_finite_modes() {
+    let (kt, k4, k5, k6, m, d): (f64, f64, f64, f64, f64, f64) = (1.0e4, 2.0e3, 1.0e3, 3.0e3, 2.0, 0.5);
+    let deck = format!(
+        "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,0.,{d:?},0.\nRBE2,9,1,123456,2\nCONM2,10,2,,{m:?}\n\
+         CELAS2,1,{kt:?},1,1\nCELAS2,2,{kt:?},1,2\nCELAS2,3,{kt:?},1,3\nCELAS2,4,{k4:?},1,4\nCELAS2,5,{k5:?},1,5\nCELAS2,6,{k6:?},1,6\nEIGRL,1,,,6\nENDDATA\n"
+    );
+    let (r, _dir) = run_deck(&deck);
+    let s = r.expect("run");
+    let mm = modal(&s);
+    let pair = |kr: f64| kt * kr / (m * (kt * d * d + kr));
+    let mut expected: Vec<f64> = [kt / m, pair(k4), pair(k6)].iter().map(|l| l.sqrt() / TWO_PI).collect();
+    expected.sort_by(f64::total_cmp);
+    assert_eq!(mm.frequencies_hz.len(), 3, "{:?}", mm.frequencies_hz);
+    for (g, e) in mm.frequencies_hz.iter().zip(&expected) {
+        assert!((g - e).abs() <= 1e-9 * e, "{:?} vs {expected:?}", mm.frequencies_hz);
+    }
+    assert!(mm.sturm.is_consistent(), "{:?}", mm.sturm);
+    assert_eq!((mm.massless, mm.finite_exhausted), (1, true));
+    assert!(s.warnings.iter().any(|w| w.contains("only 3 finite mode(s)") && w.contains("ND = 6")), "{:?}", s.warnings);
+}
+
+/// `DISPLACEMENT = SET` writes the mode shapes of the SET's grids only (m × k × 6, ids in
+/// `shapes_grid_ids`), equal to those rows of the `ALL` run; `NONE` writes no shapes.
+#[test]
+fn mode_shapes_follow_the_displacement_set() {
+    let bulk = "BEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,2.,0.,0.\nCELAS2,1,1.0e4,1,1\nCELAS2,2,2.5e3,1,1,2,1\nCELAS2,3,4.0e3,2,1,3,1\nCONM2,4,1,,2.0\nCONM2,5,2,,0.5\nCONM2,6,3,,1.0\nEIGRL,1,,,3\nENDDATA\n";
+    let shapes = |case: &str| {
+        let (r, dir) = run_deck(&format!("SOL 103\nCEND\n{case}METHOD = 1\n{bulk}"));
+        r.expect("run");
+        let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+        let d = file.dataset("results/1/modal/shapes").ok();
+        let ids: Option<Vec<u32>> = file.dataset("results/1/modal/shapes_grid_ids").ok().map(|d| d.read_raw().expect("ids"));
+        d.map(|d| (d.shape(), d.read_raw::<f64>().expect("shapes"), ids))
+    };
+    let (shape, all, ids) = shapes("DISPLACEMENT = ALL\n").expect("shapes");
+    assert_eq!((shape, ids), (vec![3, 3, 6], None));
+    let (shape, set, ids) = shapes("SET 7 = 3, 1\nDISPLACEMENT = 7\n").expect("shapes");
+    assert_eq!((shape, ids), (vec![3, 2, 6], Some(vec![1, 3])));
+    for mode in 0..3 {
+        for (k, g) in [0, 2].into_iter().enumerate() {
+            assert_eq!(set[(mode * 2 + k) * 6..][..6], all[(mode * 3 + g) * 6..][..6], "mode {mode}, grid row {g}");
+        }
+    }
+    assert!(shapes("DISPLACEMENT = NONE\n").is_none());
 }

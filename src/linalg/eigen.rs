@@ -18,9 +18,11 @@
 //!   residual couplings β sₘ, and the iteration continues from the residual vector. The basis
 //!   grows when the wanted set does not fit. A Ritz pair is converged when its residual
 //!   |β sₘᵢ| ≤ tol·θᵢ.
-//! - **Purification and normalization**: each returned vector is φ = OP(Vs)/θ = Vs + (β sₘ/θ) v
-//!   (free of components in the null space of a singular M), M-normalized (φᵀMφ = 1) with its
-//!   largest component positive; λ is its Rayleigh quotient φᵀKφ.
+//! - **Purification and normalization**: each returned vector is φ = OP(Vs)/θ, applied
+//!   explicitly with one block solve for all returned modes (in exact arithmetic
+//!   Vs + (β sₘ/θ) vₘ₊₁; explicitly it also removes the round-off that the Lanczos vectors
+//!   accumulate in the null space of a singular M), M-normalized (φᵀMφ = 1) with its largest
+//!   component positive; λ is its Rayleigh quotient φᵀKφ.
 //! - **Sturm check** (Parlett, *The Symmetric Eigenvalue Problem*, §3.3; Sylvester's law of
 //!   inertia): the number of negative pivots of the LDLᵀ of K − sM equals the number of
 //!   eigenvalues below s. With s just above the highest mode returned (or s = V2 for a range
@@ -43,8 +45,24 @@
 //! structures; give `shift_hz` when the model's units make 1 Hz a poor scale). With V1 > 0 the
 //! shift is σ = (2πV1)², moved slightly down if K − σM is singular there.
 //!
-//! M may be positive semi-definite (massless DOFs): the Sturm counts then count the finite
-//! eigenvalues and purification keeps the vectors M-consistent.
+//! # Singular M (massless DOFs)
+//! M may be positive semi-definite: grids with springs and no mass, rotations without rotary
+//! inertia. The pencil then has only rank(M) finite eigenvalues; the others are infinite and are
+//! the θ = 0 eigenvalues of OP (OP x = 0 for x in null(M)), which a Krylov space built from
+//! OP-images never contains: its dimension is at most rank(M) (range(OP) = (K − σM)⁻¹ range(M)).
+//! Two bounds keep the search on the finite part:
+//! - **massless DOFs** ([`massless_dofs`]): a zero diagonal of the semi-definite M means a zero
+//!   row, so rank(M) ≤ n − #massless. The Krylov size and the number of modes sought are capped
+//!   by it (exact when M is non-singular on the DOFs that have mass, e.g. lumped masses);
+//! - **exhaustion**: when the basis spans an invariant subspace and no random vector mapped
+//!   through OP adds an M-norm above 10⁻⁸ of its own (the M-range is spanned), the search stops
+//!   there: the Ritz values are then exact and are all the finite eigenvalues above σ (this
+//!   covers a rank-deficient M on DOFs that do have mass, e.g. an offset CONM2 without inertia).
+//!
+//! When ND asks for more modes than the finite ones above the lower end, all finite modes are
+//! returned and [`EigenResult::finite_exhausted`] is set (the caller warns). The Sturm counts
+//! count finite eigenvalues only (K − sM at finite s), so the check stays exact; purification
+//! keeps the vectors M-consistent.
 
 use faer::linalg::matmul::matmul;
 use faer::reborrow::{Reborrow, ReborrowMut};
@@ -152,6 +170,31 @@ pub struct EigenResult {
     pub restarts: usize,
     /// Runs extended after a Sturm deficit.
     pub recoveries: usize,
+    /// Massless DOFs ([`massless_dofs`]): the pencil has at most n − `massless` finite
+    /// eigenvalues.
+    pub massless: usize,
+    /// The request asked for more modes than the pencil has finite eigenvalues above its lower
+    /// end (ND too large for a singular M): every finite one was returned.
+    pub finite_exhausted: bool,
+}
+
+/// Diagonal entries of the positive semi-definite M at or below this fraction of the largest one
+/// count as massless: zero up to the round-off of summing element masses in rotated frames (a
+/// few ε of the largest entry). A DOF with so little mass would otherwise give an eigenvalue
+/// ~10¹³ times the others, which no one asks for.
+pub const MASSLESS_RATIO: f64 = 1e-13;
+
+/// Indices of the massless DOFs of M: diagonal ≤ [`MASSLESS_RATIO`] × the largest diagonal. For
+/// a positive semi-definite M a zero diagonal entry means a zero row and column, so
+/// rank(M) ≤ n − (their number).
+pub fn massless_dofs(m: &CscMatrix<f64>) -> Vec<usize> {
+    let diag: Vec<f64> = (0..m.nrows())
+        .map(|i| m.get_entry(i, i).map_or(0.0, |v| v.into_value()))
+        .collect();
+    let max = diag.iter().copied().fold(0.0, f64::max);
+    (0..diag.len())
+        .filter(|&i| diag[i] <= MASSLESS_RATIO * max)
+        .collect()
 }
 
 /// Inertia of K − sM: `negative` is the number of eigenvalues below s (Sturm count).
@@ -226,16 +269,28 @@ fn solve_modes_from(
     // A V2 on an eigenvalue was moved up: the returned modes follow the counted interval.
     bounds.upper = upper.map(|(shift, _)| shift);
     progress.step("eigen: factor K - sigma M", 1, 1);
-    let target = Target {
+    let massless = massless_dofs(problem.m).len();
+    let rank_bound = n - massless;
+    let mut target = Target {
         lower: bounds.lower,
         nd: request.nd,
         cap: upper.map(|(_, inertia)| inertia.negative.saturating_sub(below_sigma)),
-        available: n - below_sigma,
+        available: rank_bound.saturating_sub(below_sigma),
     };
-    let mut lanczos = Lanczos::new(problem, op_factor, sigma, options, par, start)?;
+    if target.available == 0 {
+        return Err(LinalgError::InvalidRequest {
+            what: "the mass matrix has no finite eigenvalue above the shift (no mass)",
+        });
+    }
+    let mut lanczos = Lanczos::new(problem, op_factor, sigma, rank_bound, options, par, start)?;
     let mut recoveries = 0;
     loop {
         let ritz = lanczos.run(&target, options, progress)?;
+        if lanczos.exhausted {
+            // An invariant subspace holding the whole M-range: its Ritz values are all the
+            // finite eigenvalues above σ.
+            target.available = target.available.min(ritz.lambdas.len());
+        }
         let want = target.wanted(&ritz.lambdas).min(ritz.lambdas.len());
         let top = match (upper, target.cap) {
             (Some((shift, inertia)), Some(cap)) if want == cap => (shift, inertia),
@@ -258,7 +313,11 @@ fn solve_modes_from(
         };
         progress.step("eigen: Sturm check", 1, 1);
         if sturm.is_consistent() || recoveries == options.max_recoveries {
-            return lanczos.finish(&ritz, want, &bounds, sturm, recoveries);
+            let finite_exhausted = target.demand(&ritz.lambdas) > want;
+            let mut result = lanczos.finish(&ritz, want, &bounds, sturm, recoveries)?;
+            result.massless = massless;
+            result.finite_exhausted = finite_exhausted;
+            return Ok(result);
         }
         recoveries += 1;
         lanczos.recover(&ritz, top.0, sturm.negative_pivots - below_sigma)?;
@@ -317,15 +376,21 @@ struct Target {
     nd: Option<usize>,
     /// Eigenvalues in [σ, V2) from the Sturm counts, if V2 was given.
     cap: Option<usize>,
-    /// Eigenvalues above σ.
+    /// Finite eigenvalues above σ (an upper bound until the Krylov space is exhausted).
     available: usize,
 }
 
 impl Target {
     /// Length of the wanted prefix of `lambdas` (ascending): the ones between σ and V1
-    /// (locked, not returned) plus ND, capped by the count in [σ, V2).
+    /// (locked, not returned) plus ND, capped by the count in [σ, V2) and by the finite
+    /// eigenvalues available.
     fn wanted(&self, lambdas: &[f64]) -> usize {
-        let want = match self.nd {
+        self.demand(lambdas).min(self.available)
+    }
+
+    /// [`Self::wanted`] without the cap by the available finite eigenvalues.
+    fn demand(&self, lambdas: &[f64]) -> usize {
+        match self.nd {
             Some(nd) => {
                 let below_v1 = self
                     .lower
@@ -334,8 +399,7 @@ impl Target {
                 self.cap.map_or(want, |cap| want.min(cap))
             }
             None => self.cap.unwrap_or(0),
-        };
-        want.min(self.available)
+        }
     }
 }
 
@@ -462,6 +526,11 @@ struct Lanczos<'a> {
     sigma: f64,
     par: Par,
     n: usize,
+    /// Upper bound of the Krylov dimension: n − massless DOFs ≥ rank(M) = dim range(OP).
+    limit: usize,
+    /// The basis spans an invariant subspace and OP adds no new M-direction: every finite
+    /// eigenvalue above σ is among the Ritz values.
+    exhausted: bool,
     /// Basis V (n × (m+1), M-orthonormal columns) and projected matrix H ((m+1) × (m+1)).
     v: Mat<f64>,
     h: Mat<f64>,
@@ -485,6 +554,7 @@ impl<'a> Lanczos<'a> {
         problem: &'a EigenProblem<'a>,
         factor: Factor,
         sigma: f64,
+        limit: usize,
         options: &LanczosOptions,
         par: Par,
         start: Option<&[f64]>,
@@ -498,6 +568,8 @@ impl<'a> Lanczos<'a> {
             sigma,
             par,
             n,
+            limit,
+            exhausted: false,
             v: Mat::zeros(n, 1),
             h: Mat::zeros(1, 1),
             k: 0,
@@ -510,13 +582,17 @@ impl<'a> Lanczos<'a> {
             c: Vec::new(),
             c_pass: Vec::new(),
         };
-        this.start(0, start)?;
+        if !this.start(0, start)? {
+            return Err(LinalgError::InvalidRequest {
+                what: "the mass matrix has no positive part (no mass) to search",
+            });
+        }
         Ok(this)
     }
 
     /// Makes room for a Krylov size of `m` (keeps existing columns).
     fn ensure_size(&mut self, m: usize) {
-        let m = m.min(self.n);
+        let m = m.min(self.limit);
         if m <= self.m {
             return;
         }
@@ -594,14 +670,16 @@ impl<'a> Lanczos<'a> {
         (norm0, norm)
     }
 
-    /// Column `j` of V ← OP(random), M-orthogonal to columns 0..j and M-normalized.
-    fn random_start(&mut self, j: usize) -> Result<(), LinalgError> {
+    /// Column `j` of V ← OP(random), M-orthogonal to columns 0..j and M-normalized; false
+    /// when no such vector exists (see [`Self::start`]).
+    fn random_start(&mut self, j: usize) -> Result<bool, LinalgError> {
         self.start(j, None)
     }
 
     /// Column `j` of V ← OP(x) for the given x (first attempt) or random x, M-orthogonal to
-    /// columns 0..j and M-normalized.
-    fn start(&mut self, j: usize, x: Option<&[f64]>) -> Result<(), LinalgError> {
+    /// columns 0..j and M-normalized. Returns false when three attempts keep less than 10⁻⁸ of
+    /// their M-norm: columns 0..j already span range(OP) (the M-range).
+    fn start(&mut self, j: usize, x: Option<&[f64]>) -> Result<bool, LinalgError> {
         for attempt in 0..3 {
             match x {
                 Some(x) if attempt == 0 => self.w.copy_from_slice(x),
@@ -617,16 +695,14 @@ impl<'a> Lanczos<'a> {
                 for (dst, &x) in self.v.col_as_slice_mut(j).iter_mut().zip(&self.w) {
                     *dst = x / norm;
                 }
-                return Ok(());
+                return Ok(true);
             }
         }
-        Err(LinalgError::InvalidRequest {
-            what: "mass matrix has no positive part left to search",
-        })
+        Ok(false)
     }
 
     /// Extends the basis from column k to m, filling H. Returns the size reached (m, or less
-    /// if the whole space was exhausted) and βₘ.
+    /// if the whole space was exhausted, then with β = 0 and `exhausted` set) and βₘ.
     fn expand(&mut self) -> Result<(usize, f64), LinalgError> {
         for j in self.k..self.m {
             self.apply_op(Some(j))?;
@@ -636,12 +712,12 @@ impl<'a> Lanczos<'a> {
                 self.h[(j, i)] = self.c[i];
             }
             if beta <= 1e-12 * norm0 {
-                if j + 1 == self.n {
-                    return Ok((j + 1, 0.0));
-                }
                 self.h[(j + 1, j)] = 0.0;
                 self.h[(j, j + 1)] = 0.0;
-                self.random_start(j + 1)?;
+                if j + 1 == self.n || !self.random_start(j + 1)? {
+                    self.exhausted = true;
+                    return Ok((j + 1, 0.0));
+                }
             } else {
                 self.h[(j + 1, j)] = beta;
                 self.h[(j, j + 1)] = beta;
@@ -702,7 +778,10 @@ impl<'a> Lanczos<'a> {
             let floor_met = self
                 .floor
                 .is_none_or(|(shift, count)| ritz.converged_below(shift) >= count);
-            if (done == want && ritz.lambdas.len() >= want && floor_met) || m == self.n {
+            if (done == want && ritz.lambdas.len() >= want && floor_met)
+                || m == self.limit
+                || self.exhausted
+            {
                 return Ok(ritz);
             }
             if self.restarts == options.max_restarts {
@@ -752,7 +831,12 @@ impl<'a> Lanczos<'a> {
             self.ensure_size(k + room);
         }
         if inject {
-            return self.random_start(k);
+            return match self.random_start(k)? {
+                true => Ok(()),
+                false => Err(LinalgError::InvalidRequest {
+                    what: "the Sturm count exceeds the finite eigenvalues the mass matrix allows",
+                }),
+            };
         }
         let (residual, rest) = self.v.as_mut().split_at_col_mut(m);
         residual.col_mut(k).copy_from(rest.col(0));
@@ -795,15 +879,35 @@ impl<'a> Lanczos<'a> {
                 coeffs[(i, dst)] = ritz.s[(i, ritz.columns[e])];
             }
         }
-        let mut vectors = Mat::<f64>::zeros(n, selected.len());
+        let mut ritz_vectors = Mat::<f64>::zeros(n, selected.len());
         matmul(
-            vectors.as_mut(),
+            ritz_vectors.as_mut(),
             Accum::Replace,
             self.v.as_ref().subcols(0, m),
             coeffs.as_ref(),
             1.0,
             self.par,
         );
+        // Purification φ = OP(Vs)/θ, explicitly (one block solve): with a singular M the
+        // Lanczos vectors pick up round-off in null(M) that the M-products never see and that
+        // grows from step to step (each new vector is a residual divided by its small M-norm);
+        // OP removes it, since M annihilates it. Exact arithmetic would give Vs + (β sₘ/θ) vₘ.
+        let mut vectors = Mat::<f64>::zeros(n, selected.len());
+        for (dst, &e) in selected.iter().enumerate() {
+            matvec_unchecked(
+                self.problem.m,
+                ritz_vectors.col_as_slice(dst),
+                vectors.col_as_slice_mut(dst),
+            );
+            vectors
+                .col_as_slice_mut(dst)
+                .iter_mut()
+                .for_each(|x| *x /= ritz.theta[e]);
+        }
+        drop(ritz_vectors);
+        let mut block_scratch = self.factor.solve_scratch(selected.len())?;
+        self.factor
+            .solve_in_place_with_scratch(vectors.as_mut(), &mut block_scratch)?;
         let k_norm = norm_1(self.problem.k);
         let (mut kx, mut mx) = (vec![0.0; n], vec![0.0; n]);
         let mut result = EigenResult {
@@ -816,15 +920,11 @@ impl<'a> Lanczos<'a> {
             sturm,
             restarts: self.restarts,
             recoveries,
+            massless: 0,
+            finite_exhausted: false,
         };
-        for (dst, &e) in selected.iter().enumerate() {
+        for dst in 0..selected.len() {
             let phi = result.vectors.col_as_slice_mut(dst);
-            if m < self.v.ncols() && ritz.beta != 0.0 {
-                let scale = ritz.beta * ritz.s[(m - 1, ritz.columns[e])] / ritz.theta[e];
-                for (x, r) in phi.iter_mut().zip(self.v.col_as_slice(m)) {
-                    *x += scale * r;
-                }
-            }
             matvec_unchecked(self.problem.m, phi, &mut mx);
             let mass = dot(phi, &mx).sqrt();
             let sign = if phi
@@ -1201,6 +1301,106 @@ pub(crate) mod tests {
             result.recoveries > 0,
             "the pairs were found without the Sturm check"
         );
+    }
+
+    /// Fixed–fixed unit-spring chain of 2p + 1 DOFs with mass `mass` on the odd DOFs only
+    /// (the even ones, ends included, are massless). Static condensation of each massless DOF
+    /// joins its two unit springs in series (1/2), so the p finite eigenvalues are those of a
+    /// fixed–fixed chain of p masses on springs 1/2: λ_j = (2/m) sin²(jπ / (2(p+1))); the other
+    /// p + 1 are infinite.
+    fn half_massless_chain(p: usize, mass: f64) -> (CscMatrix<f64>, CscMatrix<f64>, Vec<f64>) {
+        let k = chain(2 * p + 1, true, true, None);
+        let mut m = k.clone();
+        for (i, j, v) in m.triplet_iter_mut() {
+            *v = if i == j && i % 2 == 1 { mass } else { 0.0 };
+        }
+        let exact = (1..=p)
+            .map(|j| 2.0 / mass * (j as f64 * PI / (2.0 * (p + 1) as f64)).sin().powi(2))
+            .collect();
+        (k, m, exact)
+    }
+
+    /// Singular M: ND below, at and above the number of finite eigenvalues, and V1..V2 ranges.
+    /// Only finite modes come back (never the θ = 0 ones at "infinite" frequency), and
+    /// `finite_exhausted` says when ND asked for more than exist.
+    #[test]
+    fn massless_dofs_give_only_finite_modes() {
+        for p in [10, 150] {
+            let (k, m, exact) = half_massless_chain(p, 1.5);
+            let nd = |nd: usize| EigenRequest {
+                nd: Some(nd),
+                ..Default::default()
+            };
+            for (request, range, exhausted) in [
+                (nd(5), 0..5, false),
+                (nd(p), 0..p, false),
+                (nd(p + 1), 0..p, true),
+                (nd(2 * p + 1), 0..p, true),
+                (
+                    EigenRequest {
+                        v1_hz: Some(0.5 * (hz(exact[2]) + hz(exact[3]))),
+                        nd: Some(2 * p),
+                        ..Default::default()
+                    },
+                    3..p,
+                    true,
+                ),
+                (
+                    EigenRequest {
+                        v1_hz: Some(0.5 * (hz(exact[1]) + hz(exact[2]))),
+                        v2_hz: Some(0.5 * (hz(exact[5]) + hz(exact[6]))),
+                        ..Default::default()
+                    },
+                    2..6,
+                    false,
+                ),
+                (
+                    EigenRequest {
+                        v2_hz: Some(100.0 * hz(exact[p - 1])),
+                        ..Default::default()
+                    },
+                    0..p,
+                    false,
+                ),
+            ] {
+                let result = solve(&k, &m, request);
+                assert_modes(&result, &m, &exact[range], 1e-10);
+                assert_eq!(result.massless, p + 1);
+                assert_eq!(result.finite_exhausted, exhausted, "{request:?}");
+            }
+        }
+    }
+
+    /// M singular on DOFs that do have mass (rank-1 2×2 blocks, as an offset CONM2 without
+    /// inertia): no zero diagonal, so only the exhaustion of the Krylov space can tell that
+    /// rank(M) = n/2 finite eigenvalues exist. Checked without a closed form: exactly n/2 modes,
+    /// small residuals, and the Sturm count just above the highest equals n/2.
+    #[test]
+    fn rank_deficient_mass_blocks_stop_at_rank() {
+        let n = 24;
+        let k = chain(n, true, true, None);
+        let mut m = k.clone();
+        for (i, j, v) in m.triplet_iter_mut() {
+            *v = if i / 2 == j / 2 { 1.0 } else { 0.0 };
+        }
+        let result = solve(
+            &k,
+            &m,
+            EigenRequest {
+                nd: Some(n),
+                ..Default::default()
+            },
+        );
+        assert_eq!(result.massless, 0);
+        assert_eq!(result.eigenvalues.len(), n / 2, "{:?}", result.eigenvalues);
+        assert!(result.finite_exhausted);
+        assert!(
+            result.residuals.iter().all(|&r| r < 1e-8),
+            "{:?}",
+            result.residuals
+        );
+        assert!(result.sturm.is_consistent(), "{:?}", result.sturm);
+        assert_eq!(result.sturm.negative_pivots, n / 2);
     }
 
     /// Finite-difference Laplacian (5-point stencil in 2-D, 7-point in 3-D) on a grid of

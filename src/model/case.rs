@@ -25,8 +25,10 @@ use crate::deck::{Deck, DeckError, Loc, Warning};
 use super::build::Refs;
 use crate::deck::Solution;
 
-/// Output requests each solution sequence writes (see `crate::sequence`): STATICS writes
-/// displacements always, SPC forces and strains on request; MODAL writes mode shapes on request.
+/// Output requests each solution sequence writes (see `crate::sequence`), each for `ALL` or the
+/// ids of its SET (`crate::sequence::GridRows` for grid points): STATICS writes displacements
+/// (every grid when not requested at all, none for `= NONE`), SPC forces and strains on request;
+/// MODAL writes mode shapes on request.
 pub const HONOURED: &[(Solution, &[&str])] = &[
     (Solution::Statics, &["DISPLACEMENT", "SPCFORCES", "STRAIN"]),
     (Solution::Modal, &["DISPLACEMENT"]),

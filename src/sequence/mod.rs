@@ -18,11 +18,16 @@
 //!
 //! ```text
 //! /results/<subcase>/modal/{frequency_hz (m), generalized_mass (m), residual (m), eigenvalue (m),
-//!                           shapes (m×n×6, only with DISPLACEMENT)}
-//!     attrs: sturm_shift, sturm_count, sturm_found, sturm_consistent, shift, norm, autospc
-//! /results/<subcase>/statics/{displacement (n×6), spc_force (n×6, only with SPCFORCES),
-//!                             strain/<CARD>/... (only with STRAIN)}
+//!                           shapes (m×k×6, only with DISPLACEMENT)}
+//!     attrs: sturm_shift, sturm_count, sturm_found, sturm_consistent, shift, norm, autospc,
+//!            massless_count, finite_exhausted
+//! /results/<subcase>/statics/{displacement (k×6; all grids without a DISPLACEMENT request,
+//!                             none with DISPLACEMENT = NONE), spc_force (k×6, only with
+//!                             SPCFORCES), strain/<CARD>/... (only with STRAIN)}
 //! ```
+//!
+//! Grid-point outputs keep the rows their request selects ([`GridRows`]): k = n for `ALL`
+//! (rows in `/model/grid_ids` order), the SET's grids otherwise, listed in `<name>_grid_ids`.
 //!
 //! Vectors are written in the basic system (rotated back from the grids' CD frames).
 
@@ -185,6 +190,19 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
                     "subcase {}: mode(s) {} have residual ‖Kφ − λMφ‖/‖Kφ‖ above {RESIDUAL_WARNING:e}: not trustworthy (more modes requested than the mass matrix has finite ones?)",
                     s.id,
                     bad.join(", ")
+                ));
+            }
+            if m.finite_exhausted {
+                let why = if m.massless > 0 {
+                    format!("M is singular on {} massless f-set DOF(s) (no mass on that row)", m.massless)
+                } else {
+                    "M is rank-deficient on DOFs that have mass (e.g. an offset CONM2 without inertia)".to_string()
+                };
+                warnings.push(format!(
+                    "subcase {}: only {} finite mode(s) exist above the lower bound, ND = {} asked for more: {why}; the other eigenvalues are infinite and are not returned",
+                    s.id,
+                    m.eigenvalues.len(),
+                    m.nd.map_or("(blank)".to_string(), |n| n.to_string()),
                 ));
             }
             if !m.sturm.is_consistent() {
@@ -358,6 +376,50 @@ pub fn write_autospc(group: &hdf5_metno::Group, report: &AutoSpcReport) -> Resul
 /// The output request `name` of a subcase, unless absent or `= NONE`.
 pub fn requested<'a>(sub: &'a Subcase, name: &str) -> Option<&'a OutputRequest> {
     sub.outputs.iter().rev().find(|o| o.name == name).filter(|o| o.target != Target::None)
+}
+
+/// The grids a grid-point output request (`DISPLACEMENT`, `SPCFORCES`) writes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum GridRows {
+    /// Every grid, rows in `/model/grid_ids` order (`= ALL`).
+    All,
+    /// The grids of a case-control `SET` (0-based grid indices, increasing id); SET ids that
+    /// are no grid are ignored, as in Nastran.
+    Set(Vec<usize>),
+}
+
+impl GridRows {
+    /// What the subcase's last `name` request selects: `None` for `= NONE`, and `absent` when
+    /// the subcase (and the case-control defaults) has no such request.
+    pub fn of_subcase(deck: &Deck, map: &DofMap, sub: &Subcase, name: &str, absent: Option<GridRows>) -> Option<GridRows> {
+        let Some(request) = sub.outputs.iter().rev().find(|o| o.name == name) else { return absent };
+        match request.target {
+            Target::None => None,
+            Target::All => Some(GridRows::All),
+            Target::Set(_) => Some(GridRows::Set((0..map.grids()).filter(|&g| map.grid_id(g).is_some_and(|id| selected(deck, request, id))).collect())),
+        }
+    }
+
+    /// Writes `values` (`lead` blocks of n × 6 grid rows in `/model/grid_ids` order, e.g.
+    /// `[modes]` or none) as dataset `name` of shape lead × k × 6 holding the selected rows; for
+    /// a SET also `<name>_grid_ids` (k, u32). One writer for every grid-point output of every
+    /// sequence.
+    pub fn write(&self, group: &hdf5_metno::Group, name: &str, values: &[f64], lead: &[usize], map: &DofMap) -> Result<(), IoError> {
+        let n = map.grids();
+        let shape = |k: usize| lead.iter().copied().chain([k, 6]).collect::<Vec<_>>();
+        match self {
+            GridRows::All => {
+                crate::io::write_f64(group, name, values, &shape(n))?;
+            }
+            GridRows::Set(rows) => {
+                let kept: Vec<f64> = values.chunks_exact(6 * n).flat_map(|block| rows.iter().flat_map(move |&g| block[6 * g..6 * g + 6].iter().copied())).collect();
+                crate::io::write_f64(group, name, &kept, &shape(rows.len()))?;
+                let ids: Vec<u32> = rows.iter().filter_map(|&g| map.grid_id(g)).collect();
+                crate::io::write_u32(group, &format!("{name}_grid_ids"), &ids, &[ids.len()])?;
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Whether an id passes an output request's target (`ALL` or a `SET`).

@@ -13,8 +13,13 @@
 //! largest f-set component is 1, and the generalized mass is then φᵀMφ. The residual is
 //! ‖Kφ − λMφ‖/‖Kφ‖ (see [`EigenResult::residuals`]). The Sturm check compares the number of
 //! negative pivots of K − sM, s just above the highest mode returned, with the modes found.
+//!
+//! A singular M_ff (grids with springs and no mass, rotations without rotary inertia that
+//! AUTOSPC keeps because they have stiffness) has fewer finite eigenvalues than f-set DOFs; when
+//! ND asks for more, only the finite modes are returned and the run warns (see
+//! [`crate::linalg::eigen`], "Singular M").
 
-use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary, requested};
+use super::{Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary};
 use crate::assembly::recover::recover_g;
 use crate::deck::case_control::Subcase;
 use crate::io::{set_attr_f64, set_attr_i64, set_attr_str, write_f64};
@@ -45,6 +50,13 @@ pub struct ModalSummary {
     pub f_size: usize,
     /// Whether the mode shapes were written (DISPLACEMENT requested).
     pub shapes_written: bool,
+    /// f-set DOFs without mass (zero rows of M_ff): the problem has at most f_size − massless
+    /// finite eigenvalues.
+    pub massless: usize,
+    /// ND asked for more modes than M_ff has finite eigenvalues: all finite ones were returned.
+    pub finite_exhausted: bool,
+    /// ND of the EIGRL.
+    pub nd: Option<usize>,
 }
 
 /// Runs every subcase.
@@ -79,13 +91,13 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
         let result = clock
             .time(format!("subcase {id}: Lanczos"), || solve_modes(&problem, &request, &LanczosOptions::default(), par, ctx.progress))
             .map_err(|e| c.mechanism(st, id, e))?;
-        let summary = clock.time(format!("subcase {id}: output"), || write_subcase(ctx, st, &c, sub, norm, result))?;
+        let summary = clock.time(format!("subcase {id}: output"), || write_subcase(ctx, st, &c, sub, norm, request.nd, result))?;
         out.push(SubcaseSummary { id, autospc: c.autospc.names.clone(), result: SubcaseResult::Modal(summary) });
     }
     Ok(out)
 }
 
-fn write_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase, norm: Norm, mut r: EigenResult) -> Result<ModalSummary, RunError> {
+fn write_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase, norm: Norm, nd: Option<usize>, mut r: EigenResult) -> Result<ModalSummary, RunError> {
     let id = sub.id;
     let m = r.eigenvalues.len();
     let nf = r.vectors.nrows();
@@ -112,9 +124,12 @@ fn write_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcas
     set_attr_i64(&group, "sturm_consistent", i64::from(r.sturm.is_consistent()))?;
     set_attr_f64(&group, "shift", r.shift)?;
     set_attr_str(&group, "norm", if norm == Norm::Max { "MAX" } else { "MASS" })?;
+    set_attr_i64(&group, "massless_count", r.massless as i64)?;
+    set_attr_i64(&group, "finite_exhausted", i64::from(r.finite_exhausted))?;
     super::write_autospc(&group, &c.autospc)?;
-    let shapes_written = requested(sub, "DISPLACEMENT").is_some();
-    if shapes_written {
+    let rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
+    let shapes_written = rows.is_some();
+    if let Some(rows) = rows {
         let n = st.map.grids();
         let zero = vec![0.0; st.map.size()];
         let mut shapes = Vec::with_capacity(m * 6 * n);
@@ -126,7 +141,7 @@ fn write_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcas
             let u_g = recover_g(&u_f, &c.sets, &zero, &st.rigid)?;
             shapes.extend(st.to_basic_rows(&u_g));
         }
-        write_f64(&group, "shapes", &shapes, &[m, n, 6])?;
+        rows.write(&group, "shapes", &shapes, &[m], &st.map)?;
     }
     Ok(ModalSummary {
         eigenvalues: r.eigenvalues,
@@ -138,5 +153,8 @@ fn write_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcas
         norm,
         f_size: nf,
         shapes_written,
+        massless: r.massless,
+        finite_exhausted: r.finite_exhausted,
+        nd,
     })
 }

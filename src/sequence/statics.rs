@@ -10,15 +10,21 @@
 //!    bending stiffness, condition numbers 1e8–1e10);
 //! 5. u_g = T [u_f; u_s]; SPC forces q_s = (K_nn u_n − P_n)_s.
 //!
-//! Output in the basic system: `displacement` (n×6) always, `spc_force` (n×6) only with
-//! `SPCFORCES`, centroid strains only with `STRAIN` (elements of its SET, or ALL):
+//! Output in the basic system, as the case-control requests select (grid rows by
+//! [`GridRows`], shared with SOL 103): `displacement` (k×6) for `DISPLACEMENT = ALL | SET`, and
+//! for every grid when the subcase has no DISPLACEMENT request (the documented default, unlike
+//! Nastran, which prints nothing; `DISPLACEMENT = NONE` writes none); `spc_force` (k×6) only with
+//! `SPCFORCES`; a SET adds `<name>_grid_ids`. Centroid strains only with `STRAIN` (elements of
+//! its SET, or ALL):
 //! `strain/<CQUAD4|CTRIA3>/{ids (m), top (m×3), bottom (m×3)}` — [εx, εy, γxy] in the element
 //! material system at the fibres Z2 (top) and Z1 (bottom) of the PSHELL (the laminate's top and
 //! bottom surfaces for PCOMP) — and `strain/<CHEXA|CPENTA|CTETRA|CTETRA10>/{ids (m),
 //! centroid (m×6)}` — [εxx, εyy, εzz, γxy, γyz, γzx] in basic (engineering shear strains).
+//! The SPC forces are always computed (one K·u product): the console summary's reaction sum
+//! uses them.
 
 use super::elements::{element_displacements, solid_kind_of};
-use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary, requested, selected};
+use super::{Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary, requested, selected};
 use crate::assembly::loads::{Mass, load_vector, reduce_load};
 use crate::assembly::recover::{expand_f_to_n, spc_forces};
 use crate::deck::case_control::Subcase;
@@ -107,9 +113,13 @@ fn solve_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcas
     let q = st.to_basic_rows(&q_g);
     let p = st.to_basic_rows(&p_g);
     let group = ctx.output.group(&format!("results/{id}/statics"))?;
-    write_f64(&group, "displacement", &u, &[n, 6])?;
-    if requested(sub, "SPCFORCES").is_some() {
-        write_f64(&group, "spc_force", &q, &[n, 6])?;
+    // Without a DISPLACEMENT request every grid is written (DESIGN.md §8 makes `displacement`
+    // part of every statics result); Nastran would print nothing. `DISPLACEMENT = NONE` opts out.
+    if let Some(rows) = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", Some(GridRows::All)) {
+        rows.write(&group, "displacement", &u, &[], &st.map)?;
+    }
+    if let Some(rows) = GridRows::of_subcase(ctx.deck, &st.map, sub, "SPCFORCES", None) {
+        rows.write(&group, "spc_force", &q, &[], &st.map)?;
     }
     super::write_autospc(&group, &c.autospc)?;
     if let Some(req) = requested(sub, "STRAIN") {

@@ -986,6 +986,103 @@ def case_two_dof_spring_mass(write):
     }
 
 
+# Spring chain ground-1-2-...-7-ground along T1 with CONM2 masses on grids 2, 4, 6 only: the
+# odd grids carry springs and no mass, so the 7-DOF pencil has 3 finite eigenvalues.
+MASSLESS_CHAIN_K = [1000.0, 1500.0, 800.0, 1200.0, 900.0, 2000.0, 1100.0, 700.0]
+MASSLESS_CHAIN_MASS = {2: 2.0, 4: 1.0, 6: 3.0}
+
+
+def massless_chain_model():
+    """7x7 K and M of the chain (DOF i = T1 of grid i+1), and the 3 finite eigenvalues by two
+    independent computations: (a) Guyan condensation of the massless DOFs from the full K,
+    (b) the series-spring chain written directly (two springs through a massless grid act as
+    k_a k_b/(k_a + k_b))."""
+    k = MASSLESS_CHAIN_K
+    n = len(k) - 1
+    K = np.zeros((n, n))
+    K[0, 0] += k[0]
+    K[n - 1, n - 1] += k[-1]
+    for i in range(1, n):
+        K[i - 1, i - 1] += k[i]
+        K[i, i] += k[i]
+        K[i - 1, i] -= k[i]
+        K[i, i - 1] -= k[i]
+    mdofs = [g - 1 for g in sorted(MASSLESS_CHAIN_MASS)]
+    sdofs = [i for i in range(n) if i not in mdofs]
+    Kmm, Kms, Kss = K[np.ix_(mdofs, mdofs)], K[np.ix_(mdofs, sdofs)], K[np.ix_(sdofs, sdofs)]
+    Kc = Kmm - Kms @ np.linalg.solve(Kss, Kms.T)
+    Mc = np.diag([MASSLESS_CHAIN_MASS[g] for g in sorted(MASSLESS_CHAIN_MASS)])
+    lam = linalg.eigh(Kc, Mc, eigvals_only=True)
+    series = [k[2 * j] * k[2 * j + 1] / (k[2 * j] + k[2 * j + 1]) for j in range(4)]
+    Ks = np.array([[series[0] + series[1], -series[1], 0.0],
+                   [-series[1], series[1] + series[2], -series[2]],
+                   [0.0, -series[2], series[2] + series[3]]])
+    lam2 = linalg.eigh(Ks, Mc, eigvals_only=True)
+    for i in range(3):
+        check("massless chain eigenvalue %d: Guyan vs series springs" % (i + 1), lam[i],
+              lam2[i], 1e-13)
+    return K, lam, series
+
+
+def case_massless_spring_chain(write, name, eigrl, pick, what):
+    """One deck of the massless chain with the EIGRL fields `eigrl` (V1, V2, ND); `pick` = the
+    0-based finite modes the request must return (and nothing else)."""
+    _, lam, series = massless_chain_model()
+    f = [math.sqrt(x) / (2 * math.pi) for x in lam]
+    v1, v2, nd = eigrl(f)
+    deck = "%s/%s_n1.dat" % (DECK_DIR, name)
+    if write:
+        n = len(MASSLESS_CHAIN_K) - 1
+        bulk = [card("GRID", g, None, float(g - 1), 0.0, 0.0) for g in range(1, n + 1)]
+        bulk += [card("CONM2", 100 + g, g, 0, m) for g, m in sorted(MASSLESS_CHAIN_MASS.items())]
+        bulk.append(card("CELAS2", 1, MASSLESS_CHAIN_K[0], 1, 1))
+        bulk += [card("CELAS2", g, MASSLESS_CHAIN_K[g - 1], g - 1, 1, g, 1)
+                 for g in range(2, n + 1)]
+        bulk.append(card("CELAS2", n + 1, MASSLESS_CHAIN_K[-1], n, 1))
+        bulk += [spc1(1, "23456", list(range(1, n + 1))),
+                 card("EIGRL", 10, v1, v2, nd)]
+        write_deck(deck, ["analytic case %s: CELAS2 chain ground-1-...-%d-ground on T1, CONM2 "
+                          "on grids %s only (grids %s massless)" % (
+                              name, n, ", ".join(str(g) for g in sorted(MASSLESS_CHAIN_MASS)),
+                              ", ".join(str(g) for g in range(1, n + 1, 2))),
+                          "EIGRL V1 %s, V2 %s, ND %s: %s" % tuple(
+                              ["blank" if x is None else x for x in (v1, v2, nd)] + [what]),
+                          "reference: %s/%s.json" % (REF_DIR, name)],
+                   103, modal_case_control(name), bulk)
+    tol = 1e-10
+    return {
+        "case": name,
+        "description": "7 grids on CELAS2 springs along T1, CONM2 on 3 of them: a singular mass "
+                       "matrix (4 massless DOFs, 3 finite eigenvalues); " + what,
+        "provenance": "static (Guyan) condensation of the massless DOFs, exact for DOFs without "
+                      "mass: K_c = K_mm - K_ms K_ss^-1 K_sm, eigenvalues of (K_c, M_mm) by "
+                      "scipy.linalg.eigh; checked against the chain of series springs "
+                      "k_a k_b/(k_a + k_b) through each massless grid (any vibrations text, "
+                      "e.g. Blevins 1979 ch. 6, springs in series)",
+        "formula": "K_c = K_mm - K_ms K_ss^-1 K_sm (m = grids 2, 4, 6; s = grids 1, 3, 5, 7); "
+                   "K_c = tridiag with k_s = [k1 k2/(k1+k2), k3 k4/(k3+k4), k5 k6/(k5+k6), "
+                   "k7 k8/(k7+k8)]; det(K_c - lam M_mm) = 0; f = sqrt(lam)/(2 pi); the other 4 "
+                   "eigenvalues of the 7-DOF pencil are infinite and must not be returned",
+        "inputs": {"spring_stiffness_N_per_m": MASSLESS_CHAIN_K,
+                   "mass_kg_by_grid": {str(g): m for g, m in sorted(MASSLESS_CHAIN_MASS.items())},
+                   "series_stiffness_N_per_m": series, "eigenvalues_rad2_s2": list(lam),
+                   "eigrl": {"V1": v1, "V2": v2, "ND": nd}},
+        "value_labels": ["mode %d" % (j + 1) for j in pick],
+        "units": "Hz",
+        "values": [f[j] for j in pick],
+        "expected_mode_count": len(pick),
+        "expected_mode_count_note": "the run must return exactly these modes: no infinite "
+                                    "eigenvalue (massless DOF) may appear as a mode",
+        "meshes": [{"deck": deck, "elements": len(MASSLESS_CHAIN_K) + len(MASSLESS_CHAIN_MASS), "h": None}],
+        "expected_order": None,
+        "tolerance_finest": {"relative": [tol] * len(pick), "justification": [
+            "no discretization and no model-form difference: condensing DOFs without mass is "
+            "exact, the deck is the 7-DOF model itself; the 3x3 condensed pencil has condition "
+            "%.0f, so its eigenvalues are exact to ~1e-14; 1e-10 leaves room for the Lanczos "
+            "convergence criterion" % (lam[-1] / lam[0])] * len(pick)},
+    }
+
+
 def lamina_q(E1, E2, nu12, G12):
     nu21 = nu12 * E2 / E1
     den = 1 - nu12 * nu21
@@ -1121,6 +1218,14 @@ CASES = {
     "cantilever_static_solid": lambda w: case_cantilever_static(w, solid=True),
     "two_dof_spring_mass": case_two_dof_spring_mass,
     "laminate_abd": case_laminate_abd,
+    "massless_spring_chain": lambda w: case_massless_spring_chain(
+        w, "massless_spring_chain", lambda f: (None, None, 10), [0, 1, 2],
+        "ND = 10 asks for more modes than the 3 that exist"),
+    "massless_spring_chain_range": lambda w: case_massless_spring_chain(
+        w, "massless_spring_chain_range",
+        lambda f: (float("%.4g" % (0.5 * (f[0] + f[1]))), float("%.4g" % (100.0 * f[2])), None),
+        [1, 2], "V1 between modes 1 and 2, V2 at 100 x mode 3 (the infinite eigenvalues lie "
+        "above any V2)"),
 }
 
 

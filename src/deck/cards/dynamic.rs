@@ -20,7 +20,10 @@ use crate::deck::value::Value;
 /// | 8 | SHFSCL | real | blank | estimate of the first flexible mode (Hz) for free-free shifts |
 /// | 9 | NORM | `MASS` / `MAX` | MASS | eigenvector normalization |
 ///
-/// At least one of V2 and ND must be given, as in Nastran.
+/// At least one of V2 and ND must be given, as in Nastran. With massless DOFs (springs without
+/// mass, rotations without rotary inertia) the mass matrix is singular and only rank(M) finite
+/// modes exist: ND larger than that returns the finite modes with a warning (`only N finite
+/// mode(s) exist …`), never modes at an "infinite" frequency.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Eigrl {
     pub sid: u32,
