@@ -8,7 +8,7 @@
 use faer::Mat;
 
 /// A coefficient function f_i(p) of one affine part.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Coefficient {
     /// The constant part (f = 1): everything not parametrized.
     Constant,
@@ -122,7 +122,7 @@ impl Coefficient {
 }
 
 /// The parameter values the coefficients are evaluated at.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct CoefficientValues {
     pub e: f64,
     pub nu: f64,

@@ -19,7 +19,7 @@ pub struct PromParameter {
 }
 
 /// Which input of a coefficient function a parameter drives.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum CoefficientInput {
     E,
     Nu,
@@ -44,7 +44,7 @@ impl CoefficientInput {
 
 /// One affine function f_i(p): a [`Coefficient`] whose inputs are fixed at `fixed` except those
 /// driven by parameters (e.g. λ of a material whose E is a parameter and ν is not).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AffineFunction {
     pub coefficient: Coefficient,
     pub fixed: CoefficientValues,
