@@ -8,6 +8,7 @@
 
 pub mod assembly;
 pub mod deck;
+pub mod dynamics;
 pub mod fe;
 pub mod io;
 pub mod linalg;

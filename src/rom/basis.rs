@@ -1,9 +1,10 @@
 //! Offline building blocks of the global reduction basis (thesis §3.4.1–3.4.2):
 //! seeded Latin hypercube samples of the parameter box, the MAC filter of eq. 3.39, the SVD of
 //! the concatenated local bases (eq. 3.33–3.34) truncated to the leading left singular vectors,
-//! and the matching transformation of a companion basis (strains, eq. 3.36–3.38).
+//! the matching transformation of a companion basis (strains, eq. 3.36–3.38), and the FRF change
+//! between consecutive basis sizes (eq. 3.35) that decides when the basis is large enough.
 
-use faer::{Mat, MatRef};
+use faer::{Mat, MatRef, c64};
 
 /// A seeded Latin hypercube of `n` points in the box `[low_j, high_j]` (thesis §3.4.1, [104]):
 /// every parameter's range is cut into `n` equal strata, each stratum is used exactly once,
@@ -119,6 +120,30 @@ impl GlobalBasis {
     }
 }
 
+/// The FRF change of eq. 3.35 between the pROM with basis Ψ_{k−1} (`previous`) and Ψ_k
+/// (`current`), both evaluated at the same parameters and frequency lines:
+/// e_k = Σ_i Σ_j (1/n_ω) Σ_l | |H_ij(ω_l, Ψ_{k−1})| − |H_ij(ω_l, Ψ_k)| | / |H_ij(ω_l, Ψ_{k−1})|.
+/// Lines where the previous FRF is exactly zero (an input that does not reach an output) are
+/// skipped rather than divided by.
+pub fn frf_change(previous: &[Mat<c64>], current: &[Mat<c64>]) -> f64 {
+    let Some(first) = previous.first() else { return 0.0 };
+    let n_omega = previous.len() as f64;
+    let mut total = 0.0;
+    for i in 0..first.ncols() {
+        for j in 0..first.nrows() {
+            let sum: f64 = previous
+                .iter()
+                .zip(current)
+                .map(|(p, c)| (p[(j, i)].norm(), c[(j, i)].norm()))
+                .filter(|(p, _)| *p > 0.0)
+                .map(|(p, c)| (p - c).abs() / p)
+                .sum();
+            total += sum / n_omega;
+        }
+    }
+    total
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -134,6 +159,17 @@ mod tests {
         }
         assert_eq!(pts, latin_hypercube(7, &low, &high, 42));
         assert_ne!(pts, latin_hypercube(7, &low, &high, 43));
+    }
+
+    /// Eq. 3.35 on hand-made data: 2 lines, 1 × 2 FRFs; magnitudes 2 → 1 and 4 → 4 on input 0,
+    /// 1 → 1.5 and 0 (skipped) on input 1: e = (0.5 + 0)/2 + (0.5 + 0)/2 = 0.5, phase ignored.
+    #[test]
+    fn frf_change_follows_eq_3_35() {
+        let h = |a: c64, b: c64| Mat::<c64>::from_fn(1, 2, |_, j| if j == 0 { a } else { b });
+        let prev = [h(c64::new(2.0, 0.0), c64::new(0.0, 1.0)), h(c64::new(0.0, 4.0), c64::new(0.0, 0.0))];
+        let cur = [h(c64::new(0.0, -1.0), c64::new(1.5, 0.0)), h(c64::new(4.0, 0.0), c64::new(7.0, 0.0))];
+        assert!((frf_change(&prev, &cur) - 0.5).abs() < 1e-15);
+        assert_eq!(frf_change(&prev, &prev), 0.0);
     }
 
     #[test]
