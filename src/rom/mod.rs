@@ -10,6 +10,7 @@
 //!   parameter derivatives (eq. 3.32; eq. 8.19–8.20 need the derivatives).
 
 pub mod basis;
+pub mod build;
 pub mod local_basis;
 pub mod lsq;
 pub mod prom;
