@@ -30,7 +30,8 @@ pub enum CoefficientInput {
 }
 
 impl CoefficientInput {
-    fn slot(self, v: &mut CoefficientValues) -> &mut f64 {
+    /// The slot of this input in a [`CoefficientValues`].
+    pub fn slot(self, v: &mut CoefficientValues) -> &mut f64 {
         match self {
             CoefficientInput::E => &mut v.e,
             CoefficientInput::Nu => &mut v.nu,

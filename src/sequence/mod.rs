@@ -28,6 +28,7 @@
 
 pub mod elements;
 pub mod modal;
+pub mod parameters;
 pub mod statics;
 
 use std::sync::Arc;
@@ -39,7 +40,7 @@ use nalgebra_sparse::CscMatrix;
 use crate::assembly::error::DofName;
 use crate::assembly::reduce::{GToN, Partition};
 use crate::assembly::spc::{AutoSpcReport, SpcSet, autospc};
-use crate::assembly::{AffineOperator, AssemblyError, DofMap, GridFrames, ParamKey, RigidElimination, Sets};
+use crate::assembly::{AffineOperator, AssemblyError, DofMap, GridFrames, RigidElimination, Sets};
 use crate::deck::case_control::{OutputRequest, Subcase, Target};
 use crate::deck::{Deck, Solution};
 use crate::io::{IoError, OutputFile};
@@ -148,6 +149,9 @@ pub enum RunError {
         "subcase {subcase}: the stiffness matrix is singular at {dof} ({detail}); the structure is a mechanism or is not constrained there — add an SPC (or GRID PS) for this DOF, or let PARAM,AUTOSPC,YES remove DOFs without stiffness"
     )]
     Mechanism { subcase: u32, dof: DofName, detail: String },
+    /// A PMPAR that cannot be applied (e.g. its nominal value cannot be read).
+    #[error("PMPAR {name}: {reason}")]
+    Parameter { name: String, reason: String },
     /// A subcase lacks a selection the sequence needs.
     #[error("subcase {subcase}: {what}")]
     Case { subcase: u32, what: String },
@@ -237,6 +241,8 @@ pub struct Structure {
     pub m_gg: AffineOperator,
     /// Element data needed for output recovery (strains).
     pub elements: elements::ElementMatrices,
+    /// The PMPARs the affine parts are functions of.
+    pub params: parameters::Parameters,
 }
 
 impl Structure {
@@ -245,7 +251,8 @@ impl Structure {
         let model = ctx.model;
         let map = DofMap::of_model(model);
         let frames = GridFrames::of_model(model);
-        let elements = clock.time("element matrices", || elements::element_matrices(model, &frames, ctx.options.parallel, ctx.progress))?;
+        let params = parameters::Parameters::of_model(model)?;
+        let elements = clock.time("element matrices", || elements::element_matrices(model, &frames, &params, ctx.options.parallel, ctx.progress))?;
         let (k_gg, m_gg) = clock.time("assembly", || -> Result<_, RunError> {
             ctx.progress.step("assembly", 0, 2);
             let lists = elements.stiffness.iter().chain(&elements.mass).map(|c| c.dofs.as_slice());
@@ -261,13 +268,13 @@ impl Structure {
             let plan = GToN::new(k_gg.pattern().clone(), &rigid.t)?;
             Ok((rigid.clone(), plan.apply(&k_gg)?, plan.apply(&m_gg)?))
         })?;
-        Ok(Structure { map, frames, rigid, k_nn, m_nn, k_gg, m_gg, elements })
+        Ok(Structure { map, frames, rigid, k_nn, m_nn, k_gg, m_gg, elements, params })
     }
 
-    /// Weights of the affine parts at the nominal parameters (PMPAR bindings are all frozen
-    /// at their nominal values for now, so only the constant part exists).
-    pub fn nominal_weights(op: &AffineOperator) -> Vec<f64> {
-        op.weights(|k| if k == ParamKey::Constant { 1.0 } else { 0.0 })
+    /// Weights of an operator's affine parts at the parameter values the run uses (the
+    /// PMPAR nominal values; all weights are 1 for the constant part).
+    pub fn weights(&self, op: &AffineOperator) -> Vec<f64> {
+        self.params.weights(op, &self.params.nominal())
     }
 
     /// u_g (global frames) → n × 6 rows in basic.
@@ -303,7 +310,7 @@ impl Constrained {
         let mut spc = SpcSet::of_model(model, &st.map, sid)?;
         spc.check_against_rigids(&st.rigid, &st.map)?;
         let mut k_nn_values = vec![0.0; st.k_nn.pattern().nnz()];
-        st.k_nn.evaluate_into(&Structure::nominal_weights(&st.k_nn), &mut k_nn_values)?;
+        st.k_nn.evaluate_into(&st.weights(&st.k_nn), &mut k_nn_values)?;
         let autospc = if model.params.autospc {
             autospc(&st.k_nn, &k_nn_values, &st.rigid.n, &spc.mask, &st.map)?
         } else {
@@ -314,8 +321,8 @@ impl Constrained {
         let ff = Partition::new(st.k_nn.pattern().clone(), &sets.f_in_n, &sets.f_in_n)?;
         let k_ff = ff.apply(&st.k_nn)?;
         let m_ff = ff.apply(&st.m_nn)?;
-        let k_ff = k_ff.evaluate(&Structure::nominal_weights(&k_ff))?;
-        let m_ff = m_ff.evaluate(&Structure::nominal_weights(&m_ff))?;
+        let k_ff = k_ff.evaluate(&st.weights(&k_ff))?;
+        let m_ff = m_ff.evaluate(&st.weights(&m_ff))?;
         let k_fs = crate::assembly::reduce::partition(&st.k_nn, &sets.f_in_n, &sets.s_in_n)?;
         Ok(Constrained { spc, sets, autospc, k_nn_values, k_ff, m_ff, k_fs })
     }
