@@ -16,7 +16,7 @@ use faer::Mat;
 use hdf5::Group;
 use hdf5_metno as hdf5;
 
-use super::hdf5_file::{IoError, set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64};
+use super::hdf5_file::{IoError, stamp, set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64};
 use crate::rom::prom::{AffineFunction, Prom, PromParameter};
 
 /// Write `prom` into `group` (normally the output file's `/prom`); `n_full` is the size of the
@@ -48,7 +48,9 @@ pub fn write_prom(group: &Group, prom: &Prom, n_full: usize) -> Result<(), IoErr
 }
 
 fn create_group(parent: &Group, name: &str) -> Result<Group, IoError> {
-    parent.create_group(name).map_err(|e| IoError::hdf5(parent.filename(), format!("create group {}/{name}", parent.name()), e))
+    let group = parent.create_group(name).map_err(|e| IoError::hdf5(parent.filename(), format!("create group {}/{name}", parent.name()), e))?;
+    stamp(&group)?;
+    Ok(group)
 }
 
 /// Read the pROM of a paraflex output file; returns it with `n_full`. Anything missing or

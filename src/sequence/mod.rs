@@ -29,6 +29,8 @@
 pub mod elements;
 pub mod modal;
 pub mod parameters;
+pub mod prom;
+pub mod rom_modal;
 pub mod statics;
 
 use std::sync::Arc;
@@ -54,6 +56,8 @@ pub enum Sequence {
     Statics,
     /// SOL 103: normal modes.
     Modal,
+    /// SOL PROM: parametric reduced-order model.
+    Prom,
 }
 
 impl Sequence {
@@ -62,6 +66,7 @@ impl Sequence {
         match sol {
             Solution::Statics => Some(Sequence::Statics),
             Solution::Modal => Some(Sequence::Modal),
+            Solution::Prom => Some(Sequence::Prom),
             _ => None,
         }
     }
@@ -71,6 +76,7 @@ impl Sequence {
         match self {
             Sequence::Statics => "STATICS",
             Sequence::Modal => "MODAL",
+            Sequence::Prom => "PROM",
         }
     }
 }
@@ -129,6 +135,8 @@ pub struct SubcaseSummary {
 pub enum SubcaseResult {
     Modal(modal::ModalSummary),
     Statics(statics::StaticsSummary),
+    Prom(prom::PromSummary),
+    RomModal(rom_modal::RomModalSummary),
 }
 
 /// Errors of a run. Each says where (element, GRID and component, subcase) and what to do.
@@ -168,10 +176,15 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
     let (sol, text) = ctx.deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
     let sequence = Sequence::of_solution(*sol).ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
     let mut clock = Clock::default();
-    let structure = Structure::build(ctx, &mut clock)?;
-    let subcases = match sequence {
-        Sequence::Statics => statics::run(ctx, &structure, &mut clock)?,
-        Sequence::Modal => modal::run(ctx, &structure, &mut clock)?,
+    let subcases = if sequence == Sequence::Modal && rom_modal::applies(ctx) {
+        rom_modal::run(ctx, &mut clock)?
+    } else {
+        let structure = Structure::build(ctx, &mut clock)?;
+        match sequence {
+            Sequence::Statics => statics::run(ctx, &structure, &mut clock)?,
+            Sequence::Modal => modal::run(ctx, &structure, &mut clock)?,
+            Sequence::Prom => prom::run(ctx, &structure, &mut clock)?,
+        }
     };
     let mut warnings = Vec::new();
     for s in &subcases {
@@ -181,6 +194,16 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
                 s.id,
                 s.autospc.len()
             ));
+        }
+        if let SubcaseResult::RomModal(r) = &s.result {
+            if !r.extrapolated.is_empty() {
+                warnings.push(format!("subcase {}: parameter(s) {} lie outside the box the pROM {} was built for: extrapolated", s.id, r.extrapolated.join(", "), r.rom.display()));
+            }
+        }
+        if let SubcaseResult::Prom(p) = &s.result {
+            if !p.log.converged {
+                warnings.push(format!("subcase {}: the pROM basis reached the numerical rank of the local bases before the FRF change of eq. 3.35 fell below ERRTOL; more samples or modes would make it richer", s.id));
+            }
         }
         if let SubcaseResult::Modal(m) = &s.result {
             let bad: Vec<String> = m.residuals.iter().enumerate().filter(|(_, r)| !(**r <= RESIDUAL_WARNING)).map(|(k, r)| format!("{} ({r:.1e})", k + 1)).collect();
@@ -325,6 +348,12 @@ impl Constrained {
         let m_ff = m_ff.evaluate(&st.weights(&m_ff))?;
         let k_fs = crate::assembly::reduce::partition(&st.k_nn, &sets.f_in_n, &sets.s_in_n)?;
         Ok(Constrained { spc, sets, autospc, k_nn_values, k_ff, m_ff, k_fs })
+    }
+
+    /// K_ff and M_ff with every affine part (for a pROM build), on one pattern.
+    pub fn affine_ff(&self, st: &Structure) -> Result<(AffineOperator, AffineOperator), RunError> {
+        let ff = Partition::new(st.k_nn.pattern().clone(), &self.sets.f_in_n, &self.sets.f_in_n)?;
+        Ok((ff.apply(&st.k_nn)?, ff.apply(&st.m_nn)?))
     }
 
     /// Whether K_ff has (relatively) no stiffness on the diagonal at f index `i`.
