@@ -8,10 +8,12 @@
 
 pub mod assembly;
 pub mod deck;
+pub mod dynamics;
 pub mod fe;
 pub mod io;
 pub mod linalg;
 pub mod model;
+pub mod rom;
 pub mod sequence;
 
 /// Version string written into every HDF5 group (`paraflex_version` attribute).

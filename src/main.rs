@@ -219,6 +219,22 @@ mod report {
                     }
                     println!("  {}", sturm_line(&m.sturm));
                 }
+                SubcaseResult::Prom(p) => {
+                    let log = &p.log;
+                    println!("subcase {}: pROM of {} DOFs → {} (parameters {}; {} input(s))", sub.id, p.n_full, p.n_red, p.parameters.join(", "), p.inputs);
+                    println!("  samples {}, local bases {} columns, {} after the MAC filter, numerical rank {}", log.samples.len(), log.concatenated, log.mac_kept, log.singular_values.iter().filter(|&&s| s > paraflex::rom::build::RANK_TOL * log.singular_values.first().copied().unwrap_or(0.0)).count());
+                    for (size, e) in &log.error_history {
+                        println!("  size {size:>5}: FRF change (eq. 3.35) {}", sci(*e, 2));
+                    }
+                    println!("  {}", if log.converged { "converged (FRF change below ERRTOL)" } else { "stopped at the numerical rank of the local bases (see warnings)" });
+                }
+                SubcaseResult::RomModal(r) => {
+                    let values: Vec<String> = r.values.iter().map(|(n, v)| format!("{n} = {}", sci(*v, 4))).collect();
+                    println!("subcase {}: {} mode(s) of the pROM {} (size {}) at {}", sub.id, r.frequencies_hz.len(), r.rom.display(), r.n_red, values.join(", "));
+                    for (k, f) in r.frequencies_hz.iter().enumerate() {
+                        println!("  {:>4}  {:>14}", k + 1, sci(*f, 6));
+                    }
+                }
                 SubcaseResult::Statics(st) => {
                     println!("subcase {}: f-set {} DOFs", sub.id, st.f_size);
                     println!("  max |u| (translation)  {} at GRID {}", sci(st.max_translation.1, 6), st.max_translation.0);

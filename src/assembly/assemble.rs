@@ -9,7 +9,7 @@
 //!
 //! so evaluating K(p) is a sum of value arrays, allocation-free with
 //! [`AffineOperator::evaluate_into`]. Each part is identified by a [`ParamKey`]: the constant
-//! term, or a (PMPAR parameter, coefficient function) pair; a pROM build iterates
+//! term, or a (parametrized entity, coefficient function) pair; a pROM build iterates
 //! [`AffineOperator::parts`].
 
 use std::sync::Arc;
@@ -25,21 +25,36 @@ use super::frames::GridFrames;
 use super::pattern::entry_position;
 use crate::fe::affine::{AffineMatrix, Coefficient};
 
-/// Identifies one affine part: the constant term or f(p) of one parameter.
+/// The model entity a `PMPAR` acts on (its REFID, by KIND): the coefficient functions of the
+/// elements that use it become affine parts of their own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ParamTarget {
+    /// A MAT1 (KIND = E, RHO, NU).
+    Material(u32),
+    /// A PCOMP (KIND = THETA, TPLY).
+    Pcomp(u32),
+    /// A PELAS (KIND = K).
+    Pelas(u32),
+    /// A CONM2 element (KIND = MASS).
+    Conm2(u32),
+}
+
+/// Identifies one affine part: the constant term or one coefficient function of a
+/// parametrized entity (which may depend on several parameters of it, e.g. λ(E, ν)).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ParamKey {
     /// f = 1: everything not parametrized (and parametrized terms frozen at nominal values).
     Constant,
-    /// The coefficient function `function` of the parameter declared by `PMPAR pmpar`.
-    Param { pmpar: u32, function: Coefficient },
+    /// The coefficient function `function` of the parameters acting on `target`.
+    Param { target: ParamTarget, function: Coefficient },
 }
 
-/// How the wiring layer binds one element coefficient: to a declared parameter, or frozen at a
+/// How the wiring layer binds one element coefficient: to a parametrized entity, or frozen at a
 /// value (e.g. E of a material no PMPAR varies) and folded into the constant term.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Binding {
-    /// The coefficient varies with `PMPAR pmpar`.
-    Param(u32),
+    /// The coefficient varies with the parameters of this entity.
+    Param(ParamTarget),
     /// The coefficient is fixed at this value.
     Fixed(f64),
 }
@@ -81,7 +96,7 @@ impl Contribution {
             let (key, scale) = match (*c, bind(*c)) {
                 (Coefficient::Constant, _) => (ParamKey::Constant, 1.0),
                 (_, Binding::Fixed(v)) => (ParamKey::Constant, v),
-                (function, Binding::Param(pmpar)) => (ParamKey::Param { pmpar, function }, 1.0),
+                (function, Binding::Param(target)) => (ParamKey::Param { target, function }, 1.0),
             };
             let scaled = m * faer::Scale(scale);
             match parts.iter_mut().find(|(k, _)| *k == key) {

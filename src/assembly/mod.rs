@@ -45,7 +45,7 @@ pub mod spc;
 #[cfg(test)]
 mod tests;
 
-pub use assemble::{AffineOperator, Contribution, ParamKey};
+pub use assemble::{AffineOperator, Contribution, ParamKey, ParamTarget};
 pub use constraints::RigidElimination;
 pub use dofs::{DofMap, DofSet, Sets};
 pub use error::AssemblyError;

@@ -8,7 +8,7 @@ use faer::Mat;
 use faer::linalg::solvers::Solve;
 use nalgebra_sparse::CscMatrix;
 
-use super::assemble::{AffineOperator, Contribution, ParamKey};
+use super::assemble::{AffineOperator, Contribution, ParamKey, ParamTarget};
 use super::constraints::RigidElimination;
 use super::dofs::{DofMap, Sets};
 use super::error::{AssemblyError, DofName};
@@ -302,8 +302,8 @@ fn element_rotated_to_cd_frame() {
 /// Σ f_i K_i equals the matrix assembled directly at p.
 #[test]
 fn affine_parts_share_one_pattern() {
-    let e = ParamKey::Param { pmpar: 1, function: Coefficient::E };
-    let rho = ParamKey::Param { pmpar: 2, function: Coefficient::Rho };
+    let e = ParamKey::Param { target: ParamTarget::Material(1), function: Coefficient::E };
+    let rho = ParamKey::Param { target: ParamTarget::Material(2), function: Coefficient::Rho };
     let unit = |a: usize, b: usize| Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { -1.0 }) * faer::Scale((a + b) as f64);
     let parts = vec![
         Contribution { dofs: vec![t1(0), t1(1)], parts: vec![(ParamKey::Constant, unit(1, 0)), (e, unit(2, 0))] },

@@ -245,7 +245,8 @@ pub(crate) fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<(), IoE
 }
 
 /// Adds the `paraflex_version` and `schema` attributes to a group.
-fn stamp(group: &Group) -> Result<(), IoError> {
+/// Sets the `paraflex_version` and `schema` attributes every group carries (DESIGN.md §8).
+pub(crate) fn stamp(group: &Group) -> Result<(), IoError> {
     set_attr_str(group, "paraflex_version", crate::VERSION)?;
     set_attr_i64(group, "schema", SCHEMA_VERSION)
 }

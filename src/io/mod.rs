@@ -4,11 +4,13 @@
 //!   typed dataset/attribute helpers and the [`IoError`] type.
 //! - [`model_group`]: [`write_model`] fills `/model` from [`MeshArrays`](crate::model::MeshArrays).
 //! - [`xdmf`]: [`write_xdmf`] writes `<out>.xdmf` next to the HDF5 file for ParaView.
+//! - [`prom_group`]: [`write_prom`] / [`read_prom`] for the `/prom` group of a pROM artifact.
 //! - [`info`]: [`describe`] summarises any paraflex HDF5 file (`paraflex info`).
 
 pub mod hdf5_file;
 pub mod info;
 pub mod model_group;
+pub mod prom_group;
 pub mod xdmf;
 
 pub use hdf5_file::{
@@ -17,4 +19,5 @@ pub use hdf5_file::{
 };
 pub use info::{DatasetSummary, FileSummary, ModelSummary, PromSummary, ResultSummary, describe};
 pub use model_group::{CONNECTIVITY_INDEXING, ModelInfo, read_grid_ids, write_model};
+pub use prom_group::{read_prom, write_prom};
 pub use xdmf::{XdmfWritten, write_xdmf, xdmf_path_for};

@@ -16,6 +16,7 @@
 //!   Sturm-sequence missed-mode check ([`solve_modes`]).
 
 pub mod cholesky;
+pub mod dense;
 pub mod eigen;
 mod error;
 pub mod ordering;

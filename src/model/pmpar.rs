@@ -12,7 +12,7 @@
 //! angles are not ±Θ of one Θ, a TPLY laminate with unequal ply thicknesses.
 
 use crate::deck::cards::{Pmpar, PmparKind};
-use crate::deck::DeckError;
+use crate::deck::{BulkData, DeckError};
 
 use super::build::Refs;
 use super::ids::{entry, index};
@@ -35,7 +35,7 @@ pub fn check(refs: &Refs, errors: &mut Vec<DeckError>) {
         if p.low > p.high {
             errors.push(err(format!("LOW = {} > HIGH = {}", p.low, p.high)));
         }
-        match nominal(refs, p) {
+        match nominal(refs.bulk, p) {
             Err(message) => errors.push(err(message)),
             Ok(value) if value < p.low || value > p.high => errors.push(err(format!(
                 "nominal {} = {value} (from {} {}) lies outside [LOW, HIGH] = [{}, {}]",
@@ -51,8 +51,7 @@ pub fn check(refs: &Refs, errors: &mut Vec<DeckError>) {
 }
 
 /// The nominal value of a parameter: the referenced card's value.
-pub fn nominal(refs: &Refs, p: &Pmpar) -> Result<f64, String> {
-    let b = refs.bulk;
+pub fn nominal(b: &BulkData, p: &Pmpar) -> Result<f64, String> {
     let missing = || format!("REFID = {} does not exist (no {} {}) for KIND = {}", p.refid, p.kind.target_card(), p.refid, p.kind.name());
     match p.kind {
         PmparKind::E | PmparKind::Rho | PmparKind::Nu => {

@@ -192,8 +192,10 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
             errors.push(DeckError::at(&p.loc, "BSET is given but the deck has no ASET1 card (the a-set is empty)").on_card(format!("PMOR {}", p.id)));
         }
     }
+    // PVALs of a deck that reads a pROM name the artifact's parameters: checked when it is read
+    let reads_rom = deck.case.explicit.iter().any(|s| s.rom.is_some()) || deck.case.global.rom.is_some();
     let names: HashSet<String> = b.pmpar.iter().map(|p| p.name.to_ascii_uppercase()).collect();
-    for p in &b.pval {
+    for p in b.pval.iter().filter(|_| !reads_rom) {
         for (name, _) in &p.values {
             if !names.contains(&name.to_ascii_uppercase()) {
                 errors.push(DeckError::at(&p.loc, format!("NAME = {name} does not exist (no PMPAR named {name})")).on_card(format!("PVAL {}", p.id)));
@@ -201,7 +203,6 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         }
     }
     sensors(refs, errors);
-    let _ = deck;
 }
 
 fn force_name(f: &crate::deck::cards::Force) -> &'static str {

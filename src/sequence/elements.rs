@@ -24,10 +24,12 @@
 //! Mass: `PARAM,COUPMASS` = 1 gives consistent shell and solid masses, anything else (default
 //! −1) lumped, as in Nastran; `PARAM,WTMASS` multiplies every mass matrix, CONM2 included.
 //!
-//! Affine parts: every kernel is called through its affine entry point and each coefficient
-//! is bound by [`bind`] — today always [`Binding::Fixed`] at the nominal value, so the operators
-//! have only the constant part. PMPAR bindings replace [`bind`] and the section split (one
-//! place, [`shell_parts`]) without touching the rest.
+//! Affine parts (DESIGN.md §5, thesis eq. 3.12–3.28): every kernel is called through its affine
+//! entry point. When PMPARs act on the element's material, PCOMP, PELAS or CONM2, the kernel
+//! splits by them (sections: [`shell_parts`]; solids: E, Lamé, ρ parts) and [`bind`] ties each
+//! non-constant coefficient to that entity ([`ParamTarget`]); otherwise everything is frozen at
+//! the card values into the constant part. [`Parameters`] turns each (entity, coefficient) part
+//! into its function f_i(p).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -35,10 +37,11 @@ use rayon::prelude::*;
 
 use super::RunError;
 use crate::assembly::assemble::Binding;
-use crate::assembly::{Contribution, DofMap, GridFrames};
-use crate::deck::cards::{CornerThickness, Pcomp, ShellOrientation, SpringEnd};
+use crate::assembly::{Contribution, DofMap, GridFrames, ParamTarget};
+use super::parameters::Parameters;
+use crate::deck::cards::{CornerThickness, Pcomp, PmparKind, ShellOrientation, SpringEnd};
 use crate::fe::affine::{AffineMatrix, Coefficient, CoefficientValues};
-use crate::fe::laminate::{Laminate, Ply, PshellSection, RoleMaterial, ShellMaterial, ShellSection};
+use crate::fe::laminate::{Laminate, Ply, PshellSection, RoleMaterial, SectionData, SectionError, SectionParameter, ShellMaterial, ShellSection, affine_sections};
 use crate::fe::lumped::{Conm2, GridComponent, ScalarSpring};
 use crate::fe::{shell, solid};
 use crate::linalg::Progress;
@@ -72,13 +75,24 @@ struct Built {
     shell: Option<ShellRecovery>,
 }
 
-/// Element matrices of every element of `model` (in parallel when `parallel`).
-pub fn element_matrices(model: &Model, frames: &GridFrames, parallel: bool, progress: &dyn Progress) -> Result<ElementMatrices, RunError> {
+/// What every element's wiring needs.
+struct ElementContext<'a> {
+    model: &'a Model,
+    frames: &'a GridFrames,
+    params: &'a Parameters,
+    /// Lumped mass (PARAM,COUPMASS ≠ 1).
+    lumped: bool,
+}
+
+/// Element matrices of every element of `model` (in parallel when `parallel`), with their
+/// coefficients bound to the entities `params` act on.
+pub fn element_matrices(model: &Model, frames: &GridFrames, params: &Parameters, parallel: bool, progress: &dyn Progress) -> Result<ElementMatrices, RunError> {
     let total = model.elements.len();
     let done = AtomicUsize::new(0);
     let step = (total / 100).max(1);
+    let ctx = ElementContext { model, frames, params, lumped: model.params.coupmass != 1 };
     let one = |e: &Element| {
-        let r = element(model, frames, e);
+        let r = element(&ctx, e);
         let d = done.fetch_add(1, Ordering::Relaxed) + 1;
         if d % step == 0 || d == total {
             progress.step("element matrices", d, total);
@@ -101,25 +115,32 @@ pub fn element_matrices(model: &Model, frames: &GridFrames, parallel: bool, prog
     Ok(out)
 }
 
-/// The binding of every element coefficient: frozen at the nominal value (no PMPAR binding
-/// yet). `nominal` holds the element's material / lumped values.
-pub fn bind(nominal: CoefficientValues) -> impl Fn(Coefficient) -> Binding {
-    move |c| Binding::Fixed(c.value(&nominal))
+/// The binding of an element's coefficients: to `target` when PMPARs act on it, otherwise
+/// frozen at `nominal` (the element's card values) and folded into the constant part.
+fn bind(target: Option<ParamTarget>, nominal: CoefficientValues) -> impl Fn(Coefficient) -> Binding {
+    move |c| match target {
+        Some(t) => Binding::Param(t),
+        None => Binding::Fixed(c.value(&nominal)),
+    }
+}
+
+/// `target` if PMPARs act on it.
+fn acted_on(params: &Parameters, target: ParamTarget) -> Option<ParamTarget> {
+    params.acts_on(target).then_some(target)
 }
 
 fn err(e: &Element, reason: impl ToString) -> RunError {
     RunError::Element { card: e.kind.card(), id: e.id, reason: reason.to_string() }
 }
 
-fn element(model: &Model, frames: &GridFrames, e: &Element) -> Result<Built, RunError> {
-    let lumped = model.params.coupmass != 1;
-    let wtmass = model.params.wtmass;
-    let xyz = model.positions(e);
+fn element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> {
+    let wtmass = ctx.model.params.wtmass;
+    let xyz = ctx.model.positions(e);
     let mut built = match e.kind {
-        ElementKind::Quad4 | ElementKind::Tria3 => shell_element(model, frames, e, &xyz, lumped)?,
-        ElementKind::Hexa8 | ElementKind::Penta6 | ElementKind::Tetra4 | ElementKind::Tetra10 => solid_element(model, frames, e, &xyz, lumped)?,
-        ElementKind::Celas1 | ElementKind::Celas2 => spring_element(model, e)?,
-        ElementKind::Conm2 => conm2_element(model, frames, e)?,
+        ElementKind::Quad4 | ElementKind::Tria3 => shell_element(ctx, e, &xyz)?,
+        ElementKind::Hexa8 | ElementKind::Penta6 | ElementKind::Tetra4 | ElementKind::Tetra10 => solid_element(ctx, e, &xyz)?,
+        ElementKind::Celas1 | ElementKind::Celas2 => spring_element(ctx, e)?,
+        ElementKind::Conm2 => conm2_element(ctx, e)?,
     };
     if let Some(m) = built.m.as_mut() {
         if wtmass != 1.0 {
@@ -191,11 +212,25 @@ fn shell_material(model: &Model, mid: u32) -> Option<RoleMaterial> {
     })
 }
 
+/// The data of a shell section, before any affine split.
+enum SectionInput {
+    Pshell { pid: u32, section: PshellSection },
+    Laminate { pid: u32, laminate: Laminate, plies: Vec<u32>, explicit_offset: bool },
+}
+
+impl SectionInput {
+    fn full(&self) -> Result<ShellSection, SectionError> {
+        match self {
+            SectionInput::Pshell { section, .. } => ShellSection::pshell(section),
+            SectionInput::Laminate { laminate, .. } => ShellSection::laminate(laminate),
+        }
+    }
+}
+
 /// The section of a shell and the fibres its strains are reported at.
-fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<(ShellSection, (f64, f64)), RunError> {
+fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<(SectionInput, (f64, f64)), RunError> {
     let n = e.nodes.len();
     let zoffs = card.zoffs;
-    let section = |r: Result<ShellSection, crate::fe::laminate::SectionError>| r.map_err(|x| err(e, x));
     match e.property {
         Some(PropertyRef::Pshell(i)) => {
             let p = model.bulk.pshell.get(i).ok_or_else(|| err(e, format!("PSHELL {} missing", card.pid)))?;
@@ -203,7 +238,7 @@ fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<(ShellS
             let t = mean_thickness(p.t, card.corners.as_ref(), n);
             let scale = t / p.t;
             let fibres = (zoffs + p.z2 * scale, zoffs + p.z1 * scale);
-            let data = PshellSection {
+            let section = PshellSection {
                 t,
                 membrane: role(p.mid1)?,
                 bending: role(p.mid2)?,
@@ -214,30 +249,123 @@ fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<(ShellS
                 nsm: p.nsm,
                 zoffs,
             };
-            Ok((section(ShellSection::pshell(&data))?, fibres))
+            Ok((SectionInput::Pshell { pid: p.id, section }, fibres))
         }
         Some(PropertyRef::Pcomp(i)) => {
             let p: &Pcomp = model.bulk.pcomp.get(i).ok_or_else(|| err(e, format!("PCOMP {} missing", card.pid)))?;
             if card.corners.is_some() {
                 return Err(err(e, format!("corner thicknesses with PCOMP {} are not supported (the thickness is the ply stack); remove T1–T4", p.id)));
             }
-            let plies = p
-                .full_stack()
+            let stack = p.full_stack();
+            let plies = stack
                 .iter()
                 .map(|ply| ply_of_material(model, ply.mid, ply.t, ply.theta).ok_or_else(|| err(e, format!("PCOMP {}: material {} missing", p.id, ply.mid))))
                 .collect::<Result<Vec<_>, _>>()?;
             let bottom = p.z0_resolved() + zoffs;
-            let lam = Laminate { plies, z0: Some(bottom), nsm: p.nsm, symmetric: false };
-            Ok((section(ShellSection::laminate(&lam))?, (bottom + p.thickness(), bottom)))
+            let laminate = Laminate { plies, z0: Some(bottom), nsm: p.nsm, symmetric: false };
+            let explicit_offset = p.z0.is_some() || zoffs != 0.0;
+            Ok((SectionInput::Laminate { pid: p.id, laminate, plies: stack.iter().map(|ply| ply.mid).collect(), explicit_offset }, (bottom + p.thickness(), bottom)))
         }
         other => Err(err(e, format!("property {} is not a shell property", other.map_or("(none)", |p| p.card())))),
     }
 }
 
-/// The affine section parts of a shell: the whole section as the constant part. A PMPAR
-/// binding would split it here with [`crate::fe::laminate::affine_sections`].
-pub fn shell_parts(section: ShellSection) -> Vec<(Coefficient, ShellSection)> {
-    vec![(Coefficient::Constant, section)]
+/// Affine section parts of a shell for stiffness and for mass, and the entity their
+/// non-constant coefficients bind to (DESIGN.md §5, [`affine_sections`]).
+///
+/// | section | PMPARs | stiffness split | mass split |
+/// |---|---|---|---|
+/// | PSHELL | E / NU (± E) on one MAT1 of its roles | `E` / `Nu` on that material | — |
+/// | PSHELL | RHO on the mass material | — | `Rho` |
+/// | PCOMP | THETA | `Theta` | `Theta` (mass constant) |
+/// | PCOMP | TPLY | `Tply` | `Tply` |
+/// | PCOMP | RHO on the MAT1 of every ply | — | `Rho` |
+///
+/// Refused, with the reason: PMPARs on two materials of one PSHELL; THETA with TPLY (no
+/// affine form, thesis §3.3); RHO with TPLY (ρ·h); TPLY with an explicit Z0 or ZOFFS (the split
+/// scales every length with h); E or NU on ply materials.
+fn shell_parts(input: &SectionInput, params: &Parameters) -> Result<ShellParts, String> {
+    let constant = |s: &SectionInput| -> Result<Vec<(Coefficient, ShellSection)>, String> { Ok(vec![(Coefficient::Constant, s.full().map_err(|x| x.to_string())?)]) };
+    let split = |data: &SectionData, parameter| affine_sections(data, parameter).map_err(|x| x.to_string());
+    match input {
+        SectionInput::Pshell { pid, section } => {
+            let roles = [section.membrane, section.bending, section.shear, section.coupling];
+            let mut mids: Vec<u32> = roles.iter().flatten().map(|r| r.mid).filter(|&m| params.acts_on(ParamTarget::Material(m))).collect();
+            mids.sort_unstable();
+            mids.dedup();
+            match mids.as_slice() {
+                [] => Ok(ShellParts { stiffness: constant(input)?, mass: constant(input)?, stiffness_target: None, mass_target: None }),
+                [mid] => {
+                    let target = ParamTarget::Material(*mid);
+                    let kinds = params.kinds_on(target);
+                    let data = SectionData::Pshell { section: *section, parametrized: *mid };
+                    let stiffness = if kinds.contains(&PmparKind::Nu) {
+                        split(&data, SectionParameter::Nu)?
+                    } else if kinds.contains(&PmparKind::E) {
+                        split(&data, SectionParameter::E)?
+                    } else {
+                        constant(input)?
+                    };
+                    let mass = if kinds.contains(&PmparKind::Rho) { split(&data, SectionParameter::Rho)? } else { constant(input)? };
+                    Ok(ShellParts { stiffness, mass, stiffness_target: Some(target), mass_target: Some(target) })
+                }
+                several => Err(format!("PMPARs act on materials {several:?} of PSHELL {pid}; one parametrized material per PSHELL is supported")),
+            }
+        }
+        SectionInput::Laminate { pid, laminate, plies, explicit_offset } => {
+            let own = ParamTarget::Pcomp(*pid);
+            let kinds = params.kinds_on(own);
+            let (theta, tply) = (kinds.contains(&PmparKind::Theta), kinds.contains(&PmparKind::Tply));
+            let mut ply_mids: Vec<u32> = plies.iter().copied().filter(|&m| params.acts_on(ParamTarget::Material(m))).collect();
+            ply_mids.sort_unstable();
+            ply_mids.dedup();
+            let rho_on_plies = match ply_mids.as_slice() {
+                [] => None,
+                [mid] => {
+                    let ply_kinds = params.kinds_on(ParamTarget::Material(*mid));
+                    if ply_kinds.iter().any(|k| matches!(k, PmparKind::E | PmparKind::Nu)) {
+                        return Err(format!("PMPAR E / NU on MAT1 {mid}, a ply material of PCOMP {pid}: laminates take THETA, TPLY and RHO only"));
+                    }
+                    if plies.iter().any(|m| m != mid) {
+                        return Err(format!("PMPAR RHO on MAT1 {mid}: every ply of PCOMP {pid} must use that material"));
+                    }
+                    Some(*mid)
+                }
+                several => return Err(format!("PMPARs act on ply materials {several:?} of PCOMP {pid}; at most one")),
+            };
+            if theta && tply {
+                return Err(format!("PCOMP {pid} has both THETA and TPLY parameters: their product has no affine form (thesis §3.3.5); use one"));
+            }
+            if tply && rho_on_plies.is_some() {
+                return Err(format!("PCOMP {pid}: TPLY with RHO on its plies makes the mass ∝ ρ·h, which is not affine; use one"));
+            }
+            if tply && *explicit_offset {
+                return Err(format!("PCOMP {pid}: TPLY needs the default Z0 (−total/2) and no ZOFFS, because the split scales every length with the ply thickness"));
+            }
+            let data = SectionData::Laminate(laminate.clone());
+            let stiffness_target = (theta || tply).then_some(own);
+            let stiffness = match (theta, tply) {
+                (true, _) => split(&data, SectionParameter::Theta)?,
+                (_, true) => split(&data, SectionParameter::Tply)?,
+                _ => constant(input)?,
+            };
+            let (mass, mass_target) = match (rho_on_plies, tply) {
+                (Some(mid), _) => (split(&data, SectionParameter::Rho)?, Some(ParamTarget::Material(mid))),
+                (None, true) => (split(&data, SectionParameter::Tply)?, Some(own)),
+                // THETA leaves the mass constant
+                (None, false) => (constant(input)?, None),
+            };
+            Ok(ShellParts { stiffness, mass, stiffness_target, mass_target })
+        }
+    }
+}
+
+/// The split parts of one shell section and the entities their coefficients bind to.
+struct ShellParts {
+    stiffness: Vec<(Coefficient, ShellSection)>,
+    mass: Vec<(Coefficient, ShellSection)>,
+    stiffness_target: Option<ParamTarget>,
+    mass_target: Option<ParamTarget>,
 }
 
 fn normalize(v: [f64; 3]) -> Option<[f64; 3]> {
@@ -270,17 +398,20 @@ fn material_axis(model: &Model, e: &Element, xyz: &[[f64; 3]], orientation: Shel
     }
 }
 
-fn shell_element(model: &Model, frames: &GridFrames, e: &Element, xyz: &[[f64; 3]], lumped: bool) -> Result<Built, RunError> {
+fn shell_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<Built, RunError> {
+    let model = ctx.model;
     let card = shell_card(model, e).ok_or_else(|| err(e, "card missing"))?;
     let (section, fibres) = shell_section(model, e, &card)?;
     let material_x = material_axis(model, e, xyz, card.orientation)?;
-    let parts = shell_parts(section);
-    let k = shell::affine_stiffness(xyz, &parts, material_x).map_err(|x| err(e, x))?;
-    let m = shell::affine_mass(xyz, &parts, lumped).map_err(|x| err(e, x))?;
-    let nominal = CoefficientValues::default();
+    let parts = shell_parts(&section, ctx.params).map_err(|x| err(e, x))?;
+    let k = shell::affine_stiffness(xyz, &parts.stiffness, material_x).map_err(|x| err(e, x))?;
+    let m = shell::affine_mass(xyz, &parts.mass, ctx.lumped).map_err(|x| err(e, x))?;
+    // split sections carry unit-parameter parts: only bound coefficients appear besides the
+    // constant one, so frozen values are never needed here
+    let frozen = CoefficientValues::default();
     Ok(Built {
-        k: nonempty(&k).then(|| Contribution::from_affine(frames, &e.nodes, &k, bind(nominal))),
-        m: nonempty(&m).then(|| Contribution::from_affine(frames, &e.nodes, &m, bind(nominal))),
+        k: nonempty(&k).then(|| Contribution::from_affine(ctx.frames, &e.nodes, &k, bind(parts.stiffness_target, frozen))),
+        m: nonempty(&m).then(|| Contribution::from_affine(ctx.frames, &e.nodes, &m, bind(parts.mass_target, frozen))),
         shell: Some(ShellRecovery { material_x, fibres }),
     })
 }
@@ -304,7 +435,11 @@ pub fn solid_kind_of(kind: ElementKind) -> Option<solid::SolidKind> {
     solid_kind(kind)
 }
 
-fn solid_element(model: &Model, frames: &GridFrames, e: &Element, xyz: &[[f64; 3]], lumped: bool) -> Result<Built, RunError> {
+/// A solid's stiffness and mass, split by the PMPARs on its MAT1: E → one E part at fixed ν;
+/// NU (± E) → Lamé parts (refused for CHEXA by the kernel: its condensed incompatible modes
+/// are not affine in ν); RHO → one ρ part.
+fn solid_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<Built, RunError> {
+    let (model, frames) = (ctx.model, ctx.frames);
     let kind = solid_kind(e.kind).ok_or_else(|| err(e, "not a solid"))?;
     let Some(PropertyRef::Psolid(i)) = e.property else {
         return Err(err(e, "a solid needs a PSOLID"));
@@ -315,23 +450,33 @@ fn solid_element(model: &Model, frames: &GridFrames, e: &Element, xyz: &[[f64; 3
         Some(MaterialRef::Mat8(_)) => return Err(err(e, format!("PSOLID {}: MAT8 {} is a shell material; solids need MAT1", p.id, p.mid))),
         None => return Err(err(e, format!("PSOLID {}: material {} missing", p.id, p.mid))),
     };
-    let iso = solid::Isotropic { e: m.e, nu: m.nu };
-    let k = solid::affine_stiffness(kind, xyz, solid::StiffnessParametrization::Fixed(iso)).map_err(|x| err(e, x))?;
-    let lumping = if lumped { solid::MassLumping::Lumped } else { solid::MassLumping::Consistent };
-    let mass = solid::affine_mass(kind, xyz, lumping, solid::MassParametrization::Fixed { rho: m.rho }).map_err(|x| err(e, x))?;
+    let target = ParamTarget::Material(p.mid);
+    let kinds = ctx.params.kinds_on(target);
+    let stiffness_split = if kinds.contains(&PmparKind::Nu) {
+        solid::StiffnessParametrization::Lame
+    } else if kinds.contains(&PmparKind::E) {
+        solid::StiffnessParametrization::YoungsModulus { nu: m.nu }
+    } else {
+        solid::StiffnessParametrization::Fixed(solid::Isotropic { e: m.e, nu: m.nu })
+    };
+    let mass_split = if kinds.contains(&PmparKind::Rho) { solid::MassParametrization::Density } else { solid::MassParametrization::Fixed { rho: m.rho } };
+    let k = solid::affine_stiffness(kind, xyz, stiffness_split).map_err(|x| err(e, x))?;
+    let lumping = if ctx.lumped { solid::MassLumping::Lumped } else { solid::MassLumping::Consistent };
+    let mass = solid::affine_mass(kind, xyz, lumping, mass_split).map_err(|x| err(e, x))?;
     let nominal = CoefficientValues { e: m.e, nu: m.nu, rho: m.rho, ..Default::default() };
     let k6 = solid::expand_affine_to_six_dofs(&k);
     let m6 = solid::expand_affine_to_six_dofs(&mass);
+    let binding = acted_on(ctx.params, target);
     Ok(Built {
-        k: Some(Contribution::from_affine(frames, &e.nodes, &k6, bind(nominal))),
-        m: (m.rho != 0.0).then(|| Contribution::from_affine(frames, &e.nodes, &m6, bind(nominal))),
+        k: Some(Contribution::from_affine(frames, &e.nodes, &k6, bind(binding, nominal))),
+        m: (m.rho != 0.0 || binding.is_some()).then(|| Contribution::from_affine(frames, &e.nodes, &m6, bind(binding, nominal))),
         shell: None,
     })
 }
 
 /// A contribution whose rows are g DOFs given directly (no frame rotation).
-fn on_dofs(dofs: Vec<usize>, matrix: &AffineMatrix, nominal: CoefficientValues) -> Contribution {
-    let mut c = Contribution::from_affine(&GridFrames::default(), &[], matrix, bind(nominal));
+fn on_dofs(dofs: Vec<usize>, matrix: &AffineMatrix, binding: impl Fn(Coefficient) -> Binding) -> Contribution {
+    let mut c = Contribution::from_affine(&GridFrames::default(), &[], matrix, binding);
     c.dofs = dofs;
     c
 }
@@ -346,27 +491,32 @@ fn spring_end(model: &Model, e: &Element, end: SpringEnd) -> Result<Option<GridC
     }
 }
 
-fn spring_element(model: &Model, e: &Element) -> Result<Built, RunError> {
-    let (k, ends) = match e.kind {
+/// A spring; `PMPAR K` on its PELAS makes k a parameter (eq. 3.23). CELAS2 carries k on the
+/// card, which no PMPAR can reach.
+fn spring_element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> {
+    let model = ctx.model;
+    let (k, ends, target) = match e.kind {
         ElementKind::Celas1 => {
             let c = &model.bulk.celas1[e.card];
             let Some(PropertyRef::Pelas(i)) = e.property else {
                 return Err(err(e, format!("PID {} is not a PELAS", c.pid)));
             };
-            (model.bulk.pelas[i].k, c.ends)
+            (model.bulk.pelas[i].k, c.ends, acted_on(ctx.params, ParamTarget::Pelas(c.pid)))
         }
         _ => {
             let c = &model.bulk.celas2[e.card];
-            (c.k, c.ends)
+            (c.k, c.ends, None)
         }
     };
     let spring = ScalarSpring::new(spring_end(model, e, ends[0])?, spring_end(model, e, ends[1])?).map_err(|x| err(e, x))?;
     let dofs = spring.dofs.iter().map(|d| DofMap::dof(d.grid, d.component)).collect();
     let nominal = CoefficientValues { lumped: k, ..Default::default() };
-    Ok(Built { k: Some(on_dofs(dofs, &spring.affine_stiffness(), nominal)), m: None, shell: None })
+    Ok(Built { k: Some(on_dofs(dofs, &spring.affine_stiffness(), bind(target, nominal))), m: None, shell: None })
 }
 
-fn conm2_element(model: &Model, frames: &GridFrames, e: &Element) -> Result<Built, RunError> {
+/// A CONM2; `PMPAR MASS` on it scales its whole mass matrix (eq. 3.25).
+fn conm2_element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> {
+    let (model, frames) = (ctx.model, ctx.frames);
     // The CG location and the inertia tensor (basic, negative products) come from the model's
     // mass-property code, so the CONM2 CID / sign conventions live in one place (model::mass).
     let point = model.element_mass(e).ok_or_else(|| err(e, "cannot resolve the CONM2 location (grid or CID missing)"))?;
@@ -380,7 +530,8 @@ fn conm2_element(model: &Model, frames: &GridFrames, e: &Element) -> Result<Buil
         AffineMatrix { parts: vec![(Coefficient::Constant, conm2.mass_matrix())] }
     };
     let nominal = CoefficientValues { lumped: point.mass, ..Default::default() };
-    Ok(Built { k: None, m: Some(Contribution::from_affine(frames, &[node], &matrix, bind(nominal))), shell: None })
+    let target = acted_on(ctx.params, ParamTarget::Conm2(e.id));
+    Ok(Built { k: None, m: Some(Contribution::from_affine(frames, &[node], &matrix, bind(target, nominal))), shell: None })
 }
 
 /// Element displacements (basic, 6 per grid, grid-major) from basic n×6 rows.

@@ -33,6 +33,9 @@
 
 pub mod elements;
 pub mod modal;
+pub mod parameters;
+pub mod prom;
+pub mod rom_modal;
 pub mod statics;
 
 use std::sync::Arc;
@@ -44,7 +47,7 @@ use nalgebra_sparse::CscMatrix;
 use crate::assembly::error::DofName;
 use crate::assembly::reduce::{GToN, Partition};
 use crate::assembly::spc::{AutoSpcReport, SpcSet, autospc};
-use crate::assembly::{AffineOperator, AssemblyError, DofMap, GridFrames, ParamKey, RigidElimination, Sets};
+use crate::assembly::{AffineOperator, AssemblyError, DofMap, GridFrames, RigidElimination, Sets};
 use crate::deck::case_control::{OutputRequest, Subcase, Target};
 use crate::deck::{Deck, Solution};
 use crate::io::{IoError, OutputFile};
@@ -58,6 +61,8 @@ pub enum Sequence {
     Statics,
     /// SOL 103: normal modes.
     Modal,
+    /// SOL PROM: parametric reduced-order model.
+    Prom,
 }
 
 impl Sequence {
@@ -66,6 +71,7 @@ impl Sequence {
         match sol {
             Solution::Statics => Some(Sequence::Statics),
             Solution::Modal => Some(Sequence::Modal),
+            Solution::Prom => Some(Sequence::Prom),
             _ => None,
         }
     }
@@ -75,6 +81,7 @@ impl Sequence {
         match self {
             Sequence::Statics => "STATICS",
             Sequence::Modal => "MODAL",
+            Sequence::Prom => "PROM",
         }
     }
 }
@@ -133,6 +140,8 @@ pub struct SubcaseSummary {
 pub enum SubcaseResult {
     Modal(modal::ModalSummary),
     Statics(statics::StaticsSummary),
+    Prom(prom::PromSummary),
+    RomModal(rom_modal::RomModalSummary),
 }
 
 /// Errors of a run. Each says where (element, GRID and component, subcase) and what to do.
@@ -153,6 +162,9 @@ pub enum RunError {
         "subcase {subcase}: the stiffness matrix is singular at {dof} ({detail}); the structure is a mechanism or is not constrained there — add an SPC (or GRID PS) for this DOF, or let PARAM,AUTOSPC,YES remove DOFs without stiffness"
     )]
     Mechanism { subcase: u32, dof: DofName, detail: String },
+    /// A PMPAR that cannot be applied (e.g. its nominal value cannot be read).
+    #[error("PMPAR {name}: {reason}")]
+    Parameter { name: String, reason: String },
     /// A subcase lacks a selection the sequence needs.
     #[error("subcase {subcase}: {what}")]
     Case { subcase: u32, what: String },
@@ -169,10 +181,15 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
     let (sol, text) = ctx.deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
     let sequence = Sequence::of_solution(*sol).ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
     let mut clock = Clock::default();
-    let structure = Structure::build(ctx, &mut clock)?;
-    let subcases = match sequence {
-        Sequence::Statics => statics::run(ctx, &structure, &mut clock)?,
-        Sequence::Modal => modal::run(ctx, &structure, &mut clock)?,
+    let subcases = if sequence == Sequence::Modal && rom_modal::applies(ctx) {
+        rom_modal::run(ctx, &mut clock)?
+    } else {
+        let structure = Structure::build(ctx, &mut clock)?;
+        match sequence {
+            Sequence::Statics => statics::run(ctx, &structure, &mut clock)?,
+            Sequence::Modal => modal::run(ctx, &structure, &mut clock)?,
+            Sequence::Prom => prom::run(ctx, &structure, &mut clock)?,
+        }
     };
     let mut warnings = Vec::new();
     for s in &subcases {
@@ -182,6 +199,16 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
                 s.id,
                 s.autospc.len()
             ));
+        }
+        if let SubcaseResult::RomModal(r) = &s.result {
+            if !r.extrapolated.is_empty() {
+                warnings.push(format!("subcase {}: parameter(s) {} lie outside the box the pROM {} was built for: extrapolated", s.id, r.extrapolated.join(", "), r.rom.display()));
+            }
+        }
+        if let SubcaseResult::Prom(p) = &s.result {
+            if !p.log.converged {
+                warnings.push(format!("subcase {}: the pROM basis reached the numerical rank of the local bases before the FRF change of eq. 3.35 fell below ERRTOL; more samples or modes would make it richer", s.id));
+            }
         }
         if let SubcaseResult::Modal(m) = &s.result {
             let bad: Vec<String> = m.residuals.iter().enumerate().filter(|(_, r)| !(**r <= RESIDUAL_WARNING)).map(|(k, r)| format!("{} ({r:.1e})", k + 1)).collect();
@@ -255,6 +282,8 @@ pub struct Structure {
     pub m_gg: AffineOperator,
     /// Element data needed for output recovery (strains).
     pub elements: elements::ElementMatrices,
+    /// The PMPARs the affine parts are functions of.
+    pub params: parameters::Parameters,
 }
 
 impl Structure {
@@ -263,7 +292,8 @@ impl Structure {
         let model = ctx.model;
         let map = DofMap::of_model(model);
         let frames = GridFrames::of_model(model);
-        let elements = clock.time("element matrices", || elements::element_matrices(model, &frames, ctx.options.parallel, ctx.progress))?;
+        let params = parameters::Parameters::of_model(model)?;
+        let elements = clock.time("element matrices", || elements::element_matrices(model, &frames, &params, ctx.options.parallel, ctx.progress))?;
         let (k_gg, m_gg) = clock.time("assembly", || -> Result<_, RunError> {
             ctx.progress.step("assembly", 0, 2);
             let lists = elements.stiffness.iter().chain(&elements.mass).map(|c| c.dofs.as_slice());
@@ -279,13 +309,13 @@ impl Structure {
             let plan = GToN::new(k_gg.pattern().clone(), &rigid.t)?;
             Ok((rigid.clone(), plan.apply(&k_gg)?, plan.apply(&m_gg)?))
         })?;
-        Ok(Structure { map, frames, rigid, k_nn, m_nn, k_gg, m_gg, elements })
+        Ok(Structure { map, frames, rigid, k_nn, m_nn, k_gg, m_gg, elements, params })
     }
 
-    /// Weights of the affine parts at the nominal parameters (PMPAR bindings are all frozen
-    /// at their nominal values for now, so only the constant part exists).
-    pub fn nominal_weights(op: &AffineOperator) -> Vec<f64> {
-        op.weights(|k| if k == ParamKey::Constant { 1.0 } else { 0.0 })
+    /// Weights of an operator's affine parts at the parameter values the run uses (the
+    /// PMPAR nominal values; all weights are 1 for the constant part).
+    pub fn weights(&self, op: &AffineOperator) -> Vec<f64> {
+        self.params.weights(op, &self.params.nominal())
     }
 
     /// u_g (global frames) → n × 6 rows in basic.
@@ -321,7 +351,7 @@ impl Constrained {
         let mut spc = SpcSet::of_model(model, &st.map, sid)?;
         spc.check_against_rigids(&st.rigid, &st.map)?;
         let mut k_nn_values = vec![0.0; st.k_nn.pattern().nnz()];
-        st.k_nn.evaluate_into(&Structure::nominal_weights(&st.k_nn), &mut k_nn_values)?;
+        st.k_nn.evaluate_into(&st.weights(&st.k_nn), &mut k_nn_values)?;
         let autospc = if model.params.autospc {
             autospc(&st.k_nn, &k_nn_values, &st.rigid.n, &spc.mask, &st.map)?
         } else {
@@ -332,10 +362,16 @@ impl Constrained {
         let ff = Partition::new(st.k_nn.pattern().clone(), &sets.f_in_n, &sets.f_in_n)?;
         let k_ff = ff.apply(&st.k_nn)?;
         let m_ff = ff.apply(&st.m_nn)?;
-        let k_ff = k_ff.evaluate(&Structure::nominal_weights(&k_ff))?;
-        let m_ff = m_ff.evaluate(&Structure::nominal_weights(&m_ff))?;
+        let k_ff = k_ff.evaluate(&st.weights(&k_ff))?;
+        let m_ff = m_ff.evaluate(&st.weights(&m_ff))?;
         let k_fs = crate::assembly::reduce::partition(&st.k_nn, &sets.f_in_n, &sets.s_in_n)?;
         Ok(Constrained { spc, sets, autospc, k_nn_values, k_ff, m_ff, k_fs })
+    }
+
+    /// K_ff and M_ff with every affine part (for a pROM build), on one pattern.
+    pub fn affine_ff(&self, st: &Structure) -> Result<(AffineOperator, AffineOperator), RunError> {
+        let ff = Partition::new(st.k_nn.pattern().clone(), &self.sets.f_in_n, &self.sets.f_in_n)?;
+        Ok((ff.apply(&st.k_nn)?, ff.apply(&st.m_nn)?))
     }
 
     /// Whether K_ff has (relatively) no stiffness on the diagonal at f index `i`.

@@ -53,7 +53,7 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
     let mut symbolic: Option<(Vec<usize>, SymbolicFactor)> = None;
     let par = ctx.options.par();
     let mut m_gg_values = vec![0.0; st.m_gg.pattern().nnz()];
-    st.m_gg.evaluate_into(&Structure::nominal_weights(&st.m_gg), &mut m_gg_values)?;
+    st.m_gg.evaluate_into(&st.weights(&st.m_gg), &mut m_gg_values)?;
     let mut out = Vec::new();
     for sub in &ctx.model.subcases {
         let id = sub.id;
@@ -89,7 +89,7 @@ fn solve_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcas
         Some(sid) => load_vector(model, &st.frames, &st.map, sid, Some(Mass { operator: &st.m_gg, values: m_gg_values }))?,
         None => vec![0.0; st.map.size()],
     };
-    let k_fs_values = c.k_fs.evaluate(&Structure::nominal_weights(&c.k_fs))?.values().to_vec();
+    let k_fs_values = c.k_fs.evaluate(&st.weights(&c.k_fs))?.values().to_vec();
     let p_f = reduce_load(&p_g, &st.rigid, &c.sets, &c.k_fs, &k_fs_values, &c.spc.enforced)?;
     let linalg = |e| RunError::Linalg { subcase: id, source: e };
     let mut u_f = p_f.clone();

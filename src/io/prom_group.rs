@@ -1,0 +1,163 @@
+//! The `/prom` group (DESIGN.md §8): a pROM's parameters, affine functions and reduced
+//! components, written by a `SOL PROM` run and read back by any deck with `ROM = 'file.h5'`.
+//!
+//! ```text
+//! /prom            attrs n_full, n_red, params (names), ranges (low, high per parameter),
+//!                        nominal (per parameter), functions (JSON: one entry per component i)
+//! /prom/K/<i>, /prom/M/<i>   n_red × n_red, row-major; i = 0 .. n_f − 1, f_0 = 1 (constant)
+//! /prom/damping    attrs alpha, beta (Rayleigh)
+//! ```
+//! `functions` is JSON because a function is a small tree (coefficient kind, fixed inputs,
+//! which parameter drives which input) that h5py users can still read with `json.loads`.
+
+use std::path::Path;
+
+use faer::Mat;
+use hdf5::Group;
+use hdf5_metno as hdf5;
+
+use super::hdf5_file::{IoError, stamp, set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64};
+use crate::rom::prom::{AffineFunction, Prom, PromParameter};
+
+/// Write `prom` into `group` (normally the output file's `/prom`); `n_full` is the size of the
+/// full model it was reduced from.
+pub fn write_prom(group: &Group, prom: &Prom, n_full: usize) -> Result<(), IoError> {
+    let invalid = |reason: String| IoError::invalid(group.filename(), "/prom", reason);
+    prom.validate().map_err(|e| invalid(e.to_string()))?;
+    set_attr_i64(group, "n_full", n_full as i64)?;
+    set_attr_i64(group, "n_red", prom.size() as i64)?;
+    let names: Vec<&str> = prom.parameters.iter().map(|p| p.name.as_str()).collect();
+    set_attr_strings(group, "params", &names)?;
+    let ranges: Vec<f64> = prom.parameters.iter().flat_map(|p| [p.low, p.high]).collect();
+    set_attr_f64s(group, "ranges", &ranges)?;
+    set_attr_f64s(group, "nominal", &prom.parameters.iter().map(|p| p.nominal).collect::<Vec<_>>())?;
+    let functions = serde_json::to_string(&prom.functions).map_err(|e| invalid(format!("functions: {e}")))?;
+    set_attr_str(group, "functions", &functions)?;
+    for (name, parts) in [("K", &prom.stiffness), ("M", &prom.mass)] {
+        let sub = create_group(group, name)?;
+        for (i, m) in parts.iter().enumerate() {
+            let n = m.nrows();
+            let row_major: Vec<f64> = (0..n * n).map(|k| m[(k / n, k % n)]).collect();
+            write_f64(&sub, &i.to_string(), &row_major, &[n, n])?;
+        }
+    }
+    let damping = create_group(group, "damping")?;
+    set_attr_f64(&damping, "alpha", prom.alpha)?;
+    set_attr_f64(&damping, "beta", prom.beta)?;
+    Ok(())
+}
+
+fn create_group(parent: &Group, name: &str) -> Result<Group, IoError> {
+    let group = parent.create_group(name).map_err(|e| IoError::hdf5(parent.filename(), format!("create group {}/{name}", parent.name()), e))?;
+    stamp(&group)?;
+    Ok(group)
+}
+
+/// Read the pROM of a paraflex output file; returns it with `n_full`. Anything missing or
+/// inconsistent is an error naming the file and the object.
+pub fn read_prom(path: impl AsRef<Path>) -> Result<(Prom, usize), IoError> {
+    let path = path.as_ref();
+    let file = hdf5::File::open(path).map_err(|e| IoError::hdf5(path, "open for reading", e))?;
+    let prom = file.group("prom").map_err(|_| IoError::NotParaflex { path: path.into(), reason: "no /prom group (was it written by a SOL PROM run?)".into() })?;
+    let bad = |what: &str, reason: String| IoError::invalid(path, what, reason);
+    let hdf = |what: String| move |e| IoError::hdf5(path, what, e);
+    let int = |name: &str| prom.attr(name).and_then(|a| a.read_scalar::<i64>()).map_err(hdf(format!("read attribute /prom {name}")));
+    let f64s = |name: &str| prom.attr(name).and_then(|a| a.read_raw::<f64>()).map_err(hdf(format!("read attribute /prom {name}")));
+    let (n_full, n_red) = (int("n_full")?, int("n_red")?);
+    let names: Vec<String> = prom
+        .attr("params")
+        .and_then(|a| a.read_raw::<hdf5::types::VarLenUnicode>())
+        .map_err(hdf("read attribute /prom params".into()))?
+        .iter()
+        .map(|s| s.as_str().to_string())
+        .collect();
+    let (ranges, nominal) = (f64s("ranges")?, f64s("nominal")?);
+    if ranges.len() != 2 * names.len() || nominal.len() != names.len() {
+        return Err(bad("/prom", format!("{} parameters but {} range values and {} nominal values", names.len(), ranges.len(), nominal.len())));
+    }
+    let parameters = names
+        .into_iter()
+        .enumerate()
+        .map(|(j, name)| PromParameter { name, low: ranges[2 * j], high: ranges[2 * j + 1], nominal: nominal[j] })
+        .collect();
+    let json = prom
+        .attr("functions")
+        .and_then(|a| a.read_scalar::<hdf5::types::VarLenUnicode>())
+        .map_err(hdf("read attribute /prom functions".into()))?;
+    let functions: Vec<AffineFunction> = serde_json::from_str(json.as_str()).map_err(|e| bad("/prom functions", e.to_string()))?;
+    let n = usize::try_from(n_red).map_err(|_| bad("/prom n_red", format!("{n_red} is negative")))?;
+    let read_parts = |name: &str| -> Result<Vec<Mat<f64>>, IoError> {
+        (0..functions.len())
+            .map(|i| {
+                let what = format!("/prom/{name}/{i}");
+                let data = prom.dataset(&format!("{name}/{i}")).and_then(|d| d.read_raw::<f64>()).map_err(hdf(format!("read {what}")))?;
+                if data.len() != n * n {
+                    return Err(bad(&what, format!("{} values, expected n_red² = {}", data.len(), n * n)));
+                }
+                Ok(Mat::from_fn(n, n, |r, c| data[r * n + c]))
+            })
+            .collect()
+    };
+    let (stiffness, mass) = (read_parts("K")?, read_parts("M")?);
+    let damping = prom.group("damping").map_err(hdf("open /prom/damping".into()))?;
+    let coefficient = |name: &str| damping.attr(name).and_then(|a| a.read_scalar::<f64>()).map_err(hdf(format!("read attribute /prom/damping {name}")));
+    let result = Prom { parameters, functions, stiffness, mass, alpha: coefficient("alpha")?, beta: coefficient("beta")? };
+    result.validate().map_err(|e| bad("/prom", e.to_string()))?;
+    let n_full = usize::try_from(n_full).map_err(|_| bad("/prom n_full", format!("{n_full} is negative")))?;
+    Ok((result, n_full))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::affine::{Coefficient, CoefficientValues};
+    use crate::io::OutputFile;
+    use crate::rom::prom::CoefficientInput;
+
+    fn sample() -> Prom {
+        let fixed = CoefficientValues { e: 7e10, nu: 0.33, rho: 2700.0, ..Default::default() };
+        Prom {
+            parameters: vec![PromParameter { name: "E_AL".into(), low: 4.2e10, high: 9.8e10, nominal: 7e10 }, PromParameter { name: "RHO_AL".into(), low: 2000.0, high: 3000.0, nominal: 2700.0 }],
+            functions: vec![
+                AffineFunction::constant(),
+                AffineFunction { coefficient: Coefficient::E, fixed, driven_by: vec![(CoefficientInput::E, 0)] },
+                AffineFunction { coefficient: Coefficient::Rho, fixed, driven_by: vec![(CoefficientInput::Rho, 1)] },
+            ],
+            stiffness: (0..3).map(|s| Mat::from_fn(2, 2, |i, j| (s * 4 + i * 2 + j) as f64 + 0.5)).collect(),
+            mass: (0..3).map(|s| Mat::from_fn(2, 2, |i, j| -((s * 4 + i * 2 + j) as f64) / 3.0)).collect(),
+            alpha: 0.25,
+            beta: 1e-5,
+        }
+    }
+
+    /// Everything written is read back bit for bit (HDF5 stores f64 exactly; JSON uses
+    /// round-trip float formatting), including the row-major layout of non-symmetric data.
+    #[test]
+    fn round_trip_is_exact() {
+        let _guard = crate::io::hdf5_file::hdf5_test_guard();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("p.h5");
+        let prom = sample();
+        let out = OutputFile::create(&path).unwrap();
+        write_prom(&out.group("prom").unwrap(), &prom, 1234).unwrap();
+        out.commit().unwrap();
+        let (back, n_full) = read_prom(&path).unwrap();
+        assert_eq!(n_full, 1234);
+        assert_eq!(back.parameters, prom.parameters);
+        assert_eq!(back.functions, prom.functions);
+        assert_eq!((back.alpha, back.beta), (prom.alpha, prom.beta));
+        for (a, b) in back.stiffness.iter().chain(&back.mass).zip(prom.stiffness.iter().chain(&prom.mass)) {
+            assert_eq!(a, b);
+        }
+    }
+
+    #[test]
+    fn a_file_without_prom_is_refused_with_its_name() {
+        let _guard = crate::io::hdf5_file::hdf5_test_guard();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("plain.h5");
+        OutputFile::create(&path).unwrap().commit().unwrap();
+        let message = read_prom(&path).unwrap_err().to_string();
+        assert!(message.contains("plain.h5") && message.contains("no /prom group"), "{message}");
+    }
+}

@@ -1,0 +1,86 @@
+//! Dense symmetric generalized eigenproblems K φ = λ M φ of reduced models (faer).
+//!
+//! M = L Lᵀ (Cholesky), A = L⁻¹ K L⁻ᵀ (two triangular solves), A = Y Λ Yᵀ, φ = L⁻ᵀ y: the
+//! vectors come out M-orthonormal. Before that, the conditioning of M is measured through its
+//! own eigenvalues: a reduced mass matrix with μ_min/μ_max below [`MASS_CONDITION_LIMIT`] means
+//! the reduction basis is (numerically) dependent or carries massless directions, and the
+//! eigenvalues would be noise; that is reported instead of solved.
+
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::{Mat, MatRef, Par, Side};
+
+/// Smallest accepted μ_min/μ_max of a reduced mass matrix. At 1e-12 the Cholesky factor still
+/// exists, but eigenvalue errors reach ε/1e-12 ≈ 1e-4 relative — the limit of usefulness.
+pub const MASS_CONDITION_LIMIT: f64 = 1e-12;
+
+/// Errors of the dense generalized eigenproblem.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DenseEigenError {
+    #[error("K and M must be square and of equal size ({k}×{k} vs {m}×{m})")]
+    Shape { k: usize, m: usize },
+    #[error("the reduced mass matrix is ill-conditioned (smallest/largest eigenvalue {ratio:.1e} < {MASS_CONDITION_LIMIT:e}): the reduction basis has (nearly) dependent or massless directions")]
+    IllConditionedMass { ratio: f64 },
+    #[error("the eigen decomposition failed to converge")]
+    NoConvergence,
+}
+
+/// Ascending eigenvalues and M-orthonormal eigenvectors (columns) of K φ = λ M φ.
+pub fn generalized_eigen(k: MatRef<'_, f64>, m: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), DenseEigenError> {
+    let n = k.nrows();
+    if k.ncols() != n || m.nrows() != n || m.ncols() != n {
+        return Err(DenseEigenError::Shape { k: n, m: m.nrows() });
+    }
+    if n == 0 {
+        return Ok((Vec::new(), Mat::zeros(0, 0)));
+    }
+    let mu = m.self_adjoint_eigenvalues(Side::Lower).map_err(|_| DenseEigenError::NoConvergence)?;
+    let (lo, hi) = (mu.iter().copied().fold(f64::INFINITY, f64::min), mu.iter().copied().fold(0.0_f64, f64::max));
+    let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
+    if !(ratio >= MASS_CONDITION_LIMIT) {
+        return Err(DenseEigenError::IllConditionedMass { ratio });
+    }
+    let llt = m.llt(Side::Lower).map_err(|_| DenseEigenError::IllConditionedMass { ratio })?;
+    let l = llt.L();
+    // X = L⁻¹ K; A = L⁻¹ Xᵀ = L⁻¹ K L⁻ᵀ
+    let mut x = k.to_owned();
+    solve_lower_triangular_in_place(l, x.as_mut(), Par::Seq);
+    let mut a = x.transpose().to_owned();
+    solve_lower_triangular_in_place(l, a.as_mut(), Par::Seq);
+    let a = Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+    let evd = a.self_adjoint_eigen(Side::Lower).map_err(|_| DenseEigenError::NoConvergence)?;
+    let lambda: Vec<f64> = (0..n).map(|i| evd.S().column_vector()[i]).collect();
+    // φ = L⁻ᵀ y: solve Lᵀ φ = y, i.e. the upper-triangular Lᵀ
+    let mut phi = evd.U().to_owned();
+    faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), phi.as_mut(), Par::Seq);
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| lambda[i].total_cmp(&lambda[j]));
+    Ok((order.iter().map(|&i| lambda[i]).collect(), Mat::from_fn(n, n, |r, c| phi[(r, order[c])])))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 2-DOF spring–mass chain (k₁ = k₂ = k, m₁ = m₂ = m): λ = (3 ∓ √5)/2 · k/m, vectors
+    /// M-orthonormal; bound 1e-13 relative (dense LAPACK-class accuracy on a 2 × 2 problem).
+    #[test]
+    fn two_dof_chain() {
+        let (k, m) = (1000.0, 2.0);
+        let km = Mat::<f64>::from_fn(2, 2, |i, j| [[2.0 * k, -k], [-k, k]][i][j]);
+        let mm = Mat::<f64>::from_fn(2, 2, |i, j| if i == j { m } else { 0.0 });
+        let (lambda, phi) = generalized_eigen(km.as_ref(), mm.as_ref()).unwrap();
+        let exact = [(3.0 - 5f64.sqrt()) / 2.0 * k / m, (3.0 + 5f64.sqrt()) / 2.0 * k / m];
+        for (l, e) in lambda.iter().zip(exact) {
+            assert!((l - e).abs() < 1e-13 * e, "{l} vs {e}");
+        }
+        let gm = phi.transpose() * &mm * &phi;
+        assert!((gm - Mat::<f64>::identity(2, 2)).norm_max() < 1e-13);
+    }
+
+    #[test]
+    fn nearly_singular_mass_is_reported() {
+        let km = Mat::<f64>::identity(2, 2);
+        let mm = Mat::<f64>::from_fn(2, 2, |i, j| if i == j { 1.0 } else { 1.0 - 1e-14 });
+        assert!(matches!(generalized_eigen(km.as_ref(), mm.as_ref()), Err(DenseEigenError::IllConditionedMass { .. })));
+    }
+}

@@ -1,0 +1,213 @@
+//! Offline building blocks of the global reduction basis (thesis §3.4.1–3.4.2):
+//! seeded Latin hypercube samples of the parameter box, the MAC filter of eq. 3.39, the SVD of
+//! the concatenated local bases (eq. 3.33–3.34) truncated to the leading left singular vectors,
+//! the matching transformation of a companion basis (strains, eq. 3.36–3.38), and the FRF change
+//! between consecutive basis sizes (eq. 3.35) that decides when the basis is large enough.
+
+use faer::{Mat, MatRef, c64};
+
+/// A seeded Latin hypercube of `n` points in the box `[low_j, high_j]` (thesis §3.4.1, [104]):
+/// every parameter's range is cut into `n` equal strata, each stratum is used exactly once,
+/// strata are paired across parameters by independent random permutations, and each point sits
+/// at a random position inside its stratum. Same seed → same points on every machine.
+///
+/// The generator is SplitMix64 (Steele, Lea & Flood 2014), written here because the project
+/// has no `rand` dependency and LHS needs only uniform draws.
+pub fn latin_hypercube(n: usize, low: &[f64], high: &[f64], seed: u64) -> Vec<Vec<f64>> {
+    let mut rng = SplitMix64(seed);
+    let mut points = vec![vec![0.0; low.len()]; n];
+    for (j, (&lo, &hi)) in low.iter().zip(high).enumerate() {
+        let mut strata: Vec<usize> = (0..n).collect();
+        for i in (1..n).rev() {
+            strata.swap(i, rng.below(i + 1));
+        }
+        for (point, &stratum) in points.iter_mut().zip(&strata) {
+            let u = (stratum as f64 + rng.unit()) / n as f64;
+            point[j] = lo + u * (hi - lo);
+        }
+    }
+    points
+}
+
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1) with 53 random bits.
+    fn unit(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform integer in [0, n) (n ≪ 2⁶⁴, so the modulo bias is negligible).
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+}
+
+/// Modal Assurance Criterion of two real vectors (eq. 3.39 in its standard form
+/// (ψᵢᵀψⱼ)² / ((ψᵢᵀψᵢ)(ψⱼᵀψⱼ)); the thesis prints the denominator with the indices crossed).
+/// Zero vectors have MAC 0 with everything.
+pub fn mac(a: &[f64], b: &[f64]) -> f64 {
+    let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
+    let (ab, aa, bb) = (dot(a, b), dot(a, a), dot(b, b));
+    if aa == 0.0 || bb == 0.0 { 0.0 } else { ab * ab / (aa * bb) }
+}
+
+/// The MAC filter of §3.4.2: walk the columns in order and drop every column whose MAC with an
+/// already kept column exceeds `threshold` (0.99 in the thesis), so one vector of each
+/// near-parallel couple survives. Returns the indices of the kept columns.
+pub fn mac_filter(vectors: MatRef<'_, f64>, threshold: f64) -> Vec<usize> {
+    let column = |j: usize| -> Vec<f64> { (0..vectors.nrows()).map(|i| vectors[(i, j)]).collect() };
+    let mut kept: Vec<(usize, Vec<f64>)> = Vec::new();
+    for j in 0..vectors.ncols() {
+        let v = column(j);
+        if v.iter().all(|x| *x == 0.0) {
+            continue;
+        }
+        if kept.iter().all(|(_, k)| mac(k, &v) <= threshold) {
+            kept.push((j, v));
+        }
+    }
+    kept.into_iter().map(|(j, _)| j).collect()
+}
+
+/// The thin SVD Ψ_global = U Σ Vᵀ of concatenated local bases (eq. 3.34), kept whole so the
+/// basis can be grown in steps without recomputing it.
+pub struct GlobalBasis {
+    u: Mat<f64>,
+    sigma: Vec<f64>,
+    v: Mat<f64>,
+}
+
+impl GlobalBasis {
+    /// Decompose the concatenated local bases (columns).
+    pub fn new(concatenated: MatRef<'_, f64>) -> Result<Self, faer::linalg::svd::SvdError> {
+        let svd = concatenated.thin_svd()?;
+        let sigma = (0..svd.S().dim()).map(|i| svd.S().column_vector()[i]).collect();
+        Ok(GlobalBasis { u: svd.U().to_owned(), sigma, v: svd.V().to_owned() })
+    }
+
+    /// Singular values, descending.
+    pub fn singular_values(&self) -> &[f64] {
+        &self.sigma
+    }
+
+    /// Number of singular values above `rel_tol · σ₁`: the rank beyond which further left
+    /// singular vectors carry no information ("spatial noise", §3.4.2).
+    pub fn numerical_rank(&self, rel_tol: f64) -> usize {
+        let top = self.sigma.first().copied().unwrap_or(0.0);
+        self.sigma.iter().take_while(|&&s| s > rel_tol * top).count()
+    }
+
+    /// The truncated basis Ψ = U_n (first `n` left singular vectors).
+    pub fn truncated(&self, n: usize) -> MatRef<'_, f64> {
+        self.u.as_ref().subcols(0, n)
+    }
+
+    /// Eq. 3.38: a companion basis built column by column with the local bases (e.g. the
+    /// strains N_s,global of each local mode from a black-box code) made consistent with the
+    /// truncation: N_s = N_s,global V_n Σ_n⁻¹.
+    pub fn transform_companion(&self, companion: MatRef<'_, f64>, n: usize) -> Mat<f64> {
+        let scaled = Mat::<f64>::from_fn(self.v.nrows(), n, |i, k| self.v[(i, k)] / self.sigma[k]);
+        companion * scaled
+    }
+}
+
+/// The FRF change of eq. 3.35 between the pROM with basis Ψ_{k−1} (`previous`) and Ψ_k
+/// (`current`), both evaluated at the same parameters and frequency lines:
+/// e_k = Σ_i Σ_j (1/n_ω) Σ_l | |H_ij(ω_l, Ψ_{k−1})| − |H_ij(ω_l, Ψ_k)| | / |H_ij(ω_l, Ψ_{k−1})|.
+/// Lines where the previous FRF is exactly zero (an input that does not reach an output) are
+/// skipped rather than divided by.
+pub fn frf_change(previous: &[Mat<c64>], current: &[Mat<c64>]) -> f64 {
+    let Some(first) = previous.first() else { return 0.0 };
+    let n_omega = previous.len() as f64;
+    let mut total = 0.0;
+    for i in 0..first.ncols() {
+        for j in 0..first.nrows() {
+            let sum: f64 = previous
+                .iter()
+                .zip(current)
+                .map(|(p, c)| (p[(j, i)].norm(), c[(j, i)].norm()))
+                .filter(|(p, _)| *p > 0.0)
+                .map(|(p, c)| (p - c).abs() / p)
+                .sum();
+            total += sum / n_omega;
+        }
+    }
+    total
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn latin_hypercube_uses_every_stratum_once_and_is_reproducible() {
+        let (low, high) = ([0.6, 10.0], [1.4, 20.0]);
+        let pts = latin_hypercube(7, &low, &high, 42);
+        for j in 0..2 {
+            let mut strata: Vec<usize> = pts.iter().map(|p| ((p[j] - low[j]) / (high[j] - low[j]) * 7.0).floor() as usize).collect();
+            strata.sort_unstable();
+            assert_eq!(strata, (0..7).collect::<Vec<_>>());
+        }
+        assert_eq!(pts, latin_hypercube(7, &low, &high, 42));
+        assert_ne!(pts, latin_hypercube(7, &low, &high, 43));
+    }
+
+    /// Eq. 3.35 on hand-made data: 2 lines, 1 × 2 FRFs; magnitudes 2 → 1 and 4 → 4 on input 0,
+    /// 1 → 1.5 and 0 (skipped) on input 1: e = (0.5 + 0)/2 + (0.5 + 0)/2 = 0.5, phase ignored.
+    #[test]
+    fn frf_change_follows_eq_3_35() {
+        let h = |a: c64, b: c64| Mat::<c64>::from_fn(1, 2, |_, j| if j == 0 { a } else { b });
+        let prev = [h(c64::new(2.0, 0.0), c64::new(0.0, 1.0)), h(c64::new(0.0, 4.0), c64::new(0.0, 0.0))];
+        let cur = [h(c64::new(0.0, -1.0), c64::new(1.5, 0.0)), h(c64::new(4.0, 0.0), c64::new(7.0, 0.0))];
+        assert!((frf_change(&prev, &cur) - 0.5).abs() < 1e-15);
+        assert_eq!(frf_change(&prev, &prev), 0.0);
+    }
+
+    #[test]
+    fn mac_is_scale_invariant_and_detects_orthogonality() {
+        assert!((mac(&[1.0, 2.0, 3.0], &[-2.0, -4.0, -6.0]) - 1.0).abs() < 1e-15);
+        assert_eq!(mac(&[1.0, 0.0], &[0.0, 5.0]), 0.0);
+        assert_eq!(mac(&[0.0, 0.0], &[1.0, 1.0]), 0.0);
+    }
+
+    /// Thesis §3.4.2 example: bases of a one-material model at different (E, ρ) are the same
+    /// modes scaled; the filter keeps one copy of each.
+    #[test]
+    fn mac_filter_removes_scaled_duplicates() {
+        let a = [1.0, 2.0, 0.5, -1.0];
+        let b = [0.0, 1.0, -1.0, 2.0];
+        let cols = [a.to_vec(), b.to_vec(), a.iter().map(|x| 3.0 * x).collect(), b.iter().map(|x| -0.2 * x).collect(), vec![1.0, 0.0, 0.0, 0.0]];
+        let m = Mat::<f64>::from_fn(4, cols.len(), |i, j| cols[j][i]);
+        assert_eq!(mac_filter(m.as_ref(), 0.99), vec![0, 1, 4]);
+    }
+
+    /// Σ and U reproduce the concatenation; the numerical rank sees duplicated information;
+    /// the companion transform of eq. 3.38 applied to a linear image L Ψ_global equals L U_n.
+    #[test]
+    fn global_basis_truncation_and_companion() {
+        let n = 6;
+        let base = Mat::<f64>::from_fn(n, 3, |i, j| ((i + 1) as f64).powi(j as i32 + 1).sin());
+        // concatenation with a scaled copy of the first two vectors: rank 3
+        let concat = Mat::<f64>::from_fn(n, 5, |i, j| if j < 3 { base[(i, j)] } else { 2.0 * base[(i, j - 3)] });
+        let g = GlobalBasis::new(concat.as_ref()).unwrap();
+        assert_eq!(g.numerical_rank(1e-12), 3);
+        let l = Mat::<f64>::from_fn(2, n, |i, j| (i as f64 + 1.0) * (j as f64) - 1.0);
+        let companion = &l * &concat;
+        let via_companion = g.transform_companion(companion.as_ref(), 3);
+        let direct = &l * g.truncated(3);
+        for i in 0..2 {
+            for k in 0..3 {
+                assert!((via_companion[(i, k)] - direct[(i, k)]).abs() < 1e-10 * (1.0 + direct[(i, k)].abs()), "{i},{k}");
+            }
+        }
+    }
+}

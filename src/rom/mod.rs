@@ -1,0 +1,16 @@
+//! Parametric reduced-order models (thesis ch. 3, §4.2; DESIGN.md §5, §7).
+//!
+//! - [`lsq`]: least-squares affine extraction of eq. 3.29 for matrices that come from outside;
+//! - [`basis`]: the offline building blocks of the global basis: seeded Latin hypercube samples,
+//!   the MAC filter of eq. 3.39, the truncated SVD of eq. 3.34 and the strain-basis transformation
+//!   of eq. 3.36–3.38;
+//! - [`local_basis`]: normal modes plus attachment (or inertia-relief) static modes of one
+//!   sample, rigid-body modes kept or removed (eq. 2.28);
+//! - [`prom`]: the [`prom::Prom`] type, evaluated online at any parameter value with its
+//!   parameter derivatives (eq. 3.32; eq. 8.19–8.20 need the derivatives).
+
+pub mod basis;
+pub mod build;
+pub mod local_basis;
+pub mod lsq;
+pub mod prom;

@@ -1,0 +1,107 @@
+//! `SOL MODAL` on a pROM artifact (`ROM = 'file.h5'`): the pROM is evaluated at the subcase's
+//! `PVAL` values (parameters not listed keep their nominal values) and its frequencies come
+//! from the dense generalized eigenproblem of (K_r(p), M_r(p)) — no full-model work.
+//!
+//! `METHOD = sid` (EIGRL) applies as on the full model: ND keeps the lowest ND modes, V1/V2
+//! the band. The path is relative to the deck's directory. A parameter outside the pROM's box
+//! is evaluated (the affine form holds everywhere) with a warning naming it; an ill-conditioned
+//! reduced mass matrix is an error ([`crate::linalg::dense`]).
+//!
+//! Written: `/results/<id>/modal/{frequency_hz, eigenvalue, generalized_mass, residual}` with
+//! attributes `rom` (the artifact path), `params` and `values`.
+
+use std::path::PathBuf;
+
+use faer::Mat;
+
+use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary, lambda_to_hz};
+use crate::deck::case_control::Subcase;
+use crate::io::{read_prom, set_attr_f64s, set_attr_str, set_attr_strings, write_f64};
+use crate::linalg::dense::generalized_eigen;
+
+/// What one ROM modal subcase found.
+#[derive(Debug, Clone)]
+pub struct RomModalSummary {
+    pub rom: PathBuf,
+    pub n_red: usize,
+    pub frequencies_hz: Vec<f64>,
+    /// (name, value) the pROM was evaluated at.
+    pub values: Vec<(String, f64)>,
+    /// Parameters outside the pROM's box.
+    pub extrapolated: Vec<String>,
+}
+
+/// True when every subcase of a modal run reads a pROM (no full model is needed).
+pub fn applies(ctx: &RunContext) -> bool {
+    !ctx.model.subcases.is_empty() && ctx.model.subcases.iter().all(|s| s.rom.is_some())
+}
+
+/// Runs every subcase on its pROM.
+pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+    ctx.model.subcases.iter().map(|sub| clock.time(format!("subcase {}: pROM modes", sub.id), || subcase(ctx, sub))).collect()
+}
+
+fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
+    let id = sub.id;
+    let case = |what: String| RunError::Case { subcase: id, what };
+    let rom = sub.rom.as_deref().ok_or_else(|| case("ROM = 'file.h5' missing".into()))?;
+    let path = ctx.deck.path.parent().map_or_else(|| PathBuf::from(rom), |dir| dir.join(rom));
+    let (prom, _) = read_prom(&path)?;
+    let mut p: Vec<f64> = prom.parameters.iter().map(|q| q.nominal).collect();
+    if let Some(pval_id) = sub.pval {
+        let card = ctx.model.bulk.pval.iter().find(|c| c.id == pval_id).ok_or_else(|| case(format!("PVAL {pval_id} missing")))?;
+        for (name, value) in &card.values {
+            let j = prom
+                .parameters
+                .iter()
+                .position(|q| q.name.eq_ignore_ascii_case(name))
+                .ok_or_else(|| case(format!("PVAL {pval_id} names {name}, which is not a parameter of {} (parameters: {})", path.display(), prom.parameters.iter().map(|q| q.name.as_str()).collect::<Vec<_>>().join(", "))))?;
+            p[j] = *value;
+        }
+    }
+    let mut at = prom.workspace();
+    prom.evaluate(&p, &mut at).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let (lambda, phi) = generalized_eigen(at.stiffness.as_ref(), at.mass.as_ref()).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let keep = selection(ctx, sub, &lambda)?;
+    let lambda: Vec<f64> = keep.iter().map(|&j| lambda[j]).collect();
+    let phi = Mat::<f64>::from_fn(phi.nrows(), keep.len(), |i, c| phi[(i, keep[c])]);
+    let frequencies_hz: Vec<f64> = lambda.iter().map(|&l| lambda_to_hz(l)).collect();
+    let residuals: Vec<f64> = (0..lambda.len())
+        .map(|j| {
+            let v = phi.col(j);
+            let kv = &at.stiffness * v;
+            let r = &kv - (&at.mass * v) * faer::Scale(lambda[j]);
+            r.norm_l2() / kv.norm_l2().max(f64::MIN_POSITIVE)
+        })
+        .collect();
+    let group = ctx.output.group(&format!("results/{id}/modal"))?;
+    let m = lambda.len();
+    write_f64(&group, "frequency_hz", &frequencies_hz, &[m])?;
+    write_f64(&group, "eigenvalue", &lambda, &[m])?;
+    write_f64(&group, "generalized_mass", &vec![1.0; m], &[m])?;
+    write_f64(&group, "residual", &residuals, &[m])?;
+    set_attr_str(&group, "rom", &path.display().to_string())?;
+    let names: Vec<&str> = prom.parameters.iter().map(|q| q.name.as_str()).collect();
+    set_attr_strings(&group, "params", &names)?;
+    set_attr_f64s(&group, "values", &p)?;
+    let summary = RomModalSummary {
+        rom: path.clone(),
+        n_red: prom.size(),
+        frequencies_hz,
+        values: names.iter().map(|n| n.to_string()).zip(p.iter().copied()).collect(),
+        extrapolated: prom.outside_box(&p).into_iter().map(String::from).collect(),
+    };
+    Ok(SubcaseSummary { id, autospc: Vec::new(), result: SubcaseResult::RomModal(summary) })
+}
+
+/// Indices of the modes EIGRL asks for (all when no METHOD).
+fn selection(ctx: &RunContext, sub: &Subcase, lambda: &[f64]) -> Result<Vec<usize>, RunError> {
+    let Some(method) = sub.method else { return Ok((0..lambda.len()).collect()) };
+    let eigrl = ctx.model.bulk.eigrl.iter().find(|e| e.sid == method).ok_or_else(|| RunError::Case { subcase: sub.id, what: format!("METHOD = {method} selects no EIGRL card") })?;
+    let (v1, v2) = (eigrl.v1.unwrap_or(f64::NEG_INFINITY), eigrl.v2.unwrap_or(f64::INFINITY));
+    let mut keep: Vec<usize> = (0..lambda.len()).filter(|&j| (v1..=v2).contains(&lambda_to_hz(lambda[j])) || (eigrl.v1.is_none() && lambda_to_hz(lambda[j]) <= v2)).collect();
+    if let Some(nd) = eigrl.nd {
+        keep.truncate(nd as usize);
+    }
+    Ok(keep)
+}
