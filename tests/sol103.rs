@@ -250,6 +250,7 @@ fn zoffs_on_a_membrane_only_pshell_is_an_error() {
     let (r, _dir) = run_deck(&deck);
     let e = r.expect_err("ZOFFS without MID2").to_string();
     assert!(e.contains("ZOFFS") && e.contains("MID2"), "{e}");
+}
 
 /// The rigid-link model above with I = 0: M on grid 1's six DOFs has rank 3 (T2, and one
 /// combination per coupled pair) with only R2 massless, so only the exhaustion of the Krylov
