@@ -158,7 +158,7 @@ fn max_abs(v: &[f64]) -> f64 {
 fn rigid_motions_are_in_the_null_space_of_k_nn() {
     for v in variants() {
         structure(&deck(&v, 8), |model, st| {
-            let w = Structure::nominal_weights(&st.k_nn);
+            let w = st.weights(&st.k_nn);
             let mut k = vec![0.0; st.k_nn.pattern().nnz()];
             st.k_nn.evaluate_into(&w, &mut k).expect("K_nn");
             let k_max = max_abs(&k);
