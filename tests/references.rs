@@ -75,19 +75,24 @@ impl Run {
         }
     }
 
-    /// Mean T3 of the grids at the largest x (the tip), from `/results/1/statics/displacement`.
-    fn mean_tip_t3(&self) -> f64 {
+    /// Displacement rows (T1 T2 T3 R1 R2 R3, basic system) of `/results/<subcase>/statics/displacement`
+    /// by grid id.
+    fn displacements(&self, subcase: usize) -> BTreeMap<u32, [f64; 6]> {
         let file = hdf5_metno::File::open(self.dir.path().join("out.h5")).expect("open h5");
         // rows in increasing grid id (README "HDF5 schema"; `/model` is written by the CLI only)
         let mut ids: Vec<u32> = self.model.grids.iter().map(|g| g.id).collect();
         ids.sort_unstable();
-        let u: Vec<f64> = file.dataset("results/1/statics/displacement").expect("displacement").read_raw().expect("read u");
+        let u: Vec<f64> = file.dataset(&format!("results/{subcase}/statics/displacement")).expect("displacement").read_raw().expect("read u");
         assert_eq!(u.len(), 6 * ids.len());
+        ids.iter().enumerate().map(|(i, id)| (*id, std::array::from_fn(|k| u[6 * i + k]))).collect()
+    }
+
+    /// Mean T3 of the grids at the largest x (the tip), subcase 1.
+    fn mean_tip_t3(&self) -> f64 {
+        let u = self.displacements(1);
         let xmax = self.model.grids.iter().map(|g| g.xyz[0]).fold(f64::MIN, f64::max);
-        let tip: Vec<u32> = self.model.grids.iter().filter(|g| (g.xyz[0] - xmax).abs() < 1e-9).map(|g| g.id).collect();
-        assert!(!tip.is_empty());
-        let w: Vec<f64> = ids.iter().enumerate().filter(|(_, id)| tip.contains(id)).map(|(i, _)| u[6 * i + 2]).collect();
-        assert_eq!(w.len(), tip.len());
+        let w: Vec<f64> = self.model.grids.iter().filter(|g| (g.xyz[0] - xmax).abs() < 1e-9).map(|g| u[&g.id][2]).collect();
+        assert!(!w.is_empty());
         w.iter().sum::<f64>() / w.len() as f64
     }
 }
@@ -544,4 +549,183 @@ fn calculix_pcomp_plate_90() {
 #[test]
 fn calculix_rbe_spring_mass() {
     calculix("rbe_spring_mass");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hard cases: MacNeal–Harder standard problems (decks/verify/hard, reference/calculix/hard)
+
+/// Loads whose stated bound paraflex does not meet (README "Hard cases"): excluded from
+/// [`macneal_harder_straight_beam`] / [`macneal_harder_twisted_beam`] and asserted, failing, by the ignored
+/// the ignored `hard_cases_known_defects_*` tests. (case, load label, what is wrong.)
+const MH_KNOWN_DEFECTS: &[(&str, &str, &str)] = &[
+    ("mh_straight_rectangular_cquad4", "in-plane shear", "0.902 vs published QUAD4 0.992 and CalculiX 0.992: the selectively reduced membrane's Poisson stiffening (≈ 1/(1−ν²), src/fe/shell.rs doc: incompatible modes were left out to keep K affine in the section)"),
+    ("mh_straight_parallelogram_cquad4", "in-plane shear", "0.033 vs CalculiX 0.992, published QUAD4 0.712: the bilinear membrane locks in in-plane bending of 45° parallelograms"),
+    ("mh_straight_parallelogram_cquad4", "out-of-plane shear", "0.908 vs published QUAD4 0.981 (converged 3-D value of this skew-ended geometry 0.972; CalculiX S4 0.836): MITC4 distortion sensitivity, one element across"),
+    ("mh_straight_parallelogram_ctria3", "out-of-plane shear", "0.568 vs published TRI3 0.955 (CalculiX S3 0.281): MITC3 on slender triangles (45° parallelograms split along the long diagonal)"),
+    ("mh_straight_parallelogram_ctria3", "in-plane shear", "0.0055 vs CalculiX's constant-strain wedge 0.0053 (+3.8 %, bound 3 %): both locked; paraflex's membrane carries the Hughes–Brezzi drilling term C3D6 has not"),
+    ("mh_twisted_thick_cquad4", "load z (normal to the root plane)", "1.306 vs CalculiX 0.991, published QUAD4 0.992, beam theory 1.000: too soft, converging to 1.32 with the mesh (24×4, 48×8); the drilling penalty γ = 1e-3·A66 is too weak to tie neighbouring facets' rotations in a twisted surface when bending is not ≪ membrane stiffness (γ = A66 gives 0.997, but stiffens flat in-plane bending)"),
+    ("mh_twisted_thick_cquad4", "load y (along the root width)", "1.263 vs CalculiX 0.987, published QUAD4 0.988: see load z"),
+    ("mh_straight_trapezoidal_ctria3", "out-of-plane shear", "0.931 vs published TRI3 0.965 (CalculiX S3 0.035): MITC3 on distorted triangles, 5 % bound"),
+];
+
+/// Runs every `reference/calculix/hard/<prefix>*.json` deck and checks each load's normalised
+/// result (paraflex / MH 1985 target, measured with the JSON's linear functional of the grid
+/// displacements, the same one applied to CalculiX's) against the JSON's bound, written with its
+/// reason by tools/calculix/macneal_harder.py (module doc): `accurate`: |normalised − 1| ≤
+/// rel_tol; `same_element`: |paraflex/CalculiX − 1| ≤ rel_tol_to_calculix; `weak`: normalised
+/// ≥ min_ratio × max(CalculiX, published) and ≤ soft_cap × max(1, CalculiX, published).
+/// `known`: false = every load but [`MH_KNOWN_DEFECTS`] (reported, not asserted), true = only
+/// those. Prints the README table.
+fn macneal_harder(prefix: &str, known: bool) {
+    let dir = root().join("reference/calculix/hard");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir).expect("reference/calculix/hard").flatten().map(|e| e.path()).collect();
+    files.retain(|p| p.file_name().is_some_and(|n| n.to_string_lossy().starts_with(prefix)) && p.extension().is_some_and(|x| x == "json"));
+    files.sort();
+    assert!(!files.is_empty(), "no {prefix}* references");
+    let mut t = Table::default();
+    let mut readme = String::from("| case | load | paraflex | CalculiX | analytic (MH 1985) | bound |\n|---|---|---|---|---|---|\n");
+    for f in &files {
+        let r = json(&format!("reference/calculix/hard/{}", f.file_name().unwrap().to_string_lossy()));
+        let case = r["case"].as_str().unwrap();
+        let defects: Vec<&(&str, &str, &str)> = MH_KNOWN_DEFECTS.iter().filter(|d| d.0 == case).collect();
+        if known && defects.is_empty() {
+            continue;
+        }
+        let run = run_deck(r["deck"].as_str().unwrap());
+        for ld in r["loads"].as_array().unwrap() {
+            let label = ld["label"].as_str().unwrap();
+            let defect = defects.iter().find(|d| d.1 == label);
+            if known && defect.is_none() {
+                continue;
+            }
+            let u = run.displacements(ld["subcase"].as_u64().unwrap() as usize);
+            let got: f64 = ld["measure"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|m| {
+                    let (g, d, w) = (m[0].as_u64().unwrap() as u32, m[1].as_u64().unwrap() as usize, m[2].as_f64().unwrap());
+                    w * u[&g][d - 1]
+                })
+                .sum();
+            let target = ld["target"].as_f64().unwrap();
+            let (norm, ccx) = (got / target, ld["calculix_normalised"].as_f64().unwrap());
+            let b = &ld["bound"];
+            let num = |k: &str| b[k].as_f64().unwrap_or_else(|| panic!("{case} {label}: bound.{k}"));
+            // (passes, bound text)
+            let (ok, bound) = match b["kind"].as_str().unwrap() {
+                "accurate" => ((norm - 1.0).abs() <= num("rel_tol"), format!("±{} % of analytic", sig(100.0 * num("rel_tol")))),
+                "same_element" => ((norm / ccx - 1.0).abs() <= num("rel_tol_to_calculix"), format!("±{} % of CalculiX (same element)", sig(100.0 * num("rel_tol_to_calculix")))),
+                "weak" => {
+                    let p = num("published_normalised");
+                    let (lo, hi) = (num("min_ratio") * ccx.max(p), num("soft_cap") * ccx.max(p).max(1.0));
+                    (norm >= lo && norm <= hi, format!("[{lo:.3}, {hi:.3}] (≥ {} × max(CalculiX, published {p}))", num("min_ratio")))
+                }
+                k => panic!("{case}: unknown bound kind {k}"),
+            };
+            let quantity = format!("{label}: normalised {norm:.4}, CalculiX {ccx:.4}, bound {bound}{}", if defect.is_some() { " — known defect" } else { "" });
+            t.row(case, quantity.clone(), got, target, "MH 1985", rel(got, target), None);
+            match (ok, defect) {
+                (false, None) => t.fail(format!("{case} {quantity}")),
+                (false, Some(d)) if known => t.fail(format!("{case} {label} (known defect: {}): {quantity}", d.2)),
+                (false, Some(d)) => t.note(format!("{case} {label}: known defect, not asserted here ({})", d.2)),
+                (true, Some(_)) => t.fail(format!("{case} {label} is listed in MH_KNOWN_DEFECTS but now meets its bound: remove it from the list")),
+                (true, None) => {}
+            }
+            readme += &format!("| {case} | {label} | {norm:.4}{} | {ccx:.4} | {} | {bound} |\n", if ok { "" } else { " ✗" }, sig(target));
+        }
+    }
+    println!("\nREADME table ({prefix}):\n{readme}");
+    t.finish(&format!("{}{}", prefix.trim_end_matches('_'), if known { "_known_defects" } else { "" }));
+}
+
+#[test]
+fn macneal_harder_straight_beam() {
+    macneal_harder("mh_straight_", false);
+}
+
+#[test]
+fn macneal_harder_twisted_beam() {
+    macneal_harder("mh_twisted_", false);
+}
+
+#[test]
+#[ignore = "known defects (MH_KNOWN_DEFECTS): CQUAD4 in-plane bending 0.902 (rectangle) and 0.033 (parallelogram) against CalculiX 0.992; MITC4/MITC3 plate bending of parallelograms 0.908/0.568 and MITC3 trapezoids 0.931 against published 0.981/0.955/0.965; CST parallelogram 3.8 % off CalculiX's"]
+fn hard_cases_known_defects_straight_beam() {
+    macneal_harder("mh_straight_", true);
+}
+
+#[test]
+#[ignore = "known defect (MH_KNOWN_DEFECTS): thick twisted CQUAD4 1.306/1.263 against CalculiX 0.991/0.987 (drilling penalty too weak between non-coplanar facets)"]
+fn hard_cases_known_defects_twisted_beam() {
+    macneal_harder("mh_twisted_", true);
+}
+
+#[test]
+#[ignore = "known (THIN_KNOWN_DRIFT): MITC3 on the distorted strip, f2 drifts 3.3e-3 over t/L 1e-2..1e-4 (bound 1e-3)"]
+fn hard_cases_known_defects_thin_drift() {
+    thin_cantilever(true);
+}
+
+/// Thin cantilever strip at t/L = 1e-2, 1e-3, 1e-4 (`reference/analytic/thin_cantilever.json`):
+/// for CQUAD4/CTRIA3 on regular and distorted meshes, the tip deflection and the first two
+/// bending frequencies normalised by the reference at the same thickness must lie within the
+/// mesh's tolerance, and (no locking) vary by at most `no_locking.max_spread` over the three
+/// thicknesses. Both rules and their reasons are in the JSON.
+#[test]
+fn analytic_thin_cantilever_no_locking() {
+    thin_cantilever(false);
+}
+
+/// Drift over t/L above `no_locking.max_spread` that paraflex shows (README "Hard cases"):
+/// reported, not asserted, by [`analytic_thin_cantilever_no_locking`]; asserted by the ignored
+/// the ignored `hard_cases_known_defects_*` tests. (mesh, quantity, what is seen.)
+const THIN_KNOWN_DRIFT: &[(&str, &str, &str)] = &[(
+    "ctria3_distorted",
+    "f2",
+    "MITC3 on distorted triangles stiffens slightly as t falls: f2/ref 1.0105 → 1.0134 → 1.0138 at t/L 1e-2 → 1e-3 → 1e-4 (3.3e-3; saturating, within the 5 % accuracy bound)",
+)];
+
+/// `known`: false = every check but [`THIN_KNOWN_DRIFT`]; true = only those.
+fn thin_cantilever(known: bool) {
+    let r = json("reference/analytic/thin_cantilever.json");
+    let spread_max = r["no_locking"]["max_spread"].as_f64().unwrap();
+    let mut t = Table::default();
+    let mut readme = String::from("| mesh | quantity | t/L = 1e-2 | 1e-3 | 1e-4 | spread | tolerance |\n|---|---|---|---|---|---|---|\n");
+    let mut thicknesses: Vec<(&String, &Value)> = r["values"].as_object().unwrap().iter().collect();
+    thicknesses.sort_by(|a, b| b.1["t"].as_f64().unwrap().total_cmp(&a.1["t"].as_f64().unwrap()));
+    for m in r["meshes"].as_array().unwrap() {
+        let mesh = m["mesh"].as_str().unwrap();
+        if known && !THIN_KNOWN_DRIFT.iter().any(|d| d.0 == mesh) {
+            continue;
+        }
+        let tol = f64s(&m["tolerance_relative"]);
+        let mut norm: [Vec<f64>; 3] = Default::default();
+        for &(key, v) in &thicknesses {
+            let decks = &m["decks"][key];
+            let w = run_deck(decks["static"].as_str().unwrap()).mean_tip_t3();
+            let f = run_deck(decks["modal"].as_str().unwrap()).frequencies();
+            let reference = [v["tip_deflection"].as_f64().unwrap(), v["f_bending_Hz"][0].as_f64().unwrap(), v["f_bending_Hz"][1].as_f64().unwrap()];
+            let labels = ["tip T3 (m)", "f bending 1 (Hz)", "f bending 2 (Hz)"];
+            for (q, (got, want)) in [w, f[0], f[1]].into_iter().zip(reference).enumerate() {
+                t.row(&format!("thin_cantilever {mesh} t/L={key}"), labels[q], got, want, "analytic", rel(got, want), Some(tol[q]));
+                norm[q].push(got / want);
+            }
+        }
+        for (q, label) in ["tip deflection", "f1", "f2"].iter().enumerate() {
+            let (lo, hi) = norm[q].iter().fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(*x), b.max(*x)));
+            let spread = (hi - lo) / lo;
+            let text = format!("thin_cantilever {mesh} {label}: normalised {:?} drifts by {spread:.2e} over t/L (max {spread_max:.0e})", norm[q]);
+            match (spread <= spread_max, THIN_KNOWN_DRIFT.iter().find(|d| d.0 == mesh && d.1 == *label)) {
+                (false, None) => t.fail(text),
+                (false, Some(d)) if known => t.fail(format!("{text} — known: {}", d.2)),
+                (false, Some(d)) => t.note(format!("{text} — known, not asserted here: {}", d.2)),
+                (true, Some(_)) if known => t.fail(format!("{text}: listed in THIN_KNOWN_DRIFT but within the bound now: remove it")),
+                _ => {}
+            }
+            readme += &format!("| {mesh} | {label} | {:.4} | {:.4} | {:.4} | {spread:.1e} | ±{} % |\n", norm[q][0], norm[q][1], norm[q][2], sig(100.0 * tol[q]));
+        }
+    }
+    println!("\nREADME table (thin cantilever, normalised FE / reference):\n{readme}");
+    t.finish(if known { "thin_cantilever_known_drift" } else { "thin_cantilever" });
 }

@@ -204,4 +204,18 @@ fn output_requests_store_only_the_requested_sets() {
     let (r, dir) = run_deck(&strip("SPC = 1\nLOAD = 5\n", load));
     r.expect("run");
     assert_eq!(read(&dir, "displacement").expect("default displacement"), (vec![ids.len(), 6], u_all));
+/// PARAM,MAXRATIO sets the diagonal/pivot ratio SOL 101 accepts: the MacNeal–Harder thin twisted
+/// beam (t = 0.0032, pivot ratio 1.3e7) is refused at Nastran's default 1e7 with the grid and
+/// component named, and solved with the deck's PARAM,MAXRATIO,1e10.
+#[test]
+fn maxratio_param_admits_an_ill_conditioned_thin_shell() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/decks/verify/hard/mh_twisted_thin_cquad4.dat");
+    let text = std::fs::read_to_string(path).expect("deck");
+    assert!(text.contains("PARAM,MAXRATIO,"));
+    let (ok, _dir) = run_deck(&text);
+    ok.expect("solved with PARAM,MAXRATIO,1e10");
+    let default: String = text.lines().filter(|l| !l.starts_with("PARAM,MAXRATIO")).map(|l| format!("{l}\n")).collect();
+    let (err, _dir) = run_deck(&default);
+    let msg = err.expect_err("refused at the default MAXRATIO").to_string();
+    assert!(msg.contains("GRID") && msg.contains("pivot ratio"), "{msg}");
 }

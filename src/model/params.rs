@@ -41,6 +41,13 @@ pub const KNOWN_PARAMS: &[KnownParam] = &[
     KnownParam { name: "ALPHA1", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "Rayleigh damping α (C = αM + βK); default 0" },
     KnownParam { name: "BETA1", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "Rayleigh damping β; default 0" },
     KnownParam { name: "G", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "overall structural damping coefficient; default 0" },
+    KnownParam {
+        name: "MAXRATIO",
+        kind: ParamType::Real,
+        rule: "a real > 1",
+        ok: |v| v > 1.0,
+        doc: "largest diagonal/pivot ratio the SOL 101 Cholesky accepts before reporting a mechanism; default 1e7 (Nastran)",
+    },
 ];
 
 /// Values of the known PARAMs (defaults as in [`KNOWN_PARAMS`]).
@@ -55,11 +62,13 @@ pub struct ModelParams {
     pub alpha1: f64,
     pub beta1: f64,
     pub g: f64,
+    /// SOL 101 factorization: largest a_kk / d_k accepted (Nastran MAXRATIO).
+    pub maxratio: f64,
 }
 
 impl Default for ModelParams {
     fn default() -> Self {
-        ModelParams { autospc: true, wtmass: 1.0, coupmass: -1, k6rot: 100.0, grdpnt: -1, alpha1: 0.0, beta1: 0.0, g: 0.0 }
+        ModelParams { autospc: true, wtmass: 1.0, coupmass: -1, k6rot: 100.0, grdpnt: -1, alpha1: 0.0, beta1: 0.0, g: 0.0, maxratio: crate::linalg::cholesky::DEFAULT_MAX_RATIO }
     }
 }
 
@@ -134,6 +143,7 @@ fn apply(known: &KnownParam, value: Value, loc: &Loc, out: &mut ModelParams, err
                 "ALPHA1" => out.alpha1 = v,
                 "BETA1" => out.beta1 = v,
                 "G" => out.g = v,
+                "MAXRATIO" => out.maxratio = v,
                 _ => {}
             }
         }

@@ -71,7 +71,7 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
                 }
             };
             ctx.progress.step("factorization", 0, 1);
-            let factor = clock.time(format!("subcase {id}: Cholesky"), || sym.factor_llt(&c.k_ff, par)).map_err(|e| c.mechanism(st, id, e))?;
+            let factor = clock.time(format!("subcase {id}: Cholesky"), || sym.clone().with_max_ratio(ctx.model.params.maxratio).factor_llt(&c.k_ff, par)).map_err(|e| c.mechanism(st, id, e))?;
             ctx.progress.step("factorization", 1, 1);
             factors.push((f.clone(), factor));
         }

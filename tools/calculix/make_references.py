@@ -1033,7 +1033,16 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--case", action="append", help="run only this case (repeatable)")
     ap.add_argument("--list", action="store_true", help="list the cases and exit")
+    ap.add_argument("--hard", action="store_true",
+                    help="the MacNeal-Harder static cases (tools/calculix/macneal_harder.py) instead")
     args = ap.parse_args(argv)
+    if args.hard:
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        import macneal_harder
+
+        for line in macneal_harder.run_all(run_ccx, WORK, CCX_COMMAND, ccx_version()):
+            print(line)
+        return 0
     if args.list:
         for n, m in CASES.items():
             print(f"{n:18s} {m['tests']}")
