@@ -204,6 +204,8 @@ fn output_requests_store_only_the_requested_sets() {
     let (r, dir) = run_deck(&strip("SPC = 1\nLOAD = 5\n", load));
     r.expect("run");
     assert_eq!(read(&dir, "displacement").expect("default displacement"), (vec![ids.len(), 6], u_all));
+}
+
 /// PARAM,MAXRATIO sets the diagonal/pivot ratio SOL 101 accepts: the MacNeal–Harder thin twisted
 /// beam (t = 0.0032, pivot ratio 1.3e7) is refused at Nastran's default 1e7 with the grid and
 /// component named, and solved with the deck's PARAM,MAXRATIO,1e10.
