@@ -16,9 +16,9 @@ DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcurso
 
 demo: deps
 	$(CARGO) build --release --quiet
-	$(BIN) check decks/demo/bracket_plate.dat
+	$(BIN) check decks/robot/l2r_free.dat
 	@mkdir -p out
-	$(BIN) run decks/demo/bracket_plate.dat -o out/demo.h5
+	$(BIN) run decks/robot/l2r_free.dat -o out/demo.h5
 
 test: deps
 	$(CARGO) test --quiet

@@ -50,6 +50,20 @@ enum Command {
 /// A failure already explained to the user; the exit code says what kind.
 struct Failure(u8);
 
+/// `println!` for a command-line tool: when stdout is closed early (piped into `head`), stop
+/// quietly with success instead of panicking. Reports are printed after the output file is
+/// committed, so nothing is left half-written.
+macro_rules! println {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+        }
+    }};
+}
+
 fn print_warnings(warnings: &[Warning]) {
     for w in warnings {
         eprintln!("warning: {w}");
