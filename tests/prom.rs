@@ -118,3 +118,21 @@ fn pval_with_an_unknown_name_lists_the_parameters() {
     let message = r.expect_err("unknown parameter").to_string();
     assert!(message.contains("EE") && message.contains("parameters: E"), "{message}");
 }
+
+/// `paraflex info` (io::describe) lists an artifact's parameters with their boxes and nominal
+/// values, and its input DOFs.
+#[test]
+fn artifact_is_described_with_parameters_and_inputs() {
+    let nominal = STEEL.replace("{E}", "2.1e11").replace("{RHO}", "7850.");
+    let build = format!("SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPMPAR,1,E,E,1,1.e11,3.e11\nPMOR,1,2,4,2000.\n,1\n{}ENDDATA\n", plate(&nominal));
+    let (r, dir) = run_deck(&build);
+    r.expect("SOL PROM");
+    let summary = paraflex::io::describe(dir.path().join("out.h5")).expect("describe");
+    let prom = summary.prom.expect("/prom");
+    assert_eq!(prom.params, vec!["E"]);
+    assert_eq!(prom.ranges, vec![(1.0e11, 3.0e11)]);
+    assert_eq!(prom.nominal, vec![2.1e11]);
+    assert_eq!(prom.inputs, vec!["13:3", "39:3", "65:3"]);
+    let text = summary.to_string();
+    assert!(text.contains("param     E in [1e11, 3e11], nominal 2.1e11") && text.contains("inputs    3"), "{text}");
+}

@@ -57,6 +57,12 @@ pub struct PromSummary {
     pub n_red: Option<i64>,
     /// Parameter names.
     pub params: Vec<String>,
+    /// (low, high) per parameter.
+    pub ranges: Vec<(f64, f64)>,
+    /// Nominal value per parameter.
+    pub nominal: Vec<f64>,
+    /// Input DOFs ("GRID:component") of `/prom/inputs/names`.
+    pub inputs: Vec<String>,
     /// Members of `/prom` by name (`K`, `M`, `inputs`, ...).
     pub members: Vec<String>,
 }
@@ -176,6 +182,14 @@ fn describe_prom(file: &hdf5::File, path: &Path) -> Result<PromSummary, IoError>
         .map_err(|e| IoError::hdf5(path, "open /prom", e))?;
     let int = |name: &str| prom.attr(name).and_then(|a| a.read_scalar::<i64>()).ok();
     let params = read_strs_attr(&prom, "params").unwrap_or_default();
+    let f64s = |name: &str| prom.attr(name).and_then(|a| a.read_raw::<f64>()).unwrap_or_default();
+    let ranges = f64s("ranges").chunks_exact(2).map(|c| (c[0], c[1])).collect();
+    let nominal = f64s("nominal");
+    let inputs = prom
+        .dataset("inputs/names")
+        .and_then(|d| d.read_raw::<VarLenUnicode>())
+        .map(|v| v.iter().map(|s| s.as_str().to_string()).collect())
+        .unwrap_or_default();
     let members = prom
         .member_names()
         .map_err(|e| IoError::hdf5(path, "list /prom", e))?;
@@ -183,6 +197,9 @@ fn describe_prom(file: &hdf5::File, path: &Path) -> Result<PromSummary, IoError>
         n_full: int("n_full"),
         n_red: int("n_red"),
         params,
+        ranges,
+        nominal,
+        inputs,
         members,
     })
 }
@@ -325,8 +342,13 @@ impl fmt::Display for FileSummary {
         if let Some(p) = &self.prom {
             let opt = |v: Option<i64>| v.map_or("?".to_string(), |v| v.to_string());
             writeln!(f, "/prom: n_full {}, n_red {}", opt(p.n_full), opt(p.n_red))?;
-            if !p.params.is_empty() {
-                writeln!(f, "  params    {}", p.params.join(", "))?;
+            for (k, name) in p.params.iter().enumerate() {
+                let range = p.ranges.get(k).map_or(String::new(), |(lo, hi)| format!(" in [{lo:e}, {hi:e}]"));
+                let nominal = p.nominal.get(k).map_or(String::new(), |v| format!(", nominal {v:e}"));
+                writeln!(f, "  param     {name}{range}{nominal}")?;
+            }
+            if !p.inputs.is_empty() {
+                writeln!(f, "  inputs    {} ({})", p.inputs.len(), p.inputs.join(", "))?;
             }
             if !p.members.is_empty() {
                 writeln!(f, "  members   {}", p.members.join(", "))?;
