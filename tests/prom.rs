@@ -128,7 +128,7 @@ fn artifact_is_described_with_parameters_and_inputs() {
     let (r, dir) = run_deck(&build);
     r.expect("SOL PROM");
     let summary = paraflex::io::describe(dir.path().join("out.h5")).expect("describe");
-    let prom = summary.prom.expect("/prom");
+    let prom = summary.prom.clone().expect("/prom");
     assert_eq!(prom.params, vec!["E"]);
     assert_eq!(prom.ranges, vec![(1.0e11, 3.0e11)]);
     assert_eq!(prom.nominal, vec![2.1e11]);
