@@ -2,7 +2,9 @@
 //!
 //! 1. seeded Latin hypercube samples of the parameter box;
 //! 2. at each sample (in parallel, one shared symbolic factorization), K(p) and M(p) from the
-//!    affine parts and the local basis Ψ_i = [normal modes, static modes] ([`local_basis`]);
+//!    affine parts and the local basis Ψ_i = [NMODES normal modes, static modes]
+//!    ([`local_basis`]); NMODES counts modes whatever their frequency (thesis Table 3.1: 15
+//!    modes although fewer lie in 0–500 Hz at stiff samples), FMAX only bounds the FRF band;
 //! 3. concatenation (eq. 3.33) of the columns scaled to unit length (the thesis concatenates
 //!    raw columns; M-normalized modes and unit-load modes differ in scale by orders of
 //!    magnitude, which would let the SVD rank columns by their units instead of their shape),
@@ -149,7 +151,7 @@ pub fn build_prom(fom: &AffineFom, boundary: &[usize], settings: &PromSettings, 
     log.samples = latin_hypercube(settings.n_samples, &low, &high, settings.seed);
     let symbolic = SymbolicFactor::analyze(fom.stiffness[0].pattern())?;
     lap(&mut log, "symbolic analysis");
-    let request = LocalBasisRequest { n_modes: settings.n_modes, fmax_hz: Some(settings.fmax_hz), boundary: boundary.to_vec(), statics: settings.statics, rigid: settings.rigid };
+    let request = LocalBasisRequest { n_modes: settings.n_modes, fmax_hz: None, boundary: boundary.to_vec(), statics: settings.statics, rigid: settings.rigid };
     let done = std::sync::atomic::AtomicUsize::new(0);
     let quiet = |_: &str, _: usize, _: usize| {};
     let locals: Vec<Mat<f64>> = log

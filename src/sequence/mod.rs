@@ -207,7 +207,13 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         }
         if let SubcaseResult::Prom(p) = &s.result {
             if !p.log.converged {
-                warnings.push(format!("subcase {}: the pROM basis reached the numerical rank of the local bases before the FRF change of eq. 3.35 fell below ERRTOL; more samples or modes would make it richer", s.id));
+                let last = p.log.error_history.last().map_or("not measured".to_string(), |(size, e)| format!("{e:.2e} at size {size}"));
+                warnings.push(format!(
+                    "subcase {}: the pROM uses the whole numerical rank of the local bases ({}) but the last growth step still changed the FRFs by {last} (eq. 3.35, summed over {} input/output pairs), above ERRTOL; more samples or modes would make the basis richer",
+                    s.id,
+                    p.n_red,
+                    p.inputs * p.inputs
+                ));
             }
         }
         if let SubcaseResult::Modal(m) = &s.result {
