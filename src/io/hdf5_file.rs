@@ -302,6 +302,12 @@ pub fn write_f64(
     write_array(group, name, data, shape)
 }
 
+/// Writes a complex dataset of `shape` (row-major) as h5py does (compound of `r`, `i`), so
+/// `h5py` reads it as a numpy complex array.
+pub fn write_c64(group: &Group, name: &str, data: &[faer::c64], shape: &[usize]) -> Result<Dataset, IoError> {
+    write_array(group, name, data, shape)
+}
+
 /// Writes a `u32` dataset of `shape` (row-major) from a flat slice.
 pub fn write_u32(
     group: &Group,

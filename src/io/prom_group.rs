@@ -107,6 +107,27 @@ pub fn read_prom(path: impl AsRef<Path>) -> Result<(Prom, usize), IoError> {
     Ok((result, n_full))
 }
 
+/// The load inputs of a pROM (`/prom/inputs`): DOF names ("GRID:component") and S_r
+/// (n_red × k). A pROM built without BSET has none (empty names, n_red × 0).
+pub fn read_prom_inputs(path: impl AsRef<Path>, n_red: usize) -> Result<(Vec<String>, Mat<f64>), IoError> {
+    let path = path.as_ref();
+    let file = hdf5::File::open(path).map_err(|e| IoError::hdf5(path, "open for reading", e))?;
+    let Ok(group) = file.group("prom/inputs") else { return Ok((Vec::new(), Mat::zeros(n_red, 0))) };
+    let names: Vec<String> = group
+        .dataset("names")
+        .and_then(|d| d.read_raw::<hdf5::types::VarLenUnicode>())
+        .map_err(|e| IoError::hdf5(path, "read /prom/inputs/names", e))?
+        .iter()
+        .map(|s| s.as_str().to_string())
+        .collect();
+    let data = group.dataset("S_r").and_then(|d| d.read_raw::<f64>()).map_err(|e| IoError::hdf5(path, "read /prom/inputs/S_r", e))?;
+    let k = names.len();
+    if data.len() != n_red * k {
+        return Err(IoError::invalid(path, "/prom/inputs/S_r", format!("{} values, expected n_red × inputs = {n_red} × {k}", data.len())));
+    }
+    Ok((names, Mat::from_fn(n_red, k, |i, j| data[i * k + j])))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

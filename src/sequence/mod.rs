@@ -35,6 +35,8 @@ pub mod elements;
 pub mod modal;
 pub mod parameters;
 pub mod prom;
+pub mod rom_case;
+pub mod rom_frf;
 pub mod rom_modal;
 pub mod statics;
 
@@ -63,6 +65,8 @@ pub enum Sequence {
     Modal,
     /// SOL PROM: parametric reduced-order model.
     Prom,
+    /// SOL FRF (108/111): frequency response; on pROM artifacts only in this version.
+    Frf,
 }
 
 impl Sequence {
@@ -72,6 +76,7 @@ impl Sequence {
             Solution::Statics => Some(Sequence::Statics),
             Solution::Modal => Some(Sequence::Modal),
             Solution::Prom => Some(Sequence::Prom),
+            Solution::Frf | Solution::FrfDirect | Solution::FrfModal => Some(Sequence::Frf),
             _ => None,
         }
     }
@@ -82,6 +87,7 @@ impl Sequence {
             Sequence::Statics => "STATICS",
             Sequence::Modal => "MODAL",
             Sequence::Prom => "PROM",
+            Sequence::Frf => "FRF",
         }
     }
 }
@@ -142,6 +148,7 @@ pub enum SubcaseResult {
     Statics(statics::StaticsSummary),
     Prom(prom::PromSummary),
     RomModal(rom_modal::RomModalSummary),
+    RomFrf(rom_frf::RomFrfSummary),
 }
 
 /// Errors of a run. Each says where (element, GRID and component, subcase) and what to do.
@@ -181,14 +188,19 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
     let (sol, text) = ctx.deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
     let sequence = Sequence::of_solution(*sol).ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
     let mut clock = Clock::default();
-    let subcases = if sequence == Sequence::Modal && rom_modal::applies(ctx) {
-        rom_modal::run(ctx, &mut clock)?
-    } else {
-        let structure = Structure::build(ctx, &mut clock)?;
-        match sequence {
-            Sequence::Statics => statics::run(ctx, &structure, &mut clock)?,
-            Sequence::Modal => modal::run(ctx, &structure, &mut clock)?,
-            Sequence::Prom => prom::run(ctx, &structure, &mut clock)?,
+    let subcases = match (sequence, rom_case::applies(ctx)) {
+        (Sequence::Modal, true) => rom_modal::run(ctx, &mut clock)?,
+        (Sequence::Frf, true) => rom_frf::run(ctx, &mut clock)?,
+        (Sequence::Frf, false) => {
+            return Err(RunError::NotAvailable(format!("{text} ({}) on the full model (this version runs FRFs of pROM artifacts: every subcase needs ROM = 'file.h5')", sol.name())));
+        }
+        (Sequence::Statics | Sequence::Modal | Sequence::Prom, _) => {
+            let structure = Structure::build(ctx, &mut clock)?;
+            match sequence {
+                Sequence::Statics => statics::run(ctx, &structure, &mut clock)?,
+                Sequence::Prom => prom::run(ctx, &structure, &mut clock)?,
+                _ => modal::run(ctx, &structure, &mut clock)?,
+            }
         }
     };
     let mut warnings = Vec::new();
@@ -200,10 +212,13 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
                 s.autospc.len()
             ));
         }
-        if let SubcaseResult::RomModal(r) = &s.result {
-            if !r.extrapolated.is_empty() {
-                warnings.push(format!("subcase {}: parameter(s) {} lie outside the box the pROM {} was built for: extrapolated", s.id, r.extrapolated.join(", "), r.rom.display()));
-            }
+        let extrapolated = match &s.result {
+            SubcaseResult::RomModal(r) => Some((&r.extrapolated, &r.rom)),
+            SubcaseResult::RomFrf(r) => Some((&r.extrapolated, &r.rom)),
+            _ => None,
+        };
+        if let Some((names, rom)) = extrapolated.filter(|(names, _)| !names.is_empty()) {
+            warnings.push(format!("subcase {}: parameter(s) {} lie outside the box the pROM {} was built for: extrapolated", s.id, names.join(", "), rom.display()));
         }
         if let SubcaseResult::Prom(p) = &s.result {
             if !p.log.converged {

@@ -14,9 +14,10 @@ use std::path::PathBuf;
 
 use faer::Mat;
 
+use super::rom_case::RomAtPoint;
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary, lambda_to_hz};
 use crate::deck::case_control::Subcase;
-use crate::io::{read_prom, set_attr_f64s, set_attr_str, set_attr_strings, write_f64};
+use crate::io::{set_attr_f64s, set_attr_str, set_attr_strings, write_f64};
 use crate::linalg::dense::generalized_eigen;
 
 /// What one ROM modal subcase found.
@@ -31,11 +32,6 @@ pub struct RomModalSummary {
     pub extrapolated: Vec<String>,
 }
 
-/// True when every subcase of a modal run reads a pROM (no full model is needed).
-pub fn applies(ctx: &RunContext) -> bool {
-    !ctx.model.subcases.is_empty() && ctx.model.subcases.iter().all(|s| s.rom.is_some())
-}
-
 /// Runs every subcase on its pROM.
 pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
     ctx.model.subcases.iter().map(|sub| clock.time(format!("subcase {}: pROM modes", sub.id), || subcase(ctx, sub))).collect()
@@ -44,23 +40,7 @@ pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, R
 fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
-    let rom = sub.rom.as_deref().ok_or_else(|| case("ROM = 'file.h5' missing".into()))?;
-    let path = ctx.deck.path.parent().map_or_else(|| PathBuf::from(rom), |dir| dir.join(rom));
-    let (prom, _) = read_prom(&path)?;
-    let mut p: Vec<f64> = prom.parameters.iter().map(|q| q.nominal).collect();
-    if let Some(pval_id) = sub.pval {
-        let card = ctx.model.bulk.pval.iter().find(|c| c.id == pval_id).ok_or_else(|| case(format!("PVAL {pval_id} missing")))?;
-        for (name, value) in &card.values {
-            let j = prom
-                .parameters
-                .iter()
-                .position(|q| q.name.eq_ignore_ascii_case(name))
-                .ok_or_else(|| case(format!("PVAL {pval_id} names {name}, which is not a parameter of {} (parameters: {})", path.display(), prom.parameters.iter().map(|q| q.name.as_str()).collect::<Vec<_>>().join(", "))))?;
-            p[j] = *value;
-        }
-    }
-    let mut at = prom.workspace();
-    prom.evaluate(&p, &mut at).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let RomAtPoint { path, prom, p, at, extrapolated } = RomAtPoint::load(ctx, sub)?;
     let (lambda, phi) = generalized_eigen(at.stiffness.as_ref(), at.mass.as_ref()).map_err(|e| case(format!("{}: {e}", path.display())))?;
     let keep = selection(ctx, sub, &lambda)?;
     let lambda: Vec<f64> = keep.iter().map(|&j| lambda[j]).collect();
@@ -89,7 +69,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         n_red: prom.size(),
         frequencies_hz,
         values: names.iter().map(|n| n.to_string()).zip(p.iter().copied()).collect(),
-        extrapolated: prom.outside_box(&p).into_iter().map(String::from).collect(),
+        extrapolated,
     };
     Ok(SubcaseSummary { id, autospc: Vec::new(), result: SubcaseResult::RomModal(summary) })
 }

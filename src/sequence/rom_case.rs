@@ -1,0 +1,54 @@
+//! What every sequence on a pROM artifact (`ROM = 'file.h5'`) shares: reading the artifact
+//! (path relative to the deck's directory), the parameter values of the subcase's `PVAL`
+//! (parameters it does not list keep their nominal values), and the pROM evaluated there.
+
+use std::path::PathBuf;
+
+use super::{RunContext, RunError};
+use crate::deck::case_control::Subcase;
+use crate::io::read_prom;
+use crate::rom::prom::{Prom, PromEvaluation};
+
+/// True when every subcase reads a pROM (no full model is needed).
+pub fn applies(ctx: &RunContext) -> bool {
+    !ctx.model.subcases.is_empty() && ctx.model.subcases.iter().all(|s| s.rom.is_some())
+}
+
+/// A pROM evaluated at a subcase's parameter values.
+pub struct RomAtPoint {
+    pub path: PathBuf,
+    pub prom: Prom,
+    /// Parameter values, in the pROM's parameter order.
+    pub p: Vec<f64>,
+    pub at: PromEvaluation,
+    /// Names of the parameters outside the pROM's box.
+    pub extrapolated: Vec<String>,
+}
+
+impl RomAtPoint {
+    /// Read the subcase's artifact and evaluate it at its PVAL.
+    pub fn load(ctx: &RunContext, sub: &Subcase) -> Result<Self, RunError> {
+        let case = |what: String| RunError::Case { subcase: sub.id, what };
+        let rom = sub.rom.as_deref().ok_or_else(|| case("ROM = 'file.h5' missing".into()))?;
+        let path = ctx.deck.path.parent().map_or_else(|| PathBuf::from(rom), |dir| dir.join(rom));
+        let (prom, _) = read_prom(&path)?;
+        let mut p: Vec<f64> = prom.parameters.iter().map(|q| q.nominal).collect();
+        if let Some(pval_id) = sub.pval {
+            let card = ctx.model.bulk.pval.iter().find(|c| c.id == pval_id).ok_or_else(|| case(format!("PVAL {pval_id} missing")))?;
+            for (name, value) in &card.values {
+                let j = prom.parameters.iter().position(|q| q.name.eq_ignore_ascii_case(name)).ok_or_else(|| {
+                    case(format!(
+                        "PVAL {pval_id} names {name}, which is not a parameter of {} (parameters: {})",
+                        path.display(),
+                        prom.parameters.iter().map(|q| q.name.as_str()).collect::<Vec<_>>().join(", ")
+                    ))
+                })?;
+                p[j] = *value;
+            }
+        }
+        let mut at = prom.workspace();
+        prom.evaluate(&p, &mut at).map_err(|e| case(format!("{}: {e}", path.display())))?;
+        let extrapolated = prom.outside_box(&p).into_iter().map(String::from).collect();
+        Ok(RomAtPoint { path, prom, p, at, extrapolated })
+    }
+}
