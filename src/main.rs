@@ -253,6 +253,10 @@ mod report {
                     println!("subcase {}: FRF of the pROM {} at {} line(s), {} input(s) × {} output(s) ({})", sub.id, r.rom.display(), r.lines, r.inputs.len(), r.inputs.len(), r.inputs.join(", "));
                     println!("  largest |H| {} at {} Hz", sci(r.peak.0, 4), sci(r.peak.1, 4));
                 }
+                SubcaseResult::RomTransient(r) => {
+                    println!("subcase {}: transient of the pROM {} ({}), {} step(s), outputs {}", sub.id, r.rom.display(), r.method, r.steps, r.outputs.join(", "));
+                    println!("  largest |displacement| {} at t = {} s", sci(r.peak.0, 4), sci(r.peak.1, 4));
+                }
                 SubcaseResult::Statics(st) => {
                     println!("subcase {}: f-set {} DOFs", sub.id, st.f_size);
                     println!("  max |u| (translation)  {} at GRID {}", sci(st.max_translation.1, 6), st.max_translation.0);

@@ -1,7 +1,9 @@
 //! Frequency and time response (thesis §2.4; DESIGN.md §2).
 //!
 //! - [`frf`]: receptance of a dense (reduced) model, H(ω) = S_out (K − ω²M + iωC)⁻¹ S_in;
-//! - [`integrators`]: BDF1 (eq. 2.61), BDF2 and generalized-α with a constant step.
+//! - [`integrators`]: BDF1 (eq. 2.61), BDF2 and generalized-α with a constant step;
+//! - [`table`]: piecewise-linear tables of time (TABLED1).
 
 pub mod frf;
 pub mod integrators;
+pub mod table;

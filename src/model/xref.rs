@@ -93,7 +93,8 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
             refs.grid(*g, "G", "ASET1", &a.loc, errors);
         }
     }
-    for d in &b.darea {
+    // a deck that reads a pROM names the artifact's input DOFs: checked when it is read
+    for d in b.darea.iter().filter(|_| !reads_rom(deck)) {
         refs.grid(d.grid, "P", &format!("DAREA {}", d.sid), &d.loc, errors);
     }
     for f in &b.forces {
@@ -193,9 +194,8 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         }
     }
     // PVALs of a deck that reads a pROM name the artifact's parameters: checked when it is read
-    let reads_rom = deck.case.explicit.iter().any(|s| s.rom.is_some()) || deck.case.global.rom.is_some();
     let names: HashSet<String> = b.pmpar.iter().map(|p| p.name.to_ascii_uppercase()).collect();
-    for p in b.pval.iter().filter(|_| !reads_rom) {
+    for p in b.pval.iter().filter(|_| !reads_rom(deck)) {
         for (name, _) in &p.values {
             if !names.contains(&name.to_ascii_uppercase()) {
                 errors.push(DeckError::at(&p.loc, format!("NAME = {name} does not exist (no PMPAR named {name})")).on_card(format!("PVAL {}", p.id)));
@@ -203,6 +203,11 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         }
     }
     sensors(refs, errors);
+}
+
+/// True when some subcase reads a pROM artifact (`ROM =`).
+fn reads_rom(deck: &Deck) -> bool {
+    deck.case.explicit.iter().any(|s| s.rom.is_some()) || deck.case.global.rom.is_some()
 }
 
 fn force_name(f: &crate::deck::cards::Force) -> &'static str {

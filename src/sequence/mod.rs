@@ -37,6 +37,7 @@ pub mod parameters;
 pub mod prom;
 pub mod rom_case;
 pub mod rom_frf;
+pub mod rom_transient;
 pub mod rom_modal;
 pub mod statics;
 
@@ -67,6 +68,8 @@ pub enum Sequence {
     Prom,
     /// SOL FRF (108/111): frequency response; on pROM artifacts only in this version.
     Frf,
+    /// SOL TRANSIENT (109/112): time response; on pROM artifacts only in this version.
+    Transient,
 }
 
 impl Sequence {
@@ -77,6 +80,7 @@ impl Sequence {
             Solution::Modal => Some(Sequence::Modal),
             Solution::Prom => Some(Sequence::Prom),
             Solution::Frf | Solution::FrfDirect | Solution::FrfModal => Some(Sequence::Frf),
+            Solution::Transient | Solution::TransientDirect | Solution::TransientModal => Some(Sequence::Transient),
             _ => None,
         }
     }
@@ -88,6 +92,7 @@ impl Sequence {
             Sequence::Modal => "MODAL",
             Sequence::Prom => "PROM",
             Sequence::Frf => "FRF",
+            Sequence::Transient => "TRANSIENT",
         }
     }
 }
@@ -149,6 +154,7 @@ pub enum SubcaseResult {
     Prom(prom::PromSummary),
     RomModal(rom_modal::RomModalSummary),
     RomFrf(rom_frf::RomFrfSummary),
+    RomTransient(rom_transient::RomTransientSummary),
 }
 
 /// Errors of a run. Each says where (element, GRID and component, subcase) and what to do.
@@ -191,8 +197,9 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
     let subcases = match (sequence, rom_case::applies(ctx)) {
         (Sequence::Modal, true) => rom_modal::run(ctx, &mut clock)?,
         (Sequence::Frf, true) => rom_frf::run(ctx, &mut clock)?,
-        (Sequence::Frf, false) => {
-            return Err(RunError::NotAvailable(format!("{text} ({}) on the full model (this version runs FRFs of pROM artifacts: every subcase needs ROM = 'file.h5')", sol.name())));
+        (Sequence::Transient, true) => rom_transient::run(ctx, &mut clock)?,
+        (Sequence::Frf | Sequence::Transient, false) => {
+            return Err(RunError::NotAvailable(format!("{text} ({}) on the full model (this version runs it on pROM artifacts: every subcase needs ROM = 'file.h5')", sol.name())));
         }
         (Sequence::Statics | Sequence::Modal | Sequence::Prom, _) => {
             let structure = Structure::build(ctx, &mut clock)?;
@@ -215,6 +222,7 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         let extrapolated = match &s.result {
             SubcaseResult::RomModal(r) => Some((&r.extrapolated, &r.rom)),
             SubcaseResult::RomFrf(r) => Some((&r.extrapolated, &r.rom)),
+            SubcaseResult::RomTransient(r) => Some((&r.extrapolated, &r.rom)),
             _ => None,
         };
         if let Some((names, rom)) = extrapolated.filter(|(names, _)| !names.is_empty()) {
