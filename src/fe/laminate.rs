@@ -27,9 +27,10 @@
 //! general laminate depend non-linearly on the ply properties and angles; the simple factor
 //! keeps S affine in every parameter of §5 (DESIGN.md), which is why it is used.
 //!
-//! **Drilling stiffness.** `drill = DRILL_FRACTION · A66` (Hughes–Brezzi penalty modulus γ,
-//! per unit area; see [`crate::fe::shell`]). Being a fixed multiple of A66 it is affine in
-//! every parameter A66 is.
+//! **Drilling stiffness.** `drill = DRILL_FRACTION · A66` = A66 (Hughes–Brezzi penalty modulus
+//! γ = G·t, per unit area, the full strength Ibrahimbegovic, Taylor & Wilson (1990) use with
+//! their drilling membrane; see [`crate::fe::shell`], which weakens it for the CTRIA3). Being a
+//! fixed multiple of A66 it is affine in every parameter A66 is.
 //!
 //! **PSHELL.** A homogeneous PSHELL is not a laminate: Nastran gives each of membrane (MID1),
 //! bending (MID2 with 12I/T³), transverse shear (MID3 with TS/T) and membrane–bending coupling
@@ -52,7 +53,7 @@
 use super::affine::{Coefficient, CoefficientValues};
 
 /// Drilling penalty modulus as a fraction of the in-plane shear stiffness A66.
-pub const DRILL_FRACTION: f64 = 1.0e-3;
+pub const DRILL_FRACTION: f64 = 1.0;
 
 /// Transverse shear stiffness of a Kirchhoff (no MID3 / no G1Z, G2Z) section, as a multiple
 /// of G·t.
@@ -1253,7 +1254,7 @@ mod tests {
     /// MID2 MAT1 (E2, ν2), MID3 MAT8 (G1Z given, G2Z blank = penalty 100·G12), MID4 MAT1,
     /// offset z₀, r = 12I/T³, ts = TS/T:
     /// A = T Q1, B = T² Q4 + z₀ T Q1, D = r T³/12 Q2 + 2 z₀ T² Q4 + z₀² T Q1,
-    /// S = ts T diag(G1Z, 100 G12), drill = 10⁻³ A66, mass ρ1 T + NSM, ρ1 T z₀, ρ1(T³/12 + T z₀²).
+    /// S = ts T diag(G1Z, 100 G12), drill = DRILL_FRACTION·A66, mass ρ1 T + NSM, ρ1 T z₀, ρ1(T³/12 + T z₀²).
     #[test]
     fn distinct_role_materials_by_hand() {
         let (t, z0, r, ts, nsm) = (4e-3, 1.5e-3, 0.37, 0.7, 0.25);

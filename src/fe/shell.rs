@@ -1,5 +1,6 @@
 //! Four- and three-node Mindlin–Reissner shells (CQUAD4, CTRIA3): MITC4 and MITC3 with a
-//! Hughes–Brezzi drilling rotation (DESIGN.md §4).
+//! Hughes–Brezzi drilling rotation, the quad with an Allman-type drilling membrane
+//! (DESIGN.md §4).
 //!
 //! # Formulation
 //!
@@ -40,18 +41,35 @@
 //! (½, ½); ẽ_r = e_rᵗ¹ + c·s, ẽ_s = e_sᵗ² − c·r, c = e_sᵗ² − e_rᵗ¹ + e_rᵗ³ − e_sᵗ³ (constant
 //! tangential shear along each edge).
 //!
-//! **Membrane and drilling.** Bilinear (quad) / linear (tria) u, v with the Hughes–Brezzi
-//! penalty ½∫γ (θz − ω)² dA (Hughes & Brezzi, CMAME 72 (1989) 105–121),
-//! γ = `section.drill` = `DRILL_FRACTION`·A66 (see [`crate::fe::laminate`]), integrated at the
-//! membrane points, which leaves no spurious θz modes and does not constrain u, v inside one
-//! element. The quad's in-plane shear is an assumed strain: in the element's intrinsic axes
-//! (x along ∂x/∂ξ at the centre) γxy is taken at the centre, εxx and εyy at the Gauss points
-//! (selective reduced integration). This keeps constant strain states (patch test) and removes
-//! the parasitic shear of in-plane bending (a 20 × 2 cantilever goes from 0.89 to 1.00 of
-//! beam theory) while staying linear in the section — incompatible modes would not, since
-//! their static condensation inverts a section-dependent block. What remains is the Poisson
-//! stiffening of bilinear in-plane bending (≈ 1/(1−ν²) on coarse meshes) and some parasitic
-//! shear in strongly distorted quads.
+//! **Membrane and drilling (CQUAD4).** The quad membrane is the drilling-rotation element of
+//! Ibrahimbegovic, Taylor & Wilson, "A robust quadrilateral membrane finite element with
+//! drilling degrees of freedom", IJNME 30 (1990) 445–457, after Allman (1984, 1988): bilinear
+//! u, v plus, on each edge i→j (length l, outward normal n), the quadratic Allman mode
+//! N_k (θz_j − θz_i) l n / 8 with the serendipity mid-side function N_k (N_5 = ½(1−ξ²)(1−η), …),
+//! i.e. (u, v) += N_k (θz_j − θz_i) (y_j − y_i, x_i − x_j)/8: a normal edge displacement whose
+//! end slopes are the corner drilling rotations, conforming between neighbours. The
+//! Hughes–Brezzi penalty ½∫γ (θz − ω)² dA (Hughes & Brezzi, CMAME 72 (1989) 105–121),
+//! ω = ½(∂v/∂x − ∂u/∂y) of this field, has the full strength γ = `section.drill` = A66 = G·t
+//! (`DRILL_FRACTION` = 1, see [`crate::fe::laminate`]) that ITW recommend: θz is then the true
+//! rotation of the membrane, which ties the rotations of non-coplanar neighbours (twisted
+//! shells). Membrane strains and the penalty use 2 × 2 Gauss points. The in-plane shear is an
+//! assumed strain: in the element's intrinsic axes (x along ∂x/∂ξ at the centre) εxx and εyy
+//! are taken at the Gauss points and γxy is the element mean (1/A)∫γxy dA (for the bilinear
+//! part this is the centre value; for the Allman part it is not, and only the mean keeps
+//! ∫Bᵀσ dA exact for constant σ, i.e. the patch test). This removes the parasitic shear of
+//! in-plane bending (a 20 × 2 cantilever: 1.002 of beam theory with γ = A66; with the plain
+//! Gauss-point shear 0.888) and stays linear in the section — incompatible modes would not,
+//! since their static condensation inverts a section-dependent block. What remains is the
+//! Poisson stiffening of in-plane bending (≈ 1/(1−ν²); the Allman modes are normal to the
+//! edges and cannot give εy its linear variation across the depth). The reported membrane
+//! strains are the element means. The Allman modes carry no mass.
+//!
+//! **Membrane and drilling (CTRIA3).** Linear u, v (constant strain) with the same penalty at
+//! γ = `TRIA_DRILL_SCALE`·`section.drill` = 10⁻³·A66, integrated at the 3 points. The Allman
+//! triangle (edge modes 4 L_i L_j on the same construction) was tried and left out: with any
+//! γ from 10⁻³·A66 to A66 it locks in the thin MacNeal–Harder twisted beam (0.02 of the
+//! reference against 0.72 for this element), and the constant-strain triangle with γ = A66
+//! locks there too (0.01).
 //!
 //! **Mass.** Per unit area, from ∫ρ|u⁰ + zβ|² dz: ρt on u, v, w; ρi on θx, θy; ρs coupling
 //! u–θy (+) and v–θx (−); nothing on θz. Consistent: ∫ N_a N_b dA; lumped: area/nodes at each
@@ -128,6 +146,11 @@ fn norm(a: V3) -> f64 {
 fn scale(a: V3, f: f64) -> V3 {
     [a[0] * f, a[1] * f, a[2] * f]
 }
+
+/// CTRIA3 drilling modulus as a fraction of `section.drill` (= A66): the triangle keeps the
+/// linear (CST) membrane with a weak Hughes–Brezzi tie, γ = 10⁻³·A66 (module doc, "Membrane
+/// and drilling (CTRIA3)").
+const TRIA_DRILL_SCALE: f64 = 1.0e-3;
 
 /// Number of generalized strains: 3 membrane, 3 curvature, 2 shear, 1 drilling.
 const NSTRAIN: usize = 9;
@@ -276,6 +299,37 @@ fn fill_standard_rows(b: &mut Mat<f64>, n: &[f64], nx: &[f64], ny: &[f64]) {
     }
 }
 
+/// Allman edge modes (module doc): edge k runs from node k to node k + 1 (cyclic) and adds
+/// N_k (θz_j − θz_i)·(y_j − y_i, x_i − x_j)/8 to (u, v), a quadratic normal displacement whose
+/// end slopes are the corner drilling rotations. Adds their columns (θz) to the membrane rows
+/// 0–2 and the drilling row 8, from the edge functions' Cartesian derivatives `nx`, `ny`.
+fn add_allman_rows(b: &mut Mat<f64>, xy: &[[f64; 2]], nx: &[f64], ny: &[f64]) {
+    let nodes = xy.len();
+    for k in 0..nodes {
+        let (i, j) = (k, (k + 1) % nodes);
+        let cu = (xy[j][1] - xy[i][1]) / 8.0;
+        let cv = (xy[i][0] - xy[j][0]) / 8.0;
+        for (node, sign) in [(j, 1.0), (i, -1.0)] {
+            let tz = 6 * node + 5;
+            b[(0, tz)] += sign * nx[k] * cu;
+            b[(1, tz)] += sign * ny[k] * cv;
+            b[(2, tz)] += sign * (ny[k] * cu + nx[k] * cv);
+            b[(8, tz)] -= sign * 0.5 * (nx[k] * cv - ny[k] * cu);
+        }
+    }
+}
+
+/// Cartesian derivatives (∂/∂x, ∂/∂y) of functions with natural derivatives `dr`, `ds`.
+fn cartesian(jinv: &[[f64; 2]; 2], dr: &[f64], ds: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let nx = (0..dr.len())
+        .map(|a| jinv[0][0] * dr[a] + jinv[0][1] * ds[a])
+        .collect();
+    let ny = (0..dr.len())
+        .map(|a| jinv[1][0] * dr[a] + jinv[1][1] * ds[a])
+        .collect();
+    (nx, ny)
+}
+
 /// Shear rows 6, 7 of B: γ = J⁻¹ [ẽ_r, ẽ_s].
 fn fill_shear_rows(b: &mut Mat<f64>, jinv: &[[f64; 2]; 2], er: &[f64], es: &[f64]) {
     for c in 0..er.len() {
@@ -288,14 +342,16 @@ fn fill_shear_rows(b: &mut Mat<f64>, jinv: &[[f64; 2]; 2], er: &[f64], es: &[f64
 fn mitc4_operator(xy: &[[f64; 2]], xi: f64, eta: f64) -> (Mat<f64>, f64) {
     let (n, dxi, deta) = quad_shape(xi, eta);
     let (jinv, det) = inverse(&jacobian(xy, &dxi, &deta));
-    let nx: Vec<f64> = (0..4)
-        .map(|a| jinv[0][0] * dxi[a] + jinv[0][1] * deta[a])
-        .collect();
-    let ny: Vec<f64> = (0..4)
-        .map(|a| jinv[1][0] * dxi[a] + jinv[1][1] * deta[a])
-        .collect();
+    let (nx, ny) = cartesian(&jinv, &dxi, &deta);
     let mut b = Mat::<f64>::zeros(NSTRAIN, 24);
     fill_standard_rows(&mut b, &n, &nx, &ny);
+    // Serendipity mid-side functions of edges 1-2 (η = −1), 2-3 (ξ = 1), 3-4 (η = 1), 4-1
+    // (ξ = −1), natural derivatives.
+    let (p, q) = (1.0 - xi * xi, 1.0 - eta * eta);
+    let edge_dxi = [-xi * (1.0 - eta), 0.5 * q, -xi * (1.0 + eta), -0.5 * q];
+    let edge_deta = [-0.5 * p, -(1.0 + xi) * eta, 0.5 * p, -(1.0 - xi) * eta];
+    let (ex, ey) = cartesian(&jinv, &edge_dxi, &edge_deta);
+    add_allman_rows(&mut b, xy, &ex, &ey);
     let tied = |txi: f64, teta: f64, along_xi: bool| {
         let (tn, txd, ted) = quad_shape(txi, teta);
         let j = jacobian(xy, &txd, &ted);
@@ -324,12 +380,7 @@ fn mitc3_operator(xy: &[[f64; 2]], r: f64, s: f64) -> (Mat<f64>, f64) {
     let (dr, ds) = ([-1.0, 1.0, 0.0], [-1.0, 0.0, 1.0]);
     let j = jacobian(xy, &dr, &ds);
     let (jinv, det) = inverse(&j);
-    let nx: Vec<f64> = (0..3)
-        .map(|a| jinv[0][0] * dr[a] + jinv[0][1] * ds[a])
-        .collect();
-    let ny: Vec<f64> = (0..3)
-        .map(|a| jinv[1][0] * dr[a] + jinv[1][1] * ds[a])
-        .collect();
+    let (nx, ny) = cartesian(&jinv, &dr, &ds);
     let mut b = Mat::<f64>::zeros(NSTRAIN, 18);
     fill_standard_rows(&mut b, &n, &nx, &ny);
     let at = |r: f64, s: f64| [1.0 - r - s, r, s];
@@ -356,16 +407,17 @@ fn strain_rotation(phi: f64) -> [[f64; 3]; 3] {
 }
 
 /// Assumed membrane shear of the quad: in the element's intrinsic axes (x_i along ∂x/∂ξ at the
-/// centre, at angle φ from the local x), εxx and εyy are taken at the Gauss point and γxy at
-/// the centre (selective reduced integration of the in-plane shear), then rotated back:
-/// B̃_m = T_ε(−φ) [diag(1,1,0) T_ε(φ) B_m + diag(0,0,1) T_ε(φ) B_m(centre)]. Constant strain
-/// states are unchanged (patch test), the parasitic shear of in-plane bending is removed,
-/// and the hourglass modes keep their εxx, εyy energy.
-fn assume_membrane_shear(b: &mut Mat<f64>, centre: &Mat<f64>, phi: f64) {
+/// centre, at angle φ from the local x), εxx and εyy are taken at the Gauss point and γxy is the
+/// element mean, then rotated back:
+/// B̃_m = T_ε(−φ) [diag(1,1,0) T_ε(φ) B_m + diag(0,0,1) T_ε(φ) B̄_m], B̄_m = (1/A)∫B_m dA.
+/// Constant strain states are unchanged and ∫B̃ᵀσ dA = ∫Bᵀσ dA for constant σ (patch test),
+/// the parasitic shear of in-plane bending is removed, and the hourglass modes keep their εxx,
+/// εyy energy.
+fn assume_membrane_shear(b: &mut Mat<f64>, mean: &Mat<f64>, phi: f64) {
     let (t, back) = (strain_rotation(phi), strain_rotation(-phi));
     for c in 0..b.ncols() {
         let m: [f64; 3] = std::array::from_fn(|i| (0..3).map(|k| t[i][k] * b[(k, c)]).sum());
-        let mc: f64 = (0..3).map(|k| t[2][k] * centre[(k, c)]).sum();
+        let mc: f64 = (0..3).map(|k| t[2][k] * mean[(k, c)]).sum();
         let assumed = [m[0], m[1], mc];
         for i in 0..3 {
             b[(i, c)] = (0..3).map(|k| back[i][k] * assumed[k]).sum();
@@ -407,11 +459,10 @@ impl Flat {
         });
         let phi = tangent[1].atan2(tangent[0]);
         let g = 1.0 / 3.0f64.sqrt();
-        let points = [[-g, -g], [g, -g], [g, g], [-g, g]]
+        let mut points: Vec<GaussPoint> = [[-g, -g], [g, -g], [g, g], [-g, g]]
             .iter()
             .map(|&[xi, eta]| {
-                let (mut b, det) = mitc4_operator(&f.xy, xi, eta);
-                assume_membrane_shear(&mut b, &centroid, phi);
+                let (b, det) = mitc4_operator(&f.xy, xi, eta);
                 GaussPoint {
                     wdet: det,
                     shape: quad_shape(xi, eta).0,
@@ -419,6 +470,20 @@ impl Flat {
                 }
             })
             .collect();
+        let mut mean = Mat::<f64>::zeros(NSTRAIN, 24);
+        for p in &points {
+            mean += &p.b * faer::Scale(p.wdet / area);
+        }
+        for p in &mut points {
+            assume_membrane_shear(&mut p.b, &mean, phi);
+        }
+        // Reported membrane strains: the element mean, which the assumed field shares.
+        let mut centroid = centroid;
+        for r in 0..3 {
+            for c in 0..24 {
+                centroid[(r, c)] = mean[(r, c)];
+            }
+        }
         Ok(Flat {
             nodes: 4,
             t: transformation(&f),
@@ -470,7 +535,10 @@ impl Flat {
 
     /// Tᵀ (Σ w detJ Bᵀ C B) T in the basic system.
     fn stiffness(&self, section: &ShellSection) -> Mat<f64> {
-        let c = constitutive(section);
+        let mut c = constitutive(section);
+        if self.nodes == 3 {
+            c[(8, 8)] *= TRIA_DRILL_SCALE;
+        }
         let n = 6 * self.nodes;
         let mut k = Mat::<f64>::zeros(n, n);
         for p in &self.points {
@@ -577,7 +645,8 @@ fn mass_density(m: &ShellMass) -> [[f64; 6]; 6] {
     r
 }
 
-/// CQUAD4 stiffness (24 × 24, basic system), MITC4 with drilling; linear in `section`.
+/// CQUAD4 stiffness (24 × 24, basic system), MITC4 with the Allman-type drilling membrane;
+/// linear in `section`.
 /// `material_x`: direction of the material x axis (projected onto the element), default
 /// G1→G2.
 pub fn quad4_stiffness(
