@@ -96,17 +96,34 @@ pub fn integrate(
     let mass_lu = sys.mass.partial_piv_lu();
     solve_checked(&mass_lu, &mut rhs, "mass")?;
     a.iter_mut().enumerate().for_each(|(i, x)| *x = rhs[(i, 0)]);
-    let (mut q, mut v) = (q0.to_vec(), v0.to_vec());
-    observe(&StepState { step: 0, time: 0.0, q: &q, v: &v, a: &a });
+    let mut state = State { q: q0.to_vec(), v: v0.to_vec(), a, f };
+    observe(&StepState { step: 0, time: 0.0, q: &state.q, v: &state.v, a: &state.a });
+    let run = Stepping { sys, dt, steps };
     match method {
-        Method::Bdf1 | Method::Bdf2 => bdf(sys, method == Method::Bdf2, dt, steps, &mut q, &mut v, &mut a, &mut f, load, observe),
+        Method::Bdf1 | Method::Bdf2 => bdf(run, method == Method::Bdf2, &mut state, load, observe),
         Method::GeneralizedAlpha { rho_inf } => {
             if !(0.0..=1.0).contains(&rho_inf) {
                 return Err(IntegrationError::SpectralRadius(rho_inf));
             }
-            generalized_alpha(sys, rho_inf, dt, steps, &mut q, &mut v, &mut a, &mut f, load, observe)
+            generalized_alpha(run, rho_inf, &mut state, load, observe)
         }
     }
+}
+
+/// The fixed data of a run.
+#[derive(Clone, Copy)]
+struct Stepping<'a> {
+    sys: LinearSystem<'a>,
+    dt: f64,
+    steps: usize,
+}
+
+/// The evolving state (q, v, a) and the load buffer.
+struct State {
+    q: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    f: Vec<f64>,
 }
 
 fn dot_row(m: MatRef<'_, f64>, i: usize, x: &[f64]) -> f64 {
@@ -130,19 +147,9 @@ fn solve_checked(lu: &PartialPivLu<f64>, rhs: &mut Mat<f64>, what: &'static str)
 /// BDF1 / BDF2 on x = (q, v): with v_k = (c q_k − r_q)/Δt and a_k = (c v_k − r_v)/Δt, where
 /// (c, r) = (1, x_{k−1}) for BDF1 and (3/2, 2x_{k−1} − x_{k−2}/2) for BDF2, the equation of
 /// motion becomes (c²/Δt² M + c/Δt C + K) q_k = f_k + M (c r_q + Δt r_v)/Δt² + C r_q/Δt.
-#[allow(clippy::too_many_arguments)]
-fn bdf(
-    sys: LinearSystem<'_>,
-    second_order: bool,
-    dt: f64,
-    steps: usize,
-    q: &mut [f64],
-    v: &mut [f64],
-    a: &mut [f64],
-    f: &mut [f64],
-    mut load: impl FnMut(f64, &mut [f64]),
-    mut observe: impl FnMut(&StepState<'_>),
-) -> Result<(), IntegrationError> {
+fn bdf(run: Stepping<'_>, second_order: bool, state: &mut State, mut load: impl FnMut(f64, &mut [f64]), mut observe: impl FnMut(&StepState<'_>)) -> Result<(), IntegrationError> {
+    let Stepping { sys, dt, steps } = run;
+    let State { q, v, a, f } = state;
     let n = q.len();
     let factor = |c: f64| effective(sys, c * c / (dt * dt), c / dt, 1.0);
     let first = factor(1.0);
@@ -194,19 +201,9 @@ fn bdf(
 /// Solving for the displacement (not the acceleration) keeps round-off at ε·‖q‖ when stiff
 /// modes with ωΔt ≫ 1 are present: the acceleration form multiplies K by Δt²·a_n, which for
 /// such modes is (ωΔt)² times larger than q and pollutes the slow modes.
-#[allow(clippy::too_many_arguments)]
-fn generalized_alpha(
-    sys: LinearSystem<'_>,
-    rho_inf: f64,
-    dt: f64,
-    steps: usize,
-    q: &mut [f64],
-    v: &mut [f64],
-    a: &mut [f64],
-    f: &mut [f64],
-    mut load: impl FnMut(f64, &mut [f64]),
-    mut observe: impl FnMut(&StepState<'_>),
-) -> Result<(), IntegrationError> {
+fn generalized_alpha(run: Stepping<'_>, rho_inf: f64, state: &mut State, mut load: impl FnMut(f64, &mut [f64]), mut observe: impl FnMut(&StepState<'_>)) -> Result<(), IntegrationError> {
+    let Stepping { sys, dt, steps } = run;
+    let State { q, v, a, f } = state;
     let n = q.len();
     let am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
     let af = rho_inf / (rho_inf + 1.0);
