@@ -79,7 +79,7 @@ fn selection(ctx: &RunContext, sub: &Subcase, lambda: &[f64]) -> Result<Vec<usiz
     let Some(method) = sub.method else { return Ok((0..lambda.len()).collect()) };
     let eigrl = ctx.model.bulk.eigrl.iter().find(|e| e.sid == method).ok_or_else(|| RunError::Case { subcase: sub.id, what: format!("METHOD = {method} selects no EIGRL card") })?;
     let (v1, v2) = (eigrl.v1.unwrap_or(f64::NEG_INFINITY), eigrl.v2.unwrap_or(f64::INFINITY));
-    let mut keep: Vec<usize> = (0..lambda.len()).filter(|&j| (v1..=v2).contains(&lambda_to_hz(lambda[j])) || (eigrl.v1.is_none() && lambda_to_hz(lambda[j]) <= v2)).collect();
+    let mut keep: Vec<usize> = (0..lambda.len()).filter(|&j| (v1..=v2).contains(&lambda_to_hz(lambda[j]))).collect();
     if let Some(nd) = eigrl.nd {
         keep.truncate(nd as usize);
     }
