@@ -235,7 +235,7 @@ mod report {
                 }
                 SubcaseResult::Prom(p) => {
                     let log = &p.log;
-                    println!("subcase {}: pROM of {} DOFs → {} (parameters {}; {} input(s))", sub.id, p.n_full, p.n_red, p.parameters.join(", "), p.inputs);
+                    println!("subcase {}: pROM of {} DOFs → {} (parameters {}; {} input(s), {} sensor(s))", sub.id, p.n_full, p.n_red, p.parameters.join(", "), p.inputs, p.sensors);
                     println!("  samples {}, local bases {} columns, {} after the MAC filter, numerical rank {}", log.samples.len(), log.concatenated, log.mac_kept, log.singular_values.iter().filter(|&&s| s > paraflex::rom::build::RANK_TOL * log.singular_values.first().copied().unwrap_or(0.0)).count());
                     for (size, e) in &log.error_history {
                         println!("  size {size:>5}: FRF change (eq. 3.35) {}", sci(*e, 2));

@@ -179,7 +179,8 @@ fn prom_frf_equals_the_analytic_two_dof_receptance() {
     let (k2, m1, m2, alpha, beta) = (3.0e4, 2.0, 1.0, 0.8, 2.0e-4);
     let bulk = format!(
         "GRID,1,,0.,0.,0.,,23456\nGRID,2,,1.,0.,0.,,23456\nCELAS1,1,10,1,1\nPELAS,10,1.e4\nCELAS1,2,20,1,1,2,1\nPELAS,20,{k2:e}\n\
-         CONM2,11,1,,{m1:?}\nCONM2,12,2,,{m2:?}\nASET1,1,1,2\nPARAM,ALPHA1,{alpha:?}\nPARAM,BETA1,{beta:e}\n"
+         CONM2,11,1,,{m1:?}\nCONM2,12,2,,{m2:?}\nASET1,1,1,2\nPARAM,ALPHA1,{alpha:?}\nPARAM,BETA1,{beta:e}\n\
+         SENSOR,1,A2,ACCEL,2,,2.,0.,0.\nSENSOR,2,D2,DISP,2,,-1.,0.,0.\n"
     );
     let build = format!("SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPMPAR,1,K1,K,10,5.e3,2.e4\nPMOR,1,2,2,100.\n,1\n{bulk}ENDDATA\n");
     let (r, dir) = run_deck(&build);
@@ -196,7 +197,10 @@ fn prom_frf_equals_the_analytic_two_dof_receptance() {
     let g = file.group("results/1/frf").expect("frf group");
     let hz: Vec<f64> = g.dataset("frequency_hz").unwrap().read_raw().unwrap();
     let h: Vec<faer::c64> = g.dataset("H").unwrap().read_raw().unwrap();
-    assert_eq!(h.len(), hz.len() * 4);
+    // outputs: 1:1, 2:1 (the inputs), then A2 (acceleration along +x), D2 (displacement along −x)
+    let outputs: Vec<String> = g.dataset("outputs").unwrap().read_raw::<hdf5_metno::types::VarLenUnicode>().unwrap().iter().map(|s| s.to_string()).collect();
+    assert_eq!(outputs, ["1:1", "2:1", "A2", "D2"]);
+    assert_eq!(h.len(), hz.len() * 8);
     let c = |re: f64, im: f64| faer::c64::new(re, im);
     let mut max_h = 0.0_f64;
     let mut worst = 0.0_f64;
@@ -206,8 +210,11 @@ fn prom_frf_equals_the_analytic_two_dof_receptance() {
         let z = |k: f64, m: f64| c(k - w * w * m, w * (alpha * m + beta * k));
         let (a, b, d) = (z(k11, m1), z(k12, 0.0), z(k22, m2));
         let det = a * d - b * b;
-        let exact = [d / det, -b / det, -b / det, a / det];
-        for (got, want) in h[4 * l..4 * l + 4].iter().zip(exact) {
+        // H[o][i] for o = 1:1, 2:1, A2 = −ω² · 2:1, D2 = −2:1
+        let (h11, h12, h21, h22) = (d / det, -b / det, -b / det, a / det);
+        let acc = c(-w * w, 0.0);
+        let exact = [h11, h12, h21, h22, acc * h21, acc * h22, -h21, -h22];
+        for (got, want) in h[8 * l..8 * l + 8].iter().zip(exact) {
             max_h = max_h.max(want.norm());
             worst = worst.max((got - want).norm());
         }
@@ -225,7 +232,8 @@ fn prom_transient_equals_the_analytic_two_dof_step_response() {
     let (k1, k2, m1, m2, alpha, beta) = (2.5e4, 3.0e4, 2.0, 1.0, 0.8, 2.0e-4);
     let bulk = format!(
         "GRID,1,,0.,0.,0.,,23456\nGRID,2,,1.,0.,0.,,23456\nCELAS1,1,10,1,1\nPELAS,10,{k1:e}\nCELAS1,2,20,1,1,2,1\nPELAS,20,{k2:e}\n\
-         CONM2,11,1,,{m1:?}\nCONM2,12,2,,{m2:?}\nASET1,1,1,2\nPARAM,ALPHA1,{alpha:?}\nPARAM,BETA1,{beta:e}\n"
+         CONM2,11,1,,{m1:?}\nCONM2,12,2,,{m2:?}\nASET1,1,1,2\nPARAM,ALPHA1,{alpha:?}\nPARAM,BETA1,{beta:e}\n\
+         SENSOR,1,A2,ACCEL,2,,2.,0.,0.\nSENSOR,2,D2,DISP,2,,-1.,0.,0.\n"
     );
     let build = format!("SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPMPAR,1,K1,K,10,5.e3,5.e4\nPMOR,1,2,2,100.\n,1\n{bulk}ENDDATA\n");
     let (r, dir) = run_deck(&build);
@@ -261,6 +269,14 @@ fn prom_transient_equals_the_analytic_two_dof_step_response() {
         let peak = time.iter().map(|&t| exact(t)[1].abs()).fold(0.0, f64::max);
         let worst = time.iter().enumerate().map(|(i, &t)| (0..2).map(|d| (u[2 * i + d] - exact(t)[d]).abs()).fold(0.0, f64::max)).fold(0.0, f64::max);
         println!("{what}: max |u − exact| = {worst:.2e}, peak {peak:.3e}");
+        // SENSOR D2 (DISP along −x at grid 2) is −u of DOF 2:1; A2 (ACCEL along +x) is the
+        // acceleration output of 2:1 — the same numbers, to the last bit
+        let sensor = |name: &str| -> Vec<f64> { g.dataset(&format!("sensors/{name}")).unwrap().read_raw().unwrap() };
+        let a: Vec<f64> = g.dataset("acceleration").unwrap().read_raw().unwrap();
+        let (d2, a2) = (sensor("D2"), sensor("A2"));
+        for i in 0..time.len() {
+            assert!((d2[i] + u[2 * i + 1]).abs() <= 1e-15 * peak && (a2[i] - a[2 * i + 1]).abs() <= 1e-12 * a[2 * i + 1].abs().max(1.0), "{what}: sensor rows at step {i}");
+        }
         assert!(worst <= 2e-3 * peak, "{what}: max error {worst:e} vs peak {peak:e}");
     }
 }

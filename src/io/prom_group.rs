@@ -128,6 +128,30 @@ pub fn read_prom_inputs(path: impl AsRef<Path>, n_red: usize) -> Result<(Vec<Str
     Ok((names, Mat::from_fn(n_red, k, |i, j| data[i * k + j])))
 }
 
+/// The sensors of a pROM (`/prom/sensors`): names, kinds (`DISP`, `VEL`, `ACCEL`) and H_r
+/// (s × n_red). None when the build had no SENSOR.
+pub fn read_prom_sensors(path: impl AsRef<Path>, n_red: usize) -> Result<(Vec<String>, Vec<String>, Mat<f64>), IoError> {
+    let path = path.as_ref();
+    let file = hdf5::File::open(path).map_err(|e| IoError::hdf5(path, "open for reading", e))?;
+    let Ok(group) = file.group("prom/sensors") else { return Ok((Vec::new(), Vec::new(), Mat::zeros(0, n_red))) };
+    let strings = |name: &str| -> Result<Vec<String>, IoError> {
+        Ok(group
+            .dataset(name)
+            .and_then(|d| d.read_raw::<hdf5::types::VarLenUnicode>())
+            .map_err(|e| IoError::hdf5(path, format!("read /prom/sensors/{name}"), e))?
+            .iter()
+            .map(|s| s.as_str().to_string())
+            .collect())
+    };
+    let (names, kinds) = (strings("names")?, strings("kind")?);
+    let data = group.dataset("H_r").and_then(|d| d.read_raw::<f64>()).map_err(|e| IoError::hdf5(path, "read /prom/sensors/H_r", e))?;
+    let s = names.len();
+    if data.len() != s * n_red || kinds.len() != s {
+        return Err(IoError::invalid(path, "/prom/sensors", format!("{s} names, {} kinds, {} values for n_red = {n_red}", kinds.len(), data.len())));
+    }
+    Ok((names, kinds, Mat::from_fn(s, n_red, |i, j| data[i * n_red + j])))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

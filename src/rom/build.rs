@@ -131,7 +131,16 @@ impl AffineFom {
 
 /// Build the pROM; `boundary` are the f-set DOFs of the static modes, the FRF-error inputs and
 /// outputs and the pROM's load inputs.
-pub fn build_prom(fom: &AffineFom, boundary: &[usize], settings: &PromSettings, progress: &dyn Progress) -> Result<(Prom, Mat<f64>, BuildLog), BuildError> {
+/// What a build returns: the pROM, its input shapes S_r = Ψᵀ S_b (n_red × inputs), the basis Ψ
+/// (n_f × n_red, for projecting sensor rows; dropped by the caller afterwards) and the log.
+pub struct Built {
+    pub prom: Prom,
+    pub inputs: Mat<f64>,
+    pub basis: Mat<f64>,
+    pub log: BuildLog,
+}
+
+pub fn build_prom(fom: &AffineFom, boundary: &[usize], settings: &PromSettings, progress: &dyn Progress) -> Result<Built, BuildError> {
     let nf = fom.functions.len();
     if fom.stiffness.len() != nf || fom.mass.len() != nf {
         return Err(BuildError::Parts { functions: nf, stiffness: fom.stiffness.len(), mass: fom.mass.len() });
@@ -251,7 +260,7 @@ pub fn build_prom(fom: &AffineFom, boundary: &[usize], settings: &PromSettings, 
     let block = |m: &Mat<f64>| m.as_ref().submatrix(0, 0, size, size).to_owned();
     let prom = Prom { stiffness: full.stiffness.iter().map(block).collect(), mass: full.mass.iter().map(block).collect(), ..full.clone() };
     let inputs = inputs.as_ref().subrows(0, size).to_owned();
-    Ok((prom, inputs, log))
+    Ok(Built { prom, inputs, basis: u.subcols(0, size).to_owned(), log })
 }
 
 #[cfg(test)]
@@ -346,7 +355,7 @@ mod tests {
             stiffness: vec![k.clone(), zero.clone()],
             mass: vec![zero, m.clone()],
         };
-        let (prom, _, log) = build_prom(&fom, &[29], &settings(5), &|_: &str, _: usize, _: usize| {}).unwrap();
+        let Built { prom, log, .. } = build_prom(&fom, &[29], &settings(5), &|_: &str, _: usize, _: usize| {}).unwrap();
         assert!(log.mac_kept < log.concatenated, "{log:?}");
         let (kd, md) = (dense(&k), dense(&m));
         let mut at = prom.workspace();
@@ -373,7 +382,7 @@ mod tests {
             stiffness: vec![k1.clone(), k2.clone(), zero.clone()],
             mass: vec![zero.clone(), zero, m.clone()],
         };
-        let (prom, inputs, log) = build_prom(&fom, &[29, 14], &settings(6), &|_: &str, _: usize, _: usize| {}).unwrap();
+        let Built { prom, inputs, log, .. } = build_prom(&fom, &[29, 14], &settings(6), &|_: &str, _: usize, _: usize| {}).unwrap();
         assert!(log.converged, "{log:?}");
         assert_eq!(inputs.ncols(), 2);
         let mut at = prom.workspace();

@@ -5,16 +5,19 @@
 //! sorted). A line where the reduced dynamic stiffness is singular (undamped resonance) is an
 //! error naming the frequency.
 //!
+//! Outputs: the input DOFs (receptance) and then the pROM's SENSORs (DISP: displacement, VEL:
+//! iω × displacement, ACCEL: −ω² × displacement, per unit force).
+//!
 //! Written: `/results/<id>/frf/{frequency_hz (f), H (f × o × i, complex as h5py), inputs (i),
 //! outputs (o)}` with attributes `rom`, `params`, `values`.
 
-use faer::c64;
+use faer::{Mat, c64};
 
 use super::rom_case::RomAtPoint;
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
 use crate::dynamics::frf::{DenseModel, receptance};
-use crate::io::{read_prom_inputs, set_attr_f64s, set_attr_str, set_attr_strings, write_c64, write_f64, write_strings};
+use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_str, set_attr_strings, write_c64, write_f64, write_strings};
 
 /// What one pROM FRF subcase computed.
 #[derive(Debug, Clone)]
@@ -48,15 +51,26 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     hz.sort_by(f64::total_cmp);
     hz.dedup();
     let omegas: Vec<f64> = hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
-    let model = DenseModel { stiffness: at.stiffness.as_ref(), mass: at.mass.as_ref(), damping: at.damping.as_ref() };
-    let h = receptance(&model, s_r.as_ref(), s_r.as_ref().transpose(), &omegas).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, prom.size())?;
+    // outputs: the input DOFs (receptance), then the sensors (DISP ×1, VEL ×iω, ACCEL ×−ω²)
     let k = names.len();
-    let mut flat = Vec::with_capacity(hz.len() * k * k);
+    let outputs = Mat::<f64>::from_fn(k + sensor_names.len(), prom.size(), |o, j| if o < k { s_r[(j, o)] } else { h_r[(o - k, j)] });
+    let model = DenseModel { stiffness: at.stiffness.as_ref(), mass: at.mass.as_ref(), damping: at.damping.as_ref() };
+    let h = receptance(&model, s_r.as_ref(), outputs.as_ref(), &omegas).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let factor = |o: usize, w: f64| -> c64 {
+        match o.checked_sub(k).map(|s| sensor_kinds[s].as_str()) {
+            Some("VEL") => c64::new(0.0, w),
+            Some("ACCEL") => c64::new(-w * w, 0.0),
+            _ => c64::new(1.0, 0.0),
+        }
+    };
+    let n_out = outputs.nrows();
+    let mut flat = Vec::with_capacity(hz.len() * n_out * k);
     let mut peak = (0.0_f64, 0.0);
-    for (hw, f) in h.iter().zip(&hz) {
-        for o in 0..k {
+    for ((hw, f), w) in h.iter().zip(&hz).zip(&omegas) {
+        for o in 0..n_out {
             for i in 0..k {
-                let z: c64 = hw[(o, i)];
+                let z: c64 = hw[(o, i)] * factor(o, *w);
                 if z.norm() > peak.0 {
                     peak = (z.norm(), *f);
                 }
@@ -66,10 +80,11 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     }
     let group = ctx.output.group(&format!("results/{id}/frf"))?;
     write_f64(&group, "frequency_hz", &hz, &[hz.len()])?;
-    write_c64(&group, "H", &flat, &[hz.len(), k, k])?;
+    write_c64(&group, "H", &flat, &[hz.len(), n_out, k])?;
     let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
     write_strings(&group, "inputs", &name_refs)?;
-    write_strings(&group, "outputs", &name_refs)?;
+    let output_refs: Vec<&str> = names.iter().chain(&sensor_names).map(String::as_str).collect();
+    write_strings(&group, "outputs", &output_refs)?;
     set_attr_str(&group, "rom", &path.display().to_string())?;
     let params: Vec<&str> = prom.parameters.iter().map(|q| q.name.as_str()).collect();
     set_attr_strings(&group, "params", &params)?;

@@ -8,7 +8,8 @@
 //! other with one factorization each; output every NO steps.
 //!
 //! Written: `/results/<id>/transient/{time (t), displacement, velocity, acceleration (t × k)}`
-//! at the pROM's input DOFs (`outputs`, k names), attributes `rom`, `params`, `values`, `method`.
+//! at the pROM's input DOFs (`outputs`, k names), `sensors/<name> (t)` for the pROM's SENSORs
+//! (DISP from q, VEL from q̇, ACCEL from q̈), attributes `rom`, `params`, `values`, `method`.
 
 use faer::Mat;
 
@@ -17,7 +18,7 @@ use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
 use crate::dynamics::integrators::{LinearSystem, Method, integrate};
 use crate::dynamics::table::Table;
-use crate::io::{read_prom_inputs, set_attr_f64s, set_attr_str, set_attr_strings, write_f64, write_strings};
+use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_str, set_attr_strings, write_f64, write_strings};
 
 /// What one pROM transient subcase computed.
 #[derive(Debug, Clone)]
@@ -49,6 +50,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let b = &ctx.model.bulk;
     let RomAtPoint { path, prom, p, at, extrapolated } = RomAtPoint::load(ctx, sub)?;
     let (names, s_r) = read_prom_inputs(&path, prom.size())?;
+    let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, prom.size())?;
     let sid = sub.tstep.ok_or_else(|| case("SOL TRANSIENT needs TSTEP = <sid> in case control".into()))?;
     let tstep = b.tstep.iter().find(|t| t.sid == sid).ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
     let (method, method_name) = match b.tinteg.iter().find(|t| t.id == sid) {
@@ -69,6 +71,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
     let mut t0 = 0.0;
     let (mut time, mut disp, mut vel, mut acc) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut sensor_series: Vec<Vec<f64>> = vec![Vec::new(); sensor_names.len()];
     let project = |x: &[f64], out: &mut Vec<f64>| {
         for j in 0..k {
             out.push((0..n).map(|i| s_r[(i, j)] * x[i]).sum());
@@ -95,6 +98,14 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
                 project(s.q, &mut disp);
                 project(s.v, &mut vel);
                 project(s.a, &mut acc);
+                for (r, series) in sensor_series.iter_mut().enumerate() {
+                    let x = match sensor_kinds[r].as_str() {
+                        "VEL" => s.v,
+                        "ACCEL" => s.a,
+                        _ => s.q,
+                    };
+                    series.push((0..n).map(|i| h_r[(r, i)] * x[i]).sum());
+                }
             }
             q_end.copy_from_slice(s.q);
             v_end.copy_from_slice(s.v);
@@ -114,6 +125,12 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     write_f64(&group, "acceleration", &acc, &[rows, k])?;
     let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
     write_strings(&group, "outputs", &name_refs)?;
+    if !sensor_names.is_empty() {
+        let sg = ctx.output.group(&format!("results/{id}/transient/sensors"))?;
+        for (name, series) in sensor_names.iter().zip(&sensor_series) {
+            write_f64(&sg, name, series, &[series.len()])?;
+        }
+    }
     set_attr_str(&group, "rom", &path.display().to_string())?;
     set_attr_str(&group, "method", &method_name)?;
     let params: Vec<&str> = prom.parameters.iter().map(|q| q.name.as_str()).collect();
