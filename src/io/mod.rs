@@ -5,8 +5,10 @@
 //! - [`model_group`]: [`write_model`] fills `/model` from [`MeshArrays`](crate::model::MeshArrays).
 //! - [`xdmf`]: [`write_xdmf`] writes `<out>.xdmf` next to the HDF5 file for ParaView.
 //! - [`prom_group`]: [`write_prom`] / [`read_prom`] for the `/prom` group of a pROM artifact.
+//! - [`csv_table`]: two columns of a CSV file (TABLEF).
 //! - [`info`]: [`describe`] summarises any paraflex HDF5 file (`paraflex info`).
 
+pub mod csv_table;
 pub mod hdf5_file;
 pub mod info;
 pub mod model_group;

@@ -4,7 +4,8 @@
 //!
 //! Loads: `DLOAD = sid` selects a DLOAD combination or a TLOAD1 directly; each TLOAD1 takes its
 //! DAREA entries, which must name pROM input DOFs (`GRID:component` of `/prom/inputs`), and its
-//! TABLED1 F(t − DELAY) (end values held outside the table). TSTEP intervals run one after the
+//! TABLED1 or TABLEF (CSV, path relative to the file holding the card) F(t − DELAY), end values
+//! held outside the table. TSTEP intervals run one after the
 //! other with one factorization each; output every NO steps.
 //!
 //! Written: `/results/<id>/transient/{time (t), displacement, velocity, acceleration (t × k)}`
@@ -18,6 +19,7 @@ use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
 use crate::dynamics::integrators::{LinearSystem, Method, integrate};
 use crate::dynamics::table::Table;
+use crate::io::csv_table::read_columns;
 use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_str, set_attr_strings, write_f64, write_strings};
 
 /// What one pROM transient subcase computed.
@@ -154,10 +156,14 @@ fn load_terms(ctx: &RunContext, sid: u32, names: &[String], s_r: &Mat<f64>) -> R
             return Err(format!("DLOAD {sid}: load set {set} has no TLOAD1"));
         }
         for t in tloads {
-            let table = match b.tabled1.iter().find(|x| x.id == t.tid) {
-                Some(x) => Table::new(&x.points).map_err(|e| format!("TABLED1 {}: {e}", t.tid))?,
-                None if b.tablef.iter().any(|x| x.id == t.tid) => return Err(format!("TLOAD1 {}: TABLEF {} (CSV) loads are not read in this version; use a TABLED1", t.sid, t.tid)),
-                None => return Err(format!("TLOAD1 {}: TID {} is no TABLED1", t.sid, t.tid)),
+            let table = match (b.tabled1.iter().find(|x| x.id == t.tid), b.tablef.iter().find(|x| x.id == t.tid)) {
+                (Some(x), _) => Table::new(&x.points).map_err(|e| format!("TABLED1 {}: {e}", t.tid))?,
+                (None, Some(x)) => {
+                    let csv = x.loc.file.parent().map_or_else(|| std::path::PathBuf::from(&x.path), |dir| dir.join(&x.path));
+                    let points = read_columns(&csv, &x.tcol, &x.ycol).map_err(|e| format!("TABLEF {}: {e}", t.tid))?;
+                    Table::new(&points).map_err(|e| format!("TABLEF {} ({}): {e}", t.tid, csv.display()))?
+                }
+                (None, None) => return Err(format!("TLOAD1 {}: TID {} is no TABLED1 or TABLEF", t.sid, t.tid)),
             };
             let mut shape = vec![0.0; s_r.nrows()];
             let mut any = false;
