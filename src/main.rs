@@ -9,7 +9,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use paraflex::deck::{Deck, DeckErrors, Warning};
 use paraflex::model::{CheckSummary, Model};
-use paraflex::sequence::{self, RunContext, RunOptions, Sequence};
+use paraflex::sequence::{self, RunContext, RunOptions};
 use std::time::Instant;
 
 #[derive(Parser)]
@@ -146,8 +146,7 @@ mod commands {
         let (deck, model) = load_model(path)?;
         print_warnings(&model.warnings);
         let out = output.map(Path::to_path_buf).unwrap_or_else(|| path.with_extension("h5"));
-        let available = deck.executive.sol.as_ref().and_then(|(sol, _)| Sequence::of_solution(*sol));
-        if available.is_none() {
+        if let Err(reason) = sequence::runnable(&deck, &model) {
             match write_model_file(&deck, &model, &out) {
                 Ok(written) => eprintln!("wrote the model to {}", written.display()),
                 Err(e) => {
@@ -155,12 +154,7 @@ mod commands {
                     return Err(Failure(2));
                 }
             }
-            match &deck.executive.sol {
-                Some((sol, text)) => {
-                    eprintln!("error: SOL {text} ({}) is not available in this version of paraflex", sol.name());
-                }
-                None => eprintln!("error: the deck has no SOL statement; nothing to run"),
-            }
+            eprintln!("error: {reason}");
             return Err(Failure(3));
         }
         let io_failure = |e: paraflex::io::IoError| {

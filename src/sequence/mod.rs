@@ -189,18 +189,27 @@ pub enum RunError {
     Io(#[from] IoError),
 }
 
+/// The sequence that runs `model`'s SOL, or why none can: no SOL, a SOL without a driver, or
+/// a frequency / time response on the full model (this version runs those on pROMs only).
+/// The CLI asks before running, to write the model and exit with "not available".
+pub fn runnable(deck: &Deck, model: &Model) -> Result<Sequence, RunError> {
+    let (sol, text) = deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
+    let sequence = Sequence::of_solution(*sol).ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
+    if matches!(sequence, Sequence::Frf | Sequence::Transient) && !rom_case::applies(model) {
+        return Err(RunError::NotAvailable(format!("{text} ({}) on the full model (this version runs it on pROM artifacts: every subcase needs ROM = 'file.h5')", sol.name())));
+    }
+    Ok(sequence)
+}
+
 /// Runs the deck's solution sequence (see the module documentation).
 pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
-    let (sol, text) = ctx.deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
-    let sequence = Sequence::of_solution(*sol).ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
+    let sequence = runnable(ctx.deck, ctx.model)?;
     let mut clock = Clock::default();
-    let subcases = match (sequence, rom_case::applies(ctx)) {
+    let subcases = match (sequence, rom_case::applies(ctx.model)) {
         (Sequence::Modal, true) => rom_modal::run(ctx, &mut clock)?,
         (Sequence::Frf, true) => rom_frf::run(ctx, &mut clock)?,
         (Sequence::Transient, true) => rom_transient::run(ctx, &mut clock)?,
-        (Sequence::Frf | Sequence::Transient, false) => {
-            return Err(RunError::NotAvailable(format!("{text} ({}) on the full model (this version runs it on pROM artifacts: every subcase needs ROM = 'file.h5')", sol.name())));
-        }
+        (Sequence::Frf | Sequence::Transient, false) => return Err(RunError::NotAvailable(format!("{} on the full model", sequence.name()))),
         (Sequence::Statics | Sequence::Modal | Sequence::Prom, _) => {
             let structure = Structure::build(ctx, &mut clock)?;
             match sequence {

@@ -7,11 +7,12 @@ use std::path::PathBuf;
 use super::{RunContext, RunError};
 use crate::deck::case_control::Subcase;
 use crate::io::read_prom;
+use crate::model::Model;
 use crate::rom::prom::{Prom, PromEvaluation};
 
 /// True when every subcase reads a pROM (no full model is needed).
-pub fn applies(ctx: &RunContext) -> bool {
-    !ctx.model.subcases.is_empty() && ctx.model.subcases.iter().all(|s| s.rom.is_some())
+pub fn applies(model: &Model) -> bool {
+    !model.subcases.is_empty() && model.subcases.iter().all(|s| s.rom.is_some())
 }
 
 /// A pROM evaluated at a subcase's parameter values.
