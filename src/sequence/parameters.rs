@@ -27,7 +27,7 @@ pub struct Parameters {
 }
 
 /// The entity a PMPAR acts on.
-pub fn target_of(p: &Pmpar) -> ParamTarget {
+fn target_of(p: &Pmpar) -> ParamTarget {
     match p.kind {
         PmparKind::E | PmparKind::Rho | PmparKind::Nu => ParamTarget::Material(p.refid),
         PmparKind::Theta | PmparKind::Tply => ParamTarget::Pcomp(p.refid),
@@ -106,15 +106,5 @@ impl Parameters {
     /// Weights of an operator's parts at parameter values `p` (one per PMPAR, card order).
     pub fn weights(&self, op: &AffineOperator, p: &[f64]) -> Vec<f64> {
         op.weights(|key| self.function(key).value(p))
-    }
-
-    /// The functions of an operator's parts, in part order.
-    pub fn functions(&self, op: &AffineOperator) -> Vec<AffineFunction> {
-        op.keys().into_iter().map(|k| self.function(k)).collect()
-    }
-
-    /// Nominal card values of `target` (what its coefficients are frozen at when unbound).
-    pub fn fixed(&self, target: ParamTarget) -> Option<CoefficientValues> {
-        self.fixed.get(&target).copied()
     }
 }
