@@ -379,3 +379,23 @@ fn rigid_errors_are_typed() {
     let bad = AffineOperator::assemble(Arc::new(grid_block_pattern(1, [&[0usize][..]]).expect("p")), &[spring(1., 0, 40)], false);
     assert_eq!(bad.unwrap_err(), AssemblyError::DofOutOfRange { index: 40, size: 6 });
 }
+
+/// A solid element (translations of grids 0 and 1) and a spring between T3 of grid 1 and R1 of
+/// grid 2: grids 0–1 couple in 3 × 3 translation blocks, their rotations keep only a diagonal
+/// entry, grid 2's R1 (its only active component) meets grid 1's translations and nothing else.
+#[test]
+fn pattern_blocks_hold_only_active_components() {
+    let solid: Vec<usize> = (0..3).chain(6..9).collect();
+    let spring = [8usize, 15];
+    let p = grid_block_pattern(3, [solid.as_slice(), &spring[..]]).expect("pattern");
+    let has = |r: usize, c: usize| super::pattern::entry_position(&p, r, c).is_some();
+    assert!(has(0, 8) && has(8, 0) && has(7, 2));
+    for d in 0..18 {
+        assert!(has(d, d), "diagonal {d}");
+    }
+    assert!(!has(3, 0) && !has(0, 3) && !has(3, 4) && !has(9, 6), "rotations of solid grids are not coupled");
+    assert!(has(8, 15) && has(15, 8) && has(15, 6) && !has(15, 0) && !has(15, 12) && !has(14, 15));
+    // grids 0–1: 6 × 6 translations; grid 2 R1 × grid 1's 3 translations both ways and its
+    // diagonal; the 11 other diagonals (rotations of grids 0, 1; grid 2 but R1)
+    assert_eq!(p.nnz(), 36 + 2 * 3 + 1 + 11);
+}
