@@ -399,3 +399,24 @@ fn pattern_blocks_hold_only_active_components() {
     // diagonal; the 11 other diagonals (rotations of grids 0, 1; grid 2 but R1)
     assert_eq!(p.nnz(), 36 + 2 * 3 + 1 + 11);
 }
+
+/// A translational (3·n) element matrix on grids with CD frames is rotated like the
+/// translational block of the same matrix in the 6·n layout, and contributes only T1–T3.
+#[test]
+fn translational_contributions_rotate_like_the_six_dof_layout() {
+    let (c, s) = (0.6_f64, 0.8_f64);
+    let frames = GridFrames::from_rotations(vec![None, Some([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]), Some([[1.0, 0.0, 0.0], [0.0, c, s], [0.0, -s, c]])]);
+    let nodes = [2usize, 0, 1];
+    let k3 = Mat::<f64>::from_fn(9, 9, |i, j| 1.0 + (i * 9 + j).min(j * 9 + i) as f64 + if i == j { 50.0 } else { 0.0 });
+    let six = |i: usize| 6 * (i / 3) + i % 3;
+    let k6 = Mat::<f64>::from_fn(18, 18, |i, j| if i % 6 < 3 && j % 6 < 3 { k3[(3 * (i / 6) + i % 6, 3 * (j / 6) + j % 6)] } else { 0.0 });
+    let t = Contribution::element(&frames, &nodes, vec![(ParamKey::Constant, k3)]);
+    let f = Contribution::element(&frames, &nodes, vec![(ParamKey::Constant, k6)]);
+    assert_eq!(t.dofs, vec![12, 13, 14, 0, 1, 2, 6, 7, 8]);
+    for i in 0..9 {
+        assert_eq!(t.dofs[i], f.dofs[six(i)]);
+        for j in 0..9 {
+            assert!((t.parts[0].1[(i, j)] - f.parts[0].1[(six(i), six(j))]).abs() < 1e-12);
+        }
+    }
+}

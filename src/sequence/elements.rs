@@ -492,12 +492,11 @@ fn solid_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<
     let lumping = if ctx.lumped { solid::MassLumping::Lumped } else { solid::MassLumping::Consistent };
     let mass = solid::affine_mass(kind, xyz, lumping, mass_split).map_err(|x| err(e, x))?;
     let nominal = CoefficientValues { e: m.e, nu: m.nu, rho: m.rho, ..Default::default() };
-    let k6 = solid::expand_affine_to_six_dofs(&k);
-    let m6 = solid::expand_affine_to_six_dofs(&mass);
+    // 3·n translational matrices: the contributions carry T1–T3 of each grid only
     let binding = acted_on(ctx.params, target);
     Ok(Built {
-        k: Some(Contribution::from_affine(frames, &e.nodes, &k6, bind(binding, nominal))),
-        m: (m.rho != 0.0 || binding.is_some()).then(|| Contribution::from_affine(frames, &e.nodes, &m6, bind(binding, nominal))),
+        k: Some(Contribution::from_affine(frames, &e.nodes, &k, bind(binding, nominal))),
+        m: (m.rho != 0.0 || binding.is_some()).then(|| Contribution::from_affine(frames, &e.nodes, &mass, bind(binding, nominal))),
         shell: None,
     })
 }
