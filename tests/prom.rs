@@ -89,17 +89,29 @@ fn single_material_e_rho_prom_equals_the_full_model_everywhere() {
 /// accepting a wrong basis (a missing mode shape is off by several percent).
 #[test]
 fn angle_ply_theta_prom_tracks_the_full_model_inside_the_box() {
+    angle_ply_theta_prom_with("ATTACH", &[33.0, 71.0]);
+}
+
+/// The same with Craig–Bampton static modes (`STATIC = CONSTR`): fixed-interface modes with the
+/// three tip grids' T3 held, and their constraint modes; same bound and argument (one angle
+/// to keep the debug run short).
+#[test]
+fn angle_ply_theta_craig_bampton_prom_tracks_the_full_model_inside_the_box() {
+    angle_ply_theta_prom_with("CONSTR", &[71.0]);
+}
+
+fn angle_ply_theta_prom_with(statics: &str, thetas: &[f64]) {
     let laminate = |theta: &str| {
         format!("MAT8,7,1.4e11,1.e10,.3,5.e9,5.e9,3.e9,1600.\nPCOMP,1\n,7,2.5e-4,{theta},,7,2.5e-4,-{theta}\n,7,2.5e-4,-{theta},,7,2.5e-4,{theta}\n")
     };
     let pmpar = "PMPAR,1,TH,THETA,1,0.,90.\n";
     // 60 FRF lines instead of the default 200 keep the debug-mode size selection short
-    let pmor = "PMOR,1,8,10,3000.,1.e-3,4\n,1,ATTACH,KEEP,60\n";
-    for theta in [33.0, 71.0] {
-        let (reduced, _) = prom_modes(&laminate("20."), pmpar, pmor, &format!("PVAL,1,TH,{theta:?}\n"), 4);
+    let pmor = format!("PMOR,1,8,10,3000.,1.e-3,4\n,1,{statics},KEEP,60\n");
+    for &theta in thetas {
+        let (reduced, _) = prom_modes(&laminate("20."), pmpar, &pmor, &format!("PVAL,1,TH,{theta:?}\n"), 4);
         let full = full_modes(&laminate(&format!("{theta:?}")), 4);
         let errors: Vec<String> = reduced.iter().zip(&full).map(|(r, f)| format!("{:+.2e}", (r - f) / f)).collect();
-        println!("Θ = {theta}: pROM − full (relative) {errors:?}");
+        println!("STATIC = {statics}, Θ = {theta}: pROM − full (relative) {errors:?}");
         for (r, f) in reduced.iter().zip(&full) {
             assert!((r - f).abs() <= 5e-3 * f, "Θ = {theta}: pROM {reduced:?} vs full {full:?}");
         }

@@ -111,7 +111,7 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
     let (k_ff, m_ff) = c.affine_ff(st)?;
     let fom = affine_fom(st, &k_ff, &m_ff)?;
     let (boundary, names) = boundary(ctx, &c, pmor, id)?;
-    let settings = settings(pmor, model.params.alpha1, model.params.beta1)?;
+    let settings = settings(pmor, model.params.alpha1, model.params.beta1);
     let Built { prom, inputs, basis, log } = clock
         .time(format!("subcase {id}: pROM build"), || build_prom(&fom, &boundary, &settings, ctx.progress))
         .map_err(|e| RunError::Case { subcase: id, what: format!("pROM build: {e}") })?;
@@ -198,14 +198,14 @@ fn boundary(ctx: &RunContext, c: &Constrained, pmor: &Pmor, subcase: u32) -> Res
     Ok((out, names))
 }
 
-fn settings(p: &Pmor, alpha: f64, beta: f64) -> Result<PromSettings, RunError> {
+fn settings(p: &Pmor, alpha: f64, beta: f64) -> PromSettings {
     let statics = match p.static_modes {
-        "ATTACH" => StaticModes::Attach,
+        "CONSTR" => StaticModes::Constr,
         "NONE" => StaticModes::None,
-        other => return Err(RunError::NotAvailable(format!("PMOR {} STATIC = {other} (Craig–Bampton constraint modes); use ATTACH or NONE", p.id))),
+        _ => StaticModes::Attach,
     };
     let rigid = if p.rigid == "REMOVE" { RigidModes::Remove } else { RigidModes::Keep };
-    Ok(PromSettings {
+    PromSettings {
         n_samples: p.nsamp as usize,
         n_modes: p.nmodes as usize,
         fmax_hz: p.fmax,
@@ -219,7 +219,7 @@ fn settings(p: &Pmor, alpha: f64, beta: f64) -> Result<PromSettings, RunError> {
         rigid,
         alpha,
         beta,
-    })
+    }
 }
 
 fn write_log(ctx: &RunContext, log: &BuildLog) -> Result<(), IoError> {
