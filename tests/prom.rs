@@ -145,6 +145,8 @@ fn artifact_is_described_with_parameters_and_inputs() {
     assert_eq!(prom.ranges, vec![(1.0e11, 3.0e11)]);
     assert_eq!(prom.nominal, vec![2.1e11]);
     assert_eq!(prom.inputs, vec!["13:3", "39:3", "65:3"]);
+    // RIGID = KEEP (default): no multibody body, no /prom/mass
+    assert!(paraflex::io::read_prom_masses(dir.path().join("out.h5")).expect("read").is_none());
     let text = summary.to_string();
     assert!(text.contains("param     E in [1e11, 3e11], nominal 2.1e11") && text.contains("inputs    3"), "{text}");
 }
@@ -305,5 +307,69 @@ fn prom_transient_equals_the_analytic_two_dof_step_response() {
             assert!((d2[i] + u[2 * i + 1]).abs() <= 1e-15 * peak && (a2[i] - a[2 * i + 1]).abs() <= 1e-12 * a[2 * i + 1].abs().max(1.0), "{what}: sensor rows at step {i}");
         }
         assert!(worst <= 2e-3 * peak, "{what}: max error {worst:e} vs peak {peak:e}");
+    }
+}
+
+/// Affine nodal masses for the multibody step (thesis eq. 4.1–4.2, A.11; `RIGID = REMOVE`):
+/// the free plate of [`plate`] with its left half on MAT1 1 (ρ₁ a parameter), its right half on
+/// MAT1 2 (ρ₂ = 2700 fixed) and a CONM2 at the tip (m_c a parameter). At random (ρ₁, m_c)
+/// the sums Σ_k f_k(p) m_j^k of `/prom/mass` must equal the lumped masses assembled by hand:
+/// a CQUAD4 of area A gives ρtA/4 to each of its grids (∫ρ N_j dA of a bilinear square), the
+/// CONM2 its m. Total mass and centre of mass follow. Bound 1e-12 relative: sums of ≤ 65
+/// round-off-exact terms.
+#[test]
+fn affine_nodal_masses_equal_the_lumped_masses_at_any_parameters() {
+    let (nx, ny, h, t) = (12usize, 4usize, 0.025, 0.002);
+    let tip = 1 + nx + (nx + 1) * 2;
+    let property = format!("PSHELL,1,1,{t:?}\nPSHELL,2,2,{t:?}\nMAT1,1,7.e10,,0.33,2000.\nMAT1,2,7.e10,,0.33,2700.\nCONM2,100,{tip},,0.05\n");
+    let mesh: String = plate(&property)
+        .lines()
+        .map(|line| match line.strip_prefix("CQUAD4,") {
+            Some(rest) => {
+                let (eid, tail) = rest.split_once(",1,").expect("CQUAD4,eid,1,...");
+                let right = (eid.parse::<usize>().expect("eid") - 1) % nx >= nx / 2;
+                format!("CQUAD4,{eid},{},{tail}\n", if right { 2 } else { 1 })
+            }
+            None => format!("{line}\n"),
+        })
+        .collect();
+    let pmpar = "PMPAR,1,RHO1,RHO,1,1500.,2500.\nPMPAR,2,MC,MASS,100,0.02,0.08\n";
+    let build = format!("SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\n{pmpar}PMOR,1,2,4,500.,1.e-3,2\n,,,REMOVE,20\n{mesh}ENDDATA\n");
+    let (r, dir) = run_deck(&build);
+    r.expect("SOL PROM");
+    let artifact = dir.path().join("out.h5");
+    let (prom, _) = paraflex::io::read_prom(&artifact).expect("pROM");
+    let (grids, masses) = paraflex::io::read_prom_masses(&artifact).expect("read").expect("/prom/mass with RIGID = REMOVE");
+    for (rho1, mc) in [(1733.0, 0.031), (2461.5, 0.077), (3100.0, 0.01)] {
+        let f: Vec<f64> = prom.functions.iter().map(|g| g.value(&[rho1, mc])).collect();
+        let at = |values: &[f64]| -> f64 { values.iter().zip(&f).map(|(v, w)| v * w).sum() };
+        // by hand
+        let mut want = vec![0.0; grids.len()];
+        let index = |i: usize, j: usize| i + (nx + 1) * j;
+        for j in 0..ny {
+            for i in 0..nx {
+                let rho = if i >= nx / 2 { 2700.0 } else { rho1 };
+                for g in [index(i, j), index(i + 1, j), index(i + 1, j + 1), index(i, j + 1)] {
+                    want[g] += rho * t * h * h / 4.0;
+                }
+            }
+        }
+        want[tip - 1] += mc;
+        assert_eq!(grids, (1..=want.len() as u32).collect::<Vec<_>>());
+        let got: Vec<f64> = (0..grids.len()).map(|g| at(&masses.nodal.iter().map(|m| m[g]).collect::<Vec<_>>())).collect();
+        let scale = want.iter().copied().fold(0.0, f64::max);
+        for (g, (a, b)) in got.iter().zip(&want).enumerate() {
+            assert!((a - b).abs() <= 1e-12 * scale, "ρ₁ = {rho1}, m_c = {mc}, grid {}: {a} vs {b}", g + 1);
+        }
+        let total = (rho1 + 2700.0) * t * (nx as f64 * h / 2.0) * (ny as f64 * h) + mc;
+        assert!((at(&masses.total()) - total).abs() <= 1e-12 * total);
+        let half = nx as f64 * h / 2.0;
+        let cx = (rho1 * t * half * 0.1 * half / 2.0 + 2700.0 * t * half * 0.1 * 1.5 * half + mc * 0.3) / total;
+        let cy = 0.05;
+        let moment = masses.first_moment();
+        let centre: Vec<f64> = (0..3).map(|i| at(&moment.iter().map(|m| m[i]).collect::<Vec<_>>()) / at(&masses.total())).collect();
+        for (c, w) in centre.iter().zip([cx, cy, 0.0]) {
+            assert!((c - w).abs() <= 1e-12 * 0.3, "centre {centre:?} vs ({cx}, {cy}, 0)");
+        }
     }
 }
