@@ -5,14 +5,18 @@
 //! - [`model_group`]: [`write_model`] fills `/model` from [`MeshArrays`](crate::model::MeshArrays).
 //! - [`xdmf`]: [`write_xdmf`] writes `<out>.xdmf` next to the HDF5 file for ParaView.
 //! - [`prom_group`]: [`write_prom`] / [`read_prom`] for the `/prom` group of a pROM artifact.
+//! - [`matrix_market`], [`prom_lsq`]: sampled matrices from another FE code and the manifest of
+//!   the least-squares route (`paraflex prom-lsq`).
 //! - [`csv_table`]: two columns of a CSV file (TABLEF).
 //! - [`info`]: [`describe`] summarises any paraflex HDF5 file (`paraflex info`).
 
 pub mod csv_table;
 pub mod hdf5_file;
 pub mod info;
+pub mod matrix_market;
 pub mod model_group;
 pub mod prom_group;
+pub mod prom_lsq;
 pub mod xdmf;
 
 pub use hdf5_file::{
