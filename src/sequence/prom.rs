@@ -115,7 +115,7 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
     let keys = affine_keys(&k_ff, &m_ff);
     let fom = affine_fom(st, &keys, &k_ff, &m_ff)?;
     let masses = match settings_rigid(pmor) {
-        RigidModes::Remove => Some(AffineMasses::lump(&st.m_gg, &keys, &st.frames, model.grids.iter().map(|g| g.xyz).collect())?),
+        RigidModes::Remove => Some(AffineMasses::lump(st.mass_gg(), &keys, &st.frames, model.grids.iter().map(|g| g.xyz).collect())?),
         RigidModes::Keep => None,
     };
     let (boundary, names) = boundary(ctx, &c, pmor, id)?;
