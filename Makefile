@@ -12,7 +12,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcursor1 libxfixes3 \
 	libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1
 
-.PHONY: demo test deps sysdeps venv build bench-read clean
+.PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom clean
 
 demo: deps
 	$(CARGO) build --release --quiet
@@ -52,6 +52,20 @@ meshes-full: deps
 bench-read: deps
 	$(CARGO) build --release --quiet
 	bash tools/bench/read_speed.sh
+
+# pROM speed against error (tools/bench/prom_speed.py; README "Speed against error"), and the
+# full-size pROM validation plots (error maps, angle sweep) — not part of the tests.
+bench-prom: deps
+	$(CARGO) build --release --quiet
+	$(CARGO) build --release --quiet --example prom_eval
+	$(PY) tools/bench/prom_speed.py
+
+validate-prom: deps
+	$(CARGO) build --release --quiet
+	$(PY) tools/prom/error_map.py decks/blade/blade_prom_e_rho.dat --pair 71:3 --grid 11 -o docs/img/blade_prom_error_map.png
+	$(PY) tools/prom/error_map.py decks/prom/blade_prom_e_rho_10.dat --pair 71:3 --grid 11 -o docs/img/blade_prom_error_map_10.png
+	$(PY) tools/prom/angle_sweep.py decks/prom/l2r_composite_prom_theta_90.dat decks/prom/l2r_composite_prom_theta_45.dat \
+		--pair 1000002:3 --step 2.5 -o docs/img/l2r_composite_prom_angle_sweep.png
 
 clean:
 	$(CARGO) clean

@@ -37,6 +37,15 @@ enum Command {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
+    /// Affine components of stiffness and mass matrices sampled by another FE code (Matrix
+    /// Market files listed in a CSV manifest with the affine function values), by least squares.
+    PromLsq {
+        /// The manifest: header `K, M, <function names>`, one row per sample.
+        manifest: PathBuf,
+        /// Output file (default: the manifest name with .h5).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
     /// Describe a paraflex HDF5 file.
     Info {
         /// The HDF5 file.
@@ -106,6 +115,7 @@ fn main() -> ExitCode {
         Command::Check { deck, json } => commands::check(&deck, json),
         Command::Run { deck, output } => commands::run(&deck, output.as_deref()),
         Command::Info { file, json } => commands::info(&file, json),
+        Command::PromLsq { manifest, output } => commands::prom_lsq(&manifest, output.as_deref()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -192,6 +202,26 @@ mod commands {
             deck: Some(deck.path.display().to_string()),
             sol: deck.executive.sol.as_ref().map(|(sol, _)| sol.name().to_string()),
         }
+    }
+
+    pub fn prom_lsq(manifest: &Path, output: Option<&Path>) -> Result<(), Failure> {
+        let fail = |e: &dyn std::fmt::Display| {
+            eprintln!("error: {e}");
+            Failure(2)
+        };
+        let (m, fit) = paraflex::io::prom_lsq::fit_manifest(manifest).map_err(|e| fail(&e))?;
+        let out = output.map(Path::to_path_buf).unwrap_or_else(|| manifest.with_extension("h5"));
+        let written = (|| -> Result<PathBuf, paraflex::io::IoError> {
+            let file = paraflex::io::OutputFile::create(&out)?;
+            paraflex::io::prom_lsq::write_lsq(&file.group("lsq")?, &m.functions, &fit)?;
+            file.commit()
+        })()
+        .map_err(|e| fail(&e))?;
+        println!("{}: {} samples, functions {}", manifest.display(), m.samples.len(), m.functions.join(", "));
+        println!("  n {}, nnz {}", fit.stiffness[0].nrows(), fit.stiffness[0].nnz());
+        println!("  max relative residual  K {:.1e}  M {:.1e}", fit.residual_stiffness, fit.residual_mass);
+        eprintln!("wrote {}", written.display());
+        Ok(())
     }
 
     pub fn info(file: &Path, json: bool) -> Result<(), Failure> {

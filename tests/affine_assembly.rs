@@ -8,11 +8,9 @@
 //! afterwards vs. parameters inside the kernels), i.e. a few ulps per entry times the number of
 //! elements meeting at a DOF.
 
-use std::io::Write;
-use std::sync::Arc;
+mod common;
 
-use paraflex::assembly::pattern::grid_block_pattern;
-use paraflex::assembly::{AffineOperator, DofMap, GridFrames};
+use paraflex::assembly::GridFrames;
 use paraflex::deck::Deck;
 use paraflex::model::Model;
 use paraflex::sequence::elements::element_matrices;
@@ -21,20 +19,7 @@ use paraflex::sequence::parameters::Parameters;
 /// (K values, M values, number of parametrized parts) of a deck evaluated at `p` (card order
 /// of its PMPARs; empty = nominal).
 fn assembled(bulk: &str, p: &[f64]) -> (Vec<f64>, Vec<f64>, usize) {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("deck.dat");
-    let text = format!("SOL 103\nCEND\nBEGIN BULK\n{bulk}ENDDATA\n");
-    std::fs::File::create(&path).and_then(|mut f| f.write_all(text.as_bytes())).unwrap();
-    let deck = Deck::read(&path).unwrap_or_else(|e| panic!("{e}"));
-    let model = Model::build(&deck).unwrap_or_else(|e| panic!("{:?}", e.iter().map(|x| x.to_string()).collect::<Vec<_>>()));
-    let params = Parameters::of_model(&model).unwrap();
-    let frames = GridFrames::of_model(&model);
-    let map = DofMap::of_model(&model);
-    let quiet = |_: &str, _: usize, _: usize| {};
-    let el = element_matrices(&model, &frames, &params, false, &quiet).unwrap_or_else(|e| panic!("{e}"));
-    let pattern = Arc::new(grid_block_pattern(map.grids(), el.stiffness.iter().chain(&el.mass).map(|c| c.dofs.as_slice())).unwrap());
-    let k = AffineOperator::assemble(pattern.clone(), &el.stiffness, false).unwrap();
-    let m = AffineOperator::assemble(pattern, &el.mass, false).unwrap();
+    let (params, k, m) = common::affine_operators(bulk);
     let at = if p.is_empty() { params.nominal() } else { p.to_vec() };
     let parts = k.parts().len() + m.parts().len() - 2;
     (k.evaluate(&params.weights(&k, &at)).unwrap().values().to_vec(), m.evaluate(&params.weights(&m, &at)).unwrap().values().to_vec(), parts)

@@ -89,17 +89,29 @@ fn single_material_e_rho_prom_equals_the_full_model_everywhere() {
 /// accepting a wrong basis (a missing mode shape is off by several percent).
 #[test]
 fn angle_ply_theta_prom_tracks_the_full_model_inside_the_box() {
+    angle_ply_theta_prom_with("ATTACH", &[33.0, 71.0]);
+}
+
+/// The same with Craig–Bampton static modes (`STATIC = CONSTR`): fixed-interface modes with the
+/// three tip grids' T3 held, and their constraint modes; same bound and argument (one angle
+/// to keep the debug run short).
+#[test]
+fn angle_ply_theta_craig_bampton_prom_tracks_the_full_model_inside_the_box() {
+    angle_ply_theta_prom_with("CONSTR", &[71.0]);
+}
+
+fn angle_ply_theta_prom_with(statics: &str, thetas: &[f64]) {
     let laminate = |theta: &str| {
         format!("MAT8,7,1.4e11,1.e10,.3,5.e9,5.e9,3.e9,1600.\nPCOMP,1\n,7,2.5e-4,{theta},,7,2.5e-4,-{theta}\n,7,2.5e-4,-{theta},,7,2.5e-4,{theta}\n")
     };
     let pmpar = "PMPAR,1,TH,THETA,1,0.,90.\n";
     // 60 FRF lines instead of the default 200 keep the debug-mode size selection short
-    let pmor = "PMOR,1,8,10,3000.,1.e-3,4\n,1,ATTACH,KEEP,60\n";
-    for theta in [33.0, 71.0] {
-        let (reduced, _) = prom_modes(&laminate("20."), pmpar, pmor, &format!("PVAL,1,TH,{theta:?}\n"), 4);
+    let pmor = format!("PMOR,1,8,10,3000.,1.e-3,4\n,1,{statics},KEEP,60\n");
+    for &theta in thetas {
+        let (reduced, _) = prom_modes(&laminate("20."), pmpar, &pmor, &format!("PVAL,1,TH,{theta:?}\n"), 4);
         let full = full_modes(&laminate(&format!("{theta:?}")), 4);
         let errors: Vec<String> = reduced.iter().zip(&full).map(|(r, f)| format!("{:+.2e}", (r - f) / f)).collect();
-        println!("Θ = {theta}: pROM − full (relative) {errors:?}");
+        println!("STATIC = {statics}, Θ = {theta}: pROM − full (relative) {errors:?}");
         for (r, f) in reduced.iter().zip(&full) {
             assert!((r - f).abs() <= 5e-3 * f, "Θ = {theta}: pROM {reduced:?} vs full {full:?}");
         }
@@ -133,6 +145,8 @@ fn artifact_is_described_with_parameters_and_inputs() {
     assert_eq!(prom.ranges, vec![(1.0e11, 3.0e11)]);
     assert_eq!(prom.nominal, vec![2.1e11]);
     assert_eq!(prom.inputs, vec!["13:3", "39:3", "65:3"]);
+    // RIGID = KEEP (default): no multibody body, no /prom/mass
+    assert!(paraflex::io::read_prom_masses(dir.path().join("out.h5")).expect("read").is_none());
     let text = summary.to_string();
     assert!(text.contains("param     E in [1e11, 3e11], nominal 2.1e11") && text.contains("inputs    3"), "{text}");
 }
@@ -294,4 +308,154 @@ fn prom_transient_equals_the_analytic_two_dof_step_response() {
         }
         assert!(worst <= 2e-3 * peak, "{what}: max error {worst:e} vs peak {peak:e}");
     }
+}
+
+/// [`plate`] with the elements of its right half (x > 0.15) on PID 2 instead of 1.
+fn two_material_plate(property: &str) -> String {
+    let nx = 12;
+    plate(property)
+        .lines()
+        .map(|line| match line.strip_prefix("CQUAD4,") {
+            Some(rest) => {
+                let (eid, tail) = rest.split_once(",1,").expect("CQUAD4,eid,1,...");
+                let right = (eid.parse::<usize>().expect("eid") - 1) % nx >= nx / 2;
+                format!("CQUAD4,{eid},{},{tail}\n", if right { 2 } else { 1 })
+            }
+            None => format!("{line}\n"),
+        })
+        .collect()
+}
+
+/// Affine nodal masses for the multibody step (thesis eq. 4.1–4.2, A.11; `RIGID = REMOVE`):
+/// the free plate of [`plate`] with its left half on MAT1 1 (ρ₁ a parameter), its right half on
+/// MAT1 2 (ρ₂ = 2700 fixed) and a CONM2 at the tip (m_c a parameter). At random (ρ₁, m_c)
+/// the sums Σ_k f_k(p) m_j^k of `/prom/mass` must equal the lumped masses assembled by hand:
+/// a CQUAD4 of area A gives ρtA/4 to each of its grids (∫ρ N_j dA of a bilinear square), the
+/// CONM2 its m. Total mass and centre of mass follow. Bound 1e-12 relative: sums of ≤ 65
+/// round-off-exact terms.
+#[test]
+fn affine_nodal_masses_equal_the_lumped_masses_at_any_parameters() {
+    let (nx, ny, h, t) = (12usize, 4usize, 0.025, 0.002);
+    let tip = 1 + nx + (nx + 1) * 2;
+    let property = format!("PSHELL,1,1,{t:?}\nPSHELL,2,2,{t:?}\nMAT1,1,7.e10,,0.33,2000.\nMAT1,2,7.e10,,0.33,2700.\nCONM2,100,{tip},,0.05\n");
+    let mesh = two_material_plate(&property);
+    let pmpar = "PMPAR,1,RHO1,RHO,1,1500.,2500.\nPMPAR,2,MC,MASS,100,0.02,0.08\n";
+    let build = format!("SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\n{pmpar}PMOR,1,2,4,500.,1.e-3,2\n,,,REMOVE,20\n{mesh}ENDDATA\n");
+    let (r, dir) = run_deck(&build);
+    r.expect("SOL PROM");
+    let artifact = dir.path().join("out.h5");
+    let (prom, _) = paraflex::io::read_prom(&artifact).expect("pROM");
+    let (grids, masses) = paraflex::io::read_prom_masses(&artifact).expect("read").expect("/prom/mass with RIGID = REMOVE");
+    for (rho1, mc) in [(1733.0, 0.031), (2461.5, 0.077), (3100.0, 0.01)] {
+        let f: Vec<f64> = prom.functions.iter().map(|g| g.value(&[rho1, mc])).collect();
+        let at = |values: &[f64]| -> f64 { values.iter().zip(&f).map(|(v, w)| v * w).sum() };
+        // by hand
+        let mut want = vec![0.0; grids.len()];
+        let index = |i: usize, j: usize| i + (nx + 1) * j;
+        for j in 0..ny {
+            for i in 0..nx {
+                let rho = if i >= nx / 2 { 2700.0 } else { rho1 };
+                for g in [index(i, j), index(i + 1, j), index(i + 1, j + 1), index(i, j + 1)] {
+                    want[g] += rho * t * h * h / 4.0;
+                }
+            }
+        }
+        want[tip - 1] += mc;
+        assert_eq!(grids, (1..=want.len() as u32).collect::<Vec<_>>());
+        let got: Vec<f64> = (0..grids.len()).map(|g| at(&masses.nodal.iter().map(|m| m[g]).collect::<Vec<_>>())).collect();
+        let scale = want.iter().copied().fold(0.0, f64::max);
+        for (g, (a, b)) in got.iter().zip(&want).enumerate() {
+            assert!((a - b).abs() <= 1e-12 * scale, "ρ₁ = {rho1}, m_c = {mc}, grid {}: {a} vs {b}", g + 1);
+        }
+        let total = (rho1 + 2700.0) * t * (nx as f64 * h / 2.0) * (ny as f64 * h) + mc;
+        assert!((at(&masses.total()) - total).abs() <= 1e-12 * total);
+        let half = nx as f64 * h / 2.0;
+        let cx = (rho1 * t * half * 0.1 * half / 2.0 + 2700.0 * t * half * 0.1 * 1.5 * half + mc * 0.3) / total;
+        let cy = 0.05;
+        let moment = masses.first_moment();
+        let centre: Vec<f64> = (0..3).map(|i| at(&moment.iter().map(|m| m[i]).collect::<Vec<_>>()) / at(&masses.total())).collect();
+        for (c, w) in centre.iter().zip([cx, cy, 0.0]) {
+            assert!((c - w).abs() <= 1e-12 * 0.3, "centre {centre:?} vs ({cx}, {cy}, 0)");
+        }
+    }
+}
+
+/// Matrix Market (general coordinate, every stored entry, shortest round-trip values).
+fn write_matrix_market(path: &std::path::Path, a: &nalgebra_sparse::CscMatrix<f64>) {
+    let mut text = format!("%%MatrixMarket matrix coordinate real general\n{} {} {}\n", a.nrows(), a.ncols(), a.nnz());
+    for (i, j, v) in a.triplet_iter() {
+        text += &format!("{} {} {v:e}\n", i + 1, j + 1);
+    }
+    std::fs::write(path, text).expect("write .mtx");
+}
+
+/// The black-box route (pROM issue item 2, thesis eq. 3.29): K and M of the two-material plate
+/// sampled at 7 LHS points of (E₁, ρ₁, E₂), exported as Matrix Market files with a manifest,
+/// read back by `paraflex prom-lsq`; the least-squares components must equal the components
+/// assembled directly (X⁰ = X(0), X^j = (X(h_j e_j) − X(0)) / h_j with h_j the upper bound,
+/// exact since X is affine in p; h_j rather than 1 keeps the subtraction's cancellation at the
+/// round-off of the sampled magnitudes).
+/// Metric: max_h |f_i(p_h)| · max |X^i_lsq − X^i| relative to the largest sampled entry, bound
+/// 1e-13: the (column-scaled) function matrix has a condition number ~10 for these boxes and the
+/// samples are exact to the ~1e-16 of their decimal round trip, so round-off is a few 1e-15
+/// (measured ≤ 1.4e-15); a wrong component is off by O(1).
+/// Too few samples and dependent functions are refused with the reason, by the library and by
+/// the CLI (exit code 2).
+#[test]
+fn least_squares_components_of_exported_samples_equal_the_assembled_ones() {
+    let property = "PSHELL,1,1,0.002\nPSHELL,2,2,0.002\nMAT1,1,7.e10,,0.33,2700.\nMAT1,2,2.1e11,,0.3,7850.\n";
+    let pmpar = "PMPAR,1,E1,E,1,5.e10,9.e10\nPMPAR,2,RHO1,RHO,1,2000.,3400.\nPMPAR,3,E2,E,2,1.5e11,2.7e11\n";
+    let (params, k, m) = common::affine_operators(&format!("{}{pmpar}", two_material_plate(property)));
+    let low: Vec<f64> = params.list.iter().map(|p| p.low).collect();
+    let high: Vec<f64> = params.list.iter().map(|p| p.high).collect();
+    let samples = paraflex::rom::basis::latin_hypercube(7, &low, &high, 3);
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut manifest = String::from("# two-material plate, E1 RHO1 E2\nK, M, 1, E1, RHO1, E2\n");
+    let at = |op: &paraflex::assembly::AffineOperator, p: &[f64]| op.evaluate(&params.weights(op, p)).expect("evaluate");
+    for (h, p) in samples.iter().enumerate() {
+        write_matrix_market(&dir.path().join(format!("k{h}.mtx")), &at(&k, p));
+        write_matrix_market(&dir.path().join(format!("m{h}.mtx")), &at(&m, p));
+        manifest += &format!("k{h}.mtx, m{h}.mtx, 1, {:e}, {:e}, {:e}\n", p[0], p[1], p[2]);
+    }
+    let path = dir.path().join("samples.csv");
+    std::fs::write(&path, &manifest).expect("manifest");
+    let (read, fit) = paraflex::io::prom_lsq::fit_manifest(&path).expect("fit");
+    assert_eq!(read.functions, vec!["1", "E1", "RHO1", "E2"]);
+    assert!(fit.residual_stiffness < 1e-14 && fit.residual_mass < 1e-14, "{} {}", fit.residual_stiffness, fit.residual_mass);
+    for (what, op, parts) in [("K", &k, &fit.stiffness), ("M", &m, &fit.mass)] {
+        let zero = at(op, &[0.0; 3]);
+        let largest = samples.iter().map(|p| at(op, p).values().iter().fold(0.0_f64, |a, v| a.max(v.abs()))).fold(0.0, f64::max);
+        for (i, part) in parts.iter().enumerate() {
+            assert_eq!(part.pattern(), zero.pattern(), "{what}: the union of the sample patterns is the assembled pattern");
+            let direct: Vec<f64> = if i == 0 {
+                zero.values().to_vec()
+            } else {
+                let corner: Vec<f64> = (0..3).map(|j| if j == i - 1 { high[j] } else { 0.0 }).collect();
+                at(op, &corner).values().iter().zip(zero.values()).map(|(a, b)| (a - b) / high[i - 1]).collect()
+            };
+            let f_max = if i == 0 { 1.0 } else { high[i - 1] };
+            let worst = part.values().iter().zip(&direct).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) * f_max;
+            println!("{what}^{}: max |lsq − direct| · f = {:.1e} of the largest entry", read.functions[i], worst / largest);
+            assert!(worst <= 1e-13 * largest, "{what}^{}: {worst:e} vs {largest:e}", read.functions[i]);
+        }
+    }
+    // too few samples (3 for 4 functions) and a dependent function column (2·E1)
+    let rows: Vec<&str> = manifest.lines().collect();
+    let too_few = dir.path().join("too_few.csv");
+    std::fs::write(&too_few, rows[..5].join("\n")).expect("write");
+    let message = paraflex::io::prom_lsq::fit_manifest(&too_few).expect_err("3 samples").to_string();
+    assert!(message.contains("3 sampled matrices for 4 affine functions"), "{message}");
+    let dependent = dir.path().join("dependent.csv");
+    let doubled: Vec<String> = samples.iter().enumerate().map(|(h, p)| format!("k{h}.mtx, m{h}.mtx, 1, {:e}, {:e}, {:e}, {:e}", p[0], p[1], p[2], 2.0 * p[0])).collect();
+    std::fs::write(&dependent, format!("K, M, 1, E1, RHO1, E2, TWICE_E1\n{}\n", doubled.join("\n"))).expect("write");
+    let message = paraflex::io::prom_lsq::fit_manifest(&dependent).expect_err("dependent").to_string();
+    assert!(message.contains("linearly dependent") && message.contains("E1") && message.contains("TWICE_E1"), "{message}");
+    // the CLI
+    let cli = |manifest: &std::path::Path| std::process::Command::new(env!("CARGO_BIN_EXE_paraflex")).arg("prom-lsq").arg(manifest).arg("-o").arg(dir.path().join("parts.h5")).output().expect("run paraflex");
+    let ok = cli(&path);
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    assert!(String::from_utf8_lossy(&ok.stdout).contains("functions 1, E1, RHO1, E2"));
+    let refused = cli(&dependent);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("linearly dependent"));
 }

@@ -52,6 +52,16 @@ pub enum IoError {
         /// Why it was rejected.
         reason: String,
     },
+    /// A text input file (Matrix Market, manifest) cannot be read as what it should be.
+    #[error("{}:{line}: {reason}", .path.display())]
+    Parse {
+        /// File concerned.
+        path: PathBuf,
+        /// 1-based line (0: the file as a whole).
+        line: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// The data handed to a writer is inconsistent (shape mismatch, index out of range, ...).
     #[error("{}: cannot write {what}: {reason}", .path.display())]
     InvalidData {

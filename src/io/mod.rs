@@ -5,14 +5,18 @@
 //! - [`model_group`]: [`write_model`] fills `/model` from [`MeshArrays`](crate::model::MeshArrays).
 //! - [`xdmf`]: [`write_xdmf`] writes `<out>.xdmf` next to the HDF5 file for ParaView.
 //! - [`prom_group`]: [`write_prom`] / [`read_prom`] for the `/prom` group of a pROM artifact.
+//! - [`matrix_market`], [`prom_lsq`]: sampled matrices from another FE code and the manifest of
+//!   the least-squares route (`paraflex prom-lsq`).
 //! - [`csv_table`]: two columns of a CSV file (TABLEF).
 //! - [`info`]: [`describe`] summarises any paraflex HDF5 file (`paraflex info`).
 
 pub mod csv_table;
 pub mod hdf5_file;
 pub mod info;
+pub mod matrix_market;
 pub mod model_group;
 pub mod prom_group;
+pub mod prom_lsq;
 pub mod xdmf;
 
 pub use hdf5_file::{
@@ -21,5 +25,5 @@ pub use hdf5_file::{
 };
 pub use info::{DatasetSummary, FileSummary, ModelSummary, PromSummary, ResultSummary, describe};
 pub use model_group::{CONNECTIVITY_INDEXING, ModelInfo, read_grid_ids, write_model};
-pub use prom_group::{read_prom, read_prom_inputs, read_prom_sensors, write_prom};
+pub use prom_group::{read_prom, read_prom_inputs, read_prom_masses, read_prom_sensors, write_prom, write_prom_masses};
 pub use xdmf::{XdmfWritten, write_xdmf, xdmf_path_for};

@@ -6,7 +6,16 @@
 //!                        nominal (per parameter), functions (JSON: one entry per component i)
 //! /prom/K/<i>, /prom/M/<i>   n_red × n_red, row-major; i = 0 .. n_f − 1, f_0 = 1 (constant)
 //! /prom/damping    attrs alpha, beta (Rayleigh)
+//! /prom/mass       (written when PMOR RIGID = REMOVE: a floating-frame body for multibody)
+//!   grids          n_g grid ids (u32)
+//!   positions      n_g × 3, undeformed positions r_0,j in basic
+//!   nodal          n_f × n_g, m_j^k: nodal mass of grid j in component k (eq. 4.1)
+//!   total          n_f, m^k (eq. 4.2)
+//!   first_moment   n_f × 3, M̂_1^k = Σ_j m_j^k r_0,j (eq. A.11)
+//!   second_moment  n_f × 3 × 3, M̂_3^k = Σ_j m_j^k r̃_0,j r̃_0,j (eq. A.13)
 //! ```
+//! Component k of `/prom/mass` uses the function of `/prom/K/<k>` and `/prom/M/<k>`: at p,
+//! m_j(p) = Σ_k f_k(p) m_j^k, and likewise for the other mass datasets (eq. 4.8).
 //! `functions` is JSON because a function is a small tree (coefficient kind, fixed inputs,
 //! which parameter drives which input) that h5py users can still read with `json.loads`.
 
@@ -16,7 +25,8 @@ use faer::Mat;
 use hdf5::Group;
 use hdf5_metno as hdf5;
 
-use super::hdf5_file::{IoError, stamp, set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64};
+use super::hdf5_file::{IoError, stamp, set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_u32};
+use crate::rom::mass::AffineMasses;
 use crate::rom::prom::{AffineFunction, Prom, PromParameter};
 
 /// Write `prom` into `group` (normally the output file's `/prom`); `n_full` is the size of the
@@ -45,6 +55,39 @@ pub fn write_prom(group: &Group, prom: &Prom, n_full: usize) -> Result<(), IoErr
     set_attr_f64(&damping, "alpha", prom.alpha)?;
     set_attr_f64(&damping, "beta", prom.beta)?;
     Ok(())
+}
+
+/// Write the affine nodal masses of the body into `group` (normally `/prom/mass`, module doc);
+/// `grids` are the ids of the grids in `masses.positions` order.
+pub fn write_prom_masses(group: &Group, grids: &[u32], masses: &AffineMasses) -> Result<(), IoError> {
+    let (n_f, n_g) = (masses.nodal.len(), grids.len());
+    if masses.positions.len() != n_g || masses.nodal.iter().any(|m| m.len() != n_g) {
+        return Err(IoError::invalid(group.filename(), "/prom/mass", format!("{n_g} grid ids for {} positions", masses.positions.len())));
+    }
+    write_u32(group, "grids", grids, &[n_g])?;
+    write_f64(group, "positions", &masses.positions.concat(), &[n_g, 3])?;
+    write_f64(group, "nodal", &masses.nodal.concat(), &[n_f, n_g])?;
+    write_f64(group, "total", &masses.total(), &[n_f])?;
+    write_f64(group, "first_moment", &masses.first_moment().concat(), &[n_f, 3])?;
+    write_f64(group, "second_moment", &masses.second_moment().concat(), &[n_f, 3, 3])?;
+    Ok(())
+}
+
+/// The affine nodal masses of a pROM artifact (`/prom/mass`: grid ids and masses), `None` when
+/// the build did not write them (RIGID = KEEP).
+pub fn read_prom_masses(path: impl AsRef<Path>) -> Result<Option<(Vec<u32>, AffineMasses)>, IoError> {
+    let path = path.as_ref();
+    let file = hdf5::File::open(path).map_err(|e| IoError::hdf5(path, "open for reading", e))?;
+    let Ok(group) = file.group("prom/mass") else { return Ok(None) };
+    let grids = group.dataset("grids").and_then(|d| d.read_raw::<u32>()).map_err(|e| IoError::hdf5(path, "read /prom/mass/grids", e))?;
+    let read = |name: &str| group.dataset(name).and_then(|d| d.read_raw::<f64>()).map_err(|e| IoError::hdf5(path, format!("read /prom/mass/{name}"), e));
+    let (positions, nodal) = (read("positions")?, read("nodal")?);
+    let n_g = grids.len();
+    if positions.len() != 3 * n_g || n_g == 0 || nodal.len() % n_g != 0 {
+        return Err(IoError::invalid(path, "/prom/mass", format!("{n_g} grids, {} position values, {} nodal mass values", positions.len(), nodal.len())));
+    }
+    let masses = AffineMasses { positions: positions.chunks(3).map(|r| [r[0], r[1], r[2]]).collect(), nodal: nodal.chunks(n_g).map(<[f64]>::to_vec).collect() };
+    Ok(Some((grids, masses)))
 }
 
 fn create_group(parent: &Group, name: &str) -> Result<Group, IoError> {

@@ -10,6 +10,13 @@
 //!   regular K − σM (σ = −λ₁/100 < 0) by the fixed-point iteration
 //!   ψ ← (K − σM)⁻¹ (f̃ − σ M ψ), projected on the elastic subspace, which converges with the
 //!   ratio |σ|/(λ₁ − σ) per step (λ₁ the first elastic eigenvalue).
+//! - Static modes, `STATIC = CONSTR`: Craig–Bampton (thesis §2.3.2). The normal modes are those
+//!   of the fixed interface (boundary DOFs b held, pencil (K_ii, M_ii) of the interior DOFs i)
+//!   and the static modes the constraint modes: unit displacement at one boundary DOF, the
+//!   other boundary DOFs held, interior in static equilibrium, ψ_b = [−K_ii⁻¹ K_ib e_b; e_b],
+//!   all from one factorization of K_ii per sample. The interior pattern and its symbolic
+//!   analysis are computed once ([`LocalBasisSetup`]) and shared by every sample. The
+//!   constraint modes carry the rigid-body motion, so `RIGID = REMOVE` is refused with them.
 //! - `RIGID = REMOVE` drops the rigid-body modes from the basis (floating-frame bodies: the
 //!   multibody frame carries the rigid motion); `KEEP` keeps them.
 //!
@@ -18,7 +25,7 @@
 use faer::{Mat, Par};
 use nalgebra_sparse::CscMatrix;
 
-use crate::linalg::{EigenProblem, EigenRequest, LanczosOptions, LinalgError, Progress, solve_modes, sym_matvec};
+use crate::linalg::{EigenProblem, EigenRequest, LanczosOptions, LinalgError, Progress, SymbolicFactor, solve_modes, sym_matvec};
 
 /// λ below this fraction of the largest computed eigenvalue counts as a rigid-body mode. The
 /// eigen solver returns rigid-body λ at round-off (≈ 1e-12 of ‖K‖/‖M‖ or less); an elastic
@@ -40,6 +47,8 @@ const RELIEF_MAX_ITERATIONS: usize = 60;
 pub enum StaticModes {
     /// Unit-load (attachment) modes at the boundary DOFs.
     Attach,
+    /// Craig–Bampton: fixed-interface normal modes and constraint modes at the boundary DOFs.
+    Constr,
     /// No static modes.
     None,
 }
@@ -85,16 +94,86 @@ pub enum LocalBasisError {
     Linalg(#[from] LinalgError),
     #[error("boundary DOF index {index} is outside the f-set of size {size}")]
     BoundaryOutOfRange { index: usize, size: usize },
+    #[error("STATIC = CONSTR needs boundary DOFs (BSET)")]
+    ConstrWithoutBoundary,
+    #[error("RIGID = REMOVE cannot be combined with STATIC = CONSTR: the constraint modes carry the rigid-body motion")]
+    ConstrRemovesRigid,
+    #[error("STATIC = CONSTR: the stiffness of the interior DOFs with the boundary DOFs held is singular (the boundary does not restrain the rigid-body motion): {0}")]
+    ConstrSingular(LinalgError),
     #[error("the inertia-relief static mode of boundary DOF {dof} did not converge (relative change {change:.1e} after {RELIEF_MAX_ITERATIONS} iterations): the first elastic mode is too close to the shift")]
     ReliefNotConverged { dof: usize, change: f64 },
 }
 
-/// Build the local basis of the pencil (K, M).
-pub fn local_basis(problem: &EigenProblem<'_>, request: &LocalBasisRequest, par: Par, progress: &dyn Progress) -> Result<LocalBasis, LocalBasisError> {
-    let n = problem.k.nrows();
-    if let Some(&index) = request.boundary.iter().find(|&&b| b >= n) {
-        return Err(LocalBasisError::BoundaryOutOfRange { index, size: n });
+/// A validated [`LocalBasisRequest`] with what every sample shares: for `STATIC = CONSTR`
+/// the interior DOFs and the symbolic analysis of their pattern.
+pub struct LocalBasisSetup {
+    request: LocalBasisRequest,
+    fixed: Option<FixedInterface>,
+}
+
+/// The interior (non-boundary) DOFs of a Craig–Bampton basis.
+struct FixedInterface {
+    /// Interior index of each f-set DOF (`None` on the boundary).
+    interior_of: Vec<Option<usize>>,
+    interior: Vec<usize>,
+    symbolic: SymbolicFactor,
+}
+
+impl LocalBasisSetup {
+    /// Checks the request against the size of K (`pattern_of`: any matrix with K's pattern).
+    pub fn new(pattern_of: &CscMatrix<f64>, request: LocalBasisRequest) -> Result<Self, LocalBasisError> {
+        let n = pattern_of.nrows();
+        if let Some(&index) = request.boundary.iter().find(|&&b| b >= n) {
+            return Err(LocalBasisError::BoundaryOutOfRange { index, size: n });
+        }
+        let fixed = match request.statics {
+            StaticModes::Constr => {
+                if request.boundary.is_empty() {
+                    return Err(LocalBasisError::ConstrWithoutBoundary);
+                }
+                if request.rigid == RigidModes::Remove {
+                    return Err(LocalBasisError::ConstrRemovesRigid);
+                }
+                let mut interior_of = vec![Some(0); n];
+                request.boundary.iter().for_each(|&b| interior_of[b] = None);
+                let interior: Vec<usize> = (0..n).filter(|&i| interior_of[i].is_some()).collect();
+                interior.iter().enumerate().for_each(|(new, &old)| interior_of[old] = Some(new));
+                let symbolic = SymbolicFactor::analyze(principal(pattern_of, &interior_of, interior.len()).pattern())?;
+                Some(FixedInterface { interior_of, interior, symbolic })
+            }
+            StaticModes::Attach | StaticModes::None => None,
+        };
+        Ok(Self { request, fixed })
     }
+}
+
+/// The principal submatrix of `a` on the DOFs with an index in `new_of` (structural entries
+/// kept, so K and M on one pattern give submatrices on one pattern).
+fn principal(a: &CscMatrix<f64>, new_of: &[Option<usize>], size: usize) -> CscMatrix<f64> {
+    let (offsets, rows, values) = (a.col_offsets(), a.row_indices(), a.values());
+    let (mut col_offsets, mut row_indices, mut kept) = (vec![0], Vec::new(), Vec::new());
+    for (j, new_j) in new_of.iter().enumerate() {
+        if new_j.is_none() {
+            continue;
+        }
+        for k in offsets[j]..offsets[j + 1] {
+            if let Some(new_i) = new_of[rows[k]] {
+                row_indices.push(new_i);
+                kept.push(values[k]);
+            }
+        }
+        col_offsets.push(row_indices.len());
+    }
+    CscMatrix::try_from_csc_data(size, size, col_offsets, row_indices, kept).expect("a principal submatrix of a valid CSC matrix is valid")
+}
+
+/// Build the local basis of the pencil (K, M).
+pub fn local_basis(problem: &EigenProblem<'_>, setup: &LocalBasisSetup, par: Par, progress: &dyn Progress) -> Result<LocalBasis, LocalBasisError> {
+    let request = &setup.request;
+    if let Some(fixed) = &setup.fixed {
+        return craig_bampton(problem, request, fixed, par, progress);
+    }
+    let n = problem.k.nrows();
     // Ask for 6 more than wanted so the rigid-body modes of a free body do not eat the elastic
     // ones (a free 3-D body has at most 6; mechanisms are refused upstream).
     let wanted = request.n_modes + 6;
@@ -108,7 +187,7 @@ pub fn local_basis(problem: &EigenProblem<'_>, request: &LocalBasisRequest, par:
         RigidModes::Remove => elastic_cols.clone(),
     };
     let statics = match request.statics {
-        StaticModes::None => Mat::zeros(n, 0),
+        StaticModes::None | StaticModes::Constr => Mat::zeros(n, 0),
         StaticModes::Attach => {
             let lambda_1 = elastic_cols.first().map(|&j| eigen.eigenvalues[j]).unwrap_or(lambda_max);
             attachment_modes(problem, &eigen.vectors, &rigid_cols, -RELIEF_SHIFT * lambda_1, &request.boundary, par)?
@@ -117,6 +196,39 @@ pub fn local_basis(problem: &EigenProblem<'_>, request: &LocalBasisRequest, par:
     let n_static = statics.ncols();
     let vectors = Mat::from_fn(n, kept_normal.len() + n_static, |i, c| if c < kept_normal.len() { eigen.vectors[(i, kept_normal[c])] } else { statics[(i, c - kept_normal.len())] });
     Ok(LocalBasis { vectors, frequencies_hz: kept_normal.iter().map(|&j| eigen.frequencies_hz[j]).collect(), n_rigid: rigid_cols.len(), n_static })
+}
+
+/// Fixed-interface modes and constraint modes (module doc).
+fn craig_bampton(problem: &EigenProblem<'_>, request: &LocalBasisRequest, fixed: &FixedInterface, par: Par, progress: &dyn Progress) -> Result<LocalBasis, LocalBasisError> {
+    let n = problem.k.nrows();
+    let ni = fixed.interior.len();
+    let (k_ii, m_ii) = (principal(problem.k, &fixed.interior_of, ni), principal(problem.m, &fixed.interior_of, ni));
+    let factor = fixed.symbolic.factor_llt(&k_ii, par).map_err(LocalBasisError::ConstrSingular)?;
+    let interior = EigenProblem { k: &k_ii, m: &m_ii, symbolic: &fixed.symbolic };
+    let eigen = solve_modes(&interior, &EigenRequest { v1_hz: None, v2_hz: request.fmax_hz, nd: Some(request.n_modes.min(ni)), shift_hz: None }, &LanczosOptions::default(), par, progress)?;
+    let n_modes = eigen.vectors.ncols();
+    let nb = request.boundary.len();
+    let mut vectors = Mat::<f64>::zeros(n, n_modes + nb);
+    for j in 0..n_modes {
+        fixed.interior.iter().enumerate().for_each(|(r, &i)| vectors[(i, j)] = eigen.vectors[(r, j)]);
+    }
+    let mut scratch = factor.solve_scratch(1)?;
+    let (offsets, rows, values) = (problem.k.col_offsets(), problem.k.row_indices(), problem.k.values());
+    let mut x = vec![0.0; ni];
+    for (c, &b) in request.boundary.iter().enumerate() {
+        // −K_ib e_b: column b of K on the interior rows (K symmetric, full pattern)
+        x.fill(0.0);
+        for k in offsets[b]..offsets[b + 1] {
+            if let Some(r) = fixed.interior_of[rows[k]] {
+                x[r] = -values[k];
+            }
+        }
+        factor.solve_in_place_with_scratch(faer::MatMut::from_column_major_slice_mut(&mut x, ni, 1), &mut scratch)?;
+        let col = n_modes + c;
+        fixed.interior.iter().enumerate().for_each(|(r, &i)| vectors[(i, col)] = x[r]);
+        vectors[(b, col)] = 1.0;
+    }
+    Ok(LocalBasis { vectors, frequencies_hz: eigen.frequencies_hz, n_rigid: 0, n_static: nb })
 }
 
 /// Attachment modes (module doc): plain K ψ = e_b for a supported structure, inertia relief for
@@ -193,7 +305,7 @@ fn shifted(problem: &EigenProblem<'_>, sigma: f64) -> CscMatrix<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::linalg::SymbolicFactor;
+    use faer::prelude::Solve;
     use nalgebra_sparse::CooMatrix;
 
     /// Spring chain of n unit masses and unit springs; `grounded` adds a spring to ground at
@@ -219,11 +331,100 @@ mod tests {
         |_: &str, _: usize, _: usize| {}
     }
 
-    fn basis(k: &CscMatrix<f64>, m: &CscMatrix<f64>, rigid: RigidModes, boundary: Vec<usize>) -> LocalBasis {
+    fn basis_with(k: &CscMatrix<f64>, m: &CscMatrix<f64>, statics: StaticModes, rigid: RigidModes, boundary: Vec<usize>) -> Result<LocalBasis, LocalBasisError> {
         let symbolic = SymbolicFactor::analyze(k.pattern()).unwrap();
         let problem = EigenProblem { k, m, symbolic: &symbolic };
-        let request = LocalBasisRequest { n_modes: 3, fmax_hz: None, boundary, statics: StaticModes::Attach, rigid };
-        local_basis(&problem, &request, Par::Seq, &quiet()).unwrap()
+        let setup = LocalBasisSetup::new(k, LocalBasisRequest { n_modes: 3, fmax_hz: None, boundary, statics, rigid })?;
+        local_basis(&problem, &setup, Par::Seq, &quiet())
+    }
+
+    fn basis(k: &CscMatrix<f64>, m: &CscMatrix<f64>, rigid: RigidModes, boundary: Vec<usize>) -> LocalBasis {
+        basis_with(k, m, StaticModes::Attach, rigid, boundary).unwrap()
+    }
+
+    fn dense(a: &CscMatrix<f64>) -> Mat<f64> {
+        let mut d = Mat::<f64>::zeros(a.nrows(), a.ncols());
+        a.triplet_iter().for_each(|(i, j, v)| d[(i, j)] += *v);
+        d
+    }
+
+    /// Free chain (K singular), boundary at both ends and inside: the constraint modes are the
+    /// interior's static response to each unit boundary displacement, so Ψ_c u_b equals the
+    /// full static response to prescribed boundary displacements u_b (interior unloaded),
+    /// solved here independently by a dense LU of K_ii (bound 1e-12 relative: K_ii of the
+    /// chain has condition ~n² = 400). The fixed-interface modes vanish on the boundary and are
+    /// eigenvectors of (K_ii, M_ii) (residual bound 1e-9 relative: Lanczos Ritz tolerance).
+    #[test]
+    fn constraint_modes_reproduce_static_boundary_displacements() {
+        let (k, m) = chain(20, false);
+        let boundary = vec![19, 0, 7];
+        let b = basis_with(&k, &m, StaticModes::Constr, RigidModes::Keep, boundary.clone()).unwrap();
+        assert_eq!((b.n_rigid, b.n_static, b.vectors.ncols()), (0, 3, 6));
+        let u_b = [0.3, -1.1, 0.45];
+        let interior: Vec<usize> = (0..20).filter(|i| !boundary.contains(i)).collect();
+        let kd = dense(&k);
+        let k_ii = Mat::<f64>::from_fn(interior.len(), interior.len(), |r, c| kd[(interior[r], interior[c])]);
+        let rhs = Mat::<f64>::from_fn(interior.len(), 1, |r, _| -boundary.iter().zip(&u_b).map(|(&bd, u)| kd[(interior[r], bd)] * u).sum::<f64>());
+        let u_i = k_ii.partial_piv_lu().solve(&rhs);
+        let reduced: Vec<f64> = (0..20).map(|i| (0..3).map(|c| b.vectors[(i, 3 + c)] * u_b[c]).sum()).collect();
+        for (r, &i) in interior.iter().enumerate() {
+            assert!((reduced[i] - u_i[(r, 0)]).abs() < 1e-12 * u_i.norm_max(), "dof {i}: {} vs {}", reduced[i], u_i[(r, 0)]);
+        }
+        for (c, &bd) in boundary.iter().enumerate() {
+            assert!((reduced[bd] - u_b[c]).abs() < 1e-15, "boundary {bd}");
+        }
+        for j in 0..3 {
+            let phi = b.vectors.col_as_slice(j);
+            assert!(boundary.iter().all(|&bd| phi[bd] == 0.0));
+            let lambda = (2.0 * std::f64::consts::PI * b.frequencies_hz[j]).powi(2);
+            let (kp, mp) = (apply(&k, phi), apply(&m, phi));
+            for &i in &interior {
+                assert!((kp[i] - lambda * mp[i]).abs() < 1e-9 * kp.iter().map(|x| x.abs()).fold(0.0, f64::max), "mode {j}, dof {i}");
+            }
+        }
+    }
+
+    /// Grounded chain loaded only at boundary DOFs: the full static solution has an unloaded
+    /// interior, so it lies in the span of the constraint modes and the Galerkin solution on
+    /// the Craig–Bampton basis reproduces it to round-off (bound 1e-10 relative: condition of
+    /// the chain ~1.6e3 times that of the reduced system).
+    #[test]
+    fn craig_bampton_basis_reproduces_static_response_to_boundary_loads() {
+        let (k, m) = chain(20, true);
+        let boundary = vec![5, 19];
+        let b = basis_with(&k, &m, StaticModes::Constr, RigidModes::Keep, boundary.clone()).unwrap();
+        let mut f = Mat::<f64>::zeros(20, 1);
+        f[(5, 0)] = 2.0;
+        f[(19, 0)] = -0.7;
+        let kd = dense(&k);
+        let full = kd.partial_piv_lu().solve(&f);
+        let psi = &b.vectors;
+        let reduced = psi * (psi.transpose() * &kd * psi).partial_piv_lu().solve(&(psi.transpose() * &f));
+        assert!((&reduced - &full).norm_max() < 1e-10 * full.norm_max(), "{:?} vs {:?}", reduced, full);
+    }
+
+    #[test]
+    fn constr_needs_a_boundary_and_keeps_rigid_modes() {
+        let (k, m) = chain(6, false);
+        assert!(matches!(basis_with(&k, &m, StaticModes::Constr, RigidModes::Keep, vec![]), Err(LocalBasisError::ConstrWithoutBoundary)));
+        assert!(matches!(basis_with(&k, &m, StaticModes::Constr, RigidModes::Remove, vec![0]), Err(LocalBasisError::ConstrRemovesRigid)));
+    }
+
+    /// Two disconnected free chains with the boundary on the first only: the second floats
+    /// when the boundary is held, and K_ii is singular — a clear error, not a panic.
+    #[test]
+    fn constr_with_a_floating_interior_is_an_error() {
+        let (k1, m1) = chain(4, false);
+        let block = |a: &CscMatrix<f64>| {
+            let mut coo = CooMatrix::new(8, 8);
+            for (i, j, v) in a.triplet_iter() {
+                coo.push(i, j, *v);
+                coo.push(i + 4, j + 4, *v);
+            }
+            CscMatrix::from(&coo)
+        };
+        let (k, m) = (block(&k1), block(&m1));
+        assert!(matches!(basis_with(&k, &m, StaticModes::Constr, RigidModes::Keep, vec![0]), Err(LocalBasisError::ConstrSingular(_))), "{:?}", basis_with(&k, &m, StaticModes::Constr, RigidModes::Keep, vec![0]).map(|b| b.frequencies_hz));
     }
 
     fn apply(a: &CscMatrix<f64>, x: &[f64]) -> Vec<f64> {
@@ -274,9 +475,6 @@ mod tests {
     #[test]
     fn boundary_outside_the_f_set_is_an_error() {
         let (k, m) = chain(5, true);
-        let symbolic = SymbolicFactor::analyze(k.pattern()).unwrap();
-        let problem = EigenProblem { k: &k, m: &m, symbolic: &symbolic };
-        let request = LocalBasisRequest { n_modes: 1, fmax_hz: None, boundary: vec![5], statics: StaticModes::Attach, rigid: RigidModes::Keep };
-        assert!(matches!(local_basis(&problem, &request, Par::Seq, &quiet()), Err(LocalBasisError::BoundaryOutOfRange { index: 5, size: 5 })));
+        assert!(matches!(basis_with(&k, &m, StaticModes::Attach, RigidModes::Keep, vec![5]), Err(LocalBasisError::BoundaryOutOfRange { index: 5, size: 5 })));
     }
 }

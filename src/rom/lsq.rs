@@ -12,6 +12,7 @@
 //! of eq. 3.18 with a constant term, since cos⁴ + sin⁴ + 2 cos² sin² = 1 (§3.3.5).
 
 use faer::Mat;
+use nalgebra_sparse::CscMatrix;
 
 /// Relative singular-value threshold of the (column-scaled) function matrix F below which the
 /// functions count as linearly dependent. An exact identity such as cos⁴ + sin⁴ + 2cos²sin² = 1
@@ -37,6 +38,8 @@ pub enum FitError {
     TooFewSamples { samples: usize, functions: usize },
     #[error("sample {sample} has {got} function values / entries, expected {expected}")]
     Shape { sample: usize, got: usize, expected: usize },
+    #[error("sample {sample}: {what} is {rows} × {cols}, expected {expected} × {expected} like the first stiffness matrix")]
+    Size { sample: usize, what: &'static str, rows: usize, cols: usize, expected: usize },
     #[error("the affine functions are linearly dependent at these samples: {relation} (σ_min/σ_max = {ratio:.1e}); remove one of them (e.g. the constant term next to the fibre-angle functions, thesis §3.3.5) or sample the parameters independently")]
     LinearlyDependent { relation: String, ratio: f64 },
 }
@@ -102,6 +105,52 @@ pub fn extract(names: &[&str], function_values: &[Vec<f64>], samples: &[&[f64]])
     Ok(AffineFit { parts, max_relative_residual })
 }
 
+/// Affine components of sampled stiffness and mass matrices, on the union of their patterns.
+#[derive(Debug, Clone)]
+pub struct MatrixFit {
+    /// K^i and M^i, one per function, all on one pattern (full, as `linalg` wants).
+    pub stiffness: Vec<CscMatrix<f64>>,
+    pub mass: Vec<CscMatrix<f64>>,
+    /// [`AffineFit::max_relative_residual`] of K and of M.
+    pub residual_stiffness: f64,
+    pub residual_mass: f64,
+}
+
+/// [`extract`] for sampled sparse K_h and M_h (eq. 3.29) whose patterns may differ: every
+/// sample is laid out on the union pattern of all of them (absent entries are zeros).
+pub fn extract_matrices(names: &[&str], function_values: &[Vec<f64>], stiffness: &[CscMatrix<f64>], mass: &[CscMatrix<f64>]) -> Result<MatrixFit, FitError> {
+    let n = stiffness.first().map_or(0, CscMatrix::nrows);
+    for (what, list) in [("the stiffness matrix", stiffness), ("the mass matrix", mass)] {
+        if let Some((h, x)) = list.iter().enumerate().find(|(_, x)| x.nrows() != n || x.ncols() != n) {
+            return Err(FitError::Size { sample: h + 1, what, rows: x.nrows(), cols: x.ncols(), expected: n });
+        }
+    }
+    let mut union = nalgebra_sparse::CooMatrix::<f64>::new(n, n);
+    for x in stiffness.iter().chain(mass) {
+        x.triplet_iter().for_each(|(i, j, _)| union.push(i, j, 0.0));
+    }
+    let pattern = CscMatrix::from(&union).pattern().clone();
+    let on_union = |x: &CscMatrix<f64>| -> Vec<f64> {
+        let mut values = vec![0.0; pattern.nnz()];
+        let (offsets, rows) = (pattern.major_offsets(), pattern.minor_indices());
+        for (i, j, v) in x.triplet_iter() {
+            let k = offsets[j] + rows[offsets[j]..offsets[j + 1]].binary_search(&i).expect("the union holds every entry");
+            values[k] += v;
+        }
+        values
+    };
+    let fit = |list: &[CscMatrix<f64>]| -> Result<(Vec<CscMatrix<f64>>, f64), FitError> {
+        let values: Vec<Vec<f64>> = list.iter().map(on_union).collect();
+        let refs: Vec<&[f64]> = values.iter().map(Vec::as_slice).collect();
+        let AffineFit { parts, max_relative_residual } = extract(names, function_values, &refs)?;
+        let matrices = parts.into_iter().map(|v| CscMatrix::try_from_pattern_and_values(pattern.clone(), v).expect("values on the union pattern")).collect();
+        Ok((matrices, max_relative_residual))
+    };
+    let (stiffness, residual_stiffness) = fit(stiffness)?;
+    let (mass, residual_mass) = fit(mass)?;
+    Ok(MatrixFit { stiffness, mass, residual_stiffness, residual_mass })
+}
+
 /// "1·cos4 + 1·sin4 + 2·cos2sin2 − 1·constant = 0": the dependence a null vector of the scaled
 /// F expresses, in the unscaled functions, normalised to a largest coefficient of magnitude 1
 /// positive, and rounded to what matters for a message.
@@ -151,6 +200,29 @@ mod tests {
         let refs: Vec<&[f64]> = xs.iter().map(|x| x.as_slice()).collect();
         let fit = extract(&["constant", "p"], &fv, &refs).unwrap();
         assert!(fit.max_relative_residual > 0.1, "{}", fit.max_relative_residual);
+    }
+
+    /// Samples on different patterns are laid out on their union; K and M share it.
+    #[test]
+    fn matrices_on_different_patterns_share_the_union() {
+        let csc = |entries: &[(usize, usize, f64)]| {
+            let mut coo = nalgebra_sparse::CooMatrix::new(2, 2);
+            entries.iter().for_each(|&(i, j, v)| coo.push(i, j, v));
+            CscMatrix::from(&coo)
+        };
+        // K(p) = K⁰ + p K¹ with K⁰ = diag(1, 0), K¹ = offdiag(1); M = I on the diagonal only
+        let k = [csc(&[(0, 0, 1.0)]), csc(&[(0, 0, 1.0), (0, 1, 2.0), (1, 0, 2.0)])];
+        let m = [csc(&[(0, 0, 1.0), (1, 1, 1.0)]), csc(&[(0, 0, 1.0), (1, 1, 1.0)])];
+        let fit = extract_matrices(&["1", "p"], &[vec![1.0, 0.0], vec![1.0, 2.0]], &k, &m).unwrap();
+        assert_eq!(fit.stiffness[0].nnz(), 4);
+        let dense = |x: &CscMatrix<f64>| x.triplet_iter().map(|(i, j, v)| ((i, j), (v * 1e12).round() / 1e12)).collect::<Vec<_>>();
+        assert_eq!(dense(&fit.stiffness[0]), vec![((0, 0), 1.0), ((1, 0), 0.0), ((0, 1), 0.0), ((1, 1), 0.0)]);
+        assert_eq!(dense(&fit.stiffness[1]), vec![((0, 0), 0.0), ((1, 0), 1.0), ((0, 1), 1.0), ((1, 1), 0.0)]);
+        assert_eq!(dense(&fit.mass[0]), vec![((0, 0), 1.0), ((1, 0), 0.0), ((0, 1), 0.0), ((1, 1), 1.0)]);
+        let wrong = extract_matrices(&["1", "p"], &[vec![1.0, 0.0], vec![1.0, 2.0]], &k, &[m[0].clone(), csc(&[])]);
+        assert!(wrong.is_ok(), "an empty 2 × 2 mass is a valid sample");
+        let bad = extract_matrices(&["1", "p"], &[vec![1.0, 0.0], vec![1.0, 2.0]], &k, &[m[0].clone(), CscMatrix::zeros(3, 3)]).unwrap_err();
+        assert_eq!(bad, FitError::Size { sample: 2, what: "the mass matrix", rows: 3, cols: 3, expected: 2 });
     }
 
     #[test]

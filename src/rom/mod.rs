@@ -5,7 +5,10 @@
 //!   the MAC filter of eq. 3.39, the truncated SVD of eq. 3.34 and the strain-basis transformation
 //!   of eq. 3.36–3.38;
 //! - [`local_basis`]: normal modes plus attachment (or inertia-relief) static modes of one
-//!   sample, rigid-body modes kept or removed (eq. 2.28);
+//!   sample, rigid-body modes kept or removed (eq. 2.28), or Craig–Bampton fixed-interface and
+//!   constraint modes;
+//! - [`mass`]: affine nodal masses and rigid mass invariants for the multibody step (eq. 4.1–4.2,
+//!   A.11, A.13);
 //! - [`prom`]: the [`prom::Prom`] type, evaluated online at any parameter value with its
 //!   parameter derivatives (eq. 3.32; eq. 8.19–8.20 need the derivatives).
 
@@ -13,4 +16,5 @@ pub mod basis;
 pub mod build;
 pub mod local_basis;
 pub mod lsq;
+pub mod mass;
 pub mod prom;

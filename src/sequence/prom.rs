@@ -10,6 +10,8 @@
 //!
 //! Written: `/prom` ([`write_prom`]), `/prom/inputs/{names, S_r}` (n_red × n_in),
 //! `/prom/sensors/{names, kind, H_r}` (s × n_red) for the DISP/VEL/ACCEL SENSOR cards, and
+//! `/prom/mass` (affine nodal masses, eq. 4.1–4.2, and mass invariants A.11, A.13; only with
+//! `RIGID = REMOVE`, the floating-frame bodies of a multibody scene, which are the only users),
 //! `/prom/build/{samples, singular_values, size_history, error_history, timings}` with
 //! attributes `mac_kept`, `concatenated`, `converged`, `singular_lines`.
 
@@ -21,9 +23,10 @@ use nalgebra_sparse::CscMatrix;
 use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary};
 use crate::assembly::{AffineOperator, DofMap, ParamKey};
 use crate::deck::cards::{Pmor, SensorKind};
-use crate::io::{IoError, set_attr_i64, set_attr_strings, write_f64, write_prom, write_strings};
+use crate::io::{IoError, set_attr_i64, set_attr_strings, write_f64, write_prom, write_prom_masses, write_strings};
 use crate::rom::build::{AffineFom, BuildLog, Built, PromSettings, build_prom};
 use crate::rom::local_basis::{RigidModes, StaticModes};
+use crate::rom::mass::AffineMasses;
 
 /// What a pROM build reports.
 #[derive(Debug, Clone)]
@@ -109,9 +112,14 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
     }
     let c = clock.time(format!("subcase {id}: constraints"), || Constrained::build(model, st, sub.spc))?;
     let (k_ff, m_ff) = c.affine_ff(st)?;
-    let fom = affine_fom(st, &k_ff, &m_ff)?;
+    let keys = affine_keys(&k_ff, &m_ff);
+    let fom = affine_fom(st, &keys, &k_ff, &m_ff)?;
+    let masses = match settings_rigid(pmor) {
+        RigidModes::Remove => Some(AffineMasses::lump(st.mass_gg(), &keys, &st.frames, model.grids.iter().map(|g| g.xyz).collect())?),
+        RigidModes::Keep => None,
+    };
     let (boundary, names) = boundary(ctx, &c, pmor, id)?;
-    let settings = settings(pmor, model.params.alpha1, model.params.beta1)?;
+    let settings = settings(pmor, model.params.alpha1, model.params.beta1);
     let Built { prom, inputs, basis, log } = clock
         .time(format!("subcase {id}: pROM build"), || build_prom(&fom, &boundary, &settings, ctx.progress))
         .map_err(|e| RunError::Case { subcase: id, what: format!("pROM build: {e}") })?;
@@ -134,6 +142,10 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
             write_strings(&g, "kind", &kinds)?;
             write_f64(&g, "H_r", &row_major(&sensors.rows), &[sensors.rows.nrows(), sensors.rows.ncols()])?;
         }
+        if let Some(masses) = &masses {
+            let grids: Vec<u32> = model.grids.iter().map(|g| g.id).collect();
+            write_prom_masses(&ctx.output.group("prom/mass")?, &grids, masses)?;
+        }
         write_log(ctx, &log)
     })?;
     let summary = PromSummary {
@@ -152,15 +164,20 @@ fn row_major(m: &Mat<f64>) -> Vec<f64> {
     (0..m.nrows()).flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)])).collect()
 }
 
-/// The affine FOM on the f-set: one function per part key of K or M (a zero matrix where an
-/// operator lacks that key).
-fn affine_fom(st: &Structure, k: &AffineOperator, m: &AffineOperator) -> Result<AffineFom, RunError> {
+/// The part keys of K and M, K's first: the pROM's component order.
+fn affine_keys(k: &AffineOperator, m: &AffineOperator) -> Vec<ParamKey> {
     let mut keys: Vec<ParamKey> = k.keys();
     for key in m.keys() {
         if !keys.contains(&key) {
             keys.push(key);
         }
     }
+    keys
+}
+
+/// The affine FOM on the f-set: one function per key (a zero matrix where an operator lacks
+/// that key).
+fn affine_fom(st: &Structure, keys: &[ParamKey], k: &AffineOperator, m: &AffineOperator) -> Result<AffineFom, RunError> {
     let matrices = |op: &AffineOperator| -> Result<Vec<CscMatrix<f64>>, RunError> {
         keys.iter().map(|&key| Ok(op.matrix(op.part(key).map_or_else(|| vec![0.0; op.pattern().nnz()], <[f64]>::to_vec))?)).collect()
     };
@@ -198,14 +215,18 @@ fn boundary(ctx: &RunContext, c: &Constrained, pmor: &Pmor, subcase: u32) -> Res
     Ok((out, names))
 }
 
-fn settings(p: &Pmor, alpha: f64, beta: f64) -> Result<PromSettings, RunError> {
+fn settings_rigid(p: &Pmor) -> RigidModes {
+    if p.rigid == "REMOVE" { RigidModes::Remove } else { RigidModes::Keep }
+}
+
+fn settings(p: &Pmor, alpha: f64, beta: f64) -> PromSettings {
     let statics = match p.static_modes {
-        "ATTACH" => StaticModes::Attach,
+        "CONSTR" => StaticModes::Constr,
         "NONE" => StaticModes::None,
-        other => return Err(RunError::NotAvailable(format!("PMOR {} STATIC = {other} (Craig–Bampton constraint modes); use ATTACH or NONE", p.id))),
+        _ => StaticModes::Attach,
     };
-    let rigid = if p.rigid == "REMOVE" { RigidModes::Remove } else { RigidModes::Keep };
-    Ok(PromSettings {
+    let rigid = settings_rigid(p);
+    PromSettings {
         n_samples: p.nsamp as usize,
         n_modes: p.nmodes as usize,
         fmax_hz: p.fmax,
@@ -219,7 +240,7 @@ fn settings(p: &Pmor, alpha: f64, beta: f64) -> Result<PromSettings, RunError> {
         rigid,
         alpha,
         beta,
-    })
+    }
 }
 
 fn write_log(ctx: &RunContext, log: &BuildLog) -> Result<(), IoError> {

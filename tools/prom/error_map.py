@@ -58,6 +58,24 @@ def frf(paraflex: str, artifact: Path, pval: str, band: tuple[float, float], lin
         return g["frequency_hz"][:], g["H"][:, k, k]
 
 
+def rom_deck(text: str, mid: int, e: float, rho: float) -> str:
+    """The deck at (E, ρ): the MAT1 (free field, in `text`) at the point and a zero-width box."""
+    point = re.sub(rf"^(MAT1,{mid},)[^,]+(,[^,]*,[^,]+,)[^,\n]+", rf"\g<1>{e!r}\g<2>{rho!r}", text, flags=re.M)
+    point = re.sub(rf"^PMPAR,(\d+),(\w+),E,{mid},[^\n]+$", rf"PMPAR,\1,\2,E,{mid},{e!r},{e!r}", point, flags=re.M)
+    return re.sub(rf"^PMPAR,(\d+),(\w+),RHO,{mid},[^\n]+$", rf"PMPAR,\1,\2,RHO,{mid},{rho!r},{rho!r}", point, flags=re.M)
+
+
+def inline_material(text: str, mid: int) -> str:
+    """`text` with the include that holds MAT1 `mid` inlined (so rom_deck can change it)."""
+    mat_re = rf"^MAT1,{mid},([^,]+),([^,]*),([^,]+),([^,\n]+)"
+    if re.search(mat_re, text, flags=re.M) is None:
+        for inc in re.findall(r"INCLUDE '([^']+)'", text):
+            body = Path(inc).read_text()
+            if re.search(mat_re, body, flags=re.M):
+                return text.replace(f"INCLUDE '{inc}'", absolute_includes(body, Path(inc).parent))
+    return text
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("deck", type=Path)
@@ -75,12 +93,7 @@ def main() -> None:
         raise SystemExit("the deck needs PMPAR E and PMPAR RHO on one MAT1")
     mid = kinds["E"][1]
     mat_re = rf"^MAT1,{mid},([^,]+),([^,]*),([^,]+),([^,\n]+)"
-    if re.search(mat_re, text, flags=re.M) is None:  # the MAT1 sits in an include: inline that one
-        for inc in re.findall(r"INCLUDE '([^']+)'", text):
-            body = Path(inc).read_text()
-            if re.search(mat_re, body, flags=re.M):
-                text = text.replace(f"INCLUDE '{inc}'", absolute_includes(body, Path(inc).parent))
-                break
+    text = inline_material(text, mid)
     mat = re.search(mat_re, text, flags=re.M)
     if mat is None:
         raise SystemExit(f"MAT1 {mid} not found in free-field form in the deck or its includes")
@@ -102,11 +115,8 @@ def main() -> None:
         for a, fe in enumerate(factors):
             for b, fr in enumerate(factors):
                 e, rho = e0 * fe, rho0 * fr
-                point = re.sub(rf"^(MAT1,{mid},)[^,]+(,[^,]*,[^,]+,)[^,\n]+", rf"\g<1>{e!r}\g<2>{rho!r}", text, flags=re.M)
-                point = re.sub(rf"^PMPAR,(\d+),(\w+),E,{mid},[^\n]+$", rf"PMPAR,\1,\2,E,{mid},{e!r},{e!r}", point, flags=re.M)
-                point = re.sub(rf"^PMPAR,(\d+),(\w+),RHO,{mid},[^\n]+$", rf"PMPAR,\1,\2,RHO,{mid},{rho!r},{rho!r}", point, flags=re.M)
                 deck = work / "rom.dat"
-                deck.write_text(point)
+                deck.write_text(rom_deck(text, mid, e, rho))
                 rom = work / "rom.h5"
                 run(args.paraflex, deck, rom)
                 pval = f"PVAL,1,{kinds['E'][0]},{e!r},{kinds['RHO'][0]},{rho!r}\n"
