@@ -17,7 +17,7 @@ use faer::Mat;
 use super::rom_case::RomAtPoint;
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
-use crate::dynamics::integrators::{LinearSystem, Method, integrate};
+use crate::dynamics::integrators::{Dense, LinearSystem, Method, Run, StepState, integrate_with, matvec_add};
 use crate::dynamics::table::Table;
 use crate::io::csv_table::read_columns;
 use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_str, set_attr_strings, write_f64, write_strings};
@@ -70,54 +70,39 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let n = prom.size();
     let k = names.len();
     let sys = LinearSystem { mass: at.mass.as_ref(), damping: at.damping.as_ref(), stiffness: at.stiffness.as_ref() };
+    let mut backend = Dense::new(sys).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let rows = output_rows(&tstep.intervals);
+    let mut rec = Recorder::new(&s_r, &sensor_kinds, &h_r, rows);
     let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
     let mut t0 = 0.0;
-    let (mut time, mut disp, mut vel, mut acc) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    let mut sensor_series: Vec<Vec<f64>> = vec![Vec::new(); sensor_names.len()];
-    let project = |x: &[f64], out: &mut Vec<f64>| {
-        for j in 0..k {
-            out.push((0..n).map(|i| s_r[(i, j)] * x[i]).sum());
-        }
-    };
     let mut steps = 0;
     for (interval, &(count, dt, every)) in tstep.intervals.iter().enumerate() {
         let every = every.max(1) as usize;
-        let start = t0;
         let load = |t: f64, f: &mut [f64]| {
             f.fill(0.0);
             for term in &loads {
-                let a = term.table.value(start + t - term.delay);
+                let a = term.table.value(t - term.delay);
                 if a != 0.0 {
                     f.iter_mut().zip(&term.shape).for_each(|(fi, s)| *fi += a * s);
                 }
             }
         };
-        let (mut q_end, mut v_end) = (q.clone(), v.clone());
-        integrate(sys, method, dt, count as usize, &q, &v, load, |s| {
+        let run = Run { dt, steps: count as usize, t0 };
+        integrate_with(&mut backend, method, run, &q.clone(), &v.clone(), load, |s| {
             // the first interval reports its initial state; later ones continue the series
             if (s.step > 0 || interval == 0) && s.step % every == 0 {
-                time.push(start + s.time);
-                project(s.q, &mut disp);
-                project(s.v, &mut vel);
-                project(s.a, &mut acc);
-                for (r, series) in sensor_series.iter_mut().enumerate() {
-                    let x = match sensor_kinds[r].as_str() {
-                        "VEL" => s.v,
-                        "ACCEL" => s.a,
-                        _ => s.q,
-                    };
-                    series.push((0..n).map(|i| h_r[(r, i)] * x[i]).sum());
-                }
+                rec.record(s);
             }
-            q_end.copy_from_slice(s.q);
-            v_end.copy_from_slice(s.v);
+            if s.step == count as usize {
+                q.copy_from_slice(s.q);
+                v.copy_from_slice(s.v);
+            }
         })
         .map_err(|e| case(format!("{}: {e}", path.display())))?;
-        q = q_end;
-        v = v_end;
         t0 += count as f64 * dt;
         steps += count as usize;
     }
+    let Recorder { time, disp, vel, acc, sensors, .. } = rec;
     let peak = disp.iter().enumerate().fold((0.0_f64, 0.0), |acc, (i, x)| if x.abs() > acc.0 { (x.abs(), time[i / k.max(1)]) } else { acc });
     let group = ctx.output.group(&format!("results/{id}/transient"))?;
     let rows = time.len();
@@ -129,8 +114,8 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     write_strings(&group, "outputs", &name_refs)?;
     if !sensor_names.is_empty() {
         let sg = ctx.output.group(&format!("results/{id}/transient/sensors"))?;
-        for (name, series) in sensor_names.iter().zip(&sensor_series) {
-            write_f64(&sg, name, series, &[series.len()])?;
+        for (name, series) in sensor_names.iter().zip(sensors.chunks_exact(rows.max(1))) {
+            write_f64(&sg, name, series, &[rows])?;
         }
     }
     set_attr_str(&group, "rom", &path.display().to_string())?;
@@ -182,4 +167,73 @@ fn load_terms(ctx: &RunContext, sid: u32, names: &[String], s_r: &Mat<f64>) -> R
         }
     }
     Ok(out)
+}
+
+/// Number of output rows of a TSTEP: the initial state, then every NO-th step of each interval.
+fn output_rows(intervals: &[(u32, f64, u32)]) -> usize {
+    1 + intervals.iter().map(|&(count, _, every)| count as usize / every.max(1) as usize).sum::<usize>()
+}
+
+/// Output buffers sized before the run, filled by matrix–vector products (no allocation in the
+/// time loop): input-DOF series rows × k (row-major, column r of a k × rows column-major
+/// buffer), and per sensor a series of `rows` values (sensor-major).
+struct Recorder {
+    /// S_rᵀ (k × n).
+    s_t: Mat<f64>,
+    /// Per sensor kind (DISP from q, VEL from q̇, ACCEL from q̈): its rows of H_r and their
+    /// sensor indices.
+    by_kind: [(Mat<f64>, Vec<usize>); 3],
+    scratch: Vec<f64>,
+    rows: usize,
+    time: Vec<f64>,
+    disp: Vec<f64>,
+    vel: Vec<f64>,
+    acc: Vec<f64>,
+    sensors: Vec<f64>,
+}
+
+impl Recorder {
+    fn new(s_r: &Mat<f64>, kinds: &[String], h_r: &Mat<f64>, rows: usize) -> Self {
+        let (n, k) = (s_r.nrows(), s_r.ncols());
+        let of_kind = |kind: &str| {
+            let idx: Vec<usize> = kinds.iter().enumerate().filter(|(_, x)| match kind {
+                "VEL" | "ACCEL" => x.as_str() == kind,
+                _ => x.as_str() != "VEL" && x.as_str() != "ACCEL",
+            }).map(|(i, _)| i).collect();
+            (Mat::from_fn(idx.len(), n, |r, c| h_r[(idx[r], c)]), idx)
+        };
+        Recorder {
+            s_t: s_r.transpose().to_owned(),
+            by_kind: [of_kind("DISP"), of_kind("VEL"), of_kind("ACCEL")],
+            scratch: vec![0.0; kinds.len()],
+            rows,
+            time: Vec::with_capacity(rows),
+            disp: Vec::with_capacity(rows * k),
+            vel: Vec::with_capacity(rows * k),
+            acc: Vec::with_capacity(rows * k),
+            sensors: vec![0.0; kinds.len() * rows],
+        }
+    }
+
+    fn record(&mut self, s: &StepState<'_>) {
+        let r = self.time.len();
+        if r == self.rows {
+            return;
+        }
+        self.time.push(s.time);
+        let k = self.s_t.nrows();
+        for (out, x) in [(&mut self.disp, s.q), (&mut self.vel, s.v), (&mut self.acc, s.a)] {
+            out.resize(out.len() + k, 0.0);
+            let end = out.len();
+            matvec_add(&self.s_t, x, &mut out[end - k..]);
+        }
+        for ((h, idx), x) in self.by_kind.iter().zip([s.q, s.v, s.a]) {
+            let y = &mut self.scratch[..idx.len()];
+            y.fill(0.0);
+            matvec_add(h, x, y);
+            for (&j, value) in idx.iter().zip(y.iter()) {
+                self.sensors[j * self.rows + r] = *value;
+            }
+        }
+    }
 }
