@@ -119,6 +119,8 @@ pub struct ShellStrains {
     pub bottom: [f64; 3],
     /// Transverse shear [γxz, γyz] (assumed MITC field at the centroid).
     pub shear: [f64; 2],
+    /// The material system the strains are in: unit vectors x_m, y_m, n (basic).
+    pub axes: [V3; 3],
 }
 
 type V3 = [f64; 3];
@@ -171,6 +173,8 @@ struct Flat {
     points: Vec<GaussPoint>,
     /// Strain operator at the centroid.
     centroid: Mat<f64>,
+    /// Material axes x_m, y_m, n (basic).
+    axes: [V3; 3],
 }
 
 /// Local frame: rows e1 = x_m, e2 = y_m, e3 = n; and the in-plane coordinates and warp heights.
@@ -490,6 +494,7 @@ impl Flat {
             area,
             points,
             centroid,
+            axes: f.axes,
         })
     }
 
@@ -522,6 +527,7 @@ impl Flat {
             area,
             points,
             centroid,
+            axes: f.axes,
         })
     }
 
@@ -606,6 +612,7 @@ impl Flat {
             top: at(z.0),
             bottom: at(z.1),
             shear: [e[6], e[7]],
+            axes: self.axes,
         }
     }
 }
