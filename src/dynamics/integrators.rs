@@ -64,7 +64,7 @@ pub trait Backend {
     /// y += (products[j]) x.
     fn apply(&self, j: usize, x: &[f64], y: &mut [f64]);
     /// x ← effective⁻¹ x.
-    fn solve(&mut self, x: &mut [f64]);
+    fn solve(&mut self, x: &mut [f64]) -> Result<(), IntegrationError>;
     /// Update the matrices for the step ending at `t`; `true` when they changed.
     fn advance(&mut self, _t: f64) -> Result<bool, IntegrationError> {
         Ok(false)
@@ -179,8 +179,9 @@ impl Backend for Dense<'_> {
     fn apply(&self, j: usize, x: &[f64], y: &mut [f64]) {
         self.ops.apply(j, x, y);
     }
-    fn solve(&mut self, x: &mut [f64]) {
+    fn solve(&mut self, x: &mut [f64]) -> Result<(), IntegrationError> {
         self.ops.solve(x);
+        Ok(())
     }
 }
 
@@ -276,7 +277,7 @@ fn initial_acceleration<B: Backend>(backend: &mut B, t0: f64, state: &mut State,
     a.copy_from_slice(f);
     backend.apply(0, v, a);
     backend.apply(1, q, a);
-    backend.solve(a);
+    backend.solve(a)?;
     if a.iter().all(|x| x.is_finite()) { Ok(()) } else { Err(IntegrationError::Singular("mass")) }
 }
 
@@ -311,7 +312,7 @@ fn bdf<B: Backend>(backend: &mut B, run: Run, second_order: bool, state: &mut St
         rhs.copy_from_slice(f);
         backend.apply(0, &r_q, rhs);
         backend.apply(1, &r_v, rhs);
-        backend.solve(rhs);
+        backend.solve(rhs)?;
         q_prev.copy_from_slice(q);
         v_prev.copy_from_slice(v);
         for i in 0..n {
@@ -359,7 +360,7 @@ fn generalized_alpha<B: Backend>(backend: &mut B, run: Run, rho_inf: f64, state:
         backend.apply(0, q, rhs);
         backend.apply(1, v, rhs);
         backend.apply(2, a, rhs);
-        backend.solve(rhs);
+        backend.solve(rhs)?;
         for i in 0..n {
             let q_pred = q[i] + dt * v[i] + (0.5 - beta) * dt * dt * a[i];
             let v_pred = v[i] + (1.0 - gamma) * dt * a[i];

@@ -15,11 +15,11 @@
 use faer::Mat;
 
 use super::rom_case::RomAtPoint;
+use super::transient::{load_into, load_terms, method_of, output_rows};
+use crate::deck::cards::Darea;
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
-use crate::dynamics::integrators::{Dense, LinearSystem, Method, Run, StepState, integrate_with, matvec_add};
-use crate::dynamics::table::Table;
-use crate::io::csv_table::read_columns;
+use crate::dynamics::integrators::{Dense, LinearSystem, Run, StepState, integrate_with, matvec_add};
 use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_str, set_attr_strings, write_f64, write_strings};
 
 /// What one pROM transient subcase computed.
@@ -34,13 +34,6 @@ pub struct RomTransientSummary {
     pub peak: (f64, f64),
 }
 
-/// One load term: reduced shape × table(t − delay).
-struct LoadTerm {
-    shape: Vec<f64>,
-    table: Table,
-    delay: f64,
-}
-
 /// Runs every subcase on its pROM.
 pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
     ctx.model.subcases.iter().map(|sub| clock.time(format!("subcase {}: pROM transient", sub.id), || subcase(ctx, sub))).collect()
@@ -49,23 +42,13 @@ pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, R
 fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
-    let b = &ctx.model.bulk;
     let RomAtPoint { path, prom, p, at, extrapolated } = RomAtPoint::load(ctx, sub)?;
     let (names, s_r) = read_prom_inputs(&path, prom.size())?;
     let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, prom.size())?;
-    let sid = sub.tstep.ok_or_else(|| case("SOL TRANSIENT needs TSTEP = <sid> in case control".into()))?;
-    let tstep = b.tstep.iter().find(|t| t.sid == sid).ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
-    let (method, method_name) = match b.tinteg.iter().find(|t| t.id == sid) {
-        None => (Method::Bdf1, "BDF1".to_string()),
-        Some(t) => match t.method {
-            "BDF2" => (Method::Bdf2, "BDF2".to_string()),
-            "GALPHA" => (Method::GeneralizedAlpha { rho_inf: t.rho_inf }, format!("GALPHA (rho_inf = {})", t.rho_inf)),
-            _ => (Method::Bdf1, "BDF1".to_string()),
-        },
-    };
+    let (tstep, method, method_name) = method_of(ctx, sub)?;
     let loads = match sub.dload {
         None => Vec::new(),
-        Some(dload) => load_terms(ctx, dload, &names, &s_r).map_err(case)?,
+        Some(dload) => load_terms(ctx, dload, prom.size(), |d, comp, scale, shape| place_input(&names, &s_r, d, comp, scale, shape), |_| Ok(None)).map_err(case)?,
     };
     let n = prom.size();
     let k = names.len();
@@ -78,15 +61,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let mut steps = 0;
     for (interval, &(count, dt, every)) in tstep.intervals.iter().enumerate() {
         let every = every.max(1) as usize;
-        let load = |t: f64, f: &mut [f64]| {
-            f.fill(0.0);
-            for term in &loads {
-                let a = term.table.value(t - term.delay);
-                if a != 0.0 {
-                    f.iter_mut().zip(&term.shape).for_each(|(fi, s)| *fi += a * s);
-                }
-            }
-        };
+        let load = |t: f64, f: &mut [f64]| load_into(&loads, t, f);
         let run = Run { dt, steps: count as usize, t0 };
         integrate_with(&mut backend, method, run, &q.clone(), &v.clone(), load, |s| {
             // the first interval reports its initial state; later ones continue the series
@@ -127,51 +102,13 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     Ok(SubcaseSummary { id, autospc: Vec::new(), result: SubcaseResult::RomTransient(summary) })
 }
 
-/// The load terms of `DLOAD = sid`: a DLOAD combination S·Σ Sᵢ·(TLOAD1 Lᵢ), or one TLOAD1.
-fn load_terms(ctx: &RunContext, sid: u32, names: &[String], s_r: &Mat<f64>) -> Result<Vec<LoadTerm>, String> {
-    let b = &ctx.model.bulk;
-    let sets: Vec<(f64, u32)> = match b.dload.iter().find(|d| d.sid == sid) {
-        Some(d) => d.terms.iter().map(|&(s, l)| (d.scale * s, l)).collect(),
-        None => vec![(1.0, sid)],
-    };
-    let mut out = Vec::new();
-    for (scale, set) in sets {
-        let tloads: Vec<_> = b.tload1.iter().filter(|t| t.sid == set).collect();
-        if tloads.is_empty() {
-            return Err(format!("DLOAD {sid}: load set {set} has no TLOAD1"));
-        }
-        for t in tloads {
-            let table = match (b.tabled1.iter().find(|x| x.id == t.tid), b.tablef.iter().find(|x| x.id == t.tid)) {
-                (Some(x), _) => Table::new(&x.points).map_err(|e| format!("TABLED1 {}: {e}", t.tid))?,
-                (None, Some(x)) => {
-                    let csv = x.loc.file.parent().map_or_else(|| std::path::PathBuf::from(&x.path), |dir| dir.join(&x.path));
-                    let points = read_columns(&csv, &x.tcol, &x.ycol).map_err(|e| format!("TABLEF {}: {e}", t.tid))?;
-                    Table::new(&points).map_err(|e| format!("TABLEF {} ({}): {e}", t.tid, csv.display()))?
-                }
-                (None, None) => return Err(format!("TLOAD1 {}: TID {} is no TABLED1 or TABLEF", t.sid, t.tid)),
-            };
-            let mut shape = vec![0.0; s_r.nrows()];
-            let mut any = false;
-            for d in b.darea.iter().filter(|d| d.sid == t.excite_id) {
-                for comp in d.components.components() {
-                    let name = format!("{}:{comp}", d.grid);
-                    let j = names.iter().position(|x| *x == name).ok_or_else(|| format!("DAREA {}: GRID {} component {comp} is not an input DOF of the pROM (inputs: {})", d.sid, d.grid, names.join(", ")))?;
-                    shape.iter_mut().enumerate().for_each(|(i, s)| *s += scale * d.scale * s_r[(i, j)]);
-                    any = true;
-                }
-            }
-            if !any {
-                return Err(format!("TLOAD1 {}: EXCITEID {} selects no DAREA", t.sid, t.excite_id));
-            }
-            out.push(LoadTerm { shape, table, delay: t.delay });
-        }
-    }
-    Ok(out)
-}
-
-/// Number of output rows of a TSTEP: the initial state, then every NO-th step of each interval.
-fn output_rows(intervals: &[(u32, f64, u32)]) -> usize {
-    1 + intervals.iter().map(|&(count, _, every)| count as usize / every.max(1) as usize).sum::<usize>()
+/// Adds a DAREA entry, which must name a pROM input DOF (`GRID:component`), to a reduced load
+/// shape: scale × column of S_r.
+fn place_input(names: &[String], s_r: &Mat<f64>, d: &Darea, comp: usize, scale: f64, shape: &mut [f64]) -> Result<(), String> {
+    let name = format!("{}:{comp}", d.grid);
+    let j = names.iter().position(|x| *x == name).ok_or_else(|| format!("DAREA {}: GRID {} component {comp} is not an input DOF of the pROM (inputs: {})", d.sid, d.grid, names.join(", ")))?;
+    shape.iter_mut().enumerate().for_each(|(i, s)| *s += scale * s_r[(i, j)]);
+    Ok(())
 }
 
 /// Output buffers sized before the run, filled by matrix–vector products (no allocation in the
