@@ -1,6 +1,8 @@
 //! What every sequence on a pROM artifact (`ROM = 'file.h5'`) shares: reading the artifact
 //! (path relative to the deck's directory), the parameter values of the subcase's `PVAL`
-//! (parameters it does not list keep their nominal values), and the pROM evaluated there.
+//! (parameters it does not list keep their nominal values), and the pROM evaluated there. A
+//! `PVAL = id` may select PTABLE cards (parameters following tables of time) instead of or
+//! besides a PVAL card; only the transient reads those ([`super::rom_transient`]).
 
 use std::path::PathBuf;
 
@@ -35,8 +37,16 @@ impl RomAtPoint {
         let (prom, _) = read_prom(&path)?;
         let mut p: Vec<f64> = prom.parameters.iter().map(|q| q.nominal).collect();
         if let Some(pval_id) = sub.pval {
-            let card = ctx.model.bulk.pval.iter().find(|c| c.id == pval_id).ok_or_else(|| case(format!("PVAL {pval_id} missing")))?;
-            for (name, value) in &card.values {
+            let tabulated = ctx.model.bulk.ptable.iter().any(|c| c.id == pval_id);
+            let transient = ctx.deck.executive.sol.as_ref().and_then(|(sol, _)| super::Sequence::of_solution(*sol)) == Some(super::Sequence::Transient);
+            if tabulated && !transient {
+                return Err(case(format!("PTABLE {pval_id}: parameters varying in time apply to SOL TRANSIENT only")));
+            }
+            let card = ctx.model.bulk.pval.iter().find(|c| c.id == pval_id);
+            if card.is_none() && !tabulated {
+                return Err(case(format!("PVAL {pval_id} missing")));
+            }
+            for (name, value) in card.iter().flat_map(|c| &c.values) {
                 let j = prom.parameters.iter().position(|q| q.name.eq_ignore_ascii_case(name)).ok_or_else(|| {
                     case(format!(
                         "PVAL {pval_id} names {name}, which is not a parameter of {} (parameters: {})",

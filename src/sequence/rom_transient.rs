@@ -8,19 +8,25 @@
 //! held outside the table. TSTEP intervals run one after the
 //! other with one factorization each; output every NO steps.
 //!
+//! Initial conditions: `IC = sid` with TIC cards on input DOFs ([`initial_state`]). Parameters
+//! may follow tables of time: PTABLE cards selected by the same `PVAL = id` ([`Varying`]).
+//!
 //! Written: `/results/<id>/transient/{time (t), displacement, velocity, acceleration (t × k)}`
 //! at the pROM's input DOFs (`outputs`, k names), `sensors/<name> (t)` for the pROM's SENSORs
-//! (DISP from q, VEL from q̇, ACCEL from q̈), attributes `rom`, `params`, `values`, `method`.
+//! (DISP from q, VEL from q̇, ACCEL from q̈), attributes `rom`, `params`, `values` (at the end), `method`, `evaluations`.
 
 use faer::Mat;
+use faer::linalg::solvers::Solve;
 
 use super::rom_case::RomAtPoint;
-use super::transient::{load_into, load_terms, method_of, output_rows};
+use super::transient::{load_into, load_terms, method_of, output_rows, table_of};
 use crate::deck::cards::Darea;
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
-use crate::dynamics::integrators::{Dense, LinearSystem, Run, StepState, integrate_with, matvec_add};
-use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_str, set_attr_strings, write_f64, write_strings};
+use crate::dynamics::integrators::{Backend, Combination, DenseOperators, IntegrationError, LinearSystem, Run, StepState, integrate_with, matvec_add};
+use crate::dynamics::table::Table;
+use crate::rom::prom::{Prom, PromEvaluation};
+use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_strings};
 
 /// What one pROM transient subcase computed.
 #[derive(Debug, Clone)]
@@ -32,6 +38,8 @@ pub struct RomTransientSummary {
     pub extrapolated: Vec<String>,
     /// Largest |displacement| over the outputs and its time.
     pub peak: (f64, f64),
+    /// Evaluations of the pROM (1 + the changes of tabulated parameters).
+    pub evaluations: usize,
 }
 
 /// Runs every subcase on its pROM.
@@ -50,13 +58,13 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         None => Vec::new(),
         Some(dload) => load_terms(ctx, dload, prom.size(), |d, comp, scale, shape| place_input(&names, &s_r, d, comp, scale, shape), |_| Ok(None)).map_err(case)?,
     };
-    let n = prom.size();
     let k = names.len();
-    let sys = LinearSystem { mass: at.mass.as_ref(), damping: at.damping.as_ref(), stiffness: at.stiffness.as_ref() };
-    let mut backend = Dense::new(sys).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let tables = parameter_tables(ctx, sub, &prom).map_err(case)?;
+    let mut backend = Varying { prom: &prom, at, p, tables, ops: DenseOperators::default(), outside: extrapolated, evaluations: 0 };
+    backend.advance(0.0).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let (mut q, mut v) = initial_state(ctx, sub, &names, &s_r, &backend.at.stiffness).map_err(case)?;
     let rows = output_rows(&tstep.intervals);
     let mut rec = Recorder::new(&s_r, &sensor_kinds, &h_r, rows);
-    let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
     let mut t0 = 0.0;
     let mut steps = 0;
     for (interval, &(count, dt, every)) in tstep.intervals.iter().enumerate() {
@@ -97,9 +105,115 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     set_attr_str(&group, "method", &method_name)?;
     let params: Vec<&str> = prom.parameters.iter().map(|q| q.name.as_str()).collect();
     set_attr_strings(&group, "params", &params)?;
-    set_attr_f64s(&group, "values", &p)?;
-    let summary = RomTransientSummary { rom: path, method: method_name, steps, outputs: names, extrapolated, peak };
+    set_attr_f64s(&group, "values", &backend.p)?;
+    set_attr_i64(&group, "evaluations", backend.evaluations as i64)?;
+    let summary = RomTransientSummary { rom: path, method: method_name, steps, outputs: names, extrapolated: backend.outside, peak, evaluations: backend.evaluations };
     Ok(SubcaseSummary { id, autospc: Vec::new(), result: SubcaseResult::RomTransient(summary) })
+}
+
+/// The tabulated parameters of `PVAL = id` (PTABLE cards): (parameter index, p(t)). A
+/// parameter may not be both in a PVAL and a PTABLE of the same id.
+fn parameter_tables(ctx: &RunContext, sub: &Subcase, prom: &Prom) -> Result<Vec<(usize, Table)>, String> {
+    let Some(id) = sub.pval else { return Ok(Vec::new()) };
+    let b = &ctx.model.bulk;
+    let mut out: Vec<(usize, Table)> = Vec::new();
+    for card in b.ptable.iter().filter(|c| c.id == id) {
+        let names = || prom.parameters.iter().map(|q| q.name.as_str()).collect::<Vec<_>>().join(", ");
+        let j = prom.parameters.iter().position(|q| q.name.eq_ignore_ascii_case(&card.name)).ok_or_else(|| format!("PTABLE {id} names {}, which is not a parameter of the pROM (parameters: {})", card.name, names()))?;
+        if b.pval.iter().filter(|c| c.id == id).any(|c| c.values.iter().any(|(n, _)| n.eq_ignore_ascii_case(&card.name))) || out.iter().any(|(k, _)| *k == j) {
+            return Err(format!("PTABLE {id}: parameter {} is given twice (PVAL and PTABLE, or two PTABLEs)", card.name));
+        }
+        out.push((j, table_of(ctx, card.tid, &format!("PTABLE {id}"))?));
+    }
+    Ok(out)
+}
+
+/// The pROM as an integrator backend. Parameters following tables (PTABLE) are re-evaluated
+/// before each step; when p(t) changed, M_r, C_r, K_r are summed again ([`Prom::evaluate`],
+/// allocation-free, O(n_terms · n_r²)) and the effective matrix is formed and inverted again
+/// (O(n_r³); ≈ 30 µs at n_r = 31), so a table that changes every step costs that per step and
+/// a constant table costs nothing. The matrices are those at the end of the step (t_{k+1}).
+struct Varying<'a> {
+    prom: &'a Prom,
+    at: PromEvaluation,
+    p: Vec<f64>,
+    tables: Vec<(usize, Table)>,
+    ops: DenseOperators,
+    /// Parameters found outside the pROM's box at any time.
+    outside: Vec<String>,
+    evaluations: usize,
+}
+
+impl Backend for Varying<'_> {
+    fn size(&self) -> usize {
+        self.prom.size()
+    }
+    fn prepare(&mut self, effective: Combination, products: &[Combination], what: &'static str) -> Result<(), IntegrationError> {
+        let sys = LinearSystem { mass: self.at.mass.as_ref(), damping: self.at.damping.as_ref(), stiffness: self.at.stiffness.as_ref() };
+        self.ops.prepare(sys, effective, products, what)
+    }
+    fn apply(&self, j: usize, x: &[f64], y: &mut [f64]) {
+        self.ops.apply(j, x, y);
+    }
+    fn solve(&mut self, x: &mut [f64]) -> Result<(), IntegrationError> {
+        self.ops.solve(x);
+        Ok(())
+    }
+    fn advance(&mut self, t: f64) -> Result<bool, IntegrationError> {
+        let mut changed = self.evaluations == 0;
+        for (j, table) in &self.tables {
+            let value = table.value(t);
+            if value != self.p[*j] {
+                self.p[*j] = value;
+                changed = true;
+            }
+        }
+        if changed {
+            self.prom.evaluate(&self.p, &mut self.at).map_err(|e| IntegrationError::Backend(format!("t = {t}: {e}")))?;
+            self.evaluations += 1;
+            for name in self.prom.outside_box(&self.p) {
+                if !self.outside.iter().any(|x| x == name) {
+                    self.outside.push(name.to_string());
+                }
+            }
+        }
+        Ok(changed)
+    }
+}
+
+/// The reduced initial state of `IC = sid`. TIC cards name pROM input DOFs (`GRID:component`);
+/// inputs without a TIC start at zero. The pROM has no mesh, so the state is defined on its
+/// inputs: q0 is the static shape that produces the requested input displacements u0,
+/// q0 = K_r⁻¹ S_r (S_rᵀ K_r⁻¹ S_r)⁻¹ u0 (the reduced displacement under input forces only, whose
+/// input displacements S_rᵀ q0 equal u0), and likewise v0 from the initial velocities.
+fn initial_state(ctx: &RunContext, sub: &Subcase, names: &[String], s_r: &Mat<f64>, k_r: &Mat<f64>) -> Result<(Vec<f64>, Vec<f64>), String> {
+    let n = s_r.nrows();
+    let Some(sid) = sub.ic else { return Ok((vec![0.0; n], vec![0.0; n])) };
+    let cards: Vec<_> = ctx.model.bulk.tic.iter().filter(|c| c.sid == sid).collect();
+    if cards.is_empty() {
+        return Err(format!("IC = {sid} selects no TIC card"));
+    }
+    let k = names.len();
+    let (mut u0, mut v0) = (Mat::<f64>::zeros(k, 1), Mat::<f64>::zeros(k, 1));
+    for c in cards {
+        let name = format!("{}:{}", c.grid, c.component);
+        let j = names.iter().position(|x| *x == name).ok_or_else(|| format!("TIC {sid}: GRID {} component {} is not an input DOF of the pROM (inputs: {}); a pROM's initial state is defined on its inputs", c.grid, c.component, names.join(", ")))?;
+        u0[(j, 0)] += c.u0;
+        v0[(j, 0)] += c.v0;
+    }
+    let k_lu = k_r.partial_piv_lu();
+    let x = k_lu.solve(s_r); // K_r⁻¹ S_r
+    let schur = s_r.transpose() * &x; // S_rᵀ K_r⁻¹ S_r (the input flexibility)
+    let lu = schur.partial_piv_lu();
+    let shape = |u: &Mat<f64>| -> Result<Vec<f64>, String> {
+        let q = &x * lu.solve(u);
+        if (0..n).all(|i| q[(i, 0)].is_finite()) {
+            Ok((0..n).map(|i| q[(i, 0)]).collect())
+        } else {
+            Err(format!("TIC {sid}: the pROM's stiffness (or its input flexibility) is singular, so no static shape gives the requested input displacements (a free-free pROM needs initial conditions through its rigid-body-free inputs)"))
+        }
+    };
+    Ok((shape(&u0)?, shape(&v0)?))
 }
 
 /// Adds a DAREA entry, which must name a pROM input DOF (`GRID:component`), to a reduced load

@@ -1,6 +1,7 @@
 //! `SOL TRANSIENT` (109/112) on the full model by direct integration of the f-set
 //! M_ff ü + C_ff u̇ + K_ff u = p_f(t), C = αM + βK (`PARAM,ALPHA1` / `BETA1`), with the
-//! `TINTEG` of the `TSTEP` (BDF1 by default, eq. 2.61; BDF2; generalized-α) from rest. Each
+//! `TINTEG` of the `TSTEP` (BDF1 by default, eq. 2.61; BDF2; generalized-α) from rest or from
+//! the TIC state of `IC = sid`. Each
 //! TSTEP interval has a constant Δt: one sparse Cholesky of the effective matrix per interval
 //! (two for BDF2, whose first step is BDF1), one symbolic analysis for the run.
 //!
@@ -169,7 +170,7 @@ fn subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase) -> 
     let mut recovery_error = None;
     let par = if ctx.options.parallel { Par::rayon(0) } else { Par::Seq };
     let mut backend = SparseBackend::new(&c.k_ff, &c.m_ff, ctx.model.params.alpha1, ctx.model.params.beta1, par).map_err(|e| case(e.to_string()))?;
-    let (mut u, mut v) = (vec![0.0; n_f], vec![0.0; n_f]);
+    let (mut u, mut v) = initial_state(ctx, c, sub).map_err(case)?;
     let mut t0 = 0.0;
     let mut steps = 0;
     for (interval, &(count, dt, every)) in tstep.intervals.iter().enumerate() {
@@ -234,6 +235,26 @@ fn subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase) -> 
     set_attr_i64(&group, "factorizations", backend.factorizations as i64)?;
     super::write_autospc(&group, &c.autospc)?;
     Ok(TransientSummary { method: method_name, steps, f_size: n_f, sensors: s, factorizations: backend.factorizations, peak })
+}
+
+/// The f-set state of `IC = sid`: each TIC sets u and u̇ of one free grid component (its
+/// displacement frame); components without a TIC start at zero. A TIC on a constrained (SPC,
+/// AUTOSPC) or dependent (RBE) DOF is an error: its value would be ignored.
+fn initial_state(ctx: &RunContext, c: &Constrained, sub: &Subcase) -> Result<(Vec<f64>, Vec<f64>), String> {
+    let n_f = c.sets.f.len();
+    let (mut u, mut v) = (vec![0.0; n_f], vec![0.0; n_f]);
+    let Some(sid) = sub.ic else { return Ok((u, v)) };
+    let cards: Vec<_> = ctx.model.bulk.tic.iter().filter(|t| t.sid == sid).collect();
+    if cards.is_empty() {
+        return Err(format!("IC = {sid} selects no TIC card"));
+    }
+    for t in cards {
+        let grid = ctx.model.grid_index.get(&t.grid).copied().ok_or_else(|| format!("TIC {sid}: GRID {} does not exist", t.grid))?;
+        let i = c.sets.f.position(DofMap::dof(grid, t.component - 1)).ok_or_else(|| format!("TIC {sid}: GRID {} component {} is not a free DOF (constrained by SPC/AUTOSPC or dependent in an RBE)", t.grid, t.component))?;
+        u[i] += t.u0;
+        v[i] += t.v0;
+    }
+    Ok((u, v))
 }
 
 /// The f-set shape of a static load set (FORCE, MOMENT, LOAD combinations) used as a TLOAD1's
