@@ -146,3 +146,28 @@ fn parameters_following_tables_on_a_prom() {
     let change = frozen.1.iter().zip(&reference.1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     assert!(change > 100.0 * e1, "the ramp must change the response well above the step error: {change:e} vs {e1:e}");
 }
+
+/// Hard cases on a pROM: a PTABLE leaving the parameter box during the run is warned about,
+/// naming the parameter; a reduced mass matrix that is (numerically) singular is refused with
+/// the conditioning check the dense eigen solver uses, not integrated.
+#[test]
+fn prom_hard_cases_are_reported() {
+    let chain = TwoDofChain::reference();
+    let prom = chain_prom(&chain);
+    let rom = prom.path().join("out.h5");
+    let deck = |params: &str| format!("SOL 112\nCEND\nROM = '{}'\nTSTEP = 1\nDLOAD = 7\nPVAL = 4\nBEGIN BULK\nTSTEP,1,100,1.e-4\nTLOAD1,7,8,,,9\nDAREA,8,2,1,1.\nTABLED1,9\n,0.,1.,10.,1.,ENDT\n{params}ENDDATA\n", rom.display());
+    // K1's box is [5e3, 5e4]; the table leaves it at t = 5 ms
+    let (r, _out) = run_deck(&deck("PTABLE,4,K1,20\nTABLED1,20\n,0.,2.5e4,0.01,7.5e4,ENDT\n"));
+    let s = r.expect("out-of-box PTABLE runs (extrapolation is allowed)");
+    assert!(s.warnings.iter().any(|w| w.contains("K1") && w.contains("outside the box")), "{:?}", s.warnings);
+    // every mass component replaced by a rank-one matrix: M_r(p) is singular
+    {
+        let file = hdf5_metno::File::open_rw(&rom).expect("open rw");
+        let group = file.group("prom/M").expect("/prom/M");
+        for name in group.member_names().unwrap() {
+            group.dataset(&name).unwrap().write_raw(&[1.0, 1.0, 1.0, 1.0]).unwrap();
+        }
+    }
+    let e = run_deck(&deck("PVAL,4,K1,2.5e4\n")).0.expect_err("a singular reduced mass must be refused");
+    assert!(e.to_string().contains("ill-conditioned") && e.to_string().contains("K1 = 2.5e4"), "{e}");
+}

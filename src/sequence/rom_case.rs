@@ -1,6 +1,7 @@
 //! What every sequence on a pROM artifact (`ROM = 'file.h5'`) shares: reading the artifact
 //! (path relative to the deck's directory), the parameter values of the subcase's `PVAL`
-//! (parameters it does not list keep their nominal values), and the pROM evaluated there. A
+//! (parameters it does not list keep their nominal values), and the pROM evaluated there,
+//! refused when its reduced mass matrix is ill-conditioned ([`crate::linalg::dense::mass_conditioning`]). A
 //! `PVAL = id` may select PTABLE cards (parameters following tables of time) instead of or
 //! besides a PVAL card; only the transient reads those ([`super::rom_transient`]).
 
@@ -59,7 +60,15 @@ impl RomAtPoint {
         }
         let mut at = prom.workspace();
         prom.evaluate(&p, &mut at).map_err(|e| case(format!("{}: {e}", path.display())))?;
+        if at.mass.nrows() > 0 {
+            crate::linalg::dense::mass_conditioning(at.mass.as_ref()).map_err(|e| case(format!("{} at {}: {e}", path.display(), point(&prom, &p))))?;
+        }
         let extrapolated = prom.outside_box(&p).into_iter().map(String::from).collect();
         Ok(RomAtPoint { path, prom, p, at, extrapolated })
     }
+}
+
+/// "E = 1.1e11, RHO = 4500" for messages.
+fn point(prom: &Prom, p: &[f64]) -> String {
+    prom.parameters.iter().zip(p).map(|(q, v)| format!("{} = {v:e}", q.name)).collect::<Vec<_>>().join(", ")
 }
