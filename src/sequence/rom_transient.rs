@@ -133,6 +133,8 @@ fn parameter_tables(ctx: &RunContext, sub: &Subcase, prom: &Prom) -> Result<Vec<
 /// allocation-free, O(n_terms · n_r²)) and the effective matrix is formed and inverted again
 /// (O(n_r³); ≈ 30 µs at n_r = 31), so a table that changes every step costs that per step and
 /// a constant table costs nothing. The matrices are those at the end of the step (t_{k+1}).
+/// The reduced mass's conditioning is checked once, at the PVAL point ([`RomAtPoint::load`]),
+/// not at every re-evaluation (an eigenvalue decomposition per step would dominate the cost).
 struct Varying<'a> {
     prom: &'a Prom,
     at: PromEvaluation,
