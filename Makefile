@@ -12,7 +12,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcursor1 libxfixes3 \
 	libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1
 
-.PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom clean
+.PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient clean
 
 demo: deps
 	$(CARGO) build --release --quiet
@@ -66,6 +66,11 @@ validate-prom: deps
 	$(PY) tools/prom/error_map.py decks/prom/blade_prom_e_rho_10.dat --pair 71:3 --grid 11 -o docs/img/blade_prom_error_map_10.png
 	$(PY) tools/prom/angle_sweep.py decks/prom/l2r_composite_prom_theta_90.dat decks/prom/l2r_composite_prom_theta_45.dat \
 		--pair 1000002:3 --step 2.5 -o docs/img/l2r_composite_prom_angle_sweep.png
+
+# Transient integrators on the blade pROM: Δt vs error vs time (not part of the tests).
+bench-transient: deps
+	$(CARGO) build --release --quiet
+	$(PY) tools/bench/transient_bench.py --paraflex $${CARGO_TARGET_DIR:-target}/release/paraflex
 
 clean:
 	$(CARGO) clean

@@ -286,6 +286,12 @@ mod report {
                     println!("subcase {}: transient of the pROM {} ({}), {} step(s), outputs {}", sub.id, r.rom.display(), r.method, r.steps, r.outputs.join(", "));
                     println!("  largest |displacement| {} at t = {} s", sci(r.peak.0, 4), sci(r.peak.1, 4));
                 }
+                SubcaseResult::Transient(r) => {
+                    println!("subcase {}: transient of the full model (f-set {} DOFs, {}), {} step(s), {} factorization(s), {} sensor(s)", sub.id, r.f_size, r.method, r.steps, r.factorizations, r.sensors);
+                    if let Some((name, value, t)) = &r.peak {
+                        println!("  largest |sensor| {} ({name}) at t = {} s", sci(*value, 4), sci(*t, 4));
+                    }
+                }
                 SubcaseResult::Statics(st) => {
                     println!("subcase {}: f-set {} DOFs", sub.id, st.f_size);
                     println!("  max |u| (translation)  {} at GRID {}", sci(st.max_translation.1, 6), st.max_translation.0);

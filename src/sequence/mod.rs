@@ -8,6 +8,7 @@
 //! | `101`, `STATICS` | [`statics::run`] | `SPC`, `LOAD` → u, SPC forces, centroid strains |
 //! | `103`, `MODAL` | [`modal::run`] | `SPC`, `METHOD` (EIGRL) → frequencies, generalized masses, residuals, shapes |
 //! | `108`, `111`, `FRF` | [`frf::run`] | `SPC`, `FREQUENCY`, `DLOAD` (RLOAD1/DAREA inputs), `METHOD` (111) → complex FRFs at inputs and SENSORs |
+//! | `109`, `112`, `TRANSIENT` | [`transient::run`] (full model), [`rom_transient::run`] (`ROM =`) | `TSTEP` (+`TINTEG`), `DLOAD`, `IC` → sensor histories |
 //! | any with `ROM =` | [`rom_modal`], [`rom_frf`], [`rom_transient`] | the pROM artifact at `PVAL` |
 //!
 //! Both drivers share the structure setup of [`Structure::build`]: element matrices
@@ -44,6 +45,7 @@ pub mod rom_transient;
 pub mod rom_modal;
 pub mod sensors;
 pub mod statics;
+pub mod transient;
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -72,7 +74,8 @@ pub enum Sequence {
     Prom,
     /// SOL FRF (108/111): frequency response, full model (direct or modal) or pROM artifact.
     Frf,
-    /// SOL TRANSIENT (109/112): time response; on pROM artifacts only in this version.
+    /// SOL TRANSIENT (109/112): time response, on pROM artifacts ([`rom_transient`]) and on the
+    /// full model by direct integration ([`transient`]; SOL 112 too: no modal superposition).
     Transient,
 }
 
@@ -160,6 +163,7 @@ pub enum SubcaseResult {
     RomModal(rom_modal::RomModalSummary),
     RomFrf(rom_frf::RomFrfSummary),
     RomTransient(rom_transient::RomTransientSummary),
+    Transient(transient::TransientSummary),
 }
 
 /// Errors of a run. Each says where (element, GRID and component, subcase) and what to do.
@@ -195,13 +199,23 @@ pub enum RunError {
 }
 
 /// The sequence that runs `model`'s SOL, or why none can: no SOL, a SOL without a driver, or
-/// a time response on the full model (this version runs it on pROMs only).
-/// The CLI asks before running, to write the model and exit with "not available".
+/// subcases that mix `ROM =` with full-model subcases (one run is either on pROM artifacts or
+/// on the deck's mesh). The CLI asks before running, to write the model and exit with "not
+/// available".
 pub fn runnable(deck: &Deck, model: &Model) -> Result<Sequence, RunError> {
     let (sol, text) = deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
     let sequence = Sequence::of_solution(*sol).ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
-    if sequence == Sequence::Transient && !rom_case::applies(model) {
-        return Err(RunError::NotAvailable(format!("{text} ({}) on the full model (this version runs it on pROM artifacts: every subcase needs ROM = 'file.h5')", sol.name())));
+    let on_rom: Vec<u32> = model.subcases.iter().filter(|s| s.rom.is_some()).map(|s| s.id).collect();
+    if !on_rom.is_empty() && !rom_case::applies(model) {
+        let full: Vec<String> = model.subcases.iter().filter(|s| s.rom.is_none()).map(|s| s.id.to_string()).collect();
+        return Err(RunError::NotAvailable(format!(
+            "{text} ({}) with ROM = in subcase(s) {on_rom:?} but not in subcase(s) {}: a run is either on pROM artifacts (ROM = in every subcase) or on the full model; split the deck",
+            sol.name(),
+            full.join(", ")
+        )));
+    }
+    if rom_case::applies(model) && matches!(sequence, Sequence::Statics | Sequence::Prom) {
+        return Err(RunError::NotAvailable(format!("{text} ({}) on a pROM artifact (ROM =): pROMs run SOL 103, FRF and TRANSIENT", sol.name())));
     }
     Ok(sequence)
 }
@@ -214,13 +228,13 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         (Sequence::Modal, true) => rom_modal::run(ctx, &mut clock)?,
         (Sequence::Frf, true) => rom_frf::run(ctx, &mut clock)?,
         (Sequence::Transient, true) => rom_transient::run(ctx, &mut clock)?,
-        (Sequence::Transient, false) => return Err(RunError::NotAvailable(format!("{} on the full model", sequence.name()))),
-        (Sequence::Statics | Sequence::Modal | Sequence::Prom | Sequence::Frf, _) => {
+        (Sequence::Statics | Sequence::Modal | Sequence::Prom | Sequence::Frf | Sequence::Transient, _) => {
             let structure = Structure::build(ctx, &mut clock)?;
             match sequence {
                 Sequence::Statics => statics::run(ctx, &structure, &mut clock)?,
                 Sequence::Prom => prom::run(ctx, &structure, &mut clock)?,
                 Sequence::Frf => frf::run(ctx, &structure, &mut clock)?,
+                Sequence::Transient => transient::run(ctx, &structure, &mut clock)?,
                 _ => modal::run(ctx, &structure, &mut clock)?,
             }
         }
