@@ -77,6 +77,20 @@ fn run_writes_model_and_xdmf_then_reports_an_unavailable_solution() {
     assert!(out.exists() && dir.path().join("optimize.xdmf").exists());
 }
 
+/// A deck whose subcases mix `ROM =` (a pROM artifact) with full-model subcases is refused
+/// before anything runs, naming both groups (one run is on pROMs or on the mesh, not both).
+#[test]
+fn subcases_mixing_rom_and_full_model_are_refused() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let text = std::fs::read_to_string(root().join("decks/demo/bracket_plate.dat")).expect("demo deck");
+    let deck = dir.path().join("mixed.dat");
+    std::fs::write(&deck, text.replacen("BEGIN BULK", "SUBCASE 2\n  ROM = 'blade.h5'\nBEGIN BULK", 1)).expect("write");
+    let result = paraflex().arg("run").arg(&deck).arg("-o").arg(dir.path().join("mixed.h5")).output().expect("runs");
+    assert_eq!(result.status.code(), Some(3), "{}", String::from_utf8_lossy(&result.stderr));
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(stderr.contains("ROM = in subcase(s) [2] but not in subcase(s) 1"), "{stderr}");
+}
+
 #[test]
 fn invalid_deck_writes_nothing_and_exits_2() {
     let dir = tempfile::tempdir().expect("tempdir");
