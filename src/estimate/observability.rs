@@ -74,19 +74,24 @@ impl Observability {
     }
 }
 
-/// Run the PBH test. `at`: pROM at the initial parameters, `alpha_beta` its Rayleigh α, β; `s_un`: unknown-input shapes;
-/// `params`: indices of the unknown parameters; `unknowns`: their descriptions (inputs first);
-/// `modes`: (ω² ascending, M-orthonormal shapes) of K, M at the initial parameters.
-pub fn check(
-    at: &PromEvaluation,
-    alpha_beta: (f64, f64),
-    s_un: &Mat<f64>,
-    params: &[usize],
-    unknowns: &[Unknown],
-    measured: &SensorRows,
-    points: &[OperatingPoint],
-    modes: (&[f64], &Mat<f64>),
-) -> Observability {
+/// The linearized estimation problem at the initial parameters.
+pub struct Problem<'a> {
+    /// pROM at the initial parameters and its Rayleigh α, β.
+    pub at: &'a PromEvaluation,
+    pub alpha_beta: (f64, f64),
+    /// Unknown-input shapes S_un.
+    pub s_un: &'a Mat<f64>,
+    /// Indices of the unknown parameters.
+    pub params: &'a [usize],
+    /// Descriptions of the unknowns, inputs first.
+    pub unknowns: &'a [Unknown],
+    pub measured: &'a SensorRows,
+}
+
+/// Run the PBH test at `points`; `modes`: (ω² ascending, M-orthonormal shapes) of K, M at the
+/// initial parameters.
+pub fn check(problem: &Problem, points: &[OperatingPoint], modes: (&[f64], &Mat<f64>)) -> Observability {
+    let Problem { at, alpha_beta, s_un, params, unknowns, measured } = *problem;
     let n = at.mass.nrows();
     let (nu, np) = (s_un.ncols(), params.len());
     let big_n = 2 * n + nu + np;
@@ -234,7 +239,8 @@ mod tests {
         let k = case.kinds.len();
         let sensors = SensorRows::new((0..k).map(|r| format!("S{r}")).collect(), case.kinds.iter().map(|s| s.to_string()).collect(), Mat::from_fn(k, 2, |r, c| if r % 2 == c { 1.0 } else { 0.3 })).unwrap();
         let (lambda, phi) = crate::linalg::dense::generalized_eigen(at.stiffness.as_ref(), at.mass.as_ref()).unwrap();
-        check(&at, (prom.alpha, prom.beta), &s_un, &case.params, &unknowns, &sensors, &[point], (&lambda, &phi))
+        let problem = Problem { at: &at, alpha_beta: (prom.alpha, prom.beta), s_un: &s_un, params: &case.params, unknowns: &unknowns, measured: &sensors };
+        check(&problem, &[point], (&lambda, &phi))
     }
 
     /// Static equilibrium under a load on DOF 2, and a dynamic point with that load (q̈ from

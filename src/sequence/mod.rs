@@ -32,6 +32,7 @@
 //! Vectors are written in the basic system (rotated back from the grids' CD frames).
 
 pub mod elements;
+pub mod estimate;
 pub mod modal;
 pub mod parameters;
 pub mod prom;
@@ -70,6 +71,8 @@ pub enum Sequence {
     Frf,
     /// SOL TRANSIENT (109/112): time response; on pROM artifacts only in this version.
     Transient,
+    /// SOL ESTIMATE: states, inputs and parameters from measurements (augmented EKF) on a pROM.
+    Estimate,
 }
 
 impl Sequence {
@@ -81,6 +84,7 @@ impl Sequence {
             Solution::Prom => Some(Sequence::Prom),
             Solution::Frf | Solution::FrfDirect | Solution::FrfModal => Some(Sequence::Frf),
             Solution::Transient | Solution::TransientDirect | Solution::TransientModal => Some(Sequence::Transient),
+            Solution::Estimate => Some(Sequence::Estimate),
             _ => None,
         }
     }
@@ -93,6 +97,7 @@ impl Sequence {
             Sequence::Prom => "PROM",
             Sequence::Frf => "FRF",
             Sequence::Transient => "TRANSIENT",
+            Sequence::Estimate => "ESTIMATE",
         }
     }
 }
@@ -155,6 +160,7 @@ pub enum SubcaseResult {
     RomModal(rom_modal::RomModalSummary),
     RomFrf(rom_frf::RomFrfSummary),
     RomTransient(rom_transient::RomTransientSummary),
+    Estimate(estimate::EstimateSummary),
 }
 
 /// Errors of a run. Each says where (element, GRID and component, subcase) and what to do.
@@ -195,7 +201,7 @@ pub enum RunError {
 pub fn runnable(deck: &Deck, model: &Model) -> Result<Sequence, RunError> {
     let (sol, text) = deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
     let sequence = Sequence::of_solution(*sol).ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
-    if matches!(sequence, Sequence::Frf | Sequence::Transient) && !rom_case::applies(model) {
+    if matches!(sequence, Sequence::Frf | Sequence::Transient | Sequence::Estimate) && !rom_case::applies(model) {
         return Err(RunError::NotAvailable(format!("{text} ({}) on the full model (this version runs it on pROM artifacts: every subcase needs ROM = 'file.h5')", sol.name())));
     }
     Ok(sequence)
@@ -209,7 +215,8 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         (Sequence::Modal, true) => rom_modal::run(ctx, &mut clock)?,
         (Sequence::Frf, true) => rom_frf::run(ctx, &mut clock)?,
         (Sequence::Transient, true) => rom_transient::run(ctx, &mut clock)?,
-        (Sequence::Frf | Sequence::Transient, false) => return Err(RunError::NotAvailable(format!("{} on the full model", sequence.name()))),
+        (Sequence::Estimate, true) => estimate::run(ctx, &mut clock)?,
+        (Sequence::Frf | Sequence::Transient | Sequence::Estimate, false) => return Err(RunError::NotAvailable(format!("{} on the full model", sequence.name()))),
         (Sequence::Statics | Sequence::Modal | Sequence::Prom, _) => {
             let structure = Structure::build(ctx, &mut clock)?;
             match sequence {
@@ -232,10 +239,20 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
             SubcaseResult::RomModal(r) => Some((&r.extrapolated, &r.rom)),
             SubcaseResult::RomFrf(r) => Some((&r.extrapolated, &r.rom)),
             SubcaseResult::RomTransient(r) => Some((&r.extrapolated, &r.rom)),
+            SubcaseResult::Estimate(r) => Some((&r.extrapolated, &r.rom)),
             _ => None,
         };
         if let Some((names, rom)) = extrapolated.filter(|(names, _)| !names.is_empty()) {
             warnings.push(format!("subcase {}: parameter(s) {} lie outside the box the pROM {} was built for: extrapolated", s.id, names.join(", "), rom.display()));
+        }
+        if let SubcaseResult::Estimate(e) = &s.result {
+            if e.forced {
+                warnings.push(format!("subcase {}: FORCE = YES: the filter ran although the problem is {}", s.id, e.observability));
+            }
+            if !e.hidden_modes.is_empty() {
+                let modes: Vec<String> = e.hidden_modes.iter().map(|(k, f)| format!("{k} ({f:.4e} Hz)")).collect();
+                warnings.push(format!("subcase {}: mode(s) {} are not seen by the measured sensors (unobservable at s = λ, but stable: detectable, thesis §7.5.1)", s.id, modes.join(", ")));
+            }
         }
         if let SubcaseResult::Prom(p) = &s.result {
             if !p.strain_sensors_skipped.is_empty() {

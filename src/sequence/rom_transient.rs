@@ -35,10 +35,10 @@ pub struct RomTransientSummary {
 }
 
 /// One load term: reduced shape × table(t − delay).
-struct LoadTerm {
-    shape: Vec<f64>,
-    table: Table,
-    delay: f64,
+pub(super) struct LoadTerm {
+    pub(super) shape: Vec<f64>,
+    pub(super) table: Table,
+    pub(super) delay: f64,
 }
 
 /// Runs every subcase on its pROM.
@@ -143,7 +143,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
 }
 
 /// The load terms of `DLOAD = sid`: a DLOAD combination S·Σ Sᵢ·(TLOAD1 Lᵢ), or one TLOAD1.
-fn load_terms(ctx: &RunContext, sid: u32, names: &[String], s_r: &Mat<f64>) -> Result<Vec<LoadTerm>, String> {
+pub(super) fn load_terms(ctx: &RunContext, sid: u32, names: &[String], s_r: &Mat<f64>) -> Result<Vec<LoadTerm>, String> {
     let b = &ctx.model.bulk;
     let sets: Vec<(f64, u32)> = match b.dload.iter().find(|d| d.sid == sid) {
         Some(d) => d.terms.iter().map(|&(s, l)| (d.scale * s, l)).collect(),
