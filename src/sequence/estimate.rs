@@ -381,7 +381,9 @@ fn operating_points(
         return Ok(vec![OperatingPoint { q: q_static, v: vec![0.0; n], a: vec![0.0; n], dynamic: false }]);
     }
     let sys = LinearSystem { mass: at.mass.as_ref(), damping: at.damping.as_ref(), stiffness: at.stiffness.as_ref() };
-    let every = (steps / 8).max(1);
+    // 16 sampling instants offset by the golden-ratio fraction of a spacing, so that they do
+    // not fall on the zeros of a periodic load (where the state is a free response)
+    let samples: Vec<usize> = (0..16).map(|i| ((steps as f64) * (i as f64 + 0.618_034) / 16.0).round() as usize).filter(|&k| k > 0).collect();
     let mut points = Vec::new();
     let forcing = |t: f64, f: &mut [f64]| {
         load(t, f, false);
@@ -393,7 +395,7 @@ fn operating_points(
         }
     };
     integrate(sys, Method::Bdf1, dt, steps, &vec![0.0; n], &vec![0.0; n], forcing, |s| {
-        if s.step > 0 && s.step % every == 0 {
+        if samples.contains(&s.step) {
             points.push(OperatingPoint { q: s.q.iter().zip(&q_static).map(|(a, b)| a + b).collect(), v: s.v.to_vec(), a: s.a.to_vec(), dynamic: true });
         }
     })
