@@ -21,7 +21,7 @@
 //! - **Refresh**: the pROM is evaluated at the new p⁺ (eq. 3.32, allocation-free), S and M are
 //!   factored for the next step, and q̈⁺ comes from the equation of motion at x⁺.
 
-use faer::linalg::solvers::{Llt, Solve};
+use faer::linalg::solvers::Llt;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par, Side};
 
@@ -243,8 +243,8 @@ impl Filter {
         let n = self.n;
         let f = self.force(f_kn);
         let (q, v) = (&self.x[..n], &self.x[n..2 * n]);
-        let rhs = Mat::from_fn(n, 1, |i, _| f[i] - (0..n).map(|j| self.at.stiffness[(i, j)] * q[j] + self.at.damping[(i, j)] * v[j]).sum::<f64>());
-        let a = self.m_factor.solve(&rhs);
+        let mut a = Mat::from_fn(n, 1, |i, _| f[i] - (0..n).map(|j| self.at.stiffness[(i, j)] * q[j] + self.at.damping[(i, j)] * v[j]).sum::<f64>());
+        solve_seq(&self.m_factor, a.as_mut());
         (0..n).map(|i| a[(i, 0)]).collect()
     }
 
@@ -268,8 +268,8 @@ impl Filter {
         let f = self.force(f_kn);
         let v_old: Vec<f64> = self.x[n..2 * n].to_vec();
         let at = &self.at;
-        let rhs = Mat::from_fn(n, 1, |i, _| (0..n).map(|j| at.mass[(i, j)] * v_old[j] - dt * at.stiffness[(i, j)] * self.x[j]).sum::<f64>() + dt * f[i]);
-        let v_new = self.s_factor.solve(&rhs);
+        let mut v_new = Mat::from_fn(n, 1, |i, _| (0..n).map(|j| at.mass[(i, j)] * v_old[j] - dt * at.stiffness[(i, j)] * self.x[j]).sum::<f64>() + dt * f[i]);
+        solve_seq(&self.s_factor, v_new.as_mut());
         for i in 0..n {
             self.x[n + i] = v_new[(i, 0)];
             self.x[i] += dt * v_new[(i, 0)];
@@ -280,13 +280,14 @@ impl Filter {
             let d = self.parameter_columns();
             let at = &self.at;
             let s_un = &self.setup.s_un;
-            let rhs = Mat::from_fn(n, big_n, |i, j| match j {
+            let mut rhs = Mat::from_fn(n, big_n, |i, j| match j {
                 j if j < n => -dt * at.stiffness[(i, j)],
                 j if j < 2 * n => at.mass[(i, j - n)],
                 j if j < 2 * n + nu => dt * s_un[(i, j - 2 * n)],
                 j => -dt * d[(i, j - 2 * n - nu)],
             });
-            self.jv = self.s_factor.solve(&rhs);
+            solve_seq(&self.s_factor, rhs.as_mut());
+            self.jv = rhs;
             self.jv_valid = true;
         }
         // P⁻ = J (J P)ᵀ + Q (eq. 8.24), in place: JP in `work`, then J (JP)ᵀ back into P
@@ -316,13 +317,17 @@ impl Filter {
         let mut predicted = vec![0.0; m];
         self.setup.measured.evaluate(&self.x[..n], &self.x[n..2 * n], &self.a, &mut predicted);
         self.innovation.iter_mut().zip(y.iter().zip(&predicted)).for_each(|(e, (y, h))| *e = y - h);
-        let pht = p * self.jm.transpose(); // N × m
-        let mut sy = &self.jm * &pht;
+        let mut pht = Mat::zeros(big_n, m); // P J_mᵀ
+        matmul(pht.as_mut(), Accum::Replace, p.as_ref(), self.jm.transpose(), 1.0, Par::Seq);
+        let mut sy = Mat::zeros(m, m);
+        matmul(sy.as_mut(), Accum::Replace, self.jm.as_ref(), pht.as_ref(), 1.0, Par::Seq);
         for (i, r) in self.setup.r.iter().enumerate() {
             sy[(i, i)] += r;
         }
         let sy_factor = sy.llt(Side::Lower).map_err(|_| FilterError::Innovation { step: self.step })?;
-        let gain = sy_factor.solve(pht.transpose()).transpose().to_owned(); // N × m
+        let mut gain_t = pht.transpose().to_owned();
+        solve_seq(&sy_factor, gain_t.as_mut());
+        let gain = gain_t.transpose().to_owned(); // N × m
         for i in 0..big_n {
             self.x[i] += (0..m).map(|j| gain[(i, j)] * self.innovation[j]).sum::<f64>();
         }
@@ -374,7 +379,9 @@ impl Filter {
         self.jm.fill(0.0);
         let accel: Vec<usize> = (0..rows.len()).filter(|&r| rows.reads[r] == Reads::Acceleration).collect();
         let d = if accel.is_empty() { Mat::zeros(n, 0) } else { self.parameter_columns() };
-        let g = if accel.is_empty() { Mat::zeros(0, n) } else { self.m_factor.solve(Mat::from_fn(n, accel.len(), |i, k| rows.h[(accel[k], i)])).transpose().to_owned() };
+        let mut g_t = Mat::from_fn(n, accel.len(), |i, k| rows.h[(accel[k], i)]);
+        solve_seq(&self.m_factor, g_t.as_mut());
+        let g = g_t.transpose().to_owned();
         for r in 0..rows.len() {
             match rows.reads[r] {
                 Reads::Displacement => (0..n).for_each(|i| self.jm[(r, i)] = rows.h[(r, i)]),
@@ -411,7 +418,15 @@ impl Filter {
     }
 }
 
-/// p ← (p + pᵀ)/2, column slices.
+/// x ← A⁻¹ x for A = L Lᵀ, sequential (the filter's systems are small: threads cost more
+/// than they bring).
+fn solve_seq(factor: &Llt<f64>, mut x: faer::MatMut<'_, f64>) {
+    let l = factor.L();
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, x.as_mut(), Par::Seq);
+    faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), x, Par::Seq);
+}
+
+/// p ← (p + pᵀ)/2.
 fn symmetrize(p: &mut Mat<f64>) {
     let n = p.nrows();
     for j in 0..n {
