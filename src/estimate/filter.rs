@@ -21,8 +21,8 @@
 //! - **Refresh**: the pROM is evaluated at the new p⁺ (eq. 3.32, allocation-free), S and M are
 //!   factored for the next step, and q̈⁺ comes from the equation of motion at x⁺.
 
-use faer::linalg::solvers::Llt;
 use faer::linalg::matmul::matmul;
+use faer::linalg::solvers::Llt;
 use faer::{Accum, Mat, MatRef, Par, Side};
 
 use super::measurement::{Reads, SensorRows};
