@@ -74,14 +74,17 @@ impl Contribution {
         Contribution { dofs, parts: vec![(ParamKey::Constant, matrix)] }
     }
 
-    /// An element of `nodes` (grid indices) whose parts are 6·nodes matrices in basic: rotated
-    /// to the global frames, DOFs grid-major.
+    /// An element of `nodes` (grid indices) whose parts are matrices in basic, grid-major, of
+    /// size 6·nodes (all six components of each grid) or 3·nodes (translations only: solids,
+    /// which then add no rotational entries to the pattern); rotated to the global frames.
     pub fn element(frames: &GridFrames, nodes: &[usize], parts: Vec<(ParamKey, Mat<f64>)>) -> Self {
-        let dofs = nodes.iter().flat_map(|&a| DofMap::grid_dofs(a)).collect();
+        let size = parts.first().map_or(6 * nodes.len(), |(_, m)| m.nrows());
+        let per_node = if size == 3 * nodes.len() && !nodes.is_empty() { 3 } else { 6 };
+        let dofs = nodes.iter().flat_map(|&a| DofMap::grid_dofs(a).take(per_node)).collect();
         let parts = parts
             .into_iter()
             .map(|(key, mut m)| {
-                frames.rotate_element(nodes, &mut m);
+                frames.rotate_element(nodes, per_node, &mut m);
                 (key, m)
             })
             .collect();

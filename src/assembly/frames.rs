@@ -67,13 +67,14 @@ impl GridFrames {
         }
     }
 
-    /// Rotate an element matrix of size 6·nodes from basic to global in place:
-    /// K ← Λᵀ K Λ (only the 3×3 blocks of grids with CD ≠ 0 are touched).
-    pub fn rotate_element(&self, nodes: &[usize], k: &mut Mat<f64>) {
-        let n = k.nrows().min(k.ncols()).min(6 * nodes.len());
+    /// Rotate an element matrix from basic to global in place: K ← Λᵀ K Λ (only the 3×3
+    /// blocks of grids with CD ≠ 0 are touched). `per_node` = 6 (T1–T3, R1–R3 of each grid) or
+    /// 3 (translations only, solids).
+    pub fn rotate_element(&self, nodes: &[usize], per_node: usize, k: &mut Mat<f64>) {
+        let n = k.nrows().min(k.ncols()).min(per_node * nodes.len());
         for (a, &grid) in nodes.iter().enumerate() {
             let Some(l) = self.rotation(grid) else { continue };
-            for b in [6 * a, 6 * a + 3] {
+            for b in (0..per_node).step_by(3).map(|c| per_node * a + c) {
                 if b + 3 > n {
                     continue;
                 }

@@ -1,11 +1,14 @@
 //! The sparsity pattern of K_gg / M_gg, built once from the connectivity.
 //!
 //! The pattern is the symmetric *full* (both triangles) CSC pattern that `linalg` takes, in
-//! **grid blocks**: if two grids share an element, all 6 × 6 entries between their DOFs are in
-//! the pattern, and every grid has its 6 × 6 diagonal block (so every DOF has a diagonal entry,
-//! which AUTOSPC and the factorization rely on). The block pattern is a superset of the exact
-//! DOF pattern (a spring couples one component); the extra entries are stored zeros. It is
-//! computed from grid adjacency, so its cost is Σ_e nodes_e² rather than Σ_e (6·nodes_e)².
+//! **grid blocks restricted to active components**: a component of a grid is active when some
+//! element contribution has it among its DOFs (a solid's grid: T1–T3; a shell's: all six). If two
+//! grids share an element, every pair of their active components is in the pattern; every DOF
+//! has its diagonal entry, active or not (AUTOSPC and the factorization rely on it). The pattern
+//! is a superset of the exact DOF pattern (a spring couples one component); the extra entries are
+//! stored zeros. Restricting the blocks to active components keeps solid meshes at 3 × 3 blocks
+//! (a quarter of the 6 × 6 entries: K, M and every operator derived from them). It is computed
+//! from grid adjacency, so its cost is Σ_e nodes_e² rather than Σ_e (6·nodes_e)².
 //!
 //! Every affine part of K and M is assembled on this one pattern
 //! ([`AffineOperator`](super::assemble::AffineOperator)), so K(p), K − σM, … are sums of value
@@ -16,11 +19,13 @@ use nalgebra_sparse::pattern::SparsityPattern;
 use super::dofs::DOFS_PER_GRID;
 use super::error::AssemblyError;
 
-/// Grid-block pattern of a g-set of `grids` grids from the DOF lists of the element
+/// Grid-block pattern (module doc) of a g-set of `grids` grids from the DOF lists of the element
 /// contributions (g indices). Errors on a DOF past the g-set.
 pub fn grid_block_pattern<'a>(grids: usize, dof_lists: impl IntoIterator<Item = &'a [usize]>) -> Result<SparsityPattern, AssemblyError> {
     let size = DOFS_PER_GRID * grids;
     let mut adjacent: Vec<Vec<usize>> = (0..grids).map(|a| vec![a]).collect();
+    // bit c of active[a]: component c of grid a is a DOF of some contribution
+    let mut active = vec![0u8; grids];
     let mut element_grids: Vec<usize> = Vec::new();
     for dofs in dof_lists {
         element_grids.clear();
@@ -29,6 +34,7 @@ pub fn grid_block_pattern<'a>(grids: usize, dof_lists: impl IntoIterator<Item = 
                 return Err(AssemblyError::DofOutOfRange { index: d, size });
             }
             element_grids.push(d / DOFS_PER_GRID);
+            active[d / DOFS_PER_GRID] |= 1 << (d % DOFS_PER_GRID);
         }
         element_grids.sort_unstable();
         element_grids.dedup();
@@ -40,14 +46,18 @@ pub fn grid_block_pattern<'a>(grids: usize, dof_lists: impl IntoIterator<Item = 
         list.sort_unstable();
         list.dedup();
     }
-    let nnz: usize = adjacent.iter().map(|l| l.len()).sum::<usize>() * DOFS_PER_GRID * DOFS_PER_GRID;
+    let is_active = |a: usize, c: usize| active[a] & (1 << c) != 0;
     let mut offsets = Vec::with_capacity(size + 1);
-    let mut rows = Vec::with_capacity(nnz);
+    let mut rows = Vec::new();
     offsets.push(0);
-    for list in &adjacent {
-        for _ in 0..DOFS_PER_GRID {
-            for &b in list {
-                rows.extend(DOFS_PER_GRID * b..DOFS_PER_GRID * (b + 1));
+    for (a, list) in adjacent.iter().enumerate() {
+        for c in 0..DOFS_PER_GRID {
+            if is_active(a, c) {
+                for &b in list {
+                    rows.extend((0..DOFS_PER_GRID).filter(|&r| is_active(b, r) || (b == a && r == c)).map(|r| DOFS_PER_GRID * b + r));
+                }
+            } else {
+                rows.push(DOFS_PER_GRID * a + c);
             }
             offsets.push(rows.len());
         }

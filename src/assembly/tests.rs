@@ -379,3 +379,44 @@ fn rigid_errors_are_typed() {
     let bad = AffineOperator::assemble(Arc::new(grid_block_pattern(1, [&[0usize][..]]).expect("p")), &[spring(1., 0, 40)], false);
     assert_eq!(bad.unwrap_err(), AssemblyError::DofOutOfRange { index: 40, size: 6 });
 }
+
+/// A solid element (translations of grids 0 and 1) and a spring between T3 of grid 1 and R1 of
+/// grid 2: grids 0–1 couple in 3 × 3 translation blocks, their rotations keep only a diagonal
+/// entry, grid 2's R1 (its only active component) meets grid 1's translations and nothing else.
+#[test]
+fn pattern_blocks_hold_only_active_components() {
+    let solid: Vec<usize> = (0..3).chain(6..9).collect();
+    let spring = [8usize, 15];
+    let p = grid_block_pattern(3, [solid.as_slice(), &spring[..]]).expect("pattern");
+    let has = |r: usize, c: usize| super::pattern::entry_position(&p, r, c).is_some();
+    assert!(has(0, 8) && has(8, 0) && has(7, 2));
+    for d in 0..18 {
+        assert!(has(d, d), "diagonal {d}");
+    }
+    assert!(!has(3, 0) && !has(0, 3) && !has(3, 4) && !has(9, 6), "rotations of solid grids are not coupled");
+    assert!(has(8, 15) && has(15, 8) && has(15, 6) && !has(15, 0) && !has(15, 12) && !has(14, 15));
+    // grids 0–1: 6 × 6 translations; grid 2 R1 × grid 1's 3 translations both ways and its
+    // diagonal; the 11 other diagonals (rotations of grids 0, 1; grid 2 but R1)
+    assert_eq!(p.nnz(), 36 + 2 * 3 + 1 + 11);
+}
+
+/// A translational (3·n) element matrix on grids with CD frames is rotated like the
+/// translational block of the same matrix in the 6·n layout, and contributes only T1–T3.
+#[test]
+fn translational_contributions_rotate_like_the_six_dof_layout() {
+    let (c, s) = (0.6_f64, 0.8_f64);
+    let frames = GridFrames::from_rotations(vec![None, Some([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]), Some([[1.0, 0.0, 0.0], [0.0, c, s], [0.0, -s, c]])]);
+    let nodes = [2usize, 0, 1];
+    let k3 = Mat::<f64>::from_fn(9, 9, |i, j| 1.0 + (i * 9 + j).min(j * 9 + i) as f64 + if i == j { 50.0 } else { 0.0 });
+    let six = |i: usize| 6 * (i / 3) + i % 3;
+    let k6 = Mat::<f64>::from_fn(18, 18, |i, j| if i % 6 < 3 && j % 6 < 3 { k3[(3 * (i / 6) + i % 6, 3 * (j / 6) + j % 6)] } else { 0.0 });
+    let t = Contribution::element(&frames, &nodes, vec![(ParamKey::Constant, k3)]);
+    let f = Contribution::element(&frames, &nodes, vec![(ParamKey::Constant, k6)]);
+    assert_eq!(t.dofs, vec![12, 13, 14, 0, 1, 2, 6, 7, 8]);
+    for i in 0..9 {
+        assert_eq!(t.dofs[i], f.dofs[six(i)]);
+        for j in 0..9 {
+            assert!((t.parts[0].1[(i, j)] - f.parts[0].1[(six(i), six(j))]).abs() < 1e-12);
+        }
+    }
+}

@@ -6,7 +6,7 @@
 //!   component `c` of the element's grid `a` (in the order the grids are given);
 //! - matrices are dense `faer::Mat<f64>` of size `6·nodes`, symmetric — except the solids,
 //!   which have no rotational DOFs and return `3·nodes` translational matrices
-//!   ([`solid::expand_to_six_dofs`] scatters them into the 6-DOF layout);
+//!   (the assembly takes them as translations only);
 //! - element kernels are pure functions of geometry (basic coordinates) and material/section
 //!   data, and know nothing of decks, cards or global DOF numbering.
 

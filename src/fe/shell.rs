@@ -104,6 +104,9 @@ pub enum ShellError {
     /// A matrix was asked for a node count other than 3 or 4.
     #[error("a shell element has 3 or 4 grids, got {0}")]
     NodeCount(usize),
+    /// Per-point sections do not match the element's integration points.
+    #[error("expected one section per integration point ({expected}), with the same affine coefficients at each; got {got}")]
+    PointCount { expected: usize, got: usize },
 }
 
 /// Centroid strains of a shell element in its material system (x_m, y_m, n).
@@ -230,6 +233,15 @@ fn transformation(f: &Frame) -> Mat<f64> {
 
 /// Quad natural coordinates of the nodes.
 const QUAD_NODES: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
+
+/// 1/√3, the 2-point Gauss abscissa.
+const GAUSS_2: f64 = 0.577_350_269_189_625_8;
+
+/// 2 × 2 Gauss points (ξ, η) of the quad.
+const QUAD_GAUSS: [[f64; 2]; 4] = [[-GAUSS_2, -GAUSS_2], [GAUSS_2, -GAUSS_2], [GAUSS_2, GAUSS_2], [-GAUSS_2, GAUSS_2]];
+
+/// The triangle's 3-point rule of degree 2 (r, s), weights 1/6.
+const TRIA_POINTS: [[f64; 2]; 3] = [[1.0 / 6.0, 1.0 / 6.0], [2.0 / 3.0, 1.0 / 6.0], [1.0 / 6.0, 2.0 / 3.0]];
 
 /// Bilinear shape functions and their natural derivatives at (ξ, η).
 fn quad_shape(xi: f64, eta: f64) -> ([f64; 4], [f64; 4], [f64; 4]) {
@@ -458,8 +470,7 @@ impl Flat {
             [t[0] + dxi[a] * f.xy[a][0], t[1] + dxi[a] * f.xy[a][1]]
         });
         let phi = tangent[1].atan2(tangent[0]);
-        let g = 1.0 / 3.0f64.sqrt();
-        let mut points: Vec<GaussPoint> = [[-g, -g], [g, -g], [g, g], [-g, g]]
+        let mut points: Vec<GaussPoint> = QUAD_GAUSS
             .iter()
             .map(|&[xi, eta]| {
                 let (b, det) = mitc4_operator(&f.xy, xi, eta);
@@ -500,21 +511,17 @@ impl Flat {
             return Err(ShellError::ZeroArea { shape: "CTRIA3" });
         }
         let f = frame(xyz, normal, material_x)?;
-        let points = [
-            [1.0 / 6.0, 1.0 / 6.0],
-            [2.0 / 3.0, 1.0 / 6.0],
-            [1.0 / 6.0, 2.0 / 3.0],
-        ]
-        .iter()
-        .map(|&[r, s]| {
-            let (b, det) = mitc3_operator(&f.xy, r, s);
-            GaussPoint {
-                wdet: det / 6.0,
-                shape: [1.0 - r - s, r, s, 0.0],
-                b,
-            }
-        })
-        .collect();
+        let points = TRIA_POINTS
+            .iter()
+            .map(|&[r, s]| {
+                let (b, det) = mitc3_operator(&f.xy, r, s);
+                GaussPoint {
+                    wdet: det / 6.0,
+                    shape: [1.0 - r - s, r, s, 0.0],
+                    b,
+                }
+            })
+            .collect();
         let centroid = mitc3_operator(&f.xy, 1.0 / 3.0, 1.0 / 3.0).0;
         Ok(Flat {
             nodes: 3,
@@ -535,13 +542,18 @@ impl Flat {
 
     /// Tᵀ (Σ w detJ Bᵀ C B) T in the basic system.
     fn stiffness(&self, section: &ShellSection) -> Mat<f64> {
-        let mut c = constitutive(section);
-        if self.nodes == 3 {
-            c[(8, 8)] *= TRIA_DRILL_SCALE;
-        }
+        self.stiffness_at_points(&vec![section; self.points.len()])
+    }
+
+    /// Tᵀ (Σₚ wₚ detJₚ Bₚᵀ C(sectionₚ) Bₚ) T: one section per integration point.
+    fn stiffness_at_points(&self, sections: &[&ShellSection]) -> Mat<f64> {
         let n = 6 * self.nodes;
         let mut k = Mat::<f64>::zeros(n, n);
-        for p in &self.points {
+        for (p, section) in self.points.iter().zip(sections) {
+            let mut c = constitutive(section);
+            if self.nodes == 3 {
+                c[(8, 8)] *= TRIA_DRILL_SCALE;
+            }
             let cb = &c * &p.b;
             k += p.b.transpose() * &cb * faer::Scale(p.wdet);
         }
@@ -710,6 +722,46 @@ pub fn affine_stiffness(
         .iter()
         .filter(|(_, s)| !s.stiffness_is_zero())
         .map(|(c, s)| (*c, el.stiffness(s)))
+        .collect();
+    Ok(AffineMatrix { parts })
+}
+
+/// Thickness at the stiffness integration points of a CQUAD4 (4 corner values: 2 × 2 Gauss,
+/// bilinear interpolation) or CTRIA3 (3 values: the 3-point rule, linear), in the order
+/// [`affine_stiffness_at_points`] takes its sections. Tapered elements (PSHELL with T1…T4)
+/// integrate the section there: D ∝ t³ is cubic along an edge with linear thickness, which the
+/// 2-point Gauss rule integrates exactly.
+pub fn integration_point_thickness(corner_t: &[f64]) -> Result<Vec<f64>, ShellError> {
+    let shapes: Vec<[f64; 4]> = match corner_t.len() {
+        4 => QUAD_GAUSS.iter().map(|&[xi, eta]| quad_shape(xi, eta).0).collect(),
+        3 => TRIA_POINTS.iter().map(|&[r, s]| [1.0 - r - s, r, s, 0.0]).collect(),
+        n => return Err(ShellError::NodeCount(n)),
+    };
+    Ok(shapes.iter().map(|n| n.iter().zip(corner_t).map(|(n, t)| n * t).sum()).collect())
+}
+
+/// [`affine_stiffness`] with one list of affine section parts per integration point (see
+/// [`integration_point_thickness`]): K_i = Σₚ wₚ Bₚᵀ C(section_{p,i}) Bₚ. Every point must give
+/// the same coefficients in the same order (the section's dependence on the parameters is the
+/// same everywhere; only its value varies).
+pub fn affine_stiffness_at_points(
+    xyz: &[V3],
+    sections: &[Vec<(Coefficient, ShellSection)>],
+    material_x: Option<V3>,
+) -> Result<AffineMatrix, ShellError> {
+    let el = Flat::new(xyz, material_x)?;
+    let mismatch = ShellError::PointCount { expected: el.points.len(), got: sections.len() };
+    let Some(first) = sections.first() else { return Err(mismatch) };
+    let same_coefficients = |p: &Vec<(Coefficient, ShellSection)>| p.len() == first.len() && p.iter().zip(first).all(|((a, _), (b, _))| a == b);
+    if sections.len() != el.points.len() || !sections.iter().all(same_coefficients) {
+        return Err(mismatch);
+    }
+    let parts = (0..first.len())
+        .filter(|&i| sections.iter().any(|p| !p[i].1.stiffness_is_zero()))
+        .map(|i| {
+            let at: Vec<&ShellSection> = sections.iter().map(|p| &p[i].1).collect();
+            (first[i].0, el.stiffness_at_points(&at))
+        })
         .collect();
     Ok(AffineMatrix { parts })
 }

@@ -856,3 +856,69 @@ fn degenerate_geometry_is_an_error() {
         ShellError::NodeCount(2)
     );
 }
+/// A rectangular CQUAD4 a × b whose thickness varies linearly in x (T1 = T4 = t0, T2 = T3 = t1)
+/// under the constant-curvature field w = κx²/2, θy = −κx (no transverse shear; the patch test
+/// shows the element reproduces it exactly): the strain energy is
+/// ½ κ² E/(12(1−ν²)) b ∫₀ᵃ t(x)³ dx = ½ κ² E/(12(1−ν²)) b a (t1⁴ − t0⁴)/(4(t1 − t0)).
+/// With the section taken at the integration points the 2-point Gauss rule integrates t³ (cubic
+/// in x) exactly, so the energy matches to round-off; the mean thickness would give
+/// a ((t0+t1)/2)³ in place of the integral (−10 % for t1 = 2 t0). Uniform corners reproduce the
+/// single-section stiffness.
+#[test]
+fn tapered_quad_integrates_bending_thickness_cubed_exactly() {
+    let (a, b, t0, t1, e, nu, kappa) = (0.4, 0.3, 0.01, 0.02, 70e9, 0.3, 1e-3);
+    let xyz = [[0.0, 0.0, 0.0], [a, 0.0, 0.0], [a, b, 0.0], [0.0, b, 0.0]];
+    let corners = [t0, t1, t1, t0];
+    let sections_at = |corners: &[f64]| -> Vec<Vec<(super::affine::Coefficient, ShellSection)>> {
+        super::shell::integration_point_thickness(corners)
+            .unwrap()
+            .into_iter()
+            .map(|t| {
+                vec![(
+                    super::affine::Coefficient::Constant,
+                    ShellSection::pshell(&iso(e, nu, t)).unwrap(),
+                )]
+            })
+            .collect()
+    };
+    let k = super::shell::affine_stiffness_at_points(&xyz, &sections_at(&corners), None).unwrap();
+    assert_eq!(k.parts.len(), 1);
+    let k = &k.parts[0].1;
+    let u: Vec<f64> = xyz
+        .iter()
+        .flat_map(|p| [0.0, 0.0, 0.5 * kappa * p[0] * p[0], 0.0, -kappa * p[0], 0.0])
+        .collect();
+    let energy = 0.5
+        * (0..24)
+            .map(|i| (0..24).map(|j| u[i] * k[(i, j)] * u[j]).sum::<f64>())
+            .sum::<f64>();
+    let d = e / (12.0 * (1.0 - nu * nu));
+    let exact = 0.5 * kappa * kappa * d * b * a * (t1.powi(4) - t0.powi(4)) / (4.0 * (t1 - t0));
+    assert!(
+        (energy - exact).abs() < 1e-10 * exact,
+        "energy {energy} vs exact {exact}"
+    );
+    let mean = 0.5 * kappa * kappa * d * b * a * (0.5 * (t0 + t1)).powi(3);
+    assert!(
+        (exact - mean) / exact > 0.09,
+        "the case must separate the two rules"
+    );
+    // uniform corners: the same matrix as one section everywhere
+    let uniform =
+        super::shell::affine_stiffness_at_points(&xyz, &sections_at(&[t0; 4]), None).unwrap();
+    let single = quad4_stiffness(
+        &xyz,
+        &ShellSection::pshell(&iso(e, nu, t0)).unwrap(),
+        None,
+    )
+    .unwrap();
+    assert!(rel_diff(&uniform.parts[0].1, &single) < 1e-14);
+    // one list per point, or an error
+    assert!(matches!(
+        super::shell::affine_stiffness_at_points(&xyz, &sections_at(&corners)[..3], None),
+        Err(ShellError::PointCount {
+            expected: 4,
+            got: 3
+        })
+    ));
+}

@@ -4,11 +4,11 @@
 //! # Translational matrices (3 DOFs per grid)
 //! Solids have no rotational stiffness or mass. Unlike the rest of [`crate::fe`], every function
 //! here returns **3·n × 3·n** matrices over the translations only, grid-major: row `3·a + c` is
-//! component T(c+1) of the element's grid `a`, in the basic system. [`expand_to_six_dofs`] and
-//! [`expand_affine_to_six_dofs`] scatter them into the uniform 6·n layout of [`crate::fe`]
-//! (R1–R3 rows and columns zero; the assembly AUTOSPCs rotations that nothing else touches).
-//! The 3·n form halves the storage of the blade models (mostly solids) and keeps the kernels and
-//! their tests free of structurally zero rows.
+//! component T(c+1) of the element's grid `a`, in the basic system. They are assembled as they
+//! are ([`crate::assembly::Contribution::element`] takes 3·n matrices as translations only), so a
+//! solid mesh's K and M hold 3 × 3 grid blocks (the assembly AUTOSPCs rotations that nothing else
+//! touches). The 3·n form quarters the storage of solid meshes and keeps the kernels and their
+//! tests free of structurally zero rows.
 //!
 //! # Constitutive law and affine parts
 //! Strains are engineering strains ε = [εxx, εyy, εzz, γxy, γyz, γzx]. The isotropic
@@ -68,7 +68,7 @@
 use super::affine::{AffineMatrix, Coefficient};
 use super::solid_shape::{self as shape, Gauss, MAX_NODES, QuadPoint};
 use faer::linalg::solvers::Solve;
-use faer::{Mat, MatRef, Side};
+use faer::{Mat, Side};
 use std::fmt;
 
 /// The solid element topologies.
@@ -474,21 +474,3 @@ pub fn strain_at_centroid(kind: SolidKind, xyz: &[[f64; 3]], u: &[f64]) -> Resul
     Ok([h[0][0], h[1][1], h[2][2], h[0][1] + h[1][0], h[1][2] + h[2][1], h[2][0] + h[0][2]])
 }
 
-/// Scatters a 3·n × 3·n translational matrix into the 6·n × 6·n layout of [`crate::fe`]:
-/// entry (3a + c, 3b + d) goes to (6a + c, 6b + d); rotational rows and columns are zero.
-pub fn expand_to_six_dofs(m: MatRef<'_, f64>) -> Mat<f64> {
-    let n = m.nrows() / 3;
-    let map = |i: usize| 6 * (i / 3) + i % 3;
-    let mut out = Mat::<f64>::zeros(6 * n, 6 * n);
-    for j in 0..3 * n {
-        for i in 0..3 * n {
-            out[(map(i), map(j))] = m[(i, j)];
-        }
-    }
-    out
-}
-
-/// [`expand_to_six_dofs`] applied to every part.
-pub fn expand_affine_to_six_dofs(a: &AffineMatrix) -> AffineMatrix {
-    AffineMatrix { parts: a.parts.iter().map(|(c, m)| (*c, expand_to_six_dofs(m.as_ref()))).collect() }
-}

@@ -522,23 +522,6 @@ fn affine_parts_reproduce_the_matrices() {
     }
 }
 
-#[test]
-fn six_dof_expansion_places_translations_and_leaves_rotations_zero() {
-    let k = stiffness(SolidKind::Tetra4, &distorted_tet(), STEEL).unwrap();
-    let k6 = expand_to_six_dofs(k.as_ref());
-    assert_eq!((k6.nrows(), k6.ncols()), (24, 24));
-    for i in 0..24 {
-        for j in 0..24 {
-            let expected = if i % 6 < 3 && j % 6 < 3 { k[(3 * (i / 6) + i % 6, 3 * (j / 6) + j % 6)] } else { 0.0 };
-            assert_eq!(k6[(i, j)], expected);
-        }
-    }
-    let parts = affine_stiffness(SolidKind::Tetra4, &distorted_tet(), StiffnessParametrization::Lame).unwrap();
-    let parts6 = expand_affine_to_six_dofs(&parts);
-    assert_eq!(parts6.parts.len(), 2);
-    assert_eq!(parts6.parts[1].1.nrows(), 24);
-}
-
 // ---------------------------------------------------------------- geometry and input errors
 
 #[test]

@@ -14,10 +14,13 @@
 //!   (n = (x₃−x₁)×(x₄−x₂) for quads, (x₂−x₁)×(x₃−x₁) for triangles); MCID takes the x axis of that
 //!   system at the element centroid, projected on the element plane by the kernel;
 //! - ZOFFS moves the reference plane: PSHELL mid-surface at ZOFFS, PCOMP bottom at Z0 + ZOFFS;
-//! - corner thicknesses (T1…T4, TFLAG): the element uses the **mean** corner thickness for
-//!   stiffness and mass (exact for the mass of a parallelogram with bilinear thickness, an
-//!   approximation of the stiffness of a tapered element); refused for PCOMP, whose thickness is
-//!   the ply stack;
+//! - corner thicknesses (T1…T4, TFLAG): the stiffness takes the PSHELL section at each
+//!   integration point with the thickness interpolated there from the corners (bilinear on quads,
+//!   linear on triangles; [`shell::integration_point_thickness`]), so D ∝ t³ of a linearly
+//!   tapered edge is integrated exactly by the 2-point Gauss rule; the mass and the strain fibres
+//!   use the mean corner thickness (= the interpolated thickness at the centroid; exact for the
+//!   mass of a parallelogram with bilinear thickness); refused for PCOMP, whose thickness is the
+//!   ply stack;
 //! - PSHELL: ZOFFS needs MID1 and MID2 (Nastran); a role combination Nastran forbids (MID3
 //!   without MID2, MID4 without MID1 and MID2) is an error of the section.
 //!
@@ -169,19 +172,19 @@ fn shell_card(model: &Model, e: &Element) -> Option<ShellCard> {
     }
 }
 
-/// Mean corner thickness (module doc), or `t` without corner thicknesses.
-fn mean_thickness(t: f64, corners: Option<&CornerThickness>, n: usize) -> f64 {
-    match corners {
-        None => t,
-        Some(c) => {
-            let each = c.t.iter().take(n).map(|ti| match (ti, c.relative) {
+/// Corner thicknesses of a PSHELL element with T1…T4 (TFLAG = 1: ratios of T, 0: values,
+/// blank corner: T), `None` without them.
+fn corner_thicknesses(t: f64, corners: Option<&CornerThickness>, n: usize) -> Option<Vec<f64>> {
+    corners.map(|c| {
+        c.t.iter()
+            .take(n)
+            .map(|ti| match (ti, c.relative) {
                 (Some(r), true) => r * t,
                 (Some(v), false) => *v,
                 (None, _) => t,
-            });
-            each.sum::<f64>() / n as f64
-        }
-    }
+            })
+            .collect()
+    })
 }
 
 fn ply_of_material(model: &Model, mid: u32, t: f64, theta_deg: f64) -> Option<Ply> {
@@ -227,15 +230,25 @@ impl SectionInput {
     }
 }
 
-/// The section of a shell and the fibres its strains are reported at.
-fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<(SectionInput, (f64, f64)), RunError> {
+/// The sections of a shell: at the centroid (mass, strain fibres), and per stiffness
+/// integration point when the thickness varies over the element (corner thicknesses).
+struct ShellSections {
+    centre: SectionInput,
+    points: Option<Vec<SectionInput>>,
+    /// Strain fibres (top, bottom) from the reference plane.
+    fibres: (f64, f64),
+}
+
+/// The sections of a shell and the fibres its strains are reported at.
+fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<ShellSections, RunError> {
     let n = e.nodes.len();
     let zoffs = card.zoffs;
     match e.property {
         Some(PropertyRef::Pshell(i)) => {
             let p = model.bulk.pshell.get(i).ok_or_else(|| err(e, format!("PSHELL {} missing", card.pid)))?;
             let role = |mid: Option<u32>| mid.map(|m| shell_material(model, m).ok_or_else(|| err(e, format!("PSHELL {}: material {m} missing", p.id)))).transpose();
-            let t = mean_thickness(p.t, card.corners.as_ref(), n);
+            let corners = corner_thicknesses(p.t, card.corners.as_ref(), n);
+            let t = corners.as_ref().map_or(p.t, |c| c.iter().sum::<f64>() / n as f64);
             let scale = t / p.t;
             let fibres = (zoffs + p.z2 * scale, zoffs + p.z1 * scale);
             let section = PshellSection {
@@ -249,7 +262,14 @@ fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<(Sectio
                 nsm: p.nsm,
                 zoffs,
             };
-            Ok((SectionInput::Pshell { pid: p.id, section }, fibres))
+            let points = match corners {
+                None => None,
+                Some(c) => {
+                    let at = shell::integration_point_thickness(&c).map_err(|x| err(e, x))?;
+                    Some(at.into_iter().map(|t| SectionInput::Pshell { pid: p.id, section: PshellSection { t, ..section } }).collect())
+                }
+            };
+            Ok(ShellSections { centre: SectionInput::Pshell { pid: p.id, section }, points, fibres })
         }
         Some(PropertyRef::Pcomp(i)) => {
             let p: &Pcomp = model.bulk.pcomp.get(i).ok_or_else(|| err(e, format!("PCOMP {} missing", card.pid)))?;
@@ -264,7 +284,8 @@ fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<(Sectio
             let bottom = p.z0_resolved() + zoffs;
             let laminate = Laminate { plies, z0: Some(bottom), nsm: p.nsm, symmetric: false };
             let explicit_offset = p.z0.is_some() || zoffs != 0.0;
-            Ok((SectionInput::Laminate { pid: p.id, laminate, plies: stack.iter().map(|ply| ply.mid).collect(), explicit_offset }, (bottom + p.thickness(), bottom)))
+            let centre = SectionInput::Laminate { pid: p.id, laminate, plies: stack.iter().map(|ply| ply.mid).collect(), explicit_offset };
+            Ok(ShellSections { centre, points: None, fibres: (bottom + p.thickness(), bottom) })
         }
         other => Err(err(e, format!("property {} is not a shell property", other.map_or("(none)", |p| p.card())))),
     }
@@ -401,10 +422,17 @@ fn material_axis(model: &Model, e: &Element, xyz: &[[f64; 3]], orientation: Shel
 fn shell_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<Built, RunError> {
     let model = ctx.model;
     let card = shell_card(model, e).ok_or_else(|| err(e, "card missing"))?;
-    let (section, fibres) = shell_section(model, e, &card)?;
+    let ShellSections { centre, points, fibres } = shell_section(model, e, &card)?;
     let material_x = material_axis(model, e, xyz, card.orientation)?;
-    let parts = shell_parts(&section, ctx.params).map_err(|x| err(e, x))?;
-    let k = shell::affine_stiffness(xyz, &parts.stiffness, material_x).map_err(|x| err(e, x))?;
+    let parts = shell_parts(&centre, ctx.params).map_err(|x| err(e, x))?;
+    let k = match points {
+        None => shell::affine_stiffness(xyz, &parts.stiffness, material_x),
+        Some(points) => {
+            let at = points.iter().map(|s| shell_parts(s, ctx.params).map(|p| p.stiffness)).collect::<Result<Vec<_>, _>>().map_err(|x| err(e, x))?;
+            shell::affine_stiffness_at_points(xyz, &at, material_x)
+        }
+    }
+    .map_err(|x| err(e, x))?;
     let m = shell::affine_mass(xyz, &parts.mass, ctx.lumped).map_err(|x| err(e, x))?;
     // split sections carry unit-parameter parts: only bound coefficients appear besides the
     // constant one, so frozen values are never needed here
@@ -464,12 +492,11 @@ fn solid_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<
     let lumping = if ctx.lumped { solid::MassLumping::Lumped } else { solid::MassLumping::Consistent };
     let mass = solid::affine_mass(kind, xyz, lumping, mass_split).map_err(|x| err(e, x))?;
     let nominal = CoefficientValues { e: m.e, nu: m.nu, rho: m.rho, ..Default::default() };
-    let k6 = solid::expand_affine_to_six_dofs(&k);
-    let m6 = solid::expand_affine_to_six_dofs(&mass);
+    // 3·n translational matrices: the contributions carry T1–T3 of each grid only
     let binding = acted_on(ctx.params, target);
     Ok(Built {
-        k: Some(Contribution::from_affine(frames, &e.nodes, &k6, bind(binding, nominal))),
-        m: (m.rho != 0.0 || binding.is_some()).then(|| Contribution::from_affine(frames, &e.nodes, &m6, bind(binding, nominal))),
+        k: Some(Contribution::from_affine(frames, &e.nodes, &k, bind(binding, nominal))),
+        m: (m.rho != 0.0 || binding.is_some()).then(|| Contribution::from_affine(frames, &e.nodes, &mass, bind(binding, nominal))),
         shell: None,
     })
 }

@@ -335,11 +335,10 @@ pub struct Structure {
     /// K_nn and M_nn as affine operators on one shared pattern.
     pub k_nn: AffineOperator,
     pub m_nn: AffineOperator,
-    /// K_gg and M_gg (GRAV loads need M_gg).
-    pub k_gg: AffineOperator,
-    pub m_gg: AffineOperator,
-    /// Element data needed for output recovery (strains).
-    pub elements: elements::ElementMatrices,
+    /// M_gg when rigid elements make n ≠ g (GRAV loads need it; see [`Structure::mass_gg`]).
+    m_gg: Option<AffineOperator>,
+    /// Recovery data of each shell (strains), by index into `model.elements`.
+    pub shells: Vec<(usize, elements::ShellRecovery)>,
     /// The PMPARs the affine parts are functions of.
     pub params: parameters::Parameters,
 }
@@ -362,12 +361,25 @@ impl Structure {
             ctx.progress.step("assembly", 2, 2);
             Ok((k, m))
         })?;
-        let (rigid, k_nn, m_nn) = clock.time("rigid elimination g → n", || -> Result<_, RunError> {
+        // the element matrices are assembled: only the shells' recovery data stay
+        let shells = elements.shells;
+        let (rigid, k_nn, m_nn, m_gg) = clock.time("rigid elimination g → n", || -> Result<_, RunError> {
             let rigid = RigidElimination::of_model(model, &frames, &map)?;
-            let plan = GToN::new(k_gg.pattern().clone(), &rigid.t)?;
-            Ok((rigid.clone(), plan.apply(&k_gg)?, plan.apply(&m_gg)?))
+            if rigid.m_mask.iter().any(|&m| m) {
+                let plan = GToN::new(k_gg.pattern().clone(), &rigid.t)?;
+                let (k_nn, m_nn) = (plan.apply(&k_gg)?, plan.apply(&m_gg)?);
+                Ok((rigid, k_nn, m_nn, Some(m_gg)))
+            } else {
+                // no dependent DOFs: n = g in the same order and T = I, so K_nn = K_gg (no copy)
+                Ok((rigid, k_gg, m_gg, None))
+            }
         })?;
-        Ok(Structure { map, frames, rigid, k_nn, m_nn, k_gg, m_gg, elements, params })
+        Ok(Structure { map, frames, rigid, k_nn, m_nn, m_gg, shells, params })
+    }
+
+    /// M_gg (GRAV loads): M_nn itself when the model has no dependent DOFs (n = g).
+    pub fn mass_gg(&self) -> &AffineOperator {
+        self.m_gg.as_ref().unwrap_or(&self.m_nn)
     }
 
     /// Weights of an operator's affine parts at the parameter values the run uses (the

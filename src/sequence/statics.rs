@@ -52,8 +52,9 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
     let mut factors: Vec<(Vec<usize>, Factor)> = Vec::new();
     let mut symbolic: Option<(Vec<usize>, SymbolicFactor)> = None;
     let par = ctx.options.par();
-    let mut m_gg_values = vec![0.0; st.m_gg.pattern().nnz()];
-    st.m_gg.evaluate_into(&st.weights(&st.m_gg), &mut m_gg_values)?;
+    let m_gg = st.mass_gg();
+    let mut m_gg_values = vec![0.0; m_gg.pattern().nnz()];
+    m_gg.evaluate_into(&st.weights(m_gg), &mut m_gg_values)?;
     let mut out = Vec::new();
     for sub in &ctx.model.subcases {
         let id = sub.id;
@@ -86,7 +87,7 @@ fn solve_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcas
     let id = sub.id;
     let model = ctx.model;
     let p_g = match sub.load {
-        Some(sid) => load_vector(model, &st.frames, &st.map, sid, Some(Mass { operator: &st.m_gg, values: m_gg_values }))?,
+        Some(sid) => load_vector(model, &st.frames, &st.map, sid, Some(Mass { operator: st.mass_gg(), values: m_gg_values }))?,
         None => vec![0.0; st.map.size()],
     };
     let k_fs_values = c.k_fs.evaluate(&st.weights(&c.k_fs))?.values().to_vec();
@@ -170,7 +171,7 @@ struct Block {
 fn write_strains(ctx: &RunContext, st: &Structure, group: &hdf5_metno::Group, u: &[f64], keep: impl Fn(u32) -> bool) -> Result<(), RunError> {
     let model = ctx.model;
     let mut shells: std::collections::BTreeMap<&'static str, Block> = Default::default();
-    for (idx, rec) in &st.elements.shells {
+    for (idx, rec) in &st.shells {
         let e = &model.elements[*idx];
         if !keep(e.id) {
             continue;
