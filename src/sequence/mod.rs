@@ -39,6 +39,7 @@ pub mod rom_case;
 pub mod rom_frf;
 pub mod rom_transient;
 pub mod rom_modal;
+pub mod sensors;
 pub mod statics;
 
 use std::sync::Arc;
@@ -238,9 +239,6 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
             warnings.push(format!("subcase {}: parameter(s) {} lie outside the box the pROM {} was built for: extrapolated", s.id, names.join(", "), rom.display()));
         }
         if let SubcaseResult::Prom(p) = &s.result {
-            if !p.strain_sensors_skipped.is_empty() {
-                warnings.push(format!("subcase {}: STRAIN sensor(s) {} are not projected into the pROM in this version (DISP, VEL and ACCEL are)", s.id, p.strain_sensors_skipped.join(", ")));
-            }
             if !p.log.converged {
                 let last = p.log.error_history.last().map_or("not measured".to_string(), |(size, e)| format!("{e:.2e} at size {size}"));
                 warnings.push(format!(

@@ -5,8 +5,8 @@
 //! sorted). A line where the reduced dynamic stiffness is singular (undamped resonance) is an
 //! error naming the frequency.
 //!
-//! Outputs: the input DOFs (receptance) and then the pROM's SENSORs (DISP: displacement, VEL:
-//! iω × displacement, ACCEL: −ω² × displacement, per unit force).
+//! Outputs: the input DOFs (receptance) and then the pROM's SENSORs (DISP: displacement, STRAIN:
+//! strain, VEL: iω × displacement, ACCEL: −ω² × displacement, per unit force).
 //!
 //! Written: `/results/<id>/frf/{frequency_hz (f), H (f × o × i, complex as h5py), inputs (i),
 //! outputs (o)}` with attributes `rom`, `params`, `values`.

@@ -232,11 +232,12 @@ def timoshenko_cf_huang(L, EI, kGA, mA, mI, f_guess, span=0.35):
     return optimize.brentq(g, a, b, xtol=1e-13, rtol=1e-15)
 
 
-def timoshenko_fe_1d(L, EI, kGA, mA, mI, n, nmodes, bc="cf", load=None):
+def timoshenko_fe_1d(L, EI, kGA, mA, mI, n, nmodes, bc="cf", load=None, full=False):
     """1D analogue of the shell/solid elements: two-node Timoshenko elements, linear w and psi,
     one-point (constant) transverse shear strain (the MITC4 tying gives exactly this in
     cylindrical bending), consistent translational and rotary mass.  bc: 'cf' clamped-free,
-    'ss' simply supported.  Returns frequencies (Hz) or, with load=P, the tip deflection."""
+    'ss' simply supported.  Returns frequencies (Hz) or, with load=P, the tip deflection (with
+    full=True the nodal vector [w0, psi0, w1, psi1, ...] of every node)."""
     h = L / n
     nd = 2 * (n + 1)
     K = np.zeros((nd, nd))
@@ -260,6 +261,10 @@ def timoshenko_fe_1d(L, EI, kGA, mA, mI, n, nmodes, bc="cf", load=None):
         F = np.zeros(nd)
         F[nd - 2] = load
         u = np.linalg.solve(Kf, F[free])
+        if full:
+            out = np.zeros(nd)
+            out[free] = u
+            return out
         return u[free.index(nd - 2)]
     lam = linalg.eigh(Kf, Mf, eigvals_only=True, subset_by_index=[0, nmodes - 1])
     return np.sqrt(lam) / (2 * math.pi)
@@ -1363,6 +1368,92 @@ def case_thin_cantilever(write):
     return ref
 
 
+def case_cantilever_strain_sensor(write):
+    """STRAIN and DISP SENSORs on the cantilever strip of cantilever_static (20 x 2 CQUAD4)."""
+    name = "cantilever_strain_sensor"
+    L, b, t = 1.0, 0.1, 0.01
+    E, P = 210.0e9, 100.0
+    G, kappa = E / 2.0, KAPPA_SHELL
+    I = b * t ** 3 / 12
+    nx, ny = 20, 2
+    h = L / nx
+    # beam surface strain eps_x(x, z = +-t/2) = -+ M(x) t/2 / (E I), M = P (L - x) (Euler-Bernoulli
+    # and Timoshenko agree: shear does not bend); the element centroids of column i at x = (i+1/2)h
+    cols = [0, 10]
+    xc = [(i + 0.5) * h for i in cols]
+    eps_top = [-6.0 * P * (L - x) / (E * b * t ** 2) for x in xc]
+    tip = P * L ** 3 / (3 * E * I) + P * L / (kappa * G * b * t)
+    # sensors: (name, element, surface, direction, value); nu = 0 -> eps_y = gamma_xy = 0, so a
+    # gauge at 45 deg reads eps_x/2 (eq. 2.31 with theta = (1, 1, 0)/sqrt 2)
+    sensors = [
+        ("ROOT_TOP", cols[0] + 1, "TOP", (1.0, 0.0, 0.0), eps_top[0]),
+        ("ROOT_BOT", cols[0] + 1, "BOT", (-1.0, 0.0, 0.0), -eps_top[0]),
+        ("ROOT_MID", cols[0] + 1, "MID", (1.0, 0.0, 0.0), 0.0),
+        ("ROOT_45", cols[0] + 1, "TOP", (1.0, 1.0, 0.0), 0.5 * eps_top[0]),
+        ("MIDSPAN_TOP", cols[1] + 1, "TOP", (2.0, 0.0, 0.0), eps_top[1]),
+    ]
+    # second computation: the 1D linear one-point-shear Timoshenko analogue of MITC4 in
+    # cylindrical bending, element curvature (psi_{i+1} - psi_i)/h at the same columns
+    u1 = timoshenko_fe_1d(L, E * I, kappa * G * b * t, 1.0, 1.0, nx, 0, load=P, full=True)
+    disc = []
+    for i, e_ref in zip(cols, eps_top):
+        kap = (u1[2 * i + 3] - u1[2 * i + 1]) / h
+        e_fe = -kap * t / 2
+        check("%s: 1D analogue strain at column %d" % (name, i), e_ref, e_fe, 1e-6)
+        disc.append((e_fe - e_ref) / e_ref)
+    deck = "%s/%s_n1.dat" % (DECK_DIR, name)
+    if write:
+        grids, quads = shell_grid_mesh(L, b, nx, ny)
+        bulk = shell_bulk(grids, quads, t, {"E": E, "nu": 0.0, "rho": 7850.0}, coupmass=None)
+        bulk.append(spc1(1, "123456", [g for g, x, y, z in grids if x == 0.0]))
+        for j in range(ny + 1):
+            w = (0.5 if j in (0, ny) else 1.0) / ny
+            bulk.append(card("FORCE", 2, j * (nx + 1) + nx + 1, 0, P * w, 0.0, 0.0, 1.0))
+        for k, (sname, eid, surf, d, _) in enumerate(sensors):
+            bulk.append(card("SENSOR", k + 1, sname, "STRAIN", eid, surf, *d))
+        bulk.append(card("SENSOR", len(sensors) + 1, "TIP_W", "DISP", nx + 1, None, 0.0, 0.0, 1.0))
+        write_deck(deck, ["analytic case %s: strip %g x %g x %g m, E = %g, nu = 0, CQUAD4 %dx%d, "
+                          "clamped at x = 0, %g N in +z at the tip; STRAIN and DISP SENSORs"
+                          % (name, L, b, t, E, nx, ny, P),
+                          "reference: %s/%s.json" % (REF_DIR, name)],
+                   101, static_case_control("%s n1" % name) + ["  STRAIN = ALL"], bulk)
+    labels = [s[0] for s in sensors] + ["TIP_W"]
+    values = [s[4] for s in sensors] + [tip]
+    strain_tol = float("%.2g" % (1.25 * (2 * max(abs(x) for x in disc) + 1e-6)))
+    just = ("with nu = 0 the strip in cylindrical bending is a Timoshenko beam; MITC4 reduces to "
+            "the linear one-point-shear element whose centroid curvature differs from M/EI by at "
+            "most %.1e relative here (1D analogue), counted twice for element variants, plus "
+            "1e-6 for the solve; x1.25 -> %.2g" % (max(abs(x) for x in disc), strain_tol))
+    mid_just = ("the mid-surface strain of pure bending is zero: absolute bound, 1e-9 of the "
+                "surface strain (membrane strain from round-off of the solve)")
+    return {
+        "case": name,
+        "description": "cantilever strip %g x %g x %g m (CQUAD4 %dx%d), nu = 0, clamped at x = 0, "
+                       "tip load %g N in +z: STRAIN sensors at element centroids (TOP/BOT/MID, "
+                       "along x and at 45 deg) and a DISP sensor at the tip" % (L, b, t, nx, ny, P),
+        "provenance": ROARK.replace("end load)", "end load: moment M = P(L-x), flexure formula "
+                                    "sigma = M c/I)") + "; strain projection "
+                      "eps_theta = theta^T eps theta (thesis eq. 2.31)",
+        "formula": "eps_x(x, +-t/2) = -+6 P (L - x)/(E b t^2) at the element centroid x; eps_45 = "
+                   "eps_x/2 (nu = 0); tip w = P L^3/(3 E I) + P L/(kappa G A)",
+        "inputs": {"L": L, "b": b, "t": t, "E": E, "nu": 0.0, "P": P, "kappa": kappa,
+                   "centroid_x": xc, "elements": [cols[0] + 1, cols[1] + 1]},
+        "value_labels": labels,
+        "units": "strain (m/m); TIP_W in m",
+        "values": values,
+        "absolute_scale": abs(eps_top[0]),
+        "meshes": [{"deck": deck, "elements": nx * ny, "h": h, "nx": nx, "ny": ny}],
+        "discretization_estimate_1d_analogue": disc,
+        "expected_order": None,
+        "tolerance_finest": {"relative": [strain_tol, strain_tol, 1e-9, strain_tol, strain_tol,
+                                          1e-3],
+                             "justification": [just, just, mid_just, just, just,
+                                               "tip deflection on 20 x 2 elements: see "
+                                               "cantilever_static (n2 mesh, 1D analogue -0.06%); "
+                                               "1e-3 bounds it"]},
+    }
+
+
 CASES = {
     "cantilever_plate_modal": case_cantilever_plate_modal,
     "cantilever_beam_solid_modal": case_cantilever_beam_solid_modal,
@@ -1372,6 +1463,7 @@ CASES = {
     "cantilever_static": lambda w: case_cantilever_static(w, solid=False),
     "cantilever_static_solid": lambda w: case_cantilever_static(w, solid=True),
     "two_dof_spring_mass": case_two_dof_spring_mass,
+    "cantilever_strain_sensor": case_cantilever_strain_sensor,
     "laminate_abd": case_laminate_abd,
     "massless_spring_chain": lambda w: case_massless_spring_chain(
         w, "massless_spring_chain", lambda f: (None, None, 10), [0, 1, 2],
