@@ -1454,6 +1454,150 @@ def case_cantilever_strain_sensor(write):
     }
 
 
+def tabled1(tid, points):
+    """TABLED1 with linear axes; the points start on the first continuation line."""
+    return card("TABLED1", tid, *([None] * 7), *[v for p in points for v in p], "ENDT")
+
+
+def frf_case_control(title, sol_modal):
+    lines = ["TITLE = " + title, "SUBCASE 1", "  SPC = 1", "  FREQUENCY = 5", "  DLOAD = 7"]
+    return lines + (["  METHOD = 10"] if sol_modal else [])
+
+
+def case_frf_sdof(write):
+    """One CONM2 on one CELAS2 with Rayleigh damping under one RLOAD1 with phase, delay and
+    complex tables: receptance H and the forced response P(f) H."""
+    name = "frf_sdof"
+    k, m, alpha, beta = 4.0e4, 2.0, 0.8, 2.0e-4
+    A, phase_deg, delay = 2.5, 30.0, 0.01
+    f0 = math.sqrt(k / m) / (2 * math.pi)
+    hz = [1.0, 10.0, round(f0, 6), 40.0, 100.0]
+    # TC: C(f) linear 1 -> 2 over 0..200 Hz (TABLED1 points), TD: D(f) = 0.5
+    C = lambda f: 1.0 + f / 200.0
+    D = lambda f: 0.5
+    H, R = [], []
+    for f in hz:
+        w = 2 * math.pi * f
+        h = 1.0 / complex(k - w * w * m, w * (alpha * m + beta * k))
+        p = A * complex(C(f), D(f)) * complex(math.cos(math.radians(phase_deg) - w * delay),
+                                              math.sin(math.radians(phase_deg) - w * delay))
+        # second computation: the 1x1 complex solve by numpy
+        h2 = np.linalg.solve(np.array([[k - w * w * m + 1j * w * (alpha * m + beta * k)]]),
+                             np.array([1.0]))[0]
+        check("%s: H at %g Hz closed form vs numpy" % (name, f), abs(h), abs(h2), 1e-14)
+        H.append(h)
+        R.append(p * h)
+    deck = "%s/%s_n1.dat" % (DECK_DIR, name)
+    if write:
+        bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("CONM2", 1, 1, 0, m),
+                card("CELAS2", 11, k, 1, 1), spc1(1, "23456", [1]),
+                "PARAM,ALPHA1,%s" % r(alpha), "PARAM,BETA1,%s" % r(beta),
+                card("FREQ", 5, *[float(f) for f in hz]),
+                card("RLOAD1", 7, 8, delay, phase_deg, 20, 21), card("DAREA", 8, 1, 1, A),
+                tabled1(20, [(0.0, 1.0), (200.0, 2.0)]),
+                tabled1(21, [(0.0, 0.5), (200.0, 0.5)])]
+        write_deck(deck, ["analytic case %s: CONM2 %g kg on CELAS2 %g N/m, Rayleigh alpha %g, "
+                          "beta %g; RLOAD1 A = %g, phase %g deg, delay %g s" % (name, m, k, alpha,
+                                                                            beta, A, phase_deg, delay),
+                          "reference: %s/%s.json" % (REF_DIR, name)],
+                   108, frf_case_control(name, False), bulk)
+    return {
+        "case": name,
+        "description": "single-DOF spring-mass with Rayleigh damping: receptance and RLOAD1 "
+                       "forced response (SOL 108)",
+        "provenance": "single-DOF harmonic response, any vibrations text (e.g. Inman, Engineering "
+                      "Vibration, 4th ed. 2014, sec. 2.2); RLOAD1 definition of the MSC Nastran "
+                      "Quick Reference Guide (P(f) = A [C(f) + i D(f)] e^{i(theta - 2 pi f tau)}); "
+                      "checked against numpy's complex solve",
+        "formula": "H = 1/(k - w^2 m + i w (alpha m + beta k)); response = A (C(f) + i D(f)) "
+                   "exp(i (theta - w tau)) H; C(f) = 1 + f/200, D(f) = 0.5",
+        "inputs": {"k": k, "m": m, "alpha": alpha, "beta": beta, "A": A, "phase_deg": phase_deg,
+                   "delay": delay, "f0_hz": f0},
+        "frequency_hz": hz,
+        "H_re": [h.real for h in H], "H_im": [h.imag for h in H],
+        "response_re": [x.real for x in R], "response_im": [x.imag for x in R],
+        "value_labels": ["|H| at %g Hz" % f for f in hz],
+        "units": "m/N",
+        "values": [abs(h) for h in H],
+        "meshes": [{"deck": deck, "elements": 2, "h": None}],
+        "expected_order": None,
+        "tolerance_finest": {"relative": [1e-10] * len(hz), "justification": [
+            "no discretization: the deck is the 1-DOF model; one complex LU (plus a refinement "
+            "step) of a 1x1 system is exact to ~1e-16, 1e-10 of max |H| leaves room for the "
+            "table interpolation and phase arithmetic in the response"] * len(hz)},
+    }
+
+
+def case_frf_two_dof(write):
+    """Ground-k1-m1-k2-m2 chain along T1 with Rayleigh damping, unit RLOAD1 on both masses:
+    receptance matrix and DISP / VEL / ACCEL sensors, direct (SOL 108) and modal (SOL 111)."""
+    name = "frf_two_dof"
+    k1, k2, m1, m2, alpha, beta = 2.5e4, 3.0e4, 2.0, 1.0, 0.8, 2.0e-4
+    K = np.array([[k1 + k2, -k2], [-k2, k2]])
+    M = np.diag([m1, m2])
+    lam, phi = linalg.eigh(K, M)
+    fn = [math.sqrt(x) / (2 * math.pi) for x in lam]
+    hz = [2.0, round(fn[0], 6), 30.0, round(fn[1], 6), 80.0]
+    # outputs: 1:1, 2:1 (the inputs), then D2 = -u2 (DISP along -x), V2 = i w u2, A1 = -w^2 u1
+    H = []
+    for f in hz:
+        w = 2 * math.pi * f
+        Z = K - w * w * M + 1j * w * (alpha * M + beta * K)
+        h = np.linalg.inv(Z)
+        # second computation: modal superposition over both mass-normalized modes
+        hm = sum(np.outer(phi[:, j], phi[:, j]) / (lam[j] - w * w + 1j * w * (alpha + beta * lam[j]))
+                 for j in range(2))
+        check("%s: H at %g Hz inverse vs modal superposition" % (name, f),
+              np.abs(h).max(), np.abs(h - hm).max() + np.abs(h).max(), 1e-12)
+        rows = [h[0], h[1], -h[1], 1j * w * h[1], -w * w * h[0]]
+        H.append([[complex(v) for v in row] for row in rows])
+    decks = ["%s/%s_direct.dat" % (DECK_DIR, name), "%s/%s_modal.dat" % (DECK_DIR, name)]
+    if write:
+        bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("GRID", 2, None, 1.0, 0.0, 0.0),
+                card("CONM2", 1, 1, 0, m1), card("CONM2", 2, 2, 0, m2),
+                card("CELAS2", 11, k1, 1, 1), card("CELAS2", 12, k2, 1, 1, 2, 1),
+                spc1(1, "23456", [1, 2]), "PARAM,ALPHA1,%s" % r(alpha), "PARAM,BETA1,%s" % r(beta),
+                card("FREQ", 5, *[float(f) for f in hz]), card("EIGRL", 10, None, None, 2),
+                card("RLOAD1", 7, 8, None, None, 20), card("DAREA", 8, 1, 1, 1.0, 2, 1, 1.0),
+                tabled1(20, [(0.0, 1.0), (1000.0, 1.0)]),
+                card("SENSOR", 1, "D2", "DISP", 2, None, -1.0, 0.0, 0.0),
+                card("SENSOR", 2, "V2", "VEL", 2, None, 1.0, 0.0, 0.0),
+                card("SENSOR", 3, "A1", "ACCEL", 1, None, 2.0, 0.0, 0.0)]
+        for deck, sol in zip(decks, (108, 111)):
+            write_deck(deck, ["analytic case %s: CONM2 %g and %g kg on T1, CELAS2 ground-m1 %g "
+                              "N/m and m1-m2 %g N/m, Rayleigh alpha %g, beta %g; SOL %d"
+                              % (name, m1, m2, k1, k2, alpha, beta, sol),
+                              "reference: %s/%s.json" % (REF_DIR, name)],
+                       sol, frf_case_control(name, sol == 111), bulk)
+    labels = ["|H| max over outputs x inputs at %g Hz" % f for f in hz]
+    return {
+        "case": name,
+        "description": "two CONM2 masses on CELAS2 springs along T1 (ground-m1-m2 chain) with "
+                       "Rayleigh damping: receptance matrix at the masses and DISP / VEL / ACCEL "
+                       "sensors",
+        "provenance": "2-DOF harmonic response Z(w)^-1, Z = K - w^2 M + i w (alpha M + beta K) "
+                      "(e.g. Inman, Engineering Vibration, 4th ed. 2014, sec. 5.2; Rayleigh "
+                      "damping sec. 4.5); checked against modal superposition over both modes",
+        "formula": "H = Z^-1; outputs 1:1, 2:1, D2 = -H[2,:], V2 = i w H[2,:], A1 = -w^2 H[1,:]",
+        "inputs": {"k1": k1, "k2": k2, "m1": m1, "m2": m2, "alpha": alpha, "beta": beta,
+                   "natural_frequencies_hz": fn},
+        "frequency_hz": hz,
+        "outputs": ["1:1", "2:1", "D2", "V2", "A1"],
+        "inputs_dofs": ["1:1", "2:1"],
+        "H_re": [[[v.real for v in row] for row in h] for h in H],
+        "H_im": [[[v.imag for v in row] for row in h] for h in H],
+        "value_labels": labels,
+        "units": "m/N (VEL m/s/N, ACCEL m/s^2/N)",
+        "values": [max(abs(v) for row in h for v in row) for h in H],
+        "meshes": [{"deck": d, "elements": 4, "h": None} for d in decks],
+        "expected_order": None,
+        "tolerance_finest": {"relative": [1e-9] * len(hz), "justification": [
+            "no discretization and no truncation (both modes superposed in SOL 111): relative to "
+            "the largest |H| of each output row; round-off of a 2x2 complex solve and of the "
+            "Lanczos eigenpairs (converged to ~1e-12) -> 1e-9"] * len(hz)},
+    }
+
+
 CASES = {
     "cantilever_plate_modal": case_cantilever_plate_modal,
     "cantilever_beam_solid_modal": case_cantilever_beam_solid_modal,
@@ -1464,6 +1608,8 @@ CASES = {
     "cantilever_static_solid": lambda w: case_cantilever_static(w, solid=True),
     "two_dof_spring_mass": case_two_dof_spring_mass,
     "cantilever_strain_sensor": case_cantilever_strain_sensor,
+    "frf_sdof": case_frf_sdof,
+    "frf_two_dof": case_frf_two_dof,
     "laminate_abd": case_laminate_abd,
     "massless_spring_chain": lambda w: case_massless_spring_chain(
         w, "massless_spring_chain", lambda f: (None, None, 10), [0, 1, 2],
