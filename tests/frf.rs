@@ -65,7 +65,7 @@ fn sdof_direct_matches_the_closed_form() {
 }
 
 /// 2-DOF chain: receptance at both masses and DISP / VEL / ACCEL sensors, by SOL 108 and by
-/// SOL 111 over both modes, against Z(ω)⁻¹; tolerance from the reference, relative to the
+/// SOL 111 over both modes (and each as `SOL FRF`), against Z(ω)⁻¹; tolerance from the reference, relative to the
 /// largest |H| of each output row (rows differ by ω² in scale).
 #[test]
 fn two_dof_direct_and_modal_match_the_analytic_receptance() {
@@ -73,9 +73,15 @@ fn two_dof_direct_and_modal_match_the_analytic_receptance() {
     let tol = f64s(&r["tolerance_finest"]["relative"])[0];
     let (re, im) = (f64s(&r["H_re"]), f64s(&r["H_im"]));
     let outputs: Vec<String> = r["outputs"].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_string()).collect();
-    for mesh in r["meshes"].as_array().unwrap() {
-        let deck = mesh["deck"].as_str().unwrap();
-        let (run, _model, dir) = run_deck_file(&root().join(deck));
+    // each deck as written (SOL 108, SOL 111) and as `SOL FRF`, which is modal with METHOD
+    let runs = r["meshes"].as_array().unwrap().iter().flat_map(|mesh| {
+        let path = mesh["deck"].as_str().unwrap().to_string();
+        let text = std::fs::read_to_string(root().join(&path)).unwrap();
+        let generic = text.replace("SOL 108", "SOL FRF").replace("SOL 111", "SOL FRF");
+        [(path.clone(), text), (format!("{path} as SOL FRF"), generic)]
+    });
+    for (deck, text) in runs {
+        let (run, dir) = run_deck(&text);
         let summary = run.unwrap_or_else(|e| panic!("{deck}: {e}"));
         let SubcaseResult::Frf(s) = &summary.subcases[0].result else { panic!("{deck}: not a full-model FRF") };
         assert_eq!(s.modes, if deck.contains("modal") { 2 } else { 0 }, "{deck}");
@@ -204,4 +210,17 @@ fn solid_strain_sensors_read_the_static_strain_at_zero_hz() {
         println!("{}: FRF at 0 Hz {:.10e} (imag {:.1e}), SOL 101 {want:.10e}", gauges[k].0, got.re, got.im);
         assert!((got - c64::new(*want, 0.0)).norm() <= 1e-7 * scale, "{}: {got:?} vs {want:e}", gauges[k].0);
     }
+}
+
+/// Bad FRF requests are clear errors naming what is missing: no DLOAD, and a DAREA on a
+/// constrained DOF (a load there moves nothing).
+#[test]
+fn missing_dload_and_constrained_inputs_are_reported() {
+    let text = std::fs::read_to_string(root().join("decks/verify/analytic/frf_two_dof_direct.dat")).unwrap();
+    let (r, _dir) = run_deck(&text.replace("  DLOAD = 7\n", ""));
+    let e = r.expect_err("no DLOAD").to_string();
+    assert!(e.contains("DLOAD"), "{e}");
+    let (r, _dir) = run_deck(&text.replace("DAREA,8,1,1,1.0,2,1,1.0", "DAREA,8,1,1,1.0,2,2,1.0"));
+    let e = r.expect_err("DAREA on T2, which SPC 23456 holds").to_string();
+    assert!(e.contains("GRID 2 component 2 is constrained"), "{e}");
 }
