@@ -151,7 +151,7 @@ fn strain_row(ctx: &RunContext, st: &Structure, index: usize, s: &Sensor, d: [f6
     let bad = |reason: String| RunError::Element { card: e.kind.card(), id: e.id, reason };
     let xyz = model.positions(e);
     let mut row = Vec::new();
-    if let Some((_, rec)) = st.elements.shells.iter().find(|(i, _)| *i == index) {
+    if let Some((_, rec)) = st.shells.iter().find(|(i, _)| *i == index) {
         let surface = s.surface.unwrap_or("MID");
         let mut unit = vec![0.0; 6 * e.nodes.len()];
         for k in 0..unit.len() {
