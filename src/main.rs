@@ -247,6 +247,11 @@ mod report {
                     println!("subcase {}: FRF of the pROM {} at {} line(s), {} input(s) × {} output(s) ({})", sub.id, r.rom.display(), r.lines, r.inputs.len(), r.inputs.len(), r.inputs.join(", "));
                     println!("  largest |H| {} at {} Hz", sci(r.peak.0, 4), sci(r.peak.1, 4));
                 }
+                SubcaseResult::Frf(r) => {
+                    let modes = if r.modes > 0 { format!(", {} modes", r.modes) } else { String::new() };
+                    println!("subcase {}: {} FRF, f-set {} DOFs{modes}, {} line(s), {} input(s) ({}) × {} output(s)", sub.id, r.method.name(), r.f_size, r.lines, r.inputs.len(), r.inputs.join(", "), r.outputs.len());
+                    println!("  largest |H| {} at {} Hz", sci(r.peak.0, 4), sci(r.peak.1, 4));
+                }
                 SubcaseResult::RomTransient(r) => {
                     println!("subcase {}: transient of the pROM {} ({}), {} step(s), outputs {}", sub.id, r.rom.display(), r.method, r.steps, r.outputs.join(", "));
                     println!("  largest |displacement| {} at t = {} s", sci(r.peak.0, 4), sci(r.peak.1, 4));

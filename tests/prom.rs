@@ -295,3 +295,95 @@ fn prom_transient_equals_the_analytic_two_dof_step_response() {
         assert!(worst <= 2e-3 * peak, "{what}: max error {worst:e} vs peak {peak:e}");
     }
 }
+
+/// STRAIN sensors of the strain-sensor pROMs below: element 1 (root corner) TOP along x,
+/// element 30 (column 6 of the middle row) BOT along (1, 0.5), and its MID along y.
+const STRAIN_SENSORS: &str = "SENSOR,1,R_TOP,STRAIN,1,TOP,1.,0.,0.\nSENSOR,2,M_BOT,STRAIN,30,BOT,1.,0.5,0.\nSENSOR,3,M_MID,STRAIN,30,MID,0.,1.,0.\n";
+
+/// SOL PROM of the steel plate with E as parameter and [`STRAIN_SENSORS`] (plus `extra` bulk
+/// cards). MACTOL = 1 keeps the attachment modes of the tip grids (their MAC with the first
+/// bending mode is above the default 0.99) and ERRTOL = 1e-12 keeps the whole rank; K ∝ E, so
+/// every sample has the same attachment modes and the basis holds K⁻¹S exactly at any E.
+fn strain_prom(extra: &str) -> tempfile::TempDir {
+    let nominal = STEEL.replace("{E}", "2.1e11").replace("{RHO}", "7850.");
+    let build = format!("SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPMPAR,1,E,E,1,1.e11,3.e11\nPMOR,1,2,4,2000.,1.e-12,,1.\n,1\n{STRAIN_SENSORS}{extra}{}ENDDATA\n", plate(&nominal));
+    let (r, dir) = run_deck(&build);
+    r.expect("SOL PROM");
+    dir
+}
+
+/// What the [`STRAIN_SENSORS`] read in the full SOL 101 of the plate under a unit force on
+/// grid 39 T3, from the STRAIN output projected on the gauge directions (ε_ϑ = ϑ₁²εx + ϑ₂²εy +
+/// ϑ₁ϑ₂γxy in the material axes, here basic x, y; MID = the mean of the two fibres).
+fn full_static_gauges() -> [f64; 3] {
+    let nominal = STEEL.replace("{E}", "2.1e11").replace("{RHO}", "7850.");
+    let full = format!("SOL 101\nCEND\nSPC = 1\nLOAD = 2\nSTRAIN = ALL\nBEGIN BULK\nFORCE,2,39,0,1.,0.,0.,1.\n{}ENDDATA\n", plate(&nominal));
+    let (r, out) = run_deck(&full);
+    r.expect("SOL 101");
+    let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
+    let s = file.group("results/1/statics/strain/CQUAD4").expect("strain");
+    let ids: Vec<u32> = s.dataset("ids").unwrap().read_raw().unwrap();
+    let top: Vec<f64> = s.dataset("top").unwrap().read_raw().unwrap();
+    let bottom: Vec<f64> = s.dataset("bottom").unwrap().read_raw().unwrap();
+    let at = |surface: &[f64], eid: u32| -> [f64; 3] { std::array::from_fn(|i| surface[3 * ids.iter().position(|&e| e == eid).unwrap() + i]) };
+    let gauge = |e: [f64; 3], d: [f64; 2]| {
+        let n = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        let (a, b) = (d[0] / n, d[1] / n);
+        a * a * e[0] + b * b * e[1] + a * b * e[2]
+    };
+    let mid: [f64; 3] = std::array::from_fn(|i| 0.5 * (at(&top, 30)[i] + at(&bottom, 30)[i]));
+    [gauge(at(&top, 1), [1.0, 0.0]), gauge(at(&bottom, 30), [1.0, 0.5]), gauge(mid, [0.0, 1.0])]
+}
+
+/// `got` against `want` within `rel` of the largest |want|.
+fn assert_gauges(what: &str, got: &[f64], want: &[f64; 3], rel: f64) {
+    let scale = want.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    for ((name, g), w) in ["R_TOP", "M_BOT", "M_MID"].iter().zip(got).zip(want) {
+        println!("{what} {name}: pROM {g:.10e}, full {w:.10e}");
+        assert!((g - w).abs() <= rel * scale, "{what} {name}: pROM {g:e} vs full {w:e}");
+    }
+}
+
+/// STRAIN rows of a pROM (H_r = H Φ, eq. 2.32) against the full model at the nominal point:
+/// the basis holds the static attachment modes of the tip grids ([`strain_prom`]), so the
+/// pROM's FRF at 0 Hz is the full static response to a unit tip force and each strain sensor
+/// must read what SOL 101's STRAIN output gives. Tolerance 1e-7 relative to the largest strain:
+/// the two paths are exact up to the conditioning of the shell K_ff (~1e9 × 1e-16 through the
+/// Cholesky solve and the SVD of the basis).
+#[test]
+fn prom_strain_sensors_equal_the_full_model_at_the_nominal_point() {
+    let dir = strain_prom("");
+    let frf = format!("SOL 111\nCEND\nROM = '{}'\nPVAL = 1\nFREQUENCY = 1\nBEGIN BULK\nPVAL,1,E,2.1e11\nFREQ,1,0.\nENDDATA\n", dir.path().join("out.h5").display());
+    let (r, out) = run_deck(&frf);
+    r.expect("pROM FRF");
+    let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
+    let g = file.group("results/1/frf").expect("frf group");
+    let outputs: Vec<String> = g.dataset("outputs").unwrap().read_raw::<hdf5_metno::types::VarLenUnicode>().unwrap().iter().map(|s| s.to_string()).collect();
+    assert_eq!(outputs, ["13:3", "39:3", "65:3", "R_TOP", "M_BOT", "M_MID"]);
+    let h: Vec<faer::c64> = g.dataset("H").unwrap().read_raw().unwrap();
+    // column of input 39:3 (index 1 of 3), sensor rows 3..6
+    let reduced: Vec<f64> = (3..6).map(|o| h[3 * o + 1].re).collect();
+    assert_gauges("FRF at 0 Hz", &reduced, &full_static_gauges(), 1e-7);
+}
+
+/// A pROM transient outputs STRAIN sensors as y = H_r q (like DISP): a unit step force on
+/// grid 39 T3 with Rayleigh damping α = 200 /s, β = 2e-3 s decays every transient at least as
+/// e^(−αt/2) (ζ_j ω_j = α/2 + βω_j²/2), e^(−50) after 0.5 s, and BDF1's fixed point is K_r q = S_r:
+/// the last sample is the static strain of SOL 101 (tolerance 1e-7, as the FRF test above).
+#[test]
+fn prom_transient_strain_sensors_settle_on_the_static_strain() {
+    let dir = strain_prom("PARAM,ALPHA1,200.\nPARAM,BETA1,2.e-3\n");
+    let deck = format!(
+        "SOL 112\nCEND\nROM = '{}'\nTSTEP = 1\nDLOAD = 7\nBEGIN BULK\nTSTEP,1,5000,1.e-4,5000\nTLOAD1,7,8,,,9\nDAREA,8,39,3,1.\nTABLED1,9\n,0.,1.,10.,1.,ENDT\nENDDATA\n",
+        dir.path().join("out.h5").display()
+    );
+    let (r, out) = run_deck(&deck);
+    r.expect("pROM transient");
+    let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
+    let g = file.group("results/1/transient").expect("transient group");
+    let last: Vec<f64> = ["R_TOP", "M_BOT", "M_MID"]
+        .iter()
+        .map(|name| *g.dataset(&format!("sensors/{name}")).unwrap().read_raw::<f64>().unwrap().last().unwrap())
+        .collect();
+    assert_gauges("transient at 0.5 s", &last, &full_static_gauges(), 1e-7);
+}

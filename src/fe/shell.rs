@@ -122,6 +122,8 @@ pub struct ShellStrains {
     pub bottom: [f64; 3],
     /// Transverse shear [γxz, γyz] (assumed MITC field at the centroid).
     pub shear: [f64; 2],
+    /// The material system the strains are in: unit vectors x_m, y_m, n (basic).
+    pub axes: [V3; 3],
 }
 
 type V3 = [f64; 3];
@@ -174,6 +176,8 @@ struct Flat {
     points: Vec<GaussPoint>,
     /// Strain operator at the centroid.
     centroid: Mat<f64>,
+    /// Material axes x_m, y_m, n (basic).
+    axes: [V3; 3],
 }
 
 /// Local frame: rows e1 = x_m, e2 = y_m, e3 = n; and the in-plane coordinates and warp heights.
@@ -501,6 +505,7 @@ impl Flat {
             area,
             points,
             centroid,
+            axes: f.axes,
         })
     }
 
@@ -529,6 +534,7 @@ impl Flat {
             area,
             points,
             centroid,
+            axes: f.axes,
         })
     }
 
@@ -618,6 +624,7 @@ impl Flat {
             top: at(z.0),
             bottom: at(z.1),
             shear: [e[6], e[7]],
+            axes: self.axes,
         }
     }
 }

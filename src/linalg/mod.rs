@@ -14,8 +14,11 @@
 //!   the symbolic analysis of large patterns.
 //! - [`eigen`]: shift-invert Lanczos for K φ = λ M φ with EIGRL request semantics and a
 //!   Sturm-sequence missed-mode check ([`solve_modes`]).
+//! - [`complex_lu`]: sparse complex LU with one symbolic analysis per pattern (dynamic
+//!   stiffness of frequency responses, [`ComplexLuSymbolic`]).
 
 pub mod cholesky;
+pub mod complex_lu;
 pub mod dense;
 pub mod eigen;
 mod error;
@@ -26,6 +29,7 @@ mod sparse;
 pub use cholesky::{
     Factor, FactorKind, FactorVariant, Inertia, Ordering, SolveScratch, SymbolicFactor,
 };
+pub use complex_lu::ComplexLuSymbolic;
 pub use eigen::{
     EigenProblem, EigenRequest, EigenResult, LanczosOptions, SturmCheck, solve_modes, sturm_check,
     sturm_count,

@@ -565,3 +565,17 @@ fn conm2_element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> {
 pub fn element_displacements(rows: &[f64], nodes: &[usize]) -> Vec<f64> {
     nodes.iter().flat_map(|&a| rows[6 * a..6 * a + 6].iter().copied()).collect()
 }
+
+/// Centroid strains of a shell (CQUAD4, CTRIA3) in its material system from its basic element
+/// displacements `ue` (6 per grid, [`element_displacements`]): the recovery of SOL 101's STRAIN
+/// output and of STRAIN sensors.
+pub fn shell_strains(model: &Model, e: &Element, rec: &ShellRecovery, ue: &[f64]) -> Result<shell::ShellStrains, RunError> {
+    let xyz = model.positions(e);
+    let bad = |reason: String| RunError::Element { card: e.kind.card(), id: e.id, reason };
+    match (xyz.len(), ue.len()) {
+        (4, 24) => shell::quad4_strains(&[xyz[0], xyz[1], xyz[2], xyz[3]], rec.material_x, rec.fibres, &std::array::from_fn(|i| ue[i])),
+        (3, 18) => shell::tria3_strains(&[xyz[0], xyz[1], xyz[2]], rec.material_x, rec.fibres, &std::array::from_fn(|i| ue[i])),
+        (k, _) => return Err(bad(format!("a shell with {k} grids"))),
+    }
+    .map_err(|x| bad(x.to_string()))
+}

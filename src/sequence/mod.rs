@@ -7,6 +7,8 @@
 //! |---|---|---|
 //! | `101`, `STATICS` | [`statics::run`] | `SPC`, `LOAD` → u, SPC forces, centroid strains |
 //! | `103`, `MODAL` | [`modal::run`] | `SPC`, `METHOD` (EIGRL) → frequencies, generalized masses, residuals, shapes |
+//! | `108`, `111`, `FRF` | [`frf::run`] | `SPC`, `FREQUENCY`, `DLOAD` (RLOAD1/DAREA inputs), `METHOD` (111) → complex FRFs at inputs and SENSORs |
+//! | any with `ROM =` | [`rom_modal`], [`rom_frf`], [`rom_transient`] | the pROM artifact at `PVAL` |
 //!
 //! Both drivers share the structure setup of [`Structure::build`]: element matrices
 //! ([`elements`]), one grid-block pattern for K and M, rigid elimination g → n with one plan,
@@ -33,6 +35,7 @@
 
 pub mod elements;
 pub mod estimate;
+pub mod frf;
 pub mod modal;
 pub mod parameters;
 pub mod prom;
@@ -40,6 +43,7 @@ pub mod rom_case;
 pub mod rom_frf;
 pub mod rom_transient;
 pub mod rom_modal;
+pub mod sensors;
 pub mod statics;
 
 use std::sync::Arc;
@@ -67,7 +71,7 @@ pub enum Sequence {
     Modal,
     /// SOL PROM: parametric reduced-order model.
     Prom,
-    /// SOL FRF (108/111): frequency response; on pROM artifacts only in this version.
+    /// SOL FRF (108/111): frequency response, full model (direct or modal) or pROM artifact.
     Frf,
     /// SOL TRANSIENT (109/112): time response; on pROM artifacts only in this version.
     Transient,
@@ -157,6 +161,7 @@ pub enum SubcaseResult {
     Modal(modal::ModalSummary),
     Statics(statics::StaticsSummary),
     Prom(prom::PromSummary),
+    Frf(frf::FrfSummary),
     RomModal(rom_modal::RomModalSummary),
     RomFrf(rom_frf::RomFrfSummary),
     RomTransient(rom_transient::RomTransientSummary),
@@ -196,12 +201,12 @@ pub enum RunError {
 }
 
 /// The sequence that runs `model`'s SOL, or why none can: no SOL, a SOL without a driver, or
-/// a frequency / time response on the full model (this version runs those on pROMs only).
+/// a time response on the full model (this version runs it on pROMs only).
 /// The CLI asks before running, to write the model and exit with "not available".
 pub fn runnable(deck: &Deck, model: &Model) -> Result<Sequence, RunError> {
     let (sol, text) = deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
     let sequence = Sequence::of_solution(*sol).ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
-    if matches!(sequence, Sequence::Frf | Sequence::Transient | Sequence::Estimate) && !rom_case::applies(model) {
+    if matches!(sequence, Sequence::Transient | Sequence::Estimate) && !rom_case::applies(model) {
         return Err(RunError::NotAvailable(format!("{text} ({}) on the full model (this version runs it on pROM artifacts: every subcase needs ROM = 'file.h5')", sol.name())));
     }
     Ok(sequence)
@@ -216,12 +221,13 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         (Sequence::Frf, true) => rom_frf::run(ctx, &mut clock)?,
         (Sequence::Transient, true) => rom_transient::run(ctx, &mut clock)?,
         (Sequence::Estimate, true) => estimate::run(ctx, &mut clock)?,
-        (Sequence::Frf | Sequence::Transient | Sequence::Estimate, false) => return Err(RunError::NotAvailable(format!("{} on the full model", sequence.name()))),
-        (Sequence::Statics | Sequence::Modal | Sequence::Prom, _) => {
+        (Sequence::Transient | Sequence::Estimate, false) => return Err(RunError::NotAvailable(format!("{} on the full model", sequence.name()))),
+        (Sequence::Statics | Sequence::Modal | Sequence::Prom | Sequence::Frf, _) => {
             let structure = Structure::build(ctx, &mut clock)?;
             match sequence {
                 Sequence::Statics => statics::run(ctx, &structure, &mut clock)?,
                 Sequence::Prom => prom::run(ctx, &structure, &mut clock)?,
+                Sequence::Frf => frf::run(ctx, &structure, &mut clock)?,
                 _ => modal::run(ctx, &structure, &mut clock)?,
             }
         }
@@ -255,9 +261,6 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
             }
         }
         if let SubcaseResult::Prom(p) = &s.result {
-            if !p.strain_sensors_skipped.is_empty() {
-                warnings.push(format!("subcase {}: STRAIN sensor(s) {} are not projected into the pROM in this version (DISP, VEL and ACCEL are)", s.id, p.strain_sensors_skipped.join(", ")));
-            }
             if !p.log.converged {
                 let last = p.log.error_history.last().map_or("not measured".to_string(), |(size, e)| format!("{e:.2e} at size {size}"));
                 warnings.push(format!(

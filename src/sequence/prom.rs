@@ -9,7 +9,8 @@
 //! load inputs (`/prom/inputs`). Damping: Rayleigh α, β from `PARAM,ALPHA1` / `PARAM,BETA1`.
 //!
 //! Written: `/prom` ([`write_prom`]), `/prom/inputs/{names, S_r}` (n_red × n_in),
-//! `/prom/sensors/{names, kind, H_r}` (s × n_red) for the DISP/VEL/ACCEL SENSOR cards, and
+//! `/prom/sensors/{names, kind, H_r}` (s × n_red): H_r = H Φ with the f-set rows H of the
+//! subcase's SENSORs ([`sensor_operator`]: DISP, VEL, ACCEL and STRAIN, eq. 2.32, 2.34), and
 //! `/prom/build/{samples, singular_values, size_history, error_history, timings}` with
 //! attributes `mac_kept`, `concatenated`, `converged`, `singular_lines`.
 
@@ -18,9 +19,10 @@ use std::collections::HashMap;
 use faer::Mat;
 use nalgebra_sparse::CscMatrix;
 
+use super::sensors::{sensor_kind_name, sensor_operator};
 use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary};
 use crate::assembly::{AffineOperator, DofMap, ParamKey};
-use crate::deck::cards::{Pmor, SensorKind};
+use crate::deck::cards::Pmor;
 use crate::io::{IoError, set_attr_i64, set_attr_strings, write_f64, write_prom, write_strings};
 use crate::rom::build::{AffineFom, BuildLog, Built, PromSettings, build_prom};
 use crate::rom::local_basis::{RigidModes, StaticModes};
@@ -32,65 +34,9 @@ pub struct PromSummary {
     pub n_red: usize,
     pub parameters: Vec<String>,
     pub inputs: usize,
-    /// SENSOR rows projected (DISP, VEL, ACCEL).
+    /// SENSOR rows projected (DISP, VEL, ACCEL, STRAIN).
     pub sensors: usize,
-    /// STRAIN sensors not projected in this version (names).
-    pub strain_sensors_skipped: Vec<String>,
     pub log: BuildLog,
-}
-
-/// Sensor rows on the reduced coordinates.
-struct SensorRows {
-    names: Vec<String>,
-    kinds: Vec<SensorKind>,
-    /// s × n_red: y = H_r q (displacement; velocity and acceleration use q̇, q̈).
-    rows: Mat<f64>,
-    skipped: Vec<String>,
-}
-
-/// The name written for a sensor kind.
-pub fn sensor_kind_name(kind: SensorKind) -> &'static str {
-    match kind {
-        SensorKind::Disp => "DISP",
-        SensorKind::Vel => "VEL",
-        SensorKind::Accel => "ACCEL",
-        SensorKind::Strain => "STRAIN",
-    }
-}
-
-/// Rows of the DISP / VEL / ACCEL SENSORs on the pROM coordinates (thesis eq. 2.34): the
-/// translation of the sensor's grid along its (normalized) basic direction, for each basis
-/// vector recovered to the g-set (RBE-dependent grids included) and rotated to basic. STRAIN
-/// sensors (eq. 2.32) are listed as skipped.
-fn sensor_rows(ctx: &RunContext, st: &Structure, c: &Constrained, basis: &Mat<f64>, subcase: u32) -> Result<SensorRows, RunError> {
-    let model = ctx.model;
-    let mut out = SensorRows { names: Vec::new(), kinds: Vec::new(), rows: Mat::zeros(0, basis.ncols()), skipped: Vec::new() };
-    let mut picked = Vec::new();
-    for s in &model.bulk.sensors {
-        if s.kind == SensorKind::Strain {
-            out.skipped.push(s.name.clone());
-            continue;
-        }
-        let grid = *model.grid_index.get(&s.reference).ok_or_else(|| RunError::Case { subcase, what: format!("SENSOR {}: GRID {} does not exist", s.name, s.reference) })?;
-        let norm = s.direction.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if !(norm > 0.0) {
-            return Err(RunError::Case { subcase, what: format!("SENSOR {}: direction (X, Y, Z) is zero", s.name) });
-        }
-        picked.push((grid, s.direction.map(|x| x / norm)));
-        out.names.push(s.name.clone());
-        out.kinds.push(s.kind);
-    }
-    let zero = vec![0.0; st.map.size()];
-    let mut rows = Mat::<f64>::zeros(picked.len(), basis.ncols());
-    for k in 0..basis.ncols() {
-        let u_g = crate::assembly::recover::recover_g(basis.col_as_slice(k), &c.sets, &zero, &st.rigid)?;
-        let basic = st.to_basic_rows(&u_g);
-        for (r, (grid, d)) in picked.iter().enumerate() {
-            rows[(r, k)] = (0..3).map(|i| d[i] * basic[6 * grid + i]).sum();
-        }
-    }
-    out.rows = rows;
-    Ok(out)
 }
 
 /// Runs the (single) PROM subcase.
@@ -115,7 +61,8 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
     let Built { prom, inputs, basis, log } = clock
         .time(format!("subcase {id}: pROM build"), || build_prom(&fom, &boundary, &settings, ctx.progress))
         .map_err(|e| RunError::Case { subcase: id, what: format!("pROM build: {e}") })?;
-    let sensors = clock.time(format!("subcase {id}: sensor rows"), || sensor_rows(ctx, st, &c, &basis, id))?;
+    let sensors = clock.time(format!("subcase {id}: sensor rows"), || sensor_operator(ctx, st, &c, sub))?;
+    let h_r = sensors.project(&basis);
     drop(basis);
     let n_full = k_ff.nrows();
     clock.time(format!("subcase {id}: output"), || -> Result<(), IoError> {
@@ -132,7 +79,7 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
             write_strings(&g, "names", &names)?;
             let kinds: Vec<&str> = sensors.kinds.iter().map(|k| sensor_kind_name(*k)).collect();
             write_strings(&g, "kind", &kinds)?;
-            write_f64(&g, "H_r", &row_major(&sensors.rows), &[sensors.rows.nrows(), sensors.rows.ncols()])?;
+            write_f64(&g, "H_r", &row_major(&h_r), &[h_r.nrows(), h_r.ncols()])?;
         }
         write_log(ctx, &log)
     })?;
@@ -141,8 +88,7 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
         n_red: prom.size(),
         parameters: prom.parameters.iter().map(|p| p.name.clone()).collect(),
         inputs: names.len(),
-        sensors: sensors.names.len(),
-        strain_sensors_skipped: sensors.skipped,
+        sensors: sensors.len(),
         log,
     };
     Ok(vec![SubcaseSummary { id, autospc: c.autospc.names.clone(), result: SubcaseResult::Prom(summary) }])

@@ -23,12 +23,12 @@
 //! The SPC forces are always computed (one K·u product): the console summary's reaction sum
 //! uses them.
 
-use super::elements::{element_displacements, solid_kind_of};
+use super::elements::{element_displacements, shell_strains, solid_kind_of};
 use super::{Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary, requested, selected};
 use crate::assembly::loads::{Mass, load_vector, reduce_load};
 use crate::assembly::recover::{expand_f_to_n, spc_forces};
 use crate::deck::case_control::Subcase;
-use crate::fe::{shell, solid};
+use crate::fe::solid;
 use crate::io::{write_f64, write_u32};
 use crate::linalg::{Factor, SymbolicFactor, sym_matvec};
 
@@ -176,15 +176,7 @@ fn write_strains(ctx: &RunContext, st: &Structure, group: &hdf5_metno::Group, u:
         if !keep(e.id) {
             continue;
         }
-        let xyz = model.positions(e);
-        let ue = element_displacements(u, &e.nodes);
-        let bad = |reason: String| RunError::Element { card: e.kind.card(), id: e.id, reason };
-        let strains = match (xyz.len(), ue.len()) {
-            (4, 24) => shell::quad4_strains(&[xyz[0], xyz[1], xyz[2], xyz[3]], rec.material_x, rec.fibres, &std::array::from_fn(|i| ue[i])),
-            (3, 18) => shell::tria3_strains(&[xyz[0], xyz[1], xyz[2]], rec.material_x, rec.fibres, &std::array::from_fn(|i| ue[i])),
-            (k, _) => return Err(bad(format!("a shell with {k} grids"))),
-        }
-        .map_err(|x| bad(x.to_string()))?;
+        let strains = shell_strains(model, e, rec, &element_displacements(u, &e.nodes))?;
         let block = shells.entry(e.kind.block_name()).or_default();
         block.ids.push(e.id);
         block.a.extend(strains.top);

@@ -232,11 +232,12 @@ def timoshenko_cf_huang(L, EI, kGA, mA, mI, f_guess, span=0.35):
     return optimize.brentq(g, a, b, xtol=1e-13, rtol=1e-15)
 
 
-def timoshenko_fe_1d(L, EI, kGA, mA, mI, n, nmodes, bc="cf", load=None):
+def timoshenko_fe_1d(L, EI, kGA, mA, mI, n, nmodes, bc="cf", load=None, full=False):
     """1D analogue of the shell/solid elements: two-node Timoshenko elements, linear w and psi,
     one-point (constant) transverse shear strain (the MITC4 tying gives exactly this in
     cylindrical bending), consistent translational and rotary mass.  bc: 'cf' clamped-free,
-    'ss' simply supported.  Returns frequencies (Hz) or, with load=P, the tip deflection."""
+    'ss' simply supported.  Returns frequencies (Hz) or, with load=P, the tip deflection (with
+    full=True the nodal vector [w0, psi0, w1, psi1, ...] of every node)."""
     h = L / n
     nd = 2 * (n + 1)
     K = np.zeros((nd, nd))
@@ -260,6 +261,10 @@ def timoshenko_fe_1d(L, EI, kGA, mA, mI, n, nmodes, bc="cf", load=None):
         F = np.zeros(nd)
         F[nd - 2] = load
         u = np.linalg.solve(Kf, F[free])
+        if full:
+            out = np.zeros(nd)
+            out[free] = u
+            return out
         return u[free.index(nd - 2)]
     lam = linalg.eigh(Kf, Mf, eigvals_only=True, subset_by_index=[0, nmodes - 1])
     return np.sqrt(lam) / (2 * math.pi)
@@ -1363,6 +1368,236 @@ def case_thin_cantilever(write):
     return ref
 
 
+def case_cantilever_strain_sensor(write):
+    """STRAIN and DISP SENSORs on the cantilever strip of cantilever_static (20 x 2 CQUAD4)."""
+    name = "cantilever_strain_sensor"
+    L, b, t = 1.0, 0.1, 0.01
+    E, P = 210.0e9, 100.0
+    G, kappa = E / 2.0, KAPPA_SHELL
+    I = b * t ** 3 / 12
+    nx, ny = 20, 2
+    h = L / nx
+    # beam surface strain eps_x(x, z = +-t/2) = -+ M(x) t/2 / (E I), M = P (L - x) (Euler-Bernoulli
+    # and Timoshenko agree: shear does not bend); the element centroids of column i at x = (i+1/2)h
+    cols = [0, 10]
+    xc = [(i + 0.5) * h for i in cols]
+    eps_top = [-6.0 * P * (L - x) / (E * b * t ** 2) for x in xc]
+    tip = P * L ** 3 / (3 * E * I) + P * L / (kappa * G * b * t)
+    # sensors: (name, element, surface, direction, value); nu = 0 -> eps_y = gamma_xy = 0, so a
+    # gauge at 45 deg reads eps_x/2 (eq. 2.31 with theta = (1, 1, 0)/sqrt 2)
+    sensors = [
+        ("ROOT_TOP", cols[0] + 1, "TOP", (1.0, 0.0, 0.0), eps_top[0]),
+        ("ROOT_BOT", cols[0] + 1, "BOT", (-1.0, 0.0, 0.0), -eps_top[0]),
+        ("ROOT_MID", cols[0] + 1, "MID", (1.0, 0.0, 0.0), 0.0),
+        ("ROOT_45", cols[0] + 1, "TOP", (1.0, 1.0, 0.0), 0.5 * eps_top[0]),
+        ("MIDSPAN_TOP", cols[1] + 1, "TOP", (2.0, 0.0, 0.0), eps_top[1]),
+    ]
+    # second computation: the 1D linear one-point-shear Timoshenko analogue of MITC4 in
+    # cylindrical bending, element curvature (psi_{i+1} - psi_i)/h at the same columns
+    u1 = timoshenko_fe_1d(L, E * I, kappa * G * b * t, 1.0, 1.0, nx, 0, load=P, full=True)
+    disc = []
+    for i, e_ref in zip(cols, eps_top):
+        kap = (u1[2 * i + 3] - u1[2 * i + 1]) / h
+        e_fe = -kap * t / 2
+        check("%s: 1D analogue strain at column %d" % (name, i), e_ref, e_fe, 1e-6)
+        disc.append((e_fe - e_ref) / e_ref)
+    deck = "%s/%s_n1.dat" % (DECK_DIR, name)
+    if write:
+        grids, quads = shell_grid_mesh(L, b, nx, ny)
+        bulk = shell_bulk(grids, quads, t, {"E": E, "nu": 0.0, "rho": 7850.0}, coupmass=None)
+        bulk.append(spc1(1, "123456", [g for g, x, y, z in grids if x == 0.0]))
+        for j in range(ny + 1):
+            w = (0.5 if j in (0, ny) else 1.0) / ny
+            bulk.append(card("FORCE", 2, j * (nx + 1) + nx + 1, 0, P * w, 0.0, 0.0, 1.0))
+        for k, (sname, eid, surf, d, _) in enumerate(sensors):
+            bulk.append(card("SENSOR", k + 1, sname, "STRAIN", eid, surf, *d))
+        bulk.append(card("SENSOR", len(sensors) + 1, "TIP_W", "DISP", nx + 1, None, 0.0, 0.0, 1.0))
+        write_deck(deck, ["analytic case %s: strip %g x %g x %g m, E = %g, nu = 0, CQUAD4 %dx%d, "
+                          "clamped at x = 0, %g N in +z at the tip; STRAIN and DISP SENSORs"
+                          % (name, L, b, t, E, nx, ny, P),
+                          "reference: %s/%s.json" % (REF_DIR, name)],
+                   101, static_case_control("%s n1" % name) + ["  STRAIN = ALL"], bulk)
+    labels = [s[0] for s in sensors] + ["TIP_W"]
+    values = [s[4] for s in sensors] + [tip]
+    strain_tol = float("%.2g" % (1.25 * (2 * max(abs(x) for x in disc) + 1e-6)))
+    just = ("with nu = 0 the strip in cylindrical bending is a Timoshenko beam; MITC4 reduces to "
+            "the linear one-point-shear element whose centroid curvature differs from M/EI by at "
+            "most %.1e relative here (1D analogue), counted twice for element variants, plus "
+            "1e-6 for the solve; x1.25 -> %.2g" % (max(abs(x) for x in disc), strain_tol))
+    mid_just = ("the mid-surface strain of pure bending is zero: absolute bound, 1e-9 of the "
+                "surface strain (membrane strain from round-off of the solve)")
+    return {
+        "case": name,
+        "description": "cantilever strip %g x %g x %g m (CQUAD4 %dx%d), nu = 0, clamped at x = 0, "
+                       "tip load %g N in +z: STRAIN sensors at element centroids (TOP/BOT/MID, "
+                       "along x and at 45 deg) and a DISP sensor at the tip" % (L, b, t, nx, ny, P),
+        "provenance": ROARK.replace("end load)", "end load: moment M = P(L-x), flexure formula "
+                                    "sigma = M c/I)") + "; strain projection "
+                      "eps_theta = theta^T eps theta (thesis eq. 2.31)",
+        "formula": "eps_x(x, +-t/2) = -+6 P (L - x)/(E b t^2) at the element centroid x; eps_45 = "
+                   "eps_x/2 (nu = 0); tip w = P L^3/(3 E I) + P L/(kappa G A)",
+        "inputs": {"L": L, "b": b, "t": t, "E": E, "nu": 0.0, "P": P, "kappa": kappa,
+                   "centroid_x": xc, "elements": [cols[0] + 1, cols[1] + 1]},
+        "value_labels": labels,
+        "units": "strain (m/m); TIP_W in m",
+        "values": values,
+        "absolute_scale": abs(eps_top[0]),
+        "meshes": [{"deck": deck, "elements": nx * ny, "h": h, "nx": nx, "ny": ny}],
+        "discretization_estimate_1d_analogue": disc,
+        "expected_order": None,
+        "tolerance_finest": {"relative": [strain_tol, strain_tol, 1e-9, strain_tol, strain_tol,
+                                          1e-3],
+                             "justification": [just, just, mid_just, just, just,
+                                               "tip deflection on 20 x 2 elements: see "
+                                               "cantilever_static (n2 mesh, 1D analogue -0.06%); "
+                                               "1e-3 bounds it"]},
+    }
+
+
+def tabled1(tid, points):
+    """TABLED1 with linear axes; the points start on the first continuation line."""
+    return card("TABLED1", tid, *([None] * 7), *[v for p in points for v in p], "ENDT")
+
+
+def frf_case_control(title, sol_modal):
+    lines = ["TITLE = " + title, "SUBCASE 1", "  SPC = 1", "  FREQUENCY = 5", "  DLOAD = 7"]
+    return lines + (["  METHOD = 10"] if sol_modal else [])
+
+
+def case_frf_sdof(write):
+    """One CONM2 on one CELAS2 with Rayleigh damping under one RLOAD1 with phase, delay and
+    complex tables: receptance H and the forced response P(f) H."""
+    name = "frf_sdof"
+    k, m, alpha, beta = 4.0e4, 2.0, 0.8, 2.0e-4
+    A, phase_deg, delay = 2.5, 30.0, 0.01
+    f0 = math.sqrt(k / m) / (2 * math.pi)
+    hz = [1.0, 10.0, round(f0, 6), 40.0, 100.0]
+    # TC: C(f) linear 1 -> 2 over 0..200 Hz (TABLED1 points), TD: D(f) = 0.5
+    C = lambda f: 1.0 + f / 200.0
+    D = lambda f: 0.5
+    H, R = [], []
+    for f in hz:
+        w = 2 * math.pi * f
+        h = 1.0 / complex(k - w * w * m, w * (alpha * m + beta * k))
+        p = A * complex(C(f), D(f)) * complex(math.cos(math.radians(phase_deg) - w * delay),
+                                              math.sin(math.radians(phase_deg) - w * delay))
+        # second computation: the 1x1 complex solve by numpy
+        h2 = np.linalg.solve(np.array([[k - w * w * m + 1j * w * (alpha * m + beta * k)]]),
+                             np.array([1.0]))[0]
+        check("%s: H at %g Hz closed form vs numpy" % (name, f), abs(h), abs(h2), 1e-14)
+        H.append(h)
+        R.append(p * h)
+    deck = "%s/%s_n1.dat" % (DECK_DIR, name)
+    if write:
+        bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("CONM2", 1, 1, 0, m),
+                card("CELAS2", 11, k, 1, 1), spc1(1, "23456", [1]),
+                "PARAM,ALPHA1,%s" % r(alpha), "PARAM,BETA1,%s" % r(beta),
+                card("FREQ", 5, *[float(f) for f in hz]),
+                card("RLOAD1", 7, 8, delay, phase_deg, 20, 21), card("DAREA", 8, 1, 1, A),
+                tabled1(20, [(0.0, 1.0), (200.0, 2.0)]),
+                tabled1(21, [(0.0, 0.5), (200.0, 0.5)])]
+        write_deck(deck, ["analytic case %s: CONM2 %g kg on CELAS2 %g N/m, Rayleigh alpha %g, "
+                          "beta %g; RLOAD1 A = %g, phase %g deg, delay %g s" % (name, m, k, alpha,
+                                                                            beta, A, phase_deg, delay),
+                          "reference: %s/%s.json" % (REF_DIR, name)],
+                   108, frf_case_control(name, False), bulk)
+    return {
+        "case": name,
+        "description": "single-DOF spring-mass with Rayleigh damping: receptance and RLOAD1 "
+                       "forced response (SOL 108)",
+        "provenance": "single-DOF harmonic response, any vibrations text (e.g. Inman, Engineering "
+                      "Vibration, 4th ed. 2014, sec. 2.2); RLOAD1 definition of the MSC Nastran "
+                      "Quick Reference Guide (P(f) = A [C(f) + i D(f)] e^{i(theta - 2 pi f tau)}); "
+                      "checked against numpy's complex solve",
+        "formula": "H = 1/(k - w^2 m + i w (alpha m + beta k)); response = A (C(f) + i D(f)) "
+                   "exp(i (theta - w tau)) H; C(f) = 1 + f/200, D(f) = 0.5",
+        "inputs": {"k": k, "m": m, "alpha": alpha, "beta": beta, "A": A, "phase_deg": phase_deg,
+                   "delay": delay, "f0_hz": f0},
+        "frequency_hz": hz,
+        "H_re": [h.real for h in H], "H_im": [h.imag for h in H],
+        "response_re": [x.real for x in R], "response_im": [x.imag for x in R],
+        "value_labels": ["|H| at %g Hz" % f for f in hz],
+        "units": "m/N",
+        "values": [abs(h) for h in H],
+        "meshes": [{"deck": deck, "elements": 2, "h": None}],
+        "expected_order": None,
+        "tolerance_finest": {"relative": [1e-10] * len(hz), "justification": [
+            "no discretization: the deck is the 1-DOF model; one complex LU (plus a refinement "
+            "step) of a 1x1 system is exact to ~1e-16, 1e-10 of max |H| leaves room for the "
+            "table interpolation and phase arithmetic in the response"] * len(hz)},
+    }
+
+
+def case_frf_two_dof(write):
+    """Ground-k1-m1-k2-m2 chain along T1 with Rayleigh damping, unit RLOAD1 on both masses:
+    receptance matrix and DISP / VEL / ACCEL sensors, direct (SOL 108) and modal (SOL 111)."""
+    name = "frf_two_dof"
+    k1, k2, m1, m2, alpha, beta = 2.5e4, 3.0e4, 2.0, 1.0, 0.8, 2.0e-4
+    K = np.array([[k1 + k2, -k2], [-k2, k2]])
+    M = np.diag([m1, m2])
+    lam, phi = linalg.eigh(K, M)
+    fn = [math.sqrt(x) / (2 * math.pi) for x in lam]
+    hz = [2.0, round(fn[0], 6), 30.0, round(fn[1], 6), 80.0]
+    # outputs: 1:1, 2:1 (the inputs), then D2 = -u2 (DISP along -x), V2 = i w u2, A1 = -w^2 u1
+    H = []
+    for f in hz:
+        w = 2 * math.pi * f
+        Z = K - w * w * M + 1j * w * (alpha * M + beta * K)
+        h = np.linalg.inv(Z)
+        # second computation: modal superposition over both mass-normalized modes
+        hm = sum(np.outer(phi[:, j], phi[:, j]) / (lam[j] - w * w + 1j * w * (alpha + beta * lam[j]))
+                 for j in range(2))
+        check("%s: H at %g Hz inverse vs modal superposition" % (name, f),
+              np.abs(h).max(), np.abs(h - hm).max() + np.abs(h).max(), 1e-12)
+        rows = [h[0], h[1], -h[1], 1j * w * h[1], -w * w * h[0]]
+        H.append([[complex(v) for v in row] for row in rows])
+    decks = ["%s/%s_direct.dat" % (DECK_DIR, name), "%s/%s_modal.dat" % (DECK_DIR, name)]
+    if write:
+        bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("GRID", 2, None, 1.0, 0.0, 0.0),
+                card("CONM2", 1, 1, 0, m1), card("CONM2", 2, 2, 0, m2),
+                card("CELAS2", 11, k1, 1, 1), card("CELAS2", 12, k2, 1, 1, 2, 1),
+                spc1(1, "23456", [1, 2]), "PARAM,ALPHA1,%s" % r(alpha), "PARAM,BETA1,%s" % r(beta),
+                card("FREQ", 5, *[float(f) for f in hz]), card("EIGRL", 10, None, None, 2),
+                card("RLOAD1", 7, 8, None, None, 20), card("DAREA", 8, 1, 1, 1.0, 2, 1, 1.0),
+                tabled1(20, [(0.0, 1.0), (1000.0, 1.0)]),
+                card("SENSOR", 1, "D2", "DISP", 2, None, -1.0, 0.0, 0.0),
+                card("SENSOR", 2, "V2", "VEL", 2, None, 1.0, 0.0, 0.0),
+                card("SENSOR", 3, "A1", "ACCEL", 1, None, 2.0, 0.0, 0.0)]
+        for deck, sol in zip(decks, (108, 111)):
+            write_deck(deck, ["analytic case %s: CONM2 %g and %g kg on T1, CELAS2 ground-m1 %g "
+                              "N/m and m1-m2 %g N/m, Rayleigh alpha %g, beta %g; SOL %d"
+                              % (name, m1, m2, k1, k2, alpha, beta, sol),
+                              "reference: %s/%s.json" % (REF_DIR, name)],
+                       sol, frf_case_control(name, sol == 111), bulk)
+    labels = ["|H| max over outputs x inputs at %g Hz" % f for f in hz]
+    return {
+        "case": name,
+        "description": "two CONM2 masses on CELAS2 springs along T1 (ground-m1-m2 chain) with "
+                       "Rayleigh damping: receptance matrix at the masses and DISP / VEL / ACCEL "
+                       "sensors",
+        "provenance": "2-DOF harmonic response Z(w)^-1, Z = K - w^2 M + i w (alpha M + beta K) "
+                      "(e.g. Inman, Engineering Vibration, 4th ed. 2014, sec. 5.2; Rayleigh "
+                      "damping sec. 4.5); checked against modal superposition over both modes",
+        "formula": "H = Z^-1; outputs 1:1, 2:1, D2 = -H[2,:], V2 = i w H[2,:], A1 = -w^2 H[1,:]",
+        "inputs": {"k1": k1, "k2": k2, "m1": m1, "m2": m2, "alpha": alpha, "beta": beta,
+                   "natural_frequencies_hz": fn},
+        "frequency_hz": hz,
+        "outputs": ["1:1", "2:1", "D2", "V2", "A1"],
+        "inputs_dofs": ["1:1", "2:1"],
+        "H_re": [[[v.real for v in row] for row in h] for h in H],
+        "H_im": [[[v.imag for v in row] for row in h] for h in H],
+        "value_labels": labels,
+        "units": "m/N (VEL m/s/N, ACCEL m/s^2/N)",
+        "values": [max(abs(v) for row in h for v in row) for h in H],
+        "meshes": [{"deck": d, "elements": 4, "h": None} for d in decks],
+        "expected_order": None,
+        "tolerance_finest": {"relative": [1e-9] * len(hz), "justification": [
+            "no discretization and no truncation (both modes superposed in SOL 111): relative to "
+            "the largest |H| of each output row; round-off of a 2x2 complex solve and of the "
+            "Lanczos eigenpairs (converged to ~1e-12) -> 1e-9"] * len(hz)},
+    }
+
+
 CASES = {
     "cantilever_plate_modal": case_cantilever_plate_modal,
     "cantilever_beam_solid_modal": case_cantilever_beam_solid_modal,
@@ -1372,6 +1607,9 @@ CASES = {
     "cantilever_static": lambda w: case_cantilever_static(w, solid=False),
     "cantilever_static_solid": lambda w: case_cantilever_static(w, solid=True),
     "two_dof_spring_mass": case_two_dof_spring_mass,
+    "cantilever_strain_sensor": case_cantilever_strain_sensor,
+    "frf_sdof": case_frf_sdof,
+    "frf_two_dof": case_frf_two_dof,
     "laminate_abd": case_laminate_abd,
     "massless_spring_chain": lambda w: case_massless_spring_chain(
         w, "massless_spring_chain", lambda f: (None, None, 10), [0, 1, 2],

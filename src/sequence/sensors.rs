@@ -1,0 +1,217 @@
+//! The SENSOR measurement operator on the f-set (DESIGN.md §3 `SENSOR`; thesis §2.3,
+//! eq. 2.30–2.35): one sparse row per sensor, y = H u_f, shared by every sequence that
+//! outputs sensors (full-model FRF, the pROM build's H_r = H Φ, transients, the estimator).
+//!
+//! - `DISP` / `VEL` / `ACCEL` (REF = grid): the translation of the grid along the normalized
+//!   basic direction ϑ, y = ϑᵀ u_grid (eq. 2.34). VEL and ACCEL rows are the same row applied
+//!   to u̇_f and ü_f (eq. 2.35). A dependent grid of an RBE2 / RBE3 is measured through the
+//!   g → n recovery u_g = T u_n, so its row lands on the independent DOFs.
+//! - `STRAIN` (REF = element): the strain at the element centroid projected on ϑ,
+//!   ε_ϑ = ϑᵀ ε ϑ (tensor strain), i.e. [ϑ₁² ϑ₂² ϑ₃² ϑ₁ϑ₂ ϑ₂ϑ₃ ϑ₃ϑ₁] · [εxx εyy εzz γxy γyz γzx]
+//!   with engineering shears (eq. 2.31–2.32). Solids use the centroid strain of
+//!   [`crate::fe::solid::strain_at_centroid`] (basic system). Shells use the centroid strains
+//!   of SOL 101's STRAIN output ([`super::elements::shell_strains`]) in the material system
+//!   (x_m, y_m, n) at the fibre `SURF` selects: `TOP` = Z2 / the laminate's top surface,
+//!   `BOT` = Z1 / its bottom surface, `MID` (or blank) = halfway between them; ϑ is expressed
+//!   in (x_m, y_m) and its normal component is not measured (plane stress: a surface gauge
+//!   reads in-plane strain only).
+//!
+//! Both recoveries are linear in the element displacements; a row is built by evaluating the
+//! recovery on the unit displacements of the element's DOFs (no second copy of the strain
+//! operators). Basic rows are rotated to the grids' CD frames (Λᵀ), mapped g → n by Tᵀ and
+//! restricted to the f-set (constrained DOFs do not move in a response).
+//!
+//! Selection: the subcase's `SENSOR = ALL | NONE | set`; without a SENSOR request every SENSOR
+//! card is used.
+
+use std::collections::{BTreeMap, HashMap};
+
+use faer::Mat;
+use nalgebra_sparse::{CooMatrix, CscMatrix};
+
+use super::elements::{shell_strains, solid_kind_of};
+use super::{Constrained, RunContext, RunError, Structure};
+use crate::deck::case_control::{Subcase, Target};
+use crate::deck::cards::{Sensor, SensorKind};
+use crate::fe::solid;
+use crate::model::Model;
+
+/// The measurement rows of a subcase's sensors on the f-set.
+#[derive(Debug, Clone)]
+pub struct SensorOperator {
+    pub names: Vec<String>,
+    pub kinds: Vec<SensorKind>,
+    /// s × n_f: y = H u_f (DISP, STRAIN); VEL and ACCEL rows act on u̇_f and ü_f.
+    pub rows: CscMatrix<f64>,
+}
+
+impl SensorOperator {
+    /// Number of sensors.
+    pub fn len(&self) -> usize {
+        self.names.len()
+    }
+
+    /// True when the subcase has no sensor.
+    pub fn is_empty(&self) -> bool {
+        self.names.is_empty()
+    }
+
+    /// H Φ (s × k) for an f-set basis Φ (n_f × k): the rows on reduced coordinates (eq. 2.32,
+    /// 2.34).
+    pub fn project(&self, basis: &Mat<f64>) -> Mat<f64> {
+        let mut out = Mat::<f64>::zeros(self.rows.nrows(), basis.ncols());
+        for (j, col) in self.rows.col_iter().enumerate() {
+            for (&i, &h) in col.row_indices().iter().zip(col.values()) {
+                for k in 0..basis.ncols() {
+                    out[(i, k)] += h * basis[(j, k)];
+                }
+            }
+        }
+        out
+    }
+
+    /// y = H u_f.
+    pub fn apply(&self, u_f: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0; self.rows.nrows()];
+        for (j, col) in self.rows.col_iter().enumerate() {
+            for (&i, &h) in col.row_indices().iter().zip(col.values()) {
+                y[i] += h * u_f[j];
+            }
+        }
+        y
+    }
+}
+
+/// The name written for a sensor kind (`/prom/sensors/kind`, FRF outputs).
+pub fn sensor_kind_name(kind: SensorKind) -> &'static str {
+    match kind {
+        SensorKind::Disp => "DISP",
+        SensorKind::Vel => "VEL",
+        SensorKind::Accel => "ACCEL",
+        SensorKind::Strain => "STRAIN",
+    }
+}
+
+/// The sensors `sub` selects (`SENSOR = ALL | NONE | set`, every card without a request), in
+/// card order.
+pub fn selected_sensors<'a>(ctx: &RunContext<'a>, sub: &Subcase) -> Vec<&'a Sensor> {
+    let cards = &ctx.model.bulk.sensors;
+    match &sub.sensor {
+        None | Some(Target::All) => cards.iter().collect(),
+        Some(Target::None) => Vec::new(),
+        Some(Target::Set(id)) => {
+            let set = ctx.deck.case.set(*id);
+            cards.iter().filter(|s| set.is_some_and(|set| set.ids.contains(&s.id))).collect()
+        }
+    }
+}
+
+/// The f-set rows of the sensors `sub` selects (see the module documentation).
+pub fn sensor_operator(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase) -> Result<SensorOperator, RunError> {
+    let model = ctx.model;
+    let sensors = selected_sensors(ctx, sub);
+    let element_index: HashMap<u32, usize> = model.elements.iter().enumerate().map(|(i, e)| (e.id, i)).collect();
+    let mut coo = CooMatrix::new(sensors.len(), c.sets.f.len());
+    let mut names = Vec::with_capacity(sensors.len());
+    let mut kinds = Vec::with_capacity(sensors.len());
+    for (r, s) in sensors.iter().enumerate() {
+        let case = |what: String| RunError::Case { subcase: sub.id, what: format!("SENSOR {}: {what}", s.name) };
+        let norm = s.direction.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !(norm > 0.0 && norm.is_finite()) {
+            return Err(case("direction (X, Y, Z) is zero".into()));
+        }
+        let d = s.direction.map(|x| x / norm);
+        let basic = match s.kind {
+            SensorKind::Disp | SensorKind::Vel | SensorKind::Accel => {
+                let grid = *model.grid_index.get(&s.reference).ok_or_else(|| case(format!("GRID {} does not exist", s.reference)))?;
+                (0..3).map(|i| (6 * grid + i, d[i])).collect()
+            }
+            SensorKind::Strain => {
+                let index = *element_index.get(&s.reference).ok_or_else(|| case(format!("element {} does not exist", s.reference)))?;
+                strain_row(ctx, st, index, s, d).map_err(|e| match e {
+                    RunError::Element { card, id, reason } => case(format!("{card} {id}: {reason}")),
+                    other => other,
+                })?
+            }
+        };
+        for (f, h) in f_row(st, c, &basic) {
+            coo.push(r, f, h);
+        }
+        names.push(s.name.clone());
+        kinds.push(s.kind);
+    }
+    Ok(SensorOperator { names, kinds, rows: CscMatrix::from(&coo) })
+}
+
+/// The strain row in basic g-set DOFs (6 per grid): ϑᵀ ε ϑ at the element centroid as a
+/// linear function of the element's basic displacements, probed column by column.
+fn strain_row(ctx: &RunContext, st: &Structure, index: usize, s: &Sensor, d: [f64; 3]) -> Result<Vec<(usize, f64)>, RunError> {
+    let model: &Model = ctx.model;
+    let e = &model.elements[index];
+    let bad = |reason: String| RunError::Element { card: e.kind.card(), id: e.id, reason };
+    let xyz = model.positions(e);
+    let mut row = Vec::new();
+    if let Some((_, rec)) = st.shells.iter().find(|(i, _)| *i == index) {
+        let surface = s.surface.unwrap_or("MID");
+        let mut unit = vec![0.0; 6 * e.nodes.len()];
+        for k in 0..unit.len() {
+            unit[k] = 1.0;
+            let strains = shell_strains(model, e, rec, &unit)?;
+            unit[k] = 0.0;
+            let eps: [f64; 3] = match surface {
+                "TOP" => strains.top,
+                "BOT" => strains.bottom,
+                _ => std::array::from_fn(|i| 0.5 * (strains.top[i] + strains.bottom[i])),
+            };
+            let [x, y, _] = strains.axes;
+            let (d1, d2) = (dot(d, x), dot(d, y));
+            let h = d1 * d1 * eps[0] + d2 * d2 * eps[1] + d1 * d2 * eps[2];
+            if h != 0.0 {
+                row.push((6 * e.nodes[k / 6] + k % 6, h));
+            }
+        }
+    } else if let Some(kind) = solid_kind_of(e.kind) {
+        if let Some(surf) = s.surface {
+            return Err(bad(format!("SURF = {surf} applies to shells only")));
+        }
+        let weights = [d[0] * d[0], d[1] * d[1], d[2] * d[2], d[0] * d[1], d[1] * d[2], d[2] * d[0]];
+        let mut unit = vec![0.0; 3 * e.nodes.len()];
+        for k in 0..unit.len() {
+            unit[k] = 1.0;
+            let eps = solid::strain_at_centroid(kind, &xyz, &unit).map_err(|x| bad(x.to_string()))?;
+            unit[k] = 0.0;
+            let h: f64 = weights.iter().zip(&eps).map(|(w, e)| w * e).sum();
+            if h != 0.0 {
+                row.push((6 * e.nodes[k / 3] + k % 3, h));
+            }
+        }
+    } else {
+        return Err(bad("STRAIN sensors need a shell (CQUAD4, CTRIA3) or solid element".into()));
+    }
+    Ok(row)
+}
+
+/// A row over basic g-set DOFs → (f index, value): Λᵀ per grid (CD frames), Tᵀ (g → n),
+/// then the f-set members.
+fn f_row(st: &Structure, c: &Constrained, basic: &[(usize, f64)]) -> Vec<(usize, f64)> {
+    let mut by_grid: BTreeMap<usize, [f64; 6]> = BTreeMap::new();
+    for &(dof, h) in basic {
+        by_grid.entry(dof / 6).or_default()[dof % 6] += h;
+    }
+    let mut n_row: BTreeMap<usize, f64> = BTreeMap::new();
+    for (grid, v) in by_grid {
+        let t = st.frames.to_global(grid, [v[0], v[1], v[2]]);
+        let r = st.frames.to_global(grid, [v[3], v[4], v[5]]);
+        for (k, h) in t.into_iter().chain(r).enumerate() {
+            let row = st.rigid.t.row(6 * grid + k);
+            for (&j, &tij) in row.col_indices().iter().zip(row.values()) {
+                *n_row.entry(j).or_default() += h * tij;
+            }
+        }
+    }
+    n_row.into_iter().filter(|(_, h)| *h != 0.0).filter_map(|(j, h)| c.sets.f_in_n.position(j).map(|f| (f, h))).collect()
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
