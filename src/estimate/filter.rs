@@ -20,10 +20,15 @@
 //!   L P Lᵀ + 𝒦 R 𝒦ᵀ with L = I − 𝒦 J_m applied in O(N² m).
 //! - **Refresh**: the pROM is evaluated at the new p⁺ (eq. 3.32, allocation-free), S and M are
 //!   factored for the next step, and q̈⁺ comes from the equation of motion at x⁺.
+//!
+//! A step allocates nothing: every product, factor and right-hand side lives in buffers sized
+//! at construction, the Cholesky factors are computed in place, and everything runs on the
+//! calling thread (the systems are a few dozen DOFs: a thread hand-off costs more than it saves).
 
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
 use faer::linalg::matmul::matmul;
-use faer::linalg::solvers::Llt;
-use faer::{Accum, Mat, MatRef, Par, Side};
+use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 use super::measurement::{Reads, SensorRows};
 use crate::rom::prom::{Prom, PromEvaluation};
@@ -85,8 +90,11 @@ pub struct Filter {
     p: Mat<f64>,
     at: PromEvaluation,
     params: Vec<f64>,
-    s_factor: Llt<f64>,
-    m_factor: Llt<f64>,
+    /// Lower Cholesky factors of S = M + Δt C + Δt² K and of M at the current parameters.
+    s_factor: Mat<f64>,
+    m_factor: Mat<f64>,
+    /// The M that `m_factor` factors (refactored only when the estimate changes M).
+    factored_mass: Mat<f64>,
     /// J_v (n × N), kept between steps when no parameter is estimated.
     jv: Mat<f64>,
     jv_valid: bool,
@@ -95,6 +103,30 @@ pub struct Filter {
     work: Mat<f64>,
     innovation: Vec<f64>,
     step: usize,
+    scratch: Scratch,
+}
+
+/// Buffers of one step (sizes fixed by n, N, m, n_p).
+struct Scratch {
+    /// Reduced force, q̇ before the step, q + β q̇ and q̈ + α q̇ (n each).
+    force: Vec<f64>,
+    v_old: Vec<f64>,
+    w_k: Vec<f64>,
+    w_m: Vec<f64>,
+    /// n × 1 right-hand side.
+    rhs: Mat<f64>,
+    /// D (n × n_p).
+    d: Mat<f64>,
+    /// h M⁻¹ of the ACCEL rows (n × 1).
+    g: Mat<f64>,
+    /// h(x⁻) (m), P J_mᵀ, 𝒦, 𝒦 R − L P J_mᵀ (N × m), J_m P J_mᵀ + R (m × m).
+    predicted: Vec<f64>,
+    pht: Mat<f64>,
+    gain: Mat<f64>,
+    kr: Mat<f64>,
+    sy: Mat<f64>,
+    /// Workspace of the in-place Cholesky factorizations.
+    mem: MemBuffer,
 }
 
 impl Filter {
@@ -131,8 +163,23 @@ impl Filter {
         let p = Mat::from_fn(big_n, big_n, |i, j| if i == j { diag[i] } else { 0.0 });
         let at = setup.prom.workspace();
         let params = setup.p.clone();
-        let placeholder = Mat::<f64>::identity(n.max(1), n.max(1)).llt(Side::Lower).map_err(|_| FilterError::Prom("identity factor".into()))?;
+        let scratch = Scratch {
+            force: vec![0.0; n],
+            v_old: vec![0.0; n],
+            w_k: vec![0.0; n],
+            w_m: vec![0.0; n],
+            rhs: Mat::zeros(n, 1),
+            d: Mat::zeros(n, np),
+            g: Mat::zeros(n, 1),
+            predicted: vec![0.0; m],
+            pht: Mat::zeros(big_n, m),
+            gain: Mat::zeros(big_n, m),
+            kr: Mat::zeros(big_n, m),
+            sy: Mat::zeros(m, m),
+            mem: MemBuffer::new(cholesky_in_place_scratch::<f64>(n.max(m), Par::Seq, Default::default())),
+        };
         let mut filter = Filter {
+            factored_mass: Mat::zeros(n, n),
             n,
             nu,
             np,
@@ -141,18 +188,19 @@ impl Filter {
             p,
             at,
             params,
-            s_factor: placeholder.clone(),
-            m_factor: placeholder,
+            s_factor: Mat::zeros(n, n),
+            m_factor: Mat::zeros(n, n),
             jv: Mat::zeros(n, big_n),
             jv_valid: false,
             jm: Mat::zeros(m, big_n),
             work: Mat::zeros(big_n, big_n),
             innovation: vec![0.0; m],
             step: 0,
+            scratch,
             setup,
         };
         filter.refresh()?;
-        filter.a = filter.acceleration_at(&vec![0.0; n]);
+        filter.set_acceleration(&vec![0.0; n]);
         Ok(filter)
     }
 
@@ -223,29 +271,52 @@ impl Filter {
         self.setup.prom.evaluate(&self.params, &mut self.at).map_err(|e| FilterError::Prom(e.to_string()))?;
         let dt = self.setup.dt;
         let at = &self.at;
-        let s = Mat::from_fn(n, n, |i, j| at.mass[(i, j)] + dt * at.damping[(i, j)] + dt * dt * at.stiffness[(i, j)]);
+        for c in 0..n {
+            let (m, cd, k) = (at.mass.col_as_slice(c), at.damping.col_as_slice(c), at.stiffness.col_as_slice(c));
+            let s = self.s_factor.col_as_slice_mut(c);
+            s.iter_mut().zip(m.iter().zip(cd.iter().zip(k))).for_each(|(s, (m, (cd, k)))| *s = m + dt * cd + dt * dt * k);
+        }
+        let s_ok = factor_in_place(self.s_factor.as_mut(), MemStack::new(&mut self.scratch.mem));
+        let m_ok = (self.step > 0 && self.factored_mass == at.mass) || {
+            self.factored_mass.copy_from(&at.mass);
+            self.m_factor.copy_from(&at.mass);
+            factor_in_place(self.m_factor.as_mut(), MemStack::new(&mut self.scratch.mem))
+        };
         let not_definite = |what| FilterError::NotDefinite { step: self.step, what, params: self.params.clone() };
-        self.s_factor = s.llt(Side::Lower).map_err(|_| not_definite("M + Δt C + Δt² K"))?;
-        self.m_factor = at.mass.llt(Side::Lower).map_err(|_| not_definite("M"))?;
+        if !s_ok {
+            return Err(not_definite("M + Δt C + Δt² K"));
+        }
+        if !m_ok {
+            return Err(not_definite("M"));
+        }
         self.jv_valid = false;
         Ok(())
     }
 
-    /// Reduced force S_un u + f_kn at the current estimate.
-    fn force(&self, f_kn: &[f64]) -> Vec<f64> {
+    /// Reduced force S_un u + f_kn at the current estimate, into `scratch.force`.
+    fn set_force(&mut self, f_kn: &[f64]) {
         let (n, nu) = (self.n, self.nu);
-        let u = &self.x[2 * n..2 * n + nu];
-        (0..n).map(|i| f_kn[i] + (0..nu).map(|j| self.setup.s_un[(i, j)] * u[j]).sum::<f64>()).collect()
+        let f = &mut self.scratch.force;
+        f.copy_from_slice(f_kn);
+        for j in 0..nu {
+            let u = self.x[2 * n + j];
+            f.iter_mut().zip(self.setup.s_un.col_as_slice(j)).for_each(|(f, s)| *f += s * u);
+        }
     }
 
-    /// q̈ = M⁻¹(f − K q − C q̇) at the current x.
-    fn acceleration_at(&self, f_kn: &[f64]) -> Vec<f64> {
+    /// q̈ = M⁻¹(f − K q − C q̇) at the current x, into `a`.
+    fn set_acceleration(&mut self, f_kn: &[f64]) {
         let n = self.n;
-        let f = self.force(f_kn);
-        let (q, v) = (&self.x[..n], &self.x[n..2 * n]);
-        let mut a = Mat::from_fn(n, 1, |i, _| f[i] - (0..n).map(|j| self.at.stiffness[(i, j)] * q[j] + self.at.damping[(i, j)] * v[j]).sum::<f64>());
-        solve_seq(&self.m_factor, a.as_mut());
-        (0..n).map(|i| a[(i, 0)]).collect()
+        self.set_force(f_kn);
+        let rhs = self.scratch.rhs.col_as_slice_mut(0);
+        rhs.copy_from_slice(&self.scratch.force);
+        for c in 0..n {
+            let (q, v) = (self.x[c], self.x[n + c]);
+            let (k, cd) = (self.at.stiffness.col_as_slice(c), self.at.damping.col_as_slice(c));
+            rhs.iter_mut().zip(k.iter().zip(cd)).for_each(|(r, (k, cd))| *r -= k * q + cd * v);
+        }
+        solve_seq(self.m_factor.as_ref(), self.scratch.rhs.as_mut());
+        self.a.copy_from_slice(self.scratch.rhs.col_as_slice(0));
     }
 
     /// One filter step: predict to t_k with the known reduced load `f_kn` = S_kn u_kn(t_k), then
@@ -265,29 +336,37 @@ impl Filter {
         let dt = self.setup.dt;
         let big_n = self.size();
         // prediction (eq. 8.22)
-        let f = self.force(f_kn);
-        let v_old: Vec<f64> = self.x[n..2 * n].to_vec();
-        let at = &self.at;
-        let mut v_new = Mat::from_fn(n, 1, |i, _| (0..n).map(|j| at.mass[(i, j)] * v_old[j] - dt * at.stiffness[(i, j)] * self.x[j]).sum::<f64>() + dt * f[i]);
-        solve_seq(&self.s_factor, v_new.as_mut());
-        for i in 0..n {
-            self.x[n + i] = v_new[(i, 0)];
-            self.x[i] += dt * v_new[(i, 0)];
-            self.a[i] = (v_new[(i, 0)] - v_old[i]) / dt;
+        self.set_force(f_kn);
+        self.scratch.v_old.copy_from_slice(&self.x[n..2 * n]);
+        let rhs = self.scratch.rhs.col_as_slice_mut(0);
+        rhs.iter_mut().zip(&self.scratch.force).for_each(|(r, f)| *r = dt * f);
+        for c in 0..n {
+            let (v, q) = (self.scratch.v_old[c], self.x[c]);
+            let (m, k) = (self.at.mass.col_as_slice(c), self.at.stiffness.col_as_slice(c));
+            rhs.iter_mut().zip(m.iter().zip(k)).for_each(|(r, (m, k))| *r += m * v - dt * k * q);
         }
-        // Jacobian block row J_v (eq. 8.16–8.20, 8.33)
+        solve_seq(self.s_factor.as_ref(), self.scratch.rhs.as_mut());
+        let v_new = self.scratch.rhs.col_as_slice(0);
+        for i in 0..n {
+            self.x[n + i] = v_new[i];
+            self.x[i] += dt * v_new[i];
+            self.a[i] = (v_new[i] - self.scratch.v_old[i]) / dt;
+        }
+        // Jacobian block row J_v (eq. 8.16–8.20, 8.33) at the predicted x_k, q̈_k (D of g_d's q_k terms)
         if !self.jv_valid || np > 0 {
-            let d = self.parameter_columns();
-            let at = &self.at;
-            let s_un = &self.setup.s_un;
-            let mut rhs = Mat::from_fn(n, big_n, |i, j| match j {
-                j if j < n => -dt * at.stiffness[(i, j)],
-                j if j < 2 * n => at.mass[(i, j - n)],
-                j if j < 2 * n + nu => dt * s_un[(i, j - 2 * n)],
-                j => -dt * d[(i, j - 2 * n - nu)],
-            });
-            solve_seq(&self.s_factor, rhs.as_mut());
-            self.jv = rhs;
+            self.parameter_columns();
+            let (at, s_un, d) = (&self.at, &self.setup.s_un, &self.scratch.d);
+            for j in 0..big_n {
+                let col = self.jv.col_as_slice_mut(j);
+                let (src, scale) = match j {
+                    j if j < n => (at.stiffness.col_as_slice(j), -dt),
+                    j if j < 2 * n => (at.mass.col_as_slice(j - n), 1.0),
+                    j if j < 2 * n + nu => (s_un.col_as_slice(j - 2 * n), dt),
+                    j => (d.col_as_slice(j - 2 * n - nu), -dt),
+                };
+                col.iter_mut().zip(src).for_each(|(o, s)| *o = scale * s);
+            }
+            solve_seq(self.s_factor.as_ref(), self.jv.as_mut());
             self.jv_valid = true;
         }
         // P⁻ = J (J P)ᵀ + Q (eq. 8.24), in place: JP in `work`, then J (JP)ᵀ back into P
@@ -311,44 +390,40 @@ impl Filter {
         if y.len() != m {
             return Err(FilterError::Shape { what: "measurements", expected: m, got: y.len() });
         }
-        let big_n = self.size();
         self.measurement_rows();
-        let p = &self.p;
-        let mut predicted = vec![0.0; m];
-        self.setup.measured.evaluate(&self.x[..n], &self.x[n..2 * n], &self.a, &mut predicted);
-        self.innovation.iter_mut().zip(y.iter().zip(&predicted)).for_each(|(e, (y, h))| *e = y - h);
-        let mut pht = Mat::zeros(big_n, m); // P J_mᵀ
-        matmul(pht.as_mut(), Accum::Replace, p.as_ref(), self.jm.transpose(), 1.0, Par::Seq);
-        let mut sy = Mat::zeros(m, m);
-        matmul(sy.as_mut(), Accum::Replace, self.jm.as_ref(), pht.as_ref(), 1.0, Par::Seq);
+        let sc = &mut self.scratch;
+        self.setup.measured.evaluate(&self.x[..n], &self.x[n..2 * n], &self.a, &mut sc.predicted);
+        self.innovation.iter_mut().zip(y.iter().zip(&sc.predicted)).for_each(|(e, (y, h))| *e = y - h);
+        matmul(sc.pht.as_mut(), Accum::Replace, self.p.as_ref(), self.jm.transpose(), 1.0, Par::Seq); // P J_mᵀ
+        matmul(sc.sy.as_mut(), Accum::Replace, self.jm.as_ref(), sc.pht.as_ref(), 1.0, Par::Seq);
         for (i, r) in self.setup.r.iter().enumerate() {
-            sy[(i, i)] += r;
+            sc.sy[(i, i)] += r;
         }
-        let sy_factor = sy.llt(Side::Lower).map_err(|_| FilterError::Innovation { step: self.step })?;
-        let mut gain_t = pht.transpose().to_owned();
-        solve_seq(&sy_factor, gain_t.as_mut());
-        let gain = gain_t.transpose().to_owned(); // N × m
-        for i in 0..big_n {
-            self.x[i] += (0..m).map(|j| gain[(i, j)] * self.innovation[j]).sum::<f64>();
+        if !factor_in_place(sc.sy.as_mut(), MemStack::new(&mut sc.mem)) {
+            return Err(FilterError::Innovation { step: self.step });
+        }
+        // 𝒦ᵀ = S_y⁻¹ (P J_mᵀ)ᵀ, solved on the transposed view of 𝒦 (N × m)
+        sc.gain.copy_from(&sc.pht);
+        solve_seq(sc.sy.as_ref(), sc.gain.as_mut().transpose_mut());
+        for (j, e) in self.innovation.iter().enumerate() {
+            self.x.iter_mut().zip(sc.gain.col_as_slice(j)).for_each(|(x, k)| *x += k * e);
         }
         // Joseph form (eq. 8.28): L P Lᵀ + 𝒦 R 𝒦ᵀ with L P = P − 𝒦 (J_m P) and
         // (L P) Lᵀ = L P − (L P J_mᵀ) 𝒦ᵀ: L P in `work`, then P⁺ = L P + (𝒦 R − L P J_mᵀ) 𝒦ᵀ
-        let mut work = std::mem::replace(&mut self.work, Mat::new());
-        work.copy_from(p);
-        matmul(work.as_mut(), Accum::Add, gain.as_ref(), pht.transpose(), -1.0, Par::Seq);
-        let mut kr_minus = Mat::from_fn(big_n, m, |i, j| gain[(i, j)] * self.setup.r[j]);
-        matmul(kr_minus.as_mut(), Accum::Add, work.as_ref(), self.jm.transpose(), -1.0, Par::Seq);
-        let mut post = std::mem::replace(&mut self.p, Mat::new());
-        post.copy_from(&work);
-        matmul(post.as_mut(), Accum::Add, kr_minus.as_ref(), gain.transpose(), 1.0, Par::Seq);
-        symmetrize(&mut post);
-        self.work = work;
-        self.p = post;
+        self.work.copy_from(&self.p);
+        matmul(self.work.as_mut(), Accum::Add, sc.gain.as_ref(), sc.pht.transpose(), -1.0, Par::Seq);
+        for (j, r) in self.setup.r.iter().enumerate() {
+            sc.kr.col_as_slice_mut(j).iter_mut().zip(sc.gain.col_as_slice(j)).for_each(|(o, k)| *o = k * r);
+        }
+        matmul(sc.kr.as_mut(), Accum::Add, self.work.as_ref(), self.jm.transpose(), -1.0, Par::Seq);
+        self.p.copy_from(&self.work);
+        matmul(self.p.as_mut(), Accum::Add, sc.kr.as_ref(), sc.gain.transpose(), 1.0, Par::Seq);
+        symmetrize(&mut self.p);
         if !self.x.iter().all(|v| v.is_finite()) {
             return Err(FilterError::NonFinite { step: self.step });
         }
         self.refresh()?;
-        self.a = self.acceleration_at(f_kn);
+        self.set_acceleration(f_kn);
         Ok(())
     }
 
@@ -364,40 +439,44 @@ impl Filter {
         }
     }
 
-    /// D at the current x and q̈ (see [`parameter_columns`]).
-    fn parameter_columns(&self) -> Mat<f64> {
+    /// D at the current x and q̈ into `scratch.d` (see [`parameter_columns`]).
+    fn parameter_columns(&mut self) {
         let n = self.n;
         let ab = (self.setup.prom.alpha, self.setup.prom.beta);
-        parameter_columns(&self.at, ab, &self.setup.unknown_params, &self.x[..n], &self.x[n..2 * n], &self.a)
+        let sc = &mut self.scratch;
+        parameter_columns_into(&self.at, ab, &self.setup.unknown_params, (&self.x[..n], &self.x[n..2 * n], &self.a), (&mut sc.w_k, &mut sc.w_m), &mut sc.d);
     }
 
     /// Rows of J_m (eq. 8.38 for DISP/STRAIN, q̇ rows for VEL, eq. 8.39 for ACCEL with
     /// g = h M⁻¹: [−g K, −g C, g S_un, −g D]).
     fn measurement_rows(&mut self) {
         let (n, nu) = (self.n, self.nu);
-        let rows = &self.setup.measured;
         self.jm.fill(0.0);
-        let accel: Vec<usize> = (0..rows.len()).filter(|&r| rows.reads[r] == Reads::Acceleration).collect();
-        let d = if accel.is_empty() { Mat::zeros(n, 0) } else { self.parameter_columns() };
-        let mut g_t = Mat::from_fn(n, accel.len(), |i, k| rows.h[(accel[k], i)]);
-        solve_seq(&self.m_factor, g_t.as_mut());
-        let g = g_t.transpose().to_owned();
+        let any_accel = self.setup.measured.reads.contains(&Reads::Acceleration);
+        if any_accel && self.np > 0 {
+            self.parameter_columns();
+        }
+        let rows = &self.setup.measured;
         for r in 0..rows.len() {
             match rows.reads[r] {
                 Reads::Displacement => (0..n).for_each(|i| self.jm[(r, i)] = rows.h[(r, i)]),
                 Reads::Velocity => (0..n).for_each(|i| self.jm[(r, n + i)] = rows.h[(r, i)]),
                 Reads::Acceleration => {
-                    let k = accel.iter().position(|&x| x == r).unwrap_or(0);
-                    let gk = |mat: &Mat<f64>, c: usize| (0..n).map(|i| g[(k, i)] * mat[(i, c)]).sum::<f64>();
+                    // g = M⁻¹ hᵀ (M symmetric), then each entry is g · (column)
+                    let g = &mut self.scratch.g;
+                    (0..n).for_each(|i| g[(i, 0)] = rows.h[(r, i)]);
+                    solve_seq(self.m_factor.as_ref(), g.as_mut());
+                    let g = g.col_as_slice(0);
+                    let gk = |col: &[f64]| g.iter().zip(col).map(|(a, b)| a * b).sum::<f64>();
                     for c in 0..n {
-                        self.jm[(r, c)] = -gk(&self.at.stiffness, c);
-                        self.jm[(r, n + c)] = -gk(&self.at.damping, c);
+                        self.jm[(r, c)] = -gk(self.at.stiffness.col_as_slice(c));
+                        self.jm[(r, n + c)] = -gk(self.at.damping.col_as_slice(c));
                     }
                     for c in 0..nu {
-                        self.jm[(r, 2 * n + c)] = gk(&self.setup.s_un, c);
+                        self.jm[(r, 2 * n + c)] = gk(self.setup.s_un.col_as_slice(c));
                     }
                     for c in 0..self.np {
-                        self.jm[(r, 2 * n + nu + c)] = -gk(&d, c);
+                        self.jm[(r, 2 * n + nu + c)] = -gk(self.scratch.d.col_as_slice(c));
                     }
                 }
             }
@@ -418,10 +497,15 @@ impl Filter {
     }
 }
 
-/// x ← A⁻¹ x for A = L Lᵀ, sequential (the filter's systems are small: threads cost more
-/// than they bring).
-fn solve_seq(factor: &Llt<f64>, mut x: faer::MatMut<'_, f64>) {
-    let l = factor.L();
+/// Cholesky factor A = L Lᵀ in place, sequential (L in the lower triangle; the strict upper
+/// triangle is left as it was and never read). False when A is not positive definite.
+fn factor_in_place(a: MatMut<'_, f64>, stack: &mut MemStack) -> bool {
+    cholesky_in_place(a, Default::default(), Par::Seq, stack, Default::default()).is_ok()
+}
+
+/// x ← A⁻¹ x for A = L Lᵀ with L the lower triangle of `l`, sequential (the filter's systems
+/// are small: threads cost more than they bring).
+fn solve_seq(l: MatRef<'_, f64>, mut x: MatMut<'_, f64>) {
     faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, x.as_mut(), Par::Seq);
     faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), x, Par::Seq);
 }
@@ -441,12 +525,29 @@ fn symmetrize(p: &mut Mat<f64>) {
 /// D (n × n_p): D_j = ∂K/∂p_j (q + β q̇) + ∂M/∂p_j (q̈ + α q̇) = ∂K/∂p_j q + ∂C/∂p_j q̇ +
 /// ∂M/∂p_j q̈ for the parameters `params`, so that ∂q̈/∂p_j = −M⁻¹ D_j (eq. 8.33–8.35 with
 /// Rayleigh damping, derivatives of the affine pROM, eq. 8.19–8.20).
-pub fn parameter_columns(at: &PromEvaluation, (alpha, beta): (f64, f64), params: &[usize], q: &[f64], v: &[f64], a: &[f64]) -> Mat<f64> {
+pub fn parameter_columns(at: &PromEvaluation, alpha_beta: (f64, f64), params: &[usize], q: &[f64], v: &[f64], a: &[f64]) -> Mat<f64> {
     let n = q.len();
-    Mat::from_fn(n, params.len(), |i, k| {
-        let (dk, dm) = (&at.d_stiffness[params[k]], &at.d_mass[params[k]]);
-        (0..n).map(|c| dk[(i, c)] * (q[c] + beta * v[c]) + dm[(i, c)] * (a[c] + alpha * v[c])).sum()
-    })
+    let mut d = Mat::zeros(n, params.len());
+    parameter_columns_into(at, alpha_beta, params, (q, v, a), (&mut vec![0.0; n], &mut vec![0.0; n]), &mut d);
+    d
+}
+
+/// [`parameter_columns`] into `d` (n × n_p), column by column, with `w` two n-vectors of scratch.
+fn parameter_columns_into(at: &PromEvaluation, (alpha, beta): (f64, f64), params: &[usize], (q, v, a): (&[f64], &[f64], &[f64]), w: (&mut [f64], &mut [f64]), d: &mut Mat<f64>) {
+    let (w_k, w_m) = w;
+    for c in 0..q.len() {
+        w_k[c] = q[c] + beta * v[c];
+        w_m[c] = a[c] + alpha * v[c];
+    }
+    for (k, &j) in params.iter().enumerate() {
+        let (dk, dm) = (&at.d_stiffness[j], &at.d_mass[j]);
+        let out = d.col_as_slice_mut(k);
+        out.fill(0.0);
+        for c in 0..q.len() {
+            let (sk, sm) = (w_k[c], w_m[c]);
+            out.iter_mut().zip(dk.col_as_slice(c).iter().zip(dm.col_as_slice(c))).for_each(|(o, (k, m))| *o += k * sk + m * sm);
+        }
+    }
 }
 
 #[cfg(test)]
