@@ -347,10 +347,11 @@ impl Filter {
         }
         solve_seq(self.s_factor.as_ref(), self.scratch.rhs.as_mut());
         let v_new = self.scratch.rhs.col_as_slice(0);
-        for i in 0..n {
-            self.x[n + i] = v_new[i];
-            self.x[i] += dt * v_new[i];
-            self.a[i] = (v_new[i] - self.scratch.v_old[i]) / dt;
+        let (q, v) = self.x.split_at_mut(n);
+        for (i, &vn) in v_new.iter().enumerate() {
+            v[i] = vn;
+            q[i] += dt * vn;
+            self.a[i] = (vn - self.scratch.v_old[i]) / dt;
         }
         // Jacobian block row J_v (eq. 8.16–8.20, 8.33) at the predicted x_k, q̈_k (D of g_d's q_k terms)
         if !self.jv_valid || np > 0 {
