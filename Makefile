@@ -12,7 +12,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcursor1 libxfixes3 \
 	libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1
 
-.PHONY: demo test deps sysdeps venv build bench-read clean
+.PHONY: demo test deps sysdeps venv build bench-read bench-transient clean
 
 demo: deps
 	$(CARGO) build --release --quiet
@@ -52,6 +52,11 @@ meshes-full: deps
 bench-read: deps
 	$(CARGO) build --release --quiet
 	bash tools/bench/read_speed.sh
+
+# Transient integrators on the blade pROM: Δt vs error vs time (not part of the tests).
+bench-transient: deps
+	$(CARGO) build --release --quiet
+	$(PY) tools/bench/transient_bench.py --paraflex $${CARGO_TARGET_DIR:-target}/release/paraflex
 
 clean:
 	$(CARGO) clean

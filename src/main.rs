@@ -272,6 +272,12 @@ mod report {
                         println!("  sensor {name}: AAE {} MRA {}", sci(*aae, 3), sci(*mra, 3));
                     }
                 }
+                SubcaseResult::Transient(r) => {
+                    println!("subcase {}: transient of the full model (f-set {} DOFs, {}), {} step(s), {} factorization(s), {} sensor(s)", sub.id, r.f_size, r.method, r.steps, r.factorizations, r.sensors);
+                    if let Some((name, value, t)) = &r.peak {
+                        println!("  largest |sensor| {} ({name}) at t = {} s", sci(*value, 4), sci(*t, 4));
+                    }
+                }
                 SubcaseResult::Statics(st) => {
                     println!("subcase {}: f-set {} DOFs", sub.id, st.f_size);
                     println!("  max |u| (translation)  {} at GRID {}", sci(st.max_translation.1, 6), st.max_translation.0);

@@ -67,14 +67,14 @@ fn run_demo_writes_model_results_and_xdmf_and_prints_the_frequency_table() {
 fn run_writes_model_and_xdmf_then_reports_an_unavailable_solution() {
     let dir = tempfile::tempdir().expect("tempdir");
     let text = std::fs::read_to_string(root().join("decks/demo/bracket_plate.dat")).expect("demo deck");
-    let deck = dir.path().join("transient.dat");
-    std::fs::write(&deck, text.replacen("SOL 103", "SOL 112", 1)).expect("write");
-    let out = dir.path().join("transient.h5");
+    let deck = dir.path().join("optimize.dat");
+    std::fs::write(&deck, text.replacen("SOL 103", "SOL OPTIMIZE", 1)).expect("write");
+    let out = dir.path().join("optimize.h5");
     let result = paraflex().arg("run").arg(&deck).arg("-o").arg(&out).output().expect("runs");
     assert_eq!(result.status.code(), Some(3), "{}", String::from_utf8_lossy(&result.stderr));
     let stderr = String::from_utf8_lossy(&result.stderr);
-    assert!(stderr.contains("SOL 112") && stderr.contains("is not available in this version"), "{stderr}");
-    assert!(out.exists() && dir.path().join("transient.xdmf").exists());
+    assert!(stderr.contains("SOL OPTIMIZE") && stderr.contains("is not available in this version"), "{stderr}");
+    assert!(out.exists() && dir.path().join("optimize.xdmf").exists());
 }
 
 #[test]

@@ -229,31 +229,11 @@ fn prom_frf_equals_the_analytic_two_dof_receptance() {
 /// peak displacement, for generalized-α (ρ∞ = 1, the trapezoidal rule) and BDF2.
 #[test]
 fn prom_transient_equals_the_analytic_two_dof_step_response() {
-    let (k1, k2, m1, m2, alpha, beta) = (2.5e4, 3.0e4, 2.0, 1.0, 0.8, 2.0e-4);
-    let bulk = format!(
-        "GRID,1,,0.,0.,0.,,23456\nGRID,2,,1.,0.,0.,,23456\nCELAS1,1,10,1,1\nPELAS,10,{k1:e}\nCELAS1,2,20,1,1,2,1\nPELAS,20,{k2:e}\n\
-         CONM2,11,1,,{m1:?}\nCONM2,12,2,,{m2:?}\nASET1,1,1,2\nPARAM,ALPHA1,{alpha:?}\nPARAM,BETA1,{beta:e}\n\
-         SENSOR,1,A2,ACCEL,2,,2.,0.,0.\nSENSOR,2,D2,DISP,2,,-1.,0.,0.\n"
-    );
-    let build = format!("SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPMPAR,1,K1,K,10,5.e3,5.e4\nPMOR,1,2,2,100.\n,1\n{bulk}ENDDATA\n");
+    let chain = common::TwoDofChain::reference();
+    let build = format!("SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPMPAR,1,K1,K,10,5.e3,5.e4\nPMOR,1,2,2,100.\n,1\n{}ENDDATA\n", chain.bulk());
     let (r, dir) = run_deck(&build);
     r.expect("SOL PROM");
-    // analytic: M-normalized modes of K = [[k1+k2, −k2], [−k2, k2]], M = diag(m1, m2)
-    let km = faer::Mat::<f64>::from_fn(2, 2, |i, j| [[k1 + k2, -k2], [-k2, k2]][i][j]);
-    let mm = faer::Mat::<f64>::from_fn(2, 2, |i, j| [[m1, 0.0], [0.0, m2]][i][j]);
-    let (lambda, phi) = paraflex::linalg::dense::generalized_eigen(km.as_ref(), mm.as_ref()).unwrap();
-    let exact = |t: f64| -> [f64; 2] {
-        let mut x = [0.0; 2];
-        for j in 0..2 {
-            let w = lambda[j].sqrt();
-            let zeta = alpha / (2.0 * w) + beta * w / 2.0;
-            let wd = w * (1.0 - zeta * zeta).sqrt();
-            let g = phi[(1, j)] / lambda[j] * (1.0 - (-zeta * w * t).exp() * ((wd * t).cos() + zeta * w / wd * (wd * t).sin()));
-            x[0] += phi[(0, j)] * g;
-            x[1] += phi[(1, j)] * g;
-        }
-        x
-    };
+    let exact = |t: f64| chain.response(t, [0.0; 2], [0.0; 2], 1.0);
     // the same step as a CSV table (TABLEF) must give the same numbers as the TABLED1
     let csv_dir = tempfile::tempdir().unwrap();
     let csv = csv_dir.path().join("step.csv");

@@ -57,6 +57,8 @@ pub struct Subcase {
     pub frequency: Option<u32>,
     pub dload: Option<u32>,
     pub tstep: Option<u32>,
+    /// `IC = sid` (TIC cards of a transient).
+    pub ic: Option<u32>,
     /// `PROM = id` (PMOR card of a `SOL PROM` run).
     pub prom: Option<u32>,
     /// `ROM = 'path.h5'`, relative to the deck.
@@ -84,7 +86,7 @@ impl Subcase {
     fn over(&self, defaults: &Subcase) -> Subcase {
         let mut out = self.clone();
         macro_rules! inherit { ($($f:ident),*) => { $( if out.$f.is_none() { out.$f = defaults.$f.clone(); } )* } }
-        inherit!(title, subtitle, label, spc, load, method, frequency, dload, tstep, prom, rom, pval, sensor, estim, meas);
+        inherit!(title, subtitle, label, spc, load, method, frequency, dload, tstep, ic, prom, rom, pval, sensor, estim, meas);
         let own: Vec<&str> = out.outputs.iter().map(|o| o.name).collect();
         let inherited: Vec<OutputRequest> =
             defaults.outputs.iter().filter(|o| !own.contains(&o.name)).cloned().collect();
@@ -115,7 +117,7 @@ pub struct CaseControl {
 
 /// Canonical case-control commands that select a bulk-data id.
 const SELECTIONS: &[&str] =
-    &["SPC", "LOAD", "METHOD", "FREQUENCY", "DLOAD", "TSTEP", "PROM", "PVAL", "ESTIM", "MEAS"];
+    &["SPC", "LOAD", "METHOD", "FREQUENCY", "DLOAD", "TSTEP", "IC", "PROM", "PVAL", "ESTIM", "MEAS"];
 
 /// Output requests paraflex parses.
 const OUTPUTS: &[&str] = &[
@@ -289,6 +291,7 @@ impl CaseControl {
                 "FREQUENCY" => &mut sub.frequency,
                 "DLOAD" => &mut sub.dload,
                 "TSTEP" => &mut sub.tstep,
+                "IC" => &mut sub.ic,
                 "PROM" => &mut sub.prom,
                 "PVAL" => &mut sub.pval,
                 "ESTIM" => &mut sub.estim,

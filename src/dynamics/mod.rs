@@ -2,8 +2,10 @@
 //!
 //! - [`frf`]: receptance of a dense (reduced) model, H(ω) = S_out (K − ω²M + iωC)⁻¹ S_in;
 //! - [`integrators`]: BDF1 (eq. 2.61), BDF2 and generalized-α with a constant step;
+//! - [`sparse_backend`]: the integrators' full-model (sparse f-set) backend;
 //! - [`table`]: piecewise-linear tables of time (TABLED1).
 
 pub mod frf;
 pub mod integrators;
+pub mod sparse_backend;
 pub mod table;

@@ -24,6 +24,19 @@ pub enum DenseEigenError {
     NoConvergence,
 }
 
+/// μ_min/μ_max of a symmetric reduced mass matrix, or [`DenseEigenError::IllConditionedMass`]
+/// below [`MASS_CONDITION_LIMIT`] (see the module documentation). Every consumer of a reduced
+/// model checks its mass with this before solving with it (eigenproblems, time integration).
+pub fn mass_conditioning(m: MatRef<'_, f64>) -> Result<f64, DenseEigenError> {
+    let mu = m.self_adjoint_eigenvalues(Side::Lower).map_err(|_| DenseEigenError::NoConvergence)?;
+    let (lo, hi) = (mu.iter().copied().fold(f64::INFINITY, f64::min), mu.iter().copied().fold(0.0_f64, f64::max));
+    let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
+    if !(ratio >= MASS_CONDITION_LIMIT) {
+        return Err(DenseEigenError::IllConditionedMass { ratio });
+    }
+    Ok(ratio)
+}
+
 /// Ascending eigenvalues and M-orthonormal eigenvectors (columns) of K φ = λ M φ.
 pub fn generalized_eigen(k: MatRef<'_, f64>, m: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), DenseEigenError> {
     let n = k.nrows();
@@ -33,12 +46,7 @@ pub fn generalized_eigen(k: MatRef<'_, f64>, m: MatRef<'_, f64>) -> Result<(Vec<
     if n == 0 {
         return Ok((Vec::new(), Mat::zeros(0, 0)));
     }
-    let mu = m.self_adjoint_eigenvalues(Side::Lower).map_err(|_| DenseEigenError::NoConvergence)?;
-    let (lo, hi) = (mu.iter().copied().fold(f64::INFINITY, f64::min), mu.iter().copied().fold(0.0_f64, f64::max));
-    let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
-    if !(ratio >= MASS_CONDITION_LIMIT) {
-        return Err(DenseEigenError::IllConditionedMass { ratio });
-    }
+    let ratio = mass_conditioning(m)?;
     let llt = m.llt(Side::Lower).map_err(|_| DenseEigenError::IllConditionedMass { ratio })?;
     let l = llt.L();
     // X = L⁻¹ K; A = L⁻¹ Xᵀ = L⁻¹ K L⁻ᵀ

@@ -50,7 +50,8 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>, warnings: &m
     let dload = set_of(b.dload.iter().map(|s| s.sid).chain(b.tload1.iter().map(|s| s.sid)).chain(b.rload1.iter().map(|s| s.sid)).collect());
     let tstep = set_of(b.tstep.iter().map(|s| s.sid).collect());
     let prom = set_of(b.pmor.iter().map(|s| s.id).collect());
-    let pval = set_of(b.pval.iter().map(|s| s.id).collect());
+    let pval = set_of(b.pval.iter().map(|s| s.id).chain(b.ptable.iter().map(|s| s.id)).collect());
+    let tic = set_of(b.tic.iter().map(|s| s.sid).collect());
     let sensors = set_of(b.sensors.iter().map(|s| s.id).collect());
 
     let fallback = deck.executive.sol_loc.clone().unwrap_or_else(|| Loc { file: std::sync::Arc::from(deck.path.as_path()), line: 1 });
@@ -77,7 +78,8 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>, warnings: &m
         need("DLOAD", sub.dload, &dload, "DLOAD/TLOAD1/RLOAD1");
         need("TSTEP", sub.tstep, &tstep, "TSTEP");
         need("PROM", sub.prom, &prom, "PMOR");
-        need("PVAL", sub.pval, &pval, "PVAL");
+        need("PVAL", sub.pval, &pval, "PVAL/PTABLE");
+        need("IC", sub.ic, &tic, "TIC");
         if let Some(Target::Set(id)) = sub.sensor {
             let at = loc("SENSOR");
             match deck.case.set(id) {

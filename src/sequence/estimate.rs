@@ -35,7 +35,8 @@ use faer::Mat;
 use faer::linalg::solvers::Solve;
 
 use super::rom_case::RomAtPoint;
-use super::rom_transient::{LoadTerm, load_terms};
+use super::rom_transient::place_input;
+use super::transient::{LoadTerm, load_terms};
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
 use crate::deck::reader::Column;
@@ -148,7 +149,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     // known loads, filter setup, observability
     let loads = match sub.dload {
         None => Vec::new(),
-        Some(dload) => load_terms(ctx, dload, &input_names, &s_r).map_err(case)?,
+        Some(dload) => load_terms(ctx, dload, n, |d, comp, scale, shape| place_input(&input_names, &s_r, d, comp, scale, shape), |_| Ok(None)).map_err(case)?,
     };
     let load_at = |t: f64, f: &mut [f64], which: &dyn Fn(&LoadTerm) -> bool| {
         f.fill(0.0);

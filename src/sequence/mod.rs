@@ -9,6 +9,7 @@
 //! | `103`, `MODAL` | [`modal::run`] | `SPC`, `METHOD` (EIGRL) → frequencies, generalized masses, residuals, shapes |
 //! | `108`, `111`, `FRF` | [`frf::run`] | `SPC`, `FREQUENCY`, `DLOAD` (RLOAD1/DAREA inputs), `METHOD` (111) → complex FRFs at inputs and SENSORs |
 //! | any with `ROM =` | [`rom_modal`], [`rom_frf`], [`rom_transient`] | the pROM artifact at `PVAL` |
+//! | `109`, `112`, `TRANSIENT` | [`transient::run`] (full model), [`rom_transient::run`] (`ROM =`) | `TSTEP` (+`TINTEG`), `DLOAD`, `IC` → sensor histories |
 //!
 //! Both drivers share the structure setup of [`Structure::build`]: element matrices
 //! ([`elements`]), one grid-block pattern for K and M, rigid elimination g → n with one plan,
@@ -45,6 +46,7 @@ pub mod rom_transient;
 pub mod rom_modal;
 pub mod sensors;
 pub mod statics;
+pub mod transient;
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -73,7 +75,8 @@ pub enum Sequence {
     Prom,
     /// SOL FRF (108/111): frequency response, full model (direct or modal) or pROM artifact.
     Frf,
-    /// SOL TRANSIENT (109/112): time response; on pROM artifacts only in this version.
+    /// SOL TRANSIENT (109/112): time response, on pROM artifacts ([`rom_transient`]) and on the
+    /// full model by direct integration ([`transient`]; SOL 112 too: no modal superposition).
     Transient,
     /// SOL ESTIMATE: states, inputs and parameters from measurements (augmented EKF) on a pROM.
     Estimate,
@@ -165,6 +168,7 @@ pub enum SubcaseResult {
     RomModal(rom_modal::RomModalSummary),
     RomFrf(rom_frf::RomFrfSummary),
     RomTransient(rom_transient::RomTransientSummary),
+    Transient(transient::TransientSummary),
     Estimate(estimate::EstimateSummary),
 }
 
@@ -201,12 +205,12 @@ pub enum RunError {
 }
 
 /// The sequence that runs `model`'s SOL, or why none can: no SOL, a SOL without a driver, or
-/// a time response on the full model (this version runs it on pROMs only).
+/// an estimation on the full model (this version runs it on pROMs only).
 /// The CLI asks before running, to write the model and exit with "not available".
 pub fn runnable(deck: &Deck, model: &Model) -> Result<Sequence, RunError> {
     let (sol, text) = deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
     let sequence = Sequence::of_solution(*sol).ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
-    if matches!(sequence, Sequence::Transient | Sequence::Estimate) && !rom_case::applies(model) {
+    if sequence == Sequence::Estimate && !rom_case::applies(model) {
         return Err(RunError::NotAvailable(format!("{text} ({}) on the full model (this version runs it on pROM artifacts: every subcase needs ROM = 'file.h5')", sol.name())));
     }
     Ok(sequence)
@@ -221,13 +225,14 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         (Sequence::Frf, true) => rom_frf::run(ctx, &mut clock)?,
         (Sequence::Transient, true) => rom_transient::run(ctx, &mut clock)?,
         (Sequence::Estimate, true) => estimate::run(ctx, &mut clock)?,
-        (Sequence::Transient | Sequence::Estimate, false) => return Err(RunError::NotAvailable(format!("{} on the full model", sequence.name()))),
-        (Sequence::Statics | Sequence::Modal | Sequence::Prom | Sequence::Frf, _) => {
+        (Sequence::Estimate, false) => return Err(RunError::NotAvailable(format!("{} on the full model", sequence.name()))),
+        (Sequence::Statics | Sequence::Modal | Sequence::Prom | Sequence::Frf | Sequence::Transient, _) => {
             let structure = Structure::build(ctx, &mut clock)?;
             match sequence {
                 Sequence::Statics => statics::run(ctx, &structure, &mut clock)?,
                 Sequence::Prom => prom::run(ctx, &structure, &mut clock)?,
                 Sequence::Frf => frf::run(ctx, &structure, &mut clock)?,
+                Sequence::Transient => transient::run(ctx, &structure, &mut clock)?,
                 _ => modal::run(ctx, &structure, &mut clock)?,
             }
         }

@@ -1,6 +1,9 @@
 //! What every sequence on a pROM artifact (`ROM = 'file.h5'`) shares: reading the artifact
 //! (path relative to the deck's directory), the parameter values of the subcase's `PVAL`
-//! (parameters it does not list keep their nominal values), and the pROM evaluated there.
+//! (parameters it does not list keep their nominal values), and the pROM evaluated there,
+//! refused when its reduced mass matrix is ill-conditioned ([`crate::linalg::dense::mass_conditioning`]). A
+//! `PVAL = id` may select PTABLE cards (parameters following tables of time) instead of or
+//! besides a PVAL card; only the transient reads those ([`super::rom_transient`]).
 
 use std::path::PathBuf;
 
@@ -35,8 +38,16 @@ impl RomAtPoint {
         let (prom, _) = read_prom(&path)?;
         let mut p: Vec<f64> = prom.parameters.iter().map(|q| q.nominal).collect();
         if let Some(pval_id) = sub.pval {
-            let card = ctx.model.bulk.pval.iter().find(|c| c.id == pval_id).ok_or_else(|| case(format!("PVAL {pval_id} missing")))?;
-            for (name, value) in &card.values {
+            let tabulated = ctx.model.bulk.ptable.iter().any(|c| c.id == pval_id);
+            let transient = ctx.deck.executive.sol.as_ref().and_then(|(sol, _)| super::Sequence::of_solution(*sol)) == Some(super::Sequence::Transient);
+            if tabulated && !transient {
+                return Err(case(format!("PTABLE {pval_id}: parameters varying in time apply to SOL TRANSIENT only")));
+            }
+            let card = ctx.model.bulk.pval.iter().find(|c| c.id == pval_id);
+            if card.is_none() && !tabulated {
+                return Err(case(format!("PVAL {pval_id} missing")));
+            }
+            for (name, value) in card.iter().flat_map(|c| &c.values) {
                 let j = prom.parameters.iter().position(|q| q.name.eq_ignore_ascii_case(name)).ok_or_else(|| {
                     case(format!(
                         "PVAL {pval_id} names {name}, which is not a parameter of {} (parameters: {})",
@@ -49,7 +60,15 @@ impl RomAtPoint {
         }
         let mut at = prom.workspace();
         prom.evaluate(&p, &mut at).map_err(|e| case(format!("{}: {e}", path.display())))?;
+        if at.mass.nrows() > 0 {
+            crate::linalg::dense::mass_conditioning(at.mass.as_ref()).map_err(|e| case(format!("{} at {}: {e}", path.display(), point(&prom, &p))))?;
+        }
         let extrapolated = prom.outside_box(&p).into_iter().map(String::from).collect();
         Ok(RomAtPoint { path, prom, p, at, extrapolated })
     }
+}
+
+/// "E = 1.1e11, RHO = 4500" for messages.
+fn point(prom: &Prom, p: &[f64]) -> String {
+    prom.parameters.iter().zip(p).map(|(q, v)| format!("{} = {v:e}", q.name)).collect::<Vec<_>>().join(", ")
 }

@@ -8,19 +8,25 @@
 //! held outside the table. TSTEP intervals run one after the
 //! other with one factorization each; output every NO steps.
 //!
+//! Initial conditions: `IC = sid` with TIC cards on input DOFs ([`initial_state`]). Parameters
+//! may follow tables of time: PTABLE cards selected by the same `PVAL = id` ([`Varying`]).
+//!
 //! Written: `/results/<id>/transient/{time (t), displacement, velocity, acceleration (t × k)}`
 //! at the pROM's input DOFs (`outputs`, k names), `sensors/<name> (t)` for the pROM's SENSORs
-//! (DISP from q, VEL from q̇, ACCEL from q̈), attributes `rom`, `params`, `values`, `method`.
+//! (DISP from q, VEL from q̇, ACCEL from q̈), attributes `rom`, `params`, `values` (at the end), `method`, `evaluations`.
 
 use faer::Mat;
+use faer::linalg::solvers::Solve;
 
 use super::rom_case::RomAtPoint;
+use super::transient::{load_into, load_terms, method_of, output_rows, table_of};
+use crate::deck::cards::Darea;
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
-use crate::dynamics::integrators::{LinearSystem, Method, integrate};
+use crate::dynamics::integrators::{Backend, Combination, DenseOperators, IntegrationError, LinearSystem, Run, StepState, integrate_with, matvec_add};
 use crate::dynamics::table::Table;
-use crate::io::csv_table::read_columns;
-use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_str, set_attr_strings, write_f64, write_strings};
+use crate::rom::prom::{Prom, PromEvaluation};
+use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_strings};
 
 /// What one pROM transient subcase computed.
 #[derive(Debug, Clone)]
@@ -32,13 +38,8 @@ pub struct RomTransientSummary {
     pub extrapolated: Vec<String>,
     /// Largest |displacement| over the outputs and its time.
     pub peak: (f64, f64),
-}
-
-/// One load term: reduced shape × table(t − delay).
-pub(super) struct LoadTerm {
-    pub(super) shape: Vec<f64>,
-    pub(super) table: Table,
-    pub(super) delay: f64,
+    /// Evaluations of the pROM (1 + the changes of tabulated parameters).
+    pub evaluations: usize,
 }
 
 /// Runs every subcase on its pROM.
@@ -49,75 +50,42 @@ pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, R
 fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
-    let b = &ctx.model.bulk;
     let RomAtPoint { path, prom, p, at, extrapolated } = RomAtPoint::load(ctx, sub)?;
     let (names, s_r) = read_prom_inputs(&path, prom.size())?;
     let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, prom.size())?;
-    let sid = sub.tstep.ok_or_else(|| case("SOL TRANSIENT needs TSTEP = <sid> in case control".into()))?;
-    let tstep = b.tstep.iter().find(|t| t.sid == sid).ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
-    let (method, method_name) = match b.tinteg.iter().find(|t| t.id == sid) {
-        None => (Method::Bdf1, "BDF1".to_string()),
-        Some(t) => match t.method {
-            "BDF2" => (Method::Bdf2, "BDF2".to_string()),
-            "GALPHA" => (Method::GeneralizedAlpha { rho_inf: t.rho_inf }, format!("GALPHA (rho_inf = {})", t.rho_inf)),
-            _ => (Method::Bdf1, "BDF1".to_string()),
-        },
-    };
+    let (tstep, method, method_name) = method_of(ctx, sub)?;
     let loads = match sub.dload {
         None => Vec::new(),
-        Some(dload) => load_terms(ctx, dload, &names, &s_r).map_err(case)?,
+        Some(dload) => load_terms(ctx, dload, prom.size(), |d, comp, scale, shape| place_input(&names, &s_r, d, comp, scale, shape), |_| Ok(None)).map_err(case)?,
     };
-    let n = prom.size();
     let k = names.len();
-    let sys = LinearSystem { mass: at.mass.as_ref(), damping: at.damping.as_ref(), stiffness: at.stiffness.as_ref() };
-    let (mut q, mut v) = (vec![0.0; n], vec![0.0; n]);
+    let tables = parameter_tables(ctx, sub, &prom).map_err(case)?;
+    let mut backend = Varying { prom: &prom, at, p, tables, ops: DenseOperators::default(), outside: extrapolated, evaluations: 0 };
+    backend.advance(0.0).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let (mut q, mut v) = initial_state(ctx, sub, &names, &s_r, &backend.at.stiffness).map_err(case)?;
+    let rows = output_rows(&tstep.intervals);
+    let mut rec = Recorder::new(&s_r, &sensor_kinds, &h_r, rows);
     let mut t0 = 0.0;
-    let (mut time, mut disp, mut vel, mut acc) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    let mut sensor_series: Vec<Vec<f64>> = vec![Vec::new(); sensor_names.len()];
-    let project = |x: &[f64], out: &mut Vec<f64>| {
-        for j in 0..k {
-            out.push((0..n).map(|i| s_r[(i, j)] * x[i]).sum());
-        }
-    };
     let mut steps = 0;
     for (interval, &(count, dt, every)) in tstep.intervals.iter().enumerate() {
         let every = every.max(1) as usize;
-        let start = t0;
-        let load = |t: f64, f: &mut [f64]| {
-            f.fill(0.0);
-            for term in &loads {
-                let a = term.table.value(start + t - term.delay);
-                if a != 0.0 {
-                    f.iter_mut().zip(&term.shape).for_each(|(fi, s)| *fi += a * s);
-                }
-            }
-        };
-        let (mut q_end, mut v_end) = (q.clone(), v.clone());
-        integrate(sys, method, dt, count as usize, &q, &v, load, |s| {
+        let load = |t: f64, f: &mut [f64]| load_into(&loads, t, f);
+        let run = Run { dt, steps: count as usize, t0 };
+        integrate_with(&mut backend, method, run, &q.clone(), &v.clone(), load, |s| {
             // the first interval reports its initial state; later ones continue the series
             if (s.step > 0 || interval == 0) && s.step % every == 0 {
-                time.push(start + s.time);
-                project(s.q, &mut disp);
-                project(s.v, &mut vel);
-                project(s.a, &mut acc);
-                for (r, series) in sensor_series.iter_mut().enumerate() {
-                    let x = match sensor_kinds[r].as_str() {
-                        "VEL" => s.v,
-                        "ACCEL" => s.a,
-                        _ => s.q,
-                    };
-                    series.push((0..n).map(|i| h_r[(r, i)] * x[i]).sum());
-                }
+                rec.record(s);
             }
-            q_end.copy_from_slice(s.q);
-            v_end.copy_from_slice(s.v);
+            if s.step == count as usize {
+                q.copy_from_slice(s.q);
+                v.copy_from_slice(s.v);
+            }
         })
         .map_err(|e| case(format!("{}: {e}", path.display())))?;
-        q = q_end;
-        v = v_end;
         t0 += count as f64 * dt;
         steps += count as usize;
     }
+    let Recorder { time, disp, vel, acc, sensors, .. } = rec;
     let peak = disp.iter().enumerate().fold((0.0_f64, 0.0), |acc, (i, x)| if x.abs() > acc.0 { (x.abs(), time[i / k.max(1)]) } else { acc });
     let group = ctx.output.group(&format!("results/{id}/transient"))?;
     let rows = time.len();
@@ -129,57 +97,196 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     write_strings(&group, "outputs", &name_refs)?;
     if !sensor_names.is_empty() {
         let sg = ctx.output.group(&format!("results/{id}/transient/sensors"))?;
-        for (name, series) in sensor_names.iter().zip(&sensor_series) {
-            write_f64(&sg, name, series, &[series.len()])?;
+        for (name, series) in sensor_names.iter().zip(sensors.chunks_exact(rows.max(1))) {
+            write_f64(&sg, name, series, &[rows])?;
         }
     }
     set_attr_str(&group, "rom", &path.display().to_string())?;
     set_attr_str(&group, "method", &method_name)?;
     let params: Vec<&str> = prom.parameters.iter().map(|q| q.name.as_str()).collect();
     set_attr_strings(&group, "params", &params)?;
-    set_attr_f64s(&group, "values", &p)?;
-    let summary = RomTransientSummary { rom: path, method: method_name, steps, outputs: names, extrapolated, peak };
+    set_attr_f64s(&group, "values", &backend.p)?;
+    set_attr_i64(&group, "evaluations", backend.evaluations as i64)?;
+    let summary = RomTransientSummary { rom: path, method: method_name, steps, outputs: names, extrapolated: backend.outside, peak, evaluations: backend.evaluations };
     Ok(SubcaseSummary { id, autospc: Vec::new(), result: SubcaseResult::RomTransient(summary) })
 }
 
-/// The load terms of `DLOAD = sid`: a DLOAD combination S·Σ Sᵢ·(TLOAD1 Lᵢ), or one TLOAD1.
-pub(super) fn load_terms(ctx: &RunContext, sid: u32, names: &[String], s_r: &Mat<f64>) -> Result<Vec<LoadTerm>, String> {
+/// The tabulated parameters of `PVAL = id` (PTABLE cards): (parameter index, p(t)). A
+/// parameter may not be both in a PVAL and a PTABLE of the same id.
+fn parameter_tables(ctx: &RunContext, sub: &Subcase, prom: &Prom) -> Result<Vec<(usize, Table)>, String> {
+    let Some(id) = sub.pval else { return Ok(Vec::new()) };
     let b = &ctx.model.bulk;
-    let sets: Vec<(f64, u32)> = match b.dload.iter().find(|d| d.sid == sid) {
-        Some(d) => d.terms.iter().map(|&(s, l)| (d.scale * s, l)).collect(),
-        None => vec![(1.0, sid)],
-    };
-    let mut out = Vec::new();
-    for (scale, set) in sets {
-        let tloads: Vec<_> = b.tload1.iter().filter(|t| t.sid == set).collect();
-        if tloads.is_empty() {
-            return Err(format!("DLOAD {sid}: load set {set} has no TLOAD1"));
+    let mut out: Vec<(usize, Table)> = Vec::new();
+    for card in b.ptable.iter().filter(|c| c.id == id) {
+        let names = || prom.parameters.iter().map(|q| q.name.as_str()).collect::<Vec<_>>().join(", ");
+        let j = prom.parameters.iter().position(|q| q.name.eq_ignore_ascii_case(&card.name)).ok_or_else(|| format!("PTABLE {id} names {}, which is not a parameter of the pROM (parameters: {})", card.name, names()))?;
+        if b.pval.iter().filter(|c| c.id == id).any(|c| c.values.iter().any(|(n, _)| n.eq_ignore_ascii_case(&card.name))) || out.iter().any(|(k, _)| *k == j) {
+            return Err(format!("PTABLE {id}: parameter {} is given twice (PVAL and PTABLE, or two PTABLEs)", card.name));
         }
-        for t in tloads {
-            let table = match (b.tabled1.iter().find(|x| x.id == t.tid), b.tablef.iter().find(|x| x.id == t.tid)) {
-                (Some(x), _) => Table::new(&x.points).map_err(|e| format!("TABLED1 {}: {e}", t.tid))?,
-                (None, Some(x)) => {
-                    let csv = x.loc.file.parent().map_or_else(|| std::path::PathBuf::from(&x.path), |dir| dir.join(&x.path));
-                    let points = read_columns(&csv, &x.tcol, &x.ycol).map_err(|e| format!("TABLEF {}: {e}", t.tid))?;
-                    Table::new(&points).map_err(|e| format!("TABLEF {} ({}): {e}", t.tid, csv.display()))?
-                }
-                (None, None) => return Err(format!("TLOAD1 {}: TID {} is no TABLED1 or TABLEF", t.sid, t.tid)),
-            };
-            let mut shape = vec![0.0; s_r.nrows()];
-            let mut any = false;
-            for d in b.darea.iter().filter(|d| d.sid == t.excite_id) {
-                for comp in d.components.components() {
-                    let name = format!("{}:{comp}", d.grid);
-                    let j = names.iter().position(|x| *x == name).ok_or_else(|| format!("DAREA {}: GRID {} component {comp} is not an input DOF of the pROM (inputs: {})", d.sid, d.grid, names.join(", ")))?;
-                    shape.iter_mut().enumerate().for_each(|(i, s)| *s += scale * d.scale * s_r[(i, j)]);
-                    any = true;
-                }
-            }
-            if !any {
-                return Err(format!("TLOAD1 {}: EXCITEID {} selects no DAREA", t.sid, t.excite_id));
-            }
-            out.push(LoadTerm { shape, table, delay: t.delay });
-        }
+        out.push((j, table_of(ctx, card.tid, &format!("PTABLE {id}"))?));
     }
     Ok(out)
+}
+
+/// The pROM as an integrator backend. Parameters following tables (PTABLE) are re-evaluated
+/// before each step; when p(t) changed, M_r, C_r, K_r are summed again ([`Prom::evaluate`],
+/// allocation-free, O(n_terms · n_r²)) and the effective matrix is formed and inverted again
+/// (O(n_r³); ≈ 30 µs at n_r = 31), so a table that changes every step costs that per step and
+/// a constant table costs nothing. The matrices are those at the end of the step (t_{k+1}).
+/// The reduced mass's conditioning is checked once, at the PVAL point ([`RomAtPoint::load`]),
+/// not at every re-evaluation (an eigenvalue decomposition per step would dominate the cost).
+struct Varying<'a> {
+    prom: &'a Prom,
+    at: PromEvaluation,
+    p: Vec<f64>,
+    tables: Vec<(usize, Table)>,
+    ops: DenseOperators,
+    /// Parameters found outside the pROM's box at any time.
+    outside: Vec<String>,
+    evaluations: usize,
+}
+
+impl Backend for Varying<'_> {
+    fn size(&self) -> usize {
+        self.prom.size()
+    }
+    fn prepare(&mut self, effective: Combination, products: &[Combination], what: &'static str) -> Result<(), IntegrationError> {
+        let sys = LinearSystem { mass: self.at.mass.as_ref(), damping: self.at.damping.as_ref(), stiffness: self.at.stiffness.as_ref() };
+        self.ops.prepare(sys, effective, products, what)
+    }
+    fn apply(&self, j: usize, x: &[f64], y: &mut [f64]) {
+        self.ops.apply(j, x, y);
+    }
+    fn solve(&mut self, x: &mut [f64]) -> Result<(), IntegrationError> {
+        self.ops.solve(x);
+        Ok(())
+    }
+    fn advance(&mut self, t: f64) -> Result<bool, IntegrationError> {
+        let mut changed = self.evaluations == 0;
+        for (j, table) in &self.tables {
+            let value = table.value(t);
+            if value != self.p[*j] {
+                self.p[*j] = value;
+                changed = true;
+            }
+        }
+        if changed {
+            self.prom.evaluate(&self.p, &mut self.at).map_err(|e| IntegrationError::Backend(format!("t = {t}: {e}")))?;
+            self.evaluations += 1;
+            for name in self.prom.outside_box(&self.p) {
+                if !self.outside.iter().any(|x| x == name) {
+                    self.outside.push(name.to_string());
+                }
+            }
+        }
+        Ok(changed)
+    }
+}
+
+/// The reduced initial state of `IC = sid`. TIC cards name pROM input DOFs (`GRID:component`);
+/// inputs without a TIC start at zero. The pROM has no mesh, so the state is defined on its
+/// inputs: q0 is the static shape that produces the requested input displacements u0,
+/// q0 = K_r⁻¹ S_r (S_rᵀ K_r⁻¹ S_r)⁻¹ u0 (the reduced displacement under input forces only, whose
+/// input displacements S_rᵀ q0 equal u0), and likewise v0 from the initial velocities.
+fn initial_state(ctx: &RunContext, sub: &Subcase, names: &[String], s_r: &Mat<f64>, k_r: &Mat<f64>) -> Result<(Vec<f64>, Vec<f64>), String> {
+    let n = s_r.nrows();
+    let Some(sid) = sub.ic else { return Ok((vec![0.0; n], vec![0.0; n])) };
+    let cards: Vec<_> = ctx.model.bulk.tic.iter().filter(|c| c.sid == sid).collect();
+    if cards.is_empty() {
+        return Err(format!("IC = {sid} selects no TIC card"));
+    }
+    let k = names.len();
+    let (mut u0, mut v0) = (Mat::<f64>::zeros(k, 1), Mat::<f64>::zeros(k, 1));
+    for c in cards {
+        let name = format!("{}:{}", c.grid, c.component);
+        let j = names.iter().position(|x| *x == name).ok_or_else(|| format!("TIC {sid}: GRID {} component {} is not an input DOF of the pROM (inputs: {}); a pROM's initial state is defined on its inputs", c.grid, c.component, names.join(", ")))?;
+        u0[(j, 0)] += c.u0;
+        v0[(j, 0)] += c.v0;
+    }
+    let k_lu = k_r.partial_piv_lu();
+    let x = k_lu.solve(s_r); // K_r⁻¹ S_r
+    let schur = s_r.transpose() * &x; // S_rᵀ K_r⁻¹ S_r (the input flexibility)
+    let lu = schur.partial_piv_lu();
+    let shape = |u: &Mat<f64>| -> Result<Vec<f64>, String> {
+        let q = &x * lu.solve(u);
+        if (0..n).all(|i| q[(i, 0)].is_finite()) {
+            Ok((0..n).map(|i| q[(i, 0)]).collect())
+        } else {
+            Err(format!("TIC {sid}: the pROM's stiffness (or its input flexibility) is singular, so no static shape gives the requested input displacements (a free-free pROM needs initial conditions through its rigid-body-free inputs)"))
+        }
+    };
+    Ok((shape(&u0)?, shape(&v0)?))
+}
+
+/// Adds a DAREA entry, which must name a pROM input DOF (`GRID:component`), to a reduced load
+/// shape: scale × column of S_r.
+pub(super) fn place_input(names: &[String], s_r: &Mat<f64>, d: &Darea, comp: usize, scale: f64, shape: &mut [f64]) -> Result<(), String> {
+    let name = format!("{}:{comp}", d.grid);
+    let j = names.iter().position(|x| *x == name).ok_or_else(|| format!("DAREA {}: GRID {} component {comp} is not an input DOF of the pROM (inputs: {})", d.sid, d.grid, names.join(", ")))?;
+    shape.iter_mut().enumerate().for_each(|(i, s)| *s += scale * s_r[(i, j)]);
+    Ok(())
+}
+
+/// Output buffers sized before the run, filled by matrix–vector products (no allocation in the
+/// time loop): input-DOF series rows × k (row-major, column r of a k × rows column-major
+/// buffer), and per sensor a series of `rows` values (sensor-major).
+struct Recorder {
+    /// S_rᵀ (k × n).
+    s_t: Mat<f64>,
+    /// Per sensor kind (DISP from q, VEL from q̇, ACCEL from q̈): its rows of H_r and their
+    /// sensor indices.
+    by_kind: [(Mat<f64>, Vec<usize>); 3],
+    scratch: Vec<f64>,
+    rows: usize,
+    time: Vec<f64>,
+    disp: Vec<f64>,
+    vel: Vec<f64>,
+    acc: Vec<f64>,
+    sensors: Vec<f64>,
+}
+
+impl Recorder {
+    fn new(s_r: &Mat<f64>, kinds: &[String], h_r: &Mat<f64>, rows: usize) -> Self {
+        let (n, k) = (s_r.nrows(), s_r.ncols());
+        let of_kind = |kind: &str| {
+            let idx: Vec<usize> = kinds.iter().enumerate().filter(|(_, x)| match kind {
+                "VEL" | "ACCEL" => x.as_str() == kind,
+                _ => x.as_str() != "VEL" && x.as_str() != "ACCEL",
+            }).map(|(i, _)| i).collect();
+            (Mat::from_fn(idx.len(), n, |r, c| h_r[(idx[r], c)]), idx)
+        };
+        Recorder {
+            s_t: s_r.transpose().to_owned(),
+            by_kind: [of_kind("DISP"), of_kind("VEL"), of_kind("ACCEL")],
+            scratch: vec![0.0; kinds.len()],
+            rows,
+            time: Vec::with_capacity(rows),
+            disp: Vec::with_capacity(rows * k),
+            vel: Vec::with_capacity(rows * k),
+            acc: Vec::with_capacity(rows * k),
+            sensors: vec![0.0; kinds.len() * rows],
+        }
+    }
+
+    fn record(&mut self, s: &StepState<'_>) {
+        let r = self.time.len();
+        if r == self.rows {
+            return;
+        }
+        self.time.push(s.time);
+        let k = self.s_t.nrows();
+        for (out, x) in [(&mut self.disp, s.q), (&mut self.vel, s.v), (&mut self.acc, s.a)] {
+            out.resize(out.len() + k, 0.0);
+            let end = out.len();
+            matvec_add(&self.s_t, x, &mut out[end - k..]);
+        }
+        for ((h, idx), x) in self.by_kind.iter().zip([s.q, s.v, s.a]) {
+            let y = &mut self.scratch[..idx.len()];
+            y.fill(0.0);
+            matvec_add(h, x, y);
+            for (&j, value) in idx.iter().zip(y.iter()) {
+                self.sensors[j * self.rows + r] = *value;
+            }
+        }
+    }
 }

@@ -36,3 +36,57 @@ fn run_in(path: &Path, dir: tempfile::TempDir) -> (Result<RunSummary, RunError>,
     }
     (result, model, dir)
 }
+
+/// The 2-DOF spring–mass chain ground–k₁–m₁–k₂–m₂ along x (grids 1, 2, both in the ASET) with
+/// Rayleigh damping C = αM + βK, and its closed-form time response by modal superposition
+/// (ζ_j = α/2ω_j + βω_j/2): shared by the pROM and full-model transient references.
+#[allow(dead_code)]
+pub struct TwoDofChain {
+    pub k1: f64,
+    pub k2: f64,
+    pub m1: f64,
+    pub m2: f64,
+    pub alpha: f64,
+    pub beta: f64,
+}
+
+#[allow(dead_code)]
+impl TwoDofChain {
+    /// The chain of the pROM FRF / transient tests.
+    pub fn reference() -> Self {
+        TwoDofChain { k1: 2.5e4, k2: 3.0e4, m1: 2.0, m2: 1.0, alpha: 0.8, beta: 2.0e-4 }
+    }
+
+    /// Bulk cards (grids, springs with PELAS 10 = k₁ and 20 = k₂, masses, ASET, damping) and
+    /// two sensors on grid 2: A2 (ACCEL along +x) and D2 (DISP along −x).
+    pub fn bulk(&self) -> String {
+        let TwoDofChain { k1, k2, m1, m2, alpha, beta } = self;
+        format!(
+            "GRID,1,,0.,0.,0.,,23456\nGRID,2,,1.,0.,0.,,23456\nCELAS1,1,10,1,1\nPELAS,10,{k1:e}\nCELAS1,2,20,1,1,2,1\nPELAS,20,{k2:e}\n\
+             CONM2,11,1,,{m1:?}\nCONM2,12,2,,{m2:?}\nASET1,1,1,2\nPARAM,ALPHA1,{alpha:?}\nPARAM,BETA1,{beta:e}\n\
+             SENSOR,1,A2,ACCEL,2,,2.,0.,0.\nSENSOR,2,D2,DISP,2,,-1.,0.,0.\n"
+        )
+    }
+
+    /// u(t) of both DOFs from (u0, v0) under a unit step force on DOF 2 times `force`.
+    pub fn response(&self, t: f64, u0: [f64; 2], v0: [f64; 2], force: f64) -> [f64; 2] {
+        let km = faer::Mat::<f64>::from_fn(2, 2, |i, j| [[self.k1 + self.k2, -self.k2], [-self.k2, self.k2]][i][j]);
+        let mm = faer::Mat::<f64>::from_fn(2, 2, |i, j| [[self.m1, 0.0], [0.0, self.m2]][i][j]);
+        let (lambda, phi) = paraflex::linalg::dense::generalized_eigen(km.as_ref(), mm.as_ref()).unwrap();
+        let mut x = [0.0; 2];
+        for j in 0..2 {
+            let w = lambda[j].sqrt();
+            let zeta = self.alpha / (2.0 * w) + self.beta * w / 2.0;
+            let wd = w * (1.0 - zeta * zeta).sqrt();
+            let (c, s, e) = ((wd * t).cos(), (wd * t).sin(), (-zeta * w * t).exp());
+            // modal initial conditions η = φᵀ M u
+            let eta0 = phi[(0, j)] * self.m1 * u0[0] + phi[(1, j)] * self.m2 * u0[1];
+            let deta0 = phi[(0, j)] * self.m1 * v0[0] + phi[(1, j)] * self.m2 * v0[1];
+            let free = e * (eta0 * c + (deta0 + zeta * w * eta0) / wd * s);
+            let step = force * phi[(1, j)] / lambda[j] * (1.0 - e * (c + zeta * w / wd * s));
+            x[0] += phi[(0, j)] * (free + step);
+            x[1] += phi[(1, j)] * (free + step);
+        }
+        x
+    }
+}

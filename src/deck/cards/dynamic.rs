@@ -331,6 +331,48 @@ impl Darea {
     }
 }
 
+/// `TIC` — transient initial condition of one grid component, selected by case control
+/// `IC = SID`. On a pROM (`ROM =`) the grid component must be an input DOF of the pROM; the
+/// reduced initial state is then the static shape with these input displacements (see
+/// "Initial conditions" in the README).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | SID | int > 0 | required | set id |
+/// | 3 | G | int > 0 | required | grid |
+/// | 4 | C | one component 1–6 | required | component (grid's displacement frame) |
+/// | 5 | U0 | real | 0.0 | initial displacement |
+/// | 6 | V0 | real | 0.0 | initial velocity |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tic {
+    pub sid: u32,
+    pub grid: u32,
+    /// Component 1–6.
+    pub component: usize,
+    pub u0: f64,
+    pub v0: f64,
+    pub loc: Loc,
+}
+
+impl Tic {
+    /// Read a `TIC` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let sid = f.id(1, "SID");
+        f.set_id(sid);
+        let grid = f.id(2, "G");
+        let c = f.int(3, "C");
+        if !(1..=6).contains(&c) {
+            f.error(3, "C", format!("expected one component 1-6, found {c}"));
+        }
+        let u0 = f.real_or(4, "U0", 0.0);
+        let v0 = f.real_or(5, "V0", 0.0);
+        let loc = f.loc();
+        f.finish(5)?;
+        Ok(Tic { sid, grid, component: c.clamp(1, 6) as usize, u0, v0, loc })
+    }
+}
+
 /// `TABLED1` — tabular function y(x) with linear interpolation.
 ///
 /// | field | name | type | default | meaning |

@@ -301,6 +301,38 @@ impl Tablef {
     }
 }
 
+/// `PTABLE` — a pROM parameter that follows a table of time in a transient (`SOL 109/112` with
+/// `ROM =`), e.g. E degrading 10 %/s (thesis §8.6.2). Selected together with the constant
+/// values by the subcase's `PVAL = ID`: one id names the whole parameter state of a run, and a
+/// parameter is either constant (PVAL) or tabulated (PTABLE), never both.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | ID | int > 0 | required | id (selected by case control `PVAL = id`) |
+/// | 3 | NAME | name | required | PMPAR name |
+/// | 4 | TID | int > 0 | required | TABLED1 or TABLEF id of the value p(t) |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ptable {
+    pub id: u32,
+    pub name: String,
+    pub tid: u32,
+    pub loc: Loc,
+}
+
+impl Ptable {
+    /// Read a `PTABLE` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "ID");
+        f.set_id(id);
+        let name = f.text(2, "NAME");
+        let tid = f.id(3, "TID");
+        let loc = f.loc();
+        f.finish(3)?;
+        Ok(Ptable { id, name, tid, loc })
+    }
+}
+
 /// `TINTEG` — time integrator for the `TSTEP` of the same id.
 ///
 /// | field | name | type | default | meaning |

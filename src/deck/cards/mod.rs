@@ -21,10 +21,10 @@ mod rigid;
 
 pub use constraints::{Aset1, Spc, Spc1, Spcadd};
 pub use design::{Ddval, Desvar};
-pub use dynamic::{Darea, Dload, Eigrl, Freq, FreqKind, Rload1, Tabled1, Tload1, Tstep};
+pub use dynamic::{Darea, Dload, Eigrl, Freq, FreqKind, Rload1, Tabled1, Tic, Tload1, Tstep};
 pub use elements::{Celas1, Celas2, Chexa, Conm2, CornerThickness, Cpenta, Cquad4, Ctetra, Ctria3, ShellOrientation, SpringEnd};
 pub use estimate::{Ekf, Ekfinp, Ekfpar, Meas, Measf};
-pub use extension::{Pmor, Pmpar, PmparKind, Pval, Sensor, SensorKind, Tablef, Tinteg};
+pub use extension::{Pmor, Pmpar, PmparKind, Ptable, Pval, Sensor, SensorKind, Tablef, Tinteg};
 pub use geometry::{Cord2, CordKind, Grid};
 pub use loads::{Force, ForceKind, Grav, Load};
 pub use materials::{Mat1, Mat8};
@@ -71,6 +71,8 @@ pub struct BulkData {
     pub tload1: Vec<Tload1>,
     pub rload1: Vec<Rload1>,
     pub darea: Vec<Darea>,
+    pub tic: Vec<Tic>,
+    pub ptable: Vec<Ptable>,
     pub tabled1: Vec<Tabled1>,
     pub dload: Vec<Dload>,
     pub params: Vec<Param>,
@@ -129,6 +131,8 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("TLOAD1", |c, b| Ok(b.tload1.push(Tload1::from_card(c)?))),
     ("RLOAD1", |c, b| Ok(b.rload1.push(Rload1::from_card(c)?))),
     ("DAREA", |c, b| Ok(b.darea.extend(Darea::from_card(c)?))),
+    ("TIC", |c, b| Ok(b.tic.push(Tic::from_card(c)?))),
+    ("PTABLE", |c, b| Ok(b.ptable.push(Ptable::from_card(c)?))),
     ("TABLED1", |c, b| Ok(b.tabled1.push(Tabled1::from_card(c)?))),
     ("DLOAD", |c, b| Ok(b.dload.push(Dload::from_card(c)?))),
     ("PARAM", |c, b| Ok(b.params.push(Param::from_card(c)?))),
