@@ -6,7 +6,7 @@
    of 5 N at the tip grid 71 along z (thesis Table 8.1) at the nominal E, RHO; "degrading": the
    sine with E falling by 10 %/s (PTABLE ramp, §8.6.2); "IC": the sine from the initial tip
    displacement TIC 71:3 = 1 mm (non-zero initial conditions, §8.6.4); then
-   tools/estimate/make_measurements.py (noise 1e-7 m on DISP, 1e-3 m/s² on ACCEL, seeded) with
+   tools/estimate/make_measurements.py (noise 1e-7 m on DISP, 1e-7 on STRAIN, 1e-3 m/s² on ACCEL, seeded) with
    the true E(t) in the E column;
 3. per case, SOL ESTIMATE (E +25 %, RHO −30 % initial guesses, δ as §8.6.1) and the error over
    the last 20 % of the window, or the refusal and its cause for the unobservable cases;
@@ -51,9 +51,15 @@ CASES = [
     # §8.6.4, settings of §8.6.3; the filter does not know the initial state: P0STATE = 1e-2
     ("E, input (IC)", "EKFPAR,1,E,{e0:e},1.E-3,1.E20\nEKFINP,1,71,3,80.,5.\n", ["D71", "D93"], ["sine, IC"], 0.08, False),
 ]
+# the same with the thesis's strain gauges (§8.5.1, noise 1e-7) instead of displacements
+CASES += [
+    ("E (strain)", "EKFPAR,1,E,{e0:e},1.E-3\n", ["S134", "S192"], ["static", "sine"], 0.05, True),
+    ("E, RHO (strain)", "EKFPAR,1,E,{e0:e},1.\nEKFPAR,1,RHO,{r0:e},1.\n", ["S134", "S192", "A93"], ["sine"], 0.5, True),
+    ("degrading E (strain)", "EKFPAR,1,E,{e0:e},1.\n", ["S134", "S192"], ["sine, degrading E"], 1.0, True),
+]
 # EKF card per case (P0STATE for the unknown initial state of the IC case)
 EKF_CARD = {"E, input (IC)": "EKF,1,,1.E-2\n"}
-SIGMA = {"D": 1e-7, "A": 1e-3}
+SIGMA = {"D": 1e-7, "A": 1e-3, "S": 1e-7}
 
 
 def run(paraflex: str, deck: Path, out: Path) -> subprocess.CompletedProcess:
@@ -83,7 +89,7 @@ def main() -> None:
             assert r.returncode == 0, r.stderr
             meas = tmp / f"meas_{k}.csv"
             subprocess.run([sys.executable, str(ROOT / "tools/estimate/make_measurements.py"), str(tmp / f"tr_{k}.h5"), "-o", str(meas),
-                            "--sigma", "DISP=1e-7", "--sigma", "ACCEL=1e-3", "--truth", f"E={E}", "--truth", f"RHO={RHO}", "--seed", "1"], check=True, capture_output=True)
+                            "--sigma", "DISP=1e-7", "--sigma", "ACCEL=1e-3", "--sigma", "STRAIN=1e-7", "--truth", f"E={E}", "--truth", f"RHO={RHO}", "--seed", "1"], check=True, capture_output=True)
             # the true E(t) (the PTABLE ramp) replaces the constant truth column
             with open(meas) as f:
                 lines = list(csv.reader(f))
@@ -120,7 +126,7 @@ def main() -> None:
                                  "bound": bound, "note": "ok" if abs(avg) <= bound else "ABOVE BOUND"})
                     print(f"{name} / {data}: {p} error min {lo:.4f} avg {avg:.4f} max {hi:.4f} % (bound {bound} %), {speed:.0f} steps/s")
     with open(args.output, "w", newline="") as f:
-        f.write("# SOL ESTIMATE on the blade pROM (decks/estimate/blade_prom_sensors.dat), 1 s at 0.1 ms, noise 1e-7 m (DISP) and 1e-3 m/s2 (ACCEL), seed 1;\n"
+        f.write("# SOL ESTIMATE on the blade pROM (decks/estimate/blade_prom_sensors.dat), 1 s at 0.1 ms, noise 1e-7 m (DISP), 1e-7 (STRAIN) and 1e-3 m/s2 (ACCEL), seed 1;\n"
                 "# relative error [%] over the last 20 % of the window (thesis Table 8.2 format); bound = issue 7 acceptance on |avg|.\n"
                 "# Made by tools/estimate/blade_cases.py.\n")
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
