@@ -9,6 +9,7 @@
 pub mod assembly;
 pub mod deck;
 pub mod dynamics;
+pub mod estimate;
 pub mod fe;
 pub mod io;
 pub mod linalg;

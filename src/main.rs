@@ -286,6 +286,22 @@ mod report {
                     println!("subcase {}: transient of the pROM {} ({}), {} step(s), outputs {}", sub.id, r.rom.display(), r.method, r.steps, r.outputs.join(", "));
                     println!("  largest |displacement| {} at t = {} s", sci(r.peak.0, 4), sci(r.peak.1, 4));
                 }
+                SubcaseResult::Estimate(e) => {
+                    println!("subcase {}: estimation on the pROM {}, {} step(s), {} steps/s", sub.id, e.rom.display(), e.steps, sci(e.steps_per_second, 3));
+                    println!("  {}", e.observability);
+                    for (name, value, sigma) in &e.params {
+                        println!("  {name} = {} ± {} (3σ) at the end", sci(*value, 6), sci(3.0 * sigma, 2));
+                    }
+                    if !e.error_table.is_empty() {
+                        println!("  error over the last 20 % [%]: {:>10} {:>10} {:>10}", "min", "avg", "max");
+                        for r in &e.error_table {
+                            println!("  {:<28} {:>10.4} {:>10.4} {:>10.4}", r.name, r.min, r.avg, r.max);
+                        }
+                    }
+                    for (name, aae, mra) in &e.sensor_errors {
+                        println!("  sensor {name}: AAE {} MRA {}", sci(*aae, 3), sci(*mra, 3));
+                    }
+                }
                 SubcaseResult::Transient(r) => {
                     println!("subcase {}: transient of the full model (f-set {} DOFs, {}), {} step(s), {} factorization(s), {} sensor(s)", sub.id, r.f_size, r.method, r.steps, r.factorizations, r.sensors);
                     if let Some((name, value, t)) = &r.peak {

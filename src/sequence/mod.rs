@@ -35,6 +35,7 @@
 //! Vectors are written in the basic system (rotated back from the grids' CD frames).
 
 pub mod elements;
+pub mod estimate;
 pub mod frf;
 pub mod modal;
 pub mod parameters;
@@ -77,6 +78,8 @@ pub enum Sequence {
     /// SOL TRANSIENT (109/112): time response, on pROM artifacts ([`rom_transient`]) and on the
     /// full model by direct integration ([`transient`]; SOL 112 too: no modal superposition).
     Transient,
+    /// SOL ESTIMATE: states, inputs and parameters from measurements (augmented EKF) on a pROM.
+    Estimate,
 }
 
 impl Sequence {
@@ -88,6 +91,7 @@ impl Sequence {
             Solution::Prom => Some(Sequence::Prom),
             Solution::Frf | Solution::FrfDirect | Solution::FrfModal => Some(Sequence::Frf),
             Solution::Transient | Solution::TransientDirect | Solution::TransientModal => Some(Sequence::Transient),
+            Solution::Estimate => Some(Sequence::Estimate),
             _ => None,
         }
     }
@@ -100,6 +104,7 @@ impl Sequence {
             Sequence::Prom => "PROM",
             Sequence::Frf => "FRF",
             Sequence::Transient => "TRANSIENT",
+            Sequence::Estimate => "ESTIMATE",
         }
     }
 }
@@ -164,6 +169,7 @@ pub enum SubcaseResult {
     RomFrf(rom_frf::RomFrfSummary),
     RomTransient(rom_transient::RomTransientSummary),
     Transient(transient::TransientSummary),
+    Estimate(estimate::EstimateSummary),
 }
 
 /// Errors of a run. Each says where (element, GRID and component, subcase) and what to do.
@@ -200,8 +206,8 @@ pub enum RunError {
 
 /// The sequence that runs `model`'s SOL, or why none can: no SOL, a SOL without a driver, or
 /// subcases that mix `ROM =` with full-model subcases (one run is either on pROM artifacts or
-/// on the deck's mesh). The CLI asks before running, to write the model and exit with "not
-/// available".
+/// on the deck's mesh), or an estimation on the full model (this version runs it on pROMs
+/// only). The CLI asks before running, to write the model and exit with "not available".
 pub fn runnable(deck: &Deck, model: &Model) -> Result<Sequence, RunError> {
     let (sol, text) = deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
     let sequence = Sequence::of_solution(*sol).ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
@@ -215,7 +221,10 @@ pub fn runnable(deck: &Deck, model: &Model) -> Result<Sequence, RunError> {
         )));
     }
     if rom_case::applies(model) && matches!(sequence, Sequence::Statics | Sequence::Prom) {
-        return Err(RunError::NotAvailable(format!("{text} ({}) on a pROM artifact (ROM =): pROMs run SOL 103, FRF and TRANSIENT", sol.name())));
+        return Err(RunError::NotAvailable(format!("{text} ({}) on a pROM artifact (ROM =): pROMs run SOL 103, FRF, TRANSIENT and ESTIMATE", sol.name())));
+    }
+    if sequence == Sequence::Estimate && !rom_case::applies(model) {
+        return Err(RunError::NotAvailable(format!("{text} ({}) on the full model (this version runs it on pROM artifacts: every subcase needs ROM = 'file.h5')", sol.name())));
     }
     Ok(sequence)
 }
@@ -228,6 +237,8 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         (Sequence::Modal, true) => rom_modal::run(ctx, &mut clock)?,
         (Sequence::Frf, true) => rom_frf::run(ctx, &mut clock)?,
         (Sequence::Transient, true) => rom_transient::run(ctx, &mut clock)?,
+        (Sequence::Estimate, true) => estimate::run(ctx, &mut clock)?,
+        (Sequence::Estimate, false) => return Err(RunError::NotAvailable(format!("{} on the full model", sequence.name()))),
         (Sequence::Statics | Sequence::Modal | Sequence::Prom | Sequence::Frf | Sequence::Transient, _) => {
             let structure = Structure::build(ctx, &mut clock)?;
             match sequence {
@@ -252,10 +263,20 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
             SubcaseResult::RomModal(r) => Some((&r.extrapolated, &r.rom)),
             SubcaseResult::RomFrf(r) => Some((&r.extrapolated, &r.rom)),
             SubcaseResult::RomTransient(r) => Some((&r.extrapolated, &r.rom)),
+            SubcaseResult::Estimate(r) => Some((&r.extrapolated, &r.rom)),
             _ => None,
         };
         if let Some((names, rom)) = extrapolated.filter(|(names, _)| !names.is_empty()) {
             warnings.push(format!("subcase {}: parameter(s) {} lie outside the box the pROM {} was built for: extrapolated", s.id, names.join(", "), rom.display()));
+        }
+        if let SubcaseResult::Estimate(e) = &s.result {
+            if e.forced {
+                warnings.push(format!("subcase {}: FORCE = YES: the filter ran although the problem is {}", s.id, e.observability));
+            }
+            if !e.hidden_modes.is_empty() {
+                let modes: Vec<String> = e.hidden_modes.iter().map(|(k, f)| format!("{k} ({f:.4e} Hz)")).collect();
+                warnings.push(format!("subcase {}: mode(s) {} are not seen by the measured sensors (unobservable at s = λ, but stable: detectable, thesis §7.5.1)", s.id, modes.join(", ")));
+            }
         }
         if let SubcaseResult::Prom(p) = &s.result {
             if !p.log.converged {

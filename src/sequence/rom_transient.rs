@@ -220,7 +220,7 @@ fn initial_state(ctx: &RunContext, sub: &Subcase, names: &[String], s_r: &Mat<f6
 
 /// Adds a DAREA entry, which must name a pROM input DOF (`GRID:component`), to a reduced load
 /// shape: scale × column of S_r.
-fn place_input(names: &[String], s_r: &Mat<f64>, d: &Darea, comp: usize, scale: f64, shape: &mut [f64]) -> Result<(), String> {
+pub(super) fn place_input(names: &[String], s_r: &Mat<f64>, d: &Darea, comp: usize, scale: f64, shape: &mut [f64]) -> Result<(), String> {
     let name = format!("{}:{comp}", d.grid);
     let j = names.iter().position(|x| *x == name).ok_or_else(|| format!("DAREA {}: GRID {} component {comp} is not an input DOF of the pROM (inputs: {})", d.sid, d.grid, names.join(", ")))?;
     shape.iter_mut().enumerate().for_each(|(i, s)| *s += scale * s_r[(i, j)]);

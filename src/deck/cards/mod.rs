@@ -10,6 +10,7 @@ mod constraints;
 mod design;
 mod dynamic;
 mod elements;
+mod estimate;
 mod extension;
 mod geometry;
 mod loads;
@@ -22,6 +23,7 @@ pub use constraints::{Aset1, Spc, Spc1, Spcadd};
 pub use design::{Ddval, Desvar};
 pub use dynamic::{Darea, Dload, Eigrl, Freq, FreqKind, Rload1, Tabled1, Tic, Tload1, Tstep};
 pub use elements::{Celas1, Celas2, Chexa, Conm2, CornerThickness, Cpenta, Cquad4, Ctetra, Ctria3, ShellOrientation, SpringEnd};
+pub use estimate::{Ekf, Ekfinp, Ekfpar, Meas, Measf};
 pub use extension::{Pmor, Pmpar, PmparKind, Ptable, Pval, Sensor, SensorKind, Tablef, Tinteg};
 pub use geometry::{Cord2, CordKind, Grid};
 pub use loads::{Force, ForceKind, Grav, Load};
@@ -82,6 +84,11 @@ pub struct BulkData {
     pub sensors: Vec<Sensor>,
     pub tablef: Vec<Tablef>,
     pub tinteg: Vec<Tinteg>,
+    pub ekf: Vec<Ekf>,
+    pub ekfpar: Vec<Ekfpar>,
+    pub ekfinp: Vec<Ekfinp>,
+    pub measf: Vec<Measf>,
+    pub meas: Vec<Meas>,
 }
 
 /// A card constructor that stores its result in [`BulkData`].
@@ -137,6 +144,11 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("SENSOR", |c, b| Ok(b.sensors.push(Sensor::from_card(c)?))),
     ("TABLEF", |c, b| Ok(b.tablef.push(Tablef::from_card(c)?))),
     ("TINTEG", |c, b| Ok(b.tinteg.push(Tinteg::from_card(c)?))),
+    ("EKF", |c, b| Ok(b.ekf.push(Ekf::from_card(c)?))),
+    ("EKFPAR", |c, b| Ok(b.ekfpar.push(Ekfpar::from_card(c)?))),
+    ("EKFINP", |c, b| Ok(b.ekfinp.push(Ekfinp::from_card(c)?))),
+    ("MEASF", |c, b| Ok(b.measf.push(Measf::from_card(c)?))),
+    ("MEAS", |c, b| Ok(b.meas.push(Meas::from_card(c)?))),
 ];
 
 /// The parser for a card name (upper case), if paraflex supports the card.

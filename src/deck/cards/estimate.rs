@@ -1,0 +1,242 @@
+//! Virtual-sensing cards of `SOL ESTIMATE` (augmented EKF, thesis ch. 8): `EKF`, `EKFPAR`,
+//! `EKFINP`, `MEASF`, `MEAS`. Same field rules as the other extension cards; every bad field is
+//! reported, not only the first.
+
+use crate::deck::error::{DeckError, Loc};
+use crate::deck::fields::RawCard;
+use crate::deck::reader::{Column, FieldReader};
+use crate::deck::value::Value;
+
+/// `EKF` — filter settings, selected by case control `ESTIM = id`.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | ID | int > 0 | required | id |
+/// | 3 | QSTATE | real > 0 | machine ε | diagonal of Q for q and q̇ (thesis §8.5.2: Q_q = Q_q̇ = εI) |
+/// | 4 | P0STATE | real > 0 | 1.0E-20 | initial variance of q and q̇ |
+/// | 5 | FORCE | `YES` `NO` | NO | run even when the observability check fails |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ekf {
+    pub id: u32,
+    pub q_state: f64,
+    pub p0_state: f64,
+    pub force: bool,
+    pub loc: Loc,
+}
+
+impl Ekf {
+    /// Read an `EKF` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "ID");
+        f.set_id(id);
+        let q_state = optional_positive(&mut f, 2, "QSTATE", f64::EPSILON);
+        let p0_state = optional_positive(&mut f, 3, "P0STATE", 1.0e-20);
+        let force = f.keyword(4, "FORCE", &["YES", "NO"], Some("NO")) == "YES";
+        let loc = f.loc();
+        f.finish(4)?;
+        Ok(Ekf { id, q_state, p0_state, force, loc })
+    }
+}
+
+/// `EKFPAR` — an unknown pROM parameter of the `EKF` with the same id.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | ID | int > 0 | required | the EKF id |
+/// | 3 | NAME | name | required | PMPAR name in the pROM |
+/// | 4 | INIT | real ≠ 0 | required | initial guess p₀ |
+/// | 5 | DELTA | real > 0 | required | δ_p in Hz: Q_p = (Δt δ_p INIT)² (eq. 8.31) |
+/// | 6 | P0 | real > 0 | INIT² | initial variance |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ekfpar {
+    pub id: u32,
+    pub name: String,
+    pub init: f64,
+    pub delta: f64,
+    pub p0: f64,
+    pub loc: Loc,
+}
+
+impl Ekfpar {
+    /// Read an `EKFPAR` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "ID");
+        f.set_id(id);
+        let name = f.text(2, "NAME");
+        let init = f.real(3, "INIT");
+        if init == 0.0 && matches!(f.value(3), Value::Real(_)) {
+            f.error(3, "INIT", "the initial guess must not be zero (a zero parameter has no physical meaning, thesis §8.3)");
+        }
+        let delta = f.positive_real(4, "DELTA");
+        let p0 = optional_positive(&mut f, 5, "P0", init * init);
+        let loc = f.loc();
+        f.finish(5)?;
+        Ok(Ekfpar { id, name, init, delta, p0, loc })
+    }
+}
+
+/// `EKFINP` — an unknown input at a pROM input DOF, of the `EKF` with the same id.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | ID | int > 0 | required | the EKF id |
+/// | 3 | GRID | int > 0 | required | grid of the input DOF |
+/// | 4 | COMP | int 1–6 | required | component |
+/// | 5 | OMEGA | real > 0 | required | ω_u in Hz: Q_u = (Δt ω_u a_u)² (eq. 8.30) |
+/// | 6 | AMPL | real > 0 | required | expected amplitude a_u |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ekfinp {
+    pub id: u32,
+    pub grid: u32,
+    pub component: u8,
+    pub omega: f64,
+    pub amplitude: f64,
+    pub loc: Loc,
+}
+
+impl Ekfinp {
+    /// Read an `EKFINP` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "ID");
+        f.set_id(id);
+        let grid = f.id(2, "GRID");
+        let component = f.int(3, "COMP");
+        if !(1..=6).contains(&component) && matches!(f.value(3), Value::Int(_)) {
+            f.error(3, "COMP", format!("expected one component 1–6, found {component}"));
+        }
+        let omega = f.positive_real(4, "OMEGA");
+        let amplitude = f.positive_real(5, "AMPL");
+        let loc = f.loc();
+        f.finish(5)?;
+        Ok(Ekfinp { id, grid, component: component.clamp(1, 6) as u8, omega, amplitude, loc })
+    }
+}
+
+/// `MEASF` — a CSV file of measurements, selected by case control `MEAS = id`.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | ID | int > 0 | required | id |
+/// | 3 | PATH | quoted string | required | CSV file, relative to the file holding the card |
+/// | 4 | TCOL | int ≥ 1 or name | 1 | time column |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Measf {
+    pub id: u32,
+    pub path: String,
+    pub tcol: Column,
+    pub loc: Loc,
+}
+
+impl Measf {
+    /// Read a `MEASF` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "ID");
+        f.set_id(id);
+        let path = f.path(2, "PATH");
+        let tcol = if f.value(3).is_blank() { Column::Index(1) } else { f.column(3, "TCOL") };
+        let loc = f.loc();
+        f.finish(3)?;
+        Ok(Measf { id, path, tcol, loc })
+    }
+}
+
+/// `MEAS` — one measured channel of the `MEASF` with the same id.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | ID | int > 0 | required | the MEASF id |
+/// | 3 | SENSOR | name | required | SENSOR name in the pROM |
+/// | 4 | COLUMN | int ≥ 1 or name | required | CSV column |
+/// | 5 | SIGMA | real > 0 | required | noise standard deviation (R = σ²) |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Meas {
+    pub id: u32,
+    pub sensor: String,
+    pub column: Column,
+    pub sigma: f64,
+    pub loc: Loc,
+}
+
+impl Meas {
+    /// Read a `MEAS` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "ID");
+        f.set_id(id);
+        let sensor = f.text(2, "SENSOR");
+        let column = if f.value(3).is_blank() {
+            f.error(3, "COLUMN", "expected a 1-based column index or a column name, found a blank field");
+            Column::Index(1)
+        } else {
+            f.column(3, "COLUMN")
+        };
+        let sigma = f.positive_real(4, "SIGMA");
+        let loc = f.loc();
+        f.finish(4)?;
+        Ok(Meas { id, sensor, column, sigma, loc })
+    }
+}
+
+/// A real that must be > 0 when given; `default` when blank.
+fn optional_positive(f: &mut FieldReader, i: usize, name: &str, default: f64) -> f64 {
+    match f.opt_real(i, name) {
+        Some(v) if v <= 0.0 => {
+            f.error(i, name, format!("expected a real > 0, found {v:e}"));
+            default
+        }
+        Some(v) => v,
+        None => default,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::deck::reader::Column;
+
+    /// A card from a free-field line (name, fields…).
+    fn card(line: &str) -> RawCard {
+        let mut parts = line.split(',');
+        let name = parts.next().unwrap().to_string();
+        RawCard {
+            name,
+            loc: Loc::new(&std::sync::Arc::from(std::path::Path::new("t.bdf")), 1),
+            fields: parts.map(crate::deck::value::lex).collect(),
+            row_lines: vec![2],
+        }
+    }
+
+    #[test]
+    fn cards_read_with_defaults() {
+        let e = Ekf::from_card(&card("EKF,3")).unwrap();
+        assert_eq!((e.id, e.q_state, e.p0_state, e.force), (3, f64::EPSILON, 1e-20, false));
+        let e = Ekf::from_card(&card("EKF,3,1.e-12,1.e-10,YES")).unwrap();
+        assert_eq!((e.q_state, e.p0_state, e.force), (1e-12, 1e-10, true));
+        let p = Ekfpar::from_card(&card("EKFPAR,3,e,2.5e11,1.e-3")).unwrap();
+        assert_eq!((p.name.as_str(), p.init, p.delta, p.p0), ("E", 2.5e11, 1e-3, 2.5e11 * 2.5e11));
+        let u = Ekfinp::from_card(&card("EKFINP,3,12,3,80.,5.")).unwrap();
+        assert_eq!((u.grid, u.component, u.omega, u.amplitude), (12, 3, 80.0, 5.0));
+        let m = Measf::from_card(&card("MEASF,4,'meas.csv',time")).unwrap();
+        assert_eq!((m.path.as_str(), m.tcol.clone()), ("meas.csv", Column::Name("time".into())));
+        let m = Meas::from_card(&card("MEAS,4,S1,3,1.e-7")).unwrap();
+        assert_eq!((m.sensor.as_str(), m.column.clone(), m.sigma), ("S1", Column::Index(3), 1e-7));
+    }
+
+    /// Every bad field is reported, each naming its field.
+    #[test]
+    fn every_bad_field_is_reported() {
+        let errors = Ekf::from_card(&card("EKF,3,-1.,0.,MAYBE")).unwrap_err();
+        assert_eq!(errors.len(), 3, "{errors:?}");
+        let errors = Ekfpar::from_card(&card("EKFPAR,3,E,0.,-1.,-2.")).unwrap_err();
+        let text: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
+        assert_eq!(errors.len(), 3, "{text:?}");
+        assert!(text.iter().any(|t| t.contains("INIT") && t.contains("zero")), "{text:?}");
+        assert_eq!(Ekfinp::from_card(&card("EKFINP,3,12,7,-80.,")).unwrap_err().len(), 3);
+        assert_eq!(Meas::from_card(&card("MEAS,4,S1,,0.")).unwrap_err().len(), 2);
+        assert_eq!(Measf::from_card(&card("MEASF,4,,,extra")).unwrap_err().len(), 2);
+    }
+}

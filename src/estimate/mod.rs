@@ -1,0 +1,29 @@
+//! Virtual sensing on pROMs (thesis ch. 7–8): joint estimation of states, unknown inputs and
+//! parameters with the augmented EKF, usable from Rust without a deck.
+//!
+//! - [`filter`]: the augmented EKF with BDF1 and analytic Jacobians (eq. 8.1–8.35).
+//! - [`measurement`]: sensor equations y = h(x*) (eq. 8.36), shared with the other pROM drivers.
+//! - [`observability`]: the PBH test before a run (eq. 8.40–8.41, §8.4.3–8.4.4).
+//! - [`covariance`]: the rules of thumb for Q of inputs and parameters (eq. 8.30–8.31).
+
+pub mod filter;
+pub mod measurement;
+pub mod observability;
+
+pub use filter::{Filter, FilterError, FilterSetup};
+pub use measurement::{Reads, SensorRows};
+
+/// Rules of thumb for the random-walk covariances (thesis §8.3).
+pub mod covariance {
+    /// Q_u = (Δt ω_u a_u)² for an input of expected frequency ω_u (Hz, as the EKFINP card
+    /// gives it) and amplitude a_u (eq. 8.30).
+    pub fn input(dt: f64, omega_hz: f64, amplitude: f64) -> f64 {
+        (dt * omega_hz * amplitude).powi(2)
+    }
+
+    /// Q_p = (Δt δ_p a_p)² for a parameter with scaling δ_p (Hz) and tentative value a_p
+    /// (eq. 8.31).
+    pub fn parameter(dt: f64, delta_hz: f64, initial: f64) -> f64 {
+        (dt * delta_hz * initial).powi(2)
+    }
+}

@@ -1,0 +1,405 @@
+//! `SOL ESTIMATE` on a pROM artifact (`ROM = 'file.h5'`): joint estimation of states, unknown
+//! inputs and parameters with the augmented EKF of [`crate::estimate`] (thesis ch. 8).
+//!
+//! Case control: `ESTIM = id` (EKF card with its EKFPAR / EKFINP), `MEAS = id` (MEASF with its
+//! MEAS channels), `TSTEP` (the filter step: one Δt for all intervals), `DLOAD` (known inputs,
+//! TLOAD1 on pROM input DOFs, as in SOL TRANSIENT), `PVAL` (values of the parameters that are
+//! not estimated).
+//!
+//! Measurements are read from the CSV and interpolated linearly onto t_k = k Δt (thesis §8.7);
+//! the window must lie inside the measured time range. CSV columns named like a pROM SENSOR
+//! that no MEAS uses serve as references for that (virtual) sensor's AAE; columns named like
+//! an estimated parameter (or an unknown input `GRID:COMP`) hold its true value for the error
+//! table (numerical validation, §8.6).
+//!
+//! Before the run, the PBH test ([`crate::estimate::observability`]) runs at operating points
+//! of the initial estimate: the static equilibrium under the loads whose table is constant over
+//! the window, plus 8 states of a BDF1 simulation of the time-varying loads. Unknown inputs
+//! count as static when every measured channel stays within 3σ of its mean over the second
+//! half of the window (σ of its MEAS card), and as a sine of their EKFINP frequency and
+//! amplitude otherwise. An unobservable problem stops the run with its cause unless the EKF
+//! card says FORCE = YES.
+//!
+//! Written under `/results/<id>/estimate/`: `time (t)`; `params/<name>`, `params_sigma/<name>`
+//! (t: estimate and standard deviation, ±3σ bands are 3 × the latter); `inputs/<GRID:COMP>`,
+//! `inputs_sigma/<GRID:COMP>`; `sensors/<name>` (t, every pROM sensor, measured or virtual,
+//! posterior; attributes `measured`, and `aae`, `mra` when the CSV has a reference);
+//! `innovation/<name>` (t, measured sensors); `error_table` (rows × 3: min, avg, max relative
+//! error in % over the last 20 % of the window, attribute `rows`); attributes `rom`,
+//! `observability`, `forced`, `steps_per_second`.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use faer::Mat;
+use faer::linalg::solvers::Solve;
+
+use super::rom_case::RomAtPoint;
+use super::rom_transient::place_input;
+use super::transient::{LoadTerm, load_terms};
+use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
+use crate::deck::case_control::Subcase;
+use crate::deck::reader::Column;
+use crate::dynamics::integrators::{LinearSystem, Method, integrate};
+use crate::dynamics::table::Table;
+use crate::estimate::observability::{self, OperatingPoint, Unknown};
+use crate::estimate::{Filter, FilterSetup, SensorRows, covariance};
+use crate::io::csv_table::read_columns;
+use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64, set_attr_i64, set_attr_str, set_attr_strings, write_f64};
+use crate::rom::prom::PromEvaluation;
+
+/// Relative error statistics of one estimated quantity over the last 20 % (thesis Table 8.2).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ErrorRow {
+    pub name: String,
+    /// Percent.
+    pub min: f64,
+    pub avg: f64,
+    pub max: f64,
+}
+
+/// What one estimation subcase computed.
+#[derive(Debug, Clone)]
+pub struct EstimateSummary {
+    pub rom: PathBuf,
+    pub steps: usize,
+    /// (name, final estimate, final σ) per estimated parameter.
+    pub params: Vec<(String, f64, f64)>,
+    pub error_table: Vec<ErrorRow>,
+    /// (sensor, AAE, MRA) for sensors with a reference column.
+    pub sensor_errors: Vec<(String, f64, f64)>,
+    /// The PBH verdict, in words.
+    pub observability: String,
+    /// Unobservable but run because of FORCE = YES.
+    pub forced: bool,
+    pub hidden_modes: Vec<(usize, f64)>,
+    pub extrapolated: Vec<String>,
+    pub steps_per_second: f64,
+}
+
+/// Runs every subcase.
+pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+    ctx.model.subcases.iter().map(|sub| clock.time(format!("subcase {}: estimation", sub.id), || subcase(ctx, sub))).collect()
+}
+
+fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
+    let id = sub.id;
+    let case = |what: String| RunError::Case { subcase: id, what };
+    let b = &ctx.model.bulk;
+    let RomAtPoint { path, prom, mut p, extrapolated, .. } = RomAtPoint::load(ctx, sub)?;
+    let n = prom.size();
+    let ekf_id = sub.estim.ok_or_else(|| case("SOL ESTIMATE needs ESTIM = <EKF id> in case control".into()))?;
+    let ekf = b.ekf.iter().find(|e| e.id == ekf_id).ok_or_else(|| case(format!("ESTIM = {ekf_id} selects no EKF card")))?;
+    let meas_id = sub.meas.ok_or_else(|| case("SOL ESTIMATE needs MEAS = <MEASF id> in case control".into()))?;
+    let measf = b.measf.iter().find(|m| m.id == meas_id).ok_or_else(|| case(format!("MEAS = {meas_id} selects no MEASF card")))?;
+    let channels: Vec<_> = b.meas.iter().filter(|m| m.id == meas_id).collect();
+    if channels.is_empty() {
+        return Err(case(format!("MEASF {meas_id} has no MEAS channel")));
+    }
+    let sid = sub.tstep.ok_or_else(|| case("SOL ESTIMATE needs TSTEP = <sid> for the filter step".into()))?;
+    let tstep = b.tstep.iter().find(|t| t.sid == sid).ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
+    let dt = tstep.intervals[0].1;
+    if tstep.intervals.iter().any(|i| i.1 != dt) {
+        return Err(case(format!("TSTEP {sid}: the filter runs with one step Δt; intervals have different DT")));
+    }
+    let steps: usize = tstep.intervals.iter().map(|i| i.0 as usize).sum();
+
+    // unknowns
+    let param_names: Vec<&str> = prom.parameters.iter().map(|q| q.name.as_str()).collect();
+    let mut unknown_params = Vec::new();
+    for par in b.ekfpar.iter().filter(|x| x.id == ekf_id) {
+        let j = param_names.iter().position(|q| q.eq_ignore_ascii_case(&par.name)).ok_or_else(|| case(format!("EKFPAR {ekf_id}: {} is not a parameter of {} (parameters: {})", par.name, path.display(), param_names.join(", "))))?;
+        if unknown_params.iter().any(|(k, _)| *k == j) {
+            return Err(case(format!("EKFPAR {ekf_id}: {} is listed twice", par.name)));
+        }
+        p[j] = par.init;
+        unknown_params.push((j, par));
+    }
+    let (input_names, s_r) = read_prom_inputs(&path, n)?;
+    let mut unknown_inputs = Vec::new();
+    for inp in b.ekfinp.iter().filter(|x| x.id == ekf_id) {
+        let name = format!("{}:{}", inp.grid, inp.component);
+        let j = input_names.iter().position(|x| *x == name).ok_or_else(|| case(format!("EKFINP {ekf_id}: GRID {} component {} is not an input DOF of the pROM (inputs: {})", inp.grid, inp.component, input_names.join(", "))))?;
+        unknown_inputs.push((j, name, inp));
+    }
+    let s_un = Mat::from_fn(n, unknown_inputs.len(), |i, k| s_r[(i, unknown_inputs[k].0)]);
+
+    // sensors and measurements
+    let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, n)?;
+    let sensors = SensorRows::new(sensor_names, sensor_kinds, h_r).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let csv = measf.loc.file.parent().map_or_else(|| PathBuf::from(&measf.path), |dir| dir.join(&measf.path));
+    let window = (dt, steps as f64 * dt);
+    let mut measured_rows = Vec::new();
+    let mut measured_series = Vec::new();
+    for m in &channels {
+        let r = sensors.names.iter().position(|x| x.eq_ignore_ascii_case(&m.sensor)).ok_or_else(|| case(format!("MEAS {meas_id}: {} is not a SENSOR of {} (sensors: {})", m.sensor, path.display(), sensors.names.join(", "))))?;
+        measured_rows.push(r);
+        measured_series.push(resample(&csv, &measf.tcol, &m.column, window, steps).map_err(|e| case(format!("MEAS {meas_id} {}: {e}", m.sensor)))?);
+    }
+    let measured = sensors.select(&measured_rows);
+    let sigma: Vec<f64> = channels.iter().map(|m| m.sigma).collect();
+    let header = csv_header(&csv).map_err(|e| case(format!("MEASF {meas_id}: {e}")))?;
+    let reference = |name: &str| -> Result<Option<Vec<f64>>, RunError> {
+        match header.iter().any(|h| h.eq_ignore_ascii_case(name)) {
+            true => resample(&csv, &measf.tcol, &Column::Name(name.to_string()), window, steps).map(Some).map_err(|e| case(format!("MEASF {meas_id} reference {name}: {e}"))),
+            false => Ok(None),
+        }
+    };
+
+    // known loads, filter setup, observability
+    let loads = match sub.dload {
+        None => Vec::new(),
+        Some(dload) => load_terms(ctx, dload, n, |d, comp, scale, shape| place_input(&input_names, &s_r, d, comp, scale, shape), |_| Ok(None)).map_err(case)?,
+    };
+    let load_at = |t: f64, f: &mut [f64], which: &dyn Fn(&LoadTerm) -> bool| {
+        f.fill(0.0);
+        for term in loads.iter().filter(|t| which(t)) {
+            let a = term.table.value(t - term.delay);
+            f.iter_mut().zip(&term.shape).for_each(|(fi, s)| *fi += a * s);
+        }
+    };
+    let setup = FilterSetup {
+        p: p.clone(),
+        unknown_params: unknown_params.iter().map(|(j, _)| *j).collect(),
+        s_un: s_un.clone(),
+        measured: measured.clone(),
+        r: sigma.iter().map(|s| s * s).collect(),
+        dt,
+        q_state: ekf.q_state,
+        q_inputs: unknown_inputs.iter().map(|(_, _, u)| covariance::input(dt, u.omega, u.amplitude)).collect(),
+        q_params: unknown_params.iter().map(|(_, par)| covariance::parameter(dt, par.delta, par.init)).collect(),
+        q0: vec![0.0; n],
+        v0: vec![0.0; n],
+        u0: vec![0.0; unknown_inputs.len()],
+        p0_state: ekf.p0_state,
+        p0_inputs: unknown_inputs.iter().map(|(_, _, u)| u.amplitude * u.amplitude).collect(),
+        p0_params: unknown_params.iter().map(|(_, par)| par.p0).collect(),
+        prom: prom.clone(),
+    };
+    let mut at = prom.workspace();
+    prom.evaluate(&p, &mut at).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let static_inputs = measured_series.iter().zip(&sigma).all(|(y, s)| {
+        let tail = &y[y.len() / 2..];
+        let mean = tail.iter().sum::<f64>() / tail.len().max(1) as f64;
+        tail.iter().all(|v| (v - mean).abs() <= 3.0 * s)
+    });
+    let inputs_for_points: Vec<(f64, f64)> = unknown_inputs.iter().map(|(_, _, u)| (u.omega, u.amplitude)).collect();
+    let constant = |term: &LoadTerm| (1..=steps).all(|k| term.table.value(k as f64 * dt - term.delay) == term.table.value(dt - term.delay));
+    let points = operating_points(&at, &s_un, &inputs_for_points, static_inputs, dt, steps, &|t, f, static_part| load_at(t, f, &|term| constant(term) == static_part))
+        .map_err(|e| case(format!("observability check: {e}")))?;
+    let mut unknowns: Vec<Unknown> = unknown_inputs.iter().map(|(_, name, _)| Unknown::Input(name.clone())).collect();
+    unknowns.extend(unknown_params.iter().map(|(j, _)| Unknown::Parameter {
+        name: prom.parameters[*j].name.clone(),
+        stiffness: at.d_stiffness[*j].norm_max() > 0.0,
+        mass: at.d_mass[*j].norm_max() > 0.0,
+    }));
+    let modes = crate::linalg::dense::generalized_eigen(at.stiffness.as_ref(), at.mass.as_ref()).map_err(|e| case(format!("{}: modes of the initial estimate: {e}", path.display())))?;
+    let problem = observability::Problem { at: &at, alpha_beta: (prom.alpha, prom.beta), s_un: &s_un, params: &setup.unknown_params, unknowns: &unknowns, measured: &measured };
+    let verdict = observability::check(&problem, &points, (&modes.0, &modes.1));
+    let observability_text = match &verdict.cause {
+        None => format!("observable: PBH(0) rank {} of {} (σ_min/σ_max {:.1e}, tolerance {:e})", verdict.rank, verdict.columns, verdict.ratio, observability::RANK_TOLERANCE),
+        Some(cause) => format!("unobservable: PBH(0) rank {} of {} (tolerance {:e}): {cause}", verdict.rank, verdict.columns, observability::RANK_TOLERANCE),
+    };
+    if !verdict.observable() && !ekf.force {
+        return Err(case(format!("the estimation problem is {observability_text}. Change the sensors, unknowns or loads, or set FORCE = YES on EKF {ekf_id} to run anyway")));
+    }
+
+    // the filter
+    let mut filter = Filter::new(setup).map_err(|e| case(e.to_string()))?;
+    let (nu, np) = (unknown_inputs.len(), unknown_params.len());
+    let big_n = filter.size();
+    let mut time = Vec::with_capacity(steps);
+    let mut params_hist = vec![Vec::with_capacity(steps); np];
+    let mut params_sigma = vec![Vec::with_capacity(steps); np];
+    let mut inputs_hist = vec![Vec::with_capacity(steps); nu];
+    let mut inputs_sigma = vec![Vec::with_capacity(steps); nu];
+    let mut sensor_hist = vec![Vec::with_capacity(steps); sensors.len()];
+    let mut innovation = vec![Vec::with_capacity(steps); measured.len()];
+    let (mut f, mut y, mut y_all) = (vec![0.0; n], vec![0.0; measured.len()], vec![0.0; sensors.len()]);
+    let started = Instant::now();
+    for k in 1..=steps {
+        let t = k as f64 * dt;
+        load_at(t, &mut f, &|_| true);
+        y.iter_mut().zip(&measured_series).for_each(|(y, s)| *y = s[k - 1]);
+        filter.step(&f, &y).map_err(|e| case(format!("t = {t}: {e}")))?;
+        let x = filter.state();
+        let cov = filter.covariance();
+        time.push(t);
+        for c in 0..nu {
+            inputs_hist[c].push(x[2 * n + c]);
+            inputs_sigma[c].push(cov[(2 * n + c, 2 * n + c)].max(0.0).sqrt());
+        }
+        for c in 0..np {
+            let i = big_n - np + c;
+            params_hist[c].push(x[i]);
+            params_sigma[c].push(cov[(i, i)].max(0.0).sqrt());
+        }
+        sensors.evaluate(&x[..n], &x[n..2 * n], filter.acceleration(), &mut y_all);
+        sensor_hist.iter_mut().zip(&y_all).for_each(|(h, v)| h.push(*v));
+        innovation.iter_mut().zip(filter.innovation()).for_each(|(h, v)| h.push(*v));
+    }
+    let elapsed = started.elapsed().as_secs_f64();
+
+    // errors: last 20 % of the window (thesis §8.6, Table 8.2)
+    let tail = steps - (steps / 5).max(1);
+    let mut error_table = Vec::new();
+    let named_series = unknown_params.iter().map(|(j, _)| prom.parameters[*j].name.clone()).zip(&params_hist).chain(unknown_inputs.iter().map(|(_, name, _)| name.clone()).zip(&inputs_hist));
+    for (name, series) in named_series {
+        if let Some(truth) = reference(&name)? {
+            let errors: Vec<f64> = (tail..steps).map(|k| 100.0 * (series[k] - truth[k]) / truth[k]).collect();
+            let avg = errors.iter().sum::<f64>() / errors.len() as f64;
+            error_table.push(ErrorRow { name, min: errors.iter().copied().fold(f64::INFINITY, f64::min), avg, max: errors.iter().copied().fold(f64::NEG_INFINITY, f64::max) });
+        }
+    }
+    let mut sensor_errors = Vec::new();
+    for (r, name) in sensors.names.iter().enumerate() {
+        let truth = match measured_rows.iter().position(|&m| m == r) {
+            Some(c) if reference(name)?.is_none() => Some(measured_series[c].clone()),
+            _ => reference(name)?,
+        };
+        if let Some(truth) = truth {
+            let aae = truth.iter().zip(&sensor_hist[r]).map(|(a, b)| (a - b).abs()).sum::<f64>() / steps as f64;
+            let mra = truth.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            sensor_errors.push((name.clone(), aae, mra));
+        }
+    }
+
+    // output
+    let root = format!("results/{id}/estimate");
+    let group = ctx.output.group(&root)?;
+    write_f64(&group, "time", &time, &[steps])?;
+    let series_group = |sub_name: &str, names: &[String], data: &[Vec<f64>]| -> Result<(), RunError> {
+        if names.is_empty() {
+            return Ok(());
+        }
+        let g = ctx.output.group(&format!("{root}/{sub_name}"))?;
+        for (name, series) in names.iter().zip(data) {
+            write_f64(&g, name, series, &[series.len()])?;
+        }
+        Ok(())
+    };
+    let pnames: Vec<String> = unknown_params.iter().map(|(j, _)| prom.parameters[*j].name.clone()).collect();
+    let inames: Vec<String> = unknown_inputs.iter().map(|(_, name, _)| name.clone()).collect();
+    series_group("params", &pnames, &params_hist)?;
+    series_group("params_sigma", &pnames, &params_sigma)?;
+    series_group("inputs", &inames, &inputs_hist)?;
+    series_group("inputs_sigma", &inames, &inputs_sigma)?;
+    series_group("sensors", &sensors.names, &sensor_hist)?;
+    series_group("innovation", &measured.names, &innovation)?;
+    if !sensors.is_empty() {
+        let g = ctx.output.group(&format!("{root}/sensors"))?;
+        for (r, name) in sensors.names.iter().enumerate() {
+            let ds = g.dataset(name).map_err(|e| crate::io::IoError::hdf5(ctx.output.path(), format!("open {root}/sensors/{name}"), e))?;
+            set_attr_i64(&ds, "measured", i64::from(measured_rows.contains(&r)))?;
+            if let Some((_, aae, mra)) = sensor_errors.iter().find(|(s, _, _)| s == name) {
+                set_attr_f64(&ds, "aae", *aae)?;
+                set_attr_f64(&ds, "mra", *mra)?;
+            }
+        }
+    }
+    let table: Vec<f64> = error_table.iter().flat_map(|r| [r.min, r.avg, r.max]).collect();
+    let table_ds = write_f64(&group, "error_table", &table, &[error_table.len(), 3])?;
+    set_attr_strings(&table_ds, "rows", &error_table.iter().map(|r| r.name.as_str()).collect::<Vec<_>>())?;
+    set_attr_strings(&table_ds, "columns", &["min_percent", "avg_percent", "max_percent"])?;
+    set_attr_str(&group, "rom", &path.display().to_string())?;
+    set_attr_str(&group, "observability", &observability_text)?;
+    set_attr_i64(&group, "forced", i64::from(!verdict.observable()))?;
+    let steps_per_second = steps as f64 / elapsed.max(f64::MIN_POSITIVE);
+    set_attr_f64(&group, "steps_per_second", steps_per_second)?;
+    let params = (0..np).map(|c| (pnames[c].clone(), params_hist[c][steps - 1], params_sigma[c][steps - 1])).collect();
+    let summary = EstimateSummary {
+        rom: path,
+        steps,
+        params,
+        error_table,
+        sensor_errors,
+        observability: observability_text,
+        forced: !verdict.observable(),
+        hidden_modes: verdict.hidden_modes,
+        extrapolated,
+        steps_per_second,
+    };
+    Ok(SubcaseSummary { id, autospc: Vec::new(), result: SubcaseResult::Estimate(summary) })
+}
+
+/// Column `column` of the CSV against its time column, interpolated linearly onto t_k = k Δt,
+/// k = 1 … steps (`first` = Δt, `last` = steps Δt); the window must lie inside the measured
+/// time range.
+fn resample(csv: &Path, tcol: &Column, column: &Column, (first, last): (f64, f64), steps: usize) -> Result<Vec<f64>, String> {
+    let points = read_columns(csv, tcol, column).map_err(|e| e.to_string())?;
+    let table = Table::new(&points).map_err(|e| format!("{}: {e}", csv.display()))?;
+    let (t0, t1) = (points[0].0, points[points.len() - 1].0);
+    // a relative margin of 1e-9 of the window absorbs round-off of k Δt
+    let slack = 1e-9 * last.abs().max(1.0);
+    if first < t0 - slack || last > t1 + slack {
+        return Err(format!("{} covers t = {t0} … {t1}, the filter runs over {first} … {last}", csv.display()));
+    }
+    Ok((1..=steps).map(|k| table.value(k as f64 * first)).collect())
+}
+
+/// The header names of a CSV (upper case), empty when its first row is all numbers.
+fn csv_header(csv: &Path) -> Result<Vec<String>, String> {
+    let text = std::fs::read_to_string(csv).map_err(|e| format!("{}: {e}", csv.display()))?;
+    let first = text.lines().map(str::trim).find(|l| !l.is_empty() && !l.starts_with('#')).unwrap_or("");
+    let fields: Vec<&str> = first.split(',').map(str::trim).collect();
+    Ok(if fields.iter().any(|f| f.parse::<f64>().is_err()) { fields.iter().map(|f| f.to_ascii_uppercase()).collect() } else { Vec::new() })
+}
+
+/// Operating points of the initial estimate (see the module documentation). `load(t, f,
+/// static_part)` fills the known reduced load: its constant terms or its time-varying ones.
+fn operating_points(
+    at: &PromEvaluation,
+    s_un: &Mat<f64>,
+    inputs: &[(f64, f64)],
+    static_inputs: bool,
+    dt: f64,
+    steps: usize,
+    load: &dyn Fn(f64, &mut [f64], bool),
+) -> Result<Vec<OperatingPoint>, String> {
+    let n = at.mass.nrows();
+    let mut f_static = vec![0.0; n];
+    load(dt, &mut f_static, true);
+    if static_inputs {
+        for (c, (_, amplitude)) in inputs.iter().enumerate() {
+            (0..n).for_each(|i| f_static[i] += amplitude * s_un[(i, c)]);
+        }
+    }
+    let q_static = match at.stiffness.llt(faer::Side::Lower) {
+        Ok(llt) => {
+            let x = llt.solve(Mat::from_fn(n, 1, |i, _| f_static[i]));
+            (0..n).map(|i| x[(i, 0)]).collect()
+        }
+        Err(_) if f_static.iter().all(|v| *v == 0.0) => vec![0.0; n],
+        Err(_) => return Err("K is not positive definite at the initial estimate: no static equilibrium under the constant loads".into()),
+    };
+    let mut probe = vec![0.0; n];
+    let dynamic_known = (1..=steps).step_by((steps / 50).max(1)).any(|k| {
+        load(k as f64 * dt, &mut probe, false);
+        probe.iter().any(|v| *v != 0.0)
+    });
+    let dynamic_inputs = !inputs.is_empty() && !static_inputs;
+    if !dynamic_known && !dynamic_inputs {
+        return Ok(vec![OperatingPoint { q: q_static, v: vec![0.0; n], a: vec![0.0; n], dynamic: false }]);
+    }
+    let sys = LinearSystem { mass: at.mass.as_ref(), damping: at.damping.as_ref(), stiffness: at.stiffness.as_ref() };
+    // 16 sampling instants offset by the golden-ratio fraction of a spacing, so that they do
+    // not fall on the zeros of a periodic load (where the state is a free response)
+    let samples: Vec<usize> = (0..16).map(|i| ((steps as f64) * (i as f64 + 0.618_034) / 16.0).round() as usize).filter(|&k| k > 0).collect();
+    let mut points = Vec::new();
+    let forcing = |t: f64, f: &mut [f64]| {
+        load(t, f, false);
+        if dynamic_inputs {
+            for (c, (omega, amplitude)) in inputs.iter().enumerate() {
+                let u = amplitude * (2.0 * std::f64::consts::PI * omega * t).sin();
+                (0..n).for_each(|i| f[i] += u * s_un[(i, c)]);
+            }
+        }
+    };
+    integrate(sys, Method::Bdf1, dt, steps, &vec![0.0; n], &vec![0.0; n], forcing, |s| {
+        if samples.contains(&s.step) {
+            points.push(OperatingPoint { q: s.q.iter().zip(&q_static).map(|(a, b)| a + b).collect(), v: s.v.to_vec(), a: s.a.to_vec(), dynamic: true });
+        }
+    })
+    .map_err(|e| e.to_string())?;
+    Ok(points)
+}
