@@ -223,8 +223,8 @@ pub fn build_prom(fom: &AffineFom, boundary: &[usize], settings: &PromSettings, 
         .filter(|&w| w > 0.0)
         .collect();
     let frf_of = |size: usize, log: &mut BuildLog| -> Result<Vec<Option<Mat<faer::c64>>>, BuildError> {
-        let block = |m: &Mat<f64>| m.as_ref().submatrix(0, 0, size, size).to_owned();
-        let (k, m, c) = (block(&at.stiffness), block(&at.mass), block(&at.damping));
+        let block = |m: faer::MatRef<'_, f64>| m.submatrix(0, 0, size, size).to_owned();
+        let (k, m, c) = (block(at.stiffness()), block(at.mass()), block(at.damping()));
         let model = DenseModel { stiffness: k.as_ref(), mass: m.as_ref(), damping: c.as_ref() };
         let s_in = inputs.as_ref().subrows(0, size);
         let s_out = s_in.transpose();
@@ -318,7 +318,7 @@ mod tests {
         PromSettings { n_samples, n_modes: 10, fmax_hz: 0.1, fmin_hz: 0.0, n_freq: 50, errtol: 1e-3, dsize: 2, mac_tol: 0.99, seed: 1, statics: StaticModes::Attach, rigid: RigidModes::Keep, alpha: 0.01, beta: 0.0 }
     }
 
-    fn lowest_eigenvalues(k: &Mat<f64>, m: &Mat<f64>, count: usize) -> Vec<f64> {
+    fn lowest_eigenvalues(k: faer::MatRef<'_, f64>, m: faer::MatRef<'_, f64>, count: usize) -> Vec<f64> {
         // eigenvalues of M^{-1/2} K M^{-1/2}
         let evd = m.self_adjoint_eigen(faer::Side::Lower).unwrap();
         let d = evd.S().column_vector();
@@ -364,8 +364,8 @@ mod tests {
         let mut at = prom.workspace();
         for p in [[1.0, 1.0], [0.7, 1.3], [3.0, 0.2]] {
             prom.evaluate(&p, &mut at).unwrap();
-            let reduced = lowest_eigenvalues(&at.stiffness, &at.mass, 4);
-            let full = lowest_eigenvalues(&(&kd * faer::Scale(p[0])), &(&md * faer::Scale(p[1])), 4);
+            let reduced = lowest_eigenvalues(at.stiffness(), at.mass(), 4);
+            let full = lowest_eigenvalues((&kd * faer::Scale(p[0])).as_ref(), (&md * faer::Scale(p[1])).as_ref(), 4);
             for (r, f) in reduced.iter().zip(&full) {
                 assert!((r - f).abs() <= 1e-10 * f, "p = {p:?}: {r} vs {f}");
             }
@@ -392,8 +392,8 @@ mod tests {
         let p = [0.8, 1.7];
         prom.evaluate(&p, &mut at).unwrap();
         let kd = &dense(&k1) * faer::Scale(p[0]) + &dense(&k2) * faer::Scale(p[1]);
-        let full = lowest_eigenvalues(&kd, &dense(&m), 3);
-        let reduced = lowest_eigenvalues(&at.stiffness, &at.mass, 3);
+        let full = lowest_eigenvalues(kd.as_ref(), dense(&m).as_ref(), 3);
+        let reduced = lowest_eigenvalues(at.stiffness(), at.mass(), 3);
         for (r, f) in reduced.iter().zip(&full) {
             assert!((r - f).abs() <= 1e-3 * f, "{r} vs {f} ({log:?})");
         }

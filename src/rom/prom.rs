@@ -4,8 +4,17 @@
 //! with Rayleigh damping), and the parameter derivatives ∂K_r/∂p_j = Σ_i ∂f_i/∂p_j K_r^i (the
 //! estimator's eq. 8.19–8.20). Evaluation only sums small dense matrices into a preallocated
 //! [`PromEvaluation`]: no allocation after [`Prom::workspace`].
+//!
+//! The workspace decides once which components are identically zero (the five fibre-angle
+//! functions of a PCOMP THETA leave the mass constant: five of its six mass components are zero)
+//! and stacks the others, stiffness and mass, as the columns of one n_r² × m matrix; an
+//! evaluation is then one product of that stack with the m × (3 + d) matrix of the weights of
+//! each component in K_r, M_r, C_r and the d derivatives that are not identically zero (f_i(p),
+//! α f_i, β f_i, ∂f_i/∂p_j), written by faer's vectorized matrix product into the workspace,
+//! whose columns are the results: every component is read once per evaluation.
 
-use faer::Mat;
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, MatRef, Par};
 
 use crate::fe::affine::{Coefficient, CoefficientValues};
 
@@ -103,15 +112,70 @@ pub enum PromError {
     UnknownParameter { function: usize, index: usize, count: usize },
 }
 
-/// M_r, C_r, K_r at one parameter point and their derivatives.
+/// M_r, C_r, K_r at one parameter point and their derivatives, read through
+/// [`PromEvaluation::stiffness`] and friends after [`Prom::evaluate`].
 #[derive(Debug, Clone)]
 pub struct PromEvaluation {
-    pub mass: Mat<f64>,
-    pub damping: Mat<f64>,
-    pub stiffness: Mat<f64>,
-    /// ∂M_r/∂p_j, ∂K_r/∂p_j per parameter j (∂C_r/∂p_j = α ∂M_r/∂p_j + β ∂K_r/∂p_j).
-    pub d_mass: Vec<Mat<f64>>,
-    pub d_stiffness: Vec<Mat<f64>>,
+    n: usize,
+    /// Indices i of the stiffness (`false`) and mass (`true`) components that are not
+    /// identically zero, in stacking order.
+    parts: Vec<(bool, usize)>,
+    /// n_r² × parts.len(): column k holds the component parts[k], column after column (a copy:
+    /// a workspace serves the pROM it was made from, with its components as they were).
+    stacked: Mat<f64>,
+    /// What each column of `sums` is.
+    outputs: Vec<Output>,
+    /// The column of `sums` holding ∂K_r/∂p_j and ∂M_r/∂p_j (`None`: identically zero).
+    d_stiffness: Vec<Option<usize>>,
+    d_mass: Vec<Option<usize>>,
+    /// parts.len() × outputs.len(): the weight of each component in each output.
+    coefficients: Mat<f64>,
+    /// n_r² × outputs.len(): K_r, M_r, C_r and the non-zero derivatives, column after column.
+    sums: Mat<f64>,
+    /// n_r² zeros: the derivatives that are identically zero.
+    zero: Vec<f64>,
+}
+
+/// One output of an evaluation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Output {
+    Stiffness,
+    Mass,
+    Damping,
+    DStiffness(usize),
+    DMass(usize),
+}
+
+impl PromEvaluation {
+    fn view(&self, column: Option<usize>) -> MatRef<'_, f64> {
+        let values = column.map_or(self.zero.as_slice(), |c| self.sums.col_as_slice(c));
+        MatRef::from_column_major_slice(values, self.n, self.n)
+    }
+
+    /// K_r(p).
+    pub fn stiffness(&self) -> MatRef<'_, f64> {
+        self.view(Some(0))
+    }
+
+    /// M_r(p).
+    pub fn mass(&self) -> MatRef<'_, f64> {
+        self.view(Some(1))
+    }
+
+    /// C_r(p) = α M_r(p) + β K_r(p).
+    pub fn damping(&self) -> MatRef<'_, f64> {
+        self.view(Some(2))
+    }
+
+    /// ∂K_r/∂p_j.
+    pub fn d_stiffness(&self, j: usize) -> MatRef<'_, f64> {
+        self.view(self.d_stiffness[j])
+    }
+
+    /// ∂M_r/∂p_j (∂C_r/∂p_j = α ∂M_r/∂p_j + β ∂K_r/∂p_j).
+    pub fn d_mass(&self, j: usize) -> MatRef<'_, f64> {
+        self.view(self.d_mass[j])
+    }
 }
 
 impl Prom {
@@ -144,12 +208,37 @@ impl Prom {
         self.stiffness.first().map_or(0, |m| m.nrows())
     }
 
-    /// Buffers for [`Prom::evaluate`].
+    /// Buffers for [`Prom::evaluate`], and the stack of the components that are not
+    /// identically zero (decided here, once: a workspace serves this pROM as it is now).
     pub fn workspace(&self) -> PromEvaluation {
         let n = self.size();
-        let zeros = || Mat::<f64>::zeros(n, n);
-        let per_param = || (0..self.parameters.len()).map(|_| zeros()).collect();
-        PromEvaluation { mass: zeros(), damping: zeros(), stiffness: zeros(), d_mass: per_param(), d_stiffness: per_param() }
+        let nonzero = |is_mass: bool, parts: &[Mat<f64>]| (0..parts.len()).filter(|&i| parts[i].norm_max() != 0.0).map(move |i| (is_mass, i)).collect::<Vec<_>>();
+        let parts: Vec<(bool, usize)> = [nonzero(false, &self.stiffness), nonzero(true, &self.mass)].concat();
+        let stacked = Mat::from_fn(n * n, parts.len(), |r, k| {
+            let (is_mass, i) = parts[k];
+            (if is_mass { &self.mass } else { &self.stiffness })[i][(r % n, r / n)]
+        });
+        let mut outputs = vec![Output::Stiffness, Output::Mass, Output::Damping];
+        let derived = |is_mass: bool, j: usize| parts.iter().any(|&(m, i)| m == is_mass && self.functions[i].driven_by.iter().any(|&(_, q)| q == j));
+        let mut column = |is_mass: bool, j: usize, output: Output| {
+            derived(is_mass, j).then(|| {
+                outputs.push(output);
+                outputs.len() - 1
+            })
+        };
+        let d_stiffness: Vec<Option<usize>> = (0..self.parameters.len()).map(|j| column(false, j, Output::DStiffness(j))).collect();
+        let d_mass: Vec<Option<usize>> = (0..self.parameters.len()).map(|j| column(true, j, Output::DMass(j))).collect();
+        PromEvaluation {
+            n,
+            coefficients: Mat::zeros(parts.len(), outputs.len()),
+            sums: Mat::zeros(n * n, outputs.len()),
+            zero: vec![0.0; n * n],
+            parts,
+            stacked,
+            outputs,
+            d_stiffness,
+            d_mass,
+        }
     }
 
     /// Names of the parameters of `p` outside their box (extrapolation: allowed, but the
@@ -167,39 +256,27 @@ impl Prom {
         if let Some((q, &value)) = self.parameters.iter().zip(p).find(|(_, v)| !v.is_finite()) {
             return Err(PromError::NotFinite { name: q.name.clone(), value });
         }
-        let clear = |m: &mut Mat<f64>| m.fill(0.0);
-        clear(&mut out.mass);
-        clear(&mut out.stiffness);
-        out.d_mass.iter_mut().chain(out.d_stiffness.iter_mut()).for_each(clear);
-        for (i, f) in self.functions.iter().enumerate() {
+        if out.n != self.size() || out.d_mass.len() != p.len() || out.parts.iter().any(|&(_, i)| i >= self.functions.len()) {
+            return Err(PromError::Shape { what: "workspace size (made for another pROM)", expected: self.size(), got: out.n });
+        }
+        for (k, &(is_mass, i)) in out.parts.iter().enumerate() {
+            let f = &self.functions[i];
             let value = f.value(p);
-            add_scaled(&mut out.stiffness, value, &self.stiffness[i]);
-            add_scaled(&mut out.mass, value, &self.mass[i]);
-            for &(_, j) in &f.driven_by {
-                let d = f.derivative(p, j);
-                add_scaled(&mut out.d_stiffness[j], d, &self.stiffness[i]);
-                add_scaled(&mut out.d_mass[j], d, &self.mass[i]);
+            for (c, output) in out.outputs.iter().enumerate() {
+                out.coefficients[(k, c)] = match *output {
+                    Output::Stiffness if !is_mass => value,
+                    Output::Mass if is_mass => value,
+                    Output::Damping => value * if is_mass { self.alpha } else { self.beta },
+                    Output::DStiffness(j) if !is_mass => f.derivative(p, j),
+                    Output::DMass(j) if is_mass => f.derivative(p, j),
+                    _ => 0.0,
+                };
             }
         }
-        let n = self.size();
-        for c in 0..n {
-            let (m, k) = (out.mass.col_as_slice(c), out.stiffness.col_as_slice(c));
-            let (alpha, beta) = (self.alpha, self.beta);
-            let damping: &mut [f64] = out.damping.col_as_slice_mut(c);
-            damping.iter_mut().zip(m.iter().zip(k)).for_each(|(d, (m, k))| *d = alpha * m + beta * k);
+        if !out.parts.is_empty() {
+            matmul(out.sums.as_mut(), Accum::Replace, out.stacked.as_ref(), out.coefficients.as_ref(), 1.0, Par::Seq);
         }
         Ok(())
-    }
-}
-
-/// out += s · x, column by column (contiguous, no temporaries).
-fn add_scaled(out: &mut Mat<f64>, s: f64, x: &Mat<f64>) {
-    if s == 0.0 {
-        return;
-    }
-    for c in 0..x.ncols() {
-        let src = x.col_as_slice(c);
-        out.col_as_slice_mut(c).iter_mut().zip(src).for_each(|(o, v)| *o += s * v);
     }
 }
 
@@ -245,9 +322,9 @@ mod tests {
         let k = &prom.stiffness[0] + &prom.stiffness[1] * faer::Scale(lam) + &prom.stiffness[2] * faer::Scale(mu);
         let m = &prom.mass[0] + &prom.mass[3] * faer::Scale(p[2]);
         let c = &m * faer::Scale(prom.alpha) + &k * faer::Scale(prom.beta);
-        assert!((&out.stiffness - &k).norm_max() <= 1e-14 * k.norm_max());
-        assert!((&out.mass - &m).norm_max() <= 1e-14 * m.norm_max());
-        assert!((&out.damping - &c).norm_max() <= 1e-14 * c.norm_max());
+        assert!((out.stiffness() - &k).norm_max() <= 1e-14 * k.norm_max());
+        assert!((out.mass() - &m).norm_max() <= 1e-14 * m.norm_max());
+        assert!((out.damping() - &c).norm_max() <= 1e-14 * c.norm_max());
     }
 
     /// ∂K_r/∂p_j and ∂M_r/∂p_j against central differences (relative step 1e-6: truncation
@@ -266,12 +343,25 @@ mod tests {
             let (mut a, mut b) = (prom.workspace(), prom.workspace());
             prom.evaluate(&up, &mut a).unwrap();
             prom.evaluate(&down, &mut b).unwrap();
-            for (analytic, plus, minus) in [(&at.d_stiffness[j], &a.stiffness, &b.stiffness), (&at.d_mass[j], &a.mass, &b.mass)] {
+            for (analytic, plus, minus) in [(at.d_stiffness(j), a.stiffness(), b.stiffness()), (at.d_mass(j), a.mass(), b.mass())] {
                 let fd = (plus - minus) * faer::Scale(1.0 / (2.0 * h));
                 let scale = fd.norm_max().max(analytic.norm_max());
                 assert!((&fd - analytic).norm_max() <= 1e-7 * scale.max(f64::MIN_POSITIVE), "parameter {j}");
             }
         }
+    }
+
+    /// The zero components (K for ρ, M for λ and μ) are left out of the stack once, and a
+    /// derivative no non-zero component depends on (∂M_r/∂ν) is the zero matrix.
+    #[test]
+    fn identically_zero_components_are_skipped() {
+        let prom = sample();
+        let mut out = prom.workspace();
+        assert_eq!(out.parts, vec![(false, 0), (false, 1), (false, 2), (true, 0), (true, 3)]);
+        assert_eq!((out.d_mass[1], out.d_stiffness[2]), (None, None));
+        prom.evaluate(&[2.5e11, 0.33, 8100.0], &mut out).unwrap();
+        assert_eq!((out.d_mass(1).norm_max(), out.d_stiffness(2).norm_max()), (0.0, 0.0));
+        assert!(out.d_mass(2).norm_max() > 0.0 && out.d_stiffness(1).norm_max() > 0.0);
     }
 
     #[test]
@@ -281,6 +371,8 @@ mod tests {
         assert!(matches!(prom.evaluate(&[1e11, 0.3], &mut out), Err(PromError::Shape { .. })));
         assert!(matches!(prom.evaluate(&[f64::NAN, 0.3, 7800.0], &mut out), Err(PromError::NotFinite { .. })));
         assert_eq!(prom.outside_box(&[3.5e11, 0.3, 6000.0]), vec!["E", "RHO"]);
+        let small = Prom { stiffness: prom.stiffness.iter().map(|m| m.submatrix(0, 0, 2, 2).to_owned()).collect(), mass: prom.mass.iter().map(|m| m.submatrix(0, 0, 2, 2).to_owned()).collect(), ..prom.clone() };
+        assert!(matches!(prom.evaluate(&[2e11, 0.3, 7800.0], &mut small.workspace()), Err(PromError::Shape { .. })));
         let mut broken = prom.clone();
         broken.mass.pop();
         assert!(matches!(broken.validate(), Err(PromError::Shape { what: "mass components", .. })));

@@ -50,7 +50,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     // outputs: the input DOFs (receptance), then the sensors (DISP ×1, VEL ×iω, ACCEL ×−ω²)
     let k = names.len();
     let outputs = Mat::<f64>::from_fn(k + sensor_names.len(), prom.size(), |o, j| if o < k { s_r[(j, o)] } else { h_r[(o - k, j)] });
-    let model = DenseModel { stiffness: at.stiffness.as_ref(), mass: at.mass.as_ref(), damping: at.damping.as_ref() };
+    let model = DenseModel { stiffness: at.stiffness(), mass: at.mass(), damping: at.damping() };
     let h = receptance(&model, s_r.as_ref(), outputs.as_ref(), &omegas).map_err(|e| case(format!("{}: {e}", path.display())))?;
     let kinds: Vec<Option<&str>> = (0..k).map(|_| None).chain(sensor_kinds.iter().map(|s| Some(s.as_str()))).collect();
     let (flat, peak) = scaled_flat(&h, &hz, &kinds);

@@ -41,7 +41,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
     let RomAtPoint { path, prom, p, at, extrapolated } = RomAtPoint::load(ctx, sub)?;
-    let (lambda, phi) = generalized_eigen(at.stiffness.as_ref(), at.mass.as_ref()).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let (lambda, phi) = generalized_eigen(at.stiffness(), at.mass()).map_err(|e| case(format!("{}: {e}", path.display())))?;
     let keep = selection(ctx, sub, &lambda)?;
     let lambda: Vec<f64> = keep.iter().map(|&j| lambda[j]).collect();
     let phi = Mat::<f64>::from_fn(phi.nrows(), keep.len(), |i, c| phi[(i, keep[c])]);
@@ -49,8 +49,8 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let residuals: Vec<f64> = (0..lambda.len())
         .map(|j| {
             let v = phi.col(j);
-            let kv = &at.stiffness * v;
-            let r = &kv - (&at.mass * v) * faer::Scale(lambda[j]);
+            let kv = at.stiffness() * v;
+            let r = &kv - (at.mass() * v) * faer::Scale(lambda[j]);
             r.norm_l2() / kv.norm_l2().max(f64::MIN_POSITIVE)
         })
         .collect();

@@ -62,7 +62,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let tables = parameter_tables(ctx, sub, &prom).map_err(case)?;
     let mut backend = Varying { prom: &prom, at, p, tables, ops: DenseOperators::default(), outside: extrapolated, evaluations: 0 };
     backend.advance(0.0).map_err(|e| case(format!("{}: {e}", path.display())))?;
-    let (mut q, mut v) = initial_state(ctx, sub, &names, &s_r, &backend.at.stiffness).map_err(case)?;
+    let (mut q, mut v) = initial_state(ctx, sub, &names, &s_r, backend.at.stiffness()).map_err(case)?;
     let rows = output_rows(&tstep.intervals);
     let mut rec = Recorder::new(&s_r, &sensor_kinds, &h_r, rows);
     let mut t0 = 0.0;
@@ -151,7 +151,7 @@ impl Backend for Varying<'_> {
         self.prom.size()
     }
     fn prepare(&mut self, effective: Combination, products: &[Combination], what: &'static str) -> Result<(), IntegrationError> {
-        let sys = LinearSystem { mass: self.at.mass.as_ref(), damping: self.at.damping.as_ref(), stiffness: self.at.stiffness.as_ref() };
+        let sys = LinearSystem { mass: self.at.mass(), damping: self.at.damping(), stiffness: self.at.stiffness() };
         self.ops.prepare(sys, effective, products, what)
     }
     fn apply(&self, j: usize, x: &[f64], y: &mut [f64]) {
@@ -188,7 +188,7 @@ impl Backend for Varying<'_> {
 /// inputs: q0 is the static shape that produces the requested input displacements u0,
 /// q0 = K_r⁻¹ S_r (S_rᵀ K_r⁻¹ S_r)⁻¹ u0 (the reduced displacement under input forces only, whose
 /// input displacements S_rᵀ q0 equal u0), and likewise v0 from the initial velocities.
-fn initial_state(ctx: &RunContext, sub: &Subcase, names: &[String], s_r: &Mat<f64>, k_r: &Mat<f64>) -> Result<(Vec<f64>, Vec<f64>), String> {
+fn initial_state(ctx: &RunContext, sub: &Subcase, names: &[String], s_r: &Mat<f64>, k_r: faer::MatRef<'_, f64>) -> Result<(Vec<f64>, Vec<f64>), String> {
     let n = s_r.nrows();
     let Some(sid) = sub.ic else { return Ok((vec![0.0; n], vec![0.0; n])) };
     let cards: Vec<_> = ctx.model.bulk.tic.iter().filter(|c| c.sid == sid).collect();
