@@ -272,14 +272,14 @@ impl Filter {
         let dt = self.setup.dt;
         let at = &self.at;
         for c in 0..n {
-            let (m, cd, k) = (at.mass.col_as_slice(c), at.damping.col_as_slice(c), at.stiffness.col_as_slice(c));
+            let (m, cd, k) = (column(at.mass(), c), column(at.damping(), c), column(at.stiffness(), c));
             let s = self.s_factor.col_as_slice_mut(c);
             s.iter_mut().zip(m.iter().zip(cd.iter().zip(k))).for_each(|(s, (m, (cd, k)))| *s = m + dt * cd + dt * dt * k);
         }
         let s_ok = factor_in_place(self.s_factor.as_mut(), MemStack::new(&mut self.scratch.mem));
-        let m_ok = (self.step > 0 && self.factored_mass == at.mass) || {
-            self.factored_mass.copy_from(&at.mass);
-            self.m_factor.copy_from(&at.mass);
+        let m_ok = (self.step > 0 && self.factored_mass == at.mass()) || {
+            self.factored_mass.copy_from(&at.mass());
+            self.m_factor.copy_from(&at.mass());
             factor_in_place(self.m_factor.as_mut(), MemStack::new(&mut self.scratch.mem))
         };
         let not_definite = |what| FilterError::NotDefinite { step: self.step, what, params: self.params.clone() };
@@ -312,7 +312,7 @@ impl Filter {
         rhs.copy_from_slice(&self.scratch.force);
         for c in 0..n {
             let (q, v) = (self.x[c], self.x[n + c]);
-            let (k, cd) = (self.at.stiffness.col_as_slice(c), self.at.damping.col_as_slice(c));
+            let (k, cd) = (column(self.at.stiffness(), c), column(self.at.damping(), c));
             rhs.iter_mut().zip(k.iter().zip(cd)).for_each(|(r, (k, cd))| *r -= k * q + cd * v);
         }
         solve_seq(self.m_factor.as_ref(), self.scratch.rhs.as_mut());
@@ -342,7 +342,7 @@ impl Filter {
         rhs.iter_mut().zip(&self.scratch.force).for_each(|(r, f)| *r = dt * f);
         for c in 0..n {
             let (v, q) = (self.scratch.v_old[c], self.x[c]);
-            let (m, k) = (self.at.mass.col_as_slice(c), self.at.stiffness.col_as_slice(c));
+            let (m, k) = (column(self.at.mass(), c), column(self.at.stiffness(), c));
             rhs.iter_mut().zip(m.iter().zip(k)).for_each(|(r, (m, k))| *r += m * v - dt * k * q);
         }
         solve_seq(self.s_factor.as_ref(), self.scratch.rhs.as_mut());
@@ -360,8 +360,8 @@ impl Filter {
             for j in 0..big_n {
                 let col = self.jv.col_as_slice_mut(j);
                 let (src, scale) = match j {
-                    j if j < n => (at.stiffness.col_as_slice(j), -dt),
-                    j if j < 2 * n => (at.mass.col_as_slice(j - n), 1.0),
+                    j if j < n => (column(at.stiffness(), j), -dt),
+                    j if j < 2 * n => (column(at.mass(), j - n), 1.0),
                     j if j < 2 * n + nu => (s_un.col_as_slice(j - 2 * n), dt),
                     j => (d.col_as_slice(j - 2 * n - nu), -dt),
                 };
@@ -470,8 +470,8 @@ impl Filter {
                     let g = g.col_as_slice(0);
                     let gk = |col: &[f64]| g.iter().zip(col).map(|(a, b)| a * b).sum::<f64>();
                     for c in 0..n {
-                        self.jm[(r, c)] = -gk(self.at.stiffness.col_as_slice(c));
-                        self.jm[(r, n + c)] = -gk(self.at.damping.col_as_slice(c));
+                        self.jm[(r, c)] = -gk(column(self.at.stiffness(), c));
+                        self.jm[(r, n + c)] = -gk(column(self.at.damping(), c));
                     }
                     for c in 0..nu {
                         self.jm[(r, 2 * n + c)] = gk(self.setup.s_un.col_as_slice(c));
@@ -541,12 +541,12 @@ fn parameter_columns_into(at: &PromEvaluation, (alpha, beta): (f64, f64), params
         w_m[c] = a[c] + alpha * v[c];
     }
     for (k, &j) in params.iter().enumerate() {
-        let (dk, dm) = (&at.d_stiffness[j], &at.d_mass[j]);
+        let (dk, dm) = (at.d_stiffness(j), at.d_mass(j));
         let out = d.col_as_slice_mut(k);
         out.fill(0.0);
         for c in 0..q.len() {
             let (sk, sm) = (w_k[c], w_m[c]);
-            out.iter_mut().zip(dk.col_as_slice(c).iter().zip(dm.col_as_slice(c))).for_each(|(o, (k, m))| *o += k * sk + m * sm);
+            out.iter_mut().zip(column(dk, c).iter().zip(column(dm, c))).for_each(|(o, (k, m))| *o += k * sk + m * sm);
         }
     }
 }
@@ -677,7 +677,7 @@ pub(crate) mod tests {
         let mut filter = Filter::new(s.clone()).unwrap();
         let mut at = s.prom.workspace();
         s.prom.evaluate(&s.p, &mut at).unwrap();
-        let sys = LinearSystem { mass: at.mass.as_ref(), damping: at.damping.as_ref(), stiffness: at.stiffness.as_ref() };
+        let sys = LinearSystem { mass: at.mass(), damping: at.damping(), stiffness: at.stiffness() };
         let load = |t: f64, f: &mut [f64]| f.iter_mut().zip(LOAD).for_each(|(f, l)| *f = l * (40.0 * t).sin());
         let mut reference = Vec::new();
         integrate(sys, Method::Bdf1, s.dt, 200, &s.q0, &s.v0, load, |st| reference.push((st.q.to_vec(), st.v.to_vec(), st.a.to_vec()))).unwrap();
@@ -777,4 +777,10 @@ mod filterpy_check {
             assert!(worst <= 1e-9 * range, "state {c}: {worst:e} vs range {range:e}");
         }
     }
+}
+
+/// Column `c` of a pROM evaluation's matrix as a slice: [`crate::rom::prom::PromEvaluation`]'s
+/// views are column-major over one contiguous buffer, so every column is contiguous.
+fn column(m: MatRef<'_, f64>, c: usize) -> &[f64] {
+    m.col(c).try_as_col_major().expect("pROM evaluation views are column-major").as_slice()
 }

@@ -92,7 +92,7 @@ pub struct Problem<'a> {
 /// initial parameters.
 pub fn check(problem: &Problem, points: &[OperatingPoint], modes: (&[f64], &Mat<f64>)) -> Observability {
     let Problem { at, alpha_beta, s_un, params, unknowns, measured } = *problem;
-    let n = at.mass.nrows();
+    let n = at.mass().nrows();
     let (nu, np) = (s_un.ncols(), params.len());
     let big_n = 2 * n + nu + np;
     let mut best: Option<(usize, f64, Vec<f64>, bool)> = None;
@@ -123,7 +123,7 @@ fn row_norm(m: &Mat<f64>, r: usize) -> f64 {
 
 /// PBH(0) with the q̇ block row scaled by M (see the module documentation).
 fn pbh_zero(at: &PromEvaluation, alpha_beta: (f64, f64), s_un: &Mat<f64>, params: &[usize], measured: &SensorRows, op: &OperatingPoint) -> Mat<f64> {
-    let n = at.mass.nrows();
+    let n = at.mass().nrows();
     let (nu, np, m) = (s_un.ncols(), params.len(), measured.len());
     let big_n = 2 * n + nu + np;
     let d = parameter_columns(at, alpha_beta, params, &op.q, &op.v, &op.a);
@@ -131,8 +131,8 @@ fn pbh_zero(at: &PromEvaluation, alpha_beta: (f64, f64), s_un: &Mat<f64>, params
     for i in 0..n {
         pbh[(i, n + i)] = -1.0;
         for c in 0..n {
-            pbh[(n + i, c)] = at.stiffness[(i, c)];
-            pbh[(n + i, n + c)] = at.damping[(i, c)];
+            pbh[(n + i, c)] = at.stiffness()[(i, c)];
+            pbh[(n + i, n + c)] = at.damping()[(i, c)];
         }
         for c in 0..nu {
             pbh[(n + i, 2 * n + c)] = -s_un[(i, c)];
@@ -142,7 +142,7 @@ fn pbh_zero(at: &PromEvaluation, alpha_beta: (f64, f64), s_un: &Mat<f64>, params
         }
     }
     // accelerometer rows g [−K, −C, S_un, −D] with g = h M⁻¹; VEL rows read q̇
-    let m_llt = at.mass.llt(faer::Side::Lower).ok();
+    let m_llt = at.mass().llt(faer::Side::Lower).ok();
     for r in 0..m {
         match measured.reads[r] {
             Reads::Displacement => (0..n).for_each(|c| pbh[(2 * n + r, c)] = measured.h[(r, c)]),
@@ -238,7 +238,7 @@ mod tests {
         unknowns.extend(case.params.iter().map(|&j| Unknown::Parameter { name: names[j].into(), stiffness: j == 0, mass: j == 1 }));
         let k = case.kinds.len();
         let sensors = SensorRows::new((0..k).map(|r| format!("S{r}")).collect(), case.kinds.iter().map(|s| s.to_string()).collect(), Mat::from_fn(k, 2, |r, c| if r % 2 == c { 1.0 } else { 0.3 })).unwrap();
-        let (lambda, phi) = crate::linalg::dense::generalized_eigen(at.stiffness.as_ref(), at.mass.as_ref()).unwrap();
+        let (lambda, phi) = crate::linalg::dense::generalized_eigen(at.stiffness(), at.mass()).unwrap();
         let problem = Problem { at: &at, alpha_beta: (prom.alpha, prom.beta), s_un: &s_un, params: &case.params, unknowns: &unknowns, measured: &sensors };
         check(&problem, &[point], (&lambda, &phi))
     }
@@ -250,11 +250,11 @@ mod tests {
         let mut at = prom.workspace();
         prom.evaluate(&[1.0, 1.0], &mut at).unwrap();
         let f = Mat::from_fn(2, 1, |i, _| i as f64 * 3.0);
-        let q = at.stiffness.llt(faer::Side::Lower).unwrap().solve(&f);
+        let q = at.stiffness().llt(faer::Side::Lower).unwrap().solve(&f);
         let col = |m: &Mat<f64>| vec![m[(0, 0)], m[(1, 0)]];
         let statics = OperatingPoint { q: col(&q), v: vec![0.0; 2], a: vec![0.0; 2], dynamic: false };
         let (qd, vd) = (Mat::from_fn(2, 1, |i, _| [1e-3, -4e-4][i]), Mat::from_fn(2, 1, |i, _| [0.2, 0.5][i]));
-        let accel = |load: f64| col(&at.mass.llt(faer::Side::Lower).unwrap().solve(&(&f * faer::Scale(load) - &at.stiffness * &qd - &at.damping * &vd)));
+        let accel = |load: f64| col(&at.mass().llt(faer::Side::Lower).unwrap().solve(&(&f * faer::Scale(load) - &at.stiffness() * &qd - &at.damping() * &vd)));
         let forced = OperatingPoint { q: col(&qd), v: col(&vd), a: accel(1.0), dynamic: true };
         let free = OperatingPoint { q: col(&qd), v: col(&vd), a: accel(0.0), dynamic: true };
         (statics, forced, free)

@@ -190,10 +190,10 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let mut unknowns: Vec<Unknown> = unknown_inputs.iter().map(|(_, name, _)| Unknown::Input(name.clone())).collect();
     unknowns.extend(unknown_params.iter().map(|(j, _)| Unknown::Parameter {
         name: prom.parameters[*j].name.clone(),
-        stiffness: at.d_stiffness[*j].norm_max() > 0.0,
-        mass: at.d_mass[*j].norm_max() > 0.0,
+        stiffness: at.d_stiffness(*j).norm_max() > 0.0,
+        mass: at.d_mass(*j).norm_max() > 0.0,
     }));
-    let modes = crate::linalg::dense::generalized_eigen(at.stiffness.as_ref(), at.mass.as_ref()).map_err(|e| case(format!("{}: modes of the initial estimate: {e}", path.display())))?;
+    let modes = crate::linalg::dense::generalized_eigen(at.stiffness(), at.mass()).map_err(|e| case(format!("{}: modes of the initial estimate: {e}", path.display())))?;
     let problem = observability::Problem { at: &at, alpha_beta: (prom.alpha, prom.beta), s_un: &s_un, params: &setup.unknown_params, unknowns: &unknowns, measured: &measured };
     let verdict = observability::check(&problem, &points, (&modes.0, &modes.1));
     let observability_text = match &verdict.cause {
@@ -356,7 +356,7 @@ fn operating_points(
     steps: usize,
     load: &dyn Fn(f64, &mut [f64], bool),
 ) -> Result<Vec<OperatingPoint>, String> {
-    let n = at.mass.nrows();
+    let n = at.mass().nrows();
     let mut f_static = vec![0.0; n];
     load(dt, &mut f_static, true);
     if static_inputs {
@@ -364,7 +364,7 @@ fn operating_points(
             (0..n).for_each(|i| f_static[i] += amplitude * s_un[(i, c)]);
         }
     }
-    let q_static = match at.stiffness.llt(faer::Side::Lower) {
+    let q_static = match at.stiffness().llt(faer::Side::Lower) {
         Ok(llt) => {
             let x = llt.solve(Mat::from_fn(n, 1, |i, _| f_static[i]));
             (0..n).map(|i| x[(i, 0)]).collect()
@@ -381,7 +381,7 @@ fn operating_points(
     if !dynamic_known && !dynamic_inputs {
         return Ok(vec![OperatingPoint { q: q_static, v: vec![0.0; n], a: vec![0.0; n], dynamic: false }]);
     }
-    let sys = LinearSystem { mass: at.mass.as_ref(), damping: at.damping.as_ref(), stiffness: at.stiffness.as_ref() };
+    let sys = LinearSystem { mass: at.mass(), damping: at.damping(), stiffness: at.stiffness() };
     // 16 sampling instants offset by the golden-ratio fraction of a spacing, so that they do
     // not fall on the zeros of a periodic load (where the state is a free response)
     let samples: Vec<usize> = (0..16).map(|i| ((steps as f64) * (i as f64 + 0.618_034) / 16.0).round() as usize).filter(|&k| k > 0).collect();
