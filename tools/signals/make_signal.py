@@ -8,7 +8,10 @@
 ``sine``: amp · sin(2π f t + phase). ``random``: band-limited Gaussian noise, seeded (the same
 seed gives the same file on every machine): white noise from numpy's PCG64 generator, filtered
 in the frequency domain to [f_lo, f_hi] (brick-wall on the FFT of the whole record), scaled to
-the requested RMS. Both start at t = 0; the deck reads them with e.g.
+the requested RMS. ``--fade T`` multiplies the first T seconds by a raised cosine
+(0.5 − 0.5 cos(πt/T)) so the signal starts from 0 with zero slope: a force that jumps at t = 0
+excites every mode of a full model (the drive-point acceleration then carries content far
+above the band, which a reduced model cannot have). Both start at t = 0; the deck reads them with e.g.
 ``TABLEF,9,'rnd.csv',time,force`` (column names are case-insensitive).
 """
 from __future__ import annotations
@@ -53,12 +56,18 @@ def main() -> None:
     ap.add_argument("--band", type=float, nargs=2, default=[0.0, 100.0], metavar=("F_LO", "F_HI"), help="random band, Hz")
     ap.add_argument("--rms", type=float, default=1.0, help="random RMS")
     ap.add_argument("--seed", type=int, default=0, help="random seed")
+    ap.add_argument("--fade", type=float, default=0.0, help="raised-cosine fade-in length, s (0: none)")
     a = ap.parse_args()
     if not (a.dt > 0 and a.duration > 0):
         raise SystemExit("--dt and --duration must be positive")
     n = int(round(a.duration / a.dt)) + 1
     t = np.arange(n) * a.dt
     y = sine(t, a.freq, a.amp, a.phase) if a.kind == "sine" else band_random(n, a.dt, a.band[0], a.band[1], a.rms, a.seed)
+    if a.fade < 0:
+        raise SystemExit("--fade must be >= 0")
+    if a.fade > 0:
+        ramp = t < a.fade
+        y[ramp] *= 0.5 - 0.5 * np.cos(np.pi * t[ramp] / a.fade)
     with open(a.output, "w") as f:
         f.write(f"time,{a.name}\n")
         for ti, yi in zip(t, y):
