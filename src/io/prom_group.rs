@@ -73,11 +73,19 @@ pub fn write_prom_masses(group: &Group, grids: &[u32], masses: &AffineMasses) ->
     Ok(())
 }
 
+/// Opens a pROM artifact read-only, without HDF5 file locking: artifacts are inputs that many
+/// runs (and the tests' threads) read at once, and paraflex never writes a file in place (each
+/// output is written under a temporary name and renamed when complete), so a reader cannot see
+/// a partial file; the lock would only make concurrent readers fail with EAGAIN.
+fn open_artifact(path: &Path) -> Result<hdf5::File, IoError> {
+    hdf5::File::with_options().with_fapl(|fapl| fapl.file_locking(false)).open(path).map_err(|e| IoError::hdf5(path, "open for reading", e))
+}
+
 /// The affine nodal masses of a pROM artifact (`/prom/mass`: grid ids and masses), `None` when
 /// the build did not write them (RIGID = KEEP).
 pub fn read_prom_masses(path: impl AsRef<Path>) -> Result<Option<(Vec<u32>, AffineMasses)>, IoError> {
     let path = path.as_ref();
-    let file = hdf5::File::open(path).map_err(|e| IoError::hdf5(path, "open for reading", e))?;
+    let file = open_artifact(path)?;
     let Ok(group) = file.group("prom/mass") else { return Ok(None) };
     let grids = group.dataset("grids").and_then(|d| d.read_raw::<u32>()).map_err(|e| IoError::hdf5(path, "read /prom/mass/grids", e))?;
     let read = |name: &str| group.dataset(name).and_then(|d| d.read_raw::<f64>()).map_err(|e| IoError::hdf5(path, format!("read /prom/mass/{name}"), e));
@@ -100,7 +108,7 @@ fn create_group(parent: &Group, name: &str) -> Result<Group, IoError> {
 /// inconsistent is an error naming the file and the object.
 pub fn read_prom(path: impl AsRef<Path>) -> Result<(Prom, usize), IoError> {
     let path = path.as_ref();
-    let file = hdf5::File::open(path).map_err(|e| IoError::hdf5(path, "open for reading", e))?;
+    let file = open_artifact(path)?;
     let prom = file.group("prom").map_err(|_| IoError::NotParaflex { path: path.into(), reason: "no /prom group (was it written by a SOL PROM run?)".into() })?;
     let bad = |what: &str, reason: String| IoError::invalid(path, what, reason);
     let hdf = |what: String| move |e| IoError::hdf5(path, what, e);
@@ -154,7 +162,7 @@ pub fn read_prom(path: impl AsRef<Path>) -> Result<(Prom, usize), IoError> {
 /// (n_red × k). A pROM built without BSET has none (empty names, n_red × 0).
 pub fn read_prom_inputs(path: impl AsRef<Path>, n_red: usize) -> Result<(Vec<String>, Mat<f64>), IoError> {
     let path = path.as_ref();
-    let file = hdf5::File::open(path).map_err(|e| IoError::hdf5(path, "open for reading", e))?;
+    let file = open_artifact(path)?;
     let Ok(group) = file.group("prom/inputs") else { return Ok((Vec::new(), Mat::zeros(n_red, 0))) };
     let names: Vec<String> = group
         .dataset("names")
@@ -175,7 +183,7 @@ pub fn read_prom_inputs(path: impl AsRef<Path>, n_red: usize) -> Result<(Vec<Str
 /// (s × n_red). None when the build had no SENSOR.
 pub fn read_prom_sensors(path: impl AsRef<Path>, n_red: usize) -> Result<(Vec<String>, Vec<String>, Mat<f64>), IoError> {
     let path = path.as_ref();
-    let file = hdf5::File::open(path).map_err(|e| IoError::hdf5(path, "open for reading", e))?;
+    let file = open_artifact(path)?;
     let Ok(group) = file.group("prom/sensors") else { return Ok((Vec::new(), Vec::new(), Mat::zeros(0, n_red))) };
     let strings = |name: &str| -> Result<Vec<String>, IoError> {
         Ok(group
