@@ -22,7 +22,7 @@ use super::{Clock, Constrained, GridRows, RunContext, RunError, Structure, Subca
 use crate::assembly::DofMap;
 use crate::assembly::loads::load_vector;
 use crate::assembly::recover::expand_f_to_n;
-use crate::deck::cards::{Darea, SensorKind};
+use crate::deck::cards::Darea;
 use crate::deck::case_control::Subcase;
 use crate::dynamics::integrators::{Method, Run, integrate_with};
 use crate::dynamics::sparse_backend::SparseBackend;
@@ -155,6 +155,7 @@ fn subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase) -> 
     let rows = output_rows(&tstep.intervals);
     let s = sensors.len();
     let mut series = vec![0.0; s * rows];
+    let mut y = vec![0.0; s];
     let mut time = Vec::with_capacity(rows);
     let grid_rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
     let mut history: Vec<f64> = Vec::new();
@@ -172,16 +173,9 @@ fn subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase) -> 
             if (state.step > 0 || interval == 0) && state.step % every == 0 && time.len() < rows {
                 let r = time.len();
                 time.push(state.time);
-                for (col, ((&uj, &vj), &aj)) in state.q.iter().zip(state.v).zip(state.a).enumerate() {
-                    let range = sensors.rows.col_offsets()[col]..sensors.rows.col_offsets()[col + 1];
-                    for (&i, &h) in sensors.rows.row_indices()[range.clone()].iter().zip(&sensors.rows.values()[range]) {
-                        let x = match sensors.kinds[i] {
-                            SensorKind::Vel => vj,
-                            SensorKind::Accel => aj,
-                            SensorKind::Disp | SensorKind::Strain => uj,
-                        };
-                        series[i * rows + r] += h * x;
-                    }
+                sensors.evaluate(state.q, state.v, state.a, &mut y);
+                for (i, yi) in y.iter().enumerate() {
+                    series[i * rows + r] = *yi;
                 }
                 if grid_rows.is_some() {
                     match expand_f_to_n(state.q, &c.sets, &c.spc.enforced).and_then(|u_n| st.rigid.expand(&u_n)) {
