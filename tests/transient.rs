@@ -160,6 +160,14 @@ fn prom_hard_cases_are_reported() {
     let (r, _out) = run_deck(&deck("PTABLE,4,K1,20\nTABLED1,20\n,0.,2.5e4,0.01,7.5e4,ENDT\n"));
     let s = r.expect("out-of-box PTABLE runs (extrapolation is allowed)");
     assert!(s.warnings.iter().any(|w| w.contains("K1") && w.contains("outside the box")), "{:?}", s.warnings);
+    // PARAM,G: not applied in transient response (Nastran without PARAM,W3), with a warning; a
+    // pROM FRF refuses it (its damping is the build's Rayleigh damping)
+    let (r, _out) = run_deck(&deck("PVAL,4,K1,2.5e4\nPARAM,G,0.02\n"));
+    let s = r.expect("PARAM,G in a transient runs");
+    assert!(s.warnings.iter().any(|w| w.contains("PARAM,G") && w.contains("W3")), "{:?}", s.warnings);
+    let frf = format!("SOL 111\nCEND\nROM = '{}'\nFREQUENCY = 5\nPVAL = 4\nBEGIN BULK\nFREQ,5,10.\nPVAL,4,K1,2.5e4\nPARAM,G,0.02\nENDDATA\n", rom.display());
+    let e = run_deck(&frf).0.expect_err("PARAM,G on a pROM FRF");
+    assert!(e.to_string().contains("PARAM,G"), "{e}");
     // every mass component replaced by a rank-one matrix: M_r(p) is singular
     {
         let file = hdf5_metno::File::open_rw(&rom).expect("open rw");

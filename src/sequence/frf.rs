@@ -11,7 +11,9 @@
 //! - outputs: the input DOFs (receptance, like the pROM FRF) and the SENSORs the subcase selects
 //!   ([`sensor_operator`]: DISP and STRAIN per unit force, VEL × iω, ACCEL × −ω², the
 //!   measurement equations' (iω)^k of [`crate::dynamics::measurement`]);
-//! - damping: Rayleigh C = αM + βK from `PARAM,ALPHA1` / `PARAM,BETA1` (as the pROM build);
+//! - damping: Rayleigh C = αM + βK from `PARAM,ALPHA1` / `PARAM,BETA1` (as the pROM build) and
+//!   structural damping `PARAM,G` as Nastran: K(1 + iG) in the direct solution, G on each modal
+//!   stiffness ω_j²(1 + iG) in the modal one;
 //! - direct: one sparse complex LU symbolic analysis of K_ff − ω²M_ff + iωC_ff, one numeric LU
 //!   (plus one refinement step) per line, lines in parallel ([`direct_receptance`]);
 //! - modal: the modes of `METHOD = sid` (EIGRL, shift-invert Lanczos as SOL 103, mass
@@ -256,7 +258,7 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
         let h = match method {
             FrfMethod::Direct => clock
                 .time(format!("subcase {id}: direct FRF ({} lines)", hz.len()), || {
-                    direct_receptance(&SparseModel { stiffness: &c.k_ff, mass: &c.m_ff, alpha, beta }, inputs.columns.as_ref(), &outputs, &omegas, ctx.options.parallel)
+                    direct_receptance(&SparseModel { stiffness: &c.k_ff, mass: &c.m_ff, alpha, beta, structural: model.params.g }, inputs.columns.as_ref(), &outputs, &omegas, ctx.options.parallel)
                 })
                 .map_err(frf_error)?,
             FrfMethod::Modal => {
@@ -279,7 +281,7 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
                                 }
                             }
                         }
-                        modal_receptance(&r.eigenvalues, alpha, beta, modal_in.as_ref(), modal_out.as_ref(), &omegas)
+                        modal_receptance(&r.eigenvalues, alpha, beta, model.params.g, modal_in.as_ref(), modal_out.as_ref(), &omegas)
                     })
                     .map_err(frf_error)?
             }

@@ -45,6 +45,9 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     if names.is_empty() {
         return Err(case(format!("{} has no load inputs (build it with PMOR BSET and ASET1)", path.display())));
     }
+    if ctx.model.params.g != 0.0 {
+        return Err(case(format!("PARAM,G = {}: structural damping is applied by the full-model SOL 108/111 only; a pROM carries the Rayleigh damping of its build (PARAM,ALPHA1 / BETA1)", ctx.model.params.g)));
+    }
     let hz = frequency_lines(ctx.model, sub)?;
     let omegas: Vec<f64> = hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
     let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, prom.size())?;
