@@ -159,8 +159,8 @@ fn full_rom_and_prom_agree(s: &Scene) {
 /// 8.2e-8 / 7.1e-7 / 1.5e-5, pROM 2.3e-6 / 1.7e-6 / 2.0e-5 (71:3 / A71 / S237); on the 0.1 s
 /// random-force histories, relative to the peak: ROM 5.4e-7 / 8.6e-5, pROM 1.0e-6 / 2.9e-5
 /// (A71 / S237). This test runs 5 lines and 0.02 s (debug build, CPU: pROM build 29 s, ROM build
-/// 7 s, 2.5 s per direct line, 50 ms per full-model step; 62 s in all, against ~85 s with the 9
-/// lines and 0.04 s it ran before) and measured at most 9.7e-5 (ROM, S237, transient). Bound 1e-3
+/// 7 s, ~1.7 s per direct line, 50 ms per full-model step; 59 s in all, against ~85 s with the 9
+/// lines, 0.04 s and COLAMD LU it ran with before) and measured at most 9.7e-5 (ROM, S237, transient). Bound 1e-3
 /// for all: ten times the largest truncation error.
 #[test]
 fn blade_full_rom_and_prom_agree_in_frequency_and_time() {
@@ -174,7 +174,7 @@ fn blade_full_rom_and_prom_agree_in_frequency_and_time() {
         rom: vec![("PMPAR,1,", format!("PMPAR,1,E,E,1,{e},{e}")), ("PMPAR,2,", format!("PMPAR,2,RHO,RHO,1,{rho},{rho}")), ("PMOR,1,", "PMOR,1,1,15,500.,1.E-3,8".into()), ("MAT1,", material.clone())],
         point: vec![("MAT1,", material)],
         pval: format!("E,{e},RHO,{rho}"),
-        // 5 of the deck's 49 lines (5, 125, …, 485 Hz): a direct line costs ~2.5 s of CPU in a
+        // 5 of the deck's 49 lines (5, 125, …, 485 Hz): a direct line costs ~1.7 s of CPU in a
         // debug build; the reduced models' errors grow with frequency, so the top line stays
         lines: ("FREQ1,5,", "FREQ1,5,5.,120.,4".into()),
         // the first 0.02 s of the deck's 0.1 s (200 steps, ~50 ms of CPU each in a debug build;
