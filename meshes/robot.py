@@ -344,6 +344,13 @@ def _one(out: Path, name: str, build, h: float, rings: list[int], comment: str,
     return [inc, rbe]
 
 
+# Element size factor of ``l2_composite_coarse`` (written with the "test" size only): the L2
+# composite side at 3x the test element size, ~500 grids against 1579, small enough for the
+# debug-build cross-model test of tests/crossmodel.rs (full-model direct FRF lines and
+# transients); gmsh still refines around the motor and bolt holes (MeshSizeMin = h/3).
+COARSE = 3.0
+
+
 def generate(out: Path, size: str) -> list[Path]:
     if size not in ("test", "full"):
         raise ValueError(f"size must be 'test' or 'full', not {size!r}")
@@ -358,6 +365,10 @@ def generate(out: Path, size: str) -> list[Path]:
                       f"{name.upper()} side {ends}")
         paths += _one(out, f"{name}_composite", lambda p=p: _build_side(p, False),
                       p.h_test * f, [11, 12], f"{name.upper()} composite side {ends}", mcid=0)
+    if size == "test":
+        paths += _one(out, "l2_composite_coarse", lambda: _build_side(L2, False),
+                      L2.h_test * COARSE, [11, 12],
+                      f"L2 composite side, coarse (tests/crossmodel.rs) {ends}", mcid=0)
     paths += _one(out, "base_plate", _build_plate, PLATE_H_TEST * f, [11],
                   "base plate master: 1000001 = M1 axis; SPC1 21 = edge resting on the frame")
     return paths

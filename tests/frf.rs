@@ -69,7 +69,19 @@ fn sdof_direct_matches_the_closed_form() {
 /// largest |H| of each output row (rows differ by ω² in scale).
 #[test]
 fn two_dof_direct_and_modal_match_the_analytic_receptance() {
-    let r = reference("frf_two_dof");
+    two_dof_matches("frf_two_dof");
+}
+
+/// The same chain with PARAM,G = 0.05 on top of Rayleigh damping: Z = K(1 + iG) − ω²M + iωC
+/// (SOL 108) and ω_j²(1 + iG) on the modal stiffness (SOL 111), both exact for this G K; same
+/// tolerance (`reference/analytic/frf_two_dof_g.json`).
+#[test]
+fn two_dof_structural_damping_matches_the_complex_stiffness() {
+    two_dof_matches("frf_two_dof_g");
+}
+
+fn two_dof_matches(case: &str) {
+    let r = reference(case);
     let tol = f64s(&r["tolerance_finest"]["relative"])[0];
     let (re, im) = (f64s(&r["H_re"]), f64s(&r["H_im"]));
     let outputs: Vec<String> = r["outputs"].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_string()).collect();

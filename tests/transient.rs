@@ -160,6 +160,14 @@ fn prom_hard_cases_are_reported() {
     let (r, _out) = run_deck(&deck("PTABLE,4,K1,20\nTABLED1,20\n,0.,2.5e4,0.01,7.5e4,ENDT\n"));
     let s = r.expect("out-of-box PTABLE runs (extrapolation is allowed)");
     assert!(s.warnings.iter().any(|w| w.contains("K1") && w.contains("outside the box")), "{:?}", s.warnings);
+    // PARAM,G: not applied in transient response (Nastran without PARAM,W3), with a warning; a
+    // pROM FRF refuses it (its damping is the build's Rayleigh damping)
+    let (r, _out) = run_deck(&deck("PVAL,4,K1,2.5e4\nPARAM,G,0.02\n"));
+    let s = r.expect("PARAM,G in a transient runs");
+    assert!(s.warnings.iter().any(|w| w.contains("PARAM,G") && w.contains("W3")), "{:?}", s.warnings);
+    let frf = format!("SOL 111\nCEND\nROM = '{}'\nFREQUENCY = 5\nPVAL = 4\nBEGIN BULK\nFREQ,5,10.\nPVAL,4,K1,2.5e4\nPARAM,G,0.02\nENDDATA\n", rom.display());
+    let e = run_deck(&frf).0.expect_err("PARAM,G on a pROM FRF");
+    assert!(e.to_string().contains("PARAM,G"), "{e}");
     // every mass component replaced by a rank-one matrix: M_r(p) is singular
     {
         let file = hdf5_metno::File::open_rw(&rom).expect("open rw");
@@ -170,4 +178,42 @@ fn prom_hard_cases_are_reported() {
     }
     let e = run_deck(&deck("PVAL,4,K1,2.5e4\n")).0.expect_err("a singular reduced mass must be refused");
     assert!(e.to_string().contains("ill-conditioned") && e.to_string().contains("K1 = 2.5e4"), "{e}");
+}
+
+/// Massless DOFs in a full-model transient: ground –k1– grid 1 (no mass) –k2– grid 2 (CONM2 m)
+/// along T1, ramp force F(t) = F₁t at grid 2 from rest. Grid 1 is quasi-static, so grid 2 is an
+/// SDOF with the series stiffness k = k1k2/(k1 + k2): u₂(t) = F₁/k (t − sin(ωt)/ω), ω² = k/m
+/// (ramp response by the Duhamel integral, e.g. Inman, Engineering Vibration, 4th ed. 2014,
+/// sec. 3.2), and u₁ = k2 u₂/(k1 + k2). The run starts at rest and unloaded, so a₀ = 0 is
+/// consistent and no M⁻¹ is needed; each integrator then only factors the effective matrix,
+/// definite through the springs. Tolerances as the two-DOF step response at the same ωΔt
+/// (second-order methods 1e-4 of the peak, BDF1 with its numerical damping 5e-2; measured 2.2e-6
+/// generalized-α, 8.4e-6 BDF2, 2.3e-3 BDF1). A force that
+/// jumps at t = 0 needs a₀ = M⁻¹(…), which does not exist: a clear error naming the DOF.
+#[test]
+fn massless_dofs_start_from_rest_and_a_loaded_start_is_refused() {
+    let (k1, k2, m, f1): (f64, f64, f64, f64) = (3.0e4, 6.0e4, 2.0, 10.0);
+    let k = k1 * k2 / (k1 + k2);
+    let w = (k / m).sqrt();
+    let deck = |tinteg: &str, table: &str| {
+        format!(
+            "SOL 109\nCEND\nSPC = 1\nTSTEP = 1\nDLOAD = 7\nBEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nSPC1,1,23456,1,2\nCONM2,1,2,,{m:?}\nCELAS2,11,{k1:?},1,1\nCELAS2,12,{k2:?},1,1,2,1\nSENSOR,1,D1,DISP,1,,1.,0.,0.\nSENSOR,2,D2,DISP,2,,1.,0.,0.\nTSTEP,1,4000,5.e-5,10\n{tinteg}TLOAD1,7,8,,,9\nDAREA,8,2,1,1.\nTABLED1,9\n{table}ENDDATA\n"
+        )
+    };
+    let ramp = format!(",0.,0.,10.,{:?},ENDT\n", 10.0 * f1);
+    for (tinteg, what, tolerance) in [("TINTEG,1,GALPHA,0.8\n", "generalized-α ρ∞ = 0.8", 1e-4), ("TINTEG,1,BDF2\n", "BDF2", 1e-4), ("", "BDF1", 5e-2)] {
+        let (r, out) = run_deck(&deck(tinteg, &ramp));
+        r.unwrap_or_else(|e| panic!("{what}: {e}"));
+        let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
+        let g = file.group("results/1/transient").expect("transient group");
+        let (time, d1, d2) = (read(&g, "time"), read(&g, "sensors/D1"), read(&g, "sensors/D2"));
+        let exact = |t: f64| f1 / k * (t - (w * t).sin() / w);
+        let peak = time.iter().map(|&t| exact(t).abs()).fold(0.0, f64::max);
+        let worst2 = time.iter().zip(&d2).map(|(&t, y)| (y - exact(t)).abs()).fold(0.0, f64::max);
+        let worst1 = time.iter().zip(&d1).map(|(&t, y)| (y - k2 / (k1 + k2) * exact(t)).abs()).fold(0.0, f64::max);
+        println!("{what}: max |u₂ − exact| = {worst2:.2e}, |u₁ − exact| = {worst1:.2e}, peak {peak:.3e}");
+        assert!(worst2 <= tolerance * peak && worst1 <= tolerance * peak, "{what}: errors {worst2:e}, {worst1:e} vs peak {peak:e}");
+    }
+    let e = run_deck(&deck("", ",0.,1.,10.,1.,ENDT\n")).0.expect_err("a loaded start with a massless DOF");
+    assert!(e.to_string().contains("GRID 1 component 1 without mass"), "{e}");
 }

@@ -2,12 +2,14 @@
 //! domain), receptance (displacement per force), three ways:
 //! - [`receptance`]: dense models (reduced models, pROMs evaluated at a point), one dense
 //!   complex LU per frequency;
-//! - [`direct_receptance`]: sparse full models with Rayleigh damping C = αM + βK, one symbolic
-//!   analysis of the pattern ([`ComplexLuSymbolic`]) and one numeric LU per frequency;
+//! - [`direct_receptance`]: sparse full models with Rayleigh damping C = αM + βK and structural
+//!   damping G (Nastran's PARAM,G: the complex stiffness K(1 + iG)), one symbolic analysis of the
+//!   pattern ([`ComplexLuSymbolic`]) and one numeric LU per frequency;
 //! - [`modal_receptance`]: modal superposition over mass-normalized modes,
-//!   H = Σ_j (S_out φ_j)(φ_jᵀ S_in) / (ω_j² − ω² + iω(α + βω_j²)) (Rayleigh modal damping,
-//!   2ζ_jω_j = α + βω_j²), without residual flexibility: the truncation error is the static
-//!   part of the modes left out, so the mode set must reach well above the band.
+//!   H = Σ_j (S_out φ_j)(φ_jᵀ S_in) / (ω_j²(1 + iG) − ω² + iω(α + βω_j²)) (Rayleigh modal
+//!   damping 2ζ_jω_j = α + βω_j², G on the modal stiffness as Nastran's SOL 111), without
+//!   residual flexibility: the truncation error is the static part of the modes left out, so the
+//!   mode set must reach well above the band.
 //!
 //! Frequencies run in parallel (rayon) in every variant.
 
@@ -31,16 +33,18 @@ pub enum FrfError {
     Linalg(LinalgError),
 }
 
-/// A sparse model with Rayleigh damping C = αM + βK; K and M on one pattern.
+/// A sparse model with Rayleigh damping C = αM + βK and structural damping G (stiffness
+/// K(1 + iG)); K and M on one pattern.
 pub struct SparseModel<'a> {
     pub stiffness: &'a CscMatrix<f64>,
     pub mass: &'a CscMatrix<f64>,
     pub alpha: f64,
     pub beta: f64,
+    pub structural: f64,
 }
 
 /// H(ω_l) (outputs × inputs) of a sparse model by direct solution at every angular frequency:
-/// A(ω) = (1 + iωβ) K + (iωα − ω²) M factored by sparse LU on the one symbolic analysis,
+/// A(ω) = (1 + i(ωβ + G)) K + (iωα − ω²) M factored by sparse LU on the one symbolic analysis,
 /// lines in parallel when `parallel`. `inputs` is n × n_in, `outputs` n_out × n (sparse rows).
 pub fn direct_receptance(model: &SparseModel<'_>, inputs: MatRef<'_, f64>, outputs: &CscMatrix<f64>, omegas: &[f64], parallel: bool) -> Result<Vec<Mat<c64>>, FrfError> {
     let (k, m) = (model.stiffness, model.mass);
@@ -55,7 +59,7 @@ pub fn direct_receptance(model: &SparseModel<'_>, inputs: MatRef<'_, f64>, outpu
     }
     let symbolic = ComplexLuSymbolic::analyze(k.pattern()).map_err(FrfError::Linalg)?;
     let line = |&w: &f64| -> Result<Mat<c64>, FrfError> {
-        let (ck, cm) = (c64::new(1.0, w * model.beta), c64::new(-w * w, w * model.alpha));
+        let (ck, cm) = (c64::new(1.0, w * model.beta + model.structural), c64::new(-w * w, w * model.alpha));
         let values: Vec<c64> = k.values().iter().zip(m.values()).map(|(&kv, &mv)| ck * kv + cm * mv).collect();
         let mut x = Mat::<c64>::from_fn(n, inputs.ncols(), |i, j| c64::new(inputs[(i, j)], 0.0));
         symbolic.solve_in_place(&values, x.as_mut()).map_err(|e| match e {
@@ -76,8 +80,9 @@ pub fn direct_receptance(model: &SparseModel<'_>, inputs: MatRef<'_, f64>, outpu
 }
 
 /// H(ω_l) by modal superposition (module doc): `eigenvalues` ω_j² of mass-normalized modes,
-/// `modal_inputs` = Φᵀ S_in (m × n_in), `modal_outputs` = S_out Φ (n_out × m).
-pub fn modal_receptance(eigenvalues: &[f64], alpha: f64, beta: f64, modal_inputs: MatRef<'_, f64>, modal_outputs: MatRef<'_, f64>, omegas: &[f64]) -> Result<Vec<Mat<c64>>, FrfError> {
+/// Rayleigh `alpha`, `beta` and structural damping `g`, `modal_inputs` = Φᵀ S_in (m × n_in),
+/// `modal_outputs` = S_out Φ (n_out × m).
+pub fn modal_receptance(eigenvalues: &[f64], alpha: f64, beta: f64, g: f64, modal_inputs: MatRef<'_, f64>, modal_outputs: MatRef<'_, f64>, omegas: &[f64]) -> Result<Vec<Mat<c64>>, FrfError> {
     let m = eigenvalues.len();
     for (what, got) in [("modal input rows", modal_inputs.nrows()), ("modal output columns", modal_outputs.ncols())] {
         if got != m {
@@ -89,7 +94,7 @@ pub fn modal_receptance(eigenvalues: &[f64], alpha: f64, beta: f64, modal_inputs
         .map(|&w| {
             let mut h = Mat::<c64>::zeros(modal_outputs.nrows(), modal_inputs.ncols());
             for (j, &lambda) in eigenvalues.iter().enumerate() {
-                let d = c64::new(lambda - w * w, w * (alpha + beta * lambda));
+                let d = c64::new(lambda - w * w, w * (alpha + beta * lambda) + g * lambda);
                 if d.norm() == 0.0 {
                     return Err(FrfError::Singular { hz: w / (2.0 * std::f64::consts::PI) });
                 }
@@ -206,9 +211,9 @@ mod tests {
         coo.push(0, 1, 1.0);
         coo.push(1, 2, 1.0);
         let out_sparse = CscMatrix::from(&coo);
-        let direct = direct_receptance(&SparseModel { stiffness: &ks, mass: &ms, alpha, beta }, inputs.as_ref(), &out_sparse, &omegas, true).unwrap();
+        let direct = direct_receptance(&SparseModel { stiffness: &ks, mass: &ms, alpha, beta, structural: 0.0 }, inputs.as_ref(), &out_sparse, &omegas, true).unwrap();
         let (lambda, phi) = crate::linalg::dense::generalized_eigen(km.as_ref(), mm.as_ref()).unwrap();
-        let modal = modal_receptance(&lambda, alpha, beta, (phi.transpose() * &inputs).as_ref(), (&outputs * &phi).as_ref(), &omegas).unwrap();
+        let modal = modal_receptance(&lambda, alpha, beta, 0.0, (phi.transpose() * &inputs).as_ref(), (&outputs * &phi).as_ref(), &omegas).unwrap();
         let scale = want.iter().flat_map(|h| (0..2).flat_map(move |o| (0..2).map(move |i| h[(o, i)].norm()))).fold(0.0, f64::max);
         for l in 0..omegas.len() {
             for o in 0..2 {

@@ -1,11 +1,14 @@
 //! Frequency and time response (thesis §2.4; DESIGN.md §2).
 //!
 //! - [`frf`]: receptance of a dense (reduced) model, H(ω) = S_out (K − ω²M + iωC)⁻¹ S_in;
+//! - [`measurement`]: sensor equations y = h(q, q̇, q̈) and their factors (iω)^k in frequency,
+//!   shared by the FRF, transient and estimation sequences;
 //! - [`integrators`]: BDF1 (eq. 2.61), BDF2 and generalized-α with a constant step;
 //! - [`sparse_backend`]: the integrators' full-model (sparse f-set) backend;
 //! - [`table`]: piecewise-linear tables of time (TABLED1).
 
 pub mod frf;
 pub mod integrators;
+pub mod measurement;
 pub mod sparse_backend;
 pub mod table;

@@ -2,12 +2,13 @@
 //! parameters with the augmented EKF, usable from Rust without a deck.
 //!
 //! - [`filter`]: the augmented EKF with BDF1 and analytic Jacobians (eq. 8.1–8.35).
-//! - [`measurement`]: sensor equations y = h(x*) (eq. 8.36), shared with the other pROM drivers.
+//! - [`measurement`]: sensor equations y = h(x*) (eq. 8.36): [`crate::dynamics::measurement`],
+//!   shared with the FRF and transient drivers and re-exported here.
 //! - [`observability`]: the PBH test before a run (eq. 8.40–8.41, §8.4.3–8.4.4).
 //! - [`covariance`]: the rules of thumb for Q of inputs and parameters (eq. 8.30–8.31).
 
 pub mod filter;
-pub mod measurement;
+pub use crate::dynamics::measurement;
 pub mod observability;
 
 pub use filter::{Filter, FilterError, FilterSetup};

@@ -2,25 +2,38 @@
 //! dynamic stiffness K − ω²M + iωC of frequency responses (complex symmetric, not Hermitian,
 //! so the Hermitian LLᴴ / LDLᴴ of [`super::cholesky`] does not apply).
 //!
-//! faer 0.24 calls: `sparse::linalg::lu::factorize_symbolic_lu` (COLAMD column ordering,
-//! elimination tree, supernodal or simplicial layout) once per pattern, then per matrix
-//! `SymbolicLu::factorize_numeric_lu::<c64>` (partial pivoting by rows inside the fixed column
-//! order) and `LuRef::solve_in_place_with_conj`. The symbolic object is shared (`Arc`) and
-//! `Send + Sync`: each rayon task factors its own frequency with `Par::Seq`.
+//! Ordering. faer's high-level `sparse::linalg::lu::factorize_symbolic_lu` always computes its
+//! own COLAMD column order. For a structurally symmetric pattern (every FE dynamic stiffness)
+//! this module instead orders the columns by nested dissection of the pattern's graph
+//! ([`super::ordering::nested_dissection`], METIS on the supervariables) and builds faer's
+//! supernodal symbolic LU on that order through the lower-level calls the high-level one makes:
+//! `qr::col_etree`, `qr::postorder`, `qr::column_counts_ata` (column elimination tree and
+//! column counts of AᵀA, the static structure that holds L and U for any row pivoting) and
+//! `lu::supernodal::factorize_supernodal_symbolic_lu`; per matrix
+//! `lu::supernodal::factorize_supernodal_numeric_lu` (partial pivoting by rows inside the fixed
+//! column order; it takes Aᵀ's values too, gathered through the mirror positions of the
+//! symmetric pattern) and `SupernodalLu::solve_in_place_with_conj`. Other patterns keep faer's
+//! default path (`SymbolicLu::factorize_numeric_lu`, `LuRef::solve_in_place_with_conj`).
+//! The symbolic object is shared (`Arc`) and `Send + Sync`: each rayon task factors its own
+//! frequency with `Par::Seq`.
 //!
 //! Chosen over the real 2n × 2n form [[A, −B], [B, A]] (which would double the order and more
 //! than double the fill) because faer's sparse LU is generic over the field.
 
 use std::sync::Arc;
 
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::perm::PermRef;
 use faer::sparse::linalg::LuError;
+use faer::sparse::linalg::lu::supernodal::{self, SupernodalLu, SymbolicSupernodalLu};
 use faer::sparse::linalg::lu::{NumericLu, SymbolicLu, factorize_symbolic_lu};
+use faer::sparse::linalg::qr;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par, c64};
+use faer::{Conj, Mat, MatMut, Par, c64};
 use nalgebra_sparse::pattern::SparsityPattern;
 
 use super::LinalgError;
+use super::ordering::{inverse, nested_dissection};
 
 /// The symbolic LU of one square pattern (column-compressed, sorted rows).
 #[derive(Clone)]
@@ -28,11 +41,36 @@ pub struct ComplexLuSymbolic {
     n: usize,
     col_ptr: Arc<Vec<usize>>,
     row_idx: Arc<Vec<usize>>,
-    inner: Arc<SymbolicLu<usize>>,
+    inner: Arc<Inner>,
+}
+
+/// Which symbolic analysis was made (module documentation).
+enum Inner {
+    /// faer's own: COLAMD column order, simplicial or supernodal.
+    Colamd(SymbolicLu<usize>),
+    /// A structurally symmetric pattern: nested-dissection column order, supernodal layout;
+    /// `mirror[k]` is the position of the transpose of entry k.
+    Symmetric { symbolic: SymbolicSupernodalLu<usize>, fwd: Vec<usize>, inv: Vec<usize>, mirror: Vec<usize> },
+}
+
+/// For each entry (i, j) of a CSC pattern, the position of (j, i); `None` when the pattern is
+/// not structurally symmetric.
+fn mirror_positions(col_ptr: &[usize], row_idx: &[usize]) -> Option<Vec<usize>> {
+    let n = col_ptr.len().saturating_sub(1);
+    let mut mirror = vec![0; row_idx.len()];
+    for j in 0..n {
+        for p in col_ptr[j]..col_ptr[j + 1] {
+            let i = row_idx[p];
+            let q = row_idx[col_ptr[i]..col_ptr[i + 1]].binary_search(&j).ok()?;
+            mirror[p] = col_ptr[i] + q;
+        }
+    }
+    Some(mirror)
 }
 
 impl ComplexLuSymbolic {
-    /// Column ordering and symbolic structure of `pattern` (n × n, nalgebra CSC layout).
+    /// Column ordering and symbolic structure of `pattern` (n × n, nalgebra CSC layout; see the
+    /// module documentation for the two paths).
     pub fn analyze(pattern: &SparsityPattern) -> Result<Self, LinalgError> {
         let (n, m) = (pattern.major_dim(), pattern.minor_dim());
         if n != m {
@@ -41,7 +79,31 @@ impl ComplexLuSymbolic {
         let col_ptr = pattern.major_offsets().to_vec();
         let row_idx = pattern.minor_indices().to_vec();
         let view = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-        let inner = factorize_symbolic_lu(view, Default::default()).map_err(|_| LinalgError::OutOfMemory)?;
+        let inner = match mirror_positions(&col_ptr, &row_idx) {
+            Some(mirror) if n > 0 => {
+                let fwd = nested_dissection(pattern)?;
+                let inv = inverse(&fwd);
+                let perm = PermRef::new_checked(&fwd, &inv, n);
+                let req = StackReq::any_of(&[
+                    qr::col_etree_scratch::<usize>(n, n),
+                    qr::postorder_scratch::<usize>(n),
+                    qr::column_counts_aat_scratch::<usize>(n, n),
+                    supernodal::factorize_supernodal_symbolic_lu_scratch::<usize>(n, n),
+                ]);
+                let mut mem = MemBuffer::try_new(req).map_err(|_| LinalgError::OutOfMemory)?;
+                let stack = MemStack::new(&mut mem);
+                let mut etree = vec![0usize; n];
+                let tree = qr::col_etree(view, Some(perm), &mut etree, stack);
+                let mut post = vec![0usize; n];
+                qr::postorder(&mut post, tree, stack);
+                let (mut col_counts, mut min_col) = (vec![0usize; n], vec![0usize; n]);
+                // column_counts_ata takes Aᵀ's pattern: the pattern itself
+                qr::column_counts_ata(&mut col_counts, &mut min_col, view, Some(perm), tree, &post, stack);
+                let symbolic = supernodal::factorize_supernodal_symbolic_lu(view, Some(perm), &min_col, tree, &col_counts, stack, Default::default()).map_err(|_| LinalgError::OutOfMemory)?;
+                Inner::Symmetric { symbolic, fwd, inv, mirror }
+            }
+            _ => Inner::Colamd(factorize_symbolic_lu(view, Default::default()).map_err(|_| LinalgError::OutOfMemory)?),
+        };
         Ok(ComplexLuSymbolic { n, col_ptr: Arc::new(col_ptr), row_idx: Arc::new(row_idx), inner: Arc::new(inner) })
     }
 
@@ -55,28 +117,50 @@ impl ComplexLuSymbolic {
     /// membrane and bending terms, is ~κ·ε; one step recovers most of it for the price of a
     /// solve). Fails with [`LinalgError::Singular`] when A is singular (a zero pivot, or a
     /// non-finite solution).
-    pub fn solve_in_place(&self, values: &[c64], mut rhs: MatMut<'_, c64>) -> Result<(), LinalgError> {
+    pub fn solve_in_place(&self, values: &[c64], rhs: MatMut<'_, c64>) -> Result<(), LinalgError> {
         if values.len() != self.row_idx.len() {
             return Err(LinalgError::PatternMismatch { expected: self.row_idx.len(), got: values.len() });
         }
         if rhs.nrows() != self.n {
             return Err(LinalgError::DimensionMismatch { expected: self.n, got: rhs.nrows() });
         }
-        let view = SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.col_ptr, None, &self.row_idx);
+        let (n, k) = (self.n, rhs.ncols());
+        let view = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
         let a = SparseColMatRef::new(view, values);
-        let mut numeric = NumericLu::<usize, c64>::new();
-        let mut factor_mem = MemBuffer::try_new(self.inner.factorize_numeric_lu_scratch::<c64>(Par::Seq, Default::default())).map_err(|_| LinalgError::OutOfMemory)?;
-        let lu = self.inner.factorize_numeric_lu(&mut numeric, a, Par::Seq, MemStack::new(&mut factor_mem), Default::default()).map_err(|e| match e {
+        let singular = |e: LuError| match e {
             LuError::SymbolicSingular { index } => LinalgError::Singular { index },
             LuError::Generic(_) => LinalgError::OutOfMemory,
-        })?;
-        let k = rhs.ncols();
-        let mut solve_mem = MemBuffer::try_new(self.inner.solve_in_place_scratch::<c64>(k, Par::Seq)).map_err(|_| LinalgError::OutOfMemory)?;
-        let b = rhs.to_owned();
-        lu.solve_in_place_with_conj(Conj::No, rhs.as_mut(), Par::Seq, MemStack::new(&mut solve_mem));
-        // r = B − A X, X += A⁻¹ r
-        let mut r = b;
-        for j in 0..self.n {
+        };
+        let memory = |req: StackReq| MemBuffer::try_new(req).map_err(|_| LinalgError::OutOfMemory);
+        match &*self.inner {
+            Inner::Colamd(inner) => {
+                let mut numeric = NumericLu::<usize, c64>::new();
+                let mut factor_mem = memory(inner.factorize_numeric_lu_scratch::<c64>(Par::Seq, Default::default()))?;
+                let lu = inner.factorize_numeric_lu(&mut numeric, a, Par::Seq, MemStack::new(&mut factor_mem), Default::default()).map_err(singular)?;
+                let mut solve_mem = memory(inner.solve_in_place_scratch::<c64>(k, Par::Seq))?;
+                self.refined(values, rhs, |x| lu.solve_in_place_with_conj(Conj::No, x, Par::Seq, MemStack::new(&mut solve_mem)))
+            }
+            Inner::Symmetric { symbolic, fwd, inv, mirror } => {
+                let transposed: Vec<c64> = mirror.iter().map(|&p| values[p]).collect();
+                let at = SparseColMatRef::new(view, &transposed);
+                let col = PermRef::new_checked(fwd, inv, n);
+                let (mut row_fwd, mut row_inv) = (vec![0usize; n], vec![0usize; n]);
+                let mut lu = SupernodalLu::<usize, c64>::new();
+                let mut factor_mem = memory(supernodal::factorize_supernodal_numeric_lu_scratch::<usize, c64>(symbolic, Default::default()))?;
+                supernodal::factorize_supernodal_numeric_lu(&mut row_fwd, &mut row_inv, &mut lu, a, at, col, symbolic, Par::Seq, MemStack::new(&mut factor_mem), Default::default()).map_err(singular)?;
+                let row = PermRef::new_checked(&row_fwd, &row_inv, n);
+                let mut solve_mem = memory(supernodal::solve_in_place_scratch::<usize, c64>(n, k, Par::Seq))?;
+                self.refined(values, rhs, |x| lu.solve_in_place_with_conj(row, col, Conj::No, x, Par::Seq, MemStack::new(&mut solve_mem)))
+            }
+        }
+    }
+
+    /// X = A⁻¹B by `solve` (in place) plus one refinement step r = B − A X, X += A⁻¹ r.
+    fn refined(&self, values: &[c64], mut rhs: MatMut<'_, c64>, mut solve: impl FnMut(MatMut<'_, c64>)) -> Result<(), LinalgError> {
+        let (n, k) = (self.n, rhs.ncols());
+        let mut r: Mat<c64> = rhs.to_owned();
+        solve(rhs.as_mut());
+        for j in 0..n {
             let range = self.col_ptr[j]..self.col_ptr[j + 1];
             for (&i, &v) in self.row_idx[range.clone()].iter().zip(&values[range]) {
                 for c in 0..k {
@@ -84,13 +168,13 @@ impl ComplexLuSymbolic {
                 }
             }
         }
-        lu.solve_in_place_with_conj(Conj::No, r.as_mut(), Par::Seq, MemStack::new(&mut solve_mem));
+        solve(r.as_mut());
         for c in 0..k {
-            for i in 0..self.n {
+            for i in 0..n {
                 rhs[(i, c)] += r[(i, c)];
             }
         }
-        if (0..k).any(|c| (0..self.n).any(|i| !(rhs[(i, c)].re.is_finite() && rhs[(i, c)].im.is_finite()))) {
+        if (0..k).any(|c| (0..n).any(|i| !(rhs[(i, c)].re.is_finite() && rhs[(i, c)].im.is_finite()))) {
             return Err(LinalgError::Singular { index: 0 });
         }
         Ok(())
@@ -114,6 +198,7 @@ mod tests {
         }
         let a = CscMatrix::from(&coo);
         let lu = ComplexLuSymbolic::analyze(a.pattern()).unwrap();
+        assert!(matches!(*lu.inner, Inner::Symmetric { .. }));
         let b = Mat::<c64>::from_fn(3, 2, |i, j| c64::new(1.0 + i as f64, j as f64));
         let mut x = b.clone();
         lu.solve_in_place(a.values(), x.as_mut()).unwrap();
@@ -124,6 +209,29 @@ mod tests {
             for j in 0..2 {
                 assert!((x[(i, j)] - want[(i, j)]).norm() <= 1e-13 * want[(i, j)].norm().max(1.0));
             }
+        }
+    }
+
+    /// A structurally unsymmetric pattern takes faer's COLAMD path: same check against the
+    /// dense LU (bound as above).
+    #[test]
+    fn an_unsymmetric_pattern_matches_the_dense_lu() {
+        let entries = [(0, 0, c64::new(4.0, 1.0)), (0, 2, c64::new(-1.0, 0.5)), (1, 0, c64::new(2.0, 0.0)), (1, 1, c64::new(3.0, -2.0)), (2, 1, c64::new(0.0, 1.0)), (2, 2, c64::new(2.0, 0.0))];
+        let mut coo = CooMatrix::new(3, 3);
+        for (i, j, v) in entries {
+            coo.push(i, j, v);
+        }
+        let a = CscMatrix::from(&coo);
+        let lu = ComplexLuSymbolic::analyze(a.pattern()).unwrap();
+        assert!(matches!(*lu.inner, Inner::Colamd(_)));
+        let b = Mat::<c64>::from_fn(3, 1, |i, _| c64::new(1.0, -(i as f64)));
+        let mut x = b.clone();
+        lu.solve_in_place(a.values(), x.as_mut()).unwrap();
+        let dense = Mat::<c64>::from_fn(3, 3, |i, j| entries.iter().find(|e| e.0 == i && e.1 == j).map_or(c64::new(0.0, 0.0), |e| e.2));
+        use faer::linalg::solvers::Solve;
+        let want = dense.partial_piv_lu().solve(&b);
+        for i in 0..3 {
+            assert!((x[(i, 0)] - want[(i, 0)]).norm() <= 1e-13 * want[(i, 0)].norm().max(1.0));
         }
     }
 

@@ -40,7 +40,7 @@ pub const KNOWN_PARAMS: &[KnownParam] = &[
     KnownParam { name: "GRDPNT", kind: ParamType::Int, rule: "an integer >= -1", ok: |v| v >= -1.0, doc: "grid-point weight generator reference grid; -1 (default) = off, 0 = basic origin" },
     KnownParam { name: "ALPHA1", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "Rayleigh damping α (C = αM + βK); default 0" },
     KnownParam { name: "BETA1", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "Rayleigh damping β; default 0" },
-    KnownParam { name: "G", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "overall structural damping coefficient; default 0" },
+    KnownParam { name: "G", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "overall structural damping coefficient: K(1 + iG) in SOL 108, G on the modal stiffness in SOL 111; not applied in transient response (no PARAM,W3) nor on pROMs; default 0" },
     KnownParam {
         name: "MAXRATIO",
         kind: ParamType::Real,

@@ -9,8 +9,11 @@
 //!   grid's CD frame, as for Nastran's DAREA), loaded by a unit force through Tᵀ (a dependent
 //!   RBE DOF spreads to its independent DOFs). A constrained input DOF is an error;
 //! - outputs: the input DOFs (receptance, like the pROM FRF) and the SENSORs the subcase selects
-//!   ([`sensor_operator`]: DISP and STRAIN per unit force, VEL × iω, ACCEL × −ω²);
-//! - damping: Rayleigh C = αM + βK from `PARAM,ALPHA1` / `PARAM,BETA1` (as the pROM build);
+//!   ([`sensor_operator`]: DISP and STRAIN per unit force, VEL × iω, ACCEL × −ω², the
+//!   measurement equations' (iω)^k of [`crate::dynamics::measurement`]);
+//! - damping: Rayleigh C = αM + βK from `PARAM,ALPHA1` / `PARAM,BETA1` (as the pROM build) and
+//!   structural damping `PARAM,G` as Nastran: K(1 + iG) in the direct solution, G on each modal
+//!   stiffness ω_j²(1 + iG) in the modal one;
 //! - direct: one sparse complex LU symbolic analysis of K_ff − ω²M_ff + iωC_ff, one numeric LU
 //!   (plus one refinement step) per line, lines in parallel ([`direct_receptance`]);
 //! - modal: the modes of `METHOD = sid` (EIGRL, shift-invert Lanczos as SOL 103, mass
@@ -26,12 +29,13 @@
 use faer::{Mat, c64};
 use nalgebra_sparse::{CooMatrix, CscMatrix};
 
-use super::sensors::{sensor_kind_name, sensor_operator};
+use super::sensors::sensor_operator;
 use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary};
 use crate::assembly::DofMap;
 use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
 use crate::dynamics::frf::{SparseModel, direct_receptance, modal_receptance};
+use crate::dynamics::measurement::Reads;
 use crate::dynamics::table::Table;
 use crate::io::csv_table::read_columns;
 use crate::io::{IoError, set_attr_i64, set_attr_str, write_c64, write_f64, write_strings};
@@ -82,25 +86,16 @@ pub fn frequency_lines(model: &Model, sub: &Subcase) -> Result<Vec<f64>, RunErro
     Ok(hz)
 }
 
-/// The factor that turns a displacement-per-force output into the output's quantity at ω:
-/// VEL iω, ACCEL −ω², anything else (input DOFs, DISP, STRAIN) 1.
-pub fn output_factor(kind: Option<&str>, w: f64) -> c64 {
-    match kind {
-        Some("VEL") => c64::new(0.0, w),
-        Some("ACCEL") => c64::new(-w * w, 0.0),
-        _ => c64::new(1.0, 0.0),
-    }
-}
-
-/// Scales H by [`output_factor`] of each output row (`kinds[o]`, `None` for input DOFs) and
-/// flattens it line-major (f × o × i); also returns the largest |H| and its frequency.
-pub fn scaled_flat(h: &[Mat<c64>], hz: &[f64], kinds: &[Option<&str>]) -> (Vec<c64>, (f64, f64)) {
+/// Scales H by each output row's (iω)^k ([`Reads::frequency_factor`]: the input DOFs, DISP and
+/// STRAIN read displacement, VEL iω, ACCEL −ω²) and flattens it line-major (f × o × i); also
+/// returns the largest |H| and its frequency.
+pub fn scaled_flat(h: &[Mat<c64>], hz: &[f64], reads: &[Reads]) -> (Vec<c64>, (f64, f64)) {
     let mut flat = Vec::with_capacity(h.iter().map(|m| m.nrows() * m.ncols()).sum());
     let mut peak = (0.0_f64, 0.0);
     for (hw, f) in h.iter().zip(hz) {
         let w = 2.0 * std::f64::consts::PI * f;
-        for (o, kind) in kinds.iter().enumerate() {
-            let factor = output_factor(*kind, w);
+        for (o, row) in reads.iter().enumerate() {
+            let factor = row.frequency_factor(w);
             for i in 0..hw.ncols() {
                 let z = hw[(o, i)] * factor;
                 if z.norm() > peak.0 {
@@ -263,7 +258,7 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
         let h = match method {
             FrfMethod::Direct => clock
                 .time(format!("subcase {id}: direct FRF ({} lines)", hz.len()), || {
-                    direct_receptance(&SparseModel { stiffness: &c.k_ff, mass: &c.m_ff, alpha, beta }, inputs.columns.as_ref(), &outputs, &omegas, ctx.options.parallel)
+                    direct_receptance(&SparseModel { stiffness: &c.k_ff, mass: &c.m_ff, alpha, beta, structural: model.params.g }, inputs.columns.as_ref(), &outputs, &omegas, ctx.options.parallel)
                 })
                 .map_err(frf_error)?,
             FrfMethod::Modal => {
@@ -286,14 +281,14 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
                                 }
                             }
                         }
-                        modal_receptance(&r.eigenvalues, alpha, beta, modal_in.as_ref(), modal_out.as_ref(), &omegas)
+                        modal_receptance(&r.eigenvalues, alpha, beta, model.params.g, modal_in.as_ref(), modal_out.as_ref(), &omegas)
                     })
                     .map_err(frf_error)?
             }
         };
         let names: Vec<String> = inputs.names.iter().chain(&sensors.names).cloned().collect();
-        let kinds: Vec<Option<&str>> = (0..k).map(|_| None).chain(sensors.kinds.iter().map(|s| Some(sensor_kind_name(*s)))).collect();
-        let (flat, peak) = scaled_flat(&h, &hz, &kinds);
+        let reads: Vec<Reads> = (0..k).map(|_| Reads::Displacement).chain(sensors.reads.iter().copied()).collect();
+        let (flat, peak) = scaled_flat(&h, &hz, &reads);
         clock.time(format!("subcase {id}: output"), || -> Result<(), RunError> {
             let group = ctx.output.group(&format!("results/{id}/frf"))?;
             write_frf(&group, &hz, &flat, &inputs.names, &names)?;

@@ -23,6 +23,7 @@ use super::transient::{load_into, load_terms, method_of, output_rows, table_of};
 use crate::deck::cards::Darea;
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
+use crate::dynamics::measurement::SensorRows;
 use crate::dynamics::integrators::{Backend, Combination, DenseOperators, IntegrationError, LinearSystem, Run, StepState, integrate_with, matvec_add};
 use crate::dynamics::table::Table;
 use crate::rom::prom::{Prom, PromEvaluation};
@@ -53,6 +54,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let RomAtPoint { path, prom, p, at, extrapolated } = RomAtPoint::load(ctx, sub)?;
     let (names, s_r) = read_prom_inputs(&path, prom.size())?;
     let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, prom.size())?;
+    let sensors = SensorRows::new(sensor_names, sensor_kinds, h_r).map_err(|e| case(format!("{}: {e}", path.display())))?;
     let (tstep, method, method_name) = method_of(ctx, sub)?;
     let loads = match sub.dload {
         None => Vec::new(),
@@ -64,7 +66,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     backend.advance(0.0).map_err(|e| case(format!("{}: {e}", path.display())))?;
     let (mut q, mut v) = initial_state(ctx, sub, &names, &s_r, backend.at.stiffness()).map_err(case)?;
     let rows = output_rows(&tstep.intervals);
-    let mut rec = Recorder::new(&s_r, &sensor_kinds, &h_r, rows);
+    let mut rec = Recorder::new(&s_r, &sensors, rows);
     let mut t0 = 0.0;
     let mut steps = 0;
     for (interval, &(count, dt, every)) in tstep.intervals.iter().enumerate() {
@@ -85,7 +87,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         t0 += count as f64 * dt;
         steps += count as usize;
     }
-    let Recorder { time, disp, vel, acc, sensors, .. } = rec;
+    let Recorder { time, disp, vel, acc, series, .. } = rec;
     let peak = disp.iter().enumerate().fold((0.0_f64, 0.0), |acc, (i, x)| if x.abs() > acc.0 { (x.abs(), time[i / k.max(1)]) } else { acc });
     let group = ctx.output.group(&format!("results/{id}/transient"))?;
     let rows = time.len();
@@ -95,9 +97,9 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     write_f64(&group, "acceleration", &acc, &[rows, k])?;
     let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
     write_strings(&group, "outputs", &name_refs)?;
-    if !sensor_names.is_empty() {
+    if !sensors.is_empty() {
         let sg = ctx.output.group(&format!("results/{id}/transient/sensors"))?;
-        for (name, series) in sensor_names.iter().zip(sensors.chunks_exact(rows.max(1))) {
+        for (name, series) in sensors.names.iter().zip(series.chunks_exact(rows.max(1))) {
             write_f64(&sg, name, series, &[rows])?;
         }
     }
@@ -230,41 +232,33 @@ pub(super) fn place_input(names: &[String], s_r: &Mat<f64>, d: &Darea, comp: usi
 /// Output buffers sized before the run, filled by matrix–vector products (no allocation in the
 /// time loop): input-DOF series rows × k (row-major, column r of a k × rows column-major
 /// buffer), and per sensor a series of `rows` values (sensor-major).
-struct Recorder {
+struct Recorder<'a> {
     /// S_rᵀ (k × n).
     s_t: Mat<f64>,
-    /// Per sensor kind (DISP from q, VEL from q̇, ACCEL from q̈): its rows of H_r and their
-    /// sensor indices.
-    by_kind: [(Mat<f64>, Vec<usize>); 3],
+    /// The pROM's sensor rows (DISP and STRAIN from q, VEL from q̇, ACCEL from q̈).
+    sensors: &'a SensorRows,
     scratch: Vec<f64>,
     rows: usize,
     time: Vec<f64>,
     disp: Vec<f64>,
     vel: Vec<f64>,
     acc: Vec<f64>,
-    sensors: Vec<f64>,
+    series: Vec<f64>,
 }
 
-impl Recorder {
-    fn new(s_r: &Mat<f64>, kinds: &[String], h_r: &Mat<f64>, rows: usize) -> Self {
-        let (n, k) = (s_r.nrows(), s_r.ncols());
-        let of_kind = |kind: &str| {
-            let idx: Vec<usize> = kinds.iter().enumerate().filter(|(_, x)| match kind {
-                "VEL" | "ACCEL" => x.as_str() == kind,
-                _ => x.as_str() != "VEL" && x.as_str() != "ACCEL",
-            }).map(|(i, _)| i).collect();
-            (Mat::from_fn(idx.len(), n, |r, c| h_r[(idx[r], c)]), idx)
-        };
+impl<'a> Recorder<'a> {
+    fn new(s_r: &Mat<f64>, sensors: &'a SensorRows, rows: usize) -> Self {
+        let k = s_r.ncols();
         Recorder {
             s_t: s_r.transpose().to_owned(),
-            by_kind: [of_kind("DISP"), of_kind("VEL"), of_kind("ACCEL")],
-            scratch: vec![0.0; kinds.len()],
+            sensors,
+            scratch: vec![0.0; sensors.len()],
             rows,
             time: Vec::with_capacity(rows),
             disp: Vec::with_capacity(rows * k),
             vel: Vec::with_capacity(rows * k),
             acc: Vec::with_capacity(rows * k),
-            sensors: vec![0.0; kinds.len() * rows],
+            series: vec![0.0; sensors.len() * rows],
         }
     }
 
@@ -280,13 +274,9 @@ impl Recorder {
             let end = out.len();
             matvec_add(&self.s_t, x, &mut out[end - k..]);
         }
-        for ((h, idx), x) in self.by_kind.iter().zip([s.q, s.v, s.a]) {
-            let y = &mut self.scratch[..idx.len()];
-            y.fill(0.0);
-            matvec_add(h, x, y);
-            for (&j, value) in idx.iter().zip(y.iter()) {
-                self.sensors[j * self.rows + r] = *value;
-            }
+        self.sensors.evaluate(s.q, s.v, s.a, &mut self.scratch);
+        for (j, value) in self.scratch.iter().enumerate() {
+            self.series[j * self.rows + r] = *value;
         }
     }
 }

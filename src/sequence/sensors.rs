@@ -33,6 +33,7 @@ use super::elements::{shell_strains, solid_kind_of};
 use super::{Constrained, RunContext, RunError, Structure};
 use crate::deck::case_control::{Subcase, Target};
 use crate::deck::cards::{Sensor, SensorKind};
+use crate::dynamics::measurement::Reads;
 use crate::fe::solid;
 use crate::model::Model;
 
@@ -41,6 +42,8 @@ use crate::model::Model;
 pub struct SensorOperator {
     pub names: Vec<String>,
     pub kinds: Vec<SensorKind>,
+    /// What each row reads ([`Reads::of_sensor`]).
+    pub reads: Vec<Reads>,
     /// s × n_f: y = H u_f (DISP, STRAIN); VEL and ACCEL rows act on u̇_f and ü_f.
     pub rows: CscMatrix<f64>,
 }
@@ -68,6 +71,17 @@ impl SensorOperator {
             }
         }
         out
+    }
+
+    /// y = H (u_f, u̇_f or ü_f as each row reads), the measurement equations eq. 2.32–2.35
+    /// ([`crate::dynamics::measurement`]); `y` has one entry per sensor, no allocation.
+    pub fn evaluate(&self, u: &[f64], v: &[f64], a: &[f64], y: &mut [f64]) {
+        y.fill(0.0);
+        for (j, col) in self.rows.col_iter().enumerate() {
+            for (&i, &h) in col.row_indices().iter().zip(col.values()) {
+                y[i] += h * self.reads[i].select(u, v, a)[j];
+            }
+        }
     }
 
     /// y = H u_f.
@@ -140,7 +154,8 @@ pub fn sensor_operator(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &
         names.push(s.name.clone());
         kinds.push(s.kind);
     }
-    Ok(SensorOperator { names, kinds, rows: CscMatrix::from(&coo) })
+    let reads = kinds.iter().map(|k| Reads::of_sensor(*k)).collect();
+    Ok(SensorOperator { names, kinds, reads, rows: CscMatrix::from(&coo) })
 }
 
 /// The strain row in basic g-set DOFs (6 per grid): ϑᵀ ε ϑ at the element centroid as a

@@ -22,9 +22,9 @@ use super::{Clock, Constrained, GridRows, RunContext, RunError, Structure, Subca
 use crate::assembly::DofMap;
 use crate::assembly::loads::load_vector;
 use crate::assembly::recover::expand_f_to_n;
-use crate::deck::cards::{Darea, SensorKind};
+use crate::deck::cards::Darea;
 use crate::deck::case_control::Subcase;
-use crate::dynamics::integrators::{Method, Run, integrate_with};
+use crate::dynamics::integrators::{IntegrationError, Method, Run, integrate_with};
 use crate::dynamics::sparse_backend::SparseBackend;
 use crate::dynamics::table::Table;
 use crate::io::{set_attr_i64, set_attr_str, write_f64};
@@ -155,6 +155,7 @@ fn subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase) -> 
     let rows = output_rows(&tstep.intervals);
     let s = sensors.len();
     let mut series = vec![0.0; s * rows];
+    let mut y = vec![0.0; s];
     let mut time = Vec::with_capacity(rows);
     let grid_rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
     let mut history: Vec<f64> = Vec::new();
@@ -172,16 +173,9 @@ fn subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase) -> 
             if (state.step > 0 || interval == 0) && state.step % every == 0 && time.len() < rows {
                 let r = time.len();
                 time.push(state.time);
-                for (col, ((&uj, &vj), &aj)) in state.q.iter().zip(state.v).zip(state.a).enumerate() {
-                    let range = sensors.rows.col_offsets()[col]..sensors.rows.col_offsets()[col + 1];
-                    for (&i, &h) in sensors.rows.row_indices()[range.clone()].iter().zip(&sensors.rows.values()[range]) {
-                        let x = match sensors.kinds[i] {
-                            SensorKind::Vel => vj,
-                            SensorKind::Accel => aj,
-                            SensorKind::Disp | SensorKind::Strain => uj,
-                        };
-                        series[i * rows + r] += h * x;
-                    }
+                sensors.evaluate(state.q, state.v, state.a, &mut y);
+                for (i, yi) in y.iter().enumerate() {
+                    series[i * rows + r] = *yi;
                 }
                 if grid_rows.is_some() {
                     match expand_f_to_n(state.q, &c.sets, &c.spc.enforced).and_then(|u_n| st.rigid.expand(&u_n)) {
@@ -195,7 +189,10 @@ fn subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase) -> 
                 v.copy_from_slice(state.v);
             }
         })
-        .map_err(|e| case(e.to_string()))?;
+        .map_err(|e| case(match e {
+            IntegrationError::Singular("mass") => massless(st, c, &e),
+            e => e.to_string(),
+        }))?;
         if let Some(e) = recovery_error.take() {
             return Err(e.into());
         }
@@ -226,6 +223,28 @@ fn subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase) -> 
     set_attr_i64(&group, "factorizations", backend.factorizations as i64)?;
     super::write_autospc(&group, &c.autospc)?;
     Ok(TransientSummary { method: method_name, steps, f_size: n_f, sensors: s, factorizations: backend.factorizations, peak })
+}
+
+/// The error of a mass matrix that cannot be factored for the initial acceleration
+/// a₀ = M⁻¹(f₀ − C v₀ − K q₀): the integrators need it whenever the run does not start at rest
+/// and unloaded (then a₀ = 0, consistent for massless DOFs too). Names the f-set DOFs without
+/// mass (zero diagonal: lumped masses leave rotations massless, CELAS-only grids have none).
+fn massless(st: &Structure, c: &Constrained, e: &IntegrationError) -> String {
+    let zero: Vec<String> = c
+        .m_ff
+        .col_iter()
+        .enumerate()
+        .filter(|(j, col)| !col.row_indices().iter().zip(col.values()).any(|(i, m)| i == j && *m != 0.0))
+        .filter_map(|(j, _)| c.sets.f.members().get(j).and_then(|&g| st.map.dof_name(g)).map(|d| d.to_string()))
+        .collect();
+    let which = match zero.len() {
+        0 => return format!("{e} (no DOF has a zero mass diagonal: the mass matrix is singular through coupling)"),
+        1..=3 => zero.join(", "),
+        n => format!("{} and {} more", zero[..3].join(", "), n - 3),
+    };
+    format!(
+        "{which} without mass: the initial acceleration M⁻¹(f₀ − C v₀ − K q₀) does not exist; start at rest with loads that are zero at the first time (e.g. a TABLED1 ramp from 0), or give those DOFs mass (CONM2 inertia, PARAM,COUPMASS,1)"
+    )
 }
 
 /// The f-set state of `IC = sid`: each TIC sets u and u̇ of one free grid component (its

@@ -1528,10 +1528,12 @@ def case_frf_sdof(write):
     }
 
 
-def case_frf_two_dof(write):
+def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
     """Ground-k1-m1-k2-m2 chain along T1 with Rayleigh damping, unit RLOAD1 on both masses:
-    receptance matrix and DISP / VEL / ACCEL sensors, direct (SOL 108) and modal (SOL 111)."""
-    name = "frf_two_dof"
+    receptance matrix and DISP / VEL / ACCEL sensors, direct (SOL 108) and modal (SOL 111).
+    With g > 0, PARAM,G structural damping as Nastran applies it in frequency response: the
+    complex stiffness K (1 + iG) in SOL 108, and G on each modal stiffness, w_j^2 (1 + iG), in
+    SOL 111 (both exact here: G K is diagonal in the modes)."""
     k1, k2, m1, m2, alpha, beta = 2.5e4, 3.0e4, 2.0, 1.0, 0.8, 2.0e-4
     K = np.array([[k1 + k2, -k2], [-k2, k2]])
     M = np.diag([m1, m2])
@@ -1542,10 +1544,11 @@ def case_frf_two_dof(write):
     H = []
     for f in hz:
         w = 2 * math.pi * f
-        Z = K - w * w * M + 1j * w * (alpha * M + beta * K)
+        Z = K * (1 + 1j * g) - w * w * M + 1j * w * (alpha * M + beta * K)
         h = np.linalg.inv(Z)
         # second computation: modal superposition over both mass-normalized modes
-        hm = sum(np.outer(phi[:, j], phi[:, j]) / (lam[j] - w * w + 1j * w * (alpha + beta * lam[j]))
+        hm = sum(np.outer(phi[:, j], phi[:, j])
+                 / (lam[j] * (1 + 1j * g) - w * w + 1j * w * (alpha + beta * lam[j]))
                  for j in range(2))
         check("%s: H at %g Hz inverse vs modal superposition" % (name, f),
               np.abs(h).max(), np.abs(h - hm).max() + np.abs(h).max(), 1e-12)
@@ -1563,24 +1566,34 @@ def case_frf_two_dof(write):
                 card("SENSOR", 1, "D2", "DISP", 2, None, -1.0, 0.0, 0.0),
                 card("SENSOR", 2, "V2", "VEL", 2, None, 1.0, 0.0, 0.0),
                 card("SENSOR", 3, "A1", "ACCEL", 1, None, 2.0, 0.0, 0.0)]
+        if g:
+            bulk.append("PARAM,G,%s" % r(g))
         for deck, sol in zip(decks, (108, 111)):
             write_deck(deck, ["analytic case %s: CONM2 %g and %g kg on T1, CELAS2 ground-m1 %g "
-                              "N/m and m1-m2 %g N/m, Rayleigh alpha %g, beta %g; SOL %d"
-                              % (name, m1, m2, k1, k2, alpha, beta, sol),
+                              "N/m and m1-m2 %g N/m, Rayleigh alpha %g, beta %g%s; SOL %d"
+                              % (name, m1, m2, k1, k2, alpha, beta,
+                                 ", structural damping G %g" % g if g else "", sol),
                               "reference: %s/%s.json" % (REF_DIR, name)],
                        sol, frf_case_control(name, sol == 111), bulk)
     labels = ["|H| max over outputs x inputs at %g Hz" % f for f in hz]
     return {
         "case": name,
         "description": "two CONM2 masses on CELAS2 springs along T1 (ground-m1-m2 chain) with "
-                       "Rayleigh damping: receptance matrix at the masses and DISP / VEL / ACCEL "
-                       "sensors",
-        "provenance": "2-DOF harmonic response Z(w)^-1, Z = K - w^2 M + i w (alpha M + beta K) "
-                      "(e.g. Inman, Engineering Vibration, 4th ed. 2014, sec. 5.2; Rayleigh "
-                      "damping sec. 4.5); checked against modal superposition over both modes",
+                       "Rayleigh damping" + (" and PARAM,G structural damping" if g else "") +
+                       ": receptance matrix at the masses and DISP / VEL / ACCEL sensors",
+        "provenance": ("2-DOF harmonic response Z(w)^-1, Z = K - w^2 M + i w (alpha M + beta K) "
+                       "(e.g. Inman, Engineering Vibration, 4th ed. 2014, sec. 5.2; Rayleigh "
+                       "damping sec. 4.5); checked against modal superposition over both modes")
+                      if not g else
+                      ("2-DOF harmonic response Z(w)^-1, Z = K (1 + i G) - w^2 M + i w (alpha M + "
+                       "beta K): structural (hysteretic) damping as a complex stiffness (Inman, "
+                       "Engineering Vibration, 4th ed. 2014, sec. 2.6; MSC Nastran Dynamic "
+                       "Analysis User's Guide, 'Structural damping': PARAM,G multiplies K in "
+                       "SOL 108 and the modal stiffness in SOL 111); checked against modal "
+                       "superposition over both modes with w_j^2 (1 + i G)"),
         "formula": "H = Z^-1; outputs 1:1, 2:1, D2 = -H[2,:], V2 = i w H[2,:], A1 = -w^2 H[1,:]",
-        "inputs": {"k1": k1, "k2": k2, "m1": m1, "m2": m2, "alpha": alpha, "beta": beta,
-                   "natural_frequencies_hz": fn},
+        "inputs": dict({"k1": k1, "k2": k2, "m1": m1, "m2": m2, "alpha": alpha, "beta": beta},
+                       **({"G": g} if g else {}), natural_frequencies_hz=fn),
         "frequency_hz": hz,
         "outputs": ["1:1", "2:1", "D2", "V2", "A1"],
         "inputs_dofs": ["1:1", "2:1"],
@@ -1610,6 +1623,7 @@ CASES = {
     "cantilever_strain_sensor": case_cantilever_strain_sensor,
     "frf_sdof": case_frf_sdof,
     "frf_two_dof": case_frf_two_dof,
+    "frf_two_dof_g": lambda w: case_frf_two_dof(w, "frf_two_dof_g", 0.05),
     "laminate_abd": case_laminate_abd,
     "massless_spring_chain": lambda w: case_massless_spring_chain(
         w, "massless_spring_chain", lambda f: (None, None, 10), [0, 1, 2],
