@@ -8,7 +8,8 @@
 //! 3. concatenation (eq. 3.33) of the columns scaled to unit length (the thesis concatenates
 //!    raw columns; M-normalized modes and unit-load modes differ in scale by orders of
 //!    magnitude, which would let the SVD rank columns by their units instead of their shape),
-//!    MAC filter (eq. 3.39) and SVD (eq. 3.34);
+//!    MAC filter (eq. 3.39) between columns of different samples ([`mac_filter`]) and SVD
+//!    (eq. 3.34);
 //! 4. every affine part projected once on the left singular vectors up to the numerical rank;
 //!    the basis is grown by DSIZE columns (leading blocks of the projected parts) until the FRF
 //!    change of eq. 3.35 between consecutive sizes, at the centre of the box, over the boundary
@@ -197,7 +198,8 @@ pub fn build_prom(fom: &AffineFom, boundary: &[usize], settings: &PromSettings, 
         })
         .collect();
     let concatenated = Mat::<f64>::from_fn(n, columns.len(), |i, j| columns[j][i]);
-    let kept = mac_filter(concatenated.as_ref(), settings.mac_tol);
+    let sample_of: Vec<usize> = locals.iter().enumerate().flat_map(|(s, b)| std::iter::repeat_n(s, b.ncols())).collect();
+    let kept = mac_filter(concatenated.as_ref(), &sample_of, settings.mac_tol);
     log.mac_kept = kept.len();
     let filtered = Mat::<f64>::from_fn(n, kept.len(), |i, j| concatenated[(i, kept[j])]);
     drop(concatenated);
