@@ -92,9 +92,8 @@ fn single_material_e_rho_prom_equals_the_full_model_everywhere() {
 /// full model within 0.5 %: ERRTOL = 1e-3 bounds the mean relative FRF change of the last basis
 /// step over the band, and a frequency error δ moves an FRF line by ~δ/ζ_eff near a peak, so
 /// converged bases keep frequency errors well below 1e-2; 0.5 % leaves margin without
-/// accepting a wrong basis (a missing mode shape is off by several percent). Measured: ≤ 8.7e-8
-/// at Θ = 33°, ≤ 1.5e-6 at 71°. One build serves both angles (19 s in debug at load average 7.5
-/// on 2 cores, 28 s with a build per angle).
+/// accepting a wrong basis (a missing mode shape is off by several percent). Measured: ≤ 1.2e-7
+/// at Θ = 33°, ≤ 1.4e-6 at 71°. One build serves both angles (8 s of CPU in debug).
 #[test]
 fn angle_ply_theta_prom_tracks_the_full_model_inside_the_box() {
     angle_ply_theta_prom_with("ATTACH", &[33.0, 71.0]);
@@ -103,7 +102,8 @@ fn angle_ply_theta_prom_tracks_the_full_model_inside_the_box() {
 /// The same with Craig–Bampton static modes (`STATIC = CONSTR`): fixed-interface modes with the
 /// three tip grids' T3 held, and their constraint modes; same bound and argument. Measured:
 /// ≤ 2.7e-6 at Θ = 71° (one angle: each further angle costs a full SOL 103 of the plate, ~5 s
-/// in debug on a loaded machine; 33° gave ≤ 2.6e-6 when tried).
+/// in debug on a loaded machine; 33° gave ≤ 2.6e-6 when tried). 8.7 s of CPU in debug (16 s
+/// with the former 60 lines and steps of 4).
 #[test]
 fn angle_ply_theta_craig_bampton_prom_tracks_the_full_model_inside_the_box() {
     angle_ply_theta_prom_with("CONSTR", &[71.0]);
@@ -111,8 +111,10 @@ fn angle_ply_theta_craig_bampton_prom_tracks_the_full_model_inside_the_box() {
 
 fn angle_ply_theta_prom_with(statics: &str, thetas: &[f64]) {
     let pmpar = "PMPAR,1,TH,THETA,1,0.,90.\n";
-    // 60 FRF lines instead of the default 200 keep the debug-mode size selection short
-    let pmor = format!("PMOR,1,8,10,3000.,1.e-3,4\n,1,{statics},KEEP,60\n");
+    // 30 FRF lines instead of the default 200 and steps of 8 keep the debug-mode size selection
+    // short (it was most of the time: 60 lines and steps of 4 took twice as long, with the same
+    // frequencies to the digits printed)
+    let pmor = format!("PMOR,1,8,10,3000.,1.e-3,8\n,1,{statics},KEEP,30\n");
     let built = build_plate_prom(&laminate("20."), pmpar, &pmor);
     for &theta in thetas {
         let (reduced, _) = prom_modes(&built, &format!("PVAL,1,TH,{theta:?}\n"), 4);
