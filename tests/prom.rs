@@ -459,9 +459,10 @@ fn least_squares_components_of_exported_samples_equal_the_assembled_ones() {
 const STRAIN_SENSORS: &str = "SENSOR,1,R_TOP,STRAIN,1,TOP,1.,0.,0.\nSENSOR,2,M_BOT,STRAIN,30,BOT,1.,0.5,0.\nSENSOR,3,M_MID,STRAIN,30,MID,0.,1.,0.\n";
 
 /// SOL PROM of the steel plate with E as parameter and [`STRAIN_SENSORS`] (plus `extra` bulk
-/// cards). MACTOL = 1 keeps the attachment modes of the tip grids (their MAC with the first
-/// bending mode is above the default 0.99) and ERRTOL = 1e-12 keeps the whole rank; K ∝ E, so
-/// every sample has the same attachment modes and the basis holds K⁻¹S exactly at any E.
+/// cards). MACTOL = 1 turns the MAC filter off (it was needed while the filter also compared
+/// columns of one local basis: the tip attachment modes have MAC > 0.99 with the first bending
+/// mode) and ERRTOL = 1e-12 keeps the whole rank; K ∝ E, so every sample has the same
+/// attachment modes and the basis holds K⁻¹S exactly at any E.
 fn strain_prom(extra: &str) -> tempfile::TempDir {
     let nominal = STEEL.replace("{E}", "2.1e11").replace("{RHO}", "7850.");
     let build = format!("SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPMPAR,1,E,E,1,1.e11,3.e11\nPMOR,1,2,4,2000.,1.e-12,,1.\n,1\n{STRAIN_SENSORS}{extra}{}ENDDATA\n", plate(&nominal));
