@@ -38,11 +38,13 @@ enum Command {
         output: Option<PathBuf>,
     },
     /// Affine components of stiffness and mass matrices sampled by another FE code (Matrix
-    /// Market files listed in a CSV manifest with the affine function values), by least squares.
+    /// Market files listed in a CSV manifest with the affine function values, or one HDF5 file
+    /// with /functions, /values, /K/<h>, /M/<h>), by least squares.
     PromLsq {
-        /// The manifest: header `K, M, <function names>`, one row per sample.
+        /// The samples: a CSV manifest (header `K, M, <function names>`, one row per sample) or
+        /// an HDF5 file.
         manifest: PathBuf,
-        /// Output file (default: the manifest name with .h5).
+        /// Output file (default: the input's name with .h5, or with _lsq.h5 for an HDF5 input).
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
@@ -209,15 +211,19 @@ mod commands {
             eprintln!("error: {e}");
             Failure(2)
         };
-        let (m, fit) = paraflex::io::prom_lsq::fit_manifest(manifest).map_err(|e| fail(&e))?;
-        let out = output.map(Path::to_path_buf).unwrap_or_else(|| manifest.with_extension("h5"));
+        let (m, fit) = paraflex::io::prom_lsq::fit_samples(manifest).map_err(|e| fail(&e))?;
+        let default = match manifest.with_extension("h5") {
+            same if same == manifest => manifest.with_file_name(format!("{}_lsq.h5", manifest.file_stem().unwrap_or_default().to_string_lossy())),
+            other => other,
+        };
+        let out = output.map(Path::to_path_buf).unwrap_or(default);
         let written = (|| -> Result<PathBuf, paraflex::io::IoError> {
             let file = paraflex::io::OutputFile::create(&out)?;
             paraflex::io::prom_lsq::write_lsq(&file.group("lsq")?, &m.functions, &fit)?;
             file.commit()
         })()
         .map_err(|e| fail(&e))?;
-        println!("{}: {} samples, functions {}", manifest.display(), m.samples.len(), m.functions.join(", "));
+        println!("{}: {} samples, functions {}", manifest.display(), m.values.len(), m.functions.join(", "));
         println!("  n {}, nnz {}", fit.stiffness[0].nrows(), fit.stiffness[0].nnz());
         println!("  max relative residual  K {:.1e}  M {:.1e}", fit.residual_stiffness, fit.residual_mass);
         eprintln!("wrote {}", written.display());

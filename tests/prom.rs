@@ -92,9 +92,8 @@ fn single_material_e_rho_prom_equals_the_full_model_everywhere() {
 /// full model within 0.5 %: ERRTOL = 1e-3 bounds the mean relative FRF change of the last basis
 /// step over the band, and a frequency error δ moves an FRF line by ~δ/ζ_eff near a peak, so
 /// converged bases keep frequency errors well below 1e-2; 0.5 % leaves margin without
-/// accepting a wrong basis (a missing mode shape is off by several percent). Measured: ≤ 8.7e-8
-/// at Θ = 33°, ≤ 1.5e-6 at 71°. One build serves both angles (19 s in debug at load average 7.5
-/// on 2 cores, 28 s with a build per angle).
+/// accepting a wrong basis (a missing mode shape is off by several percent). Measured: ≤ 1.2e-7
+/// at Θ = 33°, ≤ 1.4e-6 at 71°. One build serves both angles (8 s of CPU in debug).
 #[test]
 fn angle_ply_theta_prom_tracks_the_full_model_inside_the_box() {
     angle_ply_theta_prom_with("ATTACH", &[33.0, 71.0]);
@@ -103,7 +102,8 @@ fn angle_ply_theta_prom_tracks_the_full_model_inside_the_box() {
 /// The same with Craig–Bampton static modes (`STATIC = CONSTR`): fixed-interface modes with the
 /// three tip grids' T3 held, and their constraint modes; same bound and argument. Measured:
 /// ≤ 2.7e-6 at Θ = 71° (one angle: each further angle costs a full SOL 103 of the plate, ~5 s
-/// in debug on a loaded machine; 33° gave ≤ 2.6e-6 when tried).
+/// in debug on a loaded machine; 33° gave ≤ 2.6e-6 when tried). 8.7 s of CPU in debug (16 s
+/// with the former 60 lines and steps of 4).
 #[test]
 fn angle_ply_theta_craig_bampton_prom_tracks_the_full_model_inside_the_box() {
     angle_ply_theta_prom_with("CONSTR", &[71.0]);
@@ -111,8 +111,10 @@ fn angle_ply_theta_craig_bampton_prom_tracks_the_full_model_inside_the_box() {
 
 fn angle_ply_theta_prom_with(statics: &str, thetas: &[f64]) {
     let pmpar = "PMPAR,1,TH,THETA,1,0.,90.\n";
-    // 60 FRF lines instead of the default 200 keep the debug-mode size selection short
-    let pmor = format!("PMOR,1,8,10,3000.,1.e-3,4\n,1,{statics},KEEP,60\n");
+    // 30 FRF lines instead of the default 200 and steps of 8 keep the debug-mode size selection
+    // short (it was most of the time: 60 lines and steps of 4 took twice as long, with the same
+    // frequencies to the digits printed)
+    let pmor = format!("PMOR,1,8,10,3000.,1.e-3,8\n,1,{statics},KEEP,30\n");
     let built = build_plate_prom(&laminate("20."), pmpar, &pmor);
     for &theta in thetas {
         let (reduced, _) = prom_modes(&built, &format!("PVAL,1,TH,{theta:?}\n"), 4);
@@ -411,7 +413,7 @@ fn least_squares_components_of_exported_samples_equal_the_assembled_ones() {
     }
     let path = dir.path().join("samples.csv");
     std::fs::write(&path, &manifest).expect("manifest");
-    let (read, fit) = paraflex::io::prom_lsq::fit_manifest(&path).expect("fit");
+    let (read, fit) = paraflex::io::prom_lsq::fit_samples(&path).expect("fit");
     assert_eq!(read.functions, vec!["1", "E1", "RHO1", "E2"]);
     assert!(fit.residual_stiffness < 1e-14 && fit.residual_mass < 1e-14, "{} {}", fit.residual_stiffness, fit.residual_mass);
     for (what, op, parts) in [("K", &k, &fit.stiffness), ("M", &m, &fit.mass)] {
@@ -435,12 +437,12 @@ fn least_squares_components_of_exported_samples_equal_the_assembled_ones() {
     let rows: Vec<&str> = manifest.lines().collect();
     let too_few = dir.path().join("too_few.csv");
     std::fs::write(&too_few, rows[..5].join("\n")).expect("write");
-    let message = paraflex::io::prom_lsq::fit_manifest(&too_few).expect_err("3 samples").to_string();
+    let message = paraflex::io::prom_lsq::fit_samples(&too_few).expect_err("3 samples").to_string();
     assert!(message.contains("3 sampled matrices for 4 affine functions"), "{message}");
     let dependent = dir.path().join("dependent.csv");
     let doubled: Vec<String> = samples.iter().enumerate().map(|(h, p)| format!("k{h}.mtx, m{h}.mtx, 1, {:e}, {:e}, {:e}, {:e}", p[0], p[1], p[2], 2.0 * p[0])).collect();
     std::fs::write(&dependent, format!("K, M, 1, E1, RHO1, E2, TWICE_E1\n{}\n", doubled.join("\n"))).expect("write");
-    let message = paraflex::io::prom_lsq::fit_manifest(&dependent).expect_err("dependent").to_string();
+    let message = paraflex::io::prom_lsq::fit_samples(&dependent).expect_err("dependent").to_string();
     assert!(message.contains("linearly dependent") && message.contains("E1") && message.contains("TWICE_E1"), "{message}");
     // the CLI
     let cli = |manifest: &std::path::Path| std::process::Command::new(env!("CARGO_BIN_EXE_paraflex")).arg("prom-lsq").arg(manifest).arg("-o").arg(dir.path().join("parts.h5")).output().expect("run paraflex");
@@ -457,9 +459,10 @@ fn least_squares_components_of_exported_samples_equal_the_assembled_ones() {
 const STRAIN_SENSORS: &str = "SENSOR,1,R_TOP,STRAIN,1,TOP,1.,0.,0.\nSENSOR,2,M_BOT,STRAIN,30,BOT,1.,0.5,0.\nSENSOR,3,M_MID,STRAIN,30,MID,0.,1.,0.\n";
 
 /// SOL PROM of the steel plate with E as parameter and [`STRAIN_SENSORS`] (plus `extra` bulk
-/// cards). MACTOL = 1 keeps the attachment modes of the tip grids (their MAC with the first
-/// bending mode is above the default 0.99) and ERRTOL = 1e-12 keeps the whole rank; K ∝ E, so
-/// every sample has the same attachment modes and the basis holds K⁻¹S exactly at any E.
+/// cards). MACTOL = 1 turns the MAC filter off (it was needed while the filter also compared
+/// columns of one local basis: the tip attachment modes have MAC > 0.99 with the first bending
+/// mode) and ERRTOL = 1e-12 keeps the whole rank; K ∝ E, so every sample has the same
+/// attachment modes and the basis holds K⁻¹S exactly at any E.
 fn strain_prom(extra: &str) -> tempfile::TempDir {
     let nominal = STEEL.replace("{E}", "2.1e11").replace("{RHO}", "7850.");
     let build = format!("SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPMPAR,1,E,E,1,1.e11,3.e11\nPMOR,1,2,4,2000.,1.e-12,,1.\n,1\n{STRAIN_SENSORS}{extra}{}ENDDATA\n", plate(&nominal));
@@ -542,4 +545,93 @@ fn prom_transient_strain_sensors_settle_on_the_static_strain() {
         .map(|name| *g.dataset(&format!("sensors/{name}")).unwrap().read_raw::<f64>().unwrap().last().unwrap())
         .collect();
     assert_gauges("transient at 0.5 s", &last, &full_static_gauges(), 1e-7);
+}
+
+/// The HDF5 input of `paraflex prom-lsq` (layout in `src/io/prom_lsq.rs`): the samples of the
+/// two-material plate of the test above written as one HDF5 file — K of each sample in
+/// coordinate form (0-based `row`, `col`, `data`, attribute `shape`), M as a dense n × n
+/// dataset, the function values as `/values` — must give the components of the Matrix Market
+/// route. Both readers hand the same numbers (stored exactly: f64 in HDF5, shortest round-trip
+/// decimals in .mtx) to the same fit, so the bound is 1e-14 of the largest component entry
+/// (summation order only); a transposed or shifted reader is off by O(1). A missing `/values`
+/// and an index out of range are errors naming the object.
+#[test]
+fn least_squares_components_from_hdf5_samples_equal_the_matrix_market_ones() {
+    use hdf5_metno::types::VarLenUnicode;
+    let property = "PSHELL,1,1,0.002\nPSHELL,2,2,0.002\nMAT1,1,7.e10,,0.33,2700.\nMAT1,2,2.1e11,,0.3,7850.\n";
+    let pmpar = "PMPAR,1,E1,E,1,5.e10,9.e10\nPMPAR,2,RHO1,RHO,1,2000.,3400.\n";
+    let (params, k, m) = common::affine_operators(&format!("{}{pmpar}", two_material_plate(property)));
+    let low: Vec<f64> = params.list.iter().map(|p| p.low).collect();
+    let high: Vec<f64> = params.list.iter().map(|p| p.high).collect();
+    let samples = paraflex::rom::basis::latin_hypercube(4, &low, &high, 5);
+    let dir = tempfile::tempdir().expect("temp dir");
+    let at = |op: &paraflex::assembly::AffineOperator, p: &[f64]| op.evaluate(&params.weights(op, p)).expect("evaluate");
+    let mut manifest = String::from("K, M, 1, E1, RHO1\n");
+    let h5 = dir.path().join("samples.h5");
+    {
+        let file = hdf5_metno::File::create(&h5).expect("create");
+        let names: Vec<VarLenUnicode> = ["1", "E1", "RHO1"].iter().map(|s| s.parse().unwrap()).collect();
+        file.new_dataset_builder().with_data(&names).create("functions").expect("functions");
+        let values: Vec<f64> = samples.iter().flat_map(|p| [1.0, p[0], p[1]]).collect();
+        file.new_dataset::<f64>().shape([samples.len(), 3]).create("values").expect("values").write_raw(&values).expect("write values");
+        let (k_group, m_group) = (file.create_group("K").unwrap(), file.create_group("M").unwrap());
+        for (h, p) in samples.iter().enumerate() {
+            let (kh, mh) = (at(&k, p), at(&m, p));
+            write_matrix_market(&dir.path().join(format!("k{h}.mtx")), &kh);
+            write_matrix_market(&dir.path().join(format!("m{h}.mtx")), &mh);
+            manifest += &format!("k{h}.mtx, m{h}.mtx, 1, {:e}, {:e}\n", p[0], p[1]);
+            let g = k_group.create_group(&h.to_string()).unwrap();
+            let (rows, cols, data): (Vec<i64>, Vec<i64>, Vec<f64>) = kh.triplet_iter().fold((vec![], vec![], vec![]), |(mut r, mut c, mut d), (i, j, v)| {
+                r.push(i as i64);
+                c.push(j as i64);
+                d.push(*v);
+                (r, c, d)
+            });
+            g.new_dataset_builder().with_data(&rows).create("row").unwrap();
+            g.new_dataset_builder().with_data(&cols).create("col").unwrap();
+            g.new_dataset_builder().with_data(&data).create("data").unwrap();
+            g.new_attr_builder().with_data(&[kh.nrows() as i64, kh.ncols() as i64]).create("shape").unwrap();
+            let n = mh.nrows();
+            let mut dense = vec![0.0; n * n];
+            mh.triplet_iter().for_each(|(i, j, v)| dense[i * n + j] += v);
+            m_group.new_dataset::<f64>().shape([n, n]).create(h.to_string().as_str()).unwrap().write_raw(&dense).unwrap();
+        }
+    }
+    let csv = dir.path().join("samples.csv");
+    std::fs::write(&csv, &manifest).expect("manifest");
+    let (_, from_mtx) = paraflex::io::prom_lsq::fit_samples(&csv).expect("Matrix Market");
+    let (read, from_h5) = paraflex::io::prom_lsq::fit_samples(&h5).expect("HDF5");
+    assert_eq!(read.functions, ["1", "E1", "RHO1"]);
+    for (what, a, b) in [("K", &from_mtx.stiffness, &from_h5.stiffness), ("M", &from_mtx.mass, &from_h5.mass)] {
+        for (i, (x, y)) in a.iter().zip(b.iter()).enumerate() {
+            let largest = x.values().iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+            let diff = (x - y).values().iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+            println!("{what}^{}: max |HDF5 − Matrix Market| = {:.1e} of the largest entry", read.functions[i], diff / largest);
+            assert!(diff <= 1e-14 * largest, "{what}^{}: {diff:e} vs {largest:e}", read.functions[i]);
+        }
+    }
+    // the CLI reads it too, and writes next to it without overwriting it
+    let ok = std::process::Command::new(env!("CARGO_BIN_EXE_paraflex")).arg("prom-lsq").arg(&h5).output().expect("run paraflex");
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    assert!(dir.path().join("samples_lsq.h5").exists() && paraflex::io::prom_lsq::read_samples(&h5).is_ok());
+    // errors name the object
+    let broken = dir.path().join("broken.h5");
+    {
+        let file = hdf5_metno::File::create(&broken).expect("create");
+        let names: Vec<VarLenUnicode> = ["1"].iter().map(|s| s.parse().unwrap()).collect();
+        file.new_dataset_builder().with_data(&names).create("functions").unwrap();
+    }
+    let message = paraflex::io::prom_lsq::fit_samples(&broken).expect_err("no values").to_string();
+    assert!(message.contains("/values"), "{message}");
+    {
+        let file = hdf5_metno::File::open_rw(&broken).expect("open");
+        file.new_dataset::<f64>().shape([1, 1]).create("values").unwrap().write_raw(&[1.0]).unwrap();
+        let g = file.create_group("K").unwrap().create_group("0").unwrap();
+        g.new_dataset_builder().with_data(&[0_i64, 2]).create("row").unwrap();
+        g.new_dataset_builder().with_data(&[0_i64, 0]).create("col").unwrap();
+        g.new_dataset_builder().with_data(&[1.0, 1.0]).create("data").unwrap();
+        g.new_attr_builder().with_data(&[2_i64, 2]).create("shape").unwrap();
+    }
+    let message = paraflex::io::prom_lsq::fit_samples(&broken).expect_err("index 2 of 2").to_string();
+    assert!(message.contains("/K/0") && message.contains("row index 2 is not in 0..2"), "{message}");
 }

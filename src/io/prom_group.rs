@@ -77,7 +77,7 @@ pub fn write_prom_masses(group: &Group, grids: &[u32], masses: &AffineMasses) ->
 /// runs (and the tests' threads) read at once, and paraflex never writes a file in place (each
 /// output is written under a temporary name and renamed when complete), so a reader cannot see
 /// a partial file; the lock would only make concurrent readers fail with EAGAIN.
-fn open_artifact(path: &Path) -> Result<hdf5::File, IoError> {
+pub(crate) fn open_artifact(path: &Path) -> Result<hdf5::File, IoError> {
     hdf5::File::with_options().with_fapl(|fapl| fapl.file_locking(false)).open(path).map_err(|e| IoError::hdf5(path, "open for reading", e))
 }
 

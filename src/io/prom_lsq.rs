@@ -1,7 +1,9 @@
 //! The black-box route of the pROM issue (item 2; thesis eq. 3.29, §3.3.5): stiffness and mass
-//! matrices sampled by another FE code at known parameter values, read from Matrix Market
-//! files listed in a manifest, and their affine components found by least squares
-//! ([`crate::rom::lsq::extract_matrices`]); `paraflex prom-lsq manifest.csv -o parts.h5`.
+//! matrices sampled by another FE code at known parameter values, read from Matrix Market files
+//! listed in a CSV manifest or from one HDF5 file, and their affine components found by least
+//! squares ([`crate::rom::lsq::extract_matrices`]); `paraflex prom-lsq samples.csv -o parts.h5`
+//! or `paraflex prom-lsq samples.h5 -o parts.h5` ([`read_samples`] tells the two apart by the
+//! HDF5 signature, not by the name).
 //!
 //! Manifest (CSV; blank lines and `#` lines skipped; paths relative to the manifest):
 //!
@@ -15,6 +17,18 @@
 //! matrices of one sample and the values f_i(p_h) (for E or ρ the parameter itself; for a fibre
 //! angle the functions of eq. 3.18 — without a constant column, §3.3.5 — and so on).
 //!
+//! HDF5 input (as h5py writes it; n_s samples, n_f functions, n × n matrices):
+//!
+//! ```text
+//! /functions        n_f strings: the names of the affine functions
+//! /values           n_s × n_f f64: f_i(p_h), row h = sample h
+//! /K/<h>, /M/<h>    h = 0 … n_s − 1, the matrices of sample h, each either
+//!                   a dense n × n f64 dataset, or
+//!                   a group with `row`, `col` (0-based integer indices), `data` (f64) of equal
+//!                   length and the attribute `shape` = (n, n): coordinate form, duplicates
+//!                   summed (scipy.sparse.coo_matrix's fields)
+//! ```
+//!
 //! Output group `/lsq`: attrs `functions` (names), `n`, `residual_K`, `residual_M` (max over the
 //! samples of ‖X_h − Σ f_i X^i‖/‖X_h‖); datasets `col_offsets` (n + 1), `row_indices` (nnz) of
 //! the shared full CSC pattern, `K` and `M` (n_f × nnz, row i = the values of X^i).
@@ -23,9 +37,11 @@ use std::path::{Path, PathBuf};
 
 use hdf5::Group;
 use hdf5_metno as hdf5;
+use nalgebra_sparse::{CooMatrix, CscMatrix};
 
 use super::hdf5_file::{IoError, set_attr_f64, set_attr_i64, set_attr_strings, write_f64, write_u32};
 use super::matrix_market::read_matrix_market;
+use super::prom_group::open_artifact;
 use crate::rom::lsq::{FitError, MatrixFit, extract_matrices};
 
 /// One sampled model of a manifest.
@@ -81,15 +97,123 @@ pub fn read_manifest(path: &Path) -> Result<Manifest, IoError> {
     Ok(Manifest { functions, samples })
 }
 
-/// Read a manifest and its matrices and extract the affine components.
-pub fn fit_manifest(path: &Path) -> Result<(Manifest, MatrixFit), LsqInputError> {
+/// The sampled models of the black-box route, whatever the input format.
+#[derive(Debug, Clone)]
+pub struct SampleSet {
+    pub functions: Vec<String>,
+    /// f_i(p_h): one row per sample, in `functions` order.
+    pub values: Vec<Vec<f64>>,
+    pub stiffness: Vec<CscMatrix<f64>>,
+    pub mass: Vec<CscMatrix<f64>>,
+}
+
+/// The first bytes of every HDF5 file (superblock signature at offset 0, as h5py and paraflex
+/// write them).
+const HDF5_SIGNATURE: &[u8; 8] = b"\x89HDF\r\n\x1a\n";
+
+/// Read the samples of `path`: an HDF5 file (by its signature) or a CSV manifest of Matrix
+/// Market files (module doc).
+pub fn read_samples(path: &Path) -> Result<SampleSet, IoError> {
+    let mut head = [0u8; 8];
+    let is_hdf5 = std::fs::File::open(path).and_then(|mut f| std::io::Read::read(&mut f, &mut head)).map_err(|cause| IoError::Fs { path: path.into(), what: "read the samples".into(), cause })? == 8 && &head == HDF5_SIGNATURE;
+    if is_hdf5 {
+        return read_samples_hdf5(path);
+    }
     let manifest = read_manifest(path)?;
     let read = |files: &dyn Fn(&Sample) -> &Path| manifest.samples.iter().map(|s| read_matrix_market(files(s))).collect::<Result<Vec<_>, _>>();
-    let (k, m) = (read(&|s| &s.stiffness)?, read(&|s| &s.mass)?);
-    let names: Vec<&str> = manifest.functions.iter().map(String::as_str).collect();
-    let values: Vec<Vec<f64>> = manifest.samples.iter().map(|s| s.values.clone()).collect();
-    let fit = extract_matrices(&names, &values, &k, &m).map_err(|source| LsqInputError::Fit { manifest: path.into(), source })?;
-    Ok((manifest, fit))
+    let (stiffness, mass) = (read(&|s| &s.stiffness)?, read(&|s| &s.mass)?);
+    let values = manifest.samples.iter().map(|s| s.values.clone()).collect();
+    Ok(SampleSet { functions: manifest.functions, values, stiffness, mass })
+}
+
+/// The HDF5 layout of the module doc.
+fn read_samples_hdf5(path: &Path) -> Result<SampleSet, IoError> {
+    let file = open_artifact(path)?;
+    let hdf = |what: String| move |e| IoError::hdf5(path, what, e);
+    let bad = |what: &str, reason: String| IoError::invalid(path, what, reason);
+    let functions: Vec<String> = file
+        .dataset("functions")
+        .and_then(|d| d.read_raw::<hdf5::types::VarLenUnicode>())
+        .map_err(hdf("read /functions (the names of the affine functions)".into()))?
+        .iter()
+        .map(|s| s.as_str().trim().to_string())
+        .collect();
+    if functions.is_empty() || functions.iter().any(String::is_empty) {
+        return Err(bad("/functions", format!("expected the names of the affine functions, found {functions:?}")));
+    }
+    let values_set = file.dataset("values").map_err(hdf("open /values".into()))?;
+    let n_f = functions.len();
+    let shape = values_set.shape();
+    if shape.len() != 2 || shape[1] != n_f {
+        return Err(bad("/values", format!("shape {shape:?}, expected n_samples × {n_f} (one column per function)")));
+    }
+    let flat: Vec<f64> = values_set.read_raw().map_err(hdf("read /values".into()))?;
+    if let Some(x) = flat.iter().find(|x| !x.is_finite()) {
+        return Err(bad("/values", format!("{x} is not a finite number")));
+    }
+    let values: Vec<Vec<f64>> = flat.chunks(n_f).map(<[f64]>::to_vec).collect();
+    let matrices = |which: &str| -> Result<Vec<CscMatrix<f64>>, IoError> { (0..values.len()).map(|h| read_matrix_hdf5(&file, path, &format!("{which}/{h}"))).collect() };
+    let (stiffness, mass) = (matrices("K")?, matrices("M")?);
+    Ok(SampleSet { functions, values, stiffness, mass })
+}
+
+/// One square matrix at `name`: a dense 2-D dataset or a coordinate-form group (module doc).
+fn read_matrix_hdf5(file: &hdf5::File, path: &Path, name: &str) -> Result<CscMatrix<f64>, IoError> {
+    let what = format!("/{name}");
+    let hdf = |op: &str| {
+        let what = format!("{op} {what}");
+        move |e| IoError::hdf5(path, what, e)
+    };
+    let bad = |reason: String| IoError::invalid(path, what.as_str(), reason);
+    if let Ok(set) = file.dataset(name) {
+        let shape = set.shape();
+        let [n, m] = shape[..] else { return Err(bad(format!("shape {shape:?}, expected a square 2-D matrix"))) };
+        if n != m {
+            return Err(bad(format!("{n} × {m}: a stiffness or mass matrix is square")));
+        }
+        let data: Vec<f64> = set.read_raw().map_err(hdf("read"))?;
+        let mut coo = CooMatrix::new(n, n);
+        for (k, &v) in data.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(bad(format!("entry ({}, {}) = {v} is not a finite number", k / n, k % n)));
+            }
+            if v != 0.0 {
+                coo.push(k / n, k % n, v);
+            }
+        }
+        return Ok(CscMatrix::from(&coo));
+    }
+    let group = file.group(name).map_err(|_| bad("missing: expected a dense dataset or a group with row, col, data and attribute shape".into()))?;
+    let shape: Vec<i64> = group.attr("shape").and_then(|a| a.read_raw::<i64>()).map_err(hdf("read attribute shape of"))?;
+    let n = match shape[..] {
+        [n, m] if n == m && n > 0 => n as usize,
+        _ => return Err(bad(format!("attribute shape {shape:?}: expected (n, n) with n > 0"))),
+    };
+    let indices = |field: &str| -> Result<Vec<usize>, IoError> {
+        let raw: Vec<i64> = group.dataset(field).and_then(|d| d.read_raw::<i64>()).map_err(hdf(&format!("read {field} of")))?;
+        raw.iter().map(|&i| usize::try_from(i).ok().filter(|&i| i < n).ok_or_else(|| bad(format!("{field} index {i} is not in 0..{n} (indices are 0-based)")))).collect()
+    };
+    let (rows, cols) = (indices("row")?, indices("col")?);
+    let data: Vec<f64> = group.dataset("data").and_then(|d| d.read_raw::<f64>()).map_err(hdf("read data of"))?;
+    if rows.len() != data.len() || cols.len() != data.len() {
+        return Err(bad(format!("row, col and data have {}, {} and {} entries", rows.len(), cols.len(), data.len())));
+    }
+    let mut coo = CooMatrix::new(n, n);
+    for ((&i, &j), &v) in rows.iter().zip(&cols).zip(&data) {
+        if !v.is_finite() {
+            return Err(bad(format!("entry ({i}, {j}) = {v} is not a finite number")));
+        }
+        coo.push(i, j, v);
+    }
+    Ok(CscMatrix::from(&coo))
+}
+
+/// Read the samples of `path` ([`read_samples`]) and extract the affine components.
+pub fn fit_samples(path: &Path) -> Result<(SampleSet, MatrixFit), LsqInputError> {
+    let samples = read_samples(path)?;
+    let names: Vec<&str> = samples.functions.iter().map(String::as_str).collect();
+    let fit = extract_matrices(&names, &samples.values, &samples.stiffness, &samples.mass).map_err(|source| LsqInputError::Fit { manifest: path.into(), source })?;
+    Ok((samples, fit))
 }
 
 /// Write the components into `group` (normally `/lsq`, module doc).

@@ -61,9 +61,19 @@ pub fn mac(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// The MAC filter of §3.4.2: walk the columns in order and drop every column whose MAC with an
-/// already kept column exceeds `threshold` (0.99 in the thesis), so one vector of each
-/// near-parallel couple survives. Returns the indices of the kept columns.
-pub fn mac_filter(vectors: MatRef<'_, f64>, threshold: f64) -> Vec<usize> {
+/// already kept column *of another local basis* exceeds `threshold` (0.99 in the thesis), so one
+/// vector of each near-parallel couple across samples survives. Returns the indices of the kept
+/// columns; `sample[j]` is the local basis column j comes from.
+///
+/// The thesis compares every couple; here columns of one local basis are never compared: they
+/// are independent by construction (M-orthogonal modes, and static modes K⁻¹e_b of distinct unit
+/// loads), and the filter's purpose is the redundancy *between* samples. Compared within one
+/// basis, a tip attachment mode has MAC > 0.99 with the first bending mode of a cantilever
+/// (their difference, the static flexibility of all the modes above, is ≲ 10 % of the vector),
+/// and dropping it removes exactly that residual flexibility: on the small composite plate of
+/// `tests/prom_maps.rs` the one-sample ROMs at Θ = 40° and 60° lost two of their three
+/// attachment modes and their FRFs moved by 6.5e-2 and 9.6e-2 (thesis metric of Fig. 3.22).
+pub fn mac_filter(vectors: MatRef<'_, f64>, sample: &[usize], threshold: f64) -> Vec<usize> {
     let column = |j: usize| -> Vec<f64> { (0..vectors.nrows()).map(|i| vectors[(i, j)]).collect() };
     let mut kept: Vec<(usize, Vec<f64>)> = Vec::new();
     for j in 0..vectors.ncols() {
@@ -71,7 +81,7 @@ pub fn mac_filter(vectors: MatRef<'_, f64>, threshold: f64) -> Vec<usize> {
         if v.iter().all(|x| *x == 0.0) {
             continue;
         }
-        if kept.iter().all(|(_, k)| mac(k, &v) <= threshold) {
+        if kept.iter().all(|(i, k)| sample[*i] == sample[j] || mac(k, &v) <= threshold) {
             kept.push((j, v));
         }
     }
@@ -111,12 +121,94 @@ impl GlobalBasis {
         self.u.as_ref().subcols(0, n)
     }
 
-    /// Eq. 3.38: a companion basis built column by column with the local bases (e.g. the
-    /// strains N_s,global of each local mode from a black-box code) made consistent with the
+    /// Eq. 3.38: a companion basis built column by column with the filtered concatenation (e.g.
+    /// the strains N_s,global of each local mode from a black-box code) made consistent with the
     /// truncation: N_s = N_s,global V_n Σ_n⁻¹.
     pub fn transform_companion(&self, companion: MatRef<'_, f64>, n: usize) -> Mat<f64> {
         let scaled = Mat::<f64>::from_fn(self.v.nrows(), n, |i, k| self.v[(i, k)] / self.sigma[k]);
         companion * scaled
+    }
+}
+
+/// A companion that does not match the local bases it should follow.
+#[derive(Debug, thiserror::Error)]
+pub enum CompanionError {
+    #[error("{got} companion bases for {expected} local bases")]
+    Count { expected: usize, got: usize },
+    #[error("companion of local basis {sample}: {got} columns, the local basis has {expected}")]
+    Columns { sample: usize, expected: usize, got: usize },
+    #[error("companion of local basis {sample}: {got} rows, the first companion has {expected}")]
+    Rows { sample: usize, expected: usize, got: usize },
+}
+
+/// The global basis of eq. 3.33–3.34 from local bases: the columns scaled to unit length (M-
+/// normalized modes and unit-load modes differ in scale by orders of magnitude, which would let
+/// the SVD rank columns by their units instead of their shape), MAC-filtered across samples
+/// ([`mac_filter`]) and decomposed. It remembers which columns it kept and their scales, so a
+/// companion basis given per local basis (the strain bases N_s,i = ϑᵀε_i of the black-box route,
+/// §3.4.1.1) follows the same scaling, filtering and truncation ([`Concatenation::companion`],
+/// eq. 3.36–3.38).
+pub struct Concatenation {
+    pub global: GlobalBasis,
+    sizes: Vec<usize>,
+    /// (column of the concatenation, 1/‖ψ‖) of each kept column, in order.
+    kept: Vec<(usize, f64)>,
+}
+
+impl Concatenation {
+    /// Concatenate, filter (threshold `mac_tol`) and decompose `locals` (n × k_i each).
+    pub fn new(locals: &[MatRef<'_, f64>], mac_tol: f64) -> Result<Self, faer::linalg::svd::SvdError> {
+        let n = locals.first().map_or(0, |b| b.nrows());
+        let sizes: Vec<usize> = locals.iter().map(|b| b.ncols()).collect();
+        let columns: Vec<(&MatRef<'_, f64>, usize)> = locals.iter().flat_map(|b| (0..b.ncols()).map(move |j| (b, j))).collect();
+        let scale: Vec<f64> = columns
+            .iter()
+            .map(|(b, j)| {
+                let norm = b.col(*j).iter().map(|x| x * x).sum::<f64>().sqrt();
+                if norm > 0.0 { 1.0 / norm } else { 1.0 }
+            })
+            .collect();
+        let concatenated = Mat::<f64>::from_fn(n, columns.len(), |i, c| columns[c].0[(i, columns[c].1)] * scale[c]);
+        let sample_of: Vec<usize> = sizes.iter().enumerate().flat_map(|(s, &k)| std::iter::repeat_n(s, k)).collect();
+        let kept: Vec<(usize, f64)> = mac_filter(concatenated.as_ref(), &sample_of, mac_tol).into_iter().map(|c| (c, scale[c])).collect();
+        let filtered = Mat::<f64>::from_fn(n, kept.len(), |i, k| concatenated[(i, kept[k].0)]);
+        drop(concatenated);
+        Ok(Concatenation { global: GlobalBasis::new(filtered.as_ref())?, sizes, kept })
+    }
+
+    /// Columns of the concatenation (eq. 3.33).
+    pub fn concatenated(&self) -> usize {
+        self.sizes.iter().sum()
+    }
+
+    /// Columns the MAC filter kept.
+    pub fn kept(&self) -> usize {
+        self.kept.len()
+    }
+
+    /// Eq. 3.36–3.38: the companion of the truncated basis U_n from companions given per local
+    /// basis (s × k_i each, column j the image of local column j — e.g. its strains at the
+    /// sensors): concatenated, scaled and filtered as the local bases were, then
+    /// N_s = N_s,global,n V_n Σ_n⁻¹. For a companion L Ψ_i (L linear) this is L U_n.
+    pub fn companion(&self, companions: &[MatRef<'_, f64>], n: usize) -> Result<Mat<f64>, CompanionError> {
+        if companions.len() != self.sizes.len() {
+            return Err(CompanionError::Count { expected: self.sizes.len(), got: companions.len() });
+        }
+        let rows = companions.first().map_or(0, |c| c.nrows());
+        for (sample, (c, &k)) in companions.iter().zip(&self.sizes).enumerate() {
+            if c.ncols() != k {
+                return Err(CompanionError::Columns { sample: sample + 1, expected: k, got: c.ncols() });
+            }
+            if c.nrows() != rows {
+                return Err(CompanionError::Rows { sample: sample + 1, expected: rows, got: c.nrows() });
+            }
+        }
+        let columns: Vec<(&MatRef<'_, f64>, usize)> = companions.iter().flat_map(|c| (0..c.ncols()).map(move |j| (c, j))).collect();
+        let filtered = Mat::<f64>::from_fn(rows, self.kept.len(), |i, k| {
+            let (c, scale) = self.kept[k];
+            columns[c].0[(i, columns[c].1)] * scale
+        });
+        Ok(self.global.transform_companion(filtered.as_ref(), n))
     }
 }
 
@@ -180,14 +272,47 @@ mod tests {
     }
 
     /// Thesis §3.4.2 example: bases of a one-material model at different (E, ρ) are the same
-    /// modes scaled; the filter keeps one copy of each.
+    /// modes scaled; the filter keeps one copy of each. Columns of one local basis are never
+    /// compared: a near-duplicate inside sample 0 (column 1 ≈ column 0, MAC 0.995) stays, its
+    /// copies in sample 1 go.
     #[test]
-    fn mac_filter_removes_scaled_duplicates() {
+    fn mac_filter_removes_scaled_duplicates_across_samples() {
         let a = [1.0, 2.0, 0.5, -1.0];
         let b = [0.0, 1.0, -1.0, 2.0];
-        let cols = [a.to_vec(), b.to_vec(), a.iter().map(|x| 3.0 * x).collect(), b.iter().map(|x| -0.2 * x).collect(), vec![1.0, 0.0, 0.0, 0.0]];
+        let near_a = [1.0, 2.0, 0.5, -0.8];
+        assert!(mac(&a, &near_a) > 0.99);
+        let cols = [a.to_vec(), near_a.to_vec(), b.to_vec(), a.iter().map(|x| 3.0 * x).collect(), b.iter().map(|x| -0.2 * x).collect(), vec![1.0, 0.0, 0.0, 0.0]];
         let m = Mat::<f64>::from_fn(4, cols.len(), |i, j| cols[j][i]);
-        assert_eq!(mac_filter(m.as_ref(), 0.99), vec![0, 1, 4]);
+        assert_eq!(mac_filter(m.as_ref(), &[0, 0, 0, 1, 1, 1], 0.99), vec![0, 1, 2, 5]);
+        // one sample: nothing is compared, nothing removed
+        assert_eq!(mac_filter(m.as_ref(), &[0; 6], 0.99), (0..6).collect::<Vec<_>>());
+    }
+
+    /// Eq. 3.36–3.38 through [`Concatenation`]: local bases of very different column scales, one
+    /// column of sample 1 a scaled copy of a column of sample 0 (filtered out), companions
+    /// L Ψ_i: the companion of U_n must be L U_n (bound 1e-10 relative: a few SVD round-offs
+    /// divided by σ_n ~ 1); a companion with a wrong column count is refused.
+    #[test]
+    fn concatenation_companion_follows_scaling_filter_and_truncation() {
+        let n = 9;
+        let local0 = Mat::<f64>::from_fn(n, 3, |i, j| ((i * (j + 2)) as f64 * 0.7).sin() * 10f64.powi(3 * j as i32));
+        let local1 = Mat::<f64>::from_fn(n, 3, |i, j| if j == 0 { -5.0 * local0[(i, 1)] } else { ((i + 3 * j) as f64 * 1.3).cos() * 1e-4 });
+        let c = Concatenation::new(&[local0.as_ref(), local1.as_ref()], 0.99).unwrap();
+        assert_eq!((c.concatenated(), c.kept()), (6, 5));
+        let l = Mat::<f64>::from_fn(2, n, |i, j| (i as f64 + 1.0) * (j as f64 * 0.4).sin() - 0.3);
+        let (s0, s1) = (&l * &local0, &l * &local1);
+        let rank = c.global.numerical_rank(1e-12);
+        assert_eq!(rank, 5);
+        let via = c.companion(&[s0.as_ref(), s1.as_ref()], rank).unwrap();
+        let direct = &l * c.global.truncated(rank);
+        for i in 0..2 {
+            for k in 0..rank {
+                assert!((via[(i, k)] - direct[(i, k)]).abs() <= 1e-10 * (1.0 + direct[(i, k)].abs()), "{i},{k}: {} vs {}", via[(i, k)], direct[(i, k)]);
+            }
+        }
+        let short = s1.as_ref().subcols(0, 2);
+        let message = c.companion(&[s0.as_ref(), short], rank).unwrap_err().to_string();
+        assert_eq!(message, "companion of local basis 2: 2 columns, the local basis has 3");
     }
 
     /// Σ and U reproduce the concatenation; the numerical rank sees duplicated information;

@@ -8,7 +8,8 @@
 //! 3. concatenation (eq. 3.33) of the columns scaled to unit length (the thesis concatenates
 //!    raw columns; M-normalized modes and unit-load modes differ in scale by orders of
 //!    magnitude, which would let the SVD rank columns by their units instead of their shape),
-//!    MAC filter (eq. 3.39) and SVD (eq. 3.34);
+//!    MAC filter (eq. 3.39) between columns of different samples and SVD (eq. 3.34):
+//!    [`Concatenation`];
 //! 4. every affine part projected once on the left singular vectors up to the numerical rank;
 //!    the basis is grown by DSIZE columns (leading blocks of the projected parts) until the FRF
 //!    change of eq. 3.35 between consecutive sizes, at the centre of the box, over the boundary
@@ -21,7 +22,7 @@ use faer::{Mat, Par};
 use nalgebra_sparse::CscMatrix;
 use rayon::prelude::*;
 
-use super::basis::{GlobalBasis, frf_change, latin_hypercube, mac_filter};
+use super::basis::{Concatenation, frf_change, latin_hypercube};
 use super::local_basis::{LocalBasisError, LocalBasisRequest, LocalBasisSetup, RigidModes, StaticModes, local_basis};
 use super::prom::{AffineFunction, Prom, PromParameter};
 use crate::dynamics::frf::{DenseModel, FrfError, receptance};
@@ -97,10 +98,6 @@ pub enum BuildError {
 }
 
 impl AffineFom {
-    fn size(&self) -> usize {
-        self.stiffness.first().map_or(0, |k| k.nrows())
-    }
-
     fn combine(&self, parts: &[CscMatrix<f64>], p: &[f64]) -> CscMatrix<f64> {
         let mut out = parts[0].clone();
         out.values_mut().fill(0.0);
@@ -156,7 +153,6 @@ pub fn build_prom(fom: &AffineFom, boundary: &[usize], settings: &PromSettings, 
         log.timings.push((what.to_string(), clock.elapsed().as_secs_f64()));
         clock = Instant::now();
     };
-    let n = fom.size();
     let low: Vec<f64> = fom.parameters.iter().map(|p| p.low).collect();
     let high: Vec<f64> = fom.parameters.iter().map(|p| p.high).collect();
     log.samples = latin_hypercube(settings.n_samples, &low, &high, settings.seed);
@@ -185,24 +181,13 @@ pub fn build_prom(fom: &AffineFom, boundary: &[usize], settings: &PromSettings, 
     if log.concatenated == 0 {
         return Err(BuildError::EmptyBasis);
     }
-    let columns: Vec<Vec<f64>> = locals
-        .iter()
-        .flat_map(|b| (0..b.ncols()).map(move |j| b.col_as_slice(j).to_vec()))
-        .map(|mut c| {
-            let norm = c.iter().map(|x| x * x).sum::<f64>().sqrt();
-            if norm > 0.0 {
-                c.iter_mut().for_each(|x| *x /= norm);
-            }
-            c
-        })
-        .collect();
-    let concatenated = Mat::<f64>::from_fn(n, columns.len(), |i, j| columns[j][i]);
-    let kept = mac_filter(concatenated.as_ref(), settings.mac_tol);
-    log.mac_kept = kept.len();
-    let filtered = Mat::<f64>::from_fn(n, kept.len(), |i, j| concatenated[(i, kept[j])]);
-    drop(concatenated);
-    let global = GlobalBasis::new(filtered.as_ref()).map_err(BuildError::Svd)?;
-    drop(filtered);
+    let concatenation = {
+        let views: Vec<faer::MatRef<'_, f64>> = locals.iter().map(Mat::as_ref).collect();
+        Concatenation::new(&views, settings.mac_tol).map_err(BuildError::Svd)?
+    };
+    drop(locals);
+    log.mac_kept = concatenation.kept();
+    let global = concatenation.global;
     log.singular_values = global.singular_values().to_vec();
     let rank = global.numerical_rank(RANK_TOL);
     lap(&mut log, "MAC filter and SVD");

@@ -33,7 +33,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from error_map import REPO, absolute_includes, frf, run  # noqa: E402
+from error_map import REPO, absolute_includes, frf, one_sample_whole_basis, run  # noqa: E402
 
 PMPAR_RE = r"^PMPAR,(\d+),(\w+),THETA,(\d+),([^,\n]+),([^,\n]+)$"
 
@@ -46,7 +46,8 @@ def theta_box(text: str, deck: Path):
 
 
 def rom_deck(text: str, pid: int, theta: float) -> str:
-    """The deck at Θ: PCOMP ply angles ±Θ, zero-width THETA box, NSAMP = 1."""
+    """The deck at Θ: PCOMP ply angles ±Θ, zero-width THETA box, one sample with its whole
+    local basis."""
     lines = text.splitlines()
     out, in_pcomp = [], False
     for line in lines:
@@ -63,7 +64,7 @@ def rom_deck(text: str, pid: int, theta: float) -> str:
         out.append(line)
     text = "\n".join(out) + "\n"
     text = re.sub(PMPAR_RE, lambda m: f"PMPAR,{m.group(1)},{m.group(2)},THETA,{m.group(3)},{theta!r},{theta!r}", text, flags=re.M)
-    return re.sub(r"^PMOR,(\d+),\d+,", r"PMOR,\1,1,", text, flags=re.M)
+    return one_sample_whole_basis(text)
 
 
 def main() -> None:

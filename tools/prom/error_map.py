@@ -58,11 +58,19 @@ def frf(paraflex: str, artifact: Path, pval: str, band: tuple[float, float], lin
         return g["frequency_hz"][:], g["H"][:, k, k]
 
 
+def one_sample_whole_basis(text: str) -> str:
+    """The PMOR of a ROM of one point: NSAMP = 1 and ERRTOL = 1e-14, so the size selection keeps
+    the whole local basis (a reference ROM must not be truncated by it)."""
+    return re.sub(r"^PMOR,(\d+),\d+,([^,\n]+),([^,\n]+)(,[^,\n]*)?", r"PMOR,\1,1,\2,\3,1.e-14", text, flags=re.M)
+
+
 def rom_deck(text: str, mid: int, e: float, rho: float) -> str:
-    """The deck at (E, ρ): the MAT1 (free field, in `text`) at the point and a zero-width box."""
+    """The deck at (E, ρ): the MAT1 (free field, in `text`) at the point, a zero-width box and
+    one sample with its whole local basis."""
     point = re.sub(rf"^(MAT1,{mid},)[^,]+(,[^,]*,[^,]+,)[^,\n]+", rf"\g<1>{e!r}\g<2>{rho!r}", text, flags=re.M)
     point = re.sub(rf"^PMPAR,(\d+),(\w+),E,{mid},[^\n]+$", rf"PMPAR,\1,\2,E,{mid},{e!r},{e!r}", point, flags=re.M)
-    return re.sub(rf"^PMPAR,(\d+),(\w+),RHO,{mid},[^\n]+$", rf"PMPAR,\1,\2,RHO,{mid},{rho!r},{rho!r}", point, flags=re.M)
+    point = re.sub(rf"^PMPAR,(\d+),(\w+),RHO,{mid},[^\n]+$", rf"PMPAR,\1,\2,RHO,{mid},{rho!r},{rho!r}", point, flags=re.M)
+    return one_sample_whole_basis(point)
 
 
 def inline_material(text: str, mid: int) -> str:
