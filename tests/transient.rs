@@ -41,6 +41,39 @@ fn full_model_step_response_equals_the_analytic_two_dof_chain() {
     }
 }
 
+/// PARAM,G with PARAM,W3 in a full-model transient is Nastran's equivalent viscous damping
+/// (G/W3)·K: the chain with β₁ = 1e-4, G = 0.02 and W3 = 200 rad/s is the Rayleigh chain with
+/// β = 2e-4, whose step response is analytic (modal solution of the damped chain). Tolerance as
+/// the undamped-G test above for generalized-α at the same Δt (1e-4 of the peak). Without W3
+/// the same deck leaves G out (a warning) and misses the analytic response by far more.
+#[test]
+fn full_model_structural_damping_g_over_w3_equals_the_analytic_two_dof_chain() {
+    let chain = TwoDofChain::reference();
+    assert_eq!(chain.beta, 2.0e-4, "the reference chain's β this test splits into β₁ + G/W3");
+    let split = TwoDofChain { beta: 1.0e-4, ..chain };
+    let worst = |w3: &str| {
+        let deck = format!(
+            "SOL 112\nCEND\nTSTEP = 1\nDLOAD = 7\nBEGIN BULK\nTSTEP,1,4000,5.e-5,10\nTINTEG,1,GALPHA,1.\nTLOAD1,7,8,,,9\nDAREA,8,2,1,1.\nTABLED1,9\n,0.,1.,10.,1.,ENDT\nPARAM,G,0.02\n{w3}{}ENDDATA\n",
+            split.bulk()
+        );
+        let (r, out) = run_deck(&deck);
+        let summary = r.unwrap_or_else(|e| panic!("{e}"));
+        let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
+        let g = file.group("results/1/transient").expect("transient group");
+        let (time, d2) = (read(&g, "time"), read(&g, "sensors/D2"));
+        let exact = |t: f64| chain.response(t, [0.0; 2], [0.0; 2], 1.0)[1];
+        let peak = time.iter().map(|&t| exact(t).abs()).fold(0.0, f64::max);
+        (time.iter().enumerate().map(|(i, &t)| (-d2[i] - exact(t)).abs()).fold(0.0, f64::max) / peak, summary.warnings)
+    };
+    let (with_w3, warnings) = worst("PARAM,W3,200.\n");
+    println!("G/W3: max |u₂ − exact| / peak = {with_w3:.2e}");
+    assert!(with_w3 <= 1e-4, "G = 0.02, W3 = 200: error {with_w3:e} of the peak");
+    assert!(!warnings.iter().any(|w| w.contains("PARAM,G")), "{warnings:?}");
+    let (without, warnings) = worst("");
+    assert!(without > 1e-2, "without W3, G must be left out (error {without:e} against the β = 2e-4 response)");
+    assert!(warnings.iter().any(|w| w.contains("PARAM,G") && w.contains("W3")), "{warnings:?}");
+}
+
 /// Full model and pROM of the same chain (both DOFs in the ASET: the pROM spans the whole
 /// space) give the same sensor histories up to round-off of the reduced basis (1e-9 of the
 /// peak: the basis is M-orthonormalized, so the reduced system equals the full one to ~1e-12).
@@ -165,6 +198,8 @@ fn prom_hard_cases_are_reported() {
     let (r, _out) = run_deck(&deck("PVAL,4,K1,2.5e4\nPARAM,G,0.02\n"));
     let s = r.expect("PARAM,G in a transient runs");
     assert!(s.warnings.iter().any(|w| w.contains("PARAM,G") && w.contains("W3")), "{:?}", s.warnings);
+    let e = run_deck(&deck("PVAL,4,K1,2.5e4\nPARAM,G,0.02\nPARAM,W3,200.\n")).0.expect_err("PARAM,G with W3 on a pROM transient");
+    assert!(e.to_string().contains("PARAM,G") && e.to_string().contains("W3"), "{e}");
     let frf = format!("SOL 111\nCEND\nROM = '{}'\nFREQUENCY = 5\nPVAL = 4\nBEGIN BULK\nFREQ,5,10.\nPVAL,4,K1,2.5e4\nPARAM,G,0.02\nENDDATA\n", rom.display());
     let e = run_deck(&frf).0.expect_err("PARAM,G on a pROM FRF");
     assert!(e.to_string().contains("PARAM,G"), "{e}");

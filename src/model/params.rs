@@ -40,7 +40,8 @@ pub const KNOWN_PARAMS: &[KnownParam] = &[
     KnownParam { name: "GRDPNT", kind: ParamType::Int, rule: "an integer >= -1", ok: |v| v >= -1.0, doc: "grid-point weight generator reference grid; -1 (default) = off, 0 = basic origin" },
     KnownParam { name: "ALPHA1", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "Rayleigh damping α (C = αM + βK); default 0" },
     KnownParam { name: "BETA1", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "Rayleigh damping β; default 0" },
-    KnownParam { name: "G", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "overall structural damping coefficient: K(1 + iG) in SOL 108, G on the modal stiffness in SOL 111; not applied in transient response (no PARAM,W3) nor on pROMs; default 0" },
+    KnownParam { name: "G", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "overall structural damping coefficient: K(1 + iG) in SOL 108, G on the modal stiffness in SOL 111, viscous (G/W3)·K in full-model SOL 109/112 when PARAM,W3 > 0; refused on pROMs; default 0" },
+    KnownParam { name: "W3", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "frequency (rad/s) at which PARAM,G is turned into viscous damping (G/W3)·K in transient response, as Nastran; default 0 = G left out of transient response" },
     KnownParam {
         name: "MAXRATIO",
         kind: ParamType::Real,
@@ -62,13 +63,23 @@ pub struct ModelParams {
     pub alpha1: f64,
     pub beta1: f64,
     pub g: f64,
+    /// Nastran W3 (rad/s): transient response adds (G/W3)·K when > 0.
+    pub w3: f64,
     /// SOL 101 factorization: largest a_kk / d_k accepted (Nastran MAXRATIO).
     pub maxratio: f64,
 }
 
+impl ModelParams {
+    /// The stiffness-proportional damping factor of transient response: β₁ + G/W3 (Nastran's
+    /// equivalent viscous structural damping; G is left out while W3 = 0).
+    pub fn transient_beta(&self) -> f64 {
+        if self.w3 > 0.0 { self.beta1 + self.g / self.w3 } else { self.beta1 }
+    }
+}
+
 impl Default for ModelParams {
     fn default() -> Self {
-        ModelParams { autospc: true, wtmass: 1.0, coupmass: -1, k6rot: 100.0, grdpnt: -1, alpha1: 0.0, beta1: 0.0, g: 0.0, maxratio: crate::linalg::cholesky::DEFAULT_MAX_RATIO }
+        ModelParams { autospc: true, wtmass: 1.0, coupmass: -1, k6rot: 100.0, grdpnt: -1, alpha1: 0.0, beta1: 0.0, g: 0.0, w3: 0.0, maxratio: crate::linalg::cholesky::DEFAULT_MAX_RATIO }
     }
 }
 
@@ -143,6 +154,7 @@ fn apply(known: &KnownParam, value: Value, loc: &Loc, out: &mut ModelParams, err
                 "ALPHA1" => out.alpha1 = v,
                 "BETA1" => out.beta1 = v,
                 "G" => out.g = v,
+                "W3" => out.w3 = v,
                 "MAXRATIO" => out.maxratio = v,
                 _ => {}
             }

@@ -251,10 +251,10 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         }
     };
     let mut warnings = Vec::new();
-    if sequence == Sequence::Transient && ctx.model.params.g != 0.0 {
-        // Nastran turns G into viscous damping G/W3·K in transient response only with PARAM,W3,
-        // whose default 0 leaves it out; paraflex has no W3 yet
-        warnings.push(format!("PARAM,G = {} is not applied by SOL TRANSIENT (as Nastran without PARAM,W3): use Rayleigh damping (PARAM,ALPHA1 / BETA1)", ctx.model.params.g));
+    if sequence == Sequence::Transient && ctx.model.params.g != 0.0 && ctx.model.params.w3 == 0.0 {
+        // Nastran turns G into viscous damping (G/W3)·K in transient response only with
+        // PARAM,W3, whose default 0 leaves it out
+        warnings.push(format!("PARAM,G = {} is not applied by SOL TRANSIENT without PARAM,W3 (as Nastran): set W3 (rad/s) for (G/W3)·K, or use Rayleigh damping (PARAM,ALPHA1 / BETA1)", ctx.model.params.g));
     }
     for s in &subcases {
         if !s.autospc.is_empty() {

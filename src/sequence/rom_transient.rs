@@ -52,6 +52,9 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
     let RomAtPoint { path, prom, p, at, extrapolated } = RomAtPoint::load(ctx, sub)?;
+    if ctx.model.params.g != 0.0 && ctx.model.params.w3 > 0.0 {
+        return Err(case(format!("PARAM,G = {} with W3 = {}: structural damping is applied by the full-model transient only; a pROM carries the Rayleigh damping of its build (PARAM,ALPHA1 / BETA1)", ctx.model.params.g, ctx.model.params.w3)));
+    }
     let (names, s_r) = read_prom_inputs(&path, prom.size())?;
     let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, prom.size())?;
     let sensors = SensorRows::new(sensor_names, sensor_kinds, h_r).map_err(|e| case(format!("{}: {e}", path.display())))?;

@@ -161,7 +161,7 @@ fn subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase) -> 
     let mut history: Vec<f64> = Vec::new();
     let mut recovery_error = None;
     let par = if ctx.options.parallel { Par::rayon(0) } else { Par::Seq };
-    let mut backend = SparseBackend::new(&c.k_ff, &c.m_ff, ctx.model.params.alpha1, ctx.model.params.beta1, par).map_err(|e| case(e.to_string()))?;
+    let mut backend = SparseBackend::new(&c.k_ff, &c.m_ff, ctx.model.params.alpha1, ctx.model.params.transient_beta(), par).map_err(|e| case(e.to_string()))?;
     let (mut u, mut v) = initial_state(ctx, c, sub).map_err(case)?;
     let mut t0 = 0.0;
     let mut steps = 0;
