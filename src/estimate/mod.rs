@@ -2,15 +2,17 @@
 //! parameters with the augmented EKF, usable from Rust without a deck.
 //!
 //! - [`filter`]: the augmented EKF with BDF1 and analytic Jacobians (eq. 8.1–8.35).
+//! - [`modal`]: the modal coordinates the filter runs in when the pROM allows them.
 //! - [`measurement`]: sensor equations y = h(x*) (eq. 8.36), shared with the other pROM drivers.
 //! - [`observability`]: the PBH test before a run (eq. 8.40–8.41, §8.4.3–8.4.4).
 //! - [`covariance`]: the rules of thumb for Q of inputs and parameters (eq. 8.30–8.31).
 
 pub mod filter;
 pub mod measurement;
+pub mod modal;
 pub mod observability;
 
-pub use filter::{Filter, FilterError, FilterSetup};
+pub use filter::{Coordinates, Filter, FilterError, FilterSetup};
 pub use measurement::{Reads, SensorRows};
 
 /// Rules of thumb for the random-walk covariances (thesis §8.3).

@@ -43,7 +43,7 @@ use crate::deck::reader::Column;
 use crate::dynamics::integrators::{LinearSystem, Method, integrate};
 use crate::dynamics::table::Table;
 use crate::estimate::observability::{self, OperatingPoint, Unknown};
-use crate::estimate::{Filter, FilterSetup, SensorRows, covariance};
+use crate::estimate::{Coordinates, Filter, FilterSetup, SensorRows, covariance};
 use crate::io::csv_table::read_columns;
 use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64, set_attr_i64, set_attr_str, set_attr_strings, write_f64};
 use crate::rom::prom::PromEvaluation;
@@ -174,6 +174,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         p0_state: ekf.p0_state,
         p0_inputs: unknown_inputs.iter().map(|(_, _, u)| u.amplitude * u.amplitude).collect(),
         p0_params: unknown_params.iter().map(|(_, par)| par.p0).collect(),
+        coordinates: Coordinates::Auto,
         prom: prom.clone(),
     };
     let mut at = prom.workspace();
@@ -223,16 +224,15 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         y.iter_mut().zip(&measured_series).for_each(|(y, s)| *y = s[k - 1]);
         filter.step(&f, &y).map_err(|e| case(format!("t = {t}: {e}")))?;
         let x = filter.state();
-        let cov = filter.covariance();
         time.push(t);
         for c in 0..nu {
             inputs_hist[c].push(x[2 * n + c]);
-            inputs_sigma[c].push(cov[(2 * n + c, 2 * n + c)].max(0.0).sqrt());
+            inputs_sigma[c].push(filter.variance(2 * n + c).max(0.0).sqrt());
         }
         for c in 0..np {
             let i = big_n - np + c;
             params_hist[c].push(x[i]);
-            params_sigma[c].push(cov[(i, i)].max(0.0).sqrt());
+            params_sigma[c].push(filter.variance(i).max(0.0).sqrt());
         }
         sensors.evaluate(&x[..n], &x[n..2 * n], filter.acceleration(), &mut y_all);
         sensor_hist.iter_mut().zip(&y_all).for_each(|(h, v)| h.push(*v));
