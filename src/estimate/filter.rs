@@ -189,8 +189,9 @@ struct Modal {
     jk: Vec<f64>,
     jm: Vec<f64>,
     jw: Mat<f64>,
-    /// Column scratch of the transition (n).
+    /// Column scratch of the transition (n) and of J P Jᵀ (N).
     t: Vec<f64>,
+    column: Vec<f64>,
     /// x* and q̈ in the physical coordinates.
     x: Vec<f64>,
     a: Vec<f64>,
@@ -363,38 +364,67 @@ impl Model {
         }
     }
 
-    /// out = J X for the structured J: q̇ rows J_v X, q rows X_q + Δt (q̇ rows), other rows X
-    /// (physical: one n × N × N product instead of N³; modal: 2 + n_un + n_p multiply-adds per
-    /// entry of the q and q̇ rows).
-    fn apply_transition(&mut self, x: MatRef<'_, f64>, out: &mut Mat<f64>, dt: f64) {
-        out.copy_from(x);
+    /// P ← J P Jᵀ (eq. 8.24 without Q). Physical: J (J P)ᵀ through `work`. Modal: in place,
+    /// J applied to every column, then Jᵀ from the right as combinations of the q and q̇
+    /// columns with the (u, p) ones: (2 + n_un + n_p) multiply-adds per entry of the q and q̇
+    /// rows and columns, no copy.
+    fn propagate(&mut self, p: &mut Mat<f64>, work: &mut Mat<f64>, dt: f64) {
         match self {
             Model::Physical(ph) => {
-                let n = ph.jv.nrows();
-                matmul(out.as_mut().subrows_mut(n, n), Accum::Replace, ph.jv.as_ref(), x, 1.0, Par::Seq);
-                for c in 0..out.ncols() {
-                    let (q, v) = out.col_as_slice_mut(c).split_at_mut(n);
-                    q.iter_mut().zip(&v[..n]).for_each(|(q, v)| *q += dt * v);
-                }
+                ph.apply_transition(p.as_ref(), work, dt);
+                ph.apply_transition(work.transpose(), p, dt);
             }
             Model::Modal(md) => {
                 let n = md.k.len();
-                for c in 0..out.ncols() {
-                    let (zv, w) = out.col_as_slice_mut(c).split_at_mut(2 * n);
-                    let (z, v) = zv.split_at_mut(n);
-                    md.t.fill(0.0);
-                    for (k, &wk) in w.iter().enumerate() {
-                        if wk != 0.0 {
-                            axpy(&mut md.t, wk, md.jw.col_as_slice(k));
+                (0..p.ncols()).for_each(|c| md.transform_column(p.col_as_slice_mut(c), dt));
+                for i in 0..n {
+                    md.column.fill(0.0);
+                    for k in 0..md.jw.ncols() {
+                        let a = md.jw[(i, k)];
+                        if a != 0.0 {
+                            axpy(&mut md.column, a, p.col_as_slice(2 * n + k));
                         }
                     }
-                    for i in 0..n {
-                        let vi = md.jk[i] * z[i] + md.jm[i] * v[i] + md.t[i];
-                        z[i] += dt * vi;
-                        v[i] = vi;
-                    }
+                    let (jk, jm) = (md.jk[i], md.jm[i]);
+                    md.column.iter_mut().zip(p.col_as_slice(i).iter().zip(p.col_as_slice(n + i))).for_each(|(o, (z, v))| *o += jk * z + jm * v);
+                    axpy(p.col_as_slice_mut(i), dt, &md.column);
+                    p.col_as_slice_mut(n + i).copy_from_slice(&md.column);
                 }
             }
+        }
+    }
+}
+
+impl Physical {
+    /// out = J X for the structured J: q̇ rows J_v X, q rows X_q + Δt (q̇ rows), other rows X
+    /// (one n × N × N product instead of N³).
+    fn apply_transition(&self, x: MatRef<'_, f64>, out: &mut Mat<f64>, dt: f64) {
+        let n = self.jv.nrows();
+        out.copy_from(x);
+        matmul(out.as_mut().subrows_mut(n, n), Accum::Replace, self.jv.as_ref(), x, 1.0, Par::Seq);
+        for c in 0..out.ncols() {
+            let (q, v) = out.col_as_slice_mut(c).split_at_mut(n);
+            q.iter_mut().zip(&v[..n]).for_each(|(q, v)| *q += dt * v);
+        }
+    }
+}
+
+impl Modal {
+    /// x ← J x for one column x of length N.
+    fn transform_column(&mut self, x: &mut [f64], dt: f64) {
+        let n = self.k.len();
+        let (zv, w) = x.split_at_mut(2 * n);
+        let (z, v) = zv.split_at_mut(n);
+        self.t.fill(0.0);
+        for (k, &wk) in w.iter().enumerate() {
+            if wk != 0.0 {
+                axpy(&mut self.t, wk, self.jw.col_as_slice(k));
+            }
+        }
+        for ((z, v), (jk, (jm, t))) in z.iter_mut().zip(v.iter_mut()).zip(self.jk.iter().zip(self.jm.iter().zip(&self.t))) {
+            let vi = jk * *z + jm * *v + t;
+            *z += dt * vi;
+            *v = vi;
         }
     }
 }
@@ -468,6 +498,7 @@ impl Filter {
                     jm: vec![0.0; n],
                     jw: Mat::zeros(n, nu + np),
                     t: vec![0.0; n],
+                    column: vec![0.0; big_n],
                     x: vec![0.0; big_n],
                     a: vec![0.0; n],
                 }))
@@ -707,9 +738,8 @@ impl Filter {
             self.model.set_transition(dt, &self.setup.s_un, &self.scratch.d);
             self.jv_valid = true;
         }
-        // P⁻ = J (J P)ᵀ + Q (eq. 8.24): J P in `work`, then J (J P)ᵀ back into P
-        self.model.apply_transition(self.p.as_ref(), &mut self.work, dt);
-        self.model.apply_transition(self.work.transpose(), &mut self.p, dt);
+        // P⁻ = J P Jᵀ + Q (eq. 8.24)
+        self.model.propagate(&mut self.p, &mut self.work, dt);
         symmetrize(&mut self.p);
         self.add_noise();
         self.publish();

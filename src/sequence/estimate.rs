@@ -26,7 +26,8 @@
 //! posterior; attributes `measured`, and `aae`, `mra` when the CSV has a reference);
 //! `innovation/<name>` (t, measured sensors); `error_table` (rows × 3: min, avg, max relative
 //! error in % over the last 20 % of the window, attribute `rows`); attributes `rom`,
-//! `observability`, `forced`, `steps_per_second`.
+//! `observability`, `forced`, `steps_per_second`, `coordinates` (`modal` or `physical`: the
+//! filter's coordinates, [`crate::estimate::filter`]).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -75,6 +76,8 @@ pub struct EstimateSummary {
     pub hidden_modes: Vec<(usize, f64)>,
     pub extrapolated: Vec<String>,
     pub steps_per_second: f64,
+    /// The filter ran in modal coordinates ([`crate::estimate::filter`]).
+    pub modal: bool,
 }
 
 /// Runs every subcase.
@@ -306,6 +309,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     set_attr_i64(&group, "forced", i64::from(!verdict.observable()))?;
     let steps_per_second = steps as f64 / elapsed.max(f64::MIN_POSITIVE);
     set_attr_f64(&group, "steps_per_second", steps_per_second)?;
+    set_attr_str(&group, "coordinates", if filter.modal() { "modal" } else { "physical" })?;
     let params = (0..np).map(|c| (pnames[c].clone(), params_hist[c][steps - 1], params_sigma[c][steps - 1])).collect();
     let summary = EstimateSummary {
         rom: path,
@@ -318,6 +322,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         hidden_modes: verdict.hidden_modes,
         extrapolated,
         steps_per_second,
+        modal: filter.modal(),
     };
     Ok(SubcaseSummary { id, autospc: Vec::new(), result: SubcaseResult::Estimate(summary) })
 }
