@@ -282,6 +282,32 @@ fn e_and_rho_static_load_is_refused_unless_forced() {
     assert!(summary(&r).forced && r.warnings.iter().any(|w| w.contains("FORCE = YES")), "{:?}", r.warnings);
 }
 
+/// E and an unknown static input (thesis §8.4.4, one material: D = ∂K/∂E q ∝ S_un u at the
+/// static equilibrium) are refused naming the cause when the data are static: the transient
+/// starts at the equilibrium under the 5 N tip load (TIC 14:3 = 5 N × the input's static
+/// compliance s_rᵀ K_r⁻¹ s_r at the true E, ρ), so every channel stays within 3σ.
+#[test]
+fn e_and_static_unknown_input_is_refused() {
+    use faer::linalg::solvers::Solve;
+    let rom = prom();
+    let artifact = rom.path().join("out.h5");
+    let (model, _) = paraflex::io::read_prom(&artifact).unwrap();
+    let n = model.size();
+    let (names, s_r) = paraflex::io::read_prom_inputs(&artifact, n).unwrap();
+    let j = names.iter().position(|x| x == "14:3").unwrap();
+    let mut at = model.workspace();
+    model.evaluate(&[E_TRUE, RHO_TRUE], &mut at).unwrap();
+    let s = faer::Mat::from_fn(n, 1, |i, _| s_r[(i, j)]);
+    let q = at.stiffness().llt(faer::Side::Lower).unwrap().solve(&s);
+    let compliance: f64 = (0..n).map(|i| s[(i, 0)] * q[(i, 0)]).sum();
+    let truth = Truth { case: "IC = 3\n", bulk: format!("TIC,3,14,3,{:e},0.\n", 5.0 * compliance), e_card: true, e: |_| E_TRUE };
+    let data = tempfile::tempdir().unwrap();
+    measurements_of(&artifact, data.path(), Load::Static, 22, &truth);
+    let (r, _out) = estimate(&artifact, data.path(), "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3\nEKFINP,1,14,3,80.,5.\n", &["D_TIP_A", "D_MID"], false);
+    let message = r.expect_err("E and a static unknown input must be refused").to_string();
+    assert!(message.contains("unobservable") && message.contains("static input"), "{message}");
+}
+
 /// Only accelerometers, or fewer displacement sensors than unknowns, are refused naming the
 /// cause (§8.4.3).
 #[test]
