@@ -12,7 +12,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcursor1 libxfixes3 \
 	libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1
 
-.PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient clean
+.PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient bench-estimate clean
 
 demo: deps
 	$(CARGO) build --release --quiet
@@ -71,6 +71,17 @@ validate-prom: deps
 bench-transient: deps
 	$(CARGO) build --release --quiet
 	$(PY) tools/bench/transient_bench.py --paraflex $${CARGO_TARGET_DIR:-target}/release/paraflex
+
+# SOL ESTIMATE filter speed (issue 7 item 6): steps/s in physical and modal coordinates on the
+# blade pROM and on its clamped one-material variant, and the error for a few covariance
+# settings (examples/estimate_bench.rs; README "Filter speed") — prints, not part of the tests.
+bench-estimate: deps
+	$(CARGO) build --release --quiet
+	$(CARGO) build --release --quiet --example estimate_bench
+	tmp=$$(mktemp -d) && for d in blade_prom_sensors blade_prom_clamped; do \
+		$(BIN) run decks/estimate/$$d.dat -o $$tmp/$$d.h5 > /dev/null && \
+		$(or $(CARGO_TARGET_DIR),target)/release/examples/estimate_bench $$tmp/$$d.h5 || exit 1; \
+	done; rm -rf $$tmp
 
 clean:
 	$(CARGO) clean

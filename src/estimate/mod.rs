@@ -2,6 +2,7 @@
 //! parameters with the augmented EKF, usable from Rust without a deck.
 //!
 //! - [`filter`]: the augmented EKF with BDF1 and analytic Jacobians (eq. 8.1–8.35).
+//! - [`modal`]: the modal coordinates the filter runs in when the pROM allows them.
 //! - [`measurement`]: sensor equations y = h(x*) (eq. 8.36): [`crate::dynamics::measurement`],
 //!   shared with the FRF and transient drivers and re-exported here.
 //! - [`observability`]: the PBH test before a run (eq. 8.40–8.41, §8.4.3–8.4.4).
@@ -9,9 +10,10 @@
 
 pub mod filter;
 pub use crate::dynamics::measurement;
+pub mod modal;
 pub mod observability;
 
-pub use filter::{Filter, FilterError, FilterSetup};
+pub use filter::{Coordinates, Filter, FilterError, FilterSetup};
 pub use measurement::{Reads, SensorRows};
 
 /// Rules of thumb for the random-walk covariances (thesis §8.3).

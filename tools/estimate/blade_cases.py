@@ -2,8 +2,10 @@
 """Numerical validation of SOL ESTIMATE on the blade pROM (thesis §8.6, Table 8.2 format).
 
 1. build the blade pROM with estimation sensors (decks/estimate/blade_prom_sensors.dat);
-2. per data set: SOL 112 on the pROM (BDF1, 0.1 ms, 1 s) under the static 14.7 N or the 20 Hz sine
-   of 5 N at the tip grid 71 along z (thesis Table 8.1) at the nominal E, RHO; "degrading": the
+2. per data set: SOL 112 on the pROM (BDF1, 0.1 ms, 1 s) under the static 14.7 N, the 20 Hz sine
+   of 5 N or the band-limited random load (0-500 Hz, 14 N peak: tools/signals/make_signal.py, seed
+   7, 20 ms raised-cosine fade-in, scaled to the peak) at the tip grid 71 along z (thesis
+   Table 8.1) at the nominal E, RHO; "degrading": the
    sine with E falling by 10 %/s (PTABLE ramp, §8.6.2); "IC": the sine from the initial tip
    displacement TIC 71:3 = 1 mm (non-zero initial conditions, §8.6.4); then
    tools/estimate/make_measurements.py (noise 1e-7 m on DISP, 1e-7 on STRAIN, 1e-3 m/s² on ACCEL, seeded) with
@@ -32,10 +34,12 @@ ROOT = Path(__file__).resolve().parents[2]
 DT, STEPS = 1e-4, 10000
 E, RHO = 116.04e9, 4873.0
 LOADS = {"static": lambda t: np.full_like(t, 14.7), "sine": lambda t: 5.0 * np.sin(2 * np.pi * 20.0 * t)}
+RANDOM_PEAK, RANDOM_SEED = 14.0, 7
 # data set: (load, case control, bulk cards, E on the PVAL card, true E(t))
 DATA = {
     "static": ("static", "", "", True, lambda t: np.full_like(t, E)),
     "sine": ("sine", "", "", True, lambda t: np.full_like(t, E)),
+    "random": ("random", "", "", True, lambda t: np.full_like(t, E)),
     "sine, degrading E": ("sine", "", f"PTABLE,1,E,20\nTABLED1,20\n,0.,{E:e},1.,{0.9 * E:e},ENDT\n", False, lambda t: E * (1.0 - 0.1 * t)),
     "sine, IC": ("sine", "IC = 3\n", "TIC,3,71,3,1.E-3,0.\n", True, lambda t: np.full_like(t, E)),
 }
@@ -43,8 +47,8 @@ DATA = {
 # E with the unknown tip input (ω_u = 80 Hz, §8.6.3): P0 of E is (1e10)² (σ ≈ 7 % of the guess);
 # with the default INIT² the first steps, where the response is still ~0, throw E negative.
 CASES = [
-    ("E", "EKFPAR,1,E,{e0:e},1.E-3\n", ["D71", "D93"], ["static", "sine"], 0.05, True),
-    ("E, RHO", "EKFPAR,1,E,{e0:e},1.\nEKFPAR,1,RHO,{r0:e},1.\n", ["D71", "D93", "A93"], ["static", "sine"], 0.5, True),
+    ("E", "EKFPAR,1,E,{e0:e},1.E-3\n", ["D71", "D93"], ["static", "sine", "random"], 0.05, True),
+    ("E, RHO", "EKFPAR,1,E,{e0:e},1.\nEKFPAR,1,RHO,{r0:e},1.\n", ["D71", "D93", "A93"], ["static", "sine", "random"], 0.5, True),
     ("E, input", "EKFPAR,1,E,{e0:e},1.E-3,1.E20\nEKFINP,1,71,3,80.,5.\n", ["D71", "D93"], ["static", "sine"], 0.05, False),
     # §8.6.2: δ_E = 1 Hz tracks the ramp; bound = issue 7's 1 %
     ("degrading E", "EKFPAR,1,E,{e0:e},1.\n", ["D71", "D93"], ["sine, degrading E"], 1.0, True),
@@ -53,8 +57,8 @@ CASES = [
 ]
 # the same with the thesis's strain gauges (§8.5.1, noise 1e-7) instead of displacements
 CASES += [
-    ("E (strain)", "EKFPAR,1,E,{e0:e},1.E-3\n", ["S134", "S192"], ["static", "sine"], 0.05, True),
-    ("E, RHO (strain)", "EKFPAR,1,E,{e0:e},1.\nEKFPAR,1,RHO,{r0:e},1.\n", ["S134", "S192", "A93"], ["sine"], 0.5, True),
+    ("E (strain)", "EKFPAR,1,E,{e0:e},1.E-3\n", ["S134", "S192"], ["static", "sine", "random"], 0.05, True),
+    ("E, RHO (strain)", "EKFPAR,1,E,{e0:e},1.\nEKFPAR,1,RHO,{r0:e},1.\n", ["S134", "S192", "A93"], ["sine", "random"], 0.5, True),
     ("degrading E (strain)", "EKFPAR,1,E,{e0:e},1.\n", ["S134", "S192"], ["sine, degrading E"], 1.0, True),
 ]
 # EKF card per case (P0STATE for the unknown initial state of the IC case)
@@ -80,6 +84,11 @@ def main() -> None:
         t = np.arange(STEPS + 2) * DT
         for load, fn in LOADS.items():
             np.savetxt(tmp / f"load_{load}.csv", np.column_stack([t, fn(t)]), delimiter=",", header="time,force", comments="")
+        raw = tmp / "load_random_rms1.csv"
+        subprocess.run([sys.executable, str(ROOT / "tools/signals/make_signal.py"), "random", "-o", str(raw), "--band", "0", "500", "--rms", "1",
+                        "--seed", str(RANDOM_SEED), "--fade", "0.02", "--duration", f"{(STEPS + 1) * DT!r}", "--dt", f"{DT!r}"], check=True, capture_output=True)
+        rt, rf = np.loadtxt(raw, delimiter=",", skiprows=1, unpack=True)
+        np.savetxt(tmp / "load_random.csv", np.column_stack([rt, rf * RANDOM_PEAK / np.abs(rf).max()]), delimiter=",", header="time,force", comments="")
         for k, (data, (load, case_control, bulk, e_card, e_of_t)) in enumerate(DATA.items()):
             deck = tmp / f"tr_{k}.dat"
             pval = f"PVAL,1,E,{E:e},RHO,{RHO!r}\n" if e_card else f"PVAL,1,RHO,{RHO!r}\n"
@@ -129,7 +138,7 @@ def main() -> None:
         f.write("# SOL ESTIMATE on the blade pROM (decks/estimate/blade_prom_sensors.dat), 1 s at 0.1 ms, noise 1e-7 m (DISP), 1e-7 (STRAIN) and 1e-3 m/s2 (ACCEL), seed 1;\n"
                 "# relative error [%] over the last 20 % of the window (thesis Table 8.2 format); bound = issue 7 acceptance on |avg|.\n"
                 "# Made by tools/estimate/blade_cases.py.\n")
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w = csv.DictWriter(f, fieldnames=list(rows[0]), lineterminator="\n")
         w.writeheader()
         w.writerows(rows)
     print(f"wrote {args.output}")
