@@ -212,6 +212,7 @@ mod commands {
             Failure(2)
         };
         let (m, fit) = paraflex::io::prom_lsq::fit_samples(manifest).map_err(|e| fail(&e))?;
+        let built = paraflex::io::prom_lsq::build_samples(manifest, &m, &fit).map_err(|e| fail(&e))?;
         let default = match manifest.with_extension("h5") {
             same if same == manifest => manifest.with_file_name(format!("{}_lsq.h5", manifest.file_stem().unwrap_or_default().to_string_lossy())),
             other => other,
@@ -220,12 +221,18 @@ mod commands {
         let written = (|| -> Result<PathBuf, paraflex::io::IoError> {
             let file = paraflex::io::OutputFile::create(&out)?;
             paraflex::io::prom_lsq::write_lsq(&file.group("lsq")?, &m.functions, &fit)?;
+            if let Some(built) = &built {
+                paraflex::io::prom_lsq::write_black_box(&file, &m, built)?;
+            }
             file.commit()
         })()
         .map_err(|e| fail(&e))?;
         println!("{}: {} samples, functions {}", manifest.display(), m.values.len(), m.functions.join(", "));
         println!("  n {}, nnz {}", fit.stiffness[0].nrows(), fit.stiffness[0].nnz());
         println!("  max relative residual  K {:.1e}  M {:.1e}", fit.residual_stiffness, fit.residual_mass);
+        if let Some(b) = &built {
+            println!("  pROM: {} local columns, {} after the MAC filter, n_red {}, {} inputs, {} strain sensors", b.concatenated, b.kept, b.prom.size(), b.inputs.ncols(), b.strains.nrows());
+        }
         eprintln!("wrote {}", written.display());
         Ok(())
     }

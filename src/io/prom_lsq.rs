@@ -29,19 +29,36 @@
 //!                   summed (scipy.sparse.coo_matrix's fields)
 //! ```
 //!
+//! Optional, for the pROM of the black-box route ([`crate::rom::black_box`]; thesis §3.4.1.1):
+//!
+//! ```text
+//! /basis/<h>        n × k_h f64: the external code's local basis Ψ_h of sample h (its modes,
+//!                   static shapes, …; one per sample)
+//! /strain/<h>       s × k_h f64: N_s,h, the strains at the s sensors of the columns of Ψ_h
+//! /sensors          s strings: the strain sensors' names (with /strain)
+//! /inputs/names     k strings: the load inputs' names
+//! /inputs/dofs      k integers: their rows in the n-vector (0-based)
+//! ```
+//!
+//! With `/basis` the output also holds the pROM (`/prom`, DESIGN.md §8): `/prom/inputs` from
+//! `/inputs`, `/prom/sensors` (kind `STRAIN`, H_r by eq. 3.36–3.38) from `/strain`.
+//!
 //! Output group `/lsq`: attrs `functions` (names), `n`, `residual_K`, `residual_M` (max over the
 //! samples of ‖X_h − Σ f_i X^i‖/‖X_h‖); datasets `col_offsets` (n + 1), `row_indices` (nnz) of
 //! the shared full CSC pattern, `K` and `M` (n_f × nnz, row i = the values of X^i).
 
 use std::path::{Path, PathBuf};
 
+use faer::Mat;
 use hdf5::Group;
 use hdf5_metno as hdf5;
 use nalgebra_sparse::{CooMatrix, CscMatrix};
 
 use super::hdf5_file::{IoError, set_attr_f64, set_attr_i64, set_attr_strings, write_f64, write_u32};
 use super::matrix_market::read_matrix_market;
-use super::prom_group::open_artifact;
+use super::prom_group::{open_artifact, write_prom};
+use super::{OutputFile, write_strings};
+use crate::rom::black_box::{BlackBox, BlackBoxError, BlackBoxInput, build_black_box};
 use crate::rom::lsq::{FitError, MatrixFit, extract_matrices};
 
 /// One sampled model of a manifest.
@@ -67,6 +84,8 @@ pub enum LsqInputError {
     Io(#[from] IoError),
     #[error("{}: {source}", .manifest.display())]
     Fit { manifest: PathBuf, source: FitError },
+    #[error("{}: {source}", .samples.display())]
+    BlackBox { samples: PathBuf, source: BlackBoxError },
 }
 
 /// Read a manifest (module doc).
@@ -105,6 +124,13 @@ pub struct SampleSet {
     pub values: Vec<Vec<f64>>,
     pub stiffness: Vec<CscMatrix<f64>>,
     pub mass: Vec<CscMatrix<f64>>,
+    /// Ψ_h (`/basis`; empty when not given or from a CSV manifest).
+    pub bases: Vec<Mat<f64>>,
+    /// N_s,h (`/strain`; empty when not given) and the sensor names.
+    pub strains: Vec<Mat<f64>>,
+    pub sensors: Vec<String>,
+    /// Load inputs: (name, 0-based row).
+    pub inputs: Vec<(String, usize)>,
 }
 
 /// The first bytes of every HDF5 file (superblock signature at offset 0, as h5py and paraflex
@@ -123,7 +149,7 @@ pub fn read_samples(path: &Path) -> Result<SampleSet, IoError> {
     let read = |files: &dyn Fn(&Sample) -> &Path| manifest.samples.iter().map(|s| read_matrix_market(files(s))).collect::<Result<Vec<_>, _>>();
     let (stiffness, mass) = (read(&|s| &s.stiffness)?, read(&|s| &s.mass)?);
     let values = manifest.samples.iter().map(|s| s.values.clone()).collect();
-    Ok(SampleSet { functions: manifest.functions, values, stiffness, mass })
+    Ok(SampleSet { functions: manifest.functions, values, stiffness, mass, bases: Vec::new(), strains: Vec::new(), sensors: Vec::new(), inputs: Vec::new() })
 }
 
 /// The HDF5 layout of the module doc.
@@ -154,7 +180,56 @@ fn read_samples_hdf5(path: &Path) -> Result<SampleSet, IoError> {
     let values: Vec<Vec<f64>> = flat.chunks(n_f).map(<[f64]>::to_vec).collect();
     let matrices = |which: &str| -> Result<Vec<CscMatrix<f64>>, IoError> { (0..values.len()).map(|h| read_matrix_hdf5(&file, path, &format!("{which}/{h}"))).collect() };
     let (stiffness, mass) = (matrices("K")?, matrices("M")?);
-    Ok(SampleSet { functions, values, stiffness, mass })
+    let n = stiffness.first().map_or(0, CscMatrix::nrows);
+    let strings = |name: &str| -> Result<Vec<String>, IoError> {
+        Ok(file.dataset(name).and_then(|d| d.read_raw::<hdf5::types::VarLenUnicode>()).map_err(hdf(format!("read /{name}")))?.iter().map(|s| s.as_str().trim().to_string()).collect())
+    };
+    let per_sample = |group: &str, rows: Option<usize>| -> Result<Vec<Mat<f64>>, IoError> {
+        if file.group(group).is_err() {
+            return Ok(Vec::new());
+        }
+        (0..values.len()).map(|h| read_dense_hdf5(&file, path, &format!("{group}/{h}"), rows)).collect()
+    };
+    let bases = per_sample("basis", Some(n))?;
+    let strains = per_sample("strain", None)?;
+    let sensors = if strains.is_empty() { Vec::new() } else { strings("sensors")? };
+    if let Some(first) = strains.first()
+        && sensors.len() != first.nrows()
+    {
+        return Err(bad("/sensors", format!("{} names for {} strain rows", sensors.len(), first.nrows())));
+    }
+    let inputs = if file.group("inputs").is_ok() {
+        let names = strings("inputs/names")?;
+        let dofs: Vec<i64> = file.dataset("inputs/dofs").and_then(|d| d.read_raw::<i64>()).map_err(hdf("read /inputs/dofs".into()))?;
+        if dofs.len() != names.len() {
+            return Err(bad("/inputs", format!("{} names and {} dofs", names.len(), dofs.len())));
+        }
+        let rows = dofs.iter().map(|&i| usize::try_from(i).ok().filter(|&i| i < n).ok_or_else(|| bad("/inputs/dofs", format!("{i} is not in 0..{n} (0-based)")))).collect::<Result<Vec<_>, _>>()?;
+        names.into_iter().zip(rows).collect()
+    } else {
+        Vec::new()
+    };
+    Ok(SampleSet { functions, values, stiffness, mass, bases, strains, sensors, inputs })
+}
+
+/// A dense 2-D f64 dataset at `name` (row-major, as h5py writes numpy arrays), with `rows` rows
+/// when given.
+fn read_dense_hdf5(file: &hdf5::File, path: &Path, name: &str, rows: Option<usize>) -> Result<Mat<f64>, IoError> {
+    let what = format!("/{name}");
+    let bad = |reason: String| IoError::invalid(path, what.as_str(), reason);
+    let set = file.dataset(name).map_err(|_| bad("missing: one dense 2-D dataset per sample".into()))?;
+    let shape = set.shape();
+    let [r, c] = shape[..] else { return Err(bad(format!("shape {shape:?}, expected a 2-D matrix"))) };
+    if let Some(n) = rows
+        && r != n
+    {
+        return Err(bad(format!("{r} rows, the matrices are {n} × {n}")));
+    }
+    let data: Vec<f64> = set.read_raw().map_err(|e| IoError::hdf5(path, format!("read {what}"), e))?;
+    if let Some(x) = data.iter().find(|x| !x.is_finite()) {
+        return Err(bad(format!("{x} is not a finite number")));
+    }
+    Ok(Mat::from_fn(r, c, |i, j| data[i * c + j]))
 }
 
 /// One square matrix at `name`: a dense 2-D dataset or a coordinate-form group (module doc).
@@ -214,6 +289,37 @@ pub fn fit_samples(path: &Path) -> Result<(SampleSet, MatrixFit), LsqInputError>
     let names: Vec<&str> = samples.functions.iter().map(String::as_str).collect();
     let fit = extract_matrices(&names, &samples.values, &samples.stiffness, &samples.mass).map_err(|source| LsqInputError::Fit { manifest: path.into(), source })?;
     Ok((samples, fit))
+}
+
+/// The pROM of the black-box route ([`build_black_box`], MAC threshold 0.99 as in the thesis)
+/// when the samples carry local bases (`/basis`), else `None`.
+pub fn build_samples(path: &Path, samples: &SampleSet, fit: &MatrixFit) -> Result<Option<BlackBox>, LsqInputError> {
+    if samples.bases.is_empty() {
+        return Ok(None);
+    }
+    let rows: Vec<usize> = samples.inputs.iter().map(|(_, row)| *row).collect();
+    let input = BlackBoxInput { functions: &samples.functions, values: &samples.values, bases: &samples.bases, strains: &samples.strains, inputs: &rows, mac_tol: 0.99 };
+    build_black_box(fit, &input).map(Some).map_err(|source| LsqInputError::BlackBox { samples: path.into(), source })
+}
+
+/// Write the pROM of [`build_samples`] into `prom` (normally `/prom`, module doc): the
+/// components, `/prom/inputs` and, with strain bases, `/prom/sensors`.
+pub fn write_black_box(file: &OutputFile, samples: &SampleSet, built: &BlackBox) -> Result<(), IoError> {
+    let row_major = |m: &Mat<f64>| -> Vec<f64> { (0..m.nrows()).flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)])).collect() };
+    let n = samples.stiffness.first().map_or(0, CscMatrix::nrows);
+    write_prom(&file.group("prom")?, &built.prom, n)?;
+    let inputs = file.group("prom/inputs")?;
+    let names: Vec<&str> = samples.inputs.iter().map(|(name, _)| name.as_str()).collect();
+    write_strings(&inputs, "names", &names)?;
+    write_f64(&inputs, "S_r", &row_major(&built.inputs), &[built.inputs.nrows(), built.inputs.ncols()])?;
+    if !samples.sensors.is_empty() {
+        let sensors = file.group("prom/sensors")?;
+        let names: Vec<&str> = samples.sensors.iter().map(String::as_str).collect();
+        write_strings(&sensors, "names", &names)?;
+        write_strings(&sensors, "kind", &vec!["STRAIN"; names.len()])?;
+        write_f64(&sensors, "H_r", &row_major(&built.strains), &[built.strains.nrows(), built.strains.ncols()])?;
+    }
+    Ok(())
 }
 
 /// Write the components into `group` (normally `/lsq`, module doc).

@@ -4,6 +4,8 @@
 //! - [`basis`]: the offline building blocks of the global basis: seeded Latin hypercube samples,
 //!   the MAC filter of eq. 3.39, the truncated SVD of eq. 3.34 and the strain-basis transformation
 //!   of eq. 3.36–3.38;
+//! - [`black_box`]: the pROM of matrices, local bases and strain bases sampled by another FE
+//!   code (eq. 3.29, 3.31, 3.36–3.38);
 //! - [`local_basis`]: normal modes plus attachment (or inertia-relief) static modes of one
 //!   sample, rigid-body modes kept or removed (eq. 2.28), or Craig–Bampton fixed-interface and
 //!   constraint modes;
@@ -13,6 +15,7 @@
 //!   parameter derivatives (eq. 3.32; eq. 8.19–8.20 need the derivatives).
 
 pub mod basis;
+pub mod black_box;
 pub mod build;
 pub mod local_basis;
 pub mod lsq;
