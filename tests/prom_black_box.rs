@@ -162,7 +162,8 @@ fn black_box_samples_with_mismatched_sizes_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let samples = dir.path().join("samples.h5");
     let l = strain_rows();
-    let cases: [(&dyn Fn(usize) -> Mat<f64>, &dyn Fn(usize) -> Mat<f64>, &str); 2] = [
+    type PerSample<'a> = &'a dyn Fn(usize) -> Mat<f64>;
+    let cases: [(PerSample, PerSample, &str); 2] = [
         (&|h| if h == 1 { Mat::zeros(N + 1, 2) } else { local_basis(h) }, &|h| &l * local_basis(h), "/basis/1: 13 rows, the matrices are 12 × 12"),
         (&local_basis, &|h| if h == 3 { Mat::zeros(3, 1) } else { &l * local_basis(h) }, "companion of local basis 4: 1 columns, the local basis has 2"),
     ];
