@@ -8,10 +8,6 @@ use hdf5_metno::types::VarLenUnicode;
 
 mod common;
 
-/// The two tests create, write and reopen HDF5 files in this process; run concurrently they
-/// once failed H5Fcreate with "unable to lock file" (errno 11), so they run one at a time.
-static HDF5_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
 /// Chain of `N` masses, spring j between DOF j − 1 and j (DOF −1 the ground), springs 0..6 of
 /// stiffness E1, 6..12 of stiffness E2, a constant grounding spring 0.5 at the tip (so the
 /// constant component is not zero), masses RHO · (1 + j/N).
@@ -117,7 +113,6 @@ fn transfer(k: &Mat<f64>, m: &Mat<f64>, inputs: &Mat<f64>, sensors: &Mat<f64>, o
 /// at 3 lines, same bound.
 #[test]
 fn black_box_prom_equals_the_galerkin_projection_on_the_local_bases() {
-    let _serial = HDF5_LOCK.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let dir = tempfile::tempdir().unwrap();
     let (samples, out) = (dir.path().join("samples.h5"), dir.path().join("out.h5"));
     let l = strain_rows();
@@ -196,7 +191,6 @@ fn black_box_prom_equals_the_galerkin_projection_on_the_local_bases() {
 /// row too many, and a strain basis with fewer columns than its local basis.
 #[test]
 fn black_box_samples_with_mismatched_sizes_are_refused() {
-    let _serial = HDF5_LOCK.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let dir = tempfile::tempdir().unwrap();
     let samples = dir.path().join("samples.h5");
     let l = strain_rows();
