@@ -3,7 +3,7 @@
 L2r (issue 6 §6).
 
     .venv/bin/python tools/bench/transient_bench.py [--scene blade|link]
-        [--paraflex target/release/paraflex] [--keep DIR]
+        [--dt 4e-4 2e-4 1e-4 5e-5] [--repeat 3] [--paraflex target/release/paraflex] [--keep DIR]
 
 Builds the scene's pROM, writes a seeded band-limited random force (RMS 1 N,
 tools/signals/make_signal.py) at its input DOF, and runs 1 s of SOL 112 with each TINTEG method
@@ -20,7 +20,7 @@ generalized-α ρ∞ = 1 (the trapezoidal rule) at Δt = 6.25e-6 s; the referenc
 
 Time: wall time of the run's "pROM transient" step as printed by paraflex (reading the artifact,
 the time loop and the output) and CPU time of the whole process (including start-up and writing
-the file, ≈ 20 ms), best of 3 runs each; on a loaded machine the CPU column is the steadier one.
+the file, ≈ 20 ms), best of --repeat runs each; on a loaded machine the CPU column is the steadier one.
 """
 from __future__ import annotations
 
@@ -93,6 +93,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scene", choices=sorted(SCENES), default="blade")
     ap.add_argument("--paraflex", type=Path, default=ROOT / "target/release/paraflex")
+    ap.add_argument("--dt", type=float, nargs="+", default=STEPS, help=f"time steps [s] (default {STEPS})")
+    ap.add_argument("--repeat", type=int, default=3, help="runs per method and step; the table shows the best")
     ap.add_argument("--keep", type=Path, default=None, help="work directory to keep (default: a temp dir)")
     a = ap.parse_args()
     scene = SCENES[a.scene]
@@ -113,11 +115,11 @@ def main() -> None:
           f"({scene.output[0]}); reference GALPHA 1.0 at dt = {ref_dt:g} s; peak |y| = {scale:.3e}")
     print(f"{'method':<12}{'dt [s]':>10}{'steps':>8}{'rel. error':>12}{'wall [ms]':>11}{'CPU [ms]':>10}")
     for name, tinteg in METHODS:
-        for dt in STEPS:
+        for dt in a.dt:
             path = work / f"run_{name.replace(' ', '_')}_{dt:g}.dat"
             path.write_text(deck(scene, rom, csv, dt, tinteg))
             out = work / "run.h5"
-            times = [run(a.paraflex, path, out) for _ in range(3)]
+            times = [run(a.paraflex, path, out) for _ in range(a.repeat)]
             wall, cpu = min(w for w, _ in times), min(c for _, c in times)
             t, u = series(out, scene.output)
             stride = int(round(dt / ref_dt))
