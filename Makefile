@@ -70,7 +70,8 @@ validate-prom: deps
 # Transient integrators on the blade pROM: Δt vs error vs time (not part of the tests).
 bench-transient: deps
 	$(CARGO) build --release --quiet
-	$(PY) tools/bench/transient_bench.py --paraflex $${CARGO_TARGET_DIR:-target}/release/paraflex
+	$(PY) tools/bench/transient_bench.py --scene blade --paraflex $${CARGO_TARGET_DIR:-target}/release/paraflex
+	$(PY) tools/bench/transient_bench.py --scene link --paraflex $${CARGO_TARGET_DIR:-target}/release/paraflex
 
 # SOL ESTIMATE filter speed (issue 7 item 6): steps/s in physical and modal coordinates on the
 # blade pROM and on its clamped one-material variant, and the error for a few covariance
