@@ -9,23 +9,8 @@ use paraflex::sequence::{RunSummary, SubcaseResult};
 /// Cantilever plate 0.3 × 0.1 m, CQUAD4 12 × 4, clamped at x = 0; `property` holds the
 /// PSHELL/PCOMP and material cards (PID 1); ASET1 on three tip grids (T3).
 fn plate(property: &str) -> String {
-    let (nx, ny, lx, ly) = (12usize, 4usize, 0.3, 0.1);
-    let id = |i: usize, j: usize| 1 + i + (nx + 1) * j;
-    let mut s = String::new();
-    for j in 0..=ny {
-        for i in 0..=nx {
-            s += &format!("GRID,{},,{:?},{:?},0.\n", id(i, j), i as f64 * lx / nx as f64, j as f64 * ly / ny as f64);
-        }
-        s += &format!("SPC1,1,123456,{}\n", id(0, j));
-    }
-    let mut e = 1;
-    for j in 0..ny {
-        for i in 0..nx {
-            s += &format!("CQUAD4,{e},1,{},{},{},{}\n", id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            e += 1;
-        }
-    }
-    s + &format!("ASET1,3,{},{},{}\n", id(nx, 0), id(nx, 2), id(nx, ny)) + property
+    // tip grids (12, 0), (12, 2), (12, 4) of the 13 × 5 grid numbering
+    common::clamped_plate_mesh(12, 4, 0.3, 0.1) + "ASET1,3,13,39,65\n" + property
 }
 
 fn frequencies(s: &RunSummary) -> Vec<f64> {

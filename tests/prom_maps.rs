@@ -66,22 +66,7 @@ fn number(v: &Value, path: &str) -> f64 {
 /// Flat plate 0.3 × 0.1 m of 8 × 3 CQUAD4 on PID 1 (grid (i, j) has id 1 + i + 9j): the grid
 /// and element cards, and the ids of the root edge (x = 0).
 fn plate_mesh() -> (String, Vec<usize>) {
-    let (nx, ny, lx, ly) = (8usize, 3usize, 0.3, 0.1);
-    let id = |i: usize, j: usize| 1 + i + (nx + 1) * j;
-    let mut s = String::new();
-    for j in 0..=ny {
-        for i in 0..=nx {
-            s += &format!("GRID,{},,{:?},{:?},0.\n", id(i, j), i as f64 * lx / nx as f64, j as f64 * ly / ny as f64);
-        }
-    }
-    let mut e = 1;
-    for j in 0..ny {
-        for i in 0..nx {
-            s += &format!("CQUAD4,{e},1,{},{},{},{}\n", id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            e += 1;
-        }
-    }
-    (s, (0..=ny).map(|j| id(0, j)).collect())
+    common::plate_mesh(8, 3, 0.3, 0.1)
 }
 
 /// The tip corners of [`plate_mesh`], the boundary (ASET1) grids of both scenes.

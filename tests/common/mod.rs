@@ -112,3 +112,30 @@ impl TwoDofChain {
         x
     }
 }
+
+/// A flat lx × ly plate of nx × ny CQUAD4 on PID 1 in the z = 0 plane: grid (i, j) has id
+/// 1 + i + (nx + 1) j and element (i, j) id 1 + i + nx j. Returns the GRID and CQUAD4 cards and
+/// the ids of the root edge x = 0 (for SPC1 or springs).
+#[allow(dead_code)]
+pub fn plate_mesh(nx: usize, ny: usize, lx: f64, ly: f64) -> (String, Vec<usize>) {
+    let id = |i: usize, j: usize| 1 + i + (nx + 1) * j;
+    let mut s = String::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            s += &format!("GRID,{},,{:?},{:?},0.\n", id(i, j), i as f64 * lx / nx as f64, j as f64 * ly / ny as f64);
+        }
+    }
+    for j in 0..ny {
+        for i in 0..nx {
+            s += &format!("CQUAD4,{},1,{},{},{},{}\n", 1 + i + nx * j, id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+        }
+    }
+    (s, (0..=ny).map(|j| id(0, j)).collect())
+}
+
+/// [`plate_mesh`] clamped at x = 0 (SPC1 set 1, all six components of the root grids).
+#[allow(dead_code)]
+pub fn clamped_plate_mesh(nx: usize, ny: usize, lx: f64, ly: f64) -> String {
+    let (mesh, root) = plate_mesh(nx, ny, lx, ly);
+    mesh + &root.iter().map(|g| format!("SPC1,1,123456,{g}\n")).collect::<String>()
+}
