@@ -20,6 +20,7 @@ use faer::Mat;
 use paraflex::dynamics::integrators::{LinearSystem, Method, integrate};
 use paraflex::estimate::{Coordinates, Filter, FilterSetup, SensorRows, covariance};
 use paraflex::io::{read_prom, read_prom_inputs, read_prom_sensors};
+use paraflex::linalg::random::SplitMix64;
 
 const DT: f64 = 1e-4;
 const STEPS: usize = 10_000;
@@ -54,14 +55,14 @@ fn main() -> Result<(), String> {
     let sys = LinearSystem { mass: at.mass(), damping: at.damping(), stiffness: at.stiffness() };
     let force = |t: f64| 5.0 * (2.0 * std::f64::consts::PI * 20.0 * t).sin();
     let load = |t: f64, f: &mut [f64]| f.iter_mut().zip(&shape).for_each(|(f, s)| *f = force(t) * s);
-    let mut noise = Gaussian(1);
+    let mut noise = SplitMix64::new(1);
     let mut data: Vec<Vec<f64>> = Vec::new();
     let zeros = vec![0.0; n];
     integrate(sys, Method::Bdf1, DT, STEPS, &zeros, &zeros, load, |st| {
         let mut y = vec![0.0; sensors.len()];
         sensors.evaluate(st.q, st.v, st.a, &mut y);
         let sigma = |k: &str| if k == "ACCEL" { 1e-3 } else { 1e-7 };
-        data.push(y.iter().zip(&sensors.kinds).map(|(y, k)| y + sigma(k) * noise.next()).collect());
+        data.push(y.iter().zip(&sensors.kinds).map(|(y, k)| y + sigma(k) * noise.normal()).collect());
     })
     .map_err(|e| e.to_string())?;
 
@@ -162,20 +163,3 @@ fn cpu_seconds() -> Option<f64> {
     text.split_whitespace().next()?.parse::<f64>().ok().map(|ns| ns * 1e-9)
 }
 
-/// Seeded standard normal numbers (splitmix64 and Box–Muller).
-struct Gaussian(u64);
-
-impl Gaussian {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn next(&mut self) -> f64 {
-        let u1 = self.uniform().max(f64::MIN_POSITIVE);
-        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * self.uniform()).cos()
-    }
-}

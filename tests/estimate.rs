@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 
 use common::{run_deck, run_deck_file};
 use paraflex::sequence::{RunSummary, SubcaseResult};
+use paraflex::linalg::random::SplitMix64;
 use paraflex::sequence::estimate::EstimateSummary;
 
 const DT: f64 = 1e-4;
@@ -104,13 +105,13 @@ fn measurements_of(prom: &Path, dir: &Path, load: Load, seed: u64, truth: &Truth
     let time: Vec<f64> = g.dataset("time").unwrap().read_raw().unwrap();
     let sensors = g.group("sensors").unwrap();
     let names = sensors.member_names().unwrap();
-    let mut noise = Gaussian::new(seed);
+    let mut noise = SplitMix64::new(seed);
     let columns: Vec<Vec<f64>> = names
         .iter()
         .map(|name| {
             let sigma = if name.starts_with("A_") { SIGMA_ACCEL } else { SIGMA_DISP };
             let y: Vec<f64> = sensors.dataset(name).unwrap().read_raw().unwrap();
-            y.iter().map(|v| v + sigma * noise.next()).collect()
+            y.iter().map(|v| v + sigma * noise.normal()).collect()
         })
         .collect();
     let mut text = format!("time,{},E,RHO\n", names.join(","));
@@ -119,29 +120,6 @@ fn measurements_of(prom: &Path, dir: &Path, load: Load, seed: u64, truth: &Truth
         text += &format!("{t:e},{},{:e},{RHO_TRUE:e}\n", row.join(","), (truth.e)(*t));
     }
     std::fs::write(dir.join("measurements.csv"), text).unwrap();
-}
-
-/// Seeded standard normal numbers: splitmix64 and Box–Muller (the test's own noise; the
-/// user-facing tool is tools/estimate/make_measurements.py).
-struct Gaussian(u64);
-
-impl Gaussian {
-    fn new(seed: u64) -> Self {
-        Gaussian(seed)
-    }
-
-    fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn next(&mut self) -> f64 {
-        let u1 = self.uniform().max(f64::MIN_POSITIVE);
-        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * self.uniform()).cos()
-    }
 }
 
 /// The SOL ESTIMATE deck: `ekf` cards (EKF 1 …), MEASF 2 on measurements.csv with the DISP

@@ -64,6 +64,7 @@
 //! count finite eigenvalues only (K − sM at finite s), so the check stays exact; purification
 //! keeps the vectors M-consistent.
 
+use super::random::SplitMix64;
 use faer::linalg::matmul::matmul;
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, MatMut, MatRef, Par, Side};
@@ -541,7 +542,7 @@ struct Lanczos<'a> {
     /// Sturm deficit).
     floor: Option<(f64, usize)>,
     restarts: usize,
-    rng: u64,
+    rng: SplitMix64,
     /// Per-step buffers (no allocation inside a cycle).
     w: Vec<f64>,
     p: Vec<f64>,
@@ -576,7 +577,7 @@ impl<'a> Lanczos<'a> {
             m: 0,
             floor: None,
             restarts: 0,
-            rng: options.seed,
+            rng: SplitMix64::new(options.seed),
             w: vec![0.0; n],
             p: vec![0.0; n],
             c: Vec::new(),
@@ -686,7 +687,7 @@ impl<'a> Lanczos<'a> {
                 _ => self
                     .w
                     .iter_mut()
-                    .for_each(|x| *x = next_uniform(&mut self.rng)),
+                    .for_each(|x| *x = self.rng.symmetric()),
             }
             self.apply_op(None)?;
             self.ensure_size(j + 1);
@@ -969,16 +970,6 @@ impl<'a> Lanczos<'a> {
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-/// Uniform value in [−1, 1) from a SplitMix64 stream.
-fn next_uniform(state: &mut u64) -> f64 {
-    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^= z >> 31;
-    (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
 }
 
 #[cfg(test)]

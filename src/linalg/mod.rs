@@ -14,6 +14,7 @@
 //!   the symbolic analysis of large patterns.
 //! - [`eigen`]: shift-invert Lanczos for K φ = λ M φ with EIGRL request semantics and a
 //!   Sturm-sequence missed-mode check ([`solve_modes`]).
+//! - [`random`]: the seeded SplitMix64 stream of LHS samples, Lanczos start vectors and test noise.
 //! - [`complex_lu`]: sparse complex LU with one symbolic analysis per pattern (dynamic
 //!   stiffness of frequency responses, [`ComplexLuSymbolic`]).
 
@@ -24,6 +25,7 @@ pub mod eigen;
 mod error;
 pub mod ordering;
 mod progress;
+pub mod random;
 mod sparse;
 
 pub use cholesky::{

@@ -4,6 +4,7 @@
 //! the matching transformation of a companion basis (strains, eq. 3.36–3.38), and the FRF change
 //! between consecutive basis sizes (eq. 3.35) that decides when the basis is large enough.
 
+use crate::linalg::random::SplitMix64;
 use faer::{Mat, MatRef, c64};
 
 /// A seeded Latin hypercube of `n` points in the box `[low_j, high_j]` (thesis §3.4.1, [104]):
@@ -11,10 +12,9 @@ use faer::{Mat, MatRef, c64};
 /// strata are paired across parameters by independent random permutations, and each point sits
 /// at a random position inside its stratum. Same seed → same points on every machine.
 ///
-/// The generator is SplitMix64 (Steele, Lea & Flood 2014), written here because the project
-/// has no `rand` dependency and LHS needs only uniform draws.
+/// The generator is [`SplitMix64`].
 pub fn latin_hypercube(n: usize, low: &[f64], high: &[f64], seed: u64) -> Vec<Vec<f64>> {
-    let mut rng = SplitMix64(seed);
+    let mut rng = SplitMix64::new(seed);
     let mut points = vec![vec![0.0; low.len()]; n];
     for (j, (&lo, &hi)) in low.iter().zip(high).enumerate() {
         let mut strata: Vec<usize> = (0..n).collect();
@@ -27,28 +27,6 @@ pub fn latin_hypercube(n: usize, low: &[f64], high: &[f64], seed: u64) -> Vec<Ve
         }
     }
     points
-}
-
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1) with 53 random bits.
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform integer in [0, n) (n ≪ 2⁶⁴, so the modulo bias is negligible).
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
 }
 
 /// Modal Assurance Criterion of two real vectors (eq. 3.39 in its standard form
