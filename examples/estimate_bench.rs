@@ -3,9 +3,11 @@
 //! the modal coordinates ([`paraflex::estimate::filter`]), and the estimation error for a few
 //! covariance settings (thesis §8.5.2, eq. 8.30–8.31).
 //!
-//!     cargo run --release --example estimate_bench -- blade_prom.h5 [REPEATS]
+//!     cargo run --release --example estimate_bench -- blade_prom.h5 [REPEATS] [TRUTH.h5]
 //!
-//! Data: BDF1 of the pROM at the nominal parameters under 5 N at 20 Hz on input 71:3 (thesis
+//! Data: BDF1 of the pROM (or of the pROM TRUTH.h5, e.g. a larger basis of the same model:
+//! the filter then also meets its own truncation error; sensors and input matched by name) at
+//! the nominal parameters under 5 N at 20 Hz on input 71:3 (thesis
 //! Table 8.1), 1 s at 0.1 ms, every sensor plus seeded Gaussian noise (1e-7 on DISP/STRAIN,
 //! 1e-3 m/s² on ACCEL, as §8.6) — the model of SOL ESTIMATE's data tools without the deck and
 //! file round trip. Cases: E (+25 %), E and ρ (+25 %, −30 %), E and the tip force unknown.
@@ -39,35 +41,39 @@ fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().collect();
     let path = args.get(1).ok_or("usage: estimate_bench PROM.h5 [REPEATS]")?;
     let repeats: usize = args.get(2).map_or(Ok(3), |s| s.parse()).map_err(|e| format!("REPEATS: {e}"))?;
-    let (prom, _) = read_prom(path).map_err(|e| e.to_string())?;
+    let (prom, sensors, shape) = load_prom(path)?;
     let n = prom.size();
-    let (inputs, s_r) = read_prom_inputs(path, n).map_err(|e| e.to_string())?;
-    let (names, kinds, h) = read_prom_sensors(path, n).map_err(|e| e.to_string())?;
-    let sensors = SensorRows::new(names, kinds, h)?;
-    let input = inputs.iter().position(|x| x == INPUT).ok_or(format!("{path}: no input {INPUT}"))?;
-    let shape: Vec<f64> = (0..n).map(|i| s_r[(i, input)]).collect();
     let truth: Vec<f64> = prom.parameters.iter().map(|p| p.nominal).collect();
     let param = |name: &str| prom.parameters.iter().position(|p| p.name.eq_ignore_ascii_case(name)).ok_or(format!("{path}: no parameter {name}"));
-
-    // data: BDF1 at the true parameters, every sensor, seeded noise
-    let mut at = prom.workspace();
-    prom.evaluate(&truth, &mut at).map_err(|e| e.to_string())?;
-    let sys = LinearSystem { mass: at.mass(), damping: at.damping(), stiffness: at.stiffness() };
     let force = |t: f64| 5.0 * (2.0 * std::f64::consts::PI * 20.0 * t).sin();
     let load = |t: f64, f: &mut [f64]| f.iter_mut().zip(&shape).for_each(|(f, s)| *f = force(t) * s);
-    let mut noise = SplitMix64::new(1);
-    let mut data: Vec<Vec<f64>> = Vec::new();
     let zeros = vec![0.0; n];
-    integrate(sys, Method::Bdf1, DT, STEPS, &zeros, &zeros, load, |st| {
-        let mut y = vec![0.0; sensors.len()];
-        sensors.evaluate(st.q, st.v, st.a, &mut y);
-        let sigma = |k: &str| if k == "ACCEL" { 1e-3 } else { 1e-7 };
-        data.push(y.iter().zip(&sensors.kinds).map(|(y, k)| y + sigma(k) * noise.normal()).collect());
-    })
-    .map_err(|e| e.to_string())?;
+
+    // data: BDF1 of the truth pROM at its nominal parameters, every sensor, seeded noise
+    let truth_path = args.get(3).unwrap_or(path);
+    let (data_names, data) = {
+        let (model, sensors, shape) = load_prom(truth_path)?;
+        let nominal: Vec<f64> = model.parameters.iter().map(|p| p.nominal).collect();
+        let mut at = model.workspace();
+        model.evaluate(&nominal, &mut at).map_err(|e| e.to_string())?;
+        let sys = LinearSystem { mass: at.mass(), damping: at.damping(), stiffness: at.stiffness() };
+        let mut noise = SplitMix64::new(1);
+        let mut data: Vec<Vec<f64>> = Vec::new();
+        let zeros = vec![0.0; model.size()];
+        let load = |t: f64, f: &mut [f64]| f.iter_mut().zip(&shape).for_each(|(f, s)| *f = force(t) * s);
+        integrate(sys, Method::Bdf1, DT, STEPS, &zeros, &zeros, load, |st| {
+            let mut y = vec![0.0; sensors.len()];
+            sensors.evaluate(st.q, st.v, st.a, &mut y);
+            let sigma = |k: &str| if k == "ACCEL" { 1e-3 } else { 1e-7 };
+            data.push(y.iter().zip(&sensors.kinds).map(|(y, k)| y + sigma(k) * noise.normal()).collect());
+        })
+        .map_err(|e| e.to_string())?;
+        (sensors.names, data)
+    };
 
     let run = |case: &Case, coordinates: Coordinates| -> Result<(bool, f64, Vec<f64>), String> {
         let rows: Vec<usize> = case.sensors.iter().map(|s| sensors.names.iter().position(|x| x == s).ok_or(format!("no sensor {s}"))).collect::<Result<_, _>>()?;
+        let columns: Vec<usize> = case.sensors.iter().map(|s| data_names.iter().position(|x| x == s).ok_or(format!("{truth_path}: no sensor {s}"))).collect::<Result<_, _>>()?;
         let measured = sensors.select(&rows);
         let mut p = truth.clone();
         let mut unknown = Vec::new();
@@ -110,7 +116,7 @@ fn main() -> Result<(), String> {
                 if case.input.is_none() {
                     load(k as f64 * DT, &mut f);
                 }
-                y.iter_mut().zip(&rows).for_each(|(y, &r)| *y = sample[r]);
+                y.iter_mut().zip(&columns).for_each(|(y, &c)| *y = sample[c]);
                 filter.step(&f, &y).map_err(|e| format!("{}: {e}", case.name))?;
                 if k > tail {
                     count += 1;
@@ -134,6 +140,9 @@ fn main() -> Result<(), String> {
         Case { name: "E, RHO", params: vec![("E", 1.25, 1.0, 1.0), ("RHO", 0.7, 1.0, 1.0)], input: None, sensors: vec!["D71", "D93", "A93"] },
         Case { name: "E, input", params: vec![("E", 1.25, 1e-3, 1e20 / (1.25f64 * 116.04e9).powi(2))], input: Some((80.0, 5.0)), sensors: vec!["D71", "D93"] },
     ];
+    if truth_path != path {
+        println!("data from {truth_path}");
+    }
     println!("n_r = {n}; {STEPS} steps of {DT} s (real time: {:.0} steps/s); best of {repeats}", 1.0 / DT);
     println!("{:<10} {:>4} {:>14} {:>12} {:>12} {:>9}  avg error [%]", "case", "N", "coordinates", "steps/s", "µs/step", "× real");
     for case in &cases {
@@ -155,6 +164,17 @@ fn main() -> Result<(), String> {
         println!("{name:<10} {delta:>10.0e} {p0:>10.0e} {speed:>12.0}  {}", errors.join(", "));
     }
     Ok(())
+}
+
+/// The pROM of `path`, its sensor rows and the reduced shape of input [`INPUT`].
+fn load_prom(path: &str) -> Result<(paraflex::rom::prom::Prom, SensorRows, Vec<f64>), String> {
+    let (prom, _) = read_prom(path).map_err(|e| e.to_string())?;
+    let n = prom.size();
+    let (inputs, s_r) = read_prom_inputs(path, n).map_err(|e| e.to_string())?;
+    let (names, kinds, h) = read_prom_sensors(path, n).map_err(|e| e.to_string())?;
+    let sensors = SensorRows::new(names, kinds, h)?;
+    let input = inputs.iter().position(|x| x == INPUT).ok_or(format!("{path}: no input {INPUT}"))?;
+    Ok((prom, sensors, (0..n).map(|i| s_r[(i, input)]).collect()))
 }
 
 /// Seconds the calling thread has run on a core (Linux), None elsewhere.

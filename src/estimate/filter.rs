@@ -13,14 +13,14 @@
 //!   J_v = S⁻¹ [−Δt K, M, Δt S_un, −Δt D], D_j = ∂K/∂p_j q + ∂C/∂p_j q̇ + ∂M/∂p_j q̈ — the
 //!   analytic parameter derivatives of the affine pROM (eq. 8.19–8.20, 8.33–8.35: M D_j =
 //!   −M ∂q̈/∂p_j). Without unknown parameters J is constant and computed once.
-//! - **Covariance** P⁻ = J P Jᵀ + Q (eq. 8.24) as J (J P)ᵀ with the block rows above: 2 n N²
-//!   multiply-adds instead of the dense 2 N³.
+//! - **Covariance** P⁻ = J P Jᵀ + Q (eq. 8.24) by blocks from G = J_v P and H = G J_vᵀ
+//!   (see [`propagate`]): n N² + n² N multiply-adds instead of the dense 2 N³, and exactly
+//!   symmetric.
 //! - **Correction**: measurement Jacobian J_m (eq. 8.37–8.39; [`super::measurement`]), gain
 //!   (eq. 8.26), state update (eq. 8.27) and the Joseph-form covariance (eq. 8.28)
 //!   L P Lᵀ + 𝒦 R 𝒦ᵀ, L = I − 𝒦 J_m, expanded with U = P J_mᵀ, S_y = J_m U + R into
-//!   P − 𝒦 Uᵀ + (𝒦 S_y − U) 𝒦ᵀ (no term dropped: first-order insensitive to errors of 𝒦, as
-//!   the Joseph form is) and evaluated as a rank-m update of the lower triangle, mirrored to
-//!   the upper one (P stays exactly symmetric): N² m multiply-adds.
+//!   P − 𝒦 Uᵀ − U 𝒦ᵀ + 𝒦 S_y 𝒦ᵀ (no term dropped: first-order insensitive to errors of 𝒦, as
+//!   the Joseph form is), a symmetric rank-2m update: 2 N² m multiply-adds.
 //! - **Refresh**: the pROM is evaluated at the new p⁺ (eq. 3.32, allocation-free), S and M are
 //!   factored for the next step, and q̈⁺ comes from the equation of motion at x⁺.
 //!
@@ -30,7 +30,7 @@
 //! of state x* = T z*, T = diag(Φ, Φ, I, I): J ↦ T⁻¹ J T, J_m ↦ J_m T, P ↦ T⁻¹ P T⁻ᵀ,
 //! Q ↦ T⁻¹ Q T⁻ᵀ (its q and q̇ blocks become q_state Φ⁻¹ Φ⁻ᵀ, as the initial covariance's). M, C,
 //! K, S and the derivatives are then diagonal, so J_v = [diag, diag, S⁻¹ [Δt S_un, −Δt D]] and
-//! J P Jᵀ costs 2 N² (2 + n_un + n_p) instead of 2 n N², the solves are divisions and the
+//! G and H cost (N + n) n (2 + n_un + n_p) instead of n N² + n² N, the solves are divisions and the
 //! pROM evaluation sums vectors. Sensor rows (H Φ), input shapes (Φᵀ S_un), the known load
 //! (Φᵀ f) and the initial state are transformed once or per step; [`Filter::state`],
 //! [`Filter::acceleration`], [`Filter::variance`] and [`Filter::covariance`] map back to q.
@@ -122,8 +122,9 @@ pub struct Filter {
     /// J_v is up to date (kept between steps when no parameter is estimated).
     jv_valid: bool,
     jm: Mat<f64>,
-    /// N × N scratch (J P).
-    work: Mat<f64>,
+    /// Gᵀ = P J_vᵀ (N × n) and H = J_v P J_vᵀ (n × n) of the covariance prediction.
+    gt: Mat<f64>,
+    h: Mat<f64>,
     innovation: Vec<f64>,
     step: usize,
     scratch: Scratch,
@@ -143,11 +144,12 @@ struct Scratch {
     t: Vec<f64>,
     /// D (n × n_p).
     d: Mat<f64>,
-    /// h(x⁻) (m); U = P J_mᵀ, 𝒦, 𝒦 S_y − U (N × m); S_y = J_m U + R and its factor (m × m).
+    /// h(x⁻) (m); U = P J_mᵀ, 𝒦, W = 𝒦 S_y / 2 − U (N × m); S_y = J_m U + R and its factor
+    /// (m × m).
     predicted: Vec<f64>,
     pht: Mat<f64>,
     gain: Mat<f64>,
-    v: Mat<f64>,
+    w: Mat<f64>,
     sy: Mat<f64>,
     sy_factor: Mat<f64>,
     /// Workspace of the in-place Cholesky factorizations.
@@ -189,9 +191,6 @@ struct Modal {
     jk: Vec<f64>,
     jm: Vec<f64>,
     jw: Mat<f64>,
-    /// Column scratch of the transition (n) and of J P Jᵀ (N).
-    t: Vec<f64>,
-    column: Vec<f64>,
     /// x* and q̈ in the physical coordinates.
     x: Vec<f64>,
     a: Vec<f64>,
@@ -364,69 +363,98 @@ impl Model {
         }
     }
 
-    /// P ← J P Jᵀ (eq. 8.24 without Q). Physical: J (J P)ᵀ through `work`. Modal: in place,
-    /// J applied to every column, then Jᵀ from the right as combinations of the q and q̇
-    /// columns with the (u, p) ones: (2 + n_un + n_p) multiply-adds per entry of the q and q̇
-    /// rows and columns, no copy.
-    fn propagate(&mut self, p: &mut Mat<f64>, work: &mut Mat<f64>, dt: f64) {
+    /// Gᵀ = P J_vᵀ (N × n) and H = J_v P J_vᵀ = J_v Gᵀ (n × n), the two products
+    /// [`propagate`] needs. Physical: two GEMMs, N² n + N n² multiply-adds. Modal: J_v's q and q̇
+    /// blocks are diagonal, so column i of Gᵀ combines 2 + n_un + n_p columns of P and column j
+    /// of H as many rows of Gᵀ's column j.
+    fn transition_products(&self, p: &Mat<f64>, gt: &mut Mat<f64>, h: &mut Mat<f64>) {
         match self {
             Model::Physical(ph) => {
-                ph.apply_transition(p.as_ref(), work, dt);
-                ph.apply_transition(work.transpose(), p, dt);
+                matmul(gt.as_mut(), Accum::Replace, p.as_ref(), ph.jv.transpose(), 1.0, Par::Seq);
+                matmul(h.as_mut(), Accum::Replace, ph.jv.as_ref(), gt.as_ref(), 1.0, Par::Seq);
             }
             Model::Modal(md) => {
                 let n = md.k.len();
-                (0..p.ncols()).for_each(|c| md.transform_column(p.col_as_slice_mut(c), dt));
+                let (jk, jm, nw) = (&md.jk[..n], &md.jm[..n], md.jw.ncols());
                 for i in 0..n {
-                    md.column.fill(0.0);
-                    for k in 0..md.jw.ncols() {
-                        let a = md.jw[(i, k)];
-                        if a != 0.0 {
-                            axpy(&mut md.column, a, p.col_as_slice(2 * n + k));
+                    let (z, v, out) = (p.col_as_slice(i), p.col_as_slice(n + i), gt.col_as_slice_mut(i));
+                    let (a, b) = (jk[i], jm[i]);
+                    out.iter_mut().zip(z.iter().zip(v)).for_each(|(o, (z, v))| *o = a * z + b * v);
+                    for k in 0..nw {
+                        let c = md.jw[(i, k)];
+                        if c != 0.0 {
+                            axpy(out, c, p.col_as_slice(2 * n + k));
                         }
                     }
-                    let (jk, jm) = (md.jk[i], md.jm[i]);
-                    md.column.iter_mut().zip(p.col_as_slice(i).iter().zip(p.col_as_slice(n + i))).for_each(|(o, (z, v))| *o += jk * z + jm * v);
-                    axpy(p.col_as_slice_mut(i), dt, &md.column);
-                    p.col_as_slice_mut(n + i).copy_from_slice(&md.column);
+                }
+                for j in 0..n {
+                    let (col, out) = (gt.col_as_slice(j), h.col_as_slice_mut(j));
+                    out.iter_mut().zip(jk.iter().zip(jm).zip(col[..n].iter().zip(&col[n..2 * n]))).for_each(|(o, ((a, b), (z, v)))| *o = a * z + b * v);
+                    for (k, &x) in col[2 * n..].iter().enumerate() {
+                        if x != 0.0 {
+                            axpy(out, x, md.jw.col_as_slice(k));
+                        }
+                    }
                 }
             }
         }
     }
 }
 
-impl Physical {
-    /// out = J X for the structured J: q̇ rows J_v X, q rows X_q + Δt (q̇ rows), other rows X
-    /// (one n × N × N product instead of N³).
-    fn apply_transition(&self, x: MatRef<'_, f64>, out: &mut Mat<f64>, dt: f64) {
-        let n = self.jv.nrows();
-        out.copy_from(x);
-        matmul(out.as_mut().subrows_mut(n, n), Accum::Replace, self.jv.as_ref(), x, 1.0, Par::Seq);
-        for c in 0..out.ncols() {
-            let (q, v) = out.col_as_slice_mut(c).split_at_mut(n);
-            q.iter_mut().zip(&v[..n]).for_each(|(q, v)| *q += dt * v);
+/// P ← J P Jᵀ (eq. 8.24 without Q) from G = J_v P and H = G J_vᵀ ([`Model::transition_products`],
+/// which gives Gᵀ): with q' = q + Δt q̇', q̇' = J_v x, (u, p)' = (u, p) and w = (u, p),
+///
+/// ```text
+/// P_q̇'q̇' = H,  P_q'q̇' = G_qᵀ + Δt H,  P_q'q' = P_qq + Δt (G_q + G_qᵀ) + Δt² H,
+/// P_wq̇' = G_wᵀ,  P_wq' = P_wq + Δt G_wᵀ,  P_ww unchanged,
+/// ```
+///
+/// so J P Jᵀ costs the two products only. Columns q and q̇ are written whole (contiguous); the
+/// q and q̇ rows of the w columns are their mirror. Every entry is computed from expressions
+/// symmetric in its two indices (H through H̄ = (H + Hᵀ)/2), so a symmetric P stays exactly
+/// symmetric.
+fn propagate(p: &mut Mat<f64>, gt: &Mat<f64>, h: &Mat<f64>, dt: f64) {
+    let (n, big_n) = (h.nrows(), p.nrows());
+    assert!(p.ncols() == big_n && gt.nrows() == big_n && gt.ncols() == n && h.ncols() == n, "propagate: shapes");
+    let ((g, gs), (h, hs)) = (storage(gt), storage(h));
+    let (p, ps) = storage_mut(p);
+    for j in 0..n {
+        for i in 0..n {
+            let h_sym = 0.5 * (h[i + j * hs] + h[j + i * hs]);
+            let (g_ij, g_ji) = (g[i + j * gs], g[j + i * gs]);
+            p[i + j * ps] += dt * (g_ij + g_ji) + dt * dt * h_sym;
+            p[n + i + j * ps] = g_ji + dt * h_sym;
+            p[i + (n + j) * ps] = g_ij + dt * h_sym;
+            p[n + i + (n + j) * ps] = h_sym;
+        }
+        for k in 2 * n..big_n {
+            let g_kj = g[k + j * gs];
+            p[k + j * ps] += dt * g_kj;
+            p[k + (n + j) * ps] = g_kj;
+        }
+    }
+    for k in 2 * n..big_n {
+        for i in 0..2 * n {
+            p[i + k * ps] = p[k + i * ps];
         }
     }
 }
 
-impl Modal {
-    /// x ← J x for one column x of length N.
-    fn transform_column(&mut self, x: &mut [f64], dt: f64) {
-        let n = self.k.len();
-        let (zv, w) = x.split_at_mut(2 * n);
-        let (z, v) = zv.split_at_mut(n);
-        self.t.fill(0.0);
-        for (k, &wk) in w.iter().enumerate() {
-            if wk != 0.0 {
-                axpy(&mut self.t, wk, self.jw.col_as_slice(k));
-            }
-        }
-        for ((z, v), (jk, (jm, t))) in z.iter_mut().zip(v.iter_mut()).zip(self.jk.iter().zip(self.jm.iter().zip(&self.t))) {
-            let vi = jk * *z + jm * *v + t;
-            *z += dt * vi;
-            *v = vi;
-        }
-    }
+/// The entries of a column-major matrix as one slice, (i, j) at i + j · stride, and the stride.
+fn storage(m: &Mat<f64>) -> (&[f64], usize) {
+    let stride = m.col_stride().unsigned_abs();
+    let len = if m.ncols() == 0 { 0 } else { stride * (m.ncols() - 1) + m.nrows() };
+    // SAFETY: a `Mat` owns one column-major allocation with columns `stride` ≥ nrows apart, so
+    // the first `len` entries from its pointer are initialized, and they are borrowed with `m`.
+    (unsafe { std::slice::from_raw_parts(m.as_ptr(), len) }, stride)
+}
+
+/// [`storage`], mutable.
+fn storage_mut(m: &mut Mat<f64>) -> (&mut [f64], usize) {
+    let stride = m.col_stride().unsigned_abs();
+    let len = if m.ncols() == 0 { 0 } else { stride * (m.ncols() - 1) + m.nrows() };
+    // SAFETY: as in `storage`, borrowed mutably with `m`.
+    (unsafe { std::slice::from_raw_parts_mut(m.as_ptr_mut(), len) }, stride)
 }
 
 impl Filter {
@@ -481,7 +509,9 @@ impl Filter {
                     let z = &form.inverse * MatRef::from_column_major_slice(&x[block.clone()], n, 1);
                     x[block].iter_mut().enumerate().for_each(|(i, x)| *x = z[(i, 0)]);
                 }
-                let gram = &form.inverse * form.inverse.transpose();
+                // exactly symmetric, so P stays so (GEMM need not sum (i, j) and (j, i) alike)
+                let product = &form.inverse * form.inverse.transpose();
+                let gram = Mat::from_fn(n, n, |i, j| 0.5 * (product[(i, j)] + product[(j, i)]));
                 for b in [0, n] {
                     p.as_mut().submatrix_mut(b, b, n, n).copy_from(&gram * faer::Scale(setup.p0_state));
                 }
@@ -497,8 +527,6 @@ impl Filter {
                     jk: vec![0.0; n],
                     jm: vec![0.0; n],
                     jw: Mat::zeros(n, nu + np),
-                    t: vec![0.0; n],
-                    column: vec![0.0; big_n],
                     x: vec![0.0; big_n],
                     a: vec![0.0; n],
                 }))
@@ -518,7 +546,7 @@ impl Filter {
             predicted: vec![0.0; m],
             pht: Mat::zeros(big_n, m),
             gain: Mat::zeros(big_n, m),
-            v: Mat::zeros(big_n, m),
+            w: Mat::zeros(big_n, m),
             sy: Mat::zeros(m, m),
             sy_factor: Mat::zeros(m, m),
             mem: MemBuffer::new(cholesky_in_place_scratch::<f64>(n.max(m), Par::Seq, Default::default())),
@@ -534,7 +562,8 @@ impl Filter {
             model,
             jv_valid: false,
             jm: Mat::zeros(m, big_n),
-            work: Mat::zeros(big_n, big_n),
+            gt: Mat::zeros(big_n, n),
+            h: Mat::zeros(n, n),
             innovation: vec![0.0; m],
             step: 0,
             scratch,
@@ -739,8 +768,8 @@ impl Filter {
             self.jv_valid = true;
         }
         // P⁻ = J P Jᵀ + Q (eq. 8.24)
-        self.model.propagate(&mut self.p, &mut self.work, dt);
-        symmetrize(&mut self.p);
+        self.model.transition_products(&self.p, &mut self.gt, &mut self.h);
+        propagate(&mut self.p, &self.gt, &self.h, dt);
         self.add_noise();
         self.publish();
         Ok(())
@@ -769,7 +798,7 @@ impl Filter {
     /// The correction half of a step (eq. 8.25–8.28) with the same known load as the prediction,
     /// then the refresh at p⁺.
     pub fn correct(&mut self, f_kn: &[f64], y: &[f64]) -> Result<(), FilterError> {
-        let (n, m, big_n) = (self.n, self.setup.measured.len(), self.size());
+        let (n, m) = (self.n, self.setup.measured.len());
         if y.len() != m {
             return Err(FilterError::Shape { what: "measurements", expected: m, got: y.len() });
         }
@@ -780,7 +809,19 @@ impl Filter {
         let sc = &mut self.scratch;
         self.setup.measured.evaluate(&self.x[..n], &self.x[n..2 * n], &self.a, &mut sc.predicted);
         self.innovation.iter_mut().zip(y.iter().zip(&sc.predicted)).for_each(|(e, (y, h))| *e = y - h);
-        matmul(sc.pht.as_mut(), Accum::Replace, self.p.as_ref(), self.jm.transpose(), 1.0, Par::Seq); // U = P J_mᵀ
+        // U = P J_mᵀ: columns of P combined by the nonzero entries of J_m's rows
+        let ((p, ps), (jm, js)) = (storage(&self.p), storage(&self.jm));
+        let big_n = self.p.nrows();
+        for k in 0..m {
+            let u = sc.pht.col_as_slice_mut(k);
+            u.fill(0.0);
+            for c in 0..big_n {
+                let a = jm[k + c * js];
+                if a != 0.0 {
+                    axpy(u, a, &p[c * ps..c * ps + big_n]);
+                }
+            }
+        }
         matmul(sc.sy.as_mut(), Accum::Replace, self.jm.as_ref(), sc.pht.as_ref(), 1.0, Par::Seq);
         for (i, r) in self.setup.r.iter().enumerate() {
             sc.sy[(i, i)] += r;
@@ -795,21 +836,20 @@ impl Filter {
         for (j, e) in self.innovation.iter().enumerate() {
             axpy(&mut self.x, *e, sc.gain.col_as_slice(j));
         }
-        // Joseph form (eq. 8.28) L P Lᵀ + 𝒦 R 𝒦ᵀ = P − 𝒦 Uᵀ + V 𝒦ᵀ, V = 𝒦 S_y − U, on the
-        // lower triangle (rank-m update), then mirrored
-        matmul(sc.v.as_mut(), Accum::Replace, sc.gain.as_ref(), sc.sy.as_ref(), 1.0, Par::Seq);
-        sc.v -= &sc.pht;
+        // Joseph form (eq. 8.28) L P Lᵀ + 𝒦 R 𝒦ᵀ = P − 𝒦 Uᵀ − U 𝒦ᵀ + 𝒦 S_y 𝒦ᵀ = P + 𝒦 Wᵀ + W 𝒦ᵀ
+        // with W = 𝒦 S_y / 2 − U, column by column; entry (i, j) adds 𝒦_ik W_jk + W_ik 𝒦_jk per k,
+        // the same two products as entry (j, i): P stays exactly symmetric.
+        matmul(sc.w.as_mut(), Accum::Replace, sc.gain.as_ref(), sc.sy.as_ref(), 0.5, Par::Seq);
+        sc.w -= &sc.pht;
+        let big_n = self.p.nrows();
+        let ((gain, gs), (w, ws)) = (storage(&sc.gain), storage(&sc.w));
+        let (p, ps) = storage_mut(&mut self.p);
         for j in 0..big_n {
-            let col = &mut self.p.col_as_slice_mut(j)[j..];
+            let col = &mut p[j * ps..j * ps + big_n];
             for k in 0..m {
-                let (u, g) = (sc.pht[(j, k)], sc.gain[(j, k)]);
-                let (gain, v) = (&sc.gain.col_as_slice(k)[j..], &sc.v.col_as_slice(k)[j..]);
-                col.iter_mut().zip(gain.iter().zip(v)).for_each(|(p, (kk, vv))| *p += g * vv - u * kk);
-            }
-        }
-        for j in 0..big_n {
-            for i in (j + 1)..big_n {
-                self.p[(j, i)] = self.p[(i, j)];
+                let (gain_k, w_k) = (&gain[k * gs..k * gs + big_n], &w[k * ws..k * ws + big_n]);
+                let (w_j, gain_j) = (w_k[j], gain_k[j]);
+                col.iter_mut().zip(gain_k.iter().zip(w_k)).for_each(|(p, (g, w))| *p += g * w_j + w * gain_j);
             }
         }
         if !self.x.iter().all(|v| v.is_finite()) {
@@ -894,18 +934,6 @@ fn factor_in_place(a: MatMut<'_, f64>, stack: &mut MemStack) -> bool {
 fn solve_seq(l: MatRef<'_, f64>, mut x: MatMut<'_, f64>) {
     faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, x.as_mut(), Par::Seq);
     faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), x, Par::Seq);
-}
-
-/// p ← (p + pᵀ)/2.
-fn symmetrize(p: &mut Mat<f64>) {
-    let n = p.nrows();
-    for j in 0..n {
-        for i in (j + 1)..n {
-            let s = 0.5 * (p[(i, j)] + p[(j, i)]);
-            p[(i, j)] = s;
-            p[(j, i)] = s;
-        }
-    }
 }
 
 /// y += a x.
@@ -1028,6 +1056,38 @@ pub(crate) mod tests {
             let scale = fd.iter().chain((0..7).map(|r| &j[(r, c)])).fold(0.0_f64, |m, v| m.max(v.abs()));
             for r in 0..7 {
                 assert!((fd[r] - j[(r, c)]).abs() <= 1e-7 * scale, "J[{r},{c}] = {} vs finite difference {}", j[(r, c)], fd[r]);
+            }
+        }
+    }
+
+    /// The blockwise prediction ([`propagate`] from Gᵀ and H) equals the dense J P Jᵀ + Q
+    /// (eq. 8.24) with J from [`Filter::transition`], after a few steps have filled P (physical
+    /// coordinates, where both are in the same coordinates), and leaves P exactly symmetric in
+    /// both coordinate systems, after the prediction and after the correction. Bound 1e-12 of
+    /// max |P|: the two evaluations differ only in summation order.
+    #[test]
+    fn covariance_prediction_is_j_p_jt_plus_q_and_exactly_symmetric() {
+        for coordinates in [Coordinates::Physical, Coordinates::Auto] {
+            let mut unit = setup(&X);
+            unit.coordinates = coordinates;
+            unit.prom.stiffness[0].fill(0.0); // one material: the modal path applies
+            let mut filter = Filter::new(unit).unwrap();
+            let exactly_symmetric = |p: &Mat<f64>| (0..p.nrows()).all(|i| (0..i).all(|j| p[(i, j)] == p[(j, i)]));
+            for step in 0..5 {
+                let before = filter.p.clone();
+                filter.predict(&LOAD).unwrap();
+                assert!(exactly_symmetric(&filter.p), "{coordinates:?} step {step}: P⁻ not exactly symmetric");
+                if coordinates == Coordinates::Physical {
+                    let j = filter.transition();
+                    let mut dense = &j * &before * j.transpose();
+                    (0..dense.nrows()).for_each(|i| dense[(i, i)] += filter.noise(i));
+                    let scale = dense.norm_max();
+                    assert!((&dense - &filter.p).norm_max() <= 1e-12 * scale, "step {step}: {:e} vs {scale:e}", (&dense - &filter.p).norm_max());
+                }
+                let (n, mut y) = (filter.n, vec![0.0; 2]);
+                filter.setup.measured.evaluate(&filter.x[..n], &filter.x[n..2 * n], &filter.a, &mut y);
+                filter.correct(&LOAD, &[y[0] + 1e-6, y[1] + 1e-3]).unwrap();
+                assert!(exactly_symmetric(&filter.p), "{coordinates:?} step {step}: P⁺ not exactly symmetric");
             }
         }
     }
