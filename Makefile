@@ -79,10 +79,11 @@ bench-transient: deps
 bench-estimate: deps
 	$(CARGO) build --release --quiet
 	$(CARGO) build --release --quiet --example estimate_bench
-	tmp=$$(mktemp -d) && for d in blade_prom_sensors blade_prom_clamped; do \
-		$(BIN) run decks/estimate/$$d.dat -o $$tmp/$$d.h5 > /dev/null && \
-		$(or $(CARGO_TARGET_DIR),target)/release/examples/estimate_bench $$tmp/$$d.h5 || exit 1; \
-	done; rm -rf $$tmp
+	tmp=$$(mktemp -d) && for d in blade_prom_sensors blade_prom_clamped blade_prom_sensors_small; do \
+		$(BIN) run decks/estimate/$$d.dat -o $$tmp/$$d.h5 > /dev/null || exit 1; \
+	done && bench=$(or $(CARGO_TARGET_DIR),target)/release/examples/estimate_bench && \
+	$$bench $$tmp/blade_prom_sensors.h5 && $$bench $$tmp/blade_prom_clamped.h5 && \
+	$$bench $$tmp/blade_prom_sensors_small.h5 3 $$tmp/blade_prom_sensors.h5; rc=$$?; rm -rf $$tmp; exit $$rc
 
 clean:
 	$(CARGO) clean
