@@ -425,11 +425,14 @@ fn shell_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<
     let ShellSections { centre, points, fibres } = shell_section(model, e, &card)?;
     let material_x = material_axis(model, e, xyz, card.orientation)?;
     let parts = shell_parts(&centre, ctx.params).map_err(|x| err(e, x))?;
+    // The deck's section(s), i.e. the parts at the nominal parameter values: the CQUAD4
+    // condenses its incompatible modes with them (shell module doc, "frozen condensation").
     let k = match points {
-        None => shell::affine_stiffness(xyz, &parts.stiffness, material_x),
+        None => shell::affine_stiffness(xyz, &parts.stiffness, &centre.full().map_err(|x| err(e, x))?, material_x),
         Some(points) => {
             let at = points.iter().map(|s| shell_parts(s, ctx.params).map(|p| p.stiffness)).collect::<Result<Vec<_>, _>>().map_err(|x| err(e, x))?;
-            shell::affine_stiffness_at_points(xyz, &at, material_x)
+            let nominal = points.iter().map(SectionInput::full).collect::<Result<Vec<_>, _>>().map_err(|x| err(e, x))?;
+            shell::affine_stiffness_at_points(xyz, &at, &nominal, material_x)
         }
     }
     .map_err(|x| err(e, x))?;
