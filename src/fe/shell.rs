@@ -808,8 +808,7 @@ pub fn tria3_stiffness(
     section: &ShellSection,
     material_x: Option<V3>,
 ) -> Result<Mat<f64>, ShellError> {
-    let el = Flat::tria(xyz, material_x)?;
-    Ok(el.stiffness(section, section))
+    Ok(Flat::tria(xyz, material_x)?.stiffness(section, section))
 }
 
 /// CQUAD4 mass (24 × 24, basic): consistent (bilinear, 2 × 2 Gauss, exact) or lumped.
