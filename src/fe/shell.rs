@@ -98,6 +98,12 @@
 //! energy, in which a curvature of an offset shell strains the reference plane, rather than of
 //! its membrane part alone.
 //!
+//! **`PARAM,QINCOMP`.** The modes are a user choice ([`Incompatible`]): `YES` (default)
+//! condenses them as above; `NO` leaves them out (T = 0, B̄ = B: the plain Allman membrane,
+//! Poisson-stiff in in-plane bending by ≈ 1/(1 − ν²)), so K(section) depends on the section
+//! alone and a pROM with ν, Θ or ply-thickness parameters agrees to round-off with a deck
+//! rebuilt at any parameter value.
+//!
 //! **Membrane and drilling (CTRIA3).** Linear u, v (constant strain) with the same penalty at
 //! γ = `TRIA_DRILL_SCALE`·`section.drill` = 10⁻³·A66, integrated at the 3 points. The Allman
 //! triangle (edge modes 4 L_i L_j on the same construction) was tried and left out: with any
@@ -113,6 +119,48 @@ use faer::Mat;
 
 use super::affine::{AffineMatrix, Coefficient};
 use super::laminate::{ShellMass, ShellSection};
+
+/// The CQUAD4's incompatible membrane modes (module doc, "Incompatible modes", "Frozen
+/// condensation"; `PARAM,QINCOMP`). Triangles have none and ignore it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Incompatible<S> {
+    /// Condensed with the nominal section(s) `S`, the deck's (`PARAM,QINCOMP,YES`, the default):
+    /// in-plane bending exact on rectangles; K is affine in the section, but for a section away
+    /// from the nominal one only the condensation is frozen.
+    Condensed(S),
+    /// Left out (`PARAM,QINCOMP,NO`): the plain membrane, too stiff in in-plane bending by
+    /// ≈ 1/(1 − ν²), and K(section) independent of any nominal section.
+    Off,
+}
+
+impl<S> Incompatible<S> {
+    /// The nominal section(s), `None` when the modes are off.
+    fn nominal(self) -> Option<S> {
+        match self {
+            Incompatible::Condensed(s) => Some(s),
+            Incompatible::Off => None,
+        }
+    }
+}
+
+/// True when the condensation of the CQUAD4's incompatible modes, computed once with `nominal`,
+/// is frozen, i.e. differs from the one of Σ f_i(p) section_i at some p (module doc, "Frozen
+/// condensation"). T depends on the section only through its reference-plane blocks (A, B) and
+/// is the same for any non-zero multiple of them, so it is exact at every p when every part's
+/// (A, B) is a multiple of the nominal (A, B) (an E parameter; TPLY on a laminate without
+/// membrane–bending coupling, whose B parts are zero; a density), to round-off: the residual of
+/// the projection on the nominal blocks at most 10⁻¹⁰ of the part's largest entry.
+pub fn condensation_is_frozen(parts: &[(Coefficient, ShellSection)], nominal: &ShellSection) -> bool {
+    let blocks = |s: &ShellSection| -> Vec<f64> { s.a.iter().chain(&s.b).flatten().copied().collect() };
+    let n = blocks(nominal);
+    let nn: f64 = n.iter().map(|x| x * x).sum();
+    parts.iter().any(|(_, part)| {
+        let v = blocks(part);
+        let c = if nn > 0.0 { v.iter().zip(&n).map(|(x, y)| x * y).sum::<f64>() / nn } else { 0.0 };
+        let largest = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        v.iter().zip(&n).any(|(x, y)| (x - c * y).abs() > 1e-10 * largest)
+    })
+}
 
 /// Errors of shell element geometry.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -639,10 +687,11 @@ impl Flat {
     }
 
     /// Tᵀ (Σ w detJ B̄ᵀ C B̄) T in the basic system, the incompatible modes condensed with the
-    /// section `nominal` ([`Flat::stiffness_at_points`]).
-    fn stiffness(&self, section: &ShellSection, nominal: &ShellSection) -> Mat<f64> {
+    /// section `nominal`, or left out when `None` ([`Flat::stiffness_at_points`]).
+    fn stiffness(&self, section: &ShellSection, nominal: Option<&ShellSection>) -> Mat<f64> {
         let n = self.points.len();
-        self.stiffness_at_points(&vec![section; n], &vec![nominal; n])
+        let nominal = nominal.map(|s| vec![s; n]);
+        self.stiffness_at_points(&vec![section; n], nominal.as_deref())
     }
 
     /// C of a section at this element's points: [`constitutive`], with the triangle's weak
@@ -657,13 +706,14 @@ impl Flat {
 
     /// Frozen condensation of the incompatible modes (module doc): T = −K_ii⁺ K_ic with
     /// K_ii = Σₚ wₚ B_iᵀ C B_i and K_ic = Σₚ wₚ B_iᵀ C B from the sections `nominal` (one per
-    /// point), so that α = T q. Empty (0 × 6n) for triangles.
-    fn condensation(&self, nominal: &[&ShellSection]) -> Mat<f64> {
+    /// point), so that α = T q. Empty (0 × 6n) for triangles; zero when the modes are off
+    /// (`nominal` = `None`: α = 0, B̄ = B exactly).
+    fn condensation(&self, nominal: Option<&[&ShellSection]>) -> Mat<f64> {
         let n = 6 * self.nodes;
         let modes = self.points.first().map_or(0, |p| p.bi.ncols());
-        if modes == 0 {
-            return Mat::zeros(0, n);
-        }
+        let Some(nominal) = nominal.filter(|_| modes > 0) else {
+            return Mat::zeros(modes, n);
+        };
         let mut kii = Mat::<f64>::zeros(modes, modes);
         let mut kic = Mat::<f64>::zeros(modes, n);
         for (p, section) in self.points.iter().zip(nominal) {
@@ -675,9 +725,9 @@ impl Flat {
     }
 
     /// Tᵀ (Σₚ wₚ detJₚ B̄ₚᵀ C(sectionₚ) B̄ₚ) T: one section per integration point, B̄ = B + B_i T
-    /// with the condensation T of the sections `nominal` (one per point), so the matrix is
-    /// linear in `sections`.
-    fn stiffness_at_points(&self, sections: &[&ShellSection], nominal: &[&ShellSection]) -> Mat<f64> {
+    /// with the condensation T of the sections `nominal` (one per point; `None`: T = 0), so the
+    /// matrix is linear in `sections`.
+    fn stiffness_at_points(&self, sections: &[&ShellSection], nominal: Option<&[&ShellSection]>) -> Mat<f64> {
         let n = 6 * self.nodes;
         let t = self.condensation(nominal);
         let mut k = Mat::<f64>::zeros(n, n);
@@ -787,19 +837,19 @@ fn mass_density(m: &ShellMass) -> [[f64; 6]; 6] {
     r
 }
 
-/// CQUAD4 stiffness (24 × 24, basic system), MITC4 with the Allman-type drilling membrane and
-/// incompatible membrane modes condensed with the section `nominal` (module doc, "frozen
-/// condensation"); linear in `section`. `nominal` = `section` gives the element with its
-/// modes condensed exactly; the affine parts of a parametrized section pass the deck's section.
-/// `material_x`: direction of the material x axis (projected onto the element), default
-/// G1→G2.
+/// CQUAD4 stiffness (24 × 24, basic system), MITC4 with the Allman-type drilling membrane and,
+/// with [`Incompatible::Condensed`], incompatible membrane modes condensed with that nominal
+/// section (module doc, "frozen condensation"); linear in `section`. `Condensed(section)`
+/// gives the element with its modes condensed exactly; the affine parts of a parametrized
+/// section pass the deck's section. `material_x`: direction of the material x axis (projected
+/// onto the element), default G1→G2.
 pub fn quad4_stiffness(
     xyz: &[V3; 4],
     section: &ShellSection,
-    nominal: &ShellSection,
+    modes: Incompatible<&ShellSection>,
     material_x: Option<V3>,
 ) -> Result<Mat<f64>, ShellError> {
-    Ok(Flat::quad(xyz, material_x)?.stiffness(section, nominal))
+    Ok(Flat::quad(xyz, material_x)?.stiffness(section, modes.nominal()))
 }
 
 /// CTRIA3 stiffness (18 × 18, basic system), MITC3 with drilling; linear in `section`.
@@ -808,7 +858,7 @@ pub fn tria3_stiffness(
     section: &ShellSection,
     material_x: Option<V3>,
 ) -> Result<Mat<f64>, ShellError> {
-    Ok(Flat::tria(xyz, material_x)?.stiffness(section, section))
+    Ok(Flat::tria(xyz, material_x)?.stiffness(section, None))
 }
 
 /// CQUAD4 mass (24 × 24, basic): consistent (bilinear, 2 × 2 Gauss, exact) or lumped.
@@ -844,16 +894,18 @@ pub fn tria3_strains(
 
 /// Affine stiffness Σ f_i K_i of a CQUAD4 (4 grids) or CTRIA3 (3 grids) from affine section
 /// parts ([`crate::fe::laminate::affine_sections`]): K_i = K(section_i) by linearity, the
-/// quad's incompatible modes condensed once with `nominal`, the section at the nominal
-/// parameter values (the deck's; module doc, "frozen condensation"; triangles have no such
-/// modes and ignore it). Parts without stiffness are skipped.
+/// quad's incompatible modes condensed once with the section of [`Incompatible::Condensed`],
+/// the one at the nominal parameter values (the deck's; module doc, "frozen condensation"), or
+/// left out ([`Incompatible::Off`]; triangles have no such modes and ignore `modes`). Parts
+/// without stiffness are skipped.
 pub fn affine_stiffness(
     xyz: &[V3],
     sections: &[(Coefficient, ShellSection)],
-    nominal: &ShellSection,
+    modes: Incompatible<&ShellSection>,
     material_x: Option<V3>,
 ) -> Result<AffineMatrix, ShellError> {
     let el = Flat::new(xyz, material_x)?;
+    let nominal = modes.nominal();
     let parts = sections
         .iter()
         .filter(|(_, s)| !s.stiffness_is_zero())
@@ -877,21 +929,22 @@ pub fn integration_point_thickness(corner_t: &[f64]) -> Result<Vec<f64>, ShellEr
 }
 
 /// [`affine_stiffness`] with one list of affine section parts per integration point (see
-/// [`integration_point_thickness`]): K_i = Σₚ wₚ B̄ₚᵀ C(section_{p,i}) B̄ₚ, and one nominal
-/// section per point for the condensation. Every point must give the same coefficients in the
-/// same order (the section's dependence on the parameters is the same everywhere; only its
-/// value varies).
+/// [`integration_point_thickness`]): K_i = Σₚ wₚ B̄ₚᵀ C(section_{p,i}) B̄ₚ, and, with
+/// [`Incompatible::Condensed`], one nominal section per point for the condensation. Every point
+/// must give the same coefficients in the same order (the section's dependence on the
+/// parameters is the same everywhere; only its value varies).
 pub fn affine_stiffness_at_points(
     xyz: &[V3],
     sections: &[Vec<(Coefficient, ShellSection)>],
-    nominal: &[ShellSection],
+    modes: Incompatible<&[ShellSection]>,
     material_x: Option<V3>,
 ) -> Result<AffineMatrix, ShellError> {
     let el = Flat::new(xyz, material_x)?;
     let points = el.points.len();
     let Some(first) = sections.first() else { return Err(ShellError::PointCount { expected: points, got: 0 }) };
     let same_coefficients = |p: &Vec<(Coefficient, ShellSection)>| p.len() == first.len() && p.iter().zip(first).all(|((a, _), (b, _))| a == b);
-    for got in [sections.len(), nominal.len()] {
+    let nominal: Option<Vec<&ShellSection>> = modes.nominal().map(|n| n.iter().collect());
+    for got in std::iter::once(sections.len()).chain(nominal.as_ref().map(Vec::len)) {
         if got != points {
             return Err(ShellError::PointCount { expected: points, got });
         }
@@ -899,12 +952,11 @@ pub fn affine_stiffness_at_points(
     if !sections.iter().all(same_coefficients) {
         return Err(ShellError::PointCount { expected: points, got: sections.len() });
     }
-    let nominal: Vec<&ShellSection> = nominal.iter().collect();
     let parts = (0..first.len())
         .filter(|&i| sections.iter().any(|p| !p[i].1.stiffness_is_zero()))
         .map(|i| {
             let at: Vec<&ShellSection> = sections.iter().map(|p| &p[i].1).collect();
-            (first[i].0, el.stiffness_at_points(&at, &nominal))
+            (first[i].0, el.stiffness_at_points(&at, nominal.as_deref()))
         })
         .collect();
     Ok(AffineMatrix { parts })
