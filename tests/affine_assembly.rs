@@ -1,7 +1,9 @@
 //! PMPAR bindings on assembled models (DESIGN.md §5; issue "Finite elements", item 1; pROM
 //! issue, item 1): for every parameter kind, the operators assembled with the PMPAR and
 //! evaluated at p, Σ f_i(p) K^i, equal the operators assembled directly from a deck whose card
-//! values are p — to round-off.
+//! values are p — to round-off (for NU, THETA and TPLY of an unsymmetric laminate, which change
+//! the CQUAD4's frozen condensation: at the nominal values, on triangles, and at p with `PARAM,QINCOMP,NO`:
+//! [`check_frozen`]).
 //!
 //! Tolerance: 1e-12 relative to the largest entry. Both sides sum the same element integrals;
 //! they differ only by the order of floating-point operations (unit-parameter parts scaled
@@ -47,11 +49,31 @@ fn check(what: &str, template: &str, pmpars: &str, names: &[&str], nominal: &[f6
 const PLATE: &str = "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,1.,.8,0.1\nGRID,4,,-.1,.9,0.\nGRID,5,,2.,0.,0.\nGRID,6,,2.1,1.,0.\n\
 CQUAD4,1,1,1,2,3,4,30.\nCTRIA3,2,1,2,5,6\nCTRIA3,3,1,2,6,3\n";
 
+/// The quad of [`PLATE`], whose incompatible modes are condensed with the nominal section.
+const PLATE_QUAD: &str = "CQUAD4,1,1,1,2,3,4,30.\n";
+
+/// [`check`] for a parameter that changes the CQUAD4's condensation (NU, THETA, TPLY with
+/// membrane–bending coupling): the parts
+/// condense the quad's incompatible modes with the nominal section (src/fe/shell.rs, "frozen
+/// condensation"), a deck whose card values are p with the section at p, so at p ≠ nominal the
+/// two differ by design (second order in the change; that difference, and the exact identity
+/// Σ f_i(p) K^i = K(p) with the nominal condensation, are tested in `fe::shell_tests`). Checked
+/// here to round-off: at the nominal values with the quad, at p with the quad split into
+/// two triangles (no incompatible modes), and at p with the quad and `PARAM,QINCOMP,NO` (the
+/// modes left out, so nothing is frozen).
+fn check_frozen(what: &str, template: &str, pmpars: &str, names: &[&str], nominal: &[f64], p: &[f64]) {
+    assert!(template.contains(PLATE_QUAD), "{what}: the template has no quad");
+    check(&format!("{what} at nominal"), template, pmpars, names, nominal, nominal);
+    let trias = template.replace(PLATE_QUAD, "CTRIA3,1,1,1,2,3,30.\nCTRIA3,4,1,1,3,4,30.\n");
+    check(&format!("{what} on triangles"), &trias, pmpars, names, nominal, p);
+    check(&format!("{what} with QINCOMP NO"), &format!("{template}PARAM,QINCOMP,NO\n"), pmpars, names, nominal, p);
+}
+
 #[test]
 fn pshell_e_nu_rho() {
     let tpl = format!("{PLATE}PSHELL,1,1,0.02,1,,1\nMAT1,1,{{E}},,{{NU}},{{RHO}}\n");
     let pm = "PMPAR,1,E,E,1,1.e10,5.e11\nPMPAR,2,NU,NU,1,0.1,0.45\nPMPAR,3,RHO,RHO,1,1000.,9000.\n";
-    check("PSHELL E, NU, RHO", &tpl, pm, &["E", "NU", "RHO"], &[2.1e11, 0.3, 7850.0], &[1.3e11, 0.41, 2700.0]);
+    check_frozen("PSHELL E, NU, RHO", &tpl, pm, &["E", "NU", "RHO"], &[2.1e11, 0.3, 7850.0], &[1.3e11, 0.41, 2700.0]);
     let pm_e = "PMPAR,1,E,E,1,1.e10,5.e11\n";
     check("PSHELL E only", &tpl.replace("{NU}", "0.3").replace("{RHO}", "7850."), pm_e, &["E"], &[2.1e11], &[0.7e11]);
 }
@@ -69,10 +91,14 @@ fn pcomp_theta_tply_rho() {
     let tpl = format!("{PLATE}{plies}");
     // THETA
     let t_fixed = tpl.replace("{T}", "3.e-4").replace("{RHO}", "1600.");
-    check("PCOMP THETA", &t_fixed, "PMPAR,1,TH,THETA,1,0.,90.\n", &["TH"], &[20.0], &[63.0]);
+    check_frozen("PCOMP THETA", &t_fixed, "PMPAR,1,TH,THETA,1,0.,90.\n", &["TH"], &[20.0], &[63.0]);
     // TPLY
     let th_fixed = tpl.replace("{TH}", "20.").replace("{RHO}", "1600.");
     check("PCOMP TPLY", &th_fixed, "PMPAR,1,H,TPLY,1,1.e-4,1.e-3\n", &["T"], &[3.0e-4], &[4.5e-4]);
+    // TPLY of an unsymmetric laminate: A ∝ h but B ∝ h², so the condensation is frozen (a
+    // symmetric one has B = 0 and stays exact with the quad, above)
+    let unsymmetric = format!("{PLATE}MAT8,7,1.4e11,1.e10,.3,5.e9,5.e9,3.e9,1600.\nPCOMP,1\n,7,{{T}},20.,,7,{{T}},-20.\n");
+    check_frozen("PCOMP TPLY unsymmetric", &unsymmetric, "PMPAR,1,H,TPLY,1,1.e-4,1.e-3\n", &["T"], &[3.0e-4], &[4.5e-4]);
 }
 
 #[test]

@@ -117,6 +117,37 @@ fn laminate(theta: &str) -> String {
     format!("MAT8,7,1.4e11,1.e10,.3,5.e9,5.e9,3.e9,1600.\nPCOMP,1\n,7,2.5e-4,{theta},,7,2.5e-4,-{theta}\n,7,2.5e-4,-{theta},,7,2.5e-4,{theta}\n")
 }
 
+/// SOL PROM warns once when a parameter freezes the CQUAD4's condensation of its incompatible
+/// modes (README "Frozen condensation"): a THETA PMPAR on the quads' PCOMP, TPLY of an
+/// unsymmetric one (B ∝ h², A ∝ h), or NU (with E) of the PSHELL's MAT1, with the default
+/// `PARAM,QINCOMP,YES`; not for E alone or
+/// TPLY of a symmetric laminate (T does not change when (A, B) is scaled; both exact in
+/// `tests/affine_assembly.rs`), and not with `PARAM,QINCOMP,NO` (no modes to condense). A
+/// 4 × 2 plate keeps the six builds short.
+#[test]
+fn frozen_quad_condensation_is_warned_about_once() {
+    let warnings = |property: &str, pmpar: &str, param: &str| -> Vec<String> {
+        let mesh = common::clamped_plate_mesh(4, 2, 0.3, 0.1);
+        let deck = format!("SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\n{param}{pmpar}PMOR,1,2,4,2000.\n{mesh}{property}ENDDATA\n");
+        let (r, _dir) = run_deck(&deck);
+        r.expect("SOL PROM").warnings.into_iter().filter(|w| w.contains("QINCOMP")).collect()
+    };
+    let theta = "PMPAR,1,TH,THETA,1,0.,90.\n";
+    let warned = warnings(&laminate("20."), theta, "");
+    assert_eq!(warned.len(), 1, "{warned:?}");
+    assert!(warned[0].contains("PMPAR TH ") && warned[0].contains("PARAM,QINCOMP,NO"), "{}", warned[0]);
+    assert!(warnings(&laminate("20."), theta, "PARAM,QINCOMP,NO\n").is_empty());
+    let steel = STEEL.replace("{E}", "2.1e11").replace("{RHO}", "7850.");
+    assert!(warnings(&steel, "PMPAR,1,E,E,1,1.e11,3.e11\n", "").is_empty());
+    let warned = warnings(&steel, "PMPAR,1,E,E,1,1.e11,3.e11\nPMPAR,2,NU,NU,1,0.2,0.4\n", "");
+    assert!(warned.len() == 1 && warned[0].contains("PMPAR E, NU "), "{warned:?}");
+    let tply = "PMPAR,1,H,TPLY,1,1.e-4,1.e-3\n";
+    assert!(warnings(&laminate("20."), tply, "").is_empty());
+    let unsymmetric = "MAT8,7,1.4e11,1.e10,.3,5.e9,5.e9,3.e9,1600.\nPCOMP,1\n,7,2.5e-4,20.,,7,2.5e-4,-20.\n";
+    let warned = warnings(unsymmetric, tply, "");
+    assert!(warned.len() == 1 && warned[0].contains("PMPAR H "), "{warned:?}");
+}
+
 /// A PVAL naming a parameter the artifact does not have is an error that lists the ones it has.
 #[test]
 fn pval_with_an_unknown_name_lists_the_parameters() {

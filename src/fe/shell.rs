@@ -1,6 +1,6 @@
 //! Four- and three-node Mindlin–Reissner shells (CQUAD4, CTRIA3): MITC4 and MITC3 with a
-//! Hughes–Brezzi drilling rotation, the quad with an Allman-type drilling membrane
-//! (DESIGN.md §4).
+//! Hughes–Brezzi drilling rotation, the quad with an Allman-type drilling membrane and two
+//! incompatible membrane modes condensed with the nominal section (DESIGN.md §4).
 //!
 //! # Formulation
 //!
@@ -28,7 +28,8 @@
 //! K = Σ_gauss w·detJ · Bᵀ C B,   C = diag([[A, B], [B, D]], S, γ)      (9 × 9)
 //! ```
 //!
-//! so K is linear in the section; the reference-plane offset (ZOFFS, Z0) is carried by the
+//! so K is linear in the section (for the quad B is the enhanced B̄ of "Frozen condensation"
+//! below, fixed by the nominal section); the reference-plane offset (ZOFFS, Z0) is carried by the
 //! section's B and D. Quads use 2 × 2 Gauss points, triangles the 3-point rule of degree 2.
 //!
 //! **Transverse shear (MITC).** Quads: Bathe & Dvorkin, "A formulation of general shell
@@ -58,11 +59,50 @@
 //! part this is the centre value; for the Allman part it is not, and only the mean keeps
 //! ∫Bᵀσ dA exact for constant σ, i.e. the patch test). This removes the parasitic shear of
 //! in-plane bending (a 20 × 2 cantilever: 1.002 of beam theory with γ = A66; with the plain
-//! Gauss-point shear 0.888) and stays linear in the section — incompatible modes would not,
-//! since their static condensation inverts a section-dependent block. What remains is the
-//! Poisson stiffening of in-plane bending (≈ 1/(1−ν²); the Allman modes are normal to the
-//! edges and cannot give εy its linear variation across the depth). The reported membrane
-//! strains are the element means. The Allman modes carry no mass.
+//! Gauss-point shear 0.888). The reported membrane strains are the element means. The Allman
+//! modes carry no mass.
+//!
+//! **Incompatible modes (CQUAD4).** Bilinear and Allman fields cannot give εy the linear
+//! variation across the depth that pure in-plane bending needs (εy = −ν εx): without more, the
+//! element is too stiff in in-plane bending by 1/(1 − ν²) (MacNeal–Harder rectangular cantilever
+//! 0.904). Two Wilson incompatible modes, in Taylor's form (Taylor, Beresford & Wilson, "A
+//! non-conforming element for stress analysis", IJNME 10 (1976) 1211–1219), are added to the
+//! membrane: (u, v) += α₁ (1 − ξ²) x_i + α₂ (1 − η²) y_i along the intrinsic axes x_i, y_i,
+//! with Cartesian derivatives taken from the centre Jacobian J₀ and scaled by detJ₀/detJ, so that
+//! ∫B_i dA = 0 exactly (2 × 2 Gauss) on any convex quad: the patch test holds, and the element
+//! means of the strains (what is reported) are those of the compatible field. The modes take
+//! the same assumed shear as the rest of the membrane, i.e. none (their mean shear is zero), so
+//! they add only εxx ∝ ξ and εyy ∝ η in the intrinsic axes and cannot bring the parasitic
+//! shear back; the other two QM6 modes, (1 − η²) x_i and (1 − ξ²) y_i, would then carry no
+//! strain on a rectangle and are left out. The modes enter neither the drilling residual (as
+//! in QM6, which has no θz) nor the mass. Pure in-plane bending of a rectangle (u = −κxy,
+//! v = κ(x² + νy²)/2) now lies in the element space and is exact
+//! (`fe::shell_tests::quad_in_plane_pure_bending_is_exact`).
+//!
+//! **Frozen condensation.** The modes are condensed per element, α = T q with
+//! T = −K_ii⁺ K_ic, K_ii = ∫B_iᵀ C B_i dA, K_ic = ∫B_iᵀ C B dA (K_ii⁺: pseudo-inverse, zero for a
+//! section without membrane stiffness). K_cc − K_ci K_ii⁻¹ K_ic is not linear in the section,
+//! and every element must give affine parts K = Σ f_i(p) K_i (DESIGN.md §5). So T is computed
+//! once, from the element's *nominal* section (the deck's, i.e. the parts at the nominal
+//! parameter values; an explicit argument of [`quad4_stiffness`], [`affine_stiffness`] and
+//! [`affine_stiffness_at_points`]), and every part uses the enhanced operator B̄ = B + B_i T:
+//! K_i = ∫B̄ᵀ C_i B̄ dA. K is then exactly affine; at the nominal section it is the exactly
+//! condensed element; T does not change when the section is scaled, so E parameters stay
+//! exact at any E; for ν, Θ and ply thickness away from the nominal values only the
+//! condensation is frozen, and since the condensed energy is the minimum over α,
+//! K_frozen − K_condensed is positive semi-definite and of second order in the change of the
+//! section (`frozen_condensation_is_exact_under_scaling_and_second_order_otherwise`: ν 0.3 →
+//! 0.2 changes K by 2.3e-3 of its largest entry, 0.3 → 0.25 by 5.9e-4). C is the full section:
+//! the modes only strain the reference plane, so K_ii involves A only, while K_ic also takes
+//! the coupling B (offsets, unsymmetric laminates) — the condensation of the element's own
+//! energy, in which a curvature of an offset shell strains the reference plane, rather than of
+//! its membrane part alone.
+//!
+//! **`PARAM,QINCOMP`.** The modes are a user choice ([`Incompatible`]): `YES` (default)
+//! condenses them as above; `NO` leaves them out (T = 0, B̄ = B: the plain Allman membrane,
+//! Poisson-stiff in in-plane bending by ≈ 1/(1 − ν²)), so K(section) depends on the section
+//! alone and a pROM with ν, Θ or ply-thickness parameters agrees to round-off with a deck
+//! rebuilt at any parameter value.
 //!
 //! **Membrane and drilling (CTRIA3).** Linear u, v (constant strain) with the same penalty at
 //! γ = `TRIA_DRILL_SCALE`·`section.drill` = 10⁻³·A66, integrated at the 3 points. The Allman
@@ -79,6 +119,48 @@ use faer::Mat;
 
 use super::affine::{AffineMatrix, Coefficient};
 use super::laminate::{ShellMass, ShellSection};
+
+/// The CQUAD4's incompatible membrane modes (module doc, "Incompatible modes", "Frozen
+/// condensation"; `PARAM,QINCOMP`). Triangles have none and ignore it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Incompatible<S> {
+    /// Condensed with the nominal section(s) `S`, the deck's (`PARAM,QINCOMP,YES`, the default):
+    /// in-plane bending exact on rectangles; K is affine in the section, but for a section away
+    /// from the nominal one only the condensation is frozen.
+    Condensed(S),
+    /// Left out (`PARAM,QINCOMP,NO`): the plain membrane, too stiff in in-plane bending by
+    /// ≈ 1/(1 − ν²), and K(section) independent of any nominal section.
+    Off,
+}
+
+impl<S> Incompatible<S> {
+    /// The nominal section(s), `None` when the modes are off.
+    fn nominal(self) -> Option<S> {
+        match self {
+            Incompatible::Condensed(s) => Some(s),
+            Incompatible::Off => None,
+        }
+    }
+}
+
+/// True when the condensation of the CQUAD4's incompatible modes, computed once with `nominal`,
+/// is frozen, i.e. differs from the one of Σ f_i(p) section_i at some p (module doc, "Frozen
+/// condensation"). T depends on the section only through its reference-plane blocks (A, B) and
+/// is the same for any non-zero multiple of them, so it is exact at every p when every part's
+/// (A, B) is a multiple of the nominal (A, B) (an E parameter; TPLY on a laminate without
+/// membrane–bending coupling, whose B parts are zero; a density), to round-off: the residual of
+/// the projection on the nominal blocks at most 10⁻¹⁰ of the part's largest entry.
+pub fn condensation_is_frozen(parts: &[(Coefficient, ShellSection)], nominal: &ShellSection) -> bool {
+    let blocks = |s: &ShellSection| -> Vec<f64> { s.a.iter().chain(&s.b).flatten().copied().collect() };
+    let n = blocks(nominal);
+    let nn: f64 = n.iter().map(|x| x * x).sum();
+    parts.iter().any(|(_, part)| {
+        let v = blocks(part);
+        let c = if nn > 0.0 { v.iter().zip(&n).map(|(x, y)| x * y).sum::<f64>() / nn } else { 0.0 };
+        let largest = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        v.iter().zip(&n).any(|(x, y)| (x - c * y).abs() > 1e-10 * largest)
+    })
+}
 
 /// Errors of shell element geometry.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -105,7 +187,7 @@ pub enum ShellError {
     #[error("a shell element has 3 or 4 grids, got {0}")]
     NodeCount(usize),
     /// Per-point sections do not match the element's integration points.
-    #[error("expected one section per integration point ({expected}), with the same affine coefficients at each; got {got}")]
+    #[error("expected one section and one nominal section per integration point ({expected}), with the same affine coefficients at each; got {got}")]
     PointCount { expected: usize, got: usize },
 }
 
@@ -160,11 +242,13 @@ const TRIA_DRILL_SCALE: f64 = 1.0e-3;
 /// Number of generalized strains: 3 membrane, 3 curvature, 2 shear, 1 drilling.
 const NSTRAIN: usize = 9;
 
-/// One integration point: weight × detJ, shape-function values, strain operator B (9 × 6n).
+/// One integration point: weight × detJ, shape-function values, strain operator B (9 × 6n) and
+/// the incompatible-mode operator B_i (9 × 2 on quads, membrane rows only; 9 × 0 on triangles).
 struct GaussPoint {
     wdet: f64,
     shape: [f64; 4],
     b: Mat<f64>,
+    bi: Mat<f64>,
 }
 
 /// A flat element on its projected geometry, ready for any section.
@@ -389,6 +473,55 @@ fn mitc4_operator(xy: &[[f64; 2]], xi: f64, eta: f64) -> (Mat<f64>, f64) {
     (b, det)
 }
 
+/// Number of incompatible membrane modes of the quad (module doc, "Incompatible modes").
+const INCOMPATIBLE: usize = 2;
+
+/// Membrane strains (rows 0–2 of a 9 × 2 operator) at (ξ, η) of the two incompatible modes
+/// (1 − ξ²)·x_i and (1 − η²)·y_i, x_i = (cos φ, sin φ) and y_i = (−sin φ, cos φ) the intrinsic
+/// axes, with Taylor's correction: Cartesian derivatives from the centre Jacobian J₀, scaled by
+/// detJ₀/detJ, so that ∫B_i dA = detJ₀ J₀⁻¹ Σ_gauss w ∂N/∂(ξ, η) = 0 (module doc).
+fn incompatible_operator(xy: &[[f64; 2]], xi: f64, eta: f64, phi: f64) -> Mat<f64> {
+    let (_, dxi, deta) = quad_shape(xi, eta);
+    let det = inverse(&jacobian(xy, &dxi, &deta)).1;
+    let (_, dxi0, deta0) = quad_shape(0.0, 0.0);
+    let (j0inv, det0) = inverse(&jacobian(xy, &dxi0, &deta0));
+    let (mx, my) = cartesian(&j0inv, &[-2.0 * xi, 0.0], &[0.0, -2.0 * eta]);
+    let (s, c) = phi.sin_cos();
+    let directions = [[c, s], [-s, c]];
+    let taylor = det0 / det;
+    let mut b = Mat::<f64>::zeros(NSTRAIN, INCOMPATIBLE);
+    for (k, [ux, uy]) in directions.into_iter().enumerate() {
+        let (gx, gy) = (taylor * mx[k], taylor * my[k]);
+        b[(0, k)] = gx * ux;
+        b[(1, k)] = gy * uy;
+        b[(2, k)] = gy * ux + gx * uy;
+    }
+    b
+}
+
+/// Moore–Penrose inverse of a symmetric positive semi-definite 2 × 2 matrix (closed-form
+/// eigendecomposition; eigenvalues below 10⁻¹² of the largest count as zero).
+fn pseudo_inverse_2x2(k: &Mat<f64>) -> Mat<f64> {
+    let (a, b, c) = (k[(0, 0)], 0.5 * (k[(0, 1)] + k[(1, 0)]), k[(1, 1)]);
+    let angle = 0.5 * (2.0 * b).atan2(a - c);
+    let (s, co) = angle.sin_cos();
+    let vectors = [[co, s], [-s, co]];
+    let values = vectors.map(|[x, y]| a * x * x + 2.0 * b * x * y + c * y * y);
+    let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut inv = Mat::<f64>::zeros(2, 2);
+    for ([x, y], l) in vectors.into_iter().zip(values) {
+        if largest > 0.0 && l > 1e-12 * largest {
+            let v = [x, y];
+            for i in 0..2 {
+                for j in 0..2 {
+                    inv[(i, j)] += v[i] * v[j] / l;
+                }
+            }
+        }
+    }
+    inv
+}
+
 /// MITC3 strain operator (9 × 18) at (r, s) (Lee–Bathe 2004 tying, module doc); detJ is
 /// constant (twice the area).
 fn mitc3_operator(xy: &[[f64; 2]], r: f64, s: f64) -> (Mat<f64>, f64) {
@@ -482,15 +615,21 @@ impl Flat {
                     wdet: det,
                     shape: quad_shape(xi, eta).0,
                     b,
+                    bi: incompatible_operator(&f.xy, xi, eta, phi),
                 }
             })
             .collect();
         let mut mean = Mat::<f64>::zeros(NSTRAIN, 24);
+        // ∫B_i dA / A: zero by Taylor's correction up to round-off; the incompatible modes take
+        // the same assumed shear, i.e. none in the intrinsic axes.
+        let mut mean_i = Mat::<f64>::zeros(NSTRAIN, INCOMPATIBLE);
         for p in &points {
             mean += &p.b * faer::Scale(p.wdet / area);
+            mean_i += &p.bi * faer::Scale(p.wdet / area);
         }
         for p in &mut points {
             assume_membrane_shear(&mut p.b, &mean, phi);
+            assume_membrane_shear(&mut p.bi, &mean_i, phi);
         }
         // Reported membrane strains: the element mean, which the assumed field shares.
         let mut centroid = centroid;
@@ -524,6 +663,7 @@ impl Flat {
                     wdet: det / 6.0,
                     shape: [1.0 - r - s, r, s, 0.0],
                     b,
+                    bi: Mat::zeros(NSTRAIN, 0),
                 }
             })
             .collect();
@@ -546,22 +686,55 @@ impl Flat {
         }
     }
 
-    /// Tᵀ (Σ w detJ Bᵀ C B) T in the basic system.
-    fn stiffness(&self, section: &ShellSection) -> Mat<f64> {
-        self.stiffness_at_points(&vec![section; self.points.len()])
+    /// Tᵀ (Σ w detJ B̄ᵀ C B̄) T in the basic system, the incompatible modes condensed with the
+    /// section `nominal`, or left out when `None` ([`Flat::stiffness_at_points`]).
+    fn stiffness(&self, section: &ShellSection, nominal: Option<&ShellSection>) -> Mat<f64> {
+        let n = self.points.len();
+        let nominal = nominal.map(|s| vec![s; n]);
+        self.stiffness_at_points(&vec![section; n], nominal.as_deref())
     }
 
-    /// Tᵀ (Σₚ wₚ detJₚ Bₚᵀ C(sectionₚ) Bₚ) T: one section per integration point.
-    fn stiffness_at_points(&self, sections: &[&ShellSection]) -> Mat<f64> {
+    /// C of a section at this element's points: [`constitutive`], with the triangle's weak
+    /// drilling modulus.
+    fn constitutive(&self, section: &ShellSection) -> Mat<f64> {
+        let mut c = constitutive(section);
+        if self.nodes == 3 {
+            c[(8, 8)] *= TRIA_DRILL_SCALE;
+        }
+        c
+    }
+
+    /// Frozen condensation of the incompatible modes (module doc): T = −K_ii⁺ K_ic with
+    /// K_ii = Σₚ wₚ B_iᵀ C B_i and K_ic = Σₚ wₚ B_iᵀ C B from the sections `nominal` (one per
+    /// point), so that α = T q. Empty (0 × 6n) for triangles; zero when the modes are off
+    /// (`nominal` = `None`: α = 0, B̄ = B exactly).
+    fn condensation(&self, nominal: Option<&[&ShellSection]>) -> Mat<f64> {
         let n = 6 * self.nodes;
+        let modes = self.points.first().map_or(0, |p| p.bi.ncols());
+        let Some(nominal) = nominal.filter(|_| modes > 0) else {
+            return Mat::zeros(modes, n);
+        };
+        let mut kii = Mat::<f64>::zeros(modes, modes);
+        let mut kic = Mat::<f64>::zeros(modes, n);
+        for (p, section) in self.points.iter().zip(nominal) {
+            let cbi = self.constitutive(section) * &p.bi;
+            kii += cbi.transpose() * &p.bi * faer::Scale(p.wdet);
+            kic += cbi.transpose() * &p.b * faer::Scale(p.wdet);
+        }
+        -(pseudo_inverse_2x2(&kii) * &kic)
+    }
+
+    /// Tᵀ (Σₚ wₚ detJₚ B̄ₚᵀ C(sectionₚ) B̄ₚ) T: one section per integration point, B̄ = B + B_i T
+    /// with the condensation T of the sections `nominal` (one per point; `None`: T = 0), so the
+    /// matrix is linear in `sections`.
+    fn stiffness_at_points(&self, sections: &[&ShellSection], nominal: Option<&[&ShellSection]>) -> Mat<f64> {
+        let n = 6 * self.nodes;
+        let t = self.condensation(nominal);
         let mut k = Mat::<f64>::zeros(n, n);
         for (p, section) in self.points.iter().zip(sections) {
-            let mut c = constitutive(section);
-            if self.nodes == 3 {
-                c[(8, 8)] *= TRIA_DRILL_SCALE;
-            }
-            let cb = &c * &p.b;
-            k += p.b.transpose() * &cb * faer::Scale(p.wdet);
+            let b = &p.b + &p.bi * &t;
+            let cb = self.constitutive(section) * &b;
+            k += b.transpose() * &cb * faer::Scale(p.wdet);
         }
         self.to_basic(&k)
     }
@@ -664,16 +837,19 @@ fn mass_density(m: &ShellMass) -> [[f64; 6]; 6] {
     r
 }
 
-/// CQUAD4 stiffness (24 × 24, basic system), MITC4 with the Allman-type drilling membrane;
-/// linear in `section`.
-/// `material_x`: direction of the material x axis (projected onto the element), default
-/// G1→G2.
+/// CQUAD4 stiffness (24 × 24, basic system), MITC4 with the Allman-type drilling membrane and,
+/// with [`Incompatible::Condensed`], incompatible membrane modes condensed with that nominal
+/// section (module doc, "frozen condensation"); linear in `section`. `Condensed(section)`
+/// gives the element with its modes condensed exactly; the affine parts of a parametrized
+/// section pass the deck's section. `material_x`: direction of the material x axis (projected
+/// onto the element), default G1→G2.
 pub fn quad4_stiffness(
     xyz: &[V3; 4],
     section: &ShellSection,
+    modes: Incompatible<&ShellSection>,
     material_x: Option<V3>,
 ) -> Result<Mat<f64>, ShellError> {
-    Ok(Flat::quad(xyz, material_x)?.stiffness(section))
+    Ok(Flat::quad(xyz, material_x)?.stiffness(section, modes.nominal()))
 }
 
 /// CTRIA3 stiffness (18 × 18, basic system), MITC3 with drilling; linear in `section`.
@@ -682,7 +858,7 @@ pub fn tria3_stiffness(
     section: &ShellSection,
     material_x: Option<V3>,
 ) -> Result<Mat<f64>, ShellError> {
-    Ok(Flat::tria(xyz, material_x)?.stiffness(section))
+    Ok(Flat::tria(xyz, material_x)?.stiffness(section, None))
 }
 
 /// CQUAD4 mass (24 × 24, basic): consistent (bilinear, 2 × 2 Gauss, exact) or lumped.
@@ -717,18 +893,23 @@ pub fn tria3_strains(
 }
 
 /// Affine stiffness Σ f_i K_i of a CQUAD4 (4 grids) or CTRIA3 (3 grids) from affine section
-/// parts ([`crate::fe::laminate::affine_sections`]): K_i = K(section_i) by linearity. Parts
+/// parts ([`crate::fe::laminate::affine_sections`]): K_i = K(section_i) by linearity, the
+/// quad's incompatible modes condensed once with the section of [`Incompatible::Condensed`],
+/// the one at the nominal parameter values (the deck's; module doc, "frozen condensation"), or
+/// left out ([`Incompatible::Off`]; triangles have no such modes and ignore `modes`). Parts
 /// without stiffness are skipped.
 pub fn affine_stiffness(
     xyz: &[V3],
     sections: &[(Coefficient, ShellSection)],
+    modes: Incompatible<&ShellSection>,
     material_x: Option<V3>,
 ) -> Result<AffineMatrix, ShellError> {
     let el = Flat::new(xyz, material_x)?;
+    let nominal = modes.nominal();
     let parts = sections
         .iter()
         .filter(|(_, s)| !s.stiffness_is_zero())
-        .map(|(c, s)| (*c, el.stiffness(s)))
+        .map(|(c, s)| (*c, el.stiffness(s, nominal)))
         .collect();
     Ok(AffineMatrix { parts })
 }
@@ -748,26 +929,34 @@ pub fn integration_point_thickness(corner_t: &[f64]) -> Result<Vec<f64>, ShellEr
 }
 
 /// [`affine_stiffness`] with one list of affine section parts per integration point (see
-/// [`integration_point_thickness`]): K_i = Σₚ wₚ Bₚᵀ C(section_{p,i}) Bₚ. Every point must give
-/// the same coefficients in the same order (the section's dependence on the parameters is the
-/// same everywhere; only its value varies).
+/// [`integration_point_thickness`]): K_i = Σₚ wₚ B̄ₚᵀ C(section_{p,i}) B̄ₚ, and, with
+/// [`Incompatible::Condensed`], one nominal section per point for the condensation. Every point
+/// must give the same coefficients in the same order (the section's dependence on the
+/// parameters is the same everywhere; only its value varies).
 pub fn affine_stiffness_at_points(
     xyz: &[V3],
     sections: &[Vec<(Coefficient, ShellSection)>],
+    modes: Incompatible<&[ShellSection]>,
     material_x: Option<V3>,
 ) -> Result<AffineMatrix, ShellError> {
     let el = Flat::new(xyz, material_x)?;
-    let mismatch = ShellError::PointCount { expected: el.points.len(), got: sections.len() };
-    let Some(first) = sections.first() else { return Err(mismatch) };
+    let points = el.points.len();
+    let Some(first) = sections.first() else { return Err(ShellError::PointCount { expected: points, got: 0 }) };
     let same_coefficients = |p: &Vec<(Coefficient, ShellSection)>| p.len() == first.len() && p.iter().zip(first).all(|((a, _), (b, _))| a == b);
-    if sections.len() != el.points.len() || !sections.iter().all(same_coefficients) {
-        return Err(mismatch);
+    let nominal: Option<Vec<&ShellSection>> = modes.nominal().map(|n| n.iter().collect());
+    for got in std::iter::once(sections.len()).chain(nominal.as_ref().map(Vec::len)) {
+        if got != points {
+            return Err(ShellError::PointCount { expected: points, got });
+        }
+    }
+    if !sections.iter().all(same_coefficients) {
+        return Err(ShellError::PointCount { expected: points, got: sections.len() });
     }
     let parts = (0..first.len())
         .filter(|&i| sections.iter().any(|p| !p[i].1.stiffness_is_zero()))
         .map(|i| {
             let at: Vec<&ShellSection> = sections.iter().map(|p| &p[i].1).collect();
-            (first[i].0, el.stiffness_at_points(&at))
+            (first[i].0, el.stiffness_at_points(&at, nominal.as_deref()))
         })
         .collect();
     Ok(AffineMatrix { parts })

@@ -11,7 +11,7 @@ use super::laminate::{
     affine_sections, evaluate,
 };
 use super::shell::{
-    ShellError, affine_mass, affine_stiffness, quad4_mass, quad4_stiffness, quad4_strains,
+    Incompatible, ShellError, affine_mass, affine_stiffness, quad4_mass, quad4_stiffness, quad4_strains,
     tria3_mass, tria3_stiffness, tria3_strains,
 };
 
@@ -53,7 +53,7 @@ fn quad_mesh_stiffness(xyz: &[V3], quads: &[[usize; 4]], section: &ShellSection)
         .map(|q| {
             (
                 q.to_vec(),
-                quad4_stiffness(&quad_of(xyz, q), section, Some([1.0, 0.0, 0.0])).unwrap(),
+                quad4_stiffness(&quad_of(xyz, q), section, Incompatible::Condensed(section), Some([1.0, 0.0, 0.0])).unwrap(),
             )
         })
         .collect();
@@ -139,7 +139,8 @@ fn single_flat_quad_has_six_zero_modes() {
         [1.0, 0.9, 0.0],
         [-0.1, 0.7, 0.0],
     ];
-    let k = quad4_stiffness(&xyz, &steel(0.05, 0.3), None).unwrap();
+    let s = steel(0.05, 0.3);
+    let k = quad4_stiffness(&xyz, &s, Incompatible::Condensed(&s), None).unwrap();
     assert_eq!(zero_modes(&k), 6);
 }
 
@@ -153,7 +154,8 @@ fn single_warped_quad_has_six_zero_modes() {
         [0.05, 0.9, -0.025],
     ];
     let xyz = flat.map(rotate);
-    let k = quad4_stiffness(&xyz, &steel(0.05, 0.3), None).unwrap();
+    let s = steel(0.05, 0.3);
+    let k = quad4_stiffness(&xyz, &s, Incompatible::Condensed(&s), None).unwrap();
     assert_eq!(zero_modes(&k), 6);
 }
 
@@ -281,7 +283,7 @@ fn macneal_harder_membrane_and_bending_patch_test() {
         .map(|q| {
             (
                 q.to_vec(),
-                quad4_stiffness(&quad_of(&xyz, q), &section, Some(mx)).unwrap(),
+                quad4_stiffness(&quad_of(&xyz, q), &section, Incompatible::Condensed(&section), Some(mx)).unwrap(),
             )
         })
         .collect();
@@ -403,7 +405,7 @@ fn matrices_are_symmetric_and_positive() {
     let tria = [[0.0, 0.0, 0.0], [1.0, 0.2, 0.3], [0.3, 0.8, -0.2]];
     let s = laminate_section();
     for m in [
-        quad4_stiffness(&quad, &s, Some([1.0, 1.0, 0.0])).unwrap(),
+        quad4_stiffness(&quad, &s, Incompatible::Condensed(&s), Some([1.0, 1.0, 0.0])).unwrap(),
         tria3_stiffness(&tria, &s, None).unwrap(),
         quad4_mass(&quad, &s.mass, false).unwrap(),
         quad4_mass(&quad, &s.mass, true).unwrap(),
@@ -434,8 +436,8 @@ fn isotropic_element_is_invariant_to_material_axes() {
     let tria = [[0.0, 0.0, 0.0], [1.0, 0.2, 0.3], [0.3, 0.8, -0.2]];
     let s = steel(0.02, 0.3);
     let (k1, k2) = (
-        quad4_stiffness(&quad, &s, None).unwrap(),
-        quad4_stiffness(&quad, &s, Some([0.3, -1.0, 0.2])).unwrap(),
+        quad4_stiffness(&quad, &s, Incompatible::Condensed(&s), None).unwrap(),
+        quad4_stiffness(&quad, &s, Incompatible::Condensed(&s), Some([0.3, -1.0, 0.2])).unwrap(),
     );
     assert!(rel_diff(&k1, &k2) < 1e-12, "quad: {}", rel_diff(&k1, &k2));
     let (k1, k2) = (
@@ -621,6 +623,18 @@ fn rel_diff(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
     max_abs(&(a - b)) / max_abs(b)
 }
 
+/// The section of split data at its nominal parameter values (the deck's section).
+fn nominal_section(data: &SectionData) -> ShellSection {
+    match data {
+        SectionData::Pshell { section, .. } => ShellSection::pshell(section),
+        SectionData::Laminate(l) => ShellSection::laminate(l),
+    }
+    .unwrap()
+}
+
+/// Σ f_i(p) K_i against the matrix built at p with the incompatible modes condensed with the
+/// nominal section (module doc, "frozen condensation"), for every split, at parameter values
+/// away from the nominal ones (ν 0.21 against 0.3, Θ 37° against 20°, …).
 #[test]
 fn affine_stiffness_and_mass_match_direct_matrices() {
     let quad: Vec<V3> = [
@@ -756,13 +770,14 @@ fn affine_stiffness_and_mass_match_direct_matrices() {
         } else {
             v
         };
+        let nominal = nominal_section(&data);
         for xyz in [&quad, &tria] {
-            let k = affine_stiffness(xyz, &parts, mx).unwrap().evaluate(&v);
+            let k = affine_stiffness(xyz, &parts, Incompatible::Condensed(&nominal), mx).unwrap().evaluate(&v);
             let m = affine_mass(xyz, &parts, false).unwrap().evaluate(&v);
             let (kd, md) = if xyz.len() == 4 {
                 let q = [xyz[0], xyz[1], xyz[2], xyz[3]];
                 (
-                    quad4_stiffness(&q, &direct, mx).unwrap(),
+                    quad4_stiffness(&q, &direct, Incompatible::Condensed(&nominal), mx).unwrap(),
                     quad4_mass(&q, &direct.mass, false).unwrap(),
                 )
             } else {
@@ -807,7 +822,7 @@ fn degenerate_geometry_is_an_error() {
         [0.0, 0.0, 0.0],
     ];
     assert_eq!(
-        quad4_stiffness(&coincident, &s, None).unwrap_err(),
+        quad4_stiffness(&coincident, &s, Incompatible::Condensed(&s), None).unwrap_err(),
         ShellError::ZeroArea { shape: "CQUAD4" }
     );
     let line = [
@@ -828,7 +843,7 @@ fn degenerate_geometry_is_an_error() {
         [0.0, 2.0, 0.0],
     ];
     assert_eq!(
-        quad4_stiffness(&dart, &s, None).unwrap_err(),
+        quad4_stiffness(&dart, &s, Incompatible::Condensed(&s), None).unwrap_err(),
         ShellError::NotConvex { corner: 3 }
     );
     let flat_corner = [
@@ -838,7 +853,7 @@ fn degenerate_geometry_is_an_error() {
         [0.0, 1.0, 0.0],
     ];
     assert_eq!(
-        quad4_stiffness(&flat_corner, &s, None).unwrap_err(),
+        quad4_stiffness(&flat_corner, &s, Incompatible::Condensed(&s), None).unwrap_err(),
         ShellError::NotConvex { corner: 2 }
     );
     let square = [
@@ -848,11 +863,11 @@ fn degenerate_geometry_is_an_error() {
         [0.0, 1.0, 0.0],
     ];
     assert!(matches!(
-        quad4_stiffness(&square, &s, Some([0.0, 0.0, 1.0])),
+        quad4_stiffness(&square, &s, Incompatible::Condensed(&s), Some([0.0, 0.0, 1.0])),
         Err(ShellError::MaterialAxisNormal { .. })
     ));
     assert_eq!(
-        affine_stiffness(&square[..2], &[], None).unwrap_err(),
+        affine_stiffness(&square[..2], &[], Incompatible::Condensed(&s), None).unwrap_err(),
         ShellError::NodeCount(2)
     );
 }
@@ -869,19 +884,23 @@ fn tapered_quad_integrates_bending_thickness_cubed_exactly() {
     let (a, b, t0, t1, e, nu, kappa) = (0.4, 0.3, 0.01, 0.02, 70e9, 0.3, 1e-3);
     let xyz = [[0.0, 0.0, 0.0], [a, 0.0, 0.0], [a, b, 0.0], [0.0, b, 0.0]];
     let corners = [t0, t1, t1, t0];
-    let sections_at = |corners: &[f64]| -> Vec<Vec<(super::affine::Coefficient, ShellSection)>> {
+    let nominal_at = |corners: &[f64]| -> Vec<ShellSection> {
         super::shell::integration_point_thickness(corners)
             .unwrap()
             .into_iter()
-            .map(|t| {
-                vec![(
-                    super::affine::Coefficient::Constant,
-                    ShellSection::pshell(&iso(e, nu, t)).unwrap(),
-                )]
-            })
+            .map(|t| ShellSection::pshell(&iso(e, nu, t)).unwrap())
             .collect()
     };
-    let k = super::shell::affine_stiffness_at_points(&xyz, &sections_at(&corners), None).unwrap();
+    let sections_at = |corners: &[f64]| -> Vec<Vec<(super::affine::Coefficient, ShellSection)>> {
+        nominal_at(corners)
+            .into_iter()
+            .map(|s| vec![(super::affine::Coefficient::Constant, s)])
+            .collect()
+    };
+    let at = |corners: &[f64]| {
+        super::shell::affine_stiffness_at_points(&xyz, &sections_at(corners), Incompatible::Condensed(nominal_at(corners).as_slice()), None)
+    };
+    let k = at(&corners).unwrap();
     assert_eq!(k.parts.len(), 1);
     let k = &k.parts[0].1;
     let u: Vec<f64> = xyz
@@ -904,21 +923,107 @@ fn tapered_quad_integrates_bending_thickness_cubed_exactly() {
         "the case must separate the two rules"
     );
     // uniform corners: the same matrix as one section everywhere
-    let uniform =
-        super::shell::affine_stiffness_at_points(&xyz, &sections_at(&[t0; 4]), None).unwrap();
-    let single = quad4_stiffness(
-        &xyz,
-        &ShellSection::pshell(&iso(e, nu, t0)).unwrap(),
-        None,
-    )
-    .unwrap();
+    let uniform = at(&[t0; 4]).unwrap();
+    let s0 = ShellSection::pshell(&iso(e, nu, t0)).unwrap();
+    let single = quad4_stiffness(&xyz, &s0, Incompatible::Condensed(&s0), None).unwrap();
     assert!(rel_diff(&uniform.parts[0].1, &single) < 1e-14);
     // one list per point, or an error
     assert!(matches!(
-        super::shell::affine_stiffness_at_points(&xyz, &sections_at(&corners)[..3], None),
+        super::shell::affine_stiffness_at_points(&xyz, &sections_at(&corners)[..3], Incompatible::Condensed(nominal_at(&corners).as_slice()), None),
         Err(ShellError::PointCount {
             expected: 4,
             got: 3
         })
     ));
+    assert!(matches!(
+        super::shell::affine_stiffness_at_points(&xyz, &sections_at(&corners), Incompatible::Condensed(&nominal_at(&corners)[..2]), None),
+        Err(ShellError::PointCount {
+            expected: 4,
+            got: 2
+        })
+    ));
+}
+
+// ---------------------------------------------------------------------------------------------
+// in-plane bending and the frozen condensation of the incompatible modes
+
+/// Pure in-plane bending of a rectangular strip, x ∈ [0, 2a], y ∈ [−b/2, b/2], in a rotated
+/// plane: u = −κxy, v = κx²/2 + νκy²/2, θz = κx (σx = −Eκy, σy = τ = 0). The field lies in the
+/// element space (bilinear + Allman edge modes + the incompatible (1 − η²) mode in v), so with ν
+/// = 0.3 a single element stores exactly ½EκI·κ·a (I = tb³/12) and, on two elements with the
+/// end grids prescribed, the free mid-span grids come out exact. Without the incompatible modes
+/// (`PARAM,QINCOMP,NO`, [`Incompatible::Off`]) εy cannot vary across the depth: the nodal values
+/// of the exact field interpolate to u = −κxy, v = κx²/2 + const (the Allman edge modes are
+/// normal to the edges and cannot carry νκy²/2 along the vertical ones), so εy = 0 where
+/// σy = 0 needs εy = νκy, and the element stores exactly 1/(1 − ν²) of that energy.
+#[test]
+fn quad_in_plane_pure_bending_is_exact() {
+    let (a, b, t, e, nu, kappa) = (0.3, 0.2, 0.01, 70e9, 0.3, 1e-3);
+    let section = ShellSection::pshell(&iso(e, nu, t)).unwrap();
+    let mx = rotate([1.0, 0.0, 0.0]);
+    let (xy, quads) = ([[0.0, -0.5 * b], [a, -0.5 * b], [2.0 * a, -0.5 * b], [0.0, 0.5 * b], [a, 0.5 * b], [2.0 * a, 0.5 * b]], [[0, 1, 4, 3], [1, 2, 5, 4]]);
+    let xyz: Vec<V3> = xy.iter().map(|p| rotate([p[0], p[1], 0.0])).collect();
+    let exact: Vec<f64> = xy
+        .iter()
+        .flat_map(|&[x, y]| {
+            let t = rotate([-kappa * x * y, 0.5 * kappa * (x * x + nu * y * y), 0.0]);
+            let r = rotate([0.0, 0.0, kappa * x]);
+            [t[0], t[1], t[2], r[0], r[1], r[2]]
+        })
+        .collect();
+    let els: Vec<_> = quads
+        .iter()
+        .map(|q| (q.to_vec(), quad4_stiffness(&quad_of(&xyz, q), &section, Incompatible::Condensed(&section), Some(mx)).unwrap()))
+        .collect();
+    // One element: the strain energy of the exact field.
+    let ue: Vec<f64> = quads[0].iter().flat_map(|&g| exact[6 * g..6 * g + 6].to_vec()).collect();
+    let k = &els[0].1;
+    let energy = 0.5 * (0..24).map(|i| (0..24).map(|j| ue[i] * k[(i, j)] * ue[j]).sum::<f64>()).sum::<f64>();
+    let want = 0.5 * e * kappa * kappa * t * b.powi(3) / 12.0 * a;
+    assert!((energy / want - 1.0).abs() < 1e-10, "energy {energy} vs {want} (ratio {})", energy / want);
+    let plain = quad4_stiffness(&quad_of(&xyz, &quads[0]), &section, Incompatible::Off, Some(mx)).unwrap();
+    let energy_plain = 0.5 * (0..24).map(|i| (0..24).map(|j| ue[i] * plain[(i, j)] * ue[j]).sum::<f64>()).sum::<f64>();
+    let poisson = 1.0 / (1.0 - nu * nu);
+    assert!((energy_plain / want / poisson - 1.0).abs() < 1e-10, "without the modes: ratio {} vs 1/(1 − ν²) = {poisson}", energy_plain / want);
+    // Two elements, end grids prescribed, mid-span grids 1 and 4 free and unloaded.
+    let k = assemble(xyz.len(), &els);
+    let fixed: Vec<usize> = [0, 2, 3, 5].iter().flat_map(|&g| (0..6).map(move |c| 6 * g + c)).collect();
+    let values: Vec<f64> = fixed.iter().map(|&d| exact[d]).collect();
+    let u = solve_with_prescribed(&k, &[vec![0.0; 36]], &fixed, &values).remove(0);
+    let scale = exact.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    for g in [1, 4] {
+        for c in 0..6 {
+            let d = 6 * g + c;
+            assert!((u[d] - exact[d]).abs() < 1e-10 * scale, "grid {g} DOF {c}: {} vs {}", u[d], exact[d]);
+        }
+    }
+}
+
+/// The condensation matrix T depends on the section only through the ratios of its entries:
+/// built with a nominal section, K is exact for any multiple of it (a PMPAR on E). For another
+/// ν the frozen T is not the optimal one: K_frozen − K_recondensed is positive semi-definite
+/// (the condensed energy is the minimum over the modes) and of second order in Δν.
+#[test]
+fn frozen_condensation_is_exact_under_scaling_and_second_order_otherwise() {
+    let quad = [[0.0, 0.0, 0.01], [1.1, 0.0, -0.01], [1.0, 0.7, 0.01], [0.05, 0.6, -0.01]].map(rotate);
+    let (e, t) = (70e9, 0.02);
+    let section = |e: f64, nu: f64| ShellSection::pshell(&iso(e, nu, t)).unwrap();
+    let nominal = section(e, 0.3);
+    let scaled = section(2.5 * e, 0.3);
+    let (frozen, exact) = (
+        quad4_stiffness(&quad, &scaled, Incompatible::Condensed(&nominal), None).unwrap(),
+        quad4_stiffness(&quad, &scaled, Incompatible::Condensed(&scaled), None).unwrap(),
+    );
+    assert!(rel_diff(&frozen, &exact) < 1e-12, "E scaling: {}", rel_diff(&frozen, &exact));
+    let gap = |dnu: f64| {
+        let s = section(e, 0.3 + dnu);
+        let d = quad4_stiffness(&quad, &s, Incompatible::Condensed(&nominal), None).unwrap() - quad4_stiffness(&quad, &s, Incompatible::Condensed(&s), None).unwrap();
+        let ev = d.self_adjoint_eigenvalues(Side::Lower).unwrap();
+        let k = quad4_stiffness(&quad, &s, Incompatible::Condensed(&s), None).unwrap();
+        assert!(ev[0] > -1e-12 * max_abs(&k), "Δν {dnu}: K_frozen − K is not PSD ({})", ev[0]);
+        max_abs(&d) / max_abs(&k)
+    };
+    let (g1, g2) = (gap(-0.1), gap(-0.05));
+    println!("frozen condensation, ν 0.3 → 0.2: max |ΔK|/max |K| {g1:.3e}; → 0.25: {g2:.3e}");
+    assert!(g1 > 0.0 && (g1 / g2 - 4.0).abs() < 0.5, "not second order: {g1} / {g2}");
 }

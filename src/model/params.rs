@@ -43,6 +43,13 @@ pub const KNOWN_PARAMS: &[KnownParam] = &[
     KnownParam { name: "G", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "overall structural damping coefficient: K(1 + iG) in SOL 108, G on the modal stiffness in SOL 111, viscous (G/W3)·K in full-model SOL 109/112 when PARAM,W3 > 0; refused on pROMs; default 0" },
     KnownParam { name: "W3", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "frequency (rad/s) at which PARAM,G is turned into viscous damping (G/W3)·K in transient response, as Nastran; default 0 = G left out of transient response" },
     KnownParam {
+        name: "QINCOMP",
+        kind: ParamType::YesNo,
+        rule: "YES or NO",
+        ok: |_| true,
+        doc: "CQUAD4 incompatible membrane modes; default YES: in-plane bending exact on rectangles (MacNeal–Harder 0.993), the modes condensed once with the deck's section, so a pROM with NU, THETA or TPLY parameters differs from a deck rebuilt far from the nominal values (second order in the change); NO: the plain membrane, 1/(1−ν²) too stiff in in-plane bending (0.904), and pROMs agree exactly with rebuilt decks",
+    },
+    KnownParam {
         name: "MAXRATIO",
         kind: ParamType::Real,
         rule: "a real > 1",
@@ -67,6 +74,8 @@ pub struct ModelParams {
     pub w3: f64,
     /// SOL 101 factorization: largest a_kk / d_k accepted (Nastran MAXRATIO).
     pub maxratio: f64,
+    /// CQUAD4 incompatible membrane modes (PARAM,QINCOMP; [`crate::fe::shell::Incompatible`]).
+    pub qincomp: bool,
 }
 
 impl ModelParams {
@@ -79,7 +88,7 @@ impl ModelParams {
 
 impl Default for ModelParams {
     fn default() -> Self {
-        ModelParams { autospc: true, wtmass: 1.0, coupmass: -1, k6rot: 100.0, grdpnt: -1, alpha1: 0.0, beta1: 0.0, g: 0.0, w3: 0.0, maxratio: crate::linalg::cholesky::DEFAULT_MAX_RATIO }
+        ModelParams { autospc: true, wtmass: 1.0, coupmass: -1, k6rot: 100.0, grdpnt: -1, alpha1: 0.0, beta1: 0.0, g: 0.0, w3: 0.0, maxratio: crate::linalg::cholesky::DEFAULT_MAX_RATIO, qincomp: true }
     }
 }
 
@@ -139,8 +148,10 @@ fn apply(known: &KnownParam, value: Value, loc: &Loc, out: &mut ModelParams, err
     };
     match (known.kind, value) {
         (ParamType::YesNo, Value::Text(t)) if t == "YES" || t == "NO" => {
-            if known.name == "AUTOSPC" {
-                out.autospc = t == "YES";
+            match known.name {
+                "AUTOSPC" => out.autospc = t == "YES",
+                "QINCOMP" => out.qincomp = t == "YES",
+                _ => {}
             }
         }
         (ParamType::YesNo, Value::Text(t)) => fail(errors, t),

@@ -27,6 +27,12 @@
 //! Mass: `PARAM,COUPMASS` = 1 gives consistent shell and solid masses, anything else (default
 //! −1) lumped, as in Nastran; `PARAM,WTMASS` multiplies every mass matrix, CONM2 included.
 //!
+//! CQUAD4 membrane: `PARAM,QINCOMP,YES` (default) condenses its incompatible modes with the
+//! deck's section, `NO` leaves them out ([`shell::Incompatible`]). With YES, a quad whose
+//! stiffness parts change its section by more than a scale (NU, THETA, TPLY of a laminate with
+//! membrane–bending coupling; [`shell::condensation_is_frozen`]) has its condensation frozen at
+//! the deck's values; [`ElementMatrices::frozen_condensation`] lists those parameters' entities.
+//!
 //! Affine parts (DESIGN.md §5, thesis eq. 3.12–3.28): every kernel is called through its affine
 //! entry point. When PMPARs act on the element's material, PCOMP, PELAS or CONM2, the kernel
 //! splits by them (sections: [`shell_parts`]; solids: E, Lamé, ρ parts) and [`bind`] ties each
@@ -59,6 +65,10 @@ pub struct ElementMatrices {
     pub mass: Vec<Contribution>,
     /// Recovery data of each shell, by index into `model.elements`.
     pub shells: Vec<(usize, ShellRecovery)>,
+    /// The entities whose parameters change the section of a CQUAD4 whose incompatible modes are
+    /// condensed with the deck's section (PARAM,QINCOMP,YES) by more than a scale, so that the
+    /// condensation is frozen ([`shell::condensation_is_frozen`]), sorted, without repeats.
+    pub frozen_condensation: Vec<ParamTarget>,
 }
 
 /// What a shell's strain recovery needs besides geometry and displacements.
@@ -76,6 +86,8 @@ struct Built {
     k: Option<Contribution>,
     m: Option<Contribution>,
     shell: Option<ShellRecovery>,
+    /// The entity of a frozen condensation ([`ElementMatrices::frozen_condensation`]).
+    frozen: Option<ParamTarget>,
 }
 
 /// What every element's wiring needs.
@@ -85,6 +97,8 @@ struct ElementContext<'a> {
     params: &'a Parameters,
     /// Lumped mass (PARAM,COUPMASS ≠ 1).
     lumped: bool,
+    /// CQUAD4 incompatible modes (PARAM,QINCOMP).
+    incompatible: bool,
 }
 
 /// Element matrices of every element of `model` (in parallel when `parallel`), with their
@@ -93,7 +107,7 @@ pub fn element_matrices(model: &Model, frames: &GridFrames, params: &Parameters,
     let total = model.elements.len();
     let done = AtomicUsize::new(0);
     let step = (total / 100).max(1);
-    let ctx = ElementContext { model, frames, params, lumped: model.params.coupmass != 1 };
+    let ctx = ElementContext { model, frames, params, lumped: model.params.coupmass != 1, incompatible: model.params.qincomp };
     let one = |e: &Element| {
         let r = element(&ctx, e);
         let d = done.fetch_add(1, Ordering::Relaxed) + 1;
@@ -114,7 +128,10 @@ pub fn element_matrices(model: &Model, frames: &GridFrames, params: &Parameters,
         if let Some(s) = b.shell {
             out.shells.push((i, s));
         }
+        out.frozen_condensation.extend(b.frozen);
     }
+    out.frozen_condensation.sort_unstable();
+    out.frozen_condensation.dedup();
     Ok(out)
 }
 
@@ -381,6 +398,9 @@ fn shell_parts(input: &SectionInput, params: &Parameters) -> Result<ShellParts, 
     }
 }
 
+/// The PMPAR kinds that act on a shell's stiffness section (the others act on its mass).
+pub const SECTION_STIFFNESS: [PmparKind; 4] = [PmparKind::E, PmparKind::Nu, PmparKind::Theta, PmparKind::Tply];
+
 /// The split parts of one shell section and the entities their coefficients bind to.
 struct ShellParts {
     stiffness: Vec<(Coefficient, ShellSection)>,
@@ -425,14 +445,24 @@ fn shell_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<
     let ShellSections { centre, points, fibres } = shell_section(model, e, &card)?;
     let material_x = material_axis(model, e, xyz, card.orientation)?;
     let parts = shell_parts(&centre, ctx.params).map_err(|x| err(e, x))?;
-    let k = match points {
-        None => shell::affine_stiffness(xyz, &parts.stiffness, material_x),
+    // The deck's section(s), i.e. the parts at the nominal parameter values: the CQUAD4
+    // condenses its incompatible modes with them (shell module doc, "frozen condensation"),
+    // unless PARAM,QINCOMP,NO leaves the modes out.
+    let incompatible = ctx.incompatible && e.kind == ElementKind::Quad4;
+    let (k, condensation_frozen) = match points {
+        None => {
+            let nominal = if incompatible { Some(centre.full().map_err(|x| err(e, x))?) } else { None };
+            let frozen = nominal.as_ref().is_some_and(|n| shell::condensation_is_frozen(&parts.stiffness, n));
+            (shell::affine_stiffness(xyz, &parts.stiffness, nominal.as_ref().map_or(shell::Incompatible::Off, shell::Incompatible::Condensed), material_x), frozen)
+        }
         Some(points) => {
             let at = points.iter().map(|s| shell_parts(s, ctx.params).map(|p| p.stiffness)).collect::<Result<Vec<_>, _>>().map_err(|x| err(e, x))?;
-            shell::affine_stiffness_at_points(xyz, &at, material_x)
+            let nominal = if incompatible { Some(points.iter().map(SectionInput::full).collect::<Result<Vec<_>, _>>().map_err(|x| err(e, x))?) } else { None };
+            let frozen = nominal.as_ref().is_some_and(|n| at.iter().zip(n).any(|(parts, n)| shell::condensation_is_frozen(parts, n)));
+            (shell::affine_stiffness_at_points(xyz, &at, nominal.as_deref().map_or(shell::Incompatible::Off, shell::Incompatible::Condensed), material_x), frozen)
         }
-    }
-    .map_err(|x| err(e, x))?;
+    };
+    let k = k.map_err(|x| err(e, x))?;
     let m = shell::affine_mass(xyz, &parts.mass, ctx.lumped).map_err(|x| err(e, x))?;
     // split sections carry unit-parameter parts: only bound coefficients appear besides the
     // constant one, so frozen values are never needed here
@@ -441,6 +471,7 @@ fn shell_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<
         k: nonempty(&k).then(|| Contribution::from_affine(ctx.frames, &e.nodes, &k, bind(parts.stiffness_target, frozen))),
         m: nonempty(&m).then(|| Contribution::from_affine(ctx.frames, &e.nodes, &m, bind(parts.mass_target, frozen))),
         shell: Some(ShellRecovery { material_x, fibres }),
+        frozen: parts.stiffness_target.filter(|_| condensation_frozen),
     })
 }
 
@@ -498,6 +529,7 @@ fn solid_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<
         k: Some(Contribution::from_affine(frames, &e.nodes, &k, bind(binding, nominal))),
         m: (m.rho != 0.0 || binding.is_some()).then(|| Contribution::from_affine(frames, &e.nodes, &mass, bind(binding, nominal))),
         shell: None,
+        frozen: None,
     })
 }
 
@@ -538,7 +570,7 @@ fn spring_element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> 
     let spring = ScalarSpring::new(spring_end(model, e, ends[0])?, spring_end(model, e, ends[1])?).map_err(|x| err(e, x))?;
     let dofs = spring.dofs.iter().map(|d| DofMap::dof(d.grid, d.component)).collect();
     let nominal = CoefficientValues { lumped: k, ..Default::default() };
-    Ok(Built { k: Some(on_dofs(dofs, &spring.affine_stiffness(), bind(target, nominal))), m: None, shell: None })
+    Ok(Built { k: Some(on_dofs(dofs, &spring.affine_stiffness(), bind(target, nominal))), m: None, shell: None, frozen: None })
 }
 
 /// A CONM2; `PMPAR MASS` on it scales its whole mass matrix (eq. 3.25).
@@ -558,7 +590,7 @@ fn conm2_element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> {
     };
     let nominal = CoefficientValues { lumped: point.mass, ..Default::default() };
     let target = acted_on(ctx.params, ParamTarget::Conm2(e.id));
-    Ok(Built { k: None, m: Some(Contribution::from_affine(frames, &[node], &matrix, bind(target, nominal))), shell: None })
+    Ok(Built { k: None, m: Some(Contribution::from_affine(frames, &[node], &matrix, bind(target, nominal))), shell: None, frozen: None })
 }
 
 /// Element displacements (basic, 6 per grid, grid-major) from basic n×6 rows.

@@ -284,6 +284,13 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
             }
         }
         if let SubcaseResult::Prom(p) = &s.result {
+            if !p.frozen_condensation.is_empty() {
+                warnings.push(format!(
+                    "subcase {}: PMPAR {} change(s) by more than a scale the section of CQUAD4s whose incompatible membrane modes are condensed once with the deck's section (PARAM,QINCOMP,YES, the default; README \"Frozen condensation\"): the pROM is exact for that model, but differs from a deck rebuilt at parameter values far from the nominal ones (measured on a [±Θ]2s link: ~5e-4 in frequency 10° from nominal, ~1e-1 on single membrane modes 30° away); PARAM,QINCOMP,NO restores exact agreement at the cost of in-plane bending accuracy (the plain membrane is ≈ 1/(1−ν²) too stiff there)",
+                    s.id,
+                    p.frozen_condensation.join(", ")
+                ));
+            }
             if !p.log.converged {
                 let last = p.log.error_history.last().map_or("not measured".to_string(), |(size, e)| format!("{e:.2e} at size {size}"));
                 warnings.push(format!(
@@ -367,6 +374,9 @@ pub struct Structure {
     pub shells: Vec<(usize, elements::ShellRecovery)>,
     /// The PMPARs the affine parts are functions of.
     pub params: parameters::Parameters,
+    /// The PMPARs that freeze the condensation of a CQUAD4's incompatible modes at the deck's
+    /// section ([`elements::ElementMatrices::frozen_condensation`]).
+    pub frozen_condensation: Vec<String>,
 }
 
 impl Structure {
@@ -389,6 +399,7 @@ impl Structure {
         })?;
         // the element matrices are assembled: only the shells' recovery data stay
         let shells = elements.shells;
+        let frozen_condensation = params.names_on(&elements.frozen_condensation, &elements::SECTION_STIFFNESS);
         let (rigid, k_nn, m_nn, m_gg) = clock.time("rigid elimination g → n", || -> Result<_, RunError> {
             let rigid = RigidElimination::of_model(model, &frames, &map)?;
             if rigid.m_mask.iter().any(|&m| m) {
@@ -400,7 +411,7 @@ impl Structure {
                 Ok((rigid, k_gg, m_gg, None))
             }
         })?;
-        Ok(Structure { map, frames, rigid, k_nn, m_nn, m_gg, shells, params })
+        Ok(Structure { map, frames, rigid, k_nn, m_nn, m_gg, shells, params, frozen_condensation })
     }
 
     /// M_gg (GRAV loads): M_nn itself when the model has no dependent DOFs (n = g).

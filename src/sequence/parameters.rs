@@ -81,6 +81,11 @@ impl Parameters {
         self.targets.iter().zip(&self.kinds).filter(|(t, _)| **t == target).map(|(_, k)| *k).collect()
     }
 
+    /// The names of the PMPARs of one of `kinds` acting on one of `targets`, in card order.
+    pub fn names_on(&self, targets: &[ParamTarget], kinds: &[PmparKind]) -> Vec<String> {
+        self.list.iter().zip(self.targets.iter().zip(&self.kinds)).filter(|(_, (t, k))| targets.contains(t) && kinds.contains(k)).map(|(p, _)| p.name.clone()).collect()
+    }
+
     /// True when some PMPAR acts on `target`.
     pub fn acts_on(&self, target: ParamTarget) -> bool {
         self.targets.contains(&target)

@@ -41,6 +41,9 @@ pub struct PromSummary {
     /// SENSOR rows projected (DISP, VEL, ACCEL, STRAIN).
     pub sensors: usize,
     pub log: BuildLog,
+    /// The PMPARs whose CQUAD4 condensation is frozen at the deck's values
+    /// ([`Structure::frozen_condensation`]).
+    pub frozen_condensation: Vec<String>,
 }
 
 /// Runs the (single) PROM subcase.
@@ -103,6 +106,7 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
         inputs: names.len(),
         sensors: sensors.len(),
         log,
+        frozen_condensation: st.frozen_condensation.clone(),
     };
     Ok(vec![SubcaseSummary { id, autospc: c.autospc.names.clone(), result: SubcaseResult::Prom(summary) }])
 }
