@@ -45,8 +45,7 @@ fn main() -> Result<(), String> {
     let n = prom.size();
     let truth: Vec<f64> = prom.parameters.iter().map(|p| p.nominal).collect();
     let param = |name: &str| prom.parameters.iter().position(|p| p.name.eq_ignore_ascii_case(name)).ok_or(format!("{path}: no parameter {name}"));
-    let force = |t: f64| 5.0 * (2.0 * std::f64::consts::PI * 20.0 * t).sin();
-    let load = |t: f64, f: &mut [f64]| f.iter_mut().zip(&shape).for_each(|(f, s)| *f = force(t) * s);
+    let load = sine_load(&shape);
     let zeros = vec![0.0; n];
 
     // data: BDF1 of the truth pROM at its nominal parameters, every sensor, seeded noise
@@ -60,8 +59,7 @@ fn main() -> Result<(), String> {
         let mut noise = SplitMix64::new(1);
         let mut data: Vec<Vec<f64>> = Vec::new();
         let zeros = vec![0.0; model.size()];
-        let load = |t: f64, f: &mut [f64]| f.iter_mut().zip(&shape).for_each(|(f, s)| *f = force(t) * s);
-        integrate(sys, Method::Bdf1, DT, STEPS, &zeros, &zeros, load, |st| {
+        integrate(sys, Method::Bdf1, DT, STEPS, &zeros, &zeros, sine_load(&shape), |st| {
             let mut y = vec![0.0; sensors.len()];
             sensors.evaluate(st.q, st.v, st.a, &mut y);
             let sigma = |k: &str| if k == "ACCEL" { 1e-3 } else { 1e-7 };
@@ -164,6 +162,14 @@ fn main() -> Result<(), String> {
         println!("{name:<10} {delta:>10.0e} {p0:>10.0e} {speed:>12.0}  {}", errors.join(", "));
     }
     Ok(())
+}
+
+/// The known load f(t) = 5 N sin(2π 20 Hz t) on the reduced input shape `shape` (thesis Table 8.1).
+fn sine_load(shape: &[f64]) -> impl Fn(f64, &mut [f64]) + '_ {
+    move |t, f| {
+        let force = 5.0 * (2.0 * std::f64::consts::PI * 20.0 * t).sin();
+        f.iter_mut().zip(shape).for_each(|(f, s)| *f = force * s);
+    }
 }
 
 /// The pROM of `path`, its sensor rows and the reduced shape of input [`INPUT`].
