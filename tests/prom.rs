@@ -320,6 +320,17 @@ fn prom_transient_equals_the_analytic_two_dof_step_response() {
     }
 }
 
+/// The aluminium / steel [`two_material_plate`] with the PMPAR cards `pmpar`: its parameters,
+/// affine K and M, and `count` Latin-hypercube samples of the parameter box (`seed`).
+fn two_material_samples(pmpar: &str, count: usize, seed: u64) -> (paraflex::sequence::parameters::Parameters, paraflex::assembly::AffineOperator, paraflex::assembly::AffineOperator, Vec<Vec<f64>>) {
+    let property = "PSHELL,1,1,0.002\nPSHELL,2,2,0.002\nMAT1,1,7.e10,,0.33,2700.\nMAT1,2,2.1e11,,0.3,7850.\n";
+    let (params, k, m) = common::affine_operators(&format!("{}{pmpar}", two_material_plate(property)));
+    let low: Vec<f64> = params.list.iter().map(|p| p.low).collect();
+    let high: Vec<f64> = params.list.iter().map(|p| p.high).collect();
+    let samples = paraflex::rom::basis::latin_hypercube(count, &low, &high, seed);
+    (params, k, m, samples)
+}
+
 /// [`plate`] with the elements of its right half (x > 0.15) on PID 2 instead of 1.
 fn two_material_plate(property: &str) -> String {
     let nx = 12;
@@ -413,12 +424,8 @@ fn write_matrix_market(path: &std::path::Path, a: &nalgebra_sparse::CscMatrix<f6
 /// the CLI (exit code 2).
 #[test]
 fn least_squares_components_of_exported_samples_equal_the_assembled_ones() {
-    let property = "PSHELL,1,1,0.002\nPSHELL,2,2,0.002\nMAT1,1,7.e10,,0.33,2700.\nMAT1,2,2.1e11,,0.3,7850.\n";
-    let pmpar = "PMPAR,1,E1,E,1,5.e10,9.e10\nPMPAR,2,RHO1,RHO,1,2000.,3400.\nPMPAR,3,E2,E,2,1.5e11,2.7e11\n";
-    let (params, k, m) = common::affine_operators(&format!("{}{pmpar}", two_material_plate(property)));
-    let low: Vec<f64> = params.list.iter().map(|p| p.low).collect();
+    let (params, k, m, samples) = two_material_samples("PMPAR,1,E1,E,1,5.e10,9.e10\nPMPAR,2,RHO1,RHO,1,2000.,3400.\nPMPAR,3,E2,E,2,1.5e11,2.7e11\n", 7, 3);
     let high: Vec<f64> = params.list.iter().map(|p| p.high).collect();
-    let samples = paraflex::rom::basis::latin_hypercube(7, &low, &high, 3);
     let dir = tempfile::tempdir().expect("temp dir");
     let mut manifest = String::from("# two-material plate, E1 RHO1 E2\nK, M, 1, E1, RHO1, E2\n");
     let at = |op: &paraflex::assembly::AffineOperator, p: &[f64]| op.evaluate(&params.weights(op, p)).expect("evaluate");
@@ -574,12 +581,7 @@ fn prom_transient_strain_sensors_settle_on_the_static_strain() {
 #[test]
 fn least_squares_components_from_hdf5_samples_equal_the_matrix_market_ones() {
     use hdf5_metno::types::VarLenUnicode;
-    let property = "PSHELL,1,1,0.002\nPSHELL,2,2,0.002\nMAT1,1,7.e10,,0.33,2700.\nMAT1,2,2.1e11,,0.3,7850.\n";
-    let pmpar = "PMPAR,1,E1,E,1,5.e10,9.e10\nPMPAR,2,RHO1,RHO,1,2000.,3400.\n";
-    let (params, k, m) = common::affine_operators(&format!("{}{pmpar}", two_material_plate(property)));
-    let low: Vec<f64> = params.list.iter().map(|p| p.low).collect();
-    let high: Vec<f64> = params.list.iter().map(|p| p.high).collect();
-    let samples = paraflex::rom::basis::latin_hypercube(4, &low, &high, 5);
+    let (params, k, m, samples) = two_material_samples("PMPAR,1,E1,E,1,5.e10,9.e10\nPMPAR,2,RHO1,RHO,1,2000.,3400.\n", 4, 5);
     let dir = tempfile::tempdir().expect("temp dir");
     let at = |op: &paraflex::assembly::AffineOperator, p: &[f64]| op.evaluate(&params.weights(op, p)).expect("evaluate");
     let mut manifest = String::from("K, M, 1, E1, RHO1\n");
