@@ -13,7 +13,13 @@
 //! M ∝ ρ: thesis §3.4.2) and of any pROM without estimated parameters; it is not the case of
 //! two materials or of E entering through separate Lamé parts λ, μ (each part on its own is not
 //! diagonal), where the filter keeps the physical coordinates.
-
+//!
+//! **Coupled parts** ([`modal_form`] with `coupled`): a changing part that is not diagonal (E of
+//! the bolted blade besides its constant bolt springs) keeps its off-diagonal Ã − diag(Ã).
+//! At p₀ the parts sum to the diagonal Λ, so the off-diagonal of Ã(p) = Σ f_i(p) Ã_i is
+//! Σ (f_i(p) − f_i(p₀)) (Ã_i − diag Ã_i), small while the estimate stays near p₀ (the constant
+//! part's off-diagonal cancels the changing parts' at p₀ up to the eigensolver's round-off and is
+//! dropped). The filter then re-computes the modes when the weights have drifted.
 use faer::Mat;
 
 use crate::linalg::dense::generalized_eigen;
@@ -35,14 +41,37 @@ pub struct ModalForm {
     /// Diagonal parts: the affine function (None: the constant sum of the parts no estimated
     /// parameter changes), diag(Φᵀ K_i Φ), diag(Φᵀ M_i Φ).
     pub parts: Vec<(Option<usize>, Vec<f64>, Vec<f64>)>,
-    /// Largest coupling ratio found above round-off (≤ [`DIAGONAL_TOLERANCE`]).
+    /// Largest coupling ratio found above round-off (≤ [`DIAGONAL_TOLERANCE`] unless
+    /// `couplings` holds the parts above it).
     pub coupling: f64,
+    /// Changing parts that are not diagonal: their off-diagonal parts.
+    pub couplings: Vec<Coupling>,
+}
+
+/// A changing pROM part that is not diagonal in the modes (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct Coupling {
+    /// The pROM component (index of its affine function).
+    pub function: usize,
+    /// Its weight f_i(p₀) at the parameters of the modes.
+    pub reference: f64,
+    /// Φᵀ K_i Φ and Φᵀ M_i Φ without their diagonals (n × n; `None`: that one is diagonal).
+    pub stiffness: Option<Mat<f64>>,
+    pub mass: Option<Mat<f64>>,
+}
+
+impl Coupling {
+    /// |f_i(p) − f_i(p₀)| / |f_i(p₀)|: how far the part's weight has moved from the modes'.
+    pub fn drift(&self, weight: f64) -> f64 {
+        (weight - self.reference).abs() / self.reference.abs().max(f64::MIN_POSITIVE)
+    }
 }
 
 /// The modal form of `prom` for the estimated parameters `unknown` from `p`, or `None` when a
-/// part that changes is not diagonal in the modes (or the modes cannot be computed: the
-/// physical path then reports the problem).
-pub fn modal_form(prom: &Prom, p: &[f64], unknown: &[usize]) -> Option<ModalForm> {
+/// part that changes is not diagonal in the modes and `coupled` is false (or the modes cannot be
+/// computed: the physical path then reports the problem). With `coupled`, such parts are kept
+/// as [`Coupling`]s.
+pub fn modal_form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool) -> Option<ModalForm> {
     let mut at = prom.workspace();
     prom.evaluate(p, &mut at).ok()?;
     let (_, basis) = generalized_eigen(at.stiffness(), at.mass()).ok()?;
@@ -59,26 +88,44 @@ pub fn modal_form(prom: &Prom, p: &[f64], unknown: &[usize]) -> Option<ModalForm
             m_fixed += &prom.mass[i] * w;
         }
     }
-    let mut coupling = 0.0_f64;
-    let mut diagonal = |a: &Mat<f64>| -> Option<Vec<f64>> {
-        let t = basis.transpose() * a * &basis;
+    // Φᵀ A Φ, its diagonal and, when it couples, itself with the diagonal zeroed
+    let transform = |a: &Mat<f64>| -> (Vec<f64>, f64, Mat<f64>) {
+        let mut t = basis.transpose() * a * &basis;
         let roundoff = n as f64 * f64::EPSILON * t.norm_max();
+        let mut coupling = 0.0_f64;
         for j in 0..n {
             for i in 0..n {
                 let (off, scale) = (t[(i, j)].abs(), (t[(i, i)] * t[(j, j)]).abs().sqrt());
                 if i != j && off > roundoff {
-                    let ratio = if scale > 0.0 { off / scale } else { f64::INFINITY };
-                    coupling = coupling.max(ratio);
+                    coupling = coupling.max(if scale > 0.0 { off / scale } else { f64::INFINITY });
                 }
             }
         }
-        (coupling <= DIAGONAL_TOLERANCE).then(|| (0..n).map(|i| t[(i, i)]).collect())
+        let diagonal = (0..n).map(|i| t[(i, i)]).collect();
+        (0..n).for_each(|i| t[(i, i)] = 0.0);
+        (diagonal, coupling, t)
     };
-    let mut parts = vec![(None, diagonal(&k_fixed)?, diagonal(&m_fixed)?)];
-    for i in varying {
-        parts.push((Some(i), diagonal(&prom.stiffness[i])?, diagonal(&prom.mass[i])?));
+    let mut coupling = 0.0_f64;
+    let mut parts = Vec::new();
+    let mut couplings = Vec::new();
+    for (function, k, m) in std::iter::once((None, &k_fixed, &m_fixed)).chain(varying.iter().map(|&i| (Some(i), &prom.stiffness[i], &prom.mass[i]))) {
+        let ((k_diag, k_coupling, k_off), (m_diag, m_coupling, m_off)) = (transform(k), transform(m));
+        coupling = coupling.max(k_coupling).max(m_coupling);
+        let off = |c: f64, t: Mat<f64>| (c > DIAGONAL_TOLERANCE).then_some(t);
+        let (stiffness, mass) = (off(k_coupling, k_off), off(m_coupling, m_off));
+        match function {
+            Some(i) if stiffness.is_some() || mass.is_some() => {
+                if !coupled {
+                    return None;
+                }
+                couplings.push(Coupling { function: i, reference: prom.functions[i].value(p), stiffness, mass });
+            }
+            None if (stiffness.is_some() || mass.is_some()) && !coupled => return None,
+            _ => {}
+        }
+        parts.push((function, k_diag, m_diag));
     }
-    Some(ModalForm { basis, inverse, parts, coupling })
+    Some(ModalForm { basis, inverse, parts, coupling, couplings })
 }
 
 #[cfg(test)]
@@ -92,15 +139,47 @@ mod tests {
     #[test]
     fn one_material_is_diagonal_and_a_second_spring_is_not() {
         let two = chain();
-        assert!(modal_form(&two, &[1.2, 0.9], &[0, 1]).is_none());
-        assert!(modal_form(&two, &[1.2, 0.9], &[1]).is_some(), "ρ alone scales all of M");
-        assert!(modal_form(&two, &[1.2, 0.9], &[]).is_some());
+        assert!(modal_form(&two, &[1.2, 0.9], &[0, 1], false).is_none());
+        assert!(modal_form(&two, &[1.2, 0.9], &[1], false).is_some(), "ρ alone scales all of M");
+        assert!(modal_form(&two, &[1.2, 0.9], &[], false).is_some());
         let mut one = chain();
         one.stiffness[0].fill(0.0);
-        let form = modal_form(&one, &[1.2, 0.9], &[0, 1]).unwrap();
-        assert!(form.coupling <= 1e-13, "{}", form.coupling);
+        let form = modal_form(&one, &[1.2, 0.9], &[0, 1], false).unwrap();
+        assert!(form.coupling <= 1e-13 && form.couplings.is_empty(), "{}", form.coupling);
         // Φ⁻¹ Φ = I
         let eye = &form.inverse * &form.basis;
         assert!((0..2).all(|i| (0..2).all(|j| (eye[(i, j)] - if i == j { 1.0 } else { 0.0 }).abs() <= 1e-13)));
+    }
+
+    /// With `coupled`, the bolted-chain E part (beside its constant grounded spring) is kept as
+    /// a coupling, ρ's part (all of M) stays diagonal, and the form reproduces Φᵀ K(p) Φ and
+    /// Φᵀ M(p) Φ away from p₀ as diagonal parts + Σ (f_i(p) − f_i(p₀)) off-diagonals: exact up to
+    /// the round-off of the modes (the dropped constant off-diagonal), bound 1e-12 of max |Ã|.
+    #[test]
+    fn coupled_parts_reproduce_the_transformed_matrices_away_from_the_modes_parameters() {
+        let prom = chain();
+        let p0 = [1.2, 0.9];
+        let form = modal_form(&prom, &p0, &[0, 1], true).expect("coupled form");
+        assert_eq!(form.couplings.len(), 1);
+        let c = &form.couplings[0];
+        assert!(c.stiffness.is_some() && c.mass.is_none() && prom.functions[c.function].driven_by[0].1 == 0);
+        let p = [1.5, 0.7];
+        let mut at = prom.workspace();
+        prom.evaluate(&p, &mut at).unwrap();
+        for (which, exact) in [("K", at.stiffness()), ("M", at.mass())] {
+            let exact = form.basis.transpose() * exact * &form.basis;
+            let mut model = Mat::<f64>::zeros(2, 2);
+            for (function, k, m) in &form.parts {
+                let w = function.map_or(1.0, |i| prom.functions[i].value(&p));
+                (0..2).for_each(|i| model[(i, i)] += w * if which == "K" { k[i] } else { m[i] });
+            }
+            for c in &form.couplings {
+                if let Some(off) = if which == "K" { &c.stiffness } else { &c.mass } {
+                    model += off * faer::Scale(prom.functions[c.function].value(&p) - c.reference);
+                }
+            }
+            let scale = exact.norm_max();
+            assert!((&exact - &model).norm_max() <= 1e-12 * scale, "{which}: {:e}", (&exact - &model).norm_max());
+        }
     }
 }
