@@ -36,6 +36,27 @@
 //! [`Filter::acceleration`], [`Filter::variance`] and [`Filter::covariance`] map back to q.
 //! [`Coordinates::Physical`] keeps the physical path (and every other pROM uses it).
 //!
+//! **Re-diagonalized modal coordinates** ([`Coordinates::Rediagonalized`], EKF field REDIAG).
+//! When a part the estimate changes is not diagonal in any modes (E of the bolted blade beside
+//! its constant bolt springs), the filter still runs on the modes Φ of the estimate p₀ at which
+//! they were last computed. K̃(p) and M̃(p) are then their diagonals plus the off-diagonal
+//! couplings Σ (f_i(p) − f_i(p₀)) (Ã_i − diag Ã_i) ([`super::modal`]), which vanish at p₀:
+//! - the **mean** stays exact: products use the full K̃, C̃, M̃, and solves with S̃ or M̃ iterate
+//!   x ← diag⁻¹ (b − off x) (Jacobi) to 4 ε. For a semi-definite part and its semi-definite
+//!   remainder the iteration contracts by about the relative drift |f_i(p) − f_i(p₀)| / |f_i(p₀)|
+//!   per step (the scaled coupling D^{-½} f_i Ã_i D^{-½} has eigenvalues in [0, 1]); if it has not
+//!   converged after [`JACOBI_ITERATIONS`] the solve falls back to a dense LU (allocating) and
+//!   the next refresh re-diagonalizes;
+//! - the **Jacobian** takes its q and q̇ blocks from the diagonals of S̃, K̃, M̃ (J_v's input and
+//!   parameter columns use the exact D but the diagonal of S̃): an error proportional to the drift
+//!   in the covariance propagation only, which the EKF absorbs like any linearization error;
+//! - when the largest drift exceeds the tolerance τ (or a solve stalled), the modes are
+//!   recomputed at the current estimate and x*, P, S_un, the sensor rows and Q's blocks are
+//!   transformed exactly (T P Tᵀ with T = diag(Φ₂⁻¹ Φ₁, Φ₂⁻¹ Φ₁, I, I); N³ and an n × n
+//!   eigenproblem, a few hundred µs, while the estimate converges and rarely after).
+//! With τ below every change of the estimate the filter re-diagonalizes every step and is the
+//! physical EKF under a change of state (test `rediagonalized_coordinates_follow_the_physical_path`).
+//!
 //! A step allocates nothing: every product, factor and right-hand side lives in buffers sized
 //! at construction, the Cholesky factors are computed in place, and everything runs on the
 //! calling thread (the systems are a few dozen DOFs: a thread hand-off costs more than it saves).
@@ -164,6 +185,8 @@ struct Scratch {
     w: Mat<f64>,
     sy: Mat<f64>,
     sy_factor: Mat<f64>,
+    /// The transposed q block of Gᵀ and H̄ (n × 2n) for [`propagate`].
+    mirror: Mat<f64>,
     /// Workspace of the in-place Cholesky factorizations.
     mem: MemBuffer,
 }
@@ -575,20 +598,33 @@ impl Model {
 /// q and q̇ rows of the w columns are their mirror. Every entry is computed from expressions
 /// symmetric in its two indices (H through H̄ = (H + Hᵀ)/2), so a symmetric P stays exactly
 /// symmetric.
+///
+/// `mirror` (n × 2n) receives the transposed q block of Gᵀ and H̄ first, so that the main loop
+/// reads and writes whole columns only.
 #[inline(always)]
-fn propagate(p: &mut Mat<f64>, gt: &Mat<f64>, h: &Mat<f64>, dt: f64) {
+fn propagate(p: &mut Mat<f64>, gt: &Mat<f64>, h: &Mat<f64>, mirror: &mut Mat<f64>, dt: f64) {
     let (n, big_n) = (h.nrows(), p.nrows());
-    assert!(p.ncols() == big_n && gt.nrows() == big_n && gt.ncols() == n && h.ncols() == n, "propagate: shapes");
+    assert!(p.ncols() == big_n && gt.nrows() == big_n && gt.ncols() == n && h.ncols() == n && mirror.nrows() == n && mirror.ncols() == 2 * n, "propagate: shapes");
     let ((g, gs), (h, hs)) = (storage(gt), storage(h));
-    let (p, ps) = storage_mut(p);
+    let (mirror, ms) = storage_mut(mirror);
     for j in 0..n {
         for i in 0..n {
-            let h_sym = 0.5 * (h[i + j * hs] + h[j + i * hs]);
-            let (g_ij, g_ji) = (g[i + j * gs], g[j + i * gs]);
-            p[i + j * ps] += dt * (g_ij + g_ji) + dt * dt * h_sym;
-            p[n + i + j * ps] = g_ji + dt * h_sym;
-            p[i + (n + j) * ps] = g_ij + dt * h_sym;
-            p[n + i + (n + j) * ps] = h_sym;
+            mirror[i + j * ms] = g[j + i * gs];
+            mirror[i + (n + j) * ms] = 0.5 * (h[i + j * hs] + h[j + i * hs]);
+        }
+    }
+    let (p, ps) = storage_mut(p);
+    for j in 0..n {
+        let (g_j, g_t, h_j) = (&g[j * gs..j * gs + n], &mirror[j * ms..j * ms + n], &mirror[(n + j) * ms..(n + j) * ms + n]);
+        let (left, right) = p.split_at_mut((n + j) * ps);
+        let (pq, pv) = left[j * ps..j * ps + 2 * n].split_at_mut(n);
+        let (pqv, pvv) = right[..2 * n].split_at_mut(n);
+        for i in 0..n {
+            let (g_ij, g_ji, h_sym) = (g_j[i], g_t[i], h_j[i]);
+            pq[i] += dt * (g_ij + g_ji) + dt * dt * h_sym;
+            pv[i] = g_ji + dt * h_sym;
+            pqv[i] = g_ij + dt * h_sym;
+            pvv[i] = h_sym;
         }
         for k in 2 * n..big_n {
             let g_kj = g[k + j * gs];
@@ -720,6 +756,7 @@ impl Filter {
             w: Mat::zeros(big_n, m),
             sy: Mat::zeros(m, m),
             sy_factor: Mat::zeros(m, m),
+            mirror: Mat::zeros(n, 2 * n),
             mem: MemBuffer::new(cholesky_in_place_scratch::<f64>(n.max(m), Par::Seq, Default::default())),
         };
         let mut filter = Filter {
@@ -1002,10 +1039,10 @@ impl Filter {
             self.jv_valid = true;
         }
         // P⁻ = J P Jᵀ + Q (eq. 8.24)
-        let (model, p, gt, h) = (&self.model, &mut self.p, &mut self.gt, &mut self.h);
+        let (model, p, gt, h, mirror) = (&self.model, &mut self.p, &mut self.gt, &mut self.h, &mut self.scratch.mirror);
         vectorized(#[inline(always)] || {
             model.transition_products(p, gt, h);
-            propagate(p, gt, h, dt);
+            propagate(p, gt, h, mirror, dt);
         });
         self.add_noise();
         Ok(())
@@ -1049,13 +1086,14 @@ impl Filter {
         let ((p, ps), (jm, js)) = (storage(&self.p), storage(&self.jm));
         let big_n = self.p.nrows();
         vectorized(#[inline(always)] || {
-            for k in 0..m {
-                let u = sc.pht.col_as_slice_mut(k);
-                u.fill(0.0);
-                for c in 0..big_n {
+            let (u, us) = storage_mut(&mut sc.pht);
+            u.fill(0.0);
+            for c in 0..big_n {
+                let column = &p[c * ps..c * ps + big_n];
+                for k in 0..m {
                     let a = jm[k + c * js];
                     if a != 0.0 {
-                        axpy(u, a, &p[c * ps..c * ps + big_n]);
+                        axpy(&mut u[k * us..k * us + big_n], a, column);
                     }
                 }
             }
@@ -1083,12 +1121,24 @@ impl Filter {
         let ((gain, gs), (w, ws)) = (storage(&sc.gain), storage(&sc.w));
         let (p, ps) = storage_mut(&mut self.p);
         vectorized(#[inline(always)] || {
+            // two sensors per pass over the column (one load and store of P per pair): the same
+            // sums in the same order as one pass per sensor
+            let (gain_of, w_of) = (|k: usize| &gain[k * gs..k * gs + big_n], |k: usize| &w[k * ws..k * ws + big_n]);
             for j in 0..big_n {
                 let col = &mut p[j * ps..j * ps + big_n];
-                for k in 0..m {
-                    let (gain_k, w_k) = (&gain[k * gs..k * gs + big_n], &w[k * ws..k * ws + big_n]);
-                    let (w_j, gain_j) = (w_k[j], gain_k[j]);
-                    col.iter_mut().zip(gain_k.iter().zip(w_k)).for_each(|(p, (g, w))| *p += g * w_j + w * gain_j);
+                let mut k = 0;
+                while k + 1 < m {
+                    let (g0, w0, g1, w1) = (gain_of(k), w_of(k), gain_of(k + 1), w_of(k + 1));
+                    let (a0, b0, a1, b1) = (w0[j], g0[j], w1[j], g1[j]);
+                    for i in 0..big_n {
+                        col[i] = (col[i] + (g0[i] * a0 + w0[i] * b0)) + (g1[i] * a1 + w1[i] * b1);
+                    }
+                    k += 2;
+                }
+                if k < m {
+                    let (g0, w0) = (gain_of(k), w_of(k));
+                    let (a0, b0) = (w0[j], g0[j]);
+                    col.iter_mut().zip(g0.iter().zip(w0)).for_each(|(p, (g, w))| *p += g * a0 + w * b0);
                 }
             }
         });
@@ -1220,9 +1270,21 @@ fn axpy(y: &mut [f64], a: f64, x: &[f64]) {
     y.iter_mut().zip(x).for_each(|(y, x)| *y += a * x);
 }
 
+/// a · b with four interleaved partial sums (a strict left-to-right sum is one dependent
+/// chain of additions and cannot use vector lanes).
 #[inline(always)]
 fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(a, b)| a * b).sum()
+    let len = a.len().min(b.len());
+    let (a, b) = (&a[..len], &b[..len]);
+    let mut partial = [0.0; 4];
+    let (chunks_a, chunks_b) = (a.chunks_exact(4), b.chunks_exact(4));
+    let tail: f64 = chunks_a.remainder().iter().zip(chunks_b.remainder()).map(|(a, b)| a * b).sum();
+    for (x, y) in chunks_a.zip(chunks_b) {
+        for l in 0..4 {
+            partial[l] += x[l] * y[l];
+        }
+    }
+    (partial[0] + partial[1]) + (partial[2] + partial[3]) + tail
 }
 
 /// D (n × n_p): D_j = ∂K/∂p_j (q + β q̇) + ∂M/∂p_j (q̈ + α q̇) = ∂K/∂p_j q + ∂C/∂p_j q̇ +

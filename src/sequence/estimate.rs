@@ -26,8 +26,9 @@
 //! posterior; attributes `measured`, and `aae`, `mra` when the CSV has a reference);
 //! `innovation/<name>` (t, measured sensors); `error_table` (rows × 3: min, avg, max relative
 //! error in % over the last 20 % of the window, attribute `rows`); attributes `rom`,
-//! `observability`, `forced`, `steps_per_second`, `coordinates` (`modal` or `physical`: the
-//! filter's coordinates, [`crate::estimate::filter`]).
+//! `observability`, `forced`, `steps_per_second`, `coordinates` (`modal`, `rediagonalized` —
+//! EKF REDIAG, with `rediagonalizations`, the number of times the modes were recomputed — or
+//! `physical`: the filter's coordinates, [`crate::estimate::filter`]).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -177,7 +178,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         p0_state: ekf.p0_state,
         p0_inputs: unknown_inputs.iter().map(|(_, _, u)| u.amplitude * u.amplitude).collect(),
         p0_params: unknown_params.iter().map(|(_, par)| par.p0).collect(),
-        coordinates: Coordinates::Auto,
+        coordinates: ekf.rediagonalize.map_or(Coordinates::Auto, Coordinates::Rediagonalized),
         prom: prom.clone(),
     };
     let mut at = prom.workspace();
@@ -314,7 +315,15 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     set_attr_i64(&group, "forced", i64::from(!verdict.observable()))?;
     let steps_per_second = steps as f64 / elapsed.max(f64::MIN_POSITIVE);
     set_attr_f64(&group, "steps_per_second", steps_per_second)?;
-    set_attr_str(&group, "coordinates", if filter.modal() { "modal" } else { "physical" })?;
+    let coordinates = match (filter.modal(), filter.rediagonalizations()) {
+        (false, _) => "physical",
+        (true, None) => "modal",
+        (true, Some(count)) => {
+            set_attr_i64(&group, "rediagonalizations", i64::try_from(count).unwrap_or(i64::MAX))?;
+            "rediagonalized"
+        }
+    };
+    set_attr_str(&group, "coordinates", coordinates)?;
     let params = (0..np).map(|c| (pnames[c].clone(), params_hist[c][steps - 1], params_sigma[c][steps - 1])).collect();
     let summary = EstimateSummary {
         rom: path,

@@ -6,6 +6,7 @@ use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::{Column, FieldReader};
 use crate::deck::value::Value;
+use crate::estimate::MAX_REDIAGONALIZATION_TOLERANCE;
 
 /// `EKF` — filter settings, selected by case control `ESTIM = id`.
 ///
@@ -15,12 +16,14 @@ use crate::deck::value::Value;
 /// | 3 | QSTATE | real > 0 | machine ε | diagonal of Q for q and q̇ (thesis §8.5.2: Q_q = Q_q̇ = εI) |
 /// | 4 | P0STATE | real > 0 | 1.0E-20 | initial variance of q and q̇ |
 /// | 5 | FORCE | `YES` `NO` | NO | run even when the observability check fails |
+/// | 6 | REDIAG | real in (0, 0.1] | blank | re-diagonalized modal coordinates with this drift tolerance when the estimated parameters change a pROM part that no modes diagonalize (blank: exact coordinates, the pROM's own when modal ones do not apply; paraflex-specific) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ekf {
     pub id: u32,
     pub q_state: f64,
     pub p0_state: f64,
     pub force: bool,
+    pub rediagonalize: Option<f64>,
     pub loc: Loc,
 }
 
@@ -33,9 +36,13 @@ impl Ekf {
         let q_state = optional_positive(&mut f, 2, "QSTATE", f64::EPSILON);
         let p0_state = optional_positive(&mut f, 3, "P0STATE", 1.0e-20);
         let force = f.keyword(4, "FORCE", &["YES", "NO"], Some("NO")) == "YES";
+        let rediagonalize = f.opt_real(5, "REDIAG");
+        if let Some(t) = rediagonalize.filter(|t| !(*t > 0.0 && *t <= MAX_REDIAGONALIZATION_TOLERANCE)) {
+            f.error(5, "REDIAG", format!("expected a real in (0, {MAX_REDIAGONALIZATION_TOLERANCE}], found {t:e}"));
+        }
         let loc = f.loc();
-        f.finish(4)?;
-        Ok(Ekf { id, q_state, p0_state, force, loc })
+        f.finish(5)?;
+        Ok(Ekf { id, q_state, p0_state, force, rediagonalize, loc })
     }
 }
 
@@ -213,9 +220,9 @@ mod tests {
     #[test]
     fn cards_read_with_defaults() {
         let e = Ekf::from_card(&card("EKF,3")).unwrap();
-        assert_eq!((e.id, e.q_state, e.p0_state, e.force), (3, f64::EPSILON, 1e-20, false));
-        let e = Ekf::from_card(&card("EKF,3,1.e-12,1.e-10,YES")).unwrap();
-        assert_eq!((e.q_state, e.p0_state, e.force), (1e-12, 1e-10, true));
+        assert_eq!((e.id, e.q_state, e.p0_state, e.force, e.rediagonalize), (3, f64::EPSILON, 1e-20, false, None));
+        let e = Ekf::from_card(&card("EKF,3,1.e-12,1.e-10,YES,1.e-2")).unwrap();
+        assert_eq!((e.q_state, e.p0_state, e.force, e.rediagonalize), (1e-12, 1e-10, true, Some(1e-2)));
         let p = Ekfpar::from_card(&card("EKFPAR,3,e,2.5e11,1.e-3")).unwrap();
         assert_eq!((p.name.as_str(), p.init, p.delta, p.p0), ("E", 2.5e11, 1e-3, 2.5e11 * 2.5e11));
         let u = Ekfinp::from_card(&card("EKFINP,3,12,3,80.,5.")).unwrap();
@@ -229,8 +236,9 @@ mod tests {
     /// Every bad field is reported, each naming its field.
     #[test]
     fn every_bad_field_is_reported() {
-        let errors = Ekf::from_card(&card("EKF,3,-1.,0.,MAYBE")).unwrap_err();
-        assert_eq!(errors.len(), 3, "{errors:?}");
+        let errors = Ekf::from_card(&card("EKF,3,-1.,0.,MAYBE,0.5")).unwrap_err();
+        assert_eq!(errors.len(), 4, "{errors:?}");
+        assert!(errors.iter().any(|e| e.to_string().contains("REDIAG")), "{errors:?}");
         let errors = Ekfpar::from_card(&card("EKFPAR,3,E,0.,-1.,-2.")).unwrap_err();
         let text: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
         assert_eq!(errors.len(), 3, "{text:?}");
