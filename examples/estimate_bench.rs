@@ -1,7 +1,8 @@
 //! Speed of the augmented EKF (issue 7 item 6) on a pROM artifact with sensors, e.g. the blade
-//! pROM of decks/estimate/blade_prom_sensors.dat: filter steps per second in the physical and in
-//! the modal coordinates ([`paraflex::estimate::filter`]), and the estimation error for a few
-//! covariance settings (thesis §8.5.2, eq. 8.30–8.31).
+//! pROM of decks/estimate/blade_prom_sensors.dat: filter steps per second in the physical, the
+//! modal and — where the modes do not diagonalize the pROM — the re-diagonalized modal
+//! coordinates with τ = 1e-2 and 1e-3 ([`paraflex::estimate::filter`]), and the estimation error
+//! for a few covariance settings (thesis §8.5.2, eq. 8.30–8.31).
 //!
 //!     cargo run --release --example estimate_bench -- blade_prom.h5 [REPEATS] [TRUTH.h5]
 //!
