@@ -77,8 +77,11 @@ pub struct EstimateSummary {
     pub hidden_modes: Vec<(usize, f64)>,
     pub extrapolated: Vec<String>,
     pub steps_per_second: f64,
-    /// The filter ran in modal coordinates ([`crate::estimate::filter`]).
-    pub modal: bool,
+    /// The filter's coordinates ([`crate::estimate::filter`]): `modal`, `rediagonalized` or
+    /// `physical`, as the HDF5 attribute `coordinates`.
+    pub coordinates: &'static str,
+    /// How many times re-diagonalized coordinates recomputed their modes.
+    pub rediagonalizations: Option<usize>,
 }
 
 /// Runs every subcase.
@@ -336,7 +339,8 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         hidden_modes: verdict.hidden_modes,
         extrapolated,
         steps_per_second,
-        modal: filter.modal(),
+        coordinates,
+        rediagonalizations: filter.rediagonalizations(),
     };
     Ok(SubcaseSummary { id, autospc: Vec::new(), result: SubcaseResult::Estimate(summary) })
 }
