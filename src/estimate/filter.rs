@@ -600,9 +600,10 @@ impl Model {
 /// symmetric.
 ///
 /// `mirror` (n × 2n) receives the transposed q block of Gᵀ and H̄ first, so that the main loop
-/// reads and writes whole columns only.
+/// reads and writes whole columns only. `noise` = (G, q) adds the q and q̇ blocks q G of Q in
+/// the same pass (modal coordinates: G = Φ⁻¹ Φ⁻ᵀ, exactly symmetric).
 #[inline(always)]
-fn propagate(p: &mut Mat<f64>, gt: &Mat<f64>, h: &Mat<f64>, mirror: &mut Mat<f64>, dt: f64) {
+fn propagate(p: &mut Mat<f64>, gt: &Mat<f64>, h: &Mat<f64>, mirror: &mut Mat<f64>, noise: Option<(&Mat<f64>, f64)>, dt: f64) {
     let (n, big_n) = (h.nrows(), p.nrows());
     assert!(p.ncols() == big_n && gt.nrows() == big_n && gt.ncols() == n && h.ncols() == n && mirror.nrows() == n && mirror.ncols() == 2 * n, "propagate: shapes");
     let ((g, gs), (h, hs)) = (storage(gt), storage(h));
@@ -619,12 +620,25 @@ fn propagate(p: &mut Mat<f64>, gt: &Mat<f64>, h: &Mat<f64>, mirror: &mut Mat<f64
         let (left, right) = p.split_at_mut((n + j) * ps);
         let (pq, pv) = left[j * ps..j * ps + 2 * n].split_at_mut(n);
         let (pqv, pvv) = right[..2 * n].split_at_mut(n);
-        for i in 0..n {
-            let (g_ij, g_ji, h_sym) = (g_j[i], g_t[i], h_j[i]);
-            pq[i] += dt * (g_ij + g_ji) + dt * dt * h_sym;
-            pv[i] = g_ji + dt * h_sym;
-            pqv[i] = g_ij + dt * h_sym;
-            pvv[i] = h_sym;
+        let blocks = pq.iter_mut().zip(pv.iter_mut()).zip(pqv.iter_mut().zip(pvv.iter_mut()));
+        let sources = g_j.iter().zip(g_t).zip(h_j);
+        match noise {
+            Some((gram, q)) => {
+                for (((pq, pv), (pqv, pvv)), (((g_ij, g_ji), h_sym), gram)) in blocks.zip(sources.zip(gram.col_as_slice(j))) {
+                    *pq = (*pq + (dt * (g_ij + g_ji) + dt * dt * h_sym)) + q * gram;
+                    *pv = g_ji + dt * h_sym;
+                    *pqv = g_ij + dt * h_sym;
+                    *pvv = h_sym + q * gram;
+                }
+            }
+            None => {
+                for (((pq, pv), (pqv, pvv)), ((g_ij, g_ji), h_sym)) in blocks.zip(sources) {
+                    *pq += dt * (g_ij + g_ji) + dt * dt * h_sym;
+                    *pv = g_ji + dt * h_sym;
+                    *pqv = g_ij + dt * h_sym;
+                    *pvv = *h_sym;
+                }
+            }
         }
         for k in 2 * n..big_n {
             let g_kj = g[k + j * gs];
@@ -1040,28 +1054,25 @@ impl Filter {
         }
         // P⁻ = J P Jᵀ + Q (eq. 8.24)
         let (model, p, gt, h, mirror) = (&self.model, &mut self.p, &mut self.gt, &mut self.h, &mut self.scratch.mirror);
+        let noise = match model {
+            Model::Modal(md) => Some((&md.gram, self.setup.q_state)),
+            Model::Physical(_) => None,
+        };
         vectorized(#[inline(always)] || {
             model.transition_products(p, gt, h);
-            propagate(p, gt, h, mirror, dt);
+            propagate(p, gt, h, mirror, noise, dt);
         });
         self.add_noise();
         Ok(())
     }
 
-    /// P += Q (eq. 8.29; modal: the q and q̇ blocks of T⁻¹ Q T⁻ᵀ).
+    /// P += Q (eq. 8.29) but for the modal q and q̇ blocks of T⁻¹ Q T⁻ᵀ, which [`propagate`]
+    /// adds.
     fn add_noise(&mut self) {
         let n = self.n;
         let s = &self.setup;
-        match &self.model {
-            Model::Physical(_) => (0..2 * n).for_each(|i| self.p[(i, i)] += s.q_state),
-            Model::Modal(md) => {
-                for b in [0, n] {
-                    for j in 0..n {
-                        let col = &mut self.p.col_as_slice_mut(b + j)[b..b + n];
-                        axpy(col, s.q_state, md.gram.col_as_slice(j));
-                    }
-                }
-            }
+        if let Model::Physical(_) = &self.model {
+            (0..2 * n).for_each(|i| self.p[(i, i)] += s.q_state);
         }
         for (i, q) in s.q_inputs.iter().chain(&s.q_params).enumerate() {
             self.p[(2 * n + i, 2 * n + i)] += q;
