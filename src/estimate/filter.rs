@@ -68,7 +68,7 @@ use faer::linalg::solvers::Solve;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 use super::measurement::{Reads, SensorRows};
-use super::modal::{ModalForm, modal_form};
+use super::modal::{Coupling, ModalForm, modal_form};
 use crate::rom::prom::{Prom, PromError, PromEvaluation};
 
 /// The coordinates the filter may run in.
@@ -168,6 +168,9 @@ struct Scratch {
     /// Known load in the filter's coordinates, reduced force, q̇ before the step, q + β q̇ and
     /// q̈ + α q̇, right-hand side, M⁻¹ h of an ACCEL row and a product with it (n each).
     load: Vec<f64>,
+    /// The modes (re-diagonalization count) and the physical load that `load` was made from
+    /// (modal coordinates: the correction reuses the prediction's Φᵀ f; NaN: none yet).
+    load_of: (usize, Vec<f64>),
     force: Vec<f64>,
     v_old: Vec<f64>,
     w_k: Vec<f64>,
@@ -240,10 +243,9 @@ struct Modal {
 /// What re-diagonalized modal coordinates add to [`Modal`] (see the module documentation).
 struct Drift {
     tolerance: f64,
-    /// Off-diagonal parts of K̃(p) and M̃(p), Σ (f_i(p) − f_i(p₀)) (Ã_i − diag Ã_i) (None: no
-    /// coupled part of that matrix).
-    k: Option<Mat<f64>>,
-    m: Option<Mat<f64>>,
+    /// f_i(p) − f_i(p₀) of each coupling: the off-diagonal parts of K̃(p) and M̃(p) are
+    /// Σ (f_i(p) − f_i(p₀)) (Ã_i − diag Ã_i), applied part by part (never summed into a matrix).
+    weights: Vec<f64>,
     /// ∂f_i/∂p_j of each coupling at p (n_c × n_p), for the parameter columns D.
     derivatives: Mat<f64>,
     /// Largest relative drift of a coupled weight from the modes' parameters.
@@ -283,27 +285,37 @@ impl Modal {
     }
 }
 
-/// x ← A⁻¹ x for A = diag(d) + f_M M̃_off + f_K K̃_off (the off-diagonal parts of `drift`; none:
-/// a division). With couplings, by Jacobi iteration x ← diag(d)⁻¹ (b − A_off x), which
-/// contracts by about the drift per iteration (module documentation), until the update is below
-/// 4 ε of x; if it has not converged after [`JACOBI_ITERATIONS`] (a coupled part that is not
-/// semi-definite), by a dense LU factorization — allocating — and the drift is marked stalled,
-/// so the next refresh re-diagonalizes.
-fn solve_modal(d: &[f64], drift: Option<&mut Drift>, (f_m, f_k): (f64, f64), x: &mut [f64]) {
-    let Some(dr) = drift.filter(|dr| (f_m != 0.0 && dr.m.is_some()) || (f_k != 0.0 && dr.k.is_some())) else {
+/// out += scale (f_M M̃_off + f_K K̃_off) x, the off-diagonal parts of the couplings at their
+/// current weights.
+fn add_coupled(couplings: &[Coupling], weights: &[f64], (f_m, f_k): (f64, f64), x: &[f64], out: &mut [f64], scale: f64) {
+    for (coupling, &w) in couplings.iter().zip(weights) {
+        for (f, off) in [(f_m, &coupling.mass), (f_k, &coupling.stiffness)] {
+            if let (true, Some(off)) = (f * w != 0.0, off) {
+                add_product(off, x, out, scale * f * w);
+            }
+        }
+    }
+}
+
+/// x ← A⁻¹ x for A = diag(d) + f_M M̃_off + f_K K̃_off (the couplings' off-diagonal parts at
+/// the weights of `drift`; none: a division). With couplings, by Jacobi iteration
+/// x ← diag(d)⁻¹ (b − A_off x), which contracts by about the drift per iteration (module
+/// documentation), until the update is below 4 ε of x; if it has not converged after
+/// [`JACOBI_ITERATIONS`] (a coupled part that is not semi-definite), by a dense LU
+/// factorization — allocating — and the drift is marked stalled, so the next refresh
+/// re-diagonalizes.
+fn solve_modal(d: &[f64], couplings: &[Coupling], drift: Option<&mut Drift>, factors: (f64, f64), x: &mut [f64]) {
+    let (f_m, f_k) = factors;
+    let coupled = |dr: &&mut Drift| couplings.iter().zip(&dr.weights).any(|(c, &w)| w != 0.0 && ((f_m != 0.0 && c.mass.is_some()) || (f_k != 0.0 && c.stiffness.is_some())));
+    let Some(dr) = drift.filter(coupled) else {
         x.iter_mut().zip(d).for_each(|(x, d)| *x /= d);
         return;
     };
-    let parts = [(f_m, dr.m.as_ref()), (f_k, dr.k.as_ref())];
-    let (iterate, product) = (&mut dr.iterate, &mut dr.product);
+    let (iterate, product, weights) = (&mut dr.iterate, &mut dr.product, &dr.weights);
     iterate.iter_mut().zip(x.iter().zip(d)).for_each(|(z, (b, d))| *z = b / d);
     for _ in 0..JACOBI_ITERATIONS {
         product.fill(0.0);
-        for (f, off) in parts {
-            if let (true, Some(off)) = (f != 0.0, off) {
-                add_product(off, iterate, product, f);
-            }
-        }
+        add_coupled(couplings, weights, factors, iterate, product, 1.0);
         let (mut change, mut size) = (0.0_f64, 0.0_f64);
         for i in 0..d.len() {
             let next = (x[i] - product[i]) / d[i];
@@ -319,10 +331,11 @@ fn solve_modal(d: &[f64], drift: Option<&mut Drift>, (f_m, f_k): (f64, f64), x: 
     dr.stalled = true;
     let n = d.len();
     let mut a = Mat::from_fn(n, n, |i, j| if i == j { d[i] } else { 0.0 });
-    for (f, off) in parts {
-        if let (true, Some(off)) = (f != 0.0, off) {
-            a += off * faer::Scale(f);
-        }
+    let mut unit = vec![0.0; n];
+    for j in 0..n {
+        unit[j] = 1.0;
+        add_coupled(couplings, &dr.weights, factors, &unit, a.col_as_slice_mut(j), 1.0);
+        unit[j] = 0.0;
     }
     let solution = a.partial_piv_lu().solve(MatRef::from_column_major_slice(x, n, 1));
     x.iter_mut().enumerate().for_each(|(i, x)| *x = solution[(i, 0)]);
@@ -408,16 +421,11 @@ impl Model {
                 }
                 if let Some(dr) = &mut md.drift {
                     dr.current = 0.0;
-                    dr.k.iter_mut().chain(dr.m.iter_mut()).for_each(|m| m.fill(0.0));
                     for (c, coupling) in md.form.couplings.iter().enumerate() {
                         let f = &prom.functions[coupling.function];
                         let w = f.value(params);
                         dr.current = dr.current.max(coupling.drift(w));
-                        for (sum, part) in [(&mut dr.k, &coupling.stiffness), (&mut dr.m, &coupling.mass)] {
-                            if let (Some(sum), Some(part)) = (sum.as_mut(), part) {
-                                (0..part.ncols()).for_each(|c| axpy(sum.col_as_slice_mut(c), w - coupling.reference, part.col_as_slice(c)));
-                            }
-                        }
+                        dr.weights[c] = w - coupling.reference;
                         for (k, &j) in unknown.iter().enumerate() {
                             dr.derivatives[(c, k)] = f.derivative(params, j);
                         }
@@ -453,12 +461,7 @@ impl Model {
                 };
                 out.iter_mut().zip(d.iter().zip(x)).for_each(|(o, (d, x))| *o += scale * d * x);
                 if let Some(dr) = &md.drift {
-                    let (f_m, f_k) = md.off_factors(op);
-                    for (f, off) in [(f_m, &dr.m), (f_k, &dr.k)] {
-                        if let (true, Some(off)) = (f != 0.0, off) {
-                            add_product(off, x, out, scale * f);
-                        }
-                    }
+                    add_coupled(&md.form.couplings, &dr.weights, md.off_factors(op), x, out, scale);
                 }
             }
         }
@@ -473,7 +476,7 @@ impl Model {
             }
             Model::Modal(md) => {
                 let factors = if effective { md.effective_factors() } else { md.off_factors(Operator::Mass) };
-                solve_modal(if effective { &md.s } else { &md.m }, md.drift.as_mut(), factors, x);
+                solve_modal(if effective { &md.s } else { &md.m }, &md.form.couplings, md.drift.as_mut(), factors, x);
             }
         }
     }
@@ -756,6 +759,7 @@ impl Filter {
         let params = setup.p.clone();
         let scratch = Scratch {
             load: vec![0.0; n],
+            load_of: (0, vec![f64::NAN; n]),
             force: vec![0.0; n],
             v_old: vec![0.0; n],
             w_k: vec![0.0; n],
@@ -963,10 +967,18 @@ impl Filter {
 
     /// The known load in the filter's coordinates (Φᵀ f in modal ones) into `scratch.load`.
     fn set_load(&mut self, f_kn: &[f64]) {
-        let load = &mut self.scratch.load;
+        let (load, load_of) = (&mut self.scratch.load, &mut self.scratch.load_of);
         match &self.model {
             Model::Physical(_) => load.copy_from_slice(f_kn),
-            Model::Modal(md) => load.iter_mut().enumerate().for_each(|(c, l)| *l = dot(column(md.form.basis.as_ref(), c), f_kn)),
+            Model::Modal(md) => {
+                let modes = md.drift.as_ref().map_or(0, |dr| dr.count);
+                if load_of.0 == modes && load_of.1 == f_kn {
+                    return;
+                }
+                load.iter_mut().enumerate().for_each(|(c, l)| *l = dot(column(md.form.basis.as_ref(), c), f_kn));
+                load_of.0 = modes;
+                load_of.1.copy_from_slice(f_kn);
+            }
         }
     }
 
@@ -1228,11 +1240,9 @@ impl Drift {
     /// Empty buffers for the couplings of `form`; `s_un` and `h` in physical coordinates.
     fn new(form: &ModalForm, tolerance: f64, np: usize, s_un: &Mat<f64>, h: &Mat<f64>) -> Self {
         let n = form.basis.nrows();
-        let buffer = |any: bool| any.then(|| Mat::zeros(n, n));
         Drift {
             tolerance,
-            k: buffer(form.couplings.iter().any(|c| c.stiffness.is_some())),
-            m: buffer(form.couplings.iter().any(|c| c.mass.is_some())),
+            weights: vec![0.0; form.couplings.len()],
             derivatives: Mat::zeros(form.couplings.len(), np),
             current: 0.0,
             s_un: s_un.clone(),
@@ -1690,12 +1700,12 @@ mod rediagonalized {
     /// 2) falls back to the dense factorization and marks the drift stalled: x = A⁻¹ b exact.
     #[test]
     fn diverging_coupled_solve_falls_back_to_a_factorization() {
-        let off = Mat::from_fn(2, 2, |i, j| if i == j { 0.0 } else { 2.0 });
+        let off = Mat::from_fn(2, 2, |i, j| if i == j { 0.0 } else { 1.0 });
+        let couplings = [Coupling { function: 0, reference: 1.0, stiffness: Some(off), mass: None }];
         let mut drift = Drift {
             tolerance: 0.1,
-            k: Some(off),
-            m: None,
-            derivatives: Mat::zeros(0, 0),
+            weights: vec![2.0],
+            derivatives: Mat::zeros(1, 0),
             current: 0.0,
             s_un: Mat::zeros(2, 0),
             h: Mat::zeros(0, 2),
@@ -1705,7 +1715,7 @@ mod rediagonalized {
             count: 0,
         };
         let mut x = [3.0, 3.0];
-        solve_modal(&[1.0, 1.0], Some(&mut drift), (0.0, 1.0), &mut x);
+        solve_modal(&[1.0, 1.0], &couplings, Some(&mut drift), (0.0, 1.0), &mut x);
         assert!(drift.stalled);
         assert!((x[0] - 1.0).abs() <= 1e-14 && (x[1] - 1.0).abs() <= 1e-14, "{x:?}"); // [[1,2],[2,1]] x = [3,3]
     }
