@@ -1369,6 +1369,20 @@ pub(crate) mod tests {
         }
     }
 
+    /// Steps `filter` through the measurements `data` (from step 1) with the known load
+    /// `known(t)`: after each step, x* and the standard deviation of every entry.
+    pub(crate) fn history(filter: &mut Filter, data: &[[f64; 2]], known: impl Fn(f64, &mut [f64]), dt: f64) -> Vec<Vec<f64>> {
+        let mut history = Vec::new();
+        for (k, y) in data.iter().enumerate().skip(1) {
+            let mut f = [0.0; 2];
+            known(k as f64 * dt, &mut f);
+            filter.step(&f, y).unwrap();
+            let sigma = (0..filter.size()).map(|i| filter.variance(i).sqrt());
+            history.push(filter.state().iter().copied().chain(sigma).collect());
+        }
+        history
+    }
+
     /// Unknown E, ρ and one input at DOF 2; a DISP row on DOF 1 and an ACCEL row on DOF 2.
     fn setup(x: &[f64]) -> FilterSetup {
         let sensors = SensorRows::new(vec!["D1".into(), "A2".into()], vec!["DISP".into(), "ACCEL".into()], Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { 0.0 })).unwrap();
@@ -1547,14 +1561,7 @@ pub(crate) mod tests {
             s.p0_params = vec![1e-2, 1e-2];
             let mut filter = Filter::new(s).unwrap();
             assert_eq!(filter.modal(), coordinates == Coordinates::Auto);
-            let mut history = Vec::new();
-            for (k, y) in data.iter().enumerate().skip(1) {
-                let mut f = [0.0; 2];
-                known(k as f64 * truth.dt, &mut f);
-                filter.step(&f, y).unwrap();
-                let sigma = (0..7).map(|i| filter.variance(i).sqrt());
-                history.push(filter.state().iter().copied().chain(sigma).collect::<Vec<f64>>());
-            }
+            let history = history(&mut filter, &data, known, truth.dt);
             let p = filter.covariance();
             (history, p)
         };
@@ -1650,15 +1657,7 @@ mod rediagonalized {
         let mut data = Vec::new();
         integrate(sys, Method::Bdf1, truth.dt, 400, &truth.q0, &truth.v0, known, |st| data.push([st.q[0], st.a[1]])).unwrap();
         let mut filter = Filter::new(setup(coordinates, [1.2, 0.9])).unwrap();
-        let mut history = Vec::new();
-        for (k, y) in data.iter().enumerate().skip(1) {
-            let mut f = [0.0; 2];
-            known(k as f64 * truth.dt, &mut f);
-            filter.step(&f, y).unwrap();
-            let sigma = (0..6).map(|i| filter.variance(i).sqrt());
-            history.push(filter.state().iter().copied().chain(sigma).collect());
-        }
-        (history, filter.rediagonalizations())
+        (super::tests::history(&mut filter, &data, known, truth.dt), filter.rediagonalizations())
     }
 
     /// With a tolerance below every change of the estimate, the modes are recomputed at every
