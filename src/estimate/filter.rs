@@ -91,6 +91,12 @@ pub enum Coordinates {
 /// iteration (module documentation).
 pub const MAX_REDIAGONALIZATION_TOLERANCE: f64 = 0.1;
 
+/// Whether τ is an accepted re-diagonalization tolerance, 0 < τ ≤
+/// [`MAX_REDIAGONALIZATION_TOLERANCE`] (false for NaN).
+pub fn valid_rediagonalization_tolerance(tolerance: f64) -> bool {
+    tolerance > 0.0 && tolerance <= MAX_REDIAGONALIZATION_TOLERANCE
+}
+
 /// Everything the filter needs; no deck involved.
 #[derive(Debug, Clone)]
 pub struct FilterSetup {
@@ -707,7 +713,7 @@ impl Filter {
         let mut p = Mat::from_fn(big_n, big_n, |i, j| if i == j { diag[i] } else { 0.0 });
         let form = match setup.coordinates {
             Coordinates::Auto => modal_form(&setup.prom, &setup.p, &setup.unknown_params, false),
-            Coordinates::Rediagonalized(tolerance) if !(tolerance > 0.0 && tolerance <= MAX_REDIAGONALIZATION_TOLERANCE) => return Err(FilterError::Tolerance(tolerance)),
+            Coordinates::Rediagonalized(tolerance) if !valid_rediagonalization_tolerance(tolerance) => return Err(FilterError::Tolerance(tolerance)),
             Coordinates::Rediagonalized(_) => modal_form(&setup.prom, &setup.p, &setup.unknown_params, true),
             Coordinates::Physical => None,
         };
@@ -1384,7 +1390,7 @@ pub(crate) mod tests {
     }
 
     /// Unknown E, ρ and one input at DOF 2; a DISP row on DOF 1 and an ACCEL row on DOF 2.
-    fn setup(x: &[f64]) -> FilterSetup {
+    pub(crate) fn setup(x: &[f64]) -> FilterSetup {
         let sensors = SensorRows::new(vec!["D1".into(), "A2".into()], vec!["DISP".into(), "ACCEL".into()], Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { 0.0 })).unwrap();
         FilterSetup {
             prom: chain(),
@@ -1587,32 +1593,19 @@ pub(crate) mod tests {
 /// diagonal in any modes).
 #[cfg(test)]
 mod rediagonalized {
-    use super::tests::chain;
     use super::*;
     use crate::dynamics::integrators::{LinearSystem, Method, integrate};
 
-    /// E and ρ unknown, DISP on DOF 1 and ACCEL on DOF 2, q₀ = 0.
+    /// [`super::tests::setup`] with E and ρ unknown from `p`, no unknown input, q₀ = (2e-3, −1e-3),
+    /// q̇₀ = (0.1, 0.3) of variance 1e-10, parameter variance 1e-2.
     fn setup(coordinates: Coordinates, p: [f64; 2]) -> FilterSetup {
-        let sensors = SensorRows::new(vec!["D1".into(), "A2".into()], vec!["DISP".into(), "ACCEL".into()], Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { 0.0 })).unwrap();
-        FilterSetup {
-            prom: chain(),
-            p: p.to_vec(),
-            unknown_params: vec![0, 1],
-            s_un: Mat::zeros(2, 0),
-            measured: sensors,
-            r: vec![1e-12, 1e-6],
-            dt: 1e-3,
-            q_state: 1e-16,
-            q_inputs: vec![],
-            q_params: vec![1e-8, 1e-8],
-            q0: vec![2e-3, -1e-3],
-            v0: vec![0.1, 0.3],
-            u0: vec![],
-            p0_state: 1e-10,
-            p0_inputs: vec![],
-            p0_params: vec![1e-2, 1e-2],
-            coordinates,
-        }
+        let mut s = super::tests::setup(&[2e-3, -1e-3, 0.1, 0.3, 0.0, p[0], p[1]]);
+        s.s_un = Mat::zeros(2, 0);
+        (s.q_inputs, s.p0_inputs, s.u0) = (vec![], vec![], vec![]);
+        s.p0_state = 1e-10;
+        s.p0_params = vec![1e-2, 1e-2];
+        s.coordinates = coordinates;
+        s
     }
 
     const LOAD: [f64; 2] = [300.0, -100.0];

@@ -113,15 +113,13 @@ pub fn modal_form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool) -> O
         coupling = coupling.max(k_coupling).max(m_coupling);
         let off = |c: f64, t: Mat<f64>| (c > DIAGONAL_TOLERANCE).then_some(t);
         let (stiffness, mass) = (off(k_coupling, k_off), off(m_coupling, m_off));
-        match function {
-            Some(i) if stiffness.is_some() || mass.is_some() => {
-                if !coupled {
-                    return None;
-                }
-                couplings.push(Coupling { function: i, reference: prom.functions[i].value(p), stiffness, mass });
-            }
-            None if (stiffness.is_some() || mass.is_some()) && !coupled => return None,
-            _ => {}
+        let couples = stiffness.is_some() || mass.is_some();
+        if couples && !coupled {
+            return None;
+        }
+        // the constant part's off-diagonal is dropped (module documentation)
+        if let (Some(i), true) = (function, couples) {
+            couplings.push(Coupling { function: i, reference: prom.functions[i].value(p), stiffness, mass });
         }
         parts.push((function, k_diag, m_diag));
     }

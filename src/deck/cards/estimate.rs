@@ -6,7 +6,7 @@ use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::{Column, FieldReader};
 use crate::deck::value::Value;
-use crate::estimate::MAX_REDIAGONALIZATION_TOLERANCE;
+use crate::estimate::{MAX_REDIAGONALIZATION_TOLERANCE, valid_rediagonalization_tolerance};
 
 /// `EKF` — filter settings, selected by case control `ESTIM = id`.
 ///
@@ -37,7 +37,7 @@ impl Ekf {
         let p0_state = optional_positive(&mut f, 3, "P0STATE", 1.0e-20);
         let force = f.keyword(4, "FORCE", &["YES", "NO"], Some("NO")) == "YES";
         let rediagonalize = f.opt_real(5, "REDIAG");
-        if let Some(t) = rediagonalize.filter(|t| !(*t > 0.0 && *t <= MAX_REDIAGONALIZATION_TOLERANCE)) {
+        if let Some(t) = rediagonalize.filter(|t| !valid_rediagonalization_tolerance(*t)) {
             f.error(5, "REDIAG", format!("expected a real in (0, {MAX_REDIAGONALIZATION_TOLERANCE}], found {t:e}"));
         }
         let loc = f.loc();
