@@ -69,6 +69,7 @@ use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 use super::measurement::{Reads, SensorRows};
 use super::modal::{Coupling, ModalForm, modal_form};
+use crate::linalg::dense::product;
 use crate::rom::prom::{Prom, PromError, PromEvaluation};
 
 /// The coordinates the filter may run in.
@@ -950,21 +951,28 @@ impl Filter {
         let s = &mut self.setup;
         let form = modal_form(&s.prom, &self.params, &s.unknown_params, true)
             .ok_or_else(|| FilterError::Prom(format!("at step {}: no modes of the pROM at parameters {:?} (re-diagonalization)", self.step, self.params)))?;
-        let r = &form.inverse * &md.form.basis;
-        for block in [0..n, n..2 * n] {
-            let z = &r * MatRef::from_column_major_slice(&self.x[block.clone()], n, 1);
-            self.x[block].iter_mut().enumerate().for_each(|(i, x)| *x = z[(i, 0)]);
+        let r = product(form.inverse.as_ref(), md.form.basis.as_ref());
+        for start in [0, n] {
+            let z = product(r.as_ref(), MatRef::from_column_major_slice(&self.x[start..start + n], n, 1));
+            self.x[start..start + n].copy_from_slice(z.col_as_slice(0));
         }
-        let t = Mat::from_fn(big_n, big_n, |i, j| match (i, j) {
-            (i, j) if i < n && j < n => r[(i, j)],
-            (i, j) if (n..2 * n).contains(&i) && (n..2 * n).contains(&j) => r[(i - n, j - n)],
-            (i, j) if i >= 2 * n && i == j => 1.0,
-            _ => 0.0,
-        });
-        let p = &t * &self.p * t.transpose();
-        self.p = Mat::from_fn(big_n, big_n, |i, j| 0.5 * (p[(i, j)] + p[(j, i)]));
-        s.s_un = form.basis.transpose() * &dr.s_un;
-        s.measured.h = &dr.h * &form.basis;
+        // T P Tᵀ by blocks: the q and q̇ rows of P times R, then those columns times Rᵀ
+        let mut rows = self.p.clone();
+        for start in [0, n] {
+            matmul(rows.as_mut().subrows_mut(start, n), Accum::Replace, r.as_ref(), self.p.as_ref().subrows(start, n), 1.0, Par::Seq);
+        }
+        self.p.copy_from(&rows);
+        for start in [0, n] {
+            matmul(self.p.as_mut().subcols_mut(start, n), Accum::Replace, rows.as_ref().subcols(start, n), r.transpose(), 1.0, Par::Seq);
+        }
+        for j in 0..big_n {
+            for i in 0..j {
+                let mean = 0.5 * (self.p[(i, j)] + self.p[(j, i)]);
+                (self.p[(i, j)], self.p[(j, i)]) = (mean, mean);
+            }
+        }
+        s.s_un = product(form.basis.transpose(), dr.s_un.as_ref());
+        s.measured.h = product(dr.h.as_ref(), form.basis.as_ref());
         md.gram = gram(&form.inverse);
         *dr = Drift { count: dr.count + 1, ..Drift::new(&form, dr.tolerance, self.np, &dr.s_un, &dr.h) };
         md.form = form;
@@ -1264,8 +1272,8 @@ impl Drift {
 /// Φ⁻¹ Φ⁻ᵀ, made exactly symmetric so that P stays so (GEMM need not sum (i, j) and (j, i)
 /// alike): the q and q̇ blocks of Q and P₀ in modal coordinates for a unit physical diagonal.
 fn gram(inverse: &Mat<f64>) -> Mat<f64> {
-    let product = inverse * inverse.transpose();
-    Mat::from_fn(product.nrows(), product.ncols(), |i, j| 0.5 * (product[(i, j)] + product[(j, i)]))
+    let g = product(inverse.as_ref(), inverse.transpose());
+    Mat::from_fn(g.nrows(), g.ncols(), |i, j| 0.5 * (g[(i, j)] + g[(j, i)]))
 }
 
 /// Cholesky factor A = L Lᵀ in place, sequential (L in the lower triangle; the strict upper

@@ -22,7 +22,7 @@
 //! dropped). The filter then re-computes the modes when the weights have drifted.
 use faer::Mat;
 
-use crate::linalg::dense::generalized_eigen;
+use crate::linalg::dense::{generalized_eigen, product};
 use crate::rom::prom::Prom;
 
 /// Largest coupling ratio |Ã_ab| / √(|Ã_aa| |Ã_bb|) of a transformed component accepted as
@@ -75,7 +75,7 @@ pub fn modal_form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool) -> O
     let mut at = prom.workspace();
     prom.evaluate(p, &mut at).ok()?;
     let (_, basis) = generalized_eigen(at.stiffness(), at.mass()).ok()?;
-    let inverse = basis.transpose() * at.mass();
+    let inverse = product(basis.transpose(), at.mass());
     let n = prom.size();
     let (mut k_fixed, mut m_fixed) = (Mat::<f64>::zeros(n, n), Mat::<f64>::zeros(n, n));
     let mut varying = Vec::new();
@@ -90,7 +90,7 @@ pub fn modal_form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool) -> O
     }
     // Φᵀ A Φ, its diagonal and, when it couples, itself with the diagonal zeroed
     let transform = |a: &Mat<f64>| -> (Vec<f64>, f64, Mat<f64>) {
-        let mut t = basis.transpose() * a * &basis;
+        let mut t = product(product(basis.transpose(), a.as_ref()).as_ref(), basis.as_ref());
         let roundoff = n as f64 * f64::EPSILON * t.norm_max();
         let mut coupling = 0.0_f64;
         for j in 0..n {
