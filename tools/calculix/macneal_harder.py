@@ -34,6 +34,13 @@ number; published = MH 1985 as reproduced in Altair OptiStruct verification OS-V
   against the plane-stress CST solution of the same mesh computed here (``cst_plane_stress``,
   numpy). CalculiX's S3 is not that element: ccx expands it into a 3-D C3D6 wedge one element
   thick, 3.1 % stiffer than the CST on the locked parallelogram; its value is reported only.
+
+Besides its bound, every out-of-plane load of the straight CQUAD4/CTRIA3 strips carries
+``mitc_plate``: the same mesh as a flat Reissner-Mindlin plate with the published MITC4 (Dvorkin &
+Bathe 1984) or MITC3 (Lee & Bathe 2004) assumed transverse shear, computed here with numpy from the
+papers' tying rules. paraflex's shells must equal it to ``mitc_plate_rel_tol`` (flat: bending and
+shear do not couple to the membrane): this separates an implementation error from a property of
+the element class on a distorted mesh.
 * ``weak``: a case 4-node/3-node elements are known to be poor at (in-plane bending of
   trapezoids/parallelograms, twist with one element across, the CTRIA3 twisted beam).
   Asserted: normalised >= 0.25 x max(CalculiX, published) and <= 1.05 x max(1, CalculiX,
@@ -68,6 +75,12 @@ SAME_TOL = 0.03
 # 5e-8); 0.1 % is the largest with a factor 6 to spare, and far below any formulation error (a
 # drilling tie of 1e-1 A66 already misses it on all three meshes).
 CST_TOL = 1e-3
+# paraflex's flat MITC4/MITC3 against the independent plate of the same formulation: measured
+# agreement 2.4e-10 or better (the round-off of two solves and of the JSON's 12 digits); 1e-6
+# leaves that ample room and catches any formulation difference: MITC3 without its c term moves
+# the parallelogram from 0.568 to 0.902 and the trapezoid from 0.931 to 0.961, shear taken at the
+# integration points instead of tied locks every mesh (0.01-0.03).
+MITC_TOL = 1e-6
 WEAK_RATIO = 0.25
 SOFT_CAP = 1.05
 
@@ -286,6 +299,75 @@ def cst_plane_stress(c: Case, forces: list) -> dict:
     u = np.zeros(2 * len(ids))
     u[free] = np.linalg.solve(k[np.ix_(free, free)], f[free])
     return {g: (u[2 * index[g]], u[2 * index[g] + 1], 0.0) for g in ids}
+
+
+def mitc_plate(c: Case, forces: list) -> dict:
+    """Displacements (0, 0, w) per grid of the flat CQUAD4/CTRIA3 mesh `c` (z = 0) as a
+    Reissner-Mindlin plate (w, theta_x, theta_y per grid; beta = (theta_y, -theta_x), Nastran's
+    rotation sense) with MITC4 or MITC3 transverse shear, under out-of-plane `forces`, clamped grids
+    fixed. Bending D_b = E t^3 / (12 (1 - nu^2)) [plane stress], shear D_s = 0.833333 G t (PSHELL's
+    default TS/T); quads 2 x 2 Gauss, triangles the 3-point rule of degree 2.
+
+    MITC4 (Dvorkin & Bathe 1984): covariant e_xi = dw/dxi + beta . dx/dxi tied at (0, +-1), e_eta at
+    (+-1, 0), interpolated linearly across; MITC3 (Lee & Bathe 2004): e_rt at (1/2, 0), e_st at
+    (0, 1/2), c = (e_rt - e_st) at (1/2, 1/2) minus e_rt(1/2, 0) plus e_st(0, 1/2),
+    e_rt = e_rt(1/2, 0) + c s, e_st = e_st(0, 1/2) - c r; Cartesian shear gamma = J^-1 (e_r, e_s)."""
+    ids = sorted(c.nodes)
+    index = {g: i for i, g in enumerate(ids)}
+    k = np.zeros((3 * len(ids), 3 * len(ids)))
+    d_b = c.E * c.t ** 3 / 12 / (1 - c.nu ** 2) * np.array([[1, c.nu, 0], [c.nu, 1, 0], [0, 0, (1 - c.nu) / 2]])
+    d_s = 0.833333 * c.E / (2 * (1 + c.nu)) * c.t * np.eye(2)
+    corners = [(-1, -1), (1, -1), (1, 1), (-1, 1)]
+    gauss = 1 / math.sqrt(3)
+    for _, conn in c.elems:
+        xy = np.array([c.nodes[g][:2] for g in conn])
+        m = len(conn)
+        if m == 4:
+            def shape(r, s):
+                return (np.array([0.25 * (1 + a * r) * (1 + b * s) for a, b in corners]),
+                        np.array([0.25 * a * (1 + b * s) for a, b in corners]),
+                        np.array([0.25 * b * (1 + a * r) for a, b in corners]))
+            points = [(a * gauss, b * gauss, 1.0) for a, b in corners]
+        else:
+            def shape(r, s):
+                return np.array([1 - r - s, r, s]), np.array([-1.0, 1.0, 0.0]), np.array([-1.0, 0.0, 1.0])
+            points = [(1 / 6, 1 / 6, 1 / 6), (2 / 3, 1 / 6, 1 / 6), (1 / 6, 2 / 3, 1 / 6)]
+
+        def covariant(r, s, along_s):
+            n, dr, ds = shape(r, s)
+            dn = ds if along_s else dr
+            x_n, y_n = dn @ xy
+            row = np.zeros(3 * m)
+            row[0::3], row[1::3], row[2::3] = dn, -n * y_n, n * x_n
+            return row
+        ke = np.zeros((3 * m, 3 * m))
+        for r, s, weight in points:
+            _, dr, ds = shape(r, s)
+            jac = np.array([dr @ xy, ds @ xy])
+            inv = np.linalg.inv(jac)
+            nx, ny = inv[0, 0] * dr + inv[0, 1] * ds, inv[1, 0] * dr + inv[1, 1] * ds
+            b_b = np.zeros((3, 3 * m))
+            b_b[0, 2::3], b_b[1, 1::3], b_b[2, 2::3], b_b[2, 1::3] = nx, -ny, ny, -nx
+            if m == 4:
+                e_r = 0.5 * (1 + s) * covariant(0, 1, False) + 0.5 * (1 - s) * covariant(0, -1, False)
+                e_s = 0.5 * (1 + r) * covariant(1, 0, True) + 0.5 * (1 - r) * covariant(-1, 0, True)
+            else:
+                e1, e2 = covariant(0.5, 0, False), covariant(0, 0.5, True)
+                cc = (covariant(0.5, 0.5, False) - e1) - (covariant(0.5, 0.5, True) - e2)
+                e_r, e_s = e1 + cc * s, e2 - cc * r
+            b_s = inv @ np.vstack([e_r, e_s])
+            ke += (b_b.T @ d_b @ b_b + b_s.T @ d_s @ b_s) * weight * abs(np.linalg.det(jac))
+        dofs = [3 * index[g] + j for g in conn for j in range(3)]
+        k[np.ix_(dofs, dofs)] += ke
+    f = np.zeros(3 * len(ids))
+    for g, dof, value in forces:
+        assert dof == 3, "out-of-plane loads only"
+        f[3 * index[g]] += value
+    fixed = {3 * index[g] + j for g in c.clamp for j in range(3)}
+    free = [i for i in range(3 * len(ids)) if i not in fixed]
+    u = np.zeros(3 * len(ids))
+    u[free] = np.linalg.solve(k[np.ix_(free, free)], f[free])
+    return {g: (0.0, 0.0, u[3 * index[g]]) for g in ids}
 
 
 def weak(published: float, why: str) -> dict:
@@ -508,6 +590,16 @@ def run_all(run_ccx, work: Path, command: str, version: str) -> list[str]:
                 cst_val = sum(wt * cst[g][d - 1] for g, d, wt in ld.measure)
                 loads[-1]["cst_plane_stress"] = float(f"{cst_val:.10g}")
                 loads[-1]["cst_normalised"] = float(f"{cst_val / ld.target:.6g}")
+            if c.problem == "straight cantilever" and c.element != "CHEXA" and ld.label == "out-of-plane shear":
+                plate = mitc_plate(c, ld.forces)
+                plate_val = sum(wt * plate[g][d - 1] for g, d, wt in ld.measure)
+                loads[-1]["mitc_plate"] = float(f"{plate_val:.12g}")
+                loads[-1]["mitc_plate_normalised"] = float(f"{plate_val / ld.target:.6g}")
+                loads[-1]["mitc_plate_rel_tol"] = MITC_TOL
+                loads[-1]["mitc_plate_note"] = ("the same mesh as a flat Reissner-Mindlin plate with the published "
+                                                f"{'MITC4' if c.element == 'CQUAD4' else 'MITC3'} shear, numpy "
+                                                "(mitc_plate in tools/calculix/macneal_harder.py): paraflex must equal "
+                                                "it whatever the accuracy against the target")
             report.append(f"{c.name:34s} {ld.label:36s} ccx {val / ld.target:8.4f}")
         ref = {
             "case": c.name,
