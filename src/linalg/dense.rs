@@ -9,7 +9,7 @@
 //! Everything here runs on the calling thread (`Par::Seq`, never faer's global setting, which is
 //! a thread pool over all cores): reduced models are small, and waking the pool costs more than
 //! it brings. Measured on the estimation filter's re-diagonalization of the n = 36 blade pROM
-//! (two eigenproblems and a dozen products): 3.2 ms of wall time each through the pool on the
+//! (two eigenproblems and a dozen products): 1.4–3.2 ms of wall time each through the pool on the
 //! 2-core machine, 0.5 ms on the calling thread.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
