@@ -273,6 +273,16 @@ def same_element_cst(why: str) -> dict:
                     "CalculiX's S3 is expanded into a 3-D C3D6 wedge, a different element: reported only; " + why)}
 
 
+def solve_clamped(k, f, clamped: list, per_node: int):
+    """u with K u = f on the free DOFs and u = 0 on every DOF of the `clamped` node indices
+    (`per_node` DOFs each, node-major)."""
+    fixed = {per_node * i + j for i in clamped for j in range(per_node)}
+    free = [i for i in range(len(f)) if i not in fixed]
+    u = np.zeros(len(f))
+    u[free] = np.linalg.solve(k[np.ix_(free, free)], f[free])
+    return u
+
+
 def cst_plane_stress(c: Case, forces: list) -> dict:
     """In-plane displacements (u, v, 0) per grid of the plane-stress constant-strain-triangle
     model of the flat CTRIA3 mesh `c` (z = 0) under the in-plane `forces`, clamped grids fixed:
@@ -294,10 +304,7 @@ def cst_plane_stress(c: Case, forces: list) -> dict:
     for g, dof, value in forces:
         assert dof in (1, 2), "in-plane loads only"
         f[2 * index[g] + dof - 1] += value
-    fixed = {2 * index[g] + j for g in c.clamp for j in range(2)}
-    free = [i for i in range(2 * len(ids)) if i not in fixed]
-    u = np.zeros(2 * len(ids))
-    u[free] = np.linalg.solve(k[np.ix_(free, free)], f[free])
+    u = solve_clamped(k, f, [index[g] for g in c.clamp], 2)
     return {g: (u[2 * index[g]], u[2 * index[g] + 1], 0.0) for g in ids}
 
 
@@ -363,10 +370,7 @@ def mitc_plate(c: Case, forces: list) -> dict:
     for g, dof, value in forces:
         assert dof == 3, "out-of-plane loads only"
         f[3 * index[g]] += value
-    fixed = {3 * index[g] + j for g in c.clamp for j in range(3)}
-    free = [i for i in range(3 * len(ids)) if i not in fixed]
-    u = np.zeros(3 * len(ids))
-    u[free] = np.linalg.solve(k[np.ix_(free, free)], f[free])
+    u = solve_clamped(k, f, [index[g] for g in c.clamp], 3)
     return {g: (0.0, 0.0, u[3 * index[g]]) for g in ids}
 
 
