@@ -33,7 +33,8 @@
 //! G and H cost (N + n) n (2 + n_un + n_p) instead of n N² + n² N, the solves are divisions and the
 //! pROM evaluation sums vectors. Sensor rows (H Φ), input shapes (Φᵀ S_un), the known load
 //! (Φᵀ f) and the initial state are transformed once or per step; [`Filter::state`],
-//! [`Filter::acceleration`], [`Filter::variance`] and [`Filter::covariance`] map back to q.
+//! [`Filter::acceleration`], [`Filter::variance`] and [`Filter::covariance`] map back to q on
+//! request ([`Filter::filter_state`] and [`Filter::sensor_rows`] read sensors without it).
 //! [`Coordinates::Physical`] keeps the physical path (and every other pROM uses it).
 //!
 //! **Re-diagonalized modal coordinates** ([`Coordinates::Rediagonalized`], EKF field REDIAG).
@@ -65,6 +66,8 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
 use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::Solve;
+use std::cell::OnceCell;
+
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 use super::measurement::{Reads, SensorRows};
@@ -236,9 +239,9 @@ struct Modal {
     jk: Vec<f64>,
     jm: Vec<f64>,
     jw: Mat<f64>,
-    /// x* and q̈ in the physical coordinates.
-    x: Vec<f64>,
-    a: Vec<f64>,
+    /// x* and q̈ in the physical coordinates, mapped on the first request after a step
+    /// ([`Filter::state`], [`Filter::acceleration`]): a step itself never needs them.
+    physical: OnceCell<(Vec<f64>, Vec<f64>)>,
     /// Δt and the Rayleigh α, β (for the off-diagonal parts of C and S).
     dt: f64,
     alpha: f64,
@@ -754,8 +757,7 @@ impl Filter {
                     jk: vec![0.0; n],
                     jm: vec![0.0; n],
                     jw: Mat::zeros(n, nu + np),
-                    x: vec![0.0; big_n],
-                    a: vec![0.0; n],
+                    physical: OnceCell::new(),
                     dt: setup.dt,
                     alpha: setup.prom.alpha,
                     beta: setup.prom.beta,
@@ -804,7 +806,6 @@ impl Filter {
         };
         filter.refresh()?;
         filter.set_acceleration();
-        filter.publish();
         Ok(filter)
     }
 
@@ -827,19 +828,37 @@ impl Filter {
         }
     }
 
-    /// x* = [q, q̇, u_un, p] (physical q).
+    /// x* = [q, q̇, u_un, p] (physical q; modal coordinates: Φ z mapped on the first request
+    /// after a step, 2 n² multiply-adds).
     pub fn state(&self) -> &[f64] {
         match &self.model {
             Model::Physical(_) => &self.x,
-            Model::Modal(md) => &md.x,
+            Model::Modal(md) => &md.physical.get_or_init(|| self.physical(md)).0,
         }
     }
 
-    /// q̈ at the current estimate (physical).
+    /// q̈ at the current estimate (physical; as [`Filter::state`]).
     pub fn acceleration(&self) -> &[f64] {
         match &self.model {
             Model::Physical(_) => &self.a,
-            Model::Modal(md) => &md.a,
+            Model::Modal(md) => &md.physical.get_or_init(|| self.physical(md)).1,
+        }
+    }
+
+    /// x* and q̈ in the filter's coordinates (modal z where the filter runs on modes; u and p
+    /// are the same in every coordinates): with [`Filter::sensor_rows`], virtual sensors without
+    /// mapping the state back to q.
+    pub fn filter_state(&self) -> (&[f64], &[f64]) {
+        (&self.x, &self.a)
+    }
+
+    /// Sensor rows in the filter's coordinates (H Φ on modes; n² per row), for
+    /// [`Filter::filter_state`]. They change when the filter re-diagonalizes
+    /// ([`Filter::rediagonalizations`]).
+    pub fn sensor_rows(&self, rows: &SensorRows) -> SensorRows {
+        match &self.model {
+            Model::Physical(_) => rows.clone(),
+            Model::Modal(md) => SensorRows { h: product(rows.h.as_ref(), md.form.basis.as_ref()), ..rows.clone() },
         }
     }
 
@@ -1018,43 +1037,40 @@ impl Filter {
         self.a.copy_from_slice(rhs);
     }
 
-    /// The physical x* and q̈ of the modal path.
-    fn publish(&mut self) {
+    /// The physical x* and q̈ of the modal path: q = Φ z, q̇ = Φ ż, q̈ = Φ z̈.
+    fn physical(&self, md: &Modal) -> (Vec<f64>, Vec<f64>) {
         let n = self.n;
+        let phi = md.form.basis.as_ref();
+        let map = |z: &[f64], out: &mut [f64]| (0..n).for_each(|c| axpy(out, z[c], column(phi, c)));
+        let (mut x, mut a) = (vec![0.0; self.x.len()], vec![0.0; n]);
+        x[2 * n..].copy_from_slice(&self.x[2 * n..]);
+        map(&self.x[..n], &mut x[..n]);
+        map(&self.x[n..2 * n], &mut x[n..2 * n]);
+        map(&self.a, &mut a);
+        (x, a)
+    }
+
+    /// Forget the physical x* and q̈ of the previous step (modal coordinates).
+    fn unpublish(&mut self) {
         if let Model::Modal(md) = &mut self.model {
-            let phi = md.form.basis.as_ref();
-            md.x[2 * n..].copy_from_slice(&self.x[2 * n..]);
-            for (out, z) in [(&mut md.x[..n], &self.x[..n]), (&mut md.a[..], &self.a[..])] {
-                out.fill(0.0);
-                (0..n).for_each(|c| axpy(out, z[c], column(phi, c)));
-            }
-            let out = &mut md.x[n..2 * n];
-            out.fill(0.0);
-            (0..n).for_each(|c| axpy(out, self.x[n + c], column(phi, c)));
+            md.physical.take();
         }
     }
 
     /// One filter step: predict to t_k with the known reduced load `f_kn` = S_kn u_kn(t_k), then
     /// correct with the measurements `y` (one per measured row).
     pub fn step(&mut self, f_kn: &[f64], y: &[f64]) -> Result<(), FilterError> {
-        self.predict_in_filter_coordinates(f_kn)?;
+        self.predict(f_kn)?;
         self.correct(f_kn, y)
     }
 
     /// The prediction half of a step (eq. 8.22–8.24): x⁻, q̈⁻, J and P⁻.
     pub fn predict(&mut self, f_kn: &[f64]) -> Result<(), FilterError> {
-        self.predict_in_filter_coordinates(f_kn)?;
-        self.publish();
-        Ok(())
-    }
-
-    /// [`Filter::predict`] without mapping x⁻ back to the physical coordinates ([`Filter::step`]
-    /// maps only the corrected state).
-    fn predict_in_filter_coordinates(&mut self, f_kn: &[f64]) -> Result<(), FilterError> {
         let n = self.n;
         if f_kn.len() != n {
             return Err(FilterError::Shape { what: "known load", expected: n, got: f_kn.len() });
         }
+        self.unpublish();
         self.step += 1;
         let dt = self.setup.dt;
         // prediction (eq. 8.22)
@@ -1115,6 +1131,7 @@ impl Filter {
         if f_kn.len() != n {
             return Err(FilterError::Shape { what: "known load", expected: n, got: f_kn.len() });
         }
+        self.unpublish();
         self.measurement_rows();
         let sc = &mut self.scratch;
         self.setup.measured.evaluate(&self.x[..n], &self.x[n..2 * n], &self.a, &mut sc.predicted);
@@ -1181,7 +1198,6 @@ impl Filter {
         self.refresh()?;
         self.set_load(f_kn);
         self.set_acceleration();
-        self.publish();
         Ok(())
     }
 
@@ -1732,6 +1748,40 @@ mod rediagonalized {
         assert!(count.is_some_and(|c| c < 10), "{count:?}");
         for x in [physical.last().unwrap(), loose.last().unwrap()] {
             assert!((x[4] - 1.0).abs() < 0.02 && (x[5] - 1.0).abs() < 0.02, "{x:?}");
+        }
+    }
+
+    /// Virtual sensors read in the filter's coordinates ([`Filter::sensor_rows`] with
+    /// [`Filter::filter_state`], as SOL ESTIMATE reads them) equal the rows applied to the
+    /// physical state and q̈ after every step, across re-diagonalizations (τ = 1e-3 moves the
+    /// modes several times in 400 steps; the rows are remade when the count changes). Both are
+    /// H Φ z in a different order: round-off, bound 1e-12 of each sensor's range.
+    #[test]
+    fn virtual_sensors_in_filter_coordinates_equal_the_physical_ones() {
+        let truth = setup(Coordinates::Physical, [1.0, 1.0]);
+        let rows = SensorRows::new(vec!["D1".into(), "V2".into(), "A1".into()], vec!["DISP".into(), "VEL".into(), "ACCEL".into()], Mat::from_fn(3, 2, |i, j| [[0.7, -0.2], [0.1, 1.0], [1.0, 0.3]][i][j])).unwrap();
+        let mut filter = Filter::new(setup(Coordinates::Rediagonalized(1e-3), [1.2, 0.9])).unwrap();
+        let mut rows_of = (filter.rediagonalizations(), filter.sensor_rows(&rows));
+        let (mut from_modes, mut from_q) = (Vec::new(), Vec::new());
+        for k in 1..400 {
+            let f = LOAD.map(|l| l * (40.0 * k as f64 * truth.dt).sin());
+            filter.step(&f, &[1e-3 * (30.0 * k as f64 * truth.dt).sin(), 0.0]).unwrap();
+            if filter.rediagonalizations() != rows_of.0 {
+                rows_of = (filter.rediagonalizations(), filter.sensor_rows(&rows));
+            }
+            let (mut a, mut b) = (vec![0.0; 3], vec![0.0; 3]);
+            let (z, z_acc) = filter.filter_state();
+            rows_of.1.evaluate(&z[..2], &z[2..4], z_acc, &mut a);
+            let x = filter.state();
+            rows.evaluate(&x[..2], &x[2..4], filter.acceleration(), &mut b);
+            from_modes.push(a);
+            from_q.push(b);
+        }
+        assert!(filter.rediagonalizations().is_some_and(|c| c >= 2), "{:?}", filter.rediagonalizations());
+        for s in 0..3 {
+            let range = from_q.iter().map(|y| y[s].abs()).fold(0.0, f64::max);
+            let worst = from_q.iter().zip(&from_modes).map(|(a, b)| (a[s] - b[s]).abs()).fold(0.0, f64::max);
+            assert!(range > 0.0 && worst <= 1e-12 * range, "{}: {worst:e} vs range {range:e}", rows.names[s]);
         }
     }
 

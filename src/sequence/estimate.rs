@@ -229,13 +229,18 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let mut sensor_hist = vec![Vec::with_capacity(steps); sensors.len()];
     let mut innovation = vec![Vec::with_capacity(steps); measured.len()];
     let (mut f, mut y, mut y_all) = (vec![0.0; n], vec![0.0; measured.len()], vec![0.0; sensors.len()]);
+    // virtual sensors from the filter's own coordinates (rows remade after a re-diagonalization)
+    let mut rows_of = (filter.rediagonalizations(), filter.sensor_rows(&sensors));
     let started = Instant::now();
     for k in 1..=steps {
         let t = k as f64 * dt;
         load_at(t, &mut f, &|_| true);
         y.iter_mut().zip(&measured_series).for_each(|(y, s)| *y = s[k - 1]);
         filter.step(&f, &y).map_err(|e| case(format!("t = {t}: {e}")))?;
-        let x = filter.state();
+        if filter.rediagonalizations() != rows_of.0 {
+            rows_of = (filter.rediagonalizations(), filter.sensor_rows(&sensors));
+        }
+        let (x, acceleration) = filter.filter_state();
         time.push(t);
         for c in 0..nu {
             inputs_hist[c].push(x[2 * n + c]);
@@ -246,7 +251,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             params_hist[c].push(x[i]);
             params_sigma[c].push(filter.variance(i).max(0.0).sqrt());
         }
-        sensors.evaluate(&x[..n], &x[n..2 * n], filter.acceleration(), &mut y_all);
+        rows_of.1.evaluate(&x[..n], &x[n..2 * n], acceleration, &mut y_all);
         sensor_hist.iter_mut().zip(&y_all).for_each(|(h, v)| h.push(*v));
         innovation.iter_mut().zip(filter.innovation()).for_each(|(h, v)| h.push(*v));
     }
