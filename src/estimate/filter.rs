@@ -29,9 +29,9 @@
 //! or no parameter at all), the filter runs on z (q = Φ z), the same EKF under the linear change
 //! of state x* = T z*, T = diag(Φ, Φ, I, I): J ↦ T⁻¹ J T, J_m ↦ J_m T, P ↦ T⁻¹ P T⁻ᵀ,
 //! Q ↦ T⁻¹ Q T⁻ᵀ (its q and q̇ blocks become q_state Φ⁻¹ Φ⁻ᵀ, as the initial covariance's). M, C,
-//! K, S and the derivatives are then diagonal, so J_v = [diag, diag, S⁻¹ [Δt S_un, −Δt D]] and
-//! G and H cost (N + n) n (2 + n_un + n_p) instead of n N² + n² N, the solves are divisions and the
-//! pROM evaluation sums vectors. Sensor rows (H Φ), input shapes (Φᵀ S_un), the known load
+//! K, S and the derivatives are then diagonal, so J_v = [diag, diag, S⁻¹ [Δt S_un, −Δt D]],
+//! P ← J P Jᵀ costs (N + 4 n) n (2 + n_un + n_p) ([`Modal::propagate`]) instead of
+//! n N² + n² N, the solves are divisions and the pROM evaluation sums vectors. Sensor rows (H Φ), input shapes (Φᵀ S_un), the known load
 //! (Φᵀ f) and the initial state are transformed once or per step; [`Filter::state`],
 //! [`Filter::acceleration`], [`Filter::variance`] and [`Filter::covariance`] map back to q on
 //! request ([`Filter::filter_state`] and [`Filter::sensor_rows`] read sensors without it).
@@ -200,6 +200,8 @@ struct Scratch {
     sy_factor: Mat<f64>,
     /// The transposed q block of Gᵀ and H̄ (n × 2n) for [`propagate`].
     mirror: Mat<f64>,
+    /// The columns of [`Modal::propagate`].
+    columns: ModalColumns,
     /// Workspace of the in-place Cholesky factorizations.
     mem: MemBuffer,
 }
@@ -559,64 +561,80 @@ impl Model {
             }),
         }
     }
+}
 
-    /// Gᵀ = P J_vᵀ (N × n) and H = J_v P J_vᵀ = J_v Gᵀ (n × n), the two products
-    /// [`propagate`] needs. Physical: two GEMMs, N² n + N n² multiply-adds. Modal: J_v's q and q̇
-    /// blocks are diagonal, so column i of Gᵀ combines 2 + n_un + n_p columns of P and column j
-    /// of H as many rows of Gᵀ's column j.
+impl Physical {
+    /// Gᵀ = P J_vᵀ (N × n) and H = J_v P J_vᵀ = J_v Gᵀ (n × n), the two products [`propagate`]
+    /// needs: two GEMMs, N² n + N n² multiply-adds.
     #[inline(always)]
     fn transition_products(&self, p: &Mat<f64>, gt: &mut Mat<f64>, h: &mut Mat<f64>) {
-        match self {
-            Model::Physical(ph) => {
-                matmul(gt.as_mut(), Accum::Replace, p.as_ref(), ph.jv.transpose(), 1.0, Par::Seq);
-                matmul(h.as_mut(), Accum::Replace, ph.jv.as_ref(), gt.as_ref(), 1.0, Par::Seq);
-            }
-            Model::Modal(md) => {
-                let n = md.k.len();
-                let (jk, jm, nw) = (&md.jk[..n], &md.jm[..n], md.jw.ncols());
-                for i in 0..n {
-                    let (z, v, out) = (p.col_as_slice(i), p.col_as_slice(n + i), gt.col_as_slice_mut(i));
-                    let (a, b) = (jk[i], jm[i]);
-                    out.iter_mut().zip(z.iter().zip(v)).for_each(|(o, (z, v))| *o = a * z + b * v);
-                    for k in 0..nw {
-                        let c = md.jw[(i, k)];
-                        if c != 0.0 {
-                            axpy(out, c, p.col_as_slice(2 * n + k));
-                        }
-                    }
-                }
-                for j in 0..n {
-                    let (col, out) = (gt.col_as_slice(j), h.col_as_slice_mut(j));
-                    out.iter_mut().zip(jk.iter().zip(jm).zip(col[..n].iter().zip(&col[n..2 * n]))).for_each(|(o, ((a, b), (z, v)))| *o = a * z + b * v);
-                    for (k, &x) in col[2 * n..].iter().enumerate() {
-                        if x != 0.0 {
-                            axpy(out, x, md.jw.col_as_slice(k));
-                        }
-                    }
-                }
-            }
-        }
+        matmul(gt.as_mut(), Accum::Replace, p.as_ref(), self.jv.transpose(), 1.0, Par::Seq);
+        matmul(h.as_mut(), Accum::Replace, self.jv.as_ref(), gt.as_ref(), 1.0, Par::Seq);
     }
 }
 
-/// P ← J P Jᵀ (eq. 8.24 without Q) from G = J_v P and H = G J_vᵀ ([`Model::transition_products`],
-/// which gives Gᵀ): with q' = q + Δt q̇', q̇' = J_v x, (u, p)' = (u, p) and w = (u, p),
+/// Columns j and n + j of P ← J P Jᵀ (eq. 8.24) from G = J_v P and H = G J_vᵀ: with
+/// q' = q + Δt q̇', q̇' = J_v x, (u, p)' = (u, p) and w = (u, p),
 ///
 /// ```text
 /// P_q̇'q̇' = H,  P_q'q̇' = G_qᵀ + Δt H,  P_q'q' = P_qq + Δt (G_q + G_qᵀ) + Δt² H,
 /// P_wq̇' = G_wᵀ,  P_wq' = P_wq + Δt G_wᵀ,  P_ww unchanged,
 /// ```
 ///
-/// so J P Jᵀ costs the two products only. Columns q and q̇ are written whole (contiguous); the
-/// q and q̇ rows of the w columns are their mirror. Every entry is computed from expressions
-/// symmetric in its two indices (H through H̄ = (H + Hᵀ)/2), so a symmetric P stays exactly
-/// symmetric.
-///
-/// `mirror` (n × 2n) receives the transposed q block of Gᵀ and H̄ first, so that the main loop
-/// reads and writes whole columns only. `noise` = (G, q) adds the q and q̇ blocks q G of Q in
-/// the same pass (modal coordinates: G = Φ⁻¹ Φ⁻ᵀ, exactly symmetric).
+/// so J P Jᵀ costs the two products only. `gt_j` is column j of Gᵀ (N), `g_j` column j of G's
+/// q block (n: row j of Gᵀ) and `h_j` column j of H̄ = (H + Hᵀ)/2. Writes the q and q̇ rows of
+/// columns j and n + j whole (contiguous) and their w rows; reads only P_qq's column j. Every
+/// entry is computed from expressions symmetric in its two indices, so a symmetric P stays
+/// exactly symmetric once [`mirror_w_rows`] has copied the w rows to the w columns.
+/// `noise` = (column j of Φ⁻¹ Φ⁻ᵀ, q) adds the q and q̇ blocks of Q (modal coordinates) in
+/// the same pass.
 #[inline(always)]
-fn propagate(p: &mut Mat<f64>, gt: &Mat<f64>, h: &Mat<f64>, mirror: &mut Mat<f64>, noise: Option<(&Mat<f64>, f64)>, dt: f64) {
+#[allow(clippy::too_many_arguments)]
+fn propagate_column(p: &mut [f64], ps: usize, (n, j): (usize, usize), gt_j: &[f64], g_j: &[f64], h_j: &[f64], noise: Option<(&[f64], f64)>, dt: f64) {
+    let (left, right) = p.split_at_mut((n + j) * ps);
+    let (pq, pv) = left[j * ps..j * ps + 2 * n].split_at_mut(n);
+    let (pqv, pvv) = right[..2 * n].split_at_mut(n);
+    let blocks = pq.iter_mut().zip(pv.iter_mut()).zip(pqv.iter_mut().zip(pvv.iter_mut()));
+    let sources = gt_j[..n].iter().zip(&g_j[..n]).zip(&h_j[..n]);
+    match noise {
+        Some((gram, q)) => {
+            for (((pq, pv), (pqv, pvv)), (((g_ij, g_ji), h_sym), gram)) in blocks.zip(sources.zip(gram)) {
+                *pq = (*pq + (dt * (g_ij + g_ji) + dt * dt * h_sym)) + q * gram;
+                *pv = g_ji + dt * h_sym;
+                *pqv = g_ij + dt * h_sym;
+                *pvv = h_sym + q * gram;
+            }
+        }
+        None => {
+            for (((pq, pv), (pqv, pvv)), ((g_ij, g_ji), h_sym)) in blocks.zip(sources) {
+                *pq += dt * (g_ij + g_ji) + dt * dt * h_sym;
+                *pv = g_ji + dt * h_sym;
+                *pqv = g_ij + dt * h_sym;
+                *pvv = *h_sym;
+            }
+        }
+    }
+    for (k, &g_kj) in gt_j.iter().enumerate().skip(2 * n) {
+        p[k + j * ps] += dt * g_kj;
+        p[k + (n + j) * ps] = g_kj;
+    }
+}
+
+/// The q and q̇ rows of P's w columns from its w rows (after [`propagate_column`]).
+#[inline(always)]
+fn mirror_w_rows(p: &mut [f64], ps: usize, n: usize, big_n: usize) {
+    for k in 2 * n..big_n {
+        for i in 0..2 * n {
+            p[i + k * ps] = p[k + i * ps];
+        }
+    }
+}
+
+/// P ← J P Jᵀ (eq. 8.24 without Q; physical coordinates) by [`propagate_column`] from Gᵀ and H
+/// ([`Physical::transition_products`]). `mirror` (n × 2n) receives the transposed q block of
+/// Gᵀ and H̄ first, so that the main loop reads and writes whole columns only.
+#[inline(always)]
+fn propagate(p: &mut Mat<f64>, gt: &Mat<f64>, h: &Mat<f64>, mirror: &mut Mat<f64>, dt: f64) {
     let (n, big_n) = (h.nrows(), p.nrows());
     assert!(p.ncols() == big_n && gt.nrows() == big_n && gt.ncols() == n && h.ncols() == n && mirror.nrows() == n && mirror.ncols() == 2 * n, "propagate: shapes");
     let ((g, gs), (h, hs)) = (storage(gt), storage(h));
@@ -629,40 +647,86 @@ fn propagate(p: &mut Mat<f64>, gt: &Mat<f64>, h: &Mat<f64>, mirror: &mut Mat<f64
     }
     let (p, ps) = storage_mut(p);
     for j in 0..n {
-        let (g_j, g_t, h_j) = (&g[j * gs..j * gs + n], &mirror[j * ms..j * ms + n], &mirror[(n + j) * ms..(n + j) * ms + n]);
-        let (left, right) = p.split_at_mut((n + j) * ps);
-        let (pq, pv) = left[j * ps..j * ps + 2 * n].split_at_mut(n);
-        let (pqv, pvv) = right[..2 * n].split_at_mut(n);
-        let blocks = pq.iter_mut().zip(pv.iter_mut()).zip(pqv.iter_mut().zip(pvv.iter_mut()));
-        let sources = g_j.iter().zip(g_t).zip(h_j);
-        match noise {
-            Some((gram, q)) => {
-                for (((pq, pv), (pqv, pvv)), (((g_ij, g_ji), h_sym), gram)) in blocks.zip(sources.zip(gram.col_as_slice(j))) {
-                    *pq = (*pq + (dt * (g_ij + g_ji) + dt * dt * h_sym)) + q * gram;
-                    *pv = g_ji + dt * h_sym;
-                    *pqv = g_ij + dt * h_sym;
-                    *pvv = h_sym + q * gram;
-                }
-            }
-            None => {
-                for (((pq, pv), (pqv, pvv)), ((g_ij, g_ji), h_sym)) in blocks.zip(sources) {
-                    *pq += dt * (g_ij + g_ji) + dt * dt * h_sym;
-                    *pv = g_ji + dt * h_sym;
-                    *pqv = g_ij + dt * h_sym;
-                    *pvv = *h_sym;
-                }
-            }
-        }
-        for k in 2 * n..big_n {
-            let g_kj = g[k + j * gs];
-            p[k + j * ps] += dt * g_kj;
-            p[k + (n + j) * ps] = g_kj;
-        }
+        propagate_column(p, ps, (n, j), &g[j * gs..j * gs + big_n], &mirror[j * ms..j * ms + n], &mirror[(n + j) * ms..(n + j) * ms + n], None, dt);
     }
-    for k in 2 * n..big_n {
-        for i in 0..2 * n {
-            p[i + k * ps] = p[k + i * ps];
+    mirror_w_rows(p, ps, n, big_n);
+}
+
+/// Buffers of [`Modal::propagate`]: column j of Gᵀ (N), columns j and n + j of G and column j
+/// of H and of Hᵀ (n each), and G's w columns (n × (n_un + n_p)).
+struct ModalColumns {
+    gt: Vec<f64>,
+    g_q: Vec<f64>,
+    g_v: Vec<f64>,
+    h: Vec<f64>,
+    h_t: Vec<f64>,
+    g_w: Mat<f64>,
+}
+
+impl ModalColumns {
+    fn new(n: usize, big_n: usize) -> Self {
+        ModalColumns { gt: vec![0.0; big_n], g_q: vec![0.0; n], g_v: vec![0.0; n], h: vec![0.0; n], h_t: vec![0.0; n], g_w: Mat::zeros(n, big_n - 2 * n) }
+    }
+}
+
+impl Modal {
+    /// P ← J P Jᵀ + the q and q̇ blocks of Q (eq. 8.24) in modal coordinates, one column pair
+    /// at a time without forming G or H: J_v = [diag(jk), diag(jm), jw] is diagonal in its q
+    /// and q̇ blocks, so column j of Gᵀ = P J_vᵀ combines columns j, n + j and the w columns of
+    /// P, and — P being exactly symmetric — column j of G = J_v P (row j of Gᵀ) combines
+    /// three rows of P's column j, as does column n + j of G from P's column n + j; column j of
+    /// H = J_v Gᵀ and of Hᵀ (row j of H) follow from those. Every sum is the one a transposed
+    /// copy of Gᵀ and H would give (bit for bit, P symmetric), with whole-column reads only:
+    /// (N + 4 n)(2 + n_un + n_p) multiply-adds per column pair (instead of (N + n)(2 + n_un + n_p)
+    /// and two n × n transpositions with strided reads, which cost more on the blade). P's q and q̇ columns are
+    /// rewritten in place in order: column j's old values are read before they are written,
+    /// and the w columns only change at the end ([`mirror_w_rows`]).
+    #[inline(always)]
+    fn propagate(&self, p: &mut Mat<f64>, cols: &mut ModalColumns, q_state: f64, dt: f64) {
+        let (n, big_n, nw) = (self.jk.len(), p.nrows(), self.jw.ncols());
+        let (jk, jm, jw) = (&self.jk[..n], &self.jm[..n], &self.jw);
+        for k in 0..nw {
+            g_of_column(jk, jm, jw, p.col_as_slice(2 * n + k), cols.g_w.col_as_slice_mut(k));
         }
+        let (p, ps) = storage_mut(p);
+        for j in 0..n {
+            let (pj, pv) = (&p[j * ps..j * ps + big_n], &p[(n + j) * ps..(n + j) * ps + big_n]);
+            let gt = &mut cols.gt[..];
+            gt.iter_mut().zip(pj.iter().zip(pv)).for_each(|(o, (z, v))| *o = jk[j] * z + jm[j] * v);
+            for k in 0..nw {
+                let c = jw[(j, k)];
+                if c != 0.0 {
+                    axpy(gt, c, &p[(2 * n + k) * ps..(2 * n + k) * ps + big_n]);
+                }
+            }
+            g_of_column(jk, jm, jw, pj, &mut cols.g_q);
+            g_of_column(jk, jm, jw, pv, &mut cols.g_v);
+            let (h, h_t) = (&mut cols.h[..n], &mut cols.h_t[..n]);
+            h.iter_mut().zip(jk.iter().zip(jm).zip(gt[..n].iter().zip(&gt[n..2 * n]))).for_each(|(o, ((a, b), (z, v)))| *o = a * z + b * v);
+            h_t.iter_mut().zip(cols.g_q.iter().zip(&cols.g_v)).for_each(|(o, (z, v))| *o = jk[j] * z + jm[j] * v);
+            for k in 0..nw {
+                let x = gt[2 * n + k];
+                if x != 0.0 {
+                    axpy(h, x, jw.col_as_slice(k));
+                }
+                let c = jw[(j, k)];
+                h_t.iter_mut().zip(cols.g_w.col_as_slice(k)).for_each(|(o, g)| *o += g * c);
+            }
+            h.iter_mut().zip(h_t.iter()).for_each(|(h, h_t)| *h = 0.5 * (*h + h_t));
+            propagate_column(p, ps, (n, j), &cols.gt, &cols.g_q, &cols.h, Some((self.gram.col_as_slice(j), q_state)), dt);
+        }
+        mirror_w_rows(p, ps, n, big_n);
+    }
+}
+
+/// J_v x (n) for a column x of P (N): jk ∘ x_q + jm ∘ x_q̇ + Σ_k jw_k x_{2n+k}, entry i summed
+/// as entry (row of x, i) of Gᵀ = P J_vᵀ ([`Modal::propagate`]).
+#[inline(always)]
+fn g_of_column(jk: &[f64], jm: &[f64], jw: &Mat<f64>, x: &[f64], out: &mut [f64]) {
+    let n = jk.len();
+    out.iter_mut().zip(jk.iter().zip(jm).zip(x[..n].iter().zip(&x[n..2 * n]))).for_each(|(o, ((a, b), (z, v)))| *o = a * z + b * v);
+    for (k, &s) in x[2 * n..].iter().enumerate() {
+        out.iter_mut().zip(jw.col_as_slice(k)).for_each(|(o, c)| *o += c * s);
     }
 }
 
@@ -784,6 +848,7 @@ impl Filter {
             sy: Mat::zeros(m, m),
             sy_factor: Mat::zeros(m, m),
             mirror: Mat::zeros(n, 2 * n),
+            columns: ModalColumns::new(n, big_n),
             mem: MemBuffer::new(cholesky_in_place_scratch::<f64>(n.max(m), Par::Seq, Default::default())),
         };
         let mut filter = Filter {
@@ -1095,20 +1160,19 @@ impl Filter {
             self.jv_valid = true;
         }
         // P⁻ = J P Jᵀ + Q (eq. 8.24)
-        let (model, p, gt, h, mirror) = (&self.model, &mut self.p, &mut self.gt, &mut self.h, &mut self.scratch.mirror);
-        let noise = match model {
-            Model::Modal(md) => Some((&md.gram, self.setup.q_state)),
-            Model::Physical(_) => None,
-        };
-        vectorized(#[inline(always)] || {
-            model.transition_products(p, gt, h);
-            propagate(p, gt, h, mirror, noise, dt);
-        });
+        let (p, sc) = (&mut self.p, &mut self.scratch);
+        match &self.model {
+            Model::Physical(ph) => vectorized(#[inline(always)] || {
+                ph.transition_products(p, &mut self.gt, &mut self.h);
+                propagate(p, &self.gt, &self.h, &mut sc.mirror, dt);
+            }),
+            Model::Modal(md) => vectorized(#[inline(always)] || md.propagate(p, &mut sc.columns, self.setup.q_state, dt)),
+        }
         self.add_noise();
         Ok(())
     }
 
-    /// P += Q (eq. 8.29) but for the modal q and q̇ blocks of T⁻¹ Q T⁻ᵀ, which [`propagate`]
+    /// P += Q (eq. 8.29) but for the modal q and q̇ blocks of T⁻¹ Q T⁻ᵀ, which [`Modal::propagate`]
     /// adds.
     fn add_noise(&mut self) {
         let n = self.n;
