@@ -578,7 +578,7 @@ fn calculix_rbe_spring_mass() {
 /// [`macneal_harder_straight_beam`] / [`macneal_harder_twisted_beam`] and asserted, failing, by the ignored
 /// the ignored `hard_cases_known_defects_*` tests. (case, load label, what is wrong.)
 const MH_KNOWN_DEFECTS: &[(&str, &str, &str)] = &[
-    ("mh_straight_parallelogram_cquad4", "out-of-plane shear", "0.908 vs published QUAD4 0.981 (converged 3-D value of this skew-ended geometry 0.972; CalculiX S4 0.836): the MITC4 element itself — an independent MITC4 plate of the mesh (mitc_plate) gives the same to 3e-11 — distortion sensitivity with one element across"),
+    ("mh_straight_parallelogram_cquad4", "out-of-plane shear", "0.908 vs published QUAD4 0.981 (converged 3-D value of this skew-ended geometry 0.972; CalculiX S4 0.836): the MITC4 element itself — an independent MITC4 plate of the mesh (mitc_plate) gives the same to 3e-11, and so do OpenSees's ShellMITC4 and ASDShellQ4 (0.908033, to 2.3e-9) — distortion sensitivity with one element across"),
     ("mh_straight_parallelogram_ctria3", "out-of-plane shear", "0.568 vs published TRI3 0.955 (CalculiX S3 0.281): the MITC3 element itself — an independent MITC3 plate gives the same to 7e-11 — on slender triangles (45° parallelograms split along the long diagonal)"),
     ("mh_straight_trapezoidal_ctria3", "out-of-plane shear", "0.931 vs published TRI3 0.965 (CalculiX S3 0.035): the MITC3 element itself (independent MITC3 plate: the same to 2e-10) on distorted triangles, 5 % bound"),
 ];
@@ -600,6 +600,9 @@ fn macneal_harder(prefix: &str, known: bool) {
     files.sort();
     assert!(!files.is_empty(), "no {prefix}* references");
     let mut t = Table::default();
+    // third-party MITC4 shells on the straight CQUAD4 meshes (tools/opensees/mh_straight_mitc4.py)
+    let opensees = json("reference/opensees/mh_straight_mitc4.json");
+    let mut opensees_checked = 0;
     let mut readme = String::from("| case | load | paraflex | CalculiX | analytic (MH 1985) | bound |\n|---|---|---|---|---|---|\n");
     for f in &files {
         let r = json(&format!("reference/calculix/hard/{}", f.file_name().unwrap().to_string_lossy()));
@@ -653,6 +656,17 @@ fn macneal_harder(prefix: &str, known: bool) {
                     t.fail(format!("{case} {label}: {got:e} vs the independent MITC plate {plate:e} (rel. {difference:.1e} > {tol:e})"));
                 }
             }
+            // and by OpenSees's ShellMITC4 (asserted the same way)
+            let other = &opensees["cases"][case];
+            if other["label"].as_str() == Some(label) {
+                let (shell, tol) = (other["ShellMITC4"].as_f64().unwrap(), other["rel_tol"].as_f64().unwrap());
+                let difference = (got / shell - 1.0).abs();
+                eprintln!("  {case} {label}: paraflex / OpenSees ShellMITC4 − 1 = {difference:.1e} (ASDShellQ4 {:.4})", other["ASDShellQ4_normalised"]);
+                if difference > tol {
+                    t.fail(format!("{case} {label}: {got:e} vs OpenSees ShellMITC4 {shell:e} (rel. {difference:.1e} > {tol:e})"));
+                }
+                opensees_checked += 1;
+            }
             let quantity = format!("{label}: normalised {norm:.4}, CalculiX {ccx:.4}, bound {bound}{}", if defect.is_some() { " — known defect" } else { "" });
             t.row(case, quantity.clone(), got, target, "MH 1985", rel(got, target), None);
             match (ok, defect) {
@@ -664,6 +678,10 @@ fn macneal_harder(prefix: &str, known: bool) {
             }
             readme += &format!("| {case} | {label} | {norm:.4}{} | {ccx:.4} | {} | {bound} |\n", if ok { "" } else { " ✗" }, sig(target));
         }
+    }
+    let opensees_cases = opensees["cases"].as_object().unwrap().keys().filter(|k| k.starts_with(prefix)).count();
+    if !known && opensees_checked != opensees_cases {
+        t.fail(format!("{opensees_checked} of the {opensees_cases} OpenSees references of {prefix}* were checked (case or label renamed?)"));
     }
     println!("\nREADME table ({prefix}):\n{readme}");
     t.finish(&format!("{}{}", prefix.trim_end_matches('_'), if known { "_known_defects" } else { "" }));
