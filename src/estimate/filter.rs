@@ -31,10 +31,11 @@
 //! Q ↦ T⁻¹ Q T⁻ᵀ (its q and q̇ blocks become q_state Φ⁻¹ Φ⁻ᵀ, as the initial covariance's). M, C,
 //! K, S and the derivatives are then diagonal, so J_v = [diag, diag, S⁻¹ [Δt S_un, −Δt D]],
 //! P ← J P Jᵀ costs (N + 4 n) n (2 + n_un + n_p) ([`Modal::propagate`]) instead of
-//! n N² + n² N, the solves are divisions and the pROM evaluation sums vectors. Sensor rows (H Φ), input shapes (Φᵀ S_un), the known load
-//! (Φᵀ f) and the initial state are transformed once or per step; [`Filter::state`],
-//! [`Filter::acceleration`], [`Filter::variance`] and [`Filter::covariance`] map back to q on
-//! request ([`Filter::filter_state`] and [`Filter::sensor_rows`] read sensors without it).
+//! n N² + n² N, the solves are divisions and the pROM evaluation sums vectors. Sensor rows
+//! (H Φ), input shapes (Φᵀ S_un), the known load (Φᵀ f) and the initial state are transformed
+//! once or per step; [`Filter::state`], [`Filter::acceleration`], [`Filter::variance`] and
+//! [`Filter::covariance`] map back to q on request ([`Filter::filter_state`] and
+//! [`Filter::sensor_rows`] read sensors without it).
 //! [`Coordinates::Physical`] keeps the physical path (and every other pROM uses it).
 //!
 //! **Re-diagonalized modal coordinates** ([`Coordinates::Rediagonalized`], EKF field REDIAG).
@@ -62,12 +63,12 @@
 //! at construction, the Cholesky factors are computed in place, and everything runs on the
 //! calling thread (the systems are a few dozen DOFs: a thread hand-off costs more than it saves).
 
+use std::cell::OnceCell;
+
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
 use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::Solve;
-use std::cell::OnceCell;
-
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 use super::measurement::{Reads, SensorRows};
@@ -677,9 +678,9 @@ impl Modal {
     /// three rows of P's column j, as does column n + j of G from P's column n + j; column j of
     /// H = J_v Gᵀ and of Hᵀ (row j of H) follow from those. Every sum is the one a transposed
     /// copy of Gᵀ and H would give (bit for bit, P symmetric), with whole-column reads only:
-    /// (N + 4 n)(2 + n_un + n_p) multiply-adds per column pair (instead of (N + n)(2 + n_un + n_p)
-    /// and two n × n transpositions with strided reads, which cost more on the blade). P's q and q̇ columns are
-    /// rewritten in place in order: column j's old values are read before they are written,
+    /// (N + 4 n)(2 + n_un + n_p) multiply-adds per column pair (instead of
+    /// (N + n)(2 + n_un + n_p) and two n × n transpositions with strided reads, which cost more
+    /// on the blade). P's q and q̇ columns are rewritten in place in order: column j's old values are read before they are written,
     /// and the w columns only change at the end ([`mirror_w_rows`]).
     #[inline(always)]
     fn propagate(&self, p: &mut Mat<f64>, cols: &mut ModalColumns, q_state: f64, dt: f64) {
