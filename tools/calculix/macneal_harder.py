@@ -57,6 +57,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import scipy.linalg
 
 ROOT = Path(__file__).resolve().parents[2]
 DECKS = ROOT / "decks" / "verify" / "hard"
@@ -308,12 +309,61 @@ def cst_plane_stress(c: Case, forces: list) -> dict:
     return {g: (u[2 * index[g]], u[2 * index[g] + 1], 0.0) for g in ids}
 
 
-def mitc_plate(c: Case, forces: list) -> dict:
+def mitc_plate(c: Case, forces: list, shear_factor: float = 0.833333) -> dict:
     """Displacements (0, 0, w) per grid of the flat CQUAD4/CTRIA3 mesh `c` (z = 0) as a
-    Reissner-Mindlin plate (w, theta_x, theta_y per grid; beta = (theta_y, -theta_x), Nastran's
-    rotation sense) with MITC4 or MITC3 transverse shear, under out-of-plane `forces`, clamped grids
-    fixed. Bending D_b = E t^3 / (12 (1 - nu^2)) [plane stress], shear D_s = 0.833333 G t (PSHELL's
-    default TS/T); quads 2 x 2 Gauss, triangles the 3-point rule of degree 2.
+    Reissner-Mindlin plate ([`mitc_plate_stiffness`]) under out-of-plane `forces`, clamped grids
+    fixed."""
+    ids = sorted(c.nodes)
+    index = {g: i for i, g in enumerate(ids)}
+    k = mitc_plate_stiffness(c, shear_factor)
+    f = np.zeros(3 * len(ids))
+    for g, dof, value in forces:
+        assert dof == 3, "out-of-plane loads only"
+        f[3 * index[g]] += value
+    u = solve_clamped(k, f, [index[g] for g in c.clamp], 3)
+    return {g: (0.0, 0.0, u[3 * index[g]]) for g in ids}
+
+
+def mitc_plate_modes(c: Case, rho: float, count: int, shear_factor: float = 0.833333) -> list:
+    """The `count` lowest natural frequencies [Hz] of the clamped plate of [`mitc_plate`] with
+    its consistent mass: rho t N_i N_j on w and the rotary inertia rho t^3/12 N_i N_j on both
+    rotations (quads 2 x 2 Gauss, triangles the 3-point rule: exact for N_i N_j). Solved as M x = mu K x for
+    the largest mu = 1/omega^2 (K's shear/bending contrast (L/t)^2 leaves M the better-scaled
+    right-hand side at t/L = 1e-4)."""
+    ids = sorted(c.nodes)
+    index = {g: i for i, g in enumerate(ids)}
+    k = mitc_plate_stiffness(c, shear_factor)
+    m = np.zeros_like(k)
+    corners, gauss = [(-1, -1), (1, -1), (1, 1), (-1, 1)], 1 / math.sqrt(3)
+    for _, conn in c.elems:
+        xy = np.array([c.nodes[g][:2] for g in conn])
+        nn = np.zeros((len(conn), len(conn)))
+        if len(conn) == 4:
+            for r, s in ((a * gauss, b * gauss) for a, b in corners):
+                n = np.array([0.25 * (1 + a * r) * (1 + b * s) for a, b in corners])
+                jac = np.array([[0.25 * a * (1 + b * s) for a, b in corners], [0.25 * b * (1 + a * r) for a, b in corners]]) @ xy
+                nn += np.outer(n, n) * abs(np.linalg.det(jac))
+        else:
+            area = 0.5 * abs((xy[1, 0] - xy[0, 0]) * (xy[2, 1] - xy[0, 1]) - (xy[2, 0] - xy[0, 0]) * (xy[1, 1] - xy[0, 1]))
+            for r, s in ((1 / 6, 1 / 6), (2 / 3, 1 / 6), (1 / 6, 2 / 3)):
+                n = np.array([1 - r - s, r, s])
+                nn += np.outer(n, n) * area / 3
+        for j, inertia in enumerate((rho * c.t, rho * c.t ** 3 / 12, rho * c.t ** 3 / 12)):
+            dofs = [3 * index[g] + j for g in conn]
+            m[np.ix_(dofs, dofs)] += inertia * nn
+    fixed = {3 * index[g] + j for g in c.clamp for j in range(3)}
+    free = [i for i in range(len(k)) if i not in fixed]
+    nf = len(free)
+    mu = scipy.linalg.eigh(m[np.ix_(free, free)], k[np.ix_(free, free)], eigvals_only=True, subset_by_index=[nf - count, nf - 1])
+    return [float(math.sqrt(1 / x) / (2 * math.pi)) for x in mu[::-1]]
+
+
+def mitc_plate_stiffness(c: Case, shear_factor: float = 0.833333) -> np.ndarray:
+    """Stiffness of the flat CQUAD4/CTRIA3 mesh `c` (z = 0) as a Reissner-Mindlin plate (w,
+    theta_x, theta_y per grid in sorted grid order; beta = (theta_y, -theta_x), Nastran's rotation
+    sense) with MITC4 or MITC3 transverse shear. Bending D_b = E t^3 / (12 (1 - nu^2)) [plane
+    stress], shear D_s = shear_factor G t (PSHELL TS/T; 0.833333 is its default); quads 2 x 2
+    Gauss, triangles the 3-point rule of degree 2.
 
     MITC4 (Dvorkin & Bathe 1984): covariant e_xi = dw/dxi + beta . dx/dxi tied at (0, +-1), e_eta at
     (+-1, 0), interpolated linearly across; MITC3 (Lee & Bathe 2004): e_rt at (1/2, 0), e_st at
@@ -323,7 +373,7 @@ def mitc_plate(c: Case, forces: list) -> dict:
     index = {g: i for i, g in enumerate(ids)}
     k = np.zeros((3 * len(ids), 3 * len(ids)))
     d_b = c.E * c.t ** 3 / 12 / (1 - c.nu ** 2) * np.array([[1, c.nu, 0], [c.nu, 1, 0], [0, 0, (1 - c.nu) / 2]])
-    d_s = 0.833333 * c.E / (2 * (1 + c.nu)) * c.t * np.eye(2)
+    d_s = shear_factor * c.E / (2 * (1 + c.nu)) * c.t * np.eye(2)
     corners = [(-1, -1), (1, -1), (1, 1), (-1, 1)]
     gauss = 1 / math.sqrt(3)
     for _, conn in c.elems:
@@ -366,12 +416,7 @@ def mitc_plate(c: Case, forces: list) -> dict:
             ke += (b_b.T @ d_b @ b_b + b_s.T @ d_s @ b_s) * weight * abs(np.linalg.det(jac))
         dofs = [3 * index[g] + j for g in conn for j in range(3)]
         k[np.ix_(dofs, dofs)] += ke
-    f = np.zeros(3 * len(ids))
-    for g, dof, value in forces:
-        assert dof == 3, "out-of-plane loads only"
-        f[3 * index[g]] += value
-    u = solve_clamped(k, f, [index[g] for g in c.clamp], 3)
-    return {g: (0.0, 0.0, u[3 * index[g]]) for g in ids}
+    return k
 
 
 def weak(published: float, why: str) -> dict:
