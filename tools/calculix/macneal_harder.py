@@ -327,27 +327,20 @@ def mitc_plate(c: Case, forces: list, shear_factor: float = 0.833333) -> dict:
 def mitc_plate_modes(c: Case, rho: float, count: int, shear_factor: float = 0.833333) -> list:
     """The `count` lowest natural frequencies [Hz] of the clamped plate of [`mitc_plate`] with
     its consistent mass: rho t N_i N_j on w and the rotary inertia rho t^3/12 N_i N_j on both
-    rotations (quads 2 x 2 Gauss, triangles the 3-point rule: exact for N_i N_j). Solved as M x = mu K x for
-    the largest mu = 1/omega^2 (K's shear/bending contrast (L/t)^2 leaves M the better-scaled
-    right-hand side at t/L = 1e-4)."""
+    rotations ([`plate_rule`]: exact for N_i N_j). Solved as M x = mu K x for the largest
+    mu = 1/omega^2 (K's shear/bending contrast (L/t)^2 leaves M the better-scaled right-hand side
+    at t/L = 1e-4)."""
     ids = sorted(c.nodes)
     index = {g: i for i, g in enumerate(ids)}
     k = mitc_plate_stiffness(c, shear_factor)
     m = np.zeros_like(k)
-    corners, gauss = [(-1, -1), (1, -1), (1, 1), (-1, 1)], 1 / math.sqrt(3)
     for _, conn in c.elems:
         xy = np.array([c.nodes[g][:2] for g in conn])
+        shape, points = plate_rule(len(conn))
         nn = np.zeros((len(conn), len(conn)))
-        if len(conn) == 4:
-            for r, s in ((a * gauss, b * gauss) for a, b in corners):
-                n = np.array([0.25 * (1 + a * r) * (1 + b * s) for a, b in corners])
-                jac = np.array([[0.25 * a * (1 + b * s) for a, b in corners], [0.25 * b * (1 + a * r) for a, b in corners]]) @ xy
-                nn += np.outer(n, n) * abs(np.linalg.det(jac))
-        else:
-            area = 0.5 * abs((xy[1, 0] - xy[0, 0]) * (xy[2, 1] - xy[0, 1]) - (xy[2, 0] - xy[0, 0]) * (xy[1, 1] - xy[0, 1]))
-            for r, s in ((1 / 6, 1 / 6), (2 / 3, 1 / 6), (1 / 6, 2 / 3)):
-                n = np.array([1 - r - s, r, s])
-                nn += np.outer(n, n) * area / 3
+        for r, s, weight in points:
+            n, dr, ds = shape(r, s)
+            nn += np.outer(n, n) * weight * abs(np.linalg.det(np.array([dr @ xy, ds @ xy])))
         for j, inertia in enumerate((rho * c.t, rho * c.t ** 3 / 12, rho * c.t ** 3 / 12)):
             dofs = [3 * index[g] + j for g in conn]
             m[np.ix_(dofs, dofs)] += inertia * nn
@@ -356,6 +349,23 @@ def mitc_plate_modes(c: Case, rho: float, count: int, shear_factor: float = 0.83
     nf = len(free)
     mu = scipy.linalg.eigh(m[np.ix_(free, free)], k[np.ix_(free, free)], eigvals_only=True, subset_by_index=[nf - count, nf - 1])
     return [float(math.sqrt(1 / x) / (2 * math.pi)) for x in mu[::-1]]
+
+
+def plate_rule(nodes: int):
+    """Shape functions (N, dN/dr, dN/ds at (r, s)) and integration points (r, s, weight) of the
+    4-node quad (2 x 2 Gauss) or the 3-node triangle (3-point rule of degree 2)."""
+    if nodes == 4:
+        corners, gauss = [(-1, -1), (1, -1), (1, 1), (-1, 1)], 1 / math.sqrt(3)
+
+        def shape(r, s):
+            return (np.array([0.25 * (1 + a * r) * (1 + b * s) for a, b in corners]),
+                    np.array([0.25 * a * (1 + b * s) for a, b in corners]),
+                    np.array([0.25 * b * (1 + a * r) for a, b in corners]))
+        return shape, [(a * gauss, b * gauss, 1.0) for a, b in corners]
+
+    def shape(r, s):
+        return np.array([1 - r - s, r, s]), np.array([-1.0, 1.0, 0.0]), np.array([-1.0, 0.0, 1.0])
+    return shape, [(1 / 6, 1 / 6, 1 / 6), (2 / 3, 1 / 6, 1 / 6), (1 / 6, 2 / 3, 1 / 6)]
 
 
 def mitc_plate_stiffness(c: Case, shear_factor: float = 0.833333) -> np.ndarray:
@@ -374,21 +384,10 @@ def mitc_plate_stiffness(c: Case, shear_factor: float = 0.833333) -> np.ndarray:
     k = np.zeros((3 * len(ids), 3 * len(ids)))
     d_b = c.E * c.t ** 3 / 12 / (1 - c.nu ** 2) * np.array([[1, c.nu, 0], [c.nu, 1, 0], [0, 0, (1 - c.nu) / 2]])
     d_s = shear_factor * c.E / (2 * (1 + c.nu)) * c.t * np.eye(2)
-    corners = [(-1, -1), (1, -1), (1, 1), (-1, 1)]
-    gauss = 1 / math.sqrt(3)
     for _, conn in c.elems:
         xy = np.array([c.nodes[g][:2] for g in conn])
         m = len(conn)
-        if m == 4:
-            def shape(r, s):
-                return (np.array([0.25 * (1 + a * r) * (1 + b * s) for a, b in corners]),
-                        np.array([0.25 * a * (1 + b * s) for a, b in corners]),
-                        np.array([0.25 * b * (1 + a * r) for a, b in corners]))
-            points = [(a * gauss, b * gauss, 1.0) for a, b in corners]
-        else:
-            def shape(r, s):
-                return np.array([1 - r - s, r, s]), np.array([-1.0, 1.0, 0.0]), np.array([-1.0, 0.0, 1.0])
-            points = [(1 / 6, 1 / 6, 1 / 6), (2 / 3, 1 / 6, 1 / 6), (1 / 6, 2 / 3, 1 / 6)]
+        shape, points = plate_rule(m)
 
         def covariant(r, s, along_s):
             n, dr, ds = shape(r, s)
