@@ -893,9 +893,8 @@ def case_cantilever_static(write, solid=False):
             bulk = shell_bulk(grids, quads, t, {"E": E, "nu": 0.0, "rho": 7850.0},
                               coupmass=None)
             bulk.append(spc1(1, "123456", [g for g, x, y, z in grids if x == 0.0]))
-            for j in range(ny + 1):
-                w = (0.5 if j in (0, ny) else 1.0) / ny
-                bulk.append(card("FORCE", 2, j * (nx + 1) + nx + 1, 0, P * w, 0.0, 0.0, 1.0))
+            for g, force in tip_edge_forces(nx, ny, P):
+                bulk.append(card("FORCE", 2, g, 0, force, 0.0, 0.0, 1.0))
             what = "CQUAD4 %dx%d" % sz
         write_deck(deck, ["analytic case %s: strip %g x %g x %g m, E = %g, nu = 0, %s, "
                           "clamped at x = 0, %g N in +z at the tip" % (name, L, b, t, E, what, P),
@@ -1218,6 +1217,12 @@ def case_laminate_abd(write):
 THIN_DIR = "decks/verify/hard/thin"
 
 
+def tip_edge_forces(nx, ny, P):
+    """(grid, force) of a total force P spread consistently over the ny + 1 grids of the x = L
+    edge of an nx x ny grid (ids as shell_grid_mesh): half shares at the two corners."""
+    return [(j * (nx + 1) + nx + 1, P * (0.5 if j in (0, ny) else 1.0) / ny) for j in range(ny + 1)]
+
+
 def thin_strip_mesh(nx, ny, L, b, distorted):
     """Strip grid (ids as shell_grid_mesh). Distorted: interior cross-lines sheared by
     +-0.3 h across the width, alternating (trapezoids, ~17 deg), and the interior row moved
@@ -1237,19 +1242,18 @@ def thin_strip_mesh(nx, ny, L, b, distorted):
     return grids, quads
 
 
-def independent_plate(grids, cards, thick, kappa, rho, nx, ny):
+def independent_plate(grids, elems, thick, kappa, rho, nx, ny):
     """Per thickness, the tip deflection (mean T3 of the tip grids under the deck's consistent tip
     forces) and f1, f2 of the strip as an independent MITC plate (macneal_harder.mitc_plate), and
     the relative bound 1e-12 (L/t)^2 (L = 1) of paraflex's agreement with it."""
     nodes = {g: (x, y, z) for g, x, y, z in grids}
-    elems = [(int(c.split(",")[1]), tuple(int(v) for v in c.split(",")[3:])) for c in cards]
     clamp = [g for g, x, y, z in grids if x == 0.0]
     values, tols = {}, {}
     for key, th in thick.items():
         c = macneal_harder.Case("thin", "thin strip", "", "", nodes, elems, clamp, STEEL["E"], 0.0, th["t"])
-        weights = [(j * (nx + 1) + nx + 1, (0.5 if j in (0, ny) else 1.0) / ny) for j in range(ny + 1)]
-        u = macneal_harder.mitc_plate(c, [(g, 3, th["P"] * w) for g, w in weights], kappa)
-        tip = float(np.mean([u[g][2] for g, _ in weights]))
+        forces = tip_edge_forces(nx, ny, th["P"])
+        u = macneal_harder.mitc_plate(c, [(g, 3, force) for g, force in forces], kappa)
+        tip = float(np.mean([u[g][2] for g, _ in forces]))
         values[key] = [tip] + macneal_harder.mitc_plate_modes(c, rho, 2, kappa)
         tols[key] = float("%.0e" % (1e-12 / th["t_over_L"] ** 2))
     return values, tols
@@ -1309,11 +1313,10 @@ def case_thin_cantilever(write):
             tag = "%s_%s" % (elem.lower(), "distorted" if distorted else "regular")
             grids, quads = thin_strip_mesh(nx, ny, L, b, distorted)
             if elem == "CQUAD4":
-                cards = [card("CQUAD4", e, 1, g1, g2, g3, g4) for e, g1, g2, g3, g4 in quads]
+                elems = [(e, (g1, g2, g3, g4)) for e, g1, g2, g3, g4 in quads]
             else:
-                cards = []
-                for e, g1, g2, g3, g4 in quads:
-                    cards += [card("CTRIA3", 2 * e - 1, 1, g1, g2, g3), card("CTRIA3", 2 * e, 1, g1, g3, g4)]
+                elems = [t for e, g1, g2, g3, g4 in quads for t in ((2 * e - 1, (g1, g2, g3)), (2 * e, (g1, g3, g4)))]
+            cards = [card(elem, e, 1, *conn) for e, conn in elems]
             decks = {}
             for key, th in thick.items():
                 t = th["t"]
@@ -1332,9 +1335,8 @@ def case_thin_cantilever(write):
                     bulk.append(card("MAT1", 1, float(E), None, float(nu), float(rho)))
                     bulk.append(spc1(1, "123456", [g for g, x, y, z in grids if x == 0.0]))
                     if sol == "static":
-                        for j in range(ny + 1):
-                            w = (0.5 if j in (0, ny) else 1.0) / ny
-                            bulk.append(card("FORCE", 2, j * (nx + 1) + nx + 1, 0, th["P"] * w, 0.0, 0.0, 1.0))
+                        for g, force in tip_edge_forces(nx, ny, th["P"]):
+                            bulk.append(card("FORCE", 2, g, 0, force, 0.0, 0.0, 1.0))
                         cc = static_case_control("%s %s t/L=%s" % (name, tag, key))
                     else:
                         cc = modal_case_control("%s %s t/L=%s" % (name, tag, key))
@@ -1344,7 +1346,7 @@ def case_thin_cantilever(write):
                                                                     nx, ny),
                                       "reference: %s/%s.json" % (REF_DIR, name)],
                                101 if sol == "static" else 103, cc, bulk)
-            plate, plate_tol = independent_plate(grids, cards, thick, kappa, rho, nx, ny)
+            plate, plate_tol = independent_plate(grids, elems, thick, kappa, rho, nx, ny)
             if not distorted and elem == "CQUAD4":
                 tol = [float("%.2g" % (1.25 * (2 * abs(disc[k]) + 1e-4))) for k in range(3)]
                 just = ("MITC4 on a regular strip with nu = 0 reduces to the linear one-point-shear "
@@ -1435,9 +1437,8 @@ def case_cantilever_strain_sensor(write):
         grids, quads = shell_grid_mesh(L, b, nx, ny)
         bulk = shell_bulk(grids, quads, t, {"E": E, "nu": 0.0, "rho": 7850.0}, coupmass=None)
         bulk.append(spc1(1, "123456", [g for g, x, y, z in grids if x == 0.0]))
-        for j in range(ny + 1):
-            w = (0.5 if j in (0, ny) else 1.0) / ny
-            bulk.append(card("FORCE", 2, j * (nx + 1) + nx + 1, 0, P * w, 0.0, 0.0, 1.0))
+        for g, force in tip_edge_forces(nx, ny, P):
+            bulk.append(card("FORCE", 2, g, 0, force, 0.0, 0.0, 1.0))
         for k, (sname, eid, surf, d, _) in enumerate(sensors):
             bulk.append(card("SENSOR", k + 1, sname, "STRAIN", eid, surf, *d))
         bulk.append(card("SENSOR", len(sensors) + 1, "TIP_W", "DISP", nx + 1, None, 0.0, 0.0, 1.0))

@@ -132,10 +132,8 @@ def main() -> None:
                     table = g["error_table"][()]
                     names = [s.decode() if isinstance(s, bytes) else s for s in g["error_table"].attrs["rows"]]
                     speed = float(g.attrs["steps_per_second"])
+                    time, force = g["time"][()], (g["inputs/71:3"][()] if "inputs/71:3" in g else None)
                 if not names:  # no parameter: the input against the true load over the last 20 %
-                    with h5py.File(out, "r") as f:
-                        g = f["results/1/estimate"]
-                        time, force = g["time"][()], g["inputs/71:3"][()]
                     tail = time > time[-1] - 0.2 * STEPS * DT
                     rms = float(np.sqrt(np.mean((force[tail] - LOADS[load](time[tail])) ** 2)))
                     note = f"71:3 RMS error {rms:.3f} N (amplitude 5 N) over the last 20 %"
