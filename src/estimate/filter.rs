@@ -43,7 +43,8 @@
 //! its constant bolt springs), the filter still runs on the modes Φ of the estimate p₀ at which
 //! they were last computed. K̃(p) and M̃(p) are then their diagonals plus the off-diagonal
 //! couplings Σ (f_i(p) − f_i(p₀)) (Ã_i − diag Ã_i) ([`super::modal`]), which vanish at p₀:
-//! - the **mean** stays exact: products use the full K̃, C̃, M̃, and solves with S̃ or M̃ iterate
+//! - the **mean** stays exact: products use the full K̃, C̃, M̃ (a coupling of low rank as V Θ Vᵀ
+//!   minus its diagonal: [`super::modal::OffDiagonal`]), and solves with S̃ or M̃ iterate
 //!   x ← diag⁻¹ (b − off x) (Jacobi) to 4 ε. For a semi-definite part and its semi-definite
 //!   remainder the iteration contracts by about the relative drift |f_i(p) − f_i(p₀)| / |f_i(p₀)|
 //!   per step (the scaled coupling D^{-½} f_i Ã_i D^{-½} has eigenvalues in [0, 1]); if it has not
@@ -304,7 +305,7 @@ fn add_coupled(couplings: &[Coupling], weights: &[f64], (f_m, f_k): (f64, f64), 
     for (coupling, &w) in couplings.iter().zip(weights) {
         for (f, off) in [(f_m, &coupling.mass), (f_k, &coupling.stiffness)] {
             if let (true, Some(off)) = (f * w != 0.0, off) {
-                add_product(off, x, out, scale * f * w);
+                off.add_product(x, out, scale * f * w);
             }
         }
     }
@@ -355,7 +356,7 @@ fn solve_modal(d: &[f64], couplings: &[Coupling], drift: Option<&mut Drift>, fac
 }
 
 /// out += scale · A x for a dense A (column by column).
-fn add_product(a: &Mat<f64>, x: &[f64], out: &mut [f64], scale: f64) {
+pub(super) fn add_product(a: &Mat<f64>, x: &[f64], out: &mut [f64], scale: f64) {
     vectorized(
         #[inline(always)]
         || {
@@ -510,7 +511,7 @@ impl Model {
                             let f = dr.derivatives[(k, c)];
                             for (part, w) in [(&coupling.stiffness, w_k), (&coupling.mass, w_m)] {
                                 if let (true, Some(part)) = (f != 0.0, part) {
-                                    add_product(part, w, out, f);
+                                    part.add_product(w, out, f);
                                 }
                             }
                         }
@@ -1394,14 +1395,14 @@ fn joseph_pass<const K: usize>(col: &mut [f64], j: usize, gain: [&[f64]; K], w: 
 
 /// y += a x.
 #[inline(always)]
-fn axpy(y: &mut [f64], a: f64, x: &[f64]) {
+pub(super) fn axpy(y: &mut [f64], a: f64, x: &[f64]) {
     y.iter_mut().zip(x).for_each(|(y, x)| *y += a * x);
 }
 
 /// a · b with four interleaved partial sums (a strict left-to-right sum is one dependent
 /// chain of additions and cannot use vector lanes).
 #[inline(always)]
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
     let len = a.len().min(b.len());
     let (a, b) = (&a[..len], &b[..len]);
     let mut partial = [0.0; 4];
@@ -1862,8 +1863,9 @@ mod rediagonalized {
     /// 2) falls back to the dense factorization and marks the drift stalled: x = A⁻¹ b exact.
     #[test]
     fn diverging_coupled_solve_falls_back_to_a_factorization() {
+        use super::super::modal::OffDiagonal;
         let off = Mat::from_fn(2, 2, |i, j| if i == j { 0.0 } else { 1.0 });
-        let couplings = [Coupling { function: 0, reference: 1.0, stiffness: Some(off), mass: None }];
+        let couplings = [Coupling { function: 0, reference: 1.0, stiffness: Some(OffDiagonal::Dense(off)), mass: None }];
         let mut drift = Drift {
             tolerance: 0.1,
             weights: vec![2.0],

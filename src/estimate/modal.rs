@@ -20,9 +20,17 @@
 //! Σ (f_i(p) − f_i(p₀)) (Ã_i − diag Ã_i), small while the estimate stays near p₀ (the constant
 //! part's off-diagonal cancels the changing parts' at p₀ up to the eigensolver's round-off and is
 //! dropped). The filter then re-computes the modes when the weights have drifted.
+//!
+//! **Low-rank couplings** ([`OffDiagonal::LowRank`]). When one changing part is the only one
+//! that couples in its matrix, that same cancellation gives its off-diagonal as −1/f_i(p₀) times
+//! the constant part's, and the constant part is often of low rank: a few springs, bushings or
+//! point masses beside the material that is estimated (the blade's bolts: rank 6 in n = 36).
+//! Φᵀ A_c Φ = V Θ Vᵀ then keeps its r eigenpairs above round-off, and a product with the
+//! coupling costs 2 n r + n multiply-adds instead of n²; it is used when that is fewer.
 use faer::Mat;
 
-use crate::linalg::dense::{generalized_eigen, product};
+use super::filter::{add_product, axpy, dot};
+use crate::linalg::dense::{generalized_eigen, product, symmetric_eigen_vectors};
 use crate::rom::prom::Prom;
 
 /// Largest coupling ratio |Ã_ab| / √(|Ã_aa| |Ã_bb|) of a transformed component accepted as
@@ -55,12 +63,59 @@ pub struct Coupling {
     pub function: usize,
     /// Its weight f_i(p₀) at the parameters of the modes.
     pub reference: f64,
-    /// Φᵀ K_i Φ and Φᵀ M_i Φ without their diagonals (n × n; `None`: that one is diagonal).
-    pub stiffness: Option<Mat<f64>>,
-    pub mass: Option<Mat<f64>>,
+    /// Φᵀ K_i Φ and Φᵀ M_i Φ without their diagonals (`None`: that one is diagonal).
+    pub stiffness: Option<OffDiagonal>,
+    pub mass: Option<OffDiagonal>,
+}
+
+/// The off-diagonal part Ã − diag(Ã) of a coupled pROM part in the modes.
+#[derive(Debug, Clone)]
+pub enum OffDiagonal {
+    /// Stored whole (n × n, zero diagonal).
+    Dense(Mat<f64>),
+    /// V diag(θ) Vᵀ − diag(V diag(θ) Vᵀ) with V n × r (module documentation): `diagonal` holds
+    /// diag(V diag(θ) Vᵀ).
+    LowRank { vectors: Mat<f64>, values: Vec<f64>, diagonal: Vec<f64> },
+}
+
+impl OffDiagonal {
+    /// out += scale · (Ã − diag Ã) x.
+    pub fn add_product(&self, x: &[f64], out: &mut [f64], scale: f64) {
+        match self {
+            OffDiagonal::Dense(a) => add_product(a, x, out, scale),
+            OffDiagonal::LowRank { vectors, values, diagonal } => {
+                for (k, value) in values.iter().enumerate() {
+                    let v = vectors.col_as_slice(k);
+                    axpy(out, scale * value * dot(v, x), v);
+                }
+                out.iter_mut().zip(diagonal.iter().zip(x)).for_each(|(o, (d, x))| *o -= scale * d * x);
+            }
+        }
+    }
+
+    /// −`factor` times the off-diagonal of the symmetric `a` as [`OffDiagonal::LowRank`] when
+    /// its eigenvalues above the round-off n ε max |θ| are few enough that 2 n r + n < n².
+    fn low_rank(a: &Mat<f64>, factor: f64) -> Option<OffDiagonal> {
+        let n = a.nrows();
+        let (theta, v) = symmetric_eigen_vectors(a.as_ref()).ok()?;
+        let largest = theta.iter().fold(0.0_f64, |m, t| m.max(t.abs()));
+        let keep: Vec<usize> = (0..n).filter(|&k| theta[k].abs() > n as f64 * f64::EPSILON * largest).collect();
+        if 2 * keep.len() + 1 >= n {
+            return None;
+        }
+        let vectors = Mat::from_fn(n, keep.len(), |i, c| v[(i, keep[c])]);
+        let values: Vec<f64> = keep.iter().map(|&k| -factor * theta[k]).collect();
+        let diagonal = (0..n).map(|i| values.iter().enumerate().map(|(c, t)| t * vectors[(i, c)] * vectors[(i, c)]).sum()).collect();
+        Some(OffDiagonal::LowRank { vectors, values, diagonal })
+    }
 }
 
 impl Coupling {
+    /// Its off-diagonal part in M̃ (`mass`) or K̃.
+    fn part(&mut self, mass: bool) -> &mut Option<OffDiagonal> {
+        if mass { &mut self.mass } else { &mut self.stiffness }
+    }
+
     /// |f_i(p) − f_i(p₀)| / |f_i(p₀)|: how far the part's weight has moved from the modes'.
     pub fn drift(&self, weight: f64) -> f64 {
         (weight - self.reference).abs() / self.reference.abs().max(f64::MIN_POSITIVE)
@@ -88,9 +143,9 @@ pub fn modal_form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool) -> O
             m_fixed += &prom.mass[i] * w;
         }
     }
-    // Φᵀ A Φ, its diagonal and, when it couples, itself with the diagonal zeroed
+    // Φᵀ A Φ, its diagonal and its largest coupling ratio
     let transform = |a: &Mat<f64>| -> (Vec<f64>, f64, Mat<f64>) {
-        let mut t = product(product(basis.transpose(), a.as_ref()).as_ref(), basis.as_ref());
+        let t = product(product(basis.transpose(), a.as_ref()).as_ref(), basis.as_ref());
         let roundoff = n as f64 * f64::EPSILON * t.norm_max();
         let mut coupling = 0.0_f64;
         for j in 0..n {
@@ -102,26 +157,43 @@ pub fn modal_form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool) -> O
             }
         }
         let diagonal = (0..n).map(|i| t[(i, i)]).collect();
-        (0..n).for_each(|i| t[(i, i)] = 0.0);
         (diagonal, coupling, t)
+    };
+    let off_diagonal = |c: f64, mut t: Mat<f64>| {
+        (0..n).for_each(|i| t[(i, i)] = 0.0);
+        (c > DIAGONAL_TOLERANCE).then_some(OffDiagonal::Dense(t))
     };
     let mut coupling = 0.0_f64;
     let mut parts = Vec::new();
     let mut couplings = Vec::new();
+    let mut constant = None;
     for (function, k, m) in std::iter::once((None, &k_fixed, &m_fixed)).chain(varying.iter().map(|&i| (Some(i), &prom.stiffness[i], &prom.mass[i]))) {
-        let ((k_diag, k_coupling, k_off), (m_diag, m_coupling, m_off)) = (transform(k), transform(m));
+        let ((k_diag, k_coupling, k_t), (m_diag, m_coupling, m_t)) = (transform(k), transform(m));
         coupling = coupling.max(k_coupling).max(m_coupling);
-        let off = |c: f64, t: Mat<f64>| (c > DIAGONAL_TOLERANCE).then_some(t);
-        let (stiffness, mass) = (off(k_coupling, k_off), off(m_coupling, m_off));
-        let couples = stiffness.is_some() || mass.is_some();
+        let couples = k_coupling.max(m_coupling) > DIAGONAL_TOLERANCE;
         if couples && !coupled {
             return None;
         }
-        // the constant part's off-diagonal is dropped (module documentation)
-        if let (Some(i), true) = (function, couples) {
-            couplings.push(Coupling { function: i, reference: prom.functions[i].value(p), stiffness, mass });
-        }
         parts.push((function, k_diag, m_diag));
+        let Some(i) = function else {
+            // the constant part's off-diagonal is dropped (module documentation); kept whole for
+            // the low-rank couplings below
+            constant = Some((k_t, m_t));
+            continue;
+        };
+        if couples {
+            couplings.push(Coupling { function: i, reference: prom.functions[i].value(p), stiffness: off_diagonal(k_coupling, k_t), mass: off_diagonal(m_coupling, m_t) });
+        }
+    }
+    // a matrix's only coupled part: its off-diagonal from the constant part's, if of low rank
+    let (k_c, m_c) = constant.expect("the constant part is transformed first");
+    for (c, mass) in [(&k_c, false), (&m_c, true)] {
+        let mut coupled_parts = couplings.iter_mut().filter(|k| if mass { k.mass.is_some() } else { k.stiffness.is_some() });
+        if let (Some(only), None) = (coupled_parts.next(), coupled_parts.next())
+            && let Some(low) = OffDiagonal::low_rank(c, 1.0 / only.reference)
+        {
+            *only.part(mass) = Some(low);
+        }
     }
     Some(ModalForm { basis, inverse, parts, coupling, couplings })
 }
@@ -149,35 +221,84 @@ mod tests {
         assert!((0..2).all(|i| (0..2).all(|j| (eye[(i, j)] - if i == j { 1.0 } else { 0.0 }).abs() <= 1e-13)));
     }
 
+    /// An n-DOF version of the filter tests' chain: springs E K¹ (fixed–free, 1e4 each), the
+    /// grounded spring K⁰ at DOF 0 (5e3, rank 1), M = ρ M¹ (diagonal 2, 1, … with 0.1 between
+    /// neighbours).
+    fn chain_of(n: usize) -> Prom {
+        let mut prom = chain();
+        prom.stiffness[1] = Mat::from_fn(n, n, |i, j| match (i, j) {
+            (i, j) if i == j => if i + 1 < n { 2e4 } else { 1e4 },
+            (i, j) if i.abs_diff(j) == 1 => -1e4,
+            _ => 0.0,
+        });
+        prom.stiffness[0] = Mat::from_fn(n, n, |i, j| if i == 0 && j == 0 { 5e3 } else { 0.0 });
+        prom.stiffness[2] = Mat::zeros(n, n);
+        prom.mass = vec![Mat::zeros(n, n), Mat::zeros(n, n), Mat::from_fn(n, n, |i, j| if i == j { 2.0 - (i % 2) as f64 } else if i.abs_diff(j) == 1 { 0.1 } else { 0.0 })];
+        prom
+    }
+
     /// With `coupled`, the bolted-chain E part (beside its constant grounded spring) is kept as
     /// a coupling, ρ's part (all of M) stays diagonal, and the form reproduces Φᵀ K(p) Φ and
-    /// Φᵀ M(p) Φ away from p₀ as diagonal parts + Σ (f_i(p) − f_i(p₀)) off-diagonals: exact up to
-    /// the round-off of the modes (the dropped constant off-diagonal), bound 1e-12 of max |Ã|.
+    /// Φᵀ M(p) Φ away from p₀ as diagonal parts + Σ (f_i(p) − f_i(p₀)) off-diagonals, applied by
+    /// [`OffDiagonal::add_product`]: exact up to the round-off of the modes (the dropped constant
+    /// off-diagonal), bound 1e-12 of max |Ã|. On 2 DOFs the coupling is stored whole; on 6 the
+    /// rank-1 spring makes it [`OffDiagonal::LowRank`] (2 · 6 · 1 + 6 < 36).
     #[test]
     fn coupled_parts_reproduce_the_transformed_matrices_away_from_the_modes_parameters() {
-        let prom = chain();
-        let p0 = [1.2, 0.9];
-        let form = modal_form(&prom, &p0, &[0, 1], true).expect("coupled form");
-        assert_eq!(form.couplings.len(), 1);
-        let c = &form.couplings[0];
-        assert!(c.stiffness.is_some() && c.mass.is_none() && prom.functions[c.function].driven_by[0].1 == 0);
-        let p = [1.5, 0.7];
-        let mut at = prom.workspace();
-        prom.evaluate(&p, &mut at).unwrap();
-        for (which, exact) in [("K", at.stiffness()), ("M", at.mass())] {
-            let exact = form.basis.transpose() * exact * &form.basis;
-            let mut model = Mat::<f64>::zeros(2, 2);
-            for (function, k, m) in &form.parts {
-                let w = function.map_or(1.0, |i| prom.functions[i].value(&p));
-                (0..2).for_each(|i| model[(i, i)] += w * if which == "K" { k[i] } else { m[i] });
-            }
-            for c in &form.couplings {
-                if let Some(off) = if which == "K" { &c.stiffness } else { &c.mass } {
-                    model += off * faer::Scale(prom.functions[c.function].value(&p) - c.reference);
+        for (prom, low_rank) in [(chain(), false), (chain_of(6), true)] {
+            let n = prom.size();
+            let p0 = [1.2, 0.9];
+            let form = modal_form(&prom, &p0, &[0, 1], true).expect("coupled form");
+            assert_eq!(form.couplings.len(), 1);
+            let c = &form.couplings[0];
+            assert!(c.mass.is_none() && prom.functions[c.function].driven_by[0].1 == 0);
+            assert!(matches!(c.stiffness, Some(OffDiagonal::LowRank { ref values, .. }) if values.len() == 1) == low_rank, "n = {n}: {:?}", c.stiffness);
+            let p = [1.5, 0.7];
+            let mut at = prom.workspace();
+            prom.evaluate(&p, &mut at).unwrap();
+            for (which, exact) in [("K", at.stiffness()), ("M", at.mass())] {
+                let exact = form.basis.transpose() * exact * &form.basis;
+                let mut model = Mat::<f64>::zeros(n, n);
+                for (function, k, m) in &form.parts {
+                    let w = function.map_or(1.0, |i| prom.functions[i].value(&p));
+                    (0..n).for_each(|i| model[(i, i)] += w * if which == "K" { k[i] } else { m[i] });
                 }
+                for c in &form.couplings {
+                    if let Some(off) = if which == "K" { &c.stiffness } else { &c.mass } {
+                        let mut unit = vec![0.0; n];
+                        for j in 0..n {
+                            unit[j] = 1.0;
+                            off.add_product(&unit, model.col_as_slice_mut(j), prom.functions[c.function].value(&p) - c.reference);
+                            unit[j] = 0.0;
+                        }
+                    }
+                }
+                let scale = exact.norm_max();
+                assert!((&exact - &model).norm_max() <= 1e-12 * scale, "n = {n}, {which}: {:e}", (&exact - &model).norm_max());
             }
-            let scale = exact.norm_max();
-            assert!((&exact - &model).norm_max() <= 1e-12 * scale, "{which}: {:e}", (&exact - &model).norm_max());
         }
+    }
+
+    /// [`OffDiagonal::low_rank`] of A = B Bᵀ − C Cᵀ (8 × 8, rank 3, indefinite) applies
+    /// −f (A − diag A) to round-off (bound 1e-14 of max |A| |x|), and a full-rank matrix is left
+    /// dense (None).
+    #[test]
+    fn low_rank_off_diagonal_applies_the_scaled_off_diagonal() {
+        let n = 8;
+        let b = Mat::from_fn(n, 2, |i, j| ((i * 7 + j * 3) % 5) as f64 - 2.0 + 0.1 * i as f64);
+        let c = Mat::from_fn(n, 1, |i, _| (i as f64 * 0.7).sin());
+        let a = &b * b.transpose() - &c * c.transpose();
+        let f = 2.5;
+        let off = OffDiagonal::low_rank(&a, f).expect("rank 3 of 8 is low");
+        assert!(matches!(&off, OffDiagonal::LowRank { values, .. } if values.len() == 3), "{off:?}");
+        let x: Vec<f64> = (0..n).map(|i| 1.0 + 0.3 * i as f64).collect();
+        let mut out = vec![1.0; n];
+        off.add_product(&x, &mut out, 0.5);
+        let scale = a.norm_max() * x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        for i in 0..n {
+            let exact = 1.0 - 0.5 * f * (0..n).filter(|&j| j != i).map(|j| a[(i, j)] * x[j]).sum::<f64>();
+            assert!((out[i] - exact).abs() <= 1e-14 * scale * n as f64, "{i}: {} vs {exact}", out[i]);
+        }
+        assert!(OffDiagonal::low_rank(&(&a + Mat::<f64>::identity(n, n) * faer::Scale(3.0)), f).is_none());
     }
 }

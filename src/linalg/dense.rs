@@ -77,6 +77,13 @@ pub fn generalized_eigen(k: MatRef<'_, f64>, m: MatRef<'_, f64>) -> Result<(Vec<
     Ok((order.iter().map(|&i| lambda[i]).collect(), Mat::from_fn(n, n, |r, c| phi[(r, order[c])])))
 }
 
+/// Eigenvalues (ascending) and orthonormal eigenvectors (columns) of the symmetric `a` (its
+/// lower triangle is read).
+pub fn symmetric_eigen_vectors(a: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), DenseEigenError> {
+    let (values, vectors) = symmetric_eigen(a, ComputeEigenvectors::Yes)?;
+    Ok((values, vectors.expect("eigenvectors were requested")))
+}
+
 /// Eigenvalues (ascending) and, when asked, orthonormal eigenvectors of the symmetric `a`
 /// (its lower triangle is read).
 fn symmetric_eigen(a: MatRef<'_, f64>, vectors: ComputeEigenvectors) -> Result<(Vec<f64>, Option<Mat<f64>>), DenseEigenError> {
