@@ -73,7 +73,7 @@ use faer::linalg::solvers::Solve;
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 use super::measurement::{Reads, SensorRows};
-use super::modal::{Coupling, ModalForm, modal_form};
+use super::modal::{Coupling, ModalForm, modal_form, modal_form_after};
 use crate::linalg::dense::product;
 use crate::rom::prom::{Prom, PromError, PromEvaluation};
 
@@ -1035,7 +1035,7 @@ impl Filter {
         let Model::Modal(md) = &mut self.model else { return Ok(()) };
         let Some(dr) = md.drift.as_mut() else { return Ok(()) };
         let s = &mut self.setup;
-        let form = modal_form(&s.prom, &self.params, &s.unknown_params, true)
+        let form = modal_form_after(&s.prom, &self.params, &s.unknown_params, &md.form)
             .ok_or_else(|| FilterError::Prom(format!("at step {}: no modes of the pROM at parameters {:?} (re-diagonalization)", self.step, self.params)))?;
         let r = product(form.inverse.as_ref(), md.form.basis.as_ref());
         for start in [0, n] {
