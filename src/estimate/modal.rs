@@ -116,7 +116,12 @@ impl OffDiagonal {
 
 impl Coupling {
     /// Its off-diagonal part in M̃ (`mass`) or K̃.
-    fn part(&mut self, mass: bool) -> &mut Option<OffDiagonal> {
+    fn part(&self, mass: bool) -> &Option<OffDiagonal> {
+        if mass { &self.mass } else { &self.stiffness }
+    }
+
+    /// [`Coupling::part`], mutable.
+    fn part_mut(&mut self, mass: bool) -> &mut Option<OffDiagonal> {
         if mass { &mut self.mass } else { &mut self.stiffness }
     }
 
@@ -204,10 +209,10 @@ fn form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool, previous: Opti
     // a matrix's only coupled part: its off-diagonal from the constant part's, if of low rank
     let (k_c, m_c) = constant.expect("the constant part is transformed first");
     for (c, mass) in [(&k_c, false), (&m_c, true)] {
-        let mut coupled_parts = couplings.iter_mut().filter(|k| if mass { k.mass.is_some() } else { k.stiffness.is_some() });
+        let mut coupled_parts = couplings.iter_mut().filter(|k| k.part(mass).is_some());
         let Some(only) = coupled_parts.next().filter(|_| coupled_parts.next().is_none()) else { continue };
         let carried = previous.and_then(|form| form.couplings.iter().find(|k| k.function == only.function).map(|k| (form, k)));
-        let low = match carried.map(|(form, k)| (form, k.reference, if mass { &k.mass } else { &k.stiffness })) {
+        let low = match carried.map(|(form, k)| (form, k.reference, k.part(mass))) {
             Some((form, reference, Some(OffDiagonal::LowRank { vectors, values, .. }))) => {
                 let moved = product(basis.transpose(), product(form.inverse.transpose(), vectors.as_ref()).as_ref());
                 Some(OffDiagonal::from_factor(moved, values.iter().map(|v| v * reference / only.reference).collect()))
@@ -215,7 +220,7 @@ fn form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool, previous: Opti
             _ => OffDiagonal::low_rank(c, 1.0 / only.reference),
         };
         if let Some(low) = low {
-            *only.part(mass) = Some(low);
+            *only.part_mut(mass) = Some(low);
         }
     }
     Some(ModalForm { basis, inverse, parts, coupling, couplings })
