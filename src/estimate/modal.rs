@@ -142,7 +142,7 @@ pub fn modal_form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool) -> O
 /// [`modal_form`] with couplings at new parameters `p` after the form `previous` (a
 /// re-diagonalization): a low-rank coupling's factor is carried over to the new modes,
 /// V₂ = Φ₂ᵀ Φ₁⁻ᵀ V₁ (the constant part, Φ₁⁻ᵀ V₁ Θ V₁ᵀ Φ₁⁻¹, does not change with the estimate),
-/// n² r multiply-adds instead of an eigendecomposition.
+/// n² r multiply-adds instead of an eigendecomposition; a dense coupling stays dense.
 pub fn modal_form_after(prom: &Prom, p: &[f64], unknown: &[usize], previous: &ModalForm) -> Option<ModalForm> {
     form(prom, p, unknown, true, Some(previous))
 }
@@ -212,11 +212,14 @@ fn form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool, previous: Opti
         let mut coupled_parts = couplings.iter_mut().filter(|k| k.part(mass).is_some());
         let Some(only) = coupled_parts.next().filter(|_| coupled_parts.next().is_none()) else { continue };
         let carried = previous.and_then(|form| form.couplings.iter().find(|k| k.function == only.function).map(|k| (form, k)));
+        // the constant part's rank does not change with the estimate: a coupling found dense
+        // stays dense
         let low = match carried.map(|(form, k)| (form, k.reference, k.part(mass))) {
             Some((form, reference, Some(OffDiagonal::LowRank { vectors, values, .. }))) => {
                 let moved = product(basis.transpose(), product(form.inverse.transpose(), vectors.as_ref()).as_ref());
                 Some(OffDiagonal::from_factor(moved, values.iter().map(|v| v * reference / only.reference).collect()))
             }
+            Some((_, _, Some(OffDiagonal::Dense(_)))) => None,
             _ => OffDiagonal::low_rank(c, 1.0 / only.reference),
         };
         if let Some(low) = low {
