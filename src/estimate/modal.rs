@@ -211,10 +211,10 @@ fn form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool, previous: Opti
     for (c, mass) in [(&k_c, false), (&m_c, true)] {
         let mut coupled_parts = couplings.iter_mut().filter(|k| k.part(mass).is_some());
         let Some(only) = coupled_parts.next().filter(|_| coupled_parts.next().is_none()) else { continue };
-        let carried = previous.and_then(|form| form.couplings.iter().find(|k| k.function == only.function).map(|k| (form, k)));
+        let carried = previous.and_then(|form| form.couplings.iter().find(|k| k.function == only.function).map(|k| (form, k.reference, k.part(mass))));
         // the constant part's rank does not change with the estimate: a coupling found dense
         // stays dense
-        let low = match carried.map(|(form, k)| (form, k.reference, k.part(mass))) {
+        let low = match carried {
             Some((form, reference, Some(OffDiagonal::LowRank { vectors, values, .. }))) => {
                 let moved = product(basis.transpose(), product(form.inverse.transpose(), vectors.as_ref()).as_ref());
                 Some(OffDiagonal::from_factor(moved, values.iter().map(|v| v * reference / only.reference).collect()))

@@ -68,9 +68,8 @@ pub fn generalized_eigen(k: MatRef<'_, f64>, m: MatRef<'_, f64>) -> Result<(Vec<
     let mut a = x.transpose().to_owned();
     solve_lower_triangular_in_place(l, a.as_mut(), Par::Seq);
     let a = Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
-    let (lambda, vectors) = symmetric_eigen(a.as_ref(), ComputeEigenvectors::Yes)?;
+    let (lambda, mut phi) = symmetric_eigen_vectors(a.as_ref())?;
     // φ = L⁻ᵀ y: solve Lᵀ φ = y, i.e. the upper-triangular Lᵀ
-    let mut phi = vectors.expect("eigenvectors were requested");
     faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), phi.as_mut(), Par::Seq);
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&i, &j| lambda[i].total_cmp(&lambda[j]));
