@@ -378,10 +378,8 @@ mod progress {
         }
 
         pub fn finish(&self) {
-            if let Ok(mut cur) = self.current.lock() {
-                if let Some((_, bar)) = cur.take() {
-                    bar.finish_and_clear();
-                }
+            if let Ok(mut cur) = self.current.lock() && let Some((_, bar)) = cur.take() {
+                bar.finish_and_clear();
             }
         }
     }

@@ -506,7 +506,7 @@ fn analytic_laminate_abd() {
 }
 
 fn matmax(m: &Value) -> f64 {
-    m.as_array().unwrap().iter().flat_map(|r| f64s(r)).fold(0.0, |a, x| a.max(x.abs()))
+    m.as_array().unwrap().iter().flat_map(f64s).fold(0.0, |a, x| a.max(x.abs()))
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -83,10 +83,8 @@ fn check_scene(scene: &str) {
                 continue;
             }
         };
-        if let Some(SubcaseResult::Modal(m)) = summary.subcases.first().map(|s| &s.result) {
-            if !m.sturm.is_consistent() {
-                failures.push(format!("{name}: Sturm check inconsistent: {:?}", m.sturm));
-            }
+        if let Some(SubcaseResult::Modal(m)) = summary.subcases.first().map(|s| &s.result) && !m.sturm.is_consistent() {
+            failures.push(format!("{name}: Sturm check inconsistent: {:?}", m.sturm));
         }
         let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open out.h5");
         let freqs: Vec<f64> = file.dataset("results/1/modal/frequency_hz").and_then(|d| d.read_raw()).unwrap_or_default();

@@ -67,7 +67,7 @@ struct SlicedLine<'a> {
     format: Format,
 }
 
-fn slice_fixed<'a>(text: &'a str, width: usize, count: usize) -> Vec<&'a str> {
+fn slice_fixed(text: &str, width: usize, count: usize) -> Vec<&str> {
     let mut data = Vec::with_capacity(count);
     let mut start = 8;
     let end_of_data = 72.min(text.len());

@@ -240,10 +240,8 @@ pub fn integrate_with<B: Backend>(
     if !(run.dt > 0.0 && run.dt.is_finite()) {
         return Err(IntegrationError::Step(run.dt));
     }
-    if let Method::GeneralizedAlpha { rho_inf } = method {
-        if !(0.0..=1.0).contains(&rho_inf) {
-            return Err(IntegrationError::SpectralRadius(rho_inf));
-        }
+    if let Method::GeneralizedAlpha { rho_inf } = method && !(0.0..=1.0).contains(&rho_inf) {
+        return Err(IntegrationError::SpectralRadius(rho_inf));
     }
     backend.advance(run.t0)?;
     let mut state = State { q: q0.to_vec(), v: v0.to_vec(), a: vec![0.0; n], f: vec![0.0; n], rhs: vec![0.0; n] };

@@ -57,6 +57,7 @@
 //!   recomputed at the current estimate and x*, P, S_un, the sensor rows and Q's blocks are
 //!   transformed exactly (T P Tᵀ with T = diag(Φ₂⁻¹ Φ₁, Φ₂⁻¹ Φ₁, I, I); N³ and an n × n
 //!   eigenproblem, a few hundred µs, while the estimate converges and rarely after).
+//!
 //! With τ below every change of the estimate the filter re-diagonalizes every step and is the
 //! physical EKF under a change of state (test `rediagonalized_coordinates_follow_the_physical_path`).
 //!

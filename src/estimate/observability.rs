@@ -254,7 +254,7 @@ mod tests {
         let col = |m: &Mat<f64>| vec![m[(0, 0)], m[(1, 0)]];
         let statics = OperatingPoint { q: col(&q), v: vec![0.0; 2], a: vec![0.0; 2], dynamic: false };
         let (qd, vd) = (Mat::from_fn(2, 1, |i, _| [1e-3, -4e-4][i]), Mat::from_fn(2, 1, |i, _| [0.2, 0.5][i]));
-        let accel = |load: f64| col(&at.mass().llt(faer::Side::Lower).unwrap().solve(&(&f * faer::Scale(load) - &at.stiffness() * &qd - &at.damping() * &vd)));
+        let accel = |load: f64| col(&at.mass().llt(faer::Side::Lower).unwrap().solve(&(&f * faer::Scale(load) - at.stiffness() * &qd - at.damping() * &vd)));
         let forced = OperatingPoint { q: col(&qd), v: col(&vd), a: accel(1.0), dynamic: true };
         let free = OperatingPoint { q: col(&qd), v: col(&vd), a: accel(0.0), dynamic: true };
         (statics, forced, free)

@@ -111,7 +111,7 @@ pub fn element_matrices(model: &Model, frames: &GridFrames, params: &Parameters,
     let one = |e: &Element| {
         let r = element(&ctx, e);
         let d = done.fetch_add(1, Ordering::Relaxed) + 1;
-        if d % step == 0 || d == total {
+        if d.is_multiple_of(step) || d == total {
             progress.step("element matrices", d, total);
         }
         r
@@ -162,11 +162,9 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> {
         ElementKind::Celas1 | ElementKind::Celas2 => spring_element(ctx, e)?,
         ElementKind::Conm2 => conm2_element(ctx, e)?,
     };
-    if let Some(m) = built.m.as_mut() {
-        if wtmass != 1.0 {
-            for (_, part) in m.parts.iter_mut() {
-                *part = &*part * faer::Scale(wtmass);
-            }
+    if let Some(m) = built.m.as_mut() && wtmass != 1.0 {
+        for (_, part) in m.parts.iter_mut() {
+            *part = &*part * faer::Scale(wtmass);
         }
     }
     Ok(built)

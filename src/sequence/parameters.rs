@@ -62,10 +62,8 @@ impl Parameters {
         }
         // the other card values of each entity (e.g. ν of a MAT1 whose E is the parameter)
         for (&target, fixed) in out.fixed.iter_mut() {
-            if let ParamTarget::Material(mid) = target {
-                if let Some(m) = model.bulk.mat1.iter().find(|m| m.id == mid) {
-                    *fixed = CoefficientValues { e: m.e, nu: m.nu, rho: m.rho, ..*fixed };
-                }
+            if let ParamTarget::Material(mid) = target && let Some(m) = model.bulk.mat1.iter().find(|m| m.id == mid) {
+                *fixed = CoefficientValues { e: m.e, nu: m.nu, rho: m.rho, ..*fixed };
             }
         }
         Ok(out)

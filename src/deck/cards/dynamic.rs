@@ -52,10 +52,8 @@ impl Eigrl {
         if v2.is_none() && nd.is_none() {
             f.card_error("give V2 (upper frequency) or ND (number of roots)");
         }
-        if let (Some(a), Some(b)) = (v1, v2) {
-            if b <= a {
-                f.error(3, "V2", format!("V2 = {b:e} must be greater than V1 = {a:e}"));
-            }
+        if let (Some(a), Some(b)) = (v1, v2) && b <= a {
+            f.error(3, "V2", format!("V2 = {b:e} must be greater than V1 = {a:e}"));
         }
         let loc = f.loc();
         f.finish(8)?;
@@ -412,10 +410,8 @@ impl Tabled1 {
             }
             let x = f.real(i, "x");
             let y = f.real(i + 1, "y");
-            if let Some(&(px, _)) = points.last() {
-                if x < px {
-                    f.error(i, "x", format!("x values must not decrease: {x:e} after {px:e}"));
-                }
+            if let Some(&(px, _)) = points.last() && x < px {
+                f.error(i, "x", format!("x values must not decrease: {x:e} after {px:e}"));
             }
             points.push((x, y));
             i += 2;

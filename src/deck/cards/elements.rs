@@ -48,10 +48,8 @@ fn corner_thickness(f: &mut FieldReader, first: usize, count: usize) -> Option<C
     let mut t = [None; 4];
     for (k, slot) in t.iter_mut().take(count).enumerate() {
         *slot = f.opt_real(first + 1 + k, &format!("T{}", k + 1));
-        if let Some(v) = *slot {
-            if v <= 0.0 {
-                f.error(first + 1 + k, &format!("T{}", k + 1), format!("expected a thickness > 0, found {v:e}"));
-            }
+        if let Some(v) = *slot && v <= 0.0 {
+            f.error(first + 1 + k, &format!("T{}", k + 1), format!("expected a thickness > 0, found {v:e}"));
         }
     }
     Some(CornerThickness { relative, t })

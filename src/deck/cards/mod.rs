@@ -95,6 +95,7 @@ pub struct BulkData {
 pub type CardParser = fn(&RawCard, &mut BulkData) -> Result<(), Vec<DeckError>>;
 
 /// Name → parser table of every supported bulk-data card.
+#[allow(clippy::unit_arg)] // one line per card: `Ok(push(parsed?))` stores the card and returns Ok(())
 pub static PARSERS: &[(&str, CardParser)] = &[
     ("GRID", |c, b| Ok(b.grids.push(Grid::from_card(c)?))),
     ("CORD2R", |c, b| Ok(b.coords.push(Cord2::from_card(c, CordKind::Rectangular)?))),
