@@ -327,7 +327,8 @@ fn sensor_sets_without_enough_displacement_rows_are_refused() {
 }
 
 /// Deck errors name what is missing: an EKFPAR naming no pROM parameter, a MEAS naming no
-/// sensor, a measurement file shorter than the window.
+/// sensor, a missing sample written as NaN (at the MEAS card's deck line and the file's line
+/// and column), a measurement file shorter than the window.
 #[test]
 fn bad_selections_are_reported() {
     let rom = prom();
@@ -341,6 +342,16 @@ fn bad_selections_are_reported() {
     let message = r.expect_err("no such sensor").to_string();
     assert!(message.contains("D_NOPE is not a SENSOR"), "{message}");
     let text = std::fs::read_to_string(data.path().join("measurements.csv")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let column = lines[0].split(',').position(|h| h == "D_TIP_A").expect("D_TIP_A column");
+    let mut fields: Vec<&str> = lines[50].split(',').collect();
+    fields[column] = "nan";
+    lines[50] = fields.join(",");
+    std::fs::write(data.path().join("measurements.csv"), lines.join("\n")).unwrap();
+    let (r, _out) = estimate(&artifact, data.path(), "EKF,1\nEKFPAR,1,E,2.5E11,1.\n", &["D_TIP_A"], true);
+    let message = r.expect_err("NaN sample").to_string();
+    let at = format!("deck.dat:13: MEAS 2 D_TIP_A: {}:51: column {}: 'nan' is not a finite number", data.path().join("measurements.csv").display(), column + 1);
+    assert!(message.contains(&at), "{message}\nexpected: {at}");
     std::fs::write(data.path().join("measurements.csv"), text.lines().take(100).collect::<Vec<_>>().join("\n")).unwrap();
     let (r, _out) = estimate(&artifact, data.path(), "EKF,1\nEKFPAR,1,E,2.5E11,1.\n", &["D_TIP_A"], true);
     let message = r.expect_err("short file").to_string();

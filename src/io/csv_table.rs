@@ -2,8 +2,9 @@
 //!
 //! Comma-separated numbers, one row per line; blank lines and lines starting with `#` are
 //! skipped; a first row that is not all numbers is the header, whose names (trimmed,
-//! case-insensitive) select columns as well as 1-based indices do. Every unreadable field is an
-//! error naming the file, the line and the column.
+//! case-insensitive) select columns as well as 1-based indices do. Every unreadable or
+//! non-finite field (NaN, inf: a missing sample is not a value) is an error naming the file, the
+//! line and the column.
 
 use std::path::Path;
 
@@ -13,8 +14,11 @@ use crate::deck::reader::Column;
 /// The (x, y) points of columns `x` and `y` of the CSV file at `path`.
 pub fn read_columns(path: &Path, x: &Column, y: &Column) -> Result<Vec<(f64, f64)>, IoError> {
     let text = std::fs::read_to_string(path).map_err(|cause| IoError::Fs { path: path.into(), what: "read the CSV file".into(), cause })?;
-    let bad = |line: usize, reason: String| IoError::invalid(path, format!("line {line}"), reason);
+    let bad = |line: usize, reason: String| IoError::Parse { path: path.into(), line, reason };
     let mut rows = text.lines().enumerate().map(|(k, l)| (k + 1, l.trim())).filter(|(_, l)| !l.is_empty() && !l.starts_with('#')).peekable();
+    let Some(&(first_line, _)) = rows.peek() else {
+        return Err(IoError::malformed(path, "CSV file", "no header and no data rows"));
+    };
     let header: Option<Vec<String>> = match rows.peek() {
         Some((_, first)) if first.split(',').any(|f| f.trim().parse::<f64>().is_err()) => Some(rows.next().map(|(_, l)| l.split(',').map(|f| f.trim().to_ascii_uppercase()).collect()).unwrap_or_default()),
         _ => None,
@@ -22,11 +26,11 @@ pub fn read_columns(path: &Path, x: &Column, y: &Column) -> Result<Vec<(f64, f64
     let index = |c: &Column| -> Result<usize, IoError> {
         match c {
             Column::Index(i) if *i >= 1 => Ok(i - 1),
-            Column::Index(i) => Err(bad(1, format!("column index {i}: columns count from 1"))),
+            Column::Index(i) => Err(bad(first_line, format!("column index {i}: columns count from 1"))),
             Column::Name(n) => header
                 .as_ref()
                 .and_then(|h| h.iter().position(|x| x.eq_ignore_ascii_case(n)))
-                .ok_or_else(|| bad(1, format!("no column named {n} (header: {})", header.as_ref().map_or("none".into(), |h| h.join(", "))))),
+                .ok_or_else(|| bad(first_line, format!("no column named {n} (header: {})", header.as_ref().map_or("none".into(), |h| h.join(", "))))),
         }
     };
     let (ix, iy) = (index(x)?, index(y)?);
@@ -35,7 +39,11 @@ pub fn read_columns(path: &Path, x: &Column, y: &Column) -> Result<Vec<(f64, f64
         let fields: Vec<&str> = row.split(',').map(str::trim).collect();
         let value = |i: usize| -> Result<f64, IoError> {
             let field = fields.get(i).ok_or_else(|| bad(line, format!("{} field(s), column {} wanted", fields.len(), i + 1)))?;
-            field.parse::<f64>().map_err(|_| bad(line, format!("column {}: '{field}' is not a number", i + 1)))
+            match field.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(v),
+                Ok(_) => Err(bad(line, format!("column {}: '{field}' is not a finite number", i + 1))),
+                Err(_) => Err(bad(line, format!("column {}: '{field}' is not a number", i + 1))),
+            }
         };
         out.push((value(ix)?, value(iy)?));
     }
@@ -56,8 +64,15 @@ mod tests {
         assert_eq!(read_columns(&path, &Column::Index(1), &Column::Index(3)).unwrap(), vec![(0.0, 9.0), (0.1, 9.0)]);
         std::fs::write(&path, "0,1\n0.2,x\n").unwrap();
         let message = read_columns(&path, &Column::Index(1), &Column::Index(2)).unwrap_err().to_string();
-        assert!(message.contains("t.csv") && message.contains("line 2") && message.contains("'x'"), "{message}");
+        assert!(message.contains("t.csv:2: column 2: 'x' is not a number"), "{message}");
         let missing = read_columns(&path, &Column::Name("F".into()), &Column::Index(2)).unwrap_err().to_string();
         assert!(missing.contains("no column named F"), "{missing}");
+        // a missing sample written as NaN or an overflow is refused where it is
+        std::fs::write(&path, "0,1\n0.1,2\n0.2,NaN\n0.3,inf\n").unwrap();
+        let message = read_columns(&path, &Column::Index(1), &Column::Index(2)).unwrap_err().to_string();
+        assert!(message.contains("t.csv:3: column 2: 'NaN' is not a finite number"), "{message}");
+        std::fs::write(&path, "# only a comment\n\n").unwrap();
+        let message = read_columns(&path, &Column::Index(1), &Column::Index(2)).unwrap_err().to_string();
+        assert!(message.contains("t.csv") && message.contains("no header and no data rows"), "{message}");
     }
 }

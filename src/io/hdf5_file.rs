@@ -62,6 +62,17 @@ pub enum IoError {
         /// What is wrong.
         reason: String,
     },
+    /// Data read from a file is not what it should be (missing or misshapen dataset, value out
+    /// of range, ...).
+    #[error("{}: {what}: {reason}", .path.display())]
+    Malformed {
+        /// File concerned.
+        path: PathBuf,
+        /// Object being read, e.g. "/prom/inputs/S_r".
+        what: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// The data handed to a writer is inconsistent (shape mismatch, index out of range, ...).
     #[error("{}: cannot write {what}: {reason}", .path.display())]
     InvalidData {
@@ -101,7 +112,12 @@ impl IoError {
         }
     }
 
-    /// Reports inconsistent input data.
+    /// Reports data read from a file that is not what it should be.
+    pub(crate) fn malformed(path: impl Into<PathBuf>, what: impl Into<String>, reason: impl Into<String>) -> Self {
+        IoError::Malformed { path: path.into(), what: what.into(), reason: reason.into() }
+    }
+
+    /// Reports inconsistent data handed to a writer.
     pub(crate) fn invalid(
         path: impl Into<PathBuf>,
         what: impl Into<String>,

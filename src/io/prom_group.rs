@@ -92,7 +92,7 @@ pub fn read_prom_masses(path: impl AsRef<Path>) -> Result<Option<(Vec<u32>, Affi
     let (positions, nodal) = (read("positions")?, read("nodal")?);
     let n_g = grids.len();
     if positions.len() != 3 * n_g || n_g == 0 || nodal.len() % n_g != 0 {
-        return Err(IoError::invalid(path, "/prom/mass", format!("{n_g} grids, {} position values, {} nodal mass values", positions.len(), nodal.len())));
+        return Err(IoError::malformed(path, "/prom/mass", format!("{n_g} grids, {} position values, {} nodal mass values", positions.len(), nodal.len())));
     }
     let masses = AffineMasses { positions: positions.chunks(3).map(|r| [r[0], r[1], r[2]]).collect(), nodal: nodal.chunks(n_g).map(<[f64]>::to_vec).collect() };
     Ok(Some((grids, masses)))
@@ -110,7 +110,7 @@ pub fn read_prom(path: impl AsRef<Path>) -> Result<(Prom, usize), IoError> {
     let path = path.as_ref();
     let file = open_artifact(path)?;
     let prom = file.group("prom").map_err(|_| IoError::NotParaflex { path: path.into(), reason: "no /prom group (was it written by a SOL PROM run?)".into() })?;
-    let bad = |what: &str, reason: String| IoError::invalid(path, what, reason);
+    let bad = |what: &str, reason: String| IoError::malformed(path, what, reason);
     let hdf = |what: String| move |e| IoError::hdf5(path, what, e);
     let int = |name: &str| prom.attr(name).and_then(|a| a.read_scalar::<i64>()).map_err(hdf(format!("read attribute /prom {name}")));
     let f64s = |name: &str| prom.attr(name).and_then(|a| a.read_raw::<f64>()).map_err(hdf(format!("read attribute /prom {name}")));
@@ -174,7 +174,7 @@ pub fn read_prom_inputs(path: impl AsRef<Path>, n_red: usize) -> Result<(Vec<Str
     let data = group.dataset("S_r").and_then(|d| d.read_raw::<f64>()).map_err(|e| IoError::hdf5(path, "read /prom/inputs/S_r", e))?;
     let k = names.len();
     if data.len() != n_red * k {
-        return Err(IoError::invalid(path, "/prom/inputs/S_r", format!("{} values, expected n_red × inputs = {n_red} × {k}", data.len())));
+        return Err(IoError::malformed(path, "/prom/inputs/S_r", format!("{} values, expected n_red × inputs = {n_red} × {k}", data.len())));
     }
     Ok((names, Mat::from_fn(n_red, k, |i, j| data[i * k + j])))
 }
@@ -198,7 +198,7 @@ pub fn read_prom_sensors(path: impl AsRef<Path>, n_red: usize) -> Result<(Vec<St
     let data = group.dataset("H_r").and_then(|d| d.read_raw::<f64>()).map_err(|e| IoError::hdf5(path, "read /prom/sensors/H_r", e))?;
     let s = names.len();
     if data.len() != s * n_red || kinds.len() != s {
-        return Err(IoError::invalid(path, "/prom/sensors", format!("{s} names, {} kinds, {} values for n_red = {n_red}", kinds.len(), data.len())));
+        return Err(IoError::malformed(path, "/prom/sensors", format!("{s} names, {} kinds, {} values for n_red = {n_red}", kinds.len(), data.len())));
     }
     Ok((names, kinds, Mat::from_fn(s, n_red, |i, j| data[i * n_red + j])))
 }

@@ -156,7 +156,7 @@ pub fn read_samples(path: &Path) -> Result<SampleSet, IoError> {
 fn read_samples_hdf5(path: &Path) -> Result<SampleSet, IoError> {
     let file = open_artifact(path)?;
     let hdf = |what: String| move |e| IoError::hdf5(path, what, e);
-    let bad = |what: &str, reason: String| IoError::invalid(path, what, reason);
+    let bad = |what: &str, reason: String| IoError::malformed(path, what, reason);
     let functions: Vec<String> = file
         .dataset("functions")
         .and_then(|d| d.read_raw::<hdf5::types::VarLenUnicode>())
@@ -216,7 +216,7 @@ fn read_samples_hdf5(path: &Path) -> Result<SampleSet, IoError> {
 /// when given.
 fn read_dense_hdf5(file: &hdf5::File, path: &Path, name: &str, rows: Option<usize>) -> Result<Mat<f64>, IoError> {
     let what = format!("/{name}");
-    let bad = |reason: String| IoError::invalid(path, what.as_str(), reason);
+    let bad = |reason: String| IoError::malformed(path, what.as_str(), reason);
     let set = file.dataset(name).map_err(|_| bad("missing: one dense 2-D dataset per sample".into()))?;
     let shape = set.shape();
     let [r, c] = shape[..] else { return Err(bad(format!("shape {shape:?}, expected a 2-D matrix"))) };
@@ -239,7 +239,7 @@ fn read_matrix_hdf5(file: &hdf5::File, path: &Path, name: &str) -> Result<CscMat
         let what = format!("{op} {what}");
         move |e| IoError::hdf5(path, what, e)
     };
-    let bad = |reason: String| IoError::invalid(path, what.as_str(), reason);
+    let bad = |reason: String| IoError::malformed(path, what.as_str(), reason);
     if let Ok(set) = file.dataset(name) {
         let shape = set.shape();
         let [n, m] = shape[..] else { return Err(bad(format!("shape {shape:?}, expected a square 2-D matrix"))) };

@@ -141,14 +141,14 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     for m in &channels {
         let r = sensors.names.iter().position(|x| x.eq_ignore_ascii_case(&m.sensor)).ok_or_else(|| case(format!("MEAS {meas_id}: {} is not a SENSOR of {} (sensors: {})", m.sensor, path.display(), sensors.names.join(", "))))?;
         measured_rows.push(r);
-        measured_series.push(resample(&csv, &measf.tcol, &m.column, window, steps).map_err(|e| case(format!("MEAS {meas_id} {}: {e}", m.sensor)))?);
+        measured_series.push(resample(&csv, &measf.tcol, &m.column, window, steps).map_err(|e| case(format!("{}: MEAS {meas_id} {}: {e}", m.loc, m.sensor)))?);
     }
     let measured = sensors.select(&measured_rows);
     let sigma: Vec<f64> = channels.iter().map(|m| m.sigma).collect();
-    let header = csv_header(&csv).map_err(|e| case(format!("MEASF {meas_id}: {e}")))?;
+    let header = csv_header(&csv).map_err(|e| case(format!("{}: MEASF {meas_id}: {e}", measf.loc)))?;
     let reference = |name: &str| -> Result<Option<Vec<f64>>, RunError> {
         match header.iter().any(|h| h.eq_ignore_ascii_case(name)) {
-            true => resample(&csv, &measf.tcol, &Column::Name(name.to_string()), window, steps).map(Some).map_err(|e| case(format!("MEASF {meas_id} reference {name}: {e}"))),
+            true => resample(&csv, &measf.tcol, &Column::Name(name.to_string()), window, steps).map(Some).map_err(|e| case(format!("{}: MEASF {meas_id} reference {name}: {e}", measf.loc))),
             false => Ok(None),
         }
     };

@@ -123,11 +123,11 @@ pub fn write_frf(group: &hdf5_metno::Group, hz: &[f64], flat: &[c64], inputs: &[
 pub fn dynamic_table(model: &Model, tid: u32) -> Result<Table, String> {
     let b = &model.bulk;
     match (b.tabled1.iter().find(|x| x.id == tid), b.tablef.iter().find(|x| x.id == tid)) {
-        (Some(x), _) => Table::new(&x.points).map_err(|e| format!("TABLED1 {tid}: {e}")),
+        (Some(x), _) => Table::new(&x.points).map_err(|e| format!("{}: TABLED1 {tid}: {e}", x.loc)),
         (None, Some(x)) => {
             let csv = x.loc.file.parent().map_or_else(|| std::path::PathBuf::from(&x.path), |dir| dir.join(&x.path));
-            let points = read_columns(&csv, &x.tcol, &x.ycol).map_err(|e| format!("TABLEF {tid}: {e}"))?;
-            Table::new(&points).map_err(|e| format!("TABLEF {tid} ({}): {e}", csv.display()))
+            let points = read_columns(&csv, &x.tcol, &x.ycol).map_err(|e| format!("{}: TABLEF {tid}: {e}", x.loc))?;
+            Table::new(&points).map_err(|e| format!("{}: TABLEF {tid} ({}): {e}", x.loc, csv.display()))
         }
         (None, None) => Err(format!("table {tid} is no TABLED1 or TABLEF")),
     }
