@@ -22,11 +22,14 @@
 //!   explicitly with one block solve for all returned modes (in exact arithmetic
 //!   Vs + (β sₘ/θ) vₘ₊₁; explicitly it also removes the round-off that the Lanczos vectors
 //!   accumulate in the null space of a singular M), M-normalized (φᵀMφ = 1) with its largest
-//!   component positive; λ is its Rayleigh quotient φᵀKφ.
+//!   component positive; λ is its Rayleigh quotient φᵀKφ. The modes are returned by ascending λ
+//!   (rigid-body λ are round-off and need not follow the Ritz order).
 //! - **Sturm check** (Parlett, *The Symmetric Eigenvalue Problem*, §3.3; Sylvester's law of
 //!   inertia): the number of negative pivots of the LDLᵀ of K − sM equals the number of
 //!   eigenvalues below s. With s just above the highest mode returned (or s = V2 for a range
-//!   request), neg(s) − neg(σ) must equal the number of converged eigenvalues in [σ, s). A
+//!   request; when only rigid-body modes are returned, K − sM is numerically singular just above
+//!   λ ≈ 0 and s = λ_top + |σ| instead), neg(s) − neg(σ) must equal the number of converged
+//!   eigenvalues in [σ, s). A
 //!   deficit means modes were skipped — single-vector Lanczos cannot see a second copy of a
 //!   repeated eigenvalue in exact arithmetic — and the run is extended: converged vectors are
 //!   locked, a random vector orthogonal to them restarts the Krylov space, and iteration goes on
@@ -303,7 +306,14 @@ fn solve_modes_from(
                 };
                 let margin = 1e-6 * lambda_top.abs().max(sigma.abs()).max(f64::MIN_POSITIVE);
                 progress.step("eigen: Sturm check", 0, 1);
-                inertia_near(problem, lambda_top + margin, 1.0, par)?
+                // Just above rigid-body modes (λ ≈ 0, free–free with σ < 0) K − sM is
+                // numerically singular: count at λ_top + |σ| instead, the mirror image of the
+                // shift whose factorization already succeeded (modes in between are counted
+                // and must have been found, as any below the shift).
+                inertia_near(problem, lambda_top + margin, 1.0, par).or_else(|e| match e {
+                    LinalgError::Singular { .. } if sigma < 0.0 => inertia_near(problem, lambda_top - sigma, 1.0, par),
+                    e => Err(e),
+                })?
             }
         };
         let sturm = SturmCheck {
@@ -964,7 +974,24 @@ impl<'a> Lanczos<'a> {
                 .residuals
                 .push(if denom > 0.0 { r / denom } else { r });
         }
+        result.sort_ascending();
         Ok(result)
+    }
+}
+
+impl EigenResult {
+    /// Modes by ascending λ (Rayleigh quotient). The Ritz order already is for separated
+    /// modes, but the λ of rigid-body modes are round-off and need not follow it.
+    fn sort_ascending(&mut self) {
+        let mut order: Vec<usize> = (0..self.eigenvalues.len()).collect();
+        order.sort_by(|&a, &b| self.eigenvalues[a].total_cmp(&self.eigenvalues[b]));
+        if order.iter().enumerate().all(|(i, &o)| i == o) {
+            return;
+        }
+        let permute = |v: &[f64]| order.iter().map(|&o| v[o]).collect::<Vec<f64>>();
+        (self.eigenvalues, self.frequencies_hz, self.residuals) = (permute(&self.eigenvalues), permute(&self.frequencies_hz), permute(&self.residuals));
+        self.vectors = Mat::from_fn(self.vectors.nrows(), order.len(), |i, c| self.vectors[(i, order[c])]);
+        self.clamped = (0..order.len()).filter(|&i| self.eigenvalues[i] < 0.0).collect();
     }
 }
 
@@ -1066,6 +1093,23 @@ pub(crate) mod tests {
             let f = &result.frequencies_hz;
             assert!((f[0] - hz(exact[0])).abs() < 1e-10 * f[0]);
         }
+    }
+
+    /// A stiff, light free–free chain asked for its rigid mode only: just above λ ≈ 0,
+    /// K − sM is numerically singular (pivots below 1e-12 of the diagonal), so the Sturm check
+    /// counts at λ_top + |σ| (was: "matrix is singular" on a free plate with EIGRL ND = 4, fewer
+    /// modes than its 6 rigid ones).
+    #[test]
+    fn free_free_rigid_mode_only_passes_the_sturm_check() {
+        let n = 50;
+        let mut k = chain(n, false, false, None);
+        k.values_mut().iter_mut().for_each(|v| *v *= 1e10);
+        let m = lumped(&k, 1e-3);
+        let first_flexible = 1e13 * 4.0 * (PI / (2.0 * n as f64)).sin().powi(2);
+        let result = solve(&k, &m, EigenRequest { nd: Some(1), ..Default::default() });
+        assert!(result.sturm.is_consistent(), "{:?}", result.sturm);
+        assert_eq!(result.eigenvalues.len(), 1);
+        assert!(result.eigenvalues[0].abs() < 1e-8 * first_flexible, "{}", result.eigenvalues[0]);
     }
 
     /// Free–free chain: one rigid-body mode (λ = 0) found through the negative shift, then
