@@ -118,14 +118,16 @@ fn free_free_solid_block_has_exactly_six_rigid_modes() {
     assert!(m.shift < 0.0, "free-free needs a negative shift, got {}", m.shift);
 }
 
-/// A free-free steel plate asked for fewer modes than its six rigid-body ones (EIGRL ND = 4)
+/// A free-free steel plate (Kirchhoff PSHELL: MID3 blank, whose stiff shear penalty makes the
+/// rigid-body pivots smaller still) asked for fewer modes than its six rigid-body ones (EIGRL ND = 4)
 /// returns four ≈ 0 Hz modes, ascending, with a consistent Sturm check: just above λ ≈ 0
 /// K − sM is numerically singular, so the check counts at λ_top + |σ| (was: "matrix is
 /// singular at DOF 116"; and the round-off λ of rigid modes came out unsorted). "≈ 0": below
-/// 1e-4 of the first elastic frequency (of the ND = 7 run), as for the solid block.
+/// 1e-4 of the first elastic frequency (of the ND = 7 run), as for the solid block. Likewise a
+/// range V2 = 0.01 Hz, which holds the six rigid-body modes only.
 #[test]
 fn free_free_plate_with_fewer_modes_than_rigid_ones() {
-    let plate = format!("MAT1,1,2.0e11,,0.3,7800.\nPSHELL,1,1,0.003,1,,1\n{}", quad_plate([6, 2], [0.3, 0.1], [0.0, 1.0, 0.0], false));
+    let plate = format!("MAT1,1,2.0e11,,0.3,7800.\nPSHELL,1,1,0.003,1\n{}", quad_plate([6, 2], [0.3, 0.1], [0.0, 1.0, 0.0], false));
     let run = |nd: usize| run_deck(&format!("SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,{nd}\n{plate}ENDDATA\n"));
     let (all, _dir) = run(7);
     let all = all.expect("ND = 7");
@@ -138,6 +140,12 @@ fn free_free_plate_with_fewer_modes_than_rigid_ones() {
     assert!(m.sturm.is_consistent(), "{:?}", m.sturm);
     assert!(f.iter().all(|x| *x < 1e-4 * elastic), "{f:?} vs elastic {elastic}");
     assert!(f.windows(2).all(|w| w[0] <= w[1]), "{f:?}");
+    // a range that holds only the rigid-body modes (V2 = 0.01 Hz): all six, counted at V2 + |σ|
+    let (range, _dir) = run_deck(&format!("SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,0.01\n{plate}ENDDATA\n"));
+    let range = range.expect("V2 = 0.01 Hz");
+    let m = modal(&range);
+    assert_eq!(m.frequencies_hz.len(), 6, "{:?}", m.frequencies_hz);
+    assert!(m.sturm.is_consistent(), "{:?}", m.sturm);
 }
 
 /// CHEXA cantilever L = 1, square section h = 0.05 (L/h = 20), 20 × 2 × 2 incompatible-mode

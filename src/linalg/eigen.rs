@@ -28,7 +28,7 @@
 //!   inertia): the number of negative pivots of the LDLᵀ of K − sM equals the number of
 //!   eigenvalues below s. With s just above the highest mode returned (or s = V2 for a range
 //!   request; when only rigid-body modes are returned, K − sM is numerically singular just above
-//!   λ ≈ 0 and s = λ_top + |σ| instead), neg(s) − neg(σ) must equal the number of converged
+//!   λ ≈ 0 and s = λ_top + |σ| (or V2 + |σ|) instead), neg(s) − neg(σ) must equal the number of converged
 //!   eigenvalues in [σ, s). A
 //!   deficit means modes were skipped — single-vector Lanczos cannot see a second copy of a
 //!   repeated eigenvalue in exact arithmetic — and the run is extended: converged vectors are
@@ -267,7 +267,11 @@ fn solve_modes_from(
         });
     }
     let upper = match bounds.upper {
-        Some(u) => Some(inertia_near(problem, u, 1.0, par)?),
+        // a V2 among rigid-body modes (λ ≈ 0) is moved to V2 + |σ| as the Sturm check's shift
+        Some(u) => Some(inertia_near(problem, u, 1.0, par).or_else(|e| match e {
+            LinalgError::Singular { .. } if sigma < 0.0 => inertia_near(problem, u - sigma, 1.0, par),
+            e => Err(e),
+        })?),
         None => None,
     };
     // A V2 on an eigenvalue was moved up: the returned modes follow the counted interval.
