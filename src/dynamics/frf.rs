@@ -14,11 +14,11 @@
 //! Frequencies run in parallel (rayon) in every variant.
 
 use faer::linalg::solvers::Solve;
-use faer::{Mat, MatRef, c64};
+use faer::{Mat, MatRef, Par, c64};
 use nalgebra_sparse::CscMatrix;
 use rayon::prelude::*;
 
-use crate::linalg::{ComplexLuSymbolic, LinalgError};
+use crate::linalg::{ComplexLuSymbolic, LinalgError, SymbolicFactor};
 
 /// Why a frequency response cannot be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -27,6 +27,8 @@ pub enum FrfError {
     Shape { what: &'static str, expected: usize, got: usize },
     #[error("the dynamic stiffness K − ω²M + iωC is singular at {hz} Hz (an undamped resonance or a rigid-body mode at 0 Hz): add damping or move the frequency line")]
     Singular { hz: f64 },
+    #[error("at 0 Hz the dynamic stiffness is K (1 + iG), and K is singular (a free-free structure or a mechanism: no static response exists): start the frequency list above 0 Hz or constrain the model")]
+    StaticSingular,
     #[error("K and M must share one sparsity pattern (nnz {k} and {m})")]
     Pattern { k: usize, m: usize },
     #[error("sparse LU: {0}")]
@@ -57,6 +59,9 @@ pub fn direct_receptance(model: &SparseModel<'_>, inputs: MatRef<'_, f64>, outpu
     if k.pattern() != m.pattern() {
         return Err(FrfError::Pattern { k: k.nnz(), m: m.nnz() });
     }
+    if omegas.contains(&0.0) {
+        static_stiffness_is_regular(k)?;
+    }
     let symbolic = ComplexLuSymbolic::analyze(k.pattern()).map_err(FrfError::Linalg)?;
     let line = |&w: &f64| -> Result<Mat<c64>, FrfError> {
         let (ck, cm) = (c64::new(1.0, w * model.beta + model.structural), c64::new(-w * w, w * model.alpha));
@@ -77,6 +82,19 @@ pub fn direct_receptance(model: &SparseModel<'_>, inputs: MatRef<'_, f64>, outpu
         Ok(h)
     };
     if parallel { omegas.par_iter().map(line).collect() } else { omegas.iter().map(line).collect() }
+}
+
+/// At ω = 0 the dynamic stiffness is (1 + iG) K: a free-free structure or a mechanism makes it
+/// singular, but the pivoted complex LU only fails on exactly zero pivots and would return the
+/// round-off solution of a numerically singular K. Checked on K's LDLᵀ instead, with the zero
+/// pivots of the eigen solver's Sturm counts (|d_k| ≤ 1e-12 |k_kk|, [`crate::linalg::Inertia`]).
+fn static_stiffness_is_regular(k: &CscMatrix<f64>) -> Result<(), FrfError> {
+    let symbolic = SymbolicFactor::analyze(k.pattern()).map_err(FrfError::Linalg)?;
+    match symbolic.factor_ldlt_values(k.values(), Par::Seq) {
+        Ok(f) if f.inertia().zero == 0 => Ok(()),
+        Ok(_) | Err(LinalgError::Singular { .. }) => Err(FrfError::StaticSingular),
+        Err(e) => Err(FrfError::Linalg(e)),
+    }
 }
 
 /// H(ω_l) by modal superposition (module doc): `eigenvalues` ω_j² of mass-normalized modes,
@@ -223,5 +241,42 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A free–free 3-DOF chain (springs ≈ 1e10 between masses of 1e-3: K singular, its rigid
+    /// pivot round-off) at 0 Hz is refused as a static singularity, also with structural
+    /// damping G (which multiplies K at 0 Hz), while the lines above 0 Hz solve; grounded, 0 Hz
+    /// solves.
+    #[test]
+    fn free_free_static_line_is_refused() {
+        let chain = |ground: f64| {
+            // spring rates whose eliminations do not cancel exactly: the last pivot is round-off
+            let (a, b) = (1e10 / 3.0, 1.1e10 / 7.0);
+            let k = [[a + ground, -a, 0.0], [-a, a + b, -b], [0.0, -b, b]];
+            let mut coo = nalgebra_sparse::CooMatrix::new(3, 3);
+            let mut mass = nalgebra_sparse::CooMatrix::new(3, 3);
+            for i in 0..3_usize {
+                for j in 0..3 {
+                    if i.abs_diff(j) <= 1 {
+                        coo.push(i, j, k[i][j]);
+                        mass.push(i, j, if i == j { 1e-3 } else { 0.0 });
+                    }
+                }
+            }
+            (CscMatrix::from(&coo), CscMatrix::from(&mass))
+        };
+        let inputs = Mat::<f64>::from_fn(3, 1, |i, _| if i == 2 { 1.0 } else { 0.0 });
+        let mut coo = nalgebra_sparse::CooMatrix::new(1, 3);
+        coo.push(0, 2, 1.0);
+        let outputs = CscMatrix::from(&coo);
+        let (k, m) = chain(0.0);
+        for structural in [0.0, 0.02] {
+            let model = SparseModel { stiffness: &k, mass: &m, alpha: 0.0, beta: 0.0, structural };
+            assert_eq!(direct_receptance(&model, inputs.as_ref(), &outputs, &[0.0, 100.0], false).unwrap_err(), FrfError::StaticSingular);
+            assert!(direct_receptance(&model, inputs.as_ref(), &outputs, &[100.0, 1e4], false).is_ok());
+        }
+        let (k, m) = chain(1e10);
+        let model = SparseModel { stiffness: &k, mass: &m, alpha: 0.0, beta: 0.0, structural: 0.0 };
+        assert!(direct_receptance(&model, inputs.as_ref(), &outputs, &[0.0], false).is_ok());
     }
 }
