@@ -80,6 +80,23 @@ fn two_dof_structural_damping_matches_the_complex_stiffness() {
     two_dof_matches("frf_two_dof_g");
 }
 
+/// The 2-DOF chain without its ground spring is free along x: a 0 Hz line (the static
+/// response) is refused by SOL 108 and SOL 111 alike, naming the reason, instead of being
+/// solved from round-off pivots or the round-off λ of the rigid-body mode; from 2 Hz up both
+/// run.
+#[test]
+fn free_chain_static_line_is_refused_by_both_methods() {
+    let text = std::fs::read_to_string(root().join("decks/verify/analytic/frf_two_dof_modal.dat")).unwrap().replace("CELAS2,11,25000.0,1,1\n", "");
+    for deck in [text.clone(), text.replace("SOL 111", "SOL 108")] {
+        let at_zero = deck.replace("FREQ,5,2.0,", "FREQ,5,0.0,2.0,");
+        let (run, _dir) = run_deck(&at_zero);
+        let message = run.expect_err("0 Hz on a free chain").to_string();
+        assert!(message.contains("at 0 Hz the dynamic stiffness is K (1 + iG), and K is singular"), "{message}");
+        let (run, _dir) = run_deck(&deck);
+        run.expect("2 Hz and up");
+    }
+}
+
 fn two_dof_matches(case: &str) {
     let r = reference(case);
     let tol = f64s(&r["tolerance_finest"]["relative"])[0];

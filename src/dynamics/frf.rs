@@ -86,9 +86,10 @@ pub fn direct_receptance(model: &SparseModel<'_>, inputs: MatRef<'_, f64>, outpu
 
 /// At ω = 0 the dynamic stiffness is (1 + iG) K: a free-free structure or a mechanism makes it
 /// singular, but the pivoted complex LU only fails on exactly zero pivots and would return the
-/// round-off solution of a numerically singular K. Checked on K's LDLᵀ instead, with the zero
+/// round-off solution of a numerically singular K (and modal superposition would divide by the
+/// round-off λ of the rigid-body modes). Checked on K's LDLᵀ instead, with the zero
 /// pivots of the eigen solver's Sturm counts (|d_k| ≤ 1e-12 |k_kk|, [`crate::linalg::Inertia`]).
-fn static_stiffness_is_regular(k: &CscMatrix<f64>) -> Result<(), FrfError> {
+pub fn static_stiffness_is_regular(k: &CscMatrix<f64>) -> Result<(), FrfError> {
     let symbolic = SymbolicFactor::analyze(k.pattern()).map_err(FrfError::Linalg)?;
     match symbolic.factor_ldlt_values(k.values(), Par::Seq) {
         Ok(f) if f.inertia().zero == 0 => Ok(()),

@@ -34,7 +34,7 @@ use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, 
 use crate::assembly::DofMap;
 use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
-use crate::dynamics::frf::{SparseModel, direct_receptance, modal_receptance};
+use crate::dynamics::frf::{SparseModel, direct_receptance, modal_receptance, static_stiffness_is_regular};
 use crate::dynamics::measurement::Reads;
 use crate::dynamics::table::Table;
 use crate::io::csv_table::read_columns;
@@ -262,6 +262,9 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
                 })
                 .map_err(frf_error)?,
             FrfMethod::Modal => {
+                if omegas.contains(&0.0) {
+                    static_stiffness_is_regular(&c.k_ff).map_err(frf_error)?;
+                }
                 let sid = sub.method.ok_or_else(|| RunError::Case { subcase: id, what: "SOL 111 needs METHOD = <EIGRL sid> in case control".into() })?;
                 let eigrl = model.bulk.eigrl.iter().find(|e| e.sid == sid).ok_or_else(|| RunError::Case { subcase: id, what: format!("METHOD = {sid} selects no EIGRL card") })?;
                 let symbolic = SymbolicFactor::analyze(c.k_ff.pattern()).map_err(|e| RunError::Linalg { subcase: id, source: e })?;
