@@ -60,7 +60,7 @@ pub fn direct_receptance(model: &SparseModel<'_>, inputs: MatRef<'_, f64>, outpu
         return Err(FrfError::Pattern { k: k.nnz(), m: m.nnz() });
     }
     if omegas.contains(&0.0) {
-        static_stiffness_is_regular(k)?;
+        static_stiffness_is_regular(k, &SymbolicFactor::analyze(k.pattern()).map_err(FrfError::Linalg)?)?;
     }
     let symbolic = ComplexLuSymbolic::analyze(k.pattern()).map_err(FrfError::Linalg)?;
     let line = |&w: &f64| -> Result<Mat<c64>, FrfError> {
@@ -87,10 +87,10 @@ pub fn direct_receptance(model: &SparseModel<'_>, inputs: MatRef<'_, f64>, outpu
 /// At ω = 0 the dynamic stiffness is (1 + iG) K: a free-free structure or a mechanism makes it
 /// singular, but the pivoted complex LU only fails on exactly zero pivots and would return the
 /// round-off solution of a numerically singular K (and modal superposition would divide by the
-/// round-off λ of the rigid-body modes). Checked on K's LDLᵀ instead, with the zero
-/// pivots of the eigen solver's Sturm counts (|d_k| ≤ 1e-12 |k_kk|, [`crate::linalg::Inertia`]).
-pub fn static_stiffness_is_regular(k: &CscMatrix<f64>) -> Result<(), FrfError> {
-    let symbolic = SymbolicFactor::analyze(k.pattern()).map_err(FrfError::Linalg)?;
+/// round-off λ of the rigid-body modes). Checked on K's LDLᵀ (`symbolic`: the analysis of K's
+/// pattern) instead, with the zero pivots of the eigen solver's Sturm counts
+/// (|d_k| ≤ 1e-12 |k_kk|, [`crate::linalg::Inertia`]).
+pub fn static_stiffness_is_regular(k: &CscMatrix<f64>, symbolic: &SymbolicFactor) -> Result<(), FrfError> {
     match symbolic.factor_ldlt_values(k.values(), Par::Seq) {
         Ok(f) if f.inertia().zero == 0 => Ok(()),
         Ok(_) | Err(LinalgError::Singular { .. }) => Err(FrfError::StaticSingular),

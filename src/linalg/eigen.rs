@@ -267,11 +267,7 @@ fn solve_modes_from(
         });
     }
     let upper = match bounds.upper {
-        // a V2 among rigid-body modes (λ ≈ 0) is moved to V2 + |σ| as the Sturm check's shift
-        Some(u) => Some(inertia_near(problem, u, 1.0, par).or_else(|e| match e {
-            LinalgError::Singular { .. } if sigma < 0.0 => inertia_near(problem, u - sigma, 1.0, par),
-            e => Err(e),
-        })?),
+        Some(u) => Some(count_above(problem, u, sigma, par)?),
         None => None,
     };
     // A V2 on an eigenvalue was moved up: the returned modes follow the counted interval.
@@ -310,14 +306,7 @@ fn solve_modes_from(
                 };
                 let margin = 1e-6 * lambda_top.abs().max(sigma.abs()).max(f64::MIN_POSITIVE);
                 progress.step("eigen: Sturm check", 0, 1);
-                // Just above rigid-body modes (λ ≈ 0, free–free with σ < 0) K − sM is
-                // numerically singular: count at λ_top + |σ| instead, the mirror image of the
-                // shift whose factorization already succeeded (modes in between are counted
-                // and must have been found, as any below the shift).
-                inertia_near(problem, lambda_top + margin, 1.0, par).or_else(|e| match e {
-                    LinalgError::Singular { .. } if sigma < 0.0 => inertia_near(problem, lambda_top - sigma, 1.0, par),
-                    e => Err(e),
-                })?
+                count_above(problem, lambda_top + margin, sigma, par)?
             }
         };
         let sturm = SturmCheck {
@@ -482,6 +471,18 @@ fn inertia_near(
     par: Par,
 ) -> Result<(f64, Inertia), LinalgError> {
     factor_near(problem, shift, direction, par).map(|(s, f)| (s, f.inertia()))
+}
+
+/// The inertia of K − sM for a Sturm count at `shift` (moved up off an eigenvalue by
+/// [`inertia_near`]). Among rigid-body modes (λ ≈ 0, free–free with σ < 0) K − sM is
+/// numerically singular near `shift`: the count is then taken at `shift` + |σ|, the mirror
+/// image of the shift whose factorization already succeeded (modes in between are counted and
+/// must have been found, as any below the shift).
+fn count_above(problem: &EigenProblem, shift: f64, sigma: f64, par: Par) -> Result<(f64, Inertia), LinalgError> {
+    inertia_near(problem, shift, 1.0, par).or_else(|e| match e {
+        LinalgError::Singular { .. } if sigma < 0.0 => inertia_near(problem, shift - sigma, 1.0, par),
+        e => Err(e),
+    })
 }
 
 /// Chooses σ (module doc) and returns it with the LDLᵀ of K − σM.

@@ -262,12 +262,12 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
                 })
                 .map_err(frf_error)?,
             FrfMethod::Modal => {
-                if omegas.contains(&0.0) {
-                    static_stiffness_is_regular(&c.k_ff).map_err(frf_error)?;
-                }
                 let sid = sub.method.ok_or_else(|| RunError::Case { subcase: id, what: "SOL 111 needs METHOD = <EIGRL sid> in case control".into() })?;
                 let eigrl = model.bulk.eigrl.iter().find(|e| e.sid == sid).ok_or_else(|| RunError::Case { subcase: id, what: format!("METHOD = {sid} selects no EIGRL card") })?;
                 let symbolic = SymbolicFactor::analyze(c.k_ff.pattern()).map_err(|e| RunError::Linalg { subcase: id, source: e })?;
+                if omegas.contains(&0.0) {
+                    static_stiffness_is_regular(&c.k_ff, &symbolic).map_err(frf_error)?;
+                }
                 let request = EigenRequest { v1_hz: eigrl.v1, v2_hz: eigrl.v2, nd: eigrl.nd.map(|n| n as usize), shift_hz: eigrl.shfscl };
                 let problem = EigenProblem { k: &c.k_ff, m: &c.m_ff, symbolic: &symbolic };
                 let r = clock.time(format!("subcase {id}: Lanczos"), || solve_modes(&problem, &request, &LanczosOptions::default(), ctx.options.par(), ctx.progress)).map_err(|e| c.mechanism(st, id, e))?;
