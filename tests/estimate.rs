@@ -326,6 +326,22 @@ fn sensor_sets_without_enough_displacement_rows_are_refused() {
     assert!(message.contains("fewer strain/displacement sensors (1) than unknown inputs and parameters (2)"), "{message}");
 }
 
+/// A negative initial modulus is refused before the first step, in modal coordinates (the
+/// plate: one material) and in physical ones (the plate with grounded springs), even with
+/// FORCE = YES: S = M + Δt C + Δt² K and M stay definite at Δt = 0.1 ms, so only the check of K
+/// at the initial parameters catches it (it ran to E = −1.1e11 before).
+#[test]
+fn negative_initial_modulus_is_refused() {
+    for rom in [prom(), prom_of("plate_springs_prom.dat")] {
+        let artifact = rom.path().join("out.h5");
+        let data = tempfile::tempdir().unwrap();
+        measurements(&artifact, data.path(), Load::Sine, 18);
+        let (r, _out) = estimate(&artifact, data.path(), "EKF,1,,,YES\nEKFPAR,1,E,-2.5E11,1.E-3\n", &["D_TIP_A", "D_MID"], true);
+        let message = r.expect_err("negative E").to_string();
+        assert!(message.contains("is indefinite") && message.contains("outside the physical range"), "{message}");
+    }
+}
+
 /// Deck errors name what is missing: an EKFPAR naming no pROM parameter, a MEAS naming no
 /// sensor, a missing sample written as NaN (at the MEAS card's deck line and the file's line
 /// and column), a measurement file shorter than the window.

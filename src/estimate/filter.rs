@@ -75,7 +75,7 @@ use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 use super::measurement::{Reads, SensorRows};
 use super::modal::{Coupling, ModalForm, modal_form, modal_form_after};
-use crate::linalg::dense::product;
+use crate::linalg::dense::{product, symmetric_eigen_vectors};
 use crate::rom::prom::{Prom, PromError, PromEvaluation};
 
 /// The coordinates the filter may run in.
@@ -149,7 +149,13 @@ pub enum FilterError {
     Prom(String),
     #[error("re-diagonalization tolerance {0}: expected 0 < τ ≤ {MAX_REDIAGONALIZATION_TOLERANCE}")]
     Tolerance(f64),
+    #[error("the pROM's stiffness K at the initial parameters {params:?} is indefinite (eigenvalue {smallest:e} against {largest:e}): the initial guess lies outside the physical range (e.g. a modulus ≤ 0)")]
+    IndefiniteStart { params: Vec<f64>, smallest: f64, largest: f64 },
 }
+
+/// Relative size −λ_min/λ_max of K's most negative eigenvalue up to which K counts as positive
+/// semi-definite (rigid-body modes of a free pROM are zero up to round-off, ~1e-12 relative).
+const STIFFNESS_ROUNDOFF: f64 = 1e-8;
 
 /// The augmented EKF (see the module documentation).
 pub struct Filter {
@@ -733,6 +739,19 @@ fn g_of_column(jk: &[f64], jm: &[f64], jw: &Mat<f64>, x: &[f64], out: &mut [f64]
     }
 }
 
+/// K of the pROM at the initial parameters `params` is positive semi-definite (up to
+/// [`STIFFNESS_ROUNDOFF`]). S = M + Δt C + Δt² K and M, checked at every step, stay definite
+/// for an indefinite K at small Δt, so a negative modulus would otherwise run. Called by
+/// [`Filter::new`] and, before its observability check, by SOL ESTIMATE.
+pub fn check_initial_stiffness(k: MatRef<'_, f64>, params: &[f64]) -> Result<(), FilterError> {
+    let (eigenvalues, _) = symmetric_eigen_vectors(k).map_err(|e| FilterError::Prom(e.to_string()))?;
+    let (smallest, largest) = eigenvalues.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+    if smallest < -STIFFNESS_ROUNDOFF * largest.abs() || largest <= 0.0 {
+        return Err(FilterError::IndefiniteStart { params: params.to_vec(), smallest, largest });
+    }
+    Ok(())
+}
+
 /// The entries of a column-major matrix as one slice, (i, j) at i + j · stride, and the stride.
 fn storage(m: &Mat<f64>) -> (&[f64], usize) {
     let stride = m.col_stride().unsigned_abs();
@@ -772,6 +791,9 @@ impl Filter {
                 return Err(FilterError::Shape { what, expected, got });
             }
         }
+        let mut at = setup.prom.workspace();
+        setup.prom.evaluate(&setup.p, &mut at).map_err(|e| FilterError::Prom(e.to_string()))?;
+        check_initial_stiffness(at.stiffness(), &setup.p)?;
         let big_n = 2 * n + nu + np;
         let mut x = vec![0.0; big_n];
         x[..n].copy_from_slice(&setup.q0);
@@ -876,6 +898,7 @@ impl Filter {
         filter.set_acceleration();
         Ok(filter)
     }
+
 
     /// Augmented state size N = 2 n_r + n_un + n_p.
     pub fn size(&self) -> usize {
@@ -1518,6 +1541,21 @@ pub(crate) mod tests {
 
     const X: [f64; 7] = [1e-3, -2e-3, 0.3, 0.1, 4.0, 1.2, 0.9];
     const LOAD: [f64; 2] = [3.0, -1.0];
+
+    /// A negative initial E makes the chain's K = K⁰ + E K¹ indefinite while S and M stay
+    /// definite at Δt = 1e-3 (Δt² K ≈ 1e-2 M): [`Filter::new`] refuses it through K, in physical
+    /// and in re-diagonalized modal coordinates; the positive E of the other tests passes.
+    #[test]
+    fn negative_initial_modulus_is_refused() {
+        for coordinates in [Coordinates::Physical, Coordinates::Rediagonalized(0.1)] {
+            let mut negative = setup(&X);
+            negative.p[0] = -X[5];
+            negative.coordinates = coordinates;
+            assert!(matches!(Filter::new(negative), Err(FilterError::IndefiniteStart { smallest, .. }) if smallest < 0.0), "{coordinates:?}");
+            let positive = FilterSetup { coordinates, ..setup(&X) };
+            assert!(Filter::new(positive).is_ok(), "{coordinates:?}");
+        }
+    }
 
     /// J of eq. 8.16 (with the analytic parameter columns) against central differences of the
     /// exact BDF1 prediction map x_{k−1} ↦ x_k. The map is quadratic-free in (q, q̇, u) and

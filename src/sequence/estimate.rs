@@ -45,6 +45,7 @@ use crate::deck::reader::Column;
 use crate::dynamics::integrators::{LinearSystem, Method, integrate};
 use crate::dynamics::table::Table;
 use crate::estimate::observability::{self, OperatingPoint, Unknown};
+use crate::estimate::filter::check_initial_stiffness;
 use crate::estimate::{Coordinates, Filter, FilterSetup, SensorRows, covariance};
 use crate::io::csv_table::read_columns;
 use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64, set_attr_i64, set_attr_str, set_attr_strings, write_f64};
@@ -186,6 +187,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     };
     let mut at = prom.workspace();
     prom.evaluate(&p, &mut at).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    check_initial_stiffness(at.stiffness(), &p).map_err(|e| case(format!("EKF {ekf_id}: {e}")))?;
     // static: every channel's RMS deviation from its mean over the second half is at the noise
     // level. Noise alone gives σ (within 3 % for a window of 1000 steps); ≥ √3 σ means a dynamic
     // part at least as large as the noise: threshold 2σ. (A bound on every sample, e.g. 3σ, is
