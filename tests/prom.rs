@@ -148,7 +148,8 @@ fn frozen_quad_condensation_is_warned_about_once() {
     assert!(warned.len() == 1 && warned[0].contains("PMPAR H "), "{warned:?}");
 }
 
-/// A PVAL naming a parameter the artifact does not have is an error that lists the ones it has.
+/// A PVAL naming a parameter the artifact does not have is an error that lists the ones it has;
+/// a PVAL whose K is indefinite is an error naming the point.
 #[test]
 fn pval_with_an_unknown_name_lists_the_parameters() {
     let nominal = STEEL.replace("{E}", "2.1e11").replace("{RHO}", "7850.");
@@ -159,6 +160,13 @@ fn pval_with_an_unknown_name_lists_the_parameters() {
     let (r, _d) = run_deck(&deck);
     let message = r.expect_err("unknown parameter").to_string();
     assert!(message.contains("EE") && message.contains("parameters: E"), "{message}");
+    // a negative modulus (an extrapolation past E = 0) makes K indefinite: refused, naming the
+    // point, instead of reporting modes with negative λ as 0 Hz (the same check in SOL 111 and
+    // SOL 112 on a pROM: they share this evaluation)
+    let deck = format!("SOL 103\nCEND\nROM = '{}'\nPVAL = 1\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,3\nPVAL,1,E,-1.e11\nENDDATA\n", dir.path().join("out.h5").display());
+    let (r, _d) = run_deck(&deck);
+    let message = r.expect_err("negative E").to_string();
+    assert!(message.contains("E = -1e11") && message.contains("stiffness matrix is indefinite"), "{message}");
 }
 
 /// `paraflex info` (io::describe) lists an artifact's parameters with their boxes and nominal

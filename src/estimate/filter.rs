@@ -75,7 +75,7 @@ use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 use super::measurement::{Reads, SensorRows};
 use super::modal::{Coupling, ModalForm, modal_form, modal_form_after};
-use crate::linalg::dense::{product, symmetric_eigen_vectors};
+use crate::linalg::dense::{DenseEigenError, product, stiffness_semidefinite};
 use crate::rom::prom::{Prom, PromError, PromEvaluation};
 
 /// The coordinates the filter may run in.
@@ -149,13 +149,9 @@ pub enum FilterError {
     Prom(String),
     #[error("re-diagonalization tolerance {0}: expected 0 < τ ≤ {MAX_REDIAGONALIZATION_TOLERANCE}")]
     Tolerance(f64),
-    #[error("the pROM's stiffness K at the initial parameters {params:?} is indefinite (eigenvalue {smallest:e} against {largest:e}): the initial guess lies outside the physical range (e.g. a modulus ≤ 0)")]
-    IndefiniteStart { params: Vec<f64>, smallest: f64, largest: f64 },
+    #[error("the pROM at the initial guess {params:?}: {cause}")]
+    IndefiniteStart { params: Vec<f64>, cause: DenseEigenError },
 }
-
-/// Relative size −λ_min/λ_max of K's most negative eigenvalue up to which K counts as positive
-/// semi-definite (rigid-body modes of a free pROM are zero up to round-off, ~1e-12 relative).
-const STIFFNESS_ROUNDOFF: f64 = 1e-8;
 
 /// The augmented EKF (see the module documentation).
 pub struct Filter {
@@ -739,17 +735,12 @@ fn g_of_column(jk: &[f64], jm: &[f64], jw: &Mat<f64>, x: &[f64], out: &mut [f64]
     }
 }
 
-/// K of the pROM at the initial parameters `params` is positive semi-definite (up to
-/// [`STIFFNESS_ROUNDOFF`]). S = M + Δt C + Δt² K and M, checked at every step, stay definite
-/// for an indefinite K at small Δt, so a negative modulus would otherwise run. Called by
-/// [`Filter::new`] and, before its observability check, by SOL ESTIMATE.
+/// K of the pROM at the initial parameters `params` is positive semi-definite
+/// ([`stiffness_semidefinite`]: S = M + Δt C + Δt² K and M, checked at every step, stay
+/// definite for an indefinite K at small Δt, so a negative modulus would otherwise run). Called
+/// by [`Filter::new`] and, before its observability check, by SOL ESTIMATE.
 pub fn check_initial_stiffness(k: MatRef<'_, f64>, params: &[f64]) -> Result<(), FilterError> {
-    let (eigenvalues, _) = symmetric_eigen_vectors(k).map_err(|e| FilterError::Prom(e.to_string()))?;
-    let (smallest, largest) = eigenvalues.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)));
-    if smallest < -STIFFNESS_ROUNDOFF * largest.abs() || largest <= 0.0 {
-        return Err(FilterError::IndefiniteStart { params: params.to_vec(), smallest, largest });
-    }
-    Ok(())
+    stiffness_semidefinite(k).map_err(|cause| FilterError::IndefiniteStart { params: params.to_vec(), cause })
 }
 
 /// The entries of a column-major matrix as one slice, (i, j) at i + j · stride, and the stride.
@@ -1551,7 +1542,7 @@ pub(crate) mod tests {
             let mut negative = setup(&X);
             negative.p[0] = -X[5];
             negative.coordinates = coordinates;
-            assert!(matches!(Filter::new(negative), Err(FilterError::IndefiniteStart { smallest, .. }) if smallest < 0.0), "{coordinates:?}");
+            assert!(matches!(Filter::new(negative), Err(FilterError::IndefiniteStart { cause: DenseEigenError::IndefiniteStiffness { smallest, .. }, .. }) if smallest < 0.0), "{coordinates:?}");
             let positive = FilterSetup { coordinates, ..setup(&X) };
             assert!(Filter::new(positive).is_ok(), "{coordinates:?}");
         }

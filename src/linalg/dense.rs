@@ -32,6 +32,26 @@ pub enum DenseEigenError {
     IllConditionedMass { ratio: f64 },
     #[error("the eigen decomposition failed to converge")]
     NoConvergence,
+    #[error("the stiffness matrix is indefinite (eigenvalue {smallest:e} against {largest:e}): parameter values outside the physical range (e.g. a modulus ≤ 0)")]
+    IndefiniteStiffness { smallest: f64, largest: f64 },
+}
+
+/// Relative size −κ_min/κ_max of the most negative eigenvalue up to which a reduced stiffness
+/// counts as positive semi-definite (rigid-body modes of a free model are zero up to
+/// round-off, ~1e-12 relative).
+pub const STIFFNESS_ROUNDOFF: f64 = 1e-8;
+
+/// A symmetric reduced stiffness is positive semi-definite up to [`STIFFNESS_ROUNDOFF`], or
+/// [`DenseEigenError::IndefiniteStiffness`]. Every consumer of a pROM evaluated at given
+/// parameters checks this beside [`mass_conditioning`]: at small time steps the effective
+/// matrices M + Δt C + Δt² K stay definite for an indefinite K, so a negative modulus would run.
+pub fn stiffness_semidefinite(k: MatRef<'_, f64>) -> Result<(), DenseEigenError> {
+    let (kappa, _) = symmetric_eigen(k, ComputeEigenvectors::No)?;
+    let (smallest, largest) = kappa.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+    if smallest < -STIFFNESS_ROUNDOFF * largest.abs() || largest <= 0.0 {
+        return Err(DenseEigenError::IndefiniteStiffness { smallest, largest });
+    }
+    Ok(())
 }
 
 /// μ_min/μ_max of a symmetric reduced mass matrix, or [`DenseEigenError::IllConditionedMass`]

@@ -62,6 +62,7 @@ impl RomAtPoint {
         prom.evaluate(&p, &mut at).map_err(|e| case(format!("{}: {e}", path.display())))?;
         if at.mass().nrows() > 0 {
             crate::linalg::dense::mass_conditioning(at.mass()).map_err(|e| case(format!("{} at {}: {e}", path.display(), point(&prom, &p))))?;
+            crate::linalg::dense::stiffness_semidefinite(at.stiffness()).map_err(|e| case(format!("{} at {}: {e}", path.display(), point(&prom, &p))))?;
         }
         let extrapolated = prom.outside_box(&p).into_iter().map(String::from).collect();
         Ok(RomAtPoint { path, prom, p, at, extrapolated })
