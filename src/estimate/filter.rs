@@ -890,7 +890,6 @@ impl Filter {
         Ok(filter)
     }
 
-
     /// Augmented state size N = 2 n_r + n_un + n_p.
     pub fn size(&self) -> usize {
         self.x.len()

@@ -61,8 +61,8 @@ impl RomAtPoint {
         let mut at = prom.workspace();
         prom.evaluate(&p, &mut at).map_err(|e| case(format!("{}: {e}", path.display())))?;
         if at.mass().nrows() > 0 {
-            crate::linalg::dense::mass_conditioning(at.mass()).map_err(|e| case(format!("{} at {}: {e}", path.display(), point(&prom, &p))))?;
-            crate::linalg::dense::stiffness_semidefinite(at.stiffness()).map_err(|e| case(format!("{} at {}: {e}", path.display(), point(&prom, &p))))?;
+            use crate::linalg::dense::{mass_conditioning, stiffness_semidefinite};
+            mass_conditioning(at.mass()).and_then(|_| stiffness_semidefinite(at.stiffness())).map_err(|e| case(format!("{} at {}: {e}", path.display(), point(&prom, &p))))?;
         }
         let extrapolated = prom.outside_box(&p).into_iter().map(String::from).collect();
         Ok(RomAtPoint { path, prom, p, at, extrapolated })
