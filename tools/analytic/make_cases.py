@@ -1385,15 +1385,22 @@ def case_thin_cantilever(write):
         "meshes": meshes,
         "no_locking": {
             "rule": ("for every mesh and quantity, the normalised result (FE / reference at the same t) may "
-                     "vary by at most max_spread (relative) over t/L = 1e-2, 1e-3, 1e-4"),
+                     "vary by at most max_spread (relative) between the thin-limit thicknesses listed in "
+                     "t_over_L (element length h = 50 t and 500 t); every thickness, t/L = 1e-2 included, "
+                     "is held to the mesh's accuracy tolerance"),
+            "t_over_L": ["0.001", "0.0001"],
             "max_spread": 1e-3,
             "justification": ("the reference carries the t-dependence of the physics (the shear part, 6e-5 of "
-                              "the deflection at t/L = 1e-2, and Timoshenko's rotary inertia), so a "
-                              "lock-free element gives the same normalised value at every t; shear locking "
-                              "of a displacement-based element stiffens by a factor growing like (L/t)^2 "
-                              "(1e4 between the thicknesses), membrane locking similarly; 1e-3 is far below "
-                              "that and above the solver's conditioning error (K ~ (L/t)^2 = 1e8, one step "
-                              "of iterative refinement)"),
+                              "the deflection at t/L = 1e-2, and Timoshenko's rotary inertia); shear locking "
+                              "of a displacement-based element stiffens by a factor growing like (h/t)^2, "
+                              "100x between the two thin thicknesses, membrane locking similarly, while a "
+                              "lock-free element converges to its own thin (Kirchhoff) limit as t/h -> 0; "
+                              "1e-3 is far below a locking drift and above the solver's conditioning error "
+                              "(K ~ (L/t)^2 = 1e8, one step of iterative refinement). t/L = 1e-2 (h = 5 t) "
+                              "is not in the thin limit: an assumed-strain element's own shear interpolation "
+                              "still acts there, e.g. the published MITC3 (the independent plate of the same "
+                              "mesh, mitc_plate) gives f2 / reference 1.0105 at 1e-2, 1.0134 at 1e-3 and "
+                              "1.0138 at 1e-4 on the distorted triangles: a drift that saturates, not locking"),
         },
     }
     return ref

@@ -23,9 +23,8 @@ number; published = MH 1985 as reproduced in Altair OptiStruct verification OS-V
 
 * ``accurate``: |normalised - 1| <= tol, where the element class is expected to be accurate.
   2 % for extension (patch test) and the thick twisted CQUAD4 (published QUAD4 0.988/0.992);
-  5 % for plate bending on the three shapes (published QUAD4/TRI3 0.955-0.981), in-plane
-  bending of rectangles (published QUAD4 0.992) and the thin twisted CQUAD4 (MITC4 has no
-  shear locking).
+  5 % for plate bending of rectangles (published QUAD4/TRI3 0.973-0.981), in-plane bending of
+  rectangles (published QUAD4 0.992) and the thin twisted CQUAD4 (MITC4 has no shear locking).
 * ``same_element``: |paraflex / CalculiX - 1| <= 3 % where both codes use the same
   interpolation on the same mesh (CHEXA = C3D8I): they must agree whatever the accuracy against
   the target.
@@ -42,7 +41,8 @@ papers' tying rules. paraflex's shells must equal it to ``mitc_plate_rel_tol`` (
 shear do not couple to the membrane): this separates an implementation error from a property of
 the element class on a distorted mesh.
 * ``weak``: a case 4-node/3-node elements are known to be poor at (in-plane bending of
-  trapezoids/parallelograms, twist with one element across, the CTRIA3 twisted beam).
+  trapezoids/parallelograms, plate bending of trapezoids/parallelograms with one element across,
+  twist with one element across, the CTRIA3 twisted beam).
   Asserted: normalised >= 0.25 x max(CalculiX, published) and <= 1.05 x max(1, CalculiX,
   published). The factor 4 is the spread of sound formulations on these meshes (one vendor's
   QUAD4 0.173 vs HEX8 0.047 on the trapezoid, OS-V 0720); a defect (locking, a missing
@@ -244,9 +244,17 @@ def straight_bound(shape: str, element: str, label: str) -> dict:
                         f"(patch test); 2 % covers the clamp's Poisson constraint; {src}")
     if element == "CTRIA3" and label == "in-plane shear":
         return same_element_cst(src)
-    if label == "out-of-plane shear":
+    if label == "out-of-plane shear" and shape == "rectangular":
         return accurate(BENDING_TOL, f"plate bending, tip shear on six elements: {src}; published 4-node/3-node "
-                        "plate results on the three shapes are 0.955-0.981; 5 %")
+                        "plate results on rectangles are 0.973-0.981; 5 %")
+    if label == "out-of-plane shear":
+        return weak(pub, f"plate bending of 45-degree {shape}s with one element across the depth: sound plate "
+                    "formulations spread 0.76-0.98 on the parallelogram (reference/opensees: MITC4 0.908 in both "
+                    "OpenSees ShellMITC4 and ASDShellQ4, discrete-Kirchhoff ShellDKGQ 0.971 and ShellDKGT 0.910, "
+                    "ASDShellT3 0.764; CalculiX S4 0.836); CQUAD4/CTRIA3 are the MITC4/MITC3 the element brief "
+                    "prescribes, so their own result is asserted by mitc_plate (the independent MITC plate of "
+                    "this mesh, to mitc_plate_rel_tol) and, for CQUAD4, by OpenSees's ShellMITC4; "
+                    f"{src}")
     if label == "in-plane shear" and shape == "rectangular":
         return accurate(BENDING_TOL, f"in-plane bending of rectangles: {src}, CalculiX C3D8I 0.992; 5 %")
     return weak(pub, "in-plane bending of 45-degree trapezoids/parallelograms (the known weakness of bilinear "
