@@ -281,9 +281,9 @@ fn solve_modes_from(
         cap: upper.map(|(_, inertia)| inertia.negative.saturating_sub(below_sigma)),
         available: rank_bound.saturating_sub(below_sigma),
     };
-    if target.available == 0 {
+    if rank_bound == 0 {
         return Err(LinalgError::InvalidRequest {
-            what: "the mass matrix has no finite eigenvalue above the shift (no mass)",
+            what: "the mass matrix is zero, so there is no finite eigenvalue (give the materials a density or add masses)",
         });
     }
     let mut lanczos = Lanczos::new(problem, op_factor, sigma, rank_bound, options, par, start)?;
@@ -1115,6 +1115,22 @@ pub(crate) mod tests {
         assert!(result.sturm.is_consistent(), "{:?}", result.sturm);
         assert_eq!(result.eigenvalues.len(), 1);
         assert!(result.eigenvalues[0].abs() < 1e-8 * first_flexible, "{}", result.eigenvalues[0]);
+    }
+
+    /// V1 above every finite eigenvalue (here with massless DOFs beside them): an empty but
+    /// verified range, as between two modes, not a "no mass" error (the shift's Sturm count
+    /// already holds every finite eigenvalue, so nothing is left to search).
+    #[test]
+    fn range_above_the_spectrum_has_no_modes() {
+        let n = 20;
+        let k = chain(n, true, false, None);
+        let mut m = lumped(&k, 1.0);
+        m.triplet_iter_mut().filter(|(i, j, _)| *i == 0 && *j == 0).for_each(|(_, _, v)| *v = 0.0); // one massless DOF: an infinite eigenvalue
+        let top = 4.0_f64.sqrt() / (2.0 * PI); // λ_max < 4
+        let result = solve(&k, &m, EigenRequest { v1_hz: Some(2.0 * top), v2_hz: Some(3.0 * top), ..Default::default() });
+        assert!(result.eigenvalues.is_empty(), "{:?}", result.eigenvalues);
+        assert!(result.sturm.is_consistent(), "{:?}", result.sturm);
+        assert_eq!(result.sturm.negative_pivots, n - 1, "{:?}", result.sturm);
     }
 
     /// Free–free chain: one rigid-body mode (λ = 0) found through the negative shift, then
