@@ -264,7 +264,11 @@ mod report {
             match &sub.result {
                 SubcaseResult::Modal(m) => {
                     println!("subcase {}: {} mode(s), f-set {} DOFs, NORM = {:?}", sub.id, m.frequencies_hz.len(), m.f_size, m.norm);
-                    println!("  {:>4}  {:>14}  {:>14}  {:>10}", "mode", "f [Hz]", "gen. mass", "residual");
+                    if m.frequencies_hz.is_empty() {
+                        println!("  no mode in the requested range (EIGRL V1/V2)");
+                    } else {
+                        println!("  {:>4}  {:>14}  {:>14}  {:>10}", "mode", "f [Hz]", "gen. mass", "residual");
+                    }
                     for (k, f) in m.frequencies_hz.iter().enumerate() {
                         println!("  {:>4}  {:>14}  {:>14}  {:>10}", k + 1, sci(*f, 6), sci(m.generalized_mass[k], 6), sci(m.residuals[k], 1));
                     }
@@ -323,8 +327,12 @@ mod report {
                 }
                 SubcaseResult::Statics(st) => {
                     println!("subcase {}: f-set {} DOFs", sub.id, st.f_size);
-                    println!("  max |u| (translation)  {} at GRID {}", sci(st.max_translation.1, 6), st.max_translation.0);
-                    println!("  max |component|        {} at GRID {} component {}", sci(st.max_component.2, 6), st.max_component.0, st.max_component.1);
+                    if st.max_component.2 == 0.0 {
+                        println!("  displacements are all zero (see the applied load and SPC reaction below)");
+                    } else {
+                        println!("  max |u| (translation)  {} at GRID {}", sci(st.max_translation.1, 6), st.max_translation.0);
+                        println!("  max |component|        {} at GRID {} component {}", sci(st.max_component.2, 6), st.max_component.0, st.max_component.1);
+                    }
                     let f = |v: &[f64; 6]| format!("F = [{}, {}, {}]", sci(v[0], 6), sci(v[1], 6), sci(v[2], 6));
                     println!("  applied load           {}", f(&st.applied));
                     println!("  SPC reaction           {}", f(&st.reaction));
