@@ -45,7 +45,7 @@ pub enum LumpedError {
     #[error("scalar spring: both ends are grounded; at least one grid is required")]
     BothEndsGrounded,
     #[error(
-        "scalar spring: both ends are the same DOF (grid {grid}, component {component}); the spring would do nothing"
+        "scalar spring: both ends are the same DOF (grid index {grid}, 0-based component {component}); the spring would do nothing"
     )]
     SameDof { grid: usize, component: usize },
     #[error("CONM2: {what} is not finite")]

@@ -266,6 +266,9 @@ fn spring_ends(f: &mut FieldReader, first: usize) -> [SpringEnd; 2] {
     if ends[0].grid.is_none() && ends[1].grid.is_none() {
         f.card_error("both ends are grounded; give at least one grid and component");
     }
+    if let (Some(g), true) = (ends[0].grid, ends[0] == ends[1] && ends[0].component > 0) {
+        f.card_error(format!("both ends are GRID {g} component {}: the spring would connect a DOF to itself", ends[0].component));
+    }
     ends
 }
 
