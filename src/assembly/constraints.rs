@@ -80,7 +80,7 @@ impl RigidElimination {
             match r.kind {
                 RigidKind::Rbe2 => {
                     let card = model.bulk.rbe2.get(r.card).ok_or(AssemblyError::MissingGrid { card: format!("RBE2 {}", r.id), grid: 0 })?;
-                    relations.extend(rbe2_relations(model, frames, r.id, r.hub, &r.legs, card.cm));
+                    relations.extend(rbe2_relations(model, frames, &format!("RBE2 {} at {}", r.id, card.loc), r.hub, &r.legs, card.cm));
                 }
                 RigidKind::Rbe3 => {
                     let card = model.bulk.rbe3.get(r.card).ok_or(AssemblyError::MissingGrid { card: format!("RBE3 {}", r.id), grid: 0 })?;
@@ -93,7 +93,7 @@ impl RigidElimination {
                         groups.push((g.weight, g.components, grids));
                     }
                     let xyz: Vec<[f64; 3]> = model.grids.iter().map(|g| g.xyz).collect();
-                    relations.extend(rbe3_relations(&xyz, frames, r.id, r.hub, card.refc, &groups)?);
+                    relations.extend(rbe3_relations(&xyz, frames, &format!("RBE3 {} at {}", r.id, card.loc), r.hub, card.refc, &groups)?);
                 }
             }
         }
@@ -290,28 +290,29 @@ fn transpose(a: &M6) -> M6 {
     std::array::from_fn(|i| std::array::from_fn(|j| a[j][i]))
 }
 
-/// Relations of one RBE2: CM components of each dependent grid.
-pub fn rbe2_relations(model: &Model, frames: &GridFrames, id: u32, independent: usize, dependents: &[usize], cm: Dofs) -> Vec<Relation> {
+/// Relations of one RBE2: CM components of each dependent grid; `owner` names the card in
+/// errors (e.g. "RBE2 7 at deck.dat:12").
+pub fn rbe2_relations(model: &Model, frames: &GridFrames, owner: &str, independent: usize, dependents: &[usize], cm: Dofs) -> Vec<Relation> {
     let xyz = |g: usize| model.grids.get(g).map_or([0.0; 3], |p| p.xyz);
     let li = frame6(frames, independent);
-    let owner = format!("RBE2 {id}");
     let mut out = Vec::new();
     for &d in dependents {
         let r = crate::model::vec3::sub(xyz(d), xyz(independent));
         let g = mul(&transpose(&frame6(frames, d)), &mul(&rigid_arm(r), &li));
         for c in cm.components() {
             let terms = (0..6).filter(|&k| g[c - 1][k] != 0.0).map(|k| (DofMap::dof(independent, k), g[c - 1][k])).collect();
-            out.push(Relation { dependent: DofMap::dof(d, c - 1), terms, owner: owner.clone() });
+            out.push(Relation { dependent: DofMap::dof(d, c - 1), terms, owner: owner.to_string() });
         }
     }
     out
 }
 
-/// Relations of one RBE3 (see the module doc): `groups` = (weight, components, grid indices).
+/// Relations of one RBE3 (see the module doc): `groups` = (weight, components, grid indices);
+/// `owner` names the card in errors (e.g. "RBE3 9 at deck.dat:14").
 pub fn rbe3_relations(
     xyz: &[[f64; 3]],
     frames: &GridFrames,
-    id: u32,
+    owner: &str,
     reference: usize,
     refc: Dofs,
     groups: &[(f64, Dofs, Vec<usize>)],
@@ -341,11 +342,10 @@ pub fn rbe3_relations(
             }
         }
     }
-    let a_inv = invert6(&a).ok_or(AssemblyError::Rbe3Singular { id })?;
+    let a_inv = invert6(&a).ok_or_else(|| AssemblyError::Rbe3Singular { owner: owner.to_string() })?;
     let l_ref_t = transpose(&frame6(frames, reference));
     // u_ref = L_refᵀ A⁻¹ Σ w s_cᵀ u_{i,c}: H = L_refᵀ A⁻¹ (6 × 6), coefficient = w · (H s_cᵀ)[r]
     let h = mul(&l_ref_t, &a_inv);
-    let owner = format!("RBE3 {id}");
     let mut out = Vec::new();
     for r in refc.components() {
         let mut terms = Vec::with_capacity(rows.len());
@@ -355,7 +355,7 @@ pub fn rbe3_relations(
                 terms.push((DofMap::dof(*g, *c), coef));
             }
         }
-        out.push(Relation { dependent: DofMap::dof(reference, r - 1), terms, owner: owner.clone() });
+        out.push(Relation { dependent: DofMap::dof(reference, r - 1), terms, owner: owner.to_string() });
     }
     Ok(out)
 }

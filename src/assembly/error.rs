@@ -31,8 +31,8 @@ pub enum AssemblyError {
     RigidCycle { rigids: Vec<String> },
     /// The weighted least-squares fit of an RBE3 is singular (e.g. collinear independent grids
     /// with rotational REFC, or only one independent grid).
-    #[error("RBE3 {id}: the independent grids do not determine the reference motion (weighted fit matrix is singular); add non-collinear grids or rotational components")]
-    Rbe3Singular { id: u32 },
+    #[error("{owner}: the independent grids do not determine the reference motion (weighted fit matrix is singular); add non-collinear grids or rotational components")]
+    Rbe3Singular { owner: String },
     /// An RBE2 independent grid and a dependent grid coincide with components that make no sense.
     #[error("{card}: grid {grid} is referenced but does not exist")]
     MissingGrid { card: String, grid: u32 },

@@ -43,7 +43,7 @@ pub struct SpcSet {
     pub mask: Vec<bool>,
     /// Enforced values over g (0 outside s).
     pub enforced: Vec<f64>,
-    /// The card that constrained each DOF ("SPC 1", "SPC1 1", "GRID 7 PS", "AUTOSPC").
+    /// The card that constrained each DOF with its file:line ("SPC1 1 at deck.dat:12", "GRID 7 PS at deck.dat:3") or "AUTOSPC".
     pub source: Vec<Option<String>>,
 }
 
@@ -58,7 +58,7 @@ impl SpcSet {
         let mut out = SpcSet::empty(map);
         for (i, g) in model.grids.iter().enumerate() {
             for c in g.ps.components() {
-                out.set(map, DofMap::dof(i, c - 1), 0.0, format!("GRID {} PS", g.id), None)?;
+                out.set(map, DofMap::dof(i, c - 1), 0.0, format!("GRID {} PS at {}", g.id, g.loc), None)?;
             }
         }
         let Some(sid) = sid else { return Ok(out) };
@@ -86,13 +86,13 @@ impl SpcSet {
             for spc in b.spc.iter().filter(|x| x.sid == s) {
                 found = true;
                 let grid = grid_of(model, spc.grid, &format!("SPC {s}"))?;
-                out.add_components(map, grid, spc.components, spc.value, &format!("SPC {s}"), sid)?;
+                out.add_components(map, grid, spc.components, spc.value, &format!("SPC {s} at {}", spc.loc), sid)?;
             }
             for spc in b.spc1.iter().filter(|x| x.sid == s) {
                 found = true;
                 for &g in &spc.grids {
                     let grid = grid_of(model, g, &format!("SPC1 {s}"))?;
-                    out.add_components(map, grid, spc.components, 0.0, &format!("SPC1 {s}"), sid)?;
+                    out.add_components(map, grid, spc.components, 0.0, &format!("SPC1 {s} at {}", spc.loc), sid)?;
                 }
             }
         }
