@@ -138,3 +138,32 @@ ENDDATA
     let i = mp.inertia_cg;
     assert!((i[0][0] - 2.0).abs() < 1e-14 && (i[1][1] - 1.0).abs() < 1e-14 && (i[2][2] - 3.0).abs() < 1e-14, "{i:?}");
 }
+
+/// SOL 109/112 write displacement histories for DISPLACEMENT on the mesh (sequence::transient),
+/// so no "not honoured" warning there; a subcase on a pROM artifact has no grids and is warned.
+#[test]
+fn transient_displacement_requests_are_honoured_on_the_mesh_only() {
+    let deck = |sol: &str, rom: &str| {
+        format!(
+            "SOL {sol}
+CEND
+{rom}TSTEP = 9
+DISP = ALL
+BEGIN BULK
+TSTEP,9,10,1.e-3,1
+GRID,1,,0.,0.,0.
+CELAS2,1,1.e3,1,1
+CONM2,2,1,,1.
+ENDDATA
+"
+        )
+    };
+    for sol in ["109", "112", "TRANSIENT"] {
+        let model = build(&deck(sol, "")).expect("valid deck");
+        let w: Vec<String> = model.warnings.iter().map(|w| w.to_string()).collect();
+        assert!(!w.iter().any(|x| x.contains("DISPLACEMENT is not honoured")), "SOL {sol}: {w:#?}");
+        let model = build(&deck(sol, "ROM = 'blade.h5'\n")).expect("valid deck");
+        let w: Vec<String> = model.warnings.iter().map(|w| w.to_string()).collect();
+        assert!(w.iter().any(|x| x.contains("DISPLACEMENT is not honoured")), "SOL {sol} on a pROM: {w:#?}");
+    }
+}

@@ -25,18 +25,22 @@ use crate::deck::{Deck, DeckError, Loc, Warning};
 use super::build::Refs;
 use crate::deck::Solution;
 
-/// Output requests each solution sequence writes (see `crate::sequence`), each for `ALL` or the
-/// ids of its SET (`crate::sequence::GridRows` for grid points): STATICS writes displacements
-/// (every grid when not requested at all, none for `= NONE`), SPC forces and strains on request;
-/// MODAL writes mode shapes on request.
+/// Output requests each solution sequence writes on the mesh (see `crate::sequence`), each for
+/// `ALL` or the ids of its SET (`crate::sequence::GridRows` for grid points): STATICS writes
+/// displacements (every grid when not requested at all, none for `= NONE`), SPC forces and
+/// strains on request; MODAL writes mode shapes and TRANSIENT (109, 112) displacement histories
+/// on request. A subcase on a pROM artifact (`ROM =`) has no grids: it writes none of them.
 pub const HONOURED: &[(Solution, &[&str])] = &[
     (Solution::Statics, &["DISPLACEMENT", "SPCFORCES", "STRAIN"]),
     (Solution::Modal, &["DISPLACEMENT"]),
+    (Solution::TransientDirect, &["DISPLACEMENT"]),
+    (Solution::TransientModal, &["DISPLACEMENT"]),
+    (Solution::Transient, &["DISPLACEMENT"]),
 ];
 
-fn honoured(deck: &Deck, request: &str) -> bool {
+fn honoured(deck: &Deck, sub: &Subcase, request: &str) -> bool {
     let Some((sol, _)) = &deck.executive.sol else { return false };
-    HONOURED.iter().any(|(s, names)| s == sol && names.contains(&request))
+    sub.rom.is_none() && HONOURED.iter().any(|(s, names)| s == sol && names.contains(&request))
 }
 
 /// Run the checks for every subcase.
@@ -104,7 +108,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>, warnings: &m
             {
                 errors.push(DeckError::at(&out.loc, format!("{} = {id}: no case-control SET {id}", out.name)).on_card(out.name.to_string()));
             }
-            if !honoured(deck, out.name) && warned.insert(out.loc.clone()) {
+            if !honoured(deck, &sub, out.name) && warned.insert(out.loc.clone()) {
                 warnings.push(Warning {
                     loc: Some(out.loc.to_string()),
                     message: format!("output request {} is not honoured by SOL {sol} in this version", out.name),
