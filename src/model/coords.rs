@@ -72,14 +72,18 @@ impl CoordSystem {
 
     /// The 3×3 matrix T whose columns are the local Cartesian axes *at basic point `p`* in
     /// basic: (i, j, k) for rectangular, (e_r, e_θ, e_z) for cylindrical. A vector with local
-    /// components v has basic components T·v.
+    /// components v has basic components T·v. On the polar axis of a cylindrical system, where
+    /// e_r is undefined, θ = 0 (e_r = i, e_θ = j); "on the axis" means r at or below the
+    /// round-off of p − origin (64 ε (|p| + |origin|)), so a grid meant to lie on the axis does
+    /// not get an arbitrary θ from the last bits of its coordinates.
     pub fn axes_at(&self, p: [f64; 3]) -> [[f64; 3]; 3] {
         let [i, j, k] = self.axes;
         let (ex, ey) = match self.kind {
             CordKind::Rectangular => (i, j),
             CordKind::Cylindrical => {
                 let l = self.basic_to_local_cartesian(p);
-                let t = l[1].atan2(l[0]);
+                let on_axis = l[0].hypot(l[1]) <= 64.0 * f64::EPSILON * (super::vec3::norm(p) + super::vec3::norm(self.origin));
+                let t = if on_axis { 0.0 } else { l[1].atan2(l[0]) };
                 let (s, c) = t.sin_cos();
                 (add(scale(i, c), scale(j, s)), add(scale(i, -s), scale(j, c)))
             }
@@ -211,6 +215,23 @@ mod tests {
         // r = 2, θ = 90° in system 2 → local (0, 2, 0) of system 1 → basic (1 − 2, 0, 0)
         let p = sys[&2].point_to_basic([2.0, 90.0, 0.5]);
         assert!((p[0] + 1.0).abs() < 1e-14 && p[1].abs() < 1e-14 && (p[2] - 0.5).abs() < 1e-14, "{p:?}");
+    }
+
+    /// A grid on the polar axis gets θ = 0 (the system's own i, j) whether its coordinates put
+    /// it there exactly or up to round-off; just off the axis, e_r follows the point.
+    #[test]
+    fn polar_axis_takes_theta_zero() {
+        let cyl = card(3, CordKind::Cylindrical, 0, [0., 1., 0.], [0., 1., 1.], [1., 1., 0.]);
+        let mut errors = Vec::new();
+        let sys = resolve(&[cyl], &mut errors);
+        assert!(errors.is_empty());
+        let exact = sys[&3].axes_at([0.0, 1.0, 5.0]);
+        let rounded = sys[&3].axes_at([1e-17, 1.0 - 1e-16, 5.0]);
+        assert_eq!(exact, [[1., 0., 0.], [0., 1., 0.], [0., 0., 1.]]);
+        assert_eq!(rounded, exact);
+        // 1e-9 off the axis along −y: e_r = −y
+        let off = sys[&3].axes_at([0.0, 1.0 - 1e-9, 5.0]);
+        assert!(off[1][0] + 1.0 < 1e-12 && off[0][0].abs() < 1e-6, "{off:?}");
     }
 
     #[test]
