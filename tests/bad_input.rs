@@ -30,6 +30,7 @@ const MODEL_LAYER: &[&str] = &[
     "dangling_property.dat",
     "duplicate_element.dat",
     "duplicate_grid.dat",
+    "grid_cd_on_cylinder_axis.dat",
     "inverted_hexa.dat",
     "mat1_e_nonpositive.dat",
     "mat1_nu_half.dat",

@@ -131,11 +131,16 @@ fn build_grids(
                 g.x
             }
         };
-        if !coords.contains_key(&g.cd) {
-            errors.push(
+        match coords.get(&g.cd) {
+            None => errors.push(
                 DeckError::at(&g.loc, format!("CD = {} does not exist or is in error (no usable CORD2R/CORD2C {})", g.cd, g.cd))
                     .on_card(card),
-            );
+            ),
+            Some(sys) if sys.on_polar_axis(xyz) => errors.push(
+                DeckError::at(&g.loc, format!("CD = {}: the grid lies on the polar axis of this cylindrical system, where its radial and tangential directions are undefined (as in Nastran); give the grid a rectangular CD", g.cd))
+                    .on_card(card),
+            ),
+            Some(_) => {}
         }
         grids.push(GridPoint { id: g.id, xyz, cp: g.cp, cd: g.cd, ps: g.ps, loc: g.loc.clone() });
     }

@@ -70,20 +70,26 @@ impl CoordSystem {
         [super::vec3::dot(d, i), super::vec3::dot(d, j), super::vec3::dot(d, k)]
     }
 
+    /// Whether basic point `p` lies on the polar axis of a cylindrical system, where e_r and
+    /// e_θ are undefined: r at or below the round-off of p − origin, 64 ε (|p| + |origin|).
+    /// Always false for a rectangular system.
+    pub fn on_polar_axis(&self, p: [f64; 3]) -> bool {
+        let l = self.basic_to_local_cartesian(p);
+        self.kind == CordKind::Cylindrical && l[0].hypot(l[1]) <= 64.0 * f64::EPSILON * (super::vec3::norm(p) + super::vec3::norm(self.origin))
+    }
+
     /// The 3×3 matrix T whose columns are the local Cartesian axes *at basic point `p`* in
     /// basic: (i, j, k) for rectangular, (e_r, e_θ, e_z) for cylindrical. A vector with local
-    /// components v has basic components T·v. On the polar axis of a cylindrical system, where
-    /// e_r is undefined, θ = 0 (e_r = i, e_θ = j); "on the axis" means r at or below the
-    /// round-off of p − origin (64 ε (|p| + |origin|)), so a grid meant to lie on the axis does
-    /// not get an arbitrary θ from the last bits of its coordinates.
+    /// components v has basic components T·v. On the polar axis ([`Self::on_polar_axis`]) θ = 0
+    /// (e_r = i, e_θ = j), not the angle of the last bits of p; a GRID there may not use the
+    /// system as its CD (model build refuses it, as Nastran does).
     pub fn axes_at(&self, p: [f64; 3]) -> [[f64; 3]; 3] {
         let [i, j, k] = self.axes;
         let (ex, ey) = match self.kind {
             CordKind::Rectangular => (i, j),
             CordKind::Cylindrical => {
                 let l = self.basic_to_local_cartesian(p);
-                let on_axis = l[0].hypot(l[1]) <= 64.0 * f64::EPSILON * (super::vec3::norm(p) + super::vec3::norm(self.origin));
-                let t = if on_axis { 0.0 } else { l[1].atan2(l[0]) };
+                let t = if self.on_polar_axis(p) { 0.0 } else { l[1].atan2(l[0]) };
                 let (s, c) = t.sin_cos();
                 (add(scale(i, c), scale(j, s)), add(scale(i, -s), scale(j, c)))
             }
@@ -225,6 +231,7 @@ mod tests {
         let mut errors = Vec::new();
         let sys = resolve(&[cyl], &mut errors);
         assert!(errors.is_empty());
+        assert!(sys[&3].on_polar_axis([1e-17, 1.0 - 1e-16, 5.0]) && !sys[&3].on_polar_axis([0.0, 1.0 - 1e-9, 5.0]));
         let exact = sys[&3].axes_at([0.0, 1.0, 5.0]);
         let rounded = sys[&3].axes_at([1e-17, 1.0 - 1e-16, 5.0]);
         assert_eq!(exact, [[1., 0., 0.], [0., 1., 0.], [0., 0., 1.]]);
