@@ -37,6 +37,7 @@ const MODEL_LAYER: &[&str] = &[
     "mat1_rho_negative.dat",
     "method_missing_eigrl.dat",
     "pmpar_nominal_outside.dat",
+    "pmpar_range_outside_card.dat",
     "pshell_mid3_without_mid2.dat",
     "pshell_mid4.dat",
     "spc_missing_grid.dat",

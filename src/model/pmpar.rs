@@ -8,8 +8,10 @@
 //! | K | PELAS | K |
 //! | MASS | CONM2 (element id) | M |
 //!
-//! Errors: LOW > HIGH, nominal outside [LOW, HIGH], non-finite bounds, a THETA laminate whose
-//! angles are not ±Θ of one Θ, a TPLY laminate with unequal ply thicknesses.
+//! Errors: LOW > HIGH, nominal outside [LOW, HIGH], non-finite bounds, a range leaving the
+//! values its card accepts ([`domain`]: a pROM is sampled and evaluated anywhere in the box), a
+//! THETA laminate whose angles are not ±Θ of one Θ, a TPLY laminate with unequal ply
+//! thicknesses.
 
 use crate::deck::cards::{Pmpar, PmparKind};
 use crate::deck::{BulkData, DeckError};
@@ -35,6 +37,11 @@ pub fn check(refs: &Refs, errors: &mut Vec<DeckError>) {
         if p.low > p.high {
             errors.push(err(format!("LOW = {} > HIGH = {}", p.low, p.high)));
         }
+        if let Some((rule, inside)) = domain(p.kind)
+            && !(inside(p.low) && inside(p.high))
+        {
+            errors.push(err(format!("[LOW, HIGH] = [{:e}, {:e}] leaves the values {} {} accepts ({rule}): the pROM is sampled and evaluated over the whole range", p.low, p.high, p.kind.target_card(), p.kind.name())));
+        }
         match nominal(refs.bulk, p) {
             Err(message) => errors.push(err(message)),
             Ok(value) if value < p.low || value > p.high => errors.push(err(format!(
@@ -47,6 +54,20 @@ pub fn check(refs: &Refs, errors: &mut Vec<DeckError>) {
             ))),
             Ok(_) => {}
         }
+    }
+}
+
+/// The values the referenced card accepts for a parameter of `kind` (the rule as text, and a
+/// test of one value), as the card checks (`super::values`): MAT1 E > 0, −1 < NU < 0.5,
+/// RHO ≥ 0; PCOMP ply thickness > 0; CONM2 M ≥ 0. None: any finite value (ply angle, PELAS K).
+pub fn domain(kind: PmparKind) -> Option<(&'static str, fn(f64) -> bool)> {
+    match kind {
+        PmparKind::E => Some(("E > 0", |v| v > 0.0)),
+        PmparKind::Nu => Some(("−1 < NU < 0.5", |v| v > -1.0 && v < 0.5)),
+        PmparKind::Rho => Some(("RHO ≥ 0", |v| v >= 0.0)),
+        PmparKind::Tply => Some(("ply thickness > 0", |v| v > 0.0)),
+        PmparKind::Mass => Some(("M ≥ 0", |v| v >= 0.0)),
+        PmparKind::Theta | PmparKind::K => None,
     }
 }
 
