@@ -281,7 +281,11 @@ mod report {
                     for (size, e) in &log.error_history {
                         println!("  size {size:>5}: FRF change (eq. 3.35) {}", sci(*e, 2));
                     }
-                    println!("  {}", if log.converged { "converged (FRF change below ERRTOL)" } else { "stopped at the numerical rank of the local bases (see warnings)" });
+                    println!("  {}", match (p.inputs, log.converged) {
+                        (0, _) => "no input DOFs (ASET1): no FRF to choose the size, the whole numerical rank is kept (see warnings)",
+                        (_, true) => "converged (FRF change below ERRTOL)",
+                        (_, false) => "stopped at the numerical rank of the local bases (see warnings)",
+                    });
                 }
                 SubcaseResult::RomModal(r) => {
                     let values: Vec<String> = r.values.iter().map(|(n, v)| format!("{n} = {}", sci(*v, 4))).collect();

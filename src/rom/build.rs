@@ -225,8 +225,10 @@ pub fn build_prom(fom: &AffineFom, boundary: &[usize], settings: &PromSettings, 
             })
             .collect()
     };
-    let mut size = settings.dsize.min(rank);
-    let mut previous = frf_of(size, &mut log)?;
+    // Without input DOFs there is no receptance for eq. 3.35 to compare: the whole numerical
+    // rank is kept (SOL PROM warns).
+    let mut size = if inputs.ncols() == 0 { rank } else { settings.dsize.min(rank) };
+    let mut previous = if size < rank { frf_of(size, &mut log)? } else { Vec::new() };
     while size < rank {
         let next = (size + settings.dsize).min(rank);
         let current = frf_of(next, &mut log)?;
@@ -387,6 +389,27 @@ mod tests {
     #[test]
     fn two_independent_parameters_converge() {
         two_independent_parameters_converge_with(StaticModes::Attach, 10);
+    }
+
+    /// No input DOFs: eq. 3.35 has no receptance to compare, so the size is the whole
+    /// numerical rank and no growth step is logged (a first step comparing two empty FRF sets
+    /// read as "converged" at 2 DSIZE before).
+    #[test]
+    fn without_inputs_the_whole_rank_is_kept() {
+        let (k1, k2, m) = chain_parts(30);
+        let zero = { let mut z = m.clone(); z.values_mut().fill(0.0); z };
+        let fom = AffineFom {
+            parameters: vec![parameter("E1", 0.5, 2.0), parameter("E2", 0.5, 2.0)],
+            functions: vec![driven(Coefficient::E, CoefficientInput::E, 0), driven(Coefficient::E, CoefficientInput::E, 1), AffineFunction::constant()],
+            stiffness: vec![k1, k2, zero.clone()],
+            mass: vec![zero.clone(), zero, m],
+        };
+        let Built { prom, inputs, log, .. } = build_prom(&fom, &[], &settings(4), &|_: &str, _: usize, _: usize| {}).unwrap();
+        let rank = log.singular_values.iter().filter(|&&v| v > RANK_TOL * log.singular_values[0]).count();
+        assert_eq!(inputs.ncols(), 0);
+        assert!(rank > 2 * settings(4).dsize, "{log:?}");
+        assert_eq!(prom.size(), rank, "{log:?}");
+        assert!(log.error_history.is_empty(), "{log:?}");
     }
 
     /// Craig–Bampton with the fixed interface at DOFs 14 and 29 (two sub-chains): with 10

@@ -291,7 +291,12 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
                     p.frozen_condensation.join(", ")
                 ));
             }
-            if !p.log.converged {
+            if p.inputs == 0 {
+                warnings.push(format!(
+                    "subcase {}: the pROM has no input DOFs (no ASET1, or PMOR BSET blank): the FRF error of eq. 3.35 cannot choose its size, so all {} basis vectors are kept; give the load and support DOFs as ASET1 to get inputs and a size chosen by ERRTOL",
+                    s.id, p.n_red
+                ));
+            } else if !p.log.converged {
                 let last = p.log.error_history.last().map_or("not measured".to_string(), |(size, e)| format!("{e:.2e} at size {size}"));
                 warnings.push(format!(
                     "subcase {}: the pROM uses the whole numerical rank of the local bases ({}) but the last growth step still changed the FRFs by {last} (eq. 3.35, summed over {} input/output pairs), above ERRTOL; more samples or modes would make the basis richer",
