@@ -145,6 +145,13 @@ impl OutputFile {
     /// The final file `path` is not touched until [`commit`](Self::commit).
     pub fn create(path: impl AsRef<Path>) -> Result<Self, IoError> {
         let final_path = path.as_ref().to_path_buf();
+        // refuse before any work a name the final rename cannot take
+        if final_path.is_dir() {
+            return Err(IoError::Fs { path: final_path, what: "write the output there".into(), cause: std::io::Error::new(std::io::ErrorKind::IsADirectory, "it is a directory") });
+        }
+        if let Some(dir) = final_path.parent().filter(|d| !d.as_os_str().is_empty() && !d.is_dir()) {
+            return Err(IoError::Fs { path: final_path.clone(), what: "write the output there".into(), cause: std::io::Error::new(std::io::ErrorKind::NotFound, format!("directory {} does not exist", dir.display())) });
+        }
         let tmp_path = temp_path_for(&final_path);
         // Strong close degree: `close()` really closes the file even if a caller still holds a
         // group or dataset handle, so the rename below never races an open HDF5 file.
@@ -523,6 +530,19 @@ mod tests {
         let dir = tempfile::tempdir().expect("tempdir");
         let out = dir.path().join("no/such/dir/d.h5");
         let msg = OutputFile::create(&out).unwrap_err().to_string();
-        assert!(msg.contains("no/such/dir/d.h5"), "{msg}");
+        assert!(msg.contains("no/such/dir/d.h5") && msg.contains("does not exist"), "{msg}");
+    }
+
+    /// An output name that is a directory is refused at creation, before the run computes
+    /// anything (the final rename used to fail only at the end).
+    #[test]
+    fn create_over_a_directory_is_refused_up_front() {
+        let _guard = hdf5_test_guard();
+        let dir = tempfile::tempdir().expect("tempdir");
+        let out = dir.path().join("taken.h5");
+        std::fs::create_dir(&out).expect("dir");
+        let msg = OutputFile::create(&out).unwrap_err().to_string();
+        assert!(msg.contains("taken.h5") && msg.contains("directory"), "{msg}");
+        assert_eq!(std::fs::read_dir(dir.path()).expect("list").count(), 1, "no temporary file left");
     }
 }

@@ -60,7 +60,7 @@ impl PmparKind {
 /// | 3 | NAME | name | required | parameter name (unique) |
 /// | 4 | KIND | `E` `RHO` `NU` `THETA` `TPLY` `K` `MASS` | required | what it scales |
 /// | 5 | REFID | int > 0 | required | MAT1 (E, RHO, NU), PCOMP (THETA, TPLY), PELAS (K) or CONM2 element (MASS) id |
-/// | 6 | LOW | real | required | lower bound (absolute) |
+/// | 6 | LOW | real | required | lower bound (absolute); [LOW, HIGH] must contain the nominal value and stay inside what the card accepts (E > 0, −1 < NU < 0.5, RHO ≥ 0, ply thickness > 0, CONM2 M ≥ 0) |
 /// | 7 | HIGH | real | required | upper bound (absolute) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pmpar {
@@ -107,7 +107,7 @@ impl Pmpar {
 /// | 7 | DSIZE | int > 0 | NMODES/2 | basis-size step |
 /// | 8 | MACTOL | real in (0, 1] | 0.99 | MAC filter threshold (eq. 3.39) |
 /// | 9 | SEED | int ≥ 0 | 1 | LHS seed |
-/// | cont. 2 | BSET | int > 0 | blank | boundary DOFs: any positive value selects the deck's a-set (all ASET1 cards); blank = none |
+/// | cont. 2 | BSET | int > 0 | blank | boundary DOFs: any positive value selects the deck's a-set (all ASET1 cards); blank = none (then the pROM has no inputs and keeps the whole numerical rank: the FRF error of eq. 3.35 needs inputs) |
 /// | cont. 3 | STATIC | `ATTACH` `CONSTR` `NONE` | ATTACH | static modes |
 /// | cont. 4 | RIGID | `KEEP` `REMOVE` | KEEP | rigid-body modes |
 /// | cont. 5 | NFREQ | int > 0 | 200 | frequency lines of the FRF error |
