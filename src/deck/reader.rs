@@ -161,13 +161,36 @@ impl<'a> FieldReader<'a> {
     }
 
     fn check_id(&mut self, i: usize, name: &str, v: i64, allow_zero: bool) -> u32 {
+        let expected = if allow_zero { "an id >= 0" } else { "an id > 0" };
+        self.check_positive(i, name, v, allow_zero, expected)
+    }
+
+    /// `v` as a u32 in [0 or 1, u32::MAX / 2], else an error "expected {expected} …" and 0.
+    fn check_positive(&mut self, i: usize, name: &str, v: i64, allow_zero: bool, expected: &str) -> u32 {
         let ok = if allow_zero { v >= 0 } else { v > 0 };
         if !ok || v > i64::from(u32::MAX / 2) {
-            let expected = if allow_zero { "an id >= 0" } else { "an id > 0" };
             self.error(i, name, format!("expected {expected} (at most {}), found {v}", u32::MAX / 2));
             return 0;
         }
         v as u32
+    }
+
+    /// A required count (number of modes, steps, samples …): an integer > 0.
+    pub fn count(&mut self, i: usize, name: &str) -> u32 {
+        if self.value(i).is_blank() {
+            self.mismatch(i, name, "an integer > 0");
+            return 0;
+        }
+        match self.opt_int(i, name) {
+            Some(v) => self.check_positive(i, name, v, false, "an integer > 0"),
+            None => 0,
+        }
+    }
+
+    /// An optional count (blank → `None`): an integer > 0.
+    pub fn opt_count(&mut self, i: usize, name: &str) -> Option<u32> {
+        let v = self.opt_int(i, name)?;
+        Some(self.check_positive(i, name, v, false, "an integer > 0"))
     }
 
     /// A required positive id.

@@ -44,7 +44,7 @@ impl Eigrl {
         f.set_id(sid);
         let v1 = f.opt_real(2, "V1");
         let v2 = f.opt_real(3, "V2");
-        let nd = f.opt_id(4, "ND");
+        let nd = f.opt_count(4, "ND");
         f.int_or(5, "MSGLVL", 0);
         f.opt_int(6, "MAXSET");
         let shfscl = f.opt_real(7, "SHFSCL");
@@ -97,7 +97,7 @@ impl Freq {
             "FREQ1" => {
                 let f1 = f.real_or(2, "F1", 0.0);
                 let df = f.real(3, "DF");
-                let ndf = f.opt_id(4, "NDF").unwrap_or(1);
+                let ndf = f.opt_count(4, "NDF").unwrap_or(1);
                 if df <= 0.0 && matches!(f.value(3), Value::Real(_)) {
                     f.error(3, "DF", format!("expected DF > 0, found {df:e}"));
                 }
@@ -106,7 +106,7 @@ impl Freq {
             "FREQ2" => {
                 let f1 = f.real(2, "F1");
                 let f2 = f.real(3, "F2");
-                let nf = f.opt_id(4, "NF").unwrap_or(1);
+                let nf = f.opt_count(4, "NF").unwrap_or(1);
                 if !(f1 > 0.0 && f2 > f1) && matches!((f.value(2), f.value(3)), (Value::Real(_), Value::Real(_))) {
                     f.card_error(format!("FREQ2 needs 0 < F1 < F2, found F1 = {f1:e}, F2 = {f2:e}"));
                 }
@@ -169,9 +169,9 @@ impl Tstep {
                 first += 8;
                 continue;
             }
-            let n = f.id(first, "N");
+            let n = f.count(first, "N");
             let dt = f.positive_real(first + 1, "DT");
-            let no = f.opt_id(first + 2, "NO").unwrap_or(1);
+            let no = f.opt_count(first + 2, "NO").unwrap_or(1);
             intervals.push((n, dt, no));
             first += 8;
         }

@@ -136,14 +136,14 @@ impl Pmor {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "ID");
         f.set_id(id);
-        let nsamp = f.id(2, "NSAMP");
-        let nmodes = f.id(3, "NMODES");
+        let nsamp = f.count(2, "NSAMP");
+        let nmodes = f.count(3, "NMODES");
         let fmax = f.positive_real(4, "FMAX");
         let errtol = f.real_or(5, "ERRTOL", 1.0e-3);
         if errtol <= 0.0 {
             f.error(5, "ERRTOL", format!("expected ERRTOL > 0, found {errtol:e}"));
         }
-        let dsize = f.opt_id(6, "DSIZE").unwrap_or((nmodes / 2).max(1));
+        let dsize = f.opt_count(6, "DSIZE").unwrap_or((nmodes / 2).max(1));
         let mactol = f.real_or(7, "MACTOL", 0.99);
         if !(mactol > 0.0 && mactol <= 1.0) {
             f.error(7, "MACTOL", format!("expected 0 < MACTOL <= 1, found {mactol:e}"));
@@ -152,7 +152,7 @@ impl Pmor {
         let bset = f.opt_id(9, "BSET");
         let static_modes = f.keyword(10, "STATIC", &["ATTACH", "CONSTR", "NONE"], Some("ATTACH"));
         let rigid = f.keyword(11, "RIGID", &["KEEP", "REMOVE"], Some("KEEP"));
-        let nfreq = f.opt_id(12, "NFREQ").unwrap_or(200);
+        let nfreq = f.opt_count(12, "NFREQ").unwrap_or(200);
         let fmin = f.real_or(13, "FMIN", 0.0);
         if fmin < 0.0 || (fmin >= fmax && fmax > 0.0) {
             f.error(13, "FMIN", format!("expected 0 <= FMIN < FMAX = {fmax:e}, found {fmin:e}"));
