@@ -64,6 +64,58 @@ fn sdof_direct_matches_the_closed_form() {
     assert!(h <= tol && resp <= tol, "H {h:e}, response {resp:e}");
 }
 
+/// `DISPLACEMENT = ALL` in SOL 108: `frf/displacement` (f × grids × 6, basic) is the grid's
+/// complex response to the deck's load: T1 equals the closed-form SDOF response (same reference
+/// and tolerance as above) and the SPC'd components read exactly zero; H keeps only its named
+/// outputs.
+#[test]
+fn sdof_displacement_output_is_the_closed_form_response() {
+    let r = reference("frf_sdof");
+    let text = std::fs::read_to_string(root().join(r["meshes"][0]["deck"].as_str().unwrap())).unwrap().replace("  DLOAD = 7\n", "  DLOAD = 7\n  DISPLACEMENT = ALL\n");
+    assert!(text.contains("DISPLACEMENT = ALL"));
+    let (run, dir) = run_deck(&text);
+    run.expect("SOL 108 with DISPLACEMENT");
+    let path = dir.path().join("out.h5");
+    let out = read_frf(&path);
+    assert_eq!(out.outputs, ["1:1"]);
+    assert_eq!(out.h.len(), out.hz.len());
+    let file = hdf5_metno::File::open(&path).unwrap();
+    let d = file.dataset("results/1/frf/displacement").unwrap();
+    assert_eq!(d.shape(), [out.hz.len(), 1, 6]);
+    let d: Vec<c64> = d.read_raw().unwrap();
+    let t1: Vec<c64> = d.chunks_exact(6).map(|g| g[0]).collect();
+    let tol = f64s(&r["tolerance_finest"]["relative"])[0];
+    let err = worst(&t1, &f64s(&r["response_re"]), &f64s(&r["response_im"]));
+    assert!(err <= tol, "T1 response {err:e}");
+    assert!(d.chunks_exact(6).all(|g| g[1..].iter().all(|z| z.norm() == 0.0)), "constrained components");
+}
+
+/// The 2-DOF chain by SOL 108 and SOL 111 with `DISPLACEMENT = 3` (SET 3 = 2): the grid's T1
+/// response equals the `response` of output "2:1" (the same load on the same solve) to
+/// round-off, and the set's grid ids are written.
+#[test]
+fn two_dof_displacement_set_equals_the_response() {
+    for deck in ["frf_two_dof_modal.dat", "frf_two_dof_direct.dat"] {
+        let text = std::fs::read_to_string(root().join("decks/verify/analytic").join(deck)).unwrap().replace("  DLOAD = 7\n", "  DLOAD = 7\n  SET 3 = 2\n  DISPLACEMENT = 3\n");
+        assert!(text.contains("DISPLACEMENT = 3"), "{deck}");
+        let (run, dir) = run_deck(&text);
+        run.unwrap_or_else(|e| panic!("{deck}: {e}"));
+        let path = dir.path().join("out.h5");
+        let out = read_frf(&path);
+        let o = out.outputs.iter().position(|x| x == "2:1").unwrap();
+        let file = hdf5_metno::File::open(&path).unwrap();
+        let g = file.group("results/1/frf").unwrap();
+        let ids: Vec<u32> = g.dataset("displacement_grid_ids").unwrap().read_raw().unwrap();
+        assert_eq!(ids, [2], "{deck}");
+        let d: Vec<c64> = g.dataset("displacement").unwrap().read_raw().unwrap();
+        assert_eq!(d.len(), 6 * out.hz.len(), "{deck}");
+        for (l, grid) in d.chunks_exact(6).enumerate() {
+            let want = out.response[l * out.outputs.len() + o];
+            assert!((grid[0] - want).norm() <= 1e-12 * want.norm(), "{deck} line {l}: {:?} vs {want:?}", grid[0]);
+        }
+    }
+}
+
 /// 2-DOF chain: receptance at both masses and DISP / VEL / ACCEL sensors, by SOL 108 and by
 /// SOL 111 over both modes (and each as `SOL FRF`), against Z(ω)⁻¹; tolerance from the reference, relative to the
 /// largest |H| of each output row (rows differ by ω² in scale).

@@ -28,11 +28,15 @@ use crate::deck::Solution;
 /// Output requests each solution sequence writes on the mesh (see `crate::sequence`), each for
 /// `ALL` or the ids of its SET (`crate::sequence::GridRows` for grid points): STATICS writes
 /// displacements (every grid when not requested at all, none for `= NONE`), SPC forces and
-/// strains on request; MODAL writes mode shapes and TRANSIENT (109, 112) displacement histories
-/// on request. A subcase on a pROM artifact (`ROM =`) has no grids: it writes none of them.
+/// strains on request; MODAL writes mode shapes, FRF (108, 111) complex displacement responses
+/// and TRANSIENT (109, 112) displacement histories on request. A subcase on a pROM artifact
+/// (`ROM =`) has no grids: it writes none of them.
 pub const HONOURED: &[(Solution, &[&str])] = &[
     (Solution::Statics, &["DISPLACEMENT", "SPCFORCES", "STRAIN"]),
     (Solution::Modal, &["DISPLACEMENT"]),
+    (Solution::FrfDirect, &["DISPLACEMENT"]),
+    (Solution::FrfModal, &["DISPLACEMENT"]),
+    (Solution::Frf, &["DISPLACEMENT"]),
     (Solution::TransientDirect, &["DISPLACEMENT"]),
     (Solution::TransientModal, &["DISPLACEMENT"]),
     (Solution::Transient, &["DISPLACEMENT"]),

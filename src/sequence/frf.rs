@@ -25,12 +25,16 @@
 //! outputs (o), response (f × o)}` with attributes `method` (`direct`/`modal`) and `modes`.
 //! `response` is the deck's load applied to H: P_d(f) = Σ S·A_d·(C(f) + iD(f))·e^{i(θ − 2πfτ)}
 //! over the RLOAD1 terms (TC, TD tables: TABLED1 or TABLEF) and their DAREA scales A_d.
+//! Only when the subcase asks `DISPLACEMENT = ALL | set`: `displacement (f × k × 6)`, the
+//! complex response of the selected grids to that load in basic (Nastran's SOL 108/111
+//! displacement output; `displacement_grid_ids` for a set). Their rows join the outputs of the
+//! solve and are dropped from H.
 
 use faer::{Mat, c64};
 use nalgebra_sparse::{CooMatrix, CscMatrix};
 
-use super::sensors::sensor_operator;
-use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary};
+use super::sensors::{displacement_rows, sensor_operator};
+use super::{Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary};
 use crate::assembly::DofMap;
 use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
@@ -38,7 +42,7 @@ use crate::dynamics::frf::{SparseModel, direct_receptance, modal_receptance, sta
 use crate::dynamics::measurement::Reads;
 use crate::dynamics::table::Table;
 use crate::io::csv_table::read_columns;
-use crate::io::{IoError, set_attr_i64, set_attr_str, write_c64, write_f64, write_strings};
+use crate::io::{IoError, set_attr_i64, set_attr_str, write_c64, write_f64, write_strings, write_u32};
 use crate::linalg::{EigenProblem, EigenRequest, LanczosOptions, SymbolicFactor, solve_modes};
 use crate::model::Model;
 
@@ -235,10 +239,19 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
         let omegas: Vec<f64> = hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
         let inputs = inputs(model, st, &c, sub)?;
         let sensors = clock.time(format!("subcase {id}: sensor rows"), || sensor_operator(ctx, st, &c, sub))?;
-        // output rows: the input DOFs (their load columns read the displacement there), then the sensors
+        // output rows: the input DOFs (their load columns read the displacement there), the
+        // sensors, then 6 per grid of a DISPLACEMENT request
+        let grid_rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
+        let grids: Vec<usize> = match &grid_rows {
+            None => Vec::new(),
+            Some(GridRows::All) => (0..st.map.grids()).collect(),
+            Some(GridRows::Set(rows)) => rows.clone(),
+        };
+        let grid_outputs = displacement_rows(st, &c, &grids);
         let k = inputs.names.len();
         let n_f = c.sets.f.len();
-        let mut coo = CooMatrix::new(k + sensors.len(), n_f);
+        let named = k + sensors.len();
+        let mut coo = CooMatrix::new(named + grid_outputs.nrows(), n_f);
         for j in 0..k {
             for f in 0..n_f {
                 if inputs.columns[(f, j)] != 0.0 {
@@ -246,9 +259,11 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
                 }
             }
         }
-        for (col, column) in sensors.rows.col_iter().enumerate() {
-            for (&row, &v) in column.row_indices().iter().zip(column.values()) {
-                coo.push(k + row, col, v);
+        for (offset, rows) in [(k, &sensors.rows), (named, &grid_outputs)] {
+            for (col, column) in rows.col_iter().enumerate() {
+                for (&row, &v) in column.row_indices().iter().zip(column.values()) {
+                    coo.push(offset + row, col, v);
+                }
             }
         }
         let outputs = CscMatrix::from(&coo);
@@ -289,6 +304,18 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
                     .map_err(frf_error)?
             }
         };
+        // the grids' response to the deck's load, then H without their rows
+        let n_disp = grid_outputs.nrows();
+        let mut displacement = vec![c64::new(0.0, 0.0); hz.len() * n_disp];
+        for (l, (f, hw)) in hz.iter().zip(&h).enumerate() {
+            for term in &inputs.terms {
+                let p = term.at(*f);
+                for o in 0..n_disp {
+                    displacement[l * n_disp + o] += hw[(named + o, term.input)] * p;
+                }
+            }
+        }
+        let h: Vec<Mat<c64>> = if n_disp == 0 { h } else { h.iter().map(|hw| hw.subrows(0, named).to_owned()).collect() };
         let names: Vec<String> = inputs.names.iter().chain(&sensors.names).cloned().collect();
         let reads: Vec<Reads> = (0..k).map(|_| Reads::Displacement).chain(sensors.reads.iter().copied()).collect();
         let (flat, peak) = scaled_flat(&h, &hz, &reads);
@@ -306,6 +333,13 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
                 }
             }
             write_c64(&group, "response", &response, &[hz.len(), n_out])?;
+            if let Some(rows) = &grid_rows {
+                write_c64(&group, "displacement", &displacement, &[hz.len(), grids.len(), 6])?;
+                if let GridRows::Set(_) = rows {
+                    let ids: Vec<u32> = grids.iter().filter_map(|&g| st.map.grid_id(g)).collect();
+                    write_u32(&group, "displacement_grid_ids", &ids, &[ids.len()])?;
+                }
+            }
             set_attr_str(&group, "method", method.name())?;
             set_attr_i64(&group, "modes", modes as i64)?;
             super::write_autospc(&group, &c.autospc)?;

@@ -206,6 +206,21 @@ fn strain_row(ctx: &RunContext, st: &Structure, index: usize, s: &Sensor, d: [f6
     Ok(row)
 }
 
+/// The displacement rows of `grids` on the f-set (6 per grid, T1 T2 T3 R1 R2 R3 in basic, in
+/// the order given): u_basic = R u_f, through the same CD-frame, g → n and f-set mapping as a
+/// DISP sensor (a dependent RBE grid moves with its independent DOFs, a constrained one reads 0).
+pub fn displacement_rows(st: &Structure, c: &Constrained, grids: &[usize]) -> CscMatrix<f64> {
+    let mut coo = CooMatrix::new(6 * grids.len(), c.sets.f.len());
+    for (r, &grid) in grids.iter().enumerate() {
+        for k in 0..6 {
+            for (f, h) in f_row(st, c, &[(6 * grid + k, 1.0)]) {
+                coo.push(6 * r + k, f, h);
+            }
+        }
+    }
+    CscMatrix::from(&coo)
+}
+
 /// A row over basic g-set DOFs → (f index, value): Λᵀ per grid (CD frames), Tᵀ (g → n),
 /// then the f-set members.
 fn f_row(st: &Structure, c: &Constrained, basic: &[(usize, f64)]) -> Vec<(usize, f64)> {
