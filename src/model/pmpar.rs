@@ -37,10 +37,10 @@ pub fn check(refs: &Refs, errors: &mut Vec<DeckError>) {
         if p.low > p.high {
             errors.push(err(format!("LOW = {} > HIGH = {}", p.low, p.high)));
         }
-        if let Some((rule, inside)) = domain(p.kind)
-            && !(inside(p.low) && inside(p.high))
+        if let Some(d) = domain(p.kind)
+            && !((d.contains)(p.low) && (d.contains)(p.high))
         {
-            errors.push(err(format!("[LOW, HIGH] = [{:e}, {:e}] leaves the values {} {} accepts ({rule}): the pROM is sampled and evaluated over the whole range", p.low, p.high, p.kind.target_card(), p.kind.name())));
+            errors.push(err(format!("[LOW, HIGH] = [{:e}, {:e}] leaves the values {} {} accepts ({}): the pROM is sampled and evaluated over the whole range", p.low, p.high, p.kind.target_card(), p.kind.name(), d.rule)));
         }
         match nominal(refs.bulk, p) {
             Err(message) => errors.push(err(message)),
@@ -57,18 +57,27 @@ pub fn check(refs: &Refs, errors: &mut Vec<DeckError>) {
     }
 }
 
-/// The values the referenced card accepts for a parameter of `kind` (the rule as text, and a
-/// test of one value), as the card checks (`super::values`): MAT1 E > 0, −1 < NU < 0.5,
-/// RHO ≥ 0; PCOMP ply thickness > 0; CONM2 M ≥ 0. None: any finite value (ply angle, PELAS K).
-pub fn domain(kind: PmparKind) -> Option<(&'static str, fn(f64) -> bool)> {
-    match kind {
-        PmparKind::E => Some(("E > 0", |v| v > 0.0)),
-        PmparKind::Nu => Some(("−1 < NU < 0.5", |v| v > -1.0 && v < 0.5)),
-        PmparKind::Rho => Some(("RHO ≥ 0", |v| v >= 0.0)),
-        PmparKind::Tply => Some(("ply thickness > 0", |v| v > 0.0)),
-        PmparKind::Mass => Some(("M ≥ 0", |v| v >= 0.0)),
-        PmparKind::Theta | PmparKind::K => None,
-    }
+/// The values the referenced card accepts for a parameter, as the card checks
+/// (`super::values`).
+pub struct Domain {
+    /// The rule as text, e.g. "E > 0".
+    pub rule: &'static str,
+    /// Whether one value satisfies it.
+    pub contains: fn(f64) -> bool,
+}
+
+/// The [`Domain`] of a parameter of `kind`: MAT1 E > 0, −1 < NU < 0.5, RHO ≥ 0; PCOMP ply
+/// thickness > 0; CONM2 M ≥ 0. None: any finite value (ply angle, PELAS K).
+pub fn domain(kind: PmparKind) -> Option<Domain> {
+    let (rule, contains): (&'static str, fn(f64) -> bool) = match kind {
+        PmparKind::E => ("E > 0", |v| v > 0.0),
+        PmparKind::Nu => ("−1 < NU < 0.5", |v| v > -1.0 && v < 0.5),
+        PmparKind::Rho => ("RHO ≥ 0", |v| v >= 0.0),
+        PmparKind::Tply => ("ply thickness > 0", |v| v > 0.0),
+        PmparKind::Mass => ("M ≥ 0", |v| v >= 0.0),
+        PmparKind::Theta | PmparKind::K => return None,
+    };
+    Some(Domain { rule, contains })
 }
 
 /// The nominal value of a parameter: the referenced card's value.
