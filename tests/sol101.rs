@@ -83,6 +83,28 @@ fn cquad4_cantilever_tip_deflection_and_reaction_balance() {
     assert!(file.dataset("results/1/statics/strain").is_err(), "strain written without STRAIN");
 }
 
+/// The strip clamped by 1e20 grounded CELAS2 springs on all six components of its root grids
+/// (the usual stand-in for a clamp) deflects as the SPC-clamped strip: the springs' compliance
+/// (1e-20) is far below round-off of the tip deflection, so the bound is 1e-9 relative. AUTOSPC
+/// used to apply a model-wide floor (1e-14 × the largest diagonal = 1e6 here) that constrained
+/// every plate rotation and made the strip 2.5e4 times too stiff.
+#[test]
+fn stiff_spring_clamp_equals_the_spc_clamp() {
+    let p = 10.0;
+    let clamped = strip("SPC = 1\nLOAD = 5\n", &format!("FORCE,5,1000,,{p:?},0.,0.,1.\n"));
+    let springs: String = [1, 101].iter().enumerate().flat_map(|(i, g)| (1..=6).map(move |c| format!("CELAS2,{},1.e20,{g},{c}\n", 9000 + 6 * i + c))).collect();
+    let sprung = strip("LOAD = 5\n", &format!("FORCE,5,1000,,{p:?},0.,0.,1.\n{springs}")).replace("SPC1,1,123456,1,101\n", "");
+    let tip = |deck: &str| {
+        let (r, _dir) = run_deck(deck);
+        let s = r.expect("run");
+        let st = statics(&s, 0);
+        assert!(s.subcases[0].autospc.is_empty(), "AUTOSPC: {:?}", s.subcases[0].autospc);
+        st.max_translation.1
+    };
+    let (a, b) = (tip(&clamped), tip(&sprung));
+    assert!((a - b).abs() <= 1e-9 * a, "SPC clamp {a:e} vs 1e20 springs {b:e}");
+}
+
 /// Two subcases with the same SPC share one factorization; a load scaled by 2 doubles u, and
 /// STRAIN writes top/bottom membrane strains: at the root, ε_x(top) = −ε_x(bottom) ≈ M c / (E I).
 #[test]

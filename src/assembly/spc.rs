@@ -10,10 +10,12 @@
 //! AUTOSPC ([`autospc`]): after the g → n reduction, every n-set DOF not already in s whose
 //! stiffness diagonal is ≤ [`AUTOSPC_RATIO`] × the largest diagonal of the same grid's
 //! translations (T1–T3) or rotations (R1–R3) — Nastran's grid-point singularity test, on the
-//! diagonal — or ≤ [`AUTOSPC_FLOOR`] × the largest diagonal of K_nn, is constrained to zero and
-//! listed (GRID, component) in an [`AutoSpcReport`] for the solver to print. The test is per grid
-//! so that stiffness elsewhere (a stiff RBE hub, a heavy spring) does not make a shell's drilling
-//! stiffness look like none. Typical
+//! diagonal; a triple with no stiffness at all (largest diagonal 0) is constrained whole — is
+//! constrained to zero and listed (GRID, component) in an [`AutoSpcReport`] for the solver to
+//! print. The test is per grid only, so that stiffness elsewhere (a stiff RBE hub, 1e20
+//! grounded springs standing for a clamp) does not make a shell's bending or drilling stiffness
+//! look like none: a model-wide floor (1e-14 × the largest diagonal of K_nn, dropped) constrained
+//! every plate rotation of a plate held by 1e20 springs and made it 2.5e4 times too stiff. Typical
 //! finds: rotations of grids attached only to solids, drilling rotations of flat shells without
 //! drilling stiffness, components of spring-only grids. `PARAM,AUTOSPC,NO` disables it (the
 //! caller checks `model.params.autospc`). A mechanism with non-zero diagonals is not detected
@@ -32,9 +34,6 @@ use crate::model::Model;
 /// AUTOSPC threshold: a diagonal ≤ ratio × the largest diagonal of its grid's translation or
 /// rotation triple counts as "no stiffness" (Nastran's EPZERO default).
 pub const AUTOSPC_RATIO: f64 = 1e-8;
-
-/// Diagonals ≤ this × the largest diagonal of K_nn are numerically zero whatever the grid.
-pub const AUTOSPC_FLOOR: f64 = 1e-14;
 
 /// Constrained g DOFs with their enforced values and where each constraint came from.
 #[derive(Debug, Clone, PartialEq)]
@@ -194,7 +193,7 @@ pub fn autospc(op: &AffineOperator, k_nn: &[f64], n: &DofSet, s_mask: &[bool], m
         }
         let local = triple_max.get(&(g / 3)).copied().unwrap_or(0.0);
         let d = diag[k].abs();
-        if d <= AUTOSPC_RATIO * local || d <= AUTOSPC_FLOOR * max {
+        if d <= AUTOSPC_RATIO * local {
             report.dofs.push(g);
             report.names.push(map.name(g));
         }
