@@ -182,22 +182,30 @@ pub struct EigenResult {
     pub finite_exhausted: bool,
 }
 
-/// Diagonal entries of the positive semi-definite M at or below this fraction of the largest one
-/// count as massless: zero up to the round-off of summing element masses in rotated frames (a
-/// few ε of the largest entry). A DOF with so little mass would otherwise give an eigenvalue
-/// ~10¹³ times the others, which no one asks for.
+/// A diagonal entry of the positive semi-definite M at or below this fraction of the largest
+/// entry of its own row counts as massless (zero up to the round-off of that row's sums).
 pub const MASSLESS_RATIO: f64 = 1e-13;
 
-/// Indices of the massless DOFs of M: diagonal ≤ [`MASSLESS_RATIO`] × the largest diagonal. For
-/// a positive semi-definite M a zero diagonal entry means a zero row and column, so
-/// rank(M) ≤ n − (their number).
+/// Indices of the massless DOFs of M: diagonal ≤ [`MASSLESS_RATIO`] × the largest |entry| of
+/// the same row (a zero row included). For a positive semi-definite M a zero diagonal entry
+/// means a zero row and column, so rank(M) ≤ n − (their number). The scale is the row's own,
+/// not the matrix's: a 1e12 kg CONM2 (the large-mass method) made every plate DOF of ~1e-2 kg
+/// count as massless when the test compared with the largest diagonal of M.
 pub fn massless_dofs(m: &CscMatrix<f64>) -> Vec<usize> {
-    let diag: Vec<f64> = (0..m.nrows())
-        .map(|i| m.get_entry(i, i).map_or(0.0, |v| v.into_value()))
-        .collect();
-    let max = diag.iter().copied().fold(0.0, f64::max);
-    (0..diag.len())
-        .filter(|&i| diag[i] <= MASSLESS_RATIO * max)
+    // M is symmetric: column j holds row j
+    m.col_iter()
+        .enumerate()
+        .filter(|(j, col)| {
+            let (mut diagonal, mut largest) = (0.0_f64, 0.0_f64);
+            for (&i, &v) in col.row_indices().iter().zip(col.values()) {
+                largest = largest.max(v.abs());
+                if i == *j {
+                    diagonal = v;
+                }
+            }
+            diagonal <= MASSLESS_RATIO * largest
+        })
+        .map(|(j, _)| j)
         .collect()
 }
 
@@ -558,6 +566,9 @@ struct Lanczos<'a> {
     floor: Option<(f64, usize)>,
     restarts: usize,
     rng: SplitMix64,
+    /// 1 / diag(M) (0 on massless DOFs): random start vectors are scaled by it so that M x is
+    /// a balanced random load ([`Self::start`]).
+    start_scale: Vec<f64>,
     /// Per-step buffers (no allocation inside a cycle).
     w: Vec<f64>,
     p: Vec<f64>,
@@ -593,6 +604,7 @@ impl<'a> Lanczos<'a> {
             floor: None,
             restarts: 0,
             rng: SplitMix64::new(options.seed),
+            start_scale: (0..n).map(|i| problem.m.get_entry(i, i).map_or(0.0, |v| v.into_value())).map(|d| if d > 0.0 { 1.0 / d } else { 0.0 }).collect(),
             w: vec![0.0; n],
             p: vec![0.0; n],
             c: Vec::new(),
@@ -694,15 +706,19 @@ impl<'a> Lanczos<'a> {
 
     /// Column `j` of V ← OP(x) for the given x (first attempt) or random x, M-orthogonal to
     /// columns 0..j and M-normalized. Returns false when three attempts keep less than 10⁻⁸ of
-    /// their M-norm: columns 0..j already span range(OP) (the M-range).
+    /// their M-norm: columns 0..j already span range(OP) (the M-range). A random x is r / diag(M)
+    /// (r uniform): M x is then a load of the same size on every DOF with mass, so a few heavy
+    /// DOFs (a 1e12 kg CONM2 of the large-mass method) do not fill OP x and its M-norm, which
+    /// would leave nothing after orthogonalization and read as an exhausted space.
     fn start(&mut self, j: usize, x: Option<&[f64]>) -> Result<bool, LinalgError> {
         for attempt in 0..3 {
             match x {
                 Some(x) if attempt == 0 => self.w.copy_from_slice(x),
-                _ => self
-                    .w
-                    .iter_mut()
-                    .for_each(|x| *x = self.rng.symmetric()),
+                _ => {
+                    for (w, scale) in self.w.iter_mut().zip(&self.start_scale) {
+                        *w = self.rng.symmetric() * scale;
+                    }
+                }
             }
             self.apply_op(None)?;
             self.ensure_size(j + 1);
@@ -1131,6 +1147,29 @@ pub(crate) mod tests {
         assert!(result.eigenvalues.is_empty(), "{:?}", result.eigenvalues);
         assert!(result.sturm.is_consistent(), "{:?}", result.sturm);
         assert_eq!(result.sturm.negative_pivots, n - 1, "{:?}", result.sturm);
+    }
+
+    /// The large-mass method: a grounded chain with 1e14 on its last DOF (the others 1). Every
+    /// DOF has mass (1e-14 of the largest diagonal: massless by a matrix-wide ratio, not by
+    /// the row's own), so ND = 6 finds six modes: one ~1e-16 (the heavy mass on the chain's
+    /// flexibility), then the chain with that DOF held: n − 1 unit masses between two fixed
+    /// ends, λ_j = 4 sin²(jπ / (2n)) (to 1e-8: the heavy DOF moves by ~λ/1e14). Before, random
+    /// start vectors were all heavy-DOF (M x ≈ 1e14 x_n) and the run stopped after 1 mode.
+    #[test]
+    fn large_mass_method_finds_every_requested_mode() {
+        let n = 40;
+        let k = chain(n, true, false, None);
+        let mut m = lumped(&k, 1.0);
+        m.triplet_iter_mut().filter(|(i, j, _)| *i == n - 1 && *j == n - 1).for_each(|(_, _, v)| *v = 1e14);
+        assert!(massless_dofs(&m).is_empty());
+        let result = solve(&k, &m, EigenRequest { nd: Some(6), ..Default::default() });
+        assert_eq!(result.eigenvalues.len(), 6, "{:?}", result.eigenvalues);
+        assert!(!result.finite_exhausted && result.sturm.is_consistent(), "{:?}", result.sturm);
+        assert!(result.eigenvalues[0] < 1e-10, "{}", result.eigenvalues[0]);
+        for (j, lambda) in result.eigenvalues[1..].iter().enumerate() {
+            let held = 4.0 * ((j + 1) as f64 * PI / (2.0 * n as f64)).sin().powi(2);
+            assert!((lambda - held).abs() <= 1e-8 * held, "mode {}: {lambda} vs {held}", j + 2);
+        }
     }
 
     /// Free–free chain: one rigid-body mode (λ = 0) found through the negative shift, then
