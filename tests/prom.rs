@@ -68,7 +68,16 @@ fn single_material_e_rho_prom_equals_the_full_model_everywhere() {
         }
         let warned = summary.warnings.iter().any(|w| w.contains("outside the box") && w.contains('E') && w.contains("RHO"));
         assert_eq!(warned, outside, "{:?}", summary.warnings);
+        assert!(!summary.warnings.iter().any(|w| w.contains("EIGRL ND")), "{:?}", summary.warnings);
     }
+    // ND beyond the pROM's size returns every mode and says so
+    let (all, summary) = prom_modes(&built, "PVAL,1,E,2.1e11\n", 500);
+    let size = match &summary.subcases[0].result {
+        SubcaseResult::RomModal(r) => r.n_red,
+        other => panic!("not a pROM modal run: {other:?}"),
+    };
+    assert_eq!(all.len(), size);
+    assert!(summary.warnings.iter().any(|w| w.contains("EIGRL ND = 500") && w.contains(&format!("all {size} returned"))), "{:?}", summary.warnings);
 }
 
 /// Fibre angle of an angle-ply laminate (thesis §3.6, Table 3.4 style: THETA over [0°, 90°]):

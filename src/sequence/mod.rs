@@ -274,6 +274,11 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         if let Some((names, rom)) = extrapolated.filter(|(names, _)| !names.is_empty()) {
             warnings.push(format!("subcase {}: parameter(s) {} lie outside the box the pROM {} was built for: extrapolated", s.id, names.join(", "), rom.display()));
         }
+        if let SubcaseResult::RomModal(r) = &s.result
+            && let Some(nd) = r.nd_short
+        {
+            warnings.push(format!("subcase {}: EIGRL ND = {nd} asks for more modes than the pROM {} has in the band (size {}): all {} returned", s.id, r.rom.display(), r.n_red, r.frequencies_hz.len()));
+        }
         if let SubcaseResult::Estimate(e) = &s.result {
             if e.forced {
                 warnings.push(format!("subcase {}: FORCE = YES: the filter ran although the problem is {}", s.id, e.observability));

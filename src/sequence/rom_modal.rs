@@ -30,6 +30,8 @@ pub struct RomModalSummary {
     pub values: Vec<(String, f64)>,
     /// Parameters outside the pROM's box.
     pub extrapolated: Vec<String>,
+    /// EIGRL ND when it asked for more modes than the pROM's band holds (all were returned).
+    pub nd_short: Option<usize>,
 }
 
 /// Runs every subcase on its pROM.
@@ -42,7 +44,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let case = |what: String| RunError::Case { subcase: id, what };
     let RomAtPoint { path, prom, p, at, extrapolated } = RomAtPoint::load(ctx, sub)?;
     let (lambda, phi) = generalized_eigen(at.stiffness(), at.mass()).map_err(|e| case(format!("{}: {e}", path.display())))?;
-    let keep = selection(ctx, sub, &lambda)?;
+    let (keep, nd_short) = selection(ctx, sub, &lambda)?;
     let lambda: Vec<f64> = keep.iter().map(|&j| lambda[j]).collect();
     let phi = Mat::<f64>::from_fn(phi.nrows(), keep.len(), |i, c| phi[(i, keep[c])]);
     let frequencies_hz: Vec<f64> = lambda.iter().map(|&l| lambda_to_hz(l)).collect();
@@ -70,18 +72,21 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         frequencies_hz,
         values: names.iter().map(|n| n.to_string()).zip(p.iter().copied()).collect(),
         extrapolated,
+        nd_short,
     };
     Ok(SubcaseSummary { id, autospc: Vec::new(), result: SubcaseResult::RomModal(summary) })
 }
 
-/// Indices of the modes EIGRL asks for (all when no METHOD).
-fn selection(ctx: &RunContext, sub: &Subcase, lambda: &[f64]) -> Result<Vec<usize>, RunError> {
-    let Some(method) = sub.method else { return Ok((0..lambda.len()).collect()) };
+/// Indices of the modes EIGRL asks for (all when no METHOD), and ND when fewer exist in the band.
+fn selection(ctx: &RunContext, sub: &Subcase, lambda: &[f64]) -> Result<(Vec<usize>, Option<usize>), RunError> {
+    let Some(method) = sub.method else { return Ok(((0..lambda.len()).collect(), None)) };
     let eigrl = ctx.model.bulk.eigrl.iter().find(|e| e.sid == method).ok_or_else(|| RunError::Case { subcase: sub.id, what: format!("METHOD = {method} selects no EIGRL card") })?;
     let (v1, v2) = (eigrl.v1.unwrap_or(f64::NEG_INFINITY), eigrl.v2.unwrap_or(f64::INFINITY));
     let mut keep: Vec<usize> = (0..lambda.len()).filter(|&j| (v1..=v2).contains(&lambda_to_hz(lambda[j]))).collect();
-    if let Some(nd) = eigrl.nd {
-        keep.truncate(nd as usize);
+    let nd = eigrl.nd.map(|nd| nd as usize);
+    if let Some(nd) = nd {
+        keep.truncate(nd);
     }
-    Ok(keep)
+    let short = nd.filter(|&nd| nd > keep.len());
+    Ok((keep, short))
 }
