@@ -299,7 +299,11 @@ mod report {
                     println!("  largest |H| {} at {} Hz", sci(r.peak.0, 4), sci(r.peak.1, 4));
                 }
                 SubcaseResult::Frf(r) => {
-                    let modes = if r.modes > 0 { format!(", {} modes", r.modes) } else { String::new() };
+                    let modes = match (r.modes, r.residual_vectors) {
+                        (0, _) => String::new(),
+                        (m, Some(k)) => format!(", {m} modes + {k} residual vector(s)"),
+                        (m, None) => format!(", {m} modes"),
+                    };
                     println!("subcase {}: {} FRF, f-set {} DOFs{modes}, {} line(s), {} input(s) ({}) × {} output(s)", sub.id, r.method.name(), r.f_size, r.lines, r.inputs.len(), r.inputs.join(", "), r.outputs.len());
                     println!("  largest |H| {} at {} Hz", sci(r.peak.0, 4), sci(r.peak.1, 4));
                 }

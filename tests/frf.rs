@@ -224,6 +224,51 @@ fn plate_direct_modal_and_prom_agree() {
     }
 }
 
+/// Residual vectors (PARAM,RESVEC, default YES): the plate by SOL 111 with only its first 2
+/// modes, inputs at the three tip grids, lines 0–50 Hz. With the residual vectors the basis
+/// holds K⁻¹ S_in, so at 0 Hz H equals the direct solution to the round-off of the two solves
+/// (κ(K_ff)·ε ~ 1e-8 on this plate, see the strain test below: bound 1e-7 of the line's max |H|),
+/// and below the first resonance (18.9 Hz) the missing modes' static part is there (1 Hz
+/// also within 1e-7). With PARAM,RESVEC,NO the 2 modes miss it: > 1e-3 at 0 Hz, which shows the
+/// test can fail. A free chain (K singular) skips them with a warning.
+#[test]
+fn residual_vectors_make_truncated_modal_frf_exact_at_zero_hz() {
+    let case = "SPC = 1\nFREQUENCY = 5\nDLOAD = 7\n";
+    let loads = "FREQ,5,0.,1.,5.,10.\nRLOAD1,7,8,,,20\nDAREA,8,13,3,1.,39,3,1.\nDAREA,8,65,3,1.\nTABLED1,20\n,0.,1.,1000.,1.,ENDT\n";
+    let (r, dir) = run_deck(&format!("SOL 108\nCEND\n{case}BEGIN BULK\n{loads}{}ENDDATA\n", plate()));
+    r.expect("SOL 108");
+    let direct = read_frf(&dir.path().join("out.h5"));
+    // per line: largest |H_modal − H_direct| over the pairs / largest |H_direct| of that line
+    let worst_line = |modal: &Frf| -> Vec<f64> {
+        let per_line = modal.h.len() / modal.hz.len();
+        (0..modal.hz.len())
+            .map(|l| {
+                let line = l * per_line..(l + 1) * per_line;
+                let scale = line.clone().map(|k| direct.h[k].norm()).fold(0.0, f64::max);
+                line.map(|k| (modal.h[k] - direct.h[k]).norm()).fold(0.0, f64::max) / scale
+            })
+            .collect()
+    };
+    for (param, resvec) in [("", true), ("PARAM,RESVEC,NO\n", false)] {
+        let (r, dir) = run_deck(&format!("SOL 111\nCEND\n{case}METHOD = 10\nBEGIN BULK\nEIGRL,10,,,2\n{param}{loads}{}ENDDATA\n", plate()));
+        let summary = r.expect("SOL 111");
+        let SubcaseResult::Frf(s) = &summary.subcases[0].result else { panic!("not a full-model FRF") };
+        assert_eq!((s.modes, s.residual_vectors.is_some()), (2, resvec));
+        let err = worst_line(&read_frf(&dir.path().join("out.h5")));
+        println!("RESVEC {resvec}: error per line {err:?}");
+        if resvec {
+            assert_eq!(s.residual_vectors, Some(3), "one per input");
+            assert!(err[0] <= 1e-7 && err[1] <= 1e-7, "{err:?}");
+        } else {
+            assert!(err[0] > 1e-3, "{err:?}");
+        }
+    }
+    let free = std::fs::read_to_string(root().join("decks/verify/analytic/frf_two_dof_modal.dat")).unwrap().replace("CELAS2,11,25000.0,1,1\n", "").replace("EIGRL,10,,,2", "EIGRL,10,,,1");
+    let (r, _dir) = run_deck(&free);
+    let summary = r.expect("free chain from 2 Hz");
+    assert!(summary.warnings.iter().any(|w| w.contains("no residual vectors") && w.contains("K is singular")), "{:?}", summary.warnings);
+}
+
 /// STRAIN sensors on solids (CHEXA, centroid strain in basic, eq. 2.31 with all six
 /// components) through the full-model FRF at 0 Hz: the RLOAD1 response to the DAREA copy of the
 /// static tip load must read what SOL 101's STRAIN output gives, projected on the gauge

@@ -7,9 +7,9 @@
 //!   pattern ([`ComplexLuSymbolic`]) and one numeric LU per frequency;
 //! - [`modal_receptance`]: modal superposition over mass-normalized modes,
 //!   H = Σ_j (S_out φ_j)(φ_jᵀ S_in) / (ω_j²(1 + iG) − ω² + iω(α + βω_j²)) (Rayleigh modal
-//!   damping 2ζ_jω_j = α + βω_j², G on the modal stiffness as Nastran's SOL 111), without
-//!   residual flexibility: the truncation error is the static part of the modes left out, so the
-//!   mode set must reach well above the band.
+//!   damping 2ζ_jω_j = α + βω_j², G on the modal stiffness as Nastran's SOL 111); the mode
+//!   set can be augmented by [`residual_vectors`] (Nastran's RESVEC on applied loads), which
+//!   carry the static part of the modes left out.
 //!
 //! Frequencies run in parallel (rayon) in every variant.
 
@@ -18,7 +18,8 @@ use faer::{Mat, MatRef, Par, c64};
 use nalgebra_sparse::CscMatrix;
 use rayon::prelude::*;
 
-use crate::linalg::{ComplexLuSymbolic, LinalgError, SymbolicFactor};
+use crate::linalg::dense::generalized_eigen;
+use crate::linalg::{ComplexLuSymbolic, LinalgError, SymbolicFactor, sym_matvec};
 
 /// Why a frequency response cannot be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -33,6 +34,8 @@ pub enum FrfError {
     Pattern { k: usize, m: usize },
     #[error("sparse LU: {0}")]
     Linalg(LinalgError),
+    #[error("residual vectors: {0}")]
+    Residual(String),
 }
 
 /// A sparse model with Rayleigh damping C = αM + βK and structural damping G (stiffness
@@ -96,6 +99,74 @@ pub fn static_stiffness_is_regular(k: &CscMatrix<f64>, symbolic: &SymbolicFactor
         Ok(_) | Err(LinalgError::Singular { .. }) => Err(FrfError::StaticSingular),
         Err(e) => Err(FrfError::Linalg(e)),
     }
+}
+
+/// Residual vectors of the load shapes `loads` (n × k) for the mass-normalized `modes`
+/// (n × m), as Nastran's RESVEC on applied loads: the static responses K⁻¹ loads, made
+/// M-orthogonal to the modes (twice, classical Gram–Schmidt) and to each other (dropping a
+/// shape whose remaining M-norm is below 1e-8 of its static response: the modes already hold
+/// it), then diagonalized by Rayleigh–Ritz in their span (K̃ = Rᵀ K R, M̃ = Rᵀ M R). Returns
+/// their ω̃² and M-normalized shapes ([`ResidualVectors`]), to be superposed with the modes: the augmented basis
+/// holds K⁻¹ loads, so the response to these loads is exact at ω = 0 and the modes left out
+/// contribute their static part at every line. `None` when K is singular (a free-free
+/// structure or a mechanism: no static response; Nastran would use inertia relief).
+pub fn residual_vectors(stiffness: &CscMatrix<f64>, mass: &CscMatrix<f64>, symbolic: &SymbolicFactor, modes: MatRef<'_, f64>, loads: MatRef<'_, f64>) -> Result<Option<ResidualVectors>, FrfError> {
+    let n = stiffness.nrows();
+    let factor = match symbolic.factor_ldlt_values(stiffness.values(), Par::Seq) {
+        Ok(f) if f.inertia().zero == 0 && f.inertia().negative == 0 => f,
+        Ok(_) | Err(LinalgError::Singular { .. }) => return Ok(None),
+        Err(e) => return Err(FrfError::Linalg(e)),
+    };
+    let m_norm = |x: &[f64], mx: &mut [f64]| -> Result<f64, FrfError> {
+        sym_matvec(mass, x, mx).map_err(FrfError::Linalg)?;
+        Ok(x.iter().zip(mx.iter()).map(|(a, b)| a * b).sum::<f64>().max(0.0).sqrt())
+    };
+    let mut kept: Vec<Vec<f64>> = Vec::new();
+    let mut mx = vec![0.0; n];
+    for j in 0..loads.ncols() {
+        let mut x: Vec<f64> = (0..n).map(|i| loads[(i, j)]).collect();
+        factor.solve_in_place(&mut x).map_err(FrfError::Linalg)?;
+        let static_norm = m_norm(&x, &mut mx)?;
+        for _ in 0..2 {
+            m_norm(&x, &mut mx)?;
+            for c in 0..modes.ncols() {
+                let a: f64 = (0..n).map(|i| modes[(i, c)] * mx[i]).sum();
+                (0..n).for_each(|i| x[i] -= a * modes[(i, c)]);
+            }
+            for r in &kept {
+                let a: f64 = r.iter().zip(&mx).map(|(a, b)| a * b).sum();
+                x.iter_mut().zip(r).for_each(|(x, r)| *x -= a * r);
+            }
+        }
+        let norm = m_norm(&x, &mut mx)?;
+        if norm > 1e-8 * static_norm {
+            x.iter_mut().for_each(|v| *v /= norm);
+            kept.push(x);
+        }
+    }
+    let r = kept.len();
+    let basis = Mat::<f64>::from_fn(n, r, |i, c| kept[c][i]);
+    let project = |a: &CscMatrix<f64>| -> Result<Mat<f64>, FrfError> {
+        let mut out = Mat::<f64>::zeros(r, r);
+        let mut ax = vec![0.0; n];
+        for c in 0..r {
+            sym_matvec(a, &kept[c], &mut ax).map_err(FrfError::Linalg)?;
+            for row in 0..r {
+                out[(row, c)] = kept[row].iter().zip(&ax).map(|(a, b)| a * b).sum();
+            }
+        }
+        // exactly symmetric for the dense eigen solver
+        Ok(Mat::from_fn(r, r, |i, j| 0.5 * (out[(i, j)] + out[(j, i)])))
+    };
+    let (k_r, m_r) = (project(stiffness)?, project(mass)?);
+    let (lambda, q) = generalized_eigen(k_r.as_ref(), m_r.as_ref()).map_err(|e| FrfError::Residual(e.to_string()))?;
+    Ok(Some(ResidualVectors { eigenvalues: lambda, shapes: &basis * &q }))
+}
+
+/// Residual vectors ([`residual_vectors`]): Rayleigh–Ritz ω̃² and M-normalized shapes (n × r).
+pub struct ResidualVectors {
+    pub eigenvalues: Vec<f64>,
+    pub shapes: Mat<f64>,
 }
 
 /// H(ω_l) by modal superposition (module doc): `eigenvalues` ω_j² of mass-normalized modes,

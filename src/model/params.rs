@@ -50,6 +50,13 @@ pub const KNOWN_PARAMS: &[KnownParam] = &[
         doc: "CQUAD4 incompatible membrane modes; default YES: in-plane bending exact on rectangles (MacNeal–Harder 0.993), the modes condensed once with the deck's section, so a pROM with NU, THETA or TPLY parameters differs from a deck rebuilt far from the nominal values (second order in the change); NO: the plain membrane, 1/(1−ν²) too stiff in in-plane bending (0.904), and pROMs agree exactly with rebuilt decks",
     },
     KnownParam {
+        name: "RESVEC",
+        kind: ParamType::YesNo,
+        rule: "YES or NO",
+        ok: |_| true,
+        doc: "SOL 111: augment the modes with residual vectors of the DLOAD's load shapes (static responses M-orthogonal to the modes), as Nastran's RESVEC default in modal frequency response; default YES; skipped with a warning when K is singular (free-free)",
+    },
+    KnownParam {
         name: "MAXRATIO",
         kind: ParamType::Real,
         rule: "a real > 1",
@@ -76,6 +83,8 @@ pub struct ModelParams {
     pub maxratio: f64,
     /// CQUAD4 incompatible membrane modes (PARAM,QINCOMP; [`crate::fe::shell::Incompatible`]).
     pub qincomp: bool,
+    /// SOL 111 residual vectors (PARAM,RESVEC; [`crate::dynamics::frf::residual_vectors`]).
+    pub resvec: bool,
 }
 
 impl ModelParams {
@@ -88,7 +97,7 @@ impl ModelParams {
 
 impl Default for ModelParams {
     fn default() -> Self {
-        ModelParams { autospc: true, wtmass: 1.0, coupmass: -1, k6rot: 100.0, grdpnt: -1, alpha1: 0.0, beta1: 0.0, g: 0.0, w3: 0.0, maxratio: crate::linalg::cholesky::DEFAULT_MAX_RATIO, qincomp: true }
+        ModelParams { autospc: true, wtmass: 1.0, coupmass: -1, k6rot: 100.0, grdpnt: -1, alpha1: 0.0, beta1: 0.0, g: 0.0, w3: 0.0, maxratio: crate::linalg::cholesky::DEFAULT_MAX_RATIO, qincomp: true, resvec: true }
     }
 }
 
@@ -151,6 +160,7 @@ fn apply(known: &KnownParam, value: Value, loc: &Loc, out: &mut ModelParams, err
             match known.name {
                 "AUTOSPC" => out.autospc = t == "YES",
                 "QINCOMP" => out.qincomp = t == "YES",
+                "RESVEC" => out.resvec = t == "YES",
                 _ => {}
             }
         }

@@ -17,9 +17,11 @@
 //! - direct: one sparse complex LU symbolic analysis of K_ff − ω²M_ff + iωC_ff, one numeric LU
 //!   (plus one refinement step) per line, lines in parallel ([`direct_receptance`]);
 //! - modal: the modes of `METHOD = sid` (EIGRL, shift-invert Lanczos as SOL 103, mass
-//!   normalized), superposed with modal damping 2ζ_jω_j = α + βω_j² ([`modal_receptance`]);
-//!   no residual flexibility: the modes left out are missing, so EIGRL should reach well above
-//!   the band (the truncation error at a line is about the static flexibility of those modes).
+//!   normalized) and, unless `PARAM,RESVEC,NO`, the residual vectors of the inputs' load shapes
+//!   ([`residual_vectors`], Nastran's RESVEC default in modal frequency response), superposed
+//!   with modal damping 2ζ_jω_j = α + βω_j² ([`modal_receptance`]). The residual vectors carry
+//!   the static part of the modes left out (exact at 0 Hz); on a free-free model (K singular)
+//!   they are skipped with a warning and EIGRL should reach well above the band.
 //!
 //! Written: `/results/<id>/frf/{frequency_hz (f), H (f × o × i, complex as h5py), inputs (i),
 //! outputs (o), response (f × o)}` with attributes `method` (`direct`/`modal`) and `modes`.
@@ -38,7 +40,7 @@ use super::{Clock, Constrained, GridRows, RunContext, RunError, Structure, Subca
 use crate::assembly::DofMap;
 use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
-use crate::dynamics::frf::{SparseModel, direct_receptance, modal_receptance, static_stiffness_is_regular};
+use crate::dynamics::frf::{SparseModel, direct_receptance, modal_receptance, residual_vectors, static_stiffness_is_regular};
 use crate::dynamics::measurement::Reads;
 use crate::dynamics::table::Table;
 use crate::io::csv_table::read_columns;
@@ -71,6 +73,12 @@ pub struct FrfSummary {
     pub outputs: Vec<String>,
     /// Modes superposed (modal) or 0 (direct).
     pub modes: usize,
+    /// Residual vectors superposed with the modes: Some(count) when PARAM,RESVEC asked and K is
+    /// regular, `Some(0)` when the modes already hold the load shapes; None otherwise (direct,
+    /// RESVEC NO, or K singular: see [`Self::resvec_skipped`]).
+    pub residual_vectors: Option<usize>,
+    /// RESVEC asked, but K is singular (free-free or a mechanism): modes only.
+    pub resvec_skipped: bool,
     pub f_size: usize,
     /// Largest |H| over lines and pairs, with its frequency (Hz).
     pub peak: (f64, f64),
@@ -270,6 +278,8 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
         let (alpha, beta) = (model.params.alpha1, model.params.beta1);
         let frf_error = |e: crate::dynamics::frf::FrfError| RunError::Case { subcase: id, what: e.to_string() };
         let mut modes = 0;
+        // residual vectors added to the modes (None: not asked, direct, or K singular)
+        let (mut residual, mut resvec_skipped): (Option<usize>, bool) = (None, false);
         let h = match method {
             FrfMethod::Direct => clock
                 .time(format!("subcase {id}: direct FRF ({} lines)", hz.len()), || {
@@ -287,19 +297,36 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
                 let problem = EigenProblem { k: &c.k_ff, m: &c.m_ff, symbolic: &symbolic };
                 let r = clock.time(format!("subcase {id}: Lanczos"), || solve_modes(&problem, &request, &LanczosOptions::default(), ctx.options.par(), ctx.progress)).map_err(|e| c.mechanism(st, id, e))?;
                 modes = r.eigenvalues.len();
+                let (eigenvalues, phi) = if model.params.resvec {
+                    match clock.time(format!("subcase {id}: residual vectors"), || residual_vectors(&c.k_ff, &c.m_ff, &symbolic, r.vectors.as_ref(), inputs.columns.as_ref())).map_err(frf_error)? {
+                        Some(extra) => {
+                            residual = Some(extra.eigenvalues.len());
+                            let psi = &extra.shapes;
+                            let phi = Mat::<f64>::from_fn(n_f, modes + psi.ncols(), |i, j| if j < modes { r.vectors[(i, j)] } else { psi[(i, j - modes)] });
+                            (r.eigenvalues.iter().copied().chain(extra.eigenvalues).collect(), phi)
+                        }
+                        None => {
+                            resvec_skipped = true;
+                            (r.eigenvalues.clone(), r.vectors.clone())
+                        }
+                    }
+                } else {
+                    (r.eigenvalues.clone(), r.vectors.clone())
+                };
+                let basis = eigenvalues.len();
                 clock
-                    .time(format!("subcase {id}: modal FRF ({modes} modes, {} lines)", hz.len()), || {
-                        let phi = &r.vectors;
+                    .time(format!("subcase {id}: modal FRF ({modes} modes, {} residual vectors, {} lines)", basis - modes, hz.len()), || {
+                        let phi = &phi;
                         let modal_in = phi.transpose() * &inputs.columns;
-                        let mut modal_out = Mat::<f64>::zeros(outputs.nrows(), modes);
+                        let mut modal_out = Mat::<f64>::zeros(outputs.nrows(), basis);
                         for (col, column) in outputs.col_iter().enumerate() {
                             for (&row, &v) in column.row_indices().iter().zip(column.values()) {
-                                for j in 0..modes {
+                                for j in 0..basis {
                                     modal_out[(row, j)] += v * phi[(col, j)];
                                 }
                             }
                         }
-                        modal_receptance(&r.eigenvalues, alpha, beta, model.params.g, modal_in.as_ref(), modal_out.as_ref(), &omegas)
+                        modal_receptance(&eigenvalues, alpha, beta, model.params.g, modal_in.as_ref(), modal_out.as_ref(), &omegas)
                     })
                     .map_err(frf_error)?
             }
@@ -342,10 +369,11 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
             }
             set_attr_str(&group, "method", method.name())?;
             set_attr_i64(&group, "modes", modes as i64)?;
+            set_attr_i64(&group, "residual_vectors", residual.unwrap_or(0) as i64)?;
             super::write_autospc(&group, &c.autospc)?;
             Ok(())
         })?;
-        let summary = FrfSummary { method, lines: hz.len(), inputs: inputs.names, outputs: names, modes, f_size: n_f, peak };
+        let summary = FrfSummary { method, lines: hz.len(), inputs: inputs.names, outputs: names, modes, residual_vectors: residual, resvec_skipped, f_size: n_f, peak };
         out.push(SubcaseSummary { id, autospc: c.autospc.names.clone(), result: SubcaseResult::Frf(summary) });
     }
     Ok(out)

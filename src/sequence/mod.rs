@@ -274,6 +274,11 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         if let Some((names, rom)) = extrapolated.filter(|(names, _)| !names.is_empty()) {
             warnings.push(format!("subcase {}: parameter(s) {} lie outside the box the pROM {} was built for: extrapolated", s.id, names.join(", "), rom.display()));
         }
+        if let SubcaseResult::Frf(f) = &s.result
+            && f.resvec_skipped
+        {
+            warnings.push(format!("subcase {}: no residual vectors (PARAM,RESVEC): K is singular (a free-free model or a mechanism), so the {} modes alone are superposed; the modes left out are missing, so EIGRL should reach well above the band", s.id, f.modes));
+        }
         if let SubcaseResult::RomModal(r) = &s.result
             && let Some(nd) = r.nd_short
         {
