@@ -181,6 +181,21 @@ fn two_dof_matches(case: &str) {
 
 /// Cantilever plate 0.3 × 0.1 m, CQUAD4 12 × 4, clamped at x = 0, with the tip grids 13, 39, 65
 /// as ASET1 (pROM inputs) and a STRAIN sensor at the root.
+/// Case control of the plate FRF runs: SPC, the frequency set 5 and the DLOAD 7 of [`plate_loads`].
+const PLATE_CASE: &str = "SPC = 1\nFREQUENCY = 5\nDLOAD = 7\n";
+
+/// The frequency card `freq` (set 5) and a unit RLOAD1 (7) on T3 of the three tip grids.
+fn plate_loads(freq: &str) -> String {
+    format!("{freq}RLOAD1,7,8,,,20\nDAREA,8,13,3,1.,39,3,1.\nDAREA,8,65,3,1.\nTABLED1,20\n,0.,1.,1000.,1.,ENDT\n")
+}
+
+/// The plate's SOL 108 FRF with `loads`: the reference of the modal and pROM runs.
+fn plate_direct(loads: &str) -> Frf {
+    let (r, dir) = run_deck(&format!("SOL 108\nCEND\n{PLATE_CASE}BEGIN BULK\n{loads}{}ENDDATA\n", plate()));
+    r.expect("SOL 108");
+    read_frf(&dir.path().join("out.h5"))
+}
+
 fn plate() -> String {
     let header = "PSHELL,1,1,0.002,1,,1\nMAT1,1,2.1e11,,0.3,7850.\nPARAM,COUPMASS,1\nPARAM,ALPHA1,2.\nPARAM,BETA1,2.e-5\n";
     header.to_string() + &common::clamped_plate_mesh(12, 4, 0.3, 0.1) + "ASET1,3,13,39,65\nSENSOR,1,ROOT,STRAIN,1,TOP,1.,0.,0.\nSENSOR,2,TIPACC,ACCEL,39,,0.,0.,1.\n"
@@ -197,11 +212,8 @@ fn plate() -> String {
 ///   within the same truncation bound (2e-2) in the band.
 #[test]
 fn plate_direct_modal_and_prom_agree() {
-    let case = "SPC = 1\nFREQUENCY = 5\nDLOAD = 7\n";
-    let loads = "FREQ1,5,5.,10.,39\nRLOAD1,7,8,,,20\nDAREA,8,13,3,1.,39,3,1.\nDAREA,8,65,3,1.\nTABLED1,20\n,0.,1.,1000.,1.,ENDT\n";
-    let (r, dir) = run_deck(&format!("SOL 108\nCEND\n{case}BEGIN BULK\n{loads}{}ENDDATA\n", plate()));
-    r.expect("SOL 108");
-    let direct = read_frf(&dir.path().join("out.h5"));
+    let (case, loads) = (PLATE_CASE, plate_loads("FREQ1,5,5.,10.,39\n"));
+    let direct = plate_direct(&loads);
     let (r, dir) = run_deck(&format!("SOL 111\nCEND\n{case}METHOD = 10\nBEGIN BULK\nEIGRL,10,,5000.\n{loads}{}ENDDATA\n", plate()));
     r.expect("SOL 111");
     let modal = read_frf(&dir.path().join("out.h5"));
@@ -233,11 +245,8 @@ fn plate_direct_modal_and_prom_agree() {
 /// test can fail. A free chain (K singular) skips them with a warning.
 #[test]
 fn residual_vectors_make_truncated_modal_frf_exact_at_zero_hz() {
-    let case = "SPC = 1\nFREQUENCY = 5\nDLOAD = 7\n";
-    let loads = "FREQ,5,0.,1.,5.,10.\nRLOAD1,7,8,,,20\nDAREA,8,13,3,1.,39,3,1.\nDAREA,8,65,3,1.\nTABLED1,20\n,0.,1.,1000.,1.,ENDT\n";
-    let (r, dir) = run_deck(&format!("SOL 108\nCEND\n{case}BEGIN BULK\n{loads}{}ENDDATA\n", plate()));
-    r.expect("SOL 108");
-    let direct = read_frf(&dir.path().join("out.h5"));
+    let (case, loads) = (PLATE_CASE, plate_loads("FREQ,5,0.,1.,5.,10.\n"));
+    let direct = plate_direct(&loads);
     // per line: largest |H_modal − H_direct| over the pairs / largest |H_direct| of that line
     let worst_line = |modal: &Frf| -> Vec<f64> {
         let per_line = modal.h.len() / modal.hz.len();
