@@ -126,9 +126,10 @@ pub fn residual_vectors(stiffness: &CscMatrix<f64>, mass: &CscMatrix<f64>, symbo
     for j in 0..loads.ncols() {
         let mut x: Vec<f64> = (0..n).map(|i| loads[(i, j)]).collect();
         factor.solve_in_place(&mut x).map_err(FrfError::Linalg)?;
+        // mx = M x before each pass; the last m_norm is the norm of what is left
         let static_norm = m_norm(&x, &mut mx)?;
+        let mut norm = static_norm;
         for _ in 0..2 {
-            m_norm(&x, &mut mx)?;
             for c in 0..modes.ncols() {
                 let a: f64 = (0..n).map(|i| modes[(i, c)] * mx[i]).sum();
                 (0..n).for_each(|i| x[i] -= a * modes[(i, c)]);
@@ -137,8 +138,8 @@ pub fn residual_vectors(stiffness: &CscMatrix<f64>, mass: &CscMatrix<f64>, symbo
                 let a: f64 = r.iter().zip(&mx).map(|(a, b)| a * b).sum();
                 x.iter_mut().zip(r).for_each(|(x, r)| *x -= a * r);
             }
+            norm = m_norm(&x, &mut mx)?;
         }
-        let norm = m_norm(&x, &mut mx)?;
         if norm > 1e-8 * static_norm {
             x.iter_mut().for_each(|v| *v /= norm);
             kept.push(x);

@@ -44,7 +44,7 @@ use crate::dynamics::frf::{SparseModel, direct_receptance, modal_receptance, res
 use crate::dynamics::measurement::Reads;
 use crate::dynamics::table::Table;
 use crate::io::csv_table::read_columns;
-use crate::io::{IoError, set_attr_i64, set_attr_str, write_c64, write_f64, write_strings, write_u32};
+use crate::io::{IoError, set_attr_i64, set_attr_str, write_c64, write_f64, write_strings};
 use crate::linalg::{EigenProblem, EigenRequest, LanczosOptions, SymbolicFactor, solve_modes};
 use crate::model::Model;
 
@@ -250,11 +250,7 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
         // output rows: the input DOFs (their load columns read the displacement there), the
         // sensors, then 6 per grid of a DISPLACEMENT request
         let grid_rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
-        let grids: Vec<usize> = match &grid_rows {
-            None => Vec::new(),
-            Some(GridRows::All) => (0..st.map.grids()).collect(),
-            Some(GridRows::Set(rows)) => rows.clone(),
-        };
+        let grids = grid_rows.as_ref().map_or_else(Vec::new, |rows| rows.indices(&st.map));
         let grid_outputs = displacement_rows(st, &c, &grids);
         let k = inputs.names.len();
         let n_f = c.sets.f.len();
@@ -297,21 +293,22 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
                 let problem = EigenProblem { k: &c.k_ff, m: &c.m_ff, symbolic: &symbolic };
                 let r = clock.time(format!("subcase {id}: Lanczos"), || solve_modes(&problem, &request, &LanczosOptions::default(), ctx.options.par(), ctx.progress)).map_err(|e| c.mechanism(st, id, e))?;
                 modes = r.eigenvalues.len();
-                let (eigenvalues, phi) = if model.params.resvec {
-                    match clock.time(format!("subcase {id}: residual vectors"), || residual_vectors(&c.k_ff, &c.m_ff, &symbolic, r.vectors.as_ref(), inputs.columns.as_ref())).map_err(frf_error)? {
-                        Some(extra) => {
-                            residual = Some(extra.eigenvalues.len());
-                            let psi = &extra.shapes;
-                            let phi = Mat::<f64>::from_fn(n_f, modes + psi.ncols(), |i, j| if j < modes { r.vectors[(i, j)] } else { psi[(i, j - modes)] });
-                            (r.eigenvalues.iter().copied().chain(extra.eigenvalues).collect(), phi)
-                        }
-                        None => {
-                            resvec_skipped = true;
-                            (r.eigenvalues.clone(), r.vectors.clone())
-                        }
-                    }
+                let extra = if model.params.resvec {
+                    let extra = clock.time(format!("subcase {id}: residual vectors"), || residual_vectors(&c.k_ff, &c.m_ff, &symbolic, r.vectors.as_ref(), inputs.columns.as_ref())).map_err(frf_error)?;
+                    resvec_skipped = extra.is_none();
+                    extra
                 } else {
-                    (r.eigenvalues.clone(), r.vectors.clone())
+                    None
+                };
+                residual = extra.as_ref().map(|e| e.eigenvalues.len());
+                // the modes, then the residual vectors (the modes alone when there are none)
+                let (eigenvalues, phi) = match extra {
+                    Some(extra) => {
+                        let psi = &extra.shapes;
+                        let phi = Mat::<f64>::from_fn(n_f, modes + psi.ncols(), |i, j| if j < modes { r.vectors[(i, j)] } else { psi[(i, j - modes)] });
+                        (r.eigenvalues.into_iter().chain(extra.eigenvalues).collect(), phi)
+                    }
+                    None => (r.eigenvalues, r.vectors),
                 };
                 let basis = eigenvalues.len();
                 clock
@@ -362,10 +359,7 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
             write_c64(&group, "response", &response, &[hz.len(), n_out])?;
             if let Some(rows) = &grid_rows {
                 write_c64(&group, "displacement", &displacement, &[hz.len(), grids.len(), 6])?;
-                if let GridRows::Set(_) = rows {
-                    let ids: Vec<u32> = grids.iter().filter_map(|&g| st.map.grid_id(g)).collect();
-                    write_u32(&group, "displacement_grid_ids", &ids, &[ids.len()])?;
-                }
+                rows.write_ids(&group, "displacement", &st.map)?;
             }
             set_attr_str(&group, "method", method.name())?;
             set_attr_i64(&group, "modes", modes as i64)?;

@@ -558,10 +558,28 @@ impl GridRows {
         }
     }
 
+    /// The selected grid indices (every grid for `ALL`), in `/model/grid_ids` order.
+    pub fn indices(&self, map: &DofMap) -> Vec<usize> {
+        match self {
+            GridRows::All => (0..map.grids()).collect(),
+            GridRows::Set(rows) => rows.clone(),
+        }
+    }
+
+    /// For a SET, `<name>_grid_ids` (k, u32): the ids of the rows of dataset `name`; nothing
+    /// for `ALL` (the rows are `/model/grid_ids`).
+    pub fn write_ids(&self, group: &hdf5_metno::Group, name: &str, map: &DofMap) -> Result<(), IoError> {
+        if let GridRows::Set(rows) = self {
+            let ids: Vec<u32> = rows.iter().filter_map(|&g| map.grid_id(g)).collect();
+            crate::io::write_u32(group, &format!("{name}_grid_ids"), &ids, &[ids.len()])?;
+        }
+        Ok(())
+    }
+
     /// Writes `values` (`lead` blocks of n × 6 grid rows in `/model/grid_ids` order, e.g.
-    /// `[modes]` or none) as dataset `name` of shape lead × k × 6 holding the selected rows; for
-    /// a SET also `<name>_grid_ids` (k, u32). One writer for every grid-point output of every
-    /// sequence.
+    /// `[modes]` or none) as dataset `name` of shape lead × k × 6 holding the selected rows, and
+    /// [`Self::write_ids`]. One writer for every real grid-point output of every sequence (the
+    /// complex FRF displacement solves only the selected rows and writes them itself).
     pub fn write(&self, group: &hdf5_metno::Group, name: &str, values: &[f64], lead: &[usize], map: &DofMap) -> Result<(), IoError> {
         let n = map.grids();
         let shape = |k: usize| lead.iter().copied().chain([k, 6]).collect::<Vec<_>>();
@@ -572,11 +590,9 @@ impl GridRows {
             GridRows::Set(rows) => {
                 let kept: Vec<f64> = values.chunks_exact(6 * n).flat_map(|block| rows.iter().flat_map(move |&g| block[6 * g..6 * g + 6].iter().copied())).collect();
                 crate::io::write_f64(group, name, &kept, &shape(rows.len()))?;
-                let ids: Vec<u32> = rows.iter().filter_map(|&g| map.grid_id(g)).collect();
-                crate::io::write_u32(group, &format!("{name}_grid_ids"), &ids, &[ids.len()])?;
             }
         }
-        Ok(())
+        self.write_ids(group, name, map)
     }
 }
 
