@@ -41,12 +41,22 @@ struct Case {
 
 fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().collect();
-    let path = args.get(1).ok_or("usage: estimate_bench PROM.h5 [REPEATS]")?;
-    let repeats: usize = args.get(2).map_or(Ok(3), |s| s.parse()).map_err(|e| format!("REPEATS: {e}"))?;
+    let path = args
+        .get(1)
+        .ok_or("usage: estimate_bench PROM.h5 [REPEATS]")?;
+    let repeats: usize = args
+        .get(2)
+        .map_or(Ok(3), |s| s.parse())
+        .map_err(|e| format!("REPEATS: {e}"))?;
     let (prom, sensors, shape) = load_prom(path)?;
     let n = prom.size();
     let truth: Vec<f64> = prom.parameters.iter().map(|p| p.nominal).collect();
-    let param = |name: &str| prom.parameters.iter().position(|p| p.name.eq_ignore_ascii_case(name)).ok_or(format!("{path}: no parameter {name}"));
+    let param = |name: &str| {
+        prom.parameters
+            .iter()
+            .position(|p| p.name.eq_ignore_ascii_case(name))
+            .ok_or(format!("{path}: no parameter {name}"))
+    };
     let load = sine_load(&shape);
     let zeros = vec![0.0; n];
 
@@ -56,123 +66,259 @@ fn main() -> Result<(), String> {
         let (model, sensors, shape) = load_prom(truth_path)?;
         let nominal: Vec<f64> = model.parameters.iter().map(|p| p.nominal).collect();
         let mut at = model.workspace();
-        model.evaluate(&nominal, &mut at).map_err(|e| e.to_string())?;
-        let sys = LinearSystem { mass: at.mass(), damping: at.damping(), stiffness: at.stiffness() };
+        model
+            .evaluate(&nominal, &mut at)
+            .map_err(|e| e.to_string())?;
+        let sys = LinearSystem {
+            mass: at.mass(),
+            damping: at.damping(),
+            stiffness: at.stiffness(),
+        };
         let mut noise = SplitMix64::new(1);
         let mut data: Vec<Vec<f64>> = Vec::new();
         let zeros = vec![0.0; model.size()];
-        integrate(sys, Method::Bdf1, DT, STEPS, &zeros, &zeros, sine_load(&shape), |st| {
-            let mut y = vec![0.0; sensors.len()];
-            sensors.evaluate(st.q, st.v, st.a, &mut y);
-            let sigma = |k: &str| if k == "ACCEL" { 1e-3 } else { 1e-7 };
-            data.push(y.iter().zip(&sensors.kinds).map(|(y, k)| y + sigma(k) * noise.normal()).collect());
-        })
+        integrate(
+            sys,
+            Method::Bdf1,
+            DT,
+            STEPS,
+            &zeros,
+            &zeros,
+            sine_load(&shape),
+            |st| {
+                let mut y = vec![0.0; sensors.len()];
+                sensors.evaluate(st.q, st.v, st.a, &mut y);
+                let sigma = |k: &str| if k == "ACCEL" { 1e-3 } else { 1e-7 };
+                data.push(
+                    y.iter()
+                        .zip(&sensors.kinds)
+                        .map(|(y, k)| y + sigma(k) * noise.normal())
+                        .collect(),
+                );
+            },
+        )
         .map_err(|e| e.to_string())?;
         (sensors.names, data)
     };
 
-    let run = |case: &Case, coordinates: Coordinates| -> Result<(String, [f64; 2], Vec<f64>), String> {
-        let rows: Vec<usize> = case.sensors.iter().map(|s| sensors.names.iter().position(|x| x == s).ok_or(format!("no sensor {s}"))).collect::<Result<_, _>>()?;
-        let columns: Vec<usize> = case.sensors.iter().map(|s| data_names.iter().position(|x| x == s).ok_or(format!("{truth_path}: no sensor {s}"))).collect::<Result<_, _>>()?;
-        let measured = sensors.select(&rows);
-        let mut p = truth.clone();
-        let mut unknown = Vec::new();
-        for (name, factor, ..) in &case.params {
-            let j = param(name)?;
-            p[j] = factor * truth[j];
-            unknown.push(j);
-        }
-        let nu = usize::from(case.input.is_some());
-        let setup = FilterSetup {
-            prom: prom.clone(),
-            p: p.clone(),
-            unknown_params: unknown.clone(),
-            s_un: Mat::from_fn(n, nu, |i, _| shape[i]),
-            r: measured.kinds.iter().map(|k| if k == "ACCEL" { 1e-6 } else { 1e-14 }).collect(),
-            measured,
-            dt: DT,
-            q_state: f64::EPSILON,
-            q_inputs: case.input.iter().map(|&(w, a)| covariance::input(DT, w, a)).collect(),
-            q_params: case.params.iter().zip(&unknown).map(|((_, _, delta, _), &j)| covariance::parameter(DT, *delta, p[j])).collect(),
-            q0: zeros.clone(),
-            v0: zeros.clone(),
-            u0: vec![0.0; nu],
-            p0_state: 1e-20,
-            p0_inputs: case.input.iter().map(|&(_, a)| a * a).collect(),
-            p0_params: case.params.iter().zip(&unknown).map(|((_, _, _, p0), &j)| p0 * p[j] * p[j]).collect(),
-            coordinates,
-        };
-        let mut best = [0.0_f64; 2];
-        let mut errors = Vec::new();
-        let mut label = String::new();
-        for _ in 0..repeats {
-            let mut filter = Filter::new(setup.clone()).map_err(|e| e.to_string())?;
-            let (mut f, mut y) = (vec![0.0; n], vec![0.0; rows.len()]);
-            let (mut sums, mut count) = (vec![0.0; unknown.len()], 0);
-            let tail = STEPS - STEPS / 5;
-            let started = (Instant::now(), cpu_seconds());
-            for (k, sample) in data.iter().enumerate().skip(1) {
-                if case.input.is_none() {
-                    load(k as f64 * DT, &mut f);
-                }
-                y.iter_mut().zip(&columns).for_each(|(y, &c)| *y = sample[c]);
-                filter.step(&f, &y).map_err(|e| format!("{}: {e}", case.name))?;
-                if k > tail {
-                    count += 1;
-                    for (s, &j) in sums.iter_mut().zip(&unknown) {
-                        *s += filter.parameters()[j] / truth[j] - 1.0;
+    let run =
+        |case: &Case, coordinates: Coordinates| -> Result<(String, [f64; 2], Vec<f64>), String> {
+            let rows: Vec<usize> = case
+                .sensors
+                .iter()
+                .map(|s| {
+                    sensors
+                        .names
+                        .iter()
+                        .position(|x| x == s)
+                        .ok_or(format!("no sensor {s}"))
+                })
+                .collect::<Result<_, _>>()?;
+            let columns: Vec<usize> = case
+                .sensors
+                .iter()
+                .map(|s| {
+                    data_names
+                        .iter()
+                        .position(|x| x == s)
+                        .ok_or(format!("{truth_path}: no sensor {s}"))
+                })
+                .collect::<Result<_, _>>()?;
+            let measured = sensors.select(&rows);
+            let mut p = truth.clone();
+            let mut unknown = Vec::new();
+            for (name, factor, ..) in &case.params {
+                let j = param(name)?;
+                p[j] = factor * truth[j];
+                unknown.push(j);
+            }
+            let nu = usize::from(case.input.is_some());
+            let setup = FilterSetup {
+                prom: prom.clone(),
+                p: p.clone(),
+                unknown_params: unknown.clone(),
+                s_un: Mat::from_fn(n, nu, |i, _| shape[i]),
+                r: measured
+                    .kinds
+                    .iter()
+                    .map(|k| if k == "ACCEL" { 1e-6 } else { 1e-14 })
+                    .collect(),
+                measured,
+                dt: DT,
+                q_state: f64::EPSILON,
+                q_inputs: case
+                    .input
+                    .iter()
+                    .map(|&(w, a)| covariance::input(DT, w, a))
+                    .collect(),
+                q_params: case
+                    .params
+                    .iter()
+                    .zip(&unknown)
+                    .map(|((_, _, delta, _), &j)| covariance::parameter(DT, *delta, p[j]))
+                    .collect(),
+                q0: zeros.clone(),
+                v0: zeros.clone(),
+                u0: vec![0.0; nu],
+                p0_state: 1e-20,
+                p0_inputs: case.input.iter().map(|&(_, a)| a * a).collect(),
+                p0_params: case
+                    .params
+                    .iter()
+                    .zip(&unknown)
+                    .map(|((_, _, _, p0), &j)| p0 * p[j] * p[j])
+                    .collect(),
+                coordinates,
+            };
+            let mut best = [0.0_f64; 2];
+            let mut errors = Vec::new();
+            let mut label = String::new();
+            for _ in 0..repeats {
+                let mut filter = Filter::new(setup.clone()).map_err(|e| e.to_string())?;
+                let (mut f, mut y) = (vec![0.0; n], vec![0.0; rows.len()]);
+                let (mut sums, mut count) = (vec![0.0; unknown.len()], 0);
+                let tail = STEPS - STEPS / 5;
+                let started = (Instant::now(), cpu_seconds());
+                for (k, sample) in data.iter().enumerate().skip(1) {
+                    if case.input.is_none() {
+                        load(k as f64 * DT, &mut f);
+                    }
+                    y.iter_mut()
+                        .zip(&columns)
+                        .for_each(|(y, &c)| *y = sample[c]);
+                    filter
+                        .step(&f, &y)
+                        .map_err(|e| format!("{}: {e}", case.name))?;
+                    if k > tail {
+                        count += 1;
+                        for (s, &j) in sums.iter_mut().zip(&unknown) {
+                            *s += filter.parameters()[j] / truth[j] - 1.0;
+                        }
                     }
                 }
+                let wall = started.0.elapsed().as_secs_f64();
+                let cpu = match (started.1, cpu_seconds()) {
+                    (Some(a), Some(b)) => b - a,
+                    _ => wall,
+                };
+                best = [
+                    best[0].max(STEPS as f64 / wall),
+                    best[1].max(STEPS as f64 / cpu),
+                ];
+                errors = sums.iter().map(|s| 100.0 * s / f64::from(count)).collect();
+                label = match (filter.modal(), filter.rediagonalizations(), coordinates) {
+                    (false, ..) => "physical".into(),
+                    (true, Some(count), Coordinates::Rediagonalized(tolerance)) => {
+                        format!("τ {tolerance:.0e} ({count})")
+                    }
+                    (true, ..) => "modal".into(),
+                };
             }
-            let wall = started.0.elapsed().as_secs_f64();
-            let cpu = match (started.1, cpu_seconds()) {
-                (Some(a), Some(b)) => b - a,
-                _ => wall,
-            };
-            best = [best[0].max(STEPS as f64 / wall), best[1].max(STEPS as f64 / cpu)];
-            errors = sums.iter().map(|s| 100.0 * s / f64::from(count)).collect();
-            label = match (filter.modal(), filter.rediagonalizations(), coordinates) {
-                (false, ..) => "physical".into(),
-                (true, Some(count), Coordinates::Rediagonalized(tolerance)) => format!("τ {tolerance:.0e} ({count})"),
-                (true, ..) => "modal".into(),
-            };
-        }
-        Ok((label, best, errors))
-    };
+            Ok((label, best, errors))
+        };
 
     let cases = [
-        Case { name: "E", params: vec![("E", 1.25, 1e-3, 1.0)], input: None, sensors: vec!["D71", "D93"] },
-        Case { name: "E, RHO", params: vec![("E", 1.25, 1.0, 1.0), ("RHO", 0.7, 1.0, 1.0)], input: None, sensors: vec!["D71", "D93", "A93"] },
-        Case { name: "E, input", params: vec![("E", 1.25, 1e-3, 1e20 / (1.25f64 * 116.04e9).powi(2))], input: Some((80.0, 5.0)), sensors: vec!["D71", "D93"] },
+        Case {
+            name: "E",
+            params: vec![("E", 1.25, 1e-3, 1.0)],
+            input: None,
+            sensors: vec!["D71", "D93"],
+        },
+        Case {
+            name: "E, RHO",
+            params: vec![("E", 1.25, 1.0, 1.0), ("RHO", 0.7, 1.0, 1.0)],
+            input: None,
+            sensors: vec!["D71", "D93", "A93"],
+        },
+        Case {
+            name: "E, input",
+            params: vec![("E", 1.25, 1e-3, 1e20 / (1.25f64 * 116.04e9).powi(2))],
+            input: Some((80.0, 5.0)),
+            sensors: vec!["D71", "D93"],
+        },
     ];
     if truth_path != path {
         println!("data from {truth_path}");
     }
-    println!("n_r = {n}; {STEPS} steps of {DT} s (real time: {:.0} steps/s); best of {repeats}", 1.0 / DT);
-    println!("(coordinates: τ = re-diagonalized modal coordinates with that tolerance, re-diagonalizations in parentheses)");
+    println!(
+        "n_r = {n}; {STEPS} steps of {DT} s (real time: {:.0} steps/s); best of {repeats}",
+        1.0 / DT
+    );
+    println!(
+        "(coordinates: τ = re-diagonalized modal coordinates with that tolerance, re-diagonalizations in parentheses)"
+    );
     println!("(µs/step: wall clock; CPU: of all threads)");
-    println!("{:<10} {:>4} {:>16} {:>12} {:>9} {:>9} {:>9}  avg error [%]", "case", "N", "coordinates", "steps/s", "µs/step", "CPU µs", "× real");
+    println!(
+        "{:<10} {:>4} {:>16} {:>12} {:>9} {:>9} {:>9}  avg error [%]",
+        "case", "N", "coordinates", "steps/s", "µs/step", "CPU µs", "× real"
+    );
     for case in &cases {
         let mut modes_exact = false;
-        for coordinates in [Coordinates::Physical, Coordinates::Auto, Coordinates::Rediagonalized(1e-2), Coordinates::Rediagonalized(1e-3)] {
+        for coordinates in [
+            Coordinates::Physical,
+            Coordinates::Auto,
+            Coordinates::Rediagonalized(1e-2),
+            Coordinates::Rediagonalized(1e-3),
+        ] {
             if modes_exact && matches!(coordinates, Coordinates::Rediagonalized(_)) {
                 continue; // the modes diagonalize the pROM: the same run as Auto's
             }
             let (label, [speed, cpu], errors) = run(case, coordinates)?;
             modes_exact |= label == "modal";
             let big_n = 2 * n + case.params.len() + usize::from(case.input.is_some());
-            let errors: Vec<String> = case.params.iter().zip(&errors).map(|((p, ..), e)| format!("{p} {e:+.4}")).collect();
-            println!("{:<10} {big_n:>4} {label:>16} {speed:>12.0} {:>9.2} {:>9.2} {:>9.1}  {}", case.name, 1e6 / speed, 1e6 / cpu, speed * DT, errors.join(", "));
+            let errors: Vec<String> = case
+                .params
+                .iter()
+                .zip(&errors)
+                .map(|((p, ..), e)| format!("{p} {e:+.4}"))
+                .collect();
+            println!(
+                "{:<10} {big_n:>4} {label:>16} {speed:>12.0} {:>9.2} {:>9.2} {:>9.1}  {}",
+                case.name,
+                1e6 / speed,
+                1e6 / cpu,
+                speed * DT,
+                errors.join(", ")
+            );
         }
     }
-    println!("\ncovariance settings (modal path when it applies): δ in Hz (eq. 8.31), P0 as a factor of INIT²");
-    println!("{:<10} {:>10} {:>10} {:>12}  avg error [%]", "case", "δ", "P0", "steps/s");
-    for (name, delta, p0) in [("E", 1e-3, 1.0), ("E", 1.0, 1.0), ("E", 1e-3, 1e-4), ("E, RHO", 1.0, 1.0), ("E, RHO", 10.0, 1.0), ("E, RHO", 1.0, 1e-2)] {
+    println!(
+        "\ncovariance settings (modal path when it applies): δ in Hz (eq. 8.31), P0 as a factor of INIT²"
+    );
+    println!(
+        "{:<10} {:>10} {:>10} {:>12}  avg error [%]",
+        "case", "δ", "P0", "steps/s"
+    );
+    for (name, delta, p0) in [
+        ("E", 1e-3, 1.0),
+        ("E", 1.0, 1.0),
+        ("E", 1e-3, 1e-4),
+        ("E, RHO", 1.0, 1.0),
+        ("E, RHO", 10.0, 1.0),
+        ("E, RHO", 1.0, 1e-2),
+    ] {
         let base = cases.iter().find(|c| c.name == name).expect("case");
-        let case = Case { params: base.params.iter().map(|&(p, f, _, _)| (p, f, delta, p0)).collect(), sensors: base.sensors.clone(), input: None, name: base.name };
+        let case = Case {
+            params: base
+                .params
+                .iter()
+                .map(|&(p, f, _, _)| (p, f, delta, p0))
+                .collect(),
+            sensors: base.sensors.clone(),
+            input: None,
+            name: base.name,
+        };
         let (_, [speed, _], errors) = run(&case, Coordinates::Auto)?;
-        let errors: Vec<String> = case.params.iter().zip(&errors).map(|((p, ..), e)| format!("{p} {e:+.4}")).collect();
-        println!("{name:<10} {delta:>10.0e} {p0:>10.0e} {speed:>12.0}  {}", errors.join(", "));
+        let errors: Vec<String> = case
+            .params
+            .iter()
+            .zip(&errors)
+            .map(|((p, ..), e)| format!("{p} {e:+.4}"))
+            .collect();
+        println!(
+            "{name:<10} {delta:>10.0e} {p0:>10.0e} {speed:>12.0}  {}",
+            errors.join(", ")
+        );
     }
     Ok(())
 }
@@ -192,7 +338,10 @@ fn load_prom(path: &str) -> Result<(paraflex::rom::prom::Prom, SensorRows, Vec<f
     let (inputs, s_r) = read_prom_inputs(path, n).map_err(|e| e.to_string())?;
     let (names, kinds, h) = read_prom_sensors(path, n).map_err(|e| e.to_string())?;
     let sensors = SensorRows::new(names, kinds, h)?;
-    let input = inputs.iter().position(|x| x == INPUT).ok_or(format!("{path}: no input {INPUT}"))?;
+    let input = inputs
+        .iter()
+        .position(|x| x == INPUT)
+        .ok_or(format!("{path}: no input {INPUT}"))?;
     Ok((prom, sensors, (0..n).map(|i| s_r[(i, input)]).collect()))
 }
 
@@ -207,4 +356,3 @@ fn cpu_seconds() -> Option<f64> {
     }
     Some(total)
 }
-

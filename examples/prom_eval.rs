@@ -32,10 +32,19 @@ fn main() -> std::process::ExitCode {
     // a fixed linear congruential sequence: reproducible points in the box
     let mut state: u64 = 0x2545_f491_4f6c_dd1d;
     let mut uniform = || {
-        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
-    let points: Vec<Vec<f64>> = (0..count).map(|_| prom.parameters.iter().map(|q| q.low + uniform() * (q.high - q.low)).collect()).collect();
+    let points: Vec<Vec<f64>> = (0..count)
+        .map(|_| {
+            prom.parameters
+                .iter()
+                .map(|q| q.low + uniform() * (q.high - q.low))
+                .collect()
+        })
+        .collect();
     let start = Instant::now();
     for p in &points {
         if let Err(e) = prom.evaluate(p, &mut at) {
@@ -44,6 +53,10 @@ fn main() -> std::process::ExitCode {
         }
     }
     let seconds = start.elapsed().as_secs_f64() / count as f64;
-    println!("n_red {} components {} evaluations {count} seconds_per_evaluation {seconds:.3e}", prom.size(), prom.functions.len());
+    println!(
+        "n_red {} components {} evaluations {count} seconds_per_evaluation {seconds:.3e}",
+        prom.size(),
+        prom.functions.len()
+    );
     std::process::ExitCode::SUCCESS
 }

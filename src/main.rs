@@ -13,7 +13,11 @@ use paraflex::sequence::{self, RunContext, RunOptions};
 use std::time::Instant;
 
 #[derive(Parser)]
-#[command(name = "paraflex", version, about = "Parametric structural and flexible-multibody dynamics from Nastran decks")]
+#[command(
+    name = "paraflex",
+    version,
+    about = "Parametric structural and flexible-multibody dynamics from Nastran decks"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -98,17 +102,33 @@ fn print_summary(path: &Path, s: &CheckSummary) {
     println!("  solution     {}", s.sol.unwrap_or("(none)"));
     println!("  grids        {} ({} DOFs)", s.grids, s.dofs);
     let list = |m: &std::collections::BTreeMap<&str, usize>| {
-        m.iter().filter(|(_, n)| **n > 0).map(|(k, n)| format!("{k} {n}")).collect::<Vec<_>>().join(", ")
+        m.iter()
+            .filter(|(_, n)| **n > 0)
+            .map(|(k, n)| format!("{k} {n}"))
+            .collect::<Vec<_>>()
+            .join(", ")
     };
     println!("  elements     {}", list(&s.elements));
     println!("  rigid        {}", list(&s.rigid));
     println!("  properties   {}", list(&s.properties));
     println!("  materials    {}", list(&s.materials));
     println!("  mass         {:.6e} (WTMASS {})", s.mass, s.wtmass);
-    println!("  cg           [{:.6e}, {:.6e}, {:.6e}]", s.cg[0], s.cg[1], s.cg[2]);
-    println!("  inertia (cg) [{:.6e}, {:.6e}, {:.6e}]", s.inertia_cg[0][0], s.inertia_cg[0][1], s.inertia_cg[0][2]);
-    println!("               [{:.6e}, {:.6e}, {:.6e}]", s.inertia_cg[1][0], s.inertia_cg[1][1], s.inertia_cg[1][2]);
-    println!("               [{:.6e}, {:.6e}, {:.6e}]", s.inertia_cg[2][0], s.inertia_cg[2][1], s.inertia_cg[2][2]);
+    println!(
+        "  cg           [{:.6e}, {:.6e}, {:.6e}]",
+        s.cg[0], s.cg[1], s.cg[2]
+    );
+    println!(
+        "  inertia (cg) [{:.6e}, {:.6e}, {:.6e}]",
+        s.inertia_cg[0][0], s.inertia_cg[0][1], s.inertia_cg[0][2]
+    );
+    println!(
+        "               [{:.6e}, {:.6e}, {:.6e}]",
+        s.inertia_cg[1][0], s.inertia_cg[1][1], s.inertia_cg[1][2]
+    );
+    println!(
+        "               [{:.6e}, {:.6e}, {:.6e}]",
+        s.inertia_cg[2][0], s.inertia_cg[2][1], s.inertia_cg[2][2]
+    );
 }
 
 fn main() -> ExitCode {
@@ -141,7 +161,11 @@ mod commands {
     }
 
     /// Write `/model` (and the XDMF file next to it) for a validated model.
-    fn write_model_file(deck: &Deck, model: &Model, out: &Path) -> Result<PathBuf, paraflex::io::IoError> {
+    fn write_model_file(
+        deck: &Deck,
+        model: &Model,
+        out: &Path,
+    ) -> Result<PathBuf, paraflex::io::IoError> {
         let mesh = model.mesh_arrays();
         let info = model_info(deck);
         let file = paraflex::io::OutputFile::create(out)?;
@@ -157,7 +181,9 @@ mod commands {
     pub fn run(path: &Path, output: Option<&Path>) -> Result<(), Failure> {
         let (deck, model) = load_model(path)?;
         print_warnings(&model.warnings);
-        let out = output.map(Path::to_path_buf).unwrap_or_else(|| path.with_extension("h5"));
+        let out = output
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|| path.with_extension("h5"));
         if let Err(reason) = sequence::runnable(&deck, &model) {
             match write_model_file(&deck, &model, &out) {
                 Ok(written) => eprintln!("wrote the model to {}", written.display()),
@@ -178,7 +204,13 @@ mod commands {
         let file = paraflex::io::OutputFile::create(&out).map_err(io_failure)?;
         paraflex::io::write_model(&file, &mesh, &model_info(&deck)).map_err(io_failure)?;
         let bars = progress::Bars::new();
-        let ctx = RunContext { deck: &deck, model: &model, output: &file, progress: &bars, options: RunOptions::default() };
+        let ctx = RunContext {
+            deck: &deck,
+            model: &model,
+            output: &file,
+            progress: &bars,
+            options: RunOptions::default(),
+        };
         let result = sequence::run(&ctx);
         bars.finish();
         let summary = result.map_err(|e| {
@@ -202,7 +234,11 @@ mod commands {
         paraflex::io::ModelInfo {
             title: deck.case.subcases().first().and_then(|s| s.title.clone()),
             deck: Some(deck.path.display().to_string()),
-            sol: deck.executive.sol.as_ref().map(|(sol, _)| sol.name().to_string()),
+            sol: deck
+                .executive
+                .sol
+                .as_ref()
+                .map(|(sol, _)| sol.name().to_string()),
         }
     }
 
@@ -212,9 +248,13 @@ mod commands {
             Failure(2)
         };
         let (m, fit) = paraflex::io::prom_lsq::fit_samples(manifest).map_err(|e| fail(&e))?;
-        let built = paraflex::io::prom_lsq::build_samples(manifest, &m, &fit).map_err(|e| fail(&e))?;
+        let built =
+            paraflex::io::prom_lsq::build_samples(manifest, &m, &fit).map_err(|e| fail(&e))?;
         let default = match manifest.with_extension("h5") {
-            same if same == manifest => manifest.with_file_name(format!("{}_lsq.h5", manifest.file_stem().unwrap_or_default().to_string_lossy())),
+            same if same == manifest => manifest.with_file_name(format!(
+                "{}_lsq.h5",
+                manifest.file_stem().unwrap_or_default().to_string_lossy()
+            )),
             other => other,
         };
         let out = output.map(Path::to_path_buf).unwrap_or(default);
@@ -227,11 +267,30 @@ mod commands {
             file.commit()
         })()
         .map_err(|e| fail(&e))?;
-        println!("{}: {} samples, functions {}", manifest.display(), m.values.len(), m.functions.join(", "));
-        println!("  n {}, nnz {}", fit.stiffness[0].nrows(), fit.stiffness[0].nnz());
-        println!("  max relative residual  K {:.1e}  M {:.1e}", fit.residual_stiffness, fit.residual_mass);
+        println!(
+            "{}: {} samples, functions {}",
+            manifest.display(),
+            m.values.len(),
+            m.functions.join(", ")
+        );
+        println!(
+            "  n {}, nnz {}",
+            fit.stiffness[0].nrows(),
+            fit.stiffness[0].nnz()
+        );
+        println!(
+            "  max relative residual  K {:.1e}  M {:.1e}",
+            fit.residual_stiffness, fit.residual_mass
+        );
         if let Some(b) = &built {
-            println!("  pROM: {} local columns, {} after the MAC filter, n_red {}, {} inputs, {} strain sensors", b.concatenated, b.kept, b.prom.size(), b.inputs.ncols(), b.strains.nrows());
+            println!(
+                "  pROM: {} local columns, {} after the MAC filter, n_red {}, {} inputs, {} strain sensors",
+                b.concatenated,
+                b.kept,
+                b.prom.size(),
+                b.inputs.ncols(),
+                b.strains.nrows()
+            );
         }
         eprintln!("wrote {}", written.display());
         Ok(())
@@ -243,7 +302,10 @@ mod commands {
             Failure(2)
         })?;
         if json {
-            println!("{}", serde_json::to_string_pretty(&summary).unwrap_or_default());
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&summary).unwrap_or_default()
+            );
         } else {
             print!("{summary}");
         }
@@ -263,40 +325,101 @@ mod report {
         for sub in &s.subcases {
             match &sub.result {
                 SubcaseResult::Modal(m) => {
-                    println!("subcase {}: {} mode(s), f-set {} DOFs, NORM = {:?}", sub.id, m.frequencies_hz.len(), m.f_size, m.norm);
+                    println!(
+                        "subcase {}: {} mode(s), f-set {} DOFs, NORM = {:?}",
+                        sub.id,
+                        m.frequencies_hz.len(),
+                        m.f_size,
+                        m.norm
+                    );
                     if m.frequencies_hz.is_empty() {
                         println!("  no mode in the requested range (EIGRL V1/V2)");
                     } else {
-                        println!("  {:>4}  {:>14}  {:>14}  {:>10}", "mode", "f [Hz]", "gen. mass", "residual");
+                        println!(
+                            "  {:>4}  {:>14}  {:>14}  {:>10}",
+                            "mode", "f [Hz]", "gen. mass", "residual"
+                        );
                     }
                     for (k, f) in m.frequencies_hz.iter().enumerate() {
-                        println!("  {:>4}  {:>14}  {:>14}  {:>10}", k + 1, sci(*f, 6), sci(m.generalized_mass[k], 6), sci(m.residuals[k], 1));
+                        println!(
+                            "  {:>4}  {:>14}  {:>14}  {:>10}",
+                            k + 1,
+                            sci(*f, 6),
+                            sci(m.generalized_mass[k], 6),
+                            sci(m.residuals[k], 1)
+                        );
                     }
                     println!("  {}", sturm_line(&m.sturm));
                 }
                 SubcaseResult::Prom(p) => {
                     let log = &p.log;
-                    println!("subcase {}: pROM of {} DOFs → {} (parameters {}; {} input(s), {} sensor(s))", sub.id, p.n_full, p.n_red, p.parameters.join(", "), p.inputs, p.sensors);
-                    println!("  samples {}, local bases {} columns, {} after the MAC filter, numerical rank {}", log.samples.len(), log.concatenated, log.mac_kept, log.singular_values.iter().filter(|&&s| s > paraflex::rom::build::RANK_TOL * log.singular_values.first().copied().unwrap_or(0.0)).count());
+                    println!(
+                        "subcase {}: pROM of {} DOFs → {} (parameters {}; {} input(s), {} sensor(s))",
+                        sub.id,
+                        p.n_full,
+                        p.n_red,
+                        p.parameters.join(", "),
+                        p.inputs,
+                        p.sensors
+                    );
+                    println!(
+                        "  samples {}, local bases {} columns, {} after the MAC filter, numerical rank {}",
+                        log.samples.len(),
+                        log.concatenated,
+                        log.mac_kept,
+                        log.singular_values
+                            .iter()
+                            .filter(|&&s| s > paraflex::rom::build::RANK_TOL
+                                * log.singular_values.first().copied().unwrap_or(0.0))
+                            .count()
+                    );
                     for (size, e) in &log.error_history {
                         println!("  size {size:>5}: FRF change (eq. 3.35) {}", sci(*e, 2));
                     }
-                    println!("  {}", match (p.inputs, log.converged) {
-                        (0, _) => "no input DOFs (ASET1): no FRF to choose the size, the whole numerical rank is kept (see warnings)",
-                        (_, true) => "converged (FRF change below ERRTOL)",
-                        (_, false) => "stopped at the numerical rank of the local bases (see warnings)",
-                    });
+                    println!(
+                        "  {}",
+                        match (p.inputs, log.converged) {
+                            (0, _) =>
+                                "no input DOFs (ASET1): no FRF to choose the size, the whole numerical rank is kept (see warnings)",
+                            (_, true) => "converged (FRF change below ERRTOL)",
+                            (_, false) =>
+                                "stopped at the numerical rank of the local bases (see warnings)",
+                        }
+                    );
                 }
                 SubcaseResult::RomModal(r) => {
-                    let values: Vec<String> = r.values.iter().map(|(n, v)| format!("{n} = {}", sci(*v, 4))).collect();
-                    println!("subcase {}: {} mode(s) of the pROM {} (size {}) at {}", sub.id, r.frequencies_hz.len(), r.rom.display(), r.n_red, values.join(", "));
+                    let values: Vec<String> = r
+                        .values
+                        .iter()
+                        .map(|(n, v)| format!("{n} = {}", sci(*v, 4)))
+                        .collect();
+                    println!(
+                        "subcase {}: {} mode(s) of the pROM {} (size {}) at {}",
+                        sub.id,
+                        r.frequencies_hz.len(),
+                        r.rom.display(),
+                        r.n_red,
+                        values.join(", ")
+                    );
                     for (k, f) in r.frequencies_hz.iter().enumerate() {
                         println!("  {:>4}  {:>14}", k + 1, sci(*f, 6));
                     }
                 }
                 SubcaseResult::RomFrf(r) => {
-                    println!("subcase {}: FRF of the pROM {} at {} line(s), {} input(s) × {} output(s) ({})", sub.id, r.rom.display(), r.lines, r.inputs.len(), r.inputs.len(), r.inputs.join(", "));
-                    println!("  largest |H| {} at {} Hz", sci(r.peak.0, 4), sci(r.peak.1, 4));
+                    println!(
+                        "subcase {}: FRF of the pROM {} at {} line(s), {} input(s) × {} output(s) ({})",
+                        sub.id,
+                        r.rom.display(),
+                        r.lines,
+                        r.inputs.len(),
+                        r.inputs.len(),
+                        r.inputs.join(", ")
+                    );
+                    println!(
+                        "  largest |H| {} at {} Hz",
+                        sci(r.peak.0, 4),
+                        sci(r.peak.1, 4)
+                    );
                 }
                 SubcaseResult::Frf(r) => {
                     let modes = match (r.modes, r.residual_vectors) {
@@ -304,23 +427,63 @@ mod report {
                         (m, Some(k)) => format!(", {m} modes + {k} residual vector(s)"),
                         (m, None) => format!(", {m} modes"),
                     };
-                    println!("subcase {}: {} FRF, f-set {} DOFs{modes}, {} line(s), {} input(s) ({}) × {} output(s)", sub.id, r.method.name(), r.f_size, r.lines, r.inputs.len(), r.inputs.join(", "), r.outputs.len());
-                    println!("  largest |H| {} at {} Hz", sci(r.peak.0, 4), sci(r.peak.1, 4));
+                    println!(
+                        "subcase {}: {} FRF, f-set {} DOFs{modes}, {} line(s), {} input(s) ({}) × {} output(s)",
+                        sub.id,
+                        r.method.name(),
+                        r.f_size,
+                        r.lines,
+                        r.inputs.len(),
+                        r.inputs.join(", "),
+                        r.outputs.len()
+                    );
+                    println!(
+                        "  largest |H| {} at {} Hz",
+                        sci(r.peak.0, 4),
+                        sci(r.peak.1, 4)
+                    );
                 }
                 SubcaseResult::RomTransient(r) => {
-                    println!("subcase {}: transient of the pROM {} ({}), {} step(s), outputs {}", sub.id, r.rom.display(), r.method, r.steps, r.outputs.join(", "));
-                    println!("  largest |displacement| {} at t = {} s", sci(r.peak.0, 4), sci(r.peak.1, 4));
+                    println!(
+                        "subcase {}: transient of the pROM {} ({}), {} step(s), outputs {}",
+                        sub.id,
+                        r.rom.display(),
+                        r.method,
+                        r.steps,
+                        r.outputs.join(", ")
+                    );
+                    println!(
+                        "  largest |displacement| {} at t = {} s",
+                        sci(r.peak.0, 4),
+                        sci(r.peak.1, 4)
+                    );
                 }
                 SubcaseResult::Estimate(e) => {
-                    println!("subcase {}: estimation on the pROM {}, {} step(s), {} steps/s", sub.id, e.rom.display(), e.steps, sci(e.steps_per_second, 3));
+                    println!(
+                        "subcase {}: estimation on the pROM {}, {} step(s), {} steps/s",
+                        sub.id,
+                        e.rom.display(),
+                        e.steps,
+                        sci(e.steps_per_second, 3)
+                    );
                     println!("  {}", e.observability);
                     for (name, value, sigma) in &e.params {
-                        println!("  {name} = {} ± {} (3σ) at the end", sci(*value, 6), sci(3.0 * sigma, 2));
+                        println!(
+                            "  {name} = {} ± {} (3σ) at the end",
+                            sci(*value, 6),
+                            sci(3.0 * sigma, 2)
+                        );
                     }
                     if !e.error_table.is_empty() {
-                        println!("  error over the last 20 % [%]: {:>10} {:>10} {:>10}", "min", "avg", "max");
+                        println!(
+                            "  error over the last 20 % [%]: {:>10} {:>10} {:>10}",
+                            "min", "avg", "max"
+                        );
                         for r in &e.error_table {
-                            println!("  {:<28} {:>10.4} {:>10.4} {:>10.4}", r.name, r.min, r.avg, r.max);
+                            println!(
+                                "  {:<28} {:>10.4} {:>10.4} {:>10.4}",
+                                r.name, r.min, r.avg, r.max
+                            );
                         }
                     }
                     for (name, aae, mra) in &e.sensor_errors {
@@ -328,20 +491,40 @@ mod report {
                     }
                 }
                 SubcaseResult::Transient(r) => {
-                    println!("subcase {}: transient of the full model (f-set {} DOFs, {}), {} step(s), {} factorization(s), {} sensor(s)", sub.id, r.f_size, r.method, r.steps, r.factorizations, r.sensors);
+                    println!(
+                        "subcase {}: transient of the full model (f-set {} DOFs, {}), {} step(s), {} factorization(s), {} sensor(s)",
+                        sub.id, r.f_size, r.method, r.steps, r.factorizations, r.sensors
+                    );
                     if let Some((name, value, t)) = &r.peak {
-                        println!("  largest |sensor| {} ({name}) at t = {} s", sci(*value, 4), sci(*t, 4));
+                        println!(
+                            "  largest |sensor| {} ({name}) at t = {} s",
+                            sci(*value, 4),
+                            sci(*t, 4)
+                        );
                     }
                 }
                 SubcaseResult::Statics(st) => {
                     println!("subcase {}: f-set {} DOFs", sub.id, st.f_size);
                     if st.max_component.2 == 0.0 {
-                        println!("  displacements are all zero (see the applied load and SPC reaction below)");
+                        println!(
+                            "  displacements are all zero (see the applied load and SPC reaction below)"
+                        );
                     } else {
-                        println!("  max |u| (translation)  {} at GRID {}", sci(st.max_translation.1, 6), st.max_translation.0);
-                        println!("  max |component|        {} at GRID {} component {}", sci(st.max_component.2, 6), st.max_component.0, st.max_component.1);
+                        println!(
+                            "  max |u| (translation)  {} at GRID {}",
+                            sci(st.max_translation.1, 6),
+                            st.max_translation.0
+                        );
+                        println!(
+                            "  max |component|        {} at GRID {} component {}",
+                            sci(st.max_component.2, 6),
+                            st.max_component.0,
+                            st.max_component.1
+                        );
                     }
-                    let f = |v: &[f64; 6]| format!("F = [{}, {}, {}]", sci(v[0], 6), sci(v[1], 6), sci(v[2], 6));
+                    let f = |v: &[f64; 6]| {
+                        format!("F = [{}, {}, {}]", sci(v[0], 6), sci(v[1], 6), sci(v[2], 6))
+                    };
                     println!("  applied load           {}", f(&st.applied));
                     println!("  SPC reaction           {}", f(&st.reaction));
                 }
@@ -349,12 +532,28 @@ mod report {
             if sub.autospc.is_empty() {
                 println!("  AUTOSPC: none");
             } else {
-                let list: Vec<String> = sub.autospc.iter().map(|d| format!("{}/{}", d.grid, d.component)).collect();
-                println!("  AUTOSPC: {} DOF(s) (GRID/component): {}", list.len(), abbreviate(&list, 12));
+                let list: Vec<String> = sub
+                    .autospc
+                    .iter()
+                    .map(|d| format!("{}/{}", d.grid, d.component))
+                    .collect();
+                println!(
+                    "  AUTOSPC: {} DOF(s) (GRID/component): {}",
+                    list.len(),
+                    abbreviate(&list, 12)
+                );
             }
         }
-        let steps: Vec<String> = s.timings.iter().map(|(name, d)| format!("{name} {:.3} s", d.as_secs_f64())).collect();
-        println!("timings: {}; total {:.3} s", steps.join(", "), total.as_secs_f64());
+        let steps: Vec<String> = s
+            .timings
+            .iter()
+            .map(|(name, d)| format!("{name} {:.3} s", d.as_secs_f64()))
+            .collect();
+        println!(
+            "timings: {}; total {:.3} s",
+            steps.join(", "),
+            total.as_secs_f64()
+        );
     }
 
     /// 1.234568E+01 style (fixed-width exponent).
@@ -370,7 +569,11 @@ mod report {
         if list.len() <= max {
             list.join(" ")
         } else {
-            format!("{} … (+{} more; full list: the `autospc` dataset of the results group)", list[..max].join(" "), list.len() - max)
+            format!(
+                "{} … (+{} more; full list: the `autospc` dataset of the results group)",
+                list[..max].join(" "),
+                list.len() - max
+            )
         }
     }
 }
@@ -390,11 +593,16 @@ mod progress {
 
     impl Bars {
         pub fn new() -> Self {
-            Bars { enabled: std::io::stderr().is_terminal(), current: Mutex::new(None) }
+            Bars {
+                enabled: std::io::stderr().is_terminal(),
+                current: Mutex::new(None),
+            }
         }
 
         pub fn finish(&self) {
-            if let Ok(mut cur) = self.current.lock() && let Some((_, bar)) = cur.take() {
+            if let Ok(mut cur) = self.current.lock()
+                && let Some((_, bar)) = cur.take()
+            {
                 bar.finish_and_clear();
             }
         }
@@ -405,14 +613,19 @@ mod progress {
             if !self.enabled {
                 return;
             }
-            let Ok(mut cur) = self.current.lock() else { return };
+            let Ok(mut cur) = self.current.lock() else {
+                return;
+            };
             let same = cur.as_ref().is_some_and(|(name, _)| name == what);
             if !same {
                 if let Some((_, bar)) = cur.take() {
                     bar.finish_and_clear();
                 }
-                let bar = ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
-                let style = ProgressStyle::with_template("{msg:32} [{bar:30}] {pos}/{len} {elapsed}").unwrap_or_else(|_| ProgressStyle::default_bar());
+                let bar =
+                    ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
+                let style =
+                    ProgressStyle::with_template("{msg:32} [{bar:30}] {pos}/{len} {elapsed}")
+                        .unwrap_or_else(|_| ProgressStyle::default_bar());
                 bar.set_style(style.progress_chars("=> "));
                 bar.set_message(what.to_string());
                 *cur = Some((what.to_string(), bar));

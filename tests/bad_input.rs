@@ -68,20 +68,34 @@ fn bad_dir() -> PathBuf {
 fn expectation(path: &Path) -> Expectation {
     let name = path.file_name().unwrap().to_string_lossy().to_string();
     if let Some((_, loc, message)) = NO_HEADER.iter().find(|(n, _, _)| *n == name) {
-        return Expectation { path: path.to_path_buf(), name, loc: loc.to_string(), message: message.to_string() };
+        return Expectation {
+            path: path.to_path_buf(),
+            name,
+            loc: loc.to_string(),
+            message: message.to_string(),
+        };
     }
-    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let bytes =
+        std::fs::read(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
     let text = String::from_utf8_lossy(&bytes);
     let first = text.lines().next().unwrap_or("");
-    let rest = first
-        .strip_prefix("$ EXPECT ")
-        .unwrap_or_else(|| panic!("{name}: first line must be '$ EXPECT file:line message', found '{first}'"));
-    let (loc, message) = rest.split_once(' ').unwrap_or_else(|| panic!("{name}: EXPECT needs 'file:line message'"));
+    let rest = first.strip_prefix("$ EXPECT ").unwrap_or_else(|| {
+        panic!("{name}: first line must be '$ EXPECT file:line message', found '{first}'")
+    });
+    let (loc, message) = rest
+        .split_once(' ')
+        .unwrap_or_else(|| panic!("{name}: EXPECT needs 'file:line message'"));
     assert!(
-        loc.rsplit_once(':').is_some_and(|(_, line)| line.parse::<u32>().is_ok()),
+        loc.rsplit_once(':')
+            .is_some_and(|(_, line)| line.parse::<u32>().is_ok()),
         "{name}: EXPECT location '{loc}' is not file:line"
     );
-    Expectation { path: path.to_path_buf(), name, loc: loc.to_string(), message: message.trim().to_string() }
+    Expectation {
+        path: path.to_path_buf(),
+        name,
+        loc: loc.to_string(),
+        message: message.trim().to_string(),
+    }
 }
 
 /// Every bad deck, sorted by name.
@@ -102,7 +116,11 @@ struct Outcome {
 }
 
 fn check_deck(path: &Path) -> Outcome {
-    let out = cargo_bin_cmd!("paraflex").arg("check").arg(path).output().expect("paraflex runs");
+    let out = cargo_bin_cmd!("paraflex")
+        .arg("check")
+        .arg(path)
+        .output()
+        .expect("paraflex runs");
     Outcome {
         code: out.status.code(),
         stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
@@ -115,9 +133,10 @@ fn panic_problem(e: &Expectation, o: &Outcome) -> Option<String> {
     match o.code {
         None => Some(format!("{}: killed by a signal\n{}", e.name, o.stderr)),
         Some(101) => Some(format!("{}: panicked (exit 101)\n{}", e.name, o.stderr)),
-        _ if o.stdout.contains("panicked") || o.stderr.contains("panicked") => {
-            Some(format!("{}: output mentions a panic\n{}{}", e.name, o.stdout, o.stderr))
-        }
+        _ if o.stdout.contains("panicked") || o.stderr.contains("panicked") => Some(format!(
+            "{}: output mentions a panic\n{}{}",
+            e.name, o.stdout, o.stderr
+        )),
         _ => None,
     }
 }
@@ -128,40 +147,74 @@ fn problem(e: &Expectation, o: &Outcome) -> Option<String> {
         return Some(p);
     }
     if o.code == Some(0) {
-        return Some(format!("{}: accepted (exit 0); expected '{} {}'", e.name, e.loc, e.message));
+        return Some(format!(
+            "{}: accepted (exit 0); expected '{} {}'",
+            e.name, e.loc, e.message
+        ));
     }
     let at = format!("{}: ", e.loc);
     // The file name may be printed with a directory in front: match on the line's text.
-    let found = o.stderr.lines().any(|l| l.contains(&at) && l.contains(&e.message));
+    let found = o
+        .stderr
+        .lines()
+        .any(|l| l.contains(&at) && l.contains(&e.message));
     if !found {
-        return Some(format!("{}: expected an error at '{}' containing '{}'; stderr:\n{}", e.name, e.loc, e.message, o.stderr));
+        return Some(format!(
+            "{}: expected an error at '{}' containing '{}'; stderr:\n{}",
+            e.name, e.loc, e.message, o.stderr
+        ));
     }
     None
 }
 
 fn run_all(decks: &[Expectation], judge: fn(&Expectation, &Outcome) -> Option<String>) {
-    let failures: Vec<String> = decks.iter().filter_map(|e| judge(e, &check_deck(&e.path))).collect();
-    assert!(failures.is_empty(), "{} of {} bad decks failed:\n\n{}", failures.len(), decks.len(), failures.join("\n\n"));
+    let failures: Vec<String> = decks
+        .iter()
+        .filter_map(|e| judge(e, &check_deck(&e.path)))
+        .collect();
+    assert!(
+        failures.is_empty(),
+        "{} of {} bad decks failed:\n\n{}",
+        failures.len(),
+        decks.len(),
+        failures.join("\n\n")
+    );
 }
 
 #[test]
 fn there_are_enough_bad_decks_and_the_lists_name_real_files() {
     let decks = bad_decks();
-    assert!(decks.len() >= MIN_BAD_DECKS, "only {} bad decks in decks/bad", decks.len());
-    for name in MODEL_LAYER.iter().chain(NO_HEADER.iter().map(|(n, _, _)| n)) {
-        assert!(decks.iter().any(|d| d.name == *name), "{name} is listed but not in decks/bad");
+    assert!(
+        decks.len() >= MIN_BAD_DECKS,
+        "only {} bad decks in decks/bad",
+        decks.len()
+    );
+    for name in MODEL_LAYER
+        .iter()
+        .chain(NO_HEADER.iter().map(|(n, _, _)| n))
+    {
+        assert!(
+            decks.iter().any(|d| d.name == *name),
+            "{name} is listed but not in decks/bad"
+        );
     }
 }
 
 #[test]
 fn reader_rejects_every_bad_deck_at_its_location() {
-    let decks: Vec<Expectation> = bad_decks().into_iter().filter(|d| !MODEL_LAYER.contains(&d.name.as_str())).collect();
+    let decks: Vec<Expectation> = bad_decks()
+        .into_iter()
+        .filter(|d| !MODEL_LAYER.contains(&d.name.as_str()))
+        .collect();
     run_all(&decks, problem);
 }
 
 #[test]
 fn model_layer_rejects_its_bad_decks() {
-    let decks: Vec<Expectation> = bad_decks().into_iter().filter(|d| MODEL_LAYER.contains(&d.name.as_str())).collect();
+    let decks: Vec<Expectation> = bad_decks()
+        .into_iter()
+        .filter(|d| MODEL_LAYER.contains(&d.name.as_str()))
+        .collect();
     assert_eq!(decks.len(), MODEL_LAYER.len());
     run_all(&decks, problem);
 }

@@ -26,16 +26,44 @@ fn check_json_is_the_model_summary_for_every_conformance_deck() {
         .filter(|p| p.extension().is_some_and(|x| x == "bdf"))
         .collect();
     decks.sort();
-    assert!(decks.len() >= 30, "expected the conformance decks, found {}", decks.len());
+    assert!(
+        decks.len() >= 30,
+        "expected the conformance decks, found {}",
+        decks.len()
+    );
     for deck in decks {
-        let out = paraflex().arg("check").arg("--json").arg(&deck).output().expect("runs");
-        assert!(out.status.success(), "{}: {}", deck.display(), String::from_utf8_lossy(&out.stderr));
-        let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+        let out = paraflex()
+            .arg("check")
+            .arg("--json")
+            .arg(&deck)
+            .output()
+            .expect("runs");
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            deck.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let printed: serde_json::Value =
+            serde_json::from_slice(&out.stdout).expect("one JSON object");
         let model = Model::build(&Deck::read(&deck).expect("reads")).expect("builds");
         let expected = serde_json::to_value(model.summary()).expect("serializes");
         assert_eq!(printed, expected, "{}", deck.display());
-        for key in ["grids", "elements", "rigid", "dofs", "mass", "cg", "inertia_cg", "warnings"] {
-            assert!(printed.get(key).is_some(), "{}: key {key} missing", deck.display());
+        for key in [
+            "grids",
+            "elements",
+            "rigid",
+            "dofs",
+            "mass",
+            "cg",
+            "inertia_cg",
+            "warnings",
+        ] {
+            assert!(
+                printed.get(key).is_some(),
+                "{}: key {key} missing",
+                deck.display()
+            );
         }
     }
 }
@@ -45,35 +73,86 @@ fn run_demo_writes_model_results_and_xdmf_and_prints_the_frequency_table() {
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("demo.h5");
     let deck = root().join("decks/demo/bracket_plate.dat");
-    let result = paraflex().arg("run").arg(&deck).arg("-o").arg(&out).output().expect("runs");
-    assert_eq!(result.status.code(), Some(0), "{}", String::from_utf8_lossy(&result.stderr));
+    let result = paraflex()
+        .arg("run")
+        .arg(&deck)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .expect("runs");
+    assert_eq!(
+        result.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
     let stdout = String::from_utf8_lossy(&result.stdout);
-    for line in ["MODAL", "f [Hz]", "gen. mass", "residual", "Sturm check", "consistent", "AUTOSPC", "timings"] {
+    for line in [
+        "MODAL",
+        "f [Hz]",
+        "gen. mass",
+        "residual",
+        "Sturm check",
+        "consistent",
+        "AUTOSPC",
+        "timings",
+    ] {
         assert!(stdout.contains(line), "{line} missing in\n{stdout}");
     }
     assert!(out.exists() && dir.path().join("demo.xdmf").exists());
-    let leftovers: Vec<_> = std::fs::read_dir(dir.path()).expect("dir").filter_map(|e| e.ok()).filter(|e| e.file_name().to_string_lossy().contains(".tmp")).collect();
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .expect("dir")
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains(".tmp"))
+        .collect();
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
 
-    let info = paraflex().arg("info").arg("--json").arg(&out).output().expect("runs");
-    assert!(info.status.success(), "{}", String::from_utf8_lossy(&info.stderr));
+    let info = paraflex()
+        .arg("info")
+        .arg("--json")
+        .arg(&out)
+        .output()
+        .expect("runs");
+    assert!(
+        info.status.success(),
+        "{}",
+        String::from_utf8_lossy(&info.stderr)
+    );
     let summary: serde_json::Value = serde_json::from_slice(&info.stdout).expect("json");
     assert_eq!(summary["model"]["n_grids"], 190, "{summary}");
     assert_eq!(summary["model"]["elements"]["RBE2"], 1, "{summary}");
-    assert!(summary["results"].to_string().contains("frequency_hz"), "{summary}");
+    assert!(
+        summary["results"].to_string().contains("frequency_hz"),
+        "{summary}"
+    );
 }
 
 #[test]
 fn run_writes_model_and_xdmf_then_reports_an_unavailable_solution() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let text = std::fs::read_to_string(root().join("decks/demo/bracket_plate.dat")).expect("demo deck");
+    let text =
+        std::fs::read_to_string(root().join("decks/demo/bracket_plate.dat")).expect("demo deck");
     let deck = dir.path().join("optimize.dat");
     std::fs::write(&deck, text.replacen("SOL 103", "SOL OPTIMIZE", 1)).expect("write");
     let out = dir.path().join("optimize.h5");
-    let result = paraflex().arg("run").arg(&deck).arg("-o").arg(&out).output().expect("runs");
-    assert_eq!(result.status.code(), Some(3), "{}", String::from_utf8_lossy(&result.stderr));
+    let result = paraflex()
+        .arg("run")
+        .arg(&deck)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .expect("runs");
+    assert_eq!(
+        result.status.code(),
+        Some(3),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
     let stderr = String::from_utf8_lossy(&result.stderr);
-    assert!(stderr.contains("SOL OPTIMIZE") && stderr.contains("is not available in this version"), "{stderr}");
+    assert!(
+        stderr.contains("SOL OPTIMIZE") && stderr.contains("is not available in this version"),
+        "{stderr}"
+    );
     assert!(out.exists() && dir.path().join("optimize.xdmf").exists());
 }
 
@@ -82,26 +161,59 @@ fn run_writes_model_and_xdmf_then_reports_an_unavailable_solution() {
 #[test]
 fn subcases_mixing_rom_and_full_model_are_refused() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let text = std::fs::read_to_string(root().join("decks/demo/bracket_plate.dat")).expect("demo deck");
+    let text =
+        std::fs::read_to_string(root().join("decks/demo/bracket_plate.dat")).expect("demo deck");
     let deck = dir.path().join("mixed.dat");
-    std::fs::write(&deck, text.replacen("BEGIN BULK", "SUBCASE 2\n  ROM = 'blade.h5'\nBEGIN BULK", 1)).expect("write");
-    let result = paraflex().arg("run").arg(&deck).arg("-o").arg(dir.path().join("mixed.h5")).output().expect("runs");
-    assert_eq!(result.status.code(), Some(3), "{}", String::from_utf8_lossy(&result.stderr));
+    std::fs::write(
+        &deck,
+        text.replacen("BEGIN BULK", "SUBCASE 2\n  ROM = 'blade.h5'\nBEGIN BULK", 1),
+    )
+    .expect("write");
+    let result = paraflex()
+        .arg("run")
+        .arg(&deck)
+        .arg("-o")
+        .arg(dir.path().join("mixed.h5"))
+        .output()
+        .expect("runs");
+    assert_eq!(
+        result.status.code(),
+        Some(3),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
     let stderr = String::from_utf8_lossy(&result.stderr);
-    assert!(stderr.contains("ROM = in subcase(s) [2] but not in subcase(s) 1"), "{stderr}");
+    assert!(
+        stderr.contains("ROM = in subcase(s) [2] but not in subcase(s) 1"),
+        "{stderr}"
+    );
 }
 
 #[test]
 fn invalid_deck_writes_nothing_and_exits_2() {
     let dir = tempfile::tempdir().expect("tempdir");
     let deck = dir.path().join("bad.dat");
-    std::fs::write(&deck, "SOL 103\nCEND\nBEGIN BULK\nGRID,1,,0.,0.,0.\nCQUAD4,1,1,1,2,3,4\nENDDATA\n").expect("write");
+    std::fs::write(
+        &deck,
+        "SOL 103\nCEND\nBEGIN BULK\nGRID,1,,0.,0.,0.\nCQUAD4,1,1,1,2,3,4\nENDDATA\n",
+    )
+    .expect("write");
     let out = dir.path().join("bad.h5");
-    let result = paraflex().arg("run").arg(&deck).arg("-o").arg(&out).output().expect("runs");
+    let result = paraflex()
+        .arg("run")
+        .arg(&deck)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .expect("runs");
     assert_eq!(result.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert!(stderr.contains("bad.dat:5"), "{stderr}");
-    assert_eq!(std::fs::read_dir(dir.path()).expect("dir").count(), 1, "only the deck remains");
+    assert_eq!(
+        std::fs::read_dir(dir.path()).expect("dir").count(),
+        1,
+        "only the deck remains"
+    );
 }
 
 #[test]
@@ -110,5 +222,8 @@ fn check_text_names_the_deck_and_counts() {
     let out = paraflex().arg("check").arg(&deck).output().expect("runs");
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("CQUAD4 160") && text.contains("190 (1140 DOFs)"), "{text}");
+    assert!(
+        text.contains("CQUAD4 160") && text.contains("190 (1140 DOFs)"),
+        "{text}"
+    );
 }

@@ -46,7 +46,11 @@ fn exact_references() -> Vec<PathBuf> {
     let mut out: Vec<PathBuf> = std::fs::read_dir(root().join("reference/conformance"))
         .expect("reference/conformance exists")
         .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.file_name().and_then(|s| s.to_str()).is_some_and(|s| s.ends_with(".exact.json")))
+        .filter(|p| {
+            p.file_name()
+                .and_then(|s| s.to_str())
+                .is_some_and(|s| s.ends_with(".exact.json"))
+        })
         .collect();
     out.sort();
     out
@@ -66,14 +70,32 @@ fn floats(v: &Value) -> Vec<f64> {
 #[test]
 fn distorted_decks_match_independent_exact_mass() {
     let refs = exact_references();
-    assert!(refs.len() >= 12, "expected the 12 *.exact.json references, found {}", refs.len());
+    assert!(
+        refs.len() >= 12,
+        "expected the 12 *.exact.json references, found {}",
+        refs.len()
+    );
     let mut failures = Vec::new();
-    println!("{:<26} {:>10} {:>10} {:>10}", "deck", "mass", "cg", "inertia");
+    println!(
+        "{:<26} {:>10} {:>10} {:>10}",
+        "deck", "mass", "cg", "inertia"
+    );
     for path in refs {
-        let file = path.file_name().and_then(|s| s.to_str()).unwrap_or_default().to_string();
+        let file = path
+            .file_name()
+            .and_then(|s| s.to_str())
+            .unwrap_or_default()
+            .to_string();
         let stem = file.trim_end_matches(".exact.json");
-        let r: Value = serde_json::from_str(&std::fs::read_to_string(&path).expect("read reference")).expect("valid json");
-        assert!(r["provenance"].as_str().is_some_and(|s| s.contains("exact_mass.py")), "{file}: provenance");
+        let r: Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).expect("read reference"))
+                .expect("valid json");
+        assert!(
+            r["provenance"]
+                .as_str()
+                .is_some_and(|s| s.contains("exact_mass.py")),
+            "{file}: provenance"
+        );
         let deck_path = root().join("decks/conformance").join(format!("{stem}.bdf"));
         let deck = match Deck::read(&deck_path) {
             Ok(d) => d,
@@ -94,10 +116,20 @@ fn distorted_decks_match_independent_exact_mass() {
         let rm = r["mass"].as_f64().unwrap_or(f64::NAN);
         let rcg = floats(&r["cg"]);
         let ri = floats(&r["inertia_cg"]);
-        assert_eq!((rcg.len(), ri.len()), (3, 9), "{file}: cg and inertia_cg shapes");
+        assert_eq!(
+            (rcg.len(), ri.len()),
+            (3, 9),
+            "{file}: cg and inertia_cg shapes"
+        );
         let dm = (mp.mass - rm).abs() / rm.abs();
         let dcg: Vec<f64> = mp.cg.iter().zip(&rcg).map(|(a, b)| a - b).collect();
-        let di: Vec<f64> = mp.inertia_cg.iter().flatten().zip(&ri).map(|(a, b)| a - b).collect();
+        let di: Vec<f64> = mp
+            .inertia_cg
+            .iter()
+            .flatten()
+            .zip(&ri)
+            .map(|(a, b)| a - b)
+            .collect();
         let d = [dm, norm(&dcg) / norm(&rcg), norm(&di) / norm(&ri)];
         println!("{stem:<26} {:>10.2e} {:>10.2e} {:>10.2e}", d[0], d[1], d[2]);
         for (k, label) in ["mass", "cg", "inertia_cg"].iter().enumerate() {

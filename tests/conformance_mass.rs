@@ -26,7 +26,12 @@ const TOL: f64 = 1e-10;
 /// Distorted decks whose total MASS pyNastran computes exactly (tetra volumes are exact for
 /// straight edges; the meshio hexa box is rectangular). Their cg/inertia are exact too, since
 /// the corner average is the tetra centroid and the box centroid.
-const EXACT_ALL: &[&str] = &["solid_tetra_", "meshio_box_tet_", "meshio_box_hex_", "conm2_coords_"];
+const EXACT_ALL: &[&str] = &[
+    "solid_tetra_",
+    "meshio_box_tet_",
+    "meshio_box_hex_",
+    "conm2_coords_",
+];
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -43,8 +48,16 @@ fn decks() -> Vec<PathBuf> {
 }
 
 fn reference(deck: &Path) -> Value {
-    let stem = deck.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
-    let text = std::fs::read_to_string(root().join("reference/conformance").join(format!("{stem}.json"))).expect("reference json");
+    let stem = deck
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or_default();
+    let text = std::fs::read_to_string(
+        root()
+            .join("reference/conformance")
+            .join(format!("{stem}.json")),
+    )
+    .expect("reference json");
     serde_json::from_str(&text).expect("valid json")
 }
 
@@ -56,14 +69,43 @@ fn norm(v: &[f64]) -> f64 {
 fn diffs(model: &Model, r: &Value) -> [f64; 3] {
     let mp = model.mass_properties();
     let rm = r["mass"].as_f64().unwrap_or(f64::NAN);
-    let rcg: Vec<f64> = r["cg"].as_array().map(|a| a.iter().filter_map(Value::as_f64).collect()).unwrap_or_default();
-    let ri: Vec<f64> = r["inertia_cg"].as_array().map(|rows| rows.iter().flat_map(|row| row.as_array().into_iter().flatten().filter_map(Value::as_f64)).collect()).unwrap_or_default();
+    let rcg: Vec<f64> = r["cg"]
+        .as_array()
+        .map(|a| a.iter().filter_map(Value::as_f64).collect())
+        .unwrap_or_default();
+    let ri: Vec<f64> = r["inertia_cg"]
+        .as_array()
+        .map(|rows| {
+            rows.iter()
+                .flat_map(|row| {
+                    row.as_array()
+                        .into_iter()
+                        .flatten()
+                        .filter_map(Value::as_f64)
+                })
+                .collect()
+        })
+        .unwrap_or_default();
     let dm = (mp.mass - rm).abs() / rm.abs();
     let dcg: Vec<f64> = mp.cg.iter().zip(&rcg).map(|(a, b)| a - b).collect();
     let correction = conm2_cid_inertia(model);
-    let ri: Vec<f64> = ri.iter().zip(correction.iter().flatten()).map(|(r, c)| r + mp.wtmass * c).collect();
-    let di: Vec<f64> = mp.inertia_cg.iter().flatten().zip(&ri).map(|(a, b)| a - b).collect();
-    [dm, norm(&dcg) / norm(&rcg).max(1e-300), norm(&di) / norm(&ri).max(1e-300)]
+    let ri: Vec<f64> = ri
+        .iter()
+        .zip(correction.iter().flatten())
+        .map(|(r, c)| r + mp.wtmass * c)
+        .collect();
+    let di: Vec<f64> = mp
+        .inertia_cg
+        .iter()
+        .flatten()
+        .zip(&ri)
+        .map(|(a, b)| a - b)
+        .collect();
+    [
+        dm,
+        norm(&dcg) / norm(&rcg).max(1e-300),
+        norm(&di) / norm(&ri).max(1e-300),
+    ]
 }
 
 /// The inertia pyNastran drops: Σ T J Tᵀ of every CONM2 with CID > 0 (PYNASTRAN_MASS.md §5,
@@ -72,7 +114,10 @@ fn diffs(model: &Model, r: &Value) -> [f64; 3] {
 fn conm2_cid_inertia(model: &Model) -> [[f64; 3]; 3] {
     let mut out = [[0.0; 3]; 3];
     for c in model.bulk.conm2.iter().filter(|c| c.cid > 0) {
-        let (Some(sys), Some(grid)) = (model.coords.get(&(c.cid as u32)), model.grid(c.grid)) else { continue };
+        let (Some(sys), Some(grid)) = (model.coords.get(&(c.cid as u32)), model.grid(c.grid))
+        else {
+            continue;
+        };
         let t = sys.axes_at(grid.xyz);
         let [i11, i21, i22, i31, i32, i33] = c.inertia;
         let j = [[i11, -i21, -i31], [-i21, i22, -i32], [-i31, -i32, i33]];
@@ -91,8 +136,16 @@ fn conm2_cid_inertia(model: &Model) -> [[f64; 3]; 3] {
 
 fn counts_match(model: &Model, r: &Value) -> Result<(), String> {
     let s = model.summary();
-    let elements: serde_json::Map<String, Value> = s.elements.iter().map(|(k, v)| (k.to_string(), Value::from(*v))).collect();
-    let rigid: serde_json::Map<String, Value> = s.rigid.iter().map(|(k, v)| (k.to_string(), Value::from(*v))).collect();
+    let elements: serde_json::Map<String, Value> = s
+        .elements
+        .iter()
+        .map(|(k, v)| (k.to_string(), Value::from(*v)))
+        .collect();
+    let rigid: serde_json::Map<String, Value> = s
+        .rigid
+        .iter()
+        .map(|(k, v)| (k.to_string(), Value::from(*v)))
+        .collect();
     let checks = [
         ("grids", Value::from(s.grids), r["grids"].clone()),
         ("elements", Value::Object(elements), r["elements"].clone()),
@@ -110,9 +163,16 @@ fn counts_match(model: &Model, r: &Value) -> Result<(), String> {
 #[test]
 fn conformance_decks_match_pynastran() {
     let mut failures = Vec::new();
-    println!("{:<34} {:>10} {:>10} {:>10}  compared", "deck", "mass", "cg", "inertia");
+    println!(
+        "{:<34} {:>10} {:>10} {:>10}  compared",
+        "deck", "mass", "cg", "inertia"
+    );
     for deck_path in decks() {
-        let name = deck_path.file_name().and_then(|s| s.to_str()).unwrap_or_default().to_string();
+        let name = deck_path
+            .file_name()
+            .and_then(|s| s.to_str())
+            .unwrap_or_default()
+            .to_string();
         let deck = match Deck::read(&deck_path) {
             Ok(d) => d,
             Err(e) => {
@@ -135,12 +195,22 @@ fn conformance_decks_match_pynastran() {
         let d = diffs(&model, &r);
         let regular = name.contains("_regular_");
         let all = regular || EXACT_ALL.iter().any(|p| name.starts_with(p));
-        let compared = if all { "mass cg inertia" } else { "counts (approximate in pyNastran)" };
-        println!("{name:<34} {:>10.2e} {:>10.2e} {:>10.2e}  {compared}", d[0], d[1], d[2]);
+        let compared = if all {
+            "mass cg inertia"
+        } else {
+            "counts (approximate in pyNastran)"
+        };
+        println!(
+            "{name:<34} {:>10.2e} {:>10.2e} {:>10.2e}  {compared}",
+            d[0], d[1], d[2]
+        );
         let limit = if all { 3 } else { 0 };
         for (k, label) in ["mass", "cg", "inertia_cg"].iter().enumerate().take(limit) {
             if d[k].is_nan() || d[k] > TOL {
-                failures.push(format!("{name}: {label} differs from pyNastran by {:.3e} relative (tolerance {TOL:e})", d[k]));
+                failures.push(format!(
+                    "{name}: {label} differs from pyNastran by {:.3e} relative (tolerance {TOL:e})",
+                    d[k]
+                ));
             }
         }
     }

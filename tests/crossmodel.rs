@@ -27,9 +27,15 @@ fn dir() -> PathBuf {
 fn variant(deck: &str, edits: &[(&str, String)], out: &Path) -> PathBuf {
     let base = dir();
     let text = std::fs::read_to_string(base.join(deck)).unwrap();
-    let mut text = text.replace("INCLUDE '", &format!("INCLUDE '{}/", base.display())).replace("TABLEF,9,'", &format!("TABLEF,9,'{}/", base.display()));
+    let mut text = text
+        .replace("INCLUDE '", &format!("INCLUDE '{}/", base.display()))
+        .replace("TABLEF,9,'", &format!("TABLEF,9,'{}/", base.display()));
     for (start, line) in edits {
-        let old = text.lines().find(|l| l.starts_with(start)).unwrap_or_else(|| panic!("{deck}: no line starts with {start}")).to_string();
+        let old = text
+            .lines()
+            .find(|l| l.starts_with(start))
+            .unwrap_or_else(|| panic!("{deck}: no line starts with {start}"))
+            .to_string();
         text = text.replace(&old, line);
     }
     let path = out.join(deck);
@@ -51,7 +57,9 @@ fn on_rom(deck: &Path, rom: &Path, pval: &str) -> PathBuf {
     let mut lines = Vec::new();
     let mut skipping = false;
     for l in text.lines() {
-        let mesh = ["INCLUDE", "PSOLID", "MAT1", "MAT8", "PCOMP"].iter().any(|c| l.starts_with(c));
+        let mesh = ["INCLUDE", "PSOLID", "MAT1", "MAT8", "PCOMP"]
+            .iter()
+            .any(|c| l.starts_with(c));
         skipping = mesh || (skipping && l.starts_with(','));
         if !skipping {
             lines.push(l.to_string());
@@ -63,7 +71,10 @@ fn on_rom(deck: &Path, rom: &Path, pval: &str) -> PathBuf {
             lines.push(format!("PVAL,1,{pval}"));
         }
     }
-    let path = deck.with_file_name(format!("rom_{}", deck.file_name().unwrap().to_str().unwrap()));
+    let path = deck.with_file_name(format!(
+        "rom_{}",
+        deck.file_name().unwrap().to_str().unwrap()
+    ));
     std::fs::write(&path, lines.join("\n") + "\n").unwrap();
     path
 }
@@ -72,27 +83,53 @@ fn on_rom(deck: &Path, rom: &Path, pval: &str) -> PathBuf {
 fn frf(out: &tempfile::TempDir) -> (Vec<String>, Vec<String>, Vec<c64>) {
     let file = hdf5_metno::File::open(out.path().join("out.h5")).unwrap();
     let g = file.group("results/1/frf").unwrap();
-    let names = |n: &str| g.dataset(n).unwrap().read_raw::<VarLenUnicode>().unwrap().iter().map(|s| s.to_string()).collect::<Vec<_>>();
-    (names("outputs"), names("inputs"), g.dataset("H").unwrap().read_raw().unwrap())
+    let names = |n: &str| {
+        g.dataset(n)
+            .unwrap()
+            .read_raw::<VarLenUnicode>()
+            .unwrap()
+            .iter()
+            .map(|s| s.to_string())
+            .collect::<Vec<_>>()
+    };
+    (
+        names("outputs"),
+        names("inputs"),
+        g.dataset("H").unwrap().read_raw().unwrap(),
+    )
 }
 
 /// H(output, input) over the lines.
 fn column(h: &(Vec<String>, Vec<String>, Vec<c64>), output: &str, input: &str) -> Vec<c64> {
-    let (o, i) = (h.0.iter().position(|x| x == output).unwrap_or_else(|| panic!("output {output}")), h.1.iter().position(|x| x == input).unwrap());
+    let (o, i) = (
+        h.0.iter()
+            .position(|x| x == output)
+            .unwrap_or_else(|| panic!("output {output}")),
+        h.1.iter().position(|x| x == input).unwrap(),
+    );
     let (n_o, n_i) = (h.0.len(), h.1.len());
-    (0..h.2.len() / (n_o * n_i)).map(|l| h.2[(l * n_o + o) * n_i + i]).collect()
+    (0..h.2.len() / (n_o * n_i))
+        .map(|l| h.2[(l * n_o + o) * n_i + i])
+        .collect()
 }
 
 fn sensor(out: &tempfile::TempDir, name: &str) -> Vec<f64> {
     let file = hdf5_metno::File::open(out.path().join("out.h5")).unwrap();
-    file.dataset(&format!("results/1/transient/sensors/{name}")).unwrap().read_raw().unwrap()
+    file.dataset(&format!("results/1/transient/sensors/{name}"))
+        .unwrap()
+        .read_raw()
+        .unwrap()
 }
 
 /// max |a − b| / max |a|.
 fn relative<T: Copy>(a: &[T], b: &[T], norm: impl Fn(T) -> f64, minus: impl Fn(T, T) -> T) -> f64 {
     assert_eq!(a.len(), b.len());
     let scale = a.iter().map(|&x| norm(x)).fold(0.0, f64::max);
-    a.iter().zip(b).map(|(&x, &y)| norm(minus(x, y))).fold(0.0, f64::max) / scale
+    a.iter()
+        .zip(b)
+        .map(|(&x, &y)| norm(minus(x, y)))
+        .fold(0.0, f64::max)
+        / scale
 }
 
 /// One scene's cross-model comparison: the pROM deck (with the `prom` edits), its ROM at the point (the `rom` edits of
@@ -120,33 +157,65 @@ struct Scene {
 fn full_rom_and_prom_agree(s: &Scene) {
     let tmp = tempfile::tempdir().unwrap();
     let deck = |name: &str| format!("{}_{name}.dat", s.prefix);
-    let with = |extra: &[(&'static str, String)]| s.scene.iter().cloned().chain(extra.iter().cloned()).collect::<Vec<_>>();
+    let with = |extra: &[(&'static str, String)]| {
+        s.scene
+            .iter()
+            .cloned()
+            .chain(extra.iter().cloned())
+            .collect::<Vec<_>>()
+    };
     let prom = run(&variant(&deck("prom"), &with(&s.prom), tmp.path()));
     let rom_deck = variant(&deck("prom"), &with(&s.rom), tmp.path());
     let rom_dir = tempfile::tempdir().unwrap();
     std::fs::rename(&rom_deck, rom_dir.path().join("rom.dat")).unwrap();
     let rom = run(&rom_dir.path().join("rom.dat"));
-    let reduced = [("ROM", rom.path().join("out.h5")), ("pROM", prom.path().join("out.h5"))];
+    let reduced = [
+        ("ROM", rom.path().join("out.h5")),
+        ("pROM", prom.path().join("out.h5")),
+    ];
     // frequency
-    let full = frf(&run(&variant(&deck("frf"), &with(&[&[s.lines.clone()], &s.point[..]].concat()), tmp.path())));
+    let full = frf(&run(&variant(
+        &deck("frf"),
+        &with(&[&[s.lines.clone()], &s.point[..]].concat()),
+        tmp.path(),
+    )));
     let frf_deck = variant(&deck("frf"), &with(&[s.lines.clone()]), tmp.path());
     for (what, artifact) in &reduced {
         let h = frf(&run(&on_rom(&frf_deck, artifact, &s.pval)));
         for output in s.outputs {
-            let err = relative(&column(&full, output, s.drive), &column(&h, output, s.drive), |z: c64| z.norm(), |x, y| x - y);
+            let err = relative(
+                &column(&full, output, s.drive),
+                &column(&h, output, s.drive),
+                |z: c64| z.norm(),
+                |x, y| x - y,
+            );
             println!("{} FRF, {what} vs full, {output}: {err:.1e}", s.name);
-            assert!(err <= s.bound, "{} FRF {what} vs full, {output}: {err:e}", s.name);
+            assert!(
+                err <= s.bound,
+                "{} FRF {what} vs full, {output}: {err:e}",
+                s.name
+            );
         }
     }
     // time
-    let full = run(&variant(&deck("transient"), &with(&[&[s.steps.clone()], &s.point[..]].concat()), tmp.path()));
+    let full = run(&variant(
+        &deck("transient"),
+        &with(&[&[s.steps.clone()], &s.point[..]].concat()),
+        tmp.path(),
+    ));
     let transient_deck = variant(&deck("transient"), &with(&[s.steps.clone()]), tmp.path());
     for (what, artifact) in &reduced {
         let r = run(&on_rom(&transient_deck, artifact, &s.pval));
         for name in &s.outputs[1..] {
-            let err = relative(&sensor(&full, name), &sensor(&r, name), f64::abs, |x, y| x - y);
+            let err = relative(&sensor(&full, name), &sensor(&r, name), f64::abs, |x, y| {
+                x - y
+            });
             println!("{} transient, {what} vs full, {name}: {err:.1e}", s.name);
-            assert!(err <= s.bound, "{} transient {what} vs full, {name}: {err:e}", s.name);
+            assert!(
+                err <= s.bound,
+                "{} transient {what} vs full, {name}: {err:e}",
+                s.name
+            );
         }
     }
 }
@@ -171,7 +240,12 @@ fn blade_full_rom_and_prom_agree_in_frequency_and_time() {
         prefix: "blade",
         scene: Vec::new(),
         prom: Vec::new(),
-        rom: vec![("PMPAR,1,", format!("PMPAR,1,E,E,1,{e},{e}")), ("PMPAR,2,", format!("PMPAR,2,RHO,RHO,1,{rho},{rho}")), ("PMOR,1,", "PMOR,1,1,15,500.,1.E-3,8".into()), ("MAT1,", material.clone())],
+        rom: vec![
+            ("PMPAR,1,", format!("PMPAR,1,E,E,1,{e},{e}")),
+            ("PMPAR,2,", format!("PMPAR,2,RHO,RHO,1,{rho},{rho}")),
+            ("PMOR,1,", "PMOR,1,1,15,500.,1.E-3,8".into()),
+            ("MAT1,", material.clone()),
+        ],
         point: vec![("MAT1,", material)],
         pval: format!("E,{e},RHO,{rho}"),
         // 5 of the deck's 49 lines (5, 125, …, 485 Hz): a direct line costs ~1.7 s of CPU in a
@@ -213,13 +287,24 @@ fn blade_full_rom_and_prom_agree_in_frequency_and_time() {
 #[test]
 fn composite_link_full_rom_and_prom_agree_in_frequency_and_time() {
     let plies = ",2,0.3E-3,30.,,2,0.3E-3,-30.".to_string();
-    let checks = [("PMOR,1,", "PMOR,1,4,16,500.,1.E-3,30".to_string()), (",1,ATTACH,KEEP", ",1,ATTACH,KEEP,50".to_string())];
+    let checks = [
+        ("PMOR,1,", "PMOR,1,4,16,500.,1.E-3,30".to_string()),
+        (",1,ATTACH,KEEP", ",1,ATTACH,KEEP,50".to_string()),
+    ];
     full_rom_and_prom_agree(&Scene {
         name: "L2r",
         prefix: "l2r",
-        scene: vec![("INCLUDE '", format!("INCLUDE '{}/l2r_coarse.bdf'", dir().display()))],
+        scene: vec![(
+            "INCLUDE '",
+            format!("INCLUDE '{}/l2r_coarse.bdf'", dir().display()),
+        )],
         prom: checks.to_vec(),
-        rom: vec![("PMPAR,1,", "PMPAR,1,THETA,THETA,1,30.,30.".into()), ("PMOR,1,", "PMOR,1,1,16,500.,1.E-3,30".into()), checks[1].clone(), (",2,0.3E-3,20.", plies.clone())],
+        rom: vec![
+            ("PMPAR,1,", "PMPAR,1,THETA,THETA,1,30.,30.".into()),
+            ("PMOR,1,", "PMOR,1,1,16,500.,1.E-3,30".into()),
+            checks[1].clone(),
+            (",2,0.3E-3,20.", plies.clone()),
+        ],
         point: vec![(",2,0.3E-3,20.", plies)],
         pval: "THETA,30.".into(),
         lines: ("FREQ1,5,", "FREQ1,5,5.,120.,4".into()),

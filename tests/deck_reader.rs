@@ -17,7 +17,9 @@ use paraflex::deck::{Deck, Loc, Solution};
 // helpers
 
 fn conformance(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("decks/conformance").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("decks/conformance")
+        .join(name)
 }
 
 fn read(path: &Path) -> Deck {
@@ -25,7 +27,9 @@ fn read(path: &Path) -> Deck {
 }
 
 /// Write `files` (relative path, text) into a fresh directory and read the first one.
-fn read_files(files: &[(&str, &str)]) -> (tempfile::TempDir, Result<Deck, paraflex::deck::DeckErrors>) {
+fn read_files(
+    files: &[(&str, &str)],
+) -> (tempfile::TempDir, Result<Deck, paraflex::deck::DeckErrors>) {
     let dir = tempfile::tempdir().unwrap();
     for (name, text) in files {
         let path = dir.path().join(name);
@@ -45,15 +49,19 @@ fn read_text(text: &str) -> Deck {
 /// Every position in `bulk` replaced by one dummy position, so that the same cards read from
 /// differently formatted files compare equal.
 fn without_locs(bulk: &BulkData) -> BulkData {
-    let dummy = Loc { file: Arc::from(Path::new("-")), line: 0 };
+    let dummy = Loc {
+        file: Arc::from(Path::new("-")),
+        line: 0,
+    };
     let mut b = bulk.clone();
     macro_rules! clear {
         ($($field:ident),* $(,)?) => { $( for card in &mut b.$field { card.loc = dummy.clone(); } )* };
     }
     clear!(
-        grids, coords, cquad4, ctria3, chexa, cpenta, ctetra, celas1, celas2, conm2, rbe2, rbe3, mat1, mat8,
-        pshell, pcomp, psolid, pelas, spc, spc1, spcadd, aset1, forces, grav, load, eigrl, freq, tstep, tload1,
-        rload1, darea, tabled1, dload, params, desvar, ddval, pmpar, pmor, pval, sensors, tablef, tinteg,
+        grids, coords, cquad4, ctria3, chexa, cpenta, ctetra, celas1, celas2, conm2, rbe2, rbe3,
+        mat1, mat8, pshell, pcomp, psolid, pelas, spc, spc1, spcadd, aset1, forces, grav, load,
+        eigrl, freq, tstep, tload1, rload1, darea, tabled1, dload, params, desvar, ddval, pmpar,
+        pmor, pval, sensors, tablef, tinteg,
     );
     b
 }
@@ -73,22 +81,35 @@ fn assert_same_bulk(a: &BulkData, b: &BulkData, what: &str) {
         )* };
     }
     compare!(
-        grids, coords, cquad4, ctria3, chexa, cpenta, ctetra, celas1, celas2, conm2, rbe2, rbe3, mat1, mat8,
-        pshell, pcomp, psolid, pelas, spc, spc1, spcadd, aset1, forces, grav, load, eigrl, freq, tstep, tload1,
-        rload1, darea, tabled1, dload, params, desvar, ddval, pmpar, pmor, pval, sensors, tablef, tinteg,
+        grids, coords, cquad4, ctria3, chexa, cpenta, ctetra, celas1, celas2, conm2, rbe2, rbe3,
+        mat1, mat8, pshell, pcomp, psolid, pelas, spc, spc1, spcadd, aset1, forces, grav, load,
+        eigrl, freq, tstep, tload1, rload1, darea, tabled1, dload, params, desvar, ddval, pmpar,
+        pmor, pval, sensors, tablef, tinteg,
     );
     assert!(diffs.is_empty(), "{what}:\n{}", diffs.join("\n"));
 }
 
 fn card_count(b: &BulkData) -> usize {
-    b.grids.len() + b.coords.len() + b.cquad4.len() + b.ctria3.len() + b.chexa.len() + b.cpenta.len() + b.ctetra.len()
+    b.grids.len()
+        + b.coords.len()
+        + b.cquad4.len()
+        + b.ctria3.len()
+        + b.chexa.len()
+        + b.cpenta.len()
+        + b.ctetra.len()
 }
 
 // ---------------------------------------------------------------------------------------------
 // conformance decks: small, large and free field give the same cards
 
 /// Models whose three files carry exactly the same values.
-const EXACT_MODELS: &[&str] = &["mixed", "pcomp_plate", "plate_pshell", "solid_hexa", "solid_tetra"];
+const EXACT_MODELS: &[&str] = &[
+    "mixed",
+    "pcomp_plate",
+    "plate_pshell",
+    "solid_hexa",
+    "solid_tetra",
+];
 
 #[test]
 fn small_large_and_free_field_decks_give_identical_bulk_data() {
@@ -97,10 +118,23 @@ fn small_large_and_free_field_decks_give_identical_bulk_data() {
         assert!(card_count(&small.bulk) > 0, "{model}: no cards read");
         for format in ["large", "free"] {
             let other = read(&conformance(&format!("{model}_{format}.bdf")));
-            assert_same_bulk(&small.bulk, &other.bulk, &format!("{model}: small vs {format}"));
-            assert_eq!(small.executive.sol, other.executive.sol, "{model} {format}: SOL");
-            assert_eq!(small.case.global.method, other.case.global.method, "{model} {format}: METHOD");
-            assert_eq!(small.case.global.spc, other.case.global.spc, "{model} {format}: SPC");
+            assert_same_bulk(
+                &small.bulk,
+                &other.bulk,
+                &format!("{model}: small vs {format}"),
+            );
+            assert_eq!(
+                small.executive.sol, other.executive.sol,
+                "{model} {format}: SOL"
+            );
+            assert_eq!(
+                small.case.global.method, other.case.global.method,
+                "{model} {format}: METHOD"
+            );
+            assert_eq!(
+                small.case.global.spc, other.case.global.spc,
+                "{model} {format}: SPC"
+            );
         }
     }
 }
@@ -134,11 +168,19 @@ fn meshio_decks_agree_across_formats() {
     let tet = read(&conformance("meshio_box_tet_small.bdf"));
     assert!(!tet.bulk.ctetra.is_empty());
     for other in ["meshio_box_tet_free.bdf", "meshio_box_tet_default.bdf"] {
-        assert_same_mesh(&tet.bulk, &read(&conformance(other)).bulk, &format!("meshio_box_tet_small vs {other}"));
+        assert_same_mesh(
+            &tet.bulk,
+            &read(&conformance(other)).bulk,
+            &format!("meshio_box_tet_small vs {other}"),
+        );
     }
     let hex = read(&conformance("meshio_box_hex_default.bdf"));
     assert!(!hex.bulk.chexa.is_empty());
-    assert_same_mesh(&hex.bulk, &read(&conformance("meshio_box_hex_large.bdf")).bulk, "meshio_box_hex default vs large");
+    assert_same_mesh(
+        &hex.bulk,
+        &read(&conformance("meshio_box_hex_large.bdf")).bulk,
+        "meshio_box_hex default vs large",
+    );
 }
 
 /// `conm2_coords`: everything is identical except the CORD2R points. pyNastran writes the
@@ -155,7 +197,11 @@ fn conm2_coords_decks_agree_up_to_cord2r_rounding() {
     for format in ["large", "free"] {
         let other = read(&conformance(&format!("conm2_coords_{format}.bdf")));
         let what = format!("conm2_coords: small vs {format}");
-        assert_eq!(small.bulk.coords.len(), other.bulk.coords.len(), "{what}: coordinate systems");
+        assert_eq!(
+            small.bulk.coords.len(),
+            other.bulk.coords.len(),
+            "{what}: coordinate systems"
+        );
         for (a, b) in small.bulk.coords.iter().zip(&other.bulk.coords) {
             assert_eq!((a.id, a.kind, a.rid), (b.id, b.kind, b.rid), "{what}");
             for (p, q) in [(a.a, b.a), (a.b, b.b), (a.c, b.c)] {
@@ -178,22 +224,54 @@ const HEAD: &str = "SOL 103\nCEND\nBEGIN BULK\n";
 #[test]
 fn include_paths_are_relative_to_the_including_file_and_nest() {
     let (dir, deck) = read_files(&[
-        ("main.dat", "SOL 101\nCEND\nBEGIN BULK\nINCLUDE 'mesh/part.bdf'\nGRID    9               9.      0.      0.\nENDDATA\n"),
+        (
+            "main.dat",
+            "SOL 101\nCEND\nBEGIN BULK\nINCLUDE 'mesh/part.bdf'\nGRID    9               9.      0.      0.\nENDDATA\n",
+        ),
         // part.bdf is in mesh/: 'sub/grids.bdf' is mesh/sub/grids.bdf, '../props.bdf' is next to main.dat.
-        ("mesh/part.bdf", "$ part\nINCLUDE 'sub/grids.bdf'\ninclude '../props.bdf'\n"),
-        ("mesh/sub/grids.bdf", "GRID    1               0.      0.      0.\n$\nGRID    2               1.      0.      0.\n"),
-        ("props.bdf", "MAT1    1       7.+10           .3      2700.\n"),
+        (
+            "mesh/part.bdf",
+            "$ part\nINCLUDE 'sub/grids.bdf'\ninclude '../props.bdf'\n",
+        ),
+        (
+            "mesh/sub/grids.bdf",
+            "GRID    1               0.      0.      0.\n$\nGRID    2               1.      0.      0.\n",
+        ),
+        (
+            "props.bdf",
+            "MAT1    1       7.+10           .3      2700.\n",
+        ),
     ]);
     let deck = deck.unwrap_or_else(|e| panic!("{e}"));
     let ids: Vec<u32> = deck.bulk.grids.iter().map(|g| g.id).collect();
     assert_eq!(ids, [1, 2, 9], "grids in reading order");
     assert_eq!(deck.bulk.mat1.len(), 1);
-    let names: Vec<String> =
-        deck.files.iter().map(|p| p.strip_prefix(dir.path()).unwrap().to_string_lossy().replace('\\', "/")).collect();
-    assert_eq!(names, ["main.dat", "mesh/part.bdf", "mesh/sub/grids.bdf", "mesh/../props.bdf"]);
+    let names: Vec<String> = deck
+        .files
+        .iter()
+        .map(|p| {
+            p.strip_prefix(dir.path())
+                .unwrap()
+                .to_string_lossy()
+                .replace('\\', "/")
+        })
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "main.dat",
+            "mesh/part.bdf",
+            "mesh/sub/grids.bdf",
+            "mesh/../props.bdf"
+        ]
+    );
     // Positions point into the included file.
     let g2 = &deck.bulk.grids[1];
-    assert!(g2.loc.file.ends_with("grids.bdf") && g2.loc.line == 3, "{}", g2.loc);
+    assert!(
+        g2.loc.file.ends_with("grids.bdf") && g2.loc.line == 3,
+        "{}",
+        g2.loc
+    );
 }
 
 #[test]
@@ -209,7 +287,9 @@ fn nastran_real_shorthand() {
 
 #[test]
 fn tab_separated_small_fields_read_like_spaces() {
-    let tabs = read_text(&format!("{HEAD}GRID\t1\t\t1.5\t2.5\t3.5\nCQUAD4\t10\t1\t1\t2\t3\t4\n"));
+    let tabs = read_text(&format!(
+        "{HEAD}GRID\t1\t\t1.5\t2.5\t3.5\nCQUAD4\t10\t1\t1\t2\t3\t4\n"
+    ));
     let spaces = read_text(&format!(
         "{HEAD}GRID    1               1.5     2.5     3.5\nCQUAD4  10      1       1       2       3       4\n"
     ));
@@ -232,16 +312,25 @@ CHEXA*                 1               1               1               2\n\
     ));
     assert_eq!(large.bulk.chexa[0].nodes, [1, 2, 3, 4, 5, 6, 7, 8]);
     assert_same_bulk(&large.bulk, &small.bulk, "large vs small");
-    assert_eq!(large.bulk.chexa[0].loc.line, 6, "a card's position is its first line");
+    assert_eq!(
+        large.bulk.chexa[0].loc.line, 6,
+        "a card's position is its first line"
+    );
 }
 
 #[test]
 fn free_field_continuations() {
     let plus = read_text(&format!("{HEAD}CHEXA,1,1,1,2,3,4,5,6,+C1\n+C1,7,8\n"));
     let blank = read_text(&format!("{HEAD}CHEXA,1,1,1,2,3,4,5,6\n,7,8\n"));
-    let small = read_text(&format!("{HEAD}CHEXA   1       1       1       2       3       4       5       6\n+       7       8\n"));
+    let small = read_text(&format!(
+        "{HEAD}CHEXA   1       1       1       2       3       4       5       6\n+       7       8\n"
+    ));
     assert_eq!(plus.bulk.chexa[0].nodes, [1, 2, 3, 4, 5, 6, 7, 8]);
-    assert_same_bulk(&plus.bulk, &blank.bulk, "'+' vs blank free-field continuation");
+    assert_same_bulk(
+        &plus.bulk,
+        &blank.bulk,
+        "'+' vs blank free-field continuation",
+    );
     assert_same_bulk(&plus.bulk, &small.bulk, "free vs small");
 }
 
@@ -255,7 +344,10 @@ fn names_are_case_insensitive() {
     );
     assert_same_bulk(&lower.bulk, &upper.bulk, "lower vs upper case");
     assert_eq!(lower.bulk.grids.len(), 2);
-    assert_eq!(lower.executive.sol.as_ref().map(|s| s.0), Some(Solution::Modal));
+    assert_eq!(
+        lower.executive.sol.as_ref().map(|s| s.0),
+        Some(Solution::Modal)
+    );
     assert_eq!(lower.case.global.method, Some(7));
 }
 
@@ -282,7 +374,10 @@ fn comments_everywhere() {
     assert_eq!(deck.bulk.grids.len(), 1);
     assert_eq!(deck.bulk.eigrl.len(), 1);
     assert_eq!(deck.case.global.method, Some(1));
-    assert_eq!(deck.executive.sol.as_ref().map(|s| s.0), Some(Solution::Modal));
+    assert_eq!(
+        deck.executive.sol.as_ref().map(|s| s.0),
+        Some(Solution::Modal)
+    );
 }
 
 #[test]
@@ -292,15 +387,30 @@ fn executive_and_case_control_are_recorded() {
          DISP(PRINT) = 5\nSUBCASE 1\n  LOAD = 2\nSUBCASE 2\n  LOAD = 3\n  SPC = 4\nBEGIN BULK\nGRID,1,,0.,0.,0.\nENDDATA\n",
     );
     assert!(deck.has_control_sections);
-    assert_eq!(deck.executive.sol.as_ref().map(|s| s.0), Some(Solution::Statics));
+    assert_eq!(
+        deck.executive.sol.as_ref().map(|s| s.0),
+        Some(Solution::Statics)
+    );
     assert_eq!(deck.executive.recorded.len(), 2);
-    assert_eq!(deck.case.global.title.as_deref(), Some("a title, with = signs"));
+    assert_eq!(
+        deck.case.global.title.as_deref(),
+        Some("a title, with = signs")
+    );
     assert_eq!(deck.case.sets.len(), 1);
     assert_eq!(deck.case.sets[0].ids, [1, 3, 4, 5, 6, 10]);
     let subcases = deck.case.subcases();
-    let summary: Vec<(u32, Option<u32>, Option<u32>)> = subcases.iter().map(|s| (s.id, s.spc, s.load)).collect();
-    assert_eq!(summary, [(1, Some(1), Some(2)), (2, Some(4), Some(3))], "SPC inherited from above the first SUBCASE");
-    assert!(subcases.iter().all(|s| s.outputs.iter().any(|o| o.name == "DISPLACEMENT")));
+    let summary: Vec<(u32, Option<u32>, Option<u32>)> =
+        subcases.iter().map(|s| (s.id, s.spc, s.load)).collect();
+    assert_eq!(
+        summary,
+        [(1, Some(1), Some(2)), (2, Some(4), Some(3))],
+        "SPC inherited from above the first SUBCASE"
+    );
+    assert!(
+        subcases
+            .iter()
+            .all(|s| s.outputs.iter().any(|o| o.name == "DISPLACEMENT"))
+    );
 }
 
 #[test]
@@ -308,7 +418,11 @@ fn bulk_only_file_reads_with_a_warning() {
     let deck = read_text("GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\n");
     assert!(!deck.has_control_sections);
     assert_eq!(deck.bulk.grids.len(), 2);
-    assert!(deck.warnings.iter().any(|w| w.message.contains("bulk data only")));
+    assert!(
+        deck.warnings
+            .iter()
+            .any(|w| w.message.contains("bulk data only"))
+    );
 }
 
 #[test]

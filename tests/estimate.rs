@@ -12,9 +12,9 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use common::{run_deck, run_deck_file};
-use paraflex::sequence::{RunSummary, SubcaseResult};
 use paraflex::linalg::random::SplitMix64;
 use paraflex::sequence::estimate::EstimateSummary;
+use paraflex::sequence::{RunSummary, SubcaseResult};
 
 const DT: f64 = 1e-4;
 const STEPS: usize = 5000;
@@ -33,7 +33,9 @@ fn prom() -> tempfile::TempDir {
 
 /// The pROM of the build deck `decks/estimate/<name>`.
 fn prom_of(name: &str) -> tempfile::TempDir {
-    let deck = Path::new(env!("CARGO_MANIFEST_DIR")).join("decks/estimate").join(name);
+    let deck = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("decks/estimate")
+        .join(name);
     let (r, _, dir) = run_deck_file(&deck);
     r.expect("SOL PROM of the small plate");
     dir
@@ -54,7 +56,11 @@ enum Load {
 fn write_load(dir: &Path, load: Load) -> PathBuf {
     let path = dir.join("load.csv");
     if load == Load::Random {
-        std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/estimate/random_load_plate.csv"), &path).unwrap();
+        std::fs::copy(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/estimate/random_load_plate.csv"),
+            &path,
+        )
+        .unwrap();
         return path;
     }
     let mut text = String::from("time,force\n");
@@ -88,14 +94,23 @@ struct Truth {
 
 impl Truth {
     fn constant() -> Self {
-        Truth { case: "", bulk: String::new(), e_card: true, e: |_| E_TRUE }
+        Truth {
+            case: "",
+            bulk: String::new(),
+            e_card: true,
+            e: |_| E_TRUE,
+        }
     }
 }
 
 /// [`measurements`] with the transient of `truth`.
 fn measurements_of(prom: &Path, dir: &Path, load: Load, seed: u64, truth: &Truth) {
     let table = write_load(dir, load);
-    let e = if truth.e_card { format!("E,{E_TRUE:e},") } else { String::new() };
+    let e = if truth.e_card {
+        format!("E,{E_TRUE:e},")
+    } else {
+        String::new()
+    };
     let deck = format!(
         "SOL 112\nCEND\nROM = '{}'\nPVAL = 1\nTSTEP = 1\nDLOAD = 7\n{}BEGIN BULK\nPVAL,1,{e}RHO,{RHO_TRUE:?}\n{}TSTEP,1,{STEPS},{DT:e},1\nTLOAD1,7,8,,,9\nDAREA,8,14,3,1.\nTABLEF,9,'{}',time,force\nENDDATA\n",
         prom.display(),
@@ -114,7 +129,11 @@ fn measurements_of(prom: &Path, dir: &Path, load: Load, seed: u64, truth: &Truth
     let columns: Vec<Vec<f64>> = names
         .iter()
         .map(|name| {
-            let sigma = if name.starts_with("A_") { SIGMA_ACCEL } else { SIGMA_DISP };
+            let sigma = if name.starts_with("A_") {
+                SIGMA_ACCEL
+            } else {
+                SIGMA_DISP
+            };
             let y: Vec<f64> = sensors.dataset(name).unwrap().read_raw().unwrap();
             y.iter().map(|v| v + sigma * noise.normal()).collect()
         })
@@ -129,10 +148,38 @@ fn measurements_of(prom: &Path, dir: &Path, load: Load, seed: u64, truth: &Truth
 
 /// The SOL ESTIMATE deck: `ekf` cards (EKF 1 …), MEASF 2 on measurements.csv with the DISP
 /// channels `measured` (and ACCEL channels named A_…), the known load when `known`.
-fn estimate(prom: &Path, dir: &Path, ekf: &str, measured: &[&str], known: bool) -> (Result<RunSummary, paraflex::sequence::RunError>, tempfile::TempDir) {
-    let meas: String = measured.iter().map(|s| format!("MEAS,2,{s},{s},{:e}\n", if s.starts_with("A_") { SIGMA_ACCEL } else { SIGMA_DISP })).collect();
+fn estimate(
+    prom: &Path,
+    dir: &Path,
+    ekf: &str,
+    measured: &[&str],
+    known: bool,
+) -> (
+    Result<RunSummary, paraflex::sequence::RunError>,
+    tempfile::TempDir,
+) {
+    let meas: String = measured
+        .iter()
+        .map(|s| {
+            format!(
+                "MEAS,2,{s},{s},{:e}\n",
+                if s.starts_with("A_") {
+                    SIGMA_ACCEL
+                } else {
+                    SIGMA_DISP
+                }
+            )
+        })
+        .collect();
     let dload = if known { "DLOAD = 7\n" } else { "" };
-    let load_cards = if known { format!("TLOAD1,7,8,,,9\nDAREA,8,14,3,1.\nTABLEF,9,'{}',time,force\n", dir.join("load.csv").display()) } else { String::new() };
+    let load_cards = if known {
+        format!(
+            "TLOAD1,7,8,,,9\nDAREA,8,14,3,1.\nTABLEF,9,'{}',time,force\n",
+            dir.join("load.csv").display()
+        )
+    } else {
+        String::new()
+    };
     let deck = format!(
         "SOL ESTIMATE\nCEND\nROM = '{}'\nESTIM = 1\nMEAS = 2\nTSTEP = 1\n{dload}BEGIN BULK\nTSTEP,1,{STEPS},{DT:e},1\n{ekf}MEASF,2,'{}',time\n{meas}{load_cards}ENDDATA\n",
         prom.display(),
@@ -150,25 +197,57 @@ fn summary(r: &RunSummary) -> &EstimateSummary {
 
 /// Table 8.2 acceptance bound (|average error| in %) for a case, from the reference file.
 fn bound(case: &str) -> f64 {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/estimate/table_8_2_bounds.csv");
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/estimate/table_8_2_bounds.csv");
     let text = std::fs::read_to_string(&path).unwrap();
-    text.lines().filter(|l| !l.starts_with('#')).find_map(|l| l.split_once(',').filter(|(c, _)| *c == case).map(|(_, b)| b.trim().parse().unwrap())).unwrap_or_else(|| panic!("no bound for {case}"))
+    text.lines()
+        .filter(|l| !l.starts_with('#'))
+        .find_map(|l| {
+            l.split_once(',')
+                .filter(|(c, _)| *c == case)
+                .map(|(_, b)| b.trim().parse().unwrap())
+        })
+        .unwrap_or_else(|| panic!("no bound for {case}"))
 }
 
 /// Run one observable case (the tip load known or not) and check the error table against the
 /// bound.
-fn accept(case: &str, load: Load, ekf: &str, measured: &[&str], known: bool, seed: u64) -> EstimateSummary {
+fn accept(
+    case: &str,
+    load: Load,
+    ekf: &str,
+    measured: &[&str],
+    known: bool,
+    seed: u64,
+) -> EstimateSummary {
     accept_with(case, load, ekf, measured, known, seed, &Truth::constant())
 }
 
 /// [`accept`] on data from the transient of `truth`.
-fn accept_with(case: &str, load: Load, ekf: &str, measured: &[&str], known: bool, seed: u64, truth: &Truth) -> EstimateSummary {
+fn accept_with(
+    case: &str,
+    load: Load,
+    ekf: &str,
+    measured: &[&str],
+    known: bool,
+    seed: u64,
+    truth: &Truth,
+) -> EstimateSummary {
     accept_on(prom(), case, load, ekf, measured, known, seed, truth)
 }
 
 /// [`accept_with`] on the pROM built in `rom`.
 #[allow(clippy::too_many_arguments)]
-fn accept_on(rom: tempfile::TempDir, case: &str, load: Load, ekf: &str, measured: &[&str], known: bool, seed: u64, truth: &Truth) -> EstimateSummary {
+fn accept_on(
+    rom: tempfile::TempDir,
+    case: &str,
+    load: Load,
+    ekf: &str,
+    measured: &[&str],
+    known: bool,
+    seed: u64,
+    truth: &Truth,
+) -> EstimateSummary {
     let artifact = rom.path().join("out.h5");
     let data = tempfile::tempdir().unwrap();
     measurements_of(&artifact, data.path(), load, seed, truth);
@@ -176,25 +255,53 @@ fn accept_on(rom: tempfile::TempDir, case: &str, load: Load, ekf: &str, measured
     let r = r.unwrap_or_else(|e| panic!("{case}: {e}"));
     let s = summary(&r).clone();
     let limit = bound(case);
-    println!("{case}: {} — {:.0} steps/s, {} coordinates ({:?} re-diagonalizations)", s.observability, s.steps_per_second, s.coordinates, s.rediagonalizations);
+    println!(
+        "{case}: {} — {:.0} steps/s, {} coordinates ({:?} re-diagonalizations)",
+        s.observability, s.steps_per_second, s.coordinates, s.rediagonalizations
+    );
     for row in &s.error_table {
-        println!("{case}: {} error over the last 20 %: min {:.4} avg {:.4} max {:.4} % (bound |avg| ≤ {limit} %)", row.name, row.min, row.avg, row.max);
-        assert!(row.avg.abs() <= limit, "{case}: {} average error {} % above {limit} %", row.name, row.avg);
+        println!(
+            "{case}: {} error over the last 20 %: min {:.4} avg {:.4} max {:.4} % (bound |avg| ≤ {limit} %)",
+            row.name, row.min, row.avg, row.max
+        );
+        assert!(
+            row.avg.abs() <= limit,
+            "{case}: {} average error {} % above {limit} %",
+            row.name,
+            row.avg
+        );
     }
-    assert!(!s.error_table.is_empty(), "{case}: no error table (truth columns missing?)");
+    assert!(
+        !s.error_table.is_empty(),
+        "{case}: no error table (truth columns missing?)"
+    );
     s
 }
 
 /// E only (initial guess +25 %, δ_E = 1e-3 Hz as thesis §8.6.1) under a static tip load.
 #[test]
 fn e_only_static_load() {
-    accept("E static", Load::Static, "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3\n", &["D_TIP_A", "D_MID"], true, 11);
+    accept(
+        "E static",
+        Load::Static,
+        "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3\n",
+        &["D_TIP_A", "D_MID"],
+        true,
+        11,
+    );
 }
 
 /// E only under the 20 Hz sine.
 #[test]
 fn e_only_sine_load() {
-    accept("E sine", Load::Sine, "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3\n", &["D_TIP_A", "D_MID"], true, 12);
+    accept(
+        "E sine",
+        Load::Sine,
+        "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3\n",
+        &["D_TIP_A", "D_MID"],
+        true,
+        12,
+    );
 }
 
 /// E only under the sine on the plate with grounded tip springs (decks/estimate/
@@ -204,29 +311,71 @@ fn e_only_sine_load() {
 /// (a move of 20 % from the first modes, beyond τ = 1 %: at least once; 22 times when written).
 #[test]
 fn e_only_sine_load_with_springs_rediagonalized() {
-    let exact = accept_on(prom_of("plate_springs_prom.dat"), "E sine", Load::Sine, "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3\n", &["D_TIP_A", "D_MID"], true, 12, &Truth::constant());
-    assert_eq!(exact.coordinates, "physical", "the springs couple: no exact modal coordinates");
-    let rediag = accept_on(prom_of("plate_springs_prom.dat"), "E sine", Load::Sine, "EKF,1,,,,1.E-2\nEKFPAR,1,E,2.5E11,1.E-3\n", &["D_TIP_A", "D_MID"], true, 12, &Truth::constant());
+    let exact = accept_on(
+        prom_of("plate_springs_prom.dat"),
+        "E sine",
+        Load::Sine,
+        "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3\n",
+        &["D_TIP_A", "D_MID"],
+        true,
+        12,
+        &Truth::constant(),
+    );
+    assert_eq!(
+        exact.coordinates, "physical",
+        "the springs couple: no exact modal coordinates"
+    );
+    let rediag = accept_on(
+        prom_of("plate_springs_prom.dat"),
+        "E sine",
+        Load::Sine,
+        "EKF,1,,,,1.E-2\nEKFPAR,1,E,2.5E11,1.E-3\n",
+        &["D_TIP_A", "D_MID"],
+        true,
+        12,
+        &Truth::constant(),
+    );
     assert_eq!(rediag.coordinates, "rediagonalized");
-    assert!(rediag.rediagonalizations.is_some_and(|c| c >= 1), "{:?}", rediag.rediagonalizations);
+    assert!(
+        rediag.rediagonalizations.is_some_and(|c| c >= 1),
+        "{:?}",
+        rediag.rediagonalizations
+    );
 }
 
 /// E only under the band-limited random load (thesis Table 8.1–8.2, random row).
 #[test]
 fn e_only_random_load() {
-    accept("E random", Load::Random, "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3\n", &["D_TIP_A", "D_MID"], true, 21);
+    accept(
+        "E random",
+        Load::Random,
+        "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3\n",
+        &["D_TIP_A", "D_MID"],
+        true,
+        21,
+    );
 }
 
 /// E and ρ (initial +25 % and −30 %, δ = 1 Hz as §8.6.1) under the sine, with two
 /// displacement sensors (one per unknown, §8.4.3) and the tip accelerometer.
 #[test]
 fn e_and_rho_sine_load() {
-    let s = accept("E RHO sine", Load::Sine, "EKF,1\nEKFPAR,1,E,2.5E11,1.\nEKFPAR,1,RHO,5460.,1.\n", &["D_TIP_A", "D_MID", "A_TIP"], true, 13);
+    let s = accept(
+        "E RHO sine",
+        Load::Sine,
+        "EKF,1\nEKFPAR,1,E,2.5E11,1.\nEKFPAR,1,RHO,5460.,1.\n",
+        &["D_TIP_A", "D_MID", "A_TIP"],
+        true,
+        13,
+    );
     assert_eq!(s.error_table.len(), 2);
     // virtual sensors: the unmeasured ones are estimated with an AAE an order of magnitude
     // below their maximum amplitude (thesis §8.6.3, Fig. 8.13)
     for (name, aae, mra) in &s.sensor_errors {
-        assert!(aae * 10.0 <= *mra, "sensor {name}: AAE {aae:e} vs MRA {mra:e}");
+        assert!(
+            aae * 10.0 <= *mra,
+            "sensor {name}: AAE {aae:e} vs MRA {mra:e}"
+        );
     }
 }
 
@@ -235,7 +384,14 @@ fn e_and_rho_sine_load() {
 /// steps, where the response is ≈ 0, throw E out of the physical range).
 #[test]
 fn e_and_unknown_input_sine_load() {
-    accept("E input sine", Load::Sine, "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3,1.5625E20\nEKFINP,1,14,3,80.,5.\n", &["D_TIP_A", "D_MID"], false, 17);
+    accept(
+        "E input sine",
+        Load::Sine,
+        "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3,1.5625E20\nEKFINP,1,14,3,80.,5.\n",
+        &["D_TIP_A", "D_MID"],
+        false,
+        17,
+    );
 }
 
 /// Degrading E (thesis §8.6.2): the data come from a transient whose E falls by 10 %/s from the
@@ -246,14 +402,28 @@ fn e_and_unknown_input_sine_load() {
 fn degrading_e_sine_load() {
     let truth = Truth {
         case: "",
-        bulk: format!("PTABLE,1,E,20\nTABLED1,20\n,0.,{E_TRUE:e},1.,{:e},ENDT\n", 0.9 * E_TRUE),
+        bulk: format!(
+            "PTABLE,1,E,20\nTABLED1,20\n,0.,{E_TRUE:e},1.,{:e},ENDT\n",
+            0.9 * E_TRUE
+        ),
         e_card: false,
         e: |t| E_TRUE * (1.0 - 0.1 * t),
     };
-    let s = accept_with("E degrading sine", Load::Sine, "EKF,1\nEKFPAR,1,E,2.5E11,1.\n", &["D_TIP_A", "D_MID"], true, 18, &truth);
+    let s = accept_with(
+        "E degrading sine",
+        Load::Sine,
+        "EKF,1\nEKFPAR,1,E,2.5E11,1.\n",
+        &["D_TIP_A", "D_MID"],
+        true,
+        18,
+        &truth,
+    );
     // the estimate at the end follows the ramp (0.95 E at t = 0.5 s), not the initial value
     let (_, e_end, _) = s.params[0];
-    assert!((e_end / (0.95 * E_TRUE) - 1.0).abs() < 0.01, "E at the end {e_end:e}");
+    assert!(
+        (e_end / (0.95 * E_TRUE) - 1.0).abs() < 0.01,
+        "E at the end {e_end:e}"
+    );
 }
 
 /// E and an unknown input from data with non-zero initial conditions (thesis §8.6.4; here
@@ -263,8 +433,21 @@ fn degrading_e_sine_load() {
 /// E leaves the physical range).
 #[test]
 fn e_and_unknown_input_nonzero_initial_conditions() {
-    let truth = Truth { case: "IC = 3\n", bulk: "TIC,3,14,3,3.E-3,0.\n".into(), e_card: true, e: |_| E_TRUE };
-    accept_with("E input IC sine", Load::Sine, "EKF,1,,1.E-2\nEKFPAR,1,E,2.5E11,1.E-3,1.5625E20\nEKFINP,1,14,3,80.,5.\n", &["D_TIP_A", "D_MID"], false, 19, &truth);
+    let truth = Truth {
+        case: "IC = 3\n",
+        bulk: "TIC,3,14,3,3.E-3,0.\n".into(),
+        e_card: true,
+        e: |_| E_TRUE,
+    };
+    accept_with(
+        "E input IC sine",
+        Load::Sine,
+        "EKF,1,,1.E-2\nEKFPAR,1,E,2.5E11,1.E-3,1.5625E20\nEKFINP,1,14,3,80.,5.\n",
+        &["D_TIP_A", "D_MID"],
+        false,
+        19,
+        &truth,
+    );
 }
 
 /// E and ρ under a static load are refused (mass parameters are not excited, §8.4.3), and run
@@ -276,12 +459,36 @@ fn e_and_rho_static_load_is_refused_unless_forced() {
     let data = tempfile::tempdir().unwrap();
     measurements(&artifact, data.path(), Load::Static, 14);
     let pars = "EKFPAR,1,E,2.5E11,1.\nEKFPAR,1,RHO,5460.,1.\n";
-    let (r, _out) = estimate(&artifact, data.path(), &format!("EKF,1\n{pars}"), &["D_TIP_A", "D_MID"], true);
-    let message = r.expect_err("E and ρ under a static load must be refused").to_string();
-    assert!(message.contains("unobservable") && message.contains("RHO") && message.contains("static load") && message.contains("FORCE = YES"), "{message}");
-    let (r, _out) = estimate(&artifact, data.path(), &format!("EKF,1,,,YES\n{pars}"), &["D_TIP_A", "D_MID"], true);
+    let (r, _out) = estimate(
+        &artifact,
+        data.path(),
+        &format!("EKF,1\n{pars}"),
+        &["D_TIP_A", "D_MID"],
+        true,
+    );
+    let message = r
+        .expect_err("E and ρ under a static load must be refused")
+        .to_string();
+    assert!(
+        message.contains("unobservable")
+            && message.contains("RHO")
+            && message.contains("static load")
+            && message.contains("FORCE = YES"),
+        "{message}"
+    );
+    let (r, _out) = estimate(
+        &artifact,
+        data.path(),
+        &format!("EKF,1,,,YES\n{pars}"),
+        &["D_TIP_A", "D_MID"],
+        true,
+    );
     let r = r.expect("FORCE = YES runs");
-    assert!(summary(&r).forced && r.warnings.iter().any(|w| w.contains("FORCE = YES")), "{:?}", r.warnings);
+    assert!(
+        summary(&r).forced && r.warnings.iter().any(|w| w.contains("FORCE = YES")),
+        "{:?}",
+        r.warnings
+    );
 }
 
 /// E and an unknown static input (thesis §8.4.4, one material: D = ∂K/∂E q ∝ S_un u at the
@@ -302,12 +509,28 @@ fn e_and_static_unknown_input_is_refused() {
     let s = faer::Mat::from_fn(n, 1, |i, _| s_r[(i, j)]);
     let q = at.stiffness().llt(faer::Side::Lower).unwrap().solve(&s);
     let compliance: f64 = (0..n).map(|i| s[(i, 0)] * q[(i, 0)]).sum();
-    let truth = Truth { case: "IC = 3\n", bulk: format!("TIC,3,14,3,{:e},0.\n", 5.0 * compliance), e_card: true, e: |_| E_TRUE };
+    let truth = Truth {
+        case: "IC = 3\n",
+        bulk: format!("TIC,3,14,3,{:e},0.\n", 5.0 * compliance),
+        e_card: true,
+        e: |_| E_TRUE,
+    };
     let data = tempfile::tempdir().unwrap();
     measurements_of(&artifact, data.path(), Load::Static, 22, &truth);
-    let (r, _out) = estimate(&artifact, data.path(), "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3\nEKFINP,1,14,3,80.,5.\n", &["D_TIP_A", "D_MID"], false);
-    let message = r.expect_err("E and a static unknown input must be refused").to_string();
-    assert!(message.contains("unobservable") && message.contains("static input"), "{message}");
+    let (r, _out) = estimate(
+        &artifact,
+        data.path(),
+        "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3\nEKFINP,1,14,3,80.,5.\n",
+        &["D_TIP_A", "D_MID"],
+        false,
+    );
+    let message = r
+        .expect_err("E and a static unknown input must be refused")
+        .to_string();
+    assert!(
+        message.contains("unobservable") && message.contains("static input"),
+        "{message}"
+    );
 }
 
 /// Only accelerometers, or fewer displacement sensors than unknowns, are refused naming the
@@ -318,12 +541,31 @@ fn sensor_sets_without_enough_displacement_rows_are_refused() {
     let artifact = rom.path().join("out.h5");
     let data = tempfile::tempdir().unwrap();
     measurements(&artifact, data.path(), Load::Sine, 15);
-    let (r, _out) = estimate(&artifact, data.path(), "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3\n", &["A_TIP", "A_MID"], true);
+    let (r, _out) = estimate(
+        &artifact,
+        data.path(),
+        "EKF,1\nEKFPAR,1,E,2.5E11,1.E-3\n",
+        &["A_TIP", "A_MID"],
+        true,
+    );
     let message = r.expect_err("only accelerometers").to_string();
     assert!(message.contains("only accelerometers"), "{message}");
-    let (r, _out) = estimate(&artifact, data.path(), "EKF,1\nEKFPAR,1,E,2.5E11,1.\nEKFPAR,1,RHO,5460.,1.\n", &["D_TIP_A", "A_TIP"], true);
-    let message = r.expect_err("one displacement sensor for two unknowns").to_string();
-    assert!(message.contains("fewer strain/displacement sensors (1) than unknown inputs and parameters (2)"), "{message}");
+    let (r, _out) = estimate(
+        &artifact,
+        data.path(),
+        "EKF,1\nEKFPAR,1,E,2.5E11,1.\nEKFPAR,1,RHO,5460.,1.\n",
+        &["D_TIP_A", "A_TIP"],
+        true,
+    );
+    let message = r
+        .expect_err("one displacement sensor for two unknowns")
+        .to_string();
+    assert!(
+        message.contains(
+            "fewer strain/displacement sensors (1) than unknown inputs and parameters (2)"
+        ),
+        "{message}"
+    );
 }
 
 /// A negative initial modulus is refused before the first step, in modal coordinates (the
@@ -336,9 +578,18 @@ fn negative_initial_modulus_is_refused() {
         let artifact = rom.path().join("out.h5");
         let data = tempfile::tempdir().unwrap();
         measurements(&artifact, data.path(), Load::Sine, 18);
-        let (r, _out) = estimate(&artifact, data.path(), "EKF,1,,,YES\nEKFPAR,1,E,-2.5E11,1.E-3\n", &["D_TIP_A", "D_MID"], true);
+        let (r, _out) = estimate(
+            &artifact,
+            data.path(),
+            "EKF,1,,,YES\nEKFPAR,1,E,-2.5E11,1.E-3\n",
+            &["D_TIP_A", "D_MID"],
+            true,
+        );
         let message = r.expect_err("negative E").to_string();
-        assert!(message.contains("is indefinite") && message.contains("outside the physical range"), "{message}");
+        assert!(
+            message.contains("is indefinite") && message.contains("outside the physical range"),
+            "{message}"
+        );
     }
 }
 
@@ -351,25 +602,66 @@ fn bad_selections_are_reported() {
     let artifact = rom.path().join("out.h5");
     let data = tempfile::tempdir().unwrap();
     measurements(&artifact, data.path(), Load::Sine, 16);
-    let (r, _out) = estimate(&artifact, data.path(), "EKF,1\nEKFPAR,1,NU,0.3,1.\n", &["D_TIP_A"], true);
+    let (r, _out) = estimate(
+        &artifact,
+        data.path(),
+        "EKF,1\nEKFPAR,1,NU,0.3,1.\n",
+        &["D_TIP_A"],
+        true,
+    );
     let message = r.expect_err("NU is no parameter").to_string();
-    assert!(message.contains("NU is not a parameter") && message.contains("E, RHO"), "{message}");
-    let (r, _out) = estimate(&artifact, data.path(), "EKF,1\nEKFPAR,1,E,2.5E11,1.\n", &["D_NOPE"], true);
+    assert!(
+        message.contains("NU is not a parameter") && message.contains("E, RHO"),
+        "{message}"
+    );
+    let (r, _out) = estimate(
+        &artifact,
+        data.path(),
+        "EKF,1\nEKFPAR,1,E,2.5E11,1.\n",
+        &["D_NOPE"],
+        true,
+    );
     let message = r.expect_err("no such sensor").to_string();
     assert!(message.contains("D_NOPE is not a SENSOR"), "{message}");
     let text = std::fs::read_to_string(data.path().join("measurements.csv")).unwrap();
     let mut lines: Vec<String> = text.lines().map(String::from).collect();
-    let column = lines[0].split(',').position(|h| h == "D_TIP_A").expect("D_TIP_A column");
+    let column = lines[0]
+        .split(',')
+        .position(|h| h == "D_TIP_A")
+        .expect("D_TIP_A column");
     let mut fields: Vec<&str> = lines[50].split(',').collect();
     fields[column] = "nan";
     lines[50] = fields.join(",");
     std::fs::write(data.path().join("measurements.csv"), lines.join("\n")).unwrap();
-    let (r, _out) = estimate(&artifact, data.path(), "EKF,1\nEKFPAR,1,E,2.5E11,1.\n", &["D_TIP_A"], true);
+    let (r, _out) = estimate(
+        &artifact,
+        data.path(),
+        "EKF,1\nEKFPAR,1,E,2.5E11,1.\n",
+        &["D_TIP_A"],
+        true,
+    );
     let message = r.expect_err("NaN sample").to_string();
-    let at = format!("deck.dat:13: MEAS 2 D_TIP_A: {}:51: column {}: 'nan' is not a finite number", data.path().join("measurements.csv").display(), column + 1);
+    let at = format!(
+        "deck.dat:13: MEAS 2 D_TIP_A: {}:51: column {}: 'nan' is not a finite number",
+        data.path().join("measurements.csv").display(),
+        column + 1
+    );
     assert!(message.contains(&at), "{message}\nexpected: {at}");
-    std::fs::write(data.path().join("measurements.csv"), text.lines().take(100).collect::<Vec<_>>().join("\n")).unwrap();
-    let (r, _out) = estimate(&artifact, data.path(), "EKF,1\nEKFPAR,1,E,2.5E11,1.\n", &["D_TIP_A"], true);
+    std::fs::write(
+        data.path().join("measurements.csv"),
+        text.lines().take(100).collect::<Vec<_>>().join("\n"),
+    )
+    .unwrap();
+    let (r, _out) = estimate(
+        &artifact,
+        data.path(),
+        "EKF,1\nEKFPAR,1,E,2.5E11,1.\n",
+        &["D_TIP_A"],
+        true,
+    );
     let message = r.expect_err("short file").to_string();
-    assert!(message.contains("covers t = 0") && message.contains("the filter runs over"), "{message}");
+    assert!(
+        message.contains("covers t = 0") && message.contains("the filter runs over"),
+        "{message}"
+    );
 }

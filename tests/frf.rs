@@ -17,11 +17,24 @@ fn root() -> PathBuf {
 }
 
 fn reference(case: &str) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(root().join(format!("reference/analytic/{case}.json"))).unwrap()).unwrap()
+    serde_json::from_str(
+        &std::fs::read_to_string(root().join(format!("reference/analytic/{case}.json"))).unwrap(),
+    )
+    .unwrap()
 }
 
 fn f64s(v: &Value) -> Vec<f64> {
-    v.as_array().unwrap().iter().flat_map(|x| if x.is_array() { f64s(x) } else { vec![x.as_f64().unwrap()] }).collect()
+    v.as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|x| {
+            if x.is_array() {
+                f64s(x)
+            } else {
+                vec![x.as_f64().unwrap()]
+            }
+        })
+        .collect()
 }
 
 /// The `/results/1/frf` group of a run: (frequency_hz, H, outputs, response).
@@ -35,16 +48,40 @@ struct Frf {
 fn read_frf(path: &std::path::Path) -> Frf {
     let file = hdf5_metno::File::open(path).expect("open");
     let g = file.group("results/1/frf").expect("frf group");
-    let outputs = g.dataset("outputs").unwrap().read_raw::<VarLenUnicode>().unwrap().iter().map(|s| s.to_string()).collect();
-    let response = if g.link_exists("response") { g.dataset("response").unwrap().read_raw().unwrap() } else { Vec::new() };
-    Frf { hz: g.dataset("frequency_hz").unwrap().read_raw().unwrap(), h: g.dataset("H").unwrap().read_raw().unwrap(), outputs, response }
+    let outputs = g
+        .dataset("outputs")
+        .unwrap()
+        .read_raw::<VarLenUnicode>()
+        .unwrap()
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let response = if g.link_exists("response") {
+        g.dataset("response").unwrap().read_raw().unwrap()
+    } else {
+        Vec::new()
+    };
+    Frf {
+        hz: g.dataset("frequency_hz").unwrap().read_raw().unwrap(),
+        h: g.dataset("H").unwrap().read_raw().unwrap(),
+        outputs,
+        response,
+    }
 }
 
 /// Largest |got − want| relative to max |want|.
 fn worst(got: &[c64], re: &[f64], im: &[f64]) -> f64 {
     assert_eq!(got.len(), re.len());
-    let scale = re.iter().zip(im).map(|(a, b)| a.hypot(*b)).fold(0.0, f64::max);
-    got.iter().zip(re.iter().zip(im)).map(|(g, (a, b))| (g - c64::new(*a, *b)).norm()).fold(0.0, f64::max) / scale
+    let scale = re
+        .iter()
+        .zip(im)
+        .map(|(a, b)| a.hypot(*b))
+        .fold(0.0, f64::max);
+    got.iter()
+        .zip(re.iter().zip(im))
+        .map(|(g, (a, b))| (g - c64::new(*a, *b)).norm())
+        .fold(0.0, f64::max)
+        / scale
 }
 
 /// SDOF with Rayleigh damping: H and the RLOAD1 response (amplitude, phase, delay, C and D
@@ -59,7 +96,14 @@ fn sdof_direct_matches_the_closed_form() {
     assert_eq!(out.hz, f64s(&r["frequency_hz"]));
     assert_eq!(out.outputs, ["1:1"]);
     let tol = f64s(&r["tolerance_finest"]["relative"])[0];
-    let (h, resp) = (worst(&out.h, &f64s(&r["H_re"]), &f64s(&r["H_im"])), worst(&out.response, &f64s(&r["response_re"]), &f64s(&r["response_im"])));
+    let (h, resp) = (
+        worst(&out.h, &f64s(&r["H_re"]), &f64s(&r["H_im"])),
+        worst(
+            &out.response,
+            &f64s(&r["response_re"]),
+            &f64s(&r["response_im"]),
+        ),
+    );
     println!("SDOF: H error {h:.1e}, response error {resp:.1e} (tol {tol:.0e})");
     assert!(h <= tol && resp <= tol, "H {h:e}, response {resp:e}");
 }
@@ -71,7 +115,9 @@ fn sdof_direct_matches_the_closed_form() {
 #[test]
 fn sdof_displacement_output_is_the_closed_form_response() {
     let r = reference("frf_sdof");
-    let text = std::fs::read_to_string(root().join(r["meshes"][0]["deck"].as_str().unwrap())).unwrap().replace("  DLOAD = 7\n", "  DLOAD = 7\n  DISPLACEMENT = ALL\n");
+    let text = std::fs::read_to_string(root().join(r["meshes"][0]["deck"].as_str().unwrap()))
+        .unwrap()
+        .replace("  DLOAD = 7\n", "  DLOAD = 7\n  DISPLACEMENT = ALL\n");
     assert!(text.contains("DISPLACEMENT = ALL"));
     let (run, dir) = run_deck(&text);
     run.expect("SOL 108 with DISPLACEMENT");
@@ -87,7 +133,11 @@ fn sdof_displacement_output_is_the_closed_form_response() {
     let tol = f64s(&r["tolerance_finest"]["relative"])[0];
     let err = worst(&t1, &f64s(&r["response_re"]), &f64s(&r["response_im"]));
     assert!(err <= tol, "T1 response {err:e}");
-    assert!(d.chunks_exact(6).all(|g| g[1..].iter().all(|z| z.norm() == 0.0)), "constrained components");
+    assert!(
+        d.chunks_exact(6)
+            .all(|g| g[1..].iter().all(|z| z.norm() == 0.0)),
+        "constrained components"
+    );
 }
 
 /// The 2-DOF chain by SOL 108 and SOL 111 with `DISPLACEMENT = 3` (SET 3 = 2): the grid's T1
@@ -96,7 +146,12 @@ fn sdof_displacement_output_is_the_closed_form_response() {
 #[test]
 fn two_dof_displacement_set_equals_the_response() {
     for deck in ["frf_two_dof_modal.dat", "frf_two_dof_direct.dat"] {
-        let text = std::fs::read_to_string(root().join("decks/verify/analytic").join(deck)).unwrap().replace("  DLOAD = 7\n", "  DLOAD = 7\n  SET 3 = 2\n  DISPLACEMENT = 3\n");
+        let text = std::fs::read_to_string(root().join("decks/verify/analytic").join(deck))
+            .unwrap()
+            .replace(
+                "  DLOAD = 7\n",
+                "  DLOAD = 7\n  SET 3 = 2\n  DISPLACEMENT = 3\n",
+            );
         assert!(text.contains("DISPLACEMENT = 3"), "{deck}");
         let (run, dir) = run_deck(&text);
         run.unwrap_or_else(|e| panic!("{deck}: {e}"));
@@ -105,13 +160,21 @@ fn two_dof_displacement_set_equals_the_response() {
         let o = out.outputs.iter().position(|x| x == "2:1").unwrap();
         let file = hdf5_metno::File::open(&path).unwrap();
         let g = file.group("results/1/frf").unwrap();
-        let ids: Vec<u32> = g.dataset("displacement_grid_ids").unwrap().read_raw().unwrap();
+        let ids: Vec<u32> = g
+            .dataset("displacement_grid_ids")
+            .unwrap()
+            .read_raw()
+            .unwrap();
         assert_eq!(ids, [2], "{deck}");
         let d: Vec<c64> = g.dataset("displacement").unwrap().read_raw().unwrap();
         assert_eq!(d.len(), 6 * out.hz.len(), "{deck}");
         for (l, grid) in d.chunks_exact(6).enumerate() {
             let want = out.response[l * out.outputs.len() + o];
-            assert!((grid[0] - want).norm() <= 1e-12 * want.norm(), "{deck} line {l}: {:?} vs {want:?}", grid[0]);
+            assert!(
+                (grid[0] - want).norm() <= 1e-12 * want.norm(),
+                "{deck} line {l}: {:?} vs {want:?}",
+                grid[0]
+            );
         }
     }
 }
@@ -138,12 +201,17 @@ fn two_dof_structural_damping_matches_the_complex_stiffness() {
 /// run.
 #[test]
 fn free_chain_static_line_is_refused_by_both_methods() {
-    let text = std::fs::read_to_string(root().join("decks/verify/analytic/frf_two_dof_modal.dat")).unwrap().replace("CELAS2,11,25000.0,1,1\n", "");
+    let text = std::fs::read_to_string(root().join("decks/verify/analytic/frf_two_dof_modal.dat"))
+        .unwrap()
+        .replace("CELAS2,11,25000.0,1,1\n", "");
     for deck in [text.clone(), text.replace("SOL 111", "SOL 108")] {
         let at_zero = deck.replace("FREQ,5,2.0,", "FREQ,5,0.0,2.0,");
         let (run, _dir) = run_deck(&at_zero);
         let message = run.expect_err("0 Hz on a free chain").to_string();
-        assert!(message.contains("at 0 Hz the dynamic stiffness is K (1 + iG), and K is singular"), "{message}");
+        assert!(
+            message.contains("at 0 Hz the dynamic stiffness is K (1 + iG), and K is singular"),
+            "{message}"
+        );
         let (run, _dir) = run_deck(&deck);
         run.expect("2 Hz and up");
     }
@@ -153,26 +221,48 @@ fn two_dof_matches(case: &str) {
     let r = reference(case);
     let tol = f64s(&r["tolerance_finest"]["relative"])[0];
     let (re, im) = (f64s(&r["H_re"]), f64s(&r["H_im"]));
-    let outputs: Vec<String> = r["outputs"].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_string()).collect();
+    let outputs: Vec<String> = r["outputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap().to_string())
+        .collect();
     // each deck as written (SOL 108, SOL 111) and as `SOL FRF`, which is modal with METHOD
     let runs = r["meshes"].as_array().unwrap().iter().flat_map(|mesh| {
         let path = mesh["deck"].as_str().unwrap().to_string();
         let text = std::fs::read_to_string(root().join(&path)).unwrap();
-        let generic = text.replace("SOL 108", "SOL FRF").replace("SOL 111", "SOL FRF");
-        [(path.clone(), text), (format!("{path} as SOL FRF"), generic)]
+        let generic = text
+            .replace("SOL 108", "SOL FRF")
+            .replace("SOL 111", "SOL FRF");
+        [
+            (path.clone(), text),
+            (format!("{path} as SOL FRF"), generic),
+        ]
     });
     for (deck, text) in runs {
         let (run, dir) = run_deck(&text);
         let summary = run.unwrap_or_else(|e| panic!("{deck}: {e}"));
-        let SubcaseResult::Frf(s) = &summary.subcases[0].result else { panic!("{deck}: not a full-model FRF") };
-        assert_eq!(s.modes, if deck.contains("modal") { 2 } else { 0 }, "{deck}");
+        let SubcaseResult::Frf(s) = &summary.subcases[0].result else {
+            panic!("{deck}: not a full-model FRF")
+        };
+        assert_eq!(
+            s.modes,
+            if deck.contains("modal") { 2 } else { 0 },
+            "{deck}"
+        );
         let out = read_frf(&dir.path().join("out.h5"));
         assert_eq!(out.outputs, outputs, "{deck}");
         let (n_o, n_i) = (outputs.len(), 2);
         for (o, name) in outputs.iter().enumerate() {
-            let idx: Vec<usize> = (0..out.hz.len()).flat_map(|l| (0..n_i).map(move |i| (l * n_o + o) * n_i + i)).collect();
+            let idx: Vec<usize> = (0..out.hz.len())
+                .flat_map(|l| (0..n_i).map(move |i| (l * n_o + o) * n_i + i))
+                .collect();
             let got: Vec<c64> = idx.iter().map(|&k| out.h[k]).collect();
-            let err = worst(&got, &idx.iter().map(|&k| re[k]).collect::<Vec<_>>(), &idx.iter().map(|&k| im[k]).collect::<Vec<_>>());
+            let err = worst(
+                &got,
+                &idx.iter().map(|&k| re[k]).collect::<Vec<_>>(),
+                &idx.iter().map(|&k| im[k]).collect::<Vec<_>>(),
+            );
             println!("{deck} {name}: error {err:.1e}");
             assert!(err <= tol, "{deck} output {name}: {err:e}");
         }
@@ -186,19 +276,26 @@ const PLATE_CASE: &str = "SPC = 1\nFREQUENCY = 5\nDLOAD = 7\n";
 
 /// The frequency card `freq` (set 5) and a unit RLOAD1 (7) on T3 of the three tip grids.
 fn plate_loads(freq: &str) -> String {
-    format!("{freq}RLOAD1,7,8,,,20\nDAREA,8,13,3,1.,39,3,1.\nDAREA,8,65,3,1.\nTABLED1,20\n,0.,1.,1000.,1.,ENDT\n")
+    format!(
+        "{freq}RLOAD1,7,8,,,20\nDAREA,8,13,3,1.,39,3,1.\nDAREA,8,65,3,1.\nTABLED1,20\n,0.,1.,1000.,1.,ENDT\n"
+    )
 }
 
 /// The plate's SOL 108 FRF with `loads`: the reference of the modal and pROM runs.
 fn plate_direct(loads: &str) -> Frf {
-    let (r, dir) = run_deck(&format!("SOL 108\nCEND\n{PLATE_CASE}BEGIN BULK\n{loads}{}ENDDATA\n", plate()));
+    let (r, dir) = run_deck(&format!(
+        "SOL 108\nCEND\n{PLATE_CASE}BEGIN BULK\n{loads}{}ENDDATA\n",
+        plate()
+    ));
     r.expect("SOL 108");
     read_frf(&dir.path().join("out.h5"))
 }
 
 fn plate() -> String {
     let header = "PSHELL,1,1,0.002,1,,1\nMAT1,1,2.1e11,,0.3,7850.\nPARAM,COUPMASS,1\nPARAM,ALPHA1,2.\nPARAM,BETA1,2.e-5\n";
-    header.to_string() + &common::clamped_plate_mesh(12, 4, 0.3, 0.1) + "ASET1,3,13,39,65\nSENSOR,1,ROOT,STRAIN,1,TOP,1.,0.,0.\nSENSOR,2,TIPACC,ACCEL,39,,0.,0.,1.\n"
+    header.to_string()
+        + &common::clamped_plate_mesh(12, 4, 0.3, 0.1)
+        + "ASET1,3,13,39,65\nSENSOR,1,ROOT,STRAIN,1,TOP,1.,0.,0.\nSENSOR,2,TIPACC,ACCEL,39,,0.,0.,1.\n"
 }
 
 /// The plate's FRF three ways over 5–395 Hz (first bending ≈ 18 Hz, first torsion ≈ 110 Hz,
@@ -214,12 +311,21 @@ fn plate() -> String {
 fn plate_direct_modal_and_prom_agree() {
     let (case, loads) = (PLATE_CASE, plate_loads("FREQ1,5,5.,10.,39\n"));
     let direct = plate_direct(&loads);
-    let (r, dir) = run_deck(&format!("SOL 111\nCEND\n{case}METHOD = 10\nBEGIN BULK\nEIGRL,10,,5000.\n{loads}{}ENDDATA\n", plate()));
+    let (r, dir) = run_deck(&format!(
+        "SOL 111\nCEND\n{case}METHOD = 10\nBEGIN BULK\nEIGRL,10,,5000.\n{loads}{}ENDDATA\n",
+        plate()
+    ));
     r.expect("SOL 111");
     let modal = read_frf(&dir.path().join("out.h5"));
-    let (r, dir) = run_deck(&format!("SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPMPAR,1,E,E,1,1.e11,3.e11\nPMOR,1,2,20,2000.,1.e-6\n,1\n{}ENDDATA\n", plate()));
+    let (r, dir) = run_deck(&format!(
+        "SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPMPAR,1,E,E,1,1.e11,3.e11\nPMOR,1,2,20,2000.,1.e-6\n,1\n{}ENDDATA\n",
+        plate()
+    ));
     r.expect("SOL PROM");
-    let (r, rom_dir) = run_deck(&format!("SOL 111\nCEND\nROM = '{}'\nFREQUENCY = 5\nBEGIN BULK\nFREQ1,5,5.,10.,39\nENDDATA\n", dir.path().join("out.h5").display()));
+    let (r, rom_dir) = run_deck(&format!(
+        "SOL 111\nCEND\nROM = '{}'\nFREQUENCY = 5\nBEGIN BULK\nFREQ1,5,5.,10.,39\nENDDATA\n",
+        dir.path().join("out.h5").display()
+    ));
     r.expect("pROM FRF");
     let prom = read_frf(&rom_dir.path().join("out.h5"));
     let outputs = ["13:3", "39:3", "65:3", "ROOT", "TIPACC"];
@@ -227,9 +333,15 @@ fn plate_direct_modal_and_prom_agree() {
         assert_eq!(other.outputs, outputs, "{name}");
         assert_eq!(other.hz, direct.hz, "{name}");
         for (o, output) in outputs.iter().enumerate() {
-            let idx: Vec<usize> = (0..direct.hz.len()).flat_map(|l| (0..3).map(move |i| (l * 5 + o) * 3 + i)).collect();
+            let idx: Vec<usize> = (0..direct.hz.len())
+                .flat_map(|l| (0..3).map(move |i| (l * 5 + o) * 3 + i))
+                .collect();
             let scale = idx.iter().map(|&k| direct.h[k].norm()).fold(0.0, f64::max);
-            let err = idx.iter().map(|&k| (other.h[k] - direct.h[k]).norm()).fold(0.0, f64::max) / scale;
+            let err = idx
+                .iter()
+                .map(|&k| (other.h[k] - direct.h[k]).norm())
+                .fold(0.0, f64::max)
+                / scale;
             println!("{name} vs direct, {output}: {err:.1e}");
             assert!(err <= 2e-2, "{name} vs direct, output {output}: {err:e}");
         }
@@ -254,14 +366,21 @@ fn residual_vectors_make_truncated_modal_frf_exact_at_zero_hz() {
             .map(|l| {
                 let line = l * per_line..(l + 1) * per_line;
                 let scale = line.clone().map(|k| direct.h[k].norm()).fold(0.0, f64::max);
-                line.map(|k| (modal.h[k] - direct.h[k]).norm()).fold(0.0, f64::max) / scale
+                line.map(|k| (modal.h[k] - direct.h[k]).norm())
+                    .fold(0.0, f64::max)
+                    / scale
             })
             .collect()
     };
     for (param, resvec) in [("", true), ("PARAM,RESVEC,NO\n", false)] {
-        let (r, dir) = run_deck(&format!("SOL 111\nCEND\n{case}METHOD = 10\nBEGIN BULK\nEIGRL,10,,,2\n{param}{loads}{}ENDDATA\n", plate()));
+        let (r, dir) = run_deck(&format!(
+            "SOL 111\nCEND\n{case}METHOD = 10\nBEGIN BULK\nEIGRL,10,,,2\n{param}{loads}{}ENDDATA\n",
+            plate()
+        ));
         let summary = r.expect("SOL 111");
-        let SubcaseResult::Frf(s) = &summary.subcases[0].result else { panic!("not a full-model FRF") };
+        let SubcaseResult::Frf(s) = &summary.subcases[0].result else {
+            panic!("not a full-model FRF")
+        };
         assert_eq!((s.modes, s.residual_vectors.is_some()), (2, resvec));
         let err = worst_line(&read_frf(&dir.path().join("out.h5")));
         println!("RESVEC {resvec}: error per line {err:?}");
@@ -272,10 +391,20 @@ fn residual_vectors_make_truncated_modal_frf_exact_at_zero_hz() {
             assert!(err[0] > 1e-3, "{err:?}");
         }
     }
-    let free = std::fs::read_to_string(root().join("decks/verify/analytic/frf_two_dof_modal.dat")).unwrap().replace("CELAS2,11,25000.0,1,1\n", "").replace("EIGRL,10,,,2", "EIGRL,10,,,1");
+    let free = std::fs::read_to_string(root().join("decks/verify/analytic/frf_two_dof_modal.dat"))
+        .unwrap()
+        .replace("CELAS2,11,25000.0,1,1\n", "")
+        .replace("EIGRL,10,,,2", "EIGRL,10,,,1");
     let (r, _dir) = run_deck(&free);
     let summary = r.expect("free chain from 2 Hz");
-    assert!(summary.warnings.iter().any(|w| w.contains("no residual vectors") && w.contains("K is singular")), "{:?}", summary.warnings);
+    assert!(
+        summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("no residual vectors") && w.contains("K is singular")),
+        "{:?}",
+        summary.warnings
+    );
 }
 
 /// STRAIN sensors on solids (CHEXA, centroid strain in basic, eq. 2.31 with all six
@@ -287,10 +416,29 @@ fn residual_vectors_make_truncated_modal_frf_exact_at_zero_hz() {
 /// by as much): bound 1e-7 relative to the largest gauge.
 #[test]
 fn solid_strain_sensors_read_the_static_strain_at_zero_hz() {
-    let text = std::fs::read_to_string(root().join("decks/verify/analytic/cantilever_static_solid_n2.dat")).unwrap();
+    let text = std::fs::read_to_string(
+        root().join("decks/verify/analytic/cantilever_static_solid_n2.dat"),
+    )
+    .unwrap();
     // element 41: root, top layer (centroid at z = 3t/4, where bending strain is not zero)
-    let gauges: [(&str, [f64; 3]); 3] = [("XX", [1.0, 0.0, 0.0]), ("XZ", [1.0, 0.0, 1.0]), ("XYZ", [1.0, 1.0, 1.0])];
-    let sensors: String = gauges.iter().enumerate().map(|(k, (name, d))| format!("SENSOR,{},{name},STRAIN,41,,{:?},{:?},{:?}\n", k + 1, d[0], d[1], d[2])).collect();
+    let gauges: [(&str, [f64; 3]); 3] = [
+        ("XX", [1.0, 0.0, 0.0]),
+        ("XZ", [1.0, 0.0, 1.0]),
+        ("XYZ", [1.0, 1.0, 1.0]),
+    ];
+    let sensors: String = gauges
+        .iter()
+        .enumerate()
+        .map(|(k, (name, d))| {
+            format!(
+                "SENSOR,{},{name},STRAIN,41,,{:?},{:?},{:?}\n",
+                k + 1,
+                d[0],
+                d[1],
+                d[2]
+            )
+        })
+        .collect();
     let statics = text.replace("  DISPLACEMENT = ALL", "  STRAIN = ALL");
     let (r, dir) = run_deck(&statics);
     r.expect("SOL 101");
@@ -304,13 +452,22 @@ fn solid_strain_sensors_read_the_static_strain_at_zero_hz() {
         .map(|(_, d)| {
             let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
             let t = d.map(|x| x / n);
-            t[0] * t[0] * e[0] + t[1] * t[1] * e[1] + t[2] * t[2] * e[2] + t[0] * t[1] * e[3] + t[1] * t[2] * e[4] + t[2] * t[0] * e[5]
+            t[0] * t[0] * e[0]
+                + t[1] * t[1] * e[1]
+                + t[2] * t[2] * e[2]
+                + t[0] * t[1] * e[3]
+                + t[1] * t[2] * e[4]
+                + t[2] * t[0] * e[5]
         })
         .collect();
-    let darea: String = text.lines().filter(|l| l.starts_with("FORCE,2,")).map(|l| {
-        let f: Vec<&str> = l.split(',').collect();
-        format!("DAREA,8,{},3,{}\n", f[2], f[4])
-    }).collect();
+    let darea: String = text
+        .lines()
+        .filter(|l| l.starts_with("FORCE,2,"))
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            format!("DAREA,8,{},3,{}\n", f[2], f[4])
+        })
+        .collect();
     let frf = text
         .replace("SOL 101", "SOL 108")
         .replace("  LOAD = 2", "  FREQUENCY = 5\n  DLOAD = 7")
@@ -318,7 +475,12 @@ fn solid_strain_sensors_read_the_static_strain_at_zero_hz() {
         .filter(|l| !l.starts_with("FORCE,2,"))
         .collect::<Vec<_>>()
         .join("\n")
-        .replace("ENDDATA", &format!("FREQ,5,0.\nRLOAD1,7,8,,,20\nTABLED1,20\n,0.,1.,1.,1.,ENDT\n{darea}{sensors}ENDDATA"));
+        .replace(
+            "ENDDATA",
+            &format!(
+                "FREQ,5,0.\nRLOAD1,7,8,,,20\nTABLED1,20\n,0.,1.,1.,1.,ENDT\n{darea}{sensors}ENDDATA"
+            ),
+        );
     let (r, dir) = run_deck(&frf);
     r.expect("SOL 108");
     let out = read_frf(&dir.path().join("out.h5"));
@@ -327,8 +489,15 @@ fn solid_strain_sensors_read_the_static_strain_at_zero_hz() {
     let scale = expected.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
     for (k, want) in expected.iter().enumerate() {
         let got = out.response[n_o - 3 + k];
-        println!("{}: FRF at 0 Hz {:.10e} (imag {:.1e}), SOL 101 {want:.10e}", gauges[k].0, got.re, got.im);
-        assert!((got - c64::new(*want, 0.0)).norm() <= 1e-7 * scale, "{}: {got:?} vs {want:e}", gauges[k].0);
+        println!(
+            "{}: FRF at 0 Hz {:.10e} (imag {:.1e}), SOL 101 {want:.10e}",
+            gauges[k].0, got.re, got.im
+        );
+        assert!(
+            (got - c64::new(*want, 0.0)).norm() <= 1e-7 * scale,
+            "{}: {got:?} vs {want:e}",
+            gauges[k].0
+        );
     }
 }
 
@@ -336,11 +505,14 @@ fn solid_strain_sensors_read_the_static_strain_at_zero_hz() {
 /// constrained DOF (a load there moves nothing).
 #[test]
 fn missing_dload_and_constrained_inputs_are_reported() {
-    let text = std::fs::read_to_string(root().join("decks/verify/analytic/frf_two_dof_direct.dat")).unwrap();
+    let text = std::fs::read_to_string(root().join("decks/verify/analytic/frf_two_dof_direct.dat"))
+        .unwrap();
     let (r, _dir) = run_deck(&text.replace("  DLOAD = 7\n", ""));
     let e = r.expect_err("no DLOAD").to_string();
     assert!(e.contains("DLOAD"), "{e}");
     let (r, _dir) = run_deck(&text.replace("DAREA,8,1,1,1.0,2,1,1.0", "DAREA,8,1,1,1.0,2,2,1.0"));
-    let e = r.expect_err("DAREA on T2, which SPC 23456 holds").to_string();
+    let e = r
+        .expect_err("DAREA on T2, which SPC 23456 holds")
+        .to_string();
     assert!(e.contains("GRID 2 component 2 is constrained"), "{e}");
 }

@@ -6,9 +6,13 @@ use paraflex::deck::Deck;
 use paraflex::model::Model;
 
 fn build(text: &str) -> Result<Model, Vec<String>> {
-    let mut file = tempfile::Builder::new().suffix(".bdf").tempfile().expect("temp file");
+    let mut file = tempfile::Builder::new()
+        .suffix(".bdf")
+        .tempfile()
+        .expect("temp file");
     file.write_all(text.as_bytes()).expect("write deck");
-    let deck = Deck::read(file.path()).map_err(|e| e.errors.iter().map(|x| x.to_string()).collect::<Vec<_>>())?;
+    let deck = Deck::read(file.path())
+        .map_err(|e| e.errors.iter().map(|x| x.to_string()).collect::<Vec<_>>())?;
     Model::build(&deck).map_err(|e| e.iter().map(|x| x.to_string()).collect())
 }
 
@@ -74,7 +78,11 @@ fn every_error_is_collected_with_its_card() {
         "SPC = 1 selects no SPC/SPC1/SPCADD set 1",
         "DISPLACEMENT = 5: no case-control SET 5",
     ];
-    let missing: Vec<&str> = expect.iter().copied().filter(|e| !errors.iter().any(|x| x.contains(e))).collect();
+    let missing: Vec<&str> = expect
+        .iter()
+        .copied()
+        .filter(|e| !errors.iter().any(|x| x.contains(e)))
+        .collect();
     assert!(missing.is_empty(), "missing {missing:#?}\nin {errors:#?}");
     // every error is located file:line
     assert!(errors.iter().all(|e| e.contains(".bdf:")), "{errors:#?}");
@@ -104,14 +112,34 @@ ENDDATA
 ";
     let model = build(deck).expect("valid deck");
     let w: Vec<String> = model.warnings.iter().map(|w| w.to_string()).collect();
-    assert_eq!(w.iter().filter(|x| x.contains("accepted and ignored: POST, PRTMAXIM")).count(), 1, "{w:#?}");
+    assert_eq!(
+        w.iter()
+            .filter(|x| x.contains("accepted and ignored: POST, PRTMAXIM"))
+            .count(),
+        1,
+        "{w:#?}"
+    );
     // SOL 103 writes mode shapes for DISPLACEMENT (sequence::modal), but no stresses
-    assert!(w.iter().any(|x| x.contains("STRESS is not honoured by SOL 103")), "{w:#?}");
-    assert!(!w.iter().any(|x| x.contains("DISPLACEMENT is not honoured")), "{w:#?}");
-    assert!(w.iter().any(|x| x.contains("PSOLID IN/STRESS/ISOP are kept")), "{w:#?}");
+    assert!(
+        w.iter()
+            .any(|x| x.contains("STRESS is not honoured by SOL 103")),
+        "{w:#?}"
+    );
+    assert!(
+        !w.iter().any(|x| x.contains("DISPLACEMENT is not honoured")),
+        "{w:#?}"
+    );
+    assert!(
+        w.iter()
+            .any(|x| x.contains("PSOLID IN/STRESS/ISOP are kept")),
+        "{w:#?}"
+    );
     // parallelogram 2 × 1, t = 0.1, rho = 2: m = 0.4, × WTMASS 0.5
     let mp = model.mass_properties();
-    assert!((mp.mass - 0.2).abs() < 1e-14 && (mp.cg[0] - 1.5).abs() < 1e-14, "{mp:?}");
+    assert!(
+        (mp.mass - 0.2).abs() < 1e-14 && (mp.cg[0] - 1.5).abs() < 1e-14,
+        "{mp:?}"
+    );
     let s = model.summary();
     assert_eq!(s.elements.get("CQUAD4"), Some(&1));
     assert_eq!(s.rigid.get("RBE2"), Some(&0));
@@ -134,9 +162,17 @@ ENDDATA
     let model = build(deck).expect("valid deck");
     let mp = model.mass_properties();
     // offset (1,0,0) local → (0,1,0) basic; tensor diag(1,2,3) local → diag(2,1,3) basic
-    assert!((mp.cg[1] - 1.0).abs() < 1e-14 && mp.cg[0].abs() < 1e-14, "{mp:?}");
+    assert!(
+        (mp.cg[1] - 1.0).abs() < 1e-14 && mp.cg[0].abs() < 1e-14,
+        "{mp:?}"
+    );
     let i = mp.inertia_cg;
-    assert!((i[0][0] - 2.0).abs() < 1e-14 && (i[1][1] - 1.0).abs() < 1e-14 && (i[2][2] - 3.0).abs() < 1e-14, "{i:?}");
+    assert!(
+        (i[0][0] - 2.0).abs() < 1e-14
+            && (i[1][1] - 1.0).abs() < 1e-14
+            && (i[2][2] - 3.0).abs() < 1e-14,
+        "{i:?}"
+    );
 }
 
 /// SOL 109/112 write displacement histories for DISPLACEMENT on the mesh (sequence::transient),
@@ -161,9 +197,15 @@ ENDDATA
     for sol in ["109", "112", "TRANSIENT"] {
         let model = build(&deck(sol, "")).expect("valid deck");
         let w: Vec<String> = model.warnings.iter().map(|w| w.to_string()).collect();
-        assert!(!w.iter().any(|x| x.contains("DISPLACEMENT is not honoured")), "SOL {sol}: {w:#?}");
+        assert!(
+            !w.iter().any(|x| x.contains("DISPLACEMENT is not honoured")),
+            "SOL {sol}: {w:#?}"
+        );
         let model = build(&deck(sol, "ROM = 'blade.h5'\n")).expect("valid deck");
         let w: Vec<String> = model.warnings.iter().map(|w| w.to_string()).collect();
-        assert!(w.iter().any(|x| x.contains("DISPLACEMENT is not honoured")), "SOL {sol} on a pROM: {w:#?}");
+        assert!(
+            w.iter().any(|x| x.contains("DISPLACEMENT is not honoured")),
+            "SOL {sol} on a pROM: {w:#?}"
+        );
     }
 }

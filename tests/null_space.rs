@@ -62,26 +62,43 @@ fn place(v: &Variant, p: [f64; 3]) -> [f64; 3] {
 fn deck(v: &Variant, modes: usize) -> String {
     let id = |i: usize, j: usize| 1 + i + j * (N + 1);
     let cd = if v.cd.is_some() { "9" } else { "" };
-    let mut s = format!("SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,{modes}\nPSHELL,1,1,.002,1,,1\nMAT1,1,2.1+11,,.3,7850.\n");
+    let mut s = format!(
+        "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,{modes}\nPSHELL,1,1,.002,1,,1\nMAT1,1,2.1+11,,.3,7850.\n"
+    );
     if let Some(card) = v.cd {
         s += card;
     }
     let h = SIDE / N as f64;
     for j in 0..=N {
         for i in 0..=N {
-            let [x, y, z] = place(v, [i as f64 * h - SIDE / 2.0, j as f64 * h - SIDE / 2.0, 0.0]);
+            let [x, y, z] = place(
+                v,
+                [i as f64 * h - SIDE / 2.0, j as f64 * h - SIDE / 2.0, 0.0],
+            );
             s += &format!("GRID,{},,{x:?},{y:?},{z:?},{cd}\n", id(i, j));
         }
     }
     let [x, y, z] = place(v, [0.0, 0.0, 0.05]);
-    s += &format!("GRID,{HUB},,{x:?},{y:?},{z:?},{cd}\nCONM2,9000,{HUB},,.5,,,,,\n,1.-4,,1.-4,,,2.-4\n");
+    s += &format!(
+        "GRID,{HUB},,{x:?},{y:?},{z:?},{cd}\nCONM2,9000,{HUB},,.5,,,,,\n,1.-4,,1.-4,,,2.-4\n"
+    );
     let mut eid = 0;
     for j in 0..N {
         for i in 0..N {
             let q = [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)];
             if j == 0 {
                 eid += 2;
-                s += &format!("CTRIA3,{},1,{},{},{}\nCTRIA3,{},1,{},{},{}\n", eid - 1, q[0], q[1], q[2], eid, q[0], q[2], q[3]);
+                s += &format!(
+                    "CTRIA3,{},1,{},{},{}\nCTRIA3,{},1,{},{},{}\n",
+                    eid - 1,
+                    q[0],
+                    q[1],
+                    q[2],
+                    eid,
+                    q[0],
+                    q[2],
+                    q[3]
+                );
             } else {
                 eid += 1;
                 s += &format!("CQUAD4,{eid},1,{},{},{},{}\n", q[0], q[1], q[2], q[3]);
@@ -89,12 +106,24 @@ fn deck(v: &Variant, modes: usize) -> String {
         }
     }
     let c = N / 2;
-    let central: Vec<String> = (c - 1..=c + 1).flat_map(|j| (c - 1..=c + 1).map(move |i| id(i, j).to_string())).collect();
-    s += &format!("RBE2,9001,{HUB},123456,{},\n,{}\n", central[..5].join(","), central[5..].join(","));
+    let central: Vec<String> = (c - 1..=c + 1)
+        .flat_map(|j| (c - 1..=c + 1).map(move |i| id(i, j).to_string()))
+        .collect();
+    s += &format!(
+        "RBE2,9001,{HUB},123456,{},\n,{}\n",
+        central[..5].join(","),
+        central[5..].join(",")
+    );
     if v.rbe3 {
         let [x, y, z] = place(v, [0.03, -0.02, -0.04]);
         s += &format!("GRID,{REF},,{x:?},{y:?},{z:?},{cd}\nCONM2,9002,{REF},,.2\n");
-        s += &format!("RBE3,9003,,{REF},123456,1.,123,{},{},\n,{},{}\n", id(0, 0), id(N, 0), id(N, N), id(0, N));
+        s += &format!(
+            "RBE3,9003,,{REF},123456,1.,123,{},{},\n,{},{}\n",
+            id(0, 0),
+            id(N, 0),
+            id(N, N),
+            id(0, N)
+        );
     }
     s + "ENDDATA\n"
 }
@@ -105,10 +134,34 @@ fn variants() -> Vec<Variant> {
     const CORD2C: &str = "CORD2C,9,,.5,.4,-.3,.7,.9,.6,\n,1.4,.2,-.1\n";
     let tilt = rotation([1.0, 2.0, 3.0], 0.7);
     vec![
-        Variant { name: "XY plane, basic", rotation: IDENTITY, offset: [0.0; 3], cd: None, rbe3: false },
-        Variant { name: "XY plane, CORD2R CD, RBE3", rotation: IDENTITY, offset: [0.0; 3], cd: Some(CORD2R), rbe3: true },
-        Variant { name: "tilted, basic, RBE3", rotation: tilt, offset: [0.3, -0.1, 0.2], cd: None, rbe3: true },
-        Variant { name: "tilted, CORD2C CD, RBE3", rotation: tilt, offset: [0.3, -0.1, 0.2], cd: Some(CORD2C), rbe3: true },
+        Variant {
+            name: "XY plane, basic",
+            rotation: IDENTITY,
+            offset: [0.0; 3],
+            cd: None,
+            rbe3: false,
+        },
+        Variant {
+            name: "XY plane, CORD2R CD, RBE3",
+            rotation: IDENTITY,
+            offset: [0.0; 3],
+            cd: Some(CORD2R),
+            rbe3: true,
+        },
+        Variant {
+            name: "tilted, basic, RBE3",
+            rotation: tilt,
+            offset: [0.3, -0.1, 0.2],
+            cd: None,
+            rbe3: true,
+        },
+        Variant {
+            name: "tilted, CORD2C CD, RBE3",
+            rotation: tilt,
+            offset: [0.3, -0.1, 0.2],
+            cd: Some(CORD2C),
+            rbe3: true,
+        },
     ]
 }
 
@@ -116,12 +169,26 @@ fn variants() -> Vec<Variant> {
 fn structure(text: &str, check: impl FnOnce(&Model, &Structure)) {
     let dir = tempfile::tempdir().expect("temp dir");
     let path = dir.path().join("deck.dat");
-    std::fs::File::create(&path).and_then(|mut f| f.write_all(text.as_bytes())).expect("write deck");
+    std::fs::File::create(&path)
+        .and_then(|mut f| f.write_all(text.as_bytes()))
+        .expect("write deck");
     let deck = Deck::read(&path).unwrap_or_else(|e| panic!("deck: {e}"));
-    let model = Model::build(&deck).unwrap_or_else(|e| panic!("model: {:?}", e.iter().map(|x| x.to_string()).collect::<Vec<_>>()));
+    let model = Model::build(&deck).unwrap_or_else(|e| {
+        panic!(
+            "model: {:?}",
+            e.iter().map(|x| x.to_string()).collect::<Vec<_>>()
+        )
+    });
     let file = OutputFile::create(dir.path().join("out.h5")).expect("output");
-    let ctx = RunContext { deck: &deck, model: &model, output: &file, progress: &|_: &str, _: usize, _: usize| {}, options: RunOptions { parallel: false } };
-    let st = Structure::build(&ctx, &mut Clock::default()).unwrap_or_else(|e| panic!("structure: {e}"));
+    let ctx = RunContext {
+        deck: &deck,
+        model: &model,
+        output: &file,
+        progress: &|_: &str, _: usize, _: usize| {},
+        options: RunOptions { parallel: false },
+    };
+    let st =
+        Structure::build(&ctx, &mut Clock::default()).unwrap_or_else(|e| panic!("structure: {e}"));
     check(&model, &st);
 }
 
@@ -137,7 +204,14 @@ fn rigid_g(model: &Model, st: &Structure, k: usize) -> Vec<f64> {
         } else {
             // θ × x
             let x = p.xyz;
-            ([e[1] * x[2] - e[2] * x[1], e[2] * x[0] - e[0] * x[2], e[0] * x[1] - e[1] * x[0]], e)
+            (
+                [
+                    e[1] * x[2] - e[2] * x[1],
+                    e[2] * x[0] - e[0] * x[2],
+                    e[0] * x[1] - e[1] * x[0],
+                ],
+                e,
+            )
         };
         u[6 * g..6 * g + 3].copy_from_slice(&st.frames.to_global(g, t));
         u[6 * g + 3..6 * g + 6].copy_from_slice(&st.frames.to_global(g, r));
@@ -166,11 +240,23 @@ fn rigid_motions_are_in_the_null_space_of_k_nn() {
                 let r_g = rigid_g(model, st, mode);
                 let r_n = st.rigid.n.gather(&r_g).expect("gather");
                 let back = st.rigid.expand(&r_n).expect("expand");
-                let kin = back.iter().zip(&r_g).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-                assert!(kin <= 1e-12 * max_abs(&r_g), "{}: rigid motion {mode}: T r_n differs from r_g by {kin:e}", v.name);
+                let kin = back
+                    .iter()
+                    .zip(&r_g)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                assert!(
+                    kin <= 1e-12 * max_abs(&r_g),
+                    "{}: rigid motion {mode}: T r_n differs from r_g by {kin:e}",
+                    v.name
+                );
                 let kr = st.k_nn.mul_values(&k, &r_n).expect("K r");
                 let ratio = max_abs(&kr) / (k_max * max_abs(&r_n));
-                assert!(ratio <= 1e-11, "{}: rigid motion {mode}: |K_nn r| / (|K| |r|) = {ratio:e}", v.name);
+                assert!(
+                    ratio <= 1e-11,
+                    "{}: rigid motion {mode}: |K_nn r| / (|K| |r|) = {ratio:e}",
+                    v.name
+                );
             }
         });
     }
@@ -186,11 +272,26 @@ fn free_plate_with_rbe2_and_rbe3_has_exactly_six_zero_modes() {
     for v in variants() {
         let (r, _dir) = run_deck(&deck(&v, 8));
         let s = r.unwrap_or_else(|e| panic!("{}: {e}", v.name));
-        assert!(s.subcases[0].autospc.is_empty(), "{}: AUTOSPC removed {:?}", v.name, s.subcases[0].autospc);
-        let SubcaseResult::Modal(m) = &s.subcases[0].result else { panic!("not modal") };
+        assert!(
+            s.subcases[0].autospc.is_empty(),
+            "{}: AUTOSPC removed {:?}",
+            v.name,
+            s.subcases[0].autospc
+        );
+        let SubcaseResult::Modal(m) = &s.subcases[0].result else {
+            panic!("not modal")
+        };
         let f = &m.frequencies_hz;
         assert_eq!(f.len(), 8, "{}: {f:?}", v.name);
-        assert!(f[6] > 100.0, "{}: seventh mode is not elastic: {f:?}", v.name);
-        assert!(f[..6].iter().all(|x| *x <= 1e-4 * f[6]), "{}: not six zero modes: {f:?}", v.name);
+        assert!(
+            f[6] > 100.0,
+            "{}: seventh mode is not elastic: {f:?}",
+            v.name
+        );
+        assert!(
+            f[..6].iter().all(|x| *x <= 1e-4 * f[6]),
+            "{}: not six zero modes: {f:?}",
+            v.name
+        );
     }
 }

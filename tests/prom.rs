@@ -23,14 +23,20 @@ fn frequencies(s: &RunSummary) -> Vec<f64> {
 
 /// Full SOL 103 of the plate with these cards.
 fn full_modes(property: &str, modes: usize) -> Vec<f64> {
-    let deck = format!("SOL 103\nCEND\nSPC = 1\nMETHOD = 1\nBEGIN BULK\nPARAM,COUPMASS,1\nEIGRL,1,,,{modes}\n{}ENDDATA\n", plate(property));
+    let deck = format!(
+        "SOL 103\nCEND\nSPC = 1\nMETHOD = 1\nBEGIN BULK\nPARAM,COUPMASS,1\nEIGRL,1,,,{modes}\n{}ENDDATA\n",
+        plate(property)
+    );
     let (r, _dir) = run_deck(&deck);
     frequencies(&r.expect("full run"))
 }
 
 /// Build the plate's pROM; returns the directory holding its out.h5.
 fn build_plate_prom(property: &str, pmpar: &str, pmor: &str) -> tempfile::TempDir {
-    let build = format!("SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPARAM,COUPMASS,1\n{pmpar}{pmor}{}ENDDATA\n", plate(property));
+    let build = format!(
+        "SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPARAM,COUPMASS,1\n{pmpar}{pmor}{}ENDDATA\n",
+        plate(property)
+    );
     let (r, dir) = run_deck(&build);
     r.expect("SOL PROM");
     dir
@@ -39,7 +45,10 @@ fn build_plate_prom(property: &str, pmpar: &str, pmor: &str) -> tempfile::TempDi
 /// The modes of the pROM in `built` (from [`build_plate_prom`]) at `pval`.
 fn prom_modes(built: &tempfile::TempDir, pval: &str, modes: usize) -> (Vec<f64>, RunSummary) {
     let artifact = built.path().join("out.h5");
-    let deck = format!("SOL 103\nCEND\nROM = '{}'\nPVAL = 1\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,{modes}\n{pval}ENDDATA\n", artifact.display());
+    let deck = format!(
+        "SOL 103\nCEND\nROM = '{}'\nPVAL = 1\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,{modes}\n{pval}ENDDATA\n",
+        artifact.display()
+    );
     let (r, _dir) = run_deck(&deck);
     let summary = r.expect("pROM modal run");
     (frequencies(&summary), summary)
@@ -61,14 +70,29 @@ fn single_material_e_rho_prom_equals_the_full_model_everywhere() {
     for (e, rho, outside) in [(1.5e11, 9000.0, false), (4.0e11, 2000.0, true)] {
         let pval = format!("PVAL,1,E,{e:e},RHO,{rho:?}\n");
         let (reduced, summary) = prom_modes(&built, &pval, 6);
-        let full = full_modes(&STEEL.replace("{E}", &format!("{e:e}")).replace("{RHO}", &format!("{rho:?}")), 6);
+        let full = full_modes(
+            &STEEL
+                .replace("{E}", &format!("{e:e}"))
+                .replace("{RHO}", &format!("{rho:?}")),
+            6,
+        );
         assert_eq!(reduced.len(), 6);
         for (r, f) in reduced.iter().zip(&full) {
-            assert!((r - f).abs() <= 1e-8 * f, "E = {e}, ρ = {rho}: pROM {reduced:?} vs full {full:?}");
+            assert!(
+                (r - f).abs() <= 1e-8 * f,
+                "E = {e}, ρ = {rho}: pROM {reduced:?} vs full {full:?}"
+            );
         }
-        let warned = summary.warnings.iter().any(|w| w.contains("outside the box") && w.contains('E') && w.contains("RHO"));
+        let warned = summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("outside the box") && w.contains('E') && w.contains("RHO"));
         assert_eq!(warned, outside, "{:?}", summary.warnings);
-        assert!(!summary.warnings.iter().any(|w| w.contains("EIGRL ND")), "{:?}", summary.warnings);
+        assert!(
+            !summary.warnings.iter().any(|w| w.contains("EIGRL ND")),
+            "{:?}",
+            summary.warnings
+        );
     }
     // ND beyond the pROM's size returns every mode and says so
     let (all, summary) = prom_modes(&built, "PVAL,1,E,2.1e11\n", 500);
@@ -77,7 +101,14 @@ fn single_material_e_rho_prom_equals_the_full_model_everywhere() {
         other => panic!("not a pROM modal run: {other:?}"),
     };
     assert_eq!(all.len(), size);
-    assert!(summary.warnings.iter().any(|w| w.contains("EIGRL ND = 500") && w.contains(&format!("all {size} returned"))), "{:?}", summary.warnings);
+    assert!(
+        summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("EIGRL ND = 500") && w.contains(&format!("all {size} returned"))),
+        "{:?}",
+        summary.warnings
+    );
 }
 
 /// Fibre angle of an angle-ply laminate (thesis §3.6, Table 3.4 style: THETA over [0°, 90°]):
@@ -113,17 +144,26 @@ fn angle_ply_theta_prom_with(statics: &str, thetas: &[f64]) {
     for &theta in thetas {
         let (reduced, _) = prom_modes(&built, &format!("PVAL,1,TH,{theta:?}\n"), 4);
         let full = full_modes(&laminate(&format!("{theta:?}")), 4);
-        let errors: Vec<String> = reduced.iter().zip(&full).map(|(r, f)| format!("{:+.2e}", (r - f) / f)).collect();
+        let errors: Vec<String> = reduced
+            .iter()
+            .zip(&full)
+            .map(|(r, f)| format!("{:+.2e}", (r - f) / f))
+            .collect();
         println!("STATIC = {statics}, Θ = {theta}: pROM − full (relative) {errors:?}");
         for (r, f) in reduced.iter().zip(&full) {
-            assert!((r - f).abs() <= 5e-3 * f, "Θ = {theta}: pROM {reduced:?} vs full {full:?}");
+            assert!(
+                (r - f).abs() <= 5e-3 * f,
+                "Θ = {theta}: pROM {reduced:?} vs full {full:?}"
+            );
         }
     }
 }
 
 /// The [±Θ]s laminate of the angle-ply tests.
 fn laminate(theta: &str) -> String {
-    format!("MAT8,7,1.4e11,1.e10,.3,5.e9,5.e9,3.e9,1600.\nPCOMP,1\n,7,2.5e-4,{theta},,7,2.5e-4,-{theta}\n,7,2.5e-4,-{theta},,7,2.5e-4,{theta}\n")
+    format!(
+        "MAT8,7,1.4e11,1.e10,.3,5.e9,5.e9,3.e9,1600.\nPCOMP,1\n,7,2.5e-4,{theta},,7,2.5e-4,-{theta}\n,7,2.5e-4,-{theta},,7,2.5e-4,{theta}\n"
+    )
 }
 
 /// SOL PROM warns once when a parameter freezes the CQUAD4's condensation of its incompatible
@@ -137,24 +177,45 @@ fn laminate(theta: &str) -> String {
 fn frozen_quad_condensation_is_warned_about_once() {
     let warnings = |property: &str, pmpar: &str, param: &str| -> Vec<String> {
         let mesh = common::clamped_plate_mesh(4, 2, 0.3, 0.1);
-        let deck = format!("SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\n{param}{pmpar}PMOR,1,2,4,2000.\n{mesh}{property}ENDDATA\n");
+        let deck = format!(
+            "SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\n{param}{pmpar}PMOR,1,2,4,2000.\n{mesh}{property}ENDDATA\n"
+        );
         let (r, _dir) = run_deck(&deck);
-        r.expect("SOL PROM").warnings.into_iter().filter(|w| w.contains("QINCOMP")).collect()
+        r.expect("SOL PROM")
+            .warnings
+            .into_iter()
+            .filter(|w| w.contains("QINCOMP"))
+            .collect()
     };
     let theta = "PMPAR,1,TH,THETA,1,0.,90.\n";
     let warned = warnings(&laminate("20."), theta, "");
     assert_eq!(warned.len(), 1, "{warned:?}");
-    assert!(warned[0].contains("PMPAR TH ") && warned[0].contains("PARAM,QINCOMP,NO"), "{}", warned[0]);
+    assert!(
+        warned[0].contains("PMPAR TH ") && warned[0].contains("PARAM,QINCOMP,NO"),
+        "{}",
+        warned[0]
+    );
     assert!(warnings(&laminate("20."), theta, "PARAM,QINCOMP,NO\n").is_empty());
     let steel = STEEL.replace("{E}", "2.1e11").replace("{RHO}", "7850.");
     assert!(warnings(&steel, "PMPAR,1,E,E,1,1.e11,3.e11\n", "").is_empty());
-    let warned = warnings(&steel, "PMPAR,1,E,E,1,1.e11,3.e11\nPMPAR,2,NU,NU,1,0.2,0.4\n", "");
-    assert!(warned.len() == 1 && warned[0].contains("PMPAR E, NU "), "{warned:?}");
+    let warned = warnings(
+        &steel,
+        "PMPAR,1,E,E,1,1.e11,3.e11\nPMPAR,2,NU,NU,1,0.2,0.4\n",
+        "",
+    );
+    assert!(
+        warned.len() == 1 && warned[0].contains("PMPAR E, NU "),
+        "{warned:?}"
+    );
     let tply = "PMPAR,1,H,TPLY,1,1.e-4,1.e-3\n";
     assert!(warnings(&laminate("20."), tply, "").is_empty());
-    let unsymmetric = "MAT8,7,1.4e11,1.e10,.3,5.e9,5.e9,3.e9,1600.\nPCOMP,1\n,7,2.5e-4,20.,,7,2.5e-4,-20.\n";
+    let unsymmetric =
+        "MAT8,7,1.4e11,1.e10,.3,5.e9,5.e9,3.e9,1600.\nPCOMP,1\n,7,2.5e-4,20.,,7,2.5e-4,-20.\n";
     let warned = warnings(unsymmetric, tply, "");
-    assert!(warned.len() == 1 && warned[0].contains("PMPAR H "), "{warned:?}");
+    assert!(
+        warned.len() == 1 && warned[0].contains("PMPAR H "),
+        "{warned:?}"
+    );
 }
 
 /// A PVAL naming a parameter the artifact does not have is an error that lists the ones it has;
@@ -162,20 +223,35 @@ fn frozen_quad_condensation_is_warned_about_once() {
 #[test]
 fn pval_with_an_unknown_name_lists_the_parameters() {
     let nominal = STEEL.replace("{E}", "2.1e11").replace("{RHO}", "7850.");
-    let build = format!("SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPMPAR,1,E,E,1,1.e11,3.e11\nPMOR,1,2,4,2000.\n{}ENDDATA\n", plate(&nominal));
+    let build = format!(
+        "SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPMPAR,1,E,E,1,1.e11,3.e11\nPMOR,1,2,4,2000.\n{}ENDDATA\n",
+        plate(&nominal)
+    );
     let (r, dir) = run_deck(&build);
     r.expect("SOL PROM");
-    let deck = format!("SOL 103\nCEND\nROM = '{}'\nPVAL = 1\nBEGIN BULK\nPVAL,1,EE,2.e11\nENDDATA\n", dir.path().join("out.h5").display());
+    let deck = format!(
+        "SOL 103\nCEND\nROM = '{}'\nPVAL = 1\nBEGIN BULK\nPVAL,1,EE,2.e11\nENDDATA\n",
+        dir.path().join("out.h5").display()
+    );
     let (r, _d) = run_deck(&deck);
     let message = r.expect_err("unknown parameter").to_string();
-    assert!(message.contains("EE") && message.contains("parameters: E"), "{message}");
+    assert!(
+        message.contains("EE") && message.contains("parameters: E"),
+        "{message}"
+    );
     // a negative modulus (an extrapolation past E = 0) makes K indefinite: refused, naming the
     // point, instead of reporting modes with negative λ as 0 Hz (the same check in SOL 111 and
     // SOL 112 on a pROM: they share this evaluation)
-    let deck = format!("SOL 103\nCEND\nROM = '{}'\nPVAL = 1\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,3\nPVAL,1,E,-1.e11\nENDDATA\n", dir.path().join("out.h5").display());
+    let deck = format!(
+        "SOL 103\nCEND\nROM = '{}'\nPVAL = 1\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,3\nPVAL,1,E,-1.e11\nENDDATA\n",
+        dir.path().join("out.h5").display()
+    );
     let (r, _d) = run_deck(&deck);
     let message = r.expect_err("negative E").to_string();
-    assert!(message.contains("E = -1e11") && message.contains("stiffness matrix is indefinite"), "{message}");
+    assert!(
+        message.contains("E = -1e11") && message.contains("stiffness matrix is indefinite"),
+        "{message}"
+    );
 }
 
 /// `paraflex info` (io::describe) lists an artifact's parameters with their boxes and nominal
@@ -183,7 +259,10 @@ fn pval_with_an_unknown_name_lists_the_parameters() {
 #[test]
 fn artifact_is_described_with_parameters_and_inputs() {
     let nominal = STEEL.replace("{E}", "2.1e11").replace("{RHO}", "7850.");
-    let build = format!("SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPMPAR,1,E,E,1,1.e11,3.e11\nPMOR,1,2,4,2000.\n,1\n{}ENDDATA\n", plate(&nominal));
+    let build = format!(
+        "SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPMPAR,1,E,E,1,1.e11,3.e11\nPMOR,1,2,4,2000.\n,1\n{}ENDDATA\n",
+        plate(&nominal)
+    );
     let (r, dir) = run_deck(&build);
     r.expect("SOL PROM");
     let summary = paraflex::io::describe(dir.path().join("out.h5")).expect("describe");
@@ -193,9 +272,17 @@ fn artifact_is_described_with_parameters_and_inputs() {
     assert_eq!(prom.nominal, vec![2.1e11]);
     assert_eq!(prom.inputs, vec!["13:3", "39:3", "65:3"]);
     // RIGID = KEEP (default): no multibody body, no /prom/mass
-    assert!(paraflex::io::read_prom_masses(dir.path().join("out.h5")).expect("read").is_none());
+    assert!(
+        paraflex::io::read_prom_masses(dir.path().join("out.h5"))
+            .expect("read")
+            .is_none()
+    );
     let text = summary.to_string();
-    assert!(text.contains("param     E in [1e11, 3e11], nominal 2.1e11") && text.contains("inputs    3"), "{text}");
+    assert!(
+        text.contains("param     E in [1e11, 3e11], nominal 2.1e11")
+            && text.contains("inputs    3"),
+        "{text}"
+    );
 }
 
 /// The blade scene's pROM (decks/blade/blade_prom_e_rho.dat: E and ρ ± 40 %, thesis Table 3.1
@@ -209,12 +296,19 @@ fn blade_e_rho_prom_matches_the_full_model_inside_the_box() {
     let (r, _model, dir) = common::run_deck_file(&root.join("decks/blade/blade_prom_e_rho.dat"));
     r.expect("blade SOL PROM");
     let artifact = dir.path().join("out.h5");
-    let bolts = std::fs::read_to_string(root.join("decks/blade/blade_ti_bolts.bdf")).expect("bolts");
+    let bolts =
+        std::fs::read_to_string(root.join("decks/blade/blade_ti_bolts.bdf")).expect("bolts");
     for (e, rho) in [(1.0e11, 5500.0), (1.5e11, 3500.0)] {
-        let rom = format!("SOL 103\nCEND\nROM = '{}'\nPVAL = 1\nMETHOD = 1\nBEGIN BULK\nPVAL,1,E,{e:e},RHO,{rho:?}\nEIGRL,1,0.,500.\nENDDATA\n", artifact.display());
+        let rom = format!(
+            "SOL 103\nCEND\nROM = '{}'\nPVAL = 1\nMETHOD = 1\nBEGIN BULK\nPVAL,1,E,{e:e},RHO,{rho:?}\nEIGRL,1,0.,500.\nENDDATA\n",
+            artifact.display()
+        );
         let (r, _d) = run_deck(&rom);
         let reduced = frequencies(&r.expect("pROM modes"));
-        let material = bolts.replace("MAT1,1,116.04E9,,0.34,4873.", &format!("MAT1,1,{e:e},,0.34,{rho:?}"));
+        let material = bolts.replace(
+            "MAT1,1,116.04E9,,0.34,4873.",
+            &format!("MAT1,1,{e:e},,0.34,{rho:?}"),
+        );
         assert_ne!(material, bolts, "MAT1 line not found");
         let mesh = root.join("meshes/blade");
         let full = format!(
@@ -224,9 +318,20 @@ fn blade_e_rho_prom_matches_the_full_model_inside_the_box() {
         );
         let (r, _d) = run_deck(&full);
         let full = frequencies(&r.expect("full modes"));
-        assert_eq!(reduced.len(), full.len(), "E = {e}, ρ = {rho}: {reduced:?} vs {full:?}");
-        let worst = reduced.iter().zip(&full).map(|(a, b)| ((a - b) / b).abs()).fold(0.0, f64::max);
-        println!("blade pROM at E = {e:e}, ρ = {rho}: max relative frequency error {worst:.1e} over {} modes", full.len());
+        assert_eq!(
+            reduced.len(),
+            full.len(),
+            "E = {e}, ρ = {rho}: {reduced:?} vs {full:?}"
+        );
+        let worst = reduced
+            .iter()
+            .zip(&full)
+            .map(|(a, b)| ((a - b) / b).abs())
+            .fold(0.0, f64::max);
+        println!(
+            "blade pROM at E = {e:e}, ρ = {rho}: max relative frequency error {worst:.1e} over {} modes",
+            full.len()
+        );
         assert!(worst <= 1e-3, "{reduced:?} vs {full:?}");
     }
 }
@@ -243,7 +348,9 @@ fn prom_frf_equals_the_analytic_two_dof_receptance() {
          CONM2,11,1,,{m1:?}\nCONM2,12,2,,{m2:?}\nASET1,1,1,2\nPARAM,ALPHA1,{alpha:?}\nPARAM,BETA1,{beta:e}\n\
          SENSOR,1,A2,ACCEL,2,,2.,0.,0.\nSENSOR,2,D2,DISP,2,,-1.,0.,0.\n"
     );
-    let build = format!("SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPMPAR,1,K1,K,10,5.e3,2.e4\nPMOR,1,2,2,100.\n,1\n{bulk}ENDDATA\n");
+    let build = format!(
+        "SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPMPAR,1,K1,K,10,5.e3,2.e4\nPMOR,1,2,2,100.\n,1\n{bulk}ENDDATA\n"
+    );
     let (r, dir) = run_deck(&build);
     r.expect("SOL PROM");
     let k1 = 2.5e4;
@@ -253,13 +360,26 @@ fn prom_frf_equals_the_analytic_two_dof_receptance() {
     );
     let (r, out) = run_deck(&frf);
     let s = r.expect("pROM FRF");
-    assert!(s.warnings.iter().any(|w| w.contains("K1") && w.contains("outside the box")), "{:?}", s.warnings);
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| w.contains("K1") && w.contains("outside the box")),
+        "{:?}",
+        s.warnings
+    );
     let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
     let g = file.group("results/1/frf").expect("frf group");
     let hz: Vec<f64> = g.dataset("frequency_hz").unwrap().read_raw().unwrap();
     let h: Vec<faer::c64> = g.dataset("H").unwrap().read_raw().unwrap();
     // outputs: 1:1, 2:1 (the inputs), then A2 (acceleration along +x), D2 (displacement along −x)
-    let outputs: Vec<String> = g.dataset("outputs").unwrap().read_raw::<hdf5_metno::types::VarLenUnicode>().unwrap().iter().map(|s| s.to_string()).collect();
+    let outputs: Vec<String> = g
+        .dataset("outputs")
+        .unwrap()
+        .read_raw::<hdf5_metno::types::VarLenUnicode>()
+        .unwrap()
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
     assert_eq!(outputs, ["1:1", "2:1", "A2", "D2"]);
     assert_eq!(h.len(), hz.len() * 8);
     let c = |re: f64, im: f64| faer::c64::new(re, im);
@@ -280,7 +400,10 @@ fn prom_frf_equals_the_analytic_two_dof_receptance() {
             worst = worst.max((got - want).norm());
         }
     }
-    assert!(worst <= 1e-10 * max_h, "max |H − exact| = {worst:e}, max |H| = {max_h:e}");
+    assert!(
+        worst <= 1e-10 * max_h,
+        "max |H − exact| = {worst:e}, max |H| = {max_h:e}"
+    );
 }
 
 /// Transient response of a pROM (`SOL 112` with `ROM =`) against the analytic step response
@@ -291,7 +414,10 @@ fn prom_frf_equals_the_analytic_two_dof_receptance() {
 #[test]
 fn prom_transient_equals_the_analytic_two_dof_step_response() {
     let chain = common::TwoDofChain::reference();
-    let build = format!("SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPMPAR,1,K1,K,10,5.e3,5.e4\nPMOR,1,2,2,100.\n,1\n{}ENDDATA\n", chain.bulk());
+    let build = format!(
+        "SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPMPAR,1,K1,K,10,5.e3,5.e4\nPMOR,1,2,2,100.\n,1\n{}ENDDATA\n",
+        chain.bulk()
+    );
     let (r, dir) = run_deck(&build);
     r.expect("SOL PROM");
     let exact = |t: f64| chain.response(t, [0.0; 2], [0.0; 2], 1.0);
@@ -302,9 +428,21 @@ fn prom_transient_equals_the_analytic_two_dof_step_response() {
     let tablef = format!("TABLEF,9,'{}',time,force\n", csv.display());
     let mut galpha_u: Option<Vec<f64>> = None;
     for (tinteg, table, what) in [
-        ("TINTEG,1,GALPHA,1.\n", "TABLED1,9\n,0.,1.,10.,1.,ENDT\n".to_string(), "generalized-α ρ∞ = 1"),
-        ("TINTEG,1,BDF2\n", "TABLED1,9\n,0.,1.,10.,1.,ENDT\n".to_string(), "BDF2"),
-        ("TINTEG,1,GALPHA,1.\n", tablef, "generalized-α ρ∞ = 1, TABLEF"),
+        (
+            "TINTEG,1,GALPHA,1.\n",
+            "TABLED1,9\n,0.,1.,10.,1.,ENDT\n".to_string(),
+            "generalized-α ρ∞ = 1",
+        ),
+        (
+            "TINTEG,1,BDF2\n",
+            "TABLED1,9\n,0.,1.,10.,1.,ENDT\n".to_string(),
+            "BDF2",
+        ),
+        (
+            "TINTEG,1,GALPHA,1.\n",
+            tablef,
+            "generalized-α ρ∞ = 1, TABLEF",
+        ),
     ] {
         let deck = format!(
             "SOL 112\nCEND\nROM = '{}'\nTSTEP = 1\nDLOAD = 7\nBEGIN BULK\nTSTEP,1,4000,5.e-5,10\n{tinteg}TLOAD1,7,8,,,9\nDAREA,8,2,1,1.\n{table}ENDDATA\n",
@@ -316,9 +454,21 @@ fn prom_transient_equals_the_analytic_two_dof_step_response() {
         let g = file.group("results/1/transient").expect("transient group");
         let time: Vec<f64> = g.dataset("time").unwrap().read_raw().unwrap();
         let u: Vec<f64> = g.dataset("displacement").unwrap().read_raw().unwrap();
-        assert_eq!(time.len(), 401, "{what}: 4000 steps, output every 10, plus t = 0");
+        assert_eq!(
+            time.len(),
+            401,
+            "{what}: 4000 steps, output every 10, plus t = 0"
+        );
         let peak = time.iter().map(|&t| exact(t)[1].abs()).fold(0.0, f64::max);
-        let worst = time.iter().enumerate().map(|(i, &t)| (0..2).map(|d| (u[2 * i + d] - exact(t)[d]).abs()).fold(0.0, f64::max)).fold(0.0, f64::max);
+        let worst = time
+            .iter()
+            .enumerate()
+            .map(|(i, &t)| {
+                (0..2)
+                    .map(|d| (u[2 * i + d] - exact(t)[d]).abs())
+                    .fold(0.0, f64::max)
+            })
+            .fold(0.0, f64::max);
         println!("{what}: max |u − exact| = {worst:.2e}, peak {peak:.3e}");
         match (&galpha_u, tinteg.contains("GALPHA")) {
             (None, true) => galpha_u = Some(u.clone()),
@@ -327,21 +477,44 @@ fn prom_transient_equals_the_analytic_two_dof_step_response() {
         }
         // SENSOR D2 (DISP along −x at grid 2) is −u of DOF 2:1; A2 (ACCEL along +x) is the
         // acceleration output of 2:1 — the same numbers, to the last bit
-        let sensor = |name: &str| -> Vec<f64> { g.dataset(&format!("sensors/{name}")).unwrap().read_raw().unwrap() };
+        let sensor = |name: &str| -> Vec<f64> {
+            g.dataset(&format!("sensors/{name}"))
+                .unwrap()
+                .read_raw()
+                .unwrap()
+        };
         let a: Vec<f64> = g.dataset("acceleration").unwrap().read_raw().unwrap();
         let (d2, a2) = (sensor("D2"), sensor("A2"));
         for i in 0..time.len() {
-            assert!((d2[i] + u[2 * i + 1]).abs() <= 1e-15 * peak && (a2[i] - a[2 * i + 1]).abs() <= 1e-12 * a[2 * i + 1].abs().max(1.0), "{what}: sensor rows at step {i}");
+            assert!(
+                (d2[i] + u[2 * i + 1]).abs() <= 1e-15 * peak
+                    && (a2[i] - a[2 * i + 1]).abs() <= 1e-12 * a[2 * i + 1].abs().max(1.0),
+                "{what}: sensor rows at step {i}"
+            );
         }
-        assert!(worst <= 2e-3 * peak, "{what}: max error {worst:e} vs peak {peak:e}");
+        assert!(
+            worst <= 2e-3 * peak,
+            "{what}: max error {worst:e} vs peak {peak:e}"
+        );
     }
 }
 
 /// The aluminium / steel [`two_material_plate`] with the PMPAR cards `pmpar`: its parameters,
 /// affine K and M, and `count` Latin-hypercube samples of the parameter box (`seed`).
-fn two_material_samples(pmpar: &str, count: usize, seed: u64) -> (paraflex::sequence::parameters::Parameters, paraflex::assembly::AffineOperator, paraflex::assembly::AffineOperator, Vec<Vec<f64>>) {
-    let property = "PSHELL,1,1,0.002\nPSHELL,2,2,0.002\nMAT1,1,7.e10,,0.33,2700.\nMAT1,2,2.1e11,,0.3,7850.\n";
-    let (params, k, m) = common::affine_operators(&format!("{}{pmpar}", two_material_plate(property)));
+fn two_material_samples(
+    pmpar: &str,
+    count: usize,
+    seed: u64,
+) -> (
+    paraflex::sequence::parameters::Parameters,
+    paraflex::assembly::AffineOperator,
+    paraflex::assembly::AffineOperator,
+    Vec<Vec<f64>>,
+) {
+    let property =
+        "PSHELL,1,1,0.002\nPSHELL,2,2,0.002\nMAT1,1,7.e10,,0.33,2700.\nMAT1,2,2.1e11,,0.3,7850.\n";
+    let (params, k, m) =
+        common::affine_operators(&format!("{}{pmpar}", two_material_plate(property)));
     let low: Vec<f64> = params.list.iter().map(|p| p.low).collect();
     let high: Vec<f64> = params.list.iter().map(|p| p.high).collect();
     let samples = paraflex::rom::basis::latin_hypercube(count, &low, &high, seed);
@@ -375,17 +548,27 @@ fn two_material_plate(property: &str) -> String {
 fn affine_nodal_masses_equal_the_lumped_masses_at_any_parameters() {
     let (nx, ny, h, t) = (12usize, 4usize, 0.025, 0.002);
     let tip = 1 + nx + (nx + 1) * 2;
-    let property = format!("PSHELL,1,1,{t:?}\nPSHELL,2,2,{t:?}\nMAT1,1,7.e10,,0.33,2000.\nMAT1,2,7.e10,,0.33,2700.\nCONM2,100,{tip},,0.05\n");
+    let property = format!(
+        "PSHELL,1,1,{t:?}\nPSHELL,2,2,{t:?}\nMAT1,1,7.e10,,0.33,2000.\nMAT1,2,7.e10,,0.33,2700.\nCONM2,100,{tip},,0.05\n"
+    );
     let mesh = two_material_plate(&property);
     let pmpar = "PMPAR,1,RHO1,RHO,1,1500.,2500.\nPMPAR,2,MC,MASS,100,0.02,0.08\n";
-    let build = format!("SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\n{pmpar}PMOR,1,2,4,500.,1.e-3,2\n,,,REMOVE,20\n{mesh}ENDDATA\n");
+    let build = format!(
+        "SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\n{pmpar}PMOR,1,2,4,500.,1.e-3,2\n,,,REMOVE,20\n{mesh}ENDDATA\n"
+    );
     let (r, dir) = run_deck(&build);
     r.expect("SOL PROM");
     let artifact = dir.path().join("out.h5");
     let (prom, _) = paraflex::io::read_prom(&artifact).expect("pROM");
-    let (grids, masses) = paraflex::io::read_prom_masses(&artifact).expect("read").expect("/prom/mass with RIGID = REMOVE");
+    let (grids, masses) = paraflex::io::read_prom_masses(&artifact)
+        .expect("read")
+        .expect("/prom/mass with RIGID = REMOVE");
     for (rho1, mc) in [(1733.0, 0.031), (2461.5, 0.077), (3100.0, 0.01)] {
-        let f: Vec<f64> = prom.functions.iter().map(|g| g.value(&[rho1, mc])).collect();
+        let f: Vec<f64> = prom
+            .functions
+            .iter()
+            .map(|g| g.value(&[rho1, mc]))
+            .collect();
         let at = |values: &[f64]| -> f64 { values.iter().zip(&f).map(|(v, w)| v * w).sum() };
         // by hand
         let mut want = vec![0.0; grids.len()];
@@ -393,34 +576,57 @@ fn affine_nodal_masses_equal_the_lumped_masses_at_any_parameters() {
         for j in 0..ny {
             for i in 0..nx {
                 let rho = if i >= nx / 2 { 2700.0 } else { rho1 };
-                for g in [index(i, j), index(i + 1, j), index(i + 1, j + 1), index(i, j + 1)] {
+                for g in [
+                    index(i, j),
+                    index(i + 1, j),
+                    index(i + 1, j + 1),
+                    index(i, j + 1),
+                ] {
                     want[g] += rho * t * h * h / 4.0;
                 }
             }
         }
         want[tip - 1] += mc;
         assert_eq!(grids, (1..=want.len() as u32).collect::<Vec<_>>());
-        let got: Vec<f64> = (0..grids.len()).map(|g| at(&masses.nodal.iter().map(|m| m[g]).collect::<Vec<_>>())).collect();
+        let got: Vec<f64> = (0..grids.len())
+            .map(|g| at(&masses.nodal.iter().map(|m| m[g]).collect::<Vec<_>>()))
+            .collect();
         let scale = want.iter().copied().fold(0.0, f64::max);
         for (g, (a, b)) in got.iter().zip(&want).enumerate() {
-            assert!((a - b).abs() <= 1e-12 * scale, "ρ₁ = {rho1}, m_c = {mc}, grid {}: {a} vs {b}", g + 1);
+            assert!(
+                (a - b).abs() <= 1e-12 * scale,
+                "ρ₁ = {rho1}, m_c = {mc}, grid {}: {a} vs {b}",
+                g + 1
+            );
         }
         let total = (rho1 + 2700.0) * t * (nx as f64 * h / 2.0) * (ny as f64 * h) + mc;
         assert!((at(&masses.total()) - total).abs() <= 1e-12 * total);
         let half = nx as f64 * h / 2.0;
-        let cx = (rho1 * t * half * 0.1 * half / 2.0 + 2700.0 * t * half * 0.1 * 1.5 * half + mc * 0.3) / total;
+        let cx =
+            (rho1 * t * half * 0.1 * half / 2.0 + 2700.0 * t * half * 0.1 * 1.5 * half + mc * 0.3)
+                / total;
         let cy = 0.05;
         let moment = masses.first_moment();
-        let centre: Vec<f64> = (0..3).map(|i| at(&moment.iter().map(|m| m[i]).collect::<Vec<_>>()) / at(&masses.total())).collect();
+        let centre: Vec<f64> = (0..3)
+            .map(|i| at(&moment.iter().map(|m| m[i]).collect::<Vec<_>>()) / at(&masses.total()))
+            .collect();
         for (c, w) in centre.iter().zip([cx, cy, 0.0]) {
-            assert!((c - w).abs() <= 1e-12 * 0.3, "centre {centre:?} vs ({cx}, {cy}, 0)");
+            assert!(
+                (c - w).abs() <= 1e-12 * 0.3,
+                "centre {centre:?} vs ({cx}, {cy}, 0)"
+            );
         }
     }
 }
 
 /// Matrix Market (general coordinate, every stored entry, shortest round-trip values).
 fn write_matrix_market(path: &std::path::Path, a: &nalgebra_sparse::CscMatrix<f64>) {
-    let mut text = format!("%%MatrixMarket matrix coordinate real general\n{} {} {}\n", a.nrows(), a.ncols(), a.nnz());
+    let mut text = format!(
+        "%%MatrixMarket matrix coordinate real general\n{} {} {}\n",
+        a.nrows(),
+        a.ncols(),
+        a.nnz()
+    );
     for (i, j, v) in a.triplet_iter() {
         text += &format!("{} {} {v:e}\n", i + 1, j + 1);
     }
@@ -441,53 +647,140 @@ fn write_matrix_market(path: &std::path::Path, a: &nalgebra_sparse::CscMatrix<f6
 /// the CLI (exit code 2).
 #[test]
 fn least_squares_components_of_exported_samples_equal_the_assembled_ones() {
-    let (params, k, m, samples) = two_material_samples("PMPAR,1,E1,E,1,5.e10,9.e10\nPMPAR,2,RHO1,RHO,1,2000.,3400.\nPMPAR,3,E2,E,2,1.5e11,2.7e11\n", 7, 3);
+    let (params, k, m, samples) = two_material_samples(
+        "PMPAR,1,E1,E,1,5.e10,9.e10\nPMPAR,2,RHO1,RHO,1,2000.,3400.\nPMPAR,3,E2,E,2,1.5e11,2.7e11\n",
+        7,
+        3,
+    );
     let high: Vec<f64> = params.list.iter().map(|p| p.high).collect();
     let dir = tempfile::tempdir().expect("temp dir");
     let mut manifest = String::from("# two-material plate, E1 RHO1 E2\nK, M, 1, E1, RHO1, E2\n");
-    let at = |op: &paraflex::assembly::AffineOperator, p: &[f64]| op.evaluate(&params.weights(op, p)).expect("evaluate");
+    let at = |op: &paraflex::assembly::AffineOperator, p: &[f64]| {
+        op.evaluate(&params.weights(op, p)).expect("evaluate")
+    };
     for (h, p) in samples.iter().enumerate() {
         write_matrix_market(&dir.path().join(format!("k{h}.mtx")), &at(&k, p));
         write_matrix_market(&dir.path().join(format!("m{h}.mtx")), &at(&m, p));
-        manifest += &format!("k{h}.mtx, m{h}.mtx, 1, {:e}, {:e}, {:e}\n", p[0], p[1], p[2]);
+        manifest += &format!(
+            "k{h}.mtx, m{h}.mtx, 1, {:e}, {:e}, {:e}\n",
+            p[0], p[1], p[2]
+        );
     }
     let path = dir.path().join("samples.csv");
     std::fs::write(&path, &manifest).expect("manifest");
     let (read, fit) = paraflex::io::prom_lsq::fit_samples(&path).expect("fit");
     assert_eq!(read.functions, vec!["1", "E1", "RHO1", "E2"]);
-    assert!(fit.residual_stiffness < 1e-14 && fit.residual_mass < 1e-14, "{} {}", fit.residual_stiffness, fit.residual_mass);
+    assert!(
+        fit.residual_stiffness < 1e-14 && fit.residual_mass < 1e-14,
+        "{} {}",
+        fit.residual_stiffness,
+        fit.residual_mass
+    );
     for (what, op, parts) in [("K", &k, &fit.stiffness), ("M", &m, &fit.mass)] {
         let zero = at(op, &[0.0; 3]);
-        let largest = samples.iter().map(|p| at(op, p).values().iter().fold(0.0_f64, |a, v| a.max(v.abs()))).fold(0.0, f64::max);
+        let largest = samples
+            .iter()
+            .map(|p| {
+                at(op, p)
+                    .values()
+                    .iter()
+                    .fold(0.0_f64, |a, v| a.max(v.abs()))
+            })
+            .fold(0.0, f64::max);
         for (i, part) in parts.iter().enumerate() {
-            assert_eq!(part.pattern(), zero.pattern(), "{what}: the union of the sample patterns is the assembled pattern");
+            assert_eq!(
+                part.pattern(),
+                zero.pattern(),
+                "{what}: the union of the sample patterns is the assembled pattern"
+            );
             let direct: Vec<f64> = if i == 0 {
                 zero.values().to_vec()
             } else {
-                let corner: Vec<f64> = (0..3).map(|j| if j == i - 1 { high[j] } else { 0.0 }).collect();
-                at(op, &corner).values().iter().zip(zero.values()).map(|(a, b)| (a - b) / high[i - 1]).collect()
+                let corner: Vec<f64> = (0..3)
+                    .map(|j| if j == i - 1 { high[j] } else { 0.0 })
+                    .collect();
+                at(op, &corner)
+                    .values()
+                    .iter()
+                    .zip(zero.values())
+                    .map(|(a, b)| (a - b) / high[i - 1])
+                    .collect()
             };
             let f_max = if i == 0 { 1.0 } else { high[i - 1] };
-            let worst = part.values().iter().zip(&direct).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) * f_max;
-            println!("{what}^{}: max |lsq − direct| · f = {:.1e} of the largest entry", read.functions[i], worst / largest);
-            assert!(worst <= 1e-13 * largest, "{what}^{}: {worst:e} vs {largest:e}", read.functions[i]);
+            let worst = part
+                .values()
+                .iter()
+                .zip(&direct)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max)
+                * f_max;
+            println!(
+                "{what}^{}: max |lsq − direct| · f = {:.1e} of the largest entry",
+                read.functions[i],
+                worst / largest
+            );
+            assert!(
+                worst <= 1e-13 * largest,
+                "{what}^{}: {worst:e} vs {largest:e}",
+                read.functions[i]
+            );
         }
     }
     // too few samples (3 for 4 functions) and a dependent function column (2·E1)
     let rows: Vec<&str> = manifest.lines().collect();
     let too_few = dir.path().join("too_few.csv");
     std::fs::write(&too_few, rows[..5].join("\n")).expect("write");
-    let message = paraflex::io::prom_lsq::fit_samples(&too_few).expect_err("3 samples").to_string();
-    assert!(message.contains("3 sampled matrices for 4 affine functions"), "{message}");
+    let message = paraflex::io::prom_lsq::fit_samples(&too_few)
+        .expect_err("3 samples")
+        .to_string();
+    assert!(
+        message.contains("3 sampled matrices for 4 affine functions"),
+        "{message}"
+    );
     let dependent = dir.path().join("dependent.csv");
-    let doubled: Vec<String> = samples.iter().enumerate().map(|(h, p)| format!("k{h}.mtx, m{h}.mtx, 1, {:e}, {:e}, {:e}, {:e}", p[0], p[1], p[2], 2.0 * p[0])).collect();
-    std::fs::write(&dependent, format!("K, M, 1, E1, RHO1, E2, TWICE_E1\n{}\n", doubled.join("\n"))).expect("write");
-    let message = paraflex::io::prom_lsq::fit_samples(&dependent).expect_err("dependent").to_string();
-    assert!(message.contains("linearly dependent") && message.contains("E1") && message.contains("TWICE_E1"), "{message}");
+    let doubled: Vec<String> = samples
+        .iter()
+        .enumerate()
+        .map(|(h, p)| {
+            format!(
+                "k{h}.mtx, m{h}.mtx, 1, {:e}, {:e}, {:e}, {:e}",
+                p[0],
+                p[1],
+                p[2],
+                2.0 * p[0]
+            )
+        })
+        .collect();
+    std::fs::write(
+        &dependent,
+        format!("K, M, 1, E1, RHO1, E2, TWICE_E1\n{}\n", doubled.join("\n")),
+    )
+    .expect("write");
+    let message = paraflex::io::prom_lsq::fit_samples(&dependent)
+        .expect_err("dependent")
+        .to_string();
+    assert!(
+        message.contains("linearly dependent")
+            && message.contains("E1")
+            && message.contains("TWICE_E1"),
+        "{message}"
+    );
     // the CLI
-    let cli = |manifest: &std::path::Path| std::process::Command::new(env!("CARGO_BIN_EXE_paraflex")).arg("prom-lsq").arg(manifest).arg("-o").arg(dir.path().join("parts.h5")).output().expect("run paraflex");
+    let cli = |manifest: &std::path::Path| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_paraflex"))
+            .arg("prom-lsq")
+            .arg(manifest)
+            .arg("-o")
+            .arg(dir.path().join("parts.h5"))
+            .output()
+            .expect("run paraflex")
+    };
     let ok = cli(&path);
-    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
     assert!(String::from_utf8_lossy(&ok.stdout).contains("functions 1, E1, RHO1, E2"));
     let refused = cli(&dependent);
     assert_eq!(refused.status.code(), Some(2));
@@ -505,7 +798,10 @@ const STRAIN_SENSORS: &str = "SENSOR,1,R_TOP,STRAIN,1,TOP,1.,0.,0.\nSENSOR,2,M_B
 /// attachment modes and the basis holds K⁻¹S exactly at any E.
 fn strain_prom(extra: &str) -> tempfile::TempDir {
     let nominal = STEEL.replace("{E}", "2.1e11").replace("{RHO}", "7850.");
-    let build = format!("SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPMPAR,1,E,E,1,1.e11,3.e11\nPMOR,1,2,4,2000.,1.e-12,,1.\n,1\n{STRAIN_SENSORS}{extra}{}ENDDATA\n", plate(&nominal));
+    let build = format!(
+        "SOL PROM\nCEND\nSPC = 1\nPROM = 1\nBEGIN BULK\nPMPAR,1,E,E,1,1.e11,3.e11\nPMOR,1,2,4,2000.,1.e-12,,1.\n,1\n{STRAIN_SENSORS}{extra}{}ENDDATA\n",
+        plate(&nominal)
+    );
     let (r, dir) = run_deck(&build);
     r.expect("SOL PROM");
     dir
@@ -516,22 +812,33 @@ fn strain_prom(extra: &str) -> tempfile::TempDir {
 /// ϑ₁ϑ₂γxy in the material axes, here basic x, y; MID = the mean of the two fibres).
 fn full_static_gauges() -> [f64; 3] {
     let nominal = STEEL.replace("{E}", "2.1e11").replace("{RHO}", "7850.");
-    let full = format!("SOL 101\nCEND\nSPC = 1\nLOAD = 2\nSTRAIN = ALL\nBEGIN BULK\nFORCE,2,39,0,1.,0.,0.,1.\n{}ENDDATA\n", plate(&nominal));
+    let full = format!(
+        "SOL 101\nCEND\nSPC = 1\nLOAD = 2\nSTRAIN = ALL\nBEGIN BULK\nFORCE,2,39,0,1.,0.,0.,1.\n{}ENDDATA\n",
+        plate(&nominal)
+    );
     let (r, out) = run_deck(&full);
     r.expect("SOL 101");
     let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
-    let s = file.group("results/1/statics/strain/CQUAD4").expect("strain");
+    let s = file
+        .group("results/1/statics/strain/CQUAD4")
+        .expect("strain");
     let ids: Vec<u32> = s.dataset("ids").unwrap().read_raw().unwrap();
     let top: Vec<f64> = s.dataset("top").unwrap().read_raw().unwrap();
     let bottom: Vec<f64> = s.dataset("bottom").unwrap().read_raw().unwrap();
-    let at = |surface: &[f64], eid: u32| -> [f64; 3] { std::array::from_fn(|i| surface[3 * ids.iter().position(|&e| e == eid).unwrap() + i]) };
+    let at = |surface: &[f64], eid: u32| -> [f64; 3] {
+        std::array::from_fn(|i| surface[3 * ids.iter().position(|&e| e == eid).unwrap() + i])
+    };
     let gauge = |e: [f64; 3], d: [f64; 2]| {
         let n = (d[0] * d[0] + d[1] * d[1]).sqrt();
         let (a, b) = (d[0] / n, d[1] / n);
         a * a * e[0] + b * b * e[1] + a * b * e[2]
     };
     let mid: [f64; 3] = std::array::from_fn(|i| 0.5 * (at(&top, 30)[i] + at(&bottom, 30)[i]));
-    [gauge(at(&top, 1), [1.0, 0.0]), gauge(at(&bottom, 30), [1.0, 0.5]), gauge(mid, [0.0, 1.0])]
+    [
+        gauge(at(&top, 1), [1.0, 0.0]),
+        gauge(at(&bottom, 30), [1.0, 0.5]),
+        gauge(mid, [0.0, 1.0]),
+    ]
 }
 
 /// `got` against `want` within `rel` of the largest |want|.
@@ -539,7 +846,10 @@ fn assert_gauges(what: &str, got: &[f64], want: &[f64; 3], rel: f64) {
     let scale = want.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
     for ((name, g), w) in ["R_TOP", "M_BOT", "M_MID"].iter().zip(got).zip(want) {
         println!("{what} {name}: pROM {g:.10e}, full {w:.10e}");
-        assert!((g - w).abs() <= rel * scale, "{what} {name}: pROM {g:e} vs full {w:e}");
+        assert!(
+            (g - w).abs() <= rel * scale,
+            "{what} {name}: pROM {g:e} vs full {w:e}"
+        );
     }
 }
 
@@ -552,12 +862,22 @@ fn assert_gauges(what: &str, got: &[f64], want: &[f64; 3], rel: f64) {
 #[test]
 fn prom_strain_sensors_equal_the_full_model_at_the_nominal_point() {
     let dir = strain_prom("");
-    let frf = format!("SOL 111\nCEND\nROM = '{}'\nPVAL = 1\nFREQUENCY = 1\nBEGIN BULK\nPVAL,1,E,2.1e11\nFREQ,1,0.\nENDDATA\n", dir.path().join("out.h5").display());
+    let frf = format!(
+        "SOL 111\nCEND\nROM = '{}'\nPVAL = 1\nFREQUENCY = 1\nBEGIN BULK\nPVAL,1,E,2.1e11\nFREQ,1,0.\nENDDATA\n",
+        dir.path().join("out.h5").display()
+    );
     let (r, out) = run_deck(&frf);
     r.expect("pROM FRF");
     let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
     let g = file.group("results/1/frf").expect("frf group");
-    let outputs: Vec<String> = g.dataset("outputs").unwrap().read_raw::<hdf5_metno::types::VarLenUnicode>().unwrap().iter().map(|s| s.to_string()).collect();
+    let outputs: Vec<String> = g
+        .dataset("outputs")
+        .unwrap()
+        .read_raw::<hdf5_metno::types::VarLenUnicode>()
+        .unwrap()
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
     assert_eq!(outputs, ["13:3", "39:3", "65:3", "R_TOP", "M_BOT", "M_MID"]);
     let h: Vec<faer::c64> = g.dataset("H").unwrap().read_raw().unwrap();
     // column of input 39:3 (index 1 of 3), sensor rows 3..6
@@ -582,7 +902,14 @@ fn prom_transient_strain_sensors_settle_on_the_static_strain() {
     let g = file.group("results/1/transient").expect("transient group");
     let last: Vec<f64> = ["R_TOP", "M_BOT", "M_MID"]
         .iter()
-        .map(|name| *g.dataset(&format!("sensors/{name}")).unwrap().read_raw::<f64>().unwrap().last().unwrap())
+        .map(|name| {
+            *g.dataset(&format!("sensors/{name}"))
+                .unwrap()
+                .read_raw::<f64>()
+                .unwrap()
+                .last()
+                .unwrap()
+        })
         .collect();
     assert_gauges("transient at 0.5 s", &last, &full_static_gauges(), 1e-7);
 }
@@ -598,38 +925,80 @@ fn prom_transient_strain_sensors_settle_on_the_static_strain() {
 #[test]
 fn least_squares_components_from_hdf5_samples_equal_the_matrix_market_ones() {
     use hdf5_metno::types::VarLenUnicode;
-    let (params, k, m, samples) = two_material_samples("PMPAR,1,E1,E,1,5.e10,9.e10\nPMPAR,2,RHO1,RHO,1,2000.,3400.\n", 4, 5);
+    let (params, k, m, samples) = two_material_samples(
+        "PMPAR,1,E1,E,1,5.e10,9.e10\nPMPAR,2,RHO1,RHO,1,2000.,3400.\n",
+        4,
+        5,
+    );
     let dir = tempfile::tempdir().expect("temp dir");
-    let at = |op: &paraflex::assembly::AffineOperator, p: &[f64]| op.evaluate(&params.weights(op, p)).expect("evaluate");
+    let at = |op: &paraflex::assembly::AffineOperator, p: &[f64]| {
+        op.evaluate(&params.weights(op, p)).expect("evaluate")
+    };
     let mut manifest = String::from("K, M, 1, E1, RHO1\n");
     let h5 = dir.path().join("samples.h5");
     {
         let file = hdf5_metno::File::create(&h5).expect("create");
-        let names: Vec<VarLenUnicode> = ["1", "E1", "RHO1"].iter().map(|s| s.parse().unwrap()).collect();
-        file.new_dataset_builder().with_data(&names).create("functions").expect("functions");
+        let names: Vec<VarLenUnicode> = ["1", "E1", "RHO1"]
+            .iter()
+            .map(|s| s.parse().unwrap())
+            .collect();
+        file.new_dataset_builder()
+            .with_data(&names)
+            .create("functions")
+            .expect("functions");
         let values: Vec<f64> = samples.iter().flat_map(|p| [1.0, p[0], p[1]]).collect();
-        file.new_dataset::<f64>().shape([samples.len(), 3]).create("values").expect("values").write_raw(&values).expect("write values");
-        let (k_group, m_group) = (file.create_group("K").unwrap(), file.create_group("M").unwrap());
+        file.new_dataset::<f64>()
+            .shape([samples.len(), 3])
+            .create("values")
+            .expect("values")
+            .write_raw(&values)
+            .expect("write values");
+        let (k_group, m_group) = (
+            file.create_group("K").unwrap(),
+            file.create_group("M").unwrap(),
+        );
         for (h, p) in samples.iter().enumerate() {
             let (kh, mh) = (at(&k, p), at(&m, p));
             write_matrix_market(&dir.path().join(format!("k{h}.mtx")), &kh);
             write_matrix_market(&dir.path().join(format!("m{h}.mtx")), &mh);
             manifest += &format!("k{h}.mtx, m{h}.mtx, 1, {:e}, {:e}\n", p[0], p[1]);
             let g = k_group.create_group(&h.to_string()).unwrap();
-            let (rows, cols, data): (Vec<i64>, Vec<i64>, Vec<f64>) = kh.triplet_iter().fold((vec![], vec![], vec![]), |(mut r, mut c, mut d), (i, j, v)| {
-                r.push(i as i64);
-                c.push(j as i64);
-                d.push(*v);
-                (r, c, d)
-            });
-            g.new_dataset_builder().with_data(&rows).create("row").unwrap();
-            g.new_dataset_builder().with_data(&cols).create("col").unwrap();
-            g.new_dataset_builder().with_data(&data).create("data").unwrap();
-            g.new_attr_builder().with_data(&[kh.nrows() as i64, kh.ncols() as i64]).create("shape").unwrap();
+            let (rows, cols, data): (Vec<i64>, Vec<i64>, Vec<f64>) = kh.triplet_iter().fold(
+                (vec![], vec![], vec![]),
+                |(mut r, mut c, mut d), (i, j, v)| {
+                    r.push(i as i64);
+                    c.push(j as i64);
+                    d.push(*v);
+                    (r, c, d)
+                },
+            );
+            g.new_dataset_builder()
+                .with_data(&rows)
+                .create("row")
+                .unwrap();
+            g.new_dataset_builder()
+                .with_data(&cols)
+                .create("col")
+                .unwrap();
+            g.new_dataset_builder()
+                .with_data(&data)
+                .create("data")
+                .unwrap();
+            g.new_attr_builder()
+                .with_data(&[kh.nrows() as i64, kh.ncols() as i64])
+                .create("shape")
+                .unwrap();
             let n = mh.nrows();
             let mut dense = vec![0.0; n * n];
-            mh.triplet_iter().for_each(|(i, j, v)| dense[i * n + j] += v);
-            m_group.new_dataset::<f64>().shape([n, n]).create(h.to_string().as_str()).unwrap().write_raw(&dense).unwrap();
+            mh.triplet_iter()
+                .for_each(|(i, j, v)| dense[i * n + j] += v);
+            m_group
+                .new_dataset::<f64>()
+                .shape([n, n])
+                .create(h.to_string().as_str())
+                .unwrap()
+                .write_raw(&dense)
+                .unwrap();
         }
     }
     let csv = dir.path().join("samples.csv");
@@ -637,36 +1006,85 @@ fn least_squares_components_from_hdf5_samples_equal_the_matrix_market_ones() {
     let (_, from_mtx) = paraflex::io::prom_lsq::fit_samples(&csv).expect("Matrix Market");
     let (read, from_h5) = paraflex::io::prom_lsq::fit_samples(&h5).expect("HDF5");
     assert_eq!(read.functions, ["1", "E1", "RHO1"]);
-    for (what, a, b) in [("K", &from_mtx.stiffness, &from_h5.stiffness), ("M", &from_mtx.mass, &from_h5.mass)] {
+    for (what, a, b) in [
+        ("K", &from_mtx.stiffness, &from_h5.stiffness),
+        ("M", &from_mtx.mass, &from_h5.mass),
+    ] {
         for (i, (x, y)) in a.iter().zip(b.iter()).enumerate() {
             let largest = x.values().iter().fold(0.0_f64, |s, v| s.max(v.abs()));
             let diff = (x - y).values().iter().fold(0.0_f64, |s, v| s.max(v.abs()));
-            println!("{what}^{}: max |HDF5 − Matrix Market| = {:.1e} of the largest entry", read.functions[i], diff / largest);
-            assert!(diff <= 1e-14 * largest, "{what}^{}: {diff:e} vs {largest:e}", read.functions[i]);
+            println!(
+                "{what}^{}: max |HDF5 − Matrix Market| = {:.1e} of the largest entry",
+                read.functions[i],
+                diff / largest
+            );
+            assert!(
+                diff <= 1e-14 * largest,
+                "{what}^{}: {diff:e} vs {largest:e}",
+                read.functions[i]
+            );
         }
     }
     // the CLI reads it too, and writes next to it without overwriting it
-    let ok = std::process::Command::new(env!("CARGO_BIN_EXE_paraflex")).arg("prom-lsq").arg(&h5).output().expect("run paraflex");
-    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
-    assert!(dir.path().join("samples_lsq.h5").exists() && paraflex::io::prom_lsq::read_samples(&h5).is_ok());
+    let ok = std::process::Command::new(env!("CARGO_BIN_EXE_paraflex"))
+        .arg("prom-lsq")
+        .arg(&h5)
+        .output()
+        .expect("run paraflex");
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    assert!(
+        dir.path().join("samples_lsq.h5").exists()
+            && paraflex::io::prom_lsq::read_samples(&h5).is_ok()
+    );
     // errors name the object
     let broken = dir.path().join("broken.h5");
     {
         let file = hdf5_metno::File::create(&broken).expect("create");
         let names: Vec<VarLenUnicode> = ["1"].iter().map(|s| s.parse().unwrap()).collect();
-        file.new_dataset_builder().with_data(&names).create("functions").unwrap();
+        file.new_dataset_builder()
+            .with_data(&names)
+            .create("functions")
+            .unwrap();
     }
-    let message = paraflex::io::prom_lsq::fit_samples(&broken).expect_err("no values").to_string();
+    let message = paraflex::io::prom_lsq::fit_samples(&broken)
+        .expect_err("no values")
+        .to_string();
     assert!(message.contains("/values"), "{message}");
     {
         let file = hdf5_metno::File::open_rw(&broken).expect("open");
-        file.new_dataset::<f64>().shape([1, 1]).create("values").unwrap().write_raw(&[1.0]).unwrap();
+        file.new_dataset::<f64>()
+            .shape([1, 1])
+            .create("values")
+            .unwrap()
+            .write_raw(&[1.0])
+            .unwrap();
         let g = file.create_group("K").unwrap().create_group("0").unwrap();
-        g.new_dataset_builder().with_data(&[0_i64, 2]).create("row").unwrap();
-        g.new_dataset_builder().with_data(&[0_i64, 0]).create("col").unwrap();
-        g.new_dataset_builder().with_data(&[1.0, 1.0]).create("data").unwrap();
-        g.new_attr_builder().with_data(&[2_i64, 2]).create("shape").unwrap();
+        g.new_dataset_builder()
+            .with_data(&[0_i64, 2])
+            .create("row")
+            .unwrap();
+        g.new_dataset_builder()
+            .with_data(&[0_i64, 0])
+            .create("col")
+            .unwrap();
+        g.new_dataset_builder()
+            .with_data(&[1.0, 1.0])
+            .create("data")
+            .unwrap();
+        g.new_attr_builder()
+            .with_data(&[2_i64, 2])
+            .create("shape")
+            .unwrap();
     }
-    let message = paraflex::io::prom_lsq::fit_samples(&broken).expect_err("index 2 of 2").to_string();
-    assert!(message.contains("/K/0") && message.contains("row index 2 is not in 0..2"), "{message}");
+    let message = paraflex::io::prom_lsq::fit_samples(&broken)
+        .expect_err("index 2 of 2")
+        .to_string();
+    assert!(
+        message.contains("/K/0") && message.contains("row index 2 is not in 0..2"),
+        "{message}"
+    );
 }

@@ -30,20 +30,34 @@ fn build(deck: &str) -> Artifact {
     let path = dir.path().join("out.h5");
     let (prom, _) = paraflex::io::read_prom(&path).expect("read pROM");
     let (names, inputs) = paraflex::io::read_prom_inputs(&path, prom.size()).expect("inputs");
-    Artifact { prom, names, inputs }
+    Artifact {
+        prom,
+        names,
+        inputs,
+    }
 }
 
 /// Band lines (rad/s): `n` equally spaced in (0, fmax] Hz.
 fn lines(fmax_hz: f64, n: usize) -> Vec<f64> {
-    (1..=n).map(|l| 2.0 * std::f64::consts::PI * fmax_hz * l as f64 / n as f64).collect()
+    (1..=n)
+        .map(|l| 2.0 * std::f64::consts::PI * fmax_hz * l as f64 / n as f64)
+        .collect()
 }
 
 /// |H_kk(ω_l)| of the artifact at p for the input `pair` ("GRID:component"), input = output.
 fn magnitude(a: &Artifact, p: &[f64], pair: &str, omegas: &[f64]) -> Vec<f64> {
-    let k = a.names.iter().position(|n| n == pair).unwrap_or_else(|| panic!("no input {pair} in {:?}", a.names));
+    let k = a
+        .names
+        .iter()
+        .position(|n| n == pair)
+        .unwrap_or_else(|| panic!("no input {pair} in {:?}", a.names));
     let mut at = a.prom.workspace();
     a.prom.evaluate(p, &mut at).expect("evaluate");
-    let model = DenseModel { stiffness: at.stiffness(), mass: at.mass(), damping: at.damping() };
+    let model = DenseModel {
+        stiffness: at.stiffness(),
+        mass: at.mass(),
+        damping: at.damping(),
+    };
     let s = a.inputs.as_ref().subcols(k, 1);
     let h: Vec<Mat<c64>> = receptance(&model, s, s.transpose(), omegas).expect("FRF");
     h.iter().map(|m| m[(0, 0)].norm()).collect()
@@ -51,16 +65,23 @@ fn magnitude(a: &Artifact, p: &[f64], pair: &str, omegas: &[f64]) -> Vec<f64> {
 
 /// The thesis's average FRF error (Fig. 3.11, 3.22): mean_l | |H| − |H_ref| | / |H_ref|.
 fn average_error(h: &[f64], reference: &[f64]) -> f64 {
-    h.iter().zip(reference).map(|(a, r)| (a - r).abs() / r).sum::<f64>() / reference.len() as f64
+    h.iter()
+        .zip(reference)
+        .map(|(a, r)| (a - r).abs() / r)
+        .sum::<f64>()
+        / reference.len() as f64
 }
 
 fn reference() -> Value {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/prom/frf_error_maps.json");
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/prom/frf_error_maps.json");
     serde_json::from_str(&std::fs::read_to_string(&path).expect("reference file")).expect("json")
 }
 
 fn number(v: &Value, path: &str) -> f64 {
-    v.pointer(path).and_then(Value::as_f64).unwrap_or_else(|| panic!("reference: no number at {path}"))
+    v.pointer(path)
+        .and_then(Value::as_f64)
+        .unwrap_or_else(|| panic!("reference: no number at {path}"))
 }
 
 /// Flat plate 0.3 × 0.1 m of 8 × 3 CQUAD4 on PID 1 (grid (i, j) has id 1 + i + 9j): the grid
@@ -79,21 +100,39 @@ const TIP: [usize; 2] = [9, 36];
 /// Rayleigh α = 0.02 /s, β = 5e-4 s (thesis Table 3.2, the blade's).
 fn sprung_plate(e: f64, rho: f64) -> String {
     let (mesh, root) = plate_mesh();
-    let mut s = format!("PSHELL,1,1,0.002,1,,1\nMAT1,1,{e:e},,0.3,{rho:?}\nPELAS,10,1.e6\nPELAS,11,50.\n{mesh}");
+    let mut s = format!(
+        "PSHELL,1,1,0.002,1,,1\nMAT1,1,{e:e},,0.3,{rho:?}\nPELAS,10,1.e6\nPELAS,11,50.\n{mesh}"
+    );
     for (k, grid) in root.iter().enumerate() {
         for comp in 1..=6 {
-            s += &format!("CELAS1,{},{},{grid},{comp}\n", 100 + 6 * k + comp, if comp <= 3 { 10 } else { 11 });
+            s += &format!(
+                "CELAS1,{},{},{grid},{comp}\n",
+                100 + 6 * k + comp,
+                if comp <= 3 { 10 } else { 11 }
+            );
         }
     }
-    s + &format!("ASET1,123,{},{}\nPARAM,ALPHA1,0.02\nPARAM,BETA1,0.0005\n", TIP[0], TIP[1])
+    s + &format!(
+        "ASET1,123,{},{}\nPARAM,ALPHA1,0.02\nPARAM,BETA1,0.0005\n",
+        TIP[0], TIP[1]
+    )
 }
 
 /// SOL PROM of the sprung plate: E and ρ over nominal × (1 ± w), thesis Table 3.1 settings
 /// (5 samples, 15 modes + the static modes, 0–500 Hz, ERRTOL 1e-3, DSIZE 8); `samples` = 1 with
 /// w = 0 and ERRTOL 1e-14 is the non-parametric ROM of the point.
 fn sprung_plate_prom(e: f64, rho: f64, w: f64, samples: usize, errtol: f64) -> Artifact {
-    let pmpar = format!("PMPAR,1,E,E,1,{:e},{:e}\nPMPAR,2,RHO,RHO,1,{:?},{:?}\n", e * (1.0 - w), e * (1.0 + w), rho * (1.0 - w), rho * (1.0 + w));
-    build(&format!("SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPARAM,COUPMASS,1\n{pmpar}PMOR,1,{samples},15,500.,{errtol:e},8\n,1,,,50\n{}ENDDATA\n", sprung_plate(e, rho)))
+    let pmpar = format!(
+        "PMPAR,1,E,E,1,{:e},{:e}\nPMPAR,2,RHO,RHO,1,{:?},{:?}\n",
+        e * (1.0 - w),
+        e * (1.0 + w),
+        rho * (1.0 - w),
+        rho * (1.0 + w)
+    );
+    build(&format!(
+        "SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPARAM,COUPMASS,1\n{pmpar}PMOR,1,{samples},15,500.,{errtol:e},8\n,1,,,50\n{}ENDDATA\n",
+        sprung_plate(e, rho)
+    ))
 }
 
 /// |H| of the full sprung plate (SOL 108, direct) at input = output `pair` on the lines of
@@ -109,8 +148,18 @@ fn full_magnitude(e: f64, rho: f64, grid: usize, comp: usize, fmax_hz: f64, n: u
     r.expect("SOL 108");
     let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
     let g = file.group("results/1/frf").expect("frf");
-    let outputs: Vec<String> = g.dataset("outputs").unwrap().read_raw::<hdf5_metno::types::VarLenUnicode>().unwrap().iter().map(|s| s.to_string()).collect();
-    let o = outputs.iter().position(|x| *x == format!("{grid}:{comp}")).expect("output at the input DOF");
+    let outputs: Vec<String> = g
+        .dataset("outputs")
+        .unwrap()
+        .read_raw::<hdf5_metno::types::VarLenUnicode>()
+        .unwrap()
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let o = outputs
+        .iter()
+        .position(|x| *x == format!("{grid}:{comp}"))
+        .expect("output at the input DOF");
     let h: Vec<c64> = g.dataset("H").unwrap().read_raw().unwrap();
     let stride = h.len() / n;
     (0..n).map(|l| h[l * stride + o].norm()).collect()
@@ -143,8 +192,14 @@ fn blade_like_e_rho_prom_error_map_inside_and_outside_the_box() {
         let rom = sprung_plate_prom(e0 * fe, rho0, 0.0, 1, 1e-14);
         for &fr in &factors {
             let p = [e0 * fe, rho0 * fr];
-            let err = average_error(&magnitude(&prom, &p, pair, &omegas), &magnitude(&rom, &p, pair, &omegas));
-            println!("E × {fe}, ρ × {fr}: pROM vs ROM {err:.2e} ({:.1} s)", t.elapsed().as_secs_f64());
+            let err = average_error(
+                &magnitude(&prom, &p, pair, &omegas),
+                &magnitude(&rom, &p, pair, &omegas),
+            );
+            println!(
+                "E × {fe}, ρ × {fr}: pROM vs ROM {err:.2e} ({:.1} s)",
+                t.elapsed().as_secs_f64()
+            );
             if e_inside(fe) {
                 worst_in = worst_in.max(err);
             } else {
@@ -153,21 +208,48 @@ fn blade_like_e_rho_prom_error_map_inside_and_outside_the_box() {
             }
             if fe == 1.2 && fr == 1.2 {
                 let built_there = sprung_plate_prom(p[0], p[1], 0.0, 1, 1e-14);
-                let same = average_error(&magnitude(&rom, &p, pair, &omegas), &magnitude(&built_there, &p, pair, &omegas));
-                assert!(same <= 1e-10, "the ROM of (E, ρ₀) at ρ is the ROM of (E, ρ): {same:e}");
+                let same = average_error(
+                    &magnitude(&rom, &p, pair, &omegas),
+                    &magnitude(&built_there, &p, pair, &omegas),
+                );
+                assert!(
+                    same <= 1e-10,
+                    "the ROM of (E, ρ₀) at ρ is the ROM of (E, ρ): {same:e}"
+                );
             }
         }
     }
-    let (bound_in, bound_out) = (number(&refs, "/bound_inside_box"), number(&refs, "/blade_e_rho_10/bound_outside_box"));
+    let (bound_in, bound_out) = (
+        number(&refs, "/bound_inside_box"),
+        number(&refs, "/blade_e_rho_10/bound_outside_box"),
+    );
     println!("E inside the box: ≤ {worst_in:.2e}; E outside: {least_out:.2e} … {worst_out:.2e}");
-    assert!(worst_in <= bound_in, "pROM vs ROM with E inside the box: {worst_in:e} > {bound_in:e}");
-    assert!(least_out > worst_in, "with E outside the box the error grows: {least_out:e} vs {worst_in:e} inside");
-    assert!(worst_out <= bound_out, "pROM vs ROM with E outside the box: {worst_out:e} > {bound_out:e}");
+    assert!(
+        worst_in <= bound_in,
+        "pROM vs ROM with E inside the box: {worst_in:e} > {bound_in:e}"
+    );
+    assert!(
+        least_out > worst_in,
+        "with E outside the box the error grows: {least_out:e} vs {worst_in:e} inside"
+    );
+    assert!(
+        worst_out <= bound_out,
+        "pROM vs ROM with E outside the box: {worst_out:e} > {bound_out:e}"
+    );
     for (fe, fr, bound) in [(1.0, 1.0, bound_in), (1.2, 0.8, bound_out)] {
         let full = full_magnitude(e0 * fe, rho0 * fr, 9, 3, 500.0, 25);
-        let err = average_error(&magnitude(&prom, &[e0 * fe, rho0 * fr], pair, &lines(500.0, 25)), &full);
-        println!("E × {fe}, ρ × {fr}: pROM vs full {err:.2e} ({:.1} s)", t.elapsed().as_secs_f64());
-        assert!(err <= bound, "pROM vs full model at E × {fe}, ρ × {fr}: {err:e} > {bound:e}");
+        let err = average_error(
+            &magnitude(&prom, &[e0 * fe, rho0 * fr], pair, &lines(500.0, 25)),
+            &full,
+        );
+        println!(
+            "E × {fe}, ρ × {fr}: pROM vs full {err:.2e} ({:.1} s)",
+            t.elapsed().as_secs_f64()
+        );
+        assert!(
+            err <= bound,
+            "pROM vs full model at E × {fe}, ρ × {fr}: {err:e} > {bound:e}"
+        );
     }
 }
 
@@ -176,11 +258,17 @@ fn blade_like_e_rho_prom_error_map_inside_and_outside_the_box() {
 /// α = 5 /s, β = 3e-6 s (thesis Table 3.6, the composite link's).
 fn composite_plate(theta: f64) -> String {
     let (mesh, root) = plate_mesh();
-    let mut s = format!("MAT8,7,1.4e11,1.e10,.3,5.e9,5.e9,3.e9,1600.\nPCOMP,1\n,7,2.5e-4,{theta:?},,7,2.5e-4,{:?}\n,7,2.5e-4,{:?},,7,2.5e-4,{theta:?}\n{mesh}", -theta, -theta);
+    let mut s = format!(
+        "MAT8,7,1.4e11,1.e10,.3,5.e9,5.e9,3.e9,1600.\nPCOMP,1\n,7,2.5e-4,{theta:?},,7,2.5e-4,{:?}\n,7,2.5e-4,{:?},,7,2.5e-4,{theta:?}\n{mesh}",
+        -theta, -theta
+    );
     for grid in root {
         s += &format!("SPC1,1,123456,{grid}\n");
     }
-    s + &format!("ASET1,3,{},{}\nPARAM,ALPHA1,5.\nPARAM,BETA1,3.e-6\n", TIP[0], TIP[1])
+    s + &format!(
+        "ASET1,3,{},{}\nPARAM,ALPHA1,5.\nPARAM,BETA1,3.e-6\n",
+        TIP[0], TIP[1]
+    )
 }
 
 /// SOL PROM of the composite plate, THETA over [low, high], thesis Table 3.4 settings (10
@@ -202,8 +290,14 @@ fn angle_sweep(high: f64, angles: &[f64]) -> (Vec<f64>, usize) {
         .iter()
         .map(|&a| {
             let rom = composite_plate_prom(a, a, 1, 1e-14);
-            let err = average_error(&magnitude(&prom, &[a], "9:3", &omegas), &magnitude(&rom, &[a], "9:3", &omegas));
-            println!("Θ ∈ [0°, {high}°], n_red {}: Θ = {a}°: pROM vs ROM {err:.2e}", prom.prom.size());
+            let err = average_error(
+                &magnitude(&prom, &[a], "9:3", &omegas),
+                &magnitude(&rom, &[a], "9:3", &omegas),
+            );
+            println!(
+                "Θ ∈ [0°, {high}°], n_red {}: Θ = {a}°: pROM vs ROM {err:.2e}",
+                prom.prom.size()
+            );
             err
         })
         .collect();
@@ -217,7 +311,10 @@ fn composite_theta_prom_over_0_90_stays_within_the_goal_along_the_range() {
     let bound = number(&reference(), "/bound_inside_box");
     let (errors, size) = angle_sweep(90.0, &[5.0, 25.0, 40.0, 60.0, 85.0]);
     let worst = errors.iter().copied().fold(0.0, f64::max);
-    assert!(worst <= bound, "Θ ∈ [0°, 90°]: {worst:e} > {bound:e} (n_red {size})");
+    assert!(
+        worst <= bound,
+        "Θ ∈ [0°, 90°]: {worst:e} > {bound:e} (n_red {size})"
+    );
 }
 
 /// Item 6b, small, Θ ∈ [0°, 45°] (thesis Fig. 3.24): inside the box within the goal (1e-3);
@@ -228,6 +325,13 @@ fn composite_theta_prom_over_0_45_fails_to_extrapolate_beyond_its_box() {
     let bound = number(&reference(), "/bound_inside_box");
     let (errors, size) = angle_sweep(45.0, &[10.0, 30.0, 45.0, 90.0]);
     let worst_in = errors[..3].iter().copied().fold(0.0, f64::max);
-    assert!(worst_in <= bound, "Θ ∈ [0°, 45°] inside: {worst_in:e} > {bound:e} (n_red {size})");
-    assert!(errors[3] > bound && errors[3] > worst_in, "Θ = 90° outside [0°, 45°]: {:e} vs {worst_in:e} inside", errors[3]);
+    assert!(
+        worst_in <= bound,
+        "Θ ∈ [0°, 45°] inside: {worst_in:e} > {bound:e} (n_red {size})"
+    );
+    assert!(
+        errors[3] > bound && errors[3] > worst_in,
+        "Θ = 90° outside [0°, 45°]: {:e} vs {worst_in:e} inside",
+        errors[3]
+    );
 }

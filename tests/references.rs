@@ -29,11 +29,18 @@ fn root() -> PathBuf {
 
 fn json(rel: &str) -> Value {
     let p = root().join(rel);
-    serde_json::from_str(&std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))).expect("json")
+    serde_json::from_str(
+        &std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display())),
+    )
+    .expect("json")
 }
 
 fn f64s(v: &Value) -> Vec<f64> {
-    v.as_array().unwrap_or_else(|| panic!("not an array: {v}")).iter().map(|x| x.as_f64().expect("number")).collect()
+    v.as_array()
+        .unwrap_or_else(|| panic!("not an array: {v}"))
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect()
 }
 
 /// A finished run: the summary, the model and the HDF5 file (kept alive by the temp dir).
@@ -47,26 +54,57 @@ fn run_deck(rel: &str) -> Run {
     let path = root().join(rel);
     let t0 = std::time::Instant::now();
     let deck = Deck::read(&path).unwrap_or_else(|e| panic!("{rel}: deck: {e}"));
-    let model = Model::build(&deck).unwrap_or_else(|e| panic!("{rel}: model: {:?}", e.iter().map(|x| x.to_string()).collect::<Vec<_>>()));
-    if model.sol == Some(paraflex::deck::Solution::Modal) && model.elements.iter().any(|e| e.kind.is_shell() || e.kind.solid_shape().is_some()) {
-        assert_eq!(model.params.coupmass, 1, "{rel}: the modal reference decks set PARAM,COUPMASS,1 (consistent mass)");
+    let model = Model::build(&deck).unwrap_or_else(|e| {
+        panic!(
+            "{rel}: model: {:?}",
+            e.iter().map(|x| x.to_string()).collect::<Vec<_>>()
+        )
+    });
+    if model.sol == Some(paraflex::deck::Solution::Modal)
+        && model
+            .elements
+            .iter()
+            .any(|e| e.kind.is_shell() || e.kind.solid_shape().is_some())
+    {
+        assert_eq!(
+            model.params.coupmass, 1,
+            "{rel}: the modal reference decks set PARAM,COUPMASS,1 (consistent mass)"
+        );
     }
     let dir = tempfile::tempdir().expect("temp dir");
     let file = OutputFile::create(dir.path().join("out.h5")).expect("output");
-    let ctx = RunContext { deck: &deck, model: &model, output: &file, progress: &|_: &str, _: usize, _: usize| {}, options: RunOptions { parallel: false } };
+    let ctx = RunContext {
+        deck: &deck,
+        model: &model,
+        output: &file,
+        progress: &|_: &str, _: usize, _: usize| {},
+        options: RunOptions { parallel: false },
+    };
     let summary = run(&ctx).unwrap_or_else(|e| panic!("{rel}: run: {e}"));
     file.commit().expect("commit");
     eprintln!("  ran {rel} in {:.2} s", t0.elapsed().as_secs_f64());
     drop(deck);
-    Run { summary, model, dir }
+    Run {
+        summary,
+        model,
+        dir,
+    }
 }
 
 impl Run {
     fn frequencies(&self) -> Vec<f64> {
         match &self.summary.subcases[0].result {
             SubcaseResult::Modal(m) => {
-                assert!(m.sturm.is_consistent(), "Sturm check inconsistent: {:?}", m.sturm);
-                assert!(m.residuals.iter().all(|r| *r < 1e-6), "residuals {:?}", m.residuals);
+                assert!(
+                    m.sturm.is_consistent(),
+                    "Sturm check inconsistent: {:?}",
+                    m.sturm
+                );
+                assert!(
+                    m.residuals.iter().all(|r| *r < 1e-6),
+                    "residuals {:?}",
+                    m.residuals
+                );
                 let mut f = m.frequencies_hz.clone();
                 f.sort_by(f64::total_cmp);
                 f
@@ -84,12 +122,29 @@ impl Run {
     fn out_of_plane_frequencies(&self) -> Vec<f64> {
         let all = self.frequencies(); // Sturm and residual checks
         let file = hdf5_metno::File::open(self.dir.path().join("out.h5")).expect("open h5");
-        let f: Vec<f64> = file.dataset("results/1/modal/frequency_hz").expect("frequencies").read_raw().expect("read f");
-        let shapes: Vec<f64> = file.dataset("results/1/modal/shapes").expect("mode shapes (DISPLACEMENT)").read_raw().expect("read shapes");
+        let f: Vec<f64> = file
+            .dataset("results/1/modal/frequency_hz")
+            .expect("frequencies")
+            .read_raw()
+            .expect("read f");
+        let shapes: Vec<f64> = file
+            .dataset("results/1/modal/shapes")
+            .expect("mode shapes (DISPLACEMENT)")
+            .read_raw()
+            .expect("read shapes");
         assert_eq!(f.len(), all.len());
         let per_mode = shapes.len() / f.len();
-        let max = |m: usize, c: usize| shapes[m * per_mode..(m + 1) * per_mode].iter().skip(c).step_by(6).fold(0.0f64, |a, x| a.max(x.abs()));
-        let mut out: Vec<f64> = (0..f.len()).filter(|&m| max(m, 2) > max(m, 0).max(max(m, 1))).map(|m| f[m]).collect();
+        let max = |m: usize, c: usize| {
+            shapes[m * per_mode..(m + 1) * per_mode]
+                .iter()
+                .skip(c)
+                .step_by(6)
+                .fold(0.0f64, |a, x| a.max(x.abs()))
+        };
+        let mut out: Vec<f64> = (0..f.len())
+            .filter(|&m| max(m, 2) > max(m, 0).max(max(m, 1)))
+            .map(|m| f[m])
+            .collect();
         out.sort_by(f64::total_cmp);
         out
     }
@@ -101,16 +156,34 @@ impl Run {
         // rows in increasing grid id (README "HDF5 schema"; `/model` is written by the CLI only)
         let mut ids: Vec<u32> = self.model.grids.iter().map(|g| g.id).collect();
         ids.sort_unstable();
-        let u: Vec<f64> = file.dataset(&format!("results/{subcase}/statics/displacement")).expect("displacement").read_raw().expect("read u");
+        let u: Vec<f64> = file
+            .dataset(&format!("results/{subcase}/statics/displacement"))
+            .expect("displacement")
+            .read_raw()
+            .expect("read u");
         assert_eq!(u.len(), 6 * ids.len());
-        ids.iter().enumerate().map(|(i, id)| (*id, std::array::from_fn(|k| u[6 * i + k]))).collect()
+        ids.iter()
+            .enumerate()
+            .map(|(i, id)| (*id, std::array::from_fn(|k| u[6 * i + k])))
+            .collect()
     }
 
     /// Mean T3 of the grids at the largest x (the tip), subcase 1.
     fn mean_tip_t3(&self) -> f64 {
         let u = self.displacements(1);
-        let xmax = self.model.grids.iter().map(|g| g.xyz[0]).fold(f64::MIN, f64::max);
-        let w: Vec<f64> = self.model.grids.iter().filter(|g| (g.xyz[0] - xmax).abs() < 1e-9).map(|g| u[&g.id][2]).collect();
+        let xmax = self
+            .model
+            .grids
+            .iter()
+            .map(|g| g.xyz[0])
+            .fold(f64::MIN, f64::max);
+        let w: Vec<f64> = self
+            .model
+            .grids
+            .iter()
+            .filter(|g| (g.xyz[0] - xmax).abs() < 1e-9)
+            .map(|g| u[&g.id][2])
+            .collect();
         assert!(!w.is_empty());
         w.iter().sum::<f64>() / w.len() as f64
     }
@@ -154,18 +227,55 @@ fn sig(x: f64) -> String {
         return "0".into();
     }
     let a = x.abs();
-    if (1e-3..1e5).contains(&a) { format!("{:.6}", x).trim_end_matches('0').trim_end_matches('.').to_string() } else { format!("{x:.6e}") }
+    if (1e-3..1e5).contains(&a) {
+        format!("{:.6}", x)
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .to_string()
+    } else {
+        format!("{x:.6e}")
+    }
 }
 
 fn pct(x: f64) -> String {
-    if x.abs() < 1e-6 { format!("{x:.1e}") } else { format!("{:+.3} %", 100.0 * x) }
+    if x.abs() < 1e-6 {
+        format!("{x:.1e}")
+    } else {
+        format!("{:+.3} %", 100.0 * x)
+    }
 }
 
 impl Table {
-    fn row(&mut self, case: &str, quantity: impl Into<String>, paraflex: f64, reference: f64, source: &'static str, error: f64, tol: Option<f64>) {
-        let r = Row { case: case.into(), quantity: quantity.into(), paraflex, reference, source, error, tol };
+    fn row(
+        &mut self,
+        case: &str,
+        quantity: impl Into<String>,
+        paraflex: f64,
+        reference: f64,
+        source: &'static str,
+        error: f64,
+        tol: Option<f64>,
+    ) {
+        let r = Row {
+            case: case.into(),
+            quantity: quantity.into(),
+            paraflex,
+            reference,
+            source,
+            error,
+            tol,
+        };
         if !r.ok() {
-            self.failures.push(format!("{} {}: paraflex {} vs {} {}: error {} > tolerance {}", r.case, r.quantity, sig(r.paraflex), r.source, sig(r.reference), pct(r.error), pct(r.tol.unwrap())));
+            self.failures.push(format!(
+                "{} {}: paraflex {} vs {} {}: error {} > tolerance {}",
+                r.case,
+                r.quantity,
+                sig(r.paraflex),
+                r.source,
+                sig(r.reference),
+                pct(r.error),
+                pct(r.tol.unwrap())
+            ));
         }
         self.rows.push(r);
     }
@@ -186,8 +296,22 @@ impl Table {
                 Some(t) => format!("{} %", sig(100.0 * t)),
                 None => "—".into(),
             };
-            let err = if r.tol.is_some_and(|t| t < 1e-6) { format!("{:.1e}", r.error) } else { pct(r.error) };
-            s += &format!("| {} | {} | {} | {} ({}) | {} | {}{} |\n", r.case, r.quantity, sig(r.paraflex), sig(r.reference), r.source, err, tol, if r.ok() { "" } else { " **FAIL**" });
+            let err = if r.tol.is_some_and(|t| t < 1e-6) {
+                format!("{:.1e}", r.error)
+            } else {
+                pct(r.error)
+            };
+            s += &format!(
+                "| {} | {} | {} | {} ({}) | {} | {}{} |\n",
+                r.case,
+                r.quantity,
+                sig(r.paraflex),
+                sig(r.reference),
+                r.source,
+                err,
+                tol,
+                if r.ok() { "" } else { " **FAIL**" }
+            );
         }
         s
     }
@@ -195,13 +319,18 @@ impl Table {
     /// Print, write the fragment and the gathered table, then assert.
     fn finish(self, name: &str) {
         let md = self.markdown();
-        println!("\n{name}\n| case | quantity | paraflex | reference | error | tolerance |\n|---|---|---|---|---|---|\n{md}");
+        println!(
+            "\n{name}\n| case | quantity | paraflex | reference | error | tolerance |\n|---|---|---|---|---|---|\n{md}"
+        );
         for n in &self.notes {
             println!("  note: {n}");
         }
         {
             let _g = TABLE_LOCK.lock().unwrap_or_else(|e| e.into_inner());
-            let target = Path::new(env!("CARGO_TARGET_TMPDIR")).parent().expect("target dir").to_path_buf();
+            let target = Path::new(env!("CARGO_TARGET_TMPDIR"))
+                .parent()
+                .expect("target dir")
+                .to_path_buf();
             let frag_dir = target.join("references");
             std::fs::create_dir_all(&frag_dir).expect("mkdir");
             let mut frag = md.clone();
@@ -213,7 +342,10 @@ impl Table {
             for e in std::fs::read_dir(&frag_dir).expect("read dir").flatten() {
                 let p = e.path();
                 if p.extension().is_some_and(|x| x == "md") {
-                    all.insert(p.file_stem().unwrap().to_string_lossy().into(), std::fs::read_to_string(&p).unwrap_or_default());
+                    all.insert(
+                        p.file_stem().unwrap().to_string_lossy().into(),
+                        std::fs::read_to_string(&p).unwrap_or_default(),
+                    );
                 }
             }
             let mut table = String::from(
@@ -230,9 +362,17 @@ impl Table {
                     }
                 }
             }
-            std::fs::write(target.join("references_table.md"), format!("{table}\n{notes}")).expect("write table");
+            std::fs::write(
+                target.join("references_table.md"),
+                format!("{table}\n{notes}"),
+            )
+            .expect("write table");
         }
-        assert!(self.failures.is_empty(), "{name}:\n  {}", self.failures.join("\n  "));
+        assert!(
+            self.failures.is_empty(),
+            "{name}:\n  {}",
+            self.failures.join("\n  ")
+        );
     }
 }
 
@@ -241,7 +381,12 @@ impl Table {
 
 /// The three meshes' decks of an analytic case, coarse → fine.
 fn mesh_decks(r: &Value) -> Vec<String> {
-    r["meshes"].as_array().expect("meshes").iter().map(|m| m["deck"].as_str().expect("deck").to_string()).collect()
+    r["meshes"]
+        .as_array()
+        .expect("meshes")
+        .iter()
+        .map(|m| m["deck"].as_str().expect("deck").to_string())
+        .collect()
 }
 
 /// Mesh convergence of one value over three meshes (h halved each time), `e[i]` the relative
@@ -255,7 +400,17 @@ fn mesh_decks(r: &Value) -> Vec<String> {
 /// uncertainty of the limit (below it the convergence is dominated by unresolved model-form
 /// effects, e.g. the torsion free-edge layer; then only the monotone decrease is asserted).
 /// log2(|e2|/|e3|) is printed too.
-fn check_convergence(t: &mut Table, case: &str, label: &str, f: &[f64], limit: f64, limit_name: &str, expected: f64, floor: f64, assert: bool) {
+fn check_convergence(
+    t: &mut Table,
+    case: &str,
+    label: &str,
+    f: &[f64],
+    limit: f64,
+    limit_name: &str,
+    expected: f64,
+    floor: f64,
+    assert: bool,
+) {
     assert_eq!(f.len(), 3);
     let e: Vec<f64> = f.iter().map(|x| rel(*x, limit)).collect();
     let p_err = (e[1].abs() / e[2].abs()).log2();
@@ -267,10 +422,19 @@ fn check_convergence(t: &mut Table, case: &str, label: &str, f: &[f64], limit: f
         pct(e[0]),
         pct(e[1]),
         pct(e[2]),
-        if assert_order { String::new() } else { format!(" — finest error below 3 × the limit's uncertainty {}: order reported, only monotone decrease asserted", pct(floor)) }
+        if assert_order {
+            String::new()
+        } else {
+            format!(
+                " — finest error below 3 × the limit's uncertainty {}: order reported, only monotone decrease asserted",
+                pct(floor)
+            )
+        }
     );
     if !assert {
-        t.note(format!("{text} [convergence reported, not asserted: see the test's doc comment]"));
+        t.note(format!(
+            "{text} [convergence reported, not asserted: see the test's doc comment]"
+        ));
         return;
     }
     if !monotone {
@@ -284,10 +448,21 @@ fn check_convergence(t: &mut Table, case: &str, label: &str, f: &[f64], limit: f
 
 /// Modal analytic case: frequency values at `expected_mode_index` of the sorted FE lists (of the
 /// out-of-plane modes only when `out_of_plane`: [`Run::out_of_plane_frequencies`]).
-fn analytic_modal(case: &str, meshes: &[usize], out_of_plane: bool, assert_convergence: bool, convergence_limit: impl Fn(usize) -> Option<(f64, &'static str, f64)>) {
+fn analytic_modal(
+    case: &str,
+    meshes: &[usize],
+    out_of_plane: bool,
+    assert_convergence: bool,
+    convergence_limit: impl Fn(usize) -> Option<(f64, &'static str, f64)>,
+) {
     let r = json(&format!("reference/analytic/{case}.json"));
     let values = f64s(&r["values"]);
-    let labels: Vec<&str> = r["value_labels"].as_array().unwrap().iter().map(|v| v.as_str().unwrap()).collect();
+    let labels: Vec<&str> = r["value_labels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
     // position among the sorted FE frequencies; absent = the values are the sorted lowest modes
     let idx: Vec<usize> = match r["expected_mode_index"].as_array() {
         Some(a) => a.iter().map(|v| v.as_u64().unwrap() as usize).collect(),
@@ -300,13 +475,25 @@ fn analytic_modal(case: &str, meshes: &[usize], out_of_plane: bool, assert_conve
     let mut per_mesh: Vec<Vec<f64>> = Vec::new();
     for &k in meshes {
         let run = run_deck(&decks[k]);
-        let f = if out_of_plane { run.out_of_plane_frequencies() } else { run.frequencies() };
+        let f = if out_of_plane {
+            run.out_of_plane_frequencies()
+        } else {
+            run.frequencies()
+        };
         check_mode_count(&r, &run, &f);
         let name = format!("{case} ({})", mesh_label(&r, k));
         let finest = k == decks.len() - 1;
         for (j, v) in values.iter().enumerate() {
             let got = f[idx[j] - 1];
-            t.row(&name, format!("f {} (mode {}) Hz", labels[j], idx[j]), got, *v, "analytic", rel(got, *v), finest.then_some(tol[j]));
+            t.row(
+                &name,
+                format!("f {} (mode {}) Hz", labels[j], idx[j]),
+                got,
+                *v,
+                "analytic",
+                rel(got, *v),
+                finest.then_some(tol[j]),
+            );
         }
         per_mesh.push(idx.iter().map(|i| f[i - 1]).collect());
     }
@@ -314,27 +501,56 @@ fn analytic_modal(case: &str, meshes: &[usize], out_of_plane: bool, assert_conve
         for (j, v) in values.iter().enumerate() {
             let fs: Vec<f64> = per_mesh.iter().map(|m| m[j]).collect();
             let (limit, name, floor) = convergence_limit(j).unwrap_or((*v, "reference", 0.0));
-            check_convergence(&mut t, case, labels[j], &fs, limit, name, order, floor, assert_convergence);
+            check_convergence(
+                &mut t,
+                case,
+                labels[j],
+                &fs,
+                limit,
+                name,
+                order,
+                floor,
+                assert_convergence,
+            );
         }
     }
-    t.finish(&if meshes == [0, 1, 2] { case.to_string() } else { format!("{case}_meshes_{meshes:?}") });
+    t.finish(&if meshes == [0, 1, 2] {
+        case.to_string()
+    } else {
+        format!("{case}_meshes_{meshes:?}")
+    });
 }
 
 /// Cases with a singular mass matrix carry `expected_mode_count`: exactly that many modes (no
 /// infinite eigenvalue at an absurd frequency), and the "only N finite mode(s)" warning exactly
 /// when the EIGRL's ND asked for more.
 fn check_mode_count(r: &Value, run: &Run, f: &[f64]) {
-    let Some(count) = r["expected_mode_count"].as_u64() else { return };
+    let Some(count) = r["expected_mode_count"].as_u64() else {
+        return;
+    };
     let count = count as usize;
     assert_eq!(f.len(), count, "{}: frequencies {f:?}", r["case"]);
-    let warned = run.summary.warnings.iter().any(|w| w.contains(&format!("only {count} finite mode(s)")));
-    let nd_too_large = r["inputs"]["eigrl"]["ND"].as_u64().is_some_and(|nd| nd as usize > count);
-    assert_eq!(warned, nd_too_large, "{}: warnings {:?}", r["case"], run.summary.warnings);
+    let warned = run
+        .summary
+        .warnings
+        .iter()
+        .any(|w| w.contains(&format!("only {count} finite mode(s)")));
+    let nd_too_large = r["inputs"]["eigrl"]["ND"]
+        .as_u64()
+        .is_some_and(|nd| nd as usize > count);
+    assert_eq!(
+        warned, nd_too_large,
+        "{}: warnings {:?}",
+        r["case"], run.summary.warnings
+    );
 }
 
 fn mesh_label(r: &Value, k: usize) -> String {
     let m = &r["meshes"][k];
-    let n: Vec<String> = ["nx", "ny", "nz"].iter().filter_map(|d| m[*d].as_u64().map(|x| x.to_string())).collect();
+    let n: Vec<String> = ["nx", "ny", "nz"]
+        .iter()
+        .filter_map(|d| m[*d].as_u64().map(|x| x.to_string()))
+        .collect();
     format!("n{} {}", k + 1, n.join("×"))
 }
 
@@ -346,11 +562,25 @@ fn mesh_label(r: &Value, k: usize) -> String {
 fn analytic_cantilever_plate_modal() {
     let r = json("reference/analytic/cantilever_plate_modal.json");
     let ritz = f64s(&r["independent_checks"]["kirchhoff_plate_ritz_bending_Hz"]);
-    analytic_modal("cantilever_plate_modal", &[0, 1, 2], false, true, |j| match j {
-        0..=2 => Some((ritz[j], "Kirchhoff-plate Ritz (JSON independent_checks)", [4e-5, 2.7e-4, 6.3e-4][j])),
-        // the limit lies between Ritz (+4.47 %) and exact J (−1.27 %): error vs the reference itself
-        _ => Some((r["values"][3].as_f64().unwrap(), "reference (Saint-Venant bt³/3)", 0.0447)),
-    });
+    analytic_modal(
+        "cantilever_plate_modal",
+        &[0, 1, 2],
+        false,
+        true,
+        |j| match j {
+            0..=2 => Some((
+                ritz[j],
+                "Kirchhoff-plate Ritz (JSON independent_checks)",
+                [4e-5, 2.7e-4, 6.3e-4][j],
+            )),
+            // the limit lies between Ritz (+4.47 %) and exact J (−1.27 %): error vs the reference itself
+            _ => Some((
+                r["values"][3].as_f64().unwrap(),
+                "reference (Saint-Venant bt³/3)",
+                0.0447,
+            )),
+        },
+    );
 }
 
 /// Converges to the exact Mindlin SS plate (`independent_checks.mindlin_Hz`), which this
@@ -359,7 +589,13 @@ fn analytic_cantilever_plate_modal() {
 fn analytic_ss_plate_modal() {
     let r = json("reference/analytic/ss_plate_modal.json");
     let mindlin = f64s(&r["independent_checks"]["mindlin_Hz"]);
-    analytic_modal("ss_plate_modal", &[0, 1, 2], true, true, |j| Some((mindlin[j], "Mindlin SS plate (JSON independent_checks)", 1e-6)));
+    analytic_modal("ss_plate_modal", &[0, 1, 2], true, true, |j| {
+        Some((
+            mindlin[j],
+            "Mindlin SS plate (JSON independent_checks)",
+            1e-6,
+        ))
+    });
 }
 
 /// PSHELL with distinct MID1 (aluminium: membrane, mass, MID3 shear with TS/T = 0.8) and MID2
@@ -369,7 +605,13 @@ fn analytic_ss_plate_modal() {
 fn analytic_ss_plate_pshell_roles_modal() {
     let r = json("reference/analytic/ss_plate_pshell_roles_modal.json");
     let mindlin = f64s(&r["independent_checks"]["mindlin_Hz"]);
-    analytic_modal("ss_plate_pshell_roles_modal", &[0, 1, 2], true, true, |j| Some((mindlin[j], "Mindlin SS plate (JSON independent_checks)", 1e-6)));
+    analytic_modal("ss_plate_pshell_roles_modal", &[0, 1, 2], true, true, |j| {
+        Some((
+            mindlin[j],
+            "Mindlin SS plate (JSON independent_checks)",
+            1e-6,
+        ))
+    });
 }
 
 /// The same PSHELL with MID3 blank (rigid in transverse shear): converges to the Mindlin plate
@@ -379,7 +621,19 @@ fn analytic_ss_plate_pshell_roles_modal() {
 fn analytic_ss_plate_pshell_kirchhoff_modal() {
     let r = json("reference/analytic/ss_plate_pshell_kirchhoff_modal.json");
     let limit = f64s(&r["independent_checks"]["mindlin_Hz"]);
-    analytic_modal("ss_plate_pshell_kirchhoff_modal", &[0, 1, 2], true, true, |j| Some((limit[j], "penalty-shear Mindlin SS plate (JSON independent_checks)", 1e-6)));
+    analytic_modal(
+        "ss_plate_pshell_kirchhoff_modal",
+        &[0, 1, 2],
+        true,
+        true,
+        |j| {
+            Some((
+                limit[j],
+                "penalty-shear Mindlin SS plate (JSON independent_checks)",
+                1e-6,
+            ))
+        },
+    );
 }
 
 /// Timoshenko values. The finest mesh (80×4×8, 2560 CHEXA) takes ~60–100 s at opt-level 0, so
@@ -389,7 +643,9 @@ fn analytic_ss_plate_pshell_kirchhoff_modal() {
 /// (finest-mesh tolerances) is [`analytic_cantilever_beam_solid_modal_finest`].
 #[test]
 fn analytic_cantilever_beam_solid_modal() {
-    analytic_modal("cantilever_beam_solid_modal", &[0, 1], false, false, |_| None);
+    analytic_modal("cantilever_beam_solid_modal", &[0, 1], false, false, |_| {
+        None
+    });
 }
 
 /// All three meshes; the finest-mesh tolerances of the JSON are asserted. Convergence is
@@ -401,7 +657,13 @@ fn analytic_cantilever_beam_solid_modal() {
 #[test]
 #[ignore = "slow at opt-level 0 (~60–100 s for the 80×4×8 mesh); run with --ignored or in release"]
 fn analytic_cantilever_beam_solid_modal_finest() {
-    analytic_modal("cantilever_beam_solid_modal", &[0, 1, 2], false, false, |_| None);
+    analytic_modal(
+        "cantilever_beam_solid_modal",
+        &[0, 1, 2],
+        false,
+        false,
+        |_| None,
+    );
 }
 
 #[test]
@@ -431,7 +693,15 @@ fn analytic_static(case: &str) {
     let mut w = Vec::new();
     for (k, d) in decks.iter().enumerate() {
         let got = run_deck(d).mean_tip_t3();
-        t.row(&format!("{case} ({})", mesh_label(&r, k)), "mean tip T3 (m)", got, v, "analytic", rel(got, v), (k == decks.len() - 1).then_some(tol));
+        t.row(
+            &format!("{case} ({})", mesh_label(&r, k)),
+            "mean tip T3 (m)",
+            got,
+            v,
+            "analytic",
+            rel(got, v),
+            (k == decks.len() - 1).then_some(tol),
+        );
         w.push(got);
     }
     check_convergence(&mut t, case, "tip T3", &w, v, "reference", order, 0.0, true);
@@ -474,8 +744,18 @@ fn analytic_laminate_abd() {
                     theta_deg: *th,
                 })
                 .collect();
-            let sec = ShellSection::laminate(&Laminate { plies, z0: None, nsm: 0.0, symmetric: false }).expect("laminate");
-            for (name, got, key) in [("A", sec.a, "A_N_per_m"), ("B", sec.b, "B_N"), ("D", sec.d, "D_N_m")] {
+            let sec = ShellSection::laminate(&Laminate {
+                plies,
+                z0: None,
+                nsm: 0.0,
+                symmetric: false,
+            })
+            .expect("laminate");
+            for (name, got, key) in [
+                ("A", sec.a, "A_N_per_m"),
+                ("B", sec.b, "B_N"),
+                ("D", sec.d, "D_N_m"),
+            ] {
                 let refm = &s[key];
                 let scale = if name == "B" { anti_bmax } else { matmax(refm) };
                 let (mut worst, mut wi) = (0.0f64, (0, 0));
@@ -489,10 +769,18 @@ fn analytic_laminate_abd() {
                 }
                 let (i, j) = wi;
                 let rv = refm[i][j].as_f64().unwrap();
-                let stack_name = if stack.starts_with("sym") { "[20/−20/20/−20]s" } else { "[20/−20]4" };
+                let stack_name = if stack.starts_with("sym") {
+                    "[20/−20/20/−20]s"
+                } else {
+                    "[20/−20]4"
+                };
                 t.row(
                     &format!("laminate_abd {mat} {stack_name}"),
-                    format!("{name}{}{} (worst entry; error / max|{name}|)", i + 1, j + 1),
+                    format!(
+                        "{name}{}{} (worst entry; error / max|{name}|)",
+                        i + 1,
+                        j + 1
+                    ),
                     got[i][j],
                     rv,
                     "analytic",
@@ -506,7 +794,11 @@ fn analytic_laminate_abd() {
 }
 
 fn matmax(m: &Value) -> f64 {
-    m.as_array().unwrap().iter().flat_map(f64s).fold(0.0, |a, x| a.max(x.abs()))
+    m.as_array()
+        .unwrap()
+        .iter()
+        .flat_map(f64s)
+        .fold(0.0, |a, x| a.max(x.abs()))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -518,10 +810,23 @@ fn calculix(case: &str) {
     reference.sort_by(f64::total_cmp);
     let tol = f64s(&r["tolerance"]["per_mode_rel"]);
     let f = run_deck(r["deck"].as_str().unwrap()).frequencies();
-    assert!(f.len() >= reference.len(), "{case}: paraflex returned {} modes, the reference has {}", f.len(), reference.len());
+    assert!(
+        f.len() >= reference.len(),
+        "{case}: paraflex returned {} modes, the reference has {}",
+        f.len(),
+        reference.len()
+    );
     let mut t = Table::default();
     for (k, (g, e)) in f.iter().zip(&reference).enumerate() {
-        t.row(case, format!("f{} Hz", k + 1), *g, *e, "CalculiX", rel(*g, *e), Some(tol[k]));
+        t.row(
+            case,
+            format!("f{} Hz", k + 1),
+            *g,
+            *e,
+            "CalculiX",
+            rel(*g, *e),
+            Some(tol[k]),
+        );
     }
     t.finish(case);
 }
@@ -584,17 +889,30 @@ fn calculix_rbe_spring_mass() {
 /// the plane-stress constant-strain-triangle solution of the same mesh. Prints the README table.
 fn macneal_harder(prefix: &str) {
     let dir = root().join("reference/calculix/hard");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir).expect("reference/calculix/hard").flatten().map(|e| e.path()).collect();
-    files.retain(|p| p.file_name().is_some_and(|n| n.to_string_lossy().starts_with(prefix)) && p.extension().is_some_and(|x| x == "json"));
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("reference/calculix/hard")
+        .flatten()
+        .map(|e| e.path())
+        .collect();
+    files.retain(|p| {
+        p.file_name()
+            .is_some_and(|n| n.to_string_lossy().starts_with(prefix))
+            && p.extension().is_some_and(|x| x == "json")
+    });
     files.sort();
     assert!(!files.is_empty(), "no {prefix}* references");
     let mut t = Table::default();
     // third-party MITC4 shells on the straight CQUAD4 meshes (tools/opensees/mh_straight_mitc4.py)
     let opensees = json("reference/opensees/mh_straight_mitc4.json");
     let mut opensees_checked = 0;
-    let mut readme = String::from("| case | load | paraflex | CalculiX | analytic (MH 1985) | bound |\n|---|---|---|---|---|---|\n");
+    let mut readme = String::from(
+        "| case | load | paraflex | CalculiX | analytic (MH 1985) | bound |\n|---|---|---|---|---|---|\n",
+    );
     for f in &files {
-        let r = json(&format!("reference/calculix/hard/{}", f.file_name().unwrap().to_string_lossy()));
+        let r = json(&format!(
+            "reference/calculix/hard/{}",
+            f.file_name().unwrap().to_string_lossy()
+        ));
         let case = r["case"].as_str().unwrap();
         let run = run_deck(r["deck"].as_str().unwrap());
         for ld in r["loads"].as_array().unwrap() {
@@ -605,34 +923,73 @@ fn macneal_harder(prefix: &str) {
                 .unwrap()
                 .iter()
                 .map(|m| {
-                    let (g, d, w) = (m[0].as_u64().unwrap() as u32, m[1].as_u64().unwrap() as usize, m[2].as_f64().unwrap());
+                    let (g, d, w) = (
+                        m[0].as_u64().unwrap() as u32,
+                        m[1].as_u64().unwrap() as usize,
+                        m[2].as_f64().unwrap(),
+                    );
                     w * u[&g][d - 1]
                 })
                 .sum();
             let target = ld["target"].as_f64().unwrap();
             let (norm, ccx) = (got / target, ld["calculix_normalised"].as_f64().unwrap());
             let b = &ld["bound"];
-            let num = |k: &str| b[k].as_f64().unwrap_or_else(|| panic!("{case} {label}: bound.{k}"));
+            let num = |k: &str| {
+                b[k].as_f64()
+                    .unwrap_or_else(|| panic!("{case} {label}: bound.{k}"))
+            };
             // (passes, bound text)
             let (ok, bound) = match b["kind"].as_str().unwrap() {
-                "accurate" => ((norm - 1.0).abs() <= num("rel_tol"), format!("±{} % of analytic", sig(100.0 * num("rel_tol")))),
-                "same_element" => ((norm / ccx - 1.0).abs() <= num("rel_tol_to_calculix"), format!("±{} % of CalculiX (same element)", sig(100.0 * num("rel_tol_to_calculix")))),
+                "accurate" => (
+                    (norm - 1.0).abs() <= num("rel_tol"),
+                    format!("±{} % of analytic", sig(100.0 * num("rel_tol"))),
+                ),
+                "same_element" => (
+                    (norm / ccx - 1.0).abs() <= num("rel_tol_to_calculix"),
+                    format!(
+                        "±{} % of CalculiX (same element)",
+                        sig(100.0 * num("rel_tol_to_calculix"))
+                    ),
+                ),
                 "same_element_cst" => {
-                    let cst = ld["cst_plane_stress"].as_f64().unwrap_or_else(|| panic!("{case} {label}: cst_plane_stress"));
-                    ((got / cst - 1.0).abs() <= num("rel_tol_to_cst"), format!("±{} % of the plane-stress CST {:.4}", sig(100.0 * num("rel_tol_to_cst")), cst / target))
+                    let cst = ld["cst_plane_stress"]
+                        .as_f64()
+                        .unwrap_or_else(|| panic!("{case} {label}: cst_plane_stress"));
+                    (
+                        (got / cst - 1.0).abs() <= num("rel_tol_to_cst"),
+                        format!(
+                            "±{} % of the plane-stress CST {:.4}",
+                            sig(100.0 * num("rel_tol_to_cst")),
+                            cst / target
+                        ),
+                    )
                 }
                 "weak" => {
                     let p = num("published_normalised");
-                    let (lo, hi) = (num("min_ratio") * ccx.max(p), num("soft_cap") * ccx.max(p).max(1.0));
-                    (norm >= lo && norm <= hi, format!("[{lo:.3}, {hi:.3}] (≥ {} × max(CalculiX, published {p}))", num("min_ratio")))
+                    let (lo, hi) = (
+                        num("min_ratio") * ccx.max(p),
+                        num("soft_cap") * ccx.max(p).max(1.0),
+                    );
+                    (
+                        norm >= lo && norm <= hi,
+                        format!(
+                            "[{lo:.3}, {hi:.3}] (≥ {} × max(CalculiX, published {p}))",
+                            num("min_ratio")
+                        ),
+                    )
                 }
                 k => panic!("{case}: unknown bound kind {k}"),
             };
             // the same formulation computed independently (MITC plate of the same mesh): asserted
             // whatever the accuracy bound says
             if let Some(plate) = ld["mitc_plate"].as_f64() {
-                let (difference, tol) = ((got / plate - 1.0).abs(), ld["mitc_plate_rel_tol"].as_f64().unwrap());
-                eprintln!("  {case} {label}: paraflex / independent MITC plate − 1 = {difference:.1e}");
+                let (difference, tol) = (
+                    (got / plate - 1.0).abs(),
+                    ld["mitc_plate_rel_tol"].as_f64().unwrap(),
+                );
+                eprintln!(
+                    "  {case} {label}: paraflex / independent MITC plate − 1 = {difference:.1e}"
+                );
                 if difference > tol {
                     t.fail(format!("{case} {label}: {got:e} vs the independent MITC plate {plate:e} (rel. {difference:.1e} > {tol:e})"));
                 }
@@ -640,23 +997,46 @@ fn macneal_harder(prefix: &str) {
             // and by OpenSees's ShellMITC4 (asserted the same way)
             let other = &opensees["cases"][case];
             if other["label"].as_str() == Some(label) {
-                let (shell, tol) = (other["ShellMITC4"].as_f64().unwrap(), other["rel_tol"].as_f64().unwrap());
+                let (shell, tol) = (
+                    other["ShellMITC4"].as_f64().unwrap(),
+                    other["rel_tol"].as_f64().unwrap(),
+                );
                 let difference = (got / shell - 1.0).abs();
-                eprintln!("  {case} {label}: paraflex / OpenSees ShellMITC4 − 1 = {difference:.1e} (ASDShellQ4 {:.4})", other["ASDShellQ4_normalised"]);
+                eprintln!(
+                    "  {case} {label}: paraflex / OpenSees ShellMITC4 − 1 = {difference:.1e} (ASDShellQ4 {:.4})",
+                    other["ASDShellQ4_normalised"]
+                );
                 if difference > tol {
                     t.fail(format!("{case} {label}: {got:e} vs OpenSees ShellMITC4 {shell:e} (rel. {difference:.1e} > {tol:e})"));
                 }
                 opensees_checked += 1;
             }
-            let quantity = format!("{label}: normalised {norm:.4}, CalculiX {ccx:.4}, bound {bound}");
-            t.row(case, quantity.clone(), got, target, "MH 1985", rel(got, target), None);
+            let quantity =
+                format!("{label}: normalised {norm:.4}, CalculiX {ccx:.4}, bound {bound}");
+            t.row(
+                case,
+                quantity.clone(),
+                got,
+                target,
+                "MH 1985",
+                rel(got, target),
+                None,
+            );
             if !ok {
                 t.fail(format!("{case} {quantity}"));
             }
-            readme += &format!("| {case} | {label} | {norm:.4} | {ccx:.4} | {} | {bound} |\n", sig(target));
+            readme += &format!(
+                "| {case} | {label} | {norm:.4} | {ccx:.4} | {} | {bound} |\n",
+                sig(target)
+            );
         }
     }
-    let opensees_cases = opensees["cases"].as_object().unwrap().keys().filter(|k| k.starts_with(prefix)).count();
+    let opensees_cases = opensees["cases"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .filter(|k| k.starts_with(prefix))
+        .count();
     if opensees_checked != opensees_cases {
         t.fail(format!("{opensees_checked} of the {opensees_cases} OpenSees references of {prefix}* were checked (case or label renamed?)"));
     }
@@ -686,14 +1066,34 @@ fn macneal_harder_twisted_beam() {
 fn analytic_thin_cantilever_no_locking() {
     let r = json("reference/analytic/thin_cantilever.json");
     let spread_max = r["no_locking"]["max_spread"].as_f64().unwrap();
-    let thin: Vec<&str> = r["no_locking"]["t_over_L"].as_array().unwrap().iter().map(|k| k.as_str().unwrap()).collect();
+    let thin: Vec<&str> = r["no_locking"]["t_over_L"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| k.as_str().unwrap())
+        .collect();
     let mut t = Table::default();
-    let mut readme = String::from("| mesh | quantity | t/L = 1e-2 | 1e-3 | 1e-4 | spread over the three | thin-limit spread | tolerance |\n|---|---|---|---|---|---|---|---|\n");
+    let mut readme = String::from(
+        "| mesh | quantity | t/L = 1e-2 | 1e-3 | 1e-4 | spread over the three | thin-limit spread | tolerance |\n|---|---|---|---|---|---|---|---|\n",
+    );
     let mut thicknesses: Vec<(&String, &Value)> = r["values"].as_object().unwrap().iter().collect();
-    thicknesses.sort_by(|a, b| b.1["t"].as_f64().unwrap().total_cmp(&a.1["t"].as_f64().unwrap()));
-    assert!(thin.len() >= 2 && thin.iter().all(|k| thicknesses.iter().any(|(key, _)| key == k)), "no_locking.t_over_L {thin:?} must name at least two of the thicknesses");
+    thicknesses.sort_by(|a, b| {
+        b.1["t"]
+            .as_f64()
+            .unwrap()
+            .total_cmp(&a.1["t"].as_f64().unwrap())
+    });
+    assert!(
+        thin.len() >= 2
+            && thin
+                .iter()
+                .all(|k| thicknesses.iter().any(|(key, _)| key == k)),
+        "no_locking.t_over_L {thin:?} must name at least two of the thicknesses"
+    );
     let spread = |values: &[f64]| {
-        let (lo, hi) = values.iter().fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(*x), b.max(*x)));
+        let (lo, hi) = values
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(*x), b.max(*x)));
         (hi - lo) / lo
     };
     for m in r["meshes"].as_array().unwrap() {
@@ -705,30 +1105,59 @@ fn analytic_thin_cantilever_no_locking() {
             let decks = &m["decks"][key];
             let w = run_deck(decks["static"].as_str().unwrap()).mean_tip_t3();
             let f = run_deck(decks["modal"].as_str().unwrap()).frequencies();
-            let reference = [v["tip_deflection"].as_f64().unwrap(), v["f_bending_Hz"][0].as_f64().unwrap(), v["f_bending_Hz"][1].as_f64().unwrap()];
+            let reference = [
+                v["tip_deflection"].as_f64().unwrap(),
+                v["f_bending_Hz"][0].as_f64().unwrap(),
+                v["f_bending_Hz"][1].as_f64().unwrap(),
+            ];
             let labels = ["tip T3 (m)", "f bending 1 (Hz)", "f bending 2 (Hz)"];
             for (q, (got, want)) in [w, f[0], f[1]].into_iter().zip(reference).enumerate() {
-                t.row(&format!("thin_cantilever {mesh} t/L={key}"), labels[q], got, want, "analytic", rel(got, want), Some(tol[q]));
+                t.row(
+                    &format!("thin_cantilever {mesh} t/L={key}"),
+                    labels[q],
+                    got,
+                    want,
+                    "analytic",
+                    rel(got, want),
+                    Some(tol[q]),
+                );
                 norm[q].push(got / want);
             }
             // the same formulation computed independently (MITC plate of the same mesh): asserted
             // whatever the accuracy and locking rules say
-            let (plate, plate_tol) = (f64s(&m["mitc_plate"][key]), m["mitc_plate_rel_tol"][key].as_f64().unwrap());
+            let (plate, plate_tol) = (
+                f64s(&m["mitc_plate"][key]),
+                m["mitc_plate_rel_tol"][key].as_f64().unwrap(),
+            );
             for (q, (got, want)) in [w, f[0], f[1]].into_iter().zip(plate).enumerate() {
                 let difference = (got / want - 1.0).abs();
-                eprintln!("  thin_cantilever {mesh} t/L={key} {}: paraflex / independent MITC plate − 1 = {difference:.1e}", labels[q]);
+                eprintln!(
+                    "  thin_cantilever {mesh} t/L={key} {}: paraflex / independent MITC plate − 1 = {difference:.1e}",
+                    labels[q]
+                );
                 if difference > plate_tol {
                     t.fail(format!("thin_cantilever {mesh} t/L={key} {}: {got:e} vs the independent MITC plate {want:e} (rel. {difference:.1e} > {plate_tol:e})", labels[q]));
                 }
             }
         }
         for (q, label) in ["tip deflection", "f1", "f2"].iter().enumerate() {
-            let in_thin_limit: Vec<f64> = thicknesses.iter().zip(&norm[q]).filter(|((key, _), _)| thin.contains(&key.as_str())).map(|(_, n)| *n).collect();
+            let in_thin_limit: Vec<f64> = thicknesses
+                .iter()
+                .zip(&norm[q])
+                .filter(|((key, _), _)| thin.contains(&key.as_str()))
+                .map(|(_, n)| *n)
+                .collect();
             let (all, thin_spread) = (spread(&norm[q]), spread(&in_thin_limit));
             if thin_spread > spread_max {
                 t.fail(format!("thin_cantilever {mesh} {label}: normalised {:?} drifts by {thin_spread:.2e} over t/L {thin:?} (max {spread_max:.0e}): locking", norm[q]));
             }
-            readme += &format!("| {mesh} | {label} | {:.4} | {:.4} | {:.4} | {all:.1e} | {thin_spread:.1e} | ±{} % |\n", norm[q][0], norm[q][1], norm[q][2], sig(100.0 * tol[q]));
+            readme += &format!(
+                "| {mesh} | {label} | {:.4} | {:.4} | {:.4} | {all:.1e} | {thin_spread:.1e} | ±{} % |\n",
+                norm[q][0],
+                norm[q][1],
+                norm[q][2],
+                sig(100.0 * tol[q])
+            );
         }
     }
     println!("\nREADME table (thin cantilever, normalised FE / reference):\n{readme}");

@@ -27,7 +27,10 @@ fn root() -> PathBuf {
 fn scene_decks(scene: &str) -> Option<Vec<PathBuf>> {
     let dir = root().join("decks").join(scene);
     let entries = std::fs::read_dir(&dir).ok()?;
-    let mut decks: Vec<PathBuf> = entries.map(|e| e.expect("dir entry").path()).filter(|p| p.extension().is_some_and(|x| x == "dat")).collect();
+    let mut decks: Vec<PathBuf> = entries
+        .map(|e| e.expect("dir entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "dat"))
+        .collect();
     decks.sort();
     Some(decks)
 }
@@ -40,21 +43,46 @@ fn reference(deck: &Path) -> Option<Value> {
 }
 
 fn number(v: &Value, what: &str, json: &str) -> f64 {
-    v.as_f64().unwrap_or_else(|| panic!("{json}: {what} is not a number: {v}"))
+    v.as_f64()
+        .unwrap_or_else(|| panic!("{json}: {what} is not a number: {v}"))
 }
 
 /// One row of the printed table; `Err` rows are collected as failures.
-fn row(out: &mut String, deck: &str, quantity: &str, achieved: f64, target: Option<(f64, f64)>) -> Result<(), String> {
+fn row(
+    out: &mut String,
+    deck: &str,
+    quantity: &str,
+    achieved: f64,
+    target: Option<(f64, f64)>,
+) -> Result<(), String> {
     match target {
         None => {
-            let _ = writeln!(out, "{deck:<28} {quantity:<10} {achieved:>12.6} {:>12} {:>9} {:>7}", "-", "-", "-");
+            let _ = writeln!(
+                out,
+                "{deck:<28} {quantity:<10} {achieved:>12.6} {:>12} {:>9} {:>7}",
+                "-", "-", "-"
+            );
             Ok(())
         }
         Some((t, tol)) => {
             let err = (achieved - t) / t.abs();
             let ok = err.abs() <= tol;
-            let _ = writeln!(out, "{deck:<28} {quantity:<10} {achieved:>12.6} {t:>12.6} {:>+8.3}% {:>6.2}% {}", 100.0 * err, 100.0 * tol, if ok { "" } else { "  FAIL" });
-            if ok { Ok(()) } else { Err(format!("{deck}: {quantity} = {achieved} vs {t} (error {:+.3} %, tolerance {} %)", 100.0 * err, 100.0 * tol)) }
+            let _ = writeln!(
+                out,
+                "{deck:<28} {quantity:<10} {achieved:>12.6} {t:>12.6} {:>+8.3}% {:>6.2}% {}",
+                100.0 * err,
+                100.0 * tol,
+                if ok { "" } else { "  FAIL" }
+            );
+            if ok {
+                Ok(())
+            } else {
+                Err(format!(
+                    "{deck}: {quantity} = {achieved} vs {t} (error {:+.3} %, tolerance {} %)",
+                    100.0 * err,
+                    100.0 * tol
+                ))
+            }
         }
     }
 }
@@ -65,13 +93,24 @@ fn check_scene(scene: &str) {
         println!("decks/{scene}/ does not exist (yet): nothing to run");
         return;
     };
-    let mut table = format!("{:<28} {:<10} {:>12} {:>12} {:>9} {:>7}\n", "deck", "quantity", "achieved", "target", "error", "tol");
+    let mut table = format!(
+        "{:<28} {:<10} {:>12} {:>12} {:>9} {:>7}\n",
+        "deck", "quantity", "achieved", "target", "error", "tol"
+    );
     let mut failures = Vec::new();
     for path in &decks {
-        let name = path.file_name().expect("name").to_string_lossy().into_owned();
-        let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let name = path
+            .file_name()
+            .expect("name")
+            .to_string_lossy()
+            .into_owned();
+        let text =
+            std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         if text.contains("meshes/full/") {
-            let _ = writeln!(table, "{name:<28} skipped: a full-size variant (includes meshes/full/, made by `make meshes-full`, not committed)");
+            let _ = writeln!(
+                table,
+                "{name:<28} skipped: a full-size variant (includes meshes/full/, made by `make meshes-full`, not committed)"
+            );
             continue;
         }
         let t0 = std::time::Instant::now();
@@ -83,28 +122,59 @@ fn check_scene(scene: &str) {
                 continue;
             }
         };
-        if let Some(SubcaseResult::Modal(m)) = summary.subcases.first().map(|s| &s.result) && !m.sturm.is_consistent() {
+        if let Some(SubcaseResult::Modal(m)) = summary.subcases.first().map(|s| &s.result)
+            && !m.sturm.is_consistent()
+        {
             failures.push(format!("{name}: Sturm check inconsistent: {:?}", m.sturm));
         }
         let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open out.h5");
-        let freqs: Vec<f64> = file.dataset("results/1/modal/frequency_hz").and_then(|d| d.read_raw()).unwrap_or_default();
+        let freqs: Vec<f64> = file
+            .dataset("results/1/modal/frequency_hz")
+            .and_then(|d| d.read_raw())
+            .unwrap_or_default();
         let mass = model.mass_properties().mass;
         let reference = reference(path);
-        let json = format!("reference/scenes/{}.json", path.file_stem().expect("stem").to_string_lossy());
-        let mass_target = reference.as_ref().and_then(|r| r.get("mass")).map(|m| (number(&m["target"], "mass.target", &json), number(&m["rel_tol"], "mass.rel_tol", &json)));
+        let json = format!(
+            "reference/scenes/{}.json",
+            path.file_stem().expect("stem").to_string_lossy()
+        );
+        let mass_target = reference.as_ref().and_then(|r| r.get("mass")).map(|m| {
+            (
+                number(&m["target"], "mass.target", &json),
+                number(&m["rel_tol"], "mass.rel_tol", &json),
+            )
+        });
         failures.extend(row(&mut table, &name, "mass", mass, mass_target).err());
         match reference.as_ref().and_then(|r| r.get("frequencies")) {
             Some(fr) => {
-                let targets: Vec<f64> = fr["target"].as_array().unwrap_or_else(|| panic!("{json}: frequencies.target")).iter().map(|t| number(t, "frequencies.target[]", &json)).collect();
+                let targets: Vec<f64> = fr["target"]
+                    .as_array()
+                    .unwrap_or_else(|| panic!("{json}: frequencies.target"))
+                    .iter()
+                    .map(|t| number(t, "frequencies.target[]", &json))
+                    .collect();
                 let tol = number(&fr["rel_tol"], "frequencies.rel_tol", &json);
                 let first = fr.get("first_mode").and_then(Value::as_u64).unwrap_or(1) as usize;
                 assert!(first >= 1, "{json}: frequencies.first_mode is 1-based");
                 if freqs.len() < first - 1 + targets.len() {
-                    failures.push(format!("{name}: {} modes computed, {json} compares modes {first}..{}", freqs.len(), first - 1 + targets.len()));
+                    failures.push(format!(
+                        "{name}: {} modes computed, {json} compares modes {first}..{}",
+                        freqs.len(),
+                        first - 1 + targets.len()
+                    ));
                     continue;
                 }
                 for (k, t) in targets.iter().enumerate() {
-                    failures.extend(row(&mut table, &name, &format!("f{} Hz", first + k), freqs[first - 1 + k], Some((*t, tol))).err());
+                    failures.extend(
+                        row(
+                            &mut table,
+                            &name,
+                            &format!("f{} Hz", first + k),
+                            freqs[first - 1 + k],
+                            Some((*t, tol)),
+                        )
+                        .err(),
+                    );
                 }
             }
             None => {
@@ -114,10 +184,21 @@ fn check_scene(scene: &str) {
                 }
             }
         }
-        let _ = writeln!(table, "{:<28} ran in {:.2} s, {} grids, {} modes", "", t0.elapsed().as_secs_f64(), model.grids.len(), freqs.len());
+        let _ = writeln!(
+            table,
+            "{:<28} ran in {:.2} s, {} grids, {} modes",
+            "",
+            t0.elapsed().as_secs_f64(),
+            model.grids.len(),
+            freqs.len()
+        );
     }
     println!("scene {scene}:\n{table}");
-    assert!(failures.is_empty(), "scene {scene}:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "scene {scene}:\n{}",
+        failures.join("\n")
+    );
 }
 
 #[test]
@@ -147,11 +228,26 @@ fn blade() {
 fn committed_includes_are_current() {
     let python = root().join(".venv/bin/python");
     if !python.exists() {
-        println!("SKIPPED: {} is missing; run `make test` (it creates the venv) to check the committed mesh includes", python.display());
+        println!(
+            "SKIPPED: {} is missing; run `make test` (it creates the venv) to check the committed mesh includes",
+            python.display()
+        );
         return;
     }
-    let out = std::process::Command::new(&python).arg("meshes/build.py").arg("--check").current_dir(root()).output().expect("run meshes/build.py --check");
-    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let out = std::process::Command::new(&python)
+        .arg("meshes/build.py")
+        .arg("--check")
+        .current_dir(root())
+        .output()
+        .expect("run meshes/build.py --check");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
     println!("{text}");
-    assert!(out.status.success(), "meshes/build.py --check failed:\n{text}");
+    assert!(
+        out.status.success(),
+        "meshes/build.py --check failed:\n{text}"
+    );
 }

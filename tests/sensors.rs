@@ -23,13 +23,23 @@ fn root() -> PathBuf {
 /// recovery, so 1e-12 relative: only the summation order differs).
 #[test]
 fn strain_and_displacement_sensors_match_the_beam_formula() {
-    let reference: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(root().join("reference/analytic/cantilever_strain_sensor.json")).unwrap()).unwrap();
+    let reference: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("reference/analytic/cantilever_strain_sensor.json"))
+            .unwrap(),
+    )
+    .unwrap();
     let deck_path = root().join(reference["meshes"][0]["deck"].as_str().unwrap());
     let deck = Deck::read(&deck_path).expect("deck");
     let model = Model::build(&deck).expect("model");
     let dir = tempfile::tempdir().unwrap();
     let file = OutputFile::create(dir.path().join("out.h5")).unwrap();
-    let ctx = RunContext { deck: &deck, model: &model, output: &file, progress: &|_: &str, _: usize, _: usize| {}, options: RunOptions { parallel: false } };
+    let ctx = RunContext {
+        deck: &deck,
+        model: &model,
+        output: &file,
+        progress: &|_: &str, _: usize, _: usize| {},
+        options: RunOptions { parallel: false },
+    };
     run(&ctx).expect("SOL 101");
     let st = Structure::build(&ctx, &mut Clock::default()).expect("structure");
     let sub = &model.subcases[0];
@@ -44,10 +54,25 @@ fn strain_and_displacement_sensors_match_the_beam_formula() {
     let u_f: Vec<f64> = c.sets.f.members().iter().map(|&i| u_g[i]).collect();
     let y = h.apply(&u_f);
 
-    let labels: Vec<&str> = reference["value_labels"].as_array().unwrap().iter().map(|v| v.as_str().unwrap()).collect();
+    let labels: Vec<&str> = reference["value_labels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
     assert_eq!(h.names, labels);
-    let values: Vec<f64> = reference["values"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
-    let tol: Vec<f64> = reference["tolerance_finest"]["relative"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    let values: Vec<f64> = reference["values"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let tol: Vec<f64> = reference["tolerance_finest"]["relative"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
     let scale = reference["absolute_scale"].as_f64().unwrap();
     for (((name, got), want), tol) in labels.iter().zip(&y).zip(&values).zip(&tol) {
         let err = (got - want).abs() / if *want == 0.0 { scale } else { want.abs() };
@@ -61,10 +86,22 @@ fn strain_and_displacement_sensors_match_the_beam_formula() {
     let ids: Vec<u32> = s.dataset("ids").unwrap().read_raw().unwrap();
     let top: Vec<f64> = s.dataset("top").unwrap().read_raw().unwrap();
     let bottom: Vec<f64> = s.dataset("bottom").unwrap().read_raw().unwrap();
-    let at = |surface: &[f64], eid: u32| -> [f64; 3] { std::array::from_fn(|i| surface[3 * ids.iter().position(|&e| e == eid).unwrap() + i]) };
+    let at = |surface: &[f64], eid: u32| -> [f64; 3] {
+        std::array::from_fn(|i| surface[3 * ids.iter().position(|&e| e == eid).unwrap() + i])
+    };
     // the 45° gauge: ϑ = (1, 1)/√2 → (εx + εy + γxy)/2 (eq. 2.31)
     let e45 = at(&top, 1).iter().sum::<f64>() / 2.0;
-    for (k, want) in [(0, at(&top, 1)[0]), (1, at(&bottom, 1)[0]), (3, e45), (4, at(&top, 11)[0])] {
-        assert!((y[k] - want).abs() <= 1e-12 * want.abs(), "{}: {} vs STRAIN output {want}", labels[k], y[k]);
+    for (k, want) in [
+        (0, at(&top, 1)[0]),
+        (1, at(&bottom, 1)[0]),
+        (3, e45),
+        (4, at(&top, 11)[0]),
+    ] {
+        assert!(
+            (y[k] - want).abs() <= 1e-12 * want.abs(),
+            "{}: {} vs STRAIN output {want}",
+            labels[k],
+            y[k]
+        );
     }
 }

@@ -3,10 +3,8 @@
 mod common;
 use common::run_deck;
 
-
 use paraflex::sequence::statics::StaticsSummary;
 use paraflex::sequence::{RunError, RunSummary, SubcaseResult};
-
 
 fn statics(s: &RunSummary, k: usize) -> &StaticsSummary {
     match &s.subcases[k].result {
@@ -30,19 +28,37 @@ fn strip(case: &str, extra: &str) -> String {
 /// [`strip`] whose thickness varies linearly from `taper.0` at x = 0 to `taper.1` at x = L,
 /// given as CQUAD4 corner thicknesses (TFLAG = 0).
 fn strip_tapered(case: &str, extra: &str, taper: Option<(f64, f64)>) -> String {
-    let mut s = format!("SOL 101\nCEND\n{case}BEGIN BULK\nPSHELL,1,1,{T:?},1,,1\nMAT1,1,{E:?},,0.,7850.\n{extra}");
+    let mut s = format!(
+        "SOL 101\nCEND\n{case}BEGIN BULK\nPSHELL,1,1,{T:?},1,,1\nMAT1,1,{E:?},,0.,7850.\n{extra}"
+    );
     for i in 0..=NX {
         let x = i as f64 * L / NX as f64;
-        s += &format!("GRID,{},,{x:.12e},0.,0.\nGRID,{},,{x:.12e},{B:?},0.\n", 1 + i, 101 + i);
+        s += &format!(
+            "GRID,{},,{x:.12e},0.,0.\nGRID,{},,{x:.12e},{B:?},0.\n",
+            1 + i,
+            101 + i
+        );
     }
     for i in 0..NX {
-        s += &format!("CQUAD4,{},1,{},{},{},{}\n", 1 + i, 1 + i, 2 + i, 102 + i, 101 + i);
+        s += &format!(
+            "CQUAD4,{},1,{},{},{},{}\n",
+            1 + i,
+            1 + i,
+            2 + i,
+            102 + i,
+            101 + i
+        );
         if let Some((t0, t1)) = taper {
             let t = |k: usize| t0 + (t1 - t0) * k as f64 / NX as f64;
             s += &format!("+,,0,{:?},{:?},{:?},{:?}\n", t(i), t(i + 1), t(i + 1), t(i));
         }
     }
-    s += &format!("SPC1,1,123456,1,101\nGRID,1000,,{L:?},{:?},0.\nRBE2,2000,1000,123456,{},{}\nENDDATA\n", B / 2.0, 1 + NX, 101 + NX);
+    s += &format!(
+        "SPC1,1,123456,1,101\nGRID,1000,,{L:?},{:?},0.\nRBE2,2000,1000,123456,{},{}\nENDDATA\n",
+        B / 2.0,
+        1 + NX,
+        101 + NX
+    );
     s
 }
 
@@ -56,31 +72,64 @@ fn strip_tapered(case: &str, extra: &str, taper: Option<(f64, f64)>) -> String {
 #[test]
 fn cquad4_cantilever_tip_deflection_and_reaction_balance() {
     let p = 10.0;
-    let deck = strip("SPC = 1\nLOAD = 5\nSPCFORCES = ALL\nDISPLACEMENT = ALL\n", &format!("FORCE,5,1000,,{p:?},0.,0.,1.\n"));
+    let deck = strip(
+        "SPC = 1\nLOAD = 5\nSPCFORCES = ALL\nDISPLACEMENT = ALL\n",
+        &format!("FORCE,5,1000,,{p:?},0.,0.,1.\n"),
+    );
     let (r, dir) = run_deck(&deck);
     let s = r.expect("run");
     let st = statics(&s, 0);
     let w = p * L.powi(3) / (3.0 * E * B * T.powi(3) / 12.0);
     let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
-    let u: Vec<f64> = file.dataset("results/1/statics/displacement").expect("u").read_raw().expect("read");
+    let u: Vec<f64> = file
+        .dataset("results/1/statics/displacement")
+        .expect("u")
+        .read_raw()
+        .expect("read");
     // grid 1000 (the RBE2 hub) is the last grid in id order
     let hub = &u[u.len() - 6..];
-    assert!((hub[2] - w).abs() < 5e-3 * w, "tip {} vs PL³/3EI {w}", hub[2]);
+    assert!(
+        (hub[2] - w).abs() < 5e-3 * w,
+        "tip {} vs PL³/3EI {w}",
+        hub[2]
+    );
     let slope = p * L * L / (2.0 * E * B * T.powi(3) / 12.0);
-    assert!((hub[4] + slope).abs() < 5e-3 * slope, "tip rotation {} vs −PL²/2EI {}", hub[4], -slope);
+    assert!(
+        (hub[4] + slope).abs() < 5e-3 * slope,
+        "tip rotation {} vs −PL²/2EI {}",
+        hub[4],
+        -slope
+    );
     // the tip grids move with the hub (RBE2): any of them may hold the maximum
-    assert!((st.max_translation.1 - hub[2]).abs() < 1e-12 * w, "{:?}", st.max_translation);
+    assert!(
+        (st.max_translation.1 - hub[2]).abs() < 1e-12 * w,
+        "{:?}",
+        st.max_translation
+    );
     let scale = p * L;
     for k in 0..6 {
-        assert!((st.reaction[k] + st.applied[k]).abs() <= 1e-8 * scale, "component {k}: reaction {:?} vs applied {:?}", st.reaction, st.applied);
+        assert!(
+            (st.reaction[k] + st.applied[k]).abs() <= 1e-8 * scale,
+            "component {k}: reaction {:?} vs applied {:?}",
+            st.reaction,
+            st.applied
+        );
     }
     assert!((st.applied[2] - p).abs() < 1e-12);
     // the file holds n×6 displacements and SPC forces, in /model/grid_ids order
     let n = 2 * (NX + 1) + 1;
     for name in ["displacement", "spc_force"] {
-        assert_eq!(file.dataset(&format!("results/1/statics/{name}")).expect(name).shape(), vec![n, 6]);
+        assert_eq!(
+            file.dataset(&format!("results/1/statics/{name}"))
+                .expect(name)
+                .shape(),
+            vec![n, 6]
+        );
     }
-    assert!(file.dataset("results/1/statics/strain").is_err(), "strain written without STRAIN");
+    assert!(
+        file.dataset("results/1/statics/strain").is_err(),
+        "strain written without STRAIN"
+    );
 }
 
 /// The strip clamped by 1e20 grounded CELAS2 springs on all six components of its root grids
@@ -91,18 +140,38 @@ fn cquad4_cantilever_tip_deflection_and_reaction_balance() {
 #[test]
 fn stiff_spring_clamp_equals_the_spc_clamp() {
     let p = 10.0;
-    let clamped = strip("SPC = 1\nLOAD = 5\n", &format!("FORCE,5,1000,,{p:?},0.,0.,1.\n"));
-    let springs: String = [1, 101].iter().enumerate().flat_map(|(i, g)| (1..=6).map(move |c| format!("CELAS2,{},1.e20,{g},{c}\n", 9000 + 6 * i + c))).collect();
-    let sprung = strip("LOAD = 5\n", &format!("FORCE,5,1000,,{p:?},0.,0.,1.\n{springs}")).replace("SPC1,1,123456,1,101\n", "");
+    let clamped = strip(
+        "SPC = 1\nLOAD = 5\n",
+        &format!("FORCE,5,1000,,{p:?},0.,0.,1.\n"),
+    );
+    let springs: String = [1, 101]
+        .iter()
+        .enumerate()
+        .flat_map(|(i, g)| {
+            (1..=6).map(move |c| format!("CELAS2,{},1.e20,{g},{c}\n", 9000 + 6 * i + c))
+        })
+        .collect();
+    let sprung = strip(
+        "LOAD = 5\n",
+        &format!("FORCE,5,1000,,{p:?},0.,0.,1.\n{springs}"),
+    )
+    .replace("SPC1,1,123456,1,101\n", "");
     let tip = |deck: &str| {
         let (r, _dir) = run_deck(deck);
         let s = r.expect("run");
         let st = statics(&s, 0);
-        assert!(s.subcases[0].autospc.is_empty(), "AUTOSPC: {:?}", s.subcases[0].autospc);
+        assert!(
+            s.subcases[0].autospc.is_empty(),
+            "AUTOSPC: {:?}",
+            s.subcases[0].autospc
+        );
         st.max_translation.1
     };
     let (a, b) = (tip(&clamped), tip(&sprung));
-    assert!((a - b).abs() <= 1e-9 * a, "SPC clamp {a:e} vs 1e20 springs {b:e}");
+    assert!(
+        (a - b).abs() <= 1e-9 * a,
+        "SPC clamp {a:e} vs 1e20 springs {b:e}"
+    );
 }
 
 /// Two subcases with the same SPC share one factorization; a load scaled by 2 doubles u, and
@@ -111,31 +180,66 @@ fn stiff_spring_clamp_equals_the_spc_clamp() {
 fn two_subcases_share_the_factor_and_strains_follow_beam_theory() {
     let p = 10.0;
     let case = "SPC = 1\nSTRAIN = ALL\nSUBCASE 1\n  LOAD = 5\nSUBCASE 2\n  LOAD = 6\n";
-    let deck = strip(case, &format!("FORCE,5,1000,,{p:?},0.,0.,1.\nLOAD,6,2.,1.,5\n"));
+    let deck = strip(
+        case,
+        &format!("FORCE,5,1000,,{p:?},0.,0.,1.\nLOAD,6,2.,1.,5\n"),
+    );
     let (r, dir) = run_deck(&deck);
     let s = r.expect("run");
     let (a, b) = (statics(&s, 0), statics(&s, 1));
     assert!((b.max_component.2 - 2.0 * a.max_component.2).abs() < 1e-12 * a.max_component.2.abs());
-    let choleskys = s.timings.iter().filter(|(n, _)| n.contains("Cholesky")).count();
+    let choleskys = s
+        .timings
+        .iter()
+        .filter(|(n, _)| n.contains("Cholesky"))
+        .count();
     assert_eq!(choleskys, 1, "{:?}", s.timings);
     let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
-    let top: Vec<f64> = file.dataset("results/1/statics/strain/CQUAD4/top").expect("top").read_raw().expect("read");
-    let bottom: Vec<f64> = file.dataset("results/1/statics/strain/CQUAD4/bottom").expect("bottom").read_raw().expect("read");
-    let ids: Vec<u32> = file.dataset("results/1/statics/strain/CQUAD4/ids").expect("ids").read_raw().expect("read");
+    let top: Vec<f64> = file
+        .dataset("results/1/statics/strain/CQUAD4/top")
+        .expect("top")
+        .read_raw()
+        .expect("read");
+    let bottom: Vec<f64> = file
+        .dataset("results/1/statics/strain/CQUAD4/bottom")
+        .expect("bottom")
+        .read_raw()
+        .expect("read");
+    let ids: Vec<u32> = file
+        .dataset("results/1/statics/strain/CQUAD4/ids")
+        .expect("ids")
+        .read_raw()
+        .expect("read");
     assert_eq!(ids.len(), NX);
     // element 1 centroid at x = L/(2 NX): M = P (L − x), ε = M (T/2) / (E I); w > 0 bends the
     // top fibre (z = +T/2) into compression at the root
     let x = 0.5 * L / NX as f64;
     let eps = p * (L - x) * (T / 2.0) / (E * B * T.powi(3) / 12.0);
-    assert!((top[0] + eps).abs() < 0.02 * eps && (bottom[0] - eps).abs() < 0.02 * eps, "top {} bottom {} vs ±{eps}", top[0], bottom[0]);
+    assert!(
+        (top[0] + eps).abs() < 0.02 * eps && (bottom[0] - eps).abs() < 0.02 * eps,
+        "top {} bottom {} vs ±{eps}",
+        top[0],
+        bottom[0]
+    );
 }
 
 /// A CHEXA cube with PARAM,AUTOSPC,NO: the rotations of solid-only grids have no stiffness and
 /// the Cholesky fails; the error names the GRID and the component and suggests SPC / AUTOSPC.
 #[test]
 fn mechanism_with_autospc_no_names_grid_and_component() {
-    let mut deck = String::from("SOL 101\nCEND\nSPC = 1\nLOAD = 2\nBEGIN BULK\nPARAM,AUTOSPC,NO\nPSOLID,1,1\nMAT1,1,2.1e11,,0.3,7850.\nFORCE,2,8,,1.,0.,0.,1.\n");
-    let c = [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [0., 0., 1.], [1., 0., 1.], [1., 1., 1.], [0., 1., 1.]];
+    let mut deck = String::from(
+        "SOL 101\nCEND\nSPC = 1\nLOAD = 2\nBEGIN BULK\nPARAM,AUTOSPC,NO\nPSOLID,1,1\nMAT1,1,2.1e11,,0.3,7850.\nFORCE,2,8,,1.,0.,0.,1.\n",
+    );
+    let c = [
+        [0., 0., 0.],
+        [1., 0., 0.],
+        [1., 1., 0.],
+        [0., 1., 0.],
+        [0., 0., 1.],
+        [1., 0., 1.],
+        [1., 1., 1.],
+        [0., 1., 1.],
+    ];
     for (k, x) in c.iter().enumerate() {
         deck += &format!("GRID,{},,{:?},{:?},{:?}\n", k + 1, x[0], x[1], x[2]);
     }
@@ -144,7 +248,10 @@ fn mechanism_with_autospc_no_names_grid_and_component() {
     let e = r.expect_err("mechanism");
     assert!(matches!(e, RunError::Mechanism { subcase: 1, .. }), "{e:?}");
     let msg = e.to_string();
-    assert!(msg.contains("GRID ") && msg.contains("component ") && msg.contains("AUTOSPC"), "{msg}");
+    assert!(
+        msg.contains("GRID ") && msg.contains("component ") && msg.contains("AUTOSPC"),
+        "{msg}"
+    );
     // with AUTOSPC (the default) the same deck solves
     let (ok, _dir) = run_deck(&deck.replace("PARAM,AUTOSPC,NO\n", ""));
     let s = ok.expect("with AUTOSPC");
@@ -166,10 +273,18 @@ fn spring_reactions_balance_the_load_to_round_off() {
     let s = r.expect("run");
     let st = statics(&s, 0);
     for c in 0..3 {
-        assert!((st.reaction[c] + f[c]).abs() <= 1e-10 * 5.0, "{:?}", st.reaction);
+        assert!(
+            (st.reaction[c] + f[c]).abs() <= 1e-10 * 5.0,
+            "{:?}",
+            st.reaction
+        );
     }
     let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
-    let u: Vec<f64> = file.dataset("results/1/statics/displacement").expect("u").read_raw().expect("read");
+    let u: Vec<f64> = file
+        .dataset("results/1/statics/displacement")
+        .expect("u")
+        .read_raw()
+        .expect("read");
     for c in 0..3 {
         assert!((u[c] - f[c] / k[c]).abs() <= 1e-12, "{:?}", &u[..3]);
     }
@@ -191,12 +306,23 @@ fn output_requests_store_only_the_requested_sets() {
     };
     let read_ids = |dir: &tempfile::TempDir, name: &str| -> Vec<u32> {
         let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
-        file.dataset(&format!("results/1/statics/{name}")).expect(name).read_raw().expect("read")
+        file.dataset(&format!("results/1/statics/{name}"))
+            .expect(name)
+            .read_raw()
+            .expect("read")
     };
     // reference run: everything for every grid; grid rows in increasing id order
-    let (all, all_dir) = run_deck(&strip("SPC = 1\nLOAD = 5\nDISPLACEMENT = ALL\nSPCFORCES = ALL\n", load));
+    let (all, all_dir) = run_deck(&strip(
+        "SPC = 1\nLOAD = 5\nDISPLACEMENT = ALL\nSPCFORCES = ALL\n",
+        load,
+    ));
     all.expect("run");
-    let ids: Vec<u32> = (1..=NX as u32 + 1).chain(101..=101 + NX as u32).chain([1000]).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
+    let ids: Vec<u32> = (1..=NX as u32 + 1)
+        .chain(101..=101 + NX as u32)
+        .chain([1000])
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .collect();
     let (shape, u_all) = read(&all_dir, "displacement").expect("displacement");
     assert_eq!(shape, vec![ids.len(), 6]);
     let (_, q_all) = read(&all_dir, "spc_force").expect("spc_force");
@@ -216,26 +342,51 @@ fn output_requests_store_only_the_requested_sets() {
     assert_eq!(shape, vec![3, 6]);
     assert_eq!(read_ids(&dir, "spc_force_grid_ids"), vec![1, 5, 101]);
     for (k, id) in [2, 3, 1000].into_iter().enumerate() {
-        assert_eq!(u[6 * k..6 * k + 6], row(&u_all, id)[..], "displacement of GRID {id}");
+        assert_eq!(
+            u[6 * k..6 * k + 6],
+            row(&u_all, id)[..],
+            "displacement of GRID {id}"
+        );
     }
     for (k, id) in [1, 5, 101].into_iter().enumerate() {
-        assert_eq!(q[6 * k..6 * k + 6], row(&q_all, id)[..], "SPC force of GRID {id}");
+        assert_eq!(
+            q[6 * k..6 * k + 6],
+            row(&q_all, id)[..],
+            "SPC force of GRID {id}"
+        );
     }
-    assert!(q[..6].iter().any(|x| x.abs() > 1.0), "the clamped grid 1 carries a reaction: {:?}", &q[..6]);
+    assert!(
+        q[..6].iter().any(|x| x.abs() > 1.0),
+        "the clamped grid 1 carries a reaction: {:?}",
+        &q[..6]
+    );
     assert_eq!(read_ids(&dir, "strain/CQUAD4/ids"), vec![2, 4]);
-    assert!(read(&all_dir, "displacement_grid_ids").is_none(), "ALL writes no id list (rows are /model/grid_ids)");
+    assert!(
+        read(&all_dir, "displacement_grid_ids").is_none(),
+        "ALL writes no id list (rows are /model/grid_ids)"
+    );
 
     // NONE stores nothing; absent SPCFORCES / STRAIN store nothing
     let (r, dir) = run_deck(&strip("SPC = 1\nLOAD = 5\nDISPLACEMENT = NONE\n", load));
     r.expect("run");
     for name in ["displacement", "spc_force", "strain"] {
-        assert!(read(&dir, name).is_none() && hdf5_metno::File::open(dir.path().join("out.h5")).unwrap().group(&format!("results/1/statics/{name}")).is_err(), "{name} written");
+        assert!(
+            read(&dir, name).is_none()
+                && hdf5_metno::File::open(dir.path().join("out.h5"))
+                    .unwrap()
+                    .group(&format!("results/1/statics/{name}"))
+                    .is_err(),
+            "{name} written"
+        );
     }
 
     // no DISPLACEMENT request at all: the default writes every grid
     let (r, dir) = run_deck(&strip("SPC = 1\nLOAD = 5\n", load));
     r.expect("run");
-    assert_eq!(read(&dir, "displacement").expect("default displacement"), (vec![ids.len(), 6], u_all));
+    assert_eq!(
+        read(&dir, "displacement").expect("default displacement"),
+        (vec![ids.len(), 6], u_all)
+    );
 }
 
 /// PARAM,MAXRATIO sets the diagonal/pivot ratio SOL 101 accepts: the MacNeal–Harder thin twisted
@@ -244,12 +395,24 @@ fn output_requests_store_only_the_requested_sets() {
 /// component named, and solved with the deck's PARAM,MAXRATIO,1e10.
 #[test]
 fn maxratio_param_admits_an_ill_conditioned_thin_shell() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/decks/verify/hard/mh_twisted_thin_cquad4.dat");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/decks/verify/hard/mh_twisted_thin_cquad4.dat"
+    );
     let text = std::fs::read_to_string(path).expect("deck");
     assert!(text.contains("PARAM,MAXRATIO,"));
     let (ok, _dir) = run_deck(&text);
     ok.expect("solved with PARAM,MAXRATIO,1e10");
-    let low: String = text.lines().map(|l| if l.starts_with("PARAM,MAXRATIO") { "PARAM,MAXRATIO,1e6\n".to_string() } else { format!("{l}\n") }).collect();
+    let low: String = text
+        .lines()
+        .map(|l| {
+            if l.starts_with("PARAM,MAXRATIO") {
+                "PARAM,MAXRATIO,1e6\n".to_string()
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
     let (err, _dir) = run_deck(&low);
     let msg = err.expect_err("refused at MAXRATIO 1e6").to_string();
     assert!(msg.contains("GRID") && msg.contains("pivot ratio"), "{msg}");
@@ -269,15 +432,29 @@ fn maxratio_param_admits_an_ill_conditioned_thin_shell() {
 #[test]
 fn tapered_cantilever_tip_deflection() {
     let (p, t0, t1) = (10.0, T, T / 2.0);
-    let deck = strip_tapered("SPC = 1\nLOAD = 5\n", &format!("FORCE,5,1000,,{p:?},0.,0.,1.\n"), Some((t0, t1)));
+    let deck = strip_tapered(
+        "SPC = 1\nLOAD = 5\n",
+        &format!("FORCE,5,1000,,{p:?},0.,0.,1.\n"),
+        Some((t0, t1)),
+    );
     let (r, dir) = run_deck(&deck);
     r.expect("run");
     let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
-    let u: Vec<f64> = file.dataset("results/1/statics/displacement").expect("u").read_raw().expect("read");
+    let u: Vec<f64> = file
+        .dataset("results/1/statics/displacement")
+        .expect("u")
+        .read_raw()
+        .expect("read");
     let tip = u[u.len() - 6 + 2];
     let s = (t1 - t0) / L;
-    let bending = 12.0 * p / (E * B * s.powi(3)) * ((t1 / t0).ln() + 2.0 * t1 * (1.0 / t1 - 1.0 / t0) - 0.5 * t1 * t1 * (1.0 / (t1 * t1) - 1.0 / (t0 * t0)));
+    let bending = 12.0 * p / (E * B * s.powi(3))
+        * ((t1 / t0).ln() + 2.0 * t1 * (1.0 / t1 - 1.0 / t0)
+            - 0.5 * t1 * t1 * (1.0 / (t1 * t1) - 1.0 / (t0 * t0)));
     let shear = p * (t1 / t0).ln() / (5.0 / 6.0 * E / 2.0 * B * s);
     let exact = bending + shear;
-    assert!((tip - exact).abs() < 1e-3 * exact, "tip {tip} vs {exact} ({:+.3e})", tip / exact - 1.0);
+    assert!(
+        (tip - exact).abs() < 1e-3 * exact,
+        "tip {tip} vs {exact} ({:+.3e})",
+        tip / exact - 1.0
+    );
 }

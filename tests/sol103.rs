@@ -4,12 +4,10 @@
 mod common;
 use common::run_deck;
 
-
 use paraflex::sequence::modal::ModalSummary;
 use paraflex::sequence::{RunSummary, SubcaseResult};
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
-
 
 fn modal(s: &RunSummary) -> &ModalSummary {
     match &s.subcases[0].result {
@@ -53,7 +51,8 @@ fn two_dof_spring_mass_matches_the_analytic_2x2_eigenproblem() {
 /// (With I = 0 the mass is rank one per pair; see the report about singular M.)
 #[test]
 fn rbe2_with_offset_conm2_matches_the_rigid_link_eigenproblem() {
-    let (kt, k4, k5, k6, m, d, i): (f64, f64, f64, f64, f64, f64, f64) = (1.0e4, 2.0e3, 1.0e3, 3.0e3, 2.0, 0.5, 1.0e-3);
+    let (kt, k4, k5, k6, m, d, i): (f64, f64, f64, f64, f64, f64, f64) =
+        (1.0e4, 2.0e3, 1.0e3, 3.0e3, 2.0, 0.5, 1.0e-3);
     let deck = format!(
         "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,0.,{d:?},0.\nRBE2,9,1,123456,2\nCONM2,10,2,,{m:?},,,,,\n,{i:?},,{i:?},,,{i:?}\n\
          CELAS2,1,{kt:?},1,1\nCELAS2,2,{kt:?},1,2\nCELAS2,3,{kt:?},1,3\nCELAS2,4,{k4:?},1,4\nCELAS2,5,{k5:?},1,5\nCELAS2,6,{k6:?},1,6\nEIGRL,1,,,6\nENDDATA\n"
@@ -66,7 +65,11 @@ fn rbe2_with_offset_conm2_matches_the_rigid_link_eigenproblem() {
         let disc = (b * b - 4.0 * a * c).sqrt();
         [(-b - disc) / (2.0 * a), (-b + disc) / (2.0 * a)]
     };
-    let mut expected: Vec<f64> = [vec![kt / m, k5 / i], pair(k4).to_vec(), pair(k6).to_vec()].concat().iter().map(|l| l.sqrt() / TWO_PI).collect();
+    let mut expected: Vec<f64> = [vec![kt / m, k5 / i], pair(k4).to_vec(), pair(k6).to_vec()]
+        .concat()
+        .iter()
+        .map(|l| l.sqrt() / TWO_PI)
+        .collect();
     expected.sort_by(f64::total_cmp);
     assert_eq!(got.len(), 6, "{got:?}");
     for (g, e) in got.iter().zip(&expected) {
@@ -81,8 +84,18 @@ fn hexa_mesh(n: [usize; 3], l: [f64; 3]) -> String {
     for k in 0..=n[2] {
         for j in 0..=n[1] {
             for i in 0..=n[0] {
-                let x = [i as f64 * l[0] / n[0] as f64, j as f64 * l[1] / n[1] as f64, k as f64 * l[2] / n[2] as f64];
-                s += &format!("GRID,{},,{:.12e},{:.12e},{:.12e}\n", id(i, j, k), x[0], x[1], x[2]);
+                let x = [
+                    i as f64 * l[0] / n[0] as f64,
+                    j as f64 * l[1] / n[1] as f64,
+                    k as f64 * l[2] / n[2] as f64,
+                ];
+                s += &format!(
+                    "GRID,{},,{:.12e},{:.12e},{:.12e}\n",
+                    id(i, j, k),
+                    x[0],
+                    x[1],
+                    x[2]
+                );
             }
         }
     }
@@ -90,8 +103,20 @@ fn hexa_mesh(n: [usize; 3], l: [f64; 3]) -> String {
     for k in 0..n[2] {
         for j in 0..n[1] {
             for i in 0..n[0] {
-                let g = [id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k), id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)];
-                s += &format!("CHEXA,{e},1,{},{},{},{},{},{},\n+,{},{}\n", g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7]);
+                let g = [
+                    id(i, j, k),
+                    id(i + 1, j, k),
+                    id(i + 1, j + 1, k),
+                    id(i, j + 1, k),
+                    id(i, j, k + 1),
+                    id(i + 1, j, k + 1),
+                    id(i + 1, j + 1, k + 1),
+                    id(i, j + 1, k + 1),
+                ];
+                s += &format!(
+                    "CHEXA,{e},1,{},{},{},{},{},{},\n+,{},{}\n",
+                    g[0], g[1], g[2], g[3], g[4], g[5], g[6], g[7]
+                );
                 e += 1;
             }
         }
@@ -104,7 +129,10 @@ fn hexa_mesh(n: [usize; 3], l: [f64; 3]) -> String {
 /// elastic frequency (round-off of a K with entries ~1e11 gives |λ| ~ 1e-5 ‖K‖).
 #[test]
 fn free_free_solid_block_has_exactly_six_rigid_modes() {
-    let deck = format!("SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,9\n{}ENDDATA\n", hexa_mesh([3, 2, 2], [0.3, 0.2, 0.2]));
+    let deck = format!(
+        "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,9\n{}ENDDATA\n",
+        hexa_mesh([3, 2, 2], [0.3, 0.2, 0.2])
+    );
     let (r, _dir) = run_deck(&deck);
     let s = r.expect("run");
     let m = modal(&s);
@@ -115,7 +143,11 @@ fn free_free_solid_block_has_exactly_six_rigid_modes() {
     assert!(f[..6].iter().all(|x| *x < 1e-4 * elastic), "{f:?}");
     assert!(f[7] >= f[6] && f[8] >= f[7]);
     assert!(m.sturm.is_consistent(), "{:?}", m.sturm);
-    assert!(m.shift < 0.0, "free-free needs a negative shift, got {}", m.shift);
+    assert!(
+        m.shift < 0.0,
+        "free-free needs a negative shift, got {}",
+        m.shift
+    );
 }
 
 /// A free-free steel plate (Kirchhoff PSHELL: MID3 blank, whose stiff shear penalty makes the
@@ -127,8 +159,15 @@ fn free_free_solid_block_has_exactly_six_rigid_modes() {
 /// range V2 = 0.01 Hz, which holds the six rigid-body modes only.
 #[test]
 fn free_free_plate_with_fewer_modes_than_rigid_ones() {
-    let plate = format!("MAT1,1,2.0e11,,0.3,7800.\nPSHELL,1,1,0.003,1\n{}", quad_plate([6, 2], [0.3, 0.1], [0.0, 1.0, 0.0], false));
-    let run = |nd: usize| run_deck(&format!("SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,{nd}\n{plate}ENDDATA\n"));
+    let plate = format!(
+        "MAT1,1,2.0e11,,0.3,7800.\nPSHELL,1,1,0.003,1\n{}",
+        quad_plate([6, 2], [0.3, 0.1], [0.0, 1.0, 0.0], false)
+    );
+    let run = |nd: usize| {
+        run_deck(&format!(
+            "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,{nd}\n{plate}ENDDATA\n"
+        ))
+    };
     let (all, _dir) = run(7);
     let all = all.expect("ND = 7");
     let elastic = modal(&all).frequencies_hz[6];
@@ -138,10 +177,15 @@ fn free_free_plate_with_fewer_modes_than_rigid_ones() {
     let f = &m.frequencies_hz;
     assert_eq!(f.len(), 4);
     assert!(m.sturm.is_consistent(), "{:?}", m.sturm);
-    assert!(f.iter().all(|x| *x < 1e-4 * elastic), "{f:?} vs elastic {elastic}");
+    assert!(
+        f.iter().all(|x| *x < 1e-4 * elastic),
+        "{f:?} vs elastic {elastic}"
+    );
     assert!(f.windows(2).all(|w| w[0] <= w[1]), "{f:?}");
     // a range that holds only the rigid-body modes (V2 = 0.01 Hz): all six, counted at V2 + |σ|
-    let (range, _dir) = run_deck(&format!("SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,0.01\n{plate}ENDDATA\n"));
+    let (range, _dir) = run_deck(&format!(
+        "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,0.01\n{plate}ENDDATA\n"
+    ));
     let range = range.expect("V2 = 0.01 Hz");
     let m = modal(&range);
     assert_eq!(m.frequencies_hz.len(), 6, "{:?}", m.frequencies_hz);
@@ -163,7 +207,10 @@ fn chexa_cantilever_first_bending_frequency_vs_euler_bernoulli() {
             spc += &format!("SPC1,1,123,{}\n", 1 + (n[0] + 1) * (j + (n[1] + 1) * k));
         }
     }
-    let deck = format!("SOL 103\nCEND\nSPC = 1\nMETHOD = 1\nDISPLACEMENT = ALL\nBEGIN BULK\nEIGRL,1,,,2\n{spc}{}ENDDATA\n", hexa_mesh(n, [l, h, h]));
+    let deck = format!(
+        "SOL 103\nCEND\nSPC = 1\nMETHOD = 1\nDISPLACEMENT = ALL\nBEGIN BULK\nEIGRL,1,,,2\n{spc}{}ENDDATA\n",
+        hexa_mesh(n, [l, h, h])
+    );
     let (r, dir) = run_deck(&deck);
     let s = r.expect("run");
     let m = modal(&s);
@@ -171,7 +218,10 @@ fn chexa_cantilever_first_bending_frequency_vs_euler_bernoulli() {
     let f_eb = 1.8751_f64.powi(2) / TWO_PI * (e * inertia / (rho * h * h * l.powi(4))).sqrt();
     // the section is square: two equal bending modes (y and z)
     for f in &m.frequencies_hz {
-        assert!((f - f_eb).abs() < 0.03 * f_eb, "{f} vs Euler–Bernoulli {f_eb}");
+        assert!(
+            (f - f_eb).abs() < 0.03 * f_eb,
+            "{f} vs Euler–Bernoulli {f_eb}"
+        );
     }
     assert!(m.shapes_written);
     let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
@@ -183,11 +233,25 @@ fn chexa_cantilever_first_bending_frequency_vs_euler_bernoulli() {
 /// the run fails naming the GRID and component and suggesting SPC / AUTOSPC.
 #[test]
 fn mechanism_without_autospc_names_grid_and_component() {
-    let deck = format!("SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nPARAM,AUTOSPC,NO\nEIGRL,1,,,3\n{}ENDDATA\n", hexa_mesh([1, 1, 1], [1.0, 1.0, 1.0]));
+    let deck = format!(
+        "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nPARAM,AUTOSPC,NO\nEIGRL,1,,,3\n{}ENDDATA\n",
+        hexa_mesh([1, 1, 1], [1.0, 1.0, 1.0])
+    );
     let (r, _dir) = run_deck(&deck);
     let e = r.expect_err("mechanism").to_string();
-    assert!(e.contains("GRID ") && e.contains("component ") && e.contains("AUTOSPC") && e.contains("SPC"), "{e}");
-    assert!(["component 4", "component 5", "component 6"].iter().any(|c| e.contains(c)), "{e}");
+    assert!(
+        e.contains("GRID ")
+            && e.contains("component ")
+            && e.contains("AUTOSPC")
+            && e.contains("SPC"),
+        "{e}"
+    );
+    assert!(
+        ["component 4", "component 5", "component 6"]
+            .iter()
+            .any(|c| e.contains(c)),
+        "{e}"
+    );
 }
 
 /// A CQUAD4 plate mesh nx × ny of size lx × ly in the plane spanned by the basic x axis and
@@ -199,7 +263,13 @@ fn quad_plate(n: [usize; 2], l: [f64; 2], y_dir: [f64; 3], clamp: bool) -> Strin
     for j in 0..=n[1] {
         for i in 0..=n[0] {
             let (x, y) = (i as f64 * l[0] / n[0] as f64, j as f64 * l[1] / n[1] as f64);
-            s += &format!("GRID,{},,{:.15e},{:.15e},{:.15e}\n", id(i, j), x + y * y_dir[0], y * y_dir[1], y * y_dir[2]);
+            s += &format!(
+                "GRID,{},,{:.15e},{:.15e},{:.15e}\n",
+                id(i, j),
+                x + y * y_dir[0],
+                y * y_dir[1],
+                y * y_dir[2]
+            );
             if clamp && i == 0 {
                 s += &format!("SPC1,1,123456,{}\n", id(i, j));
             }
@@ -208,7 +278,13 @@ fn quad_plate(n: [usize; 2], l: [f64; 2], y_dir: [f64; 3], clamp: bool) -> Strin
     let mut e = 1;
     for j in 0..n[1] {
         for i in 0..n[0] {
-            s += &format!("CQUAD4,{e},1,{},{},{},{}\n", id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            s += &format!(
+                "CQUAD4,{e},1,{},{},{},{}\n",
+                id(i, j),
+                id(i + 1, j),
+                id(i + 1, j + 1),
+                id(i, j + 1)
+            );
             e += 1;
         }
     }
@@ -261,13 +337,25 @@ fn membrane_only_pshell_is_the_in_plane_part_of_the_shell() {
     let free_grids = 9 * 4 - 4;
     let auto = &membrane.subcases[0].autospc;
     assert_eq!(auto.len(), 3 * free_grids, "{auto:?}");
-    assert!(auto.iter().all(|d| [3, 4, 5].contains(&d.component)), "{auto:?}");
+    assert!(
+        auto.iter().all(|d| [3, 4, 5].contains(&d.component)),
+        "{auto:?}"
+    );
     let fm = &modal(&membrane).frequencies_hz;
     let ff = &modal(&full).frequencies_hz;
-    assert!(fm[0] > ff[0] * 5.0, "the in-plane modes lie far above the first bending mode");
+    assert!(
+        fm[0] > ff[0] * 5.0,
+        "the in-plane modes lie far above the first bending mode"
+    );
     for f in fm {
-        let nearest = ff.iter().map(|x| (x - f).abs()).fold(f64::INFINITY, f64::min);
-        assert!(nearest <= 1e-9 * f, "membrane mode {f} Hz is not among the shell's {ff:?}");
+        let nearest = ff
+            .iter()
+            .map(|x| (x - f).abs())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest <= 1e-9 * f,
+            "membrane mode {f} Hz is not among the shell's {ff:?}"
+        );
     }
 }
 
@@ -275,8 +363,11 @@ fn membrane_only_pshell_is_the_in_plane_part_of_the_shell() {
 /// is an error naming the rule.
 #[test]
 fn zoffs_on_a_membrane_only_pshell_is_an_error() {
-    let mesh = quad_plate([1, 1], [1.0, 1.0], [0.0, 1.0, 0.0], true).replace("CQUAD4,1,1,1,2,4,3", "CQUAD4,1,1,1,2,4,3,,0.001");
-    let deck = format!("SOL 103\nCEND\nSPC = 1\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,2\nMAT1,1,7.0e10,,0.33,2700.\nPSHELL,1,1,0.004\n{mesh}ENDDATA\n");
+    let mesh = quad_plate([1, 1], [1.0, 1.0], [0.0, 1.0, 0.0], true)
+        .replace("CQUAD4,1,1,1,2,4,3", "CQUAD4,1,1,1,2,4,3,,0.001");
+    let deck = format!(
+        "SOL 103\nCEND\nSPC = 1\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,2\nMAT1,1,7.0e10,,0.33,2700.\nPSHELL,1,1,0.004\n{mesh}ENDDATA\n"
+    );
     let (r, _dir) = run_deck(&deck);
     let e = r.expect_err("ZOFFS without MID2").to_string();
     assert!(e.contains("ZOFFS") && e.contains("MID2"), "{e}");
@@ -289,7 +380,8 @@ fn zoffs_on_a_membrane_only_pshell_is_an_error() {
 /// λ = kt kr / (m (kt d² + kr)) (a massless combination carries no inertia); T2 gives kt/m.
 #[test]
 fn offset_conm2_without_inertia_returns_only_the_finite_modes() {
-    let (kt, k4, k5, k6, m, d): (f64, f64, f64, f64, f64, f64) = (1.0e4, 2.0e3, 1.0e3, 3.0e3, 2.0, 0.5);
+    let (kt, k4, k5, k6, m, d): (f64, f64, f64, f64, f64, f64) =
+        (1.0e4, 2.0e3, 1.0e3, 3.0e3, 2.0, 0.5);
     let deck = format!(
         "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,0.,{d:?},0.\nRBE2,9,1,123456,2\nCONM2,10,2,,{m:?}\n\
          CELAS2,1,{kt:?},1,1\nCELAS2,2,{kt:?},1,2\nCELAS2,3,{kt:?},1,3\nCELAS2,4,{k4:?},1,4\nCELAS2,5,{k5:?},1,5\nCELAS2,6,{k6:?},1,6\nEIGRL,1,,,6\nENDDATA\n"
@@ -298,15 +390,28 @@ fn offset_conm2_without_inertia_returns_only_the_finite_modes() {
     let s = r.expect("run");
     let mm = modal(&s);
     let pair = |kr: f64| kt * kr / (m * (kt * d * d + kr));
-    let mut expected: Vec<f64> = [kt / m, pair(k4), pair(k6)].iter().map(|l| l.sqrt() / TWO_PI).collect();
+    let mut expected: Vec<f64> = [kt / m, pair(k4), pair(k6)]
+        .iter()
+        .map(|l| l.sqrt() / TWO_PI)
+        .collect();
     expected.sort_by(f64::total_cmp);
     assert_eq!(mm.frequencies_hz.len(), 3, "{:?}", mm.frequencies_hz);
     for (g, e) in mm.frequencies_hz.iter().zip(&expected) {
-        assert!((g - e).abs() <= 1e-9 * e, "{:?} vs {expected:?}", mm.frequencies_hz);
+        assert!(
+            (g - e).abs() <= 1e-9 * e,
+            "{:?} vs {expected:?}",
+            mm.frequencies_hz
+        );
     }
     assert!(mm.sturm.is_consistent(), "{:?}", mm.sturm);
     assert_eq!((mm.massless, mm.finite_exhausted), (1, true));
-    assert!(s.warnings.iter().any(|w| w.contains("only 3 finite mode(s)") && w.contains("ND = 6")), "{:?}", s.warnings);
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| w.contains("only 3 finite mode(s)") && w.contains("ND = 6")),
+        "{:?}",
+        s.warnings
+    );
 }
 
 /// `DISPLACEMENT = SET` writes the mode shapes of the SET's grids only (m × k × 6, ids in
@@ -319,7 +424,10 @@ fn mode_shapes_follow_the_displacement_set() {
         r.expect("run");
         let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
         let d = file.dataset("results/1/modal/shapes").ok();
-        let ids: Option<Vec<u32>> = file.dataset("results/1/modal/shapes_grid_ids").ok().map(|d| d.read_raw().expect("ids"));
+        let ids: Option<Vec<u32>> = file
+            .dataset("results/1/modal/shapes_grid_ids")
+            .ok()
+            .map(|d| d.read_raw().expect("ids"));
         d.map(|d| (d.shape(), d.read_raw::<f64>().expect("shapes"), ids))
     };
     let (shape, all, ids) = shapes("DISPLACEMENT = ALL\n").expect("shapes");
@@ -328,7 +436,11 @@ fn mode_shapes_follow_the_displacement_set() {
     assert_eq!((shape, ids), (vec![3, 2, 6], Some(vec![1, 3])));
     for mode in 0..3 {
         for (k, g) in [0, 2].into_iter().enumerate() {
-            assert_eq!(set[(mode * 2 + k) * 6..][..6], all[(mode * 3 + g) * 6..][..6], "mode {mode}, grid row {g}");
+            assert_eq!(
+                set[(mode * 2 + k) * 6..][..6],
+                all[(mode * 3 + g) * 6..][..6],
+                "mode {mode}, grid row {g}"
+            );
         }
     }
     assert!(shapes("DISPLACEMENT = NONE\n").is_none());

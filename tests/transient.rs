@@ -5,7 +5,10 @@ mod common;
 use common::{TwoDofChain, run_deck};
 
 fn read(g: &hdf5_metno::Group, name: &str) -> Vec<f64> {
-    g.dataset(name).unwrap_or_else(|e| panic!("{name}: {e}")).read_raw().unwrap()
+    g.dataset(name)
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+        .read_raw()
+        .unwrap()
 }
 
 /// Step response of the damped 2-DOF chain on the full model (no ROM): a step force on DOF 2
@@ -16,7 +19,12 @@ fn read(g: &hdf5_metno::Group, name: &str) -> Vec<f64> {
 #[test]
 fn full_model_step_response_equals_the_analytic_two_dof_chain() {
     let chain = TwoDofChain::reference();
-    for (tinteg, what, tolerance) in [("TINTEG,1,GALPHA,1.\n", "generalized-α ρ∞ = 1", 1e-4), ("TINTEG,1,GALPHA,0.6\n", "generalized-α ρ∞ = 0.6", 1e-4), ("TINTEG,1,BDF2\n", "BDF2", 1e-4), ("", "BDF1", 5e-2)] {
+    for (tinteg, what, tolerance) in [
+        ("TINTEG,1,GALPHA,1.\n", "generalized-α ρ∞ = 1", 1e-4),
+        ("TINTEG,1,GALPHA,0.6\n", "generalized-α ρ∞ = 0.6", 1e-4),
+        ("TINTEG,1,BDF2\n", "BDF2", 1e-4),
+        ("", "BDF1", 5e-2),
+    ] {
         let deck = format!(
             "SOL 112\nCEND\nTSTEP = 1\nDLOAD = 7\nSET 5 = 2\nDISPLACEMENT = 5\nBEGIN BULK\nTSTEP,1,4000,5.e-5,10\n{tinteg}TLOAD1,7,8,,,9\nDAREA,8,2,1,1.\nTABLED1,9\n,0.,1.,10.,1.,ENDT\n{}ENDDATA\n",
             chain.bulk()
@@ -26,17 +34,36 @@ fn full_model_step_response_equals_the_analytic_two_dof_chain() {
         let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
         let g = file.group("results/1/transient").expect("transient group");
         let time = read(&g, "time");
-        assert_eq!(time.len(), 401, "{what}: 4000 steps, output every 10, plus t = 0");
+        assert_eq!(
+            time.len(),
+            401,
+            "{what}: 4000 steps, output every 10, plus t = 0"
+        );
         let d2 = read(&g, "sensors/D2");
         let disp = read(&g, "displacement");
-        assert_eq!(disp.len(), time.len() * 6, "{what}: one grid (SET 5) × 6 components per row");
+        assert_eq!(
+            disp.len(),
+            time.len() * 6,
+            "{what}: one grid (SET 5) × 6 components per row"
+        );
         let exact = |t: f64| chain.response(t, [0.0; 2], [0.0; 2], 1.0)[1];
         let peak = time.iter().map(|&t| exact(t).abs()).fold(0.0, f64::max);
-        let worst = time.iter().enumerate().map(|(i, &t)| (-d2[i] - exact(t)).abs()).fold(0.0, f64::max);
+        let worst = time
+            .iter()
+            .enumerate()
+            .map(|(i, &t)| (-d2[i] - exact(t)).abs())
+            .fold(0.0, f64::max);
         println!("{what}: max |u₂ − exact| = {worst:.2e}, peak {peak:.3e}");
-        assert!(worst <= tolerance * peak, "{what}: max error {worst:e} vs peak {peak:e}");
+        assert!(
+            worst <= tolerance * peak,
+            "{what}: max error {worst:e} vs peak {peak:e}"
+        );
         for i in 0..time.len() {
-            assert_eq!(disp[6 * i], -d2[i], "{what}: DISPLACEMENT T1 of grid 2 and the D2 sensor differ at row {i}");
+            assert_eq!(
+                disp[6 * i],
+                -d2[i],
+                "{what}: DISPLACEMENT T1 of grid 2 and the D2 sensor differ at row {i}"
+            );
         }
     }
 }
@@ -49,8 +76,14 @@ fn full_model_step_response_equals_the_analytic_two_dof_chain() {
 #[test]
 fn full_model_structural_damping_g_over_w3_equals_the_analytic_two_dof_chain() {
     let chain = TwoDofChain::reference();
-    assert_eq!(chain.beta, 2.0e-4, "the reference chain's β this test splits into β₁ + G/W3");
-    let split = TwoDofChain { beta: 1.0e-4, ..chain };
+    assert_eq!(
+        chain.beta, 2.0e-4,
+        "the reference chain's β this test splits into β₁ + G/W3"
+    );
+    let split = TwoDofChain {
+        beta: 1.0e-4,
+        ..chain
+    };
     let worst = |w3: &str| {
         let deck = format!(
             "SOL 112\nCEND\nTSTEP = 1\nDLOAD = 7\nBEGIN BULK\nTSTEP,1,4000,5.e-5,10\nTINTEG,1,GALPHA,1.\nTLOAD1,7,8,,,9\nDAREA,8,2,1,1.\nTABLED1,9\n,0.,1.,10.,1.,ENDT\nPARAM,G,0.02\n{w3}{}ENDDATA\n",
@@ -63,15 +96,36 @@ fn full_model_structural_damping_g_over_w3_equals_the_analytic_two_dof_chain() {
         let (time, d2) = (read(&g, "time"), read(&g, "sensors/D2"));
         let exact = |t: f64| chain.response(t, [0.0; 2], [0.0; 2], 1.0)[1];
         let peak = time.iter().map(|&t| exact(t).abs()).fold(0.0, f64::max);
-        (time.iter().enumerate().map(|(i, &t)| (-d2[i] - exact(t)).abs()).fold(0.0, f64::max) / peak, summary.warnings)
+        (
+            time.iter()
+                .enumerate()
+                .map(|(i, &t)| (-d2[i] - exact(t)).abs())
+                .fold(0.0, f64::max)
+                / peak,
+            summary.warnings,
+        )
     };
     let (with_w3, warnings) = worst("PARAM,W3,200.\n");
     println!("G/W3: max |u₂ − exact| / peak = {with_w3:.2e}");
-    assert!(with_w3 <= 1e-4, "G = 0.02, W3 = 200: error {with_w3:e} of the peak");
-    assert!(!warnings.iter().any(|w| w.contains("PARAM,G")), "{warnings:?}");
+    assert!(
+        with_w3 <= 1e-4,
+        "G = 0.02, W3 = 200: error {with_w3:e} of the peak"
+    );
+    assert!(
+        !warnings.iter().any(|w| w.contains("PARAM,G")),
+        "{warnings:?}"
+    );
     let (without, warnings) = worst("");
-    assert!(without > 1e-2, "without W3, G must be left out (error {without:e} against the β = 2e-4 response)");
-    assert!(warnings.iter().any(|w| w.contains("PARAM,G") && w.contains("W3")), "{warnings:?}");
+    assert!(
+        without > 1e-2,
+        "without W3, G must be left out (error {without:e} against the β = 2e-4 response)"
+    );
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("PARAM,G") && w.contains("W3")),
+        "{warnings:?}"
+    );
 }
 
 /// Full model and pROM of the same chain (both DOFs in the ASET: the pROM spans the whole
@@ -80,12 +134,21 @@ fn full_model_structural_damping_g_over_w3_equals_the_analytic_two_dof_chain() {
 #[test]
 fn full_model_and_prom_transients_agree() {
     let chain = TwoDofChain::reference();
-    let build = format!("SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPMPAR,1,K1,K,10,5.e3,5.e4\nPMOR,1,2,2,100.\n,1\n{}ENDDATA\n", chain.bulk());
+    let build = format!(
+        "SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPMPAR,1,K1,K,10,5.e3,5.e4\nPMOR,1,2,2,100.\n,1\n{}ENDDATA\n",
+        chain.bulk()
+    );
     let (r, prom_dir) = run_deck(&build);
     r.expect("SOL PROM");
     let cards = "TSTEP,1,2000,1.e-4,1\nTINTEG,1,GALPHA,0.8\nTLOAD1,7,8,,,9\nDAREA,8,2,1,1.\nTABLED1,9\n,0.,0.,0.01,1.,0.02,0.,ENDT\n";
-    let full = format!("SOL 112\nCEND\nTSTEP = 1\nDLOAD = 7\nBEGIN BULK\n{cards}{}ENDDATA\n", chain.bulk());
-    let reduced = format!("SOL 112\nCEND\nROM = '{}'\nTSTEP = 1\nDLOAD = 7\nBEGIN BULK\n{cards}ENDDATA\n", prom_dir.path().join("out.h5").display());
+    let full = format!(
+        "SOL 112\nCEND\nTSTEP = 1\nDLOAD = 7\nBEGIN BULK\n{cards}{}ENDDATA\n",
+        chain.bulk()
+    );
+    let reduced = format!(
+        "SOL 112\nCEND\nROM = '{}'\nTSTEP = 1\nDLOAD = 7\nBEGIN BULK\n{cards}ENDDATA\n",
+        prom_dir.path().join("out.h5").display()
+    );
     let sensors = |deck: &str| -> (Vec<f64>, Vec<f64>) {
         let (r, out) = run_deck(deck);
         r.expect("transient");
@@ -96,15 +159,24 @@ fn full_model_and_prom_transients_agree() {
     let ((d_full, a_full), (d_rom, a_rom)) = (sensors(&full), sensors(&reduced));
     for (what, x, y) in [("D2", d_full, d_rom), ("A2", a_full, a_rom)] {
         let peak = x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        let worst = x.iter().zip(&y).fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
-        assert!(worst <= 1e-9 * peak, "{what}: full vs pROM differ by {worst:e} (peak {peak:e})");
+        let worst = x
+            .iter()
+            .zip(&y)
+            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(
+            worst <= 1e-9 * peak,
+            "{what}: full vs pROM differ by {worst:e} (peak {peak:e})"
+        );
     }
 }
 
 /// Builds the 2-DOF chain's pROM (parameter K1 = k₁ over [5e3, 5e4]; both DOFs are inputs,
 /// so the basis spans the whole space) and returns its directory.
 fn chain_prom(chain: &TwoDofChain) -> tempfile::TempDir {
-    let build = format!("SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPMPAR,1,K1,K,10,5.e3,5.e4\nPMOR,1,2,2,100.\n,1\n{}ENDDATA\n", chain.bulk());
+    let build = format!(
+        "SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPMPAR,1,K1,K,10,5.e3,5.e4\nPMOR,1,2,2,100.\n,1\n{}ENDDATA\n",
+        chain.bulk()
+    );
     let (r, dir) = run_deck(&build);
     r.expect("SOL PROM");
     dir
@@ -116,7 +188,10 @@ fn d2_history(deck: &str) -> (Vec<f64>, Vec<f64>, i64) {
     r.unwrap_or_else(|e| panic!("{e}\n{deck}"));
     let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
     let g = file.group("results/1/transient").expect("group");
-    let evaluations = g.attr("evaluations").and_then(|a| a.read_scalar::<i64>()).unwrap_or(0);
+    let evaluations = g
+        .attr("evaluations")
+        .and_then(|a| a.read_scalar::<i64>())
+        .unwrap_or(0);
     (read(&g, "time"), read(&g, "sensors/D2"), evaluations)
 }
 
@@ -130,18 +205,39 @@ fn d2_history(deck: &str) -> (Vec<f64>, Vec<f64>, i64) {
 fn initial_conditions_give_the_analytic_free_vibration() {
     let chain = TwoDofChain::reference();
     let (u0, v0) = ([1.0e-3, -2.0e-3], [0.05, 0.1]);
-    let cards = format!("TSTEP,1,4000,5.e-5,10\nTINTEG,1,GALPHA,1.\nTIC,3,1,1,{:e},{:e}\nTIC,3,2,1,{:e},{:e}\n", u0[0], v0[0], u0[1], v0[1]);
+    let cards = format!(
+        "TSTEP,1,4000,5.e-5,10\nTINTEG,1,GALPHA,1.\nTIC,3,1,1,{:e},{:e}\nTIC,3,2,1,{:e},{:e}\n",
+        u0[0], v0[0], u0[1], v0[1]
+    );
     let prom = chain_prom(&chain);
-    let full = format!("SOL 109\nCEND\nTSTEP = 1\nIC = 3\nBEGIN BULK\n{cards}{}ENDDATA\n", chain.bulk());
-    let reduced = format!("SOL 109\nCEND\nROM = '{}'\nTSTEP = 1\nIC = 3\nBEGIN BULK\n{cards}ENDDATA\n", prom.path().join("out.h5").display());
+    let full = format!(
+        "SOL 109\nCEND\nTSTEP = 1\nIC = 3\nBEGIN BULK\n{cards}{}ENDDATA\n",
+        chain.bulk()
+    );
+    let reduced = format!(
+        "SOL 109\nCEND\nROM = '{}'\nTSTEP = 1\nIC = 3\nBEGIN BULK\n{cards}ENDDATA\n",
+        prom.path().join("out.h5").display()
+    );
     for (what, deck) in [("full model", full), ("pROM", reduced)] {
         let (time, d2, _) = d2_history(&deck);
         let exact = |t: f64| chain.response(t, u0, v0, 0.0)[1];
-        assert!((-d2[0] - u0[1]).abs() <= 1e-12 * u0[1].abs(), "{what}: initial displacement {} vs {}", -d2[0], u0[1]);
+        assert!(
+            (-d2[0] - u0[1]).abs() <= 1e-12 * u0[1].abs(),
+            "{what}: initial displacement {} vs {}",
+            -d2[0],
+            u0[1]
+        );
         let peak = time.iter().map(|&t| exact(t).abs()).fold(0.0, f64::max);
-        let worst = time.iter().zip(&d2).map(|(&t, d)| (-d - exact(t)).abs()).fold(0.0, f64::max);
+        let worst = time
+            .iter()
+            .zip(&d2)
+            .map(|(&t, d)| (-d - exact(t)).abs())
+            .fold(0.0, f64::max);
         println!("{what}: free vibration max error {worst:.2e}, peak {peak:.2e}");
-        assert!(worst <= 1e-3 * peak, "{what}: max error {worst:e} vs peak {peak:e}");
+        assert!(
+            worst <= 1e-3 * peak,
+            "{what}: max error {worst:e} vs peak {peak:e}"
+        );
     }
 }
 
@@ -162,22 +258,47 @@ fn parameters_following_tables_on_a_prom() {
         )
     };
     let frozen = d2_history(&deck(2000, 1e-4, "PVAL,4,K1,2.5e4\n"));
-    let constant = d2_history(&deck(2000, 1e-4, "PTABLE,4,K1,20\nTABLED1,20\n,0.,2.5e4,1.,2.5e4,ENDT\n"));
-    assert_eq!(frozen.1, constant.1, "a constant PTABLE must equal the PVAL run");
+    let constant = d2_history(&deck(
+        2000,
+        1e-4,
+        "PTABLE,4,K1,20\nTABLED1,20\n,0.,2.5e4,1.,2.5e4,ENDT\n",
+    ));
+    assert_eq!(
+        frozen.1, constant.1,
+        "a constant PTABLE must equal the PVAL run"
+    );
     assert_eq!(constant.2, 1, "a constant table evaluates the pROM once");
     let ramp = "PTABLE,4,K1,20\nTABLED1,20\n,0.,2.5e4,0.2,4.5e4,ENDT\n";
     let reference = d2_history(&deck(32000, 1e-4 / 16.0, ramp));
     let error = |steps: u32, dt: f64| {
         let (_, d, evaluations) = d2_history(&deck(steps, dt, ramp));
-        assert_eq!(evaluations as u32, steps + 1, "a ramp changes K1 at every step");
-        d.iter().zip(&reference.1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max)
+        assert_eq!(
+            evaluations as u32,
+            steps + 1,
+            "a ramp changes K1 at every step"
+        );
+        d.iter()
+            .zip(&reference.1)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max)
     };
     let peak = reference.1.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     let (e1, e2) = (error(2000, 1e-4), error(4000, 5e-5));
-    println!("PTABLE ramp: error {e1:.2e} at Δt = 1e-4, {e2:.2e} at 5e-5 (peak {peak:.2e}), observed order {:.2}", (e1 / e2).log2());
+    println!(
+        "PTABLE ramp: error {e1:.2e} at Δt = 1e-4, {e2:.2e} at 5e-5 (peak {peak:.2e}), observed order {:.2}",
+        (e1 / e2).log2()
+    );
     assert!((e1 / e2).log2() >= 0.9, "order below 1: {e1:e} → {e2:e}");
-    let change = frozen.1.iter().zip(&reference.1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-    assert!(change > 100.0 * e1, "the ramp must change the response well above the step error: {change:e} vs {e1:e}");
+    let change = frozen
+        .1
+        .iter()
+        .zip(&reference.1)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        change > 100.0 * e1,
+        "the ramp must change the response well above the step error: {change:e} vs {e1:e}"
+    );
 }
 
 /// Hard cases on a pROM: a PTABLE leaving the parameter box during the run is warned about,
@@ -188,19 +309,46 @@ fn prom_hard_cases_are_reported() {
     let chain = TwoDofChain::reference();
     let prom = chain_prom(&chain);
     let rom = prom.path().join("out.h5");
-    let deck = |params: &str| format!("SOL 112\nCEND\nROM = '{}'\nTSTEP = 1\nDLOAD = 7\nPVAL = 4\nBEGIN BULK\nTSTEP,1,100,1.e-4\nTLOAD1,7,8,,,9\nDAREA,8,2,1,1.\nTABLED1,9\n,0.,1.,10.,1.,ENDT\n{params}ENDDATA\n", rom.display());
+    let deck = |params: &str| {
+        format!(
+            "SOL 112\nCEND\nROM = '{}'\nTSTEP = 1\nDLOAD = 7\nPVAL = 4\nBEGIN BULK\nTSTEP,1,100,1.e-4\nTLOAD1,7,8,,,9\nDAREA,8,2,1,1.\nTABLED1,9\n,0.,1.,10.,1.,ENDT\n{params}ENDDATA\n",
+            rom.display()
+        )
+    };
     // K1's box is [5e3, 5e4]; the table leaves it at t = 5 ms
-    let (r, _out) = run_deck(&deck("PTABLE,4,K1,20\nTABLED1,20\n,0.,2.5e4,0.01,7.5e4,ENDT\n"));
+    let (r, _out) = run_deck(&deck(
+        "PTABLE,4,K1,20\nTABLED1,20\n,0.,2.5e4,0.01,7.5e4,ENDT\n",
+    ));
     let s = r.expect("out-of-box PTABLE runs (extrapolation is allowed)");
-    assert!(s.warnings.iter().any(|w| w.contains("K1") && w.contains("outside the box")), "{:?}", s.warnings);
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| w.contains("K1") && w.contains("outside the box")),
+        "{:?}",
+        s.warnings
+    );
     // PARAM,G: not applied in transient response (Nastran without PARAM,W3), with a warning; a
     // pROM FRF refuses it (its damping is the build's Rayleigh damping)
     let (r, _out) = run_deck(&deck("PVAL,4,K1,2.5e4\nPARAM,G,0.02\n"));
     let s = r.expect("PARAM,G in a transient runs");
-    assert!(s.warnings.iter().any(|w| w.contains("PARAM,G") && w.contains("W3")), "{:?}", s.warnings);
-    let e = run_deck(&deck("PVAL,4,K1,2.5e4\nPARAM,G,0.02\nPARAM,W3,200.\n")).0.expect_err("PARAM,G with W3 on a pROM transient");
-    assert!(e.to_string().contains("PARAM,G") && e.to_string().contains("W3"), "{e}");
-    let frf = format!("SOL 111\nCEND\nROM = '{}'\nFREQUENCY = 5\nPVAL = 4\nBEGIN BULK\nFREQ,5,10.\nPVAL,4,K1,2.5e4\nPARAM,G,0.02\nENDDATA\n", rom.display());
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| w.contains("PARAM,G") && w.contains("W3")),
+        "{:?}",
+        s.warnings
+    );
+    let e = run_deck(&deck("PVAL,4,K1,2.5e4\nPARAM,G,0.02\nPARAM,W3,200.\n"))
+        .0
+        .expect_err("PARAM,G with W3 on a pROM transient");
+    assert!(
+        e.to_string().contains("PARAM,G") && e.to_string().contains("W3"),
+        "{e}"
+    );
+    let frf = format!(
+        "SOL 111\nCEND\nROM = '{}'\nFREQUENCY = 5\nPVAL = 4\nBEGIN BULK\nFREQ,5,10.\nPVAL,4,K1,2.5e4\nPARAM,G,0.02\nENDDATA\n",
+        rom.display()
+    );
     let e = run_deck(&frf).0.expect_err("PARAM,G on a pROM FRF");
     assert!(e.to_string().contains("PARAM,G"), "{e}");
     // every mass component replaced by a rank-one matrix: M_r(p) is singular
@@ -208,11 +356,20 @@ fn prom_hard_cases_are_reported() {
         let file = hdf5_metno::File::open_rw(&rom).expect("open rw");
         let group = file.group("prom/M").expect("/prom/M");
         for name in group.member_names().unwrap() {
-            group.dataset(&name).unwrap().write_raw(&[1.0, 1.0, 1.0, 1.0]).unwrap();
+            group
+                .dataset(&name)
+                .unwrap()
+                .write_raw(&[1.0, 1.0, 1.0, 1.0])
+                .unwrap();
         }
     }
-    let e = run_deck(&deck("PVAL,4,K1,2.5e4\n")).0.expect_err("a singular reduced mass must be refused");
-    assert!(e.to_string().contains("ill-conditioned") && e.to_string().contains("K1 = 2.5e4"), "{e}");
+    let e = run_deck(&deck("PVAL,4,K1,2.5e4\n"))
+        .0
+        .expect_err("a singular reduced mass must be refused");
+    assert!(
+        e.to_string().contains("ill-conditioned") && e.to_string().contains("K1 = 2.5e4"),
+        "{e}"
+    );
 }
 
 /// Massless DOFs in a full-model transient: ground –k1– grid 1 (no mass) –k2– grid 2 (CONM2 m)
@@ -236,19 +393,45 @@ fn massless_dofs_start_from_rest_and_a_loaded_start_is_refused() {
         )
     };
     let ramp = format!(",0.,0.,10.,{:?},ENDT\n", 10.0 * f1);
-    for (tinteg, what, tolerance) in [("TINTEG,1,GALPHA,0.8\n", "generalized-α ρ∞ = 0.8", 1e-4), ("TINTEG,1,BDF2\n", "BDF2", 1e-4), ("", "BDF1", 5e-2)] {
+    for (tinteg, what, tolerance) in [
+        ("TINTEG,1,GALPHA,0.8\n", "generalized-α ρ∞ = 0.8", 1e-4),
+        ("TINTEG,1,BDF2\n", "BDF2", 1e-4),
+        ("", "BDF1", 5e-2),
+    ] {
         let (r, out) = run_deck(&deck(tinteg, &ramp));
         r.unwrap_or_else(|e| panic!("{what}: {e}"));
         let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
         let g = file.group("results/1/transient").expect("transient group");
-        let (time, d1, d2) = (read(&g, "time"), read(&g, "sensors/D1"), read(&g, "sensors/D2"));
+        let (time, d1, d2) = (
+            read(&g, "time"),
+            read(&g, "sensors/D1"),
+            read(&g, "sensors/D2"),
+        );
         let exact = |t: f64| f1 / k * (t - (w * t).sin() / w);
         let peak = time.iter().map(|&t| exact(t).abs()).fold(0.0, f64::max);
-        let worst2 = time.iter().zip(&d2).map(|(&t, y)| (y - exact(t)).abs()).fold(0.0, f64::max);
-        let worst1 = time.iter().zip(&d1).map(|(&t, y)| (y - k2 / (k1 + k2) * exact(t)).abs()).fold(0.0, f64::max);
-        println!("{what}: max |u₂ − exact| = {worst2:.2e}, |u₁ − exact| = {worst1:.2e}, peak {peak:.3e}");
-        assert!(worst2 <= tolerance * peak && worst1 <= tolerance * peak, "{what}: errors {worst2:e}, {worst1:e} vs peak {peak:e}");
+        let worst2 = time
+            .iter()
+            .zip(&d2)
+            .map(|(&t, y)| (y - exact(t)).abs())
+            .fold(0.0, f64::max);
+        let worst1 = time
+            .iter()
+            .zip(&d1)
+            .map(|(&t, y)| (y - k2 / (k1 + k2) * exact(t)).abs())
+            .fold(0.0, f64::max);
+        println!(
+            "{what}: max |u₂ − exact| = {worst2:.2e}, |u₁ − exact| = {worst1:.2e}, peak {peak:.3e}"
+        );
+        assert!(
+            worst2 <= tolerance * peak && worst1 <= tolerance * peak,
+            "{what}: errors {worst2:e}, {worst1:e} vs peak {peak:e}"
+        );
     }
-    let e = run_deck(&deck("", ",0.,1.,10.,1.,ENDT\n")).0.expect_err("a loaded start with a massless DOF");
-    assert!(e.to_string().contains("GRID 1 component 1 without mass"), "{e}");
+    let e = run_deck(&deck("", ",0.,1.,10.,1.,ENDT\n"))
+        .0
+        .expect_err("a loaded start with a massless DOF");
+    assert!(
+        e.to_string().contains("GRID 1 component 1 without mass"),
+        "{e}"
+    );
 }

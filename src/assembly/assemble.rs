@@ -46,7 +46,10 @@ pub enum ParamKey {
     /// f = 1: everything not parametrized (and parametrized terms frozen at nominal values).
     Constant,
     /// The coefficient function `function` of the parameters acting on `target`.
-    Param { target: ParamTarget, function: Coefficient },
+    Param {
+        target: ParamTarget,
+        function: Coefficient,
+    },
 }
 
 /// How the wiring layer binds one element coefficient: to a parametrized entity, or frozen at a
@@ -71,7 +74,10 @@ pub struct Contribution {
 impl Contribution {
     /// A constant matrix on explicit DOFs (springs, test elements).
     pub fn constant(dofs: Vec<usize>, matrix: Mat<f64>) -> Self {
-        Contribution { dofs, parts: vec![(ParamKey::Constant, matrix)] }
+        Contribution {
+            dofs,
+            parts: vec![(ParamKey::Constant, matrix)],
+        }
     }
 
     /// An element of `nodes` (grid indices) whose parts are matrices in basic, grid-major, of
@@ -79,8 +85,15 @@ impl Contribution {
     /// which then add no rotational entries to the pattern); rotated to the global frames.
     pub fn element(frames: &GridFrames, nodes: &[usize], parts: Vec<(ParamKey, Mat<f64>)>) -> Self {
         let size = parts.first().map_or(6 * nodes.len(), |(_, m)| m.nrows());
-        let per_node = if size == 3 * nodes.len() && !nodes.is_empty() { 3 } else { 6 };
-        let dofs = nodes.iter().flat_map(|&a| DofMap::grid_dofs(a).take(per_node)).collect();
+        let per_node = if size == 3 * nodes.len() && !nodes.is_empty() {
+            3
+        } else {
+            6
+        };
+        let dofs = nodes
+            .iter()
+            .flat_map(|&a| DofMap::grid_dofs(a).take(per_node))
+            .collect();
         let parts = parts
             .into_iter()
             .map(|(key, mut m)| {
@@ -93,7 +106,12 @@ impl Contribution {
 
     /// An element from the `fe` affine matrix: each coefficient is bound by `bind` to a PMPAR
     /// parameter or frozen (and folded into the constant part).
-    pub fn from_affine(frames: &GridFrames, nodes: &[usize], matrix: &AffineMatrix, bind: impl Fn(Coefficient) -> Binding) -> Self {
+    pub fn from_affine(
+        frames: &GridFrames,
+        nodes: &[usize],
+        matrix: &AffineMatrix,
+        bind: impl Fn(Coefficient) -> Binding,
+    ) -> Self {
         let mut parts: Vec<(ParamKey, Mat<f64>)> = Vec::new();
         for (c, m) in &matrix.parts {
             let (key, scale) = match (*c, bind(*c)) {
@@ -121,18 +139,29 @@ pub struct AffineOperator {
 
 impl AffineOperator {
     /// Operator from a pattern and parts (each value array of length nnz).
-    pub fn from_parts(pattern: Arc<SparsityPattern>, parts: Vec<(ParamKey, Vec<f64>)>) -> Result<Self, AssemblyError> {
+    pub fn from_parts(
+        pattern: Arc<SparsityPattern>,
+        parts: Vec<(ParamKey, Vec<f64>)>,
+    ) -> Result<Self, AssemblyError> {
         for (_, v) in &parts {
             super::dofs::check_len("affine part values", pattern.nnz(), v.len())?;
         }
-        Ok(AffineOperator { nrows: pattern.minor_dim(), pattern, parts })
+        Ok(AffineOperator {
+            nrows: pattern.minor_dim(),
+            pattern,
+            parts,
+        })
     }
 
     /// Scatter every contribution's parts into value arrays on `pattern` (square, g × g).
     /// The constant part is always present (first); the others follow in first-seen order.
     /// With `parallel`, contributions are split into one chunk per rayon thread, each summed
     /// into its own buffers (memory: threads × parts × nnz).
-    pub fn assemble(pattern: Arc<SparsityPattern>, contributions: &[Contribution], parallel: bool) -> Result<Self, AssemblyError> {
+    pub fn assemble(
+        pattern: Arc<SparsityPattern>,
+        contributions: &[Contribution],
+        parallel: bool,
+    ) -> Result<Self, AssemblyError> {
         let mut keys: Vec<ParamKey> = vec![ParamKey::Constant];
         for c in contributions {
             for (k, _) in &c.parts {
@@ -150,10 +179,17 @@ impl AffineOperator {
             Ok(values)
         };
         let values = if parallel && contributions.len() > 1 {
-            let chunk = contributions.len().div_ceil(rayon::current_num_threads().max(1));
-            let partial: Vec<Vec<Vec<f64>>> = contributions.par_chunks(chunk.max(1)).map(scatter_chunk).collect::<Result<_, _>>()?;
+            let chunk = contributions
+                .len()
+                .div_ceil(rayon::current_num_threads().max(1));
+            let partial: Vec<Vec<Vec<f64>>> = contributions
+                .par_chunks(chunk.max(1))
+                .map(scatter_chunk)
+                .collect::<Result<_, _>>()?;
             let mut iter = partial.into_iter();
-            let mut total = iter.next().unwrap_or_else(|| vec![vec![0.0; nnz]; keys.len()]);
+            let mut total = iter
+                .next()
+                .unwrap_or_else(|| vec![vec![0.0; nnz]; keys.len()]);
             for p in iter {
                 for (t, v) in total.iter_mut().zip(p) {
                     t.iter_mut().zip(v).for_each(|(a, b)| *a += b);
@@ -193,7 +229,10 @@ impl AffineOperator {
 
     /// Values of one part.
     pub fn part(&self, key: ParamKey) -> Option<&[f64]> {
-        self.parts.iter().find(|(k, _)| *k == key).map(|(_, v)| v.as_slice())
+        self.parts
+            .iter()
+            .find(|(k, _)| *k == key)
+            .map(|(_, v)| v.as_slice())
     }
 
     /// out = Σ_i weights\[i\] · values_i (no allocation).
@@ -225,8 +264,11 @@ impl AffineOperator {
     /// A CSC matrix of this operator's pattern with the given values.
     pub fn matrix(&self, values: Vec<f64>) -> Result<CscMatrix<f64>, AssemblyError> {
         super::dofs::check_len("values for the pattern", self.pattern.nnz(), values.len())?;
-        CscMatrix::try_from_pattern_and_values((*self.pattern).clone(), values)
-            .map_err(|_| AssemblyError::PatternMismatch { what: "internal: pattern rejected by CscMatrix" })
+        CscMatrix::try_from_pattern_and_values((*self.pattern).clone(), values).map_err(|_| {
+            AssemblyError::PatternMismatch {
+                what: "internal: pattern rejected by CscMatrix",
+            }
+        })
     }
 
     /// y = A x for values on this operator's pattern.
@@ -249,13 +291,23 @@ impl AffineOperator {
     /// Diagonal of values on this (square) operator's pattern (0 where not stored).
     pub fn diagonal(&self, values: &[f64]) -> Vec<f64> {
         (0..self.ncols().min(self.nrows))
-            .map(|j| entry_position(&self.pattern, j, j).and_then(|k| values.get(k)).copied().unwrap_or(0.0))
+            .map(|j| {
+                entry_position(&self.pattern, j, j)
+                    .and_then(|k| values.get(k))
+                    .copied()
+                    .unwrap_or(0.0)
+            })
             .collect()
     }
 }
 
 /// Add one contribution's parts into the value arrays (one per key).
-fn scatter(pattern: &SparsityPattern, c: &Contribution, keys: &[ParamKey], values: &mut [Vec<f64>]) -> Result<(), AssemblyError> {
+fn scatter(
+    pattern: &SparsityPattern,
+    c: &Contribution,
+    keys: &[ParamKey],
+    values: &mut [Vec<f64>],
+) -> Result<(), AssemblyError> {
     let n = c.dofs.len();
     let size = pattern.major_dim();
     if let Some(&d) = c.dofs.iter().find(|&&d| d >= size) {
@@ -263,9 +315,15 @@ fn scatter(pattern: &SparsityPattern, c: &Contribution, keys: &[ParamKey], value
     }
     for (key, m) in &c.parts {
         if m.nrows() != n || m.ncols() != n {
-            return Err(AssemblyError::SizeMismatch { what: "element matrix size (DOF list length)", expected: n, found: m.nrows() });
+            return Err(AssemblyError::SizeMismatch {
+                what: "element matrix size (DOF list length)",
+                expected: n,
+                found: m.nrows(),
+            });
         }
-        let Some(slot) = keys.iter().position(|k| k == key) else { continue };
+        let Some(slot) = keys.iter().position(|k| k == key) else {
+            continue;
+        };
         let target = &mut values[slot];
         for (j, &col) in c.dofs.iter().enumerate() {
             for (i, &row) in c.dofs.iter().enumerate() {
@@ -273,7 +331,10 @@ fn scatter(pattern: &SparsityPattern, c: &Contribution, keys: &[ParamKey], value
                 if v == 0.0 {
                     continue;
                 }
-                let k = entry_position(pattern, row, col).ok_or(AssemblyError::PatternMismatch { what: "element entry outside the pattern" })?;
+                let k =
+                    entry_position(pattern, row, col).ok_or(AssemblyError::PatternMismatch {
+                        what: "element entry outside the pattern",
+                    })?;
                 target[k] += v;
             }
         }

@@ -74,26 +74,63 @@ pub struct RigidElimination {
 
 impl RigidElimination {
     /// The RBE2 / RBE3 relations of a model, eliminated.
-    pub fn of_model(model: &Model, frames: &GridFrames, map: &DofMap) -> Result<Self, AssemblyError> {
+    pub fn of_model(
+        model: &Model,
+        frames: &GridFrames,
+        map: &DofMap,
+    ) -> Result<Self, AssemblyError> {
         let mut relations = Vec::new();
         for r in &model.rigids {
             match r.kind {
                 RigidKind::Rbe2 => {
-                    let card = model.bulk.rbe2.get(r.card).ok_or(AssemblyError::MissingGrid { card: format!("RBE2 {}", r.id), grid: 0 })?;
-                    relations.extend(rbe2_relations(model, frames, &format!("RBE2 {} at {}", r.id, card.loc), r.hub, &r.legs, card.cm));
+                    let card = model
+                        .bulk
+                        .rbe2
+                        .get(r.card)
+                        .ok_or(AssemblyError::MissingGrid {
+                            card: format!("RBE2 {}", r.id),
+                            grid: 0,
+                        })?;
+                    relations.extend(rbe2_relations(
+                        model,
+                        frames,
+                        &format!("RBE2 {} at {}", r.id, card.loc),
+                        r.hub,
+                        &r.legs,
+                        card.cm,
+                    ));
                 }
                 RigidKind::Rbe3 => {
-                    let card = model.bulk.rbe3.get(r.card).ok_or(AssemblyError::MissingGrid { card: format!("RBE3 {}", r.id), grid: 0 })?;
+                    let card = model
+                        .bulk
+                        .rbe3
+                        .get(r.card)
+                        .ok_or(AssemblyError::MissingGrid {
+                            card: format!("RBE3 {}", r.id),
+                            grid: 0,
+                        })?;
                     let mut groups = Vec::new();
                     for g in &card.groups {
                         let mut grids = Vec::with_capacity(g.grids.len());
                         for id in &g.grids {
-                            grids.push(*model.grid_index.get(id).ok_or(AssemblyError::MissingGrid { card: format!("RBE3 {}", r.id), grid: *id })?);
+                            grids.push(*model.grid_index.get(id).ok_or(
+                                AssemblyError::MissingGrid {
+                                    card: format!("RBE3 {}", r.id),
+                                    grid: *id,
+                                },
+                            )?);
                         }
                         groups.push((g.weight, g.components, grids));
                     }
                     let xyz: Vec<[f64; 3]> = model.grids.iter().map(|g| g.xyz).collect();
-                    relations.extend(rbe3_relations(&xyz, frames, &format!("RBE3 {} at {}", r.id, card.loc), r.hub, card.refc, &groups)?);
+                    relations.extend(rbe3_relations(
+                        &xyz,
+                        frames,
+                        &format!("RBE3 {} at {}", r.id, card.loc),
+                        r.hub,
+                        card.refc,
+                        &groups,
+                    )?);
                 }
             }
         }
@@ -106,7 +143,10 @@ impl RigidElimination {
         let mut slot: HashMap<usize, usize> = HashMap::with_capacity(relations.len());
         for (k, r) in relations.iter().enumerate() {
             if r.dependent >= g {
-                return Err(AssemblyError::DofOutOfRange { index: r.dependent, size: g });
+                return Err(AssemblyError::DofOutOfRange {
+                    index: r.dependent,
+                    size: g,
+                });
             }
             if let Some(&(t, _)) = r.terms.iter().find(|(t, _)| *t >= g) {
                 return Err(AssemblyError::DofOutOfRange { index: t, size: g });
@@ -147,10 +187,21 @@ impl RigidElimination {
             }
             offsets.push(cols.len());
         }
-        let t = CsrMatrix::try_from_csr_data(g, n.len(), offsets, cols, vals)
-            .map_err(|_| AssemblyError::PatternMismatch { what: "internal: T is not a valid CSR matrix" })?;
-        let owners = relations.into_iter().map(|r| (r.dependent, r.owner)).collect();
-        Ok(RigidElimination { t, m_mask, n, owners })
+        let t = CsrMatrix::try_from_csr_data(g, n.len(), offsets, cols, vals).map_err(|_| {
+            AssemblyError::PatternMismatch {
+                what: "internal: T is not a valid CSR matrix",
+            }
+        })?;
+        let owners = relations
+            .into_iter()
+            .map(|r| (r.dependent, r.owner))
+            .collect();
+        Ok(RigidElimination {
+            t,
+            m_mask,
+            n,
+            owners,
+        })
     }
 
     /// No rigid elements: T = I.
@@ -172,7 +223,17 @@ impl RigidElimination {
     /// u_g = T u_n.
     pub fn expand(&self, u_n: &[f64]) -> Result<Vec<f64>, AssemblyError> {
         super::dofs::check_len("n-set vector", self.t.ncols(), u_n.len())?;
-        Ok(self.t.row_iter().map(|row| row.col_indices().iter().zip(row.values()).map(|(&j, &c)| c * u_n[j]).sum()).collect())
+        Ok(self
+            .t
+            .row_iter()
+            .map(|row| {
+                row.col_indices()
+                    .iter()
+                    .zip(row.values())
+                    .map(|(&j, &c)| c * u_n[j])
+                    .sum()
+            })
+            .collect())
     }
 
     /// P_n = Tᵀ P_g.
@@ -189,7 +250,10 @@ impl RigidElimination {
 }
 
 /// Substitute dependent terms depth-first; returns each relation's terms over independent DOFs.
-fn resolve_chains(relations: &[Relation], slot: &HashMap<usize, usize>) -> Result<Vec<Vec<(usize, f64)>>, AssemblyError> {
+fn resolve_chains(
+    relations: &[Relation],
+    slot: &HashMap<usize, usize>,
+) -> Result<Vec<Vec<(usize, f64)>>, AssemblyError> {
     const NEW: u8 = 0;
     const OPEN: u8 = 1;
     const DONE: u8 = 2;
@@ -213,7 +277,8 @@ fn resolve_chains(relations: &[Relation], slot: &HashMap<usize, usize>) -> Resul
                         }
                     }
                 }
-                let mut terms: Vec<(usize, f64)> = acc.into_iter().filter(|(_, c)| *c != 0.0).collect();
+                let mut terms: Vec<(usize, f64)> =
+                    acc.into_iter().filter(|(_, c)| *c != 0.0).collect();
                 terms.sort_by_key(|(t, _)| *t);
                 resolved[k] = terms;
                 state[k] = DONE;
@@ -292,7 +357,14 @@ fn transpose(a: &M6) -> M6 {
 
 /// Relations of one RBE2: CM components of each dependent grid; `owner` names the card in
 /// errors (e.g. "RBE2 7 at deck.dat:12").
-pub fn rbe2_relations(model: &Model, frames: &GridFrames, owner: &str, independent: usize, dependents: &[usize], cm: Dofs) -> Vec<Relation> {
+pub fn rbe2_relations(
+    model: &Model,
+    frames: &GridFrames,
+    owner: &str,
+    independent: usize,
+    dependents: &[usize],
+    cm: Dofs,
+) -> Vec<Relation> {
     let xyz = |g: usize| model.grids.get(g).map_or([0.0; 3], |p| p.xyz);
     let li = frame6(frames, independent);
     let mut out = Vec::new();
@@ -300,8 +372,15 @@ pub fn rbe2_relations(model: &Model, frames: &GridFrames, owner: &str, independe
         let r = crate::model::vec3::sub(xyz(d), xyz(independent));
         let g = mul(&transpose(&frame6(frames, d)), &mul(&rigid_arm(r), &li));
         for c in cm.components() {
-            let terms = (0..6).filter(|&k| g[c - 1][k] != 0.0).map(|k| (DofMap::dof(independent, k), g[c - 1][k])).collect();
-            out.push(Relation { dependent: DofMap::dof(d, c - 1), terms, owner: owner.to_string() });
+            let terms = (0..6)
+                .filter(|&k| g[c - 1][k] != 0.0)
+                .map(|k| (DofMap::dof(independent, k), g[c - 1][k]))
+                .collect();
+            out.push(Relation {
+                dependent: DofMap::dof(d, c - 1),
+                terms,
+                owner: owner.to_string(),
+            });
         }
     }
     out
@@ -320,14 +399,20 @@ pub fn rbe3_relations(
     use crate::model::vec3::{norm, sub};
     let at = |g: usize| xyz.get(g).copied().unwrap_or([0.0; 3]);
     let x_ref = at(reference);
-    let legs: Vec<usize> = groups.iter().flat_map(|(_, _, g)| g.iter().copied()).collect();
+    let legs: Vec<usize> = groups
+        .iter()
+        .flat_map(|(_, _, g)| g.iter().copied())
+        .collect();
     let lc = legs.iter().map(|&g| norm(sub(at(g), x_ref))).sum::<f64>() / legs.len().max(1) as f64;
     let lc = if lc > 0.0 { lc } else { 1.0 };
     // observed rows: (grid, component 0..6, weight, s_c)
     let mut rows: Vec<(usize, usize, f64, [f64; 6])> = Vec::new();
     for (w, comps, grids) in groups {
         for &g in grids {
-            let s = mul(&transpose(&frame6(frames, g)), &rigid_arm(sub(at(g), x_ref)));
+            let s = mul(
+                &transpose(&frame6(frames, g)),
+                &rigid_arm(sub(at(g), x_ref)),
+            );
             for c in comps.components() {
                 let wc = if c <= 3 { *w } else { *w * lc * lc };
                 rows.push((g, c - 1, wc, s[c - 1]));
@@ -342,7 +427,9 @@ pub fn rbe3_relations(
             }
         }
     }
-    let a_inv = invert6(&a).ok_or_else(|| AssemblyError::Rbe3Singular { owner: owner.to_string() })?;
+    let a_inv = invert6(&a).ok_or_else(|| AssemblyError::Rbe3Singular {
+        owner: owner.to_string(),
+    })?;
     let l_ref_t = transpose(&frame6(frames, reference));
     // u_ref = L_refᵀ A⁻¹ Σ w s_cᵀ u_{i,c}: H = L_refᵀ A⁻¹ (6 × 6), coefficient = w · (H s_cᵀ)[r]
     let h = mul(&l_ref_t, &a_inv);
@@ -355,7 +442,11 @@ pub fn rbe3_relations(
                 terms.push((DofMap::dof(*g, *c), coef));
             }
         }
-        out.push(Relation { dependent: DofMap::dof(reference, r - 1), terms, owner: owner.to_string() });
+        out.push(Relation {
+            dependent: DofMap::dof(reference, r - 1),
+            terms,
+            owner: owner.to_string(),
+        });
     }
     Ok(out)
 }
@@ -368,7 +459,8 @@ fn invert6(a: &M6) -> Option<M6> {
         return None;
     }
     let mut m = *a;
-    let mut inv: M6 = std::array::from_fn(|i| std::array::from_fn(|j| if i == j { 1.0 } else { 0.0 }));
+    let mut inv: M6 =
+        std::array::from_fn(|i| std::array::from_fn(|j| if i == j { 1.0 } else { 0.0 }));
     for col in 0..6 {
         let p = (col..6).max_by(|&i, &j| m[i][col].abs().total_cmp(&m[j][col].abs()))?;
         if m[p][col].abs() <= RBE3_PIVOT_TOL * scale {

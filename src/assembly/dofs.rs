@@ -56,12 +56,18 @@ impl DofMap {
     /// (GRID id, component 1–6) of a g index, for messages; `None` past the end.
     pub fn dof_name(&self, index: usize) -> Option<DofName> {
         let grid = *self.grid_ids.get(index / DOFS_PER_GRID)?;
-        Some(DofName { grid, component: (index % DOFS_PER_GRID + 1) as u8 })
+        Some(DofName {
+            grid,
+            component: (index % DOFS_PER_GRID + 1) as u8,
+        })
     }
 
     /// Like [`DofMap::dof_name`] for an index known to be in range (falls back to grid 0).
     pub(crate) fn name(&self, index: usize) -> DofName {
-        self.dof_name(index).unwrap_or(DofName { grid: 0, component: (index % DOFS_PER_GRID + 1) as u8 })
+        self.dof_name(index).unwrap_or(DofName {
+            grid: 0,
+            component: (index % DOFS_PER_GRID + 1) as u8,
+        })
     }
 
     /// GRID id of a grid index.
@@ -82,7 +88,12 @@ pub struct DofSet {
 impl DofSet {
     /// The set of the parent indices where `keep` is true.
     pub fn from_mask(keep: &[bool]) -> Self {
-        let members: Vec<usize> = keep.iter().enumerate().filter(|(_, k)| **k).map(|(i, _)| i).collect();
+        let members: Vec<usize> = keep
+            .iter()
+            .enumerate()
+            .filter(|(_, k)| **k)
+            .map(|(i, _)| i)
+            .collect();
         let mut position = vec![None; keep.len()];
         for (k, &i) in members.iter().enumerate() {
             position[i] = Some(k);
@@ -142,8 +153,20 @@ impl DofSet {
     }
 }
 
-pub(crate) fn check_len(what: &'static str, expected: usize, found: usize) -> Result<(), AssemblyError> {
-    if expected == found { Ok(()) } else { Err(AssemblyError::SizeMismatch { what, expected, found }) }
+pub(crate) fn check_len(
+    what: &'static str,
+    expected: usize,
+    found: usize,
+) -> Result<(), AssemblyError> {
+    if expected == found {
+        Ok(())
+    } else {
+        Err(AssemblyError::SizeMismatch {
+            what,
+            expected,
+            found,
+        })
+    }
 }
 
 /// The sets of one constrained model, all as subsets of g.
@@ -184,16 +207,27 @@ impl Sets {
         let n = DofSet::from_mask(&n_mask);
         let s_in_n = DofSet::from_mask(&n.members().iter().map(|&i| s_mask[i]).collect::<Vec<_>>());
         let f_in_n = DofSet::from_mask(&n.members().iter().map(|&i| f_mask[i]).collect::<Vec<_>>());
-        Ok(Sets { m: DofSet::from_mask(m_mask), s: DofSet::from_mask(s_mask), n, f: DofSet::from_mask(&f_mask), s_in_n, f_in_n })
+        Ok(Sets {
+            m: DofSet::from_mask(m_mask),
+            s: DofSet::from_mask(s_mask),
+            n,
+            f: DofSet::from_mask(&f_mask),
+            s_in_n,
+            f_in_n,
+        })
     }
 
     /// The s-set mask over g.
     pub fn s_mask(&self) -> Vec<bool> {
-        (0..self.s.parent_size()).map(|i| self.s.contains(i)).collect()
+        (0..self.s.parent_size())
+            .map(|i| self.s.contains(i))
+            .collect()
     }
 
     /// The m-set mask over g.
     pub fn m_mask(&self) -> Vec<bool> {
-        (0..self.m.parent_size()).map(|i| self.m.contains(i)).collect()
+        (0..self.m.parent_size())
+            .map(|i| self.m.contains(i))
+            .collect()
     }
 }

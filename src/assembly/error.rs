@@ -22,16 +22,26 @@ impl std::fmt::Display for DofName {
 pub enum AssemblyError {
     /// A DOF is dependent in two rigid elements.
     #[error("{dof} is dependent in both {first} and {second}")]
-    DependentTwice { dof: DofName, first: String, second: String },
+    DependentTwice {
+        dof: DofName,
+        first: String,
+        second: String,
+    },
     /// A dependent DOF is also constrained by an SPC or GRID PS.
     #[error("{dof} is dependent in {rigid} and also constrained by {constraint}")]
-    DependentConstrained { dof: DofName, rigid: String, constraint: String },
+    DependentConstrained {
+        dof: DofName,
+        rigid: String,
+        constraint: String,
+    },
     /// A cycle of rigid elements (each depends on the next).
     #[error("rigid elements form a dependency cycle: {}", rigids.join(" → "))]
     RigidCycle { rigids: Vec<String> },
     /// The weighted least-squares fit of an RBE3 is singular (e.g. collinear independent grids
     /// with rotational REFC, or only one independent grid).
-    #[error("{owner}: the independent grids do not determine the reference motion (weighted fit matrix is singular); add non-collinear grids or rotational components")]
+    #[error(
+        "{owner}: the independent grids do not determine the reference motion (weighted fit matrix is singular); add non-collinear grids or rotational components"
+    )]
     Rbe3Singular { owner: String },
     /// An RBE2 independent grid and a dependent grid coincide with components that make no sense.
     #[error("{card}: grid {grid} is referenced but does not exist")]
@@ -47,7 +57,12 @@ pub enum AssemblyError {
     BadSpcadd { sid: u32, reason: String },
     /// Two different enforced values for one DOF in one SPC set.
     #[error("{dof} has two enforced values in SPC set {sid}: {a} and {b}")]
-    ConflictingEnforced { dof: DofName, sid: u32, a: f64, b: f64 },
+    ConflictingEnforced {
+        dof: DofName,
+        sid: u32,
+        a: f64,
+        b: f64,
+    },
     /// The LOAD set does not exist.
     #[error("LOAD = {sid} selects no LOAD/FORCE/MOMENT/GRAV set {sid}")]
     NoLoadSet { sid: u32 },
@@ -62,7 +77,11 @@ pub enum AssemblyError {
     DofOutOfRange { index: usize, size: usize },
     /// Sizes that must agree do not.
     #[error("{what}: expected {expected}, found {found}")]
-    SizeMismatch { what: &'static str, expected: usize, found: usize },
+    SizeMismatch {
+        what: &'static str,
+        expected: usize,
+        found: usize,
+    },
     /// Affine parts of one operator that do not share its pattern.
     #[error("matrix pattern differs from the operator's pattern ({what})")]
     PatternMismatch { what: &'static str },

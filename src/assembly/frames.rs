@@ -27,7 +27,9 @@ pub struct GridFrames {
 impl GridFrames {
     /// All grids in basic.
     pub fn basic(grids: usize) -> Self {
-        GridFrames { rotations: vec![None; grids] }
+        GridFrames {
+            rotations: vec![None; grids],
+        }
     }
 
     /// The CD frames of a model's grids. A CD missing from `model.coords` cannot happen in a
@@ -36,7 +38,13 @@ impl GridFrames {
         let rotations = model
             .grids
             .iter()
-            .map(|g| if g.cd == 0 { None } else { model.coords.get(&g.cd).map(|c| c.axes_at(g.xyz)) })
+            .map(|g| {
+                if g.cd == 0 {
+                    None
+                } else {
+                    model.coords.get(&g.cd).map(|c| c.axes_at(g.xyz))
+                }
+            })
             .collect();
         GridFrames { rotations }
     }
@@ -73,7 +81,9 @@ impl GridFrames {
     pub fn rotate_element(&self, nodes: &[usize], per_node: usize, k: &mut Mat<f64>) {
         let n = k.nrows().min(k.ncols()).min(per_node * nodes.len());
         for (a, &grid) in nodes.iter().enumerate() {
-            let Some(l) = self.rotation(grid) else { continue };
+            let Some(l) = self.rotation(grid) else {
+                continue;
+            };
             for b in (0..per_node).step_by(3).map(|c| per_node * a + c) {
                 if b + 3 > n {
                     continue;

@@ -28,7 +28,13 @@ pub struct Mass<'a> {
 }
 
 /// P_g of the load selection `sid`; `mass` is needed only when a GRAV is involved.
-pub fn load_vector(model: &Model, frames: &GridFrames, map: &DofMap, sid: u32, mass: Option<Mass<'_>>) -> Result<Vec<f64>, AssemblyError> {
+pub fn load_vector(
+    model: &Model,
+    frames: &GridFrames,
+    map: &DofMap,
+    sid: u32,
+    mass: Option<Mass<'_>>,
+) -> Result<Vec<f64>, AssemblyError> {
     let b = &model.bulk;
     let mut p = vec![0.0; map.size()];
     let combos: Vec<_> = b.load.iter().filter(|l| l.sid == sid).collect();
@@ -42,10 +48,16 @@ pub fn load_vector(model: &Model, frames: &GridFrames, map: &DofMap, sid: u32, m
     for combo in combos {
         for &(si, li) in &combo.terms {
             if b.load.iter().any(|l| l.sid == li) {
-                return Err(AssemblyError::BadLoad { sid, reason: format!("L = {li} is itself a LOAD (nested LOAD is not allowed)") });
+                return Err(AssemblyError::BadLoad {
+                    sid,
+                    reason: format!("L = {li} is itself a LOAD (nested LOAD is not allowed)"),
+                });
             }
             if !simple_set_exists(model, li) {
-                return Err(AssemblyError::BadLoad { sid, reason: format!("L = {li} selects no FORCE/MOMENT/GRAV set") });
+                return Err(AssemblyError::BadLoad {
+                    sid,
+                    reason: format!("L = {li} selects no FORCE/MOMENT/GRAV set"),
+                });
             }
             add_simple(model, frames, li, combo.scale * si, &mass, sid, &mut p)?;
         }
@@ -58,15 +70,42 @@ fn simple_set_exists(model: &Model, sid: u32) -> bool {
 }
 
 /// Add `scale` × the FORCE/MOMENT/GRAV cards of set `set` to P_g.
-fn add_simple(model: &Model, frames: &GridFrames, set: u32, scale: f64, mass: &Option<Mass<'_>>, selected: u32, p: &mut [f64]) -> Result<(), AssemblyError> {
+fn add_simple(
+    model: &Model,
+    frames: &GridFrames,
+    set: u32,
+    scale: f64,
+    mass: &Option<Mass<'_>>,
+    selected: u32,
+    p: &mut [f64],
+) -> Result<(), AssemblyError> {
     for f in model.bulk.forces.iter().filter(|f| f.sid == set) {
-        let card = format!("{} {}", if f.kind == ForceKind::Force { "FORCE" } else { "MOMENT" }, f.sid);
-        let grid = *model.grid_index.get(&f.grid).ok_or(AssemblyError::MissingGrid { card: card.clone(), grid: f.grid })?;
-        let cs = model.coords.get(&f.cid).ok_or(AssemblyError::MissingCoord { card, cid: f.cid })?;
+        let card = format!(
+            "{} {}",
+            if f.kind == ForceKind::Force {
+                "FORCE"
+            } else {
+                "MOMENT"
+            },
+            f.sid
+        );
+        let grid = *model
+            .grid_index
+            .get(&f.grid)
+            .ok_or(AssemblyError::MissingGrid {
+                card: card.clone(),
+                grid: f.grid,
+            })?;
+        let cs = model
+            .coords
+            .get(&f.cid)
+            .ok_or(AssemblyError::MissingCoord { card, cid: f.cid })?;
         let xyz = model.grids.get(grid).map_or([0.0; 3], |g| g.xyz);
         let axes = cs.axes_at(xyz);
         let n = f.direction;
-        let basic: [f64; 3] = std::array::from_fn(|i| scale * f.scale * (0..3).map(|j| axes[i][j] * n[j]).sum::<f64>());
+        let basic: [f64; 3] = std::array::from_fn(|i| {
+            scale * f.scale * (0..3).map(|j| axes[i][j] * n[j]).sum::<f64>()
+        });
         let global = frames.to_global(grid, basic);
         let first = DofMap::dof(grid, if f.kind == ForceKind::Force { 0 } else { 3 });
         for (k, v) in global.iter().enumerate() {
@@ -74,8 +113,16 @@ fn add_simple(model: &Model, frames: &GridFrames, set: u32, scale: f64, mass: &O
         }
     }
     for g in model.bulk.grav.iter().filter(|g| g.sid == set) {
-        let mass = mass.as_ref().ok_or(AssemblyError::MassRequired { sid: selected })?;
-        let cs = model.coords.get(&g.cid).ok_or(AssemblyError::MissingCoord { card: format!("GRAV {}", g.sid), cid: g.cid })?;
+        let mass = mass
+            .as_ref()
+            .ok_or(AssemblyError::MassRequired { sid: selected })?;
+        let cs = model
+            .coords
+            .get(&g.cid)
+            .ok_or(AssemblyError::MissingCoord {
+                card: format!("GRAV {}", g.sid),
+                cid: g.cid,
+            })?;
         let a = cs.vector_to_basic(g.direction.map(|x| x * g.a * scale));
         let pg = gravity_load(mass.operator, mass.values, frames, a)?;
         p.iter_mut().zip(pg).for_each(|(x, y)| *x += y);
@@ -85,7 +132,12 @@ fn add_simple(model: &Model, frames: &GridFrames, set: u32, scale: f64, mass: &O
 
 /// P = M_gg · a_g for a uniform translational acceleration `accel` (basic components):
 /// a_g holds `accel` in each grid's global frame for T1–T3 and zero for R1–R3.
-pub fn gravity_load(m_gg: &AffineOperator, m_values: &[f64], frames: &GridFrames, accel: [f64; 3]) -> Result<Vec<f64>, AssemblyError> {
+pub fn gravity_load(
+    m_gg: &AffineOperator,
+    m_values: &[f64],
+    frames: &GridFrames,
+    accel: [f64; 3],
+) -> Result<Vec<f64>, AssemblyError> {
     let g = m_gg.ncols();
     let mut a = vec![0.0; g];
     for grid in 0..g / 6 {

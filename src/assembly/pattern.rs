@@ -21,7 +21,10 @@ use super::error::AssemblyError;
 
 /// Grid-block pattern (module doc) of a g-set of `grids` grids from the DOF lists of the element
 /// contributions (g indices). Errors on a DOF past the g-set.
-pub fn grid_block_pattern<'a>(grids: usize, dof_lists: impl IntoIterator<Item = &'a [usize]>) -> Result<SparsityPattern, AssemblyError> {
+pub fn grid_block_pattern<'a>(
+    grids: usize,
+    dof_lists: impl IntoIterator<Item = &'a [usize]>,
+) -> Result<SparsityPattern, AssemblyError> {
     let size = DOFS_PER_GRID * grids;
     let mut adjacent: Vec<Vec<usize>> = (0..grids).map(|a| vec![a]).collect();
     // bit c of active[a]: component c of grid a is a DOF of some contribution
@@ -54,7 +57,11 @@ pub fn grid_block_pattern<'a>(grids: usize, dof_lists: impl IntoIterator<Item = 
         for c in 0..DOFS_PER_GRID {
             if is_active(a, c) {
                 for &b in list {
-                    rows.extend((0..DOFS_PER_GRID).filter(|&r| is_active(b, r) || (b == a && r == c)).map(|r| DOFS_PER_GRID * b + r));
+                    rows.extend(
+                        (0..DOFS_PER_GRID)
+                            .filter(|&r| is_active(b, r) || (b == a && r == c))
+                            .map(|r| DOFS_PER_GRID * b + r),
+                    );
                 }
             } else {
                 rows.push(DOFS_PER_GRID * a + c);
@@ -62,8 +69,11 @@ pub fn grid_block_pattern<'a>(grids: usize, dof_lists: impl IntoIterator<Item = 
             offsets.push(rows.len());
         }
     }
-    SparsityPattern::try_from_offsets_and_indices(size, size, offsets, rows)
-        .map_err(|_| AssemblyError::PatternMismatch { what: "internal: grid-block pattern is not a valid CSC pattern" })
+    SparsityPattern::try_from_offsets_and_indices(size, size, offsets, rows).map_err(|_| {
+        AssemblyError::PatternMismatch {
+            what: "internal: grid-block pattern is not a valid CSC pattern",
+        }
+    })
 }
 
 /// Position of entry (row, col) in a CSC pattern (binary search in the column).
@@ -71,11 +81,17 @@ pub fn entry_position(pattern: &SparsityPattern, row: usize, col: usize) -> Opti
     let offsets = pattern.major_offsets();
     let start = *offsets.get(col)?;
     let end = *offsets.get(col + 1)?;
-    pattern.minor_indices()[start..end].binary_search(&row).ok().map(|k| start + k)
+    pattern.minor_indices()[start..end]
+        .binary_search(&row)
+        .ok()
+        .map(|k| start + k)
 }
 
 /// A CSC pattern from per-column sorted, deduplicated row lists.
-pub(crate) fn from_columns(nrows: usize, columns: &[Vec<usize>]) -> Result<SparsityPattern, AssemblyError> {
+pub(crate) fn from_columns(
+    nrows: usize,
+    columns: &[Vec<usize>],
+) -> Result<SparsityPattern, AssemblyError> {
     let mut offsets = Vec::with_capacity(columns.len() + 1);
     let mut rows = Vec::with_capacity(columns.iter().map(Vec::len).sum());
     offsets.push(0);
@@ -83,6 +99,9 @@ pub(crate) fn from_columns(nrows: usize, columns: &[Vec<usize>]) -> Result<Spars
         rows.extend_from_slice(c);
         offsets.push(rows.len());
     }
-    SparsityPattern::try_from_offsets_and_indices(columns.len(), nrows, offsets, rows)
-        .map_err(|_| AssemblyError::PatternMismatch { what: "internal: column lists are not a valid CSC pattern" })
+    SparsityPattern::try_from_offsets_and_indices(columns.len(), nrows, offsets, rows).map_err(
+        |_| AssemblyError::PatternMismatch {
+            what: "internal: column lists are not a valid CSC pattern",
+        },
+    )
 }

@@ -40,7 +40,11 @@ impl GToN {
         let n = t.ncols();
         let t_row = |i: usize| {
             let row = t.row(i);
-            row.col_indices().iter().copied().zip(row.values().iter().copied()).collect::<Vec<_>>()
+            row.col_indices()
+                .iter()
+                .copied()
+                .zip(row.values().iter().copied())
+                .collect::<Vec<_>>()
         };
         let rows_of_t: Vec<Vec<(usize, f64)>> = (0..g).map(t_row).collect();
         let (offs, minor) = (g_pattern.major_offsets(), g_pattern.minor_indices());
@@ -64,14 +68,23 @@ impl GToN {
             for &i in &minor[offs[j]..offs[j + 1]] {
                 for &(b, tb) in &rows_of_t[j] {
                     for &(a, ta) in &rows_of_t[i] {
-                        let k = entry_position(&n_pattern, a, b).ok_or(AssemblyError::PatternMismatch { what: "internal: Tᵀ K T entry" })?;
+                        let k = entry_position(&n_pattern, a, b).ok_or(
+                            AssemblyError::PatternMismatch {
+                                what: "internal: Tᵀ K T entry",
+                            },
+                        )?;
                         targets.push((k, ta * tb));
                     }
                 }
                 offsets.push(targets.len());
             }
         }
-        Ok(GToN { g_pattern, n_pattern: Arc::new(n_pattern), offsets, targets })
+        Ok(GToN {
+            g_pattern,
+            n_pattern: Arc::new(n_pattern),
+            offsets,
+            targets,
+        })
     }
 
     /// The pattern of every reduced operator.
@@ -96,15 +109,24 @@ impl GToN {
     /// Tᵀ K T for every part of an operator on the g pattern.
     pub fn apply(&self, op: &AffineOperator) -> Result<AffineOperator, AssemblyError> {
         if !Arc::ptr_eq(op.pattern(), &self.g_pattern) && **op.pattern() != *self.g_pattern {
-            return Err(AssemblyError::PatternMismatch { what: "operator is not on the planned g pattern" });
+            return Err(AssemblyError::PatternMismatch {
+                what: "operator is not on the planned g pattern",
+            });
         }
-        let parts = op.parts().iter().map(|(k, v)| Ok((*k, self.apply_values(v)?))).collect::<Result<Vec<_>, AssemblyError>>()?;
+        let parts = op
+            .parts()
+            .iter()
+            .map(|(k, v)| Ok((*k, self.apply_values(v)?)))
+            .collect::<Result<Vec<_>, AssemblyError>>()?;
         AffineOperator::from_parts(self.n_pattern.clone(), parts)
     }
 }
 
 /// K_nn = Tᵀ K_gg T for one operator (plans and applies; reuse a [`GToN`] for K and M).
-pub fn reduce_g_to_n(op: &AffineOperator, t: &CsrMatrix<f64>) -> Result<AffineOperator, AssemblyError> {
+pub fn reduce_g_to_n(
+    op: &AffineOperator,
+    t: &CsrMatrix<f64>,
+) -> Result<AffineOperator, AssemblyError> {
     GToN::new(op.pattern().clone(), t)?.apply(op)
 }
 
@@ -119,9 +141,21 @@ pub struct Partition {
 
 impl Partition {
     /// Plan A\[rows, cols\] of operators on `parent`.
-    pub fn new(parent: Arc<SparsityPattern>, rows: &DofSet, cols: &DofSet) -> Result<Self, AssemblyError> {
-        check_len("row set parent size", parent.minor_dim(), rows.parent_size())?;
-        check_len("column set parent size", parent.major_dim(), cols.parent_size())?;
+    pub fn new(
+        parent: Arc<SparsityPattern>,
+        rows: &DofSet,
+        cols: &DofSet,
+    ) -> Result<Self, AssemblyError> {
+        check_len(
+            "row set parent size",
+            parent.minor_dim(),
+            rows.parent_size(),
+        )?;
+        check_len(
+            "column set parent size",
+            parent.major_dim(),
+            cols.parent_size(),
+        )?;
         let (offs, minor) = (parent.major_offsets(), parent.minor_indices());
         let mut columns: Vec<Vec<usize>> = Vec::with_capacity(cols.len());
         let mut source = Vec::new();
@@ -136,7 +170,11 @@ impl Partition {
             columns.push(c);
         }
         let pattern = Arc::new(from_columns(rows.len(), &columns)?);
-        Ok(Partition { parent, pattern, source })
+        Ok(Partition {
+            parent,
+            pattern,
+            source,
+        })
     }
 
     /// The sub-matrix pattern.
@@ -147,19 +185,32 @@ impl Partition {
     /// The sub-matrix of every part of `op`.
     pub fn apply(&self, op: &AffineOperator) -> Result<AffineOperator, AssemblyError> {
         if !Arc::ptr_eq(op.pattern(), &self.parent) && **op.pattern() != *self.parent {
-            return Err(AssemblyError::PatternMismatch { what: "operator is not on the planned parent pattern" });
+            return Err(AssemblyError::PatternMismatch {
+                what: "operator is not on the planned parent pattern",
+            });
         }
-        let parts = op.parts().iter().map(|(k, v)| (*k, self.source.iter().map(|&s| v[s]).collect())).collect();
+        let parts = op
+            .parts()
+            .iter()
+            .map(|(k, v)| (*k, self.source.iter().map(|&s| v[s]).collect()))
+            .collect();
         AffineOperator::from_parts(self.pattern.clone(), parts)
     }
 }
 
 /// A\[rows, cols\] for one operator.
-pub fn partition(op: &AffineOperator, rows: &DofSet, cols: &DofSet) -> Result<AffineOperator, AssemblyError> {
+pub fn partition(
+    op: &AffineOperator,
+    rows: &DofSet,
+    cols: &DofSet,
+) -> Result<AffineOperator, AssemblyError> {
     Partition::new(op.pattern().clone(), rows, cols)?.apply(op)
 }
 
 /// K_ff = K_nn\[f, f\] (`f_in_n` from [`Sets`](super::dofs::Sets)).
-pub fn reduce_n_to_f(op: &AffineOperator, f_in_n: &DofSet) -> Result<AffineOperator, AssemblyError> {
+pub fn reduce_n_to_f(
+    op: &AffineOperator,
+    f_in_n: &DofSet,
+) -> Result<AffineOperator, AssemblyError> {
     partition(op, f_in_n, f_in_n)
 }

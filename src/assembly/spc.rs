@@ -49,7 +49,11 @@ pub struct SpcSet {
 impl SpcSet {
     /// No constraint.
     pub fn empty(map: &DofMap) -> Self {
-        SpcSet { mask: vec![false; map.size()], enforced: vec![0.0; map.size()], source: vec![None; map.size()] }
+        SpcSet {
+            mask: vec![false; map.size()],
+            enforced: vec![0.0; map.size()],
+            source: vec![None; map.size()],
+        }
     }
 
     /// GRID PS of every grid plus the SPC set `sid` (if any).
@@ -57,7 +61,13 @@ impl SpcSet {
         let mut out = SpcSet::empty(map);
         for (i, g) in model.grids.iter().enumerate() {
             for c in g.ps.components() {
-                out.set(map, DofMap::dof(i, c - 1), 0.0, format!("GRID {} PS at {}", g.id, g.loc), None)?;
+                out.set(
+                    map,
+                    DofMap::dof(i, c - 1),
+                    0.0,
+                    format!("GRID {} PS at {}", g.id, g.loc),
+                    None,
+                )?;
             }
         }
         let Some(sid) = sid else { return Ok(out) };
@@ -70,10 +80,18 @@ impl SpcSet {
             for a in &adds {
                 for &s in &a.sets {
                     if b.spcadd.iter().any(|x| x.sid == s) {
-                        return Err(AssemblyError::BadSpcadd { sid, reason: format!("S = {s} is itself an SPCADD (nested SPCADD is not allowed)") });
+                        return Err(AssemblyError::BadSpcadd {
+                            sid,
+                            reason: format!(
+                                "S = {s} is itself an SPCADD (nested SPCADD is not allowed)"
+                            ),
+                        });
                     }
                     if !b.spc.iter().any(|x| x.sid == s) && !b.spc1.iter().any(|x| x.sid == s) {
-                        return Err(AssemblyError::BadSpcadd { sid, reason: format!("S = {s} selects no SPC/SPC1 set") });
+                        return Err(AssemblyError::BadSpcadd {
+                            sid,
+                            reason: format!("S = {s} selects no SPC/SPC1 set"),
+                        });
                     }
                     sets.insert(s);
                 }
@@ -85,34 +103,78 @@ impl SpcSet {
             for spc in b.spc.iter().filter(|x| x.sid == s) {
                 found = true;
                 let grid = grid_of(model, spc.grid, &format!("SPC {s}"))?;
-                out.add_components(map, grid, spc.components, spc.value, &format!("SPC {s} at {}", spc.loc), sid)?;
+                out.add_components(
+                    map,
+                    grid,
+                    spc.components,
+                    spc.value,
+                    &format!("SPC {s} at {}", spc.loc),
+                    sid,
+                )?;
             }
             for spc in b.spc1.iter().filter(|x| x.sid == s) {
                 found = true;
                 for &g in &spc.grids {
                     let grid = grid_of(model, g, &format!("SPC1 {s}"))?;
-                    out.add_components(map, grid, spc.components, 0.0, &format!("SPC1 {s} at {}", spc.loc), sid)?;
+                    out.add_components(
+                        map,
+                        grid,
+                        spc.components,
+                        0.0,
+                        &format!("SPC1 {s} at {}", spc.loc),
+                        sid,
+                    )?;
                 }
             }
         }
-        if found { Ok(out) } else { Err(AssemblyError::NoSpcSet { sid }) }
+        if found {
+            Ok(out)
+        } else {
+            Err(AssemblyError::NoSpcSet { sid })
+        }
     }
 
-    fn add_components(&mut self, map: &DofMap, grid: usize, comps: Dofs, value: f64, source: &str, sid: u32) -> Result<(), AssemblyError> {
+    fn add_components(
+        &mut self,
+        map: &DofMap,
+        grid: usize,
+        comps: Dofs,
+        value: f64,
+        source: &str,
+        sid: u32,
+    ) -> Result<(), AssemblyError> {
         for c in comps.components() {
-            self.set(map, DofMap::dof(grid, c - 1), value, source.to_string(), Some(sid))?;
+            self.set(
+                map,
+                DofMap::dof(grid, c - 1),
+                value,
+                source.to_string(),
+                Some(sid),
+            )?;
         }
         Ok(())
     }
 
     /// Constrain one g DOF to `value`; a different value already set is an error.
-    pub fn set(&mut self, map: &DofMap, dof: usize, value: f64, source: String, sid: Option<u32>) -> Result<(), AssemblyError> {
+    pub fn set(
+        &mut self,
+        map: &DofMap,
+        dof: usize,
+        value: f64,
+        source: String,
+        sid: Option<u32>,
+    ) -> Result<(), AssemblyError> {
         let size = self.mask.len();
         if dof >= size {
             return Err(AssemblyError::DofOutOfRange { index: dof, size });
         }
         if self.mask[dof] && self.enforced[dof] != value {
-            return Err(AssemblyError::ConflictingEnforced { dof: map.name(dof), sid: sid.unwrap_or(0), a: self.enforced[dof], b: value });
+            return Err(AssemblyError::ConflictingEnforced {
+                dof: map.name(dof),
+                sid: sid.unwrap_or(0),
+                a: self.enforced[dof],
+                b: value,
+            });
         }
         if !self.mask[dof] {
             self.source[dof] = Some(source);
@@ -123,7 +185,11 @@ impl SpcSet {
     }
 
     /// Error if a constrained DOF is dependent in a rigid element.
-    pub fn check_against_rigids(&self, rigid: &RigidElimination, map: &DofMap) -> Result<(), AssemblyError> {
+    pub fn check_against_rigids(
+        &self,
+        rigid: &RigidElimination,
+        map: &DofMap,
+    ) -> Result<(), AssemblyError> {
         for (i, (&s, &m)) in self.mask.iter().zip(&rigid.m_mask).enumerate() {
             if s && m {
                 return Err(AssemblyError::DependentConstrained {
@@ -149,7 +215,14 @@ impl SpcSet {
 }
 
 fn grid_of(model: &Model, id: u32, card: &str) -> Result<usize, AssemblyError> {
-    model.grid_index.get(&id).copied().ok_or(AssemblyError::MissingGrid { card: card.to_string(), grid: id })
+    model
+        .grid_index
+        .get(&id)
+        .copied()
+        .ok_or(AssemblyError::MissingGrid {
+            card: card.to_string(),
+            grid: id,
+        })
 }
 
 /// The DOFs AUTOSPC constrained, for the solver to print.
@@ -165,7 +238,12 @@ pub struct AutoSpcReport {
 
 impl std::fmt::Display for AutoSpcReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "AUTOSPC constrained {} DOF(s) with stiffness ≤ {AUTOSPC_RATIO:e} × {:e}:", self.names.len(), self.max_diagonal)?;
+        write!(
+            f,
+            "AUTOSPC constrained {} DOF(s) with stiffness ≤ {AUTOSPC_RATIO:e} × {:e}:",
+            self.names.len(),
+            self.max_diagonal
+        )?;
         for n in &self.names {
             write!(f, " {}/{}", n.grid, n.component)?;
         }
@@ -175,7 +253,13 @@ impl std::fmt::Display for AutoSpcReport {
 
 /// Find n-set DOFs outside s with no stiffness in K_nn (values `k_nn` on `op`'s pattern,
 /// typically K at the nominal parameters).
-pub fn autospc(op: &AffineOperator, k_nn: &[f64], n: &DofSet, s_mask: &[bool], map: &DofMap) -> Result<AutoSpcReport, AssemblyError> {
+pub fn autospc(
+    op: &AffineOperator,
+    k_nn: &[f64],
+    n: &DofSet,
+    s_mask: &[bool],
+    map: &DofMap,
+) -> Result<AutoSpcReport, AssemblyError> {
     super::dofs::check_len("K_nn size (n-set)", n.len(), op.ncols())?;
     super::dofs::check_len("K_nn values", op.pattern().nnz(), k_nn.len())?;
     let diag = op.diagonal(k_nn);
@@ -186,7 +270,10 @@ pub fn autospc(op: &AffineOperator, k_nn: &[f64], n: &DofSet, s_mask: &[bool], m
         let entry = triple_max.entry(g / 3).or_insert(0.0);
         *entry = entry.max(diag[k].abs());
     }
-    let mut report = AutoSpcReport { max_diagonal: max, ..Default::default() };
+    let mut report = AutoSpcReport {
+        max_diagonal: max,
+        ..Default::default()
+    };
     for (k, &g) in n.members().iter().enumerate() {
         if s_mask.get(g).copied().unwrap_or(false) {
             continue;

@@ -24,15 +24,26 @@ use crate::model::Model;
 
 fn model(bulk: &str, case: &str) -> Model {
     let text = format!("SOL 101\nCEND\n{case}BEGIN BULK\n{bulk}ENDDATA\n");
-    let mut file = tempfile::Builder::new().suffix(".bdf").tempfile().expect("temp file");
+    let mut file = tempfile::Builder::new()
+        .suffix(".bdf")
+        .tempfile()
+        .expect("temp file");
     file.write_all(text.as_bytes()).expect("write deck");
     let deck = Deck::read(file.path()).unwrap_or_else(|e| panic!("deck: {e}"));
-    Model::build(&deck).unwrap_or_else(|e| panic!("model: {:?}", e.iter().map(|x| x.to_string()).collect::<Vec<_>>()))
+    Model::build(&deck).unwrap_or_else(|e| {
+        panic!(
+            "model: {:?}",
+            e.iter().map(|x| x.to_string()).collect::<Vec<_>>()
+        )
+    })
 }
 
 /// A spring k between g DOFs a and b.
 fn spring(k: f64, a: usize, b: usize) -> Contribution {
-    Contribution::constant(vec![a, b], Mat::from_fn(2, 2, |i, j| if i == j { k } else { -k }))
+    Contribution::constant(
+        vec![a, b],
+        Mat::from_fn(2, 2, |i, j| if i == j { k } else { -k }),
+    )
 }
 
 /// T1 of a grid index.
@@ -64,7 +75,10 @@ struct Solved {
 fn solve(model: &Model, contributions: &[Contribution]) -> Result<Solved, AssemblyError> {
     let map = DofMap::of_model(model);
     let frames = GridFrames::of_model(model);
-    let pattern = Arc::new(grid_block_pattern(map.grids(), contributions.iter().map(|c| c.dofs.as_slice()))?);
+    let pattern = Arc::new(grid_block_pattern(
+        map.grids(),
+        contributions.iter().map(|c| c.dofs.as_slice()),
+    )?);
     let k_gg = AffineOperator::assemble(pattern, contributions, true)?;
     let rigid = RigidElimination::of_model(model, &frames, &map)?;
     let sub = &model.subcases[0];
@@ -76,7 +90,11 @@ fn solve(model: &Model, contributions: &[Contribution]) -> Result<Solved, Assemb
         k_nn.evaluate_into(&k_nn.weights(|_| 1.0), &mut v)?;
         v
     };
-    let report = if model.params.autospc { autospc(&k_nn, &k_nn_values, &rigid.n, &spc.mask, &map)? } else { AutoSpcReport::default() };
+    let report = if model.params.autospc {
+        autospc(&k_nn, &k_nn_values, &rigid.n, &spc.mask, &map)?
+    } else {
+        AutoSpcReport::default()
+    };
     spc.add_autospc(&report);
     let sets = Sets::new(&map, &rigid.m_mask, &spc.mask)?;
     let k_ff = dense(&reduce_n_to_f(&k_nn, &sets.f_in_n)?.evaluate(&k_nn.weights(|_| 1.0))?);
@@ -94,7 +112,13 @@ fn solve(model: &Model, contributions: &[Contribution]) -> Result<Solved, Assemb
     let u_n = expand_f_to_n(&u_f, &sets, &spc.enforced)?;
     let p_n = rigid.reduce_vector(&p_g)?;
     let q_s = spc_forces(&k_nn, &k_nn_values, &u_n, &p_n, &sets)?;
-    Ok(Solved { u_g, q_s, sets, report, k_ff })
+    Ok(Solved {
+        u_g,
+        q_s,
+        sets,
+        report,
+        k_ff,
+    })
 }
 
 const CHAIN: &str = "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,2.,0.,0.\nGRID,4,,3.,0.,0.\n";
@@ -103,21 +127,36 @@ const CHAIN: &str = "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,2.,0.,0.\nGRID,
 /// u2 = 10/100, u3 = u2 + 10/200, u4 = u3 + 10/300; reaction −10.
 #[test]
 fn three_spring_chain_with_spc() {
-    let m = model(&format!("{CHAIN}SPC1,1,123456,1\nFORCE,2,4,,10.,1.,0.,0.\n"), "SPC = 1\nLOAD = 2\n");
-    let springs = [spring(100., t1(0), t1(1)), spring(200., t1(1), t1(2)), spring(300., t1(2), t1(3))];
+    let m = model(
+        &format!("{CHAIN}SPC1,1,123456,1\nFORCE,2,4,,10.,1.,0.,0.\n"),
+        "SPC = 1\nLOAD = 2\n",
+    );
+    let springs = [
+        spring(100., t1(0), t1(1)),
+        spring(200., t1(1), t1(2)),
+        spring(300., t1(2), t1(3)),
+    ];
     let s = solve(&m, &springs).expect("solve");
     // AUTOSPC removed everything but T1 of grids 2–4
     assert_eq!(s.sets.f.members(), &[t1(1), t1(2), t1(3)]);
     let expected = [[300., -200., 0.], [-200., 500., -300.], [0., -300., 300.]];
     for (i, row) in expected.iter().enumerate() {
         for (j, &v) in row.iter().enumerate() {
-            assert!(close(s.k_ff[(i, j)], v), "K_ff[{i},{j}] = {}", s.k_ff[(i, j)]);
+            assert!(
+                close(s.k_ff[(i, j)], v),
+                "K_ff[{i},{j}] = {}",
+                s.k_ff[(i, j)]
+            );
         }
     }
     let u2 = 0.1;
     let u3 = u2 + 10. / 200.;
     let u4 = u3 + 10. / 300.;
-    assert!(close(s.u_g[t1(1)], u2) && close(s.u_g[t1(2)], u3) && close(s.u_g[t1(3)], u4), "{:?}", &s.u_g);
+    assert!(
+        close(s.u_g[t1(1)], u2) && close(s.u_g[t1(2)], u3) && close(s.u_g[t1(3)], u4),
+        "{:?}",
+        &s.u_g
+    );
     // SPC force at grid 1 T1 (first s DOF)
     assert_eq!(s.sets.s.members()[0], t1(0));
     assert!(close(s.q_s[0], -10.), "reaction {}", s.q_s[0]);
@@ -128,8 +167,15 @@ fn three_spring_chain_with_spc() {
 /// AUTOSPC lists every DOF without stiffness of a 3-D spring model, as (GRID, component).
 #[test]
 fn autospc_lists_zero_rows_of_spring_model() {
-    let m = model(&format!("{CHAIN}SPC1,1,1,1\nFORCE,2,4,,10.,1.,0.,0.\n"), "SPC = 1\nLOAD = 2\n");
-    let springs = [spring(100., t1(0), t1(1)), spring(200., t1(1), t1(2)), spring(300., t1(2), t1(3))];
+    let m = model(
+        &format!("{CHAIN}SPC1,1,1,1\nFORCE,2,4,,10.,1.,0.,0.\n"),
+        "SPC = 1\nLOAD = 2\n",
+    );
+    let springs = [
+        spring(100., t1(0), t1(1)),
+        spring(200., t1(1), t1(2)),
+        spring(300., t1(2), t1(3)),
+    ];
     let s = solve(&m, &springs).expect("solve");
     // grid 1: components 2–6 (T1 is SPC'd); grids 2–4: components 2–6
     let mut expected = Vec::new();
@@ -141,7 +187,10 @@ fn autospc_lists_zero_rows_of_spring_model() {
     assert_eq!(s.report.names, expected);
     assert!(s.report.to_string().contains("4/6"), "{}", s.report);
     // PARAM,AUTOSPC,NO leaves them free: the singular K_ff has zero rows
-    let off = model(&format!("{CHAIN}SPC1,1,1,1\nPARAM,AUTOSPC,NO\n"), "SPC = 1\n");
+    let off = model(
+        &format!("{CHAIN}SPC1,1,1,1\nPARAM,AUTOSPC,NO\n"),
+        "SPC = 1\n",
+    );
     assert!(!off.params.autospc);
 }
 
@@ -150,8 +199,16 @@ fn autospc_lists_zero_rows_of_spring_model() {
 fn rbe2_joins_two_springs() {
     let bulk = "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,1.,0.,0.\nGRID,4,,2.,0.,0.\nRBE2,9,2,123456,3\nSPC1,1,123456,1\nFORCE,2,4,,10.,1.,0.,0.\n";
     let m = model(bulk, "SPC = 1\nLOAD = 2\n");
-    let s = solve(&m, &[spring(100., t1(0), t1(1)), spring(100., t1(2), t1(3))]).expect("solve");
-    assert!(close(s.u_g[t1(1)], 0.1) && close(s.u_g[t1(2)], 0.1) && close(s.u_g[t1(3)], 0.2), "{:?}", s.u_g);
+    let s = solve(
+        &m,
+        &[spring(100., t1(0), t1(1)), spring(100., t1(2), t1(3))],
+    )
+    .expect("solve");
+    assert!(
+        close(s.u_g[t1(1)], 0.1) && close(s.u_g[t1(2)], 0.1) && close(s.u_g[t1(3)], 0.2),
+        "{:?}",
+        s.u_g
+    );
     assert_eq!(s.sets.m.len(), 6);
 }
 
@@ -165,7 +222,10 @@ fn rbe2_lever_arm_and_chain() {
     let rigid = RigidElimination::of_model(&m, &GridFrames::of_model(&m), &map).expect("rigid");
     assert_eq!(rigid.n.members(), &[0, 1, 2, 3, 4, 5]);
     let u_g = rigid.expand(&[0., 0., 0., 0., 0., 1.]).expect("expand");
-    assert!(close(u_g[6], -1.) && close(u_g[12], -2.) && close(u_g[11], 1.) && close(u_g[17], 1.), "{u_g:?}");
+    assert!(
+        close(u_g[6], -1.) && close(u_g[12], -2.) && close(u_g[11], 1.) && close(u_g[17], 1.),
+        "{u_g:?}"
+    );
 }
 
 const SQUARE: &str = "GRID,1,,1.,1.,0.\nGRID,2,,-1.,1.,0.\nGRID,3,,-1.,-1.,0.\nGRID,4,,1.,-1.,0.\nGRID,5,,0.,0.,0.\n";
@@ -174,7 +234,10 @@ const SQUARE: &str = "GRID,1,,1.,1.,0.\nGRID,2,,-1.,1.,0.\nGRID,3,,-1.,-1.,0.\nG
 /// average; a rigid rotation of the corners gives the reference that rotation.
 #[test]
 fn rbe3_average_and_rigid_rotation() {
-    let m = model(&format!("{SQUARE}RBE3,9,,5,123456,1.,123,1,2,\n+,3,4\n"), "");
+    let m = model(
+        &format!("{SQUARE}RBE3,9,,5,123456,1.,123,1,2,\n+,3,4\n"),
+        "",
+    );
     let map = DofMap::of_model(&m);
     let rigid = RigidElimination::of_model(&m, &GridFrames::of_model(&m), &map).expect("rigid");
     assert_eq!(rigid.m_mask.iter().filter(|m| **m).count(), 6);
@@ -188,7 +251,13 @@ fn rbe3_average_and_rigid_rotation() {
     let u = rigid.expand(&u_n).expect("expand");
     let avg: [f64; 3] = std::array::from_fn(|c| corners.iter().map(|t| t[c]).sum::<f64>() / 4.);
     for c in 0..3 {
-        assert!(close(u[24 + c], avg[c]), "T{}: {} vs {}", c + 1, u[24 + c], avg[c]);
+        assert!(
+            close(u[24 + c], avg[c]),
+            "T{}: {} vs {}",
+            c + 1,
+            u[24 + c],
+            avg[c]
+        );
     }
     // rigid rotation θ about the reference point: u_i = θ × r_i
     let theta = [0.1, -0.2, 0.3];
@@ -201,7 +270,13 @@ fn rbe3_average_and_rigid_rotation() {
     let u = rigid.expand(&u_n).expect("expand");
     for c in 0..3 {
         assert!(u[24 + c].abs() < 1e-12, "translation {c} = {}", u[24 + c]);
-        assert!(close(u[27 + c], theta[c]), "R{}: {} vs {}", c + 1, u[27 + c], theta[c]);
+        assert!(
+            close(u[27 + c], theta[c]),
+            "R{}: {} vs {}",
+            c + 1,
+            u[27 + c],
+            theta[c]
+        );
     }
 }
 
@@ -220,11 +295,26 @@ fn spcadd_union_and_errors() {
     let s = SpcSet::of_model(&m, &map, Some(3)).expect("union");
     let on: Vec<usize> = (0..map.size()).filter(|&i| s.mask[i]).collect();
     assert_eq!(on, vec![0, 1, 2, 9, 10, 11, 12]);
-    assert!(s.source[12].as_deref().is_some_and(|x| x.starts_with("SPC 2 at ") && x.ends_with(".bdf:10")), "{:?}", s.source[12]);
-    assert!(matches!(SpcSet::of_model(&m, &map, Some(4)), Err(AssemblyError::BadSpcadd { sid: 4, .. })));
+    assert!(
+        s.source[12]
+            .as_deref()
+            .is_some_and(|x| x.starts_with("SPC 2 at ") && x.ends_with(".bdf:10")),
+        "{:?}",
+        s.source[12]
+    );
+    assert!(matches!(
+        SpcSet::of_model(&m, &map, Some(4)),
+        Err(AssemblyError::BadSpcadd { sid: 4, .. })
+    ));
     let e = SpcSet::of_model(&m, &map, Some(5)).unwrap_err();
-    assert!(e.to_string().contains("S = 77 selects no SPC/SPC1 set"), "{e}");
-    assert_eq!(SpcSet::of_model(&m, &map, Some(99)).unwrap_err(), AssemblyError::NoSpcSet { sid: 99 });
+    assert!(
+        e.to_string().contains("S = 77 selects no SPC/SPC1 set"),
+        "{e}"
+    );
+    assert_eq!(
+        SpcSet::of_model(&m, &map, Some(99)).unwrap_err(),
+        AssemblyError::NoSpcSet { sid: 99 }
+    );
 }
 
 /// Enforced displacement: two equal springs, grid 1 moved by 0.01, grid 3 fixed: u2 = 0.005,
@@ -233,22 +323,46 @@ fn spcadd_union_and_errors() {
 fn enforced_displacement() {
     let bulk = "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,2.,0.,0.\nSPC,1,1,1,0.01,3,1,0.\n";
     let m = model(bulk, "SPC = 1\n");
-    let s = solve(&m, &[spring(100., t1(0), t1(1)), spring(100., t1(1), t1(2))]).expect("solve");
+    let s = solve(
+        &m,
+        &[spring(100., t1(0), t1(1)), spring(100., t1(1), t1(2))],
+    )
+    .expect("solve");
     assert!(close(s.u_g[t1(0)], 0.01) && close(s.u_g[t1(1)], 0.005) && close(s.u_g[t1(2)], 0.0));
     let s_dofs = s.sets.s.members();
-    let r1 = s.q_s[s_dofs.iter().position(|&d| d == t1(0)).expect("T1 of grid 1 in s")];
-    let r3 = s.q_s[s_dofs.iter().position(|&d| d == t1(2)).expect("T1 of grid 3 in s")];
+    let r1 = s.q_s[s_dofs
+        .iter()
+        .position(|&d| d == t1(0))
+        .expect("T1 of grid 1 in s")];
+    let r3 = s.q_s[s_dofs
+        .iter()
+        .position(|&d| d == t1(2))
+        .expect("T1 of grid 3 in s")];
     assert!(close(r1, 0.5) && close(r3, -0.5), "{r1} {r3}");
     let bad = model("GRID,1,,0.,0.,0.\nSPC,1,1,1,0.01\nSPC1,1,1,1\n", "");
     let e = SpcSet::of_model(&bad, &DofMap::of_model(&bad), Some(1)).unwrap_err();
-    assert!(matches!(e, AssemblyError::ConflictingEnforced { dof: DofName { grid: 1, component: 1 }, .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            AssemblyError::ConflictingEnforced {
+                dof: DofName {
+                    grid: 1,
+                    component: 1
+                },
+                ..
+            }
+        ),
+        "{e}"
+    );
 }
 
 /// LOAD 2 = 2.0 · (1.5 · FORCE 10 − 1.0 · MOMENT 11); nested LOAD is an error; GRAV without
 /// mass is an error, with mass it is M · a.
 #[test]
 fn load_combination_and_gravity() {
-    let bulk = format!("{CHAIN}FORCE,10,2,,3.,0.,1.,0.\nMOMENT,11,3,,4.,0.,0.,1.\nLOAD,2,2.,1.5,10,-1.,11\nGRAV,20,,9.81,0.,0.,-1.\n");
+    let bulk = format!(
+        "{CHAIN}FORCE,10,2,,3.,0.,1.,0.\nMOMENT,11,3,,4.,0.,0.,1.\nLOAD,2,2.,1.5,10,-1.,11\nGRAV,20,,9.81,0.,0.,-1.\n"
+    );
     let mut m = model(&bulk, "");
     let mut nested = m.bulk.load[0].clone();
     (nested.sid, nested.terms) = (5, vec![(1.0, 2)]);
@@ -258,15 +372,38 @@ fn load_combination_and_gravity() {
     let p = load_vector(&m, &frames, &map, 2, None).expect("load");
     assert!(close(p[DofMap::dof(1, 1)], 2. * 1.5 * 3.) && close(p[DofMap::dof(2, 5)], -2. * 4.));
     assert_eq!(p.iter().filter(|v| **v != 0.0).count(), 2);
-    assert!(matches!(load_vector(&m, &frames, &map, 5, None), Err(AssemblyError::BadLoad { sid: 5, .. })));
-    assert_eq!(load_vector(&m, &frames, &map, 20, None).unwrap_err(), AssemblyError::MassRequired { sid: 20 });
-    assert_eq!(load_vector(&m, &frames, &map, 77, None).unwrap_err(), AssemblyError::NoLoadSet { sid: 77 });
+    assert!(matches!(
+        load_vector(&m, &frames, &map, 5, None),
+        Err(AssemblyError::BadLoad { sid: 5, .. })
+    ));
+    assert_eq!(
+        load_vector(&m, &frames, &map, 20, None).unwrap_err(),
+        AssemblyError::MassRequired { sid: 20 }
+    );
+    assert_eq!(
+        load_vector(&m, &frames, &map, 77, None).unwrap_err(),
+        AssemblyError::NoLoadSet { sid: 77 }
+    );
     // lumped masses 2 at grid 1 translations (a 3 × 3 diagonal block)
-    let mass = Contribution::constant(vec![0, 1, 2], Mat::from_fn(3, 3, |i, j| if i == j { 2.0 } else { 0.0 }));
-    let pattern = Arc::new(grid_block_pattern(map.grids(), [mass.dofs.as_slice()]).expect("pattern"));
+    let mass = Contribution::constant(
+        vec![0, 1, 2],
+        Mat::from_fn(3, 3, |i, j| if i == j { 2.0 } else { 0.0 }),
+    );
+    let pattern =
+        Arc::new(grid_block_pattern(map.grids(), [mass.dofs.as_slice()]).expect("pattern"));
     let m_gg = AffineOperator::assemble(pattern, &[mass], false).expect("mass");
     let values = m_gg.parts()[0].1.clone();
-    let p = load_vector(&m, &frames, &map, 20, Some(Mass { operator: &m_gg, values: &values })).expect("grav");
+    let p = load_vector(
+        &m,
+        &frames,
+        &map,
+        20,
+        Some(Mass {
+            operator: &m_gg,
+            values: &values,
+        }),
+    )
+    .expect("grav");
     assert!(close(p[2], -2. * 9.81) && close(p[0], 0.) && close(p[8], 0.));
 }
 
@@ -278,8 +415,16 @@ fn force_in_rotated_cord2r() {
     let m = model(bulk, "");
     let map = DofMap::of_model(&m);
     let p = load_vector(&m, &GridFrames::of_model(&m), &map, 1, None).expect("load");
-    assert!(close(p[0], 0.) && close(p[1], 2.) && close(p[2], 0.), "grid 1 (basic): {:?}", &p[0..3]);
-    assert!(close(p[6], 2.) && close(p[7], 0.), "grid 2 (CD = 5): {:?}", &p[6..9]);
+    assert!(
+        close(p[0], 0.) && close(p[1], 2.) && close(p[2], 0.),
+        "grid 1 (basic): {:?}",
+        &p[0..3]
+    );
+    assert!(
+        close(p[6], 2.) && close(p[7], 0.),
+        "grid 2 (CD = 5): {:?}",
+        &p[6..9]
+    );
 }
 
 /// A spring along basic x at a grid with CD rotated 90° about z acts on that grid's T2.
@@ -295,19 +440,36 @@ fn element_rotated_to_cd_frame() {
     let c = Contribution::element(&frames, &[0, 1], vec![(ParamKey::Constant, k)]);
     let m0 = &c.parts[0].1;
     // basic x at grid 1 = −(local y) of system 5 (local x = basic y, local y = −basic x)
-    assert!(close(m0[(1, 1)], 1.) && close(m0[(0, 0)], 0.) && close(m0[(1, 6)], 1.), "{m0:?}");
+    assert!(
+        close(m0[(1, 1)], 1.) && close(m0[(0, 0)], 0.) && close(m0[(1, 6)], 1.),
+        "{m0:?}"
+    );
 }
 
 /// Every affine part shares one pattern (same index arrays), through g → n and n → f, and
 /// Σ f_i K_i equals the matrix assembled directly at p.
 #[test]
 fn affine_parts_share_one_pattern() {
-    let e = ParamKey::Param { target: ParamTarget::Material(1), function: Coefficient::E };
-    let rho = ParamKey::Param { target: ParamTarget::Material(2), function: Coefficient::Rho };
-    let unit = |a: usize, b: usize| Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { -1.0 }) * faer::Scale((a + b) as f64);
+    let e = ParamKey::Param {
+        target: ParamTarget::Material(1),
+        function: Coefficient::E,
+    };
+    let rho = ParamKey::Param {
+        target: ParamTarget::Material(2),
+        function: Coefficient::Rho,
+    };
+    let unit = |a: usize, b: usize| {
+        Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { -1.0 }) * faer::Scale((a + b) as f64)
+    };
     let parts = vec![
-        Contribution { dofs: vec![t1(0), t1(1)], parts: vec![(ParamKey::Constant, unit(1, 0)), (e, unit(2, 0))] },
-        Contribution { dofs: vec![t1(1), DofMap::dof(2, 1)], parts: vec![(e, unit(3, 0)), (rho, unit(1, 1))] },
+        Contribution {
+            dofs: vec![t1(0), t1(1)],
+            parts: vec![(ParamKey::Constant, unit(1, 0)), (e, unit(2, 0))],
+        },
+        Contribution {
+            dofs: vec![t1(1), DofMap::dof(2, 1)],
+            parts: vec![(e, unit(3, 0)), (rho, unit(1, 1))],
+        },
     ];
     let (fe, frho) = (7.0, 0.25);
     let direct: Vec<Contribution> = parts
@@ -315,36 +477,68 @@ fn affine_parts_share_one_pattern() {
         .map(|c| {
             let mut sum = Mat::<f64>::zeros(2, 2);
             for (k, m) in &c.parts {
-                let f = if *k == e { fe } else if *k == rho { frho } else { 1.0 };
+                let f = if *k == e {
+                    fe
+                } else if *k == rho {
+                    frho
+                } else {
+                    1.0
+                };
                 sum += m * faer::Scale(f);
             }
             Contribution::constant(c.dofs.clone(), sum)
         })
         .collect();
     let map = DofMap::new(vec![1, 2, 3]);
-    let pattern = Arc::new(grid_block_pattern(3, parts.iter().map(|c| c.dofs.as_slice())).expect("pattern"));
+    let pattern =
+        Arc::new(grid_block_pattern(3, parts.iter().map(|c| c.dofs.as_slice())).expect("pattern"));
     let k = AffineOperator::assemble(pattern.clone(), &parts, true).expect("assemble");
     let k_direct = AffineOperator::assemble(pattern.clone(), &direct, false).expect("assemble");
     assert_eq!(k.keys(), vec![ParamKey::Constant, e, rho]);
     assert!(k.parts().iter().all(|(_, v)| v.len() == pattern.nnz()));
-    let w = k.weights(|key| if key == e { fe } else if key == rho { frho } else { 1.0 });
+    let w = k.weights(|key| {
+        if key == e {
+            fe
+        } else if key == rho {
+            frho
+        } else {
+            1.0
+        }
+    });
     let at_p = k.evaluate(&w).expect("evaluate");
     let reference = k_direct.evaluate(&[1.0]).expect("evaluate");
     assert_eq!(at_p.col_offsets(), reference.col_offsets());
     assert_eq!(at_p.row_indices(), reference.row_indices());
-    assert!(at_p.values().iter().zip(reference.values()).all(|(a, b)| close(*a, *b)));
+    assert!(
+        at_p.values()
+            .iter()
+            .zip(reference.values())
+            .all(|(a, b)| close(*a, *b))
+    );
     // g → n (no rigid) and n → f keep one pattern for all parts, and commute with evaluation
     let rigid = RigidElimination::identity(&map);
     let plan = GToN::new(pattern, &rigid.t).expect("plan");
     let k_nn = plan.apply(&k).expect("reduce");
-    let sets = Sets::new(&map, &rigid.m_mask, &(0..18).map(|i| i < 6).collect::<Vec<_>>()).expect("sets");
+    let sets = Sets::new(
+        &map,
+        &rigid.m_mask,
+        &(0..18).map(|i| i < 6).collect::<Vec<_>>(),
+    )
+    .expect("sets");
     let ff = Partition::new(k_nn.pattern().clone(), &sets.f_in_n, &sets.f_in_n).expect("plan");
     let k_ff = ff.apply(&k_nn).expect("k_ff");
-    let k_ff_direct = ff.apply(&plan.apply(&k_direct).expect("reduce")).expect("k_ff");
+    let k_ff_direct = ff
+        .apply(&plan.apply(&k_direct).expect("reduce"))
+        .expect("k_ff");
     assert!(Arc::ptr_eq(k_ff.pattern(), k_ff_direct.pattern()));
     let a = k_ff.evaluate(&w).expect("evaluate");
     let b = k_ff_direct.evaluate(&[1.0]).expect("evaluate");
-    assert!(a.values().iter().zip(b.values()).all(|(x, y)| close(*x, *y)));
+    assert!(
+        a.values()
+            .iter()
+            .zip(b.values())
+            .all(|(x, y)| close(*x, *y))
+    );
     assert_eq!(a.nrows(), 12);
     // allocation-free evaluation into a caller buffer
     let mut buf = vec![0.0; k_ff.pattern().nnz()];
@@ -355,32 +549,88 @@ fn affine_parts_share_one_pattern() {
 /// Errors name the grid and component (or the rigid elements) instead of panicking.
 #[test]
 fn rigid_errors_are_typed() {
-    let two = model("GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,2.,0.,0.\nRBE2,7,1,1,2\nRBE2,8,3,12,2\n", "");
-    let e = RigidElimination::of_model(&two, &GridFrames::of_model(&two), &DofMap::of_model(&two)).unwrap_err();
+    let two = model(
+        "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,2.,0.,0.\nRBE2,7,1,1,2\nRBE2,8,3,12,2\n",
+        "",
+    );
+    let e = RigidElimination::of_model(&two, &GridFrames::of_model(&two), &DofMap::of_model(&two))
+        .unwrap_err();
     // each card named with its file:line (deck lines: SOL, CEND, BEGIN BULK, 3 GRIDs, RBE2 7, RBE2 8)
-    assert!(matches!(&e, AssemblyError::DependentTwice { dof: DofName { grid: 2, component: 1 }, .. }), "{e:?}");
+    assert!(
+        matches!(
+            &e,
+            AssemblyError::DependentTwice {
+                dof: DofName {
+                    grid: 2,
+                    component: 1
+                },
+                ..
+            }
+        ),
+        "{e:?}"
+    );
     let text = e.to_string();
-    assert!(text.starts_with("GRID 2 component 1 is dependent in both RBE2 7 at ") && text.contains(".bdf:7 and RBE2 8 at ") && text.ends_with(".bdf:8"), "{text}");
+    assert!(
+        text.starts_with("GRID 2 component 1 is dependent in both RBE2 7 at ")
+            && text.contains(".bdf:7 and RBE2 8 at ")
+            && text.ends_with(".bdf:8"),
+        "{text}"
+    );
 
-    let cyc = model("GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nRBE2,7,1,1,2\nRBE2,8,2,2,1\nRBE2,9,2,3,1\nRBE2,10,1,3,2\n", "");
-    let e = RigidElimination::of_model(&cyc, &GridFrames::of_model(&cyc), &DofMap::of_model(&cyc)).unwrap_err();
+    let cyc = model(
+        "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nRBE2,7,1,1,2\nRBE2,8,2,2,1\nRBE2,9,2,3,1\nRBE2,10,1,3,2\n",
+        "",
+    );
+    let e = RigidElimination::of_model(&cyc, &GridFrames::of_model(&cyc), &DofMap::of_model(&cyc))
+        .unwrap_err();
     assert!(matches!(e, AssemblyError::RigidCycle { .. }), "{e}");
-    assert!(e.to_string().contains("RBE2 9") && e.to_string().contains("RBE2 10"), "{e}");
+    assert!(
+        e.to_string().contains("RBE2 9") && e.to_string().contains("RBE2 10"),
+        "{e}"
+    );
 
-    let spc = model("GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nRBE2,7,1,123,2\nSPC1,1,3,2\n", "SPC = 1\n");
+    let spc = model(
+        "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nRBE2,7,1,123,2\nSPC1,1,3,2\n",
+        "SPC = 1\n",
+    );
     let err = solve(&spc, &[]).map(|_| ()).unwrap_err();
     let text = err.to_string();
-    assert!(text.starts_with("GRID 2 component 3 is dependent in RBE2 7 at ") && text.contains(".bdf:7 and also constrained by SPC1 1 at ") && text.ends_with(".bdf:8"), "{text}");
+    assert!(
+        text.starts_with("GRID 2 component 3 is dependent in RBE2 7 at ")
+            && text.contains(".bdf:7 and also constrained by SPC1 1 at ")
+            && text.ends_with(".bdf:8"),
+        "{text}"
+    );
 
-    let one = model("GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nRBE3,9,,2,123456,1.,123,1\n", "");
-    let e = RigidElimination::of_model(&one, &GridFrames::of_model(&one), &DofMap::of_model(&one)).unwrap_err();
-    assert!(matches!(&e, AssemblyError::Rbe3Singular { owner } if owner.starts_with("RBE3 9 at ") && owner.ends_with(".bdf:6")), "{e:?}");
+    let one = model(
+        "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nRBE3,9,,2,123456,1.,123,1\n",
+        "",
+    );
+    let e = RigidElimination::of_model(&one, &GridFrames::of_model(&one), &DofMap::of_model(&one))
+        .unwrap_err();
+    assert!(
+        matches!(&e, AssemblyError::Rbe3Singular { owner } if owner.starts_with("RBE3 9 at ") && owner.ends_with(".bdf:6")),
+        "{e:?}"
+    );
 
     let map = DofMap::new(vec![4]);
-    assert_eq!(map.dof_name(5), Some(DofName { grid: 4, component: 6 }));
+    assert_eq!(
+        map.dof_name(5),
+        Some(DofName {
+            grid: 4,
+            component: 6
+        })
+    );
     assert_eq!(map.dof_name(6), None);
-    let bad = AffineOperator::assemble(Arc::new(grid_block_pattern(1, [&[0usize][..]]).expect("p")), &[spring(1., 0, 40)], false);
-    assert_eq!(bad.unwrap_err(), AssemblyError::DofOutOfRange { index: 40, size: 6 });
+    let bad = AffineOperator::assemble(
+        Arc::new(grid_block_pattern(1, [&[0usize][..]]).expect("p")),
+        &[spring(1., 0, 40)],
+        false,
+    );
+    assert_eq!(
+        bad.unwrap_err(),
+        AssemblyError::DofOutOfRange { index: 40, size: 6 }
+    );
 }
 
 /// A solid element (translations of grids 0 and 1) and a spring between T3 of grid 1 and R1 of
@@ -396,7 +646,10 @@ fn pattern_blocks_hold_only_active_components() {
     for d in 0..18 {
         assert!(has(d, d), "diagonal {d}");
     }
-    assert!(!has(3, 0) && !has(0, 3) && !has(3, 4) && !has(9, 6), "rotations of solid grids are not coupled");
+    assert!(
+        !has(3, 0) && !has(0, 3) && !has(3, 4) && !has(9, 6),
+        "rotations of solid grids are not coupled"
+    );
     assert!(has(8, 15) && has(15, 8) && has(15, 6) && !has(15, 0) && !has(15, 12) && !has(14, 15));
     // grids 0–1: 6 × 6 translations; grid 2 R1 × grid 1's 3 translations both ways and its
     // diagonal; the 11 other diagonals (rotations of grids 0, 1; grid 2 but R1)
@@ -408,11 +661,23 @@ fn pattern_blocks_hold_only_active_components() {
 #[test]
 fn translational_contributions_rotate_like_the_six_dof_layout() {
     let (c, s) = (0.6_f64, 0.8_f64);
-    let frames = GridFrames::from_rotations(vec![None, Some([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]), Some([[1.0, 0.0, 0.0], [0.0, c, s], [0.0, -s, c]])]);
+    let frames = GridFrames::from_rotations(vec![
+        None,
+        Some([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]),
+        Some([[1.0, 0.0, 0.0], [0.0, c, s], [0.0, -s, c]]),
+    ]);
     let nodes = [2usize, 0, 1];
-    let k3 = Mat::<f64>::from_fn(9, 9, |i, j| 1.0 + (i * 9 + j).min(j * 9 + i) as f64 + if i == j { 50.0 } else { 0.0 });
+    let k3 = Mat::<f64>::from_fn(9, 9, |i, j| {
+        1.0 + (i * 9 + j).min(j * 9 + i) as f64 + if i == j { 50.0 } else { 0.0 }
+    });
     let six = |i: usize| 6 * (i / 3) + i % 3;
-    let k6 = Mat::<f64>::from_fn(18, 18, |i, j| if i % 6 < 3 && j % 6 < 3 { k3[(3 * (i / 6) + i % 6, 3 * (j / 6) + j % 6)] } else { 0.0 });
+    let k6 = Mat::<f64>::from_fn(18, 18, |i, j| {
+        if i % 6 < 3 && j % 6 < 3 {
+            k3[(3 * (i / 6) + i % 6, 3 * (j / 6) + j % 6)]
+        } else {
+            0.0
+        }
+    });
     let t = Contribution::element(&frames, &nodes, vec![(ParamKey::Constant, k3)]);
     let f = Contribution::element(&frames, &nodes, vec![(ParamKey::Constant, k6)]);
     assert_eq!(t.dofs, vec![12, 13, 14, 0, 1, 2, 6, 7, 8]);

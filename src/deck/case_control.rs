@@ -79,17 +79,28 @@ pub struct Subcase {
 impl Subcase {
     /// Where selection `name` (canonical) was written, if it was.
     pub fn loc_of(&self, name: &str) -> Option<&Loc> {
-        self.locs.iter().rev().find(|(n, _)| *n == name).map(|(_, l)| l)
+        self.locs
+            .iter()
+            .rev()
+            .find(|(n, _)| *n == name)
+            .map(|(_, l)| l)
     }
 
     /// This subcase's statements on top of `defaults`.
     fn over(&self, defaults: &Subcase) -> Subcase {
         let mut out = self.clone();
         macro_rules! inherit { ($($f:ident),*) => { $( if out.$f.is_none() { out.$f = defaults.$f.clone(); } )* } }
-        inherit!(title, subtitle, label, spc, load, method, frequency, dload, tstep, ic, prom, rom, pval, sensor, estim, meas);
+        inherit!(
+            title, subtitle, label, spc, load, method, frequency, dload, tstep, ic, prom, rom,
+            pval, sensor, estim, meas
+        );
         let own: Vec<&str> = out.outputs.iter().map(|o| o.name).collect();
-        let inherited: Vec<OutputRequest> =
-            defaults.outputs.iter().filter(|o| !own.contains(&o.name)).cloned().collect();
+        let inherited: Vec<OutputRequest> = defaults
+            .outputs
+            .iter()
+            .filter(|o| !own.contains(&o.name))
+            .cloned()
+            .collect();
         out.outputs.splice(0..0, inherited);
         let mut locs = defaults.locs.clone();
         locs.extend(out.locs);
@@ -116,18 +127,55 @@ pub struct CaseControl {
 }
 
 /// Canonical case-control commands that select a bulk-data id.
-const SELECTIONS: &[&str] =
-    &["SPC", "LOAD", "METHOD", "FREQUENCY", "DLOAD", "TSTEP", "IC", "PROM", "PVAL", "ESTIM", "MEAS"];
+const SELECTIONS: &[&str] = &[
+    "SPC",
+    "LOAD",
+    "METHOD",
+    "FREQUENCY",
+    "DLOAD",
+    "TSTEP",
+    "IC",
+    "PROM",
+    "PVAL",
+    "ESTIM",
+    "MEAS",
+];
 
 /// Output requests paraflex parses.
 const OUTPUTS: &[&str] = &[
-    "DISPLACEMENT", "VELOCITY", "ACCELERATION", "SPCFORCES", "STRAIN", "STRESS", "FORCE", "OLOAD",
-    "GPFORCE", "ESE", "MPCFORCES", "GPWG", "ELSTRESS", "ELFORCE", "VECTOR", "PRESSURE", "EKE", "EDE",
+    "DISPLACEMENT",
+    "VELOCITY",
+    "ACCELERATION",
+    "SPCFORCES",
+    "STRAIN",
+    "STRESS",
+    "FORCE",
+    "OLOAD",
+    "GPFORCE",
+    "ESE",
+    "MPCFORCES",
+    "GPWG",
+    "ELSTRESS",
+    "ELFORCE",
+    "VECTOR",
+    "PRESSURE",
+    "EKE",
+    "EDE",
 ];
 
 /// Statements accepted and ignored (printing and bookkeeping options that do not change results).
-const IGNORED: &[&str] =
-    &["ECHO", "LINE", "MAXLINES", "ANALYSIS", "GROUNDCHECK", "WEIGHTCHECK", "MEFFMASS", "SEALL", "SUPER", "OUTPUT"];
+const IGNORED: &[&str] = &[
+    "ECHO",
+    "LINE",
+    "MAXLINES",
+    "ANALYSIS",
+    "GROUNDCHECK",
+    "WEIGHTCHECK",
+    "MEFFMASS",
+    "SEALL",
+    "SUPER",
+    "OUTPUT",
+];
 
 /// Match `word` to a canonical name: exact, or an abbreviation of at least four characters.
 fn canonical(word: &str, names: &[&'static str]) -> Option<&'static str> {
@@ -149,34 +197,53 @@ struct Statement<'a> {
 }
 
 fn split_statement(text: &str) -> Statement<'_> {
-    let end_word = text.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(text.len());
+    let end_word = text
+        .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .unwrap_or(text.len());
     let word = &text[..end_word];
     let mut rest = text[end_word..].trim_start();
     let mut describers = Vec::new();
     if let Some(inner) = rest.strip_prefix('(') {
         let close = inner.find(')').unwrap_or(inner.len());
-        describers = inner[..close].split(',').map(|d| d.trim().to_ascii_uppercase()).filter(|d| !d.is_empty()).collect();
+        describers = inner[..close]
+            .split(',')
+            .map(|d| d.trim().to_ascii_uppercase())
+            .filter(|d| !d.is_empty())
+            .collect();
         rest = inner.get(close + 1..).unwrap_or("").trim_start();
     }
     let value = rest.strip_prefix('=').map(str::trim);
-    Statement { word, describers, value }
+    Statement {
+        word,
+        describers,
+        value,
+    }
 }
 
 /// A positive id in the range bulk-data ids use (1 … 2³¹ − 1).
 fn parse_id(text: &str) -> Option<u32> {
-    text.parse::<u32>().ok().filter(|&id| id > 0 && id <= u32::MAX / 2)
+    text.parse::<u32>()
+        .ok()
+        .filter(|&id| id > 0 && id <= u32::MAX / 2)
 }
 
 /// Parse a `SET` list: ids, `THRU` ranges, `ALL` not allowed. Errors are messages.
 fn parse_set_list(text: &str) -> Result<Vec<u32>, String> {
     let mut ids: Vec<u32> = Vec::new();
-    let tokens: Vec<&str> = text.split([',', ' ']).map(str::trim).filter(|t| !t.is_empty()).collect();
+    let tokens: Vec<&str> = text
+        .split([',', ' '])
+        .map(str::trim)
+        .filter(|t| !t.is_empty())
+        .collect();
     let mut i = 0;
     while i < tokens.len() {
         let t = tokens[i];
         if t.eq_ignore_ascii_case("THRU") {
             let lo = *ids.last().ok_or("THRU needs an id before it")?;
-            let hi = tokens.get(i + 1).and_then(|h| parse_id(h)).ok_or("THRU needs an id after it")?;
+            let hi = tokens
+                .get(i + 1)
+                .and_then(|h| parse_id(h))
+                .ok_or("THRU needs an id after it")?;
             expand_thru(&mut ids, lo, hi)?;
             i += 2;
             continue;
@@ -184,7 +251,12 @@ fn parse_set_list(text: &str) -> Result<Vec<u32>, String> {
         if t.eq_ignore_ascii_case("EXCEPT") {
             return Err("EXCEPT in SET lists is not supported; list the ids explicitly".into());
         }
-        let id = parse_id(t).ok_or_else(|| format!("expected an id (1 to {}) or THRU, found '{t}'", u32::MAX / 2))?;
+        let id = parse_id(t).ok_or_else(|| {
+            format!(
+                "expected an id (1 to {}) or THRU, found '{t}'",
+                u32::MAX / 2
+            )
+        })?;
         ids.push(id);
         i += 1;
     }
@@ -198,13 +270,18 @@ fn parse_target(value: &str) -> Result<Target, String> {
     match value.to_ascii_uppercase().as_str() {
         "ALL" => Ok(Target::All),
         "NONE" => Ok(Target::None),
-        v => v.parse::<u32>().map(Target::Set).map_err(|_| format!("expected ALL, NONE or a SET id, found '{value}'")),
+        v => v
+            .parse::<u32>()
+            .map(Target::Set)
+            .map_err(|_| format!("expected ALL, NONE or a SET id, found '{value}'")),
     }
 }
 
 fn strip_quotes(value: &str) -> Option<&str> {
     let v = value.trim();
-    v.strip_prefix('\'').and_then(|s| s.strip_suffix('\'')).or_else(|| (!v.is_empty()).then_some(v))
+    v.strip_prefix('\'')
+        .and_then(|s| s.strip_suffix('\''))
+        .or_else(|| (!v.is_empty()).then_some(v))
 }
 
 impl CaseControl {
@@ -224,7 +301,10 @@ impl CaseControl {
         let err = |msg: String| DeckError::at(loc, msg).on_card(word.clone());
         match word.as_str() {
             "TITLE" | "SUBTITLE" | "LABEL" => {
-                let value = text.split_once('=').map(|(_, v)| v.trim().to_string()).unwrap_or_default();
+                let value = text
+                    .split_once('=')
+                    .map(|(_, v)| v.trim().to_string())
+                    .unwrap_or_default();
                 let sub = self.current();
                 match word.as_str() {
                     "TITLE" => sub.title = Some(value),
@@ -239,16 +319,25 @@ impl CaseControl {
                         if self.explicit.iter().any(|s| s.id == id) {
                             diag.error(err(format!("SUBCASE {id} defined twice")));
                         }
-                        self.explicit.push(Subcase { id, ..Subcase::default() });
+                        self.explicit.push(Subcase {
+                            id,
+                            ..Subcase::default()
+                        });
                     }
-                    _ => diag.error(err(format!("expected a positive subcase id, found '{rest}'"))),
+                    _ => diag.error(err(format!(
+                        "expected a positive subcase id, found '{rest}'"
+                    ))),
                 }
             }
             "SET" => self.read_set(loc, text.to_string(), diag),
             "PARAM" => {
                 let parts: Vec<&str> = text.splitn(3, ',').collect();
                 if parts.len() == 3 {
-                    self.params.push((parts[1].trim().to_ascii_uppercase(), parts[2].trim().to_string(), loc.clone()));
+                    self.params.push((
+                        parts[1].trim().to_ascii_uppercase(),
+                        parts[2].trim().to_string(),
+                        loc.clone(),
+                    ));
                 } else {
                     diag.error(err("expected PARAM,NAME,VALUE".into()));
                 }
@@ -281,7 +370,9 @@ impl CaseControl {
                 return diag.error(err(format!("expected {name} = id")));
             };
             let Ok(id) = value.parse::<u32>() else {
-                return diag.error(err(format!("expected {name} = a positive id, found '{value}'")));
+                return diag.error(err(format!(
+                    "expected {name} = a positive id, found '{value}'"
+                )));
             };
             let sub = self.current();
             let slot = match name {
@@ -303,12 +394,24 @@ impl CaseControl {
             let target = match st.value.map(parse_target) {
                 Some(Ok(t)) => t,
                 Some(Err(m)) => return diag.error(err(m)),
-                None => return diag.error(err(format!("expected {name}(describers) = ALL | NONE | set id"))),
+                None => {
+                    return diag.error(err(format!(
+                        "expected {name}(describers) = ALL | NONE | set id"
+                    )));
+                }
             };
-            let req = OutputRequest { name, describers: st.describers, target, loc: loc.clone() };
+            let req = OutputRequest {
+                name,
+                describers: st.describers,
+                target,
+                loc: loc.clone(),
+            };
             self.current().outputs.push(req);
         } else if let Some(name) = canonical(word, IGNORED) {
-            diag.warn_at(loc, format!("case control '{name}' is accepted and ignored"));
+            diag.warn_at(
+                loc,
+                format!("case control '{name}' is accepted and ignored"),
+            );
         } else {
             diag.error(err(format!(
                 "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SET PARAM ROM SENSOR {} and output requests {}",
@@ -324,19 +427,34 @@ impl CaseControl {
             return;
         }
         let Some((head, list)) = text.split_once('=') else {
-            return diag.error(DeckError::at(loc, "expected SET n = id, id THRU id, ...").on_card("SET"));
+            return diag
+                .error(DeckError::at(loc, "expected SET n = id, id THRU id, ...").on_card("SET"));
         };
         let id_text = head.trim().get(3..).unwrap_or("").trim();
         let id = match parse_id(id_text) {
             Some(id) => id,
-            None => return diag.error(DeckError::at(loc, format!("expected a positive SET id, found '{id_text}'")).on_card("SET")),
+            None => {
+                return diag.error(
+                    DeckError::at(
+                        loc,
+                        format!("expected a positive SET id, found '{id_text}'"),
+                    )
+                    .on_card("SET"),
+                );
+            }
         };
         match parse_set_list(list) {
             Ok(ids) => {
                 if self.sets.iter().any(|s| s.id == id) {
-                    diag.error(DeckError::at(loc, format!("SET {id} defined twice")).on_card("SET"));
+                    diag.error(
+                        DeckError::at(loc, format!("SET {id} defined twice")).on_card("SET"),
+                    );
                 }
-                self.sets.push(CaseSet { id, ids, loc: loc.clone() });
+                self.sets.push(CaseSet {
+                    id,
+                    ids,
+                    loc: loc.clone(),
+                });
             }
             Err(m) => diag.error(DeckError::at(loc, m).on_card(format!("SET {id}"))),
         }
@@ -345,7 +463,13 @@ impl CaseControl {
     /// Report a `SET` left open by a trailing comma at the end of the section.
     pub fn finish(&mut self, diag: &mut Diagnostics) {
         if let Some((loc, _)) = self.pending_set.take() {
-            diag.error(DeckError::at(&loc, "SET list ends with ',' but no continuation line follows").on_card("SET"));
+            diag.error(
+                DeckError::at(
+                    &loc,
+                    "SET list ends with ',' but no continuation line follows",
+                )
+                .on_card("SET"),
+            );
         }
     }
 
@@ -401,7 +525,10 @@ mod tests {
         assert!(d.is_ok(), "{:?}", d.errors);
         let subs = cc.subcases();
         assert_eq!(subs.len(), 2);
-        assert_eq!((subs[0].spc, subs[0].load, subs[0].title.as_deref()), (Some(1), Some(5), Some("Plate test")));
+        assert_eq!(
+            (subs[0].spc, subs[0].load, subs[0].title.as_deref()),
+            (Some(1), Some(5), Some("Plate test"))
+        );
         assert_eq!(subs[0].outputs.len(), 2);
         assert_eq!(subs[1].method, Some(7));
         assert_eq!(subs[1].outputs.len(), 1);
@@ -411,11 +538,19 @@ mod tests {
 
     #[test]
     fn extension_statements() {
-        let (cc, d) = read(&["ROM = 'out/blade.h5'", "PVAL = 3", "SENSOR = ALL", "PROM = 1"]);
+        let (cc, d) = read(&[
+            "ROM = 'out/blade.h5'",
+            "PVAL = 3",
+            "SENSOR = ALL",
+            "PROM = 1",
+        ]);
         assert!(d.is_ok(), "{:?}", d.errors);
         let s = &cc.subcases()[0];
         assert_eq!(s.rom.as_deref(), Some("out/blade.h5"));
-        assert_eq!((s.pval, s.prom, s.sensor.clone()), (Some(3), Some(1), Some(Target::All)));
+        assert_eq!(
+            (s.pval, s.prom, s.sensor.clone()),
+            (Some(3), Some(1), Some(Target::All))
+        );
     }
 
     #[test]

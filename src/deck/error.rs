@@ -20,7 +20,10 @@ pub struct Loc {
 impl Loc {
     /// A position at `line` of `file`.
     pub fn new(file: &Arc<Path>, line: u32) -> Self {
-        Loc { file: Arc::clone(file), line }
+        Loc {
+            file: Arc::clone(file),
+            line,
+        }
     }
 }
 
@@ -48,7 +51,12 @@ pub struct DeckError {
 impl DeckError {
     /// An error at `loc` with no card context.
     pub fn at(loc: &Loc, message: impl Into<String>) -> Self {
-        DeckError { loc: loc.clone(), card: None, field: None, message: message.into() }
+        DeckError {
+            loc: loc.clone(),
+            card: None,
+            field: None,
+            message: message.into(),
+        }
     }
 
     /// Attach the card name (and id) the error belongs to.
@@ -109,12 +117,18 @@ impl Diagnostics {
 
     /// Record a warning tied to a position.
     pub fn warn_at(&mut self, loc: &Loc, message: impl Into<String>) {
-        self.warnings.push(Warning { loc: Some(loc.to_string()), message: message.into() });
+        self.warnings.push(Warning {
+            loc: Some(loc.to_string()),
+            message: message.into(),
+        });
     }
 
     /// Record a warning about the deck as a whole.
     pub fn warn(&mut self, message: impl Into<String>) {
-        self.warnings.push(Warning { loc: None, message: message.into() });
+        self.warnings.push(Warning {
+            loc: None,
+            message: message.into(),
+        });
     }
 
     /// True when no error was recorded.
@@ -148,8 +162,12 @@ mod tests {
     #[test]
     fn error_renders_file_line_card_and_field() {
         let file: Arc<Path> = Arc::from(Path::new("deck.dat"));
-        let mut e = DeckError::at(&Loc::new(&file, 12), "expected integer, found '1.5'").on_card("CQUAD4 7");
+        let mut e = DeckError::at(&Loc::new(&file, 12), "expected integer, found '1.5'")
+            .on_card("CQUAD4 7");
         e.field = Some("field 4 (G2)".into());
-        assert_eq!(e.to_string(), "deck.dat:12: CQUAD4 7: field 4 (G2): expected integer, found '1.5'");
+        assert_eq!(
+            e.to_string(),
+            "deck.dat:12: CQUAD4 7: field 4 (G2): expected integer, found '1.5'"
+        );
     }
 }

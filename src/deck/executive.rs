@@ -59,7 +59,10 @@ impl Solution {
     /// Parse the argument of `SOL` (number or name, case-insensitive).
     pub fn parse(text: &str) -> Option<Solution> {
         let t = text.trim();
-        Self::NAMES.iter().find(|(n, _)| n.eq_ignore_ascii_case(t)).map(|(_, s)| *s)
+        Self::NAMES
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(t))
+            .map(|(_, s)| *s)
     }
 
     /// The name paraflex uses for the sequence.
@@ -68,7 +71,9 @@ impl Solution {
             Solution::Statics => "STATICS",
             Solution::Modal => "MODAL",
             Solution::FrfDirect | Solution::FrfModal | Solution::Frf => "FRF",
-            Solution::TransientDirect | Solution::TransientModal | Solution::Transient => "TRANSIENT",
+            Solution::TransientDirect | Solution::TransientModal | Solution::Transient => {
+                "TRANSIENT"
+            }
             Solution::Prom => "PROM",
             Solution::Fmb => "FMB",
             Solution::Estimate => "ESTIMATE",
@@ -90,13 +95,28 @@ pub struct Executive {
 }
 
 /// Statements from other solvers' decks that paraflex records without acting on them.
-const RECORDED: &[&str] = &["ID", "TIME", "DIAG", "APP", "ECHOON", "ECHOOFF", "GEOMCHECK", "NASTRAN", "INIT", "ASSIGN"];
+const RECORDED: &[&str] = &[
+    "ID",
+    "TIME",
+    "DIAG",
+    "APP",
+    "ECHOON",
+    "ECHOOFF",
+    "GEOMCHECK",
+    "NASTRAN",
+    "INIT",
+    "ASSIGN",
+];
 
 impl Executive {
     /// Read one executive-control line (comments already removed).
     pub fn read_line(&mut self, loc: &Loc, text: &str, diag: &mut Diagnostics) {
         let text = text.trim();
-        let keyword: String = text.chars().take_while(|c| c.is_ascii_alphanumeric()).collect::<String>().to_ascii_uppercase();
+        let keyword: String = text
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric())
+            .collect::<String>()
+            .to_ascii_uppercase();
         let rest = text[keyword.len()..].trim().trim_start_matches(',').trim();
         match keyword.as_str() {
             "SOL" => {

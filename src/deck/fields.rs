@@ -17,7 +17,7 @@
 //! boundary after the quote.
 
 use super::error::{DeckError, Diagnostics, Loc};
-use super::value::{lex, Value};
+use super::value::{Value, lex};
 
 /// One bulk-data card after continuations are joined: name, data fields, and positions.
 #[derive(Debug, Clone)]
@@ -36,19 +36,33 @@ impl RawCard {
     /// Line on which flattened field `index` (1-based, as in [`FieldReader`](super::reader::FieldReader)) was written.
     pub fn line_of(&self, index: usize) -> u32 {
         let row = index.saturating_sub(1) / 8;
-        if row == 0 { self.loc.line } else { self.row_lines.get(row - 1).copied().unwrap_or(self.loc.line) }
+        if row == 0 {
+            self.loc.line
+        } else {
+            self.row_lines
+                .get(row - 1)
+                .copied()
+                .unwrap_or(self.loc.line)
+        }
     }
 
     /// The location of flattened field `index`.
     pub fn loc_of(&self, index: usize) -> Loc {
-        Loc { file: self.loc.file.clone(), line: self.line_of(index) }
+        Loc {
+            file: self.loc.file.clone(),
+            line: self.line_of(index),
+        }
     }
 
     /// Human description of flattened field `index`: `field 4` or `field 3 of continuation 2`.
     pub fn field_label(index: usize) -> String {
         let row = index.saturating_sub(1) / 8;
         let field = (index.saturating_sub(1)) % 8 + 2;
-        if row == 0 { format!("field {field}") } else { format!("field {field} of continuation {row}") }
+        if row == 0 {
+            format!("field {field}")
+        } else {
+            format!("field {field} of continuation {row}")
+        }
     }
 }
 
@@ -96,13 +110,25 @@ fn slice_line(text: &str) -> SlicedLine<'_> {
         let mut parts = text.split(',');
         let first = parts.next().unwrap_or("");
         let data: Vec<&str> = parts.collect();
-        return SlicedLine { first, data, format: Format::Free };
+        return SlicedLine {
+            first,
+            data,
+            format: Format::Free,
+        };
     }
     let first = text.get(..8.min(text.len())).unwrap_or(text);
     if is_large_marker(first) {
-        SlicedLine { first, data: slice_fixed(text, 16, 4), format: Format::Large }
+        SlicedLine {
+            first,
+            data: slice_fixed(text, 16, 4),
+            format: Format::Large,
+        }
     } else {
-        SlicedLine { first, data: slice_fixed(text, 8, 8), format: Format::Small }
+        SlicedLine {
+            first,
+            data: slice_fixed(text, 8, 8),
+            format: Format::Small,
+        }
     }
 }
 
@@ -122,7 +148,10 @@ impl Default for CardAssembler {
 impl CardAssembler {
     /// An assembler with no card in progress.
     pub fn new() -> Self {
-        CardAssembler { pending: None, half_row: false }
+        CardAssembler {
+            pending: None,
+            half_row: false,
+        }
     }
 
     /// Feed one bulk-data line; returns the previous card when this line starts a new one.
@@ -144,7 +173,12 @@ impl CardAssembler {
         }
         let finished = self.pending.take();
         let name = first.trim_end_matches('*').to_ascii_uppercase();
-        let mut card = RawCard { name, loc: loc.clone(), fields: Vec::new(), row_lines: Vec::new() };
+        let mut card = RawCard {
+            name,
+            loc: loc.clone(),
+            fields: Vec::new(),
+            row_lines: Vec::new(),
+        };
         self.half_row = false;
         Self::append(&mut card, &mut self.half_row, &sliced, loc, diag);
         self.pending = Some(card);
@@ -156,7 +190,13 @@ impl CardAssembler {
         self.pending.take()
     }
 
-    fn append(card: &mut RawCard, half_row: &mut bool, line: &SlicedLine<'_>, loc: &Loc, diag: &mut Diagnostics) {
+    fn append(
+        card: &mut RawCard,
+        half_row: &mut bool,
+        line: &SlicedLine<'_>,
+        loc: &Loc,
+        diag: &mut Diagnostics,
+    ) {
         let large = match line.format {
             Format::Large => true,
             Format::Free => is_large_marker(line.first),
@@ -189,7 +229,11 @@ impl CardAssembler {
         let row_start = card.fields.len() / 8 * 8;
         card.fields.extend(data.iter().map(|s| lex(s)));
         // Every physical line fills its share of the row even when written short.
-        let filled = if large && starts_row { row_start + 4 } else { row_start + 8 };
+        let filled = if large && starts_row {
+            row_start + 4
+        } else {
+            row_start + 8
+        };
         if card.fields.len() < filled {
             card.fields.resize(filled, Value::Blank);
         }
@@ -232,7 +276,9 @@ mod tests {
 
     #[test]
     fn small_field_with_plus_continuation() {
-        let (c, d) = cards("CHEXA   1       1       1       2       3       4       5       6       +C1\n+C1     7       8");
+        let (c, d) = cards(
+            "CHEXA   1       1       1       2       3       4       5       6       +C1\n+C1     7       8",
+        );
         assert!(d.is_ok());
         assert_eq!(c.len(), 1);
         let f = trimmed(&c[0]);
@@ -244,13 +290,16 @@ mod tests {
 
     #[test]
     fn blank_first_field_continuation() {
-        let (c, _) = cards("RBE2    1       10      123456  1       2       3       4       5\n        6       7");
+        let (c, _) = cards(
+            "RBE2    1       10      123456  1       2       3       4       5\n        6       7",
+        );
         assert_eq!(trimmed(&c[0]).len(), 10);
     }
 
     #[test]
     fn large_field_grid_matches_small() {
-        let (large, d) = cards("GRID*   1                               1.5             2.5\n*       3.5");
+        let (large, d) =
+            cards("GRID*   1                               1.5             2.5\n*       3.5");
         assert!(d.is_ok());
         let (small, _) = cards("GRID    1               1.5     2.5     3.5");
         assert_eq!(trimmed(&large[0]), trimmed(&small[0]));
@@ -275,14 +324,32 @@ mod tests {
         assert_eq!(c.len(), 2);
         assert_eq!(trimmed(&c[0])[9], Value::Int(8));
         assert_eq!(c[0].fields[1], Value::Blank);
-        assert_eq!(trimmed(&c[1]), vec![Value::Int(2), Value::Blank, Value::Real(1.), Value::Real(2.), Value::Real(3.)]);
+        assert_eq!(
+            trimmed(&c[1]),
+            vec![
+                Value::Int(2),
+                Value::Blank,
+                Value::Real(1.),
+                Value::Real(2.),
+                Value::Real(3.)
+            ]
+        );
     }
 
     #[test]
     fn large_free_field() {
         let (c, d) = cards("GRID*,1,,1.,2.\n*,3.");
         assert!(d.is_ok());
-        assert_eq!(trimmed(&c[0]), vec![Value::Int(1), Value::Blank, Value::Real(1.), Value::Real(2.), Value::Real(3.)]);
+        assert_eq!(
+            trimmed(&c[0]),
+            vec![
+                Value::Int(1),
+                Value::Blank,
+                Value::Real(1.),
+                Value::Real(2.),
+                Value::Real(3.)
+            ]
+        );
     }
 
     #[test]
@@ -303,7 +370,12 @@ mod tests {
         assert!(d.is_ok());
         assert_eq!(
             trimmed(&c[0]),
-            vec![Value::Int(7), Value::Quoted("data/measured.csv".into()), Value::Int(1), Value::Int(2)]
+            vec![
+                Value::Int(7),
+                Value::Quoted("data/measured.csv".into()),
+                Value::Int(1),
+                Value::Int(2)
+            ]
         );
     }
 }

@@ -55,9 +55,17 @@ impl Deck {
         walker.walk(path, None, &mut builder, &mut diag);
         builder.finish(&mut diag);
         if !diag.is_ok() {
-            return Err(DeckErrors { errors: diag.errors });
+            return Err(DeckErrors {
+                errors: diag.errors,
+            });
         }
-        let Builder { executive, case, bulk, section_seen, .. } = builder;
+        let Builder {
+            executive,
+            case,
+            bulk,
+            section_seen,
+            ..
+        } = builder;
         let has_control_sections = section_seen;
         let mut warnings = diag.warnings;
         if !has_control_sections {
@@ -66,7 +74,15 @@ impl Deck {
                 message: "no executive or case control section (no CEND / BEGIN BULK): read as bulk data only".into(),
             });
         }
-        Ok(Deck { path: path.to_path_buf(), files: walker.files, executive, case, bulk, has_control_sections, warnings })
+        Ok(Deck {
+            path: path.to_path_buf(),
+            files: walker.files,
+            executive,
+            case,
+            bulk,
+            has_control_sections,
+            warnings,
+        })
     }
 }
 
@@ -82,8 +98,20 @@ enum Section {
 }
 
 /// Executive statements that mark a file as a full deck when they come first.
-const EXECUTIVE_WORDS: &[&str] =
-    &["SOL", "ID", "TIME", "DIAG", "APP", "CEND", "NASTRAN", "ASSIGN", "INIT", "ECHOON", "ECHOOFF", "GEOMCHECK"];
+const EXECUTIVE_WORDS: &[&str] = &[
+    "SOL",
+    "ID",
+    "TIME",
+    "DIAG",
+    "APP",
+    "CEND",
+    "NASTRAN",
+    "ASSIGN",
+    "INIT",
+    "ECHOON",
+    "ECHOOFF",
+    "GEOMCHECK",
+];
 
 struct Builder {
     section: Section,
@@ -99,7 +127,10 @@ struct Builder {
 impl Builder {
     fn new(path: &Path) -> Self {
         Builder {
-            last_loc: Loc { file: std::sync::Arc::from(path), line: 1 },
+            last_loc: Loc {
+                file: std::sync::Arc::from(path),
+                line: 1,
+            },
             section: Section::Start,
             section_seen: false,
             executive: Executive::default(),
@@ -121,10 +152,20 @@ impl Builder {
         }
         self.case.finish(diag);
         match self.section {
-            Section::Start => diag.error(DeckError::at(&self.last_loc, "the deck is empty: no statement or card found")),
+            Section::Start => diag.error(DeckError::at(
+                &self.last_loc,
+                "the deck is empty: no statement or card found",
+            )),
             Section::Executive | Section::Case => {
-                let missing = if self.section == Section::Executive { "CEND" } else { "BEGIN BULK" };
-                diag.error(DeckError::at(&self.last_loc, format!("the deck ends before {missing}: no bulk data was read")));
+                let missing = if self.section == Section::Executive {
+                    "CEND"
+                } else {
+                    "BEGIN BULK"
+                };
+                diag.error(DeckError::at(
+                    &self.last_loc,
+                    format!("the deck ends before {missing}: no bulk data was read"),
+                ));
             }
             Section::Bulk | Section::Done => {}
         }
@@ -132,7 +173,11 @@ impl Builder {
 }
 
 fn first_word(text: &str) -> String {
-    text.trim_start().chars().take_while(|c| c.is_ascii_alphanumeric()).collect::<String>().to_ascii_uppercase()
+    text.trim_start()
+        .chars()
+        .take_while(|c| c.is_ascii_alphanumeric())
+        .collect::<String>()
+        .to_ascii_uppercase()
 }
 
 fn is_begin_bulk(text: &str) -> bool {

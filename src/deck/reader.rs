@@ -79,7 +79,11 @@ const BLANK: Value = Value::Blank;
 impl<'a> FieldReader<'a> {
     /// Start reading `card`.
     pub fn new(card: &'a RawCard) -> Self {
-        FieldReader { card, label: card.name.clone(), errors: Vec::new() }
+        FieldReader {
+            card,
+            label: card.name.clone(),
+            errors: Vec::new(),
+        }
     }
 
     /// The card being read.
@@ -104,12 +108,20 @@ impl<'a> FieldReader<'a> {
 
     /// Raw value of flattened field `i` (1-based: 1 = Nastran field 2); blank past the end.
     pub fn value(&self, i: usize) -> &'a Value {
-        if i == 0 { &BLANK } else { self.card.fields.get(i - 1).unwrap_or(&BLANK) }
+        if i == 0 {
+            &BLANK
+        } else {
+            self.card.fields.get(i - 1).unwrap_or(&BLANK)
+        }
     }
 
     /// Number of fields up to the last non-blank one.
     pub fn len(&self) -> usize {
-        self.card.fields.iter().rposition(|v| !v.is_blank()).map_or(0, |p| p + 1)
+        self.card
+            .fields
+            .iter()
+            .rposition(|v| !v.is_blank())
+            .map_or(0, |p| p + 1)
     }
 
     /// True when the card has no non-blank field.
@@ -126,7 +138,8 @@ impl<'a> FieldReader<'a> {
 
     /// Record an error about the card as a whole.
     pub fn card_error(&mut self, message: impl Into<String>) {
-        self.errors.push(DeckError::at(&self.card.loc, message).on_card(self.label.clone()));
+        self.errors
+            .push(DeckError::at(&self.card.loc, message).on_card(self.label.clone()));
     }
 
     fn mismatch(&mut self, i: usize, name: &str, expected: &str) {
@@ -161,15 +174,30 @@ impl<'a> FieldReader<'a> {
     }
 
     fn check_id(&mut self, i: usize, name: &str, v: i64, allow_zero: bool) -> u32 {
-        let expected = if allow_zero { "an id >= 0" } else { "an id > 0" };
+        let expected = if allow_zero {
+            "an id >= 0"
+        } else {
+            "an id > 0"
+        };
         self.check_positive(i, name, v, allow_zero, expected)
     }
 
     /// `v` as a u32 in [0 or 1, u32::MAX / 2], else an error "expected {expected} …" and 0.
-    fn check_positive(&mut self, i: usize, name: &str, v: i64, allow_zero: bool, expected: &str) -> u32 {
+    fn check_positive(
+        &mut self,
+        i: usize,
+        name: &str,
+        v: i64,
+        allow_zero: bool,
+        expected: &str,
+    ) -> u32 {
         let ok = if allow_zero { v >= 0 } else { v > 0 };
         if !ok || v > i64::from(u32::MAX / 2) {
-            self.error(i, name, format!("expected {expected} (at most {}), found {v}", u32::MAX / 2));
+            self.error(
+                i,
+                name,
+                format!("expected {expected} (at most {}), found {v}", u32::MAX / 2),
+            );
             return 0;
         }
         v as u32
@@ -280,7 +308,13 @@ impl<'a> FieldReader<'a> {
     }
 
     /// One of a fixed set of keywords; blank gives `default` (or an error when there is none).
-    pub fn keyword(&mut self, i: usize, name: &str, allowed: &[&'static str], default: Option<&'static str>) -> &'static str {
+    pub fn keyword(
+        &mut self,
+        i: usize,
+        name: &str,
+        allowed: &[&'static str],
+        default: Option<&'static str>,
+    ) -> &'static str {
         let fallback = default.unwrap_or(allowed[0]);
         match self.value(i) {
             Value::Blank => match default {
@@ -333,7 +367,11 @@ impl<'a> FieldReader<'a> {
         match self.opt_int(i, name) {
             None => Dofs::NONE,
             Some(code) => Dofs::parse(code).unwrap_or_else(|| {
-                self.error(i, name, format!("expected a component code of distinct digits 1-6, found {code}"));
+                self.error(
+                    i,
+                    name,
+                    format!("expected a component code of distinct digits 1-6, found {code}"),
+                );
                 Dofs::NONE
             }),
         }
@@ -375,7 +413,11 @@ impl<'a> FieldReader<'a> {
     /// The one or two (grid, components, value) triples of `SPC`/`DAREA`-style cards, at fields
     /// 3–5 and 6–8. `names` are the field names; a blank value is `default`, or an error when
     /// `default` is `None`.
-    pub fn grid_component_values(&mut self, names: [&str; 3], default: Option<f64>) -> Vec<(u32, Dofs, f64)> {
+    pub fn grid_component_values(
+        &mut self,
+        names: [&str; 3],
+        default: Option<f64>,
+    ) -> Vec<(u32, Dofs, f64)> {
         let mut out = Vec::new();
         for first in [2, 5] {
             if first == 5 && (5..=7).all(|i| self.value(i).is_blank()) {
@@ -409,10 +451,15 @@ impl<'a> FieldReader<'a> {
         let len = self.len();
         if len > last {
             let found = self.value(len).describe();
-            let e = format!("unexpected field: the card has at most {last} data fields, found {found}");
+            let e =
+                format!("unexpected field: the card has at most {last} data fields, found {found}");
             self.error(len, "extra", e);
         }
-        if self.errors.is_empty() { Ok(()) } else { Err(self.errors) }
+        if self.errors.is_empty() {
+            Ok(())
+        } else {
+            Err(self.errors)
+        }
     }
 
     /// Errors recorded so far (for cards that finish without a fixed layout).
@@ -434,7 +481,9 @@ pub fn expand_thru(ids: &mut Vec<u32>, lo: u32, hi: u32) -> Result<(), String> {
     }
     let total = ids.len() as u64 + u64::from(hi - lo);
     if total > MAX_LISTED_IDS as u64 {
-        return Err(format!("THRU range {lo} THRU {hi} makes the list longer than {MAX_LISTED_IDS} ids"));
+        return Err(format!(
+            "THRU range {lo} THRU {hi} makes the list longer than {MAX_LISTED_IDS} ids"
+        ));
     }
     ids.extend((lo..=hi).skip(1));
     Ok(())
@@ -481,7 +530,10 @@ mod tests {
         assert_eq!(r.id(1, "EID"), 1);
         r.id(2, "PID");
         let errs = r.finish(2).unwrap_err();
-        assert_eq!(errs[0].to_string(), "x.bdf:3: TEST 1: field 3 (PID): expected an integer, found real 1.5e0");
+        assert_eq!(
+            errs[0].to_string(),
+            "x.bdf:3: TEST 1: field 3 (PID): expected an integer, found real 1.5e0"
+        );
     }
 
     #[test]
@@ -489,7 +541,11 @@ mod tests {
         let c = card(&["1"]);
         let mut r = FieldReader::new(&c);
         r.real(1, "E");
-        assert!(r.finish(1).unwrap_err()[0].message.contains("decimal point"));
+        assert!(
+            r.finish(1).unwrap_err()[0]
+                .message
+                .contains("decimal point")
+        );
     }
 
     #[test]
@@ -499,7 +555,11 @@ mod tests {
         r.id(1, "ID");
         let e = r.finish(2).unwrap_err();
         assert!(e[0].to_string().starts_with("x.bdf:4:"), "{}", e[0]);
-        assert!(e[0].to_string().contains("field 2 of continuation 1"), "{}", e[0]);
+        assert!(
+            e[0].to_string().contains("field 2 of continuation 1"),
+            "{}",
+            e[0]
+        );
     }
 
     #[test]
@@ -516,6 +576,10 @@ mod tests {
         let mut r = FieldReader::new(&c);
         assert_eq!(r.keyword(1, "M", &["BDF1", "BDF2"], Some("BDF1")), "BDF1");
         r.keyword(2, "M", &["BDF1", "BDF2"], Some("BDF1"));
-        assert!(r.finish(2).unwrap_err()[0].message.contains("one of BDF1, BDF2"));
+        assert!(
+            r.finish(2).unwrap_err()[0]
+                .message
+                .contains("one of BDF1, BDF2")
+        );
     }
 }

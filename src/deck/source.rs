@@ -39,7 +39,10 @@ pub struct SourceWalker {
 impl SourceWalker {
     /// A walker with nothing read yet.
     pub fn new() -> Self {
-        SourceWalker { stack: Vec::new(), files: Vec::new() }
+        SourceWalker {
+            stack: Vec::new(),
+            files: Vec::new(),
+        }
     }
 
     /// Read `path` (and its includes) and feed every line to `visitor`. A file that cannot be
@@ -52,17 +55,28 @@ impl SourceWalker {
         diag: &mut Diagnostics,
     ) {
         let canonical = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
-        let here = included_from.cloned().unwrap_or_else(|| Loc::new(&Arc::from(path), 0));
+        let here = included_from
+            .cloned()
+            .unwrap_or_else(|| Loc::new(&Arc::from(path), 0));
         if let Some(pos) = self.stack.iter().position(|p| *p == canonical) {
-            let cycle: Vec<String> =
-                self.stack[pos..].iter().chain(std::iter::once(&canonical)).map(|p| p.display().to_string()).collect();
-            diag.error(DeckError::at(&here, format!("INCLUDE cycle: {}", cycle.join(" -> "))).on_card("INCLUDE"));
+            let cycle: Vec<String> = self.stack[pos..]
+                .iter()
+                .chain(std::iter::once(&canonical))
+                .map(|p| p.display().to_string())
+                .collect();
+            diag.error(
+                DeckError::at(&here, format!("INCLUDE cycle: {}", cycle.join(" -> ")))
+                    .on_card("INCLUDE"),
+            );
             return;
         }
         if self.stack.len() >= MAX_INCLUDE_DEPTH {
             diag.error(
-                DeckError::at(&here, format!("INCLUDE nested deeper than {MAX_INCLUDE_DEPTH} levels"))
-                    .on_card("INCLUDE"),
+                DeckError::at(
+                    &here,
+                    format!("INCLUDE nested deeper than {MAX_INCLUDE_DEPTH} levels"),
+                )
+                .on_card("INCLUDE"),
             );
             return;
         }
@@ -71,7 +85,11 @@ impl SourceWalker {
             Err(e) => {
                 let msg = format!("cannot read '{}': {e}", path.display());
                 let err = DeckError::at(&here, msg);
-                diag.error(if included_from.is_some() { err.on_card("INCLUDE") } else { err });
+                diag.error(if included_from.is_some() {
+                    err.on_card("INCLUDE")
+                } else {
+                    err
+                });
                 return;
             }
         };
@@ -83,13 +101,21 @@ impl SourceWalker {
         self.stack.pop();
     }
 
-    fn walk_text(&mut self, file: &Arc<Path>, text: &str, visitor: &mut dyn LineVisitor, diag: &mut Diagnostics) {
+    fn walk_text(
+        &mut self,
+        file: &Arc<Path>,
+        text: &str,
+        visitor: &mut dyn LineVisitor,
+        diag: &mut Diagnostics,
+    ) {
         let mut lines = text.lines().enumerate();
         let mut expanded = String::new();
         let mut loc = Loc::new(file, 0);
         while let Some((index, raw)) = lines.next() {
             loc.line = index as u32 + 1;
-            let Some(content) = preprocess(raw, &mut expanded, &loc, diag) else { continue };
+            let Some(content) = preprocess(raw, &mut expanded, &loc, diag) else {
+                continue;
+            };
             if let Some(rest) = include_argument(content) {
                 let mut argument = rest.trim().to_string();
                 // A quoted file name may continue on following lines until the closing quote.
@@ -102,23 +128,41 @@ impl SourceWalker {
                 self.follow_include(&loc, &argument, visitor, diag);
                 continue;
             }
-            visitor.line(Line { loc: &loc, text: content }, diag);
+            visitor.line(
+                Line {
+                    loc: &loc,
+                    text: content,
+                },
+                diag,
+            );
         }
     }
 
-    fn follow_include(&mut self, loc: &Loc, argument: &str, visitor: &mut dyn LineVisitor, diag: &mut Diagnostics) {
+    fn follow_include(
+        &mut self,
+        loc: &Loc,
+        argument: &str,
+        visitor: &mut dyn LineVisitor,
+        diag: &mut Diagnostics,
+    ) {
         let name = match argument.strip_prefix('\'') {
             Some(quoted) => match quoted.find('\'') {
                 Some(end) => quoted[..end].to_string(),
                 None => {
-                    diag.error(DeckError::at(loc, "INCLUDE file name has no closing quote").on_card("INCLUDE"));
+                    diag.error(
+                        DeckError::at(loc, "INCLUDE file name has no closing quote")
+                            .on_card("INCLUDE"),
+                    );
                     return;
                 }
             },
             None => argument.to_string(),
         };
         if name.is_empty() {
-            diag.error(DeckError::at(loc, "INCLUDE needs a file name, e.g. INCLUDE 'mesh.bdf'").on_card("INCLUDE"));
+            diag.error(
+                DeckError::at(loc, "INCLUDE needs a file name, e.g. INCLUDE 'mesh.bdf'")
+                    .on_card("INCLUDE"),
+            );
             return;
         }
         let base = loc.file.parent().unwrap_or(Path::new(""));
@@ -158,15 +202,26 @@ fn strip_comment(line: &str) -> &str {
 
 /// Comment removal, control-character check and tab expansion. Returns `None` for lines that
 /// are empty after comment removal or that were reported as errors.
-fn preprocess<'a>(raw: &'a str, expanded: &'a mut String, loc: &Loc, diag: &mut Diagnostics) -> Option<&'a str> {
+fn preprocess<'a>(
+    raw: &'a str,
+    expanded: &'a mut String,
+    loc: &Loc,
+    diag: &mut Diagnostics,
+) -> Option<&'a str> {
     let content = strip_comment(raw.strip_suffix('\r').unwrap_or(raw));
     if content.trim().is_empty() {
         return None;
     }
-    if let Some(bad) = content.chars().find(|&c| (c.is_control() && c != '\t') || c == '\u{FFFD}') {
+    if let Some(bad) = content
+        .chars()
+        .find(|&c| (c.is_control() && c != '\t') || c == '\u{FFFD}')
+    {
         diag.error(DeckError::at(
             loc,
-            format!("line contains a non-text character (U+{:04X}); is this a binary file?", bad as u32),
+            format!(
+                "line contains a non-text character (U+{:04X}); is this a binary file?",
+                bad as u32
+            ),
         ));
         return None;
     }
@@ -193,7 +248,13 @@ mod tests {
     struct Collect(Vec<(u32, String, String)>);
     impl LineVisitor for Collect {
         fn line(&mut self, line: Line<'_>, _: &mut Diagnostics) {
-            let name = line.loc.file.file_name().unwrap().to_string_lossy().to_string();
+            let name = line
+                .loc
+                .file
+                .file_name()
+                .unwrap()
+                .to_string_lossy()
+                .to_string();
             self.0.push((line.loc.line, name, line.text.to_string()));
         }
     }
@@ -209,14 +270,25 @@ mod tests {
     fn comments_tabs_and_includes() {
         let dir = tempfile::tempdir().unwrap();
         std::fs::create_dir(dir.path().join("sub")).unwrap();
-        std::fs::write(dir.path().join("main.dat"), "$ header\nGRID\t1\t\t0.\nINCLUDE 'sub/a.bdf'\nENDDATA $ end\n")
-            .unwrap();
+        std::fs::write(
+            dir.path().join("main.dat"),
+            "$ header\nGRID\t1\t\t0.\nINCLUDE 'sub/a.bdf'\nENDDATA $ end\n",
+        )
+        .unwrap();
         std::fs::write(dir.path().join("sub/a.bdf"), "include 'b.bdf'\nCARD A\n").unwrap();
         std::fs::write(dir.path().join("sub/b.bdf"), "CARD B\r\n").unwrap();
         let (c, d) = walk(&dir.path().join("main.dat"));
         assert!(d.is_ok(), "{:?}", d.errors);
         let texts: Vec<_> = c.0.iter().map(|(l, f, t)| format!("{f}:{l}:{t}")).collect();
-        assert_eq!(texts, ["main.dat:2:GRID    1               0.", "b.bdf:1:CARD B", "a.bdf:2:CARD A", "main.dat:4:ENDDATA"]);
+        assert_eq!(
+            texts,
+            [
+                "main.dat:2:GRID    1               0.",
+                "b.bdf:1:CARD B",
+                "a.bdf:2:CARD A",
+                "main.dat:4:ENDDATA"
+            ]
+        );
     }
 
     #[test]
@@ -227,7 +299,10 @@ mod tests {
         let (_, d) = walk(&dir.path().join("a.bdf"));
         assert_eq!(d.errors.len(), 1);
         let msg = d.errors[0].to_string();
-        assert!(msg.contains("b.bdf:2") && msg.contains("INCLUDE cycle"), "{msg}");
+        assert!(
+            msg.contains("b.bdf:2") && msg.contains("INCLUDE cycle"),
+            "{msg}"
+        );
     }
 
     #[test]
@@ -235,7 +310,13 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         std::fs::write(dir.path().join("a.bdf"), "GRID,1\n\nINCLUDE 'nope.bdf'\n").unwrap();
         let (_, d) = walk(&dir.path().join("a.bdf"));
-        assert!(d.errors[0].to_string().contains("a.bdf:3: INCLUDE: cannot read"), "{}", d.errors[0]);
+        assert!(
+            d.errors[0]
+                .to_string()
+                .contains("a.bdf:3: INCLUDE: cannot read"),
+            "{}",
+            d.errors[0]
+        );
     }
 
     #[test]
@@ -254,6 +335,10 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         std::fs::write(dir.path().join("a.bdf"), b"GRID,1\n\x00\x01\xff\xfe\n").unwrap();
         let (_, d) = walk(&dir.path().join("a.bdf"));
-        assert!(d.errors[0].to_string().contains("a.bdf:2"), "{}", d.errors[0]);
+        assert!(
+            d.errors[0].to_string().contains("a.bdf:2"),
+            "{}",
+            d.errors[0]
+        );
     }
 }

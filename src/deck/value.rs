@@ -28,7 +28,10 @@ pub enum Value {
     /// A quoted string (`'path/to/file.csv'`), case preserved, quotes removed.
     Quoted(Box<str>),
     /// Text that is not a valid field value, with the reason.
-    Invalid { text: Box<str>, reason: &'static str },
+    Invalid {
+        text: Box<str>,
+        reason: &'static str,
+    },
 }
 
 impl Value {
@@ -52,7 +55,9 @@ impl Value {
 
 /// The text a parser consumed. (Used instead of `nom::combinator::recognize`, which in nom
 /// 8.0.0 returns a short slice when a tuple parser ends in `digit0` at the end of input.)
-fn spanned<'a, O>(mut parser: impl Parser<&'a str, Output = O, Error = nom::error::Error<&'a str>>) -> impl Parser<&'a str, Output = &'a str, Error = nom::error::Error<&'a str>> {
+fn spanned<'a, O>(
+    mut parser: impl Parser<&'a str, Output = O, Error = nom::error::Error<&'a str>>,
+) -> impl Parser<&'a str, Output = &'a str, Error = nom::error::Error<&'a str>> {
     move |input: &'a str| {
         let (rest, _) = parser.parse(input)?;
         Ok((rest, &input[..input.len() - rest.len()]))
@@ -70,12 +75,23 @@ fn integer(input: &str) -> IResult<&str, &str> {
 
 /// Mantissa with a decimal point: `1.`, `1.5`, `.5` (with optional sign).
 fn mantissa_with_point(input: &str) -> IResult<&str, &str> {
-    spanned((sign, alt((spanned((digit1, tag("."), digit0)), spanned((tag("."), digit1)))))).parse(input)
+    spanned((
+        sign,
+        alt((
+            spanned((digit1, tag("."), digit0)),
+            spanned((tag("."), digit1)),
+        )),
+    ))
+    .parse(input)
 }
 
 /// Exponent: `E±n`, `D±n` or the Nastran shorthand `±n` directly after the mantissa.
 fn exponent(input: &str) -> IResult<&str, &str> {
-    alt((spanned((one_of("eEdD"), sign, digit1)), spanned((one_of("+-"), digit1)))).parse(input)
+    alt((
+        spanned((one_of("eEdD"), sign, digit1)),
+        spanned((one_of("+-"), digit1)),
+    ))
+    .parse(input)
 }
 
 /// A real: mantissa with a point and optional exponent, or an integer mantissa with an E/D
@@ -116,25 +132,37 @@ pub fn lex(field: &str) -> Value {
     if let Some(inner) = field.strip_prefix('\'') {
         return match inner.strip_suffix('\'') {
             Some(s) => Value::Quoted(s.into()),
-            None => Value::Invalid { text: field.into(), reason: "unterminated quoted string" },
+            None => Value::Invalid {
+                text: field.into(),
+                reason: "unterminated quoted string",
+            },
         };
     }
     if let Ok((_, i)) = all_consuming(integer).parse(field) {
         return match i.parse::<i64>() {
             Ok(v) => Value::Int(v),
-            Err(_) => Value::Invalid { text: field.into(), reason: "integer out of range" },
+            Err(_) => Value::Invalid {
+                text: field.into(),
+                reason: "integer out of range",
+            },
         };
     }
     if let Ok((_, (m, e))) = all_consuming(real).parse(field) {
         return match real_value(m, e) {
             Some(v) => Value::Real(v),
-            None => Value::Invalid { text: field.into(), reason: "real number out of range" },
+            None => Value::Invalid {
+                text: field.into(),
+                reason: "real number out of range",
+            },
         };
     }
     if all_consuming(text).parse(field).is_ok() {
         return Value::Text(field.into());
     }
-    Value::Invalid { text: field.into(), reason: "not an integer, a real or a name" }
+    Value::Invalid {
+        text: field.into(),
+        reason: "not an integer, a real or a name",
+    }
 }
 
 #[cfg(test)]
@@ -146,7 +174,10 @@ mod tests {
         assert_eq!(lex("12"), Value::Int(12));
         assert_eq!(lex(" -7 "), Value::Int(-7));
         assert_eq!(lex("+3"), Value::Int(3));
-        assert!(matches!(lex("99999999999999999999999"), Value::Invalid { .. }));
+        assert!(matches!(
+            lex("99999999999999999999999"),
+            Value::Invalid { .. }
+        ));
     }
 
     #[test]
@@ -165,7 +196,13 @@ mod tests {
 
     #[test]
     fn reals_out_of_range_are_invalid() {
-        assert!(matches!(lex("1.+999"), Value::Invalid { reason: "real number out of range", .. }));
+        assert!(matches!(
+            lex("1.+999"),
+            Value::Invalid {
+                reason: "real number out of range",
+                ..
+            }
+        ));
     }
 
     #[test]
@@ -179,7 +216,11 @@ mod tests {
     #[test]
     fn garbage_is_invalid() {
         for bad in ["1.2.3", "12AB", "1.e", "--1", "1..", "#"] {
-            assert!(matches!(lex(bad), Value::Invalid { .. }), "{bad} should be invalid, got {:?}", lex(bad));
+            assert!(
+                matches!(lex(bad), Value::Invalid { .. }),
+                "{bad} should be invalid, got {:?}",
+                lex(bad)
+            );
         }
     }
 

@@ -25,10 +25,18 @@ use crate::linalg::{ComplexLuSymbolic, LinalgError, SymbolicFactor, sym_matvec};
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FrfError {
     #[error("{what}: expected {expected}, got {got}")]
-    Shape { what: &'static str, expected: usize, got: usize },
-    #[error("the dynamic stiffness K − ω²M + iωC is singular at {hz} Hz (an undamped resonance or a rigid-body mode at 0 Hz): add damping or move the frequency line")]
+    Shape {
+        what: &'static str,
+        expected: usize,
+        got: usize,
+    },
+    #[error(
+        "the dynamic stiffness K − ω²M + iωC is singular at {hz} Hz (an undamped resonance or a rigid-body mode at 0 Hz): add damping or move the frequency line"
+    )]
     Singular { hz: f64 },
-    #[error("at 0 Hz the dynamic stiffness is K (1 + iG), and K is singular (a free-free structure or a mechanism: no static response exists): start the frequency list above 0 Hz or constrain the model")]
+    #[error(
+        "at 0 Hz the dynamic stiffness is K (1 + iG), and K is singular (a free-free structure or a mechanism: no static response exists): start the frequency list above 0 Hz or constrain the model"
+    )]
     StaticSingular,
     #[error("K and M must share one sparsity pattern (nnz {k} and {m})")]
     Pattern { k: usize, m: usize },
@@ -51,29 +59,62 @@ pub struct SparseModel<'a> {
 /// H(ω_l) (outputs × inputs) of a sparse model by direct solution at every angular frequency:
 /// A(ω) = (1 + i(ωβ + G)) K + (iωα − ω²) M factored by sparse LU on the one symbolic analysis,
 /// lines in parallel when `parallel`. `inputs` is n × n_in, `outputs` n_out × n (sparse rows).
-pub fn direct_receptance(model: &SparseModel<'_>, inputs: MatRef<'_, f64>, outputs: &CscMatrix<f64>, omegas: &[f64], parallel: bool) -> Result<Vec<Mat<c64>>, FrfError> {
+pub fn direct_receptance(
+    model: &SparseModel<'_>,
+    inputs: MatRef<'_, f64>,
+    outputs: &CscMatrix<f64>,
+    omegas: &[f64],
+    parallel: bool,
+) -> Result<Vec<Mat<c64>>, FrfError> {
     let (k, m) = (model.stiffness, model.mass);
     let n = k.nrows();
-    for (what, got) in [("stiffness columns", k.ncols()), ("mass size", m.nrows()), ("input shape rows", inputs.nrows()), ("output row length", outputs.ncols())] {
+    for (what, got) in [
+        ("stiffness columns", k.ncols()),
+        ("mass size", m.nrows()),
+        ("input shape rows", inputs.nrows()),
+        ("output row length", outputs.ncols()),
+    ] {
         if got != n {
-            return Err(FrfError::Shape { what, expected: n, got });
+            return Err(FrfError::Shape {
+                what,
+                expected: n,
+                got,
+            });
         }
     }
     if k.pattern() != m.pattern() {
-        return Err(FrfError::Pattern { k: k.nnz(), m: m.nnz() });
+        return Err(FrfError::Pattern {
+            k: k.nnz(),
+            m: m.nnz(),
+        });
     }
     if omegas.contains(&0.0) {
-        static_stiffness_is_regular(k, &SymbolicFactor::analyze(k.pattern()).map_err(FrfError::Linalg)?)?;
+        static_stiffness_is_regular(
+            k,
+            &SymbolicFactor::analyze(k.pattern()).map_err(FrfError::Linalg)?,
+        )?;
     }
     let symbolic = ComplexLuSymbolic::analyze(k.pattern()).map_err(FrfError::Linalg)?;
     let line = |&w: &f64| -> Result<Mat<c64>, FrfError> {
-        let (ck, cm) = (c64::new(1.0, w * model.beta + model.structural), c64::new(-w * w, w * model.alpha));
-        let values: Vec<c64> = k.values().iter().zip(m.values()).map(|(&kv, &mv)| ck * kv + cm * mv).collect();
+        let (ck, cm) = (
+            c64::new(1.0, w * model.beta + model.structural),
+            c64::new(-w * w, w * model.alpha),
+        );
+        let values: Vec<c64> = k
+            .values()
+            .iter()
+            .zip(m.values())
+            .map(|(&kv, &mv)| ck * kv + cm * mv)
+            .collect();
         let mut x = Mat::<c64>::from_fn(n, inputs.ncols(), |i, j| c64::new(inputs[(i, j)], 0.0));
-        symbolic.solve_in_place(&values, x.as_mut()).map_err(|e| match e {
-            LinalgError::Singular { .. } => FrfError::Singular { hz: w / (2.0 * std::f64::consts::PI) },
-            other => FrfError::Linalg(other),
-        })?;
+        symbolic
+            .solve_in_place(&values, x.as_mut())
+            .map_err(|e| match e {
+                LinalgError::Singular { .. } => FrfError::Singular {
+                    hz: w / (2.0 * std::f64::consts::PI),
+                },
+                other => FrfError::Linalg(other),
+            })?;
         let mut h = Mat::<c64>::zeros(outputs.nrows(), inputs.ncols());
         for (col, column) in outputs.col_iter().enumerate() {
             for (&row, &v) in column.row_indices().iter().zip(column.values()) {
@@ -84,7 +125,11 @@ pub fn direct_receptance(model: &SparseModel<'_>, inputs: MatRef<'_, f64>, outpu
         }
         Ok(h)
     };
-    if parallel { omegas.par_iter().map(line).collect() } else { omegas.iter().map(line).collect() }
+    if parallel {
+        omegas.par_iter().map(line).collect()
+    } else {
+        omegas.iter().map(line).collect()
+    }
 }
 
 /// At ω = 0 the dynamic stiffness is (1 + iG) K: a free-free structure or a mechanism makes it
@@ -93,7 +138,10 @@ pub fn direct_receptance(model: &SparseModel<'_>, inputs: MatRef<'_, f64>, outpu
 /// round-off λ of the rigid-body modes). Checked on K's LDLᵀ (`symbolic`: the analysis of K's
 /// pattern) instead, with the zero pivots of the eigen solver's Sturm counts
 /// (|d_k| ≤ 1e-12 |k_kk|, [`crate::linalg::Inertia`]).
-pub fn static_stiffness_is_regular(k: &CscMatrix<f64>, symbolic: &SymbolicFactor) -> Result<(), FrfError> {
+pub fn static_stiffness_is_regular(
+    k: &CscMatrix<f64>,
+    symbolic: &SymbolicFactor,
+) -> Result<(), FrfError> {
     match symbolic.factor_ldlt_values(k.values(), Par::Seq) {
         Ok(f) if f.inertia().zero == 0 => Ok(()),
         Ok(_) | Err(LinalgError::Singular { .. }) => Err(FrfError::StaticSingular),
@@ -110,7 +158,13 @@ pub fn static_stiffness_is_regular(k: &CscMatrix<f64>, symbolic: &SymbolicFactor
 /// holds K⁻¹ loads, so the response to these loads is exact at ω = 0 and the modes left out
 /// contribute their static part at every line. `None` when K is singular (a free-free
 /// structure or a mechanism: no static response; Nastran would use inertia relief).
-pub fn residual_vectors(stiffness: &CscMatrix<f64>, mass: &CscMatrix<f64>, symbolic: &SymbolicFactor, modes: MatRef<'_, f64>, loads: MatRef<'_, f64>) -> Result<Option<ResidualVectors>, FrfError> {
+pub fn residual_vectors(
+    stiffness: &CscMatrix<f64>,
+    mass: &CscMatrix<f64>,
+    symbolic: &SymbolicFactor,
+    modes: MatRef<'_, f64>,
+    loads: MatRef<'_, f64>,
+) -> Result<Option<ResidualVectors>, FrfError> {
     let n = stiffness.nrows();
     let factor = match symbolic.factor_ldlt_values(stiffness.values(), Par::Seq) {
         Ok(f) if f.inertia().zero == 0 && f.inertia().negative == 0 => f,
@@ -119,7 +173,12 @@ pub fn residual_vectors(stiffness: &CscMatrix<f64>, mass: &CscMatrix<f64>, symbo
     };
     let m_norm = |x: &[f64], mx: &mut [f64]| -> Result<f64, FrfError> {
         sym_matvec(mass, x, mx).map_err(FrfError::Linalg)?;
-        Ok(x.iter().zip(mx.iter()).map(|(a, b)| a * b).sum::<f64>().max(0.0).sqrt())
+        Ok(x.iter()
+            .zip(mx.iter())
+            .map(|(a, b)| a * b)
+            .sum::<f64>()
+            .max(0.0)
+            .sqrt())
     };
     let mut kept: Vec<Vec<f64>> = Vec::new();
     let mut mx = vec![0.0; n];
@@ -160,8 +219,12 @@ pub fn residual_vectors(stiffness: &CscMatrix<f64>, mass: &CscMatrix<f64>, symbo
         Ok(Mat::from_fn(r, r, |i, j| 0.5 * (out[(i, j)] + out[(j, i)])))
     };
     let (k_r, m_r) = (project(stiffness)?, project(mass)?);
-    let (lambda, q) = generalized_eigen(k_r.as_ref(), m_r.as_ref()).map_err(|e| FrfError::Residual(e.to_string()))?;
-    Ok(Some(ResidualVectors { eigenvalues: lambda, shapes: &basis * &q }))
+    let (lambda, q) = generalized_eigen(k_r.as_ref(), m_r.as_ref())
+        .map_err(|e| FrfError::Residual(e.to_string()))?;
+    Ok(Some(ResidualVectors {
+        eigenvalues: lambda,
+        shapes: &basis * &q,
+    }))
 }
 
 /// Residual vectors ([`residual_vectors`]): Rayleigh–Ritz ω̃² and M-normalized shapes (n × r).
@@ -173,11 +236,26 @@ pub struct ResidualVectors {
 /// H(ω_l) by modal superposition (module doc): `eigenvalues` ω_j² of mass-normalized modes,
 /// Rayleigh `alpha`, `beta` and structural damping `g`, `modal_inputs` = Φᵀ S_in (m × n_in),
 /// `modal_outputs` = S_out Φ (n_out × m).
-pub fn modal_receptance(eigenvalues: &[f64], alpha: f64, beta: f64, g: f64, modal_inputs: MatRef<'_, f64>, modal_outputs: MatRef<'_, f64>, omegas: &[f64]) -> Result<Vec<Mat<c64>>, FrfError> {
+pub fn modal_receptance(
+    eigenvalues: &[f64],
+    alpha: f64,
+    beta: f64,
+    g: f64,
+    modal_inputs: MatRef<'_, f64>,
+    modal_outputs: MatRef<'_, f64>,
+    omegas: &[f64],
+) -> Result<Vec<Mat<c64>>, FrfError> {
     let m = eigenvalues.len();
-    for (what, got) in [("modal input rows", modal_inputs.nrows()), ("modal output columns", modal_outputs.ncols())] {
+    for (what, got) in [
+        ("modal input rows", modal_inputs.nrows()),
+        ("modal output columns", modal_outputs.ncols()),
+    ] {
         if got != m {
-            return Err(FrfError::Shape { what, expected: m, got });
+            return Err(FrfError::Shape {
+                what,
+                expected: m,
+                got,
+            });
         }
     }
     omegas
@@ -187,7 +265,9 @@ pub fn modal_receptance(eigenvalues: &[f64], alpha: f64, beta: f64, g: f64, moda
             for (j, &lambda) in eigenvalues.iter().enumerate() {
                 let d = c64::new(lambda - w * w, w * (alpha + beta * lambda) + g * lambda);
                 if d.norm() == 0.0 {
-                    return Err(FrfError::Singular { hz: w / (2.0 * std::f64::consts::PI) });
+                    return Err(FrfError::Singular {
+                        hz: w / (2.0 * std::f64::consts::PI),
+                    });
                 }
                 let g = c64::new(1.0, 0.0) / d;
                 for o in 0..modal_outputs.nrows() {
@@ -211,7 +291,12 @@ pub struct DenseModel<'a> {
 
 /// H(ω_l) (outputs × inputs) at every angular frequency in `omegas` (rad/s).
 /// `inputs` is n × n_in (load shapes), `outputs` n_out × n (output rows).
-pub fn receptance(model: &DenseModel<'_>, inputs: MatRef<'_, f64>, outputs: MatRef<'_, f64>, omegas: &[f64]) -> Result<Vec<Mat<c64>>, FrfError> {
+pub fn receptance(
+    model: &DenseModel<'_>,
+    inputs: MatRef<'_, f64>,
+    outputs: MatRef<'_, f64>,
+    omegas: &[f64],
+) -> Result<Vec<Mat<c64>>, FrfError> {
     let n = model.stiffness.nrows();
     for (what, got) in [
         ("stiffness columns", model.stiffness.ncols()),
@@ -223,7 +308,11 @@ pub fn receptance(model: &DenseModel<'_>, inputs: MatRef<'_, f64>, outputs: MatR
         ("output row length", outputs.ncols()),
     ] {
         if got != n {
-            return Err(FrfError::Shape { what, expected: n, got });
+            return Err(FrfError::Shape {
+                what,
+                expected: n,
+                got,
+            });
         }
     }
     let rhs = Mat::<c64>::from_fn(n, inputs.ncols(), |i, j| c64::new(inputs[(i, j)], 0.0));
@@ -231,10 +320,21 @@ pub fn receptance(model: &DenseModel<'_>, inputs: MatRef<'_, f64>, outputs: MatR
     omegas
         .par_iter()
         .map(|&w| {
-            let a = Mat::<c64>::from_fn(n, n, |i, j| c64::new(model.stiffness[(i, j)] - w * w * model.mass[(i, j)], w * model.damping[(i, j)]));
+            let a = Mat::<c64>::from_fn(n, n, |i, j| {
+                c64::new(
+                    model.stiffness[(i, j)] - w * w * model.mass[(i, j)],
+                    w * model.damping[(i, j)],
+                )
+            });
             let x = a.partial_piv_lu().solve(&rhs);
-            if (0..x.ncols()).any(|j| x.col(j).iter().any(|z| !(z.re.is_finite() && z.im.is_finite()))) {
-                return Err(FrfError::Singular { hz: w / (2.0 * std::f64::consts::PI) });
+            if (0..x.ncols()).any(|j| {
+                x.col(j)
+                    .iter()
+                    .any(|z| !(z.re.is_finite() && z.im.is_finite()))
+            }) {
+                return Err(FrfError::Singular {
+                    hz: w / (2.0 * std::f64::consts::PI),
+                });
             }
             Ok(&out * &x)
         })
@@ -251,12 +351,19 @@ mod tests {
         let (k, m, c) = (4.0e4, 2.0, 8.0);
         let one = |v: f64| Mat::<f64>::from_fn(1, 1, |_, _| v);
         let (km, mm, cm, unit) = (one(k), one(m), one(c), one(1.0));
-        let model = DenseModel { stiffness: km.as_ref(), mass: mm.as_ref(), damping: cm.as_ref() };
+        let model = DenseModel {
+            stiffness: km.as_ref(),
+            mass: mm.as_ref(),
+            damping: cm.as_ref(),
+        };
         let omegas = [0.0, 50.0, (k / m).sqrt(), 400.0];
         let h = receptance(&model, unit.as_ref(), unit.as_ref(), &omegas).unwrap();
         for (w, hw) in omegas.iter().zip(&h) {
             let exact = c64::new(1.0, 0.0) / c64::new(k - w * w * m, w * c);
-            assert!((hw[(0, 0)] - exact).norm() <= 1e-14 * exact.norm(), "ω = {w}");
+            assert!(
+                (hw[(0, 0)] - exact).norm() <= 1e-14 * exact.norm(),
+                "ω = {w}"
+            );
         }
     }
 
@@ -264,9 +371,15 @@ mod tests {
     fn undamped_resonance_is_reported() {
         let one = |v: f64| Mat::<f64>::from_fn(1, 1, |_, _| v);
         let (km, mm, cm, unit) = (one(1.0), one(1.0), one(0.0), one(1.0));
-        let model = DenseModel { stiffness: km.as_ref(), mass: mm.as_ref(), damping: cm.as_ref() };
+        let model = DenseModel {
+            stiffness: km.as_ref(),
+            mass: mm.as_ref(),
+            damping: cm.as_ref(),
+        };
         match receptance(&model, unit.as_ref(), unit.as_ref(), &[1.0]) {
-            Err(FrfError::Singular { hz }) => assert!((hz - 1.0 / (2.0 * std::f64::consts::PI)).abs() < 1e-15),
+            Err(FrfError::Singular { hz }) => {
+                assert!((hz - 1.0 / (2.0 * std::f64::consts::PI)).abs() < 1e-15)
+            }
             other => panic!("{other:?}"),
         }
     }
@@ -276,7 +389,11 @@ mod tests {
     /// bound 1e-12 relative to max |H| (a handful of 3 × 3 complex solves and an eigen solve).
     #[test]
     fn direct_and_modal_agree_with_the_dense_receptance() {
-        let kd = [[3.0e4, -1.0e4, 0.0], [-1.0e4, 2.5e4, -1.5e4], [0.0, -1.5e4, 1.5e4]];
+        let kd = [
+            [3.0e4, -1.0e4, 0.0],
+            [-1.0e4, 2.5e4, -1.5e4],
+            [0.0, -1.5e4, 1.5e4],
+        ];
         let md = [[2.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.5]];
         let (alpha, beta) = (0.8, 3.0e-4);
         let sparse = |a: &[[f64; 3]; 3]| {
@@ -297,20 +414,62 @@ mod tests {
         let inputs = Mat::<f64>::from_fn(3, 2, |i, j| if i == 2 * j { 1.0 } else { 0.0 });
         let outputs = Mat::<f64>::from_fn(2, 3, |i, j| if j == 1 + i { 1.0 } else { 0.0 });
         let omegas = [0.0, 60.0, 150.0, 300.0];
-        let want = receptance(&DenseModel { stiffness: km.as_ref(), mass: mm.as_ref(), damping: cm.as_ref() }, inputs.as_ref(), outputs.as_ref(), &omegas).unwrap();
+        let want = receptance(
+            &DenseModel {
+                stiffness: km.as_ref(),
+                mass: mm.as_ref(),
+                damping: cm.as_ref(),
+            },
+            inputs.as_ref(),
+            outputs.as_ref(),
+            &omegas,
+        )
+        .unwrap();
         let mut coo = nalgebra_sparse::CooMatrix::new(2, 3);
         coo.push(0, 1, 1.0);
         coo.push(1, 2, 1.0);
         let out_sparse = CscMatrix::from(&coo);
-        let direct = direct_receptance(&SparseModel { stiffness: &ks, mass: &ms, alpha, beta, structural: 0.0 }, inputs.as_ref(), &out_sparse, &omegas, true).unwrap();
-        let (lambda, phi) = crate::linalg::dense::generalized_eigen(km.as_ref(), mm.as_ref()).unwrap();
-        let modal = modal_receptance(&lambda, alpha, beta, 0.0, (phi.transpose() * &inputs).as_ref(), (&outputs * &phi).as_ref(), &omegas).unwrap();
-        let scale = want.iter().flat_map(|h| (0..2).flat_map(move |o| (0..2).map(move |i| h[(o, i)].norm()))).fold(0.0, f64::max);
+        let direct = direct_receptance(
+            &SparseModel {
+                stiffness: &ks,
+                mass: &ms,
+                alpha,
+                beta,
+                structural: 0.0,
+            },
+            inputs.as_ref(),
+            &out_sparse,
+            &omegas,
+            true,
+        )
+        .unwrap();
+        let (lambda, phi) =
+            crate::linalg::dense::generalized_eigen(km.as_ref(), mm.as_ref()).unwrap();
+        let modal = modal_receptance(
+            &lambda,
+            alpha,
+            beta,
+            0.0,
+            (phi.transpose() * &inputs).as_ref(),
+            (&outputs * &phi).as_ref(),
+            &omegas,
+        )
+        .unwrap();
+        let scale = want
+            .iter()
+            .flat_map(|h| (0..2).flat_map(move |o| (0..2).map(move |i| h[(o, i)].norm())))
+            .fold(0.0, f64::max);
         for l in 0..omegas.len() {
             for o in 0..2 {
                 for i in 0..2 {
-                    assert!((direct[l][(o, i)] - want[l][(o, i)]).norm() <= 1e-12 * scale, "direct, line {l}");
-                    assert!((modal[l][(o, i)] - want[l][(o, i)]).norm() <= 1e-12 * scale, "modal, line {l}");
+                    assert!(
+                        (direct[l][(o, i)] - want[l][(o, i)]).norm() <= 1e-12 * scale,
+                        "direct, line {l}"
+                    );
+                    assert!(
+                        (modal[l][(o, i)] - want[l][(o, i)]).norm() <= 1e-12 * scale,
+                        "modal, line {l}"
+                    );
                 }
             }
         }
@@ -344,12 +503,30 @@ mod tests {
         let outputs = CscMatrix::from(&coo);
         let (k, m) = chain(0.0);
         for structural in [0.0, 0.02] {
-            let model = SparseModel { stiffness: &k, mass: &m, alpha: 0.0, beta: 0.0, structural };
-            assert_eq!(direct_receptance(&model, inputs.as_ref(), &outputs, &[0.0, 100.0], false).unwrap_err(), FrfError::StaticSingular);
-            assert!(direct_receptance(&model, inputs.as_ref(), &outputs, &[100.0, 1e4], false).is_ok());
+            let model = SparseModel {
+                stiffness: &k,
+                mass: &m,
+                alpha: 0.0,
+                beta: 0.0,
+                structural,
+            };
+            assert_eq!(
+                direct_receptance(&model, inputs.as_ref(), &outputs, &[0.0, 100.0], false)
+                    .unwrap_err(),
+                FrfError::StaticSingular
+            );
+            assert!(
+                direct_receptance(&model, inputs.as_ref(), &outputs, &[100.0, 1e4], false).is_ok()
+            );
         }
         let (k, m) = chain(1e10);
-        let model = SparseModel { stiffness: &k, mass: &m, alpha: 0.0, beta: 0.0, structural: 0.0 };
+        let model = SparseModel {
+            stiffness: &k,
+            mass: &m,
+            alpha: 0.0,
+            beta: 0.0,
+            structural: 0.0,
+        };
         assert!(direct_receptance(&model, inputs.as_ref(), &outputs, &[0.0], false).is_ok());
     }
 }

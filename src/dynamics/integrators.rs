@@ -34,12 +34,18 @@ pub enum Method {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum IntegrationError {
     #[error("{what}: expected {expected}, got {got}")]
-    Shape { what: &'static str, expected: usize, got: usize },
+    Shape {
+        what: &'static str,
+        expected: usize,
+        got: usize,
+    },
     #[error("time step {0} must be positive and finite")]
     Step(f64),
     #[error("generalized-α needs 0 ≤ ρ∞ ≤ 1, got {0}")]
     SpectralRadius(f64),
-    #[error("the {0} matrix is singular: the system has a DOF without mass (and, for the effective matrix, without stiffness or damping)")]
+    #[error(
+        "the {0} matrix is singular: the system has a DOF without mass (and, for the effective matrix, without stiffness or damping)"
+    )]
     Singular(&'static str),
     #[error("the solution became non-finite at step {step} (t = {time})")]
     NonFinite { step: usize, time: f64 },
@@ -60,7 +66,12 @@ pub trait Backend {
     /// Number of unknowns.
     fn size(&self) -> usize;
     /// Factor `effective` (named `what` in errors) and precompute the `products`.
-    fn prepare(&mut self, effective: Combination, products: &[Combination], what: &'static str) -> Result<(), IntegrationError>;
+    fn prepare(
+        &mut self,
+        effective: Combination,
+        products: &[Combination],
+        what: &'static str,
+    ) -> Result<(), IntegrationError>;
     /// y += (products[j]) x.
     fn apply(&self, j: usize, x: &[f64], y: &mut [f64]);
     /// x ← effective⁻¹ x.
@@ -90,7 +101,11 @@ impl LinearSystem<'_> {
             ("stiffness columns", self.stiffness.ncols()),
         ] {
             if got != n {
-                return Err(IntegrationError::Shape { what, expected: n, got });
+                return Err(IntegrationError::Shape {
+                    what,
+                    expected: n,
+                    got,
+                });
             }
         }
         Ok(n)
@@ -110,15 +125,29 @@ pub struct DenseOperators {
 
 impl Default for DenseOperators {
     fn default() -> Self {
-        DenseOperators { inverse: Mat::zeros(0, 0), products: Vec::new(), scratch: Vec::new() }
+        DenseOperators {
+            inverse: Mat::zeros(0, 0),
+            products: Vec::new(),
+            scratch: Vec::new(),
+        }
     }
 }
 
 impl DenseOperators {
     /// Form and invert `effective`, form the `products` of `sys`.
-    pub fn prepare(&mut self, sys: LinearSystem<'_>, effective: Combination, products: &[Combination], what: &'static str) -> Result<(), IntegrationError> {
+    pub fn prepare(
+        &mut self,
+        sys: LinearSystem<'_>,
+        effective: Combination,
+        products: &[Combination],
+        what: &'static str,
+    ) -> Result<(), IntegrationError> {
         let n = sys.check()?;
-        let combine = |c: Combination| Mat::<f64>::from_fn(n, n, |i, j| c[0] * sys.mass[(i, j)] + c[1] * sys.damping[(i, j)] + c[2] * sys.stiffness[(i, j)]);
+        let combine = |c: Combination| {
+            Mat::<f64>::from_fn(n, n, |i, j| {
+                c[0] * sys.mass[(i, j)] + c[1] * sys.damping[(i, j)] + c[2] * sys.stiffness[(i, j)]
+            })
+        };
         let e = combine(effective);
         self.inverse = e.partial_piv_lu().inverse();
         let scale = e.norm_max();
@@ -151,7 +180,9 @@ pub fn matvec_add(a: &Mat<f64>, x: &[f64], y: &mut [f64]) {
     debug_assert!(a.ncols() == x.len() && a.nrows() == y.len());
     for (j, &xj) in x.iter().enumerate() {
         if xj != 0.0 {
-            y.iter_mut().zip(a.col_as_slice(j)).for_each(|(yi, aij)| *yi += aij * xj);
+            y.iter_mut()
+                .zip(a.col_as_slice(j))
+                .for_each(|(yi, aij)| *yi += aij * xj);
         }
     }
 }
@@ -165,7 +196,10 @@ pub struct Dense<'a> {
 impl<'a> Dense<'a> {
     pub fn new(sys: LinearSystem<'a>) -> Result<Self, IntegrationError> {
         sys.check()?;
-        Ok(Dense { sys, ops: DenseOperators::default() })
+        Ok(Dense {
+            sys,
+            ops: DenseOperators::default(),
+        })
     }
 }
 
@@ -173,7 +207,12 @@ impl Backend for Dense<'_> {
     fn size(&self) -> usize {
         self.sys.mass.nrows()
     }
-    fn prepare(&mut self, effective: Combination, products: &[Combination], what: &'static str) -> Result<(), IntegrationError> {
+    fn prepare(
+        &mut self,
+        effective: Combination,
+        products: &[Combination],
+        what: &'static str,
+    ) -> Result<(), IntegrationError> {
         self.ops.prepare(self.sys, effective, products, what)
     }
     fn apply(&self, j: usize, x: &[f64], y: &mut [f64]) {
@@ -207,7 +246,15 @@ pub fn integrate(
     load: impl FnMut(f64, &mut [f64]),
     observe: impl FnMut(&StepState<'_>),
 ) -> Result<(), IntegrationError> {
-    integrate_with(&mut Dense::new(sys)?, method, Run { dt, steps, t0: 0.0 }, q0, v0, load, observe)
+    integrate_with(
+        &mut Dense::new(sys)?,
+        method,
+        Run { dt, steps, t0: 0.0 },
+        q0,
+        v0,
+        load,
+        observe,
+    )
 }
 
 /// Step size, number of steps and start time of a run.
@@ -232,24 +279,54 @@ pub fn integrate_with<B: Backend>(
     mut observe: impl FnMut(&StepState<'_>),
 ) -> Result<(), IntegrationError> {
     let n = backend.size();
-    for (what, got) in [("initial displacement", q0.len()), ("initial velocity", v0.len())] {
+    for (what, got) in [
+        ("initial displacement", q0.len()),
+        ("initial velocity", v0.len()),
+    ] {
         if got != n {
-            return Err(IntegrationError::Shape { what, expected: n, got });
+            return Err(IntegrationError::Shape {
+                what,
+                expected: n,
+                got,
+            });
         }
     }
     if !(run.dt > 0.0 && run.dt.is_finite()) {
         return Err(IntegrationError::Step(run.dt));
     }
-    if let Method::GeneralizedAlpha { rho_inf } = method && !(0.0..=1.0).contains(&rho_inf) {
+    if let Method::GeneralizedAlpha { rho_inf } = method
+        && !(0.0..=1.0).contains(&rho_inf)
+    {
         return Err(IntegrationError::SpectralRadius(rho_inf));
     }
     backend.advance(run.t0)?;
-    let mut state = State { q: q0.to_vec(), v: v0.to_vec(), a: vec![0.0; n], f: vec![0.0; n], rhs: vec![0.0; n] };
+    let mut state = State {
+        q: q0.to_vec(),
+        v: v0.to_vec(),
+        a: vec![0.0; n],
+        f: vec![0.0; n],
+        rhs: vec![0.0; n],
+    };
     initial_acceleration(backend, run.t0, &mut state, &mut load)?;
-    observe(&StepState { step: 0, time: run.t0, q: &state.q, v: &state.v, a: &state.a });
+    observe(&StepState {
+        step: 0,
+        time: run.t0,
+        q: &state.q,
+        v: &state.v,
+        a: &state.a,
+    });
     match method {
-        Method::Bdf1 | Method::Bdf2 => bdf(backend, run, method == Method::Bdf2, &mut state, load, observe),
-        Method::GeneralizedAlpha { rho_inf } => generalized_alpha(backend, run, rho_inf, &mut state, load, observe),
+        Method::Bdf1 | Method::Bdf2 => bdf(
+            backend,
+            run,
+            method == Method::Bdf2,
+            &mut state,
+            load,
+            observe,
+        ),
+        Method::GeneralizedAlpha { rho_inf } => {
+            generalized_alpha(backend, run, rho_inf, &mut state, load, observe)
+        }
     }
 }
 
@@ -264,29 +341,55 @@ struct State {
 
 /// a_0 = M⁻¹(f_0 − C v_0 − K q_0). When M cannot be factored (massless DOFs of a full model)
 /// and the system starts at rest and unloaded, a_0 = 0; otherwise the singular mass is an error.
-fn initial_acceleration<B: Backend>(backend: &mut B, t0: f64, state: &mut State, load: &mut impl FnMut(f64, &mut [f64])) -> Result<(), IntegrationError> {
+fn initial_acceleration<B: Backend>(
+    backend: &mut B,
+    t0: f64,
+    state: &mut State,
+    load: &mut impl FnMut(f64, &mut [f64]),
+) -> Result<(), IntegrationError> {
     let State { q, v, a, f, .. } = state;
     load(t0, f);
     if f.iter().chain(q.iter()).chain(v.iter()).all(|x| *x == 0.0) {
         a.fill(0.0);
         return Ok(());
     }
-    backend.prepare([1.0, 0.0, 0.0], &[[0.0, -1.0, 0.0], [0.0, 0.0, -1.0]], "mass")?;
+    backend.prepare(
+        [1.0, 0.0, 0.0],
+        &[[0.0, -1.0, 0.0], [0.0, 0.0, -1.0]],
+        "mass",
+    )?;
     a.copy_from_slice(f);
     backend.apply(0, v, a);
     backend.apply(1, q, a);
     backend.solve(a)?;
-    if a.iter().all(|x| x.is_finite()) { Ok(()) } else { Err(IntegrationError::Singular("mass")) }
+    if a.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(IntegrationError::Singular("mass"))
+    }
 }
 
 /// BDF1 / BDF2 on x = (q, v): with v_k = (c q_k − r_q)/Δt and a_k = (c v_k − r_v)/Δt, where
 /// (c, r) = (1, x_{k−1}) for BDF1 and (3/2, 2x_{k−1} − x_{k−2}/2) for BDF2, the equation of
 /// motion becomes (c²/Δt² M + c/Δt C + K) q_k = f_k + (c/Δt² M + 1/Δt C) r_q + M r_v/Δt.
-fn bdf<B: Backend>(backend: &mut B, run: Run, second_order: bool, state: &mut State, mut load: impl FnMut(f64, &mut [f64]), mut observe: impl FnMut(&StepState<'_>)) -> Result<(), IntegrationError> {
+fn bdf<B: Backend>(
+    backend: &mut B,
+    run: Run,
+    second_order: bool,
+    state: &mut State,
+    mut load: impl FnMut(f64, &mut [f64]),
+    mut observe: impl FnMut(&StepState<'_>),
+) -> Result<(), IntegrationError> {
     let Run { dt, steps, t0 } = run;
     let State { q, v, a, f, rhs } = state;
     let n = q.len();
-    let prepare = |b: &mut B, c: f64| b.prepare([c * c / (dt * dt), c / dt, 1.0], &[[c / (dt * dt), 1.0 / dt, 0.0], [1.0 / dt, 0.0, 0.0]], "effective");
+    let prepare = |b: &mut B, c: f64| {
+        b.prepare(
+            [c * c / (dt * dt), c / dt, 1.0],
+            &[[c / (dt * dt), 1.0 / dt, 0.0], [1.0 / dt, 0.0, 0.0]],
+            "effective",
+        )
+    };
     let (mut q_prev, mut v_prev) = (q.to_vec(), v.to_vec());
     let (mut r_q, mut r_v) = (vec![0.0; n], vec![0.0; n]);
     let mut prepared = None;
@@ -319,7 +422,13 @@ fn bdf<B: Backend>(backend: &mut B, run: Run, second_order: bool, state: &mut St
             a[i] = (c * v[i] - r_v[i]) / dt;
         }
         finite(step, t, q)?;
-        observe(&StepState { step, time: t, q, v, a });
+        observe(&StepState {
+            step,
+            time: t,
+            q,
+            v,
+            a,
+        });
     }
     Ok(())
 }
@@ -333,7 +442,14 @@ fn bdf<B: Backend>(backend: &mut B, run: Run, second_order: bool, state: &mut St
 /// (expanding q̃ and ṽ). Solving for the displacement (not the acceleration) keeps round-off at
 /// ε·‖q‖ when stiff modes with ωΔt ≫ 1 are present: the acceleration form multiplies K by
 /// Δt²·a_n, which for such modes is (ωΔt)² times larger than q and pollutes the slow modes.
-fn generalized_alpha<B: Backend>(backend: &mut B, run: Run, rho_inf: f64, state: &mut State, mut load: impl FnMut(f64, &mut [f64]), mut observe: impl FnMut(&StepState<'_>)) -> Result<(), IntegrationError> {
+fn generalized_alpha<B: Backend>(
+    backend: &mut B,
+    run: Run,
+    rho_inf: f64,
+    state: &mut State,
+    mut load: impl FnMut(f64, &mut [f64]),
+    mut observe: impl FnMut(&StepState<'_>),
+) -> Result<(), IntegrationError> {
     let Run { dt, steps, t0 } = run;
     let State { q, v, a, f, rhs } = state;
     let n = q.len();
@@ -342,10 +458,22 @@ fn generalized_alpha<B: Backend>(backend: &mut B, run: Run, rho_inf: f64, state:
     let gamma = 0.5 - am + af;
     let beta = 0.25 * (1.0 - am + af).powi(2);
     let bdt2 = beta * dt * dt;
-    let effective = [(1.0 - am) / bdt2, (1.0 - af) * gamma / (beta * dt), 1.0 - af];
+    let effective = [
+        (1.0 - am) / bdt2,
+        (1.0 - af) * gamma / (beta * dt),
+        1.0 - af,
+    ];
     let g_q = [(1.0 - am) / bdt2, (1.0 - af) * gamma / (beta * dt), -af];
-    let g_v = [(1.0 - am) / (beta * dt), -(1.0 - af) * (1.0 - gamma / beta) - af, 0.0];
-    let g_a = [-am + (1.0 - am) * (0.5 - beta) / beta, -(1.0 - af) * dt * ((1.0 - gamma) - gamma * (0.5 - beta) / beta), 0.0];
+    let g_v = [
+        (1.0 - am) / (beta * dt),
+        -(1.0 - af) * (1.0 - gamma / beta) - af,
+        0.0,
+    ];
+    let g_a = [
+        -am + (1.0 - am) * (0.5 - beta) / beta,
+        -(1.0 - af) * dt * ((1.0 - gamma) - gamma * (0.5 - beta) / beta),
+        0.0,
+    ];
     let mut prepared = false;
     for step in 1..=steps {
         let t = t0 + step as f64 * dt;
@@ -367,20 +495,35 @@ fn generalized_alpha<B: Backend>(backend: &mut B, run: Run, rho_inf: f64, state:
             v[i] = v_pred + gamma * dt * a[i];
         }
         finite(step, t, q)?;
-        observe(&StepState { step, time: t, q, v, a });
+        observe(&StepState {
+            step,
+            time: t,
+            q,
+            v,
+            a,
+        });
     }
     Ok(())
 }
 
 fn finite(step: usize, time: f64, q: &[f64]) -> Result<(), IntegrationError> {
-    if q.iter().all(|x| x.is_finite()) { Ok(()) } else { Err(IntegrationError::NonFinite { step, time }) }
+    if q.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(IntegrationError::NonFinite { step, time })
+    }
 }
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::f64::consts::PI;
 
-    const METHODS: [(Method, f64); 4] = [(Method::Bdf1, 1.0), (Method::Bdf2, 2.0), (Method::GeneralizedAlpha { rho_inf: 0.8 }, 2.0), (Method::GeneralizedAlpha { rho_inf: 1.0 }, 2.0)];
+    const METHODS: [(Method, f64); 4] = [
+        (Method::Bdf1, 1.0),
+        (Method::Bdf2, 2.0),
+        (Method::GeneralizedAlpha { rho_inf: 0.8 }, 2.0),
+        (Method::GeneralizedAlpha { rho_inf: 1.0 }, 2.0),
+    ];
 
     fn one(v: f64) -> Mat<f64> {
         Mat::from_fn(1, 1, |_, _| v)
@@ -393,10 +536,24 @@ mod tests {
         let w = (k / m).sqrt();
         let c = 2.0 * zeta * w * m;
         let (mm, cm, km) = (one(m), one(c), one(k));
-        let sys = LinearSystem { mass: mm.as_ref(), damping: cm.as_ref(), stiffness: km.as_ref() };
+        let sys = LinearSystem {
+            mass: mm.as_ref(),
+            damping: cm.as_ref(),
+            stiffness: km.as_ref(),
+        };
         let steps = (1.0 / dt).round() as usize;
         let mut last = 0.0;
-        integrate(sys, method, dt, steps, &[1.0], &[0.0], |_, f| f[0] = 0.0, |s| last = s.q[0]).unwrap();
+        integrate(
+            sys,
+            method,
+            dt,
+            steps,
+            &[1.0],
+            &[0.0],
+            |_, f| f[0] = 0.0,
+            |s| last = s.q[0],
+        )
+        .unwrap();
         let wd = w * (1.0 - zeta * zeta).sqrt();
         let t = steps as f64 * dt;
         let exact = (-zeta * w * t).exp() * ((wd * t).cos() + zeta * w / wd * (wd * t).sin());
@@ -409,9 +566,15 @@ mod tests {
     #[test]
     fn convergence_orders() {
         for (method, order) in METHODS {
-            let (e1, e2) = (sdof_error(method, 1.0 / 200.0), sdof_error(method, 1.0 / 400.0));
+            let (e1, e2) = (
+                sdof_error(method, 1.0 / 200.0),
+                sdof_error(method, 1.0 / 400.0),
+            );
             let observed = (e1 / e2).log2();
-            assert!((observed - order).abs() < 0.15, "{method:?}: errors {e1:e}, {e2:e}, observed order {observed}");
+            assert!(
+                (observed - order).abs() < 0.15,
+                "{method:?}: errors {e1:e}, {e2:e}, observed order {observed}"
+            );
         }
     }
 
@@ -423,22 +586,48 @@ mod tests {
     #[test]
     fn energy_behaviour_on_an_undamped_oscillator() {
         let (mm, cm, km) = (one(1.0), one(0.0), one((2.0 * PI).powi(2)));
-        let sys = LinearSystem { mass: mm.as_ref(), damping: cm.as_ref(), stiffness: km.as_ref() };
+        let sys = LinearSystem {
+            mass: mm.as_ref(),
+            damping: cm.as_ref(),
+            stiffness: km.as_ref(),
+        };
         for (method, _) in METHODS {
             let mut energies = Vec::new();
-            integrate(sys, method, 0.01, 500, &[1.0], &[0.0], |_, f| f[0] = 0.0, |s| energies.push(0.5 * (s.v[0] * s.v[0] + km[(0, 0)] * s.q[0] * s.q[0]))).unwrap();
+            integrate(
+                sys,
+                method,
+                0.01,
+                500,
+                &[1.0],
+                &[0.0],
+                |_, f| f[0] = 0.0,
+                |s| energies.push(0.5 * (s.v[0] * s.v[0] + km[(0, 0)] * s.q[0] * s.q[0])),
+            )
+            .unwrap();
             let (e0, e_end) = (energies[0], *energies.last().unwrap());
             let max = energies.iter().copied().fold(0.0, f64::max);
-            assert!(max <= e0 * 1.01, "{method:?} gained energy: {e0} → max {max}");
+            assert!(
+                max <= e0 * 1.01,
+                "{method:?} gained energy: {e0} → max {max}"
+            );
             if method == Method::Bdf1 {
-                assert!(energies.windows(2).all(|w| w[1] <= w[0] * (1.0 + 1e-12)), "BDF1 gained energy in a step");
+                assert!(
+                    energies.windows(2).all(|w| w[1] <= w[0] * (1.0 + 1e-12)),
+                    "BDF1 gained energy in a step"
+                );
             }
             if method == (Method::GeneralizedAlpha { rho_inf: 1.0 }) {
-                assert!((e_end - e0).abs() < 1e-10 * e0, "{method:?}: {e0} → {e_end}");
+                assert!(
+                    (e_end - e0).abs() < 1e-10 * e0,
+                    "{method:?}: {e0} → {e_end}"
+                );
             } else {
                 // generalized-α with ρ∞ = 0.8 dissipates only O((ωΔt)³) per period at low ωΔt:
                 // require a loss clearly above round-off (1e-9), not a large one
-                assert!(e_end < e0 * (1.0 - 1e-9), "{method:?} should dissipate: {e0} → {e_end}");
+                assert!(
+                    e_end < e0 * (1.0 - 1e-9),
+                    "{method:?} should dissipate: {e0} → {e_end}"
+                );
             }
         }
     }
@@ -449,19 +638,40 @@ mod tests {
     fn bounded_far_above_the_highest_period() {
         let k = Mat::<f64>::from_fn(2, 2, |i, j| [[1e8 + 1.0, -1e8], [-1e8, 1e8 + 1.0]][i][j]);
         let (mm, cm) = (Mat::<f64>::identity(2, 2), Mat::<f64>::zeros(2, 2));
-        let sys = LinearSystem { mass: mm.as_ref(), damping: cm.as_ref(), stiffness: k.as_ref() };
+        let sys = LinearSystem {
+            mass: mm.as_ref(),
+            damping: cm.as_ref(),
+            stiffness: k.as_ref(),
+        };
         let period_stiff = 2.0 * PI / (2e8_f64 + 1.0).sqrt();
-        for method in [Method::Bdf1, Method::Bdf2, Method::GeneralizedAlpha { rho_inf: 0.0 }, Method::GeneralizedAlpha { rho_inf: 1.0 }] {
+        for method in [
+            Method::Bdf1,
+            Method::Bdf2,
+            Method::GeneralizedAlpha { rho_inf: 0.0 },
+            Method::GeneralizedAlpha { rho_inf: 1.0 },
+        ] {
             let mut max_q: f64 = 0.0;
             let mut last = [0.0; 2];
-            integrate(sys, method, 1000.0 * period_stiff, 200, &[1.0, -1.0], &[0.0, 0.0], |_, f| f.fill(0.0), |s| {
-                max_q = max_q.max(s.q[0].abs()).max(s.q[1].abs());
-                last = [s.q[0], s.q[1]];
-            })
+            integrate(
+                sys,
+                method,
+                1000.0 * period_stiff,
+                200,
+                &[1.0, -1.0],
+                &[0.0, 0.0],
+                |_, f| f.fill(0.0),
+                |s| {
+                    max_q = max_q.max(s.q[0].abs()).max(s.q[1].abs());
+                    last = [s.q[0], s.q[1]];
+                },
+            )
             .unwrap();
             assert!(max_q <= 1.0 + 1e-9, "{method:?}: max |q| = {max_q}");
             if method != (Method::GeneralizedAlpha { rho_inf: 1.0 }) {
-                assert!((last[0] + last[1]).abs() < 1e-6 && last[0].abs() < 1e-3, "{method:?}: stiff mode left {last:?}");
+                assert!(
+                    (last[0] + last[1]).abs() < 1e-6 && last[0].abs() < 1e-3,
+                    "{method:?}: stiff mode left {last:?}"
+                );
             }
         }
     }
@@ -479,26 +689,67 @@ mod tests {
     fn energy_never_grows_for_steps_far_above_the_period() {
         let w = 2.0 * PI;
         let (mm, cm, km) = (one(1.0), one(0.0), one(w * w));
-        let sys = LinearSystem { mass: mm.as_ref(), damping: cm.as_ref(), stiffness: km.as_ref() };
+        let sys = LinearSystem {
+            mass: mm.as_ref(),
+            damping: cm.as_ref(),
+            stiffness: km.as_ref(),
+        };
         for wdt in [10.0, 1000.0] {
-            for method in [Method::Bdf1, Method::Bdf2, Method::GeneralizedAlpha { rho_inf: 0.0 }, Method::GeneralizedAlpha { rho_inf: 0.5 }, Method::GeneralizedAlpha { rho_inf: 1.0 }] {
+            for method in [
+                Method::Bdf1,
+                Method::Bdf2,
+                Method::GeneralizedAlpha { rho_inf: 0.0 },
+                Method::GeneralizedAlpha { rho_inf: 0.5 },
+                Method::GeneralizedAlpha { rho_inf: 1.0 },
+            ] {
                 let mut energies = Vec::new();
-                integrate(sys, method, wdt / w, 20, &[1.0], &[0.0], |_, f| f[0] = 0.0, |s| energies.push(0.5 * (s.v[0] * s.v[0] + w * w * s.q[0] * s.q[0]))).unwrap();
+                integrate(
+                    sys,
+                    method,
+                    wdt / w,
+                    20,
+                    &[1.0],
+                    &[0.0],
+                    |_, f| f[0] = 0.0,
+                    |s| energies.push(0.5 * (s.v[0] * s.v[0] + w * w * s.q[0] * s.q[0])),
+                )
+                .unwrap();
                 let e0 = energies[0];
                 let max = energies.iter().copied().fold(0.0, f64::max);
-                println!("{method:?} ωΔt = {wdt}: max E/E0 = {:.3e}, final {:.3e}", max / e0, energies[20] / e0);
+                println!(
+                    "{method:?} ωΔt = {wdt}: max E/E0 = {:.3e}, final {:.3e}",
+                    max / e0,
+                    energies[20] / e0
+                );
                 if matches!(method, Method::GeneralizedAlpha { rho_inf } if rho_inf < 1.0) {
-                    assert!(max <= e0 * wdt * wdt, "{method:?} at ωΔt = {wdt}: overshoot {max} above (ωΔt)² E0");
+                    assert!(
+                        max <= e0 * wdt * wdt,
+                        "{method:?} at ωΔt = {wdt}: overshoot {max} above (ωΔt)² E0"
+                    );
                 } else {
-                    assert!(max <= e0 * (1.0 + 1e-12), "{method:?} at ωΔt = {wdt}: energy grew to {max} from {e0}");
+                    assert!(
+                        max <= e0 * (1.0 + 1e-12),
+                        "{method:?} at ωΔt = {wdt}: energy grew to {max} from {e0}"
+                    );
                 }
                 if method == Method::Bdf1 {
-                    assert!(energies.windows(2).all(|p| p[1] < p[0]), "BDF1 at ωΔt = {wdt} did not lose energy in every step");
+                    assert!(
+                        energies.windows(2).all(|p| p[1] < p[0]),
+                        "BDF1 at ωΔt = {wdt} did not lose energy in every step"
+                    );
                 }
                 if method == (Method::GeneralizedAlpha { rho_inf: 1.0 }) {
-                    assert!((energies[20] - e0).abs() <= 1e-9 * e0, "trapezoidal rule at ωΔt = {wdt}: {e0} → {}", energies[20]);
+                    assert!(
+                        (energies[20] - e0).abs() <= 1e-9 * e0,
+                        "trapezoidal rule at ωΔt = {wdt}: {e0} → {}",
+                        energies[20]
+                    );
                 } else {
-                    assert!(energies[20] < 1e-2 * e0, "{method:?} at ωΔt = {wdt}: {e0} → {}", energies[20]);
+                    assert!(
+                        energies[20] < 1e-2 * e0,
+                        "{method:?} at ωΔt = {wdt}: {e0} → {}",
+                        energies[20]
+                    );
                 }
             }
         }
@@ -507,12 +758,35 @@ mod tests {
     #[test]
     fn refuses_bad_settings() {
         let (mm, cm, km) = (one(1.0), one(0.0), one(1.0));
-        let sys = LinearSystem { mass: mm.as_ref(), damping: cm.as_ref(), stiffness: km.as_ref() };
+        let sys = LinearSystem {
+            mass: mm.as_ref(),
+            damping: cm.as_ref(),
+            stiffness: km.as_ref(),
+        };
         let run = |method, dt| integrate(sys, method, dt, 1, &[0.0], &[0.0], |_, _| {}, |_| {});
         assert_eq!(run(Method::Bdf1, 0.0), Err(IntegrationError::Step(0.0)));
-        assert_eq!(run(Method::GeneralizedAlpha { rho_inf: 1.5 }, 0.1), Err(IntegrationError::SpectralRadius(1.5)));
+        assert_eq!(
+            run(Method::GeneralizedAlpha { rho_inf: 1.5 }, 0.1),
+            Err(IntegrationError::SpectralRadius(1.5))
+        );
         let (zero, cz, kz) = (one(0.0), one(0.0), one(1.0));
-        let massless = LinearSystem { mass: zero.as_ref(), damping: cz.as_ref(), stiffness: kz.as_ref() };
-        assert_eq!(integrate(massless, Method::Bdf1, 0.1, 1, &[1.0], &[0.0], |_, _| {}, |_| {}), Err(IntegrationError::Singular("mass")));
+        let massless = LinearSystem {
+            mass: zero.as_ref(),
+            damping: cz.as_ref(),
+            stiffness: kz.as_ref(),
+        };
+        assert_eq!(
+            integrate(
+                massless,
+                Method::Bdf1,
+                0.1,
+                1,
+                &[1.0],
+                &[0.0],
+                |_, _| {},
+                |_| {}
+            ),
+            Err(IntegrationError::Singular("mass"))
+        );
     }
 }

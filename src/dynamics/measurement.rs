@@ -83,9 +83,18 @@ impl SensorRows {
         let reads = names
             .iter()
             .zip(&kinds)
-            .map(|(n, k)| Reads::of_kind(k).ok_or_else(|| format!("sensor {n}: kind {k} is not DISP, STRAIN, VEL or ACCEL")))
+            .map(|(n, k)| {
+                Reads::of_kind(k).ok_or_else(|| {
+                    format!("sensor {n}: kind {k} is not DISP, STRAIN, VEL or ACCEL")
+                })
+            })
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(SensorRows { names, kinds, reads, h })
+        Ok(SensorRows {
+            names,
+            kinds,
+            reads,
+            h,
+        })
     }
 
     /// The rows `which` (indices) only.
@@ -127,20 +136,44 @@ mod tests {
     /// Each kind reads its state, and the frequency factors are (iω)^k computed as powers.
     #[test]
     fn rows_read_their_state_and_derivative_factors_are_powers_of_i_omega() {
-        let rows = SensorRows::new(vec!["D".into(), "S".into(), "V".into(), "A".into()], ["DISP", "STRAIN", "VEL", "ACCEL"].map(String::from).to_vec(), Mat::from_fn(4, 2, |r, c| (1 + r + 4 * c) as f64)).unwrap();
+        let rows = SensorRows::new(
+            vec!["D".into(), "S".into(), "V".into(), "A".into()],
+            ["DISP", "STRAIN", "VEL", "ACCEL"]
+                .map(String::from)
+                .to_vec(),
+            Mat::from_fn(4, 2, |r, c| (1 + r + 4 * c) as f64),
+        )
+        .unwrap();
         let (q, v, a) = ([1.0, 2.0], [10.0, 20.0], [100.0, 200.0]);
         let mut y = [0.0; 4];
         rows.evaluate(&q, &v, &a, &mut y);
-        assert_eq!(y, [1.0 + 10.0, 2.0 + 12.0, 10.0 * 3.0 + 20.0 * 7.0, 100.0 * 4.0 + 200.0 * 8.0]);
+        assert_eq!(
+            y,
+            [
+                1.0 + 10.0,
+                2.0 + 12.0,
+                10.0 * 3.0 + 20.0 * 7.0,
+                100.0 * 4.0 + 200.0 * 8.0
+            ]
+        );
         let w = 37.5;
-        for (reads, k) in [(Reads::Displacement, 0), (Reads::Velocity, 1), (Reads::Acceleration, 2)] {
-            assert_eq!(reads.frequency_factor(w), c64::new(0.0, w).powi(k), "{reads:?}");
+        for (reads, k) in [
+            (Reads::Displacement, 0),
+            (Reads::Velocity, 1),
+            (Reads::Acceleration, 2),
+        ] {
+            assert_eq!(
+                reads.frequency_factor(w),
+                c64::new(0.0, w).powi(k),
+                "{reads:?}"
+            );
         }
     }
 
     #[test]
     fn an_unknown_kind_is_an_error_naming_the_sensor() {
-        let err = SensorRows::new(vec!["X1".into()], vec!["FORCE".into()], Mat::zeros(1, 3)).unwrap_err();
+        let err =
+            SensorRows::new(vec!["X1".into()], vec!["FORCE".into()], Mat::zeros(1, 3)).unwrap_err();
         assert!(err.contains("X1") && err.contains("FORCE"), "{err}");
     }
 }

@@ -30,18 +30,42 @@ pub struct SparseBackend<'a> {
 
 impl<'a> SparseBackend<'a> {
     /// Analyse the shared pattern of K_ff and M_ff once.
-    pub fn new(k: &'a CscMatrix<f64>, m: &'a CscMatrix<f64>, alpha: f64, beta: f64, par: Par) -> Result<Self, IntegrationError> {
+    pub fn new(
+        k: &'a CscMatrix<f64>,
+        m: &'a CscMatrix<f64>,
+        alpha: f64,
+        beta: f64,
+        par: Par,
+    ) -> Result<Self, IntegrationError> {
         if k.pattern() != m.pattern() {
-            return Err(IntegrationError::Backend("K_ff and M_ff must share one sparsity pattern".into()));
+            return Err(IntegrationError::Backend(
+                "K_ff and M_ff must share one sparsity pattern".into(),
+            ));
         }
-        let symbolic = SymbolicFactor::analyze(k.pattern()).map_err(|e| IntegrationError::Backend(e.to_string()))?;
-        Ok(SparseBackend { k, m, alpha, beta, symbolic, par, factor: None, products: Vec::new(), factorizations: 0 })
+        let symbolic = SymbolicFactor::analyze(k.pattern())
+            .map_err(|e| IntegrationError::Backend(e.to_string()))?;
+        Ok(SparseBackend {
+            k,
+            m,
+            alpha,
+            beta,
+            symbolic,
+            par,
+            factor: None,
+            products: Vec::new(),
+            factorizations: 0,
+        })
     }
 
     /// Values of c_m M + c_c C + c_k K on the pattern.
     fn values(&self, c: Combination) -> Vec<f64> {
         let (wm, wk) = (c[0] + self.alpha * c[1], self.beta * c[1] + c[2]);
-        self.m.values().iter().zip(self.k.values()).map(|(m, k)| wm * m + wk * k).collect()
+        self.m
+            .values()
+            .iter()
+            .zip(self.k.values())
+            .map(|(m, k)| wm * m + wk * k)
+            .collect()
     }
 }
 
@@ -50,31 +74,55 @@ impl Backend for SparseBackend<'_> {
         self.k.nrows()
     }
 
-    fn prepare(&mut self, effective: Combination, products: &[Combination], what: &'static str) -> Result<(), IntegrationError> {
-        let factor = self.symbolic.factor_llt_values(&self.values(effective), self.par).map_err(|e| match e {
-            LinalgError::NotPositiveDefinite { .. } if what == "mass" => IntegrationError::Singular(what),
-            e => IntegrationError::Backend(format!("the {what} matrix: {e}")),
-        })?;
+    fn prepare(
+        &mut self,
+        effective: Combination,
+        products: &[Combination],
+        what: &'static str,
+    ) -> Result<(), IntegrationError> {
+        let factor = self
+            .symbolic
+            .factor_llt_values(&self.values(effective), self.par)
+            .map_err(|e| match e {
+                LinalgError::NotPositiveDefinite { .. } if what == "mass" => {
+                    IntegrationError::Singular(what)
+                }
+                e => IntegrationError::Backend(format!("the {what} matrix: {e}")),
+            })?;
         self.factorizations += 1;
-        let scratch = factor.solve_scratch(1).map_err(|e| IntegrationError::Backend(e.to_string()))?;
+        let scratch = factor
+            .solve_scratch(1)
+            .map_err(|e| IntegrationError::Backend(e.to_string()))?;
         self.factor = Some((factor, scratch));
         self.products = products.iter().map(|&c| self.values(c)).collect();
         Ok(())
     }
 
     fn apply(&self, j: usize, x: &[f64], y: &mut [f64]) {
-        let (offsets, rows, values) = (self.k.col_offsets(), self.k.row_indices(), &self.products[j]);
+        let (offsets, rows, values) = (
+            self.k.col_offsets(),
+            self.k.row_indices(),
+            &self.products[j],
+        );
         for (col, &xj) in x.iter().enumerate() {
             if xj != 0.0 {
                 let range = offsets[col]..offsets[col + 1];
-                rows[range.clone()].iter().zip(&values[range]).for_each(|(&i, a)| y[i] += a * xj);
+                rows[range.clone()]
+                    .iter()
+                    .zip(&values[range])
+                    .for_each(|(&i, a)| y[i] += a * xj);
             }
         }
     }
 
     fn solve(&mut self, x: &mut [f64]) -> Result<(), IntegrationError> {
-        let (factor, scratch) = self.factor.as_mut().ok_or_else(|| IntegrationError::Backend("solve before prepare".into()))?;
+        let (factor, scratch) = self
+            .factor
+            .as_mut()
+            .ok_or_else(|| IntegrationError::Backend("solve before prepare".into()))?;
         let n = x.len();
-        factor.solve_in_place_with_scratch(MatMut::from_column_major_slice_mut(x, n, 1), scratch).map_err(|e| IntegrationError::Backend(e.to_string()))
+        factor
+            .solve_in_place_with_scratch(MatMut::from_column_major_slice_mut(x, n, 1), scratch)
+            .map_err(|e| IntegrationError::Backend(e.to_string()))
     }
 }

@@ -15,7 +15,11 @@ pub enum TableError {
     #[error("the table has no point")]
     Empty,
     #[error("abscissae must increase: x[{index}] = {value} follows {previous}")]
-    NotIncreasing { index: usize, value: f64, previous: f64 },
+    NotIncreasing {
+        index: usize,
+        value: f64,
+        previous: f64,
+    },
 }
 
 impl Table {
@@ -26,10 +30,17 @@ impl Table {
         }
         for (k, w) in points.windows(2).enumerate() {
             if !(w[1].0 > w[0].0) {
-                return Err(TableError::NotIncreasing { index: k + 1, value: w[1].0, previous: w[0].0 });
+                return Err(TableError::NotIncreasing {
+                    index: k + 1,
+                    value: w[1].0,
+                    previous: w[0].0,
+                });
             }
         }
-        Ok(Table { x: points.iter().map(|p| p.0).collect(), y: points.iter().map(|p| p.1).collect() })
+        Ok(Table {
+            x: points.iter().map(|p| p.0).collect(),
+            y: points.iter().map(|p| p.1).collect(),
+        })
     }
 
     /// y(x).
@@ -54,10 +65,21 @@ mod tests {
     #[test]
     fn interpolates_and_holds_the_ends() {
         let t = Table::new(&[(0.0, 0.0), (1.0, 2.0), (3.0, -2.0)]).unwrap();
-        for (x, y) in [(-1.0, 0.0), (0.0, 0.0), (0.25, 0.5), (1.0, 2.0), (2.0, 0.0), (3.0, -2.0), (9.0, -2.0)] {
+        for (x, y) in [
+            (-1.0, 0.0),
+            (0.0, 0.0),
+            (0.25, 0.5),
+            (1.0, 2.0),
+            (2.0, 0.0),
+            (3.0, -2.0),
+            (9.0, -2.0),
+        ] {
             assert_eq!(t.value(x), y, "x = {x}");
         }
         assert_eq!(Table::new(&[]), Err(TableError::Empty));
-        assert!(matches!(Table::new(&[(0.0, 1.0), (0.0, 2.0)]), Err(TableError::NotIncreasing { index: 1, .. })));
+        assert!(matches!(
+            Table::new(&[(0.0, 1.0), (0.0, 2.0)]),
+            Err(TableError::NotIncreasing { index: 1, .. })
+        ));
     }
 }

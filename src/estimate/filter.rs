@@ -138,9 +138,19 @@ pub struct FilterSetup {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FilterError {
     #[error("{what}: expected {expected}, got {got}")]
-    Shape { what: &'static str, expected: usize, got: usize },
-    #[error("at step {step}: {what} is not positive definite at parameters {params:?} (estimate left the physical range?)")]
-    NotDefinite { step: usize, what: &'static str, params: Vec<f64> },
+    Shape {
+        what: &'static str,
+        expected: usize,
+        got: usize,
+    },
+    #[error(
+        "at step {step}: {what} is not positive definite at parameters {params:?} (estimate left the physical range?)"
+    )]
+    NotDefinite {
+        step: usize,
+        what: &'static str,
+        params: Vec<f64>,
+    },
     #[error("at step {step}: the innovation covariance J_m P J_mᵀ + R is not positive definite")]
     Innovation { step: usize },
     #[error("at step {step}: the estimate became non-finite")]
@@ -150,7 +160,10 @@ pub enum FilterError {
     #[error("re-diagonalization tolerance {0}: expected 0 < τ ≤ {MAX_REDIAGONALIZATION_TOLERANCE}")]
     Tolerance(f64),
     #[error("the pROM at the initial guess {params:?}: {cause}")]
-    IndefiniteStart { params: Vec<f64>, cause: DenseEigenError },
+    IndefiniteStart {
+        params: Vec<f64>,
+        cause: DenseEigenError,
+    },
 }
 
 /// The augmented EKF (see the module documentation).
@@ -304,7 +317,14 @@ impl Modal {
 
 /// out += scale (f_M M̃_off + f_K K̃_off) x, the off-diagonal parts of the couplings at their
 /// current weights.
-fn add_coupled(couplings: &[Coupling], weights: &[f64], (f_m, f_k): (f64, f64), x: &[f64], out: &mut [f64], scale: f64) {
+fn add_coupled(
+    couplings: &[Coupling],
+    weights: &[f64],
+    (f_m, f_k): (f64, f64),
+    x: &[f64],
+    out: &mut [f64],
+    scale: f64,
+) {
     for (coupling, &w) in couplings.iter().zip(weights) {
         for (f, off) in [(f_m, &coupling.mass), (f_k, &coupling.stiffness)] {
             if let (true, Some(off)) = (f * w != 0.0, off) {
@@ -321,15 +341,28 @@ fn add_coupled(couplings: &[Coupling], weights: &[f64], (f_m, f_k): (f64, f64), 
 /// [`JACOBI_ITERATIONS`] (a coupled part that is not semi-definite), by a dense LU
 /// factorization — allocating — and the drift is marked stalled, so the next refresh
 /// re-diagonalizes.
-fn solve_modal(d: &[f64], couplings: &[Coupling], drift: Option<&mut Drift>, factors: (f64, f64), x: &mut [f64]) {
+fn solve_modal(
+    d: &[f64],
+    couplings: &[Coupling],
+    drift: Option<&mut Drift>,
+    factors: (f64, f64),
+    x: &mut [f64],
+) {
     let (f_m, f_k) = factors;
-    let coupled = |dr: &&mut Drift| couplings.iter().zip(&dr.weights).any(|(c, &w)| w != 0.0 && ((f_m != 0.0 && c.mass.is_some()) || (f_k != 0.0 && c.stiffness.is_some())));
+    let coupled = |dr: &&mut Drift| {
+        couplings.iter().zip(&dr.weights).any(|(c, &w)| {
+            w != 0.0 && ((f_m != 0.0 && c.mass.is_some()) || (f_k != 0.0 && c.stiffness.is_some()))
+        })
+    };
     let Some(dr) = drift.filter(coupled) else {
         x.iter_mut().zip(d).for_each(|(x, d)| *x /= d);
         return;
     };
     let (iterate, product, weights) = (&mut dr.iterate, &mut dr.product, &dr.weights);
-    iterate.iter_mut().zip(x.iter().zip(d)).for_each(|(z, (b, d))| *z = b / d);
+    iterate
+        .iter_mut()
+        .zip(x.iter().zip(d))
+        .for_each(|(z, (b, d))| *z = b / d);
     for _ in 0..JACOBI_ITERATIONS {
         product.fill(0.0);
         add_coupled(couplings, weights, factors, iterate, product, 1.0);
@@ -351,11 +384,22 @@ fn solve_modal(d: &[f64], couplings: &[Coupling], drift: Option<&mut Drift>, fac
     let mut unit = vec![0.0; n];
     for j in 0..n {
         unit[j] = 1.0;
-        add_coupled(couplings, &dr.weights, factors, &unit, a.col_as_slice_mut(j), 1.0);
+        add_coupled(
+            couplings,
+            &dr.weights,
+            factors,
+            &unit,
+            a.col_as_slice_mut(j),
+            1.0,
+        );
         unit[j] = 0.0;
     }
-    let solution = a.partial_piv_lu().solve(MatRef::from_column_major_slice(x, n, 1));
-    x.iter_mut().enumerate().for_each(|(i, x)| *x = solution[(i, 0)]);
+    let solution = a
+        .partial_piv_lu()
+        .solve(MatRef::from_column_major_slice(x, n, 1));
+    x.iter_mut()
+        .enumerate()
+        .for_each(|(i, x)| *x = solution[(i, 0)]);
 }
 
 /// out += scale · A x for a dense A (column by column).
@@ -388,15 +432,30 @@ enum Refused {
 
 impl Model {
     /// Evaluate at `params` and factor S and M (`first`: M was never factored).
-    fn evaluate(&mut self, prom: &Prom, params: &[f64], unknown: &[usize], dt: f64, first: bool, mem: &mut MemBuffer) -> Result<(), Refused> {
+    fn evaluate(
+        &mut self,
+        prom: &Prom,
+        params: &[f64],
+        unknown: &[usize],
+        dt: f64,
+        first: bool,
+        mem: &mut MemBuffer,
+    ) -> Result<(), Refused> {
         match self {
             Model::Physical(ph) => {
-                prom.evaluate(params, &mut ph.at).map_err(|e| Refused::Prom(e.to_string()))?;
+                prom.evaluate(params, &mut ph.at)
+                    .map_err(|e| Refused::Prom(e.to_string()))?;
                 let at = &ph.at;
                 for c in 0..at.mass().ncols() {
-                    let (m, cd, k) = (column(at.mass(), c), column(at.damping(), c), column(at.stiffness(), c));
+                    let (m, cd, k) = (
+                        column(at.mass(), c),
+                        column(at.damping(), c),
+                        column(at.stiffness(), c),
+                    );
                     let s = ph.s_factor.col_as_slice_mut(c);
-                    s.iter_mut().zip(m.iter().zip(cd.iter().zip(k))).for_each(|(s, (m, (cd, k)))| *s = m + dt * cd + dt * dt * k);
+                    s.iter_mut()
+                        .zip(m.iter().zip(cd.iter().zip(k)))
+                        .for_each(|(s, (m, (cd, k)))| *s = m + dt * cd + dt * dt * k);
                 }
                 if !factor_in_place(ph.s_factor.as_mut(), MemStack::new(mem)) {
                     return Err(Refused::NotDefinite("M + Δt C + Δt² K"));
@@ -411,8 +470,19 @@ impl Model {
                 }
             }
             Model::Modal(md) => {
-                if let Some((q, &value)) = prom.parameters.iter().zip(params).find(|(_, v)| !v.is_finite()) {
-                    return Err(Refused::Prom(PromError::NotFinite { name: q.name.clone(), value }.to_string()));
+                if let Some((q, &value)) = prom
+                    .parameters
+                    .iter()
+                    .zip(params)
+                    .find(|(_, v)| !v.is_finite())
+                {
+                    return Err(Refused::Prom(
+                        PromError::NotFinite {
+                            name: q.name.clone(),
+                            value,
+                        }
+                        .to_string(),
+                    ));
                 }
                 md.k.fill(0.0);
                 md.m.fill(0.0);
@@ -468,7 +538,9 @@ impl Model {
                     Operator::Damping => ph.at.damping(),
                     Operator::Mass => ph.at.mass(),
                 };
-                out.iter_mut().enumerate().for_each(|(c, o)| *o += scale * dot(column(a, c), x));
+                out.iter_mut()
+                    .enumerate()
+                    .for_each(|(c, o)| *o += scale * dot(column(a, c), x));
             }
             Model::Modal(md) => {
                 let d = match op {
@@ -476,9 +548,18 @@ impl Model {
                     Operator::Damping => &md.c,
                     Operator::Mass => &md.m,
                 };
-                out.iter_mut().zip(d.iter().zip(x)).for_each(|(o, (d, x))| *o += scale * d * x);
+                out.iter_mut()
+                    .zip(d.iter().zip(x))
+                    .for_each(|(o, (d, x))| *o += scale * d * x);
                 if let Some(dr) = &md.drift {
-                    add_coupled(&md.form.couplings, &dr.weights, md.off_factors(op), x, out, scale);
+                    add_coupled(
+                        &md.form.couplings,
+                        &dr.weights,
+                        md.off_factors(op),
+                        x,
+                        out,
+                        scale,
+                    );
                 }
             }
         }
@@ -489,11 +570,28 @@ impl Model {
         match self {
             Model::Physical(ph) => {
                 let n = x.len();
-                solve_seq(if effective { ph.s_factor.as_ref() } else { ph.m_factor.as_ref() }, MatMut::from_column_major_slice_mut(x, n, 1));
+                solve_seq(
+                    if effective {
+                        ph.s_factor.as_ref()
+                    } else {
+                        ph.m_factor.as_ref()
+                    },
+                    MatMut::from_column_major_slice_mut(x, n, 1),
+                );
             }
             Model::Modal(md) => {
-                let factors = if effective { md.effective_factors() } else { md.off_factors(Operator::Mass) };
-                solve_modal(if effective { &md.s } else { &md.m }, &md.form.couplings, md.drift.as_mut(), factors, x);
+                let factors = if effective {
+                    md.effective_factors()
+                } else {
+                    md.off_factors(Operator::Mass)
+                };
+                solve_modal(
+                    if effective { &md.s } else { &md.m },
+                    &md.form.couplings,
+                    md.drift.as_mut(),
+                    factors,
+                    x,
+                );
             }
         }
     }
@@ -548,8 +646,16 @@ impl Model {
                     md.jm[i] = md.m[i] / md.s[i];
                 }
                 for j in 0..md.jw.ncols() {
-                    let (src, scale) = if j < nu { (s_un.col_as_slice(j), dt) } else { (d.col_as_slice(j - nu), -dt) };
-                    md.jw.col_as_slice_mut(j).iter_mut().zip(src.iter().zip(&md.s)).for_each(|(o, (v, s))| *o = scale * v / s);
+                    let (src, scale) = if j < nu {
+                        (s_un.col_as_slice(j), dt)
+                    } else {
+                        (d.col_as_slice(j - nu), -dt)
+                    };
+                    md.jw
+                        .col_as_slice_mut(j)
+                        .iter_mut()
+                        .zip(src.iter().zip(&md.s))
+                        .for_each(|(o, (v, s))| *o = scale * v / s);
                 }
             }
         }
@@ -560,8 +666,20 @@ impl Model {
         match self {
             Model::Physical(ph) => ph.jv.clone(),
             Model::Modal(md) => Mat::from_fn(n, big_n, |i, j| match j {
-                j if j < n => if i == j { md.jk[i] } else { 0.0 },
-                j if j < 2 * n => if i == j - n { md.jm[i] } else { 0.0 },
+                j if j < n => {
+                    if i == j {
+                        md.jk[i]
+                    } else {
+                        0.0
+                    }
+                }
+                j if j < 2 * n => {
+                    if i == j - n {
+                        md.jm[i]
+                    } else {
+                        0.0
+                    }
+                }
                 j => md.jw[(i, j - 2 * n)],
             }),
         }
@@ -573,8 +691,22 @@ impl Physical {
     /// needs: two GEMMs, N² n + N n² multiply-adds.
     #[inline(always)]
     fn transition_products(&self, p: &Mat<f64>, gt: &mut Mat<f64>, h: &mut Mat<f64>) {
-        matmul(gt.as_mut(), Accum::Replace, p.as_ref(), self.jv.transpose(), 1.0, Par::Seq);
-        matmul(h.as_mut(), Accum::Replace, self.jv.as_ref(), gt.as_ref(), 1.0, Par::Seq);
+        matmul(
+            gt.as_mut(),
+            Accum::Replace,
+            p.as_ref(),
+            self.jv.transpose(),
+            1.0,
+            Par::Seq,
+        );
+        matmul(
+            h.as_mut(),
+            Accum::Replace,
+            self.jv.as_ref(),
+            gt.as_ref(),
+            1.0,
+            Par::Seq,
+        );
     }
 }
 
@@ -595,15 +727,29 @@ impl Physical {
 /// the same pass.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn propagate_column(p: &mut [f64], ps: usize, (n, j): (usize, usize), gt_j: &[f64], g_j: &[f64], h_j: &[f64], noise: Option<(&[f64], f64)>, dt: f64) {
+fn propagate_column(
+    p: &mut [f64],
+    ps: usize,
+    (n, j): (usize, usize),
+    gt_j: &[f64],
+    g_j: &[f64],
+    h_j: &[f64],
+    noise: Option<(&[f64], f64)>,
+    dt: f64,
+) {
     let (left, right) = p.split_at_mut((n + j) * ps);
     let (pq, pv) = left[j * ps..j * ps + 2 * n].split_at_mut(n);
     let (pqv, pvv) = right[..2 * n].split_at_mut(n);
-    let blocks = pq.iter_mut().zip(pv.iter_mut()).zip(pqv.iter_mut().zip(pvv.iter_mut()));
+    let blocks = pq
+        .iter_mut()
+        .zip(pv.iter_mut())
+        .zip(pqv.iter_mut().zip(pvv.iter_mut()));
     let sources = gt_j[..n].iter().zip(&g_j[..n]).zip(&h_j[..n]);
     match noise {
         Some((gram, q)) => {
-            for (((pq, pv), (pqv, pvv)), (((g_ij, g_ji), h_sym), gram)) in blocks.zip(sources.zip(gram)) {
+            for (((pq, pv), (pqv, pvv)), (((g_ij, g_ji), h_sym), gram)) in
+                blocks.zip(sources.zip(gram))
+            {
                 *pq = (*pq + (dt * (g_ij + g_ji) + dt * dt * h_sym)) + q * gram;
                 *pv = g_ji + dt * h_sym;
                 *pqv = g_ij + dt * h_sym;
@@ -641,7 +787,15 @@ fn mirror_w_rows(p: &mut [f64], ps: usize, n: usize, big_n: usize) {
 #[inline(always)]
 fn propagate(p: &mut Mat<f64>, gt: &Mat<f64>, h: &Mat<f64>, mirror: &mut Mat<f64>, dt: f64) {
     let (n, big_n) = (h.nrows(), p.nrows());
-    assert!(p.ncols() == big_n && gt.nrows() == big_n && gt.ncols() == n && h.ncols() == n && mirror.nrows() == n && mirror.ncols() == 2 * n, "propagate: shapes");
+    assert!(
+        p.ncols() == big_n
+            && gt.nrows() == big_n
+            && gt.ncols() == n
+            && h.ncols() == n
+            && mirror.nrows() == n
+            && mirror.ncols() == 2 * n,
+        "propagate: shapes"
+    );
     let ((g, gs), (h, hs)) = (storage(gt), storage(h));
     let (mirror, ms) = storage_mut(mirror);
     for j in 0..n {
@@ -652,7 +806,16 @@ fn propagate(p: &mut Mat<f64>, gt: &Mat<f64>, h: &Mat<f64>, mirror: &mut Mat<f64
     }
     let (p, ps) = storage_mut(p);
     for j in 0..n {
-        propagate_column(p, ps, (n, j), &g[j * gs..j * gs + big_n], &mirror[j * ms..j * ms + n], &mirror[(n + j) * ms..(n + j) * ms + n], None, dt);
+        propagate_column(
+            p,
+            ps,
+            (n, j),
+            &g[j * gs..j * gs + big_n],
+            &mirror[j * ms..j * ms + n],
+            &mirror[(n + j) * ms..(n + j) * ms + n],
+            None,
+            dt,
+        );
     }
     mirror_w_rows(p, ps, n, big_n);
 }
@@ -670,7 +833,14 @@ struct ModalColumns {
 
 impl ModalColumns {
     fn new(n: usize, big_n: usize) -> Self {
-        ModalColumns { gt: vec![0.0; big_n], g_q: vec![0.0; n], g_v: vec![0.0; n], h: vec![0.0; n], h_t: vec![0.0; n], g_w: Mat::zeros(n, big_n - 2 * n) }
+        ModalColumns {
+            gt: vec![0.0; big_n],
+            g_q: vec![0.0; n],
+            g_v: vec![0.0; n],
+            h: vec![0.0; n],
+            h_t: vec![0.0; n],
+            g_w: Mat::zeros(n, big_n - 2 * n),
+        }
     }
 }
 
@@ -691,13 +861,24 @@ impl Modal {
         let (n, big_n, nw) = (self.jk.len(), p.nrows(), self.jw.ncols());
         let (jk, jm, jw) = (&self.jk[..n], &self.jm[..n], &self.jw);
         for k in 0..nw {
-            g_of_column(jk, jm, jw, p.col_as_slice(2 * n + k), cols.g_w.col_as_slice_mut(k));
+            g_of_column(
+                jk,
+                jm,
+                jw,
+                p.col_as_slice(2 * n + k),
+                cols.g_w.col_as_slice_mut(k),
+            );
         }
         let (p, ps) = storage_mut(p);
         for j in 0..n {
-            let (pj, pv) = (&p[j * ps..j * ps + big_n], &p[(n + j) * ps..(n + j) * ps + big_n]);
+            let (pj, pv) = (
+                &p[j * ps..j * ps + big_n],
+                &p[(n + j) * ps..(n + j) * ps + big_n],
+            );
             let gt = &mut cols.gt[..];
-            gt.iter_mut().zip(pj.iter().zip(pv)).for_each(|(o, (z, v))| *o = jk[j] * z + jm[j] * v);
+            gt.iter_mut()
+                .zip(pj.iter().zip(pv))
+                .for_each(|(o, (z, v))| *o = jk[j] * z + jm[j] * v);
             for k in 0..nw {
                 let c = jw[(j, k)];
                 if c != 0.0 {
@@ -707,18 +888,35 @@ impl Modal {
             g_of_column(jk, jm, jw, pj, &mut cols.g_q);
             g_of_column(jk, jm, jw, pv, &mut cols.g_v);
             let (h, h_t) = (&mut cols.h[..n], &mut cols.h_t[..n]);
-            h.iter_mut().zip(jk.iter().zip(jm).zip(gt[..n].iter().zip(&gt[n..2 * n]))).for_each(|(o, ((a, b), (z, v)))| *o = a * z + b * v);
-            h_t.iter_mut().zip(cols.g_q.iter().zip(&cols.g_v)).for_each(|(o, (z, v))| *o = jk[j] * z + jm[j] * v);
+            h.iter_mut()
+                .zip(jk.iter().zip(jm).zip(gt[..n].iter().zip(&gt[n..2 * n])))
+                .for_each(|(o, ((a, b), (z, v)))| *o = a * z + b * v);
+            h_t.iter_mut()
+                .zip(cols.g_q.iter().zip(&cols.g_v))
+                .for_each(|(o, (z, v))| *o = jk[j] * z + jm[j] * v);
             for k in 0..nw {
                 let x = gt[2 * n + k];
                 if x != 0.0 {
                     axpy(h, x, jw.col_as_slice(k));
                 }
                 let c = jw[(j, k)];
-                h_t.iter_mut().zip(cols.g_w.col_as_slice(k)).for_each(|(o, g)| *o += g * c);
+                h_t.iter_mut()
+                    .zip(cols.g_w.col_as_slice(k))
+                    .for_each(|(o, g)| *o += g * c);
             }
-            h.iter_mut().zip(h_t.iter()).for_each(|(h, h_t)| *h = 0.5 * (*h + h_t));
-            propagate_column(p, ps, (n, j), &cols.gt, &cols.g_q, &cols.h, Some((self.gram.col_as_slice(j), q_state)), dt);
+            h.iter_mut()
+                .zip(h_t.iter())
+                .for_each(|(h, h_t)| *h = 0.5 * (*h + h_t));
+            propagate_column(
+                p,
+                ps,
+                (n, j),
+                &cols.gt,
+                &cols.g_q,
+                &cols.h,
+                Some((self.gram.col_as_slice(j), q_state)),
+                dt,
+            );
         }
         mirror_w_rows(p, ps, n, big_n);
     }
@@ -729,9 +927,13 @@ impl Modal {
 #[inline(always)]
 fn g_of_column(jk: &[f64], jm: &[f64], jw: &Mat<f64>, x: &[f64], out: &mut [f64]) {
     let n = jk.len();
-    out.iter_mut().zip(jk.iter().zip(jm).zip(x[..n].iter().zip(&x[n..2 * n]))).for_each(|(o, ((a, b), (z, v)))| *o = a * z + b * v);
+    out.iter_mut()
+        .zip(jk.iter().zip(jm).zip(x[..n].iter().zip(&x[n..2 * n])))
+        .for_each(|(o, ((a, b), (z, v)))| *o = a * z + b * v);
     for (k, &s) in x[2 * n..].iter().enumerate() {
-        out.iter_mut().zip(jw.col_as_slice(k)).for_each(|(o, c)| *o += c * s);
+        out.iter_mut()
+            .zip(jw.col_as_slice(k))
+            .for_each(|(o, c)| *o += c * s);
     }
 }
 
@@ -740,34 +942,59 @@ fn g_of_column(jk: &[f64], jm: &[f64], jw: &Mat<f64>, x: &[f64], out: &mut [f64]
 /// definite for an indefinite K at small Δt, so a negative modulus would otherwise run). Called
 /// by [`Filter::new`] and, before its observability check, by SOL ESTIMATE.
 pub fn check_initial_stiffness(k: MatRef<'_, f64>, params: &[f64]) -> Result<(), FilterError> {
-    stiffness_semidefinite(k).map_err(|cause| FilterError::IndefiniteStart { params: params.to_vec(), cause })
+    stiffness_semidefinite(k).map_err(|cause| FilterError::IndefiniteStart {
+        params: params.to_vec(),
+        cause,
+    })
 }
 
 /// The entries of a column-major matrix as one slice, (i, j) at i + j · stride, and the stride.
 fn storage(m: &Mat<f64>) -> (&[f64], usize) {
     let stride = m.col_stride().unsigned_abs();
-    let len = if m.ncols() == 0 { 0 } else { stride * (m.ncols() - 1) + m.nrows() };
+    let len = if m.ncols() == 0 {
+        0
+    } else {
+        stride * (m.ncols() - 1) + m.nrows()
+    };
     // SAFETY: a `Mat` owns one column-major allocation with columns `stride` ≥ nrows apart, so
     // the first `len` entries from its pointer are initialized, and they are borrowed with `m`.
-    (unsafe { std::slice::from_raw_parts(m.as_ptr(), len) }, stride)
+    (
+        unsafe { std::slice::from_raw_parts(m.as_ptr(), len) },
+        stride,
+    )
 }
 
 /// [`storage`], mutable.
 fn storage_mut(m: &mut Mat<f64>) -> (&mut [f64], usize) {
     let stride = m.col_stride().unsigned_abs();
-    let len = if m.ncols() == 0 { 0 } else { stride * (m.ncols() - 1) + m.nrows() };
+    let len = if m.ncols() == 0 {
+        0
+    } else {
+        stride * (m.ncols() - 1) + m.nrows()
+    };
     // SAFETY: as in `storage`, borrowed mutably with `m`.
-    (unsafe { std::slice::from_raw_parts_mut(m.as_ptr_mut(), len) }, stride)
+    (
+        unsafe { std::slice::from_raw_parts_mut(m.as_ptr_mut(), len) },
+        stride,
+    )
 }
 
 impl Filter {
     /// Check the setup and prepare step 0.
     pub fn new(mut setup: FilterSetup) -> Result<Self, FilterError> {
         let n = setup.prom.size();
-        let (nu, np, m) = (setup.s_un.ncols(), setup.unknown_params.len(), setup.measured.len());
+        let (nu, np, m) = (
+            setup.s_un.ncols(),
+            setup.unknown_params.len(),
+            setup.measured.len(),
+        );
         for (what, expected, got) in [
             ("S_un rows", n, setup.s_un.nrows()),
-            ("parameter values", setup.prom.parameters.len(), setup.p.len()),
+            (
+                "parameter values",
+                setup.prom.parameters.len(),
+                setup.p.len(),
+            ),
             ("noise variances", m, setup.r.len()),
             ("sensor row length", n, setup.measured.h.ncols()),
             ("input noise variances", nu, setup.q_inputs.len()),
@@ -779,11 +1006,18 @@ impl Filter {
             ("initial parameter variances", np, setup.p0_params.len()),
         ] {
             if expected != got {
-                return Err(FilterError::Shape { what, expected, got });
+                return Err(FilterError::Shape {
+                    what,
+                    expected,
+                    got,
+                });
             }
         }
         let mut at = setup.prom.workspace();
-        setup.prom.evaluate(&setup.p, &mut at).map_err(|e| FilterError::Prom(e.to_string()))?;
+        setup
+            .prom
+            .evaluate(&setup.p, &mut at)
+            .map_err(|e| FilterError::Prom(e.to_string()))?;
         check_initial_stiffness(at.stiffness(), &setup.p)?;
         let big_n = 2 * n + nu + np;
         let mut x = vec![0.0; big_n];
@@ -793,12 +1027,21 @@ impl Filter {
         for (k, &j) in setup.unknown_params.iter().enumerate() {
             x[2 * n + nu + k] = setup.p[j];
         }
-        let diag: Vec<f64> = std::iter::repeat_n(setup.p0_state, 2 * n).chain(setup.p0_inputs.iter().copied()).chain(setup.p0_params.iter().copied()).collect();
+        let diag: Vec<f64> = std::iter::repeat_n(setup.p0_state, 2 * n)
+            .chain(setup.p0_inputs.iter().copied())
+            .chain(setup.p0_params.iter().copied())
+            .collect();
         let mut p = Mat::from_fn(big_n, big_n, |i, j| if i == j { diag[i] } else { 0.0 });
         let form = match setup.coordinates {
             Coordinates::Auto => modal_form(&setup.prom, &setup.p, &setup.unknown_params, false),
-            Coordinates::Rediagonalized(tolerance) if !valid_rediagonalization_tolerance(tolerance) => return Err(FilterError::Tolerance(tolerance)),
-            Coordinates::Rediagonalized(_) => modal_form(&setup.prom, &setup.p, &setup.unknown_params, true),
+            Coordinates::Rediagonalized(tolerance)
+                if !valid_rediagonalization_tolerance(tolerance) =>
+            {
+                return Err(FilterError::Tolerance(tolerance));
+            }
+            Coordinates::Rediagonalized(_) => {
+                modal_form(&setup.prom, &setup.p, &setup.unknown_params, true)
+            }
             Coordinates::Physical => None,
         };
         let model = match form {
@@ -811,19 +1054,27 @@ impl Filter {
             }),
             Some(form) => {
                 let drift = match setup.coordinates {
-                    Coordinates::Rediagonalized(tolerance) if !form.couplings.is_empty() => Some(Drift::new(&form, tolerance, np, &setup.s_un, &setup.measured.h)),
+                    Coordinates::Rediagonalized(tolerance) if !form.couplings.is_empty() => Some(
+                        Drift::new(&form, tolerance, np, &setup.s_un, &setup.measured.h),
+                    ),
                     _ => None,
                 };
                 // z₀ = Φ⁻¹ q₀, P₀ and (per step) Q: the q and q̇ blocks times Φ⁻¹ Φ⁻ᵀ
                 setup.s_un = form.basis.transpose() * &setup.s_un;
                 setup.measured.h = &setup.measured.h * &form.basis;
                 for block in [0..n, n..2 * n] {
-                    let z = &form.inverse * MatRef::from_column_major_slice(&x[block.clone()], n, 1);
-                    x[block].iter_mut().enumerate().for_each(|(i, x)| *x = z[(i, 0)]);
+                    let z =
+                        &form.inverse * MatRef::from_column_major_slice(&x[block.clone()], n, 1);
+                    x[block]
+                        .iter_mut()
+                        .enumerate()
+                        .for_each(|(i, x)| *x = z[(i, 0)]);
                 }
                 let gram = gram(&form.inverse);
                 for b in [0, n] {
-                    p.as_mut().submatrix_mut(b, b, n, n).copy_from(&gram * faer::Scale(setup.p0_state));
+                    p.as_mut()
+                        .submatrix_mut(b, b, n, n)
+                        .copy_from(&gram * faer::Scale(setup.p0_state));
                 }
                 Model::Modal(Box::new(Modal {
                     form,
@@ -865,7 +1116,11 @@ impl Filter {
             sy_factor: Mat::zeros(m, m),
             mirror: Mat::zeros(n, 2 * n),
             columns: ModalColumns::new(n, big_n),
-            mem: MemBuffer::new(cholesky_in_place_scratch::<f64>(n.max(m), Par::Seq, Default::default())),
+            mem: MemBuffer::new(cholesky_in_place_scratch::<f64>(
+                n.max(m),
+                Par::Seq,
+                Default::default(),
+            )),
         };
         let mut filter = Filter {
             n,
@@ -939,7 +1194,10 @@ impl Filter {
     pub fn sensor_rows(&self, rows: &SensorRows) -> SensorRows {
         match &self.model {
             Model::Physical(_) => rows.clone(),
-            Model::Modal(md) => SensorRows { h: product(rows.h.as_ref(), md.form.basis.as_ref()), ..rows.clone() },
+            Model::Modal(md) => SensorRows {
+                h: product(rows.h.as_ref(), md.form.basis.as_ref()),
+                ..rows.clone()
+            },
         }
     }
 
@@ -952,7 +1210,9 @@ impl Filter {
                 let phi = md.form.basis.as_ref();
                 let t = Mat::from_fn(big_n, big_n, |i, j| match (i, j) {
                     (i, j) if i < n && j < n => phi[(i, j)],
-                    (i, j) if (n..2 * n).contains(&i) && (n..2 * n).contains(&j) => phi[(i - n, j - n)],
+                    (i, j) if (n..2 * n).contains(&i) && (n..2 * n).contains(&j) => {
+                        phi[(i - n, j - n)]
+                    }
                     (i, j) if i >= 2 * n && i == j => 1.0,
                     _ => 0.0,
                 });
@@ -967,7 +1227,9 @@ impl Filter {
             Model::Modal(md) if i < 2 * self.n => {
                 let (n, b) = (self.n, if i < self.n { 0 } else { self.n });
                 let row = |c: usize| md.form.basis[(i - b, c)];
-                (0..n).map(|c| row(c) * (0..n).map(|r| self.p[(b + r, b + c)] * row(r)).sum::<f64>()).sum()
+                (0..n)
+                    .map(|c| row(c) * (0..n).map(|r| self.p[(b + r, b + c)] * row(r)).sum::<f64>())
+                    .sum()
             }
             _ => self.p[(i, i)],
         }
@@ -1017,7 +1279,10 @@ impl Filter {
         }
         self.evaluate()?;
         let drifted = match &self.model {
-            Model::Modal(md) => md.drift.as_ref().is_some_and(|dr| dr.stalled || dr.current > dr.tolerance),
+            Model::Modal(md) => md
+                .drift
+                .as_ref()
+                .is_some_and(|dr| dr.stalled || dr.current > dr.tolerance),
             Model::Physical(_) => false,
         };
         if drifted {
@@ -1030,13 +1295,24 @@ impl Filter {
     /// [`Model::evaluate`] at the current parameters.
     fn evaluate(&mut self) -> Result<(), FilterError> {
         let s = &self.setup;
-        match self.model.evaluate(&s.prom, &self.params, &s.unknown_params, s.dt, self.step == 0, &mut self.scratch.mem) {
+        match self.model.evaluate(
+            &s.prom,
+            &self.params,
+            &s.unknown_params,
+            s.dt,
+            self.step == 0,
+            &mut self.scratch.mem,
+        ) {
             Ok(()) => {
                 self.jv_valid = false;
                 Ok(())
             }
             Err(Refused::Prom(e)) => Err(FilterError::Prom(e)),
-            Err(Refused::NotDefinite(what)) => Err(FilterError::NotDefinite { step: self.step, what, params: self.params.clone() }),
+            Err(Refused::NotDefinite(what)) => Err(FilterError::NotDefinite {
+                step: self.step,
+                what,
+                params: self.params.clone(),
+            }),
         }
     }
 
@@ -1046,24 +1322,50 @@ impl Filter {
     /// when the estimate has drifted by the tolerance (module documentation).
     fn rediagonalize(&mut self) -> Result<(), FilterError> {
         let (n, big_n) = (self.n, self.size());
-        let Model::Modal(md) = &mut self.model else { return Ok(()) };
-        let Some(dr) = md.drift.as_mut() else { return Ok(()) };
+        let Model::Modal(md) = &mut self.model else {
+            return Ok(());
+        };
+        let Some(dr) = md.drift.as_mut() else {
+            return Ok(());
+        };
         let s = &mut self.setup;
         let form = modal_form_after(&s.prom, &self.params, &s.unknown_params, &md.form)
-            .ok_or_else(|| FilterError::Prom(format!("at step {}: no modes of the pROM at parameters {:?} (re-diagonalization)", self.step, self.params)))?;
+            .ok_or_else(|| {
+                FilterError::Prom(format!(
+                    "at step {}: no modes of the pROM at parameters {:?} (re-diagonalization)",
+                    self.step, self.params
+                ))
+            })?;
         let r = product(form.inverse.as_ref(), md.form.basis.as_ref());
         for start in [0, n] {
-            let z = product(r.as_ref(), MatRef::from_column_major_slice(&self.x[start..start + n], n, 1));
+            let z = product(
+                r.as_ref(),
+                MatRef::from_column_major_slice(&self.x[start..start + n], n, 1),
+            );
             self.x[start..start + n].copy_from_slice(z.col_as_slice(0));
         }
         // T P Tᵀ by blocks: the q and q̇ rows of P times R, then those columns times Rᵀ
         let mut rows = self.p.clone();
         for start in [0, n] {
-            matmul(rows.as_mut().subrows_mut(start, n), Accum::Replace, r.as_ref(), self.p.as_ref().subrows(start, n), 1.0, Par::Seq);
+            matmul(
+                rows.as_mut().subrows_mut(start, n),
+                Accum::Replace,
+                r.as_ref(),
+                self.p.as_ref().subrows(start, n),
+                1.0,
+                Par::Seq,
+            );
         }
         self.p.copy_from(&rows);
         for start in [0, n] {
-            matmul(self.p.as_mut().subcols_mut(start, n), Accum::Replace, rows.as_ref().subcols(start, n), r.transpose(), 1.0, Par::Seq);
+            matmul(
+                self.p.as_mut().subcols_mut(start, n),
+                Accum::Replace,
+                rows.as_ref().subcols(start, n),
+                r.transpose(),
+                1.0,
+                Par::Seq,
+            );
         }
         for j in 0..big_n {
             for i in 0..j {
@@ -1074,7 +1376,10 @@ impl Filter {
         s.s_un = product(form.basis.transpose(), dr.s_un.as_ref());
         s.measured.h = product(dr.h.as_ref(), form.basis.as_ref());
         md.gram = gram(&form.inverse);
-        *dr = Drift { count: dr.count + 1, ..Drift::new(&form, dr.tolerance, self.np, &dr.s_un, &dr.h) };
+        *dr = Drift {
+            count: dr.count + 1,
+            ..Drift::new(&form, dr.tolerance, self.np, &dr.s_un, &dr.h)
+        };
         md.form = form;
         Ok(())
     }
@@ -1089,7 +1394,9 @@ impl Filter {
                 if load_of.0 == modes && load_of.1 == f_kn {
                     return;
                 }
-                load.iter_mut().enumerate().for_each(|(c, l)| *l = dot(column(md.form.basis.as_ref(), c), f_kn));
+                load.iter_mut()
+                    .enumerate()
+                    .for_each(|(c, l)| *l = dot(column(md.form.basis.as_ref(), c), f_kn));
                 load_of.0 = modes;
                 load_of.1.copy_from_slice(f_kn);
             }
@@ -1113,7 +1420,8 @@ impl Filter {
         let rhs = &mut self.scratch.rhs;
         rhs.copy_from_slice(&self.scratch.force);
         self.model.mul(Operator::Stiffness, &self.x[..n], rhs, -1.0);
-        self.model.mul(Operator::Damping, &self.x[n..2 * n], rhs, -1.0);
+        self.model
+            .mul(Operator::Damping, &self.x[n..2 * n], rhs, -1.0);
         self.model.solve(false, rhs);
         self.a.copy_from_slice(rhs);
     }
@@ -1149,7 +1457,11 @@ impl Filter {
     pub fn predict(&mut self, f_kn: &[f64]) -> Result<(), FilterError> {
         let n = self.n;
         if f_kn.len() != n {
-            return Err(FilterError::Shape { what: "known load", expected: n, got: f_kn.len() });
+            return Err(FilterError::Shape {
+                what: "known load",
+                expected: n,
+                got: f_kn.len(),
+            });
         }
         self.unpublish();
         self.step += 1;
@@ -1159,8 +1471,11 @@ impl Filter {
         self.set_force();
         self.scratch.v_old.copy_from_slice(&self.x[n..2 * n]);
         let rhs = &mut self.scratch.rhs;
-        rhs.iter_mut().zip(&self.scratch.force).for_each(|(r, f)| *r = dt * f);
-        self.model.mul(Operator::Mass, &self.scratch.v_old, rhs, 1.0);
+        rhs.iter_mut()
+            .zip(&self.scratch.force)
+            .for_each(|(r, f)| *r = dt * f);
+        self.model
+            .mul(Operator::Mass, &self.scratch.v_old, rhs, 1.0);
         self.model.mul(Operator::Stiffness, &self.x[..n], rhs, -dt);
         self.model.solve(true, rhs);
         let (q, v) = self.x.split_at_mut(n);
@@ -1172,17 +1487,24 @@ impl Filter {
         // Jacobian block row J_v (eq. 8.16–8.20, 8.33) at the predicted x_k, q̈_k (D of g_d's q_k terms)
         if !self.jv_valid || self.np > 0 {
             self.parameter_columns();
-            self.model.set_transition(dt, &self.setup.s_un, &self.scratch.d);
+            self.model
+                .set_transition(dt, &self.setup.s_un, &self.scratch.d);
             self.jv_valid = true;
         }
         // P⁻ = J P Jᵀ + Q (eq. 8.24)
         let (p, sc) = (&mut self.p, &mut self.scratch);
         match &self.model {
-            Model::Physical(ph) => vectorized(#[inline(always)] || {
-                ph.transition_products(p, &mut self.gt, &mut self.h);
-                propagate(p, &self.gt, &self.h, &mut sc.mirror, dt);
-            }),
-            Model::Modal(md) => vectorized(#[inline(always)] || md.propagate(p, &mut sc.columns, self.setup.q_state, dt)),
+            Model::Physical(ph) => vectorized(
+                #[inline(always)]
+                || {
+                    ph.transition_products(p, &mut self.gt, &mut self.h);
+                    propagate(p, &self.gt, &self.h, &mut sc.mirror, dt);
+                },
+            ),
+            Model::Modal(md) => vectorized(
+                #[inline(always)]
+                || md.propagate(p, &mut sc.columns, self.setup.q_state, dt),
+            ),
         }
         self.add_noise();
         Ok(())
@@ -1206,33 +1528,56 @@ impl Filter {
     pub fn correct(&mut self, f_kn: &[f64], y: &[f64]) -> Result<(), FilterError> {
         let (n, m) = (self.n, self.setup.measured.len());
         if y.len() != m {
-            return Err(FilterError::Shape { what: "measurements", expected: m, got: y.len() });
+            return Err(FilterError::Shape {
+                what: "measurements",
+                expected: m,
+                got: y.len(),
+            });
         }
         if f_kn.len() != n {
-            return Err(FilterError::Shape { what: "known load", expected: n, got: f_kn.len() });
+            return Err(FilterError::Shape {
+                what: "known load",
+                expected: n,
+                got: f_kn.len(),
+            });
         }
         self.unpublish();
         self.measurement_rows();
         let sc = &mut self.scratch;
-        self.setup.measured.evaluate(&self.x[..n], &self.x[n..2 * n], &self.a, &mut sc.predicted);
-        self.innovation.iter_mut().zip(y.iter().zip(&sc.predicted)).for_each(|(e, (y, h))| *e = y - h);
+        self.setup
+            .measured
+            .evaluate(&self.x[..n], &self.x[n..2 * n], &self.a, &mut sc.predicted);
+        self.innovation
+            .iter_mut()
+            .zip(y.iter().zip(&sc.predicted))
+            .for_each(|(e, (y, h))| *e = y - h);
         // U = P J_mᵀ: columns of P combined by the nonzero entries of J_m's rows
         let ((p, ps), (jm, js)) = (storage(&self.p), storage(&self.jm));
         let big_n = self.p.nrows();
-        vectorized(#[inline(always)] || {
-            let (u, us) = storage_mut(&mut sc.pht);
-            u.fill(0.0);
-            for c in 0..big_n {
-                let column = &p[c * ps..c * ps + big_n];
-                for k in 0..m {
-                    let a = jm[k + c * js];
-                    if a != 0.0 {
-                        axpy(&mut u[k * us..k * us + big_n], a, column);
+        vectorized(
+            #[inline(always)]
+            || {
+                let (u, us) = storage_mut(&mut sc.pht);
+                u.fill(0.0);
+                for c in 0..big_n {
+                    let column = &p[c * ps..c * ps + big_n];
+                    for k in 0..m {
+                        let a = jm[k + c * js];
+                        if a != 0.0 {
+                            axpy(&mut u[k * us..k * us + big_n], a, column);
+                        }
                     }
                 }
-            }
-        });
-        matmul(sc.sy.as_mut(), Accum::Replace, self.jm.as_ref(), sc.pht.as_ref(), 1.0, Par::Seq);
+            },
+        );
+        matmul(
+            sc.sy.as_mut(),
+            Accum::Replace,
+            self.jm.as_ref(),
+            sc.pht.as_ref(),
+            1.0,
+            Par::Seq,
+        );
         for (i, r) in self.setup.r.iter().enumerate() {
             sc.sy[(i, i)] += r;
         }
@@ -1249,29 +1594,52 @@ impl Filter {
         // Joseph form (eq. 8.28) L P Lᵀ + 𝒦 R 𝒦ᵀ = P − 𝒦 Uᵀ − U 𝒦ᵀ + 𝒦 S_y 𝒦ᵀ = P + 𝒦 Wᵀ + W 𝒦ᵀ
         // with W = 𝒦 S_y / 2 − U, column by column; entry (i, j) adds 𝒦_ik W_jk + W_ik 𝒦_jk per k,
         // the same two products as entry (j, i): P stays exactly symmetric.
-        matmul(sc.w.as_mut(), Accum::Replace, sc.gain.as_ref(), sc.sy.as_ref(), 0.5, Par::Seq);
+        matmul(
+            sc.w.as_mut(),
+            Accum::Replace,
+            sc.gain.as_ref(),
+            sc.sy.as_ref(),
+            0.5,
+            Par::Seq,
+        );
         sc.w -= &sc.pht;
         let big_n = self.p.nrows();
         let ((gain, gs), (w, ws)) = (storage(&sc.gain), storage(&sc.w));
         let (p, ps) = storage_mut(&mut self.p);
-        vectorized(#[inline(always)] || {
-            // up to three sensors per pass over the column (one load and store of P per group):
-            // the same sums in the same order as one pass per sensor
-            let (gain_of, w_of) = (|k: usize| &gain[k * gs..k * gs + big_n], |k: usize| &w[k * ws..k * ws + big_n]);
-            for j in 0..big_n {
-                let col = &mut p[j * ps..j * ps + big_n];
-                let mut k = 0;
-                while m - k >= 3 {
-                    joseph_pass(col, j, [0, 1, 2].map(|s| gain_of(k + s)), [0, 1, 2].map(|s| w_of(k + s)));
-                    k += 3;
+        vectorized(
+            #[inline(always)]
+            || {
+                // up to three sensors per pass over the column (one load and store of P per group):
+                // the same sums in the same order as one pass per sensor
+                let (gain_of, w_of) = (
+                    |k: usize| &gain[k * gs..k * gs + big_n],
+                    |k: usize| &w[k * ws..k * ws + big_n],
+                );
+                for j in 0..big_n {
+                    let col = &mut p[j * ps..j * ps + big_n];
+                    let mut k = 0;
+                    while m - k >= 3 {
+                        joseph_pass(
+                            col,
+                            j,
+                            [0, 1, 2].map(|s| gain_of(k + s)),
+                            [0, 1, 2].map(|s| w_of(k + s)),
+                        );
+                        k += 3;
+                    }
+                    match m - k {
+                        2 => joseph_pass(
+                            col,
+                            j,
+                            [gain_of(k), gain_of(k + 1)],
+                            [w_of(k), w_of(k + 1)],
+                        ),
+                        1 => joseph_pass(col, j, [gain_of(k)], [w_of(k)]),
+                        _ => {}
+                    }
                 }
-                match m - k {
-                    2 => joseph_pass(col, j, [gain_of(k), gain_of(k + 1)], [w_of(k), w_of(k + 1)]),
-                    1 => joseph_pass(col, j, [gain_of(k)], [w_of(k)]),
-                    _ => {}
-                }
-            }
-        });
+            },
+        );
         if !self.x.iter().all(|v| v.is_finite()) {
             return Err(FilterError::NonFinite { step: self.step });
         }
@@ -1304,7 +1672,8 @@ impl Filter {
             sc.w_k[c] = q[c] + beta * v[c];
             sc.w_m[c] = self.a[c] + alpha * v[c];
         }
-        self.model.parameter_columns(&self.setup.unknown_params, &sc.w_k, &sc.w_m, &mut sc.d);
+        self.model
+            .parameter_columns(&self.setup.unknown_params, &sc.w_k, &sc.w_m, &mut sc.d);
     }
 
     /// Rows of J_m (eq. 8.38 for DISP/STRAIN, q̇ rows for VEL, eq. 8.39 for ACCEL with
@@ -1421,7 +1790,12 @@ pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
     let (a, b) = (&a[..len], &b[..len]);
     let mut partial = [0.0; 4];
     let (chunks_a, chunks_b) = (a.chunks_exact(4), b.chunks_exact(4));
-    let tail: f64 = chunks_a.remainder().iter().zip(chunks_b.remainder()).map(|(a, b)| a * b).sum();
+    let tail: f64 = chunks_a
+        .remainder()
+        .iter()
+        .zip(chunks_b.remainder())
+        .map(|(a, b)| a * b)
+        .sum();
     for (x, y) in chunks_a.zip(chunks_b) {
         for l in 0..4 {
             partial[l] += x[l] * y[l];
@@ -1433,7 +1807,14 @@ pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// D (n × n_p): D_j = ∂K/∂p_j (q + β q̇) + ∂M/∂p_j (q̈ + α q̇) = ∂K/∂p_j q + ∂C/∂p_j q̇ +
 /// ∂M/∂p_j q̈ for the parameters `params`, so that ∂q̈/∂p_j = −M⁻¹ D_j (eq. 8.33–8.35 with
 /// Rayleigh damping, derivatives of the affine pROM, eq. 8.19–8.20).
-pub fn parameter_columns(at: &PromEvaluation, (alpha, beta): (f64, f64), params: &[usize], q: &[f64], v: &[f64], a: &[f64]) -> Mat<f64> {
+pub fn parameter_columns(
+    at: &PromEvaluation,
+    (alpha, beta): (f64, f64),
+    params: &[usize],
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+) -> Mat<f64> {
     let w_k: Vec<f64> = q.iter().zip(v).map(|(q, v)| q + beta * v).collect();
     let w_m: Vec<f64> = a.iter().zip(v).map(|(a, v)| a + alpha * v).collect();
     let mut d = Mat::zeros(q.len(), params.len());
@@ -1442,14 +1823,22 @@ pub fn parameter_columns(at: &PromEvaluation, (alpha, beta): (f64, f64), params:
 }
 
 /// [`parameter_columns`] into `d` (n × n_p) from w_k = q + β q̇ and w_m = q̈ + α q̇.
-fn parameter_columns_into(at: &PromEvaluation, params: &[usize], w_k: &[f64], w_m: &[f64], d: &mut Mat<f64>) {
+fn parameter_columns_into(
+    at: &PromEvaluation,
+    params: &[usize],
+    w_k: &[f64],
+    w_m: &[f64],
+    d: &mut Mat<f64>,
+) {
     for (k, &j) in params.iter().enumerate() {
         let (dk, dm) = (at.d_stiffness(j), at.d_mass(j));
         let out = d.col_as_slice_mut(k);
         out.fill(0.0);
         for c in 0..w_k.len() {
             let (sk, sm) = (w_k[c], w_m[c]);
-            out.iter_mut().zip(column(dk, c).iter().zip(column(dm, c))).for_each(|(o, (k, m))| *o += k * sk + m * sm);
+            out.iter_mut()
+                .zip(column(dk, c).iter().zip(column(dm, c)))
+                .for_each(|(o, (k, m))| *o += k * sk + m * sm);
         }
     }
 }
@@ -1457,7 +1846,10 @@ fn parameter_columns_into(at: &PromEvaluation, params: &[usize], w_k: &[f64], w_
 /// Column `c` of a column-major matrix view as a slice ([`crate::rom::prom::PromEvaluation`]'s
 /// views are column-major over one contiguous buffer, so every column is contiguous).
 fn column(m: MatRef<'_, f64>, c: usize) -> &[f64] {
-    m.col(c).try_as_col_major().expect("column-major matrix view").as_slice()
+    m.col(c)
+        .try_as_col_major()
+        .expect("column-major matrix view")
+        .as_slice()
 }
 
 #[cfg(test)]
@@ -1470,19 +1862,41 @@ pub(crate) mod tests {
     /// 2-DOF chain: K = E K¹ + K⁰ (a grounded spring that does not scale), M = ρ M¹,
     /// Rayleigh α, β; parameters E (index 0) and ρ (index 1).
     pub(crate) fn chain() -> Prom {
-        let fixed = CoefficientValues { e: 1.0, rho: 1.0, ..Default::default() };
+        let fixed = CoefficientValues {
+            e: 1.0,
+            rho: 1.0,
+            ..Default::default()
+        };
         let k1 = Mat::from_fn(2, 2, |i, j| [[2.0, -1.0], [-1.0, 1.0]][i][j] * 1e4);
         let k0 = Mat::from_fn(2, 2, |i, j| if i == j && i == 0 { 5e3 } else { 0.0 });
         let m1 = Mat::from_fn(2, 2, |i, j| [[2.0, 0.1], [0.1, 1.0]][i][j]);
         Prom {
             parameters: vec![
-                PromParameter { name: "E".into(), low: 0.5, high: 2.0, nominal: 1.0 },
-                PromParameter { name: "RHO".into(), low: 0.5, high: 2.0, nominal: 1.0 },
+                PromParameter {
+                    name: "E".into(),
+                    low: 0.5,
+                    high: 2.0,
+                    nominal: 1.0,
+                },
+                PromParameter {
+                    name: "RHO".into(),
+                    low: 0.5,
+                    high: 2.0,
+                    nominal: 1.0,
+                },
             ],
             functions: vec![
                 AffineFunction::constant(),
-                AffineFunction { coefficient: Coefficient::E, fixed, driven_by: vec![(CoefficientInput::E, 0)] },
-                AffineFunction { coefficient: Coefficient::Rho, fixed, driven_by: vec![(CoefficientInput::Rho, 1)] },
+                AffineFunction {
+                    coefficient: Coefficient::E,
+                    fixed,
+                    driven_by: vec![(CoefficientInput::E, 0)],
+                },
+                AffineFunction {
+                    coefficient: Coefficient::Rho,
+                    fixed,
+                    driven_by: vec![(CoefficientInput::Rho, 1)],
+                },
             ],
             stiffness: vec![k0, k1, Mat::zeros(2, 2)],
             mass: vec![Mat::zeros(2, 2), Mat::zeros(2, 2), m1],
@@ -1493,7 +1907,12 @@ pub(crate) mod tests {
 
     /// Steps `filter` through the measurements `data` (from step 1) with the known load
     /// `known(t)`: after each step, x* and the standard deviation of every entry.
-    pub(crate) fn history(filter: &mut Filter, data: &[[f64; 2]], known: impl Fn(f64, &mut [f64]), dt: f64) -> Vec<Vec<f64>> {
+    pub(crate) fn history(
+        filter: &mut Filter,
+        data: &[[f64; 2]],
+        known: impl Fn(f64, &mut [f64]),
+        dt: f64,
+    ) -> Vec<Vec<f64>> {
         let mut history = Vec::new();
         for (k, y) in data.iter().enumerate().skip(1) {
             let mut f = [0.0; 2];
@@ -1507,7 +1926,12 @@ pub(crate) mod tests {
 
     /// Unknown E, ρ and one input at DOF 2; a DISP row on DOF 1 and an ACCEL row on DOF 2.
     pub(crate) fn setup(x: &[f64]) -> FilterSetup {
-        let sensors = SensorRows::new(vec!["D1".into(), "A2".into()], vec!["DISP".into(), "ACCEL".into()], Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { 0.0 })).unwrap();
+        let sensors = SensorRows::new(
+            vec!["D1".into(), "A2".into()],
+            vec!["DISP".into(), "ACCEL".into()],
+            Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { 0.0 }),
+        )
+        .unwrap();
         FilterSetup {
             prom: chain(),
             p: vec![x[5], x[6]],
@@ -1541,8 +1965,14 @@ pub(crate) mod tests {
             let mut negative = setup(&X);
             negative.p[0] = -X[5];
             negative.coordinates = coordinates;
-            assert!(matches!(Filter::new(negative), Err(FilterError::IndefiniteStart { cause: DenseEigenError::IndefiniteStiffness { smallest, .. }, .. }) if smallest < 0.0), "{coordinates:?}");
-            let positive = FilterSetup { coordinates, ..setup(&X) };
+            assert!(
+                matches!(Filter::new(negative), Err(FilterError::IndefiniteStart { cause: DenseEigenError::IndefiniteStiffness { smallest, .. }, .. }) if smallest < 0.0),
+                "{coordinates:?}"
+            );
+            let positive = FilterSetup {
+                coordinates,
+                ..setup(&X)
+            };
             assert!(Filter::new(positive).is_ok(), "{coordinates:?}");
         }
     }
@@ -1566,10 +1996,22 @@ pub(crate) mod tests {
                 f.state().to_vec()
             };
             let (up, down) = (predicted(1.0), predicted(-1.0));
-            let fd: Vec<f64> = up.iter().zip(&down).map(|(a, b)| (a - b) / (2.0 * h)).collect();
-            let scale = fd.iter().chain((0..7).map(|r| &j[(r, c)])).fold(0.0_f64, |m, v| m.max(v.abs()));
+            let fd: Vec<f64> = up
+                .iter()
+                .zip(&down)
+                .map(|(a, b)| (a - b) / (2.0 * h))
+                .collect();
+            let scale = fd
+                .iter()
+                .chain((0..7).map(|r| &j[(r, c)]))
+                .fold(0.0_f64, |m, v| m.max(v.abs()));
             for r in 0..7 {
-                assert!((fd[r] - j[(r, c)]).abs() <= 1e-7 * scale, "J[{r},{c}] = {} vs finite difference {}", j[(r, c)], fd[r]);
+                assert!(
+                    (fd[r] - j[(r, c)]).abs() <= 1e-7 * scale,
+                    "J[{r},{c}] = {} vs finite difference {}",
+                    j[(r, c)],
+                    fd[r]
+                );
             }
         }
     }
@@ -1586,22 +2028,38 @@ pub(crate) mod tests {
             unit.coordinates = coordinates;
             unit.prom.stiffness[0].fill(0.0); // one material: the modal path applies
             let mut filter = Filter::new(unit).unwrap();
-            let exactly_symmetric = |p: &Mat<f64>| (0..p.nrows()).all(|i| (0..i).all(|j| p[(i, j)] == p[(j, i)]));
+            let exactly_symmetric =
+                |p: &Mat<f64>| (0..p.nrows()).all(|i| (0..i).all(|j| p[(i, j)] == p[(j, i)]));
             for step in 0..5 {
                 let before = filter.p.clone();
                 filter.predict(&LOAD).unwrap();
-                assert!(exactly_symmetric(&filter.p), "{coordinates:?} step {step}: P⁻ not exactly symmetric");
+                assert!(
+                    exactly_symmetric(&filter.p),
+                    "{coordinates:?} step {step}: P⁻ not exactly symmetric"
+                );
                 if coordinates == Coordinates::Physical {
                     let j = filter.transition();
                     let mut dense = &j * &before * j.transpose();
                     (0..dense.nrows()).for_each(|i| dense[(i, i)] += filter.noise(i));
                     let scale = dense.norm_max();
-                    assert!((&dense - &filter.p).norm_max() <= 1e-12 * scale, "step {step}: {:e} vs {scale:e}", (&dense - &filter.p).norm_max());
+                    assert!(
+                        (&dense - &filter.p).norm_max() <= 1e-12 * scale,
+                        "step {step}: {:e} vs {scale:e}",
+                        (&dense - &filter.p).norm_max()
+                    );
                 }
                 let (n, mut y) = (filter.n, vec![0.0; 2]);
-                filter.setup.measured.evaluate(&filter.x[..n], &filter.x[n..2 * n], &filter.a, &mut y);
+                filter.setup.measured.evaluate(
+                    &filter.x[..n],
+                    &filter.x[n..2 * n],
+                    &filter.a,
+                    &mut y,
+                );
                 filter.correct(&LOAD, &[y[0] + 1e-6, y[1] + 1e-3]).unwrap();
-                assert!(exactly_symmetric(&filter.p), "{coordinates:?} step {step}: P⁺ not exactly symmetric");
+                assert!(
+                    exactly_symmetric(&filter.p),
+                    "{coordinates:?} step {step}: P⁺ not exactly symmetric"
+                );
             }
         }
     }
@@ -1615,8 +2073,15 @@ pub(crate) mod tests {
         let kinds = ["DISP", "ACCEL", "STRAIN", "VEL", "ACCEL"];
         for m in 1..=5 {
             let mut unit = setup(&X);
-            let h = Mat::from_fn(m, 2, |r, c| [1.0, -0.5, 0.3, 2.0, 0.7][r] * if c == r % 2 { 1.0 } else { 0.25 });
-            unit.measured = SensorRows::new((0..m).map(|r| format!("S{r}")).collect(), kinds[..m].iter().map(|k| k.to_string()).collect(), h).unwrap();
+            let h = Mat::from_fn(m, 2, |r, c| {
+                [1.0, -0.5, 0.3, 2.0, 0.7][r] * if c == r % 2 { 1.0 } else { 0.25 }
+            });
+            unit.measured = SensorRows::new(
+                (0..m).map(|r| format!("S{r}")).collect(),
+                kinds[..m].iter().map(|k| k.to_string()).collect(),
+                h,
+            )
+            .unwrap();
             unit.r = (0..m).map(|r| 1e-8 * (1 + r) as f64).collect();
             let mut filter = Filter::new(unit).unwrap();
             let n = filter.n;
@@ -1624,19 +2089,34 @@ pub(crate) mod tests {
             for step in 0..3 {
                 filter.predict(&LOAD).unwrap();
                 let before = filter.p.clone();
-                filter.setup.measured.evaluate(&filter.x[..n], &filter.x[n..2 * n], &filter.a, &mut y);
-                y.iter_mut().enumerate().for_each(|(r, y)| *y += 1e-4 * (r as f64 - 1.5));
+                filter.setup.measured.evaluate(
+                    &filter.x[..n],
+                    &filter.x[n..2 * n],
+                    &filter.a,
+                    &mut y,
+                );
+                y.iter_mut()
+                    .enumerate()
+                    .for_each(|(r, y)| *y += 1e-4 * (r as f64 - 1.5));
                 filter.correct(&LOAD, &y).unwrap();
                 let (jm, big_n) = (filter.measurement_jacobian().clone(), before.nrows());
                 let mut s_y = &jm * &before * jm.transpose();
                 (0..m).for_each(|r| s_y[(r, r)] += filter.setup.r[r]);
-                let gain = &before * jm.transpose() * s_y.partial_piv_lu().solve(Mat::<f64>::identity(m, m));
+                let gain = &before
+                    * jm.transpose()
+                    * s_y.partial_piv_lu().solve(Mat::<f64>::identity(m, m));
                 let l = Mat::<f64>::identity(big_n, big_n) - &gain * &jm;
                 let r = Mat::from_fn(m, m, |i, j| if i == j { filter.setup.r[i] } else { 0.0 });
                 let dense = &l * &before * l.transpose() + &gain * &r * gain.transpose();
                 let (error, scale) = ((&dense - &filter.p).norm_max(), before.norm_max());
-                assert!(error <= 1e-12 * scale, "m = {m}, step {step}: {error:e} vs max |P⁻| {scale:e}");
-                assert!((0..big_n).all(|i| (0..i).all(|j| filter.p[(i, j)] == filter.p[(j, i)])), "m = {m}, step {step}: P⁺ not exactly symmetric");
+                assert!(
+                    error <= 1e-12 * scale,
+                    "m = {m}, step {step}: {error:e} vs max |P⁻| {scale:e}"
+                );
+                assert!(
+                    (0..big_n).all(|i| (0..i).all(|j| filter.p[(i, j)] == filter.p[(j, i)])),
+                    "m = {m}, step {step}: P⁺ not exactly symmetric"
+                );
             }
         }
     }
@@ -1650,7 +2130,9 @@ pub(crate) mod tests {
         let h_of = |x: &[f64]| {
             let f = Filter::new(setup(x)).unwrap();
             let mut y = vec![0.0; 2];
-            f.setup.measured.evaluate(&f.x[..2], &f.x[2..4], &f.a, &mut y);
+            f.setup
+                .measured
+                .evaluate(&f.x[..2], &f.x[2..4], &f.a, &mut y);
             y
         };
         for c in 0..7 {
@@ -1662,7 +2144,11 @@ pub(crate) mod tests {
             for r in 0..2 {
                 let fd = (yu[r] - yd[r]) / (2.0 * h);
                 let scale = fd.abs().max(base.jm[(r, c)].abs()).max(1e-30);
-                assert!((fd - base.jm[(r, c)]).abs() <= 1e-7 * scale, "J_m[{r},{c}] = {} vs finite difference {fd}", base.jm[(r, c)]);
+                assert!(
+                    (fd - base.jm[(r, c)]).abs() <= 1e-7 * scale,
+                    "J_m[{r},{c}] = {} vs finite difference {fd}",
+                    base.jm[(r, c)]
+                );
             }
         }
     }
@@ -1683,20 +2169,40 @@ pub(crate) mod tests {
             s.u0.clear();
             s.coordinates = coordinates;
             let mut filter = Filter::new(s.clone()).unwrap();
-            assert_eq!(filter.modal(), coordinates == Coordinates::Auto, "nothing estimated: modal coordinates apply");
+            assert_eq!(
+                filter.modal(),
+                coordinates == Coordinates::Auto,
+                "nothing estimated: modal coordinates apply"
+            );
             let mut at = s.prom.workspace();
             s.prom.evaluate(&s.p, &mut at).unwrap();
-            let sys = LinearSystem { mass: at.mass(), damping: at.damping(), stiffness: at.stiffness() };
-            let load = |t: f64, f: &mut [f64]| f.iter_mut().zip(LOAD).for_each(|(f, l)| *f = l * (40.0 * t).sin());
+            let sys = LinearSystem {
+                mass: at.mass(),
+                damping: at.damping(),
+                stiffness: at.stiffness(),
+            };
+            let load = |t: f64, f: &mut [f64]| {
+                f.iter_mut()
+                    .zip(LOAD)
+                    .for_each(|(f, l)| *f = l * (40.0 * t).sin())
+            };
             let mut reference = Vec::new();
-            integrate(sys, Method::Bdf1, s.dt, 200, &s.q0, &s.v0, load, |st| reference.push((st.q.to_vec(), st.v.to_vec(), st.a.to_vec()))).unwrap();
+            integrate(sys, Method::Bdf1, s.dt, 200, &s.q0, &s.v0, load, |st| {
+                reference.push((st.q.to_vec(), st.v.to_vec(), st.a.to_vec()))
+            })
+            .unwrap();
             for (k, (q, v, a)) in reference.iter().enumerate().skip(1) {
                 let mut f = [0.0; 2];
                 load(k as f64 * s.dt, &mut f);
                 filter.predict(&f).unwrap();
                 let (x, acc) = (filter.state(), filter.acceleration());
                 for i in 0..2 {
-                    assert!((x[i] - q[i]).abs() <= 1e-12 * 1e-2 && (x[2 + i] - v[i]).abs() <= 1e-12 && (acc[i] - a[i]).abs() <= 1e-9, "{coordinates:?}, step {k}");
+                    assert!(
+                        (x[i] - q[i]).abs() <= 1e-12 * 1e-2
+                            && (x[2 + i] - v[i]).abs() <= 1e-12
+                            && (acc[i] - a[i]).abs() <= 1e-9,
+                        "{coordinates:?}, step {k}"
+                    );
                 }
             }
         }
@@ -1716,15 +2222,26 @@ pub(crate) mod tests {
         truth.prom.stiffness[0].fill(0.0);
         let mut at = truth.prom.workspace();
         truth.prom.evaluate(&truth.p, &mut at).unwrap();
-        let sys = LinearSystem { mass: at.mass(), damping: at.damping(), stiffness: at.stiffness() };
-        let known = |t: f64, f: &mut [f64]| f.iter_mut().zip(LOAD).for_each(|(f, l)| *f = 1e2 * l * (40.0 * t).sin());
+        let sys = LinearSystem {
+            mass: at.mass(),
+            damping: at.damping(),
+            stiffness: at.stiffness(),
+        };
+        let known = |t: f64, f: &mut [f64]| {
+            f.iter_mut()
+                .zip(LOAD)
+                .for_each(|(f, l)| *f = 1e2 * l * (40.0 * t).sin())
+        };
         let (q0, v0) = ([2e-3, -1e-3], [0.1, 0.3]);
         let mut data = Vec::new();
         let full = |t: f64, f: &mut [f64]| {
             known(t, f);
             f[1] += 2.0;
         };
-        integrate(sys, Method::Bdf1, truth.dt, 400, &q0, &v0, full, |st| data.push([st.q[0], st.a[1]])).unwrap();
+        integrate(sys, Method::Bdf1, truth.dt, 400, &q0, &v0, full, |st| {
+            data.push([st.q[0], st.a[1]])
+        })
+        .unwrap();
         let run = |coordinates: Coordinates| {
             let mut s = setup(&[q0[0], q0[1], v0[0], v0[1], 0.0, 1.2, 0.9]);
             s.prom.stiffness[0].fill(0.0);
@@ -1737,18 +2254,35 @@ pub(crate) mod tests {
             let p = filter.covariance();
             (history, p)
         };
-        let ((physical, p_physical), (modal, p_modal)) = (run(Coordinates::Physical), run(Coordinates::Auto));
+        let ((physical, p_physical), (modal, p_modal)) =
+            (run(Coordinates::Physical), run(Coordinates::Auto));
         let names = ["q1", "q2", "v1", "v2", "u", "E", "RHO"];
         for c in 0..14 {
             let range = physical.iter().map(|x| x[c].abs()).fold(0.0, f64::max);
-            let worst = physical.iter().zip(&modal).map(|(a, b)| (a[c] - b[c]).abs()).fold(0.0, f64::max);
-            let what = if c < 7 { names[c].to_string() } else { format!("σ of {}", names[c - 7]) };
+            let worst = physical
+                .iter()
+                .zip(&modal)
+                .map(|(a, b)| (a[c] - b[c]).abs())
+                .fold(0.0, f64::max);
+            let what = if c < 7 {
+                names[c].to_string()
+            } else {
+                format!("σ of {}", names[c - 7])
+            };
             println!("{what}: max |physical − modal| = {worst:.2e} (range {range:.2e})");
-            assert!(worst <= 1e-9 * range, "{what}: {worst:e} vs range {range:e}");
+            assert!(
+                worst <= 1e-9 * range,
+                "{what}: {worst:e} vs range {range:e}"
+            );
         }
         // the estimate converged (the comparison is not between two diverged runs)
         let last = physical.last().unwrap();
-        assert!((last[5] - 1.0).abs() < 0.02 && (last[6] - 1.0).abs() < 0.02 && (last[4] - 2.0).abs() < 0.1, "{last:?}");
+        assert!(
+            (last[5] - 1.0).abs() < 0.02
+                && (last[6] - 1.0).abs() < 0.02
+                && (last[4] - 2.0).abs() < 0.1,
+            "{last:?}"
+        );
         // the final covariance maps back to the physical one
         let scale = p_physical.norm_max();
         assert!((&p_physical - &p_modal).norm_max() <= 1e-9 * scale);
@@ -1785,7 +2319,10 @@ mod rediagonalized {
     fn prediction_with_coupled_parts_equals_the_physical_one() {
         let p_b = [1.25, 0.93];
         let mut coupled = Filter::new(setup(Coordinates::Rediagonalized(0.1), [1.2, 0.9])).unwrap();
-        assert!(coupled.modal() && coupled.rediagonalizations() == Some(0), "the chain couples: re-diagonalized coordinates");
+        assert!(
+            coupled.modal() && coupled.rediagonalizations() == Some(0),
+            "the chain couples: re-diagonalized coordinates"
+        );
         let (n, np) = (coupled.n, coupled.np);
         coupled.x[2 * n..2 * n + np].copy_from_slice(&p_b);
         coupled.refresh().unwrap();
@@ -1797,11 +2334,19 @@ mod rediagonalized {
         let (a, b) = (coupled.state(), physical.state());
         let scale = b.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         for i in 0..b.len() {
-            assert!((a[i] - b[i]).abs() <= 1e-12 * scale, "x[{i}]: {} vs {}", a[i], b[i]);
+            assert!(
+                (a[i] - b[i]).abs() <= 1e-12 * scale,
+                "x[{i}]: {} vs {}",
+                a[i],
+                b[i]
+            );
         }
         let (a, b) = (coupled.acceleration(), physical.acceleration());
         let scale = b.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        assert!((0..n).all(|i| (a[i] - b[i]).abs() <= 1e-12 * scale), "q̈ {a:?} vs {b:?}");
+        assert!(
+            (0..n).all(|i| (a[i] - b[i]).abs() <= 1e-12 * scale),
+            "q̈ {a:?} vs {b:?}"
+        );
     }
 
     /// Data from BDF1 at (1, 1); estimates from (1.2, 0.9) over 400 steps, as in
@@ -1811,12 +2356,33 @@ mod rediagonalized {
         let truth = setup(Coordinates::Physical, [1.0, 1.0]);
         let mut at = truth.prom.workspace();
         truth.prom.evaluate(&truth.p, &mut at).unwrap();
-        let sys = LinearSystem { mass: at.mass(), damping: at.damping(), stiffness: at.stiffness() };
-        let known = |t: f64, f: &mut [f64]| f.iter_mut().zip(LOAD).for_each(|(f, l)| *f = l * (40.0 * t).sin());
+        let sys = LinearSystem {
+            mass: at.mass(),
+            damping: at.damping(),
+            stiffness: at.stiffness(),
+        };
+        let known = |t: f64, f: &mut [f64]| {
+            f.iter_mut()
+                .zip(LOAD)
+                .for_each(|(f, l)| *f = l * (40.0 * t).sin())
+        };
         let mut data = Vec::new();
-        integrate(sys, Method::Bdf1, truth.dt, 400, &truth.q0, &truth.v0, known, |st| data.push([st.q[0], st.a[1]])).unwrap();
+        integrate(
+            sys,
+            Method::Bdf1,
+            truth.dt,
+            400,
+            &truth.q0,
+            &truth.v0,
+            known,
+            |st| data.push([st.q[0], st.a[1]]),
+        )
+        .unwrap();
         let mut filter = Filter::new(setup(coordinates, [1.2, 0.9])).unwrap();
-        (super::tests::history(&mut filter, &data, known, truth.dt), filter.rediagonalizations())
+        (
+            super::tests::history(&mut filter, &data, known, truth.dt),
+            filter.rediagonalizations(),
+        )
     }
 
     /// With a tolerance below every change of the estimate, the modes are recomputed at every
@@ -1835,14 +2401,28 @@ mod rediagonalized {
         let names = ["q1", "q2", "v1", "v2", "E", "RHO"];
         for c in 0..12 {
             let range = physical.iter().map(|x| x[c].abs()).fold(0.0, f64::max);
-            let worst = physical.iter().zip(&every_step).map(|(a, b)| (a[c] - b[c]).abs()).fold(0.0, f64::max);
-            let what = if c < 6 { names[c].to_string() } else { format!("σ of {}", names[c - 6]) };
-            assert!(worst <= 1e-8 * range, "{what}: {worst:e} vs range {range:e}");
+            let worst = physical
+                .iter()
+                .zip(&every_step)
+                .map(|(a, b)| (a[c] - b[c]).abs())
+                .fold(0.0, f64::max);
+            let what = if c < 6 {
+                names[c].to_string()
+            } else {
+                format!("σ of {}", names[c - 6])
+            };
+            assert!(
+                worst <= 1e-8 * range,
+                "{what}: {worst:e} vs range {range:e}"
+            );
         }
         let (loose, count) = run(Coordinates::Rediagonalized(0.1));
         assert!(count.is_some_and(|c| c < 10), "{count:?}");
         for x in [physical.last().unwrap(), loose.last().unwrap()] {
-            assert!((x[4] - 1.0).abs() < 0.02 && (x[5] - 1.0).abs() < 0.02, "{x:?}");
+            assert!(
+                (x[4] - 1.0).abs() < 0.02 && (x[5] - 1.0).abs() < 0.02,
+                "{x:?}"
+            );
         }
     }
 
@@ -1854,13 +2434,20 @@ mod rediagonalized {
     #[test]
     fn virtual_sensors_in_filter_coordinates_equal_the_physical_ones() {
         let truth = setup(Coordinates::Physical, [1.0, 1.0]);
-        let rows = SensorRows::new(vec!["D1".into(), "V2".into(), "A1".into()], vec!["DISP".into(), "VEL".into(), "ACCEL".into()], Mat::from_fn(3, 2, |i, j| [[0.7, -0.2], [0.1, 1.0], [1.0, 0.3]][i][j])).unwrap();
+        let rows = SensorRows::new(
+            vec!["D1".into(), "V2".into(), "A1".into()],
+            vec!["DISP".into(), "VEL".into(), "ACCEL".into()],
+            Mat::from_fn(3, 2, |i, j| [[0.7, -0.2], [0.1, 1.0], [1.0, 0.3]][i][j]),
+        )
+        .unwrap();
         let mut filter = Filter::new(setup(Coordinates::Rediagonalized(1e-3), [1.2, 0.9])).unwrap();
         let mut rows_of = (filter.rediagonalizations(), filter.sensor_rows(&rows));
         let (mut from_modes, mut from_q) = (Vec::new(), Vec::new());
         for k in 1..400 {
             let f = LOAD.map(|l| l * (40.0 * k as f64 * truth.dt).sin());
-            filter.step(&f, &[1e-3 * (30.0 * k as f64 * truth.dt).sin(), 0.0]).unwrap();
+            filter
+                .step(&f, &[1e-3 * (30.0 * k as f64 * truth.dt).sin(), 0.0])
+                .unwrap();
             if filter.rediagonalizations() != rows_of.0 {
                 rows_of = (filter.rediagonalizations(), filter.sensor_rows(&rows));
             }
@@ -1872,11 +2459,23 @@ mod rediagonalized {
             from_modes.push(a);
             from_q.push(b);
         }
-        assert!(filter.rediagonalizations().is_some_and(|c| c >= 2), "{:?}", filter.rediagonalizations());
+        assert!(
+            filter.rediagonalizations().is_some_and(|c| c >= 2),
+            "{:?}",
+            filter.rediagonalizations()
+        );
         for s in 0..3 {
             let range = from_q.iter().map(|y| y[s].abs()).fold(0.0, f64::max);
-            let worst = from_q.iter().zip(&from_modes).map(|(a, b)| (a[s] - b[s]).abs()).fold(0.0, f64::max);
-            assert!(range > 0.0 && worst <= 1e-12 * range, "{}: {worst:e} vs range {range:e}", rows.names[s]);
+            let worst = from_q
+                .iter()
+                .zip(&from_modes)
+                .map(|(a, b)| (a[s] - b[s]).abs())
+                .fold(0.0, f64::max);
+            assert!(
+                range > 0.0 && worst <= 1e-12 * range,
+                "{}: {worst:e} vs range {range:e}",
+                rows.names[s]
+            );
         }
     }
 
@@ -1884,7 +2483,13 @@ mod rediagonalized {
     #[test]
     fn tolerance_out_of_range_is_refused() {
         for t in [0.0, -1e-3, 0.5, f64::NAN] {
-            assert!(matches!(Filter::new(setup(Coordinates::Rediagonalized(t), [1.2, 0.9])), Err(FilterError::Tolerance(_))), "{t}");
+            assert!(
+                matches!(
+                    Filter::new(setup(Coordinates::Rediagonalized(t), [1.2, 0.9])),
+                    Err(FilterError::Tolerance(_))
+                ),
+                "{t}"
+            );
         }
     }
 
@@ -1894,7 +2499,12 @@ mod rediagonalized {
     fn diverging_coupled_solve_falls_back_to_a_factorization() {
         use super::super::modal::OffDiagonal;
         let off = Mat::from_fn(2, 2, |i, j| if i == j { 0.0 } else { 1.0 });
-        let couplings = [Coupling { function: 0, reference: 1.0, stiffness: Some(OffDiagonal::Dense(off)), mass: None }];
+        let couplings = [Coupling {
+            function: 0,
+            reference: 1.0,
+            stiffness: Some(OffDiagonal::Dense(off)),
+            mass: None,
+        }];
         let mut drift = Drift {
             tolerance: 0.1,
             weights: vec![2.0],
@@ -1908,9 +2518,18 @@ mod rediagonalized {
             count: 0,
         };
         let mut x = [3.0, 3.0];
-        solve_modal(&[1.0, 1.0], &couplings, Some(&mut drift), (0.0, 1.0), &mut x);
+        solve_modal(
+            &[1.0, 1.0],
+            &couplings,
+            Some(&mut drift),
+            (0.0, 1.0),
+            &mut x,
+        );
         assert!(drift.stalled);
-        assert!((x[0] - 1.0).abs() <= 1e-14 && (x[1] - 1.0).abs() <= 1e-14, "{x:?}"); // [[1,2],[2,1]] x = [3,3]
+        assert!(
+            (x[0] - 1.0).abs() <= 1e-14 && (x[1] - 1.0).abs() <= 1e-14,
+            "{x:?}"
+        ); // [[1,2],[2,1]] x = [3,3]
     }
 }
 
@@ -1925,7 +2544,12 @@ mod filterpy_check {
     /// No unknown parameter, one unknown input at DOF 2 (a linear augmented system), a DISP
     /// row on DOF 1 and an ACCEL row on DOF 2; arbitrary deterministic measurements.
     fn linear_case() -> (FilterSetup, Vec<[f64; 2]>) {
-        let sensors = SensorRows::new(vec!["D1".into(), "A2".into()], vec!["DISP".into(), "ACCEL".into()], Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { 0.0 })).unwrap();
+        let sensors = SensorRows::new(
+            vec!["D1".into(), "A2".into()],
+            vec!["DISP".into(), "ACCEL".into()],
+            Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { 0.0 }),
+        )
+        .unwrap();
         let setup = FilterSetup {
             prom: chain(),
             p: vec![1.0, 1.0],
@@ -1945,12 +2569,17 @@ mod filterpy_check {
             p0_params: vec![],
             coordinates: Coordinates::Physical,
         };
-        let z = (1..=STEPS).map(|k| k as f64 * 1e-3).map(|t| [1e-3 * (30.0 * t).sin(), 0.5 * (50.0 * t).cos()]).collect();
+        let z = (1..=STEPS)
+            .map(|k| k as f64 * 1e-3)
+            .map(|t| [1e-3 * (30.0 * t).sin(), 0.5 * (50.0 * t).cos()])
+            .collect();
         (setup, z)
     }
 
     fn rows(m: &Mat<f64>) -> Vec<Vec<f64>> {
-        (0..m.nrows()).map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect()).collect()
+        (0..m.nrows())
+            .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
+            .collect()
     }
 
     /// The filter's estimates equal filterpy's KalmanFilter (Joseph update) run on the same
@@ -1966,8 +2595,15 @@ mod filterpy_check {
     fn linear_case_equals_filterpy() {
         let (setup, z) = linear_case();
         let mut filter = Filter::new(setup.clone()).unwrap();
-        let mut modal = Filter::new(FilterSetup { coordinates: Coordinates::Auto, ..setup.clone() }).unwrap();
-        assert!(modal.modal(), "no parameter estimated: the modal path applies");
+        let mut modal = Filter::new(FilterSetup {
+            coordinates: Coordinates::Auto,
+            ..setup.clone()
+        })
+        .unwrap();
+        assert!(
+            modal.modal(),
+            "no parameter estimated: the modal path applies"
+        );
         let mut modal_states = Vec::new();
         let zero = [0.0; 2];
         let mut states = Vec::new();
@@ -1977,7 +2613,9 @@ mod filterpy_check {
             states.push(filter.state().to_vec());
             modal.step(&zero, y).unwrap();
             modal_states.push(modal.state().to_vec());
-            jacobians.get_or_insert_with(|| (filter.transition(), filter.measurement_jacobian().clone()));
+            jacobians.get_or_insert_with(|| {
+                (filter.transition(), filter.measurement_jacobian().clone())
+            });
         }
         let (f, h) = jacobians.unwrap();
         if let Ok(path) = std::env::var("PARAFLEX_WRITE_KF_CASE") {
@@ -1987,14 +2625,21 @@ mod filterpy_check {
             let case = serde_json::json!({ "F": rows(&f), "H": rows(&h), "Q_diag": q, "R_diag": setup.r, "x0": x0, "P0_diag": p0, "z": z });
             std::fs::write(&path, serde_json::to_string_pretty(&case).unwrap()).unwrap();
         }
-        let reference = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("reference/estimate/filterpy_linear.json");
-        let text = std::fs::read_to_string(&reference).expect("reference/estimate/filterpy_linear.json");
+        let reference = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("reference/estimate/filterpy_linear.json");
+        let text =
+            std::fs::read_to_string(&reference).expect("reference/estimate/filterpy_linear.json");
         let r: serde_json::Value = serde_json::from_str(&text).unwrap();
-        let matrix = |key: &str| -> Vec<Vec<f64>> { serde_json::from_value(r["case"][key].clone()).unwrap() };
+        let matrix = |key: &str| -> Vec<Vec<f64>> {
+            serde_json::from_value(r["case"][key].clone()).unwrap()
+        };
         // the reference was made from these very matrices
         for (key, ours) in [("F", rows(&f)), ("H", rows(&h))] {
             for (a, b) in matrix(key).iter().flatten().zip(ours.iter().flatten()) {
-                assert!((a - b).abs() <= 1e-14 * a.abs().max(1e-300) + 1e-300, "{key}: {a} vs {b}");
+                assert!(
+                    (a - b).abs() <= 1e-14 * a.abs().max(1e-300) + 1e-300,
+                    "{key}: {a} vs {b}"
+                );
             }
         }
         let expected: Vec<Vec<f64>> = serde_json::from_value(r["x"].clone()).unwrap();
@@ -2002,9 +2647,18 @@ mod filterpy_check {
         for c in 0..5 {
             let range = expected.iter().map(|x| x[c].abs()).fold(0.0, f64::max);
             for (path, states) in [("physical", &states), ("modal", &modal_states)] {
-                let worst = expected.iter().zip(states).map(|(e, s)| (e[c] - s[c]).abs()).fold(0.0, f64::max);
-                println!("state {c}, {path} path: max |paraflex − filterpy| = {worst:.2e} (range {range:.2e})");
-                assert!(worst <= 1e-9 * range, "state {c}, {path} path: {worst:e} vs range {range:e}");
+                let worst = expected
+                    .iter()
+                    .zip(states)
+                    .map(|(e, s)| (e[c] - s[c]).abs())
+                    .fold(0.0, f64::max);
+                println!(
+                    "state {c}, {path} path: max |paraflex − filterpy| = {worst:.2e} (range {range:.2e})"
+                );
+                assert!(
+                    worst <= 1e-9 * range,
+                    "state {c}, {path} path: {worst:e} vs range {range:e}"
+                );
             }
         }
     }

@@ -13,7 +13,10 @@ pub use crate::dynamics::measurement;
 pub mod modal;
 pub mod observability;
 
-pub use filter::{Coordinates, Filter, FilterError, FilterSetup, MAX_REDIAGONALIZATION_TOLERANCE, valid_rediagonalization_tolerance};
+pub use filter::{
+    Coordinates, Filter, FilterError, FilterSetup, MAX_REDIAGONALIZATION_TOLERANCE,
+    valid_rediagonalization_tolerance,
+};
 pub use measurement::{Reads, SensorRows};
 
 /// Rules of thumb for the random-walk covariances (thesis §8.3).

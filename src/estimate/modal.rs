@@ -75,7 +75,11 @@ pub enum OffDiagonal {
     Dense(Mat<f64>),
     /// V diag(θ) Vᵀ − diag(V diag(θ) Vᵀ) with V n × r (module documentation): `diagonal` holds
     /// diag(V diag(θ) Vᵀ).
-    LowRank { vectors: Mat<f64>, values: Vec<f64>, diagonal: Vec<f64> },
+    LowRank {
+        vectors: Mat<f64>,
+        values: Vec<f64>,
+        diagonal: Vec<f64>,
+    },
 }
 
 impl OffDiagonal {
@@ -83,12 +87,18 @@ impl OffDiagonal {
     pub fn add_product(&self, x: &[f64], out: &mut [f64], scale: f64) {
         match self {
             OffDiagonal::Dense(a) => add_product(a, x, out, scale),
-            OffDiagonal::LowRank { vectors, values, diagonal } => {
+            OffDiagonal::LowRank {
+                vectors,
+                values,
+                diagonal,
+            } => {
                 for (k, value) in values.iter().enumerate() {
                     let v = vectors.col_as_slice(k);
                     axpy(out, scale * value * dot(v, x), v);
                 }
-                out.iter_mut().zip(diagonal.iter().zip(x)).for_each(|(o, (d, x))| *o -= scale * d * x);
+                out.iter_mut()
+                    .zip(diagonal.iter().zip(x))
+                    .for_each(|(o, (d, x))| *o -= scale * d * x);
             }
         }
     }
@@ -99,18 +109,35 @@ impl OffDiagonal {
         let n = a.nrows();
         let (theta, v) = symmetric_eigen_vectors(a.as_ref()).ok()?;
         let largest = theta.iter().fold(0.0_f64, |m, t| m.max(t.abs()));
-        let keep: Vec<usize> = (0..n).filter(|&k| theta[k].abs() > n as f64 * f64::EPSILON * largest).collect();
+        let keep: Vec<usize> = (0..n)
+            .filter(|&k| theta[k].abs() > n as f64 * f64::EPSILON * largest)
+            .collect();
         if 2 * keep.len() + 1 >= n {
             return None;
         }
         let vectors = Mat::from_fn(n, keep.len(), |i, c| v[(i, keep[c])]);
-        Some(OffDiagonal::from_factor(vectors, keep.iter().map(|&k| -factor * theta[k]).collect()))
+        Some(OffDiagonal::from_factor(
+            vectors,
+            keep.iter().map(|&k| -factor * theta[k]).collect(),
+        ))
     }
 
     /// V diag(θ) Vᵀ − diag(V diag(θ) Vᵀ) as [`OffDiagonal::LowRank`].
     fn from_factor(vectors: Mat<f64>, values: Vec<f64>) -> OffDiagonal {
-        let diagonal = (0..vectors.nrows()).map(|i| values.iter().enumerate().map(|(c, t)| t * vectors[(i, c)] * vectors[(i, c)]).sum()).collect();
-        OffDiagonal::LowRank { vectors, values, diagonal }
+        let diagonal = (0..vectors.nrows())
+            .map(|i| {
+                values
+                    .iter()
+                    .enumerate()
+                    .map(|(c, t)| t * vectors[(i, c)] * vectors[(i, c)])
+                    .sum()
+            })
+            .collect();
+        OffDiagonal::LowRank {
+            vectors,
+            values,
+            diagonal,
+        }
     }
 }
 
@@ -122,7 +149,11 @@ impl Coupling {
 
     /// [`Coupling::part`], mutable.
     fn part_mut(&mut self, mass: bool) -> &mut Option<OffDiagonal> {
-        if mass { &mut self.mass } else { &mut self.stiffness }
+        if mass {
+            &mut self.mass
+        } else {
+            &mut self.stiffness
+        }
     }
 
     /// |f_i(p) − f_i(p₀)| / |f_i(p₀)|: how far the part's weight has moved from the modes'.
@@ -143,11 +174,22 @@ pub fn modal_form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool) -> O
 /// re-diagonalization): a low-rank coupling's factor is carried over to the new modes,
 /// V₂ = Φ₂ᵀ Φ₁⁻ᵀ V₁ (the constant part, Φ₁⁻ᵀ V₁ Θ V₁ᵀ Φ₁⁻¹, does not change with the estimate),
 /// n² r multiply-adds instead of an eigendecomposition; a dense coupling stays dense.
-pub fn modal_form_after(prom: &Prom, p: &[f64], unknown: &[usize], previous: &ModalForm) -> Option<ModalForm> {
+pub fn modal_form_after(
+    prom: &Prom,
+    p: &[f64],
+    unknown: &[usize],
+    previous: &ModalForm,
+) -> Option<ModalForm> {
     form(prom, p, unknown, true, Some(previous))
 }
 
-fn form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool, previous: Option<&ModalForm>) -> Option<ModalForm> {
+fn form(
+    prom: &Prom,
+    p: &[f64],
+    unknown: &[usize],
+    coupled: bool,
+    previous: Option<&ModalForm>,
+) -> Option<ModalForm> {
     let mut at = prom.workspace();
     prom.evaluate(p, &mut at).ok()?;
     let (_, basis) = generalized_eigen(at.stiffness(), at.mass()).ok()?;
@@ -166,14 +208,21 @@ fn form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool, previous: Opti
     }
     // Φᵀ A Φ, its diagonal and its largest coupling ratio
     let transform = |a: &Mat<f64>| -> (Vec<f64>, f64, Mat<f64>) {
-        let t = product(product(basis.transpose(), a.as_ref()).as_ref(), basis.as_ref());
+        let t = product(
+            product(basis.transpose(), a.as_ref()).as_ref(),
+            basis.as_ref(),
+        );
         let roundoff = n as f64 * f64::EPSILON * t.norm_max();
         let mut coupling = 0.0_f64;
         for j in 0..n {
             for i in 0..n {
                 let (off, scale) = (t[(i, j)].abs(), (t[(i, i)] * t[(j, j)]).abs().sqrt());
                 if i != j && off > roundoff {
-                    coupling = coupling.max(if scale > 0.0 { off / scale } else { f64::INFINITY });
+                    coupling = coupling.max(if scale > 0.0 {
+                        off / scale
+                    } else {
+                        f64::INFINITY
+                    });
                 }
             }
         }
@@ -188,7 +237,11 @@ fn form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool, previous: Opti
     let mut parts = Vec::new();
     let mut couplings = Vec::new();
     let mut constant = None;
-    for (function, k, m) in std::iter::once((None, &k_fixed, &m_fixed)).chain(varying.iter().map(|&i| (Some(i), &prom.stiffness[i], &prom.mass[i]))) {
+    for (function, k, m) in std::iter::once((None, &k_fixed, &m_fixed)).chain(
+        varying
+            .iter()
+            .map(|&i| (Some(i), &prom.stiffness[i], &prom.mass[i])),
+    ) {
         let ((k_diag, k_coupling, k_t), (m_diag, m_coupling, m_t)) = (transform(k), transform(m));
         coupling = coupling.max(k_coupling).max(m_coupling);
         let couples = k_coupling.max(m_coupling) > DIAGONAL_TOLERANCE;
@@ -203,21 +256,51 @@ fn form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool, previous: Opti
             continue;
         };
         if couples {
-            couplings.push(Coupling { function: i, reference: prom.functions[i].value(p), stiffness: off_diagonal(k_coupling, k_t), mass: off_diagonal(m_coupling, m_t) });
+            couplings.push(Coupling {
+                function: i,
+                reference: prom.functions[i].value(p),
+                stiffness: off_diagonal(k_coupling, k_t),
+                mass: off_diagonal(m_coupling, m_t),
+            });
         }
     }
     // a matrix's only coupled part: its off-diagonal from the constant part's, if of low rank
     let (k_c, m_c) = constant.expect("the constant part is transformed first");
     for (c, mass) in [(&k_c, false), (&m_c, true)] {
         let mut coupled_parts = couplings.iter_mut().filter(|k| k.part(mass).is_some());
-        let Some(only) = coupled_parts.next().filter(|_| coupled_parts.next().is_none()) else { continue };
-        let carried = previous.and_then(|form| form.couplings.iter().find(|k| k.function == only.function).map(|k| (form, k.reference, k.part(mass))));
+        let Some(only) = coupled_parts
+            .next()
+            .filter(|_| coupled_parts.next().is_none())
+        else {
+            continue;
+        };
+        let carried = previous.and_then(|form| {
+            form.couplings
+                .iter()
+                .find(|k| k.function == only.function)
+                .map(|k| (form, k.reference, k.part(mass)))
+        });
         // the constant part's rank does not change with the estimate: a coupling found dense
         // stays dense
         let low = match carried {
-            Some((form, reference, Some(OffDiagonal::LowRank { vectors, values, .. }))) => {
-                let moved = product(basis.transpose(), product(form.inverse.transpose(), vectors.as_ref()).as_ref());
-                Some(OffDiagonal::from_factor(moved, values.iter().map(|v| v * reference / only.reference).collect()))
+            Some((
+                form,
+                reference,
+                Some(OffDiagonal::LowRank {
+                    vectors, values, ..
+                }),
+            )) => {
+                let moved = product(
+                    basis.transpose(),
+                    product(form.inverse.transpose(), vectors.as_ref()).as_ref(),
+                );
+                Some(OffDiagonal::from_factor(
+                    moved,
+                    values
+                        .iter()
+                        .map(|v| v * reference / only.reference)
+                        .collect(),
+                ))
             }
             Some((_, _, Some(OffDiagonal::Dense(_)))) => None,
             _ => OffDiagonal::low_rank(c, 1.0 / only.reference),
@@ -226,7 +309,13 @@ fn form(prom: &Prom, p: &[f64], unknown: &[usize], coupled: bool, previous: Opti
             *only.part_mut(mass) = Some(low);
         }
     }
-    Some(ModalForm { basis, inverse, parts, coupling, couplings })
+    Some(ModalForm {
+        basis,
+        inverse,
+        parts,
+        coupling,
+        couplings,
+    })
 }
 
 #[cfg(test)]
@@ -241,15 +330,24 @@ mod tests {
     fn one_material_is_diagonal_and_a_second_spring_is_not() {
         let two = chain();
         assert!(modal_form(&two, &[1.2, 0.9], &[0, 1], false).is_none());
-        assert!(modal_form(&two, &[1.2, 0.9], &[1], false).is_some(), "ρ alone scales all of M");
+        assert!(
+            modal_form(&two, &[1.2, 0.9], &[1], false).is_some(),
+            "ρ alone scales all of M"
+        );
         assert!(modal_form(&two, &[1.2, 0.9], &[], false).is_some());
         let mut one = chain();
         one.stiffness[0].fill(0.0);
         let form = modal_form(&one, &[1.2, 0.9], &[0, 1], false).unwrap();
-        assert!(form.coupling <= 1e-13 && form.couplings.is_empty(), "{}", form.coupling);
+        assert!(
+            form.coupling <= 1e-13 && form.couplings.is_empty(),
+            "{}",
+            form.coupling
+        );
         // Φ⁻¹ Φ = I
         let eye = &form.inverse * &form.basis;
-        assert!((0..2).all(|i| (0..2).all(|j| (eye[(i, j)] - if i == j { 1.0 } else { 0.0 }).abs() <= 1e-13)));
+        assert!((0..2).all(|i| {
+            (0..2).all(|j| (eye[(i, j)] - if i == j { 1.0 } else { 0.0 }).abs() <= 1e-13)
+        }));
     }
 
     /// An n-DOF version of the filter tests' chain: springs E K¹ (fixed–free, 1e4 each), the
@@ -258,13 +356,31 @@ mod tests {
     fn chain_of(n: usize) -> Prom {
         let mut prom = chain();
         prom.stiffness[1] = Mat::from_fn(n, n, |i, j| match (i, j) {
-            (i, j) if i == j => if i + 1 < n { 2e4 } else { 1e4 },
+            (i, j) if i == j => {
+                if i + 1 < n {
+                    2e4
+                } else {
+                    1e4
+                }
+            }
             (i, j) if i.abs_diff(j) == 1 => -1e4,
             _ => 0.0,
         });
         prom.stiffness[0] = Mat::from_fn(n, n, |i, j| if i == 0 && j == 0 { 5e3 } else { 0.0 });
         prom.stiffness[2] = Mat::zeros(n, n);
-        prom.mass = vec![Mat::zeros(n, n), Mat::zeros(n, n), Mat::from_fn(n, n, |i, j| if i == j { 2.0 - (i % 2) as f64 } else if i.abs_diff(j) == 1 { 0.1 } else { 0.0 })];
+        prom.mass = vec![
+            Mat::zeros(n, n),
+            Mat::zeros(n, n),
+            Mat::from_fn(n, n, |i, j| {
+                if i == j {
+                    2.0 - (i % 2) as f64
+                } else if i.abs_diff(j) == 1 {
+                    0.1
+                } else {
+                    0.0
+                }
+            }),
+        ];
         prom
     }
 
@@ -278,16 +394,38 @@ mod tests {
     /// low-rank factor carried over, not recomputed).
     #[test]
     fn coupled_parts_reproduce_the_transformed_matrices_away_from_the_modes_parameters() {
-        for (prom, low_rank, after) in [(chain(), false, false), (chain_of(6), true, false), (chain(), false, true), (chain_of(6), true, true)] {
+        for (prom, low_rank, after) in [
+            (chain(), false, false),
+            (chain_of(6), true, false),
+            (chain(), false, true),
+            (chain_of(6), true, true),
+        ] {
             let n = prom.size();
             let p0 = [1.2, 0.9];
             let form = modal_form(&prom, &p0, &[0, 1], true).expect("coupled form");
-            let (form, p0) = if after { (modal_form_after(&prom, &[1.35, 0.8], &[0, 1], &form).expect("re-diagonalized"), [1.35, 0.8]) } else { (form, p0) };
-            assert!((form.couplings[0].reference - prom.functions[form.couplings[0].function].value(&p0)).abs() <= 1e-15);
+            let (form, p0) = if after {
+                (
+                    modal_form_after(&prom, &[1.35, 0.8], &[0, 1], &form).expect("re-diagonalized"),
+                    [1.35, 0.8],
+                )
+            } else {
+                (form, p0)
+            };
+            assert!(
+                (form.couplings[0].reference
+                    - prom.functions[form.couplings[0].function].value(&p0))
+                .abs()
+                    <= 1e-15
+            );
             assert_eq!(form.couplings.len(), 1);
             let c = &form.couplings[0];
             assert!(c.mass.is_none() && prom.functions[c.function].driven_by[0].1 == 0);
-            assert!(matches!(c.stiffness, Some(OffDiagonal::LowRank { ref values, .. }) if values.len() == 1) == low_rank, "n = {n}: {:?}", c.stiffness);
+            assert!(
+                matches!(c.stiffness, Some(OffDiagonal::LowRank { ref values, .. }) if values.len() == 1)
+                    == low_rank,
+                "n = {n}: {:?}",
+                c.stiffness
+            );
             let p = [1.5, 0.7];
             let mut at = prom.workspace();
             prom.evaluate(&p, &mut at).unwrap();
@@ -296,20 +434,29 @@ mod tests {
                 let mut model = Mat::<f64>::zeros(n, n);
                 for (function, k, m) in &form.parts {
                     let w = function.map_or(1.0, |i| prom.functions[i].value(&p));
-                    (0..n).for_each(|i| model[(i, i)] += w * if which == "K" { k[i] } else { m[i] });
+                    (0..n)
+                        .for_each(|i| model[(i, i)] += w * if which == "K" { k[i] } else { m[i] });
                 }
                 for c in &form.couplings {
                     if let Some(off) = if which == "K" { &c.stiffness } else { &c.mass } {
                         let mut unit = vec![0.0; n];
                         for j in 0..n {
                             unit[j] = 1.0;
-                            off.add_product(&unit, model.col_as_slice_mut(j), prom.functions[c.function].value(&p) - c.reference);
+                            off.add_product(
+                                &unit,
+                                model.col_as_slice_mut(j),
+                                prom.functions[c.function].value(&p) - c.reference,
+                            );
                             unit[j] = 0.0;
                         }
                     }
                 }
                 let scale = exact.norm_max();
-                assert!((&exact - &model).norm_max() <= 1e-12 * scale, "n = {n}, after {after}, {which}: {:e}", (&exact - &model).norm_max());
+                assert!(
+                    (&exact - &model).norm_max() <= 1e-12 * scale,
+                    "n = {n}, after {after}, {which}: {:e}",
+                    (&exact - &model).norm_max()
+                );
             }
         }
     }
@@ -320,20 +467,38 @@ mod tests {
     #[test]
     fn low_rank_off_diagonal_applies_the_scaled_off_diagonal() {
         let n = 8;
-        let b = Mat::from_fn(n, 2, |i, j| ((i * 7 + j * 3) % 5) as f64 - 2.0 + 0.1 * i as f64);
+        let b = Mat::from_fn(n, 2, |i, j| {
+            ((i * 7 + j * 3) % 5) as f64 - 2.0 + 0.1 * i as f64
+        });
         let c = Mat::from_fn(n, 1, |i, _| (i as f64 * 0.7).sin());
         let a = &b * b.transpose() - &c * c.transpose();
         let f = 2.5;
         let off = OffDiagonal::low_rank(&a, f).expect("rank 3 of 8 is low");
-        assert!(matches!(&off, OffDiagonal::LowRank { values, .. } if values.len() == 3), "{off:?}");
+        assert!(
+            matches!(&off, OffDiagonal::LowRank { values, .. } if values.len() == 3),
+            "{off:?}"
+        );
         let x: Vec<f64> = (0..n).map(|i| 1.0 + 0.3 * i as f64).collect();
         let mut out = vec![1.0; n];
         off.add_product(&x, &mut out, 0.5);
         let scale = a.norm_max() * x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         for i in 0..n {
-            let exact = 1.0 - 0.5 * f * (0..n).filter(|&j| j != i).map(|j| a[(i, j)] * x[j]).sum::<f64>();
-            assert!((out[i] - exact).abs() <= 1e-14 * scale * n as f64, "{i}: {} vs {exact}", out[i]);
+            let exact = 1.0
+                - 0.5
+                    * f
+                    * (0..n)
+                        .filter(|&j| j != i)
+                        .map(|j| a[(i, j)] * x[j])
+                        .sum::<f64>();
+            assert!(
+                (out[i] - exact).abs() <= 1e-14 * scale * n as f64,
+                "{i}: {} vs {exact}",
+                out[i]
+            );
         }
-        assert!(OffDiagonal::low_rank(&(&a + Mat::<f64>::identity(n, n) * faer::Scale(3.0)), f).is_none());
+        assert!(
+            OffDiagonal::low_rank(&(&a + Mat::<f64>::identity(n, n) * faer::Scale(3.0)), f)
+                .is_none()
+        );
     }
 }

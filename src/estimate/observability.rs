@@ -43,7 +43,11 @@ pub struct OperatingPoint {
 pub enum Unknown {
     Input(String),
     /// A parameter: name, whether it enters K, whether it enters M.
-    Parameter { name: String, stiffness: bool, mass: bool },
+    Parameter {
+        name: String,
+        stiffness: bool,
+        mass: bool,
+    },
 }
 
 impl Unknown {
@@ -90,8 +94,19 @@ pub struct Problem<'a> {
 
 /// Run the PBH test at `points`; `modes`: (ω² ascending, M-orthonormal shapes) of K, M at the
 /// initial parameters.
-pub fn check(problem: &Problem, points: &[OperatingPoint], modes: (&[f64], &Mat<f64>)) -> Observability {
-    let Problem { at, alpha_beta, s_un, params, unknowns, measured } = *problem;
+pub fn check(
+    problem: &Problem,
+    points: &[OperatingPoint],
+    modes: (&[f64], &Mat<f64>),
+) -> Observability {
+    let Problem {
+        at,
+        alpha_beta,
+        s_un,
+        params,
+        unknowns,
+        measured,
+    } = *problem;
     let n = at.mass().nrows();
     let (nu, np) = (s_un.ncols(), params.len());
     let big_n = 2 * n + nu + np;
@@ -108,21 +123,53 @@ pub fn check(problem: &Problem, points: &[OperatingPoint], modes: (&[f64], &Mat<
     let (lambda, phi) = modes;
     let hidden_modes = (0..lambda.len())
         .filter(|&j| {
-            let col_norm = (0..n).map(|i| phi[(i, j)] * phi[(i, j)]).sum::<f64>().sqrt();
-            let seen = (0..measured.len()).map(|r| (0..n).map(|i| measured.h[(r, i)] * phi[(i, j)]).sum::<f64>().abs() / (row_norm(&measured.h, r) * col_norm).max(f64::MIN_POSITIVE)).fold(0.0, f64::max);
+            let col_norm = (0..n)
+                .map(|i| phi[(i, j)] * phi[(i, j)])
+                .sum::<f64>()
+                .sqrt();
+            let seen = (0..measured.len())
+                .map(|r| {
+                    (0..n)
+                        .map(|i| measured.h[(r, i)] * phi[(i, j)])
+                        .sum::<f64>()
+                        .abs()
+                        / (row_norm(&measured.h, r) * col_norm).max(f64::MIN_POSITIVE)
+                })
+                .fold(0.0, f64::max);
             seen <= 1e-8
         })
-        .map(|j| (j + 1, lambda[j].max(0.0).sqrt() / (2.0 * std::f64::consts::PI)))
+        .map(|j| {
+            (
+                j + 1,
+                lambda[j].max(0.0).sqrt() / (2.0 * std::f64::consts::PI),
+            )
+        })
         .collect();
-    Observability { rank, columns: big_n, ratio, cause, hidden_modes }
+    Observability {
+        rank,
+        columns: big_n,
+        ratio,
+        cause,
+        hidden_modes,
+    }
 }
 
 fn row_norm(m: &Mat<f64>, r: usize) -> f64 {
-    (0..m.ncols()).map(|c| m[(r, c)] * m[(r, c)]).sum::<f64>().sqrt()
+    (0..m.ncols())
+        .map(|c| m[(r, c)] * m[(r, c)])
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// PBH(0) with the q̇ block row scaled by M (see the module documentation).
-fn pbh_zero(at: &PromEvaluation, alpha_beta: (f64, f64), s_un: &Mat<f64>, params: &[usize], measured: &SensorRows, op: &OperatingPoint) -> Mat<f64> {
+fn pbh_zero(
+    at: &PromEvaluation,
+    alpha_beta: (f64, f64),
+    s_un: &Mat<f64>,
+    params: &[usize],
+    measured: &SensorRows,
+    op: &OperatingPoint,
+) -> Mat<f64> {
     let n = at.mass().nrows();
     let (nu, np, m) = (s_un.ncols(), params.len(), measured.len());
     let big_n = 2 * n + nu + np;
@@ -149,7 +196,10 @@ fn pbh_zero(at: &PromEvaluation, alpha_beta: (f64, f64), s_un: &Mat<f64>, params
             Reads::Velocity => (0..n).for_each(|c| pbh[(2 * n + r, n + c)] = measured.h[(r, c)]),
             Reads::Acceleration => {
                 let Some(llt) = m_llt.as_ref() else { continue };
-                let g = faer::linalg::solvers::Solve::solve(llt, Mat::from_fn(n, 1, |i, _| measured.h[(r, i)]));
+                let g = faer::linalg::solvers::Solve::solve(
+                    llt,
+                    Mat::from_fn(n, 1, |i, _| measured.h[(r, i)]),
+                );
                 for c in 0..big_n {
                     pbh[(2 * n + r, c)] = -(0..n).map(|i| g[(i, 0)] * pbh[(n + i, c)]).sum::<f64>();
                 }
@@ -164,15 +214,35 @@ fn pbh_zero(at: &PromEvaluation, alpha_beta: (f64, f64), s_un: &Mat<f64>, params
 fn numerical_rank(a: &Mat<f64>) -> (usize, f64, Vec<f64>) {
     let (rows, cols) = (a.nrows(), a.ncols());
     let norm = |v: &mut dyn Iterator<Item = f64>| v.map(|x| x * x).sum::<f64>().sqrt();
-    let rn: Vec<f64> = (0..rows).map(|r| norm(&mut (0..cols).map(|c| a[(r, c)]))).collect();
-    let scaled_rows = Mat::from_fn(rows, cols, |r, c| if rn[r] > 0.0 { a[(r, c)] / rn[r] } else { 0.0 });
-    let cn: Vec<f64> = (0..cols).map(|c| norm(&mut (0..rows).map(|r| scaled_rows[(r, c)]))).collect();
-    let b = Mat::from_fn(rows, cols, |r, c| if cn[c] > 0.0 { scaled_rows[(r, c)] / cn[c] } else { 0.0 });
-    let Ok(svd) = b.svd() else { return (0, 0.0, vec![1.0; cols]) };
-    let s: Vec<f64> = (0..rows.min(cols)).map(|i| svd.S().column_vector()[i]).collect();
+    let rn: Vec<f64> = (0..rows)
+        .map(|r| norm(&mut (0..cols).map(|c| a[(r, c)])))
+        .collect();
+    let scaled_rows = Mat::from_fn(rows, cols, |r, c| {
+        if rn[r] > 0.0 { a[(r, c)] / rn[r] } else { 0.0 }
+    });
+    let cn: Vec<f64> = (0..cols)
+        .map(|c| norm(&mut (0..rows).map(|r| scaled_rows[(r, c)])))
+        .collect();
+    let b = Mat::from_fn(rows, cols, |r, c| {
+        if cn[c] > 0.0 {
+            scaled_rows[(r, c)] / cn[c]
+        } else {
+            0.0
+        }
+    });
+    let Ok(svd) = b.svd() else {
+        return (0, 0.0, vec![1.0; cols]);
+    };
+    let s: Vec<f64> = (0..rows.min(cols))
+        .map(|i| svd.S().column_vector()[i])
+        .collect();
     let max = s.iter().copied().fold(0.0, f64::max);
     let rank = s.iter().filter(|&&x| x > RANK_TOLERANCE * max).count();
-    let min = if rows >= cols { s.iter().copied().fold(f64::INFINITY, f64::min) } else { 0.0 };
+    let min = if rows >= cols {
+        s.iter().copied().fold(f64::INFINITY, f64::min)
+    } else {
+        0.0
+    };
     // the null direction: the last right singular vector (singular values descend)
     let v = svd.V();
     let null = (0..cols).map(|i| v[(i, cols - 1)]).collect();
@@ -182,7 +252,11 @@ fn numerical_rank(a: &Mat<f64>) -> (usize, f64, Vec<f64>) {
 /// Name the reason PBH(0) is deficient (thesis §8.4.3–8.4.4). `null`: the null vector's
 /// entries on the unknowns (inputs first, then parameters).
 fn name_cause(null: &[f64], unknowns: &[Unknown], measured: &SensorRows, dynamic: bool) -> String {
-    let displacement_rows = measured.reads.iter().filter(|r| **r == Reads::Displacement).count();
+    let displacement_rows = measured
+        .reads
+        .iter()
+        .filter(|r| **r == Reads::Displacement)
+        .count();
     let count = unknowns.len();
     if displacement_rows == 0 && count > 0 {
         return format!(
@@ -190,19 +264,69 @@ fn name_cause(null: &[f64], unknowns: &[Unknown], measured: &SensorRows, dynamic
         );
     }
     if displacement_rows < count {
-        return format!("fewer strain/displacement sensors ({displacement_rows}) than unknown inputs and parameters ({count}): at least one per unknown is needed (thesis §8.4.3)");
+        return format!(
+            "fewer strain/displacement sensors ({displacement_rows}) than unknown inputs and parameters ({count}): at least one per unknown is needed (thesis §8.4.3)"
+        );
     }
-    let involved: Vec<&Unknown> = unknowns.iter().zip(null).filter(|(_, v)| v.abs() > 0.1).map(|(u, _)| u).collect();
-    let names = |list: &[&Unknown]| list.iter().map(|u| u.name().to_string()).collect::<Vec<_>>().join(", ");
-    let stiffness = involved.iter().any(|u| matches!(u, Unknown::Parameter { stiffness: true, .. }));
-    let mass = involved.iter().any(|u| matches!(u, Unknown::Parameter { mass: true, stiffness: false, .. }));
+    let involved: Vec<&Unknown> = unknowns
+        .iter()
+        .zip(null)
+        .filter(|(_, v)| v.abs() > 0.1)
+        .map(|(u, _)| u)
+        .collect();
+    let names = |list: &[&Unknown]| {
+        list.iter()
+            .map(|u| u.name().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let stiffness = involved.iter().any(|u| {
+        matches!(
+            u,
+            Unknown::Parameter {
+                stiffness: true,
+                ..
+            }
+        )
+    });
+    let mass = involved.iter().any(|u| {
+        matches!(
+            u,
+            Unknown::Parameter {
+                mass: true,
+                stiffness: false,
+                ..
+            }
+        )
+    });
     let input = involved.iter().any(|u| matches!(u, Unknown::Input(_)));
-    let load = if dynamic { "without a known dynamic input" } else { "under a static load" };
+    let load = if dynamic {
+        "without a known dynamic input"
+    } else {
+        "under a static load"
+    };
     match (stiffness, mass, input) {
-        (false, true, false) if !dynamic => format!("{} (mass parameter) cannot be observed under a static load: the inertia is not excited (thesis §8.4.3)", names(&involved)),
-        (true, true, _) => format!("stiffness and mass parameters {} cannot be estimated together {load}: their effects on the response are proportional (E and ρ, thesis §8.4.4)", names(&involved)),
-        (true, false, true) if !dynamic => format!("{} cannot be estimated together: a stiffness parameter and a static unknown input are indistinguishable (E with a static input, thesis §8.4.4)", names(&involved)),
-        _ => format!("the unknowns {} cannot be told apart by the measured sensors at s = 0 ({})", names(&involved), if dynamic { "dynamic operating point" } else { "static operating point" }),
+        (false, true, false) if !dynamic => format!(
+            "{} (mass parameter) cannot be observed under a static load: the inertia is not excited (thesis §8.4.3)",
+            names(&involved)
+        ),
+        (true, true, _) => format!(
+            "stiffness and mass parameters {} cannot be estimated together {load}: their effects on the response are proportional (E and ρ, thesis §8.4.4)",
+            names(&involved)
+        ),
+        (true, false, true) if !dynamic => format!(
+            "{} cannot be estimated together: a stiffness parameter and a static unknown input are indistinguishable (E with a static input, thesis §8.4.4)",
+            names(&involved)
+        ),
+        _ => format!(
+            "the unknowns {} cannot be told apart by the measured sensors at s = 0 ({})",
+            names(&involved),
+            if dynamic {
+                "dynamic operating point"
+            } else {
+                "static operating point"
+            }
+        ),
     }
 }
 
@@ -234,12 +358,31 @@ mod tests {
         prom.evaluate(&[1.0, 1.0], &mut at).unwrap();
         let s_un = Mat::from_fn(2, case.inputs, |i, _| i as f64);
         let names = ["E", "RHO"];
-        let mut unknowns: Vec<Unknown> = (0..case.inputs).map(|k| Unknown::Input(format!("U{k}"))).collect();
-        unknowns.extend(case.params.iter().map(|&j| Unknown::Parameter { name: names[j].into(), stiffness: j == 0, mass: j == 1 }));
+        let mut unknowns: Vec<Unknown> = (0..case.inputs)
+            .map(|k| Unknown::Input(format!("U{k}")))
+            .collect();
+        unknowns.extend(case.params.iter().map(|&j| Unknown::Parameter {
+            name: names[j].into(),
+            stiffness: j == 0,
+            mass: j == 1,
+        }));
         let k = case.kinds.len();
-        let sensors = SensorRows::new((0..k).map(|r| format!("S{r}")).collect(), case.kinds.iter().map(|s| s.to_string()).collect(), Mat::from_fn(k, 2, |r, c| if r % 2 == c { 1.0 } else { 0.3 })).unwrap();
-        let (lambda, phi) = crate::linalg::dense::generalized_eigen(at.stiffness(), at.mass()).unwrap();
-        let problem = Problem { at: &at, alpha_beta: (prom.alpha, prom.beta), s_un: &s_un, params: &case.params, unknowns: &unknowns, measured: &sensors };
+        let sensors = SensorRows::new(
+            (0..k).map(|r| format!("S{r}")).collect(),
+            case.kinds.iter().map(|s| s.to_string()).collect(),
+            Mat::from_fn(k, 2, |r, c| if r % 2 == c { 1.0 } else { 0.3 }),
+        )
+        .unwrap();
+        let (lambda, phi) =
+            crate::linalg::dense::generalized_eigen(at.stiffness(), at.mass()).unwrap();
+        let problem = Problem {
+            at: &at,
+            alpha_beta: (prom.alpha, prom.beta),
+            s_un: &s_un,
+            params: &case.params,
+            unknowns: &unknowns,
+            measured: &sensors,
+        };
         check(&problem, &[point], (&lambda, &phi))
     }
 
@@ -252,11 +395,35 @@ mod tests {
         let f = Mat::from_fn(2, 1, |i, _| i as f64 * 3.0);
         let q = at.stiffness().llt(faer::Side::Lower).unwrap().solve(&f);
         let col = |m: &Mat<f64>| vec![m[(0, 0)], m[(1, 0)]];
-        let statics = OperatingPoint { q: col(&q), v: vec![0.0; 2], a: vec![0.0; 2], dynamic: false };
-        let (qd, vd) = (Mat::from_fn(2, 1, |i, _| [1e-3, -4e-4][i]), Mat::from_fn(2, 1, |i, _| [0.2, 0.5][i]));
-        let accel = |load: f64| col(&at.mass().llt(faer::Side::Lower).unwrap().solve(&(&f * faer::Scale(load) - at.stiffness() * &qd - at.damping() * &vd)));
-        let forced = OperatingPoint { q: col(&qd), v: col(&vd), a: accel(1.0), dynamic: true };
-        let free = OperatingPoint { q: col(&qd), v: col(&vd), a: accel(0.0), dynamic: true };
+        let statics = OperatingPoint {
+            q: col(&q),
+            v: vec![0.0; 2],
+            a: vec![0.0; 2],
+            dynamic: false,
+        };
+        let (qd, vd) = (
+            Mat::from_fn(2, 1, |i, _| [1e-3, -4e-4][i]),
+            Mat::from_fn(2, 1, |i, _| [0.2, 0.5][i]),
+        );
+        let accel = |load: f64| {
+            col(&at
+                .mass()
+                .llt(faer::Side::Lower)
+                .unwrap()
+                .solve(&(&f * faer::Scale(load) - at.stiffness() * &qd - at.damping() * &vd)))
+        };
+        let forced = OperatingPoint {
+            q: col(&qd),
+            v: col(&vd),
+            a: accel(1.0),
+            dynamic: true,
+        };
+        let free = OperatingPoint {
+            q: col(&qd),
+            v: col(&vd),
+            a: accel(0.0),
+            dynamic: true,
+        };
         (statics, forced, free)
     }
 
@@ -268,24 +435,85 @@ mod tests {
         let (statics, forced, _) = points(false);
         let (single_statics, _, free) = points(true);
         let two_disp = vec!["DISP", "STRAIN"];
-        let e = Case { params: vec![0], inputs: 0, kinds: two_disp.clone() };
-        assert!(run(&e, statics.clone(), false).observable(), "E under a static load is observable");
-        let e_rho = Case { params: vec![0, 1], inputs: 0, kinds: two_disp.clone() };
-        assert!(run(&e_rho, forced.clone(), false).observable(), "E and ρ under a known dynamic load are observable");
+        let e = Case {
+            params: vec![0],
+            inputs: 0,
+            kinds: two_disp.clone(),
+        };
+        assert!(
+            run(&e, statics.clone(), false).observable(),
+            "E under a static load is observable"
+        );
+        let e_rho = Case {
+            params: vec![0, 1],
+            inputs: 0,
+            kinds: two_disp.clone(),
+        };
+        assert!(
+            run(&e_rho, forced.clone(), false).observable(),
+            "E and ρ under a known dynamic load are observable"
+        );
         let cause = run(&e_rho, statics.clone(), false).cause.unwrap();
-        assert!(cause.contains("RHO") && cause.contains("static load"), "{cause}");
+        assert!(
+            cause.contains("RHO") && cause.contains("static load"),
+            "{cause}"
+        );
         let cause = run(&e_rho, free, true).cause.unwrap();
-        assert!(cause.contains("E, RHO") && cause.contains("without a known dynamic input"), "{cause}");
-        let rho = Case { params: vec![1], inputs: 0, kinds: two_disp.clone() };
-        assert!(run(&rho, statics.clone(), false).cause.unwrap().contains("mass parameter"));
-        let e_input = Case { params: vec![0], inputs: 1, kinds: two_disp.clone() };
-        assert!(run(&e_input, forced.clone(), false).observable(), "E and a dynamic input are observable");
+        assert!(
+            cause.contains("E, RHO") && cause.contains("without a known dynamic input"),
+            "{cause}"
+        );
+        let rho = Case {
+            params: vec![1],
+            inputs: 0,
+            kinds: two_disp.clone(),
+        };
+        assert!(
+            run(&rho, statics.clone(), false)
+                .cause
+                .unwrap()
+                .contains("mass parameter")
+        );
+        let e_input = Case {
+            params: vec![0],
+            inputs: 1,
+            kinds: two_disp.clone(),
+        };
+        assert!(
+            run(&e_input, forced.clone(), false).observable(),
+            "E and a dynamic input are observable"
+        );
         let cause = run(&e_input, single_statics, true).cause.unwrap();
         assert!(cause.contains("static input"), "{cause}");
-        let cause = run(&Case { params: vec![0], inputs: 0, kinds: vec!["ACCEL", "ACCEL"] }, forced.clone(), false).cause.unwrap();
+        let cause = run(
+            &Case {
+                params: vec![0],
+                inputs: 0,
+                kinds: vec!["ACCEL", "ACCEL"],
+            },
+            forced.clone(),
+            false,
+        )
+        .cause
+        .unwrap();
         assert!(cause.contains("only accelerometers"), "{cause}");
-        let cause = run(&Case { params: vec![0, 1], inputs: 0, kinds: vec!["DISP", "ACCEL"] }, forced, false).cause.unwrap();
-        assert!(cause.contains("fewer strain/displacement sensors (1) than unknown inputs and parameters (2)"), "{cause}");
+        let cause = run(
+            &Case {
+                params: vec![0, 1],
+                inputs: 0,
+                kinds: vec!["DISP", "ACCEL"],
+            },
+            forced,
+            false,
+        )
+        .cause
+        .unwrap();
+        assert!(
+            cause.contains(
+                "fewer strain/displacement sensors (1) than unknown inputs and parameters (2)"
+            ),
+            "{cause}"
+        );
         assert!(run(&e, statics, false).hidden_modes.is_empty());
     }
 }

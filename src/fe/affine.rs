@@ -40,7 +40,10 @@ impl Coefficient {
     /// Value of the coefficient for material constants (E, ν, ρ), angle Θ in degrees, ply
     /// thickness h, and a lumped value.
     pub fn value(self, v: &CoefficientValues) -> f64 {
-        let (c, s) = (v.theta_deg.to_radians().cos(), v.theta_deg.to_radians().sin());
+        let (c, s) = (
+            v.theta_deg.to_radians().cos(),
+            v.theta_deg.to_radians().sin(),
+        );
         match self {
             Coefficient::Constant => 1.0,
             Coefficient::E => v.e,
@@ -66,7 +69,10 @@ impl Coefficient {
     /// degrees, h, lumped value), in a [`CoefficientValues`] of partials. The estimator and the
     /// pROM derivatives ∂K_r/∂p (thesis eq. 8.19–8.20) use them.
     pub fn gradient(self, v: &CoefficientValues) -> CoefficientValues {
-        let (c, s) = (v.theta_deg.to_radians().cos(), v.theta_deg.to_radians().sin());
+        let (c, s) = (
+            v.theta_deg.to_radians().cos(),
+            v.theta_deg.to_radians().sin(),
+        );
         let per_degree = std::f64::consts::PI / 180.0;
         let nu = v.nu;
         let mut g = CoefficientValues::default();
@@ -157,7 +163,14 @@ mod tests {
     use super::*;
 
     fn values() -> CoefficientValues {
-        CoefficientValues { e: 7.0e10, nu: 0.31, rho: 2700.0, theta_deg: 27.0, h: 3.0e-4, lumped: 5.0e4 }
+        CoefficientValues {
+            e: 7.0e10,
+            nu: 0.31,
+            rho: 2700.0,
+            theta_deg: 27.0,
+            h: 3.0e-4,
+            lumped: 5.0e4,
+        }
     }
 
     /// Central differences with a relative step; the truncation error O(δ²) of a smooth
@@ -186,7 +199,10 @@ mod tests {
                 let fd = (c.value(&up) - c.value(&down)) / (2.0 * step);
                 let analytic = *field(&mut g);
                 let scale = c.value(&v).abs() / x.abs();
-                assert!((fd - analytic).abs() <= 1e-7 * scale.max(fd.abs()), "{c:?} d/d{name}: analytic {analytic}, differences {fd}");
+                assert!(
+                    (fd - analytic).abs() <= 1e-7 * scale.max(fd.abs()),
+                    "{c:?} d/d{name}: analytic {analytic}, differences {fd}"
+                );
             }
         }
     }

@@ -52,7 +52,9 @@ pub enum LumpedError {
     NotFinite { what: &'static str },
     #[error("CONM2: inertia tensor is not symmetric (J[{i}][{j}] = {a:e}, J[{j}][{i}] = {b:e})")]
     InertiaNotSymmetric { i: usize, j: usize, a: f64, b: f64 },
-    #[error("CONM2 with zero mass cannot be mass-parametrized (the MASS parameter scales m and the inertia together)")]
+    #[error(
+        "CONM2 with zero mass cannot be mass-parametrized (the MASS parameter scales m and the inertia together)"
+    )]
     ZeroMassParameter,
 }
 
@@ -69,15 +71,24 @@ impl ScalarSpring {
     pub fn new(a: Option<GridComponent>, b: Option<GridComponent>) -> Result<Self, LumpedError> {
         for end in [a, b].into_iter().flatten() {
             if end.component >= 6 {
-                return Err(LumpedError::ComponentOutOfRange { grid: end.grid, component: end.component });
+                return Err(LumpedError::ComponentOutOfRange {
+                    grid: end.grid,
+                    component: end.component,
+                });
             }
         }
         let (dofs, unit) = match (a, b) {
             (None, None) => return Err(LumpedError::BothEndsGrounded),
             (Some(a), Some(b)) if a == b => {
-                return Err(LumpedError::SameDof { grid: a.grid, component: a.component });
+                return Err(LumpedError::SameDof {
+                    grid: a.grid,
+                    component: a.component,
+                });
             }
-            (Some(a), Some(b)) => (vec![a, b], Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { -1.0 })),
+            (Some(a), Some(b)) => (
+                vec![a, b],
+                Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { -1.0 }),
+            ),
             (Some(g), None) | (None, Some(g)) => (vec![g], Mat::from_fn(1, 1, |_, _| 1.0)),
         };
         Ok(ScalarSpring { dofs, unit })
@@ -90,7 +101,9 @@ impl ScalarSpring {
 
     /// Affine stiffness K = k · K₁ (eq. 3.23): one [`Coefficient::Lumped`] part.
     pub fn affine_stiffness(&self) -> AffineMatrix {
-        AffineMatrix { parts: vec![(Coefficient::Lumped, self.unit.clone())] }
+        AffineMatrix {
+            parts: vec![(Coefficient::Lumped, self.unit.clone())],
+        }
     }
 }
 
@@ -115,14 +128,21 @@ impl Conm2 {
         if !inertia.iter().flatten().all(|v| v.is_finite()) {
             return Err(LumpedError::NotFinite { what: "inertia" });
         }
-        let scale = inertia.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let scale = inertia
+            .iter()
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
         for (i, j) in [(0, 1), (0, 2), (1, 2)] {
             let (a, b) = (inertia[i][j], inertia[j][i]);
             if (a - b).abs() > 1e-12 * scale {
                 return Err(LumpedError::InertiaNotSymmetric { i, j, a, b });
             }
         }
-        Ok(Conm2 { mass, offset, inertia })
+        Ok(Conm2 {
+            mass,
+            offset,
+            inertia,
+        })
     }
 
     /// 6×6 mass matrix at the grid (T1 T2 T3 R1 R2 R3):
@@ -155,7 +175,12 @@ impl Conm2 {
         if self.mass == 0.0 {
             return Err(LumpedError::ZeroMassParameter);
         }
-        Ok(AffineMatrix { parts: vec![(Coefficient::Lumped, self.mass_matrix() * faer::Scale(1.0 / self.mass))] })
+        Ok(AffineMatrix {
+            parts: vec![(
+                Coefficient::Lumped,
+                self.mass_matrix() * faer::Scale(1.0 / self.mass),
+            )],
+        })
     }
 }
 
@@ -165,30 +190,64 @@ mod tests {
     use crate::fe::affine::CoefficientValues;
 
     fn quad_form(m: &Mat<f64>, q: &[f64; 6]) -> f64 {
-        (0..6).flat_map(|i| (0..6).map(move |j| (i, j))).map(|(i, j)| q[i] * m[(i, j)] * q[j]).sum()
+        (0..6)
+            .flat_map(|i| (0..6).map(move |j| (i, j)))
+            .map(|(i, j)| q[i] * m[(i, j)] * q[j])
+            .sum()
     }
 
     fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
     }
 
     #[test]
     fn spring_between_two_dofs_and_grounded() {
-        let a = GridComponent { grid: 7, component: 2 };
-        let b = GridComponent { grid: 9, component: 4 };
+        let a = GridComponent {
+            grid: 7,
+            component: 2,
+        };
+        let b = GridComponent {
+            grid: 9,
+            component: 4,
+        };
         let s = ScalarSpring::new(Some(a), Some(b)).unwrap();
         assert_eq!(s.dofs, vec![a, b]);
         let k = s.stiffness(3.5);
-        assert_eq!([k[(0, 0)], k[(0, 1)], k[(1, 0)], k[(1, 1)]], [3.5, -3.5, -3.5, 3.5]);
-        let at = CoefficientValues { lumped: 3.5, ..Default::default() };
+        assert_eq!(
+            [k[(0, 0)], k[(0, 1)], k[(1, 0)], k[(1, 1)]],
+            [3.5, -3.5, -3.5, 3.5]
+        );
+        let at = CoefficientValues {
+            lumped: 3.5,
+            ..Default::default()
+        };
         assert_eq!(s.affine_stiffness().evaluate(&at), k);
         let g = ScalarSpring::new(None, Some(b)).unwrap();
         assert_eq!(g.dofs, vec![b]);
         assert_eq!(g.stiffness(2.0)[(0, 0)], 2.0);
-        assert_eq!(ScalarSpring::new(None, None).unwrap_err(), LumpedError::BothEndsGrounded);
-        assert!(matches!(ScalarSpring::new(Some(a), Some(a)), Err(LumpedError::SameDof { grid: 7, component: 2 })));
-        let bad = GridComponent { grid: 1, component: 6 };
-        assert!(matches!(ScalarSpring::new(Some(bad), None), Err(LumpedError::ComponentOutOfRange { .. })));
+        assert_eq!(
+            ScalarSpring::new(None, None).unwrap_err(),
+            LumpedError::BothEndsGrounded
+        );
+        assert!(matches!(
+            ScalarSpring::new(Some(a), Some(a)),
+            Err(LumpedError::SameDof {
+                grid: 7,
+                component: 2
+            })
+        ));
+        let bad = GridComponent {
+            grid: 1,
+            component: 6,
+        };
+        assert!(matches!(
+            ScalarSpring::new(Some(bad), None),
+            Err(LumpedError::ComponentOutOfRange { .. })
+        ));
     }
 
     /// A rigid motion about an axis through the grid, ω = (ω₁, ω₂, ω₃) and grid velocity 0:
@@ -200,17 +259,28 @@ mod tests {
         let j = [[1.1, 0.2, -0.1], [0.2, 0.9, 0.05], [-0.1, 0.05, 1.4]];
         let c = Conm2::new(m, x, j).unwrap();
         let mm = c.mass_matrix();
-        for (v, w) in [([0.0; 3], [0.4, -0.7, 1.3]), ([0.5, 0.1, -0.2], [0.0, 2.0, -1.0])] {
+        for (v, w) in [
+            ([0.0; 3], [0.4, -0.7, 1.3]),
+            ([0.5, 0.1, -0.2], [0.0, 2.0, -1.0]),
+        ] {
             let vcg: [f64; 3] = std::array::from_fn(|k| v[k] + cross(w, x)[k]);
-            let jw: f64 = (0..3).flat_map(|r| (0..3).map(move |s| (r, s))).map(|(r, s)| w[r] * j[r][s] * w[s]).sum();
+            let jw: f64 = (0..3)
+                .flat_map(|r| (0..3).map(move |s| (r, s)))
+                .map(|(r, s)| w[r] * j[r][s] * w[s])
+                .sum();
             let expected = 0.5 * m * vcg.iter().map(|a| a * a).sum::<f64>() + 0.5 * jw;
             let q = [v[0], v[1], v[2], w[0], w[1], w[2]];
             let got = 0.5 * quad_form(&mm, &q);
-            assert!((got - expected).abs() < 1e-13 * expected, "{got} vs {expected}");
+            assert!(
+                (got - expected).abs() < 1e-13 * expected,
+                "{got} vs {expected}"
+            );
         }
         // point mass 2 at distance 3 on x: rotation about z through the grid → I = m d² = 18;
         // force on the grid from a unit acceleration in y is m, and the moment about z is m d.
-        let p = Conm2::new(2.0, [3.0, 0.0, 0.0], [[0.0; 3]; 3]).unwrap().mass_matrix();
+        let p = Conm2::new(2.0, [3.0, 0.0, 0.0], [[0.0; 3]; 3])
+            .unwrap()
+            .mass_matrix();
         assert_eq!(p[(5, 5)], 18.0);
         assert_eq!(p[(3, 3)], 0.0);
         assert_eq!(p[(1, 5)], 6.0);
@@ -229,18 +299,33 @@ mod tests {
         let j = [[1.0, 0.1, 0.0], [0.1, 2.0, 0.0], [0.0, 0.0, 3.0]];
         let c = Conm2::new(4.0, [1.0, 2.0, -1.0], j).unwrap();
         let parts = c.affine_mass().unwrap();
-        let at = |lumped: f64| CoefficientValues { lumped, ..Default::default() };
+        let at = |lumped: f64| CoefficientValues {
+            lumped,
+            ..Default::default()
+        };
         let same = parts.evaluate(&at(4.0)) - c.mass_matrix();
         assert!((0..36).all(|k| same[(k / 6, k % 6)].abs() < 1e-14));
-        let doubled = Conm2::new(8.0, [1.0, 2.0, -1.0], j.map(|r| r.map(|v| 2.0 * v))).unwrap().mass_matrix();
+        let doubled = Conm2::new(8.0, [1.0, 2.0, -1.0], j.map(|r| r.map(|v| 2.0 * v)))
+            .unwrap()
+            .mass_matrix();
         let diff = parts.evaluate(&at(8.0)) - doubled;
         assert!((0..36).all(|k| diff[(k / 6, k % 6)].abs() < 1e-13));
         let pure = Conm2::new(0.0, [0.0; 3], j).unwrap();
-        assert_eq!(pure.affine_mass().unwrap_err(), LumpedError::ZeroMassParameter);
+        assert_eq!(
+            pure.affine_mass().unwrap_err(),
+            LumpedError::ZeroMassParameter
+        );
         assert!(matches!(
-            Conm2::new(1.0, [0.0; 3], [[1.0, 0.5, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
+            Conm2::new(
+                1.0,
+                [0.0; 3],
+                [[1.0, 0.5, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+            ),
             Err(LumpedError::InertiaNotSymmetric { i: 0, j: 1, .. })
         ));
-        assert!(matches!(Conm2::new(f64::NAN, [0.0; 3], j), Err(LumpedError::NotFinite { what: "mass" })));
+        assert!(matches!(
+            Conm2::new(f64::NAN, [0.0; 3], j),
+            Err(LumpedError::NotFinite { what: "mass" })
+        ));
     }
 }

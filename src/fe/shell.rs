@@ -150,15 +150,25 @@ impl<S> Incompatible<S> {
 /// (A, B) is a multiple of the nominal (A, B) (an E parameter; TPLY on a laminate without
 /// membrane–bending coupling, whose B parts are zero; a density), to round-off: the residual of
 /// the projection on the nominal blocks at most 10⁻¹⁰ of the part's largest entry.
-pub fn condensation_is_frozen(parts: &[(Coefficient, ShellSection)], nominal: &ShellSection) -> bool {
-    let blocks = |s: &ShellSection| -> Vec<f64> { s.a.iter().chain(&s.b).flatten().copied().collect() };
+pub fn condensation_is_frozen(
+    parts: &[(Coefficient, ShellSection)],
+    nominal: &ShellSection,
+) -> bool {
+    let blocks =
+        |s: &ShellSection| -> Vec<f64> { s.a.iter().chain(&s.b).flatten().copied().collect() };
     let n = blocks(nominal);
     let nn: f64 = n.iter().map(|x| x * x).sum();
     parts.iter().any(|(_, part)| {
         let v = blocks(part);
-        let c = if nn > 0.0 { v.iter().zip(&n).map(|(x, y)| x * y).sum::<f64>() / nn } else { 0.0 };
+        let c = if nn > 0.0 {
+            v.iter().zip(&n).map(|(x, y)| x * y).sum::<f64>() / nn
+        } else {
+            0.0
+        };
         let largest = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        v.iter().zip(&n).any(|(x, y)| (x - c * y).abs() > 1e-10 * largest)
+        v.iter()
+            .zip(&n)
+            .any(|(x, y)| (x - c * y).abs() > 1e-10 * largest)
     })
 }
 
@@ -187,7 +197,9 @@ pub enum ShellError {
     #[error("a shell element has 3 or 4 grids, got {0}")]
     NodeCount(usize),
     /// Per-point sections do not match the element's integration points.
-    #[error("expected one section and one nominal section per integration point ({expected}), with the same affine coefficients at each; got {got}")]
+    #[error(
+        "expected one section and one nominal section per integration point ({expected}), with the same affine coefficients at each; got {got}"
+    )]
     PointCount { expected: usize, got: usize },
 }
 
@@ -326,10 +338,19 @@ const QUAD_NODES: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0,
 const GAUSS_2: f64 = 0.577_350_269_189_625_8;
 
 /// 2 × 2 Gauss points (ξ, η) of the quad.
-const QUAD_GAUSS: [[f64; 2]; 4] = [[-GAUSS_2, -GAUSS_2], [GAUSS_2, -GAUSS_2], [GAUSS_2, GAUSS_2], [-GAUSS_2, GAUSS_2]];
+const QUAD_GAUSS: [[f64; 2]; 4] = [
+    [-GAUSS_2, -GAUSS_2],
+    [GAUSS_2, -GAUSS_2],
+    [GAUSS_2, GAUSS_2],
+    [-GAUSS_2, GAUSS_2],
+];
 
 /// The triangle's 3-point rule of degree 2 (r, s), weights 1/6.
-const TRIA_POINTS: [[f64; 2]; 3] = [[1.0 / 6.0, 1.0 / 6.0], [2.0 / 3.0, 1.0 / 6.0], [1.0 / 6.0, 2.0 / 3.0]];
+const TRIA_POINTS: [[f64; 2]; 3] = [
+    [1.0 / 6.0, 1.0 / 6.0],
+    [2.0 / 3.0, 1.0 / 6.0],
+    [1.0 / 6.0, 2.0 / 3.0],
+];
 
 /// Bilinear shape functions and their natural derivatives at (ξ, η).
 fn quad_shape(xi: f64, eta: f64) -> ([f64; 4], [f64; 4], [f64; 4]) {
@@ -727,7 +748,11 @@ impl Flat {
     /// Tᵀ (Σₚ wₚ detJₚ B̄ₚᵀ C(sectionₚ) B̄ₚ) T: one section per integration point, B̄ = B + B_i T
     /// with the condensation T of the sections `nominal` (one per point; `None`: T = 0), so the
     /// matrix is linear in `sections`.
-    fn stiffness_at_points(&self, sections: &[&ShellSection], nominal: Option<&[&ShellSection]>) -> Mat<f64> {
+    fn stiffness_at_points(
+        &self,
+        sections: &[&ShellSection],
+        nominal: Option<&[&ShellSection]>,
+    ) -> Mat<f64> {
         let n = 6 * self.nodes;
         let t = self.condensation(nominal);
         let mut k = Mat::<f64>::zeros(n, n);
@@ -921,11 +946,20 @@ pub fn affine_stiffness(
 /// 2-point Gauss rule integrates exactly.
 pub fn integration_point_thickness(corner_t: &[f64]) -> Result<Vec<f64>, ShellError> {
     let shapes: Vec<[f64; 4]> = match corner_t.len() {
-        4 => QUAD_GAUSS.iter().map(|&[xi, eta]| quad_shape(xi, eta).0).collect(),
-        3 => TRIA_POINTS.iter().map(|&[r, s]| [1.0 - r - s, r, s, 0.0]).collect(),
+        4 => QUAD_GAUSS
+            .iter()
+            .map(|&[xi, eta]| quad_shape(xi, eta).0)
+            .collect(),
+        3 => TRIA_POINTS
+            .iter()
+            .map(|&[r, s]| [1.0 - r - s, r, s, 0.0])
+            .collect(),
         n => return Err(ShellError::NodeCount(n)),
     };
-    Ok(shapes.iter().map(|n| n.iter().zip(corner_t).map(|(n, t)| n * t).sum()).collect())
+    Ok(shapes
+        .iter()
+        .map(|n| n.iter().zip(corner_t).map(|(n, t)| n * t).sum())
+        .collect())
 }
 
 /// [`affine_stiffness`] with one list of affine section parts per integration point (see
@@ -941,16 +975,29 @@ pub fn affine_stiffness_at_points(
 ) -> Result<AffineMatrix, ShellError> {
     let el = Flat::new(xyz, material_x)?;
     let points = el.points.len();
-    let Some(first) = sections.first() else { return Err(ShellError::PointCount { expected: points, got: 0 }) };
-    let same_coefficients = |p: &Vec<(Coefficient, ShellSection)>| p.len() == first.len() && p.iter().zip(first).all(|((a, _), (b, _))| a == b);
+    let Some(first) = sections.first() else {
+        return Err(ShellError::PointCount {
+            expected: points,
+            got: 0,
+        });
+    };
+    let same_coefficients = |p: &Vec<(Coefficient, ShellSection)>| {
+        p.len() == first.len() && p.iter().zip(first).all(|((a, _), (b, _))| a == b)
+    };
     let nominal: Option<Vec<&ShellSection>> = modes.nominal().map(|n| n.iter().collect());
     for got in std::iter::once(sections.len()).chain(nominal.as_ref().map(Vec::len)) {
         if got != points {
-            return Err(ShellError::PointCount { expected: points, got });
+            return Err(ShellError::PointCount {
+                expected: points,
+                got,
+            });
         }
     }
     if !sections.iter().all(same_coefficients) {
-        return Err(ShellError::PointCount { expected: points, got: sections.len() });
+        return Err(ShellError::PointCount {
+            expected: points,
+            got: sections.len(),
+        });
     }
     let parts = (0..first.len())
         .filter(|&i| sections.iter().any(|p| !p[i].1.stiffness_is_zero()))

@@ -11,8 +11,8 @@ use super::laminate::{
     affine_sections, evaluate,
 };
 use super::shell::{
-    Incompatible, ShellError, affine_mass, affine_stiffness, quad4_mass, quad4_stiffness, quad4_strains,
-    tria3_mass, tria3_stiffness, tria3_strains,
+    Incompatible, ShellError, affine_mass, affine_stiffness, quad4_mass, quad4_stiffness,
+    quad4_strains, tria3_mass, tria3_stiffness, tria3_strains,
 };
 
 type V3 = [f64; 3];
@@ -53,7 +53,13 @@ fn quad_mesh_stiffness(xyz: &[V3], quads: &[[usize; 4]], section: &ShellSection)
         .map(|q| {
             (
                 q.to_vec(),
-                quad4_stiffness(&quad_of(xyz, q), section, Incompatible::Condensed(section), Some([1.0, 0.0, 0.0])).unwrap(),
+                quad4_stiffness(
+                    &quad_of(xyz, q),
+                    section,
+                    Incompatible::Condensed(section),
+                    Some([1.0, 0.0, 0.0]),
+                )
+                .unwrap(),
             )
         })
         .collect();
@@ -283,7 +289,13 @@ fn macneal_harder_membrane_and_bending_patch_test() {
         .map(|q| {
             (
                 q.to_vec(),
-                quad4_stiffness(&quad_of(&xyz, q), &section, Incompatible::Condensed(&section), Some(mx)).unwrap(),
+                quad4_stiffness(
+                    &quad_of(&xyz, q),
+                    &section,
+                    Incompatible::Condensed(&section),
+                    Some(mx),
+                )
+                .unwrap(),
             )
         })
         .collect();
@@ -405,7 +417,13 @@ fn matrices_are_symmetric_and_positive() {
     let tria = [[0.0, 0.0, 0.0], [1.0, 0.2, 0.3], [0.3, 0.8, -0.2]];
     let s = laminate_section();
     for m in [
-        quad4_stiffness(&quad, &s, Incompatible::Condensed(&s), Some([1.0, 1.0, 0.0])).unwrap(),
+        quad4_stiffness(
+            &quad,
+            &s,
+            Incompatible::Condensed(&s),
+            Some([1.0, 1.0, 0.0]),
+        )
+        .unwrap(),
         tria3_stiffness(&tria, &s, None).unwrap(),
         quad4_mass(&quad, &s.mass, false).unwrap(),
         quad4_mass(&quad, &s.mass, true).unwrap(),
@@ -437,7 +455,13 @@ fn isotropic_element_is_invariant_to_material_axes() {
     let s = steel(0.02, 0.3);
     let (k1, k2) = (
         quad4_stiffness(&quad, &s, Incompatible::Condensed(&s), None).unwrap(),
-        quad4_stiffness(&quad, &s, Incompatible::Condensed(&s), Some([0.3, -1.0, 0.2])).unwrap(),
+        quad4_stiffness(
+            &quad,
+            &s,
+            Incompatible::Condensed(&s),
+            Some([0.3, -1.0, 0.2]),
+        )
+        .unwrap(),
     );
     assert!(rel_diff(&k1, &k2) < 1e-12, "quad: {}", rel_diff(&k1, &k2));
     let (k1, k2) = (
@@ -772,7 +796,9 @@ fn affine_stiffness_and_mass_match_direct_matrices() {
         };
         let nominal = nominal_section(&data);
         for xyz in [&quad, &tria] {
-            let k = affine_stiffness(xyz, &parts, Incompatible::Condensed(&nominal), mx).unwrap().evaluate(&v);
+            let k = affine_stiffness(xyz, &parts, Incompatible::Condensed(&nominal), mx)
+                .unwrap()
+                .evaluate(&v);
             let m = affine_mass(xyz, &parts, false).unwrap().evaluate(&v);
             let (kd, md) = if xyz.len() == 4 {
                 let q = [xyz[0], xyz[1], xyz[2], xyz[3]];
@@ -863,7 +889,12 @@ fn degenerate_geometry_is_an_error() {
         [0.0, 1.0, 0.0],
     ];
     assert!(matches!(
-        quad4_stiffness(&square, &s, Incompatible::Condensed(&s), Some([0.0, 0.0, 1.0])),
+        quad4_stiffness(
+            &square,
+            &s,
+            Incompatible::Condensed(&s),
+            Some([0.0, 0.0, 1.0])
+        ),
         Err(ShellError::MaterialAxisNormal { .. })
     ));
     assert_eq!(
@@ -898,7 +929,12 @@ fn tapered_quad_integrates_bending_thickness_cubed_exactly() {
             .collect()
     };
     let at = |corners: &[f64]| {
-        super::shell::affine_stiffness_at_points(&xyz, &sections_at(corners), Incompatible::Condensed(nominal_at(corners).as_slice()), None)
+        super::shell::affine_stiffness_at_points(
+            &xyz,
+            &sections_at(corners),
+            Incompatible::Condensed(nominal_at(corners).as_slice()),
+            None,
+        )
     };
     let k = at(&corners).unwrap();
     assert_eq!(k.parts.len(), 1);
@@ -929,14 +965,24 @@ fn tapered_quad_integrates_bending_thickness_cubed_exactly() {
     assert!(rel_diff(&uniform.parts[0].1, &single) < 1e-14);
     // one list per point, or an error
     assert!(matches!(
-        super::shell::affine_stiffness_at_points(&xyz, &sections_at(&corners)[..3], Incompatible::Condensed(nominal_at(&corners).as_slice()), None),
+        super::shell::affine_stiffness_at_points(
+            &xyz,
+            &sections_at(&corners)[..3],
+            Incompatible::Condensed(nominal_at(&corners).as_slice()),
+            None
+        ),
         Err(ShellError::PointCount {
             expected: 4,
             got: 3
         })
     ));
     assert!(matches!(
-        super::shell::affine_stiffness_at_points(&xyz, &sections_at(&corners), Incompatible::Condensed(&nominal_at(&corners)[..2]), None),
+        super::shell::affine_stiffness_at_points(
+            &xyz,
+            &sections_at(&corners),
+            Incompatible::Condensed(&nominal_at(&corners)[..2]),
+            None
+        ),
         Err(ShellError::PointCount {
             expected: 4,
             got: 2
@@ -961,7 +1007,17 @@ fn quad_in_plane_pure_bending_is_exact() {
     let (a, b, t, e, nu, kappa) = (0.3, 0.2, 0.01, 70e9, 0.3, 1e-3);
     let section = ShellSection::pshell(&iso(e, nu, t)).unwrap();
     let mx = rotate([1.0, 0.0, 0.0]);
-    let (xy, quads) = ([[0.0, -0.5 * b], [a, -0.5 * b], [2.0 * a, -0.5 * b], [0.0, 0.5 * b], [a, 0.5 * b], [2.0 * a, 0.5 * b]], [[0, 1, 4, 3], [1, 2, 5, 4]]);
+    let (xy, quads) = (
+        [
+            [0.0, -0.5 * b],
+            [a, -0.5 * b],
+            [2.0 * a, -0.5 * b],
+            [0.0, 0.5 * b],
+            [a, 0.5 * b],
+            [2.0 * a, 0.5 * b],
+        ],
+        [[0, 1, 4, 3], [1, 2, 5, 4]],
+    );
     let xyz: Vec<V3> = xy.iter().map(|p| rotate([p[0], p[1], 0.0])).collect();
     let exact: Vec<f64> = xy
         .iter()
@@ -973,28 +1029,70 @@ fn quad_in_plane_pure_bending_is_exact() {
         .collect();
     let els: Vec<_> = quads
         .iter()
-        .map(|q| (q.to_vec(), quad4_stiffness(&quad_of(&xyz, q), &section, Incompatible::Condensed(&section), Some(mx)).unwrap()))
+        .map(|q| {
+            (
+                q.to_vec(),
+                quad4_stiffness(
+                    &quad_of(&xyz, q),
+                    &section,
+                    Incompatible::Condensed(&section),
+                    Some(mx),
+                )
+                .unwrap(),
+            )
+        })
         .collect();
     // One element: the strain energy of the exact field.
-    let ue: Vec<f64> = quads[0].iter().flat_map(|&g| exact[6 * g..6 * g + 6].to_vec()).collect();
+    let ue: Vec<f64> = quads[0]
+        .iter()
+        .flat_map(|&g| exact[6 * g..6 * g + 6].to_vec())
+        .collect();
     let k = &els[0].1;
-    let energy = 0.5 * (0..24).map(|i| (0..24).map(|j| ue[i] * k[(i, j)] * ue[j]).sum::<f64>()).sum::<f64>();
+    let energy = 0.5
+        * (0..24)
+            .map(|i| (0..24).map(|j| ue[i] * k[(i, j)] * ue[j]).sum::<f64>())
+            .sum::<f64>();
     let want = 0.5 * e * kappa * kappa * t * b.powi(3) / 12.0 * a;
-    assert!((energy / want - 1.0).abs() < 1e-10, "energy {energy} vs {want} (ratio {})", energy / want);
-    let plain = quad4_stiffness(&quad_of(&xyz, &quads[0]), &section, Incompatible::Off, Some(mx)).unwrap();
-    let energy_plain = 0.5 * (0..24).map(|i| (0..24).map(|j| ue[i] * plain[(i, j)] * ue[j]).sum::<f64>()).sum::<f64>();
+    assert!(
+        (energy / want - 1.0).abs() < 1e-10,
+        "energy {energy} vs {want} (ratio {})",
+        energy / want
+    );
+    let plain = quad4_stiffness(
+        &quad_of(&xyz, &quads[0]),
+        &section,
+        Incompatible::Off,
+        Some(mx),
+    )
+    .unwrap();
+    let energy_plain = 0.5
+        * (0..24)
+            .map(|i| (0..24).map(|j| ue[i] * plain[(i, j)] * ue[j]).sum::<f64>())
+            .sum::<f64>();
     let poisson = 1.0 / (1.0 - nu * nu);
-    assert!((energy_plain / want / poisson - 1.0).abs() < 1e-10, "without the modes: ratio {} vs 1/(1 − ν²) = {poisson}", energy_plain / want);
+    assert!(
+        (energy_plain / want / poisson - 1.0).abs() < 1e-10,
+        "without the modes: ratio {} vs 1/(1 − ν²) = {poisson}",
+        energy_plain / want
+    );
     // Two elements, end grids prescribed, mid-span grids 1 and 4 free and unloaded.
     let k = assemble(xyz.len(), &els);
-    let fixed: Vec<usize> = [0, 2, 3, 5].iter().flat_map(|&g| (0..6).map(move |c| 6 * g + c)).collect();
+    let fixed: Vec<usize> = [0, 2, 3, 5]
+        .iter()
+        .flat_map(|&g| (0..6).map(move |c| 6 * g + c))
+        .collect();
     let values: Vec<f64> = fixed.iter().map(|&d| exact[d]).collect();
     let u = solve_with_prescribed(&k, &[vec![0.0; 36]], &fixed, &values).remove(0);
     let scale = exact.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     for g in [1, 4] {
         for c in 0..6 {
             let d = 6 * g + c;
-            assert!((u[d] - exact[d]).abs() < 1e-10 * scale, "grid {g} DOF {c}: {} vs {}", u[d], exact[d]);
+            assert!(
+                (u[d] - exact[d]).abs() < 1e-10 * scale,
+                "grid {g} DOF {c}: {} vs {}",
+                u[d],
+                exact[d]
+            );
         }
     }
 }
@@ -1005,7 +1103,13 @@ fn quad_in_plane_pure_bending_is_exact() {
 /// (the condensed energy is the minimum over the modes) and of second order in Δν.
 #[test]
 fn frozen_condensation_is_exact_under_scaling_and_second_order_otherwise() {
-    let quad = [[0.0, 0.0, 0.01], [1.1, 0.0, -0.01], [1.0, 0.7, 0.01], [0.05, 0.6, -0.01]].map(rotate);
+    let quad = [
+        [0.0, 0.0, 0.01],
+        [1.1, 0.0, -0.01],
+        [1.0, 0.7, 0.01],
+        [0.05, 0.6, -0.01],
+    ]
+    .map(rotate);
     let (e, t) = (70e9, 0.02);
     let section = |e: f64, nu: f64| ShellSection::pshell(&iso(e, nu, t)).unwrap();
     let nominal = section(e, 0.3);
@@ -1014,16 +1118,28 @@ fn frozen_condensation_is_exact_under_scaling_and_second_order_otherwise() {
         quad4_stiffness(&quad, &scaled, Incompatible::Condensed(&nominal), None).unwrap(),
         quad4_stiffness(&quad, &scaled, Incompatible::Condensed(&scaled), None).unwrap(),
     );
-    assert!(rel_diff(&frozen, &exact) < 1e-12, "E scaling: {}", rel_diff(&frozen, &exact));
+    assert!(
+        rel_diff(&frozen, &exact) < 1e-12,
+        "E scaling: {}",
+        rel_diff(&frozen, &exact)
+    );
     let gap = |dnu: f64| {
         let s = section(e, 0.3 + dnu);
-        let d = quad4_stiffness(&quad, &s, Incompatible::Condensed(&nominal), None).unwrap() - quad4_stiffness(&quad, &s, Incompatible::Condensed(&s), None).unwrap();
+        let d = quad4_stiffness(&quad, &s, Incompatible::Condensed(&nominal), None).unwrap()
+            - quad4_stiffness(&quad, &s, Incompatible::Condensed(&s), None).unwrap();
         let ev = d.self_adjoint_eigenvalues(Side::Lower).unwrap();
         let k = quad4_stiffness(&quad, &s, Incompatible::Condensed(&s), None).unwrap();
-        assert!(ev[0] > -1e-12 * max_abs(&k), "Δν {dnu}: K_frozen − K is not PSD ({})", ev[0]);
+        assert!(
+            ev[0] > -1e-12 * max_abs(&k),
+            "Δν {dnu}: K_frozen − K is not PSD ({})",
+            ev[0]
+        );
         max_abs(&d) / max_abs(&k)
     };
     let (g1, g2) = (gap(-0.1), gap(-0.05));
     println!("frozen condensation, ν 0.3 → 0.2: max |ΔK|/max |K| {g1:.3e}; → 0.25: {g2:.3e}");
-    assert!(g1 > 0.0 && (g1 / g2 - 4.0).abs() < 0.5, "not second order: {g1} / {g2}");
+    assert!(
+        g1 > 0.0 && (g1 / g2 - 4.0).abs() < 0.5,
+        "not second order: {g1} / {g2}"
+    );
 }

@@ -148,7 +148,9 @@ pub enum EvalPoint {
 impl fmt::Display for EvalPoint {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            EvalPoint::Integration { index, of } => write!(f, "integration point {} of {}", index + 1, of),
+            EvalPoint::Integration { index, of } => {
+                write!(f, "integration point {} of {}", index + 1, of)
+            }
             EvalPoint::Centre => f.write_str("the element centre"),
         }
     }
@@ -158,14 +160,30 @@ impl fmt::Display for EvalPoint {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SolidError {
     #[error("{kind}: {got} grid coordinates given, {expected} expected")]
-    NodeCount { kind: SolidKind, expected: usize, got: usize },
+    NodeCount {
+        kind: SolidKind,
+        expected: usize,
+        got: usize,
+    },
     #[error(
         "{kind}: det J = {det:.4e} at {at}, (ξ, η, ζ) = ({:.4}, {:.4}, {:.4}), scaled Jacobian {scaled:.3e}: the element is inverted or degenerate (check the grid order and coincident grids)",
         xi[0], xi[1], xi[2]
     )]
-    NonPositiveJacobian { kind: SolidKind, at: EvalPoint, xi: [f64; 3], det: f64, scaled: f64 },
-    #[error("{kind}: {got} displacement values given, {expected} expected (3 translations per grid)")]
-    DisplacementLength { kind: SolidKind, expected: usize, got: usize },
+    NonPositiveJacobian {
+        kind: SolidKind,
+        at: EvalPoint,
+        xi: [f64; 3],
+        det: f64,
+        scaled: f64,
+    },
+    #[error(
+        "{kind}: {got} displacement values given, {expected} expected (3 translations per grid)"
+    )]
+    DisplacementLength {
+        kind: SolidKind,
+        expected: usize,
+        got: usize,
+    },
     #[error(
         "ν cannot be a parameter of CHEXA with incompatible modes (static condensation is not affine in λ, μ); parametrize E with ν fixed (K ∝ E is exact), or mesh the parametrized region with CPENTA/CTETRA"
     )]
@@ -200,17 +218,31 @@ fn jacobian(xyz: &[[f64; 3]], dn: &[[f64; 3]]) -> [[f64; 3]; 3] {
 }
 
 fn det3(j: &[[f64; 3]; 3]) -> f64 {
-    j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1]) - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+    j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
         + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0])
 }
 
 /// J⁻ᵀ = cofactor(J) / det J.
 fn inverse_transpose(j: &[[f64; 3]; 3], det: f64) -> [[f64; 3]; 3] {
-    let c = |r0: usize, r1: usize, c0: usize, c1: usize| j[r0][c0] * j[r1][c1] - j[r0][c1] * j[r1][c0];
+    let c =
+        |r0: usize, r1: usize, c0: usize, c1: usize| j[r0][c0] * j[r1][c1] - j[r0][c1] * j[r1][c0];
     [
-        [c(1, 2, 1, 2) / det, -c(1, 2, 0, 2) / det, c(1, 2, 0, 1) / det],
-        [-c(0, 2, 1, 2) / det, c(0, 2, 0, 2) / det, -c(0, 2, 0, 1) / det],
-        [c(0, 1, 1, 2) / det, -c(0, 1, 0, 2) / det, c(0, 1, 0, 1) / det],
+        [
+            c(1, 2, 1, 2) / det,
+            -c(1, 2, 0, 2) / det,
+            c(1, 2, 0, 1) / det,
+        ],
+        [
+            -c(0, 2, 1, 2) / det,
+            c(0, 2, 0, 2) / det,
+            -c(0, 2, 0, 1) / det,
+        ],
+        [
+            c(0, 1, 1, 2) / det,
+            -c(0, 1, 0, 2) / det,
+            c(0, 1, 0, 1) / det,
+        ],
     ]
 }
 
@@ -228,15 +260,28 @@ fn checked_jacobian(
 ) -> Result<(f64, [[f64; 3]; 3]), SolidError> {
     let j = jacobian(xyz, dn);
     let det = det3(&j);
-    let norms: f64 = (0..3).map(|c| (j[0][c] * j[0][c] + j[1][c] * j[1][c] + j[2][c] * j[2][c]).sqrt()).product();
+    let norms: f64 = (0..3)
+        .map(|c| (j[0][c] * j[0][c] + j[1][c] * j[1][c] + j[2][c] * j[2][c]).sqrt())
+        .product();
     let scaled = det / norms;
     if scaled.is_nan() || scaled <= MIN_SCALED_JACOBIAN {
-        return Err(SolidError::NonPositiveJacobian { kind, at, xi, det, scaled });
+        return Err(SolidError::NonPositiveJacobian {
+            kind,
+            at,
+            xi,
+            det,
+            scaled,
+        });
     }
     Ok((det, inverse_transpose(&j, det)))
 }
 
-fn evaluate(kind: SolidKind, xyz: &[[f64; 3]], xi: [f64; 3], at: EvalPoint) -> Result<PointEval, SolidError> {
+fn evaluate(
+    kind: SolidKind,
+    xyz: &[[f64; 3]],
+    xi: [f64; 3],
+    at: EvalPoint,
+) -> Result<PointEval, SolidError> {
     let n = kind.nodes();
     let s = shape::shape(kind, xi);
     let (det, jit) = checked_jacobian(kind, xyz, &s.dn[..n], xi, at)?;
@@ -251,16 +296,29 @@ fn check_nodes(kind: SolidKind, xyz: &[[f64; 3]]) -> Result<(), SolidError> {
     if xyz.len() == kind.nodes() {
         Ok(())
     } else {
-        Err(SolidError::NodeCount { kind, expected: kind.nodes(), got: xyz.len() })
+        Err(SolidError::NodeCount {
+            kind,
+            expected: kind.nodes(),
+            got: xyz.len(),
+        })
     }
 }
 
 /// Evaluates every point of `rule`, naming the failing one.
-fn evaluate_rule(kind: SolidKind, xyz: &[[f64; 3]], rule: &[QuadPoint]) -> Result<Vec<(f64, PointEval)>, SolidError> {
+fn evaluate_rule(
+    kind: SolidKind,
+    xyz: &[[f64; 3]],
+    rule: &[QuadPoint],
+) -> Result<Vec<(f64, PointEval)>, SolidError> {
     let of = rule.len();
     rule.iter()
         .enumerate()
-        .map(|(index, p)| Ok((p.w, evaluate(kind, xyz, p.xi, EvalPoint::Integration { index, of })?)))
+        .map(|(index, p)| {
+            Ok((
+                p.w,
+                evaluate(kind, xyz, p.xi, EvalPoint::Integration { index, of })?,
+            ))
+        })
         .collect()
 }
 
@@ -310,7 +368,11 @@ fn stiffness_lame(kind: SolidKind, xyz: &[[f64; 3]], lame: Lame) -> Result<Mat<f
 
 /// CHEXA 8 with the Taylor–Beresford–Wilson incompatible modes, statically condensed (module
 /// doc). `points` are the evaluated 2×2×2 Gauss points.
-fn hexa_incompatible(xyz: &[[f64; 3]], lame: Lame, points: &[(f64, PointEval)]) -> Result<Mat<f64>, SolidError> {
+fn hexa_incompatible(
+    xyz: &[[f64; 3]],
+    lame: Lame,
+    points: &[(f64, PointEval)],
+) -> Result<Mat<f64>, SolidError> {
     const NU: usize = 24;
     const NA: usize = 9;
     const ND: usize = NU + NA;
@@ -330,17 +392,28 @@ fn hexa_incompatible(xyz: &[[f64; 3]], lame: Lame, points: &[(f64, PointEval)]) 
         add_lame_blocks(&mut k, &g, lame, w * p.det);
     }
     let kaa = Mat::from_fn(NA, NA, |i, j| k[(NU + i) * ND + NU + j]);
-    let llt = kaa.llt(Side::Lower).map_err(|_| SolidError::CondensationFailed { lambda: lame.lambda, mu: lame.mu })?;
+    let llt = kaa
+        .llt(Side::Lower)
+        .map_err(|_| SolidError::CondensationFailed {
+            lambda: lame.lambda,
+            mu: lame.mu,
+        })?;
     let mut x = Mat::from_fn(NA, NU, |i, j| k[(NU + i) * ND + j]);
     llt.solve_in_place(x.as_mut());
-    let condensed = |i: usize, j: usize| k[i * ND + j] - (0..NA).map(|m| k[i * ND + NU + m] * x[(m, j)]).sum::<f64>();
+    let condensed = |i: usize, j: usize| {
+        k[i * ND + j] - (0..NA).map(|m| k[i * ND + NU + m] * x[(m, j)]).sum::<f64>()
+    };
     let kc = Mat::from_fn(NU, NU, condensed);
     Ok(Mat::from_fn(NU, NU, |i, j| 0.5 * (kc[(i, j)] + kc[(j, i)])))
 }
 
 /// Element stiffness K (3·n × 3·n, translations only; see the module doc) of an isotropic solid
 /// with grids at `xyz` (basic coordinates, Nastran order).
-pub fn stiffness(kind: SolidKind, xyz: &[[f64; 3]], material: Isotropic) -> Result<Mat<f64>, SolidError> {
+pub fn stiffness(
+    kind: SolidKind,
+    xyz: &[[f64; 3]],
+    material: Isotropic,
+) -> Result<Mat<f64>, SolidError> {
     stiffness_lame(kind, xyz, material.lame())
 }
 
@@ -367,16 +440,41 @@ pub fn affine_stiffness(
     parametrization: StiffnessParametrization,
 ) -> Result<AffineMatrix, SolidError> {
     let parts = match parametrization {
-        StiffnessParametrization::Fixed(m) => vec![(Coefficient::Constant, stiffness(kind, xyz, m)?)],
+        StiffnessParametrization::Fixed(m) => {
+            vec![(Coefficient::Constant, stiffness(kind, xyz, m)?)]
+        }
         StiffnessParametrization::YoungsModulus { nu } => {
-            vec![(Coefficient::E, stiffness(kind, xyz, Isotropic { e: 1.0, nu })?)]
+            vec![(
+                Coefficient::E,
+                stiffness(kind, xyz, Isotropic { e: 1.0, nu })?,
+            )]
         }
         StiffnessParametrization::Lame if kind == SolidKind::Hexa8 => {
             return Err(SolidError::NuNotAffineForIncompatibleHexa);
         }
         StiffnessParametrization::Lame => vec![
-            (Coefficient::Lambda, stiffness_lame(kind, xyz, Lame { lambda: 1.0, mu: 0.0 })?),
-            (Coefficient::Mu, stiffness_lame(kind, xyz, Lame { lambda: 0.0, mu: 1.0 })?),
+            (
+                Coefficient::Lambda,
+                stiffness_lame(
+                    kind,
+                    xyz,
+                    Lame {
+                        lambda: 1.0,
+                        mu: 0.0,
+                    },
+                )?,
+            ),
+            (
+                Coefficient::Mu,
+                stiffness_lame(
+                    kind,
+                    xyz,
+                    Lame {
+                        lambda: 0.0,
+                        mu: 1.0,
+                    },
+                )?,
+            ),
         ],
     };
     Ok(AffineMatrix { parts })
@@ -401,7 +499,12 @@ fn mass_rule(kind: SolidKind) -> Vec<QuadPoint> {
 }
 
 /// Element mass (3·n × 3·n, translations only) for density `rho`.
-pub fn mass(kind: SolidKind, xyz: &[[f64; 3]], rho: f64, lumping: MassLumping) -> Result<Mat<f64>, SolidError> {
+pub fn mass(
+    kind: SolidKind,
+    xyz: &[[f64; 3]],
+    rho: f64,
+    lumping: MassLumping,
+) -> Result<Mat<f64>, SolidError> {
     check_nodes(kind, xyz)?;
     let n = kind.nodes();
     let mut m = vec![0.0; n * n];
@@ -426,7 +529,13 @@ pub fn mass(kind: SolidKind, xyz: &[[f64; 3]], rho: f64, lumping: MassLumping) -
             m[a * n + a] = d;
         }
     }
-    Ok(Mat::from_fn(3 * n, 3 * n, |i, j| if i % 3 == j % 3 { m[(i / 3) * n + j / 3] } else { 0.0 }))
+    Ok(Mat::from_fn(3 * n, 3 * n, |i, j| {
+        if i % 3 == j % 3 {
+            m[(i / 3) * n + j / 3]
+        } else {
+            0.0
+        }
+    }))
 }
 
 /// Whether the density is a parameter.
@@ -446,7 +555,9 @@ pub fn affine_mass(
     parametrization: MassParametrization,
 ) -> Result<AffineMatrix, SolidError> {
     let part = match parametrization {
-        MassParametrization::Fixed { rho } => (Coefficient::Constant, mass(kind, xyz, rho, lumping)?),
+        MassParametrization::Fixed { rho } => {
+            (Coefficient::Constant, mass(kind, xyz, rho, lumping)?)
+        }
         MassParametrization::Density => (Coefficient::Rho, mass(kind, xyz, 1.0, lumping)?),
     };
     Ok(AffineMatrix { parts: vec![part] })
@@ -455,11 +566,19 @@ pub fn affine_mass(
 /// Strain [εxx, εyy, εzz, γxy, γyz, γzx] (engineering shear) at the element centroid from the
 /// element's translations `u` (3·n values, grid-major), ε = Σ_a B_a(centroid) u_a. For CHEXA
 /// the incompatible modes have zero gradient at the centre, so this is the full element strain.
-pub fn strain_at_centroid(kind: SolidKind, xyz: &[[f64; 3]], u: &[f64]) -> Result<[f64; 6], SolidError> {
+pub fn strain_at_centroid(
+    kind: SolidKind,
+    xyz: &[[f64; 3]],
+    u: &[f64],
+) -> Result<[f64; 6], SolidError> {
     check_nodes(kind, xyz)?;
     let n = kind.nodes();
     if u.len() != 3 * n {
-        return Err(SolidError::DisplacementLength { kind, expected: 3 * n, got: u.len() });
+        return Err(SolidError::DisplacementLength {
+            kind,
+            expected: 3 * n,
+            got: u.len(),
+        });
     }
     let p = evaluate(kind, xyz, shape::centroid(kind), EvalPoint::Centre)?;
     // displacement gradient H_ij = ∂u_i/∂x_j
@@ -471,6 +590,12 @@ pub fn strain_at_centroid(kind: SolidKind, xyz: &[[f64; 3]], u: &[f64]) -> Resul
             }
         }
     }
-    Ok([h[0][0], h[1][1], h[2][2], h[0][1] + h[1][0], h[1][2] + h[2][1], h[2][0] + h[0][2]])
+    Ok([
+        h[0][0],
+        h[1][1],
+        h[2][2],
+        h[0][1] + h[1][0],
+        h[1][2] + h[2][1],
+        h[2][0] + h[0][2],
+    ])
 }
-

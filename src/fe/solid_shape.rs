@@ -45,14 +45,21 @@ const TET10_EDGES: [[usize; 2]; 6] = [[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2
 
 /// Shape functions of `kind` at natural point `xi`.
 pub(crate) fn shape(kind: SolidKind, xi: [f64; 3]) -> Shape {
-    let mut s = Shape { n: [0.0; MAX_NODES], dn: [[0.0; 3]; MAX_NODES] };
+    let mut s = Shape {
+        n: [0.0; MAX_NODES],
+        dn: [[0.0; 3]; MAX_NODES],
+    };
     let [x, y, z] = xi;
     match kind {
         SolidKind::Hexa8 => {
             for (a, sg) in HEXA_SIGNS.iter().enumerate() {
                 let (fx, fy, fz) = (1.0 + sg[0] * x, 1.0 + sg[1] * y, 1.0 + sg[2] * z);
                 s.n[a] = 0.125 * fx * fy * fz;
-                s.dn[a] = [0.125 * sg[0] * fy * fz, 0.125 * sg[1] * fx * fz, 0.125 * sg[2] * fx * fy];
+                s.dn[a] = [
+                    0.125 * sg[0] * fy * fz,
+                    0.125 * sg[1] * fx * fz,
+                    0.125 * sg[2] * fx * fy,
+                ];
             }
         }
         SolidKind::Penta6 => {
@@ -68,7 +75,12 @@ pub(crate) fn shape(kind: SolidKind, xi: [f64; 3]) -> Shape {
         }
         SolidKind::Tetra4 | SolidKind::Tetra10 => {
             let l = [1.0 - x - y - z, x, y, z];
-            let dl = [[-1.0, -1.0, -1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+            let dl = [
+                [-1.0, -1.0, -1.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+            ];
             if kind == SolidKind::Tetra4 {
                 s.n[..4].copy_from_slice(&l);
                 s.dn[..4].copy_from_slice(&dl);
@@ -79,7 +91,8 @@ pub(crate) fn shape(kind: SolidKind, xi: [f64; 3]) -> Shape {
                 }
                 for (e, &[a, b]) in TET10_EDGES.iter().enumerate() {
                     s.n[4 + e] = 4.0 * l[a] * l[b];
-                    s.dn[4 + e] = std::array::from_fn(|k| 4.0 * (dl[a][k] * l[b] + l[a] * dl[b][k]));
+                    s.dn[4 + e] =
+                        std::array::from_fn(|k| 4.0 * (dl[a][k] * l[b] + l[a] * dl[b][k]));
                 }
             }
         }
@@ -138,7 +151,10 @@ pub(crate) fn hexa_rule(g: Gauss) -> Vec<QuadPoint> {
     for &(z, wz) in &line {
         for &(y, wy) in &line {
             for &(x, wx) in &line {
-                out.push(QuadPoint { xi: [x, y, z], w: wx * wy * wz });
+                out.push(QuadPoint {
+                    xi: [x, y, z],
+                    w: wx * wy * wz,
+                });
             }
         }
     }
@@ -149,7 +165,10 @@ pub(crate) fn hexa_rule(g: Gauss) -> Vec<QuadPoint> {
 /// points on [0, 1], weight × (1 − u). With n points per direction it integrates total degree
 /// 2n − 2 exactly, with positive weights.
 fn triangle_collapsed(g: Gauss) -> Vec<(f64, f64, f64)> {
-    let line: Vec<(f64, f64)> = gauss(g).into_iter().map(|(x, w)| (0.5 * (1.0 + x), 0.5 * w)).collect();
+    let line: Vec<(f64, f64)> = gauss(g)
+        .into_iter()
+        .map(|(x, w)| (0.5 * (1.0 + x), 0.5 * w))
+        .collect();
     let mut out = Vec::with_capacity(line.len().pow(2));
     for &(u, wu) in &line {
         for &(v, wv) in &line {
@@ -181,7 +200,10 @@ fn wedge_product(tri: &[(f64, f64, f64)], g: Gauss) -> Vec<QuadPoint> {
     let mut out = Vec::with_capacity(tri.len() * line.len());
     for &(z, wz) in &line {
         for &(x, y, w) in tri {
-            out.push(QuadPoint { xi: [x, y, z], w: w * wz });
+            out.push(QuadPoint {
+                xi: [x, y, z],
+                w: w * wz,
+            });
         }
     }
     out
@@ -189,7 +211,10 @@ fn wedge_product(tri: &[(f64, f64, f64)], g: Gauss) -> Vec<QuadPoint> {
 
 /// One-point tetrahedron rule at the centroid (weight 1/6): exact for constant strain.
 pub(crate) fn tet_centroid_rule() -> Vec<QuadPoint> {
-    vec![QuadPoint { xi: [0.25; 3], w: 1.0 / 6.0 }]
+    vec![QuadPoint {
+        xi: [0.25; 3],
+        w: 1.0 / 6.0,
+    }]
 }
 
 /// Four-point (degree 2) tetrahedron rule: points at the permutations of (a, b, b, b) in volume
@@ -197,7 +222,10 @@ pub(crate) fn tet_centroid_rule() -> Vec<QuadPoint> {
 pub(crate) fn tet_four_rule() -> Vec<QuadPoint> {
     let s5 = 5.0_f64.sqrt();
     let (a, b) = ((5.0 + 3.0 * s5) / 20.0, (5.0 - s5) / 20.0);
-    [[b, b, b], [a, b, b], [b, a, b], [b, b, a]].into_iter().map(|xi| QuadPoint { xi, w: 1.0 / 24.0 }).collect()
+    [[b, b, b], [a, b, b], [b, a, b], [b, b, a]]
+        .into_iter()
+        .map(|xi| QuadPoint { xi, w: 1.0 / 24.0 })
+        .collect()
 }
 
 /// Collapsed (Duffy) Gauss rule on the unit tetrahedron: ξ = u, η = (1 − u) v,
@@ -205,13 +233,19 @@ pub(crate) fn tet_four_rule() -> Vec<QuadPoint> {
 /// total degree 2n − 3 exactly (n = 5: degree 7, enough for N_a N_b det J of a curved-edge
 /// CTETRA 10), with positive weights.
 pub(crate) fn tet_collapsed_rule(g: Gauss) -> Vec<QuadPoint> {
-    let line: Vec<(f64, f64)> = gauss(g).into_iter().map(|(x, w)| (0.5 * (1.0 + x), 0.5 * w)).collect();
+    let line: Vec<(f64, f64)> = gauss(g)
+        .into_iter()
+        .map(|(x, w)| (0.5 * (1.0 + x), 0.5 * w))
+        .collect();
     let mut out = Vec::with_capacity(line.len().pow(3));
     for &(u, wu) in &line {
         for &(v, wv) in &line {
             for &(t, wt) in &line {
                 let xi = [u, (1.0 - u) * v, (1.0 - u) * (1.0 - v) * t];
-                out.push(QuadPoint { xi, w: wu * wv * wt * (1.0 - u).powi(2) * (1.0 - v) });
+                out.push(QuadPoint {
+                    xi,
+                    w: wu * wv * wt * (1.0 - u).powi(2) * (1.0 - v),
+                });
             }
         }
     }
@@ -236,7 +270,11 @@ mod tests {
                     for c in 0..=deg - a - b {
                         let q: f64 = rule
                             .iter()
-                            .map(|p| p.w * p.xi[0].powi(a as i32) * p.xi[1].powi(b as i32) * p.xi[2].powi(c as i32))
+                            .map(|p| {
+                                p.w * p.xi[0].powi(a as i32)
+                                    * p.xi[1].powi(b as i32)
+                                    * p.xi[2].powi(c as i32)
+                            })
                             .sum();
                         let e = exact(a, b, c);
                         assert!((q - e).abs() < 1e-14, "degree ({a},{b},{c}): {q} vs {e}");
@@ -249,7 +287,13 @@ mod tests {
         check(&tet_centroid_rule(), 1, &tet_monomial);
         // wedge: triangle monomial ∫ ξ^a η^b = a! b! / (a + b + 2)!, times ∫ ζ^c over [−1, 1].
         let f = |n: u32| (1..=n).map(f64::from).product::<f64>();
-        let line = |c: u32| if c % 2 == 1 { 0.0 } else { 2.0 / f64::from(c + 1) };
+        let line = |c: u32| {
+            if c % 2 == 1 {
+                0.0
+            } else {
+                2.0 / f64::from(c + 1)
+            }
+        };
         let wedge = |a: u32, b: u32, c: u32| f(a) * f(b) / f(a + b + 2) * line(c);
         check(&wedge_mass_rule(), 4, &wedge);
         check(&wedge_stiffness_rule(), 2, &wedge);
@@ -259,7 +303,12 @@ mod tests {
 
     #[test]
     fn shape_functions_are_a_partition_of_unity_and_interpolate_nodes() {
-        for kind in [SolidKind::Hexa8, SolidKind::Penta6, SolidKind::Tetra4, SolidKind::Tetra10] {
+        for kind in [
+            SolidKind::Hexa8,
+            SolidKind::Penta6,
+            SolidKind::Tetra4,
+            SolidKind::Tetra10,
+        ] {
             let s = shape(kind, [0.21, 0.17, 0.33]);
             let n = kind.nodes();
             assert!((s.n[..n].iter().sum::<f64>() - 1.0).abs() < 1e-14);

@@ -38,19 +38,43 @@ fn distorted_hexa() -> Vec<[f64; 3]> {
 }
 
 fn unit_penta() -> Vec<[f64; 3]> {
-    vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]
+    vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 1.0],
+        [0.0, 1.0, 1.0],
+    ]
 }
 
 fn distorted_penta() -> Vec<[f64; 3]> {
-    vec![[0.0, 0.0, 0.0], [1.4, 0.2, 0.1], [-0.2, 0.9, -0.1], [0.1, 0.1, 1.2], [1.1, -0.1, 0.8], [0.2, 1.3, 1.1]]
+    vec![
+        [0.0, 0.0, 0.0],
+        [1.4, 0.2, 0.1],
+        [-0.2, 0.9, -0.1],
+        [0.1, 0.1, 1.2],
+        [1.1, -0.1, 0.8],
+        [0.2, 1.3, 1.1],
+    ]
 }
 
 fn unit_tet() -> Vec<[f64; 3]> {
-    vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ]
 }
 
 fn distorted_tet() -> Vec<[f64; 3]> {
-    vec![[0.1, -0.2, 0.0], [1.5, 0.3, 0.2], [0.4, 1.1, -0.3], [0.2, 0.5, 0.9]]
+    vec![
+        [0.1, -0.2, 0.0],
+        [1.5, 0.3, 0.2],
+        [0.4, 1.1, -0.3],
+        [0.2, 0.5, 0.9],
+    ]
 }
 
 /// CTETRA 10 on the corners `c` with mid-edge grids at the edge midpoints plus `bend` · an
@@ -59,8 +83,14 @@ fn tet10(c: &[[f64; 3]], bend: f64) -> Vec<[f64; 3]> {
     const EDGES: [[usize; 2]; 6] = [[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]];
     let mut x = c.to_vec();
     for (e, [a, b]) in EDGES.iter().enumerate() {
-        let off = [0.7 - 0.2 * e as f64, 0.3 * e as f64 - 0.5, 0.1 * (e % 3) as f64 - 0.2];
-        x.push(std::array::from_fn(|k| 0.5 * (c[*a][k] + c[*b][k]) + bend * off[k]));
+        let off = [
+            0.7 - 0.2 * e as f64,
+            0.3 * e as f64 - 0.5,
+            0.1 * (e % 3) as f64 - 0.2,
+        ];
+        x.push(std::array::from_fn(|k| {
+            0.5 * (c[*a][k] + c[*b][k]) + bend * off[k]
+        }));
     }
     x
 }
@@ -75,7 +105,11 @@ fn samples() -> Vec<(SolidKind, &'static str, Vec<[f64; 3]>)> {
         (SolidKind::Tetra4, "regular", unit_tet()),
         (SolidKind::Tetra4, "distorted", distorted_tet()),
         (SolidKind::Tetra10, "regular", tet10(&unit_tet(), 0.0)),
-        (SolidKind::Tetra10, "distorted", tet10(&distorted_tet(), 0.0)),
+        (
+            SolidKind::Tetra10,
+            "distorted",
+            tet10(&distorted_tet(), 0.0),
+        ),
         (SolidKind::Tetra10, "curved", tet10(&distorted_tet(), 0.04)),
     ]
 }
@@ -93,7 +127,8 @@ fn max_abs(m: &Mat<f64>) -> f64 {
 }
 
 fn eigenvalues(m: &Mat<f64>) -> Vec<f64> {
-    m.self_adjoint_eigenvalues(Side::Lower).expect("symmetric eigenvalues")
+    m.self_adjoint_eigenvalues(Side::Lower)
+        .expect("symmetric eigenvalues")
 }
 
 /// Number of eigenvalues below 1e-8 · the largest.
@@ -140,7 +175,11 @@ fn lattice(n: usize, amp: f64) -> (Vec<[f64; 3]>, impl Fn(usize, usize, usize) -
                 let p = id(i, j, k);
                 xyz[p] = std::array::from_fn(|d| {
                     let base = [i, j, k][d] as f64 * h;
-                    if interior { base + amp * h * jitter(3 * p + d) } else { base }
+                    if interior {
+                        base + amp * h * jitter(3 * p + d)
+                    } else {
+                        base
+                    }
                 });
             }
         }
@@ -181,10 +220,16 @@ fn lattice_mesh(kind: SolidKind, n: usize, amp: f64) -> Mesh {
                     SolidKind::Tetra4 | SolidKind::Tetra10 => {
                         // Kuhn: paths 000 → e_p → e_p + e_q → 111 along every axis order;
                         // cell corner by bits (x, y, z) → CHEXA index.
-                        let corner = |b: [usize; 3]| c[[0, 1, 3, 2, 4, 5, 7, 6][b[0] + 2 * b[1] + 4 * b[2]]];
-                        for (p, q, odd) in
-                            [(0, 1, false), (1, 2, false), (2, 0, false), (1, 0, true), (2, 1, true), (0, 2, true)]
-                        {
+                        let corner =
+                            |b: [usize; 3]| c[[0, 1, 3, 2, 4, 5, 7, 6][b[0] + 2 * b[1] + 4 * b[2]]];
+                        for (p, q, odd) in [
+                            (0, 1, false),
+                            (1, 2, false),
+                            (2, 0, false),
+                            (1, 0, true),
+                            (2, 1, true),
+                            (0, 2, true),
+                        ] {
                             let mut b1 = [0; 3];
                             b1[p] = 1;
                             let mut b2 = b1;
@@ -198,7 +243,9 @@ fn lattice_mesh(kind: SolidKind, n: usize, amp: f64) -> Mesh {
                                 for [a, b] in [[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]] {
                                     let key = (t[a].min(t[b]), t[a].max(t[b]));
                                     let m = *midside.entry(key).or_insert_with(|| {
-                                        xyz.push(std::array::from_fn(|d| 0.5 * (xyz[t[a]][d] + xyz[t[b]][d])));
+                                        xyz.push(std::array::from_fn(|d| {
+                                            0.5 * (xyz[t[a]][d] + xyz[t[b]][d])
+                                        }));
                                         xyz.len() - 1
                                     });
                                     nodes.push(m);
@@ -227,18 +274,38 @@ fn macneal_harder_patch() -> Mesh {
         [0.788, 0.693, 0.644],
         [0.165, 0.745, 0.702],
     ]);
-    let outward_faces = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]];
+    let outward_faces = [
+        [0, 3, 2, 1],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [1, 2, 6, 5],
+        [2, 3, 7, 6],
+        [3, 0, 4, 7],
+    ];
     let mut elements = vec![(SolidKind::Hexa8, (8..16).collect::<Vec<_>>())];
     for f in outward_faces {
         // outer face (outward normal) reversed as the bottom, the inner face on top
-        let nodes = vec![f[0], f[3], f[2], f[1], f[0] + 8, f[3] + 8, f[2] + 8, f[1] + 8];
+        let nodes = vec![
+            f[0],
+            f[3],
+            f[2],
+            f[1],
+            f[0] + 8,
+            f[3] + 8,
+            f[2] + 8,
+            f[1] + 8,
+        ];
         elements.push((SolidKind::Hexa8, nodes));
     }
     (xyz, elements)
 }
 
 /// Linear field u = A x + c; the exact strain is [A11, A22, A33, A12 + A21, A23 + A32, A31 + A13].
-const A: [[f64; 3]; 3] = [[1.0e-3, 2.0e-3, -1.5e-3], [0.5e-3, -1.0e-3, 0.7e-3], [-0.4e-3, 0.9e-3, 1.5e-3]];
+const A: [[f64; 3]; 3] = [
+    [1.0e-3, 2.0e-3, -1.5e-3],
+    [0.5e-3, -1.0e-3, 0.7e-3],
+    [-0.4e-3, 0.9e-3, 1.5e-3],
+];
 const C: [f64; 3] = [1e-3, -2e-3, 0.5e-3];
 
 fn linear_field(x: [f64; 3]) -> [f64; 3] {
@@ -251,25 +318,51 @@ fn linear_field(x: [f64; 3]) -> [f64; 3] {
 fn patch_test(mesh: &Mesh) -> (f64, f64) {
     let (xyz, elements) = mesh;
     let k = assemble(mesh, Isotropic { e: 1.0, nu: 0.25 });
-    let on_boundary = |x: &[f64; 3]| x.iter().any(|&c| c.abs() < 1e-12 || (c - 1.0).abs() < 1e-12);
-    let free: Vec<usize> = (0..xyz.len()).filter(|&n| !on_boundary(&xyz[n])).flat_map(|n| 3 * n..3 * n + 3).collect();
-    let fixed: Vec<usize> = (0..xyz.len()).filter(|&n| on_boundary(&xyz[n])).flat_map(|n| 3 * n..3 * n + 3).collect();
+    let on_boundary = |x: &[f64; 3]| {
+        x.iter()
+            .any(|&c| c.abs() < 1e-12 || (c - 1.0).abs() < 1e-12)
+    };
+    let free: Vec<usize> = (0..xyz.len())
+        .filter(|&n| !on_boundary(&xyz[n]))
+        .flat_map(|n| 3 * n..3 * n + 3)
+        .collect();
+    let fixed: Vec<usize> = (0..xyz.len())
+        .filter(|&n| on_boundary(&xyz[n]))
+        .flat_map(|n| 3 * n..3 * n + 3)
+        .collect();
     assert!(!free.is_empty());
     let exact: Vec<f64> = xyz.iter().flat_map(|&x| linear_field(x)).collect();
     let kff = Mat::from_fn(free.len(), free.len(), |i, j| k[(free[i], free[j])]);
-    let mut rhs = Mat::from_fn(free.len(), 1, |i, _| -fixed.iter().map(|&j| k[(free[i], j)] * exact[j]).sum::<f64>());
-    kff.llt(Side::Lower).expect("K_ff positive definite").solve_in_place(rhs.as_mut());
+    let mut rhs = Mat::from_fn(free.len(), 1, |i, _| {
+        -fixed
+            .iter()
+            .map(|&j| k[(free[i], j)] * exact[j])
+            .sum::<f64>()
+    });
+    kff.llt(Side::Lower)
+        .expect("K_ff positive definite")
+        .solve_in_place(rhs.as_mut());
     let mut u = exact.clone();
     let mut du = 0.0_f64;
     for (i, &d) in free.iter().enumerate() {
         du = du.max((rhs[(i, 0)] - exact[d]).abs());
         u[d] = rhs[(i, 0)];
     }
-    let eps = [A[0][0], A[1][1], A[2][2], A[0][1] + A[1][0], A[1][2] + A[2][1], A[2][0] + A[0][2]];
+    let eps = [
+        A[0][0],
+        A[1][1],
+        A[2][2],
+        A[0][1] + A[1][0],
+        A[1][2] + A[2][1],
+        A[2][0] + A[0][2],
+    ];
     let mut de = 0.0_f64;
     for (kind, nodes) in elements {
         let x: Vec<[f64; 3]> = nodes.iter().map(|&n| xyz[n]).collect();
-        let ue: Vec<f64> = nodes.iter().flat_map(|&n| u[3 * n..3 * n + 3].to_vec()).collect();
+        let ue: Vec<f64> = nodes
+            .iter()
+            .flat_map(|&n| u[3 * n..3 * n + 3].to_vec())
+            .collect();
         let s = strain_at_centroid(*kind, &x, &ue).expect("strain");
         for (a, b) in s.iter().zip(eps) {
             de = de.max((a - b).abs());
@@ -291,9 +384,18 @@ fn every_free_element_has_exactly_six_zero_energy_modes() {
 #[test]
 fn free_meshes_have_exactly_six_zero_energy_modes() {
     // CTETRA 10 on one cell (6 tetrahedra, 27 grids) keeps the dense eigenproblem small
-    for (kind, n) in [(SolidKind::Hexa8, 2), (SolidKind::Tetra4, 2), (SolidKind::Tetra10, 1), (SolidKind::Penta6, 2)] {
+    for (kind, n) in [
+        (SolidKind::Hexa8, 2),
+        (SolidKind::Tetra4, 2),
+        (SolidKind::Tetra10, 1),
+        (SolidKind::Penta6, 2),
+    ] {
         let mesh = lattice_mesh(kind, n, 0.2);
-        assert_eq!(zero_modes(&assemble(&mesh, STEEL)), 6, "free {n}×{n}×{n} {kind} mesh");
+        assert_eq!(
+            zero_modes(&assemble(&mesh, STEEL)),
+            6,
+            "free {n}×{n}×{n} {kind} mesh"
+        );
     }
 }
 
@@ -302,14 +404,25 @@ fn free_meshes_have_exactly_six_zero_energy_modes() {
 #[test]
 fn hexa_passes_the_macneal_harder_patch_test() {
     let (du, de) = patch_test(&macneal_harder_patch());
-    assert!(du < 1e-10 && de < 1e-10, "CHEXA MacNeal–Harder patch: displacement {du:.2e}, strain {de:.2e}");
+    assert!(
+        du < 1e-10 && de < 1e-10,
+        "CHEXA MacNeal–Harder patch: displacement {du:.2e}, strain {de:.2e}"
+    );
 }
 
 #[test]
 fn every_element_passes_the_patch_test_on_a_distorted_lattice() {
-    for kind in [SolidKind::Hexa8, SolidKind::Penta6, SolidKind::Tetra4, SolidKind::Tetra10] {
+    for kind in [
+        SolidKind::Hexa8,
+        SolidKind::Penta6,
+        SolidKind::Tetra4,
+        SolidKind::Tetra10,
+    ] {
         let (du, de) = patch_test(&lattice_mesh(kind, 3, 0.25));
-        assert!(du < 1e-10 && de < 1e-10, "{kind} distorted patch: displacement {du:.2e}, strain {de:.2e}");
+        assert!(
+            du < 1e-10 && de < 1e-10,
+            "{kind} distorted patch: displacement {du:.2e}, strain {de:.2e}"
+        );
     }
 }
 
@@ -330,7 +443,9 @@ fn hexa_cantilever_tip_deflection_within_three_percent() {
             }
         }
     }
-    let elements = (0..10).map(|i| (SolidKind::Hexa8, cell(&id, i, 0, 0).to_vec())).collect();
+    let elements = (0..10)
+        .map(|i| (SolidKind::Hexa8, cell(&id, i, 0, 0).to_vec()))
+        .collect();
     let k = assemble(&(xyz, elements), Isotropic { e, nu });
     let free: Vec<usize> = (12..3 * 44).collect();
     let kff = Mat::from_fn(free.len(), free.len(), |i, j| k[(free[i], free[j])]);
@@ -344,7 +459,11 @@ fn hexa_cantilever_tip_deflection_within_three_percent() {
     let kappa = 10.0 * (1.0 + nu) / (12.0 + 11.0 * nu);
     let reference = p * l.powi(3) / (3.0 * e * inertia) + p * l / (kappa * g);
     let err = (tip - reference) / reference;
-    assert!(err.abs() < 0.03, "tip {tip:.5} vs {reference:.5}: {:.2} %", 100.0 * err);
+    assert!(
+        err.abs() < 0.03,
+        "tip {tip:.5} vs {reference:.5}: {:.2} %",
+        100.0 * err
+    );
 }
 
 // ---------------------------------------------------------------- (d) symmetry, definiteness
@@ -357,11 +476,18 @@ fn matrices_are_symmetric_and_semi_definite() {
         let l = mass(kind, &xyz, 7.8, MassLumping::Lumped).unwrap();
         for (name, a, definite) in [("K", &k, false), ("M", &m, true), ("M lumped", &l, true)] {
             let asym = max_abs(&(a - a.transpose()));
-            assert!(asym <= 1e-14 * max_abs(a), "{kind} {label} {name}: asymmetry {asym:.2e}");
+            assert!(
+                asym <= 1e-14 * max_abs(a),
+                "{kind} {label} {name}: asymmetry {asym:.2e}"
+            );
             let ev = eigenvalues(a);
             let top = ev[ev.len() - 1];
             let floor = if definite { 1e-12 * top } else { -1e-12 * top };
-            assert!(ev[0] > floor, "{kind} {label} {name}: smallest eigenvalue {:.3e} (largest {top:.3e})", ev[0]);
+            assert!(
+                ev[0] > floor,
+                "{kind} {label} {name}: smallest eigenvalue {:.3e} (largest {top:.3e})",
+                ev[0]
+            );
         }
     }
 }
@@ -372,11 +498,20 @@ fn matrices_are_symmetric_and_semi_definite() {
 /// element's volume quadrature): quadrilateral faces bilinear, triangular faces 6-node quadratic
 /// (corner, corner, corner, mid 0–1, mid 1–2, mid 2–0), each oriented outward.
 fn surface_volume(kind: SolidKind, x: &[[f64; 3]]) -> f64 {
-    let mid = |a: usize, b: usize| -> [f64; 3] { std::array::from_fn(|k| 0.5 * (x[a][k] + x[b][k])) };
+    let mid =
+        |a: usize, b: usize| -> [f64; 3] { std::array::from_fn(|k| 0.5 * (x[a][k] + x[b][k])) };
     let (quads, tris): (Vec<[usize; 4]>, Vec<[[f64; 3]; 6]>) = match kind {
-        SolidKind::Hexa8 => {
-            (vec![[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]], vec![])
-        }
+        SolidKind::Hexa8 => (
+            vec![
+                [0, 3, 2, 1],
+                [4, 5, 6, 7],
+                [0, 1, 5, 4],
+                [1, 2, 6, 5],
+                [2, 3, 7, 6],
+                [3, 0, 4, 7],
+            ],
+            vec![],
+        ),
         SolidKind::Penta6 => (
             vec![[0, 1, 4, 3], [1, 2, 5, 4], [2, 0, 3, 5]],
             vec![
@@ -393,15 +528,26 @@ fn surface_volume(kind: SolidKind, x: &[[f64; 3]]) -> f64 {
         ),
         SolidKind::Tetra10 => (
             vec![],
-            [[0, 2, 1, 6, 5, 4], [0, 1, 3, 4, 8, 7], [1, 2, 3, 5, 9, 8], [0, 3, 2, 7, 9, 6]]
-                .iter()
-                .map(|f| f.map(|i| x[i]))
-                .collect(),
+            [
+                [0, 2, 1, 6, 5, 4],
+                [0, 1, 3, 4, 8, 7],
+                [1, 2, 3, 5, 9, 8],
+                [0, 3, 2, 7, 9, 6],
+            ]
+            .iter()
+            .map(|f| f.map(|i| x[i]))
+            .collect(),
         ),
     };
-    let gauss = [(0.5 - 0.5 * 0.6_f64.sqrt(), 5.0 / 18.0), (0.5, 8.0 / 18.0), (0.5 + 0.5 * 0.6_f64.sqrt(), 5.0 / 18.0)];
+    let gauss = [
+        (0.5 - 0.5 * 0.6_f64.sqrt(), 5.0 / 18.0),
+        (0.5, 8.0 / 18.0),
+        (0.5 + 0.5 * 0.6_f64.sqrt(), 5.0 / 18.0),
+    ];
     let triple = |p: [f64; 3], a: [f64; 3], b: [f64; 3]| {
-        p[0] * (a[1] * b[2] - a[2] * b[1]) + p[1] * (a[2] * b[0] - a[0] * b[2]) + p[2] * (a[0] * b[1] - a[1] * b[0])
+        p[0] * (a[1] * b[2] - a[2] * b[1])
+            + p[1] * (a[2] * b[0] - a[0] * b[2])
+            + p[2] * (a[0] * b[1] - a[1] * b[0])
     };
     let comb = |w: &[f64], pts: &[[f64; 3]]| -> [f64; 3] {
         std::array::from_fn(|k| w.iter().zip(pts).map(|(w, p)| w * p[k]).sum())
@@ -411,7 +557,10 @@ fn surface_volume(kind: SolidKind, x: &[[f64; 3]]) -> f64 {
         for &(t, wt) in &gauss {
             for q in &quads {
                 let p: Vec<[f64; 3]> = q.iter().map(|&i| x[i]).collect();
-                let pos = comb(&[(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t], &p);
+                let pos = comb(
+                    &[(1.0 - s) * (1.0 - t), s * (1.0 - t), s * t, (1.0 - s) * t],
+                    &p,
+                );
                 let ds = comb(&[-(1.0 - t), 1.0 - t, t, -t], &p);
                 let dt = comb(&[-(1.0 - s), -s, s, 1.0 - s], &p);
                 v += ws * wt * triple(pos, ds, dt) / 3.0;
@@ -427,10 +576,25 @@ fn surface_volume(kind: SolidKind, x: &[[f64; 3]]) -> f64 {
                 4.0 * l[1] * l[2],
                 4.0 * l[2] * l[0],
             ];
-            let dr = [1.0 - 4.0 * l[0], 4.0 * l[1] - 1.0, 0.0, 4.0 * (l[0] - l[1]), 4.0 * l[2], -4.0 * l[2]];
-            let dq = [1.0 - 4.0 * l[0], 0.0, 4.0 * l[2] - 1.0, -4.0 * l[1], 4.0 * l[1], 4.0 * (l[0] - l[2])];
+            let dr = [
+                1.0 - 4.0 * l[0],
+                4.0 * l[1] - 1.0,
+                0.0,
+                4.0 * (l[0] - l[1]),
+                4.0 * l[2],
+                -4.0 * l[2],
+            ];
+            let dq = [
+                1.0 - 4.0 * l[0],
+                0.0,
+                4.0 * l[2] - 1.0,
+                -4.0 * l[1],
+                4.0 * l[1],
+                4.0 * (l[0] - l[2]),
+            ];
             for tri in &tris {
-                v += ws * wt * (1.0 - s) * triple(comb(&n, tri), comb(&dr, tri), comb(&dq, tri)) / 3.0;
+                v += ws * wt * (1.0 - s) * triple(comb(&n, tri), comb(&dr, tri), comb(&dq, tri))
+                    / 3.0;
             }
         }
     }
@@ -465,8 +629,13 @@ fn total_mass_is_rho_v_consistent_and_lumped() {
             }
             if lumping == MassLumping::Lumped {
                 assert!(
-                    max_abs(&(&m - Mat::from_fn(m.nrows(), m.ncols(), |i, j| if i == j { m[(i, i)] } else { 0.0 })))
-                        == 0.0
+                    max_abs(
+                        &(&m - Mat::from_fn(m.nrows(), m.ncols(), |i, j| if i == j {
+                            m[(i, i)]
+                        } else {
+                            0.0
+                        }))
+                    ) == 0.0
                 );
             }
         }
@@ -475,7 +644,13 @@ fn total_mass_is_rho_v_consistent_and_lumped() {
 
 #[test]
 fn tet10_hrz_lumping_gives_the_textbook_fractions() {
-    let m = mass(SolidKind::Tetra10, &tet10(&unit_tet(), 0.0), 6.0, MassLumping::Lumped).unwrap();
+    let m = mass(
+        SolidKind::Tetra10,
+        &tet10(&unit_tet(), 0.0),
+        6.0,
+        MassLumping::Lumped,
+    )
+    .unwrap();
     // ρV = 1: corners 1/36, mid-edge grids 4/27
     for a in 0..10 {
         let expected = if a < 4 { 1.0 / 36.0 } else { 4.0 / 27.0 };
@@ -491,32 +666,58 @@ fn relative_difference(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
 
 #[test]
 fn affine_parts_reproduce_the_matrices() {
-    let at = |e: f64, nu: f64, rho: f64| CoefficientValues { e, nu, rho, ..Default::default() };
+    let at = |e: f64, nu: f64, rho: f64| CoefficientValues {
+        e,
+        nu,
+        rho,
+        ..Default::default()
+    };
     for (kind, label, xyz) in samples() {
         let k = stiffness(kind, &xyz, STEEL).unwrap();
-        let parts = affine_stiffness(kind, &xyz, StiffnessParametrization::YoungsModulus { nu: 0.3 }).unwrap();
-        assert!(relative_difference(&parts.evaluate(&at(210.0, 0.3, 0.0)), &k) < 1e-12, "{kind} {label} E");
+        let parts = affine_stiffness(
+            kind,
+            &xyz,
+            StiffnessParametrization::YoungsModulus { nu: 0.3 },
+        )
+        .unwrap();
+        assert!(
+            relative_difference(&parts.evaluate(&at(210.0, 0.3, 0.0)), &k) < 1e-12,
+            "{kind} {label} E"
+        );
         let fixed = affine_stiffness(kind, &xyz, StiffnessParametrization::Fixed(STEEL)).unwrap();
-        assert!(relative_difference(&fixed.evaluate(&at(1.0, 0.1, 0.0)), &k) < 1e-15, "{kind} {label} fixed");
+        assert!(
+            relative_difference(&fixed.evaluate(&at(1.0, 0.1, 0.0)), &k) < 1e-15,
+            "{kind} {label} fixed"
+        );
         match affine_stiffness(kind, &xyz, StiffnessParametrization::Lame) {
             Ok(parts) => {
                 assert_ne!(kind, SolidKind::Hexa8);
                 for (e, nu) in [(210.0, 0.3), (70.0, 0.33), (1.0, 0.49), (5.0, -0.2)] {
                     let k = stiffness(kind, &xyz, Isotropic { e, nu }).unwrap();
-                    assert!(relative_difference(&parts.evaluate(&at(e, nu, 0.0)), &k) < 1e-12, "{kind} {label} λ, μ");
+                    assert!(
+                        relative_difference(&parts.evaluate(&at(e, nu, 0.0)), &k) < 1e-12,
+                        "{kind} {label} λ, μ"
+                    );
                 }
             }
             Err(err) => {
                 assert_eq!(kind, SolidKind::Hexa8);
                 assert_eq!(err, SolidError::NuNotAffineForIncompatibleHexa);
-                assert!(err.to_string().starts_with("ν cannot be a parameter of CHEXA with incompatible modes"));
+                assert!(
+                    err.to_string()
+                        .starts_with("ν cannot be a parameter of CHEXA with incompatible modes")
+                );
             }
         }
         for lumping in [MassLumping::Consistent, MassLumping::Lumped] {
             let m = mass(kind, &xyz, 7.8, lumping).unwrap();
             let parts = affine_mass(kind, &xyz, lumping, MassParametrization::Density).unwrap();
-            assert!(relative_difference(&parts.evaluate(&at(0.0, 0.0, 7.8)), &m) < 1e-14, "{kind} {label} ρ");
-            let fixed = affine_mass(kind, &xyz, lumping, MassParametrization::Fixed { rho: 7.8 }).unwrap();
+            assert!(
+                relative_difference(&parts.evaluate(&at(0.0, 0.0, 7.8)), &m) < 1e-14,
+                "{kind} {label} ρ"
+            );
+            let fixed =
+                affine_mass(kind, &xyz, lumping, MassParametrization::Fixed { rho: 7.8 }).unwrap();
             assert!(relative_difference(&fixed.evaluate(&at(0.0, 0.0, 1.0)), &m) < 1e-15);
         }
     }
@@ -531,24 +732,50 @@ fn inverted_and_degenerate_elements_are_errors_naming_the_point() {
     inverted.rotate_left(4);
     let err = stiffness(SolidKind::Hexa8, &inverted, STEEL).unwrap_err();
     assert!(
-        matches!(err, SolidError::NonPositiveJacobian { at: EvalPoint::Integration { index: 0, of: 8 }, .. }),
+        matches!(
+            err,
+            SolidError::NonPositiveJacobian {
+                at: EvalPoint::Integration { index: 0, of: 8 },
+                ..
+            }
+        ),
         "{err:?}"
     );
-    assert!(err.to_string().contains("integration point 1 of 8"), "{err}");
+    assert!(
+        err.to_string().contains("integration point 1 of 8"),
+        "{err}"
+    );
     // flat CTETRA: all grids in z = 0
-    let flat = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]];
+    let flat = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+    ];
     for result in [
         stiffness(SolidKind::Tetra4, &flat, STEEL).map(|_| ()),
         mass(SolidKind::Tetra4, &flat, 1.0, MassLumping::Consistent).map(|_| ()),
         strain_at_centroid(SolidKind::Tetra4, &flat, &[0.0; 12]).map(|_| ()),
     ] {
-        assert!(matches!(result, Err(SolidError::NonPositiveJacobian { .. })));
+        assert!(matches!(
+            result,
+            Err(SolidError::NonPositiveJacobian { .. })
+        ));
     }
     // CHEXA whose corner folds through: valid centre, negative det J at one Gauss point
     let mut folded = unit_hexa();
     folded[6] = [0.2, 0.2, 0.2];
     let err = stiffness(SolidKind::Hexa8, &folded, STEEL).unwrap_err();
-    assert!(matches!(err, SolidError::NonPositiveJacobian { at: EvalPoint::Integration { .. }, .. }), "{err:?}");
+    assert!(
+        matches!(
+            err,
+            SolidError::NonPositiveJacobian {
+                at: EvalPoint::Integration { .. },
+                ..
+            }
+        ),
+        "{err:?}"
+    );
     // NaN coordinates are errors, not panics
     let mut nan = unit_penta();
     nan[3][2] = f64::NAN;
@@ -556,15 +783,27 @@ fn inverted_and_degenerate_elements_are_errors_naming_the_point() {
     // wrong counts
     assert_eq!(
         stiffness(SolidKind::Tetra10, &unit_tet(), STEEL).unwrap_err(),
-        SolidError::NodeCount { kind: SolidKind::Tetra10, expected: 10, got: 4 }
+        SolidError::NodeCount {
+            kind: SolidKind::Tetra10,
+            expected: 10,
+            got: 4
+        }
     );
     assert!(matches!(
         strain_at_centroid(SolidKind::Tetra4, &unit_tet(), &[0.0; 24]),
-        Err(SolidError::DisplacementLength { expected: 12, got: 24, .. })
+        Err(SolidError::DisplacementLength {
+            expected: 12,
+            got: 24,
+            ..
+        })
     ));
     // a material the incompatible-mode condensation cannot handle
     assert!(matches!(
-        stiffness(SolidKind::Hexa8, &unit_hexa(), Isotropic { e: -1.0, nu: 0.3 }),
+        stiffness(
+            SolidKind::Hexa8,
+            &unit_hexa(),
+            Isotropic { e: -1.0, nu: 0.3 }
+        ),
         Err(SolidError::CondensationFailed { .. })
     ));
 }

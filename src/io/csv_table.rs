@@ -13,24 +13,60 @@ use crate::deck::reader::Column;
 
 /// The (x, y) points of columns `x` and `y` of the CSV file at `path`.
 pub fn read_columns(path: &Path, x: &Column, y: &Column) -> Result<Vec<(f64, f64)>, IoError> {
-    let text = std::fs::read_to_string(path).map_err(|cause| IoError::Fs { path: path.into(), what: "read the CSV file".into(), cause })?;
-    let bad = |line: usize, reason: String| IoError::Parse { path: path.into(), line, reason };
-    let mut rows = text.lines().enumerate().map(|(k, l)| (k + 1, l.trim())).filter(|(_, l)| !l.is_empty() && !l.starts_with('#')).peekable();
+    let text = std::fs::read_to_string(path).map_err(|cause| IoError::Fs {
+        path: path.into(),
+        what: "read the CSV file".into(),
+        cause,
+    })?;
+    let bad = |line: usize, reason: String| IoError::Parse {
+        path: path.into(),
+        line,
+        reason,
+    };
+    let mut rows = text
+        .lines()
+        .enumerate()
+        .map(|(k, l)| (k + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'))
+        .peekable();
     let Some(&(first_line, _)) = rows.peek() else {
-        return Err(IoError::malformed(path, "CSV file", "no header and no data rows"));
+        return Err(IoError::malformed(
+            path,
+            "CSV file",
+            "no header and no data rows",
+        ));
     };
     let header: Option<Vec<String>> = match rows.peek() {
-        Some((_, first)) if first.split(',').any(|f| f.trim().parse::<f64>().is_err()) => Some(rows.next().map(|(_, l)| l.split(',').map(|f| f.trim().to_ascii_uppercase()).collect()).unwrap_or_default()),
+        Some((_, first)) if first.split(',').any(|f| f.trim().parse::<f64>().is_err()) => Some(
+            rows.next()
+                .map(|(_, l)| {
+                    l.split(',')
+                        .map(|f| f.trim().to_ascii_uppercase())
+                        .collect()
+                })
+                .unwrap_or_default(),
+        ),
         _ => None,
     };
     let index = |c: &Column| -> Result<usize, IoError> {
         match c {
             Column::Index(i) if *i >= 1 => Ok(i - 1),
-            Column::Index(i) => Err(bad(first_line, format!("column index {i}: columns count from 1"))),
+            Column::Index(i) => Err(bad(
+                first_line,
+                format!("column index {i}: columns count from 1"),
+            )),
             Column::Name(n) => header
                 .as_ref()
                 .and_then(|h| h.iter().position(|x| x.eq_ignore_ascii_case(n)))
-                .ok_or_else(|| bad(first_line, format!("no column named {n} (header: {})", header.as_ref().map_or("none".into(), |h| h.join(", "))))),
+                .ok_or_else(|| {
+                    bad(
+                        first_line,
+                        format!(
+                            "no column named {n} (header: {})",
+                            header.as_ref().map_or("none".into(), |h| h.join(", "))
+                        ),
+                    )
+                }),
         }
     };
     let (ix, iy) = (index(x)?, index(y)?);
@@ -38,11 +74,22 @@ pub fn read_columns(path: &Path, x: &Column, y: &Column) -> Result<Vec<(f64, f64
     for (line, row) in rows {
         let fields: Vec<&str> = row.split(',').map(str::trim).collect();
         let value = |i: usize| -> Result<f64, IoError> {
-            let field = fields.get(i).ok_or_else(|| bad(line, format!("{} field(s), column {} wanted", fields.len(), i + 1)))?;
+            let field = fields.get(i).ok_or_else(|| {
+                bad(
+                    line,
+                    format!("{} field(s), column {} wanted", fields.len(), i + 1),
+                )
+            })?;
             match field.parse::<f64>() {
                 Ok(v) if v.is_finite() => Ok(v),
-                Ok(_) => Err(bad(line, format!("column {}: '{field}' is not a finite number", i + 1))),
-                Err(_) => Err(bad(line, format!("column {}: '{field}' is not a number", i + 1))),
+                Ok(_) => Err(bad(
+                    line,
+                    format!("column {}: '{field}' is not a finite number", i + 1),
+                )),
+                Err(_) => Err(bad(
+                    line,
+                    format!("column {}: '{field}' is not a number", i + 1),
+                )),
             }
         };
         out.push((value(ix)?, value(iy)?));
@@ -58,21 +105,50 @@ mod tests {
     fn reads_by_index_and_by_header_name_and_names_bad_fields() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("t.csv");
-        std::fs::write(&path, "# load history\ntime, force ,other\n0.0,1.5,9\n\n0.1,2.5e3,9\n").unwrap();
-        let by_name = read_columns(&path, &Column::Name("TIME".into()), &Column::Name("force".into())).unwrap();
+        std::fs::write(
+            &path,
+            "# load history\ntime, force ,other\n0.0,1.5,9\n\n0.1,2.5e3,9\n",
+        )
+        .unwrap();
+        let by_name = read_columns(
+            &path,
+            &Column::Name("TIME".into()),
+            &Column::Name("force".into()),
+        )
+        .unwrap();
         assert_eq!(by_name, vec![(0.0, 1.5), (0.1, 2.5e3)]);
-        assert_eq!(read_columns(&path, &Column::Index(1), &Column::Index(3)).unwrap(), vec![(0.0, 9.0), (0.1, 9.0)]);
+        assert_eq!(
+            read_columns(&path, &Column::Index(1), &Column::Index(3)).unwrap(),
+            vec![(0.0, 9.0), (0.1, 9.0)]
+        );
         std::fs::write(&path, "0,1\n0.2,x\n").unwrap();
-        let message = read_columns(&path, &Column::Index(1), &Column::Index(2)).unwrap_err().to_string();
-        assert!(message.contains("t.csv:2: column 2: 'x' is not a number"), "{message}");
-        let missing = read_columns(&path, &Column::Name("F".into()), &Column::Index(2)).unwrap_err().to_string();
+        let message = read_columns(&path, &Column::Index(1), &Column::Index(2))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("t.csv:2: column 2: 'x' is not a number"),
+            "{message}"
+        );
+        let missing = read_columns(&path, &Column::Name("F".into()), &Column::Index(2))
+            .unwrap_err()
+            .to_string();
         assert!(missing.contains("no column named F"), "{missing}");
         // a missing sample written as NaN or an overflow is refused where it is
         std::fs::write(&path, "0,1\n0.1,2\n0.2,NaN\n0.3,inf\n").unwrap();
-        let message = read_columns(&path, &Column::Index(1), &Column::Index(2)).unwrap_err().to_string();
-        assert!(message.contains("t.csv:3: column 2: 'NaN' is not a finite number"), "{message}");
+        let message = read_columns(&path, &Column::Index(1), &Column::Index(2))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("t.csv:3: column 2: 'NaN' is not a finite number"),
+            "{message}"
+        );
         std::fs::write(&path, "# only a comment\n\n").unwrap();
-        let message = read_columns(&path, &Column::Index(1), &Column::Index(2)).unwrap_err().to_string();
-        assert!(message.contains("t.csv") && message.contains("no header and no data rows"), "{message}");
+        let message = read_columns(&path, &Column::Index(1), &Column::Index(2))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("t.csv") && message.contains("no header and no data rows"),
+            "{message}"
+        );
     }
 }

@@ -113,8 +113,16 @@ impl IoError {
     }
 
     /// Reports data read from a file that is not what it should be.
-    pub(crate) fn malformed(path: impl Into<PathBuf>, what: impl Into<String>, reason: impl Into<String>) -> Self {
-        IoError::Malformed { path: path.into(), what: what.into(), reason: reason.into() }
+    pub(crate) fn malformed(
+        path: impl Into<PathBuf>,
+        what: impl Into<String>,
+        reason: impl Into<String>,
+    ) -> Self {
+        IoError::Malformed {
+            path: path.into(),
+            what: what.into(),
+            reason: reason.into(),
+        }
     }
 
     /// Reports inconsistent data handed to a writer.
@@ -147,10 +155,24 @@ impl OutputFile {
         let final_path = path.as_ref().to_path_buf();
         // refuse before any work a name the final rename cannot take
         if final_path.is_dir() {
-            return Err(IoError::Fs { path: final_path, what: "write the output there".into(), cause: std::io::Error::new(std::io::ErrorKind::IsADirectory, "it is a directory") });
+            return Err(IoError::Fs {
+                path: final_path,
+                what: "write the output there".into(),
+                cause: std::io::Error::new(std::io::ErrorKind::IsADirectory, "it is a directory"),
+            });
         }
-        if let Some(dir) = final_path.parent().filter(|d| !d.as_os_str().is_empty() && !d.is_dir()) {
-            return Err(IoError::Fs { path: final_path.clone(), what: "write the output there".into(), cause: std::io::Error::new(std::io::ErrorKind::NotFound, format!("directory {} does not exist", dir.display())) });
+        if let Some(dir) = final_path
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty() && !d.is_dir())
+        {
+            return Err(IoError::Fs {
+                path: final_path.clone(),
+                what: "write the output there".into(),
+                cause: std::io::Error::new(
+                    std::io::ErrorKind::NotFound,
+                    format!("directory {} does not exist", dir.display()),
+                ),
+            });
         }
         let tmp_path = temp_path_for(&final_path);
         // Strong close degree: `close()` really closes the file even if a caller still holds a
@@ -337,7 +359,12 @@ pub fn write_f64(
 
 /// Writes a complex dataset of `shape` (row-major) as h5py does (compound of `r`, `i`), so
 /// `h5py` reads it as a numpy complex array.
-pub fn write_c64(group: &Group, name: &str, data: &[faer::c64], shape: &[usize]) -> Result<Dataset, IoError> {
+pub fn write_c64(
+    group: &Group,
+    name: &str,
+    data: &[faer::c64],
+    shape: &[usize],
+) -> Result<Dataset, IoError> {
     write_array(group, name, data, shape)
 }
 
@@ -530,7 +557,10 @@ mod tests {
         let dir = tempfile::tempdir().expect("tempdir");
         let out = dir.path().join("no/such/dir/d.h5");
         let msg = OutputFile::create(&out).unwrap_err().to_string();
-        assert!(msg.contains("no/such/dir/d.h5") && msg.contains("does not exist"), "{msg}");
+        assert!(
+            msg.contains("no/such/dir/d.h5") && msg.contains("does not exist"),
+            "{msg}"
+        );
     }
 
     /// An output name that is a directory is refused at creation, before the run computes
@@ -542,7 +572,14 @@ mod tests {
         let out = dir.path().join("taken.h5");
         std::fs::create_dir(&out).expect("dir");
         let msg = OutputFile::create(&out).unwrap_err().to_string();
-        assert!(msg.contains("taken.h5") && msg.contains("directory"), "{msg}");
-        assert_eq!(std::fs::read_dir(dir.path()).expect("list").count(), 1, "no temporary file left");
+        assert!(
+            msg.contains("taken.h5") && msg.contains("directory"),
+            "{msg}"
+        );
+        assert_eq!(
+            std::fs::read_dir(dir.path()).expect("list").count(),
+            1,
+            "no temporary file left"
+        );
     }
 }

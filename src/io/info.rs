@@ -158,12 +158,15 @@ fn describe_model(file: &hdf5::File, path: &Path) -> Result<ModelSummary, IoErro
             .map_err(|e| IoError::hdf5(path, "list /model/elements", e))?;
         for g in groups {
             // Distinct ids: rigid elements are stored as one row per leg.
-            let count = g.dataset("ids").and_then(|d| d.read_raw::<u32>()).map(|ids| {
-                let mut ids = ids;
-                ids.sort_unstable();
-                ids.dedup();
-                ids.len()
-            });
+            let count = g
+                .dataset("ids")
+                .and_then(|d| d.read_raw::<u32>())
+                .map(|ids| {
+                    let mut ids = ids;
+                    ids.sort_unstable();
+                    ids.dedup();
+                    ids.len()
+                });
             elements.insert(basename(&g.name()), count.unwrap_or(0));
         }
     }
@@ -182,8 +185,15 @@ fn describe_prom(file: &hdf5::File, path: &Path) -> Result<PromSummary, IoError>
         .map_err(|e| IoError::hdf5(path, "open /prom", e))?;
     let int = |name: &str| prom.attr(name).and_then(|a| a.read_scalar::<i64>()).ok();
     let params = read_strs_attr(&prom, "params").unwrap_or_default();
-    let f64s = |name: &str| prom.attr(name).and_then(|a| a.read_raw::<f64>()).unwrap_or_default();
-    let ranges = f64s("ranges").chunks_exact(2).map(|c| (c[0], c[1])).collect();
+    let f64s = |name: &str| {
+        prom.attr(name)
+            .and_then(|a| a.read_raw::<f64>())
+            .unwrap_or_default()
+    };
+    let ranges = f64s("ranges")
+        .chunks_exact(2)
+        .map(|c| (c[0], c[1]))
+        .collect();
     let nominal = f64s("nominal");
     let inputs = prom
         .dataset("inputs/names")
@@ -343,12 +353,23 @@ impl fmt::Display for FileSummary {
             let opt = |v: Option<i64>| v.map_or("?".to_string(), |v| v.to_string());
             writeln!(f, "/prom: n_full {}, n_red {}", opt(p.n_full), opt(p.n_red))?;
             for (k, name) in p.params.iter().enumerate() {
-                let range = p.ranges.get(k).map_or(String::new(), |(lo, hi)| format!(" in [{lo:e}, {hi:e}]"));
-                let nominal = p.nominal.get(k).map_or(String::new(), |v| format!(", nominal {v:e}"));
+                let range = p
+                    .ranges
+                    .get(k)
+                    .map_or(String::new(), |(lo, hi)| format!(" in [{lo:e}, {hi:e}]"));
+                let nominal = p
+                    .nominal
+                    .get(k)
+                    .map_or(String::new(), |v| format!(", nominal {v:e}"));
                 writeln!(f, "  param     {name}{range}{nominal}")?;
             }
             if !p.inputs.is_empty() {
-                writeln!(f, "  inputs    {} ({})", p.inputs.len(), p.inputs.join(", "))?;
+                writeln!(
+                    f,
+                    "  inputs    {} ({})",
+                    p.inputs.len(),
+                    p.inputs.join(", ")
+                )?;
             }
             if !p.members.is_empty() {
                 writeln!(f, "  members   {}", p.members.join(", "))?;

@@ -50,7 +50,12 @@ enum Inner {
     Colamd(SymbolicLu<usize>),
     /// A structurally symmetric pattern: nested-dissection column order, supernodal layout;
     /// `mirror[k]` is the position of the transpose of entry k.
-    Symmetric { symbolic: SymbolicSupernodalLu<usize>, fwd: Vec<usize>, inv: Vec<usize>, mirror: Vec<usize> },
+    Symmetric {
+        symbolic: SymbolicSupernodalLu<usize>,
+        fwd: Vec<usize>,
+        inv: Vec<usize>,
+        mirror: Vec<usize>,
+    },
 }
 
 /// For each entry (i, j) of a CSC pattern, the position of (j, i); `None` when the pattern is
@@ -98,13 +103,43 @@ impl ComplexLuSymbolic {
                 qr::postorder(&mut post, tree, stack);
                 let (mut col_counts, mut min_col) = (vec![0usize; n], vec![0usize; n]);
                 // column_counts_ata takes Aᵀ's pattern: the pattern itself
-                qr::column_counts_ata(&mut col_counts, &mut min_col, view, Some(perm), tree, &post, stack);
-                let symbolic = supernodal::factorize_supernodal_symbolic_lu(view, Some(perm), &min_col, tree, &col_counts, stack, Default::default()).map_err(|_| LinalgError::OutOfMemory)?;
-                Inner::Symmetric { symbolic, fwd, inv, mirror }
+                qr::column_counts_ata(
+                    &mut col_counts,
+                    &mut min_col,
+                    view,
+                    Some(perm),
+                    tree,
+                    &post,
+                    stack,
+                );
+                let symbolic = supernodal::factorize_supernodal_symbolic_lu(
+                    view,
+                    Some(perm),
+                    &min_col,
+                    tree,
+                    &col_counts,
+                    stack,
+                    Default::default(),
+                )
+                .map_err(|_| LinalgError::OutOfMemory)?;
+                Inner::Symmetric {
+                    symbolic,
+                    fwd,
+                    inv,
+                    mirror,
+                }
             }
-            _ => Inner::Colamd(factorize_symbolic_lu(view, Default::default()).map_err(|_| LinalgError::OutOfMemory)?),
+            _ => Inner::Colamd(
+                factorize_symbolic_lu(view, Default::default())
+                    .map_err(|_| LinalgError::OutOfMemory)?,
+            ),
         };
-        Ok(ComplexLuSymbolic { n, col_ptr: Arc::new(col_ptr), row_idx: Arc::new(row_idx), inner: Arc::new(inner) })
+        Ok(ComplexLuSymbolic {
+            n,
+            col_ptr: Arc::new(col_ptr),
+            row_idx: Arc::new(row_idx),
+            inner: Arc::new(inner),
+        })
     }
 
     /// Number of rows and columns.
@@ -119,10 +154,16 @@ impl ComplexLuSymbolic {
     /// non-finite solution).
     pub fn solve_in_place(&self, values: &[c64], rhs: MatMut<'_, c64>) -> Result<(), LinalgError> {
         if values.len() != self.row_idx.len() {
-            return Err(LinalgError::PatternMismatch { expected: self.row_idx.len(), got: values.len() });
+            return Err(LinalgError::PatternMismatch {
+                expected: self.row_idx.len(),
+                got: values.len(),
+            });
         }
         if rhs.nrows() != self.n {
-            return Err(LinalgError::DimensionMismatch { expected: self.n, got: rhs.nrows() });
+            return Err(LinalgError::DimensionMismatch {
+                expected: self.n,
+                got: rhs.nrows(),
+            });
         }
         let (n, k) = (self.n, rhs.ncols());
         let view = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
@@ -135,28 +176,84 @@ impl ComplexLuSymbolic {
         match &*self.inner {
             Inner::Colamd(inner) => {
                 let mut numeric = NumericLu::<usize, c64>::new();
-                let mut factor_mem = memory(inner.factorize_numeric_lu_scratch::<c64>(Par::Seq, Default::default()))?;
-                let lu = inner.factorize_numeric_lu(&mut numeric, a, Par::Seq, MemStack::new(&mut factor_mem), Default::default()).map_err(singular)?;
+                let mut factor_mem = memory(
+                    inner.factorize_numeric_lu_scratch::<c64>(Par::Seq, Default::default()),
+                )?;
+                let lu = inner
+                    .factorize_numeric_lu(
+                        &mut numeric,
+                        a,
+                        Par::Seq,
+                        MemStack::new(&mut factor_mem),
+                        Default::default(),
+                    )
+                    .map_err(singular)?;
                 let mut solve_mem = memory(inner.solve_in_place_scratch::<c64>(k, Par::Seq))?;
-                self.refined(values, rhs, |x| lu.solve_in_place_with_conj(Conj::No, x, Par::Seq, MemStack::new(&mut solve_mem)))
+                self.refined(values, rhs, |x| {
+                    lu.solve_in_place_with_conj(
+                        Conj::No,
+                        x,
+                        Par::Seq,
+                        MemStack::new(&mut solve_mem),
+                    )
+                })
             }
-            Inner::Symmetric { symbolic, fwd, inv, mirror } => {
+            Inner::Symmetric {
+                symbolic,
+                fwd,
+                inv,
+                mirror,
+            } => {
                 let transposed: Vec<c64> = mirror.iter().map(|&p| values[p]).collect();
                 let at = SparseColMatRef::new(view, &transposed);
                 let col = PermRef::new_checked(fwd, inv, n);
                 let (mut row_fwd, mut row_inv) = (vec![0usize; n], vec![0usize; n]);
                 let mut lu = SupernodalLu::<usize, c64>::new();
-                let mut factor_mem = memory(supernodal::factorize_supernodal_numeric_lu_scratch::<usize, c64>(symbolic, Default::default()))?;
-                supernodal::factorize_supernodal_numeric_lu(&mut row_fwd, &mut row_inv, &mut lu, a, at, col, symbolic, Par::Seq, MemStack::new(&mut factor_mem), Default::default()).map_err(singular)?;
+                let mut factor_mem =
+                    memory(supernodal::factorize_supernodal_numeric_lu_scratch::<
+                        usize,
+                        c64,
+                    >(symbolic, Default::default()))?;
+                supernodal::factorize_supernodal_numeric_lu(
+                    &mut row_fwd,
+                    &mut row_inv,
+                    &mut lu,
+                    a,
+                    at,
+                    col,
+                    symbolic,
+                    Par::Seq,
+                    MemStack::new(&mut factor_mem),
+                    Default::default(),
+                )
+                .map_err(singular)?;
                 let row = PermRef::new_checked(&row_fwd, &row_inv, n);
-                let mut solve_mem = memory(supernodal::solve_in_place_scratch::<usize, c64>(n, k, Par::Seq))?;
-                self.refined(values, rhs, |x| lu.solve_in_place_with_conj(row, col, Conj::No, x, Par::Seq, MemStack::new(&mut solve_mem)))
+                let mut solve_mem = memory(supernodal::solve_in_place_scratch::<usize, c64>(
+                    n,
+                    k,
+                    Par::Seq,
+                ))?;
+                self.refined(values, rhs, |x| {
+                    lu.solve_in_place_with_conj(
+                        row,
+                        col,
+                        Conj::No,
+                        x,
+                        Par::Seq,
+                        MemStack::new(&mut solve_mem),
+                    )
+                })
             }
         }
     }
 
     /// X = A⁻¹B by `solve` (in place) plus one refinement step r = B − A X, X += A⁻¹ r.
-    fn refined(&self, values: &[c64], mut rhs: MatMut<'_, c64>, mut solve: impl FnMut(MatMut<'_, c64>)) -> Result<(), LinalgError> {
+    fn refined(
+        &self,
+        values: &[c64],
+        mut rhs: MatMut<'_, c64>,
+        mut solve: impl FnMut(MatMut<'_, c64>),
+    ) -> Result<(), LinalgError> {
         let (n, k) = (self.n, rhs.ncols());
         let mut r: Mat<c64> = rhs.to_owned();
         solve(rhs.as_mut());
@@ -174,7 +271,9 @@ impl ComplexLuSymbolic {
                 rhs[(i, c)] += r[(i, c)];
             }
         }
-        if (0..k).any(|c| (0..n).any(|i| !(rhs[(i, c)].re.is_finite() && rhs[(i, c)].im.is_finite()))) {
+        if (0..k)
+            .any(|c| (0..n).any(|i| !(rhs[(i, c)].re.is_finite() && rhs[(i, c)].im.is_finite())))
+        {
             return Err(LinalgError::Singular { index: 0 });
         }
         Ok(())
@@ -191,7 +290,15 @@ mod tests {
     /// the same system, bound 1e-13 relative (two pivoted LUs of a well-conditioned matrix).
     #[test]
     fn matches_the_dense_lu() {
-        let entries = [(0, 0, c64::new(4.0, 1.0)), (0, 1, c64::new(-1.0, 0.5)), (1, 0, c64::new(-1.0, 0.5)), (1, 1, c64::new(3.0, -2.0)), (1, 2, c64::new(0.0, 1.0)), (2, 1, c64::new(0.0, 1.0)), (2, 2, c64::new(2.0, 0.0))];
+        let entries = [
+            (0, 0, c64::new(4.0, 1.0)),
+            (0, 1, c64::new(-1.0, 0.5)),
+            (1, 0, c64::new(-1.0, 0.5)),
+            (1, 1, c64::new(3.0, -2.0)),
+            (1, 2, c64::new(0.0, 1.0)),
+            (2, 1, c64::new(0.0, 1.0)),
+            (2, 2, c64::new(2.0, 0.0)),
+        ];
         let mut coo = CooMatrix::new(3, 3);
         for (i, j, v) in entries {
             coo.push(i, j, v);
@@ -202,7 +309,12 @@ mod tests {
         let b = Mat::<c64>::from_fn(3, 2, |i, j| c64::new(1.0 + i as f64, j as f64));
         let mut x = b.clone();
         lu.solve_in_place(a.values(), x.as_mut()).unwrap();
-        let dense = Mat::<c64>::from_fn(3, 3, |i, j| entries.iter().find(|e| e.0 == i && e.1 == j).map_or(c64::new(0.0, 0.0), |e| e.2));
+        let dense = Mat::<c64>::from_fn(3, 3, |i, j| {
+            entries
+                .iter()
+                .find(|e| e.0 == i && e.1 == j)
+                .map_or(c64::new(0.0, 0.0), |e| e.2)
+        });
         use faer::linalg::solvers::Solve;
         let want = dense.partial_piv_lu().solve(&b);
         for i in 0..3 {
@@ -216,7 +328,14 @@ mod tests {
     /// dense LU (bound as above).
     #[test]
     fn an_unsymmetric_pattern_matches_the_dense_lu() {
-        let entries = [(0, 0, c64::new(4.0, 1.0)), (0, 2, c64::new(-1.0, 0.5)), (1, 0, c64::new(2.0, 0.0)), (1, 1, c64::new(3.0, -2.0)), (2, 1, c64::new(0.0, 1.0)), (2, 2, c64::new(2.0, 0.0))];
+        let entries = [
+            (0, 0, c64::new(4.0, 1.0)),
+            (0, 2, c64::new(-1.0, 0.5)),
+            (1, 0, c64::new(2.0, 0.0)),
+            (1, 1, c64::new(3.0, -2.0)),
+            (2, 1, c64::new(0.0, 1.0)),
+            (2, 2, c64::new(2.0, 0.0)),
+        ];
         let mut coo = CooMatrix::new(3, 3);
         for (i, j, v) in entries {
             coo.push(i, j, v);
@@ -227,7 +346,12 @@ mod tests {
         let b = Mat::<c64>::from_fn(3, 1, |i, _| c64::new(1.0, -(i as f64)));
         let mut x = b.clone();
         lu.solve_in_place(a.values(), x.as_mut()).unwrap();
-        let dense = Mat::<c64>::from_fn(3, 3, |i, j| entries.iter().find(|e| e.0 == i && e.1 == j).map_or(c64::new(0.0, 0.0), |e| e.2));
+        let dense = Mat::<c64>::from_fn(3, 3, |i, j| {
+            entries
+                .iter()
+                .find(|e| e.0 == i && e.1 == j)
+                .map_or(c64::new(0.0, 0.0), |e| e.2)
+        });
         use faer::linalg::solvers::Solve;
         let want = dense.partial_piv_lu().solve(&b);
         for i in 0..3 {
@@ -244,6 +368,9 @@ mod tests {
         let a = CscMatrix::from(&coo);
         let lu = ComplexLuSymbolic::analyze(a.pattern()).unwrap();
         let mut x = Mat::<c64>::from_fn(2, 1, |_, _| c64::new(1.0, 0.0));
-        assert!(matches!(lu.solve_in_place(a.values(), x.as_mut()), Err(LinalgError::Singular { .. })));
+        assert!(matches!(
+            lu.solve_in_place(a.values(), x.as_mut()),
+            Err(LinalgError::Singular { .. })
+        ));
     }
 }

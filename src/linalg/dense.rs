@@ -28,11 +28,15 @@ pub const MASS_CONDITION_LIMIT: f64 = 1e-12;
 pub enum DenseEigenError {
     #[error("K and M must be square and of equal size ({k}×{k} vs {m}×{m})")]
     Shape { k: usize, m: usize },
-    #[error("the reduced mass matrix is ill-conditioned (smallest/largest eigenvalue {ratio:.1e} < {MASS_CONDITION_LIMIT:e}): the reduction basis has (nearly) dependent or massless directions")]
+    #[error(
+        "the reduced mass matrix is ill-conditioned (smallest/largest eigenvalue {ratio:.1e} < {MASS_CONDITION_LIMIT:e}): the reduction basis has (nearly) dependent or massless directions"
+    )]
     IllConditionedMass { ratio: f64 },
     #[error("the eigen decomposition failed to converge")]
     NoConvergence,
-    #[error("the stiffness matrix is indefinite (eigenvalue {smallest:e} against {largest:e}): parameter values outside the physical range (e.g. a modulus ≤ 0)")]
+    #[error(
+        "the stiffness matrix is indefinite (eigenvalue {smallest:e} against {largest:e}): parameter values outside the physical range (e.g. a modulus ≤ 0)"
+    )]
     IndefiniteStiffness { smallest: f64, largest: f64 },
 }
 
@@ -47,7 +51,11 @@ pub const STIFFNESS_ROUNDOFF: f64 = 1e-8;
 /// matrices M + Δt C + Δt² K stay definite for an indefinite K, so a negative modulus would run.
 pub fn stiffness_semidefinite(k: MatRef<'_, f64>) -> Result<(), DenseEigenError> {
     let (kappa, _) = symmetric_eigen(k, ComputeEigenvectors::No)?;
-    let (smallest, largest) = kappa.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+    let (smallest, largest) = kappa
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
     if smallest < -STIFFNESS_ROUNDOFF * largest.abs() || largest <= 0.0 {
         return Err(DenseEigenError::IndefiniteStiffness { smallest, largest });
     }
@@ -59,7 +67,10 @@ pub fn stiffness_semidefinite(k: MatRef<'_, f64>) -> Result<(), DenseEigenError>
 /// model checks its mass with this before solving with it (eigenproblems, time integration).
 pub fn mass_conditioning(m: MatRef<'_, f64>) -> Result<f64, DenseEigenError> {
     let (mu, _) = symmetric_eigen(m, ComputeEigenvectors::No)?;
-    let (lo, hi) = (mu.iter().copied().fold(f64::INFINITY, f64::min), mu.iter().copied().fold(0.0_f64, f64::max));
+    let (lo, hi) = (
+        mu.iter().copied().fold(f64::INFINITY, f64::min),
+        mu.iter().copied().fold(0.0_f64, f64::max),
+    );
     let ratio = if hi > 0.0 { lo / hi } else { 0.0 };
     if !(ratio >= MASS_CONDITION_LIMIT) {
         return Err(DenseEigenError::IllConditionedMass { ratio });
@@ -68,7 +79,10 @@ pub fn mass_conditioning(m: MatRef<'_, f64>) -> Result<f64, DenseEigenError> {
 }
 
 /// Ascending eigenvalues and M-orthonormal eigenvectors (columns) of K φ = λ M φ.
-pub fn generalized_eigen(k: MatRef<'_, f64>, m: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), DenseEigenError> {
+pub fn generalized_eigen(
+    k: MatRef<'_, f64>,
+    m: MatRef<'_, f64>,
+) -> Result<(Vec<f64>, Mat<f64>), DenseEigenError> {
     let n = k.nrows();
     if k.ncols() != n || m.nrows() != n || m.ncols() != n {
         return Err(DenseEigenError::Shape { k: n, m: m.nrows() });
@@ -78,8 +92,19 @@ pub fn generalized_eigen(k: MatRef<'_, f64>, m: MatRef<'_, f64>) -> Result<(Vec<
     }
     let ratio = mass_conditioning(m)?;
     let mut l = m.to_owned();
-    let mut stack = MemBuffer::new(cholesky_in_place_scratch::<f64>(n, Par::Seq, Default::default()));
-    cholesky_in_place(l.as_mut(), Default::default(), Par::Seq, MemStack::new(&mut stack), Default::default()).map_err(|_| DenseEigenError::IllConditionedMass { ratio })?;
+    let mut stack = MemBuffer::new(cholesky_in_place_scratch::<f64>(
+        n,
+        Par::Seq,
+        Default::default(),
+    ));
+    cholesky_in_place(
+        l.as_mut(),
+        Default::default(),
+        Par::Seq,
+        MemStack::new(&mut stack),
+        Default::default(),
+    )
+    .map_err(|_| DenseEigenError::IllConditionedMass { ratio })?;
     (0..n).for_each(|j| (0..j).for_each(|i| l[(i, j)] = 0.0));
     let l = l.as_ref();
     // X = L⁻¹ K; A = L⁻¹ Xᵀ = L⁻¹ K L⁻ᵀ
@@ -90,27 +115,52 @@ pub fn generalized_eigen(k: MatRef<'_, f64>, m: MatRef<'_, f64>) -> Result<(Vec<
     let a = Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
     let (lambda, mut phi) = symmetric_eigen_vectors(a.as_ref())?;
     // φ = L⁻ᵀ y: solve Lᵀ φ = y, i.e. the upper-triangular Lᵀ
-    faer::linalg::triangular_solve::solve_upper_triangular_in_place(l.transpose(), phi.as_mut(), Par::Seq);
+    faer::linalg::triangular_solve::solve_upper_triangular_in_place(
+        l.transpose(),
+        phi.as_mut(),
+        Par::Seq,
+    );
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&i, &j| lambda[i].total_cmp(&lambda[j]));
-    Ok((order.iter().map(|&i| lambda[i]).collect(), Mat::from_fn(n, n, |r, c| phi[(r, order[c])])))
+    Ok((
+        order.iter().map(|&i| lambda[i]).collect(),
+        Mat::from_fn(n, n, |r, c| phi[(r, order[c])]),
+    ))
 }
 
 /// Eigenvalues (ascending) and orthonormal eigenvectors (columns) of the symmetric `a` (its
 /// lower triangle is read).
-pub fn symmetric_eigen_vectors(a: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), DenseEigenError> {
+pub fn symmetric_eigen_vectors(
+    a: MatRef<'_, f64>,
+) -> Result<(Vec<f64>, Mat<f64>), DenseEigenError> {
     let (values, vectors) = symmetric_eigen(a, ComputeEigenvectors::Yes)?;
     Ok((values, vectors.expect("eigenvectors were requested")))
 }
 
 /// Eigenvalues (ascending) and, when asked, orthonormal eigenvectors of the symmetric `a`
 /// (its lower triangle is read).
-fn symmetric_eigen(a: MatRef<'_, f64>, vectors: ComputeEigenvectors) -> Result<(Vec<f64>, Option<Mat<f64>>), DenseEigenError> {
+fn symmetric_eigen(
+    a: MatRef<'_, f64>,
+    vectors: ComputeEigenvectors,
+) -> Result<(Vec<f64>, Option<Mat<f64>>), DenseEigenError> {
     let n = a.nrows();
     let mut s = faer::diag::Diag::<f64>::zeros(n);
     let mut u = (vectors == ComputeEigenvectors::Yes).then(|| Mat::<f64>::zeros(n, n));
-    let mut stack = MemBuffer::new(self_adjoint_evd_scratch::<f64>(n, vectors, Par::Seq, Default::default()));
-    self_adjoint_evd(a, s.as_mut(), u.as_mut().map(|u| u.as_mut()), Par::Seq, MemStack::new(&mut stack), Default::default()).map_err(|_| DenseEigenError::NoConvergence)?;
+    let mut stack = MemBuffer::new(self_adjoint_evd_scratch::<f64>(
+        n,
+        vectors,
+        Par::Seq,
+        Default::default(),
+    ));
+    self_adjoint_evd(
+        a,
+        s.as_mut(),
+        u.as_mut().map(|u| u.as_mut()),
+        Par::Seq,
+        MemStack::new(&mut stack),
+        Default::default(),
+    )
+    .map_err(|_| DenseEigenError::NoConvergence)?;
     Ok(((0..n).map(|i| s.column_vector()[i]).collect(), u))
 }
 
@@ -133,7 +183,10 @@ mod tests {
         let km = Mat::<f64>::from_fn(2, 2, |i, j| [[2.0 * k, -k], [-k, k]][i][j]);
         let mm = Mat::<f64>::from_fn(2, 2, |i, j| if i == j { m } else { 0.0 });
         let (lambda, phi) = generalized_eigen(km.as_ref(), mm.as_ref()).unwrap();
-        let exact = [(3.0 - 5f64.sqrt()) / 2.0 * k / m, (3.0 + 5f64.sqrt()) / 2.0 * k / m];
+        let exact = [
+            (3.0 - 5f64.sqrt()) / 2.0 * k / m,
+            (3.0 + 5f64.sqrt()) / 2.0 * k / m,
+        ];
         for (l, e) in lambda.iter().zip(exact) {
             assert!((l - e).abs() < 1e-13 * e, "{l} vs {e}");
         }
@@ -145,6 +198,9 @@ mod tests {
     fn nearly_singular_mass_is_reported() {
         let km = Mat::<f64>::identity(2, 2);
         let mm = Mat::<f64>::from_fn(2, 2, |i, j| if i == j { 1.0 } else { 1.0 - 1e-14 });
-        assert!(matches!(generalized_eigen(km.as_ref(), mm.as_ref()), Err(DenseEigenError::IllConditionedMass { .. })));
+        assert!(matches!(
+            generalized_eigen(km.as_ref(), mm.as_ref()),
+            Err(DenseEigenError::IllConditionedMass { .. })
+        ));
     }
 }

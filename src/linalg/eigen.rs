@@ -486,9 +486,16 @@ fn inertia_near(
 /// numerically singular near `shift`: the count is then taken at `shift` + |σ|, the mirror
 /// image of the shift whose factorization already succeeded (modes in between are counted and
 /// must have been found, as any below the shift).
-fn count_above(problem: &EigenProblem, shift: f64, sigma: f64, par: Par) -> Result<(f64, Inertia), LinalgError> {
+fn count_above(
+    problem: &EigenProblem,
+    shift: f64,
+    sigma: f64,
+    par: Par,
+) -> Result<(f64, Inertia), LinalgError> {
     inertia_near(problem, shift, 1.0, par).or_else(|e| match e {
-        LinalgError::Singular { .. } if sigma < 0.0 => inertia_near(problem, shift - sigma, 1.0, par),
+        LinalgError::Singular { .. } if sigma < 0.0 => {
+            inertia_near(problem, shift - sigma, 1.0, par)
+        }
         e => Err(e),
     })
 }
@@ -604,7 +611,10 @@ impl<'a> Lanczos<'a> {
             floor: None,
             restarts: 0,
             rng: SplitMix64::new(options.seed),
-            start_scale: (0..n).map(|i| problem.m.get_entry(i, i).map_or(0.0, |v| v.into_value())).map(|d| if d > 0.0 { 1.0 / d } else { 0.0 }).collect(),
+            start_scale: (0..n)
+                .map(|i| problem.m.get_entry(i, i).map_or(0.0, |v| v.into_value()))
+                .map(|d| if d > 0.0 { 1.0 / d } else { 0.0 })
+                .collect(),
             w: vec![0.0; n],
             p: vec![0.0; n],
             c: Vec::new(),
@@ -1010,9 +1020,17 @@ impl EigenResult {
             return;
         }
         let permute = |v: &[f64]| order.iter().map(|&o| v[o]).collect::<Vec<f64>>();
-        (self.eigenvalues, self.frequencies_hz, self.residuals) = (permute(&self.eigenvalues), permute(&self.frequencies_hz), permute(&self.residuals));
-        self.vectors = Mat::from_fn(self.vectors.nrows(), order.len(), |i, c| self.vectors[(i, order[c])]);
-        self.clamped = (0..order.len()).filter(|&i| self.eigenvalues[i] < 0.0).collect();
+        (self.eigenvalues, self.frequencies_hz, self.residuals) = (
+            permute(&self.eigenvalues),
+            permute(&self.frequencies_hz),
+            permute(&self.residuals),
+        );
+        self.vectors = Mat::from_fn(self.vectors.nrows(), order.len(), |i, c| {
+            self.vectors[(i, order[c])]
+        });
+        self.clamped = (0..order.len())
+            .filter(|&i| self.eigenvalues[i] < 0.0)
+            .collect();
     }
 }
 
@@ -1127,10 +1145,21 @@ pub(crate) mod tests {
         k.values_mut().iter_mut().for_each(|v| *v *= 1e10);
         let m = lumped(&k, 1e-3);
         let first_flexible = 1e13 * 4.0 * (PI / (2.0 * n as f64)).sin().powi(2);
-        let result = solve(&k, &m, EigenRequest { nd: Some(1), ..Default::default() });
+        let result = solve(
+            &k,
+            &m,
+            EigenRequest {
+                nd: Some(1),
+                ..Default::default()
+            },
+        );
         assert!(result.sturm.is_consistent(), "{:?}", result.sturm);
         assert_eq!(result.eigenvalues.len(), 1);
-        assert!(result.eigenvalues[0].abs() < 1e-8 * first_flexible, "{}", result.eigenvalues[0]);
+        assert!(
+            result.eigenvalues[0].abs() < 1e-8 * first_flexible,
+            "{}",
+            result.eigenvalues[0]
+        );
     }
 
     /// V1 above every finite eigenvalue (here with massless DOFs beside them): an empty but
@@ -1141,9 +1170,19 @@ pub(crate) mod tests {
         let n = 20;
         let k = chain(n, true, false, None);
         let mut m = lumped(&k, 1.0);
-        m.triplet_iter_mut().filter(|(i, j, _)| *i == 0 && *j == 0).for_each(|(_, _, v)| *v = 0.0); // one massless DOF: an infinite eigenvalue
+        m.triplet_iter_mut()
+            .filter(|(i, j, _)| *i == 0 && *j == 0)
+            .for_each(|(_, _, v)| *v = 0.0); // one massless DOF: an infinite eigenvalue
         let top = 4.0_f64.sqrt() / (2.0 * PI); // λ_max < 4
-        let result = solve(&k, &m, EigenRequest { v1_hz: Some(2.0 * top), v2_hz: Some(3.0 * top), ..Default::default() });
+        let result = solve(
+            &k,
+            &m,
+            EigenRequest {
+                v1_hz: Some(2.0 * top),
+                v2_hz: Some(3.0 * top),
+                ..Default::default()
+            },
+        );
         assert!(result.eigenvalues.is_empty(), "{:?}", result.eigenvalues);
         assert!(result.sturm.is_consistent(), "{:?}", result.sturm);
         assert_eq!(result.sturm.negative_pivots, n - 1, "{:?}", result.sturm);
@@ -1160,15 +1199,32 @@ pub(crate) mod tests {
         let n = 40;
         let k = chain(n, true, false, None);
         let mut m = lumped(&k, 1.0);
-        m.triplet_iter_mut().filter(|(i, j, _)| *i == n - 1 && *j == n - 1).for_each(|(_, _, v)| *v = 1e14);
+        m.triplet_iter_mut()
+            .filter(|(i, j, _)| *i == n - 1 && *j == n - 1)
+            .for_each(|(_, _, v)| *v = 1e14);
         assert!(massless_dofs(&m).is_empty());
-        let result = solve(&k, &m, EigenRequest { nd: Some(6), ..Default::default() });
+        let result = solve(
+            &k,
+            &m,
+            EigenRequest {
+                nd: Some(6),
+                ..Default::default()
+            },
+        );
         assert_eq!(result.eigenvalues.len(), 6, "{:?}", result.eigenvalues);
-        assert!(!result.finite_exhausted && result.sturm.is_consistent(), "{:?}", result.sturm);
+        assert!(
+            !result.finite_exhausted && result.sturm.is_consistent(),
+            "{:?}",
+            result.sturm
+        );
         assert!(result.eigenvalues[0] < 1e-10, "{}", result.eigenvalues[0]);
         for (j, lambda) in result.eigenvalues[1..].iter().enumerate() {
             let held = 4.0 * ((j + 1) as f64 * PI / (2.0 * n as f64)).sin().powi(2);
-            assert!((lambda - held).abs() <= 1e-8 * held, "mode {}: {lambda} vs {held}", j + 2);
+            assert!(
+                (lambda - held).abs() <= 1e-8 * held,
+                "mode {}: {lambda} vs {held}",
+                j + 2
+            );
         }
     }
 

@@ -63,6 +63,9 @@ mod tests {
         let mean = x.iter().sum::<f64>() / n as f64;
         let var = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n as f64;
         // standard errors: mean 1/√n = 0.007, variance √(2/n) = 0.01; 5 of them
-        assert!(mean.abs() < 0.035 && (var - 1.0).abs() < 0.05, "mean {mean}, variance {var}");
+        assert!(
+            mean.abs() < 0.035 && (var - 1.0).abs() < 0.05,
+            "mean {mean}, variance {var}"
+        );
     }
 }

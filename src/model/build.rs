@@ -24,7 +24,10 @@ impl Model {
         let mut warnings: Vec<Warning> = deck.warnings.clone();
 
         index(
-            bulk.coords.iter().map(|c| entry(c.id, coords::kind_name(c.kind), &c.loc, ())).collect(),
+            bulk.coords
+                .iter()
+                .map(|c| entry(c.id, coords::kind_name(c.kind), &c.loc, ()))
+                .collect(),
             "coordinate system",
             &mut errors,
         );
@@ -32,7 +35,13 @@ impl Model {
         let (grids, grid_index) = build_grids(bulk, &coords, &mut errors);
         let properties = index_properties(bulk, &mut errors);
         let materials = index_materials(bulk, &mut errors);
-        let refs = Refs { bulk, coords: &coords, grid_index: &grid_index, properties: &properties, materials: &materials };
+        let refs = Refs {
+            bulk,
+            coords: &coords,
+            grid_index: &grid_index,
+            properties: &properties,
+            materials: &materials,
+        };
         let mut quality = Quality::default();
         let mut elements = build_elements(&refs, &grids, &mut errors, &mut quality);
         elements.sort_by_key(|e| e.id);
@@ -41,8 +50,15 @@ impl Model {
         let element_index = element_id_space(bulk, &mut errors);
         let element_index: HashMap<u32, usize> = {
             // map ids to positions in the sorted element list (rigid ids are not in it)
-            let by_id: HashMap<u32, usize> = elements.iter().enumerate().map(|(i, e)| (e.id, i)).collect();
-            element_index.keys().filter_map(|id| by_id.get(id).map(|&i| (*id, i))).collect()
+            let by_id: HashMap<u32, usize> = elements
+                .iter()
+                .enumerate()
+                .map(|(i, e)| (e.id, i))
+                .collect();
+            element_index
+                .keys()
+                .filter_map(|id| by_id.get(id).map(|&i| (*id, i)))
+                .collect()
         };
 
         super::xref::check(&refs, deck, &mut errors);
@@ -85,16 +101,33 @@ pub struct Refs<'a> {
 
 impl Refs<'_> {
     /// The grid index of `id`, or an error "`FIELD = id` does not exist" on `card` at `loc`.
-    pub fn grid(&self, id: u32, field: &str, card: &str, loc: &Loc, errors: &mut Vec<DeckError>) -> Option<usize> {
+    pub fn grid(
+        &self,
+        id: u32,
+        field: &str,
+        card: &str,
+        loc: &Loc,
+        errors: &mut Vec<DeckError>,
+    ) -> Option<usize> {
         let found = self.grid_index.get(&id).copied();
         if found.is_none() {
-            errors.push(DeckError::at(loc, format!("{field} = {id} does not exist (no GRID {id})")).on_card(card));
+            errors.push(
+                DeckError::at(loc, format!("{field} = {id} does not exist (no GRID {id})"))
+                    .on_card(card),
+            );
         }
         found
     }
 
     /// Check a coordinate system reference (0 = basic always exists).
-    pub fn coord(&self, id: u32, field: &str, card: &str, loc: &Loc, errors: &mut Vec<DeckError>) -> Option<&CoordSystem> {
+    pub fn coord(
+        &self,
+        id: u32,
+        field: &str,
+        card: &str,
+        loc: &Loc,
+        errors: &mut Vec<DeckError>,
+    ) -> Option<&CoordSystem> {
         let found = self.coords.get(&id);
         if found.is_none() {
             errors.push(
@@ -111,7 +144,15 @@ fn build_grids(
     coords: &HashMap<u32, CoordSystem>,
     errors: &mut Vec<DeckError>,
 ) -> (Vec<GridPoint>, HashMap<u32, usize>) {
-    let unique = index(bulk.grids.iter().enumerate().map(|(i, g)| entry(g.id, "GRID", &g.loc, i)).collect(), "grid", errors);
+    let unique = index(
+        bulk.grids
+            .iter()
+            .enumerate()
+            .map(|(i, g)| entry(g.id, "GRID", &g.loc, i))
+            .collect(),
+        "grid",
+        errors,
+    );
     let mut order: Vec<usize> = unique.into_values().collect();
     order.sort_by_key(|&i| bulk.grids[i].id);
     let mut grids = Vec::with_capacity(order.len());
@@ -119,14 +160,21 @@ fn build_grids(
         let g = &bulk.grids[i];
         let card = format!("GRID {}", g.id);
         if !g.x.iter().all(|v| v.is_finite()) {
-            errors.push(DeckError::at(&g.loc, "X1-X3 must be finite numbers").on_card(card.clone()));
+            errors
+                .push(DeckError::at(&g.loc, "X1-X3 must be finite numbers").on_card(card.clone()));
         }
         let xyz = match coords.get(&g.cp) {
             Some(sys) => sys.point_to_basic(g.x),
             None => {
                 errors.push(
-                    DeckError::at(&g.loc, format!("CP = {} does not exist or is in error (no usable CORD2R/CORD2C {})", g.cp, g.cp))
-                        .on_card(card.clone()),
+                    DeckError::at(
+                        &g.loc,
+                        format!(
+                            "CP = {} does not exist or is in error (no usable CORD2R/CORD2C {})",
+                            g.cp, g.cp
+                        ),
+                    )
+                    .on_card(card.clone()),
                 );
                 g.x
             }
@@ -142,7 +190,14 @@ fn build_grids(
             ),
             Some(_) => {}
         }
-        grids.push(GridPoint { id: g.id, xyz, cp: g.cp, cd: g.cd, ps: g.ps, loc: g.loc.clone() });
+        grids.push(GridPoint {
+            id: g.id,
+            xyz,
+            cp: g.cp,
+            cd: g.cd,
+            ps: g.ps,
+            loc: g.loc.clone(),
+        });
     }
     let grid_index = grids.iter().enumerate().map(|(i, g)| (g.id, i)).collect();
     (grids, grid_index)
@@ -150,30 +205,84 @@ fn build_grids(
 
 fn index_properties(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32, PropertyRef> {
     let mut entries = Vec::new();
-    entries.extend(bulk.pshell.iter().enumerate().map(|(i, p)| entry(p.id, "PSHELL", &p.loc, PropertyRef::Pshell(i))));
-    entries.extend(bulk.pcomp.iter().enumerate().map(|(i, p)| entry(p.id, "PCOMP", &p.loc, PropertyRef::Pcomp(i))));
-    entries.extend(bulk.psolid.iter().enumerate().map(|(i, p)| entry(p.id, "PSOLID", &p.loc, PropertyRef::Psolid(i))));
-    entries.extend(bulk.pelas.iter().enumerate().map(|(i, p)| entry(p.id, "PELAS", &p.loc, PropertyRef::Pelas(i))));
+    entries.extend(
+        bulk.pshell
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PSHELL", &p.loc, PropertyRef::Pshell(i))),
+    );
+    entries.extend(
+        bulk.pcomp
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PCOMP", &p.loc, PropertyRef::Pcomp(i))),
+    );
+    entries.extend(
+        bulk.psolid
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PSOLID", &p.loc, PropertyRef::Psolid(i))),
+    );
+    entries.extend(
+        bulk.pelas
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PELAS", &p.loc, PropertyRef::Pelas(i))),
+    );
     index(entries, "property", errors)
 }
 
 fn index_materials(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32, MaterialRef> {
     let mut entries = Vec::new();
-    entries.extend(bulk.mat1.iter().enumerate().map(|(i, m)| entry(m.id, "MAT1", &m.loc, MaterialRef::Mat1(i))));
-    entries.extend(bulk.mat8.iter().enumerate().map(|(i, m)| entry(m.id, "MAT8", &m.loc, MaterialRef::Mat8(i))));
+    entries.extend(
+        bulk.mat1
+            .iter()
+            .enumerate()
+            .map(|(i, m)| entry(m.id, "MAT1", &m.loc, MaterialRef::Mat1(i))),
+    );
+    entries.extend(
+        bulk.mat8
+            .iter()
+            .enumerate()
+            .map(|(i, m)| entry(m.id, "MAT8", &m.loc, MaterialRef::Mat8(i))),
+    );
     index(entries, "material", errors)
 }
 
 /// The element id space (elements, CONM2, CELAS, RBE2, RBE3); returns id → () for the ids.
 fn element_id_space(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32, ()> {
     let mut e = Vec::new();
-    e.extend(bulk.cquad4.iter().map(|c| entry(c.id, "CQUAD4", &c.loc, ())));
-    e.extend(bulk.ctria3.iter().map(|c| entry(c.id, "CTRIA3", &c.loc, ())));
+    e.extend(
+        bulk.cquad4
+            .iter()
+            .map(|c| entry(c.id, "CQUAD4", &c.loc, ())),
+    );
+    e.extend(
+        bulk.ctria3
+            .iter()
+            .map(|c| entry(c.id, "CTRIA3", &c.loc, ())),
+    );
     e.extend(bulk.chexa.iter().map(|c| entry(c.id, "CHEXA", &c.loc, ())));
-    e.extend(bulk.cpenta.iter().map(|c| entry(c.id, "CPENTA", &c.loc, ())));
-    e.extend(bulk.ctetra.iter().map(|c| entry(c.id, "CTETRA", &c.loc, ())));
-    e.extend(bulk.celas1.iter().map(|c| entry(c.id, "CELAS1", &c.loc, ())));
-    e.extend(bulk.celas2.iter().map(|c| entry(c.id, "CELAS2", &c.loc, ())));
+    e.extend(
+        bulk.cpenta
+            .iter()
+            .map(|c| entry(c.id, "CPENTA", &c.loc, ())),
+    );
+    e.extend(
+        bulk.ctetra
+            .iter()
+            .map(|c| entry(c.id, "CTETRA", &c.loc, ())),
+    );
+    e.extend(
+        bulk.celas1
+            .iter()
+            .map(|c| entry(c.id, "CELAS1", &c.loc, ())),
+    );
+    e.extend(
+        bulk.celas2
+            .iter()
+            .map(|c| entry(c.id, "CELAS2", &c.loc, ())),
+    );
     e.extend(bulk.conm2.iter().map(|c| entry(c.id, "CONM2", &c.loc, ())));
     e.extend(bulk.rbe2.iter().map(|c| entry(c.id, "RBE2", &c.loc, ())));
     e.extend(bulk.rbe3.iter().map(|c| entry(c.id, "RBE3", &c.loc, ())));
@@ -190,7 +299,10 @@ struct Quality {
 impl Quality {
     fn add(&mut self, card: &'static str, id: u32, report: &ShapeReport) {
         for (check, value) in &report.warnings {
-            self.groups.entry((card, check)).or_default().push(format!("{id} ({value})"));
+            self.groups
+                .entry((card, check))
+                .or_default()
+                .push(format!("{id} ({value})"));
         }
     }
 
@@ -213,14 +325,27 @@ impl Quality {
 }
 
 /// Resolve the grids of an element; errors name each missing or repeated grid.
-fn resolve_nodes(refs: &Refs, ids: &[u32], names: &[&str], card: &str, loc: &Loc, errors: &mut Vec<DeckError>) -> Option<Vec<usize>> {
+fn resolve_nodes(
+    refs: &Refs,
+    ids: &[u32],
+    names: &[&str],
+    card: &str,
+    loc: &Loc,
+    errors: &mut Vec<DeckError>,
+) -> Option<Vec<usize>> {
     let mut out = Vec::with_capacity(ids.len());
     let mut ok = true;
     for (k, &id) in ids.iter().enumerate() {
         let name = names.get(k).copied().unwrap_or("G");
         if let Some(j) = ids[..k].iter().position(|&x| x == id) {
             let first = names.get(j).copied().unwrap_or("G");
-            errors.push(DeckError::at(loc, format!("{first} and {name} are both grid {id} (repeated grid)")).on_card(card));
+            errors.push(
+                DeckError::at(
+                    loc,
+                    format!("{first} and {name} are both grid {id} (repeated grid)"),
+                )
+                .on_card(card),
+            );
             ok = false;
             continue;
         }
@@ -244,13 +369,26 @@ fn resolve_property(
     let wanted = allowed.join(" or ");
     match refs.properties.get(&pid) {
         None => {
-            errors.push(DeckError::at(loc, format!("PID = {pid} does not exist (no {wanted} {pid})")).on_card(card));
+            errors.push(
+                DeckError::at(
+                    loc,
+                    format!("PID = {pid} does not exist (no {wanted} {pid})"),
+                )
+                .on_card(card),
+            );
             None
         }
         Some(p) if !allowed.contains(&p.card()) => {
             errors.push(
-                DeckError::at(loc, format!("PID = {pid} is a {}; a {} needs a {wanted}", p.card(), card.split(' ').next().unwrap_or(card)))
-                    .on_card(card),
+                DeckError::at(
+                    loc,
+                    format!(
+                        "PID = {pid} is a {}; a {} needs a {wanted}",
+                        p.card(),
+                        card.split(' ').next().unwrap_or(card)
+                    ),
+                )
+                .on_card(card),
             );
             None
         }
@@ -259,14 +397,33 @@ fn resolve_property(
 }
 
 /// (id, pid, grids, kind, position in its card vector, card name, location) of a solid card.
-type SolidCard<'a> = (u32, u32, &'a [u32], ElementKind, usize, &'static str, &'a Loc);
+type SolidCard<'a> = (
+    u32,
+    u32,
+    &'a [u32],
+    ElementKind,
+    usize,
+    &'static str,
+    &'a Loc,
+);
 
 const G: [&str; 10] = ["G1", "G2", "G3", "G4", "G5", "G6", "G7", "G8", "G9", "G10"];
 
-fn build_elements(refs: &Refs, grids: &[GridPoint], errors: &mut Vec<DeckError>, quality: &mut Quality) -> Vec<Element> {
+fn build_elements(
+    refs: &Refs,
+    grids: &[GridPoint],
+    errors: &mut Vec<DeckError>,
+    quality: &mut Quality,
+) -> Vec<Element> {
     let b = refs.bulk;
     let mut out = Vec::new();
-    let pos = |nodes: &[usize]| -> Vec<[f64; 3]> { nodes.iter().filter_map(|&i| grids.get(i)).map(|g| g.xyz).collect() };
+    let pos = |nodes: &[usize]| -> Vec<[f64; 3]> {
+        nodes
+            .iter()
+            .filter_map(|&i| grids.get(i))
+            .map(|g| g.xyz)
+            .collect()
+    };
     let shell = ["PSHELL", "PCOMP"];
     let solid = ["PSOLID"];
 
@@ -280,7 +437,13 @@ fn build_elements(refs: &Refs, grids: &[GridPoint], errors: &mut Vec<DeckError>,
                 shape_errors(&report, &card, &c.loc, errors);
                 quality.add("CQUAD4", c.id, &report);
             }
-            out.push(Element { id: c.id, kind: ElementKind::Quad4, card: i, property: prop, nodes });
+            out.push(Element {
+                id: c.id,
+                kind: ElementKind::Quad4,
+                card: i,
+                property: prop,
+                nodes,
+            });
         }
     }
     for (i, c) in b.ctria3.iter().enumerate() {
@@ -293,14 +456,44 @@ fn build_elements(refs: &Refs, grids: &[GridPoint], errors: &mut Vec<DeckError>,
                 shape_errors(&report, &card, &c.loc, errors);
                 quality.add("CTRIA3", c.id, &report);
             }
-            out.push(Element { id: c.id, kind: ElementKind::Tria3, card: i, property: prop, nodes });
+            out.push(Element {
+                id: c.id,
+                kind: ElementKind::Tria3,
+                card: i,
+                property: prop,
+                nodes,
+            });
         }
     }
     let mut solids: Vec<SolidCard> = Vec::new();
-    solids.extend(b.chexa.iter().enumerate().map(|(i, c)| (c.id, c.pid, &c.nodes[..], ElementKind::Hexa8, i, "CHEXA", &c.loc)));
-    solids.extend(b.cpenta.iter().enumerate().map(|(i, c)| (c.id, c.pid, &c.nodes[..], ElementKind::Penta6, i, "CPENTA", &c.loc)));
+    solids.extend(b.chexa.iter().enumerate().map(|(i, c)| {
+        (
+            c.id,
+            c.pid,
+            &c.nodes[..],
+            ElementKind::Hexa8,
+            i,
+            "CHEXA",
+            &c.loc,
+        )
+    }));
+    solids.extend(b.cpenta.iter().enumerate().map(|(i, c)| {
+        (
+            c.id,
+            c.pid,
+            &c.nodes[..],
+            ElementKind::Penta6,
+            i,
+            "CPENTA",
+            &c.loc,
+        )
+    }));
     for (i, c) in b.ctetra.iter().enumerate() {
-        let kind = if c.nodes.len() == 10 { ElementKind::Tetra10 } else { ElementKind::Tetra4 };
+        let kind = if c.nodes.len() == 10 {
+            ElementKind::Tetra10
+        } else {
+            ElementKind::Tetra4
+        };
         solids.push((c.id, c.pid, &c.nodes[..], kind, i, "CTETRA", &c.loc));
     }
     for (id, pid, ids, kind, i, name, loc) in solids {
@@ -316,7 +509,13 @@ fn build_elements(refs: &Refs, grids: &[GridPoint], errors: &mut Vec<DeckError>,
                 quality.add(name, id, &report);
             }
         }
-        out.push(Element { id, kind, card: i, property: prop, nodes });
+        out.push(Element {
+            id,
+            kind,
+            card: i,
+            property: prop,
+            nodes,
+        });
     }
     for (i, c) in b.celas1.iter().enumerate() {
         let card = format!("CELAS1 {}", c.id);
@@ -324,14 +523,26 @@ fn build_elements(refs: &Refs, grids: &[GridPoint], errors: &mut Vec<DeckError>,
         let nodes = resolve_nodes_allow_same(refs, &ids, &card, &c.loc, errors);
         let prop = resolve_property(refs, c.pid, &["PELAS"], &card, &c.loc, errors);
         if let Some(nodes) = nodes {
-            out.push(Element { id: c.id, kind: ElementKind::Celas1, card: i, property: prop, nodes });
+            out.push(Element {
+                id: c.id,
+                kind: ElementKind::Celas1,
+                card: i,
+                property: prop,
+                nodes,
+            });
         }
     }
     for (i, c) in b.celas2.iter().enumerate() {
         let card = format!("CELAS2 {}", c.id);
         let ids: Vec<u32> = c.ends.iter().filter_map(|e| e.grid).collect();
         if let Some(nodes) = resolve_nodes_allow_same(refs, &ids, &card, &c.loc, errors) {
-            out.push(Element { id: c.id, kind: ElementKind::Celas2, card: i, property: None, nodes });
+            out.push(Element {
+                id: c.id,
+                kind: ElementKind::Celas2,
+                card: i,
+                property: None,
+                nodes,
+            });
         }
     }
     for (i, c) in b.conm2.iter().enumerate() {
@@ -341,18 +552,36 @@ fn build_elements(refs: &Refs, grids: &[GridPoint], errors: &mut Vec<DeckError>,
             refs.coord(cid, "CID", &card, &c.loc, errors);
         }
         if let Some(n) = node {
-            out.push(Element { id: c.id, kind: ElementKind::Conm2, card: i, property: None, nodes: vec![n] });
+            out.push(Element {
+                id: c.id,
+                kind: ElementKind::Conm2,
+                card: i,
+                property: None,
+                nodes: vec![n],
+            });
         }
     }
     out
 }
 
 /// Spring ends may be two components of one grid, so repeats are allowed.
-fn resolve_nodes_allow_same(refs: &Refs, ids: &[u32], card: &str, loc: &Loc, errors: &mut Vec<DeckError>) -> Option<Vec<usize>> {
+fn resolve_nodes_allow_same(
+    refs: &Refs,
+    ids: &[u32],
+    card: &str,
+    loc: &Loc,
+    errors: &mut Vec<DeckError>,
+) -> Option<Vec<usize>> {
     let mut ok = true;
     let mut out = Vec::new();
     for (k, &id) in ids.iter().enumerate() {
-        match refs.grid(id, ["G1", "G2"].get(k).copied().unwrap_or("G"), card, loc, errors) {
+        match refs.grid(
+            id,
+            ["G1", "G2"].get(k).copied().unwrap_or("G"),
+            card,
+            loc,
+            errors,
+        ) {
             Some(i) => out.push(i),
             None => ok = false,
         }
@@ -376,7 +605,10 @@ fn build_rigids(refs: &Refs, errors: &mut Vec<DeckError>) -> Vec<Rigid> {
         let mut ok = hub.is_some();
         for &g in &r.gm {
             if g == r.gn {
-                errors.push(DeckError::at(&r.loc, format!("GM = {g} is also the independent grid GN")).on_card(card.clone()));
+                errors.push(
+                    DeckError::at(&r.loc, format!("GM = {g} is also the independent grid GN"))
+                        .on_card(card.clone()),
+                );
                 ok = false;
             } else if let Some(j) = refs.grid(g, "GM", &card, &r.loc, errors) {
                 legs.push(j);
@@ -385,7 +617,13 @@ fn build_rigids(refs: &Refs, errors: &mut Vec<DeckError>) -> Vec<Rigid> {
             }
         }
         if let (true, Some(hub)) = (ok, hub) {
-            out.push(Rigid { id: r.id, kind: RigidKind::Rbe2, card: i, hub, legs });
+            out.push(Rigid {
+                id: r.id,
+                kind: RigidKind::Rbe2,
+                card: i,
+                hub,
+                legs,
+            });
         }
     }
     for (i, r) in b.rbe3.iter().enumerate() {
@@ -400,7 +638,13 @@ fn build_rigids(refs: &Refs, errors: &mut Vec<DeckError>) -> Vec<Rigid> {
             }
         }
         if let (true, Some(hub)) = (ok, hub) {
-            out.push(Rigid { id: r.id, kind: RigidKind::Rbe3, card: i, hub, legs });
+            out.push(Rigid {
+                id: r.id,
+                kind: RigidKind::Rbe3,
+                card: i,
+                hub,
+                legs,
+            });
         }
     }
     out

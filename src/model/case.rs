@@ -43,39 +43,92 @@ pub const HONOURED: &[(Solution, &[&str])] = &[
 ];
 
 fn honoured(deck: &Deck, sub: &Subcase, request: &str) -> bool {
-    let Some((sol, _)) = &deck.executive.sol else { return false };
-    sub.rom.is_none() && HONOURED.iter().any(|(s, names)| s == sol && names.contains(&request))
+    let Some((sol, _)) = &deck.executive.sol else {
+        return false;
+    };
+    sub.rom.is_none()
+        && HONOURED
+            .iter()
+            .any(|(s, names)| s == sol && names.contains(&request))
 }
 
 /// Run the checks for every subcase.
 pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warning>) {
     let b = refs.bulk;
     let set_of = |ids: Vec<u32>| -> HashSet<u32> { ids.into_iter().collect() };
-    let spc = set_of(b.spc.iter().map(|s| s.sid).chain(b.spc1.iter().map(|s| s.sid)).chain(b.spcadd.iter().map(|s| s.sid)).collect());
-    let load = set_of(b.load.iter().map(|s| s.sid).chain(b.forces.iter().map(|s| s.sid)).chain(b.grav.iter().map(|s| s.sid)).collect());
+    let spc = set_of(
+        b.spc
+            .iter()
+            .map(|s| s.sid)
+            .chain(b.spc1.iter().map(|s| s.sid))
+            .chain(b.spcadd.iter().map(|s| s.sid))
+            .collect(),
+    );
+    let load = set_of(
+        b.load
+            .iter()
+            .map(|s| s.sid)
+            .chain(b.forces.iter().map(|s| s.sid))
+            .chain(b.grav.iter().map(|s| s.sid))
+            .collect(),
+    );
     let method = set_of(b.eigrl.iter().map(|s| s.sid).collect());
     let freq = set_of(b.freq.iter().map(|s| s.sid).collect());
-    let dload = set_of(b.dload.iter().map(|s| s.sid).chain(b.tload1.iter().map(|s| s.sid)).chain(b.rload1.iter().map(|s| s.sid)).collect());
+    let dload = set_of(
+        b.dload
+            .iter()
+            .map(|s| s.sid)
+            .chain(b.tload1.iter().map(|s| s.sid))
+            .chain(b.rload1.iter().map(|s| s.sid))
+            .collect(),
+    );
     let tstep = set_of(b.tstep.iter().map(|s| s.sid).collect());
     let prom = set_of(b.pmor.iter().map(|s| s.id).collect());
-    let pval = set_of(b.pval.iter().map(|s| s.id).chain(b.ptable.iter().map(|s| s.id)).collect());
+    let pval = set_of(
+        b.pval
+            .iter()
+            .map(|s| s.id)
+            .chain(b.ptable.iter().map(|s| s.id))
+            .collect(),
+    );
     let tic = set_of(b.tic.iter().map(|s| s.sid).collect());
     let sensors = set_of(b.sensors.iter().map(|s| s.id).collect());
 
-    let fallback = deck.executive.sol_loc.clone().unwrap_or_else(|| Loc { file: std::sync::Arc::from(deck.path.as_path()), line: 1 });
+    let fallback = deck.executive.sol_loc.clone().unwrap_or_else(|| Loc {
+        file: std::sync::Arc::from(deck.path.as_path()),
+        line: 1,
+    });
     let mut reported: HashSet<(String, Loc)> = HashSet::new();
-    let sol = deck.executive.sol.as_ref().map(|(_, text)| text.clone()).unwrap_or_else(|| "(none)".into());
+    let sol = deck
+        .executive
+        .sol
+        .as_ref()
+        .map(|(_, text)| text.clone())
+        .unwrap_or_else(|| "(none)".into());
     let mut warned: HashSet<Loc> = HashSet::new();
 
     for sub in deck.case.subcases() {
-        let loc = |name: &str| sub.loc_of(name).cloned().unwrap_or_else(|| fallback.clone());
+        let loc = |name: &str| {
+            sub.loc_of(name)
+                .cloned()
+                .unwrap_or_else(|| fallback.clone())
+        };
         let mut need = |name: &str, id: Option<u32>, have: &HashSet<u32>, cards: &str| {
             if let Some(id) = id
                 && !have.contains(&id)
             {
                 let at = loc(name);
                 if reported.insert((format!("{name} {id}"), at.clone())) {
-                    errors.push(DeckError::at(&at, format!("{name} = {id} selects no {cards} set {id}{}", subcase_text(&sub))).on_card(name.to_string()));
+                    errors.push(
+                        DeckError::at(
+                            &at,
+                            format!(
+                                "{name} = {id} selects no {cards} set {id}{}",
+                                subcase_text(&sub)
+                            ),
+                        )
+                        .on_card(name.to_string()),
+                    );
                 }
             }
         };
@@ -93,7 +146,10 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>, warnings: &m
             match deck.case.set(id) {
                 None => {
                     if reported.insert((format!("SENSOR {id}"), at.clone())) {
-                        errors.push(DeckError::at(&at, format!("SENSOR = {id}: no case-control SET {id}")).on_card("SENSOR"));
+                        errors.push(
+                            DeckError::at(&at, format!("SENSOR = {id}: no case-control SET {id}"))
+                                .on_card("SENSOR"),
+                        );
                     }
                 }
                 Some(set) => {
@@ -110,12 +166,21 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>, warnings: &m
                 && deck.case.set(id).is_none()
                 && reported.insert((format!("{} {id}", out.name), out.loc.clone()))
             {
-                errors.push(DeckError::at(&out.loc, format!("{} = {id}: no case-control SET {id}", out.name)).on_card(out.name.to_string()));
+                errors.push(
+                    DeckError::at(
+                        &out.loc,
+                        format!("{} = {id}: no case-control SET {id}", out.name),
+                    )
+                    .on_card(out.name.to_string()),
+                );
             }
             if !honoured(deck, &sub, out.name) && warned.insert(out.loc.clone()) {
                 warnings.push(Warning {
                     loc: Some(out.loc.to_string()),
-                    message: format!("output request {} is not honoured by SOL {sol} in this version", out.name),
+                    message: format!(
+                        "output request {} is not honoured by SOL {sol} in this version",
+                        out.name
+                    ),
                 });
             }
         }

@@ -15,8 +15,8 @@
 
 use std::collections::HashMap;
 
-use crate::deck::cards::{Cord2, CordKind};
 use crate::deck::DeckError;
+use crate::deck::cards::{Cord2, CordKind};
 
 use super::vec3::{add, cross, norm, scale, sub};
 
@@ -38,7 +38,12 @@ pub struct CoordSystem {
 impl CoordSystem {
     /// The basic system (id 0).
     pub fn basic() -> Self {
-        CoordSystem { id: 0, kind: CordKind::Rectangular, origin: [0.0; 3], axes: [[1., 0., 0.], [0., 1., 0.], [0., 0., 1.]] }
+        CoordSystem {
+            id: 0,
+            kind: CordKind::Rectangular,
+            origin: [0.0; 3],
+            axes: [[1., 0., 0.], [0., 1., 0.], [0., 0., 1.]],
+        }
     }
 
     /// Point coordinates of this system (r, θ°, z for cylindrical) → basic.
@@ -67,7 +72,11 @@ impl CoordSystem {
     pub fn basic_to_local_cartesian(&self, p: [f64; 3]) -> [f64; 3] {
         let d = sub(p, self.origin);
         let [i, j, k] = self.axes;
-        [super::vec3::dot(d, i), super::vec3::dot(d, j), super::vec3::dot(d, k)]
+        [
+            super::vec3::dot(d, i),
+            super::vec3::dot(d, j),
+            super::vec3::dot(d, k),
+        ]
     }
 
     /// Whether basic point `p` lies on the polar axis of a cylindrical system, where e_r and
@@ -75,7 +84,9 @@ impl CoordSystem {
     /// Always false for a rectangular system.
     pub fn on_polar_axis(&self, p: [f64; 3]) -> bool {
         let l = self.basic_to_local_cartesian(p);
-        self.kind == CordKind::Cylindrical && l[0].hypot(l[1]) <= 64.0 * f64::EPSILON * (super::vec3::norm(p) + super::vec3::norm(self.origin))
+        self.kind == CordKind::Cylindrical
+            && l[0].hypot(l[1])
+                <= 64.0 * f64::EPSILON * (super::vec3::norm(p) + super::vec3::norm(self.origin))
     }
 
     /// The 3×3 matrix T whose columns are the local Cartesian axes *at basic point `p`* in
@@ -89,13 +100,24 @@ impl CoordSystem {
             CordKind::Rectangular => (i, j),
             CordKind::Cylindrical => {
                 let l = self.basic_to_local_cartesian(p);
-                let t = if self.on_polar_axis(p) { 0.0 } else { l[1].atan2(l[0]) };
+                let t = if self.on_polar_axis(p) {
+                    0.0
+                } else {
+                    l[1].atan2(l[0])
+                };
                 let (s, c) = t.sin_cos();
-                (add(scale(i, c), scale(j, s)), add(scale(i, -s), scale(j, c)))
+                (
+                    add(scale(i, c), scale(j, s)),
+                    add(scale(i, -s), scale(j, c)),
+                )
             }
         };
         // columns ex, ey, k
-        [[ex[0], ey[0], k[0]], [ex[1], ey[1], k[1]], [ex[2], ey[2], k[2]]]
+        [
+            [ex[0], ey[0], k[0]],
+            [ex[1], ey[1], k[1]],
+            [ex[2], ey[2], k[2]],
+        ]
     }
 }
 
@@ -124,7 +146,13 @@ pub fn resolve(cards: &[Cord2], errors: &mut Vec<DeckError>) -> HashMap<u32, Coo
             }
             match by_id.get(&last.rid) {
                 None => {
-                    break Err(Some(err(last, format!("RID = {} does not exist (no CORD2R/CORD2C with this id)", last.rid))));
+                    break Err(Some(err(
+                        last,
+                        format!(
+                            "RID = {} does not exist (no CORD2R/CORD2C with this id)",
+                            last.rid
+                        ),
+                    )));
                 }
                 Some(next) => {
                     if chain.iter().any(|x| x.id == next.id) {
@@ -141,7 +169,9 @@ pub fn resolve(cards: &[Cord2], errors: &mut Vec<DeckError>) -> HashMap<u32, Coo
         match outcome {
             Ok(()) => {
                 for card in chain.iter().rev() {
-                    let Some(reference) = done.get(&card.rid) else { break };
+                    let Some(reference) = done.get(&card.rid) else {
+                        break;
+                    };
                     match build(card, reference) {
                         Ok(sys) => {
                             done.insert(card.id, sys);
@@ -177,25 +207,43 @@ pub fn kind_name(kind: CordKind) -> &'static str {
 
 /// Build one system from its card, with A, B, C given in `reference`.
 fn build(card: &Cord2, reference: &CoordSystem) -> Result<CoordSystem, DeckError> {
-    if ![card.a, card.b, card.c].iter().flatten().all(|v| v.is_finite()) {
+    if ![card.a, card.b, card.c]
+        .iter()
+        .flatten()
+        .all(|v| v.is_finite())
+    {
         return Err(err(card, "A, B, C must be finite".into()));
     }
     let a = reference.point_to_basic(card.a);
     let b = reference.point_to_basic(card.b);
     let c = reference.point_to_basic(card.c);
-    let size = [norm(a), norm(b), norm(c), norm(sub(b, a)), norm(sub(c, a))].into_iter().fold(1e-300, f64::max);
+    let size = [norm(a), norm(b), norm(c), norm(sub(b, a)), norm(sub(c, a))]
+        .into_iter()
+        .fold(1e-300, f64::max);
     let ab = sub(b, a);
     if norm(ab) <= DEGENERATE_TOL * size {
-        return Err(err(card, "degenerate system: A and B coincide, so the z axis is undefined".into()));
+        return Err(err(
+            card,
+            "degenerate system: A and B coincide, so the z axis is undefined".into(),
+        ));
     }
     let k = scale(ab, 1.0 / norm(ab));
     let jv = cross(k, sub(c, a));
     if norm(jv) <= DEGENERATE_TOL * size {
-        return Err(err(card, "degenerate system: C lies on the z axis (the A–B line), so the x–z plane is undefined".into()));
+        return Err(err(
+            card,
+            "degenerate system: C lies on the z axis (the A–B line), so the x–z plane is undefined"
+                .into(),
+        ));
     }
     let j = scale(jv, 1.0 / norm(jv));
     let i = cross(j, k);
-    Ok(CoordSystem { id: card.id, kind: card.kind, origin: a, axes: [i, j, k] })
+    Ok(CoordSystem {
+        id: card.id,
+        kind: card.kind,
+        origin: a,
+        axes: [i, j, k],
+    })
 }
 
 #[cfg(test)]
@@ -207,31 +255,66 @@ mod tests {
 
     fn card(id: u32, kind: CordKind, rid: u32, a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Cord2 {
         let file: Arc<Path> = Arc::from(Path::new("t.bdf"));
-        Cord2 { id, kind, rid, a, b, c, loc: Loc::new(&file, id) }
+        Cord2 {
+            id,
+            kind,
+            rid,
+            a,
+            b,
+            c,
+            loc: Loc::new(&file, id),
+        }
     }
 
     #[test]
     fn nested_cylindrical_point() {
         // rectangular system shifted by (1,0,0) and rotated 90° about z; cylindrical inside it
-        let r = card(1, CordKind::Rectangular, 0, [1., 0., 0.], [1., 0., 1.], [1., 1., 0.]);
-        let cyl = card(2, CordKind::Cylindrical, 1, [0., 0., 0.], [0., 0., 1.], [1., 0., 0.]);
+        let r = card(
+            1,
+            CordKind::Rectangular,
+            0,
+            [1., 0., 0.],
+            [1., 0., 1.],
+            [1., 1., 0.],
+        );
+        let cyl = card(
+            2,
+            CordKind::Cylindrical,
+            1,
+            [0., 0., 0.],
+            [0., 0., 1.],
+            [1., 0., 0.],
+        );
         let mut errors = Vec::new();
         let sys = resolve(&[cyl, r], &mut errors);
         assert!(errors.is_empty());
         // r = 2, θ = 90° in system 2 → local (0, 2, 0) of system 1 → basic (1 − 2, 0, 0)
         let p = sys[&2].point_to_basic([2.0, 90.0, 0.5]);
-        assert!((p[0] + 1.0).abs() < 1e-14 && p[1].abs() < 1e-14 && (p[2] - 0.5).abs() < 1e-14, "{p:?}");
+        assert!(
+            (p[0] + 1.0).abs() < 1e-14 && p[1].abs() < 1e-14 && (p[2] - 0.5).abs() < 1e-14,
+            "{p:?}"
+        );
     }
 
     /// A grid on the polar axis gets θ = 0 (the system's own i, j) whether its coordinates put
     /// it there exactly or up to round-off; just off the axis, e_r follows the point.
     #[test]
     fn polar_axis_takes_theta_zero() {
-        let cyl = card(3, CordKind::Cylindrical, 0, [0., 1., 0.], [0., 1., 1.], [1., 1., 0.]);
+        let cyl = card(
+            3,
+            CordKind::Cylindrical,
+            0,
+            [0., 1., 0.],
+            [0., 1., 1.],
+            [1., 1., 0.],
+        );
         let mut errors = Vec::new();
         let sys = resolve(&[cyl], &mut errors);
         assert!(errors.is_empty());
-        assert!(sys[&3].on_polar_axis([1e-17, 1.0 - 1e-16, 5.0]) && !sys[&3].on_polar_axis([0.0, 1.0 - 1e-9, 5.0]));
+        assert!(
+            sys[&3].on_polar_axis([1e-17, 1.0 - 1e-16, 5.0])
+                && !sys[&3].on_polar_axis([0.0, 1.0 - 1e-9, 5.0])
+        );
         let exact = sys[&3].axes_at([0.0, 1.0, 5.0]);
         let rounded = sys[&3].axes_at([1e-17, 1.0 - 1e-16, 5.0]);
         assert_eq!(exact, [[1., 0., 0.], [0., 1., 0.], [0., 0., 1.]]);
@@ -243,19 +326,53 @@ mod tests {
 
     #[test]
     fn cycle_missing_and_degenerate_are_errors() {
-        let a = card(1, CordKind::Rectangular, 2, [0.; 3], [0., 0., 1.], [1., 0., 0.]);
-        let b = card(2, CordKind::Rectangular, 1, [0.; 3], [0., 0., 1.], [1., 0., 0.]);
-        let c = card(3, CordKind::Rectangular, 9, [0.; 3], [0., 0., 1.], [1., 0., 0.]);
+        let a = card(
+            1,
+            CordKind::Rectangular,
+            2,
+            [0.; 3],
+            [0., 0., 1.],
+            [1., 0., 0.],
+        );
+        let b = card(
+            2,
+            CordKind::Rectangular,
+            1,
+            [0.; 3],
+            [0., 0., 1.],
+            [1., 0., 0.],
+        );
+        let c = card(
+            3,
+            CordKind::Rectangular,
+            9,
+            [0.; 3],
+            [0., 0., 1.],
+            [1., 0., 0.],
+        );
         let d = card(4, CordKind::Rectangular, 0, [0.; 3], [0.; 3], [1., 0., 0.]);
-        let e = card(5, CordKind::Cylindrical, 0, [0.; 3], [0., 0., 1.], [0., 0., 3.]);
+        let e = card(
+            5,
+            CordKind::Cylindrical,
+            0,
+            [0.; 3],
+            [0., 0., 1.],
+            [0., 0., 3.],
+        );
         let mut errors = Vec::new();
         let sys = resolve(&[a, b, c, d, e], &mut errors);
         assert_eq!(sys.len(), 1);
         let text: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
         assert_eq!(errors.len(), 4, "{text:#?}");
         assert!(text.iter().any(|t| t.contains("RID cycle")));
-        assert!(text.iter().any(|t| t.contains("CORD2R 3: RID = 9 does not exist")));
+        assert!(
+            text.iter()
+                .any(|t| t.contains("CORD2R 3: RID = 9 does not exist"))
+        );
         assert!(text.iter().any(|t| t.contains("A and B coincide")));
-        assert!(text.iter().any(|t| t.contains("CORD2C 5") && t.contains("C lies on the z axis")));
+        assert!(
+            text.iter()
+                .any(|t| t.contains("CORD2C 5") && t.contains("C lies on the z axis"))
+        );
     }
 }

@@ -31,8 +31,8 @@
 //! - skew: the smaller angle between the lines joining opposite edge midpoints < [`SKEW_MIN`] →
 //!   warning.
 
-use std::sync::OnceLock;
 use super::vec3::{add, cross, dot, norm, scale, sub, triple};
+use std::sync::OnceLock;
 
 /// Solids: Jacobian ratio (min/max det J) below which a warning is issued.
 pub const JACOBIAN_RATIO_WARN: f64 = 0.05;
@@ -78,16 +78,31 @@ impl SolidShape {
         match self {
             SolidShape::Hexa8 => HEXA_CORNERS.to_vec(),
             SolidShape::Penta6 => {
-                vec![[0., 0., -1.], [1., 0., -1.], [0., 1., -1.], [0., 0., 1.], [1., 0., 1.], [0., 1., 1.]]
+                vec![
+                    [0., 0., -1.],
+                    [1., 0., -1.],
+                    [0., 1., -1.],
+                    [0., 0., 1.],
+                    [1., 0., 1.],
+                    [0., 1., 1.],
+                ]
             }
-            SolidShape::Tetra4 | SolidShape::Tetra10 => vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]],
+            SolidShape::Tetra4 | SolidShape::Tetra10 => {
+                vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]]
+            }
         }
     }
 
     /// Quadrature rule (natural point, weight), exact for the volume and first-moment integrands.
     fn rule(self) -> &'static [([f64; 3], f64)] {
         static RULES: OnceLock<[Vec<([f64; 3], f64)>; 3]> = OnceLock::new();
-        let rules = RULES.get_or_init(|| [SolidShape::Hexa8.compute_rule(), SolidShape::Penta6.compute_rule(), SolidShape::Tetra4.compute_rule()]);
+        let rules = RULES.get_or_init(|| {
+            [
+                SolidShape::Hexa8.compute_rule(),
+                SolidShape::Penta6.compute_rule(),
+                SolidShape::Tetra4.compute_rule(),
+            ]
+        });
         match self {
             SolidShape::Hexa8 => &rules[0],
             SolidShape::Penta6 => &rules[1],
@@ -181,7 +196,10 @@ impl SolidShape {
         for &(q, w) in self.rule() {
             let (n, d) = self.shape(q);
             let det = jacobian_det(&d, p);
-            let x = p.iter().zip(&n).fold([0.0; 3], |acc, (pi, ni)| add(acc, scale(*pi, *ni)));
+            let x = p
+                .iter()
+                .zip(&n)
+                .fold([0.0; 3], |acc, (pi, ni)| add(acc, scale(*pi, *ni)));
             volume += w * det;
             moment = add(moment, scale(x, w * det));
             min_det = min_det.min(det);
@@ -193,8 +211,17 @@ impl SolidShape {
             min_det = min_det.min(det);
             max_det = max_det.max(det);
         }
-        let centroid = if volume != 0.0 { scale(moment, 1.0 / volume) } else { super::vec3::mean(p) };
-        SolidIntegrals { volume, centroid, min_det, max_det }
+        let centroid = if volume != 0.0 {
+            scale(moment, 1.0 / volume)
+        } else {
+            super::vec3::mean(p)
+        };
+        SolidIntegrals {
+            volume,
+            centroid,
+            min_det,
+            max_det,
+        }
     }
 }
 
@@ -274,7 +301,10 @@ fn compute_gauss_legendre(n: usize) -> Vec<(f64, f64)> {
 /// Collapsed (Duffy) rule on the unit triangle {r, s ≥ 0, r + s ≤ 1}: exact for polynomials of
 /// degree ≤ 2n − 2.
 fn triangle_rule(n: usize) -> Vec<([f64; 2], f64)> {
-    let g: Vec<(f64, f64)> = gauss_legendre(n).iter().map(|&(x, w)| (0.5 * (x + 1.0), 0.5 * w)).collect();
+    let g: Vec<(f64, f64)> = gauss_legendre(n)
+        .iter()
+        .map(|&(x, w)| (0.5 * (x + 1.0), 0.5 * w))
+        .collect();
     let mut out = Vec::with_capacity(n * n);
     for &(u, wu) in &g {
         for &(v, wv) in &g {
@@ -286,7 +316,10 @@ fn triangle_rule(n: usize) -> Vec<([f64; 2], f64)> {
 
 /// Collapsed rule on the unit tetrahedron: exact for polynomials of degree ≤ 2n − 3.
 fn tetra_rule(n: usize) -> Vec<([f64; 3], f64)> {
-    let g: Vec<(f64, f64)> = gauss_legendre(n).iter().map(|&(x, w)| (0.5 * (x + 1.0), 0.5 * w)).collect();
+    let g: Vec<(f64, f64)> = gauss_legendre(n)
+        .iter()
+        .map(|&(x, w)| (0.5 * (x + 1.0), 0.5 * w))
+        .collect();
     let mut out = Vec::with_capacity(n * n * n);
     for &(u, wu) in &g {
         for &(v, wv) in &g {
@@ -301,7 +334,10 @@ fn tetra_rule(n: usize) -> Vec<([f64; 3], f64)> {
 
 /// Exact area and centroid of a CTRIA3.
 pub fn tria_area_centroid(p: &[[f64; 3]; 3]) -> (f64, [f64; 3]) {
-    (0.5 * norm(cross(sub(p[1], p[0]), sub(p[2], p[0]))), super::vec3::mean(p))
+    (
+        0.5 * norm(cross(sub(p[1], p[0]), sub(p[2], p[0]))),
+        super::vec3::mean(p),
+    )
 }
 
 /// ∫w dA and ∫x w dA / ∫w dA over a flat triangle for a density w linear between the corner
@@ -314,7 +350,11 @@ pub fn tria_weighted(p: &[[f64; 3]; 3], w: [f64; 3]) -> (f64, [f64; 3]) {
     for k in 0..3 {
         moment = add(moment, scale(add(sum_p, p[k]), w[k] * area / 12.0));
     }
-    let c = if total != 0.0 { scale(moment, 1.0 / total) } else { mean };
+    let c = if total != 0.0 {
+        scale(moment, 1.0 / total)
+    } else {
+        mean
+    };
     (total, c)
 }
 
@@ -331,7 +371,12 @@ pub fn quad_weighted(p: &[[f64; 3]; 4], w: [f64; 4]) -> (f64, [f64; 3]) {
     let mut moment = [0.0; 3];
     for &(xi, wx) in g {
         for &(eta, we) in g {
-            let n = [(1. - xi) * (1. - eta), (1. + xi) * (1. - eta), (1. + xi) * (1. + eta), (1. - xi) * (1. + eta)];
+            let n = [
+                (1. - xi) * (1. - eta),
+                (1. + xi) * (1. - eta),
+                (1. + xi) * (1. + eta),
+                (1. - xi) * (1. + eta),
+            ];
             let dxi = [-(1. - eta), 1. - eta, 1. + eta, -(1. + eta)];
             let deta = [-(1. - xi), -(1. + xi), 1. + xi, 1. - xi];
             let mut x = [0.0; 3];
@@ -349,7 +394,11 @@ pub fn quad_weighted(p: &[[f64; 3]; 4], w: [f64; 4]) -> (f64, [f64; 3]) {
             moment = add(moment, scale(x, dm));
         }
     }
-    let c = if total != 0.0 { scale(moment, 1.0 / total) } else { super::vec3::mean(p) };
+    let c = if total != 0.0 {
+        scale(moment, 1.0 / total)
+    } else {
+        super::vec3::mean(p)
+    };
     (total, c)
 }
 
@@ -363,13 +412,23 @@ pub struct ShapeReport {
 }
 
 /// Check a solid; `nodes` are the grid ids (for messages).
-pub fn check_solid(shape: SolidShape, p: &[[f64; 3]], nodes: &[u32]) -> (SolidIntegrals, ShapeReport) {
+pub fn check_solid(
+    shape: SolidShape,
+    p: &[[f64; 3]],
+    nodes: &[u32],
+) -> (SolidIntegrals, ShapeReport) {
     let integrals = shape.integrate(p);
     let mut report = ShapeReport::default();
-    let grids = nodes.iter().map(|g| g.to_string()).collect::<Vec<_>>().join(" ");
+    let grids = nodes
+        .iter()
+        .map(|g| g.to_string())
+        .collect::<Vec<_>>()
+        .join(" ");
     let finite = integrals.volume.is_finite() && integrals.min_det.is_finite();
     if !finite {
-        report.errors.push(format!("non-finite geometry (grids {grids})"));
+        report
+            .errors
+            .push(format!("non-finite geometry (grids {grids})"));
     } else if integrals.max_det < 0.0 {
         report.errors.push(format!(
             "inverted or degenerate element: det J < 0 everywhere (volume {:.6e}); the node order is reversed (mirror-image numbering of grids {grids})",
@@ -383,7 +442,9 @@ pub fn check_solid(shape: SolidShape, p: &[[f64; 3]], nodes: &[u32]) -> (SolidIn
     } else {
         let ratio = integrals.min_det / integrals.max_det;
         if ratio < JACOBIAN_RATIO_WARN {
-            report.warnings.push(("Jacobian ratio", format!("{ratio:.3}")));
+            report
+                .warnings
+                .push(("Jacobian ratio", format!("{ratio:.3}")));
         }
     }
     (integrals, report)
@@ -402,11 +463,16 @@ pub fn check_quad(p: &[[f64; 3]; 4], nodes: &[u32; 4]) -> ShapeReport {
     }
     let d13 = sub(p[2], p[0]);
     let d24 = sub(p[3], p[1]);
-    let longest = (0..4).map(|k| norm(sub(p[(k + 1) % 4], p[k]))).fold(0.0, f64::max);
+    let longest = (0..4)
+        .map(|k| norm(sub(p[(k + 1) % 4], p[k])))
+        .fold(0.0, f64::max);
     let nv = cross(d13, d24);
     let projected = 0.5 * norm(nv);
     if longest == 0.0 || projected <= ZERO_AREA_REL * longest * longest {
-        report.errors.push(format!("zero area (grids {} {} {} {} are coincident or collinear)", nodes[0], nodes[1], nodes[2], nodes[3]));
+        report.errors.push(format!(
+            "zero area (grids {} {} {} {} are coincident or collinear)",
+            nodes[0], nodes[1], nodes[2], nodes[3]
+        ));
         return report;
     }
     let n = scale(nv, 1.0 / norm(nv));
@@ -418,18 +484,29 @@ pub fn check_quad(p: &[[f64; 3]; 4], nodes: &[u32; 4]) -> ShapeReport {
         let c = cross(e1, e2);
         corner_areas[k] = 0.5 * dot(c, n);
         if l1 == 0.0 || l2 == 0.0 {
-            report.errors.push(format!("grid {} coincides with a neighbour (zero-length edge)", nodes[k]));
+            report.errors.push(format!(
+                "grid {} coincides with a neighbour (zero-length edge)",
+                nodes[k]
+            ));
             continue;
         }
         let sin = dot(c, n) / (l1 * l2);
         if sin.abs() <= COLLINEAR_SIN {
-            report.errors.push(format!("the edges at grid {} are collinear (degenerate corner)", nodes[k]));
+            report.errors.push(format!(
+                "the edges at grid {} are collinear (degenerate corner)",
+                nodes[k]
+            ));
         } else if sin < 0.0 {
-            report.errors.push(format!("reflex or crossed corner at grid {} (concave or bow-tie quad: the element folds)", nodes[k]));
+            report.errors.push(format!(
+                "reflex or crossed corner at grid {} (concave or bow-tie quad: the element folds)",
+                nodes[k]
+            ));
         } else {
             let ang = angle_deg(e1, e2, n);
             if !(QUAD_ANGLE_MIN..=QUAD_ANGLE_MAX).contains(&ang) {
-                report.warnings.push(("interior angle", format!("{ang:.1}° at grid {}", nodes[k])));
+                report
+                    .warnings
+                    .push(("interior angle", format!("{ang:.1}° at grid {}", nodes[k])));
             }
         }
     }
@@ -443,7 +520,11 @@ pub fn check_quad(p: &[[f64; 3]; 4], nodes: &[u32; 4]) -> ShapeReport {
         report.warnings.push(("warp", format!("{warp:.3}")));
     }
     let abar = corner_areas.iter().sum::<f64>() / 4.0;
-    let taper = corner_areas.iter().map(|a| (a - abar).abs()).fold(0.0, f64::max) / abar;
+    let taper = corner_areas
+        .iter()
+        .map(|a| (a - abar).abs())
+        .fold(0.0, f64::max)
+        / abar;
     if taper > TAPER_WARN {
         report.warnings.push(("taper", format!("{taper:.3}")));
     }
@@ -465,10 +546,15 @@ pub fn check_tria(p: &[[f64; 3]; 3], nodes: &[u32; 3]) -> ShapeReport {
         report.errors.push("non-finite grid coordinates".into());
         return report;
     }
-    let longest = (0..3).map(|k| norm(sub(p[(k + 1) % 3], p[k]))).fold(0.0, f64::max);
+    let longest = (0..3)
+        .map(|k| norm(sub(p[(k + 1) % 3], p[k])))
+        .fold(0.0, f64::max);
     let (area, _) = tria_area_centroid(p);
     if longest == 0.0 || area <= ZERO_AREA_REL * longest * longest {
-        report.errors.push(format!("zero area (grids {} {} {} are coincident or collinear)", nodes[0], nodes[1], nodes[2]));
+        report.errors.push(format!(
+            "zero area (grids {} {} {} are coincident or collinear)",
+            nodes[0], nodes[1], nodes[2]
+        ));
         return report;
     }
     let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
@@ -476,7 +562,9 @@ pub fn check_tria(p: &[[f64; 3]; 3], nodes: &[u32; 3]) -> ShapeReport {
     for k in 0..3 {
         let ang = angle_deg(sub(p[(k + 1) % 3], p[k]), sub(p[(k + 2) % 3], p[k]), n);
         if ang < TRIA_ANGLE_MIN {
-            report.warnings.push(("interior angle", format!("{ang:.1}° at grid {}", nodes[k])));
+            report
+                .warnings
+                .push(("interior angle", format!("{ang:.1}° at grid {}", nodes[k])));
         }
     }
     report
@@ -492,7 +580,10 @@ mod tests {
 
     #[test]
     fn unit_cube_volume_and_centroid() {
-        let p: Vec<[f64; 3]> = HEXA_CORNERS.iter().map(|c| scale(add(*c, [1., 1., 1.]), 0.5)).collect();
+        let p: Vec<[f64; 3]> = HEXA_CORNERS
+            .iter()
+            .map(|c| scale(add(*c, [1., 1., 1.]), 0.5))
+            .collect();
         let s = SolidShape::Hexa8.integrate(&p);
         assert!(close(s.volume, 1.0));
         assert!(s.centroid.iter().all(|c| close(*c, 0.5)));
@@ -501,7 +592,10 @@ mod tests {
     #[test]
     fn sheared_hexa_volume_is_base_times_height() {
         // unit square base, height 2, top shifted by (0.7, 0.3): V = 2 exactly
-        let mut p: Vec<[f64; 3]> = HEXA_CORNERS.iter().map(|c| scale(add(*c, [1., 1., 1.]), 0.5)).collect();
+        let mut p: Vec<[f64; 3]> = HEXA_CORNERS
+            .iter()
+            .map(|c| scale(add(*c, [1., 1., 1.]), 0.5))
+            .collect();
         for q in p.iter_mut().skip(4) {
             *q = [q[0] + 0.7, q[1] + 0.3, 2.0];
         }
@@ -512,10 +606,21 @@ mod tests {
 
     #[test]
     fn wedge_and_tets() {
-        let w = [[0., 0., 0.], [2., 0., 0.], [0., 1., 0.], [0., 0., 3.], [2., 0., 3.], [0., 1., 3.]];
+        let w = [
+            [0., 0., 0.],
+            [2., 0., 0.],
+            [0., 1., 0.],
+            [0., 0., 3.],
+            [2., 0., 3.],
+            [0., 1., 3.],
+        ];
         let s = SolidShape::Penta6.integrate(&w);
         assert!(close(s.volume, 3.0));
-        assert!(close(s.centroid[0], 2.0 / 3.0) && close(s.centroid[1], 1.0 / 3.0) && close(s.centroid[2], 1.5));
+        assert!(
+            close(s.centroid[0], 2.0 / 3.0)
+                && close(s.centroid[1], 1.0 / 3.0)
+                && close(s.centroid[2], 1.5)
+        );
         let t = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
         let s = SolidShape::Tetra4.integrate(&t);
         assert!(close(s.volume, 1.0 / 6.0) && s.centroid.iter().all(|c| close(*c, 0.25)));
@@ -539,7 +644,10 @@ mod tests {
         // trapezoid with parallel sides 4 (y=0) and 2 (y=1): area 3, ȳ = h(a+2b)/(3(a+b)) = 4/9
         let p = [[0., 0., 0.], [4., 0., 0.], [3., 1., 0.], [1., 1., 0.]];
         let (a, c) = quad_area_centroid(&p);
-        assert!(close(a, 3.0) && close(c[0], 2.0) && close(c[1], 4.0 / 9.0), "{a} {c:?}");
+        assert!(
+            close(a, 3.0) && close(c[0], 2.0) && close(c[1], 4.0 / 9.0),
+            "{a} {c:?}"
+        );
         assert!(check_quad(&p, &[1, 2, 3, 4]).errors.is_empty());
     }
 

@@ -30,7 +30,11 @@ pub struct Entry<'a, K, T> {
 /// Index the entries by id; every repeated id is an error at the repeat, naming the first.
 ///
 /// `space` names the id space in the message (`"element"`, `"property"` …).
-pub fn index<K, T>(entries: Vec<Entry<'_, K, T>>, space: &str, errors: &mut Vec<DeckError>) -> HashMap<K, T>
+pub fn index<K, T>(
+    entries: Vec<Entry<'_, K, T>>,
+    space: &str,
+    errors: &mut Vec<DeckError>,
+) -> HashMap<K, T>
 where
     K: Hash + Eq + Clone + std::fmt::Display,
 {
@@ -39,8 +43,14 @@ where
     for e in entries {
         if let Some((card, loc)) = first.get(&e.id) {
             errors.push(
-                DeckError::at(e.loc, format!("duplicate {space} id {}: {card} {} at {loc} has the same id", e.id, e.id))
-                    .on_card(format!("{} {}", e.card, e.id)),
+                DeckError::at(
+                    e.loc,
+                    format!(
+                        "duplicate {space} id {}: {card} {} at {loc} has the same id",
+                        e.id, e.id
+                    ),
+                )
+                .on_card(format!("{} {}", e.card, e.id)),
             );
             continue;
         }
@@ -52,5 +62,10 @@ where
 
 /// Shorthand for an [`Entry`].
 pub fn entry<'a, K, T>(id: K, card: &'static str, loc: &'a Loc, value: T) -> Entry<'a, K, T> {
-    Entry { id, card, loc, value }
+    Entry {
+        id,
+        card,
+        loc,
+        value,
+    }
 }

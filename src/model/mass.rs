@@ -58,10 +58,20 @@ pub struct MassPoint {
 impl Model {
     /// Mass properties of the whole model (see the module documentation for the convention).
     pub fn mass_properties(&self) -> MassProperties {
-        let points: Vec<MassPoint> = self.elements.iter().filter_map(|e| self.element_mass(e)).collect();
+        let points: Vec<MassPoint> = self
+            .elements
+            .iter()
+            .filter_map(|e| self.element_mass(e))
+            .collect();
         let total: f64 = points.iter().map(|p| p.mass).sum();
-        let moment = points.iter().fold([0.0; 3], |acc, p| add(acc, scale(p.point, p.mass)));
-        let cg = if total != 0.0 { scale(moment, 1.0 / total) } else { [0.0; 3] };
+        let moment = points
+            .iter()
+            .fold([0.0; 3], |acc, p| add(acc, scale(p.point, p.mass)));
+        let cg = if total != 0.0 {
+            scale(moment, 1.0 / total)
+        } else {
+            [0.0; 3]
+        };
         let mut inertia = [[0.0; 3]; 3];
         for p in &points {
             let d = sub(p.point, cg);
@@ -77,7 +87,12 @@ impl Model {
             }
         }
         let w = self.params.wtmass;
-        MassProperties { mass: w * total, cg, inertia_cg: inertia.map(|row| row.map(|v| w * v)), wtmass: w }
+        MassProperties {
+            mass: w * total,
+            cg,
+            inertia_cg: inertia.map(|row| row.map(|v| w * v)),
+            wtmass: w,
+        }
     }
 
     /// The mass point of one element (`None` for massless elements and springs).
@@ -89,21 +104,38 @@ impl Model {
                 let card = self.bulk.cquad4.get(e.card)?;
                 let w = self.corner_densities::<4>(e.property?, card.corner_thickness.as_ref())?;
                 let (mass, point) = geometry::quad_weighted(&q, w);
-                Some(MassPoint { mass, point, inertia: None })
+                Some(MassPoint {
+                    mass,
+                    point,
+                    inertia: None,
+                })
             }
             ElementKind::Tria3 => {
                 let t = <[[f64; 3]; 3]>::try_from(p).ok()?;
                 let card = self.bulk.ctria3.get(e.card)?;
                 let w = self.corner_densities::<3>(e.property?, card.corner_thickness.as_ref())?;
                 let (mass, point) = geometry::tria_weighted(&t, w);
-                Some(MassPoint { mass, point, inertia: None })
+                Some(MassPoint {
+                    mass,
+                    point,
+                    inertia: None,
+                })
             }
-            ElementKind::Hexa8 | ElementKind::Penta6 | ElementKind::Tetra4 | ElementKind::Tetra10 => {
+            ElementKind::Hexa8
+            | ElementKind::Penta6
+            | ElementKind::Tetra4
+            | ElementKind::Tetra10 => {
                 let shape = e.kind.solid_shape()?;
-                let PropertyRef::Psolid(i) = e.property? else { return None };
+                let PropertyRef::Psolid(i) = e.property? else {
+                    return None;
+                };
                 let rho = self.rho(self.bulk.psolid.get(i)?.mid)?;
                 let s = shape.integrate(&p);
-                Some(MassPoint { mass: rho * s.volume, point: s.centroid, inertia: None })
+                Some(MassPoint {
+                    mass: rho * s.volume,
+                    point: s.centroid,
+                    inertia: None,
+                })
             }
             ElementKind::Celas1 | ElementKind::Celas2 => None,
             ElementKind::Conm2 => self.conm2_mass(self.bulk.conm2.get(e.card)?, *p.first()?),
@@ -113,7 +145,11 @@ impl Model {
     /// Shell mass per unit area at each corner: ρ tᵢ + NSM for a PSHELL (tᵢ from the element's
     /// corner thicknesses: TFLAG = 1 ratios of T, TFLAG = 0 actual values, blank = T), and
     /// Σ ρᵢ tᵢ + NSM over the full stack for a PCOMP (corner thicknesses do not apply to PCOMP).
-    fn corner_densities<const N: usize>(&self, prop: PropertyRef, corners: Option<&CornerThickness>) -> Option<[f64; N]> {
+    fn corner_densities<const N: usize>(
+        &self,
+        prop: PropertyRef,
+        corners: Option<&CornerThickness>,
+    ) -> Option<[f64; N]> {
         match prop {
             PropertyRef::Pshell(i) => {
                 let ps = self.bulk.pshell.get(i)?;
@@ -133,7 +169,11 @@ impl Model {
             }
             PropertyRef::Pcomp(i) => {
                 let pc = self.bulk.pcomp.get(i)?;
-                let plies: f64 = pc.full_stack().iter().map(|ply| self.rho(ply.mid).unwrap_or(0.0) * ply.t).sum();
+                let plies: f64 = pc
+                    .full_stack()
+                    .iter()
+                    .map(|ply| self.rho(ply.mid).unwrap_or(0.0) * ply.t)
+                    .sum();
                 Some([plies + pc.nsm; N])
             }
             PropertyRef::Psolid(_) | PropertyRef::Pelas(_) => None,
@@ -152,8 +192,16 @@ impl Model {
                 (add(grid, mat_vec(&t, c.offset)), t)
             }
         };
-        let inertia = if c.inertia.iter().all(|v| *v == 0.0) { None } else { Some(rotate(&t, &local)) };
-        Some(MassPoint { mass: c.mass, point, inertia })
+        let inertia = if c.inertia.iter().all(|v| *v == 0.0) {
+            None
+        } else {
+            Some(rotate(&t, &local))
+        };
+        Some(MassPoint {
+            mass: c.mass,
+            point,
+            inertia,
+        })
     }
 }
 

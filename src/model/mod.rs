@@ -218,12 +218,19 @@ impl Model {
 
     /// Element by id.
     pub fn element(&self, id: u32) -> Option<&Element> {
-        self.element_index.get(&id).and_then(|&i| self.elements.get(i))
+        self.element_index
+            .get(&id)
+            .and_then(|&i| self.elements.get(i))
     }
 
     /// Basic locations of an element's grids.
     pub fn positions(&self, element: &Element) -> Vec<[f64; 3]> {
-        element.nodes.iter().filter_map(|&i| self.grids.get(i)).map(|g| g.xyz).collect()
+        element
+            .nodes
+            .iter()
+            .filter_map(|&i| self.grids.get(i))
+            .map(|g| g.xyz)
+            .collect()
     }
 
     /// Mass density of a material (MAT1 or MAT8 RHO).

@@ -33,15 +33,69 @@ pub struct KnownParam {
 
 /// The PARAMs paraflex reads.
 pub const KNOWN_PARAMS: &[KnownParam] = &[
-    KnownParam { name: "AUTOSPC", kind: ParamType::YesNo, rule: "YES or NO", ok: |_| true, doc: "constrain singular DOFs automatically; default YES" },
-    KnownParam { name: "WTMASS", kind: ParamType::Real, rule: "a real > 0", ok: |v| v > 0.0, doc: "mass scale (mass matrix = WTMASS × input mass); default 1.0" },
-    KnownParam { name: "COUPMASS", kind: ParamType::Int, rule: "-1 (lumped) or 1 (coupled)", ok: |v| v == -1.0 || v == 1.0, doc: "mass formulation; default -1 (lumped), as Nastran" },
-    KnownParam { name: "K6ROT", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "shell drilling stiffness factor; default 100.0 (MSC Nastran)" },
-    KnownParam { name: "GRDPNT", kind: ParamType::Int, rule: "an integer >= -1", ok: |v| v >= -1.0, doc: "grid-point weight generator reference grid; -1 (default) = off, 0 = basic origin" },
-    KnownParam { name: "ALPHA1", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "Rayleigh damping α (C = αM + βK); default 0" },
-    KnownParam { name: "BETA1", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "Rayleigh damping β; default 0" },
-    KnownParam { name: "G", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "overall structural damping coefficient: K(1 + iG) in SOL 108, G on the modal stiffness in SOL 111, viscous (G/W3)·K in full-model SOL 109/112 when PARAM,W3 > 0; refused on pROMs; default 0" },
-    KnownParam { name: "W3", kind: ParamType::Real, rule: "a real >= 0", ok: |v| v >= 0.0, doc: "frequency (rad/s) at which PARAM,G is turned into viscous damping (G/W3)·K in transient response, as Nastran; default 0 = G left out of transient response" },
+    KnownParam {
+        name: "AUTOSPC",
+        kind: ParamType::YesNo,
+        rule: "YES or NO",
+        ok: |_| true,
+        doc: "constrain singular DOFs automatically; default YES",
+    },
+    KnownParam {
+        name: "WTMASS",
+        kind: ParamType::Real,
+        rule: "a real > 0",
+        ok: |v| v > 0.0,
+        doc: "mass scale (mass matrix = WTMASS × input mass); default 1.0",
+    },
+    KnownParam {
+        name: "COUPMASS",
+        kind: ParamType::Int,
+        rule: "-1 (lumped) or 1 (coupled)",
+        ok: |v| v == -1.0 || v == 1.0,
+        doc: "mass formulation; default -1 (lumped), as Nastran",
+    },
+    KnownParam {
+        name: "K6ROT",
+        kind: ParamType::Real,
+        rule: "a real >= 0",
+        ok: |v| v >= 0.0,
+        doc: "shell drilling stiffness factor; default 100.0 (MSC Nastran)",
+    },
+    KnownParam {
+        name: "GRDPNT",
+        kind: ParamType::Int,
+        rule: "an integer >= -1",
+        ok: |v| v >= -1.0,
+        doc: "grid-point weight generator reference grid; -1 (default) = off, 0 = basic origin",
+    },
+    KnownParam {
+        name: "ALPHA1",
+        kind: ParamType::Real,
+        rule: "a real >= 0",
+        ok: |v| v >= 0.0,
+        doc: "Rayleigh damping α (C = αM + βK); default 0",
+    },
+    KnownParam {
+        name: "BETA1",
+        kind: ParamType::Real,
+        rule: "a real >= 0",
+        ok: |v| v >= 0.0,
+        doc: "Rayleigh damping β; default 0",
+    },
+    KnownParam {
+        name: "G",
+        kind: ParamType::Real,
+        rule: "a real >= 0",
+        ok: |v| v >= 0.0,
+        doc: "overall structural damping coefficient: K(1 + iG) in SOL 108, G on the modal stiffness in SOL 111, viscous (G/W3)·K in full-model SOL 109/112 when PARAM,W3 > 0; refused on pROMs; default 0",
+    },
+    KnownParam {
+        name: "W3",
+        kind: ParamType::Real,
+        rule: "a real >= 0",
+        ok: |v| v >= 0.0,
+        doc: "frequency (rad/s) at which PARAM,G is turned into viscous damping (G/W3)·K in transient response, as Nastran; default 0 = G left out of transient response",
+    },
     KnownParam {
         name: "QINCOMP",
         kind: ParamType::YesNo,
@@ -91,13 +145,30 @@ impl ModelParams {
     /// The stiffness-proportional damping factor of transient response: β₁ + G/W3 (Nastran's
     /// equivalent viscous structural damping; G is left out while W3 = 0).
     pub fn transient_beta(&self) -> f64 {
-        if self.w3 > 0.0 { self.beta1 + self.g / self.w3 } else { self.beta1 }
+        if self.w3 > 0.0 {
+            self.beta1 + self.g / self.w3
+        } else {
+            self.beta1
+        }
     }
 }
 
 impl Default for ModelParams {
     fn default() -> Self {
-        ModelParams { autospc: true, wtmass: 1.0, coupmass: -1, k6rot: 100.0, grdpnt: -1, alpha1: 0.0, beta1: 0.0, g: 0.0, w3: 0.0, maxratio: crate::linalg::cholesky::DEFAULT_MAX_RATIO, qincomp: true, resvec: true }
+        ModelParams {
+            autospc: true,
+            wtmass: 1.0,
+            coupmass: -1,
+            k6rot: 100.0,
+            grdpnt: -1,
+            alpha1: 0.0,
+            beta1: 0.0,
+            g: 0.0,
+            w3: 0.0,
+            maxratio: crate::linalg::cholesky::DEFAULT_MAX_RATIO,
+            qincomp: true,
+            resvec: true,
+        }
     }
 }
 
@@ -128,13 +199,22 @@ fn from_text(t: &str) -> Value {
 }
 
 /// Read every PARAM: validate the known ones, warn once about the rest.
-pub fn read(bulk_params: &[Param], case: &CaseControl, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warning>) -> ModelParams {
+pub fn read(
+    bulk_params: &[Param],
+    case: &CaseControl,
+    errors: &mut Vec<DeckError>,
+    warnings: &mut Vec<Warning>,
+) -> ModelParams {
     let mut out = ModelParams::default();
     let mut unknown: Vec<String> = Vec::new();
     let items = bulk_params
         .iter()
         .map(|p| (p.name.to_ascii_uppercase(), from_card(&p.value), &p.loc))
-        .chain(case.params.iter().map(|(n, v, loc)| (n.to_ascii_uppercase(), from_text(v), loc)));
+        .chain(
+            case.params
+                .iter()
+                .map(|(n, v, loc)| (n.to_ascii_uppercase(), from_text(v), loc)),
+        );
     for (name, value, loc) in items {
         match KNOWN_PARAMS.iter().find(|k| k.name == name) {
             None => {
@@ -146,27 +226,42 @@ pub fn read(bulk_params: &[Param], case: &CaseControl, errors: &mut Vec<DeckErro
         }
     }
     if !unknown.is_empty() {
-        warnings.push(Warning { loc: None, message: format!("PARAMs accepted and ignored: {}", unknown.join(", ")) });
+        warnings.push(Warning {
+            loc: None,
+            message: format!("PARAMs accepted and ignored: {}", unknown.join(", ")),
+        });
     }
     out
 }
 
-fn apply(known: &KnownParam, value: Value, loc: &Loc, out: &mut ModelParams, errors: &mut Vec<DeckError>) {
+fn apply(
+    known: &KnownParam,
+    value: Value,
+    loc: &Loc,
+    out: &mut ModelParams,
+    errors: &mut Vec<DeckError>,
+) {
     let fail = |errors: &mut Vec<DeckError>, found: String| {
-        errors.push(DeckError::at(loc, format!("{} must be {}, found {found}", known.name, known.rule)).on_card(format!("PARAM {}", known.name)));
+        errors.push(
+            DeckError::at(
+                loc,
+                format!("{} must be {}, found {found}", known.name, known.rule),
+            )
+            .on_card(format!("PARAM {}", known.name)),
+        );
     };
     match (known.kind, value) {
-        (ParamType::YesNo, Value::Text(t)) if t == "YES" || t == "NO" => {
-            match known.name {
-                "AUTOSPC" => out.autospc = t == "YES",
-                "QINCOMP" => out.qincomp = t == "YES",
-                "RESVEC" => out.resvec = t == "YES",
-                _ => {}
-            }
-        }
+        (ParamType::YesNo, Value::Text(t)) if t == "YES" || t == "NO" => match known.name {
+            "AUTOSPC" => out.autospc = t == "YES",
+            "QINCOMP" => out.qincomp = t == "YES",
+            "RESVEC" => out.resvec = t == "YES",
+            _ => {}
+        },
         (ParamType::YesNo, Value::Text(t)) => fail(errors, t),
         (ParamType::YesNo, Value::Num(v, _)) => fail(errors, v.to_string()),
-        (ParamType::Int, Value::Num(v, true)) | (ParamType::Real, Value::Num(v, _)) if v.is_finite() && (known.ok)(v) => {
+        (ParamType::Int, Value::Num(v, true)) | (ParamType::Real, Value::Num(v, _))
+            if v.is_finite() && (known.ok)(v) =>
+        {
             match known.name {
                 "WTMASS" => out.wtmass = v,
                 "COUPMASS" => out.coupmass = v as i64,

@@ -25,8 +25,22 @@ pub const EQUAL_REL: f64 = 1e-9;
 /// Run the checks.
 pub fn check(refs: &Refs, errors: &mut Vec<DeckError>) {
     let b = refs.bulk;
-    index(b.pmpar.iter().map(|p| entry(p.id, "PMPAR", &p.loc, ())).collect(), "PMPAR", errors);
-    index(b.pmpar.iter().map(|p| entry(p.name.to_ascii_uppercase(), "PMPAR", &p.loc, ())).collect(), "PMPAR name", errors);
+    index(
+        b.pmpar
+            .iter()
+            .map(|p| entry(p.id, "PMPAR", &p.loc, ()))
+            .collect(),
+        "PMPAR",
+        errors,
+    );
+    index(
+        b.pmpar
+            .iter()
+            .map(|p| entry(p.name.to_ascii_uppercase(), "PMPAR", &p.loc, ()))
+            .collect(),
+        "PMPAR name",
+        errors,
+    );
     for p in &b.pmpar {
         let card = format!("PMPAR {}", p.id);
         let err = |m: String| DeckError::at(&p.loc, m).on_card(card.clone());
@@ -82,10 +96,22 @@ pub fn domain(kind: PmparKind) -> Option<Domain> {
 
 /// The nominal value of a parameter: the referenced card's value.
 pub fn nominal(b: &BulkData, p: &Pmpar) -> Result<f64, String> {
-    let missing = || format!("REFID = {} does not exist (no {} {}) for KIND = {}", p.refid, p.kind.target_card(), p.refid, p.kind.name());
+    let missing = || {
+        format!(
+            "REFID = {} does not exist (no {} {}) for KIND = {}",
+            p.refid,
+            p.kind.target_card(),
+            p.refid,
+            p.kind.name()
+        )
+    };
     match p.kind {
         PmparKind::E | PmparKind::Rho | PmparKind::Nu => {
-            let m = b.mat1.iter().find(|m| m.id == p.refid).ok_or_else(missing)?;
+            let m = b
+                .mat1
+                .iter()
+                .find(|m| m.id == p.refid)
+                .ok_or_else(missing)?;
             Ok(match p.kind {
                 PmparKind::E => m.e,
                 PmparKind::Rho => m.rho,
@@ -93,8 +119,16 @@ pub fn nominal(b: &BulkData, p: &Pmpar) -> Result<f64, String> {
             })
         }
         PmparKind::Theta => {
-            let c = b.pcomp.iter().find(|c| c.id == p.refid).ok_or_else(missing)?;
-            let first = c.plies.first().map(|ply| ply.theta.abs()).ok_or_else(|| "the PCOMP has no ply".to_string())?;
+            let c = b
+                .pcomp
+                .iter()
+                .find(|c| c.id == p.refid)
+                .ok_or_else(missing)?;
+            let first = c
+                .plies
+                .first()
+                .map(|ply| ply.theta.abs())
+                .ok_or_else(|| "the PCOMP has no ply".to_string())?;
             for (k, ply) in c.plies.iter().enumerate() {
                 if (ply.theta.abs() - first).abs() > EQUAL_REL * first.max(1.0) {
                     return Err(format!(
@@ -109,8 +143,16 @@ pub fn nominal(b: &BulkData, p: &Pmpar) -> Result<f64, String> {
             Ok(first)
         }
         PmparKind::Tply => {
-            let c = b.pcomp.iter().find(|c| c.id == p.refid).ok_or_else(missing)?;
-            let first = c.plies.first().map(|ply| ply.t).ok_or_else(|| "the PCOMP has no ply".to_string())?;
+            let c = b
+                .pcomp
+                .iter()
+                .find(|c| c.id == p.refid)
+                .ok_or_else(missing)?;
+            let first = c
+                .plies
+                .first()
+                .map(|ply| ply.t)
+                .ok_or_else(|| "the PCOMP has no ply".to_string())?;
             for (k, ply) in c.plies.iter().enumerate() {
                 if (ply.t - first).abs() > EQUAL_REL * first.abs() {
                     return Err(format!(
@@ -124,7 +166,17 @@ pub fn nominal(b: &BulkData, p: &Pmpar) -> Result<f64, String> {
             }
             Ok(first)
         }
-        PmparKind::K => b.pelas.iter().find(|e| e.id == p.refid).map(|e| e.k).ok_or_else(missing),
-        PmparKind::Mass => b.conm2.iter().find(|c| c.id == p.refid).map(|c| c.mass).ok_or_else(missing),
+        PmparKind::K => b
+            .pelas
+            .iter()
+            .find(|e| e.id == p.refid)
+            .map(|e| e.k)
+            .ok_or_else(missing),
+        PmparKind::Mass => b
+            .conm2
+            .iter()
+            .find(|c| c.id == p.refid)
+            .map(|c| c.mass)
+            .ok_or_else(missing),
     }
 }

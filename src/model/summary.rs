@@ -53,7 +53,13 @@ impl Model {
             *rigid.entry(name).or_insert(0) += 1;
         }
         let b = &self.bulk;
-        let nonzero = |pairs: &[(&'static str, usize)]| pairs.iter().copied().filter(|(_, n)| *n > 0).collect::<BTreeMap<_, _>>();
+        let nonzero = |pairs: &[(&'static str, usize)]| {
+            pairs
+                .iter()
+                .copied()
+                .filter(|(_, n)| *n > 0)
+                .collect::<BTreeMap<_, _>>()
+        };
         let mp = self.mass_properties();
         CheckSummary {
             grids: self.grids.len(),
@@ -67,7 +73,12 @@ impl Model {
             sol: self.sol.map(|s| s.name()),
             subcases: self.subcases.iter().map(|s| s.id).collect(),
             materials: nonzero(&[("MAT1", b.mat1.len()), ("MAT8", b.mat8.len())]),
-            properties: nonzero(&[("PSHELL", b.pshell.len()), ("PCOMP", b.pcomp.len()), ("PSOLID", b.psolid.len()), ("PELAS", b.pelas.len())]),
+            properties: nonzero(&[
+                ("PSHELL", b.pshell.len()),
+                ("PCOMP", b.pcomp.len()),
+                ("PSOLID", b.psolid.len()),
+                ("PELAS", b.pelas.len()),
+            ]),
             coords: self.coords.len().saturating_sub(1),
             wtmass: mp.wtmass,
         }
@@ -101,7 +112,11 @@ impl Model {
         let mut out: Vec<ElementBlock> = blocks.into_values().collect();
         for kind in [RigidKind::Rbe2, RigidKind::Rbe3] {
             let mut block = ElementBlock {
-                card: if kind == RigidKind::Rbe2 { "RBE2" } else { "RBE3" },
+                card: if kind == RigidKind::Rbe2 {
+                    "RBE2"
+                } else {
+                    "RBE3"
+                },
                 ids: Vec::new(),
                 pids: Vec::new(),
                 nodes_per_element: 2,
@@ -118,7 +133,11 @@ impl Model {
                 out.push(block);
             }
         }
-        MeshArrays { grid_ids: self.grids.iter().map(|g| g.id).collect(), xyz: self.grids.iter().map(|g| g.xyz).collect(), blocks: out }
+        MeshArrays {
+            grid_ids: self.grids.iter().map(|g| g.id).collect(),
+            xyz: self.grids.iter().map(|g| g.xyz).collect(),
+            blocks: out,
+        }
     }
 
     fn pid_of(&self, e: &super::Element) -> u32 {

@@ -27,9 +27,9 @@ use std::collections::{HashMap, HashSet};
 use crate::deck::cards::SensorKind;
 use crate::deck::{Deck, DeckError, Loc};
 
+use super::MaterialRef;
 use super::build::Refs;
 use super::ids::{entry, index};
-use super::MaterialRef;
 
 /// Run every check of the table above.
 pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
@@ -46,22 +46,54 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
     for p in &b.pshell {
         let card = format!("PSHELL {}", p.id);
         if p.mid1.is_none() && p.mid2.is_none() {
-            errors.push(DeckError::at(&p.loc, format!("neither MID1 nor MID2 is given: the shell has no stiffness and no mass{}", required_by(p.id))).on_card(&card));
+            errors.push(
+                DeckError::at(
+                    &p.loc,
+                    format!(
+                        "neither MID1 nor MID2 is given: the shell has no stiffness and no mass{}",
+                        required_by(p.id)
+                    ),
+                )
+                .on_card(&card),
+            );
         }
         if p.mid3.is_some() && p.mid2.is_none() {
             errors.push(DeckError::at(&p.loc, format!("MID3 must be blank unless MID2 is given (a membrane-only shell has no transverse shear){}", required_by(p.id))).on_card(&card));
         }
         if let Some(m4) = p.mid4 {
             if p.mid1.is_none() || p.mid2.is_none() {
-                errors.push(DeckError::at(&p.loc, format!("MID4 must be blank unless MID1 and MID2 are given{}", required_by(p.id))).on_card(&card));
+                errors.push(
+                    DeckError::at(
+                        &p.loc,
+                        format!(
+                            "MID4 must be blank unless MID1 and MID2 are given{}",
+                            required_by(p.id)
+                        ),
+                    )
+                    .on_card(&card),
+                );
             }
             if p.mid1 == Some(m4) || p.mid2 == Some(m4) {
                 errors.push(DeckError::at(&p.loc, format!("MID4 = {m4} may not equal MID1 or MID2 (use ZOFFS for an offset symmetric section){}", required_by(p.id))).on_card(&card));
             }
         }
-        for (name, mid) in [("MID1", p.mid1), ("MID2", p.mid2), ("MID3", p.mid3), ("MID4", p.mid4)] {
+        for (name, mid) in [
+            ("MID1", p.mid1),
+            ("MID2", p.mid2),
+            ("MID3", p.mid3),
+            ("MID4", p.mid4),
+        ] {
             if let Some(mid) = mid {
-                material(refs, mid, name, &["MAT1", "MAT8"], &card, &p.loc, &required_by(p.id), errors);
+                material(
+                    refs,
+                    mid,
+                    name,
+                    &["MAT1", "MAT8"],
+                    &card,
+                    &p.loc,
+                    &required_by(p.id),
+                    errors,
+                );
             }
         }
     }
@@ -70,13 +102,31 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         let mut seen = HashSet::new();
         for (k, ply) in p.plies.iter().enumerate() {
             if seen.insert(ply.mid) {
-                material(refs, ply.mid, &format!("MID{}", k + 1), &["MAT8", "MAT1"], &card, &p.loc, &required_by(p.id), errors);
+                material(
+                    refs,
+                    ply.mid,
+                    &format!("MID{}", k + 1),
+                    &["MAT8", "MAT1"],
+                    &card,
+                    &p.loc,
+                    &required_by(p.id),
+                    errors,
+                );
             }
         }
     }
     for p in &b.psolid {
         let card = format!("PSOLID {}", p.id);
-        material(refs, p.mid, "MID", &["MAT1"], &card, &p.loc, &required_by(p.id), errors);
+        material(
+            refs,
+            p.mid,
+            "MID",
+            &["MAT1"],
+            &card,
+            &p.loc,
+            &required_by(p.id),
+            errors,
+        );
     }
 
     // grids and systems of constraints and loads
@@ -107,45 +157,100 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
     }
 
     // sets
-    let spc_sets: HashSet<u32> = b.spc.iter().map(|s| s.sid).chain(b.spc1.iter().map(|s| s.sid)).collect();
+    let spc_sets: HashSet<u32> = b
+        .spc
+        .iter()
+        .map(|s| s.sid)
+        .chain(b.spc1.iter().map(|s| s.sid))
+        .collect();
     for s in &b.spcadd {
         for id in &s.sets {
             if !spc_sets.contains(id) {
-                errors.push(DeckError::at(&s.loc, format!("S = {id} does not exist (no SPC or SPC1 set {id})")).on_card(format!("SPCADD {}", s.sid)));
+                errors.push(
+                    DeckError::at(
+                        &s.loc,
+                        format!("S = {id} does not exist (no SPC or SPC1 set {id})"),
+                    )
+                    .on_card(format!("SPCADD {}", s.sid)),
+                );
             }
         }
     }
-    let static_sets: HashSet<u32> = b.forces.iter().map(|f| f.sid).chain(b.grav.iter().map(|g| g.sid)).collect();
+    let static_sets: HashSet<u32> = b
+        .forces
+        .iter()
+        .map(|f| f.sid)
+        .chain(b.grav.iter().map(|g| g.sid))
+        .collect();
     for l in &b.load {
         for (_, id) in &l.terms {
             if !static_sets.contains(id) {
-                errors.push(DeckError::at(&l.loc, format!("L = {id} does not exist (no FORCE, MOMENT or GRAV set {id})")).on_card(format!("LOAD {}", l.sid)));
+                errors.push(
+                    DeckError::at(
+                        &l.loc,
+                        format!("L = {id} does not exist (no FORCE, MOMENT or GRAV set {id})"),
+                    )
+                    .on_card(format!("LOAD {}", l.sid)),
+                );
             }
         }
     }
-    let excite: HashSet<u32> =
-        b.darea.iter().map(|d| d.sid).chain(static_sets.iter().copied()).chain(b.load.iter().map(|l| l.sid)).collect();
+    let excite: HashSet<u32> = b
+        .darea
+        .iter()
+        .map(|d| d.sid)
+        .chain(static_sets.iter().copied())
+        .chain(b.load.iter().map(|l| l.sid))
+        .collect();
     let tables = index(
-        b.tabled1.iter().map(|t| entry(t.id, "TABLED1", &t.loc, ())).chain(b.tablef.iter().map(|t| entry(t.id, "TABLEF", &t.loc, ()))).collect(),
+        b.tabled1
+            .iter()
+            .map(|t| entry(t.id, "TABLED1", &t.loc, ()))
+            .chain(b.tablef.iter().map(|t| entry(t.id, "TABLEF", &t.loc, ())))
+            .collect(),
         "table",
         errors,
     );
     let table = |id: u32, field: &str, card: &str, loc: &Loc, errors: &mut Vec<DeckError>| {
         if !tables.contains_key(&id) {
-            errors.push(DeckError::at(loc, format!("{field} = {id} does not exist (no TABLED1 or TABLEF {id})")).on_card(card));
+            errors.push(
+                DeckError::at(
+                    loc,
+                    format!("{field} = {id} does not exist (no TABLED1 or TABLEF {id})"),
+                )
+                .on_card(card),
+            );
         }
     };
     for t in &b.tload1 {
         let card = format!("TLOAD1 {}", t.sid);
         if !excite.contains(&t.excite_id) {
-            errors.push(DeckError::at(&t.loc, format!("EXCITEID = {} does not exist (no DAREA or static load set {})", t.excite_id, t.excite_id)).on_card(&card));
+            errors.push(
+                DeckError::at(
+                    &t.loc,
+                    format!(
+                        "EXCITEID = {} does not exist (no DAREA or static load set {})",
+                        t.excite_id, t.excite_id
+                    ),
+                )
+                .on_card(&card),
+            );
         }
         table(t.tid, "TID", &card, &t.loc, errors);
     }
     for r in &b.rload1 {
         let card = format!("RLOAD1 {}", r.sid);
         if !excite.contains(&r.excite_id) {
-            errors.push(DeckError::at(&r.loc, format!("EXCITEID = {} does not exist (no DAREA or static load set {})", r.excite_id, r.excite_id)).on_card(&card));
+            errors.push(
+                DeckError::at(
+                    &r.loc,
+                    format!(
+                        "EXCITEID = {} does not exist (no DAREA or static load set {})",
+                        r.excite_id, r.excite_id
+                    ),
+                )
+                .on_card(&card),
+            );
         }
         for (name, id) in [("TC", r.tc), ("TD", r.td)] {
             if id != 0 {
@@ -153,52 +258,160 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
             }
         }
         if r.tc == 0 && r.td == 0 {
-            errors.push(DeckError::at(&r.loc, "TC and TD are both 0: the load is zero at every frequency").on_card(&card));
+            errors.push(
+                DeckError::at(
+                    &r.loc,
+                    "TC and TD are both 0: the load is zero at every frequency",
+                )
+                .on_card(&card),
+            );
         }
     }
-    let dynamic: HashSet<u32> = b.tload1.iter().map(|t| t.sid).chain(b.rload1.iter().map(|r| r.sid)).collect();
+    let dynamic: HashSet<u32> = b
+        .tload1
+        .iter()
+        .map(|t| t.sid)
+        .chain(b.rload1.iter().map(|r| r.sid))
+        .collect();
     for d in &b.dload {
         for (_, id) in &d.terms {
             if !dynamic.contains(id) {
-                errors.push(DeckError::at(&d.loc, format!("L = {id} does not exist (no TLOAD1 or RLOAD1 set {id})")).on_card(format!("DLOAD {}", d.sid)));
+                errors.push(
+                    DeckError::at(
+                        &d.loc,
+                        format!("L = {id} does not exist (no TLOAD1 or RLOAD1 set {id})"),
+                    )
+                    .on_card(format!("DLOAD {}", d.sid)),
+                );
             }
         }
     }
 
     // single-id spaces
-    index(b.eigrl.iter().map(|c| entry(c.sid, "EIGRL", &c.loc, ())).collect(), "EIGRL", errors);
-    let tsteps = index(b.tstep.iter().map(|c| entry(c.sid, "TSTEP", &c.loc, ())).collect(), "TSTEP", errors);
-    index(b.tinteg.iter().map(|c| entry(c.id, "TINTEG", &c.loc, ())).collect(), "TINTEG", errors);
-    index(b.desvar.iter().map(|c| entry(c.id, "DESVAR", &c.loc, ())).collect(), "DESVAR", errors);
-    let ddvals = index(b.ddval.iter().map(|c| entry(c.id, "DDVAL", &c.loc, ())).collect(), "DDVAL", errors);
-    index(b.pmor.iter().map(|c| entry(c.id, "PMOR", &c.loc, ())).collect(), "PMOR", errors);
-    index(b.pval.iter().map(|c| entry(c.id, "PVAL", &c.loc, ())).collect(), "PVAL", errors);
-    index(b.sensors.iter().map(|c| entry(c.id, "SENSOR", &c.loc, ())).collect(), "SENSOR", errors);
-    index(b.sensors.iter().map(|c| entry(c.name.to_ascii_uppercase(), "SENSOR", &c.loc, ())).collect(), "SENSOR name", errors);
+    index(
+        b.eigrl
+            .iter()
+            .map(|c| entry(c.sid, "EIGRL", &c.loc, ()))
+            .collect(),
+        "EIGRL",
+        errors,
+    );
+    let tsteps = index(
+        b.tstep
+            .iter()
+            .map(|c| entry(c.sid, "TSTEP", &c.loc, ()))
+            .collect(),
+        "TSTEP",
+        errors,
+    );
+    index(
+        b.tinteg
+            .iter()
+            .map(|c| entry(c.id, "TINTEG", &c.loc, ()))
+            .collect(),
+        "TINTEG",
+        errors,
+    );
+    index(
+        b.desvar
+            .iter()
+            .map(|c| entry(c.id, "DESVAR", &c.loc, ()))
+            .collect(),
+        "DESVAR",
+        errors,
+    );
+    let ddvals = index(
+        b.ddval
+            .iter()
+            .map(|c| entry(c.id, "DDVAL", &c.loc, ()))
+            .collect(),
+        "DDVAL",
+        errors,
+    );
+    index(
+        b.pmor
+            .iter()
+            .map(|c| entry(c.id, "PMOR", &c.loc, ()))
+            .collect(),
+        "PMOR",
+        errors,
+    );
+    index(
+        b.pval
+            .iter()
+            .map(|c| entry(c.id, "PVAL", &c.loc, ()))
+            .collect(),
+        "PVAL",
+        errors,
+    );
+    index(
+        b.sensors
+            .iter()
+            .map(|c| entry(c.id, "SENSOR", &c.loc, ()))
+            .collect(),
+        "SENSOR",
+        errors,
+    );
+    index(
+        b.sensors
+            .iter()
+            .map(|c| entry(c.name.to_ascii_uppercase(), "SENSOR", &c.loc, ()))
+            .collect(),
+        "SENSOR name",
+        errors,
+    );
 
     for t in &b.tinteg {
         if !tsteps.contains_key(&t.id) {
-            errors.push(DeckError::at(&t.loc, format!("ID = {} does not exist (no TSTEP {})", t.id, t.id)).on_card(format!("TINTEG {}", t.id)));
+            errors.push(
+                DeckError::at(
+                    &t.loc,
+                    format!("ID = {} does not exist (no TSTEP {})", t.id, t.id),
+                )
+                .on_card(format!("TINTEG {}", t.id)),
+            );
         }
     }
     for d in &b.desvar {
         if let Some(id) = d.ddval
             && !ddvals.contains_key(&id)
         {
-            errors.push(DeckError::at(&d.loc, format!("DDVAL = {id} does not exist (no DDVAL {id})")).on_card(format!("DESVAR {}", d.id)));
+            errors.push(
+                DeckError::at(
+                    &d.loc,
+                    format!("DDVAL = {id} does not exist (no DDVAL {id})"),
+                )
+                .on_card(format!("DESVAR {}", d.id)),
+            );
         }
     }
     for p in &b.pmor {
         if p.bset.is_some() && b.aset1.is_empty() {
-            errors.push(DeckError::at(&p.loc, "BSET is given but the deck has no ASET1 card (the a-set is empty)").on_card(format!("PMOR {}", p.id)));
+            errors.push(
+                DeckError::at(
+                    &p.loc,
+                    "BSET is given but the deck has no ASET1 card (the a-set is empty)",
+                )
+                .on_card(format!("PMOR {}", p.id)),
+            );
         }
     }
     // PVALs of a deck that reads a pROM name the artifact's parameters: checked when it is read
-    let names: HashSet<String> = b.pmpar.iter().map(|p| p.name.to_ascii_uppercase()).collect();
+    let names: HashSet<String> = b
+        .pmpar
+        .iter()
+        .map(|p| p.name.to_ascii_uppercase())
+        .collect();
     for p in b.pval.iter().filter(|_| !reads_rom(deck)) {
         for (name, _) in &p.values {
             if !names.contains(&name.to_ascii_uppercase()) {
-                errors.push(DeckError::at(&p.loc, format!("NAME = {name} does not exist (no PMPAR named {name})")).on_card(format!("PVAL {}", p.id)));
+                errors.push(
+                    DeckError::at(
+                        &p.loc,
+                        format!("NAME = {name} does not exist (no PMPAR named {name})"),
+                    )
+                    .on_card(format!("PVAL {}", p.id)),
+                );
             }
         }
     }
@@ -245,36 +458,88 @@ fn sensors(refs: &Refs, errors: &mut Vec<DeckError>) {
                 }
             }
             SensorKind::Strain => match element_kind.get(&s.reference).copied() {
-                None => errors.push(DeckError::at(&s.loc, format!("REF = {} does not exist (no element {})", s.reference, s.reference)).on_card(&card)),
+                None => errors.push(
+                    DeckError::at(
+                        &s.loc,
+                        format!(
+                            "REF = {} does not exist (no element {})",
+                            s.reference, s.reference
+                        ),
+                    )
+                    .on_card(&card),
+                ),
                 Some("CQUAD4" | "CTRIA3") => {}
                 Some(kind @ ("CHEXA" | "CPENTA" | "CTETRA")) => {
                     if let Some(surf) = s.surface {
-                        errors.push(DeckError::at(&s.loc, format!("SURF = {surf} is only for shells; REF = {} is a {kind}", s.reference)).on_card(&card));
+                        errors.push(
+                            DeckError::at(
+                                &s.loc,
+                                format!(
+                                    "SURF = {surf} is only for shells; REF = {} is a {kind}",
+                                    s.reference
+                                ),
+                            )
+                            .on_card(&card),
+                        );
                     }
                 }
                 Some(kind) => errors.push(
-                    DeckError::at(&s.loc, format!("REF = {} is a {kind}; STRAIN sensors need a shell or solid element", s.reference)).on_card(&card),
+                    DeckError::at(
+                        &s.loc,
+                        format!(
+                            "REF = {} is a {kind}; STRAIN sensors need a shell or solid element",
+                            s.reference
+                        ),
+                    )
+                    .on_card(&card),
                 ),
             },
         }
         if !s.direction.iter().all(|v| v.is_finite()) || s.direction.iter().all(|v| *v == 0.0) {
-            errors.push(DeckError::at(&s.loc, "direction X Y Z must be finite and not zero").on_card(&card));
+            errors.push(
+                DeckError::at(&s.loc, "direction X Y Z must be finite and not zero").on_card(&card),
+            );
         }
     }
 }
 
 /// Check a material reference of a property.
 #[allow(clippy::too_many_arguments)]
-fn material(refs: &Refs, mid: u32, field: &str, allowed: &[&str], card: &str, loc: &Loc, required_by: &str, errors: &mut Vec<DeckError>) {
+fn material(
+    refs: &Refs,
+    mid: u32,
+    field: &str,
+    allowed: &[&str],
+    card: &str,
+    loc: &Loc,
+    required_by: &str,
+    errors: &mut Vec<DeckError>,
+) {
     let wanted = allowed.join(" or ");
     match refs.materials.get(&mid) {
-        None => errors.push(DeckError::at(loc, format!("{field} = {mid} does not exist (no {wanted} {mid}){required_by}")).on_card(card)),
+        None => errors.push(
+            DeckError::at(
+                loc,
+                format!("{field} = {mid} does not exist (no {wanted} {mid}){required_by}"),
+            )
+            .on_card(card),
+        ),
         Some(m) if !allowed.contains(&m.card()) => {
             let why = match m {
                 MaterialRef::Mat8(_) => ": MAT8 is a plane-stress (shell) material",
                 MaterialRef::Mat1(_) => "",
             };
-            errors.push(DeckError::at(loc, format!("{field} = {mid} is a {}; {} needs a {wanted}{why}{required_by}", m.card(), card.split(' ').next().unwrap_or(card))).on_card(card));
+            errors.push(
+                DeckError::at(
+                    loc,
+                    format!(
+                        "{field} = {mid} is a {}; {} needs a {wanted}{why}{required_by}",
+                        m.card(),
+                        card.split(' ').next().unwrap_or(card)
+                    ),
+                )
+                .on_card(card),
+            );
         }
         Some(_) => {}
     }

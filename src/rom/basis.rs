@@ -35,7 +35,11 @@ pub fn latin_hypercube(n: usize, low: &[f64], high: &[f64], seed: u64) -> Vec<Ve
 pub fn mac(a: &[f64], b: &[f64]) -> f64 {
     let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
     let (ab, aa, bb) = (dot(a, b), dot(a, a), dot(b, b));
-    if aa == 0.0 || bb == 0.0 { 0.0 } else { ab * ab / (aa * bb) }
+    if aa == 0.0 || bb == 0.0 {
+        0.0
+    } else {
+        ab * ab / (aa * bb)
+    }
 }
 
 /// The MAC filter of §3.4.2: walk the columns in order and drop every column whose MAC with an
@@ -59,7 +63,10 @@ pub fn mac_filter(vectors: MatRef<'_, f64>, sample: &[usize], threshold: f64) ->
         if v.iter().all(|x| *x == 0.0) {
             continue;
         }
-        if kept.iter().all(|(i, k)| sample[*i] == sample[j] || mac(k, &v) <= threshold) {
+        if kept
+            .iter()
+            .all(|(i, k)| sample[*i] == sample[j] || mac(k, &v) <= threshold)
+        {
             kept.push((j, v));
         }
     }
@@ -78,8 +85,14 @@ impl GlobalBasis {
     /// Decompose the concatenated local bases (columns).
     pub fn new(concatenated: MatRef<'_, f64>) -> Result<Self, faer::linalg::svd::SvdError> {
         let svd = concatenated.thin_svd()?;
-        let sigma = (0..svd.S().dim()).map(|i| svd.S().column_vector()[i]).collect();
-        Ok(GlobalBasis { u: svd.U().to_owned(), sigma, v: svd.V().to_owned() })
+        let sigma = (0..svd.S().dim())
+            .map(|i| svd.S().column_vector()[i])
+            .collect();
+        Ok(GlobalBasis {
+            u: svd.U().to_owned(),
+            sigma,
+            v: svd.V().to_owned(),
+        })
     }
 
     /// Singular values, descending.
@@ -91,7 +104,10 @@ impl GlobalBasis {
     /// singular vectors carry no information ("spatial noise", §3.4.2).
     pub fn numerical_rank(&self, rel_tol: f64) -> usize {
         let top = self.sigma.first().copied().unwrap_or(0.0);
-        self.sigma.iter().take_while(|&&s| s > rel_tol * top).count()
+        self.sigma
+            .iter()
+            .take_while(|&&s| s > rel_tol * top)
+            .count()
     }
 
     /// The truncated basis Ψ = U_n (first `n` left singular vectors).
@@ -114,9 +130,17 @@ pub enum CompanionError {
     #[error("{got} companion bases for {expected} local bases")]
     Count { expected: usize, got: usize },
     #[error("companion of local basis {sample}: {got} columns, the local basis has {expected}")]
-    Columns { sample: usize, expected: usize, got: usize },
+    Columns {
+        sample: usize,
+        expected: usize,
+        got: usize,
+    },
     #[error("companion of local basis {sample}: {got} rows, the first companion has {expected}")]
-    Rows { sample: usize, expected: usize, got: usize },
+    Rows {
+        sample: usize,
+        expected: usize,
+        got: usize,
+    },
 }
 
 /// The global basis of eq. 3.33–3.34 from local bases: the columns scaled to unit length (M-
@@ -135,10 +159,16 @@ pub struct Concatenation {
 
 impl Concatenation {
     /// Concatenate, filter (threshold `mac_tol`) and decompose `locals` (n × k_i each).
-    pub fn new(locals: &[MatRef<'_, f64>], mac_tol: f64) -> Result<Self, faer::linalg::svd::SvdError> {
+    pub fn new(
+        locals: &[MatRef<'_, f64>],
+        mac_tol: f64,
+    ) -> Result<Self, faer::linalg::svd::SvdError> {
         let n = locals.first().map_or(0, |b| b.nrows());
         let sizes: Vec<usize> = locals.iter().map(|b| b.ncols()).collect();
-        let columns: Vec<(&MatRef<'_, f64>, usize)> = locals.iter().flat_map(|b| (0..b.ncols()).map(move |j| (b, j))).collect();
+        let columns: Vec<(&MatRef<'_, f64>, usize)> = locals
+            .iter()
+            .flat_map(|b| (0..b.ncols()).map(move |j| (b, j)))
+            .collect();
         let scale: Vec<f64> = columns
             .iter()
             .map(|(b, j)| {
@@ -146,12 +176,25 @@ impl Concatenation {
                 if norm > 0.0 { 1.0 / norm } else { 1.0 }
             })
             .collect();
-        let concatenated = Mat::<f64>::from_fn(n, columns.len(), |i, c| columns[c].0[(i, columns[c].1)] * scale[c]);
-        let sample_of: Vec<usize> = sizes.iter().enumerate().flat_map(|(s, &k)| std::iter::repeat_n(s, k)).collect();
-        let kept: Vec<(usize, f64)> = mac_filter(concatenated.as_ref(), &sample_of, mac_tol).into_iter().map(|c| (c, scale[c])).collect();
+        let concatenated = Mat::<f64>::from_fn(n, columns.len(), |i, c| {
+            columns[c].0[(i, columns[c].1)] * scale[c]
+        });
+        let sample_of: Vec<usize> = sizes
+            .iter()
+            .enumerate()
+            .flat_map(|(s, &k)| std::iter::repeat_n(s, k))
+            .collect();
+        let kept: Vec<(usize, f64)> = mac_filter(concatenated.as_ref(), &sample_of, mac_tol)
+            .into_iter()
+            .map(|c| (c, scale[c]))
+            .collect();
         let filtered = Mat::<f64>::from_fn(n, kept.len(), |i, k| concatenated[(i, kept[k].0)]);
         drop(concatenated);
-        Ok(Concatenation { global: GlobalBasis::new(filtered.as_ref())?, sizes, kept })
+        Ok(Concatenation {
+            global: GlobalBasis::new(filtered.as_ref())?,
+            sizes,
+            kept,
+        })
     }
 
     /// Columns of the concatenation (eq. 3.33).
@@ -168,20 +211,38 @@ impl Concatenation {
     /// basis (s × k_i each, column j the image of local column j — e.g. its strains at the
     /// sensors): concatenated, scaled and filtered as the local bases were, then
     /// N_s = N_s,global,n V_n Σ_n⁻¹. For a companion L Ψ_i (L linear) this is L U_n.
-    pub fn companion(&self, companions: &[MatRef<'_, f64>], n: usize) -> Result<Mat<f64>, CompanionError> {
+    pub fn companion(
+        &self,
+        companions: &[MatRef<'_, f64>],
+        n: usize,
+    ) -> Result<Mat<f64>, CompanionError> {
         if companions.len() != self.sizes.len() {
-            return Err(CompanionError::Count { expected: self.sizes.len(), got: companions.len() });
+            return Err(CompanionError::Count {
+                expected: self.sizes.len(),
+                got: companions.len(),
+            });
         }
         let rows = companions.first().map_or(0, |c| c.nrows());
         for (sample, (c, &k)) in companions.iter().zip(&self.sizes).enumerate() {
             if c.ncols() != k {
-                return Err(CompanionError::Columns { sample: sample + 1, expected: k, got: c.ncols() });
+                return Err(CompanionError::Columns {
+                    sample: sample + 1,
+                    expected: k,
+                    got: c.ncols(),
+                });
             }
             if c.nrows() != rows {
-                return Err(CompanionError::Rows { sample: sample + 1, expected: rows, got: c.nrows() });
+                return Err(CompanionError::Rows {
+                    sample: sample + 1,
+                    expected: rows,
+                    got: c.nrows(),
+                });
             }
         }
-        let columns: Vec<(&MatRef<'_, f64>, usize)> = companions.iter().flat_map(|c| (0..c.ncols()).map(move |j| (c, j))).collect();
+        let columns: Vec<(&MatRef<'_, f64>, usize)> = companions
+            .iter()
+            .flat_map(|c| (0..c.ncols()).map(move |j| (c, j)))
+            .collect();
         let filtered = Mat::<f64>::from_fn(rows, self.kept.len(), |i, k| {
             let (c, scale) = self.kept[k];
             columns[c].0[(i, columns[c].1)] * scale
@@ -196,7 +257,9 @@ impl Concatenation {
 /// Lines where the previous FRF is exactly zero (an input that does not reach an output) are
 /// skipped rather than divided by.
 pub fn frf_change(previous: &[Mat<c64>], current: &[Mat<c64>]) -> f64 {
-    let Some(first) = previous.first() else { return 0.0 };
+    let Some(first) = previous.first() else {
+        return 0.0;
+    };
     let n_omega = previous.len() as f64;
     let mut total = 0.0;
     for i in 0..first.ncols() {
@@ -223,7 +286,10 @@ mod tests {
         let (low, high) = ([0.6, 10.0], [1.4, 20.0]);
         let pts = latin_hypercube(7, &low, &high, 42);
         for j in 0..2 {
-            let mut strata: Vec<usize> = pts.iter().map(|p| ((p[j] - low[j]) / (high[j] - low[j]) * 7.0).floor() as usize).collect();
+            let mut strata: Vec<usize> = pts
+                .iter()
+                .map(|p| ((p[j] - low[j]) / (high[j] - low[j]) * 7.0).floor() as usize)
+                .collect();
             strata.sort_unstable();
             assert_eq!(strata, (0..7).collect::<Vec<_>>());
         }
@@ -236,8 +302,14 @@ mod tests {
     #[test]
     fn frf_change_follows_eq_3_35() {
         let h = |a: c64, b: c64| Mat::<c64>::from_fn(1, 2, |_, j| if j == 0 { a } else { b });
-        let prev = [h(c64::new(2.0, 0.0), c64::new(0.0, 1.0)), h(c64::new(0.0, 4.0), c64::new(0.0, 0.0))];
-        let cur = [h(c64::new(0.0, -1.0), c64::new(1.5, 0.0)), h(c64::new(4.0, 0.0), c64::new(7.0, 0.0))];
+        let prev = [
+            h(c64::new(2.0, 0.0), c64::new(0.0, 1.0)),
+            h(c64::new(0.0, 4.0), c64::new(0.0, 0.0)),
+        ];
+        let cur = [
+            h(c64::new(0.0, -1.0), c64::new(1.5, 0.0)),
+            h(c64::new(4.0, 0.0), c64::new(7.0, 0.0)),
+        ];
         assert!((frf_change(&prev, &cur) - 0.5).abs() < 1e-15);
         assert_eq!(frf_change(&prev, &prev), 0.0);
     }
@@ -259,11 +331,24 @@ mod tests {
         let b = [0.0, 1.0, -1.0, 2.0];
         let near_a = [1.0, 2.0, 0.5, -0.8];
         assert!(mac(&a, &near_a) > 0.99);
-        let cols = [a.to_vec(), near_a.to_vec(), b.to_vec(), a.iter().map(|x| 3.0 * x).collect(), b.iter().map(|x| -0.2 * x).collect(), vec![1.0, 0.0, 0.0, 0.0]];
+        let cols = [
+            a.to_vec(),
+            near_a.to_vec(),
+            b.to_vec(),
+            a.iter().map(|x| 3.0 * x).collect(),
+            b.iter().map(|x| -0.2 * x).collect(),
+            vec![1.0, 0.0, 0.0, 0.0],
+        ];
         let m = Mat::<f64>::from_fn(4, cols.len(), |i, j| cols[j][i]);
-        assert_eq!(mac_filter(m.as_ref(), &[0, 0, 0, 1, 1, 1], 0.99), vec![0, 1, 2, 5]);
+        assert_eq!(
+            mac_filter(m.as_ref(), &[0, 0, 0, 1, 1, 1], 0.99),
+            vec![0, 1, 2, 5]
+        );
         // one sample: nothing is compared, nothing removed
-        assert_eq!(mac_filter(m.as_ref(), &[0; 6], 0.99), (0..6).collect::<Vec<_>>());
+        assert_eq!(
+            mac_filter(m.as_ref(), &[0; 6], 0.99),
+            (0..6).collect::<Vec<_>>()
+        );
     }
 
     /// Eq. 3.36–3.38 through [`Concatenation`]: local bases of very different column scales, one
@@ -273,8 +358,16 @@ mod tests {
     #[test]
     fn concatenation_companion_follows_scaling_filter_and_truncation() {
         let n = 9;
-        let local0 = Mat::<f64>::from_fn(n, 3, |i, j| ((i * (j + 2)) as f64 * 0.7).sin() * 10f64.powi(3 * j as i32));
-        let local1 = Mat::<f64>::from_fn(n, 3, |i, j| if j == 0 { -5.0 * local0[(i, 1)] } else { ((i + 3 * j) as f64 * 1.3).cos() * 1e-4 });
+        let local0 = Mat::<f64>::from_fn(n, 3, |i, j| {
+            ((i * (j + 2)) as f64 * 0.7).sin() * 10f64.powi(3 * j as i32)
+        });
+        let local1 = Mat::<f64>::from_fn(n, 3, |i, j| {
+            if j == 0 {
+                -5.0 * local0[(i, 1)]
+            } else {
+                ((i + 3 * j) as f64 * 1.3).cos() * 1e-4
+            }
+        });
         let c = Concatenation::new(&[local0.as_ref(), local1.as_ref()], 0.99).unwrap();
         assert_eq!((c.concatenated(), c.kept()), (6, 5));
         let l = Mat::<f64>::from_fn(2, n, |i, j| (i as f64 + 1.0) * (j as f64 * 0.4).sin() - 0.3);
@@ -285,12 +378,23 @@ mod tests {
         let direct = &l * c.global.truncated(rank);
         for i in 0..2 {
             for k in 0..rank {
-                assert!((via[(i, k)] - direct[(i, k)]).abs() <= 1e-10 * (1.0 + direct[(i, k)].abs()), "{i},{k}: {} vs {}", via[(i, k)], direct[(i, k)]);
+                assert!(
+                    (via[(i, k)] - direct[(i, k)]).abs() <= 1e-10 * (1.0 + direct[(i, k)].abs()),
+                    "{i},{k}: {} vs {}",
+                    via[(i, k)],
+                    direct[(i, k)]
+                );
             }
         }
         let short = s1.as_ref().subcols(0, 2);
-        let message = c.companion(&[s0.as_ref(), short], rank).unwrap_err().to_string();
-        assert_eq!(message, "companion of local basis 2: 2 columns, the local basis has 3");
+        let message = c
+            .companion(&[s0.as_ref(), short], rank)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            message,
+            "companion of local basis 2: 2 columns, the local basis has 3"
+        );
     }
 
     /// Σ and U reproduce the concatenation; the numerical rank sees duplicated information;
@@ -300,7 +404,13 @@ mod tests {
         let n = 6;
         let base = Mat::<f64>::from_fn(n, 3, |i, j| ((i + 1) as f64).powi(j as i32 + 1).sin());
         // concatenation with a scaled copy of the first two vectors: rank 3
-        let concat = Mat::<f64>::from_fn(n, 5, |i, j| if j < 3 { base[(i, j)] } else { 2.0 * base[(i, j - 3)] });
+        let concat = Mat::<f64>::from_fn(n, 5, |i, j| {
+            if j < 3 {
+                base[(i, j)]
+            } else {
+                2.0 * base[(i, j - 3)]
+            }
+        });
         let g = GlobalBasis::new(concat.as_ref()).unwrap();
         assert_eq!(g.numerical_rank(1e-12), 3);
         let l = Mat::<f64>::from_fn(2, n, |i, j| (i as f64 + 1.0) * (j as f64) - 1.0);
@@ -309,7 +419,11 @@ mod tests {
         let direct = &l * g.truncated(3);
         for i in 0..2 {
             for k in 0..3 {
-                assert!((via_companion[(i, k)] - direct[(i, k)]).abs() < 1e-10 * (1.0 + direct[(i, k)].abs()), "{i},{k}");
+                assert!(
+                    (via_companion[(i, k)] - direct[(i, k)]).abs()
+                        < 1e-10 * (1.0 + direct[(i, k)].abs()),
+                    "{i},{k}"
+                );
             }
         }
     }

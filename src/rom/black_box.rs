@@ -53,7 +53,11 @@ pub enum BlackBoxError {
     #[error("{got} local bases for {expected} samples (one Ψ per sample)")]
     BasisCount { expected: usize, got: usize },
     #[error("local basis of sample {sample}: {got} rows, the matrices are {expected} × {expected}")]
-    BasisRows { sample: usize, expected: usize, got: usize },
+    BasisRows {
+        sample: usize,
+        expected: usize,
+        got: usize,
+    },
     #[error("the local bases have no column")]
     EmptyBasis,
     #[error("strain bases: {0}")]
@@ -65,13 +69,23 @@ pub enum BlackBoxError {
 }
 
 /// Build the pROM (module doc) from the fitted components `fit` and `input`.
-pub fn build_black_box(fit: &MatrixFit, input: &BlackBoxInput<'_>) -> Result<BlackBox, BlackBoxError> {
+pub fn build_black_box(
+    fit: &MatrixFit,
+    input: &BlackBoxInput<'_>,
+) -> Result<BlackBox, BlackBoxError> {
     let n = fit.stiffness.first().map_or(0, CscMatrix::nrows);
     if input.bases.len() != input.values.len() {
-        return Err(BlackBoxError::BasisCount { expected: input.values.len(), got: input.bases.len() });
+        return Err(BlackBoxError::BasisCount {
+            expected: input.values.len(),
+            got: input.bases.len(),
+        });
     }
     if let Some((h, b)) = input.bases.iter().enumerate().find(|(_, b)| b.nrows() != n) {
-        return Err(BlackBoxError::BasisRows { sample: h + 1, expected: n, got: b.nrows() });
+        return Err(BlackBoxError::BasisRows {
+            sample: h + 1,
+            expected: n,
+            got: b.nrows(),
+        });
     }
     if let Some(&index) = input.inputs.iter().find(|&&i| i >= n) {
         return Err(BlackBoxError::Input { index, size: n });
@@ -110,12 +124,22 @@ pub fn build_black_box(fit: &MatrixFit, input: &BlackBoxInput<'_>) -> Result<Bla
         beta: 0.0,
     };
     let inputs = Mat::<f64>::from_fn(rank, input.inputs.len(), |i, j| v[(input.inputs[j], i)]);
-    Ok(BlackBox { prom, inputs, strains, concatenated: concatenation.concatenated(), kept: concatenation.kept(), singular_values: concatenation.global.singular_values().to_vec() })
+    Ok(BlackBox {
+        prom,
+        inputs,
+        strains,
+        concatenated: concatenation.concatenated(),
+        kept: concatenation.kept(),
+        singular_values: concatenation.global.singular_values().to_vec(),
+    })
 }
 
 /// The pROM parameters and functions of named sampled functions (module doc): `1` at value 1
 /// everywhere is the constant, every other function f_i is its own parameter with f_i = p.
-fn parameters_of(names: &[String], values: &[Vec<f64>]) -> (Vec<PromParameter>, Vec<AffineFunction>) {
+fn parameters_of(
+    names: &[String],
+    values: &[Vec<f64>],
+) -> (Vec<PromParameter>, Vec<AffineFunction>) {
     let mut parameters = Vec::new();
     let mut functions = Vec::new();
     for (i, name) in names.iter().enumerate() {
@@ -124,9 +148,20 @@ fn parameters_of(names: &[String], values: &[Vec<f64>]) -> (Vec<PromParameter>, 
             functions.push(AffineFunction::constant());
             continue;
         }
-        let (low, high) = column.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
-        functions.push(AffineFunction { coefficient: Coefficient::Lumped, fixed: CoefficientValues::default(), driven_by: vec![(CoefficientInput::Lumped, parameters.len())] });
-        parameters.push(PromParameter { name: name.clone(), low, high, nominal: 0.5 * (low + high) });
+        let (low, high) = column.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+            (l.min(x), h.max(x))
+        });
+        functions.push(AffineFunction {
+            coefficient: Coefficient::Lumped,
+            fixed: CoefficientValues::default(),
+            driven_by: vec![(CoefficientInput::Lumped, parameters.len())],
+        });
+        parameters.push(PromParameter {
+            name: name.clone(),
+            low,
+            high,
+            nominal: 0.5 * (low + high),
+        });
     }
     (parameters, functions)
 }
@@ -140,9 +175,18 @@ mod tests {
         let names: Vec<String> = ["1", "E", "RHO"].iter().map(|s| s.to_string()).collect();
         let values = vec![vec![1.0, 2.0, 10.0], vec![1.0, 4.0, 30.0]];
         let (params, functions) = parameters_of(&names, &values);
-        assert_eq!(params.iter().map(|p| (p.name.as_str(), p.low, p.high, p.nominal)).collect::<Vec<_>>(), vec![("E", 2.0, 4.0, 3.0), ("RHO", 10.0, 30.0, 20.0)]);
+        assert_eq!(
+            params
+                .iter()
+                .map(|p| (p.name.as_str(), p.low, p.high, p.nominal))
+                .collect::<Vec<_>>(),
+            vec![("E", 2.0, 4.0, 3.0), ("RHO", 10.0, 30.0, 20.0)]
+        );
         let p = [3.5, 12.0];
-        assert_eq!(functions.iter().map(|f| f.value(&p)).collect::<Vec<_>>(), vec![1.0, 3.5, 12.0]);
+        assert_eq!(
+            functions.iter().map(|f| f.value(&p)).collect::<Vec<_>>(),
+            vec![1.0, 3.5, 12.0]
+        );
         assert_eq!(functions[2].derivative(&p, 1), 1.0);
     }
 }

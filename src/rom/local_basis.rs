@@ -25,7 +25,10 @@
 use faer::{Mat, Par};
 use nalgebra_sparse::CscMatrix;
 
-use crate::linalg::{EigenProblem, EigenRequest, LanczosOptions, LinalgError, Progress, SymbolicFactor, solve_modes, sym_matvec};
+use crate::linalg::{
+    EigenProblem, EigenRequest, LanczosOptions, LinalgError, Progress, SymbolicFactor, solve_modes,
+    sym_matvec,
+};
 
 /// λ below this fraction of the largest computed eigenvalue counts as a rigid-body mode. The
 /// eigen solver returns rigid-body λ at round-off (≈ 1e-12 of ‖K‖/‖M‖ or less); an elastic
@@ -96,11 +99,17 @@ pub enum LocalBasisError {
     BoundaryOutOfRange { index: usize, size: usize },
     #[error("STATIC = CONSTR needs boundary DOFs (BSET)")]
     ConstrWithoutBoundary,
-    #[error("RIGID = REMOVE cannot be combined with STATIC = CONSTR: the constraint modes carry the rigid-body motion")]
+    #[error(
+        "RIGID = REMOVE cannot be combined with STATIC = CONSTR: the constraint modes carry the rigid-body motion"
+    )]
     ConstrRemovesRigid,
-    #[error("STATIC = CONSTR: the stiffness of the interior DOFs with the boundary DOFs held is singular (the boundary does not restrain the rigid-body motion): {0}")]
+    #[error(
+        "STATIC = CONSTR: the stiffness of the interior DOFs with the boundary DOFs held is singular (the boundary does not restrain the rigid-body motion): {0}"
+    )]
     ConstrSingular(LinalgError),
-    #[error("the inertia-relief static mode of boundary DOF {dof} did not converge (relative change {change:.1e} after {RELIEF_MAX_ITERATIONS} iterations): the first elastic mode is too close to the shift")]
+    #[error(
+        "the inertia-relief static mode of boundary DOF {dof} did not converge (relative change {change:.1e} after {RELIEF_MAX_ITERATIONS} iterations): the first elastic mode is too close to the shift"
+    )]
     ReliefNotConverged { dof: usize, change: f64 },
 }
 
@@ -121,7 +130,10 @@ struct FixedInterface {
 
 impl LocalBasisSetup {
     /// Checks the request against the size of K (`pattern_of`: any matrix with K's pattern).
-    pub fn new(pattern_of: &CscMatrix<f64>, request: LocalBasisRequest) -> Result<Self, LocalBasisError> {
+    pub fn new(
+        pattern_of: &CscMatrix<f64>,
+        request: LocalBasisRequest,
+    ) -> Result<Self, LocalBasisError> {
         let n = pattern_of.nrows();
         if let Some(&index) = request.boundary.iter().find(|&&b| b >= n) {
             return Err(LocalBasisError::BoundaryOutOfRange { index, size: n });
@@ -137,9 +149,18 @@ impl LocalBasisSetup {
                 let mut interior_of = vec![Some(0); n];
                 request.boundary.iter().for_each(|&b| interior_of[b] = None);
                 let interior: Vec<usize> = (0..n).filter(|&i| interior_of[i].is_some()).collect();
-                interior.iter().enumerate().for_each(|(new, &old)| interior_of[old] = Some(new));
-                let symbolic = SymbolicFactor::analyze(principal(pattern_of, &interior_of, interior.len()).pattern())?;
-                Some(FixedInterface { interior_of, interior, symbolic })
+                interior
+                    .iter()
+                    .enumerate()
+                    .for_each(|(new, &old)| interior_of[old] = Some(new));
+                let symbolic = SymbolicFactor::analyze(
+                    principal(pattern_of, &interior_of, interior.len()).pattern(),
+                )?;
+                Some(FixedInterface {
+                    interior_of,
+                    interior,
+                    symbolic,
+                })
             }
             StaticModes::Attach | StaticModes::None => None,
         };
@@ -164,11 +185,17 @@ fn principal(a: &CscMatrix<f64>, new_of: &[Option<usize>], size: usize) -> CscMa
         }
         col_offsets.push(row_indices.len());
     }
-    CscMatrix::try_from_csc_data(size, size, col_offsets, row_indices, kept).expect("a principal submatrix of a valid CSC matrix is valid")
+    CscMatrix::try_from_csc_data(size, size, col_offsets, row_indices, kept)
+        .expect("a principal submatrix of a valid CSC matrix is valid")
 }
 
 /// Build the local basis of the pencil (K, M).
-pub fn local_basis(problem: &EigenProblem<'_>, setup: &LocalBasisSetup, par: Par, progress: &dyn Progress) -> Result<LocalBasis, LocalBasisError> {
+pub fn local_basis(
+    problem: &EigenProblem<'_>,
+    setup: &LocalBasisSetup,
+    par: Par,
+    progress: &dyn Progress,
+) -> Result<LocalBasis, LocalBasisError> {
     let request = &setup.request;
     if let Some(fixed) = &setup.fixed {
         return craig_bampton(problem, request, fixed, par, progress);
@@ -177,11 +204,29 @@ pub fn local_basis(problem: &EigenProblem<'_>, setup: &LocalBasisSetup, par: Par
     // Ask for 6 more than wanted so the rigid-body modes of a free body do not eat the elastic
     // ones (a free 3-D body has at most 6; mechanisms are refused upstream).
     let wanted = request.n_modes + 6;
-    let eigen = solve_modes(problem, &EigenRequest { v1_hz: None, v2_hz: request.fmax_hz, nd: Some(wanted.min(n)), shift_hz: None }, &LanczosOptions::default(), par, progress)?;
+    let eigen = solve_modes(
+        problem,
+        &EigenRequest {
+            v1_hz: None,
+            v2_hz: request.fmax_hz,
+            nd: Some(wanted.min(n)),
+            shift_hz: None,
+        },
+        &LanczosOptions::default(),
+        par,
+        progress,
+    )?;
     let lambda_max = eigen.eigenvalues.iter().copied().fold(0.0, f64::max);
-    let is_rigid: Vec<bool> = eigen.eigenvalues.iter().map(|&l| l <= RIGID_REL * lambda_max).collect();
+    let is_rigid: Vec<bool> = eigen
+        .eigenvalues
+        .iter()
+        .map(|&l| l <= RIGID_REL * lambda_max)
+        .collect();
     let rigid_cols: Vec<usize> = (0..is_rigid.len()).filter(|&j| is_rigid[j]).collect();
-    let elastic_cols: Vec<usize> = (0..is_rigid.len()).filter(|&j| !is_rigid[j]).take(request.n_modes).collect();
+    let elastic_cols: Vec<usize> = (0..is_rigid.len())
+        .filter(|&j| !is_rigid[j])
+        .take(request.n_modes)
+        .collect();
     let kept_normal: Vec<usize> = match request.rigid {
         RigidModes::Keep => rigid_cols.iter().chain(&elastic_cols).copied().collect(),
         RigidModes::Remove => elastic_cols.clone(),
@@ -189,31 +234,90 @@ pub fn local_basis(problem: &EigenProblem<'_>, setup: &LocalBasisSetup, par: Par
     let statics = match request.statics {
         StaticModes::None | StaticModes::Constr => Mat::zeros(n, 0),
         StaticModes::Attach => {
-            let lambda_1 = elastic_cols.first().map(|&j| eigen.eigenvalues[j]).unwrap_or(lambda_max);
-            attachment_modes(problem, &eigen.vectors, &rigid_cols, -RELIEF_SHIFT * lambda_1, &request.boundary, par)?
+            let lambda_1 = elastic_cols
+                .first()
+                .map(|&j| eigen.eigenvalues[j])
+                .unwrap_or(lambda_max);
+            attachment_modes(
+                problem,
+                &eigen.vectors,
+                &rigid_cols,
+                -RELIEF_SHIFT * lambda_1,
+                &request.boundary,
+                par,
+            )?
         }
     };
     let n_static = statics.ncols();
-    let vectors = Mat::from_fn(n, kept_normal.len() + n_static, |i, c| if c < kept_normal.len() { eigen.vectors[(i, kept_normal[c])] } else { statics[(i, c - kept_normal.len())] });
-    Ok(LocalBasis { vectors, frequencies_hz: kept_normal.iter().map(|&j| eigen.frequencies_hz[j]).collect(), n_rigid: rigid_cols.len(), n_static })
+    let vectors = Mat::from_fn(n, kept_normal.len() + n_static, |i, c| {
+        if c < kept_normal.len() {
+            eigen.vectors[(i, kept_normal[c])]
+        } else {
+            statics[(i, c - kept_normal.len())]
+        }
+    });
+    Ok(LocalBasis {
+        vectors,
+        frequencies_hz: kept_normal
+            .iter()
+            .map(|&j| eigen.frequencies_hz[j])
+            .collect(),
+        n_rigid: rigid_cols.len(),
+        n_static,
+    })
 }
 
 /// Fixed-interface modes and constraint modes (module doc).
-fn craig_bampton(problem: &EigenProblem<'_>, request: &LocalBasisRequest, fixed: &FixedInterface, par: Par, progress: &dyn Progress) -> Result<LocalBasis, LocalBasisError> {
+fn craig_bampton(
+    problem: &EigenProblem<'_>,
+    request: &LocalBasisRequest,
+    fixed: &FixedInterface,
+    par: Par,
+    progress: &dyn Progress,
+) -> Result<LocalBasis, LocalBasisError> {
     let n = problem.k.nrows();
     let ni = fixed.interior.len();
-    let (k_ii, m_ii) = (principal(problem.k, &fixed.interior_of, ni), principal(problem.m, &fixed.interior_of, ni));
-    let factor = fixed.symbolic.factor_llt(&k_ii, par).map_err(LocalBasisError::ConstrSingular)?;
-    let interior = EigenProblem { k: &k_ii, m: &m_ii, symbolic: &fixed.symbolic };
-    let eigen = solve_modes(&interior, &EigenRequest { v1_hz: None, v2_hz: request.fmax_hz, nd: Some(request.n_modes.min(ni)), shift_hz: None }, &LanczosOptions::default(), par, progress)?;
+    let (k_ii, m_ii) = (
+        principal(problem.k, &fixed.interior_of, ni),
+        principal(problem.m, &fixed.interior_of, ni),
+    );
+    let factor = fixed
+        .symbolic
+        .factor_llt(&k_ii, par)
+        .map_err(LocalBasisError::ConstrSingular)?;
+    let interior = EigenProblem {
+        k: &k_ii,
+        m: &m_ii,
+        symbolic: &fixed.symbolic,
+    };
+    let eigen = solve_modes(
+        &interior,
+        &EigenRequest {
+            v1_hz: None,
+            v2_hz: request.fmax_hz,
+            nd: Some(request.n_modes.min(ni)),
+            shift_hz: None,
+        },
+        &LanczosOptions::default(),
+        par,
+        progress,
+    )?;
     let n_modes = eigen.vectors.ncols();
     let nb = request.boundary.len();
     let mut vectors = Mat::<f64>::zeros(n, n_modes + nb);
     for j in 0..n_modes {
-        fixed.interior.iter().enumerate().for_each(|(r, &i)| vectors[(i, j)] = eigen.vectors[(r, j)]);
+        fixed
+            .interior
+            .iter()
+            .enumerate()
+            .for_each(|(r, &i)| vectors[(i, j)] = eigen.vectors[(r, j)]);
     }
     let mut scratch = factor.solve_scratch(1)?;
-    let (offsets, rows, values) = (problem.k.col_offsets(), problem.k.row_indices(), problem.k.values());
+    let (offsets, rows, values) = (
+        problem.k.col_offsets(),
+        problem.k.row_indices(),
+        problem.k.values(),
+    );
     let mut x = vec![0.0; ni];
     for (c, &b) in request.boundary.iter().enumerate() {
         // −K_ib e_b: column b of K on the interior rows (K symmetric, full pattern)
@@ -223,17 +327,36 @@ fn craig_bampton(problem: &EigenProblem<'_>, request: &LocalBasisRequest, fixed:
                 x[r] = -values[k];
             }
         }
-        factor.solve_in_place_with_scratch(faer::MatMut::from_column_major_slice_mut(&mut x, ni, 1), &mut scratch)?;
+        factor.solve_in_place_with_scratch(
+            faer::MatMut::from_column_major_slice_mut(&mut x, ni, 1),
+            &mut scratch,
+        )?;
         let col = n_modes + c;
-        fixed.interior.iter().enumerate().for_each(|(r, &i)| vectors[(i, col)] = x[r]);
+        fixed
+            .interior
+            .iter()
+            .enumerate()
+            .for_each(|(r, &i)| vectors[(i, col)] = x[r]);
         vectors[(b, col)] = 1.0;
     }
-    Ok(LocalBasis { vectors, frequencies_hz: eigen.frequencies_hz, n_rigid: 0, n_static: nb })
+    Ok(LocalBasis {
+        vectors,
+        frequencies_hz: eigen.frequencies_hz,
+        n_rigid: 0,
+        n_static: nb,
+    })
 }
 
 /// Attachment modes (module doc): plain K ψ = e_b for a supported structure, inertia relief for
 /// a free one.
-fn attachment_modes(problem: &EigenProblem<'_>, modes: &Mat<f64>, rigid: &[usize], relief_shift: f64, boundary: &[usize], par: Par) -> Result<Mat<f64>, LocalBasisError> {
+fn attachment_modes(
+    problem: &EigenProblem<'_>,
+    modes: &Mat<f64>,
+    rigid: &[usize],
+    relief_shift: f64,
+    boundary: &[usize],
+    par: Par,
+) -> Result<Mat<f64>, LocalBasisError> {
     let n = problem.k.nrows();
     let mut out = Mat::<f64>::zeros(n, boundary.len());
     if boundary.is_empty() {
@@ -242,7 +365,11 @@ fn attachment_modes(problem: &EigenProblem<'_>, modes: &Mat<f64>, rigid: &[usize
     let free = !rigid.is_empty();
     let sigma = if free { relief_shift.min(0.0) } else { 0.0 };
     let shifted = shifted(problem, sigma);
-    let factor = if sigma == 0.0 { problem.symbolic.factor_llt(problem.k, par) } else { problem.symbolic.factor_ldlt(&shifted, par) }?;
+    let factor = if sigma == 0.0 {
+        problem.symbolic.factor_llt(problem.k, par)
+    } else {
+        problem.symbolic.factor_ldlt(&shifted, par)
+    }?;
     let mut scratch = factor.solve_scratch(1)?;
     let mut m_x = vec![0.0; n];
     // M-orthogonal projection on the elastic subspace: x ← x − Φ_r Φ_rᵀ M x.
@@ -269,7 +396,10 @@ fn attachment_modes(problem: &EigenProblem<'_>, modes: &Mat<f64>, rigid: &[usize
             }
         }
         let mut x = load.clone();
-        factor.solve_in_place_with_scratch(faer::MatMut::from_column_major_slice_mut(&mut x, n, 1), &mut scratch)?;
+        factor.solve_in_place_with_scratch(
+            faer::MatMut::from_column_major_slice_mut(&mut x, n, 1),
+            &mut scratch,
+        )?;
         if free {
             project(&mut x, &mut m_x)?;
             let mut change = f64::INFINITY;
@@ -279,11 +409,24 @@ fn attachment_modes(problem: &EigenProblem<'_>, modes: &Mat<f64>, rigid: &[usize
                     return Err(LocalBasisError::ReliefNotConverged { dof: b, change });
                 }
                 sym_matvec(problem.m, &x, &mut m_x)?;
-                let mut next: Vec<f64> = load.iter().zip(&m_x).map(|(l, mx)| l - sigma * mx).collect();
-                factor.solve_in_place_with_scratch(faer::MatMut::from_column_major_slice_mut(&mut next, n, 1), &mut scratch)?;
+                let mut next: Vec<f64> = load
+                    .iter()
+                    .zip(&m_x)
+                    .map(|(l, mx)| l - sigma * mx)
+                    .collect();
+                factor.solve_in_place_with_scratch(
+                    faer::MatMut::from_column_major_slice_mut(&mut next, n, 1),
+                    &mut scratch,
+                )?;
                 project(&mut next, &mut m_x)?;
                 let norm = next.iter().map(|v| v * v).sum::<f64>().sqrt();
-                change = next.iter().zip(&x).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt() / norm.max(f64::MIN_POSITIVE);
+                change = next
+                    .iter()
+                    .zip(&x)
+                    .map(|(a, b)| (a - b).powi(2))
+                    .sum::<f64>()
+                    .sqrt()
+                    / norm.max(f64::MIN_POSITIVE);
                 x = next;
                 iterations += 1;
             }
@@ -297,7 +440,10 @@ fn attachment_modes(problem: &EigenProblem<'_>, modes: &Mat<f64>, rigid: &[usize
 fn shifted(problem: &EigenProblem<'_>, sigma: f64) -> CscMatrix<f64> {
     let mut a = problem.k.clone();
     if sigma != 0.0 {
-        a.values_mut().iter_mut().zip(problem.m.values()).for_each(|(k, m)| *k -= sigma * m);
+        a.values_mut()
+            .iter_mut()
+            .zip(problem.m.values())
+            .for_each(|(k, m)| *k -= sigma * m);
     }
     a
 }
@@ -313,7 +459,12 @@ mod tests {
     fn chain(n: usize, grounded: bool) -> (CscMatrix<f64>, CscMatrix<f64>) {
         let (mut k, mut m) = (CooMatrix::new(n, n), CooMatrix::new(n, n));
         for i in 0..n - 1 {
-            for (a, b, v) in [(i, i, 1.0), (i + 1, i + 1, 1.0), (i, i + 1, -1.0), (i + 1, i, -1.0)] {
+            for (a, b, v) in [
+                (i, i, 1.0),
+                (i + 1, i + 1, 1.0),
+                (i, i + 1, -1.0),
+                (i + 1, i, -1.0),
+            ] {
                 k.push(a, b, v);
                 m.push(a, b, 0.0);
             }
@@ -331,14 +482,38 @@ mod tests {
         |_: &str, _: usize, _: usize| {}
     }
 
-    fn basis_with(k: &CscMatrix<f64>, m: &CscMatrix<f64>, statics: StaticModes, rigid: RigidModes, boundary: Vec<usize>) -> Result<LocalBasis, LocalBasisError> {
+    fn basis_with(
+        k: &CscMatrix<f64>,
+        m: &CscMatrix<f64>,
+        statics: StaticModes,
+        rigid: RigidModes,
+        boundary: Vec<usize>,
+    ) -> Result<LocalBasis, LocalBasisError> {
         let symbolic = SymbolicFactor::analyze(k.pattern()).unwrap();
-        let problem = EigenProblem { k, m, symbolic: &symbolic };
-        let setup = LocalBasisSetup::new(k, LocalBasisRequest { n_modes: 3, fmax_hz: None, boundary, statics, rigid })?;
+        let problem = EigenProblem {
+            k,
+            m,
+            symbolic: &symbolic,
+        };
+        let setup = LocalBasisSetup::new(
+            k,
+            LocalBasisRequest {
+                n_modes: 3,
+                fmax_hz: None,
+                boundary,
+                statics,
+                rigid,
+            },
+        )?;
         local_basis(&problem, &setup, Par::Seq, &quiet())
     }
 
-    fn basis(k: &CscMatrix<f64>, m: &CscMatrix<f64>, rigid: RigidModes, boundary: Vec<usize>) -> LocalBasis {
+    fn basis(
+        k: &CscMatrix<f64>,
+        m: &CscMatrix<f64>,
+        rigid: RigidModes,
+        boundary: Vec<usize>,
+    ) -> LocalBasis {
         basis_with(k, m, StaticModes::Attach, rigid, boundary).unwrap()
     }
 
@@ -358,17 +533,39 @@ mod tests {
     fn constraint_modes_reproduce_static_boundary_displacements() {
         let (k, m) = chain(20, false);
         let boundary = vec![19, 0, 7];
-        let b = basis_with(&k, &m, StaticModes::Constr, RigidModes::Keep, boundary.clone()).unwrap();
+        let b = basis_with(
+            &k,
+            &m,
+            StaticModes::Constr,
+            RigidModes::Keep,
+            boundary.clone(),
+        )
+        .unwrap();
         assert_eq!((b.n_rigid, b.n_static, b.vectors.ncols()), (0, 3, 6));
         let u_b = [0.3, -1.1, 0.45];
         let interior: Vec<usize> = (0..20).filter(|i| !boundary.contains(i)).collect();
         let kd = dense(&k);
-        let k_ii = Mat::<f64>::from_fn(interior.len(), interior.len(), |r, c| kd[(interior[r], interior[c])]);
-        let rhs = Mat::<f64>::from_fn(interior.len(), 1, |r, _| -boundary.iter().zip(&u_b).map(|(&bd, u)| kd[(interior[r], bd)] * u).sum::<f64>());
+        let k_ii = Mat::<f64>::from_fn(interior.len(), interior.len(), |r, c| {
+            kd[(interior[r], interior[c])]
+        });
+        let rhs = Mat::<f64>::from_fn(interior.len(), 1, |r, _| {
+            -boundary
+                .iter()
+                .zip(&u_b)
+                .map(|(&bd, u)| kd[(interior[r], bd)] * u)
+                .sum::<f64>()
+        });
         let u_i = k_ii.partial_piv_lu().solve(&rhs);
-        let reduced: Vec<f64> = (0..20).map(|i| (0..3).map(|c| b.vectors[(i, 3 + c)] * u_b[c]).sum()).collect();
+        let reduced: Vec<f64> = (0..20)
+            .map(|i| (0..3).map(|c| b.vectors[(i, 3 + c)] * u_b[c]).sum())
+            .collect();
         for (r, &i) in interior.iter().enumerate() {
-            assert!((reduced[i] - u_i[(r, 0)]).abs() < 1e-12 * u_i.norm_max(), "dof {i}: {} vs {}", reduced[i], u_i[(r, 0)]);
+            assert!(
+                (reduced[i] - u_i[(r, 0)]).abs() < 1e-12 * u_i.norm_max(),
+                "dof {i}: {} vs {}",
+                reduced[i],
+                u_i[(r, 0)]
+            );
         }
         for (c, &bd) in boundary.iter().enumerate() {
             assert!((reduced[bd] - u_b[c]).abs() < 1e-15, "boundary {bd}");
@@ -379,7 +576,11 @@ mod tests {
             let lambda = (2.0 * std::f64::consts::PI * b.frequencies_hz[j]).powi(2);
             let (kp, mp) = (apply(&k, phi), apply(&m, phi));
             for &i in &interior {
-                assert!((kp[i] - lambda * mp[i]).abs() < 1e-9 * kp.iter().map(|x| x.abs()).fold(0.0, f64::max), "mode {j}, dof {i}");
+                assert!(
+                    (kp[i] - lambda * mp[i]).abs()
+                        < 1e-9 * kp.iter().map(|x| x.abs()).fold(0.0, f64::max),
+                    "mode {j}, dof {i}"
+                );
             }
         }
     }
@@ -392,22 +593,43 @@ mod tests {
     fn craig_bampton_basis_reproduces_static_response_to_boundary_loads() {
         let (k, m) = chain(20, true);
         let boundary = vec![5, 19];
-        let b = basis_with(&k, &m, StaticModes::Constr, RigidModes::Keep, boundary.clone()).unwrap();
+        let b = basis_with(
+            &k,
+            &m,
+            StaticModes::Constr,
+            RigidModes::Keep,
+            boundary.clone(),
+        )
+        .unwrap();
         let mut f = Mat::<f64>::zeros(20, 1);
         f[(5, 0)] = 2.0;
         f[(19, 0)] = -0.7;
         let kd = dense(&k);
         let full = kd.partial_piv_lu().solve(&f);
         let psi = &b.vectors;
-        let reduced = psi * (psi.transpose() * &kd * psi).partial_piv_lu().solve(&(psi.transpose() * &f));
-        assert!((&reduced - &full).norm_max() < 1e-10 * full.norm_max(), "{:?} vs {:?}", reduced, full);
+        let reduced = psi
+            * (psi.transpose() * &kd * psi)
+                .partial_piv_lu()
+                .solve(&(psi.transpose() * &f));
+        assert!(
+            (&reduced - &full).norm_max() < 1e-10 * full.norm_max(),
+            "{:?} vs {:?}",
+            reduced,
+            full
+        );
     }
 
     #[test]
     fn constr_needs_a_boundary_and_keeps_rigid_modes() {
         let (k, m) = chain(6, false);
-        assert!(matches!(basis_with(&k, &m, StaticModes::Constr, RigidModes::Keep, vec![]), Err(LocalBasisError::ConstrWithoutBoundary)));
-        assert!(matches!(basis_with(&k, &m, StaticModes::Constr, RigidModes::Remove, vec![0]), Err(LocalBasisError::ConstrRemovesRigid)));
+        assert!(matches!(
+            basis_with(&k, &m, StaticModes::Constr, RigidModes::Keep, vec![]),
+            Err(LocalBasisError::ConstrWithoutBoundary)
+        ));
+        assert!(matches!(
+            basis_with(&k, &m, StaticModes::Constr, RigidModes::Remove, vec![0]),
+            Err(LocalBasisError::ConstrRemovesRigid)
+        ));
     }
 
     /// Two disconnected free chains with the boundary on the first only: the second floats
@@ -424,7 +646,15 @@ mod tests {
             CscMatrix::from(&coo)
         };
         let (k, m) = (block(&k1), block(&m1));
-        assert!(matches!(basis_with(&k, &m, StaticModes::Constr, RigidModes::Keep, vec![0]), Err(LocalBasisError::ConstrSingular(_))), "{:?}", basis_with(&k, &m, StaticModes::Constr, RigidModes::Keep, vec![0]).map(|b| b.frequencies_hz));
+        assert!(
+            matches!(
+                basis_with(&k, &m, StaticModes::Constr, RigidModes::Keep, vec![0]),
+                Err(LocalBasisError::ConstrSingular(_))
+            ),
+            "{:?}",
+            basis_with(&k, &m, StaticModes::Constr, RigidModes::Keep, vec![0])
+                .map(|b| b.frequencies_hz)
+        );
     }
 
     fn apply(a: &CscMatrix<f64>, x: &[f64]) -> Vec<f64> {
@@ -456,7 +686,11 @@ mod tests {
         let (k, m) = chain(20, false);
         let b = basis(&k, &m, RigidModes::Remove, vec![19]);
         assert_eq!((b.n_rigid, b.n_static, b.vectors.ncols()), (1, 1, 4));
-        assert!(b.frequencies_hz.iter().all(|&f| f > 1e-3), "{:?}", b.frequencies_hz);
+        assert!(
+            b.frequencies_hz.iter().all(|&f| f > 1e-3),
+            "{:?}",
+            b.frequencies_hz
+        );
         let psi = b.vectors.col_as_slice(3);
         let phi_r = 1.0 / (20f64).sqrt(); // M-normalized rigid mode of unit masses
         let r = apply(&k, psi);
@@ -469,12 +703,18 @@ mod tests {
         let m_psi = apply(&m, psi);
         let mass_weighted: f64 = m_psi.iter().map(|x| x * phi_r).sum();
         let scale = m_psi.iter().map(|x| x * x).sum::<f64>().sqrt();
-        assert!(mass_weighted.abs() < 1e-10 * scale, "{mass_weighted} vs scale {scale}");
+        assert!(
+            mass_weighted.abs() < 1e-10 * scale,
+            "{mass_weighted} vs scale {scale}"
+        );
     }
 
     #[test]
     fn boundary_outside_the_f_set_is_an_error() {
         let (k, m) = chain(5, true);
-        assert!(matches!(basis_with(&k, &m, StaticModes::Attach, RigidModes::Keep, vec![5]), Err(LocalBasisError::BoundaryOutOfRange { index: 5, size: 5 })));
+        assert!(matches!(
+            basis_with(&k, &m, StaticModes::Attach, RigidModes::Keep, vec![5]),
+            Err(LocalBasisError::BoundaryOutOfRange { index: 5, size: 5 })
+        ));
     }
 }

@@ -27,7 +27,12 @@ pub struct AffineMasses {
 impl AffineMasses {
     /// Lump the parts of the g-set mass operator `mass` listed in `keys` (a key the operator
     /// lacks gives zero masses) on grids at `positions` with displacement frames `frames`.
-    pub fn lump(mass: &AffineOperator, keys: &[ParamKey], frames: &GridFrames, positions: Vec<[f64; 3]>) -> Result<Self, AssemblyError> {
+    pub fn lump(
+        mass: &AffineOperator,
+        keys: &[ParamKey],
+        frames: &GridFrames,
+        positions: Vec<[f64; 3]>,
+    ) -> Result<Self, AssemblyError> {
         let n_grids = positions.len();
         let size = mass.ncols();
         let rigid: Vec<Vec<f64>> = (0..3)
@@ -43,12 +48,17 @@ impl AffineMasses {
         let nodal = keys
             .iter()
             .map(|&key| -> Result<Vec<f64>, AssemblyError> {
-                let Some(values) = mass.part(key) else { return Ok(vec![0.0; n_grids]) };
+                let Some(values) = mass.part(key) else {
+                    return Ok(vec![0.0; n_grids]);
+                };
                 let mut m = vec![0.0; n_grids];
                 for (d, r) in rigid.iter().enumerate() {
                     let force = mass.mul_values(values, r)?;
                     for (grid, mj) in m.iter_mut().enumerate() {
-                        *mj += frames.to_basic(grid, [force[6 * grid], force[6 * grid + 1], force[6 * grid + 2]])[d] / 3.0;
+                        *mj += frames.to_basic(
+                            grid,
+                            [force[6 * grid], force[6 * grid + 1], force[6 * grid + 2]],
+                        )[d] / 3.0;
                     }
                 }
                 Ok(m)
@@ -64,7 +74,14 @@ impl AffineMasses {
 
     /// M̂_1^k = Σ_j m_j^k r_0,j (eq. A.11): the centre of mass is Σ_k f_k M̂_1^k / Σ_k f_k m^k.
     pub fn first_moment(&self) -> Vec<[f64; 3]> {
-        self.nodal.iter().map(|m| std::array::from_fn(|i| m.iter().zip(&self.positions).map(|(mj, r)| mj * r[i]).sum())).collect()
+        self.nodal
+            .iter()
+            .map(|m| {
+                std::array::from_fn(|i| {
+                    m.iter().zip(&self.positions).map(|(mj, r)| mj * r[i]).sum()
+                })
+            })
+            .collect()
     }
 
     /// M̂_3^k = Σ_j m_j^k r̃_0,j r̃_0,j (eq. A.13; r̃ the cross-product matrix), row-major 3 × 3:
@@ -75,7 +92,17 @@ impl AffineMasses {
             .map(|m| {
                 std::array::from_fn(|ij| {
                     let (i, j) = (ij / 3, ij % 3);
-                    m.iter().zip(&self.positions).map(|(mj, r)| mj * (r[i] * r[j] - if i == j { r.iter().map(|x| x * x).sum() } else { 0.0 })).sum()
+                    m.iter()
+                        .zip(&self.positions)
+                        .map(|(mj, r)| {
+                            mj * (r[i] * r[j]
+                                - if i == j {
+                                    r.iter().map(|x| x * x).sum()
+                                } else {
+                                    0.0
+                                })
+                        })
+                        .sum()
                 })
             })
             .collect()
@@ -92,15 +119,42 @@ mod tests {
     #[test]
     fn lumps_translational_masses_in_basic_and_their_moments() {
         let n = 12;
-        let pattern = nalgebra_sparse::pattern::SparsityPattern::try_from_offsets_and_indices(n, n, (0..=n).collect(), (0..n).collect()).unwrap();
-        let values: Vec<f64> = (0..n).map(|i| if i % 6 < 3 { if i < 6 { 2.0 } else { 5.0 } } else { 100.0 }).collect();
-        let op = AffineOperator::from_parts(Arc::new(pattern), vec![(ParamKey::Constant, values)]).unwrap();
-        let frames = GridFrames::from_rotations(vec![None, Some([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])]);
-        let m = AffineMasses::lump(&op, &[ParamKey::Constant], &frames, vec![[0.0, 0.0, 0.0], [1.0, 2.0, 0.0]]).unwrap();
+        let pattern = nalgebra_sparse::pattern::SparsityPattern::try_from_offsets_and_indices(
+            n,
+            n,
+            (0..=n).collect(),
+            (0..n).collect(),
+        )
+        .unwrap();
+        let values: Vec<f64> = (0..n)
+            .map(|i| {
+                if i % 6 < 3 {
+                    if i < 6 { 2.0 } else { 5.0 }
+                } else {
+                    100.0
+                }
+            })
+            .collect();
+        let op = AffineOperator::from_parts(Arc::new(pattern), vec![(ParamKey::Constant, values)])
+            .unwrap();
+        let frames = GridFrames::from_rotations(vec![
+            None,
+            Some([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]),
+        ]);
+        let m = AffineMasses::lump(
+            &op,
+            &[ParamKey::Constant],
+            &frames,
+            vec![[0.0, 0.0, 0.0], [1.0, 2.0, 0.0]],
+        )
+        .unwrap();
         assert_eq!(m.nodal, vec![vec![2.0, 5.0]]);
         assert_eq!(m.total(), vec![7.0]);
         assert_eq!(m.first_moment(), vec![[5.0, 10.0, 0.0]]);
         // 5 · (r rᵀ − |r|² I) with r = (1, 2, 0), |r|² = 5
-        assert_eq!(m.second_moment(), vec![[-20.0, 10.0, 0.0, 10.0, -5.0, 0.0, 0.0, 0.0, -25.0]]);
+        assert_eq!(
+            m.second_moment(),
+            vec![[-20.0, 10.0, 0.0, 10.0, -5.0, 0.0, 0.0, 0.0, -25.0]]
+        );
     }
 }

@@ -65,7 +65,11 @@ pub struct AffineFunction {
 impl AffineFunction {
     /// The constant function f = 1.
     pub fn constant() -> Self {
-        AffineFunction { coefficient: Coefficient::Constant, fixed: CoefficientValues::default(), driven_by: Vec::new() }
+        AffineFunction {
+            coefficient: Coefficient::Constant,
+            fixed: CoefficientValues::default(),
+            driven_by: Vec::new(),
+        }
     }
 
     fn inputs(&self, p: &[f64]) -> CoefficientValues {
@@ -84,7 +88,11 @@ impl AffineFunction {
     /// ∂f/∂p_j.
     pub fn derivative(&self, p: &[f64], j: usize) -> f64 {
         let mut gradient = self.coefficient.gradient(&self.inputs(p));
-        self.driven_by.iter().filter(|(_, k)| *k == j).map(|&(input, _)| *input.slot(&mut gradient)).sum()
+        self.driven_by
+            .iter()
+            .filter(|(_, k)| *k == j)
+            .map(|&(input, _)| *input.slot(&mut gradient))
+            .sum()
     }
 }
 
@@ -105,11 +113,19 @@ pub struct Prom {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PromError {
     #[error("{what}: expected {expected}, got {got}")]
-    Shape { what: &'static str, expected: usize, got: usize },
+    Shape {
+        what: &'static str,
+        expected: usize,
+        got: usize,
+    },
     #[error("parameter {name} = {value} is not finite")]
     NotFinite { name: String, value: f64 },
     #[error("function {function} refers to parameter {index}, but the pROM has {count} parameters")]
-    UnknownParameter { function: usize, index: usize, count: usize },
+    UnknownParameter {
+        function: usize,
+        index: usize,
+        count: usize,
+    },
 }
 
 /// M_r, C_r, K_r at one parameter point and their derivatives, read through
@@ -182,22 +198,41 @@ impl Prom {
     /// Check the shapes: one K and one M component per function, all n × n, parameters known.
     pub fn validate(&self) -> Result<(), PromError> {
         let count = self.functions.len();
-        for (what, parts) in [("stiffness components", &self.stiffness), ("mass components", &self.mass)] {
+        for (what, parts) in [
+            ("stiffness components", &self.stiffness),
+            ("mass components", &self.mass),
+        ] {
             if parts.len() != count {
-                return Err(PromError::Shape { what, expected: count, got: parts.len() });
+                return Err(PromError::Shape {
+                    what,
+                    expected: count,
+                    got: parts.len(),
+                });
             }
         }
         let n = self.size();
         for m in self.stiffness.iter().chain(&self.mass) {
             for got in [m.nrows(), m.ncols()] {
                 if got != n {
-                    return Err(PromError::Shape { what: "reduced matrix size", expected: n, got });
+                    return Err(PromError::Shape {
+                        what: "reduced matrix size",
+                        expected: n,
+                        got,
+                    });
                 }
             }
         }
         for (function, f) in self.functions.iter().enumerate() {
-            if let Some(&(_, index)) = f.driven_by.iter().find(|(_, j)| *j >= self.parameters.len()) {
-                return Err(PromError::UnknownParameter { function, index, count: self.parameters.len() });
+            if let Some(&(_, index)) = f
+                .driven_by
+                .iter()
+                .find(|(_, j)| *j >= self.parameters.len())
+            {
+                return Err(PromError::UnknownParameter {
+                    function,
+                    index,
+                    count: self.parameters.len(),
+                });
             }
         }
         Ok(())
@@ -212,22 +247,36 @@ impl Prom {
     /// identically zero (decided here, once: a workspace serves this pROM as it is now).
     pub fn workspace(&self) -> PromEvaluation {
         let n = self.size();
-        let nonzero = |is_mass: bool, parts: &[Mat<f64>]| (0..parts.len()).filter(|&i| parts[i].norm_max() != 0.0).map(move |i| (is_mass, i)).collect::<Vec<_>>();
-        let parts: Vec<(bool, usize)> = [nonzero(false, &self.stiffness), nonzero(true, &self.mass)].concat();
+        let nonzero = |is_mass: bool, parts: &[Mat<f64>]| {
+            (0..parts.len())
+                .filter(|&i| parts[i].norm_max() != 0.0)
+                .map(move |i| (is_mass, i))
+                .collect::<Vec<_>>()
+        };
+        let parts: Vec<(bool, usize)> =
+            [nonzero(false, &self.stiffness), nonzero(true, &self.mass)].concat();
         let stacked = Mat::from_fn(n * n, parts.len(), |r, k| {
             let (is_mass, i) = parts[k];
             (if is_mass { &self.mass } else { &self.stiffness })[i][(r % n, r / n)]
         });
         let mut outputs = vec![Output::Stiffness, Output::Mass, Output::Damping];
-        let derived = |is_mass: bool, j: usize| parts.iter().any(|&(m, i)| m == is_mass && self.functions[i].driven_by.iter().any(|&(_, q)| q == j));
+        let derived = |is_mass: bool, j: usize| {
+            parts.iter().any(|&(m, i)| {
+                m == is_mass && self.functions[i].driven_by.iter().any(|&(_, q)| q == j)
+            })
+        };
         let mut column = |is_mass: bool, j: usize, output: Output| {
             derived(is_mass, j).then(|| {
                 outputs.push(output);
                 outputs.len() - 1
             })
         };
-        let d_stiffness: Vec<Option<usize>> = (0..self.parameters.len()).map(|j| column(false, j, Output::DStiffness(j))).collect();
-        let d_mass: Vec<Option<usize>> = (0..self.parameters.len()).map(|j| column(true, j, Output::DMass(j))).collect();
+        let d_stiffness: Vec<Option<usize>> = (0..self.parameters.len())
+            .map(|j| column(false, j, Output::DStiffness(j)))
+            .collect();
+        let d_mass: Vec<Option<usize>> = (0..self.parameters.len())
+            .map(|j| column(true, j, Output::DMass(j)))
+            .collect();
         PromEvaluation {
             n,
             coefficients: Mat::zeros(parts.len(), outputs.len()),
@@ -244,20 +293,39 @@ impl Prom {
     /// Names of the parameters of `p` outside their box (extrapolation: allowed, but the
     /// caller warns, naming them).
     pub fn outside_box(&self, p: &[f64]) -> Vec<&str> {
-        self.parameters.iter().zip(p).filter(|(q, v)| **v < q.low || **v > q.high).map(|(q, _)| q.name.as_str()).collect()
+        self.parameters
+            .iter()
+            .zip(p)
+            .filter(|(q, v)| **v < q.low || **v > q.high)
+            .map(|(q, _)| q.name.as_str())
+            .collect()
     }
 
     /// Evaluate M_r, C_r, K_r and their derivatives at `p` into `out` (eq. 3.32), without
     /// allocating.
     pub fn evaluate(&self, p: &[f64], out: &mut PromEvaluation) -> Result<(), PromError> {
         if p.len() != self.parameters.len() {
-            return Err(PromError::Shape { what: "parameter values", expected: self.parameters.len(), got: p.len() });
+            return Err(PromError::Shape {
+                what: "parameter values",
+                expected: self.parameters.len(),
+                got: p.len(),
+            });
         }
         if let Some((q, &value)) = self.parameters.iter().zip(p).find(|(_, v)| !v.is_finite()) {
-            return Err(PromError::NotFinite { name: q.name.clone(), value });
+            return Err(PromError::NotFinite {
+                name: q.name.clone(),
+                value,
+            });
         }
-        if out.n != self.size() || out.d_mass.len() != p.len() || out.parts.iter().any(|&(_, i)| i >= self.functions.len()) {
-            return Err(PromError::Shape { what: "workspace size (made for another pROM)", expected: self.size(), got: out.n });
+        if out.n != self.size()
+            || out.d_mass.len() != p.len()
+            || out.parts.iter().any(|&(_, i)| i >= self.functions.len())
+        {
+            return Err(PromError::Shape {
+                what: "workspace size (made for another pROM)",
+                expected: self.size(),
+                got: out.n,
+            });
         }
         for (k, &(is_mass, i)) in out.parts.iter().enumerate() {
             let f = &self.functions[i];
@@ -274,7 +342,14 @@ impl Prom {
             }
         }
         if !out.parts.is_empty() {
-            matmul(out.sums.as_mut(), Accum::Replace, out.stacked.as_ref(), out.coefficients.as_ref(), 1.0, Par::Seq);
+            matmul(
+                out.sums.as_mut(),
+                Accum::Replace,
+                out.stacked.as_ref(),
+                out.coefficients.as_ref(),
+                1.0,
+                Par::Seq,
+            );
         }
         Ok(())
     }
@@ -286,26 +361,64 @@ mod tests {
 
     /// A 3 × 3 pROM with E, ν (through Lamé parts) and ρ of one material plus a constant part.
     fn sample() -> Prom {
-        let fixed = CoefficientValues { e: 2.0e11, nu: 0.3, rho: 7800.0, ..Default::default() };
-        let driven = |c, inputs: Vec<(CoefficientInput, usize)>| AffineFunction { coefficient: c, fixed, driven_by: inputs };
+        let fixed = CoefficientValues {
+            e: 2.0e11,
+            nu: 0.3,
+            rho: 7800.0,
+            ..Default::default()
+        };
+        let driven = |c, inputs: Vec<(CoefficientInput, usize)>| AffineFunction {
+            coefficient: c,
+            fixed,
+            driven_by: inputs,
+        };
         let functions = vec![
             AffineFunction::constant(),
-            driven(Coefficient::Lambda, vec![(CoefficientInput::E, 0), (CoefficientInput::Nu, 1)]),
-            driven(Coefficient::Mu, vec![(CoefficientInput::E, 0), (CoefficientInput::Nu, 1)]),
+            driven(
+                Coefficient::Lambda,
+                vec![(CoefficientInput::E, 0), (CoefficientInput::Nu, 1)],
+            ),
+            driven(
+                Coefficient::Mu,
+                vec![(CoefficientInput::E, 0), (CoefficientInput::Nu, 1)],
+            ),
             driven(Coefficient::Rho, vec![(CoefficientInput::Rho, 2)]),
         ];
-        let sym = |seed: f64| Mat::<f64>::from_fn(3, 3, |i, j| ((i + j) as f64 + seed).cos() + if i == j { 3.0 } else { 0.0 });
+        let sym = |seed: f64| {
+            Mat::<f64>::from_fn(3, 3, |i, j| {
+                ((i + j) as f64 + seed).cos() + if i == j { 3.0 } else { 0.0 }
+            })
+        };
         let zero = Mat::<f64>::zeros(3, 3);
         let parameters = ["E", "NU", "RHO"]
             .iter()
-            .zip([(1e11, 3e11, 2e11), (0.2, 0.4, 0.3), (7000.0, 9000.0, 7800.0)])
-            .map(|(n, (low, high, nominal))| PromParameter { name: n.to_string(), low, high, nominal })
+            .zip([
+                (1e11, 3e11, 2e11),
+                (0.2, 0.4, 0.3),
+                (7000.0, 9000.0, 7800.0),
+            ])
+            .map(|(n, (low, high, nominal))| PromParameter {
+                name: n.to_string(),
+                low,
+                high,
+                nominal,
+            })
             .collect();
         Prom {
             parameters,
             functions,
-            stiffness: vec![sym(0.1), sym(0.5) * faer::Scale(1e-11), sym(0.9) * faer::Scale(1e-11), zero.clone()],
-            mass: vec![sym(0.2) * faer::Scale(0.1), zero.clone(), zero, sym(0.7) * faer::Scale(1e-4)],
+            stiffness: vec![
+                sym(0.1),
+                sym(0.5) * faer::Scale(1e-11),
+                sym(0.9) * faer::Scale(1e-11),
+                zero.clone(),
+            ],
+            mass: vec![
+                sym(0.2) * faer::Scale(0.1),
+                zero.clone(),
+                zero,
+                sym(0.7) * faer::Scale(1e-4),
+            ],
             alpha: 0.5,
             beta: 1e-4,
         }
@@ -318,8 +431,13 @@ mod tests {
         let p = [2.5e11, 0.33, 8100.0];
         let mut out = prom.workspace();
         prom.evaluate(&p, &mut out).unwrap();
-        let (lam, mu) = (p[0] * p[1] / ((1.0 + p[1]) * (1.0 - 2.0 * p[1])), p[0] / (2.0 * (1.0 + p[1])));
-        let k = &prom.stiffness[0] + &prom.stiffness[1] * faer::Scale(lam) + &prom.stiffness[2] * faer::Scale(mu);
+        let (lam, mu) = (
+            p[0] * p[1] / ((1.0 + p[1]) * (1.0 - 2.0 * p[1])),
+            p[0] / (2.0 * (1.0 + p[1])),
+        );
+        let k = &prom.stiffness[0]
+            + &prom.stiffness[1] * faer::Scale(lam)
+            + &prom.stiffness[2] * faer::Scale(mu);
         let m = &prom.mass[0] + &prom.mass[3] * faer::Scale(p[2]);
         let c = &m * faer::Scale(prom.alpha) + &k * faer::Scale(prom.beta);
         assert!((out.stiffness() - &k).norm_max() <= 1e-14 * k.norm_max());
@@ -343,10 +461,16 @@ mod tests {
             let (mut a, mut b) = (prom.workspace(), prom.workspace());
             prom.evaluate(&up, &mut a).unwrap();
             prom.evaluate(&down, &mut b).unwrap();
-            for (analytic, plus, minus) in [(at.d_stiffness(j), a.stiffness(), b.stiffness()), (at.d_mass(j), a.mass(), b.mass())] {
+            for (analytic, plus, minus) in [
+                (at.d_stiffness(j), a.stiffness(), b.stiffness()),
+                (at.d_mass(j), a.mass(), b.mass()),
+            ] {
                 let fd = (plus - minus) * faer::Scale(1.0 / (2.0 * h));
                 let scale = fd.norm_max().max(analytic.norm_max());
-                assert!((&fd - analytic).norm_max() <= 1e-7 * scale.max(f64::MIN_POSITIVE), "parameter {j}");
+                assert!(
+                    (&fd - analytic).norm_max() <= 1e-7 * scale.max(f64::MIN_POSITIVE),
+                    "parameter {j}"
+                );
             }
         }
     }
@@ -357,10 +481,16 @@ mod tests {
     fn identically_zero_components_are_skipped() {
         let prom = sample();
         let mut out = prom.workspace();
-        assert_eq!(out.parts, vec![(false, 0), (false, 1), (false, 2), (true, 0), (true, 3)]);
+        assert_eq!(
+            out.parts,
+            vec![(false, 0), (false, 1), (false, 2), (true, 0), (true, 3)]
+        );
         assert_eq!((out.d_mass[1], out.d_stiffness[2]), (None, None));
         prom.evaluate(&[2.5e11, 0.33, 8100.0], &mut out).unwrap();
-        assert_eq!((out.d_mass(1).norm_max(), out.d_stiffness(2).norm_max()), (0.0, 0.0));
+        assert_eq!(
+            (out.d_mass(1).norm_max(), out.d_stiffness(2).norm_max()),
+            (0.0, 0.0)
+        );
         assert!(out.d_mass(2).norm_max() > 0.0 && out.d_stiffness(1).norm_max() > 0.0);
     }
 
@@ -368,13 +498,40 @@ mod tests {
     fn refuses_bad_evaluations_and_names_extrapolated_parameters() {
         let prom = sample();
         let mut out = prom.workspace();
-        assert!(matches!(prom.evaluate(&[1e11, 0.3], &mut out), Err(PromError::Shape { .. })));
-        assert!(matches!(prom.evaluate(&[f64::NAN, 0.3, 7800.0], &mut out), Err(PromError::NotFinite { .. })));
+        assert!(matches!(
+            prom.evaluate(&[1e11, 0.3], &mut out),
+            Err(PromError::Shape { .. })
+        ));
+        assert!(matches!(
+            prom.evaluate(&[f64::NAN, 0.3, 7800.0], &mut out),
+            Err(PromError::NotFinite { .. })
+        ));
         assert_eq!(prom.outside_box(&[3.5e11, 0.3, 6000.0]), vec!["E", "RHO"]);
-        let small = Prom { stiffness: prom.stiffness.iter().map(|m| m.submatrix(0, 0, 2, 2).to_owned()).collect(), mass: prom.mass.iter().map(|m| m.submatrix(0, 0, 2, 2).to_owned()).collect(), ..prom.clone() };
-        assert!(matches!(prom.evaluate(&[2e11, 0.3, 7800.0], &mut small.workspace()), Err(PromError::Shape { .. })));
+        let small = Prom {
+            stiffness: prom
+                .stiffness
+                .iter()
+                .map(|m| m.submatrix(0, 0, 2, 2).to_owned())
+                .collect(),
+            mass: prom
+                .mass
+                .iter()
+                .map(|m| m.submatrix(0, 0, 2, 2).to_owned())
+                .collect(),
+            ..prom.clone()
+        };
+        assert!(matches!(
+            prom.evaluate(&[2e11, 0.3, 7800.0], &mut small.workspace()),
+            Err(PromError::Shape { .. })
+        ));
         let mut broken = prom.clone();
         broken.mass.pop();
-        assert!(matches!(broken.validate(), Err(PromError::Shape { what: "mass components", .. })));
+        assert!(matches!(
+            broken.validate(),
+            Err(PromError::Shape {
+                what: "mass components",
+                ..
+            })
+        ));
     }
 }

@@ -45,12 +45,15 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use rayon::prelude::*;
 
 use super::RunError;
+use super::parameters::Parameters;
 use crate::assembly::assemble::Binding;
 use crate::assembly::{Contribution, DofMap, GridFrames, ParamTarget};
-use super::parameters::Parameters;
 use crate::deck::cards::{CornerThickness, Pcomp, PmparKind, ShellOrientation, SpringEnd};
 use crate::fe::affine::{AffineMatrix, Coefficient, CoefficientValues};
-use crate::fe::laminate::{Laminate, Ply, PshellSection, RoleMaterial, SectionData, SectionError, SectionParameter, ShellMaterial, ShellSection, affine_sections};
+use crate::fe::laminate::{
+    Laminate, Ply, PshellSection, RoleMaterial, SectionData, SectionError, SectionParameter,
+    ShellMaterial, ShellSection, affine_sections,
+};
 use crate::fe::lumped::{Conm2, GridComponent, ScalarSpring};
 use crate::fe::{shell, solid};
 use crate::linalg::Progress;
@@ -103,11 +106,23 @@ struct ElementContext<'a> {
 
 /// Element matrices of every element of `model` (in parallel when `parallel`), with their
 /// coefficients bound to the entities `params` act on.
-pub fn element_matrices(model: &Model, frames: &GridFrames, params: &Parameters, parallel: bool, progress: &dyn Progress) -> Result<ElementMatrices, RunError> {
+pub fn element_matrices(
+    model: &Model,
+    frames: &GridFrames,
+    params: &Parameters,
+    parallel: bool,
+    progress: &dyn Progress,
+) -> Result<ElementMatrices, RunError> {
     let total = model.elements.len();
     let done = AtomicUsize::new(0);
     let step = (total / 100).max(1);
-    let ctx = ElementContext { model, frames, params, lumped: model.params.coupmass != 1, incompatible: model.params.qincomp };
+    let ctx = ElementContext {
+        model,
+        frames,
+        params,
+        lumped: model.params.coupmass != 1,
+        incompatible: model.params.qincomp,
+    };
     let one = |e: &Element| {
         let r = element(&ctx, e);
         let d = done.fetch_add(1, Ordering::Relaxed) + 1;
@@ -117,7 +132,11 @@ pub fn element_matrices(model: &Model, frames: &GridFrames, params: &Parameters,
         r
     };
     let built: Vec<Built> = if parallel {
-        model.elements.par_iter().map(one).collect::<Result<_, _>>()?
+        model
+            .elements
+            .par_iter()
+            .map(one)
+            .collect::<Result<_, _>>()?
     } else {
         model.elements.iter().map(one).collect::<Result<_, _>>()?
     };
@@ -137,7 +156,10 @@ pub fn element_matrices(model: &Model, frames: &GridFrames, params: &Parameters,
 
 /// The binding of an element's coefficients: to `target` when PMPARs act on it, otherwise
 /// frozen at `nominal` (the element's card values) and folded into the constant part.
-fn bind(target: Option<ParamTarget>, nominal: CoefficientValues) -> impl Fn(Coefficient) -> Binding {
+fn bind(
+    target: Option<ParamTarget>,
+    nominal: CoefficientValues,
+) -> impl Fn(Coefficient) -> Binding {
     move |c| match target {
         Some(t) => Binding::Param(t),
         None => Binding::Fixed(c.value(&nominal)),
@@ -150,7 +172,11 @@ fn acted_on(params: &Parameters, target: ParamTarget) -> Option<ParamTarget> {
 }
 
 fn err(e: &Element, reason: impl ToString) -> RunError {
-    RunError::Element { card: e.kind.card(), id: e.id, reason: reason.to_string() }
+    RunError::Element {
+        card: e.kind.card(),
+        id: e.id,
+        reason: reason.to_string(),
+    }
 }
 
 fn element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> {
@@ -158,11 +184,15 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> {
     let xyz = ctx.model.positions(e);
     let mut built = match e.kind {
         ElementKind::Quad4 | ElementKind::Tria3 => shell_element(ctx, e, &xyz)?,
-        ElementKind::Hexa8 | ElementKind::Penta6 | ElementKind::Tetra4 | ElementKind::Tetra10 => solid_element(ctx, e, &xyz)?,
+        ElementKind::Hexa8 | ElementKind::Penta6 | ElementKind::Tetra4 | ElementKind::Tetra10 => {
+            solid_element(ctx, e, &xyz)?
+        }
         ElementKind::Celas1 | ElementKind::Celas2 => spring_element(ctx, e)?,
         ElementKind::Conm2 => conm2_element(ctx, e)?,
     };
-    if let Some(m) = built.m.as_mut() && wtmass != 1.0 {
+    if let Some(m) = built.m.as_mut()
+        && wtmass != 1.0
+    {
         for (_, part) in m.parts.iter_mut() {
             *part = &*part * faer::Scale(wtmass);
         }
@@ -181,8 +211,18 @@ struct ShellCard {
 fn shell_card(model: &Model, e: &Element) -> Option<ShellCard> {
     let b = &model.bulk;
     match e.kind {
-        ElementKind::Quad4 => b.cquad4.get(e.card).map(|c| ShellCard { pid: c.pid, orientation: c.orientation, zoffs: c.zoffs, corners: c.corner_thickness }),
-        ElementKind::Tria3 => b.ctria3.get(e.card).map(|c| ShellCard { pid: c.pid, orientation: c.orientation, zoffs: c.zoffs, corners: c.corner_thickness }),
+        ElementKind::Quad4 => b.cquad4.get(e.card).map(|c| ShellCard {
+            pid: c.pid,
+            orientation: c.orientation,
+            zoffs: c.zoffs,
+            corners: c.corner_thickness,
+        }),
+        ElementKind::Tria3 => b.ctria3.get(e.card).map(|c| ShellCard {
+            pid: c.pid,
+            orientation: c.orientation,
+            zoffs: c.zoffs,
+            corners: c.corner_thickness,
+        }),
         _ => None,
     }
 }
@@ -206,11 +246,31 @@ fn ply_of_material(model: &Model, mid: u32, t: f64, theta_deg: f64) -> Option<Pl
     Some(match *model.materials.get(&mid)? {
         MaterialRef::Mat8(i) => {
             let m = model.bulk.mat8.get(i)?;
-            Ply { e1: m.e1, e2: m.e2, nu12: m.nu12, g12: m.g12, g1z: m.g1z, g2z: m.g2z, rho: m.rho, t, theta_deg }
+            Ply {
+                e1: m.e1,
+                e2: m.e2,
+                nu12: m.nu12,
+                g12: m.g12,
+                g1z: m.g1z,
+                g2z: m.g2z,
+                rho: m.rho,
+                t,
+                theta_deg,
+            }
         }
         MaterialRef::Mat1(i) => {
             let m = model.bulk.mat1.get(i)?;
-            Ply { e1: m.e, e2: m.e, nu12: m.nu, g12: m.g, g1z: Some(m.g), g2z: Some(m.g), rho: m.rho, t, theta_deg }
+            Ply {
+                e1: m.e,
+                e2: m.e,
+                nu12: m.nu,
+                g12: m.g,
+                g1z: Some(m.g),
+                g2z: Some(m.g),
+                rho: m.rho,
+                t,
+                theta_deg,
+            }
         }
     })
 }
@@ -220,20 +280,43 @@ fn shell_material(model: &Model, mid: u32) -> Option<RoleMaterial> {
     Some(match *model.materials.get(&mid)? {
         MaterialRef::Mat1(i) => {
             let m = model.bulk.mat1.get(i)?;
-            RoleMaterial { mid, material: ShellMaterial::Isotropic { e: m.e, nu: m.nu }, rho: m.rho }
+            RoleMaterial {
+                mid,
+                material: ShellMaterial::Isotropic { e: m.e, nu: m.nu },
+                rho: m.rho,
+            }
         }
         MaterialRef::Mat8(i) => {
             let m = model.bulk.mat8.get(i)?;
-            let material = ShellMaterial::Orthotropic { e1: m.e1, e2: m.e2, nu12: m.nu12, g12: m.g12, g1z: m.g1z, g2z: m.g2z };
-            RoleMaterial { mid, material, rho: m.rho }
+            let material = ShellMaterial::Orthotropic {
+                e1: m.e1,
+                e2: m.e2,
+                nu12: m.nu12,
+                g12: m.g12,
+                g1z: m.g1z,
+                g2z: m.g2z,
+            };
+            RoleMaterial {
+                mid,
+                material,
+                rho: m.rho,
+            }
         }
     })
 }
 
 /// The data of a shell section, before any affine split.
 enum SectionInput {
-    Pshell { pid: u32, section: PshellSection },
-    Laminate { pid: u32, laminate: Laminate, plies: Vec<u32>, explicit_offset: bool },
+    Pshell {
+        pid: u32,
+        section: PshellSection,
+    },
+    Laminate {
+        pid: u32,
+        laminate: Laminate,
+        plies: Vec<u32>,
+        explicit_offset: bool,
+    },
 }
 
 impl SectionInput {
@@ -260,10 +343,22 @@ fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<ShellSe
     let zoffs = card.zoffs;
     match e.property {
         Some(PropertyRef::Pshell(i)) => {
-            let p = model.bulk.pshell.get(i).ok_or_else(|| err(e, format!("PSHELL {} missing", card.pid)))?;
-            let role = |mid: Option<u32>| mid.map(|m| shell_material(model, m).ok_or_else(|| err(e, format!("PSHELL {}: material {m} missing", p.id)))).transpose();
+            let p = model
+                .bulk
+                .pshell
+                .get(i)
+                .ok_or_else(|| err(e, format!("PSHELL {} missing", card.pid)))?;
+            let role = |mid: Option<u32>| {
+                mid.map(|m| {
+                    shell_material(model, m)
+                        .ok_or_else(|| err(e, format!("PSHELL {}: material {m} missing", p.id)))
+                })
+                .transpose()
+            };
             let corners = corner_thicknesses(p.t, card.corners.as_ref(), n);
-            let t = corners.as_ref().map_or(p.t, |c| c.iter().sum::<f64>() / n as f64);
+            let t = corners
+                .as_ref()
+                .map_or(p.t, |c| c.iter().sum::<f64>() / n as f64);
             let scale = t / p.t;
             let fibres = (zoffs + p.z2 * scale, zoffs + p.z1 * scale);
             let section = PshellSection {
@@ -281,28 +376,73 @@ fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<ShellSe
                 None => None,
                 Some(c) => {
                     let at = shell::integration_point_thickness(&c).map_err(|x| err(e, x))?;
-                    Some(at.into_iter().map(|t| SectionInput::Pshell { pid: p.id, section: PshellSection { t, ..section } }).collect())
+                    Some(
+                        at.into_iter()
+                            .map(|t| SectionInput::Pshell {
+                                pid: p.id,
+                                section: PshellSection { t, ..section },
+                            })
+                            .collect(),
+                    )
                 }
             };
-            Ok(ShellSections { centre: SectionInput::Pshell { pid: p.id, section }, points, fibres })
+            Ok(ShellSections {
+                centre: SectionInput::Pshell { pid: p.id, section },
+                points,
+                fibres,
+            })
         }
         Some(PropertyRef::Pcomp(i)) => {
-            let p: &Pcomp = model.bulk.pcomp.get(i).ok_or_else(|| err(e, format!("PCOMP {} missing", card.pid)))?;
+            let p: &Pcomp = model
+                .bulk
+                .pcomp
+                .get(i)
+                .ok_or_else(|| err(e, format!("PCOMP {} missing", card.pid)))?;
             if card.corners.is_some() {
-                return Err(err(e, format!("corner thicknesses with PCOMP {} are not supported (the thickness is the ply stack); remove T1–T4", p.id)));
+                return Err(err(
+                    e,
+                    format!(
+                        "corner thicknesses with PCOMP {} are not supported (the thickness is the ply stack); remove T1–T4",
+                        p.id
+                    ),
+                ));
             }
             let stack = p.full_stack();
             let plies = stack
                 .iter()
-                .map(|ply| ply_of_material(model, ply.mid, ply.t, ply.theta).ok_or_else(|| err(e, format!("PCOMP {}: material {} missing", p.id, ply.mid))))
+                .map(|ply| {
+                    ply_of_material(model, ply.mid, ply.t, ply.theta).ok_or_else(|| {
+                        err(e, format!("PCOMP {}: material {} missing", p.id, ply.mid))
+                    })
+                })
                 .collect::<Result<Vec<_>, _>>()?;
             let bottom = p.z0_resolved() + zoffs;
-            let laminate = Laminate { plies, z0: Some(bottom), nsm: p.nsm, symmetric: false };
+            let laminate = Laminate {
+                plies,
+                z0: Some(bottom),
+                nsm: p.nsm,
+                symmetric: false,
+            };
             let explicit_offset = p.z0.is_some() || zoffs != 0.0;
-            let centre = SectionInput::Laminate { pid: p.id, laminate, plies: stack.iter().map(|ply| ply.mid).collect(), explicit_offset };
-            Ok(ShellSections { centre, points: None, fibres: (bottom + p.thickness(), bottom) })
+            let centre = SectionInput::Laminate {
+                pid: p.id,
+                laminate,
+                plies: stack.iter().map(|ply| ply.mid).collect(),
+                explicit_offset,
+            };
+            Ok(ShellSections {
+                centre,
+                points: None,
+                fibres: (bottom + p.thickness(), bottom),
+            })
         }
-        other => Err(err(e, format!("property {} is not a shell property", other.map_or("(none)", |p| p.card())))),
+        other => Err(err(
+            e,
+            format!(
+                "property {} is not a shell property",
+                other.map_or("(none)", |p| p.card())
+            ),
+        )),
     }
 }
 
@@ -321,20 +461,44 @@ fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<ShellSe
 /// affine form, thesis §3.3); RHO with TPLY (ρ·h); TPLY with an explicit Z0 or ZOFFS (the split
 /// scales every length with h); E or NU on ply materials.
 fn shell_parts(input: &SectionInput, params: &Parameters) -> Result<ShellParts, String> {
-    let constant = |s: &SectionInput| -> Result<Vec<(Coefficient, ShellSection)>, String> { Ok(vec![(Coefficient::Constant, s.full().map_err(|x| x.to_string())?)]) };
-    let split = |data: &SectionData, parameter| affine_sections(data, parameter).map_err(|x| x.to_string());
+    let constant = |s: &SectionInput| -> Result<Vec<(Coefficient, ShellSection)>, String> {
+        Ok(vec![(
+            Coefficient::Constant,
+            s.full().map_err(|x| x.to_string())?,
+        )])
+    };
+    let split =
+        |data: &SectionData, parameter| affine_sections(data, parameter).map_err(|x| x.to_string());
     match input {
         SectionInput::Pshell { pid, section } => {
-            let roles = [section.membrane, section.bending, section.shear, section.coupling];
-            let mut mids: Vec<u32> = roles.iter().flatten().map(|r| r.mid).filter(|&m| params.acts_on(ParamTarget::Material(m))).collect();
+            let roles = [
+                section.membrane,
+                section.bending,
+                section.shear,
+                section.coupling,
+            ];
+            let mut mids: Vec<u32> = roles
+                .iter()
+                .flatten()
+                .map(|r| r.mid)
+                .filter(|&m| params.acts_on(ParamTarget::Material(m)))
+                .collect();
             mids.sort_unstable();
             mids.dedup();
             match mids.as_slice() {
-                [] => Ok(ShellParts { stiffness: constant(input)?, mass: constant(input)?, stiffness_target: None, mass_target: None }),
+                [] => Ok(ShellParts {
+                    stiffness: constant(input)?,
+                    mass: constant(input)?,
+                    stiffness_target: None,
+                    mass_target: None,
+                }),
                 [mid] => {
                     let target = ParamTarget::Material(*mid);
                     let kinds = params.kinds_on(target);
-                    let data = SectionData::Pshell { section: *section, parametrized: *mid };
+                    let data = SectionData::Pshell {
+                        section: *section,
+                        parametrized: *mid,
+                    };
                     let stiffness = if kinds.contains(&PmparKind::Nu) {
                         split(&data, SectionParameter::Nu)?
                     } else if kinds.contains(&PmparKind::E) {
@@ -342,41 +506,81 @@ fn shell_parts(input: &SectionInput, params: &Parameters) -> Result<ShellParts, 
                     } else {
                         constant(input)?
                     };
-                    let mass = if kinds.contains(&PmparKind::Rho) { split(&data, SectionParameter::Rho)? } else { constant(input)? };
-                    Ok(ShellParts { stiffness, mass, stiffness_target: Some(target), mass_target: Some(target) })
+                    let mass = if kinds.contains(&PmparKind::Rho) {
+                        split(&data, SectionParameter::Rho)?
+                    } else {
+                        constant(input)?
+                    };
+                    Ok(ShellParts {
+                        stiffness,
+                        mass,
+                        stiffness_target: Some(target),
+                        mass_target: Some(target),
+                    })
                 }
-                several => Err(format!("PMPARs act on materials {several:?} of PSHELL {pid}; one parametrized material per PSHELL is supported")),
+                several => Err(format!(
+                    "PMPARs act on materials {several:?} of PSHELL {pid}; one parametrized material per PSHELL is supported"
+                )),
             }
         }
-        SectionInput::Laminate { pid, laminate, plies, explicit_offset } => {
+        SectionInput::Laminate {
+            pid,
+            laminate,
+            plies,
+            explicit_offset,
+        } => {
             let own = ParamTarget::Pcomp(*pid);
             let kinds = params.kinds_on(own);
-            let (theta, tply) = (kinds.contains(&PmparKind::Theta), kinds.contains(&PmparKind::Tply));
-            let mut ply_mids: Vec<u32> = plies.iter().copied().filter(|&m| params.acts_on(ParamTarget::Material(m))).collect();
+            let (theta, tply) = (
+                kinds.contains(&PmparKind::Theta),
+                kinds.contains(&PmparKind::Tply),
+            );
+            let mut ply_mids: Vec<u32> = plies
+                .iter()
+                .copied()
+                .filter(|&m| params.acts_on(ParamTarget::Material(m)))
+                .collect();
             ply_mids.sort_unstable();
             ply_mids.dedup();
             let rho_on_plies = match ply_mids.as_slice() {
                 [] => None,
                 [mid] => {
                     let ply_kinds = params.kinds_on(ParamTarget::Material(*mid));
-                    if ply_kinds.iter().any(|k| matches!(k, PmparKind::E | PmparKind::Nu)) {
-                        return Err(format!("PMPAR E / NU on MAT1 {mid}, a ply material of PCOMP {pid}: laminates take THETA, TPLY and RHO only"));
+                    if ply_kinds
+                        .iter()
+                        .any(|k| matches!(k, PmparKind::E | PmparKind::Nu))
+                    {
+                        return Err(format!(
+                            "PMPAR E / NU on MAT1 {mid}, a ply material of PCOMP {pid}: laminates take THETA, TPLY and RHO only"
+                        ));
                     }
                     if plies.iter().any(|m| m != mid) {
-                        return Err(format!("PMPAR RHO on MAT1 {mid}: every ply of PCOMP {pid} must use that material"));
+                        return Err(format!(
+                            "PMPAR RHO on MAT1 {mid}: every ply of PCOMP {pid} must use that material"
+                        ));
                     }
                     Some(*mid)
                 }
-                several => return Err(format!("PMPARs act on ply materials {several:?} of PCOMP {pid}; at most one")),
+                several => {
+                    return Err(format!(
+                        "PMPARs act on ply materials {several:?} of PCOMP {pid}; at most one"
+                    ));
+                }
             };
             if theta && tply {
-                return Err(format!("PCOMP {pid} has both THETA and TPLY parameters: their product has no affine form (thesis §3.3.5); use one"));
+                return Err(format!(
+                    "PCOMP {pid} has both THETA and TPLY parameters: their product has no affine form (thesis §3.3.5); use one"
+                ));
             }
             if tply && rho_on_plies.is_some() {
-                return Err(format!("PCOMP {pid}: TPLY with RHO on its plies makes the mass ∝ ρ·h, which is not affine; use one"));
+                return Err(format!(
+                    "PCOMP {pid}: TPLY with RHO on its plies makes the mass ∝ ρ·h, which is not affine; use one"
+                ));
             }
             if tply && *explicit_offset {
-                return Err(format!("PCOMP {pid}: TPLY needs the default Z0 (−total/2) and no ZOFFS, because the split scales every length with the ply thickness"));
+                return Err(format!(
+                    "PCOMP {pid}: TPLY needs the default Z0 (−total/2) and no ZOFFS, because the split scales every length with the ply thickness"
+                ));
             }
             let data = SectionData::Laminate(laminate.clone());
             let stiffness_target = (theta || tply).then_some(own);
@@ -386,18 +590,31 @@ fn shell_parts(input: &SectionInput, params: &Parameters) -> Result<ShellParts, 
                 _ => constant(input)?,
             };
             let (mass, mass_target) = match (rho_on_plies, tply) {
-                (Some(mid), _) => (split(&data, SectionParameter::Rho)?, Some(ParamTarget::Material(mid))),
+                (Some(mid), _) => (
+                    split(&data, SectionParameter::Rho)?,
+                    Some(ParamTarget::Material(mid)),
+                ),
                 (None, true) => (split(&data, SectionParameter::Tply)?, Some(own)),
                 // THETA leaves the mass constant
                 (None, false) => (constant(input)?, None),
             };
-            Ok(ShellParts { stiffness, mass, stiffness_target, mass_target })
+            Ok(ShellParts {
+                stiffness,
+                mass,
+                stiffness_target,
+                mass_target,
+            })
         }
     }
 }
 
 /// The PMPAR kinds that act on a shell's stiffness section (the others act on its mass).
-pub const SECTION_STIFFNESS: [PmparKind; 4] = [PmparKind::E, PmparKind::Nu, PmparKind::Theta, PmparKind::Tply];
+pub const SECTION_STIFFNESS: [PmparKind; 4] = [
+    PmparKind::E,
+    PmparKind::Nu,
+    PmparKind::Theta,
+    PmparKind::Tply,
+];
 
 /// The split parts of one shell section and the entities their coefficients bind to.
 struct ShellParts {
@@ -413,24 +630,38 @@ fn normalize(v: [f64; 3]) -> Option<[f64; 3]> {
 }
 
 /// Material x axis of a shell (module doc); `None` = the kernel's default G1→G2.
-fn material_axis(model: &Model, e: &Element, xyz: &[[f64; 3]], orientation: ShellOrientation) -> Result<Option<[f64; 3]>, RunError> {
+fn material_axis(
+    model: &Model,
+    e: &Element,
+    xyz: &[[f64; 3]],
+    orientation: ShellOrientation,
+) -> Result<Option<[f64; 3]>, RunError> {
     use crate::model::vec3::{cross, dot, sub};
     match orientation {
         ShellOrientation::Theta(t) if t == 0.0 => Ok(None),
         ShellOrientation::Theta(theta) => {
-            let n = if xyz.len() == 4 { cross(sub(xyz[2], xyz[0]), sub(xyz[3], xyz[1])) } else { cross(sub(xyz[1], xyz[0]), sub(xyz[2], xyz[0])) };
+            let n = if xyz.len() == 4 {
+                cross(sub(xyz[2], xyz[0]), sub(xyz[3], xyz[1]))
+            } else {
+                cross(sub(xyz[1], xyz[0]), sub(xyz[2], xyz[0]))
+            };
             let n = normalize(n).ok_or_else(|| err(e, "zero area"))?;
             let g12 = sub(xyz[1], xyz[0]);
             let d = dot(g12, n);
-            let x = normalize([g12[0] - d * n[0], g12[1] - d * n[1], g12[2] - d * n[2]]).ok_or_else(|| err(e, "G1→G2 is normal to the element"))?;
+            let x = normalize([g12[0] - d * n[0], g12[1] - d * n[1], g12[2] - d * n[2]])
+                .ok_or_else(|| err(e, "G1→G2 is normal to the element"))?;
             let y = cross(n, x);
             let (s, c) = theta.to_radians().sin_cos();
             Ok(Some(std::array::from_fn(|i| c * x[i] + s * y[i])))
         }
         ShellOrientation::Mcid(cid) => {
-            let cs = model.coords.get(&cid).ok_or_else(|| err(e, format!("MCID = {cid} does not exist")))?;
+            let cs = model
+                .coords
+                .get(&cid)
+                .ok_or_else(|| err(e, format!("MCID = {cid} does not exist")))?;
             let k = xyz.len() as f64;
-            let centroid: [f64; 3] = std::array::from_fn(|i| xyz.iter().map(|p| p[i]).sum::<f64>() / k);
+            let centroid: [f64; 3] =
+                std::array::from_fn(|i| xyz.iter().map(|p| p[i]).sum::<f64>() / k);
             let axes = cs.axes_at(centroid);
             Ok(Some([axes[0][0], axes[1][0], axes[2][0]]))
         }
@@ -440,7 +671,11 @@ fn material_axis(model: &Model, e: &Element, xyz: &[[f64; 3]], orientation: Shel
 fn shell_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<Built, RunError> {
     let model = ctx.model;
     let card = shell_card(model, e).ok_or_else(|| err(e, "card missing"))?;
-    let ShellSections { centre, points, fibres } = shell_section(model, e, &card)?;
+    let ShellSections {
+        centre,
+        points,
+        fibres,
+    } = shell_section(model, e, &card)?;
     let material_x = material_axis(model, e, xyz, card.orientation)?;
     let parts = shell_parts(&centre, ctx.params).map_err(|x| err(e, x))?;
     // The deck's section(s), i.e. the parts at the nominal parameter values: the CQUAD4
@@ -449,15 +684,59 @@ fn shell_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<
     let incompatible = ctx.incompatible && e.kind == ElementKind::Quad4;
     let (k, condensation_frozen) = match points {
         None => {
-            let nominal = if incompatible { Some(centre.full().map_err(|x| err(e, x))?) } else { None };
-            let frozen = nominal.as_ref().is_some_and(|n| shell::condensation_is_frozen(&parts.stiffness, n));
-            (shell::affine_stiffness(xyz, &parts.stiffness, nominal.as_ref().map_or(shell::Incompatible::Off, shell::Incompatible::Condensed), material_x), frozen)
+            let nominal = if incompatible {
+                Some(centre.full().map_err(|x| err(e, x))?)
+            } else {
+                None
+            };
+            let frozen = nominal
+                .as_ref()
+                .is_some_and(|n| shell::condensation_is_frozen(&parts.stiffness, n));
+            (
+                shell::affine_stiffness(
+                    xyz,
+                    &parts.stiffness,
+                    nominal
+                        .as_ref()
+                        .map_or(shell::Incompatible::Off, shell::Incompatible::Condensed),
+                    material_x,
+                ),
+                frozen,
+            )
         }
         Some(points) => {
-            let at = points.iter().map(|s| shell_parts(s, ctx.params).map(|p| p.stiffness)).collect::<Result<Vec<_>, _>>().map_err(|x| err(e, x))?;
-            let nominal = if incompatible { Some(points.iter().map(SectionInput::full).collect::<Result<Vec<_>, _>>().map_err(|x| err(e, x))?) } else { None };
-            let frozen = nominal.as_ref().is_some_and(|n| at.iter().zip(n).any(|(parts, n)| shell::condensation_is_frozen(parts, n)));
-            (shell::affine_stiffness_at_points(xyz, &at, nominal.as_deref().map_or(shell::Incompatible::Off, shell::Incompatible::Condensed), material_x), frozen)
+            let at = points
+                .iter()
+                .map(|s| shell_parts(s, ctx.params).map(|p| p.stiffness))
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(|x| err(e, x))?;
+            let nominal = if incompatible {
+                Some(
+                    points
+                        .iter()
+                        .map(SectionInput::full)
+                        .collect::<Result<Vec<_>, _>>()
+                        .map_err(|x| err(e, x))?,
+                )
+            } else {
+                None
+            };
+            let frozen = nominal.as_ref().is_some_and(|n| {
+                at.iter()
+                    .zip(n)
+                    .any(|(parts, n)| shell::condensation_is_frozen(parts, n))
+            });
+            (
+                shell::affine_stiffness_at_points(
+                    xyz,
+                    &at,
+                    nominal
+                        .as_deref()
+                        .map_or(shell::Incompatible::Off, shell::Incompatible::Condensed),
+                    material_x,
+                ),
+                frozen,
+            )
         }
     };
     let k = k.map_err(|x| err(e, x))?;
@@ -466,8 +745,17 @@ fn shell_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<
     // constant one, so frozen values are never needed here
     let frozen = CoefficientValues::default();
     Ok(Built {
-        k: nonempty(&k).then(|| Contribution::from_affine(ctx.frames, &e.nodes, &k, bind(parts.stiffness_target, frozen))),
-        m: nonempty(&m).then(|| Contribution::from_affine(ctx.frames, &e.nodes, &m, bind(parts.mass_target, frozen))),
+        k: nonempty(&k).then(|| {
+            Contribution::from_affine(
+                ctx.frames,
+                &e.nodes,
+                &k,
+                bind(parts.stiffness_target, frozen),
+            )
+        }),
+        m: nonempty(&m).then(|| {
+            Contribution::from_affine(ctx.frames, &e.nodes, &m, bind(parts.mass_target, frozen))
+        }),
         shell: Some(ShellRecovery { material_x, fibres }),
         frozen: parts.stiffness_target.filter(|_| condensation_frozen),
     })
@@ -504,8 +792,21 @@ fn solid_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<
     let p = &model.bulk.psolid[i];
     let m = match model.materials.get(&p.mid) {
         Some(MaterialRef::Mat1(mi)) => &model.bulk.mat1[*mi],
-        Some(MaterialRef::Mat8(_)) => return Err(err(e, format!("PSOLID {}: MAT8 {} is a shell material; solids need MAT1", p.id, p.mid))),
-        None => return Err(err(e, format!("PSOLID {}: material {} missing", p.id, p.mid))),
+        Some(MaterialRef::Mat8(_)) => {
+            return Err(err(
+                e,
+                format!(
+                    "PSOLID {}: MAT8 {} is a shell material; solids need MAT1",
+                    p.id, p.mid
+                ),
+            ));
+        }
+        None => {
+            return Err(err(
+                e,
+                format!("PSOLID {}: material {} missing", p.id, p.mid),
+            ));
+        }
     };
     let target = ParamTarget::Material(p.mid);
     let kinds = ctx.params.kinds_on(target);
@@ -516,33 +817,66 @@ fn solid_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<
     } else {
         solid::StiffnessParametrization::Fixed(solid::Isotropic { e: m.e, nu: m.nu })
     };
-    let mass_split = if kinds.contains(&PmparKind::Rho) { solid::MassParametrization::Density } else { solid::MassParametrization::Fixed { rho: m.rho } };
+    let mass_split = if kinds.contains(&PmparKind::Rho) {
+        solid::MassParametrization::Density
+    } else {
+        solid::MassParametrization::Fixed { rho: m.rho }
+    };
     let k = solid::affine_stiffness(kind, xyz, stiffness_split).map_err(|x| err(e, x))?;
-    let lumping = if ctx.lumped { solid::MassLumping::Lumped } else { solid::MassLumping::Consistent };
+    let lumping = if ctx.lumped {
+        solid::MassLumping::Lumped
+    } else {
+        solid::MassLumping::Consistent
+    };
     let mass = solid::affine_mass(kind, xyz, lumping, mass_split).map_err(|x| err(e, x))?;
-    let nominal = CoefficientValues { e: m.e, nu: m.nu, rho: m.rho, ..Default::default() };
+    let nominal = CoefficientValues {
+        e: m.e,
+        nu: m.nu,
+        rho: m.rho,
+        ..Default::default()
+    };
     // 3·n translational matrices: the contributions carry T1–T3 of each grid only
     let binding = acted_on(ctx.params, target);
     Ok(Built {
-        k: Some(Contribution::from_affine(frames, &e.nodes, &k, bind(binding, nominal))),
-        m: (m.rho != 0.0 || binding.is_some()).then(|| Contribution::from_affine(frames, &e.nodes, &mass, bind(binding, nominal))),
+        k: Some(Contribution::from_affine(
+            frames,
+            &e.nodes,
+            &k,
+            bind(binding, nominal),
+        )),
+        m: (m.rho != 0.0 || binding.is_some())
+            .then(|| Contribution::from_affine(frames, &e.nodes, &mass, bind(binding, nominal))),
         shell: None,
         frozen: None,
     })
 }
 
 /// A contribution whose rows are g DOFs given directly (no frame rotation).
-fn on_dofs(dofs: Vec<usize>, matrix: &AffineMatrix, binding: impl Fn(Coefficient) -> Binding) -> Contribution {
+fn on_dofs(
+    dofs: Vec<usize>,
+    matrix: &AffineMatrix,
+    binding: impl Fn(Coefficient) -> Binding,
+) -> Contribution {
     let mut c = Contribution::from_affine(&GridFrames::default(), &[], matrix, binding);
     c.dofs = dofs;
     c
 }
 
-fn spring_end(model: &Model, e: &Element, end: SpringEnd) -> Result<Option<GridComponent>, RunError> {
+fn spring_end(
+    model: &Model,
+    e: &Element,
+    end: SpringEnd,
+) -> Result<Option<GridComponent>, RunError> {
     match end.grid {
         Some(g) if end.component > 0 => {
-            let grid = *model.grid_index.get(&g).ok_or_else(|| err(e, format!("grid {g} missing")))?;
-            Ok(Some(GridComponent { grid, component: usize::from(end.component) - 1 }))
+            let grid = *model
+                .grid_index
+                .get(&g)
+                .ok_or_else(|| err(e, format!("grid {g} missing")))?;
+            Ok(Some(GridComponent {
+                grid,
+                component: usize::from(end.component) - 1,
+            }))
         }
         _ => Ok(None),
     }
@@ -558,17 +892,41 @@ fn spring_element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> 
             let Some(PropertyRef::Pelas(i)) = e.property else {
                 return Err(err(e, format!("PID {} is not a PELAS", c.pid)));
             };
-            (model.bulk.pelas[i].k, c.ends, acted_on(ctx.params, ParamTarget::Pelas(c.pid)))
+            (
+                model.bulk.pelas[i].k,
+                c.ends,
+                acted_on(ctx.params, ParamTarget::Pelas(c.pid)),
+            )
         }
         _ => {
             let c = &model.bulk.celas2[e.card];
             (c.k, c.ends, None)
         }
     };
-    let spring = ScalarSpring::new(spring_end(model, e, ends[0])?, spring_end(model, e, ends[1])?).map_err(|x| err(e, x))?;
-    let dofs = spring.dofs.iter().map(|d| DofMap::dof(d.grid, d.component)).collect();
-    let nominal = CoefficientValues { lumped: k, ..Default::default() };
-    Ok(Built { k: Some(on_dofs(dofs, &spring.affine_stiffness(), bind(target, nominal))), m: None, shell: None, frozen: None })
+    let spring = ScalarSpring::new(
+        spring_end(model, e, ends[0])?,
+        spring_end(model, e, ends[1])?,
+    )
+    .map_err(|x| err(e, x))?;
+    let dofs = spring
+        .dofs
+        .iter()
+        .map(|d| DofMap::dof(d.grid, d.component))
+        .collect();
+    let nominal = CoefficientValues {
+        lumped: k,
+        ..Default::default()
+    };
+    Ok(Built {
+        k: Some(on_dofs(
+            dofs,
+            &spring.affine_stiffness(),
+            bind(target, nominal),
+        )),
+        m: None,
+        shell: None,
+        frozen: None,
+    })
 }
 
 /// A CONM2; `PMPAR MASS` on it scales its whole mass matrix (eq. 3.25).
@@ -576,35 +934,75 @@ fn conm2_element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> {
     let (model, frames) = (ctx.model, ctx.frames);
     // The CG location and the inertia tensor (basic, negative products) come from the model's
     // mass-property code, so the CONM2 CID / sign conventions live in one place (model::mass).
-    let point = model.element_mass(e).ok_or_else(|| err(e, "cannot resolve the CONM2 location (grid or CID missing)"))?;
+    let point = model
+        .element_mass(e)
+        .ok_or_else(|| err(e, "cannot resolve the CONM2 location (grid or CID missing)"))?;
     let node = *e.nodes.first().ok_or_else(|| err(e, "no grid"))?;
     let grid = model.grids[node].xyz;
     let offset = std::array::from_fn(|i| point.point[i] - grid[i]);
-    let conm2 = Conm2::new(point.mass, offset, point.inertia.unwrap_or([[0.0; 3]; 3])).map_err(|x| err(e, x))?;
+    let conm2 = Conm2::new(point.mass, offset, point.inertia.unwrap_or([[0.0; 3]; 3]))
+        .map_err(|x| err(e, x))?;
     let matrix = if point.mass != 0.0 {
         conm2.affine_mass().map_err(|x| err(e, x))?
     } else {
-        AffineMatrix { parts: vec![(Coefficient::Constant, conm2.mass_matrix())] }
+        AffineMatrix {
+            parts: vec![(Coefficient::Constant, conm2.mass_matrix())],
+        }
     };
-    let nominal = CoefficientValues { lumped: point.mass, ..Default::default() };
+    let nominal = CoefficientValues {
+        lumped: point.mass,
+        ..Default::default()
+    };
     let target = acted_on(ctx.params, ParamTarget::Conm2(e.id));
-    Ok(Built { k: None, m: Some(Contribution::from_affine(frames, &[node], &matrix, bind(target, nominal))), shell: None, frozen: None })
+    Ok(Built {
+        k: None,
+        m: Some(Contribution::from_affine(
+            frames,
+            &[node],
+            &matrix,
+            bind(target, nominal),
+        )),
+        shell: None,
+        frozen: None,
+    })
 }
 
 /// Element displacements (basic, 6 per grid, grid-major) from basic n×6 rows.
 pub fn element_displacements(rows: &[f64], nodes: &[usize]) -> Vec<f64> {
-    nodes.iter().flat_map(|&a| rows[6 * a..6 * a + 6].iter().copied()).collect()
+    nodes
+        .iter()
+        .flat_map(|&a| rows[6 * a..6 * a + 6].iter().copied())
+        .collect()
 }
 
 /// Centroid strains of a shell (CQUAD4, CTRIA3) in its material system from its basic element
 /// displacements `ue` (6 per grid, [`element_displacements`]): the recovery of SOL 101's STRAIN
 /// output and of STRAIN sensors.
-pub fn shell_strains(model: &Model, e: &Element, rec: &ShellRecovery, ue: &[f64]) -> Result<shell::ShellStrains, RunError> {
+pub fn shell_strains(
+    model: &Model,
+    e: &Element,
+    rec: &ShellRecovery,
+    ue: &[f64],
+) -> Result<shell::ShellStrains, RunError> {
     let xyz = model.positions(e);
-    let bad = |reason: String| RunError::Element { card: e.kind.card(), id: e.id, reason };
+    let bad = |reason: String| RunError::Element {
+        card: e.kind.card(),
+        id: e.id,
+        reason,
+    };
     match (xyz.len(), ue.len()) {
-        (4, 24) => shell::quad4_strains(&[xyz[0], xyz[1], xyz[2], xyz[3]], rec.material_x, rec.fibres, &std::array::from_fn(|i| ue[i])),
-        (3, 18) => shell::tria3_strains(&[xyz[0], xyz[1], xyz[2]], rec.material_x, rec.fibres, &std::array::from_fn(|i| ue[i])),
+        (4, 24) => shell::quad4_strains(
+            &[xyz[0], xyz[1], xyz[2], xyz[3]],
+            rec.material_x,
+            rec.fibres,
+            &std::array::from_fn(|i| ue[i]),
+        ),
+        (3, 18) => shell::tria3_strains(
+            &[xyz[0], xyz[1], xyz[2]],
+            rec.material_x,
+            rec.fibres,
+            &std::array::from_fn(|i| ue[i]),
+        ),
         (k, _) => return Err(bad(format!("a shell with {k} grids"))),
     }
     .map_err(|x| bad(x.to_string()))

@@ -44,11 +44,14 @@ use crate::deck::case_control::Subcase;
 use crate::deck::reader::Column;
 use crate::dynamics::integrators::{LinearSystem, Method, integrate};
 use crate::dynamics::table::Table;
-use crate::estimate::observability::{self, OperatingPoint, Unknown};
 use crate::estimate::filter::check_initial_stiffness;
+use crate::estimate::observability::{self, OperatingPoint, Unknown};
 use crate::estimate::{Coordinates, Filter, FilterSetup, SensorRows, covariance};
 use crate::io::csv_table::read_columns;
-use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64, set_attr_i64, set_attr_str, set_attr_strings, write_f64};
+use crate::io::{
+    read_prom_inputs, read_prom_sensors, set_attr_f64, set_attr_i64, set_attr_str,
+    set_attr_strings, write_f64,
+};
 use crate::rom::prom::PromEvaluation;
 
 /// Relative error statistics of one estimated quantity over the last 20 % (thesis Table 8.2).
@@ -87,28 +90,62 @@ pub struct EstimateSummary {
 
 /// Runs every subcase.
 pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
-    ctx.model.subcases.iter().map(|sub| clock.time(format!("subcase {}: estimation", sub.id), || subcase(ctx, sub))).collect()
+    ctx.model
+        .subcases
+        .iter()
+        .map(|sub| {
+            clock.time(format!("subcase {}: estimation", sub.id), || {
+                subcase(ctx, sub)
+            })
+        })
+        .collect()
 }
 
 fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
     let b = &ctx.model.bulk;
-    let RomAtPoint { path, prom, mut p, extrapolated, .. } = RomAtPoint::load(ctx, sub)?;
+    let RomAtPoint {
+        path,
+        prom,
+        mut p,
+        extrapolated,
+        ..
+    } = RomAtPoint::load(ctx, sub)?;
     let n = prom.size();
-    let ekf_id = sub.estim.ok_or_else(|| case("SOL ESTIMATE needs ESTIM = <EKF id> in case control".into()))?;
-    let ekf = b.ekf.iter().find(|e| e.id == ekf_id).ok_or_else(|| case(format!("ESTIM = {ekf_id} selects no EKF card")))?;
-    let meas_id = sub.meas.ok_or_else(|| case("SOL ESTIMATE needs MEAS = <MEASF id> in case control".into()))?;
-    let measf = b.measf.iter().find(|m| m.id == meas_id).ok_or_else(|| case(format!("MEAS = {meas_id} selects no MEASF card")))?;
+    let ekf_id = sub
+        .estim
+        .ok_or_else(|| case("SOL ESTIMATE needs ESTIM = <EKF id> in case control".into()))?;
+    let ekf = b
+        .ekf
+        .iter()
+        .find(|e| e.id == ekf_id)
+        .ok_or_else(|| case(format!("ESTIM = {ekf_id} selects no EKF card")))?;
+    let meas_id = sub
+        .meas
+        .ok_or_else(|| case("SOL ESTIMATE needs MEAS = <MEASF id> in case control".into()))?;
+    let measf = b
+        .measf
+        .iter()
+        .find(|m| m.id == meas_id)
+        .ok_or_else(|| case(format!("MEAS = {meas_id} selects no MEASF card")))?;
     let channels: Vec<_> = b.meas.iter().filter(|m| m.id == meas_id).collect();
     if channels.is_empty() {
         return Err(case(format!("MEASF {meas_id} has no MEAS channel")));
     }
-    let sid = sub.tstep.ok_or_else(|| case("SOL ESTIMATE needs TSTEP = <sid> for the filter step".into()))?;
-    let tstep = b.tstep.iter().find(|t| t.sid == sid).ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
+    let sid = sub
+        .tstep
+        .ok_or_else(|| case("SOL ESTIMATE needs TSTEP = <sid> for the filter step".into()))?;
+    let tstep = b
+        .tstep
+        .iter()
+        .find(|t| t.sid == sid)
+        .ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
     let dt = tstep.intervals[0].1;
     if tstep.intervals.iter().any(|i| i.1 != dt) {
-        return Err(case(format!("TSTEP {sid}: the filter runs with one step Δt; intervals have different DT")));
+        return Err(case(format!(
+            "TSTEP {sid}: the filter runs with one step Δt; intervals have different DT"
+        )));
     }
     let steps: usize = tstep.intervals.iter().map(|i| i.0 as usize).sum();
 
@@ -116,9 +153,22 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let param_names: Vec<&str> = prom.parameters.iter().map(|q| q.name.as_str()).collect();
     let mut unknown_params = Vec::new();
     for par in b.ekfpar.iter().filter(|x| x.id == ekf_id) {
-        let j = param_names.iter().position(|q| q.eq_ignore_ascii_case(&par.name)).ok_or_else(|| case(format!("EKFPAR {ekf_id}: {} is not a parameter of {} (parameters: {})", par.name, path.display(), param_names.join(", "))))?;
+        let j = param_names
+            .iter()
+            .position(|q| q.eq_ignore_ascii_case(&par.name))
+            .ok_or_else(|| {
+                case(format!(
+                    "EKFPAR {ekf_id}: {} is not a parameter of {} (parameters: {})",
+                    par.name,
+                    path.display(),
+                    param_names.join(", ")
+                ))
+            })?;
         if unknown_params.iter().any(|(k, _)| *k == j) {
-            return Err(case(format!("EKFPAR {ekf_id}: {} is listed twice", par.name)));
+            return Err(case(format!(
+                "EKFPAR {ekf_id}: {} is listed twice",
+                par.name
+            )));
         }
         p[j] = par.init;
         unknown_params.push((j, par));
@@ -130,26 +180,61 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         let j = input_names.iter().position(|x| *x == name).ok_or_else(|| case(format!("EKFINP {ekf_id}: GRID {} component {} is not an input DOF of the pROM (inputs: {})", inp.grid, inp.component, input_names.join(", "))))?;
         unknown_inputs.push((j, name, inp));
     }
-    let s_un = Mat::from_fn(n, unknown_inputs.len(), |i, k| s_r[(i, unknown_inputs[k].0)]);
+    let s_un = Mat::from_fn(n, unknown_inputs.len(), |i, k| {
+        s_r[(i, unknown_inputs[k].0)]
+    });
 
     // sensors and measurements
     let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, n)?;
-    let sensors = SensorRows::new(sensor_names, sensor_kinds, h_r).map_err(|e| case(format!("{}: {e}", path.display())))?;
-    let csv = measf.loc.file.parent().map_or_else(|| PathBuf::from(&measf.path), |dir| dir.join(&measf.path));
+    let sensors = SensorRows::new(sensor_names, sensor_kinds, h_r)
+        .map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let csv = measf
+        .loc
+        .file
+        .parent()
+        .map_or_else(|| PathBuf::from(&measf.path), |dir| dir.join(&measf.path));
     let window = (dt, steps as f64 * dt);
     let mut measured_rows = Vec::new();
     let mut measured_series = Vec::new();
     for m in &channels {
-        let r = sensors.names.iter().position(|x| x.eq_ignore_ascii_case(&m.sensor)).ok_or_else(|| case(format!("MEAS {meas_id}: {} is not a SENSOR of {} (sensors: {})", m.sensor, path.display(), sensors.names.join(", "))))?;
+        let r = sensors
+            .names
+            .iter()
+            .position(|x| x.eq_ignore_ascii_case(&m.sensor))
+            .ok_or_else(|| {
+                case(format!(
+                    "MEAS {meas_id}: {} is not a SENSOR of {} (sensors: {})",
+                    m.sensor,
+                    path.display(),
+                    sensors.names.join(", ")
+                ))
+            })?;
         measured_rows.push(r);
-        measured_series.push(resample(&csv, &measf.tcol, &m.column, window, steps).map_err(|e| case(format!("{}: MEAS {meas_id} {}: {e}", m.loc, m.sensor)))?);
+        measured_series.push(
+            resample(&csv, &measf.tcol, &m.column, window, steps)
+                .map_err(|e| case(format!("{}: MEAS {meas_id} {}: {e}", m.loc, m.sensor)))?,
+        );
     }
     let measured = sensors.select(&measured_rows);
     let sigma: Vec<f64> = channels.iter().map(|m| m.sigma).collect();
-    let header = csv_header(&csv).map_err(|e| case(format!("{}: MEASF {meas_id}: {e}", measf.loc)))?;
+    let header =
+        csv_header(&csv).map_err(|e| case(format!("{}: MEASF {meas_id}: {e}", measf.loc)))?;
     let reference = |name: &str| -> Result<Option<Vec<f64>>, RunError> {
         match header.iter().any(|h| h.eq_ignore_ascii_case(name)) {
-            true => resample(&csv, &measf.tcol, &Column::Name(name.to_string()), window, steps).map(Some).map_err(|e| case(format!("{}: MEASF {meas_id} reference {name}: {e}", measf.loc))),
+            true => resample(
+                &csv,
+                &measf.tcol,
+                &Column::Name(name.to_string()),
+                window,
+                steps,
+            )
+            .map(Some)
+            .map_err(|e| {
+                case(format!(
+                    "{}: MEASF {meas_id} reference {name}: {e}",
+                    measf.loc
+                ))
+            }),
             false => Ok(None),
         }
     };
@@ -157,13 +242,22 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     // known loads, filter setup, observability
     let loads = match sub.dload {
         None => Vec::new(),
-        Some(dload) => load_terms(ctx, dload, n, |d, comp, scale, shape| place_input(&input_names, &s_r, d, comp, scale, shape), |_| Ok(None)).map_err(case)?,
+        Some(dload) => load_terms(
+            ctx,
+            dload,
+            n,
+            |d, comp, scale, shape| place_input(&input_names, &s_r, d, comp, scale, shape),
+            |_| Ok(None),
+        )
+        .map_err(case)?,
     };
     let load_at = |t: f64, f: &mut [f64], which: &dyn Fn(&LoadTerm) -> bool| {
         f.fill(0.0);
         for term in loads.iter().filter(|t| which(t)) {
             let a = term.table.value(t - term.delay);
-            f.iter_mut().zip(&term.shape).for_each(|(fi, s)| *fi += a * s);
+            f.iter_mut()
+                .zip(&term.shape)
+                .for_each(|(fi, s)| *fi += a * s);
         }
     };
     let setup = FilterSetup {
@@ -174,19 +268,31 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         r: sigma.iter().map(|s| s * s).collect(),
         dt,
         q_state: ekf.q_state,
-        q_inputs: unknown_inputs.iter().map(|(_, _, u)| covariance::input(dt, u.omega, u.amplitude)).collect(),
-        q_params: unknown_params.iter().map(|(_, par)| covariance::parameter(dt, par.delta, par.init)).collect(),
+        q_inputs: unknown_inputs
+            .iter()
+            .map(|(_, _, u)| covariance::input(dt, u.omega, u.amplitude))
+            .collect(),
+        q_params: unknown_params
+            .iter()
+            .map(|(_, par)| covariance::parameter(dt, par.delta, par.init))
+            .collect(),
         q0: vec![0.0; n],
         v0: vec![0.0; n],
         u0: vec![0.0; unknown_inputs.len()],
         p0_state: ekf.p0_state,
-        p0_inputs: unknown_inputs.iter().map(|(_, _, u)| u.amplitude * u.amplitude).collect(),
+        p0_inputs: unknown_inputs
+            .iter()
+            .map(|(_, _, u)| u.amplitude * u.amplitude)
+            .collect(),
         p0_params: unknown_params.iter().map(|(_, par)| par.p0).collect(),
-        coordinates: ekf.rediagonalize.map_or(Coordinates::Auto, Coordinates::Rediagonalized),
+        coordinates: ekf
+            .rediagonalize
+            .map_or(Coordinates::Auto, Coordinates::Rediagonalized),
         prom: prom.clone(),
     };
     let mut at = prom.workspace();
-    prom.evaluate(&p, &mut at).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    prom.evaluate(&p, &mut at)
+        .map_err(|e| case(format!("{}: {e}", path.display())))?;
     check_initial_stiffness(at.stiffness(), &p).map_err(|e| case(format!("EKF {ekf_id}: {e}")))?;
     // static: every channel's RMS deviation from its mean over the second half is at the noise
     // level. Noise alone gives σ (within 3 % for a window of 1000 steps); ≥ √3 σ means a dynamic
@@ -198,25 +304,69 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         let mean = tail.iter().sum::<f64>() / count;
         (tail.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / count).sqrt() <= 2.0 * s
     });
-    let inputs_for_points: Vec<(f64, f64)> = unknown_inputs.iter().map(|(_, _, u)| (u.omega, u.amplitude)).collect();
-    let constant = |term: &LoadTerm| (1..=steps).all(|k| term.table.value(k as f64 * dt - term.delay) == term.table.value(dt - term.delay));
-    let points = operating_points(&at, &s_un, &inputs_for_points, static_inputs, dt, steps, &|t, f, static_part| load_at(t, f, &|term| constant(term) == static_part))
-        .map_err(|e| case(format!("observability check: {e}")))?;
-    let mut unknowns: Vec<Unknown> = unknown_inputs.iter().map(|(_, name, _)| Unknown::Input(name.clone())).collect();
+    let inputs_for_points: Vec<(f64, f64)> = unknown_inputs
+        .iter()
+        .map(|(_, _, u)| (u.omega, u.amplitude))
+        .collect();
+    let constant = |term: &LoadTerm| {
+        (1..=steps).all(|k| {
+            term.table.value(k as f64 * dt - term.delay) == term.table.value(dt - term.delay)
+        })
+    };
+    let points = operating_points(
+        &at,
+        &s_un,
+        &inputs_for_points,
+        static_inputs,
+        dt,
+        steps,
+        &|t, f, static_part| load_at(t, f, &|term| constant(term) == static_part),
+    )
+    .map_err(|e| case(format!("observability check: {e}")))?;
+    let mut unknowns: Vec<Unknown> = unknown_inputs
+        .iter()
+        .map(|(_, name, _)| Unknown::Input(name.clone()))
+        .collect();
     unknowns.extend(unknown_params.iter().map(|(j, _)| Unknown::Parameter {
         name: prom.parameters[*j].name.clone(),
         stiffness: at.d_stiffness(*j).norm_max() > 0.0,
         mass: at.d_mass(*j).norm_max() > 0.0,
     }));
-    let modes = crate::linalg::dense::generalized_eigen(at.stiffness(), at.mass()).map_err(|e| case(format!("{}: modes of the initial estimate: {e}", path.display())))?;
-    let problem = observability::Problem { at: &at, alpha_beta: (prom.alpha, prom.beta), s_un: &s_un, params: &setup.unknown_params, unknowns: &unknowns, measured: &measured };
+    let modes =
+        crate::linalg::dense::generalized_eigen(at.stiffness(), at.mass()).map_err(|e| {
+            case(format!(
+                "{}: modes of the initial estimate: {e}",
+                path.display()
+            ))
+        })?;
+    let problem = observability::Problem {
+        at: &at,
+        alpha_beta: (prom.alpha, prom.beta),
+        s_un: &s_un,
+        params: &setup.unknown_params,
+        unknowns: &unknowns,
+        measured: &measured,
+    };
     let verdict = observability::check(&problem, &points, (&modes.0, &modes.1));
     let observability_text = match &verdict.cause {
-        None => format!("observable: PBH(0) rank {} of {} (σ_min/σ_max {:.1e}, tolerance {:e})", verdict.rank, verdict.columns, verdict.ratio, observability::RANK_TOLERANCE),
-        Some(cause) => format!("unobservable: PBH(0) rank {} of {} (tolerance {:e}): {cause}", verdict.rank, verdict.columns, observability::RANK_TOLERANCE),
+        None => format!(
+            "observable: PBH(0) rank {} of {} (σ_min/σ_max {:.1e}, tolerance {:e})",
+            verdict.rank,
+            verdict.columns,
+            verdict.ratio,
+            observability::RANK_TOLERANCE
+        ),
+        Some(cause) => format!(
+            "unobservable: PBH(0) rank {} of {} (tolerance {:e}): {cause}",
+            verdict.rank,
+            verdict.columns,
+            observability::RANK_TOLERANCE
+        ),
     };
     if !verdict.observable() && !ekf.force {
-        return Err(case(format!("the estimation problem is {observability_text}. Change the sensors, unknowns or loads, or set FORCE = YES on EKF {ekf_id} to run anyway")));
+        return Err(case(format!(
+            "the estimation problem is {observability_text}. Change the sensors, unknowns or loads, or set FORCE = YES on EKF {ekf_id} to run anyway"
+        )));
     }
 
     // the filter
@@ -230,15 +380,23 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let mut inputs_sigma = vec![Vec::with_capacity(steps); nu];
     let mut sensor_hist = vec![Vec::with_capacity(steps); sensors.len()];
     let mut innovation = vec![Vec::with_capacity(steps); measured.len()];
-    let (mut f, mut y, mut y_all) = (vec![0.0; n], vec![0.0; measured.len()], vec![0.0; sensors.len()]);
+    let (mut f, mut y, mut y_all) = (
+        vec![0.0; n],
+        vec![0.0; measured.len()],
+        vec![0.0; sensors.len()],
+    );
     // virtual sensors from the filter's own coordinates (rows remade after a re-diagonalization)
     let mut rows_of = (filter.rediagonalizations(), filter.sensor_rows(&sensors));
     let started = Instant::now();
     for k in 1..=steps {
         let t = k as f64 * dt;
         load_at(t, &mut f, &|_| true);
-        y.iter_mut().zip(&measured_series).for_each(|(y, s)| *y = s[k - 1]);
-        filter.step(&f, &y).map_err(|e| case(format!("t = {t}: {e}")))?;
+        y.iter_mut()
+            .zip(&measured_series)
+            .for_each(|(y, s)| *y = s[k - 1]);
+        filter
+            .step(&f, &y)
+            .map_err(|e| case(format!("t = {t}: {e}")))?;
         if filter.rediagonalizations() != rows_of.0 {
             rows_of = (filter.rediagonalizations(), filter.sensor_rows(&sensors));
         }
@@ -253,21 +411,45 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             params_hist[c].push(x[i]);
             params_sigma[c].push(filter.variance(i).max(0.0).sqrt());
         }
-        rows_of.1.evaluate(&x[..n], &x[n..2 * n], acceleration, &mut y_all);
-        sensor_hist.iter_mut().zip(&y_all).for_each(|(h, v)| h.push(*v));
-        innovation.iter_mut().zip(filter.innovation()).for_each(|(h, v)| h.push(*v));
+        rows_of
+            .1
+            .evaluate(&x[..n], &x[n..2 * n], acceleration, &mut y_all);
+        sensor_hist
+            .iter_mut()
+            .zip(&y_all)
+            .for_each(|(h, v)| h.push(*v));
+        innovation
+            .iter_mut()
+            .zip(filter.innovation())
+            .for_each(|(h, v)| h.push(*v));
     }
     let elapsed = started.elapsed().as_secs_f64();
 
     // errors: last 20 % of the window (thesis §8.6, Table 8.2)
     let tail = steps - (steps / 5).max(1);
     let mut error_table = Vec::new();
-    let named_series = unknown_params.iter().map(|(j, _)| prom.parameters[*j].name.clone()).zip(&params_hist).chain(unknown_inputs.iter().map(|(_, name, _)| name.clone()).zip(&inputs_hist));
+    let named_series = unknown_params
+        .iter()
+        .map(|(j, _)| prom.parameters[*j].name.clone())
+        .zip(&params_hist)
+        .chain(
+            unknown_inputs
+                .iter()
+                .map(|(_, name, _)| name.clone())
+                .zip(&inputs_hist),
+        );
     for (name, series) in named_series {
         if let Some(truth) = reference(&name)? {
-            let errors: Vec<f64> = (tail..steps).map(|k| 100.0 * (series[k] - truth[k]) / truth[k]).collect();
+            let errors: Vec<f64> = (tail..steps)
+                .map(|k| 100.0 * (series[k] - truth[k]) / truth[k])
+                .collect();
             let avg = errors.iter().sum::<f64>() / errors.len() as f64;
-            error_table.push(ErrorRow { name, min: errors.iter().copied().fold(f64::INFINITY, f64::min), avg, max: errors.iter().copied().fold(f64::NEG_INFINITY, f64::max) });
+            error_table.push(ErrorRow {
+                name,
+                min: errors.iter().copied().fold(f64::INFINITY, f64::min),
+                avg,
+                max: errors.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            });
         }
     }
     let mut sensor_errors = Vec::new();
@@ -277,7 +459,12 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             _ => reference(name)?,
         };
         if let Some(truth) = truth {
-            let aae = truth.iter().zip(&sensor_hist[r]).map(|(a, b)| (a - b).abs()).sum::<f64>() / steps as f64;
+            let aae = truth
+                .iter()
+                .zip(&sensor_hist[r])
+                .map(|(a, b)| (a - b).abs())
+                .sum::<f64>()
+                / steps as f64;
             let mra = truth.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
             sensor_errors.push((name.clone(), aae, mra));
         }
@@ -287,18 +474,25 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let root = format!("results/{id}/estimate");
     let group = ctx.output.group(&root)?;
     write_f64(&group, "time", &time, &[steps])?;
-    let series_group = |sub_name: &str, names: &[String], data: &[Vec<f64>]| -> Result<(), RunError> {
-        if names.is_empty() {
-            return Ok(());
-        }
-        let g = ctx.output.group(&format!("{root}/{sub_name}"))?;
-        for (name, series) in names.iter().zip(data) {
-            write_f64(&g, name, series, &[series.len()])?;
-        }
-        Ok(())
-    };
-    let pnames: Vec<String> = unknown_params.iter().map(|(j, _)| prom.parameters[*j].name.clone()).collect();
-    let inames: Vec<String> = unknown_inputs.iter().map(|(_, name, _)| name.clone()).collect();
+    let series_group =
+        |sub_name: &str, names: &[String], data: &[Vec<f64>]| -> Result<(), RunError> {
+            if names.is_empty() {
+                return Ok(());
+            }
+            let g = ctx.output.group(&format!("{root}/{sub_name}"))?;
+            for (name, series) in names.iter().zip(data) {
+                write_f64(&g, name, series, &[series.len()])?;
+            }
+            Ok(())
+        };
+    let pnames: Vec<String> = unknown_params
+        .iter()
+        .map(|(j, _)| prom.parameters[*j].name.clone())
+        .collect();
+    let inames: Vec<String> = unknown_inputs
+        .iter()
+        .map(|(_, name, _)| name.clone())
+        .collect();
     series_group("params", &pnames, &params_hist)?;
     series_group("params_sigma", &pnames, &params_sigma)?;
     series_group("inputs", &inames, &inputs_hist)?;
@@ -308,7 +502,13 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     if !sensors.is_empty() {
         let g = ctx.output.group(&format!("{root}/sensors"))?;
         for (r, name) in sensors.names.iter().enumerate() {
-            let ds = g.dataset(name).map_err(|e| crate::io::IoError::hdf5(ctx.output.path(), format!("open {root}/sensors/{name}"), e))?;
+            let ds = g.dataset(name).map_err(|e| {
+                crate::io::IoError::hdf5(
+                    ctx.output.path(),
+                    format!("open {root}/sensors/{name}"),
+                    e,
+                )
+            })?;
             set_attr_i64(&ds, "measured", i64::from(measured_rows.contains(&r)))?;
             if let Some((_, aae, mra)) = sensor_errors.iter().find(|(s, _, _)| s == name) {
                 set_attr_f64(&ds, "aae", *aae)?;
@@ -316,10 +516,24 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             }
         }
     }
-    let table: Vec<f64> = error_table.iter().flat_map(|r| [r.min, r.avg, r.max]).collect();
+    let table: Vec<f64> = error_table
+        .iter()
+        .flat_map(|r| [r.min, r.avg, r.max])
+        .collect();
     let table_ds = write_f64(&group, "error_table", &table, &[error_table.len(), 3])?;
-    set_attr_strings(&table_ds, "rows", &error_table.iter().map(|r| r.name.as_str()).collect::<Vec<_>>())?;
-    set_attr_strings(&table_ds, "columns", &["min_percent", "avg_percent", "max_percent"])?;
+    set_attr_strings(
+        &table_ds,
+        "rows",
+        &error_table
+            .iter()
+            .map(|r| r.name.as_str())
+            .collect::<Vec<_>>(),
+    )?;
+    set_attr_strings(
+        &table_ds,
+        "columns",
+        &["min_percent", "avg_percent", "max_percent"],
+    )?;
     set_attr_str(&group, "rom", &path.display().to_string())?;
     set_attr_str(&group, "observability", &observability_text)?;
     set_attr_i64(&group, "forced", i64::from(!verdict.observable()))?;
@@ -329,12 +543,24 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         (false, _) => "physical",
         (true, None) => "modal",
         (true, Some(count)) => {
-            set_attr_i64(&group, "rediagonalizations", i64::try_from(count).unwrap_or(i64::MAX))?;
+            set_attr_i64(
+                &group,
+                "rediagonalizations",
+                i64::try_from(count).unwrap_or(i64::MAX),
+            )?;
             "rediagonalized"
         }
     };
     set_attr_str(&group, "coordinates", coordinates)?;
-    let params = (0..np).map(|c| (pnames[c].clone(), params_hist[c][steps - 1], params_sigma[c][steps - 1])).collect();
+    let params = (0..np)
+        .map(|c| {
+            (
+                pnames[c].clone(),
+                params_hist[c][steps - 1],
+                params_sigma[c][steps - 1],
+            )
+        })
+        .collect();
     let summary = EstimateSummary {
         rom: path,
         steps,
@@ -349,20 +575,33 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         coordinates,
         rediagonalizations: filter.rediagonalizations(),
     };
-    Ok(SubcaseSummary { id, autospc: Vec::new(), result: SubcaseResult::Estimate(summary) })
+    Ok(SubcaseSummary {
+        id,
+        autospc: Vec::new(),
+        result: SubcaseResult::Estimate(summary),
+    })
 }
 
 /// Column `column` of the CSV against its time column, interpolated linearly onto t_k = k Δt,
 /// k = 1 … steps (`first` = Δt, `last` = steps Δt); the window must lie inside the measured
 /// time range.
-fn resample(csv: &Path, tcol: &Column, column: &Column, (first, last): (f64, f64), steps: usize) -> Result<Vec<f64>, String> {
+fn resample(
+    csv: &Path,
+    tcol: &Column,
+    column: &Column,
+    (first, last): (f64, f64),
+    steps: usize,
+) -> Result<Vec<f64>, String> {
     let points = read_columns(csv, tcol, column).map_err(|e| e.to_string())?;
     let table = Table::new(&points).map_err(|e| format!("{}: {e}", csv.display()))?;
     let (t0, t1) = (points[0].0, points[points.len() - 1].0);
     // a relative margin of 1e-9 of the window absorbs round-off of k Δt
     let slack = 1e-9 * last.abs().max(1.0);
     if first < t0 - slack || last > t1 + slack {
-        return Err(format!("{} covers t = {t0} … {t1}, the filter runs over {first} … {last}", csv.display()));
+        return Err(format!(
+            "{} covers t = {t0} … {t1}, the filter runs over {first} … {last}",
+            csv.display()
+        ));
     }
     Ok((1..=steps).map(|k| table.value(k as f64 * first)).collect())
 }
@@ -370,9 +609,17 @@ fn resample(csv: &Path, tcol: &Column, column: &Column, (first, last): (f64, f64
 /// The header names of a CSV (upper case), empty when its first row is all numbers.
 fn csv_header(csv: &Path) -> Result<Vec<String>, String> {
     let text = std::fs::read_to_string(csv).map_err(|e| format!("{}: {e}", csv.display()))?;
-    let first = text.lines().map(str::trim).find(|l| !l.is_empty() && !l.starts_with('#')).unwrap_or("");
+    let first = text
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty() && !l.starts_with('#'))
+        .unwrap_or("");
     let fields: Vec<&str> = first.split(',').map(str::trim).collect();
-    Ok(if fields.iter().any(|f| f.parse::<f64>().is_err()) { fields.iter().map(|f| f.to_ascii_uppercase()).collect() } else { Vec::new() })
+    Ok(if fields.iter().any(|f| f.parse::<f64>().is_err()) {
+        fields.iter().map(|f| f.to_ascii_uppercase()).collect()
+    } else {
+        Vec::new()
+    })
 }
 
 /// Operating points of the initial estimate (see the module documentation). `load(t, f,
@@ -409,12 +656,24 @@ fn operating_points(
     });
     let dynamic_inputs = !inputs.is_empty() && !static_inputs;
     if !dynamic_known && !dynamic_inputs {
-        return Ok(vec![OperatingPoint { q: q_static, v: vec![0.0; n], a: vec![0.0; n], dynamic: false }]);
+        return Ok(vec![OperatingPoint {
+            q: q_static,
+            v: vec![0.0; n],
+            a: vec![0.0; n],
+            dynamic: false,
+        }]);
     }
-    let sys = LinearSystem { mass: at.mass(), damping: at.damping(), stiffness: at.stiffness() };
+    let sys = LinearSystem {
+        mass: at.mass(),
+        damping: at.damping(),
+        stiffness: at.stiffness(),
+    };
     // 16 sampling instants offset by the golden-ratio fraction of a spacing, so that they do
     // not fall on the zeros of a periodic load (where the state is a free response)
-    let samples: Vec<usize> = (0..16).map(|i| ((steps as f64) * (i as f64 + 0.618_034) / 16.0).round() as usize).filter(|&k| k > 0).collect();
+    let samples: Vec<usize> = (0..16)
+        .map(|i| ((steps as f64) * (i as f64 + 0.618_034) / 16.0).round() as usize)
+        .filter(|&k| k > 0)
+        .collect();
     let mut points = Vec::new();
     let forcing = |t: f64, f: &mut [f64]| {
         load(t, f, false);
@@ -425,11 +684,25 @@ fn operating_points(
             }
         }
     };
-    integrate(sys, Method::Bdf1, dt, steps, &vec![0.0; n], &vec![0.0; n], forcing, |s| {
-        if samples.contains(&s.step) {
-            points.push(OperatingPoint { q: s.q.iter().zip(&q_static).map(|(a, b)| a + b).collect(), v: s.v.to_vec(), a: s.a.to_vec(), dynamic: true });
-        }
-    })
+    integrate(
+        sys,
+        Method::Bdf1,
+        dt,
+        steps,
+        &vec![0.0; n],
+        &vec![0.0; n],
+        forcing,
+        |s| {
+            if samples.contains(&s.step) {
+                points.push(OperatingPoint {
+                    q: s.q.iter().zip(&q_static).map(|(a, b)| a + b).collect(),
+                    v: s.v.to_vec(),
+                    a: s.a.to_vec(),
+                    dynamic: true,
+                });
+            }
+        },
+    )
     .map_err(|e| e.to_string())?;
     Ok(points)
 }

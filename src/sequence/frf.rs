@@ -36,11 +36,15 @@ use faer::{Mat, c64};
 use nalgebra_sparse::{CooMatrix, CscMatrix};
 
 use super::sensors::{displacement_rows, sensor_operator};
-use super::{Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary};
+use super::{
+    Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary,
+};
 use crate::assembly::DofMap;
 use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
-use crate::dynamics::frf::{SparseModel, direct_receptance, modal_receptance, residual_vectors, static_stiffness_is_regular};
+use crate::dynamics::frf::{
+    SparseModel, direct_receptance, modal_receptance, residual_vectors, static_stiffness_is_regular,
+};
 use crate::dynamics::measurement::Reads;
 use crate::dynamics::table::Table;
 use crate::io::csv_table::read_columns;
@@ -87,11 +91,24 @@ pub struct FrfSummary {
 /// The frequency lines (Hz) of the subcase's `FREQUENCY = sid`: every FREQ, FREQ1, FREQ2 of
 /// that SID, sorted, duplicates removed.
 pub fn frequency_lines(model: &Model, sub: &Subcase) -> Result<Vec<f64>, RunError> {
-    let case = |what: String| RunError::Case { subcase: sub.id, what };
-    let sid = sub.frequency.ok_or_else(|| case("SOL FRF needs FREQUENCY = <FREQ sid> in case control".into()))?;
-    let mut hz: Vec<f64> = model.bulk.freq.iter().filter(|f| f.sid == sid).flat_map(|f| f.frequencies()).collect();
+    let case = |what: String| RunError::Case {
+        subcase: sub.id,
+        what,
+    };
+    let sid = sub
+        .frequency
+        .ok_or_else(|| case("SOL FRF needs FREQUENCY = <FREQ sid> in case control".into()))?;
+    let mut hz: Vec<f64> = model
+        .bulk
+        .freq
+        .iter()
+        .filter(|f| f.sid == sid)
+        .flat_map(|f| f.frequencies())
+        .collect();
     if hz.is_empty() {
-        return Err(case(format!("FREQUENCY = {sid} selects no FREQ, FREQ1 or FREQ2 card")));
+        return Err(case(format!(
+            "FREQUENCY = {sid} selects no FREQ, FREQ1 or FREQ2 card"
+        )));
     }
     hz.sort_by(f64::total_cmp);
     hz.dedup();
@@ -121,7 +138,13 @@ pub fn scaled_flat(h: &[Mat<c64>], hz: &[f64], reads: &[Reads]) -> (Vec<c64>, (f
 }
 
 /// Writes `frequency_hz`, `H` (f × o × i), `inputs` and `outputs` into `group`.
-pub fn write_frf(group: &hdf5_metno::Group, hz: &[f64], flat: &[c64], inputs: &[String], outputs: &[String]) -> Result<(), IoError> {
+pub fn write_frf(
+    group: &hdf5_metno::Group,
+    hz: &[f64],
+    flat: &[c64],
+    inputs: &[String],
+    outputs: &[String],
+) -> Result<(), IoError> {
     write_f64(group, "frequency_hz", hz, &[hz.len()])?;
     write_c64(group, "H", flat, &[hz.len(), outputs.len(), inputs.len()])?;
     let refs: Vec<&str> = inputs.iter().map(String::as_str).collect();
@@ -134,12 +157,20 @@ pub fn write_frf(group: &hdf5_metno::Group, hz: &[f64], flat: &[c64], inputs: &[
 /// A TABLED1 or TABLEF (CSV, path relative to the file holding the card) by id.
 pub fn dynamic_table(model: &Model, tid: u32) -> Result<Table, String> {
     let b = &model.bulk;
-    match (b.tabled1.iter().find(|x| x.id == tid), b.tablef.iter().find(|x| x.id == tid)) {
+    match (
+        b.tabled1.iter().find(|x| x.id == tid),
+        b.tablef.iter().find(|x| x.id == tid),
+    ) {
         (Some(x), _) => Table::new(&x.points).map_err(|e| format!("{}: TABLED1 {tid}: {e}", x.loc)),
         (None, Some(x)) => {
-            let csv = x.loc.file.parent().map_or_else(|| std::path::PathBuf::from(&x.path), |dir| dir.join(&x.path));
-            let points = read_columns(&csv, &x.tcol, &x.ycol).map_err(|e| format!("{}: TABLEF {tid}: {e}", x.loc))?;
-            Table::new(&points).map_err(|e| format!("{}: TABLEF {tid} ({}): {e}", x.loc, csv.display()))
+            let csv = x.loc.file.parent().map_or_else(
+                || std::path::PathBuf::from(&x.path),
+                |dir| dir.join(&x.path),
+            );
+            let points = read_columns(&csv, &x.tcol, &x.ycol)
+                .map_err(|e| format!("{}: TABLEF {tid}: {e}", x.loc))?;
+            Table::new(&points)
+                .map_err(|e| format!("{}: TABLEF {tid} ({}): {e}", x.loc, csv.display()))
         }
         (None, None) => Err(format!("table {tid} is no TABLED1 or TABLEF")),
     }
@@ -171,7 +202,12 @@ struct Inputs {
     terms: Vec<LoadTerm>,
 }
 
-fn inputs(model: &Model, st: &Structure, c: &Constrained, sub: &Subcase) -> Result<Inputs, RunError> {
+fn inputs(
+    model: &Model,
+    st: &Structure,
+    c: &Constrained,
+    sub: &Subcase,
+) -> Result<Inputs, RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
     let b = &model.bulk;
@@ -188,7 +224,15 @@ fn inputs(model: &Model, st: &Structure, c: &Constrained, sub: &Subcase) -> Resu
             return Err(case(format!("DLOAD {sid}: load set {set} has no RLOAD1")));
         }
         for r in rloads {
-            let table = |tid: u32| if tid == 0 { Ok(None) } else { dynamic_table(model, tid).map(Some).map_err(|e| case(format!("RLOAD1 {}: {e}", r.sid))) };
+            let table = |tid: u32| {
+                if tid == 0 {
+                    Ok(None)
+                } else {
+                    dynamic_table(model, tid)
+                        .map(Some)
+                        .map_err(|e| case(format!("RLOAD1 {}: {e}", r.sid)))
+                }
+            };
             let (tc, td) = (table(r.tc)?, table(r.td)?);
             let mut any = false;
             for d in b.darea.iter().filter(|d| d.sid == r.excite_id) {
@@ -200,19 +244,32 @@ fn inputs(model: &Model, st: &Structure, c: &Constrained, sub: &Subcase) -> Resu
                             dofs.len() - 1
                         }
                     };
-                    terms.push(LoadTerm { input, scale: scale * d.scale, c: tc.clone(), d: td.clone(), phase: r.phase_deg.to_radians(), delay: r.delay });
+                    terms.push(LoadTerm {
+                        input,
+                        scale: scale * d.scale,
+                        c: tc.clone(),
+                        d: td.clone(),
+                        phase: r.phase_deg.to_radians(),
+                        delay: r.delay,
+                    });
                     any = true;
                 }
             }
             if !any {
-                return Err(case(format!("RLOAD1 {}: EXCITEID {} selects no DAREA", r.sid, r.excite_id)));
+                return Err(case(format!(
+                    "RLOAD1 {}: EXCITEID {} selects no DAREA",
+                    r.sid, r.excite_id
+                )));
             }
         }
     }
     let n_f = c.sets.f.len();
     let mut columns = Mat::<f64>::zeros(n_f, dofs.len());
     for (j, &(grid, comp)) in dofs.iter().enumerate() {
-        let index = *model.grid_index.get(&grid).ok_or_else(|| case(format!("DAREA: GRID {grid} does not exist")))?;
+        let index = *model
+            .grid_index
+            .get(&grid)
+            .ok_or_else(|| case(format!("DAREA: GRID {grid} does not exist")))?;
         let g = DofMap::dof(index, comp - 1);
         let row = st.rigid.t.row(g);
         let mut any = false;
@@ -223,14 +280,24 @@ fn inputs(model: &Model, st: &Structure, c: &Constrained, sub: &Subcase) -> Resu
             }
         }
         if !any {
-            return Err(case(format!("DAREA: GRID {grid} component {comp} is constrained (SPC, AUTOSPC): a load there moves nothing")));
+            return Err(case(format!(
+                "DAREA: GRID {grid} component {comp} is constrained (SPC, AUTOSPC): a load there moves nothing"
+            )));
         }
     }
-    Ok(Inputs { names: dofs.iter().map(|(g, c)| format!("{g}:{c}")).collect(), columns, terms })
+    Ok(Inputs {
+        names: dofs.iter().map(|(g, c)| format!("{g}:{c}")).collect(),
+        columns,
+        terms,
+    })
 }
 
 /// Runs every subcase of a full-model SOL FRF.
-pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+pub fn run(
+    ctx: &RunContext,
+    st: &Structure,
+    clock: &mut Clock,
+) -> Result<Vec<SubcaseSummary>, RunError> {
     let model = ctx.model;
     let sol = ctx.deck.executive.sol.as_ref().map(|(s, _)| *s);
     let mut out = Vec::new();
@@ -242,15 +309,21 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
             _ if sub.method.is_some() => FrfMethod::Modal,
             _ => FrfMethod::Direct,
         };
-        let c = clock.time(format!("subcase {id}: constraints"), || Constrained::build(model, st, sub.spc))?;
+        let c = clock.time(format!("subcase {id}: constraints"), || {
+            Constrained::build(model, st, sub.spc)
+        })?;
         let hz = frequency_lines(model, sub)?;
         let omegas: Vec<f64> = hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
         let inputs = inputs(model, st, &c, sub)?;
-        let sensors = clock.time(format!("subcase {id}: sensor rows"), || sensor_operator(ctx, st, &c, sub))?;
+        let sensors = clock.time(format!("subcase {id}: sensor rows"), || {
+            sensor_operator(ctx, st, &c, sub)
+        })?;
         // output rows: the input DOFs (their load columns read the displacement there), the
         // sensors, then 6 per grid of a DISPLACEMENT request
         let grid_rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
-        let grids = grid_rows.as_ref().map_or_else(Vec::new, |rows| rows.indices(&st.map));
+        let grids = grid_rows
+            .as_ref()
+            .map_or_else(Vec::new, |rows| rows.indices(&st.map));
         let grid_outputs = displacement_rows(st, &c, &grids);
         let k = inputs.names.len();
         let n_f = c.sets.f.len();
@@ -272,29 +345,91 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
         }
         let outputs = CscMatrix::from(&coo);
         let (alpha, beta) = (model.params.alpha1, model.params.beta1);
-        let frf_error = |e: crate::dynamics::frf::FrfError| RunError::Case { subcase: id, what: e.to_string() };
+        let frf_error = |e: crate::dynamics::frf::FrfError| RunError::Case {
+            subcase: id,
+            what: e.to_string(),
+        };
         let mut modes = 0;
         // residual vectors added to the modes (None: not asked, direct, or K singular)
         let (mut residual, mut resvec_skipped): (Option<usize>, bool) = (None, false);
         let h = match method {
             FrfMethod::Direct => clock
-                .time(format!("subcase {id}: direct FRF ({} lines)", hz.len()), || {
-                    direct_receptance(&SparseModel { stiffness: &c.k_ff, mass: &c.m_ff, alpha, beta, structural: model.params.g }, inputs.columns.as_ref(), &outputs, &omegas, ctx.options.parallel)
-                })
+                .time(
+                    format!("subcase {id}: direct FRF ({} lines)", hz.len()),
+                    || {
+                        direct_receptance(
+                            &SparseModel {
+                                stiffness: &c.k_ff,
+                                mass: &c.m_ff,
+                                alpha,
+                                beta,
+                                structural: model.params.g,
+                            },
+                            inputs.columns.as_ref(),
+                            &outputs,
+                            &omegas,
+                            ctx.options.parallel,
+                        )
+                    },
+                )
                 .map_err(frf_error)?,
             FrfMethod::Modal => {
-                let sid = sub.method.ok_or_else(|| RunError::Case { subcase: id, what: "SOL 111 needs METHOD = <EIGRL sid> in case control".into() })?;
-                let eigrl = model.bulk.eigrl.iter().find(|e| e.sid == sid).ok_or_else(|| RunError::Case { subcase: id, what: format!("METHOD = {sid} selects no EIGRL card") })?;
-                let symbolic = SymbolicFactor::analyze(c.k_ff.pattern()).map_err(|e| RunError::Linalg { subcase: id, source: e })?;
+                let sid = sub.method.ok_or_else(|| RunError::Case {
+                    subcase: id,
+                    what: "SOL 111 needs METHOD = <EIGRL sid> in case control".into(),
+                })?;
+                let eigrl = model
+                    .bulk
+                    .eigrl
+                    .iter()
+                    .find(|e| e.sid == sid)
+                    .ok_or_else(|| RunError::Case {
+                        subcase: id,
+                        what: format!("METHOD = {sid} selects no EIGRL card"),
+                    })?;
+                let symbolic =
+                    SymbolicFactor::analyze(c.k_ff.pattern()).map_err(|e| RunError::Linalg {
+                        subcase: id,
+                        source: e,
+                    })?;
                 if omegas.contains(&0.0) {
                     static_stiffness_is_regular(&c.k_ff, &symbolic).map_err(frf_error)?;
                 }
-                let request = EigenRequest { v1_hz: eigrl.v1, v2_hz: eigrl.v2, nd: eigrl.nd.map(|n| n as usize), shift_hz: eigrl.shfscl };
-                let problem = EigenProblem { k: &c.k_ff, m: &c.m_ff, symbolic: &symbolic };
-                let r = clock.time(format!("subcase {id}: Lanczos"), || solve_modes(&problem, &request, &LanczosOptions::default(), ctx.options.par(), ctx.progress)).map_err(|e| c.mechanism(st, id, e))?;
+                let request = EigenRequest {
+                    v1_hz: eigrl.v1,
+                    v2_hz: eigrl.v2,
+                    nd: eigrl.nd.map(|n| n as usize),
+                    shift_hz: eigrl.shfscl,
+                };
+                let problem = EigenProblem {
+                    k: &c.k_ff,
+                    m: &c.m_ff,
+                    symbolic: &symbolic,
+                };
+                let r = clock
+                    .time(format!("subcase {id}: Lanczos"), || {
+                        solve_modes(
+                            &problem,
+                            &request,
+                            &LanczosOptions::default(),
+                            ctx.options.par(),
+                            ctx.progress,
+                        )
+                    })
+                    .map_err(|e| c.mechanism(st, id, e))?;
                 modes = r.eigenvalues.len();
                 let extra = if model.params.resvec {
-                    let extra = clock.time(format!("subcase {id}: residual vectors"), || residual_vectors(&c.k_ff, &c.m_ff, &symbolic, r.vectors.as_ref(), inputs.columns.as_ref())).map_err(frf_error)?;
+                    let extra = clock
+                        .time(format!("subcase {id}: residual vectors"), || {
+                            residual_vectors(
+                                &c.k_ff,
+                                &c.m_ff,
+                                &symbolic,
+                                r.vectors.as_ref(),
+                                inputs.columns.as_ref(),
+                            )
+                        })
+                        .map_err(frf_error)?;
                     resvec_skipped = extra.is_none();
                     extra
                 } else {
@@ -305,8 +440,17 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
                 let (eigenvalues, phi) = match extra {
                     Some(extra) => {
                         let psi = &extra.shapes;
-                        let phi = Mat::<f64>::from_fn(n_f, modes + psi.ncols(), |i, j| if j < modes { r.vectors[(i, j)] } else { psi[(i, j - modes)] });
-                        (r.eigenvalues.into_iter().chain(extra.eigenvalues).collect(), phi)
+                        let phi = Mat::<f64>::from_fn(n_f, modes + psi.ncols(), |i, j| {
+                            if j < modes {
+                                r.vectors[(i, j)]
+                            } else {
+                                psi[(i, j - modes)]
+                            }
+                        });
+                        (
+                            r.eigenvalues.into_iter().chain(extra.eigenvalues).collect(),
+                            phi,
+                        )
                     }
                     None => (r.eigenvalues, r.vectors),
                 };
@@ -339,36 +483,65 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
                 }
             }
         }
-        let h: Vec<Mat<c64>> = if n_disp == 0 { h } else { h.iter().map(|hw| hw.subrows(0, named).to_owned()).collect() };
+        let h: Vec<Mat<c64>> = if n_disp == 0 {
+            h
+        } else {
+            h.iter().map(|hw| hw.subrows(0, named).to_owned()).collect()
+        };
         let names: Vec<String> = inputs.names.iter().chain(&sensors.names).cloned().collect();
-        let reads: Vec<Reads> = (0..k).map(|_| Reads::Displacement).chain(sensors.reads.iter().copied()).collect();
+        let reads: Vec<Reads> = (0..k)
+            .map(|_| Reads::Displacement)
+            .chain(sensors.reads.iter().copied())
+            .collect();
         let (flat, peak) = scaled_flat(&h, &hz, &reads);
-        clock.time(format!("subcase {id}: output"), || -> Result<(), RunError> {
-            let group = ctx.output.group(&format!("results/{id}/frf"))?;
-            write_frf(&group, &hz, &flat, &inputs.names, &names)?;
-            let n_out = names.len();
-            let mut response = vec![c64::new(0.0, 0.0); hz.len() * n_out];
-            for (l, f) in hz.iter().enumerate() {
-                for term in &inputs.terms {
-                    let p = term.at(*f);
-                    for o in 0..n_out {
-                        response[l * n_out + o] += flat[(l * n_out + o) * k + term.input] * p;
+        clock.time(
+            format!("subcase {id}: output"),
+            || -> Result<(), RunError> {
+                let group = ctx.output.group(&format!("results/{id}/frf"))?;
+                write_frf(&group, &hz, &flat, &inputs.names, &names)?;
+                let n_out = names.len();
+                let mut response = vec![c64::new(0.0, 0.0); hz.len() * n_out];
+                for (l, f) in hz.iter().enumerate() {
+                    for term in &inputs.terms {
+                        let p = term.at(*f);
+                        for o in 0..n_out {
+                            response[l * n_out + o] += flat[(l * n_out + o) * k + term.input] * p;
+                        }
                     }
                 }
-            }
-            write_c64(&group, "response", &response, &[hz.len(), n_out])?;
-            if let Some(rows) = &grid_rows {
-                write_c64(&group, "displacement", &displacement, &[hz.len(), grids.len(), 6])?;
-                rows.write_ids(&group, "displacement", &st.map)?;
-            }
-            set_attr_str(&group, "method", method.name())?;
-            set_attr_i64(&group, "modes", modes as i64)?;
-            set_attr_i64(&group, "residual_vectors", residual.unwrap_or(0) as i64)?;
-            super::write_autospc(&group, &c.autospc)?;
-            Ok(())
-        })?;
-        let summary = FrfSummary { method, lines: hz.len(), inputs: inputs.names, outputs: names, modes, residual_vectors: residual, resvec_skipped, f_size: n_f, peak };
-        out.push(SubcaseSummary { id, autospc: c.autospc.names.clone(), result: SubcaseResult::Frf(summary) });
+                write_c64(&group, "response", &response, &[hz.len(), n_out])?;
+                if let Some(rows) = &grid_rows {
+                    write_c64(
+                        &group,
+                        "displacement",
+                        &displacement,
+                        &[hz.len(), grids.len(), 6],
+                    )?;
+                    rows.write_ids(&group, "displacement", &st.map)?;
+                }
+                set_attr_str(&group, "method", method.name())?;
+                set_attr_i64(&group, "modes", modes as i64)?;
+                set_attr_i64(&group, "residual_vectors", residual.unwrap_or(0) as i64)?;
+                super::write_autospc(&group, &c.autospc)?;
+                Ok(())
+            },
+        )?;
+        let summary = FrfSummary {
+            method,
+            lines: hz.len(),
+            inputs: inputs.names,
+            outputs: names,
+            modes,
+            residual_vectors: residual,
+            resvec_skipped,
+            f_size: n_f,
+            peak,
+        };
+        out.push(SubcaseSummary {
+            id,
+            autospc: c.autospc.names.clone(),
+            result: SubcaseResult::Frf(summary),
+        });
     }
     Ok(out)
 }

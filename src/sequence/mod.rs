@@ -42,8 +42,8 @@ pub mod parameters;
 pub mod prom;
 pub mod rom_case;
 pub mod rom_frf;
-pub mod rom_transient;
 pub mod rom_modal;
+pub mod rom_transient;
 pub mod sensors;
 pub mod statics;
 pub mod transient;
@@ -90,7 +90,9 @@ impl Sequence {
             Solution::Modal => Some(Sequence::Modal),
             Solution::Prom => Some(Sequence::Prom),
             Solution::Frf | Solution::FrfDirect | Solution::FrfModal => Some(Sequence::Frf),
-            Solution::Transient | Solution::TransientDirect | Solution::TransientModal => Some(Sequence::Transient),
+            Solution::Transient | Solution::TransientDirect | Solution::TransientModal => {
+                Some(Sequence::Transient)
+            }
             Solution::Estimate => Some(Sequence::Estimate),
             _ => None,
         }
@@ -124,7 +126,11 @@ impl Default for RunOptions {
 
 impl RunOptions {
     fn par(&self) -> Par {
-        if self.parallel { Par::rayon(0) } else { Par::Seq }
+        if self.parallel {
+            Par::rayon(0)
+        } else {
+            Par::Seq
+        }
     }
 }
 
@@ -184,12 +190,20 @@ pub enum RunError {
     /// An element whose property or material combination is not supported, or whose
     /// geometry the element kernel rejects.
     #[error("{card} {id}: {reason}")]
-    Element { card: &'static str, id: u32, reason: String },
+    Element {
+        card: &'static str,
+        id: u32,
+        reason: String,
+    },
     /// K_ff is singular: a mechanism or a missing constraint.
     #[error(
         "subcase {subcase}: the stiffness matrix is singular at {dof} ({detail}); the structure is a mechanism or is not constrained there — add an SPC (or GRID PS) for this DOF, or let PARAM,AUTOSPC,YES remove DOFs without stiffness"
     )]
-    Mechanism { subcase: u32, dof: DofName, detail: String },
+    Mechanism {
+        subcase: u32,
+        dof: DofName,
+        detail: String,
+    },
     /// A PMPAR that cannot be applied (e.g. its nominal value cannot be read).
     #[error("PMPAR {name}: {reason}")]
     Parameter { name: String, reason: String },
@@ -210,10 +224,21 @@ pub enum RunError {
 /// only). The CLI asks before running, to write the model and exit with "not available".
 pub fn runnable(deck: &Deck, model: &Model) -> Result<Sequence, RunError> {
     let (sol, text) = deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
-    let sequence = Sequence::of_solution(*sol).ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
-    let on_rom: Vec<u32> = model.subcases.iter().filter(|s| s.rom.is_some()).map(|s| s.id).collect();
+    let sequence = Sequence::of_solution(*sol)
+        .ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
+    let on_rom: Vec<u32> = model
+        .subcases
+        .iter()
+        .filter(|s| s.rom.is_some())
+        .map(|s| s.id)
+        .collect();
     if !on_rom.is_empty() && !rom_case::applies(model) {
-        let full: Vec<String> = model.subcases.iter().filter(|s| s.rom.is_none()).map(|s| s.id.to_string()).collect();
+        let full: Vec<String> = model
+            .subcases
+            .iter()
+            .filter(|s| s.rom.is_none())
+            .map(|s| s.id.to_string())
+            .collect();
         return Err(RunError::NotAvailable(format!(
             "{text} ({}) with ROM = in subcase(s) {on_rom:?} but not in subcase(s) {}: a run is either on pROM artifacts (ROM = in every subcase) or on the full model; split the deck",
             sol.name(),
@@ -221,10 +246,16 @@ pub fn runnable(deck: &Deck, model: &Model) -> Result<Sequence, RunError> {
         )));
     }
     if rom_case::applies(model) && matches!(sequence, Sequence::Statics | Sequence::Prom) {
-        return Err(RunError::NotAvailable(format!("{text} ({}) on a pROM artifact (ROM =): pROMs run SOL 103, FRF, TRANSIENT and ESTIMATE", sol.name())));
+        return Err(RunError::NotAvailable(format!(
+            "{text} ({}) on a pROM artifact (ROM =): pROMs run SOL 103, FRF, TRANSIENT and ESTIMATE",
+            sol.name()
+        )));
     }
     if sequence == Sequence::Estimate && !rom_case::applies(model) {
-        return Err(RunError::NotAvailable(format!("{text} ({}) on the full model (this version runs it on pROM artifacts: every subcase needs ROM = 'file.h5')", sol.name())));
+        return Err(RunError::NotAvailable(format!(
+            "{text} ({}) on the full model (this version runs it on pROM artifacts: every subcase needs ROM = 'file.h5')",
+            sol.name()
+        )));
     }
     Ok(sequence)
 }
@@ -238,8 +269,20 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         (Sequence::Frf, true) => rom_frf::run(ctx, &mut clock)?,
         (Sequence::Transient, true) => rom_transient::run(ctx, &mut clock)?,
         (Sequence::Estimate, true) => estimate::run(ctx, &mut clock)?,
-        (Sequence::Estimate, false) => return Err(RunError::NotAvailable(format!("{} on the full model", sequence.name()))),
-        (Sequence::Statics | Sequence::Modal | Sequence::Prom | Sequence::Frf | Sequence::Transient, _) => {
+        (Sequence::Estimate, false) => {
+            return Err(RunError::NotAvailable(format!(
+                "{} on the full model",
+                sequence.name()
+            )));
+        }
+        (
+            Sequence::Statics
+            | Sequence::Modal
+            | Sequence::Prom
+            | Sequence::Frf
+            | Sequence::Transient,
+            _,
+        ) => {
             let structure = Structure::build(ctx, &mut clock)?;
             match sequence {
                 Sequence::Statics => statics::run(ctx, &structure, &mut clock)?,
@@ -286,10 +329,17 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         }
         if let SubcaseResult::Estimate(e) = &s.result {
             if e.forced {
-                warnings.push(format!("subcase {}: FORCE = YES: the filter ran although the problem is {}", s.id, e.observability));
+                warnings.push(format!(
+                    "subcase {}: FORCE = YES: the filter ran although the problem is {}",
+                    s.id, e.observability
+                ));
             }
             if !e.hidden_modes.is_empty() {
-                let modes: Vec<String> = e.hidden_modes.iter().map(|(k, f)| format!("{k} ({f:.4e} Hz)")).collect();
+                let modes: Vec<String> = e
+                    .hidden_modes
+                    .iter()
+                    .map(|(k, f)| format!("{k} ({f:.4e} Hz)"))
+                    .collect();
                 warnings.push(format!("subcase {}: mode(s) {} are not seen by the measured sensors (unobservable at s = λ, but stable: detectable, thesis §7.5.1)", s.id, modes.join(", ")));
             }
         }
@@ -307,7 +357,13 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
                     s.id, p.n_red
                 ));
             } else if !p.log.converged {
-                let last = p.log.error_history.last().map_or("not measured".to_string(), |(size, e)| format!("{e:.2e} at size {size}"));
+                let last = p
+                    .log
+                    .error_history
+                    .last()
+                    .map_or("not measured".to_string(), |(size, e)| {
+                        format!("{e:.2e} at size {size}")
+                    });
                 warnings.push(format!(
                     "subcase {}: the pROM uses the whole numerical rank of the local bases ({}) but the last growth step still changed the FRFs by {last} (eq. 3.35, summed over {} input/output pairs), above ERRTOL; more samples or modes would make the basis richer",
                     s.id,
@@ -317,7 +373,13 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
             }
         }
         if let SubcaseResult::Modal(m) = &s.result {
-            let bad: Vec<String> = m.residuals.iter().enumerate().filter(|(_, r)| !(**r <= RESIDUAL_WARNING)).map(|(k, r)| format!("{} ({r:.1e})", k + 1)).collect();
+            let bad: Vec<String> = m
+                .residuals
+                .iter()
+                .enumerate()
+                .filter(|(_, r)| !(**r <= RESIDUAL_WARNING))
+                .map(|(k, r)| format!("{} ({r:.1e})", k + 1))
+                .collect();
             if !bad.is_empty() {
                 warnings.push(format!(
                     "subcase {}: mode(s) {} have residual ‖Kφ − λMφ‖/‖Kφ‖ above {RESIDUAL_WARNING:e}: not trustworthy (more modes requested than the mass matrix has finite ones, or masses many orders of magnitude apart, as in the large-mass method, where the frequencies stay accurate but the shapes lose digits)",
@@ -327,7 +389,10 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
             }
             if m.finite_exhausted {
                 let why = if m.massless > 0 {
-                    format!("M is singular on {} massless f-set DOF(s) (no mass on that row)", m.massless)
+                    format!(
+                        "M is singular on {} massless f-set DOF(s) (no mass on that row)",
+                        m.massless
+                    )
                 } else {
                     "M is rank-deficient on DOFs that have mass (e.g. an offset CONM2 without inertia)".to_string()
                 };
@@ -348,7 +413,12 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
             }
         }
     }
-    Ok(RunSummary { sequence, subcases, timings: clock.steps, warnings })
+    Ok(RunSummary {
+        sequence,
+        subcases,
+        timings: clock.steps,
+        warnings,
+    })
 }
 
 /// Modes with a larger residual are flagged in the run's warnings.
@@ -401,12 +471,25 @@ impl Structure {
         let map = DofMap::of_model(model);
         let frames = GridFrames::of_model(model);
         let params = parameters::Parameters::of_model(model)?;
-        let elements = clock.time("element matrices", || elements::element_matrices(model, &frames, &params, ctx.options.parallel, ctx.progress))?;
+        let elements = clock.time("element matrices", || {
+            elements::element_matrices(model, &frames, &params, ctx.options.parallel, ctx.progress)
+        })?;
         let (k_gg, m_gg) = clock.time("assembly", || -> Result<_, RunError> {
             ctx.progress.step("assembly", 0, 2);
-            let lists = elements.stiffness.iter().chain(&elements.mass).map(|c| c.dofs.as_slice());
-            let pattern = Arc::new(crate::assembly::pattern::grid_block_pattern(map.grids(), lists)?);
-            let k = AffineOperator::assemble(pattern.clone(), &elements.stiffness, ctx.options.parallel)?;
+            let lists = elements
+                .stiffness
+                .iter()
+                .chain(&elements.mass)
+                .map(|c| c.dofs.as_slice());
+            let pattern = Arc::new(crate::assembly::pattern::grid_block_pattern(
+                map.grids(),
+                lists,
+            )?);
+            let k = AffineOperator::assemble(
+                pattern.clone(),
+                &elements.stiffness,
+                ctx.options.parallel,
+            )?;
             ctx.progress.step("assembly", 1, 2);
             let m = AffineOperator::assemble(pattern, &elements.mass, ctx.options.parallel)?;
             ctx.progress.step("assembly", 2, 2);
@@ -414,19 +497,31 @@ impl Structure {
         })?;
         // the element matrices are assembled: only the shells' recovery data stay
         let shells = elements.shells;
-        let frozen_condensation = params.names_on(&elements.frozen_condensation, &elements::SECTION_STIFFNESS);
-        let (rigid, k_nn, m_nn, m_gg) = clock.time("rigid elimination g → n", || -> Result<_, RunError> {
-            let rigid = RigidElimination::of_model(model, &frames, &map)?;
-            if rigid.m_mask.iter().any(|&m| m) {
-                let plan = GToN::new(k_gg.pattern().clone(), &rigid.t)?;
-                let (k_nn, m_nn) = (plan.apply(&k_gg)?, plan.apply(&m_gg)?);
-                Ok((rigid, k_nn, m_nn, Some(m_gg)))
-            } else {
-                // no dependent DOFs: n = g in the same order and T = I, so K_nn = K_gg (no copy)
-                Ok((rigid, k_gg, m_gg, None))
-            }
-        })?;
-        Ok(Structure { map, frames, rigid, k_nn, m_nn, m_gg, shells, params, frozen_condensation })
+        let frozen_condensation =
+            params.names_on(&elements.frozen_condensation, &elements::SECTION_STIFFNESS);
+        let (rigid, k_nn, m_nn, m_gg) =
+            clock.time("rigid elimination g → n", || -> Result<_, RunError> {
+                let rigid = RigidElimination::of_model(model, &frames, &map)?;
+                if rigid.m_mask.iter().any(|&m| m) {
+                    let plan = GToN::new(k_gg.pattern().clone(), &rigid.t)?;
+                    let (k_nn, m_nn) = (plan.apply(&k_gg)?, plan.apply(&m_gg)?);
+                    Ok((rigid, k_nn, m_nn, Some(m_gg)))
+                } else {
+                    // no dependent DOFs: n = g in the same order and T = I, so K_nn = K_gg (no copy)
+                    Ok((rigid, k_gg, m_gg, None))
+                }
+            })?;
+        Ok(Structure {
+            map,
+            frames,
+            rigid,
+            k_nn,
+            m_nn,
+            m_gg,
+            shells,
+            params,
+            frozen_condensation,
+        })
     }
 
     /// M_gg (GRAV loads): M_nn itself when the model has no dependent DOFs (n = g).
@@ -446,7 +541,9 @@ impl Structure {
         for grid in 0..self.map.grids() {
             let b = 6 * grid;
             let t = self.frames.to_basic(grid, [u_g[b], u_g[b + 1], u_g[b + 2]]);
-            let r = self.frames.to_basic(grid, [u_g[b + 3], u_g[b + 4], u_g[b + 5]]);
+            let r = self
+                .frames
+                .to_basic(grid, [u_g[b + 3], u_g[b + 4], u_g[b + 5]]);
             out[b..b + 3].copy_from_slice(&t);
             out[b + 3..b + 6].copy_from_slice(&r);
         }
@@ -473,7 +570,8 @@ impl Constrained {
         let mut spc = SpcSet::of_model(model, &st.map, sid)?;
         spc.check_against_rigids(&st.rigid, &st.map)?;
         let mut k_nn_values = vec![0.0; st.k_nn.pattern().nnz()];
-        st.k_nn.evaluate_into(&st.weights(&st.k_nn), &mut k_nn_values)?;
+        st.k_nn
+            .evaluate_into(&st.weights(&st.k_nn), &mut k_nn_values)?;
         let autospc = if model.params.autospc {
             autospc(&st.k_nn, &k_nn_values, &st.rigid.n, &spc.mask, &st.map)?
         } else {
@@ -487,18 +585,34 @@ impl Constrained {
         let k_ff = k_ff.evaluate(&st.weights(&k_ff))?;
         let m_ff = m_ff.evaluate(&st.weights(&m_ff))?;
         let k_fs = crate::assembly::reduce::partition(&st.k_nn, &sets.f_in_n, &sets.s_in_n)?;
-        Ok(Constrained { spc, sets, autospc, k_nn_values, k_ff, m_ff, k_fs })
+        Ok(Constrained {
+            spc,
+            sets,
+            autospc,
+            k_nn_values,
+            k_ff,
+            m_ff,
+            k_fs,
+        })
     }
 
     /// K_ff and M_ff with every affine part (for a pROM build), on one pattern.
     pub fn affine_ff(&self, st: &Structure) -> Result<(AffineOperator, AffineOperator), RunError> {
-        let ff = Partition::new(st.k_nn.pattern().clone(), &self.sets.f_in_n, &self.sets.f_in_n)?;
+        let ff = Partition::new(
+            st.k_nn.pattern().clone(),
+            &self.sets.f_in_n,
+            &self.sets.f_in_n,
+        )?;
         Ok((ff.apply(&st.k_nn)?, ff.apply(&st.m_nn)?))
     }
 
     /// Whether K_ff has (relatively) no stiffness on the diagonal at f index `i`.
     fn no_stiffness(&self, i: usize) -> bool {
-        let diag = |j: usize| self.k_ff.get_entry(j, j).map_or(0.0, |v| v.into_value().abs());
+        let diag = |j: usize| {
+            self.k_ff
+                .get_entry(j, j)
+                .map_or(0.0, |v| v.into_value().abs())
+        };
         let max = (0..self.k_ff.nrows()).map(diag).fold(0.0_f64, f64::max);
         diag(i) <= crate::assembly::spc::AUTOSPC_RATIO * max
     }
@@ -512,8 +626,15 @@ impl Constrained {
             LinalgError::Singular { index } if self.no_stiffness(index) => Some(index),
             _ => None,
         };
-        match index.and_then(|i| self.sets.f.members().get(i)).and_then(|&g| st.map.dof_name(g)) {
-            Some(dof) => RunError::Mechanism { subcase, dof, detail: e.to_string() },
+        match index
+            .and_then(|i| self.sets.f.members().get(i))
+            .and_then(|&g| st.map.dof_name(g))
+        {
+            Some(dof) => RunError::Mechanism {
+                subcase,
+                dof,
+                detail: e.to_string(),
+            },
             None => RunError::Linalg { subcase, source: e },
         }
     }
@@ -525,7 +646,11 @@ impl Constrained {
 pub fn write_autospc(group: &hdf5_metno::Group, report: &AutoSpcReport) -> Result<(), IoError> {
     crate::io::set_attr_i64(group, "autospc_count", report.names.len() as i64)?;
     if !report.names.is_empty() {
-        let flat: Vec<u32> = report.names.iter().flat_map(|d| [d.grid, u32::from(d.component)]).collect();
+        let flat: Vec<u32> = report
+            .names
+            .iter()
+            .flat_map(|d| [d.grid, u32::from(d.component)])
+            .collect();
         crate::io::write_u32(group, "autospc", &flat, &[report.names.len(), 2])?;
     }
     Ok(())
@@ -533,7 +658,11 @@ pub fn write_autospc(group: &hdf5_metno::Group, report: &AutoSpcReport) -> Resul
 
 /// The output request `name` of a subcase, unless absent or `= NONE`.
 pub fn requested<'a>(sub: &'a Subcase, name: &str) -> Option<&'a OutputRequest> {
-    sub.outputs.iter().rev().find(|o| o.name == name).filter(|o| o.target != Target::None)
+    sub.outputs
+        .iter()
+        .rev()
+        .find(|o| o.name == name)
+        .filter(|o| o.target != Target::None)
 }
 
 /// The grids a grid-point output request (`DISPLACEMENT`, `SPCFORCES`) writes.
@@ -549,12 +678,24 @@ pub enum GridRows {
 impl GridRows {
     /// What the subcase's last `name` request selects: `None` for `= NONE`, and `absent` when
     /// the subcase (and the case-control defaults) has no such request.
-    pub fn of_subcase(deck: &Deck, map: &DofMap, sub: &Subcase, name: &str, absent: Option<GridRows>) -> Option<GridRows> {
-        let Some(request) = sub.outputs.iter().rev().find(|o| o.name == name) else { return absent };
+    pub fn of_subcase(
+        deck: &Deck,
+        map: &DofMap,
+        sub: &Subcase,
+        name: &str,
+        absent: Option<GridRows>,
+    ) -> Option<GridRows> {
+        let Some(request) = sub.outputs.iter().rev().find(|o| o.name == name) else {
+            return absent;
+        };
         match request.target {
             Target::None => None,
             Target::All => Some(GridRows::All),
-            Target::Set(_) => Some(GridRows::Set((0..map.grids()).filter(|&g| map.grid_id(g).is_some_and(|id| selected(deck, request, id))).collect())),
+            Target::Set(_) => Some(GridRows::Set(
+                (0..map.grids())
+                    .filter(|&g| map.grid_id(g).is_some_and(|id| selected(deck, request, id)))
+                    .collect(),
+            )),
         }
     }
 
@@ -568,7 +709,12 @@ impl GridRows {
 
     /// For a SET, `<name>_grid_ids` (k, u32): the ids of the rows of dataset `name`; nothing
     /// for `ALL` (the rows are `/model/grid_ids`).
-    pub fn write_ids(&self, group: &hdf5_metno::Group, name: &str, map: &DofMap) -> Result<(), IoError> {
+    pub fn write_ids(
+        &self,
+        group: &hdf5_metno::Group,
+        name: &str,
+        map: &DofMap,
+    ) -> Result<(), IoError> {
         if let GridRows::Set(rows) = self {
             let ids: Vec<u32> = rows.iter().filter_map(|&g| map.grid_id(g)).collect();
             crate::io::write_u32(group, &format!("{name}_grid_ids"), &ids, &[ids.len()])?;
@@ -580,7 +726,14 @@ impl GridRows {
     /// `[modes]` or none) as dataset `name` of shape lead × k × 6 holding the selected rows, and
     /// [`Self::write_ids`]. One writer for every real grid-point output of every sequence (the
     /// complex FRF displacement solves only the selected rows and writes them itself).
-    pub fn write(&self, group: &hdf5_metno::Group, name: &str, values: &[f64], lead: &[usize], map: &DofMap) -> Result<(), IoError> {
+    pub fn write(
+        &self,
+        group: &hdf5_metno::Group,
+        name: &str,
+        values: &[f64],
+        lead: &[usize],
+        map: &DofMap,
+    ) -> Result<(), IoError> {
         let n = map.grids();
         let shape = |k: usize| lead.iter().copied().chain([k, 6]).collect::<Vec<_>>();
         match self {
@@ -588,7 +741,13 @@ impl GridRows {
                 crate::io::write_f64(group, name, values, &shape(n))?;
             }
             GridRows::Set(rows) => {
-                let kept: Vec<f64> = values.chunks_exact(6 * n).flat_map(|block| rows.iter().flat_map(move |&g| block[6 * g..6 * g + 6].iter().copied())).collect();
+                let kept: Vec<f64> = values
+                    .chunks_exact(6 * n)
+                    .flat_map(|block| {
+                        rows.iter()
+                            .flat_map(move |&g| block[6 * g..6 * g + 6].iter().copied())
+                    })
+                    .collect();
                 crate::io::write_f64(group, name, &kept, &shape(rows.len()))?;
             }
         }
@@ -613,6 +772,10 @@ pub fn sturm_line(s: &SturmCheck) -> String {
         s.negative_pivots,
         s.found,
         s.below_lower,
-        if s.is_consistent() { "consistent".to_string() } else { format!("{} MISSING", s.missing()) }
+        if s.is_consistent() {
+            "consistent".to_string()
+        } else {
+            format!("{} MISSING", s.missing())
+        }
     )
 }

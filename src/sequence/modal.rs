@@ -19,11 +19,16 @@
 //! ND asks for more, only the finite modes are returned and the run warns (see
 //! [`crate::linalg::eigen`], "Singular M").
 
-use super::{Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary};
+use super::{
+    Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary,
+};
 use crate::assembly::recover::recover_g;
 use crate::deck::case_control::Subcase;
 use crate::io::{set_attr_f64, set_attr_i64, set_attr_str, write_f64};
-use crate::linalg::{EigenProblem, EigenRequest, EigenResult, LanczosOptions, SturmCheck, SymbolicFactor, solve_modes};
+use crate::linalg::{
+    EigenProblem, EigenRequest, EigenResult, LanczosOptions, SturmCheck, SymbolicFactor,
+    solve_modes,
+};
 
 /// Eigenvector normalization (EIGRL NORM).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -60,44 +65,97 @@ pub struct ModalSummary {
 }
 
 /// Runs every subcase.
-pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+pub fn run(
+    ctx: &RunContext,
+    st: &Structure,
+    clock: &mut Clock,
+) -> Result<Vec<SubcaseSummary>, RunError> {
     let mut symbolic_cache: Vec<(Vec<usize>, SymbolicFactor)> = Vec::new();
     let mut out = Vec::new();
     let par = ctx.options.par();
     for sub in &ctx.model.subcases {
         let id = sub.id;
-        let method = sub.method.ok_or_else(|| RunError::Case { subcase: id, what: "SOL 103 needs METHOD = <EIGRL sid> in case control".into() })?;
+        let method = sub.method.ok_or_else(|| RunError::Case {
+            subcase: id,
+            what: "SOL 103 needs METHOD = <EIGRL sid> in case control".into(),
+        })?;
         let eigrl = ctx
             .model
             .bulk
             .eigrl
             .iter()
             .find(|e| e.sid == method)
-            .ok_or_else(|| RunError::Case { subcase: id, what: format!("METHOD = {method} selects no EIGRL card") })?;
-        let norm = if eigrl.norm.eq_ignore_ascii_case("MAX") { Norm::Max } else { Norm::Mass };
-        let c = clock.time(format!("subcase {id}: constraints"), || Constrained::build(ctx.model, st, sub.spc))?;
+            .ok_or_else(|| RunError::Case {
+                subcase: id,
+                what: format!("METHOD = {method} selects no EIGRL card"),
+            })?;
+        let norm = if eigrl.norm.eq_ignore_ascii_case("MAX") {
+            Norm::Max
+        } else {
+            Norm::Mass
+        };
+        let c = clock.time(format!("subcase {id}: constraints"), || {
+            Constrained::build(ctx.model, st, sub.spc)
+        })?;
         let f = c.sets.f.members().to_vec();
         let symbolic = match symbolic_cache.iter().find(|(key, _)| *key == f) {
             Some((_, s)) => s.clone(),
             None => {
-                let s = clock.time(format!("subcase {id}: symbolic analysis"), || SymbolicFactor::analyze(c.k_ff.pattern()))
-                    .map_err(|e| RunError::Linalg { subcase: id, source: e })?;
+                let s = clock
+                    .time(format!("subcase {id}: symbolic analysis"), || {
+                        SymbolicFactor::analyze(c.k_ff.pattern())
+                    })
+                    .map_err(|e| RunError::Linalg {
+                        subcase: id,
+                        source: e,
+                    })?;
                 symbolic_cache.push((f, s.clone()));
                 s
             }
         };
-        let request = EigenRequest { v1_hz: eigrl.v1, v2_hz: eigrl.v2, nd: eigrl.nd.map(|n| n as usize), shift_hz: eigrl.shfscl };
-        let problem = EigenProblem { k: &c.k_ff, m: &c.m_ff, symbolic: &symbolic };
+        let request = EigenRequest {
+            v1_hz: eigrl.v1,
+            v2_hz: eigrl.v2,
+            nd: eigrl.nd.map(|n| n as usize),
+            shift_hz: eigrl.shfscl,
+        };
+        let problem = EigenProblem {
+            k: &c.k_ff,
+            m: &c.m_ff,
+            symbolic: &symbolic,
+        };
         let result = clock
-            .time(format!("subcase {id}: Lanczos"), || solve_modes(&problem, &request, &LanczosOptions::default(), par, ctx.progress))
+            .time(format!("subcase {id}: Lanczos"), || {
+                solve_modes(
+                    &problem,
+                    &request,
+                    &LanczosOptions::default(),
+                    par,
+                    ctx.progress,
+                )
+            })
             .map_err(|e| c.mechanism(st, id, e))?;
-        let summary = clock.time(format!("subcase {id}: output"), || write_subcase(ctx, st, &c, sub, norm, request.nd, result))?;
-        out.push(SubcaseSummary { id, autospc: c.autospc.names.clone(), result: SubcaseResult::Modal(summary) });
+        let summary = clock.time(format!("subcase {id}: output"), || {
+            write_subcase(ctx, st, &c, sub, norm, request.nd, result)
+        })?;
+        out.push(SubcaseSummary {
+            id,
+            autospc: c.autospc.names.clone(),
+            result: SubcaseResult::Modal(summary),
+        });
     }
     Ok(out)
 }
 
-fn write_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase, norm: Norm, nd: Option<usize>, mut r: EigenResult) -> Result<ModalSummary, RunError> {
+fn write_subcase(
+    ctx: &RunContext,
+    st: &Structure,
+    c: &Constrained,
+    sub: &Subcase,
+    norm: Norm,
+    nd: Option<usize>,
+    mut r: EigenResult,
+) -> Result<ModalSummary, RunError> {
     let id = sub.id;
     let m = r.eigenvalues.len();
     let nf = r.vectors.nrows();
@@ -120,10 +178,22 @@ fn write_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcas
     write_f64(&group, "residual", &r.residuals, &[m])?;
     set_attr_f64(&group, "sturm_shift", r.sturm.shift)?;
     set_attr_i64(&group, "sturm_count", r.sturm.negative_pivots as i64)?;
-    set_attr_i64(&group, "sturm_found", (r.sturm.found + r.sturm.below_lower) as i64)?;
-    set_attr_i64(&group, "sturm_consistent", i64::from(r.sturm.is_consistent()))?;
+    set_attr_i64(
+        &group,
+        "sturm_found",
+        (r.sturm.found + r.sturm.below_lower) as i64,
+    )?;
+    set_attr_i64(
+        &group,
+        "sturm_consistent",
+        i64::from(r.sturm.is_consistent()),
+    )?;
     set_attr_f64(&group, "shift", r.shift)?;
-    set_attr_str(&group, "norm", if norm == Norm::Max { "MAX" } else { "MASS" })?;
+    set_attr_str(
+        &group,
+        "norm",
+        if norm == Norm::Max { "MAX" } else { "MASS" },
+    )?;
     set_attr_i64(&group, "massless_count", r.massless as i64)?;
     set_attr_i64(&group, "finite_exhausted", i64::from(r.finite_exhausted))?;
     super::write_autospc(&group, &c.autospc)?;

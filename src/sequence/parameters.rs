@@ -52,9 +52,17 @@ impl Parameters {
     pub fn of_model(model: &Model) -> Result<Self, RunError> {
         let mut out = Parameters::default();
         for p in &model.bulk.pmpar {
-            let value = nominal(&model.bulk, p).map_err(|reason| RunError::Parameter { name: p.name.clone(), reason })?;
+            let value = nominal(&model.bulk, p).map_err(|reason| RunError::Parameter {
+                name: p.name.clone(),
+                reason,
+            })?;
             let target = target_of(p);
-            out.list.push(PromParameter { name: p.name.to_ascii_uppercase(), low: p.low, high: p.high, nominal: value });
+            out.list.push(PromParameter {
+                name: p.name.to_ascii_uppercase(),
+                low: p.low,
+                high: p.high,
+                nominal: value,
+            });
             out.kinds.push(p.kind);
             out.targets.push(target);
             let fixed = out.fixed.entry(target).or_default();
@@ -62,8 +70,15 @@ impl Parameters {
         }
         // the other card values of each entity (e.g. ν of a MAT1 whose E is the parameter)
         for (&target, fixed) in out.fixed.iter_mut() {
-            if let ParamTarget::Material(mid) = target && let Some(m) = model.bulk.mat1.iter().find(|m| m.id == mid) {
-                *fixed = CoefficientValues { e: m.e, nu: m.nu, rho: m.rho, ..*fixed };
+            if let ParamTarget::Material(mid) = target
+                && let Some(m) = model.bulk.mat1.iter().find(|m| m.id == mid)
+            {
+                *fixed = CoefficientValues {
+                    e: m.e,
+                    nu: m.nu,
+                    rho: m.rho,
+                    ..*fixed
+                };
             }
         }
         Ok(out)
@@ -76,12 +91,22 @@ impl Parameters {
 
     /// The kinds of the PMPARs acting on `target`.
     pub fn kinds_on(&self, target: ParamTarget) -> Vec<PmparKind> {
-        self.targets.iter().zip(&self.kinds).filter(|(t, _)| **t == target).map(|(_, k)| *k).collect()
+        self.targets
+            .iter()
+            .zip(&self.kinds)
+            .filter(|(t, _)| **t == target)
+            .map(|(_, k)| *k)
+            .collect()
     }
 
     /// The names of the PMPARs of one of `kinds` acting on one of `targets`, in card order.
     pub fn names_on(&self, targets: &[ParamTarget], kinds: &[PmparKind]) -> Vec<String> {
-        self.list.iter().zip(self.targets.iter().zip(&self.kinds)).filter(|(_, (t, k))| targets.contains(t) && kinds.contains(k)).map(|(p, _)| p.name.clone()).collect()
+        self.list
+            .iter()
+            .zip(self.targets.iter().zip(&self.kinds))
+            .filter(|(_, (t, k))| targets.contains(t) && kinds.contains(k))
+            .map(|(p, _)| p.name.clone())
+            .collect()
     }
 
     /// True when some PMPAR acts on `target`.
@@ -101,7 +126,14 @@ impl Parameters {
             ParamKey::Param { target, function } => AffineFunction {
                 coefficient: function,
                 fixed: self.fixed.get(&target).copied().unwrap_or_default(),
-                driven_by: self.targets.iter().zip(&self.kinds).enumerate().filter(|(_, (t, _))| **t == target).map(|(j, (_, k))| (input_of(*k), j)).collect(),
+                driven_by: self
+                    .targets
+                    .iter()
+                    .zip(&self.kinds)
+                    .enumerate()
+                    .filter(|(_, (t, _))| **t == target)
+                    .map(|(j, (_, k))| (input_of(*k), j))
+                    .collect(),
             },
         }
     }

@@ -26,7 +26,10 @@ use super::sensors::{sensor_kind_name, sensor_operator};
 use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary};
 use crate::assembly::{AffineOperator, DofMap, ParamKey};
 use crate::deck::cards::Pmor;
-use crate::io::{IoError, set_attr_i64, set_attr_strings, write_f64, write_prom, write_prom_masses, write_strings};
+use crate::io::{
+    IoError, set_attr_i64, set_attr_strings, write_f64, write_prom, write_prom_masses,
+    write_strings,
+};
 use crate::rom::build::{AffineFom, BuildLog, Built, PromSettings, build_prom};
 use crate::rom::local_basis::{RigidModes, StaticModes};
 use crate::rom::mass::AffineMasses;
@@ -47,58 +50,105 @@ pub struct PromSummary {
 }
 
 /// Runs the (single) PROM subcase.
-pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+pub fn run(
+    ctx: &RunContext,
+    st: &Structure,
+    clock: &mut Clock,
+) -> Result<Vec<SubcaseSummary>, RunError> {
     let model = ctx.model;
     let subs: Vec<_> = model.subcases.iter().filter(|s| s.prom.is_some()).collect();
     let sub = match subs.as_slice() {
         [one] => *one,
-        [] => return Err(RunError::Case { subcase: model.subcases.first().map_or(1, |s| s.id), what: "SOL PROM needs PROM = <PMOR id> in case control".into() }),
-        more => return Err(RunError::Case { subcase: more[1].id, what: "SOL PROM builds one pROM per run: only one subcase may select PROM".into() }),
+        [] => {
+            return Err(RunError::Case {
+                subcase: model.subcases.first().map_or(1, |s| s.id),
+                what: "SOL PROM needs PROM = <PMOR id> in case control".into(),
+            });
+        }
+        more => {
+            return Err(RunError::Case {
+                subcase: more[1].id,
+                what: "SOL PROM builds one pROM per run: only one subcase may select PROM".into(),
+            });
+        }
     };
     let id = sub.id;
-    let pmor = model.bulk.pmor.iter().find(|p| Some(p.id) == sub.prom).ok_or_else(|| RunError::Case { subcase: id, what: "PMOR missing".into() })?;
+    let pmor = model
+        .bulk
+        .pmor
+        .iter()
+        .find(|p| Some(p.id) == sub.prom)
+        .ok_or_else(|| RunError::Case {
+            subcase: id,
+            what: "PMOR missing".into(),
+        })?;
     if st.params.is_empty() {
-        return Err(RunError::Case { subcase: id, what: "SOL PROM needs at least one PMPAR (the parameters of the pROM)".into() });
+        return Err(RunError::Case {
+            subcase: id,
+            what: "SOL PROM needs at least one PMPAR (the parameters of the pROM)".into(),
+        });
     }
-    let c = clock.time(format!("subcase {id}: constraints"), || Constrained::build(model, st, sub.spc))?;
+    let c = clock.time(format!("subcase {id}: constraints"), || {
+        Constrained::build(model, st, sub.spc)
+    })?;
     let (k_ff, m_ff) = c.affine_ff(st)?;
     let keys = affine_keys(&k_ff, &m_ff);
     let fom = affine_fom(st, &keys, &k_ff, &m_ff)?;
     let masses = match settings_rigid(pmor) {
-        RigidModes::Remove => Some(AffineMasses::lump(st.mass_gg(), &keys, &st.frames, model.grids.iter().map(|g| g.xyz).collect())?),
+        RigidModes::Remove => Some(AffineMasses::lump(
+            st.mass_gg(),
+            &keys,
+            &st.frames,
+            model.grids.iter().map(|g| g.xyz).collect(),
+        )?),
         RigidModes::Keep => None,
     };
     let (boundary, names) = boundary(ctx, &c, pmor, id)?;
     let settings = settings(pmor, model.params.alpha1, model.params.beta1);
-    let Built { prom, inputs, basis, log } = clock
-        .time(format!("subcase {id}: pROM build"), || build_prom(&fom, &boundary, &settings, ctx.progress))
-        .map_err(|e| RunError::Case { subcase: id, what: format!("pROM build: {e}") })?;
-    let sensors = clock.time(format!("subcase {id}: sensor rows"), || sensor_operator(ctx, st, &c, sub))?;
+    let Built {
+        prom,
+        inputs,
+        basis,
+        log,
+    } = clock
+        .time(format!("subcase {id}: pROM build"), || {
+            build_prom(&fom, &boundary, &settings, ctx.progress)
+        })
+        .map_err(|e| RunError::Case {
+            subcase: id,
+            what: format!("pROM build: {e}"),
+        })?;
+    let sensors = clock.time(format!("subcase {id}: sensor rows"), || {
+        sensor_operator(ctx, st, &c, sub)
+    })?;
     let h_r = sensors.project(&basis);
     drop(basis);
     let n_full = k_ff.nrows();
-    clock.time(format!("subcase {id}: output"), || -> Result<(), IoError> {
-        let group = ctx.output.group("prom")?;
-        write_prom(&group, &prom, n_full)?;
-        let inputs_group = ctx.output.group("prom/inputs")?;
-        let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
-        write_strings(&inputs_group, "names", &name_refs)?;
-        let (n, k) = (inputs.nrows(), inputs.ncols());
-        write_f64(&inputs_group, "S_r", &row_major(&inputs), &[n, k])?;
-        if !sensors.names.is_empty() {
-            let g = ctx.output.group("prom/sensors")?;
-            let names: Vec<&str> = sensors.names.iter().map(String::as_str).collect();
-            write_strings(&g, "names", &names)?;
-            let kinds: Vec<&str> = sensors.kinds.iter().map(|k| sensor_kind_name(*k)).collect();
-            write_strings(&g, "kind", &kinds)?;
-            write_f64(&g, "H_r", &row_major(&h_r), &[h_r.nrows(), h_r.ncols()])?;
-        }
-        if let Some(masses) = &masses {
-            let grids: Vec<u32> = model.grids.iter().map(|g| g.id).collect();
-            write_prom_masses(&ctx.output.group("prom/mass")?, &grids, masses)?;
-        }
-        write_log(ctx, &log)
-    })?;
+    clock.time(
+        format!("subcase {id}: output"),
+        || -> Result<(), IoError> {
+            let group = ctx.output.group("prom")?;
+            write_prom(&group, &prom, n_full)?;
+            let inputs_group = ctx.output.group("prom/inputs")?;
+            let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
+            write_strings(&inputs_group, "names", &name_refs)?;
+            let (n, k) = (inputs.nrows(), inputs.ncols());
+            write_f64(&inputs_group, "S_r", &row_major(&inputs), &[n, k])?;
+            if !sensors.names.is_empty() {
+                let g = ctx.output.group("prom/sensors")?;
+                let names: Vec<&str> = sensors.names.iter().map(String::as_str).collect();
+                write_strings(&g, "names", &names)?;
+                let kinds: Vec<&str> = sensors.kinds.iter().map(|k| sensor_kind_name(*k)).collect();
+                write_strings(&g, "kind", &kinds)?;
+                write_f64(&g, "H_r", &row_major(&h_r), &[h_r.nrows(), h_r.ncols()])?;
+            }
+            if let Some(masses) = &masses {
+                let grids: Vec<u32> = model.grids.iter().map(|g| g.id).collect();
+                write_prom_masses(&ctx.output.group("prom/mass")?, &grids, masses)?;
+            }
+            write_log(ctx, &log)
+        },
+    )?;
     let summary = PromSummary {
         n_full,
         n_red: prom.size(),
@@ -108,11 +158,17 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
         log,
         frozen_condensation: st.frozen_condensation.clone(),
     };
-    Ok(vec![SubcaseSummary { id, autospc: c.autospc.names.clone(), result: SubcaseResult::Prom(summary) }])
+    Ok(vec![SubcaseSummary {
+        id,
+        autospc: c.autospc.names.clone(),
+        result: SubcaseResult::Prom(summary),
+    }])
 }
 
 fn row_major(m: &Mat<f64>) -> Vec<f64> {
-    (0..m.nrows()).flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)])).collect()
+    (0..m.nrows())
+        .flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)]))
+        .collect()
 }
 
 /// The part keys of K and M, K's first: the pROM's component order.
@@ -128,25 +184,57 @@ fn affine_keys(k: &AffineOperator, m: &AffineOperator) -> Vec<ParamKey> {
 
 /// The affine FOM on the f-set: one function per key (a zero matrix where an operator lacks
 /// that key).
-fn affine_fom(st: &Structure, keys: &[ParamKey], k: &AffineOperator, m: &AffineOperator) -> Result<AffineFom, RunError> {
+fn affine_fom(
+    st: &Structure,
+    keys: &[ParamKey],
+    k: &AffineOperator,
+    m: &AffineOperator,
+) -> Result<AffineFom, RunError> {
     let matrices = |op: &AffineOperator| -> Result<Vec<CscMatrix<f64>>, RunError> {
-        keys.iter().map(|&key| Ok(op.matrix(op.part(key).map_or_else(|| vec![0.0; op.pattern().nnz()], <[f64]>::to_vec))?)).collect()
+        keys.iter()
+            .map(|&key| {
+                Ok(op.matrix(
+                    op.part(key)
+                        .map_or_else(|| vec![0.0; op.pattern().nnz()], <[f64]>::to_vec),
+                )?)
+            })
+            .collect()
     };
-    Ok(AffineFom { parameters: st.params.list.clone(), functions: keys.iter().map(|&key| st.params.function(key)).collect(), stiffness: matrices(k)?, mass: matrices(m)? })
+    Ok(AffineFom {
+        parameters: st.params.list.clone(),
+        functions: keys.iter().map(|&key| st.params.function(key)).collect(),
+        stiffness: matrices(k)?,
+        mass: matrices(m)?,
+    })
 }
 
 /// BSET: every ASET1 DOF, as f-set indices, with "GRID:component" names.
-fn boundary(ctx: &RunContext, c: &Constrained, pmor: &Pmor, subcase: u32) -> Result<(Vec<usize>, Vec<String>), RunError> {
+fn boundary(
+    ctx: &RunContext,
+    c: &Constrained,
+    pmor: &Pmor,
+    subcase: u32,
+) -> Result<(Vec<usize>, Vec<String>), RunError> {
     if pmor.bset.is_none() {
         return Ok((Vec::new(), Vec::new()));
     }
     let model = ctx.model;
-    let f_of: HashMap<usize, usize> = c.sets.f.members().iter().enumerate().map(|(i, &g)| (g, i)).collect();
+    let f_of: HashMap<usize, usize> = c
+        .sets
+        .f
+        .members()
+        .iter()
+        .enumerate()
+        .map(|(i, &g)| (g, i))
+        .collect();
     let mut out = Vec::new();
     let mut names = Vec::new();
     for card in &model.bulk.aset1 {
         for &grid in &card.grids {
-            let index = *model.grid_index.get(&grid).ok_or_else(|| RunError::Case { subcase, what: format!("ASET1 grid {grid} does not exist") })?;
+            let index = *model.grid_index.get(&grid).ok_or_else(|| RunError::Case {
+                subcase,
+                what: format!("ASET1 grid {grid} does not exist"),
+            })?;
             for comp in card.components.components() {
                 let g = DofMap::dof(index, comp - 1);
                 let f = *f_of.get(&g).ok_or_else(|| RunError::Case {
@@ -161,13 +249,20 @@ fn boundary(ctx: &RunContext, c: &Constrained, pmor: &Pmor, subcase: u32) -> Res
         }
     }
     if out.is_empty() {
-        return Err(RunError::Case { subcase, what: format!("PMOR {} asks for BSET but the deck has no ASET1", pmor.id) });
+        return Err(RunError::Case {
+            subcase,
+            what: format!("PMOR {} asks for BSET but the deck has no ASET1", pmor.id),
+        });
     }
     Ok((out, names))
 }
 
 fn settings_rigid(p: &Pmor) -> RigidModes {
-    if p.rigid == "REMOVE" { RigidModes::Remove } else { RigidModes::Keep }
+    if p.rigid == "REMOVE" {
+        RigidModes::Remove
+    } else {
+        RigidModes::Keep
+    }
 }
 
 fn settings(p: &Pmor, alpha: f64, beta: f64) -> PromSettings {
@@ -197,8 +292,18 @@ fn settings(p: &Pmor, alpha: f64, beta: f64) -> PromSettings {
 fn write_log(ctx: &RunContext, log: &BuildLog) -> Result<(), IoError> {
     let g = ctx.output.group("prom/build")?;
     let n_p = log.samples.first().map_or(0, Vec::len);
-    write_f64(&g, "samples", &log.samples.concat(), &[log.samples.len(), n_p])?;
-    write_f64(&g, "singular_values", &log.singular_values, &[log.singular_values.len()])?;
+    write_f64(
+        &g,
+        "samples",
+        &log.samples.concat(),
+        &[log.samples.len(), n_p],
+    )?;
+    write_f64(
+        &g,
+        "singular_values",
+        &log.singular_values,
+        &[log.singular_values.len()],
+    )?;
     let sizes: Vec<f64> = log.error_history.iter().map(|(s, _)| *s as f64).collect();
     let errors: Vec<f64> = log.error_history.iter().map(|(_, e)| *e).collect();
     write_f64(&g, "size_history", &sizes, &[sizes.len()])?;

@@ -32,16 +32,34 @@ pub struct RomAtPoint {
 impl RomAtPoint {
     /// Read the subcase's artifact and evaluate it at its PVAL.
     pub fn load(ctx: &RunContext, sub: &Subcase) -> Result<Self, RunError> {
-        let case = |what: String| RunError::Case { subcase: sub.id, what };
-        let rom = sub.rom.as_deref().ok_or_else(|| case("ROM = 'file.h5' missing".into()))?;
-        let path = ctx.deck.path.parent().map_or_else(|| PathBuf::from(rom), |dir| dir.join(rom));
+        let case = |what: String| RunError::Case {
+            subcase: sub.id,
+            what,
+        };
+        let rom = sub
+            .rom
+            .as_deref()
+            .ok_or_else(|| case("ROM = 'file.h5' missing".into()))?;
+        let path = ctx
+            .deck
+            .path
+            .parent()
+            .map_or_else(|| PathBuf::from(rom), |dir| dir.join(rom));
         let (prom, _) = read_prom(&path)?;
         let mut p: Vec<f64> = prom.parameters.iter().map(|q| q.nominal).collect();
         if let Some(pval_id) = sub.pval {
             let tabulated = ctx.model.bulk.ptable.iter().any(|c| c.id == pval_id);
-            let transient = ctx.deck.executive.sol.as_ref().and_then(|(sol, _)| super::Sequence::of_solution(*sol)) == Some(super::Sequence::Transient);
+            let transient = ctx
+                .deck
+                .executive
+                .sol
+                .as_ref()
+                .and_then(|(sol, _)| super::Sequence::of_solution(*sol))
+                == Some(super::Sequence::Transient);
             if tabulated && !transient {
-                return Err(case(format!("PTABLE {pval_id}: parameters varying in time apply to SOL TRANSIENT only")));
+                return Err(case(format!(
+                    "PTABLE {pval_id}: parameters varying in time apply to SOL TRANSIENT only"
+                )));
             }
             let card = ctx.model.bulk.pval.iter().find(|c| c.id == pval_id);
             if card.is_none() && !tabulated {
@@ -59,17 +77,31 @@ impl RomAtPoint {
             }
         }
         let mut at = prom.workspace();
-        prom.evaluate(&p, &mut at).map_err(|e| case(format!("{}: {e}", path.display())))?;
+        prom.evaluate(&p, &mut at)
+            .map_err(|e| case(format!("{}: {e}", path.display())))?;
         if at.mass().nrows() > 0 {
             use crate::linalg::dense::{mass_conditioning, stiffness_semidefinite};
-            mass_conditioning(at.mass()).and_then(|_| stiffness_semidefinite(at.stiffness())).map_err(|e| case(format!("{} at {}: {e}", path.display(), point(&prom, &p))))?;
+            mass_conditioning(at.mass())
+                .and_then(|_| stiffness_semidefinite(at.stiffness()))
+                .map_err(|e| case(format!("{} at {}: {e}", path.display(), point(&prom, &p))))?;
         }
         let extrapolated = prom.outside_box(&p).into_iter().map(String::from).collect();
-        Ok(RomAtPoint { path, prom, p, at, extrapolated })
+        Ok(RomAtPoint {
+            path,
+            prom,
+            p,
+            at,
+            extrapolated,
+        })
     }
 }
 
 /// "E = 1.1e11, RHO = 4500" for messages.
 fn point(prom: &Prom, p: &[f64]) -> String {
-    prom.parameters.iter().zip(p).map(|(q, v)| format!("{} = {v:e}", q.name)).collect::<Vec<_>>().join(", ")
+    prom.parameters
+        .iter()
+        .zip(p)
+        .map(|(q, v)| format!("{} = {v:e}", q.name))
+        .collect::<Vec<_>>()
+        .join(", ")
 }

@@ -19,7 +19,9 @@ use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
 use crate::dynamics::frf::{DenseModel, receptance};
 use crate::dynamics::measurement::{Reads, SensorRows};
-use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_str, set_attr_strings};
+use crate::io::{
+    read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_str, set_attr_strings,
+};
 
 /// What one pROM FRF subcase computed.
 #[derive(Debug, Clone)]
@@ -34,30 +36,65 @@ pub struct RomFrfSummary {
 
 /// Runs every subcase on its pROM.
 pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
-    ctx.model.subcases.iter().map(|sub| clock.time(format!("subcase {}: pROM FRF", sub.id), || subcase(ctx, sub))).collect()
+    ctx.model
+        .subcases
+        .iter()
+        .map(|sub| {
+            clock.time(format!("subcase {}: pROM FRF", sub.id), || {
+                subcase(ctx, sub)
+            })
+        })
+        .collect()
 }
 
 fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
-    let RomAtPoint { path, prom, p, at, extrapolated } = RomAtPoint::load(ctx, sub)?;
+    let RomAtPoint {
+        path,
+        prom,
+        p,
+        at,
+        extrapolated,
+    } = RomAtPoint::load(ctx, sub)?;
     let (names, s_r) = read_prom_inputs(&path, prom.size())?;
     if names.is_empty() {
-        return Err(case(format!("{} has no load inputs (build it with PMOR BSET and ASET1)", path.display())));
+        return Err(case(format!(
+            "{} has no load inputs (build it with PMOR BSET and ASET1)",
+            path.display()
+        )));
     }
     if ctx.model.params.g != 0.0 {
-        return Err(case(format!("PARAM,G = {}: structural damping is applied by the full-model SOL 108/111 only; a pROM carries the Rayleigh damping of its build (PARAM,ALPHA1 / BETA1)", ctx.model.params.g)));
+        return Err(case(format!(
+            "PARAM,G = {}: structural damping is applied by the full-model SOL 108/111 only; a pROM carries the Rayleigh damping of its build (PARAM,ALPHA1 / BETA1)",
+            ctx.model.params.g
+        )));
     }
     let hz = frequency_lines(ctx.model, sub)?;
     let omegas: Vec<f64> = hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
     let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, prom.size())?;
-    let sensors = SensorRows::new(sensor_names, sensor_kinds, h_r).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let sensors = SensorRows::new(sensor_names, sensor_kinds, h_r)
+        .map_err(|e| case(format!("{}: {e}", path.display())))?;
     // outputs: the input DOFs (receptance), then the sensors (DISP ×1, VEL ×iω, ACCEL ×−ω²)
     let k = names.len();
-    let outputs = Mat::<f64>::from_fn(k + sensors.len(), prom.size(), |o, j| if o < k { s_r[(j, o)] } else { sensors.h[(o - k, j)] });
-    let model = DenseModel { stiffness: at.stiffness(), mass: at.mass(), damping: at.damping() };
-    let h = receptance(&model, s_r.as_ref(), outputs.as_ref(), &omegas).map_err(|e| case(format!("{}: {e}", path.display())))?;
-    let reads: Vec<Reads> = (0..k).map(|_| Reads::Displacement).chain(sensors.reads.iter().copied()).collect();
+    let outputs = Mat::<f64>::from_fn(k + sensors.len(), prom.size(), |o, j| {
+        if o < k {
+            s_r[(j, o)]
+        } else {
+            sensors.h[(o - k, j)]
+        }
+    });
+    let model = DenseModel {
+        stiffness: at.stiffness(),
+        mass: at.mass(),
+        damping: at.damping(),
+    };
+    let h = receptance(&model, s_r.as_ref(), outputs.as_ref(), &omegas)
+        .map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let reads: Vec<Reads> = (0..k)
+        .map(|_| Reads::Displacement)
+        .chain(sensors.reads.iter().copied())
+        .collect();
     let (flat, peak) = scaled_flat(&h, &hz, &reads);
     let group = ctx.output.group(&format!("results/{id}/frf"))?;
     let outputs: Vec<String> = names.iter().chain(&sensors.names).cloned().collect();
@@ -66,6 +103,16 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let params: Vec<&str> = prom.parameters.iter().map(|q| q.name.as_str()).collect();
     set_attr_strings(&group, "params", &params)?;
     set_attr_f64s(&group, "values", &p)?;
-    let summary = RomFrfSummary { rom: path, lines: hz.len(), inputs: names, extrapolated, peak };
-    Ok(SubcaseSummary { id, autospc: Vec::new(), result: SubcaseResult::RomFrf(summary) })
+    let summary = RomFrfSummary {
+        rom: path,
+        lines: hz.len(),
+        inputs: names,
+        extrapolated,
+        peak,
+    };
+    Ok(SubcaseSummary {
+        id,
+        autospc: Vec::new(),
+        result: SubcaseResult::RomFrf(summary),
+    })
 }

@@ -36,14 +36,29 @@ pub struct RomModalSummary {
 
 /// Runs every subcase on its pROM.
 pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
-    ctx.model.subcases.iter().map(|sub| clock.time(format!("subcase {}: pROM modes", sub.id), || subcase(ctx, sub))).collect()
+    ctx.model
+        .subcases
+        .iter()
+        .map(|sub| {
+            clock.time(format!("subcase {}: pROM modes", sub.id), || {
+                subcase(ctx, sub)
+            })
+        })
+        .collect()
 }
 
 fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
-    let RomAtPoint { path, prom, p, at, extrapolated } = RomAtPoint::load(ctx, sub)?;
-    let (lambda, phi) = generalized_eigen(at.stiffness(), at.mass()).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let RomAtPoint {
+        path,
+        prom,
+        p,
+        at,
+        extrapolated,
+    } = RomAtPoint::load(ctx, sub)?;
+    let (lambda, phi) = generalized_eigen(at.stiffness(), at.mass())
+        .map_err(|e| case(format!("{}: {e}", path.display())))?;
     let (keep, nd_short) = selection(ctx, sub, &lambda)?;
     let lambda: Vec<f64> = keep.iter().map(|&j| lambda[j]).collect();
     let phi = Mat::<f64>::from_fn(phi.nrows(), keep.len(), |i, c| phi[(i, keep[c])]);
@@ -70,19 +85,47 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         rom: path.clone(),
         n_red: prom.size(),
         frequencies_hz,
-        values: names.iter().map(|n| n.to_string()).zip(p.iter().copied()).collect(),
+        values: names
+            .iter()
+            .map(|n| n.to_string())
+            .zip(p.iter().copied())
+            .collect(),
         extrapolated,
         nd_short,
     };
-    Ok(SubcaseSummary { id, autospc: Vec::new(), result: SubcaseResult::RomModal(summary) })
+    Ok(SubcaseSummary {
+        id,
+        autospc: Vec::new(),
+        result: SubcaseResult::RomModal(summary),
+    })
 }
 
 /// Indices of the modes EIGRL asks for (all when no METHOD), and ND when fewer exist in the band.
-fn selection(ctx: &RunContext, sub: &Subcase, lambda: &[f64]) -> Result<(Vec<usize>, Option<usize>), RunError> {
-    let Some(method) = sub.method else { return Ok(((0..lambda.len()).collect(), None)) };
-    let eigrl = ctx.model.bulk.eigrl.iter().find(|e| e.sid == method).ok_or_else(|| RunError::Case { subcase: sub.id, what: format!("METHOD = {method} selects no EIGRL card") })?;
-    let (v1, v2) = (eigrl.v1.unwrap_or(f64::NEG_INFINITY), eigrl.v2.unwrap_or(f64::INFINITY));
-    let mut keep: Vec<usize> = (0..lambda.len()).filter(|&j| (v1..=v2).contains(&lambda_to_hz(lambda[j]))).collect();
+fn selection(
+    ctx: &RunContext,
+    sub: &Subcase,
+    lambda: &[f64],
+) -> Result<(Vec<usize>, Option<usize>), RunError> {
+    let Some(method) = sub.method else {
+        return Ok(((0..lambda.len()).collect(), None));
+    };
+    let eigrl = ctx
+        .model
+        .bulk
+        .eigrl
+        .iter()
+        .find(|e| e.sid == method)
+        .ok_or_else(|| RunError::Case {
+            subcase: sub.id,
+            what: format!("METHOD = {method} selects no EIGRL card"),
+        })?;
+    let (v1, v2) = (
+        eigrl.v1.unwrap_or(f64::NEG_INFINITY),
+        eigrl.v2.unwrap_or(f64::INFINITY),
+    );
+    let mut keep: Vec<usize> = (0..lambda.len())
+        .filter(|&j| (v1..=v2).contains(&lambda_to_hz(lambda[j])))
+        .collect();
     let nd = eigrl.nd.map(|nd| nd as usize);
     if let Some(nd) = nd {
         keep.truncate(nd);

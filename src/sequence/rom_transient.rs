@@ -20,14 +20,20 @@ use faer::linalg::solvers::Solve;
 
 use super::rom_case::RomAtPoint;
 use super::transient::{load_into, load_terms, method_of, output_rows, table_of};
-use crate::deck::cards::Darea;
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
+use crate::deck::cards::Darea;
 use crate::deck::case_control::Subcase;
+use crate::dynamics::integrators::{
+    Backend, Combination, DenseOperators, IntegrationError, LinearSystem, Run, StepState,
+    integrate_with, matvec_add,
+};
 use crate::dynamics::measurement::SensorRows;
-use crate::dynamics::integrators::{Backend, Combination, DenseOperators, IntegrationError, LinearSystem, Run, StepState, integrate_with, matvec_add};
 use crate::dynamics::table::Table;
+use crate::io::{
+    read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_i64, set_attr_str,
+    set_attr_strings, write_f64, write_strings,
+};
 use crate::rom::prom::{Prom, PromEvaluation};
-use crate::io::{read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_strings};
 
 /// What one pROM transient subcase computed.
 #[derive(Debug, Clone)]
@@ -45,29 +51,65 @@ pub struct RomTransientSummary {
 
 /// Runs every subcase on its pROM.
 pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
-    ctx.model.subcases.iter().map(|sub| clock.time(format!("subcase {}: pROM transient", sub.id), || subcase(ctx, sub))).collect()
+    ctx.model
+        .subcases
+        .iter()
+        .map(|sub| {
+            clock.time(format!("subcase {}: pROM transient", sub.id), || {
+                subcase(ctx, sub)
+            })
+        })
+        .collect()
 }
 
 fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
-    let RomAtPoint { path, prom, p, at, extrapolated } = RomAtPoint::load(ctx, sub)?;
+    let RomAtPoint {
+        path,
+        prom,
+        p,
+        at,
+        extrapolated,
+    } = RomAtPoint::load(ctx, sub)?;
     if ctx.model.params.g != 0.0 && ctx.model.params.w3 > 0.0 {
-        return Err(case(format!("PARAM,G = {} with W3 = {}: structural damping is applied by the full-model transient only; a pROM carries the Rayleigh damping of its build (PARAM,ALPHA1 / BETA1)", ctx.model.params.g, ctx.model.params.w3)));
+        return Err(case(format!(
+            "PARAM,G = {} with W3 = {}: structural damping is applied by the full-model transient only; a pROM carries the Rayleigh damping of its build (PARAM,ALPHA1 / BETA1)",
+            ctx.model.params.g, ctx.model.params.w3
+        )));
     }
     let (names, s_r) = read_prom_inputs(&path, prom.size())?;
     let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, prom.size())?;
-    let sensors = SensorRows::new(sensor_names, sensor_kinds, h_r).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let sensors = SensorRows::new(sensor_names, sensor_kinds, h_r)
+        .map_err(|e| case(format!("{}: {e}", path.display())))?;
     let (tstep, method, method_name) = method_of(ctx, sub)?;
     let loads = match sub.dload {
         None => Vec::new(),
-        Some(dload) => load_terms(ctx, dload, prom.size(), |d, comp, scale, shape| place_input(&names, &s_r, d, comp, scale, shape), |_| Ok(None)).map_err(case)?,
+        Some(dload) => load_terms(
+            ctx,
+            dload,
+            prom.size(),
+            |d, comp, scale, shape| place_input(&names, &s_r, d, comp, scale, shape),
+            |_| Ok(None),
+        )
+        .map_err(case)?,
     };
     let k = names.len();
     let tables = parameter_tables(ctx, sub, &prom).map_err(case)?;
-    let mut backend = Varying { prom: &prom, at, p, tables, ops: DenseOperators::default(), outside: extrapolated, evaluations: 0 };
-    backend.advance(0.0).map_err(|e| case(format!("{}: {e}", path.display())))?;
-    let (mut q, mut v) = initial_state(ctx, sub, &names, &s_r, backend.at.stiffness()).map_err(case)?;
+    let mut backend = Varying {
+        prom: &prom,
+        at,
+        p,
+        tables,
+        ops: DenseOperators::default(),
+        outside: extrapolated,
+        evaluations: 0,
+    };
+    backend
+        .advance(0.0)
+        .map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let (mut q, mut v) =
+        initial_state(ctx, sub, &names, &s_r, backend.at.stiffness()).map_err(case)?;
     let rows = output_rows(&tstep.intervals);
     let mut rec = Recorder::new(&s_r, &sensors, rows);
     let mut t0 = 0.0;
@@ -75,23 +117,48 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     for (interval, &(count, dt, every)) in tstep.intervals.iter().enumerate() {
         let every = every.max(1) as usize;
         let load = |t: f64, f: &mut [f64]| load_into(&loads, t, f);
-        let run = Run { dt, steps: count as usize, t0 };
-        integrate_with(&mut backend, method, run, &q.clone(), &v.clone(), load, |s| {
-            // the first interval reports its initial state; later ones continue the series
-            if (s.step > 0 || interval == 0) && s.step % every == 0 {
-                rec.record(s);
-            }
-            if s.step == count as usize {
-                q.copy_from_slice(s.q);
-                v.copy_from_slice(s.v);
-            }
-        })
+        let run = Run {
+            dt,
+            steps: count as usize,
+            t0,
+        };
+        integrate_with(
+            &mut backend,
+            method,
+            run,
+            &q.clone(),
+            &v.clone(),
+            load,
+            |s| {
+                // the first interval reports its initial state; later ones continue the series
+                if (s.step > 0 || interval == 0) && s.step % every == 0 {
+                    rec.record(s);
+                }
+                if s.step == count as usize {
+                    q.copy_from_slice(s.q);
+                    v.copy_from_slice(s.v);
+                }
+            },
+        )
         .map_err(|e| case(format!("{}: {e}", path.display())))?;
         t0 += count as f64 * dt;
         steps += count as usize;
     }
-    let Recorder { time, disp, vel, acc, series, .. } = rec;
-    let peak = disp.iter().enumerate().fold((0.0_f64, 0.0), |acc, (i, x)| if x.abs() > acc.0 { (x.abs(), time[i / k.max(1)]) } else { acc });
+    let Recorder {
+        time,
+        disp,
+        vel,
+        acc,
+        series,
+        ..
+    } = rec;
+    let peak = disp.iter().enumerate().fold((0.0_f64, 0.0), |acc, (i, x)| {
+        if x.abs() > acc.0 {
+            (x.abs(), time[i / k.max(1)])
+        } else {
+            acc
+        }
+    });
     let group = ctx.output.group(&format!("results/{id}/transient"))?;
     let rows = time.len();
     write_f64(&group, "time", &time, &[rows])?;
@@ -101,7 +168,9 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
     write_strings(&group, "outputs", &name_refs)?;
     if !sensors.is_empty() {
-        let sg = ctx.output.group(&format!("results/{id}/transient/sensors"))?;
+        let sg = ctx
+            .output
+            .group(&format!("results/{id}/transient/sensors"))?;
         for (name, series) in sensors.names.iter().zip(series.chunks_exact(rows.max(1))) {
             write_f64(&sg, name, series, &[rows])?;
         }
@@ -112,21 +181,63 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     set_attr_strings(&group, "params", &params)?;
     set_attr_f64s(&group, "values", &backend.p)?;
     set_attr_i64(&group, "evaluations", backend.evaluations as i64)?;
-    let summary = RomTransientSummary { rom: path, method: method_name, steps, outputs: names, extrapolated: backend.outside, peak, evaluations: backend.evaluations };
-    Ok(SubcaseSummary { id, autospc: Vec::new(), result: SubcaseResult::RomTransient(summary) })
+    let summary = RomTransientSummary {
+        rom: path,
+        method: method_name,
+        steps,
+        outputs: names,
+        extrapolated: backend.outside,
+        peak,
+        evaluations: backend.evaluations,
+    };
+    Ok(SubcaseSummary {
+        id,
+        autospc: Vec::new(),
+        result: SubcaseResult::RomTransient(summary),
+    })
 }
 
 /// The tabulated parameters of `PVAL = id` (PTABLE cards): (parameter index, p(t)). A
 /// parameter may not be both in a PVAL and a PTABLE of the same id.
-fn parameter_tables(ctx: &RunContext, sub: &Subcase, prom: &Prom) -> Result<Vec<(usize, Table)>, String> {
-    let Some(id) = sub.pval else { return Ok(Vec::new()) };
+fn parameter_tables(
+    ctx: &RunContext,
+    sub: &Subcase,
+    prom: &Prom,
+) -> Result<Vec<(usize, Table)>, String> {
+    let Some(id) = sub.pval else {
+        return Ok(Vec::new());
+    };
     let b = &ctx.model.bulk;
     let mut out: Vec<(usize, Table)> = Vec::new();
     for card in b.ptable.iter().filter(|c| c.id == id) {
-        let names = || prom.parameters.iter().map(|q| q.name.as_str()).collect::<Vec<_>>().join(", ");
-        let j = prom.parameters.iter().position(|q| q.name.eq_ignore_ascii_case(&card.name)).ok_or_else(|| format!("PTABLE {id} names {}, which is not a parameter of the pROM (parameters: {})", card.name, names()))?;
-        if b.pval.iter().filter(|c| c.id == id).any(|c| c.values.iter().any(|(n, _)| n.eq_ignore_ascii_case(&card.name))) || out.iter().any(|(k, _)| *k == j) {
-            return Err(format!("PTABLE {id}: parameter {} is given twice (PVAL and PTABLE, or two PTABLEs)", card.name));
+        let names = || {
+            prom.parameters
+                .iter()
+                .map(|q| q.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let j = prom
+            .parameters
+            .iter()
+            .position(|q| q.name.eq_ignore_ascii_case(&card.name))
+            .ok_or_else(|| {
+                format!(
+                    "PTABLE {id} names {}, which is not a parameter of the pROM (parameters: {})",
+                    card.name,
+                    names()
+                )
+            })?;
+        if b.pval.iter().filter(|c| c.id == id).any(|c| {
+            c.values
+                .iter()
+                .any(|(n, _)| n.eq_ignore_ascii_case(&card.name))
+        }) || out.iter().any(|(k, _)| *k == j)
+        {
+            return Err(format!(
+                "PTABLE {id}: parameter {} is given twice (PVAL and PTABLE, or two PTABLEs)",
+                card.name
+            ));
         }
         out.push((j, table_of(ctx, card.tid, &format!("PTABLE {id}"))?));
     }
@@ -155,8 +266,17 @@ impl Backend for Varying<'_> {
     fn size(&self) -> usize {
         self.prom.size()
     }
-    fn prepare(&mut self, effective: Combination, products: &[Combination], what: &'static str) -> Result<(), IntegrationError> {
-        let sys = LinearSystem { mass: self.at.mass(), damping: self.at.damping(), stiffness: self.at.stiffness() };
+    fn prepare(
+        &mut self,
+        effective: Combination,
+        products: &[Combination],
+        what: &'static str,
+    ) -> Result<(), IntegrationError> {
+        let sys = LinearSystem {
+            mass: self.at.mass(),
+            damping: self.at.damping(),
+            stiffness: self.at.stiffness(),
+        };
         self.ops.prepare(sys, effective, products, what)
     }
     fn apply(&self, j: usize, x: &[f64], y: &mut [f64]) {
@@ -176,7 +296,9 @@ impl Backend for Varying<'_> {
             }
         }
         if changed {
-            self.prom.evaluate(&self.p, &mut self.at).map_err(|e| IntegrationError::Backend(format!("t = {t}: {e}")))?;
+            self.prom
+                .evaluate(&self.p, &mut self.at)
+                .map_err(|e| IntegrationError::Backend(format!("t = {t}: {e}")))?;
             self.evaluations += 1;
             for name in self.prom.outside_box(&self.p) {
                 if !self.outside.iter().any(|x| x == name) {
@@ -193,9 +315,17 @@ impl Backend for Varying<'_> {
 /// inputs: q0 is the static shape that produces the requested input displacements u0,
 /// q0 = K_r⁻¹ S_r (S_rᵀ K_r⁻¹ S_r)⁻¹ u0 (the reduced displacement under input forces only, whose
 /// input displacements S_rᵀ q0 equal u0), and likewise v0 from the initial velocities.
-fn initial_state(ctx: &RunContext, sub: &Subcase, names: &[String], s_r: &Mat<f64>, k_r: faer::MatRef<'_, f64>) -> Result<(Vec<f64>, Vec<f64>), String> {
+fn initial_state(
+    ctx: &RunContext,
+    sub: &Subcase,
+    names: &[String],
+    s_r: &Mat<f64>,
+    k_r: faer::MatRef<'_, f64>,
+) -> Result<(Vec<f64>, Vec<f64>), String> {
     let n = s_r.nrows();
-    let Some(sid) = sub.ic else { return Ok((vec![0.0; n], vec![0.0; n])) };
+    let Some(sid) = sub.ic else {
+        return Ok((vec![0.0; n], vec![0.0; n]));
+    };
     let cards: Vec<_> = ctx.model.bulk.tic.iter().filter(|c| c.sid == sid).collect();
     if cards.is_empty() {
         return Err(format!("IC = {sid} selects no TIC card"));
@@ -217,7 +347,9 @@ fn initial_state(ctx: &RunContext, sub: &Subcase, names: &[String], s_r: &Mat<f6
         if (0..n).all(|i| q[(i, 0)].is_finite()) {
             Ok((0..n).map(|i| q[(i, 0)]).collect())
         } else {
-            Err(format!("TIC {sid}: the pROM's stiffness (or its input flexibility) is singular, so no static shape gives the requested input displacements (a free-free pROM needs initial conditions through its rigid-body-free inputs)"))
+            Err(format!(
+                "TIC {sid}: the pROM's stiffness (or its input flexibility) is singular, so no static shape gives the requested input displacements (a free-free pROM needs initial conditions through its rigid-body-free inputs)"
+            ))
         }
     };
     Ok((shape(&u0)?, shape(&v0)?))
@@ -225,10 +357,27 @@ fn initial_state(ctx: &RunContext, sub: &Subcase, names: &[String], s_r: &Mat<f6
 
 /// Adds a DAREA entry, which must name a pROM input DOF (`GRID:component`), to a reduced load
 /// shape: scale × column of S_r.
-pub(super) fn place_input(names: &[String], s_r: &Mat<f64>, d: &Darea, comp: usize, scale: f64, shape: &mut [f64]) -> Result<(), String> {
+pub(super) fn place_input(
+    names: &[String],
+    s_r: &Mat<f64>,
+    d: &Darea,
+    comp: usize,
+    scale: f64,
+    shape: &mut [f64],
+) -> Result<(), String> {
     let name = format!("{}:{comp}", d.grid);
-    let j = names.iter().position(|x| *x == name).ok_or_else(|| format!("DAREA {}: GRID {} component {comp} is not an input DOF of the pROM (inputs: {})", d.sid, d.grid, names.join(", ")))?;
-    shape.iter_mut().enumerate().for_each(|(i, s)| *s += scale * s_r[(i, j)]);
+    let j = names.iter().position(|x| *x == name).ok_or_else(|| {
+        format!(
+            "DAREA {}: GRID {} component {comp} is not an input DOF of the pROM (inputs: {})",
+            d.sid,
+            d.grid,
+            names.join(", ")
+        )
+    })?;
+    shape
+        .iter_mut()
+        .enumerate()
+        .for_each(|(i, s)| *s += scale * s_r[(i, j)]);
     Ok(())
 }
 
@@ -272,7 +421,11 @@ impl<'a> Recorder<'a> {
         }
         self.time.push(s.time);
         let k = self.s_t.nrows();
-        for (out, x) in [(&mut self.disp, s.q), (&mut self.vel, s.v), (&mut self.acc, s.a)] {
+        for (out, x) in [
+            (&mut self.disp, s.q),
+            (&mut self.vel, s.v),
+            (&mut self.acc, s.a),
+        ] {
             out.resize(out.len() + k, 0.0);
             let end = out.len();
             matvec_add(&self.s_t, x, &mut out[end - k..]);

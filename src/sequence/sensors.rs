@@ -31,8 +31,8 @@ use nalgebra_sparse::{CooMatrix, CscMatrix};
 
 use super::elements::{shell_strains, solid_kind_of};
 use super::{Constrained, RunContext, RunError, Structure};
-use crate::deck::case_control::{Subcase, Target};
 use crate::deck::cards::{Sensor, SensorKind};
+use crate::deck::case_control::{Subcase, Target};
 use crate::dynamics::measurement::Reads;
 use crate::fe::solid;
 use crate::model::Model;
@@ -115,21 +115,37 @@ pub fn selected_sensors<'a>(ctx: &RunContext<'a>, sub: &Subcase) -> Vec<&'a Sens
         Some(Target::None) => Vec::new(),
         Some(Target::Set(id)) => {
             let set = ctx.deck.case.set(*id);
-            cards.iter().filter(|s| set.is_some_and(|set| set.ids.contains(&s.id))).collect()
+            cards
+                .iter()
+                .filter(|s| set.is_some_and(|set| set.ids.contains(&s.id)))
+                .collect()
         }
     }
 }
 
 /// The f-set rows of the sensors `sub` selects (see the module documentation).
-pub fn sensor_operator(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase) -> Result<SensorOperator, RunError> {
+pub fn sensor_operator(
+    ctx: &RunContext,
+    st: &Structure,
+    c: &Constrained,
+    sub: &Subcase,
+) -> Result<SensorOperator, RunError> {
     let model = ctx.model;
     let sensors = selected_sensors(ctx, sub);
-    let element_index: HashMap<u32, usize> = model.elements.iter().enumerate().map(|(i, e)| (e.id, i)).collect();
+    let element_index: HashMap<u32, usize> = model
+        .elements
+        .iter()
+        .enumerate()
+        .map(|(i, e)| (e.id, i))
+        .collect();
     let mut coo = CooMatrix::new(sensors.len(), c.sets.f.len());
     let mut names = Vec::with_capacity(sensors.len());
     let mut kinds = Vec::with_capacity(sensors.len());
     for (r, s) in sensors.iter().enumerate() {
-        let case = |what: String| RunError::Case { subcase: sub.id, what: format!("SENSOR {}: {what}", s.name) };
+        let case = |what: String| RunError::Case {
+            subcase: sub.id,
+            what: format!("SENSOR {}: {what}", s.name),
+        };
         let norm = s.direction.iter().map(|x| x * x).sum::<f64>().sqrt();
         if !(norm > 0.0 && norm.is_finite()) {
             return Err(case("direction (X, Y, Z) is zero".into()));
@@ -137,13 +153,20 @@ pub fn sensor_operator(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &
         let d = s.direction.map(|x| x / norm);
         let basic = match s.kind {
             SensorKind::Disp | SensorKind::Vel | SensorKind::Accel => {
-                let grid = *model.grid_index.get(&s.reference).ok_or_else(|| case(format!("GRID {} does not exist", s.reference)))?;
+                let grid = *model
+                    .grid_index
+                    .get(&s.reference)
+                    .ok_or_else(|| case(format!("GRID {} does not exist", s.reference)))?;
                 (0..3).map(|i| (6 * grid + i, d[i])).collect()
             }
             SensorKind::Strain => {
-                let index = *element_index.get(&s.reference).ok_or_else(|| case(format!("element {} does not exist", s.reference)))?;
+                let index = *element_index
+                    .get(&s.reference)
+                    .ok_or_else(|| case(format!("element {} does not exist", s.reference)))?;
                 strain_row(ctx, st, index, s, d).map_err(|e| match e {
-                    RunError::Element { card, id, reason } => case(format!("{card} {id}: {reason}")),
+                    RunError::Element { card, id, reason } => {
+                        case(format!("{card} {id}: {reason}"))
+                    }
                     other => other,
                 })?
             }
@@ -155,15 +178,30 @@ pub fn sensor_operator(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &
         kinds.push(s.kind);
     }
     let reads = kinds.iter().map(|k| Reads::of_sensor(*k)).collect();
-    Ok(SensorOperator { names, kinds, reads, rows: CscMatrix::from(&coo) })
+    Ok(SensorOperator {
+        names,
+        kinds,
+        reads,
+        rows: CscMatrix::from(&coo),
+    })
 }
 
 /// The strain row in basic g-set DOFs (6 per grid): ϑᵀ ε ϑ at the element centroid as a
 /// linear function of the element's basic displacements, probed column by column.
-fn strain_row(ctx: &RunContext, st: &Structure, index: usize, s: &Sensor, d: [f64; 3]) -> Result<Vec<(usize, f64)>, RunError> {
+fn strain_row(
+    ctx: &RunContext,
+    st: &Structure,
+    index: usize,
+    s: &Sensor,
+    d: [f64; 3],
+) -> Result<Vec<(usize, f64)>, RunError> {
     let model: &Model = ctx.model;
     let e = &model.elements[index];
-    let bad = |reason: String| RunError::Element { card: e.kind.card(), id: e.id, reason };
+    let bad = |reason: String| RunError::Element {
+        card: e.kind.card(),
+        id: e.id,
+        reason,
+    };
     let xyz = model.positions(e);
     let mut row = Vec::new();
     if let Some((_, rec)) = st.shells.iter().find(|(i, _)| *i == index) {
@@ -189,11 +227,19 @@ fn strain_row(ctx: &RunContext, st: &Structure, index: usize, s: &Sensor, d: [f6
         if let Some(surf) = s.surface {
             return Err(bad(format!("SURF = {surf} applies to shells only")));
         }
-        let weights = [d[0] * d[0], d[1] * d[1], d[2] * d[2], d[0] * d[1], d[1] * d[2], d[2] * d[0]];
+        let weights = [
+            d[0] * d[0],
+            d[1] * d[1],
+            d[2] * d[2],
+            d[0] * d[1],
+            d[1] * d[2],
+            d[2] * d[0],
+        ];
         let mut unit = vec![0.0; 3 * e.nodes.len()];
         for k in 0..unit.len() {
             unit[k] = 1.0;
-            let eps = solid::strain_at_centroid(kind, &xyz, &unit).map_err(|x| bad(x.to_string()))?;
+            let eps =
+                solid::strain_at_centroid(kind, &xyz, &unit).map_err(|x| bad(x.to_string()))?;
             unit[k] = 0.0;
             let h: f64 = weights.iter().zip(&eps).map(|(w, e)| w * e).sum();
             if h != 0.0 {
@@ -201,7 +247,9 @@ fn strain_row(ctx: &RunContext, st: &Structure, index: usize, s: &Sensor, d: [f6
             }
         }
     } else {
-        return Err(bad("STRAIN sensors need a shell (CQUAD4, CTRIA3) or solid element".into()));
+        return Err(bad(
+            "STRAIN sensors need a shell (CQUAD4, CTRIA3) or solid element".into(),
+        ));
     }
     Ok(row)
 }
@@ -239,7 +287,11 @@ fn f_row(st: &Structure, c: &Constrained, basic: &[(usize, f64)]) -> Vec<(usize,
             }
         }
     }
-    n_row.into_iter().filter(|(_, h)| *h != 0.0).filter_map(|(j, h)| c.sets.f_in_n.position(j).map(|f| (f, h))).collect()
+    n_row
+        .into_iter()
+        .filter(|(_, h)| *h != 0.0)
+        .filter_map(|(j, h)| c.sets.f_in_n.position(j).map(|f| (f, h)))
+        .collect()
 }
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {

@@ -24,7 +24,10 @@
 //! uses them.
 
 use super::elements::{element_displacements, shell_strains, solid_kind_of};
-use super::{Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary, requested, selected};
+use super::{
+    Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary,
+    requested, selected,
+};
 use crate::assembly::loads::{Mass, load_vector, reduce_load};
 use crate::assembly::recover::{expand_f_to_n, spc_forces};
 use crate::deck::case_control::Subcase;
@@ -48,7 +51,11 @@ pub struct StaticsSummary {
 }
 
 /// Runs every subcase.
-pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+pub fn run(
+    ctx: &RunContext,
+    st: &Structure,
+    clock: &mut Clock,
+) -> Result<Vec<SubcaseSummary>, RunError> {
     let mut factors: Vec<(Vec<usize>, Factor)> = Vec::new();
     let mut symbolic: Option<(Vec<usize>, SymbolicFactor)> = None;
     let par = ctx.options.par();
@@ -58,41 +65,90 @@ pub fn run(ctx: &RunContext, st: &Structure, clock: &mut Clock) -> Result<Vec<Su
     let mut out = Vec::new();
     for sub in &ctx.model.subcases {
         let id = sub.id;
-        let c = clock.time(format!("subcase {id}: constraints"), || Constrained::build(ctx.model, st, sub.spc))?;
+        let c = clock.time(format!("subcase {id}: constraints"), || {
+            Constrained::build(ctx.model, st, sub.spc)
+        })?;
         let f = c.sets.f.members().to_vec();
         if !factors.iter().any(|(key, _)| *key == f) {
             let sym = match &symbolic {
                 Some((key, s)) if *key == f => s.clone(),
                 _ => {
                     let s = clock
-                        .time(format!("subcase {id}: symbolic analysis"), || SymbolicFactor::analyze(c.k_ff.pattern()))
-                        .map_err(|e| RunError::Linalg { subcase: id, source: e })?;
+                        .time(format!("subcase {id}: symbolic analysis"), || {
+                            SymbolicFactor::analyze(c.k_ff.pattern())
+                        })
+                        .map_err(|e| RunError::Linalg {
+                            subcase: id,
+                            source: e,
+                        })?;
                     symbolic = Some((f.clone(), s.clone()));
                     s
                 }
             };
             ctx.progress.step("factorization", 0, 1);
-            let factor = clock.time(format!("subcase {id}: Cholesky"), || sym.clone().with_max_ratio(ctx.model.params.maxratio).factor_llt(&c.k_ff, par)).map_err(|e| c.mechanism(st, id, e))?;
+            let factor = clock
+                .time(format!("subcase {id}: Cholesky"), || {
+                    sym.clone()
+                        .with_max_ratio(ctx.model.params.maxratio)
+                        .factor_llt(&c.k_ff, par)
+                })
+                .map_err(|e| c.mechanism(st, id, e))?;
             ctx.progress.step("factorization", 1, 1);
             factors.push((f.clone(), factor));
         }
-        let factor = &factors.iter().find(|(key, _)| *key == f).map(|(_, fa)| fa).ok_or(RunError::NoSolution)?;
-        let summary = clock.time(format!("subcase {id}: solve and output"), || solve_subcase(ctx, st, &c, sub, factor, &m_gg_values))?;
-        out.push(SubcaseSummary { id, autospc: c.autospc.names.clone(), result: SubcaseResult::Statics(summary) });
+        let factor = &factors
+            .iter()
+            .find(|(key, _)| *key == f)
+            .map(|(_, fa)| fa)
+            .ok_or(RunError::NoSolution)?;
+        let summary = clock.time(format!("subcase {id}: solve and output"), || {
+            solve_subcase(ctx, st, &c, sub, factor, &m_gg_values)
+        })?;
+        out.push(SubcaseSummary {
+            id,
+            autospc: c.autospc.names.clone(),
+            result: SubcaseResult::Statics(summary),
+        });
     }
     Ok(out)
 }
 
-fn solve_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcase, factor: &Factor, m_gg_values: &[f64]) -> Result<StaticsSummary, RunError> {
+fn solve_subcase(
+    ctx: &RunContext,
+    st: &Structure,
+    c: &Constrained,
+    sub: &Subcase,
+    factor: &Factor,
+    m_gg_values: &[f64],
+) -> Result<StaticsSummary, RunError> {
     let id = sub.id;
     let model = ctx.model;
     let p_g = match sub.load {
-        Some(sid) => load_vector(model, &st.frames, &st.map, sid, Some(Mass { operator: st.mass_gg(), values: m_gg_values }))?,
+        Some(sid) => load_vector(
+            model,
+            &st.frames,
+            &st.map,
+            sid,
+            Some(Mass {
+                operator: st.mass_gg(),
+                values: m_gg_values,
+            }),
+        )?,
         None => vec![0.0; st.map.size()],
     };
     let k_fs_values = c.k_fs.evaluate(&st.weights(&c.k_fs))?.values().to_vec();
-    let p_f = reduce_load(&p_g, &st.rigid, &c.sets, &c.k_fs, &k_fs_values, &c.spc.enforced)?;
-    let linalg = |e| RunError::Linalg { subcase: id, source: e };
+    let p_f = reduce_load(
+        &p_g,
+        &st.rigid,
+        &c.sets,
+        &c.k_fs,
+        &k_fs_values,
+        &c.spc.enforced,
+    )?;
+    let linalg = |e| RunError::Linalg {
+        subcase: id,
+        source: e,
+    };
     let mut u_f = p_f.clone();
     factor.solve_in_place(&mut u_f).map_err(linalg)?;
     // One step of iterative refinement with the same factor: K_ff of shells mixes membrane and
@@ -116,7 +172,9 @@ fn solve_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcas
     let group = ctx.output.group(&format!("results/{id}/statics"))?;
     // Without a DISPLACEMENT request every grid is written (DESIGN.md §8 makes `displacement`
     // part of every statics result); Nastran would print nothing. `DISPLACEMENT = NONE` opts out.
-    if let Some(rows) = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", Some(GridRows::All)) {
+    if let Some(rows) =
+        GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", Some(GridRows::All))
+    {
         rows.write(&group, "displacement", &u, &[], &st.map)?;
     }
     if let Some(rows) = GridRows::of_subcase(ctx.deck, &st.map, sub, "SPCFORCES", None) {
@@ -142,7 +200,13 @@ fn solve_subcase(ctx: &RunContext, st: &Structure, c: &Constrained, sub: &Subcas
             }
         }
     }
-    Ok(StaticsSummary { max_translation, max_component, applied: resultant(model, &p), reaction: resultant(model, &q), f_size: c.sets.f.len() })
+    Ok(StaticsSummary {
+        max_translation,
+        max_component,
+        applied: resultant(model, &p),
+        reaction: resultant(model, &q),
+        f_size: c.sets.f.len(),
+    })
 }
 
 /// Σ forces and Σ (moments + x × F) about the basic origin of n×6 basic rows.
@@ -168,7 +232,13 @@ struct Block {
     b: Vec<f64>,
 }
 
-fn write_strains(ctx: &RunContext, st: &Structure, group: &hdf5_metno::Group, u: &[f64], keep: impl Fn(u32) -> bool) -> Result<(), RunError> {
+fn write_strains(
+    ctx: &RunContext,
+    st: &Structure,
+    group: &hdf5_metno::Group,
+    u: &[f64],
+    keep: impl Fn(u32) -> bool,
+) -> Result<(), RunError> {
     let model = ctx.model;
     let mut shells: std::collections::BTreeMap<&'static str, Block> = Default::default();
     for (idx, rec) in &st.shells {
@@ -183,26 +253,40 @@ fn write_strains(ctx: &RunContext, st: &Structure, group: &hdf5_metno::Group, u:
         block.b.extend(strains.bottom);
     }
     for (name, b) in &shells {
-        let g = ctx.output.group(&format!("{}/strain/{name}", group.name()))?;
+        let g = ctx
+            .output
+            .group(&format!("{}/strain/{name}", group.name()))?;
         write_u32(&g, "ids", &b.ids, &[b.ids.len()])?;
         write_f64(&g, "top", &b.a, &[b.ids.len(), 3])?;
         write_f64(&g, "bottom", &b.b, &[b.ids.len(), 3])?;
     }
     let mut solids: std::collections::BTreeMap<&'static str, Block> = Default::default();
     for e in &model.elements {
-        let Some(kind) = solid_kind_of(e.kind) else { continue };
+        let Some(kind) = solid_kind_of(e.kind) else {
+            continue;
+        };
         if !keep(e.id) {
             continue;
         }
         let xyz = model.positions(e);
-        let ut: Vec<f64> = e.nodes.iter().flat_map(|&a| u[6 * a..6 * a + 3].iter().copied()).collect();
-        let eps = solid::strain_at_centroid(kind, &xyz, &ut).map_err(|x| RunError::Element { card: e.kind.card(), id: e.id, reason: x.to_string() })?;
+        let ut: Vec<f64> = e
+            .nodes
+            .iter()
+            .flat_map(|&a| u[6 * a..6 * a + 3].iter().copied())
+            .collect();
+        let eps = solid::strain_at_centroid(kind, &xyz, &ut).map_err(|x| RunError::Element {
+            card: e.kind.card(),
+            id: e.id,
+            reason: x.to_string(),
+        })?;
         let block = solids.entry(e.kind.block_name()).or_default();
         block.ids.push(e.id);
         block.a.extend(eps);
     }
     for (name, b) in &solids {
-        let g = ctx.output.group(&format!("{}/strain/{name}", group.name()))?;
+        let g = ctx
+            .output
+            .group(&format!("{}/strain/{name}", group.name()))?;
         write_u32(&g, "ids", &b.ids, &[b.ids.len()])?;
         write_f64(&g, "centroid", &b.a, &[b.ids.len(), 6])?;
     }

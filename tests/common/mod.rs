@@ -11,20 +11,40 @@ use paraflex::sequence::{RunContext, RunError, RunOptions, RunSummary, run};
 /// The parameters and the affine g-set operators K and M of a bulk-data section (elements,
 /// assembly on one pattern; no constraints), as `SOL PROM` assembles them.
 #[allow(dead_code)]
-pub fn affine_operators(bulk: &str) -> (paraflex::sequence::parameters::Parameters, paraflex::assembly::AffineOperator, paraflex::assembly::AffineOperator) {
+pub fn affine_operators(
+    bulk: &str,
+) -> (
+    paraflex::sequence::parameters::Parameters,
+    paraflex::assembly::AffineOperator,
+    paraflex::assembly::AffineOperator,
+) {
     use paraflex::assembly::{AffineOperator, DofMap, GridFrames};
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("deck.dat");
     let text = format!("SOL 103\nCEND\nBEGIN BULK\n{bulk}ENDDATA\n");
-    std::fs::File::create(&path).and_then(|mut f| f.write_all(text.as_bytes())).unwrap();
+    std::fs::File::create(&path)
+        .and_then(|mut f| f.write_all(text.as_bytes()))
+        .unwrap();
     let deck = Deck::read(&path).unwrap_or_else(|e| panic!("{e}"));
-    let model = Model::build(&deck).unwrap_or_else(|e| panic!("{:?}", e.iter().map(|x| x.to_string()).collect::<Vec<_>>()));
+    let model = Model::build(&deck)
+        .unwrap_or_else(|e| panic!("{:?}", e.iter().map(|x| x.to_string()).collect::<Vec<_>>()));
     let params = paraflex::sequence::parameters::Parameters::of_model(&model).unwrap();
     let frames = GridFrames::of_model(&model);
     let map = DofMap::of_model(&model);
     let quiet = |_: &str, _: usize, _: usize| {};
-    let el = paraflex::sequence::elements::element_matrices(&model, &frames, &params, false, &quiet).unwrap_or_else(|e| panic!("{e}"));
-    let pattern = std::sync::Arc::new(paraflex::assembly::pattern::grid_block_pattern(map.grids(), el.stiffness.iter().chain(&el.mass).map(|c| c.dofs.as_slice())).unwrap());
+    let el =
+        paraflex::sequence::elements::element_matrices(&model, &frames, &params, false, &quiet)
+            .unwrap_or_else(|e| panic!("{e}"));
+    let pattern = std::sync::Arc::new(
+        paraflex::assembly::pattern::grid_block_pattern(
+            map.grids(),
+            el.stiffness
+                .iter()
+                .chain(&el.mass)
+                .map(|c| c.dofs.as_slice()),
+        )
+        .unwrap(),
+    );
     let k = AffineOperator::assemble(pattern.clone(), &el.stiffness, false).unwrap();
     let m = AffineOperator::assemble(pattern, &el.mass, false).unwrap();
     (params, k, m)
@@ -35,7 +55,9 @@ pub fn affine_operators(bulk: &str) -> (paraflex::sequence::parameters::Paramete
 pub fn run_deck(text: &str) -> (Result<RunSummary, RunError>, tempfile::TempDir) {
     let dir = tempfile::tempdir().expect("temp dir");
     let path = dir.path().join("deck.dat");
-    std::fs::File::create(&path).and_then(|mut f| f.write_all(text.as_bytes())).expect("write deck");
+    std::fs::File::create(&path)
+        .and_then(|mut f| f.write_all(text.as_bytes()))
+        .expect("write deck");
     let (result, _model, dir) = run_in(&path, dir);
     (result, dir)
 }
@@ -47,11 +69,26 @@ pub fn run_deck_file(path: &Path) -> (Result<RunSummary, RunError>, Model, tempf
     run_in(path, tempfile::tempdir().expect("temp dir"))
 }
 
-fn run_in(path: &Path, dir: tempfile::TempDir) -> (Result<RunSummary, RunError>, Model, tempfile::TempDir) {
+fn run_in(
+    path: &Path,
+    dir: tempfile::TempDir,
+) -> (Result<RunSummary, RunError>, Model, tempfile::TempDir) {
     let deck = Deck::read(path).unwrap_or_else(|e| panic!("{}: deck: {e}", path.display()));
-    let model = Model::build(&deck).unwrap_or_else(|e| panic!("{}: model: {:?}", path.display(), e.iter().map(|x| x.to_string()).collect::<Vec<_>>()));
+    let model = Model::build(&deck).unwrap_or_else(|e| {
+        panic!(
+            "{}: model: {:?}",
+            path.display(),
+            e.iter().map(|x| x.to_string()).collect::<Vec<_>>()
+        )
+    });
     let file = OutputFile::create(dir.path().join("out.h5")).expect("output");
-    let ctx = RunContext { deck: &deck, model: &model, output: &file, progress: &|_: &str, _: usize, _: usize| {}, options: RunOptions { parallel: false } };
+    let ctx = RunContext {
+        deck: &deck,
+        model: &model,
+        output: &file,
+        progress: &|_: &str, _: usize, _: usize| {},
+        options: RunOptions { parallel: false },
+    };
     let result = run(&ctx);
     if result.is_ok() {
         file.commit().expect("commit");
@@ -76,13 +113,27 @@ pub struct TwoDofChain {
 impl TwoDofChain {
     /// The chain of the pROM FRF / transient tests.
     pub fn reference() -> Self {
-        TwoDofChain { k1: 2.5e4, k2: 3.0e4, m1: 2.0, m2: 1.0, alpha: 0.8, beta: 2.0e-4 }
+        TwoDofChain {
+            k1: 2.5e4,
+            k2: 3.0e4,
+            m1: 2.0,
+            m2: 1.0,
+            alpha: 0.8,
+            beta: 2.0e-4,
+        }
     }
 
     /// Bulk cards (grids, springs with PELAS 10 = k₁ and 20 = k₂, masses, ASET, damping) and
     /// two sensors on grid 2: A2 (ACCEL along +x) and D2 (DISP along −x).
     pub fn bulk(&self) -> String {
-        let TwoDofChain { k1, k2, m1, m2, alpha, beta } = self;
+        let TwoDofChain {
+            k1,
+            k2,
+            m1,
+            m2,
+            alpha,
+            beta,
+        } = self;
         format!(
             "GRID,1,,0.,0.,0.,,23456\nGRID,2,,1.,0.,0.,,23456\nCELAS1,1,10,1,1\nPELAS,10,{k1:e}\nCELAS1,2,20,1,1,2,1\nPELAS,20,{k2:e}\n\
              CONM2,11,1,,{m1:?}\nCONM2,12,2,,{m2:?}\nASET1,1,1,2\nPARAM,ALPHA1,{alpha:?}\nPARAM,BETA1,{beta:e}\n\
@@ -92,9 +143,12 @@ impl TwoDofChain {
 
     /// u(t) of both DOFs from (u0, v0) under a unit step force on DOF 2 times `force`.
     pub fn response(&self, t: f64, u0: [f64; 2], v0: [f64; 2], force: f64) -> [f64; 2] {
-        let km = faer::Mat::<f64>::from_fn(2, 2, |i, j| [[self.k1 + self.k2, -self.k2], [-self.k2, self.k2]][i][j]);
+        let km = faer::Mat::<f64>::from_fn(2, 2, |i, j| {
+            [[self.k1 + self.k2, -self.k2], [-self.k2, self.k2]][i][j]
+        });
         let mm = faer::Mat::<f64>::from_fn(2, 2, |i, j| [[self.m1, 0.0], [0.0, self.m2]][i][j]);
-        let (lambda, phi) = paraflex::linalg::dense::generalized_eigen(km.as_ref(), mm.as_ref()).unwrap();
+        let (lambda, phi) =
+            paraflex::linalg::dense::generalized_eigen(km.as_ref(), mm.as_ref()).unwrap();
         let mut x = [0.0; 2];
         for j in 0..2 {
             let w = lambda[j].sqrt();
@@ -122,12 +176,24 @@ pub fn plate_mesh(nx: usize, ny: usize, lx: f64, ly: f64) -> (String, Vec<usize>
     let mut s = String::new();
     for j in 0..=ny {
         for i in 0..=nx {
-            s += &format!("GRID,{},,{:?},{:?},0.\n", id(i, j), i as f64 * lx / nx as f64, j as f64 * ly / ny as f64);
+            s += &format!(
+                "GRID,{},,{:?},{:?},0.\n",
+                id(i, j),
+                i as f64 * lx / nx as f64,
+                j as f64 * ly / ny as f64
+            );
         }
     }
     for j in 0..ny {
         for i in 0..nx {
-            s += &format!("CQUAD4,{},1,{},{},{},{}\n", 1 + i + nx * j, id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            s += &format!(
+                "CQUAD4,{},1,{},{},{},{}\n",
+                1 + i + nx * j,
+                id(i, j),
+                id(i + 1, j),
+                id(i + 1, j + 1),
+                id(i, j + 1)
+            );
         }
     }
     (s, (0..=ny).map(|j| id(0, j)).collect())
@@ -137,5 +203,8 @@ pub fn plate_mesh(nx: usize, ny: usize, lx: f64, ly: f64) -> (String, Vec<usize>
 #[allow(dead_code)]
 pub fn clamped_plate_mesh(nx: usize, ny: usize, lx: f64, ly: f64) -> String {
     let (mesh, root) = plate_mesh(nx, ny, lx, ly);
-    mesh + &root.iter().map(|g| format!("SPC1,1,123456,{g}\n")).collect::<String>()
+    mesh + &root
+        .iter()
+        .map(|g| format!("SPC1,1,123456,{g}\n"))
+        .collect::<String>()
 }

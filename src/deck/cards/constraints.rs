@@ -30,7 +30,13 @@ impl Spc {
         let out = f
             .grid_component_values(["G", "C", "D"], Some(0.0))
             .into_iter()
-            .map(|(grid, components, value)| Spc { sid, grid, components, value, loc: loc.clone() })
+            .map(|(grid, components, value)| Spc {
+                sid,
+                grid,
+                components,
+                value,
+                loc: loc.clone(),
+            })
             .collect();
         f.finish(7)?;
         Ok(out)
@@ -69,7 +75,12 @@ impl Spc1 {
         let loc = f.loc();
         let len = f.len();
         f.finish(len)?;
-        Ok(Spc1 { sid, components, grids, loc })
+        Ok(Spc1 {
+            sid,
+            components,
+            grids,
+            loc,
+        })
     }
 }
 
@@ -133,6 +144,10 @@ impl Aset1 {
         let loc = f.loc();
         let len = f.len();
         f.finish(len)?;
-        Ok(Aset1 { components, grids, loc })
+        Ok(Aset1 {
+            components,
+            grids,
+            loc,
+        })
     }
 }

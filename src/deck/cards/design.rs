@@ -38,13 +38,26 @@ impl Desvar {
         let xlb = f.real_or(4, "XLB", -1.0e20);
         let xub = f.real_or(5, "XUB", 1.0e20);
         if xlb > xub {
-            f.error(4, "XLB", format!("XLB = {xlb:e} is greater than XUB = {xub:e}"));
+            f.error(
+                4,
+                "XLB",
+                format!("XLB = {xlb:e} is greater than XUB = {xub:e}"),
+            );
         }
         let delxv = f.opt_real(6, "DELXV");
         let ddval = f.opt_id(7, "DDVAL");
         let loc = f.loc();
         f.finish(7)?;
-        Ok(Desvar { id, label, xinit, xlb, xub, delxv, ddval, loc })
+        Ok(Desvar {
+            id,
+            label,
+            xinit,
+            xlb,
+            xub,
+            delxv,
+            ddval,
+            loc,
+        })
     }
 }
 

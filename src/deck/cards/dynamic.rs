@@ -52,12 +52,26 @@ impl Eigrl {
         if v2.is_none() && nd.is_none() {
             f.card_error("give V2 (upper frequency) or ND (number of roots)");
         }
-        if let (Some(a), Some(b)) = (v1, v2) && b <= a {
-            f.error(3, "V2", format!("V2 = {b:e} must be greater than V1 = {a:e}"));
+        if let (Some(a), Some(b)) = (v1, v2)
+            && b <= a
+        {
+            f.error(
+                3,
+                "V2",
+                format!("V2 = {b:e} must be greater than V1 = {a:e}"),
+            );
         }
         let loc = f.loc();
         f.finish(8)?;
-        Ok(Eigrl { sid, v1, v2, nd, shfscl, norm, loc })
+        Ok(Eigrl {
+            sid,
+            v1,
+            v2,
+            nd,
+            shfscl,
+            norm,
+            loc,
+        })
     }
 }
 
@@ -107,8 +121,12 @@ impl Freq {
                 let f1 = f.real(2, "F1");
                 let f2 = f.real(3, "F2");
                 let nf = f.opt_count(4, "NF").unwrap_or(1);
-                if !(f1 > 0.0 && f2 > f1) && matches!((f.value(2), f.value(3)), (Value::Real(_), Value::Real(_))) {
-                    f.card_error(format!("FREQ2 needs 0 < F1 < F2, found F1 = {f1:e}, F2 = {f2:e}"));
+                if !(f1 > 0.0 && f2 > f1)
+                    && matches!((f.value(2), f.value(3)), (Value::Real(_), Value::Real(_)))
+                {
+                    f.card_error(format!(
+                        "FREQ2 needs 0 < F1 < F2, found F1 = {f1:e}, F2 = {f2:e}"
+                    ));
                 }
                 FreqKind::Log { f1, f2, nf }
             }
@@ -129,7 +147,9 @@ impl Freq {
     pub fn frequencies(&self) -> Vec<f64> {
         match &self.kind {
             FreqKind::List(v) => v.clone(),
-            FreqKind::Linear { f1, df, ndf } => (0..=*ndf).map(|k| f1 + f64::from(k) * df).collect(),
+            FreqKind::Linear { f1, df, ndf } => {
+                (0..=*ndf).map(|k| f1 + f64::from(k) * df).collect()
+            }
             FreqKind::Log { f1, f2, nf } => {
                 let d = (f2 / f1).ln() / f64::from(*nf);
                 (0..=*nf).map(|k| f1 * (d * f64::from(k)).exp()).collect()
@@ -181,7 +201,11 @@ impl Tstep {
             last += 8;
         }
         f.finish(last)?;
-        Ok(Tstep { sid, intervals, loc })
+        Ok(Tstep {
+            sid,
+            intervals,
+            loc,
+        })
     }
 }
 
@@ -209,12 +233,20 @@ fn excitation_type(f: &mut FieldReader, i: usize) {
     let ok = match f.value(i) {
         Value::Blank => true,
         Value::Int(0) => true,
-        Value::Text(t) => t.eq_ignore_ascii_case("LOAD") || t.eq_ignore_ascii_case("L") || t.eq_ignore_ascii_case("LO"),
+        Value::Text(t) => {
+            t.eq_ignore_ascii_case("LOAD")
+                || t.eq_ignore_ascii_case("L")
+                || t.eq_ignore_ascii_case("LO")
+        }
         _ => false,
     };
     if !ok {
         let found = f.value(i).describe();
-        f.error(i, "TYPE", format!("only applied loads (TYPE = LOAD or 0) are supported, found {found}"));
+        f.error(
+            i,
+            "TYPE",
+            format!("only applied loads (TYPE = LOAD or 0) are supported, found {found}"),
+        );
     }
 }
 
@@ -222,7 +254,11 @@ fn excitation_type(f: &mut FieldReader, i: usize) {
 fn delay(f: &mut FieldReader, i: usize) -> f64 {
     match f.value(i) {
         Value::Int(_) => {
-            f.error(i, "DELAY", "DELAY card references are not supported; give the delay as a real");
+            f.error(
+                i,
+                "DELAY",
+                "DELAY card references are not supported; give the delay as a real",
+            );
             0.0
         }
         _ => f.real_or(i, "DELAY", 0.0),
@@ -243,7 +279,13 @@ impl Tload1 {
         f.opt_real(7, "VS0");
         let loc = f.loc();
         f.finish(7)?;
-        Ok(Tload1 { sid, excite_id, delay, tid, loc })
+        Ok(Tload1 {
+            sid,
+            excite_id,
+            delay,
+            tid,
+            loc,
+        })
     }
 }
 
@@ -279,7 +321,11 @@ impl Rload1 {
         let delay = delay(&mut f, 3);
         let phase_deg = match f.value(4) {
             Value::Int(_) => {
-                f.error(4, "DPHASE", "DPHASE card references are not supported; give the phase as a real");
+                f.error(
+                    4,
+                    "DPHASE",
+                    "DPHASE card references are not supported; give the phase as a real",
+                );
                 0.0
             }
             _ => f.real_or(4, "DPHASE", 0.0),
@@ -292,7 +338,15 @@ impl Rload1 {
         excitation_type(&mut f, 7);
         let loc = f.loc();
         f.finish(7)?;
-        Ok(Rload1 { sid, excite_id, delay, phase_deg, tc, td, loc })
+        Ok(Rload1 {
+            sid,
+            excite_id,
+            delay,
+            phase_deg,
+            tc,
+            td,
+            loc,
+        })
     }
 }
 
@@ -322,7 +376,13 @@ impl Darea {
         let out = f
             .grid_component_values(["P", "C", "A"], None)
             .into_iter()
-            .map(|(grid, components, scale)| Darea { sid, grid, components, scale, loc: loc.clone() })
+            .map(|(grid, components, scale)| Darea {
+                sid,
+                grid,
+                components,
+                scale,
+                loc: loc.clone(),
+            })
             .collect();
         f.finish(7)?;
         Ok(out)
@@ -367,7 +427,14 @@ impl Tic {
         let v0 = f.real_or(5, "V0", 0.0);
         let loc = f.loc();
         f.finish(5)?;
-        Ok(Tic { sid, grid, component: c.clamp(1, 6) as usize, u0, v0, loc })
+        Ok(Tic {
+            sid,
+            grid,
+            component: c.clamp(1, 6) as usize,
+            u0,
+            v0,
+            loc,
+        })
     }
 }
 
@@ -410,8 +477,14 @@ impl Tabled1 {
             }
             let x = f.real(i, "x");
             let y = f.real(i + 1, "y");
-            if let Some(&(px, _)) = points.last() && x < px {
-                f.error(i, "x", format!("x values must not decrease: {x:e} after {px:e}"));
+            if let Some(&(px, _)) = points.last()
+                && x < px
+            {
+                f.error(
+                    i,
+                    "x",
+                    format!("x values must not decrease: {x:e} after {px:e}"),
+                );
             }
             points.push((x, y));
             i += 2;
@@ -447,6 +520,11 @@ impl Dload {
     /// Read a `DLOAD` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let (sid, scale, terms, loc) = combination(card)?;
-        Ok(Dload { sid, scale, terms, loc })
+        Ok(Dload {
+            sid,
+            scale,
+            terms,
+            loc,
+        })
     }
 }

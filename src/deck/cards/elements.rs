@@ -48,8 +48,14 @@ fn corner_thickness(f: &mut FieldReader, first: usize, count: usize) -> Option<C
     let mut t = [None; 4];
     for (k, slot) in t.iter_mut().take(count).enumerate() {
         *slot = f.opt_real(first + 1 + k, &format!("T{}", k + 1));
-        if let Some(v) = *slot && v <= 0.0 {
-            f.error(first + 1 + k, &format!("T{}", k + 1), format!("expected a thickness > 0, found {v:e}"));
+        if let Some(v) = *slot
+            && v <= 0.0
+        {
+            f.error(
+                first + 1 + k,
+                &format!("T{}", k + 1),
+                format!("expected a thickness > 0, found {v:e}"),
+            );
         }
     }
     Some(CornerThickness { relative, t })
@@ -90,7 +96,15 @@ impl Cquad4 {
         let corner_thickness = corner_thickness(&mut f, 10, 4);
         let loc = f.loc();
         f.finish(14)?;
-        Ok(Cquad4 { id, pid, nodes, orientation, zoffs, corner_thickness, loc })
+        Ok(Cquad4 {
+            id,
+            pid,
+            nodes,
+            orientation,
+            zoffs,
+            corner_thickness,
+            loc,
+        })
     }
 }
 
@@ -129,7 +143,15 @@ impl Ctria3 {
         let corner_thickness = corner_thickness(&mut f, 10, 3);
         let loc = f.loc();
         f.finish(13)?;
-        Ok(Ctria3 { id, pid, nodes, orientation, zoffs, corner_thickness, loc })
+        Ok(Ctria3 {
+            id,
+            pid,
+            nodes,
+            orientation,
+            zoffs,
+            corner_thickness,
+            loc,
+        })
     }
 }
 
@@ -152,7 +174,11 @@ fn solid_nodes(
     }
     if !supported.contains(&nodes.len()) {
         let counts: Vec<String> = supported.iter().map(|n| n.to_string()).collect();
-        f.card_error(format!("{} grids given; paraflex supports {} grids for this element", nodes.len(), counts.join(" or ")));
+        f.card_error(format!(
+            "{} grids given; paraflex supports {} grids for this element",
+            nodes.len(),
+            counts.join(" or ")
+        ));
     }
     let loc = f.loc();
     f.finish(max_nodes + 2)?;
@@ -180,7 +206,12 @@ impl Chexa {
     /// Read a `CHEXA` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let (id, pid, nodes, loc) = solid_nodes(card, 20, &[8])?;
-        Ok(Chexa { id, pid, nodes: nodes.try_into().unwrap_or([0; 8]), loc })
+        Ok(Chexa {
+            id,
+            pid,
+            nodes: nodes.try_into().unwrap_or([0; 8]),
+            loc,
+        })
     }
 }
 
@@ -205,7 +236,12 @@ impl Cpenta {
     /// Read a `CPENTA` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let (id, pid, nodes, loc) = solid_nodes(card, 15, &[6])?;
-        Ok(Cpenta { id, pid, nodes: nodes.try_into().unwrap_or([0; 6]), loc })
+        Ok(Cpenta {
+            id,
+            pid,
+            nodes: nodes.try_into().unwrap_or([0; 6]),
+            loc,
+        })
     }
 }
 
@@ -230,7 +266,12 @@ impl Ctetra {
     /// Read a `CTETRA` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let (id, pid, nodes, loc) = solid_nodes(card, 10, &[4, 10])?;
-        Ok(Ctetra { id, pid, nodes, loc })
+        Ok(Ctetra {
+            id,
+            pid,
+            nodes,
+            loc,
+        })
     }
 }
 
@@ -250,7 +291,11 @@ fn spring_end(f: &mut FieldReader, i: usize, gname: &str, cname: &str) -> Spring
         (None, 0) => 0,
         (Some(_), 1..=6) => code as u8,
         (Some(_), _) => {
-            f.error(i + 1, cname, format!("expected a single component 1-6, found {code}"));
+            f.error(
+                i + 1,
+                cname,
+                format!("expected a single component 1-6, found {code}"),
+            );
             0
         }
         (None, _) => {
@@ -262,12 +307,18 @@ fn spring_end(f: &mut FieldReader, i: usize, gname: &str, cname: &str) -> Spring
 }
 
 fn spring_ends(f: &mut FieldReader, first: usize) -> [SpringEnd; 2] {
-    let ends = [spring_end(f, first, "G1", "C1"), spring_end(f, first + 2, "G2", "C2")];
+    let ends = [
+        spring_end(f, first, "G1", "C1"),
+        spring_end(f, first + 2, "G2", "C2"),
+    ];
     if ends[0].grid.is_none() && ends[1].grid.is_none() {
         f.card_error("both ends are grounded; give at least one grid and component");
     }
     if let (Some(g), true) = (ends[0].grid, ends[0] == ends[1] && ends[0].component > 0) {
-        f.card_error(format!("both ends are GRID {g} component {}: the spring would connect a DOF to itself", ends[0].component));
+        f.card_error(format!(
+            "both ends are GRID {g} component {}: the spring would connect a DOF to itself",
+            ends[0].component
+        ));
     }
     ends
 }
@@ -334,7 +385,14 @@ impl Celas2 {
         let s = f.real_or(8, "S", 0.0);
         let loc = f.loc();
         f.finish(8)?;
-        Ok(Celas2 { id, k, ends, ge, s, loc })
+        Ok(Celas2 {
+            id,
+            k,
+            ends,
+            ge,
+            s,
+            loc,
+        })
     }
 }
 
@@ -372,12 +430,20 @@ impl Conm2 {
             None => 0,
             Some(c) if (-1..=i64::from(i32::MAX)).contains(&c) => c as i32,
             Some(c) => {
-                f.error(3, "CID", format!("expected -1 or a system id >= 0, found {c}"));
+                f.error(
+                    3,
+                    "CID",
+                    format!("expected -1 or a system id >= 0, found {c}"),
+                );
                 0
             }
         };
         let mass = f.real_or(4, "M", 0.0);
-        let offset = [f.real_or(5, "X1", 0.0), f.real_or(6, "X2", 0.0), f.real_or(7, "X3", 0.0)];
+        let offset = [
+            f.real_or(5, "X1", 0.0),
+            f.real_or(6, "X2", 0.0),
+            f.real_or(7, "X3", 0.0),
+        ];
         let names = ["I11", "I21", "I22", "I31", "I32", "I33"];
         let mut inertia = [0.0; 6];
         for (k, name) in names.iter().enumerate() {
@@ -385,6 +451,14 @@ impl Conm2 {
         }
         let loc = f.loc();
         f.finish(14)?;
-        Ok(Conm2 { id, grid, cid, mass, offset, inertia, loc })
+        Ok(Conm2 {
+            id,
+            grid,
+            cid,
+            mass,
+            offset,
+            inertia,
+            loc,
+        })
     }
 }

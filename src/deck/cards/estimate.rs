@@ -38,11 +38,22 @@ impl Ekf {
         let force = f.keyword(4, "FORCE", &["YES", "NO"], Some("NO")) == "YES";
         let rediagonalize = f.opt_real(5, "REDIAG");
         if let Some(t) = rediagonalize.filter(|t| !valid_rediagonalization_tolerance(*t)) {
-            f.error(5, "REDIAG", format!("expected a real in (0, {MAX_REDIAGONALIZATION_TOLERANCE}], found {t:e}"));
+            f.error(
+                5,
+                "REDIAG",
+                format!("expected a real in (0, {MAX_REDIAGONALIZATION_TOLERANCE}], found {t:e}"),
+            );
         }
         let loc = f.loc();
         f.finish(5)?;
-        Ok(Ekf { id, q_state, p0_state, force, rediagonalize, loc })
+        Ok(Ekf {
+            id,
+            q_state,
+            p0_state,
+            force,
+            rediagonalize,
+            loc,
+        })
     }
 }
 
@@ -80,7 +91,14 @@ impl Ekfpar {
         let p0 = optional_positive(&mut f, 5, "P0", init * init);
         let loc = f.loc();
         f.finish(5)?;
-        Ok(Ekfpar { id, name, init, delta, p0, loc })
+        Ok(Ekfpar {
+            id,
+            name,
+            init,
+            delta,
+            p0,
+            loc,
+        })
     }
 }
 
@@ -112,13 +130,24 @@ impl Ekfinp {
         let grid = f.id(2, "GRID");
         let component = f.int(3, "COMP");
         if !(1..=6).contains(&component) && matches!(f.value(3), Value::Int(_)) {
-            f.error(3, "COMP", format!("expected one component 1–6, found {component}"));
+            f.error(
+                3,
+                "COMP",
+                format!("expected one component 1–6, found {component}"),
+            );
         }
         let omega = f.positive_real(4, "OMEGA");
         let amplitude = f.positive_real(5, "AMPL");
         let loc = f.loc();
         f.finish(5)?;
-        Ok(Ekfinp { id, grid, component: component.clamp(1, 6) as u8, omega, amplitude, loc })
+        Ok(Ekfinp {
+            id,
+            grid,
+            component: component.clamp(1, 6) as u8,
+            omega,
+            amplitude,
+            loc,
+        })
     }
 }
 
@@ -144,10 +173,19 @@ impl Measf {
         let id = f.id(1, "ID");
         f.set_id(id);
         let path = f.path(2, "PATH");
-        let tcol = if f.value(3).is_blank() { Column::Index(1) } else { f.column(3, "TCOL") };
+        let tcol = if f.value(3).is_blank() {
+            Column::Index(1)
+        } else {
+            f.column(3, "TCOL")
+        };
         let loc = f.loc();
         f.finish(3)?;
-        Ok(Measf { id, path, tcol, loc })
+        Ok(Measf {
+            id,
+            path,
+            tcol,
+            loc,
+        })
     }
 }
 
@@ -176,7 +214,11 @@ impl Meas {
         f.set_id(id);
         let sensor = f.text(2, "SENSOR");
         let column = if f.value(3).is_blank() {
-            f.error(3, "COLUMN", "expected a 1-based column index or a column name, found a blank field");
+            f.error(
+                3,
+                "COLUMN",
+                "expected a 1-based column index or a column name, found a blank field",
+            );
             Column::Index(1)
         } else {
             f.column(3, "COLUMN")
@@ -184,7 +226,13 @@ impl Meas {
         let sigma = f.positive_real(4, "SIGMA");
         let loc = f.loc();
         f.finish(4)?;
-        Ok(Meas { id, sensor, column, sigma, loc })
+        Ok(Meas {
+            id,
+            sensor,
+            column,
+            sigma,
+            loc,
+        })
     }
 }
 
@@ -220,17 +268,35 @@ mod tests {
     #[test]
     fn cards_read_with_defaults() {
         let e = Ekf::from_card(&card("EKF,3")).unwrap();
-        assert_eq!((e.id, e.q_state, e.p0_state, e.force, e.rediagonalize), (3, f64::EPSILON, 1e-20, false, None));
+        assert_eq!(
+            (e.id, e.q_state, e.p0_state, e.force, e.rediagonalize),
+            (3, f64::EPSILON, 1e-20, false, None)
+        );
         let e = Ekf::from_card(&card("EKF,3,1.e-12,1.e-10,YES,1.e-2")).unwrap();
-        assert_eq!((e.q_state, e.p0_state, e.force, e.rediagonalize), (1e-12, 1e-10, true, Some(1e-2)));
+        assert_eq!(
+            (e.q_state, e.p0_state, e.force, e.rediagonalize),
+            (1e-12, 1e-10, true, Some(1e-2))
+        );
         let p = Ekfpar::from_card(&card("EKFPAR,3,e,2.5e11,1.e-3")).unwrap();
-        assert_eq!((p.name.as_str(), p.init, p.delta, p.p0), ("E", 2.5e11, 1e-3, 2.5e11 * 2.5e11));
+        assert_eq!(
+            (p.name.as_str(), p.init, p.delta, p.p0),
+            ("E", 2.5e11, 1e-3, 2.5e11 * 2.5e11)
+        );
         let u = Ekfinp::from_card(&card("EKFINP,3,12,3,80.,5.")).unwrap();
-        assert_eq!((u.grid, u.component, u.omega, u.amplitude), (12, 3, 80.0, 5.0));
+        assert_eq!(
+            (u.grid, u.component, u.omega, u.amplitude),
+            (12, 3, 80.0, 5.0)
+        );
         let m = Measf::from_card(&card("MEASF,4,'meas.csv',time")).unwrap();
-        assert_eq!((m.path.as_str(), m.tcol.clone()), ("meas.csv", Column::Name("time".into())));
+        assert_eq!(
+            (m.path.as_str(), m.tcol.clone()),
+            ("meas.csv", Column::Name("time".into()))
+        );
         let m = Meas::from_card(&card("MEAS,4,S1,3,1.e-7")).unwrap();
-        assert_eq!((m.sensor.as_str(), m.column.clone(), m.sigma), ("S1", Column::Index(3), 1e-7));
+        assert_eq!(
+            (m.sensor.as_str(), m.column.clone(), m.sigma),
+            ("S1", Column::Index(3), 1e-7)
+        );
     }
 
     /// Every bad field is reported, each naming its field.
@@ -238,13 +304,33 @@ mod tests {
     fn every_bad_field_is_reported() {
         let errors = Ekf::from_card(&card("EKF,3,-1.,0.,MAYBE,0.5")).unwrap_err();
         assert_eq!(errors.len(), 4, "{errors:?}");
-        assert!(errors.iter().any(|e| e.to_string().contains("REDIAG")), "{errors:?}");
+        assert!(
+            errors.iter().any(|e| e.to_string().contains("REDIAG")),
+            "{errors:?}"
+        );
         let errors = Ekfpar::from_card(&card("EKFPAR,3,E,0.,-1.,-2.")).unwrap_err();
         let text: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
         assert_eq!(errors.len(), 3, "{text:?}");
-        assert!(text.iter().any(|t| t.contains("INIT") && t.contains("zero")), "{text:?}");
-        assert_eq!(Ekfinp::from_card(&card("EKFINP,3,12,7,-80.,")).unwrap_err().len(), 3);
-        assert_eq!(Meas::from_card(&card("MEAS,4,S1,,0.")).unwrap_err().len(), 2);
-        assert_eq!(Measf::from_card(&card("MEASF,4,,,extra")).unwrap_err().len(), 2);
+        assert!(
+            text.iter()
+                .any(|t| t.contains("INIT") && t.contains("zero")),
+            "{text:?}"
+        );
+        assert_eq!(
+            Ekfinp::from_card(&card("EKFINP,3,12,7,-80.,"))
+                .unwrap_err()
+                .len(),
+            3
+        );
+        assert_eq!(
+            Meas::from_card(&card("MEAS,4,S1,,0.")).unwrap_err().len(),
+            2
+        );
+        assert_eq!(
+            Measf::from_card(&card("MEASF,4,,,extra"))
+                .unwrap_err()
+                .len(),
+            2
+        );
     }
 }

@@ -48,7 +48,10 @@ impl PmparKind {
 
     /// The keyword as written in decks.
     pub fn name(self) -> &'static str {
-        Self::ALL.iter().find(|(_, k)| *k == self).map_or("?", |(n, _)| n)
+        Self::ALL
+            .iter()
+            .find(|(_, k)| *k == self)
+            .map_or("?", |(n, _)| n)
     }
 }
 
@@ -82,16 +85,31 @@ impl Pmpar {
         let name = f.text(2, "NAME");
         let names: Vec<&str> = PmparKind::ALL.iter().map(|(n, _)| *n).collect();
         let kw = f.keyword(3, "KIND", &names, None);
-        let kind = PmparKind::ALL.iter().find(|(n, _)| *n == kw).map_or(PmparKind::E, |(_, k)| *k);
+        let kind = PmparKind::ALL
+            .iter()
+            .find(|(n, _)| *n == kw)
+            .map_or(PmparKind::E, |(_, k)| *k);
         let refid = f.id(4, "REFID");
         let low = f.real(5, "LOW");
         let high = f.real(6, "HIGH");
         if low > high {
-            f.error(5, "LOW", format!("LOW = {low:e} is greater than HIGH = {high:e}"));
+            f.error(
+                5,
+                "LOW",
+                format!("LOW = {low:e} is greater than HIGH = {high:e}"),
+            );
         }
         let loc = f.loc();
         f.finish(6)?;
-        Ok(Pmpar { id, name, kind, refid, low, high, loc })
+        Ok(Pmpar {
+            id,
+            name,
+            kind,
+            refid,
+            low,
+            high,
+            loc,
+        })
     }
 }
 
@@ -141,12 +159,20 @@ impl Pmor {
         let fmax = f.positive_real(4, "FMAX");
         let errtol = f.real_or(5, "ERRTOL", 1.0e-3);
         if errtol <= 0.0 {
-            f.error(5, "ERRTOL", format!("expected ERRTOL > 0, found {errtol:e}"));
+            f.error(
+                5,
+                "ERRTOL",
+                format!("expected ERRTOL > 0, found {errtol:e}"),
+            );
         }
         let dsize = f.opt_count(6, "DSIZE").unwrap_or((nmodes / 2).max(1));
         let mactol = f.real_or(7, "MACTOL", 0.99);
         if !(mactol > 0.0 && mactol <= 1.0) {
-            f.error(7, "MACTOL", format!("expected 0 < MACTOL <= 1, found {mactol:e}"));
+            f.error(
+                7,
+                "MACTOL",
+                format!("expected 0 < MACTOL <= 1, found {mactol:e}"),
+            );
         }
         let seed = f.id0_or(8, "SEED", 1) as u64;
         let bset = f.opt_id(9, "BSET");
@@ -155,11 +181,30 @@ impl Pmor {
         let nfreq = f.opt_count(12, "NFREQ").unwrap_or(200);
         let fmin = f.real_or(13, "FMIN", 0.0);
         if fmin < 0.0 || (fmin >= fmax && fmax > 0.0) {
-            f.error(13, "FMIN", format!("expected 0 <= FMIN < FMAX = {fmax:e}, found {fmin:e}"));
+            f.error(
+                13,
+                "FMIN",
+                format!("expected 0 <= FMIN < FMAX = {fmax:e}, found {fmin:e}"),
+            );
         }
         let loc = f.loc();
         f.finish(13)?;
-        Ok(Pmor { id, nsamp, nmodes, fmax, errtol, dsize, mactol, seed, bset, static_modes, rigid, nfreq, fmin, loc })
+        Ok(Pmor {
+            id,
+            nsamp,
+            nmodes,
+            fmax,
+            errtol,
+            dsize,
+            mactol,
+            seed,
+            bset,
+            static_modes,
+            rigid,
+            nfreq,
+            fmin,
+            loc,
+        })
     }
 }
 
@@ -265,7 +310,15 @@ impl Sensor {
         }
         let loc = f.loc();
         f.finish(8)?;
-        Ok(Sensor { id, name, kind, reference, surface, direction, loc })
+        Ok(Sensor {
+            id,
+            name,
+            kind,
+            reference,
+            surface,
+            direction,
+            loc,
+        })
     }
 }
 
@@ -293,11 +346,25 @@ impl Tablef {
         let id = f.id(1, "ID");
         f.set_id(id);
         let path = f.path(2, "PATH");
-        let tcol = if f.value(3).is_blank() { Column::Index(1) } else { f.column(3, "TCOL") };
-        let ycol = if f.value(4).is_blank() { Column::Index(2) } else { f.column(4, "YCOL") };
+        let tcol = if f.value(3).is_blank() {
+            Column::Index(1)
+        } else {
+            f.column(3, "TCOL")
+        };
+        let ycol = if f.value(4).is_blank() {
+            Column::Index(2)
+        } else {
+            f.column(4, "YCOL")
+        };
         let loc = f.loc();
         f.finish(4)?;
-        Ok(Tablef { id, path, tcol, ycol, loc })
+        Ok(Tablef {
+            id,
+            path,
+            tcol,
+            ycol,
+            loc,
+        })
     }
 }
 
@@ -357,13 +424,22 @@ impl Tinteg {
         let method = f.keyword(2, "METHOD", &["BDF1", "BDF2", "GALPHA"], Some("BDF1"));
         let rho_inf = f.real_or(3, "RHOINF", 0.9);
         if !(0.0..=1.0).contains(&rho_inf) {
-            f.error(3, "RHOINF", format!("expected 0 <= RHOINF <= 1, found {rho_inf:e}"));
+            f.error(
+                3,
+                "RHOINF",
+                format!("expected 0 <= RHOINF <= 1, found {rho_inf:e}"),
+            );
         }
         if method != "GALPHA" && !f.value(3).is_blank() {
             f.error(3, "RHOINF", "RHOINF applies to GALPHA only");
         }
         let loc = f.loc();
         f.finish(3)?;
-        Ok(Tinteg { id, method, rho_inf, loc })
+        Ok(Tinteg {
+            id,
+            method,
+            rho_inf,
+            loc,
+        })
     }
 }

@@ -31,15 +31,30 @@ impl Grid {
         let id = f.id(1, "ID");
         f.set_id(id);
         let cp = f.id0_or(2, "CP", 0);
-        let x = [f.real_or(3, "X1", 0.0), f.real_or(4, "X2", 0.0), f.real_or(5, "X3", 0.0)];
+        let x = [
+            f.real_or(3, "X1", 0.0),
+            f.real_or(4, "X2", 0.0),
+            f.real_or(5, "X3", 0.0),
+        ];
         let cd = f.id0_or(6, "CD", 0);
         let ps = f.dofs(7, "PS");
         if f.id0_or(8, "SEID", 0) != 0 {
-            f.error(8, "SEID", "superelements are not supported; SEID must be blank or 0");
+            f.error(
+                8,
+                "SEID",
+                "superelements are not supported; SEID must be blank or 0",
+            );
         }
         let loc = f.loc();
         f.finish(8)?;
-        Ok(Grid { id, cp, x, cd, ps, loc })
+        Ok(Grid {
+            id,
+            cp,
+            x,
+            cd,
+            ps,
+            loc,
+        })
     }
 }
 
@@ -80,14 +95,26 @@ impl Cord2 {
         f.set_id(id);
         let rid = f.id0_or(2, "RID", 0);
         let point = |f: &mut FieldReader, first: usize, names: [&str; 3]| {
-            [f.real_or(first, names[0], 0.0), f.real_or(first + 1, names[1], 0.0), f.real_or(first + 2, names[2], 0.0)]
+            [
+                f.real_or(first, names[0], 0.0),
+                f.real_or(first + 1, names[1], 0.0),
+                f.real_or(first + 2, names[2], 0.0),
+            ]
         };
         let a = point(&mut f, 3, ["A1", "A2", "A3"]);
         let b = point(&mut f, 6, ["B1", "B2", "B3"]);
         let c = point(&mut f, 9, ["C1", "C2", "C3"]);
         let loc = f.loc();
         f.finish(11)?;
-        Ok(Cord2 { id, kind, rid, a, b, c, loc })
+        Ok(Cord2 {
+            id,
+            kind,
+            rid,
+            a,
+            b,
+            c,
+            loc,
+        })
     }
 }
 
@@ -110,20 +137,31 @@ mod tests {
     #[test]
     fn grid_defaults() {
         let g = Grid::from_card(&raw("GRID", &["7", "", "1.", "2.", ""])).unwrap();
-        assert_eq!((g.id, g.cp, g.x, g.cd, g.ps), (7, 0, [1.0, 2.0, 0.0], 0, Dofs::NONE));
+        assert_eq!(
+            (g.id, g.cp, g.x, g.cd, g.ps),
+            (7, 0, [1.0, 2.0, 0.0], 0, Dofs::NONE)
+        );
     }
 
     #[test]
     fn grid_collects_all_bad_fields() {
         let e = Grid::from_card(&raw("GRID", &["7", "1.", "1", "2.", "", "", "17"])).unwrap_err();
         assert_eq!(e.len(), 3, "{e:?}");
-        assert!(e.iter().all(|e| e.to_string().starts_with("t.bdf:1: GRID 7: field")));
+        assert!(
+            e.iter()
+                .all(|e| e.to_string().starts_with("t.bdf:1: GRID 7: field"))
+        );
     }
 
     #[test]
     fn cord2r_reads_continuation() {
         let c = Cord2::from_card(
-            &raw("CORD2R", &["3", "", "0.", "0.", "0.", "0.", "0.", "1.", "1.", "0.", "0."]),
+            &raw(
+                "CORD2R",
+                &[
+                    "3", "", "0.", "0.", "0.", "0.", "0.", "1.", "1.", "0.", "0.",
+                ],
+            ),
             CordKind::Rectangular,
         )
         .unwrap();

@@ -42,10 +42,22 @@ impl Force {
         let grid = f.id(2, "G");
         let cid = f.id0_or(3, "CID", 0);
         let scale = f.real_or(4, if kind == ForceKind::Force { "F" } else { "M" }, 0.0);
-        let direction = [f.real_or(5, "N1", 0.0), f.real_or(6, "N2", 0.0), f.real_or(7, "N3", 0.0)];
+        let direction = [
+            f.real_or(5, "N1", 0.0),
+            f.real_or(6, "N2", 0.0),
+            f.real_or(7, "N3", 0.0),
+        ];
         let loc = f.loc();
         f.finish(7)?;
-        Ok(Force { kind, sid, grid, cid, scale, direction, loc })
+        Ok(Force {
+            kind,
+            sid,
+            grid,
+            cid,
+            scale,
+            direction,
+            loc,
+        })
     }
 }
 
@@ -75,7 +87,11 @@ impl Grav {
         f.set_id(sid);
         let cid = f.id0_or(2, "CID", 0);
         let a = f.real(3, "A");
-        let direction = [f.real_or(4, "N1", 0.0), f.real_or(5, "N2", 0.0), f.real_or(6, "N3", 0.0)];
+        let direction = [
+            f.real_or(4, "N1", 0.0),
+            f.real_or(5, "N2", 0.0),
+            f.real_or(6, "N3", 0.0),
+        ];
         if direction == [0.0; 3] {
             f.error(4, "N1", "the direction vector is zero");
         }
@@ -85,12 +101,20 @@ impl Grav {
         }
         let loc = f.loc();
         f.finish(7)?;
-        Ok(Grav { sid, cid, a, direction, loc })
+        Ok(Grav {
+            sid,
+            cid,
+            a,
+            direction,
+            loc,
+        })
     }
 }
 
 /// Read `SID S S1 L1 S2 L2 …` combination cards (`LOAD`, `DLOAD`).
-pub(crate) fn combination(card: &RawCard) -> Result<(u32, f64, Vec<(f64, u32)>, Loc), Vec<DeckError>> {
+pub(crate) fn combination(
+    card: &RawCard,
+) -> Result<(u32, f64, Vec<(f64, u32)>, Loc), Vec<DeckError>> {
     let mut f = FieldReader::new(card);
     let sid = f.id(1, "SID");
     f.set_id(sid);
@@ -136,6 +160,11 @@ impl Load {
     /// Read a `LOAD` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let (sid, scale, terms, loc) = combination(card)?;
-        Ok(Load { sid, scale, terms, loc })
+        Ok(Load {
+            sid,
+            scale,
+            terms,
+            loc,
+        })
     }
 }

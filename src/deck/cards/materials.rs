@@ -65,7 +65,18 @@ impl Mat1 {
         f.id0_or(12, "MCSID", 0);
         let loc = f.loc();
         f.finish(12)?;
-        Ok(Mat1 { id, e, g, nu, rho, a, tref, ge, given, loc })
+        Ok(Mat1 {
+            id,
+            e,
+            g,
+            nu,
+            rho,
+            a,
+            tref,
+            ge,
+            given,
+            loc,
+        })
     }
 }
 
@@ -109,7 +120,16 @@ impl Mat8 {
         let g1z = f.opt_real(6, "G1Z");
         let g2z = f.opt_real(7, "G2Z");
         let rho = f.real_or(8, "RHO", 0.0);
-        for (i, name) in [(9, "A1"), (10, "A2"), (11, "TREF"), (12, "Xt"), (13, "Xc"), (14, "Yt"), (15, "Yc"), (16, "S")] {
+        for (i, name) in [
+            (9, "A1"),
+            (10, "A2"),
+            (11, "TREF"),
+            (12, "Xt"),
+            (13, "Xc"),
+            (14, "Yt"),
+            (15, "Yc"),
+            (16, "S"),
+        ] {
             f.opt_real(i, name);
         }
         let ge = f.real_or(17, "GE", 0.0);
@@ -117,6 +137,17 @@ impl Mat8 {
         f.opt_real(19, "STRN");
         let loc = f.loc();
         f.finish(19)?;
-        Ok(Mat8 { id, e1, e2, nu12, g12, g1z, g2z, rho, ge, loc })
+        Ok(Mat8 {
+            id,
+            e1,
+            e2,
+            nu12,
+            g12,
+            g1z,
+            g2z,
+            rho,
+            ge,
+            loc,
+        })
     }
 }

@@ -22,7 +22,10 @@ mod rigid;
 pub use constraints::{Aset1, Spc, Spc1, Spcadd};
 pub use design::{Ddval, Desvar};
 pub use dynamic::{Darea, Dload, Eigrl, Freq, FreqKind, Rload1, Tabled1, Tic, Tload1, Tstep};
-pub use elements::{Celas1, Celas2, Chexa, Conm2, CornerThickness, Cpenta, Cquad4, Ctetra, Ctria3, ShellOrientation, SpringEnd};
+pub use elements::{
+    Celas1, Celas2, Chexa, Conm2, CornerThickness, Cpenta, Cquad4, Ctetra, Ctria3,
+    ShellOrientation, SpringEnd,
+};
 pub use estimate::{Ekf, Ekfinp, Ekfpar, Meas, Measf};
 pub use extension::{Pmor, Pmpar, PmparKind, Ptable, Pval, Sensor, SensorKind, Tablef, Tinteg};
 pub use geometry::{Cord2, CordKind, Grid};
@@ -98,8 +101,12 @@ pub type CardParser = fn(&RawCard, &mut BulkData) -> Result<(), Vec<DeckError>>;
 #[allow(clippy::unit_arg)] // one line per card: `Ok(push(parsed?))` stores the card and returns Ok(())
 pub static PARSERS: &[(&str, CardParser)] = &[
     ("GRID", |c, b| Ok(b.grids.push(Grid::from_card(c)?))),
-    ("CORD2R", |c, b| Ok(b.coords.push(Cord2::from_card(c, CordKind::Rectangular)?))),
-    ("CORD2C", |c, b| Ok(b.coords.push(Cord2::from_card(c, CordKind::Cylindrical)?))),
+    ("CORD2R", |c, b| {
+        Ok(b.coords.push(Cord2::from_card(c, CordKind::Rectangular)?))
+    }),
+    ("CORD2C", |c, b| {
+        Ok(b.coords.push(Cord2::from_card(c, CordKind::Cylindrical)?))
+    }),
     ("CQUAD4", |c, b| Ok(b.cquad4.push(Cquad4::from_card(c)?))),
     ("CTRIA3", |c, b| Ok(b.ctria3.push(Ctria3::from_card(c)?))),
     ("CHEXA", |c, b| Ok(b.chexa.push(Chexa::from_card(c)?))),
@@ -120,14 +127,22 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("SPC1", |c, b| Ok(b.spc1.push(Spc1::from_card(c)?))),
     ("SPCADD", |c, b| Ok(b.spcadd.push(Spcadd::from_card(c)?))),
     ("ASET1", |c, b| Ok(b.aset1.push(Aset1::from_card(c)?))),
-    ("FORCE", |c, b| Ok(b.forces.push(Force::from_card(c, ForceKind::Force)?))),
-    ("MOMENT", |c, b| Ok(b.forces.push(Force::from_card(c, ForceKind::Moment)?))),
+    ("FORCE", |c, b| {
+        Ok(b.forces.push(Force::from_card(c, ForceKind::Force)?))
+    }),
+    ("MOMENT", |c, b| {
+        Ok(b.forces.push(Force::from_card(c, ForceKind::Moment)?))
+    }),
     ("GRAV", |c, b| Ok(b.grav.push(Grav::from_card(c)?))),
     ("LOAD", |c, b| Ok(b.load.push(Load::from_card(c)?))),
     ("EIGRL", |c, b| Ok(b.eigrl.push(Eigrl::from_card(c)?))),
     ("FREQ", |c, b| Ok(b.freq.push(Freq::from_card(c, "FREQ")?))),
-    ("FREQ1", |c, b| Ok(b.freq.push(Freq::from_card(c, "FREQ1")?))),
-    ("FREQ2", |c, b| Ok(b.freq.push(Freq::from_card(c, "FREQ2")?))),
+    ("FREQ1", |c, b| {
+        Ok(b.freq.push(Freq::from_card(c, "FREQ1")?))
+    }),
+    ("FREQ2", |c, b| {
+        Ok(b.freq.push(Freq::from_card(c, "FREQ2")?))
+    }),
     ("TSTEP", |c, b| Ok(b.tstep.push(Tstep::from_card(c)?))),
     ("TLOAD1", |c, b| Ok(b.tload1.push(Tload1::from_card(c)?))),
     ("RLOAD1", |c, b| Ok(b.rload1.push(Rload1::from_card(c)?))),
@@ -166,7 +181,11 @@ pub fn parse_card(card: &RawCard, bulk: &mut BulkData) -> Result<(), Vec<DeckErr
             format!(
                 "unsupported bulk data card '{}': paraflex reads {}",
                 card.name,
-                PARSERS.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(" ")
+                PARSERS
+                    .iter()
+                    .map(|(n, _)| *n)
+                    .collect::<Vec<_>>()
+                    .join(" ")
             ),
         )]),
     }

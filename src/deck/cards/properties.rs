@@ -47,7 +47,11 @@ impl Pshell {
         let mid1 = f.opt_id(2, "MID1");
         let t = f.real(3, "T");
         let mid2 = if let Value::Int(-1) = f.value(4) {
-            f.error(4, "MID2", "MID2 = -1 (plane strain) is not supported; paraflex shells are plane stress");
+            f.error(
+                4,
+                "MID2",
+                "MID2 = -1 (plane strain) is not supported; paraflex shells are plane stress",
+            );
             None
         } else {
             f.opt_id(4, "MID2")
@@ -61,7 +65,20 @@ impl Pshell {
         let mid4 = f.opt_id(11, "MID4");
         let loc = f.loc();
         f.finish(11)?;
-        Ok(Pshell { id, mid1, t, mid2, bending_ratio, mid3, ts_t, nsm, z1, z2, mid4, loc })
+        Ok(Pshell {
+            id,
+            mid1,
+            t,
+            mid2,
+            bending_ratio,
+            mid3,
+            ts_t,
+            nsm,
+            z1,
+            z2,
+            mid4,
+            loc,
+        })
     }
 }
 
@@ -118,10 +135,19 @@ impl Pcomp {
         let ft = f.opt_text(5, "FT");
         let tref = f.real_or(6, "TREF", 0.0);
         let ge = f.real_or(7, "GE", 0.0);
-        let lam = f.keyword(8, "LAM", &["SYM", "MEM", "BEND", "SMEAR", "SMCORE"], Some(""));
+        let lam = f.keyword(
+            8,
+            "LAM",
+            &["SYM", "MEM", "BEND", "SMEAR", "SMCORE"],
+            Some(""),
+        );
         let symmetric = lam == "SYM";
         if !lam.is_empty() && !symmetric {
-            f.error(8, "LAM", format!("LAM = {lam} is not supported; paraflex supports blank and SYM"));
+            f.error(
+                8,
+                "LAM",
+                format!("LAM = {lam} is not supported; paraflex supports blank and SYM"),
+            );
         }
         let mut plies: Vec<Ply> = Vec::new();
         let len = f.len();
@@ -148,8 +174,14 @@ impl Pcomp {
                     }
                 };
                 let theta = f.real_or(i + 2, &format!("THETA{k}"), 0.0);
-                let sout = f.keyword(i + 3, &format!("SOUT{k}"), &["YES", "NO"], Some("NO")) == "YES";
-                plies.push(Ply { mid, t, theta, sout });
+                let sout =
+                    f.keyword(i + 3, &format!("SOUT{k}"), &["YES", "NO"], Some("NO")) == "YES";
+                plies.push(Ply {
+                    mid,
+                    t,
+                    theta,
+                    sout,
+                });
             }
             i += 4;
         }
@@ -158,7 +190,18 @@ impl Pcomp {
         }
         let loc = f.loc();
         f.finish(len.max(8))?;
-        Ok(Pcomp { id, z0, nsm, sb, ft, tref, ge, symmetric, plies, loc })
+        Ok(Pcomp {
+            id,
+            z0,
+            nsm,
+            sb,
+            ft,
+            tref,
+            ge,
+            symmetric,
+            plies,
+            loc,
+        })
     }
 
     /// Every ply through the thickness, bottom to top (the mirror image appended for `SYM`).
@@ -212,7 +255,11 @@ impl Psolid {
         let mid = f.id(2, "MID");
         let cordm = f.int_or(3, "CORDM", 0);
         if cordm < -1 {
-            f.error(3, "CORDM", format!("expected -1 or a system id >= 0, found {cordm}"));
+            f.error(
+                3,
+                "CORDM",
+                format!("expected -1 or a system id >= 0, found {cordm}"),
+            );
         }
         let mut kept = Vec::new();
         for (i, name) in [(4, "IN"), (5, "STRESS"), (6, "ISOP")] {
@@ -223,11 +270,21 @@ impl Psolid {
         }
         let fctn = f.keyword(7, "FCTN", &["SMECH", "PFLUID", "FFLUID"], Some("SMECH"));
         if fctn != "SMECH" {
-            f.error(7, "FCTN", format!("FCTN = {fctn} is not supported; only SMECH (structural)"));
+            f.error(
+                7,
+                "FCTN",
+                format!("FCTN = {fctn} is not supported; only SMECH (structural)"),
+            );
         }
         let loc = f.loc();
         f.finish(7)?;
-        Ok(Psolid { id, mid, cordm, kept, loc })
+        Ok(Psolid {
+            id,
+            mid,
+            cordm,
+            kept,
+            loc,
+        })
     }
 }
 
@@ -263,7 +320,13 @@ impl Pelas {
             let k = f.real(first + 1, "K");
             let ge = f.real_or(first + 2, "GE", 0.0);
             let s = f.real_or(first + 3, "S", 0.0);
-            out.push(Pelas { id, k, ge, s, loc: f.loc() });
+            out.push(Pelas {
+                id,
+                k,
+                ge,
+                s,
+                loc: f.loc(),
+            });
         }
         f.finish(8)?;
         Ok(out)

@@ -45,7 +45,14 @@ impl Rbe2 {
         let alpha = alpha_at.map_or(0.0, |a| f.real(a, "ALPHA"));
         let loc = f.loc();
         f.finish(alpha_at.unwrap_or(len).max(4))?;
-        Ok(Rbe2 { id, gn, cm, gm, alpha, loc })
+        Ok(Rbe2 {
+            id,
+            gn,
+            cm,
+            gm,
+            alpha,
+            loc,
+        })
     }
 }
 
@@ -102,7 +109,11 @@ impl Rbe3 {
                     if components.is_empty() {
                         f.error(i + 1, "C", "expected the components of this weight group");
                     }
-                    let mut group = Rbe3Group { weight: *w, components, grids: Vec::new() };
+                    let mut group = Rbe3Group {
+                        weight: *w,
+                        components,
+                        grids: Vec::new(),
+                    };
                     i += 2;
                     while i <= len && matches!(f.value(i), Value::Int(_) | Value::Blank) {
                         if let Some(g) = f.opt_id(i, "G") {
@@ -131,7 +142,11 @@ impl Rbe3 {
                 }
                 _ => {
                     let found = f.value(i).describe();
-                    f.error(i, "WT", format!("expected a weight (real), UM or ALPHA, found {found}"));
+                    f.error(
+                        i,
+                        "WT",
+                        format!("expected a weight (real), UM or ALPHA, found {found}"),
+                    );
                     i += 1;
                 }
             }
@@ -141,6 +156,13 @@ impl Rbe3 {
         }
         let loc = f.loc();
         f.finish(len.max(5))?;
-        Ok(Rbe3 { id, refgrid, refc, groups, alpha, loc })
+        Ok(Rbe3 {
+            id,
+            refgrid,
+            refc,
+            groups,
+            alpha,
+            loc,
+        })
     }
 }
