@@ -6,3 +6,7 @@
 
 Installed (editable) into the project's venv by ``make venv``: ``pip install -e tools``.
 """
+from pathlib import Path
+
+#: The checkout the package is installed from (``pip install -e tools``): decks, meshes, target.
+REPO = Path(__file__).resolve().parents[2]

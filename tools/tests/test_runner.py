@@ -1,5 +1,4 @@
 """Locating and running the paraflex binary."""
-import os
 import stat
 from pathlib import Path
 
