@@ -94,29 +94,37 @@ def run_one(binary: Path, deck: Path, timeout: float | None) -> Output:
         return out
 
 
-def read_hdf5(path: Path, tmp: str) -> dict:
-    """{path or path@attribute: value} of every entry but the ignored ones."""
+def read_hdf5(path: Path, tmp: str) -> dict | bytes:
+    """{path or path@attribute: value} of every entry but the ignored ones; the file's bytes
+    when HDF5 cannot read it."""
     entries = {}
-    with h5py.File(path, "r") as f:
-        for key, kind, value in walk(f):
-            if kind == "attribute" and key.rsplit("@", 1)[1] in IGNORED_ATTRIBUTES:
-                continue
-            if kind == "dataset" and key in IGNORED_DATASETS:
-                continue
-            entries[key] = normalise(value, tmp)
+    try:
+        with h5py.File(path, "r") as f:
+            for key, kind, value in walk(f):
+                if kind == "attribute" and key.rsplit("@", 1)[1] in IGNORED_ATTRIBUTES:
+                    continue
+                if kind == "dataset" and key in IGNORED_DATASETS:
+                    continue
+                entries[key] = normalise(value, tmp)
+    except OSError:
+        return path.read_bytes()
     return entries
 
 
 def normalise(value, tmp: str):
-    """Strings decoded with the temporary directory replaced; numbers as numpy arrays."""
+    """Strings decoded with the temporary directory replaced, string arrays as lists with their
+    shape, an empty dataspace as its type, numbers as numpy arrays."""
     if value is None:
         return None
+    if isinstance(value, h5py.Empty):
+        return f"empty {value.dtype}"
     if isinstance(value, (bytes, str)):
         s = value.decode(errors="replace") if isinstance(value, bytes) else value
         return s.replace(tmp, TEMP_PLACEHOLDER)
     a = np.asarray(value)
     if a.dtype.kind in "OSU":
-        return [normalise(v, tmp) for v in a.ravel().tolist()] + [("shape", a.shape)]
+        items = [normalise(v, tmp) if isinstance(v, (bytes, str)) else repr(v) for v in a.ravel().tolist()]
+        return items + [f"shape {a.shape}"]
     return a
 
 
