@@ -12,7 +12,9 @@ from pathlib import Path
 from paraflex_tools.results import read_frf
 from paraflex_tools.runner import run_checked
 
+
 def absolute_includes(text: str, base: Path) -> str:
+    """`text` with every INCLUDE path made absolute, relative to `base` (the deck's directory)."""
     return re.sub(r"INCLUDE\s+'([^']+)'", lambda m: f"INCLUDE '{(base / m.group(1)).resolve()}'", text)
 
 

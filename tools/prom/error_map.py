@@ -33,6 +33,7 @@ from paraflex_tools.prom_decks import absolute_includes, frf, inline_material, r
 from paraflex_tools.results import texts  # noqa: E402
 from paraflex_tools.runner import default_binary, run_checked  # noqa: E402
 
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("deck", type=Path)
