@@ -34,9 +34,10 @@ sysdeps:
 
 venv: $(VENV)/.installed
 
-$(VENV)/.installed: tools/requirements.txt
+$(VENV)/.installed: tools/requirements.txt tools/pyproject.toml
 	@[ -x $(PY) ] || python3 -m venv $(VENV)
 	$(PY) -m pip install --quiet --disable-pip-version-check -r tools/requirements.txt
+	$(PY) -m pip install --quiet --disable-pip-version-check --no-deps -e tools
 	@touch $@
 
 # Mesh includes of the case-study scenes (meshes/README.md): the committed "test" variants,

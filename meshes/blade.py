@@ -61,8 +61,9 @@ from pathlib import Path
 import gmsh
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from meshkit import REPO, card, extract, gmsh_session, write_cards, write_mesh_include  # noqa: E402
+from paraflex_tools import REPO
+from paraflex_tools.cards import card
+from paraflex_tools.meshing import extract, gmsh_session, write_cards, write_mesh_include
 
 # ---- geometry (metres, degrees); see the module docstring for what is thesis and what is ours
 LENGTH = 0.9                 # flange face to tip (issue 4: "about 0.9 m")
@@ -395,13 +396,13 @@ def generate(out: Path, size: str) -> list[Path]:
         aset_grids = [mesh.grids_of(0, g)[0] for g in groups]
     paths = [out / "blade.bdf", out / "blade_rbe.bdf"]
     write_mesh_include(mesh, paths[0], provenance)
-    cards = [card(["GRID", CENTRE, None, 0.0, 0.0, 0.0])]
+    cards = [card("GRID", CENTRE, None, 0.0, 0.0, 0.0, form="fit")]
     for gid, k in zip(BOLTS, range(4)):
         ang = math.radians(45.0 + 90.0 * k)
-        cards.append(card(["GRID", gid, None, 0.0, round(BOLT_RADIUS * math.cos(ang), 12),
-                           round(BOLT_RADIUS * math.sin(ang), 12)]))
-    cards.append(card(["RBE2", RBE2_ID, CENTRE, "123", *face_grids, *BOLTS]))
-    cards.append(card(["ASET1", "123", *aset_grids]))
+        cards.append(card("GRID", gid, None, 0.0, round(BOLT_RADIUS * math.cos(ang), 12),
+                          round(BOLT_RADIUS * math.sin(ang), 12), form="fit"))
+    cards.append(card("RBE2", RBE2_ID, CENTRE, "123", *face_grids, *BOLTS, form="fit"))
+    cards.append(card("ASET1", "123", *aset_grids, form="fit"))
     comment = (f"flange centre {CENTRE}; bolt grids {BOLTS[0]}-{BOLTS[-1]} (radius {BOLT_RADIUS} m,"
                f" 45/135/225/315 deg);\nRBE2 {RBE2_ID}: bolted face (X = 0, {len(face_grids)} grids)"
                f" and bolt grids follow the centre (CM 123);\nASET1: grid {aset_grids[0]} bottom"

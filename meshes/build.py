@@ -25,8 +25,8 @@ SCENES = ["plates", "fourbar", "robot", "blade"]
 
 
 def scene_modules() -> list[tuple[str, object]]:
-    """The scene modules that exist, in SCENES order; a missing one is reported and skipped."""
-    sys.path.insert(0, str(HERE))
+    """The scene modules that exist, in SCENES order; a missing one is reported and skipped.
+    They are found next to this script (Python puts a script's directory first on its path)."""
     found = []
     for name in SCENES:
         if not (HERE / f"{name}.py").is_file():

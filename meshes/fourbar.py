@@ -39,7 +39,8 @@ from pathlib import Path
 
 import gmsh
 
-import meshkit
+from paraflex_tools import meshing
+from paraflex_tools.cards import card
 
 PROVENANCE = "meshes/fourbar.py"
 WIDTH = 0.010          # m, §4.4.1
@@ -59,7 +60,7 @@ def link_mesh(name: str, length: float, size: str, out: Path) -> list[Path]:
     """Mesh one link and write ``<name>.bdf`` and ``<name>_rbe.bdf``."""
     h, n_hole = SIZES[size]
     r_end, r_hole = WIDTH / 2, HOLE_DIAMETER / 2
-    with meshkit.gmsh_session(name):
+    with meshing.gmsh_session(name):
         occ = gmsh.model.occ
         bar = occ.addRectangle(0.0, -r_end, 0.0, length, WIDTH)
         ends = [occ.addDisk(0.0, 0.0, 0.0, r_end, r_end), occ.addDisk(length, 0.0, 0.0, r_end, r_end)]
@@ -91,23 +92,23 @@ def link_mesh(name: str, length: float, size: str, out: Path) -> list[Path]:
         gmsh.option.setNumber("Mesh.RecombinationAlgorithm", 0)  # simple: leaves some triangles
         gmsh.option.setNumber("Mesh.RecombineAll", 1)
         gmsh.model.mesh.generate(2)
-        mesh = meshkit.extract({(2, SURFACE): PID})
+        mesh = meshing.extract({(2, SURFACE): PID})
         spiders = [mesh.grids_of(1, HOLE1), mesh.grids_of(1, HOLE2)]
 
     out.mkdir(parents=True, exist_ok=True)
     mesh_path, rbe_path = out / f"{name}.bdf", out / f"{name}_rbe.bdf"
-    meshkit.fit_large_field(mesh)
-    meshkit.write_mesh_include(mesh, mesh_path, PROVENANCE)
-    meshkit.set_shell_mcid(mesh_path, 0)
+    meshing.fit_large_field(mesh)
+    meshing.write_mesh_include(mesh, mesh_path, PROVENANCE)
+    meshing.set_shell_mcid(mesh_path, 0)
     cards = []
     masters = []
     for k, (x, dependents) in enumerate(zip((0.0, length), spiders)):
         gid = MASTER_BASE + k
         masters.append(gid)
-        cards.append(meshkit.card(["GRID", gid, None, x, 0.0, 0.0]))
-        cards.append(meshkit.card(["RBE2", gid, gid, "123456", *dependents]))
-    cards.append(meshkit.card(["ASET1", "123456", *masters]))
-    meshkit.write_cards(rbe_path, PROVENANCE, cards,
+        cards.append(card("GRID", gid, None, x, 0.0, 0.0, form="fit"))
+        cards.append(card("RBE2", gid, gid, "123456", *dependents, form="fit"))
+    cards.append(card("ASET1", "123456", *masters, form="fit"))
+    meshing.write_cards(rbe_path, PROVENANCE, cards,
                         f"{name}: joint masters {masters[0]} at x = 0 and {masters[1]} at x = "
                         f"{length} m, RBE2 (123456) to the hole edges, ASET1 of the masters")
     return [mesh_path, rbe_path]

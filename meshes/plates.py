@@ -23,15 +23,12 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import sys
 from pathlib import Path
 
 import gmsh
 
-import meshkit
-
-sys.path.insert(0, str(meshkit.REPO / "tools" / "analytic"))
-import make_cases  # noqa: E402  (timoshenko_fe_1d, timoshenko_dispersion, material constants, sources)
+from paraflex_tools import REPO, analytic, meshing
+from paraflex_tools.cards import card
 
 PROVENANCE = "meshes/plates.py"
 A = 0.5                          # plate side (m)
@@ -53,7 +50,7 @@ def _transfinite_curves(n_of_length) -> None:
 
 
 def plate(name: str, n: int, quads: bool, out: Path) -> list[Path]:
-    with meshkit.gmsh_session(name):
+    with meshing.gmsh_session(name):
         s = gmsh.model.occ.addRectangle(0.0, 0.0, 0.0, A, A)
         gmsh.model.occ.synchronize()
         _transfinite_curves(lambda length: n)
@@ -69,14 +66,14 @@ def plate(name: str, n: int, quads: bool, out: Path) -> list[Path]:
         gmsh.model.addPhysicalGroup(0, [corners[(0, 0)]], CORNER0)
         gmsh.model.addPhysicalGroup(0, [corners[(1, 0)]], CORNER1)
         gmsh.model.mesh.generate(2)
-        mesh = meshkit.extract({(2, SURFACE): PID})
+        mesh = meshing.extract({(2, SURFACE): PID})
         edge, c0, c1 = mesh.grids_of(1, EDGES), mesh.grids_of(0, CORNER0), mesh.grids_of(0, CORNER1)
     mesh_path, spc_path = out / f"{name}.bdf", out / f"{name}_spc.bdf"
-    meshkit.fit_large_field(mesh)
-    meshkit.write_mesh_include(mesh, mesh_path, PROVENANCE)
-    cards = [meshkit.card(["SPC1", 1, "3", *edge]), meshkit.card(["SPC1", 1, "12", *c0]),
-             meshkit.card(["SPC1", 1, "2", *c1])]
-    meshkit.write_cards(spc_path, PROVENANCE, cards,
+    meshing.fit_large_field(mesh)
+    meshing.write_mesh_include(mesh, mesh_path, PROVENANCE)
+    cards = [card("SPC1", 1, "3", *edge, form="fit"), card("SPC1", 1, "12", *c0, form="fit"),
+             card("SPC1", 1, "2", *c1, form="fit")]
+    meshing.write_cards(spc_path, PROVENANCE, cards,
                         f"{name}: simple support, SPC set 1: T3 on the {len(edge)} edge grids; "
                         f"T1 T2 at corner (0,0) = grid {c0[0]}, T2 at corner (a,0) = grid {c1[0]}")
     return [mesh_path, spc_path]
@@ -84,7 +81,7 @@ def plate(name: str, n: int, quads: bool, out: Path) -> list[Path]:
 
 def beam(name: str, size, hexa: bool, out: Path) -> list[Path]:
     L, b, h = BEAM
-    with meshkit.gmsh_session(name):
+    with meshing.gmsh_session(name):
         v = gmsh.model.occ.addBox(0.0, 0.0, 0.0, L, b, h)
         gmsh.model.occ.synchronize()
         if hexa:
@@ -102,12 +99,12 @@ def beam(name: str, size, hexa: bool, out: Path) -> list[Path]:
             gmsh.option.setNumber("Mesh.SecondOrderLinear", 1)  # straight edges: exact volume
         gmsh.model.addPhysicalGroup(3, [v], VOLUME)
         gmsh.model.mesh.generate(3)
-        mesh = meshkit.extract({(3, VOLUME): PID})
+        mesh = meshing.extract({(3, VOLUME): PID})
     path = out / f"{name}.bdf"
-    meshkit.fit_large_field(mesh)
-    meshkit.write_mesh_include(mesh, path, PROVENANCE)
+    meshing.fit_large_field(mesh)
+    meshing.write_mesh_include(mesh, path, PROVENANCE)
     if not hexa:
-        meshkit.fix_tetra10_cards(path)
+        meshing.fix_tetra10_cards(path)
     return [path]
 
 
@@ -127,19 +124,19 @@ def generate(out: Path, size: str) -> list[Path]:
 
 def _linear_element_error(k: float, h: float, EI: float, kGA: float, mA: float, mI: float) -> float:
     """Relative frequency error of the 1D analogue of the linear shell/solid elements (two-node
-    Timoshenko elements, linear w and ψ, one-point shear, consistent mass; make_cases.py) for a
+    Timoshenko elements, linear w and ψ, one-point shear, consistent mass; paraflex_tools.analytic) for a
     wave of wavenumber k on elements of length h: mode 1 of a simply supported span π/k meshed
     with elements of length ≈ h, against the exact Timoshenko value at the same k."""
     span = math.pi / k
     n = max(1, round(span / h))
-    fe = make_cases.timoshenko_fe_1d(span, EI, kGA, mA, mI, n, 1, bc="ss")[0]
-    exact = make_cases.timoshenko_dispersion(k, EI, kGA, mA, mI)
+    fe = analytic.timoshenko_fe_1d(span, EI, kGA, mA, mI, n, 1, bc="ss")[0]
+    exact = analytic.timoshenko_dispersion(k, EI, kGA, mA, mI)
     return (fe - exact) / exact
 
 
 def plate_reference(deck: str, element: str) -> dict:
-    E, nu, rho = (make_cases.STEEL[k] for k in ("E", "nu", "rho"))
-    t, G, kappa = T_PLATE, E / (2 * (1 + nu)), make_cases.KAPPA_SHELL
+    E, nu, rho = (analytic.STEEL[k] for k in ("E", "nu", "rho"))
+    t, G, kappa = T_PLATE, E / (2 * (1 + nu)), analytic.KAPPA_SHELL
     D = E * t ** 3 / (12 * (1 - nu ** 2))
     modes = [(1, 1), (1, 2), (2, 1), (2, 2)]
     n = SIZES["test"]["plate"]
@@ -147,7 +144,7 @@ def plate_reference(deck: str, element: str) -> dict:
     for m, q in modes:
         k = math.pi / A * math.hypot(m, q)
         fk = math.pi / 2 * (m * m + q * q) / A ** 2 * math.sqrt(D / (rho * t))
-        mindlin = make_cases.timoshenko_dispersion(k, D, kappa * G * t, rho * t, rho * t ** 3 / 12) / fk - 1
+        mindlin = analytic.timoshenko_dispersion(k, D, kappa * G * t, rho * t, rho * t ** 3 / 12) / fk - 1
         # x and y errors of the 1D analogue weighted by kx², ky² (as make_cases.py ss_plate_modal)
         ex = [_linear_element_error(j * math.pi / A, A / n, D, kappa * G * t, rho * t, rho * t ** 3 / 12)
               for j in (m, q)]
@@ -161,7 +158,7 @@ def plate_reference(deck: str, element: str) -> dict:
         "deck": deck,
         "source": (f"analytic: Navier solution of the simply supported Kirchhoff plate, "
                    f"f_mn = (pi/2)(m^2 + n^2)/a^2 sqrt(D/(rho t)), D = E t^3/(12(1-nu^2)), a = {A} m, "
-                   f"t = {t} m, steel E {E:g} Pa, nu {nu}, rho {rho} ({make_cases.LEISSA.strip()}); "
+                   f"t = {t} m, steel E {E:g} Pa, nu {nu}, rho {rho} ({analytic.LEISSA.strip()}); "
                    f"modes (1,1), (1,2), (2,1), (2,2). Mass rho a^2 t (exact for the meshed "
                    f"square). rel_tol = 1.25 x max over the modes of |Mindlin shear + rotary "
                    f"inertia correction (kappa 5/6)| + 2 x |discretization estimate| on the "
@@ -175,7 +172,7 @@ def plate_reference(deck: str, element: str) -> dict:
 
 
 def beam_reference(deck: str, element: str, h_el: float, note: str) -> dict:
-    E, nu, rho = (make_cases.STEEL[k] for k in ("E", "nu", "rho"))
+    E, nu, rho = (analytic.STEEL[k] for k in ("E", "nu", "rho"))
     L, b, h = BEAM
     G = E / (2 * (1 + nu))
     kappa = 10 * (1 + nu) / (12 + 11 * nu)  # Cowper, rectangle
@@ -192,7 +189,7 @@ def beam_reference(deck: str, element: str, h_el: float, note: str) -> dict:
     for plane, inertia, beta in modes:
         k = beta / L
         fe = beta ** 2 / (2 * math.pi * L ** 2) * math.sqrt(E * inertia / (rho * area))
-        timo = make_cases.timoshenko_dispersion(k, E * inertia, kappa * G * area, rho * area, rho * inertia) / fe - 1
+        timo = analytic.timoshenko_dispersion(k, E * inertia, kappa * G * area, rho * area, rho * inertia) / fe - 1
         disc = _linear_element_error(k, h_el, E * inertia, kappa * G * area, rho * area, rho * inertia)
         f.append(fe)
         terms.append((plane, beta, timo, disc))
@@ -202,7 +199,7 @@ def beam_reference(deck: str, element: str, h_el: float, note: str) -> dict:
     return {
         "deck": deck,
         "source": (f"analytic: Euler-Bernoulli free-free beam, f = (beta L)^2/(2 pi L^2) "
-                   f"sqrt(E I/(rho A)), cos(beta L) cosh(beta L) = 1 ({make_cases.BLEVINS}), steel "
+                   f"sqrt(E I/(rho A)), cos(beta L) cosh(beta L) = 1 ({analytic.BLEVINS}), steel "
                    f"E {E:g} Pa, nu {nu}, rho {rho}, box {L} x {b} x {h} m; modes 7-9 = bending 1 "
                    f"in x-z, bending 1 in x-y, bending 2 in x-z (first torsion ~1.2 kHz, axial "
                    f"2.6 kHz lie above). Mass rho L b h (exact for the meshed box). rel_tol = 1.25 "
@@ -234,7 +231,7 @@ def references() -> list[Path]:
     }
     paths = []
     for stem, ref in refs.items():
-        path = meshkit.REPO / "reference" / "scenes" / f"{stem}.json"
+        path = REPO / "reference" / "scenes" / f"{stem}.json"
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps(ref, indent=1) + "\n")
         paths.append(path)

@@ -87,15 +87,15 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import gmsh
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from meshkit import (REPO, SceneMesh, card, extract, fit_large_field,  # noqa: E402
-                     gmsh_session, set_shell_mcid, write_cards, write_mesh_include)
+from paraflex_tools import REPO
+from paraflex_tools.cards import card
+from paraflex_tools.meshing import (SceneMesh, extract, fit_large_field, gmsh_session, set_shell_mcid,
+                                    write_cards, write_mesh_include)
 
 PROVENANCE = "meshes/robot.py"
 MASTER0 = 1000001          # first master grid id
@@ -315,11 +315,11 @@ def _rbe_cards(mesh: SceneMesh, masters: list[tuple[float, float, float]],
                rings: list[int]) -> list[str]:
     cards = []
     for k, (xyz, ring) in enumerate(zip(masters, rings)):
-        cards.append(card(["GRID", MASTER0 + k, None, *(float(v) for v in xyz)]))
+        cards.append(card("GRID", MASTER0 + k, None, *(float(v) for v in xyz), form="fit"))
     for k, ring in enumerate(rings):
-        cards.append(card(["RBE2", RBE_EID0 + k, MASTER0 + k, 123456,
-                           *mesh.grids_of(2, ring)]))
-    cards.append(card(["ASET1", 123456, *(MASTER0 + k for k in range(len(rings)))]))
+        cards.append(card("RBE2", RBE_EID0 + k, MASTER0 + k, 123456,
+                          *mesh.grids_of(2, ring), form="fit"))
+    cards.append(card("ASET1", 123456, *(MASTER0 + k for k in range(len(rings))), form="fit"))
     return cards
 
 
@@ -339,7 +339,7 @@ def _one(out: Path, name: str, build, h: float, rings: list[int], comment: str,
         cards = _rbe_cards(mesh, masters, rings)
         if name == "base_plate":
             edge = sorted(set(mesh.grids_of(1, 21)))
-            cards.append(card(["SPC1", 21, 123, *edge]))
+            cards.append(card("SPC1", 21, 123, *edge, form="fit"))
         write_cards(rbe, PROVENANCE, cards, comment)
     return [inc, rbe]
 

@@ -28,58 +28,20 @@ import numpy as np
 from numpy.polynomial import legendre as npleg
 from scipy import linalg, optimize
 
+from paraflex_tools import mitc_plate
+from paraflex_tools.analytic import (ALU, BLEVINS, BLEVINS_TORSION, JONES, KAPPA_SHELL, LEISSA, ROARK, STEEL,
+                                     TIMOSHENKO_BEAM, timoshenko_dispersion, timoshenko_fe_1d)
+from paraflex_tools.cards import card, free_real
+
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
-sys.path.insert(0, os.path.join(ROOT, "tools", "calculix"))
-import macneal_harder  # noqa: E402  (the independent MITC plate of the thin strips)
 DECK_DIR = "decks/verify/analytic"
 REF_DIR = "reference/analytic"
 GENERATOR = "tools/analytic/make_cases.py"
-
-STEEL = {"E": 210.0e9, "nu": 0.3, "rho": 7850.0}
-ALU = {"E": 70.0e9, "nu": 0.33, "rho": 2700.0}
-KAPPA_SHELL = 5.0 / 6.0  # PSHELL TS/T written explicitly as 5/6
-
-BLEVINS = ('Blevins, R. D., "Formulas for Natural Frequency and Mode Shape", Van Nostrand '
-           'Reinhold 1979, Table 8-1 (uniform single-span Euler-Bernoulli beams, clamped-free)')
-BLEVINS_TORSION = ('Blevins 1979, Table 8-19 (torsional vibration of uniform shafts, fixed-free); '
-                   'Timoshenko & Goodier "Theory of Elasticity" 3rd ed. 1970, sec. 109 '
-                   '(torsion constant of a rectangle)')
-LEISSA = ('Leissa, A. W., "Vibration of Plates", NASA SP-160, 1969, ch. 4 (rectangular plate '
-          'simply supported on all edges, closed form) ')
-TIMOSHENKO_BEAM = ('Timoshenko beam frequency equation for clamped-free ends: Huang, T. C., '
-                   'J. Appl. Mech. 28 (1961) 579-584; shear coefficient of a rectangle: Cowper, '
-                   'J. Appl. Mech. 33 (1966) 335-340, kappa = 10(1+nu)/(12+11nu)')
-ROARK = ('Roark\'s Formulas for Stress and Strain (Young & Budynas, 7th ed. 2002), Table 8.1 '
-         'case 1a (cantilever, end load) plus the transverse shear deflection P L/(kappa G A)')
-JONES = ('Jones, R. M., "Mechanics of Composite Materials", 2nd ed. 1999, eqs. 2.84-2.85 '
-         '(reduced stiffness Q), 2.85 (transformed Qbar), 4.22-4.24 (A, B, D)')
 
 
 # ----------------------------------------------------------------------------------------------
 # deck writing (free field)
 # ----------------------------------------------------------------------------------------------
-
-def r(x):
-    """A real for a free-field deck: shortest round-trip repr, always with a decimal point."""
-    s = repr(float(x))
-    if "e" in s or "E" in s:
-        mant, exp = s.split("e")
-        if "." not in mant:
-            mant += "."
-        return mant + "E" + exp
-    return s
-
-
-def card(name, *fields):
-    """Free-field card, 8 data fields per line, '+' continuation lines."""
-    f = ["" if v is None else (r(v) if isinstance(v, float) else str(v)) for v in fields]
-    lines = [",".join([name] + f[:8])]
-    rest = f[8:]
-    while rest:
-        lines.append(",".join(["+"] + rest[:8]))
-        rest = rest[8:]
-    return "\n".join(lines)
-
 
 def spc1(sid, comps, grids):
     return card("SPC1", sid, comps, *grids)
@@ -94,7 +56,7 @@ def write_deck(relpath, header, sol, case_lines, bulk):
     out.append("CEND")
     out.extend(case_lines)
     out.append("BEGIN BULK")
-    out.extend(bulk)
+    out.extend(entry.removesuffix("\n") for entry in bulk)  # cards end with a newline
     out.append("ENDDATA")
     with open(path, "w") as fh:
         fh.write("\n".join(out) + "\n")
@@ -232,54 +194,6 @@ def timoshenko_cf_huang(L, EI, kGA, mA, mI, f_guess, span=0.35):
             last = (a, b)
     a, b = last
     return optimize.brentq(g, a, b, xtol=1e-13, rtol=1e-15)
-
-
-def timoshenko_fe_1d(L, EI, kGA, mA, mI, n, nmodes, bc="cf", load=None, full=False):
-    """1D analogue of the shell/solid elements: two-node Timoshenko elements, linear w and psi,
-    one-point (constant) transverse shear strain (the MITC4 tying gives exactly this in
-    cylindrical bending), consistent translational and rotary mass.  bc: 'cf' clamped-free,
-    'ss' simply supported.  Returns frequencies (Hz) or, with load=P, the tip deflection (with
-    full=True the nodal vector [w0, psi0, w1, psi1, ...] of every node)."""
-    h = L / n
-    nd = 2 * (n + 1)
-    K = np.zeros((nd, nd))
-    M = np.zeros((nd, nd))
-    kb = EI / h * np.array([[0, 0, 0, 0], [0, 1, 0, -1], [0, 0, 0, 0], [0, -1, 0, 1.0]])
-    B = np.array([-1 / h, -0.5, 1 / h, -0.5])
-    ks = kGA * h * np.outer(B, B)
-    mw = mA * h / 6 * np.array([[2, 1], [1, 2.0]])
-    mr = mI * h / 6 * np.array([[2, 1], [1, 2.0]])
-    for e in range(n):
-        d = [2 * e, 2 * e + 1, 2 * e + 2, 2 * e + 3]
-        K[np.ix_(d, d)] += kb + ks
-        M[np.ix_([d[0], d[2]], [d[0], d[2]])] += mw
-        M[np.ix_([d[1], d[3]], [d[1], d[3]])] += mr
-    if bc == "cf":
-        free = list(range(2, nd))
-    else:
-        free = [i for i in range(nd) if i not in (0, nd - 2)]
-    Kf, Mf = K[np.ix_(free, free)], M[np.ix_(free, free)]
-    if load is not None:
-        F = np.zeros(nd)
-        F[nd - 2] = load
-        u = np.linalg.solve(Kf, F[free])
-        if full:
-            out = np.zeros(nd)
-            out[free] = u
-            return out
-        return u[free.index(nd - 2)]
-    lam = linalg.eigh(Kf, Mf, eigvals_only=True, subset_by_index=[0, nmodes - 1])
-    return np.sqrt(lam) / (2 * math.pi)
-
-
-def timoshenko_dispersion(k, EI, kGA, mA, mI):
-    """Flexural branch of the Timoshenko / Mindlin dispersion relation (lower root in w^2):
-    (mA w^2 - kGA k^2)(mI w^2 - EI k^2 - kGA) - (kGA k)^2 = 0."""
-    a = mA * mI
-    b = -(mA * (EI * k * k + kGA) + mI * kGA * k * k)
-    c = kGA * k * k * EI * k * k
-    w2 = 2 * c / (-b + math.sqrt(b * b - 4 * a * c))  # the small root, without cancellation
-    return math.sqrt(w2) / (2 * math.pi)
 
 
 def torsion_constant_rect(a, b, nterms=200):
@@ -1248,17 +1162,17 @@ def thin_strip_mesh(nx, ny, L, b, distorted):
 
 def independent_plate(grids, elems, thick, kappa, rho, nx, ny):
     """Per thickness, the tip deflection (mean T3 of the tip grids under the deck's consistent tip
-    forces) and f1, f2 of the strip as an independent MITC plate (macneal_harder.mitc_plate), and
+    forces) and f1, f2 of the strip as an independent MITC plate (paraflex_tools.mitc_plate), and
     the relative bound 1e-12 (L/t)^2 (L = 1) of paraflex's agreement with it."""
     nodes = {g: (x, y, z) for g, x, y, z in grids}
     clamp = [g for g, x, y, z in grids if x == 0.0]
     values, tols = {}, {}
     for key, th in thick.items():
-        c = macneal_harder.Case("thin", "thin strip", "", "", nodes, elems, clamp, STEEL["E"], 0.0, th["t"])
+        c = mitc_plate.FlatPlate(nodes, elems, clamp, STEEL["E"], 0.0, th["t"])
         forces = tip_edge_forces(nx, ny, th["P"])
-        u = macneal_harder.mitc_plate(c, [(g, 3, force) for g, force in forces], kappa)
+        u = mitc_plate.mitc_plate(c, [(g, 3, force) for g, force in forces], kappa)
         tip = float(np.mean([u[g][2] for g, _ in forces]))
-        values[key] = [tip] + macneal_harder.mitc_plate_modes(c, rho, 2, kappa)
+        values[key] = [tip] + mitc_plate.mitc_plate_modes(c, rho, 2, kappa)
         tols[key] = float("%.0e" % (1e-12 / th["t_over_L"] ** 2))
     return values, tols
 
@@ -1537,7 +1451,7 @@ def case_frf_sdof(write):
     if write:
         bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("CONM2", 1, 1, 0, m),
                 card("CELAS2", 11, k, 1, 1), spc1(1, "23456", [1]),
-                "PARAM,ALPHA1,%s" % r(alpha), "PARAM,BETA1,%s" % r(beta),
+                "PARAM,ALPHA1,%s" % free_real(alpha), "PARAM,BETA1,%s" % free_real(beta),
                 card("FREQ", 5, *[float(f) for f in hz]),
                 card("RLOAD1", 7, 8, delay, phase_deg, 20, 21), card("DAREA", 8, 1, 1, A),
                 tabled1(20, [(0.0, 1.0), (200.0, 2.0)]),
@@ -1605,7 +1519,7 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
         bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("GRID", 2, None, 1.0, 0.0, 0.0),
                 card("CONM2", 1, 1, 0, m1), card("CONM2", 2, 2, 0, m2),
                 card("CELAS2", 11, k1, 1, 1), card("CELAS2", 12, k2, 1, 1, 2, 1),
-                spc1(1, "23456", [1, 2]), "PARAM,ALPHA1,%s" % r(alpha), "PARAM,BETA1,%s" % r(beta),
+                spc1(1, "23456", [1, 2]), "PARAM,ALPHA1,%s" % free_real(alpha), "PARAM,BETA1,%s" % free_real(beta),
                 card("FREQ", 5, *[float(f) for f in hz]), card("EIGRL", 10, None, None, 2),
                 card("RLOAD1", 7, 8, None, None, 20), card("DAREA", 8, 1, 1, 1.0, 2, 1, 1.0),
                 tabled1(20, [(0.0, 1.0), (1000.0, 1.0)]),
@@ -1613,7 +1527,7 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
                 card("SENSOR", 2, "V2", "VEL", 2, None, 1.0, 0.0, 0.0),
                 card("SENSOR", 3, "A1", "ACCEL", 1, None, 2.0, 0.0, 0.0)]
         if g:
-            bulk.append("PARAM,G,%s" % r(g))
+            bulk.append("PARAM,G,%s" % free_real(g))
         for deck, sol in zip(decks, (108, 111)):
             write_deck(deck, ["analytic case %s: CONM2 %g and %g kg on T1, CELAS2 ground-m1 %g "
                               "N/m and m1-m2 %g N/m, Rayleigh alpha %g, beta %g%s; SOL %d"

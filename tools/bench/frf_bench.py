@@ -38,17 +38,16 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import shutil
-import subprocess
 import sys
 import tempfile
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
-import h5py
 import numpy as np
 
-REPO = Path(__file__).resolve().parents[2]
+from paraflex_tools import REPO
+from paraflex_tools.results import read_frf
+from paraflex_tools.runner import default_binary, run_checked
 
 
 def medium_mesh(out: Path) -> Path:
@@ -64,23 +63,14 @@ def medium_mesh(out: Path) -> Path:
 
 
 def run(binary: str, deck: Path, out: Path) -> float:
-    start = time.perf_counter()
-    p = subprocess.run([binary, "run", str(deck), "-o", str(out)], capture_output=True, text=True)
-    wall = time.perf_counter() - start
-    if p.returncode != 0:
-        sys.exit(f"{deck.name} failed ({p.returncode}):\n{p.stdout}\n{p.stderr}")
-    return wall
+    return run_checked(deck, out, binary).seconds
 
 
 def read(path: Path, keep: list[str]) -> tuple[np.ndarray, np.ndarray]:
     """H restricted to the outputs and inputs named in `keep`, lines × outputs × inputs."""
-    with h5py.File(path, "r") as f:
-        g = f["results/1/frf"]
-        hz = g["frequency_hz"][()]
-        h = g["H"][()]
-        outs = [s.decode() if isinstance(s, bytes) else s for s in g["outputs"][()]]
-        ins = [s.decode() if isinstance(s, bytes) else s for s in g["inputs"][()]]
-    return hz, h[:, [outs.index(k) for k in keep]][:, :, [ins.index(k) for k in keep]]
+    frf = read_frf(path)
+    h = frf.H[:, [frf.outputs.index(k) for k in keep]][:, :, [frf.inputs.index(k) for k in keep]]
+    return frf.frequency_hz, h
 
 
 @dataclass
@@ -130,7 +120,7 @@ def main() -> int:
     ap.add_argument("--lines", type=int, default=100)
     ap.add_argument("--fmax", type=float, default=500.0)
     ap.add_argument("--modal-fmax", type=float, default=2000.0)
-    ap.add_argument("--paraflex", default=str(REPO / "target" / "release" / "paraflex"))
+    ap.add_argument("--paraflex", default=str(default_binary()))
     ap.add_argument("--workdir", type=Path, default=Path(tempfile.gettempdir()))
     ap.add_argument("--keep", action="store_true")
     args = ap.parse_args()

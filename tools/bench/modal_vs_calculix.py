@@ -41,6 +41,9 @@ from pathlib import Path
 
 import numpy as np
 
+from paraflex_tools.results import modal_frequencies
+from paraflex_tools.runner import default_binary
+
 ROOT = Path(__file__).resolve().parents[2]
 CCX = shutil.which("ccx") or "/usr/bin/ccx"
 TIME = "/usr/bin/time"
@@ -312,19 +315,6 @@ def run_calculix(work: Path, threads: int, reuse: Path | None = None) -> Run:
     return r
 
 
-def default_paraflex() -> Path:
-    if os.environ.get("PARAFLEX"):
-        return Path(os.environ["PARAFLEX"])
-    cands = []
-    if os.environ.get("CARGO_TARGET_DIR"):
-        cands.append(Path(os.environ["CARGO_TARGET_DIR"]) / "release/paraflex")
-    cands += [Path("/work/target-bench/release/paraflex"), ROOT / "target/release/paraflex"]
-    for c in cands:
-        if c.exists():
-            return c
-    return cands[0]
-
-
 def parse_paraflex_stdout(text: str) -> list[float]:
     out = []
     pat = re.compile(r"^\s+(\d+)\s+([-+]?\d\.\d+E[-+]\d+)\s+([-+]?\d\.\d+E[-+]\d+)\s+(\S+)\s*$")
@@ -352,10 +342,7 @@ def run_paraflex(work: Path, threads: int, binary: Path) -> Run:
                 l.strip() for l in log.splitlines() if "error" in l.lower())[:400]
         return r
     try:
-        import h5py  # noqa: PLC0415
-
-        with h5py.File(h5, "r") as f:
-            r.freqs = [float(x) for x in f["/results/1/modal/frequency_hz"][()]]
+        r.freqs = [float(x) for x in modal_frequencies(h5)]
     except Exception as e:  # noqa: BLE001
         r.freqs = parse_paraflex_stdout(log)
         r.details.append(f"frequencies from stdout ({type(e).__name__}: {e})")
@@ -430,7 +417,7 @@ def main() -> int:
     ap.add_argument("--threads", type=int, choices=[1, 2], default=1)
     ap.add_argument("--only", choices=["paraflex", "calculix"], help="run one code only")
     ap.add_argument("--paraflex", type=Path, default=None, help="paraflex binary (default: $PARAFLEX, "
-                    "$CARGO_TARGET_DIR/release, /work/target-bench/release, target/release)")
+                    "$CARGO_TARGET_DIR/release, target/release)")
     ap.add_argument("--ccx-element", default="C3D8I", choices=["C3D8I", "C3D8"],
                     help="CalculiX element (C3D8I = paraflex's CHEXA formulation; C3D8 only for experiments)")
     ap.add_argument("--autospc", action="store_true",
@@ -459,7 +446,7 @@ def main() -> int:
             print(f"running CalculiX ({a.threads} thread(s)) ...", flush=True)
             runs.append(run_calculix(work, a.threads, a.calculix_from))
         if a.only != "calculix":
-            binary = a.paraflex or default_paraflex()
+            binary = a.paraflex or default_binary()
             print(f"running paraflex {binary} ({a.threads} thread(s)) ...", flush=True)
             runs.append(run_paraflex(work, a.threads, binary))
         report(mesh, a.modes, runs, ccx_eigensolver(), ccx_version(), a.ccx_element)

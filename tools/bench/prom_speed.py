@@ -19,20 +19,19 @@ needs `cargo build --release` and `cargo build --release --example prom_eval` (m
 from __future__ import annotations
 
 import argparse
-import os
 import re
 import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
 import h5py
 import numpy as np
 
-REPO = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(REPO / "tools" / "prom"))
-from angle_sweep import rom_deck as theta_rom_deck, theta_box  # noqa: E402
-from error_map import absolute_includes, frf, inline_material, rom_deck as e_rho_rom_deck  # noqa: E402
+from paraflex_tools import REPO
+from paraflex_tools.prom_decks import (absolute_includes, frf, inline_material, rom_deck_e_rho, rom_deck_theta,
+                                       theta_box)
+from paraflex_tools.results import texts
+from paraflex_tools.runner import default_binary, run_checked
 
 CASES = {
     "blade40": ("decks/blade/blade_prom_e_rho.dat", "71:3"),
@@ -44,10 +43,7 @@ SKIPPED_PHASES = ("output", "sensor rows")
 
 
 def run_timed(paraflex: str, deck: Path, out: Path) -> dict[str, float]:
-    r = subprocess.run([paraflex, "run", str(deck), "-o", str(out)], capture_output=True, text=True)
-    if r.returncode != 0:
-        raise SystemExit(f"paraflex failed on {deck}:\n{r.stderr}")
-    line = next(l for l in r.stdout.splitlines() if l.startswith("timings:"))
+    line = next(l for l in run_checked(deck, out, paraflex).stdout.splitlines() if l.startswith("timings:"))
     body = line[len("timings:"):].split(";")[0]
     return {name.strip(): float(sec) for name, sec in re.findall(r"([^,]+?) ([0-9.eE+-]+) s", body)}
 
@@ -55,18 +51,17 @@ def run_timed(paraflex: str, deck: Path, out: Path) -> dict[str, float]:
 def build_log(path: Path):
     with h5py.File(path, "r") as f:
         b = f["prom/build"]
-        phases = [x.decode() if isinstance(x, bytes) else x for x in b.attrs["timing_phases"]]
+        phases = texts(b.attrs["timing_phases"])
         return (dict(zip(phases, b["timings"][:])), int(f["prom"].attrs["n_red"]), int(f["prom"].attrs["n_full"]),
-                list(zip(b["size_history"][:].astype(int), b["error_history"][:])), [x.decode() if isinstance(x, bytes) else x for x in f["prom"].attrs["params"]])
+                list(zip(b["size_history"][:].astype(int), b["error_history"][:])), texts(f["prom"].attrs["params"]))
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--cases", default=",".join(CASES))
     ap.add_argument("--evaluations", type=int, default=2000)
-    target = os.environ.get("CARGO_TARGET_DIR", str(REPO / "target"))
-    ap.add_argument("--paraflex", default=os.path.join(target, "release", "paraflex"))
-    ap.add_argument("--prom-eval", default=os.path.join(target, "release", "examples", "prom_eval"))
+    ap.add_argument("--paraflex", default=str(default_binary()))
+    ap.add_argument("--prom-eval", default=str(default_binary().parent / "examples" / "prom_eval"))
     args = ap.parse_args()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -84,7 +79,7 @@ def main() -> None:
             if "THETA" in params:
                 name, pid, lo, hi = theta_box(text, deck_path)
                 points = [lo + t * (hi - lo) for t in (0.25, 0.5, 0.75)]
-                decks = [(theta_rom_deck(text, pid, th), f"PVAL,1,{name},{th!r}\n") for th in points]
+                decks = [(rom_deck_theta(text, pid, th), f"PVAL,1,{name},{th!r}\n") for th in points]
             else:
                 pm = dict((k, (n, int(r), float(a), float(b))) for _, n, k, r, a, b in re.findall(r"^PMPAR,(\d+),(\w+),(\w+),(\d+),([^,\n]+),([^,\n]+)$", text, flags=re.M))
                 mid = pm["E"][1]
@@ -94,7 +89,7 @@ def main() -> None:
                 decks = []
                 for te, tr in corners:
                     e, rho = box[0][0] + te * (box[0][1] - box[0][0]), box[1][0] + tr * (box[1][1] - box[1][0])
-                    decks.append((e_rho_rom_deck(text, mid, e, rho), f"PVAL,1,{pm['E'][0]},{e!r},{pm['RHO'][0]},{rho!r}\n"))
+                    decks.append((rom_deck_e_rho(text, mid, e, rho), f"PVAL,1,{pm['E'][0]},{e!r},{pm['RHO'][0]},{rho!r}\n"))
             errors, rereduce = [], []
             for k, (rom_text, pval) in enumerate(decks):
                 deck = work / f"{case}_rom{k}.dat"

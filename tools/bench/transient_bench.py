@@ -36,6 +36,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+from paraflex_tools.results import transient_series
+from paraflex_tools.runner import default_binary, run_checked
+
 ROOT = Path(__file__).resolve().parents[2]
 METHODS = [("BDF1", ""), ("BDF2", "TINTEG,1,BDF2\n"), ("GALPHA 0.8", "TINTEG,1,GALPHA,0.8\n"), ("GALPHA 1.0", "TINTEG,1,GALPHA,1.\n")]
 STEPS = [4e-4, 2e-4, 1e-4, 5e-5]
@@ -70,10 +73,8 @@ def deck(scene: Scene, rom: Path, csv: Path, dt: float, tinteg: str) -> str:
 def run(exe: Path, path: Path, out: Path) -> tuple[float, float]:
     """(wall time of the "pROM transient" step, CPU time of the whole process) in seconds."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    r = subprocess.run([str(exe), "run", str(path), "-o", str(out)], capture_output=True, text=True)
+    r = run_checked(path, out, exe)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    if r.returncode != 0:
-        sys.exit(f"{path}: paraflex failed\n{r.stdout}{r.stderr}")
     m = re.search(r"pROM transient ([0-9.]+) s", r.stdout)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     return (float(m.group(1)) if m else float("nan")), cpu
@@ -82,17 +83,13 @@ def run(exe: Path, path: Path, out: Path) -> tuple[float, float]:
 def series(out: Path, output: tuple[str, str]) -> tuple[np.ndarray, np.ndarray]:
     with h5py.File(out, "r") as f:
         g = f["results/1/transient"]
-        kind, name = output
-        if kind == "sensors":
-            return g["time"][:], g["sensors"][name][:]
-        names = [x.decode() if isinstance(x, bytes) else str(x) for x in g["outputs"][:]]
-        return g["time"][:], g[kind][:, names.index(name)]
+        return g["time"][:], transient_series(g, *output)
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scene", choices=sorted(SCENES), default="blade")
-    ap.add_argument("--paraflex", type=Path, default=ROOT / "target/release/paraflex")
+    ap.add_argument("--paraflex", type=Path, default=default_binary())
     ap.add_argument("--dt", type=float, nargs="+", default=STEPS, help=f"time steps [s] (default {STEPS})")
     ap.add_argument("--repeat", type=int, default=3, help="runs per method and step; the table shows the best")
     ap.add_argument("--keep", type=Path, default=None, help="work directory to keep (default: a temp dir)")
@@ -101,7 +98,7 @@ def main() -> None:
     work = a.keep or Path(tempfile.mkdtemp(prefix="paraflex_tr_bench_"))
     work.mkdir(parents=True, exist_ok=True)
     rom = work / f"{a.scene}_prom.h5"
-    subprocess.run([str(a.paraflex), "run", str(scene.prom_deck), "-o", str(rom)], check=True, capture_output=True)
+    run_checked(scene.prom_deck, rom, a.paraflex)
     csv = work / "force.csv"
     subprocess.run([sys.executable, str(ROOT / "tools/signals/make_signal.py"), "random", "-o", str(csv), "--band", str(scene.band[0]), str(scene.band[1]),
                     "--rms", "1", "--seed", "7", "--duration", str(T_END), "--dt", "1e-4"], check=True, capture_output=True)

@@ -36,7 +36,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from pyNastran.bdf.field_writer_8 import print_card_8
+
+from paraflex_tools.cards import card
 
 ROOT = Path(__file__).resolve().parents[2]
 DECKS = ROOT / "decks" / "verify"
@@ -57,10 +58,6 @@ BEAM_ROOT_2 = 4.6940911329741745
 def c(x: float) -> float:
     """Coordinates rounded so that the Nastran and CalculiX decks carry identical values."""
     return round(float(x), 10)
-
-
-def card(fields: list) -> str:
-    return print_card_8(fields)
 
 
 def fnum(x: float) -> str:
@@ -174,23 +171,23 @@ def nastran_header(title: str, nmodes: int, spc: bool, comments: list[str]) -> s
         out.append("SPC = 1")
     out += ["BEGIN BULK",
             "$ coupled (consistent) mass, as CalculiX uses; paraflex's default is lumped (-1) like Nastran",
-            card(["PARAM", "COUPMASS", 1]).rstrip("\n"),
-            card(["EIGRL", 1, None, None, nmodes]).rstrip("\n")]
+            card("PARAM", "COUPMASS", 1, form="small").rstrip("\n"),
+            card("EIGRL", 1, None, None, nmodes, form="small").rstrip("\n")]
     return "\n".join(out) + "\n"
 
 
 def nastran_grids(nodes) -> str:
-    return "".join(card(["GRID", nid, None, x, y, z]) for nid, x, y, z in nodes)
+    return "".join(card("GRID", nid, None, x, y, z, form="small") for nid, x, y, z in nodes)
 
 
 def nastran_quads(quads, pid: int) -> str:
-    return "".join(card(["CQUAD4", eid, pid, *conn]) for eid, conn in quads)
+    return "".join(card("CQUAD4", eid, pid, *conn, form="small") for eid, conn in quads)
 
 
 def nastran_spc1(sid: int, comp: str, ids: list[int]) -> str:
     out = []
     for k in range(0, len(ids), 6):
-        out.append(card(["SPC1", sid, comp, *ids[k : k + 6]]))
+        out.append(card("SPC1", sid, comp, *ids[k : k + 6], form="small"))
     return "".join(out)
 
 
@@ -498,7 +495,7 @@ def case_plate(name: str, s8r: bool = True):
 
     dat = nastran_header(f"{name}: cantilever steel plate 0.4 x 0.3 x 0.004 m, 16 x 12 CQUAD4", nmodes, True,
                          ["clamped (123456) on the short edge x = 0; free elsewhere"])
-    dat += card(["PSHELL", 1, 1, t, 1, None, 1]) + card(["MAT1", 1, E, None, nu, rho])
+    dat += card("PSHELL", 1, 1, t, 1, None, 1, form="small") + card("MAT1", 1, E, None, nu, rho, form="small")
     dat += nastran_grids(nodes) + nastran_quads(quads, 1) + nastran_spc1(1, "123456", clamp) + "ENDDATA\n"
 
     def inp(etype: str, nds, els, clamp_ids):
@@ -564,8 +561,8 @@ def case_beam(name: str):
 
     dat = nastran_header(f"{name}: aluminium cantilever 1.0 x 0.05 x 0.1 m, 40 x 2 x 4 CHEXA", nmodes, True,
                          ["clamped (123) on the face x = 0; y is the 0.05 m, z the 0.1 m direction"])
-    dat += card(["PSOLID", 1, 1]) + card(["MAT1", 1, E, None, nu, rho]) + nastran_grids(nodes)
-    dat += "".join(card(["CHEXA", e, 1, *conn]) for e, conn in hexes) + nastran_spc1(1, "123", clamp) + "ENDDATA\n"
+    dat += card("PSOLID", 1, 1, form="small") + card("MAT1", 1, E, None, nu, rho, form="small") + nastran_grids(nodes)
+    dat += "".join(card("CHEXA", e, 1, *conn, form="small") for e, conn in hexes) + nastran_spc1(1, "123", clamp) + "ENDDATA\n"
 
     inp = f"** {name}: CalculiX C3D8I twin of decks/verify/{name}.dat (generated, do not edit)\n"
     inp += inp_nodes(nodes) + inp_elements("C3D8I", "EBEAM", hexes) + inp_nset("CLAMP", clamp)
@@ -618,7 +615,7 @@ def case_pcomp(name: str, theta: float):
     pc = ["PCOMP", 1, None, None, None, None, None, None, None]
     for a in plies:
         pc += [1, t_ply, ang(a), None]
-    dat += card(pc) + card(["MAT8", 1, m["E1"], m["E2"], m["nu12"], m["G12"], m["G1Z"], m["G2Z"], m["rho"]])
+    dat += card(*pc, form="small") + card("MAT8", 1, m["E1"], m["E2"], m["nu12"], m["G12"], m["G1Z"], m["G2Z"], m["rho"], form="small")
     dat += nastran_grids(nodes) + nastran_quads(quads, 1) + nastran_spc1(1, "123456", clamp) + "ENDDATA\n"
 
     def inp_for(g8: Quad8Grid) -> str:
@@ -704,12 +701,12 @@ def case_rbe(name: str):
                          [f"{RBE_N} x {RBE_N} CQUAD4; CELAS2 k = 1e5 N/m to ground in T1, T2, T3 at the four corner grids;",
                           f"CONM2 0.5 kg (I11 = I22 = 1e-4, I33 = 2e-4 kg m^2) on grid {mnode} at (0, 0, 0.05),",
                           f"RBE2 {mnode} -> the {len(central)} grids with |x|, |y| <= 25 mm, CM = 123456. No SPC: free otherwise"])
-    dat += card(["PSHELL", 1, 1, t, 1, None, 1]) + card(["MAT1", 1, E, None, nu, rho])
+    dat += card("PSHELL", 1, 1, t, 1, None, 1, form="small") + card("MAT1", 1, E, None, nu, rho, form="small")
     dat += nastran_grids(nodes + [(mnode, 0.0, 0.0, hz)]) + nastran_quads(quads, 1)
     for eid, gid, comp in springs:
-        dat += card(["CELAS2", eid, k, gid, comp])
-    dat += card(["CONM2", conm2_eid, mnode, 0, mass, 0.0, 0.0, 0.0, None, I11, 0.0, I22, 0.0, 0.0, I33])
-    dat += card(["RBE2", rbe2_eid, mnode, 123456, *central]) + "ENDDATA\n"
+        dat += card("CELAS2", eid, k, gid, comp, form="small")
+    dat += card("CONM2", conm2_eid, mnode, 0, mass, 0.0, 0.0, 0.0, None, I11, 0.0, I22, 0.0, 0.0, I33, form="small")
+    dat += card("RBE2", rbe2_eid, mnode, 123456, *central, form="small") + "ENDDATA\n"
 
     # CalculiX: ccx 2.20 has no *ROTARY INERTIA, so the CONM2 is replaced by an exactly equivalent
     # rigid cluster of four point masses 0.125 kg at (+-r, 0, 0.05), (0, +-r, 0.05), r = 0.02 m:
@@ -1037,8 +1034,7 @@ def main(argv=None) -> int:
                     help="the MacNeal-Harder static cases (tools/calculix/macneal_harder.py) instead")
     args = ap.parse_args(argv)
     if args.hard:
-        sys.path.insert(0, str(Path(__file__).resolve().parent))
-        import macneal_harder
+        import macneal_harder  # next to this script
 
         for line in macneal_harder.run_all(run_ccx, WORK, CCX_COMMAND, ccx_version()):
             print(line)

@@ -58,6 +58,8 @@ from pathlib import Path
 import numpy as np
 from pyNastran.bdf.bdf import BDF
 from pyNastran.bdf.bdf_interface.utils import to_fields
+
+from paraflex_tools.cards import card as free_card
 from pyNastran.bdf.case_control_deck import CaseControlDeck
 
 REPO = Path(__file__).resolve().parents[2]
@@ -623,7 +625,8 @@ def small_to_free(text: str) -> str:
 
     Lines up to and including BEGIN BULK, comments and ENDDATA are copied.
     Each bulk card is split into fields with pyNastran's ``to_fields`` and
-    re-emitted as ``NAME,f2..f9`` plus ``+,f10..f17`` continuation lines.
+    re-emitted as ``NAME,f2..f9`` plus ``+,f10..f17`` continuation lines (free form of
+    :func:`paraflex_tools.cards.card`).
     """
     out: list[str] = []
     lines = text.splitlines()
@@ -639,11 +642,7 @@ def small_to_free(text: str) -> str:
         assert all(len(f) <= 8 for f in fields), fields
         while len(fields) > 1 and fields[-1] == "":
             fields.pop()
-        first, rest = fields[:9], fields[9:]
-        out.append(",".join([name] + first[1:]))
-        for i in range(0, len(rest), 8):
-            chunk = rest[i:i + 8]
-            out.append(",".join(["+"] + chunk))
+        out.append(free_card(name, *fields[1:]).removesuffix("\n"))
         card.clear()
 
     for line in lines[ibulk + 1:]:

@@ -30,6 +30,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+from paraflex_tools.results import texts
+from paraflex_tools.runner import default_binary, run
+
 ROOT = Path(__file__).resolve().parents[2]
 DT, STEPS = 1e-4, 10000
 E, RHO = 116.04e9, 4873.0
@@ -68,20 +71,16 @@ EKF_CARD = {"E, input (IC)": "EKF,1,,1.E-2\n"}
 SIGMA = {"D": 1e-7, "A": 1e-3, "S": 1e-7}
 
 
-def run(paraflex: str, deck: Path, out: Path) -> subprocess.CompletedProcess:
-    return subprocess.run([paraflex, "run", str(deck), "-o", str(out)], capture_output=True, text=True)
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--paraflex", default=str(ROOT / "target/release/paraflex"))
+    ap.add_argument("--paraflex", default=str(default_binary()))
     ap.add_argument("-o", "--output", required=True)
     args = ap.parse_args()
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         prom = tmp / "blade_prom.h5"
-        r = run(args.paraflex, ROOT / "decks/estimate/blade_prom_sensors.dat", prom)
+        r = run(ROOT / "decks/estimate/blade_prom_sensors.dat", prom, args.paraflex)
         assert r.returncode == 0, r.stderr
         t = np.arange(STEPS + 2) * DT
         for load, fn in LOADS.items():
@@ -96,7 +95,7 @@ def main() -> None:
             pval = f"PVAL,1,E,{E:e},RHO,{RHO!r}\n" if e_card else f"PVAL,1,RHO,{RHO!r}\n"
             deck.write_text(f"SOL 112\nCEND\nROM = '{prom}'\nPVAL = 1\nTSTEP = 1\nDLOAD = 7\n{case_control}BEGIN BULK\n{pval}{bulk}"
                             f"TSTEP,1,{STEPS},{DT:e},1\nTLOAD1,7,8,,,9\nDAREA,8,71,3,1.\nTABLEF,9,'load_{load}.csv',time,force\nENDDATA\n")
-            r = run(args.paraflex, deck, tmp / f"tr_{k}.h5")
+            r = run(deck, tmp / f"tr_{k}.h5", args.paraflex)
             assert r.returncode == 0, r.stderr
             meas = tmp / f"meas_{k}.csv"
             subprocess.run([sys.executable, str(ROOT / "tools/estimate/make_measurements.py"), str(tmp / f"tr_{k}.h5"), "-o", str(meas),
@@ -121,7 +120,7 @@ def main() -> None:
                                 + unknowns.format(e0=1.25 * E, r0=0.7 * RHO)
                                 + f"MEASF,2,'meas_{k}.csv',time\n{meas}{cards}ENDDATA\n")
                 out = tmp / f"est_{load}.h5"
-                r = run(args.paraflex, deck, out)
+                r = run(deck, out, args.paraflex)
                 if r.returncode != 0:
                     cause = re.sub(r"\s+", " ", r.stderr.strip())
                     rows.append({"unknowns": name, "load": data, "parameter": "unobservable", "min": "", "avg": "", "max": "", "bound": "", "note": cause})
@@ -130,7 +129,7 @@ def main() -> None:
                 with h5py.File(out, "r") as f:
                     g = f["results/1/estimate"]
                     table = g["error_table"][()]
-                    names = [s.decode() if isinstance(s, bytes) else s for s in g["error_table"].attrs["rows"]]
+                    names = texts(g["error_table"].attrs["rows"])
                     speed = float(g.attrs["steps_per_second"])
                     time, force = g["time"][()], (g["inputs/71:3"][()] if "inputs/71:3" in g else None)
                 if not names:  # no parameter: the input against the true load over the last 20 %

@@ -19,6 +19,8 @@ import sys
 import h5py
 import numpy as np
 
+from paraflex_tools.results import text, texts
+
 
 def parse_pairs(items: list[str], what: str) -> dict[str, str]:
     out = {}
@@ -52,9 +54,8 @@ def main() -> None:
         prom = f.get("prom/sensors")
         rom_path = g.attrs.get("rom")
         if prom is None and rom_path is not None:
-            with h5py.File(rom_path if isinstance(rom_path, str) else rom_path.decode(), "r") as r:
-                kinds = dict(zip([s.decode() if isinstance(s, bytes) else s for s in r["prom/sensors/names"][()]],
-                                 [s.decode() if isinstance(s, bytes) else s for s in r["prom/sensors/kind"][()]]))
+            with h5py.File(text(rom_path), "r") as r:
+                kinds = dict(zip(texts(r["prom/sensors/names"][()]), texts(r["prom/sensors/kind"][()])))
     rng = np.random.default_rng(args.seed)
     keep = time >= args.start - 1e-12
     columns = {"time": time[keep] - args.start}

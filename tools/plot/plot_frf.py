@@ -11,20 +11,18 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import h5py
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from paraflex_tools.results import read_frf  # noqa: E402
+
 
 def read(path: Path, subcase: str):
-    with h5py.File(path, "r") as f:
-        g = f[f"results/{subcase}/frf"]
-        names = lambda d: [x.decode() if isinstance(x, bytes) else str(x) for x in g[d][:]]  # noqa: E731
-        values = dict(zip([p.decode() if isinstance(p, bytes) else str(p) for p in g.attrs.get("params", [])], g.attrs.get("values", [])))
-        return g["frequency_hz"][:], g["H"][:], names("outputs"), names("inputs"), values
+    frf = read_frf(path, subcase)
+    return frf.frequency_hz, frf.H, frf.outputs, frf.inputs, frf.params
 
 
 def main() -> None:

@@ -24,20 +24,20 @@ import matplotlib.pyplot as plt  # noqa: E402
 from mpl_toolkits.axes_grid1.inset_locator import inset_axes, mark_inset  # noqa: E402
 import numpy as np  # noqa: E402
 
+from paraflex_tools.results import texts, transient_series  # noqa: E402
+
 
 def read(path: Path, subcase: str, series: str | None):
     with h5py.File(path, "r") as f:
         g = f[f"results/{subcase}/transient"]
         t = g["time"][:]
         if series is None:
-            series = f"sensors/{sorted(g['sensors'])[0]}" if "sensors" in g else "displacement:" + g["outputs"][0].decode()
-        if series.startswith("sensors/"):
-            return t, g[series][:], series
-        kind, name = series.split(":", 1)
-        outputs = [x.decode() if isinstance(x, bytes) else str(x) for x in g["outputs"][:]]
-        if name not in outputs:
-            raise SystemExit(f"{path}: no output {name} (outputs: {', '.join(outputs)})")
-        return t, g[kind][:, outputs.index(name)], series
+            series = f"sensors/{sorted(g['sensors'])[0]}" if "sensors" in g else "displacement:" + texts(g["outputs"][:1])[0]
+        kind, name = series.split("/", 1) if series.startswith("sensors/") else series.split(":", 1)
+        try:
+            return t, transient_series(g, kind, name), series
+        except KeyError as e:
+            raise SystemExit(f"{path}: {e.args[0]}") from None
 
 
 def main() -> None:

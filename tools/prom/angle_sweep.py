@@ -19,9 +19,7 @@ from __future__ import annotations
 
 import argparse
 import csv
-import os
 import re
-import sys
 import tempfile
 from pathlib import Path
 
@@ -32,39 +30,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from error_map import REPO, absolute_includes, frf, one_sample_whole_basis, run  # noqa: E402
-
-PMPAR_RE = r"^PMPAR,(\d+),(\w+),THETA,(\d+),([^,\n]+),([^,\n]+)$"
-
-
-def theta_box(text: str, deck: Path):
-    m = re.search(PMPAR_RE, text, flags=re.M)
-    if m is None:
-        raise SystemExit(f"{deck}: needs one PMPAR of kind THETA")
-    return m.group(2), int(m.group(3)), float(m.group(4)), float(m.group(5))
-
-
-def rom_deck(text: str, pid: int, theta: float) -> str:
-    """The deck at Θ: PCOMP ply angles ±Θ, zero-width THETA box, one sample with its whole
-    local basis."""
-    lines = text.splitlines()
-    out, in_pcomp = [], False
-    for line in lines:
-        if line.startswith("PCOMP,"):
-            in_pcomp = int(line.split(",")[1]) == pid
-        elif not line.startswith(","):
-            in_pcomp = False
-        if in_pcomp and line.startswith(","):
-            f = line.split(",")
-            for k in range(3, len(f), 4):  # ply fields: MID T THETA SOUT, from field 1
-                if f[k].strip():
-                    f[k] = f"{'-' if f[k].strip().startswith('-') else ''}{theta!r}"
-            line = ",".join(f)
-        out.append(line)
-    text = "\n".join(out) + "\n"
-    text = re.sub(PMPAR_RE, lambda m: f"PMPAR,{m.group(1)},{m.group(2)},THETA,{m.group(3)},{theta!r},{theta!r}", text, flags=re.M)
-    return one_sample_whole_basis(text)
+from paraflex_tools.prom_decks import absolute_includes, frf, rom_deck_theta, theta_box  # noqa: E402
+from paraflex_tools.runner import default_binary, run_checked  # noqa: E402
 
 
 def main() -> None:
@@ -73,7 +40,7 @@ def main() -> None:
     ap.add_argument("--pair", required=True, help="input = output DOF, GRID:component")
     ap.add_argument("--step", type=float, default=2.0, help="sweep step in degrees over [0, 90]")
     ap.add_argument("--lines", type=int, default=250)
-    ap.add_argument("--paraflex", default=os.path.join(os.environ.get("CARGO_TARGET_DIR", str(REPO / "target")), "release", "paraflex"))
+    ap.add_argument("--paraflex", default=str(default_binary()))
     ap.add_argument("-o", "--output", type=Path, required=True)
     args = ap.parse_args()
     texts = [absolute_includes(d.read_text(), d.parent) for d in args.decks]
@@ -89,7 +56,7 @@ def main() -> None:
             built = work / f"prom{i}.dat"
             built.write_text(text)
             out = work / f"prom{i}.h5"
-            run(args.paraflex, built, out)
+            run_checked(built, out, args.paraflex)
             with h5py.File(out, "r") as f:
                 samples.append(f["prom/build/samples"][:, 0])
                 sizes.append(int(f["prom"].attrs["n_red"]))
@@ -98,9 +65,9 @@ def main() -> None:
         name, pid = boxes[0][0], boxes[0][1]
         for a, theta in enumerate(angles):
             deck = work / "rom.dat"
-            deck.write_text(rom_deck(texts[0], pid, theta))
+            deck.write_text(rom_deck_theta(texts[0], pid, theta))
             rom = work / "rom.h5"
-            run(args.paraflex, deck, rom)
+            run_checked(deck, rom, args.paraflex)
             pval = f"PVAL,1,{name},{theta!r}\n"
             _, h_rom = frf(args.paraflex, rom, pval, (0.0, fmax), args.lines, work, args.pair)
             for i, prom in enumerate(proms):

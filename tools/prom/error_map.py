@@ -18,9 +18,7 @@ from __future__ import annotations
 
 import argparse
 import csv
-import os
 import re
-import subprocess
 import tempfile
 from pathlib import Path
 
@@ -31,57 +29,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-REPO = Path(__file__).resolve().parents[2]
-
-
-def run(paraflex: str, deck: Path, out: Path) -> None:
-    r = subprocess.run([paraflex, "run", str(deck), "-o", str(out)], capture_output=True, text=True)
-    if r.returncode != 0:
-        raise SystemExit(f"paraflex failed on {deck}:\n{r.stderr}")
-
-
-def absolute_includes(text: str, base: Path) -> str:
-    return re.sub(r"INCLUDE\s+'([^']+)'", lambda m: f"INCLUDE '{(base / m.group(1)).resolve()}'", text)
-
-
-def frf(paraflex: str, artifact: Path, pval: str, band: tuple[float, float], lines: int, work: Path, pair: str):
-    deck = work / f"frf_{artifact.stem}.dat"
-    df = (band[1] - band[0]) / lines
-    deck.write_text(f"SOL 111\nCEND\nROM = '{artifact}'\nPVAL = 1\nFREQUENCY = 1\nBEGIN BULK\n{pval}"
-                    f"FREQ1,1,{max(band[0], df)!r},{df!r},{lines - 1}\nENDDATA\n")
-    out = work / f"frf_{artifact.stem}.h5"
-    run(paraflex, deck, out)
-    with h5py.File(out, "r") as f:
-        g = f["results/1/frf"]
-        names = [x.decode() for x in g["inputs"][:]]
-        k = names.index(pair)
-        return g["frequency_hz"][:], g["H"][:, k, k]
-
-
-def one_sample_whole_basis(text: str) -> str:
-    """The PMOR of a ROM of one point: NSAMP = 1 and ERRTOL = 1e-14, so the size selection keeps
-    the whole local basis (a reference ROM must not be truncated by it)."""
-    return re.sub(r"^PMOR,(\d+),\d+,([^,\n]+),([^,\n]+)(,[^,\n]*)?", r"PMOR,\1,1,\2,\3,1.e-14", text, flags=re.M)
-
-
-def rom_deck(text: str, mid: int, e: float, rho: float) -> str:
-    """The deck at (E, ρ): the MAT1 (free field, in `text`) at the point, a zero-width box and
-    one sample with its whole local basis."""
-    point = re.sub(rf"^(MAT1,{mid},)[^,]+(,[^,]*,[^,]+,)[^,\n]+", rf"\g<1>{e!r}\g<2>{rho!r}", text, flags=re.M)
-    point = re.sub(rf"^PMPAR,(\d+),(\w+),E,{mid},[^\n]+$", rf"PMPAR,\1,\2,E,{mid},{e!r},{e!r}", point, flags=re.M)
-    point = re.sub(rf"^PMPAR,(\d+),(\w+),RHO,{mid},[^\n]+$", rf"PMPAR,\1,\2,RHO,{mid},{rho!r},{rho!r}", point, flags=re.M)
-    return one_sample_whole_basis(point)
-
-
-def inline_material(text: str, mid: int) -> str:
-    """`text` with the include that holds MAT1 `mid` inlined (so rom_deck can change it)."""
-    mat_re = rf"^MAT1,{mid},([^,]+),([^,]*),([^,]+),([^,\n]+)"
-    if re.search(mat_re, text, flags=re.M) is None:
-        for inc in re.findall(r"INCLUDE '([^']+)'", text):
-            body = Path(inc).read_text()
-            if re.search(mat_re, body, flags=re.M):
-                return text.replace(f"INCLUDE '{inc}'", absolute_includes(body, Path(inc).parent))
-    return text
+from paraflex_tools.prom_decks import absolute_includes, frf, inline_material, rom_deck_e_rho  # noqa: E402
+from paraflex_tools.results import texts  # noqa: E402
+from paraflex_tools.runner import default_binary, run_checked  # noqa: E402
 
 
 def main() -> None:
@@ -91,7 +41,7 @@ def main() -> None:
     ap.add_argument("--grid", type=int, default=11)
     ap.add_argument("--span", type=float, nargs=2, default=(0.3, 1.7), help="factor range of the nominal values")
     ap.add_argument("--lines", type=int, default=250)
-    ap.add_argument("--paraflex", default=os.path.join(os.environ.get("CARGO_TARGET_DIR", str(REPO / "target")), "release", "paraflex"))
+    ap.add_argument("--paraflex", default=str(default_binary()))
     ap.add_argument("-o", "--output", type=Path, required=True)
     args = ap.parse_args()
     text = absolute_includes(args.deck.read_text(), args.deck.parent)
@@ -115,18 +65,18 @@ def main() -> None:
         prom = work / "prom.h5"
         built = work / "prom.dat"
         built.write_text(text)
-        run(args.paraflex, built, prom)
+        run_checked(built, prom, args.paraflex)
         with h5py.File(prom, "r") as f:
             samples = f["prom/build/samples"][:]
-            names = [x.decode() if isinstance(x, bytes) else x for x in f["prom"].attrs["params"]]
+            names = texts(f["prom"].attrs["params"])
         ie, ir = names.index(kinds["E"][0].upper()), names.index(kinds["RHO"][0].upper())
         for a, fe in enumerate(factors):
             for b, fr in enumerate(factors):
                 e, rho = e0 * fe, rho0 * fr
                 deck = work / "rom.dat"
-                deck.write_text(rom_deck(text, mid, e, rho))
+                deck.write_text(rom_deck_e_rho(text, mid, e, rho))
                 rom = work / "rom.h5"
-                run(args.paraflex, deck, rom)
+                run_checked(deck, rom, args.paraflex)
                 pval = f"PVAL,1,{kinds['E'][0]},{e!r},{kinds['RHO'][0]},{rho!r}\n"
                 _, h_rom = frf(args.paraflex, rom, pval, (0.0, fmax), args.lines, work, args.pair)
                 _, h_prom = frf(args.paraflex, prom, pval, (0.0, fmax), args.lines, work, args.pair)

@@ -20,9 +20,7 @@ coloured by displacement magnitude → docs/img/<deck stem>_mode<k>.png.
 from __future__ import annotations
 
 import argparse
-import os
 import re
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -35,6 +33,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 from pyNastran.bdf.bdf import BDF  # noqa: E402
+
+from paraflex_tools.runner import default_binary, run_checked  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[2]
 OUT = REPO / "docs" / "img"
@@ -111,7 +111,7 @@ def run_with_shapes(deck: Path, paraflex: Path, tmp: Path) -> Path:
     text = re.sub(r"(?im)^CEND\s*$", "CEND\nDISPLACEMENT(PLOT) = ALL", text, count=1)
     copy, out = tmp / deck.name, tmp / (deck.stem + ".h5")
     copy.write_text(text)
-    subprocess.run([str(paraflex), "run", str(copy), "-o", str(out)], check=True, stdout=subprocess.DEVNULL)
+    run_checked(copy, out, paraflex)
     return out
 
 
@@ -140,10 +140,6 @@ def render_modes(h5: Path, name: str, count: int) -> None:
                  f"{name}: mode {k + 1}, {freqs[k]:.1f} Hz (|u| colour, scaled)", colour)
 
 
-def default_paraflex() -> Path:
-    return Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target")) / "release" / "paraflex"
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description="render scene meshes and mode shapes to docs/img/")
     ap.add_argument("--scene", action="append", choices=SCENES, help="scenes to render (default: all)")
@@ -151,7 +147,7 @@ def main() -> None:
     ap.add_argument("--h5", type=Path, help="existing HDF5 result with mode shapes")
     ap.add_argument("--name", help="image name prefix for --h5 (default: file stem)")
     ap.add_argument("--count", type=int, default=3, help="elastic modes to draw (default 3)")
-    ap.add_argument("--paraflex", type=Path, default=default_paraflex())
+    ap.add_argument("--paraflex", type=Path, default=default_binary())
     args = ap.parse_args()
     if args.h5:
         render_modes(args.h5, args.name or args.h5.stem, args.count)

@@ -1,5 +1,6 @@
 """Shared plumbing for the scene generators in ``meshes/``: a deterministic gmsh session, the
-gmsh → meshio → Nastran include conversion, node sets of physical groups, and a card writer.
+gmsh → meshio → Nastran include conversion, node sets of physical groups, and include files of
+cards.
 
 Every scene script builds its geometry with the gmsh API inside :func:`gmsh_session`, names
 physical groups, then calls :func:`extract` to get a :class:`SceneMesh` and writes
@@ -8,7 +9,7 @@ physical groups, then calls :func:`extract` to get a :class:`SceneMesh` and writ
   element = the property id given for its physical group), no BEGIN BULK / ENDDATA, so that a
   deck pulls it in with ``INCLUDE``;
 * optional extra includes (RBE2 spiders, master grids, ASET1, SENSORs) written with
-  :func:`card` (pyNastran's field writers).
+  :func:`write_cards` from :func:`paraflex_tools.cards.card` texts.
 
 Determinism: one gmsh thread, fixed random seed, fixed algorithms; node and element numbering
 follow gmsh's tags in sorted order, so the same script and size give byte-identical files.
@@ -23,10 +24,6 @@ from pathlib import Path
 import gmsh
 import meshio
 import numpy as np
-from pyNastran.bdf.field_writer_16 import print_card_16
-from pyNastran.bdf.field_writer_8 import print_card_8, print_float_8
-
-REPO = Path(__file__).resolve().parents[1]
 
 # gmsh element type → (meshio cell type, permutation from gmsh to meshio/Nastran node order)
 _GMSH_TYPES = {
@@ -130,26 +127,6 @@ def write_mesh_include(mesh: SceneMesh, path: Path, provenance: str) -> None:
               f"$ {len(mesh.points)} grids, {mesh.n_elements()} elements "
               f"(meshio {meshio.__version__}, gmsh {gmsh.__version__})\n")
     _write_atomically(path, header + "".join(body))
-
-
-def card(fields: list) -> str:
-    """One bulk-data card: small field when every value fits 8 columns exactly, else large."""
-    if all(_fits8(v) for v in fields if isinstance(v, float)):
-        return print_card_8(fields)
-    return print_card_16(fields)
-
-
-def _fits8(value: float) -> bool:
-    """True when the 8-column form of ``value`` reads back as exactly ``value``."""
-    text = print_float_8(value).strip()
-    # Nastran short exponent form 1.5-3 → 1.5e-3
-    norm = text
-    for sign in "+-":
-        k = norm.rfind(sign)
-        if k > 0 and norm[k - 1] not in "eE":
-            norm = norm[:k] + "e" + norm[k:]
-            break
-    return float(norm) == value
 
 
 def write_cards(path: Path, provenance: str, cards: list[str], comment: str = "") -> None:

@@ -1,0 +1,82 @@
+"""Reading paraflex's HDF5 result files (schema: docs, "HDF5 files") with h5py.
+
+Names (outputs, inputs, sensors, parameters) are stored as HDF5 strings, which h5py returns as
+``bytes`` or ``str`` depending on how they were written; :func:`texts` gives ``str`` either way.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from typing import Iterator
+
+import h5py
+import numpy as np
+
+
+def texts(values) -> list[str]:
+    """A string dataset or attribute as a list of ``str``."""
+    return [v.decode() if isinstance(v, bytes) else str(v) for v in values]
+
+
+def text(value) -> str:
+    """A scalar string attribute as ``str``."""
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
+@dataclass
+class Frf:
+    """``/results/<subcase>/frf``: H[line, output, input] (complex) at ``frequency_hz``, and the
+    parameter point of a pROM evaluation (empty for a full model)."""
+
+    frequency_hz: np.ndarray
+    H: np.ndarray
+    outputs: list[str]
+    inputs: list[str]
+    params: dict[str, float] = field(default_factory=dict)
+
+    def pair(self, output: str, input: str) -> np.ndarray:
+        """H of one output and one input over the frequency lines."""
+        return self.H[:, self.outputs.index(output), self.inputs.index(input)]
+
+
+def read_frf(path: str | os.PathLike, subcase: str | int = 1) -> Frf:
+    with h5py.File(path, "r") as f:
+        g = f[f"results/{subcase}/frf"]
+        params = dict(zip(texts(g.attrs.get("params", [])), g.attrs.get("values", [])))
+        return Frf(g["frequency_hz"][()], g["H"][()], texts(g["outputs"][()]), texts(g["inputs"][()]), params)
+
+
+def transient_series(group: h5py.Group, kind: str, name: str) -> np.ndarray:
+    """One history of ``/results/<subcase>/transient``: ``kind`` ``sensors`` and a sensor name, or
+    ``displacement``/``velocity``/``acceleration`` and an output name (e.g. ``71:3``)."""
+    if kind == "sensors":
+        return group["sensors"][name][()]
+    outputs = texts(group["outputs"][()])
+    if name not in outputs:
+        raise KeyError(f"no output {name} (outputs: {', '.join(outputs)})")
+    return group[kind][:, outputs.index(name)]
+
+
+def modal_frequencies(path: str | os.PathLike, subcase: str | int = 1) -> np.ndarray:
+    """``/results/<subcase>/modal/frequency_hz``."""
+    with h5py.File(path, "r") as f:
+        return f[f"results/{subcase}/modal/frequency_hz"][()]
+
+
+def walk(f: h5py.File) -> Iterator[tuple[str, str, object]]:
+    """Every group, dataset and attribute of a file, sorted by path: ``(path, kind, value)``
+    with kind ``group`` (value None), ``dataset`` (its data) or ``attribute`` (path
+    ``<object>@<name>``)."""
+    entries: list[tuple[str, str, object]] = []
+
+    def visit(name: str, obj) -> None:
+        if isinstance(obj, h5py.Dataset):
+            entries.append((name, "dataset", obj[()]))
+        else:
+            entries.append((name, "group", None))
+        for key, value in obj.attrs.items():
+            entries.append((f"{name}@{key}", "attribute", value))
+
+    visit("/", f)
+    f.visititems(lambda name, obj: visit("/" + name, obj))
+    return iter(sorted(entries, key=lambda e: e[0]))

@@ -1,0 +1,63 @@
+"""Reading paraflex's HDF5 result layout with h5py."""
+import h5py
+import numpy as np
+import pytest
+
+from paraflex_tools import results
+
+
+@pytest.fixture
+def result_file(tmp_path):
+    path = tmp_path / "out.h5"
+    with h5py.File(path, "w") as f:
+        f.attrs["paraflex_version"] = "0.1.0"
+        frf = f.create_group("results/1/frf")
+        frf["frequency_hz"] = np.array([1.0, 2.0])
+        frf["H"] = np.arange(8).reshape(2, 2, 2) * (1 + 1j)
+        frf["outputs"] = np.array([b"71:3", b"93:3"])
+        frf["inputs"] = np.array(["71:3", "66:3"], dtype=h5py.string_dtype())
+        frf.attrs["params"] = [b"E"]
+        frf.attrs["values"] = [2.0e11]
+        tr = f.create_group("results/2/transient")
+        tr["time"] = np.array([0.0, 0.1, 0.2])
+        tr["sensors/D71"] = np.array([0.0, 1.0, 2.0])
+        tr["outputs"] = np.array([b"71:3", b"93:1"])
+        tr["displacement"] = np.arange(6.0).reshape(3, 2)
+        f["results/1/modal/frequency_hz"] = np.array([10.0, 20.0])
+    return path
+
+
+def test_texts_decode_bytes_and_keep_str():
+    assert results.texts([b"a", "b"]) == ["a", "b"]
+    assert results.text(b"x") == "x" and results.text("y") == "y"
+
+
+def test_frf_names_params_and_pairs(result_file):
+    frf = results.read_frf(result_file)
+    assert frf.outputs == ["71:3", "93:3"] and frf.inputs == ["71:3", "66:3"]
+    assert frf.params == {"E": 2.0e11}
+    np.testing.assert_array_equal(frf.pair("93:3", "66:3"), frf.H[:, 1, 1])
+    assert frf.H.dtype.kind == "c"
+
+
+def test_transient_series_by_sensor_or_output(result_file):
+    with h5py.File(result_file) as f:
+        g = f["results/2/transient"]
+        np.testing.assert_array_equal(results.transient_series(g, "sensors", "D71"), [0.0, 1.0, 2.0])
+        np.testing.assert_array_equal(results.transient_series(g, "displacement", "93:1"), [1.0, 3.0, 5.0])
+        with pytest.raises(KeyError, match="no output 1:1"):
+            results.transient_series(g, "displacement", "1:1")
+
+
+def test_modal_frequencies(result_file):
+    np.testing.assert_array_equal(results.modal_frequencies(result_file), [10.0, 20.0])
+
+
+def test_walk_lists_groups_datasets_and_attributes_sorted(result_file):
+    with h5py.File(result_file) as f:
+        entries = list(results.walk(f))
+    keys = [k for k, _, _ in entries]
+    assert keys == sorted(keys)
+    kinds = dict((k, kind) for k, kind, _ in entries)
+    assert kinds["/"] == "group" and kinds["/@paraflex_version"] == "attribute"
+    assert kinds["/results/1/frf/H"] == "dataset" and kinds["/results/1/frf@params"] == "attribute"
