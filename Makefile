@@ -54,7 +54,7 @@ bench-read: deps
 	$(CARGO) build --release --quiet
 	bash tools/bench/read_speed.sh
 
-# pROM speed against error (tools/bench/prom_speed.py; README "Speed against error"), and the
+# pROM speed against error (tools/bench/prom_speed.py; docs/performance.md), and the
 # full-size pROM validation plots (error maps, angle sweep) — not part of the tests.
 bench-prom: deps
 	$(CARGO) build --release --quiet
@@ -74,9 +74,10 @@ bench-transient: deps
 	$(PY) tools/bench/transient_bench.py --scene blade --paraflex $${CARGO_TARGET_DIR:-target}/release/paraflex
 	$(PY) tools/bench/transient_bench.py --scene link --paraflex $${CARGO_TARGET_DIR:-target}/release/paraflex
 
-# SOL ESTIMATE filter speed (issue 7 item 6): steps/s in physical and modal coordinates on the
-# blade pROM and on its clamped one-material variant, and the error for a few covariance
-# settings (examples/estimate_bench.rs; README "Filter speed") — prints, not part of the tests.
+# SOL ESTIMATE filter speed against the goal of 10x real time: steps/s in physical and modal
+# coordinates on the blade pROM and on its clamped one-material variant, and the error for a few
+# covariance settings (examples/estimate_bench.rs; docs/estimation.md "Filter speed") — prints,
+# not part of the tests.
 bench-estimate: deps
 	$(CARGO) build --release --quiet
 	$(CARGO) build --release --quiet --example estimate_bench

@@ -1,11 +1,11 @@
-//! The README's deck reference is generated from the card structs' doc comments
-//! (tools/docs/deck_reference.py); this test fails when someone changes a card's fields
-//! without regenerating it.
+//! The card section of `docs/deck-reference.md` is generated from the card structs' doc
+//! comments (tools/docs/deck_reference.py); this test fails when someone changes a card's
+//! fields without regenerating it.
 
 use std::process::Command;
 
 #[test]
-fn readme_deck_reference_is_current() {
+fn deck_reference_page_is_current() {
     let root = env!("CARGO_MANIFEST_DIR");
     let out = Command::new("python3")
         .args(["tools/docs/deck_reference.py", "--check"])

@@ -1,9 +1,10 @@
-"""Generate the README's deck reference from the card structs' doc comments.
+"""Generate the card section of docs/deck-reference.md from the card structs' doc comments.
 
 Every card struct in src/deck/cards/*.rs carries its field table in its doc comment (the one
 source of truth). This script collects them, in the order of the PARSERS table, and writes
 them between the markers `<!-- deck-reference:start -->` and `<!-- deck-reference:end -->` of
-README.md. `--check` exits 1 when the README is not current (used by the test suite).
+docs/deck-reference.md. `--check` exits 1 when that page is not current (used by the test
+suite, tests/readme_reference.rs).
 """
 import re
 import sys
@@ -11,6 +12,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 CARDS = ROOT / "src" / "deck" / "cards"
+PAGE = ROOT / "docs" / "deck-reference.md"
 START, END = "<!-- deck-reference:start -->", "<!-- deck-reference:end -->"
 
 
@@ -53,18 +55,19 @@ def render():
 
 
 def main():
-    readme = ROOT / "README.md"
-    text = readme.read_text()
+    text = PAGE.read_text()
     if START not in text or END not in text:
-        sys.exit("README.md has no deck-reference markers")
+        sys.exit(f"{PAGE.relative_to(ROOT)} has no deck-reference markers")
     head, rest = text.split(START, 1)
     _, tail = rest.split(END, 1)
     new = f"{head}{START}\n\n{render()}\n{END}{tail}"
     if "--check" in sys.argv:
         if new != text:
-            sys.exit("README.md deck reference is out of date: run python3 tools/docs/deck_reference.py")
+            sys.exit(
+                f"{PAGE.relative_to(ROOT)} is out of date: run python3 tools/docs/deck_reference.py"
+            )
         return
-    readme.write_text(new)
+    PAGE.write_text(new)
 
 
 if __name__ == "__main__":
