@@ -295,9 +295,9 @@ fn plus_matrix_is_skew_symmetric_with_the_skew_matrix_inside() {
     let s = [0.4, -1.1, 2.5];
     let p = plus_matrix(s);
     let t = skew(s);
-    for i in 0..4 {
-        for j in 0..4 {
-            assert_eq!(p[i][j], -p[j][i]);
+    for (i, row) in p.iter().enumerate() {
+        for (j, v) in row.iter().enumerate() {
+            assert_eq!(*v, -p[j][i]);
         }
     }
     for i in 0..3 {
