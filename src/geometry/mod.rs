@@ -15,6 +15,20 @@
 //! Conventions: a rotation matrix R maps components in the rotated (body) frame to the fixed
 //! (global) frame, x = R x̄; composing "first R₂, then R₁" is R₁ R₂ ([`mat3::mul`]) and the
 //! inverse is the transpose ([`mat3::transpose`]).
+//!
+//! ```
+//! use paraflex::geometry::{euler_parameters as ep, mat3, vec3};
+//!
+//! // a body turned a quarter turn about the global z axis
+//! let e = ep::from_axis_angle([0.0, 0.0, 1.0], std::f64::consts::FRAC_PI_2).unwrap();
+//! let a = ep::rotation_matrix(&e);
+//! // its x axis points along global y
+//! let x = mat3::mul_vec(&a, [1.0, 0.0, 0.0]);
+//! assert!(vec3::norm(vec3::sub(x, [0.0, 1.0, 0.0])) < 1e-15);
+//! // the same parameters back from the matrix (Shepperd's method)
+//! let back = ep::from_rotation_matrix(&a);
+//! assert!((0..4).all(|k| (back[k] - e[k]).abs() < 1e-15));
+//! ```
 
 pub mod euler_parameters;
 #[cfg(test)]
