@@ -13,9 +13,14 @@
 //!
 //! The full-model drivers share the discretization of [`crate::discretize`]: one
 //! [`Structure`] (element matrices, one grid-block pattern for K and M, rigid elimination
-//! g → n with one plan) and per SPC set the f-set with AUTOSPC ([`Constrained`]). Everything the user must see (AUTOSPC lists, Sturm
-//! check, timings) is returned in a [`RunSummary`]; the library never prints, long steps report
-//! through [`Progress`].
+//! g → n with one plan) and per SPC set the f-set with AUTOSPC ([`Constrained`]). Everything
+//! the user must see (AUTOSPC lists, Sturm check, warnings, timings) is returned in a
+//! [`RunSummary`], each driver's part rendered by its [`Report`]; the library never prints,
+//! long steps report through [`Progress`].
+//!
+//! A new sequence is one driver file (its `run`, its summary type implementing [`Report`]) plus
+//! one arm in [`Sequence`], [`SubcaseResult`] and the dispatch of [`run`]; what several drivers
+//! share lives in [`shared`] and [`rom_case`], never in another driver.
 //!
 //! Output (HDF5, DESIGN.md §8; full layout in the README "Output file" section):
 //!
