@@ -148,3 +148,29 @@ impl Report for RomFrfSummary {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The console line counts the outputs (input DOFs and sensors), not the inputs twice.
+    #[test]
+    fn report_counts_inputs_and_outputs() {
+        let summary = RomFrfSummary {
+            rom: "blade.h5".into(),
+            lines: 10,
+            inputs: vec!["1:3".into()],
+            outputs: vec!["1:3".into(), "S1".into(), "S2".into()],
+            extrapolated: Vec::new(),
+            peak: (1.0, 2.0),
+        };
+        let lines = summary.render(7);
+        assert!(
+            lines[0].starts_with(
+                "subcase 7: FRF of the pROM blade.h5 at 10 line(s), 1 input(s) × 3 output(s) (1:3)"
+            ),
+            "{lines:?}"
+        );
+        assert!(summary.warnings(7).is_empty());
+    }
+}
