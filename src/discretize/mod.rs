@@ -8,7 +8,8 @@
 //!   function f_i(p) of every parametrized part (thesis §3.3);
 //! - [`Structure`]: K(p) and M(p) assembled on one grid-block pattern and reduced g → n by the
 //!   rigid elimination (RBE2/RBE3), built once per model;
-//! - [`Constrained`]: per SPC set, the f-set with AUTOSPC and K_ff, M_ff evaluated at p;
+//! - [`Constrained`]: per SPC set, the f-set with AUTOSPC and K_ff, M_ff evaluated at p, or
+//!   with every affine part as the FOM of a pROM build ([`affine_fom`]);
 //! - [`sensors`] and [`loads`]: the f-set rows of SENSORs (thesis eq. 2.30–2.35) and the f-set
 //!   placement of loads (DAREA entries, static load sets, initial conditions).
 //!
@@ -43,7 +44,7 @@ use faer::Par;
 
 use crate::assembly::AssemblyError;
 
-pub use structure::{Constrained, Structure};
+pub use structure::{Constrained, Structure, affine_fom, affine_keys};
 
 /// How the discretization (and the solutions after it) run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

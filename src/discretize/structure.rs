@@ -12,9 +12,10 @@ use super::{BuildOptions, DiscretizeError};
 use crate::assembly::error::DofName;
 use crate::assembly::reduce::{GToN, Partition};
 use crate::assembly::spc::{AutoSpcReport, SpcSet, autospc};
-use crate::assembly::{AffineOperator, DofMap, GridFrames, RigidElimination, Sets};
+use crate::assembly::{AffineOperator, DofMap, GridFrames, ParamKey, RigidElimination, Sets};
 use crate::linalg::{Factor, LinalgError, Progress, sym_matvec};
 use crate::model::Model;
+use crate::rom::build::AffineFom;
 
 /// The assembled structure shared by every subcase: K and M on one g pattern, reduced to n.
 pub struct Structure {
@@ -261,4 +262,42 @@ impl Constrained {
             .get(index)
             .and_then(|&g| st.map.dof_name(g))
     }
+}
+
+/// The part keys of K and M, K's first: the pROM's component order.
+pub fn affine_keys(k: &AffineOperator, m: &AffineOperator) -> Vec<ParamKey> {
+    let mut keys: Vec<ParamKey> = k.keys();
+    for key in m.keys() {
+        if !keys.contains(&key) {
+            keys.push(key);
+        }
+    }
+    keys
+}
+
+/// The affine FOM of f-set operators `k`, `m` (from [`Constrained::affine_ff`]) for a pROM
+/// build ([`crate::rom::build::build_prom`]): one function per key of `keys` (a zero matrix where an operator lacks
+/// that key).
+pub fn affine_fom(
+    st: &Structure,
+    keys: &[ParamKey],
+    k: &AffineOperator,
+    m: &AffineOperator,
+) -> Result<AffineFom, DiscretizeError> {
+    let matrices = |op: &AffineOperator| -> Result<Vec<CscMatrix<f64>>, DiscretizeError> {
+        keys.iter()
+            .map(|&key| {
+                Ok(op.matrix(
+                    op.part(key)
+                        .map_or_else(|| vec![0.0; op.pattern().nnz()], <[f64]>::to_vec),
+                )?)
+            })
+            .collect()
+    };
+    Ok(AffineFom {
+        parameters: st.params.list.clone(),
+        functions: keys.iter().map(|&key| st.params.function(key)).collect(),
+        stiffness: matrices(k)?,
+        mass: matrices(m)?,
+    })
 }

@@ -19,20 +19,18 @@
 
 use std::collections::HashMap;
 
-use nalgebra_sparse::CscMatrix;
-
 use super::report::{Report, sci};
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
-use crate::assembly::{AffineOperator, DofMap, ParamKey};
+use crate::assembly::DofMap;
 use crate::deck::cards::{Pmor, PmorRigid, PmorStatic};
 use crate::discretize::sensors::sensor_kind_name;
-use crate::discretize::{Constrained, Structure};
+use crate::discretize::{Constrained, Structure, affine_fom, affine_keys};
 use crate::io::{
     IoError, set_attr_i64, set_attr_strings, write_f64, write_prom, write_prom_masses,
     write_strings,
 };
 use crate::linalg::Mat;
-use crate::rom::build::{AffineFom, BuildLog, Built, PromSettings, build_prom};
+use crate::rom::build::{BuildLog, Built, PromSettings, build_prom};
 use crate::rom::local_basis::{RigidModes, StaticModes};
 use crate::rom::mass::AffineMasses;
 
@@ -169,43 +167,6 @@ fn row_major(m: &Mat<f64>) -> Vec<f64> {
     (0..m.nrows())
         .flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)]))
         .collect()
-}
-
-/// The part keys of K and M, K's first: the pROM's component order.
-fn affine_keys(k: &AffineOperator, m: &AffineOperator) -> Vec<ParamKey> {
-    let mut keys: Vec<ParamKey> = k.keys();
-    for key in m.keys() {
-        if !keys.contains(&key) {
-            keys.push(key);
-        }
-    }
-    keys
-}
-
-/// The affine FOM on the f-set: one function per key (a zero matrix where an operator lacks
-/// that key).
-fn affine_fom(
-    st: &Structure,
-    keys: &[ParamKey],
-    k: &AffineOperator,
-    m: &AffineOperator,
-) -> Result<AffineFom, RunError> {
-    let matrices = |op: &AffineOperator| -> Result<Vec<CscMatrix<f64>>, RunError> {
-        keys.iter()
-            .map(|&key| {
-                Ok(op.matrix(
-                    op.part(key)
-                        .map_or_else(|| vec![0.0; op.pattern().nnz()], <[f64]>::to_vec),
-                )?)
-            })
-            .collect()
-    };
-    Ok(AffineFom {
-        parameters: st.params.list.clone(),
-        functions: keys.iter().map(|&key| st.params.function(key)).collect(),
-        stiffness: matrices(k)?,
-        mass: matrices(m)?,
-    })
 }
 
 /// BSET: every ASET1 DOF, as f-set indices, with "GRID:component" names.
