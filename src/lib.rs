@@ -3,11 +3,14 @@
 //! virtual-sensing methods of the thesis in `shared/seed/thesis.txt`.
 //!
 //! Data flow (see `DESIGN.md` §1): [`deck`] (text → typed cards with source positions) →
-//! [`model`] (cross-referenced, validated) → solution sequences → [`io`] (HDF5 + XDMF).
+//! [`model`] (cross-referenced, validated) → [`discretize`] (element matrices, assembled
+//! parametric operators K(p), M(p), constrained f-set) → solution sequences → [`io`] (HDF5 +
+//! XDMF).
 //! The library never prints; the binary renders errors and progress.
 
 pub mod assembly;
 pub mod deck;
+pub mod discretize;
 pub mod dynamics;
 pub mod estimate;
 pub mod fe;

@@ -8,8 +8,9 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use paraflex::deck::{Deck, DeckErrors, Warning};
+use paraflex::discretize::BuildOptions;
 use paraflex::model::{CheckSummary, Model};
-use paraflex::sequence::{self, RunContext, RunOptions};
+use paraflex::sequence::{self, RunContext};
 use std::time::Instant;
 
 #[derive(Parser)]
@@ -209,7 +210,7 @@ mod commands {
             model: &model,
             output: &file,
             progress: &bars,
-            options: RunOptions::default(),
+            options: BuildOptions::default(),
         };
         let result = sequence::run(&ctx);
         bars.finish();
@@ -225,7 +226,9 @@ mod commands {
         for w in &summary.warnings {
             eprintln!("warning: {w}");
         }
-        report::print(path, &summary, start.elapsed());
+        for line in summary.render(path, start.elapsed()) {
+            println!("{line}");
+        }
         eprintln!("wrote {}", written.display());
         Ok(())
     }
@@ -310,271 +313,6 @@ mod commands {
             print!("{summary}");
         }
         Ok(())
-    }
-}
-
-/// Console rendering of a run summary.
-mod report {
-    use std::path::Path;
-    use std::time::Duration;
-
-    use paraflex::sequence::{RunSummary, SubcaseResult, sturm_line};
-
-    pub fn print(path: &Path, s: &RunSummary, total: Duration) {
-        println!("{} — {}", path.display(), s.sequence.name());
-        for sub in &s.subcases {
-            match &sub.result {
-                SubcaseResult::Modal(m) => {
-                    println!(
-                        "subcase {}: {} mode(s), f-set {} DOFs, NORM = {:?}",
-                        sub.id,
-                        m.frequencies_hz.len(),
-                        m.f_size,
-                        m.norm
-                    );
-                    if m.frequencies_hz.is_empty() {
-                        println!("  no mode in the requested range (EIGRL V1/V2)");
-                    } else {
-                        println!(
-                            "  {:>4}  {:>14}  {:>14}  {:>10}",
-                            "mode", "f [Hz]", "gen. mass", "residual"
-                        );
-                    }
-                    for (k, f) in m.frequencies_hz.iter().enumerate() {
-                        println!(
-                            "  {:>4}  {:>14}  {:>14}  {:>10}",
-                            k + 1,
-                            sci(*f, 6),
-                            sci(m.generalized_mass[k], 6),
-                            sci(m.residuals[k], 1)
-                        );
-                    }
-                    println!("  {}", sturm_line(&m.sturm));
-                }
-                SubcaseResult::Prom(p) => {
-                    let log = &p.log;
-                    println!(
-                        "subcase {}: pROM of {} DOFs → {} (parameters {}; {} input(s), {} sensor(s))",
-                        sub.id,
-                        p.n_full,
-                        p.n_red,
-                        p.parameters.join(", "),
-                        p.inputs,
-                        p.sensors
-                    );
-                    println!(
-                        "  samples {}, local bases {} columns, {} after the MAC filter, numerical rank {}",
-                        log.samples.len(),
-                        log.concatenated,
-                        log.mac_kept,
-                        log.singular_values
-                            .iter()
-                            .filter(|&&s| s > paraflex::rom::build::RANK_TOL
-                                * log.singular_values.first().copied().unwrap_or(0.0))
-                            .count()
-                    );
-                    for (size, e) in &log.error_history {
-                        println!("  size {size:>5}: FRF change (eq. 3.35) {}", sci(*e, 2));
-                    }
-                    println!(
-                        "  {}",
-                        match (p.inputs, log.converged) {
-                            (0, _) =>
-                                "no input DOFs (ASET1): no FRF to choose the size, the whole numerical rank is kept (see warnings)",
-                            (_, true) => "converged (FRF change below ERRTOL)",
-                            (_, false) =>
-                                "stopped at the numerical rank of the local bases (see warnings)",
-                        }
-                    );
-                }
-                SubcaseResult::RomModal(r) => {
-                    let values: Vec<String> = r
-                        .values
-                        .iter()
-                        .map(|(n, v)| format!("{n} = {}", sci(*v, 4)))
-                        .collect();
-                    println!(
-                        "subcase {}: {} mode(s) of the pROM {} (size {}) at {}",
-                        sub.id,
-                        r.frequencies_hz.len(),
-                        r.rom.display(),
-                        r.n_red,
-                        values.join(", ")
-                    );
-                    for (k, f) in r.frequencies_hz.iter().enumerate() {
-                        println!("  {:>4}  {:>14}", k + 1, sci(*f, 6));
-                    }
-                }
-                SubcaseResult::RomFrf(r) => {
-                    println!(
-                        "subcase {}: FRF of the pROM {} at {} line(s), {} input(s) × {} output(s) ({})",
-                        sub.id,
-                        r.rom.display(),
-                        r.lines,
-                        r.inputs.len(),
-                        r.inputs.len(),
-                        r.inputs.join(", ")
-                    );
-                    println!(
-                        "  largest |H| {} at {} Hz",
-                        sci(r.peak.0, 4),
-                        sci(r.peak.1, 4)
-                    );
-                }
-                SubcaseResult::Frf(r) => {
-                    let modes = match (r.modes, r.residual_vectors) {
-                        (0, _) => String::new(),
-                        (m, Some(k)) => format!(", {m} modes + {k} residual vector(s)"),
-                        (m, None) => format!(", {m} modes"),
-                    };
-                    println!(
-                        "subcase {}: {} FRF, f-set {} DOFs{modes}, {} line(s), {} input(s) ({}) × {} output(s)",
-                        sub.id,
-                        r.method.name(),
-                        r.f_size,
-                        r.lines,
-                        r.inputs.len(),
-                        r.inputs.join(", "),
-                        r.outputs.len()
-                    );
-                    println!(
-                        "  largest |H| {} at {} Hz",
-                        sci(r.peak.0, 4),
-                        sci(r.peak.1, 4)
-                    );
-                }
-                SubcaseResult::RomTransient(r) => {
-                    println!(
-                        "subcase {}: transient of the pROM {} ({}), {} step(s), outputs {}",
-                        sub.id,
-                        r.rom.display(),
-                        r.method,
-                        r.steps,
-                        r.outputs.join(", ")
-                    );
-                    println!(
-                        "  largest |displacement| {} at t = {} s",
-                        sci(r.peak.0, 4),
-                        sci(r.peak.1, 4)
-                    );
-                }
-                SubcaseResult::Estimate(e) => {
-                    println!(
-                        "subcase {}: estimation on the pROM {}, {} step(s), {} steps/s",
-                        sub.id,
-                        e.rom.display(),
-                        e.steps,
-                        sci(e.steps_per_second, 3)
-                    );
-                    println!("  {}", e.observability);
-                    for (name, value, sigma) in &e.params {
-                        println!(
-                            "  {name} = {} ± {} (3σ) at the end",
-                            sci(*value, 6),
-                            sci(3.0 * sigma, 2)
-                        );
-                    }
-                    if !e.error_table.is_empty() {
-                        println!(
-                            "  error over the last 20 % [%]: {:>10} {:>10} {:>10}",
-                            "min", "avg", "max"
-                        );
-                        for r in &e.error_table {
-                            println!(
-                                "  {:<28} {:>10.4} {:>10.4} {:>10.4}",
-                                r.name, r.min, r.avg, r.max
-                            );
-                        }
-                    }
-                    for (name, aae, mra) in &e.sensor_errors {
-                        println!("  sensor {name}: AAE {} MRA {}", sci(*aae, 3), sci(*mra, 3));
-                    }
-                }
-                SubcaseResult::Transient(r) => {
-                    println!(
-                        "subcase {}: transient of the full model (f-set {} DOFs, {}), {} step(s), {} factorization(s), {} sensor(s)",
-                        sub.id, r.f_size, r.method, r.steps, r.factorizations, r.sensors
-                    );
-                    if let Some((name, value, t)) = &r.peak {
-                        println!(
-                            "  largest |sensor| {} ({name}) at t = {} s",
-                            sci(*value, 4),
-                            sci(*t, 4)
-                        );
-                    }
-                }
-                SubcaseResult::Statics(st) => {
-                    println!("subcase {}: f-set {} DOFs", sub.id, st.f_size);
-                    if st.max_component.2 == 0.0 {
-                        println!(
-                            "  displacements are all zero (see the applied load and SPC reaction below)"
-                        );
-                    } else {
-                        println!(
-                            "  max |u| (translation)  {} at GRID {}",
-                            sci(st.max_translation.1, 6),
-                            st.max_translation.0
-                        );
-                        println!(
-                            "  max |component|        {} at GRID {} component {}",
-                            sci(st.max_component.2, 6),
-                            st.max_component.0,
-                            st.max_component.1
-                        );
-                    }
-                    let f = |v: &[f64; 6]| {
-                        format!("F = [{}, {}, {}]", sci(v[0], 6), sci(v[1], 6), sci(v[2], 6))
-                    };
-                    println!("  applied load           {}", f(&st.applied));
-                    println!("  SPC reaction           {}", f(&st.reaction));
-                }
-            }
-            if sub.autospc.is_empty() {
-                println!("  AUTOSPC: none");
-            } else {
-                let list: Vec<String> = sub
-                    .autospc
-                    .iter()
-                    .map(|d| format!("{}/{}", d.grid, d.component))
-                    .collect();
-                println!(
-                    "  AUTOSPC: {} DOF(s) (GRID/component): {}",
-                    list.len(),
-                    abbreviate(&list, 12)
-                );
-            }
-        }
-        let steps: Vec<String> = s
-            .timings
-            .iter()
-            .map(|(name, d)| format!("{name} {:.3} s", d.as_secs_f64()))
-            .collect();
-        println!(
-            "timings: {}; total {:.3} s",
-            steps.join(", "),
-            total.as_secs_f64()
-        );
-    }
-
-    /// 1.234568E+01 style (fixed-width exponent).
-    fn sci(x: f64, digits: usize) -> String {
-        let s = format!("{x:.digits$e}");
-        match s.split_once('e') {
-            Some((mantissa, exp)) => format!("{mantissa}E{:+03}", exp.parse::<i32>().unwrap_or(0)),
-            None => s,
-        }
-    }
-
-    fn abbreviate(list: &[String], max: usize) -> String {
-        if list.len() <= max {
-            list.join(" ")
-        } else {
-            format!(
-                "{} … (+{} more; full list: the `autospc` dataset of the results group)",
-                list[..max].join(" "),
-                list.len() - max
-            )
-        }
     }
 }
 

@@ -14,9 +14,9 @@ mod common;
 
 use paraflex::assembly::GridFrames;
 use paraflex::deck::Deck;
+use paraflex::discretize::elements::element_matrices;
+use paraflex::discretize::parameters::Parameters;
 use paraflex::model::Model;
-use paraflex::sequence::elements::element_matrices;
-use paraflex::sequence::parameters::Parameters;
 
 /// (K values, M values, number of parametrized parts) of a deck evaluated at `p` (card order
 /// of its PMPARs; empty = nominal).

@@ -15,9 +15,9 @@ use common::run_deck;
 use std::io::Write;
 
 use paraflex::deck::Deck;
-use paraflex::io::OutputFile;
+use paraflex::discretize::{BuildOptions, Structure};
 use paraflex::model::Model;
-use paraflex::sequence::{Clock, RunContext, RunOptions, Structure, SubcaseResult};
+use paraflex::sequence::SubcaseResult;
 
 /// Plate 0.2 × 0.2 × 0.002 m, steel.
 const SIDE: f64 = 0.2;
@@ -164,16 +164,9 @@ fn structure(text: &str, check: impl FnOnce(&Model, &Structure)) {
             e.iter().map(|x| x.to_string()).collect::<Vec<_>>()
         )
     });
-    let file = OutputFile::create(dir.path().join("out.h5")).expect("output");
-    let ctx = RunContext {
-        deck: &deck,
-        model: &model,
-        output: &file,
-        progress: &|_: &str, _: usize, _: usize| {},
-        options: RunOptions { parallel: false },
-    };
-    let st =
-        Structure::build(&ctx, &mut Clock::default()).unwrap_or_else(|e| panic!("structure: {e}"));
+    let quiet = |_: &str, _: usize, _: usize| {};
+    let st = Structure::build(&model, &BuildOptions { parallel: false }, &quiet)
+        .unwrap_or_else(|e| panic!("structure: {e}"));
     check(&model, &st);
 }
 

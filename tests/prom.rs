@@ -506,7 +506,7 @@ fn two_material_samples(
     count: usize,
     seed: u64,
 ) -> (
-    paraflex::sequence::parameters::Parameters,
+    paraflex::discretize::parameters::Parameters,
     paraflex::assembly::AffineOperator,
     paraflex::assembly::AffineOperator,
     Vec<Vec<f64>>,

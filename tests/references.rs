@@ -17,10 +17,11 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use paraflex::deck::Deck;
+use paraflex::discretize::BuildOptions;
 use paraflex::fe::laminate::{Laminate, Ply, ShellSection};
 use paraflex::io::OutputFile;
 use paraflex::model::Model;
-use paraflex::sequence::{RunContext, RunOptions, RunSummary, SubcaseResult, run};
+use paraflex::sequence::{RunContext, RunSummary, SubcaseResult, run};
 use serde_json::Value;
 
 fn root() -> PathBuf {
@@ -78,7 +79,7 @@ fn run_deck(rel: &str) -> Run {
         model: &model,
         output: &file,
         progress: &|_: &str, _: usize, _: usize| {},
-        options: RunOptions { parallel: false },
+        options: BuildOptions { parallel: false },
     };
     let summary = run(&ctx).unwrap_or_else(|e| panic!("{rel}: run: {e}"));
     file.commit().expect("commit");

@@ -1,4 +1,4 @@
-//! The SENSOR measurement operator (`sequence::sensors`, thesis eq. 2.31–2.35) against the
+//! The SENSOR measurement operator (`discretize::sensors`, thesis eq. 2.31–2.35) against the
 //! analytic cantilever strip of `reference/analytic/cantilever_strain_sensor.json`: y = H u_f
 //! with u_f from SOL 101.
 
@@ -7,10 +7,11 @@ mod common;
 use std::path::PathBuf;
 
 use paraflex::deck::Deck;
+use paraflex::discretize::sensors::sensor_operator;
+use paraflex::discretize::{BuildOptions, Constrained, Structure};
 use paraflex::io::OutputFile;
 use paraflex::model::Model;
-use paraflex::sequence::sensors::sensor_operator;
-use paraflex::sequence::{Clock, Constrained, RunContext, RunOptions, Structure, run};
+use paraflex::sequence::{RunContext, run, selected_sensors};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -38,13 +39,14 @@ fn strain_and_displacement_sensors_match_the_beam_formula() {
         model: &model,
         output: &file,
         progress: &|_: &str, _: usize, _: usize| {},
-        options: RunOptions { parallel: false },
+        options: BuildOptions { parallel: false },
     };
     run(&ctx).expect("SOL 101");
-    let st = Structure::build(&ctx, &mut Clock::default()).expect("structure");
+    let st = Structure::build(&model, &ctx.options, ctx.progress).expect("structure");
     let sub = &model.subcases[0];
     let c = Constrained::build(&model, &st, sub.spc).expect("constraints");
-    let h = sensor_operator(&ctx, &st, &c, sub).expect("sensor operator");
+    let sensors = selected_sensors(&deck, &model, sub);
+    let h = sensor_operator(&model, &st, &c, &sensors).expect("sensor operator");
     file.commit().unwrap();
 
     let out = hdf5_metno::File::open(dir.path().join("out.h5")).unwrap();

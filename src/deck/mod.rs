@@ -49,10 +49,27 @@ pub struct Deck {
 impl Deck {
     /// Read a deck and everything it includes. On any error, returns all errors found.
     pub fn read(path: &Path) -> Result<Deck, DeckErrors> {
+        Self::build(path, |walker, builder, diag| {
+            walker.walk(path, None, builder, diag)
+        })
+    }
+
+    /// Read a deck from `text` held in memory, as if it were the file `path` (which need not
+    /// exist; its INCLUDEs resolve relative to it, and errors name it).
+    pub fn parse(path: &Path, text: &str) -> Result<Deck, DeckErrors> {
+        Self::build(path, |walker, builder, diag| {
+            walker.walk_str(path, text, builder, diag)
+        })
+    }
+
+    fn build(
+        path: &Path,
+        walk: impl FnOnce(&mut SourceWalker, &mut Builder, &mut Diagnostics),
+    ) -> Result<Deck, DeckErrors> {
         let mut builder = Builder::new(path);
         let mut diag = Diagnostics::default();
         let mut walker = SourceWalker::new();
-        walker.walk(path, None, &mut builder, &mut diag);
+        walk(&mut walker, &mut builder, &mut diag);
         builder.finish(&mut diag);
         if !diag.is_ok() {
             return Err(DeckErrors {

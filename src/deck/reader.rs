@@ -11,6 +11,7 @@
 use super::error::{DeckError, Loc};
 use super::fields::RawCard;
 use super::value::Value;
+use crate::io::csv_table::Column;
 
 /// A set of grid-point components (1–6 = T1 T2 T3 R1 R2 R3) as written in `C`, `PS`, `CM` fields.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize)]
@@ -338,6 +339,25 @@ impl<'a> FieldReader<'a> {
         }
     }
 
+    /// A keyword field read as the value it names in `choices` (name, value; case-insensitive),
+    /// `default` when blank (required when `None`); an error lists the names.
+    pub fn choice<T: Copy + PartialEq>(
+        &mut self,
+        i: usize,
+        name: &str,
+        choices: &[(&'static str, T)],
+        default: Option<T>,
+    ) -> T {
+        let names: Vec<&'static str> = choices.iter().map(|(n, _)| *n).collect();
+        let default_name =
+            default.and_then(|d| choices.iter().find(|(_, v)| *v == d).map(|(n, _)| *n));
+        let keyword = self.keyword(i, name, &names, default_name);
+        choices
+            .iter()
+            .find(|(n, _)| *n == keyword)
+            .map_or(choices[0].1, |(_, v)| *v)
+    }
+
     /// A quoted string (a file path); an unquoted name is accepted as written.
     pub fn path(&mut self, i: usize, name: &str) -> String {
         match self.value(i) {
@@ -487,15 +507,6 @@ pub fn expand_thru(ids: &mut Vec<u32>, lo: u32, hi: u32) -> Result<(), String> {
     }
     ids.extend((lo..=hi).skip(1));
     Ok(())
-}
-
-/// A CSV column selected by index or header name.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub enum Column {
-    /// 1-based index.
-    Index(usize),
-    /// Header name.
-    Name(String),
 }
 
 #[cfg(test)]

@@ -101,6 +101,19 @@ impl SourceWalker {
         self.stack.pop();
     }
 
+    /// Feed the lines of `text`, read as the file `path` (its INCLUDEs resolve relative to
+    /// `path`), to `visitor`.
+    pub fn walk_str(
+        &mut self,
+        path: &Path,
+        text: &str,
+        visitor: &mut dyn LineVisitor,
+        diag: &mut Diagnostics,
+    ) {
+        self.files.push(path.to_path_buf());
+        self.walk_text(&Arc::from(path), text, visitor, diag);
+    }
+
     fn walk_text(
         &mut self,
         file: &Arc<Path>,

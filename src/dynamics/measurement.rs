@@ -1,6 +1,6 @@
 //! Measurement equations y = h(state) of SENSORs (thesis §2.3, eq. 2.32–2.36 and 2.41–2.43;
 //! on pROMs eq. 8.7–8.9, 8.36), in one place for every sequence that reads sensors: the
-//! full-model FRF and transient (sparse f-set rows, [`crate::sequence::sensors`]), the pROM FRF
+//! full-model FRF and transient (sparse f-set rows, [`crate::discretize::sensors`]), the pROM FRF
 //! and transient and the estimator (dense reduced rows, [`SensorRows`]).
 //!
 //! A sensor row h is linear in the displacements: strain ε_ϑ = N_s q (eq. 2.32) and

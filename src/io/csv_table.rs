@@ -9,15 +9,52 @@
 use std::path::Path;
 
 use super::hdf5_file::IoError;
-use crate::deck::reader::Column;
 
-/// The (x, y) points of columns `x` and `y` of the CSV file at `path`.
-pub fn read_columns(path: &Path, x: &Column, y: &Column) -> Result<Vec<(f64, f64)>, IoError> {
-    let text = std::fs::read_to_string(path).map_err(|cause| IoError::Fs {
+/// A CSV column selected by index or header name.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub enum Column {
+    /// 1-based index.
+    Index(usize),
+    /// Header name.
+    Name(String),
+}
+
+fn read(path: &Path) -> Result<String, IoError> {
+    std::fs::read_to_string(path).map_err(|cause| IoError::Fs {
         path: path.into(),
         what: "read the CSV file".into(),
         cause,
-    })?;
+    })
+}
+
+/// The header names of a first significant row (upper case), `None` when it is all numbers.
+fn header_of(first: &str) -> Option<Vec<String>> {
+    first
+        .split(',')
+        .any(|f| f.trim().parse::<f64>().is_err())
+        .then(|| {
+            first
+                .split(',')
+                .map(|f| f.trim().to_ascii_uppercase())
+                .collect()
+        })
+}
+
+/// The header names (upper case) of the CSV file at `path`, empty when its first row is all
+/// numbers.
+pub fn header(path: &Path) -> Result<Vec<String>, IoError> {
+    let text = read(path)?;
+    let first = text
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty() && !l.starts_with('#'))
+        .unwrap_or("");
+    Ok(header_of(first).unwrap_or_default())
+}
+
+/// The (x, y) points of columns `x` and `y` of the CSV file at `path`.
+pub fn read_columns(path: &Path, x: &Column, y: &Column) -> Result<Vec<(f64, f64)>, IoError> {
+    let text = read(path)?;
     let bad = |line: usize, reason: String| IoError::Parse {
         path: path.into(),
         line,
@@ -36,18 +73,10 @@ pub fn read_columns(path: &Path, x: &Column, y: &Column) -> Result<Vec<(f64, f64
             "no header and no data rows",
         ));
     };
-    let header: Option<Vec<String>> = match rows.peek() {
-        Some((_, first)) if first.split(',').any(|f| f.trim().parse::<f64>().is_err()) => Some(
-            rows.next()
-                .map(|(_, l)| {
-                    l.split(',')
-                        .map(|f| f.trim().to_ascii_uppercase())
-                        .collect()
-                })
-                .unwrap_or_default(),
-        ),
-        _ => None,
-    };
+    let header = rows.peek().and_then(|(_, first)| header_of(first));
+    if header.is_some() {
+        rows.next();
+    }
     let index = |c: &Column| -> Result<usize, IoError> {
         match c {
             Column::Index(i) if *i >= 1 => Ok(i - 1),

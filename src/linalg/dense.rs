@@ -164,6 +164,23 @@ fn symmetric_eigen(
     Ok(((0..n).map(|i| s.column_vector()[i]).collect(), u))
 }
 
+/// ‖Kφ_j − λ_j Mφ_j‖/‖Kφ_j‖ of each eigenpair (λ_j, column j of `phi`).
+pub fn eigen_residuals(
+    k: MatRef<'_, f64>,
+    m: MatRef<'_, f64>,
+    lambda: &[f64],
+    phi: MatRef<'_, f64>,
+) -> Vec<f64> {
+    (0..lambda.len())
+        .map(|j| {
+            let v = phi.col(j);
+            let kv = k * v;
+            let r = &kv - (m * v) * faer::Scale(lambda[j]);
+            r.norm_l2() / kv.norm_l2().max(f64::MIN_POSITIVE)
+        })
+        .collect()
+}
+
 /// A B, sequential (see the module documentation).
 pub fn product(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
     let mut out = Mat::zeros(a.nrows(), b.ncols());

@@ -39,3 +39,6 @@ pub use eigen::{
 pub use error::LinalgError;
 pub use progress::Progress;
 pub use sparse::{full_from_upper, sym_matvec};
+
+/// The dense matrix and complex scalar types the library's results carry (faer's).
+pub use faer::{Mat, MatRef, c64};

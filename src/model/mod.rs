@@ -11,13 +11,15 @@
 //! - [`geometry`]: exact element integrals and shape checks;
 //! - [`params`]: the `PARAM`s paraflex uses ([`params::KNOWN_PARAMS`]);
 //! - [`case`]: case-control selections and output requests;
-//! - [`mass`]: mass properties; [`summary`]: the check summary and mesh arrays.
+//! - [`mass`]: mass properties; [`summary`]: the check summary and mesh arrays;
+//! - [`lookup`]: solution-control data by id (EIGRL, FREQ, TSTEP, PMOR, PVAL, EKF, …).
 
 pub mod build;
 pub mod case;
 pub mod coords;
 pub mod geometry;
 pub mod ids;
+pub mod lookup;
 pub mod mass;
 pub mod mesh;
 pub mod params;

@@ -12,7 +12,9 @@
 //! - [`mass`]: affine nodal masses and rigid mass invariants for the multibody step (eq. 4.1–4.2,
 //!   A.11, A.13);
 //! - [`prom`]: the [`prom::Prom`] type, evaluated online at any parameter value with its
-//!   parameter derivatives (eq. 3.32; eq. 8.19–8.20 need the derivatives).
+//!   parameter derivatives (eq. 3.32; eq. 8.19–8.20 need the derivatives);
+//! - [`transient`]: a pROM as a time integrator backend, its parameters following tables of
+//!   time, and the reduced static shapes of given input displacements.
 
 pub mod basis;
 pub mod black_box;
@@ -21,3 +23,4 @@ pub mod local_basis;
 pub mod lsq;
 pub mod mass;
 pub mod prom;
+pub mod transient;

@@ -36,18 +36,19 @@ use std::time::Instant;
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 
+use super::report::{Report, sci};
 use super::rom_case::RomAtPoint;
-use super::rom_transient::place_input;
-use super::transient::{LoadTerm, load_terms};
+use super::rom_case::extrapolation_warning;
+use super::shared::place_input;
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
-use crate::deck::reader::Column;
+use crate::discretize::loads::{LoadTerm, load_terms};
 use crate::dynamics::integrators::{LinearSystem, Method, integrate};
 use crate::dynamics::table::Table;
 use crate::estimate::filter::check_initial_stiffness;
 use crate::estimate::observability::{self, OperatingPoint, Unknown};
 use crate::estimate::{Coordinates, Filter, FilterSetup, SensorRows, covariance};
-use crate::io::csv_table::read_columns;
+use crate::io::csv_table::{Column, header, read_columns};
 use crate::io::{
     read_prom_inputs, read_prom_sensors, set_attr_f64, set_attr_i64, set_attr_str,
     set_attr_strings, write_f64,
@@ -104,7 +105,7 @@ pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, R
 fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
-    let b = &ctx.model.bulk;
+    let model = ctx.model;
     let RomAtPoint {
         path,
         prom,
@@ -116,30 +117,24 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let ekf_id = sub
         .estim
         .ok_or_else(|| case("SOL ESTIMATE needs ESTIM = <EKF id> in case control".into()))?;
-    let ekf = b
-        .ekf
-        .iter()
-        .find(|e| e.id == ekf_id)
+    let ekf = model
+        .ekf(ekf_id)
         .ok_or_else(|| case(format!("ESTIM = {ekf_id} selects no EKF card")))?;
     let meas_id = sub
         .meas
         .ok_or_else(|| case("SOL ESTIMATE needs MEAS = <MEASF id> in case control".into()))?;
-    let measf = b
-        .measf
-        .iter()
-        .find(|m| m.id == meas_id)
+    let measf = model
+        .measf(meas_id)
         .ok_or_else(|| case(format!("MEAS = {meas_id} selects no MEASF card")))?;
-    let channels: Vec<_> = b.meas.iter().filter(|m| m.id == meas_id).collect();
+    let channels = model.meas(meas_id);
     if channels.is_empty() {
         return Err(case(format!("MEASF {meas_id} has no MEAS channel")));
     }
     let sid = sub
         .tstep
         .ok_or_else(|| case("SOL ESTIMATE needs TSTEP = <sid> for the filter step".into()))?;
-    let tstep = b
-        .tstep
-        .iter()
-        .find(|t| t.sid == sid)
+    let tstep = model
+        .tstep(sid)
         .ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
     let dt = tstep.intervals[0].1;
     if tstep.intervals.iter().any(|i| i.1 != dt) {
@@ -152,7 +147,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     // unknowns
     let param_names: Vec<&str> = prom.parameters.iter().map(|q| q.name.as_str()).collect();
     let mut unknown_params = Vec::new();
-    for par in b.ekfpar.iter().filter(|x| x.id == ekf_id) {
+    for par in model.ekfpar(ekf_id) {
         let j = param_names
             .iter()
             .position(|q| q.eq_ignore_ascii_case(&par.name))
@@ -175,7 +170,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     }
     let (input_names, s_r) = read_prom_inputs(&path, n)?;
     let mut unknown_inputs = Vec::new();
-    for inp in b.ekfinp.iter().filter(|x| x.id == ekf_id) {
+    for inp in model.ekfinp(ekf_id) {
         let name = format!("{}:{}", inp.grid, inp.component);
         let j = input_names.iter().position(|x| *x == name).ok_or_else(|| case(format!("EKFINP {ekf_id}: GRID {} component {} is not an input DOF of the pROM (inputs: {})", inp.grid, inp.component, input_names.join(", "))))?;
         unknown_inputs.push((j, name, inp));
@@ -217,8 +212,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     }
     let measured = sensors.select(&measured_rows);
     let sigma: Vec<f64> = channels.iter().map(|m| m.sigma).collect();
-    let header =
-        csv_header(&csv).map_err(|e| case(format!("{}: MEASF {meas_id}: {e}", measf.loc)))?;
+    let header = header(&csv).map_err(|e| case(format!("{}: MEASF {meas_id}: {e}", measf.loc)))?;
     let reference = |name: &str| -> Result<Option<Vec<f64>>, RunError> {
         match header.iter().any(|h| h.eq_ignore_ascii_case(name)) {
             true => resample(
@@ -243,7 +237,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let loads = match sub.dload {
         None => Vec::new(),
         Some(dload) => load_terms(
-            ctx,
+            ctx.model,
             dload,
             n,
             |d, comp, scale, shape| place_input(&input_names, &s_r, d, comp, scale, shape),
@@ -606,22 +600,6 @@ fn resample(
     Ok((1..=steps).map(|k| table.value(k as f64 * first)).collect())
 }
 
-/// The header names of a CSV (upper case), empty when its first row is all numbers.
-fn csv_header(csv: &Path) -> Result<Vec<String>, String> {
-    let text = std::fs::read_to_string(csv).map_err(|e| format!("{}: {e}", csv.display()))?;
-    let first = text
-        .lines()
-        .map(str::trim)
-        .find(|l| !l.is_empty() && !l.starts_with('#'))
-        .unwrap_or("");
-    let fields: Vec<&str> = first.split(',').map(str::trim).collect();
-    Ok(if fields.iter().any(|f| f.parse::<f64>().is_err()) {
-        fields.iter().map(|f| f.to_ascii_uppercase()).collect()
-    } else {
-        Vec::new()
-    })
-}
-
 /// Operating points of the initial estimate (see the module documentation). `load(t, f,
 /// static_part)` fills the known reduced load: its constant terms or its time-varying ones.
 fn operating_points(
@@ -705,4 +683,69 @@ fn operating_points(
     )
     .map_err(|e| e.to_string())?;
     Ok(points)
+}
+
+impl Report for EstimateSummary {
+    fn render(&self, subcase: u32) -> Vec<String> {
+        let e = self;
+        let mut out = vec![
+            format!(
+                "subcase {}: estimation on the pROM {}, {} step(s), {} steps/s",
+                subcase,
+                e.rom.display(),
+                e.steps,
+                sci(e.steps_per_second, 3)
+            ),
+            format!("  {}", e.observability),
+        ];
+        for (name, value, sigma) in &e.params {
+            out.push(format!(
+                "  {name} = {} ± {} (3σ) at the end",
+                sci(*value, 6),
+                sci(3.0 * sigma, 2)
+            ));
+        }
+        if !e.error_table.is_empty() {
+            out.push(format!(
+                "  error over the last 20 % [%]: {:>10} {:>10} {:>10}",
+                "min", "avg", "max"
+            ));
+            for r in &e.error_table {
+                out.push(format!(
+                    "  {:<28} {:>10.4} {:>10.4} {:>10.4}",
+                    r.name, r.min, r.avg, r.max
+                ));
+            }
+        }
+        for (name, aae, mra) in &e.sensor_errors {
+            out.push(format!(
+                "  sensor {name}: AAE {} MRA {}",
+                sci(*aae, 3),
+                sci(*mra, 3)
+            ));
+        }
+        out
+    }
+
+    fn warnings(&self, subcase: u32) -> Vec<String> {
+        let e = self;
+        let mut warnings: Vec<String> = extrapolation_warning(subcase, &e.extrapolated, &e.rom)
+            .into_iter()
+            .collect();
+        if e.forced {
+            warnings.push(format!(
+                "subcase {}: FORCE = YES: the filter ran although the problem is {}",
+                subcase, e.observability
+            ));
+        }
+        if !e.hidden_modes.is_empty() {
+            let modes: Vec<String> = e
+                .hidden_modes
+                .iter()
+                .map(|(k, f)| format!("{k} ({f:.4e} Hz)"))
+                .collect();
+            warnings.push(format!("subcase {}: mode(s) {} are not seen by the measured sensors (unobservable at s = λ, but stable: detectable, thesis §7.5.1)", subcase, modes.join(", ")));
+        }
+        warnings
+    }
 }

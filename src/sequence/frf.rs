@@ -9,7 +9,7 @@
 //!   grid's CD frame, as for Nastran's DAREA), loaded by a unit force through Tᵀ (a dependent
 //!   RBE DOF spreads to its independent DOFs). A constrained input DOF is an error;
 //! - outputs: the input DOFs (receptance, like the pROM FRF) and the SENSORs the subcase selects
-//!   ([`sensor_operator`]: DISP and STRAIN per unit force, VEL × iω, ACCEL × −ω², the
+//!   ([`crate::discretize::sensors`]: DISP and STRAIN per unit force, VEL × iω, ACCEL × −ω², the
 //!   measurement equations' (iω)^k of [`crate::dynamics::measurement`]);
 //! - damping: Rayleigh C = αM + βK from `PARAM,ALPHA1` / `PARAM,BETA1` (as the pROM build) and
 //!   structural damping `PARAM,G` as Nastran: K(1 + iG) in the direct solution, G on each modal
@@ -32,25 +32,24 @@
 //! displacement output; `displacement_grid_ids` for a set). Their rows join the outputs of the
 //! solve and are dropped from H.
 
-use faer::{Mat, c64};
 use nalgebra_sparse::{CooMatrix, CscMatrix};
 
-use super::sensors::{displacement_rows, sensor_operator};
-use super::{
-    Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary,
-};
-use crate::assembly::DofMap;
+use super::report::{Report, sci};
+use super::shared::{frequency_lines, scaled_flat, write_frf};
+use super::{Clock, GridRows, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::Solution;
-use crate::deck::case_control::Subcase;
+use crate::discretize::loads::frequency_inputs;
+use crate::discretize::sensors::{displacement_rows, project_rows};
+use crate::discretize::{Constrained, Structure};
 use crate::dynamics::frf::{
     SparseModel, direct_receptance, modal_receptance, residual_vectors, static_stiffness_is_regular,
 };
 use crate::dynamics::measurement::Reads;
-use crate::dynamics::table::Table;
-use crate::io::csv_table::read_columns;
-use crate::io::{IoError, set_attr_i64, set_attr_str, write_c64, write_f64, write_strings};
-use crate::linalg::{EigenProblem, EigenRequest, LanczosOptions, SymbolicFactor, solve_modes};
-use crate::model::Model;
+use crate::io::{set_attr_i64, set_attr_str, write_c64};
+use crate::linalg::dense::product;
+use crate::linalg::{
+    EigenProblem, EigenRequest, LanczosOptions, Mat, SymbolicFactor, c64, solve_modes,
+};
 
 /// How the full-model FRF is computed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -88,210 +87,6 @@ pub struct FrfSummary {
     pub peak: (f64, f64),
 }
 
-/// The frequency lines (Hz) of the subcase's `FREQUENCY = sid`: every FREQ, FREQ1, FREQ2 of
-/// that SID, sorted, duplicates removed.
-pub fn frequency_lines(model: &Model, sub: &Subcase) -> Result<Vec<f64>, RunError> {
-    let case = |what: String| RunError::Case {
-        subcase: sub.id,
-        what,
-    };
-    let sid = sub
-        .frequency
-        .ok_or_else(|| case("SOL FRF needs FREQUENCY = <FREQ sid> in case control".into()))?;
-    let mut hz: Vec<f64> = model
-        .bulk
-        .freq
-        .iter()
-        .filter(|f| f.sid == sid)
-        .flat_map(|f| f.frequencies())
-        .collect();
-    if hz.is_empty() {
-        return Err(case(format!(
-            "FREQUENCY = {sid} selects no FREQ, FREQ1 or FREQ2 card"
-        )));
-    }
-    hz.sort_by(f64::total_cmp);
-    hz.dedup();
-    Ok(hz)
-}
-
-/// Scales H by each output row's (iω)^k ([`Reads::frequency_factor`]: the input DOFs, DISP and
-/// STRAIN read displacement, VEL iω, ACCEL −ω²) and flattens it line-major (f × o × i); also
-/// returns the largest |H| and its frequency.
-pub fn scaled_flat(h: &[Mat<c64>], hz: &[f64], reads: &[Reads]) -> (Vec<c64>, (f64, f64)) {
-    let mut flat = Vec::with_capacity(h.iter().map(|m| m.nrows() * m.ncols()).sum());
-    let mut peak = (0.0_f64, 0.0);
-    for (hw, f) in h.iter().zip(hz) {
-        let w = 2.0 * std::f64::consts::PI * f;
-        for (o, row) in reads.iter().enumerate() {
-            let factor = row.frequency_factor(w);
-            for i in 0..hw.ncols() {
-                let z = hw[(o, i)] * factor;
-                if z.norm() > peak.0 {
-                    peak = (z.norm(), *f);
-                }
-                flat.push(z);
-            }
-        }
-    }
-    (flat, peak)
-}
-
-/// Writes `frequency_hz`, `H` (f × o × i), `inputs` and `outputs` into `group`.
-pub fn write_frf(
-    group: &hdf5_metno::Group,
-    hz: &[f64],
-    flat: &[c64],
-    inputs: &[String],
-    outputs: &[String],
-) -> Result<(), IoError> {
-    write_f64(group, "frequency_hz", hz, &[hz.len()])?;
-    write_c64(group, "H", flat, &[hz.len(), outputs.len(), inputs.len()])?;
-    let refs: Vec<&str> = inputs.iter().map(String::as_str).collect();
-    write_strings(group, "inputs", &refs)?;
-    let refs: Vec<&str> = outputs.iter().map(String::as_str).collect();
-    write_strings(group, "outputs", &refs)?;
-    Ok(())
-}
-
-/// A TABLED1 or TABLEF (CSV, path relative to the file holding the card) by id.
-pub fn dynamic_table(model: &Model, tid: u32) -> Result<Table, String> {
-    let b = &model.bulk;
-    match (
-        b.tabled1.iter().find(|x| x.id == tid),
-        b.tablef.iter().find(|x| x.id == tid),
-    ) {
-        (Some(x), _) => Table::new(&x.points).map_err(|e| format!("{}: TABLED1 {tid}: {e}", x.loc)),
-        (None, Some(x)) => {
-            let csv = x.loc.file.parent().map_or_else(
-                || std::path::PathBuf::from(&x.path),
-                |dir| dir.join(&x.path),
-            );
-            let points = read_columns(&csv, &x.tcol, &x.ycol)
-                .map_err(|e| format!("{}: TABLEF {tid}: {e}", x.loc))?;
-            Table::new(&points)
-                .map_err(|e| format!("{}: TABLEF {tid} ({}): {e}", x.loc, csv.display()))
-        }
-        (None, None) => Err(format!("table {tid} is no TABLED1 or TABLEF")),
-    }
-}
-
-/// One RLOAD1 term on one input: scale · (C(f) + iD(f)) · e^{i(θ − 2πfτ)}.
-struct LoadTerm {
-    input: usize,
-    scale: f64,
-    c: Option<Table>,
-    d: Option<Table>,
-    phase: f64,
-    delay: f64,
-}
-
-impl LoadTerm {
-    fn at(&self, hz: f64) -> c64 {
-        let c = self.c.as_ref().map_or(0.0, |t| t.value(hz));
-        let d = self.d.as_ref().map_or(0.0, |t| t.value(hz));
-        let angle = self.phase - 2.0 * std::f64::consts::PI * hz * self.delay;
-        c64::new(c, d) * c64::new(angle.cos(), angle.sin()) * self.scale
-    }
-}
-
-/// The subcase's inputs: names, f-set unit-load columns (n_f × k) and the RLOAD1 terms.
-struct Inputs {
-    names: Vec<String>,
-    columns: Mat<f64>,
-    terms: Vec<LoadTerm>,
-}
-
-fn inputs(
-    model: &Model,
-    st: &Structure,
-    c: &Constrained,
-    sub: &Subcase,
-) -> Result<Inputs, RunError> {
-    let id = sub.id;
-    let case = |what: String| RunError::Case { subcase: id, what };
-    let b = &model.bulk;
-    let sid = sub.dload.ok_or_else(|| case("SOL FRF on the full model needs DLOAD = <RLOAD1 or DLOAD sid> (its DAREA DOFs are the inputs)".into()))?;
-    let sets: Vec<(f64, u32)> = match b.dload.iter().find(|d| d.sid == sid) {
-        Some(d) => d.terms.iter().map(|&(s, l)| (d.scale * s, l)).collect(),
-        None => vec![(1.0, sid)],
-    };
-    let mut dofs: Vec<(u32, usize)> = Vec::new();
-    let mut terms = Vec::new();
-    for (scale, set) in sets {
-        let rloads: Vec<_> = b.rload1.iter().filter(|r| r.sid == set).collect();
-        if rloads.is_empty() {
-            return Err(case(format!("DLOAD {sid}: load set {set} has no RLOAD1")));
-        }
-        for r in rloads {
-            let table = |tid: u32| {
-                if tid == 0 {
-                    Ok(None)
-                } else {
-                    dynamic_table(model, tid)
-                        .map(Some)
-                        .map_err(|e| case(format!("RLOAD1 {}: {e}", r.sid)))
-                }
-            };
-            let (tc, td) = (table(r.tc)?, table(r.td)?);
-            let mut any = false;
-            for d in b.darea.iter().filter(|d| d.sid == r.excite_id) {
-                for comp in d.components.components() {
-                    let input = match dofs.iter().position(|&x| x == (d.grid, comp)) {
-                        Some(i) => i,
-                        None => {
-                            dofs.push((d.grid, comp));
-                            dofs.len() - 1
-                        }
-                    };
-                    terms.push(LoadTerm {
-                        input,
-                        scale: scale * d.scale,
-                        c: tc.clone(),
-                        d: td.clone(),
-                        phase: r.phase_deg.to_radians(),
-                        delay: r.delay,
-                    });
-                    any = true;
-                }
-            }
-            if !any {
-                return Err(case(format!(
-                    "RLOAD1 {}: EXCITEID {} selects no DAREA",
-                    r.sid, r.excite_id
-                )));
-            }
-        }
-    }
-    let n_f = c.sets.f.len();
-    let mut columns = Mat::<f64>::zeros(n_f, dofs.len());
-    for (j, &(grid, comp)) in dofs.iter().enumerate() {
-        let index = *model
-            .grid_index
-            .get(&grid)
-            .ok_or_else(|| case(format!("DAREA: GRID {grid} does not exist")))?;
-        let g = DofMap::dof(index, comp - 1);
-        let row = st.rigid.t.row(g);
-        let mut any = false;
-        for (&n, &t) in row.col_indices().iter().zip(row.values()) {
-            if let Some(f) = c.sets.f_in_n.position(n) {
-                columns[(f, j)] += t;
-                any |= t != 0.0;
-            }
-        }
-        if !any {
-            return Err(case(format!(
-                "DAREA: GRID {grid} component {comp} is constrained (SPC, AUTOSPC): a load there moves nothing"
-            )));
-        }
-    }
-    Ok(Inputs {
-        names: dofs.iter().map(|(g, c)| format!("{g}:{c}")).collect(),
-        columns,
-        terms,
-    })
-}
-
 /// Runs every subcase of a full-model SOL FRF.
 pub fn run(
     ctx: &RunContext,
@@ -314,9 +109,11 @@ pub fn run(
         })?;
         let hz = frequency_lines(model, sub)?;
         let omegas: Vec<f64> = hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
-        let inputs = inputs(model, st, &c, sub)?;
+        let sid = sub.dload.ok_or_else(|| RunError::Case { subcase: id, what: "SOL FRF on the full model needs DLOAD = <RLOAD1 or DLOAD sid> (its DAREA DOFs are the inputs)".into() })?;
+        let inputs = frequency_inputs(model, st, &c, sid)
+            .map_err(|what| RunError::Case { subcase: id, what })?;
         let sensors = clock.time(format!("subcase {id}: sensor rows"), || {
-            sensor_operator(ctx, st, &c, sub)
+            super::subcase_sensors(ctx, st, &c, sub)
         })?;
         // output rows: the input DOFs (their load columns read the displacement there), the
         // sensors, then 6 per grid of a DISPLACEMENT request
@@ -378,15 +175,10 @@ pub fn run(
                     subcase: id,
                     what: "SOL 111 needs METHOD = <EIGRL sid> in case control".into(),
                 })?;
-                let eigrl = model
-                    .bulk
-                    .eigrl
-                    .iter()
-                    .find(|e| e.sid == sid)
-                    .ok_or_else(|| RunError::Case {
-                        subcase: id,
-                        what: format!("METHOD = {sid} selects no EIGRL card"),
-                    })?;
+                let eigrl = model.eigrl(sid).ok_or_else(|| RunError::Case {
+                    subcase: id,
+                    what: format!("METHOD = {sid} selects no EIGRL card"),
+                })?;
                 let symbolic =
                     SymbolicFactor::analyze(c.k_ff.pattern()).map_err(|e| RunError::Linalg {
                         subcase: id,
@@ -416,7 +208,7 @@ pub fn run(
                             ctx.progress,
                         )
                     })
-                    .map_err(|e| c.mechanism(st, id, e))?;
+                    .map_err(|e| super::mechanism(&c, st, id, e))?;
                 modes = r.eigenvalues.len();
                 let extra = if model.params.resvec {
                     let extra = clock
@@ -457,16 +249,8 @@ pub fn run(
                 let basis = eigenvalues.len();
                 clock
                     .time(format!("subcase {id}: modal FRF ({modes} modes, {} residual vectors, {} lines)", basis - modes, hz.len()), || {
-                        let phi = &phi;
-                        let modal_in = phi.transpose() * &inputs.columns;
-                        let mut modal_out = Mat::<f64>::zeros(outputs.nrows(), basis);
-                        for (col, column) in outputs.col_iter().enumerate() {
-                            for (&row, &v) in column.row_indices().iter().zip(column.values()) {
-                                for j in 0..basis {
-                                    modal_out[(row, j)] += v * phi[(col, j)];
-                                }
-                            }
-                        }
+                        let modal_in = product(phi.transpose(), inputs.columns.as_ref());
+                        let modal_out = project_rows(&outputs, &phi);
                         modal_receptance(&eigenvalues, alpha, beta, model.params.g, modal_in.as_ref(), modal_out.as_ref(), &omegas)
                     })
                     .map_err(frf_error)?
@@ -474,15 +258,7 @@ pub fn run(
         };
         // the grids' response to the deck's load, then H without their rows
         let n_disp = grid_outputs.nrows();
-        let mut displacement = vec![c64::new(0.0, 0.0); hz.len() * n_disp];
-        for (l, (f, hw)) in hz.iter().zip(&h).enumerate() {
-            for term in &inputs.terms {
-                let p = term.at(*f);
-                for o in 0..n_disp {
-                    displacement[l * n_disp + o] += hw[(named + o, term.input)] * p;
-                }
-            }
-        }
+        let displacement = inputs.response(&hz, n_disp, |l, o, i| h[l][(named + o, i)]);
         let h: Vec<Mat<c64>> = if n_disp == 0 {
             h
         } else {
@@ -500,15 +276,7 @@ pub fn run(
                 let group = ctx.output.group(&format!("results/{id}/frf"))?;
                 write_frf(&group, &hz, &flat, &inputs.names, &names)?;
                 let n_out = names.len();
-                let mut response = vec![c64::new(0.0, 0.0); hz.len() * n_out];
-                for (l, f) in hz.iter().enumerate() {
-                    for term in &inputs.terms {
-                        let p = term.at(*f);
-                        for o in 0..n_out {
-                            response[l * n_out + o] += flat[(l * n_out + o) * k + term.input] * p;
-                        }
-                    }
-                }
+                let response = inputs.response(&hz, n_out, |l, o, i| flat[(l * n_out + o) * k + i]);
                 write_c64(&group, "response", &response, &[hz.len(), n_out])?;
                 if let Some(rows) = &grid_rows {
                     write_c64(
@@ -544,4 +312,41 @@ pub fn run(
         });
     }
     Ok(out)
+}
+
+impl Report for FrfSummary {
+    fn render(&self, subcase: u32) -> Vec<String> {
+        let r = self;
+        let modes = match (r.modes, r.residual_vectors) {
+            (0, _) => String::new(),
+            (m, Some(k)) => format!(", {m} modes + {k} residual vector(s)"),
+            (m, None) => format!(", {m} modes"),
+        };
+        vec![
+            format!(
+                "subcase {}: {} FRF, f-set {} DOFs{modes}, {} line(s), {} input(s) ({}) × {} output(s)",
+                subcase,
+                r.method.name(),
+                r.f_size,
+                r.lines,
+                r.inputs.len(),
+                r.inputs.join(", "),
+                r.outputs.len()
+            ),
+            format!(
+                "  largest |H| {} at {} Hz",
+                sci(r.peak.0, 4),
+                sci(r.peak.1, 4)
+            ),
+        ]
+    }
+
+    fn warnings(&self, subcase: u32) -> Vec<String> {
+        let f = self;
+        let mut warnings = Vec::new();
+        if f.resvec_skipped {
+            warnings.push(format!("subcase {}: no residual vectors (PARAM,RESVEC): K is singular (a free-free model or a mechanism), so the {} modes alone are superposed; the modes left out are missing, so EIGRL should reach well above the band", subcase, f.modes));
+        }
+        warnings
+    }
 }

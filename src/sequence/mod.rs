@@ -11,11 +11,16 @@
 //! | `109`, `112`, `TRANSIENT` | [`transient::run`] (full model), [`rom_transient::run`] (`ROM =`) | `TSTEP` (+`TINTEG`), `DLOAD`, `IC` → sensor histories |
 //! | any with `ROM =` | [`rom_modal`], [`rom_frf`], [`rom_transient`] | the pROM artifact at `PVAL` |
 //!
-//! Both drivers share the structure setup of [`Structure::build`]: element matrices
-//! ([`elements`]), one grid-block pattern for K and M, rigid elimination g → n with one plan,
-//! and per SPC set the f-set with AUTOSPC. Everything the user must see (AUTOSPC lists, Sturm
-//! check, timings) is returned in a [`RunSummary`]; the library never prints, long steps report
-//! through [`Progress`].
+//! The full-model drivers share the discretization of [`crate::discretize`]: one
+//! [`Structure`] (element matrices, one grid-block pattern for K and M, rigid elimination
+//! g → n with one plan) and per SPC set the f-set with AUTOSPC ([`Constrained`]). Everything
+//! the user must see (AUTOSPC lists, Sturm check, warnings, timings) is returned in a
+//! [`RunSummary`], each driver's part rendered by its [`Report`]; the library never prints,
+//! long steps report through [`Progress`].
+//!
+//! A new sequence is one driver file (its `run`, its summary type implementing [`Report`]) plus
+//! one arm in [`Sequence`], [`SubcaseResult`] and the dispatch of [`run`]; what several drivers
+//! share lives in [`shared`] and [`rom_case`], never in another driver.
 //!
 //! Output (HDF5, DESIGN.md §8; full layout in the README "Output file" section):
 //!
@@ -34,35 +39,34 @@
 //!
 //! Vectors are written in the basic system (rotated back from the grids' CD frames).
 
-pub mod elements;
 pub mod estimate;
 pub mod frf;
 pub mod modal;
-pub mod parameters;
 pub mod prom;
+pub mod report;
 pub mod rom_case;
 pub mod rom_frf;
 pub mod rom_modal;
 pub mod rom_transient;
-pub mod sensors;
+pub mod shared;
 pub mod statics;
 pub mod transient;
 
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use faer::Par;
-use nalgebra_sparse::CscMatrix;
-
 use crate::assembly::error::DofName;
-use crate::assembly::reduce::{GToN, Partition};
-use crate::assembly::spc::{AutoSpcReport, SpcSet, autospc};
-use crate::assembly::{AffineOperator, AssemblyError, DofMap, GridFrames, RigidElimination, Sets};
+use crate::assembly::spc::AutoSpcReport;
+use crate::assembly::{AssemblyError, DofMap};
+use crate::deck::cards::Sensor;
 use crate::deck::case_control::{OutputRequest, Subcase, Target};
 use crate::deck::{Deck, Solution};
+use crate::discretize::sensors::{SensorOperator, sensor_operator};
+use crate::discretize::{BuildOptions, Constrained, DiscretizeError, Structure};
 use crate::io::{IoError, OutputFile};
-use crate::linalg::{LinalgError, Progress, SturmCheck};
+use crate::linalg::{LinalgError, Progress};
+
 use crate::model::Model;
+pub use report::Report;
 
 /// The solution sequences paraflex can run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -111,29 +115,6 @@ impl Sequence {
     }
 }
 
-/// Options of a run that are not in the deck.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct RunOptions {
-    /// Use rayon / faer parallelism (element matrices, assembly, factorization).
-    pub parallel: bool,
-}
-
-impl Default for RunOptions {
-    fn default() -> Self {
-        RunOptions { parallel: true }
-    }
-}
-
-impl RunOptions {
-    fn par(&self) -> Par {
-        if self.parallel {
-            Par::rayon(0)
-        } else {
-            Par::Seq
-        }
-    }
-}
-
 /// Everything a driver needs.
 pub struct RunContext<'a> {
     pub deck: &'a Deck,
@@ -141,7 +122,7 @@ pub struct RunContext<'a> {
     /// The output file (already holding `/model`); drivers add `/results`.
     pub output: &'a OutputFile,
     pub progress: &'a dyn Progress,
-    pub options: RunOptions,
+    pub options: BuildOptions,
 }
 
 /// Result of a run, for the console.
@@ -178,6 +159,23 @@ pub enum SubcaseResult {
     Estimate(estimate::EstimateSummary),
 }
 
+impl SubcaseResult {
+    /// The console lines and warnings of this result.
+    pub fn report(&self) -> &dyn Report {
+        match self {
+            SubcaseResult::Modal(r) => r,
+            SubcaseResult::Statics(r) => r,
+            SubcaseResult::Prom(r) => r,
+            SubcaseResult::Frf(r) => r,
+            SubcaseResult::RomModal(r) => r,
+            SubcaseResult::RomFrf(r) => r,
+            SubcaseResult::RomTransient(r) => r,
+            SubcaseResult::Transient(r) => r,
+            SubcaseResult::Estimate(r) => r,
+        }
+    }
+}
+
 /// Errors of a run. Each says where (element, GRID and component, subcase) and what to do.
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
@@ -187,14 +185,6 @@ pub enum RunError {
     /// The deck has no SOL statement.
     #[error("the deck has no SOL statement; nothing to run")]
     NoSolution,
-    /// An element whose property or material combination is not supported, or whose
-    /// geometry the element kernel rejects.
-    #[error("{card} {id}: {reason}")]
-    Element {
-        card: &'static str,
-        id: u32,
-        reason: String,
-    },
     /// K_ff is singular: a mechanism or a missing constraint.
     #[error(
         "subcase {subcase}: the stiffness matrix is singular at {dof} ({detail}); the structure is a mechanism or is not constrained there — add an SPC (or GRID PS) for this DOF, or let PARAM,AUTOSPC,YES remove DOFs without stiffness"
@@ -204,12 +194,12 @@ pub enum RunError {
         dof: DofName,
         detail: String,
     },
-    /// A PMPAR that cannot be applied (e.g. its nominal value cannot be read).
-    #[error("PMPAR {name}: {reason}")]
-    Parameter { name: String, reason: String },
     /// A subcase lacks a selection the sequence needs.
     #[error("subcase {subcase}: {what}")]
     Case { subcase: u32, what: String },
+    /// An element or a PMPAR the discretization rejects.
+    #[error(transparent)]
+    Discretize(#[from] DiscretizeError),
     #[error(transparent)]
     Assembly(#[from] AssemblyError),
     #[error("subcase {subcase}: {source}")]
@@ -283,7 +273,10 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
             | Sequence::Transient,
             _,
         ) => {
-            let structure = Structure::build(ctx, &mut clock)?;
+            let structure =
+                Structure::build_timed(ctx.model, &ctx.options, ctx.progress, &mut |name, d| {
+                    clock.record(name, d)
+                })?;
             match sequence {
                 Sequence::Statics => statics::run(ctx, &structure, &mut clock)?,
                 Sequence::Prom => prom::run(ctx, &structure, &mut clock)?,
@@ -294,10 +287,8 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         }
     };
     let mut warnings = Vec::new();
-    if sequence == Sequence::Transient && ctx.model.params.g != 0.0 && ctx.model.params.w3 == 0.0 {
-        // Nastran turns G into viscous damping (G/W3)·K in transient response only with
-        // PARAM,W3, whose default 0 leaves it out
-        warnings.push(format!("PARAM,G = {} is not applied by SOL TRANSIENT without PARAM,W3 (as Nastran): set W3 (rad/s) for (G/W3)·K, or use Rayleigh damping (PARAM,ALPHA1 / BETA1)", ctx.model.params.g));
+    if sequence == Sequence::Transient {
+        warnings.extend(transient::damping_warning(ctx.model));
     }
     for s in &subcases {
         if !s.autospc.is_empty() {
@@ -307,111 +298,7 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
                 s.autospc.len()
             ));
         }
-        let extrapolated = match &s.result {
-            SubcaseResult::RomModal(r) => Some((&r.extrapolated, &r.rom)),
-            SubcaseResult::RomFrf(r) => Some((&r.extrapolated, &r.rom)),
-            SubcaseResult::RomTransient(r) => Some((&r.extrapolated, &r.rom)),
-            SubcaseResult::Estimate(r) => Some((&r.extrapolated, &r.rom)),
-            _ => None,
-        };
-        if let Some((names, rom)) = extrapolated.filter(|(names, _)| !names.is_empty()) {
-            warnings.push(format!("subcase {}: parameter(s) {} lie outside the box the pROM {} was built for: extrapolated", s.id, names.join(", "), rom.display()));
-        }
-        if let SubcaseResult::Frf(f) = &s.result
-            && f.resvec_skipped
-        {
-            warnings.push(format!("subcase {}: no residual vectors (PARAM,RESVEC): K is singular (a free-free model or a mechanism), so the {} modes alone are superposed; the modes left out are missing, so EIGRL should reach well above the band", s.id, f.modes));
-        }
-        if let SubcaseResult::RomModal(r) = &s.result
-            && let Some(nd) = r.nd_short
-        {
-            warnings.push(format!("subcase {}: EIGRL ND = {nd} asks for more modes than the pROM {} has in the band (size {}): all {} returned", s.id, r.rom.display(), r.n_red, r.frequencies_hz.len()));
-        }
-        if let SubcaseResult::Estimate(e) = &s.result {
-            if e.forced {
-                warnings.push(format!(
-                    "subcase {}: FORCE = YES: the filter ran although the problem is {}",
-                    s.id, e.observability
-                ));
-            }
-            if !e.hidden_modes.is_empty() {
-                let modes: Vec<String> = e
-                    .hidden_modes
-                    .iter()
-                    .map(|(k, f)| format!("{k} ({f:.4e} Hz)"))
-                    .collect();
-                warnings.push(format!("subcase {}: mode(s) {} are not seen by the measured sensors (unobservable at s = λ, but stable: detectable, thesis §7.5.1)", s.id, modes.join(", ")));
-            }
-        }
-        if let SubcaseResult::Prom(p) = &s.result {
-            if !p.frozen_condensation.is_empty() {
-                warnings.push(format!(
-                    "subcase {}: PMPAR {} change(s) by more than a scale the section of CQUAD4s whose incompatible membrane modes are condensed once with the deck's section (PARAM,QINCOMP,YES, the default; README \"Frozen condensation\"): the pROM is exact for that model, but differs from a deck rebuilt at parameter values far from the nominal ones (measured on a [±Θ]2s link: ~5e-4 in frequency 10° from nominal, ~1e-1 on single membrane modes 30° away); PARAM,QINCOMP,NO restores exact agreement at the cost of in-plane bending accuracy (the plain membrane is ≈ 1/(1−ν²) too stiff there)",
-                    s.id,
-                    p.frozen_condensation.join(", ")
-                ));
-            }
-            if p.inputs == 0 {
-                warnings.push(format!(
-                    "subcase {}: the pROM has no input DOFs (no ASET1, or PMOR BSET blank): the FRF error of eq. 3.35 cannot choose its size, so all {} basis vectors are kept; give the load and support DOFs as ASET1 to get inputs and a size chosen by ERRTOL",
-                    s.id, p.n_red
-                ));
-            } else if !p.log.converged {
-                let last = p
-                    .log
-                    .error_history
-                    .last()
-                    .map_or("not measured".to_string(), |(size, e)| {
-                        format!("{e:.2e} at size {size}")
-                    });
-                warnings.push(format!(
-                    "subcase {}: the pROM uses the whole numerical rank of the local bases ({}) but the last growth step still changed the FRFs by {last} (eq. 3.35, summed over {} input/output pairs), above ERRTOL; more samples or modes would make the basis richer",
-                    s.id,
-                    p.n_red,
-                    p.inputs * p.inputs
-                ));
-            }
-        }
-        if let SubcaseResult::Modal(m) = &s.result {
-            let bad: Vec<String> = m
-                .residuals
-                .iter()
-                .enumerate()
-                .filter(|(_, r)| !(**r <= RESIDUAL_WARNING))
-                .map(|(k, r)| format!("{} ({r:.1e})", k + 1))
-                .collect();
-            if !bad.is_empty() {
-                warnings.push(format!(
-                    "subcase {}: mode(s) {} have residual ‖Kφ − λMφ‖/‖Kφ‖ above {RESIDUAL_WARNING:e}: not trustworthy (more modes requested than the mass matrix has finite ones, or masses many orders of magnitude apart, as in the large-mass method, where the frequencies stay accurate but the shapes lose digits)",
-                    s.id,
-                    bad.join(", ")
-                ));
-            }
-            if m.finite_exhausted {
-                let why = if m.massless > 0 {
-                    format!(
-                        "M is singular on {} massless f-set DOF(s) (no mass on that row)",
-                        m.massless
-                    )
-                } else {
-                    "M is rank-deficient on DOFs that have mass (e.g. an offset CONM2 without inertia)".to_string()
-                };
-                warnings.push(format!(
-                    "subcase {}: only {} finite mode(s) exist above the lower bound, ND = {} asked for more: {why}; the other eigenvalues are infinite and are not returned",
-                    s.id,
-                    m.eigenvalues.len(),
-                    m.nd.map_or("(blank)".to_string(), |n| n.to_string()),
-                ));
-            }
-            if !m.sturm.is_consistent() {
-                warnings.push(format!(
-                    "subcase {}: Sturm check found {} eigenvalue(s) below {:.6e} Hz that Lanczos did not return",
-                    s.id,
-                    m.sturm.missing(),
-                    lambda_to_hz(m.sturm.shift)
-                ));
-            }
-        }
+        warnings.extend(s.result.report().warnings(s.id));
     }
     Ok(RunSummary {
         sequence,
@@ -419,14 +306,6 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         timings: clock.steps,
         warnings,
     })
-}
-
-/// Modes with a larger residual are flagged in the run's warnings.
-pub const RESIDUAL_WARNING: f64 = 1e-6;
-
-/// f = √max(λ, 0)/2π.
-pub fn lambda_to_hz(lambda: f64) -> f64 {
-    lambda.max(0.0).sqrt() / (2.0 * std::f64::consts::PI)
 }
 
 /// Step timings.
@@ -440,204 +319,59 @@ impl Clock {
     pub fn time<T>(&mut self, name: impl Into<String>, f: impl FnOnce() -> T) -> T {
         let start = Instant::now();
         let out = f();
-        self.steps.push((name.into(), start.elapsed()));
+        self.record(name, start.elapsed());
         out
+    }
+
+    /// Records a step timed elsewhere.
+    pub fn record(&mut self, name: impl Into<String>, duration: Duration) {
+        self.steps.push((name.into(), duration));
     }
 }
 
-/// The assembled structure shared by every subcase: K and M on one g pattern, reduced to n.
-pub struct Structure {
-    pub map: DofMap,
-    pub frames: GridFrames,
-    pub rigid: RigidElimination,
-    /// K_nn and M_nn as affine operators on one shared pattern.
-    pub k_nn: AffineOperator,
-    pub m_nn: AffineOperator,
-    /// M_gg when rigid elements make n ≠ g (GRAV loads need it; see [`Structure::mass_gg`]).
-    m_gg: Option<AffineOperator>,
-    /// Recovery data of each shell (strains), by index into `model.elements`.
-    pub shells: Vec<(usize, elements::ShellRecovery)>,
-    /// The PMPARs the affine parts are functions of.
-    pub params: parameters::Parameters,
-    /// The PMPARs that freeze the condensation of a CQUAD4's incompatible modes at the deck's
-    /// section ([`elements::ElementMatrices::frozen_condensation`]).
-    pub frozen_condensation: Vec<String>,
+/// The error of a factorization of K_ff (or K − σM) of subcase `subcase`: a mechanism at its
+/// (GRID, component) when it is one ([`Constrained::mechanism_dof`]), the solver's error
+/// otherwise.
+pub fn mechanism(c: &Constrained, st: &Structure, subcase: u32, e: LinalgError) -> RunError {
+    match c.mechanism_dof(st, &e) {
+        Some(dof) => RunError::Mechanism {
+            subcase,
+            dof,
+            detail: e.to_string(),
+        },
+        None => RunError::Linalg { subcase, source: e },
+    }
 }
 
-impl Structure {
-    /// Element matrices, assembly on one pattern, rigid elimination.
-    pub fn build(ctx: &RunContext, clock: &mut Clock) -> Result<Self, RunError> {
-        let model = ctx.model;
-        let map = DofMap::of_model(model);
-        let frames = GridFrames::of_model(model);
-        let params = parameters::Parameters::of_model(model)?;
-        let elements = clock.time("element matrices", || {
-            elements::element_matrices(model, &frames, &params, ctx.options.parallel, ctx.progress)
-        })?;
-        let (k_gg, m_gg) = clock.time("assembly", || -> Result<_, RunError> {
-            ctx.progress.step("assembly", 0, 2);
-            let lists = elements
-                .stiffness
+/// The SENSOR cards `sub` selects (`SENSOR = ALL | NONE | set`, every card without a request),
+/// in card order.
+pub fn selected_sensors<'a>(deck: &Deck, model: &'a Model, sub: &Subcase) -> Vec<&'a Sensor> {
+    let cards = model.sensors();
+    match &sub.sensor {
+        None | Some(Target::All) => cards.iter().collect(),
+        Some(Target::None) => Vec::new(),
+        Some(Target::Set(id)) => {
+            let set = deck.case.set(*id);
+            cards
                 .iter()
-                .chain(&elements.mass)
-                .map(|c| c.dofs.as_slice());
-            let pattern = Arc::new(crate::assembly::pattern::grid_block_pattern(
-                map.grids(),
-                lists,
-            )?);
-            let k = AffineOperator::assemble(
-                pattern.clone(),
-                &elements.stiffness,
-                ctx.options.parallel,
-            )?;
-            ctx.progress.step("assembly", 1, 2);
-            let m = AffineOperator::assemble(pattern, &elements.mass, ctx.options.parallel)?;
-            ctx.progress.step("assembly", 2, 2);
-            Ok((k, m))
-        })?;
-        // the element matrices are assembled: only the shells' recovery data stay
-        let shells = elements.shells;
-        let frozen_condensation =
-            params.names_on(&elements.frozen_condensation, &elements::SECTION_STIFFNESS);
-        let (rigid, k_nn, m_nn, m_gg) =
-            clock.time("rigid elimination g → n", || -> Result<_, RunError> {
-                let rigid = RigidElimination::of_model(model, &frames, &map)?;
-                if rigid.m_mask.iter().any(|&m| m) {
-                    let plan = GToN::new(k_gg.pattern().clone(), &rigid.t)?;
-                    let (k_nn, m_nn) = (plan.apply(&k_gg)?, plan.apply(&m_gg)?);
-                    Ok((rigid, k_nn, m_nn, Some(m_gg)))
-                } else {
-                    // no dependent DOFs: n = g in the same order and T = I, so K_nn = K_gg (no copy)
-                    Ok((rigid, k_gg, m_gg, None))
-                }
-            })?;
-        Ok(Structure {
-            map,
-            frames,
-            rigid,
-            k_nn,
-            m_nn,
-            m_gg,
-            shells,
-            params,
-            frozen_condensation,
-        })
-    }
-
-    /// M_gg (GRAV loads): M_nn itself when the model has no dependent DOFs (n = g).
-    pub fn mass_gg(&self) -> &AffineOperator {
-        self.m_gg.as_ref().unwrap_or(&self.m_nn)
-    }
-
-    /// Weights of an operator's affine parts at the parameter values the run uses (the
-    /// PMPAR nominal values; all weights are 1 for the constant part).
-    pub fn weights(&self, op: &AffineOperator) -> Vec<f64> {
-        self.params.weights(op, &self.params.nominal())
-    }
-
-    /// u_g (global frames) → n × 6 rows in basic.
-    pub fn to_basic_rows(&self, u_g: &[f64]) -> Vec<f64> {
-        let mut out = vec![0.0; u_g.len()];
-        for grid in 0..self.map.grids() {
-            let b = 6 * grid;
-            let t = self.frames.to_basic(grid, [u_g[b], u_g[b + 1], u_g[b + 2]]);
-            let r = self
-                .frames
-                .to_basic(grid, [u_g[b + 3], u_g[b + 4], u_g[b + 5]]);
-            out[b..b + 3].copy_from_slice(&t);
-            out[b + 3..b + 6].copy_from_slice(&r);
+                .filter(|s| set.is_some_and(|set| set.ids.contains(&s.id)))
+                .collect()
         }
-        out
     }
 }
 
-/// The constrained system of one SPC set: sets, AUTOSPC, K_ff / M_ff on one pattern.
-pub struct Constrained {
-    pub spc: SpcSet,
-    pub sets: Sets,
-    pub autospc: AutoSpcReport,
-    /// K_nn at the nominal parameters (values on `k_nn`'s pattern).
-    pub k_nn_values: Vec<f64>,
-    pub k_ff: CscMatrix<f64>,
-    pub m_ff: CscMatrix<f64>,
-    /// K_fs for enforced displacements.
-    pub k_fs: AffineOperator,
-}
-
-impl Constrained {
-    /// The s-set of `SPC = sid` (plus GRID PS and AUTOSPC when enabled) and the f-set matrices.
-    pub fn build(model: &Model, st: &Structure, sid: Option<u32>) -> Result<Self, RunError> {
-        let mut spc = SpcSet::of_model(model, &st.map, sid)?;
-        spc.check_against_rigids(&st.rigid, &st.map)?;
-        let mut k_nn_values = vec![0.0; st.k_nn.pattern().nnz()];
-        st.k_nn
-            .evaluate_into(&st.weights(&st.k_nn), &mut k_nn_values)?;
-        let autospc = if model.params.autospc {
-            autospc(&st.k_nn, &k_nn_values, &st.rigid.n, &spc.mask, &st.map)?
-        } else {
-            AutoSpcReport::default()
-        };
-        spc.add_autospc(&autospc);
-        let sets = Sets::new(&st.map, &st.rigid.m_mask, &spc.mask)?;
-        let ff = Partition::new(st.k_nn.pattern().clone(), &sets.f_in_n, &sets.f_in_n)?;
-        let k_ff = ff.apply(&st.k_nn)?;
-        let m_ff = ff.apply(&st.m_nn)?;
-        let k_ff = k_ff.evaluate(&st.weights(&k_ff))?;
-        let m_ff = m_ff.evaluate(&st.weights(&m_ff))?;
-        let k_fs = crate::assembly::reduce::partition(&st.k_nn, &sets.f_in_n, &sets.s_in_n)?;
-        Ok(Constrained {
-            spc,
-            sets,
-            autospc,
-            k_nn_values,
-            k_ff,
-            m_ff,
-            k_fs,
-        })
-    }
-
-    /// K_ff and M_ff with every affine part (for a pROM build), on one pattern.
-    pub fn affine_ff(&self, st: &Structure) -> Result<(AffineOperator, AffineOperator), RunError> {
-        let ff = Partition::new(
-            st.k_nn.pattern().clone(),
-            &self.sets.f_in_n,
-            &self.sets.f_in_n,
-        )?;
-        Ok((ff.apply(&st.k_nn)?, ff.apply(&st.m_nn)?))
-    }
-
-    /// Whether K_ff has (relatively) no stiffness on the diagonal at f index `i`.
-    fn no_stiffness(&self, i: usize) -> bool {
-        let diag = |j: usize| {
-            self.k_ff
-                .get_entry(j, j)
-                .map_or(0.0, |v| v.into_value().abs())
-        };
-        let max = (0..self.k_ff.nrows()).map(diag).fold(0.0_f64, f64::max);
-        diag(i) <= crate::assembly::spc::AUTOSPC_RATIO * max
-    }
-
-    /// Map a factorization failure at f index `index` to (GRID, component).
-    pub fn mechanism(&self, st: &Structure, subcase: u32, e: LinalgError) -> RunError {
-        // LLᵀ of K_ff failing is a mechanism; a zero pivot of K − σM (eigen) is one only when
-        // K_ff itself has no stiffness there (otherwise σ hit an eigenvalue: report it as is).
-        let index = match e {
-            LinalgError::NotPositiveDefinite { index, .. } => Some(index),
-            LinalgError::Singular { index } if self.no_stiffness(index) => Some(index),
-            _ => None,
-        };
-        match index
-            .and_then(|i| self.sets.f.members().get(i))
-            .and_then(|&g| st.map.dof_name(g))
-        {
-            Some(dof) => RunError::Mechanism {
-                subcase,
-                dof,
-                detail: e.to_string(),
-            },
-            None => RunError::Linalg { subcase, source: e },
-        }
-    }
+/// The f-set sensor rows of the SENSORs `sub` selects; an error is the subcase's.
+pub fn subcase_sensors(
+    ctx: &RunContext,
+    st: &Structure,
+    c: &Constrained,
+    sub: &Subcase,
+) -> Result<SensorOperator, RunError> {
+    let sensors = selected_sensors(ctx.deck, ctx.model, sub);
+    sensor_operator(ctx.model, st, c, &sensors).map_err(|what| RunError::Case {
+        subcase: sub.id,
+        what,
+    })
 }
 
 /// The AUTOSPC list of a result group: attribute `autospc_count` and, when non-empty, the
@@ -762,20 +496,4 @@ pub fn selected(deck: &Deck, request: &OutputRequest, id: u32) -> bool {
         Target::None => false,
         Target::Set(s) => deck.case.set(s).is_some_and(|set| set.ids.contains(&id)),
     }
-}
-
-/// Sturm check as stored in the output and printed.
-pub fn sturm_line(s: &SturmCheck) -> String {
-    format!(
-        "Sturm check at {:.6e} Hz: {} eigenvalue(s) below, {} found + {} below the shift — {}",
-        lambda_to_hz(s.shift),
-        s.negative_pivots,
-        s.found,
-        s.below_lower,
-        if s.is_consistent() {
-            "consistent".to_string()
-        } else {
-            format!("{} MISSING", s.missing())
-        }
-    )
 }

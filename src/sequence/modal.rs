@@ -19,23 +19,17 @@
 //! ND asks for more, only the finite modes are returned and the run warns (see
 //! [`crate::linalg::eigen`], "Singular M").
 
-use super::{
-    Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary,
-};
+use super::report::{Report, lambda_to_hz, sci, sturm_line};
+use super::{Clock, GridRows, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::assembly::recover::recover_g;
+use crate::deck::cards::EigenNorm;
 use crate::deck::case_control::Subcase;
+use crate::discretize::{Constrained, Structure};
 use crate::io::{set_attr_f64, set_attr_i64, set_attr_str, write_f64};
 use crate::linalg::{
     EigenProblem, EigenRequest, EigenResult, LanczosOptions, SturmCheck, SymbolicFactor,
     solve_modes,
 };
-
-/// Eigenvector normalization (EIGRL NORM).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Norm {
-    Mass,
-    Max,
-}
 
 /// What one modal subcase found.
 #[derive(Debug, Clone)]
@@ -50,7 +44,7 @@ pub struct ModalSummary {
     pub sturm: SturmCheck,
     /// Lanczos shift σ (rad²/s²).
     pub shift: f64,
-    pub norm: Norm,
+    pub norm: EigenNorm,
     /// Size of the eigenproblem (f-set).
     pub f_size: usize,
     /// Whether the mode shapes were written (DISPLACEMENT requested).
@@ -79,21 +73,11 @@ pub fn run(
             subcase: id,
             what: "SOL 103 needs METHOD = <EIGRL sid> in case control".into(),
         })?;
-        let eigrl = ctx
-            .model
-            .bulk
-            .eigrl
-            .iter()
-            .find(|e| e.sid == method)
-            .ok_or_else(|| RunError::Case {
-                subcase: id,
-                what: format!("METHOD = {method} selects no EIGRL card"),
-            })?;
-        let norm = if eigrl.norm.eq_ignore_ascii_case("MAX") {
-            Norm::Max
-        } else {
-            Norm::Mass
-        };
+        let eigrl = ctx.model.eigrl(method).ok_or_else(|| RunError::Case {
+            subcase: id,
+            what: format!("METHOD = {method} selects no EIGRL card"),
+        })?;
+        let norm = eigrl.norm;
         let c = clock.time(format!("subcase {id}: constraints"), || {
             Constrained::build(ctx.model, st, sub.spc)
         })?;
@@ -134,7 +118,7 @@ pub fn run(
                     ctx.progress,
                 )
             })
-            .map_err(|e| c.mechanism(st, id, e))?;
+            .map_err(|e| super::mechanism(&c, st, id, e))?;
         let summary = clock.time(format!("subcase {id}: output"), || {
             write_subcase(ctx, st, &c, sub, norm, request.nd, result)
         })?;
@@ -152,7 +136,7 @@ fn write_subcase(
     st: &Structure,
     c: &Constrained,
     sub: &Subcase,
-    norm: Norm,
+    norm: EigenNorm,
     nd: Option<usize>,
     mut r: EigenResult,
 ) -> Result<ModalSummary, RunError> {
@@ -160,7 +144,7 @@ fn write_subcase(
     let m = r.eigenvalues.len();
     let nf = r.vectors.nrows();
     let mut generalized_mass = vec![1.0; m];
-    if norm == Norm::Max {
+    if norm == EigenNorm::Max {
         for j in 0..m {
             let s = (0..nf).fold(0.0_f64, |acc, i| acc.max(r.vectors[(i, j)].abs()));
             if s > 0.0 {
@@ -189,11 +173,7 @@ fn write_subcase(
         i64::from(r.sturm.is_consistent()),
     )?;
     set_attr_f64(&group, "shift", r.shift)?;
-    set_attr_str(
-        &group,
-        "norm",
-        if norm == Norm::Max { "MAX" } else { "MASS" },
-    )?;
+    set_attr_str(&group, "norm", norm.name())?;
     set_attr_i64(&group, "massless_count", r.massless as i64)?;
     set_attr_i64(&group, "finite_exhausted", i64::from(r.finite_exhausted))?;
     super::write_autospc(&group, &c.autospc)?;
@@ -227,4 +207,84 @@ fn write_subcase(
         finite_exhausted: r.finite_exhausted,
         nd,
     })
+}
+
+/// Modes with a larger residual are flagged in the run's warnings.
+pub const RESIDUAL_WARNING: f64 = 1e-6;
+
+impl Report for ModalSummary {
+    fn render(&self, subcase: u32) -> Vec<String> {
+        let m = self;
+        let mut out = vec![format!(
+            "subcase {}: {} mode(s), f-set {} DOFs, NORM = {:?}",
+            subcase,
+            m.frequencies_hz.len(),
+            m.f_size,
+            m.norm
+        )];
+        if m.frequencies_hz.is_empty() {
+            out.push("  no mode in the requested range (EIGRL V1/V2)".to_string());
+        } else {
+            out.push(format!(
+                "  {:>4}  {:>14}  {:>14}  {:>10}",
+                "mode", "f [Hz]", "gen. mass", "residual"
+            ));
+        }
+        for (k, f) in m.frequencies_hz.iter().enumerate() {
+            out.push(format!(
+                "  {:>4}  {:>14}  {:>14}  {:>10}",
+                k + 1,
+                sci(*f, 6),
+                sci(m.generalized_mass[k], 6),
+                sci(m.residuals[k], 1)
+            ));
+        }
+        out.push(format!("  {}", sturm_line(&m.sturm)));
+        out
+    }
+
+    fn warnings(&self, subcase: u32) -> Vec<String> {
+        let m = self;
+        let mut warnings = Vec::new();
+        let bad: Vec<String> = m
+            .residuals
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| !(**r <= RESIDUAL_WARNING))
+            .map(|(k, r)| format!("{} ({r:.1e})", k + 1))
+            .collect();
+        if !bad.is_empty() {
+            warnings.push(format!(
+                "subcase {}: mode(s) {} have residual ‖Kφ − λMφ‖/‖Kφ‖ above {RESIDUAL_WARNING:e}: not trustworthy (more modes requested than the mass matrix has finite ones, or masses many orders of magnitude apart, as in the large-mass method, where the frequencies stay accurate but the shapes lose digits)",
+                subcase,
+                bad.join(", ")
+            ));
+        }
+        if m.finite_exhausted {
+            let why = if m.massless > 0 {
+                format!(
+                    "M is singular on {} massless f-set DOF(s) (no mass on that row)",
+                    m.massless
+                )
+            } else {
+                "M is rank-deficient on DOFs that have mass (e.g. an offset CONM2 without inertia)"
+                    .to_string()
+            };
+            warnings.push(format!(
+                "subcase {}: only {} finite mode(s) exist above the lower bound, ND = {} asked for more: {why}; the other eigenvalues are infinite and are not returned",
+                subcase,
+                m.eigenvalues.len(),
+                m.nd.map_or("(blank)".to_string(), |n| n.to_string()),
+            ));
+        }
+        if !m.sturm.is_consistent() {
+            warnings.push(format!(
+                "subcase {}: Sturm check found {} eigenvalue(s) below {:.6e} Hz that Lanczos did not return",
+                subcase,
+                m.sturm.missing(),
+                lambda_to_hz(m.sturm.shift)
+            ));
+        }
+        warnings
+    }
 }

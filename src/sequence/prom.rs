@@ -10,7 +10,7 @@
 //!
 //! Written: `/prom` ([`write_prom`]), `/prom/inputs/{names, S_r}` (n_red × n_in),
 //! `/prom/sensors/{names, kind, H_r}` (s × n_red): H_r = H Φ with the f-set rows H of the
-//! subcase's SENSORs ([`sensor_operator`]: DISP, VEL, ACCEL and STRAIN, eq. 2.32, 2.34),
+//! subcase's SENSORs ([`crate::discretize::sensors`]: DISP, VEL, ACCEL and STRAIN, eq. 2.32, 2.34),
 //! `/prom/mass` (affine nodal masses, eq. 4.1–4.2, and mass invariants A.11, A.13; only with
 //! `RIGID = REMOVE`, the floating-frame bodies of a multibody scene, which are the only users),
 //! and
@@ -19,18 +19,18 @@
 
 use std::collections::HashMap;
 
-use faer::Mat;
-use nalgebra_sparse::CscMatrix;
-
-use super::sensors::{sensor_kind_name, sensor_operator};
-use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary};
-use crate::assembly::{AffineOperator, DofMap, ParamKey};
-use crate::deck::cards::Pmor;
+use super::report::{Report, sci};
+use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
+use crate::assembly::DofMap;
+use crate::deck::cards::{Pmor, PmorRigid, PmorStatic};
+use crate::discretize::sensors::sensor_kind_name;
+use crate::discretize::{Constrained, Structure, affine_fom, affine_keys};
 use crate::io::{
     IoError, set_attr_i64, set_attr_strings, write_f64, write_prom, write_prom_masses,
     write_strings,
 };
-use crate::rom::build::{AffineFom, BuildLog, Built, PromSettings, build_prom};
+use crate::linalg::Mat;
+use crate::rom::build::{BuildLog, Built, PromSettings, build_prom};
 use crate::rom::local_basis::{RigidModes, StaticModes};
 use crate::rom::mass::AffineMasses;
 
@@ -73,11 +73,9 @@ pub fn run(
         }
     };
     let id = sub.id;
-    let pmor = model
-        .bulk
-        .pmor
-        .iter()
-        .find(|p| Some(p.id) == sub.prom)
+    let pmor = sub
+        .prom
+        .and_then(|pid| model.pmor(pid))
         .ok_or_else(|| RunError::Case {
             subcase: id,
             what: "PMOR missing".into(),
@@ -119,7 +117,7 @@ pub fn run(
             what: format!("pROM build: {e}"),
         })?;
     let sensors = clock.time(format!("subcase {id}: sensor rows"), || {
-        sensor_operator(ctx, st, &c, sub)
+        super::subcase_sensors(ctx, st, &c, sub)
     })?;
     let h_r = sensors.project(&basis);
     drop(basis);
@@ -171,43 +169,6 @@ fn row_major(m: &Mat<f64>) -> Vec<f64> {
         .collect()
 }
 
-/// The part keys of K and M, K's first: the pROM's component order.
-fn affine_keys(k: &AffineOperator, m: &AffineOperator) -> Vec<ParamKey> {
-    let mut keys: Vec<ParamKey> = k.keys();
-    for key in m.keys() {
-        if !keys.contains(&key) {
-            keys.push(key);
-        }
-    }
-    keys
-}
-
-/// The affine FOM on the f-set: one function per key (a zero matrix where an operator lacks
-/// that key).
-fn affine_fom(
-    st: &Structure,
-    keys: &[ParamKey],
-    k: &AffineOperator,
-    m: &AffineOperator,
-) -> Result<AffineFom, RunError> {
-    let matrices = |op: &AffineOperator| -> Result<Vec<CscMatrix<f64>>, RunError> {
-        keys.iter()
-            .map(|&key| {
-                Ok(op.matrix(
-                    op.part(key)
-                        .map_or_else(|| vec![0.0; op.pattern().nnz()], <[f64]>::to_vec),
-                )?)
-            })
-            .collect()
-    };
-    Ok(AffineFom {
-        parameters: st.params.list.clone(),
-        functions: keys.iter().map(|&key| st.params.function(key)).collect(),
-        stiffness: matrices(k)?,
-        mass: matrices(m)?,
-    })
-}
-
 /// BSET: every ASET1 DOF, as f-set indices, with "GRID:component" names.
 fn boundary(
     ctx: &RunContext,
@@ -229,7 +190,7 @@ fn boundary(
         .collect();
     let mut out = Vec::new();
     let mut names = Vec::new();
-    for card in &model.bulk.aset1 {
+    for card in model.aset1() {
         for &grid in &card.grids {
             let index = *model.grid_index.get(&grid).ok_or_else(|| RunError::Case {
                 subcase,
@@ -258,18 +219,17 @@ fn boundary(
 }
 
 fn settings_rigid(p: &Pmor) -> RigidModes {
-    if p.rigid == "REMOVE" {
-        RigidModes::Remove
-    } else {
-        RigidModes::Keep
+    match p.rigid {
+        PmorRigid::Keep => RigidModes::Keep,
+        PmorRigid::Remove => RigidModes::Remove,
     }
 }
 
 fn settings(p: &Pmor, alpha: f64, beta: f64) -> PromSettings {
     let statics = match p.static_modes {
-        "CONSTR" => StaticModes::Constr,
-        "NONE" => StaticModes::None,
-        _ => StaticModes::Attach,
+        PmorStatic::Attach => StaticModes::Attach,
+        PmorStatic::Constr => StaticModes::Constr,
+        PmorStatic::None => StaticModes::None,
     };
     let rigid = settings_rigid(p);
     PromSettings {
@@ -316,4 +276,80 @@ fn write_log(ctx: &RunContext, log: &BuildLog) -> Result<(), IoError> {
     set_attr_i64(&g, "concatenated", log.concatenated as i64)?;
     set_attr_i64(&g, "converged", i64::from(log.converged))?;
     set_attr_i64(&g, "singular_lines", log.singular_lines as i64)
+}
+
+impl Report for PromSummary {
+    fn render(&self, subcase: u32) -> Vec<String> {
+        let p = self;
+        let log = &p.log;
+        let mut out = vec![format!(
+            "subcase {}: pROM of {} DOFs → {} (parameters {}; {} input(s), {} sensor(s))",
+            subcase,
+            p.n_full,
+            p.n_red,
+            p.parameters.join(", "),
+            p.inputs,
+            p.sensors
+        )];
+        out.push(format!(
+            "  samples {}, local bases {} columns, {} after the MAC filter, numerical rank {}",
+            log.samples.len(),
+            log.concatenated,
+            log.mac_kept,
+            log.singular_values
+                .iter()
+                .filter(|&&s| s > crate::rom::build::RANK_TOL
+                    * log.singular_values.first().copied().unwrap_or(0.0))
+                .count()
+        ));
+        for (size, e) in &log.error_history {
+            out.push(format!(
+                "  size {size:>5}: FRF change (eq. 3.35) {}",
+                sci(*e, 2)
+            ));
+        }
+        out.push(format!(
+            "  {}",
+            match (p.inputs, log.converged) {
+                (0, _) =>
+                    "no input DOFs (ASET1): no FRF to choose the size, the whole numerical rank is kept (see warnings)",
+                (_, true) => "converged (FRF change below ERRTOL)",
+                (_, false) => "stopped at the numerical rank of the local bases (see warnings)",
+            }
+        ));
+        out
+    }
+
+    fn warnings(&self, subcase: u32) -> Vec<String> {
+        let p = self;
+        let mut warnings = Vec::new();
+        if !p.frozen_condensation.is_empty() {
+            warnings.push(format!(
+                "subcase {}: PMPAR {} change(s) by more than a scale the section of CQUAD4s whose incompatible membrane modes are condensed once with the deck's section (PARAM,QINCOMP,YES, the default; README \"Frozen condensation\"): the pROM is exact for that model, but differs from a deck rebuilt at parameter values far from the nominal ones (measured on a [±Θ]2s link: ~5e-4 in frequency 10° from nominal, ~1e-1 on single membrane modes 30° away); PARAM,QINCOMP,NO restores exact agreement at the cost of in-plane bending accuracy (the plain membrane is ≈ 1/(1−ν²) too stiff there)",
+                subcase,
+                p.frozen_condensation.join(", ")
+            ));
+        }
+        if p.inputs == 0 {
+            warnings.push(format!(
+                "subcase {}: the pROM has no input DOFs (no ASET1, or PMOR BSET blank): the FRF error of eq. 3.35 cannot choose its size, so all {} basis vectors are kept; give the load and support DOFs as ASET1 to get inputs and a size chosen by ERRTOL",
+                subcase, p.n_red
+            ));
+        } else if !p.log.converged {
+            let last = p
+                .log
+                .error_history
+                .last()
+                .map_or("not measured".to_string(), |(size, e)| {
+                    format!("{e:.2e} at size {size}")
+                });
+            warnings.push(format!(
+                "subcase {}: the pROM uses the whole numerical rank of the local bases ({}) but the last growth step still changed the FRFs by {last} (eq. 3.35, summed over {} input/output pairs), above ERRTOL; more samples or modes would make the basis richer",
+                subcase,
+                p.n_red,
+                p.inputs * p.inputs
+            ));
+        }
+        warnings
+    }
 }

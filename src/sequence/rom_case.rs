@@ -5,7 +5,7 @@
 //! `PVAL = id` may select PTABLE cards (parameters following tables of time) instead of or
 //! besides a PVAL card; only the transient reads those ([`super::rom_transient`]).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use super::{RunContext, RunError};
 use crate::deck::case_control::Subcase;
@@ -48,7 +48,7 @@ impl RomAtPoint {
         let (prom, _) = read_prom(&path)?;
         let mut p: Vec<f64> = prom.parameters.iter().map(|q| q.nominal).collect();
         if let Some(pval_id) = sub.pval {
-            let tabulated = ctx.model.bulk.ptable.iter().any(|c| c.id == pval_id);
+            let tabulated = !ctx.model.ptables(pval_id).is_empty();
             let transient = ctx
                 .deck
                 .executive
@@ -61,7 +61,7 @@ impl RomAtPoint {
                     "PTABLE {pval_id}: parameters varying in time apply to SOL TRANSIENT only"
                 )));
             }
-            let card = ctx.model.bulk.pval.iter().find(|c| c.id == pval_id);
+            let card = ctx.model.pval(pval_id);
             if card.is_none() && !tabulated {
                 return Err(case(format!("PVAL {pval_id} missing")));
             }
@@ -104,4 +104,10 @@ fn point(prom: &Prom, p: &[f64]) -> String {
         .map(|(q, v)| format!("{} = {v:e}", q.name))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// The warning of a subcase whose parameters `names` lie outside the box the pROM `rom` was
+/// built for (none when all are inside).
+pub fn extrapolation_warning(subcase: u32, names: &[String], rom: &Path) -> Option<String> {
+    (!names.is_empty()).then(|| format!("subcase {}: parameter(s) {} lie outside the box the pROM {} was built for: extrapolated", subcase, names.join(", "), rom.display()))
 }

@@ -11,10 +11,10 @@
 //! Written: `/results/<id>/frf/{frequency_hz (f), H (f × o × i, complex as h5py), inputs (i),
 //! outputs (o)}` with attributes `rom`, `params`, `values`.
 
-use faer::Mat;
-
-use super::frf::{frequency_lines, scaled_flat, write_frf};
+use super::report::{Report, sci};
 use super::rom_case::RomAtPoint;
+use super::rom_case::extrapolation_warning;
+use super::shared::{frequency_lines, scaled_flat, write_frf};
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
 use crate::dynamics::frf::{DenseModel, receptance};
@@ -22,6 +22,7 @@ use crate::dynamics::measurement::{Reads, SensorRows};
 use crate::io::{
     read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_str, set_attr_strings,
 };
+use crate::linalg::Mat;
 
 /// What one pROM FRF subcase computed.
 #[derive(Debug, Clone)]
@@ -29,6 +30,8 @@ pub struct RomFrfSummary {
     pub rom: std::path::PathBuf,
     pub lines: usize,
     pub inputs: Vec<String>,
+    /// The input DOFs, then the pROM's sensors.
+    pub outputs: Vec<String>,
     pub extrapolated: Vec<String>,
     /// Largest |H| over lines and pairs, with its frequency (Hz), for the console.
     pub peak: (f64, f64),
@@ -107,6 +110,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         rom: path,
         lines: hz.len(),
         inputs: names,
+        outputs,
         extrapolated,
         peak,
     };
@@ -115,4 +119,58 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         autospc: Vec::new(),
         result: SubcaseResult::RomFrf(summary),
     })
+}
+
+impl Report for RomFrfSummary {
+    fn render(&self, subcase: u32) -> Vec<String> {
+        let r = self;
+        vec![
+            format!(
+                "subcase {}: FRF of the pROM {} at {} line(s), {} input(s) × {} output(s) ({})",
+                subcase,
+                r.rom.display(),
+                r.lines,
+                r.inputs.len(),
+                r.outputs.len(),
+                r.inputs.join(", ")
+            ),
+            format!(
+                "  largest |H| {} at {} Hz",
+                sci(r.peak.0, 4),
+                sci(r.peak.1, 4)
+            ),
+        ]
+    }
+
+    fn warnings(&self, subcase: u32) -> Vec<String> {
+        extrapolation_warning(subcase, &self.extrapolated, &self.rom)
+            .into_iter()
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The console line counts the outputs (input DOFs and sensors), not the inputs twice.
+    #[test]
+    fn report_counts_inputs_and_outputs() {
+        let summary = RomFrfSummary {
+            rom: "blade.h5".into(),
+            lines: 10,
+            inputs: vec!["1:3".into()],
+            outputs: vec!["1:3".into(), "S1".into(), "S2".into()],
+            extrapolated: Vec::new(),
+            peak: (1.0, 2.0),
+        };
+        let lines = summary.render(7);
+        assert!(
+            lines[0].starts_with(
+                "subcase 7: FRF of the pROM blade.h5 at 10 line(s), 1 input(s) × 3 output(s) (1:3)"
+            ),
+            "{lines:?}"
+        );
+        assert!(summary.warnings(7).is_empty());
+    }
 }

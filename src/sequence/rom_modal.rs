@@ -12,13 +12,14 @@
 
 use std::path::PathBuf;
 
-use faer::Mat;
-
+use super::report::{Report, lambda_to_hz, sci};
 use super::rom_case::RomAtPoint;
-use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary, lambda_to_hz};
+use super::rom_case::extrapolation_warning;
+use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
 use crate::io::{set_attr_f64s, set_attr_str, set_attr_strings, write_f64};
-use crate::linalg::dense::generalized_eigen;
+use crate::linalg::Mat;
+use crate::linalg::dense::{eigen_residuals, generalized_eigen};
 
 /// What one ROM modal subcase found.
 #[derive(Debug, Clone)]
@@ -63,14 +64,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let lambda: Vec<f64> = keep.iter().map(|&j| lambda[j]).collect();
     let phi = Mat::<f64>::from_fn(phi.nrows(), keep.len(), |i, c| phi[(i, keep[c])]);
     let frequencies_hz: Vec<f64> = lambda.iter().map(|&l| lambda_to_hz(l)).collect();
-    let residuals: Vec<f64> = (0..lambda.len())
-        .map(|j| {
-            let v = phi.col(j);
-            let kv = at.stiffness() * v;
-            let r = &kv - (at.mass() * v) * faer::Scale(lambda[j]);
-            r.norm_l2() / kv.norm_l2().max(f64::MIN_POSITIVE)
-        })
-        .collect();
+    let residuals = eigen_residuals(at.stiffness(), at.mass(), &lambda, phi.as_ref());
     let group = ctx.output.group(&format!("results/{id}/modal"))?;
     let m = lambda.len();
     write_f64(&group, "frequency_hz", &frequencies_hz, &[m])?;
@@ -109,16 +103,10 @@ fn selection(
     let Some(method) = sub.method else {
         return Ok(((0..lambda.len()).collect(), None));
     };
-    let eigrl = ctx
-        .model
-        .bulk
-        .eigrl
-        .iter()
-        .find(|e| e.sid == method)
-        .ok_or_else(|| RunError::Case {
-            subcase: sub.id,
-            what: format!("METHOD = {method} selects no EIGRL card"),
-        })?;
+    let eigrl = ctx.model.eigrl(method).ok_or_else(|| RunError::Case {
+        subcase: sub.id,
+        what: format!("METHOD = {method} selects no EIGRL card"),
+    })?;
     let (v1, v2) = (
         eigrl.v1.unwrap_or(f64::NEG_INFINITY),
         eigrl.v2.unwrap_or(f64::INFINITY),
@@ -132,4 +120,38 @@ fn selection(
     }
     let short = nd.filter(|&nd| nd > keep.len());
     Ok((keep, short))
+}
+
+impl Report for RomModalSummary {
+    fn render(&self, subcase: u32) -> Vec<String> {
+        let r = self;
+        let values: Vec<String> = r
+            .values
+            .iter()
+            .map(|(n, v)| format!("{n} = {}", sci(*v, 4)))
+            .collect();
+        let mut out = vec![format!(
+            "subcase {}: {} mode(s) of the pROM {} (size {}) at {}",
+            subcase,
+            r.frequencies_hz.len(),
+            r.rom.display(),
+            r.n_red,
+            values.join(", ")
+        )];
+        for (k, f) in r.frequencies_hz.iter().enumerate() {
+            out.push(format!("  {:>4}  {:>14}", k + 1, sci(*f, 6)));
+        }
+        out
+    }
+
+    fn warnings(&self, subcase: u32) -> Vec<String> {
+        let r = self;
+        let mut warnings: Vec<String> = extrapolation_warning(subcase, &r.extrapolated, &r.rom)
+            .into_iter()
+            .collect();
+        if let Some(nd) = r.nd_short {
+            warnings.push(format!("subcase {}: EIGRL ND = {nd} asks for more modes than the pROM {} has in the band (size {}): all {} returned", subcase, r.rom.display(), r.n_red, r.frequencies_hz.len()));
+        }
+        warnings
+    }
 }

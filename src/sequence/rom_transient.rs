@@ -9,31 +9,29 @@
 //! other with one factorization each; output every NO steps.
 //!
 //! Initial conditions: `IC = sid` with TIC cards on input DOFs ([`initial_state`]). Parameters
-//! may follow tables of time: PTABLE cards selected by the same `PVAL = id` ([`Varying`]).
+//! may follow tables of time: PTABLE cards selected by the same `PVAL = id` ([`VaryingProm`]).
 //!
 //! Written: `/results/<id>/transient/{time (t), displacement, velocity, acceleration (t × k)}`
 //! at the pROM's input DOFs (`outputs`, k names), `sensors/<name> (t)` for the pROM's SENSORs
 //! (DISP from q, VEL from q̇, ACCEL from q̈), attributes `rom`, `params`, `values` (at the end), `method`, `evaluations`.
 
-use faer::Mat;
-use faer::linalg::solvers::Solve;
-
+use super::report::{Report, sci};
 use super::rom_case::RomAtPoint;
-use super::transient::{load_into, load_terms, method_of, output_rows, table_of};
+use super::rom_case::extrapolation_warning;
+use super::shared::{method_of, output_rows, place_input};
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
-use crate::deck::cards::Darea;
 use crate::deck::case_control::Subcase;
-use crate::dynamics::integrators::{
-    Backend, Combination, DenseOperators, IntegrationError, LinearSystem, Run, StepState,
-    integrate_with, matvec_add,
-};
+use crate::discretize::loads::{load_into, load_terms, table_of};
+use crate::dynamics::integrators::{Backend, Run, StepState, integrate_with, matvec_add};
 use crate::dynamics::measurement::SensorRows;
 use crate::dynamics::table::Table;
 use crate::io::{
     read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_i64, set_attr_str,
     set_attr_strings, write_f64, write_strings,
 };
-use crate::rom::prom::{Prom, PromEvaluation};
+use crate::linalg::Mat;
+use crate::rom::prom::Prom;
+use crate::rom::transient::{InputStaticShapes, VaryingProm};
 
 /// What one pROM transient subcase computed.
 #[derive(Debug, Clone)]
@@ -82,11 +80,11 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, prom.size())?;
     let sensors = SensorRows::new(sensor_names, sensor_kinds, h_r)
         .map_err(|e| case(format!("{}: {e}", path.display())))?;
-    let (tstep, method, method_name) = method_of(ctx, sub)?;
+    let (tstep, method, method_name) = method_of(ctx.model, sub)?;
     let loads = match sub.dload {
         None => Vec::new(),
         Some(dload) => load_terms(
-            ctx,
+            ctx.model,
             dload,
             prom.size(),
             |d, comp, scale, shape| place_input(&names, &s_r, d, comp, scale, shape),
@@ -96,20 +94,18 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     };
     let k = names.len();
     let tables = parameter_tables(ctx, sub, &prom).map_err(case)?;
-    let mut backend = Varying {
-        prom: &prom,
-        at,
-        p,
-        tables,
-        ops: DenseOperators::default(),
-        outside: extrapolated,
-        evaluations: 0,
-    };
+    let mut backend = VaryingProm::new(&prom, at, p, tables, extrapolated);
     backend
         .advance(0.0)
         .map_err(|e| case(format!("{}: {e}", path.display())))?;
-    let (mut q, mut v) =
-        initial_state(ctx, sub, &names, &s_r, backend.at.stiffness()).map_err(case)?;
+    let (mut q, mut v) = initial_state(
+        ctx,
+        sub,
+        &names,
+        || InputStaticShapes::new(backend.at.stiffness(), &s_r),
+        prom.size(),
+    )
+    .map_err(case)?;
     let rows = output_rows(&tstep.intervals);
     let mut rec = Recorder::new(&s_r, &sensors, rows);
     let mut t0 = 0.0;
@@ -207,9 +203,8 @@ fn parameter_tables(
     let Some(id) = sub.pval else {
         return Ok(Vec::new());
     };
-    let b = &ctx.model.bulk;
     let mut out: Vec<(usize, Table)> = Vec::new();
-    for card in b.ptable.iter().filter(|c| c.id == id) {
+    for card in ctx.model.ptables(id) {
         let names = || {
             prom.parameters
                 .iter()
@@ -228,7 +223,7 @@ fn parameter_tables(
                     names()
                 )
             })?;
-        if b.pval.iter().filter(|c| c.id == id).any(|c| {
+        if ctx.model.pval(id).iter().any(|c| {
             c.values
                 .iter()
                 .any(|(n, _)| n.eq_ignore_ascii_case(&card.name))
@@ -239,146 +234,44 @@ fn parameter_tables(
                 card.name
             ));
         }
-        out.push((j, table_of(ctx, card.tid, &format!("PTABLE {id}"))?));
+        out.push((j, table_of(ctx.model, card.tid, &format!("PTABLE {id}"))?));
     }
     Ok(out)
 }
 
-/// The pROM as an integrator backend. Parameters following tables (PTABLE) are re-evaluated
-/// before each step; when p(t) changed, M_r, C_r, K_r are summed again ([`Prom::evaluate`],
-/// allocation-free, O(n_terms · n_r²)) and the effective matrix is formed and inverted again
-/// (O(n_r³); ≈ 30 µs at n_r = 31), so a table that changes every step costs that per step and
-/// a constant table costs nothing. The matrices are those at the end of the step (t_{k+1}).
-/// The reduced mass's conditioning is checked once, at the PVAL point ([`RomAtPoint::load`]),
-/// not at every re-evaluation (an eigenvalue decomposition per step would dominate the cost).
-struct Varying<'a> {
-    prom: &'a Prom,
-    at: PromEvaluation,
-    p: Vec<f64>,
-    tables: Vec<(usize, Table)>,
-    ops: DenseOperators,
-    /// Parameters found outside the pROM's box at any time.
-    outside: Vec<String>,
-    evaluations: usize,
-}
-
-impl Backend for Varying<'_> {
-    fn size(&self) -> usize {
-        self.prom.size()
-    }
-    fn prepare(
-        &mut self,
-        effective: Combination,
-        products: &[Combination],
-        what: &'static str,
-    ) -> Result<(), IntegrationError> {
-        let sys = LinearSystem {
-            mass: self.at.mass(),
-            damping: self.at.damping(),
-            stiffness: self.at.stiffness(),
-        };
-        self.ops.prepare(sys, effective, products, what)
-    }
-    fn apply(&self, j: usize, x: &[f64], y: &mut [f64]) {
-        self.ops.apply(j, x, y);
-    }
-    fn solve(&mut self, x: &mut [f64]) -> Result<(), IntegrationError> {
-        self.ops.solve(x);
-        Ok(())
-    }
-    fn advance(&mut self, t: f64) -> Result<bool, IntegrationError> {
-        let mut changed = self.evaluations == 0;
-        for (j, table) in &self.tables {
-            let value = table.value(t);
-            if value != self.p[*j] {
-                self.p[*j] = value;
-                changed = true;
-            }
-        }
-        if changed {
-            self.prom
-                .evaluate(&self.p, &mut self.at)
-                .map_err(|e| IntegrationError::Backend(format!("t = {t}: {e}")))?;
-            self.evaluations += 1;
-            for name in self.prom.outside_box(&self.p) {
-                if !self.outside.iter().any(|x| x == name) {
-                    self.outside.push(name.to_string());
-                }
-            }
-        }
-        Ok(changed)
-    }
-}
-
 /// The reduced initial state of `IC = sid`. TIC cards name pROM input DOFs (`GRID:component`);
 /// inputs without a TIC start at zero. The pROM has no mesh, so the state is defined on its
-/// inputs: q0 is the static shape that produces the requested input displacements u0,
-/// q0 = K_r⁻¹ S_r (S_rᵀ K_r⁻¹ S_r)⁻¹ u0 (the reduced displacement under input forces only, whose
-/// input displacements S_rᵀ q0 equal u0), and likewise v0 from the initial velocities.
+/// inputs: q0 is the static shape that produces the requested input displacements u0
+/// ([`InputStaticShapes`]), and likewise v0 from the initial velocities.
 fn initial_state(
     ctx: &RunContext,
     sub: &Subcase,
     names: &[String],
-    s_r: &Mat<f64>,
-    k_r: faer::MatRef<'_, f64>,
+    shapes: impl FnOnce() -> InputStaticShapes,
+    n: usize,
 ) -> Result<(Vec<f64>, Vec<f64>), String> {
-    let n = s_r.nrows();
     let Some(sid) = sub.ic else {
         return Ok((vec![0.0; n], vec![0.0; n]));
     };
-    let cards: Vec<_> = ctx.model.bulk.tic.iter().filter(|c| c.sid == sid).collect();
+    let cards = ctx.model.tic(sid);
     if cards.is_empty() {
         return Err(format!("IC = {sid} selects no TIC card"));
     }
     let k = names.len();
-    let (mut u0, mut v0) = (Mat::<f64>::zeros(k, 1), Mat::<f64>::zeros(k, 1));
+    let (mut u0, mut v0) = (vec![0.0; k], vec![0.0; k]);
     for c in cards {
         let name = format!("{}:{}", c.grid, c.component);
         let j = names.iter().position(|x| *x == name).ok_or_else(|| format!("TIC {sid}: GRID {} component {} is not an input DOF of the pROM (inputs: {}); a pROM's initial state is defined on its inputs", c.grid, c.component, names.join(", ")))?;
-        u0[(j, 0)] += c.u0;
-        v0[(j, 0)] += c.v0;
+        u0[j] += c.u0;
+        v0[j] += c.v0;
     }
-    let k_lu = k_r.partial_piv_lu();
-    let x = k_lu.solve(s_r); // K_r⁻¹ S_r
-    let schur = s_r.transpose() * &x; // S_rᵀ K_r⁻¹ S_r (the input flexibility)
-    let lu = schur.partial_piv_lu();
-    let shape = |u: &Mat<f64>| -> Result<Vec<f64>, String> {
-        let q = &x * lu.solve(u);
-        if (0..n).all(|i| q[(i, 0)].is_finite()) {
-            Ok((0..n).map(|i| q[(i, 0)]).collect())
-        } else {
-            Err(format!(
-                "TIC {sid}: the pROM's stiffness (or its input flexibility) is singular, so no static shape gives the requested input displacements (a free-free pROM needs initial conditions through its rigid-body-free inputs)"
-            ))
-        }
+    let shapes = shapes();
+    let shape = |u: &[f64]| {
+        shapes.shape(u).ok_or_else(|| format!(
+            "TIC {sid}: the pROM's stiffness (or its input flexibility) is singular, so no static shape gives the requested input displacements (a free-free pROM needs initial conditions through its rigid-body-free inputs)"
+        ))
     };
     Ok((shape(&u0)?, shape(&v0)?))
-}
-
-/// Adds a DAREA entry, which must name a pROM input DOF (`GRID:component`), to a reduced load
-/// shape: scale × column of S_r.
-pub(super) fn place_input(
-    names: &[String],
-    s_r: &Mat<f64>,
-    d: &Darea,
-    comp: usize,
-    scale: f64,
-    shape: &mut [f64],
-) -> Result<(), String> {
-    let name = format!("{}:{comp}", d.grid);
-    let j = names.iter().position(|x| *x == name).ok_or_else(|| {
-        format!(
-            "DAREA {}: GRID {} component {comp} is not an input DOF of the pROM (inputs: {})",
-            d.sid,
-            d.grid,
-            names.join(", ")
-        )
-    })?;
-    shape
-        .iter_mut()
-        .enumerate()
-        .for_each(|(i, s)| *s += scale * s_r[(i, j)]);
-    Ok(())
 }
 
 /// Output buffers sized before the run, filled by matrix–vector products (no allocation in the
@@ -434,5 +327,32 @@ impl<'a> Recorder<'a> {
         for (j, value) in self.scratch.iter().enumerate() {
             self.series[j * self.rows + r] = *value;
         }
+    }
+}
+
+impl Report for RomTransientSummary {
+    fn render(&self, subcase: u32) -> Vec<String> {
+        let r = self;
+        vec![
+            format!(
+                "subcase {}: transient of the pROM {} ({}), {} step(s), outputs {}",
+                subcase,
+                r.rom.display(),
+                r.method,
+                r.steps,
+                r.outputs.join(", ")
+            ),
+            format!(
+                "  largest |displacement| {} at t = {} s",
+                sci(r.peak.0, 4),
+                sci(r.peak.1, 4)
+            ),
+        ]
+    }
+
+    fn warnings(&self, subcase: u32) -> Vec<String> {
+        extrapolation_warning(subcase, &self.extrapolated, &self.rom)
+            .into_iter()
+            .collect()
     }
 }

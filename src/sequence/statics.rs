@@ -23,17 +23,18 @@
 //! The SPC forces are always computed (one K·u product): the console summary's reaction sum
 //! uses them.
 
-use super::elements::{element_displacements, shell_strains, solid_kind_of};
+use super::report::{Report, sci};
 use super::{
-    Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary,
-    requested, selected,
+    Clock, GridRows, RunContext, RunError, SubcaseResult, SubcaseSummary, requested, selected,
 };
 use crate::assembly::loads::{Mass, load_vector, reduce_load};
 use crate::assembly::recover::{expand_f_to_n, spc_forces};
 use crate::deck::case_control::Subcase;
+use crate::discretize::elements::{element_displacements, shell_strains, solid_kind_of};
+use crate::discretize::{Constrained, DiscretizeError, Structure};
 use crate::fe::solid;
 use crate::io::{write_f64, write_u32};
-use crate::linalg::{Factor, SymbolicFactor, sym_matvec};
+use crate::linalg::{Factor, SymbolicFactor};
 
 /// What one static subcase found (basic system).
 #[derive(Debug, Clone)]
@@ -92,7 +93,7 @@ pub fn run(
                         .with_max_ratio(ctx.model.params.maxratio)
                         .factor_llt(&c.k_ff, par)
                 })
-                .map_err(|e| c.mechanism(st, id, e))?;
+                .map_err(|e| super::mechanism(&c, st, id, e))?;
             ctx.progress.step("factorization", 1, 1);
             factors.push((f.clone(), factor));
         }
@@ -145,19 +146,10 @@ fn solve_subcase(
         &k_fs_values,
         &c.spc.enforced,
     )?;
-    let linalg = |e| RunError::Linalg {
+    let u_f = c.solve_static(factor, &p_f).map_err(|e| RunError::Linalg {
         subcase: id,
         source: e,
-    };
-    let mut u_f = p_f.clone();
-    factor.solve_in_place(&mut u_f).map_err(linalg)?;
-    // One step of iterative refinement with the same factor: K_ff of shells mixes membrane and
-    // bending stiffness (condition numbers ~1e8–1e10), the plain solve leaves ε·κ residuals.
-    let mut r = vec![0.0; u_f.len()];
-    sym_matvec(&c.k_ff, &u_f, &mut r).map_err(linalg)?;
-    r.iter_mut().zip(&p_f).for_each(|(a, b)| *a = b - *a);
-    factor.solve_in_place(&mut r).map_err(linalg)?;
-    u_f.iter_mut().zip(&r).for_each(|(u, d)| *u += d);
+    })?;
     let u_n = expand_f_to_n(&u_f, &c.sets, &c.spc.enforced)?;
     let u_g = st.rigid.expand(&u_n)?;
     let p_n = st.rigid.reduce_vector(&p_g)?;
@@ -274,11 +266,12 @@ fn write_strains(
             .iter()
             .flat_map(|&a| u[6 * a..6 * a + 3].iter().copied())
             .collect();
-        let eps = solid::strain_at_centroid(kind, &xyz, &ut).map_err(|x| RunError::Element {
-            card: e.kind.card(),
-            id: e.id,
-            reason: x.to_string(),
-        })?;
+        let eps =
+            solid::strain_at_centroid(kind, &xyz, &ut).map_err(|x| DiscretizeError::Element {
+                card: e.kind.card(),
+                id: e.id,
+                reason: x.to_string(),
+            })?;
         let block = solids.entry(e.kind.block_name()).or_default();
         block.ids.push(e.id);
         block.a.extend(eps);
@@ -291,4 +284,34 @@ fn write_strains(
         write_f64(&g, "centroid", &b.a, &[b.ids.len(), 6])?;
     }
     Ok(())
+}
+
+impl Report for StaticsSummary {
+    fn render(&self, subcase: u32) -> Vec<String> {
+        let st = self;
+        let mut out = vec![format!("subcase {}: f-set {} DOFs", subcase, st.f_size)];
+        if st.max_component.2 == 0.0 {
+            out.push(
+                "  displacements are all zero (see the applied load and SPC reaction below)"
+                    .to_string(),
+            );
+        } else {
+            out.push(format!(
+                "  max |u| (translation)  {} at GRID {}",
+                sci(st.max_translation.1, 6),
+                st.max_translation.0
+            ));
+            out.push(format!(
+                "  max |component|        {} at GRID {} component {}",
+                sci(st.max_component.2, 6),
+                st.max_component.0,
+                st.max_component.1
+            ));
+        }
+        let f =
+            |v: &[f64; 6]| format!("F = [{}, {}, {}]", sci(v[0], 6), sci(v[1], 6), sci(v[2], 6));
+        out.push(format!("  applied load           {}", f(&st.applied)));
+        out.push(format!("  SPC reaction           {}", f(&st.reaction)));
+        out
+    }
 }

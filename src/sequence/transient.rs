@@ -5,31 +5,23 @@
 //! TSTEP interval has a constant Δt: one sparse Cholesky of the effective matrix per interval
 //! (two for BDF2, whose first step is BDF1), one symbolic analysis for the run.
 //!
-//! What the pROM transient ([`super::rom_transient`]) shares lives here: the method of a
-//! TSTEP ([`method_of`]), the load terms of `DLOAD` ([`load_terms`]: TLOAD1 × DAREA with a
-//! TABLED1 or TABLEF), and the output row count ([`output_rows`]).
-//!
 //! Written: `/results/<id>/transient/{time (t)}`, `sensors/<name> (t)` for the subcase's
-//! SENSORs (DISP and STRAIN from u, VEL from u̇, ACCEL from ü; [`super::sensors`]), and only
+//! SENSORs (DISP and STRAIN from u, VEL from u̇, ACCEL from ü; [`crate::discretize::sensors`]), and only
 //! when the subcase asks `DISPLACEMENT = ALL | set`, `displacement (t × k × 6)` in basic —
 //! full histories are large, so none by default. Attributes `method`, `f_size`,
 //! `factorizations`.
 
-use faer::Par;
-
-use super::sensors::sensor_operator;
-use super::{
-    Clock, Constrained, GridRows, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary,
-};
-use crate::assembly::DofMap;
-use crate::assembly::loads::load_vector;
+use super::report::{Report, sci};
+use super::shared::{method_of, output_rows};
+use super::{Clock, GridRows, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::assembly::recover::expand_f_to_n;
-use crate::deck::cards::Darea;
 use crate::deck::case_control::Subcase;
-use crate::dynamics::integrators::{IntegrationError, Method, Run, integrate_with};
+use crate::discretize::loads::{initial_state, load_into, load_terms, place_darea, static_shape};
+use crate::discretize::{Constrained, Structure};
+use crate::dynamics::integrators::{IntegrationError, Run, integrate_with};
 use crate::dynamics::sparse_backend::SparseBackend;
-use crate::dynamics::table::Table;
 use crate::io::{set_attr_i64, set_attr_str, write_f64};
+use crate::model::Model;
 
 /// What one full-model transient subcase computed.
 #[derive(Debug, Clone)]
@@ -43,120 +35,12 @@ pub struct TransientSummary {
     pub peak: Option<(String, f64, f64)>,
 }
 
-/// One load term: shape × table(t − delay).
-pub struct LoadTerm {
-    pub shape: Vec<f64>,
-    pub table: Table,
-    pub delay: f64,
-}
-
-/// f(t) = Σ shape · table(t − delay) into `f`.
-pub fn load_into(terms: &[LoadTerm], t: f64, f: &mut [f64]) {
-    f.fill(0.0);
-    for term in terms {
-        let a = term.table.value(t - term.delay);
-        if a != 0.0 {
-            f.iter_mut()
-                .zip(&term.shape)
-                .for_each(|(fi, s)| *fi += a * s);
-        }
-    }
-}
-
-/// The TSTEP of a subcase, its method (TINTEG with the TSTEP's id; BDF1 without one) and the
-/// method's name for output.
-pub fn method_of<'a>(
-    ctx: &'a RunContext,
-    sub: &Subcase,
-) -> Result<(&'a crate::deck::cards::Tstep, Method, String), RunError> {
-    let case = |what: String| RunError::Case {
-        subcase: sub.id,
-        what,
-    };
-    let b = &ctx.model.bulk;
-    let sid = sub
-        .tstep
-        .ok_or_else(|| case("SOL TRANSIENT needs TSTEP = <sid> in case control".into()))?;
-    let tstep = b
-        .tstep
-        .iter()
-        .find(|t| t.sid == sid)
-        .ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
-    let (method, name) = match b.tinteg.iter().find(|t| t.id == sid) {
-        Some(t) if t.method == "BDF2" => (Method::Bdf2, "BDF2".to_string()),
-        Some(t) if t.method == "GALPHA" => (
-            Method::GeneralizedAlpha { rho_inf: t.rho_inf },
-            format!("GALPHA (rho_inf = {})", t.rho_inf),
-        ),
-        _ => (Method::Bdf1, "BDF1".to_string()),
-    };
-    Ok((tstep, method, name))
-}
-
-/// Number of output rows of a TSTEP: the initial state, then every NO-th step of each interval.
-pub fn output_rows(intervals: &[(u32, f64, u32)]) -> usize {
-    1 + intervals
-        .iter()
-        .map(|&(count, _, every)| count as usize / every.max(1) as usize)
-        .sum::<usize>()
-}
-
-/// A TLOAD1's (or PTABLE's) table, [`super::frf::dynamic_table`], with `user` naming the card in
-/// errors.
-pub fn table_of(ctx: &RunContext, tid: u32, user: &str) -> Result<Table, String> {
-    super::frf::dynamic_table(ctx.model, tid).map_err(|e| format!("{user}: {e}"))
-}
-
-/// The load terms of `DLOAD = sid`: a DLOAD combination S·Σ Sᵢ·(TLOAD1 Lᵢ), or one TLOAD1.
-/// `place(darea, component, scale, shape)` adds one DAREA entry (component 1–6, scale including
-/// the DLOAD factors) to a shape vector of length `len`; when a TLOAD1's EXCITEID selects no
-/// DAREA, `static_set(excite_id)` may supply the shape of a static load set (FORCE, LOAD) as the
-/// full model does, or `None` (pROMs: loads act on input DOFs only).
-pub fn load_terms(
-    ctx: &RunContext,
-    sid: u32,
-    len: usize,
-    mut place: impl FnMut(&Darea, usize, f64, &mut [f64]) -> Result<(), String>,
-    mut static_set: impl FnMut(u32) -> Result<Option<Vec<f64>>, String>,
-) -> Result<Vec<LoadTerm>, String> {
-    let b = &ctx.model.bulk;
-    let sets: Vec<(f64, u32)> = match b.dload.iter().find(|d| d.sid == sid) {
-        Some(d) => d.terms.iter().map(|&(s, l)| (d.scale * s, l)).collect(),
-        None => vec![(1.0, sid)],
-    };
-    let mut out = Vec::new();
-    for (scale, set) in sets {
-        let tloads: Vec<_> = b.tload1.iter().filter(|t| t.sid == set).collect();
-        if tloads.is_empty() {
-            return Err(format!("DLOAD {sid}: load set {set} has no TLOAD1"));
-        }
-        for t in tloads {
-            let table = table_of(ctx, t.tid, &format!("TLOAD1 {}", t.sid))?;
-            let mut shape = vec![0.0; len];
-            let mut any = false;
-            for d in b.darea.iter().filter(|d| d.sid == t.excite_id) {
-                for comp in d.components.components() {
-                    place(d, comp, scale * d.scale, &mut shape)?;
-                    any = true;
-                }
-            }
-            if !any {
-                let p = static_set(t.excite_id)?.ok_or_else(|| {
-                    format!(
-                        "TLOAD1 {}: EXCITEID {} selects no DAREA",
-                        t.sid, t.excite_id
-                    )
-                })?;
-                shape.iter_mut().zip(&p).for_each(|(s, p)| *s += scale * p);
-            }
-            out.push(LoadTerm {
-                shape,
-                table,
-                delay: t.delay,
-            });
-        }
-    }
-    Ok(out)
+/// The warning of a transient run whose structural damping `PARAM,G` is not applied: Nastran
+/// turns G into viscous damping (G/W3)·K in transient response only with PARAM,W3, whose
+/// default 0 leaves it out.
+pub fn damping_warning(model: &Model) -> Option<String> {
+    let p = &model.params;
+    (p.g != 0.0 && p.w3 == 0.0).then(|| format!("PARAM,G = {} is not applied by SOL TRANSIENT without PARAM,W3 (as Nastran): set W3 (rad/s) for (G/W3)·K, or use Rayleigh damping (PARAM,ALPHA1 / BETA1)", p.g))
 }
 
 /// Runs every subcase on the full model.
@@ -193,20 +77,20 @@ fn subcase(
     if c.spc.enforced.iter().any(|x| *x != 0.0) {
         return Err(case("enforced displacements (SPC with a non-zero value) are not supported by SOL TRANSIENT in this version".into()));
     }
-    let (tstep, method, method_name) = method_of(ctx, sub)?;
+    let (tstep, method, method_name) = method_of(ctx.model, sub)?;
     let n_f = c.sets.f.len();
     let loads = match sub.dload {
         None => Vec::new(),
         Some(dload) => load_terms(
-            ctx,
+            ctx.model,
             dload,
             n_f,
-            |d, comp, scale, shape| place_darea(ctx, st, c, d, comp, scale, shape),
-            |excite| static_shape(ctx, st, c, excite),
+            |d, comp, scale, shape| place_darea(ctx.model, st, c, d, comp, scale, shape),
+            |excite| static_shape(ctx.model, st, c, excite),
         )
         .map_err(case)?,
     };
-    let sensors = sensor_operator(ctx, st, c, sub)?;
+    let sensors = super::subcase_sensors(ctx, st, c, sub)?;
     let rows = output_rows(&tstep.intervals);
     let s = sensors.len();
     let mut series = vec![0.0; s * rows];
@@ -215,20 +99,15 @@ fn subcase(
     let grid_rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
     let mut history: Vec<f64> = Vec::new();
     let mut recovery_error = None;
-    let par = if ctx.options.parallel {
-        Par::rayon(0)
-    } else {
-        Par::Seq
-    };
     let mut backend = SparseBackend::new(
         &c.k_ff,
         &c.m_ff,
         ctx.model.params.alpha1,
         ctx.model.params.transient_beta(),
-        par,
+        ctx.options.par(),
     )
     .map_err(|e| case(e.to_string()))?;
-    let (mut u, mut v) = initial_state(ctx, c, sub).map_err(case)?;
+    let (mut u, mut v) = initial_state(ctx.model, c, sub.ic).map_err(case)?;
     let mut t0 = 0.0;
     let mut steps = 0;
     for (interval, &(count, dt, every)) in tstep.intervals.iter().enumerate() {
@@ -359,81 +238,20 @@ fn massless(st: &Structure, c: &Constrained, e: &IntegrationError) -> String {
     )
 }
 
-/// The f-set state of `IC = sid`: each TIC sets u and u̇ of one free grid component (its
-/// displacement frame); components without a TIC start at zero. A TIC on a constrained (SPC,
-/// AUTOSPC) or dependent (RBE) DOF is an error: its value would be ignored.
-fn initial_state(
-    ctx: &RunContext,
-    c: &Constrained,
-    sub: &Subcase,
-) -> Result<(Vec<f64>, Vec<f64>), String> {
-    let n_f = c.sets.f.len();
-    let (mut u, mut v) = (vec![0.0; n_f], vec![0.0; n_f]);
-    let Some(sid) = sub.ic else { return Ok((u, v)) };
-    let cards: Vec<_> = ctx.model.bulk.tic.iter().filter(|t| t.sid == sid).collect();
-    if cards.is_empty() {
-        return Err(format!("IC = {sid} selects no TIC card"));
+impl Report for TransientSummary {
+    fn render(&self, subcase: u32) -> Vec<String> {
+        let r = self;
+        let mut out = vec![format!(
+            "subcase {}: transient of the full model (f-set {} DOFs, {}), {} step(s), {} factorization(s), {} sensor(s)",
+            subcase, r.f_size, r.method, r.steps, r.factorizations, r.sensors
+        )];
+        if let Some((name, value, t)) = &r.peak {
+            out.push(format!(
+                "  largest |sensor| {} ({name}) at t = {} s",
+                sci(*value, 4),
+                sci(*t, 4)
+            ));
+        }
+        out
     }
-    for t in cards {
-        let grid = ctx
-            .model
-            .grid_index
-            .get(&t.grid)
-            .copied()
-            .ok_or_else(|| format!("TIC {sid}: GRID {} does not exist", t.grid))?;
-        let i = c.sets.f.position(DofMap::dof(grid, t.component - 1)).ok_or_else(|| format!("TIC {sid}: GRID {} component {} is not a free DOF (constrained by SPC/AUTOSPC or dependent in an RBE)", t.grid, t.component))?;
-        u[i] += t.u0;
-        v[i] += t.v0;
-    }
-    Ok((u, v))
-}
-
-/// The f-set shape of a static load set (FORCE, MOMENT, LOAD combinations) used as a TLOAD1's
-/// EXCITEID (as MSC Nastran accepts without LSEQ).
-fn static_shape(
-    ctx: &RunContext,
-    st: &Structure,
-    c: &Constrained,
-    sid: u32,
-) -> Result<Option<Vec<f64>>, String> {
-    let p_g = load_vector(ctx.model, &st.frames, &st.map, sid, None)
-        .map_err(|e| format!("TLOAD1 EXCITEID {sid}: no DAREA and {e}"))?;
-    let p_n = st.rigid.reduce_vector(&p_g).map_err(|e| e.to_string())?;
-    c.sets
-        .f_in_n
-        .gather(&p_n)
-        .map(Some)
-        .map_err(|e| e.to_string())
-}
-
-/// Adds a DAREA entry to an f-set load shape: the g-set entry (grid's displacement frame, as
-/// DAREA components are) reduced to n through the rigid elimination (Tᵀ) and restricted to f;
-/// an entry on a constrained DOF is an error (it would be lost).
-fn place_darea(
-    ctx: &RunContext,
-    st: &Structure,
-    c: &Constrained,
-    d: &Darea,
-    comp: usize,
-    scale: f64,
-    shape: &mut [f64],
-) -> Result<(), String> {
-    let grid = ctx
-        .model
-        .grid_index
-        .get(&d.grid)
-        .copied()
-        .ok_or_else(|| format!("DAREA {}: GRID {} does not exist", d.sid, d.grid))?;
-    let mut p_g = vec![0.0; st.map.size()];
-    p_g[DofMap::dof(grid, comp - 1)] = scale;
-    let p_n = st.rigid.reduce_vector(&p_g).map_err(|e| e.to_string())?;
-    let p_f = c.sets.f_in_n.gather(&p_n).map_err(|e| e.to_string())?;
-    if p_f.iter().all(|x| *x == 0.0) {
-        return Err(format!(
-            "DAREA {}: GRID {} component {comp} is constrained (SPC or AUTOSPC): the load would not act",
-            d.sid, d.grid
-        ));
-    }
-    shape.iter_mut().zip(&p_f).for_each(|(s, p)| *s += p);
-    Ok(())
 }

@@ -4,9 +4,10 @@ use std::io::Write;
 use std::path::Path;
 
 use paraflex::deck::Deck;
+use paraflex::discretize::BuildOptions;
 use paraflex::io::OutputFile;
 use paraflex::model::Model;
-use paraflex::sequence::{RunContext, RunError, RunOptions, RunSummary, run};
+use paraflex::sequence::{RunContext, RunError, RunSummary, run};
 
 /// The parameters and the affine g-set operators K and M of a bulk-data section (elements,
 /// assembly on one pattern; no constraints), as `SOL PROM` assembles them.
@@ -14,7 +15,7 @@ use paraflex::sequence::{RunContext, RunError, RunOptions, RunSummary, run};
 pub fn affine_operators(
     bulk: &str,
 ) -> (
-    paraflex::sequence::parameters::Parameters,
+    paraflex::discretize::parameters::Parameters,
     paraflex::assembly::AffineOperator,
     paraflex::assembly::AffineOperator,
 ) {
@@ -28,12 +29,12 @@ pub fn affine_operators(
     let deck = Deck::read(&path).unwrap_or_else(|e| panic!("{e}"));
     let model = Model::build(&deck)
         .unwrap_or_else(|e| panic!("{:?}", e.iter().map(|x| x.to_string()).collect::<Vec<_>>()));
-    let params = paraflex::sequence::parameters::Parameters::of_model(&model).unwrap();
+    let params = paraflex::discretize::parameters::Parameters::of_model(&model).unwrap();
     let frames = GridFrames::of_model(&model);
     let map = DofMap::of_model(&model);
     let quiet = |_: &str, _: usize, _: usize| {};
     let el =
-        paraflex::sequence::elements::element_matrices(&model, &frames, &params, false, &quiet)
+        paraflex::discretize::elements::element_matrices(&model, &frames, &params, false, &quiet)
             .unwrap_or_else(|e| panic!("{e}"));
     let pattern = std::sync::Arc::new(
         paraflex::assembly::pattern::grid_block_pattern(
@@ -87,7 +88,7 @@ fn run_in(
         model: &model,
         output: &file,
         progress: &|_: &str, _: usize, _: usize| {},
-        options: RunOptions { parallel: false },
+        options: BuildOptions { parallel: false },
     };
     let result = run(&ctx);
     if result.is_ok() {

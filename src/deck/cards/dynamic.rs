@@ -31,9 +31,31 @@ pub struct Eigrl {
     pub v2: Option<f64>,
     pub nd: Option<u32>,
     pub shfscl: Option<f64>,
-    /// `MASS` or `MAX`.
-    pub norm: &'static str,
+    pub norm: EigenNorm,
     pub loc: Loc,
+}
+
+/// EIGRL NORM: how eigenvectors are normalized.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EigenNorm {
+    /// φᵀMφ = 1.
+    Mass,
+    /// Largest component 1.
+    Max,
+}
+
+impl EigenNorm {
+    /// The keywords of NORM.
+    pub const KEYWORDS: [(&'static str, EigenNorm); 2] =
+        [("MASS", EigenNorm::Mass), ("MAX", EigenNorm::Max)];
+
+    /// The keyword (`MASS`, `MAX`).
+    pub fn name(self) -> &'static str {
+        match self {
+            EigenNorm::Mass => "MASS",
+            EigenNorm::Max => "MAX",
+        }
+    }
 }
 
 impl Eigrl {
@@ -48,7 +70,7 @@ impl Eigrl {
         f.int_or(5, "MSGLVL", 0);
         f.opt_int(6, "MAXSET");
         let shfscl = f.opt_real(7, "SHFSCL");
-        let norm = f.keyword(8, "NORM", &["MASS", "MAX"], Some("MASS"));
+        let norm = f.choice(8, "NORM", &EigenNorm::KEYWORDS, Some(EigenNorm::Mass));
         if v2.is_none() && nd.is_none() {
             f.card_error("give V2 (upper frequency) or ND (number of roots)");
         }

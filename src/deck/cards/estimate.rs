@@ -4,9 +4,10 @@
 
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
-use crate::deck::reader::{Column, FieldReader};
+use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
 use crate::estimate::{MAX_REDIAGONALIZATION_TOLERANCE, valid_rediagonalization_tolerance};
+use crate::io::csv_table::Column;
 
 /// `EKF` — filter settings, selected by case control `ESTIM = id`.
 ///
@@ -251,7 +252,7 @@ fn optional_positive(f: &mut FieldReader, i: usize, name: &str, default: f64) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::deck::reader::Column;
+    use crate::io::csv_table::Column;
 
     /// A card from a free-field line (name, fields…).
     fn card(line: &str) -> RawCard {

@@ -3,8 +3,9 @@
 
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
-use crate::deck::reader::{Column, FieldReader};
+use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
+use crate::io::csv_table::Column;
 
 /// What a `PMPAR` parameter scales.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -141,11 +142,30 @@ pub struct Pmor {
     pub mactol: f64,
     pub seed: u64,
     pub bset: Option<u32>,
-    pub static_modes: &'static str,
-    pub rigid: &'static str,
+    pub static_modes: PmorStatic,
+    pub rigid: PmorRigid,
     pub nfreq: u32,
     pub fmin: f64,
     pub loc: Loc,
+}
+
+/// PMOR STATIC: the static modes of each local basis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PmorStatic {
+    /// Unit-load (attachment) modes at the boundary DOFs.
+    Attach,
+    /// Craig–Bampton constraint modes.
+    Constr,
+    /// No static modes.
+    None,
+}
+
+/// PMOR RIGID: what happens to rigid-body modes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PmorRigid {
+    Keep,
+    /// Removed (free bodies for multibody).
+    Remove,
 }
 
 impl Pmor {
@@ -176,8 +196,22 @@ impl Pmor {
         }
         let seed = f.id0_or(8, "SEED", 1) as u64;
         let bset = f.opt_id(9, "BSET");
-        let static_modes = f.keyword(10, "STATIC", &["ATTACH", "CONSTR", "NONE"], Some("ATTACH"));
-        let rigid = f.keyword(11, "RIGID", &["KEEP", "REMOVE"], Some("KEEP"));
+        let static_modes = f.choice(
+            10,
+            "STATIC",
+            &[
+                ("ATTACH", PmorStatic::Attach),
+                ("CONSTR", PmorStatic::Constr),
+                ("NONE", PmorStatic::None),
+            ],
+            Some(PmorStatic::Attach),
+        );
+        let rigid = f.choice(
+            11,
+            "RIGID",
+            &[("KEEP", PmorRigid::Keep), ("REMOVE", PmorRigid::Remove)],
+            Some(PmorRigid::Keep),
+        );
         let nfreq = f.opt_count(12, "NFREQ").unwrap_or(200);
         let fmin = f.real_or(13, "FMIN", 0.0);
         if fmin < 0.0 || (fmin >= fmax && fmax > 0.0) {
@@ -410,9 +444,18 @@ impl Ptable {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tinteg {
     pub id: u32,
-    pub method: &'static str,
+    pub method: TintegMethod,
     pub rho_inf: f64,
     pub loc: Loc,
+}
+
+/// TINTEG METHOD.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TintegMethod {
+    Bdf1,
+    Bdf2,
+    /// Generalized-α with the card's RHOINF.
+    Galpha,
 }
 
 impl Tinteg {
@@ -421,7 +464,16 @@ impl Tinteg {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "ID");
         f.set_id(id);
-        let method = f.keyword(2, "METHOD", &["BDF1", "BDF2", "GALPHA"], Some("BDF1"));
+        let method = f.choice(
+            2,
+            "METHOD",
+            &[
+                ("BDF1", TintegMethod::Bdf1),
+                ("BDF2", TintegMethod::Bdf2),
+                ("GALPHA", TintegMethod::Galpha),
+            ],
+            Some(TintegMethod::Bdf1),
+        );
         let rho_inf = f.real_or(3, "RHOINF", 0.9);
         if !(0.0..=1.0).contains(&rho_inf) {
             f.error(
@@ -430,7 +482,7 @@ impl Tinteg {
                 format!("expected 0 <= RHOINF <= 1, found {rho_inf:e}"),
             );
         }
-        if method != "GALPHA" && !f.value(3).is_blank() {
+        if method != TintegMethod::Galpha && !f.value(3).is_blank() {
             f.error(3, "RHOINF", "RHOINF applies to GALPHA only");
         }
         let loc = f.loc();

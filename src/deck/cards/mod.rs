@@ -21,13 +21,18 @@ mod rigid;
 
 pub use constraints::{Aset1, Spc, Spc1, Spcadd};
 pub use design::{Ddval, Desvar};
-pub use dynamic::{Darea, Dload, Eigrl, Freq, FreqKind, Rload1, Tabled1, Tic, Tload1, Tstep};
+pub use dynamic::{
+    Darea, Dload, EigenNorm, Eigrl, Freq, FreqKind, Rload1, Tabled1, Tic, Tload1, Tstep,
+};
 pub use elements::{
     Celas1, Celas2, Chexa, Conm2, CornerThickness, Cpenta, Cquad4, Ctetra, Ctria3,
     ShellOrientation, SpringEnd,
 };
 pub use estimate::{Ekf, Ekfinp, Ekfpar, Meas, Measf};
-pub use extension::{Pmor, Pmpar, PmparKind, Ptable, Pval, Sensor, SensorKind, Tablef, Tinteg};
+pub use extension::{
+    Pmor, PmorRigid, PmorStatic, Pmpar, PmparKind, Ptable, Pval, Sensor, SensorKind, Tablef,
+    Tinteg, TintegMethod,
+};
 pub use geometry::{Cord2, CordKind, Grid};
 pub use loads::{Force, ForceKind, Grav, Load};
 pub use materials::{Mat1, Mat8};

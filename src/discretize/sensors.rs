@@ -21,8 +21,8 @@
 //! operators). Basic rows are rotated to the grids' CD frames (Λᵀ), mapped g → n by Tᵀ and
 //! restricted to the f-set (constrained DOFs do not move in a response).
 //!
-//! Selection: the subcase's `SENSOR = ALL | NONE | set`; without a SENSOR request every SENSOR
-//! card is used.
+//! Which sensors a run measures (a subcase's `SENSOR = ALL | NONE | set`) is the caller's
+//! choice: [`sensor_operator`] takes the SENSOR cards.
 
 use std::collections::{BTreeMap, HashMap};
 
@@ -30,9 +30,8 @@ use faer::Mat;
 use nalgebra_sparse::{CooMatrix, CscMatrix};
 
 use super::elements::{shell_strains, solid_kind_of};
-use super::{Constrained, RunContext, RunError, Structure};
+use super::{Constrained, DiscretizeError, Structure};
 use crate::deck::cards::{Sensor, SensorKind};
-use crate::deck::case_control::{Subcase, Target};
 use crate::dynamics::measurement::Reads;
 use crate::fe::solid;
 use crate::geometry::vec3::dot;
@@ -63,15 +62,7 @@ impl SensorOperator {
     /// H Φ (s × k) for an f-set basis Φ (n_f × k): the rows on reduced coordinates (eq. 2.32,
     /// 2.34).
     pub fn project(&self, basis: &Mat<f64>) -> Mat<f64> {
-        let mut out = Mat::<f64>::zeros(self.rows.nrows(), basis.ncols());
-        for (j, col) in self.rows.col_iter().enumerate() {
-            for (&i, &h) in col.row_indices().iter().zip(col.values()) {
-                for k in 0..basis.ncols() {
-                    out[(i, k)] += h * basis[(j, k)];
-                }
-            }
-        }
-        out
+        project_rows(&self.rows, basis)
     }
 
     /// y = H (u_f, u̇_f or ü_f as each row reads), the measurement equations eq. 2.32–2.35
@@ -97,6 +88,19 @@ impl SensorOperator {
     }
 }
 
+/// R Φ (r × k) of sparse f-set rows R (r × n_f) on an f-set basis Φ (n_f × k).
+pub fn project_rows(rows: &CscMatrix<f64>, basis: &Mat<f64>) -> Mat<f64> {
+    let mut out = Mat::<f64>::zeros(rows.nrows(), basis.ncols());
+    for (j, col) in rows.col_iter().enumerate() {
+        for (&i, &h) in col.row_indices().iter().zip(col.values()) {
+            for k in 0..basis.ncols() {
+                out[(i, k)] += h * basis[(j, k)];
+            }
+        }
+    }
+    out
+}
+
 /// The name written for a sensor kind (`/prom/sensors/kind`, FRF outputs).
 pub fn sensor_kind_name(kind: SensorKind) -> &'static str {
     match kind {
@@ -107,32 +111,14 @@ pub fn sensor_kind_name(kind: SensorKind) -> &'static str {
     }
 }
 
-/// The sensors `sub` selects (`SENSOR = ALL | NONE | set`, every card without a request), in
-/// card order.
-pub fn selected_sensors<'a>(ctx: &RunContext<'a>, sub: &Subcase) -> Vec<&'a Sensor> {
-    let cards = &ctx.model.bulk.sensors;
-    match &sub.sensor {
-        None | Some(Target::All) => cards.iter().collect(),
-        Some(Target::None) => Vec::new(),
-        Some(Target::Set(id)) => {
-            let set = ctx.deck.case.set(*id);
-            cards
-                .iter()
-                .filter(|s| set.is_some_and(|set| set.ids.contains(&s.id)))
-                .collect()
-        }
-    }
-}
-
-/// The f-set rows of the sensors `sub` selects (see the module documentation).
+/// The f-set rows of `sensors` (see the module documentation). An error names the SENSOR:
+/// `SENSOR <name>: <what>`.
 pub fn sensor_operator(
-    ctx: &RunContext,
+    model: &Model,
     st: &Structure,
     c: &Constrained,
-    sub: &Subcase,
-) -> Result<SensorOperator, RunError> {
-    let model = ctx.model;
-    let sensors = selected_sensors(ctx, sub);
+    sensors: &[&Sensor],
+) -> Result<SensorOperator, String> {
     let element_index: HashMap<u32, usize> = model
         .elements
         .iter()
@@ -143,10 +129,7 @@ pub fn sensor_operator(
     let mut names = Vec::with_capacity(sensors.len());
     let mut kinds = Vec::with_capacity(sensors.len());
     for (r, s) in sensors.iter().enumerate() {
-        let case = |what: String| RunError::Case {
-            subcase: sub.id,
-            what: format!("SENSOR {}: {what}", s.name),
-        };
+        let case = |what: String| format!("SENSOR {}: {what}", s.name);
         let norm = s.direction.iter().map(|x| x * x).sum::<f64>().sqrt();
         if !(norm > 0.0 && norm.is_finite()) {
             return Err(case("direction (X, Y, Z) is zero".into()));
@@ -164,12 +147,7 @@ pub fn sensor_operator(
                 let index = *element_index
                     .get(&s.reference)
                     .ok_or_else(|| case(format!("element {} does not exist", s.reference)))?;
-                strain_row(ctx, st, index, s, d).map_err(|e| match e {
-                    RunError::Element { card, id, reason } => {
-                        case(format!("{card} {id}: {reason}"))
-                    }
-                    other => other,
-                })?
+                strain_row(model, st, index, s, d).map_err(|e| case(e.to_string()))?
             }
         };
         for (f, h) in f_row(st, c, &basic) {
@@ -190,15 +168,14 @@ pub fn sensor_operator(
 /// The strain row in basic g-set DOFs (6 per grid): ϑᵀ ε ϑ at the element centroid as a
 /// linear function of the element's basic displacements, probed column by column.
 fn strain_row(
-    ctx: &RunContext,
+    model: &Model,
     st: &Structure,
     index: usize,
     s: &Sensor,
     d: [f64; 3],
-) -> Result<Vec<(usize, f64)>, RunError> {
-    let model: &Model = ctx.model;
+) -> Result<Vec<(usize, f64)>, DiscretizeError> {
     let e = &model.elements[index];
-    let bad = |reason: String| RunError::Element {
+    let bad = |reason: String| DiscretizeError::Element {
         card: e.kind.card(),
         id: e.id,
         reason,

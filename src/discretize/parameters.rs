@@ -8,7 +8,7 @@
 
 use std::collections::BTreeMap;
 
-use super::RunError;
+use super::DiscretizeError;
 use crate::assembly::{AffineOperator, ParamKey, ParamTarget};
 use crate::deck::cards::{Pmpar, PmparKind};
 use crate::fe::affine::CoefficientValues;
@@ -49,10 +49,10 @@ fn input_of(kind: PmparKind) -> CoefficientInput {
 
 impl Parameters {
     /// Collect the PMPARs (already validated by [`Model::build`]).
-    pub fn of_model(model: &Model) -> Result<Self, RunError> {
+    pub fn of_model(model: &Model) -> Result<Self, DiscretizeError> {
         let mut out = Parameters::default();
         for p in &model.bulk.pmpar {
-            let value = nominal(&model.bulk, p).map_err(|reason| RunError::Parameter {
+            let value = nominal(&model.bulk, p).map_err(|reason| DiscretizeError::Parameter {
                 name: p.name.clone(),
                 reason,
             })?;

@@ -44,7 +44,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
-use super::RunError;
+use super::DiscretizeError;
 use super::parameters::Parameters;
 use crate::assembly::assemble::Binding;
 use crate::assembly::{Contribution, DofMap, GridFrames, ParamTarget};
@@ -112,7 +112,7 @@ pub fn element_matrices(
     params: &Parameters,
     parallel: bool,
     progress: &dyn Progress,
-) -> Result<ElementMatrices, RunError> {
+) -> Result<ElementMatrices, DiscretizeError> {
     let total = model.elements.len();
     let done = AtomicUsize::new(0);
     let step = (total / 100).max(1);
@@ -171,15 +171,15 @@ fn acted_on(params: &Parameters, target: ParamTarget) -> Option<ParamTarget> {
     params.acts_on(target).then_some(target)
 }
 
-fn err(e: &Element, reason: impl ToString) -> RunError {
-    RunError::Element {
+fn err(e: &Element, reason: impl ToString) -> DiscretizeError {
+    DiscretizeError::Element {
         card: e.kind.card(),
         id: e.id,
         reason: reason.to_string(),
     }
 }
 
-fn element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> {
+fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> {
     let wtmass = ctx.model.params.wtmass;
     let xyz = ctx.model.positions(e);
     let mut built = match e.kind {
@@ -338,7 +338,11 @@ struct ShellSections {
 }
 
 /// The sections of a shell and the fibres its strains are reported at.
-fn shell_section(model: &Model, e: &Element, card: &ShellCard) -> Result<ShellSections, RunError> {
+fn shell_section(
+    model: &Model,
+    e: &Element,
+    card: &ShellCard,
+) -> Result<ShellSections, DiscretizeError> {
     let n = e.nodes.len();
     let zoffs = card.zoffs;
     match e.property {
@@ -630,7 +634,7 @@ fn material_axis(
     e: &Element,
     xyz: &[[f64; 3]],
     orientation: ShellOrientation,
-) -> Result<Option<[f64; 3]>, RunError> {
+) -> Result<Option<[f64; 3]>, DiscretizeError> {
     use crate::geometry::vec3::{cross, dot, normalize, scale, sub};
     match orientation {
         ShellOrientation::Theta(t) if t == 0.0 => Ok(None),
@@ -663,7 +667,11 @@ fn material_axis(
     }
 }
 
-fn shell_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<Built, RunError> {
+fn shell_element(
+    ctx: &ElementContext,
+    e: &Element,
+    xyz: &[[f64; 3]],
+) -> Result<Built, DiscretizeError> {
     let model = ctx.model;
     let card = shell_card(model, e).ok_or_else(|| err(e, "card missing"))?;
     let ShellSections {
@@ -778,7 +786,11 @@ pub fn solid_kind_of(kind: ElementKind) -> Option<solid::SolidKind> {
 /// A solid's stiffness and mass, split by the PMPARs on its MAT1: E → one E part at fixed ν;
 /// NU (± E) → Lamé parts (refused for CHEXA by the kernel: its condensed incompatible modes
 /// are not affine in ν); RHO → one ρ part.
-fn solid_element(ctx: &ElementContext, e: &Element, xyz: &[[f64; 3]]) -> Result<Built, RunError> {
+fn solid_element(
+    ctx: &ElementContext,
+    e: &Element,
+    xyz: &[[f64; 3]],
+) -> Result<Built, DiscretizeError> {
     let (model, frames) = (ctx.model, ctx.frames);
     let kind = solid_kind(e.kind).ok_or_else(|| err(e, "not a solid"))?;
     let Some(PropertyRef::Psolid(i)) = e.property else {
@@ -861,7 +873,7 @@ fn spring_end(
     model: &Model,
     e: &Element,
     end: SpringEnd,
-) -> Result<Option<GridComponent>, RunError> {
+) -> Result<Option<GridComponent>, DiscretizeError> {
     match end.grid {
         Some(g) if end.component > 0 => {
             let grid = *model
@@ -879,7 +891,7 @@ fn spring_end(
 
 /// A spring; `PMPAR K` on its PELAS makes k a parameter (eq. 3.23). CELAS2 carries k on the
 /// card, which no PMPAR can reach.
-fn spring_element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> {
+fn spring_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> {
     let model = ctx.model;
     let (k, ends, target) = match e.kind {
         ElementKind::Celas1 => {
@@ -925,7 +937,7 @@ fn spring_element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> 
 }
 
 /// A CONM2; `PMPAR MASS` on it scales its whole mass matrix (eq. 3.25).
-fn conm2_element(ctx: &ElementContext, e: &Element) -> Result<Built, RunError> {
+fn conm2_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> {
     let (model, frames) = (ctx.model, ctx.frames);
     // The CG location and the inertia tensor (basic, negative products) come from the model's
     // mass-property code, so the CONM2 CID / sign conventions live in one place (model::mass).
@@ -978,9 +990,9 @@ pub fn shell_strains(
     e: &Element,
     rec: &ShellRecovery,
     ue: &[f64],
-) -> Result<shell::ShellStrains, RunError> {
+) -> Result<shell::ShellStrains, DiscretizeError> {
     let xyz = model.positions(e);
-    let bad = |reason: String| RunError::Element {
+    let bad = |reason: String| DiscretizeError::Element {
         card: e.kind.card(),
         id: e.id,
         reason,

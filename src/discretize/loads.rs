@@ -1,0 +1,352 @@
+//! Loads and initial conditions of a model on the f-set of a [`Constrained`] system.
+//!
+//! - Placement: a DAREA entry (component in the grid's CD frame, as Nastran's DAREA) is a
+//!   g-set unit load reduced to n through the rigid elimination (Tᵀ: a dependent RBE DOF
+//!   spreads to its independent DOFs) and restricted to f ([`place_darea`],
+//!   [`unit_load_columns`]); a static load set (FORCE, MOMENT, LOAD) used as a TLOAD1's EXCITEID
+//!   the same way ([`static_shape`]). A load on a constrained DOF is an error: it would be lost.
+//! - Time domain ([`load_terms`]): `DLOAD = sid` as a DLOAD combination S·Σ Sᵢ·(TLOAD1 Lᵢ) or one
+//!   TLOAD1 set, each term a shape × table(t − delay) ([`LoadTerm`], summed by [`load_into`]).
+//! - Frequency domain ([`frequency_inputs`]): the DAREA DOFs of the RLOAD1s of `DLOAD = sid` are
+//!   the inputs; each RLOAD1 term is scale · (C(f) + iD(f)) · e^{i(θ − 2πfτ)} ([`FrequencyLoad`]).
+//! - Tables ([`dynamic_table`]): a TABLED1 or a TABLEF (CSV read through
+//!   [`crate::io::csv_table`]).
+//! - Initial conditions ([`initial_state`]): the TIC cards of `IC = sid` on the f-set.
+
+use faer::{Mat, c64};
+
+use super::{Constrained, Structure};
+use crate::assembly::DofMap;
+use crate::assembly::loads::load_vector;
+use crate::deck::cards::Darea;
+use crate::dynamics::table::Table;
+use crate::io::csv_table::read_columns;
+use crate::model::Model;
+
+/// A TABLED1 or TABLEF (CSV, path relative to the file holding the card) by id.
+pub fn dynamic_table(model: &Model, tid: u32) -> Result<Table, String> {
+    let b = &model.bulk;
+    match (
+        b.tabled1.iter().find(|x| x.id == tid),
+        b.tablef.iter().find(|x| x.id == tid),
+    ) {
+        (Some(x), _) => Table::new(&x.points).map_err(|e| format!("{}: TABLED1 {tid}: {e}", x.loc)),
+        (None, Some(x)) => {
+            let csv = x.loc.file.parent().map_or_else(
+                || std::path::PathBuf::from(&x.path),
+                |dir| dir.join(&x.path),
+            );
+            let points = read_columns(&csv, &x.tcol, &x.ycol)
+                .map_err(|e| format!("{}: TABLEF {tid}: {e}", x.loc))?;
+            Table::new(&points)
+                .map_err(|e| format!("{}: TABLEF {tid} ({}): {e}", x.loc, csv.display()))
+        }
+        (None, None) => Err(format!("table {tid} is no TABLED1 or TABLEF")),
+    }
+}
+
+/// A TLOAD1's (or PTABLE's) table, [`dynamic_table`], with `user` naming the card in errors.
+pub fn table_of(model: &Model, tid: u32, user: &str) -> Result<Table, String> {
+    dynamic_table(model, tid).map_err(|e| format!("{user}: {e}"))
+}
+
+/// One time-domain load term: shape × table(t − delay).
+pub struct LoadTerm {
+    pub shape: Vec<f64>,
+    pub table: Table,
+    pub delay: f64,
+}
+
+/// f(t) = Σ shape · table(t − delay) into `f`.
+pub fn load_into(terms: &[LoadTerm], t: f64, f: &mut [f64]) {
+    f.fill(0.0);
+    for term in terms {
+        let a = term.table.value(t - term.delay);
+        if a != 0.0 {
+            f.iter_mut()
+                .zip(&term.shape)
+                .for_each(|(fi, s)| *fi += a * s);
+        }
+    }
+}
+
+/// The load terms of `DLOAD = sid`: a DLOAD combination S·Σ Sᵢ·(TLOAD1 Lᵢ), or one TLOAD1.
+/// `place(darea, component, scale, shape)` adds one DAREA entry (component 1–6, scale including
+/// the DLOAD factors) to a shape vector of length `len`; when a TLOAD1's EXCITEID selects no
+/// DAREA, `static_set(excite_id)` may supply the shape of a static load set (FORCE, LOAD) as the
+/// full model does, or `None` (pROMs: loads act on input DOFs only).
+pub fn load_terms(
+    model: &Model,
+    sid: u32,
+    len: usize,
+    mut place: impl FnMut(&Darea, usize, f64, &mut [f64]) -> Result<(), String>,
+    mut static_set: impl FnMut(u32) -> Result<Option<Vec<f64>>, String>,
+) -> Result<Vec<LoadTerm>, String> {
+    let b = &model.bulk;
+    let sets: Vec<(f64, u32)> = match b.dload.iter().find(|d| d.sid == sid) {
+        Some(d) => d.terms.iter().map(|&(s, l)| (d.scale * s, l)).collect(),
+        None => vec![(1.0, sid)],
+    };
+    let mut out = Vec::new();
+    for (scale, set) in sets {
+        let tloads: Vec<_> = b.tload1.iter().filter(|t| t.sid == set).collect();
+        if tloads.is_empty() {
+            return Err(format!("DLOAD {sid}: load set {set} has no TLOAD1"));
+        }
+        for t in tloads {
+            let table = table_of(model, t.tid, &format!("TLOAD1 {}", t.sid))?;
+            let mut shape = vec![0.0; len];
+            let mut any = false;
+            for d in b.darea.iter().filter(|d| d.sid == t.excite_id) {
+                for comp in d.components.components() {
+                    place(d, comp, scale * d.scale, &mut shape)?;
+                    any = true;
+                }
+            }
+            if !any {
+                let p = static_set(t.excite_id)?.ok_or_else(|| {
+                    format!(
+                        "TLOAD1 {}: EXCITEID {} selects no DAREA",
+                        t.sid, t.excite_id
+                    )
+                })?;
+                shape.iter_mut().zip(&p).for_each(|(s, p)| *s += scale * p);
+            }
+            out.push(LoadTerm {
+                shape,
+                table,
+                delay: t.delay,
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// The f-set shape of a static load set (FORCE, MOMENT, LOAD combinations) used as a TLOAD1's
+/// EXCITEID (as MSC Nastran accepts without LSEQ).
+pub fn static_shape(
+    model: &Model,
+    st: &Structure,
+    c: &Constrained,
+    sid: u32,
+) -> Result<Option<Vec<f64>>, String> {
+    let p_g = load_vector(model, &st.frames, &st.map, sid, None)
+        .map_err(|e| format!("TLOAD1 EXCITEID {sid}: no DAREA and {e}"))?;
+    let p_n = st.rigid.reduce_vector(&p_g).map_err(|e| e.to_string())?;
+    c.sets
+        .f_in_n
+        .gather(&p_n)
+        .map(Some)
+        .map_err(|e| e.to_string())
+}
+
+/// Adds a DAREA entry to an f-set load shape: the g-set entry (grid's displacement frame, as
+/// DAREA components are) reduced to n through the rigid elimination (Tᵀ) and restricted to f;
+/// an entry on a constrained DOF is an error (it would be lost).
+pub fn place_darea(
+    model: &Model,
+    st: &Structure,
+    c: &Constrained,
+    d: &Darea,
+    comp: usize,
+    scale: f64,
+    shape: &mut [f64],
+) -> Result<(), String> {
+    let grid = model
+        .grid_index
+        .get(&d.grid)
+        .copied()
+        .ok_or_else(|| format!("DAREA {}: GRID {} does not exist", d.sid, d.grid))?;
+    let mut p_g = vec![0.0; st.map.size()];
+    p_g[DofMap::dof(grid, comp - 1)] = scale;
+    let p_n = st.rigid.reduce_vector(&p_g).map_err(|e| e.to_string())?;
+    let p_f = c.sets.f_in_n.gather(&p_n).map_err(|e| e.to_string())?;
+    if p_f.iter().all(|x| *x == 0.0) {
+        return Err(format!(
+            "DAREA {}: GRID {} component {comp} is constrained (SPC or AUTOSPC): the load would not act",
+            d.sid, d.grid
+        ));
+    }
+    shape.iter_mut().zip(&p_f).for_each(|(s, p)| *s += p);
+    Ok(())
+}
+
+/// The f-set state of `IC = sid` (none: at rest): each TIC sets u and u̇ of one free grid
+/// component (its displacement frame); components without a TIC start at zero. A TIC on a
+/// constrained (SPC, AUTOSPC) or dependent (RBE) DOF is an error: its value would be ignored.
+pub fn initial_state(
+    model: &Model,
+    c: &Constrained,
+    sid: Option<u32>,
+) -> Result<(Vec<f64>, Vec<f64>), String> {
+    let n_f = c.sets.f.len();
+    let (mut u, mut v) = (vec![0.0; n_f], vec![0.0; n_f]);
+    let Some(sid) = sid else { return Ok((u, v)) };
+    let cards: Vec<_> = model.bulk.tic.iter().filter(|t| t.sid == sid).collect();
+    if cards.is_empty() {
+        return Err(format!("IC = {sid} selects no TIC card"));
+    }
+    for t in cards {
+        let grid = model
+            .grid_index
+            .get(&t.grid)
+            .copied()
+            .ok_or_else(|| format!("TIC {sid}: GRID {} does not exist", t.grid))?;
+        let i = c.sets.f.position(DofMap::dof(grid, t.component - 1)).ok_or_else(|| format!("TIC {sid}: GRID {} component {} is not a free DOF (constrained by SPC/AUTOSPC or dependent in an RBE)", t.grid, t.component))?;
+        u[i] += t.u0;
+        v[i] += t.v0;
+    }
+    Ok((u, v))
+}
+
+/// One RLOAD1 term on one input: scale · (C(f) + iD(f)) · e^{i(θ − 2πfτ)}.
+pub struct FrequencyLoad {
+    /// Index of the input DOF the term loads.
+    pub input: usize,
+    pub scale: f64,
+    pub c: Option<Table>,
+    pub d: Option<Table>,
+    /// θ (rad).
+    pub phase: f64,
+    /// τ (s).
+    pub delay: f64,
+}
+
+impl FrequencyLoad {
+    /// The complex load at `hz`.
+    pub fn at(&self, hz: f64) -> c64 {
+        let c = self.c.as_ref().map_or(0.0, |t| t.value(hz));
+        let d = self.d.as_ref().map_or(0.0, |t| t.value(hz));
+        let angle = self.phase - 2.0 * std::f64::consts::PI * hz * self.delay;
+        c64::new(c, d) * c64::new(angle.cos(), angle.sin()) * self.scale
+    }
+}
+
+/// The inputs of a frequency response: names `GRID:component`, f-set unit-load columns
+/// (n_f × k) and the RLOAD1 terms on them.
+pub struct FrequencyInputs {
+    pub names: Vec<String>,
+    pub columns: Mat<f64>,
+    pub terms: Vec<FrequencyLoad>,
+}
+
+impl FrequencyInputs {
+    /// The response to the RLOAD1 terms at each line, Σ H(f)[o, input] · P(f) over the terms,
+    /// line-major (lines × `outputs`); `h(line, output, input)` reads H.
+    pub fn response(
+        &self,
+        hz: &[f64],
+        outputs: usize,
+        h: impl Fn(usize, usize, usize) -> c64,
+    ) -> Vec<c64> {
+        let mut out = vec![c64::new(0.0, 0.0); hz.len() * outputs];
+        for (l, f) in hz.iter().enumerate() {
+            for term in &self.terms {
+                let p = term.at(*f);
+                for o in 0..outputs {
+                    out[l * outputs + o] += h(l, o, term.input) * p;
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The inputs of `DLOAD = sid` (a DLOAD combination S·Σ Sᵢ·Lᵢ or one RLOAD1 set): every DAREA
+/// entry of its RLOAD1s' EXCITEIDs is an input DOF, loaded by a unit force through Tᵀ.
+pub fn frequency_inputs(
+    model: &Model,
+    st: &Structure,
+    c: &Constrained,
+    sid: u32,
+) -> Result<FrequencyInputs, String> {
+    let b = &model.bulk;
+    let sets: Vec<(f64, u32)> = match b.dload.iter().find(|d| d.sid == sid) {
+        Some(d) => d.terms.iter().map(|&(s, l)| (d.scale * s, l)).collect(),
+        None => vec![(1.0, sid)],
+    };
+    let mut dofs: Vec<(u32, usize)> = Vec::new();
+    let mut terms = Vec::new();
+    for (scale, set) in sets {
+        let rloads: Vec<_> = b.rload1.iter().filter(|r| r.sid == set).collect();
+        if rloads.is_empty() {
+            return Err(format!("DLOAD {sid}: load set {set} has no RLOAD1"));
+        }
+        for r in rloads {
+            let table = |tid: u32| {
+                if tid == 0 {
+                    Ok(None)
+                } else {
+                    dynamic_table(model, tid)
+                        .map(Some)
+                        .map_err(|e| format!("RLOAD1 {}: {e}", r.sid))
+                }
+            };
+            let (tc, td) = (table(r.tc)?, table(r.td)?);
+            let mut any = false;
+            for d in b.darea.iter().filter(|d| d.sid == r.excite_id) {
+                for comp in d.components.components() {
+                    let input = match dofs.iter().position(|&x| x == (d.grid, comp)) {
+                        Some(i) => i,
+                        None => {
+                            dofs.push((d.grid, comp));
+                            dofs.len() - 1
+                        }
+                    };
+                    terms.push(FrequencyLoad {
+                        input,
+                        scale: scale * d.scale,
+                        c: tc.clone(),
+                        d: td.clone(),
+                        phase: r.phase_deg.to_radians(),
+                        delay: r.delay,
+                    });
+                    any = true;
+                }
+            }
+            if !any {
+                return Err(format!(
+                    "RLOAD1 {}: EXCITEID {} selects no DAREA",
+                    r.sid, r.excite_id
+                ));
+            }
+        }
+    }
+    Ok(FrequencyInputs {
+        names: dofs.iter().map(|(g, c)| format!("{g}:{c}")).collect(),
+        columns: unit_load_columns(model, st, c, &dofs)?,
+        terms,
+    })
+}
+
+/// The f-set columns (n_f × k) of unit loads on `dofs` (GRID id, component 1–6 in its CD
+/// frame) through Tᵀ; a DOF whose load moves nothing (constrained) is an error.
+pub fn unit_load_columns(
+    model: &Model,
+    st: &Structure,
+    c: &Constrained,
+    dofs: &[(u32, usize)],
+) -> Result<Mat<f64>, String> {
+    let mut columns = Mat::<f64>::zeros(c.sets.f.len(), dofs.len());
+    for (j, &(grid, comp)) in dofs.iter().enumerate() {
+        let index = *model
+            .grid_index
+            .get(&grid)
+            .ok_or_else(|| format!("DAREA: GRID {grid} does not exist"))?;
+        let g = DofMap::dof(index, comp - 1);
+        let row = st.rigid.t.row(g);
+        let mut any = false;
+        for (&n, &t) in row.col_indices().iter().zip(row.values()) {
+            if let Some(f) = c.sets.f_in_n.position(n) {
+                columns[(f, j)] += t;
+                any |= t != 0.0;
+            }
+        }
+        if !any {
+            return Err(format!(
+                "DAREA: GRID {grid} component {comp} is constrained (SPC, AUTOSPC): a load there moves nothing"
+            ));
+        }
+    }
+    Ok(columns)
+}

@@ -1,0 +1,95 @@
+//! The model's solution-control data by id: what case control selects (`METHOD`,
+//! `FREQUENCY`, `TSTEP`, `IC`, `PROM`, `PVAL`, `ESTIM`, `MEAS`) and the model-wide ASET1 and
+//! SENSOR lists, so that solution sequences never index the cards themselves.
+
+use super::Model;
+use crate::deck::cards::{
+    Aset1, Eigrl, Ekf, Ekfinp, Ekfpar, Meas, Measf, Pmor, Ptable, Pval, Sensor, Tic, Tinteg, Tstep,
+};
+
+impl Model {
+    /// The EIGRL of `METHOD = sid`.
+    pub fn eigrl(&self, sid: u32) -> Option<&Eigrl> {
+        self.bulk.eigrl.iter().find(|e| e.sid == sid)
+    }
+
+    /// The frequency lines (Hz) of `FREQUENCY = sid`: every FREQ, FREQ1, FREQ2 of that SID,
+    /// sorted, duplicates removed (empty when none exists).
+    pub fn frequencies_hz(&self, sid: u32) -> Vec<f64> {
+        let mut hz: Vec<f64> = self
+            .bulk
+            .freq
+            .iter()
+            .filter(|f| f.sid == sid)
+            .flat_map(|f| f.frequencies())
+            .collect();
+        hz.sort_by(f64::total_cmp);
+        hz.dedup();
+        hz
+    }
+
+    /// The TSTEP of `TSTEP = sid`.
+    pub fn tstep(&self, sid: u32) -> Option<&Tstep> {
+        self.bulk.tstep.iter().find(|t| t.sid == sid)
+    }
+
+    /// The TINTEG with id `id` (the integrator of the TSTEP of the same id).
+    pub fn tinteg(&self, id: u32) -> Option<&Tinteg> {
+        self.bulk.tinteg.iter().find(|t| t.id == id)
+    }
+
+    /// The TIC cards of `IC = sid`, in card order.
+    pub fn tic(&self, sid: u32) -> Vec<&Tic> {
+        self.bulk.tic.iter().filter(|t| t.sid == sid).collect()
+    }
+
+    /// The PMOR of `PROM = id`.
+    pub fn pmor(&self, id: u32) -> Option<&Pmor> {
+        self.bulk.pmor.iter().find(|p| p.id == id)
+    }
+
+    /// The PVAL of `PVAL = id`.
+    pub fn pval(&self, id: u32) -> Option<&Pval> {
+        self.bulk.pval.iter().find(|c| c.id == id)
+    }
+
+    /// The PTABLE cards of `PVAL = id`, in card order.
+    pub fn ptables(&self, id: u32) -> Vec<&Ptable> {
+        self.bulk.ptable.iter().filter(|c| c.id == id).collect()
+    }
+
+    /// Every ASET1 card (the a-set), in card order.
+    pub fn aset1(&self) -> &[Aset1] {
+        &self.bulk.aset1
+    }
+
+    /// Every SENSOR card, in card order.
+    pub fn sensors(&self) -> &[Sensor] {
+        &self.bulk.sensors
+    }
+
+    /// The EKF of `ESTIM = id`.
+    pub fn ekf(&self, id: u32) -> Option<&Ekf> {
+        self.bulk.ekf.iter().find(|e| e.id == id)
+    }
+
+    /// The EKFPAR cards of EKF `id`, in card order.
+    pub fn ekfpar(&self, id: u32) -> Vec<&Ekfpar> {
+        self.bulk.ekfpar.iter().filter(|x| x.id == id).collect()
+    }
+
+    /// The EKFINP cards of EKF `id`, in card order.
+    pub fn ekfinp(&self, id: u32) -> Vec<&Ekfinp> {
+        self.bulk.ekfinp.iter().filter(|x| x.id == id).collect()
+    }
+
+    /// The MEASF of `MEAS = id`.
+    pub fn measf(&self, id: u32) -> Option<&Measf> {
+        self.bulk.measf.iter().find(|m| m.id == id)
+    }
+
+    /// The MEAS channels of MEASF `id`, in card order.
+    pub fn meas(&self, id: u32) -> Vec<&Meas> {
+        self.bulk.meas.iter().filter(|m| m.id == id).collect()
+    }
+}
