@@ -448,13 +448,34 @@ fn check_convergence(
 }
 
 /// Modal analytic case: frequency values at `expected_mode_index` of the sorted FE lists (of the
-/// out-of-plane modes only when `out_of_plane`: [`Run::out_of_plane_frequencies`]).
+/// out-of-plane modes only when `out_of_plane`: [`Run::out_of_plane_frequencies`]). Tolerances
+/// on the finest mesh only (the JSON's `tolerance_finest`); see [`analytic_modal_with`].
 fn analytic_modal(
     case: &str,
     meshes: &[usize],
     out_of_plane: bool,
     assert_convergence: bool,
     convergence_limit: impl Fn(usize) -> Option<(f64, &'static str, f64)>,
+) {
+    analytic_modal_with(
+        case,
+        meshes,
+        out_of_plane,
+        assert_convergence,
+        convergence_limit,
+        |_, _| None,
+    );
+}
+
+/// [`analytic_modal`] with a tolerance for value j on the coarser mesh k as well,
+/// `coarse_tolerance(k, j)` (`None`: reported, not asserted).
+fn analytic_modal_with(
+    case: &str,
+    meshes: &[usize],
+    out_of_plane: bool,
+    assert_convergence: bool,
+    convergence_limit: impl Fn(usize) -> Option<(f64, &'static str, f64)>,
+    coarse_tolerance: impl Fn(usize, usize) -> Option<f64>,
 ) {
     let r = json(&format!("reference/analytic/{case}.json"));
     let values = f64s(&r["values"]);
@@ -493,7 +514,11 @@ fn analytic_modal(
                 *v,
                 "analytic",
                 rel(got, *v),
-                finest.then_some(tol[j]),
+                if finest {
+                    Some(tol[j])
+                } else {
+                    coarse_tolerance(k, j)
+                },
             );
         }
         per_mesh.push(idx.iter().map(|i| f[i - 1]).collect());
@@ -637,33 +662,47 @@ fn analytic_ss_plate_pshell_kirchhoff_modal() {
     );
 }
 
-/// Timoshenko values. The finest mesh (80×4×8, 2560 CHEXA) takes ~60–100 s at opt-level 0, so
-/// the default test runs the coarse and medium meshes only and reports them: the JSON gives
-/// tolerances for the finest mesh only, so nothing is asserted on them beyond a clean run
-/// (the medium mesh is the `beam_c3d8i` mesh, checked against CalculiX at 1 %). The full check
-/// (finest-mesh tolerances) is [`analytic_cantilever_beam_solid_modal_finest`].
+/// Timoshenko values on all three meshes (the finest, 80×4×8 = 2560 CHEXA, runs in ~3 s). Each
+/// mesh is held to its own tolerance, by the rule the JSON's `tolerance_finest` was made with
+/// (tools/analytic/README.md): (model-form term + 2 × the mesh's discretization estimate) × 1.25,
+/// the model-form term being the clamped root's Poisson constraint
+/// (`independent_checks.root_poisson_constraint_estimate`, a heuristic: hence the margin) and the
+/// discretization estimate the 1-D analogue's (`discretization_estimate_1d_analogue`); on the
+/// finest mesh the rule must reproduce `tolerance_finest` (to its two digits).
+///
+/// Convergence is reported, not asserted: the observed orders (Richardson, from successive
+/// differences) are −0.8, 0.2, 1.2 and 1.6 against the JSON's expected 2, and the first x-y
+/// frequency is not monotone (41.325 → 41.356 → 41.303 Hz). The expected 2 comes from the 1-D
+/// analogue; the 3-D clamped root has a stress singularity along its edges, which slows the
+/// convergence of the frequencies, and the limit (3-D elasticity, not Timoshenko + a heuristic
+/// root term) is not known to better than the model-form term. Asserting a rate needs that limit
+/// from an independent converged 3-D solution (e.g. CalculiX C3D20R on refined meshes).
 #[test]
 fn analytic_cantilever_beam_solid_modal() {
-    analytic_modal("cantilever_beam_solid_modal", &[0, 1], false, false, |_| {
-        None
-    });
-}
-
-/// All three meshes; the finest-mesh tolerances of the JSON are asserted. Convergence is
-/// reported, not asserted: the finest errors (+0.44 … +0.70 %) lie below the model-form term
-/// (3D clamped-root Poisson constraint, heuristic +1.3 %, `independent_checks`), so the FE limit
-/// is not known to better than that; the raw first x-y frequency is not monotone
-/// (41.325 → 41.356 → 41.303 Hz), neither is |error − 1.30 %|, and the observed orders are
-/// 0.3–0.7 against an expected 2 (see the report to the lead).
-#[test]
-#[ignore = "slow at opt-level 0 (~60–100 s for the 80×4×8 mesh); run with --ignored or in release"]
-fn analytic_cantilever_beam_solid_modal_finest() {
-    analytic_modal(
+    let r = json("reference/analytic/cantilever_beam_solid_modal.json");
+    let model_form = f64s(&r["independent_checks"]["root_poisson_constraint_estimate"]);
+    let estimates: Vec<Vec<f64>> = r["discretization_estimate_1d_analogue"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(f64s)
+        .collect();
+    let rule = |k: usize, j: usize| 1.25 * (model_form[j].abs() + 2.0 * estimates[k][j].abs());
+    let finest = f64s(&r["tolerance_finest"]["relative"]);
+    for (j, t) in finest.iter().enumerate() {
+        assert!(
+            (rule(2, j) - t).abs() <= 5e-4,
+            "value {j}: the rule gives {} on the finest mesh, the JSON {t}",
+            rule(2, j)
+        );
+    }
+    analytic_modal_with(
         "cantilever_beam_solid_modal",
         &[0, 1, 2],
         false,
         false,
         |_| None,
+        |k, j| Some(rule(k, j)),
     );
 }
 

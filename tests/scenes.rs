@@ -222,18 +222,15 @@ fn blade() {
 }
 
 /// `meshes/build.py --check`: the committed "test" includes are byte-identical to what the
-/// generators write now. `make test` creates `.venv` first, so this only skips when the tests
-/// run without it (plain `cargo test` on a machine without the venv).
+/// generators write now. `make test` creates `.venv` first; without it the check fails.
 #[test]
 fn committed_includes_are_current() {
     let python = root().join(".venv/bin/python");
-    if !python.exists() {
-        println!(
-            "SKIPPED: {} is missing; run `make test` (it creates the venv) to check the committed mesh includes",
-            python.display()
-        );
-        return;
-    }
+    assert!(
+        python.exists(),
+        "{} is missing: run `make test` (it creates the venv) to check the committed mesh includes",
+        python.display()
+    );
     let out = std::process::Command::new(&python)
         .arg("meshes/build.py")
         .arg("--check")

@@ -476,6 +476,20 @@ pub(crate) fn spawn_test_guard() -> std::sync::RwLockWriteGuard<'static, ()> {
     TEST_SPAWN_LOCK.write().unwrap_or_else(|e| e.into_inner())
 }
 
+/// The repository's Python (`.venv/bin/python`, with h5py) for the checks that read paraflex's
+/// files with the users' tools. `make test` creates the venv before `cargo test`; without it
+/// these checks fail rather than pass unchecked.
+#[cfg(test)]
+pub(crate) fn venv_python() -> std::path::PathBuf {
+    let python = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(".venv/bin/python");
+    assert!(
+        python.exists(),
+        "{} is missing: run `make test` (it creates the venv from tools/requirements.txt)",
+        python.display()
+    );
+    python
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

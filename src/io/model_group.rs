@@ -301,14 +301,10 @@ mod tests {
         assert!(msg.contains("same card"), "{msg}");
     }
 
-    /// h5py (the users' tool) reads the file: optional, runs only where the venv exists.
+    /// h5py (the users' tool) reads the file, with the repository's venv.
     #[test]
     fn h5py_reads_model() {
-        let python = std::path::Path::new("/work/main/.venv/bin/python");
-        if !python.exists() {
-            eprintln!("skipped: {} not found", python.display());
-            return;
-        }
+        let python = crate::io::hdf5_file::venv_python();
         let _guard = crate::io::hdf5_file::spawn_test_guard();
         let dir = tempfile::tempdir().expect("tempdir");
         let out = dir.path().join("py.h5");
