@@ -19,14 +19,12 @@ reference/analytic/mitc_thick_plate.json. Run: .venv/bin/python tools/analytic/m
 from __future__ import annotations
 
 import json
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "calculix"))
-from macneal_harder import mitc_plate, mitc_plate_modes, mitc_plate_stiffness  # noqa: E402
+from paraflex_tools.mitc_plate import mitc_plate, mitc_plate_modes, mitc_plate_stiffness
 
 ROOT = Path(__file__).resolve().parents[2]
 DECKS = ROOT / "decks" / "verify" / "independent"
