@@ -4,11 +4,16 @@
 //! - [`measurement`]: sensor equations y = h(q, q̇, q̈) and their factors (iω)^k in frequency,
 //!   shared by the FRF, transient and estimation sequences;
 //! - [`integrators`]: BDF1 (eq. 2.61), BDF2 and generalized-α with a constant step;
+//! - [`nonlinear`]: the same methods on nonlinear systems in residual form, with Newton;
+//! - [`velocity_form`]: one BDF1 step in velocity form over the caller's operators (the
+//!   estimator's prediction);
 //! - [`sparse_backend`]: the integrators' full-model (sparse f-set) backend;
 //! - [`table`]: piecewise-linear tables of time (TABLED1).
 
 pub mod frf;
 pub mod integrators;
 pub mod measurement;
+pub mod nonlinear;
 pub mod sparse_backend;
 pub mod table;
+pub mod velocity_form;

@@ -1,17 +1,34 @@
 //! Virtual sensing on pROMs (thesis ch. 7–8): joint estimation of states, unknown inputs and
 //! parameters with the augmented EKF, usable from Rust without a deck.
 //!
-//! - [`filter`]: the augmented EKF with BDF1 and analytic Jacobians (eq. 8.1–8.35).
-//! - [`modal`]: the modal coordinates the filter runs in when the pROM allows them.
+//! - [`ekf`]: the EKF's correction (gain and Joseph update, eq. 8.25–8.28) written once over a
+//!   [`ekf::ProcessModel`] that predicts and measures.
+//! - [`filter`]: the augmented EKF with BDF1 and analytic Jacobians (eq. 8.1–8.35), the
+//!   process model of a pROM (`prom_model`) in one of the pROM's coordinates (`coordinates`: the trait they implement): [`physical`] (the
+//!   reduced coordinates q) or modal (`modal_coordinates`, with the couplings of re-diagonalized
+//!   modes in `drift`); `propagation` holds the covariance prediction by blocks and `kernels`
+//!   the dense kernels.
+//! - [`modal`]: the modes in which the filter's modal coordinates are taken, when the pROM
+//!   allows them.
 //! - [`measurement`]: sensor equations y = h(x*) (eq. 8.36): [`crate::dynamics::measurement`],
 //!   shared with the FRF and transient drivers and re-exported here.
-//! - [`observability`]: the PBH test before a run (eq. 8.40–8.41, §8.4.3–8.4.4).
+//! - [`observability`]: the PBH test before a run (eq. 8.40–8.41, §8.4.3–8.4.4), at the
+//!   [`operating_points`] of the initial estimate.
 //! - [`covariance`]: the rules of thumb for Q of inputs and parameters (eq. 8.30–8.31).
 
+mod coordinates;
+mod drift;
+pub mod ekf;
 pub mod filter;
+mod kernels;
 pub use crate::dynamics::measurement;
 pub mod modal;
+mod modal_coordinates;
 pub mod observability;
+pub mod operating_points;
+pub mod physical;
+mod prom_model;
+mod propagation;
 
 pub use filter::{
     Coordinates, Filter, FilterError, FilterSetup, MAX_REDIAGONALIZATION_TOLERANCE,

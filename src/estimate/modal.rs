@@ -29,7 +29,7 @@
 //! coupling costs 2 n r + n multiply-adds instead of n²; it is used when that is fewer.
 use faer::Mat;
 
-use super::filter::{add_product, axpy, dot};
+use super::kernels::{add_product, axpy, dot};
 use crate::linalg::dense::{generalized_eigen, product, symmetric_eigen_vectors};
 use crate::rom::prom::Prom;
 

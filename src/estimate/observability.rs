@@ -20,8 +20,8 @@
 
 use faer::Mat;
 
-use super::filter::parameter_columns;
 use super::measurement::{Reads, SensorRows};
+use super::physical::parameter_columns;
 use crate::rom::prom::PromEvaluation;
 
 /// Relative singular-value threshold of the numerical rank of the equilibrated PBH matrix:

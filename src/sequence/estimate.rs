@@ -13,12 +13,11 @@
 //! table (numerical validation, §8.6).
 //!
 //! Before the run, the PBH test ([`crate::estimate::observability`]) runs at operating points
-//! of the initial estimate: the static equilibrium under the loads whose table is constant over
-//! the window, plus 16 states of a BDF1 simulation of the time-varying loads. Unknown inputs
-//! count as static when every measured channel's RMS deviation from its mean over the second
-//! half of the window is at most 2σ (σ of its MEAS card: the data are noise around a constant),
-//! and as a sine of their EKFINP frequency and amplitude otherwise. An unobservable problem stops the run with its cause unless the EKF
-//! card says FORCE = YES.
+//! of the initial estimate ([`crate::estimate::operating_points`]: the static equilibrium under
+//! the loads whose table is constant over the window, plus states of a BDF1 simulation of the
+//! time-varying loads; unknown inputs count as static when every measured channel is at the
+//! noise level σ of its MEAS card). An unobservable problem stops the run with its cause unless
+//! the EKF card says FORCE = YES.
 //!
 //! Written under `/results/<id>/estimate/`: `time (t)`; `params/<name>`, `params_sigma/<name>`
 //! (t: estimate and standard deviation, ±3σ bands are 3 × the latter); `inputs/<GRID:COMP>`,
@@ -33,8 +32,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use faer::Mat;
-use faer::linalg::solvers::Solve;
+use crate::linalg::Mat;
 
 use super::report::{Report, sci};
 use super::rom_case::RomAtPoint;
@@ -43,17 +41,16 @@ use super::shared::place_input;
 use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::case_control::Subcase;
 use crate::discretize::loads::{LoadTerm, load_terms};
-use crate::dynamics::integrators::{LinearSystem, Method, integrate};
 use crate::dynamics::table::Table;
 use crate::estimate::filter::check_initial_stiffness;
-use crate::estimate::observability::{self, OperatingPoint, Unknown};
+use crate::estimate::observability::{self, Unknown};
+use crate::estimate::operating_points;
 use crate::estimate::{Coordinates, Filter, FilterSetup, SensorRows, covariance};
 use crate::io::csv_table::{Column, header, read_columns};
 use crate::io::{
     read_prom_inputs, read_prom_sensors, set_attr_f64, set_attr_i64, set_attr_str,
     set_attr_strings, write_f64,
 };
-use crate::rom::prom::PromEvaluation;
 
 /// Relative error statistics of one estimated quantity over the last 20 % (thesis Table 8.2).
 #[derive(Debug, Clone, PartialEq)]
@@ -288,16 +285,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     prom.evaluate(&p, &mut at)
         .map_err(|e| case(format!("{}: {e}", path.display())))?;
     check_initial_stiffness(at.stiffness(), &p).map_err(|e| case(format!("EKF {ekf_id}: {e}")))?;
-    // static: every channel's RMS deviation from its mean over the second half is at the noise
-    // level. Noise alone gives σ (within 3 % for a window of 1000 steps); ≥ √3 σ means a dynamic
-    // part at least as large as the noise: threshold 2σ. (A bound on every sample, e.g. 3σ, is
-    // exceeded by pure Gaussian noise over a long window: the largest of 2500 samples is ≈ 3.5σ.)
-    let static_inputs = measured_series.iter().zip(&sigma).all(|(y, s)| {
-        let tail = &y[y.len() / 2..];
-        let count = tail.len().max(1) as f64;
-        let mean = tail.iter().sum::<f64>() / count;
-        (tail.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / count).sqrt() <= 2.0 * s
-    });
+    let static_inputs = operating_points::at_noise_level(&measured_series, &sigma);
     let inputs_for_points: Vec<(f64, f64)> = unknown_inputs
         .iter()
         .map(|(_, _, u)| (u.omega, u.amplitude))
@@ -307,7 +295,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             term.table.value(k as f64 * dt - term.delay) == term.table.value(dt - term.delay)
         })
     };
-    let points = operating_points(
+    let points = operating_points::of_initial_estimate(
         &at,
         &s_un,
         &inputs_for_points,
@@ -598,91 +586,6 @@ fn resample(
         ));
     }
     Ok((1..=steps).map(|k| table.value(k as f64 * first)).collect())
-}
-
-/// Operating points of the initial estimate (see the module documentation). `load(t, f,
-/// static_part)` fills the known reduced load: its constant terms or its time-varying ones.
-fn operating_points(
-    at: &PromEvaluation,
-    s_un: &Mat<f64>,
-    inputs: &[(f64, f64)],
-    static_inputs: bool,
-    dt: f64,
-    steps: usize,
-    load: &dyn Fn(f64, &mut [f64], bool),
-) -> Result<Vec<OperatingPoint>, String> {
-    let n = at.mass().nrows();
-    let mut f_static = vec![0.0; n];
-    load(dt, &mut f_static, true);
-    if static_inputs {
-        for (c, (_, amplitude)) in inputs.iter().enumerate() {
-            (0..n).for_each(|i| f_static[i] += amplitude * s_un[(i, c)]);
-        }
-    }
-    let q_static = match at.stiffness().llt(faer::Side::Lower) {
-        Ok(llt) => {
-            let x = llt.solve(Mat::from_fn(n, 1, |i, _| f_static[i]));
-            (0..n).map(|i| x[(i, 0)]).collect()
-        }
-        Err(_) if f_static.iter().all(|v| *v == 0.0) => vec![0.0; n],
-        Err(_) => return Err("K is not positive definite at the initial estimate: no static equilibrium under the constant loads".into()),
-    };
-    let mut probe = vec![0.0; n];
-    let dynamic_known = (1..=steps).step_by((steps / 50).max(1)).any(|k| {
-        load(k as f64 * dt, &mut probe, false);
-        probe.iter().any(|v| *v != 0.0)
-    });
-    let dynamic_inputs = !inputs.is_empty() && !static_inputs;
-    if !dynamic_known && !dynamic_inputs {
-        return Ok(vec![OperatingPoint {
-            q: q_static,
-            v: vec![0.0; n],
-            a: vec![0.0; n],
-            dynamic: false,
-        }]);
-    }
-    let sys = LinearSystem {
-        mass: at.mass(),
-        damping: at.damping(),
-        stiffness: at.stiffness(),
-    };
-    // 16 sampling instants offset by the golden-ratio fraction of a spacing, so that they do
-    // not fall on the zeros of a periodic load (where the state is a free response)
-    let samples: Vec<usize> = (0..16)
-        .map(|i| ((steps as f64) * (i as f64 + 0.618_034) / 16.0).round() as usize)
-        .filter(|&k| k > 0)
-        .collect();
-    let mut points = Vec::new();
-    let forcing = |t: f64, f: &mut [f64]| {
-        load(t, f, false);
-        if dynamic_inputs {
-            for (c, (omega, amplitude)) in inputs.iter().enumerate() {
-                let u = amplitude * (2.0 * std::f64::consts::PI * omega * t).sin();
-                (0..n).for_each(|i| f[i] += u * s_un[(i, c)]);
-            }
-        }
-    };
-    integrate(
-        sys,
-        Method::Bdf1,
-        dt,
-        steps,
-        &vec![0.0; n],
-        &vec![0.0; n],
-        forcing,
-        |s| {
-            if samples.contains(&s.step) {
-                points.push(OperatingPoint {
-                    q: s.q.iter().zip(&q_static).map(|(a, b)| a + b).collect(),
-                    v: s.v.to_vec(),
-                    a: s.a.to_vec(),
-                    dynamic: true,
-                });
-            }
-        },
-    )
-    .map_err(|e| e.to_string())?;
-    Ok(points)
 }
 
 impl Report for EstimateSummary {

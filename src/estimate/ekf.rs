@@ -1,0 +1,247 @@
+//! The extended Kalman filter's algebra (thesis §8.2–8.3, eq. 8.22–8.28), written once over a
+//! [`ProcessModel`]: the model predicts the mean and the covariance (eq. 8.22–8.24: the
+//! structure of its transition Jacobian is its own, e.g. the block-sparse BDF1 transition of a
+//! pROM) and gives the predicted measurements and their Jacobian J_m (eq. 8.36–8.39); [`Ekf`]
+//! owns x* and P and does the correction:
+//!
+//! - innovation e = y − h(x⁻), U = P J_mᵀ (columns of P combined by the nonzero entries of
+//!   J_m's rows), S_y = J_m U + R, gain 𝒦 = U S_y⁻¹ (eq. 8.26) by a Cholesky factor of S_y;
+//! - x⁺ = x⁻ + 𝒦 e (eq. 8.27);
+//! - the Joseph form (eq. 8.28) L P Lᵀ + 𝒦 R 𝒦ᵀ, L = I − 𝒦 J_m, expanded into
+//!   P − 𝒦 Uᵀ − U 𝒦ᵀ + 𝒦 S_y 𝒦ᵀ (no term dropped: first-order insensitive to errors of 𝒦, as
+//!   the Joseph form is), a symmetric rank-2m update: 2 N² m multiply-adds, exactly symmetric.
+//!
+//! after which the model linearizes again at x⁺ ([`ProcessModel::corrected`]). A step allocates
+//! nothing: the buffers are sized at construction.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch;
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, Par};
+
+use super::filter::FilterError;
+use super::kernels::{axpy, factor_in_place, solve_seq, storage, storage_mut, vectorized};
+
+/// An augmented process model x*_k = f(x*_{k−1}, input_k) + noise with measurements
+/// y = h(x*) + noise, linearized by the model itself.
+pub trait ProcessModel {
+    /// The known input of a step (a pROM's reduced load).
+    type Input: ?Sized;
+    /// Size N of the augmented state.
+    fn size(&self) -> usize;
+    /// Noise variances R of the measurements (diagonal; one per measurement).
+    fn measurement_noise(&self) -> &[f64];
+    /// Whether `input` fits the model.
+    fn check_input(&self, input: &Self::Input) -> Result<(), FilterError>;
+    /// Prediction to step `step` (≥ 1): x ← f(x, input), P ← J P Jᵀ + Q (eq. 8.22–8.24).
+    fn predict(
+        &mut self,
+        step: usize,
+        input: &Self::Input,
+        x: &mut [f64],
+        p: &mut Mat<f64>,
+    ) -> Result<(), FilterError>;
+    /// The predicted measurements h(x) and the rows of J_m (m × N) at the prior x.
+    fn measure(&mut self, x: &[f64], predicted: &mut [f64], jm: &mut Mat<f64>);
+    /// Linearize again at the posterior of step `step` (which may change the coordinates of x
+    /// and P), for the correction's and the next prediction's input `input`.
+    fn corrected(
+        &mut self,
+        step: usize,
+        input: &Self::Input,
+        x: &mut [f64],
+        p: &mut Mat<f64>,
+    ) -> Result<(), FilterError>;
+}
+
+/// The filter: a process model, the estimate x* and its covariance P.
+pub struct Ekf<M: ProcessModel> {
+    pub(super) model: M,
+    pub(super) x: Vec<f64>,
+    pub(super) p: Mat<f64>,
+    /// J_m and y − h(x⁻) of the last correction.
+    pub(super) jm: Mat<f64>,
+    pub(super) innovation: Vec<f64>,
+    /// Steps predicted so far.
+    pub(super) step: usize,
+    update: Update,
+}
+
+/// Buffers of the correction: h(x⁻) (m); U = P J_mᵀ, 𝒦, W = 𝒦 S_y / 2 − U (N × m);
+/// S_y = J_m U + R and its factor (m × m); the Cholesky workspace.
+struct Update {
+    predicted: Vec<f64>,
+    pht: Mat<f64>,
+    gain: Mat<f64>,
+    w: Mat<f64>,
+    sy: Mat<f64>,
+    sy_factor: Mat<f64>,
+    mem: MemBuffer,
+}
+
+impl<M: ProcessModel> Ekf<M> {
+    /// A filter at step 0 with the estimate `x` and covariance `p` of `model`'s state.
+    pub fn new(model: M, x: Vec<f64>, p: Mat<f64>) -> Self {
+        let (big_n, m) = (model.size(), model.measurement_noise().len());
+        Ekf {
+            update: Update {
+                predicted: vec![0.0; m],
+                pht: Mat::zeros(big_n, m),
+                gain: Mat::zeros(big_n, m),
+                w: Mat::zeros(big_n, m),
+                sy: Mat::zeros(m, m),
+                sy_factor: Mat::zeros(m, m),
+                mem: MemBuffer::new(cholesky_in_place_scratch::<f64>(
+                    m,
+                    Par::Seq,
+                    Default::default(),
+                )),
+            },
+            model,
+            x,
+            p,
+            jm: Mat::zeros(m, big_n),
+            innovation: vec![0.0; m],
+            step: 0,
+        }
+    }
+
+    /// The prediction half of a step (eq. 8.22–8.24).
+    #[inline(always)]
+    pub fn predict(&mut self, input: &M::Input) -> Result<(), FilterError> {
+        self.model.check_input(input)?;
+        self.step += 1;
+        self.model
+            .predict(self.step, input, &mut self.x, &mut self.p)
+    }
+
+    /// The correction half of a step (eq. 8.25–8.28) with the measurements `y`, then the
+    /// model's linearization at x⁺ with `input`.
+    pub fn correct(&mut self, input: &M::Input, y: &[f64]) -> Result<(), FilterError> {
+        let m = self.innovation.len();
+        if y.len() != m {
+            return Err(FilterError::Shape {
+                what: "measurements",
+                expected: m,
+                got: y.len(),
+            });
+        }
+        self.model.check_input(input)?;
+        let sc = &mut self.update;
+        self.model.measure(&self.x, &mut sc.predicted, &mut self.jm);
+        self.innovation
+            .iter_mut()
+            .zip(y.iter().zip(&sc.predicted))
+            .for_each(|(e, (y, h))| *e = y - h);
+        // U = P J_mᵀ: columns of P combined by the nonzero entries of J_m's rows
+        let ((p, ps), (jm, js)) = (storage(&self.p), storage(&self.jm));
+        let big_n = self.p.nrows();
+        vectorized(
+            #[inline(always)]
+            || {
+                let (u, us) = storage_mut(&mut sc.pht);
+                u.fill(0.0);
+                for c in 0..big_n {
+                    let column = &p[c * ps..c * ps + big_n];
+                    for k in 0..m {
+                        let a = jm[k + c * js];
+                        if a != 0.0 {
+                            axpy(&mut u[k * us..k * us + big_n], a, column);
+                        }
+                    }
+                }
+            },
+        );
+        matmul(
+            sc.sy.as_mut(),
+            Accum::Replace,
+            self.jm.as_ref(),
+            sc.pht.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        for (i, r) in self.model.measurement_noise().iter().enumerate() {
+            sc.sy[(i, i)] += r;
+        }
+        sc.sy_factor.copy_from(&sc.sy);
+        if !factor_in_place(sc.sy_factor.as_mut(), MemStack::new(&mut sc.mem)) {
+            return Err(FilterError::Innovation { step: self.step });
+        }
+        // 𝒦ᵀ = S_y⁻¹ Uᵀ, solved on the transposed view of 𝒦 (N × m)
+        sc.gain.copy_from(&sc.pht);
+        solve_seq(sc.sy_factor.as_ref(), sc.gain.as_mut().transpose_mut());
+        for (j, e) in self.innovation.iter().enumerate() {
+            axpy(&mut self.x, *e, sc.gain.col_as_slice(j));
+        }
+        // Joseph form (eq. 8.28) L P Lᵀ + 𝒦 R 𝒦ᵀ = P − 𝒦 Uᵀ − U 𝒦ᵀ + 𝒦 S_y 𝒦ᵀ = P + 𝒦 Wᵀ + W 𝒦ᵀ
+        // with W = 𝒦 S_y / 2 − U, column by column; entry (i, j) adds 𝒦_ik W_jk + W_ik 𝒦_jk per k,
+        // the same two products as entry (j, i): P stays exactly symmetric.
+        matmul(
+            sc.w.as_mut(),
+            Accum::Replace,
+            sc.gain.as_ref(),
+            sc.sy.as_ref(),
+            0.5,
+            Par::Seq,
+        );
+        sc.w -= &sc.pht;
+        let big_n = self.p.nrows();
+        let ((gain, gs), (w, ws)) = (storage(&sc.gain), storage(&sc.w));
+        let (p, ps) = storage_mut(&mut self.p);
+        vectorized(
+            #[inline(always)]
+            || {
+                // up to three sensors per pass over the column (one load and store of P per group):
+                // the same sums in the same order as one pass per sensor
+                let (gain_of, w_of) = (
+                    |k: usize| &gain[k * gs..k * gs + big_n],
+                    |k: usize| &w[k * ws..k * ws + big_n],
+                );
+                for j in 0..big_n {
+                    let col = &mut p[j * ps..j * ps + big_n];
+                    let mut k = 0;
+                    while m - k >= 3 {
+                        joseph_pass(
+                            col,
+                            j,
+                            [0, 1, 2].map(|s| gain_of(k + s)),
+                            [0, 1, 2].map(|s| w_of(k + s)),
+                        );
+                        k += 3;
+                    }
+                    match m - k {
+                        2 => joseph_pass(
+                            col,
+                            j,
+                            [gain_of(k), gain_of(k + 1)],
+                            [w_of(k), w_of(k + 1)],
+                        ),
+                        1 => joseph_pass(col, j, [gain_of(k)], [w_of(k)]),
+                        _ => {}
+                    }
+                }
+            },
+        );
+        if !self.x.iter().all(|v| v.is_finite()) {
+            return Err(FilterError::NonFinite { step: self.step });
+        }
+        self.model
+            .corrected(self.step, input, &mut self.x, &mut self.p)
+    }
+}
+
+/// Column j of the Joseph update (eq. 8.28) for K sensors: col += Σ_s 𝒦_s W_s[j] + W_s 𝒦_s[j],
+/// added sensor by sensor (`gain` = 𝒦 and `w` = W columns, each as long as `col`).
+#[inline(always)]
+fn joseph_pass<const K: usize>(col: &mut [f64], j: usize, gain: [&[f64]; K], w: [&[f64]; K]) {
+    let len = col.len();
+    let (gain, w) = (gain.map(|g| &g[..len]), w.map(|w| &w[..len]));
+    let (a, b): ([f64; K], [f64; K]) = (w.map(|w| w[j]), gain.map(|g| g[j]));
+    for i in 0..len {
+        let mut v = col[i];
+        for s in 0..K {
+            v += gain[s][i] * a[s] + w[s][i] * b[s];
+        }
+        col[i] = v;
+    }
+}
