@@ -21,7 +21,10 @@ demo: deps
 	$(BIN) run decks/robot/l2r_free.dat -o out/demo.h5
 
 test: deps
+	$(CARGO) fmt --check
+	$(CARGO) clippy --quiet --all-targets -- -D warnings
 	$(CARGO) test --quiet
+	$(PY) -m pytest -q tools
 
 deps: sysdeps venv
 

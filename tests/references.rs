@@ -247,6 +247,8 @@ fn pct(x: f64) -> String {
 }
 
 impl Table {
+    // one argument per column of the printed table
+    #[allow(clippy::too_many_arguments)]
     fn row(
         &mut self,
         case: &str,
@@ -401,6 +403,7 @@ fn mesh_decks(r: &Value) -> Vec<String> {
 /// uncertainty of the limit (below it the convergence is dominated by unresolved model-form
 /// effects, e.g. the torsion free-edge layer; then only the monotone decrease is asserted).
 /// log2(|e2|/|e3|) is printed too.
+#[allow(clippy::too_many_arguments)]
 fn check_convergence(
     t: &mut Table,
     case: &str,

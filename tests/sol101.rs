@@ -272,9 +272,9 @@ fn spring_reactions_balance_the_load_to_round_off() {
     let (r, dir) = run_deck(&deck);
     let s = r.expect("run");
     let st = statics(&s, 0);
-    for c in 0..3 {
+    for (c, fc) in f.iter().enumerate() {
         assert!(
-            (st.reaction[c] + f[c]).abs() <= 1e-10 * 5.0,
+            (st.reaction[c] + fc).abs() <= 1e-10 * 5.0,
             "{:?}",
             st.reaction
         );

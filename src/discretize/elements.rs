@@ -305,7 +305,9 @@ fn shell_material(model: &Model, mid: u32) -> Option<RoleMaterial> {
     })
 }
 
-/// The data of a shell section, before any affine split.
+/// The data of a shell section, before any affine split. One value per property while the
+/// sections are built, so the size difference between the variants costs nothing.
+#[allow(clippy::large_enum_variant)]
 enum SectionInput {
     Pshell {
         pid: u32,
@@ -637,7 +639,7 @@ fn material_axis(
 ) -> Result<Option<[f64; 3]>, DiscretizeError> {
     use crate::geometry::vec3::{cross, dot, normalize, scale, sub};
     match orientation {
-        ShellOrientation::Theta(t) if t == 0.0 => Ok(None),
+        ShellOrientation::Theta(0.0) => Ok(None),
         ShellOrientation::Theta(theta) => {
             let n = if xyz.len() == 4 {
                 cross(sub(xyz[2], xyz[0]), sub(xyz[3], xyz[1]))

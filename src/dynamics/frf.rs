@@ -487,10 +487,10 @@ mod tests {
             let k = [[a + ground, -a, 0.0], [-a, a + b, -b], [0.0, -b, b]];
             let mut coo = nalgebra_sparse::CooMatrix::new(3, 3);
             let mut mass = nalgebra_sparse::CooMatrix::new(3, 3);
-            for i in 0..3_usize {
-                for j in 0..3 {
+            for (i, row) in k.iter().enumerate() {
+                for (j, &kij) in row.iter().enumerate() {
                     if i.abs_diff(j) <= 1 {
-                        coo.push(i, j, k[i][j]);
+                        coo.push(i, j, kij);
                         mass.push(i, j, if i == j { 1e-3 } else { 0.0 });
                     }
                 }

@@ -44,7 +44,9 @@ pub(super) trait PromCoordinates {
     fn transition_rows(&self, n: usize, big_n: usize) -> Mat<f64>;
 }
 
-/// The coordinates of a filter, chosen at construction ([`super::Coordinates`]).
+/// The coordinates of a filter, chosen at construction ([`super::Coordinates`]). One value per
+/// filter, used in every step: the physical variant stays inline to avoid a pointer chase.
+#[allow(clippy::large_enum_variant)]
 pub(super) enum Model {
     Physical(Physical),
     Modal(Box<Modal>),

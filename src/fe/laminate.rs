@@ -208,7 +208,9 @@ pub struct Laminate {
     pub symmetric: bool,
 }
 
-/// Section data an element property can carry.
+/// Section data an element property can carry. Held once per property (elements refer to it),
+/// so the laminate variant's size is not worth a box.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq)]
 pub enum SectionData {
     /// PSHELL; the E, NU and RHO parameters act on the material `parametrized` (a material

@@ -307,12 +307,12 @@ pub fn read_prom_inputs(
     Ok((names, Mat::from_fn(n_red, k, |i, j| data[i * k + j])))
 }
 
+/// A pROM's sensors as stored: names, kinds and H_r (s × n_red).
+pub type PromSensors = (Vec<String>, Vec<String>, Mat<f64>);
+
 /// The sensors of a pROM (`/prom/sensors`): names, kinds (`DISP`, `VEL`, `ACCEL`) and H_r
 /// (s × n_red). None when the build had no SENSOR.
-pub fn read_prom_sensors(
-    path: impl AsRef<Path>,
-    n_red: usize,
-) -> Result<(Vec<String>, Vec<String>, Mat<f64>), IoError> {
+pub fn read_prom_sensors(path: impl AsRef<Path>, n_red: usize) -> Result<PromSensors, IoError> {
     let path = path.as_ref();
     let file = open_artifact(path)?;
     let Ok(group) = file.group("prom/sensors") else {

@@ -95,7 +95,8 @@ impl SolidShape {
 
     /// Quadrature rule (natural point, weight), exact for the volume and first-moment integrands.
     fn rule(self) -> &'static [([f64; 3], f64)] {
-        static RULES: OnceLock<[Vec<([f64; 3], f64)>; 3]> = OnceLock::new();
+        type Rule = Vec<([f64; 3], f64)>;
+        static RULES: OnceLock<[Rule; 3]> = OnceLock::new();
         let rules = RULES.get_or_init(|| {
             [
                 SolidShape::Hexa8.compute_rule(),

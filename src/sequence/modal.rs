@@ -145,13 +145,13 @@ fn write_subcase(
     let nf = r.vectors.nrows();
     let mut generalized_mass = vec![1.0; m];
     if norm == EigenNorm::Max {
-        for j in 0..m {
+        for (j, gm) in generalized_mass.iter_mut().enumerate() {
             let s = (0..nf).fold(0.0_f64, |acc, i| acc.max(r.vectors[(i, j)].abs()));
             if s > 0.0 {
                 for i in 0..nf {
                     r.vectors[(i, j)] /= s;
                 }
-                generalized_mass[j] = 1.0 / (s * s);
+                *gm = 1.0 / (s * s);
             }
         }
     }

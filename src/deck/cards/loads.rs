@@ -111,10 +111,12 @@ impl Grav {
     }
 }
 
+/// A combination card read by [`combination`]: set id, overall scale, (scale, set id) terms and
+/// the card's location.
+pub(crate) type Combination = (u32, f64, Vec<(f64, u32)>, Loc);
+
 /// Read `SID S S1 L1 S2 L2 …` combination cards (`LOAD`, `DLOAD`).
-pub(crate) fn combination(
-    card: &RawCard,
-) -> Result<(u32, f64, Vec<(f64, u32)>, Loc), Vec<DeckError>> {
+pub(crate) fn combination(card: &RawCard) -> Result<Combination, Vec<DeckError>> {
     let mut f = FieldReader::new(card);
     let sid = f.id(1, "SID");
     f.set_id(sid);
