@@ -167,7 +167,7 @@ fn laminate(theta: &str) -> String {
 }
 
 /// SOL PROM warns once when a parameter freezes the CQUAD4's condensation of its incompatible
-/// modes (README "Frozen condensation"): a THETA PMPAR on the quads' PCOMP, TPLY of an
+/// modes (docs/elements.md "Frozen condensation"): a THETA PMPAR on the quads' PCOMP, TPLY of an
 /// unsymmetric one (B ∝ h², A ∝ h), or NU (with E) of the PSHELL's MAT1, with the default
 /// `PARAM,QINCOMP,YES`; not for E alone or
 /// TPLY of a symmetric laminate (T does not change when (A, B) is scaled; both exact in
