@@ -1,4 +1,4 @@
-//! Speed of the augmented EKF (issue 7 item 6) on a pROM artifact with sensors, e.g. the blade
+//! Speed of the augmented EKF on a pROM artifact with sensors, e.g. the blade
 //! pROM of decks/estimate/blade_prom_sensors.dat: filter steps per second in the physical, the
 //! modal and — where the modes do not diagonalize the pROM — the re-diagonalized modal
 //! coordinates with τ = 1e-2 and 1e-3 ([`paraflex::estimate::filter`]), and the estimation error

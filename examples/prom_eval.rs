@@ -1,4 +1,4 @@
-//! Online cost of a pROM (pROM issue item 7): time `Prom::evaluate` (M_r, C_r, K_r and the
+//! Online cost of a pROM: time `Prom::evaluate` (M_r, C_r, K_r and the
 //! parameter derivatives, eq. 3.32) at random points of the box of an artifact.
 //!
 //!     cargo run --release --example prom_eval -- FILE.h5 [EVALUATIONS]

@@ -5,8 +5,8 @@ the flange's bolted face tied by one RBE2 to four bolt grids on grounded springs
 
     .venv/bin/python meshes/blade.py [--size test|full] [--out DIR]
 
-From the thesis: length "about 0.9 m" (issue 4), Titanium Gr23 and the bolt stiffness of
-Table 3.2 (in the decks, not here), "mainly linear hexahedral elements and a minority of linear
+Length about 0.9 m (the thesis gives no blade dimensions); from the thesis: Titanium Gr23 and
+the bolt stiffness of Table 3.2 (in the decks, not here), "mainly linear hexahedral elements and a minority of linear
 pentahedral elements", "rigid elements connect the entire face of the flange to four spring
 elements that model the compliance of the bolts" (§3.5.1, Fig. 3.5b), 65,264 nodes for the full
 model (Table 3.1), the FRF input at the middle of the bottom face and the outputs on the top face
@@ -66,7 +66,7 @@ from paraflex_tools.cards import card
 from paraflex_tools.meshing import extract, gmsh_session, write_cards, write_mesh_include
 
 # ---- geometry (metres, degrees); see the module docstring for what is thesis and what is ours
-LENGTH = 0.9                 # flange face to tip (issue 4: "about 0.9 m")
+LENGTH = 0.9                 # flange face to tip ("about 0.9 m")
 FLANGE_THICKNESS = 0.015
 FLANGE_RADIUS = 0.055
 BOLT_RADIUS = 0.032

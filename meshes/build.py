@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Regenerate the mesh includes of every scene (issue 4), or check that the committed ones are
+"""Regenerate the mesh includes of every scene, or check that the committed ones are
 current.
 
     .venv/bin/python meshes/build.py           # "test" includes → meshes/<scene>/   (make meshes)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Plate and beam family for verification of the gmsh → meshio → deck path (issue 4, item 1d):
+"""Plate and beam family for verification of the gmsh → meshio → deck path:
 the same structures as closed-form solutions, meshed with gmsh and converted with meshio.
 
 Components (SI units; the materials are in the decks):

@@ -1,9 +1,8 @@
-//! PMPAR bindings on assembled models (DESIGN.md §5; issue "Finite elements", item 1; pROM
-//! issue, item 1): for every parameter kind, the operators assembled with the PMPAR and
-//! evaluated at p, Σ f_i(p) K^i, equal the operators assembled directly from a deck whose card
-//! values are p — to round-off (for NU, THETA and TPLY of an unsymmetric laminate, which change
-//! the CQUAD4's frozen condensation: at the nominal values, on triangles, and at p with `PARAM,QINCOMP,NO`:
-//! [`check_frozen`]).
+//! PMPAR bindings on assembled models (DESIGN.md §5): for every parameter kind, the operators
+//! assembled with the PMPAR and evaluated at p, Σ f_i(p) K^i, equal the operators assembled
+//! directly from a deck whose card values are p — to round-off (for NU, THETA and TPLY of an
+//! unsymmetric laminate, which change the CQUAD4's frozen condensation: at the nominal values, on
+//! triangles, and at p with `PARAM,QINCOMP,NO`: [`check_frozen`]).
 //!
 //! Tolerance: 1e-12 relative to the largest entry. Both sides sum the same element integrals;
 //! they differ only by the order of floating-point operations (unit-parameter parts scaled

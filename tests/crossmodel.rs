@@ -280,8 +280,8 @@ fn blade_full_rom_and_prom_agree_in_frequency_and_time() {
 /// change, eq. 3.35); a pROM of 2 samples instead of 4 (54 vectors) measured 5.6e-2 / 6.2e-2 on
 /// the same outputs, so the check tells a converged pROM from a short one. Bound 1e-2: ten times
 /// the largest truncation error, as for the blade. The pROM (nominal Θ = 20°) evaluated at 30°
-/// also carries the CQUAD4's frozen condensation (README, "Frozen condensation"; the ROM and the
-/// full model condense at 30°): adding the incompatible modes moved the pROM's errors from
+/// also carries the CQUAD4's frozen condensation (docs/elements.md "Frozen condensation"; the
+/// ROM and the full model condense at 30°): adding the incompatible modes moved the pROM's errors from
 /// 6.8e-8 / 1.4e-5 / 3.1e-4 to 2.4e-7 / 5.2e-4 / 4.4e-4 (FRF) and from 2.1e-6 / 2.3e-4 to
 /// 8.2e-5 / 3.6e-4 (transient), within the bound.
 #[test]

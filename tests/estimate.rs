@@ -380,8 +380,8 @@ fn e_and_rho_sine_load() {
 }
 
 /// E and the tip force as an unknown input (ω_u = 80 Hz, a_u = 5 N, §8.6.3), no known load;
-/// the initial variance of E is (0.05 E₀)² instead of E₀² (see the README: with E₀² the first
-/// steps, where the response is ≈ 0, throw E out of the physical range).
+/// the initial variance of E is (0.05 E₀)² instead of E₀² (docs/estimation.md "Blade cases":
+/// with E₀² the first steps, where the response is ≈ 0, throw E out of the physical range).
 #[test]
 fn e_and_unknown_input_sine_load() {
     accept(

@@ -1,5 +1,5 @@
 //! SOL PROM and SOL 103 on a pROM artifact (`ROM =`, `PVAL`): the pROM against the full model
-//! at the same parameter values (thesis §3.4; pROM issue items 4–6).
+//! at the same parameter values (thesis §3.4).
 
 mod common;
 
@@ -167,7 +167,7 @@ fn laminate(theta: &str) -> String {
 }
 
 /// SOL PROM warns once when a parameter freezes the CQUAD4's condensation of its incompatible
-/// modes (README "Frozen condensation"): a THETA PMPAR on the quads' PCOMP, TPLY of an
+/// modes (docs/elements.md "Frozen condensation"): a THETA PMPAR on the quads' PCOMP, TPLY of an
 /// unsymmetric one (B ∝ h², A ∝ h), or NU (with E) of the PSHELL's MAT1, with the default
 /// `PARAM,QINCOMP,YES`; not for E alone or
 /// TPLY of a symmetric laminate (T does not change when (A, B) is scaled; both exact in
@@ -633,7 +633,7 @@ fn write_matrix_market(path: &std::path::Path, a: &nalgebra_sparse::CscMatrix<f6
     std::fs::write(path, text).expect("write .mtx");
 }
 
-/// The black-box route (pROM issue item 2, thesis eq. 3.29): K and M of the two-material plate
+/// The black-box route (thesis eq. 3.29): K and M of the two-material plate
 /// sampled at 7 LHS points of (E₁, ρ₁, E₂), exported as Matrix Market files with a manifest,
 /// read back by `paraflex prom-lsq`; the least-squares components must equal the components
 /// assembled directly (X⁰ = X(0), X^j = (X(h_j e_j) − X(0)) / h_j with h_j the upper bound,

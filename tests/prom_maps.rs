@@ -1,9 +1,9 @@
-//! Small versions of the pROM validations of the pROM issue, items 6a and 6b (thesis Fig. 3.11,
-//! 3.13, 3.22, 3.24; the full-size runs are `make validate-prom`): the FRF error of a pROM
-//! against the non-parametric ROM of each parameter point — the thesis's average error
-//! mean_l | |H_pROM| − |H_ROM| | / |H_ROM| over the band, input = output — on points reaching
-//! beyond the sampled box, and (6a) against the full model at a few points. The bounds and
-//! their sources are in `reference/prom/frf_error_maps.json`.
+//! Small versions of the pROM validations (thesis Fig. 3.11, 3.13, 3.22, 3.24; the full-size runs
+//! are `make validate-prom`): the FRF error of a pROM against the non-parametric ROM of each
+//! parameter point — the thesis's average error mean_l | |H_pROM| − |H_ROM| | / |H_ROM| over the
+//! band, input = output — on points reaching beyond the sampled box, and, for the E, ρ map, against
+//! the full model at a few points. The bounds and their sources are in
+//! `reference/prom/frf_error_maps.json`.
 //!
 //! The ROM of a point is the same deck with a zero-width box at the point and one sample, its
 //! whole local basis kept (ERRTOL 1e-14: the size selection may not truncate the reference), as
@@ -165,13 +165,14 @@ fn full_magnitude(e: f64, rho: f64, grid: usize, comp: usize, fmax_hz: f64, n: u
     (0..n).map(|l| h[l * stride + o].norm()).collect()
 }
 
-/// Item 6a, small (thesis Fig. 3.13 and the full-size `make validate-prom` map): E and ρ over
-/// ±10 % on the sprung plate, 50 lines in 0–500 Hz at the tip corner's T3 (25 for the full
+/// The E, ρ error map, small (thesis Fig. 3.13 and the full-size `make validate-prom` map): E and ρ
+/// over ±10 % on the sprung plate, 50 lines in 0–500 Hz at the tip corner's T3 (25 for the full
 /// model: each of its lines is a sparse complex solve, slow in a debug build).
 /// - pROM vs ROM on a 4 × 4 grid of factors {0.8, 0.95, 1.05, 1.2} of (E, ρ). ρ moves no mode
 ///   shape (every mass scales with it), so the basis is exact along ρ and the error depends on
 ///   E only (as on the full-size blade): with E inside the box, at every ρ (also outside),
-///   ≤ the goal of the issue (1e-3); with E outside, larger than every error with E inside (the
+///   ≤ the pROM's FRF-error goal inside the box (1e-3, the ERRTOL of thesis Tables 3.1 and
+///   3.4); with E outside, larger than every error with E inside (the
 ///   extrapolation degrades, Fig. 3.13 / the full-size map) and below the full-size map's worst;
 /// - ρ moves no mode shape here, so the ROM of (E, ρ) is the ROM of (E, ρ₀) evaluated at ρ (the
 ///   same basis: the modes and K⁻¹ of the static modes do not depend on ρ): one ROM per E,
@@ -304,8 +305,8 @@ fn angle_sweep(high: f64, angles: &[f64]) -> (Vec<f64>, usize) {
     (errors, prom.prom.size())
 }
 
-/// Item 6b, small, Θ ∈ [0°, 90°] (thesis Fig. 3.22; full size: `make validate-prom`): along
-/// the whole range the error stays within the goal of the issue (1e-3).
+/// The fibre-angle sweep, small, Θ ∈ [0°, 90°] (thesis Fig. 3.22; full size: `make validate-prom`):
+/// along the whole range the error stays within the goal inside the box (1e-3).
 #[test]
 fn composite_theta_prom_over_0_90_stays_within_the_goal_along_the_range() {
     let bound = number(&reference(), "/bound_inside_box");
@@ -317,8 +318,8 @@ fn composite_theta_prom_over_0_90_stays_within_the_goal_along_the_range() {
     );
 }
 
-/// Item 6b, small, Θ ∈ [0°, 45°] (thesis Fig. 3.24): inside the box within the goal (1e-3);
-/// outside it the pROM cannot follow the shapes (the thesis's finding): the error at 90° is
+/// The fibre-angle sweep, small, Θ ∈ [0°, 45°] (thesis Fig. 3.24): inside the box within the goal
+/// (1e-3); outside it the pROM cannot follow the shapes (the thesis's finding): the error at 90° is
 /// above the goal and above every error inside.
 #[test]
 fn composite_theta_prom_over_0_45_fails_to_extrapolate_beyond_its_box() {

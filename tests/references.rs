@@ -6,7 +6,7 @@
 //!
 //! Each test prints its rows (case | quantity | paraflex | reference | error | tolerance) and
 //! writes them to `target/references/<case>.md`; after each test the fragments present are
-//! gathered into `target/references_table.md` (the README table).
+//! gathered into `target/references_table.md` (the table of docs/verification.md).
 //!
 //! Mesh convergence (analytic cases with three meshes, h halved each time): besides the
 //! finest-mesh tolerance, the error must fall with refinement at a rate consistent with the
@@ -154,7 +154,7 @@ impl Run {
     /// by grid id.
     fn displacements(&self, subcase: usize) -> BTreeMap<u32, [f64; 6]> {
         let file = hdf5_metno::File::open(self.dir.path().join("out.h5")).expect("open h5");
-        // rows in increasing grid id (README "HDF5 schema"; `/model` is written by the CLI only)
+        // rows in increasing grid id (docs/hdf5-schema.md; `/model` is written by the CLI only)
         let mut ids: Vec<u32> = self.model.grids.iter().map(|g| g.id).collect();
         ids.sort_unstable();
         let u: Vec<f64> = file
@@ -929,7 +929,8 @@ fn calculix_rbe_spring_mass() {
 /// rel_tol; `same_element`: |paraflex/CalculiX − 1| ≤ rel_tol_to_calculix; `weak`: normalised
 /// ≥ min_ratio × max(CalculiX, published) and ≤ soft_cap × max(1, CalculiX, published);
 /// `same_element_cst` (the CTRIA3 membrane): |paraflex / cst_plane_stress − 1| ≤ rel_tol_to_cst,
-/// the plane-stress constant-strain-triangle solution of the same mesh. Prints the README table.
+/// the plane-stress constant-strain-triangle solution of the same mesh. Prints the table of
+/// docs/verification.md "Hard cases".
 fn macneal_harder(prefix: &str) {
     let dir = root().join("reference/calculix/hard");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
@@ -1083,7 +1084,7 @@ fn macneal_harder(prefix: &str) {
     if opensees_checked != opensees_cases {
         t.fail(format!("{opensees_checked} of the {opensees_cases} OpenSees references of {prefix}* were checked (case or label renamed?)"));
     }
-    println!("\nREADME table ({prefix}):\n{readme}");
+    println!("\ndocs/verification.md table ({prefix}):\n{readme}");
     t.finish(prefix.trim_end_matches('_'));
 }
 
@@ -1203,6 +1204,8 @@ fn analytic_thin_cantilever_no_locking() {
             );
         }
     }
-    println!("\nREADME table (thin cantilever, normalised FE / reference):\n{readme}");
+    println!(
+        "\ndocs/verification.md table (thin cantilever, normalised FE / reference):\n{readme}"
+    );
     t.finish("thin_cantilever");
 }

@@ -1,8 +1,8 @@
-//! The case-study scenes of issue 4: every deck under `decks/<scene>/` runs in-process, and its
+//! The thesis's case-study scenes: every deck under `decks/<scene>/` runs in-process, and its
 //! frequencies (read back from the HDF5 output, `/results/1/modal/frequency_hz`) and mass (the
 //! model's mass properties) are compared with `reference/scenes/<deck stem>.json` when that
 //! exists. The tolerances are the JSON's `rel_tol`, written there with their source (thesis
-//! tables: the issue's 5 % mass / 10 % frequency bands; analytic decks: justified by the mesh
+//! tables: 5 % on mass, 10 % on frequencies; analytic decks: justified by the mesh
 //! size, meshes/plates.py); nothing here sets or widens one. A scene directory that does not
 //! exist yet is reported and skipped, and so is a deck that includes `meshes/full/` (a
 //! full-size variant: those meshes are made on demand by `make meshes-full`, not committed). `cargo test --test scenes -- --nocapture` prints the

@@ -1,6 +1,6 @@
 //! Tabulated functions of time (TABLED1): piecewise-linear interpolation between the points,
 //! the end values held outside the table (a load defined on [t₁, tₙ] stays at its last value;
-//! stated in the README, Nastran's TABLED1 extrapolates linearly unless told otherwise).
+//! stated in docs/dynamics.md, Nastran's TABLED1 extrapolates linearly unless told otherwise).
 
 /// A piecewise-linear table y(x) with increasing abscissae.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,4 +1,4 @@
-//! The black-box route of the pROM issue (item 2; thesis eq. 3.29, §3.3.5): stiffness and mass
+//! The black-box route to a pROM (thesis eq. 3.29, §3.3.5): stiffness and mass
 //! matrices sampled by another FE code at known parameter values, read from Matrix Market files
 //! listed in a CSV manifest or from one HDF5 file, and their affine components found by least
 //! squares ([`crate::rom::lsq::extract_matrices`]); `paraflex prom-lsq samples.csv -o parts.h5`

@@ -22,7 +22,7 @@
 //! one arm in [`Sequence`], [`SubcaseResult`] and the dispatch of [`run`]; what several drivers
 //! share lives in [`shared`] and [`rom_case`], never in another driver.
 //!
-//! Output (HDF5, DESIGN.md §8; full layout in the README "Output file" section):
+//! Output (HDF5, DESIGN.md §8; full layout in docs/hdf5-schema.md):
 //!
 //! ```text
 //! /results/<subcase>/modal/{frequency_hz (m), generalized_mass (m), residual (m), eigenvalue (m),

@@ -616,8 +616,8 @@ def case_ss_plate_pshell_roles(write, kirchhoff):
     mA = rho1 * t + nsm
     mI = rho1 * t ** 3 / 12  # paraflex's rotary inertia: rho(MID1) T^3/12, NSM without
     if kirchhoff:
-        # MID3 blank = rigid in transverse shear; paraflex's penalty (README, fe::laminate):
-        # S = 100 (12I/T^3) G(MID2) T
+        # MID3 blank = rigid in transverse shear; paraflex's penalty (docs/elements.md
+        # "Element wiring", fe::laminate): S = 100 (12I/T^3) G(MID2) T
         kGt = 100.0 * r * G2 * t
         mid3 = None
         shear_note = ("paraflex's rigid-shear penalty S = 100 (12I/T^3) G2 T and rotary inertia "

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Thick clamped plates on distorted quad meshes against the independent MITC4 plate of the same
-mesh (numpy, Dvorkin & Bathe's tying rules: ``mitc_plate`` of tools/calculix/macneal_harder.py),
+mesh (numpy, Dvorkin & Bathe's tying rules: ``mitc_plate`` of tools/paraflex_tools/mitc_plate.py),
 statics and modes.
 
 Square plates 1 x 1 m, clamped on all four edges, t/L = 0.1 and 0.2 (transverse shear carries

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""pROM speed against error (pROM issue item 7; thesis §3.5–3.6): per case
+"""pROM speed against error (thesis §3.5–3.6): per case
 
 - build: pROM build time split into sampling (local bases), MAC filter + SVD, projection and
   size selection (`/prom/build/timings`), the size, and the FRF change (eq. 3.35) per size;

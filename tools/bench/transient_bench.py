@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Speed against error of the transient integrators on a pROM: the blade or the composite link
-L2r (issue 6 §6).
+L2r (docs/performance.md "Transient integrators").
 
     .venv/bin/python tools/bench/transient_bench.py [--scene blade|link]
         [--dt 4e-4 2e-4 1e-4 5e-5] [--repeat 3] [--paraflex target/release/paraflex] [--keep DIR]

@@ -53,7 +53,7 @@ CASES = [
     ("E", "EKFPAR,1,E,{e0:e},1.E-3\n", ["D71", "D93"], ["static", "sine", "random"], 0.05, True),
     ("E, RHO", "EKFPAR,1,E,{e0:e},1.\nEKFPAR,1,RHO,{r0:e},1.\n", ["D71", "D93", "A93"], ["static", "sine", "random"], 0.5, True),
     ("E, input", "EKFPAR,1,E,{e0:e},1.E-3,1.E20\nEKFINP,1,71,3,80.,5.\n", ["D71", "D93"], ["static", "sine"], 0.05, False),
-    # §8.6.2: δ_E = 1 Hz tracks the ramp; bound = issue 7's 1 %
+    # §8.6.2: δ_E = 1 Hz tracks the ramp; bound 1 % (reference/estimate/table_8_2_bounds.csv)
     ("degrading E", "EKFPAR,1,E,{e0:e},1.\n", ["D71", "D93"], ["sine, degrading E"], 1.0, True),
     # §8.6.4, settings of §8.6.3; the filter does not know the initial state: P0STATE = 1e-2
     ("E, input (IC)", "EKFPAR,1,E,{e0:e},1.E-3,1.E20\nEKFINP,1,71,3,80.,5.\n", ["D71", "D93"], ["sine, IC"], 0.08, False),
@@ -144,7 +144,7 @@ def main() -> None:
                     print(f"{name} / {data}: {p} error min {lo:.4f} avg {avg:.4f} max {hi:.4f} % (bound {bound} %), {speed:.0f} steps/s")
     with open(args.output, "w", newline="") as f:
         f.write("# SOL ESTIMATE on the blade pROM (decks/estimate/blade_prom_sensors.dat), 1 s at 0.1 ms, noise 1e-7 m (DISP), 1e-7 (STRAIN) and 1e-3 m/s2 (ACCEL), seed 1;\n"
-                "# relative error [%] over the last 20 % of the window (thesis Table 8.2 format); bound = issue 7 acceptance on |avg|.\n"
+                "# relative error [%] over the last 20 % of the window (thesis Table 8.2 format); bound = reference/estimate/table_8_2_bounds.csv on |avg|.\n"
                 "# Made by tools/estimate/blade_cases.py.\n")
         w = csv.DictWriter(f, fieldnames=list(rows[0]), lineterminator="\n")
         w.writeheader()

@@ -4,8 +4,8 @@ shell elements (ShellMITC4, ASDShellQ4) on the meshes of the paraflex decks
 decks/verify/mh_straight_{rectangular,parallelogram,trapezoidal}_cquad4.dat.
 
 A third-party check of the formulation behind paraflex's CQUAD4 plate bending: the
-parallelogram's 0.908 of the beam-theory target is the MITC4 element's own result (README "Hard
-cases"). Writes reference/opensees/mh_straight_mitc4.json; tests/references.rs
+parallelogram's 0.908 of the beam-theory target is the MITC4 element's own result
+(docs/verification.md "Hard cases"). Writes reference/opensees/mh_straight_mitc4.json; tests/references.rs
 (`macneal_harder_straight_beam`) asserts paraflex against it.
 
 Needs OpenSeesPy, which the project venv does not carry (only this reference uses it):

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Render the scene meshes and a few mode shapes to PNG (docs/img/), for the README.
+"""Render the scene meshes and a few mode shapes to PNG (docs/img/), for the README and
+docs/scenes.md.
 
     .venv/bin/python tools/render/render_scenes.py                      # every committed mesh include
     .venv/bin/python tools/render/render_scenes.py --scene fourbar      # one scene
@@ -10,7 +11,7 @@ Meshes: every ``meshes/<scene>/<component>.bdf`` (not the ``_rbe``/``_spc`` incl
 with pyNastran and drawn as a matplotlib 3-D PolyCollection of its shell elements and of the
 boundary faces of its solids (faces that belong to one element only) → docs/img/<scene>_<component>.png.
 
-Mode shapes: from a paraflex HDF5 file with ``/results/1/modal/shapes`` (README "HDF5 schema";
+Mode shapes: from a paraflex HDF5 file with ``/results/1/modal/shapes`` (docs/hdf5-schema.md;
 the deck needs a DISPLACEMENT request). ``--modes DECK`` makes that file: it copies the deck to a
 temp dir with absolute INCLUDE paths and ``DISPLACEMENT(PLOT) = ALL`` after CEND, runs
 ``paraflex run`` (``--paraflex``, default $CARGO_TARGET_DIR/release/paraflex or

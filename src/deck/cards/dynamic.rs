@@ -414,7 +414,7 @@ impl Darea {
 /// `TIC` — transient initial condition of one grid component, selected by case control
 /// `IC = SID`. On a pROM (`ROM =`) the grid component must be an input DOF of the pROM; the
 /// reduced initial state is then the static shape with these input displacements (see
-/// "Initial conditions" in the README).
+/// "Initial conditions" in docs/dynamics.md).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
