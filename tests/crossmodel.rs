@@ -176,10 +176,14 @@ fn full_rom_and_prom_agree(s: &Scene) {
     // frequency
     let full = frf(&run(&variant(
         &deck("frf"),
-        &with(&[&[s.lines.clone()], &s.point[..]].concat()),
+        &with(&[std::slice::from_ref(&s.lines), &s.point[..]].concat()),
         tmp.path(),
     )));
-    let frf_deck = variant(&deck("frf"), &with(&[s.lines.clone()]), tmp.path());
+    let frf_deck = variant(
+        &deck("frf"),
+        &with(std::slice::from_ref(&s.lines)),
+        tmp.path(),
+    );
     for (what, artifact) in &reduced {
         let h = frf(&run(&on_rom(&frf_deck, artifact, &s.pval)));
         for output in s.outputs {
@@ -200,10 +204,14 @@ fn full_rom_and_prom_agree(s: &Scene) {
     // time
     let full = run(&variant(
         &deck("transient"),
-        &with(&[&[s.steps.clone()], &s.point[..]].concat()),
+        &with(&[std::slice::from_ref(&s.steps), &s.point[..]].concat()),
         tmp.path(),
     ));
-    let transient_deck = variant(&deck("transient"), &with(&[s.steps.clone()]), tmp.path());
+    let transient_deck = variant(
+        &deck("transient"),
+        &with(std::slice::from_ref(&s.steps)),
+        tmp.path(),
+    );
     for (what, artifact) in &reduced {
         let r = run(&on_rom(&transient_deck, artifact, &s.pval));
         for name in &s.outputs[1..] {
