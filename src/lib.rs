@@ -11,6 +11,7 @@ pub mod deck;
 pub mod dynamics;
 pub mod estimate;
 pub mod fe;
+pub mod geometry;
 pub mod io;
 pub mod linalg;
 pub mod model;

@@ -450,8 +450,7 @@ fn solid_strain_sensors_read_the_static_strain_at_zero_hz() {
     let expected: Vec<f64> = gauges
         .iter()
         .map(|(_, d)| {
-            let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-            let t = d.map(|x| x / n);
+            let t = paraflex::geometry::vec3::normalize(*d).unwrap();
             t[0] * t[0] * e[0]
                 + t[1] * t[1] * e[1]
                 + t[2] * t[2] * e[2]

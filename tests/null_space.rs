@@ -37,21 +37,6 @@ struct Variant {
     rbe3: bool,
 }
 
-/// Rodrigues rotation about `axis` (normalised here) by `angle` radians.
-fn rotation(axis: [f64; 3], angle: f64) -> [[f64; 3]; 3] {
-    let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
-    let [x, y, z] = axis.map(|v| v / n);
-    let (s, c) = angle.sin_cos();
-    let t = 1.0 - c;
-    [
-        [c + x * x * t, x * y * t - z * s, x * z * t + y * s],
-        [y * x * t + z * s, c + y * y * t, y * z * t - x * s],
-        [z * x * t - y * s, z * y * t + x * s, c + z * z * t],
-    ]
-}
-
-const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-
 fn place(v: &Variant, p: [f64; 3]) -> [f64; 3] {
     std::array::from_fn(|i| v.offset[i] + (0..3).map(|j| v.rotation[i][j] * p[j]).sum::<f64>())
 }
@@ -132,18 +117,18 @@ fn variants() -> Vec<Variant> {
     // CORD2R / CORD2C with axes in no particular alignment; the CORD2C axis misses every grid.
     const CORD2R: &str = "CORD2R,9,,.1,-.2,.3,.4,.3,1.1,\n,1.1,-.1,.5\n";
     const CORD2C: &str = "CORD2C,9,,.5,.4,-.3,.7,.9,.6,\n,1.4,.2,-.1\n";
-    let tilt = rotation([1.0, 2.0, 3.0], 0.7);
+    let tilt = paraflex::geometry::rotation::from_axis_angle([1.0, 2.0, 3.0], 0.7).unwrap();
     vec![
         Variant {
             name: "XY plane, basic",
-            rotation: IDENTITY,
+            rotation: paraflex::geometry::mat3::IDENTITY,
             offset: [0.0; 3],
             cd: None,
             rbe3: false,
         },
         Variant {
             name: "XY plane, CORD2R CD, RBE3",
-            rotation: IDENTITY,
+            rotation: paraflex::geometry::mat3::IDENTITY,
             offset: [0.0; 3],
             cd: Some(CORD2R),
             rbe3: true,
@@ -203,15 +188,7 @@ fn rigid_g(model: &Model, st: &Structure, k: usize) -> Vec<f64> {
             (e, [0.0; 3])
         } else {
             // θ × x
-            let x = p.xyz;
-            (
-                [
-                    e[1] * x[2] - e[2] * x[1],
-                    e[2] * x[0] - e[0] * x[2],
-                    e[0] * x[1] - e[1] * x[0],
-                ],
-                e,
-            )
+            (paraflex::geometry::vec3::cross(e, p.xyz), e)
         };
         u[6 * g..6 * g + 3].copy_from_slice(&st.frames.to_global(g, t));
         u[6 * g + 3..6 * g + 6].copy_from_slice(&st.frames.to_global(g, r));

@@ -369,7 +369,7 @@ pub fn rbe2_relations(
     let li = frame6(frames, independent);
     let mut out = Vec::new();
     for &d in dependents {
-        let r = crate::model::vec3::sub(xyz(d), xyz(independent));
+        let r = crate::geometry::vec3::sub(xyz(d), xyz(independent));
         let g = mul(&transpose(&frame6(frames, d)), &mul(&rigid_arm(r), &li));
         for c in cm.components() {
             let terms = (0..6)
@@ -396,7 +396,7 @@ pub fn rbe3_relations(
     refc: Dofs,
     groups: &[(f64, Dofs, Vec<usize>)],
 ) -> Result<Vec<Relation>, AssemblyError> {
-    use crate::model::vec3::{norm, sub};
+    use crate::geometry::vec3::{norm, sub};
     let at = |g: usize| xyz.get(g).copied().unwrap_or([0.0; 3]);
     let x_ref = at(reference);
     let legs: Vec<usize> = groups

@@ -264,7 +264,7 @@ fn rbe3_average_and_rigid_rotation() {
     let mut u_n = vec![0.0; n];
     for g in 0..4 {
         let r = m.grids[g].xyz;
-        let v = crate::model::vec3::cross(theta, r);
+        let v = crate::geometry::vec3::cross(theta, r);
         u_n[6 * g..6 * g + 3].copy_from_slice(&v);
     }
     let u = rigid.expand(&u_n).expect("expand");

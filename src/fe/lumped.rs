@@ -27,6 +27,7 @@
 //! with J/m. A CONM2 with m = 0 (pure inertia) cannot be parametrized that way and is refused.
 
 use super::affine::{AffineMatrix, Coefficient};
+use crate::geometry::vec3::{dot, skew};
 use faer::Mat;
 
 /// One DOF of a lumped element: the caller's grid index and a 0-based component
@@ -149,8 +150,8 @@ impl Conm2 {
     /// `M = [[m I, −m [X]×], [m [X]×, J − m [X]×[X]×]]`.
     pub fn mass_matrix(&self) -> Mat<f64> {
         let (m, x) = (self.mass, self.offset);
-        let cross = [[0.0, -x[2], x[1]], [x[2], 0.0, -x[0]], [-x[1], x[0], 0.0]];
-        let x2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+        let cross = skew(x);
+        let x2 = dot(x, x);
         Mat::from_fn(6, 6, |i, j| match (i < 3, j < 3) {
             (true, true) => {
                 if i == j {
@@ -188,20 +189,13 @@ impl Conm2 {
 mod tests {
     use super::*;
     use crate::fe::affine::CoefficientValues;
+    use crate::geometry::vec3::cross;
 
     fn quad_form(m: &Mat<f64>, q: &[f64; 6]) -> f64 {
         (0..6)
             .flat_map(|i| (0..6).map(move |j| (i, j)))
             .map(|(i, j)| q[i] * m[(i, j)] * q[j])
             .sum()
-    }
-
-    fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
     }
 
     #[test]

@@ -117,6 +117,8 @@
 
 use faer::Mat;
 
+use crate::geometry::vec3::{cross, dot, norm, scale, sub};
+
 use super::affine::{AffineMatrix, Coefficient};
 use super::laminate::{ShellMass, ShellSection};
 
@@ -221,30 +223,6 @@ pub struct ShellStrains {
 }
 
 type V3 = [f64; 3];
-
-fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn norm(a: V3) -> f64 {
-    dot(a, a).sqrt()
-}
-
-fn scale(a: V3, f: f64) -> V3 {
-    [a[0] * f, a[1] * f, a[2] * f]
-}
 
 /// CTRIA3 drilling modulus as a fraction of `section.drill` (= A66): the triangle keeps the
 /// linear (CST) membrane with a weak Hughes–Brezzi tie, γ = 10⁻³·A66 (module doc, "Membrane

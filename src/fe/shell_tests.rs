@@ -5,6 +5,8 @@
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 
+use crate::geometry::mat3;
+
 use super::affine::CoefficientValues;
 use super::laminate::{
     Laminate, Ply, PshellSection, RoleMaterial, SectionData, SectionParameter, ShellSection,
@@ -216,15 +218,11 @@ fn rotation() -> [V3; 3] {
         [0.0, a.cos(), -a.sin()],
         [0.0, a.sin(), a.cos()],
     ];
-    let mul = |p: [V3; 3], q: [V3; 3]| -> [V3; 3] {
-        std::array::from_fn(|i| std::array::from_fn(|j| (0..3).map(|k| p[i][k] * q[k][j]).sum()))
-    };
-    mul(rz, mul(ry, rx))
+    mat3::mul(&rz, &mat3::mul(&ry, &rx))
 }
 
 fn rotate(v: V3) -> V3 {
-    let r = rotation();
-    std::array::from_fn(|i| (0..3).map(|k| r[i][k] * v[k]).sum())
+    mat3::mul_vec(&rotation(), v)
 }
 
 /// MacNeal–Harder patch (1985): 0.24 × 0.12 rectangle, 4 interior grids, 5 distorted quads.

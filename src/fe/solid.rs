@@ -67,6 +67,7 @@
 
 use super::affine::{AffineMatrix, Coefficient};
 use super::solid_shape::{self as shape, Gauss, MAX_NODES, QuadPoint};
+use crate::geometry::{mat3, vec3};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 use std::fmt;
@@ -217,12 +218,6 @@ fn jacobian(xyz: &[[f64; 3]], dn: &[[f64; 3]]) -> [[f64; 3]; 3] {
     j
 }
 
-fn det3(j: &[[f64; 3]; 3]) -> f64 {
-    j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
-        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
-        + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0])
-}
-
 /// J⁻ᵀ = cofactor(J) / det J.
 fn inverse_transpose(j: &[[f64; 3]; 3], det: f64) -> [[f64; 3]; 3] {
     let c =
@@ -259,9 +254,9 @@ fn checked_jacobian(
     at: EvalPoint,
 ) -> Result<(f64, [[f64; 3]; 3]), SolidError> {
     let j = jacobian(xyz, dn);
-    let det = det3(&j);
+    let det = mat3::det(&j);
     let norms: f64 = (0..3)
-        .map(|c| (j[0][c] * j[0][c] + j[1][c] * j[1][c] + j[2][c] * j[2][c]).sqrt())
+        .map(|c| vec3::norm([j[0][c], j[1][c], j[2][c]]))
         .product();
     let scaled = det / norms;
     if scaled.is_nan() || scaled <= MIN_SCALED_JACOBIAN {
@@ -328,7 +323,7 @@ fn add_lame_blocks(k: &mut [f64], g: &[[f64; 3]], lame: Lame, w: f64) {
     let ndof = 3 * g.len();
     for (a, ga) in g.iter().enumerate() {
         for (b, gb) in g.iter().enumerate() {
-            let dot = ga[0] * gb[0] + ga[1] * gb[1] + ga[2] * gb[2];
+            let dot = vec3::dot(*ga, *gb);
             for i in 0..3 {
                 let row = &mut k[(3 * a + i) * ndof + 3 * b..][..3];
                 for (j, kij) in row.iter_mut().enumerate() {

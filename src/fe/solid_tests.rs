@@ -3,6 +3,7 @@
 
 use super::affine::CoefficientValues;
 use super::solid::*;
+use crate::geometry::vec3::triple;
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 use std::collections::HashMap;
@@ -544,11 +545,6 @@ fn surface_volume(kind: SolidKind, x: &[[f64; 3]]) -> f64 {
         (0.5, 8.0 / 18.0),
         (0.5 + 0.5 * 0.6_f64.sqrt(), 5.0 / 18.0),
     ];
-    let triple = |p: [f64; 3], a: [f64; 3], b: [f64; 3]| {
-        p[0] * (a[1] * b[2] - a[2] * b[1])
-            + p[1] * (a[2] * b[0] - a[0] * b[2])
-            + p[2] * (a[0] * b[1] - a[1] * b[0])
-    };
     let comb = |w: &[f64], pts: &[[f64; 3]]| -> [f64; 3] {
         std::array::from_fn(|k| w.iter().zip(pts).map(|(w, p)| w * p[k]).sum())
     };

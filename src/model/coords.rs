@@ -18,7 +18,7 @@ use std::collections::HashMap;
 use crate::deck::DeckError;
 use crate::deck::cards::{Cord2, CordKind};
 
-use super::vec3::{add, cross, norm, scale, sub};
+use crate::geometry::vec3::{add, cross, dot, norm, scale, sub};
 
 /// Relative tolerance for degenerate definitions: |B − A| and |k × (C − A)| must exceed this
 /// fraction of the size of the definition (largest |A|, |B|, |C|, at least 1e-300).
@@ -72,11 +72,7 @@ impl CoordSystem {
     pub fn basic_to_local_cartesian(&self, p: [f64; 3]) -> [f64; 3] {
         let d = sub(p, self.origin);
         let [i, j, k] = self.axes;
-        [
-            super::vec3::dot(d, i),
-            super::vec3::dot(d, j),
-            super::vec3::dot(d, k),
-        ]
+        [dot(d, i), dot(d, j), dot(d, k)]
     }
 
     /// Whether basic point `p` lies on the polar axis of a cylindrical system, where e_r and
@@ -85,8 +81,7 @@ impl CoordSystem {
     pub fn on_polar_axis(&self, p: [f64; 3]) -> bool {
         let l = self.basic_to_local_cartesian(p);
         self.kind == CordKind::Cylindrical
-            && l[0].hypot(l[1])
-                <= 64.0 * f64::EPSILON * (super::vec3::norm(p) + super::vec3::norm(self.origin))
+            && l[0].hypot(l[1]) <= 64.0 * f64::EPSILON * (norm(p) + norm(self.origin))
     }
 
     /// The 3×3 matrix T whose columns are the local Cartesian axes *at basic point `p`* in

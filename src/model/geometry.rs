@@ -31,7 +31,7 @@
 //! - skew: the smaller angle between the lines joining opposite edge midpoints < [`SKEW_MIN`] →
 //!   warning.
 
-use super::vec3::{add, cross, dot, norm, scale, sub, triple};
+use crate::geometry::vec3::{self, add, cross, dot, norm, scale, sub, triple};
 use std::sync::OnceLock;
 
 /// Solids: Jacobian ratio (min/max det J) below which a warning is issued.
@@ -214,7 +214,7 @@ impl SolidShape {
         let centroid = if volume != 0.0 {
             scale(moment, 1.0 / volume)
         } else {
-            super::vec3::mean(p)
+            vec3::mean(p)
         };
         SolidIntegrals {
             volume,
@@ -336,7 +336,7 @@ fn tetra_rule(n: usize) -> Vec<([f64; 3], f64)> {
 pub fn tria_area_centroid(p: &[[f64; 3]; 3]) -> (f64, [f64; 3]) {
     (
         0.5 * norm(cross(sub(p[1], p[0]), sub(p[2], p[0]))),
-        super::vec3::mean(p),
+        vec3::mean(p),
     )
 }
 
@@ -397,7 +397,7 @@ pub fn quad_weighted(p: &[[f64; 3]; 4], w: [f64; 4]) -> (f64, [f64; 3]) {
     let c = if total != 0.0 {
         scale(moment, 1.0 / total)
     } else {
-        super::vec3::mean(p)
+        vec3::mean(p)
     };
     (total, c)
 }
@@ -513,7 +513,7 @@ pub fn check_quad(p: &[[f64; 3]; 4], nodes: &[u32; 4]) -> ShapeReport {
     if !report.errors.is_empty() {
         return report;
     }
-    let mean = super::vec3::mean(p);
+    let mean = vec3::mean(p);
     let h = dot(sub(p[0], mean), n).abs();
     let warp = h / (0.25 * (norm(d13) + norm(d24)));
     if warp > WARP_WARN {

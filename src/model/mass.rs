@@ -28,9 +28,11 @@
 //! mass that enters the mass matrix (Nastran's GPWG prints weight units, i.e. without WTMASS).
 
 use crate::deck::cards::{Conm2, CornerThickness};
+use crate::geometry::mat3::{IDENTITY, mul_vec};
+use crate::geometry::rotation::rotate_tensor;
+use crate::geometry::vec3::{add, dot, scale, sub};
 
 use super::geometry;
-use super::vec3::{add, scale, sub};
 use super::{Element, ElementKind, Model, PropertyRef};
 
 /// Total mass, centre of gravity and inertia tensor about the CG (basic system).
@@ -75,7 +77,7 @@ impl Model {
         let mut inertia = [[0.0; 3]; 3];
         for p in &points {
             let d = sub(p.point, cg);
-            let d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            let d2 = dot(d, d);
             for a in 0..3 {
                 for b in 0..3 {
                     let delta = if a == b { d2 } else { 0.0 };
@@ -189,13 +191,13 @@ impl Model {
             cid => {
                 let sys = self.coords.get(&u32::try_from(cid).ok()?)?;
                 let t = sys.axes_at(grid);
-                (add(grid, mat_vec(&t, c.offset)), t)
+                (add(grid, mul_vec(&t, c.offset)), t)
             }
         };
         let inertia = if c.inertia.iter().all(|v| *v == 0.0) {
             None
         } else {
-            Some(rotate(&t, &local))
+            Some(rotate_tensor(&t, &local))
         };
         Some(MassPoint {
             mass: c.mass,
@@ -203,25 +205,4 @@ impl Model {
             inertia,
         })
     }
-}
-
-const IDENTITY: [[f64; 3]; 3] = [[1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
-
-fn mat_vec(t: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
-    [0, 1, 2].map(|r| t[r][0] * v[0] + t[r][1] * v[1] + t[r][2] * v[2])
-}
-
-/// T J Tᵀ.
-fn rotate(t: &[[f64; 3]; 3], j: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    let mut out = [[0.0; 3]; 3];
-    for a in 0..3 {
-        for b in 0..3 {
-            for k in 0..3 {
-                for l in 0..3 {
-                    out[a][b] += t[a][k] * j[k][l] * t[b][l];
-                }
-            }
-        }
-    }
-    out
 }

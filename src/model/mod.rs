@@ -24,7 +24,6 @@ pub mod params;
 pub mod pmpar;
 pub mod summary;
 pub mod values;
-pub mod vec3;
 pub mod xref;
 
 use std::collections::HashMap;

@@ -624,11 +624,6 @@ struct ShellParts {
     mass_target: Option<ParamTarget>,
 }
 
-fn normalize(v: [f64; 3]) -> Option<[f64; 3]> {
-    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    (n > 0.0).then(|| v.map(|x| x / n))
-}
-
 /// Material x axis of a shell (module doc); `None` = the kernel's default G1→G2.
 fn material_axis(
     model: &Model,
@@ -636,7 +631,7 @@ fn material_axis(
     xyz: &[[f64; 3]],
     orientation: ShellOrientation,
 ) -> Result<Option<[f64; 3]>, RunError> {
-    use crate::model::vec3::{cross, dot, sub};
+    use crate::geometry::vec3::{cross, dot, normalize, scale, sub};
     match orientation {
         ShellOrientation::Theta(t) if t == 0.0 => Ok(None),
         ShellOrientation::Theta(theta) => {
@@ -648,7 +643,7 @@ fn material_axis(
             let n = normalize(n).ok_or_else(|| err(e, "zero area"))?;
             let g12 = sub(xyz[1], xyz[0]);
             let d = dot(g12, n);
-            let x = normalize([g12[0] - d * n[0], g12[1] - d * n[1], g12[2] - d * n[2]])
+            let x = normalize(sub(g12, scale(n, d)))
                 .ok_or_else(|| err(e, "G1→G2 is normal to the element"))?;
             let y = cross(n, x);
             let (s, c) = theta.to_radians().sin_cos();

@@ -35,6 +35,7 @@ use crate::deck::cards::{Sensor, SensorKind};
 use crate::deck::case_control::{Subcase, Target};
 use crate::dynamics::measurement::Reads;
 use crate::fe::solid;
+use crate::geometry::vec3::dot;
 use crate::model::Model;
 
 /// The measurement rows of a subcase's sensors on the f-set.
@@ -292,8 +293,4 @@ fn f_row(st: &Structure, c: &Constrained, basic: &[(usize, f64)]) -> Vec<(usize,
         .filter(|(_, h)| *h != 0.0)
         .filter_map(|(j, h)| c.sets.f_in_n.position(j).map(|f| (f, h)))
         .collect()
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }

@@ -190,7 +190,7 @@ fn solve_subcase(
     let mut max_component: (u32, u8, f64) = (0, 1, 0.0);
     for g in 0..n {
         let r = &u[6 * g..6 * g + 6];
-        let mag = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+        let mag = crate::geometry::vec3::norm([r[0], r[1], r[2]]);
         if mag > max_translation.1 {
             max_translation = (grid_id(g), mag);
         }
@@ -215,7 +215,7 @@ fn resultant(model: &crate::model::Model, rows: &[f64]) -> [f64; 6] {
     for (g, grid) in model.grids.iter().enumerate() {
         let r = &rows[6 * g..6 * g + 6];
         let f = [r[0], r[1], r[2]];
-        let m = crate::model::vec3::cross(grid.xyz, f);
+        let m = crate::geometry::vec3::cross(grid.xyz, f);
         for k in 0..3 {
             out[k] += f[k];
             out[3 + k] += r[3 + k] + m[k];
