@@ -22,6 +22,8 @@
 pub mod body;
 pub mod constraint;
 pub mod constraint_set;
+#[cfg(test)]
+mod constraint_tests;
 pub mod error;
 pub mod flexible;
 pub mod forces;
