@@ -272,3 +272,41 @@ fn free_tumbling_body_keeps_its_angular_momentum_and_unit_euler_parameters() {
         "drift ratio {ratio} ({coarse:e}, {fine:e})"
     );
 }
+
+#[test]
+fn a_step_that_does_not_converge_names_time_residual_and_constraint() {
+    let (ggl, _) = pendulum(1.0, 1e-2);
+    let settings = NewtonSettings {
+        max_iterations: 1,
+        tolerance: 1e-15,
+        ..NewtonSettings::default()
+    };
+    let mut ggl = Ggl::new(ggl.system, 1e-2, 0.0, settings).unwrap();
+    let message = ggl.step().unwrap_err().to_string();
+    assert!(
+        message.starts_with("step to t = 0.01 did not converge in 1 Newton iterations"),
+        "{message}"
+    );
+    assert!(message.contains("worst constraint"), "{message}");
+}
+
+#[test]
+fn a_drive_on_a_spherical_joint_is_refused() {
+    let mut sys = System::new([0.0; 3]);
+    let body = sys.add_body(
+        Body::rigid(1.0, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
+        [0.0; 3],
+        IDENTITY,
+    );
+    let a = sys.add_marker(Marker::new(Some(body), [0.0; 3]));
+    let b = sys.add_marker(Marker::new(None, [0.0; 3]));
+    let joint = sys.add_joint(JointKind::Spherical, a, b);
+    let err = sys
+        .add_drive(joint, Signal::constant(0.0), DriveKind::Rigid)
+        .unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("Spherical joint has no coordinate to drive"),
+        "{err}"
+    );
+}
