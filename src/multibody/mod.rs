@@ -11,10 +11,11 @@
 //! - [`vectors`]: points and directions fixed to a body (markers), with their first and
 //!   second derivatives with respect to q; [`marker`]: markers.
 //! - [`constraint`]: scalar constraints written as sums of time-weighted dot products of body
-//!   vectors (Φ, Φ_q, Φ_t and Hessian products); [`joints`]: joints and drives built from them;
-//!   [`redundancy`]: redundant constraints found by a column-pivoted QR of Φ_qᵀ.
+//!   vectors (Φ, Φ_q, Φ_t and Hessian products); [`constraint_set`]: all of them evaluated into
+//!   dense storage; [`joints`]: joints and drives built from them; [`redundancy`]: redundant
+//!   constraints found by a column-pivoted QR of Φ_qᵀ.
 //! - [`forces`]: point forces, point-to-point and joint spring-dampers, compliant drives.
-//! - [`signal`]: time functions with their first two derivatives.
+//! - [`signal`]: time functions with their first two derivatives; [`error`]: what stops a run.
 //! - [`system`]: the assembled system and its residual terms; [`integrator`]: consistent
 //!   initial conditions and the GGL/BDF1 step (eq. 2.60–2.61) with modified Newton;
 //!   [`output`]: marker kinematics, reactions, drive torques, power and energy.
