@@ -18,6 +18,7 @@ pub mod geometry;
 pub mod io;
 pub mod linalg;
 pub mod model;
+pub mod multibody;
 pub mod rom;
 pub mod sequence;
 

@@ -1,0 +1,271 @@
+//! Scalar holonomic constraints Φ(q, t) = 0 of two kinds: the Euler-parameter normalization
+//! eᵀe − 1 of one body, and sums of time-weighted dot products of body vectors,
+//!
+//! ```text
+//! Φ(q, t) = Σ_terms c(t) U(q) · W(q) + c₀(t),   U = Σᵢ sᵢ uᵢ(q) (+ constant), W likewise
+//! ```
+//!
+//! which cover the joint primitives (coincident points, perpendicular directions, a direction
+//! perpendicular to a separation) and the rheonomic drives (c(t) = cos θ_d(t), −sin θ_d(t),
+//! c₀ = −s_d(t)). For each the module gives Φ, the Jacobian row Φ_q, Φ_t, the derivative of
+//! Φ_t with respect to q and the weighted Hessian λ ∇²Φ:
+//!
+//! ```text
+//! ∇(c U·W) = c (Wᵀ J_U + Uᵀ J_W),
+//! ∇²(c U·W) = c (J_Uᵀ J_W + J_Wᵀ J_U + Σᵢ sᵢ ∇²(W·uᵢ) + Σⱼ sⱼ ∇²(U·wⱼ))
+//! ```
+//!
+//! with the body-vector derivatives of [`super::vectors`].
+
+use super::layout::Layout;
+use super::signal::Signal;
+use super::vectors::BodyVector;
+
+/// A linear combination of body vectors plus a constant vector.
+#[derive(Debug, Clone, Default)]
+pub struct VectorSum {
+    pub parts: Vec<(f64, BodyVector)>,
+    pub constant: [f64; 3],
+}
+
+impl VectorSum {
+    /// One body vector.
+    pub fn of(v: BodyVector) -> Self {
+        Self {
+            parts: vec![(1.0, v)],
+            constant: [0.0; 3],
+        }
+    }
+    /// a − b.
+    pub fn difference(a: BodyVector, b: BodyVector) -> Self {
+        Self {
+            parts: vec![(1.0, a), (-1.0, b)],
+            constant: [0.0; 3],
+        }
+    }
+    /// A constant vector.
+    pub fn constant(c: [f64; 3]) -> Self {
+        Self {
+            parts: Vec::new(),
+            constant: c,
+        }
+    }
+
+    fn value(&self, layout: &Layout, q: &[f64]) -> [f64; 3] {
+        let mut out = self.constant;
+        for (s, v) in &self.parts {
+            let x = v.value(layout, q);
+            for i in 0..3 {
+                out[i] += s * x[i];
+            }
+        }
+        out
+    }
+
+    fn jacobian(&self, layout: &Layout, q: &[f64], sink: &mut impl FnMut(usize, usize, f64)) {
+        for (s, v) in &self.parts {
+            v.jacobian(layout, q, |i, j, x| sink(i, j, s * x));
+        }
+    }
+
+    fn hessian(
+        &self,
+        layout: &Layout,
+        q: &[f64],
+        w: [f64; 3],
+        scale: f64,
+        sink: &mut impl FnMut(usize, usize, f64),
+    ) {
+        for (s, v) in &self.parts {
+            v.hessian(layout, q, w, |i, j, x| sink(i, j, scale * s * x));
+        }
+    }
+}
+
+/// A time-dependent weight of a dot-product term.
+#[derive(Debug, Clone)]
+pub enum Weight {
+    /// c
+    Constant(f64),
+    /// cos(θ₀ + f(t))
+    CosOf(f64, Signal),
+    /// −sin(θ₀ + f(t))
+    NegSinOf(f64, Signal),
+    /// −(x₀ + f(t))
+    NegOf(f64, Signal),
+}
+
+impl Weight {
+    /// [c, ċ, c̈] at t.
+    pub fn at(&self, t: f64) -> [f64; 3] {
+        match self {
+            Weight::Constant(c) => [*c, 0.0, 0.0],
+            Weight::CosOf(x0, f) => {
+                let [x, xd, xdd] = f.at(t);
+                let (s, c) = (x0 + x).sin_cos();
+                [c, -s * xd, -c * xd * xd - s * xdd]
+            }
+            Weight::NegSinOf(x0, f) => {
+                let [x, xd, xdd] = f.at(t);
+                let (s, c) = (x0 + x).sin_cos();
+                [-s, -c * xd, s * xd * xd - c * xdd]
+            }
+            Weight::NegOf(x0, f) => {
+                let [x, xd, xdd] = f.at(t);
+                [-(x0 + x), -xd, -xdd]
+            }
+        }
+    }
+}
+
+/// One term c(t) U · W.
+#[derive(Debug, Clone)]
+pub struct DotTerm {
+    pub weight: Weight,
+    pub u: VectorSum,
+    pub w: VectorSum,
+}
+
+/// A scalar constraint (see module docs).
+#[derive(Debug, Clone)]
+pub enum Constraint {
+    /// eᵀe − 1 of one body.
+    Normalization { body: usize },
+    /// Σ c U·W + c₀(t).
+    Dots {
+        terms: Vec<DotTerm>,
+        offset: Option<Weight>,
+    },
+}
+
+impl Constraint {
+    /// A time-independent single dot product U · W.
+    pub fn dot(u: VectorSum, w: VectorSum) -> Self {
+        Constraint::Dots {
+            terms: vec![DotTerm {
+                weight: Weight::Constant(1.0),
+                u,
+                w,
+            }],
+            offset: None,
+        }
+    }
+
+    /// Φ(q, t).
+    pub fn value(&self, layout: &Layout, q: &[f64], t: f64) -> f64 {
+        match self {
+            Constraint::Normalization { body } => {
+                let e = layout.slice(*body).euler_parameters(q);
+                e.iter().map(|x| x * x).sum::<f64>() - 1.0
+            }
+            Constraint::Dots { terms, offset } => {
+                let sum: f64 = terms
+                    .iter()
+                    .map(|term| {
+                        let (u, w) = (term.u.value(layout, q), term.w.value(layout, q));
+                        term.weight.at(t)[0] * (u[0] * w[0] + u[1] * w[1] + u[2] * w[2])
+                    })
+                    .sum();
+                sum + offset.as_ref().map_or(0.0, |c| c.at(t)[0])
+            }
+        }
+    }
+
+    /// ∂Φ/∂t.
+    pub fn time_rate(&self, layout: &Layout, q: &[f64], t: f64) -> f64 {
+        match self {
+            Constraint::Normalization { .. } => 0.0,
+            Constraint::Dots { terms, offset } => {
+                let sum: f64 = terms
+                    .iter()
+                    .map(|term| {
+                        let (u, w) = (term.u.value(layout, q), term.w.value(layout, q));
+                        term.weight.at(t)[1] * (u[0] * w[0] + u[1] * w[1] + u[2] * w[2])
+                    })
+                    .sum();
+                sum + offset.as_ref().map_or(0.0, |c| c.at(t)[1])
+            }
+        }
+    }
+
+    /// Calls `sink(j, ∂Φ/∂q_j)`; `derivative` selects c (0, the Jacobian Φ_q) or ċ (1, the
+    /// derivative of Φ_t with respect to q).
+    pub fn jacobian(
+        &self,
+        layout: &Layout,
+        q: &[f64],
+        t: f64,
+        derivative: usize,
+        mut sink: impl FnMut(usize, f64),
+    ) {
+        match self {
+            Constraint::Normalization { body } => {
+                if derivative == 0 {
+                    let s = layout.slice(*body);
+                    for (a, x) in s.euler_parameters(q).iter().enumerate() {
+                        sink(s.euler() + a, 2.0 * x);
+                    }
+                }
+            }
+            Constraint::Dots { terms, .. } => {
+                for term in terms {
+                    let c = term.weight.at(t)[derivative];
+                    if c == 0.0 {
+                        continue;
+                    }
+                    let (u, w) = (term.u.value(layout, q), term.w.value(layout, q));
+                    term.u
+                        .jacobian(layout, q, &mut |i, j, x| sink(j, c * w[i] * x));
+                    term.w
+                        .jacobian(layout, q, &mut |i, j, x| sink(j, c * u[i] * x));
+                }
+            }
+        }
+    }
+
+    /// Calls `sink(i, j, weight ∂²Φ/∂qᵢ∂q_j)` (entries may repeat; they add up).
+    pub fn hessian(
+        &self,
+        layout: &Layout,
+        q: &[f64],
+        t: f64,
+        weight: f64,
+        mut sink: impl FnMut(usize, usize, f64),
+    ) {
+        match self {
+            Constraint::Normalization { body } => {
+                let e = layout.slice(*body).euler();
+                for a in 0..4 {
+                    sink(e + a, e + a, 2.0 * weight);
+                }
+            }
+            Constraint::Dots { terms, .. } => {
+                let mut ju = Vec::new();
+                let mut jw = Vec::new();
+                for term in terms {
+                    let c = weight * term.weight.at(t)[0];
+                    if c == 0.0 {
+                        continue;
+                    }
+                    let (u, w) = (term.u.value(layout, q), term.w.value(layout, q));
+                    ju.clear();
+                    jw.clear();
+                    term.u
+                        .jacobian(layout, q, &mut |i, j, x| ju.push((i, j, x)));
+                    term.w
+                        .jacobian(layout, q, &mut |i, j, x| jw.push((i, j, x)));
+                    for &(i, a, x) in &ju {
+                        for &(k, b, y) in &jw {
+                            if i == k {
+                                sink(a, b, c * x * y);
+                                sink(b, a, c * x * y);
+                            }
+                        }
+                    }
+                    term.u.hessian(layout, q, w, c, &mut sink);
+                    term.w.hessian(layout, q, u, c, &mut sink);
+                }
+            }
+        }
+    }
+}

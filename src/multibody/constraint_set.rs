@@ -1,0 +1,107 @@
+//! The system's constraint equations as one set: Φ(q, t), Φ_q, Φ_t, the weighted Hessian
+//! Σᵢ wᵢ ∇²Φᵢ and the q-derivative of the velocity equation Φ_q v + Φ_t, each evaluated into
+//! dense caller-owned storage; rows found redundant are dropped ([`super::redundancy`]).
+
+use super::constraint::Constraint;
+use super::layout::Layout;
+use super::redundancy::{RankSplit, split_rows};
+use faer::{Mat, MatMut};
+
+/// Constraints with a name each (for reports).
+#[derive(Debug, Clone, Default)]
+pub struct ConstraintSet {
+    pub constraints: Vec<Constraint>,
+    pub labels: Vec<String>,
+}
+
+impl ConstraintSet {
+    /// Appends one constraint.
+    pub fn push(&mut self, constraint: Constraint, label: String) {
+        self.constraints.push(constraint);
+        self.labels.push(label);
+    }
+
+    /// Number of rows m.
+    pub fn len(&self) -> usize {
+        self.constraints.len()
+    }
+
+    /// Whether there are no rows.
+    pub fn is_empty(&self) -> bool {
+        self.constraints.is_empty()
+    }
+
+    /// Φ(q, t) into `out` (m).
+    pub fn values(&self, layout: &Layout, q: &[f64], t: f64, out: &mut [f64]) {
+        for (o, c) in out.iter_mut().zip(&self.constraints) {
+            *o = c.value(layout, q, t);
+        }
+    }
+
+    /// Φ_t(q, t) into `out` (m).
+    pub fn time_rates(&self, layout: &Layout, q: &[f64], t: f64, out: &mut [f64]) {
+        for (o, c) in out.iter_mut().zip(&self.constraints) {
+            *o = c.time_rate(layout, q, t);
+        }
+    }
+
+    /// Φ_q into `out` (m × n, overwritten).
+    pub fn jacobian(&self, layout: &Layout, q: &[f64], t: f64, mut out: MatMut<'_, f64>) {
+        out.fill(0.0);
+        for (i, c) in self.constraints.iter().enumerate() {
+            c.jacobian(layout, q, t, 0, |j, x| out[(i, j)] += x);
+        }
+    }
+
+    /// Adds scale · Σᵢ wᵢ ∇²Φᵢ to `out` (n × n).
+    pub fn add_weighted_hessian(
+        &self,
+        layout: &Layout,
+        q: &[f64],
+        t: f64,
+        weights: &[f64],
+        scale: f64,
+        mut out: MatMut<'_, f64>,
+    ) {
+        for (c, &w) in self.constraints.iter().zip(weights) {
+            if w != 0.0 {
+                c.hessian(layout, q, t, scale * w, |i, j, x| out[(i, j)] += x);
+            }
+        }
+    }
+
+    /// ∂(Φ_q v + Φ_t)/∂q into `out` (m × n, overwritten): row i is (∇²Φᵢ v)ᵀ + ∂Φ_t,i/∂q.
+    pub fn velocity_equation_jacobian(
+        &self,
+        layout: &Layout,
+        q: &[f64],
+        v: &[f64],
+        t: f64,
+        mut out: MatMut<'_, f64>,
+    ) {
+        out.fill(0.0);
+        for (i, c) in self.constraints.iter().enumerate() {
+            c.hessian(layout, q, t, 1.0, |a, b, x| out[(i, b)] += v[a] * x);
+            c.jacobian(layout, q, t, 1, |j, x| out[(i, j)] += x);
+        }
+    }
+
+    /// Removes the rows that are linear combinations of the others at q (tolerance `tol` on
+    /// the pivots of the QR of Φ_qᵀ); returns the split (indices into the set before removal).
+    pub fn remove_redundant(&mut self, layout: &Layout, q: &[f64], t: f64, tol: f64) -> RankSplit {
+        let mut jac = Mat::zeros(self.len(), layout.size());
+        self.jacobian(layout, q, t, jac.as_mut());
+        let split = split_rows(jac.as_ref(), tol);
+        self.constraints = split
+            .independent
+            .iter()
+            .map(|&i| self.constraints[i].clone())
+            .collect();
+        self.labels = split
+            .independent
+            .iter()
+            .map(|&i| self.labels[i].clone())
+            .collect();
+        split
+    }
+}

@@ -1,0 +1,28 @@
+//! Errors of model building, assembly and integration.
+
+/// Why a multibody computation stopped.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MultibodyError {
+    #[error("{0}")]
+    Input(String),
+    #[error(
+        "kinematic assembly at t = {time} did not converge: |Φ| = {residual:.3e}, worst constraint {worst}"
+    )]
+    Assembly {
+        time: f64,
+        residual: f64,
+        worst: String,
+    },
+    #[error(
+        "step to t = {time} did not converge in {iterations} Newton iterations: residual {residual:.3e}, worst constraint {worst} (|Φ| = {constraint:.3e})"
+    )]
+    NotConverged {
+        time: f64,
+        iterations: usize,
+        residual: f64,
+        worst: String,
+        constraint: f64,
+    },
+    #[error("singular {what} at t = {time}")]
+    Singular { what: &'static str, time: f64 },
+}

@@ -1,0 +1,134 @@
+//! The reduced data a flexible body is built from, evaluated at the parameters p (the pROM
+//! artifact's affine sums m(p) = m⁰ + Σₖ mᵏ fᵏ(p), eq. 4.1–4.3 and 4.8, are formed by its
+//! loader): mass moments, reduced M_ff, K_ff, C_ff and the basis rows of the interface grids.
+//!
+//! The nine mass invariants of eq. A.11–A.19 are linear images of five nodal sums (with
+//! r₀ⱼ the undeformed node position, ψⱼₖ the translation row of node j for mode k, and
+//! r̃ s̃ = s rᵀ − (rᵀs) I):
+//!
+//! | stored | sum | invariants it gives |
+//! |---|---|---|
+//! | `first` | Σ mⱼ r₀ⱼ | M̂₁ (A.11) |
+//! | `first_modal[k]` | Σ mⱼ ψⱼₖ | M̂₂ (A.12), column k |
+//! | `second` | Σ mⱼ r₀ⱼ r₀ⱼᵀ | M̂₃ = `second` − tr(`second`) I (A.13) |
+//! | `second_mixed[k]` | Σ mⱼ r₀ⱼ ψⱼₖᵀ | M̂₄ (A.14), M̂₆ (A.16), M̂₈ₖ = tr (A.18) |
+//! | `second_modal[k n + l]` | Σ mⱼ ψⱼₖ ψⱼₗᵀ | M̂₅ (A.15), M̂₇ (A.17), M̂₉ₖₗ = tr (A.19) |
+//!
+//! The outer-product form is what the mass matrix and the quadratic velocity vector of
+//! [`super::inertia`] contract with, without the skew matrices of the appendix.
+
+use crate::geometry::mat3::Mat3;
+use faer::Mat;
+
+/// Mass moments of a body about its frame origin, in body components (see module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MassInvariants {
+    /// Total mass m (eq. 4.2).
+    pub mass: f64,
+    /// Σ mⱼ r₀ⱼ (M̂₁, eq. A.11).
+    pub first: [f64; 3],
+    /// Σ mⱼ ψⱼₖ for each mode k (the columns of M̂₂, eq. A.12).
+    pub first_modal: Vec<[f64; 3]>,
+    /// Σ mⱼ r₀ⱼ r₀ⱼᵀ.
+    pub second: Mat3,
+    /// Σ mⱼ r₀ⱼ ψⱼₖᵀ for each mode k.
+    pub second_mixed: Vec<Mat3>,
+    /// Σ mⱼ ψⱼₖ ψⱼₗᵀ at index k·n + l.
+    pub second_modal: Vec<Mat3>,
+}
+
+/// One node of a body for [`MassInvariants::from_nodes`]: its mass, undeformed position in the
+/// body frame and translation basis row per mode (ψⱼₖ, a 3-vector for each mode k).
+#[derive(Debug, Clone, PartialEq)]
+pub struct NodalMass {
+    pub mass: f64,
+    pub position: [f64; 3],
+    pub modes: Vec<[f64; 3]>,
+}
+
+impl MassInvariants {
+    /// Number of flexible coordinates n.
+    pub fn modes(&self) -> usize {
+        self.first_modal.len()
+    }
+
+    /// A rigid body with its frame at the centre of mass: mass m and inertia tensor J about the
+    /// centre of mass in body components, whose second moment is Σ m r rᵀ = ½ tr(J) I − J.
+    pub fn rigid(mass: f64, inertia: Mat3) -> Self {
+        let half_trace = 0.5 * (inertia[0][0] + inertia[1][1] + inertia[2][2]);
+        let second = std::array::from_fn(|i| {
+            std::array::from_fn(|j| if i == j { half_trace } else { 0.0 } - inertia[i][j])
+        });
+        Self {
+            mass,
+            first: [0.0; 3],
+            first_modal: Vec::new(),
+            second,
+            second_mixed: Vec::new(),
+            second_modal: Vec::new(),
+        }
+    }
+
+    /// The sums of eq. 2.51 over lumped nodal masses (all nodes must have the same number of
+    /// modes).
+    pub fn from_nodes(nodes: &[NodalMass]) -> Self {
+        let n = nodes.first().map_or(0, |node| node.modes.len());
+        let mut inv = Self {
+            mass: 0.0,
+            first: [0.0; 3],
+            first_modal: vec![[0.0; 3]; n],
+            second: [[0.0; 3]; 3],
+            second_mixed: vec![[[0.0; 3]; 3]; n],
+            second_modal: vec![[[0.0; 3]; 3]; n * n],
+        };
+        let add_outer = |target: &mut Mat3, m: f64, a: [f64; 3], b: [f64; 3]| {
+            for i in 0..3 {
+                for j in 0..3 {
+                    target[i][j] += m * a[i] * b[j];
+                }
+            }
+        };
+        for node in nodes {
+            let (m, r) = (node.mass, node.position);
+            inv.mass += m;
+            for (f, x) in inv.first.iter_mut().zip(r) {
+                *f += m * x;
+            }
+            add_outer(&mut inv.second, m, r, r);
+            for (k, psi_k) in node.modes.iter().enumerate() {
+                for (f, x) in inv.first_modal[k].iter_mut().zip(psi_k) {
+                    *f += m * x;
+                }
+                add_outer(&mut inv.second_mixed[k], m, r, *psi_k);
+                for (l, psi_l) in node.modes.iter().enumerate() {
+                    add_outer(&mut inv.second_modal[k * n + l], m, *psi_k, *psi_l);
+                }
+            }
+        }
+        inv
+    }
+}
+
+/// The basis rows of one interface grid: undeformed position in the body frame, and per mode
+/// the translation ψₖ and the small rotation θₖ of the grid (3-vectors in body components).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InterfaceRows {
+    pub grid: u32,
+    pub position: [f64; 3],
+    pub translation: Vec<[f64; 3]>,
+    pub rotation: Vec<[f64; 3]>,
+}
+
+/// A flexible body's reduced data at one parameter point (what a pROM loader fills).
+#[derive(Debug, Clone)]
+pub struct FlexibleBodyData {
+    pub invariants: MassInvariants,
+    /// Reduced mass matrix M_ff (n × n).
+    pub mass: Mat<f64>,
+    /// Reduced stiffness K_ff (eq. 2.54).
+    pub stiffness: Mat<f64>,
+    /// Reduced damping C_ff (eq. 2.55).
+    pub damping: Mat<f64>,
+    /// Basis rows of the grids markers may be placed on.
+    pub interfaces: Vec<InterfaceRows>,
+}

@@ -1,0 +1,139 @@
+//! Applied forces: point forces at markers from a time function, and spring-dampers on a
+//! scalar coordinate ℓ(q) — the distance between two markers (point-to-point), a joint's
+//! relative angle or slide (joint spring-damper) or the error of a compliant drive (Fig. 4.15b):
+//!
+//! ```text
+//! T = −K (ℓ − ℓ_d(t)) − C (ℓ̇ − ℓ̇_d(t)),   Q = T ∇ℓ,   ℓ̇ = ∇ℓ · q̇
+//! ```
+//!
+//! with ℓ_d = ℓ₀ + f(t) (ℓ₀ the free length, rest angle or the drive's initial value). Angle
+//! differences are taken in (−π, π]. The Newton iteration matrix gets K ∇ℓ ∇ℓᵀ and C ∇ℓ ∇ℓᵀ
+//! (the curvature of ℓ times T is left out).
+
+use super::constraint::{Constraint, VectorSum};
+use super::layout::Layout;
+use super::signal::Signal;
+use faer::MatMut;
+
+/// An applied force element (user-facing).
+#[derive(Debug, Clone)]
+pub enum Force {
+    /// F(t) = f(t) n at a marker, n in global components.
+    Point {
+        marker: usize,
+        direction: [f64; 3],
+        signal: Signal,
+    },
+    /// Spring-damper between two marker points with free length L₀.
+    PointSpringDamper {
+        first: usize,
+        second: usize,
+        stiffness: f64,
+        damping: f64,
+        length: f64,
+    },
+    /// Spring-damper on the relative coordinate of a revolute or prismatic joint, at rest at
+    /// `rest`.
+    JointSpringDamper {
+        joint: usize,
+        stiffness: f64,
+        damping: f64,
+        rest: f64,
+    },
+}
+
+/// A scalar coordinate ℓ(q) with its gradient.
+#[derive(Debug, Clone)]
+pub enum Coordinate {
+    /// θ = atan2(s, c) from the two dot products [s, c].
+    Angle([Constraint; 2]),
+    /// A single dot product (a slide).
+    Slide(Constraint),
+    /// |p₁ − p₂|.
+    Distance(VectorSum),
+}
+
+impl Coordinate {
+    /// ℓ(q), with ∇ℓ written into `gradient` (length n, overwritten).
+    pub fn evaluate(&self, layout: &Layout, q: &[f64], gradient: &mut [f64]) -> f64 {
+        gradient.fill(0.0);
+        match self {
+            Coordinate::Angle([s_part, c_part]) => {
+                let (s, c) = (s_part.value(layout, q, 0.0), c_part.value(layout, q, 0.0));
+                let rho2 = s * s + c * c;
+                s_part.jacobian(layout, q, 0.0, 0, |j, x| gradient[j] += c * x / rho2);
+                c_part.jacobian(layout, q, 0.0, 0, |j, x| gradient[j] -= s * x / rho2);
+                s.atan2(c)
+            }
+            Coordinate::Slide(part) => {
+                part.jacobian(layout, q, 0.0, 0, |j, x| gradient[j] += x);
+                part.value(layout, q, 0.0)
+            }
+            Coordinate::Distance(sep) => {
+                let d = Constraint::dot(sep.clone(), sep.clone());
+                let length = d.value(layout, q, 0.0).sqrt();
+                // ∇|d| = ∇(d·d) / (2 |d|)
+                d.jacobian(layout, q, 0.0, 0, |j, x| gradient[j] += 0.5 * x / length);
+                length
+            }
+        }
+    }
+
+    fn difference(&self, value: f64, target: f64) -> f64 {
+        match self {
+            Coordinate::Angle(_) => {
+                let d = value - target;
+                d.sin().atan2(d.cos())
+            }
+            _ => value - target,
+        }
+    }
+}
+
+/// A spring-damper on a coordinate toward ℓ₀ + f(t) (see module docs).
+#[derive(Debug, Clone)]
+pub struct SpringDamper {
+    pub coordinate: Coordinate,
+    pub stiffness: f64,
+    pub damping: f64,
+    pub rest: f64,
+    pub motion: Option<Signal>,
+}
+
+impl SpringDamper {
+    /// Adds Q to `force`; returns T. With `iteration = Some((dq, dv))` adds K ∇ℓ∇ℓᵀ·cq to dq and
+    /// C ∇ℓ∇ℓᵀ·cv to dv, the coefficients given.
+    #[allow(clippy::too_many_arguments)]
+    pub fn apply(
+        &self,
+        layout: &Layout,
+        q: &[f64],
+        v: &[f64],
+        t: f64,
+        gradient: &mut [f64],
+        force: &mut [f64],
+        iteration: Option<(MatMut<'_, f64>, MatMut<'_, f64>, f64, f64)>,
+    ) -> f64 {
+        let value = self.coordinate.evaluate(layout, q, gradient);
+        let rate: f64 = gradient.iter().zip(v).map(|(g, x)| g * x).sum();
+        let [target, target_rate, _] = self.motion.as_ref().map_or([0.0; 3], |m| m.at(t));
+        let error = self.coordinate.difference(value, self.rest + target);
+        let tension = -self.stiffness * error - self.damping * (rate - target_rate);
+        let nonzero: Vec<usize> = (0..gradient.len())
+            .filter(|&j| gradient[j] != 0.0)
+            .collect();
+        for &j in &nonzero {
+            force[j] += tension * gradient[j];
+        }
+        if let Some((mut dq, mut dv, cq, cv)) = iteration {
+            for &i in &nonzero {
+                for &j in &nonzero {
+                    let g = gradient[i] * gradient[j];
+                    dq[(i, j)] += cq * self.stiffness * g;
+                    dv[(i, j)] += cv * self.damping * g;
+                }
+            }
+        }
+        tension
+    }
+}

@@ -1,0 +1,52 @@
+//! Flexible multibody dynamics in the floating frame of reference (thesis ch. 2.4, 4.3 and
+//! appendix A; DESIGN.md §11): rigid and flexible (reduced, FFR) bodies with Euler-parameter
+//! orientations, markers, joints and drives as algebraic constraints, spring-dampers and point
+//! forces, and the stabilized index-2 (GGL) equations of motion integrated with BDF1.
+//!
+//! - [`layout`]: the system coordinates q = [q¹ … q^{n_b}] with qⁱ = [r (3), e (4), q_f (n_r)]
+//!   (eq. 2.44–2.45); ground has none.
+//! - [`inertia`]: mass matrix, quadratic velocity vector and gravity force of one body from
+//!   its mass moments (eq. 2.47–2.50, A.5–A.27); [`body`] and [`flexible`]: rigid and flexible
+//!   bodies and the reduced data a flexible body is built from.
+//! - [`vectors`]: points and directions fixed to a body (markers), with their first and
+//!   second derivatives with respect to q; [`marker`]: markers.
+//! - [`constraint`]: scalar constraints written as sums of time-weighted dot products of body
+//!   vectors (Φ, Φ_q, Φ_t and Hessian products); [`constraint_set`]: all of them evaluated into
+//!   dense storage; [`joints`]: joints and drives built from them; [`redundancy`]: redundant
+//!   constraints found by a column-pivoted QR of Φ_qᵀ.
+//! - [`forces`]: point forces, point-to-point and joint spring-dampers, compliant drives.
+//! - [`signal`]: time functions with their first two derivatives; [`error`]: what stops a run.
+//! - [`system`]: the assembled system and its residual terms; [`integrator`]: consistent
+//!   initial conditions and the GGL/BDF1 step (eq. 2.60–2.61) with modified Newton;
+//!   [`output`]: marker kinematics, reactions, drive torques, power and energy.
+
+pub mod body;
+pub mod constraint;
+pub mod constraint_set;
+#[cfg(test)]
+mod constraint_tests;
+pub mod error;
+pub mod flexible;
+pub mod forces;
+pub mod inertia;
+#[cfg(test)]
+mod inertia_tests;
+pub mod integrator;
+pub mod joints;
+pub mod layout;
+pub mod marker;
+pub mod output;
+pub mod redundancy;
+pub mod signal;
+pub mod system;
+pub mod vectors;
+
+pub use body::Body;
+pub use error::MultibodyError;
+pub use flexible::{FlexibleBodyData, InterfaceRows, MassInvariants};
+pub use forces::Force;
+pub use integrator::{Ggl, NewtonSettings, StepReport};
+pub use joints::{Drive, DriveKind, Joint, JointKind};
+pub use marker::Marker;
+pub use signal::Signal;
+pub use system::{BodyId, MarkerId, System};
