@@ -11,9 +11,10 @@
 //! Written: `/prom` ([`write_prom`]), `/prom/inputs/{names, S_r}` (n_red × n_in),
 //! `/prom/sensors/{names, kind, H_r}` (s × n_red): H_r = H Φ with the f-set rows H of the
 //! subcase's SENSORs ([`sensor_operator`]: DISP, VEL, ACCEL and STRAIN, eq. 2.32, 2.34),
-//! `/prom/mass` (affine nodal masses, eq. 4.1–4.2, and mass invariants A.11, A.13; only with
-//! `RIGID = REMOVE`, the floating-frame bodies of a multibody scene, which are the only users),
-//! and
+//! `/prom/nodal_mass`, `/prom/invariants` and `/prom/interface` ([`write_prom_body`]: affine
+//! nodal masses eq. 4.1–4.3, the affine components of the mass invariants eq. 4.8, A.11–A.19,
+//! and the basis rows of the ASET1 grids; only with `RIGID = REMOVE`, the floating-frame bodies
+//! of a multibody scene, which are the only users), and
 //! `/prom/build/{samples, singular_values, size_history, error_history, timings}` with
 //! attributes `mac_kept`, `concatenated`, `converged`, `singular_lines`.
 
@@ -24,13 +25,15 @@ use nalgebra_sparse::CscMatrix;
 
 use super::sensors::{sensor_kind_name, sensor_operator};
 use super::{Clock, Constrained, RunContext, RunError, Structure, SubcaseResult, SubcaseSummary};
+use crate::assembly::recover::recover_g;
 use crate::assembly::{AffineOperator, DofMap, ParamKey};
 use crate::deck::cards::Pmor;
 use crate::io::{
-    IoError, set_attr_i64, set_attr_strings, write_f64, write_prom, write_prom_masses,
+    IoError, PromBody, set_attr_i64, set_attr_strings, write_f64, write_prom, write_prom_body,
     write_strings,
 };
 use crate::rom::build::{AffineFom, BuildLog, Built, PromSettings, build_prom};
+use crate::rom::invariants::{InterfaceRows, MassInvariants, TranslationRows};
 use crate::rom::local_basis::{RigidModes, StaticModes};
 use crate::rom::mass::AffineMasses;
 
@@ -122,6 +125,9 @@ pub fn run(
         sensor_operator(ctx, st, &c, sub)
     })?;
     let h_r = sensors.project(&basis);
+    let body = masses
+        .map(|masses| flexible_body(ctx, st, &c, &basis, masses))
+        .transpose()?;
     drop(basis);
     let n_full = k_ff.nrows();
     clock.time(
@@ -142,9 +148,8 @@ pub fn run(
                 write_strings(&g, "kind", &kinds)?;
                 write_f64(&g, "H_r", &row_major(&h_r), &[h_r.nrows(), h_r.ncols()])?;
             }
-            if let Some(masses) = &masses {
-                let grids: Vec<u32> = model.grids.iter().map(|g| g.id).collect();
-                write_prom_masses(&ctx.output.group("prom/mass")?, &grids, masses)?;
+            if let Some(body) = &body {
+                write_prom_body(&group, body)?;
             }
             write_log(ctx, &log)
         },
@@ -169,6 +174,49 @@ fn row_major(m: &Mat<f64>) -> Vec<f64> {
     (0..m.nrows())
         .flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)]))
         .collect()
+}
+
+/// The multibody data of a `RIGID = REMOVE` body: the basis columns expanded to every grid in
+/// basic (dependent DOFs recovered, constrained ones zero), the invariants of each affine mass
+/// component (eq. 4.8, A.11–A.19) and the rows of the interface grids (every ASET1 grid).
+fn flexible_body(
+    ctx: &RunContext,
+    st: &Structure,
+    c: &Constrained,
+    basis: &Mat<f64>,
+    masses: AffineMasses,
+) -> Result<PromBody, RunError> {
+    let model = ctx.model;
+    let zero = vec![0.0; st.map.size()];
+    let columns = (0..basis.ncols())
+        .map(|k| {
+            Ok(st.to_basic_rows(&recover_g(
+                basis.col_as_slice(k),
+                &c.sets,
+                &zero,
+                &st.rigid,
+            )?))
+        })
+        .collect::<Result<Vec<_>, RunError>>()?;
+    let rows = TranslationRows::from_grid_columns(&columns, st.map.grids());
+    let invariants = masses
+        .nodal
+        .iter()
+        .map(|m| MassInvariants::new(m, &masses.positions, &rows))
+        .collect();
+    let (mut ids, mut indices) = (Vec::new(), Vec::new());
+    for &grid in model.bulk.aset1.iter().flat_map(|card| &card.grids) {
+        if let (false, Some(&index)) = (ids.contains(&grid), model.grid_index.get(&grid)) {
+            ids.push(grid);
+            indices.push(index);
+        }
+    }
+    Ok(PromBody {
+        grids: model.grids.iter().map(|g| g.id).collect(),
+        masses,
+        invariants,
+        interface: InterfaceRows::from_grid_columns(&columns, ids, &indices),
+    })
 }
 
 /// The part keys of K and M, K's first: the pROM's component order.
