@@ -174,7 +174,7 @@ impl Weighed {
 /// has no strain energy to compare and is judged by its mass MAC alone. MACTOL = 1 turns the
 /// filter off but for exact duplicates (the SVD's numerical rank then removes redundancy). To
 /// return to the thesis's displacement MAC, compare `mac` of the raw columns' dot products
-/// instead of the energies in [`energy_redundant`].
+/// instead of the energies in `energy_redundant`.
 ///
 /// The thesis compares every couple; here columns of one local basis are never compared: they
 /// are independent by construction (M-orthogonal modes, and static modes K⁻¹e_b of distinct unit
