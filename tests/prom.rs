@@ -271,9 +271,9 @@ fn artifact_is_described_with_parameters_and_inputs() {
     assert_eq!(prom.ranges, vec![(1.0e11, 3.0e11)]);
     assert_eq!(prom.nominal, vec![2.1e11]);
     assert_eq!(prom.inputs, vec!["13:3", "39:3", "65:3"]);
-    // RIGID = KEEP (default): no multibody body, no /prom/mass
+    // RIGID = KEEP (default): no multibody body, no /prom/nodal_mass
     assert!(
-        paraflex::io::read_prom_masses(dir.path().join("out.h5"))
+        paraflex::io::read_prom_body(dir.path().join("out.h5"), 1, 1)
             .expect("read")
             .is_none()
     );
@@ -540,7 +540,7 @@ fn two_material_plate(property: &str) -> String {
 /// Affine nodal masses for the multibody step (thesis eq. 4.1–4.2, A.11; `RIGID = REMOVE`):
 /// the free plate of [`plate`] with its left half on MAT1 1 (ρ₁ a parameter), its right half on
 /// MAT1 2 (ρ₂ = 2700 fixed) and a CONM2 at the tip (m_c a parameter). At random (ρ₁, m_c)
-/// the sums Σ_k f_k(p) m_j^k of `/prom/mass` must equal the lumped masses assembled by hand:
+/// the sums Σ_k f_k(p) m_j^k of `/prom/nodal_mass` must equal the lumped masses assembled by hand:
 /// a CQUAD4 of area A gives ρtA/4 to each of its grids (∫ρ N_j dA of a bilinear square), the
 /// CONM2 its m. Total mass and centre of mass follow. Bound 1e-12 relative: sums of ≤ 65
 /// round-off-exact terms.
@@ -560,9 +560,10 @@ fn affine_nodal_masses_equal_the_lumped_masses_at_any_parameters() {
     r.expect("SOL PROM");
     let artifact = dir.path().join("out.h5");
     let (prom, _) = paraflex::io::read_prom(&artifact).expect("pROM");
-    let (grids, masses) = paraflex::io::read_prom_masses(&artifact)
+    let body = paraflex::io::read_prom_body(&artifact, prom.size(), prom.functions.len())
         .expect("read")
-        .expect("/prom/mass with RIGID = REMOVE");
+        .expect("/prom/nodal_mass with RIGID = REMOVE");
+    let (grids, masses) = (&body.grids, &body.masses);
     for (rho1, mc) in [(1733.0, 0.031), (2461.5, 0.077), (3100.0, 0.01)] {
         let f: Vec<f64> = prom
             .functions
@@ -587,7 +588,7 @@ fn affine_nodal_masses_equal_the_lumped_masses_at_any_parameters() {
             }
         }
         want[tip - 1] += mc;
-        assert_eq!(grids, (1..=want.len() as u32).collect::<Vec<_>>());
+        assert_eq!(*grids, (1..=want.len() as u32).collect::<Vec<_>>());
         let got: Vec<f64> = (0..grids.len())
             .map(|g| at(&masses.nodal.iter().map(|m| m[g]).collect::<Vec<_>>()))
             .collect();
@@ -599,17 +600,15 @@ fn affine_nodal_masses_equal_the_lumped_masses_at_any_parameters() {
                 g + 1
             );
         }
+        let inv = paraflex::rom::invariants::MassInvariants::combine(&body.invariants, &f).unwrap();
         let total = (rho1 + 2700.0) * t * (nx as f64 * h / 2.0) * (ny as f64 * h) + mc;
-        assert!((at(&masses.total()) - total).abs() <= 1e-12 * total);
+        assert!((inv.mass - total).abs() <= 1e-12 * total);
         let half = nx as f64 * h / 2.0;
         let cx =
             (rho1 * t * half * 0.1 * half / 2.0 + 2700.0 * t * half * 0.1 * 1.5 * half + mc * 0.3)
                 / total;
         let cy = 0.05;
-        let moment = masses.first_moment();
-        let centre: Vec<f64> = (0..3)
-            .map(|i| at(&moment.iter().map(|m| m[i]).collect::<Vec<_>>()) / at(&masses.total()))
-            .collect();
+        let centre: Vec<f64> = inv.m1.iter().map(|m| m / inv.mass).collect();
         for (c, w) in centre.iter().zip([cx, cy, 0.0]) {
             assert!(
                 (c - w).abs() <= 1e-12 * 0.3,
@@ -1087,4 +1086,186 @@ fn least_squares_components_from_hdf5_samples_equal_the_matrix_market_ones() {
         message.contains("/K/0") && message.contains("row index 2 is not in 0..2"),
         "{message}"
     );
+}
+
+/// [±Θ]s angle-ply cantilever strip 0.3 × 0.03 m (the laminate of [`laminate`], 1 mm), CQUAD4
+/// 24 × 4 clamped at x = 0, `PARAM,QINCOMP,NO`, the pROM's input T3 at the middle tip grid
+/// (24, 2). The symmetric laminate uncouples membrane and bending, so the input never excites
+/// the strip's in-plane bending and the FRF change of eq. 3.35 cannot see whether the basis
+/// holds those modes.
+fn strip(property: &str) -> String {
+    common::clamped_plate_mesh(24, 4, 0.3, 0.03) + "ASET1,3,75\nPARAM,QINCOMP,NO\n" + property
+}
+
+/// Band of [`strip`]'s checks (FMAX of its pROM deck).
+const STRIP_FMAX: f64 = 600.0;
+
+/// Full SOL 103 of the strip: every frequency below [`STRIP_FMAX`].
+fn strip_full_modes(theta: f64) -> Vec<f64> {
+    let deck = format!(
+        "SOL 103\nCEND\nSPC = 1\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,{STRIP_FMAX:?}\n{}ENDDATA\n",
+        strip(&laminate(&format!("{theta:?}")))
+    );
+    let (r, _dir) = run_deck(&deck);
+    frequencies(&r.expect("full run"))
+}
+
+/// Every full-model mode below FMAX against the pROM's modes at Θ: `(relative errors, pROM
+/// frequencies, full frequencies)`, the pROM asked for two modes more than the full model has.
+fn strip_errors(built: &tempfile::TempDir, theta: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let full = strip_full_modes(theta);
+    let (reduced, _) = prom_modes(built, &format!("PVAL,1,TH,{theta:?}\n"), full.len() + 2);
+    let errors = full
+        .iter()
+        .zip(&reduced)
+        .map(|(f, r)| (r - f) / f)
+        .collect();
+    (errors, reduced, full)
+}
+
+/// The pROM of `decks/prom/strip_angle_ply_prom_theta.dat` with `nsamp` samples: [`strip`] at
+/// Θ = 45° with Θ over [0°, 90°], NMODES 12 (the 12th mode lies above FMAX = 600 Hz at every
+/// angle, so each local basis holds all of its sample's modes in the band), the attachment mode
+/// of the input; ERRTOL 1e-12 lets the size selection grow to the whole numerical rank, so what
+/// the basis lacks is what the MAC filter removed. Returns the artifact's directory and the
+/// sampled angles.
+fn build_strip_prom(nsamp: usize) -> (tempfile::TempDir, Vec<f64>) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("decks/prom/strip_angle_ply_prom_theta.dat");
+    let deck = std::fs::read_to_string(&path)
+        .expect("strip deck")
+        .replace("PMOR,1,2,", &format!("PMOR,1,{nsamp},"));
+    let (r, dir) = run_deck(&deck);
+    let summary = r.expect("SOL PROM");
+    let SubcaseResult::Prom(prom) = &summary.subcases[0].result else {
+        panic!("not a pROM build")
+    };
+    println!("strip pROM: {:?}", prom.log);
+    (dir, prom.log.samples.iter().map(|p| p[0]).collect())
+}
+
+/// A pROM must reproduce every FOM mode below FMAX, not only those its FRF-error inputs see:
+/// the in-plane bending of a link carries a mechanism's deviation. [`strip`]:
+/// - two samples (the deck): at a sampled angle the basis holds that sample's modes, so every
+///   mode below FMAX must come back to the accuracy of the Lanczos vectors and the SVD (bound
+///   1e-7 relative; measured ≤ 2e-9). The displacement MAC of eq. 3.39 drops columns of the
+///   second sample whose shapes match the first sample's although their strain energies
+///   differ, and that sample's frequencies are then off by percents; the energy MAC of
+///   `rom::basis::mac_filter` keeps them;
+/// - six samples, at angles between them: every mode below FMAX within 1e-4 relative (measured
+///   ≤ 4.7e-6: the six local bases span the modes' change over Θ; a mode missing from the
+///   basis moves to a combination of the others, percents away).
+#[test]
+fn every_strip_mode_below_fmax_is_kept_at_sampled_and_unsampled_angles() {
+    let (built, samples) = build_strip_prom(2);
+    for theta in samples {
+        let (errors, reduced, full) = strip_errors(&built, theta);
+        println!("Θ = {theta}: full {full:?}\n  pROM {reduced:?}\n  errors {errors:?}");
+        assert!(
+            errors.iter().all(|e| e.abs() <= 1e-7),
+            "Θ = {theta} (sampled): pROM {reduced:?} vs full {full:?}"
+        );
+    }
+    let (built, samples) = build_strip_prom(6);
+    println!("six samples at {samples:?}");
+    for theta in [10.0, 45.0, 80.0] {
+        let (errors, reduced, full) = strip_errors(&built, theta);
+        println!("Θ = {theta} (unsampled): full {full:?}\n  pROM {reduced:?}\n  errors {errors:?}");
+        assert!(
+            errors.iter().all(|e| e.abs() <= 1e-4),
+            "Θ = {theta} (unsampled): pROM {reduced:?} vs full {full:?}"
+        );
+    }
+}
+
+/// The multibody data of a `RIGID = REMOVE` artifact (thesis eq. 4.1–4.3, 4.8, A.11–A.19)
+/// against independent values. The free plate of [`common::plate_mesh`], 12 × 4 CQUAD4 of
+/// 25 mm, massless (MAT1 without ρ) with a CONM2 of mass m₀ at every grid except the corner
+/// grid 13, whose CONM2 (m_t) is the parameter, so every mass is a translational point mass:
+/// M = Σ_j m_j (e_jx e_jxᵀ + e_jy e_jyᵀ + e_jz e_jzᵀ).
+/// - rigid invariants at p: m, M̂₁ = Σ m_j r_j and M̂₃ = Σ m_j (r_j r_jᵀ − |r_j|² I) summed by
+///   hand over the lattice (the affine components combined with f_k(p), eq. 4.8);
+/// - M̂₉(p) = Σ_j m_j Ψ_jᵀΨ_j equals the pROM's reduced mass Φᵀ M(p) Φ: with point masses the
+///   two are the same sum, reached through different code (invariants from the g-set rows in
+///   basic, the pROM by sparse projection of the f-set parts);
+/// - the interface rows (ASET1 grids 1 and 65, six components) come back one 6 × n_r block per
+///   grid, and the T3 row of grid 65 equals the pROM's input shape of 65:3.
+/// Bounds: 1e-12 relative for the hand sums (~10² exact products), 1e-10 of the largest entry
+/// for M̂₉ (two summation orders of the same products).
+#[test]
+fn body_invariants_equal_point_mass_sums_and_the_reduced_mass() {
+    let (nx, ny, h) = (12usize, 4usize, 0.025);
+    let (mesh, _) = common::plate_mesh(nx, ny, 0.3, 0.1);
+    let (m0, tip) = (0.01, nx + 1);
+    let conm2: String = (1..=(nx + 1) * (ny + 1))
+        .map(|g| {
+            format!(
+                "CONM2,{},{g},,{}\n",
+                100 + g,
+                if g == tip { 0.02 } else { m0 }
+            )
+        })
+        .collect();
+    let build = format!(
+        "SOL PROM\nCEND\nPROM = 1\nBEGIN BULK\nPMPAR,1,MT,MASS,{},0.01,0.05\nPMOR,1,2,6,2000.,1.e-3,2\n,1,ATTACH,REMOVE,20\nASET1,123456,1,65\nPSHELL,1,1,0.002,1,,1\nMAT1,1,7.e10,,0.33\n{conm2}{mesh}ENDDATA\n",
+        100 + tip
+    );
+    let (r, dir) = run_deck(&build);
+    r.expect("SOL PROM");
+    let artifact = dir.path().join("out.h5");
+    let (prom, _) = paraflex::io::read_prom(&artifact).expect("pROM");
+    let n = prom.size();
+    let body = paraflex::io::read_prom_body(&artifact, n, prom.functions.len())
+        .expect("read")
+        .expect("body data with RIGID = REMOVE");
+    let (_, inputs) = paraflex::io::read_prom_inputs(&artifact, n).expect("inputs");
+    for mt in [0.013, 0.047] {
+        let f: Vec<f64> = prom.functions.iter().map(|g| g.value(&[mt])).collect();
+        let inv = paraflex::rom::invariants::MassInvariants::combine(&body.invariants, &f).unwrap();
+        let grids: Vec<(f64, [f64; 3])> = (0..=ny)
+            .flat_map(|j| (0..=nx).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                let m = if i == nx && j == 0 { mt } else { m0 };
+                (m, [i as f64 * h, j as f64 * h, 0.0])
+            })
+            .collect();
+        let mass: f64 = grids.iter().map(|(m, _)| m).sum();
+        assert!(
+            (inv.mass - mass).abs() <= 1e-12 * mass,
+            "{} vs {mass}",
+            inv.mass
+        );
+        for a in 0..3 {
+            let first: f64 = grids.iter().map(|(m, r)| m * r[a]).sum();
+            assert!((inv.m1[a] - first).abs() <= 1e-12 * mass, "M1 {a}: {inv:?}");
+            for b in 0..3 {
+                let second: f64 = grids
+                    .iter()
+                    .map(|(m, r)| {
+                        let rr: f64 = r.iter().map(|x| x * x).sum();
+                        m * (r[a] * r[b] - if a == b { rr } else { 0.0 })
+                    })
+                    .sum();
+                assert!((inv.m3[a][b] - second).abs() <= 1e-12 * mass, "M3 {a}{b}");
+            }
+        }
+        let mut at = prom.workspace();
+        prom.evaluate(&[mt], &mut at).unwrap();
+        let scale = (0..n).map(|k| at.mass()[(k, k)].abs()).fold(0.0, f64::max);
+        for k in 0..n {
+            for l in 0..n {
+                let (a, b) = (inv.m9[(k, l)], at.mass()[(k, l)]);
+                assert!((a - b).abs() <= 1e-10 * scale, "M9 ({k}, {l}): {a} vs {b}");
+            }
+        }
+    }
+    assert_eq!(body.interface.grids, vec![1, 65]);
+    // input 8 is 65:3, after the six DOFs of grid 1 and 65:1, 65:2
+    for k in 0..n {
+        let (row, input) = (body.interface.rows[1][(2, k)], inputs[(k, 8)]);
+        assert!(
+            (row - input).abs() <= 1e-12 * (1.0 + input.abs()),
+            "row {k}: {row} vs {input}"
+        );
+    }
 }

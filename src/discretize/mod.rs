@@ -34,6 +34,7 @@
 //! # }
 //! ```
 
+pub mod body;
 pub mod elements;
 pub mod loads;
 pub mod parameters;
@@ -44,6 +45,7 @@ use faer::Par;
 
 use crate::assembly::AssemblyError;
 
+pub use body::flexible_body;
 pub use structure::{Constrained, Structure, affine_fom, affine_keys};
 
 /// How the discretization (and the solutions after it) run.

@@ -26,6 +26,7 @@ pub use hdf5_file::{
 pub use info::{DatasetSummary, FileSummary, ModelSummary, PromSummary, ResultSummary, describe};
 pub use model_group::{CONNECTIVITY_INDEXING, ModelInfo, read_grid_ids, write_model};
 pub use prom_group::{
-    read_prom, read_prom_inputs, read_prom_masses, read_prom_sensors, write_prom, write_prom_masses,
+    PromBody, read_prom, read_prom_body, read_prom_inputs, read_prom_sensors, write_prom,
+    write_prom_body,
 };
 pub use xdmf::{XdmfWritten, write_xdmf, xdmf_path_for};

@@ -6,16 +6,18 @@
 //!                        nominal (per parameter), functions (JSON: one entry per component i)
 //! /prom/K/<i>, /prom/M/<i>   n_red × n_red, row-major; i = 0 .. n_f − 1, f_0 = 1 (constant)
 //! /prom/damping    attrs alpha, beta (Rayleigh)
-//! /prom/mass       (written when PMOR RIGID = REMOVE: a floating-frame body for multibody)
-//!   grids          n_g grid ids (u32)
-//!   positions      n_g × 3, undeformed positions r_0,j in basic
-//!   nodal          n_f × n_g, m_j^k: nodal mass of grid j in component k (eq. 4.1)
-//!   total          n_f, m^k (eq. 4.2)
-//!   first_moment   n_f × 3, M̂_1^k = Σ_j m_j^k r_0,j (eq. A.11)
-//!   second_moment  n_f × 3 × 3, M̂_3^k = Σ_j m_j^k r̃_0,j r̃_0,j (eq. A.13)
+//! (written when PMOR RIGID = REMOVE: a floating-frame body for multibody, DESIGN.md §11)
+//! /prom/nodal_mass/grids       n_g grid ids (u32)
+//! /prom/nodal_mass/positions   n_g × 3, undeformed positions r_0,j in basic
+//! /prom/nodal_mass/<i>         n_g, m_j^i: nodal mass of grid j in component i (eq. 4.1)
+//! /prom/invariants/<k>/<i>     invariant k of component i (eq. 4.8): k = 0 the mass m^i
+//!                              (eq. 4.2, shape 1), k = 1 … 9 M̂₁ … M̂₉ (eq. A.11–A.19, shapes
+//!                              in `rom::invariants`), row-major
+//! /prom/interface/grids        n_b interface grid ids (the ASET1 grids)
+//! /prom/interface/rows         n_b × 6 × n_red: basis rows T1 T2 T3 R1 R2 R3 in basic
 //! ```
-//! Component k of `/prom/mass` uses the function of `/prom/K/<k>` and `/prom/M/<k>`: at p,
-//! m_j(p) = Σ_k f_k(p) m_j^k, and likewise for the other mass datasets (eq. 4.8).
+//! Component i of the body datasets uses the function of `/prom/K/<i>` and `/prom/M/<i>`: at p,
+//! m_j(p) = Σ_i f_i(p) m_j^i, and likewise every invariant (eq. 4.8).
 //! `functions` is JSON because a function is a small tree (coefficient kind, fixed inputs,
 //! which parameter drives which input) that h5py users can still read with `json.loads`.
 
@@ -29,6 +31,7 @@ use super::hdf5_file::{
     IoError, set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, stamp,
     write_f64, write_u32,
 };
+use crate::rom::invariants::{InterfaceRows, MassInvariants};
 use crate::rom::mass::AffineMasses;
 use crate::rom::prom::{AffineFunction, Prom, PromParameter};
 
@@ -73,39 +76,66 @@ pub fn write_prom(group: &Group, prom: &Prom, n_full: usize) -> Result<(), IoErr
     Ok(())
 }
 
-/// Write the affine nodal masses of the body into `group` (normally `/prom/mass`, module doc);
-/// `grids` are the ids of the grids in `masses.positions` order.
-pub fn write_prom_masses(
-    group: &Group,
-    grids: &[u32],
-    masses: &AffineMasses,
-) -> Result<(), IoError> {
-    let (n_f, n_g) = (masses.nodal.len(), grids.len());
-    if masses.positions.len() != n_g || masses.nodal.iter().any(|m| m.len() != n_g) {
+/// What a `RIGID = REMOVE` artifact holds for a multibody body (module doc): the affine nodal
+/// masses with their grids, the affine components of the mass invariants (one per component,
+/// in the pROM's function order) and the interface rows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PromBody {
+    pub grids: Vec<u32>,
+    pub masses: AffineMasses,
+    pub invariants: Vec<MassInvariants>,
+    pub interface: InterfaceRows,
+}
+
+/// Write `body` into `prom` (normally the output file's `/prom`, module doc).
+pub fn write_prom_body(prom: &Group, body: &PromBody) -> Result<(), IoError> {
+    let masses = &body.masses;
+    let n_g = body.grids.len();
+    if masses.positions.len() != n_g
+        || masses.nodal.iter().any(|m| m.len() != n_g)
+        || masses.nodal.len() != body.invariants.len()
+    {
         return Err(IoError::invalid(
-            group.filename(),
-            "/prom/mass",
-            format!("{n_g} grid ids for {} positions", masses.positions.len()),
+            prom.filename(),
+            "/prom/nodal_mass",
+            format!(
+                "{n_g} grid ids for {} positions; {} mass components for {} invariant components",
+                masses.positions.len(),
+                masses.nodal.len(),
+                body.invariants.len()
+            ),
         ));
     }
-    write_u32(group, "grids", grids, &[n_g])?;
-    write_f64(group, "positions", &masses.positions.concat(), &[n_g, 3])?;
-    write_f64(group, "nodal", &masses.nodal.concat(), &[n_f, n_g])?;
-    write_f64(group, "total", &masses.total(), &[n_f])?;
-    write_f64(
-        group,
-        "first_moment",
-        &masses.first_moment().concat(),
-        &[n_f, 3],
-    )?;
-    write_f64(
-        group,
-        "second_moment",
-        &masses.second_moment().concat(),
-        &[n_f, 3, 3],
-    )?;
+    let nodal = create_group(prom, "nodal_mass")?;
+    write_u32(&nodal, "grids", &body.grids, &[n_g])?;
+    write_f64(&nodal, "positions", &masses.positions.concat(), &[n_g, 3])?;
+    for (i, m) in masses.nodal.iter().enumerate() {
+        write_f64(&nodal, &i.to_string(), m, &[n_g])?;
+    }
+    let invariants = create_group(prom, "invariants")?;
+    for k in 0..INVARIANTS {
+        let group = create_group(&invariants, &k.to_string())?;
+        for (i, component) in body.invariants.iter().enumerate() {
+            let (values, shape) = &component.to_arrays()[k];
+            write_f64(&group, &i.to_string(), values, shape)?;
+        }
+    }
+    let interface = create_group(prom, "interface")?;
+    let n_b = body.interface.grids.len();
+    let n_r = body.interface.rows.first().map_or(0, |r| r.ncols());
+    write_u32(&interface, "grids", &body.interface.grids, &[n_b])?;
+    let rows: Vec<f64> = body
+        .interface
+        .rows
+        .iter()
+        .flat_map(|r| (0..6).flat_map(move |c| (0..n_r).map(move |k| r[(c, k)])))
+        .collect();
+    write_f64(&interface, "rows", &rows, &[n_b, 6, n_r])?;
     Ok(())
 }
+
+/// The mass and the nine invariants of `/prom/invariants`.
+const INVARIANTS: usize = 10;
 
 /// Opens a pROM artifact read-only, without HDF5 file locking: artifacts are inputs that many
 /// runs (and the tests' threads) read at once, and paraflex never writes a file in place (each
@@ -118,44 +148,99 @@ pub(crate) fn open_artifact(path: &Path) -> Result<hdf5::File, IoError> {
         .map_err(|e| IoError::hdf5(path, "open for reading", e))
 }
 
-/// The affine nodal masses of a pROM artifact (`/prom/mass`: grid ids and masses), `None` when
-/// the build did not write them (RIGID = KEEP).
-pub fn read_prom_masses(
+/// The multibody data of a pROM artifact (module doc), `None` when the build did not write
+/// them (RIGID = KEEP). `n_red` and `n_f` (functions) are the pROM's, from [`read_prom`].
+pub fn read_prom_body(
     path: impl AsRef<Path>,
-) -> Result<Option<(Vec<u32>, AffineMasses)>, IoError> {
+    n_red: usize,
+    n_f: usize,
+) -> Result<Option<PromBody>, IoError> {
     let path = path.as_ref();
     let file = open_artifact(path)?;
-    let Ok(group) = file.group("prom/mass") else {
+    let Ok(nodal) = file.group("prom/nodal_mass") else {
         return Ok(None);
     };
-    let grids = group
-        .dataset("grids")
-        .and_then(|d| d.read_raw::<u32>())
-        .map_err(|e| IoError::hdf5(path, "read /prom/mass/grids", e))?;
-    let read = |name: &str| {
+    let read = |group: &Group, name: &str| {
         group
             .dataset(name)
             .and_then(|d| d.read_raw::<f64>())
-            .map_err(|e| IoError::hdf5(path, format!("read /prom/mass/{name}"), e))
+            .map_err(|e| IoError::hdf5(path, format!("read {}/{name}", group.name()), e))
     };
-    let (positions, nodal) = (read("positions")?, read("nodal")?);
+    let ids = |group: &Group| {
+        group
+            .dataset("grids")
+            .and_then(|d| d.read_raw::<u32>())
+            .map_err(|e| IoError::hdf5(path, format!("read {}/grids", group.name()), e))
+    };
+    let open = |name: &str| {
+        file.group(name)
+            .map_err(|e| IoError::hdf5(path, format!("open /{name}"), e))
+    };
+    let grids = ids(&nodal)?;
+    let positions = read(&nodal, "positions")?;
     let n_g = grids.len();
-    if positions.len() != 3 * n_g || n_g == 0 || nodal.len() % n_g != 0 {
+    let masses = (0..n_f)
+        .map(|i| read(&nodal, &i.to_string()))
+        .collect::<Result<Vec<_>, _>>()?;
+    if positions.len() != 3 * n_g || masses.iter().any(|m| m.len() != n_g) {
         return Err(IoError::malformed(
             path,
-            "/prom/mass",
+            "/prom/nodal_mass",
             format!(
-                "{n_g} grids, {} position values, {} nodal mass values",
+                "{n_g} grids, {} position values, nodal mass lengths {:?}",
                 positions.len(),
-                nodal.len()
+                masses.iter().map(Vec::len).collect::<Vec<_>>()
             ),
         ));
     }
-    let masses = AffineMasses {
-        positions: positions.chunks(3).map(|r| [r[0], r[1], r[2]]).collect(),
-        nodal: nodal.chunks(n_g).map(<[f64]>::to_vec).collect(),
+    let invariant_groups = (0..INVARIANTS)
+        .map(|k| open(&format!("prom/invariants/{k}")))
+        .collect::<Result<Vec<_>, _>>()?;
+    let invariants = (0..n_f)
+        .map(|i| {
+            let arrays = invariant_groups
+                .iter()
+                .map(|g| read(g, &i.to_string()))
+                .collect::<Result<Vec<_>, _>>()?;
+            MassInvariants::from_arrays(&arrays, n_red).ok_or_else(|| {
+                IoError::malformed(
+                    path,
+                    "/prom/invariants",
+                    format!("component {i}: array lengths do not match n_red = {n_red}"),
+                )
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let interface = open("prom/interface")?;
+    let interface_grids = ids(&interface)?;
+    let rows = read(&interface, "rows")?;
+    let per_grid = 6 * n_red;
+    if rows.len() != interface_grids.len() * per_grid {
+        return Err(IoError::malformed(
+            path,
+            "/prom/interface/rows",
+            format!(
+                "{} values for {} grids × 6 × n_red = {n_red}",
+                rows.len(),
+                interface_grids.len()
+            ),
+        ));
+    }
+    let interface = InterfaceRows {
+        rows: (0..interface_grids.len())
+            .map(|b| Mat::from_fn(6, n_red, |c, k| rows[b * per_grid + c * n_red + k]))
+            .collect(),
+        grids: interface_grids,
     };
-    Ok(Some((grids, masses)))
+    Ok(Some(PromBody {
+        grids,
+        masses: AffineMasses {
+            positions: positions.chunks(3).map(|r| [r[0], r[1], r[2]]).collect(),
+            nodal: masses,
+        },
+        invariants,
+        interface,
+    }))
 }
 
 fn create_group(parent: &Group, name: &str) -> Result<Group, IoError> {

@@ -2,7 +2,8 @@
 //! local bases Ψ_h and optionally strain bases N_s,h sampled by another FE code at parameter
 //! samples p_h. The affine components X^i come from least squares over the samples (eq. 3.29,
 //! [`super::lsq::extract_matrices`]); the global basis V from the Ψ_h through
-//! [`Concatenation`] (column scaling, MAC filter eq. 3.39, SVD eq. 3.33–3.34, truncated at the
+//! [`Concatenation`] (column scaling, MAC filter eq. 3.39 in the mass and stiffness of the fitted
+//! components at each sample, SVD eq. 3.33–3.34, truncated at the
 //! numerical rank [`RANK_TOL`]); the reduced components by projection K_r^i = Vᵀ K^i V,
 //! M_r^i = Vᵀ M^i V (eq. 3.31); the strain rows from the N_s,h by eq. 3.36–3.38
 //! ([`Concatenation::companion`]), since the external code's strain operator B_e is unknown.
@@ -15,7 +16,7 @@
 use faer::{Mat, MatRef};
 use nalgebra_sparse::CscMatrix;
 
-use super::basis::{CompanionError, Concatenation};
+use super::basis::{CompanionError, Concatenation, ConcatenationError, PencilError, SampledPencil};
 use super::build::RANK_TOL;
 use super::lsq::MatrixFit;
 use super::prom::{AffineFunction, CoefficientInput, Prom, PromParameter};
@@ -64,6 +65,8 @@ pub enum BlackBoxError {
     Strain(#[from] CompanionError),
     #[error("input DOF {index} is not in 0..{size}")]
     Input { index: usize, size: usize },
+    #[error("MAC filter: {0}")]
+    Pencil(PencilError),
     #[error("SVD of the concatenated local bases failed: {0:?}")]
     Svd(faer::linalg::svd::SvdError),
 }
@@ -94,7 +97,16 @@ pub fn build_black_box(
         return Err(BlackBoxError::EmptyBasis);
     }
     let views: Vec<MatRef<'_, f64>> = input.bases.iter().map(Mat::as_ref).collect();
-    let concatenation = Concatenation::new(&views, input.mac_tol).map_err(BlackBoxError::Svd)?;
+    let pencil = SampledPencil {
+        stiffness: &fit.stiffness,
+        mass: &fit.mass,
+        weights: input.values,
+    };
+    let concatenation =
+        Concatenation::new(&views, &pencil, input.mac_tol).map_err(|e| match e {
+            ConcatenationError::Svd(e) => BlackBoxError::Svd(e),
+            ConcatenationError::Pencil(e) => BlackBoxError::Pencil(e),
+        })?;
     let rank = concatenation.global.numerical_rank(RANK_TOL);
     let strains = if input.strains.is_empty() {
         Mat::zeros(0, rank)

@@ -8,7 +8,8 @@
 //! 3. concatenation (eq. 3.33) of the columns scaled to unit length (the thesis concatenates
 //!    raw columns; M-normalized modes and unit-load modes differ in scale by orders of
 //!    magnitude, which would let the SVD rank columns by their units instead of their shape),
-//!    MAC filter (eq. 3.39) between columns of different samples and SVD (eq. 3.34):
+//!    MAC filter (eq. 3.39) between columns of different samples, in the mass and stiffness
+//!    inner products of each candidate's sample ([`super::basis::mac_filter`]), and SVD (eq. 3.34):
 //!    [`Concatenation`];
 //! 4. every affine part projected once on the left singular vectors up to the numerical rank;
 //!    the basis is grown by DSIZE columns (leading blocks of the projected parts) until the FRF
@@ -22,7 +23,7 @@ use faer::{Mat, Par};
 use nalgebra_sparse::CscMatrix;
 use rayon::prelude::*;
 
-use super::basis::{Concatenation, frf_change, latin_hypercube};
+use super::basis::{Concatenation, ConcatenationError, SampledPencil, frf_change, latin_hypercube};
 use super::local_basis::{
     LocalBasisError, LocalBasisRequest, LocalBasisSetup, RigidModes, StaticModes, local_basis,
 };
@@ -101,8 +102,8 @@ pub enum BuildError {
     },
     #[error(transparent)]
     Linalg(#[from] LinalgError),
-    #[error("SVD of the concatenated bases failed: {0:?}")]
-    Svd(faer::linalg::svd::SvdError),
+    #[error(transparent)]
+    Concatenation(#[from] ConcatenationError),
     #[error("FRF of the size selection: {0}")]
     Frf(FrfError),
     #[error("the local bases are empty (no modes below FMAX and no static modes)")]
@@ -228,7 +229,17 @@ pub fn build_prom(
     }
     let concatenation = {
         let views: Vec<faer::MatRef<'_, f64>> = locals.iter().map(Mat::as_ref).collect();
-        Concatenation::new(&views, settings.mac_tol).map_err(BuildError::Svd)?
+        let weights: Vec<Vec<f64>> = log
+            .samples
+            .iter()
+            .map(|p| fom.functions.iter().map(|f| f.value(p)).collect())
+            .collect();
+        let pencil = SampledPencil {
+            stiffness: &fom.stiffness,
+            mass: &fom.mass,
+            weights: &weights,
+        };
+        Concatenation::new(&views, &pencil, settings.mac_tol)?
     };
     drop(locals);
     log.mac_kept = concatenation.kept();

@@ -1,5 +1,5 @@
-//! Affine nodal masses of a pROM body for the multibody step (thesis §4.2, eq. 4.1–4.2) and the
-//! affine components of its rigid mass invariants (eq. 4.8 with A.11 and A.13).
+//! Affine nodal masses of a pROM body for the multibody step (thesis §4.2, eq. 4.1–4.3); the
+//! mass invariants built from them are in [`super::invariants`].
 //!
 //! The mass matrix of the pROM is affine, M(p) = Σ_k f_k(p) M^k (eq. 3.26), so the nodal masses
 //! are affine with the same functions: m_j(p) = Σ_k f_k(p) m_j^k (eq. 4.1), and so are the total
@@ -15,7 +15,7 @@
 
 use crate::assembly::{AffineOperator, AssemblyError, GridFrames, ParamKey};
 
-/// The affine nodal masses of a body and their first two moments.
+/// The affine nodal masses of a body.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AffineMasses {
     /// Undeformed grid positions r_0,j in basic (one per grid of the model).
@@ -66,52 +66,12 @@ impl AffineMasses {
             .collect::<Result<_, _>>()?;
         Ok(AffineMasses { positions, nodal })
     }
-
-    /// m^k = Σ_j m_j^k (eq. 4.2).
-    pub fn total(&self) -> Vec<f64> {
-        self.nodal.iter().map(|m| m.iter().sum()).collect()
-    }
-
-    /// M̂_1^k = Σ_j m_j^k r_0,j (eq. A.11): the centre of mass is Σ_k f_k M̂_1^k / Σ_k f_k m^k.
-    pub fn first_moment(&self) -> Vec<[f64; 3]> {
-        self.nodal
-            .iter()
-            .map(|m| {
-                std::array::from_fn(|i| {
-                    m.iter().zip(&self.positions).map(|(mj, r)| mj * r[i]).sum()
-                })
-            })
-            .collect()
-    }
-
-    /// M̂_3^k = Σ_j m_j^k r̃_0,j r̃_0,j (eq. A.13; r̃ the cross-product matrix), row-major 3 × 3:
-    /// r̃ r̃ = r rᵀ − (rᵀr) I, so −M̂_3 is the inertia tensor of the nodal masses about the origin.
-    pub fn second_moment(&self) -> Vec<[f64; 9]> {
-        self.nodal
-            .iter()
-            .map(|m| {
-                std::array::from_fn(|ij| {
-                    let (i, j) = (ij / 3, ij % 3);
-                    m.iter()
-                        .zip(&self.positions)
-                        .map(|(mj, r)| {
-                            mj * (r[i] * r[j]
-                                - if i == j {
-                                    r.iter().map(|x| x * x).sum()
-                                } else {
-                                    0.0
-                                })
-                        })
-                        .sum()
-                })
-            })
-            .collect()
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rom::invariants::{MassInvariants, TranslationRows};
     use std::sync::Arc;
 
     /// Two grids, one part: a 12 × 12 diagonal mass with translational masses 2 (grid 0) and
@@ -149,12 +109,16 @@ mod tests {
         )
         .unwrap();
         assert_eq!(m.nodal, vec![vec![2.0, 5.0]]);
-        assert_eq!(m.total(), vec![7.0]);
-        assert_eq!(m.first_moment(), vec![[5.0, 10.0, 0.0]]);
+        // the rigid invariants of these masses (no basis columns)
+        let no_columns = TranslationRows {
+            axes: std::array::from_fn(|_| faer::Mat::zeros(2, 0)),
+        };
+        let inv = MassInvariants::new(&m.nodal[0], &m.positions, &no_columns);
+        assert_eq!((inv.mass, inv.m1), (7.0, [5.0, 10.0, 0.0]));
         // 5 · (r rᵀ − |r|² I) with r = (1, 2, 0), |r|² = 5
         assert_eq!(
-            m.second_moment(),
-            vec![[-20.0, 10.0, 0.0, 10.0, -5.0, 0.0, 0.0, 0.0, -25.0]]
+            inv.m3,
+            [[-20.0, 10.0, 0.0], [10.0, -5.0, 0.0], [0.0, 0.0, -25.0]]
         );
     }
 }

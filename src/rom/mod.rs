@@ -9,8 +9,9 @@
 //! - [`local_basis`]: normal modes plus attachment (or inertia-relief) static modes of one
 //!   sample, rigid-body modes kept or removed (eq. 2.28), or Craig–Bampton fixed-interface and
 //!   constraint modes;
-//! - [`mass`]: affine nodal masses and rigid mass invariants for the multibody step (eq. 4.1–4.2,
-//!   A.11, A.13);
+//! - [`mass`]: affine nodal masses for the multibody step (eq. 4.1–4.3);
+//! - [`invariants`]: the nine mass invariants of a floating-frame body and their affine
+//!   components (eq. 4.8, A.11–A.19), and the basis rows of its interface grids;
 //! - [`prom`]: the [`prom::Prom`] type, evaluated online at any parameter value with its
 //!   parameter derivatives (eq. 3.32; eq. 8.19–8.20 need the derivatives);
 //! - [`transient`]: a pROM as a time integrator backend, its parameters following tables of
@@ -19,6 +20,7 @@
 pub mod basis;
 pub mod black_box;
 pub mod build;
+pub mod invariants;
 pub mod local_basis;
 pub mod lsq;
 pub mod mass;

@@ -11,9 +11,10 @@
 //! Written: `/prom` ([`write_prom`]), `/prom/inputs/{names, S_r}` (n_red × n_in),
 //! `/prom/sensors/{names, kind, H_r}` (s × n_red): H_r = H Φ with the f-set rows H of the
 //! subcase's SENSORs ([`crate::discretize::sensors`]: DISP, VEL, ACCEL and STRAIN, eq. 2.32, 2.34),
-//! `/prom/mass` (affine nodal masses, eq. 4.1–4.2, and mass invariants A.11, A.13; only with
-//! `RIGID = REMOVE`, the floating-frame bodies of a multibody scene, which are the only users),
-//! and
+//! `/prom/nodal_mass`, `/prom/invariants` and `/prom/interface` ([`crate::io::write_prom_body`]: affine
+//! nodal masses eq. 4.1–4.3, the affine components of the mass invariants eq. 4.8, A.11–A.19,
+//! and the basis rows of the ASET1 grids; only with `RIGID = REMOVE`, the floating-frame bodies
+//! of a multibody scene, which are the only users), and
 //! `/prom/build/{samples, singular_values, size_history, error_history, timings}` with
 //! attributes `mac_kept`, `concatenated`, `converged`, `singular_lines`.
 
@@ -24,10 +25,9 @@ use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::assembly::DofMap;
 use crate::deck::cards::{Pmor, PmorRigid, PmorStatic};
 use crate::discretize::sensors::sensor_kind_name;
-use crate::discretize::{Constrained, Structure, affine_fom, affine_keys};
+use crate::discretize::{Constrained, Structure, affine_fom, affine_keys, flexible_body};
 use crate::io::{
-    IoError, set_attr_i64, set_attr_strings, write_f64, write_prom, write_prom_masses,
-    write_strings,
+    IoError, set_attr_i64, set_attr_strings, write_f64, write_prom, write_prom_body, write_strings,
 };
 use crate::linalg::Mat;
 use crate::rom::build::{BuildLog, Built, PromSettings, build_prom};
@@ -120,6 +120,9 @@ pub fn run(
         super::subcase_sensors(ctx, st, &c, sub)
     })?;
     let h_r = sensors.project(&basis);
+    let body = masses
+        .map(|masses| flexible_body(model, st, &c, &basis, masses))
+        .transpose()?;
     drop(basis);
     let n_full = k_ff.nrows();
     clock.time(
@@ -140,9 +143,8 @@ pub fn run(
                 write_strings(&g, "kind", &kinds)?;
                 write_f64(&g, "H_r", &row_major(&h_r), &[h_r.nrows(), h_r.ncols()])?;
             }
-            if let Some(masses) = &masses {
-                let grids: Vec<u32> = model.grids.iter().map(|g| g.id).collect();
-                write_prom_masses(&ctx.output.group("prom/mass")?, &grids, masses)?;
+            if let Some(body) = &body {
+                write_prom_body(&group, body)?;
             }
             write_log(ctx, &log)
         },
