@@ -18,8 +18,8 @@ use super::constraints::RigidElimination;
 use super::dofs::{DofMap, Sets, check_len};
 use super::error::AssemblyError;
 use super::frames::GridFrames;
-use crate::deck::cards::ForceKind;
 use crate::model::Model;
+use crate::model::card_fields::ForceKind;
 
 /// The mass matrix M_gg as an operator and the values to use (M at the current parameters).
 pub struct Mass<'a> {

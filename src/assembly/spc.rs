@@ -28,7 +28,7 @@ use super::assemble::AffineOperator;
 use super::constraints::RigidElimination;
 use super::dofs::{DofMap, DofSet};
 use super::error::{AssemblyError, DofName};
-use crate::deck::reader::Dofs;
+use crate::model::Dofs;
 use crate::model::Model;
 
 /// AUTOSPC threshold: a diagonal ≤ ratio × the largest diagonal of its grid's translation or

@@ -48,7 +48,7 @@ use super::DiscretizeError;
 use super::parameters::Parameters;
 use crate::assembly::assemble::Binding;
 use crate::assembly::{Contribution, DofMap, GridFrames, ParamTarget};
-use crate::deck::cards::{CornerThickness, Pcomp, PmparKind, ShellOrientation, SpringEnd};
+use crate::deck::cards::{Pcomp, PmparKind};
 use crate::fe::affine::{AffineMatrix, Coefficient, CoefficientValues};
 use crate::fe::laminate::{
     Laminate, Ply, PshellSection, RoleMaterial, SectionData, SectionError, SectionParameter,
@@ -57,6 +57,7 @@ use crate::fe::laminate::{
 use crate::fe::lumped::{Conm2, GridComponent, ScalarSpring};
 use crate::fe::{shell, solid};
 use crate::linalg::Progress;
+use crate::model::card_fields::{CornerThickness, ShellOrientation, SpringEnd};
 use crate::model::{Element, ElementKind, MaterialRef, Model, PropertyRef};
 
 /// Element matrices of a model, ready for assembly, plus what strain recovery needs.

@@ -31,11 +31,12 @@ use nalgebra_sparse::{CooMatrix, CscMatrix};
 
 use super::elements::{shell_strains, solid_kind_of};
 use super::{Constrained, DiscretizeError, Structure};
-use crate::deck::cards::{Sensor, SensorKind};
+use crate::deck::cards::Sensor;
 use crate::dynamics::measurement::Reads;
 use crate::fe::solid;
 use crate::geometry::vec3::dot;
 use crate::model::Model;
+use crate::model::card_fields::SensorKind;
 
 /// The measurement rows of a subcase's sensors on the f-set.
 #[derive(Debug, Clone)]

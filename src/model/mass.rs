@@ -27,7 +27,8 @@
 //! are −Σ m dx dy (negative products). WTMASS multiplies mass and inertia because that is the
 //! mass that enters the mass matrix (Nastran's GPWG prints weight units, i.e. without WTMASS).
 
-use crate::deck::cards::{Conm2, CornerThickness};
+use super::card_fields::CornerThickness;
+use crate::deck::cards::Conm2;
 use crate::geometry::mat3::{IDENTITY, mul_vec};
 use crate::geometry::rotation::rotate_tensor;
 use crate::geometry::vec3::{add, dot, scale, sub};

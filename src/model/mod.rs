@@ -15,8 +15,10 @@
 //! - [`lookup`]: solution-control data by id (EIGRL, FREQ, TSTEP, PMOR, PVAL, EKF, …).
 
 pub mod build;
+pub mod card_fields;
 pub mod case;
 pub mod coords;
+mod dofs;
 pub mod geometry;
 pub mod ids;
 pub mod lookup;
@@ -31,10 +33,10 @@ pub mod xref;
 use std::collections::HashMap;
 
 use crate::deck::case_control::Subcase;
-use crate::deck::reader::Dofs;
 use crate::deck::{BulkData, Loc, Solution, Warning};
 
 pub use coords::CoordSystem;
+pub use dofs::Dofs;
 pub use mass::MassProperties;
 pub use mesh::{ElementBlock, MeshArrays};
 pub use params::ModelParams;

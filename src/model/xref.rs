@@ -24,7 +24,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use crate::deck::cards::SensorKind;
+use super::card_fields::{ForceKind, SensorKind};
 use crate::deck::{Deck, DeckError, Loc};
 
 use super::MaterialRef;
@@ -425,8 +425,8 @@ fn reads_rom(deck: &Deck) -> bool {
 
 fn force_name(f: &crate::deck::cards::Force) -> &'static str {
     match f.kind {
-        crate::deck::cards::ForceKind::Force => "FORCE",
-        crate::deck::cards::ForceKind::Moment => "MOMENT",
+        ForceKind::Force => "FORCE",
+        ForceKind::Moment => "MOMENT",
     }
 }
 

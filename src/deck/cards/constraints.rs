@@ -2,7 +2,8 @@
 
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
-use crate::deck::reader::{Dofs, FieldReader};
+use crate::deck::reader::FieldReader;
+use crate::model::Dofs;
 
 /// `SPC` — single-point constraint with an enforced value (one entry per grid on the card).
 ///

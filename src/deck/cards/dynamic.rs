@@ -4,8 +4,9 @@
 use super::loads::combination;
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
-use crate::deck::reader::{Dofs, FieldReader};
+use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
+use crate::model::Dofs;
 
 /// `EIGRL` — real eigenvalue extraction (Lanczos).
 ///

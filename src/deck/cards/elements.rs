@@ -5,30 +5,13 @@ use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
-
-/// Material orientation of a shell: angle from the G1–G2 side, or a coordinate system.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub enum ShellOrientation {
-    /// THETA in degrees (real field).
-    Theta(f64),
-    /// MCID: the projection of this system's x axis gives the material x axis (integer field).
-    Mcid(u32),
-}
+use crate::model::card_fields::{CornerThickness, ShellOrientation, SpringEnd};
 
 fn orientation(f: &mut FieldReader, i: usize) -> ShellOrientation {
     match f.value(i) {
         Value::Int(_) => ShellOrientation::Mcid(f.id0_or(i, "MCID", 0)),
         _ => ShellOrientation::Theta(f.real_or(i, "THETA", 0.0)),
     }
-}
-
-/// Corner thicknesses of a shell (continuation: TFLAG, T1 … Tn).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct CornerThickness {
-    /// TFLAG = 1: the Ti are ratios of the property thickness; 0: actual thicknesses.
-    pub relative: bool,
-    /// Ti per corner; `None` = the property thickness (or ratio 1.0).
-    pub t: [Option<f64>; 4],
 }
 
 /// Read the corner-thickness continuation (TFLAG at `first`, then `count` corner values).
@@ -273,15 +256,6 @@ impl Ctetra {
             loc,
         })
     }
-}
-
-/// One end of a scalar spring: a grid and a component, or ground.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-pub struct SpringEnd {
-    /// Grid id, or `None` for ground.
-    pub grid: Option<u32>,
-    /// Component 1–6 (0 for ground).
-    pub component: u8,
 }
 
 fn spring_end(f: &mut FieldReader, i: usize, gname: &str, cname: &str) -> SpringEnd {

@@ -6,6 +6,7 @@ use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
 use crate::io::csv_table::Column;
+use crate::model::card_fields::SensorKind;
 
 /// What a `PMPAR` parameter scales.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -284,15 +285,6 @@ impl Pval {
         f.finish(len.max(1))?;
         Ok(Pval { id, values, loc })
     }
-}
-
-/// What a `SENSOR` measures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-pub enum SensorKind {
-    Disp,
-    Vel,
-    Accel,
-    Strain,
 }
 
 /// `SENSOR` — a virtual sensor.

@@ -2,7 +2,8 @@
 
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
-use crate::deck::reader::{Dofs, FieldReader};
+use crate::deck::reader::FieldReader;
+use crate::model::Dofs;
 
 /// `GRID` — grid point.
 ///

@@ -3,15 +3,7 @@
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
-
-/// Whether a [`Force`] card is a force or a moment.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-pub enum ForceKind {
-    /// `FORCE`.
-    Force,
-    /// `MOMENT`.
-    Moment,
-}
+use crate::model::card_fields::ForceKind;
 
 /// `FORCE` / `MOMENT` — concentrated load at a grid: F · (N1, N2, N3) in system CID.
 ///

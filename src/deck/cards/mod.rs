@@ -24,24 +24,25 @@ pub use design::{Ddval, Desvar};
 pub use dynamic::{
     Darea, Dload, EigenNorm, Eigrl, Freq, FreqKind, Rload1, Tabled1, Tic, Tload1, Tstep,
 };
-pub use elements::{
-    Celas1, Celas2, Chexa, Conm2, CornerThickness, Cpenta, Cquad4, Ctetra, Ctria3,
-    ShellOrientation, SpringEnd,
-};
+pub use elements::{Celas1, Celas2, Chexa, Conm2, Cpenta, Cquad4, Ctetra, Ctria3};
 pub use estimate::{Ekf, Ekfinp, Ekfpar, Meas, Measf};
 pub use extension::{
-    Pmor, PmorRigid, PmorStatic, Pmpar, PmparKind, Ptable, Pval, Sensor, SensorKind, Tablef,
-    Tinteg, TintegMethod,
+    Pmor, PmorRigid, PmorStatic, Pmpar, PmparKind, Ptable, Pval, Sensor, Tablef, Tinteg,
+    TintegMethod,
 };
 pub use geometry::{Cord2, CordKind, Grid};
-pub use loads::{Force, ForceKind, Grav, Load};
+pub use loads::{Force, Grav, Load};
 pub use materials::{Mat1, Mat8};
 pub use param::{Param, ParamValue};
 pub use properties::{Pcomp, Pelas, Ply, Pshell, Psolid};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
 
+/// The sensor quantity, for the measurement models that still name it through the deck.
+pub use crate::model::card_fields::SensorKind;
+
 use super::error::DeckError;
 use super::fields::RawCard;
+use crate::model::card_fields::ForceKind;
 
 /// Every bulk-data card of a deck, by kind, in input order.
 #[derive(Debug, Default, Clone)]

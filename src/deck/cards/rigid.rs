@@ -2,8 +2,9 @@
 
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
-use crate::deck::reader::{Dofs, FieldReader};
+use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
+use crate::model::Dofs;
 
 /// `RBE2` — rigid body: the CM components of every dependent grid follow the independent grid.
 ///

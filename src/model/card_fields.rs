@@ -1,0 +1,48 @@
+//! Typed values of card fields that the model keeps and the solver reads: force or moment,
+//! sensor quantity, shell material orientation and corner thicknesses, scalar-spring ends.
+//! The deck reader builds them while parsing the cards.
+
+/// Whether a `FORCE` / `MOMENT` card is a force or a moment.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum ForceKind {
+    /// `FORCE`.
+    Force,
+    /// `MOMENT`.
+    Moment,
+}
+
+/// What a `SENSOR` measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum SensorKind {
+    Disp,
+    Vel,
+    Accel,
+    Strain,
+}
+
+/// Material orientation of a shell: angle from the G1–G2 side, or a coordinate system.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub enum ShellOrientation {
+    /// THETA in degrees (real field).
+    Theta(f64),
+    /// MCID: the projection of this system's x axis gives the material x axis (integer field).
+    Mcid(u32),
+}
+
+/// Corner thicknesses of a shell (continuation: TFLAG, T1 … Tn).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct CornerThickness {
+    /// TFLAG = 1: the Ti are ratios of the property thickness; 0: actual thicknesses.
+    pub relative: bool,
+    /// Ti per corner; `None` = the property thickness (or ratio 1.0).
+    pub t: [Option<f64>; 4],
+}
+
+/// One end of a scalar spring: a grid and a component, or ground.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct SpringEnd {
+    /// Grid id, or `None` for ground.
+    pub grid: Option<u32>,
+    /// Component 1–6 (0 for ground).
+    pub component: u8,
+}
