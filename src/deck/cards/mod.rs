@@ -37,9 +37,6 @@ pub use param::{Param, ParamValue};
 pub use properties::{Pcomp, Pelas, Ply, Pshell, Psolid};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
 
-/// The sensor quantity, for the measurement models that still name it through the deck.
-pub use crate::model::card_fields::SensorKind;
-
 use super::error::DeckError;
 use super::fields::RawCard;
 use crate::model::card_fields::ForceKind;
