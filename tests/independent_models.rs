@@ -7,31 +7,11 @@
 
 mod common;
 
-use std::path::PathBuf;
-
 use paraflex::model::Model;
 use paraflex::sequence::{RunSummary, SubcaseResult};
 use serde_json::Value;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn json(rel: &str) -> Value {
-    let p = root().join(rel);
-    serde_json::from_str(
-        &std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display())),
-    )
-    .expect("json")
-}
-
-fn f64s(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .unwrap_or_else(|| panic!("not an array: {v}"))
-        .iter()
-        .map(|x| x.as_f64().expect("number"))
-        .collect()
-}
+use common::{f64s, json, root};
 
 /// `error ≤ bound`, false for a NaN error (a failed comparison must not pass).
 fn within(error: f64, bound: f64) -> bool {

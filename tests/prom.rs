@@ -1190,6 +1190,7 @@ fn every_strip_mode_below_fmax_is_kept_at_sampled_and_unsampled_angles() {
 ///   basic, the pROM by sparse projection of the f-set parts);
 /// - the interface rows (ASET1 grids 1 and 65, six components) come back one 6 × n_r block per
 ///   grid, and the T3 row of grid 65 equals the pROM's input shape of 65:3.
+///
 /// Bounds: 1e-12 relative for the hand sums (~10² exact products), 1e-10 of the largest entry
 /// for M̂₉ (two summation orders of the same products).
 #[test]

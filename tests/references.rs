@@ -12,6 +12,8 @@
 //! finest-mesh tolerance, the error must fall with refinement at a rate consistent with the
 //! JSON's `expected_order` — see [`check_convergence`] for the exact rule.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -24,25 +26,7 @@ use paraflex::model::Model;
 use paraflex::sequence::{RunContext, RunSummary, SubcaseResult, run};
 use serde_json::Value;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn json(rel: &str) -> Value {
-    let p = root().join(rel);
-    serde_json::from_str(
-        &std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display())),
-    )
-    .expect("json")
-}
-
-fn f64s(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .unwrap_or_else(|| panic!("not an array: {v}"))
-        .iter()
-        .map(|x| x.as_f64().expect("number"))
-        .collect()
-}
+use common::{f64s, json, root};
 
 /// A finished run: the summary, the model and the HDF5 file (kept alive by the temp dir).
 struct Run {

@@ -288,21 +288,7 @@ pub fn integrate_with<B: Backend>(
     mut observe: impl FnMut(&StepState<'_>),
 ) -> Result<(), IntegrationError> {
     let n = backend.size();
-    for (what, got) in [
-        ("initial displacement", q0.len()),
-        ("initial velocity", v0.len()),
-    ] {
-        if got != n {
-            return Err(IntegrationError::Shape {
-                what,
-                expected: n,
-                got,
-            });
-        }
-    }
-    if !(run.dt > 0.0 && run.dt.is_finite()) {
-        return Err(IntegrationError::Step(run.dt));
-    }
+    check_start(n, q0, v0, run.dt)?;
     if let Method::GeneralizedAlpha { rho_inf } = method
         && !(0.0..=1.0).contains(&rho_inf)
     {
@@ -522,6 +508,31 @@ fn finite(step: usize, time: f64, q: &[f64]) -> Result<(), IntegrationError> {
         Err(IntegrationError::NonFinite { step, time })
     }
 }
+/// The initial state has `n` entries and the step is positive and finite.
+pub(crate) fn check_start(
+    n: usize,
+    q0: &[f64],
+    v0: &[f64],
+    dt: f64,
+) -> Result<(), IntegrationError> {
+    for (what, got) in [
+        ("initial displacement", q0.len()),
+        ("initial velocity", v0.len()),
+    ] {
+        if got != n {
+            return Err(IntegrationError::Shape {
+                what,
+                expected: n,
+                got,
+            });
+        }
+    }
+    if !(dt > 0.0 && dt.is_finite()) {
+        return Err(IntegrationError::Step(dt));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;

@@ -115,21 +115,7 @@ pub fn integrate_nonlinear<S: NonlinearSystem>(
     mut observe: impl FnMut(&StepState<'_>, &NewtonStats),
 ) -> Result<(), IntegrationError> {
     let n = system.size();
-    for (what, got) in [
-        ("initial displacement", q0.len()),
-        ("initial velocity", v0.len()),
-    ] {
-        if got != n {
-            return Err(IntegrationError::Shape {
-                what,
-                expected: n,
-                got,
-            });
-        }
-    }
-    if !(run.dt > 0.0 && run.dt.is_finite()) {
-        return Err(IntegrationError::Step(run.dt));
-    }
+    super::integrators::check_start(n, q0, v0, run.dt)?;
     let scheme = Scheme::new(method, run.dt)?;
     let mut solver = Solver::new(n, newton);
     let mut now = Kinematics {

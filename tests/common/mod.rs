@@ -209,3 +209,29 @@ pub fn clamped_plate_mesh(nx: usize, ny: usize, lx: f64, ly: f64) -> String {
         .map(|g| format!("SPC1,1,123456,{g}\n"))
         .collect::<String>()
 }
+
+/// The repository's root (reference JSONs, decks and meshes are read relative to it).
+#[allow(dead_code)]
+pub fn root() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A JSON file of the repository, e.g. a reference in `reference/`.
+#[allow(dead_code)]
+pub fn json(rel: &str) -> serde_json::Value {
+    let p = root().join(rel);
+    serde_json::from_str(
+        &std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display())),
+    )
+    .expect("json")
+}
+
+/// A JSON array of numbers.
+#[allow(dead_code)]
+pub fn f64s(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap_or_else(|| panic!("not an array: {v}"))
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect()
+}
