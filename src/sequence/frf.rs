@@ -35,7 +35,7 @@
 use nalgebra_sparse::{CooMatrix, CscMatrix};
 
 use super::report::{Report, sci};
-use super::shared::{frequency_lines, scaled_flat, write_frf};
+use super::shared::{frequency_lines, lanczos_modes, scaled_flat, write_frf};
 use super::{Clock, GridRows, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::deck::Solution;
 use crate::discretize::loads::frequency_inputs;
@@ -47,9 +47,7 @@ use crate::dynamics::frf::{
 use crate::dynamics::measurement::Reads;
 use crate::io::{set_attr_i64, set_attr_str, write_c64};
 use crate::linalg::dense::product;
-use crate::linalg::{
-    EigenProblem, EigenRequest, LanczosOptions, Mat, SymbolicFactor, c64, solve_modes,
-};
+use crate::linalg::{Mat, SymbolicFactor, c64};
 
 /// How the full-model FRF is computed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -187,28 +185,7 @@ pub fn run(
                 if omegas.contains(&0.0) {
                     static_stiffness_is_regular(&c.k_ff, &symbolic).map_err(frf_error)?;
                 }
-                let request = EigenRequest {
-                    v1_hz: eigrl.v1,
-                    v2_hz: eigrl.v2,
-                    nd: eigrl.nd.map(|n| n as usize),
-                    shift_hz: eigrl.shfscl,
-                };
-                let problem = EigenProblem {
-                    k: &c.k_ff,
-                    m: &c.m_ff,
-                    symbolic: &symbolic,
-                };
-                let r = clock
-                    .time(format!("subcase {id}: Lanczos"), || {
-                        solve_modes(
-                            &problem,
-                            &request,
-                            &LanczosOptions::default(),
-                            ctx.options.par(),
-                            ctx.progress,
-                        )
-                    })
-                    .map_err(|e| super::mechanism(&c, st, id, e))?;
+                let r = lanczos_modes(ctx, st, &c, id, eigrl, &symbolic, clock)?;
                 modes = r.eigenvalues.len();
                 let extra = if model.params.resvec {
                     let extra = clock

@@ -20,16 +20,14 @@
 //! [`crate::linalg::eigen`], "Singular M").
 
 use super::report::{Report, lambda_to_hz, sci, sturm_line};
+use super::shared::lanczos_modes;
 use super::{Clock, GridRows, RunContext, RunError, SubcaseResult, SubcaseSummary};
 use crate::assembly::recover::recover_g;
 use crate::deck::cards::EigenNorm;
 use crate::deck::case_control::Subcase;
 use crate::discretize::{Constrained, Structure};
 use crate::io::{set_attr_f64, set_attr_i64, set_attr_str, write_f64};
-use crate::linalg::{
-    EigenProblem, EigenRequest, EigenResult, LanczosOptions, SturmCheck, SymbolicFactor,
-    solve_modes,
-};
+use crate::linalg::{EigenResult, SturmCheck, SymbolicFactor};
 
 /// What one modal subcase found.
 #[derive(Debug, Clone)]
@@ -66,7 +64,6 @@ pub fn run(
 ) -> Result<Vec<SubcaseSummary>, RunError> {
     let mut symbolic_cache: Vec<(Vec<usize>, SymbolicFactor)> = Vec::new();
     let mut out = Vec::new();
-    let par = ctx.options.par();
     for sub in &ctx.model.subcases {
         let id = sub.id;
         let method = sub.method.ok_or_else(|| RunError::Case {
@@ -97,30 +94,9 @@ pub fn run(
                 s
             }
         };
-        let request = EigenRequest {
-            v1_hz: eigrl.v1,
-            v2_hz: eigrl.v2,
-            nd: eigrl.nd.map(|n| n as usize),
-            shift_hz: eigrl.shfscl,
-        };
-        let problem = EigenProblem {
-            k: &c.k_ff,
-            m: &c.m_ff,
-            symbolic: &symbolic,
-        };
-        let result = clock
-            .time(format!("subcase {id}: Lanczos"), || {
-                solve_modes(
-                    &problem,
-                    &request,
-                    &LanczosOptions::default(),
-                    par,
-                    ctx.progress,
-                )
-            })
-            .map_err(|e| super::mechanism(&c, st, id, e))?;
+        let result = lanczos_modes(ctx, st, &c, id, eigrl, &symbolic, clock)?;
         let summary = clock.time(format!("subcase {id}: output"), || {
-            write_subcase(ctx, st, &c, sub, norm, request.nd, result)
+            write_subcase(ctx, st, &c, sub, norm, eigrl.nd.map(|n| n as usize), result)
         })?;
         out.push(SubcaseSummary {
             id,

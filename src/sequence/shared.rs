@@ -2,12 +2,17 @@
 //! the frequency lines of `FREQUENCY` and the FRF output (full-model and pROM FRFs), and the
 //! placement of a DAREA on a pROM's inputs (pROM transient and estimation).
 
-use super::RunError;
+use super::{Clock, RunContext, RunError};
+use crate::deck::cards::Eigrl;
 use crate::deck::cards::{Darea, TintegMethod, Tstep};
 use crate::deck::case_control::Subcase;
+use crate::discretize::{Constrained, Structure};
 use crate::dynamics::integrators::Method;
 use crate::dynamics::measurement::Reads;
 use crate::io::{IoError, write_c64, write_f64, write_strings};
+use crate::linalg::{
+    EigenProblem, EigenRequest, EigenResult, LanczosOptions, SymbolicFactor, solve_modes,
+};
 use crate::linalg::{Mat, c64};
 use crate::model::Model;
 
@@ -128,4 +133,40 @@ pub fn place_input(
         .enumerate()
         .for_each(|(i, s)| *s += scale * s_r[(i, j)]);
     Ok(())
+}
+
+/// The modes an EIGRL card asks for, of the constrained model `c` (shift-invert Lanczos on the
+/// f-set with the symbolic analysis of K_ff), timed as the subcase's "Lanczos" step; a singular
+/// factor is reported as the mechanism DOF it comes from.
+pub fn lanczos_modes(
+    ctx: &RunContext,
+    st: &Structure,
+    c: &Constrained,
+    id: u32,
+    eigrl: &Eigrl,
+    symbolic: &SymbolicFactor,
+    clock: &mut Clock,
+) -> Result<EigenResult, RunError> {
+    let request = EigenRequest {
+        v1_hz: eigrl.v1,
+        v2_hz: eigrl.v2,
+        nd: eigrl.nd.map(|n| n as usize),
+        shift_hz: eigrl.shfscl,
+    };
+    let problem = EigenProblem {
+        k: &c.k_ff,
+        m: &c.m_ff,
+        symbolic,
+    };
+    clock
+        .time(format!("subcase {id}: Lanczos"), || {
+            solve_modes(
+                &problem,
+                &request,
+                &LanczosOptions::default(),
+                ctx.options.par(),
+                ctx.progress,
+            )
+        })
+        .map_err(|e| super::mechanism(c, st, id, e))
 }
