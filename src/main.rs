@@ -150,12 +150,13 @@ mod commands {
     use super::*;
 
     pub fn check(path: &Path, json: bool) -> Result<(), Failure> {
-        let (_, model) = load_model(path)?;
+        let (deck, model) = load_model(path)?;
         let summary = model.summary();
         if json {
             println!("{}", serde_json::to_string(&summary).unwrap_or_default());
         } else {
             print_warnings(&model.warnings);
+            print_warnings(&sequence::request_warnings(&deck, &model));
             print_summary(path, &summary);
         }
         Ok(())
@@ -182,6 +183,7 @@ mod commands {
     pub fn run(path: &Path, output: Option<&Path>) -> Result<(), Failure> {
         let (deck, model) = load_model(path)?;
         print_warnings(&model.warnings);
+        print_warnings(&sequence::request_warnings(&deck, &model));
         let out = output
             .map(Path::to_path_buf)
             .unwrap_or_else(|| path.with_extension("h5"));

@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 
 use common::{run_deck, run_deck_file};
 use paraflex::linalg::random::SplitMix64;
+use paraflex::sequence::RunSummary;
 use paraflex::sequence::estimate::EstimateSummary;
-use paraflex::sequence::{RunSummary, SubcaseResult};
 
 const DT: f64 = 1e-4;
 const STEPS: usize = 5000;
@@ -189,9 +189,9 @@ fn estimate(
 }
 
 fn summary(r: &RunSummary) -> &EstimateSummary {
-    match &r.subcases[0].result {
-        SubcaseResult::Estimate(e) => e,
-        other => panic!("not an estimation: {other:?}"),
+    match r.subcases[0].result::<EstimateSummary>() {
+        Some(e) => e,
+        None => panic!("not an estimation: {:?}", r.subcases[0].result),
     }
 }
 

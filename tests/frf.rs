@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use common::{run_deck, run_deck_file};
 use faer::c64;
 use hdf5_metno::types::VarLenUnicode;
-use paraflex::sequence::SubcaseResult;
+use paraflex::sequence::frf::FrfSummary;
 use serde_json::Value;
 
 fn root() -> PathBuf {
@@ -242,7 +242,7 @@ fn two_dof_matches(case: &str) {
     for (deck, text) in runs {
         let (run, dir) = run_deck(&text);
         let summary = run.unwrap_or_else(|e| panic!("{deck}: {e}"));
-        let SubcaseResult::Frf(s) = &summary.subcases[0].result else {
+        let Some(s) = summary.subcases[0].result::<FrfSummary>() else {
             panic!("{deck}: not a full-model FRF")
         };
         assert_eq!(
@@ -378,7 +378,7 @@ fn residual_vectors_make_truncated_modal_frf_exact_at_zero_hz() {
             plate()
         ));
         let summary = r.expect("SOL 111");
-        let SubcaseResult::Frf(s) = &summary.subcases[0].result else {
+        let Some(s) = summary.subcases[0].result::<FrfSummary>() else {
             panic!("not a full-model FRF")
         };
         assert_eq!((s.modes, s.residual_vectors.is_some()), (2, resvec));

@@ -8,7 +8,8 @@
 mod common;
 
 use paraflex::model::Model;
-use paraflex::sequence::{RunSummary, SubcaseResult};
+use paraflex::sequence::RunSummary;
+use paraflex::sequence::modal::ModalSummary;
 use serde_json::Value;
 
 use common::{f64s, json, root};
@@ -61,12 +62,15 @@ impl Run {
 
     /// Frequencies (Hz) of the modal subcase `subcase` (1-based), ascending.
     fn frequencies(&self, subcase: usize) -> Vec<f64> {
-        match &self.summary.subcases[subcase - 1].result {
-            SubcaseResult::Modal(m) => {
+        match self.summary.subcases[subcase - 1].result::<ModalSummary>() {
+            Some(m) => {
                 assert!(m.sturm.is_consistent(), "Sturm check: {:?}", m.sturm);
                 m.frequencies_hz.clone()
             }
-            other => panic!("subcase {subcase} is not modal: {other:?}"),
+            None => panic!(
+                "subcase {subcase} is not modal: {:?}",
+                self.summary.subcases[subcase - 1].result
+            ),
         }
     }
 }

@@ -4,6 +4,7 @@ use std::io::Write;
 
 use paraflex::deck::Deck;
 use paraflex::model::Model;
+use paraflex::sequence::request_warnings;
 
 fn build(text: &str) -> Result<Model, Vec<String>> {
     let mut file = tempfile::Builder::new()
@@ -14,6 +15,24 @@ fn build(text: &str) -> Result<Model, Vec<String>> {
     let deck = Deck::read(file.path())
         .map_err(|e| e.errors.iter().map(|x| x.to_string()).collect::<Vec<_>>())?;
     Model::build(&deck).map_err(|e| e.iter().map(|x| x.to_string()).collect())
+}
+
+/// The warnings `paraflex check` prints for a valid deck: the model's, then the output
+/// requests its solution sequence does not write.
+fn warnings(text: &str) -> Vec<String> {
+    let mut file = tempfile::Builder::new()
+        .suffix(".bdf")
+        .tempfile()
+        .expect("temp file");
+    file.write_all(text.as_bytes()).expect("write deck");
+    let deck = Deck::read(file.path()).expect("valid deck");
+    let model = Model::build(&deck).expect("valid deck");
+    model
+        .warnings
+        .iter()
+        .chain(&request_warnings(&deck, &model))
+        .map(|w| w.to_string())
+        .collect()
 }
 
 const BAD: &str = "SOL 103
@@ -110,8 +129,8 @@ MAT1,1,1.e7,,0.3,2.
 PSOLID,5,1,,2
 ENDDATA
 ";
+    let w = warnings(deck);
     let model = build(deck).expect("valid deck");
-    let w: Vec<String> = model.warnings.iter().map(|w| w.to_string()).collect();
     assert_eq!(
         w.iter()
             .filter(|x| x.contains("accepted and ignored: POST, PRTMAXIM"))
@@ -195,14 +214,12 @@ ENDDATA
         )
     };
     for sol in ["109", "112", "TRANSIENT"] {
-        let model = build(&deck(sol, "")).expect("valid deck");
-        let w: Vec<String> = model.warnings.iter().map(|w| w.to_string()).collect();
+        let w = warnings(&deck(sol, ""));
         assert!(
             !w.iter().any(|x| x.contains("DISPLACEMENT is not honoured")),
             "SOL {sol}: {w:#?}"
         );
-        let model = build(&deck(sol, "ROM = 'blade.h5'\n")).expect("valid deck");
-        let w: Vec<String> = model.warnings.iter().map(|w| w.to_string()).collect();
+        let w = warnings(&deck(sol, "ROM = 'blade.h5'\n"));
         assert!(
             w.iter().any(|x| x.contains("DISPLACEMENT is not honoured")),
             "SOL {sol} on a pROM: {w:#?}"

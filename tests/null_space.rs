@@ -17,7 +17,7 @@ use std::io::Write;
 use paraflex::deck::Deck;
 use paraflex::discretize::{BuildOptions, Structure};
 use paraflex::model::Model;
-use paraflex::sequence::SubcaseResult;
+use paraflex::sequence::modal::ModalSummary;
 
 /// Plate 0.2 × 0.2 × 0.002 m, steel.
 const SIDE: f64 = 0.2;
@@ -248,7 +248,7 @@ fn free_plate_with_rbe2_and_rbe3_has_exactly_six_zero_modes() {
             v.name,
             s.subcases[0].autospc
         );
-        let SubcaseResult::Modal(m) = &s.subcases[0].result else {
+        let Some(m) = s.subcases[0].result::<ModalSummary>() else {
             panic!("not modal")
         };
         let f = &m.frequencies_hz;

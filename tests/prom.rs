@@ -4,7 +4,10 @@
 mod common;
 
 use common::run_deck;
-use paraflex::sequence::{RunSummary, SubcaseResult};
+use paraflex::sequence::RunSummary;
+use paraflex::sequence::modal::ModalSummary;
+use paraflex::sequence::prom::PromSummary;
+use paraflex::sequence::rom_modal::RomModalSummary;
 
 /// Cantilever plate 0.3 × 0.1 m, CQUAD4 12 × 4, clamped at x = 0; `property` holds the
 /// PSHELL/PCOMP and material cards (PID 1); ASET1 on three tip grids (T3).
@@ -14,10 +17,14 @@ fn plate(property: &str) -> String {
 }
 
 fn frequencies(s: &RunSummary) -> Vec<f64> {
-    match &s.subcases[0].result {
-        SubcaseResult::Modal(m) => m.frequencies_hz.clone(),
-        SubcaseResult::RomModal(r) => r.frequencies_hz.clone(),
-        other => panic!("not modal: {other:?}"),
+    let sub = &s.subcases[0];
+    match (
+        sub.result::<ModalSummary>(),
+        sub.result::<RomModalSummary>(),
+    ) {
+        (Some(m), _) => m.frequencies_hz.clone(),
+        (_, Some(r)) => r.frequencies_hz.clone(),
+        _ => panic!("not modal: {:?}", sub.result),
     }
 }
 
@@ -96,9 +103,9 @@ fn single_material_e_rho_prom_equals_the_full_model_everywhere() {
     }
     // ND beyond the pROM's size returns every mode and says so
     let (all, summary) = prom_modes(&built, "PVAL,1,E,2.1e11\n", 500);
-    let size = match &summary.subcases[0].result {
-        SubcaseResult::RomModal(r) => r.n_red,
-        other => panic!("not a pROM modal run: {other:?}"),
+    let size = match summary.subcases[0].result::<RomModalSummary>() {
+        Some(r) => r.n_red,
+        None => panic!("not a pROM modal run: {:?}", summary.subcases[0].result),
     };
     assert_eq!(all.len(), size);
     assert!(
@@ -1137,7 +1144,7 @@ fn build_strip_prom(nsamp: usize) -> (tempfile::TempDir, Vec<f64>) {
         .replace("PMOR,1,2,", &format!("PMOR,1,{nsamp},"));
     let (r, dir) = run_deck(&deck);
     let summary = r.expect("SOL PROM");
-    let SubcaseResult::Prom(prom) = &summary.subcases[0].result else {
+    let Some(prom) = summary.subcases[0].result::<PromSummary>() else {
         panic!("not a pROM build")
     };
     println!("strip pROM: {:?}", prom.log);

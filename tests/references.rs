@@ -23,7 +23,8 @@ use paraflex::discretize::BuildOptions;
 use paraflex::fe::laminate::{Laminate, Ply, ShellSection};
 use paraflex::io::OutputFile;
 use paraflex::model::Model;
-use paraflex::sequence::{RunContext, RunSummary, SubcaseResult, run};
+use paraflex::sequence::modal::ModalSummary;
+use paraflex::sequence::{RunContext, RunSummary, run};
 use serde_json::Value;
 
 use common::{f64s, json, root};
@@ -78,8 +79,8 @@ fn run_deck(rel: &str) -> Run {
 
 impl Run {
     fn frequencies(&self) -> Vec<f64> {
-        match &self.summary.subcases[0].result {
-            SubcaseResult::Modal(m) => {
+        match self.summary.subcases[0].result::<ModalSummary>() {
+            Some(m) => {
                 assert!(
                     m.sturm.is_consistent(),
                     "Sturm check inconsistent: {:?}",
@@ -94,7 +95,7 @@ impl Run {
                 f.sort_by(f64::total_cmp);
                 f
             }
-            other => panic!("not modal: {other:?}"),
+            None => panic!("not modal: {:?}", self.summary.subcases[0].result),
         }
     }
 

@@ -16,7 +16,7 @@ mod common;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use paraflex::sequence::SubcaseResult;
+use paraflex::sequence::modal::ModalSummary;
 use serde_json::Value;
 
 fn root() -> PathBuf {
@@ -122,7 +122,10 @@ fn check_scene(scene: &str) {
                 continue;
             }
         };
-        if let Some(SubcaseResult::Modal(m)) = summary.subcases.first().map(|s| &s.result)
+        if let Some(m) = summary
+            .subcases
+            .first()
+            .and_then(|s| s.result::<ModalSummary>())
             && !m.sturm.is_consistent()
         {
             failures.push(format!("{name}: Sturm check inconsistent: {:?}", m.sturm));

@@ -4,12 +4,12 @@ mod common;
 use common::run_deck;
 
 use paraflex::sequence::statics::StaticsSummary;
-use paraflex::sequence::{RunError, RunSummary, SubcaseResult};
+use paraflex::sequence::{RunError, RunSummary};
 
 fn statics(s: &RunSummary, k: usize) -> &StaticsSummary {
-    match &s.subcases[k].result {
-        SubcaseResult::Statics(m) => m,
-        other => panic!("not statics: {other:?}"),
+    match s.subcases[k].result::<StaticsSummary>() {
+        Some(m) => m,
+        None => panic!("not statics: {:?}", s.subcases[k].result),
     }
 }
 

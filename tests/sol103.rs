@@ -4,15 +4,15 @@
 mod common;
 use common::run_deck;
 
+use paraflex::sequence::RunSummary;
 use paraflex::sequence::modal::ModalSummary;
-use paraflex::sequence::{RunSummary, SubcaseResult};
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
 
 fn modal(s: &RunSummary) -> &ModalSummary {
-    match &s.subcases[0].result {
-        SubcaseResult::Modal(m) => m,
-        other => panic!("not modal: {other:?}"),
+    match s.subcases[0].result::<ModalSummary>() {
+        Some(m) => m,
+        None => panic!("not modal: {:?}", s.subcases[0].result),
     }
 }
 

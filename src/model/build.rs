@@ -65,7 +65,7 @@ impl Model {
         super::values::check(&refs, &mut errors, &mut warnings);
         super::pmpar::check(&refs, &mut errors);
         let params = super::params::read(&bulk.params, &deck.case, &mut errors, &mut warnings);
-        super::case::check(deck, &refs, &mut errors, &mut warnings);
+        super::case::check(deck, &refs, &mut errors);
         warnings.extend(quality.into_warnings());
 
         if !errors.is_empty() {

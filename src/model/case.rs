@@ -13,47 +13,18 @@
 //! | SENSOR = n | case-control SET n, whose ids are SENSOR ids |
 //! | output request = n | case-control SET n |
 //!
-//! Errors point at the statement (`Subcase::loc_of`). Every output request that the solution
-//! sequence does not write ([`HONOURED`], kept in step with `crate::sequence`) gets one warning
-//! "not honoured by SOL x in this version".
+//! Errors point at the statement (`Subcase::loc_of`). Which output requests the solution
+//! sequence writes is the sequence's business (`crate::sequence::request_warnings`).
 
 use std::collections::HashSet;
 
 use crate::deck::case_control::{Subcase, Target};
-use crate::deck::{Deck, DeckError, Loc, Warning};
+use crate::deck::{Deck, DeckError, Loc};
 
 use super::build::Refs;
-use crate::deck::Solution;
-
-/// Output requests each solution sequence writes on the mesh (see `crate::sequence`), each for
-/// `ALL` or the ids of its SET (`crate::sequence::GridRows` for grid points): STATICS writes
-/// displacements (every grid when not requested at all, none for `= NONE`), SPC forces and
-/// strains on request; MODAL writes mode shapes, FRF (108, 111) complex displacement responses
-/// and TRANSIENT (109, 112) displacement histories on request. A subcase on a pROM artifact
-/// (`ROM =`) has no grids: it writes none of them.
-pub const HONOURED: &[(Solution, &[&str])] = &[
-    (Solution::Statics, &["DISPLACEMENT", "SPCFORCES", "STRAIN"]),
-    (Solution::Modal, &["DISPLACEMENT"]),
-    (Solution::FrfDirect, &["DISPLACEMENT"]),
-    (Solution::FrfModal, &["DISPLACEMENT"]),
-    (Solution::Frf, &["DISPLACEMENT"]),
-    (Solution::TransientDirect, &["DISPLACEMENT"]),
-    (Solution::TransientModal, &["DISPLACEMENT"]),
-    (Solution::Transient, &["DISPLACEMENT"]),
-];
-
-fn honoured(deck: &Deck, sub: &Subcase, request: &str) -> bool {
-    let Some((sol, _)) = &deck.executive.sol else {
-        return false;
-    };
-    sub.rom.is_none()
-        && HONOURED
-            .iter()
-            .any(|(s, names)| s == sol && names.contains(&request))
-}
 
 /// Run the checks for every subcase.
-pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warning>) {
+pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
     let b = refs.bulk;
     let set_of = |ids: Vec<u32>| -> HashSet<u32> { ids.into_iter().collect() };
     let spc = set_of(
@@ -99,13 +70,6 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>, warnings: &m
         line: 1,
     });
     let mut reported: HashSet<(String, Loc)> = HashSet::new();
-    let sol = deck
-        .executive
-        .sol
-        .as_ref()
-        .map(|(_, text)| text.clone())
-        .unwrap_or_else(|| "(none)".into());
-    let mut warned: HashSet<Loc> = HashSet::new();
 
     for sub in deck.case.subcases() {
         let loc = |name: &str| {
@@ -173,15 +137,6 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>, warnings: &m
                     )
                     .on_card(out.name.to_string()),
                 );
-            }
-            if !honoured(deck, &sub, out.name) && warned.insert(out.loc.clone()) {
-                warnings.push(Warning {
-                    loc: Some(out.loc.to_string()),
-                    message: format!(
-                        "output request {} is not honoured by SOL {sol} in this version",
-                        out.name
-                    ),
-                });
             }
         }
     }

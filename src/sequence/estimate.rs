@@ -29,6 +29,8 @@
 //! EKF REDIAG, with `rediagonalizations`, the number of times the modes were recomputed — or
 //! `physical`: the filter's coordinates, [`crate::estimate::filter`]).
 
+use super::driver::{Basis, Driver};
+use crate::deck::Solution;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -38,7 +40,7 @@ use super::report::{Report, sci};
 use super::rom_case::RomAtPoint;
 use super::rom_case::extrapolation_warning;
 use super::shared::place_input;
-use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
+use super::{Clock, RunContext, RunError, SubcaseSummary};
 use crate::deck::case_control::Subcase;
 use crate::discretize::loads::{LoadTerm, load_terms};
 use crate::dynamics::table::Table;
@@ -86,17 +88,34 @@ pub struct EstimateSummary {
     pub rediagonalizations: Option<usize>,
 }
 
-/// Runs every subcase.
-pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
-    ctx.model
-        .subcases
-        .iter()
-        .map(|sub| {
-            clock.time(format!("subcase {}: estimation", sub.id), || {
-                subcase(ctx, sub)
+/// The ESTIMATE driver on pROM artifacts.
+pub struct Estimate;
+
+impl Driver for Estimate {
+    fn name(&self) -> &'static str {
+        "ESTIMATE"
+    }
+
+    fn solutions(&self) -> &'static [Solution] {
+        &[Solution::Estimate]
+    }
+
+    fn basis(&self) -> Basis {
+        Basis::Rom
+    }
+
+    /// Runs every subcase on its pROM.
+    fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+        ctx.model
+            .subcases
+            .iter()
+            .map(|sub| {
+                clock.time(format!("subcase {}: estimation", sub.id), || {
+                    subcase(ctx, sub)
+                })
             })
-        })
-        .collect()
+            .collect()
+    }
 }
 
 fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
@@ -560,7 +579,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     Ok(SubcaseSummary {
         id,
         autospc: Vec::new(),
-        result: SubcaseResult::Estimate(summary),
+        result: Box::new(summary),
     })
 }
 

@@ -32,11 +32,13 @@
 //! displacement output; `displacement_grid_ids` for a set). Their rows join the outputs of the
 //! solve and are dropped from H.
 
+use super::driver::{Basis, Driver};
+use super::shared::structure;
 use nalgebra_sparse::{CooMatrix, CscMatrix};
 
 use super::report::{Report, sci};
 use super::shared::{frequency_lines, lanczos_modes, scaled_flat, write_frf};
-use super::{Clock, GridRows, RunContext, RunError, SubcaseResult, SubcaseSummary};
+use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
 use crate::deck::Solution;
 use crate::discretize::loads::frequency_inputs;
 use crate::discretize::sensors::{displacement_rows, project_rows};
@@ -85,8 +87,37 @@ pub struct FrfSummary {
     pub peak: (f64, f64),
 }
 
+/// The FRF driver on the mesh.
+pub struct Frf;
+
+/// The output requests FRF (108, 111) writes: complex displacement responses on request.
+pub const HONOURED: &[&str] = &["DISPLACEMENT"];
+
+impl Driver for Frf {
+    fn name(&self) -> &'static str {
+        "FRF"
+    }
+
+    fn solutions(&self) -> &'static [Solution] {
+        &[Solution::FrfDirect, Solution::FrfModal, Solution::Frf]
+    }
+
+    fn basis(&self) -> Basis {
+        Basis::Mesh
+    }
+
+    fn honoured(&self) -> &'static [&'static str] {
+        HONOURED
+    }
+
+    fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+        let st = structure(ctx, clock)?;
+        run(ctx, &st, clock)
+    }
+}
+
 /// Runs every subcase of a full-model SOL FRF.
-pub fn run(
+fn run(
     ctx: &RunContext,
     st: &Structure,
     clock: &mut Clock,
@@ -285,7 +316,7 @@ pub fn run(
         out.push(SubcaseSummary {
             id,
             autospc: c.autospc.names.clone(),
-            result: SubcaseResult::Frf(summary),
+            result: Box::new(summary),
         });
     }
     Ok(out)

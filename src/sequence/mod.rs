@@ -1,26 +1,31 @@
 //! Solution sequences (DESIGN.md §1–§2): the only place that turns case control into calls.
 //!
-//! One driver per sequence, selected by [`Sequence`] from the deck's `SOL` statement, each
-//! taking a [`RunContext`] (deck, model, output file, progress sink, options):
+//! One driver per sequence and basis (the deck's mesh, or pROM artifacts when every subcase
+//! has `ROM =`), each a [`Driver`] listed in [`DRIVERS`] and chosen by the deck's `SOL`
+//! statement ([`runnable`]); its `run` takes a [`RunContext`] (deck, model, output file,
+//! progress sink, options):
 //!
 //! | `SOL` | driver | per subcase |
 //! |---|---|---|
-//! | `101`, `STATICS` | [`statics::run`] | `SPC`, `LOAD` → u, SPC forces, centroid strains |
-//! | `103`, `MODAL` | [`modal::run`] | `SPC`, `METHOD` (EIGRL) → frequencies, generalized masses, residuals, shapes |
-//! | `108`, `111`, `FRF` | [`frf::run`] | `SPC`, `FREQUENCY`, `DLOAD` (RLOAD1/DAREA inputs), `METHOD` (111) → complex FRFs at inputs and SENSORs |
-//! | `109`, `112`, `TRANSIENT` | [`transient::run`] (full model), [`rom_transient::run`] (`ROM =`) | `TSTEP` (+`TINTEG`), `DLOAD`, `IC` → sensor histories |
-//! | any with `ROM =` | [`rom_modal`], [`rom_frf`], [`rom_transient`] | the pROM artifact at `PVAL` |
+//! | `101`, `STATICS` | [`statics`] | `SPC`, `LOAD` → u, SPC forces, centroid strains |
+//! | `103`, `MODAL` | [`modal`] (mesh), [`rom_modal`] (`ROM =`) | `SPC`, `METHOD` (EIGRL) → frequencies, generalized masses, residuals, shapes |
+//! | `PROM` | [`prom`] | `PROM` (PMOR), `SPC` → the pROM artifact |
+//! | `108`, `111`, `FRF` | [`frf`] (mesh), [`rom_frf`] (`ROM =`) | `SPC`, `FREQUENCY`, `DLOAD` (RLOAD1/DAREA inputs), `METHOD` (111) → complex FRFs at inputs and SENSORs |
+//! | `109`, `112`, `TRANSIENT` | [`transient`] (mesh), [`rom_transient`] (`ROM =`) | `TSTEP` (+`TINTEG`), `DLOAD`, `IC` → sensor histories |
+//! | `ESTIMATE` | [`estimate`] (`ROM =`) | `ESTIM` (EKF), `MEAS` (MEASF) → states, inputs, parameters |
 //!
-//! The full-model drivers share the discretization of [`crate::discretize`]: one
-//! [`Structure`] (element matrices, one grid-block pattern for K and M, rigid elimination
+//! The mesh drivers share the discretization of [`crate::discretize`] ([`shared::structure`]):
+//! one [`Structure`] (element matrices, one grid-block pattern for K and M, rigid elimination
 //! g → n with one plan) and per SPC set the f-set with AUTOSPC ([`Constrained`]). Everything
 //! the user must see (AUTOSPC lists, Sturm check, warnings, timings) is returned in a
-//! [`RunSummary`], each driver's part rendered by its [`Report`]; the library never prints,
-//! long steps report through [`Progress`].
+//! [`RunSummary`], each subcase's part rendered by the driver's summary type through
+//! [`Report`]; the library never prints, long steps report through [`Progress`]. Output
+//! requests a driver does not write ([`Driver::honoured`]) are warned by
+//! [`request_warnings`].
 //!
-//! A new sequence is one driver file (its `run`, its summary type implementing [`Report`]) plus
-//! one arm in [`Sequence`], [`SubcaseResult`] and the dispatch of [`run`]; what several drivers
-//! share lives in [`shared`] and [`rom_case`], never in another driver.
+//! A new sequence is one driver file (a unit struct implementing [`Driver`], its summary type
+//! implementing [`Report`]) plus one entry in [`DRIVERS`]; what several drivers share lives
+//! in [`shared`] and [`rom_case`], never in another driver.
 //!
 //! Output (HDF5, DESIGN.md §8; full layout in docs/hdf5-schema.md):
 //!
@@ -39,6 +44,7 @@
 //!
 //! Vectors are written in the basic system (rotated back from the grids' CD frames).
 
+pub mod driver;
 pub mod estimate;
 pub mod frf;
 pub mod modal;
@@ -57,63 +63,17 @@ use std::time::{Duration, Instant};
 use crate::assembly::error::DofName;
 use crate::assembly::spc::AutoSpcReport;
 use crate::assembly::{AssemblyError, DofMap};
+use crate::deck::Deck;
 use crate::deck::cards::Sensor;
 use crate::deck::case_control::{OutputRequest, Subcase, Target};
-use crate::deck::{Deck, Solution};
 use crate::discretize::sensors::{SensorOperator, sensor_operator};
 use crate::discretize::{BuildOptions, Constrained, DiscretizeError, Structure};
 use crate::io::{IoError, OutputFile};
 use crate::linalg::{LinalgError, Progress};
 
 use crate::model::Model;
+pub use driver::{Basis, DRIVERS, Driver, request_warnings, runnable};
 pub use report::Report;
-
-/// The solution sequences paraflex can run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Sequence {
-    /// SOL 101: linear statics.
-    Statics,
-    /// SOL 103: normal modes.
-    Modal,
-    /// SOL PROM: parametric reduced-order model.
-    Prom,
-    /// SOL FRF (108/111): frequency response, full model (direct or modal) or pROM artifact.
-    Frf,
-    /// SOL TRANSIENT (109/112): time response, on pROM artifacts ([`rom_transient`]) and on the
-    /// full model by direct integration ([`transient`]; SOL 112 too: no modal superposition).
-    Transient,
-    /// SOL ESTIMATE: states, inputs and parameters from measurements (augmented EKF) on a pROM.
-    Estimate,
-}
-
-impl Sequence {
-    /// The driver for a `SOL`, or `None` when that solution is not available yet.
-    pub fn of_solution(sol: Solution) -> Option<Self> {
-        match sol {
-            Solution::Statics => Some(Sequence::Statics),
-            Solution::Modal => Some(Sequence::Modal),
-            Solution::Prom => Some(Sequence::Prom),
-            Solution::Frf | Solution::FrfDirect | Solution::FrfModal => Some(Sequence::Frf),
-            Solution::Transient | Solution::TransientDirect | Solution::TransientModal => {
-                Some(Sequence::Transient)
-            }
-            Solution::Estimate => Some(Sequence::Estimate),
-            _ => None,
-        }
-    }
-
-    /// Name as in DESIGN.md (`STATICS`, `MODAL`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Sequence::Statics => "STATICS",
-            Sequence::Modal => "MODAL",
-            Sequence::Prom => "PROM",
-            Sequence::Frf => "FRF",
-            Sequence::Transient => "TRANSIENT",
-            Sequence::Estimate => "ESTIMATE",
-        }
-    }
-}
 
 /// Everything a driver needs.
 pub struct RunContext<'a> {
@@ -126,9 +86,10 @@ pub struct RunContext<'a> {
 }
 
 /// Result of a run, for the console.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct RunSummary {
-    pub sequence: Sequence,
+    /// The sequence's name ([`Driver::name`]).
+    pub sequence: &'static str,
     pub subcases: Vec<SubcaseSummary>,
     /// Wall-clock time of each step, in order.
     pub timings: Vec<(String, Duration)>,
@@ -137,42 +98,21 @@ pub struct RunSummary {
 }
 
 /// One subcase's outcome.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct SubcaseSummary {
     pub id: u32,
     /// DOFs AUTOSPC constrained (empty when none or AUTOSPC is off).
     pub autospc: Vec<DofName>,
-    pub result: SubcaseResult,
+    /// The driver's summary of the subcase (its type is the driver's, e.g.
+    /// [`modal::ModalSummary`]; [`Self::result`] gives it back).
+    pub result: Box<dyn Report>,
 }
 
-/// Per-sequence outcome of a subcase.
-#[derive(Debug, Clone)]
-pub enum SubcaseResult {
-    Modal(modal::ModalSummary),
-    Statics(statics::StaticsSummary),
-    Prom(prom::PromSummary),
-    Frf(frf::FrfSummary),
-    RomModal(rom_modal::RomModalSummary),
-    RomFrf(rom_frf::RomFrfSummary),
-    RomTransient(rom_transient::RomTransientSummary),
-    Transient(transient::TransientSummary),
-    Estimate(estimate::EstimateSummary),
-}
-
-impl SubcaseResult {
-    /// The console lines and warnings of this result.
-    pub fn report(&self) -> &dyn Report {
-        match self {
-            SubcaseResult::Modal(r) => r,
-            SubcaseResult::Statics(r) => r,
-            SubcaseResult::Prom(r) => r,
-            SubcaseResult::Frf(r) => r,
-            SubcaseResult::RomModal(r) => r,
-            SubcaseResult::RomFrf(r) => r,
-            SubcaseResult::RomTransient(r) => r,
-            SubcaseResult::Transient(r) => r,
-            SubcaseResult::Estimate(r) => r,
-        }
+impl SubcaseSummary {
+    /// The driver's summary as its own type `T`, or `None` when another driver wrote it.
+    pub fn result<T: Report>(&self) -> Option<&T> {
+        let any: &dyn std::any::Any = self.result.as_ref();
+        any.downcast_ref()
     }
 }
 
@@ -208,88 +148,12 @@ pub enum RunError {
     Io(#[from] IoError),
 }
 
-/// The sequence that runs `model`'s SOL, or why none can: no SOL, a SOL without a driver, or
-/// subcases that mix `ROM =` with full-model subcases (one run is either on pROM artifacts or
-/// on the deck's mesh), or an estimation on the full model (this version runs it on pROMs
-/// only). The CLI asks before running, to write the model and exit with "not available".
-pub fn runnable(deck: &Deck, model: &Model) -> Result<Sequence, RunError> {
-    let (sol, text) = deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
-    let sequence = Sequence::of_solution(*sol)
-        .ok_or_else(|| RunError::NotAvailable(format!("{text} ({})", sol.name())))?;
-    let on_rom: Vec<u32> = model
-        .subcases
-        .iter()
-        .filter(|s| s.rom.is_some())
-        .map(|s| s.id)
-        .collect();
-    if !on_rom.is_empty() && !rom_case::applies(model) {
-        let full: Vec<String> = model
-            .subcases
-            .iter()
-            .filter(|s| s.rom.is_none())
-            .map(|s| s.id.to_string())
-            .collect();
-        return Err(RunError::NotAvailable(format!(
-            "{text} ({}) with ROM = in subcase(s) {on_rom:?} but not in subcase(s) {}: a run is either on pROM artifacts (ROM = in every subcase) or on the full model; split the deck",
-            sol.name(),
-            full.join(", ")
-        )));
-    }
-    if rom_case::applies(model) && matches!(sequence, Sequence::Statics | Sequence::Prom) {
-        return Err(RunError::NotAvailable(format!(
-            "{text} ({}) on a pROM artifact (ROM =): pROMs run SOL 103, FRF, TRANSIENT and ESTIMATE",
-            sol.name()
-        )));
-    }
-    if sequence == Sequence::Estimate && !rom_case::applies(model) {
-        return Err(RunError::NotAvailable(format!(
-            "{text} ({}) on the full model (this version runs it on pROM artifacts: every subcase needs ROM = 'file.h5')",
-            sol.name()
-        )));
-    }
-    Ok(sequence)
-}
-
 /// Runs the deck's solution sequence (see the module documentation).
 pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
-    let sequence = runnable(ctx.deck, ctx.model)?;
+    let driver = runnable(ctx.deck, ctx.model)?;
     let mut clock = Clock::default();
-    let subcases = match (sequence, rom_case::applies(ctx.model)) {
-        (Sequence::Modal, true) => rom_modal::run(ctx, &mut clock)?,
-        (Sequence::Frf, true) => rom_frf::run(ctx, &mut clock)?,
-        (Sequence::Transient, true) => rom_transient::run(ctx, &mut clock)?,
-        (Sequence::Estimate, true) => estimate::run(ctx, &mut clock)?,
-        (Sequence::Estimate, false) => {
-            return Err(RunError::NotAvailable(format!(
-                "{} on the full model",
-                sequence.name()
-            )));
-        }
-        (
-            Sequence::Statics
-            | Sequence::Modal
-            | Sequence::Prom
-            | Sequence::Frf
-            | Sequence::Transient,
-            _,
-        ) => {
-            let structure =
-                Structure::build_timed(ctx.model, &ctx.options, ctx.progress, &mut |name, d| {
-                    clock.record(name, d)
-                })?;
-            match sequence {
-                Sequence::Statics => statics::run(ctx, &structure, &mut clock)?,
-                Sequence::Prom => prom::run(ctx, &structure, &mut clock)?,
-                Sequence::Frf => frf::run(ctx, &structure, &mut clock)?,
-                Sequence::Transient => transient::run(ctx, &structure, &mut clock)?,
-                _ => modal::run(ctx, &structure, &mut clock)?,
-            }
-        }
-    };
-    let mut warnings = Vec::new();
-    if sequence == Sequence::Transient {
-        warnings.extend(transient::damping_warning(ctx.model));
-    }
+    let subcases = driver.run(ctx, &mut clock)?;
+    let mut warnings = driver.warnings(ctx.model);
     for s in &subcases {
         if !s.autospc.is_empty() {
             warnings.push(format!(
@@ -298,10 +162,10 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
                 s.autospc.len()
             ));
         }
-        warnings.extend(s.result.report().warnings(s.id));
+        warnings.extend(s.result.warnings(s.id));
     }
     Ok(RunSummary {
-        sequence,
+        sequence: driver.name(),
         subcases,
         timings: clock.steps,
         warnings,

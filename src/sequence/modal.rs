@@ -19,10 +19,13 @@
 //! ND asks for more, only the finite modes are returned and the run warns (see
 //! [`crate::linalg::eigen`], "Singular M").
 
+use super::driver::{Basis, Driver};
 use super::report::{Report, lambda_to_hz, sci, sturm_line};
 use super::shared::lanczos_modes;
-use super::{Clock, GridRows, RunContext, RunError, SubcaseResult, SubcaseSummary};
+use super::shared::structure;
+use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
 use crate::assembly::recover::recover_g;
+use crate::deck::Solution;
 use crate::deck::cards::EigenNorm;
 use crate::deck::case_control::Subcase;
 use crate::discretize::{Constrained, Structure};
@@ -56,8 +59,37 @@ pub struct ModalSummary {
     pub nd: Option<usize>,
 }
 
+/// The MODAL driver on the mesh.
+pub struct Modal;
+
+/// The output requests MODAL writes: mode shapes on request.
+pub const HONOURED: &[&str] = &["DISPLACEMENT"];
+
+impl Driver for Modal {
+    fn name(&self) -> &'static str {
+        "MODAL"
+    }
+
+    fn solutions(&self) -> &'static [Solution] {
+        &[Solution::Modal]
+    }
+
+    fn basis(&self) -> Basis {
+        Basis::Mesh
+    }
+
+    fn honoured(&self) -> &'static [&'static str] {
+        HONOURED
+    }
+
+    fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+        let st = structure(ctx, clock)?;
+        run(ctx, &st, clock)
+    }
+}
+
 /// Runs every subcase.
-pub fn run(
+fn run(
     ctx: &RunContext,
     st: &Structure,
     clock: &mut Clock,
@@ -101,7 +133,7 @@ pub fn run(
         out.push(SubcaseSummary {
             id,
             autospc: c.autospc.names.clone(),
-            result: SubcaseResult::Modal(summary),
+            result: Box::new(summary),
         });
     }
     Ok(out)

@@ -18,10 +18,13 @@
 //! `/prom/build/{samples, singular_values, size_history, error_history, timings}` with
 //! attributes `mac_kept`, `concatenated`, `converged`, `singular_lines`.
 
+use super::driver::{Basis, Driver};
+use super::shared::structure;
+use crate::deck::Solution;
 use std::collections::HashMap;
 
 use super::report::{Report, sci};
-use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
+use super::{Clock, RunContext, RunError, SubcaseSummary};
 use crate::assembly::DofMap;
 use crate::deck::cards::{Pmor, PmorRigid, PmorStatic};
 use crate::discretize::sensors::sensor_kind_name;
@@ -49,8 +52,30 @@ pub struct PromSummary {
     pub frozen_condensation: Vec<String>,
 }
 
+/// The PROM driver on the mesh.
+pub struct PromBuild;
+
+impl Driver for PromBuild {
+    fn name(&self) -> &'static str {
+        "PROM"
+    }
+
+    fn solutions(&self) -> &'static [Solution] {
+        &[Solution::Prom]
+    }
+
+    fn basis(&self) -> Basis {
+        Basis::Mesh
+    }
+
+    fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+        let st = structure(ctx, clock)?;
+        run(ctx, &st, clock)
+    }
+}
+
 /// Runs the (single) PROM subcase.
-pub fn run(
+fn run(
     ctx: &RunContext,
     st: &Structure,
     clock: &mut Clock,
@@ -161,7 +186,7 @@ pub fn run(
     Ok(vec![SubcaseSummary {
         id,
         autospc: c.autospc.names.clone(),
-        result: SubcaseResult::Prom(summary),
+        result: Box::new(summary),
     }])
 }
 

@@ -7,8 +7,9 @@ use std::time::Duration;
 use super::RunSummary;
 use crate::linalg::SturmCheck;
 
-/// What one subcase's result tells the user.
-pub trait Report {
+/// What one subcase's result tells the user (the summary type of a driver; `Any` so that
+/// callers get their driver's type back with [`super::SubcaseSummary::result`]).
+pub trait Report: std::any::Any + std::fmt::Debug + Send + Sync {
     /// The console lines of subcase `subcase` (the first names it).
     fn render(&self, subcase: u32) -> Vec<String>;
 
@@ -22,9 +23,9 @@ impl RunSummary {
     /// The console report of the run of deck `deck` that took `total`: a header line, each
     /// subcase's lines with its AUTOSPC list, and the step timings.
     pub fn render(&self, deck: &std::path::Path, total: Duration) -> Vec<String> {
-        let mut out = vec![format!("{} — {}", deck.display(), self.sequence.name())];
+        let mut out = vec![format!("{} — {}", deck.display(), self.sequence)];
         for sub in &self.subcases {
-            out.extend(sub.result.report().render(sub.id));
+            out.extend(sub.result.render(sub.id));
             if sub.autospc.is_empty() {
                 out.push("  AUTOSPC: none".to_string());
             } else {

@@ -8,6 +8,7 @@
 use std::path::{Path, PathBuf};
 
 use super::{RunContext, RunError};
+use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
 use crate::io::read_prom;
 use crate::model::Model;
@@ -49,13 +50,12 @@ impl RomAtPoint {
         let mut p: Vec<f64> = prom.parameters.iter().map(|q| q.nominal).collect();
         if let Some(pval_id) = sub.pval {
             let tabulated = !ctx.model.ptables(pval_id).is_empty();
-            let transient = ctx
-                .deck
-                .executive
-                .sol
-                .as_ref()
-                .and_then(|(sol, _)| super::Sequence::of_solution(*sol))
-                == Some(super::Sequence::Transient);
+            let transient = ctx.deck.executive.sol.as_ref().is_some_and(|(sol, _)| {
+                matches!(
+                    sol,
+                    Solution::Transient | Solution::TransientDirect | Solution::TransientModal
+                )
+            });
             if tabulated && !transient {
                 return Err(case(format!(
                     "PTABLE {pval_id}: parameters varying in time apply to SOL TRANSIENT only"

@@ -11,11 +11,13 @@
 //! Written: `/results/<id>/frf/{frequency_hz (f), H (f × o × i, complex as h5py), inputs (i),
 //! outputs (o)}` with attributes `rom`, `params`, `values`.
 
+use super::driver::{Basis, Driver};
 use super::report::{Report, sci};
 use super::rom_case::RomAtPoint;
 use super::rom_case::extrapolation_warning;
 use super::shared::{frequency_lines, scaled_flat, write_frf};
-use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
+use super::{Clock, RunContext, RunError, SubcaseSummary};
+use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
 use crate::dynamics::frf::{DenseModel, receptance};
 use crate::dynamics::measurement::{Reads, SensorRows};
@@ -37,17 +39,34 @@ pub struct RomFrfSummary {
     pub peak: (f64, f64),
 }
 
-/// Runs every subcase on its pROM.
-pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
-    ctx.model
-        .subcases
-        .iter()
-        .map(|sub| {
-            clock.time(format!("subcase {}: pROM FRF", sub.id), || {
-                subcase(ctx, sub)
+/// The FRF driver on pROM artifacts.
+pub struct RomFrf;
+
+impl Driver for RomFrf {
+    fn name(&self) -> &'static str {
+        "FRF"
+    }
+
+    fn solutions(&self) -> &'static [Solution] {
+        &[Solution::FrfDirect, Solution::FrfModal, Solution::Frf]
+    }
+
+    fn basis(&self) -> Basis {
+        Basis::Rom
+    }
+
+    /// Runs every subcase on its pROM.
+    fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+        ctx.model
+            .subcases
+            .iter()
+            .map(|sub| {
+                clock.time(format!("subcase {}: pROM FRF", sub.id), || {
+                    subcase(ctx, sub)
+                })
             })
-        })
-        .collect()
+            .collect()
+    }
 }
 
 fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
@@ -117,7 +136,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     Ok(SubcaseSummary {
         id,
         autospc: Vec::new(),
-        result: SubcaseResult::RomFrf(summary),
+        result: Box::new(summary),
     })
 }
 

@@ -10,12 +10,14 @@
 //! Written: `/results/<id>/modal/{frequency_hz, eigenvalue, generalized_mass, residual}` with
 //! attributes `rom` (the artifact path), `params` and `values`.
 
+use super::driver::{Basis, Driver};
+use crate::deck::Solution;
 use std::path::PathBuf;
 
 use super::report::{Report, lambda_to_hz, sci};
 use super::rom_case::RomAtPoint;
 use super::rom_case::extrapolation_warning;
-use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
+use super::{Clock, RunContext, RunError, SubcaseSummary};
 use crate::deck::case_control::Subcase;
 use crate::io::{set_attr_f64s, set_attr_str, set_attr_strings, write_f64};
 use crate::linalg::Mat;
@@ -35,17 +37,34 @@ pub struct RomModalSummary {
     pub nd_short: Option<usize>,
 }
 
-/// Runs every subcase on its pROM.
-pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
-    ctx.model
-        .subcases
-        .iter()
-        .map(|sub| {
-            clock.time(format!("subcase {}: pROM modes", sub.id), || {
-                subcase(ctx, sub)
+/// The MODAL driver on pROM artifacts.
+pub struct RomModal;
+
+impl Driver for RomModal {
+    fn name(&self) -> &'static str {
+        "MODAL"
+    }
+
+    fn solutions(&self) -> &'static [Solution] {
+        &[Solution::Modal]
+    }
+
+    fn basis(&self) -> Basis {
+        Basis::Rom
+    }
+
+    /// Runs every subcase on its pROM.
+    fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+        ctx.model
+            .subcases
+            .iter()
+            .map(|sub| {
+                clock.time(format!("subcase {}: pROM modes", sub.id), || {
+                    subcase(ctx, sub)
+                })
             })
-        })
-        .collect()
+            .collect()
+    }
 }
 
 fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
@@ -90,7 +109,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     Ok(SubcaseSummary {
         id,
         autospc: Vec::new(),
-        result: SubcaseResult::RomModal(summary),
+        result: Box::new(summary),
     })
 }
 

@@ -15,11 +15,14 @@
 //! at the pROM's input DOFs (`outputs`, k names), `sensors/<name> (t)` for the pROM's SENSORs
 //! (DISP from q, VEL from q̇, ACCEL from q̈), attributes `rom`, `params`, `values` (at the end), `method`, `evaluations`.
 
+use super::driver::{Basis, Driver};
 use super::report::{Report, sci};
 use super::rom_case::RomAtPoint;
 use super::rom_case::extrapolation_warning;
+use super::shared::damping_warning;
 use super::shared::{method_of, output_rows, place_input};
-use super::{Clock, RunContext, RunError, SubcaseResult, SubcaseSummary};
+use super::{Clock, RunContext, RunError, SubcaseSummary};
+use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
 use crate::discretize::loads::{load_into, load_terms, table_of};
 use crate::dynamics::integrators::{Backend, Run, StepState, integrate_with, matvec_add};
@@ -30,6 +33,7 @@ use crate::io::{
     set_attr_strings, write_f64, write_strings,
 };
 use crate::linalg::Mat;
+use crate::model::Model;
 use crate::rom::prom::Prom;
 use crate::rom::transient::{InputStaticShapes, VaryingProm};
 
@@ -47,17 +51,42 @@ pub struct RomTransientSummary {
     pub evaluations: usize,
 }
 
-/// Runs every subcase on its pROM.
-pub fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
-    ctx.model
-        .subcases
-        .iter()
-        .map(|sub| {
-            clock.time(format!("subcase {}: pROM transient", sub.id), || {
-                subcase(ctx, sub)
+/// The TRANSIENT driver on pROM artifacts.
+pub struct RomTransient;
+
+impl Driver for RomTransient {
+    fn name(&self) -> &'static str {
+        "TRANSIENT"
+    }
+
+    fn solutions(&self) -> &'static [Solution] {
+        &[
+            Solution::TransientDirect,
+            Solution::TransientModal,
+            Solution::Transient,
+        ]
+    }
+
+    fn basis(&self) -> Basis {
+        Basis::Rom
+    }
+
+    fn warnings(&self, model: &Model) -> Vec<String> {
+        damping_warning(model).into_iter().collect()
+    }
+
+    /// Runs every subcase on its pROM.
+    fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+        ctx.model
+            .subcases
+            .iter()
+            .map(|sub| {
+                clock.time(format!("subcase {}: pROM transient", sub.id), || {
+                    subcase(ctx, sub)
+                })
             })
-        })
-        .collect()
+            .collect()
+    }
 }
 
 fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
@@ -189,7 +218,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     Ok(SubcaseSummary {
         id,
         autospc: Vec::new(),
-        result: SubcaseResult::RomTransient(summary),
+        result: Box::new(summary),
     })
 }
 

@@ -1,5 +1,6 @@
-//! What several drivers share: the time steps of a `TSTEP` (full-model and pROM transients),
-//! the frequency lines of `FREQUENCY` and the FRF output (full-model and pROM FRFs), and the
+//! What several drivers share: the discretized mesh of the mesh drivers ([`structure`]), the
+//! time steps of a `TSTEP` and the damping warning (full-model and pROM transients), the
+//! frequency lines of `FREQUENCY` and the FRF output (full-model and pROM FRFs), and the
 //! placement of a DAREA on a pROM's inputs (pROM transient and estimation).
 
 use super::{Clock, RunContext, RunError};
@@ -169,4 +170,22 @@ pub fn lanczos_modes(
             )
         })
         .map_err(|e| super::mechanism(c, st, id, e))
+}
+
+/// The mesh every mesh driver runs on: the [`Structure`] of the model, its build steps timed.
+pub fn structure(ctx: &RunContext, clock: &mut Clock) -> Result<Structure, RunError> {
+    Ok(Structure::build_timed(
+        ctx.model,
+        &ctx.options,
+        ctx.progress,
+        &mut |name, d| clock.record(name, d),
+    )?)
+}
+
+/// The warning of a transient run whose structural damping `PARAM,G` is not applied: Nastran
+/// turns G into viscous damping (G/W3)·K in transient response only with PARAM,W3, whose
+/// default 0 leaves it out.
+pub fn damping_warning(model: &Model) -> Option<String> {
+    let p = &model.params;
+    (p.g != 0.0 && p.w3 == 0.0).then(|| format!("PARAM,G = {} is not applied by SOL TRANSIENT without PARAM,W3 (as Nastran): set W3 (rad/s) for (G/W3)·K, or use Rayleigh damping (PARAM,ALPHA1 / BETA1)", p.g))
 }

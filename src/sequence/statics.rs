@@ -23,12 +23,13 @@
 //! The SPC forces are always computed (one K·u product): the console summary's reaction sum
 //! uses them.
 
+use super::driver::{Basis, Driver};
 use super::report::{Report, sci};
-use super::{
-    Clock, GridRows, RunContext, RunError, SubcaseResult, SubcaseSummary, requested, selected,
-};
+use super::shared::structure;
+use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary, requested, selected};
 use crate::assembly::loads::{Mass, load_vector, reduce_load};
 use crate::assembly::recover::{expand_f_to_n, spc_forces};
+use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
 use crate::discretize::elements::{element_displacements, shell_strains, solid_kind_of};
 use crate::discretize::{Constrained, DiscretizeError, Structure};
@@ -51,8 +52,37 @@ pub struct StaticsSummary {
     pub f_size: usize,
 }
 
+/// The STATICS driver on the mesh.
+pub struct Statics;
+
+/// The output requests STATICS writes: displacements (every grid when not requested at all, none for `= NONE`), SPC forces and strains on request.
+pub const HONOURED: &[&str] = &["DISPLACEMENT", "SPCFORCES", "STRAIN"];
+
+impl Driver for Statics {
+    fn name(&self) -> &'static str {
+        "STATICS"
+    }
+
+    fn solutions(&self) -> &'static [Solution] {
+        &[Solution::Statics]
+    }
+
+    fn basis(&self) -> Basis {
+        Basis::Mesh
+    }
+
+    fn honoured(&self) -> &'static [&'static str] {
+        HONOURED
+    }
+
+    fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+        let st = structure(ctx, clock)?;
+        run(ctx, &st, clock)
+    }
+}
+
 /// Runs every subcase.
-pub fn run(
+fn run(
     ctx: &RunContext,
     st: &Structure,
     clock: &mut Clock,
@@ -108,7 +138,7 @@ pub fn run(
         out.push(SubcaseSummary {
             id,
             autospc: c.autospc.names.clone(),
-            result: SubcaseResult::Statics(summary),
+            result: Box::new(summary),
         });
     }
     Ok(out)

@@ -11,10 +11,14 @@
 //! full histories are large, so none by default. Attributes `method`, `f_size`,
 //! `factorizations`.
 
+use super::driver::{Basis, Driver};
 use super::report::{Report, sci};
+use super::shared::damping_warning;
+use super::shared::structure;
 use super::shared::{method_of, output_rows};
-use super::{Clock, GridRows, RunContext, RunError, SubcaseResult, SubcaseSummary};
+use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
 use crate::assembly::recover::expand_f_to_n;
+use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
 use crate::discretize::loads::{initial_state, load_into, load_terms, place_darea, static_shape};
 use crate::discretize::{Constrained, Structure};
@@ -35,16 +39,45 @@ pub struct TransientSummary {
     pub peak: Option<(String, f64, f64)>,
 }
 
-/// The warning of a transient run whose structural damping `PARAM,G` is not applied: Nastran
-/// turns G into viscous damping (G/W3)·K in transient response only with PARAM,W3, whose
-/// default 0 leaves it out.
-pub fn damping_warning(model: &Model) -> Option<String> {
-    let p = &model.params;
-    (p.g != 0.0 && p.w3 == 0.0).then(|| format!("PARAM,G = {} is not applied by SOL TRANSIENT without PARAM,W3 (as Nastran): set W3 (rad/s) for (G/W3)·K, or use Rayleigh damping (PARAM,ALPHA1 / BETA1)", p.g))
+/// The TRANSIENT driver on the mesh.
+pub struct Transient;
+
+/// The output requests TRANSIENT (109, 112) writes: displacement histories on request.
+pub const HONOURED: &[&str] = &["DISPLACEMENT"];
+
+impl Driver for Transient {
+    fn name(&self) -> &'static str {
+        "TRANSIENT"
+    }
+
+    fn solutions(&self) -> &'static [Solution] {
+        &[
+            Solution::TransientDirect,
+            Solution::TransientModal,
+            Solution::Transient,
+        ]
+    }
+
+    fn basis(&self) -> Basis {
+        Basis::Mesh
+    }
+
+    fn honoured(&self) -> &'static [&'static str] {
+        HONOURED
+    }
+
+    fn warnings(&self, model: &Model) -> Vec<String> {
+        damping_warning(model).into_iter().collect()
+    }
+
+    fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+        let st = structure(ctx, clock)?;
+        run(ctx, &st, clock)
+    }
 }
 
 /// Runs every subcase on the full model.
-pub fn run(
+fn run(
     ctx: &RunContext,
     st: &Structure,
     clock: &mut Clock,
@@ -60,7 +93,7 @@ pub fn run(
         out.push(SubcaseSummary {
             id: sub.id,
             autospc: c.autospc.names.clone(),
-            result: SubcaseResult::Transient(summary),
+            result: Box::new(summary),
         });
     }
     Ok(out)
