@@ -13,6 +13,8 @@
 //!
 //! after which the model linearizes again at x⁺ ([`ProcessModel::corrected`]). A step allocates
 //! nothing: the buffers are sized at construction.
+//!
+//! The observability tests before a run read a model's continuous-time [`Linearization`].
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch;
@@ -21,6 +23,8 @@ use faer::{Accum, Mat, Par};
 
 use super::filter::FilterError;
 use super::kernels::{axpy, factor_in_place, solve_seq, storage, storage_mut, vectorized};
+use super::measurement::Reads;
+use super::observability::{OperatingPoint, Unknown};
 
 /// An augmented process model x*_k = f(x*_{k−1}, input_k) + noise with measurements
 /// y = h(x*) + noise, linearized by the model itself.
@@ -52,6 +56,25 @@ pub trait ProcessModel {
         x: &mut [f64],
         p: &mut Mat<f64>,
     ) -> Result<(), FilterError>;
+}
+
+/// The continuous-time linearization of an augmented process model, what the observability
+/// tests ([`super::observability`], thesis eq. 7.28, 8.40–8.41) read: the state x* holds the
+/// model's states, then the unknowns (inputs and parameters, random walks).
+pub trait Linearization {
+    /// Size N of the augmented state.
+    fn size(&self) -> usize;
+    /// The unknowns, in the order of their (last) entries of x*.
+    fn unknowns(&self) -> &[Unknown];
+    /// What each measurement row reads.
+    fn reads(&self) -> &[Reads];
+    /// PBH(0) = [−J_c; J_m] at `point` (N columns): the rows of −J_c that are not identically
+    /// zero, a block row possibly multiplied by an invertible matrix (e.g. M for the equation
+    /// of motion; the rank is kept), over the measurement Jacobian J_m.
+    fn pbh_zero(&self, point: &OperatingPoint) -> Mat<f64>;
+    /// The modes (1-based, with frequency in Hz) at whose eigenvalue s = λ_i ≠ 0 of J_c the
+    /// PBH matrix loses rank: modes no measured row sees.
+    fn hidden_modes(&self) -> Vec<(usize, f64)>;
 }
 
 /// The filter: a process model, the estimate x* and its covariance P.

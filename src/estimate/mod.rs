@@ -2,7 +2,8 @@
 //! parameters with the augmented EKF, usable from Rust without a deck.
 //!
 //! - [`ekf`]: the EKF's correction (gain and Joseph update, eq. 8.25–8.28) written once over a
-//!   [`ekf::ProcessModel`] that predicts and measures.
+//!   [`ekf::ProcessModel`] that predicts and measures, and the [`ekf::Linearization`] the
+//!   observability tests read.
 //! - [`filter`]: the augmented EKF with BDF1 and analytic Jacobians (eq. 8.1–8.35), the
 //!   process model of a pROM (`prom_model`) in one of the pROM's coordinates (`coordinates`: the trait they implement): [`physical`] (the
 //!   reduced coordinates q) or modal (`modal_coordinates`, with the couplings of re-diagonalized
@@ -12,8 +13,9 @@
 //!   allows them.
 //! - [`measurement`]: sensor equations y = h(x*) (eq. 8.36): [`crate::dynamics::measurement`],
 //!   shared with the FRF and transient drivers and re-exported here.
-//! - [`observability`]: the PBH test before a run (eq. 8.40–8.41, §8.4.3–8.4.4), at the
-//!   [`operating_points`] of the initial estimate.
+//! - [`observability`]: the PBH test before a run (eq. 8.40–8.41, §8.4.3–8.4.4) of any
+//!   [`ekf::Linearization`], at the [`operating_points`] of the initial estimate; the pROM's
+//!   linearization is [`prom_linearization`].
 //! - [`covariance`]: the rules of thumb for Q of inputs and parameters (eq. 8.30–8.31).
 
 mod coordinates;
@@ -27,6 +29,7 @@ mod modal_coordinates;
 pub mod observability;
 pub mod operating_points;
 pub mod physical;
+pub mod prom_linearization;
 mod prom_model;
 mod propagation;
 

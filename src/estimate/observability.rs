@@ -1,28 +1,28 @@
-//! Observability of the augmented pROM system before a run: the PBH test (thesis eq. 7.28,
-//! 8.40–8.41) on the linearization around operating points of the initial estimate.
+//! Observability of an augmented system before a run: the PBH test (thesis eq. 7.28,
+//! 8.40–8.41) on the linearization of a process model around operating points of the initial
+//! estimate, for any model that gives its linearization ([`Linearization`]; the pROM's is
+//! [`super::prom_linearization::PromLinearization`]).
 //!
 //! - **s = 0** (the critical value: the random-walk states add zero eigenvalues, §7.5.1):
-//!   PBH(0) = [−J_c; J_m] with the q̇ block row multiplied by M (row scaling keeps the rank):
-//!   [0 −I 0 0; K C −S_un D; J_m], D_j = ∂K/∂p_j q + ∂C/∂p_j q̇ + ∂M/∂p_j q̈ at the operating
-//!   point (eq. 8.33). Rows and columns are scaled to unit norm (rank-invariant; parameters and
-//!   states differ by 20 orders of magnitude) and the numerical rank counts the singular values
-//!   above [`RANK_TOLERANCE`] × σ_max. The parameter columns depend on the operating point (zero
-//!   at rest), so the test runs at each operating point the caller supplies (the response of the
-//!   initial estimate to the loads) and passes when one has full rank.
+//!   PBH(0) = [−J_c; J_m] (block rows of −J_c may be multiplied by invertible matrices, which
+//!   keeps the rank; the random walks' rows are zero and left out). Rows and columns are scaled
+//!   to unit norm (rank-invariant; parameters and states differ by 20 orders of magnitude) and
+//!   the numerical rank counts the singular values above [`RANK_TOLERANCE`] × σ_max. The
+//!   parameter columns depend on the operating point (zero at rest), so the test runs at each
+//!   operating point the caller supplies (the response of the initial estimate to the loads)
+//!   and passes when one has full rank.
 //! - **s = λ_i ≠ 0**, the eigenvalues of J_c: the rows of u and p are s·I there, so PBH(λ_i)
-//!   loses rank exactly when a structural mode is invisible to the measured rows. With Rayleigh
-//!   damping the state eigenvectors are [φ_i; λ_i φ_i] for the undamped modes φ_i, and DISP,
-//!   VEL and ACCEL rows read h φ_i times 1, λ_i, λ_i²: mode i is unobservable when H φ_i = 0.
-//!   These modes stay stable (detectable, §7.5.1), so they are reported, not refused.
+//!   loses rank exactly when a mode of the model is invisible to the measured rows
+//!   ([`Linearization::hidden_modes`]). These modes stay stable (detectable, §7.5.1), so they
+//!   are reported, not refused.
 //!
 //! When PBH(0) is deficient everywhere, the null vector names the unknowns that cannot be told
 //! apart, and the cause is named as in thesis §8.4.3–8.4.4.
 
 use faer::Mat;
 
-use super::measurement::{Reads, SensorRows};
-use super::physical::parameter_columns;
-use crate::rom::prom::PromEvaluation;
+use super::ekf::Linearization;
+use super::measurement::Reads;
 
 /// Relative singular-value threshold of the numerical rank of the equilibrated PBH matrix:
 /// exact dependencies (a zero column, proportional columns) land at round-off (≲ 1e-13), while
@@ -78,135 +78,33 @@ impl Observability {
     }
 }
 
-/// The linearized estimation problem at the initial parameters.
-pub struct Problem<'a> {
-    /// pROM at the initial parameters and its Rayleigh α, β.
-    pub at: &'a PromEvaluation,
-    pub alpha_beta: (f64, f64),
-    /// Unknown-input shapes S_un.
-    pub s_un: &'a Mat<f64>,
-    /// Indices of the unknown parameters.
-    pub params: &'a [usize],
-    /// Descriptions of the unknowns, inputs first.
-    pub unknowns: &'a [Unknown],
-    pub measured: &'a SensorRows,
-}
-
-/// Run the PBH test at `points`; `modes`: (ω² ascending, M-orthonormal shapes) of K, M at the
-/// initial parameters.
-pub fn check(
-    problem: &Problem,
-    points: &[OperatingPoint],
-    modes: (&[f64], &Mat<f64>),
-) -> Observability {
-    let Problem {
-        at,
-        alpha_beta,
-        s_un,
-        params,
-        unknowns,
-        measured,
-    } = *problem;
-    let n = at.mass().nrows();
-    let (nu, np) = (s_un.ncols(), params.len());
-    let big_n = 2 * n + nu + np;
+/// Run the PBH test of `model` at `points` (see the module documentation).
+pub fn check<L: Linearization>(model: &L, points: &[OperatingPoint]) -> Observability {
+    let big_n = model.size();
+    let unknowns = model.unknowns();
     let mut best: Option<(usize, f64, Vec<f64>, bool)> = None;
     for point in points {
-        let pbh = pbh_zero(at, alpha_beta, s_un, params, measured, point);
-        let (rank, ratio, null) = numerical_rank(&pbh);
+        let (rank, ratio, null) = numerical_rank(&model.pbh_zero(point));
         if best.as_ref().is_none_or(|b| (rank, ratio) > (b.0, b.1)) {
             best = Some((rank, ratio, null, point.dynamic));
         }
     }
     let (rank, ratio, null, dynamic) = best.unwrap_or((0, 0.0, vec![1.0; big_n], false));
-    let cause = (rank < big_n).then(|| name_cause(&null[2 * n..], unknowns, measured, dynamic));
-    let (lambda, phi) = modes;
-    let hidden_modes = (0..lambda.len())
-        .filter(|&j| {
-            let col_norm = (0..n)
-                .map(|i| phi[(i, j)] * phi[(i, j)])
-                .sum::<f64>()
-                .sqrt();
-            let seen = (0..measured.len())
-                .map(|r| {
-                    (0..n)
-                        .map(|i| measured.h[(r, i)] * phi[(i, j)])
-                        .sum::<f64>()
-                        .abs()
-                        / (row_norm(&measured.h, r) * col_norm).max(f64::MIN_POSITIVE)
-                })
-                .fold(0.0, f64::max);
-            seen <= 1e-8
-        })
-        .map(|j| {
-            (
-                j + 1,
-                lambda[j].max(0.0).sqrt() / (2.0 * std::f64::consts::PI),
-            )
-        })
-        .collect();
+    let cause = (rank < big_n).then(|| {
+        name_cause(
+            &null[big_n - unknowns.len()..],
+            unknowns,
+            model.reads(),
+            dynamic,
+        )
+    });
     Observability {
         rank,
         columns: big_n,
         ratio,
         cause,
-        hidden_modes,
+        hidden_modes: model.hidden_modes(),
     }
-}
-
-fn row_norm(m: &Mat<f64>, r: usize) -> f64 {
-    (0..m.ncols())
-        .map(|c| m[(r, c)] * m[(r, c)])
-        .sum::<f64>()
-        .sqrt()
-}
-
-/// PBH(0) with the q̇ block row scaled by M (see the module documentation).
-fn pbh_zero(
-    at: &PromEvaluation,
-    alpha_beta: (f64, f64),
-    s_un: &Mat<f64>,
-    params: &[usize],
-    measured: &SensorRows,
-    op: &OperatingPoint,
-) -> Mat<f64> {
-    let n = at.mass().nrows();
-    let (nu, np, m) = (s_un.ncols(), params.len(), measured.len());
-    let big_n = 2 * n + nu + np;
-    let d = parameter_columns(at, alpha_beta, params, &op.q, &op.v, &op.a);
-    let mut pbh = Mat::zeros(2 * n + m, big_n);
-    for i in 0..n {
-        pbh[(i, n + i)] = -1.0;
-        for c in 0..n {
-            pbh[(n + i, c)] = at.stiffness()[(i, c)];
-            pbh[(n + i, n + c)] = at.damping()[(i, c)];
-        }
-        for c in 0..nu {
-            pbh[(n + i, 2 * n + c)] = -s_un[(i, c)];
-        }
-        for k in 0..np {
-            pbh[(n + i, 2 * n + nu + k)] = d[(i, k)];
-        }
-    }
-    // accelerometer rows g [−K, −C, S_un, −D] with g = h M⁻¹; VEL rows read q̇
-    let m_llt = at.mass().llt(faer::Side::Lower).ok();
-    for r in 0..m {
-        match measured.reads[r] {
-            Reads::Displacement => (0..n).for_each(|c| pbh[(2 * n + r, c)] = measured.h[(r, c)]),
-            Reads::Velocity => (0..n).for_each(|c| pbh[(2 * n + r, n + c)] = measured.h[(r, c)]),
-            Reads::Acceleration => {
-                let Some(llt) = m_llt.as_ref() else { continue };
-                let g = faer::linalg::solvers::Solve::solve(
-                    llt,
-                    Mat::from_fn(n, 1, |i, _| measured.h[(r, i)]),
-                );
-                for c in 0..big_n {
-                    pbh[(2 * n + r, c)] = -(0..n).map(|i| g[(i, 0)] * pbh[(n + i, c)]).sum::<f64>();
-                }
-            }
-        }
-    }
-    pbh
 }
 
 /// Numerical rank of `a` after unit-norm row and column scaling, σ_min/σ_max, and the right
@@ -251,12 +149,8 @@ fn numerical_rank(a: &Mat<f64>) -> (usize, f64, Vec<f64>) {
 
 /// Name the reason PBH(0) is deficient (thesis §8.4.3–8.4.4). `null`: the null vector's
 /// entries on the unknowns (inputs first, then parameters).
-fn name_cause(null: &[f64], unknowns: &[Unknown], measured: &SensorRows, dynamic: bool) -> String {
-    let displacement_rows = measured
-        .reads
-        .iter()
-        .filter(|r| **r == Reads::Displacement)
-        .count();
+fn name_cause(null: &[f64], unknowns: &[Unknown], reads: &[Reads], dynamic: bool) -> String {
+    let displacement_rows = reads.iter().filter(|r| **r == Reads::Displacement).count();
     let count = unknowns.len();
     if displacement_rows == 0 && count > 0 {
         return format!(
@@ -334,6 +228,8 @@ fn name_cause(null: &[f64], unknowns: &[Unknown], measured: &SensorRows, dynamic
 mod tests {
     use super::*;
     use crate::estimate::filter::tests::chain;
+    use crate::estimate::measurement::SensorRows;
+    use crate::estimate::prom_linearization::PromLinearization;
     use faer::linalg::solvers::Solve;
 
     struct Case {
@@ -375,15 +271,16 @@ mod tests {
         .unwrap();
         let (lambda, phi) =
             crate::linalg::dense::generalized_eigen(at.stiffness(), at.mass()).unwrap();
-        let problem = Problem {
+        let linearization = PromLinearization {
             at: &at,
             alpha_beta: (prom.alpha, prom.beta),
             s_un: &s_un,
             params: &case.params,
             unknowns: &unknowns,
             measured: &sensors,
+            modes: (&lambda, &phi),
         };
-        check(&problem, &[point], (&lambda, &phi))
+        check(&linearization, &[point])
     }
 
     /// Static equilibrium under a load on DOF 2, and a dynamic point with that load (q̈ from

@@ -47,6 +47,7 @@ use crate::dynamics::table::Table;
 use crate::estimate::filter::check_initial_stiffness;
 use crate::estimate::observability::{self, Unknown};
 use crate::estimate::operating_points;
+use crate::estimate::prom_linearization::PromLinearization;
 use crate::estimate::{Coordinates, Filter, FilterSetup, SensorRows, covariance};
 use crate::io::csv_table::{Column, header, read_columns};
 use crate::io::{
@@ -340,15 +341,16 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
                 path.display()
             ))
         })?;
-    let problem = observability::Problem {
+    let linearization = PromLinearization {
         at: &at,
         alpha_beta: (prom.alpha, prom.beta),
         s_un: &s_un,
         params: &setup.unknown_params,
         unknowns: &unknowns,
         measured: &measured,
+        modes: (&modes.0, &modes.1),
     };
-    let verdict = observability::check(&problem, &points, (&modes.0, &modes.1));
+    let verdict = observability::check(&linearization, &points);
     let observability_text = match &verdict.cause {
         None => format!(
             "observable: PBH(0) rank {} of {} (σ_min/σ_max {:.1e}, tolerance {:e})",
