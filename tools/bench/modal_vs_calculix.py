@@ -41,6 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
+from paraflex_tools.cards import card, free_cards
 from paraflex_tools.results import modal_frequencies
 from paraflex_tools.runner import default_binary
 
@@ -135,22 +136,22 @@ METHOD = 1
 SPC = 1
 BEGIN BULK
 $ coupled (consistent) mass, as CalculiX uses
-PARAM,COUPMASS,1
-EIGRL,1,,,{modes}
-MAT1,1,{E:.6e},,{NU},{RHO}
-PSOLID,1,1
 """
-    ids = range(1, mesh.nodes + 1)
-    h = np.column_stack([np.arange(1, mesh.elements + 1), mesh.hexes]).tolist()
+    grids = ((n, None, x, y, z) for n, (x, y, z) in enumerate(mesh.coords, start=1))
+    hexes = np.column_stack([np.arange(1, mesh.elements + 1), np.ones(mesh.elements, int), mesh.hexes])
     cl = mesh.clamp.tolist()
     with open(path, "w", newline="\n") as f:
         f.write(head)
-        f.write("".join([f"GRID,{n},,{x},{y},{z}\n" for n, (x, y, z) in zip(ids, mesh.coords)]))
-        f.write("".join(["CHEXA,%d,1,%d,%d,%d,%d,%d,%d\n,%d,%d\n" % tuple(r) for r in h]))
-        f.write("".join(["SPC1,1,123," + ",".join(map(str, cl[a:a + 6])) + "\n" for a in range(0, len(cl), 6)]))
+        f.write(card("PARAM", "COUPMASS", 1))
+        f.write(card("EIGRL", 1, None, None, modes))
+        f.write(card("MAT1", 1, E, None, NU, RHO))
+        f.write(card("PSOLID", 1, 1))
+        f.write(free_cards("GRID", grids))
+        f.write(free_cards("CHEXA", hexes.tolist()))
+        f.write(free_cards("SPC1", ((1, 123, *cl[a:a + 6]) for a in range(0, len(cl), 6))))
         if spc456:
-            f.write("$ rotations of solid-only grids have no stiffness: fixed here explicitly instead of by AUTOSPC\n"
-                    f"SPC1,1,456,1,THRU,{mesh.nodes}\n")
+            f.write("$ rotations of solid-only grids have no stiffness: fixed here explicitly instead of by AUTOSPC\n")
+            f.write(card("SPC1", 1, 456, 1, "THRU", mesh.nodes))
         f.write("ENDDATA\n")
 
 

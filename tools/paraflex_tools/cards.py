@@ -11,6 +11,11 @@ One function, :func:`card`, writes every form. A field is ``None`` (blank), an `
   Nastran's exponent without ``E``; large-field cards have the ``*`` continuation).
 * ``fit``: ``small`` when the 8-column text of every real reads back as exactly the same double,
   else ``large``.
+
+:func:`free_cards` writes many cards of one kind at once (a mesh's GRIDs, its elements): the
+same text as :func:`card` in free form, without the per-card overhead; :func:`small_cards`
+writes one-line small-field cards from a %-format of their 8-column fields, for decks of 10⁶
+cards in reader benchmarks (about 6 s for a million GRIDs, where :func:`card` takes minutes).
 """
 from __future__ import annotations
 
@@ -33,6 +38,19 @@ def card(name: str, *fields, form: str = "free") -> str:
         narrow = all(fits_small_field(v) for v in fields if isinstance(v, float))
         return card(name, *fields, form="small" if narrow else "large")
     raise ValueError(f"unknown card form {form!r}; expected one of {', '.join(FORMS)}")
+
+
+def free_cards(name: str, rows) -> str:
+    """``card(name, *row)`` in free form for every row of ``rows`` (rows of ints, floats,
+    ``None`` and strings), as one string."""
+    return "".join(_free_card(name, row) for row in rows)
+
+
+def small_cards(name: str, fields: str, rows) -> str:
+    """One small-field card ``name`` per row: ``fields`` is the %-format of the data fields
+    (8 columns each, e.g. ``"%8d        %8.5f"``), applied to each row (a tuple)."""
+    line = f"{name:<8s}{fields}\n"
+    return "".join([line % tuple(row) for row in rows])
 
 
 def free_field(value) -> str:

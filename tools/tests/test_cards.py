@@ -1,7 +1,14 @@
 """The Nastran card writer: field forms, real formatting and continuations."""
 import pytest
 
-from paraflex_tools.cards import card, fits_small_field, free_real, read_nastran_real
+from paraflex_tools.cards import (
+    card,
+    fits_small_field,
+    free_cards,
+    free_real,
+    read_nastran_real,
+    small_cards,
+)
 
 
 def test_free_reals_are_shortest_round_trip_with_point_and_upper_exponent():
@@ -58,3 +65,17 @@ def test_nastran_reals_read_back():
 def test_unknown_form_is_refused():
     with pytest.raises(ValueError, match="unknown card form"):
         card("GRID", 1, form="wide")
+
+
+def test_free_cards_is_card_per_row():
+    rows = [(1, None, 0.1, 2.0, 1e-7), (2, None, 0.3, 4.0, 0.0, 5, 6, 7, 8, 9)]
+    assert free_cards("GRID", rows) == "".join(card("GRID", *r) for r in rows)
+
+
+def test_small_cards_puts_the_name_in_the_first_eight_columns():
+    text = small_cards("GRID", "%8d        %8.5f%8.5f      0.", [(1, 0.5, 0.25), (12, 1.0, 0.0)])
+    assert text.splitlines() == [
+        "GRID           1         0.50000 0.25000      0.",
+        "GRID          12         1.00000 0.00000      0.",
+    ]
+    assert all(len(line) == 48 for line in text.splitlines())
