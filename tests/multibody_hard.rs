@@ -10,7 +10,7 @@ use paraflex::linalg::random::SplitMix64;
 use paraflex::multibody::flexible::NodalMass;
 use paraflex::multibody::{
     Body, DriveKind, FlexibleBodyData, Force, Ggl, JointKind, Marker, MassInvariants,
-    NewtonSettings, Scheme, Signal, System,
+    MultibodyError, NewtonSettings, Scheme, Signal, System,
 };
 
 const G: f64 = 9.81;
@@ -132,7 +132,14 @@ fn a_very_stiff_joint_spring_is_damped_by_the_step_and_holds_the_pendulum() {
         if let Err(e) = ggl.run(100, |_, _| {}) {
             // generalized-α starts from the consistent q̈₀ = −k θ₀/I_O ≈ −2e7 rad/s², whose
             // O(h²) share of the first steps' prediction turns the body by radians: Newton
-            // diverges and the guard stops it, naming the step
+            // diverges and the guard stops both attempts before their 40 iterations, naming
+            // the step
+            if let MultibodyError::NotConverged { iterations, .. } = e {
+                assert!(
+                    iterations < settings.max_iterations,
+                    "{iterations} iterations"
+                );
+            }
             let message = e.to_string();
             eprintln!("{scheme:?}: {message}");
             assert!(
