@@ -4,7 +4,8 @@
 //! against the linearized pendulum θ₀ cos ωt, each scheme's energy behaviour, slider-crank and
 //! four-bar kinematics against their loop equations solved here, a free tumbling rigid body
 //! (angular momentum, Euler-parameter norm, a spin through every orientation), the redundancy
-//! report of a planar loop of revolute joints and the report of a loop that cannot close.
+//! report of a planar loop of revolute joints and the reports of a loop that cannot close and
+//! of one guessed at a dead centre.
 
 use paraflex::geometry::euler_parameters::{IDENTITY, from_axis_angle};
 use paraflex::multibody::{
@@ -473,4 +474,35 @@ fn a_body_spun_about_its_intermediate_axis_flips_through_every_orientation() {
         assert!(norm_error < 1e-10, "{scheme:?}: |e|² − 1 = {norm_error:e}");
         assert!(energy.is_finite());
     }
+}
+
+#[test]
+fn a_four_bar_guessed_straight_is_refused_naming_the_rows_lost_at_the_dead_centre() {
+    // all three links drawn along the x axis: there Φ_q loses in-plane rank, so the rank
+    // test removes an in-plane row besides the three out-of-plane ones; the assembly cannot
+    // leave the line (no first-order method picks elbow up or down) and the removed row
+    // stays violated by the loop's length mismatch 0.3 + 0.8 − 0.6 − 0.7 = −0.2
+    let (a, b, c, d) = (0.3, 0.8, 0.6, 0.7);
+    let mut sys = System::new([0.0, -G, 0.0]);
+    let (_, crank_start, crank_end) = link(&mut sys, a, [0.5 * a, 0.0], 0.0);
+    let (_, coupler_start, coupler_end) = link(&mut sys, b, [a + 0.5 * b, 0.0], 0.0);
+    let (_, rocker_start, rocker_end) = link(&mut sys, c, [d + 0.5 * c, 0.0], 0.0);
+    let a_pivot = sys.add_marker(Marker::new(None, [0.0; 3]));
+    let d_pivot = sys.add_marker(Marker::new(None, [d, 0.0, 0.0]));
+    sys.add_joint(JointKind::Revolute, crank_start, a_pivot);
+    sys.add_joint(JointKind::Revolute, coupler_start, crank_end);
+    sys.add_joint(JointKind::Revolute, rocker_end, coupler_end);
+    sys.add_joint(JointKind::Revolute, rocker_start, d_pivot);
+    let message = match Ggl::new(sys, 1e-3, 0.0, NewtonSettings::default()) {
+        Err(e) => e.to_string(),
+        Ok(_) => panic!("a straight guess of a closing loop must not run"),
+    };
+    assert!(
+        message.starts_with("kinematic assembly at t = 0 did not converge"),
+        "{message}"
+    );
+    assert!(
+        message.contains("joint 3 (Revolute) row 0 (|Φ| = "),
+        "{message}"
+    );
 }

@@ -204,7 +204,7 @@ impl Ggl {
 
     /// Builds the equations at the system's initial guess, removes redundant constraints,
     /// assembles the configuration at t₀ (Newton with minimum-norm corrections on Φ = 0,
-    /// drives included), projects the initial velocities onto Φ_q v + Φ_t = 0 (the
+    /// drives included; an error if a row removed as redundant is violated there), projects the initial velocities onto Φ_q v + Φ_t = 0 (the
     /// minimum-norm change of the given ones, so a drive's rate at t₀ sets the velocities of
     /// its mechanism) and, for generalized-α, solves for the consistent accelerations.
     pub fn with_scheme(
@@ -223,7 +223,7 @@ impl Ggl {
         let (q0, v0) = system.initial_state();
         let (mut q, mut v) = (q0.to_vec(), v0.to_vec());
         let mut equations = system.equations(&q)?;
-        let labels = equations.constraints.labels.clone();
+        let every_row = equations.constraints.clone();
         let split = equations.constraints.remove_redundant(
             &system.layout,
             &q,
@@ -244,6 +244,19 @@ impl Ggl {
             &settings,
             &mut work,
         )?;
+        // rows judged redundant at the guess must hold at the assembled pose as consequences
+        // of the kept ones (to far better than √tol when those hold to tol); one violated
+        // means the guess sat at a dead centre (a loop drawn straight) where Φ_q lost rank
+        // the mechanism has
+        let mut phi = vec![0.0; every_row.len()];
+        every_row.values(&system.layout, &q, start, &mut phi);
+        if split
+            .redundant
+            .iter()
+            .any(|&i| phi[i].abs() > settings.assembly_tolerance.sqrt())
+        {
+            return Err(unsatisfied(&every_row, &phi, start, &settings));
+        }
         // velocities: v ← v − Φ_qᵀ (Φ_q Φ_qᵀ)⁻¹ (Φ_q v + Φ_t)
         let c = &equations.constraints;
         c.jacobian(&system.layout, &q, start, work.phi_q.as_mut());
@@ -263,7 +276,11 @@ impl Ggl {
         }
         let mut ggl = Self {
             system,
-            redundant: split.redundant.iter().map(|&i| labels[i].clone()).collect(),
+            redundant: split
+                .redundant
+                .iter()
+                .map(|&i| every_row.labels[i].clone())
+                .collect(),
             active_row,
             settings,
             step_size,
@@ -629,16 +646,26 @@ fn assemble(
         }
     }
     constraints.values(layout, q, t, &mut work.phi);
-    let (row, residual) = worst(&work.phi);
-    let mut violated: Vec<(usize, f64)> = work
-        .phi
+    Err(unsatisfied(constraints, &work.phi, t, settings))
+}
+
+/// The assembly error: the worst row and every row above the assembly tolerance, largest
+/// first.
+fn unsatisfied(
+    constraints: &ConstraintSet,
+    phi: &[f64],
+    t: f64,
+    settings: &NewtonSettings,
+) -> MultibodyError {
+    let (row, residual) = worst(phi);
+    let mut violated: Vec<(usize, f64)> = phi
         .iter()
         .enumerate()
         .filter(|(_, x)| x.abs() > settings.assembly_tolerance)
         .map(|(i, x)| (i, x.abs()))
         .collect();
     violated.sort_by(|a, b| b.1.total_cmp(&a.1));
-    Err(MultibodyError::Assembly {
+    MultibodyError::Assembly {
         time: t,
         residual,
         worst: constraints.labels.get(row).cloned().unwrap_or_default(),
@@ -646,5 +673,5 @@ fn assemble(
             .iter()
             .map(|&(i, x)| format!("{} (|Φ| = {x:.3e})", constraints.labels[i]))
             .collect(),
-    })
+    }
 }
