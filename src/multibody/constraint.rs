@@ -173,6 +173,11 @@ impl Constraint {
 
     /// ∂Φ/∂t.
     pub fn time_rate(&self, layout: &Layout, q: &[f64], t: f64) -> f64 {
+        self.time_derivative(layout, q, t, 1)
+    }
+
+    /// ∂ᵏΦ/∂tᵏ at fixed q for k = `order` ∈ {1, 2} (the weights' ċ or c̈).
+    pub fn time_derivative(&self, layout: &Layout, q: &[f64], t: f64, order: usize) -> f64 {
         match self {
             Constraint::Normalization { .. } => 0.0,
             Constraint::Dots { terms, offset } => {
@@ -180,10 +185,10 @@ impl Constraint {
                     .iter()
                     .map(|term| {
                         let (u, w) = (term.u.value(layout, q), term.w.value(layout, q));
-                        term.weight.at(t)[1] * (u[0] * w[0] + u[1] * w[1] + u[2] * w[2])
+                        term.weight.at(t)[order] * (u[0] * w[0] + u[1] * w[1] + u[2] * w[2])
                     })
                     .sum();
-                sum + offset.as_ref().map_or(0.0, |c| c.at(t)[1])
+                sum + offset.as_ref().map_or(0.0, |c| c.at(t)[order])
             }
         }
     }

@@ -86,6 +86,18 @@ impl ConstraintSet {
         }
     }
 
+    /// The right-hand side of the acceleration equation Φ_q q̈ = γ into `out` (m):
+    /// γᵢ = −(vᵀ ∇²Φᵢ v + 2 ∂Φ_t,ᵢ/∂q · v + ∂²Φᵢ/∂t²), the second time derivative of Φᵢ = 0
+    /// without its Φ_q q̈ part.
+    pub fn acceleration_rhs(&self, layout: &Layout, q: &[f64], v: &[f64], t: f64, out: &mut [f64]) {
+        for (o, c) in out.iter_mut().zip(&self.constraints) {
+            let mut sum = c.time_derivative(layout, q, t, 2);
+            c.hessian(layout, q, t, 1.0, |a, b, x| sum += v[a] * x * v[b]);
+            c.jacobian(layout, q, t, 1, |j, x| sum += 2.0 * x * v[j]);
+            *o = -sum;
+        }
+    }
+
     /// Removes the rows that are linear combinations of the others at q (tolerance `tol` on
     /// the pivots of the QR of Φ_qᵀ); returns the split (indices into the set before removal).
     pub fn remove_redundant(&mut self, layout: &Layout, q: &[f64], t: f64, tol: f64) -> RankSplit {

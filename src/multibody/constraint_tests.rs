@@ -1,5 +1,6 @@
 //! Constraint derivatives against finite differences (the test oracle): Φ_q of Φ, the
-//! Hessian ∇²Φ of Φ_q and Φ_t of Φ in t, for every joint type and both drives, between a
+//! Hessian ∇²Φ of Φ_q, Φ_t of Φ in t and the acceleration right-hand side γ of the second
+//! difference of Φ along a straight path, for every joint type and both drives, between a
 //! rigid body and a flexible body whose marker moves and turns with random basis rows.
 
 use super::body::Body;
@@ -111,5 +112,45 @@ fn joint_and_drive_derivatives_match_finite_differences() {
             (c.time_rate(layout, &q, t) - fd).abs() < 1e-7,
             "row {row}: Φ_t"
         );
+    }
+}
+
+#[test]
+fn acceleration_rhs_is_minus_the_second_time_difference_along_a_straight_path() {
+    // along q(t) = q + (t − t₀) v, q̈ = 0, so d²Φ/dt² = −γ; the central second difference has
+    // error h² Φ⁗/12 (≈ 1e-8 · 10 here) plus roundoff 4ε|Φ|/h² ≈ 1e-8
+    let mut rng = SplitMix64::new(8);
+    let (sys, m1, m2, q) = two_bodies(&mut rng);
+    let layout = &sys.layout;
+    let v: Vec<f64> = q.iter().map(|_| rng.symmetric()).collect();
+    let t = 0.3;
+    let motion = Signal::sine(0.4, 1.5);
+    let mut set = super::constraint_set::ConstraintSet::default();
+    for c in KINDS.iter().flat_map(|k| k.constraints(&m1, &m2)) {
+        set.push(c, String::new());
+    }
+    for kind in [JointKind::Revolute, JointKind::Prismatic] {
+        set.push(
+            drive_constraint(kind, &m1, &m2, 0.2, &motion),
+            String::new(),
+        );
+    }
+    set.push(
+        super::constraint::Constraint::Normalization { body: 1 },
+        String::new(),
+    );
+    let mut gamma = vec![0.0; set.len()];
+    set.acceleration_rhs(layout, &q, &v, t, &mut gamma);
+    let h = 1e-4;
+    let at = |s: f64| {
+        let qs: Vec<f64> = q.iter().zip(&v).map(|(a, b)| a + s * b).collect();
+        let mut phi = vec![0.0; set.len()];
+        set.values(layout, &qs, t + s, &mut phi);
+        phi
+    };
+    let (plus, centre, minus) = (at(h), at(0.0), at(-h));
+    for (row, g) in gamma.iter().enumerate() {
+        let fd = (plus[row] - 2.0 * centre[row] + minus[row]) / (h * h);
+        assert!((g + fd).abs() < 1e-5, "row {row}: γ {g} vs −Φ̈ {}", -fd);
     }
 }

@@ -6,12 +6,15 @@ pub enum MultibodyError {
     #[error("{0}")]
     Input(String),
     #[error(
-        "kinematic assembly at t = {time} did not converge: |Φ| = {residual:.3e}, worst constraint {worst}"
+        "kinematic assembly at t = {time} did not converge: |Φ| = {residual:.3e}, worst constraint {worst}; still violated: {}",
+        violated.join(", ")
     )]
     Assembly {
         time: f64,
         residual: f64,
         worst: String,
+        /// Every constraint left above the assembly tolerance, largest first, with its |Φ|.
+        violated: Vec<String>,
     },
     #[error(
         "step to t = {time} did not converge in {iterations} Newton iterations: residual {residual:.3e}, worst constraint {worst} (|Φ| = {constraint:.3e})"

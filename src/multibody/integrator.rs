@@ -1,41 +1,45 @@
-//! Time integration of the stabilized index-2 (GGL) equations of motion, eq. 2.60, with BDF1,
-//! eq. 2.61, and consistent initial conditions.
+//! Time integration of the stabilized index-2 (GGL) equations of motion, eq. 2.60, with BDF1
+//! (eq. 2.61), BDF2 or generalized-α ([`super::scheme`]), and consistent initial conditions.
 //!
-//! With the step h, the previous state (q₀, v₀) and the scaled multipliers λ̂ = h λ (λ the
-//! constraint forces of eq. 2.46) and μ (the GGL multipliers, scaled by h as well), one step
-//! solves for x = (q, v, λ̂, μ) at t = t₀ + h
+//! With the step h, the scheme's predictions (q̂, v̂) and factors (c_q, c_v), the scaled
+//! multipliers λ̂ = c_v λ (λ the constraint forces of eq. 2.46) and μ (the GGL multipliers,
+//! scaled likewise), one step solves for x = (q, v, λ̂, μ) at t = t_n + h
 //!
 //! ```text
-//! R₁ = q − q₀ − h v − Φ_qᵀ μ                         = 0   (q̇ − v = Φ_qᵀ μ)
-//! R₂ = M(q) (v − v₀) − h f(q, v, t) + Φ_qᵀ λ̂          = 0   (M v̇ + C v + K q + Φ_qᵀ λ = f_e + f_v)
+//! R₁ = q − q̂ − c_q v − Φ_qᵀ μ                        = 0   (q̇ − v = Φ_qᵀ μ)
+//! R₂ = M(q) (v − v̂) − c_v f(q, v, t) + Φ_qᵀ λ̂          = 0   (M v̇ + C v + K q + Φ_qᵀ λ = f_e + f_v)
 //! R₃ = Φ_q v + Φ_t                                   = 0   (velocity constraints)
 //! R₄ = Φ(q, t)                                       = 0   (position constraints)
 //! ```
 //!
-//! by Newton's method on the dense KKT matrix (faer LU with partial pivoting)
+//! (for BDF1 q̂ = q_n, v̂ = v_n, c_q = c_v = h) by Newton's method on the dense KKT matrix (faer
+//! LU with partial pivoting)
 //!
 //! ```text
-//! ⎡ I − Σ μᵢ∇²Φᵢ          −h I          0      −Φ_qᵀ ⎤
-//! ⎢ h K̂ + Σ λ̂ᵢ∇²Φᵢ        M + h Ĉ       Φ_qᵀ    0    ⎥
+//! ⎡ I − Σ μᵢ∇²Φᵢ          −c_q I        0      −Φ_qᵀ ⎤
+//! ⎢ c_v K̂ + Σ λ̂ᵢ∇²Φᵢ      M + c_v Ĉ     Φ_qᵀ    0    ⎥
 //! ⎢ ∂(Φ_q v + Φ_t)/∂q      Φ_q           0      0    ⎥
 //! ⎣ Φ_q                    0             0      0    ⎦
 //! ```
 //!
 //! with K̂ = K + the spring-dampers' K ∇ℓ∇ℓᵀ and Ĉ = C − ∂f_v/∂v + their C ∇ℓ∇ℓᵀ; the
-//! derivatives of M(q)(v − v₀), f_v and gravity with respect to q (of relative size h² ω²)
+//! derivatives of M(q)(v − v̂), f_v and gravity with respect to q (of relative size h² ω²)
 //! are left out, so the iteration is a modified Newton method. Its factorization is kept across
-//! iterations and steps and refreshed when the contraction rate of the corrections exceeds
-//! `slow_rate`; a step whose corrections do not fall below the tolerance in `max_iterations`
-//! (after one retry with a fresh matrix) is an error naming the time, the residual and the
-//! worst constraint.
+//! iterations and steps (while c_q and c_v stay the same) and refreshed when the contraction
+//! rate of the corrections exceeds `slow_rate`. Corrections that grow under a matrix just
+//! factored at the current iterate mean divergence: the attempt stops there. A step that does
+//! not converge in `max_iterations` (after one retry from the predictor with a fresh matrix
+//! when the first attempt began with an older one) is an error naming the time, the largest
+//! residual entry and the worst position constraint (its joint or drive and |Φ|).
 //!
 //! The time-stepping family of [`crate::dynamics`] integrates unconstrained second-order
 //! residuals in q alone; this step keeps v and the two multiplier sets as unknowns, so it is
 //! written here against the same shape (predict, iterate with a reused factorization, report
-//! per step), ready to take BDF2 or generalized-α coefficients in [`Ggl::step`]'s residual.
+//! per step).
 
 use super::constraint_set::ConstraintSet;
 use super::error::MultibodyError;
+use super::scheme::{History, Scheme, StepForm};
 use super::system::{DriveSource, Equations, System};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef};
@@ -79,7 +83,7 @@ pub struct StepReport {
     pub constraint_residual: f64,
 }
 
-/// The GGL/BDF1 integrator and its state (see module docs).
+/// The GGL integrator and its state (see module docs).
 pub struct Ggl {
     pub system: System,
     pub equations: Equations,
@@ -92,12 +96,18 @@ pub struct Ggl {
     pub time: f64,
     pub q: Vec<f64>,
     pub v: Vec<f64>,
-    /// q̈ ≈ (v − v_previous)/h of the last step (zero at the start).
+    /// q̈ = (v − v̂)/c_v of the last step (BDF1: (v − v_previous)/h); at the start zero, or
+    /// the consistent accelerations when the scheme needs them.
     pub acceleration: Vec<f64>,
     /// Constraint forces λ (physical), one per kept constraint.
     pub lambda: Vec<f64>,
     mu: Vec<f64>,
+    scheme: Scheme,
+    history: History,
+    form: StepForm,
     lu: Option<faer::linalg::solvers::PartialPivLu<f64>>,
+    /// (c_q, c_v) of the factored matrix.
+    factored_for: (f64, f64),
     work: Workspace,
 }
 
@@ -182,16 +192,29 @@ fn minimum_norm(
 }
 
 impl Ggl {
-    /// Builds the equations at the system's initial guess, removes redundant constraints,
-    /// assembles the configuration at t₀ (Newton with minimum-norm corrections on Φ = 0,
-    /// drives included) and projects the initial velocities onto Φ_q v + Φ_t = 0 (the
-    /// minimum-norm change of the given ones).
+    /// A BDF1 integrator ([`Ggl::with_scheme`]).
     pub fn new(
         system: System,
         step_size: f64,
         start: f64,
         settings: NewtonSettings,
     ) -> Result<Self, MultibodyError> {
+        Self::with_scheme(system, step_size, start, settings, Scheme::Bdf1)
+    }
+
+    /// Builds the equations at the system's initial guess, removes redundant constraints,
+    /// assembles the configuration at t₀ (Newton with minimum-norm corrections on Φ = 0,
+    /// drives included; an error if a row removed as redundant is violated there), projects the initial velocities onto Φ_q v + Φ_t = 0 (the
+    /// minimum-norm change of the given ones, so a drive's rate at t₀ sets the velocities of
+    /// its mechanism) and, for generalized-α, solves for the consistent accelerations.
+    pub fn with_scheme(
+        system: System,
+        step_size: f64,
+        start: f64,
+        settings: NewtonSettings,
+        scheme: Scheme,
+    ) -> Result<Self, MultibodyError> {
+        scheme.check()?;
         if !(step_size > 0.0 && step_size.is_finite()) {
             return Err(MultibodyError::Input(format!(
                 "time step {step_size} must be positive and finite"
@@ -200,7 +223,7 @@ impl Ggl {
         let (q0, v0) = system.initial_state();
         let (mut q, mut v) = (q0.to_vec(), v0.to_vec());
         let mut equations = system.equations(&q)?;
-        let labels = equations.constraints.labels.clone();
+        let every_row = equations.constraints.clone();
         let split = equations.constraints.remove_redundant(
             &system.layout,
             &q,
@@ -221,6 +244,19 @@ impl Ggl {
             &settings,
             &mut work,
         )?;
+        // rows judged redundant at the guess must hold at the assembled pose as consequences
+        // of the kept ones (to far better than √tol when those hold to tol); one violated
+        // means the guess sat at a dead centre (a loop drawn straight) where Φ_q lost rank
+        // the mechanism has
+        let mut phi = vec![0.0; every_row.len()];
+        every_row.values(&system.layout, &q, start, &mut phi);
+        if split
+            .redundant
+            .iter()
+            .any(|&i| phi[i].abs() > settings.assembly_tolerance.sqrt())
+        {
+            return Err(unsatisfied(&every_row, &phi, start, &settings));
+        }
         // velocities: v ← v − Φ_qᵀ (Φ_q Φ_qᵀ)⁻¹ (Φ_q v + Φ_t)
         let c = &equations.constraints;
         c.jacobian(&system.layout, &q, start, work.phi_q.as_mut());
@@ -238,9 +274,13 @@ impl Ggl {
         for (x, d) in v.iter_mut().zip(&correction) {
             *x -= d;
         }
-        Ok(Self {
+        let mut ggl = Self {
             system,
-            redundant: split.redundant.iter().map(|&i| labels[i].clone()).collect(),
+            redundant: split
+                .redundant
+                .iter()
+                .map(|&i| every_row.labels[i].clone())
+                .collect(),
             active_row,
             settings,
             step_size,
@@ -248,12 +288,67 @@ impl Ggl {
             acceleration: vec![0.0; n],
             lambda: vec![0.0; m],
             mu: vec![0.0; m],
+            scheme,
+            history: History::default(),
+            form: StepForm::default(),
             lu: None,
+            factored_for: (0.0, 0.0),
             work,
             q,
             v,
             equations,
-        })
+        };
+        if scheme.needs_initial_accelerations() {
+            ggl.solve_accelerations()?;
+        }
+        ggl.history = History::start(&ggl.acceleration);
+        Ok(ggl)
+    }
+
+    /// The time discretization.
+    pub fn scheme(&self) -> Scheme {
+        self.scheme
+    }
+
+    /// Sets `acceleration` and `lambda` to the consistent accelerations and constraint forces
+    /// of the current state: M q̈ + Φ_qᵀ λ = f, Φ_q q̈ = γ (the second time derivative of Φ = 0,
+    /// [`ConstraintSet::acceleration_rhs`]), one dense KKT solve.
+    pub fn solve_accelerations(&mut self) -> Result<(), MultibodyError> {
+        let (n, m) = (self.system.size(), self.constraint_count());
+        let (layout, c, t) = (&self.system.layout, &self.equations.constraints, self.time);
+        let w = &mut self.work;
+        self.system.mass_matrix(&self.q, w.mass.as_mut());
+        self.system
+            .applied_forces(&self.equations, &self.q, &self.v, t, &mut w.force, None);
+        c.jacobian(layout, &self.q, t, w.phi_q.as_mut());
+        c.acceleration_rhs(layout, &self.q, &self.v, t, &mut w.phi);
+        let kkt = Mat::from_fn(n + m, n + m, |i, j| match (i < n, j < n) {
+            (true, true) => w.mass[(i, j)],
+            (true, false) => w.phi_q[(j - n, i)],
+            (false, true) => w.phi_q[(i - n, j)],
+            (false, false) => 0.0,
+        });
+        let mut x = Mat::from_fn(
+            n + m,
+            1,
+            |i, _| {
+                if i < n { w.force[i] } else { w.phi[i - n] }
+            },
+        );
+        kkt.partial_piv_lu().solve_in_place(x.as_mut());
+        if (0..n + m).any(|i| !x[(i, 0)].is_finite()) {
+            return Err(MultibodyError::Singular {
+                what: "KKT matrix of the consistent accelerations",
+                time: t,
+            });
+        }
+        for i in 0..n {
+            self.acceleration[i] = x[(i, 0)];
+        }
+        for k in 0..m {
+            self.lambda[k] = x[(n + k, 0)];
+        }
+        Ok(())
     }
 
     /// Number of kept constraints.
@@ -294,6 +389,18 @@ impl Ggl {
     /// Advances one step of size h.
     pub fn step(&mut self) -> Result<StepReport, MultibodyError> {
         let t = self.time + self.step_size;
+        let h = self.step_size;
+        self.history.form(
+            self.scheme,
+            h,
+            &self.q,
+            &self.v,
+            &self.acceleration,
+            &mut self.form,
+        );
+        if self.factored_for != (self.form.c_q, self.form.c_v) {
+            self.lu = None;
+        }
         let mut iterations = 0;
         let mut factorizations = 0;
         let fresh_start = self.lu.is_none();
@@ -307,14 +414,16 @@ impl Ggl {
             match self.attempt(t, &mut iterations, &mut factorizations)? {
                 Some(x) => {
                     let (n, m) = (self.system.size(), self.constraint_count());
-                    let h = self.step_size;
+                    let c_v = self.form.c_v;
                     for i in 0..n {
-                        self.acceleration[i] = (x[n + i] - self.v[i]) / h;
+                        self.acceleration[i] = (x[n + i] - self.form.v_hat[i]) / c_v;
                     }
+                    self.history
+                        .advance(self.scheme, h, &self.q, &self.v, &x[n..2 * n]);
                     self.q.copy_from_slice(&x[..n]);
                     self.v.copy_from_slice(&x[n..2 * n]);
                     for k in 0..m {
-                        self.lambda[k] = x[2 * n + k] / h;
+                        self.lambda[k] = x[2 * n + k] / c_v;
                         self.mu[k] = x[2 * n + m + k];
                     }
                     self.time = t;
@@ -367,14 +476,15 @@ impl Ggl {
             x[n + i] = self.v[i];
         }
         for k in 0..m {
-            x[2 * n + k] = h * self.lambda[k];
+            x[2 * n + k] = self.form.c_v * self.lambda[k];
             x[2 * n + m + k] = self.mu[k];
         }
         let mut previous_error = f64::INFINITY;
         for _ in 0..self.settings.max_iterations {
             *iterations += 1;
             self.residual(&x, t);
-            if self.lu.is_none() {
+            let fresh = self.lu.is_none();
+            if fresh {
                 self.factor(&x, t)?;
                 *factorizations += 1;
             }
@@ -400,6 +510,9 @@ impl Ggl {
             if error <= self.settings.tolerance {
                 return Ok(Some(x));
             }
+            if fresh && error > previous_error {
+                break;
+            }
             if error > self.settings.slow_rate * previous_error {
                 self.lu = None;
             }
@@ -412,7 +525,12 @@ impl Ggl {
     /// R(x) into `work.rhs`, Φ into `work.phi`.
     fn residual(&mut self, x: &[f64], t: f64) {
         let (n, m) = (self.system.size(), self.constraint_count());
-        let h = self.step_size;
+        let StepForm {
+            q_hat,
+            v_hat,
+            c_q,
+            c_v,
+        } = &self.form;
         let (q, v) = (&x[..n], &x[n..2 * n]);
         let (lam, mu) = (&x[2 * n..2 * n + m], &x[2 * n + m..]);
         let layout = &self.system.layout;
@@ -429,9 +547,9 @@ impl Ggl {
         transpose_mul(w.phi_q.as_ref(), mu, &mut gq_mu);
         transpose_mul(w.phi_q.as_ref(), lam, &mut gq_lam);
         for i in 0..n {
-            w.rhs[(i, 0)] = q[i] - self.q[i] - h * v[i] - gq_mu[i];
-            let mut r2 = -h * w.force[i] + gq_lam[i];
-            for (j, (vj, v0j)) in v.iter().zip(&self.v).enumerate() {
+            w.rhs[(i, 0)] = q[i] - q_hat[i] - c_q * v[i] - gq_mu[i];
+            let mut r2 = -c_v * w.force[i] + gq_lam[i];
+            for (j, (vj, v0j)) in v.iter().zip(v_hat).enumerate() {
                 r2 += w.mass[(i, j)] * (vj - v0j);
             }
             w.rhs[(n + i, 0)] = r2;
@@ -449,7 +567,7 @@ impl Ggl {
     /// Builds and factors the iteration matrix at x (module docs).
     fn factor(&mut self, x: &[f64], t: f64) -> Result<(), MultibodyError> {
         let (n, m) = (self.system.size(), self.constraint_count());
-        let h = self.step_size;
+        let (c_q, c_v) = (self.form.c_q, self.form.c_v);
         let (q, v) = (&x[..n], &x[n..2 * n]);
         let (lam, mu) = (&x[2 * n..2 * n + m], &x[2 * n + m..]);
         let layout = &self.system.layout;
@@ -463,7 +581,7 @@ impl Ggl {
             v,
             t,
             &mut w.force,
-            Some((w.dq.as_mut(), w.dv.as_mut(), h)),
+            Some((w.dq.as_mut(), w.dv.as_mut(), c_v)),
         );
         self.system.mass_matrix(q, w.mass.as_mut());
         c.jacobian(layout, q, t, w.phi_q.as_mut());
@@ -473,7 +591,7 @@ impl Ggl {
         // R₁ rows
         for i in 0..n {
             j[(i, i)] = 1.0;
-            j[(i, n + i)] = -h;
+            j[(i, n + i)] = -c_q;
         }
         c.add_weighted_hessian(layout, q, t, mu, -1.0, j.as_mut().submatrix_mut(0, 0, n, n));
         // R₂ rows
@@ -495,12 +613,15 @@ impl Ggl {
             }
         }
         self.lu = Some(j.partial_piv_lu());
+        self.factored_for = (c_q, c_v);
         Ok(())
     }
 }
 
 /// Kinematic assembly: Newton with minimum-norm corrections Δq = −Φ_qᵀ (Φ_q Φ_qᵀ)⁻¹ Φ until
-/// |Φ| ≤ the assembly tolerance.
+/// |Φ| ≤ the assembly tolerance. A loop that cannot close stops on a singular Φ_q Φ_qᵀ (the
+/// closest configuration is a dead centre) or after 50 iterations; either way the error
+/// lists every constraint still violated.
 fn assemble(
     system: &System,
     constraints: &ConstraintSet,
@@ -517,15 +638,40 @@ fn assemble(
             return Ok(());
         }
         constraints.jacobian(layout, q, t, work.phi_q.as_mut());
-        minimum_norm(work.phi_q.as_ref(), &work.phi, &mut correction, t)?;
+        if minimum_norm(work.phi_q.as_ref(), &work.phi, &mut correction, t).is_err() {
+            break;
+        }
         for (x, d) in q.iter_mut().zip(&correction) {
             *x -= d;
         }
     }
-    let (row, residual) = worst(&work.phi);
-    Err(MultibodyError::Assembly {
+    constraints.values(layout, q, t, &mut work.phi);
+    Err(unsatisfied(constraints, &work.phi, t, settings))
+}
+
+/// The assembly error: the worst row and every row above the assembly tolerance, largest
+/// first.
+fn unsatisfied(
+    constraints: &ConstraintSet,
+    phi: &[f64],
+    t: f64,
+    settings: &NewtonSettings,
+) -> MultibodyError {
+    let (row, residual) = worst(phi);
+    let mut violated: Vec<(usize, f64)> = phi
+        .iter()
+        .enumerate()
+        .filter(|(_, x)| x.abs() > settings.assembly_tolerance)
+        .map(|(i, x)| (i, x.abs()))
+        .collect();
+    violated.sort_by(|a, b| b.1.total_cmp(&a.1));
+    MultibodyError::Assembly {
         time: t,
         residual,
         worst: constraints.labels.get(row).cloned().unwrap_or_default(),
-    })
+        violated: violated
+            .iter()
+            .map(|&(i, x)| format!("{} (|Φ| = {x:.3e})", constraints.labels[i]))
+            .collect(),
+    }
 }

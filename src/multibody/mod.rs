@@ -1,7 +1,8 @@
 //! Flexible multibody dynamics in the floating frame of reference (thesis ch. 2.4, 4.3 and
 //! appendix A; DESIGN.md §11): rigid and flexible (reduced, FFR) bodies with Euler-parameter
 //! orientations, markers, joints and drives as algebraic constraints, spring-dampers and point
-//! forces, and the stabilized index-2 (GGL) equations of motion integrated with BDF1.
+//! forces, and the stabilized index-2 (GGL) equations of motion integrated with BDF1, BDF2 or
+//! generalized-α.
 //!
 //! - [`layout`]: the system coordinates q = [q¹ … q^{n_b}] with qⁱ = [r (3), e (4), q_f (n_r)]
 //!   (eq. 2.44–2.45); ground has none.
@@ -17,7 +18,8 @@
 //! - [`forces`]: point forces, point-to-point and joint spring-dampers, compliant drives.
 //! - [`signal`]: time functions with their first two derivatives; [`error`]: what stops a run.
 //! - [`system`]: the assembled system and its residual terms; [`integrator`]: consistent
-//!   initial conditions and the GGL/BDF1 step (eq. 2.60–2.61) with modified Newton;
+//!   initial conditions and the GGL step (eq. 2.60–2.61) with modified Newton; [`scheme`]:
+//!   BDF1, BDF2 and generalized-α as one step form;
 //!   [`output`]: marker kinematics, reactions, drive torques, power and energy.
 
 pub mod body;
@@ -37,6 +39,7 @@ pub mod layout;
 pub mod marker;
 pub mod output;
 pub mod redundancy;
+pub mod scheme;
 pub mod signal;
 pub mod system;
 pub mod vectors;
@@ -48,5 +51,6 @@ pub use forces::Force;
 pub use integrator::{Ggl, NewtonSettings, StepReport};
 pub use joints::{Drive, DriveKind, Joint, JointKind};
 pub use marker::Marker;
+pub use scheme::Scheme;
 pub use signal::Signal;
 pub use system::{BodyId, MarkerId, System};

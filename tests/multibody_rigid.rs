@@ -1,20 +1,38 @@
 //! Rigid mechanisms against closed forms: pendulum periods (small-amplitude formula and the
 //! elliptic-integral period, e.g. Landau & Lifshitz, Mechanics §11), the first-order energy
-//! and position errors of BDF1, slider-crank and four-bar kinematics against their loop
-//! equations solved here, a free tumbling body (angular momentum, Euler-parameter norm) and the
-//! redundancy report of a planar loop of revolute joints.
+//! and position errors of BDF1, the observed orders 1, 2, 2 of BDF1, BDF2 and generalized-α
+//! against the linearized pendulum θ₀ cos ωt, each scheme's energy behaviour, slider-crank and
+//! four-bar kinematics against their loop equations solved here, a free tumbling rigid body
+//! (angular momentum, Euler-parameter norm, a spin through every orientation), the redundancy
+//! report of a planar loop of revolute joints and the reports of a loop that cannot close and
+//! of one guessed at a dead centre.
 
 use paraflex::geometry::euler_parameters::{IDENTITY, from_axis_angle};
 use paraflex::multibody::{
-    Body, DriveKind, Ggl, JointKind, Marker, NewtonSettings, Signal, System,
+    Body, DriveKind, Ggl, JointKind, Marker, NewtonSettings, Scheme, Signal, System,
 };
 use std::f64::consts::PI;
 
 const G: f64 = 9.81;
 
+/// The three schemes; generalized-α with ρ∞ = 0.8, a common choice that damps the modes
+/// above the step's Nyquist frequency while its low-frequency dissipation stays O((ωh)³).
+const SCHEMES: [Scheme; 3] = [
+    Scheme::Bdf1,
+    Scheme::Bdf2,
+    Scheme::GeneralizedAlpha {
+        spectral_radius: 0.8,
+    },
+];
+
 /// A pendulum: body of mass m, inertia J_zz about its centre, hanging a distance d below a
 /// revolute joint to the ground at the origin (axis z), released at rest at angle θ₀.
 fn pendulum(theta0: f64, dt: f64) -> (Ggl, f64) {
+    pendulum_with(theta0, dt, Scheme::Bdf1)
+}
+
+/// [`pendulum`] integrated with `scheme`; also returns I_O/(m g d) = 1/ω².
+fn pendulum_with(theta0: f64, dt: f64, scheme: Scheme) -> (Ggl, f64) {
     let (m, d, jzz) = (2.0, 0.8, 0.05);
     let mut sys = System::new([0.0, -G, 0.0]);
     let e = from_axis_angle([0.0, 0.0, 1.0], theta0).unwrap();
@@ -26,7 +44,7 @@ fn pendulum(theta0: f64, dt: f64) -> (Ggl, f64) {
     let on_body = sys.add_marker(Marker::new(Some(body), [0.0, d, 0.0]));
     let on_ground = sys.add_marker(Marker::new(None, [0.0, 0.0, 0.0]));
     sys.add_joint(JointKind::Revolute, on_body, on_ground);
-    let ggl = Ggl::new(sys, dt, 0.0, NewtonSettings::default()).unwrap();
+    let ggl = Ggl::with_scheme(sys, dt, 0.0, NewtonSettings::default(), scheme).unwrap();
     let i_o = jzz + m * d * d;
     (ggl, i_o / (m * G * d))
 }
@@ -34,6 +52,90 @@ fn pendulum(theta0: f64, dt: f64) -> (Ggl, f64) {
 /// The angle of the pendulum (from the hanging position) from its centre.
 fn angle(ggl: &Ggl) -> f64 {
     ggl.q[0].atan2(-ggl.q[1])
+}
+
+/// θ̇ from the centre's position (x, y) = d (sin θ, −cos θ) and velocity.
+fn angle_rate(ggl: &Ggl) -> f64 {
+    let (x, y) = (ggl.q[0], ggl.q[1]);
+    (x * ggl.v[1] - y * ggl.v[0]) / (x * x + y * y)
+}
+
+#[test]
+fn observed_orders_are_one_two_two_against_the_linearized_pendulum() {
+    // θ₀ = 1e-3 rad: the linear solution θ₀ cos ωt is exact up to the frequency shift θ₀²/16
+    // (a phase error ωt θ₀²/16 ≈ 2e-7 θ₀ at t = 1 s), far below the smallest discretization
+    // error here (≈ 1e-5 θ₀ for the second-order schemes at h = 2.5 ms)
+    let (theta0, end) = (1e-3, 1.0);
+    let error = |scheme: Scheme, dt: f64| {
+        let (mut ggl, ratio) = pendulum_with(theta0, dt, scheme);
+        let omega = 1.0 / ratio.sqrt();
+        ggl.run((end / dt).round() as usize, |_, _| {}).unwrap();
+        let (theta, rate) = (
+            theta0 * (omega * end).cos(),
+            -theta0 * omega * (omega * end).sin(),
+        );
+        // phase-space distance, smooth in h (unlike the error at a zero crossing)
+        ((angle(&ggl) - theta).powi(2) + ((angle_rate(&ggl) - rate) / omega).powi(2)).sqrt()
+            / theta0
+    };
+    for (scheme, order) in SCHEMES.iter().zip([1.0, 2.0, 2.0]) {
+        let errors = [1e-2, 5e-3, 2.5e-3].map(|dt| error(*scheme, dt));
+        eprintln!("{scheme:?}: {errors:?}");
+        for pair in errors.windows(2) {
+            let observed = (pair[0] / pair[1]).log2();
+            // e(h) = C h^p (1 + O(ωh)) with ωh ≤ 0.035: the next term moves log₂ of the
+            // ratio by ≲ 0.05, so ±0.1 bounds the observed order
+            assert!(
+                (observed - order).abs() < 0.1,
+                "{scheme:?}: observed order {observed} ({errors:?})"
+            );
+        }
+    }
+}
+
+#[test]
+fn energy_without_damping_bdf1_dissipates_bdf2_and_generalized_alpha_keep_it_to_second_order() {
+    // linear-oscillator estimates at ω₀² = m g d / I_O: BDF1 loses energy at the rate ω²h
+    // per second, BDF2 at ω⁴h³/2 and generalized-α (ρ∞ = 0.8) at O(ω⁴h³) (1e-7 and 1e-10
+    // per second here); at 1 rad the pendulum's nonlinearity and the GGL projection change
+    // BDF1's constant by O(1), hence a factor-2 band around ω₀²hT E₀; a second-order scheme
+    // keeps a bounded O((ωh)²) energy error on the nonlinear pendulum, so (ω₀h)² = 1.2e-5
+    // (relative to m g d) bounds their deviation
+    // (measured: BDF1 −1.24e-2, BDF2 ≤ 1.1e-5 of which 5e-6 is its BDF1 start step's loss
+    // ω₀²h²E₀, generalized-α ≤ 1.4e-6; relative to m g d, E₀ = 0.46 m g d); the second-order
+    // schemes' largest deviation must fall by 4 when h halves (the O(h³) terms move the ratio
+    // by ~ωh < 1 %, the sampling of an oscillating maximum by a few %: band 3–5)
+    let (theta0, end) = (1.0, 2.0);
+    let run = |scheme: Scheme, dt: f64| {
+        let (mut ggl, ratio) = pendulum_with(theta0, dt, scheme);
+        let scale = 2.0 * G * 0.8;
+        let energy = |g: &Ggl| (g.kinetic_energy() + 2.0 * G * g.q[1]) / scale;
+        let e0 = energy(&ggl);
+        let mut largest: f64 = 0.0;
+        ggl.run((end / dt).round() as usize, |g, _| {
+            largest = largest.max((energy(g) - e0).abs());
+        })
+        .unwrap();
+        (energy(&ggl) - e0, largest, 1.0 / ratio)
+    };
+    for scheme in SCHEMES {
+        let (change, largest, omega2) = run(scheme, 1e-3);
+        eprintln!("{scheme:?}: final ΔE/(mgd) {change:e}, largest {largest:e}");
+        match scheme {
+            Scheme::Bdf1 => {
+                let estimate = omega2 * 1e-3 * end * (1.0 - theta0.cos());
+                assert!(
+                    change < 0.0 && -change < 2.0 * estimate && -change > 0.5 * estimate,
+                    "BDF1 energy change {change:e} vs −{estimate:e}"
+                );
+            }
+            _ => {
+                assert!(largest < omega2 * 1e-6, "{scheme:?}: deviation {largest:e}");
+                let ratio = run(scheme, 2e-3).1 / largest;
+                assert!((3.0..5.0).contains(&ratio), "{scheme:?}: ratio {ratio}");
+            }
+        }
+    }
 }
 
 /// Time of the first full period: between the first and third zero crossings of θ.
@@ -308,5 +410,99 @@ fn a_drive_on_a_spherical_joint_is_refused() {
         err.to_string()
             .contains("Spherical joint has no coordinate to drive"),
         "{err}"
+    );
+}
+
+#[test]
+fn a_four_bar_that_cannot_close_names_its_violated_joints() {
+    // crank 0.3 + coupler 0.2 + rocker 0.2 < ground 1.5: no configuration closes the loop
+    // (the guess is not collinear, so the redundancy test sees the planar loop's rank)
+    let mut sys = System::new([0.0; 3]);
+    let (_, crank_start, crank_end) = link(&mut sys, 0.3, [0.1, 0.1], 0.5);
+    let (_, coupler_start, coupler_end) = link(&mut sys, 0.2, [0.4, 0.2], -0.3);
+    let (_, rocker_start, rocker_end) = link(&mut sys, 0.2, [1.4, 0.1], 1.0);
+    let a_pivot = sys.add_marker(Marker::new(None, [0.0; 3]));
+    let d_pivot = sys.add_marker(Marker::new(None, [1.5, 0.0, 0.0]));
+    sys.add_joint(JointKind::Revolute, crank_start, a_pivot);
+    sys.add_joint(JointKind::Revolute, coupler_start, crank_end);
+    sys.add_joint(JointKind::Revolute, rocker_start, coupler_end);
+    sys.add_joint(JointKind::Revolute, rocker_end, d_pivot);
+    let message = match Ggl::new(sys, 1e-3, 0.0, NewtonSettings::default()) {
+        Err(e) => e.to_string(),
+        Ok(_) => panic!("the loop cannot close"),
+    };
+    assert!(
+        message.starts_with("kinematic assembly at t = 0 did not converge"),
+        "{message}"
+    );
+    for joint in 0..4 {
+        assert!(
+            message.contains(&format!("joint {joint} (Revolute) row 0 (|Φ| = ")),
+            "{message}"
+        );
+    }
+}
+
+#[test]
+fn a_body_spun_about_its_intermediate_axis_flips_through_every_orientation() {
+    // the intermediate axis is unstable (Dzhanibekov): a spin 2 rad/s about body y with a
+    // 1 % perturbation turns the body over repeatedly, so its orientation passes through the
+    // Euler-angle singularities (|A₁₃| = 1 for x-y-z angles) that Euler parameters do not have
+    let j = [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]];
+    for scheme in SCHEMES {
+        let mut sys = System::new([0.0; 3]);
+        let body = sys.add_body(Body::rigid(1.0, j), [0.0; 3], IDENTITY);
+        sys.set_initial_velocity(body, [0.0; 3], [0.02, 2.0, 0.0]);
+        let mut ggl = Ggl::with_scheme(sys, 2e-3, 0.0, NewtonSettings::default(), scheme).unwrap();
+        let e0 = ggl.kinetic_energy();
+        let (mut lowest_yy, mut largest_13, mut norm_error) = (1.0_f64, 0.0_f64, 0.0_f64);
+        ggl.run(5000, |g, _| {
+            let e = [g.q[3], g.q[4], g.q[5], g.q[6]];
+            let a = paraflex::geometry::euler_parameters::rotation_matrix(&e);
+            lowest_yy = lowest_yy.min(a[1][1]);
+            largest_13 = largest_13.max(a[0][2].abs());
+            norm_error = norm_error.max((e.iter().map(|x| x * x).sum::<f64>() - 1.0).abs());
+        })
+        .unwrap();
+        let energy = ggl.kinetic_energy() / e0 - 1.0;
+        eprintln!("{scheme:?}: A_yy min {lowest_yy}, |A13| max {largest_13}, ΔT/T {energy:e}");
+        assert!(
+            lowest_yy < -0.99,
+            "{scheme:?}: the y axis did not turn over"
+        );
+        assert!(largest_13 > 0.99, "{scheme:?}: no pass near gimbal lock");
+        assert!(norm_error < 1e-10, "{scheme:?}: |e|² − 1 = {norm_error:e}");
+        assert!(energy.is_finite());
+    }
+}
+
+#[test]
+fn a_four_bar_guessed_straight_is_refused_naming_the_rows_lost_at_the_dead_centre() {
+    // all three links drawn along the x axis: there Φ_q loses in-plane rank, so the rank
+    // test removes an in-plane row besides the three out-of-plane ones; the assembly cannot
+    // leave the line (no first-order method picks elbow up or down) and the removed row
+    // stays violated by the loop's length mismatch 0.3 + 0.8 − 0.6 − 0.7 = −0.2
+    let (a, b, c, d) = (0.3, 0.8, 0.6, 0.7);
+    let mut sys = System::new([0.0, -G, 0.0]);
+    let (_, crank_start, crank_end) = link(&mut sys, a, [0.5 * a, 0.0], 0.0);
+    let (_, coupler_start, coupler_end) = link(&mut sys, b, [a + 0.5 * b, 0.0], 0.0);
+    let (_, rocker_start, rocker_end) = link(&mut sys, c, [d + 0.5 * c, 0.0], 0.0);
+    let a_pivot = sys.add_marker(Marker::new(None, [0.0; 3]));
+    let d_pivot = sys.add_marker(Marker::new(None, [d, 0.0, 0.0]));
+    sys.add_joint(JointKind::Revolute, crank_start, a_pivot);
+    sys.add_joint(JointKind::Revolute, coupler_start, crank_end);
+    sys.add_joint(JointKind::Revolute, rocker_end, coupler_end);
+    sys.add_joint(JointKind::Revolute, rocker_start, d_pivot);
+    let message = match Ggl::new(sys, 1e-3, 0.0, NewtonSettings::default()) {
+        Err(e) => e.to_string(),
+        Ok(_) => panic!("a straight guess of a closing loop must not run"),
+    };
+    assert!(
+        message.starts_with("kinematic assembly at t = 0 did not converge"),
+        "{message}"
+    );
+    assert!(
+        message.contains("joint 3 (Revolute) row 0 (|Φ| = "),
+        "{message}"
     );
 }
