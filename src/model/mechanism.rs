@@ -16,7 +16,8 @@ use std::path::PathBuf;
 
 use crate::deck::cards::{BulkData, CordKind};
 use crate::deck::{DeckError, Loc};
-use crate::geometry::mat3::Mat3;
+use crate::geometry::mat3::{Mat3, transpose};
+use crate::geometry::rotation::rotate_tensor;
 use crate::geometry::vec3::normalize;
 
 use super::card_fields::{JointType, MsensorKind};
@@ -277,17 +278,8 @@ pub fn build(
             errors,
         );
         let (centre, inertia) = c.map_or((b.centre, b.inertia), |c| {
-            // J_basic = Rᵀ J R with R's rows the system's axes in basic
-            let r = c.axes;
-            let j = b.inertia;
-            let inertia = std::array::from_fn(|i| {
-                std::array::from_fn(|k| {
-                    (0..3)
-                        .flat_map(|a| (0..3).map(move |b| (a, b)))
-                        .map(|(a, bb)| r[a][i] * j[a][bb] * r[bb][k])
-                        .sum()
-                })
-            });
+            // the system's axes are the rows of c.axes, so components map to basic by its transpose
+            let inertia = rotate_tensor(&transpose(&c.axes), &b.inertia);
             (c.point_to_basic(b.centre), inertia)
         });
         m.bodies.push(Body {

@@ -19,6 +19,8 @@
 //! - [`system`]: the assembled system and its residual terms; [`integrator`]: consistent
 //!   initial conditions and the GGL/BDF1 step (eq. 2.60–2.61) with modified Newton;
 //!   [`output`]: marker kinematics, reactions, drive torques, power and energy.
+//! - [`prom_body`]: a flexible body's data from a `RIGID = REMOVE` pROM artifact at p;
+//!   [`mechanism`]: the system of a model's mechanism (`SOL FMB` decks).
 
 pub mod body;
 pub mod constraint;
@@ -35,7 +37,9 @@ pub mod integrator;
 pub mod joints;
 pub mod layout;
 pub mod marker;
+pub mod mechanism;
 pub mod output;
+pub mod prom_body;
 pub mod redundancy;
 pub mod signal;
 pub mod system;

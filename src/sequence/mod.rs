@@ -9,6 +9,7 @@
 //! | `103`, `MODAL` | [`modal::run`] | `SPC`, `METHOD` (EIGRL) → frequencies, generalized masses, residuals, shapes |
 //! | `108`, `111`, `FRF` | [`frf::run`] | `SPC`, `FREQUENCY`, `DLOAD` (RLOAD1/DAREA inputs), `METHOD` (111) → complex FRFs at inputs and SENSORs |
 //! | `109`, `112`, `TRANSIENT` | [`transient::run`] (full model), [`rom_transient::run`] (`ROM =`) | `TSTEP` (+`TINTEG`), `DLOAD`, `IC` → sensor histories |
+//! | `FMB` | [`fmb::run`] | the mechanism, `TSTEP`, `LOAD` (GRAV), `PVAL` (`BODY.PMPAR`) → MSENSOR and drive histories |
 //! | any with `ROM =` | [`rom_modal`], [`rom_frf`], [`rom_transient`] | the pROM artifact at `PVAL` |
 //!
 //! The full-model drivers share the discretization of [`crate::discretize`]: one
@@ -40,6 +41,7 @@
 //! Vectors are written in the basic system (rotated back from the grids' CD frames).
 
 pub mod estimate;
+pub mod fmb;
 pub mod frf;
 pub mod modal;
 pub mod prom;
@@ -84,6 +86,8 @@ pub enum Sequence {
     Transient,
     /// SOL ESTIMATE: states, inputs and parameters from measurements (augmented EKF) on a pROM.
     Estimate,
+    /// SOL FMB: flexible multibody ([`fmb`]).
+    Fmb,
 }
 
 impl Sequence {
@@ -98,6 +102,7 @@ impl Sequence {
                 Some(Sequence::Transient)
             }
             Solution::Estimate => Some(Sequence::Estimate),
+            Solution::Fmb => Some(Sequence::Fmb),
             _ => None,
         }
     }
@@ -111,6 +116,7 @@ impl Sequence {
             Sequence::Frf => "FRF",
             Sequence::Transient => "TRANSIENT",
             Sequence::Estimate => "ESTIMATE",
+            Sequence::Fmb => "FMB",
         }
     }
 }
@@ -157,6 +163,7 @@ pub enum SubcaseResult {
     RomTransient(rom_transient::RomTransientSummary),
     Transient(transient::TransientSummary),
     Estimate(estimate::EstimateSummary),
+    Fmb(fmb::FmbSummary),
 }
 
 impl SubcaseResult {
@@ -172,6 +179,7 @@ impl SubcaseResult {
             SubcaseResult::RomTransient(r) => r,
             SubcaseResult::Transient(r) => r,
             SubcaseResult::Estimate(r) => r,
+            SubcaseResult::Fmb(r) => r,
         }
     }
 }
@@ -259,6 +267,7 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         (Sequence::Frf, true) => rom_frf::run(ctx, &mut clock)?,
         (Sequence::Transient, true) => rom_transient::run(ctx, &mut clock)?,
         (Sequence::Estimate, true) => estimate::run(ctx, &mut clock)?,
+        (Sequence::Fmb, _) => fmb::run(ctx, &mut clock)?,
         (Sequence::Estimate, false) => {
             return Err(RunError::NotAvailable(format!(
                 "{} on the full model",
