@@ -286,3 +286,54 @@ fn artifact_errors_name_the_card_and_field() {
         "{e}"
     );
 }
+
+/// Forces and spring-dampers on the rod of pendulum_rigid.dat. An MFORCE of m g upward at the
+/// centre of mass balances gravity: the rod stays horizontal (centre of mass moves < 1e-9 m).
+/// Without gravity, a JSPRD of stiffness K at rest X0 = 0.1 rad turns the rod from θ = 0 as
+/// θ = X0 (1 − cos ω t), ω = √(K / I_pivot): the first maximum of y_cm = d sin θ falls at
+/// T/2 = π √(I_pivot / K) (to 1 %: BDF1's phase error at ω Δt = 2e-3 is ~1e-6, the sampling
+/// of the output every 5 ms 0.3 %) with y_cm = d sin 2 X0 (to 1 %: BDF1 loses ω Δt/2 · ω t ≈
+/// 0.3 % of the swing by then).
+#[test]
+fn point_force_balances_gravity_and_a_joint_spring_swings_at_its_frequency() {
+    let base = deck("pendulum_rigid.dat");
+    let balanced = base.replace(
+        "ENDDATA",
+        "MFORCE,1,11,6,9.81,0.,1.,0.\nTABLED1,6\n,0.,1.,10.,1.,ENDT\nENDDATA",
+    );
+    let (file, _dir) = run_text(&balanced);
+    let g = file.group("results/1/fmb").unwrap();
+    for name in ["sensors/XCM", "sensors/YCM"] {
+        let x = read(&g, name);
+        let drift = x.iter().map(|v| (v - x[0]).abs()).fold(0.0, f64::max);
+        assert!(drift < 1e-9, "{name} moved by {drift}");
+    }
+    // I_pivot = m l²/12 + m d² = 1/3
+    let (k, x0, i_pivot, d): (f64, f64, f64, f64) = (1.0, 0.1, 1.0 / 3.0, 0.5);
+    let spring = base
+        .replace("LOAD = 1\n", "")
+        .replace("ENDDATA", &format!("JSPRD,1,1,{k:?},0.,{x0:?}\nENDDATA"));
+    let (file, _dir) = run_text(&spring);
+    let g = file.group("results/1/fmb").unwrap();
+    let t = read(&g, "time");
+    let y = read(&g, "sensors/YCM");
+    let half = std::f64::consts::PI * (i_pivot / k).sqrt();
+    let (i_max, y_max) = y
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| t[*i] < 1.5 * half)
+        .fold(
+            (0, f64::MIN),
+            |a, (i, v)| if *v > a.1 { (i, *v) } else { a },
+        );
+    assert!(
+        (t[i_max] - half).abs() < 1e-2 * half,
+        "maximum at {} vs T/2 = {half}",
+        t[i_max]
+    );
+    let expected = d * (2.0 * x0).sin();
+    assert!(
+        (y_max - expected).abs() < 1e-2 * expected,
+        "y max {y_max} vs {expected}"
+    );
+}
