@@ -677,7 +677,7 @@ pub fn build(
     }
     if !m.is_empty() {
         for p in &bulk.pval {
-            for (name, _) in &p.values {
+            for (pair, (name, _)) in p.values.iter().enumerate() {
                 let body = name.split_once('.').map(|(b, _)| b);
                 let flexible = body
                     .and_then(|b| m.body_named(b))
@@ -687,7 +687,7 @@ pub fn build(
                         &p.loc,
                         "PVAL",
                         p.id,
-                        "field 3 (NAME)",
+                        &format!("field {} (NAME)", 3 + 2 * pair),
                         format!(
                             "{name} is not BODY.PMPAR with BODY a FLEXB name (flexible bodies: {})",
                             m.bodies
