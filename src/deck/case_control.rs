@@ -8,6 +8,7 @@
 
 use super::error::{DeckError, Diagnostics, Loc};
 use super::reader::expand_thru;
+use crate::model::card_fields::FmbStart;
 
 /// What an output request or `SENSOR` selects.
 #[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
@@ -70,6 +71,10 @@ pub struct Subcase {
     pub estim: Option<u32>,
     /// `MEAS = id` (MEASF card).
     pub meas: Option<u32>,
+    /// `MSENSOR = ALL | NONE | set` (the MSENSOR outputs of `SOL FMB`).
+    pub msensor: Option<Target>,
+    /// `FMBSTART = ASSEMBLE | STATIC` (the start of a `SOL FMB` run).
+    pub fmbstart: Option<FmbStart>,
     pub outputs: Vec<OutputRequest>,
     /// Positions of the selections, by canonical name, for cross-reference messages.
     #[serde(skip)]
@@ -92,7 +97,7 @@ impl Subcase {
         macro_rules! inherit { ($($f:ident),*) => { $( if out.$f.is_none() { out.$f = defaults.$f.clone(); } )* } }
         inherit!(
             title, subtitle, label, spc, load, method, frequency, dload, tstep, ic, prom, rom,
-            pval, sensor, estim, meas
+            pval, sensor, estim, meas, msensor, fmbstart
         );
         let own: Vec<&str> = out.outputs.iter().map(|o| o.name).collect();
         let inherited: Vec<OutputRequest> = defaults
@@ -350,6 +355,23 @@ impl CaseControl {
                 }
                 None => diag.error(err("expected ROM = 'file.h5'".into())),
             },
+            "MSENSOR" => match st.value.map(parse_target) {
+                Some(Ok(t)) => {
+                    let sub = self.current();
+                    sub.msensor = Some(t);
+                    sub.locs.push(("MSENSOR", loc.clone()));
+                }
+                Some(Err(m)) => diag.error(err(m)),
+                None => diag.error(err("expected MSENSOR = ALL | NONE | set id".into())),
+            },
+            "FMBSTART" => match st.value.map(str::to_ascii_uppercase).as_deref() {
+                Some("ASSEMBLE") => self.current().fmbstart = Some(FmbStart::Assemble),
+                Some("STATIC") => self.current().fmbstart = Some(FmbStart::Static),
+                other => diag.error(err(format!(
+                    "expected FMBSTART = ASSEMBLE | STATIC, found '{}'",
+                    other.unwrap_or("")
+                ))),
+            },
             "SENSOR" => match st.value.map(parse_target) {
                 Some(Ok(t)) => {
                     let sub = self.current();
@@ -414,7 +436,7 @@ impl CaseControl {
             );
         } else {
             diag.error(err(format!(
-                "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SET PARAM ROM SENSOR {} and output requests {}",
+                "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SET PARAM ROM SENSOR MSENSOR FMBSTART {} and output requests {}",
                 SELECTIONS.join(" "),
                 OUTPUTS.join(" ")
             )));
@@ -543,6 +565,8 @@ mod tests {
             "PVAL = 3",
             "SENSOR = ALL",
             "PROM = 1",
+            "MSENSOR = 7",
+            "FMBSTART = assemble",
         ]);
         assert!(d.is_ok(), "{:?}", d.errors);
         let s = &cc.subcases()[0];
@@ -550,6 +574,10 @@ mod tests {
         assert_eq!(
             (s.pval, s.prom, s.sensor.clone()),
             (Some(3), Some(1), Some(Target::All))
+        );
+        assert_eq!(
+            (s.msensor.clone(), s.fmbstart),
+            (Some(Target::Set(7)), Some(FmbStart::Assemble))
         );
     }
 

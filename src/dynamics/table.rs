@@ -56,6 +56,17 @@ impl Table {
         let (x0, x1, y0, y1) = (self.x[k - 1], self.x[k], self.y[k - 1], self.y[k]);
         y0 + (y1 - y0) * (x - x0) / (x1 - x0)
     }
+
+    /// dy/dx: the slope of the segment holding x (of the segment starting at x on a point), zero
+    /// outside the table.
+    pub fn slope(&self, x: f64) -> f64 {
+        let n = self.x.len();
+        if x < self.x[0] || x >= self.x[n - 1] {
+            return 0.0;
+        }
+        let k = self.x.partition_point(|&v| v <= x);
+        (self.y[k] - self.y[k - 1]) / (self.x[k] - self.x[k - 1])
+    }
 }
 
 #[cfg(test)]
@@ -81,5 +92,20 @@ mod tests {
             Table::new(&[(0.0, 1.0), (0.0, 2.0)]),
             Err(TableError::NotIncreasing { index: 1, .. })
         ));
+    }
+
+    #[test]
+    fn slope_is_the_segment_slope_and_zero_outside() {
+        let t = Table::new(&[(0.0, 0.0), (1.0, 2.0), (3.0, -2.0)]).unwrap();
+        for (x, s) in [
+            (-1.0, 0.0),
+            (0.0, 2.0),
+            (0.5, 2.0),
+            (1.0, -2.0),
+            (2.9, -2.0),
+            (3.0, 0.0),
+        ] {
+            assert_eq!(t.slope(x), s, "x = {x}");
+        }
     }
 }

@@ -64,6 +64,7 @@ impl Model {
         super::xref::check(&refs, deck, &mut errors);
         super::values::check(&refs, &mut errors, &mut warnings);
         super::pmpar::check(&refs, &mut errors);
+        let mechanism = super::mechanism::build(bulk, &coords, &mut errors);
         let params = super::params::read(&bulk.params, &deck.case, &mut errors, &mut warnings);
         super::case::check(deck, &refs, &mut errors);
         warnings.extend(quality.into_warnings());
@@ -85,6 +86,7 @@ impl Model {
             bulk: bulk.clone(),
             subcases: deck.case.subcases(),
             params,
+            mechanism,
             warnings,
         })
     }

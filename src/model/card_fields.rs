@@ -46,3 +46,97 @@ pub struct SpringEnd {
     /// Component 1–6 (0 for ground).
     pub component: u8,
 }
+
+/// A `JOINT` type (DESIGN.md §11).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum JointType {
+    /// `REV`: revolute about N.
+    Revolute,
+    /// `FIX`: bracket.
+    Fixed,
+    /// `SPH`: spherical.
+    Spherical,
+    /// `PRIS`: prismatic along N.
+    Prismatic,
+    /// `CYL`: cylindrical along N.
+    Cylindrical,
+    /// `UNIV`: universal.
+    Universal,
+    /// `INLINE`: a point on a line.
+    Inline,
+    /// `INPLANE`: a point in a plane.
+    Inplane,
+}
+
+impl JointType {
+    /// Keywords as written in decks.
+    pub const KEYWORDS: [(&'static str, JointType); 8] = [
+        ("REV", JointType::Revolute),
+        ("FIX", JointType::Fixed),
+        ("SPH", JointType::Spherical),
+        ("PRIS", JointType::Prismatic),
+        ("CYL", JointType::Cylindrical),
+        ("UNIV", JointType::Universal),
+        ("INLINE", JointType::Inline),
+        ("INPLANE", JointType::Inplane),
+    ];
+
+    /// The keyword of this type.
+    pub fn keyword(self) -> &'static str {
+        Self::KEYWORDS
+            .iter()
+            .find(|(_, k)| *k == self)
+            .map_or("?", |(n, _)| n)
+    }
+
+    /// Whether a drive or a joint spring-damper can act on its relative coordinate.
+    pub fn has_coordinate(self) -> bool {
+        matches!(self, JointType::Revolute | JointType::Prismatic)
+    }
+}
+
+/// What an `MSENSOR` measures (DESIGN.md §11).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum MsensorKind {
+    Pos,
+    Accel,
+    Jforce,
+    Jtorq,
+    Power,
+    Energy,
+    Ke,
+    Strain,
+    Dev,
+}
+
+impl MsensorKind {
+    /// Keywords as written in decks.
+    pub const KEYWORDS: [(&'static str, MsensorKind); 9] = [
+        ("POS", MsensorKind::Pos),
+        ("ACCEL", MsensorKind::Accel),
+        ("JFORCE", MsensorKind::Jforce),
+        ("JTORQ", MsensorKind::Jtorq),
+        ("POWER", MsensorKind::Power),
+        ("ENERGY", MsensorKind::Energy),
+        ("KE", MsensorKind::Ke),
+        ("STRAIN", MsensorKind::Strain),
+        ("DEV", MsensorKind::Dev),
+    ];
+
+    /// The keyword of this kind.
+    pub fn keyword(self) -> &'static str {
+        Self::KEYWORDS
+            .iter()
+            .find(|(_, k)| *k == self)
+            .map_or("?", |(n, _)| n)
+    }
+}
+
+/// Case control `FMBSTART`: how a `SOL FMB` run finds its initial state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum FmbStart {
+    /// Kinematic assembly at t₀ with the drives, velocities from the drive rates.
+    Assemble,
+    /// Static equilibrium under the subcase's gravity.
+    Static,
+}

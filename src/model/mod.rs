@@ -11,6 +11,7 @@
 //! - [`geometry`]: exact element integrals and shape checks;
 //! - [`params`]: the `PARAM`s paraflex uses ([`params::KNOWN_PARAMS`]);
 //! - [`case`]: case-control selections and output requests;
+//! - [`mechanism`]: the multibody cards of `SOL FMB` as a typed mechanism;
 //! - [`mass`]: mass properties; [`summary`]: the check summary and mesh arrays;
 //! - [`lookup`]: solution-control data by id (EIGRL, FREQ, TSTEP, PMOR, PVAL, EKF, …).
 
@@ -23,6 +24,7 @@ pub mod geometry;
 pub mod ids;
 pub mod lookup;
 pub mod mass;
+pub mod mechanism;
 pub mod mesh;
 pub mod params;
 pub mod pmpar;
@@ -209,6 +211,8 @@ pub struct Model {
     pub subcases: Vec<Subcase>,
     /// Values of the PARAMs paraflex uses.
     pub params: ModelParams,
+    /// The multibody mechanism (`SOL FMB`; empty without multibody cards).
+    pub mechanism: mechanism::Mechanism,
     /// Accepted input worth mentioning (the deck's warnings first).
     pub warnings: Vec<Warning>,
 }

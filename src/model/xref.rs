@@ -396,13 +396,15 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
             );
         }
     }
-    // PVALs of a deck that reads a pROM name the artifact's parameters: checked when it is read
+    // PVALs of a deck that reads a pROM name the artifact's parameters: checked when it is read;
+    // those of a multibody deck name BODY.PMPAR of its FLEXB artifacts (model::mechanism)
     let names: HashSet<String> = b
         .pmpar
         .iter()
         .map(|p| p.name.to_ascii_uppercase())
         .collect();
-    for p in b.pval.iter().filter(|_| !reads_rom(deck)) {
+    let multibody = !b.flexb.is_empty() || !b.rigidb.is_empty();
+    for p in b.pval.iter().filter(|_| !reads_rom(deck) && !multibody) {
         for (name, _) in &p.values {
             if !names.contains(&name.to_ascii_uppercase()) {
                 errors.push(

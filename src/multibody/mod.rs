@@ -21,6 +21,8 @@
 //!   initial conditions and the GGL step (eq. 2.60–2.61) with modified Newton; [`scheme`]:
 //!   BDF1, BDF2 and generalized-α as one step form;
 //!   [`output`]: marker kinematics, reactions, drive torques, power and energy.
+//! - [`prom_body`]: a flexible body's data from a `RIGID = REMOVE` pROM artifact at p;
+//!   [`mechanism`]: the system of a model's mechanism (`SOL FMB` decks).
 
 pub mod body;
 pub mod constraint;
@@ -37,7 +39,9 @@ pub mod integrator;
 pub mod joints;
 pub mod layout;
 pub mod marker;
+pub mod mechanism;
 pub mod output;
+pub mod prom_body;
 pub mod redundancy;
 pub mod scheme;
 pub mod signal;

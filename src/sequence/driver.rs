@@ -7,8 +7,8 @@
 use std::collections::HashSet;
 
 use super::{
-    Clock, RunContext, RunError, SubcaseSummary, estimate, frf, modal, prom, rom_case, rom_frf,
-    rom_modal, rom_transient, statics, transient,
+    Clock, RunContext, RunError, SubcaseSummary, estimate, fmb, frf, modal, prom, rom_case,
+    rom_frf, rom_modal, rom_transient, statics, transient,
 };
 use crate::deck::case_control::Subcase;
 use crate::deck::{Deck, Solution, Warning};
@@ -17,7 +17,8 @@ use crate::model::Model;
 /// What a driver runs on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Basis {
-    /// The deck's mesh (no subcase has `ROM =`).
+    /// The deck's own bulk data: its mesh, or its mechanism for `SOL FMB` (no subcase has
+    /// `ROM =`).
     Mesh,
     /// pROM artifacts (`ROM = 'file.h5'` in every subcase).
     Rom,
@@ -60,6 +61,7 @@ pub const DRIVERS: &[&dyn Driver] = &[
     &rom_frf::RomFrf,
     &rom_transient::RomTransient,
     &estimate::Estimate,
+    &fmb::Fmb,
 ];
 
 /// The driver of `sol` on `basis`, if there is one.

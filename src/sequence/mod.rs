@@ -13,6 +13,7 @@
 //! | `108`, `111`, `FRF` | [`frf`] (mesh), [`rom_frf`] (`ROM =`) | `SPC`, `FREQUENCY`, `DLOAD` (RLOAD1/DAREA inputs), `METHOD` (111) → complex FRFs at inputs and SENSORs |
 //! | `109`, `112`, `TRANSIENT` | [`transient`] (mesh), [`rom_transient`] (`ROM =`) | `TSTEP` (+`TINTEG`), `DLOAD`, `IC` → sensor histories |
 //! | `ESTIMATE` | [`estimate`] (`ROM =`) | `ESTIM` (EKF), `MEAS` (MEASF) → states, inputs, parameters |
+//! | `FMB` | [`fmb`] | the mechanism, `TSTEP`, `LOAD` (GRAV), `PVAL` (`BODY.PMPAR`) → MSENSOR and drive histories |
 //!
 //! The mesh drivers share the discretization of [`crate::discretize`] ([`shared::structure`]):
 //! one [`Structure`] (element matrices, one grid-block pattern for K and M, rigid elimination
@@ -46,6 +47,7 @@
 
 pub mod driver;
 pub mod estimate;
+pub mod fmb;
 pub mod frf;
 pub mod modal;
 pub mod prom;

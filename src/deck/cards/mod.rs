@@ -15,6 +15,7 @@ mod extension;
 mod geometry;
 mod loads;
 mod materials;
+mod multibody;
 mod param;
 mod properties;
 mod rigid;
@@ -33,6 +34,7 @@ pub use extension::{
 pub use geometry::{Cord2, CordKind, Grid};
 pub use loads::{Force, Grav, Load};
 pub use materials::{Mat1, Mat8};
+pub use multibody::{Flexb, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
 pub use param::{Param, ParamValue};
 pub use properties::{Pcomp, Pelas, Ply, Pshell, Psolid};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
@@ -95,6 +97,15 @@ pub struct BulkData {
     pub ekfinp: Vec<Ekfinp>,
     pub measf: Vec<Measf>,
     pub meas: Vec<Meas>,
+    pub flexb: Vec<Flexb>,
+    pub rigidb: Vec<Rigidb>,
+    pub markers: Vec<Marker>,
+    pub joints: Vec<Joint>,
+    pub jdrive: Vec<Jdrive>,
+    pub jsprd: Vec<Jsprd>,
+    pub spdmp: Vec<Spdmp>,
+    pub mforce: Vec<Mforce>,
+    pub msensors: Vec<Msensor>,
 }
 
 /// A card constructor that stores its result in [`BulkData`].
@@ -168,6 +179,17 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("EKFINP", |c, b| Ok(b.ekfinp.push(Ekfinp::from_card(c)?))),
     ("MEASF", |c, b| Ok(b.measf.push(Measf::from_card(c)?))),
     ("MEAS", |c, b| Ok(b.meas.push(Meas::from_card(c)?))),
+    ("FLEXB", |c, b| Ok(b.flexb.push(Flexb::from_card(c)?))),
+    ("RIGIDB", |c, b| Ok(b.rigidb.push(Rigidb::from_card(c)?))),
+    ("MARKER", |c, b| Ok(b.markers.push(Marker::from_card(c)?))),
+    ("JOINT", |c, b| Ok(b.joints.push(Joint::from_card(c)?))),
+    ("JDRIVE", |c, b| Ok(b.jdrive.push(Jdrive::from_card(c)?))),
+    ("JSPRD", |c, b| Ok(b.jsprd.push(Jsprd::from_card(c)?))),
+    ("SPDMP", |c, b| Ok(b.spdmp.push(Spdmp::from_card(c)?))),
+    ("MFORCE", |c, b| Ok(b.mforce.push(Mforce::from_card(c)?))),
+    ("MSENSOR", |c, b| {
+        Ok(b.msensors.push(Msensor::from_card(c)?))
+    }),
 ];
 
 /// The parser for a card name (upper case), if paraflex supports the card.

@@ -1,0 +1,97 @@
+//! A flexible body from a pROM artifact built with `RIGID = REMOVE` at parameters p (thesis
+//! §4.2): the reduced M_ff(p), K_ff(p), C_ff(p) of the pROM (eq. 3.31), the mass invariants
+//! combined at p from their affine components (eq. 4.8, M̂(p) = Σₖ fₖ(p) M̂ᵏ) and the basis rows
+//! of the interface grids with their undeformed positions. Only small dense sums: no FOM.
+
+use std::path::Path;
+
+use super::flexible::{FlexibleBodyData, InterfaceRows, MassInvariants};
+use crate::io::{read_prom, read_prom_body};
+use crate::rom::invariants::MassInvariants as AffineInvariants;
+
+/// A flexible body's data at one parameter point, with the point.
+#[derive(Debug, Clone)]
+pub struct PromBodyAtPoint {
+    pub data: FlexibleBodyData,
+    /// The pROM's parameter names and the values used (nominal where not given).
+    pub parameters: Vec<(String, f64)>,
+    /// Names of the parameters outside the box the pROM was built for.
+    pub extrapolated: Vec<String>,
+}
+
+/// Reads the artifact at `path` and evaluates it at the nominal parameters overridden by
+/// `values` (PMPAR name, value; case-insensitive). Errors are messages naming the file.
+pub fn load_prom_body(path: &Path, values: &[(String, f64)]) -> Result<PromBodyAtPoint, String> {
+    let shown = path.display();
+    let (prom, _) = read_prom(path).map_err(|e| e.to_string())?;
+    let n = prom.size();
+    let body = read_prom_body(path, n, prom.functions.len())
+        .map_err(|e| e.to_string())?
+        .ok_or_else(|| {
+            format!(
+                "{shown} has no multibody data (/prom/nodal_mass): it was built with RIGID = KEEP; rebuild it with PMOR RIGID = REMOVE"
+            )
+        })?;
+    let mut p: Vec<f64> = prom.parameters.iter().map(|q| q.nominal).collect();
+    for (name, value) in values {
+        let j = prom
+            .parameters
+            .iter()
+            .position(|q| q.name.eq_ignore_ascii_case(name))
+            .ok_or_else(|| {
+                format!(
+                    "{name} is not a parameter of {shown} (parameters: {})",
+                    prom.parameters
+                        .iter()
+                        .map(|q| q.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            })?;
+        p[j] = *value;
+    }
+    let mut at = prom.workspace();
+    prom.evaluate(&p, &mut at)
+        .map_err(|e| format!("{shown}: {e}"))?;
+    let weights: Vec<f64> = prom.functions.iter().map(|f| f.value(&p)).collect();
+    let invariants = AffineInvariants::combine(&body.invariants, &weights)
+        .ok_or_else(|| format!("{shown}: no affine mass component"))?;
+    let interfaces =
+        body.interface
+            .grids
+            .iter()
+            .zip(&body.interface.rows)
+            .map(|(&grid, rows)| {
+                let index = body.grids.iter().position(|&g| g == grid).ok_or_else(|| {
+                    format!("{shown}: interface grid {grid} has no nodal position")
+                })?;
+                let row = |c: usize| {
+                    (0..n)
+                        .map(|k| std::array::from_fn(|a| rows[(c + a, k)]))
+                        .collect()
+                };
+                Ok(InterfaceRows {
+                    grid,
+                    position: body.masses.positions[index],
+                    translation: row(0),
+                    rotation: row(3),
+                })
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+    Ok(PromBodyAtPoint {
+        data: FlexibleBodyData {
+            invariants: MassInvariants::from(&invariants),
+            mass: at.mass().to_owned(),
+            stiffness: at.stiffness().to_owned(),
+            damping: at.damping().to_owned(),
+            interfaces,
+        },
+        extrapolated: prom.outside_box(&p).into_iter().map(String::from).collect(),
+        parameters: prom
+            .parameters
+            .iter()
+            .map(|q| q.name.clone())
+            .zip(p)
+            .collect(),
+    })
+}

@@ -1,0 +1,262 @@
+//! `SOL FMB`: the deck's mechanism (DESIGN.md §11) integrated in time, one run per subcase.
+//!
+//! Per subcase: `TSTEP` (time grid; `TINTEG` BDF1, the thesis's GGL/BDF1 of eq. 2.60–2.61),
+//! `LOAD` (GRAV: gravity), `PVAL` (values of `BODY.PMPAR` for the flexible bodies' pROMs),
+//! `MSENSOR = ALL | NONE | set` (all MSENSORs without the statement), `FMBSTART = ASSEMBLE`
+//! (kinematic assembly at t = 0, the default). The system is built by
+//! [`crate::multibody::mechanism::build_system`] and run by
+//! [`crate::multibody::mechanism::simulate`].
+//!
+//! Written: `/results/<id>/fmb/{time (t), sensors/<name> (t), drives/<JDRIVE id>/{angle, rate,
+//! torque, power} (t), constraint_residual (t), newton_iterations (t)}`, attributes `method`,
+//! `coordinates`, `constraints`, `redundant` (labels of removed constraints), `params` and
+//! `values` (the flexible bodies' `BODY.PMPAR` values used).
+
+use super::report::{Report, sci};
+use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
+use crate::deck::Solution;
+use crate::deck::cards::TintegMethod;
+use crate::deck::case_control::{Subcase, Target};
+use crate::io::{
+    set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_u32,
+};
+use crate::model::card_fields::FmbStart;
+use crate::model::mechanism::Sensor;
+use crate::multibody::NewtonSettings;
+use crate::multibody::mechanism::{build_system, simulate};
+
+/// What one `SOL FMB` subcase computed.
+#[derive(Debug, Clone)]
+pub struct FmbSummary {
+    pub bodies: usize,
+    pub coordinates: usize,
+    pub constraints: usize,
+    pub redundant: Vec<String>,
+    pub steps: usize,
+    pub end_time: f64,
+    pub max_iterations: usize,
+    pub max_residual: f64,
+    /// `BODY.PMPAR` parameters outside their pROM's box.
+    pub extrapolated: Vec<String>,
+    /// Final value of each written output.
+    pub finals: Vec<(String, f64)>,
+}
+
+/// The `SOL FMB` driver: the deck's mechanism (its bodies' pROMs are read from their artifacts,
+/// so no subcase has `ROM =`).
+pub struct Fmb;
+
+impl Driver for Fmb {
+    fn name(&self) -> &'static str {
+        "FMB"
+    }
+
+    fn solutions(&self) -> &'static [Solution] {
+        &[Solution::Fmb]
+    }
+
+    fn basis(&self) -> Basis {
+        Basis::Mesh
+    }
+
+    fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+        run(ctx, clock)
+    }
+}
+
+/// Runs every subcase.
+fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+    ctx.model
+        .subcases
+        .iter()
+        .map(|sub| {
+            clock.time(format!("subcase {}: multibody", sub.id), || {
+                subcase(ctx, sub)
+            })
+        })
+        .collect()
+}
+
+/// The MSENSORs `sub` selects, in card order.
+fn selected<'a>(ctx: &RunContext, sensors: &'a [Sensor], sub: &Subcase) -> Vec<&'a Sensor> {
+    match &sub.msensor {
+        None | Some(Target::All) => sensors.iter().collect(),
+        Some(Target::None) => Vec::new(),
+        Some(Target::Set(id)) => {
+            let set = ctx.deck.case.set(*id);
+            sensors
+                .iter()
+                .filter(|s| set.is_some_and(|set| set.ids.contains(&s.id)))
+                .collect()
+        }
+    }
+}
+
+fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
+    let id = sub.id;
+    let case = |what: String| RunError::Case { subcase: id, what };
+    let mechanism = &ctx.model.mechanism;
+    if mechanism.is_empty() {
+        return Err(case(
+            "SOL FMB needs a mechanism: FLEXB or RIGIDB bodies, MARKERs and JOINTs".into(),
+        ));
+    }
+    if sub.fmbstart == Some(FmbStart::Static) {
+        return Err(case(
+            "FMBSTART = STATIC (start from static equilibrium) is not available in this version; use FMBSTART = ASSEMBLE".into(),
+        ));
+    }
+    let sid = sub
+        .tstep
+        .ok_or_else(|| case("SOL FMB needs TSTEP = <sid> in case control".into()))?;
+    let tstep = ctx
+        .model
+        .tstep(sid)
+        .ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
+    if let Some(t) = ctx
+        .model
+        .tinteg(sid)
+        .filter(|t| t.method != TintegMethod::Bdf1)
+    {
+        return Err(case(format!(
+            "{}: SOL FMB integrates with BDF1 in this version (TINTEG METHOD = BDF1 or no TINTEG)",
+            t.loc
+        )));
+    }
+    let gravity = sub.load.map_or([0.0; 3], |sid| ctx.model.gravity(sid));
+    let pval: Vec<(String, f64)> = match sub.pval {
+        None => Vec::new(),
+        Some(pid) => ctx
+            .model
+            .pval(pid)
+            .ok_or_else(|| case(format!("PVAL {pid} missing")))?
+            .values
+            .clone(),
+    };
+    let ms = build_system(ctx.model, gravity, &pval).map_err(|errors| {
+        case(
+            errors
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join("\n"),
+        )
+    })?;
+    let sensors: Vec<Sensor> = selected(ctx, &mechanism.sensors, sub)
+        .into_iter()
+        .cloned()
+        .collect();
+    let h = simulate(&ms, &sensors, &tstep.intervals, NewtonSettings::default())
+        .map_err(|e| case(e.to_string()))?;
+
+    let group = ctx.output.group(&format!("results/{id}/fmb"))?;
+    let rows = h.time.len();
+    write_f64(&group, "time", &h.time, &[rows])?;
+    write_f64(
+        &group,
+        "constraint_residual",
+        &h.constraint_residual,
+        &[rows],
+    )?;
+    write_u32(&group, "newton_iterations", &h.newton_iterations, &[rows])?;
+    if !sensors.is_empty() {
+        let sg = ctx.output.group(&format!("results/{id}/fmb/sensors"))?;
+        for (s, series) in sensors.iter().zip(&h.sensors) {
+            write_f64(&sg, &s.name, series, &[rows])?;
+        }
+    }
+    for (d, series) in mechanism.drives.iter().zip(&h.drives) {
+        let dg = ctx
+            .output
+            .group(&format!("results/{id}/fmb/drives/{}", d.id))?;
+        for (name, values) in ["angle", "rate", "torque", "power"].iter().zip(series) {
+            write_f64(&dg, name, values, &[rows])?;
+        }
+    }
+    set_attr_str(&group, "method", "BDF1")?;
+    set_attr_i64(&group, "coordinates", h.coordinates as i64)?;
+    set_attr_i64(&group, "constraints", h.constraints as i64)?;
+    let redundant: Vec<&str> = h.redundant.iter().map(String::as_str).collect();
+    set_attr_strings(&group, "redundant", &redundant)?;
+    let (mut names, mut values, mut extrapolated) = (Vec::new(), Vec::new(), Vec::new());
+    for (body, at) in &ms.flexible {
+        for (name, value) in &at.parameters {
+            names.push(format!("{body}.{name}"));
+            values.push(*value);
+        }
+        extrapolated.extend(at.extrapolated.iter().map(|n| format!("{body}.{n}")));
+    }
+    let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
+    set_attr_strings(&group, "params", &name_refs)?;
+    set_attr_f64s(&group, "values", &values)?;
+
+    Ok(SubcaseSummary {
+        id,
+        autospc: Vec::new(),
+        result: Box::new(FmbSummary {
+            bodies: mechanism.bodies.len(),
+            coordinates: h.coordinates,
+            constraints: h.constraints,
+            redundant: h.redundant.clone(),
+            steps: h.steps,
+            end_time: h.time.last().copied().unwrap_or(0.0),
+            max_iterations: h.max_iterations,
+            max_residual: h.constraint_residual.iter().fold(0.0, |a, x| a.max(*x)),
+            extrapolated,
+            finals: sensors
+                .iter()
+                .zip(&h.sensors)
+                .map(|(s, v)| (s.name.clone(), v.last().copied().unwrap_or(f64::NAN)))
+                .collect(),
+        }),
+    })
+}
+
+impl Report for FmbSummary {
+    fn render(&self, subcase: u32) -> Vec<String> {
+        let mut out = vec![
+            format!(
+                "subcase {subcase}: multibody, {} bod(ies), {} coordinate(s), {} constraint(s), GGL/BDF1 {} step(s) to t = {} s",
+                self.bodies,
+                self.coordinates,
+                self.constraints,
+                self.steps,
+                sci(self.end_time, 4)
+            ),
+            format!(
+                "  Newton: at most {} iteration(s) per step; largest |constraint| {}",
+                self.max_iterations,
+                sci(self.max_residual, 3)
+            ),
+        ];
+        if !self.finals.is_empty() {
+            out.push(format!(
+                "  at the end: {}",
+                self.finals
+                    .iter()
+                    .map(|(n, v)| format!("{n} = {}", sci(*v, 5)))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+        out
+    }
+
+    fn warnings(&self, subcase: u32) -> Vec<String> {
+        let mut w = Vec::new();
+        if !self.redundant.is_empty() {
+            w.push(format!(
+                "subcase {subcase}: {} redundant constraint(s) removed: {}",
+                self.redundant.len(),
+                self.redundant.join("; ")
+            ));
+        }
+        if !self.extrapolated.is_empty() {
+            w.push(format!(
+                "subcase {subcase}: parameter(s) {} lie outside the box their pROM was built for: extrapolated",
+                self.extrapolated.join(", ")
+            ));
+        }
+        w
+    }
+}
