@@ -1,5 +1,6 @@
 //! Typed values of card fields that the model keeps and the solver reads: force or moment,
-//! sensor quantity, shell material orientation and corner thicknesses, scalar-spring ends.
+//! sensor quantity, shell material orientation and corner thicknesses, scalar-spring ends, CSV
+//! columns.
 //! The deck reader builds them while parsing the cards.
 
 /// Whether a `FORCE` / `MOMENT` card is a force or a moment.
@@ -45,4 +46,13 @@ pub struct SpringEnd {
     pub grid: Option<u32>,
     /// Component 1–6 (0 for ground).
     pub component: u8,
+}
+
+/// A CSV column selected by index or header name.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub enum Column {
+    /// 1-based index.
+    Index(usize),
+    /// Header name.
+    Name(String),
 }

@@ -26,6 +26,7 @@ pub mod mass;
 pub mod mesh;
 pub mod params;
 pub mod pmpar;
+pub mod sets;
 pub mod summary;
 pub mod values;
 pub mod xref;
@@ -162,11 +163,36 @@ pub struct Element {
     pub nodes: Vec<usize>,
 }
 
-/// Kind of a rigid element.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Kind of a rigid element with what it ties beyond its hub and legs.
+#[derive(Debug, Clone, PartialEq)]
 pub enum RigidKind {
-    Rbe2,
-    Rbe3,
+    /// RBE2: components CM of every leg follow the hub rigidly.
+    Rbe2 { cm: Dofs },
+    /// RBE3: components REFC of the reference grid are the weighted average of the groups'
+    /// motion.
+    Rbe3 {
+        refc: Dofs,
+        groups: Vec<WeightedGroup>,
+    },
+}
+
+impl RigidKind {
+    /// Card name.
+    pub fn card(&self) -> &'static str {
+        match self {
+            RigidKind::Rbe2 { .. } => "RBE2",
+            RigidKind::Rbe3 { .. } => "RBE3",
+        }
+    }
+}
+
+/// One weight group of an RBE3: grids, the components they contribute, their weight.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WeightedGroup {
+    pub weight: f64,
+    pub components: Dofs,
+    /// Grid indices into [`Model::grids`].
+    pub grids: Vec<usize>,
 }
 
 /// A cross-referenced rigid element.
@@ -174,12 +200,11 @@ pub enum RigidKind {
 pub struct Rigid {
     pub id: u32,
     pub kind: RigidKind,
-    /// Position in `bulk.rbe2` / `bulk.rbe3`.
-    pub card: usize,
     /// RBE2: the independent grid GN; RBE3: the reference grid (grid indices).
     pub hub: usize,
     /// RBE2: dependent grids; RBE3: independent grids of all groups (grid indices).
     pub legs: Vec<usize>,
+    pub loc: Loc,
 }
 
 /// The validated model.

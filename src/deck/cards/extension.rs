@@ -5,7 +5,7 @@ use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
-use crate::io::csv_table::Column;
+use crate::model::card_fields::Column;
 use crate::model::card_fields::SensorKind;
 
 /// What a `PMPAR` parameter scales.
