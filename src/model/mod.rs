@@ -19,6 +19,7 @@ pub mod card_fields;
 pub mod case;
 pub mod coords;
 mod dofs;
+pub mod dynamic_loads;
 pub mod geometry;
 pub mod ids;
 pub mod lookup;

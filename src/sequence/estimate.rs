@@ -238,7 +238,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             ctx.model,
             dload,
             n,
-            |d, comp, scale, shape| place_input(&input_names, &s_r, d, comp, scale, shape),
+            |d, scale, shape| place_input(&input_names, &s_r, d, scale, shape),
             |_| Ok(None),
         )
         .map_err(case)?,
