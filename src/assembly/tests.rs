@@ -1,7 +1,6 @@
 //! Tests of assembly, set reduction, loads and recovery on small decks with hand-made element
 //! matrices (springs), checked against hand solutions.
 
-use std::io::Write;
 use std::sync::Arc;
 
 use faer::Mat;
@@ -18,24 +17,12 @@ use super::pattern::grid_block_pattern;
 use super::recover::{expand_f_to_n, recover_g, spc_forces};
 use super::reduce::{GToN, Partition, partition, reduce_g_to_n, reduce_n_to_f};
 use super::spc::{AutoSpcReport, SpcSet, autospc};
-use crate::deck::Deck;
 use crate::fe::affine::Coefficient;
 use crate::model::Model;
+use crate::model::testing::model_of_text;
 
 fn model(bulk: &str, case: &str) -> Model {
-    let text = format!("SOL 101\nCEND\n{case}BEGIN BULK\n{bulk}ENDDATA\n");
-    let mut file = tempfile::Builder::new()
-        .suffix(".bdf")
-        .tempfile()
-        .expect("temp file");
-    file.write_all(text.as_bytes()).expect("write deck");
-    let deck = Deck::read(file.path()).unwrap_or_else(|e| panic!("deck: {e}"));
-    Model::build(&deck).unwrap_or_else(|e| {
-        panic!(
-            "model: {:?}",
-            e.iter().map(|x| x.to_string()).collect::<Vec<_>>()
-        )
-    })
+    model_of_text(&format!("SOL 101\nCEND\n{case}BEGIN BULK\n{bulk}ENDDATA\n"))
 }
 
 /// A spring k between g DOFs a and b.

@@ -1,6 +1,6 @@
 //! Typed values of card fields that the model keeps and the solver reads: force or moment,
-//! sensor quantity, shell material orientation and corner thicknesses, scalar-spring ends, CSV
-//! columns.
+//! sensor quantity, what a PMPAR scales, shell material orientation and corner thicknesses,
+//! scalar-spring ends, CSV columns.
 //! The deck reader builds them while parsing the cards.
 
 /// Whether a `FORCE` / `MOMENT` card is a force or a moment.
@@ -55,4 +55,54 @@ pub enum Column {
     Index(usize),
     /// Header name.
     Name(String),
+}
+
+/// What a `PMPAR` parameter scales.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum PmparKind {
+    /// Young's modulus of a MAT1.
+    E,
+    /// Density of a MAT1.
+    Rho,
+    /// Poisson's ratio of a MAT1.
+    Nu,
+    /// Angle-ply angle of a PCOMP (degrees).
+    Theta,
+    /// Ply thickness of a PCOMP.
+    Tply,
+    /// Stiffness of a PELAS.
+    K,
+    /// Mass of a CONM2.
+    Mass,
+}
+
+impl PmparKind {
+    /// Every kind with its keyword as written in decks.
+    pub const ALL: [(&'static str, PmparKind); 7] = [
+        ("E", PmparKind::E),
+        ("RHO", PmparKind::Rho),
+        ("NU", PmparKind::Nu),
+        ("THETA", PmparKind::Theta),
+        ("TPLY", PmparKind::Tply),
+        ("K", PmparKind::K),
+        ("MASS", PmparKind::Mass),
+    ];
+
+    /// The card REFID points at.
+    pub fn target_card(self) -> &'static str {
+        match self {
+            PmparKind::E | PmparKind::Rho | PmparKind::Nu => "MAT1",
+            PmparKind::Theta | PmparKind::Tply => "PCOMP",
+            PmparKind::K => "PELAS",
+            PmparKind::Mass => "CONM2",
+        }
+    }
+
+    /// The keyword as written in decks.
+    pub fn name(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(_, k)| *k == self)
+            .map_or("?", |(n, _)| n)
+    }
 }

@@ -24,9 +24,12 @@ pub mod geometry;
 pub mod ids;
 pub mod lookup;
 pub mod mass;
+pub mod materials;
 pub mod mesh;
 pub mod params;
 pub mod pmpar;
+pub mod properties;
+pub mod sensors;
 pub mod sets;
 pub mod summary;
 pub mod values;
@@ -229,8 +232,9 @@ pub struct Model {
     pub properties: HashMap<u32, PropertyRef>,
     /// Material id → material.
     pub materials: HashMap<u32, MaterialRef>,
-    /// The cards themselves (the typed structs the references point into).
-    pub bulk: BulkData,
+    /// The cards themselves (the typed structs the references point into); later modules read
+    /// them through the typed data `Model` offers.
+    bulk: BulkData,
     /// The subcases with the global defaults applied.
     pub subcases: Vec<Subcase>,
     /// Values of the PARAMs paraflex uses.
@@ -268,5 +272,31 @@ impl Model {
             MaterialRef::Mat1(i) => self.bulk.mat1.get(*i).map(|m| m.rho),
             MaterialRef::Mat8(i) => self.bulk.mat8.get(*i).map(|m| m.rho),
         }
+    }
+}
+
+/// Building models from deck text in unit tests of later modules.
+#[cfg(test)]
+pub(crate) mod testing {
+    use std::io::Write;
+
+    use super::Model;
+    use crate::deck::Deck;
+
+    /// The model of a deck given as text, read from a temporary `.bdf` file; panics with every
+    /// error.
+    pub fn model_of_text(text: &str) -> Model {
+        let mut file = tempfile::Builder::new()
+            .suffix(".bdf")
+            .tempfile()
+            .expect("temp file");
+        file.write_all(text.as_bytes()).expect("write deck");
+        let deck = Deck::read(file.path()).unwrap_or_else(|e| panic!("deck: {e}"));
+        Model::build(&deck).unwrap_or_else(|e| {
+            panic!(
+                "model: {:?}",
+                e.iter().map(|x| x.to_string()).collect::<Vec<_>>()
+            )
+        })
     }
 }
