@@ -71,7 +71,8 @@ pub struct LaminateProperty {
 /// A shell section property.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ShellProperty {
-    Plate(PlateProperty),
+    /// PSHELL (boxed: its role materials make it large).
+    Plate(Box<PlateProperty>),
     Laminate(LaminateProperty),
 }
 
@@ -125,7 +126,7 @@ impl Model {
         match property {
             PropertyRef::Pshell(i) => b.pshell.get(i).map(|p| {
                 let role = |mid: Option<u32>| mid.map(|m| self.material_use(m));
-                ShellProperty::Plate(PlateProperty {
+                ShellProperty::Plate(Box::new(PlateProperty {
                     id: p.id,
                     t: p.t,
                     membrane: role(p.mid1),
@@ -137,7 +138,7 @@ impl Model {
                     nsm: p.nsm,
                     z1: p.z1,
                     z2: p.z2,
-                })
+                }))
             }),
             PropertyRef::Pcomp(i) => b.pcomp.get(i).map(|p| {
                 ShellProperty::Laminate(LaminateProperty {
