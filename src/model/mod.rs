@@ -13,6 +13,12 @@
 //! - [`case`]: case-control selections and output requests;
 //! - [`mass`]: mass properties; [`summary`]: the check summary and mesh arrays;
 //! - [`lookup`]: solution-control data by id (EIGRL, FREQ, TSTEP, PMOR, PVAL, EKF, …).
+//!
+//! The cards stay private to this module: later modules read typed, cross-referenced data
+//! through [`Model`]'s methods: [`materials`], [`properties`] (shell, solid, spring),
+//! [`sets`] (SPC and static load sets, combinations expanded), [`dynamic_loads`] (DLOAD,
+//! TLOAD1/RLOAD1 with their DAREA entries, tables), [`pmpar`] ([`Model::parameters`]),
+//! [`sensors`]; rigid elements carry their own data ([`RigidKind`]).
 
 pub mod build;
 pub mod card_fields;

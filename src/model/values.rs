@@ -19,7 +19,7 @@ use crate::deck::{DeckError, Loc, Warning};
 use super::build::Refs;
 
 /// Largest re-diagonalization tolerance τ the estimator accepts: its coupled solves contract by
-/// about τ per iteration (see [`crate::estimate::Coordinates::Rediagonalized`]).
+/// about τ per iteration (the estimator's re-diagonalized modal coordinates).
 pub const MAX_REDIAGONALIZATION_TOLERANCE: f64 = 0.1;
 
 /// Whether τ is an accepted re-diagonalization tolerance, 0 < τ ≤
