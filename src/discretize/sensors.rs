@@ -22,7 +22,7 @@
 //! restricted to the f-set (constrained DOFs do not move in a response).
 //!
 //! Which sensors a run measures (a subcase's `SENSOR = ALL | NONE | set`) is the caller's
-//! choice: [`sensor_operator`] takes the SENSOR cards.
+//! choice: [`sensor_operator`] takes the model's sensors ([`crate::model::sensors`]).
 
 use std::collections::{BTreeMap, HashMap};
 

@@ -35,16 +35,6 @@ pub struct OrthotropicMaterial {
     pub rho: f64,
 }
 
-impl Material {
-    /// Card name.
-    pub fn card(&self) -> &'static str {
-        match self {
-            Material::Isotropic(_) => "MAT1",
-            Material::Orthotropic(_) => "MAT8",
-        }
-    }
-}
-
 impl Model {
     /// The material with id `mid`.
     pub fn material(&self, mid: u32) -> Option<Material> {

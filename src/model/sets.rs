@@ -97,11 +97,6 @@ impl Model {
             .collect())
     }
 
-    /// True when FORCE, MOMENT or GRAV cards of set `sid` exist.
-    pub fn has_load_set(&self, sid: u32) -> bool {
-        simple_set_exists(&self.bulk, sid)
-    }
-
     fn load_term(&self, set: u32, scale: f64) -> LoadTerm {
         let b = &self.bulk;
         let mut term = LoadTerm::default();
