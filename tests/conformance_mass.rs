@@ -66,7 +66,7 @@ fn norm(v: &[f64]) -> f64 {
 }
 
 /// max over mass, cg, inertia of |a − b| / |b| (norm of the quantity).
-fn diffs(model: &Model, r: &Value) -> [f64; 3] {
+fn diffs(deck: &Deck, model: &Model, r: &Value) -> [f64; 3] {
     let mp = model.mass_properties();
     let rm = r["mass"].as_f64().unwrap_or(f64::NAN);
     let rcg: Vec<f64> = r["cg"]
@@ -88,7 +88,7 @@ fn diffs(model: &Model, r: &Value) -> [f64; 3] {
         .unwrap_or_default();
     let dm = (mp.mass - rm).abs() / rm.abs();
     let dcg: Vec<f64> = mp.cg.iter().zip(&rcg).map(|(a, b)| a - b).collect();
-    let correction = conm2_cid_inertia(model);
+    let correction = conm2_cid_inertia(deck, model);
     let ri: Vec<f64> = ri
         .iter()
         .zip(correction.iter().flatten())
@@ -111,9 +111,9 @@ fn diffs(model: &Model, r: &Value) -> [f64; 3] {
 /// The inertia pyNastran drops: Σ T J Tᵀ of every CONM2 with CID > 0 (PYNASTRAN_MASS.md §5,
 /// quirk 2), T the CID axes as columns, J the card's tensor [[I11, −I21, −I31], …]. Only
 /// diagonal J occurs in the decks, so the product-of-inertia sign question does not arise.
-fn conm2_cid_inertia(model: &Model) -> [[f64; 3]; 3] {
+fn conm2_cid_inertia(deck: &Deck, model: &Model) -> [[f64; 3]; 3] {
     let mut out = [[0.0; 3]; 3];
-    for c in model.bulk.conm2.iter().filter(|c| c.cid > 0) {
+    for c in deck.bulk.conm2.iter().filter(|c| c.cid > 0) {
         let (Some(sys), Some(grid)) = (model.coords.get(&(c.cid as u32)), model.grid(c.grid))
         else {
             continue;
@@ -192,7 +192,7 @@ fn conformance_decks_match_pynastran() {
         if let Err(e) = counts_match(&model, &r) {
             failures.push(format!("{name}: {e}"));
         }
-        let d = diffs(&model, &r);
+        let d = diffs(&deck, &model, &r);
         let regular = name.contains("_regular_");
         let all = regular || EXACT_ALL.iter().any(|p| name.starts_with(p));
         let compared = if all {

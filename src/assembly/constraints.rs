@@ -46,7 +46,7 @@ use super::dofs::{DofMap, DofSet};
 use super::error::AssemblyError;
 use super::frames::GridFrames;
 use crate::model::Dofs;
-use crate::model::{Model, RigidKind};
+use crate::model::{Model, RigidKind, WeightedGroup};
 
 /// Relative pivot tolerance of the 6 × 6 RBE3 fit.
 pub const RBE3_PIVOT_TOL: f64 = 1e-10;
@@ -81,56 +81,14 @@ impl RigidElimination {
     ) -> Result<Self, AssemblyError> {
         let mut relations = Vec::new();
         for r in &model.rigids {
-            match r.kind {
-                RigidKind::Rbe2 => {
-                    let card = model
-                        .bulk
-                        .rbe2
-                        .get(r.card)
-                        .ok_or(AssemblyError::MissingGrid {
-                            card: format!("RBE2 {}", r.id),
-                            grid: 0,
-                        })?;
-                    relations.extend(rbe2_relations(
-                        model,
-                        frames,
-                        &format!("RBE2 {} at {}", r.id, card.loc),
-                        r.hub,
-                        &r.legs,
-                        card.cm,
-                    ));
+            let owner = format!("{} {} at {}", r.kind.card(), r.id, r.loc);
+            match &r.kind {
+                RigidKind::Rbe2 { cm } => {
+                    relations.extend(rbe2_relations(model, frames, &owner, r.hub, &r.legs, *cm));
                 }
-                RigidKind::Rbe3 => {
-                    let card = model
-                        .bulk
-                        .rbe3
-                        .get(r.card)
-                        .ok_or(AssemblyError::MissingGrid {
-                            card: format!("RBE3 {}", r.id),
-                            grid: 0,
-                        })?;
-                    let mut groups = Vec::new();
-                    for g in &card.groups {
-                        let mut grids = Vec::with_capacity(g.grids.len());
-                        for id in &g.grids {
-                            grids.push(*model.grid_index.get(id).ok_or(
-                                AssemblyError::MissingGrid {
-                                    card: format!("RBE3 {}", r.id),
-                                    grid: *id,
-                                },
-                            )?);
-                        }
-                        groups.push((g.weight, g.components, grids));
-                    }
+                RigidKind::Rbe3 { refc, groups } => {
                     let xyz: Vec<[f64; 3]> = model.grids.iter().map(|g| g.xyz).collect();
-                    relations.extend(rbe3_relations(
-                        &xyz,
-                        frames,
-                        &format!("RBE3 {} at {}", r.id, card.loc),
-                        r.hub,
-                        card.refc,
-                        &groups,
-                    )?);
+                    relations.extend(rbe3_relations(&xyz, frames, &owner, r.hub, *refc, groups)?);
                 }
             }
         }
@@ -386,29 +344,29 @@ pub fn rbe2_relations(
     out
 }
 
-/// Relations of one RBE3 (see the module doc): `groups` = (weight, components, grid indices);
-/// `owner` names the card in errors (e.g. "RBE3 9 at deck.dat:14").
+/// Relations of one RBE3 (see the module doc) with its weight groups; `owner` names the card in errors (e.g. "RBE3 9 at deck.dat:14").
 pub fn rbe3_relations(
     xyz: &[[f64; 3]],
     frames: &GridFrames,
     owner: &str,
     reference: usize,
     refc: Dofs,
-    groups: &[(f64, Dofs, Vec<usize>)],
+    groups: &[WeightedGroup],
 ) -> Result<Vec<Relation>, AssemblyError> {
     use crate::geometry::vec3::{norm, sub};
     let at = |g: usize| xyz.get(g).copied().unwrap_or([0.0; 3]);
     let x_ref = at(reference);
     let legs: Vec<usize> = groups
         .iter()
-        .flat_map(|(_, _, g)| g.iter().copied())
+        .flat_map(|g| g.grids.iter().copied())
         .collect();
     let lc = legs.iter().map(|&g| norm(sub(at(g), x_ref))).sum::<f64>() / legs.len().max(1) as f64;
     let lc = if lc > 0.0 { lc } else { 1.0 };
     // observed rows: (grid, component 0..6, weight, s_c)
     let mut rows: Vec<(usize, usize, f64, [f64; 6])> = Vec::new();
-    for (w, comps, grids) in groups {
-        for &g in grids {
+    for group in groups {
+        let (w, comps) = (&group.weight, group.components);
+        for &g in &group.grids {
             let s = mul(
                 &transpose(&frame6(frames, g)),
                 &rigid_arm(sub(at(g), x_ref)),

@@ -43,12 +43,9 @@ pub enum AssemblyError {
         "{owner}: the independent grids do not determine the reference motion (weighted fit matrix is singular); add non-collinear grids or rotational components"
     )]
     Rbe3Singular { owner: String },
-    /// An RBE2 independent grid and a dependent grid coincide with components that make no sense.
+    /// A grid is referenced but does not exist.
     #[error("{card}: grid {grid} is referenced but does not exist")]
     MissingGrid { card: String, grid: u32 },
-    /// A coordinate system is referenced but not resolved.
-    #[error("{card}: CID = {cid} does not exist")]
-    MissingCoord { card: String, cid: u32 },
     /// The SPC set does not exist.
     #[error("SPC = {sid} selects no SPC/SPC1/SPCADD set {sid}")]
     NoSpcSet { sid: u32 },

@@ -8,7 +8,8 @@
 //!   acceleration field (a in every grid's global frame, zero rotations), so the mass matrix
 //!   must be assembled first ([`gravity_load`]).
 //! - `LOAD sid S S1 L1 S2 L2 …`: P = S · Σ Si P(Li), with Li FORCE/MOMENT/GRAV sets; a LOAD that
-//!   references a LOAD is an error, as in Nastran.
+//!   references a LOAD is an error, as in Nastran. The model resolves the set into scaled
+//!   vectors in the basic system ([`Model::load_set`]).
 //!
 //! Reduction ([`reduce_load`]): P_n = Tᵀ P_g, then P_f = P_n\[f\] − K_fs u_s, which moves the
 //! enforced displacements u_s to the right-hand side.
@@ -20,6 +21,7 @@ use super::error::AssemblyError;
 use super::frames::GridFrames;
 use crate::model::Model;
 use crate::model::card_fields::ForceKind;
+use crate::model::sets::{LoadTerm, SetError};
 
 /// The mass matrix M_gg as an operator and the values to use (M at the current parameters).
 pub struct Mass<'a> {
@@ -27,7 +29,8 @@ pub struct Mass<'a> {
     pub values: &'a [f64],
 }
 
-/// P_g of the load selection `sid`; `mass` is needed only when a GRAV is involved.
+/// P_g of the load selection `sid` ([`Model::load_set`]); `mass` is needed only when a GRAV is
+/// involved.
 pub fn load_vector(
     model: &Model,
     frames: &GridFrames,
@@ -35,95 +38,44 @@ pub fn load_vector(
     sid: u32,
     mass: Option<Mass<'_>>,
 ) -> Result<Vec<f64>, AssemblyError> {
-    let b = &model.bulk;
+    let terms = model.load_set(sid).map_err(|e| match e {
+        SetError::Empty => AssemblyError::NoLoadSet { sid },
+        SetError::Nested(li) => AssemblyError::BadLoad {
+            sid,
+            reason: format!("L = {li} is itself a LOAD (nested LOAD is not allowed)"),
+        },
+        SetError::Missing(li) => AssemblyError::BadLoad {
+            sid,
+            reason: format!("L = {li} selects no FORCE/MOMENT/GRAV set"),
+        },
+    })?;
     let mut p = vec![0.0; map.size()];
-    let combos: Vec<_> = b.load.iter().filter(|l| l.sid == sid).collect();
-    if combos.is_empty() {
-        if !simple_set_exists(model, sid) {
-            return Err(AssemblyError::NoLoadSet { sid });
-        }
-        add_simple(model, frames, sid, 1.0, &mass, sid, &mut p)?;
-        return Ok(p);
-    }
-    for combo in combos {
-        for &(si, li) in &combo.terms {
-            if b.load.iter().any(|l| l.sid == li) {
-                return Err(AssemblyError::BadLoad {
-                    sid,
-                    reason: format!("L = {li} is itself a LOAD (nested LOAD is not allowed)"),
-                });
-            }
-            if !simple_set_exists(model, li) {
-                return Err(AssemblyError::BadLoad {
-                    sid,
-                    reason: format!("L = {li} selects no FORCE/MOMENT/GRAV set"),
-                });
-            }
-            add_simple(model, frames, li, combo.scale * si, &mass, sid, &mut p)?;
-        }
+    for term in &terms {
+        add_term(frames, term, &mass, sid, &mut p)?;
     }
     Ok(p)
 }
 
-fn simple_set_exists(model: &Model, sid: u32) -> bool {
-    model.bulk.forces.iter().any(|f| f.sid == sid) || model.bulk.grav.iter().any(|g| g.sid == sid)
-}
-
-/// Add `scale` × the FORCE/MOMENT/GRAV cards of set `set` to P_g.
-fn add_simple(
-    model: &Model,
+/// Add one load term (its forces and moments rotated to the grids' global frames, its
+/// accelerations as M · a) to P_g.
+fn add_term(
     frames: &GridFrames,
-    set: u32,
-    scale: f64,
+    term: &LoadTerm,
     mass: &Option<Mass<'_>>,
     selected: u32,
     p: &mut [f64],
 ) -> Result<(), AssemblyError> {
-    for f in model.bulk.forces.iter().filter(|f| f.sid == set) {
-        let card = format!(
-            "{} {}",
-            if f.kind == ForceKind::Force {
-                "FORCE"
-            } else {
-                "MOMENT"
-            },
-            f.sid
-        );
-        let grid = *model
-            .grid_index
-            .get(&f.grid)
-            .ok_or(AssemblyError::MissingGrid {
-                card: card.clone(),
-                grid: f.grid,
-            })?;
-        let cs = model
-            .coords
-            .get(&f.cid)
-            .ok_or(AssemblyError::MissingCoord { card, cid: f.cid })?;
-        let xyz = model.grids.get(grid).map_or([0.0; 3], |g| g.xyz);
-        let axes = cs.axes_at(xyz);
-        let n = f.direction;
-        let basic: [f64; 3] = std::array::from_fn(|i| {
-            scale * f.scale * (0..3).map(|j| axes[i][j] * n[j]).sum::<f64>()
-        });
-        let global = frames.to_global(grid, basic);
-        let first = DofMap::dof(grid, if f.kind == ForceKind::Force { 0 } else { 3 });
+    for f in &term.point_loads {
+        let global = frames.to_global(f.grid, f.basic);
+        let first = DofMap::dof(f.grid, if f.kind == ForceKind::Force { 0 } else { 3 });
         for (k, v) in global.iter().enumerate() {
             p[first + k] += v;
         }
     }
-    for g in model.bulk.grav.iter().filter(|g| g.sid == set) {
+    for &a in &term.accelerations {
         let mass = mass
             .as_ref()
             .ok_or(AssemblyError::MassRequired { sid: selected })?;
-        let cs = model
-            .coords
-            .get(&g.cid)
-            .ok_or(AssemblyError::MissingCoord {
-                card: format!("GRAV {}", g.sid),
-                cid: g.cid,
-            })?;
-        let a = cs.vector_to_basic(g.direction.map(|x| x * g.a * scale));
         let pg = gravity_load(mass.operator, mass.values, frames, a)?;
         p.iter_mut().zip(pg).for_each(|(x, y)| *x += y);
     }

@@ -22,14 +22,13 @@
 //! here; the factorization reports its failing index, named with
 //! [`DofMap::dof_name`](super::dofs::DofMap::dof_name).
 
-use std::collections::BTreeSet;
-
 use super::assemble::AffineOperator;
 use super::constraints::RigidElimination;
 use super::dofs::{DofMap, DofSet};
 use super::error::{AssemblyError, DofName};
 use crate::model::Dofs;
 use crate::model::Model;
+use crate::model::sets::SetError;
 
 /// AUTOSPC threshold: a diagonal ≤ ratio × the largest diagonal of its grid's translation or
 /// rotation triple counts as "no stiffness" (Nastran's EPZERO default).
@@ -71,67 +70,32 @@ impl SpcSet {
             }
         }
         let Some(sid) = sid else { return Ok(out) };
-        let b = &model.bulk;
-        let adds: Vec<_> = b.spcadd.iter().filter(|a| a.sid == sid).collect();
-        let sets: Vec<u32> = if adds.is_empty() {
-            vec![sid]
-        } else {
-            let mut sets = BTreeSet::new();
-            for a in &adds {
-                for &s in &a.sets {
-                    if b.spcadd.iter().any(|x| x.sid == s) {
-                        return Err(AssemblyError::BadSpcadd {
-                            sid,
-                            reason: format!(
-                                "S = {s} is itself an SPCADD (nested SPCADD is not allowed)"
-                            ),
-                        });
-                    }
-                    if !b.spc.iter().any(|x| x.sid == s) && !b.spc1.iter().any(|x| x.sid == s) {
-                        return Err(AssemblyError::BadSpcadd {
-                            sid,
-                            reason: format!("S = {s} selects no SPC/SPC1 set"),
-                        });
-                    }
-                    sets.insert(s);
-                }
-            }
-            sets.into_iter().collect()
-        };
-        let mut found = false;
-        for &s in &sets {
-            for spc in b.spc.iter().filter(|x| x.sid == s) {
-                found = true;
-                let grid = grid_of(model, spc.grid, &format!("SPC {s}"))?;
+        let entries = model.spc_set(sid).map_err(|e| match e {
+            SetError::Empty => AssemblyError::NoSpcSet { sid },
+            SetError::Nested(s) => AssemblyError::BadSpcadd {
+                sid,
+                reason: format!("S = {s} is itself an SPCADD (nested SPCADD is not allowed)"),
+            },
+            SetError::Missing(s) => AssemblyError::BadSpcadd {
+                sid,
+                reason: format!("S = {s} selects no SPC/SPC1 set"),
+            },
+        })?;
+        for entry in &entries {
+            let card = format!("{} {}", entry.card.name(), entry.set);
+            for &g in &entry.grids {
+                let grid = grid_of(model, g, &card)?;
                 out.add_components(
                     map,
                     grid,
-                    spc.components,
-                    spc.value,
-                    &format!("SPC {s} at {}", spc.loc),
+                    entry.components,
+                    entry.value,
+                    &format!("{card} at {}", entry.loc),
                     sid,
                 )?;
             }
-            for spc in b.spc1.iter().filter(|x| x.sid == s) {
-                found = true;
-                for &g in &spc.grids {
-                    let grid = grid_of(model, g, &format!("SPC1 {s}"))?;
-                    out.add_components(
-                        map,
-                        grid,
-                        spc.components,
-                        0.0,
-                        &format!("SPC1 {s} at {}", spc.loc),
-                        sid,
-                    )?;
-                }
-            }
         }
-        if found {
-            Ok(out)
-        } else {
-            Err(AssemblyError::NoSpcSet { sid })
-        }
+        Ok(out)
     }
 
     fn add_components(

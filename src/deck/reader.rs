@@ -11,8 +11,8 @@
 use super::error::{DeckError, Loc};
 use super::fields::RawCard;
 use super::value::Value;
-use crate::io::csv_table::Column;
 use crate::model::Dofs;
+use crate::model::card_fields::Column;
 
 /// Reads the fields of one card; see the module documentation.
 pub struct FieldReader<'a> {

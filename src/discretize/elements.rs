@@ -4,7 +4,7 @@
 //! | element | property / material | kernel |
 //! |---|---|---|
 //! | CQUAD4, CTRIA3 | PSHELL, each of MID1…MID4 MAT1 or MAT8 | [`ShellSection::pshell`]: MID1 membrane, MID2 bending with 12I/T³, MID3 transverse shear with TS/T (MAT1 G, MAT8 G1Z/G2Z), MID4 membrane–bending coupling; MID1 blank = no membrane, MID2 blank = membrane only, MID3 blank = Kirchhoff penalty (see [`PshellSection`]) |
-//! | CQUAD4, CTRIA3 | PCOMP (plies MAT8 or MAT1) | [`ShellSection::laminate`] of [`Pcomp::full_stack`], bottom at Z0 + ZOFFS, NSM |
+//! | CQUAD4, CTRIA3 | PCOMP (plies MAT8 or MAT1) | [`ShellSection::laminate`] of the full ply stack ([`crate::model::properties::LaminateProperty`]), bottom at Z0 + ZOFFS, NSM |
 //! | CHEXA, CPENTA, CTETRA | PSOLID + MAT1 | [`solid`] (translations, expanded to 6 DOFs per grid) |
 //! | CELAS1 / CELAS2 | PELAS k / k on the card | [`ScalarSpring`], components in the grid's CD frame (as in Nastran) |
 //! | CONM2 | — | [`Conm2`] with the CG offset and inertia tensor from [`Model::element_mass`] |
@@ -48,7 +48,6 @@ use super::DiscretizeError;
 use super::parameters::Parameters;
 use crate::assembly::assemble::Binding;
 use crate::assembly::{Contribution, DofMap, GridFrames, ParamTarget};
-use crate::deck::cards::{Pcomp, PmparKind};
 use crate::fe::affine::{AffineMatrix, Coefficient, CoefficientValues};
 use crate::fe::laminate::{
     Laminate, Ply, PshellSection, RoleMaterial, SectionData, SectionError, SectionParameter,
@@ -57,8 +56,12 @@ use crate::fe::laminate::{
 use crate::fe::lumped::{Conm2, GridComponent, ScalarSpring};
 use crate::fe::{shell, solid};
 use crate::linalg::Progress;
-use crate::model::card_fields::{CornerThickness, ShellOrientation, SpringEnd};
-use crate::model::{Element, ElementKind, MaterialRef, Model, PropertyRef};
+use crate::model::card_fields::{CornerThickness, PmparKind, ShellOrientation, SpringEnd};
+use crate::model::materials::Material;
+use crate::model::properties::{
+    MaterialUse, ShellPlacement, ShellProperty, Spring, SpringStiffness,
+};
+use crate::model::{Element, ElementKind, Model, PropertyRef};
 
 /// Element matrices of a model, ready for assembly, plus what strain recovery needs.
 #[derive(Debug, Clone, Default)]
@@ -201,33 +204,6 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> 
     Ok(built)
 }
 
-/// The shell fields shared by CQUAD4 and CTRIA3.
-struct ShellCard {
-    pid: u32,
-    orientation: ShellOrientation,
-    zoffs: f64,
-    corners: Option<CornerThickness>,
-}
-
-fn shell_card(model: &Model, e: &Element) -> Option<ShellCard> {
-    let b = &model.bulk;
-    match e.kind {
-        ElementKind::Quad4 => b.cquad4.get(e.card).map(|c| ShellCard {
-            pid: c.pid,
-            orientation: c.orientation,
-            zoffs: c.zoffs,
-            corners: c.corner_thickness,
-        }),
-        ElementKind::Tria3 => b.ctria3.get(e.card).map(|c| ShellCard {
-            pid: c.pid,
-            orientation: c.orientation,
-            zoffs: c.zoffs,
-            corners: c.corner_thickness,
-        }),
-        _ => None,
-    }
-}
-
 /// Corner thicknesses of a PSHELL element with T1…T4 (TFLAG = 1: ratios of T, 0: values,
 /// blank corner: T), `None` without them.
 fn corner_thicknesses(t: f64, corners: Option<&CornerThickness>, n: usize) -> Option<Vec<f64>> {
@@ -243,67 +219,55 @@ fn corner_thicknesses(t: f64, corners: Option<&CornerThickness>, n: usize) -> Op
     })
 }
 
-fn ply_of_material(model: &Model, mid: u32, t: f64, theta_deg: f64) -> Option<Ply> {
-    Some(match *model.materials.get(&mid)? {
-        MaterialRef::Mat8(i) => {
-            let m = model.bulk.mat8.get(i)?;
-            Ply {
-                e1: m.e1,
-                e2: m.e2,
-                nu12: m.nu12,
-                g12: m.g12,
-                g1z: m.g1z,
-                g2z: m.g2z,
-                rho: m.rho,
-                t,
-                theta_deg,
-            }
-        }
-        MaterialRef::Mat1(i) => {
-            let m = model.bulk.mat1.get(i)?;
-            Ply {
-                e1: m.e,
-                e2: m.e,
-                nu12: m.nu,
-                g12: m.g,
-                g1z: Some(m.g),
-                g2z: Some(m.g),
-                rho: m.rho,
-                t,
-                theta_deg,
-            }
-        }
-    })
+/// A ply of a material (a MAT1 is a ply with E1 = E2 = E, G12 = G1Z = G2Z = G).
+fn ply_of(material: Material, t: f64, theta_deg: f64) -> Ply {
+    match material {
+        Material::Orthotropic(m) => Ply {
+            e1: m.e1,
+            e2: m.e2,
+            nu12: m.nu12,
+            g12: m.g12,
+            g1z: m.g1z,
+            g2z: m.g2z,
+            rho: m.rho,
+            t,
+            theta_deg,
+        },
+        Material::Isotropic(m) => Ply {
+            e1: m.e,
+            e2: m.e,
+            nu12: m.nu,
+            g12: m.g,
+            g1z: Some(m.g),
+            g2z: Some(m.g),
+            rho: m.rho,
+            t,
+            theta_deg,
+        },
+    }
 }
 
 /// A MAT1 / MAT8 as the material of a PSHELL role.
-fn shell_material(model: &Model, mid: u32) -> Option<RoleMaterial> {
-    Some(match *model.materials.get(&mid)? {
-        MaterialRef::Mat1(i) => {
-            let m = model.bulk.mat1.get(i)?;
-            RoleMaterial {
-                mid,
-                material: ShellMaterial::Isotropic { e: m.e, nu: m.nu },
-                rho: m.rho,
-            }
-        }
-        MaterialRef::Mat8(i) => {
-            let m = model.bulk.mat8.get(i)?;
-            let material = ShellMaterial::Orthotropic {
+fn shell_material(mid: u32, material: Material) -> RoleMaterial {
+    match material {
+        Material::Isotropic(m) => RoleMaterial {
+            mid,
+            material: ShellMaterial::Isotropic { e: m.e, nu: m.nu },
+            rho: m.rho,
+        },
+        Material::Orthotropic(m) => RoleMaterial {
+            mid,
+            material: ShellMaterial::Orthotropic {
                 e1: m.e1,
                 e2: m.e2,
                 nu12: m.nu12,
                 g12: m.g12,
                 g1z: m.g1z,
                 g2z: m.g2z,
-            };
-            RoleMaterial {
-                mid,
-                material,
-                rho: m.rho,
-            }
-        }
-    })
+            },
+            rho: m.rho,
+        },
+    }
 }
 
 /// The data of a shell section, before any affine split. One value per property while the
@@ -344,21 +308,20 @@ struct ShellSections {
 fn shell_section(
     model: &Model,
     e: &Element,
-    card: &ShellCard,
+    card: &ShellPlacement,
 ) -> Result<ShellSections, DiscretizeError> {
     let n = e.nodes.len();
     let zoffs = card.zoffs;
     match e.property {
-        Some(PropertyRef::Pshell(i)) => {
-            let p = model
-                .bulk
-                .pshell
-                .get(i)
-                .ok_or_else(|| err(e, format!("PSHELL {} missing", card.pid)))?;
-            let role = |mid: Option<u32>| {
-                mid.map(|m| {
-                    shell_material(model, m)
-                        .ok_or_else(|| err(e, format!("PSHELL {}: material {m} missing", p.id)))
+        Some(property @ PropertyRef::Pshell(_)) => {
+            let Some(ShellProperty::Plate(p)) = model.shell_property(property) else {
+                return Err(err(e, format!("PSHELL {} missing", card.pid)));
+            };
+            let role = |used: Option<MaterialUse>| {
+                used.map(|u| {
+                    u.material.map(|m| shell_material(u.mid, m)).ok_or_else(|| {
+                        err(e, format!("PSHELL {}: material {} missing", p.id, u.mid))
+                    })
                 })
                 .transpose()
             };
@@ -370,12 +333,12 @@ fn shell_section(
             let fibres = (zoffs + p.z2 * scale, zoffs + p.z1 * scale);
             let section = PshellSection {
                 t,
-                membrane: role(p.mid1)?,
-                bending: role(p.mid2)?,
+                membrane: role(p.membrane)?,
+                bending: role(p.bending)?,
                 bending_ratio: p.bending_ratio,
-                shear: role(p.mid3)?,
-                shear_ratio: p.ts_t,
-                coupling: role(p.mid4)?,
+                shear: role(p.shear)?,
+                shear_ratio: p.shear_ratio,
+                coupling: role(p.coupling)?,
                 nsm: p.nsm,
                 zoffs,
             };
@@ -399,12 +362,10 @@ fn shell_section(
                 fibres,
             })
         }
-        Some(PropertyRef::Pcomp(i)) => {
-            let p: &Pcomp = model
-                .bulk
-                .pcomp
-                .get(i)
-                .ok_or_else(|| err(e, format!("PCOMP {} missing", card.pid)))?;
+        Some(property @ PropertyRef::Pcomp(_)) => {
+            let Some(ShellProperty::Laminate(p)) = model.shell_property(property) else {
+                return Err(err(e, format!("PCOMP {} missing", card.pid)));
+            };
             if card.corners.is_some() {
                 return Err(err(
                     e,
@@ -414,33 +375,39 @@ fn shell_section(
                     ),
                 ));
             }
-            let stack = p.full_stack();
-            let plies = stack
+            let plies = p
+                .plies
                 .iter()
                 .map(|ply| {
-                    ply_of_material(model, ply.mid, ply.t, ply.theta).ok_or_else(|| {
-                        err(e, format!("PCOMP {}: material {} missing", p.id, ply.mid))
-                    })
+                    ply.material
+                        .material
+                        .map(|m| ply_of(m, ply.t, ply.theta_deg))
+                        .ok_or_else(|| {
+                            err(
+                                e,
+                                format!("PCOMP {}: material {} missing", p.id, ply.material.mid),
+                            )
+                        })
                 })
                 .collect::<Result<Vec<_>, _>>()?;
-            let bottom = p.z0_resolved() + zoffs;
+            let bottom = p.z0 + zoffs;
             let laminate = Laminate {
                 plies,
                 z0: Some(bottom),
                 nsm: p.nsm,
                 symmetric: false,
             };
-            let explicit_offset = p.z0.is_some() || zoffs != 0.0;
+            let explicit_offset = p.z0_given || zoffs != 0.0;
             let centre = SectionInput::Laminate {
                 pid: p.id,
                 laminate,
-                plies: stack.iter().map(|ply| ply.mid).collect(),
+                plies: p.plies.iter().map(|ply| ply.material.mid).collect(),
                 explicit_offset,
             };
             Ok(ShellSections {
                 centre,
                 points: None,
-                fibres: (bottom + p.thickness(), bottom),
+                fibres: (bottom + p.thickness, bottom),
             })
         }
         other => Err(err(
@@ -676,7 +643,9 @@ fn shell_element(
     xyz: &[[f64; 3]],
 ) -> Result<Built, DiscretizeError> {
     let model = ctx.model;
-    let card = shell_card(model, e).ok_or_else(|| err(e, "card missing"))?;
+    let card = model
+        .shell_placement(e)
+        .ok_or_else(|| err(e, "card missing"))?;
     let ShellSections {
         centre,
         points,
@@ -796,29 +765,28 @@ fn solid_element(
 ) -> Result<Built, DiscretizeError> {
     let (model, frames) = (ctx.model, ctx.frames);
     let kind = solid_kind(e.kind).ok_or_else(|| err(e, "not a solid"))?;
-    let Some(PropertyRef::Psolid(i)) = e.property else {
+    let Some((pid, used)) = e.property.and_then(|p| model.solid_material(p)) else {
         return Err(err(e, "a solid needs a PSOLID"));
     };
-    let p = &model.bulk.psolid[i];
-    let m = match model.materials.get(&p.mid) {
-        Some(MaterialRef::Mat1(mi)) => &model.bulk.mat1[*mi],
-        Some(MaterialRef::Mat8(_)) => {
+    let m = match used.material {
+        Some(Material::Isotropic(m)) => m,
+        Some(Material::Orthotropic(_)) => {
             return Err(err(
                 e,
                 format!(
-                    "PSOLID {}: MAT8 {} is a shell material; solids need MAT1",
-                    p.id, p.mid
+                    "PSOLID {pid}: MAT8 {} is a shell material; solids need MAT1",
+                    used.mid
                 ),
             ));
         }
         None => {
             return Err(err(
                 e,
-                format!("PSOLID {}: material {} missing", p.id, p.mid),
+                format!("PSOLID {pid}: material {} missing", used.mid),
             ));
         }
     };
-    let target = ParamTarget::Material(p.mid);
+    let target = ParamTarget::Material(used.mid);
     let kinds = ctx.params.kinds_on(target);
     let stiffness_split = if kinds.contains(&PmparKind::Nu) {
         solid::StiffnessParametrization::Lame
@@ -896,22 +864,15 @@ fn spring_end(
 /// card, which no PMPAR can reach.
 fn spring_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> {
     let model = ctx.model;
-    let (k, ends, target) = match e.kind {
-        ElementKind::Celas1 => {
-            let c = &model.bulk.celas1[e.card];
-            let Some(PropertyRef::Pelas(i)) = e.property else {
-                return Err(err(e, format!("PID {} is not a PELAS", c.pid)));
-            };
-            (
-                model.bulk.pelas[i].k,
-                c.ends,
-                acted_on(ctx.params, ParamTarget::Pelas(c.pid)),
-            )
+    let Spring { stiffness, ends } = model.spring(e).ok_or_else(|| err(e, "card missing"))?;
+    let (k, target) = match stiffness {
+        SpringStiffness::Property { pid, k: Some(k) } => {
+            (k, acted_on(ctx.params, ParamTarget::Pelas(pid)))
         }
-        _ => {
-            let c = &model.bulk.celas2[e.card];
-            (c.k, c.ends, None)
+        SpringStiffness::Property { pid, k: None } => {
+            return Err(err(e, format!("PID {pid} is not a PELAS")));
         }
+        SpringStiffness::OnCard(k) => (k, None),
     };
     let spring = ScalarSpring::new(
         spring_end(model, e, ends[0])?,

@@ -18,30 +18,26 @@ use faer::{Mat, c64};
 use super::{Constrained, Structure};
 use crate::assembly::DofMap;
 use crate::assembly::loads::load_vector;
-use crate::deck::cards::Darea;
 use crate::dynamics::table::Table;
 use crate::io::csv_table::read_columns;
 use crate::model::Model;
+use crate::model::dynamic_loads::{DynamicTable, Excitation, TableData};
 
 /// A TABLED1 or TABLEF (CSV, path relative to the file holding the card) by id.
 pub fn dynamic_table(model: &Model, tid: u32) -> Result<Table, String> {
-    let b = &model.bulk;
-    match (
-        b.tabled1.iter().find(|x| x.id == tid),
-        b.tablef.iter().find(|x| x.id == tid),
-    ) {
-        (Some(x), _) => Table::new(&x.points).map_err(|e| format!("{}: TABLED1 {tid}: {e}", x.loc)),
-        (None, Some(x)) => {
-            let csv = x.loc.file.parent().map_or_else(
-                || std::path::PathBuf::from(&x.path),
-                |dir| dir.join(&x.path),
-            );
-            let points = read_columns(&csv, &x.tcol, &x.ycol)
-                .map_err(|e| format!("{}: TABLEF {tid}: {e}", x.loc))?;
-            Table::new(&points)
-                .map_err(|e| format!("{}: TABLEF {tid} ({}): {e}", x.loc, csv.display()))
+    let Some(DynamicTable { card, data, loc }) = model.dynamic_table(tid) else {
+        return Err(format!("table {tid} is no TABLED1 or TABLEF"));
+    };
+    match data {
+        TableData::Points(points) => {
+            Table::new(&points).map_err(|e| format!("{loc}: {card} {tid}: {e}"))
         }
-        (None, None) => Err(format!("table {tid} is no TABLED1 or TABLEF")),
+        TableData::Csv { path, x, y } => {
+            let points =
+                read_columns(&path, &x, &y).map_err(|e| format!("{loc}: {card} {tid}: {e}"))?;
+            Table::new(&points)
+                .map_err(|e| format!("{loc}: {card} {tid} ({}): {e}", path.display()))
+        }
     }
 }
 
@@ -71,39 +67,29 @@ pub fn load_into(terms: &[LoadTerm], t: f64, f: &mut [f64]) {
 }
 
 /// The load terms of `DLOAD = sid`: a DLOAD combination S·Σ Sᵢ·(TLOAD1 Lᵢ), or one TLOAD1.
-/// `place(darea, component, scale, shape)` adds one DAREA entry (component 1–6, scale including
-/// the DLOAD factors) to a shape vector of length `len`; when a TLOAD1's EXCITEID selects no
+/// `place(excitation, scale, shape)` adds one DAREA entry (scale including the DLOAD factors) to a shape vector of length `len`; when a TLOAD1's EXCITEID selects no
 /// DAREA, `static_set(excite_id)` may supply the shape of a static load set (FORCE, LOAD) as the
 /// full model does, or `None` (pROMs: loads act on input DOFs only).
 pub fn load_terms(
     model: &Model,
     sid: u32,
     len: usize,
-    mut place: impl FnMut(&Darea, usize, f64, &mut [f64]) -> Result<(), String>,
+    mut place: impl FnMut(&Excitation, f64, &mut [f64]) -> Result<(), String>,
     mut static_set: impl FnMut(u32) -> Result<Option<Vec<f64>>, String>,
 ) -> Result<Vec<LoadTerm>, String> {
-    let b = &model.bulk;
-    let sets: Vec<(f64, u32)> = match b.dload.iter().find(|d| d.sid == sid) {
-        Some(d) => d.terms.iter().map(|&(s, l)| (d.scale * s, l)).collect(),
-        None => vec![(1.0, sid)],
-    };
     let mut out = Vec::new();
-    for (scale, set) in sets {
-        let tloads: Vec<_> = b.tload1.iter().filter(|t| t.sid == set).collect();
+    for (scale, set) in model.dynamic_load_members(sid) {
+        let tloads = model.transient_loads(set);
         if tloads.is_empty() {
             return Err(format!("DLOAD {sid}: load set {set} has no TLOAD1"));
         }
         for t in tloads {
-            let table = table_of(model, t.tid, &format!("TLOAD1 {}", t.sid))?;
+            let table = table_of(model, t.table, &format!("TLOAD1 {}", t.sid))?;
             let mut shape = vec![0.0; len];
-            let mut any = false;
-            for d in b.darea.iter().filter(|d| d.sid == t.excite_id) {
-                for comp in d.components.components() {
-                    place(d, comp, scale * d.scale, &mut shape)?;
-                    any = true;
-                }
+            for x in &t.excitation {
+                place(x, scale * x.scale, &mut shape)?;
             }
-            if !any {
+            if t.excitation.is_empty() {
                 let p = static_set(t.excite_id)?.ok_or_else(|| {
                     format!(
                         "TLOAD1 {}: EXCITEID {} selects no DAREA",
@@ -147,11 +133,11 @@ pub fn place_darea(
     model: &Model,
     st: &Structure,
     c: &Constrained,
-    d: &Darea,
-    comp: usize,
+    d: &Excitation,
     scale: f64,
     shape: &mut [f64],
 ) -> Result<(), String> {
+    let comp = d.component;
     let grid = model
         .grid_index
         .get(&d.grid)
@@ -182,7 +168,7 @@ pub fn initial_state(
     let n_f = c.sets.f.len();
     let (mut u, mut v) = (vec![0.0; n_f], vec![0.0; n_f]);
     let Some(sid) = sid else { return Ok((u, v)) };
-    let cards: Vec<_> = model.bulk.tic.iter().filter(|t| t.sid == sid).collect();
+    let cards = model.tic(sid);
     if cards.is_empty() {
         return Err(format!("IC = {sid} selects no TIC card"));
     }
@@ -260,15 +246,10 @@ pub fn frequency_inputs(
     c: &Constrained,
     sid: u32,
 ) -> Result<FrequencyInputs, String> {
-    let b = &model.bulk;
-    let sets: Vec<(f64, u32)> = match b.dload.iter().find(|d| d.sid == sid) {
-        Some(d) => d.terms.iter().map(|&(s, l)| (d.scale * s, l)).collect(),
-        None => vec![(1.0, sid)],
-    };
     let mut dofs: Vec<(u32, usize)> = Vec::new();
     let mut terms = Vec::new();
-    for (scale, set) in sets {
-        let rloads: Vec<_> = b.rload1.iter().filter(|r| r.sid == set).collect();
+    for (scale, set) in model.dynamic_load_members(sid) {
+        let rloads = model.harmonic_loads(set);
         if rloads.is_empty() {
             return Err(format!("DLOAD {sid}: load set {set} has no RLOAD1"));
         }
@@ -283,28 +264,25 @@ pub fn frequency_inputs(
                 }
             };
             let (tc, td) = (table(r.tc)?, table(r.td)?);
-            let mut any = false;
-            for d in b.darea.iter().filter(|d| d.sid == r.excite_id) {
-                for comp in d.components.components() {
-                    let input = match dofs.iter().position(|&x| x == (d.grid, comp)) {
-                        Some(i) => i,
-                        None => {
-                            dofs.push((d.grid, comp));
-                            dofs.len() - 1
-                        }
-                    };
-                    terms.push(FrequencyLoad {
-                        input,
-                        scale: scale * d.scale,
-                        c: tc.clone(),
-                        d: td.clone(),
-                        phase: r.phase_deg.to_radians(),
-                        delay: r.delay,
-                    });
-                    any = true;
-                }
+            for x in &r.excitation {
+                let dof = (x.grid, x.component);
+                let input = match dofs.iter().position(|&d| d == dof) {
+                    Some(i) => i,
+                    None => {
+                        dofs.push(dof);
+                        dofs.len() - 1
+                    }
+                };
+                terms.push(FrequencyLoad {
+                    input,
+                    scale: scale * x.scale,
+                    c: tc.clone(),
+                    d: td.clone(),
+                    phase: r.phase_deg.to_radians(),
+                    delay: r.delay,
+                });
             }
-            if !any {
+            if r.excitation.is_empty() {
                 return Err(format!(
                     "RLOAD1 {}: EXCITEID {} selects no DAREA",
                     r.sid, r.excite_id

@@ -10,10 +10,11 @@ use std::collections::BTreeMap;
 
 use super::DiscretizeError;
 use crate::assembly::{AffineOperator, ParamKey, ParamTarget};
-use crate::deck::cards::{Pmpar, PmparKind};
 use crate::fe::affine::CoefficientValues;
 use crate::model::Model;
-use crate::model::pmpar::nominal;
+use crate::model::card_fields::PmparKind;
+use crate::model::materials::Material;
+use crate::model::pmpar::Parameter;
 use crate::rom::prom::{AffineFunction, CoefficientInput, PromParameter};
 
 /// The PMPARs of a model, in card order.
@@ -27,12 +28,12 @@ pub struct Parameters {
 }
 
 /// The entity a PMPAR acts on.
-fn target_of(p: &Pmpar) -> ParamTarget {
+fn target_of(p: &Parameter) -> ParamTarget {
     match p.kind {
-        PmparKind::E | PmparKind::Rho | PmparKind::Nu => ParamTarget::Material(p.refid),
-        PmparKind::Theta | PmparKind::Tply => ParamTarget::Pcomp(p.refid),
-        PmparKind::K => ParamTarget::Pelas(p.refid),
-        PmparKind::Mass => ParamTarget::Conm2(p.refid),
+        PmparKind::E | PmparKind::Rho | PmparKind::Nu => ParamTarget::Material(p.entity),
+        PmparKind::Theta | PmparKind::Tply => ParamTarget::Pcomp(p.entity),
+        PmparKind::K => ParamTarget::Pelas(p.entity),
+        PmparKind::Mass => ParamTarget::Conm2(p.entity),
     }
 }
 
@@ -51,11 +52,12 @@ impl Parameters {
     /// Collect the PMPARs (already validated by [`Model::build`]).
     pub fn of_model(model: &Model) -> Result<Self, DiscretizeError> {
         let mut out = Parameters::default();
-        for p in &model.bulk.pmpar {
-            let value = nominal(&model.bulk, p).map_err(|reason| DiscretizeError::Parameter {
-                name: p.name.clone(),
-                reason,
-            })?;
+        let parameters = model.parameters().map_err(|e| DiscretizeError::Parameter {
+            name: e.name,
+            reason: e.reason,
+        })?;
+        for p in &parameters {
+            let value = p.nominal;
             let target = target_of(p);
             out.list.push(PromParameter {
                 name: p.name.to_ascii_uppercase(),
@@ -71,7 +73,7 @@ impl Parameters {
         // the other card values of each entity (e.g. ν of a MAT1 whose E is the parameter)
         for (&target, fixed) in out.fixed.iter_mut() {
             if let ParamTarget::Material(mid) = target
-                && let Some(m) = model.bulk.mat1.iter().find(|m| m.id == mid)
+                && let Some(Material::Isotropic(m)) = model.material(mid)
             {
                 *fixed = CoefficientValues {
                     e: m.e,

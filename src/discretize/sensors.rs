@@ -22,7 +22,7 @@
 //! restricted to the f-set (constrained DOFs do not move in a response).
 //!
 //! Which sensors a run measures (a subcase's `SENSOR = ALL | NONE | set`) is the caller's
-//! choice: [`sensor_operator`] takes the SENSOR cards.
+//! choice: [`sensor_operator`] takes the model's sensors ([`crate::model::sensors`]).
 
 use std::collections::{BTreeMap, HashMap};
 
@@ -31,12 +31,12 @@ use nalgebra_sparse::{CooMatrix, CscMatrix};
 
 use super::elements::{shell_strains, solid_kind_of};
 use super::{Constrained, DiscretizeError, Structure};
-use crate::deck::cards::Sensor;
 use crate::dynamics::measurement::Reads;
 use crate::fe::solid;
 use crate::geometry::vec3::dot;
 use crate::model::Model;
 use crate::model::card_fields::SensorKind;
+use crate::model::sensors::Sensor;
 
 /// The measurement rows of a subcase's sensors on the f-set.
 #[derive(Debug, Clone)]
@@ -118,7 +118,7 @@ pub fn sensor_operator(
     model: &Model,
     st: &Structure,
     c: &Constrained,
-    sensors: &[&Sensor],
+    sensors: &[Sensor],
 ) -> Result<SensorOperator, String> {
     let element_index: HashMap<u32, usize> = model
         .elements

@@ -73,6 +73,7 @@ use super::ekf::Ekf;
 use super::measurement::SensorRows;
 use super::prom_model::PromModel;
 use crate::linalg::dense::{DenseEigenError, product, stiffness_semidefinite};
+use crate::model::values::MAX_REDIAGONALIZATION_TOLERANCE;
 use crate::rom::prom::Prom;
 
 /// The coordinates the filter may run in.
@@ -89,16 +90,6 @@ pub enum Coordinates {
     /// a coupled part has drifted by more than this relative tolerance (0 < τ ≤ 0.1; see the
     /// module documentation).
     Rediagonalized(f64),
-}
-
-/// Largest re-diagonalization tolerance accepted: the coupled solves contract by about τ per
-/// iteration (module documentation).
-pub const MAX_REDIAGONALIZATION_TOLERANCE: f64 = 0.1;
-
-/// Whether τ is an accepted re-diagonalization tolerance, 0 < τ ≤
-/// [`MAX_REDIAGONALIZATION_TOLERANCE`] (false for NaN).
-pub fn valid_rediagonalization_tolerance(tolerance: f64) -> bool {
-    tolerance > 0.0 && tolerance <= MAX_REDIAGONALIZATION_TOLERANCE
 }
 
 /// Everything the filter needs; no deck involved.

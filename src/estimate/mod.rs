@@ -33,10 +33,7 @@ pub mod prom_linearization;
 mod prom_model;
 mod propagation;
 
-pub use filter::{
-    Coordinates, Filter, FilterError, FilterSetup, MAX_REDIAGONALIZATION_TOLERANCE,
-    valid_rediagonalization_tolerance,
-};
+pub use filter::{Coordinates, Filter, FilterError, FilterSetup};
 pub use measurement::{Reads, SensorRows};
 
 /// Rules of thumb for the random-walk covariances (thesis §8.3).

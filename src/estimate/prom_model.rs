@@ -15,10 +15,7 @@ use faer::{Accum, Mat, MatRef, Par};
 use super::coordinates::{Model, PromCoordinates, Refused};
 use super::drift::{Drift, gram};
 use super::ekf::ProcessModel;
-use super::filter::{
-    Coordinates, FilterError, FilterSetup, check_initial_stiffness,
-    valid_rediagonalization_tolerance,
-};
+use super::filter::{Coordinates, FilterError, FilterSetup, check_initial_stiffness};
 use super::kernels::{axpy, column, dot, vectorized};
 use super::measurement::Reads;
 use super::modal::{modal_form, modal_form_after};
@@ -27,6 +24,7 @@ use super::physical::Physical;
 use super::propagation::propagate;
 use crate::dynamics::velocity_form::{Operator, bdf1_step};
 use crate::linalg::dense::product;
+use crate::model::values::valid_rediagonalization_tolerance;
 
 /// The pROM, its evaluation at the current estimate and the buffers of a step.
 pub(super) struct PromModel {

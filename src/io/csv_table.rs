@@ -9,15 +9,7 @@
 use std::path::Path;
 
 use super::hdf5_file::IoError;
-
-/// A CSV column selected by index or header name.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub enum Column {
-    /// 1-based index.
-    Index(usize),
-    /// Header name.
-    Name(String),
-}
+use crate::model::card_fields::Column;
 
 fn read(path: &Path) -> Result<String, IoError> {
     std::fs::read_to_string(path).map_err(|cause| IoError::Fs {

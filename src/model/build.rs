@@ -10,7 +10,10 @@ use crate::deck::{Deck, DeckError, Loc, Warning};
 use super::coords::{self, CoordSystem};
 use super::geometry::{self, ShapeReport};
 use super::ids::{entry, index};
-use super::{Element, ElementKind, GridPoint, MaterialRef, Model, PropertyRef, Rigid, RigidKind};
+use super::{
+    Element, ElementKind, GridPoint, MaterialRef, Model, PropertyRef, Rigid, RigidKind,
+    WeightedGroup,
+};
 
 /// At most this many element ids are listed in one grouped geometry warning.
 const LISTED_IDS: usize = 10;
@@ -600,7 +603,7 @@ fn shape_errors(report: &ShapeReport, card: &str, loc: &Loc, errors: &mut Vec<De
 fn build_rigids(refs: &Refs, errors: &mut Vec<DeckError>) -> Vec<Rigid> {
     let b = refs.bulk;
     let mut out = Vec::new();
-    for (i, r) in b.rbe2.iter().enumerate() {
+    for r in &b.rbe2 {
         let card = format!("RBE2 {}", r.id);
         let hub = refs.grid(r.gn, "GN", &card, &r.loc, errors);
         let mut legs = Vec::with_capacity(r.gm.len());
@@ -621,31 +624,44 @@ fn build_rigids(refs: &Refs, errors: &mut Vec<DeckError>) -> Vec<Rigid> {
         if let (true, Some(hub)) = (ok, hub) {
             out.push(Rigid {
                 id: r.id,
-                kind: RigidKind::Rbe2,
-                card: i,
+                kind: RigidKind::Rbe2 { cm: r.cm },
                 hub,
                 legs,
+                loc: r.loc.clone(),
             });
         }
     }
-    for (i, r) in b.rbe3.iter().enumerate() {
+    for r in &b.rbe3 {
         let card = format!("RBE3 {}", r.id);
         let hub = refs.grid(r.refgrid, "REFGRID", &card, &r.loc, errors);
         let mut legs = Vec::new();
+        let mut groups = Vec::with_capacity(r.groups.len());
         let mut ok = hub.is_some();
-        for g in r.groups.iter().flat_map(|grp| grp.grids.iter()) {
-            match refs.grid(*g, "Gi,j", &card, &r.loc, errors) {
-                Some(j) => legs.push(j),
-                None => ok = false,
+        for grp in &r.groups {
+            let mut grids = Vec::with_capacity(grp.grids.len());
+            for g in &grp.grids {
+                match refs.grid(*g, "Gi,j", &card, &r.loc, errors) {
+                    Some(j) => grids.push(j),
+                    None => ok = false,
+                }
             }
+            legs.extend(&grids);
+            groups.push(WeightedGroup {
+                weight: grp.weight,
+                components: grp.components,
+                grids,
+            });
         }
         if let (true, Some(hub)) = (ok, hub) {
             out.push(Rigid {
                 id: r.id,
-                kind: RigidKind::Rbe3,
-                card: i,
+                kind: RigidKind::Rbe3 {
+                    refc: r.refc,
+                    groups,
+                },
                 hub,
                 legs,
+                loc: r.loc.clone(),
             });
         }
     }

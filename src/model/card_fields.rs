@@ -1,5 +1,6 @@
 //! Typed values of card fields that the model keeps and the solver reads: force or moment,
-//! sensor quantity, shell material orientation and corner thicknesses, scalar-spring ends.
+//! sensor quantity, what a PMPAR scales, shell material orientation and corner thicknesses,
+//! scalar-spring ends, CSV columns, multibody joint types, MSENSOR kinds and FMBSTART.
 //! The deck reader builds them while parsing the cards.
 
 /// Whether a `FORCE` / `MOMENT` card is a force or a moment.
@@ -45,6 +46,65 @@ pub struct SpringEnd {
     pub grid: Option<u32>,
     /// Component 1–6 (0 for ground).
     pub component: u8,
+}
+
+/// A CSV column selected by index or header name.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub enum Column {
+    /// 1-based index.
+    Index(usize),
+    /// Header name.
+    Name(String),
+}
+
+/// What a `PMPAR` parameter scales.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum PmparKind {
+    /// Young's modulus of a MAT1.
+    E,
+    /// Density of a MAT1.
+    Rho,
+    /// Poisson's ratio of a MAT1.
+    Nu,
+    /// Angle-ply angle of a PCOMP (degrees).
+    Theta,
+    /// Ply thickness of a PCOMP.
+    Tply,
+    /// Stiffness of a PELAS.
+    K,
+    /// Mass of a CONM2.
+    Mass,
+}
+
+impl PmparKind {
+    /// Every kind with its keyword as written in decks.
+    pub const ALL: [(&'static str, PmparKind); 7] = [
+        ("E", PmparKind::E),
+        ("RHO", PmparKind::Rho),
+        ("NU", PmparKind::Nu),
+        ("THETA", PmparKind::Theta),
+        ("TPLY", PmparKind::Tply),
+        ("K", PmparKind::K),
+        ("MASS", PmparKind::Mass),
+    ];
+
+    /// The card REFID points at.
+    pub fn target_card(self) -> &'static str {
+        match self {
+            PmparKind::E | PmparKind::Rho | PmparKind::Nu => "MAT1",
+            PmparKind::Theta | PmparKind::Tply => "PCOMP",
+            PmparKind::K => "PELAS",
+            PmparKind::Mass => "CONM2",
+        }
+    }
+
+    /// The keyword as written in decks.
+    pub fn name(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(_, k)| *k == self)
+            .map_or("?", |(n, _)| n)
+    }
 }
 
 /// A `JOINT` type (DESIGN.md §11).

@@ -4,7 +4,7 @@
 
 use super::Model;
 use crate::deck::cards::{
-    Aset1, Eigrl, Ekf, Ekfinp, Ekfpar, Meas, Measf, Pmor, Ptable, Pval, Sensor, Tic, Tinteg, Tstep,
+    Aset1, Eigrl, Ekf, Ekfinp, Ekfpar, Meas, Measf, Pmor, Ptable, Pval, Tic, Tinteg, Tstep,
 };
 
 impl Model {
@@ -61,11 +61,6 @@ impl Model {
     /// Every ASET1 card (the a-set), in card order.
     pub fn aset1(&self) -> &[Aset1] {
         &self.bulk.aset1
-    }
-
-    /// Every SENSOR card, in card order.
-    pub fn sensors(&self) -> &[Sensor] {
-        &self.bulk.sensors
     }
 
     /// The EKF of `ESTIM = id`.

@@ -14,20 +14,31 @@
 //! - [`mechanism`]: the multibody cards of `SOL FMB` as a typed mechanism;
 //! - [`mass`]: mass properties; [`summary`]: the check summary and mesh arrays;
 //! - [`lookup`]: solution-control data by id (EIGRL, FREQ, TSTEP, PMOR, PVAL, EKF, …).
+//!
+//! The cards stay private to this module: later modules read typed, cross-referenced data
+//! through [`Model`]'s methods: [`materials`], [`properties`] (shell, solid, spring),
+//! [`sets`] (SPC and static load sets, combinations expanded), [`dynamic_loads`] (DLOAD,
+//! TLOAD1/RLOAD1 with their DAREA entries, tables), [`pmpar`] ([`Model::parameters`]),
+//! [`sensors`]; rigid elements carry their own data ([`RigidKind`]).
 
 pub mod build;
 pub mod card_fields;
 pub mod case;
 pub mod coords;
 mod dofs;
+pub mod dynamic_loads;
 pub mod geometry;
 pub mod ids;
 pub mod lookup;
 pub mod mass;
+pub mod materials;
 pub mod mechanism;
 pub mod mesh;
 pub mod params;
 pub mod pmpar;
+pub mod properties;
+pub mod sensors;
+pub mod sets;
 pub mod summary;
 pub mod values;
 pub mod xref;
@@ -164,11 +175,36 @@ pub struct Element {
     pub nodes: Vec<usize>,
 }
 
-/// Kind of a rigid element.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Kind of a rigid element with what it ties beyond its hub and legs.
+#[derive(Debug, Clone, PartialEq)]
 pub enum RigidKind {
-    Rbe2,
-    Rbe3,
+    /// RBE2: components CM of every leg follow the hub rigidly.
+    Rbe2 { cm: Dofs },
+    /// RBE3: components REFC of the reference grid are the weighted average of the groups'
+    /// motion.
+    Rbe3 {
+        refc: Dofs,
+        groups: Vec<WeightedGroup>,
+    },
+}
+
+impl RigidKind {
+    /// Card name.
+    pub fn card(&self) -> &'static str {
+        match self {
+            RigidKind::Rbe2 { .. } => "RBE2",
+            RigidKind::Rbe3 { .. } => "RBE3",
+        }
+    }
+}
+
+/// One weight group of an RBE3: grids, the components they contribute, their weight.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WeightedGroup {
+    pub weight: f64,
+    pub components: Dofs,
+    /// Grid indices into [`Model::grids`].
+    pub grids: Vec<usize>,
 }
 
 /// A cross-referenced rigid element.
@@ -176,12 +212,11 @@ pub enum RigidKind {
 pub struct Rigid {
     pub id: u32,
     pub kind: RigidKind,
-    /// Position in `bulk.rbe2` / `bulk.rbe3`.
-    pub card: usize,
     /// RBE2: the independent grid GN; RBE3: the reference grid (grid indices).
     pub hub: usize,
     /// RBE2: dependent grids; RBE3: independent grids of all groups (grid indices).
     pub legs: Vec<usize>,
+    pub loc: Loc,
 }
 
 /// The validated model.
@@ -205,8 +240,9 @@ pub struct Model {
     pub properties: HashMap<u32, PropertyRef>,
     /// Material id → material.
     pub materials: HashMap<u32, MaterialRef>,
-    /// The cards themselves (the typed structs the references point into).
-    pub bulk: BulkData,
+    /// The cards themselves (the typed structs the references point into); later modules read
+    /// them through the typed data `Model` offers.
+    bulk: BulkData,
     /// The subcases with the global defaults applied.
     pub subcases: Vec<Subcase>,
     /// Values of the PARAMs paraflex uses.
@@ -246,5 +282,31 @@ impl Model {
             MaterialRef::Mat1(i) => self.bulk.mat1.get(*i).map(|m| m.rho),
             MaterialRef::Mat8(i) => self.bulk.mat8.get(*i).map(|m| m.rho),
         }
+    }
+}
+
+/// Building models from deck text in unit tests of later modules.
+#[cfg(test)]
+pub(crate) mod testing {
+    use std::io::Write;
+
+    use super::Model;
+    use crate::deck::Deck;
+
+    /// The model of a deck given as text, read from a temporary `.bdf` file; panics with every
+    /// error.
+    pub fn model_of_text(text: &str) -> Model {
+        let mut file = tempfile::Builder::new()
+            .suffix(".bdf")
+            .tempfile()
+            .expect("temp file");
+        file.write_all(text.as_bytes()).expect("write deck");
+        let deck = Deck::read(file.path()).unwrap_or_else(|e| panic!("deck: {e}"));
+        Model::build(&deck).unwrap_or_else(|e| {
+            panic!(
+                "model: {:?}",
+                e.iter().map(|x| x.to_string()).collect::<Vec<_>>()
+            )
+        })
     }
 }

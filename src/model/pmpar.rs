@@ -13,8 +13,11 @@
 //! THETA laminate whose angles are not ±Θ of one Θ, a TPLY laminate with unequal ply
 //! thicknesses.
 
-use crate::deck::cards::{Pmpar, PmparKind};
+use crate::deck::cards::Pmpar;
 use crate::deck::{BulkData, DeckError};
+
+use super::Model;
+use super::card_fields::PmparKind;
 
 use super::build::Refs;
 use super::ids::{entry, index};
@@ -92,6 +95,52 @@ pub fn domain(kind: PmparKind) -> Option<Domain> {
         PmparKind::Theta | PmparKind::K => return None,
     };
     Some(Domain { rule, contains })
+}
+
+/// A PMPAR with its nominal value: what it scales (KIND on the entity REFID) within
+/// [LOW, HIGH].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parameter {
+    pub name: String,
+    pub kind: PmparKind,
+    /// Id of the MAT1, PCOMP, PELAS or CONM2 element it acts on.
+    pub entity: u32,
+    pub low: f64,
+    pub high: f64,
+    /// The referenced card's value ([`nominal`]).
+    pub nominal: f64,
+}
+
+/// A parameter whose nominal value cannot be read.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParameterError {
+    pub name: String,
+    pub reason: String,
+}
+
+impl Model {
+    /// The PMPARs in card order, each with its nominal value; the first one without a value is
+    /// an error (a built model has none).
+    pub fn parameters(&self) -> Result<Vec<Parameter>, ParameterError> {
+        self.bulk
+            .pmpar
+            .iter()
+            .map(|p| {
+                let nominal = nominal(&self.bulk, p).map_err(|reason| ParameterError {
+                    name: p.name.clone(),
+                    reason,
+                })?;
+                Ok(Parameter {
+                    name: p.name.clone(),
+                    kind: p.kind,
+                    entity: p.refid,
+                    low: p.low,
+                    high: p.high,
+                    nominal,
+                })
+            })
+            .collect()
+    }
 }
 
 /// The nominal value of a parameter: the referenced card's value.

@@ -3,7 +3,7 @@
 use std::collections::BTreeMap;
 
 use super::mesh::{ElementBlock, MeshArrays};
-use super::{ElementKind, Model, RigidKind};
+use super::{ElementKind, Model};
 
 /// Counts and mass properties of a model, serialized as
 /// `{"grids", "elements": {card: n}, "rigid": {"RBE2", "RBE3"}, "dofs", "mass", "cg",
@@ -46,11 +46,7 @@ impl Model {
         }
         let mut rigid = BTreeMap::from([("RBE2", 0), ("RBE3", 0)]);
         for r in &self.rigids {
-            let name = match r.kind {
-                RigidKind::Rbe2 => "RBE2",
-                RigidKind::Rbe3 => "RBE3",
-            };
-            *rigid.entry(name).or_insert(0) += 1;
+            *rigid.entry(r.kind.card()).or_insert(0) += 1;
         }
         let b = &self.bulk;
         let nonzero = |pairs: &[(&'static str, usize)]| {
@@ -110,19 +106,15 @@ impl Model {
             block.connectivity.extend(conn);
         }
         let mut out: Vec<ElementBlock> = blocks.into_values().collect();
-        for kind in [RigidKind::Rbe2, RigidKind::Rbe3] {
+        for card in ["RBE2", "RBE3"] {
             let mut block = ElementBlock {
-                card: if kind == RigidKind::Rbe2 {
-                    "RBE2"
-                } else {
-                    "RBE3"
-                },
+                card,
                 ids: Vec::new(),
                 pids: Vec::new(),
                 nodes_per_element: 2,
                 connectivity: Vec::new(),
             };
-            for r in self.rigids.iter().filter(|r| r.kind == kind) {
+            for r in self.rigids.iter().filter(|r| r.kind.card() == card) {
                 for &leg in &r.legs {
                     block.ids.push(r.id);
                     block.pids.push(0);

@@ -49,11 +49,12 @@ use crate::estimate::observability::{self, Unknown};
 use crate::estimate::operating_points;
 use crate::estimate::prom_linearization::PromLinearization;
 use crate::estimate::{Coordinates, Filter, FilterSetup, SensorRows, covariance};
-use crate::io::csv_table::{Column, header, read_columns};
+use crate::io::csv_table::{header, read_columns};
 use crate::io::{
     read_prom_inputs, read_prom_sensors, set_attr_f64, set_attr_i64, set_attr_str,
     set_attr_strings, write_f64,
 };
+use crate::model::card_fields::Column;
 
 /// Relative error statistics of one estimated quantity over the last 20 % (thesis Table 8.2).
 #[derive(Debug, Clone, PartialEq)]
@@ -257,7 +258,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             ctx.model,
             dload,
             n,
-            |d, comp, scale, shape| place_input(&input_names, &s_r, d, comp, scale, shape),
+            |d, scale, shape| place_input(&input_names, &s_r, d, scale, shape),
             |_| Ok(None),
         )
         .map_err(case)?,

@@ -66,12 +66,12 @@ use crate::assembly::error::DofName;
 use crate::assembly::spc::AutoSpcReport;
 use crate::assembly::{AssemblyError, DofMap};
 use crate::deck::Deck;
-use crate::deck::cards::Sensor;
 use crate::deck::case_control::{OutputRequest, Subcase, Target};
 use crate::discretize::sensors::{SensorOperator, sensor_operator};
 use crate::discretize::{BuildOptions, Constrained, DiscretizeError, Structure};
 use crate::io::{IoError, OutputFile};
 use crate::linalg::{LinalgError, Progress};
+use crate::model::sensors::Sensor;
 
 use crate::model::Model;
 pub use driver::{Basis, DRIVERS, Driver, request_warnings, runnable};
@@ -211,15 +211,15 @@ pub fn mechanism(c: &Constrained, st: &Structure, subcase: u32, e: LinalgError) 
 
 /// The SENSOR cards `sub` selects (`SENSOR = ALL | NONE | set`, every card without a request),
 /// in card order.
-pub fn selected_sensors<'a>(deck: &Deck, model: &'a Model, sub: &Subcase) -> Vec<&'a Sensor> {
-    let cards = model.sensors();
+pub fn selected_sensors(deck: &Deck, model: &Model, sub: &Subcase) -> Vec<Sensor> {
+    let sensors = model.sensors();
     match &sub.sensor {
-        None | Some(Target::All) => cards.iter().collect(),
+        None | Some(Target::All) => sensors,
         Some(Target::None) => Vec::new(),
         Some(Target::Set(id)) => {
             let set = deck.case.set(*id);
-            cards
-                .iter()
+            sensors
+                .into_iter()
                 .filter(|s| set.is_some_and(|set| set.ids.contains(&s.id)))
                 .collect()
         }

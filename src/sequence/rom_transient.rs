@@ -116,7 +116,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             ctx.model,
             dload,
             prom.size(),
-            |d, comp, scale, shape| place_input(&names, &s_r, d, comp, scale, shape),
+            |d, scale, shape| place_input(&names, &s_r, d, scale, shape),
             |_| Ok(None),
         )
         .map_err(case)?,

@@ -5,7 +5,7 @@
 
 use super::{Clock, RunContext, RunError};
 use crate::deck::cards::Eigrl;
-use crate::deck::cards::{Darea, TintegMethod, Tstep};
+use crate::deck::cards::{TintegMethod, Tstep};
 use crate::deck::case_control::Subcase;
 use crate::discretize::{Constrained, Structure};
 use crate::dynamics::integrators::Method;
@@ -16,6 +16,7 @@ use crate::linalg::{
 };
 use crate::linalg::{Mat, c64};
 use crate::model::Model;
+use crate::model::dynamic_loads::Excitation;
 
 /// The TSTEP of a subcase, its method (TINTEG with the TSTEP's id; BDF1 without one) and the
 /// method's name for output.
@@ -115,11 +116,11 @@ pub fn write_frf(
 pub fn place_input(
     names: &[String],
     s_r: &Mat<f64>,
-    d: &Darea,
-    comp: usize,
+    d: &Excitation,
     scale: f64,
     shape: &mut [f64],
 ) -> Result<(), String> {
+    let comp = d.component;
     let name = format!("{}:{comp}", d.grid);
     let j = names.iter().position(|x| *x == name).ok_or_else(|| {
         format!(

@@ -118,7 +118,7 @@ fn subcase(
             ctx.model,
             dload,
             n_f,
-            |d, comp, scale, shape| place_darea(ctx.model, st, c, d, comp, scale, shape),
+            |d, scale, shape| place_darea(ctx.model, st, c, d, scale, shape),
             |excite| static_shape(ctx.model, st, c, excite),
         )
         .map_err(case)?,

@@ -6,8 +6,8 @@ use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
-use crate::estimate::{MAX_REDIAGONALIZATION_TOLERANCE, valid_rediagonalization_tolerance};
-use crate::io::csv_table::Column;
+use crate::model::card_fields::Column;
+use crate::model::values::{MAX_REDIAGONALIZATION_TOLERANCE, valid_rediagonalization_tolerance};
 
 /// `EKF` — filter settings, selected by case control `ESTIM = id`.
 ///
@@ -252,7 +252,7 @@ fn optional_positive(f: &mut FieldReader, i: usize, name: &str, default: f64) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::io::csv_table::Column;
+    use crate::model::card_fields::Column;
 
     /// A card from a free-field line (name, fields…).
     fn card(line: &str) -> RawCard {

@@ -5,57 +5,8 @@ use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
-use crate::io::csv_table::Column;
-use crate::model::card_fields::SensorKind;
-
-/// What a `PMPAR` parameter scales.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-pub enum PmparKind {
-    /// Young's modulus of a MAT1.
-    E,
-    /// Density of a MAT1.
-    Rho,
-    /// Poisson's ratio of a MAT1.
-    Nu,
-    /// Angle-ply angle of a PCOMP (degrees).
-    Theta,
-    /// Ply thickness of a PCOMP.
-    Tply,
-    /// Stiffness of a PELAS.
-    K,
-    /// Mass of a CONM2.
-    Mass,
-}
-
-impl PmparKind {
-    const ALL: [(&'static str, PmparKind); 7] = [
-        ("E", PmparKind::E),
-        ("RHO", PmparKind::Rho),
-        ("NU", PmparKind::Nu),
-        ("THETA", PmparKind::Theta),
-        ("TPLY", PmparKind::Tply),
-        ("K", PmparKind::K),
-        ("MASS", PmparKind::Mass),
-    ];
-
-    /// The card REFID points at.
-    pub fn target_card(self) -> &'static str {
-        match self {
-            PmparKind::E | PmparKind::Rho | PmparKind::Nu => "MAT1",
-            PmparKind::Theta | PmparKind::Tply => "PCOMP",
-            PmparKind::K => "PELAS",
-            PmparKind::Mass => "CONM2",
-        }
-    }
-
-    /// The keyword as written in decks.
-    pub fn name(self) -> &'static str {
-        Self::ALL
-            .iter()
-            .find(|(_, k)| *k == self)
-            .map_or("?", |(n, _)| n)
-    }
-}
+use crate::model::card_fields::Column;
+use crate::model::card_fields::{PmparKind, SensorKind};
 
 /// `PMPAR` — a model parameter of a parametric ROM.
 ///

@@ -28,8 +28,7 @@ pub use dynamic::{
 pub use elements::{Celas1, Celas2, Chexa, Conm2, Cpenta, Cquad4, Ctetra, Ctria3};
 pub use estimate::{Ekf, Ekfinp, Ekfpar, Meas, Measf};
 pub use extension::{
-    Pmor, PmorRigid, PmorStatic, Pmpar, PmparKind, Ptable, Pval, Sensor, Tablef, Tinteg,
-    TintegMethod,
+    Pmor, PmorRigid, PmorStatic, Pmpar, Ptable, Pval, Sensor, Tablef, Tinteg, TintegMethod,
 };
 pub use geometry::{Cord2, CordKind, Grid};
 pub use loads::{Force, Grav, Load};

@@ -1,0 +1,161 @@
+//! Dynamic loads as the solver reads them:
+//! - [`Model::dynamic_load_members`]: `DLOAD = sid` as (factor S · Sᵢ, load set Lᵢ) pairs, or
+//!   the one set `sid` with factor 1 when no DLOAD combination has that id;
+//! - [`Model::transient_loads`] / [`Model::harmonic_loads`]: the TLOAD1 / RLOAD1 cards of a
+//!   load set, each with the DAREA entries of its EXCITEID expanded per component
+//!   ([`Excitation`]);
+//! - [`Model::dynamic_table`]: a TABLED1's points, or a TABLEF's CSV file (path resolved
+//!   relative to the file holding the card) and columns.
+
+use std::path::PathBuf;
+
+use crate::deck::Loc;
+
+use super::Model;
+use super::card_fields::Column;
+
+/// One component of a DAREA entry: a unit load direction scaled by A.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Excitation {
+    /// The DAREA set id.
+    pub sid: u32,
+    /// Grid id (a pROM input names it without a mesh).
+    pub grid: u32,
+    /// Component 1–6 in the grid's displacement frame.
+    pub component: usize,
+    /// A.
+    pub scale: f64,
+}
+
+/// A TLOAD1: excitation × table(t − τ).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TransientLoad {
+    pub sid: u32,
+    pub excite_id: u32,
+    /// The DAREA entries of EXCITEID (empty when EXCITEID names a static load set).
+    pub excitation: Vec<Excitation>,
+    /// τ (s).
+    pub delay: f64,
+    /// Table id TID.
+    pub table: u32,
+}
+
+/// An RLOAD1: excitation × (C(f) + iD(f)) · e^{i(θ − 2πfτ)}.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HarmonicLoad {
+    pub sid: u32,
+    pub excite_id: u32,
+    /// The DAREA entries of EXCITEID.
+    pub excitation: Vec<Excitation>,
+    /// τ (s).
+    pub delay: f64,
+    /// θ (degrees).
+    pub phase_deg: f64,
+    /// Table ids TC and TD (0: none).
+    pub tc: u32,
+    pub td: u32,
+}
+
+/// Where a table's (x, y) points come from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TableData {
+    /// TABLED1: the points on the card.
+    Points(Vec<(f64, f64)>),
+    /// TABLEF: two columns of a CSV file.
+    Csv { path: PathBuf, x: Column, y: Column },
+}
+
+/// A TABLED1 or TABLEF.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DynamicTable {
+    /// Card name.
+    pub card: &'static str,
+    pub data: TableData,
+    pub loc: Loc,
+}
+
+impl Model {
+    /// (factor, load set) of each member of `DLOAD = sid` (see the module documentation).
+    pub fn dynamic_load_members(&self, sid: u32) -> Vec<(f64, u32)> {
+        match self.bulk.dload.iter().find(|d| d.sid == sid) {
+            Some(d) => d.terms.iter().map(|&(s, l)| (d.scale * s, l)).collect(),
+            None => vec![(1.0, sid)],
+        }
+    }
+
+    /// The TLOAD1 cards of load set `sid`, in card order.
+    pub fn transient_loads(&self, sid: u32) -> Vec<TransientLoad> {
+        self.bulk
+            .tload1
+            .iter()
+            .filter(|t| t.sid == sid)
+            .map(|t| TransientLoad {
+                sid: t.sid,
+                excite_id: t.excite_id,
+                excitation: self.excitation(t.excite_id),
+                delay: t.delay,
+                table: t.tid,
+            })
+            .collect()
+    }
+
+    /// The RLOAD1 cards of load set `sid`, in card order.
+    pub fn harmonic_loads(&self, sid: u32) -> Vec<HarmonicLoad> {
+        self.bulk
+            .rload1
+            .iter()
+            .filter(|r| r.sid == sid)
+            .map(|r| HarmonicLoad {
+                sid: r.sid,
+                excite_id: r.excite_id,
+                excitation: self.excitation(r.excite_id),
+                delay: r.delay,
+                phase_deg: r.phase_deg,
+                tc: r.tc,
+                td: r.td,
+            })
+            .collect()
+    }
+
+    /// The DAREA entries of set `sid`, one per component, in card order.
+    fn excitation(&self, sid: u32) -> Vec<Excitation> {
+        self.bulk
+            .darea
+            .iter()
+            .filter(|d| d.sid == sid)
+            .flat_map(|d| {
+                d.components.components().map(move |component| Excitation {
+                    sid: d.sid,
+                    grid: d.grid,
+                    component,
+                    scale: d.scale,
+                })
+            })
+            .collect()
+    }
+
+    /// The TABLED1 (first) or TABLEF with id `tid`.
+    pub fn dynamic_table(&self, tid: u32) -> Option<DynamicTable> {
+        let b = &self.bulk;
+        if let Some(x) = b.tabled1.iter().find(|x| x.id == tid) {
+            return Some(DynamicTable {
+                card: "TABLED1",
+                data: TableData::Points(x.points.clone()),
+                loc: x.loc.clone(),
+            });
+        }
+        b.tablef.iter().find(|x| x.id == tid).map(|x| DynamicTable {
+            card: "TABLEF",
+            data: TableData::Csv {
+                path: x
+                    .loc
+                    .file
+                    .parent()
+                    .map_or_else(|| PathBuf::from(&x.path), |dir| dir.join(&x.path)),
+                x: x.tcol.clone(),
+                y: x.ycol.clone(),
+            },
+            loc: x.loc.clone(),
+        })
+    }
+}

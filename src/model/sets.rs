@@ -1,0 +1,257 @@
+//! The static sets case control selects, resolved for the solver:
+//! - [`Model::spc_set`]: `SPC = sid` with its `SPCADD` expanded into the SPC / SPC1 entries of
+//!   every member set (members in increasing id, SPC before SPC1, card order within);
+//! - [`Model::load_set`]: `LOAD = sid` with its `LOAD` combination expanded into terms of
+//!   FORCE / MOMENT vectors and GRAV accelerations in the basic system, the combination factor
+//!   S · Si applied.
+//!
+//! An SPCADD of an SPCADD, a LOAD of a LOAD, and a member that selects nothing are errors, as in
+//! Nastran ([`SetError`]); the model check rejects them already, and the resolution does not
+//! rely on it.
+
+use std::collections::BTreeSet;
+
+use crate::deck::Loc;
+use crate::deck::cards::BulkData;
+
+use super::card_fields::ForceKind;
+use super::{Dofs, Model};
+
+/// Why a selected set cannot be resolved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SetError {
+    /// No card belongs to the selected set.
+    Empty,
+    /// The member is itself a combination (SPCADD in SPCADD, LOAD in LOAD).
+    Nested(u32),
+    /// The member selects no card.
+    Missing(u32),
+}
+
+/// The card an SPC entry comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpcCard {
+    /// `SPC`: one grid, an enforced value.
+    Spc,
+    /// `SPC1`: grids held at zero.
+    Spc1,
+}
+
+impl SpcCard {
+    /// Card name.
+    pub fn name(self) -> &'static str {
+        match self {
+            SpcCard::Spc => "SPC",
+            SpcCard::Spc1 => "SPC1",
+        }
+    }
+}
+
+/// Components of grids held at a value, from one SPC or SPC1 card.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpcEntry {
+    pub card: SpcCard,
+    /// The set the card belongs to (an SPCADD member, or the selected set itself).
+    pub set: u32,
+    /// Grid ids.
+    pub grids: Vec<u32>,
+    pub components: Dofs,
+    /// Enforced value (0 for SPC1).
+    pub value: f64,
+    pub loc: Loc,
+}
+
+/// A force or moment of a load set at one grid.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointLoad {
+    pub kind: ForceKind,
+    /// Grid index into [`Model::grids`].
+    pub grid: usize,
+    /// The vector in the basic system: S · Si · F · (N1, N2, N3), with N in system CID at the
+    /// grid (for a CORD2C the local (e_r, e_θ, e_z) there, [`super::CoordSystem::axes_at`]).
+    pub basic: [f64; 3],
+}
+
+/// One member of a load set: its FORCE / MOMENT cards and its GRAV accelerations.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct LoadTerm {
+    pub point_loads: Vec<PointLoad>,
+    /// Uniform translational accelerations S · Si · A · (N1, N2, N3) in the basic system, N in
+    /// CID's Cartesian axes.
+    pub accelerations: Vec<[f64; 3]>,
+}
+
+impl Model {
+    /// The SPC / SPC1 entries of `SPC = sid` (see the module documentation).
+    pub fn spc_set(&self, sid: u32) -> Result<Vec<SpcEntry>, SetError> {
+        spc_entries(&self.bulk, sid)
+    }
+
+    /// The terms of `LOAD = sid`: one term of factor 1 for a FORCE / MOMENT / GRAV set, one
+    /// term per member of a LOAD combination otherwise (see the module documentation).
+    pub fn load_set(&self, sid: u32) -> Result<Vec<LoadTerm>, SetError> {
+        let members = load_members(&self.bulk, sid)?;
+        Ok(members
+            .into_iter()
+            .map(|(scale, set)| self.load_term(set, scale))
+            .collect())
+    }
+
+    fn load_term(&self, set: u32, scale: f64) -> LoadTerm {
+        let b = &self.bulk;
+        let mut term = LoadTerm::default();
+        for f in b.forces.iter().filter(|f| f.sid == set) {
+            // grids and systems exist in a built model
+            let (Some(&grid), Some(cs)) = (self.grid_index.get(&f.grid), self.coords.get(&f.cid))
+            else {
+                continue;
+            };
+            let axes = cs.axes_at(self.grids[grid].xyz);
+            let n = f.direction;
+            let basic = std::array::from_fn(|i| {
+                scale * f.scale * (0..3).map(|j| axes[i][j] * n[j]).sum::<f64>()
+            });
+            term.point_loads.push(PointLoad {
+                kind: f.kind,
+                grid,
+                basic,
+            });
+        }
+        for g in b.grav.iter().filter(|g| g.sid == set) {
+            if let Some(cs) = self.coords.get(&g.cid) {
+                term.accelerations
+                    .push(cs.vector_to_basic(g.direction.map(|x| x * g.a * scale)));
+            }
+        }
+        term
+    }
+}
+
+fn simple_set_exists(b: &BulkData, sid: u32) -> bool {
+    b.forces.iter().any(|f| f.sid == sid) || b.grav.iter().any(|g| g.sid == sid)
+}
+
+/// (factor, FORCE/MOMENT/GRAV set) of each member of `LOAD = sid`.
+fn load_members(b: &BulkData, sid: u32) -> Result<Vec<(f64, u32)>, SetError> {
+    let combos: Vec<_> = b.load.iter().filter(|l| l.sid == sid).collect();
+    if combos.is_empty() {
+        return if simple_set_exists(b, sid) {
+            Ok(vec![(1.0, sid)])
+        } else {
+            Err(SetError::Empty)
+        };
+    }
+    let mut members = Vec::new();
+    for combo in combos {
+        for &(si, li) in &combo.terms {
+            if b.load.iter().any(|l| l.sid == li) {
+                return Err(SetError::Nested(li));
+            }
+            if !simple_set_exists(b, li) {
+                return Err(SetError::Missing(li));
+            }
+            members.push((combo.scale * si, li));
+        }
+    }
+    Ok(members)
+}
+
+/// The entries of `SPC = sid` in a deck's bulk data.
+fn spc_entries(b: &BulkData, sid: u32) -> Result<Vec<SpcEntry>, SetError> {
+    let adds: Vec<_> = b.spcadd.iter().filter(|a| a.sid == sid).collect();
+    let sets: Vec<u32> = if adds.is_empty() {
+        vec![sid]
+    } else {
+        let mut sets = BTreeSet::new();
+        for a in &adds {
+            for &s in &a.sets {
+                if b.spcadd.iter().any(|x| x.sid == s) {
+                    return Err(SetError::Nested(s));
+                }
+                if !b.spc.iter().any(|x| x.sid == s) && !b.spc1.iter().any(|x| x.sid == s) {
+                    return Err(SetError::Missing(s));
+                }
+                sets.insert(s);
+            }
+        }
+        sets.into_iter().collect()
+    };
+    let mut out = Vec::new();
+    for &s in &sets {
+        out.extend(b.spc.iter().filter(|x| x.sid == s).map(|x| SpcEntry {
+            card: SpcCard::Spc,
+            set: s,
+            grids: vec![x.grid],
+            components: x.components,
+            value: x.value,
+            loc: x.loc.clone(),
+        }));
+        out.extend(b.spc1.iter().filter(|x| x.sid == s).map(|x| SpcEntry {
+            card: SpcCard::Spc1,
+            set: s,
+            grids: x.grids.clone(),
+            components: x.components,
+            value: 0.0,
+            loc: x.loc.clone(),
+        }));
+    }
+    if out.is_empty() {
+        Err(SetError::Empty)
+    } else {
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::io::Write;
+
+    use super::*;
+    use crate::deck::Deck;
+
+    fn deck(bulk: &str) -> Deck {
+        let text = format!("SOL 101\nCEND\nBEGIN BULK\n{bulk}ENDDATA\n");
+        let mut file = tempfile::Builder::new()
+            .suffix(".bdf")
+            .tempfile()
+            .expect("temp file");
+        file.write_all(text.as_bytes()).expect("write deck");
+        Deck::read(file.path()).unwrap_or_else(|e| panic!("deck: {e}"))
+    }
+
+    /// Nested SPCADD and members without cards are errors of the resolution itself, whatever
+    /// the model check would say.
+    #[test]
+    fn spcadd_errors_without_the_model_check() {
+        let mut d =
+            deck("GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nSPC1,1,123,1\nSPC,2,2,3,0.\nSPCADD,3,1,2\n");
+        let mut nested = d.bulk.spcadd[0].clone();
+        (nested.sid, nested.sets) = (4, vec![3]);
+        let mut missing = d.bulk.spcadd[0].clone();
+        (missing.sid, missing.sets) = (5, vec![1, 77]);
+        d.bulk.spcadd.extend([nested, missing]);
+        let union = spc_entries(&d.bulk, 3).expect("union");
+        let sets: Vec<_> = union.iter().map(|e| (e.card, e.set)).collect();
+        assert_eq!(sets, [(SpcCard::Spc1, 1), (SpcCard::Spc, 2)]);
+        assert_eq!(spc_entries(&d.bulk, 4), Err(SetError::Nested(3)));
+        assert_eq!(spc_entries(&d.bulk, 5), Err(SetError::Missing(77)));
+        assert_eq!(spc_entries(&d.bulk, 99), Err(SetError::Empty));
+    }
+
+    /// A LOAD of a LOAD and a LOAD member without FORCE / MOMENT / GRAV are errors of the
+    /// resolution itself.
+    #[test]
+    fn nested_load_without_the_model_check() {
+        let mut d = deck("GRID,1,,0.,0.,0.\nFORCE,10,1,,3.,0.,1.,0.\nLOAD,2,2.,1.5,10\n");
+        let mut nested = d.bulk.load[0].clone();
+        (nested.sid, nested.terms) = (5, vec![(1.0, 2)]);
+        let mut missing = d.bulk.load[0].clone();
+        (missing.sid, missing.terms) = (6, vec![(1.0, 10), (1.0, 77)]);
+        d.bulk.load.extend([nested, missing]);
+        assert_eq!(load_members(&d.bulk, 2), Ok(vec![(3.0, 10)]));
+        assert_eq!(load_members(&d.bulk, 10), Ok(vec![(1.0, 10)]));
+        assert_eq!(load_members(&d.bulk, 5), Err(SetError::Nested(2)));
+        assert_eq!(load_members(&d.bulk, 6), Err(SetError::Missing(77)));
+        assert_eq!(load_members(&d.bulk, 77), Err(SetError::Empty));
+    }
+}
