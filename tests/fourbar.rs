@@ -3,7 +3,7 @@
 //! reduced at that p, with the error of eq. 4.11 on the coupler's acceleration, the motion of
 //! its joint C and the drive torque. The artifacts are built here into temp directories (the
 //! pROM decks first); the runs cover the first 0.2 s of the drive (the full second is the
-//! benchmark's, tools/bench/fourbar.sh).
+//! benchmark's, tools/bench/fourbar_bench.py).
 
 mod common;
 
