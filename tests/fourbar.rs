@@ -1,0 +1,304 @@
+//! The four-bar linkage of thesis §4.4 (decks/fourbar/fmb): the pFMB — the links' parametric
+//! artifacts evaluated at p — against the FMB built from non-parametric ROMs of the same meshes
+//! reduced at that p, with the error of eq. 4.11 on the coupler's acceleration, the motion of
+//! its joint C and the drive torque. The artifacts are built here into temp directories (the
+//! pROM decks first); the runs cover the first 0.2 s of the drive (the full second is the
+//! benchmark's, tools/bench/fourbar_bench.py).
+
+mod common;
+
+use std::path::Path;
+
+use common::root;
+
+const DECKS: &str = "decks/fourbar/fmb";
+/// Steps of the test runs: 0.2 s at Δt = 1 ms, two periods of the 10 Hz drive while its
+/// amplitude ramps to 4°.
+const STEPS: usize = 200;
+const E_REF: f64 = 201.99e9;
+const RHO_REF: f64 = 7990.0;
+/// The PVAL of fourbar_steel.dat (reference values, set 2 of §4.4.3).
+const STEEL_PVAL: &str =
+    "PVAL,1,IC.E,201.99E9,IC.RHO,7990.,C.E,201.99E9,C.RHO\n,7990.,OC.E,201.99E9,OC.RHO,7990.";
+
+fn deck(name: &str) -> String {
+    std::fs::read_to_string(root().join(DECKS).join(name)).expect("deck")
+}
+
+/// `text` with `from` replaced by `to`; `from` must occur.
+fn edit(text: &str, from: &str, to: &str) -> String {
+    assert!(text.contains(from), "'{from}' not in the deck");
+    text.replace(from, to)
+}
+
+/// Runs the pROM deck text (its mesh INCLUDEs resolved against the repository) with the
+/// paraflex binary, as a user builds an artifact, writing `dir/artifact`.
+fn build(text: &str, dir: &Path, artifact: &str) {
+    let meshes = format!("'{}/", root().join("meshes").display());
+    let path = dir.join(format!("{artifact}.dat"));
+    std::fs::write(&path, text.replace("'../../../meshes/", &meshes)).expect("write deck");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_paraflex"))
+        .arg("run")
+        .arg(&path)
+        .arg("-o")
+        .arg(dir.join(artifact))
+        .output()
+        .expect("run paraflex");
+    assert!(
+        run.status.success(),
+        "{artifact}: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+}
+
+/// A pROM deck reduced at one parameter point: its PMPAR ranges shrunk to the point (the deck's
+/// cards already set to it) and one sample — the non-parametric ROM of the same mesh, which
+/// FLEXB reads under the same parameter names.
+fn at_point(text: &str, samples: usize, pmpars: &[(&str, String)]) -> String {
+    let mut text = edit(text, &format!("PMOR,1,{samples},"), "PMOR,1,1,");
+    for (from, to) in pmpars {
+        text = edit(&text, from, to);
+    }
+    text
+}
+
+/// An isotropic link's pROM deck at (E, ρ).
+fn steel_at(name: &str, e: f64, rho: f64) -> String {
+    let text = edit(
+        &deck(name),
+        "MAT1,1,201.99E9,,0.34,7990.0",
+        &format!("MAT1,1,{e:e},,0.34,{rho:?}"),
+    );
+    at_point(
+        &text,
+        2,
+        &[
+            (
+                "PMPAR,1,E,E,1,121.194E9,282.786E9",
+                format!("PMPAR,1,E,E,1,{e:e},{e:e}"),
+            ),
+            (
+                "PMPAR,2,RHO,RHO,1,4794.,11186.",
+                format!("PMPAR,2,RHO,RHO,1,{rho:?},{rho:?}"),
+            ),
+        ],
+    )
+}
+
+/// The composite coupler's pROM deck at the fibre angle Θ (degrees).
+fn composite_at(theta: f64) -> String {
+    let text = deck("coupler_composite_prom.dat").replace(
+        ",2,0.00025,20.0,,2,0.00025,-20.0,",
+        &format!(",2,0.00025,{theta:?},,2,0.00025,{:?},", -theta),
+    );
+    at_point(
+        &text,
+        6,
+        &[(
+            "PMPAR,1,THETA,THETA,1,0.,90.",
+            format!("PMPAR,1,THETA,THETA,1,{theta:?},{theta:?}"),
+        )],
+    )
+}
+
+/// What the tests compare: the coupler joint C's acceleration and motion (x, y) and the drive
+/// torque, per output step.
+struct Histories {
+    accel: Vec<[f64; 2]>,
+    motion: Vec<[f64; 2]>,
+    torque: Vec<f64>,
+}
+
+fn read(g: &hdf5_metno::Group, name: &str) -> Vec<f64> {
+    g.dataset(name)
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+        .read_raw()
+        .unwrap()
+}
+
+/// Runs the FMB deck `text` (its PVAL card `pval` replaced by `with`, STEPS steps) beside the
+/// artifacts in `dir`.
+fn simulate(dir: &Path, text: &str, pval: &str, with: &str) -> Histories {
+    let text = edit(
+        &edit(text, pval, with),
+        "TSTEP,1,1000,1.e-3,1",
+        &format!("TSTEP,1,{STEPS},1.e-3,1"),
+    );
+    std::fs::copy(root().join(DECKS).join("drive.csv"), dir.join("drive.csv")).expect("csv");
+    let path = dir.join("fourbar.dat");
+    std::fs::write(&path, text).expect("write deck");
+    let (r, _model, out) = common::run_deck_file(&path);
+    r.unwrap_or_else(|e| panic!("four-bar FMB: {e}"));
+    let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
+    let g = file.group("results/1/fmb").unwrap();
+    let pair = |x: Vec<f64>, y: Vec<f64>| x.into_iter().zip(y).map(|(x, y)| [x, y]).collect();
+    let (cx, cy) = (read(&g, "sensors/CX"), read(&g, "sensors/CY"));
+    let (x0, y0) = (cx[0], cy[0]);
+    Histories {
+        accel: pair(read(&g, "sensors/AX"), read(&g, "sensors/AY")),
+        motion: pair(
+            cx.iter().map(|x| x - x0).collect(),
+            cy.iter().map(|y| y - y0).collect(),
+        ),
+        torque: read(&g, "sensors/TORQUE"),
+    }
+}
+
+/// The largest error of eq. 4.11 over the run: ‖y_pFMB(t) − y_FMB(t)‖ / max_t ‖y_FMB(t)‖.
+fn error_4_11(p: &[[f64; 2]], f: &[[f64; 2]]) -> f64 {
+    assert_eq!(p.len(), f.len());
+    let norm = |v: [f64; 2]| v[0].hypot(v[1]);
+    let peak = f.iter().map(|v| norm(*v)).fold(0.0, f64::max);
+    assert!(peak > 0.0);
+    p.iter()
+        .zip(f)
+        .map(|(a, b)| norm([a[0] - b[0], a[1] - b[1]]))
+        .fold(0.0, f64::max)
+        / peak
+}
+
+/// Errors of eq. 4.11 on (acceleration, motion, torque) of the pFMB against the FMB.
+fn errors(p: &Histories, f: &Histories) -> [f64; 3] {
+    let scalar = |v: &[f64]| v.iter().map(|x| [*x, 0.0]).collect::<Vec<_>>();
+    [
+        error_4_11(&p.accel, &f.accel),
+        error_4_11(&p.motion, &f.motion),
+        error_4_11(&scalar(&p.torque), &scalar(&f.torque)),
+    ]
+}
+
+const LINKS: [(&str, &str); 3] = [
+    ("crank_prom.dat", "crank.h5"),
+    ("coupler_prom.dat", "coupler.h5"),
+    ("output_crank_prom.dat", "output_crank.h5"),
+];
+
+/// Sets 1 and 3 of thesis §4.4.3 (every link at E 60 % and ρ 140 % of the reference, and the
+/// opposite corner of the box): pFMB against FMB below 1 % (eq. 4.11) on the coupler joint's
+/// acceleration and motion and on the drive torque. E and ρ act on each link's only material,
+/// so one sample's basis spans the whole box and the two models agree to round-off.
+#[test]
+fn steel_four_bar_pfmb_matches_fmb_of_roms_at_parameter_sets_1_and_3() {
+    let parametric = tempfile::tempdir().expect("temp dir");
+    for (name, artifact) in LINKS {
+        build(&deck(name), parametric.path(), artifact);
+    }
+    let fmb = deck("fourbar_steel.dat");
+    for (set, e, rho) in [
+        (1, 0.6 * E_REF, 1.4 * RHO_REF),
+        (3, 1.4 * E_REF, 0.6 * RHO_REF),
+    ] {
+        let pval = format!(
+            "PVAL,1,IC.E,{e:e},IC.RHO,{rho:?},C.E,{e:e},C.RHO\n,{rho:?},OC.E,{e:e},OC.RHO,{rho:?}"
+        );
+        let p = simulate(parametric.path(), &fmb, STEEL_PVAL, &pval);
+        let roms = tempfile::tempdir().expect("temp dir");
+        for (name, artifact) in LINKS {
+            build(&steel_at(name, e, rho), roms.path(), artifact);
+        }
+        let f = simulate(roms.path(), &fmb, STEEL_PVAL, &pval);
+        let err = errors(&p, &f);
+        println!(
+            "set {set}: eq. 4.11 error acceleration {:.2e}, motion {:.2e}, torque {:.2e}",
+            err[0], err[1], err[2]
+        );
+        assert!(err.iter().all(|e| *e < 1e-2), "set {set}: {err:?}");
+    }
+}
+
+/// The composite coupler at Θ = 0°, 45°, 90° (thesis §4.4.4; the cranks at the reference
+/// steel): pFMB against FMB below 1 % (eq. 4.11) on the coupler joint's acceleration and
+/// motion and on the drive torque.
+#[test]
+fn composite_four_bar_pfmb_matches_fmb_of_roms_at_three_fibre_angles() {
+    let parametric = tempfile::tempdir().expect("temp dir");
+    let cranks = [LINKS[0], LINKS[2]];
+    for (name, artifact) in cranks {
+        build(&deck(name), parametric.path(), artifact);
+    }
+    build(
+        &deck("coupler_composite_prom.dat"),
+        parametric.path(),
+        "coupler_composite.h5",
+    );
+    let fmb = deck("fourbar_composite.dat");
+    for theta in [0.0, 45.0, 90.0] {
+        let pval = format!("PVAL,1,C.THETA,{theta:?}");
+        let p = simulate(parametric.path(), &fmb, "PVAL,1,C.THETA,45.", &pval);
+        let roms = tempfile::tempdir().expect("temp dir");
+        for (name, artifact) in cranks {
+            build(&steel_at(name, E_REF, RHO_REF), roms.path(), artifact);
+        }
+        build(&composite_at(theta), roms.path(), "coupler_composite.h5");
+        let f = simulate(roms.path(), &fmb, "PVAL,1,C.THETA,45.", &pval);
+        let err = errors(&p, &f);
+        println!(
+            "Θ = {theta}°: eq. 4.11 error acceleration {:.2e}, motion {:.2e}, torque {:.2e}",
+            err[0], err[1], err[2]
+        );
+        assert!(err.iter().all(|e| *e < 1e-2), "Θ = {theta}°: {err:?}");
+    }
+}
+
+/// The rigid four-bar: fourbar_steel.dat with each link a RIGIDB carrying the mass, centre of
+/// mass and inertia of its reference-steel FE model (model::mass of decks/fourbar/*_free.dat,
+/// in the link's frame, the CORD2R of its FLEXB), markers at the joint centres. The planar
+/// loop of four revolutes is redundant for rigid links; the solver removes the dependent rows.
+fn rigid_deck(fmb: &str) -> String {
+    let mut text = fmb.to_string();
+    for (id, name, link, length) in [
+        (1, "IC", "crank", 0.1),
+        (2, "C", "coupler", 0.35),
+        (3, "OC", "output_crank", 0.3),
+    ] {
+        let free = format!("{link}_free.dat");
+        let path = root().join("decks/fourbar").join(&free);
+        let deck = paraflex::deck::Deck::read(&path).expect("deck");
+        let p = paraflex::model::Model::build(&deck)
+            .expect("model")
+            .mass_properties();
+        let (c, i) = (p.cg, p.inertia_cg);
+        text = edit(
+            &text,
+            &format!("FLEXB,{id},{name},'{link}.h5',{id}"),
+            &format!(
+                "RIGIDB,{id},{name},{:e},{id},{:e},{:e},{:e}\n,{:e},{:e},{:e},{:e},{:e},{:e}",
+                p.mass, c[0], c[1], c[2], i[0][0], i[1][0], i[1][1], i[2][0], i[2][1], i[2][2]
+            ),
+        );
+        for (k, x) in [(1, 0.0), (2, length)] {
+            text = edit(
+                &text,
+                &format!("MARKER,{id}{k},{id},100000{k}\n"),
+                &format!("MARKER,{id}{k},{id},,{x:?},0.,0.,{id}\n"),
+            );
+        }
+    }
+    edit(&text, STEEL_PVAL, "")
+}
+
+/// As the links stiffen, the flexible four-bar's drive torque approaches the rigid four-bar's:
+/// with E × 1000 (the pROMs are exact in E: one material per link) the eq. 4.11 error of the
+/// torque against the rigid model falls below 1 % and below the reference steel's.
+#[test]
+fn stiff_four_bar_drive_torque_approaches_the_rigid_four_bar() {
+    let parametric = tempfile::tempdir().expect("temp dir");
+    for (name, artifact) in LINKS {
+        build(&deck(name), parametric.path(), artifact);
+    }
+    let fmb = deck("fourbar_steel.dat");
+    let rigid = simulate(parametric.path(), &rigid_deck(&fmb), "PVAL = 1\n", "");
+    let torque_error = |e: f64| {
+        let pval = format!("PVAL,1,IC.E,{e:e},C.E,{e:e},OC.E,{e:e}");
+        let flexible = simulate(parametric.path(), &fmb, STEEL_PVAL, &pval);
+        errors(&flexible, &rigid)[2]
+    };
+    let (steel, stiff) = (torque_error(E_REF), torque_error(1e3 * E_REF));
+    println!(
+        "drive torque against the rigid four-bar (eq. 4.11): steel {steel:.2e}, E × 1000 {stiff:.2e}"
+    );
+    assert!(
+        stiff < 1e-2 && stiff < steel,
+        "steel {steel}, stiff {stiff}"
+    );
+}

@@ -1,0 +1,90 @@
+#!/usr/bin/env python3
+"""Speed against error of the flexible four-bar of thesis §4.4 (decks/fourbar/fmb/fourbar_steel.dat,
+docs/fourbar.md): 1 s of the drive with BDF1 at Δt = 1 ms, timed, and its error against
+Δt = 0.25 ms.
+
+    .venv/bin/python tools/bench/fourbar_bench.py [--repeat 3] [--paraflex target/release/paraflex] [--keep DIR]
+
+Builds the three links' pROM artifacts beside the deck in a work directory, runs the deck at
+1 ms (1000 steps) and at 0.25 ms (4000 steps, output every 4th: the same output times).
+Time: wall time of the run's "multibody" step as printed by paraflex (assembly, the time loop,
+the sensors and their output), best of --repeat runs. Error: eq. 4.11 of the thesis,
+max_t ‖y(t) − y_ref(t)‖ / max_t ‖y_ref(t)‖, on the acceleration (AX, AY) of the coupler joint C
+and on the drive torque.
+"""
+from __future__ import annotations
+
+import argparse
+import re
+import shutil
+import tempfile
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+from paraflex_tools.runner import default_binary, run_checked
+
+ROOT = Path(__file__).resolve().parents[2]
+DECKS = ROOT / "decks" / "fourbar" / "fmb"
+LINKS = {"crank_prom.dat": "crank.h5", "coupler_prom.dat": "coupler.h5", "output_crank_prom.dat": "output_crank.h5"}
+FINE = ("TSTEP,1,1000,1.e-3,1", "TSTEP,1,4000,2.5e-4,4")
+
+
+def histories(path: Path) -> dict[str, np.ndarray]:
+    with h5py.File(path, "r") as f:
+        g = f["results/1/fmb"]
+        return {
+            "time": g["time"][()],
+            "accel": np.column_stack([g["sensors/AX"][()], g["sensors/AY"][()]]),
+            "torque": g["sensors/TORQUE"][()][:, None],
+        }
+
+
+def error_4_11(y: np.ndarray, ref: np.ndarray) -> float:
+    """max_t ‖y(t) − y_ref(t)‖ / max_t ‖y_ref(t)‖ (thesis eq. 4.11)."""
+    return float(np.linalg.norm(y - ref, axis=1).max() / np.linalg.norm(ref, axis=1).max())
+
+
+def timed_run(deck: Path, out: Path, exe: Path) -> float:
+    r = run_checked(deck, out, exe)
+    m = re.search(r"multibody ([0-9.]+) s", r.stdout)
+    if not m:
+        raise RuntimeError(f"no multibody timing in:\n{r.stdout}")
+    return float(m.group(1))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--paraflex", type=Path, default=default_binary())
+    ap.add_argument("--keep", type=Path, help="work directory to keep (default: a temp directory)")
+    a = ap.parse_args()
+    work = a.keep or Path(tempfile.mkdtemp(prefix="fourbar_bench_"))
+    work.mkdir(parents=True, exist_ok=True)
+    for deck, artifact in LINKS.items():
+        text = (DECKS / deck).read_text().replace("'../../../meshes/", f"'{ROOT / 'meshes'}/")
+        (work / deck).write_text(text)
+        run_checked(work / deck, work / artifact, a.paraflex)
+    shutil.copy(DECKS / "drive.csv", work / "drive.csv")
+    coarse = (DECKS / "fourbar_steel.dat").read_text()
+    if FINE[0] not in coarse:
+        raise RuntimeError(f"{FINE[0]} not in fourbar_steel.dat")
+    (work / "coarse.dat").write_text(coarse)
+    (work / "fine.dat").write_text(coarse.replace(*FINE))
+    wall = min(timed_run(work / "coarse.dat", work / "coarse.h5", a.paraflex) for _ in range(a.repeat))
+    fine_wall = timed_run(work / "fine.dat", work / "fine.h5", a.paraflex)
+    y, ref = histories(work / "coarse.h5"), histories(work / "fine.h5")
+    if not np.allclose(y["time"], ref["time"]):
+        raise RuntimeError("output times differ")
+    print(f"{'dt [s]':>8}{'steps':>7}{'wall [ms]':>11}{'accel error':>13}{'torque error':>14}")
+    print(f"{1e-3:>8.2e}{1000:>7}{1e3 * wall:>11.1f}{error_4_11(y['accel'], ref['accel']):>13.2e}"
+          f"{error_4_11(y['torque'], ref['torque']):>14.2e}")
+    print(f"{2.5e-4:>8.2e}{4000:>7}{1e3 * fine_wall:>11.1f}{'(reference)':>13}{'':>14}")
+    print(f"work directory: {work}" if a.keep else "")
+    if not a.keep:
+        shutil.rmtree(work)
+
+
+if __name__ == "__main__":
+    main()
