@@ -9,6 +9,7 @@
 //! The library never prints; the binary renders errors and progress.
 
 pub mod assembly;
+pub mod card_values;
 pub mod deck;
 pub mod discretize;
 pub mod dynamics;

@@ -45,7 +45,7 @@ use nalgebra_sparse::CsrMatrix;
 use super::dofs::{DofMap, DofSet};
 use super::error::AssemblyError;
 use super::frames::GridFrames;
-use crate::model::Dofs;
+use crate::card_values::Dofs;
 use crate::model::{Model, RigidKind, WeightedGroup};
 
 /// Relative pivot tolerance of the 6 × 6 RBE3 fit.

@@ -19,8 +19,8 @@ use super::constraints::RigidElimination;
 use super::dofs::{DofMap, Sets, check_len};
 use super::error::AssemblyError;
 use super::frames::GridFrames;
+use crate::card_values::ForceKind;
 use crate::model::Model;
-use crate::model::card_fields::ForceKind;
 use crate::model::sets::{LoadTerm, SetError};
 
 /// The mass matrix M_gg as an operator and the values to use (M at the current parameters).

@@ -26,7 +26,7 @@ use super::assemble::AffineOperator;
 use super::constraints::RigidElimination;
 use super::dofs::{DofMap, DofSet};
 use super::error::{AssemblyError, DofName};
-use crate::model::Dofs;
+use crate::card_values::Dofs;
 use crate::model::Model;
 use crate::model::sets::SetError;
 

@@ -8,7 +8,7 @@
 
 use super::error::{DeckError, Diagnostics, Loc};
 use super::reader::expand_thru;
-use crate::model::card_fields::FmbStart;
+use crate::card_values::FmbStart;
 
 /// What an output request or `SENSOR` selects.
 #[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]

@@ -11,8 +11,8 @@
 use super::error::{DeckError, Loc};
 use super::fields::RawCard;
 use super::value::Value;
-use crate::model::Dofs;
-use crate::model::card_fields::Column;
+use crate::card_values::Column;
+use crate::card_values::Dofs;
 
 /// Reads the fields of one card; see the module documentation.
 pub struct FieldReader<'a> {

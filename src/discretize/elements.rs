@@ -48,6 +48,7 @@ use super::DiscretizeError;
 use super::parameters::Parameters;
 use crate::assembly::assemble::Binding;
 use crate::assembly::{Contribution, DofMap, GridFrames, ParamTarget};
+use crate::card_values::{CornerThickness, PmparKind, ShellOrientation, SpringEnd};
 use crate::fe::affine::{AffineMatrix, Coefficient, CoefficientValues};
 use crate::fe::laminate::{
     Laminate, Ply, PshellSection, RoleMaterial, SectionData, SectionError, SectionParameter,
@@ -56,7 +57,6 @@ use crate::fe::laminate::{
 use crate::fe::lumped::{Conm2, GridComponent, ScalarSpring};
 use crate::fe::{shell, solid};
 use crate::linalg::Progress;
-use crate::model::card_fields::{CornerThickness, PmparKind, ShellOrientation, SpringEnd};
 use crate::model::materials::Material;
 use crate::model::properties::{
     MaterialUse, ShellPlacement, ShellProperty, Spring, SpringStiffness,

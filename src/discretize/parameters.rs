@@ -10,9 +10,9 @@ use std::collections::BTreeMap;
 
 use super::DiscretizeError;
 use crate::assembly::{AffineOperator, ParamKey, ParamTarget};
+use crate::card_values::PmparKind;
 use crate::fe::affine::CoefficientValues;
 use crate::model::Model;
-use crate::model::card_fields::PmparKind;
 use crate::model::materials::Material;
 use crate::model::pmpar::Parameter;
 use crate::rom::prom::{AffineFunction, CoefficientInput, PromParameter};

@@ -31,11 +31,11 @@ use nalgebra_sparse::{CooMatrix, CscMatrix};
 
 use super::elements::{shell_strains, solid_kind_of};
 use super::{Constrained, DiscretizeError, Structure};
+use crate::card_values::SensorKind;
 use crate::dynamics::measurement::Reads;
 use crate::fe::solid;
 use crate::geometry::vec3::dot;
 use crate::model::Model;
-use crate::model::card_fields::SensorKind;
 use crate::model::sensors::Sensor;
 
 /// The measurement rows of a subcase's sensors on the f-set.

@@ -17,7 +17,7 @@
 
 use faer::{Mat, c64};
 
-use crate::model::card_fields::SensorKind;
+use crate::card_values::SensorKind;
 
 /// What a sensor row reads: the displacement state or one of its time derivatives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

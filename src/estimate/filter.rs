@@ -72,8 +72,8 @@ use super::coordinates::{Model, PromCoordinates};
 use super::ekf::Ekf;
 use super::measurement::SensorRows;
 use super::prom_model::PromModel;
+use crate::card_values::MAX_REDIAGONALIZATION_TOLERANCE;
 use crate::linalg::dense::{DenseEigenError, product, stiffness_semidefinite};
-use crate::model::values::MAX_REDIAGONALIZATION_TOLERANCE;
 use crate::rom::prom::Prom;
 
 /// The coordinates the filter may run in.

@@ -22,9 +22,9 @@ use super::modal::{modal_form, modal_form_after};
 use super::modal_coordinates::{Modal, ModalColumns};
 use super::physical::Physical;
 use super::propagation::propagate;
+use crate::card_values::valid_rediagonalization_tolerance;
 use crate::dynamics::velocity_form::{Operator, bdf1_step};
 use crate::linalg::dense::product;
-use crate::model::values::valid_rediagonalization_tolerance;
 
 /// The pROM, its evaluation at the current estimate and the buffers of a step.
 pub(super) struct PromModel {

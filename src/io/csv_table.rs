@@ -9,7 +9,7 @@
 use std::path::Path;
 
 use super::hdf5_file::IoError;
-use crate::model::card_fields::Column;
+use crate::card_values::Column;
 
 fn read(path: &Path) -> Result<String, IoError> {
     std::fs::read_to_string(path).map_err(|cause| IoError::Fs {

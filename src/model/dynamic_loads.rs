@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use crate::deck::Loc;
 
 use super::Model;
-use super::card_fields::Column;
+use crate::card_values::Column;
 
 /// One component of a DAREA entry: a unit load direction scaled by A.
 #[derive(Debug, Clone, Copy, PartialEq)]

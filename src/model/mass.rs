@@ -27,7 +27,7 @@
 //! are −Σ m dx dy (negative products). WTMASS multiplies mass and inertia because that is the
 //! mass that enters the mass matrix (Nastran's GPWG prints weight units, i.e. without WTMASS).
 
-use super::card_fields::CornerThickness;
+use crate::card_values::CornerThickness;
 use crate::deck::cards::Conm2;
 use crate::geometry::mat3::{IDENTITY, mul_vec};
 use crate::geometry::rotation::rotate_tensor;

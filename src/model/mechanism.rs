@@ -20,9 +20,9 @@ use crate::geometry::mat3::{Mat3, transpose};
 use crate::geometry::rotation::rotate_tensor;
 use crate::geometry::vec3::normalize;
 
-use super::card_fields::{JointType, MsensorKind};
 use super::coords::CoordSystem;
 use super::ids::{entry, index};
+use crate::card_values::{JointType, MsensorKind};
 
 /// What a body is.
 #[derive(Debug, Clone, PartialEq)]

@@ -22,10 +22,8 @@
 //! [`sensors`]; rigid elements carry their own data ([`RigidKind`]).
 
 pub mod build;
-pub mod card_fields;
 pub mod case;
 pub mod coords;
-mod dofs;
 pub mod dynamic_loads;
 pub mod geometry;
 pub mod ids;
@@ -48,8 +46,8 @@ use std::collections::HashMap;
 use crate::deck::case_control::Subcase;
 use crate::deck::{BulkData, Loc, Solution, Warning};
 
+pub use crate::card_values::Dofs;
 pub use coords::CoordSystem;
-pub use dofs::Dofs;
 pub use mass::MassProperties;
 pub use mesh::{ElementBlock, MeshArrays};
 pub use params::ModelParams;

@@ -17,7 +17,7 @@ use crate::deck::cards::Pmpar;
 use crate::deck::{BulkData, DeckError};
 
 use super::Model;
-use super::card_fields::PmparKind;
+use crate::card_values::PmparKind;
 
 use super::build::Refs;
 use super::ids::{entry, index};

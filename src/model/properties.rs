@@ -4,9 +4,9 @@
 //! material ([`Model::solid_material`]) and a scalar spring's stiffness and ends
 //! ([`Model::spring`]).
 
-use super::card_fields::{CornerThickness, ShellOrientation, SpringEnd};
 use super::materials::Material;
 use super::{Element, ElementKind, Model, PropertyRef};
+use crate::card_values::{CornerThickness, ShellOrientation, SpringEnd};
 
 /// The shell fields of a CQUAD4 / CTRIA3 card.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -2,7 +2,7 @@
 //! direction ([`Model::sensors`]). Which of them a subcase measures is the caller's choice.
 
 use super::Model;
-use super::card_fields::SensorKind;
+use crate::card_values::SensorKind;
 
 /// A sensor: one measured quantity along a direction at a grid (DISP, VEL, ACCEL) or at an
 /// element's centroid (STRAIN).

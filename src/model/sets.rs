@@ -14,8 +14,8 @@ use std::collections::BTreeSet;
 use crate::deck::Loc;
 use crate::deck::cards::BulkData;
 
-use super::card_fields::ForceKind;
 use super::{Dofs, Model};
+use crate::card_values::ForceKind;
 
 /// Why a selected set cannot be resolved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -10,23 +10,10 @@
 //! | CONM2 | M ≥ 0; I11, I22, I33 ≥ 0; all finite |
 //!
 //! Kept-but-unused fields are noted with one warning per card type (e.g. PSOLID IN/STRESS/ISOP).
-//!
-//! The range of the `EKF` card's REDIAG tolerance ([`valid_rediagonalization_tolerance`]) is
-//! checked where the card is read and where the estimator is set up, both against this one rule.
 
 use crate::deck::{DeckError, Loc, Warning};
 
 use super::build::Refs;
-
-/// Largest re-diagonalization tolerance τ the estimator accepts: its coupled solves contract by
-/// about τ per iteration (the estimator's re-diagonalized modal coordinates).
-pub const MAX_REDIAGONALIZATION_TOLERANCE: f64 = 0.1;
-
-/// Whether τ is an accepted re-diagonalization tolerance, 0 < τ ≤
-/// [`MAX_REDIAGONALIZATION_TOLERANCE`] (false for NaN).
-pub fn valid_rediagonalization_tolerance(tolerance: f64) -> bool {
-    tolerance > 0.0 && tolerance <= MAX_REDIAGONALIZATION_TOLERANCE
-}
 
 fn bad(errors: &mut Vec<DeckError>, loc: &Loc, card: String, message: String) {
     errors.push(DeckError::at(loc, message).on_card(card));

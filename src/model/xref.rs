@@ -24,7 +24,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use super::card_fields::{ForceKind, SensorKind};
+use crate::card_values::{ForceKind, SensorKind};
 use crate::deck::{Deck, DeckError, Loc};
 
 use super::MaterialRef;

@@ -20,13 +20,13 @@ use super::marker::Marker;
 use super::prom_body::{PromBodyAtPoint, load_prom_body};
 use super::signal::Signal;
 use super::system::System;
+use crate::card_values::{JointType, MsensorKind};
 use crate::deck::DeckError;
 use crate::discretize::loads::dynamic_table;
 use crate::geometry::euler_parameters::from_rotation_matrix;
 use crate::geometry::mat3::{IDENTITY, Mat3, mul_vec, transpose};
 use crate::geometry::vec3::{add, dot, norm, sub};
 use crate::model::Model;
-use crate::model::card_fields::{JointType, MsensorKind};
 use crate::model::mechanism::{BodyKind, MarkerPlace, Mechanism, Sensor, SensorTarget};
 
 /// The system of a mechanism and where each card went in it.

@@ -41,6 +41,7 @@ use super::rom_case::RomAtPoint;
 use super::rom_case::extrapolation_warning;
 use super::shared::place_input;
 use super::{Clock, RunContext, RunError, SubcaseSummary};
+use crate::card_values::Column;
 use crate::deck::case_control::Subcase;
 use crate::discretize::loads::{LoadTerm, load_terms};
 use crate::dynamics::table::Table;
@@ -54,7 +55,6 @@ use crate::io::{
     read_prom_inputs, read_prom_sensors, set_attr_f64, set_attr_i64, set_attr_str,
     set_attr_strings, write_f64,
 };
-use crate::model::card_fields::Column;
 
 /// Relative error statistics of one estimated quantity over the last 20 % (thesis Table 8.2).
 #[derive(Debug, Clone, PartialEq)]

@@ -14,13 +14,13 @@
 
 use super::report::{Report, sci};
 use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
+use crate::card_values::FmbStart;
 use crate::deck::Solution;
 use crate::deck::cards::TintegMethod;
 use crate::deck::case_control::{Subcase, Target};
 use crate::io::{
     set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_u32,
 };
-use crate::model::card_fields::FmbStart;
 use crate::model::mechanism::Sensor;
 use crate::multibody::NewtonSettings;
 use crate::multibody::mechanism::{build_system, simulate};

@@ -1,9 +1,9 @@
 //! Constraints and DOF sets: `SPC`, `SPC1`, `SPCADD`, `ASET1`.
 
+use crate::card_values::Dofs;
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
-use crate::model::Dofs;
 
 /// `SPC` — single-point constraint with an enforced value (one entry per grid on the card).
 ///

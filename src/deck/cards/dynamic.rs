@@ -2,11 +2,11 @@
 //! `TABLED1`, `DLOAD`.
 
 use super::loads::combination;
+use crate::card_values::Dofs;
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
-use crate::model::Dofs;
 
 /// `EIGRL` — real eigenvalue extraction (Lanczos).
 ///

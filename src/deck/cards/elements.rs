@@ -1,11 +1,11 @@
 //! Elements: shells `CQUAD4`, `CTRIA3`; solids `CHEXA`, `CPENTA`, `CTETRA`; springs `CELAS1`,
 //! `CELAS2`; concentrated mass `CONM2`.
 
+use crate::card_values::{CornerThickness, ShellOrientation, SpringEnd};
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
-use crate::model::card_fields::{CornerThickness, ShellOrientation, SpringEnd};
 
 fn orientation(f: &mut FieldReader, i: usize) -> ShellOrientation {
     match f.value(i) {

@@ -2,12 +2,12 @@
 //! `EKFINP`, `MEASF`, `MEAS`. Same field rules as the other extension cards; every bad field is
 //! reported, not only the first.
 
+use crate::card_values::Column;
+use crate::card_values::{MAX_REDIAGONALIZATION_TOLERANCE, valid_rediagonalization_tolerance};
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
-use crate::model::card_fields::Column;
-use crate::model::values::{MAX_REDIAGONALIZATION_TOLERANCE, valid_rediagonalization_tolerance};
 
 /// `EKF` — filter settings, selected by case control `ESTIM = id`.
 ///
@@ -252,7 +252,7 @@ fn optional_positive(f: &mut FieldReader, i: usize, name: &str, default: f64) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::card_fields::Column;
+    use crate::card_values::Column;
 
     /// A card from a free-field line (name, fields…).
     fn card(line: &str) -> RawCard {

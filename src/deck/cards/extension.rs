@@ -1,12 +1,12 @@
 //! paraflex extension cards (DESIGN.md §3): `PMPAR`, `PMOR`, `PVAL`, `SENSOR`, `TABLEF`, `TINTEG`.
 //! Same field rules as the standard cards; the layouts are the contract decks rely on.
 
+use crate::card_values::Column;
+use crate::card_values::{PmparKind, SensorKind};
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
-use crate::model::card_fields::Column;
-use crate::model::card_fields::{PmparKind, SensorKind};
 
 /// `PMPAR` — a model parameter of a parametric ROM.
 ///

@@ -1,9 +1,9 @@
 //! Grid points and coordinate systems: `GRID`, `CORD2R`, `CORD2C`.
 
+use crate::card_values::Dofs;
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
-use crate::model::Dofs;
 
 /// `GRID` — grid point.
 ///

@@ -1,9 +1,9 @@
 //! Static loads: `FORCE`, `MOMENT`, `GRAV`, `LOAD`.
 
+use crate::card_values::ForceKind;
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
-use crate::model::card_fields::ForceKind;
 
 /// `FORCE` / `MOMENT` — concentrated load at a grid: F · (N1, N2, N3) in system CID.
 ///

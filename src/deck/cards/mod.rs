@@ -40,7 +40,7 @@ pub use rigid::{Rbe2, Rbe3, Rbe3Group};
 
 use super::error::DeckError;
 use super::fields::RawCard;
-use crate::model::card_fields::ForceKind;
+use crate::card_values::ForceKind;
 
 /// Every bulk-data card of a deck, by kind, in input order.
 #[derive(Debug, Default, Clone)]

@@ -3,11 +3,11 @@
 //! forces (`MFORCE`) and outputs (`MSENSOR`). Ids of each card live in their own id space;
 //! the model cross-references them ([`crate::model::mechanism`]).
 
+use crate::card_values::{JointType, MsensorKind};
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
-use crate::model::card_fields::{JointType, MsensorKind};
 
 /// Reads an optional direction (three reals, blank = `default`); an explicit zero vector is an
 /// error on the first field.

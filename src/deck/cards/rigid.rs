@@ -1,10 +1,10 @@
 //! Rigid elements `RBE2` and `RBE3`, imposed by elimination of dependent DOFs (DESIGN.md §4).
 
+use crate::card_values::Dofs;
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
-use crate::model::Dofs;
 
 /// `RBE2` — rigid body: the CM components of every dependent grid follow the independent grid.
 ///

@@ -1,7 +1,15 @@
 //! Typed values of card fields that the model keeps and the solver reads: force or moment,
 //! sensor quantity, what a PMPAR scales, shell material orientation and corner thicknesses,
 //! scalar-spring ends, CSV columns, multibody joint types, MSENSOR kinds and FMBSTART.
-//! The deck reader builds them while parsing the cards.
+//! The deck reader builds them while parsing the cards; the model and the solver read them. A
+//! leaf module: it uses no other paraflex module, so `deck` and every later module share one
+//! vocabulary without a backwards edge. The range of the `EKF` card's REDIAG tolerance
+//! ([`valid_rediagonalization_tolerance`]) is here too: checked where the card is read and where
+//! the estimator is set up, both against this one rule.
+
+mod dofs;
+
+pub use dofs::Dofs;
 
 /// Whether a `FORCE` / `MOMENT` card is a force or a moment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -199,4 +207,14 @@ pub enum FmbStart {
     Assemble,
     /// Static equilibrium under the subcase's gravity.
     Static,
+}
+
+/// Largest re-diagonalization tolerance τ the estimator accepts: its coupled solves contract by
+/// about τ per iteration (the estimator's re-diagonalized modal coordinates).
+pub const MAX_REDIAGONALIZATION_TOLERANCE: f64 = 0.1;
+
+/// Whether τ is an accepted re-diagonalization tolerance, 0 < τ ≤
+/// [`MAX_REDIAGONALIZATION_TOLERANCE`] (false for NaN).
+pub fn valid_rediagonalization_tolerance(tolerance: f64) -> bool {
+    tolerance > 0.0 && tolerance <= MAX_REDIAGONALIZATION_TOLERANCE
 }
