@@ -26,6 +26,16 @@ pub enum MultibodyError {
         worst: String,
         constraint: f64,
     },
+    #[error(
+        "static equilibrium at t = {time} not found in {iterations} Newton iterations: force residual {residual:.3e}, worst constraint {worst} (|Φ| = {constraint:.3e})"
+    )]
+    NoEquilibrium {
+        time: f64,
+        iterations: usize,
+        residual: f64,
+        worst: String,
+        constraint: f64,
+    },
     #[error("singular {what} at t = {time}")]
     Singular { what: &'static str, time: f64 },
 }

@@ -4,8 +4,8 @@
 //! whose two marker frames share the joint frame (z = the joint axis) in the initial
 //! configuration, drives and forces with their tables as [`Signal`]s, spring-dampers, gravity.
 //!
-//! [`simulate`] runs it with GGL/BDF1 over TSTEP intervals and returns the output histories
-//! of the MSENSORs and drives.
+//! [`simulate`] runs it with GGL and a chosen [`Scheme`] (BDF1, BDF2, generalized-α) over
+//! TSTEP intervals and returns the output histories of the MSENSORs and drives.
 //!
 //! Errors that need the artifacts (a file that is no `RIGID = REMOVE` pROM, a PVAL name that
 //! is no parameter of the body's artifact, a marker GRID that is no interface grid) are
@@ -18,9 +18,11 @@ use super::integrator::{Ggl, NewtonSettings};
 use super::joints::{DriveKind, JointKind};
 use super::marker::Marker;
 use super::prom_body::{PromBodyAtPoint, load_prom_body};
+use super::scheme::Scheme;
 use super::signal::Signal;
+use super::statics;
 use super::system::System;
-use crate::card_values::{JointType, MsensorKind};
+use crate::card_values::{FmbStart, JointType, MsensorKind};
 use crate::deck::DeckError;
 use crate::discretize::loads::dynamic_table;
 use crate::geometry::euler_parameters::from_rotation_matrix;
@@ -360,18 +362,35 @@ impl MechanismSystem {
     }
 }
 
-/// Runs the mechanism from its assembled initial configuration at t = 0 with GGL/BDF1 over the
-/// TSTEP intervals `(steps, Δt, every)`, recording `sensors` and every drive. The actuation
-/// energy ∫ ω T dt (eq. 6.1 f₂) is summed over every step with the power at the step's end
-/// (the BDF1 rule).
+/// Runs the mechanism from `start` at t = 0 (its assembled initial configuration, or the static
+/// equilibrium under gravity reached from it with the drives held, [`statics`]) with GGL and
+/// `scheme` over the TSTEP intervals `(steps, Δt, every)` (none: only the start is recorded),
+/// recording `sensors` and every drive. The
+/// actuation energy ∫ ω T dt (eq. 6.1 f₂) is summed over every step with the power at the
+/// step's end (the rectangle rule of BDF1).
 pub fn simulate(
     ms: &MechanismSystem,
     sensors: &[Sensor],
     intervals: &[(u32, f64, u32)],
     settings: NewtonSettings,
+    scheme: Scheme,
+    start: FmbStart,
 ) -> Result<Histories, MultibodyError> {
     let dt0 = intervals.first().map_or(1.0, |i| i.1);
-    let mut ggl = Ggl::new(ms.system.clone(), dt0, 0.0, settings)?;
+    let mut system = ms.system.clone();
+    if start == FmbStart::Static {
+        let assembled = Ggl::new(system.clone(), dt0, 0.0, settings)?;
+        let rest = statics::equilibrium(
+            &assembled.system,
+            &assembled.equations,
+            &assembled.q,
+            0.0,
+            settings.tolerance,
+            settings.assembly_tolerance,
+        )?;
+        system.set_initial_state(&rest.q, &vec![0.0; rest.q.len()]);
+    }
+    let mut ggl = Ggl::with_scheme(system, dt0, 0.0, settings, scheme)?;
     let mut h = Histories {
         sensors: vec![Vec::new(); sensors.len()],
         drives: vec![Default::default(); ms.drives.len()],

@@ -19,7 +19,8 @@
 //! - [`signal`]: time functions with their first two derivatives; [`error`]: what stops a run.
 //! - [`system`]: the assembled system and its residual terms; [`integrator`]: consistent
 //!   initial conditions and the GGL step (eq. 2.60–2.61) with modified Newton; [`scheme`]:
-//!   BDF1, BDF2 and generalized-α as one step form;
+//!   BDF1, BDF2 and generalized-α as one step form; [`statics`]: static equilibrium under
+//!   gravity with drives held;
 //!   [`output`]: marker kinematics, reactions, drive torques, power and energy.
 //! - [`prom_body`]: a flexible body's data from a `RIGID = REMOVE` pROM artifact at p;
 //!   [`mechanism`]: the system of a model's mechanism (`SOL FMB` decks).
@@ -45,6 +46,7 @@ pub mod prom_body;
 pub mod redundancy;
 pub mod scheme;
 pub mod signal;
+pub mod statics;
 pub mod system;
 pub mod vectors;
 

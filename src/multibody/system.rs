@@ -93,6 +93,12 @@ impl System {
         self.initial_v[s.euler()..s.euler() + 4].copy_from_slice(&e_dot);
     }
 
+    /// Replaces the whole initial configuration and velocities (e.g. by a static equilibrium).
+    pub fn set_initial_state(&mut self, q: &[f64], v: &[f64]) {
+        self.initial_q.copy_from_slice(q);
+        self.initial_v.copy_from_slice(v);
+    }
+
     /// Sets the initial flexible coordinates of a body.
     pub fn set_initial_modal(&mut self, body: BodyId, modal: &[f64]) {
         let s = self.layout.slice(body);

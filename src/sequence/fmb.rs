@@ -1,9 +1,13 @@
 //! `SOL FMB`: the deck's mechanism (DESIGN.md §11) integrated in time, one run per subcase.
 //!
-//! Per subcase: `TSTEP` (time grid; `TINTEG` BDF1, the thesis's GGL/BDF1 of eq. 2.60–2.61),
+//! Per subcase: `TSTEP` (time grid; `TINTEG` selects the GGL scheme of eq. 2.60: BDF1, the
+//! thesis's eq. 2.61 and the default, BDF2 or GALPHA with its RHOINF),
 //! `LOAD` (GRAV: gravity), `PVAL` (values of `BODY.PMPAR` for the flexible bodies' pROMs),
 //! `MSENSOR = ALL | NONE | set` (all MSENSORs without the statement), `FMBSTART = ASSEMBLE`
-//! (kinematic assembly at t = 0, the default). The system is built by
+//! (kinematic assembly at t = 0, the default) or `STATIC` (the static equilibrium under the
+//! subcase's gravity reached from the assembly, drives held at their t = 0 values). A subcase
+//! with `FMBSTART = STATIC` and no `TSTEP` is a static subcase: its output is the one row of
+//! the equilibrium at t = 0, `method` = `STATICS`. The system is built by
 //! [`crate::multibody::mechanism::build_system`] and run by
 //! [`crate::multibody::mechanism::simulate`].
 //!
@@ -16,19 +20,21 @@ use super::report::{Report, sci};
 use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
 use crate::card_values::FmbStart;
 use crate::deck::Solution;
-use crate::deck::cards::TintegMethod;
+use crate::deck::cards::{Tinteg, TintegMethod};
 use crate::deck::case_control::{Subcase, Target};
 use crate::io::{
     set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_u32,
 };
 use crate::model::mechanism::Sensor;
-use crate::multibody::NewtonSettings;
 use crate::multibody::mechanism::{build_system, simulate};
+use crate::multibody::{NewtonSettings, Scheme};
 
 /// What one `SOL FMB` subcase computed.
 #[derive(Debug, Clone)]
 pub struct FmbSummary {
     pub bodies: usize,
+    /// The GGL scheme's label (BDF1, BDF2, GALPHA with ρ∞).
+    pub method: String,
     pub coordinates: usize,
     pub constraints: usize,
     pub redundant: Vec<String>,
@@ -61,6 +67,18 @@ impl Driver for Fmb {
 
     fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
         run(ctx, clock)
+    }
+}
+
+/// The GGL scheme a subcase's `TINTEG` selects (BDF1 without one) and its label.
+fn scheme_of(tinteg: Option<&Tinteg>) -> (Scheme, String) {
+    match tinteg.map(|t| (t.method, t.rho_inf)) {
+        None | Some((TintegMethod::Bdf1, _)) => (Scheme::Bdf1, "BDF1".to_string()),
+        Some((TintegMethod::Bdf2, _)) => (Scheme::Bdf2, "BDF2".to_string()),
+        Some((TintegMethod::Galpha, spectral_radius)) => (
+            Scheme::GeneralizedAlpha { spectral_radius },
+            format!("GALPHA (rho_inf = {spectral_radius})"),
+        ),
     }
 }
 
@@ -101,28 +119,24 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             "SOL FMB needs a mechanism: FLEXB or RIGIDB bodies, MARKERs and JOINTs".into(),
         ));
     }
-    if sub.fmbstart == Some(FmbStart::Static) {
-        return Err(case(
-            "FMBSTART = STATIC (start from static equilibrium) is not available in this version; use FMBSTART = ASSEMBLE".into(),
-        ));
-    }
-    let sid = sub
-        .tstep
-        .ok_or_else(|| case("SOL FMB needs TSTEP = <sid> in case control".into()))?;
-    let tstep = ctx
-        .model
-        .tstep(sid)
-        .ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
-    if let Some(t) = ctx
-        .model
-        .tinteg(sid)
-        .filter(|t| t.method != TintegMethod::Bdf1)
-    {
-        return Err(case(format!(
-            "{}: SOL FMB integrates with BDF1 in this version (TINTEG METHOD = BDF1 or no TINTEG)",
-            t.loc
-        )));
-    }
+    let start = sub.fmbstart.unwrap_or(FmbStart::Assemble);
+    // a subcase without TSTEP is a static one (FMBSTART = STATIC): the equilibrium at t = 0
+    let (intervals, scheme, method) = match (sub.tstep, start) {
+        (None, FmbStart::Static) => (Vec::new(), Scheme::Bdf1, "STATICS".to_string()),
+        (None, FmbStart::Assemble) => {
+            return Err(case(
+                "SOL FMB needs TSTEP = <sid> in case control (or FMBSTART = STATIC without TSTEP for a static subcase)".into(),
+            ));
+        }
+        (Some(sid), _) => {
+            let tstep = ctx
+                .model
+                .tstep(sid)
+                .ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
+            let (scheme, method) = scheme_of(ctx.model.tinteg(sid));
+            (tstep.intervals.clone(), scheme, method)
+        }
+    };
     let gravity = sub.load.map_or([0.0; 3], |sid| ctx.model.gravity(sid));
     let pval: Vec<(String, f64)> = match sub.pval {
         None => Vec::new(),
@@ -146,8 +160,15 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         .into_iter()
         .cloned()
         .collect();
-    let h = simulate(&ms, &sensors, &tstep.intervals, NewtonSettings::default())
-        .map_err(|e| case(e.to_string()))?;
+    let h = simulate(
+        &ms,
+        &sensors,
+        &intervals,
+        NewtonSettings::default(),
+        scheme,
+        start,
+    )
+    .map_err(|e| case(e.to_string()))?;
 
     let group = ctx.output.group(&format!("results/{id}/fmb"))?;
     let rows = h.time.len();
@@ -173,7 +194,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             write_f64(&dg, name, values, &[rows])?;
         }
     }
-    set_attr_str(&group, "method", "BDF1")?;
+    set_attr_str(&group, "method", &method)?;
     set_attr_i64(&group, "coordinates", h.coordinates as i64)?;
     set_attr_i64(&group, "constraints", h.constraints as i64)?;
     let redundant: Vec<&str> = h.redundant.iter().map(String::as_str).collect();
@@ -195,6 +216,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         autospc: Vec::new(),
         result: Box::new(FmbSummary {
             bodies: mechanism.bodies.len(),
+            method,
             coordinates: h.coordinates,
             constraints: h.constraints,
             redundant: h.redundant.clone(),
@@ -216,10 +238,11 @@ impl Report for FmbSummary {
     fn render(&self, subcase: u32) -> Vec<String> {
         let mut out = vec![
             format!(
-                "subcase {subcase}: multibody, {} bod(ies), {} coordinate(s), {} constraint(s), GGL/BDF1 {} step(s) to t = {} s",
+                "subcase {subcase}: multibody, {} bod(ies), {} coordinate(s), {} constraint(s), GGL/{} {} step(s) to t = {} s",
                 self.bodies,
                 self.coordinates,
                 self.constraints,
+                self.method,
                 self.steps,
                 sci(self.end_time, 4)
             ),
