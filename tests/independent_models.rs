@@ -19,6 +19,32 @@ fn within(error: f64, bound: f64) -> bool {
     error <= bound
 }
 
+/// Checks `f` against `reference` index by index (relative error ≤ `bound`), printing each
+/// pair and adding a line to `failures` for each outside the bound; `label` names the case.
+fn check_frequencies(
+    label: &str,
+    f: &[f64],
+    reference: &[f64],
+    bound: f64,
+    failures: &mut Vec<String>,
+) {
+    assert_eq!(f.len(), reference.len(), "{label}: frequencies {f:?}");
+    for (k, (g, w)) in f.iter().zip(reference).enumerate() {
+        let e = g / w - 1.0;
+        println!(
+            "{label}: f{} = {g:.6} Hz, reference {w:.6} Hz, error {e:.1e}",
+            k + 1
+        );
+        if !within(e.abs(), bound) {
+            failures.push(format!(
+                "{label} f{}: {g} Hz vs {w} Hz, |error| {:.2e} > {bound:.0e}",
+                k + 1,
+                e.abs()
+            ));
+        }
+    }
+}
+
 fn num(v: &Value, key: &str) -> f64 {
     v[key]
         .as_f64()
@@ -155,21 +181,7 @@ fn solid_cantilever(case: &str) {
     }
     let f = run(r["decks"]["modal"].as_str().unwrap()).frequencies(1);
     let reference = f64s(&r["reference"]["frequencies_hz"]);
-    assert_eq!(f.len(), reference.len(), "{case}: frequencies {f:?}");
-    for (k, (g, w)) in f.iter().zip(&reference).enumerate() {
-        let e = g / w - 1.0;
-        println!(
-            "{case}: f{} = {g:.6} Hz, reference {w:.6} Hz, error {e:.1e}",
-            k + 1
-        );
-        if !within(e.abs(), bound) {
-            failures.push(format!(
-                "f{}: {g} Hz vs {w} Hz, |error| {:.2e} > {bound:.0e}",
-                k + 1,
-                e.abs()
-            ));
-        }
-    }
+    check_frequencies(case, &f, &reference, bound, &mut failures);
     assert!(failures.is_empty(), "{case}:\n  {}", failures.join("\n  "));
 }
 
@@ -242,21 +254,7 @@ fn zoffs_strip_matches_the_offset_beam_model() {
     }
     let f = run(r["decks"]["modal"].as_str().unwrap()).frequencies(1);
     let reference = f64s(&r["frequencies_hz"]);
-    assert_eq!(f.len(), reference.len(), "frequencies {f:?}");
-    for (k, (g, w)) in f.iter().zip(&reference).enumerate() {
-        let e = g / w - 1.0;
-        println!(
-            "zoffs_strip: f{} = {g:.6} Hz, reference {w:.6} Hz, error {e:.1e}",
-            k + 1
-        );
-        if !within(e.abs(), bound) {
-            failures.push(format!(
-                "f{}: {g} Hz vs {w} Hz, |error| {:.2e} > {bound:.0e}",
-                k + 1,
-                e.abs()
-            ));
-        }
-    }
+    check_frequencies("zoffs_strip", &f, &reference, bound, &mut failures);
     assert!(
         failures.is_empty(),
         "zoffs_strip ({}):\n  {}",
@@ -295,21 +293,8 @@ fn thick_plates_match_the_independent_mitc4_plate() {
         }
         let f = run(c["decks"]["modal"].as_str().unwrap()).frequencies(1);
         let reference = f64s(&c["frequencies_hz"]);
-        assert_eq!(f.len(), reference.len(), "{key}: frequencies {f:?}");
-        for (k, (g, w)) in f.iter().zip(&reference).enumerate() {
-            let e = g / w - 1.0;
-            println!(
-                "mitc_thick {key}: f{} = {g:.6} Hz, reference {w:.6} Hz, error {e:.1e}",
-                k + 1
-            );
-            if !within(e.abs(), bound) {
-                failures.push(format!(
-                    "{key} f{}: {g} Hz vs {w} Hz, |error| {:.2e} > {bound:.0e}",
-                    k + 1,
-                    e.abs()
-                ));
-            }
-        }
+        let label = format!("mitc_thick {key}");
+        check_frequencies(&label, &f, &reference, bound, &mut failures);
     }
     assert!(
         failures.is_empty(),
