@@ -4,10 +4,13 @@
 //!
 //! Data flow (see `DESIGN.md` §1): [`deck`] (text → typed cards with source positions) →
 //! [`model`] (cross-referenced, validated) → [`discretize`] (element matrices, assembled
-//! parametric operators K(p), M(p), constrained f-set) → solution sequences → [`io`] (HDF5 +
+//! parametric operators K(p), M(p), constrained f-set) → [`analysis`], [`rom`], [`dynamics`],
+//! [`multibody`], [`estimate`] (the numerics, callable without a deck) → [`sequence`] (one
+//! driver per solution sequence, turning case control into those calls) → [`io`] (HDF5 +
 //! XDMF).
 //! The library never prints; the binary renders errors and progress.
 
+pub mod analysis;
 pub mod assembly;
 pub mod card_values;
 pub mod deck;

@@ -5,6 +5,8 @@
 //!   spreads to its independent DOFs) and restricted to f ([`place_darea`],
 //!   [`unit_load_columns`]); a static load set (FORCE, MOMENT, LOAD) used as a TLOAD1's EXCITEID
 //!   the same way ([`static_shape`]). A load on a constrained DOF is an error: it would be lost.
+//!   On a pROM, a DAREA entry names one of its input DOFs and loads that column of S_r
+//!   ([`place_input`]).
 //! - Time domain ([`load_terms`]): `DLOAD = sid` as a DLOAD combination S·Σ Sᵢ·(TLOAD1 Lᵢ) or one
 //!   TLOAD1 set, each term a shape × table(t − delay) ([`LoadTerm`], summed by [`load_into`]).
 //! - Frequency domain ([`frequency_inputs`]): the DAREA DOFs of the RLOAD1s of `DLOAD = sid` are
@@ -55,8 +57,18 @@ pub struct LoadTerm {
 
 /// f(t) = Σ shape · table(t − delay) into `f`.
 pub fn load_into(terms: &[LoadTerm], t: f64, f: &mut [f64]) {
+    load_into_where(terms, t, f, &|_| true);
+}
+
+/// f(t) = Σ shape · table(t − delay) over the terms `which` keeps.
+pub fn load_into_where(
+    terms: &[LoadTerm],
+    t: f64,
+    f: &mut [f64],
+    which: &dyn Fn(&LoadTerm) -> bool,
+) {
     f.fill(0.0);
-    for term in terms {
+    for term in terms.iter().filter(|term| which(term)) {
         let a = term.table.value(t - term.delay);
         if a != 0.0 {
             f.iter_mut()
@@ -327,4 +339,35 @@ pub fn unit_load_columns(
         }
     }
     Ok(columns)
+}
+
+/// The load shapes of the pROM inputs `which` (columns of S_r, n × k), in that order.
+pub fn input_columns(s_r: &Mat<f64>, which: &[usize]) -> Mat<f64> {
+    Mat::from_fn(s_r.nrows(), which.len(), |i, k| s_r[(i, which[k])])
+}
+
+/// Adds a DAREA entry, which must name a pROM input DOF (`GRID:component`), to a reduced load
+/// shape: scale × column of S_r.
+pub fn place_input(
+    names: &[String],
+    s_r: &Mat<f64>,
+    d: &Excitation,
+    scale: f64,
+    shape: &mut [f64],
+) -> Result<(), String> {
+    let comp = d.component;
+    let name = format!("{}:{comp}", d.grid);
+    let j = names.iter().position(|x| *x == name).ok_or_else(|| {
+        format!(
+            "DAREA {}: GRID {} component {comp} is not an input DOF of the pROM (inputs: {})",
+            d.sid,
+            d.grid,
+            names.join(", ")
+        )
+    })?;
+    shape
+        .iter_mut()
+        .enumerate()
+        .for_each(|(i, s)| *s += scale * s_r[(i, j)]);
+    Ok(())
 }

@@ -18,6 +18,7 @@ use faer::{Mat, MatRef, Par, c64};
 use nalgebra_sparse::CscMatrix;
 use rayon::prelude::*;
 
+use super::measurement::Reads;
 use crate::linalg::dense::generalized_eigen;
 use crate::linalg::{ComplexLuSymbolic, LinalgError, SymbolicFactor, sym_matvec};
 
@@ -339,6 +340,28 @@ pub fn receptance(
             Ok(&out * &x)
         })
         .collect()
+}
+
+/// Scales H by each output row's (iω)^k ([`Reads::frequency_factor`]: the input DOFs, DISP and
+/// STRAIN read displacement, VEL iω, ACCEL −ω²) and flattens it line-major (f × o × i); also
+/// returns the largest |H| and its frequency.
+pub fn scaled_flat(h: &[Mat<c64>], hz: &[f64], reads: &[Reads]) -> (Vec<c64>, (f64, f64)) {
+    let mut flat = Vec::with_capacity(h.iter().map(|m| m.nrows() * m.ncols()).sum());
+    let mut peak = (0.0_f64, 0.0);
+    for (hw, f) in h.iter().zip(hz) {
+        let w = 2.0 * std::f64::consts::PI * f;
+        for (o, row) in reads.iter().enumerate() {
+            let factor = row.frequency_factor(w);
+            for i in 0..hw.ncols() {
+                let z = hw[(o, i)] * factor;
+                if z.norm() > peak.0 {
+                    peak = (z.norm(), *f);
+                }
+                flat.push(z);
+            }
+        }
+    }
+    (flat, peak)
 }
 
 #[cfg(test)]

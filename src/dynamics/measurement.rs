@@ -15,7 +15,9 @@
 //! q̇ = iω Q and q̈ = (iω)² Q = −ω² Q, so a row reading the k-th derivative multiplies the
 //! receptance by (iω)^k ([`Reads::frequency_factor`]).
 
-use faer::{Mat, c64};
+use faer::{Mat, MatRef, c64};
+
+use super::integrators::{StepState, matvec_add};
 
 use crate::card_values::SensorKind;
 
@@ -107,6 +109,20 @@ impl SensorRows {
         }
     }
 
+    /// The output rows of a receptance on the reduced coordinates: first the input DOFs (the
+    /// rows of S_rᵀ, for the input shapes `s_r`, n × k: their displacement), then these
+    /// sensors.
+    pub fn below_inputs(&self, s_r: MatRef<'_, f64>) -> Mat<f64> {
+        let k = s_r.ncols();
+        Mat::<f64>::from_fn(k + self.len(), s_r.nrows(), |o, j| {
+            if o < k {
+                s_r[(j, o)]
+            } else {
+                self.h[(o - k, j)]
+            }
+        })
+    }
+
     pub fn len(&self) -> usize {
         self.names.len()
     }
@@ -125,6 +141,63 @@ impl SensorRows {
             for ((out, h), reads) in y.iter_mut().zip(column).zip(&self.reads) {
                 *out += h * reads.select(q, v, a)[j];
             }
+        }
+    }
+}
+
+/// The outputs of a reduced time integration, in buffers sized before the run and filled by
+/// matrix–vector products (no allocation in the time loop): input-DOF series `rows` × k
+/// (row-major, column r of a k × rows column-major buffer), and per sensor a series of `rows`
+/// values (sensor-major).
+pub struct Recorder<'a> {
+    /// S_rᵀ (k × n).
+    s_t: Mat<f64>,
+    /// The pROM's sensor rows (DISP and STRAIN from q, VEL from q̇, ACCEL from q̈).
+    sensors: &'a SensorRows,
+    scratch: Vec<f64>,
+    rows: usize,
+    pub time: Vec<f64>,
+    pub disp: Vec<f64>,
+    pub vel: Vec<f64>,
+    pub acc: Vec<f64>,
+    pub series: Vec<f64>,
+}
+
+impl<'a> Recorder<'a> {
+    pub fn new(s_r: &Mat<f64>, sensors: &'a SensorRows, rows: usize) -> Self {
+        let k = s_r.ncols();
+        Recorder {
+            s_t: s_r.transpose().to_owned(),
+            sensors,
+            scratch: vec![0.0; sensors.len()],
+            rows,
+            time: Vec::with_capacity(rows),
+            disp: Vec::with_capacity(rows * k),
+            vel: Vec::with_capacity(rows * k),
+            acc: Vec::with_capacity(rows * k),
+            series: vec![0.0; sensors.len() * rows],
+        }
+    }
+
+    pub fn record(&mut self, s: &StepState<'_>) {
+        let r = self.time.len();
+        if r == self.rows {
+            return;
+        }
+        self.time.push(s.time);
+        let k = self.s_t.nrows();
+        for (out, x) in [
+            (&mut self.disp, s.q),
+            (&mut self.vel, s.v),
+            (&mut self.acc, s.a),
+        ] {
+            out.resize(out.len() + k, 0.0);
+            let end = out.len();
+            matvec_add(&self.s_t, x, &mut out[end - k..]);
+        }
+        self.sensors.evaluate(s.q, s.v, s.a, &mut self.scratch);
+        for (j, value) in self.scratch.iter().enumerate() {
+            self.series[j * self.rows + r] = *value;
         }
     }
 }

@@ -16,11 +16,14 @@
 //! - [`observability`]: the PBH test before a run (eq. 8.40–8.41, §8.4.3–8.4.4) of any
 //!   [`ekf::Linearization`], at the [`operating_points`] of the initial estimate; the pROM's
 //!   linearization is [`prom_linearization`].
+//! - [`errors`]: the accuracy of an estimate against a reference (Table 8.2's percent errors,
+//!   the sensors' average absolute error).
 //! - [`covariance`]: the rules of thumb for Q of inputs and parameters (eq. 8.30–8.31).
 
 mod coordinates;
 mod drift;
 pub mod ekf;
+pub mod errors;
 pub mod filter;
 mod kernels;
 pub use crate::dynamics::measurement;

@@ -357,6 +357,14 @@ pub fn write_f64(
     write_array(group, name, data, shape)
 }
 
+/// Writes a dense matrix as a row-major `f64` dataset of its shape.
+pub fn write_mat(group: &Group, name: &str, m: &faer::Mat<f64>) -> Result<Dataset, IoError> {
+    let data: Vec<f64> = (0..m.nrows())
+        .flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)]))
+        .collect();
+    write_array(group, name, &data, &[m.nrows(), m.ncols()])
+}
+
 /// Writes a complex dataset of `shape` (row-major) as h5py does (compound of `r`, `i`), so
 /// `h5py` reads it as a numpy complex array.
 pub fn write_c64(

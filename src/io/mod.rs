@@ -21,7 +21,7 @@ pub mod xdmf;
 
 pub use hdf5_file::{
     IoError, OutputFile, SCHEMA_VERSION, set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str,
-    set_attr_strings, write_c64, write_f64, write_rows3, write_strings, write_u32,
+    set_attr_strings, write_c64, write_f64, write_mat, write_rows3, write_strings, write_u32,
 };
 pub use info::{DatasetSummary, FileSummary, ModelSummary, PromSummary, ResultSummary, describe};
 pub use model_group::{CONNECTIVITY_INDEXING, ModelInfo, read_grid_ids, write_model};

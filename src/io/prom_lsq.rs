@@ -59,7 +59,7 @@ use super::hdf5_file::{
 };
 use super::matrix_market::read_matrix_market;
 use super::prom_group::{open_artifact, write_prom};
-use super::{OutputFile, write_strings};
+use super::{OutputFile, write_mat, write_strings};
 use crate::rom::black_box::{BlackBox, BlackBoxError, BlackBoxInput, build_black_box};
 use crate::rom::lsq::{FitError, MatrixFit, extract_matrices};
 
@@ -496,11 +496,6 @@ pub fn write_black_box(
     samples: &SampleSet,
     built: &BlackBox,
 ) -> Result<(), IoError> {
-    let row_major = |m: &Mat<f64>| -> Vec<f64> {
-        (0..m.nrows())
-            .flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)]))
-            .collect()
-    };
     let n = samples.stiffness.first().map_or(0, CscMatrix::nrows);
     write_prom(&file.group("prom")?, &built.prom, n)?;
     let inputs = file.group("prom/inputs")?;
@@ -510,23 +505,13 @@ pub fn write_black_box(
         .map(|(name, _)| name.as_str())
         .collect();
     write_strings(&inputs, "names", &names)?;
-    write_f64(
-        &inputs,
-        "S_r",
-        &row_major(&built.inputs),
-        &[built.inputs.nrows(), built.inputs.ncols()],
-    )?;
+    write_mat(&inputs, "S_r", &built.inputs)?;
     if !samples.sensors.is_empty() {
         let sensors = file.group("prom/sensors")?;
         let names: Vec<&str> = samples.sensors.iter().map(String::as_str).collect();
         write_strings(&sensors, "names", &names)?;
         write_strings(&sensors, "kind", &vec!["STRAIN"; names.len()])?;
-        write_f64(
-            &sensors,
-            "H_r",
-            &row_major(&built.strains),
-            &[built.strains.nrows(), built.strains.ncols()],
-        )?;
+        write_mat(&sensors, "H_r", &built.strains)?;
     }
     Ok(())
 }

@@ -12,6 +12,8 @@
 //! - [`mass`]: affine nodal masses for the multibody step (eq. 4.1–4.3);
 //! - [`invariants`]: the nine mass invariants of a floating-frame body and their affine
 //!   components (eq. 4.8, A.11–A.19), and the basis rows of its interface grids;
+//! - [`modes`]: the modes of a pROM at p (dense generalized eigenproblem) and the check that
+//!   the evaluated matrices are usable;
 //! - [`prom`]: the [`prom::Prom`] type, evaluated online at any parameter value with its
 //!   parameter derivatives (eq. 3.32; eq. 8.19–8.20 need the derivatives);
 //! - [`transient`]: a pROM as a time integrator backend, its parameters following tables of
@@ -24,5 +26,6 @@ pub mod invariants;
 pub mod local_basis;
 pub mod lsq;
 pub mod mass;
+pub mod modes;
 pub mod prom;
 pub mod transient;

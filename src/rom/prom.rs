@@ -192,6 +192,14 @@ impl PromEvaluation {
     pub fn d_mass(&self, j: usize) -> MatRef<'_, f64> {
         self.view(self.d_mass[j])
     }
+
+    /// Whether (K_r, M_r) change with p_j at this point: (∂K_r/∂p_j ≠ 0, ∂M_r/∂p_j ≠ 0).
+    pub fn sensitive_to(&self, j: usize) -> (bool, bool) {
+        (
+            self.d_stiffness(j).norm_max() > 0.0,
+            self.d_mass(j).norm_max() > 0.0,
+        )
+    }
 }
 
 impl Prom {

@@ -34,17 +34,16 @@ use crate::deck::Solution;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::linalg::Mat;
-
 use super::report::{Report, sci};
 use super::rom_case::RomAtPoint;
 use super::rom_case::extrapolation_warning;
-use super::shared::place_input;
 use super::{Clock, RunContext, RunError, SubcaseSummary};
 use crate::card_values::Column;
 use crate::deck::case_control::Subcase;
-use crate::discretize::loads::{LoadTerm, load_terms};
+use crate::discretize::loads::place_input;
+use crate::discretize::loads::{LoadTerm, input_columns, load_into_where, load_terms};
 use crate::dynamics::table::Table;
+use crate::estimate::errors::{absolute_error, percent_errors};
 use crate::estimate::filter::check_initial_stiffness;
 use crate::estimate::observability::{self, Unknown};
 use crate::estimate::operating_points;
@@ -55,6 +54,7 @@ use crate::io::{
     read_prom_inputs, read_prom_sensors, set_attr_f64, set_attr_i64, set_attr_str,
     set_attr_strings, write_f64,
 };
+use crate::rom::modes::ReducedModes;
 
 /// Relative error statistics of one estimated quantity over the last 20 % (thesis Table 8.2).
 #[derive(Debug, Clone, PartialEq)]
@@ -193,9 +193,13 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         let j = input_names.iter().position(|x| *x == name).ok_or_else(|| case(format!("EKFINP {ekf_id}: GRID {} component {} is not an input DOF of the pROM (inputs: {})", inp.grid, inp.component, input_names.join(", "))))?;
         unknown_inputs.push((j, name, inp));
     }
-    let s_un = Mat::from_fn(n, unknown_inputs.len(), |i, k| {
-        s_r[(i, unknown_inputs[k].0)]
-    });
+    let s_un = input_columns(
+        &s_r,
+        &unknown_inputs
+            .iter()
+            .map(|(j, _, _)| *j)
+            .collect::<Vec<_>>(),
+    );
 
     // sensors and measurements
     let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, n)?;
@@ -264,13 +268,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         .map_err(case)?,
     };
     let load_at = |t: f64, f: &mut [f64], which: &dyn Fn(&LoadTerm) -> bool| {
-        f.fill(0.0);
-        for term in loads.iter().filter(|t| which(t)) {
-            let a = term.table.value(t - term.delay);
-            f.iter_mut()
-                .zip(&term.shape)
-                .for_each(|(fi, s)| *fi += a * s);
-        }
+        load_into_where(&loads, t, f, which)
     };
     let setup = FilterSetup {
         p: p.clone(),
@@ -330,18 +328,20 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         .iter()
         .map(|(_, name, _)| Unknown::Input(name.clone()))
         .collect();
-    unknowns.extend(unknown_params.iter().map(|(j, _)| Unknown::Parameter {
-        name: prom.parameters[*j].name.clone(),
-        stiffness: at.d_stiffness(*j).norm_max() > 0.0,
-        mass: at.d_mass(*j).norm_max() > 0.0,
+    unknowns.extend(unknown_params.iter().map(|(j, _)| {
+        let (stiffness, mass) = at.sensitive_to(*j);
+        Unknown::Parameter {
+            name: prom.parameters[*j].name.clone(),
+            stiffness,
+            mass,
+        }
     }));
-    let modes =
-        crate::linalg::dense::generalized_eigen(at.stiffness(), at.mass()).map_err(|e| {
-            case(format!(
-                "{}: modes of the initial estimate: {e}",
-                path.display()
-            ))
-        })?;
+    let modes = ReducedModes::of(&at).map_err(|e| {
+        case(format!(
+            "{}: modes of the initial estimate: {e}",
+            path.display()
+        ))
+    })?;
     let linearization = PromLinearization {
         at: &at,
         alpha_beta: (prom.alpha, prom.beta),
@@ -349,7 +349,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         params: &setup.unknown_params,
         unknowns: &unknowns,
         measured: &measured,
-        modes: (&modes.0, &modes.1),
+        modes: (&modes.eigenvalues, &modes.shapes),
     };
     let verdict = observability::check(&linearization, &points);
     let observability_text = match &verdict.cause {
@@ -430,7 +430,6 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let elapsed = started.elapsed().as_secs_f64();
 
     // errors: last 20 % of the window (thesis §8.6, Table 8.2)
-    let tail = steps - (steps / 5).max(1);
     let mut error_table = Vec::new();
     let named_series = unknown_params
         .iter()
@@ -444,15 +443,12 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         );
     for (name, series) in named_series {
         if let Some(truth) = reference(&name)? {
-            let errors: Vec<f64> = (tail..steps)
-                .map(|k| 100.0 * (series[k] - truth[k]) / truth[k])
-                .collect();
-            let avg = errors.iter().sum::<f64>() / errors.len() as f64;
+            let e = percent_errors(series, &truth);
             error_table.push(ErrorRow {
                 name,
-                min: errors.iter().copied().fold(f64::INFINITY, f64::min),
-                avg,
-                max: errors.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                min: e.min,
+                avg: e.avg,
+                max: e.max,
             });
         }
     }
@@ -463,13 +459,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             _ => reference(name)?,
         };
         if let Some(truth) = truth {
-            let aae = truth
-                .iter()
-                .zip(&sensor_hist[r])
-                .map(|(a, b)| (a - b).abs())
-                .sum::<f64>()
-                / steps as f64;
-            let mra = truth.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let (aae, mra) = absolute_error(&sensor_hist[r], &truth);
             sensor_errors.push((name.clone(), aae, mra));
         }
     }

@@ -33,23 +33,18 @@
 //! solve and are dropped from H.
 
 use super::driver::{Basis, Driver};
-use super::shared::structure;
-use nalgebra_sparse::{CooMatrix, CscMatrix};
-
 use super::report::{Report, sci};
-use super::shared::{frequency_lines, lanczos_modes, scaled_flat, write_frf};
+use super::shared::{frequency_lines, structure, write_frf};
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
+use crate::analysis::frf::{self, Damping, FrfRun, FullFrf, first_rows, output_rows};
 use crate::deck::Solution;
 use crate::discretize::loads::frequency_inputs;
-use crate::discretize::sensors::{displacement_rows, project_rows};
+use crate::discretize::sensors::displacement_rows;
 use crate::discretize::{Constrained, Structure};
-use crate::dynamics::frf::{
-    SparseModel, direct_receptance, modal_receptance, residual_vectors, static_stiffness_is_regular,
-};
+use crate::dynamics::frf::scaled_flat;
 use crate::dynamics::measurement::Reads;
 use crate::io::{set_attr_i64, set_attr_str, write_c64};
-use crate::linalg::dense::product;
-use crate::linalg::{Mat, SymbolicFactor, c64};
+use crate::linalg::EigenRequest;
 
 /// How the full-model FRF is computed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -154,51 +149,9 @@ fn run(
         let k = inputs.names.len();
         let n_f = c.sets.f.len();
         let named = k + sensors.len();
-        let mut coo = CooMatrix::new(named + grid_outputs.nrows(), n_f);
-        for j in 0..k {
-            for f in 0..n_f {
-                if inputs.columns[(f, j)] != 0.0 {
-                    coo.push(j, f, inputs.columns[(f, j)]);
-                }
-            }
-        }
-        for (offset, rows) in [(k, &sensors.rows), (named, &grid_outputs)] {
-            for (col, column) in rows.col_iter().enumerate() {
-                for (&row, &v) in column.row_indices().iter().zip(column.values()) {
-                    coo.push(offset + row, col, v);
-                }
-            }
-        }
-        let outputs = CscMatrix::from(&coo);
-        let (alpha, beta) = (model.params.alpha1, model.params.beta1);
-        let frf_error = |e: crate::dynamics::frf::FrfError| RunError::Case {
-            subcase: id,
-            what: e.to_string(),
-        };
-        let mut modes = 0;
-        // residual vectors added to the modes (None: not asked, direct, or K singular)
-        let (mut residual, mut resvec_skipped): (Option<usize>, bool) = (None, false);
-        let h = match method {
-            FrfMethod::Direct => clock
-                .time(
-                    format!("subcase {id}: direct FRF ({} lines)", hz.len()),
-                    || {
-                        direct_receptance(
-                            &SparseModel {
-                                stiffness: &c.k_ff,
-                                mass: &c.m_ff,
-                                alpha,
-                                beta,
-                                structural: model.params.g,
-                            },
-                            inputs.columns.as_ref(),
-                            &outputs,
-                            &omegas,
-                            ctx.options.parallel,
-                        )
-                    },
-                )
-                .map_err(frf_error)?,
+        let outputs = output_rows(inputs.columns.as_ref(), &[&sensors.rows, &grid_outputs]);
+        let analysis_method = match method {
+            FrfMethod::Direct => frf::Method::Direct,
             FrfMethod::Modal => {
                 let sid = sub.method.ok_or_else(|| RunError::Case {
                     subcase: id,
@@ -208,70 +161,42 @@ fn run(
                     subcase: id,
                     what: format!("METHOD = {sid} selects no EIGRL card"),
                 })?;
-                let symbolic =
-                    SymbolicFactor::analyze(c.k_ff.pattern()).map_err(|e| RunError::Linalg {
-                        subcase: id,
-                        source: e,
-                    })?;
-                if omegas.contains(&0.0) {
-                    static_stiffness_is_regular(&c.k_ff, &symbolic).map_err(frf_error)?;
+                frf::Method::Modal {
+                    request: EigenRequest {
+                        v1_hz: eigrl.v1,
+                        v2_hz: eigrl.v2,
+                        nd: eigrl.nd.map(|n| n as usize),
+                        shift_hz: eigrl.shfscl,
+                    },
+                    residual_vectors: model.params.resvec,
                 }
-                let r = lanczos_modes(ctx, st, &c, id, eigrl, &symbolic, clock)?;
-                modes = r.eigenvalues.len();
-                let extra = if model.params.resvec {
-                    let extra = clock
-                        .time(format!("subcase {id}: residual vectors"), || {
-                            residual_vectors(
-                                &c.k_ff,
-                                &c.m_ff,
-                                &symbolic,
-                                r.vectors.as_ref(),
-                                inputs.columns.as_ref(),
-                            )
-                        })
-                        .map_err(frf_error)?;
-                    resvec_skipped = extra.is_none();
-                    extra
-                } else {
-                    None
-                };
-                residual = extra.as_ref().map(|e| e.eigenvalues.len());
-                // the modes, then the residual vectors (the modes alone when there are none)
-                let (eigenvalues, phi) = match extra {
-                    Some(extra) => {
-                        let psi = &extra.shapes;
-                        let phi = Mat::<f64>::from_fn(n_f, modes + psi.ncols(), |i, j| {
-                            if j < modes {
-                                r.vectors[(i, j)]
-                            } else {
-                                psi[(i, j - modes)]
-                            }
-                        });
-                        (
-                            r.eigenvalues.into_iter().chain(extra.eigenvalues).collect(),
-                            phi,
-                        )
-                    }
-                    None => (r.eigenvalues, r.vectors),
-                };
-                let basis = eigenvalues.len();
-                clock
-                    .time(format!("subcase {id}: modal FRF ({modes} modes, {} residual vectors, {} lines)", basis - modes, hz.len()), || {
-                        let modal_in = product(phi.transpose(), inputs.columns.as_ref());
-                        let modal_out = project_rows(&outputs, &phi);
-                        modal_receptance(&eigenvalues, alpha, beta, model.params.g, modal_in.as_ref(), modal_out.as_ref(), &omegas)
-                    })
-                    .map_err(frf_error)?
             }
         };
+        let run = FrfRun {
+            inputs: inputs.columns.as_ref(),
+            outputs: &outputs,
+            omegas: &omegas,
+            damping: Damping {
+                alpha: model.params.alpha1,
+                beta: model.params.beta1,
+                structural: model.params.g,
+            },
+            par: ctx.options.par(),
+            progress: ctx.progress,
+        };
+        let FullFrf {
+            h,
+            modes,
+            residual_vectors: residual,
+            resvec_skipped,
+        } = frf::receptance(&c, analysis_method, &run, &mut |name, d| {
+            clock.record(format!("subcase {id}: {name}"), d)
+        })
+        .map_err(|e| super::analysis_error(&c, st, id, e))?;
         // the grids' response to the deck's load, then H without their rows
         let n_disp = grid_outputs.nrows();
         let displacement = inputs.response(&hz, n_disp, |l, o, i| h[l][(named + o, i)]);
-        let h: Vec<Mat<c64>> = if n_disp == 0 {
-            h
-        } else {
-            h.iter().map(|hw| hw.subrows(0, named).to_owned()).collect()
-        };
+        let h = first_rows(h, named);
         let names: Vec<String> = inputs.names.iter().chain(&sensors.names).cloned().collect();
         let reads: Vec<Reads> = (0..k)
             .map(|_| Reads::Displacement)

@@ -62,6 +62,7 @@ pub mod transient;
 
 use std::time::{Duration, Instant};
 
+use crate::analysis::AnalysisError;
 use crate::assembly::error::DofName;
 use crate::assembly::spc::AutoSpcReport;
 use crate::assembly::{AssemblyError, DofMap};
@@ -206,6 +207,20 @@ pub fn mechanism(c: &Constrained, st: &Structure, subcase: u32, e: LinalgError) 
             detail: e.to_string(),
         },
         None => RunError::Linalg { subcase, source: e },
+    }
+}
+
+/// The error of an analysis of subcase `subcase` on `c`: a failing factorization is reported
+/// as the mechanism it comes from ([`mechanism`]), an FRF error as the subcase's.
+pub fn analysis_error(c: &Constrained, st: &Structure, subcase: u32, e: AnalysisError) -> RunError {
+    match e {
+        AnalysisError::Linalg(e) => mechanism(c, st, subcase, e),
+        AnalysisError::Frf(e) => RunError::Case {
+            subcase,
+            what: e.to_string(),
+        },
+        AnalysisError::Assembly(e) => RunError::Assembly(e),
+        AnalysisError::Discretize(e) => RunError::Discretize(e),
     }
 }
 

@@ -30,9 +30,9 @@ use crate::deck::cards::{Pmor, PmorRigid, PmorStatic};
 use crate::discretize::sensors::sensor_kind_name;
 use crate::discretize::{Constrained, Structure, affine_fom, affine_keys, flexible_body};
 use crate::io::{
-    IoError, set_attr_i64, set_attr_strings, write_f64, write_prom, write_prom_body, write_strings,
+    IoError, set_attr_i64, set_attr_strings, write_f64, write_mat, write_prom, write_prom_body,
+    write_strings,
 };
-use crate::linalg::Mat;
 use crate::rom::build::{BuildLog, Built, PromSettings, build_prom};
 use crate::rom::local_basis::{RigidModes, StaticModes};
 use crate::rom::mass::AffineMasses;
@@ -158,15 +158,14 @@ fn run(
             let inputs_group = ctx.output.group("prom/inputs")?;
             let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
             write_strings(&inputs_group, "names", &name_refs)?;
-            let (n, k) = (inputs.nrows(), inputs.ncols());
-            write_f64(&inputs_group, "S_r", &row_major(&inputs), &[n, k])?;
+            write_mat(&inputs_group, "S_r", &inputs)?;
             if !sensors.names.is_empty() {
                 let g = ctx.output.group("prom/sensors")?;
                 let names: Vec<&str> = sensors.names.iter().map(String::as_str).collect();
                 write_strings(&g, "names", &names)?;
                 let kinds: Vec<&str> = sensors.kinds.iter().map(|k| sensor_kind_name(*k)).collect();
                 write_strings(&g, "kind", &kinds)?;
-                write_f64(&g, "H_r", &row_major(&h_r), &[h_r.nrows(), h_r.ncols()])?;
+                write_mat(&g, "H_r", &h_r)?;
             }
             if let Some(body) = &body {
                 write_prom_body(&group, body)?;
@@ -188,12 +187,6 @@ fn run(
         autospc: c.autospc.names.clone(),
         result: Box::new(summary),
     }])
-}
-
-fn row_major(m: &Mat<f64>) -> Vec<f64> {
-    (0..m.nrows())
-        .flat_map(|i| (0..m.ncols()).map(move |j| m[(i, j)]))
-        .collect()
 }
 
 /// BSET: every ASET1 DOF, as f-set indices, with "GRID:component" names.

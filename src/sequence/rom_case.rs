@@ -1,7 +1,7 @@
 //! What every sequence on a pROM artifact (`ROM = 'file.h5'`) shares: reading the artifact
 //! (path relative to the deck's directory), the parameter values of the subcase's `PVAL`
 //! (parameters it does not list keep their nominal values), and the pROM evaluated there,
-//! refused when its reduced mass matrix is ill-conditioned ([`crate::linalg::dense::mass_conditioning`]). A
+//! refused when its reduced mass matrix is ill-conditioned ([`crate::rom::modes::check_evaluation`]). A
 //! `PVAL = id` may select PTABLE cards (parameters following tables of time) instead of or
 //! besides a PVAL card; only the transient reads those ([`super::rom_transient`]).
 
@@ -12,6 +12,7 @@ use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
 use crate::io::read_prom;
 use crate::model::Model;
+use crate::rom::modes::check_evaluation;
 use crate::rom::prom::{Prom, PromEvaluation};
 
 /// True when every subcase reads a pROM (no full model is needed).
@@ -79,12 +80,8 @@ impl RomAtPoint {
         let mut at = prom.workspace();
         prom.evaluate(&p, &mut at)
             .map_err(|e| case(format!("{}: {e}", path.display())))?;
-        if at.mass().nrows() > 0 {
-            use crate::linalg::dense::{mass_conditioning, stiffness_semidefinite};
-            mass_conditioning(at.mass())
-                .and_then(|_| stiffness_semidefinite(at.stiffness()))
-                .map_err(|e| case(format!("{} at {}: {e}", path.display(), point(&prom, &p))))?;
-        }
+        check_evaluation(&at)
+            .map_err(|e| case(format!("{} at {}: {e}", path.display(), point(&prom, &p))))?;
         let extrapolated = prom.outside_box(&p).into_iter().map(String::from).collect();
         Ok(RomAtPoint {
             path,

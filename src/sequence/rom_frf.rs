@@ -15,16 +15,16 @@ use super::driver::{Basis, Driver};
 use super::report::{Report, sci};
 use super::rom_case::RomAtPoint;
 use super::rom_case::extrapolation_warning;
-use super::shared::{frequency_lines, scaled_flat, write_frf};
+use super::shared::{frequency_lines, write_frf};
 use super::{Clock, RunContext, RunError, SubcaseSummary};
 use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
+use crate::dynamics::frf::scaled_flat;
 use crate::dynamics::frf::{DenseModel, receptance};
 use crate::dynamics::measurement::{Reads, SensorRows};
 use crate::io::{
     read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_str, set_attr_strings,
 };
-use crate::linalg::Mat;
 
 /// What one pROM FRF subcase computed.
 #[derive(Debug, Clone)]
@@ -99,13 +99,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         .map_err(|e| case(format!("{}: {e}", path.display())))?;
     // outputs: the input DOFs (receptance), then the sensors (DISP ×1, VEL ×iω, ACCEL ×−ω²)
     let k = names.len();
-    let outputs = Mat::<f64>::from_fn(k + sensors.len(), prom.size(), |o, j| {
-        if o < k {
-            s_r[(j, o)]
-        } else {
-            sensors.h[(o - k, j)]
-        }
-    });
+    let outputs = sensors.below_inputs(s_r.as_ref());
     let model = DenseModel {
         stiffness: at.stiffness(),
         mass: at.mass(),

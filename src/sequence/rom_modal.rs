@@ -20,8 +20,7 @@ use super::rom_case::extrapolation_warning;
 use super::{Clock, RunContext, RunError, SubcaseSummary};
 use crate::deck::case_control::Subcase;
 use crate::io::{set_attr_f64s, set_attr_str, set_attr_strings, write_f64};
-use crate::linalg::Mat;
-use crate::linalg::dense::{eigen_residuals, generalized_eigen};
+use crate::rom::modes::ReducedModes;
 
 /// What one ROM modal subcase found.
 #[derive(Debug, Clone)]
@@ -77,13 +76,10 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         at,
         extrapolated,
     } = RomAtPoint::load(ctx, sub)?;
-    let (lambda, phi) = generalized_eigen(at.stiffness(), at.mass())
-        .map_err(|e| case(format!("{}: {e}", path.display())))?;
-    let (keep, nd_short) = selection(ctx, sub, &lambda)?;
-    let lambda: Vec<f64> = keep.iter().map(|&j| lambda[j]).collect();
-    let phi = Mat::<f64>::from_fn(phi.nrows(), keep.len(), |i, c| phi[(i, keep[c])]);
+    let modes = ReducedModes::of(&at).map_err(|e| case(format!("{}: {e}", path.display())))?;
+    let (keep, nd_short) = selection(ctx, sub, &modes.eigenvalues)?;
+    let (lambda, residuals) = modes.kept(&at, &keep);
     let frequencies_hz: Vec<f64> = lambda.iter().map(|&l| lambda_to_hz(l)).collect();
-    let residuals = eigen_residuals(at.stiffness(), at.mass(), &lambda, phi.as_ref());
     let group = ctx.output.group(&format!("results/{id}/modal"))?;
     let m = lambda.len();
     write_f64(&group, "frequency_hz", &frequencies_hz, &[m])?;

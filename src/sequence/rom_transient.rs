@@ -20,19 +20,19 @@ use super::report::{Report, sci};
 use super::rom_case::RomAtPoint;
 use super::rom_case::extrapolation_warning;
 use super::shared::damping_warning;
-use super::shared::{method_of, output_rows, place_input};
+use super::shared::{method_of, output_rows};
 use super::{Clock, RunContext, RunError, SubcaseSummary};
 use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
+use crate::discretize::loads::place_input;
 use crate::discretize::loads::{load_into, load_terms, table_of};
-use crate::dynamics::integrators::{Backend, Run, StepState, integrate_with, matvec_add};
-use crate::dynamics::measurement::SensorRows;
+use crate::dynamics::integrators::{Backend, Run, integrate_with};
+use crate::dynamics::measurement::{Recorder, SensorRows};
 use crate::dynamics::table::Table;
 use crate::io::{
     read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_i64, set_attr_str,
     set_attr_strings, write_f64, write_strings,
 };
-use crate::linalg::Mat;
 use crate::model::Model;
 use crate::rom::prom::Prom;
 use crate::rom::transient::{InputStaticShapes, VaryingProm};
@@ -301,62 +301,6 @@ fn initial_state(
         ))
     };
     Ok((shape(&u0)?, shape(&v0)?))
-}
-
-/// Output buffers sized before the run, filled by matrix–vector products (no allocation in the
-/// time loop): input-DOF series rows × k (row-major, column r of a k × rows column-major
-/// buffer), and per sensor a series of `rows` values (sensor-major).
-struct Recorder<'a> {
-    /// S_rᵀ (k × n).
-    s_t: Mat<f64>,
-    /// The pROM's sensor rows (DISP and STRAIN from q, VEL from q̇, ACCEL from q̈).
-    sensors: &'a SensorRows,
-    scratch: Vec<f64>,
-    rows: usize,
-    time: Vec<f64>,
-    disp: Vec<f64>,
-    vel: Vec<f64>,
-    acc: Vec<f64>,
-    series: Vec<f64>,
-}
-
-impl<'a> Recorder<'a> {
-    fn new(s_r: &Mat<f64>, sensors: &'a SensorRows, rows: usize) -> Self {
-        let k = s_r.ncols();
-        Recorder {
-            s_t: s_r.transpose().to_owned(),
-            sensors,
-            scratch: vec![0.0; sensors.len()],
-            rows,
-            time: Vec::with_capacity(rows),
-            disp: Vec::with_capacity(rows * k),
-            vel: Vec::with_capacity(rows * k),
-            acc: Vec::with_capacity(rows * k),
-            series: vec![0.0; sensors.len() * rows],
-        }
-    }
-
-    fn record(&mut self, s: &StepState<'_>) {
-        let r = self.time.len();
-        if r == self.rows {
-            return;
-        }
-        self.time.push(s.time);
-        let k = self.s_t.nrows();
-        for (out, x) in [
-            (&mut self.disp, s.q),
-            (&mut self.vel, s.v),
-            (&mut self.acc, s.a),
-        ] {
-            out.resize(out.len() + k, 0.0);
-            let end = out.len();
-            matvec_add(&self.s_t, x, &mut out[end - k..]);
-        }
-        self.sensors.evaluate(s.q, s.v, s.a, &mut self.scratch);
-        for (j, value) in self.scratch.iter().enumerate() {
-            self.series[j * self.rows + r] = *value;
-        }
-    }
 }
 
 impl Report for RomTransientSummary {

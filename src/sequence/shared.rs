@@ -1,7 +1,6 @@
 //! What several drivers share: the discretized mesh of the mesh drivers ([`structure`]), the
 //! time steps of a `TSTEP` and the damping warning (full-model and pROM transients), the
-//! frequency lines of `FREQUENCY` and the FRF output (full-model and pROM FRFs), and the
-//! placement of a DAREA on a pROM's inputs (pROM transient and estimation).
+//! frequency lines of `FREQUENCY` and the FRF output (full-model and pROM FRFs).
 
 use super::{Clock, RunContext, RunError};
 use crate::deck::cards::Eigrl;
@@ -9,14 +8,12 @@ use crate::deck::cards::{TintegMethod, Tstep};
 use crate::deck::case_control::Subcase;
 use crate::discretize::{Constrained, Structure};
 use crate::dynamics::integrators::Method;
-use crate::dynamics::measurement::Reads;
 use crate::io::{IoError, write_c64, write_f64, write_strings};
+use crate::linalg::c64;
 use crate::linalg::{
     EigenProblem, EigenRequest, EigenResult, LanczosOptions, SymbolicFactor, solve_modes,
 };
-use crate::linalg::{Mat, c64};
 use crate::model::Model;
-use crate::model::dynamic_loads::Excitation;
 
 /// The TSTEP of a subcase, its method (TINTEG with the TSTEP's id; BDF1 without one) and the
 /// method's name for output.
@@ -72,28 +69,6 @@ pub fn frequency_lines(model: &Model, sub: &Subcase) -> Result<Vec<f64>, RunErro
     Ok(hz)
 }
 
-/// Scales H by each output row's (iω)^k ([`Reads::frequency_factor`]: the input DOFs, DISP and
-/// STRAIN read displacement, VEL iω, ACCEL −ω²) and flattens it line-major (f × o × i); also
-/// returns the largest |H| and its frequency.
-pub fn scaled_flat(h: &[Mat<c64>], hz: &[f64], reads: &[Reads]) -> (Vec<c64>, (f64, f64)) {
-    let mut flat = Vec::with_capacity(h.iter().map(|m| m.nrows() * m.ncols()).sum());
-    let mut peak = (0.0_f64, 0.0);
-    for (hw, f) in h.iter().zip(hz) {
-        let w = 2.0 * std::f64::consts::PI * f;
-        for (o, row) in reads.iter().enumerate() {
-            let factor = row.frequency_factor(w);
-            for i in 0..hw.ncols() {
-                let z = hw[(o, i)] * factor;
-                if z.norm() > peak.0 {
-                    peak = (z.norm(), *f);
-                }
-                flat.push(z);
-            }
-        }
-    }
-    (flat, peak)
-}
-
 /// Writes `frequency_hz`, `H` (f × o × i), `inputs` and `outputs` into `group`.
 pub fn write_frf(
     group: &hdf5_metno::Group,
@@ -108,32 +83,6 @@ pub fn write_frf(
     write_strings(group, "inputs", &refs)?;
     let refs: Vec<&str> = outputs.iter().map(String::as_str).collect();
     write_strings(group, "outputs", &refs)?;
-    Ok(())
-}
-
-/// Adds a DAREA entry, which must name a pROM input DOF (`GRID:component`), to a reduced load
-/// shape: scale × column of S_r.
-pub fn place_input(
-    names: &[String],
-    s_r: &Mat<f64>,
-    d: &Excitation,
-    scale: f64,
-    shape: &mut [f64],
-) -> Result<(), String> {
-    let comp = d.component;
-    let name = format!("{}:{comp}", d.grid);
-    let j = names.iter().position(|x| *x == name).ok_or_else(|| {
-        format!(
-            "DAREA {}: GRID {} component {comp} is not an input DOF of the pROM (inputs: {})",
-            d.sid,
-            d.grid,
-            names.join(", ")
-        )
-    })?;
-    shape
-        .iter_mut()
-        .enumerate()
-        .for_each(|(i, s)| *s += scale * s_r[(i, j)]);
     Ok(())
 }
 

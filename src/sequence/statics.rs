@@ -1,4 +1,5 @@
-//! SOL 101 (STATICS): K_ff u_f = P_f for every subcase, by sparse Cholesky.
+//! SOL 101 (STATICS): K_ff u_f = P_f for every subcase, by sparse Cholesky
+//! ([`crate::analysis::statics`]).
 //!
 //! Order (as `assembly::tests::solve`, with the sparse LLᵀ):
 //! 1. f-set of `SPC = sid` (+ GRID PS, AUTOSPC) — [`Constrained`];
@@ -27,15 +28,13 @@ use super::driver::{Basis, Driver};
 use super::report::{Report, sci};
 use super::shared::structure;
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary, requested, selected};
-use crate::assembly::loads::{Mass, load_vector, reduce_load};
-use crate::assembly::recover::{expand_f_to_n, spc_forces};
+use crate::analysis::statics::{
+    ElementStrains, StaticFactors, StaticSolution, element_strains, mass_values, resultant,
+};
 use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
-use crate::discretize::elements::{element_displacements, shell_strains, solid_kind_of};
-use crate::discretize::{Constrained, DiscretizeError, Structure};
-use crate::fe::solid;
+use crate::discretize::{Constrained, Structure};
 use crate::io::{write_f64, write_u32};
-use crate::linalg::{Factor, SymbolicFactor};
 
 /// What one static subcase found (basic system).
 #[derive(Debug, Clone)]
@@ -87,53 +86,36 @@ fn run(
     st: &Structure,
     clock: &mut Clock,
 ) -> Result<Vec<SubcaseSummary>, RunError> {
-    let mut factors: Vec<(Vec<usize>, Factor)> = Vec::new();
-    let mut symbolic: Option<(Vec<usize>, SymbolicFactor)> = None;
-    let par = ctx.options.par();
-    let m_gg = st.mass_gg();
-    let mut m_gg_values = vec![0.0; m_gg.pattern().nnz()];
-    m_gg.evaluate_into(&st.weights(m_gg), &mut m_gg_values)?;
+    let mut factors = StaticFactors::new(ctx.model.params.maxratio, ctx.options.par());
+    let m_gg_values = mass_values(st)?;
     let mut out = Vec::new();
     for sub in &ctx.model.subcases {
         let id = sub.id;
         let c = clock.time(format!("subcase {id}: constraints"), || {
             Constrained::build(ctx.model, st, sub.spc)
         })?;
-        let f = c.sets.f.members().to_vec();
-        if !factors.iter().any(|(key, _)| *key == f) {
-            let sym = match &symbolic {
-                Some((key, s)) if *key == f => s.clone(),
-                _ => {
-                    let s = clock
-                        .time(format!("subcase {id}: symbolic analysis"), || {
-                            SymbolicFactor::analyze(c.k_ff.pattern())
-                        })
-                        .map_err(|e| RunError::Linalg {
-                            subcase: id,
-                            source: e,
-                        })?;
-                    symbolic = Some((f.clone(), s.clone()));
-                    s
-                }
-            };
+        if factors.get(&c).is_none() {
+            let symbolic = clock
+                .time(format!("subcase {id}: symbolic analysis"), || {
+                    StaticFactors::analyze(&c)
+                })
+                .map_err(|e| RunError::Linalg {
+                    subcase: id,
+                    source: e,
+                })?;
             ctx.progress.step("factorization", 0, 1);
-            let factor = clock
+            clock
                 .time(format!("subcase {id}: Cholesky"), || {
-                    sym.clone()
-                        .with_max_ratio(ctx.model.params.maxratio)
-                        .factor_llt(&c.k_ff, par)
+                    factors.factor(&c, symbolic)
                 })
                 .map_err(|e| super::mechanism(&c, st, id, e))?;
             ctx.progress.step("factorization", 1, 1);
-            factors.push((f.clone(), factor));
         }
-        let factor = &factors
-            .iter()
-            .find(|(key, _)| *key == f)
-            .map(|(_, fa)| fa)
-            .ok_or(RunError::NoSolution)?;
+        let factor = factors.get(&c).ok_or(RunError::NoSolution)?;
         let summary = clock.time(format!("subcase {id}: solve and output"), || {
-            solve_subcase(ctx, st, &c, sub, factor, &m_gg_values)
+            let solution = StaticSolution::solve(ctx.model, st, &c, sub.load, factor, &m_gg_values)
+                .map_err(|e| super::analysis_error(&c, st, id, e))?;
+            write_subcase(ctx, st, &c, sub, &solution)
         })?;
         out.push(SubcaseSummary {
             id,
@@ -144,54 +126,20 @@ fn run(
     Ok(out)
 }
 
-fn solve_subcase(
+/// Writes one subcase's requested outputs and sums it up for the console.
+fn write_subcase(
     ctx: &RunContext,
     st: &Structure,
     c: &Constrained,
     sub: &Subcase,
-    factor: &Factor,
-    m_gg_values: &[f64],
+    solution: &StaticSolution,
 ) -> Result<StaticsSummary, RunError> {
-    let id = sub.id;
     let model = ctx.model;
-    let p_g = match sub.load {
-        Some(sid) => load_vector(
-            model,
-            &st.frames,
-            &st.map,
-            sid,
-            Some(Mass {
-                operator: st.mass_gg(),
-                values: m_gg_values,
-            }),
-        )?,
-        None => vec![0.0; st.map.size()],
-    };
-    let k_fs_values = c.k_fs.evaluate(&st.weights(&c.k_fs))?.values().to_vec();
-    let p_f = reduce_load(
-        &p_g,
-        &st.rigid,
-        &c.sets,
-        &c.k_fs,
-        &k_fs_values,
-        &c.spc.enforced,
-    )?;
-    let u_f = c.solve_static(factor, &p_f).map_err(|e| RunError::Linalg {
-        subcase: id,
-        source: e,
-    })?;
-    let u_n = expand_f_to_n(&u_f, &c.sets, &c.spc.enforced)?;
-    let u_g = st.rigid.expand(&u_n)?;
-    let p_n = st.rigid.reduce_vector(&p_g)?;
-    let q_s = spc_forces(&st.k_nn, &c.k_nn_values, &u_n, &p_n, &c.sets)?;
-    let mut q_g = vec![0.0; st.map.size()];
-    c.sets.s.scatter_into(&q_s, &mut q_g)?;
-
     let n = st.map.grids();
-    let u = st.to_basic_rows(&u_g);
-    let q = st.to_basic_rows(&q_g);
-    let p = st.to_basic_rows(&p_g);
-    let group = ctx.output.group(&format!("results/{id}/statics"))?;
+    let u = st.to_basic_rows(&solution.u_g);
+    let q = st.to_basic_rows(&solution.q_g);
+    let p = st.to_basic_rows(&solution.p_g);
+    let group = ctx.output.group(&format!("results/{}/statics", sub.id))?;
     // Without a DISPLACEMENT request every grid is written (DESIGN.md §8 makes `displacement`
     // part of every statics result); Nastran would print nothing. `DISPLACEMENT = NONE` opts out.
     if let Some(rows) =
@@ -204,7 +152,8 @@ fn solve_subcase(
     }
     super::write_autospc(&group, &c.autospc)?;
     if let Some(req) = requested(sub, "STRAIN") {
-        write_strains(ctx, st, &group, &u, |eid| selected(ctx.deck, req, eid))?;
+        let strains = element_strains(model, st, &u, |eid| selected(ctx.deck, req, eid))?;
+        write_strains(ctx, &group, &strains)?;
     }
 
     let grid_id = |g: usize| st.map.grid_id(g).unwrap_or(0);
@@ -231,87 +180,27 @@ fn solve_subcase(
     })
 }
 
-/// Σ forces and Σ (moments + x × F) about the basic origin of n×6 basic rows.
-fn resultant(model: &crate::model::Model, rows: &[f64]) -> [f64; 6] {
-    let mut out = [0.0; 6];
-    for (g, grid) in model.grids.iter().enumerate() {
-        let r = &rows[6 * g..6 * g + 6];
-        let f = [r[0], r[1], r[2]];
-        let m = crate::geometry::vec3::cross(grid.xyz, f);
-        for k in 0..3 {
-            out[k] += f[k];
-            out[3 + k] += r[3 + k] + m[k];
-        }
-    }
-    out
-}
-
-/// Strain blocks by output name, in element order.
-#[derive(Default)]
-struct Block {
-    ids: Vec<u32>,
-    a: Vec<f64>,
-    b: Vec<f64>,
-}
-
+/// Writes `strain/<block>/{ids, top, bottom}` (shells) and `strain/<block>/{ids, centroid}`
+/// (solids) under `group`.
 fn write_strains(
     ctx: &RunContext,
-    st: &Structure,
     group: &hdf5_metno::Group,
-    u: &[f64],
-    keep: impl Fn(u32) -> bool,
+    strains: &ElementStrains,
 ) -> Result<(), RunError> {
-    let model = ctx.model;
-    let mut shells: std::collections::BTreeMap<&'static str, Block> = Default::default();
-    for (idx, rec) in &st.shells {
-        let e = &model.elements[*idx];
-        if !keep(e.id) {
-            continue;
-        }
-        let strains = shell_strains(model, e, rec, &element_displacements(u, &e.nodes))?;
-        let block = shells.entry(e.kind.block_name()).or_default();
-        block.ids.push(e.id);
-        block.a.extend(strains.top);
-        block.b.extend(strains.bottom);
-    }
-    for (name, b) in &shells {
+    for (name, b) in &strains.shells {
         let g = ctx
             .output
             .group(&format!("{}/strain/{name}", group.name()))?;
         write_u32(&g, "ids", &b.ids, &[b.ids.len()])?;
-        write_f64(&g, "top", &b.a, &[b.ids.len(), 3])?;
-        write_f64(&g, "bottom", &b.b, &[b.ids.len(), 3])?;
+        write_f64(&g, "top", &b.first, &[b.ids.len(), 3])?;
+        write_f64(&g, "bottom", &b.second, &[b.ids.len(), 3])?;
     }
-    let mut solids: std::collections::BTreeMap<&'static str, Block> = Default::default();
-    for e in &model.elements {
-        let Some(kind) = solid_kind_of(e.kind) else {
-            continue;
-        };
-        if !keep(e.id) {
-            continue;
-        }
-        let xyz = model.positions(e);
-        let ut: Vec<f64> = e
-            .nodes
-            .iter()
-            .flat_map(|&a| u[6 * a..6 * a + 3].iter().copied())
-            .collect();
-        let eps =
-            solid::strain_at_centroid(kind, &xyz, &ut).map_err(|x| DiscretizeError::Element {
-                card: e.kind.card(),
-                id: e.id,
-                reason: x.to_string(),
-            })?;
-        let block = solids.entry(e.kind.block_name()).or_default();
-        block.ids.push(e.id);
-        block.a.extend(eps);
-    }
-    for (name, b) in &solids {
+    for (name, b) in &strains.solids {
         let g = ctx
             .output
             .group(&format!("{}/strain/{name}", group.name()))?;
         write_u32(&g, "ids", &b.ids, &[b.ids.len()])?;
-        write_f64(&g, "centroid", &b.a, &[b.ids.len(), 6])?;
+        write_f64(&g, "centroid", &b.first, &[b.ids.len(), 6])?;
     }
     Ok(())
 }

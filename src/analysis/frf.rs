@@ -1,0 +1,224 @@
+//! Frequency response of a constrained structure (the f-set of [`Constrained`]) to unit loads
+//! on its input shapes, as the library call behind SOL 108 and SOL 111:
+//!
+//! - direct: one sparse complex LU symbolic analysis of K_ff − ω²M_ff + iωC_ff, one numeric LU
+//!   (plus one refinement step) per line, lines in parallel ([`direct_receptance`]);
+//! - modal: the modes an eigen request asks for (shift-invert Lanczos, mass normalized) and,
+//!   on request, the residual vectors of the input shapes ([`residual_vectors`], Nastran's
+//!   RESVEC), superposed with modal damping 2ζ_jω_j = α + βω_j² ([`modal_receptance`]). The
+//!   residual vectors carry the static part of the modes left out (exact at 0 Hz); on a
+//!   free-free model (K singular) they are skipped ([`FullFrf::resvec_skipped`]).
+//!
+//! Damping: Rayleigh C = αM + βK and structural damping G as Nastran: K(1 + iG) in the direct
+//! solution, G on each modal stiffness ω_j²(1 + iG) in the modal one.
+
+use std::time::Duration;
+
+use faer::Par;
+use nalgebra_sparse::{CooMatrix, CscMatrix};
+
+use super::{AnalysisError, timed};
+use crate::discretize::Constrained;
+use crate::discretize::sensors::project_rows;
+use crate::dynamics::frf::{
+    SparseModel, direct_receptance, modal_receptance, residual_vectors, static_stiffness_is_regular,
+};
+use crate::linalg::dense::product;
+use crate::linalg::{
+    EigenProblem, EigenRequest, LanczosOptions, Mat, MatRef, Progress, SymbolicFactor, c64,
+    solve_modes,
+};
+
+/// How the response is computed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Method {
+    /// Factor the dynamic stiffness at every line.
+    Direct,
+    /// Superpose the modes of `request`, with the residual vectors of the inputs when
+    /// `residual_vectors` is set.
+    Modal {
+        request: EigenRequest,
+        residual_vectors: bool,
+    },
+}
+
+/// Rayleigh (α, β) and structural (G) damping.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Damping {
+    pub alpha: f64,
+    pub beta: f64,
+    pub structural: f64,
+}
+
+/// The receptance H(ω) (outputs × inputs per line) and what the modal solution superposed.
+#[derive(Debug, Clone)]
+pub struct FullFrf {
+    pub h: Vec<Mat<c64>>,
+    /// Modes superposed (0 for the direct solution).
+    pub modes: usize,
+    /// Residual vectors superposed with the modes: `Some(count)` when asked and K is regular
+    /// (`Some(0)` when the modes already hold the load shapes), `None` otherwise.
+    pub residual_vectors: Option<usize>,
+    /// Residual vectors asked, but K is singular (free-free or a mechanism): modes only.
+    pub resvec_skipped: bool,
+}
+
+/// The output operator of a receptance: first the input DOFs (the rows of the unit-load
+/// columns `inputs`, n_f × k: their displacement), then each block of f-set rows in order.
+pub fn output_rows(inputs: MatRef<'_, f64>, blocks: &[&CscMatrix<f64>]) -> CscMatrix<f64> {
+    let (n_f, k) = (inputs.nrows(), inputs.ncols());
+    let rows = k + blocks.iter().map(|b| b.nrows()).sum::<usize>();
+    let mut coo = CooMatrix::new(rows, n_f);
+    for j in 0..k {
+        for f in 0..n_f {
+            if inputs[(f, j)] != 0.0 {
+                coo.push(j, f, inputs[(f, j)]);
+            }
+        }
+    }
+    let mut offset = k;
+    for block in blocks {
+        for (col, column) in block.col_iter().enumerate() {
+            for (&row, &v) in column.row_indices().iter().zip(column.values()) {
+                coo.push(offset + row, col, v);
+            }
+        }
+        offset += block.nrows();
+    }
+    CscMatrix::from(&coo)
+}
+
+/// H with only its first `rows` outputs at every line (the rest dropped).
+pub fn first_rows(h: Vec<Mat<c64>>, rows: usize) -> Vec<Mat<c64>> {
+    if h.iter().all(|hw| hw.nrows() == rows) {
+        return h;
+    }
+    h.iter().map(|hw| hw.subrows(0, rows).to_owned()).collect()
+}
+
+/// What a receptance run needs besides the structure and the method.
+pub struct FrfRun<'a> {
+    /// Unit-load columns of the inputs (n_f × k).
+    pub inputs: MatRef<'a, f64>,
+    /// Output rows (o × n_f), e.g. from [`output_rows`].
+    pub outputs: &'a CscMatrix<f64>,
+    /// Circular frequencies of the lines (rad/s).
+    pub omegas: &'a [f64],
+    pub damping: Damping,
+    pub par: Par,
+    pub progress: &'a dyn Progress,
+}
+
+/// H(ω) of `c` by `method`; each phase ("direct FRF", "Lanczos", "residual vectors",
+/// "modal FRF") is reported to `record` with its wall time.
+pub fn receptance(
+    c: &Constrained,
+    method: Method,
+    run: &FrfRun<'_>,
+    record: &mut dyn FnMut(String, Duration),
+) -> Result<FullFrf, AnalysisError> {
+    let lines = run.omegas.len();
+    let d = run.damping;
+    match method {
+        Method::Direct => {
+            let model = SparseModel {
+                stiffness: &c.k_ff,
+                mass: &c.m_ff,
+                alpha: d.alpha,
+                beta: d.beta,
+                structural: d.structural,
+            };
+            let h = timed(record, format!("direct FRF ({lines} lines)"), || {
+                direct_receptance(
+                    &model,
+                    run.inputs,
+                    run.outputs,
+                    run.omegas,
+                    run.par != Par::Seq,
+                )
+            })?;
+            Ok(FullFrf {
+                h,
+                modes: 0,
+                residual_vectors: None,
+                resvec_skipped: false,
+            })
+        }
+        Method::Modal {
+            request,
+            residual_vectors: with_residual,
+        } => {
+            let symbolic = SymbolicFactor::analyze(c.k_ff.pattern())?;
+            if run.omegas.contains(&0.0) {
+                static_stiffness_is_regular(&c.k_ff, &symbolic)?;
+            }
+            let problem = EigenProblem {
+                k: &c.k_ff,
+                m: &c.m_ff,
+                symbolic: &symbolic,
+            };
+            let r = timed(record, "Lanczos".to_string(), || {
+                solve_modes(
+                    &problem,
+                    &request,
+                    &LanczosOptions::default(),
+                    run.par,
+                    run.progress,
+                )
+            })?;
+            let modes = r.eigenvalues.len();
+            let extra = if with_residual {
+                timed(record, "residual vectors".to_string(), || {
+                    residual_vectors(&c.k_ff, &c.m_ff, &symbolic, r.vectors.as_ref(), run.inputs)
+                })?
+            } else {
+                None
+            };
+            let resvec_skipped = with_residual && extra.is_none();
+            let residual = extra.as_ref().map(|e| e.eigenvalues.len());
+            // the modes, then the residual vectors (the modes alone when there are none)
+            let (eigenvalues, phi) = match extra {
+                Some(extra) => {
+                    let psi = &extra.shapes;
+                    let n_f = r.vectors.nrows();
+                    let phi = Mat::<f64>::from_fn(n_f, modes + psi.ncols(), |i, j| {
+                        if j < modes {
+                            r.vectors[(i, j)]
+                        } else {
+                            psi[(i, j - modes)]
+                        }
+                    });
+                    (
+                        r.eigenvalues.into_iter().chain(extra.eigenvalues).collect(),
+                        phi,
+                    )
+                }
+                None => (r.eigenvalues, r.vectors),
+            };
+            let basis: Vec<f64> = eigenvalues;
+            let name = format!(
+                "modal FRF ({modes} modes, {} residual vectors, {lines} lines)",
+                basis.len() - modes
+            );
+            let h = timed(record, name, || {
+                let modal_in = product(phi.transpose(), run.inputs);
+                let modal_out = project_rows(run.outputs, &phi);
+                modal_receptance(
+                    &basis,
+                    d.alpha,
+                    d.beta,
+                    d.structural,
+                    modal_in.as_ref(),
+                    modal_out.as_ref(),
+                    run.omegas,
+                )
+            })?;
+            Ok(FullFrf {
+                h,
+                modes,
+                residual_vectors: residual,
+                resvec_skipped,
+            })
+        }
+    }
+}
