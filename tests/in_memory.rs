@@ -1,16 +1,22 @@
 //! The library without files: a model built from deck text held in memory, discretized
 //! ([`paraflex::discretize::Structure`]), evaluated at parameter values p and solved for its
-//! modes — no deck file, no output file, no solution sequence.
+//! modes, its static response and its receptance ([`paraflex::analysis`]) — no deck file, no
+//! output file, no solution sequence.
 //!
 //! The model is a single-DOF oscillator: grid 2 free in T1 only (GRID PS 23456), a CONM2 of
 //! mass m = 4 and a grounded CELAS1 whose PELAS stiffness k is the parameter KS (nominal 1000):
-//! λ = k/m, so f = √(k/m)/2π at every p.
+//! λ = k/m, so f = √(k/m)/2π at every p; FORCE 10 pulls it with 5 N along x, so u = 5/k; its
+//! undamped receptance is H(ω) = 1/(k − ω²m).
 
 use std::path::Path;
 
+use paraflex::analysis::frf::{self, Damping, FrfRun, output_rows};
+use paraflex::analysis::statics::{StaticFactors, StaticSolution, mass_values};
 use paraflex::deck::Deck;
 use paraflex::discretize::{BuildOptions, Constrained, Structure};
-use paraflex::linalg::{EigenProblem, EigenRequest, LanczosOptions, SymbolicFactor, solve_modes};
+use paraflex::linalg::{
+    EigenProblem, EigenRequest, LanczosOptions, Mat, SymbolicFactor, solve_modes,
+};
 use paraflex::model::Model;
 
 const OSCILLATOR: &str = "\
@@ -22,6 +28,7 @@ CONM2,1,2,,4.
 CELAS1,2,7,2,1
 PELAS,7,1000.
 PMPAR,1,KS,K,7,500.,2000.
+FORCE,10,2,,5.,1.,0.,0.
 ENDDATA
 ";
 
@@ -77,5 +84,80 @@ fn a_model_in_memory_is_discretized_evaluated_at_p_and_solved_for_its_modes() {
             (lambda - exact).abs() <= 1e-10 * exact,
             "k = {k}: λ = {lambda}, k/m = {exact}"
         );
+    }
+}
+
+/// The oscillator's model and structure, built from the text in memory.
+fn oscillator() -> (Model, Structure) {
+    let deck = Deck::parse(Path::new("oscillator.dat"), OSCILLATOR)
+        .unwrap_or_else(|e| panic!("deck: {e}"));
+    let model = Model::build(&deck).unwrap_or_else(|e| {
+        panic!(
+            "model: {:?}",
+            e.iter().map(|x| x.to_string()).collect::<Vec<_>>()
+        )
+    });
+    let quiet = |_: &str, _: usize, _: usize| {};
+    let structure = Structure::build(&model, &BuildOptions { parallel: false }, &quiet)
+        .unwrap_or_else(|e| panic!("structure: {e}"));
+    (model, structure)
+}
+
+#[test]
+fn statics_and_receptance_of_a_model_in_memory_at_p() {
+    let (model, structure) = oscillator();
+    let quiet = |_: &str, _: usize, _: usize| {};
+    let par = BuildOptions { parallel: false }.par();
+    let masses = mass_values(&structure).expect("M_gg");
+    for k in [1000.0, 500.0, 2000.0] {
+        let c = Constrained::at(&model, &structure, None, &[k]).expect("constraints");
+        // statics: u = F/k (one DOF: exact to round-off)
+        let mut factors = StaticFactors::new(model.params.maxratio, par);
+        let symbolic = StaticFactors::analyze(&c).expect("symbolic");
+        factors.factor(&c, symbolic).expect("Cholesky");
+        let factor = factors.get(&c).expect("the factor of this f-set");
+        let solution = StaticSolution::solve(&model, &structure, &c, Some(10), factor, &masses)
+            .unwrap_or_else(|e| panic!("statics: {e}"));
+        let u = structure.to_basic_rows(&solution.u_g)[0];
+        assert!((u - 5.0 / k).abs() <= 1e-12 * 5.0 / k, "k = {k}: u = {u}");
+
+        // receptance at the input DOF, direct and modal, against 1/(k − ω²m)
+        let inputs = Mat::<f64>::from_fn(1, 1, |_, _| 1.0);
+        let outputs = output_rows(inputs.as_ref(), &[]);
+        let omegas = [3.0, 0.5 * (k / 4.0_f64).sqrt(), 2.0 * (k / 4.0_f64).sqrt()];
+        let run = FrfRun {
+            inputs: inputs.as_ref(),
+            outputs: &outputs,
+            omegas: &omegas,
+            damping: Damping {
+                alpha: 0.0,
+                beta: 0.0,
+                structural: 0.0,
+            },
+            par,
+            progress: &quiet,
+        };
+        let modal = frf::Method::Modal {
+            request: EigenRequest {
+                v1_hz: None,
+                v2_hz: None,
+                nd: Some(1),
+                shift_hz: None,
+            },
+            residual_vectors: true,
+        };
+        for method in [frf::Method::Direct, modal] {
+            let h = frf::receptance(&c, method, &run, &mut |_, _| {})
+                .unwrap_or_else(|e| panic!("FRF: {e}"));
+            for (line, w) in omegas.iter().enumerate() {
+                let exact = 1.0 / (k - w * w * 4.0);
+                let got = h.h[line][(0, 0)];
+                // one DOF: the LU (direct) or the one mode (modal) is exact to round-off
+                assert!(
+                    (got.re - exact).abs() <= 1e-10 * exact.abs() && got.im.abs() <= 1e-12,
+                    "{method:?}, k = {k}, ω = {w}: H = {got:?}, exact {exact}"
+                );
+            }
+        }
     }
 }
