@@ -17,9 +17,13 @@
 //! | CTETRA (4) | Tetrahedron (6) | |
 //! | CTETRA10 | Tetrahedron_10 (38) | Nastran G5..G10 = edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4; VTK_QUADRATIC_TETRA uses edges (0,1),(1,2),(2,0),(0,3),(1,3),(2,3): identical |
 //! | CELAS1, CELAS2, RBE2, RBE3, other 2-node cards | Polyline, 2 nodes (2, then the node count 2) | a grounded spring repeats its grid (zero-length line) |
-//! | CONM2, other 1-node cards | Polyvertex (1) | |
+//! | CONM2, other 1-node cards | Polyvertex; in a mixed topology a Polyline from the grid to itself (2, 2, p, p) | see below |
 //!
 //! Blocks with another card and node count, or with no elements, are left out and reported.
+//!
+//! In a `Mixed` list XDMF puts the node count after the code of a polyvertex, as of a
+//! polyline (ParaView reads it so), while meshio reads a polyvertex without one; a one-node
+//! element is therefore written as a zero-length polyline, which both read alike.
 
 use super::xml::{Number, attribute, hdf_item, inline_item};
 use crate::model::mesh::{ElementBlock, MeshArrays};
@@ -68,19 +72,28 @@ impl Topology {
         }
     }
 
-    /// What precedes an element's nodes in a `Mixed` cell list: the type code, and for a
-    /// polyline its node count.
-    fn mixed_prefix(self) -> &'static [u32] {
-        match self {
-            Topology::Polyvertex => &[1],
-            Topology::Polyline2 => &[2, 2],
-            Topology::Triangle => &[4],
-            Topology::Quadrilateral => &[5],
-            Topology::Tetrahedron => &[6],
-            Topology::Wedge => &[8],
-            Topology::Hexahedron => &[9],
-            Topology::Tetrahedron10 => &[38],
-        }
+    /// Appends an element's entry to a `Mixed` cell list: the type code, for a polyline its
+    /// node count, then the nodes (a one-node element as a zero-length polyline).
+    fn push_mixed(self, element: &[u32], cells: &mut Vec<u32>) {
+        let code = match self {
+            Topology::Polyvertex => {
+                cells.extend_from_slice(&[2, 2, element[0], element[0]]);
+                return;
+            }
+            Topology::Polyline2 => {
+                cells.extend_from_slice(&[2, 2]);
+                cells.extend_from_slice(element);
+                return;
+            }
+            Topology::Triangle => 4,
+            Topology::Quadrilateral => 5,
+            Topology::Tetrahedron => 6,
+            Topology::Wedge => 8,
+            Topology::Hexahedron => 9,
+            Topology::Tetrahedron10 => 38,
+        };
+        cells.push(code);
+        cells.extend_from_slice(element);
     }
 }
 
@@ -165,8 +178,7 @@ fn mixed_inline(drawn: &[(&ElementBlock, Topology)]) -> (String, String) {
     let mut property_ids = Vec::new();
     for (block, topology) in drawn {
         for element in block.connectivity.chunks(block.nodes_per_element) {
-            cells.extend_from_slice(topology.mixed_prefix());
-            cells.extend_from_slice(element);
+            topology.push_mixed(element, &mut cells);
         }
         element_ids.extend_from_slice(&block.ids);
         property_ids.extend_from_slice(&block.pids);

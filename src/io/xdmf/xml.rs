@@ -47,8 +47,10 @@ pub(super) fn hdf_item(h5: &str, dataset: &str, shape: &[usize], number: Number)
     )
 }
 
-/// A `HyperSlab` `DataItem`: the block of `count` values from `start` (unit stride) of the
-/// `f64` dataset `dataset` of shape `shape`.
+/// A `DataItem` reading the block of `count` values from `start` (unit stride) of the `f64`
+/// dataset `dataset` of shape `shape`: XDMF 3's hyperslab form of an HDF5 reference,
+/// `file:dataset|start:stride:count:shape` (each a space-separated list over the dimensions),
+/// which ParaView's XDMF3 reader takes (its `ItemType="HyperSlab"` items come out empty).
 pub(super) fn hyperslab_item(
     h5: &str,
     dataset: &str,
@@ -56,16 +58,16 @@ pub(super) fn hyperslab_item(
     start: &[usize],
     count: &[usize],
 ) -> String {
-    let rank = shape.len();
-    let stride = vec![1; rank];
+    let stride = vec![1; shape.len()];
     format!(
-        "<DataItem ItemType=\"HyperSlab\" Dimensions=\"{}\" Type=\"HyperSlab\">\
-         <DataItem Dimensions=\"3 {rank}\" Format=\"XML\">{} {} {}</DataItem>{}</DataItem>",
+        "<DataItem Dimensions=\"{}\" {} Format=\"HDF\">{h5}:{}|{}:{}:{}:{}</DataItem>",
         dims(count),
+        Number::Float8.xml_attrs(),
+        escape(dataset),
         join(start),
         join(&stride),
         join(count),
-        hdf_item(h5, dataset, shape, Number::Float8)
+        join(shape)
     )
 }
 
