@@ -143,13 +143,11 @@ pub(super) fn result_fields(
                     steps,
                 });
             }
-            "frf" => {
-                if result.datasets.iter().any(|d| d.name == "displacement") {
-                    fields.skipped.push(format!(
-                        "{base}/displacement: complex values, which XDMF cannot address \
-                         (read them from the HDF5 file)"
-                    ));
-                }
+            "frf" if dataset(result, "displacement").is_some() => {
+                fields.skipped.push(format!(
+                    "{base}/displacement: complex values, which XDMF cannot address \
+                     (read them from the HDF5 file)"
+                ));
             }
             _ => {}
         }
