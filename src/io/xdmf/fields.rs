@@ -206,7 +206,6 @@ fn node_vectors(h5: &str, dataset: &str, shape: &[usize], step: Option<usize>) -
 
 /// Cell attributes of the strains of a static subcase: `Ok("")` when it has none, `Err` with
 /// the reason when they cannot be drawn (several element blocks, or not every element).
-#[allow(clippy::too_many_arguments)]
 fn strain_fields(
     file: &hdf5::File,
     h5_path: &Path,
