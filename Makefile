@@ -90,6 +90,18 @@ bench-estimate: deps
 	$$bench $$tmp/blade_prom_sensors.h5 && $$bench $$tmp/blade_prom_clamped.h5 && \
 	$$bench $$tmp/blade_prom_sensors_small.h5 3 $$tmp/blade_prom_sensors.h5; rc=$$?; rm -rf $$tmp; exit $$rc
 
+# ParaView reads the XDMF files: renders the first mode shape of the demo bracket plate (warped,
+# coloured by the displacement magnitude) to docs/img/paraview_bracket_mode1.png under Xvfb and
+# checks the picture is not blank (tools/xdmf/paraview_render.py) — not part of the tests.
+.PHONY: paraview-check
+paraview-check: deps
+	@$(MAKE) --no-print-directory sysdeps DEB_PACKAGES="paraview python3-paraview xvfb xauth"
+	$(CARGO) build --release --quiet
+	@mkdir -p out/paraview
+	$(BIN) run decks/demo/bracket_plate.dat -o out/paraview/bracket.h5 > /dev/null
+	xvfb-run -a pvpython tools/xdmf/paraview_render.py out/paraview/bracket_1_modes.xdmf \
+		-o docs/img/paraview_bracket_mode1.png
+
 clean:
 	$(CARGO) clean
 	rm -rf $(VENV)

@@ -1,98 +1,57 @@
-//! XDMF 3 description of `/model` so ParaView opens the mesh of a paraflex HDF5 file.
+//! XDMF 3 files next to a paraflex HDF5 file, so ParaView and meshio open the mesh and the
+//! results without a copy of the data.
 //!
-//! `<out>.xdmf` sits next to `<out>.h5` and refers to it by file name only (relative), so the
-//! pair can be moved together. Layout:
+//! Every file refers to `<out>.h5` by file name only (relative), so the set can be moved
+//! together. [`write_xdmf`] reads the written file back (its `/results` groups) and writes:
 //!
 //! ```text
-//! Domain
-//!   Grid "model" (Collection, Spatial)
-//!     Grid "<CARD>" (Uniform), one per element block
-//!       Topology  <type>, DataItem  file.h5:/model/elements/<CARD>/connectivity (m×k, UInt32)
-//!       Geometry  XYZ,    DataItem "XYZ" file.h5:/model/xyz (n×3, Float64)
-//!       Attribute element_id  (Cell) file.h5:/model/elements/<CARD>/ids
-//!       Attribute property_id (Cell) file.h5:/model/elements/<CARD>/pid
+//! <out>.xdmf                    Domain / Grid "model" (Uniform): the mesh, Cell attributes
+//!                               element_id, property_id; per static subcase the Node attribute
+//!                               displacement_<subcase> (n × 6: T1 T2 T3 R1 R2 R3) and, when
+//!                               drawable, strain_<fibre> (Cell)
+//! <out>_<subcase>_statics.xdmf  one step (Time 0)                  \  Domain / Grid (Collection,
+//! <out>_<subcase>_modes.xdmf    a step per mode, Time = mode 1, 2, …  >  Temporal) / Grid per step
+//! <out>_<subcase>_transient.xdmf a step per output time, Time = t  /   (Uniform)
 //! ```
 //!
-//! Every block's Geometry names the same heavy dataset `/model/xyz`. It is written out in each
-//! Grid rather than pulled in with `xi:include`: XInclude is textual, so readers parse the same
-//! DataItem either way, and the inline form works in every XDMF reader (ParaView's XDMF2 and
-//! XDMF3 readers, meshio).
+//! A step holds the Node vectors `displacement` (T1–T3) and `rotation` (R1–R3), hyperslab
+//! references (`out.h5:/results/1/modal/shapes|start:stride:count:shape`) selecting the
+//! step's rows and columns of the stored array (statics also the strains). A mode's time value is its number, not its frequency (two equal frequencies would
+//! be one time step); the step's grid is named `mode <i>: <f> Hz`. The first step carries the
+//! `Topology` and `Geometry`, later steps include them with `xi:include` (the layout meshio's
+//! time-series writer uses).
 //!
-//! Node orderings: `/model` connectivity is in Nastran grid order, which equals the XDMF (= VTK)
-//! order for every supported topology, so no reordered copy is needed:
+//! Readers: ParaView's XDMF3 reader opens every file ("Xdmf3ReaderS"; warp by `displacement`
+//! and play the time steps). `meshio.read("<out>.xdmf")` reads the mesh and its attributes;
+//! meshio's `TimeSeriesReader` reads the mesh and the number of steps of a series but not the
+//! step data (meshio has no hyperslab support): read those arrays from the HDF5 file.
 //!
-//! | card | XDMF topology | note |
-//! |---|---|---|
-//! | CQUAD4 | Quadrilateral | G1..G4 |
-//! | CTRIA3 | Triangle | G1..G3 |
-//! | CHEXA (8) | Hexahedron | G1..G4 bottom, G5..G8 top, as VTK_HEXAHEDRON |
-//! | CPENTA (6) | Wedge | G1..G3, G4..G6 with G4 over G1, as VTK_WEDGE (a deck whose first face points inward renders the same; only the sign of the cell volume differs) |
-//! | CTETRA (4) | Tetrahedron | |
-//! | CTETRA10 | Tetrahedron_10 | Nastran G5..G10 = edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4; VTK_QUADRATIC_TETRA (which ParaView maps Tetrahedron_10 to) uses edges (0,1),(1,2),(2,0),(0,3),(1,3),(2,3): identical |
-//! | CELAS1, CELAS2, RBE2, RBE3, other 2-node cards | Polyline, 2 nodes | a grounded spring repeats its grid (zero-length line) |
-//! | CONM2, other 1-node cards | Polyvertex | |
-//!
-//! Blocks with another card and node count, or with no elements, are left out of the XDMF and
-//! reported in [`XdmfWritten::skipped`].
+//! Left out and reported in [`XdmfWritten::skipped`]: element blocks without an XDMF topology
+//! (see [`mesh`]), fields of a SET of grids (they do not cover the mesh), complex FRF
+//! displacements (a compound type XDMF cannot address), strains on a mesh of several element
+//! blocks or of part of a block.
 
-use std::fmt::Write as _;
+mod fields;
+mod mesh;
+mod xml;
+
 use std::path::{Path, PathBuf};
 
 use super::hdf5_file::{IoError, write_file_atomically};
-use crate::model::mesh::{ElementBlock, MeshArrays};
+use crate::model::mesh::MeshArrays;
+use fields::{Fields, Series, result_fields};
+use mesh::{MeshXml, mesh_xml};
 
 /// Result of [`write_xdmf`].
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct XdmfWritten {
-    /// Path of the `.xdmf` file.
+    /// Path of `<out>.xdmf`.
     pub path: PathBuf,
-    /// Blocks left out, with the reason (`"CQUAD8: no XDMF topology for 8 nodes"`).
+    /// Paths of the time-series files, in `/results` order.
+    pub series: Vec<PathBuf>,
+    /// Blocks and fields left out, with the reason (`"CQUAD8: no XDMF topology for 8 nodes
+    /// per element"`).
     pub skipped: Vec<String>,
-}
-
-/// XDMF topology of one block.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Topology {
-    Quadrilateral,
-    Triangle,
-    Hexahedron,
-    Wedge,
-    Tetrahedron,
-    Tetrahedron10,
-    Polyline2,
-    Polyvertex,
-}
-
-impl Topology {
-    /// Topology for a card with `k` nodes per element, or `None` when there is none.
-    fn for_block(card: &str, k: usize) -> Option<Self> {
-        let t = match (card, k) {
-            ("CQUAD4", 4) => Topology::Quadrilateral,
-            ("CTRIA3", 3) => Topology::Triangle,
-            ("CHEXA", 8) => Topology::Hexahedron,
-            ("CPENTA", 6) => Topology::Wedge,
-            ("CTETRA", 4) => Topology::Tetrahedron,
-            ("CTETRA10" | "CTETRA", 10) => Topology::Tetrahedron10,
-            (_, 2) => Topology::Polyline2,
-            (_, 1) => Topology::Polyvertex,
-            _ => return None,
-        };
-        Some(t)
-    }
-
-    /// `TopologyType` plus, for poly types, `NodesPerElement`.
-    fn xml_attrs(self) -> &'static str {
-        match self {
-            Topology::Quadrilateral => r#"TopologyType="Quadrilateral""#,
-            Topology::Triangle => r#"TopologyType="Triangle""#,
-            Topology::Hexahedron => r#"TopologyType="Hexahedron""#,
-            Topology::Wedge => r#"TopologyType="Wedge""#,
-            Topology::Tetrahedron => r#"TopologyType="Tetrahedron""#,
-            Topology::Tetrahedron10 => r#"TopologyType="Tetrahedron_10""#,
-            Topology::Polyline2 => r#"TopologyType="Polyline" NodesPerElement="2""#,
-            Topology::Polyvertex => r#"TopologyType="Polyvertex" NodesPerElement="1""#,
-        }
-    }
 }
 
 /// Path of the XDMF file for an HDF5 output: same name with extension `.xdmf`.
@@ -100,8 +59,9 @@ pub fn xdmf_path_for(h5_path: &Path) -> PathBuf {
     h5_path.with_extension("xdmf")
 }
 
-/// Writes `<h5 stem>.xdmf` next to `h5_path` (temporary name, then rename) describing the
-/// `/model` group that [`write_model`](super::write_model) wrote from the same `mesh`.
+/// Writes `<h5 stem>.xdmf` and the time-series files next to `h5_path` (each under a temporary
+/// name, then renamed) describing the `/model` group written from `mesh` and the results the
+/// file holds.
 pub fn write_xdmf(h5_path: &Path, mesh: &MeshArrays) -> Result<XdmfWritten, IoError> {
     let h5_name = h5_path
         .file_name()
@@ -109,110 +69,78 @@ pub fn write_xdmf(h5_path: &Path, mesh: &MeshArrays) -> Result<XdmfWritten, IoEr
         .ok_or_else(|| {
             IoError::invalid(h5_path, "XDMF file", "HDF5 file name is not valid UTF-8")
         })?;
-    let (xml, skipped) = xdmf_text(h5_name, mesh);
+    let h5 = xml::escape(h5_name);
+    let summary = super::describe(h5_path)?;
+    let mesh_xml = mesh_xml(&h5, mesh);
+    let fields = result_fields(h5_path, &summary, mesh, &h5, mesh_xml.single_block)?;
+    let mut series = Vec::new();
+    for s in &fields.series {
+        let path = series_path_for(h5_path, &s.subcase, s.kind);
+        write_file_atomically(&path, series_text(&mesh_xml, s).as_bytes())?;
+        series.push(path);
+    }
     let path = xdmf_path_for(h5_path);
-    write_file_atomically(&path, xml.as_bytes())?;
-    Ok(XdmfWritten { path, skipped })
+    write_file_atomically(&path, model_text(&mesh_xml, &fields).as_bytes())?;
+    let mut skipped = mesh_xml.skipped;
+    skipped.extend(fields.skipped);
+    Ok(XdmfWritten {
+        path,
+        series,
+        skipped,
+    })
 }
 
-/// The XDMF document for `mesh` with heavy data in `h5_name`, and the skipped blocks.
-pub fn xdmf_text(h5_name: &str, mesh: &MeshArrays) -> (String, Vec<String>) {
-    let h5 = xml_escape(h5_name);
-    let n = mesh.grid_ids.len();
-    let mut skipped = Vec::new();
-    let mut s = String::new();
-    s.push_str("<?xml version=\"1.0\" encoding=\"utf-8\"?>\n");
-    s.push_str("<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n");
-    s.push_str("  <Domain>\n");
-    s.push_str("    <Grid Name=\"model\" GridType=\"Collection\" CollectionType=\"Spatial\">\n");
-    for block in &mesh.blocks {
-        let k = block.nodes_per_element;
-        let Some(topology) = Topology::for_block(block.card, k) else {
-            skipped.push(format!(
-                "{}: no XDMF topology for {k} nodes per element",
-                block.card
-            ));
-            continue;
+/// `<out>_<subcase>_<kind>.xdmf` next to `h5_path`.
+fn series_path_for(h5_path: &Path, subcase: &str, kind: &str) -> PathBuf {
+    let stem = h5_path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    h5_path.with_file_name(format!("{stem}_{subcase}_{kind}.xdmf"))
+}
+
+const HEADER: &str = "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n\
+    <Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n<Domain>\n";
+const FOOTER: &str = "</Domain>\n</Xdmf>\n";
+
+/// `<out>.xdmf`: one uniform grid with the mesh and the whole-dataset attributes.
+fn model_text(mesh: &MeshXml, fields: &Fields) -> String {
+    format!(
+        "{HEADER}<Grid Name=\"model\" GridType=\"Uniform\">\n{}{}{}</Grid>\n{FOOTER}",
+        mesh.shape, mesh.ids, fields.model_attributes
+    )
+}
+
+/// A time-series file: a temporal collection, the mesh in the first step.
+fn series_text(mesh: &MeshXml, series: &Series) -> String {
+    let mut s = format!(
+        "{HEADER}<Grid Name=\"{} {}\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+        series.kind,
+        xml::escape(&series.subcase)
+    );
+    for (i, step) in series.steps.iter().enumerate() {
+        let shape = if i == 0 {
+            mesh.shape.clone()
+        } else {
+            "<xi:include xpointer=\"xpointer(/Xdmf/Domain/Grid/Grid[1]/*[self::Topology or \
+             self::Geometry])\"/>\n"
+                .to_owned()
         };
-        if block.ids.is_empty() {
-            skipped.push(format!("{}: no elements", block.card));
-            continue;
-        }
-        // Writing to a String cannot fail.
-        let _ = write_grid(&mut s, &h5, n, block, topology);
+        s += &format!(
+            "<Grid Name=\"{}\" GridType=\"Uniform\">\n{shape}<Time Value=\"{}\"/>\n{}</Grid>\n",
+            xml::escape(&step.name),
+            step.time,
+            step.attributes
+        );
     }
-    s.push_str("    </Grid>\n  </Domain>\n</Xdmf>\n");
-    (s, skipped)
-}
-
-fn write_grid(
-    s: &mut String,
-    h5: &str,
-    n: usize,
-    block: &ElementBlock,
-    topology: Topology,
-) -> std::fmt::Result {
-    let card = xml_escape(block.card);
-    let m = block.ids.len();
-    let k = block.nodes_per_element;
-    let heavy = |what: &str| format!("{h5}:/model/elements/{card}/{what}");
-    writeln!(s, "      <Grid Name=\"{card}\" GridType=\"Uniform\">")?;
-    writeln!(
-        s,
-        "        <Topology {} NumberOfElements=\"{m}\">",
-        topology.xml_attrs()
-    )?;
-    writeln!(
-        s,
-        "          <DataItem Dimensions=\"{m} {k}\" NumberType=\"UInt\" Precision=\"4\" \
-         Format=\"HDF\">{}</DataItem>",
-        heavy("connectivity")
-    )?;
-    writeln!(s, "        </Topology>")?;
-    writeln!(s, "        <Geometry GeometryType=\"XYZ\">")?;
-    writeln!(
-        s,
-        "          <DataItem Name=\"XYZ\" Dimensions=\"{n} 3\" NumberType=\"Float\" \
-         Precision=\"8\" Format=\"HDF\">{h5}:/model/xyz</DataItem>"
-    )?;
-    writeln!(s, "        </Geometry>")?;
-    for (name, dataset) in [("element_id", "ids"), ("property_id", "pid")] {
-        writeln!(
-            s,
-            "        <Attribute Name=\"{name}\" AttributeType=\"Scalar\" Center=\"Cell\">"
-        )?;
-        writeln!(
-            s,
-            "          <DataItem Dimensions=\"{m}\" NumberType=\"UInt\" Precision=\"4\" \
-             Format=\"HDF\">{}</DataItem>",
-            heavy(dataset)
-        )?;
-        writeln!(s, "        </Attribute>")?;
-    }
-    writeln!(s, "      </Grid>")
-}
-
-/// Escapes the five XML special characters.
-fn xml_escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
+    s + "</Grid>\n" + FOOTER
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::io::model_group::test_mesh;
-    use crate::io::{ModelInfo, OutputFile, write_model};
+    use crate::io::{ModelInfo, OutputFile, write_f64, write_model};
 
     /// Minimal well-formedness check: tags nest and close, attribute quotes balance.
     fn check_well_formed(xml: &str) {
@@ -238,30 +166,44 @@ mod tests {
         assert!(stack.is_empty(), "unclosed elements {stack:?}");
     }
 
+    fn one_block_mesh() -> MeshArrays {
+        let mut mesh = test_mesh();
+        mesh.blocks.truncate(1);
+        mesh
+    }
+
     #[test]
-    fn one_grid_per_block_with_relative_heavy_data() {
-        let (xml, skipped) = xdmf_text("run.h5", &test_mesh());
-        check_well_formed(&xml);
-        assert!(skipped.is_empty(), "{skipped:?}");
-        assert_eq!(xml.matches("GridType=\"Uniform\"").count(), 5);
-        assert_eq!(xml.matches("run.h5:/model/xyz").count(), 5);
-        assert!(xml.contains(
-            "TopologyType=\"Quadrilateral\" NumberOfElements=\"2\">\n          \
-             <DataItem Dimensions=\"2 4\" NumberType=\"UInt\" Precision=\"4\" \
+    fn a_one_block_mesh_refers_to_its_datasets() {
+        let m = mesh_xml("run.h5", &one_block_mesh());
+        assert_eq!(m.single_block, Some("CQUAD4"));
+        assert!(m.skipped.is_empty(), "{:?}", m.skipped);
+        assert!(m.shape.contains(
+            "<Topology TopologyType=\"Quadrilateral\" NumberOfElements=\"2\"><DataItem \
+             Dimensions=\"2 4\" NumberType=\"UInt\" Precision=\"4\" \
              Format=\"HDF\">run.h5:/model/elements/CQUAD4/connectivity</DataItem>"
         ));
-        assert!(xml.contains("TopologyType=\"Hexahedron\" NumberOfElements=\"1\""));
+        assert!(m.shape.contains("Dimensions=\"15 3\""));
+        assert!(m.ids.contains("run.h5:/model/elements/CQUAD4/pid"));
+    }
+
+    /// Type code, node count of a polyline, then the nodes, for each element in block order.
+    #[test]
+    fn several_blocks_make_one_mixed_topology() {
+        let m = mesh_xml("run.h5", &test_mesh());
+        assert_eq!(m.single_block, None);
+        let cells = "5 0 1 4 3 5 1 2 5 4 4 2 6 5 9 7 8 9 10 11 12 13 14 2 2 14 14 2 2 0 0";
+        let length = cells.split(' ').count();
         assert!(
-            xml.contains(
-                "TopologyType=\"Polyvertex\" NodesPerElement=\"1\" NumberOfElements=\"1\""
-            )
+            m.shape.contains(&format!(
+                "<Topology TopologyType=\"Mixed\" NumberOfElements=\"6\"><DataItem \
+                 Dimensions=\"{length}\" NumberType=\"UInt\" Precision=\"4\" \
+                 Format=\"XML\">{cells}</DataItem>"
+            )),
+            "{}",
+            m.shape
         );
-        assert!(
-            xml.contains("TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"1\"")
-        );
-        assert!(xml.contains("Dimensions=\"15 3\""));
-        assert!(xml.contains("run.h5:/model/elements/CTRIA3/ids"));
-        assert!(!xml.contains("/tmp"));
+        assert!(m.ids.contains(">101 102 103 201 301 401</DataItem>"));
+        assert!(m.ids.contains(">1 1 1 2 0 4</DataItem>"));
     }
 
     #[test]
@@ -270,48 +212,79 @@ mod tests {
         mesh.blocks[0].card = "CQUAD8";
         mesh.blocks[0].nodes_per_element = 8;
         mesh.blocks[1].ids.clear();
-        let (xml, skipped) = xdmf_text("a&b.h5", &mesh);
-        check_well_formed(&xml);
-        assert!(xml.contains("a&amp;b.h5:/model/xyz"));
-        assert_eq!(skipped.len(), 2, "{skipped:?}");
-        assert!(skipped[0].starts_with("CQUAD8") && skipped[1].starts_with("CTRIA3"));
+        let m = mesh_xml("a&amp;b.h5", &mesh);
+        assert!(m.shape.contains("a&amp;b.h5:/model/xyz"));
+        assert_eq!(m.skipped.len(), 2, "{:?}", m.skipped);
+        assert!(m.skipped[0].starts_with("CQUAD8") && m.skipped[1].starts_with("CTRIA3"));
     }
 
-    /// Writes the .h5/.xdmf pair; parses the XDMF with Python's xml.etree and checks every
-    /// heavy-data path exists in the HDF5 file with the declared dimensions (h5py, from the
-    /// repository's venv).
+    /// Writes a model with a static displacement and two mode shapes, then the XDMF files;
+    /// parses them with Python's xml.etree and checks every heavy-data path exists in the HDF5
+    /// file with the declared dimensions (h5py, from the repository's venv).
     #[test]
-    fn xdmf_next_to_h5_matches_its_datasets() {
+    fn xdmf_files_next_to_h5_match_its_datasets() {
         let _guard = crate::io::hdf5_file::spawn_test_guard();
         let dir = tempfile::tempdir().expect("tempdir");
         let h5 = dir.path().join("pair.h5");
-        let mesh = test_mesh();
+        let mesh = one_block_mesh();
+        let n = mesh.grid_ids.len();
         let f = OutputFile::create(&h5).expect("create");
         write_model(&f, &mesh, &ModelInfo::default()).expect("model");
+        let statics = f.group("/results/1/statics").expect("statics");
+        write_f64(&statics, "displacement", &vec![0.5; n * 6], &[n, 6]).expect("u");
+        let modal = f.group("/results/2/modal").expect("modal");
+        write_f64(&modal, "frequency_hz", &[1.5, 2.5], &[2]).expect("f");
+        write_f64(&modal, "shapes", &vec![1.0; 2 * n * 6], &[2, n, 6]).expect("shapes");
         f.commit().expect("commit");
         let written = write_xdmf(&h5, &mesh).expect("xdmf");
         assert_eq!(written.path, dir.path().join("pair.xdmf"));
-        let names: Vec<_> = std::fs::read_dir(dir.path())
+        assert!(written.skipped.is_empty(), "{:?}", written.skipped);
+        assert_eq!(
+            written.series,
+            [
+                dir.path().join("pair_1_statics.xdmf"),
+                dir.path().join("pair_2_modes.xdmf")
+            ]
+        );
+        let mut names: Vec<_> = std::fs::read_dir(dir.path())
             .unwrap()
             .map(|e| e.unwrap().file_name().into_string().unwrap())
             .collect();
-        assert_eq!(names.len(), 2, "no temporary file left: {names:?}");
-        check_well_formed(&std::fs::read_to_string(&written.path).unwrap());
+        names.sort();
+        assert_eq!(
+            names,
+            [
+                "pair.h5",
+                "pair.xdmf",
+                "pair_1_statics.xdmf",
+                "pair_2_modes.xdmf"
+            ],
+            "no temporary file left"
+        );
+        let modes = std::fs::read_to_string(&written.series[1]).unwrap();
+        check_well_formed(&modes);
+        assert!(modes.contains("<Grid Name=\"mode 2: 2.5 Hz\" GridType=\"Uniform\">"));
+        assert!(modes.contains("<Time Value=\"2\"/>"));
 
         let python = crate::io::hdf5_file::venv_python();
         let script = "import sys, os, h5py, xml.etree.ElementTree as ET\n\
-            root = ET.parse(sys.argv[1]).getroot()\n\
             n = 0\n\
-            for d in root.iter('DataItem'):\n\
-            \x20   fname, path = d.text.strip().split(':')\n\
-            \x20   with h5py.File(os.path.join(os.path.dirname(sys.argv[1]), fname), 'r') as f:\n\
-            \x20       dims = tuple(int(x) for x in d.get('Dimensions').split())\n\
-            \x20       assert f[path].shape == dims, (path, f[path].shape, dims)\n\
-            \x20   n += 1\n\
-            assert n == 5 * 4, n\n";
+            for x in sys.argv[1:]:\n\
+            \x20   for d in ET.parse(x).getroot().iter('DataItem'):\n\
+            \x20       if d.get('Format') != 'HDF':\n\
+            \x20           continue\n\
+            \x20       reference, *slab = d.text.strip().split('|')\n\
+            \x20       fname, path = reference.split(':')\n\
+            \x20       with h5py.File(os.path.join(os.path.dirname(x), fname), 'r') as f:\n\
+            \x20           dims = slab[0].split(':')[3] if slab else d.get('Dimensions')\n\
+            \x20           dims = tuple(int(v) for v in dims.split())\n\
+            \x20           assert f[path].shape == dims, (path, f[path].shape, dims)\n\
+            \x20       n += 1\n\
+            assert n == 5 + 4 + 6, n\n";
         let status = std::process::Command::new(python)
             .args(["-c", script])
             .arg(&written.path)
+            .args(&written.series)
             .status()
             .expect("run python");
         assert!(status.success());

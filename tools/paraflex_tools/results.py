@@ -57,6 +57,37 @@ def transient_series(group: h5py.Group, kind: str, name: str) -> np.ndarray:
     return group[kind][:, outputs.index(name)]
 
 
+def grid_rows(f: h5py.File, group: h5py.Group, name: str) -> np.ndarray:
+    """Grid ids of the rows of the node field ``name`` of ``group``: ``<name>_grid_ids`` when
+    its request named a SET, else every grid (``/model/grid_ids``)."""
+    rows = f"{name}_grid_ids"
+    return group[rows][()] if rows in group else f["model/grid_ids"][()]
+
+
+@dataclass
+class Modes:
+    """``/results/<subcase>/modal``: ``shapes[mode, row, component]`` (T1 T2 T3 R1 R2 R3, basic
+    system) with the grid id of each row."""
+
+    frequency_hz: np.ndarray
+    grid_ids: np.ndarray
+    shapes: np.ndarray
+
+    def of_grid(self, grid: int) -> np.ndarray:
+        """mode × 6 components of one grid."""
+        rows = np.flatnonzero(self.grid_ids == grid)
+        if len(rows) == 0:
+            raise KeyError(f"grid {grid} is not in the mode shapes")
+        return self.shapes[:, rows[0], :]
+
+
+def read_modes(path: str | os.PathLike, subcase: str | int = 1) -> Modes:
+    """Frequencies and mode shapes (the deck needs a DISPLACEMENT request) of a subcase."""
+    with h5py.File(path, "r") as f:
+        g = f[f"results/{subcase}/modal"]
+        return Modes(g["frequency_hz"][()], grid_rows(f, g, "shapes"), g["shapes"][()])
+
+
 def modal_frequencies(path: str | os.PathLike, subcase: str | int = 1) -> np.ndarray:
     """``/results/<subcase>/modal/frequency_hz``."""
     with h5py.File(path, "r") as f:

@@ -35,6 +35,7 @@ import numpy as np  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 from pyNastran.bdf.bdf import BDF  # noqa: E402
 
+from paraflex_tools.results import read_modes  # noqa: E402
 from paraflex_tools.runner import default_binary, run_checked  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[2]
@@ -128,7 +129,8 @@ def render_modes(h5: Path, name: str, count: int) -> None:
         modal = f["results/1/modal"]
         if "shapes" not in modal:
             sys.exit(f"{h5}: no /results/1/modal/shapes (the deck needs a DISPLACEMENT request)")
-        freqs, shapes = modal["frequency_hz"][()], modal["shapes"]
+        modes = read_modes(h5)
+        freqs, shapes = modes.frequency_hz, modes.shapes
         faces = boundary_faces(shells, solids)
         elastic = [k for k, fk in enumerate(freqs) if fk > 1.0][:count]
         size = np.ptp(xyz, axis=0).max()

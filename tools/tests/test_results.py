@@ -24,6 +24,11 @@ def result_file(tmp_path):
         tr["outputs"] = np.array([b"71:3", b"93:1"])
         tr["displacement"] = np.arange(6.0).reshape(3, 2)
         f["results/1/modal/frequency_hz"] = np.array([10.0, 20.0])
+        f["results/1/modal/shapes"] = np.arange(24.0).reshape(2, 2, 6)
+        f["results/1/modal/shapes_grid_ids"] = np.array([7, 9], dtype=np.uint32)
+        f["model/grid_ids"] = np.array([1, 7, 9], dtype=np.uint32)
+        f["results/3/modal/frequency_hz"] = np.array([5.0])
+        f["results/3/modal/shapes"] = np.ones((1, 3, 6))
     return path
 
 
@@ -61,3 +66,14 @@ def test_walk_lists_groups_datasets_and_attributes_sorted(result_file):
     kinds = dict((k, kind) for k, kind, _ in entries)
     assert kinds["/"] == "group" and kinds["/@paraflex_version"] == "attribute"
     assert kinds["/results/1/frf/H"] == "dataset" and kinds["/results/1/frf@params"] == "attribute"
+
+
+def test_modes_carry_the_grid_of_each_row(result_file):
+    modes = results.read_modes(result_file)
+    np.testing.assert_array_equal(modes.frequency_hz, [10.0, 20.0])
+    np.testing.assert_array_equal(modes.grid_ids, [7, 9])
+    np.testing.assert_array_equal(modes.of_grid(9), [np.arange(6.0, 12.0), np.arange(18.0, 24.0)])
+    with pytest.raises(KeyError, match="grid 1 "):
+        modes.of_grid(1)
+    every_grid = results.read_modes(result_file, subcase=3)
+    np.testing.assert_array_equal(every_grid.grid_ids, [1, 7, 9])
