@@ -223,10 +223,11 @@ fn write_subcase(
     })
 }
 
-/// When the Sturm check counts more roots found below its shift than the `stored` modes (ND
-/// cut through a multiple root and Lanczos found the whole cluster), the note saying so.
+/// When the Sturm check counts more roots found between the lower end of the search and its
+/// shift than the `stored` modes (ND cut through a multiple root and Lanczos found the whole
+/// cluster), the note saying so. Roots below V1 are not stored and do not count.
 pub fn cut_note(sturm: &SturmCheck, stored: usize) -> Option<String> {
-    let found = sturm.found + sturm.below_lower;
+    let found = sturm.found;
     (sturm.is_consistent() && found > stored).then(|| {
         format!(
             "a multiple root at the cut: {found} roots below {:.6e} Hz, {stored} stored as ND requests",
@@ -337,6 +338,12 @@ mod tests {
             "{note}"
         );
         assert_eq!(cut_note(&sturm, 13), None);
+        let above_v1 = SturmCheck {
+            below_lower: 1,
+            found: 12,
+            ..sturm
+        };
+        assert_eq!(cut_note(&above_v1, 12), None, "a root below V1 is no cut");
         let summary = ModalSummary {
             eigenvalues: vec![1.0; 12],
             frequencies_hz: vec![1.0; 12],
