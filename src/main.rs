@@ -86,15 +86,39 @@ fn print_warnings(warnings: &[Warning]) {
     }
 }
 
+/// Read and validate a deck: every error of the first stage that has any.
+fn read_model(path: &Path) -> Result<(Deck, Model), DeckErrors> {
+    let deck = Deck::read(path)?;
+    let model = Model::build(&deck).map_err(|errors| DeckErrors { errors })?;
+    Ok((deck, model))
+}
+
 /// Read and validate a deck; on failure print every error (exit code 2).
 fn load_model(path: &Path) -> Result<(Deck, Model), Failure> {
-    let report = |errors: DeckErrors| {
+    read_model(path).map_err(|errors| {
         eprintln!("{errors}");
         Failure(2)
-    };
-    let deck = Deck::read(path).map_err(report)?;
-    let model = Model::build(&deck).map_err(|errors| report(DeckErrors { errors }))?;
-    Ok((deck, model))
+    })
+}
+
+/// The errors of an invalid deck as `paraflex check --json` prints them: `{"errors": [{"file",
+/// "line", "card", "field", "message", "text"}, …]}`, `text` being the line printed on stderr.
+fn errors_json(errors: &DeckErrors) -> serde_json::Value {
+    let list: Vec<serde_json::Value> = errors
+        .errors
+        .iter()
+        .map(|e| {
+            serde_json::json!({
+                "file": e.loc.file.display().to_string(),
+                "line": e.loc.line,
+                "card": e.card,
+                "field": e.field,
+                "message": e.message,
+                "text": e.to_string(),
+            })
+        })
+        .collect();
+    serde_json::json!({ "errors": list })
 }
 
 /// The human-readable form of `paraflex check`.
@@ -134,6 +158,7 @@ fn print_summary(path: &Path, s: &CheckSummary) {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    interrupt::install();
     let result = match cli.command {
         Command::Check { deck, json } => commands::check(&deck, json),
         Command::Run { deck, output } => commands::run(&deck, output.as_deref()),
@@ -150,7 +175,15 @@ mod commands {
     use super::*;
 
     pub fn check(path: &Path, json: bool) -> Result<(), Failure> {
-        let (deck, model) = load_model(path)?;
+        let (deck, model) = if json {
+            read_model(path).map_err(|errors| {
+                eprintln!("{errors}");
+                println!("{}", errors_json(&errors));
+                Failure(2)
+            })?
+        } else {
+            load_model(path)?
+        };
         let summary = model.summary();
         if json {
             println!("{}", serde_json::to_string(&summary).unwrap_or_default());
@@ -162,24 +195,6 @@ mod commands {
         Ok(())
     }
 
-    /// Write `/model` (and the XDMF file next to it) for a validated model.
-    fn write_model_file(
-        deck: &Deck,
-        model: &Model,
-        out: &Path,
-    ) -> Result<PathBuf, paraflex::io::IoError> {
-        let mesh = model.mesh_arrays();
-        let info = model_info(deck);
-        let file = paraflex::io::OutputFile::create(out)?;
-        paraflex::io::write_model(&file, &mesh, &info)?;
-        let written = file.commit()?;
-        let xdmf = paraflex::io::write_xdmf(&written, &mesh)?;
-        for skipped in &xdmf.skipped {
-            eprintln!("warning: not drawn in the XDMF file: {skipped}");
-        }
-        Ok(written)
-    }
-
     pub fn run(path: &Path, output: Option<&Path>) -> Result<(), Failure> {
         let (deck, model) = load_model(path)?;
         print_warnings(&model.warnings);
@@ -188,15 +203,8 @@ mod commands {
             .map(Path::to_path_buf)
             .unwrap_or_else(|| path.with_extension("h5"));
         if let Err(reason) = sequence::runnable(&deck, &model) {
-            match write_model_file(&deck, &model, &out) {
-                Ok(written) => eprintln!("wrote the model to {}", written.display()),
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    return Err(Failure(2));
-                }
-            }
             eprintln!("error: {reason}");
-            return Err(Failure(3));
+            return Err(Failure(run_failure_code(&reason)));
         }
         let io_failure = |e: paraflex::io::IoError| {
             eprintln!("error: {e}");
@@ -204,6 +212,8 @@ mod commands {
         };
         let start = Instant::now();
         let mesh = model.mesh_arrays();
+        interrupt::remove_on_signal(&out);
+        interrupt::remove_on_signal(&paraflex::io::xdmf_path_for(&out));
         let file = paraflex::io::OutputFile::create(&out).map_err(io_failure)?;
         paraflex::io::write_model(&file, &mesh, &model_info(&deck)).map_err(io_failure)?;
         let bars = progress::Bars::new();
@@ -218,7 +228,7 @@ mod commands {
         bars.finish();
         let summary = result.map_err(|e| {
             eprintln!("error: {e}");
-            Failure(4)
+            Failure(run_failure_code(&e))
         })?;
         let written = file.commit().map_err(io_failure)?;
         let xdmf = paraflex::io::write_xdmf(&written, &mesh).map_err(io_failure)?;
@@ -233,6 +243,15 @@ mod commands {
         }
         eprintln!("wrote {}", written.display());
         Ok(())
+    }
+
+    /// The exit code of a run that stopped: 3 for a deck asking for what this version cannot
+    /// do (no SOL, a SOL without a driver), 4 for a solution that failed.
+    fn run_failure_code(e: &sequence::RunError) -> u8 {
+        match e {
+            sequence::RunError::NotAvailable(_) | sequence::RunError::NoSolution => 3,
+            _ => 4,
+        }
     }
 
     fn model_info(deck: &Deck) -> paraflex::io::ModelInfo {
@@ -263,6 +282,7 @@ mod commands {
             other => other,
         };
         let out = output.map(Path::to_path_buf).unwrap_or(default);
+        interrupt::remove_on_signal(&out);
         let written = (|| -> Result<PathBuf, paraflex::io::IoError> {
             let file = paraflex::io::OutputFile::create(&out)?;
             paraflex::io::prom_lsq::write_lsq(&file.group("lsq")?, &m.functions, &fit)?;
@@ -315,6 +335,46 @@ mod commands {
             print!("{summary}");
         }
         Ok(())
+    }
+}
+
+/// An interrupted run (Ctrl-C, SIGTERM) leaves no temporary output file: a thread waits for
+/// SIGINT and SIGTERM, removes the `<out>.tmp-<pid>` files of the outputs being written and
+/// exits with 128 + the signal number (130, 143), the status a shell reports for a process the
+/// signal ended.
+mod interrupt {
+    use std::path::{Path, PathBuf};
+    use std::sync::Mutex;
+
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    use signal_hook::iterator::Signals;
+
+    /// The final paths this run writes (each under its temporary name until committed).
+    static OUTPUTS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+    /// Start the waiting thread. Should the handler not install, an interrupt only keeps its
+    /// default effect (the temporary files stay), which is no reason to refuse the command.
+    pub fn install() {
+        let Ok(mut signals) = Signals::new([SIGINT, SIGTERM]) else {
+            return;
+        };
+        std::thread::spawn(move || {
+            if let Some(signal) = signals.forever().next() {
+                if let Ok(outputs) = OUTPUTS.lock() {
+                    for out in outputs.iter() {
+                        let _ = std::fs::remove_file(paraflex::io::temp_path_for(out));
+                    }
+                }
+                std::process::exit(128 + signal);
+            }
+        });
+    }
+
+    /// Remove the temporary file of `out` if the run is interrupted.
+    pub fn remove_on_signal(out: &Path) {
+        if let Ok(mut outputs) = OUTPUTS.lock() {
+            outputs.push(out.to_path_buf());
+        }
     }
 }
 

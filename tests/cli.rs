@@ -127,33 +127,48 @@ fn run_demo_writes_model_results_and_xdmf_and_prints_the_frequency_table() {
     );
 }
 
+/// A deck asking for a solution this version does not run (paraflex's own `SOL OPTIMIZE`, and
+/// Nastran sequences such as 200, 106, 144) exits 3 naming it and writes nothing: no XDMF, and
+/// an earlier output file stays as it was.
 #[test]
-fn run_writes_model_and_xdmf_then_reports_an_unavailable_solution() {
+fn an_unavailable_solution_exits_3_and_writes_nothing() {
     let dir = tempfile::tempdir().expect("tempdir");
     let text =
         std::fs::read_to_string(root().join("decks/demo/bracket_plate.dat")).expect("demo deck");
-    let deck = dir.path().join("optimize.dat");
-    std::fs::write(&deck, text.replacen("SOL 103", "SOL OPTIMIZE", 1)).expect("write");
-    let out = dir.path().join("optimize.h5");
-    let result = paraflex()
-        .arg("run")
-        .arg(&deck)
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .expect("runs");
-    assert_eq!(
-        result.status.code(),
-        Some(3),
-        "{}",
-        String::from_utf8_lossy(&result.stderr)
-    );
-    let stderr = String::from_utf8_lossy(&result.stderr);
-    assert!(
-        stderr.contains("SOL OPTIMIZE") && stderr.contains("is not available in this version"),
-        "{stderr}"
-    );
-    assert!(out.exists() && dir.path().join("optimize.xdmf").exists());
+    for (sol, named) in [
+        ("OPTIMIZE", "SOL OPTIMIZE"),
+        ("200", "SOL 200 (design optimization)"),
+        ("106", "SOL 106 (nonlinear statics)"),
+        ("144", "SOL 144 (static aeroelastic response)"),
+    ] {
+        let deck = dir.path().join("unavailable.dat");
+        std::fs::write(&deck, text.replacen("SOL 103", &format!("SOL {sol}"), 1)).expect("write");
+        let out = dir.path().join("unavailable.h5");
+        std::fs::write(&out, "earlier results").expect("write");
+        let result = paraflex()
+            .arg("run")
+            .arg(&deck)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .expect("runs");
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert_eq!(result.status.code(), Some(3), "SOL {sol}: {stderr}");
+        assert!(
+            stderr.contains(named) && stderr.contains("is not available in this version"),
+            "{stderr}"
+        );
+        assert_eq!(
+            std::fs::read_to_string(&out).expect("kept"),
+            "earlier results"
+        );
+        let mut left: Vec<String> = std::fs::read_dir(dir.path())
+            .expect("dir")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        left.sort();
+        assert_eq!(left, ["unavailable.dat", "unavailable.h5"], "SOL {sol}");
+    }
 }
 
 /// A deck whose subcases mix `ROM =` (a pROM artifact) with full-model subcases is refused

@@ -129,6 +129,9 @@ pub struct CaseControl {
     /// A `SET` statement still waiting for its continuation line.
     #[serde(skip)]
     pending_set: Option<(Loc, String)>,
+    /// Whether an `ECHO` asking for an echo was already warned about.
+    #[serde(skip)]
+    echo_warned: bool,
 }
 
 /// Canonical case-control commands that select a bulk-data id.
@@ -170,7 +173,6 @@ const OUTPUTS: &[&str] = &[
 
 /// Statements accepted and ignored (printing and bookkeeping options that do not change results).
 const IGNORED: &[&str] = &[
-    "ECHO",
     "LINE",
     "MAXLINES",
     "ANALYSIS",
@@ -429,6 +431,8 @@ impl CaseControl {
                 loc: loc.clone(),
             };
             self.current().outputs.push(req);
+        } else if canonical(word, &["ECHO"]).is_some() {
+            self.read_echo(loc, st.value, diag);
         } else if let Some(name) = canonical(word, IGNORED) {
             diag.warn_at(
                 loc,
@@ -441,6 +445,29 @@ impl CaseControl {
                 OUTPUTS.join(" ")
             )));
         }
+    }
+
+    /// `ECHO = NONE` is what paraflex does (it never echoes the input); any other ECHO
+    /// (`SORT`, `UNSORT`, `BOTH`, `PUNCH`, or a bare `ECHO`, Nastran's SORT) asks for an echo
+    /// paraflex does not print, and the first of them is warned about.
+    fn read_echo(&mut self, loc: &Loc, value: Option<&str>, diag: &mut Diagnostics) {
+        let option = value
+            .unwrap_or("SORT")
+            .split(['(', ','])
+            .next()
+            .unwrap_or("")
+            .trim()
+            .to_ascii_uppercase();
+        if option == "NONE" || self.echo_warned {
+            return;
+        }
+        self.echo_warned = true;
+        diag.warn_at(
+            loc,
+            format!(
+                "ECHO = {option} is not honoured: paraflex prints no echo of the input deck (as with ECHO = NONE)"
+            ),
+        );
     }
 
     fn read_set(&mut self, loc: &Loc, text: String, diag: &mut Diagnostics) {
@@ -586,6 +613,28 @@ mod tests {
         let (_, d) = read(&["SPC = X", "MPC = 3", "SET 4 = 1 THRU", "ECHO = NONE"]);
         assert_eq!(d.errors.len(), 3, "{:?}", d.errors);
         assert!(d.errors[1].to_string().starts_with("c.dat:2: MPC"));
-        assert_eq!(d.warnings.len(), 1);
+        assert!(d.warnings.is_empty(), "{:?}", d.warnings);
+    }
+
+    /// ECHO = NONE is honoured silently; an ECHO asking for an echo is warned about once.
+    #[test]
+    fn echo_warns_once_and_only_when_an_echo_is_asked_for() {
+        let (_, d) = read(&["ECHO = NONE", "ECHO = NONE(BULK)"]);
+        assert!(d.warnings.is_empty(), "{:?}", d.warnings);
+        let (_, d) = read(&[
+            "ECHO = SORT",
+            "SUBCASE 1",
+            "ECHO = UNSORT(PARAM)",
+            "ECHO = BOTH",
+        ]);
+        assert!(d.is_ok(), "{:?}", d.errors);
+        assert_eq!(d.warnings.len(), 1, "{:?}", d.warnings);
+        assert!(
+            d.warnings[0]
+                .to_string()
+                .starts_with("c.dat:1: ECHO = SORT is not honoured"),
+            "{}",
+            d.warnings[0]
+        );
     }
 }

@@ -30,6 +30,10 @@ pub enum Solution {
     Estimate,
     /// `SOL OPTIMIZE`: multi-objective design optimization.
     Optimize,
+    /// A Nastran solution sequence paraflex knows but does not run (buckling, nonlinear,
+    /// cyclic, aeroelastic, heat transfer, design optimization …): its name from
+    /// [`Solution::NOT_RUN`]. The deck is read and checked; `run` stops with "not available".
+    NotRun(&'static str),
 }
 
 impl Solution {
@@ -56,13 +60,51 @@ impl Solution {
         ("OPTIMIZE", Solution::Optimize),
     ];
 
-    /// Parse the argument of `SOL` (number or name, case-insensitive).
+    /// The Nastran solution sequences paraflex recognizes without running them, by number
+    /// and by name: (number, name, what it solves). The one list of them.
+    pub const NOT_RUN: &'static [(&'static str, &'static str, &'static str)] = &[
+        ("105", "SEBUCKL", "linear buckling"),
+        ("106", "NLSTATIC", "nonlinear statics"),
+        ("107", "SEDCEIG", "direct complex eigenvalues"),
+        ("110", "SEMCEIG", "modal complex eigenvalues"),
+        ("114", "CYCSTATX", "cyclic symmetry statics"),
+        ("115", "CYCMODE", "cyclic symmetry normal modes"),
+        ("116", "CYCBUCKL", "cyclic symmetry buckling"),
+        ("118", "CYCFREQ", "cyclic symmetry frequency response"),
+        ("128", "SENLHARM", "nonlinear harmonic response"),
+        ("129", "NLTRAN", "nonlinear transient response"),
+        ("144", "AESTAT", "static aeroelastic response"),
+        ("145", "SEFLUTTR", "aerodynamic flutter"),
+        ("146", "SEAERO", "dynamic aeroelastic response"),
+        ("153", "NLSCSH", "steady nonlinear heat transfer"),
+        ("159", "NLTCSH", "transient nonlinear heat transfer"),
+        ("187", "DDAM", "dynamic design analysis"),
+        ("200", "DESOPT", "design optimization"),
+        ("400", "NONLIN", "implicit nonlinear"),
+        ("401", "NLSTAT", "multi-step nonlinear statics"),
+        ("402", "NLDYN", "multi-step nonlinear dynamics"),
+        ("600", "SOL600", "nonlinear (Marc)"),
+        ("601", "ADVNL", "advanced nonlinear"),
+        ("700", "SOL700", "explicit nonlinear"),
+        ("701", "ADVNLEXP", "advanced explicit nonlinear"),
+    ];
+
+    /// Parse the argument of `SOL` (number or name, case-insensitive): a sequence paraflex
+    /// has, or one of [`Self::NOT_RUN`].
     pub fn parse(text: &str) -> Option<Solution> {
         let t = text.trim();
         Self::NAMES
             .iter()
             .find(|(n, _)| n.eq_ignore_ascii_case(t))
             .map(|(_, s)| *s)
+            .or_else(|| {
+                Self::NOT_RUN
+                    .iter()
+                    .find(|(number, name, _)| {
+                        number.eq_ignore_ascii_case(t) || name.eq_ignore_ascii_case(t)
+                    })
+                    .map(|(_, _, what)| Solution::NotRun(what))
+            })
     }
 
     /// The name paraflex uses for the sequence.
@@ -78,6 +120,7 @@ impl Solution {
             Solution::Fmb => "FMB",
             Solution::Estimate => "ESTIMATE",
             Solution::Optimize => "OPTIMIZE",
+            Solution::NotRun(what) => what,
         }
     }
 }
@@ -165,7 +208,26 @@ mod tests {
         assert_eq!(Solution::parse("103"), Some(Solution::Modal));
         assert_eq!(Solution::parse("semodes"), Some(Solution::Modal));
         assert_eq!(Solution::parse("PROM"), Some(Solution::Prom));
-        assert_eq!(Solution::parse("200"), None);
+        assert_eq!(Solution::parse("999"), None);
+    }
+
+    /// Nastran sequences paraflex does not run are recognized (by number or name) so that
+    /// `run` can say "not available" instead of "unknown solution".
+    #[test]
+    fn known_nastran_sequences_are_recognized_not_run() {
+        for (text, what) in [
+            ("200", "design optimization"),
+            ("106", "nonlinear statics"),
+            ("144", "static aeroelastic response"),
+            ("sebuckl", "linear buckling"),
+        ] {
+            assert_eq!(
+                Solution::parse(text),
+                Some(Solution::NotRun(what)),
+                "{text}"
+            );
+        }
+        assert_eq!(Solution::parse("104"), None);
     }
 
     #[test]

@@ -6,7 +6,8 @@
 //! - [`fields`] slices bulk lines into small, large or free fields and joins continuations;
 //! - [`value`] lexes each field (integers, reals with Nastran shorthand, names);
 //! - [`cards`] turns raw cards into one typed struct per card through [`reader::FieldReader`];
-//! - [`executive`] and [`case_control`] read the sections above `BEGIN BULK`.
+//! - [`executive`] and [`case_control`] read the sections above `BEGIN BULK`;
+//! - [`suggest`] finds the supported card closest to an unsupported one ("did you mean").
 //!
 //! Every error is collected with its `file:line`, card and field; [`Deck::read`] returns them
 //! all at once. The deck module computes nothing physical.
@@ -18,6 +19,7 @@ pub mod executive;
 pub mod fields;
 pub mod reader;
 pub mod source;
+pub mod suggest;
 pub mod value;
 
 use std::path::{Path, PathBuf};
@@ -139,6 +141,8 @@ struct Builder {
     assembler: CardAssembler,
     /// Position of the last line read, for errors about the end of the deck.
     last_loc: Loc,
+    /// Whether an unsupported card's error already listed the supported cards.
+    supported_listed: bool,
 }
 
 impl Builder {
@@ -154,12 +158,21 @@ impl Builder {
             case: CaseControl::default(),
             bulk: BulkData::default(),
             assembler: CardAssembler::new(),
+            supported_listed: false,
         }
     }
 
     fn parse(&mut self, card: fields::RawCard, diag: &mut Diagnostics) {
-        if let Err(errors) = cards::parse_card(&card, &mut self.bulk) {
-            diag.errors.extend(errors);
+        match cards::parser_for(&card.name) {
+            Some(parse) => {
+                if let Err(errors) = parse(&card, &mut self.bulk) {
+                    diag.errors.extend(errors);
+                }
+            }
+            None => {
+                diag.error(cards::unsupported_card(&card, !self.supported_listed));
+                self.supported_listed = true;
+            }
         }
     }
 

@@ -7,6 +7,10 @@
 //! placeholder so that the remaining fields are still checked. [`FieldReader::finish`] also
 //! rejects non-blank fields past the card's layout (a field paraflex does not know could change
 //! the physics, so it is never dropped silently).
+//!
+//! One bad field gives one error: a later error on the same field, or about the card as a whole
+//! (a rule combining fields, such as MAT1's "at least one of E and G"), would only follow from
+//! the placeholder and is not reported.
 
 use super::error::{DeckError, Loc};
 use super::fields::RawCard;
@@ -19,6 +23,8 @@ pub struct FieldReader<'a> {
     card: &'a RawCard,
     label: String,
     errors: Vec<DeckError>,
+    /// Fields with an error already reported.
+    bad_fields: Vec<usize>,
 }
 
 const BLANK: Value = Value::Blank;
@@ -30,6 +36,7 @@ impl<'a> FieldReader<'a> {
             card,
             label: card.name.clone(),
             errors: Vec::new(),
+            bad_fields: Vec::new(),
         }
     }
 
@@ -76,15 +83,23 @@ impl<'a> FieldReader<'a> {
         self.len() == 0
     }
 
-    /// Record an error on field `i`.
+    /// Record an error on field `i`, unless the field already has one.
     pub fn error(&mut self, i: usize, name: &str, message: impl Into<String>) {
+        if self.bad_fields.contains(&i) {
+            return;
+        }
+        self.bad_fields.push(i);
         let mut e = DeckError::at(&self.card.loc_of(i), message).on_card(self.label.clone());
         e.field = Some(format!("{} ({name})", RawCard::field_label(i)));
         self.errors.push(e);
     }
 
-    /// Record an error about the card as a whole.
+    /// Record an error about the card as a whole, unless a field of the card already has one
+    /// (the card-level rules read the fields, and a bad field reads as its placeholder).
     pub fn card_error(&mut self, message: impl Into<String>) {
+        if !self.bad_fields.is_empty() {
+            return;
+        }
         self.errors
             .push(DeckError::at(&self.card.loc, message).on_card(self.label.clone()));
     }
@@ -469,6 +484,21 @@ mod tests {
             fields: fields.iter().map(|f| lex(f)).collect(),
             row_lines: vec![4],
         }
+    }
+
+    /// An integer E on MAT1 is one error: the "at least one of E and G" rule that would
+    /// follow from its placeholder is not reported.
+    #[test]
+    fn a_bad_field_gives_one_error_without_knock_on() {
+        let mut c = card(&["1", "210000", "", "0.3", "7850."]);
+        c.name = "MAT1".into();
+        let errs = crate::deck::cards::Mat1::from_card(&c).unwrap_err();
+        assert_eq!(errs.len(), 1, "{errs:?}");
+        assert!(
+            errs[0].to_string().contains("field 3 (E): expected a real"),
+            "{}",
+            errs[0]
+        );
     }
 
     #[test]

@@ -277,7 +277,7 @@ impl std::fmt::Debug for OutputFile {
 }
 
 /// `<path>.tmp-<pid>`, in the same directory so the final rename stays on one file system.
-pub(crate) fn temp_path_for(path: &Path) -> PathBuf {
+pub fn temp_path_for(path: &Path) -> PathBuf {
     let mut name = path.as_os_str().to_owned();
     name.push(format!(".tmp-{}", std::process::id()));
     PathBuf::from(name)

@@ -1,7 +1,7 @@
 //! `paraflex info FILE.h5`: a summary of any paraflex HDF5 file (DESIGN.md §8).
 //!
-//! [`describe`] reads only metadata (attributes and dataset shapes), never array contents, so it
-//! is instant on large result files. [`FileSummary`] implements [`Display`](std::fmt::Display)
+//! [`describe`] reads metadata (attributes and dataset shapes) and, of the arrays, only the
+//! frequencies of modal results (one number per mode), so it is instant on large result files. [`FileSummary`] implements [`Display`](std::fmt::Display)
 //! for the text form and [`serde::Serialize`] for `--json`.
 
 use std::collections::BTreeMap;
@@ -76,6 +76,25 @@ pub struct ResultSummary {
     pub kind: String,
     /// Datasets below the kind group, recursively, by relative path (`sensors/tip`).
     pub datasets: Vec<DatasetSummary>,
+    /// For a `modal` group: its frequencies and Sturm check.
+    pub modal: Option<ModalResultSummary>,
+}
+
+/// The frequencies and the Sturm check of a `modal` results group.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ModalResultSummary {
+    /// `frequency_hz`, ascending.
+    pub frequencies_hz: Vec<f64>,
+    /// `sturm_shift` converted to Hz.
+    pub sturm_shift_hz: Option<f64>,
+    /// `sturm_count`: eigenvalues below the shift.
+    pub sturm_count: Option<i64>,
+    /// `sturm_found`: modes found below the shift.
+    pub sturm_found: Option<i64>,
+    /// `sturm_consistent`.
+    pub sturm_consistent: Option<bool>,
+    /// `sturm_note` (a multiple root cut by ND).
+    pub sturm_note: Option<String>,
 }
 
 /// Name, shape and element type of one dataset.
@@ -238,19 +257,73 @@ fn describe_results(file: &hdf5::File, path: &Path) -> Result<Vec<ResultSummary>
                 subcase: subcase.clone(),
                 kind: String::new(),
                 datasets,
+                modal: None,
             });
         }
         for kind in sub.groups().map_err(err(format!("list {}", sub.name())))? {
             let mut datasets = Vec::new();
             collect_datasets(&kind, &kind.name(), &mut datasets, path)?;
+            let name = basename(&kind.name());
+            let modal = (name == "modal").then(|| describe_modal(&kind));
             out.push(ResultSummary {
                 subcase: subcase.clone(),
-                kind: basename(&kind.name()),
+                kind: name,
                 datasets,
+                modal,
             });
         }
     }
     Ok(out)
+}
+
+/// The frequencies and Sturm attributes of a `modal` group (absent ones as `None`/empty).
+fn describe_modal(group: &hdf5::Group) -> ModalResultSummary {
+    let int = |name: &str| group.attr(name).and_then(|a| a.read_scalar::<i64>()).ok();
+    let sturm_shift_hz = group
+        .attr("sturm_shift")
+        .and_then(|a| a.read_scalar::<f64>())
+        .ok()
+        .map(|lambda| lambda.max(0.0).sqrt() / (2.0 * std::f64::consts::PI));
+    ModalResultSummary {
+        frequencies_hz: group
+            .dataset("frequency_hz")
+            .and_then(|d| d.read_raw::<f64>())
+            .unwrap_or_default(),
+        sturm_shift_hz,
+        sturm_count: int("sturm_count"),
+        sturm_found: int("sturm_found"),
+        sturm_consistent: int("sturm_consistent").map(|v| v != 0),
+        sturm_note: read_str_attr(group, "sturm_note"),
+    }
+}
+
+impl fmt::Display for ModalResultSummary {
+    /// `  frequencies [Hz]` (six per line) and `  Sturm check` lines.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (k, row) in self.frequencies_hz.chunks(6).enumerate() {
+            let label = if k == 0 { "frequencies [Hz]" } else { "" };
+            let values: Vec<String> = row.iter().map(|v| format!("{v:.6e}")).collect();
+            writeln!(f, "  {label:<16}  {}", values.join("  "))?;
+        }
+        if let (Some(shift), Some(count), Some(found)) =
+            (self.sturm_shift_hz, self.sturm_count, self.sturm_found)
+        {
+            let verdict = match self.sturm_consistent {
+                Some(true) => "consistent",
+                Some(false) => "INCONSISTENT (modes missing)",
+                None => "?",
+            };
+            writeln!(
+                f,
+                "  {:<16}  {count} eigenvalue(s) below {shift:.6e} Hz, {found} found: {verdict}",
+                "Sturm check"
+            )?;
+        }
+        if let Some(note) = &self.sturm_note {
+            writeln!(f, "  {:<16}  {note}", "note")?;
+        }
+        Ok(())
+    }
 }
 
 /// Appends every dataset below `group` (recursively), named relative to `base`.
@@ -391,6 +464,9 @@ impl fmt::Display for FileSummary {
                     d.dtype
                 )?;
             }
+            if let Some(modal) = &r.modal {
+                write!(f, "{modal}")?;
+            }
         }
         if !self.other.is_empty() {
             writeln!(f, "other: {}", self.other.join(", "))?;
@@ -405,7 +481,7 @@ mod tests {
     use crate::io::hdf5_file::hdf5_test_guard;
     use crate::io::model_group::test_mesh;
     use crate::io::{
-        ModelInfo, OutputFile, set_attr_i64, set_attr_strings, write_f64, write_model,
+        ModelInfo, OutputFile, set_attr_f64, set_attr_i64, set_attr_strings, write_f64, write_model,
     };
 
     fn write_sample(path: &Path) {
@@ -422,7 +498,16 @@ mod tests {
         f.group("prom/K").expect("K");
         for sub in ["10", "2"] {
             let g = f.group(&format!("results/{sub}/modal")).expect("modal");
-            write_f64(&g, "frequency_hz", &[1.0; 4], &[4]).expect("freq");
+            write_f64(&g, "frequency_hz", &[1.0, 2.0, 3.0, 4.0], &[4]).expect("freq");
+            set_attr_f64(
+                &g,
+                "sturm_shift",
+                (2.0 * std::f64::consts::PI * 5.0_f64).powi(2),
+            )
+            .expect("attr");
+            set_attr_i64(&g, "sturm_count", 4).expect("attr");
+            set_attr_i64(&g, "sturm_found", 4).expect("attr");
+            set_attr_i64(&g, "sturm_consistent", 1).expect("attr");
             write_f64(&g, "shapes", &vec![0.0; 4 * 15 * 6], &[4, 15, 6]).expect("shapes");
         }
         let s = f.group("results/2/transient/sensors").expect("sensors");
@@ -462,6 +547,21 @@ mod tests {
         let text = s.to_string();
         assert!(text.contains("/model: 15 grids, 6 elements"), "{text}");
         assert!(text.contains("shapes        (4×15×6) float64"), "{text}");
+        assert!(
+            text.contains("frequencies [Hz]  1.000000e0  2.000000e0  3.000000e0  4.000000e0"),
+            "{text}"
+        );
+        assert!(
+            text.contains(
+                "Sturm check       4 eigenvalue(s) below 5.000000e0 Hz, 4 found: consistent"
+            ),
+            "{text}"
+        );
+        assert_eq!(
+            s.results[0].modal.as_ref().map(|m| m.frequencies_hz.len()),
+            Some(4)
+        );
+        assert_eq!(s.results[1].modal, None);
         let json = serde_json::to_value(&s).expect("json");
         assert_eq!(json["model"]["elements"]["CHEXA"], 1);
         assert_eq!(json["results"][0]["datasets"][0]["name"], "frequency_hz");

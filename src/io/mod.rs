@@ -21,9 +21,13 @@ pub mod xdmf;
 
 pub use hdf5_file::{
     IoError, OutputFile, SCHEMA_VERSION, set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str,
-    set_attr_strings, write_c64, write_f64, write_mat, write_rows3, write_strings, write_u32,
+    set_attr_strings, temp_path_for, write_c64, write_f64, write_mat, write_rows3, write_strings,
+    write_u32,
 };
-pub use info::{DatasetSummary, FileSummary, ModelSummary, PromSummary, ResultSummary, describe};
+pub use info::{
+    DatasetSummary, FileSummary, ModalResultSummary, ModelSummary, PromSummary, ResultSummary,
+    describe,
+};
 pub use model_group::{CONNECTIVITY_INDEXING, ModelInfo, read_grid_ids, write_model};
 pub use prom_group::{
     PromBody, read_prom, read_prom_body, read_prom_inputs, read_prom_sensors, write_prom,

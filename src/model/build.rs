@@ -1,6 +1,8 @@
 //! [`Model::build`]: grids, elements and rigid elements with their references, then the other
 //! checks ([`xref`](super::xref), [`values`](super::values), [`pmpar`](super::pmpar),
-//! [`params`](super::params), [`case`](super::case)). Every error of every check is collected.
+//! [`params`](super::params), [`case`](super::case)). Every error of every check is collected;
+//! a model that passes them all is last checked for mass when its solution needs it
+//! ([`mass_check`](super::mass_check)).
 
 use std::collections::{BTreeMap, HashMap};
 
@@ -70,13 +72,14 @@ impl Model {
         let mechanism = super::mechanism::build(bulk, &coords, &mut errors);
         let params = super::params::read(&bulk.params, &deck.case, &mut errors, &mut warnings);
         super::case::check(deck, &refs, &mut errors);
+        super::case::unselected_sets(deck, &mut warnings);
         warnings.extend(quality.into_warnings());
 
         if !errors.is_empty() {
             errors.sort_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));
             return Err(errors);
         }
-        Ok(Model {
+        let model = Model {
             sol: deck.executive.sol.as_ref().map(|(s, _)| *s),
             grids,
             grid_index,
@@ -91,7 +94,12 @@ impl Model {
             params,
             mechanism,
             warnings,
-        })
+        };
+        let massless = super::mass_check::check(deck, &model);
+        if !massless.is_empty() {
+            return Err(massless);
+        }
+        Ok(model)
     }
 }
 

@@ -15,11 +15,17 @@
 //!
 //! Errors point at the statement (`Subcase::loc_of`). Which output requests the solution
 //! sequence writes is the sequence's business (`crate::sequence::request_warnings`).
+//!
+//! The other way round, an SPC set (SPC / SPC1 / SPCADD) or a LOAD set (LOAD / FORCE / MOMENT
+//! / GRAV) that bulk data defines but nothing selects (no subcase's `SPC =` or `LOAD =`, no
+//! SPCADD or LOAD combination, no TLOAD1 / RLOAD1 EXCITEID) is a warning at its first card
+//! ([`unselected_sets`]): a forgotten `SPC = 1` otherwise leaves a structure free without a word.
 
-use std::collections::HashSet;
+use std::collections::{BTreeMap, HashSet};
 
+use crate::card_values::ForceKind;
 use crate::deck::case_control::{Subcase, Target};
-use crate::deck::{Deck, DeckError, Loc};
+use crate::deck::{Deck, DeckError, Loc, Warning};
 
 use super::build::Refs;
 
@@ -144,4 +150,97 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
 
 fn subcase_text(sub: &Subcase) -> String {
     format!(" (subcase {})", sub.id)
+}
+
+/// Warn about the SPC and LOAD sets nothing selects (see the module documentation), one
+/// warning per set id at its first card, naming the subcases without a selection.
+pub fn unselected_sets(deck: &Deck, warnings: &mut Vec<Warning>) {
+    if !deck.has_control_sections {
+        return;
+    }
+    let b = &deck.bulk;
+    let subcases = deck.case.subcases();
+    let spc_cards = b
+        .spc
+        .iter()
+        .map(|c| (c.sid, "SPC", &c.loc))
+        .chain(b.spc1.iter().map(|c| (c.sid, "SPC1", &c.loc)))
+        .chain(b.spcadd.iter().map(|c| (c.sid, "SPCADD", &c.loc)));
+    let spc_selected = subcases
+        .iter()
+        .filter_map(|s| s.spc)
+        .chain(b.spcadd.iter().flat_map(|c| c.sets.iter().copied()));
+    warn_unselected(
+        "SPC",
+        "its constraints are not applied",
+        spc_cards,
+        spc_selected,
+        &subcases,
+        |s| s.spc,
+        warnings,
+    );
+    let force_name = |kind: ForceKind| match kind {
+        ForceKind::Force => "FORCE",
+        ForceKind::Moment => "MOMENT",
+    };
+    let load_cards = b
+        .load
+        .iter()
+        .map(|c| (c.sid, "LOAD", &c.loc))
+        .chain(b.forces.iter().map(|c| (c.sid, force_name(c.kind), &c.loc)))
+        .chain(b.grav.iter().map(|c| (c.sid, "GRAV", &c.loc)));
+    let load_selected = subcases
+        .iter()
+        .filter_map(|s| s.load)
+        .chain(
+            b.load
+                .iter()
+                .flat_map(|c| c.terms.iter().map(|(_, sid)| *sid)),
+        )
+        .chain(b.tload1.iter().map(|t| t.excite_id))
+        .chain(b.rload1.iter().map(|r| r.excite_id));
+    warn_unselected(
+        "LOAD",
+        "it is not applied",
+        load_cards,
+        load_selected,
+        &subcases,
+        |s| s.load,
+        warnings,
+    );
+}
+
+/// One warning per set id of `cards` (id, card name, position) that `selected` does not hold.
+fn warn_unselected<'a>(
+    selection: &str,
+    effect: &str,
+    cards: impl Iterator<Item = (u32, &'static str, &'a Loc)>,
+    selected: impl Iterator<Item = u32>,
+    subcases: &[Subcase],
+    selects: impl Fn(&Subcase) -> Option<u32>,
+    warnings: &mut Vec<Warning>,
+) {
+    let selected: HashSet<u32> = selected.collect();
+    let mut first: BTreeMap<u32, (&str, &Loc)> = BTreeMap::new();
+    for (sid, card, loc) in cards {
+        first.entry(sid).or_insert((card, loc));
+    }
+    let without: Vec<String> = subcases
+        .iter()
+        .filter(|s| selects(s).is_none())
+        .map(|s| s.id.to_string())
+        .collect();
+    let subcases_text = if without.is_empty() {
+        format!("every subcase selects another {selection} set")
+    } else {
+        format!("subcase(s) without {selection} =: {}", without.join(", "))
+    };
+    for (sid, (card, loc)) in first.into_iter().filter(|(sid, _)| !selected.contains(sid)) {
+        warnings.push(Warning {
+            loc: Some(loc.to_string()),
+            message: format!(
+                "{card} set {sid} is selected by no subcase ({subcases_text}): {effect}; add {selection} = {sid} to case control"
+            ),
+        });
+    }
 }

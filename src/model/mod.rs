@@ -10,7 +10,8 @@
 //! - [`pmpar`]: `PMPAR` references, bounds and nominal values;
 //! - [`geometry`]: exact element integrals and shape checks;
 //! - [`params`]: the `PARAM`s paraflex uses ([`params::KNOWN_PARAMS`]);
-//! - [`case`]: case-control selections and output requests;
+//! - [`case`]: case-control selections and output requests, and sets nothing selects;
+//! - [`mass_check`]: a dynamic solution on a model without mass;
 //! - [`mechanism`]: the multibody cards of `SOL FMB` as a typed mechanism;
 //! - [`mass`]: mass properties; [`summary`]: the check summary and mesh arrays;
 //! - [`lookup`]: solution-control data by id (EIGRL, FREQ, TSTEP, PMOR, PVAL, EKF, …).
@@ -29,6 +30,7 @@ pub mod geometry;
 pub mod ids;
 pub mod lookup;
 pub mod mass;
+pub mod mass_check;
 pub mod materials;
 pub mod mechanism;
 pub mod mesh;

@@ -74,8 +74,8 @@ pub fn driver(sol: Solution, basis: Basis) -> Option<&'static dyn Driver> {
 
 /// The driver that runs `model`'s SOL, or why none can: no SOL, a SOL without a driver, or
 /// subcases that mix `ROM =` with full-model subcases (one run is either on pROM artifacts or
-/// on the deck's mesh), or a SOL without a driver on that basis. The CLI asks before running,
-/// to write the model and exit with "not available".
+/// on the deck's mesh), or a SOL without a driver on that basis. The CLI asks before opening
+/// the output file, to exit with "not available" without writing anything.
 pub fn runnable(deck: &Deck, model: &Model) -> Result<&'static dyn Driver, RunError> {
     let (sol, text) = deck.executive.sol.as_ref().ok_or(RunError::NoSolution)?;
     if !DRIVERS.iter().any(|d| d.solutions().contains(sol)) {

@@ -33,8 +33,9 @@
 //! ```text
 //! /results/<subcase>/modal/{frequency_hz (m), generalized_mass (m), residual (m), eigenvalue (m),
 //!                           shapes (m×k×6, only with DISPLACEMENT)}
-//!     attrs: sturm_shift, sturm_count, sturm_found, sturm_consistent, shift, norm, autospc,
-//!            massless_count, finite_exhausted
+//!     attrs (of the group modal): sturm_shift, sturm_count, sturm_found, sturm_consistent,
+//!            sturm_note (a multiple root cut by ND), shift, norm, autospc_count, massless_count,
+//!            finite_exhausted
 //! /results/<subcase>/statics/{displacement (k×6; all grids without a DISPLACEMENT request,
 //!                             none with DISPLACEMENT = NONE), spc_force (k×6, only with
 //!                             SPCFORCES), strain/<CARD>/... (only with STRAIN)}
@@ -122,7 +123,7 @@ impl SubcaseSummary {
 /// Errors of a run. Each says where (element, GRID and component, subcase) and what to do.
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
-    /// The deck's SOL has no driver yet.
+    /// The deck's SOL has no driver (exit code 3: nothing is run or written).
     #[error("SOL {0} is not available in this version of paraflex")]
     NotAvailable(String),
     /// The deck has no SOL statement.

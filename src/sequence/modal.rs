@@ -13,6 +13,9 @@
 //! largest f-set component is 1, and the generalized mass is then φᵀMφ. The residual is
 //! ‖Kφ − λMφ‖/‖Kφ‖ (see [`EigenResult::residuals`]). The Sturm check compares the number of
 //! negative pivots of K − sM, s just above the highest mode returned, with the modes found.
+//! When ND cuts through a multiple root, Lanczos finds the whole cluster and the count below s
+//! exceeds ND: ND modes are stored, as Nastran returns ND, and the run notes the cut on the
+//! console and in the attribute `sturm_note` ([`cut_note`]).
 //!
 //! A singular M_ff (grids with springs and no mass, rotations without rotary inertia that
 //! AUTOSPC keeps because they have stiffness) has fewer finite eigenvalues than f-set DOFs; when
@@ -180,6 +183,9 @@ fn write_subcase(
         "sturm_consistent",
         i64::from(r.sturm.is_consistent()),
     )?;
+    if let Some(note) = cut_note(&r.sturm, m) {
+        set_attr_str(&group, "sturm_note", &note)?;
+    }
     set_attr_f64(&group, "shift", r.shift)?;
     set_attr_str(&group, "norm", norm.name())?;
     set_attr_i64(&group, "massless_count", r.massless as i64)?;
@@ -217,6 +223,19 @@ fn write_subcase(
     })
 }
 
+/// When the Sturm check counts more roots found between the lower end of the search and its
+/// shift than the `stored` modes (ND cut through a multiple root and Lanczos found the whole
+/// cluster), the note saying so. Roots below V1 are not stored and do not count.
+pub fn cut_note(sturm: &SturmCheck, stored: usize) -> Option<String> {
+    let found = sturm.found;
+    (sturm.is_consistent() && found > stored).then(|| {
+        format!(
+            "a multiple root at the cut: {found} roots below {:.6e} Hz, {stored} stored as ND requests",
+            lambda_to_hz(sturm.shift)
+        )
+    })
+}
+
 /// Modes with a larger residual are flagged in the run's warnings.
 pub const RESIDUAL_WARNING: f64 = 1e-6;
 
@@ -248,6 +267,9 @@ impl Report for ModalSummary {
             ));
         }
         out.push(format!("  {}", sturm_line(&m.sturm)));
+        if let Some(note) = cut_note(&m.sturm, m.eigenvalues.len()) {
+            out.push(format!("  note: {note}"));
+        }
         out
     }
 
@@ -294,5 +316,54 @@ impl Report for ModalSummary {
             ));
         }
         warnings
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// ND = 12 through a double root: 13 roots below the Sturm shift, 12 stored, and a note.
+    #[test]
+    fn a_cut_through_a_multiple_root_is_noted() {
+        let sturm = SturmCheck {
+            shift: (2.0 * std::f64::consts::PI * 100.0_f64).powi(2),
+            negative_pivots: 13,
+            below_lower: 0,
+            found: 13,
+        };
+        let note = cut_note(&sturm, 12).expect("a note");
+        assert!(
+            note.contains("13 roots below 1.000000e2 Hz, 12 stored"),
+            "{note}"
+        );
+        assert_eq!(cut_note(&sturm, 13), None);
+        let above_v1 = SturmCheck {
+            below_lower: 1,
+            found: 12,
+            ..sturm
+        };
+        assert_eq!(cut_note(&above_v1, 12), None, "a root below V1 is no cut");
+        let summary = ModalSummary {
+            eigenvalues: vec![1.0; 12],
+            frequencies_hz: vec![1.0; 12],
+            generalized_mass: vec![1.0; 12],
+            residuals: vec![0.0; 12],
+            sturm,
+            shift: 0.0,
+            norm: EigenNorm::Mass,
+            f_size: 60,
+            shapes_written: false,
+            massless: 0,
+            finite_exhausted: false,
+            nd: Some(12),
+        };
+        let lines = summary.render(1);
+        assert!(
+            lines
+                .last()
+                .is_some_and(|l| l.starts_with("  note: a multiple root at the cut")),
+            "{lines:?}"
+        );
     }
 }

@@ -21,7 +21,8 @@ use crate::deck::value::Value;
 /// | 8 | SHFSCL | real | blank | estimate of the first flexible mode (Hz) for free-free shifts |
 /// | 9 | NORM | `MASS` / `MAX` | MASS | eigenvector normalization |
 ///
-/// At least one of V2 and ND must be given, as in Nastran. With massless DOFs (springs without
+/// With neither V2 nor ND the lowest root (above V1 when given) is found, ND = 1, as the
+/// MSC/NX and OptiStruct EIGRL tables of V1, V2, ND say. With massless DOFs (springs without
 /// mass, rotations without rotary inertia) the mass matrix is singular and only rank(M) finite
 /// modes exist: ND larger than that returns the finite modes with a warning (`only N finite
 /// mode(s) exist …`), never modes at an "infinite" frequency.
@@ -68,13 +69,15 @@ impl Eigrl {
         let v1 = f.opt_real(2, "V1");
         let v2 = f.opt_real(3, "V2");
         let nd = f.opt_count(4, "ND");
+        let nd = if v2.is_none() && nd.is_none() && f.value(4).is_blank() {
+            Some(1)
+        } else {
+            nd
+        };
         f.int_or(5, "MSGLVL", 0);
         f.opt_int(6, "MAXSET");
         let shfscl = f.opt_real(7, "SHFSCL");
         let norm = f.choice(8, "NORM", &EigenNorm::KEYWORDS, Some(EigenNorm::Mass));
-        if v2.is_none() && nd.is_none() {
-            f.card_error("give V2 (upper frequency) or ND (number of roots)");
-        }
         if let (Some(a), Some(b)) = (v1, v2)
             && b <= a
         {
@@ -549,5 +552,20 @@ impl Dload {
             terms,
             loc,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::deck::cards::geometry::tests::raw;
+
+    /// With neither V2 nor ND, EIGRL asks for the lowest root (above V1), as Nastran does.
+    #[test]
+    fn eigrl_without_v2_and_nd_finds_the_lowest_root() {
+        let e = Eigrl::from_card(&raw("EIGRL", &["1", "0."])).expect("valid");
+        assert_eq!((e.v1, e.v2, e.nd), (Some(0.0), None, Some(1)));
+        let e = Eigrl::from_card(&raw("EIGRL", &["1", "", "100."])).expect("valid");
+        assert_eq!((e.v2, e.nd), (Some(100.0), None));
     }
 }

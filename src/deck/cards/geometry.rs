@@ -120,7 +120,7 @@ impl Cord2 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::deck::value::lex;
     use std::path::Path;

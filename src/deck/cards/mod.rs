@@ -196,21 +196,20 @@ pub fn parser_for(name: &str) -> Option<CardParser> {
     PARSERS.iter().find(|(n, _)| *n == name).map(|(_, p)| *p)
 }
 
-/// Parse one raw card into `bulk`. Unsupported cards are an error naming the card.
-pub fn parse_card(card: &RawCard, bulk: &mut BulkData) -> Result<(), Vec<DeckError>> {
-    match parser_for(&card.name) {
-        Some(parse) => parse(card, bulk),
-        None => Err(vec![DeckError::at(
-            &card.loc,
-            format!(
-                "unsupported bulk data card '{}': paraflex reads {}",
-                card.name,
-                PARSERS
-                    .iter()
-                    .map(|(n, _)| *n)
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            ),
-        )]),
+/// The error for a card paraflex does not read: its name, the supported card closest to it
+/// when it looks like a misspelling (`did you mean CQUAD4?`) and, when `list_supported` (the
+/// first such card of a deck), every card paraflex reads.
+pub fn unsupported_card(card: &RawCard, list_supported: bool) -> DeckError {
+    let names = PARSERS.iter().map(|(n, _)| *n);
+    let mut message = format!("unsupported bulk data card '{}'", card.name);
+    if let Some(near) = crate::deck::suggest::closest(&card.name, names.clone()) {
+        message.push_str(&format!(" (did you mean {near}?)"));
     }
+    if list_supported {
+        message.push_str(&format!(
+            ": paraflex reads {}",
+            names.collect::<Vec<_>>().join(" ")
+        ));
+    }
+    DeckError::at(&card.loc, message)
 }
