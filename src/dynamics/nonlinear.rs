@@ -149,6 +149,32 @@ impl Kinematics {
     }
 }
 
+/// The generalized-α parameters of Chung & Hulbert (J. Appl. Mech. 60, 1993) for the spectral
+/// radius at infinity ρ∞ ∈ [0, 1]: α_m = (2ρ∞ − 1)/(ρ∞ + 1), α_f = ρ∞/(ρ∞ + 1),
+/// γ = ½ − α_m + α_f, β = ¼ (γ + ½)² (also the GGL multibody scheme's, `multibody::scheme`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AlphaParameters {
+    pub alpha_m: f64,
+    pub alpha_f: f64,
+    pub gamma: f64,
+    pub beta: f64,
+}
+
+impl AlphaParameters {
+    /// Chung & Hulbert's optimal set for ρ∞.
+    pub fn from_spectral_radius(rho: f64) -> Self {
+        let alpha_m = (2.0 * rho - 1.0) / (rho + 1.0);
+        let alpha_f = rho / (rho + 1.0);
+        let gamma = 0.5 - alpha_m + alpha_f;
+        Self {
+            alpha_m,
+            alpha_f,
+            gamma,
+            beta: 0.25 * (gamma + 0.5).powi(2),
+        }
+    }
+}
+
 /// A method's constants (see the module documentation).
 enum Scheme {
     Bdf {
@@ -175,14 +201,13 @@ impl Scheme {
                 if !(0.0..=1.0).contains(&rho_inf) {
                     return Err(IntegrationError::SpectralRadius(rho_inf));
                 }
-                let am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
-                let af = rho_inf / (rho_inf + 1.0);
+                let p = AlphaParameters::from_spectral_radius(rho_inf);
                 Scheme::GeneralizedAlpha {
                     dt,
-                    am,
-                    af,
-                    gamma: 0.5 - am + af,
-                    beta: 0.25 * (1.0 - am + af).powi(2),
+                    am: p.alpha_m,
+                    af: p.alpha_f,
+                    gamma: p.gamma,
+                    beta: p.beta,
                 }
             }
         })
