@@ -5,6 +5,9 @@
 //!   shared by the FRF, transient and estimation sequences;
 //! - [`integrators`]: BDF1 (eq. 2.61), BDF2 and generalized-α with a constant step;
 //! - [`nonlinear`]: the same methods on nonlinear systems in residual form, with Newton;
+//! - [`newton`]: Newton's method for one implicit step (residual, factor, solve supplied by
+//!   the equations; Jacobian update policy), shared by [`nonlinear`] and the GGL multibody
+//!   integrator;
 //! - [`velocity_form`]: one BDF1 step in velocity form over the caller's operators (the
 //!   estimator's prediction);
 //! - [`sparse_backend`]: the integrators' full-model (sparse f-set) backend;
@@ -13,6 +16,7 @@
 pub mod frf;
 pub mod integrators;
 pub mod measurement;
+pub mod newton;
 pub mod nonlinear;
 pub mod sparse_backend;
 pub mod table;

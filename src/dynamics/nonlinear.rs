@@ -26,6 +26,8 @@
 //! stops the run with its time and residual ([`IntegrationError::Newton`]).
 
 use super::integrators::{Combination, IntegrationError, Method, Run, StepState};
+pub use super::newton::{JacobianUpdate, NewtonStats};
+use super::newton::{NewtonDriver, NewtonPolicy, StepEquations, max_abs};
 
 /// A second-order system in residual form (see the module documentation).
 pub trait NonlinearSystem {
@@ -54,22 +56,9 @@ pub trait NonlinearSystem {
     fn solve(&mut self, x: &mut [f64]) -> Result<(), IntegrationError>;
 }
 
-/// When the integrator refactors the iteration matrix.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum JacobianUpdate {
-    /// At every iteration (full Newton: quadratic convergence).
-    EveryIteration,
-    /// Once per step, at the predictor (modified Newton).
-    EveryStep,
-    /// Kept across steps (linear or mildly nonlinear systems: one factorization per run);
-    /// refactored when the coefficients change (BDF2's start), when an iteration contracts by
-    /// less than half, or when the step does not converge, which then restarts from its
-    /// predictor with the new factorization.
-    Reuse,
-}
-
-/// Newton settings. A step has converged when its last correction satisfies
-/// ‖δ‖∞ ≤ `relative` ‖q_{n+1}‖∞ + `absolute`.
+/// Newton settings ([`super::newton`]; with `Reuse` the matrix is refactored when the
+/// corrections contract by less than half). A step has converged when its last correction
+/// satisfies ‖δ‖∞ ≤ `relative` ‖q_{n+1}‖∞ + `absolute`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Newton {
     pub relative: f64,
@@ -88,18 +77,6 @@ impl Default for Newton {
             update: JacobianUpdate::EveryIteration,
         }
     }
-}
-
-/// What Newton did in one step (step 0: the initial acceleration).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct NewtonStats {
-    /// Iterations (corrections) of the accepted attempt.
-    pub iterations: usize,
-    /// ‖r‖∞ at the last iterate evaluated, before its final correction (which was within the
-    /// tolerance).
-    pub residual: f64,
-    /// Factorizations in this step (0 when a previous one was reused).
-    pub factorizations: usize,
 }
 
 /// Integrate `run.steps` steps of size `run.dt` from (q0, v0) at t0 with `newton`. `observe`
@@ -172,6 +149,32 @@ impl Kinematics {
     }
 }
 
+/// The generalized-α parameters of Chung & Hulbert (J. Appl. Mech. 60, 1993) for the spectral
+/// radius at infinity ρ∞ ∈ [0, 1]: α_m = (2ρ∞ − 1)/(ρ∞ + 1), α_f = ρ∞/(ρ∞ + 1),
+/// γ = ½ − α_m + α_f, β = ¼ (γ + ½)² (also the GGL multibody scheme's, `multibody::scheme`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AlphaParameters {
+    pub alpha_m: f64,
+    pub alpha_f: f64,
+    pub gamma: f64,
+    pub beta: f64,
+}
+
+impl AlphaParameters {
+    /// Chung & Hulbert's optimal set for ρ∞.
+    pub fn from_spectral_radius(rho: f64) -> Self {
+        let alpha_m = (2.0 * rho - 1.0) / (rho + 1.0);
+        let alpha_f = rho / (rho + 1.0);
+        let gamma = 0.5 - alpha_m + alpha_f;
+        Self {
+            alpha_m,
+            alpha_f,
+            gamma,
+            beta: 0.25 * (gamma + 0.5).powi(2),
+        }
+    }
+}
+
 /// A method's constants (see the module documentation).
 enum Scheme {
     Bdf {
@@ -198,14 +201,13 @@ impl Scheme {
                 if !(0.0..=1.0).contains(&rho_inf) {
                     return Err(IntegrationError::SpectralRadius(rho_inf));
                 }
-                let am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
-                let af = rho_inf / (rho_inf + 1.0);
+                let p = AlphaParameters::from_spectral_radius(rho_inf);
                 Scheme::GeneralizedAlpha {
                     dt,
-                    am,
-                    af,
-                    gamma: 0.5 - am + af,
-                    beta: 0.25 * (1.0 - am + af).powi(2),
+                    am: p.alpha_m,
+                    af: p.alpha_f,
+                    gamma: p.gamma,
+                    beta: p.beta,
                 }
             }
         })
@@ -285,26 +287,98 @@ impl StepForm {
     }
 }
 
-/// Newton's buffers and the state of its factorization.
+/// The contraction rate above which `JacobianUpdate::Reuse` refactors.
+const SLOW_RATE: f64 = 0.5;
+
+/// Newton's driver and the step's states.
 struct Solver {
     newton: Newton,
-    x: Vec<f64>,
+    driver: NewtonDriver,
     /// The state at t_{n+1} and at the evaluation point.
     new: Kinematics,
     eval: Kinematics,
-    r: Vec<f64>,
     /// The coefficients of the system's current factorization (None: none, or stale).
     factored: Option<Combination>,
 }
 
+/// The equations of one step in x = q_{n+1}: r at the evaluation point.
+struct Step<'a, S> {
+    system: &'a mut S,
+    form: &'a StepForm,
+    old: &'a Kinematics,
+    new: &'a mut Kinematics,
+    eval: &'a mut Kinematics,
+    t_eval: f64,
+    newton: Newton,
+}
+
+impl<S: NonlinearSystem> StepEquations for Step<'_, S> {
+    type Error = IntegrationError;
+    fn residual(&mut self, x: &[f64], r: &mut [f64]) -> Result<(), IntegrationError> {
+        evaluate(self.form, self.old, x, self.new, self.eval);
+        let Kinematics { q, v, a } = &*self.eval;
+        self.system.residual(self.t_eval, q, v, a, r)
+    }
+    fn factor(&mut self, _: &[f64]) -> Result<(), IntegrationError> {
+        let Kinematics { q, v, a } = &*self.eval;
+        self.system
+            .factor(self.t_eval, q, v, a, self.form.coefficients())
+    }
+    fn solve(&mut self, r: &mut [f64]) -> Result<(), IntegrationError> {
+        self.system.solve(r)
+    }
+    fn correction_size(&self, x: &[f64], dx: &[f64]) -> f64 {
+        scaled_correction(&self.newton, x, dx)
+    }
+}
+
+/// The equation of the initial acceleration in x = q̈₀: r(t0, q0, v0, x).
+struct InitialAcceleration<'a, S> {
+    system: &'a mut S,
+    t0: f64,
+    q: &'a [f64],
+    v: &'a [f64],
+    newton: Newton,
+}
+
+impl<S: NonlinearSystem> StepEquations for InitialAcceleration<'_, S> {
+    type Error = IntegrationError;
+    fn residual(&mut self, x: &[f64], r: &mut [f64]) -> Result<(), IntegrationError> {
+        self.system.residual(self.t0, self.q, self.v, x, r)
+    }
+    fn factor(&mut self, x: &[f64]) -> Result<(), IntegrationError> {
+        self.system
+            .factor(self.t0, self.q, self.v, x, [1.0, 0.0, 0.0])
+    }
+    fn solve(&mut self, r: &mut [f64]) -> Result<(), IntegrationError> {
+        self.system.solve(r)
+    }
+    fn correction_size(&self, x: &[f64], dx: &[f64]) -> f64 {
+        scaled_correction(&self.newton, x, dx)
+    }
+}
+
+/// ‖δ‖∞ / (`relative` ‖x‖∞ + `absolute`).
+fn scaled_correction(newton: &Newton, x: &[f64], dx: &[f64]) -> f64 {
+    let correction = max_abs(dx);
+    if correction == 0.0 {
+        return 0.0;
+    }
+    correction / (newton.relative * max_abs(x) + newton.absolute)
+}
+
 impl Solver {
     fn new(n: usize, newton: Newton) -> Self {
+        let policy = NewtonPolicy {
+            max_iterations: newton.max_iterations,
+            update: newton.update,
+            slow_rate: SLOW_RATE,
+        };
         Solver {
             newton,
-            x: vec![0.0; n],
+            driver: NewtonDriver::new(n, policy),
             new: Kinematics::zeros(n),
             eval: Kinematics::zeros(n),
-            r: vec![0.0; n],
             factored: None,
         }
     }
@@ -316,39 +390,30 @@ impl Solver {
         t0: f64,
         now: &mut Kinematics,
     ) -> Result<NewtonStats, IntegrationError> {
-        let Kinematics { q, v, a } = now;
-        let mut stats = NewtonStats::default();
-        for _ in 0..self.newton.max_iterations {
-            system.residual(t0, q, v, a, &mut self.r)?;
-            stats.residual = norm(&self.r);
-            if stats.residual == 0.0 {
-                return Ok(stats);
-            }
-            if stats.factorizations == 0 || self.newton.update == JacobianUpdate::EveryIteration {
-                system.factor(t0, q, v, a, [1.0, 0.0, 0.0])?;
-                stats.factorizations += 1;
-            }
-            system.solve(&mut self.r)?;
-            a.iter_mut().zip(&self.r).for_each(|(a, d)| *a -= d);
-            stats.iterations += 1;
-            let correction = norm(&self.r);
-            if !correction.is_finite() {
-                break;
-            }
-            if correction <= self.newton.relative * norm(a) + self.newton.absolute {
-                return Ok(stats);
-            }
+        self.driver.invalidate();
+        self.driver.predictor_mut().copy_from_slice(&now.a);
+        let mut equations = InitialAcceleration {
+            system,
+            t0,
+            q: &now.q,
+            v: &now.v,
+            newton: self.newton,
+        };
+        let outcome = self.driver.solve(&mut equations)?;
+        self.driver.invalidate();
+        if !outcome.converged {
+            return Err(IntegrationError::Newton {
+                step: 0,
+                time: t0,
+                iterations: outcome.stats.iterations,
+                residual: outcome.stats.residual,
+            });
         }
-        Err(IntegrationError::Newton {
-            step: 0,
-            time: t0,
-            iterations: stats.iterations,
-            residual: stats.residual,
-        })
+        now.a.copy_from_slice(self.driver.solution());
+        Ok(outcome.stats)
     }
 
-    /// One step from `now` to t: Newton on x = q_{n+1} from the predictor x = q_n, into `new`;
-    /// restarted once with a fresh factorization when a reused one fails.
+    /// One step from `now` to t: Newton on x = q_{n+1} from the predictor x = q_n, into `new`.
     fn step<S: NonlinearSystem>(
         &mut self,
         system: &mut S,
@@ -359,108 +424,58 @@ impl Solver {
     ) -> Result<NewtonStats, IntegrationError> {
         let coefficients = form.coefficients();
         if self.factored != Some(coefficients) {
-            self.factored = None;
+            self.driver.invalidate();
         }
-        let mut earlier_factorizations = 0;
-        loop {
-            let stale = self.newton.update == JacobianUpdate::Reuse && self.factored.is_some();
-            let (converged, mut stats) = self.attempt(system, form, t, now, stale)?;
-            stats.factorizations += earlier_factorizations;
-            if converged {
-                return Ok(stats);
-            }
-            if !stale {
-                return Err(IntegrationError::Newton {
-                    step,
-                    time: t,
-                    iterations: stats.iterations,
-                    residual: stats.residual,
-                });
-            }
-            earlier_factorizations = stats.factorizations;
-            self.factored = None;
+        self.driver.predictor_mut().copy_from_slice(&now.q);
+        let mut equations = Step {
+            system,
+            form,
+            old: now,
+            new: &mut self.new,
+            eval: &mut self.eval,
+            t_eval: t + form.time_offset,
+            newton: self.newton,
+        };
+        let outcome = self.driver.solve(&mut equations)?;
+        self.factored = Some(coefficients);
+        if !outcome.converged {
+            return Err(IntegrationError::Newton {
+                step,
+                time: t,
+                iterations: outcome.stats.iterations,
+                residual: outcome.stats.residual,
+            });
         }
-    }
-
-    /// The Newton iterations of one attempt at a step (`stale`: it starts with a factorization
-    /// of an earlier step); whether they converged.
-    fn attempt<S: NonlinearSystem>(
-        &mut self,
-        system: &mut S,
-        form: &StepForm,
-        t: f64,
-        now: &Kinematics,
-        stale: bool,
-    ) -> Result<(bool, NewtonStats), IntegrationError> {
-        let Newton {
-            relative,
-            absolute,
-            max_iterations,
-            update,
-        } = self.newton;
-        let coefficients = form.coefficients();
-        let t_eval = t + form.time_offset;
-        self.x.copy_from_slice(&now.q);
-        let mut stats = NewtonStats::default();
-        let mut last_correction = f64::INFINITY;
-        for iteration in 0..max_iterations {
-            self.evaluate(form, now);
-            let Kinematics { q, v, a } = &self.eval;
-            system.residual(t_eval, q, v, a, &mut self.r)?;
-            stats.residual = norm(&self.r);
-            if !stats.residual.is_finite() {
-                break;
-            }
-            let refactor = match update {
-                JacobianUpdate::EveryIteration => true,
-                JacobianUpdate::EveryStep => iteration == 0,
-                JacobianUpdate::Reuse => self.factored.is_none(),
-            };
-            if refactor {
-                system.factor(t_eval, q, v, a, coefficients)?;
-                self.factored = Some(coefficients);
-                stats.factorizations += 1;
-            }
-            system.solve(&mut self.r)?;
-            self.x.iter_mut().zip(&self.r).for_each(|(x, d)| *x -= d);
-            stats.iterations += 1;
-            let correction = norm(&self.r);
-            if !correction.is_finite() {
-                break;
-            }
-            if correction <= relative * norm(&self.x) + absolute {
-                self.evaluate(form, now);
-                return Ok((true, stats));
-            }
-            // a correction that does not shrink (by half, with an earlier step's factorization)
-            // diverges
-            let contraction = if stale { 0.5 } else { 1.0 };
-            if iteration > 0 && correction > contraction * last_correction {
-                break;
-            }
-            last_correction = correction;
-        }
-        Ok((false, stats))
-    }
-
-    /// The state at t_{n+1} (`new`) and at the evaluation point (`eval`) for the iterate x.
-    fn evaluate(&mut self, form: &StepForm, old: &Kinematics) {
-        let [s_q, s_v, s_a] = form.slopes;
-        let [w_q, w_v, w_a] = form.weights;
-        let (new, eval, off) = (&mut self.new, &mut self.eval, &form.offsets);
-        for (i, &x) in self.x.iter().enumerate() {
-            new.q[i] = s_q * x;
-            new.v[i] = s_v * x + off.v[i];
-            new.a[i] = s_a * x + off.a[i];
-            eval.q[i] = w_q * new.q[i] + (1.0 - w_q) * old.q[i];
-            eval.v[i] = w_v * new.v[i] + (1.0 - w_v) * old.v[i];
-            eval.a[i] = w_a * new.a[i] + (1.0 - w_a) * old.a[i];
-        }
+        evaluate(
+            form,
+            now,
+            self.driver.solution(),
+            &mut self.new,
+            &mut self.eval,
+        );
+        Ok(outcome.stats)
     }
 }
 
-fn norm(x: &[f64]) -> f64 {
-    x.iter().fold(0.0, |m, v| m.max(v.abs()))
+/// The state at t_{n+1} (`new`) and at the evaluation point (`eval`) for the iterate x.
+fn evaluate(
+    form: &StepForm,
+    old: &Kinematics,
+    x: &[f64],
+    new: &mut Kinematics,
+    eval: &mut Kinematics,
+) {
+    let [s_q, s_v, s_a] = form.slopes;
+    let [w_q, w_v, w_a] = form.weights;
+    let off = &form.offsets;
+    for (i, &x) in x.iter().enumerate() {
+        new.q[i] = s_q * x;
+        new.v[i] = s_v * x + off.v[i];
+        new.a[i] = s_a * x + off.a[i];
+        eval.q[i] = w_q * new.q[i] + (1.0 - w_q) * old.q[i];
+        eval.v[i] = w_v * new.v[i] + (1.0 - w_v) * old.v[i];
+        eval.a[i] = w_a * new.a[i] + (1.0 - w_a) * old.a[i];
+    }
 }
 
 #[cfg(test)]

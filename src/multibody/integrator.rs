@@ -24,23 +24,28 @@
 //!
 //! with K̂ = K + the spring-dampers' K ∇ℓ∇ℓᵀ and Ĉ = C − ∂f_v/∂v + their C ∇ℓ∇ℓᵀ; the
 //! derivatives of M(q)(v − v̂), f_v and gravity with respect to q (of relative size h² ω²)
-//! are left out, so the iteration is a modified Newton method. Its factorization is kept across
-//! iterations and steps (while c_q and c_v stay the same) and refreshed when the contraction
-//! rate of the corrections exceeds `slow_rate`. Corrections that grow under a matrix just
-//! factored at the current iterate mean divergence: the attempt stops there. A step that does
-//! not converge in `max_iterations` (after one retry from the predictor with a fresh matrix
-//! when the first attempt began with an older one) is an error naming the time, the largest
-//! residual entry and the worst position constraint (its joint or drive and |Φ|).
+//! are left out, so the iteration is a modified Newton method: [`crate::dynamics::newton`]'s
+//! driver with `JacobianUpdate::Reuse`, shared with the integrators of
+//! [`crate::dynamics::nonlinear`]. The factorization (sequential, in place, [`DenseLu`]) is
+//! kept across iterations and steps while c_q and c_v stay the same, and refreshed when the
+//! contraction rate of the corrections exceeds `slow_rate`. Corrections that grow under a
+//! matrix just factored at the current iterate mean divergence: the attempt stops there. A
+//! step that does not converge in `max_iterations` (after one retry from the predictor with a
+//! fresh matrix when the first attempt began with an older one) is an error naming the time,
+//! the largest residual entry and the worst position constraint (its joint or drive and |Φ|).
 //!
-//! The time-stepping family of [`crate::dynamics`] integrates unconstrained second-order
-//! residuals in q alone; this step keeps v and the two multiplier sets as unknowns, so it is
-//! written here against the same shape (predict, iterate with a reused factorization, report
-//! per step).
+//! The predictor is q_n + h v_n, v_n and the multipliers of the last step. Extrapolating the
+//! accelerations (v = v̂ + c_v q̈_n, or q̈ linear in the last two steps) cuts the iterations of
+//! the flexible four-bar by 10–20 % but doubles its factorizations: the predictor's
+//! remaining error lies in the links' stiff modes, which a factorization from earlier steps
+//! does not contract (docs/fourbar.md, "Speed").
 
 use super::constraint_set::ConstraintSet;
+use super::dense_lu::DenseLu;
 use super::error::MultibodyError;
 use super::scheme::{History, Scheme, StepForm};
 use super::system::{DriveSource, Equations, System};
+use crate::dynamics::newton::{JacobianUpdate, NewtonDriver, NewtonPolicy, StepEquations, max_abs};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef};
 
@@ -105,7 +110,9 @@ pub struct Ggl {
     scheme: Scheme,
     history: History,
     form: StepForm,
-    lu: Option<faer::linalg::solvers::PartialPivLu<f64>>,
+    newton: NewtonDriver,
+    /// The iteration matrix and its factors.
+    lu: DenseLu,
     /// (c_q, c_v) of the factored matrix.
     factored_for: (f64, f64),
     work: Workspace,
@@ -117,11 +124,12 @@ struct Workspace {
     dv: Mat<f64>,
     phi_q: Mat<f64>,
     velocity_q: Mat<f64>,
-    matrix: Mat<f64>,
     force: Vec<f64>,
     phi: Vec<f64>,
     phi_t: Vec<f64>,
-    rhs: Mat<f64>,
+    /// Φ_qᵀ μ and Φ_qᵀ λ̂.
+    gq_mu: Vec<f64>,
+    gq_lam: Vec<f64>,
 }
 
 impl Workspace {
@@ -132,17 +140,13 @@ impl Workspace {
             dv: Mat::zeros(n, n),
             phi_q: Mat::zeros(m, n),
             velocity_q: Mat::zeros(m, n),
-            matrix: Mat::zeros(2 * n + 2 * m, 2 * n + 2 * m),
             force: vec![0.0; n],
             phi: vec![0.0; m],
             phi_t: vec![0.0; m],
-            rhs: Mat::zeros(2 * n + 2 * m, 1),
+            gq_mu: vec![0.0; n],
+            gq_lam: vec![0.0; n],
         }
     }
-}
-
-fn max_abs(x: &[f64]) -> f64 {
-    x.iter().fold(0.0, |a, b| a.max(b.abs()))
 }
 
 /// Index and value of the largest |Φᵢ|.
@@ -291,7 +295,15 @@ impl Ggl {
             scheme,
             history: History::default(),
             form: StepForm::default(),
-            lu: None,
+            newton: NewtonDriver::new(
+                2 * n + 2 * m,
+                NewtonPolicy {
+                    max_iterations: settings.max_iterations,
+                    update: JacobianUpdate::Reuse,
+                    slow_rate: settings.slow_rate,
+                },
+            ),
+            lu: DenseLu::new(2 * n + 2 * m),
             factored_for: (0.0, 0.0),
             work,
             q,
@@ -399,78 +411,68 @@ impl Ggl {
             &mut self.form,
         );
         if self.factored_for != (self.form.c_q, self.form.c_v) {
-            self.lu = None;
+            self.newton.invalidate();
         }
-        let mut iterations = 0;
-        let mut factorizations = 0;
-        let fresh_start = self.lu.is_none();
-        for attempt in 0..2 {
-            if attempt == 1 {
-                if fresh_start {
-                    break;
-                }
-                self.lu = None;
-            }
-            match self.attempt(t, &mut iterations, &mut factorizations)? {
-                Some(x) => {
-                    let (n, m) = (self.system.size(), self.constraint_count());
-                    let c_v = self.form.c_v;
-                    for i in 0..n {
-                        self.acceleration[i] = (x[n + i] - self.form.v_hat[i]) / c_v;
-                    }
-                    self.history
-                        .advance(self.scheme, h, &self.q, &self.v, &x[n..2 * n]);
-                    self.q.copy_from_slice(&x[..n]);
-                    self.v.copy_from_slice(&x[n..2 * n]);
-                    for k in 0..m {
-                        self.lambda[k] = x[2 * n + k] / c_v;
-                        self.mu[k] = x[2 * n + m + k];
-                    }
-                    self.time = t;
-                    self.equations.constraints.values(
-                        &self.system.layout,
-                        &self.q,
-                        t,
-                        &mut self.work.phi,
-                    );
-                    return Ok(StepReport {
-                        time: t,
-                        iterations,
-                        factorizations,
-                        constraint_residual: max_abs(&self.work.phi),
-                    });
-                }
-                None => continue,
-            }
+        self.predict();
+        let mut equations = GglStep {
+            system: &self.system,
+            equations: &self.equations,
+            form: &self.form,
+            work: &mut self.work,
+            lu: &mut self.lu,
+            factored_for: &mut self.factored_for,
+            t,
+            tolerance: self.settings.tolerance,
+        };
+        let outcome = self.newton.solve(&mut equations)?;
+        if !outcome.converged {
+            // the driver left the residual of the last iterate (and its Φ) behind
+            let (row, constraint) = worst(&self.work.phi);
+            return Err(MultibodyError::NotConverged {
+                time: t,
+                iterations: outcome.stats.iterations,
+                residual: outcome.stats.residual,
+                worst: self
+                    .equations
+                    .constraints
+                    .labels
+                    .get(row)
+                    .cloned()
+                    .unwrap_or_default(),
+                constraint,
+            });
         }
-        // not converged: report at the last iterate
-        let residual = max_abs(&self.work.rhs.col(0).iter().copied().collect::<Vec<_>>());
-        let (row, constraint) = worst(&self.work.phi);
-        Err(MultibodyError::NotConverged {
+        let (n, m) = (self.system.size(), self.constraint_count());
+        let x = self.newton.solution();
+        let c_v = self.form.c_v;
+        for i in 0..n {
+            self.acceleration[i] = (x[n + i] - self.form.v_hat[i]) / c_v;
+        }
+        self.history
+            .advance(self.scheme, h, &self.q, &self.v, &x[n..2 * n]);
+        self.q.copy_from_slice(&x[..n]);
+        self.v.copy_from_slice(&x[n..2 * n]);
+        for k in 0..m {
+            self.lambda[k] = x[2 * n + k] / c_v;
+            self.mu[k] = x[2 * n + m + k];
+        }
+        self.time = t;
+        self.equations
+            .constraints
+            .values(&self.system.layout, &self.q, t, &mut self.work.phi);
+        Ok(StepReport {
             time: t,
-            iterations,
-            residual,
-            worst: self
-                .equations
-                .constraints
-                .labels
-                .get(row)
-                .cloned()
-                .unwrap_or_default(),
-            constraint,
+            iterations: outcome.stats.iterations,
+            factorizations: outcome.stats.factorizations,
+            constraint_residual: max_abs(&self.work.phi),
         })
     }
 
-    /// One Newton attempt from the predictor; `Some(x)` when converged.
-    fn attempt(
-        &mut self,
-        t: f64,
-        iterations: &mut usize,
-        factorizations: &mut usize,
-    ) -> Result<Option<Vec<f64>>, MultibodyError> {
+    /// The predictor of the step (module docs) into the Newton driver.
+    fn predict(&mut self) {
         let (n, m) = (self.system.size(), self.constraint_count());
         let h = self.step_size;
-        let mut x = vec![0.0; 2 * n + 2 * m];
+        let x = self.newton.predictor_mut();
         for i in 0..n {
             x[i] = self.q[i] + h * self.v[i];
             x[n + i] = self.v[i];
@@ -479,104 +481,85 @@ impl Ggl {
             x[2 * n + k] = self.form.c_v * self.lambda[k];
             x[2 * n + m + k] = self.mu[k];
         }
-        let mut previous_error = f64::INFINITY;
-        for _ in 0..self.settings.max_iterations {
-            *iterations += 1;
-            self.residual(&x, t);
-            let fresh = self.lu.is_none();
-            if fresh {
-                self.factor(&x, t)?;
-                *factorizations += 1;
-            }
-            let lu = self.lu.as_ref().expect("factored above");
-            lu.solve_in_place(self.work.rhs.as_mut());
-            let (q_scale, v_scale) = (1.0 + max_abs(&x[..n]), 1.0 + max_abs(&x[n..2 * n]));
-            let mut error: f64 = 0.0;
-            for (i, xi) in x.iter_mut().enumerate() {
-                let d = -self.work.rhs[(i, 0)];
-                if !d.is_finite() {
-                    return Err(MultibodyError::Singular {
-                        what: "GGL iteration matrix",
-                        time: t,
-                    });
-                }
-                *xi += d;
-                if i < n {
-                    error = error.max(d.abs() / q_scale);
-                } else if i < 2 * n {
-                    error = error.max(d.abs() / v_scale);
-                }
-            }
-            if error <= self.settings.tolerance {
-                return Ok(Some(x));
-            }
-            if fresh && error > previous_error {
-                break;
-            }
-            if error > self.settings.slow_rate * previous_error {
-                self.lu = None;
-            }
-            previous_error = error;
-        }
-        self.residual(&x, t);
-        Ok(None)
     }
+}
 
-    /// R(x) into `work.rhs`, Φ into `work.phi`.
-    fn residual(&mut self, x: &[f64], t: f64) {
-        let (n, m) = (self.system.size(), self.constraint_count());
+/// The equations of one GGL step at t in x = (q, v, λ̂, μ) (module docs).
+struct GglStep<'a> {
+    system: &'a System,
+    equations: &'a Equations,
+    form: &'a StepForm,
+    work: &'a mut Workspace,
+    lu: &'a mut DenseLu,
+    factored_for: &'a mut (f64, f64),
+    t: f64,
+    /// Relative tolerance on the corrections of q and v.
+    tolerance: f64,
+}
+
+impl StepEquations for GglStep<'_> {
+    type Error = MultibodyError;
+
+    /// R(x) into `r`, Φ into `work.phi`.
+    fn residual(&mut self, x: &[f64], r: &mut [f64]) -> Result<(), MultibodyError> {
+        let (n, m) = (self.system.size(), self.equations.constraints.len());
         let StepForm {
             q_hat,
             v_hat,
             c_q,
             c_v,
-        } = &self.form;
+        } = self.form;
         let (q, v) = (&x[..n], &x[n..2 * n]);
         let (lam, mu) = (&x[2 * n..2 * n + m], &x[2 * n + m..]);
-        let layout = &self.system.layout;
+        let (layout, t) = (&self.system.layout, self.t);
         let c = &self.equations.constraints;
-        let w = &mut self.work;
+        let w = &mut *self.work;
         c.jacobian(layout, q, t, w.phi_q.as_mut());
         c.values(layout, q, t, &mut w.phi);
         c.time_rates(layout, q, t, &mut w.phi_t);
         self.system.mass_matrix(q, w.mass.as_mut());
         self.system
-            .applied_forces(&self.equations, q, v, t, &mut w.force, None);
-        let mut gq_mu = vec![0.0; n];
-        let mut gq_lam = vec![0.0; n];
-        transpose_mul(w.phi_q.as_ref(), mu, &mut gq_mu);
-        transpose_mul(w.phi_q.as_ref(), lam, &mut gq_lam);
+            .applied_forces(self.equations, q, v, t, &mut w.force, None);
+        transpose_mul(w.phi_q.as_ref(), mu, &mut w.gq_mu);
+        transpose_mul(w.phi_q.as_ref(), lam, &mut w.gq_lam);
         for i in 0..n {
-            w.rhs[(i, 0)] = q[i] - q_hat[i] - c_q * v[i] - gq_mu[i];
-            let mut r2 = -c_v * w.force[i] + gq_lam[i];
-            for (j, (vj, v0j)) in v.iter().zip(v_hat).enumerate() {
-                r2 += w.mass[(i, j)] * (vj - v0j);
+            r[i] = q[i] - q_hat[i] - c_q * v[i] - w.gq_mu[i];
+            r[n + i] = -c_v * w.force[i] + w.gq_lam[i];
+        }
+        // M is block diagonal: M (v − v̂) body by body
+        for s in layout.slices() {
+            for i in s.offset..s.offset + s.len() {
+                let mut sum = 0.0;
+                for j in s.offset..s.offset + s.len() {
+                    sum += w.mass[(i, j)] * (v[j] - v_hat[j]);
+                }
+                r[n + i] += sum;
             }
-            w.rhs[(n + i, 0)] = r2;
         }
         for k in 0..m {
             let mut r3 = w.phi_t[k];
             for (j, vj) in v.iter().enumerate() {
                 r3 += w.phi_q[(k, j)] * vj;
             }
-            w.rhs[(2 * n + k, 0)] = r3;
-            w.rhs[(2 * n + m + k, 0)] = w.phi[k];
+            r[2 * n + k] = r3;
+            r[2 * n + m + k] = w.phi[k];
         }
+        Ok(())
     }
 
     /// Builds and factors the iteration matrix at x (module docs).
-    fn factor(&mut self, x: &[f64], t: f64) -> Result<(), MultibodyError> {
-        let (n, m) = (self.system.size(), self.constraint_count());
+    fn factor(&mut self, x: &[f64]) -> Result<(), MultibodyError> {
+        let (n, m) = (self.system.size(), self.equations.constraints.len());
         let (c_q, c_v) = (self.form.c_q, self.form.c_v);
         let (q, v) = (&x[..n], &x[n..2 * n]);
         let (lam, mu) = (&x[2 * n..2 * n + m], &x[2 * n + m..]);
-        let layout = &self.system.layout;
+        let (layout, t) = (&self.system.layout, self.t);
         let c = &self.equations.constraints;
-        let w = &mut self.work;
+        let w = &mut *self.work;
         w.dq.fill(0.0);
         w.dv.fill(0.0);
         self.system.applied_forces(
-            &self.equations,
+            self.equations,
             q,
             v,
             t,
@@ -586,7 +569,7 @@ impl Ggl {
         self.system.mass_matrix(q, w.mass.as_mut());
         c.jacobian(layout, q, t, w.phi_q.as_mut());
         c.velocity_equation_jacobian(layout, q, v, t, w.velocity_q.as_mut());
-        let j = &mut w.matrix;
+        let mut j = self.lu.matrix_mut();
         j.fill(0.0);
         // R₁ rows
         for i in 0..n {
@@ -612,9 +595,28 @@ impl Ggl {
                 j[(2 * n + m + k, a)] = g;
             }
         }
-        self.lu = Some(j.partial_piv_lu());
-        self.factored_for = (c_q, c_v);
+        self.lu.factor();
+        *self.factored_for = (c_q, c_v);
         Ok(())
+    }
+
+    fn solve(&mut self, r: &mut [f64]) -> Result<(), MultibodyError> {
+        self.lu.solve(r);
+        if r.iter().any(|d| !d.is_finite()) {
+            return Err(MultibodyError::Singular {
+                what: "GGL iteration matrix",
+                time: self.t,
+            });
+        }
+        Ok(())
+    }
+
+    /// max(|Δq| / (1 + |q|), |Δv| / (1 + |v|)) / tolerance.
+    fn correction_size(&self, x: &[f64], dx: &[f64]) -> f64 {
+        let n = self.system.size();
+        let q = max_abs(&dx[..n]) / (1.0 + max_abs(&x[..n]));
+        let v = max_abs(&dx[n..2 * n]) / (1.0 + max_abs(&x[n..2 * n]));
+        q.max(v) / self.tolerance
     }
 }
 

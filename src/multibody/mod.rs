@@ -18,7 +18,8 @@
 //! - [`forces`]: point forces, point-to-point and joint spring-dampers, compliant drives.
 //! - [`signal`]: time functions with their first two derivatives; [`error`]: what stops a run.
 //! - [`system`]: the assembled system and its residual terms; [`integrator`]: consistent
-//!   initial conditions and the GGL step (eq. 2.60–2.61) with modified Newton; [`scheme`]:
+//!   initial conditions and the GGL step (eq. 2.60–2.61) with the modified Newton of
+//!   [`crate::dynamics::newton`]; [`dense_lu`]: its iteration matrix's LU; [`scheme`]:
 //!   BDF1, BDF2 and generalized-α as one step form; [`statics`]: static equilibrium under
 //!   gravity with drives held;
 //!   [`output`]: marker kinematics, reactions, drive torques, power and energy.
@@ -30,6 +31,7 @@ pub mod constraint;
 pub mod constraint_set;
 #[cfg(test)]
 mod constraint_tests;
+pub mod dense_lu;
 pub mod error;
 pub mod flexible;
 pub mod forces;

@@ -34,6 +34,7 @@
 //! modes above 1/h in one step. The scheme starts from the consistent accelerations q̈₀ = a₀.
 
 use super::error::MultibodyError;
+pub use crate::dynamics::nonlinear::AlphaParameters;
 
 /// The time discretization of a [`super::Ggl`] integrator.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,30 +45,6 @@ pub enum Scheme {
     Bdf2,
     /// Generalized-α with the spectral radius ρ∞ at infinite frequency: second order.
     GeneralizedAlpha { spectral_radius: f64 },
-}
-
-/// The generalized-α parameters (module docs).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AlphaParameters {
-    pub alpha_m: f64,
-    pub alpha_f: f64,
-    pub gamma: f64,
-    pub beta: f64,
-}
-
-impl AlphaParameters {
-    /// Chung & Hulbert's optimal set for ρ∞.
-    pub fn from_spectral_radius(rho: f64) -> Self {
-        let alpha_m = (2.0 * rho - 1.0) / (rho + 1.0);
-        let alpha_f = rho / (rho + 1.0);
-        let gamma = 0.5 - alpha_m + alpha_f;
-        Self {
-            alpha_m,
-            alpha_f,
-            gamma,
-            beta: 0.25 * (gamma + 0.5).powi(2),
-        }
-    }
 }
 
 impl Scheme {

@@ -1,16 +1,18 @@
 #!/usr/bin/env python3
 """Speed against error of the flexible four-bar of thesis §4.4 (decks/fourbar/fmb/fourbar_steel.dat,
 docs/fourbar.md): 1 s of the drive with BDF1 at Δt = 1 ms, timed, and its error against
-Δt = 0.25 ms.
+Δt = 0.25 ms; with --integrators, each GGL integrator (BDF1, BDF2, generalized-α with
+ρ∞ = 0.9) at Δt = 2, 1 and 0.5 ms against generalized-α at 0.125 ms.
 
-    .venv/bin/python tools/bench/fourbar_bench.py [--repeat 3] [--paraflex target/release/paraflex] [--keep DIR]
+    .venv/bin/python tools/bench/fourbar_bench.py [--repeat 3] [--integrators] [--paraflex target/release/paraflex] [--keep DIR]
 
 Builds the three links' pROM artifacts beside the deck in a work directory, runs the deck at
 1 ms (1000 steps) and at 0.25 ms (4000 steps, output every 4th: the same output times).
 Time: wall time of the run's "multibody" step as printed by paraflex (assembly, the time loop,
-the sensors and their output), best of --repeat runs. Error: eq. 4.11 of the thesis,
-max_t ‖y(t) − y_ref(t)‖ / max_t ‖y_ref(t)‖, on the acceleration (AX, AY) of the coupler joint C
-and on the drive torque.
+the sensors and their output), best of --repeat runs; Newton iterations per step from the
+output's newton_iterations. Error: eq. 4.11 of the thesis, max_t ‖y(t) − y_ref(t)‖ /
+max_t ‖y_ref(t)‖, on the acceleration (AX, AY) of the coupler joint C and on the drive torque,
+over the output times the two runs share.
 """
 from __future__ import annotations
 
@@ -28,7 +30,12 @@ from paraflex_tools.runner import default_binary, run_checked
 ROOT = Path(__file__).resolve().parents[2]
 DECKS = ROOT / "decks" / "fourbar" / "fmb"
 LINKS = {"crank_prom.dat": "crank.h5", "coupler_prom.dat": "coupler.h5", "output_crank_prom.dat": "output_crank.h5"}
-FINE = ("TSTEP,1,1000,1.e-3,1", "TSTEP,1,4000,2.5e-4,4")
+COARSE_STEP = "TSTEP,1,1000,1.e-3,1"
+FINE = (COARSE_STEP, "TSTEP,1,4000,2.5e-4,4")
+INTEGRATOR = "TINTEG,1,BDF1"
+SCHEMES = {"BDF1": "TINTEG,1,BDF1", "BDF2": "TINTEG,1,BDF2", "gen-α 0.9": "TINTEG,1,GALPHA,0.9"}
+STEPS_MS = (2.0, 1.0, 0.5)
+REFERENCE_MS = 0.125
 
 
 def histories(path: Path) -> dict[str, np.ndarray]:
@@ -38,12 +45,49 @@ def histories(path: Path) -> dict[str, np.ndarray]:
             "time": g["time"][()],
             "accel": np.column_stack([g["sensors/AX"][()], g["sensors/AY"][()]]),
             "torque": g["sensors/TORQUE"][()][:, None],
+            "iterations": g["newton_iterations"][()],
         }
 
 
 def error_4_11(y: np.ndarray, ref: np.ndarray) -> float:
     """max_t ‖y(t) − y_ref(t)‖ / max_t ‖y_ref(t)‖ (thesis eq. 4.11)."""
     return float(np.linalg.norm(y - ref, axis=1).max() / np.linalg.norm(ref, axis=1).max())
+
+
+def errors(y: dict[str, np.ndarray], ref: dict[str, np.ndarray]) -> tuple[float, float]:
+    """Eq. 4.11 errors of the acceleration of C and of the drive torque at the shared times."""
+    common, iy, ir = np.intersect1d(np.round(y["time"], 9), np.round(ref["time"], 9), return_indices=True)
+    if len(common) < 2:
+        raise RuntimeError("the runs share no output times")
+    return (error_4_11(y["accel"][iy], ref["accel"][ir]), error_4_11(y["torque"][iy], ref["torque"][ir]))
+
+
+def variant(deck: str, scheme: str, dt_ms: float, out_every_ms: float) -> str:
+    """The deck with integrator `scheme` (a TINTEG line) and step Δt over 1 s, output every
+    `out_every_ms`."""
+    steps = round(1000.0 / dt_ms)
+    every = max(1, round(out_every_ms / dt_ms))
+    return deck.replace(COARSE_STEP, f"TSTEP,1,{steps},{dt_ms * 1e-3:.6e},{every}").replace(INTEGRATOR, scheme)
+
+
+def integrator_table(work: Path, deck: str, exe: Path, repeat: int) -> None:
+    """Prints Δt, steps, wall, Newton iterations per step and eq. 4.11 errors for each scheme."""
+    (work / "reference.dat").write_text(variant(deck, SCHEMES["gen-α 0.9"], REFERENCE_MS, 1.0))
+    run_checked(work / "reference.dat", work / "reference.h5", exe)
+    ref = histories(work / "reference.h5")
+    print(f"reference: generalized-α ρ∞ = 0.9 at Δt = {REFERENCE_MS} ms")
+    print("| scheme | Δt (ms) | steps | wall (ms) | Newton it./step | accel. error | torque error |")
+    print("|---|---|---|---|---|---|---|")
+    for name, scheme in SCHEMES.items():
+        for dt in STEPS_MS:
+            deck_path, out = work / "variant.dat", work / "variant.h5"
+            deck_path.write_text(variant(deck, scheme, dt, dt))
+            wall = min(timed_run(deck_path, out, exe) for _ in range(repeat))
+            y = histories(out)
+            accel, torque = errors(y, ref)
+            steps = round(1000.0 / dt)
+            print(f"| {name} | {dt:g} | {steps} | {1e3 * wall:.0f} | {y['iterations'][1:].mean():.2f} "
+                  f"| {accel:.2e} | {torque:.2e} |")
 
 
 def timed_run(deck: Path, out: Path, exe: Path) -> float:
@@ -57,6 +101,8 @@ def timed_run(deck: Path, out: Path, exe: Path) -> float:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--integrators", action="store_true",
+                    help="also the table of each integrator at several steps")
     ap.add_argument("--paraflex", type=Path, default=default_binary())
     ap.add_argument("--keep", type=Path, help="work directory to keep (default: a temp directory)")
     a = ap.parse_args()
@@ -68,8 +114,9 @@ def main() -> None:
         run_checked(work / deck, work / artifact, a.paraflex)
     shutil.copy(DECKS / "drive.csv", work / "drive.csv")
     coarse = (DECKS / "fourbar_steel.dat").read_text()
-    if FINE[0] not in coarse:
-        raise RuntimeError(f"{FINE[0]} not in fourbar_steel.dat")
+    for line in (COARSE_STEP, INTEGRATOR):
+        if line not in coarse:
+            raise RuntimeError(f"{line} not in fourbar_steel.dat")
     (work / "coarse.dat").write_text(coarse)
     (work / "fine.dat").write_text(coarse.replace(*FINE))
     wall = min(timed_run(work / "coarse.dat", work / "coarse.h5", a.paraflex) for _ in range(a.repeat))
@@ -81,6 +128,9 @@ def main() -> None:
     print(f"{1e-3:>8.2e}{1000:>7}{1e3 * wall:>11.1f}{error_4_11(y['accel'], ref['accel']):>13.2e}"
           f"{error_4_11(y['torque'], ref['torque']):>14.2e}")
     print(f"{2.5e-4:>8.2e}{4000:>7}{1e3 * fine_wall:>11.1f}{'(reference)':>13}{'':>14}")
+    print(f"Newton iterations per step at 1 ms: {y['iterations'][1:].mean():.2f}")
+    if a.integrators:
+        integrator_table(work, coarse, a.paraflex, a.repeat)
     print(f"work directory: {work}" if a.keep else "")
     if not a.keep:
         shutil.rmtree(work)
