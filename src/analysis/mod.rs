@@ -5,10 +5,13 @@
 //!
 //! - [`statics`]: K_ff u_f = P_f per load set with one factor per f-set, SPC forces, load
 //!   resultants, centroid strains (SOL 101);
+//! - [`modal`]: normal modes by shift-invert Lanczos with one symbolic analysis per f-set,
+//!   NORM = MAX scaling, shapes on every grid (SOL 103);
 //! - [`frf`]: the receptance of the f-set, direct or by modes with residual vectors (SOL 108,
 //!   SOL 111).
 
 pub mod frf;
+pub mod modal;
 pub mod statics;
 
 use std::time::{Duration, Instant};

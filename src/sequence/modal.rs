@@ -1,4 +1,5 @@
-//! SOL 103 (MODAL): normal modes of K_ff φ = λ M_ff φ for every subcase.
+//! SOL 103 (MODAL): normal modes of K_ff φ = λ M_ff φ for every subcase
+//! ([`crate::analysis::modal`]).
 //!
 //! Per subcase: `METHOD = sid` selects an `EIGRL` (V1, V2, ND, SHFSCL, NORM); `SPC = sid` and
 //! AUTOSPC give the f-set ([`Constrained`]); one symbolic analysis of the K_ff/M_ff pattern is
@@ -24,16 +25,15 @@
 
 use super::driver::{Basis, Driver};
 use super::report::{Report, lambda_to_hz, sci, sturm_line};
-use super::shared::lanczos_modes;
 use super::shared::structure;
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
-use crate::assembly::recover::recover_g;
+use crate::analysis::modal::{SymbolicCache, modes, normalize_to_unit_max, shapes_in_basic};
 use crate::deck::Solution;
 use crate::deck::cards::EigenNorm;
 use crate::deck::case_control::Subcase;
 use crate::discretize::{Constrained, Structure};
 use crate::io::{set_attr_f64, set_attr_i64, set_attr_str, write_f64};
-use crate::linalg::{EigenResult, SturmCheck, SymbolicFactor};
+use crate::linalg::{EigenRequest, EigenResult, SturmCheck};
 
 /// What one modal subcase found.
 #[derive(Debug, Clone)]
@@ -97,7 +97,7 @@ fn run(
     st: &Structure,
     clock: &mut Clock,
 ) -> Result<Vec<SubcaseSummary>, RunError> {
-    let mut symbolic_cache: Vec<(Vec<usize>, SymbolicFactor)> = Vec::new();
+    let mut symbolic_cache = SymbolicCache::default();
     let mut out = Vec::new();
     for sub in &ctx.model.subcases {
         let id = sub.id;
@@ -113,23 +113,28 @@ fn run(
         let c = clock.time(format!("subcase {id}: constraints"), || {
             Constrained::build(ctx.model, st, sub.spc)
         })?;
-        let f = c.sets.f.members().to_vec();
-        let symbolic = match symbolic_cache.iter().find(|(key, _)| *key == f) {
-            Some((_, s)) => s.clone(),
-            None => {
-                let s = clock
-                    .time(format!("subcase {id}: symbolic analysis"), || {
-                        SymbolicFactor::analyze(c.k_ff.pattern())
-                    })
-                    .map_err(|e| RunError::Linalg {
-                        subcase: id,
-                        source: e,
-                    })?;
-                symbolic_cache.push((f, s.clone()));
-                s
-            }
+        if symbolic_cache.get(&c).is_none() {
+            clock
+                .time(format!("subcase {id}: symbolic analysis"), || {
+                    symbolic_cache.analyze(&c)
+                })
+                .map_err(|e| RunError::Linalg {
+                    subcase: id,
+                    source: e,
+                })?;
+        }
+        let symbolic = symbolic_cache.get(&c).ok_or(RunError::NoSolution)?;
+        let request = EigenRequest {
+            v1_hz: eigrl.v1,
+            v2_hz: eigrl.v2,
+            nd: eigrl.nd.map(|n| n as usize),
+            shift_hz: eigrl.shfscl,
         };
-        let result = lanczos_modes(ctx, st, &c, id, eigrl, &symbolic, clock)?;
+        let result = clock
+            .time(format!("subcase {id}: Lanczos"), || {
+                modes(&c, &request, symbolic, ctx.options.par(), ctx.progress)
+            })
+            .map_err(|e| super::mechanism(&c, st, id, e))?;
         let summary = clock.time(format!("subcase {id}: output"), || {
             write_subcase(ctx, st, &c, sub, norm, eigrl.nd.map(|n| n as usize), result)
         })?;
@@ -154,18 +159,10 @@ fn write_subcase(
     let id = sub.id;
     let m = r.eigenvalues.len();
     let nf = r.vectors.nrows();
-    let mut generalized_mass = vec![1.0; m];
-    if norm == EigenNorm::Max {
-        for (j, gm) in generalized_mass.iter_mut().enumerate() {
-            let s = (0..nf).fold(0.0_f64, |acc, i| acc.max(r.vectors[(i, j)].abs()));
-            if s > 0.0 {
-                for i in 0..nf {
-                    r.vectors[(i, j)] /= s;
-                }
-                *gm = 1.0 / (s * s);
-            }
-        }
-    }
+    let generalized_mass = match norm {
+        EigenNorm::Max => normalize_to_unit_max(&mut r.vectors),
+        EigenNorm::Mass => vec![1.0; m],
+    };
     let group = ctx.output.group(&format!("results/{id}/modal"))?;
     write_f64(&group, "frequency_hz", &r.frequencies_hz, &[m])?;
     write_f64(&group, "eigenvalue", &r.eigenvalues, &[m])?;
@@ -194,17 +191,7 @@ fn write_subcase(
     let rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
     let shapes_written = rows.is_some();
     if let Some(rows) = rows {
-        let n = st.map.grids();
-        let zero = vec![0.0; st.map.size()];
-        let mut shapes = Vec::with_capacity(m * 6 * n);
-        let mut u_f = vec![0.0; nf];
-        for j in 0..m {
-            for (i, u) in u_f.iter_mut().enumerate() {
-                *u = r.vectors[(i, j)];
-            }
-            let u_g = recover_g(&u_f, &c.sets, &zero, &st.rigid)?;
-            shapes.extend(st.to_basic_rows(&u_g));
-        }
+        let shapes = shapes_in_basic(st, c, &r.vectors)?;
         rows.write(&group, "shapes", &shapes, &[m], &st.map)?;
     }
     Ok(ModalSummary {

@@ -3,16 +3,12 @@
 //! frequency lines of `FREQUENCY` and the FRF output (full-model and pROM FRFs).
 
 use super::{Clock, RunContext, RunError};
-use crate::deck::cards::Eigrl;
 use crate::deck::cards::{TintegMethod, Tstep};
 use crate::deck::case_control::Subcase;
-use crate::discretize::{Constrained, Structure};
+use crate::discretize::Structure;
 use crate::dynamics::integrators::Method;
 use crate::io::{IoError, write_c64, write_f64, write_strings};
 use crate::linalg::c64;
-use crate::linalg::{
-    EigenProblem, EigenRequest, EigenResult, LanczosOptions, SymbolicFactor, solve_modes,
-};
 use crate::model::Model;
 
 /// The TSTEP of a subcase, its method (TINTEG with the TSTEP's id; BDF1 without one) and the
@@ -84,42 +80,6 @@ pub fn write_frf(
     let refs: Vec<&str> = outputs.iter().map(String::as_str).collect();
     write_strings(group, "outputs", &refs)?;
     Ok(())
-}
-
-/// The modes an EIGRL card asks for, of the constrained model `c` (shift-invert Lanczos on the
-/// f-set with the symbolic analysis of K_ff), timed as the subcase's "Lanczos" step; a singular
-/// factor is reported as the mechanism DOF it comes from.
-pub fn lanczos_modes(
-    ctx: &RunContext,
-    st: &Structure,
-    c: &Constrained,
-    id: u32,
-    eigrl: &Eigrl,
-    symbolic: &SymbolicFactor,
-    clock: &mut Clock,
-) -> Result<EigenResult, RunError> {
-    let request = EigenRequest {
-        v1_hz: eigrl.v1,
-        v2_hz: eigrl.v2,
-        nd: eigrl.nd.map(|n| n as usize),
-        shift_hz: eigrl.shfscl,
-    };
-    let problem = EigenProblem {
-        k: &c.k_ff,
-        m: &c.m_ff,
-        symbolic,
-    };
-    clock
-        .time(format!("subcase {id}: Lanczos"), || {
-            solve_modes(
-                &problem,
-                &request,
-                &LanczosOptions::default(),
-                ctx.options.par(),
-                ctx.progress,
-            )
-        })
-        .map_err(|e| super::mechanism(c, st, id, e))
 }
 
 /// The mesh every mesh driver runs on: the [`Structure`] of the model, its build steps timed.
