@@ -178,7 +178,7 @@ fn loaded_strip_body_has_the_fe_mass_and_first_moment_at_two_densities() {
     let artifact = dir.path().join("strip_body.h5");
     for rho in [2700.0, 2150.0] {
         let body =
-            paraflex::multibody::prom_body::load_prom_body(&artifact, &[("RHO".to_string(), rho)])
+            paraflex::discretize::prom_body::load_prom_body(&artifact, &[("RHO".to_string(), rho)])
                 .expect("load");
         let text = deck("strip_body_prom.dat").replace(
             "MAT1,1,7.e10,,0.33,2700.",

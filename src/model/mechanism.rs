@@ -179,6 +179,42 @@ impl Mechanism {
     }
 }
 
+/// A card of a mechanism by its index, for what is found after the model is built (in the
+/// artifacts or during the run), so that the error still points at the card.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Card {
+    /// Index into [`Mechanism::bodies`].
+    Body(usize),
+    Marker(usize),
+    Drive(usize),
+    Force(usize),
+}
+
+impl Mechanism {
+    /// An error with `message` at `card`'s position, with its field (number and name) if any.
+    pub fn error_at(&self, card: Card, field: Option<&str>, message: String) -> DeckError {
+        let (loc, label) = match card {
+            Card::Body(i) => {
+                let b = &self.bodies[i];
+                let kind = match b.kind {
+                    BodyKind::Flexible { .. } => "FLEXB",
+                    BodyKind::Rigid { .. } => "RIGIDB",
+                };
+                (&b.loc, format!("{kind} {}", b.id))
+            }
+            Card::Marker(i) => (
+                &self.markers[i].loc,
+                format!("MARKER {}", self.markers[i].id),
+            ),
+            Card::Drive(i) => (&self.drives[i].loc, format!("JDRIVE {}", self.drives[i].id)),
+            Card::Force(i) => (&self.forces[i].loc, format!("MFORCE {}", self.forces[i].id)),
+        };
+        let mut e = DeckError::at(loc, message).on_card(label);
+        e.field = field.map(String::from);
+        e
+    }
+}
+
 /// An error at `loc` on card `card` (with its id), field `field` (number and name).
 fn at(loc: &Loc, card: &str, id: u32, field: &str, message: String) -> DeckError {
     let mut e = DeckError::at(loc, message).on_card(format!("{card} {id}"));

@@ -8,8 +8,7 @@
 //! subcase's gravity reached from the assembly, drives held at their t = 0 values). A subcase
 //! with `FMBSTART = STATIC` and no `TSTEP` is a static subcase: its output is the one row of
 //! the equilibrium at t = 0, `method` = `STATICS`. The system is built by
-//! [`crate::multibody::mechanism::build_system`] and run by
-//! [`crate::multibody::mechanism::simulate`].
+//! [`crate::discretize::mechanism::build_system`] and run by [`crate::multibody::simulate`].
 //!
 //! Written: `/results/<id>/fmb/{time (t), sensors/<name> (t), drives/<JDRIVE id>/{angle, rate,
 //! torque, power} (t), constraint_residual (t), newton_iterations (t)}`, attributes `method`,
@@ -22,12 +21,12 @@ use crate::card_values::FmbStart;
 use crate::deck::Solution;
 use crate::deck::cards::{Tinteg, TintegMethod};
 use crate::deck::case_control::{Subcase, Target};
+use crate::discretize::mechanism::build_system;
 use crate::io::{
     set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_u32,
 };
 use crate::model::mechanism::Sensor;
-use crate::multibody::mechanism::{build_system, simulate};
-use crate::multibody::{NewtonSettings, Scheme};
+use crate::multibody::{NewtonSettings, Scheme, Start, simulate};
 
 /// What one `SOL FMB` subcase computed.
 #[derive(Debug, Clone)]
@@ -150,8 +149,8 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let ms = build_system(ctx.model, gravity, &pval).map_err(|errors| {
         case(
             errors
-                .iter()
-                .map(ToString::to_string)
+                .into_iter()
+                .map(|e| mechanism.error_at(e.card, e.field, e.message).to_string())
                 .collect::<Vec<_>>()
                 .join("\n"),
         )
@@ -160,9 +159,13 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         .into_iter()
         .cloned()
         .collect();
+    let start = match start {
+        FmbStart::Assemble => Start::Assembled,
+        FmbStart::Static => Start::Equilibrium,
+    };
     let h = simulate(
-        &ms,
-        &sensors,
+        &ms.system,
+        &ms.outputs(&sensors),
         &intervals,
         NewtonSettings::default(),
         scheme,
@@ -182,7 +185,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     write_u32(&group, "newton_iterations", &h.newton_iterations, &[rows])?;
     if !sensors.is_empty() {
         let sg = ctx.output.group(&format!("results/{id}/fmb/sensors"))?;
-        for (s, series) in sensors.iter().zip(&h.sensors) {
+        for (s, series) in sensors.iter().zip(&h.outputs) {
             write_f64(&sg, &s.name, series, &[rows])?;
         }
     }
@@ -227,7 +230,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             extrapolated,
             finals: sensors
                 .iter()
-                .zip(&h.sensors)
+                .zip(&h.outputs)
                 .map(|(s, v)| (s.name.clone(), v.last().copied().unwrap_or(f64::NAN)))
                 .collect(),
         }),

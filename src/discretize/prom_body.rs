@@ -5,8 +5,8 @@
 
 use std::path::Path;
 
-use super::flexible::{FlexibleBodyData, InterfaceRows, MassInvariants};
 use crate::io::{read_prom, read_prom_body};
+use crate::multibody::{FlexibleBodyData, InterfaceRows, MassInvariants};
 use crate::rom::invariants::MassInvariants as AffineInvariants;
 
 /// A flexible body's data at one parameter point, with the point.
