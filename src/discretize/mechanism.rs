@@ -21,8 +21,10 @@ use crate::geometry::vec3::{add, dot, norm, sub};
 use crate::model::Model;
 use crate::model::mechanism::{BodyKind, Card, MarkerPlace, Mechanism, Sensor, SensorTarget};
 use crate::multibody::{
-    Body, DriveKind, Force, InterfaceRows, JointKind, Marker, Output, Signal, System,
+    Body, DriveKind, FlexibleBodyData, Force, InterfaceRows, JointKind, Marker, MassInvariants,
+    Output, Signal, System,
 };
+use faer::Mat;
 
 /// A problem found while building the system, at the card it concerns (`field`: number and
 /// name of the field at fault, if one is).
@@ -45,6 +47,8 @@ pub struct MechanismSystem {
     pub drives: Vec<usize>,
     /// Each flexible body's name and pROM evaluation point (parameters, values, extrapolated).
     pub flexible: Vec<(String, PromBodyAtPoint)>,
+    /// Per body (FLEXB and RIGIDB in card order): its entry in `flexible`, if it is flexible.
+    pub flexible_of: Vec<Option<usize>>,
 }
 
 /// Where a body sits initially: position of its frame origin and rotation A (body → global).
@@ -91,12 +95,53 @@ fn values_of(name: &str, pval: &[(String, f64)]) -> Vec<(String, f64)> {
         .collect()
 }
 
-/// Builds the system of `model`'s mechanism with gravity `gravity` (basic) and the PVAL
-/// values `pval` (`BODY.PMPAR`, value). Every error found is returned, at its card.
+/// Which bodies a system is built with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Bodies {
+    /// The flexible bodies of the pROM artifacts.
+    Flexible,
+    /// The rigid twin (eq. 4.10): every flexible body rigid with its undeformed mass
+    /// properties at p (mass, first and second moments of the invariants, no modes), its
+    /// markers at the grids' undeformed positions; everything else as in the mechanism.
+    RigidTwin,
+}
+
+/// A flexible body's data without its modes: the rigid body of its undeformed mass
+/// properties, in the same frame (the zero-mode case of [`FlexibleBodyData`]).
+fn rigid(data: &FlexibleBodyData) -> FlexibleBodyData {
+    let i = &data.invariants;
+    FlexibleBodyData {
+        invariants: MassInvariants {
+            mass: i.mass,
+            first: i.first,
+            first_modal: Vec::new(),
+            second: i.second,
+            second_mixed: Vec::new(),
+            second_modal: Vec::new(),
+        },
+        mass: Mat::zeros(0, 0),
+        stiffness: Mat::zeros(0, 0),
+        damping: Mat::zeros(0, 0),
+        interfaces: data
+            .interfaces
+            .iter()
+            .map(|r| InterfaceRows {
+                grid: r.grid,
+                position: r.position,
+                translation: Vec::new(),
+                rotation: Vec::new(),
+            })
+            .collect(),
+    }
+}
+
+/// Builds the system of `model`'s mechanism, with `bodies`, gravity `gravity` (basic) and the
+/// PVAL values `pval` (`BODY.PMPAR`, value). Every error found is returned, at its card.
 pub fn build_system(
     model: &Model,
     gravity: [f64; 3],
     pval: &[(String, f64)],
+    bodies: Bodies,
 ) -> Result<MechanismSystem, Vec<MechanismError>> {
     let mech: &Mechanism = &model.mechanism;
     let mut errors = Vec::new();
@@ -108,6 +153,7 @@ pub fn build_system(
     let mut system = System::new(gravity);
     let mut placements = Vec::new();
     let mut flexible = Vec::new();
+    let mut flexible_of = Vec::new();
     let mut interfaces: Vec<Vec<InterfaceRows>> = Vec::new();
     for (index, b) in mech.bodies.iter().enumerate() {
         match &b.kind {
@@ -119,16 +165,22 @@ pub fn build_system(
                 let rotation = transpose(axes);
                 match load_prom_body(artifact, &values_of(&b.name, pval)) {
                     Ok(at) => {
-                        interfaces.push(at.data.interfaces.clone());
+                        let data = match bodies {
+                            Bodies::Flexible => at.data.clone(),
+                            Bodies::RigidTwin => rigid(&at.data),
+                        };
+                        interfaces.push(data.interfaces.clone());
                         system.add_body(
-                            Body::flexible(at.data.clone()),
+                            Body::flexible(data),
                             *origin,
                             from_rotation_matrix(&rotation),
                         );
+                        flexible_of.push(Some(flexible.len()));
                         flexible.push((b.name.clone(), at));
                     }
                     Err(message) => {
                         errors.push(error(Card::Body(index), message));
+                        flexible_of.push(None);
                         interfaces.push(Vec::new());
                         system.add_body(Body::rigid(1.0, IDENTITY), *origin, [1.0, 0.0, 0.0, 0.0]);
                     }
@@ -144,6 +196,7 @@ pub fn build_system(
                 inertia,
             } => {
                 system.add_body(Body::rigid(*mass, *inertia), *centre, [1.0, 0.0, 0.0, 0.0]);
+                flexible_of.push(None);
                 interfaces.push(Vec::new());
                 placements.push(Placement {
                     origin: *centre,
@@ -290,6 +343,36 @@ pub fn build_system(
             Err(message) => errors.push(error(Card::Force(index), message)),
         }
     }
+    for (index, s) in mech.sensors.iter().enumerate() {
+        let SensorTarget::Strain { body, sensor } = &s.target else {
+            continue;
+        };
+        let Some((name, at)) = flexible_of[*body].map(|f| &flexible[f]) else {
+            continue; // the body's artifact could not be read: reported at its FLEXB
+        };
+        if !at
+            .strain_sensors
+            .iter()
+            .any(|(n, _)| n.eq_ignore_ascii_case(sensor))
+        {
+            errors.push(MechanismError {
+                card: Card::Sensor(index),
+                field: Some("field 6 (REF)"),
+                message: format!(
+                    "{sensor} is not a STRAIN sensor of the artifact of body {name} (its STRAIN sensors: {})",
+                    if at.strain_sensors.is_empty() {
+                        "none: give SENSOR cards of KIND STRAIN to its SOL PROM build".to_string()
+                    } else {
+                        at.strain_sensors
+                            .iter()
+                            .map(|(n, _)| n.as_str())
+                            .collect::<Vec<_>>()
+                            .join(" ")
+                    }
+                ),
+            });
+        }
+    }
     if !errors.is_empty() {
         return Err(errors);
     }
@@ -299,6 +382,7 @@ pub fn build_system(
         joints,
         drives,
         flexible,
+        flexible_of,
     })
 }
 
@@ -308,7 +392,7 @@ impl MechanismSystem {
     pub fn outputs(&self, sensors: &[Sensor]) -> Vec<Output> {
         sensors
             .iter()
-            .map(|s| match (s.kind, s.target) {
+            .map(|s| match (s.kind, s.target.clone()) {
                 (MsensorKind::Pos, SensorTarget::Marker(m)) => Output::Position {
                     marker: self.markers[m],
                     direction: s.direction,
@@ -329,12 +413,28 @@ impl MechanismSystem {
                     Output::DriveEnergy(self.drives[d])
                 }
                 (MsensorKind::Ke, _) => Output::KineticEnergy,
+                (MsensorKind::Dev, SensorTarget::Marker(m)) => Output::Deviation(self.markers[m]),
+                (MsensorKind::Strain, SensorTarget::Strain { body, sensor }) => Output::Strain {
+                    body,
+                    rows: self.strain_rows(body, &sensor),
+                },
                 (kind, target) => unreachable!(
                     "the model pairs MSENSOR {} with its target kind, not {target:?}",
                     kind.keyword()
                 ),
             })
             .collect()
+    }
+
+    /// The row C_ε of the STRAIN sensor `sensor` of a flexible body's artifact; the sensors
+    /// are checked by [`build_system`].
+    fn strain_rows(&self, body: usize, sensor: &str) -> Vec<f64> {
+        let (_, at) = &self.flexible[self.flexible_of[body].expect("a STRAIN body is a FLEXB")];
+        at.strain_sensors
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(sensor))
+            .map(|(_, rows)| rows.clone())
+            .expect("build_system checks the STRAIN sensors")
     }
 
     /// The JDRIVE (index) of joint `joint` (index into the JOINTs); the model checks that a
