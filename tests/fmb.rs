@@ -178,7 +178,7 @@ fn loaded_strip_body_has_the_fe_mass_and_first_moment_at_two_densities() {
     let artifact = dir.path().join("strip_body.h5");
     for rho in [2700.0, 2150.0] {
         let body =
-            paraflex::multibody::prom_body::load_prom_body(&artifact, &[("RHO".to_string(), rho)])
+            paraflex::discretize::prom_body::load_prom_body(&artifact, &[("RHO".to_string(), rho)])
                 .expect("load");
         let text = deck("strip_body_prom.dat").replace(
             "MAT1,1,7.e10,,0.33,2700.",
@@ -446,4 +446,151 @@ fn static_fmb_sag_of_the_clamped_strip_equals_sol_101() {
     let z = read(&file.group("results/1/fmb").unwrap(), "sensors/TIPZ");
     let drift = z.iter().map(|v| (v - tip[0]).abs()).fold(0.0, f64::max);
     assert!(drift < 1e-6 * sag.abs(), "tip drifted by {drift}");
+}
+
+/// The strip body's artifact with an axial STRAIN sensor on the top surface of root element 1
+/// (the rows C_ε of eq. 2.57 over the reduced basis are stored in `/prom/sensors`).
+fn strip_artifact_with_gauge() -> tempfile::TempDir {
+    strip_artifact(|t| t.replace("ASET1,", "SENSOR,1,ROOTX,STRAIN,1,TOP,1.,0.,0.\nASET1,"))
+}
+
+/// The clamped strip's static deck with a STRAIN output at the root gauge (and `extra` case
+/// control lines and bulk cards).
+fn static_strip_with_gauge(case: &str, bulk: &str) -> String {
+    deck("strip_clamped_static.dat")
+        .replace("LOAD = 1\n", &format!("LOAD = 1\n{case}"))
+        .replace(
+            "ENDDATA",
+            &format!("MSENSOR,2,ROOTEPS,STRAIN,1,ROOTX\n{bulk}ENDDATA"),
+        )
+}
+
+/// MSENSOR STRAIN (ε = C_ε q_f, eq. 2.57) of the clamped strip's static sag against SOL 101's
+/// top-surface εx of the same root element under the same gravity. The FFR body's basis
+/// (free-free modes and inertia-relief attachment modes at grids 14 and 26) spans the
+/// clamped static shape to its truncation (the sag agrees to 0.02 %), and the gauge's row is
+/// the same element's strain-displacement row evaluated on that basis: the root strain agrees
+/// to 1e-3 (measured 1.1e-5).
+#[test]
+fn static_strain_of_the_clamped_strip_equals_sol_101() {
+    let dir = strip_artifact_with_gauge();
+    let (file, _out) =
+        run_beside(&dir, &static_strip_with_gauge("", "")).expect("static FMB with strain");
+    let eps = read(&file.group("results/1/fmb").unwrap(), "sensors/ROOTEPS");
+    assert_eq!(eps.len(), 1);
+    let text = std::fs::read_to_string(root().join("decks/fmb/strip_clamped_sag_101.dat"))
+        .unwrap()
+        .replace("LOAD = 1\n", "LOAD = 1\nSTRAIN = ALL\n");
+    let (statics, _d) = run_text(&text);
+    let g = statics.group("results/1/statics/strain/CQUAD4").unwrap();
+    let ids: Vec<u32> = g.dataset("ids").unwrap().read_raw().unwrap();
+    let top = read(&g, "top");
+    let row = ids.iter().position(|&i| i == 1).expect("element 1");
+    let want = top[3 * row];
+    assert!(want > 0.0, "the root's top fibre is stretched: {want}");
+    assert!(
+        (eps[0] - want).abs() <= 1e-3 * want,
+        "FMB strain {} vs SOL 101 {want}",
+        eps[0]
+    );
+}
+
+/// STRREF: the static subcase 1 is the reference of subcase 2, which starts from the same
+/// equilibrium and stays there: its strain relative to subcase 1 stays below 1e-6 of the
+/// static strain, while without STRREF it is the absolute static strain, and with
+/// STRREF = INITIAL it starts at zero.
+#[test]
+fn strref_measures_strain_from_a_static_subcase_or_the_start() {
+    let dir = strip_artifact_with_gauge();
+    let two = static_strip_with_gauge("", "TSTEP,1,50,1.e-3,5\n").replace(
+        "FMBSTART = STATIC\nLOAD = 1\n",
+        "FMBSTART = STATIC\nLOAD = 1\nSUBCASE 1\nSUBCASE 2\n  TSTEP = 1\n  STRREF = 1\nSUBCASE 3\n  TSTEP = 1\nSUBCASE 4\n  TSTEP = 1\n  STRREF = INITIAL\n",
+    );
+    let (file, _out) = run_beside(&dir, &two).expect("subcases");
+    let eps = |sc: u32| {
+        read(
+            &file.group(&format!("results/{sc}/fmb")).unwrap(),
+            "sensors/ROOTEPS",
+        )
+    };
+    let reference = eps(1)[0];
+    assert!(reference > 0.0);
+    let relative = eps(2);
+    assert!(relative.len() > 1);
+    assert!(
+        relative.iter().all(|e| e.abs() < 1e-6 * reference),
+        "{relative:?}"
+    );
+    let absolute = eps(3);
+    assert!((absolute[0] - reference).abs() < 1e-9 * reference);
+    let initial = eps(4);
+    assert_eq!(initial[0], 0.0);
+}
+
+/// A STRAIN output whose REF is no STRAIN sensor of the body's artifact is an error at its
+/// card and field that lists the artifact's STRAIN sensors (checked when the artifact is read;
+/// a BODY that is no FLEXB and a STRREF naming no earlier subcase are model errors, in
+/// decks/bad/).
+#[test]
+fn strain_errors_name_the_card_and_field() {
+    let dir = strip_artifact_with_gauge();
+    let line_of = |text: &str, start: &str| {
+        1 + text
+            .lines()
+            .position(|l| l.starts_with(start))
+            .expect("line")
+    };
+    let bad_ref =
+        static_strip_with_gauge("", "").replace("ROOTEPS,STRAIN,1,ROOTX", "ROOTEPS,STRAIN,1,TIPX");
+    let e = run_beside(&dir, &bad_ref).expect_err("TIPX is no sensor");
+    assert!(
+        e.contains(&format!(
+            "deck.dat:{}: MSENSOR 2: field 6 (REF): TIPX is not a STRAIN sensor of the artifact of body STRIP (its STRAIN sensors: ROOTX)",
+            line_of(&bad_ref, "MSENSOR,2")
+        )),
+        "{e}"
+    );
+}
+
+/// MSENSOR DEV (eq. 4.10) of the clamped strip's tip against its rigid twin (the strip rigid
+/// with its undeformed mass properties: it does not move): at the static sag it is the tip's
+/// displacement, |TIPZ| to 1e-3 (the tip also moves along x by the second-order shortening
+/// and the small rotation of the rows: 1e-4 of the sag here); with E × 1000 it is 1000
+/// times smaller (linear statics: the sag scales as 1/E; to 1e-3). In a time run from the
+/// assembly the twin runs in lockstep and the settled DEV is the sag (to 1 %, as TIPZ).
+#[test]
+fn deviation_from_the_rigid_twin_is_the_sag_and_scales_as_one_over_e() {
+    let with_dev = |text: String| text.replace("ENDDATA", "MSENSOR,3,TIPDEV,DEV,,11\nENDDATA");
+    let static_dev = |dir: &tempfile::TempDir| {
+        let (file, _out) = run_beside(dir, &with_dev(deck("strip_clamped_static.dat")))
+            .expect("static FMB with DEV");
+        let g = file.group("results/1/fmb").unwrap();
+        (read(&g, "sensors/TIPDEV")[0], read(&g, "sensors/TIPZ")[0])
+    };
+    let dir = strip_artifact(|t| t);
+    let (dev, tipz) = static_dev(&dir);
+    assert!(
+        (dev - tipz.abs()).abs() <= 1e-3 * tipz.abs(),
+        "DEV {dev} vs |TIPZ| {tipz}"
+    );
+    let stiff = strip_artifact(|t| t.replace("MAT1,1,7.e10,", "MAT1,1,7.e13,"));
+    let (dev_stiff, _) = static_dev(&stiff);
+    let ratio = dev / dev_stiff;
+    assert!((ratio / 1000.0 - 1.0).abs() <= 1e-3, "DEV ratio {ratio}");
+    let (file, _out) =
+        run_beside(&dir, &with_dev(deck("strip_clamped_sag.dat"))).expect("FMB run with DEV");
+    let g = file.group("results/1/fmb").unwrap();
+    let (t, d) = (read(&g, "time"), read(&g, "sensors/TIPDEV"));
+    assert_eq!(d[0], 0.0);
+    let tail: Vec<f64> = t
+        .iter()
+        .zip(&d)
+        .filter(|(t, _)| **t >= 0.8 - 1e-9)
+        .map(|(_, d)| *d)
+        .collect();
+    let settled = tail.iter().sum::<f64>() / tail.len() as f64;
+    assert!(
+        (settled - dev).abs() <= 1e-2 * dev,
+        "settled DEV {settled} vs static {dev}"
+    );
 }

@@ -21,6 +21,19 @@ pub enum Target {
     Set(u32),
 }
 
+/// Case control `STRREF`: the configuration the STRAIN outputs of a `SOL FMB` subcase are
+/// measured from (eq. 9.24: a gauge zeroed in a reference configuration).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum StrainReference {
+    /// The undeformed body (absolute strain), the default.
+    None,
+    /// The subcase's own state at t = 0 (after `FMBSTART`).
+    Initial,
+    /// The last state of an earlier subcase of the same deck (e.g. a static subcase: the
+    /// equilibrium under gravity).
+    Subcase(u32),
+}
+
 /// An output request such as `STRAIN(PLOT,FIBER) = 5`.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct OutputRequest {
@@ -75,6 +88,9 @@ pub struct Subcase {
     pub msensor: Option<Target>,
     /// `FMBSTART = ASSEMBLE | STATIC` (the start of a `SOL FMB` run).
     pub fmbstart: Option<FmbStart>,
+    /// `STRREF = NONE | INITIAL | id` (what the STRAIN outputs of a `SOL FMB` run are relative
+    /// to).
+    pub strref: Option<StrainReference>,
     pub outputs: Vec<OutputRequest>,
     /// Positions of the selections, by canonical name, for cross-reference messages.
     #[serde(skip)]
@@ -97,7 +113,7 @@ impl Subcase {
         macro_rules! inherit { ($($f:ident),*) => { $( if out.$f.is_none() { out.$f = defaults.$f.clone(); } )* } }
         inherit!(
             title, subtitle, label, spc, load, method, frequency, dload, tstep, ic, prom, rom,
-            pval, sensor, estim, meas, msensor, fmbstart
+            pval, sensor, estim, meas, msensor, fmbstart, strref
         );
         let own: Vec<&str> = out.outputs.iter().map(|o| o.name).collect();
         let inherited: Vec<OutputRequest> = defaults
@@ -374,6 +390,19 @@ impl CaseControl {
                     other.unwrap_or("")
                 ))),
             },
+            "STRREF" => match st.value.map(str::to_ascii_uppercase).as_deref() {
+                Some("NONE") => self.current().strref = Some(StrainReference::None),
+                Some("INITIAL") => self.current().strref = Some(StrainReference::Initial),
+                Some(v) if v.parse::<u32>().is_ok_and(|id| id > 0) => {
+                    let sub = self.current();
+                    sub.strref = v.parse().ok().map(StrainReference::Subcase);
+                    sub.locs.push(("STRREF", loc.clone()));
+                }
+                other => diag.error(err(format!(
+                    "expected STRREF = NONE | INITIAL | subcase id, found '{}'",
+                    other.unwrap_or("")
+                ))),
+            },
             "SENSOR" => match st.value.map(parse_target) {
                 Some(Ok(t)) => {
                     let sub = self.current();
@@ -440,7 +469,7 @@ impl CaseControl {
             );
         } else {
             diag.error(err(format!(
-                "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SET PARAM ROM SENSOR MSENSOR FMBSTART {} and output requests {}",
+                "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SET PARAM ROM SENSOR MSENSOR FMBSTART STRREF {} and output requests {}",
                 SELECTIONS.join(" "),
                 OUTPUTS.join(" ")
             )));
@@ -594,6 +623,7 @@ mod tests {
             "PROM = 1",
             "MSENSOR = 7",
             "FMBSTART = assemble",
+            "STRREF = 2",
         ]);
         assert!(d.is_ok(), "{:?}", d.errors);
         let s = &cc.subcases()[0];
@@ -606,6 +636,7 @@ mod tests {
             (s.msensor.clone(), s.fmbstart),
             (Some(Target::Set(7)), Some(FmbStart::Assemble))
         );
+        assert_eq!(s.strref, Some(StrainReference::Subcase(2)));
     }
 
     #[test]

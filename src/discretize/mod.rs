@@ -11,7 +11,9 @@
 //! - [`Constrained`]: per SPC set, the f-set with AUTOSPC and K_ff, M_ff evaluated at p, or
 //!   with every affine part as the FOM of a pROM build ([`affine_fom`]);
 //! - [`sensors`] and [`loads`]: the f-set rows of SENSORs (thesis eq. 2.30–2.35) and the f-set
-//!   placement of loads (DAREA entries, static load sets, initial conditions).
+//!   placement of loads (DAREA entries, static load sets, initial conditions);
+//! - [`mechanism`] and [`prom_body`]: the multibody system of a model's mechanism, its flexible
+//!   bodies evaluated from their pROM artifacts at p.
 //!
 //! A model in memory becomes a modal solution in four calls:
 //!
@@ -37,7 +39,9 @@
 pub mod body;
 pub mod elements;
 pub mod loads;
+pub mod mechanism;
 pub mod parameters;
+pub mod prom_body;
 pub mod sensors;
 mod structure;
 

@@ -24,7 +24,7 @@
 use std::collections::{BTreeMap, HashSet};
 
 use crate::card_values::ForceKind;
-use crate::deck::case_control::{Subcase, Target};
+use crate::deck::case_control::{StrainReference, Subcase, Target};
 use crate::deck::{Deck, DeckError, Loc, Warning};
 
 use super::build::Refs;
@@ -77,7 +77,8 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
     });
     let mut reported: HashSet<(String, Loc)> = HashSet::new();
 
-    for sub in deck.case.subcases() {
+    let subcases = deck.case.subcases();
+    for (index, sub) in subcases.iter().cloned().enumerate() {
         let loc = |name: &str| {
             sub.loc_of(name)
                 .cloned()
@@ -111,6 +112,20 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
         need("PROM", sub.prom, &prom, "PMOR");
         need("PVAL", sub.pval, &pval, "PVAL/PTABLE");
         need("IC", sub.ic, &tic, "TIC");
+        if let Some(StrainReference::Subcase(id)) = sub.strref
+            && !subcases[..index].iter().any(|s| s.id == id)
+        {
+            errors.push(
+                DeckError::at(
+                    &loc("STRREF"),
+                    format!(
+                        "STRREF = {id}: no subcase {id} before this one{} (the reference is the last state of an earlier subcase)",
+                        subcase_text(&sub)
+                    ),
+                )
+                .on_card("STRREF"),
+            );
+        }
         if let Some(Target::Set(id)) = sub.sensor {
             let at = loc("SENSOR");
             match deck.case.set(id) {

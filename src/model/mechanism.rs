@@ -132,11 +132,17 @@ pub struct PointForce {
 }
 
 /// What an output refers to.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum SensorTarget {
     Marker(usize),
     Joint(usize),
     Drive(usize),
+    /// A STRAIN sensor (by name) of the artifact of a flexible body (index into the bodies);
+    /// that the artifact has it is checked when the artifact is read.
+    Strain {
+        body: usize,
+        sensor: String,
+    },
     System,
 }
 
@@ -176,6 +182,47 @@ impl Mechanism {
         self.bodies
             .iter()
             .position(|b| b.name.eq_ignore_ascii_case(name))
+    }
+}
+
+/// A card of a mechanism by its index, for what is found after the model is built (in the
+/// artifacts or during the run), so that the error still points at the card.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Card {
+    /// Index into [`Mechanism::bodies`].
+    Body(usize),
+    Marker(usize),
+    Drive(usize),
+    Force(usize),
+    Sensor(usize),
+}
+
+impl Mechanism {
+    /// An error with `message` at `card`'s position, with its field (number and name) if any.
+    pub fn error_at(&self, card: Card, field: Option<&str>, message: String) -> DeckError {
+        let (loc, label) = match card {
+            Card::Body(i) => {
+                let b = &self.bodies[i];
+                let kind = match b.kind {
+                    BodyKind::Flexible { .. } => "FLEXB",
+                    BodyKind::Rigid { .. } => "RIGIDB",
+                };
+                (&b.loc, format!("{kind} {}", b.id))
+            }
+            Card::Marker(i) => (
+                &self.markers[i].loc,
+                format!("MARKER {}", self.markers[i].id),
+            ),
+            Card::Drive(i) => (&self.drives[i].loc, format!("JDRIVE {}", self.drives[i].id)),
+            Card::Force(i) => (&self.forces[i].loc, format!("MFORCE {}", self.forces[i].id)),
+            Card::Sensor(i) => (
+                &self.sensors[i].loc,
+                format!("MSENSOR {}", self.sensors[i].id),
+            ),
+        };
+        let mut e = DeckError::at(loc, message).on_card(label);
+        e.field = field.map(String::from);
+        e
     }
 }
 
@@ -656,12 +703,40 @@ pub fn build(
                 d.map(SensorTarget::Drive)
             }
             MsensorKind::Ke => Some(SensorTarget::System),
-            MsensorKind::Strain | MsensorKind::Dev => {
-                errors.push(e(
-                    "field 4 (KIND)",
-                    format!("MSENSOR KIND = {} is not available in this version (POS, ACCEL, JFORCE, JTORQ, POWER, ENERGY, KE are)", s.kind.keyword()),
-                ));
-                None
+            MsensorKind::Strain => {
+                let body = m.bodies.iter().position(|b| b.id == s.body);
+                let flexible =
+                    body.filter(|&b| matches!(m.bodies[b].kind, BodyKind::Flexible { .. }));
+                if flexible.is_none() && s.body != 0 {
+                    errors.push(e(
+                        "field 5 (BODY)",
+                        format!(
+                            "BODY = {} is no FLEXB: a STRAIN output reads a flexible body's artifact",
+                            s.body
+                        ),
+                    ));
+                }
+                flexible
+                    .zip(s.strain_sensor.clone())
+                    .map(|(body, sensor)| SensorTarget::Strain { body, sensor })
+            }
+            MsensorKind::Dev => {
+                if !m
+                    .bodies
+                    .iter()
+                    .any(|b| matches!(b.kind, BodyKind::Flexible { .. }))
+                {
+                    errors.push(e(
+                        "field 4 (KIND)",
+                        "DEV is a marker's distance from the rigid twin of the mechanism's flexible bodies, and this mechanism has none (only RIGIDB bodies): it would be 0; use POS".into(),
+                    ));
+                }
+                marker(
+                    reference,
+                    (&s.loc, "MSENSOR", s.id, "field 6 (REF)"),
+                    errors,
+                )
+                .map(SensorTarget::Marker)
             }
         };
         if let Some(target) = target {

@@ -22,9 +22,11 @@
 //!   [`crate::dynamics::newton`]; [`dense_lu`]: its iteration matrix's LU; [`scheme`]:
 //!   BDF1, BDF2 and generalized-α as one step form; [`statics`]: static equilibrium under
 //!   gravity with drives held;
-//!   [`output`]: marker kinematics, reactions, drive torques, power and energy.
-//! - [`prom_body`]: a flexible body's data from a `RIGID = REMOVE` pROM artifact at p;
-//!   [`mechanism`]: the system of a model's mechanism (`SOL FMB` decks).
+//!   [`output`]: marker kinematics, reactions, drive torques, power and energy;
+//!   [`simulation`]: a run over a time grid with the histories of chosen outputs.
+//!
+//! A system is built here from plain data; the system of a deck's mechanism, with its flexible
+//! bodies read from pROM artifacts, is built by [`crate::discretize::mechanism`].
 
 pub mod body;
 pub mod constraint;
@@ -42,12 +44,11 @@ pub mod integrator;
 pub mod joints;
 pub mod layout;
 pub mod marker;
-pub mod mechanism;
 pub mod output;
-pub mod prom_body;
 pub mod redundancy;
 pub mod scheme;
 pub mod signal;
+pub mod simulation;
 pub mod statics;
 pub mod system;
 pub mod vectors;
@@ -61,4 +62,5 @@ pub use joints::{Drive, DriveKind, Joint, JointKind};
 pub use marker::Marker;
 pub use scheme::Scheme;
 pub use signal::Signal;
+pub use simulation::{Histories, Output, Start, simulate};
 pub use system::{BodyId, MarkerId, System};

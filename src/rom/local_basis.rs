@@ -41,9 +41,23 @@ pub const RIGID_REL: f64 = 1e-8;
 /// K − σM stays as well conditioned on the elastic subspace as K itself.
 const RELIEF_SHIFT: f64 = 0.01;
 
-/// Relative change of the inertia-relief iteration at which it stops (‖Δψ‖ ≤ tol·‖ψ‖).
+/// Relative change of the inertia-relief iteration at which it has converged
+/// (‖Δψ‖ ≤ tol·‖ψ‖).
 const RELIEF_TOL: f64 = 1e-13;
+/// Below this relative change, a change that no longer decreases is round-off: the iteration
+/// has converged as far as the factorization allows (an ill-conditioned K − σM, e.g. a stiff
+/// composite ply direction, leaves its round-off above [`RELIEF_TOL`]).
+const RELIEF_STAGNATION: f64 = 1e-10;
 const RELIEF_MAX_ITERATIONS: usize = 60;
+
+/// Whether the inertia-relief iteration stops after a step whose relative change is `change`
+/// (`previous`: the step before's): at [`RELIEF_TOL`], or when the change has stopped
+/// decreasing below [`RELIEF_STAGNATION`]. A contracting iteration (factor ≈ 0.01) reaches
+/// [`RELIEF_TOL`] with every change smaller than the one before, so it stops as at a fixed
+/// tolerance.
+fn relief_converged(change: f64, previous: f64) -> bool {
+    change <= RELIEF_TOL || (change <= RELIEF_STAGNATION && change >= previous)
+}
 
 /// Which static modes to add (PMOR STATIC).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -402,9 +416,9 @@ fn attachment_modes(
         )?;
         if free {
             project(&mut x, &mut m_x)?;
-            let mut change = f64::INFINITY;
+            let (mut change, mut previous) = (f64::INFINITY, f64::INFINITY);
             let mut iterations = 0;
-            while change > RELIEF_TOL {
+            while !relief_converged(change, previous) {
                 if iterations == RELIEF_MAX_ITERATIONS {
                     return Err(LocalBasisError::ReliefNotConverged { dof: b, change });
                 }
@@ -420,6 +434,7 @@ fn attachment_modes(
                 )?;
                 project(&mut next, &mut m_x)?;
                 let norm = next.iter().map(|v| v * v).sum::<f64>().sqrt();
+                previous = change;
                 change = next
                     .iter()
                     .zip(&x)
@@ -707,6 +722,34 @@ mod tests {
             mass_weighted.abs() < 1e-10 * scale,
             "{mass_weighted} vs scale {scale}"
         );
+    }
+
+    /// The inertia-relief iteration's stop: a contraction by 0.01 per step stops where the
+    /// fixed tolerance stopped it (the first change ≤ 1e-13); a change that reaches a
+    /// round-off floor above 1e-13 (3e-12, then no longer decreasing) stops at the first change
+    /// that does not decrease, where `change ≤ 1e-13` alone would run into the iteration
+    /// limit; a change that stops decreasing far from round-off (1e-6) does not stop.
+    #[test]
+    fn relief_iteration_stops_at_its_round_off_floor() {
+        let first_stop = |changes: &[f64]| {
+            (0..changes.len()).find(|&i| {
+                relief_converged(
+                    changes[i],
+                    if i == 0 {
+                        f64::INFINITY
+                    } else {
+                        changes[i - 1]
+                    },
+                )
+            })
+        };
+        let contracting: Vec<f64> = (1..=8).map(|k| 0.01f64.powi(k)).collect();
+        assert_eq!(first_stop(&contracting), Some(6));
+        let floor = [1e-2, 1e-4, 1e-6, 1e-8, 1e-10, 3e-12, 5e-12, 4e-12, 6e-12];
+        assert_eq!(first_stop(&floor), Some(6));
+        assert!(floor.iter().all(|&c| c > RELIEF_TOL));
+        let stalled = [1e-2, 1e-4, 1e-6, 2e-6, 1e-6, 3e-6];
+        assert_eq!(first_stop(&stalled), None);
     }
 
     #[test]

@@ -5,11 +5,13 @@
 //! `LOAD` (GRAV: gravity), `PVAL` (values of `BODY.PMPAR` for the flexible bodies' pROMs),
 //! `MSENSOR = ALL | NONE | set` (all MSENSORs without the statement), `FMBSTART = ASSEMBLE`
 //! (kinematic assembly at t = 0, the default) or `STATIC` (the static equilibrium under the
-//! subcase's gravity reached from the assembly, drives held at their t = 0 values). A subcase
+//! subcase's gravity reached from the assembly, drives held at their t = 0 values), `STRREF =
+//! NONE | INITIAL | id` (STRAIN outputs absolute, the default; relative to the subcase's state
+//! at t = 0; or relative to the last state of the earlier subcase `id`, e.g. a static subcase's
+//! equilibrium under gravity: eq. 9.24's gauge zeroed in a reference configuration). A subcase
 //! with `FMBSTART = STATIC` and no `TSTEP` is a static subcase: its output is the one row of
 //! the equilibrium at t = 0, `method` = `STATICS`. The system is built by
-//! [`crate::multibody::mechanism::build_system`] and run by
-//! [`crate::multibody::mechanism::simulate`].
+//! [`crate::discretize::mechanism::build_system`] and run by [`crate::multibody::simulate`].
 //!
 //! Written: `/results/<id>/fmb/{time (t), sensors/<name> (t), drives/<JDRIVE id>/{angle, rate,
 //! torque, power} (t), constraint_residual (t), newton_iterations (t)}`, attributes `method`,
@@ -18,16 +20,16 @@
 
 use super::report::{Report, sci};
 use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
-use crate::card_values::FmbStart;
+use crate::card_values::{FmbStart, MsensorKind};
 use crate::deck::Solution;
 use crate::deck::cards::{Tinteg, TintegMethod};
-use crate::deck::case_control::{Subcase, Target};
+use crate::deck::case_control::{StrainReference, Subcase, Target};
+use crate::discretize::mechanism::{Bodies, build_system};
 use crate::io::{
     set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_u32,
 };
 use crate::model::mechanism::Sensor;
-use crate::multibody::mechanism::{build_system, simulate};
-use crate::multibody::{NewtonSettings, Scheme};
+use crate::multibody::{NewtonSettings, Scheme, Start, simulate};
 
 /// What one `SOL FMB` subcase computed.
 #[derive(Debug, Clone)]
@@ -82,17 +84,57 @@ fn scheme_of(tinteg: Option<&Tinteg>) -> (Scheme, String) {
     }
 }
 
-/// Runs every subcase.
+/// The last absolute value of each STRAIN output of a subcase, by name.
+type StrainFinals = Vec<(String, f64)>;
+
+/// Runs every subcase, in order (a later subcase's `STRREF = id` reads an earlier one's
+/// strains).
 fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
-    ctx.model
-        .subcases
-        .iter()
-        .map(|sub| {
-            clock.time(format!("subcase {}: multibody", sub.id), || {
-                subcase(ctx, sub)
-            })
-        })
-        .collect()
+    let mut earlier: Vec<(u32, StrainFinals)> = Vec::new();
+    let mut summaries = Vec::new();
+    for sub in &ctx.model.subcases {
+        let (summary, finals) = clock.time(format!("subcase {}: multibody", sub.id), || {
+            subcase(ctx, sub, &earlier)
+        })?;
+        earlier.push((sub.id, finals));
+        summaries.push(summary);
+    }
+    Ok(summaries)
+}
+
+/// Makes the STRAIN series of `sensors` relative to the reference configuration `STRREF`
+/// selects (eq. 9.24): the subcase's state at t = 0 (`INITIAL`) or the last state of an
+/// earlier subcase (`id`); absolute without it. Returns the last absolute values.
+fn strain_relative_to(
+    reference: Option<StrainReference>,
+    sensors: &[Sensor],
+    series: &mut [Vec<f64>],
+    earlier: &[(u32, StrainFinals)],
+) -> Result<StrainFinals, String> {
+    let mut finals = Vec::new();
+    for (s, values) in sensors.iter().zip(series) {
+        if s.kind != MsensorKind::Strain {
+            continue;
+        }
+        finals.push((s.name.clone(), values.last().copied().unwrap_or(f64::NAN)));
+        let zero = match reference {
+            None | Some(StrainReference::None) => continue,
+            Some(StrainReference::Initial) => values.first().copied().unwrap_or(0.0),
+            Some(StrainReference::Subcase(id)) => earlier
+                .iter()
+                .find(|(sub, _)| *sub == id)
+                .and_then(|(_, f)| f.iter().find(|(n, _)| *n == s.name))
+                .map(|(_, v)| *v)
+                .ok_or_else(|| {
+                    format!(
+                        "STRREF = {id}: subcase {id} did not output the STRAIN {} (select it there too)",
+                        s.name
+                    )
+                })?,
+        };
+        values.iter_mut().for_each(|v| *v -= zero);
+    }
+    Ok(finals)
 }
 
 /// The MSENSORs `sub` selects, in card order.
@@ -110,7 +152,11 @@ fn selected<'a>(ctx: &RunContext, sensors: &'a [Sensor], sub: &Subcase) -> Vec<&
     }
 }
 
-fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
+fn subcase(
+    ctx: &RunContext,
+    sub: &Subcase,
+    earlier: &[(u32, StrainFinals)],
+) -> Result<(SubcaseSummary, StrainFinals), RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
     let mechanism = &ctx.model.mechanism;
@@ -147,28 +193,44 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             .values
             .clone(),
     };
-    let ms = build_system(ctx.model, gravity, &pval).map_err(|errors| {
-        case(
-            errors
-                .iter()
-                .map(ToString::to_string)
-                .collect::<Vec<_>>()
-                .join("\n"),
-        )
-    })?;
+    let build = |bodies: Bodies| {
+        build_system(ctx.model, gravity, &pval, bodies).map_err(|errors| {
+            case(
+                errors
+                    .into_iter()
+                    .map(|e| mechanism.error_at(e.card, e.field, e.message).to_string())
+                    .collect::<Vec<_>>()
+                    .join("\n"),
+            )
+        })
+    };
+    let ms = build(Bodies::Flexible)?;
     let sensors: Vec<Sensor> = selected(ctx, &mechanism.sensors, sub)
         .into_iter()
         .cloned()
         .collect();
-    let h = simulate(
-        &ms,
-        &sensors,
+    // the rigid twin runs only when a DEV output asks for it
+    let twin = sensors
+        .iter()
+        .any(|s| s.kind == MsensorKind::Dev)
+        .then(|| build(Bodies::RigidTwin))
+        .transpose()?;
+    let start = match start {
+        FmbStart::Assemble => Start::Assembled,
+        FmbStart::Static => Start::Equilibrium,
+    };
+    let mut h = simulate(
+        &ms.system,
+        twin.as_ref().map(|t| &t.system),
+        &ms.outputs(&sensors),
         &intervals,
         NewtonSettings::default(),
         scheme,
         start,
     )
     .map_err(|e| case(e.to_string()))?;
+    let strain_finals =
+        strain_relative_to(sub.strref, &sensors, &mut h.outputs, earlier).map_err(case)?;
 
     let group = ctx.output.group(&format!("results/{id}/fmb"))?;
     let rows = h.time.len();
@@ -182,7 +244,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     write_u32(&group, "newton_iterations", &h.newton_iterations, &[rows])?;
     if !sensors.is_empty() {
         let sg = ctx.output.group(&format!("results/{id}/fmb/sensors"))?;
-        for (s, series) in sensors.iter().zip(&h.sensors) {
+        for (s, series) in sensors.iter().zip(&h.outputs) {
             write_f64(&sg, &s.name, series, &[rows])?;
         }
     }
@@ -211,7 +273,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     set_attr_strings(&group, "params", &name_refs)?;
     set_attr_f64s(&group, "values", &values)?;
 
-    Ok(SubcaseSummary {
+    let summary = SubcaseSummary {
         id,
         autospc: Vec::new(),
         result: Box::new(FmbSummary {
@@ -227,11 +289,12 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             extrapolated,
             finals: sensors
                 .iter()
-                .zip(&h.sensors)
+                .zip(&h.outputs)
                 .map(|(s, v)| (s.name.clone(), v.last().copied().unwrap_or(f64::NAN)))
                 .collect(),
         }),
-    })
+    };
+    Ok((summary, strain_finals))
 }
 
 impl Report for FmbSummary {

@@ -450,9 +450,9 @@ impl Mforce {
 /// |---|---|---|---|---|
 /// | 2 | ID | int > 0 | required | id |
 /// | 3 | NAME | name | required | output name (unique) |
-/// | 4 | KIND | `POS` `ACCEL` `JFORCE` `JTORQ` `POWER` `ENERGY` `KE` `STRAIN` `DEV` | required | global position (eq. 2.58) or acceleration (eq. 2.59) of marker REF along N; reaction force of joint REF on MK1's body along N; torque (force) of the JDRIVE of joint REF; power ω·T and actuation energy ∫ω·T dt of JDRIVE REF (eq. 6.1 f₂); kinetic energy of the system (REF blank). `STRAIN` (REF = a STRAIN sensor of BODY's artifact) and `DEV` (deviation from the rigid twin) are reserved |
-/// | 5 | BODY | int ≥ 0 | 0 | the body of a STRAIN sensor; blank otherwise |
-/// | 6 | REF | int > 0 | blank | marker (POS, ACCEL), joint (JFORCE, JTORQ) or JDRIVE (POWER, ENERGY) id; blank for KE |
+/// | 4 | KIND | `POS` `ACCEL` `JFORCE` `JTORQ` `POWER` `ENERGY` `KE` `STRAIN` `DEV` | required | global position (eq. 2.58) or acceleration (eq. 2.59) of marker REF along N; reaction force of joint REF on MK1's body along N; torque (force) of the JDRIVE of joint REF; power ω·T and actuation energy ∫ω·T dt of JDRIVE REF (eq. 6.1 f₂); kinetic energy of the system (REF blank); strain ε = C_ε q_f of the flexible body BODY at the STRAIN sensor REF of its artifact (eq. 2.57; relative to the configuration case control `STRREF` names); `DEV`: the distance ‖x − x_R‖ of marker REF from the same marker of the rigid twin (eq. 4.10: the mechanism with its flexible bodies rigid, with their undeformed mass properties at p; run only when a DEV output is selected) |
+/// | 5 | BODY | int ≥ 0 | 0 | the FLEXB of a STRAIN output; blank otherwise |
+/// | 6 | REF | int > 0 or name | blank | marker (POS, ACCEL, DEV), joint (JFORCE, JTORQ) or JDRIVE (POWER, ENERGY) id; the name of a STRAIN sensor of BODY's artifact (STRAIN); blank for KE |
 /// | 7–9 | N1 N2 N3 | real | required for POS, ACCEL, JFORCE | direction in the global (basic) system, normalized |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Msensor {
@@ -460,7 +460,10 @@ pub struct Msensor {
     pub name: String,
     pub kind: MsensorKind,
     pub body: u32,
+    /// The id REF (every kind but STRAIN and KE).
     pub reference: Option<u32>,
+    /// The artifact's sensor name REF of a STRAIN output.
+    pub strain_sensor: Option<String>,
     pub direction: [f64; 3],
     pub loc: Loc,
 }
@@ -474,8 +477,18 @@ impl Msensor {
         let name = f.text(2, "NAME");
         let kind = f.choice(3, "KIND", &MsensorKind::KEYWORDS, None);
         let body = f.id0_or(4, "BODY", 0);
-        let reference = f.opt_id(5, "REF");
+        let strain = kind == MsensorKind::Strain;
+        if strain && body == 0 {
+            f.error(
+                4,
+                "BODY",
+                "a STRAIN output needs the FLEXB whose artifact holds the sensor, found 0 (blank)",
+            );
+        }
+        let strain_sensor = strain.then(|| f.text(5, "REF"));
+        let reference = if strain { None } else { f.opt_id(5, "REF") };
         match (kind, reference) {
+            (MsensorKind::Strain, _) => {}
             (MsensorKind::Ke, Some(_)) => {
                 f.error(5, "REF", "KE is the system's: REF must be blank")
             }
@@ -506,6 +519,7 @@ impl Msensor {
             kind,
             body,
             reference,
+            strain_sensor,
             direction,
             loc,
         })

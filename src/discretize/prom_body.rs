@@ -1,12 +1,16 @@
 //! A flexible body from a pROM artifact built with `RIGID = REMOVE` at parameters p (thesis
 //! §4.2): the reduced M_ff(p), K_ff(p), C_ff(p) of the pROM (eq. 3.31), the mass invariants
 //! combined at p from their affine components (eq. 4.8, M̂(p) = Σₖ fₖ(p) M̂ᵏ) and the basis rows
-//! of the interface grids with their undeformed positions. Only small dense sums: no FOM.
+//! of the interface grids with their undeformed positions, and the rows C_ε over the reduced
+//! basis of the artifact's STRAIN sensors (`/prom/sensors`, eq. 2.57: ε = C_ε q_f, the rigid
+//! motion carried by the frame strains nothing). Only small dense sums: no FOM.
 
 use std::path::Path;
 
-use super::flexible::{FlexibleBodyData, InterfaceRows, MassInvariants};
-use crate::io::{read_prom, read_prom_body};
+use super::sensors::sensor_kind_name;
+use crate::card_values::SensorKind;
+use crate::io::{read_prom, read_prom_body, read_prom_sensors};
+use crate::multibody::{FlexibleBodyData, InterfaceRows, MassInvariants};
 use crate::rom::invariants::MassInvariants as AffineInvariants;
 
 /// A flexible body's data at one parameter point, with the point.
@@ -17,6 +21,8 @@ pub struct PromBodyAtPoint {
     pub parameters: Vec<(String, f64)>,
     /// Names of the parameters outside the box the pROM was built for.
     pub extrapolated: Vec<String>,
+    /// The artifact's STRAIN sensors: name and row C_ε (one value per flexible coordinate).
+    pub strain_sensors: Vec<(String, Vec<f64>)>,
 }
 
 /// Reads the artifact at `path` and evaluates it at the nominal parameters overridden by
@@ -78,6 +84,14 @@ pub fn load_prom_body(path: &Path, values: &[(String, f64)]) -> Result<PromBodyA
                 })
             })
             .collect::<Result<Vec<_>, String>>()?;
+    let (names, kinds, rows) = read_prom_sensors(path, n).map_err(|e| e.to_string())?;
+    let strain_sensors = names
+        .into_iter()
+        .zip(&kinds)
+        .enumerate()
+        .filter(|(_, (_, kind))| kind.as_str() == sensor_kind_name(SensorKind::Strain))
+        .map(|(i, (name, _))| (name, (0..n).map(|k| rows[(i, k)]).collect()))
+        .collect();
     Ok(PromBodyAtPoint {
         data: FlexibleBodyData {
             invariants: MassInvariants::from(&invariants),
@@ -87,6 +101,7 @@ pub fn load_prom_body(path: &Path, values: &[(String, f64)]) -> Result<PromBodyA
             interfaces,
         },
         extrapolated: prom.outside_box(&p).into_iter().map(String::from).collect(),
+        strain_sensors,
         parameters: prom
             .parameters
             .iter()

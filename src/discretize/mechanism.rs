@@ -1,35 +1,39 @@
-//! The [`System`] of a model's mechanism ([`crate::model::mechanism`]): flexible bodies from
-//! their pROM artifacts at the parameter values ([`super::prom_body`]), placed by their
+//! The multibody [`System`] of a model's mechanism ([`crate::model::mechanism`]): flexible
+//! bodies from their pROM artifacts at the parameter values ([`super::prom_body`]), placed by their
 //! coordinate systems, rigid bodies with their frame at the centre of mass, markers, joints
 //! whose two marker frames share the joint frame (z = the joint axis) in the initial
 //! configuration, drives and forces with their tables as [`Signal`]s, spring-dampers, gravity.
 //!
-//! [`simulate`] runs it with GGL and a chosen [`Scheme`] (BDF1, BDF2, generalized-α) over
-//! TSTEP intervals and returns the output histories of the MSENSORs and drives.
+//! [`MechanismSystem::outputs`] turns MSENSORs into the [`Output`]s that
+//! [`crate::multibody::simulate`] records.
 //!
 //! Errors that need the artifacts (a file that is no `RIGID = REMOVE` pROM, a PVAL name that
 //! is no parameter of the body's artifact, a marker GRID that is no interface grid) are
-//! collected over all bodies and markers and point at the card.
+//! collected over all bodies and markers as [`MechanismError`]s at their [`Card`]
+//! ([`crate::model::mechanism::Mechanism::error_at`] gives their file and line).
 
-use super::body::Body;
-use super::error::MultibodyError;
-use super::forces::Force;
-use super::integrator::{Ggl, NewtonSettings};
-use super::joints::{DriveKind, JointKind};
-use super::marker::Marker;
+use super::loads::dynamic_table;
 use super::prom_body::{PromBodyAtPoint, load_prom_body};
-use super::scheme::Scheme;
-use super::signal::Signal;
-use super::statics;
-use super::system::System;
-use crate::card_values::{FmbStart, JointType, MsensorKind};
-use crate::deck::DeckError;
-use crate::discretize::loads::dynamic_table;
+use crate::card_values::{JointType, MsensorKind};
 use crate::geometry::euler_parameters::from_rotation_matrix;
 use crate::geometry::mat3::{IDENTITY, Mat3, mul_vec, transpose};
 use crate::geometry::vec3::{add, dot, norm, sub};
 use crate::model::Model;
-use crate::model::mechanism::{BodyKind, MarkerPlace, Mechanism, Sensor, SensorTarget};
+use crate::model::mechanism::{BodyKind, Card, MarkerPlace, Mechanism, Sensor, SensorTarget};
+use crate::multibody::{
+    Body, DriveKind, FlexibleBodyData, Force, InterfaceRows, JointKind, Marker, MassInvariants,
+    Output, Signal, System,
+};
+use faer::Mat;
+
+/// A problem found while building the system, at the card it concerns (`field`: number and
+/// name of the field at fault, if one is).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MechanismError {
+    pub card: Card,
+    pub field: Option<&'static str>,
+    pub message: String,
+}
 
 /// The system of a mechanism and where each card went in it.
 #[derive(Debug, Clone)]
@@ -43,6 +47,8 @@ pub struct MechanismSystem {
     pub drives: Vec<usize>,
     /// Each flexible body's name and pROM evaluation point (parameters, values, extrapolated).
     pub flexible: Vec<(String, PromBodyAtPoint)>,
+    /// Per body (FLEXB and RIGIDB in card order): its entry in `flexible`, if it is flexible.
+    pub flexible_of: Vec<Option<usize>>,
 }
 
 /// Where a body sits initially: position of its frame origin and rotation A (body → global).
@@ -89,23 +95,67 @@ fn values_of(name: &str, pval: &[(String, f64)]) -> Vec<(String, f64)> {
         .collect()
 }
 
-/// Builds the system of `model`'s mechanism with gravity `gravity` (basic) and the PVAL
-/// values `pval` (`BODY.PMPAR`, value). Every error found is returned, at its card.
+/// Which bodies a system is built with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Bodies {
+    /// The flexible bodies of the pROM artifacts.
+    Flexible,
+    /// The rigid twin (eq. 4.10): every flexible body rigid with its undeformed mass
+    /// properties at p (mass, first and second moments of the invariants, no modes), its
+    /// markers at the grids' undeformed positions; everything else as in the mechanism.
+    RigidTwin,
+}
+
+/// A flexible body's data without its modes: the rigid body of its undeformed mass
+/// properties, in the same frame (the zero-mode case of [`FlexibleBodyData`]).
+fn rigid(data: &FlexibleBodyData) -> FlexibleBodyData {
+    let i = &data.invariants;
+    FlexibleBodyData {
+        invariants: MassInvariants {
+            mass: i.mass,
+            first: i.first,
+            first_modal: Vec::new(),
+            second: i.second,
+            second_mixed: Vec::new(),
+            second_modal: Vec::new(),
+        },
+        mass: Mat::zeros(0, 0),
+        stiffness: Mat::zeros(0, 0),
+        damping: Mat::zeros(0, 0),
+        interfaces: data
+            .interfaces
+            .iter()
+            .map(|r| InterfaceRows {
+                grid: r.grid,
+                position: r.position,
+                translation: Vec::new(),
+                rotation: Vec::new(),
+            })
+            .collect(),
+    }
+}
+
+/// Builds the system of `model`'s mechanism, with `bodies`, gravity `gravity` (basic) and the
+/// PVAL values `pval` (`BODY.PMPAR`, value). Every error found is returned, at its card.
 pub fn build_system(
     model: &Model,
     gravity: [f64; 3],
     pval: &[(String, f64)],
-) -> Result<MechanismSystem, Vec<DeckError>> {
+    bodies: Bodies,
+) -> Result<MechanismSystem, Vec<MechanismError>> {
     let mech: &Mechanism = &model.mechanism;
     let mut errors = Vec::new();
-    let error = |loc: &crate::deck::Loc, card: String, message: String| {
-        DeckError::at(loc, message).on_card(card)
+    let error = |card: Card, message: String| MechanismError {
+        card,
+        field: None,
+        message,
     };
     let mut system = System::new(gravity);
     let mut placements = Vec::new();
     let mut flexible = Vec::new();
-    let mut interfaces: Vec<Vec<super::flexible::InterfaceRows>> = Vec::new();
-    for b in &mech.bodies {
+    let mut flexible_of = Vec::new();
+    let mut interfaces: Vec<Vec<InterfaceRows>> = Vec::new();
+    for (index, b) in mech.bodies.iter().enumerate() {
         match &b.kind {
             BodyKind::Flexible {
                 artifact,
@@ -115,16 +165,22 @@ pub fn build_system(
                 let rotation = transpose(axes);
                 match load_prom_body(artifact, &values_of(&b.name, pval)) {
                     Ok(at) => {
-                        interfaces.push(at.data.interfaces.clone());
+                        let data = match bodies {
+                            Bodies::Flexible => at.data.clone(),
+                            Bodies::RigidTwin => rigid(&at.data),
+                        };
+                        interfaces.push(data.interfaces.clone());
                         system.add_body(
-                            Body::flexible(at.data.clone()),
+                            Body::flexible(data),
                             *origin,
                             from_rotation_matrix(&rotation),
                         );
+                        flexible_of.push(Some(flexible.len()));
                         flexible.push((b.name.clone(), at));
                     }
                     Err(message) => {
-                        errors.push(error(&b.loc, format!("FLEXB {}", b.id), message));
+                        errors.push(error(Card::Body(index), message));
+                        flexible_of.push(None);
                         interfaces.push(Vec::new());
                         system.add_body(Body::rigid(1.0, IDENTITY), *origin, [1.0, 0.0, 0.0, 0.0]);
                     }
@@ -140,6 +196,7 @@ pub fn build_system(
                 inertia,
             } => {
                 system.add_body(Body::rigid(*mass, *inertia), *centre, [1.0, 0.0, 0.0, 0.0]);
+                flexible_of.push(None);
                 interfaces.push(Vec::new());
                 placements.push(Placement {
                     origin: *centre,
@@ -155,7 +212,7 @@ pub fn build_system(
     let placement = |body: Option<usize>| body.map_or(&ground, |b| &placements[b]);
     // markers: each MARKER's point, frame aligned with its body
     let mut points: Vec<Option<Marker>> = Vec::new();
-    for m in &mech.markers {
+    for (index, m) in mech.markers.iter().enumerate() {
         let marker = match (m.place, m.body) {
             (MarkerPlace::Point(x), None) => Some(Marker::new(None, x)),
             (MarkerPlace::Point(x), Some(b)) => {
@@ -167,11 +224,11 @@ pub fn build_system(
             }
             (MarkerPlace::Grid(g), Some(b)) => {
                 let rows = interfaces[b].iter().find(|r| r.grid == g);
-                if rows.is_none() && !errors.iter().any(|e| e.loc == mech.bodies[b].loc) {
-                    let mut e = error(
-                        &m.loc,
-                        format!("MARKER {}", m.id),
-                        format!(
+                if rows.is_none() && !errors.iter().any(|e| e.card == Card::Body(b)) {
+                    errors.push(MechanismError {
+                        card: Card::Marker(index),
+                        field: Some("field 4 (GRID)"),
+                        message: format!(
                             "GRID {g} is not an interface grid of {} (interface grids: {})",
                             match &mech.bodies[b].kind {
                                 BodyKind::Flexible { artifact, .. } =>
@@ -184,9 +241,7 @@ pub fn build_system(
                                 .collect::<Vec<_>>()
                                 .join(" ")
                         ),
-                    );
-                    e.field = Some("field 4 (GRID)".into());
-                    errors.push(e);
+                    });
                 }
                 rows.map(|r| Marker::at_grid(b, r))
             }
@@ -240,11 +295,11 @@ pub fn build_system(
         }
     };
     let mut drives = Vec::new();
-    for d in &mech.drives {
+    for (index, d) in mech.drives.iter().enumerate() {
         let signal = match table_signal(model, d.table, d.scale) {
             Ok(s) => s,
             Err(message) => {
-                errors.push(error(&d.loc, format!("JDRIVE {}", d.id), message));
+                errors.push(error(Card::Drive(index), message));
                 continue;
             }
         };
@@ -255,7 +310,7 @@ pub fn build_system(
             });
         match system.add_drive(joints[d.joint], signal, kind) {
             Ok(i) => drives.push(i),
-            Err(e) => errors.push(error(&d.loc, format!("JDRIVE {}", d.id), e.to_string())),
+            Err(e) => errors.push(error(Card::Drive(index), e.to_string())),
         }
     }
     for s in &mech.joint_springs {
@@ -278,14 +333,44 @@ pub fn build_system(
             length,
         });
     }
-    for f in &mech.forces {
+    for (index, f) in mech.forces.iter().enumerate() {
         match table_signal(model, f.table, f.scale) {
             Ok(signal) => system.add_force(Force::Point {
                 marker: markers[f.marker],
                 direction: f.direction,
                 signal,
             }),
-            Err(message) => errors.push(error(&f.loc, format!("MFORCE {}", f.id), message)),
+            Err(message) => errors.push(error(Card::Force(index), message)),
+        }
+    }
+    for (index, s) in mech.sensors.iter().enumerate() {
+        let SensorTarget::Strain { body, sensor } = &s.target else {
+            continue;
+        };
+        let Some((name, at)) = flexible_of[*body].map(|f| &flexible[f]) else {
+            continue; // the body's artifact could not be read: reported at its FLEXB
+        };
+        if !at
+            .strain_sensors
+            .iter()
+            .any(|(n, _)| n.eq_ignore_ascii_case(sensor))
+        {
+            errors.push(MechanismError {
+                card: Card::Sensor(index),
+                field: Some("field 6 (REF)"),
+                message: format!(
+                    "{sensor} is not a STRAIN sensor of the artifact of body {name} (its STRAIN sensors: {})",
+                    if at.strain_sensors.is_empty() {
+                        "none: give SENSOR cards of KIND STRAIN to its SOL PROM build".to_string()
+                    } else {
+                        at.strain_sensors
+                            .iter()
+                            .map(|(n, _)| n.as_str())
+                            .collect::<Vec<_>>()
+                            .join(" ")
+                    }
+                ),
+            });
         }
     }
     if !errors.is_empty() {
@@ -297,148 +382,68 @@ pub fn build_system(
         joints,
         drives,
         flexible,
+        flexible_of,
     })
 }
 
-/// Output histories of a run of a mechanism: one row at t₀ and after every `every`-th step.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Histories {
-    pub time: Vec<f64>,
-    /// One series per output, in the order given to [`simulate`].
-    pub sensors: Vec<Vec<f64>>,
-    /// Per JDRIVE: coordinate (angle or slide), rate, effort (torque or force), power.
-    pub drives: Vec<[Vec<f64>; 4]>,
-    /// max |Φᵢ| at each row.
-    pub constraint_residual: Vec<f64>,
-    /// Newton iterations of the step ending at each row (0 at t₀).
-    pub newton_iterations: Vec<u32>,
-    /// Steps taken, largest iteration count of a step, labels of removed redundant constraints.
-    pub steps: usize,
-    pub max_iterations: usize,
-    pub redundant: Vec<String>,
-    /// Size of the system: coordinates and constraints.
-    pub coordinates: usize,
-    pub constraints: usize,
-}
-
 impl MechanismSystem {
-    /// A drive's coordinate, rate, effort and power at the integrator's state.
-    fn drive_row(&self, ggl: &Ggl, drive: usize) -> [f64; 4] {
-        let d = self.drives[drive];
-        let [coordinate, rate] = ggl.drive_coordinate(d);
-        let effort = ggl.drive_effort(d);
-        [coordinate, rate, effort, effort * rate]
+    /// The outputs of `sensors` (MSENSORs of the model this system was built from) on the
+    /// system's markers, joints and drives.
+    pub fn outputs(&self, sensors: &[Sensor]) -> Vec<Output> {
+        sensors
+            .iter()
+            .map(|s| match (s.kind, s.target.clone()) {
+                (MsensorKind::Pos, SensorTarget::Marker(m)) => Output::Position {
+                    marker: self.markers[m],
+                    direction: s.direction,
+                },
+                (MsensorKind::Accel, SensorTarget::Marker(m)) => Output::Acceleration {
+                    marker: self.markers[m],
+                    direction: s.direction,
+                },
+                (MsensorKind::Jforce, SensorTarget::Joint(j)) => Output::JointForce {
+                    joint: self.joints[j],
+                    direction: s.direction,
+                },
+                (MsensorKind::Jtorq, SensorTarget::Joint(j)) => {
+                    Output::DriveEffort(self.drives[self.driving(j)])
+                }
+                (MsensorKind::Power, SensorTarget::Drive(d)) => Output::DrivePower(self.drives[d]),
+                (MsensorKind::Energy, SensorTarget::Drive(d)) => {
+                    Output::DriveEnergy(self.drives[d])
+                }
+                (MsensorKind::Ke, _) => Output::KineticEnergy,
+                (MsensorKind::Dev, SensorTarget::Marker(m)) => Output::Deviation(self.markers[m]),
+                (MsensorKind::Strain, SensorTarget::Strain { body, sensor }) => Output::Strain {
+                    body,
+                    rows: self.strain_rows(body, &sensor),
+                },
+                (kind, target) => unreachable!(
+                    "the model pairs MSENSOR {} with its target kind, not {target:?}",
+                    kind.keyword()
+                ),
+            })
+            .collect()
     }
 
-    /// The value of output `sensor` at the integrator's state; `energy` holds the actuation
-    /// energy integrated so far of each drive (ENERGY reads it).
-    fn sensor_value(&self, ggl: &Ggl, sensor: &Sensor, energy: &[f64]) -> f64 {
-        match (sensor.kind, sensor.target) {
-            (MsensorKind::Pos, SensorTarget::Marker(m)) => {
-                dot(sensor.direction, ggl.marker_position(self.markers[m]))
-            }
-            (MsensorKind::Accel, SensorTarget::Marker(m)) => {
-                dot(sensor.direction, ggl.marker_acceleration(self.markers[m]))
-            }
-            (MsensorKind::Jforce, SensorTarget::Joint(j)) => ggl
-                .joint_force(self.joints[j])
-                .map_or(f64::NAN, |f| dot(sensor.direction, f)),
-            (MsensorKind::Jtorq, SensorTarget::Joint(j)) => self
-                .driving(j)
-                .map_or(f64::NAN, |d| ggl.drive_effort(self.drives[d])),
-            (MsensorKind::Power, SensorTarget::Drive(d)) => self.drive_row(ggl, d)[3],
-            (MsensorKind::Energy, SensorTarget::Drive(d)) => energy[d],
-            (MsensorKind::Ke, _) => ggl.kinetic_energy(),
-            _ => f64::NAN,
-        }
+    /// The row C_ε of the STRAIN sensor `sensor` of a flexible body's artifact; the sensors
+    /// are checked by [`build_system`].
+    fn strain_rows(&self, body: usize, sensor: &str) -> Vec<f64> {
+        let (_, at) = &self.flexible[self.flexible_of[body].expect("a STRAIN body is a FLEXB")];
+        at.strain_sensors
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(sensor))
+            .map(|(_, rows)| rows.clone())
+            .expect("build_system checks the STRAIN sensors")
     }
 
-    /// The JDRIVE (index) of joint `joint` (index into the JOINTs), if it has one.
-    fn driving(&self, joint: usize) -> Option<usize> {
+    /// The JDRIVE (index) of joint `joint` (index into the JOINTs); the model checks that a
+    /// JTORQ's joint has one.
+    fn driving(&self, joint: usize) -> usize {
         let system_joint = self.joints[joint];
         self.drives
             .iter()
             .position(|&d| self.system.drives[d].joint == system_joint)
+            .expect("the model checks that a JTORQ joint has a JDRIVE")
     }
-}
-
-/// Runs the mechanism from `start` at t = 0 (its assembled initial configuration, or the static
-/// equilibrium under gravity reached from it with the drives held, [`statics`]) with GGL and
-/// `scheme` over the TSTEP intervals `(steps, Δt, every)` (none: only the start is recorded),
-/// recording `sensors` and every drive. The
-/// actuation energy ∫ ω T dt (eq. 6.1 f₂) is summed over every step with the power at the
-/// step's end (the rectangle rule of BDF1).
-pub fn simulate(
-    ms: &MechanismSystem,
-    sensors: &[Sensor],
-    intervals: &[(u32, f64, u32)],
-    settings: NewtonSettings,
-    scheme: Scheme,
-    start: FmbStart,
-) -> Result<Histories, MultibodyError> {
-    let dt0 = intervals.first().map_or(1.0, |i| i.1);
-    let mut system = ms.system.clone();
-    if start == FmbStart::Static {
-        let assembled = Ggl::new(system.clone(), dt0, 0.0, settings)?;
-        let rest = statics::equilibrium(
-            &assembled.system,
-            &assembled.equations,
-            &assembled.q,
-            0.0,
-            settings.tolerance,
-            settings.assembly_tolerance,
-        )?;
-        system.set_initial_state(&rest.q, &vec![0.0; rest.q.len()]);
-    }
-    let mut ggl = Ggl::with_scheme(system, dt0, 0.0, settings, scheme)?;
-    let mut h = Histories {
-        sensors: vec![Vec::new(); sensors.len()],
-        drives: vec![Default::default(); ms.drives.len()],
-        redundant: ggl.redundant.clone(),
-        coordinates: ggl.system.size(),
-        constraints: ggl.constraint_count(),
-        ..Histories::default()
-    };
-    let mut energy = vec![0.0; ms.drives.len()];
-    let mut phi = vec![0.0; ggl.equations.constraints.len()];
-    ggl.equations
-        .constraints
-        .values(&ggl.system.layout, &ggl.q, 0.0, &mut phi);
-    let residual0 = phi.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
-    let record = |ggl: &Ggl, h: &mut Histories, energy: &[f64], residual: f64, its: usize| {
-        h.time.push(ggl.time);
-        for (series, s) in h.sensors.iter_mut().zip(sensors) {
-            series.push(ms.sensor_value(ggl, s, energy));
-        }
-        for (d, series) in h.drives.iter_mut().enumerate() {
-            for (x, v) in series.iter_mut().zip(ms.drive_row(ggl, d)) {
-                x.push(v);
-            }
-        }
-        h.constraint_residual.push(residual);
-        h.newton_iterations.push(its as u32);
-    };
-    record(&ggl, &mut h, &energy, residual0, 0);
-    for &(count, dt, every) in intervals {
-        ggl.step_size = dt;
-        let every = every.max(1) as usize;
-        for step in 1..=count as usize {
-            let report = ggl.step()?;
-            h.steps += 1;
-            h.max_iterations = h.max_iterations.max(report.iterations);
-            for (d, e) in energy.iter_mut().enumerate() {
-                *e += ms.drive_row(&ggl, d)[3] * dt;
-            }
-            if step % every == 0 {
-                record(
-                    &ggl,
-                    &mut h,
-                    &energy,
-                    report.constraint_residual,
-                    report.iterations,
-                );
-            }
-        }
-    }
-    Ok(h)
 }
