@@ -64,17 +64,7 @@ fn eigenvalue_at(model: &Model, structure: &Structure, p: &[f64]) -> f64 {
 
 #[test]
 fn a_model_in_memory_is_discretized_evaluated_at_p_and_solved_for_its_modes() {
-    let deck = Deck::parse(Path::new("oscillator.dat"), OSCILLATOR)
-        .unwrap_or_else(|e| panic!("deck: {e}"));
-    let model = Model::build(&deck).unwrap_or_else(|e| {
-        panic!(
-            "model: {:?}",
-            e.iter().map(|x| x.to_string()).collect::<Vec<_>>()
-        )
-    });
-    let quiet = |_: &str, _: usize, _: usize| {};
-    let structure = Structure::build(&model, &BuildOptions { parallel: false }, &quiet)
-        .unwrap_or_else(|e| panic!("structure: {e}"));
+    let (model, structure) = oscillator();
     assert_eq!(structure.params.list.len(), 1);
     assert_eq!(structure.params.nominal(), vec![1000.0]);
     for k in [1000.0, 500.0, 2000.0] {
