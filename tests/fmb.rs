@@ -8,6 +8,17 @@ use std::path::Path;
 
 use common::{root, run_deck};
 
+/// The mean of the samples `y` at times `t` ≥ `start` (the settled part of a run).
+fn mean_from(t: &[f64], y: &[f64], start: f64) -> f64 {
+    let tail: Vec<f64> = t
+        .iter()
+        .zip(y)
+        .filter(|(t, _)| **t >= start - 1e-9)
+        .map(|(_, y)| *y)
+        .collect();
+    tail.iter().sum::<f64>() / tail.len() as f64
+}
+
 fn read(g: &hdf5_metno::Group, name: &str) -> Vec<f64> {
     g.dataset(name)
         .unwrap_or_else(|e| panic!("{name}: {e}"))
@@ -223,13 +234,7 @@ fn clamped_flexible_strip_settles_to_the_sol_101_sag() {
     let g = file.group("results/1/fmb").unwrap();
     let t = read(&g, "time");
     let z = read(&g, "sensors/TIPZ");
-    let tail: Vec<f64> = t
-        .iter()
-        .zip(&z)
-        .filter(|(t, _)| **t >= 0.8 - 1e-9)
-        .map(|(_, z)| *z)
-        .collect();
-    let settled = tail.iter().sum::<f64>() / tail.len() as f64;
+    let settled = mean_from(&t, &z, 0.8);
     let (r, _model, out) =
         common::run_deck_file(&root().join("decks/fmb/strip_clamped_sag_101.dat"));
     r.expect("SOL 101");
@@ -582,13 +587,7 @@ fn deviation_from_the_rigid_twin_is_the_sag_and_scales_as_one_over_e() {
     let g = file.group("results/1/fmb").unwrap();
     let (t, d) = (read(&g, "time"), read(&g, "sensors/TIPDEV"));
     assert_eq!(d[0], 0.0);
-    let tail: Vec<f64> = t
-        .iter()
-        .zip(&d)
-        .filter(|(t, _)| **t >= 0.8 - 1e-9)
-        .map(|(_, d)| *d)
-        .collect();
-    let settled = tail.iter().sum::<f64>() / tail.len() as f64;
+    let settled = mean_from(&t, &d, 0.8);
     assert!(
         (settled - dev).abs() <= 1e-2 * dev,
         "settled DEV {settled} vs static {dev}"
