@@ -2,7 +2,10 @@
 
 * :mod:`paraflex_tools.cards`: Nastran bulk-data cards (free, small, large field).
 * :mod:`paraflex_tools.runner`: locating and running the paraflex binary.
-* :mod:`paraflex_tools.results`: reading paraflex's HDF5 result files.
+* :mod:`paraflex_tools.results`: reading paraflex's HDF5 result files (statics, modes, FRF,
+  transient, multibody and estimation results by subcase).
+* :mod:`paraflex_tools.prom`: a pROM artifact evaluated at any parameter point (matrices,
+  frequencies, FRFs) in numpy.
 * :mod:`paraflex_tools.meshing`: gmsh → meshio → Nastran includes of the scene generators.
 * :mod:`paraflex_tools.analytic`, :mod:`paraflex_tools.mitc_plate`: reference solutions used by
   more than one generator (Timoshenko beam, MITC plate).

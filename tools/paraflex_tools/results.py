@@ -94,6 +94,133 @@ def modal_frequencies(path: str | os.PathLike, subcase: str | int = 1) -> np.nda
         return f[f"results/{subcase}/modal/frequency_hz"][()]
 
 
+def subcases(path: str | os.PathLike) -> list[str]:
+    """The subcase names under ``/results``, in numeric order."""
+    with h5py.File(path, "r") as f:
+        return sorted(f["results"].keys(), key=lambda s: (len(s), s)) if "results" in f else []
+
+
+def _attributes(group: h5py.Group) -> dict[str, object]:
+    """A group's attributes with strings decoded."""
+    out: dict[str, object] = {}
+    for key, value in group.attrs.items():
+        if isinstance(value, (bytes, str)):
+            out[key] = text(value)
+        elif isinstance(value, np.ndarray) and value.dtype.kind in "OSU":
+            out[key] = texts(value)
+        else:
+            out[key] = value
+    return out
+
+
+def _series(group: h5py.Group, name: str) -> dict[str, np.ndarray]:
+    """Every dataset of the subgroup ``name`` of ``group`` (empty when it is absent)."""
+    return {key: ds[()] for key, ds in group[name].items()} if name in group else {}
+
+
+@dataclass
+class Statics:
+    """``/results/<subcase>/statics``: ``displacement[row, component]`` (T1 T2 T3 R1 R2 R3,
+    basic) with the grid id of each row, SPC forces when requested, and the group's attributes."""
+
+    grid_ids: np.ndarray
+    displacement: np.ndarray
+    spc_force: np.ndarray | None
+    attrs: dict[str, object]
+
+    def of_grid(self, grid: int) -> np.ndarray:
+        """The six components of one grid."""
+        rows = np.flatnonzero(self.grid_ids == grid)
+        if len(rows) == 0:
+            raise KeyError(f"grid {grid} is not in the static displacements")
+        return self.displacement[rows[0]]
+
+
+def read_statics(path: str | os.PathLike, subcase: str | int = 1) -> Statics:
+    with h5py.File(path, "r") as f:
+        g = f[f"results/{subcase}/statics"]
+        spc = g["spc_force"][()] if "spc_force" in g else None
+        return Statics(grid_rows(f, g, "displacement"), g["displacement"][()], spc, _attributes(g))
+
+
+@dataclass
+class Transient:
+    """``/results/<subcase>/transient``: output times, SENSOR histories by name and, when
+    stored, the displacement/velocity/acceleration histories of ``outputs`` (pROM) or of grids
+    (full model, ``displacement[t, row, component]``)."""
+
+    time: np.ndarray
+    sensors: dict[str, np.ndarray]
+    fields: dict[str, np.ndarray]
+    outputs: list[str]
+    attrs: dict[str, object]
+
+    def output(self, kind: str, name: str) -> np.ndarray:
+        """The history of one output DOF (``GRID:component``) of ``kind`` (displacement,
+        velocity or acceleration) of a pROM transient."""
+        if name not in self.outputs:
+            raise KeyError(f"no output {name} (outputs: {', '.join(self.outputs)})")
+        return self.fields[kind][:, self.outputs.index(name)]
+
+
+def read_transient(path: str | os.PathLike, subcase: str | int = 1) -> Transient:
+    with h5py.File(path, "r") as f:
+        g = f[f"results/{subcase}/transient"]
+        fields = {k: g[k][()] for k in ("displacement", "velocity", "acceleration") if k in g}
+        outputs = texts(g["outputs"][()]) if "outputs" in g else []
+        return Transient(g["time"][()], _series(g, "sensors"), fields, outputs, _attributes(g))
+
+
+@dataclass
+class Multibody:
+    """``/results/<subcase>/fmb``: output times, MSENSOR histories by name, the drives' angle,
+    rate, torque and power by JDRIVE id, the constraint residual and Newton iterations per step,
+    and the group's attributes (method, coordinates, constraints, params, values)."""
+
+    time: np.ndarray
+    sensors: dict[str, np.ndarray]
+    drives: dict[str, dict[str, np.ndarray]]
+    constraint_residual: np.ndarray
+    newton_iterations: np.ndarray
+    attrs: dict[str, object]
+
+    @property
+    def parameters(self) -> dict[str, float]:
+        """BODY.PMPAR → value of the run."""
+        return dict(zip(self.attrs.get("params", []), np.atleast_1d(self.attrs.get("values", []))))
+
+
+def read_multibody(path: str | os.PathLike, subcase: str | int = 1) -> Multibody:
+    with h5py.File(path, "r") as f:
+        g = f[f"results/{subcase}/fmb"]
+        drives = {name: {k: d[()] for k, d in group.items()} for name, group in g["drives"].items()} \
+            if "drives" in g else {}
+        return Multibody(g["time"][()], _series(g, "sensors"), drives, g["constraint_residual"][()],
+                         g["newton_iterations"][()], _attributes(g))
+
+
+@dataclass
+class Estimate:
+    """``/results/<subcase>/estimate``: filter times, parameter and input estimates with their σ,
+    posterior sensor histories, innovations, and the group's attributes."""
+
+    time: np.ndarray
+    params: dict[str, np.ndarray]
+    params_sigma: dict[str, np.ndarray]
+    inputs: dict[str, np.ndarray]
+    inputs_sigma: dict[str, np.ndarray]
+    sensors: dict[str, np.ndarray]
+    innovation: dict[str, np.ndarray]
+    attrs: dict[str, object]
+
+
+def read_estimate(path: str | os.PathLike, subcase: str | int = 1) -> Estimate:
+    with h5py.File(path, "r") as f:
+        g = f[f"results/{subcase}/estimate"]
+        parts = ("params", "params_sigma", "inputs", "inputs_sigma", "sensors", "innovation")
+        return Estimate(g["time"][()], *(_series(g, name) for name in parts), _attributes(g))
+
+
 def walk(f: h5py.File) -> Iterator[tuple[str, str, object]]:
     """Every group, dataset and attribute of a file, sorted by path: ``(path, kind, value)``
     with kind ``group`` (value None), ``dataset`` (its data) or ``attribute`` (path
