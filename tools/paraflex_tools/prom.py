@@ -156,3 +156,37 @@ class Prom:
             rows = np.array([scale[kind](w) for kind in self.sensor_kinds])[:, None] * self.sensor_rows
             lines.append(rows @ response)
         return np.array(lines)
+
+    def response(self, time: np.ndarray, forces: np.ndarray, values: dict[str, float] | None = None) -> np.ndarray:
+        """Sensor histories (time × sensor) from rest under forces at the stored inputs
+        (time × input), linear between the samples, computed exactly: the first-order-hold
+        transition of ẋ = A x + B f with x = [q, q̇] over each interval, from the matrix
+        exponential of the augmented system (no time-integration error, unlike the solver's
+        integrators, so measurements made with it are independent of them). ``time`` must be
+        uniformly spaced. DISP and STRAIN sensors read q, VEL q̇, ACCEL q̈ = M⁻¹(S f − K q − C q̇).
+        """
+        stiffness, mass, damping = self.matrices(values)
+        n, m = self.size, self.input_shapes.shape[1]
+        steps = np.diff(time)
+        if len(time) < 2 or not np.allclose(steps, steps[0], rtol=1e-9, atol=0.0):
+            raise ValueError("response: the times must be uniformly spaced")
+        h = steps[0]
+        inverse_mass = np.linalg.inv(mass)
+        a = np.block([[np.zeros((n, n)), np.eye(n)], [-inverse_mass @ stiffness, -inverse_mass @ damping]])
+        b = np.vstack([np.zeros((n, m)), inverse_mass @ self.input_shapes])
+        augmented = np.zeros((2 * n + 2 * m, 2 * n + 2 * m))
+        augmented[: 2 * n, : 2 * n] = a * h
+        augmented[: 2 * n, 2 * n : 2 * n + m] = b * h
+        augmented[2 * n : 2 * n + m, 2 * n + m :] = np.eye(m)
+        transition = scipy.linalg.expm(augmented)
+        phi = transition[: 2 * n, : 2 * n]
+        hold = transition[: 2 * n, 2 * n : 2 * n + m]
+        ramp = transition[: 2 * n, 2 * n + m :]
+        forces = np.asarray(forces, dtype=float).reshape(len(time), m)
+        states = np.zeros((len(time), 2 * n))
+        for k in range(len(time) - 1):
+            states[k + 1] = phi @ states[k] + hold @ forces[k] + ramp @ (forces[k + 1] - forces[k])
+        q, v = states[:, :n], states[:, n:]
+        acceleration = (forces @ self.input_shapes.T - q @ stiffness.T - v @ damping.T) @ inverse_mass.T
+        by_kind = {"DISP": q, "STRAIN": q, "VEL": v, "ACCEL": acceleration}
+        return np.column_stack([by_kind[kind] @ row for kind, row in zip(self.sensor_kinds, self.sensor_rows)])
