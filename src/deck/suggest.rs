@@ -2,19 +2,24 @@
 //!
 //! Closeness is the optimal-string-alignment distance (Levenshtein with a swap of two adjacent
 //! characters counted as one edit), so that `CQAUD4` is one edit from `CQUAD4`. A name at most
-//! [`MAX_EDITS`] edits away is suggested; ties go to the first name of the list.
+//! [`max_edits`] edits away is suggested; ties go to the first name of the list.
 
-/// The most edits a suggestion may be away from the name written.
-pub const MAX_EDITS: usize = 2;
+/// The most edits a suggestion may be away from a name of `length` characters: one for names
+/// of up to four characters (two edits turn `PROD` into `GRID`, a different card, not a typo of
+/// it), two for longer ones.
+pub fn max_edits(length: usize) -> usize {
+    if length <= 4 { 1 } else { 2 }
+}
 
-/// The name of `known` closest to `word` (ASCII case ignored), if it is at most [`MAX_EDITS`]
-/// edits away and not `word` itself.
+/// The name of `known` closest to `word` (ASCII case ignored), if it is at most
+/// [`max_edits`] edits away and not `word` itself.
 pub fn closest<'a>(word: &str, known: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
     let word = word.to_ascii_uppercase();
+    let limit = max_edits(word.chars().count());
     known
         .into_iter()
         .map(|k| (edit_distance(&word, &k.to_ascii_uppercase()), k))
-        .filter(|(d, _)| (1..=MAX_EDITS).contains(d))
+        .filter(|(d, _)| (1..=limit).contains(d))
         .min_by_key(|(d, _)| *d)
         .map(|(_, k)| k)
 }
@@ -65,6 +70,8 @@ mod tests {
         assert_eq!(closest("cqaud4", known), Some("CQUAD4"));
         assert_eq!(closest("GIRD", known), Some("GRID"));
         assert_eq!(closest("CBAR", known), None);
+        assert_eq!(closest("PROD", known), None, "two edits from GRID: another card, not a typo");
+        assert_eq!(closest("GRD", known), Some("GRID"));
         assert_eq!(closest("GRID", known), None);
     }
 }
