@@ -437,3 +437,24 @@ fn every_error_is_collected_with_its_position() {
     assert_eq!(errors[1].card.as_deref(), Some("CQUAD4 10"));
     assert_eq!(errors[1].field.as_deref(), Some("field 3 (PID)"));
 }
+
+/// A part-superelement deck (bulk data after `BEGIN SUPER = 1`, as MSC writes them) gets one
+/// error at that line, and the cards after it are checked as bulk data, not reported one by
+/// one as unknown case control commands.
+#[test]
+fn begin_super_is_one_error_and_its_cards_read_as_bulk() {
+    let (_dir, deck) = read_files(&[(
+        "deck.dat",
+        "SOL 101\nCEND\nSUBCASE 1\n  LOAD = 2\nBEGIN SUPER=1\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.,-7\nENDDATA\n",
+    )]);
+    let errors = deck.expect_err("BEGIN SUPER is not supported").to_string();
+    assert!(
+        errors.contains("deck.dat:5: 'BEGIN SUPER=1': paraflex reads one bulk data section"),
+        "{errors}"
+    );
+    assert!(
+        errors.contains("deck.dat:7: GRID 2: field 7 (CD)"),
+        "the GRID cards are read as bulk data: {errors}"
+    );
+    assert!(!errors.contains("case control command"), "{errors}");
+}

@@ -148,7 +148,18 @@ pub struct CaseControl {
     /// Whether an `ECHO` asking for an echo was already warned about.
     #[serde(skip)]
     echo_warned: bool,
+    /// An `OUTPUT(PLOT)`-style section being skipped: where it starts, its name and the number
+    /// of statements skipped so far.
+    #[serde(skip)]
+    plotter_section: Option<(Loc, String, usize)>,
 }
+
+/// The describers of `OUTPUT(…)` that open a plotter or post-processing section (structure and
+/// XY plots, their printer and punch copies, the OUTPUT(POST) surfaces and volumes). Such a
+/// section runs to `BEGIN BULK`; paraflex draws no plots (the HDF5 and XDMF files replace them),
+/// so it is skipped with one warning instead of reading its SET, AXES, VIEW, FIND, PLOT,
+/// XYPLOT, XYPRINT … statements as case control.
+const PLOTTER_SECTIONS: &[&str] = &["PLOT", "XYPLOT", "XYOUT", "XYPUNCH", "POST", "CARDS"];
 
 /// Canonical case-control commands that select a bulk-data id.
 const SELECTIONS: &[&str] = &[
@@ -185,6 +196,10 @@ const OUTPUTS: &[&str] = &[
     "PRESSURE",
     "EKE",
     "EDE",
+    "GPKE",
+    "GPSTRESS",
+    "STRFIELD",
+    "GPSTRAIN",
 ];
 
 /// Statements accepted and ignored (printing and bookkeeping options that do not change results).
@@ -318,10 +333,24 @@ impl CaseControl {
             acc.push_str(text);
             return self.read_set(&set_loc, acc, diag);
         }
+        if let Some((_, _, skipped)) = &mut self.plotter_section {
+            *skipped += 1;
+            return;
+        }
         let text = text.trim();
         let st = split_statement(text);
         let word = st.word.to_ascii_uppercase();
         let err = |msg: String| DeckError::at(loc, msg).on_card(word.clone());
+        if word == "OUTPUT" {
+            if let Some(section) = st
+                .describers
+                .iter()
+                .find(|d| PLOTTER_SECTIONS.contains(&d.as_str()))
+            {
+                self.plotter_section = Some((loc.clone(), section.clone(), 0));
+                return;
+            }
+        }
         match word.as_str() {
             "TITLE" | "SUBTITLE" | "LABEL" => {
                 let value = text
@@ -540,6 +569,14 @@ impl CaseControl {
 
     /// Report a `SET` left open by a trailing comma at the end of the section.
     pub fn finish(&mut self, diag: &mut Diagnostics) {
+        if let Some((loc, section, skipped)) = self.plotter_section.take() {
+            diag.warn_at(
+                &loc,
+                format!(
+                    "the OUTPUT({section}) section ({skipped} statement(s) up to BEGIN BULK) is not read: paraflex draws no plots; its results are in the HDF5 file (and the XDMF files for ParaView)"
+                ),
+            );
+        }
         if let Some((loc, _)) = self.pending_set.take() {
             diag.error(
                 DeckError::at(
@@ -666,6 +703,42 @@ mod tests {
                 .starts_with("c.dat:1: ECHO = SORT is not honoured"),
             "{}",
             d.warnings[0]
+        );
+    }
+
+    /// An OUTPUT(XYPLOT) section at the end of case control (Nastran's XY plotter: SET, XTITLE,
+    /// XYPRINT … up to BEGIN BULK) is skipped with one warning saying where it starts and how
+    /// many statements it held; the subcases above it are read as usual.
+    #[test]
+    fn plotter_sections_are_skipped_with_one_warning() {
+        let (cc, d) = read(&[
+            "SUBCASE 1",
+            "  LOAD = 2",
+            "OUTPUT(XYPLOT)",
+            "SET 9 = ALL QUAD4",
+            "XTITLE = TIME",
+            "XYPRINT DISP /1(T3)",
+            "GRID",
+        ]);
+        assert!(d.is_ok(), "{:?}", d.errors);
+        assert_eq!(cc.subcases()[0].load, Some(2));
+        assert!(
+            cc.set(9).is_none(),
+            "a plotter SET is not a case-control set"
+        );
+        assert_eq!(d.warnings.len(), 1, "{:?}", d.warnings);
+        assert!(
+            d.warnings[0]
+                .to_string()
+                .starts_with("c.dat:3: the OUTPUT(XYPLOT) section (4 statement(s)"),
+            "{}",
+            d.warnings[0]
+        );
+        let (_, plain) = read(&["OUTPUT", "XYPRINT DISP /1(T3)"]);
+        assert_eq!(
+            plain.errors.len(),
+            1,
+            "a bare OUTPUT opens no plotter section"
         );
     }
 }

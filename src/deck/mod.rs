@@ -215,6 +215,20 @@ fn is_begin_bulk(text: &str) -> bool {
     t.starts_with("BEGIN") && t[5..].trim_start().starts_with("BULK")
 }
 
+/// `BEGIN SUPER = n`, `BEGIN AUXMODEL = n` …: a bulk section of its own (part superelements,
+/// auxiliary models), which paraflex does not read, as an error at its line.
+fn other_begin_section(loc: &Loc, text: &str) -> Option<DeckError> {
+    (first_word(text) == "BEGIN" && !is_begin_bulk(text)).then(|| {
+        DeckError::at(
+            loc,
+            format!(
+                "'{}': paraflex reads one bulk data section, after BEGIN BULK; part superelements (BEGIN SUPER) and other BEGIN sections are not supported",
+                text.trim()
+            ),
+        )
+    })
+}
+
 impl LineVisitor for Builder {
     fn line(&mut self, line: Line<'_>, diag: &mut Diagnostics) {
         let text = line.text;
@@ -241,7 +255,10 @@ impl LineVisitor for Builder {
                 }
             }
             Section::Case => {
-                if is_begin_bulk(text) {
+                if let Some(error) = other_begin_section(line.loc, text) {
+                    diag.error(error);
+                    self.section = Section::Bulk;
+                } else if is_begin_bulk(text) {
                     self.section = Section::Bulk;
                 } else {
                     self.case.read_line(line.loc, text, diag);
@@ -257,6 +274,9 @@ impl LineVisitor for Builder {
                 }
                 if is_begin_bulk(text) {
                     return;
+                }
+                if let Some(error) = other_begin_section(line.loc, text) {
+                    return diag.error(error);
                 }
                 if let Some(card) = self.assembler.push_line(line.loc, text, diag) {
                     self.parse(card, diag);

@@ -70,7 +70,11 @@ mod tests {
         assert_eq!(closest("cqaud4", known), Some("CQUAD4"));
         assert_eq!(closest("GIRD", known), Some("GRID"));
         assert_eq!(closest("CBAR", known), None);
-        assert_eq!(closest("PROD", known), None, "two edits from GRID: another card, not a typo");
+        assert_eq!(
+            closest("PROD", known),
+            None,
+            "two edits from GRID: another card, not a typo"
+        );
         assert_eq!(closest("GRD", known), Some("GRID"));
         assert_eq!(closest("GRID", known), None);
     }
