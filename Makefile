@@ -13,7 +13,7 @@ DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcurso
 	libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1
 
 .PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient bench-estimate \
-	reference-exudyn clean
+	reference-exudyn fourbar-plots clean
 
 demo: deps
 	$(CARGO) build --release --quiet
@@ -96,6 +96,12 @@ bench-estimate: deps
 reference-exudyn: deps
 	$(PY) -m pip install --quiet --disable-pip-version-check -r tools/exudyn/requirements.txt
 	$(PY) tools/exudyn/fourbar.py
+
+# The four-bar's README pictures (docs/img/fourbar_mechanism.png, fourbar_pfmb_vs_fmb.png):
+# pFMB against FMB histories like thesis Fig. 4.6-4.11 (tools/plot/fourbar_histories.py, ~1 min).
+fourbar-plots: deps
+	$(CARGO) build --release --quiet
+	$(PY) tools/plot/fourbar_histories.py --paraflex $(BIN)
 
 # ParaView reads the XDMF files: renders the first mode shape of the demo bracket plate (warped,
 # coloured by the displacement magnitude) to docs/img/paraview_bracket_mode1.png under Xvfb and
