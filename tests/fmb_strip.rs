@@ -280,7 +280,7 @@ fn spun_strip_follows_the_sol_101_deflection_under_its_inertial_load() {
     let stretch = (settled, sol_101_tip(W0, 0.0));
     let bar = 2700.0 * W0 * W0 * 0.3_f64.powi(3) / (3.0 * 7e10);
     println!(
-        "tip deviation / SOL 101: ramp peak {:.4e} / {:.4e}, settled {:.4e} / {:.4e} (bar formula {bar:.4e})",
+        "tip deviation / SOL 101: ramp peak {:.4e} / {:.4e}, settled {:.4e} / {:.4e} (bar {bar:.4e})",
         bending.0, bending.1, stretch.0, stretch.1
     );
     for (name, (fmb, fe)) in [("ramp peak", bending), ("settled", stretch)] {
