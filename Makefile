@@ -12,7 +12,8 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcursor1 libxfixes3 \
 	libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1
 
-.PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient bench-estimate clean
+.PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient bench-estimate \
+	reference-exudyn fourbar-plots clean
 
 demo: deps
 	$(CARGO) build --release --quiet
@@ -89,6 +90,18 @@ bench-estimate: deps
 	done && bench=$(or $(CARGO_TARGET_DIR),target)/release/examples/estimate_bench && \
 	$$bench $$tmp/blade_prom_sensors.h5 && $$bench $$tmp/blade_prom_clamped.h5 && \
 	$$bench $$tmp/blade_prom_sensors_small.h5 3 $$tmp/blade_prom_sensors.h5; rc=$$?; rm -rf $$tmp; exit $$rc
+
+# The independent multibody peer: Exudyn (installed into the venv here only; not a dependency
+# of paraflex or its tests) runs the rigid four-bar and writes reference/exudyn/fourbar_rigid.json.
+reference-exudyn: deps
+	$(PY) -m pip install --quiet --disable-pip-version-check -r tools/exudyn/requirements.txt
+	$(PY) tools/exudyn/fourbar.py
+
+# The four-bar's README pictures (docs/img/fourbar_mechanism.png, fourbar_pfmb_vs_fmb.png):
+# pFMB against FMB histories like thesis Fig. 4.6-4.11 (tools/plot/fourbar_histories.py, ~1 min).
+fourbar-plots: deps
+	$(CARGO) build --release --quiet
+	$(PY) tools/plot/fourbar_histories.py --paraflex $(BIN)
 
 # ParaView reads the XDMF files: renders the first mode shape of the demo bracket plate (warped,
 # coloured by the displacement magnitude) to docs/img/paraview_bracket_mode1.png under Xvfb and
