@@ -14,7 +14,7 @@
 
 use super::loads::dynamic_table;
 use super::prom_body::{PromBodyAtPoint, load_prom_body};
-use crate::card_values::{JointType, MsensorKind};
+use crate::card_values::{ForceKind, JointType, MsensorKind};
 use crate::geometry::euler_parameters::from_rotation_matrix;
 use crate::geometry::mat3::{IDENTITY, Mat3, mul_vec, transpose};
 use crate::geometry::vec3::{add, dot, norm, sub};
@@ -335,11 +335,21 @@ pub fn build_system(
     }
     for (index, f) in mech.forces.iter().enumerate() {
         match table_signal(model, f.table, f.scale) {
-            Ok(signal) => system.add_force(Force::Point {
-                marker: markers[f.marker],
-                direction: f.direction,
-                signal,
-            }),
+            Ok(signal) => {
+                let (marker, direction) = (markers[f.marker], f.direction);
+                system.add_force(match f.kind {
+                    ForceKind::Force => Force::Point {
+                        marker,
+                        direction,
+                        signal,
+                    },
+                    ForceKind::Moment => Force::Moment {
+                        marker,
+                        direction,
+                        signal,
+                    },
+                })
+            }
             Err(message) => errors.push(error(Card::Force(index), message)),
         }
     }

@@ -5,6 +5,7 @@
 use super::Model;
 use crate::deck::cards::{
     Aset1, Eigrl, Ekf, Ekfinp, Ekfpar, Meas, Measf, Pmor, Ptable, Pval, Tic, Tinteg, Tstep,
+    Tstepvar,
 };
 
 impl Model {
@@ -36,6 +37,11 @@ impl Model {
     /// The TINTEG with id `id` (the integrator of the TSTEP of the same id).
     pub fn tinteg(&self, id: u32) -> Option<&Tinteg> {
         self.bulk.tinteg.iter().find(|t| t.id == id)
+    }
+
+    /// The `TSTEPVAR` (step control) of TSTEP `id`, if any.
+    pub fn tstepvar(&self, id: u32) -> Option<&Tstepvar> {
+        self.bulk.tstepvar.iter().find(|t| t.id == id)
     }
 
     /// The TIC cards of `IC = sid`, in card order.

@@ -22,7 +22,7 @@ use crate::geometry::vec3::normalize;
 
 use super::coords::CoordSystem;
 use super::ids::{entry, index};
-use crate::card_values::{JointType, MsensorKind};
+use crate::card_values::{ForceKind, JointType, MsensorKind};
 
 /// What a body is.
 #[derive(Debug, Clone, PartialEq)]
@@ -120,10 +120,12 @@ pub struct PointSpring {
     pub loc: Loc,
 }
 
-/// A point force (`MFORCE`): scale · table(t) along a unit direction in basic.
+/// A force (`MFORCE`) or moment (`MMOMENT`) at a marker: scale · table(t) along (about) a
+/// unit direction in basic.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PointForce {
     pub id: u32,
+    pub kind: ForceKind,
     pub marker: usize,
     pub table: u32,
     pub scale: f64,
@@ -214,7 +216,10 @@ impl Mechanism {
                 format!("MARKER {}", self.markers[i].id),
             ),
             Card::Drive(i) => (&self.drives[i].loc, format!("JDRIVE {}", self.drives[i].id)),
-            Card::Force(i) => (&self.forces[i].loc, format!("MFORCE {}", self.forces[i].id)),
+            Card::Force(i) => {
+                let f = &self.forces[i];
+                (&f.loc, format!("{} {}", load_card(f.kind), f.id))
+            }
             Card::Sensor(i) => (
                 &self.sensors[i].loc,
                 format!("MSENSOR {}", self.sensors[i].id),
@@ -223,6 +228,14 @@ impl Mechanism {
         let mut e = DeckError::at(loc, message).on_card(label);
         e.field = field.map(String::from);
         e
+    }
+}
+
+/// The card name of a marker load.
+fn load_card(kind: ForceKind) -> &'static str {
+    match kind {
+        ForceKind::Force => "MFORCE",
+        ForceKind::Moment => "MMOMENT",
     }
 }
 
@@ -625,24 +638,43 @@ pub fn build(
             });
         }
     }
+    index(
+        bulk.mforce
+            .iter()
+            .map(|x| entry(x.id, load_card(x.kind), &x.loc, ()))
+            .collect(),
+        "marker load (MFORCE, MMOMENT)",
+        errors,
+    );
     for f in &bulk.mforce {
-        table(f.tid, (&f.loc, "MFORCE", f.id, "field 4 (TID)"), errors);
-        let c = rectangular(
-            coords,
-            f.cid,
-            (&f.loc, "MFORCE", f.id, "field 9 (CID)"),
-            errors,
-        );
-        if let Some(mk) = marker(f.marker, (&f.loc, "MFORCE", f.id, "field 3 (MK)"), errors) {
-            m.forces.push(PointForce {
-                id: f.id,
-                marker: mk,
-                table: f.tid,
-                scale: f.scale,
-                direction: unit_in_basic(c, f.direction),
-                loc: f.loc.clone(),
-            });
+        let card = load_card(f.kind);
+        table(f.tid, (&f.loc, card, f.id, "field 4 (TID)"), errors);
+        let c = rectangular(coords, f.cid, (&f.loc, card, f.id, "field 9 (CID)"), errors);
+        let Some(mk) = marker(f.marker, (&f.loc, card, f.id, "field 3 (MK)"), errors) else {
+            continue;
+        };
+        if m.markers[mk].body.is_none() {
+            errors.push(at(
+                &f.loc,
+                card,
+                f.id,
+                "field 3 (MK)",
+                format!(
+                    "MK = {} is on the ground, which nothing can move: put the marker on a body",
+                    f.marker
+                ),
+            ));
+            continue;
         }
+        m.forces.push(PointForce {
+            id: f.id,
+            kind: f.kind,
+            marker: mk,
+            table: f.tid,
+            scale: f.scale,
+            direction: unit_in_basic(c, f.direction),
+            loc: f.loc.clone(),
+        });
     }
 
     index(

@@ -36,6 +36,16 @@ pub enum MultibodyError {
         worst: String,
         constraint: f64,
     },
+    #[error(
+        "error-controlled step at t = {time}: the step {step:.3e} fell below HMIN = {min_step:.3e} (estimated local error {error:.3e} times the tolerance); loosen RTOL/ATOL or lower HMIN"
+    )]
+    StepTooSmall {
+        time: f64,
+        step: f64,
+        min_step: f64,
+        /// The last step's estimate in units of the tolerance (NaN: Newton did not converge).
+        error: f64,
+    },
     #[error("singular {what} at t = {time}")]
     Singular { what: &'static str, time: f64 },
 }

@@ -1,4 +1,4 @@
-//! Applied forces: point forces at markers from a time function, and spring-dampers on a
+//! Applied forces: point forces and moments at markers from a time function, and spring-dampers on a
 //! scalar coordinate ℓ(q) — the distance between two markers (point-to-point), a joint's
 //! relative angle or slide (joint spring-damper) or the error of a compliant drive (Fig. 4.15b):
 //!
@@ -9,10 +9,24 @@
 //! with ℓ_d = ℓ₀ + f(t) (ℓ₀ the free length, rest angle or the drive's initial value). Angle
 //! differences are taken in (−π, π]. The Newton iteration matrix gets K ∇ℓ ∇ℓᵀ and C ∇ℓ ∇ℓᵀ
 //! (the curvature of ℓ times T is left out).
+//!
+//! A force F n at a marker point p does the virtual work F nᵀ δp, so Q = F (∂p/∂q)ᵀ n. A moment
+//! M n does M nᵀ δθ with δθ the small rotation of the marker's frame; its axes uₖ move by
+//! δuₖ = δθ × uₖ, so ½ Σₖ uₖ × δuₖ = δθ (an orthonormal triad) and
+//!
+//! ```text
+//! Q = M · ½ Σₖ (∂uₖ/∂q)ᵀ (n × uₖ)
+//! ```
+//!
+//! which on a rigid body is the Euler-parameter form Q_e = 2 Gᵀ (M n) and on a flexible body
+//! adds the interface grid's rotation rows. Neither load's derivative enters the iteration
+//! matrix (the direction n is fixed in space, the loads are given).
 
 use super::constraint::{Constraint, VectorSum};
 use super::layout::Layout;
+use super::marker::Marker;
 use super::signal::Signal;
+use crate::geometry::vec3::cross;
 use faer::MatMut;
 
 /// An applied force element (user-facing).
@@ -20,6 +34,13 @@ use faer::MatMut;
 pub enum Force {
     /// F(t) = f(t) n at a marker, n in global components.
     Point {
+        marker: usize,
+        direction: [f64; 3],
+        signal: Signal,
+    },
+    /// M(t) = f(t) n at a marker: a moment about the global unit axis n that turns the
+    /// marker's frame.
+    Moment {
         marker: usize,
         direction: [f64; 3],
         signal: Signal,
@@ -40,6 +61,45 @@ pub enum Force {
         damping: f64,
         rest: f64,
     },
+}
+
+impl Force {
+    /// Adds the generalized force of a point force or moment at time t to `force` (module
+    /// docs); spring-dampers add nothing here ([`SpringDamper::apply`]).
+    pub fn add_load(
+        &self,
+        markers: &[Marker],
+        layout: &Layout,
+        q: &[f64],
+        t: f64,
+        force: &mut [f64],
+    ) {
+        match self {
+            Force::Point {
+                marker,
+                direction,
+                signal,
+            } => {
+                let amplitude = signal.at(t)[0];
+                markers[*marker].point().jacobian(layout, q, |i, j, x| {
+                    force[j] += x * amplitude * direction[i]
+                });
+            }
+            Force::Moment {
+                marker,
+                direction,
+                signal,
+            } => {
+                let amplitude = 0.5 * signal.at(t)[0];
+                for k in 0..3 {
+                    let axis = markers[*marker].axis(k);
+                    let w = cross(*direction, axis.value(layout, q));
+                    axis.jacobian(layout, q, |i, j, x| force[j] += x * amplitude * w[i]);
+                }
+            }
+            Force::PointSpringDamper { .. } | Force::JointSpringDamper { .. } => {}
+        }
+    }
 }
 
 /// A scalar coordinate ℓ(q) with its gradient.

@@ -482,6 +482,43 @@ impl Ggl {
             x[2 * n + m + k] = self.mu[k];
         }
     }
+
+    /// The state a rejected step of [`super::step_control`] returns to.
+    pub fn checkpoint(&self) -> Checkpoint {
+        Checkpoint {
+            time: self.time,
+            state: [&self.q, &self.v, &self.acceleration, &self.lambda, &self.mu]
+                .map(|x| x.to_vec()),
+            history: self.history.clone(),
+        }
+    }
+
+    /// Returns to a [`Ggl::checkpoint`].
+    pub fn restore(&mut self, c: &Checkpoint) {
+        self.time = c.time;
+        let [q, v, a, lambda, mu] = &c.state;
+        self.q.copy_from_slice(q);
+        self.v.copy_from_slice(v);
+        self.acceleration.copy_from_slice(a);
+        self.lambda.copy_from_slice(lambda);
+        self.mu.copy_from_slice(mu);
+        self.history = c.history.clone();
+    }
+
+    /// Prepares error-controlled steps: the consistent accelerations at the current state
+    /// (the local error estimate starts from them) and BDF2's variable-step coefficients.
+    pub fn vary_steps(&mut self) -> Result<(), MultibodyError> {
+        self.solve_accelerations()?;
+        self.history.vary_steps();
+        Ok(())
+    }
+}
+
+/// Time, (q, v, q̈, λ, μ) and the scheme's history of a [`Ggl`].
+pub struct Checkpoint {
+    time: f64,
+    state: [Vec<f64>; 5],
+    history: History,
 }
 
 /// The equations of one GGL step at t in x = (q, v, λ̂, μ) (module docs).

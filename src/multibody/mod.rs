@@ -23,7 +23,8 @@
 //!   BDF1, BDF2 and generalized-α as one step form; [`statics`]: static equilibrium under
 //!   gravity with drives held;
 //!   [`output`]: marker kinematics, reactions, drive torques, power and energy;
-//!   [`simulation`]: a run over a time grid with the histories of chosen outputs.
+//!   [`simulation`]: a run over a time grid with the histories of chosen outputs;
+//!   [`step_control`]: error-controlled step sizes (local error estimate and controller).
 //!
 //! A system is built here from plain data; the system of a deck's mechanism, with its flexible
 //! bodies read from pROM artifacts, is built by [`crate::discretize::mechanism`].
@@ -50,6 +51,7 @@ pub mod scheme;
 pub mod signal;
 pub mod simulation;
 pub mod statics;
+pub mod step_control;
 pub mod system;
 pub mod vectors;
 
@@ -62,5 +64,6 @@ pub use joints::{Drive, DriveKind, Joint, JointKind};
 pub use marker::Marker;
 pub use scheme::Scheme;
 pub use signal::Signal;
-pub use simulation::{Histories, Output, Start, simulate};
+pub use simulation::{Histories, Output, Start, TimeGrid, simulate};
+pub use step_control::StepControl;
 pub use system::{BodyId, MarkerId, System};

@@ -15,8 +15,12 @@
 //! | BDF2 | (4 q_n − q_{n−1})/3 | (4 v_n − v_{n−1})/3 | 2h/3 | 2h/3 |
 //! | generalized-α | q_n + h(1 − β/γ) v_n + h²(½ − β/γ) a_n | v_n + h(1 − γ) a_n − c_v (α_m a_n − α_f q̈_n)/(1 − α_f) | hβ/γ | h γ (1 − α_f)/(1 − α_m) |
 //!
-//! BDF2 starts with one BDF1 step (its local error O(h²) keeps the global order 2) and restarts
-//! so whenever the step size changes. The generalized-α rows are the scheme of Chung & Hulbert
+//! BDF2 starts with one BDF1 step (its local error O(h²) keeps the global order 2). On fixed
+//! steps it restarts so whenever the step size changes; under step-size control
+//! ([`History::vary_steps`]) it takes the variable-step coefficients instead: with the ratio
+//! ω = h/h_{n−1}, q̂ = ((1 + ω)² q_n − ω² q_{n−1})/(1 + 2ω) and c_q = c_v = h (1 + ω)/(1 + 2ω)
+//! (Hairer, Nørsett & Wanner I, sec. III.5), the constant-step row at ω = 1 and zero-stable
+//! for ω < 1 + √2. The generalized-α rows are the scheme of Chung & Hulbert
 //! (J. Appl. Mech. 60, 1993) in the form of Arnold & Brüls (Multibody Syst. Dyn. 18, 2007),
 //!
 //! ```text
@@ -66,6 +70,14 @@ impl Scheme {
     pub fn needs_initial_accelerations(&self) -> bool {
         matches!(self, Scheme::GeneralizedAlpha { .. })
     }
+
+    /// The order of the global error: 1 for BDF1, 2 for BDF2 and generalized-α.
+    pub fn order(&self) -> u32 {
+        match self {
+            Scheme::Bdf1 => 1,
+            Scheme::Bdf2 | Scheme::GeneralizedAlpha { .. } => 2,
+        }
+    }
 }
 
 /// The past a scheme needs beyond (q_n, v_n, q̈_n).
@@ -75,6 +87,8 @@ pub struct History {
     previous: Option<(Vec<f64>, Vec<f64>, f64)>,
     /// The generalized-α pseudo-acceleration a_n.
     pseudo_acceleration: Vec<f64>,
+    /// BDF2 with variable-step coefficients rather than a restart when h changes.
+    variable: bool,
 }
 
 /// The step form of the module docs.
@@ -92,7 +106,13 @@ impl History {
         Self {
             previous: None,
             pseudo_acceleration: acceleration.to_vec(),
+            variable: false,
         }
+    }
+
+    /// BDF2 keeps its order across step-size changes (module docs) instead of restarting.
+    pub fn vary_steps(&mut self) {
+        self.variable = true;
     }
 
     /// The step form of `scheme` for a step of size h from (q_n, v_n, q̈_n) into `form`.
@@ -114,6 +134,16 @@ impl History {
                     .extend(q.iter().zip(q1).map(|(a, b)| (4.0 * a - b) / 3.0));
                 form.v_hat
                     .extend(v.iter().zip(v1).map(|(a, b)| (4.0 * a - b) / 3.0));
+                (form.c_q, form.c_v) = (c, c);
+            }
+            (Scheme::Bdf2, Some((q1, v1, h1))) if self.variable => {
+                let w = h / h1;
+                let (a, b, d) = ((1.0 + w) * (1.0 + w), w * w, 1.0 + 2.0 * w);
+                form.q_hat
+                    .extend(q.iter().zip(q1).map(|(x, y)| (a * x - b * y) / d));
+                form.v_hat
+                    .extend(v.iter().zip(v1).map(|(x, y)| (a * x - b * y) / d));
+                let c = h * (1.0 + w) / d;
                 (form.c_q, form.c_v) = (c, c);
             }
             (Scheme::GeneralizedAlpha { spectral_radius }, _) => {
@@ -179,6 +209,27 @@ mod tests {
             (p.alpha_m, p.alpha_f, p.gamma, p.beta),
             (-1.0, 0.0, 1.5, 1.0)
         );
+    }
+
+    #[test]
+    fn variable_step_bdf2_is_exact_for_constant_acceleration() {
+        // steps 0.1, 0.15, 0.06, 0.12: after the BDF1 start every step is exact on q = ½ g t²
+        let g = 3.0;
+        let mut history = History::start(&[g]);
+        history.vary_steps();
+        let mut form = StepForm::default();
+        let (mut t, mut q, mut v) = (0.0, vec![0.0], vec![0.0]);
+        for (n, h) in [0.1, 0.15, 0.06, 0.12].into_iter().enumerate() {
+            history.form(Scheme::Bdf2, h, &q, &v, &[g], &mut form);
+            t += h;
+            let (q_next, v_next) = (0.5 * g * t * t, g * t);
+            if n > 0 {
+                assert!((q_next - form.q_hat[0] - form.c_q * v_next).abs() < 1e-12);
+                assert!((v_next - form.v_hat[0] - form.c_v * g).abs() < 1e-12);
+            }
+            history.advance(Scheme::Bdf2, h, &q, &v, &[v_next]);
+            (q, v) = (vec![q_next], vec![v_next]);
+        }
     }
 
     #[test]

@@ -2,11 +2,20 @@
 //! [`Output`]s (marker kinematics, joint reactions, drive efforts, power, actuation energy,
 //! kinetic energy, strain gauges of flexible bodies), every drive's coordinate, rate, effort and power, the constraint residual
 //! and the Newton iterations of each recorded step.
+//!
+//! The steps are the TSTEP intervals' Δt, or chosen by [`StepControl`] to meet a tolerance
+//! on the local error of q ([`super::step_control`]). Controlled steps end exactly on every
+//! output time of the intervals (a step that would pass one is shortened to it, one that
+//! would leave less than a step before it is halved), so the recorded rows are the same
+//! times with every output computed from the solver's state there, not interpolated: no
+//! interpolation error adds to the controlled one, at the price of steps no longer than the
+//! output spacing.
 
 use super::error::MultibodyError;
 use super::integrator::{Ggl, NewtonSettings};
 use super::scheme::Scheme;
 use super::statics;
+use super::step_control::{NOT_CONVERGED_RATIO, StepControl};
 use super::system::System;
 use crate::geometry::vec3::{dot, norm, sub};
 
@@ -47,7 +56,37 @@ pub enum Start {
     Equilibrium,
 }
 
-/// Output histories of a run: one row at t₀ and after every `every`-th step.
+/// The time grid of a run: TSTEP intervals `(steps, Δt, every)` (rows at t₀ and after every
+/// `every`-th step), stepped at their Δt or, with `control`, by the error controller from a
+/// first step Δt of the first interval onto the same output times.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TimeGrid {
+    pub intervals: Vec<(u32, f64, u32)>,
+    pub control: Option<StepControl>,
+}
+
+impl TimeGrid {
+    /// The end time of every interval's output rows and of the interval, with whether it is
+    /// an output row: t₀ + j·every·Δt, and t₀ + steps·Δt when it is not one of them.
+    fn targets(&self) -> Vec<(f64, bool)> {
+        let mut targets = Vec::new();
+        let mut start = 0.0;
+        for &(count, dt, every) in &self.intervals {
+            let every = every.max(1);
+            for step in (every..=count).step_by(every as usize) {
+                targets.push((start + f64::from(step) * dt, true));
+            }
+            let end = start + f64::from(count) * dt;
+            if count % every != 0 {
+                targets.push((end, false));
+            }
+            start = end;
+        }
+        targets
+    }
+}
+
+/// Output histories of a run: one row at t₀ and at every output time of the grid.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Histories {
     pub time: Vec<f64>,
@@ -62,6 +101,12 @@ pub struct Histories {
     pub newton_iterations: Vec<u32>,
     /// Steps taken, largest iteration count of a step, labels of removed redundant constraints.
     pub steps: usize,
+    /// Under step control: the steps rejected (and retried smaller), the largest local error
+    /// estimate of an accepted step in units of the tolerance (≤ 1), the smallest and the
+    /// largest step taken.
+    pub rejected: usize,
+    pub max_error: f64,
+    pub step_range: [f64; 2],
     pub max_iterations: usize,
     pub redundant: Vec<String>,
     /// Size of the system: coordinates and constraints.
@@ -129,50 +174,29 @@ fn started(
     Ggl::with_scheme(system, dt, 0.0, settings, scheme)
 }
 
-/// Runs `system` from `start` at t = 0 with GGL and `scheme` over the TSTEP intervals
-/// `(steps, Δt, every)` (none: only the start is recorded), recording `outputs` and every
-/// drive. The actuation energy ∫ ω T dt (eq. 6.1 f₂) is summed over every step with the power
-/// at the step's end (the rectangle rule of BDF1). `twin`, the rigid twin that
-/// [`Output::Deviation`] compares with (same markers, drives and forces), runs in lockstep
-/// with the same start, scheme and steps.
-pub fn simulate(
-    system: &System,
-    twin: Option<&System>,
-    outputs: &[Output],
-    intervals: &[(u32, f64, u32)],
-    settings: NewtonSettings,
-    scheme: Scheme,
-    start: Start,
-) -> Result<Histories, MultibodyError> {
-    let dt0 = intervals.first().map_or(1.0, |i| i.1);
-    let mut ggl = started(system, dt0, settings, scheme, start)?;
-    let mut twin = twin
-        .map(|t| started(t, dt0, settings, scheme, start))
-        .transpose()?;
-    let drives = system.drives.len();
-    let mut h = Histories {
-        outputs: vec![Vec::new(); outputs.len()],
-        drives: vec![Default::default(); drives],
-        redundant: ggl.redundant.clone(),
-        coordinates: ggl.system.size(),
-        constraints: ggl.constraint_count(),
-        ..Histories::default()
-    };
-    let mut energy = vec![0.0; drives];
-    let mut phi = vec![0.0; ggl.equations.constraints.len()];
-    ggl.equations
-        .constraints
-        .values(&ggl.system.layout, &ggl.q, 0.0, &mut phi);
-    let residual0 = phi.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
-    let record = |ggl: &Ggl,
-                  twin: Option<&Ggl>,
-                  h: &mut Histories,
-                  energy: &[f64],
-                  residual: f64,
-                  its: usize| {
+/// Records output rows: the histories, the drives' actuation energy so far and the outputs
+/// asked for.
+struct Recorder<'a> {
+    histories: Histories,
+    energy: Vec<f64>,
+    outputs: &'a [Output],
+}
+
+impl Recorder<'_> {
+    /// Adds the power of every drive over a step of size `dt` to its energy (the rectangle
+    /// rule with the power at the step's end, that of BDF1).
+    fn integrate(&mut self, ggl: &Ggl, dt: f64) {
+        for (d, e) in self.energy.iter_mut().enumerate() {
+            *e += drive_row(ggl, d)[3] * dt;
+        }
+    }
+
+    /// A row at the integrator's time.
+    fn record(&mut self, ggl: &Ggl, twin: Option<&Ggl>, residual: f64, iterations: usize) {
+        let h = &mut self.histories;
         h.time.push(ggl.time);
-        for (series, output) in h.outputs.iter_mut().zip(outputs) {
-            series.push(value(ggl, twin, output, energy));
+        for (series, output) in h.outputs.iter_mut().zip(self.outputs) {
+            series.push(value(ggl, twin, output, &self.energy));
         }
         for (d, series) in h.drives.iter_mut().enumerate() {
             for (x, v) in series.iter_mut().zip(drive_row(ggl, d)) {
@@ -180,36 +204,189 @@ pub fn simulate(
             }
         }
         h.constraint_residual.push(residual);
-        h.newton_iterations.push(its as u32);
+        h.newton_iterations.push(iterations as u32);
+    }
+}
+
+/// Runs `system` from `start` at t = 0 with GGL and `scheme` over `grid` (no intervals: only
+/// the start is recorded), recording `outputs` and every drive. The actuation energy ∫ ω T dt
+/// (eq. 6.1 f₂) is summed over every step with the power at the step's end (the rectangle
+/// rule of BDF1). `twin`, the rigid twin that [`Output::Deviation`] compares with (same
+/// markers, drives and forces), runs in lockstep with the same start, scheme and steps.
+pub fn simulate(
+    system: &System,
+    twin: Option<&System>,
+    outputs: &[Output],
+    grid: &TimeGrid,
+    settings: NewtonSettings,
+    scheme: Scheme,
+    start: Start,
+) -> Result<Histories, MultibodyError> {
+    let dt0 = grid.intervals.first().map_or(1.0, |i| i.1);
+    let mut ggl = started(system, dt0, settings, scheme, start)?;
+    let mut twin = twin
+        .map(|t| started(t, dt0, settings, scheme, start))
+        .transpose()?;
+    let drives = system.drives.len();
+    let mut recorder = Recorder {
+        histories: Histories {
+            outputs: vec![Vec::new(); outputs.len()],
+            drives: vec![Default::default(); drives],
+            redundant: ggl.redundant.clone(),
+            coordinates: ggl.system.size(),
+            constraints: ggl.constraint_count(),
+            ..Histories::default()
+        },
+        energy: vec![0.0; drives],
+        outputs,
     };
-    record(&ggl, twin.as_ref(), &mut h, &energy, residual0, 0);
+    let mut phi = vec![0.0; ggl.equations.constraints.len()];
+    ggl.equations
+        .constraints
+        .values(&ggl.system.layout, &ggl.q, 0.0, &mut phi);
+    let residual0 = phi.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+    recorder.record(&ggl, twin.as_ref(), residual0, 0);
+    match grid.control {
+        None => fixed_steps(&mut ggl, twin.as_mut(), &grid.intervals, &mut recorder)?,
+        Some(control) => {
+            control.check()?;
+            controlled_steps(&mut ggl, twin.as_mut(), grid, control, &mut recorder)?
+        }
+    }
+    Ok(recorder.histories)
+}
+
+/// The TSTEP intervals at their Δt.
+fn fixed_steps(
+    ggl: &mut Ggl,
+    mut twin: Option<&mut Ggl>,
+    intervals: &[(u32, f64, u32)],
+    recorder: &mut Recorder,
+) -> Result<(), MultibodyError> {
     for &(count, dt, every) in intervals {
         ggl.step_size = dt;
-        if let Some(twin) = twin.as_mut() {
+        if let Some(twin) = twin.as_deref_mut() {
             twin.step_size = dt;
         }
         let every = every.max(1) as usize;
         for step in 1..=count as usize {
             let report = ggl.step()?;
-            if let Some(twin) = twin.as_mut() {
+            if let Some(twin) = twin.as_deref_mut() {
                 twin.step()?;
             }
+            let h = &mut recorder.histories;
             h.steps += 1;
             h.max_iterations = h.max_iterations.max(report.iterations);
-            for (d, e) in energy.iter_mut().enumerate() {
-                *e += drive_row(&ggl, d)[3] * dt;
-            }
+            recorder.integrate(ggl, dt);
             if step % every == 0 {
-                record(
-                    &ggl,
-                    twin.as_ref(),
-                    &mut h,
-                    &energy,
+                recorder.record(
+                    ggl,
+                    twin.as_deref(),
                     report.constraint_residual,
                     report.iterations,
                 );
             }
         }
     }
-    Ok(h)
+    Ok(())
+}
+
+/// Error-controlled steps onto the grid's output times (module docs and
+/// [`super::step_control`]).
+fn controlled_steps(
+    ggl: &mut Ggl,
+    mut twin: Option<&mut Ggl>,
+    grid: &TimeGrid,
+    control: StepControl,
+    recorder: &mut Recorder,
+) -> Result<(), MultibodyError> {
+    ggl.vary_steps()?;
+    if let Some(twin) = twin.as_deref_mut() {
+        twin.vary_steps()?;
+    }
+    let order = ggl.scheme().order();
+    let mut h = control.bounded(ggl.step_size, ggl.time, 0.0)?;
+    let [mut smallest, mut largest] = [f64::INFINITY, 0.0_f64];
+    let targets = grid.targets();
+    let span = targets.last().map_or(0.0, |t| t.0) - ggl.time;
+    for (target, output) in targets {
+        loop {
+            let remaining = target - ggl.time;
+            if remaining <= 1e-12 * target.abs().max(h) {
+                break;
+            }
+            // land on the target, or halve what is left rather than leave a sliver
+            let (step, lands) = if remaining <= h * (1.0 + 1e-9) {
+                (remaining, true)
+            } else if remaining < 2.0 * h {
+                (0.5 * remaining, false)
+            } else {
+                (h, false)
+            };
+            let before = ggl.checkpoint();
+            let twin_before = twin.as_deref().map(Ggl::checkpoint);
+            let (q0, v0, a0) = (ggl.q.clone(), ggl.v.clone(), ggl.acceleration.clone());
+            ggl.step_size = step;
+            let mut attempt = ggl.step();
+            if let (Ok(_), Some(twin)) = (&attempt, twin.as_deref_mut()) {
+                twin.step_size = step;
+                if let Err(e) = twin.step() {
+                    attempt = Err(e);
+                }
+            }
+            let (ratio, error, report) = match attempt {
+                Ok(report) => {
+                    let error =
+                        control.error(step, span, [&q0, &v0, &a0], [&ggl.q, &ggl.acceleration]);
+                    (control.ratio(error, order), error, Some(report))
+                }
+                Err(MultibodyError::NotConverged { .. }) => (NOT_CONVERGED_RATIO, f64::NAN, None),
+                Err(e) => return Err(e),
+            };
+            let stats = &mut recorder.histories;
+            match report {
+                Some(report) if error <= 1.0 => {
+                    if lands {
+                        ggl.time = target;
+                        if let Some(twin) = twin.as_deref_mut() {
+                            twin.time = target;
+                        }
+                    }
+                    stats.steps += 1;
+                    stats.max_iterations = stats.max_iterations.max(report.iterations);
+                    stats.max_error = stats.max_error.max(error);
+                    (smallest, largest) = (smallest.min(step), largest.max(step));
+                    recorder.integrate(ggl, step);
+                    // a step shortened before a target keeps the size reached before it
+                    let next = if step < h && ratio >= 1.0 {
+                        h.max(step * ratio)
+                    } else {
+                        step * ratio
+                    };
+                    h = control.bounded(next, ggl.time, error)?;
+                    if lands && output {
+                        recorder.record(
+                            ggl,
+                            twin.as_deref(),
+                            report.constraint_residual,
+                            report.iterations,
+                        );
+                    }
+                    if lands {
+                        break;
+                    }
+                }
+                _ => {
+                    ggl.restore(&before);
+                    if let (Some(twin), Some(c)) = (twin.as_deref_mut(), &twin_before) {
+                        twin.restore(c);
+                    }
+                    stats.rejected += 1;
+                    h = control.bounded(step * ratio.min(1.0), ggl.time, error)?;
+                }
+            }
+        }
+    }
+    recorder.histories.step_range = [smallest, largest];
+    Ok(())
 }

@@ -253,7 +253,7 @@ impl System {
                     rest: *rest,
                     motion: None,
                 }),
-                Force::Point { .. } => {}
+                Force::Point { .. } | Force::Moment { .. } => {}
             }
         }
         let mut drive_sources = Vec::new();
@@ -381,19 +381,7 @@ impl System {
             }
         }
         for f in &self.forces {
-            if let Force::Point {
-                marker,
-                direction,
-                signal,
-            } = f
-            {
-                let amplitude = signal.at(t)[0];
-                self.markers[*marker]
-                    .point()
-                    .jacobian(&self.layout, q, |i, j, x| {
-                        force[j] += x * amplitude * direction[i]
-                    });
-            }
+            f.add_load(&self.markers, &self.layout, q, t, force);
         }
         let mut gradient = vec![0.0; self.size()];
         for spring in &equations.springs {

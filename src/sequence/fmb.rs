@@ -1,7 +1,8 @@
 //! `SOL FMB`: the deck's mechanism (DESIGN.md §11) integrated in time, one run per subcase.
 //!
 //! Per subcase: `TSTEP` (time grid; `TINTEG` selects the GGL scheme of eq. 2.60: BDF1, the
-//! thesis's eq. 2.61 and the default, BDF2 or GALPHA with its RHOINF),
+//! thesis's eq. 2.61 and the default, BDF2 or GALPHA with its RHOINF; `TSTEPVAR` replaces the
+//! fixed Δt by error-controlled steps onto the same output times),
 //! `LOAD` (GRAV: gravity), `PVAL` (values of `BODY.PMPAR` for the flexible bodies' pROMs),
 //! `MSENSOR = ALL | NONE | set` (all MSENSORs without the statement), `FMBSTART = ASSEMBLE`
 //! (kinematic assembly at t = 0, the default) or `STATIC` (the static equilibrium under the
@@ -16,20 +17,22 @@
 //! Written: `/results/<id>/fmb/{time (t), sensors/<name> (t), drives/<JDRIVE id>/{angle, rate,
 //! torque, power} (t), constraint_residual (t), newton_iterations (t)}`, attributes `method`,
 //! `coordinates`, `constraints`, `redundant` (labels of removed constraints), `params` and
-//! `values` (the flexible bodies' `BODY.PMPAR` values used).
+//! `values` (the flexible bodies' `BODY.PMPAR` values used); under `TSTEPVAR` also `rtol`,
+//! `atol`, `steps`, `rejected_steps`, `max_local_error` (the largest estimate of an accepted
+//! step in units of the tolerance) and `step_range` (smallest and largest step).
 
 use super::report::{Report, sci};
 use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
 use crate::card_values::{FmbStart, MsensorKind};
 use crate::deck::Solution;
-use crate::deck::cards::{Tinteg, TintegMethod};
+use crate::deck::cards::{Tinteg, TintegMethod, Tstepvar};
 use crate::deck::case_control::{StrainReference, Subcase, Target};
 use crate::discretize::mechanism::{Bodies, build_system};
 use crate::io::{
     set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_u32,
 };
 use crate::model::mechanism::Sensor;
-use crate::multibody::{NewtonSettings, Scheme, Start, simulate};
+use crate::multibody::{NewtonSettings, Scheme, Start, StepControl, TimeGrid, simulate};
 
 /// What one `SOL FMB` subcase computed.
 #[derive(Debug, Clone)]
@@ -48,6 +51,9 @@ pub struct FmbSummary {
     pub extrapolated: Vec<String>,
     /// Final value of each written output.
     pub finals: Vec<(String, f64)>,
+    /// Under `TSTEPVAR`: rejected steps, the largest local error estimate of an accepted step
+    /// (in units of the tolerance), the smallest and largest step.
+    pub control: Option<(usize, f64, [f64; 2])>,
 }
 
 /// The `SOL FMB` driver: the deck's mechanism (its bodies' pROMs are read from their artifacts,
@@ -81,6 +87,16 @@ fn scheme_of(tinteg: Option<&Tinteg>) -> (Scheme, String) {
             Scheme::GeneralizedAlpha { spectral_radius },
             format!("GALPHA (rho_inf = {spectral_radius})"),
         ),
+    }
+}
+
+/// The step control of a `TSTEPVAR` over intervals whose first Δt is `dt0`.
+fn control_of(card: &Tstepvar, dt0: f64) -> StepControl {
+    StepControl {
+        relative: card.rtol,
+        absolute: card.atol.unwrap_or(card.rtol),
+        min_step: card.hmin.unwrap_or(1e-6 * dt0),
+        max_step: card.hmax.unwrap_or(f64::INFINITY),
     }
 }
 
@@ -167,8 +183,8 @@ fn subcase(
     }
     let start = sub.fmbstart.unwrap_or(FmbStart::Assemble);
     // a subcase without TSTEP is a static one (FMBSTART = STATIC): the equilibrium at t = 0
-    let (intervals, scheme, method) = match (sub.tstep, start) {
-        (None, FmbStart::Static) => (Vec::new(), Scheme::Bdf1, "STATICS".to_string()),
+    let (grid, scheme, method) = match (sub.tstep, start) {
+        (None, FmbStart::Static) => (TimeGrid::default(), Scheme::Bdf1, "STATICS".to_string()),
         (None, FmbStart::Assemble) => {
             return Err(case(
                 "SOL FMB needs TSTEP = <sid> in case control (or FMBSTART = STATIC without TSTEP for a static subcase)".into(),
@@ -180,7 +196,12 @@ fn subcase(
                 .tstep(sid)
                 .ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
             let (scheme, method) = scheme_of(ctx.model.tinteg(sid));
-            (tstep.intervals.clone(), scheme, method)
+            let dt0 = tstep.intervals.first().map_or(1.0, |i| i.1);
+            let grid = TimeGrid {
+                intervals: tstep.intervals.clone(),
+                control: ctx.model.tstepvar(sid).map(|c| control_of(c, dt0)),
+            };
+            (grid, scheme, method)
         }
     };
     let gravity = sub.load.map_or([0.0; 3], |sid| ctx.model.gravity(sid));
@@ -223,7 +244,7 @@ fn subcase(
         &ms.system,
         twin.as_ref().map(|t| &t.system),
         &ms.outputs(&sensors),
-        &intervals,
+        &grid,
         NewtonSettings::default(),
         scheme,
         start,
@@ -261,6 +282,14 @@ fn subcase(
     set_attr_i64(&group, "constraints", h.constraints as i64)?;
     let redundant: Vec<&str> = h.redundant.iter().map(String::as_str).collect();
     set_attr_strings(&group, "redundant", &redundant)?;
+    if let Some(c) = grid.control {
+        set_attr_f64s(&group, "rtol", &[c.relative])?;
+        set_attr_f64s(&group, "atol", &[c.absolute])?;
+        set_attr_i64(&group, "steps", h.steps as i64)?;
+        set_attr_i64(&group, "rejected_steps", h.rejected as i64)?;
+        set_attr_f64s(&group, "max_local_error", &[h.max_error])?;
+        set_attr_f64s(&group, "step_range", &h.step_range)?;
+    }
     let (mut names, mut values, mut extrapolated) = (Vec::new(), Vec::new(), Vec::new());
     for (body, at) in &ms.flexible {
         for (name, value) in &at.parameters {
@@ -292,6 +321,9 @@ fn subcase(
                 .zip(&h.outputs)
                 .map(|(s, v)| (s.name.clone(), v.last().copied().unwrap_or(f64::NAN)))
                 .collect(),
+            control: grid
+                .control
+                .map(|_| (h.rejected, h.max_error, h.step_range)),
         }),
     };
     Ok((summary, strain_finals))
@@ -315,6 +347,14 @@ impl Report for FmbSummary {
                 sci(self.max_residual, 3)
             ),
         ];
+        if let Some((rejected, error, [smallest, largest])) = self.control {
+            out.push(format!(
+                "  step control: {rejected} step(s) rejected; steps from {} to {} s; largest local error estimate {} x the tolerance",
+                sci(smallest, 3),
+                sci(largest, 3),
+                sci(error, 3)
+            ));
+        }
         if !self.finals.is_empty() {
             out.push(format!(
                 "  at the end: {}",

@@ -392,6 +392,77 @@ pub struct Tinteg {
     pub loc: Loc,
 }
 
+/// `TSTEPVAR` — error-controlled steps for the `TSTEP` of the same id (`SOL FMB`); delete the card to return to the TSTEP's fixed Δt.
+///
+/// The TSTEP keeps its output times (every NO-th step of each interval) and its first Δt is the first step; between outputs the GGL integrator chooses each step so that the estimated local error of every coordinate of q stays below ATOL + RTOL·|q| (docs/multibody-benchmarks.md). The achieved steps, rejections and largest estimate are written as attributes of `/results/<id>/fmb`.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | ID | int > 0 | required | the TSTEP id it applies to |
+/// | 3 | RTOL | real ≥ 0 | required | relative tolerance on the local error of q (positions, Euler parameters, flexible coordinates) |
+/// | 4 | ATOL | real ≥ 0 | RTOL | absolute tolerance (not both zero) |
+/// | 5 | HMIN | real > 0 | 1.0E-6 × the first Δt | smallest step: below it the run stops with the time and the error estimate |
+/// | 6 | HMAX | real ≥ HMIN | no bound | largest step (steps never pass an output time either) |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tstepvar {
+    pub id: u32,
+    pub rtol: f64,
+    pub atol: Option<f64>,
+    pub hmin: Option<f64>,
+    pub hmax: Option<f64>,
+    pub loc: Loc,
+}
+
+impl Tstepvar {
+    /// Read a `TSTEPVAR` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "ID");
+        f.set_id(id);
+        let rtol = f.real(2, "RTOL");
+        let atol = f.opt_real(3, "ATOL");
+        for (i, name, v) in [(2, "RTOL", Some(rtol)), (3, "ATOL", atol)] {
+            if v.is_some_and(|v| v < 0.0) {
+                f.error(
+                    i,
+                    name,
+                    format!("expected a real >= 0, found {:e}", v.unwrap_or(0.0)),
+                );
+            }
+        }
+        if rtol == 0.0 && atol.is_none_or(|a| a == 0.0) {
+            f.error(
+                2,
+                "RTOL",
+                "RTOL and ATOL are both zero: no step could be accepted",
+            );
+        }
+        let hmin = f.opt_real(4, "HMIN");
+        let hmax = f.opt_real(5, "HMAX");
+        if hmin.is_some_and(|h| h <= 0.0) {
+            f.error(4, "HMIN", "expected a real > 0");
+        }
+        if let (Some(lo), Some(hi)) = (hmin, hmax)
+            && hi < lo
+        {
+            f.error(5, "HMAX", format!("HMAX = {hi:e} is below HMIN = {lo:e}"));
+        }
+        if hmax.is_some_and(|h| h <= 0.0) {
+            f.error(5, "HMAX", "expected a real > 0");
+        }
+        let loc = f.loc();
+        f.finish(5)?;
+        Ok(Tstepvar {
+            id,
+            rtol,
+            atol,
+            hmin,
+            hmax,
+            loc,
+        })
+    }
+}
+
 /// TINTEG METHOD.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TintegMethod {

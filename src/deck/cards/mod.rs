@@ -29,6 +29,7 @@ pub use elements::{Celas1, Celas2, Chexa, Conm2, Cpenta, Cquad4, Ctetra, Ctria3}
 pub use estimate::{Ekf, Ekfinp, Ekfpar, Meas, Measf};
 pub use extension::{
     Pmor, PmorRigid, PmorStatic, Pmpar, Ptable, Pval, Sensor, Tablef, Tinteg, TintegMethod,
+    Tstepvar,
 };
 pub use geometry::{Cord2, CordKind, Grid};
 pub use loads::{Force, Grav, Load};
@@ -91,6 +92,7 @@ pub struct BulkData {
     pub sensors: Vec<Sensor>,
     pub tablef: Vec<Tablef>,
     pub tinteg: Vec<Tinteg>,
+    pub tstepvar: Vec<Tstepvar>,
     pub ekf: Vec<Ekf>,
     pub ekfpar: Vec<Ekfpar>,
     pub ekfinp: Vec<Ekfinp>,
@@ -173,6 +175,9 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("SENSOR", |c, b| Ok(b.sensors.push(Sensor::from_card(c)?))),
     ("TABLEF", |c, b| Ok(b.tablef.push(Tablef::from_card(c)?))),
     ("TINTEG", |c, b| Ok(b.tinteg.push(Tinteg::from_card(c)?))),
+    ("TSTEPVAR", |c, b| {
+        Ok(b.tstepvar.push(Tstepvar::from_card(c)?))
+    }),
     ("EKF", |c, b| Ok(b.ekf.push(Ekf::from_card(c)?))),
     ("EKFPAR", |c, b| Ok(b.ekfpar.push(Ekfpar::from_card(c)?))),
     ("EKFINP", |c, b| Ok(b.ekfinp.push(Ekfinp::from_card(c)?))),
@@ -185,7 +190,12 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("JDRIVE", |c, b| Ok(b.jdrive.push(Jdrive::from_card(c)?))),
     ("JSPRD", |c, b| Ok(b.jsprd.push(Jsprd::from_card(c)?))),
     ("SPDMP", |c, b| Ok(b.spdmp.push(Spdmp::from_card(c)?))),
-    ("MFORCE", |c, b| Ok(b.mforce.push(Mforce::from_card(c)?))),
+    ("MFORCE", |c, b| {
+        Ok(b.mforce.push(Mforce::from_card(c, ForceKind::Force)?))
+    }),
+    ("MMOMENT", |c, b| {
+        Ok(b.mforce.push(Mforce::from_card(c, ForceKind::Moment)?))
+    }),
     ("MSENSOR", |c, b| {
         Ok(b.msensors.push(Msensor::from_card(c)?))
     }),

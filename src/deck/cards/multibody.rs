@@ -1,9 +1,9 @@
 //! Multibody cards of `SOL FMB` (DESIGN.md §11): bodies (`FLEXB`, `RIGIDB`), points on them
 //! (`MARKER`), joints and drives (`JOINT`, `JDRIVE`), spring-dampers (`JSPRD`, `SPDMP`), point
-//! forces (`MFORCE`) and outputs (`MSENSOR`). Ids of each card live in their own id space;
+//! forces and moments (`MFORCE`, `MMOMENT`) and outputs (`MSENSOR`). Ids of each card live in their own id space;
 //! the model cross-references them ([`crate::model::mechanism`]).
 
-use crate::card_values::{JointType, MsensorKind};
+use crate::card_values::{ForceKind, JointType, MsensorKind};
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
@@ -395,19 +395,21 @@ impl Spdmp {
     }
 }
 
-/// `MFORCE` — a force SCALE · TABLE(t) at a marker along a fixed global direction.
+/// `MFORCE` / `MMOMENT` — a force (moment) SCALE · TABLE(t) at a marker along (about) a fixed global direction.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
-/// | 2 | ID | int > 0 | required | id |
-/// | 3 | MK | int > 0 | required | marker (not on the ground) |
+/// | 2 | ID | int > 0 | required | id (MFORCE and MMOMENT share the id space) |
+/// | 3 | MK | int > 0 | required | marker (not on the ground); a moment turns the marker's frame, so on a flexible body it loads the interface grid's rotations |
 /// | 4 | TID | int > 0 | required | TABLED1 or TABLEF of the amplitude |
-/// | 5 | SCALE | real | 1.0 | scale of the table |
-/// | 6–8 | N1 N2 N3 | real | required | direction in CID (not zero; normalized) |
+/// | 5 | SCALE | real | 1.0 | scale of the table (force, or moment in force × length) |
+/// | 6–8 | N1 N2 N3 | real | required | direction (moment axis, right-hand rule) in CID (not zero; normalized); it stays fixed in space as the body turns |
 /// | 9 | CID | int ≥ 0 | 0 | rectangular system of N |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mforce {
     pub id: u32,
+    /// Force (`MFORCE`) or moment (`MMOMENT`).
+    pub kind: ForceKind,
     pub marker: u32,
     pub tid: u32,
     pub scale: f64,
@@ -417,8 +419,8 @@ pub struct Mforce {
 }
 
 impl Mforce {
-    /// Read a `MFORCE` card.
-    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+    /// Read a `MFORCE` (`kind` force) or `MMOMENT` (`kind` moment) card.
+    pub fn from_card(card: &RawCard, kind: ForceKind) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "ID");
         f.set_id(id);
@@ -434,6 +436,7 @@ impl Mforce {
         f.finish(8)?;
         Ok(Mforce {
             id,
+            kind,
             marker,
             tid,
             scale,
