@@ -84,7 +84,7 @@ fn table_signal(table: &Table, scale: f64) -> Signal {
 }
 
 /// The PVAL values `BODY.PMPAR` of body `name` as (PMPAR, value).
-fn values_of(name: &str, pval: &[(String, f64)]) -> Vec<(String, f64)> {
+pub(crate) fn values_of(name: &str, pval: &[(String, f64)]) -> Vec<(String, f64)> {
     pval.iter()
         .filter_map(|(n, v)| {
             let (body, parameter) = n.split_once('.')?;

@@ -14,6 +14,7 @@ use super::prom_body::{ParametricBody, read_parametric_body};
 use crate::dynamics::table::Table;
 use crate::model::Model;
 use crate::model::mechanism::{BodyKind, Card, Mechanism};
+use crate::multibody::{EomTerms, System};
 
 /// A self-contained mechanism (module docs).
 #[derive(Debug, Clone)]
@@ -138,5 +139,33 @@ impl Pfmb {
                     .map(move |q| format!("{b}.{}", q.name))
             })
             .collect()
+    }
+
+    /// The derivatives of the data-carrying terms of the equations of motion
+    /// ([`EomTerms`]: M(q), f_v, f_g, K q_f, C q̇_f) with respect to every parameter
+    /// `BODY.PMPAR`, at (q, q̇) of `system` (built by
+    /// [`super::mechanism::build_system`] from this pFMB at `pval`), in
+    /// [`Pfmb::parameter_names`] order. Exact: the terms are linear in a body's data and the
+    /// data affine in p ([`crate::multibody::derivatives`]).
+    pub fn eom_parameter_derivatives(
+        &self,
+        system: &System,
+        pval: &[(String, f64)],
+        q: &[f64],
+        v: &[f64],
+    ) -> Result<Vec<(String, EomTerms)>, String> {
+        let mut out = Vec::new();
+        for (index, (b, parametric)) in self.mechanism.bodies.iter().zip(&self.bodies).enumerate() {
+            let Some(p) = parametric else { continue };
+            let values = super::mechanism::values_of(&b.name, pval);
+            for (j, q_j) in p.prom.parameters.iter().enumerate() {
+                let rate = p.derivative(&values, j, &b.name)?;
+                out.push((
+                    format!("{}.{}", b.name, q_j.name),
+                    system.eom_terms_rate(index, &rate, q, v),
+                ));
+            }
+        }
+        Ok(out)
     }
 }

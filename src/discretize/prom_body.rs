@@ -98,6 +98,35 @@ pub fn read_parametric_body(path: &Path) -> Result<ParametricBody, String> {
 }
 
 impl ParametricBody {
+    /// ∂D/∂pⱼ of the body's data D at the nominal parameters overridden by `values` (see
+    /// [`ParametricBody::parameter_vector`]): ∂M_ff, ∂K_ff, ∂C_ff = α ∂M_ff + β ∂K_ff of the
+    /// pROM (eq. 3.32) and the invariants' derivative Σᵢ ∂fᵢ/∂pⱼ M̂ⁱ (eq. 4.8), with the (constant)
+    /// interface rows. What [`crate::multibody::System::eom_terms_rate`] takes.
+    pub fn derivative(
+        &self,
+        values: &[(String, f64)],
+        j: usize,
+        shown: &str,
+    ) -> Result<FlexibleBodyData, String> {
+        let prom = &self.prom;
+        let p = self.parameter_vector(values, shown)?;
+        let mut at = prom.workspace();
+        prom.evaluate(&p, &mut at)
+            .map_err(|e| format!("{shown}: {e}"))?;
+        let rates: Vec<f64> = prom.functions.iter().map(|f| f.derivative(&p, j)).collect();
+        let invariants = AffineInvariants::combine(&self.invariants, &rates)
+            .ok_or_else(|| format!("{shown}: no affine mass component"))?;
+        let (d_mass, d_stiffness) = (at.d_mass(j).to_owned(), at.d_stiffness(j).to_owned());
+        let d_damping = &d_mass * faer::Scale(prom.alpha) + &d_stiffness * faer::Scale(prom.beta);
+        Ok(FlexibleBodyData {
+            invariants: MassInvariants::from(&invariants),
+            mass: d_mass,
+            stiffness: d_stiffness,
+            damping: d_damping,
+            interfaces: self.interfaces.clone(),
+        })
+    }
+
     /// The pROM's parameter vector: the nominal values overridden by `values` (PMPAR name,
     /// value; case-insensitive). `shown` names the body's source in errors.
     pub fn parameter_vector(
