@@ -10,13 +10,17 @@
 //! at t = 0; or relative to the last state of the earlier subcase `id`, e.g. a static subcase's
 //! equilibrium under gravity: eq. 9.24's gauge zeroed in a reference configuration). A subcase
 //! with `FMBSTART = STATIC` and no `TSTEP` is a static subcase: its output is the one row of
-//! the equilibrium at t = 0, `method` = `STATICS`. The system is built by
+//! the equilibrium at t = 0, `method` = `STATICS`. The mechanism is the deck's bulk data or,
+//! with `FMB = 'file.h5'`, the `/pfmb` of an earlier run (a [`Pfmb`] either way; a deck with
+//! both is refused; `LOAD = sid` takes the deck's own set `sid` if it has one, else the
+//! gravity stored with the loaded mechanism). The system is built by
 //! [`crate::discretize::mechanism::build_system`] and run by [`crate::multibody::simulate`].
 //!
 //! Written: `/results/<id>/fmb/{time (t), sensors/<name> (t), drives/<JDRIVE id>/{angle, rate,
 //! torque, power} (t), constraint_residual (t), newton_iterations (t)}`, attributes `method`,
 //! `coordinates`, `constraints`, `redundant` (labels of removed constraints), `params` and
-//! `values` (the flexible bodies' `BODY.PMPAR` values used).
+//! `values` (the flexible bodies' `BODY.PMPAR` values used); and once per run the first
+//! subcase's mechanism as the pFMB artifact `/pfmb` ([`crate::io::write_pfmb`]).
 
 use std::path::PathBuf;
 
