@@ -1,17 +1,18 @@
 //! The multibody [`System`] of a mechanism ([`crate::model::mechanism`], gathered with its
 //! bodies' pROM data and its tables as a [`Pfmb`]): flexible bodies evaluated at the parameter
-//! values ([`super::prom_body`]), placed by their
-//! coordinate systems, rigid bodies with their frame at the centre of mass, markers, joints
-//! whose two marker frames share the joint frame (z = the joint axis) in the initial
-//! configuration, drives and forces with their tables as [`Signal`]s, spring-dampers, gravity.
+//! values ([`super::prom_body`]), placed by their coordinate systems, rigid bodies with their
+//! frame at the centre of mass, markers, joints whose two marker frames share the joint frame
+//! (z = the joint axis) in the initial configuration, drives and forces with their tables as
+//! [`Signal`]s, spring-dampers, gravity.
 //!
 //! [`MechanismSystem::outputs`] turns MSENSORs into the [`Output`]s that
 //! [`crate::multibody::simulate`] records.
 //!
 //! Errors that need the artifacts (a PVAL name that is no parameter of the body's artifact, a
 //! marker GRID that is no interface grid; a file that is no `RIGID = REMOVE` pROM is found by
-//! [`Pfmb::of_model`]) are collected over all bodies and markers as [`MechanismError`]s at their [`Card`]
-//! ([`crate::model::mechanism::Mechanism::error_at`] gives their file and line).
+//! [`Pfmb::of_model`]) are collected over all bodies and markers as [`MechanismError`]s at
+//! their [`Card`] ([`crate::model::mechanism::Mechanism::error_at`] gives their file and
+//! line).
 
 use super::pfmb::Pfmb;
 use super::prom_body::PromBodyAtPoint;
