@@ -77,6 +77,8 @@ pub struct Subcase {
     pub prom: Option<u32>,
     /// `ROM = 'path.h5'`, relative to the deck.
     pub rom: Option<String>,
+    /// `FMB = 'path.h5'`, relative to the deck: the mechanism of a `SOL FMB` run's `/pfmb`.
+    pub fmb: Option<String>,
     pub pval: Option<u32>,
     /// `SENSOR = ALL | set`.
     pub sensor: Option<Target>,
@@ -112,7 +114,7 @@ impl Subcase {
         let mut out = self.clone();
         macro_rules! inherit { ($($f:ident),*) => { $( if out.$f.is_none() { out.$f = defaults.$f.clone(); } )* } }
         inherit!(
-            title, subtitle, label, spc, load, method, frequency, dload, tstep, ic, prom, rom,
+            title, subtitle, label, spc, load, method, frequency, dload, tstep, ic, prom, rom, fmb,
             pval, sensor, estim, meas, msensor, fmbstart, strref
         );
         let own: Vec<&str> = out.outputs.iter().map(|o| o.name).collect();
@@ -402,6 +404,14 @@ impl CaseControl {
                 }
                 None => diag.error(err("expected ROM = 'file.h5'".into())),
             },
+            "FMB" => match st.value.and_then(strip_quotes) {
+                Some(path) => {
+                    let sub = self.current();
+                    sub.fmb = Some(path.to_string());
+                    sub.locs.push(("FMB", loc.clone()));
+                }
+                None => diag.error(err("expected FMB = 'file.h5'".into())),
+            },
             "MSENSOR" => match st.value.map(parse_target) {
                 Some(Ok(t)) => {
                     let sub = self.current();
@@ -498,7 +508,7 @@ impl CaseControl {
             );
         } else {
             diag.error(err(format!(
-                "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SET PARAM ROM SENSOR MSENSOR FMBSTART STRREF {} and output requests {}",
+                "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SET PARAM ROM FMB SENSOR MSENSOR FMBSTART STRREF {} and output requests {}",
                 SELECTIONS.join(" "),
                 OUTPUTS.join(" ")
             )));
@@ -661,10 +671,12 @@ mod tests {
             "MSENSOR = 7",
             "FMBSTART = assemble",
             "STRREF = 2",
+            "FMB = 'fourbar.h5'",
         ]);
         assert!(d.is_ok(), "{:?}", d.errors);
         let s = &cc.subcases()[0];
         assert_eq!(s.rom.as_deref(), Some("out/blade.h5"));
+        assert_eq!(s.fmb.as_deref(), Some("fourbar.h5"));
         assert_eq!(
             (s.pval, s.prom, s.sensor.clone()),
             (Some(3), Some(1), Some(Target::All))

@@ -1,24 +1,26 @@
-//! The multibody [`System`] of a model's mechanism ([`crate::model::mechanism`]): flexible
-//! bodies from their pROM artifacts at the parameter values ([`super::prom_body`]), placed by their
-//! coordinate systems, rigid bodies with their frame at the centre of mass, markers, joints
-//! whose two marker frames share the joint frame (z = the joint axis) in the initial
-//! configuration, drives and forces with their tables as [`Signal`]s, spring-dampers, gravity.
+//! The multibody [`System`] of a mechanism ([`crate::model::mechanism`], gathered with its
+//! bodies' pROM data and its tables as a [`Pfmb`]): flexible bodies evaluated at the parameter
+//! values ([`super::prom_body`]), placed by their coordinate systems, rigid bodies with their
+//! frame at the centre of mass, markers, joints whose two marker frames share the joint frame
+//! (z = the joint axis) in the initial configuration, drives and forces with their tables as
+//! [`Signal`]s, spring-dampers, gravity.
 //!
 //! [`MechanismSystem::outputs`] turns MSENSORs into the [`Output`]s that
 //! [`crate::multibody::simulate`] records.
 //!
-//! Errors that need the artifacts (a file that is no `RIGID = REMOVE` pROM, a PVAL name that
-//! is no parameter of the body's artifact, a marker GRID that is no interface grid) are
-//! collected over all bodies and markers as [`MechanismError`]s at their [`Card`]
-//! ([`crate::model::mechanism::Mechanism::error_at`] gives their file and line).
+//! Errors that need the artifacts (a PVAL name that is no parameter of the body's artifact, a
+//! marker GRID that is no interface grid; a file that is no `RIGID = REMOVE` pROM is found by
+//! [`Pfmb::of_model`]) are collected over all bodies and markers as [`MechanismError`]s at
+//! their [`Card`] ([`crate::model::mechanism::Mechanism::error_at`] gives their file and
+//! line).
 
-use super::loads::dynamic_table;
-use super::prom_body::{PromBodyAtPoint, load_prom_body};
+use super::pfmb::Pfmb;
+use super::prom_body::PromBodyAtPoint;
 use crate::card_values::{ForceKind, JointType, MsensorKind};
+use crate::dynamics::table::Table;
 use crate::geometry::euler_parameters::from_rotation_matrix;
 use crate::geometry::mat3::{IDENTITY, Mat3, mul_vec, transpose};
 use crate::geometry::vec3::{add, dot, norm, sub};
-use crate::model::Model;
 use crate::model::mechanism::{BodyKind, Card, MarkerPlace, Mechanism, Sensor, SensorTarget};
 use crate::multibody::{
     Body, DriveKind, FlexibleBodyData, Force, InterfaceRows, JointKind, Marker, MassInvariants,
@@ -77,15 +79,13 @@ fn joint_kind(t: JointType) -> JointKind {
 }
 
 /// SCALE · TABLE(t) with its slope (a piecewise-linear table has no second derivative).
-fn table_signal(model: &Model, tid: u32, scale: f64) -> Result<Signal, String> {
-    let table = dynamic_table(model, tid)?;
-    Ok(Signal::new(move |t| {
-        [scale * table.value(t), scale * table.slope(t), 0.0]
-    }))
+fn table_signal(table: &Table, scale: f64) -> Signal {
+    let table = table.clone();
+    Signal::new(move |t| [scale * table.value(t), scale * table.slope(t), 0.0])
 }
 
 /// The PVAL values `BODY.PMPAR` of body `name` as (PMPAR, value).
-fn values_of(name: &str, pval: &[(String, f64)]) -> Vec<(String, f64)> {
+pub(crate) fn values_of(name: &str, pval: &[(String, f64)]) -> Vec<(String, f64)> {
     pval.iter()
         .filter_map(|(n, v)| {
             let (body, parameter) = n.split_once('.')?;
@@ -135,15 +135,15 @@ fn rigid(data: &FlexibleBodyData) -> FlexibleBodyData {
     }
 }
 
-/// Builds the system of `model`'s mechanism, with `bodies`, gravity `gravity` (basic) and the
+/// Builds the system of the mechanism `pfmb`, with `bodies`, gravity `gravity` (basic) and the
 /// PVAL values `pval` (`BODY.PMPAR`, value). Every error found is returned, at its card.
 pub fn build_system(
-    model: &Model,
+    pfmb: &Pfmb,
     gravity: [f64; 3],
     pval: &[(String, f64)],
     bodies: Bodies,
 ) -> Result<MechanismSystem, Vec<MechanismError>> {
-    let mech: &Mechanism = &model.mechanism;
+    let mech: &Mechanism = &pfmb.mechanism;
     let mut errors = Vec::new();
     let error = |card: Card, message: String| MechanismError {
         card,
@@ -163,7 +163,11 @@ pub fn build_system(
                 axes,
             } => {
                 let rotation = transpose(axes);
-                match load_prom_body(artifact, &values_of(&b.name, pval)) {
+                let parametric = pfmb.bodies[index]
+                    .as_ref()
+                    .expect("a pFMB holds every flexible body's data");
+                let shown = artifact.display().to_string();
+                match parametric.at(&values_of(&b.name, pval), &shown) {
                     Ok(at) => {
                         let data = match bodies {
                             Bodies::Flexible => at.data.clone(),
@@ -296,13 +300,10 @@ pub fn build_system(
     };
     let mut drives = Vec::new();
     for (index, d) in mech.drives.iter().enumerate() {
-        let signal = match table_signal(model, d.table, d.scale) {
-            Ok(s) => s,
-            Err(message) => {
-                errors.push(error(Card::Drive(index), message));
-                continue;
-            }
-        };
+        let signal = table_signal(
+            pfmb.table(d.table).expect("a pFMB holds its tables"),
+            d.scale,
+        );
         let kind = d
             .compliance
             .map_or(DriveKind::Rigid, |(stiffness, damping)| {
@@ -333,25 +334,24 @@ pub fn build_system(
             length,
         });
     }
-    for (index, f) in mech.forces.iter().enumerate() {
-        match table_signal(model, f.table, f.scale) {
-            Ok(signal) => {
-                let (marker, direction) = (markers[f.marker], f.direction);
-                system.add_force(match f.kind {
-                    ForceKind::Force => Force::Point {
-                        marker,
-                        direction,
-                        signal,
-                    },
-                    ForceKind::Moment => Force::Moment {
-                        marker,
-                        direction,
-                        signal,
-                    },
-                })
-            }
-            Err(message) => errors.push(error(Card::Force(index), message)),
-        }
+    for f in &mech.forces {
+        let (marker, direction) = (markers[f.marker], f.direction);
+        let signal = table_signal(
+            pfmb.table(f.table).expect("a pFMB holds its tables"),
+            f.scale,
+        );
+        system.add_force(match f.kind {
+            ForceKind::Force => Force::Point {
+                marker,
+                direction,
+                signal,
+            },
+            ForceKind::Moment => Force::Moment {
+                marker,
+                direction,
+                signal,
+            },
+        });
     }
     for (index, s) in mech.sensors.iter().enumerate() {
         let SensorTarget::Strain { body, sensor } = &s.target else {

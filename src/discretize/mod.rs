@@ -12,8 +12,9 @@
 //!   with every affine part as the FOM of a pROM build ([`affine_fom`]);
 //! - [`sensors`] and [`loads`]: the f-set rows of SENSORs (thesis eq. 2.30–2.35) and the f-set
 //!   placement of loads (DAREA entries, static load sets, initial conditions);
-//! - [`mechanism`] and [`prom_body`]: the multibody system of a model's mechanism, its flexible
-//!   bodies evaluated from their pROM artifacts at p.
+//! - [`mechanism`], [`pfmb`] and [`prom_body`]: the multibody system of a model's mechanism
+//!   (gathered with its artifacts and tables as a self-contained [`pfmb::Pfmb`]), its flexible
+//!   bodies evaluated from their pROM data at p.
 //!
 //! A model in memory becomes a modal solution in four calls:
 //!
@@ -41,6 +42,7 @@ pub mod elements;
 pub mod loads;
 pub mod mechanism;
 pub mod parameters;
+pub mod pfmb;
 pub mod prom_body;
 pub mod sensors;
 mod structure;

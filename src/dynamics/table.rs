@@ -57,6 +57,16 @@ impl Table {
         y0 + (y1 - y0) * (x - x0) / (x1 - x0)
     }
 
+    /// The abscissae x₁ < … < xₙ.
+    pub fn abscissae(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// The ordinates y₁ … yₙ.
+    pub fn ordinates(&self) -> &[f64] {
+        &self.y
+    }
+
     /// dy/dx: the slope of the segment holding x (of the segment starting at x on a point), zero
     /// outside the table.
     pub fn slope(&self, x: f64) -> f64 {

@@ -5,6 +5,7 @@
 //! - [`model_group`]: [`write_model`] fills `/model` from [`MeshArrays`](crate::model::MeshArrays).
 //! - [`xdmf`]: [`write_xdmf`] writes `<out>.xdmf` next to the HDF5 file for ParaView.
 //! - [`prom_group`]: [`write_prom`] / [`read_prom`] for the `/prom` group of a pROM artifact.
+//! - [`pfmb_group`]: [`write_pfmb`] / [`read_pfmb`] for the `/pfmb` group of a `SOL FMB` run.
 //! - [`matrix_market`], [`prom_lsq`]: sampled matrices from another FE code and the manifest of
 //!   the least-squares route (`paraflex prom-lsq`).
 //! - [`csv_table`]: two columns of a CSV file (TABLEF).
@@ -15,6 +16,7 @@ pub mod hdf5_file;
 pub mod info;
 pub mod matrix_market;
 pub mod model_group;
+pub mod pfmb_group;
 pub mod prom_group;
 pub mod prom_lsq;
 pub mod xdmf;
@@ -29,6 +31,7 @@ pub use info::{
     describe,
 };
 pub use model_group::{CONNECTIVITY_INDEXING, ModelInfo, read_grid_ids, write_model};
+pub use pfmb_group::{PFMB_VERSION, read_pfmb, write_pfmb};
 pub use prom_group::{
     PromBody, read_prom, read_prom_body, read_prom_inputs, read_prom_sensors, write_prom,
     write_prom_body,

@@ -112,14 +112,7 @@ pub fn write_prom_body(prom: &Group, body: &PromBody) -> Result<(), IoError> {
     for (i, m) in masses.nodal.iter().enumerate() {
         write_f64(&nodal, &i.to_string(), m, &[n_g])?;
     }
-    let invariants = create_group(prom, "invariants")?;
-    for k in 0..INVARIANTS {
-        let group = create_group(&invariants, &k.to_string())?;
-        for (i, component) in body.invariants.iter().enumerate() {
-            let (values, shape) = &component.to_arrays()[k];
-            write_f64(&group, &i.to_string(), values, shape)?;
-        }
-    }
+    write_invariants(prom, &body.invariants)?;
     let interface = create_group(prom, "interface")?;
     let n_b = body.interface.grids.len();
     let n_r = body.interface.rows.first().map_or(0, |r| r.ncols());
@@ -193,24 +186,7 @@ pub fn read_prom_body(
             ),
         ));
     }
-    let invariant_groups = (0..INVARIANTS)
-        .map(|k| open(&format!("prom/invariants/{k}")))
-        .collect::<Result<Vec<_>, _>>()?;
-    let invariants = (0..n_f)
-        .map(|i| {
-            let arrays = invariant_groups
-                .iter()
-                .map(|g| read(g, &i.to_string()))
-                .collect::<Result<Vec<_>, _>>()?;
-            MassInvariants::from_arrays(&arrays, n_red).ok_or_else(|| {
-                IoError::malformed(
-                    path,
-                    "/prom/invariants",
-                    format!("component {i}: array lengths do not match n_red = {n_red}"),
-                )
-            })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let invariants = read_invariants(path, &open("prom/invariants")?, n_red, n_f)?;
     let interface = open("prom/interface")?;
     let interface_grids = ids(&interface)?;
     let rows = read(&interface, "rows")?;
@@ -243,7 +219,61 @@ pub fn read_prom_body(
     }))
 }
 
-fn create_group(parent: &Group, name: &str) -> Result<Group, IoError> {
+/// The affine components of the mass invariants written into `group` (`<k>/<i>`, module doc)
+/// for `n_f` components over a basis of size `n_red`.
+pub(crate) fn read_invariants(
+    path: &Path,
+    group: &Group,
+    n_red: usize,
+    n_f: usize,
+) -> Result<Vec<MassInvariants>, IoError> {
+    let read = |group: &Group, name: &str| {
+        group
+            .dataset(name)
+            .and_then(|d| d.read_raw::<f64>())
+            .map_err(|e| IoError::hdf5(path, format!("read {}/{name}", group.name()), e))
+    };
+    let invariant_groups = (0..INVARIANTS)
+        .map(|k| {
+            group
+                .group(&k.to_string())
+                .map_err(|e| IoError::hdf5(path, format!("open {}/{k}", group.name()), e))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    (0..n_f)
+        .map(|i| {
+            let arrays = invariant_groups
+                .iter()
+                .map(|g| read(g, &i.to_string()))
+                .collect::<Result<Vec<_>, _>>()?;
+            MassInvariants::from_arrays(&arrays, n_red).ok_or_else(|| {
+                IoError::malformed(
+                    path,
+                    group.name(),
+                    format!("component {i}: array lengths do not match n_red = {n_red}"),
+                )
+            })
+        })
+        .collect()
+}
+
+/// Writes the affine components of the mass invariants into `parent/invariants` (module doc).
+pub(crate) fn write_invariants(
+    parent: &Group,
+    components: &[MassInvariants],
+) -> Result<(), IoError> {
+    let invariants = create_group(parent, "invariants")?;
+    for k in 0..INVARIANTS {
+        let group = create_group(&invariants, &k.to_string())?;
+        for (i, component) in components.iter().enumerate() {
+            let (values, shape) = &component.to_arrays()[k];
+            write_f64(&group, &i.to_string(), values, shape)?;
+        }
+    }
+    Ok(())
+}
+
+pub(crate) fn create_group(parent: &Group, name: &str) -> Result<Group, IoError> {
     let group = parent.create_group(name).map_err(|e| {
         IoError::hdf5(
             parent.filename(),
@@ -264,30 +294,37 @@ pub fn read_prom(path: impl AsRef<Path>) -> Result<(Prom, usize), IoError> {
         path: path.into(),
         reason: "no /prom group (was it written by a SOL PROM run?)".into(),
     })?;
+    read_prom_group(path, &prom)
+}
+
+/// The pROM written by [`write_prom`] into `prom` (a group of the file at `path`, named in
+/// messages); returns it with `n_full`.
+pub(crate) fn read_prom_group(path: &Path, prom: &Group) -> Result<(Prom, usize), IoError> {
+    let root = prom.name();
     let bad = |what: &str, reason: String| IoError::malformed(path, what, reason);
     let hdf = |what: String| move |e| IoError::hdf5(path, what, e);
     let int = |name: &str| {
         prom.attr(name)
             .and_then(|a| a.read_scalar::<i64>())
-            .map_err(hdf(format!("read attribute /prom {name}")))
+            .map_err(hdf(format!("read attribute {root} {name}")))
     };
     let f64s = |name: &str| {
         prom.attr(name)
             .and_then(|a| a.read_raw::<f64>())
-            .map_err(hdf(format!("read attribute /prom {name}")))
+            .map_err(hdf(format!("read attribute {root} {name}")))
     };
     let (n_full, n_red) = (int("n_full")?, int("n_red")?);
     let names: Vec<String> = prom
         .attr("params")
         .and_then(|a| a.read_raw::<hdf5::types::VarLenUnicode>())
-        .map_err(hdf("read attribute /prom params".into()))?
+        .map_err(hdf(format!("read attribute {root} params")))?
         .iter()
         .map(|s| s.as_str().to_string())
         .collect();
     let (ranges, nominal) = (f64s("ranges")?, f64s("nominal")?);
     if ranges.len() != 2 * names.len() || nominal.len() != names.len() {
         return Err(bad(
-            "/prom",
+            &root,
             format!(
                 "{} parameters but {} range values and {} nominal values",
                 names.len(),
@@ -309,15 +346,15 @@ pub fn read_prom(path: impl AsRef<Path>) -> Result<(Prom, usize), IoError> {
     let json = prom
         .attr("functions")
         .and_then(|a| a.read_scalar::<hdf5::types::VarLenUnicode>())
-        .map_err(hdf("read attribute /prom functions".into()))?;
-    let functions: Vec<AffineFunction> =
-        serde_json::from_str(json.as_str()).map_err(|e| bad("/prom functions", e.to_string()))?;
-    let n =
-        usize::try_from(n_red).map_err(|_| bad("/prom n_red", format!("{n_red} is negative")))?;
+        .map_err(hdf(format!("read attribute {root} functions")))?;
+    let functions: Vec<AffineFunction> = serde_json::from_str(json.as_str())
+        .map_err(|e| bad(&format!("{root} functions"), e.to_string()))?;
+    let n = usize::try_from(n_red)
+        .map_err(|_| bad(&format!("{root} n_red"), format!("{n_red} is negative")))?;
     let read_parts = |name: &str| -> Result<Vec<Mat<f64>>, IoError> {
         (0..functions.len())
             .map(|i| {
-                let what = format!("/prom/{name}/{i}");
+                let what = format!("{root}/{name}/{i}");
                 let data = prom
                     .dataset(&format!("{name}/{i}"))
                     .and_then(|d| d.read_raw::<f64>())
@@ -335,12 +372,12 @@ pub fn read_prom(path: impl AsRef<Path>) -> Result<(Prom, usize), IoError> {
     let (stiffness, mass) = (read_parts("K")?, read_parts("M")?);
     let damping = prom
         .group("damping")
-        .map_err(hdf("open /prom/damping".into()))?;
+        .map_err(hdf(format!("open {root}/damping")))?;
     let coefficient = |name: &str| {
         damping
             .attr(name)
             .and_then(|a| a.read_scalar::<f64>())
-            .map_err(hdf(format!("read attribute /prom/damping {name}")))
+            .map_err(hdf(format!("read attribute {root}/damping {name}")))
     };
     let result = Prom {
         parameters,
@@ -350,9 +387,9 @@ pub fn read_prom(path: impl AsRef<Path>) -> Result<(Prom, usize), IoError> {
         alpha: coefficient("alpha")?,
         beta: coefficient("beta")?,
     };
-    result.validate().map_err(|e| bad("/prom", e.to_string()))?;
+    result.validate().map_err(|e| bad(&root, e.to_string()))?;
     let n_full = usize::try_from(n_full)
-        .map_err(|_| bad("/prom n_full", format!("{n_full} is negative")))?;
+        .map_err(|_| bad(&format!("{root} n_full"), format!("{n_full} is negative")))?;
     Ok((result, n_full))
 }
 

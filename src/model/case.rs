@@ -104,7 +104,10 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
             }
         };
         need("SPC", sub.spc, &spc, "SPC/SPC1/SPCADD");
-        need("LOAD", sub.load, &load, "LOAD/FORCE/MOMENT/GRAV");
+        // a deck loading a mechanism (FMB =) may select a gravity set stored with it
+        if sub.fmb.is_none() {
+            need("LOAD", sub.load, &load, "LOAD/FORCE/MOMENT/GRAV");
+        }
         need("METHOD", sub.method, &method, "EIGRL");
         need("FREQUENCY", sub.frequency, &freq, "FREQ/FREQ1/FREQ2");
         need("DLOAD", sub.dload, &dload, "DLOAD/TLOAD1/RLOAD1");

@@ -821,6 +821,11 @@ fn field_name(field: &str) -> &str {
 }
 
 impl super::Model {
+    /// Whether static load set `sid` has a GRAV or a LOAD card.
+    pub fn has_load_set(&self, sid: u32) -> bool {
+        self.bulk.grav.iter().any(|g| g.sid == sid) || self.bulk.load.iter().any(|l| l.sid == sid)
+    }
+
     /// The gravity acceleration in basic of static load set `sid`: its GRAV cards, directly or
     /// through a LOAD combination (zero when the set has none).
     pub fn gravity(&self, sid: u32) -> [f64; 3] {

@@ -396,7 +396,8 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
             );
         }
     }
-    // PVALs of a deck that reads a pROM name the artifact's parameters: checked when it is read;
+    // PVALs of a deck that reads a pROM or a pFMB name the artifact's parameters: checked when
+    // it is read;
     // those of a multibody deck name BODY.PMPAR of its FLEXB artifacts (model::mechanism)
     let names: HashSet<String> = b
         .pmpar
@@ -420,9 +421,10 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
     sensors(refs, errors);
 }
 
-/// True when some subcase reads a pROM artifact (`ROM =`).
+/// True when some subcase reads a pROM artifact (`ROM =`) or a pFMB artifact (`FMB =`).
 fn reads_rom(deck: &Deck) -> bool {
-    deck.case.explicit.iter().any(|s| s.rom.is_some()) || deck.case.global.rom.is_some()
+    let reads = |s: &crate::deck::case_control::Subcase| s.rom.is_some() || s.fmb.is_some();
+    deck.case.explicit.iter().any(reads) || reads(&deck.case.global)
 }
 
 fn force_name(f: &crate::deck::cards::Force) -> &'static str {

@@ -24,7 +24,9 @@
 //!   gravity with drives held;
 //!   [`output`]: marker kinematics, reactions, drive torques, power and energy;
 //!   [`simulation`]: a run over a time grid with the histories of chosen outputs;
-//!   [`step_control`]: error-controlled step sizes (local error estimate and controller).
+//!   [`step_control`]: error-controlled step sizes (local error estimate and controller);
+//!   [`derivatives`]: the data-carrying terms of the equations of motion and their exact
+//!   derivatives with respect to a body's parameters.
 //!
 //! A system is built here from plain data; the system of a deck's mechanism, with its flexible
 //! bodies read from pROM artifacts, is built by [`crate::discretize::mechanism`].
@@ -35,6 +37,7 @@ pub mod constraint_set;
 #[cfg(test)]
 mod constraint_tests;
 pub mod dense_lu;
+pub mod derivatives;
 pub mod error;
 pub mod flexible;
 pub mod forces;
@@ -56,6 +59,7 @@ pub mod system;
 pub mod vectors;
 
 pub use body::Body;
+pub use derivatives::EomTerms;
 pub use error::MultibodyError;
 pub use flexible::{FlexibleBodyData, InterfaceRows, MassInvariants};
 pub use forces::Force;

@@ -11,7 +11,10 @@
 //! at t = 0; or relative to the last state of the earlier subcase `id`, e.g. a static subcase's
 //! equilibrium under gravity: eq. 9.24's gauge zeroed in a reference configuration). A subcase
 //! with `FMBSTART = STATIC` and no `TSTEP` is a static subcase: its output is the one row of
-//! the equilibrium at t = 0, `method` = `STATICS`. The system is built by
+//! the equilibrium at t = 0, `method` = `STATICS`. The mechanism is the deck's bulk data or,
+//! with `FMB = 'file.h5'`, the `/pfmb` of an earlier run (a [`Pfmb`] either way; a deck with
+//! both is refused; `LOAD = sid` takes the deck's own set `sid` if it has one, else the
+//! gravity stored with the loaded mechanism). The system is built by
 //! [`crate::discretize::mechanism::build_system`] and run by [`crate::multibody::simulate`].
 //!
 //! Written: `/results/<id>/fmb/{time (t), sensors/<name> (t), drives/<JDRIVE id>/{angle, rate,
@@ -19,7 +22,10 @@
 //! `coordinates`, `constraints`, `redundant` (labels of removed constraints), `params` and
 //! `values` (the flexible bodies' `BODY.PMPAR` values used); under `TSTEPVAR` also `rtol`,
 //! `atol`, `steps`, `rejected_steps`, `max_local_error` (the largest estimate of an accepted
-//! step in units of the tolerance) and `step_range` (smallest and largest step).
+//! step in units of the tolerance) and `step_range` (smallest and largest step); and once per
+//! run the first subcase's mechanism as the pFMB artifact `/pfmb` ([`crate::io::write_pfmb`]).
+
+use std::path::PathBuf;
 
 use super::report::{Report, sci};
 use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
@@ -27,11 +33,13 @@ use crate::card_values::{FmbStart, MsensorKind};
 use crate::deck::Solution;
 use crate::deck::cards::{Tinteg, TintegMethod, Tstepvar};
 use crate::deck::case_control::{StrainReference, Subcase, Target};
-use crate::discretize::mechanism::{Bodies, build_system};
+use crate::discretize::mechanism::{Bodies, MechanismError, build_system};
+use crate::discretize::pfmb::Pfmb;
 use crate::io::{
-    set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_u32,
+    read_pfmb, set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_pfmb,
+    write_u32,
 };
-use crate::model::mechanism::Sensor;
+use crate::model::mechanism::{Mechanism, Sensor};
 use crate::multibody::{NewtonSettings, Scheme, Start, StepControl, TimeGrid, simulate};
 
 /// What one `SOL FMB` subcase computed.
@@ -109,9 +117,13 @@ fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunEr
     let mut earlier: Vec<(u32, StrainFinals)> = Vec::new();
     let mut summaries = Vec::new();
     for sub in &ctx.model.subcases {
-        let (summary, finals) = clock.time(format!("subcase {}: multibody", sub.id), || {
-            subcase(ctx, sub, &earlier)
-        })?;
+        let (summary, finals, pfmb) = clock
+            .time(format!("subcase {}: multibody", sub.id), || {
+                subcase(ctx, sub, &earlier)
+            })?;
+        if summaries.is_empty() {
+            write_pfmb(&ctx.output.group("pfmb")?, &pfmb)?;
+        }
         earlier.push((sub.id, finals));
         summaries.push(summary);
     }
@@ -168,19 +180,65 @@ fn selected<'a>(ctx: &RunContext, sensors: &'a [Sensor], sub: &Subcase) -> Vec<&
     }
 }
 
+/// The mechanism of `sub`: the `/pfmb` of the file its `FMB =` names (relative to the deck),
+/// or the deck's own mechanism bulk data with its artifacts and tables. A deck with both is
+/// refused: the two would describe one mechanism twice.
+fn mechanism_of(ctx: &RunContext, sub: &Subcase) -> Result<Pfmb, RunError> {
+    let case = |what: String| RunError::Case {
+        subcase: sub.id,
+        what,
+    };
+    let own = &ctx.model.mechanism;
+    let Some(file) = &sub.fmb else {
+        if own.is_empty() {
+            return Err(case(
+                "SOL FMB needs a mechanism: FLEXB or RIGIDB bodies, MARKERs and JOINTs (or FMB = 'file.h5', the /pfmb of an earlier SOL FMB run)".into(),
+            ));
+        }
+        return Pfmb::of_model(ctx.model).map_err(|errors| mechanism_errors(own, errors, case));
+    };
+    let loc = sub
+        .loc_of("FMB")
+        .cloned()
+        .expect("the case control records where FMB = was written");
+    if !own.is_empty() {
+        return Err(case(format!(
+            "{loc}: FMB = '{file}' loads a mechanism, and the deck has its own (FLEXB or RIGIDB {}): keep one of the two",
+            own.bodies[0].id
+        )));
+    }
+    let path = ctx
+        .deck
+        .path
+        .parent()
+        .map_or_else(|| PathBuf::from(file), |dir| dir.join(file));
+    read_pfmb(&path, &loc).map_err(|e| case(format!("{loc}: FMB = '{file}': {e}")))
+}
+
+/// The errors of building a mechanism, each at its card.
+fn mechanism_errors(
+    mechanism: &Mechanism,
+    errors: Vec<MechanismError>,
+    case: impl Fn(String) -> RunError,
+) -> RunError {
+    case(
+        errors
+            .into_iter()
+            .map(|e| mechanism.error_at(e.card, e.field, e.message).to_string())
+            .collect::<Vec<_>>()
+            .join("\n"),
+    )
+}
+
 fn subcase(
     ctx: &RunContext,
     sub: &Subcase,
     earlier: &[(u32, StrainFinals)],
-) -> Result<(SubcaseSummary, StrainFinals), RunError> {
+) -> Result<(SubcaseSummary, StrainFinals, Pfmb), RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
-    let mechanism = &ctx.model.mechanism;
-    if mechanism.is_empty() {
-        return Err(case(
-            "SOL FMB needs a mechanism: FLEXB or RIGIDB bodies, MARKERs and JOINTs".into(),
-        ));
-    }
+    let pfmb = mechanism_of(ctx, sub)?;
+    let mechanism = &pfmb.mechanism;
     let start = sub.fmbstart.unwrap_or(FmbStart::Assemble);
     // a subcase without TSTEP is a static one (FMBSTART = STATIC): the equilibrium at t = 0
     let (grid, scheme, method) = match (sub.tstep, start) {
@@ -204,26 +262,37 @@ fn subcase(
             (grid, scheme, method)
         }
     };
-    let gravity = sub.load.map_or([0.0; 3], |sid| ctx.model.gravity(sid));
+    let gravity = match sub.load {
+        None => [0.0; 3],
+        Some(sid) if ctx.model.has_load_set(sid) => ctx.model.gravity(sid),
+        Some(sid) => pfmb.gravity_of(sid).ok_or_else(|| {
+            case(format!(
+                "LOAD = {sid} selects no GRAV or LOAD set {sid} of the deck, nor a gravity stored with the mechanism (sets: {})",
+                pfmb.gravity
+                    .iter()
+                    .map(|(s, _)| s.to_string())
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            ))
+        })?,
+    };
     let pval: Vec<(String, f64)> = match sub.pval {
         None => Vec::new(),
-        Some(pid) => ctx
-            .model
-            .pval(pid)
-            .ok_or_else(|| case(format!("PVAL {pid} missing")))?
-            .values
-            .clone(),
+        Some(pid) => {
+            let card = ctx
+                .model
+                .pval(pid)
+                .ok_or_else(|| case(format!("PVAL {pid} missing")))?;
+            if sub.fmb.is_some() {
+                pfmb.check_parameter_names(&card.values)
+                    .map_err(|e| case(format!("{}: PVAL {pid}: {e}", card.loc)))?;
+            }
+            card.values.clone()
+        }
     };
     let build = |bodies: Bodies| {
-        build_system(ctx.model, gravity, &pval, bodies).map_err(|errors| {
-            case(
-                errors
-                    .into_iter()
-                    .map(|e| mechanism.error_at(e.card, e.field, e.message).to_string())
-                    .collect::<Vec<_>>()
-                    .join("\n"),
-            )
-        })
+        build_system(&pfmb, gravity, &pval, bodies)
+            .map_err(|errors| mechanism_errors(mechanism, errors, case))
     };
     let ms = build(Bodies::Flexible)?;
     let sensors: Vec<Sensor> = selected(ctx, &mechanism.sensors, sub)
@@ -326,7 +395,7 @@ fn subcase(
                 .map(|_| (h.rejected, h.max_error, h.step_range)),
         }),
     };
-    Ok((summary, strain_finals))
+    Ok((summary, strain_finals, pfmb))
 }
 
 impl Report for FmbSummary {
