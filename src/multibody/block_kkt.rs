@@ -41,9 +41,9 @@ pub struct BlockKkt {
     blocks: Vec<DenseLu>,
     /// Each body's block of P.
     p: Vec<Mat<f64>>,
-    /// G = Φ_q (m × n) and V = ∂(Φ_q v + Φ_t)/∂q (m × n).
-    g: Mat<f64>,
-    v: Mat<f64>,
+    /// Gᵀ = Φ_qᵀ and Vᵀ = ∂(Φ_q v + Φ_t)/∂qᵀ (n × m: a row of G or V is a column here).
+    gt: Mat<f64>,
+    vt: Mat<f64>,
     /// Y = A⁻¹ [Gᵀ, P Gᵀ] (n × 2m).
     y: Mat<f64>,
     /// G Y and V Y (m × 2m).
@@ -69,8 +69,8 @@ impl BlockKkt {
                 .map(|s| Mat::zeros(s.len(), s.len()))
                 .collect(),
             slices,
-            g: Mat::zeros(m, n),
-            v: Mat::zeros(m, n),
+            gt: Mat::zeros(n, m),
+            vt: Mat::zeros(n, m),
             y: Mat::zeros(n, 2 * m),
             gy: Mat::zeros(m, 2 * m),
             vy: Mat::zeros(m, 2 * m),
@@ -106,8 +106,8 @@ impl BlockKkt {
     ) {
         let m = g.nrows();
         self.c_q = c_q;
-        self.g.copy_from(g);
-        self.v.copy_from(v);
+        self.gt.copy_from(g.transpose());
+        self.vt.copy_from(v.transpose());
         for ((s, lu), pb) in self.slices.iter().zip(&mut self.blocks).zip(&mut self.p) {
             let (o, len) = (s.offset, s.len());
             pb.copy_from(p.submatrix(o, o, len, len));
@@ -121,15 +121,13 @@ impl BlockKkt {
         }
         // Y = A⁻¹ [Gᵀ, P Gᵀ], column by column
         for k in 0..m {
-            let column = self.y.col_as_slice_mut(k);
-            for (j, x) in column.iter_mut().enumerate() {
-                *x = g[(k, j)];
-            }
+            let row = self.gt.col_as_slice(k);
+            self.y.col_as_slice_mut(k).copy_from_slice(row);
             let column = self.y.col_as_slice_mut(m + k);
             column.fill(0.0);
             for (s, pb) in self.slices.iter().zip(&self.p) {
                 let block = &mut column[s.offset..s.offset + s.len()];
-                block_mul(pb.as_ref(), s.offset, |j| g[(k, j)], block);
+                block_mul(pb.as_ref(), s.offset, |j| row[j], block);
             }
         }
         for j in 0..2 * m {
@@ -141,7 +139,7 @@ impl BlockKkt {
         matmul(
             self.gy.as_mut(),
             Accum::Replace,
-            self.g.as_ref(),
+            self.gt.transpose(),
             self.y.as_ref(),
             1.0,
             Par::Seq,
@@ -149,7 +147,7 @@ impl BlockKkt {
         matmul(
             self.vy.as_mut(),
             Accum::Replace,
-            self.v.as_ref(),
+            self.vt.transpose(),
             self.y.as_ref(),
             1.0,
             Par::Seq,
@@ -165,16 +163,16 @@ impl BlockKkt {
         matmul(
             s.as_mut().submatrix_mut(0, m, m, m),
             Accum::Add,
-            self.v.as_ref(),
-            self.g.transpose(),
+            self.vt.transpose(),
+            self.gt.as_ref(),
             1.0,
             Par::Seq,
         );
         matmul(
             s.as_mut().submatrix_mut(m, m, m, m),
             Accum::Add,
-            self.g.as_ref(),
-            self.g.transpose(),
+            self.gt.transpose(),
+            self.gt.as_ref(),
             1.0,
             Par::Seq,
         );
@@ -183,7 +181,7 @@ impl BlockKkt {
 
     /// r = (r₁, r₂, r₃, r₄) ← (Δq, Δv, Δλ̂, Δμ) (module docs).
     pub fn solve(&mut self, r: &mut [f64]) {
-        let (m, n) = (self.g.nrows(), self.g.ncols());
+        let (n, m) = (self.gt.nrows(), self.gt.ncols());
         let c_q = self.c_q;
         let (r1, rest) = r.split_at_mut(n);
         let (r2, rest) = rest.split_at_mut(n);
@@ -195,15 +193,15 @@ impl BlockKkt {
             block_mul(pb.as_ref(), s.offset, |j| -r1[j], block);
             lu.solve(block);
         }
-        for j in 0..n {
-            self.w[j] = r1[j] + c_q * self.u[j];
+        for ((w, r), u) in self.w.iter_mut().zip(r1.iter()).zip(&self.u) {
+            *w = r + c_q * u;
         }
         for k in 0..m {
+            let (gk, vk) = (self.gt.col_as_slice(k), self.vt.col_as_slice(k));
             let (mut z3, mut z4) = (r34[k], r34[m + k]);
             for j in 0..n {
-                let gkj = self.g[(k, j)];
-                z3 -= self.v[(k, j)] * self.w[j] + gkj * self.u[j];
-                z4 -= gkj * self.w[j];
+                z3 -= vk[j] * self.w[j] + gk[j] * self.u[j];
+                z4 -= gk[j] * self.w[j];
             }
             self.z[k] = z3;
             self.z[m + k] = z4;
@@ -223,8 +221,8 @@ impl BlockKkt {
         }
         for k in 0..m {
             let mu = self.z[m + k];
-            for j in 0..n {
-                r1[j] += self.g[(k, j)] * mu;
+            for (x, gkj) in r1.iter_mut().zip(self.gt.col_as_slice(k)) {
+                *x += gkj * mu;
             }
         }
         r34.copy_from_slice(&self.z);

@@ -213,20 +213,20 @@ impl Configuration {
         let rate = modal_rate(inv, qf_dot);
         let w = scaled_sum((0..n).map(|k| (qf_dot[k], self.mixed[k])));
         let moments: Vec<Mat3> = (0..n).map(|k| modal_rate_moment(inv, qf_dot, k)).collect();
-        for b in 0..4 {
+        for (b, rate_partial) in rate_partials.iter().enumerate() {
             let column = 3 + b;
-            let t1 = mat3::mul_vec(&rate_partials[b], self.first);
+            let t1 = mat3::mul_vec(rate_partial, self.first);
             let t2 = mat3::mul_vec(&self.partials[b], rate);
             for i in 0..3 {
                 out[(i, column)] = -2.0 * (t1[i] + t2[i]);
             }
-            let mut x = mat3::mul(&rate_partials[b], &self.second);
+            let mut x = mat3::mul(rate_partial, &self.second);
             add_scaled(&mut x, 1.0, &mat3::mul(&self.partials[b], &w));
             for a in 0..4 {
                 out[(3 + a, column)] = -2.0 * frobenius(&self.partials[a], &x);
             }
             for k in 0..n {
-                let mut x = mat3::mul(&rate_partials[b], &mat3::transpose(&self.mixed[k]));
+                let mut x = mat3::mul(rate_partial, &mat3::transpose(&self.mixed[k]));
                 add_scaled(&mut x, 1.0, &mat3::mul(&self.partials[b], &moments[k]));
                 out[(7 + k, column)] = -2.0 * frobenius(&self.a, &x);
             }

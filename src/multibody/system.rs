@@ -378,9 +378,10 @@ impl System {
                 *o += x;
             }
             let (k, c) = (&body.data.stiffness, &body.data.damping);
-            for i in 0..s.modes {
-                for j in 0..s.modes {
-                    out[7 + i] -= k[(i, j)] * qf[j] + c[(i, j)] * qf_dot[j];
+            for j in 0..s.modes {
+                let (kj, cj) = (k.col(j), c.col(j));
+                for (i, o) in out[7..].iter_mut().enumerate() {
+                    *o -= kj[i] * qf[j] + cj[i] * qf_dot[j];
                 }
             }
             let mut block = block.as_mut().submatrix_mut(0, 0, s.len(), s.len());
@@ -388,8 +389,11 @@ impl System {
                 configuration.mass_matrix(inv, body.data.mass.as_ref(), block.as_mut());
                 let range = s.offset..s.offset + s.len();
                 let (w, product) = (&w[range.clone()], &mut product[range]);
-                for (i, p) in product.iter_mut().enumerate() {
-                    *p = (0..s.len()).map(|j| block[(i, j)] * w[j]).sum();
+                product.fill(0.0);
+                for (j, wj) in w.iter().enumerate() {
+                    for (p, mij) in product.iter_mut().zip(block.as_ref().col(j).iter()) {
+                        *p += mij * wj;
+                    }
                 }
             }
             if let Some((dq, dv, coef)) = iteration.as_mut() {
