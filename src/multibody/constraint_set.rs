@@ -70,19 +70,29 @@ impl ConstraintSet {
         }
     }
 
-    /// ∂(Φ_q v + Φ_t)/∂q into `out` (m × n, overwritten): row i is (∇²Φᵢ v)ᵀ + ∂Φ_t,i/∂q.
-    pub fn velocity_equation_jacobian(
+    /// ∂(Φ_q v + Φ_t)/∂q into `velocity_q` (m × n, overwritten): row i is
+    /// (∇²Φᵢ v)ᵀ + ∂Φ_t,i/∂q; and adds scale · Σᵢ wᵢ ∇²Φᵢ to `hessian` (n × n), from one
+    /// evaluation of each row's Hessian.
+    #[allow(clippy::too_many_arguments)]
+    pub fn velocity_jacobian_and_weighted_hessian(
         &self,
         layout: &Layout,
         q: &[f64],
         v: &[f64],
         t: f64,
-        mut out: MatMut<'_, f64>,
+        weights: &[f64],
+        scale: f64,
+        mut velocity_q: MatMut<'_, f64>,
+        mut hessian: MatMut<'_, f64>,
     ) {
-        out.fill(0.0);
-        for (i, c) in self.constraints.iter().enumerate() {
-            c.hessian(layout, q, t, 1.0, |a, b, x| out[(i, b)] += v[a] * x);
-            c.jacobian(layout, q, t, 1, |j, x| out[(i, j)] += x);
+        velocity_q.fill(0.0);
+        for (i, (c, &w)) in self.constraints.iter().zip(weights).enumerate() {
+            let sw = scale * w;
+            c.hessian(layout, q, t, 1.0, |a, b, x| {
+                velocity_q[(i, b)] += v[a] * x;
+                hessian[(a, b)] += sw * x;
+            });
+            c.jacobian(layout, q, t, 1, |j, x| velocity_q[(i, j)] += x);
         }
     }
 

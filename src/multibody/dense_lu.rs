@@ -1,12 +1,12 @@
 //! A dense square matrix factored in place by LU with partial pivoting (faer's kernel, run
 //! sequentially: the GGL iteration matrices of a few hundred rows are too small to gain from
 //! threads, and their factorization is kept across many solves), with a solve that allocates
-//! nothing.
+//! nothing: plain column-oriented triangular sweeps, which for the blocks of a few dozen rows
+//! of [`super::block_kkt`] cost a fraction of a general kernel's set-up.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::lu::partial_pivoting::{factor, solve};
-use faer::perm::PermRef;
-use faer::{Conj, Mat, MatMut, Par};
+use faer::linalg::lu::partial_pivoting::factor;
+use faer::{Mat, MatMut, Par};
 
 /// The matrix to assemble, then its LU factors in place (see module docs).
 pub struct DenseLu {
@@ -14,7 +14,8 @@ pub struct DenseLu {
     forward: Vec<usize>,
     inverse: Vec<usize>,
     factor_stack: MemBuffer,
-    solve_stack: MemBuffer,
+    /// The permuted right-hand side.
+    permuted: Vec<f64>,
 }
 
 impl DenseLu {
@@ -30,11 +31,7 @@ impl DenseLu {
                 Par::Seq,
                 Default::default(),
             )),
-            solve_stack: MemBuffer::new(solve::solve_in_place_scratch::<usize, f64>(
-                n,
-                1,
-                Par::Seq,
-            )),
+            permuted: vec![0.0; n],
         }
     }
 
@@ -55,21 +52,34 @@ impl DenseLu {
         );
     }
 
-    /// x ← A⁻¹ x with the factors (non-finite entries when A is singular).
+    /// x ← A⁻¹ x with the factors (non-finite entries when A is singular): x ← P x, then
+    /// L (unit lower) and U solved column by column.
     pub fn solve(&mut self, x: &mut [f64]) {
         let n = x.len();
-        // SAFETY: `forward` and `inverse` are the inverse permutations written by the
-        // factorization
-        let perm = unsafe { PermRef::new_unchecked(&self.forward, &self.inverse, n) };
-        solve::solve_in_place_with_conj(
-            self.matrix.as_ref(),
-            self.matrix.as_ref(),
-            perm,
-            Conj::No,
-            MatMut::from_column_major_slice_mut(x, n, 1),
-            Par::Seq,
-            MemStack::new(&mut self.solve_stack),
-        );
+        for (p, &i) in self.permuted.iter_mut().zip(&self.forward) {
+            *p = x[i];
+        }
+        x.copy_from_slice(&self.permuted);
+        let a = &self.matrix;
+        for j in 0..n {
+            let xj = x[j];
+            if xj != 0.0 {
+                let column = &a.col_as_slice(j)[j + 1..];
+                for (xi, lij) in x[j + 1..].iter_mut().zip(column) {
+                    *xi -= lij * xj;
+                }
+            }
+        }
+        for j in (0..n).rev() {
+            x[j] /= a[(j, j)];
+            let xj = x[j];
+            if xj != 0.0 {
+                let column = &a.col_as_slice(j)[..j];
+                for (xi, uij) in x[..j].iter_mut().zip(column) {
+                    *xi -= uij * xj;
+                }
+            }
+        }
     }
 }
 

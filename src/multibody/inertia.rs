@@ -26,6 +26,7 @@
 use super::flexible::MassInvariants;
 use crate::geometry::euler_parameters::{rotated_vector_jacobian, rotation_matrix};
 use crate::geometry::mat3::{self, Mat3};
+use crate::geometry::vec3;
 use faer::{MatMut, MatRef};
 
 /// ∂A/∂eₐ at x for a = 0..3 (each linear in x); column i of the a-th matrix is
@@ -62,8 +63,10 @@ fn scaled_sum(terms: impl Iterator<Item = (f64, Mat3)>) -> Mat3 {
     out
 }
 
-/// The configuration-dependent moments of one body at (e, q_f).
-struct Configuration {
+/// The configuration-dependent moments of one body at (e, q_f) (module docs), built once per
+/// evaluation and shared by the mass matrix, the quadratic velocity vector, its rate Jacobian
+/// and the gravity force.
+pub struct Configuration {
     a: Mat3,
     partials: [Mat3; 4],
     /// S = Σ m ū
@@ -75,7 +78,8 @@ struct Configuration {
 }
 
 impl Configuration {
-    fn new(inv: &MassInvariants, e: &[f64; 4], qf: &[f64]) -> Self {
+    /// The moments at (e, q_f).
+    pub fn new(inv: &MassInvariants, e: &[f64; 4], qf: &[f64]) -> Self {
         let n = inv.modes();
         let mut first = inv.first;
         for (k, psi) in inv.first_modal.iter().enumerate() {
@@ -107,6 +111,173 @@ impl Configuration {
             mixed,
         }
     }
+
+    /// The body mass matrix (7 + n square) into `out`; `modal_mass` is M_ff.
+    pub fn mass_matrix(
+        &self,
+        inv: &MassInvariants,
+        modal_mass: MatRef<'_, f64>,
+        mut out: MatMut<'_, f64>,
+    ) {
+        let n = inv.modes();
+        out.fill(0.0);
+        for i in 0..3 {
+            out[(i, i)] = inv.mass;
+        }
+        let mut set = |i: usize, j: usize, x: f64| {
+            out[(i, j)] = x;
+            out[(j, i)] = x;
+        };
+        for a in 0..4 {
+            let column = mat3::mul_vec(&self.partials[a], self.first);
+            for (i, x) in column.into_iter().enumerate() {
+                set(i, 3 + a, x);
+            }
+            for b in a..4 {
+                let ab = mat3::mul(&self.partials[b], &self.second);
+                set(3 + a, 3 + b, frobenius(&self.partials[a], &ab));
+            }
+            // tr(A,ₐᵀ A Tₖ) = tr((Aᵀ A,ₐ)ᵀ Tₖ)
+            let at_partial = mat3::mul(&mat3::transpose(&self.a), &self.partials[a]);
+            for k in 0..n {
+                set(3 + a, 7 + k, frobenius(&at_partial, &self.mixed[k]));
+            }
+        }
+        for k in 0..n {
+            let column = mat3::mul_vec(&self.a, inv.first_modal[k]);
+            for (i, x) in column.into_iter().enumerate() {
+                set(i, 7 + k, x);
+            }
+            for l in 0..n {
+                set(7 + k, 7 + l, modal_mass[(k, l)]);
+            }
+        }
+    }
+
+    /// The quadratic velocity vector f_v (eq. 2.47, 4.9) at the rates (ė, q̇_f) into `out`
+    /// (7 + n).
+    pub fn quadratic_velocity(
+        &self,
+        inv: &MassInvariants,
+        e_dot: &[f64; 4],
+        qf_dot: &[f64],
+        out: &mut [f64],
+    ) {
+        let n = inv.modes();
+        let a_of_rate = rotation_matrix(e_dot);
+        let a_dot = scaled_sum((0..4).map(|a| (e_dot[a], self.partials[a])));
+        // Σ m γ = 2 A(ė) S + 2 Ȧ M̂₂ q̇_f
+        let g1 = mat3::mul_vec(&a_of_rate, self.first);
+        let g2 = mat3::mul_vec(&a_dot, modal_rate(inv, qf_dot));
+        for i in 0..3 {
+            out[i] = -2.0 * (g1[i] + g2[i]);
+        }
+        // Σ m γ ūᵀ = 2 A(ė) Π + 2 Ȧ W,  W = Σ m (Ψ q̇_f) ūᵀ = Σₖ q̇ₖ Tₖ
+        let w = scaled_sum((0..n).map(|k| (qf_dot[k], self.mixed[k])));
+        let mut gu = mat3::mul(&a_of_rate, &self.second);
+        add_scaled(&mut gu, 1.0, &mat3::mul(&a_dot, &w));
+        for a in 0..4 {
+            out[3 + a] = -2.0 * frobenius(&self.partials[a], &gu);
+        }
+        // Σ m γ ψₖᵀ = 2 A(ė) Tₖᵀ + 2 Ȧ Nₖ,  Nₖ = Σₗ q̇ₗ Σ m ψₗ ψₖᵀ
+        for k in 0..n {
+            let modal = modal_rate_moment(inv, qf_dot, k);
+            let mut gk = mat3::mul(&a_of_rate, &mat3::transpose(&self.mixed[k]));
+            add_scaled(&mut gk, 1.0, &mat3::mul(&a_dot, &modal));
+            out[7 + k] = -2.0 * frobenius(&self.a, &gk);
+        }
+    }
+
+    /// ∂f_v/∂(ė, q̇_f) into the columns 3.. of `out` ((7 + n) square; columns 0..3 are zero,
+    /// f_v does not depend on ṙ), in closed form from the terms of
+    /// [`Configuration::quadratic_velocity`]: with A(ė) homogeneous quadratic,
+    /// ∂A(ė)/∂ė_b = A,_b(ė), and Ȧ = Σₐ ėₐ A,ₐ linear, ∂Ȧ/∂ė_b = A,_b, so
+    ///
+    /// ```text
+    /// ∂/∂ė_b:  −2 (A,_b(ė) S + A,_b M̂₂ q̇_f),  −2 tr(A,ₐᵀ (A,_b(ė) Π + A,_b W)),  −2 tr(Aᵀ (A,_b(ė) Tₖᵀ + A,_b Nₖ))
+    /// ∂/∂q̇ₗ:   −2 Ȧ ψₗ,                       −2 tr(A,ₐᵀ Ȧ Tₗ),                  −2 tr(Aᵀ Ȧ Σ m ψₗ ψₖᵀ)
+    /// ```
+    ///
+    /// (rows r, e, q_f); O(n²) per body.
+    pub fn quadratic_velocity_rate_jacobian(
+        &self,
+        inv: &MassInvariants,
+        e_dot: &[f64; 4],
+        qf_dot: &[f64],
+        mut out: MatMut<'_, f64>,
+    ) {
+        let n = inv.modes();
+        out.fill(0.0);
+        let rate_partials = rotation_partials(e_dot);
+        let a_dot = scaled_sum((0..4).map(|a| (e_dot[a], self.partials[a])));
+        let rate = modal_rate(inv, qf_dot);
+        let w = scaled_sum((0..n).map(|k| (qf_dot[k], self.mixed[k])));
+        let moments: Vec<Mat3> = (0..n).map(|k| modal_rate_moment(inv, qf_dot, k)).collect();
+        for (b, rate_partial) in rate_partials.iter().enumerate() {
+            let column = 3 + b;
+            let t1 = mat3::mul_vec(rate_partial, self.first);
+            let t2 = mat3::mul_vec(&self.partials[b], rate);
+            for i in 0..3 {
+                out[(i, column)] = -2.0 * (t1[i] + t2[i]);
+            }
+            let mut x = mat3::mul(rate_partial, &self.second);
+            add_scaled(&mut x, 1.0, &mat3::mul(&self.partials[b], &w));
+            for a in 0..4 {
+                out[(3 + a, column)] = -2.0 * frobenius(&self.partials[a], &x);
+            }
+            for k in 0..n {
+                let mut x = mat3::mul(rate_partial, &mat3::transpose(&self.mixed[k]));
+                add_scaled(&mut x, 1.0, &mat3::mul(&self.partials[b], &moments[k]));
+                out[(7 + k, column)] = -2.0 * frobenius(&self.a, &x);
+            }
+        }
+        // tr(Aᵀ Ȧ N) = tr((Ȧᵀ A)ᵀ N)
+        let a_dot_t_a = mat3::mul(&mat3::transpose(&a_dot), &self.a);
+        for l in 0..n {
+            let column = 7 + l;
+            let t = mat3::mul_vec(&a_dot, inv.first_modal[l]);
+            for i in 0..3 {
+                out[(i, column)] = -2.0 * t[i];
+            }
+            let x = mat3::mul(&a_dot, &self.mixed[l]);
+            for a in 0..4 {
+                out[(3 + a, column)] = -2.0 * frobenius(&self.partials[a], &x);
+            }
+            for k in 0..n {
+                out[(7 + k, column)] = -2.0 * frobenius(&a_dot_t_a, &inv.second_modal[l * n + k]);
+            }
+        }
+    }
+
+    /// The generalized gravity force Σⱼ mⱼ Lⱼᵀ g into `out` (7 + n).
+    pub fn gravity_force(&self, inv: &MassInvariants, gravity: [f64; 3], out: &mut [f64]) {
+        for i in 0..3 {
+            out[i] = inv.mass * gravity[i];
+        }
+        for a in 0..4 {
+            out[3 + a] = vec3::dot(gravity, mat3::mul_vec(&self.partials[a], self.first));
+        }
+        for (k, psi) in inv.first_modal.iter().enumerate() {
+            out[7 + k] = vec3::dot(gravity, mat3::mul_vec(&self.a, *psi));
+        }
+    }
+}
+
+/// M̂₂ q̇_f = Σₖ q̇ₖ Σ m ψₖ.
+fn modal_rate(inv: &MassInvariants, qf_dot: &[f64]) -> [f64; 3] {
+    let mut rate = [0.0; 3];
+    for (k, psi) in inv.first_modal.iter().enumerate() {
+        for i in 0..3 {
+            rate[i] += qf_dot[k] * psi[i];
+        }
+    }
+    rate
+}
+
+/// Nₖ = Σₗ q̇ₗ Σ m ψₗ ψₖᵀ.
+fn modal_rate_moment(inv: &MassInvariants, qf_dot: &[f64], k: usize) -> Mat3 {
+    let n = inv.modes();
+    scaled_sum((0..n).map(|l| (qf_dot[l], inv.second_modal[l * n + k])))
 }
 
 /// The body mass matrix (7 + n square) at (e, q_f) into `out`; `modal_mass` is M_ff.
@@ -115,44 +286,12 @@ pub fn mass_matrix(
     modal_mass: MatRef<'_, f64>,
     e: &[f64; 4],
     qf: &[f64],
-    mut out: MatMut<'_, f64>,
+    out: MatMut<'_, f64>,
 ) {
-    let n = inv.modes();
-    let c = Configuration::new(inv, e, qf);
-    out.fill(0.0);
-    for i in 0..3 {
-        out[(i, i)] = inv.mass;
-    }
-    let mut set = |i: usize, j: usize, x: f64| {
-        out[(i, j)] = x;
-        out[(j, i)] = x;
-    };
-    for a in 0..4 {
-        let column = mat3::mul_vec(&c.partials[a], c.first);
-        for (i, x) in column.into_iter().enumerate() {
-            set(i, 3 + a, x);
-        }
-        for b in a..4 {
-            let ab = mat3::mul(&c.partials[b], &c.second);
-            set(3 + a, 3 + b, frobenius(&c.partials[a], &ab));
-        }
-        for k in 0..n {
-            let at = mat3::mul(&c.a, &c.mixed[k]);
-            set(3 + a, 7 + k, frobenius(&c.partials[a], &at));
-        }
-    }
-    for k in 0..n {
-        let column = mat3::mul_vec(&c.a, inv.first_modal[k]);
-        for (i, x) in column.into_iter().enumerate() {
-            set(i, 7 + k, x);
-        }
-        for l in 0..n {
-            set(7 + k, 7 + l, modal_mass[(k, l)]);
-        }
-    }
+    Configuration::new(inv, e, qf).mass_matrix(inv, modal_mass, out);
 }
 
-/// The quadratic velocity vector f_v (eq. 2.47) at (e, q_f, ė, q̇_f) into `out` (7 + n).
+/// The quadratic velocity vector f_v (eq. 2.47, 4.9) at (e, q_f, ė, q̇_f) into `out` (7 + n).
 pub fn quadratic_velocity(
     inv: &MassInvariants,
     e: &[f64; 4],
@@ -161,77 +300,19 @@ pub fn quadratic_velocity(
     qf_dot: &[f64],
     out: &mut [f64],
 ) {
-    let c = Configuration::new(inv, e, qf);
-    quadratic_velocity_at(inv, &c, e_dot, qf_dot, out);
+    Configuration::new(inv, e, qf).quadratic_velocity(inv, e_dot, qf_dot, out);
 }
 
-fn quadratic_velocity_at(
-    inv: &MassInvariants,
-    c: &Configuration,
-    e_dot: &[f64; 4],
-    qf_dot: &[f64],
-    out: &mut [f64],
-) {
-    let n = inv.modes();
-    let a_of_rate = rotation_matrix(e_dot);
-    let a_dot = scaled_sum((0..4).map(|a| (e_dot[a], c.partials[a])));
-    // Σ m γ = 2 A(ė) S + 2 Ȧ M̂₂ q̇_f
-    let mut modal_rate = [0.0; 3];
-    for (k, psi) in inv.first_modal.iter().enumerate() {
-        for i in 0..3 {
-            modal_rate[i] += qf_dot[k] * psi[i];
-        }
-    }
-    let g1 = mat3::mul_vec(&a_of_rate, c.first);
-    let g2 = mat3::mul_vec(&a_dot, modal_rate);
-    for i in 0..3 {
-        out[i] = -2.0 * (g1[i] + g2[i]);
-    }
-    // Σ m γ ūᵀ = 2 A(ė) Π + 2 Ȧ W,  W = Σ m (Ψ q̇_f) ūᵀ = Σₖ q̇ₖ Tₖ
-    let w = scaled_sum((0..n).map(|k| (qf_dot[k], c.mixed[k])));
-    let mut gu = mat3::mul(&a_of_rate, &c.second);
-    add_scaled(&mut gu, 1.0, &mat3::mul(&a_dot, &w));
-    for a in 0..4 {
-        out[3 + a] = -2.0 * frobenius(&c.partials[a], &gu);
-    }
-    // Σ m γ ψₖᵀ = 2 A(ė) Tₖᵀ + 2 Ȧ Σₗ q̇ₗ Σ m ψₗ ψₖᵀ
-    for k in 0..n {
-        let modal = scaled_sum((0..n).map(|l| (qf_dot[l], inv.second_modal[l * n + k])));
-        let mut gk = mat3::mul(&a_of_rate, &mat3::transpose(&c.mixed[k]));
-        add_scaled(&mut gk, 1.0, &mat3::mul(&a_dot, &modal));
-        out[7 + k] = -2.0 * frobenius(&c.a, &gk);
-    }
-}
-
-/// ∂f_v/∂(ė, q̇_f) into the columns 3.. of `out` ((7 + n) square; column 0..3 stays zero, f_v
-/// does not depend on ṙ). f_v is a quadratic form Q(v, v) of the rates, so column j is exactly
-/// 2 Q(v, uⱼ) = (f_v(v + uⱼ) − f_v(v − uⱼ)) / 2 (polarization, no truncation error).
+/// ∂f_v/∂(ė, q̇_f) at (e, q_f, ė, q̇_f) ([`Configuration::quadratic_velocity_rate_jacobian`]).
 pub fn quadratic_velocity_rate_jacobian(
     inv: &MassInvariants,
     e: &[f64; 4],
     qf: &[f64],
     e_dot: &[f64; 4],
     qf_dot: &[f64],
-    mut out: MatMut<'_, f64>,
+    out: MatMut<'_, f64>,
 ) {
-    let n = inv.modes();
-    let c = Configuration::new(inv, e, qf);
-    let mut plus = vec![0.0; 7 + n];
-    let mut minus = vec![0.0; 7 + n];
-    let mut rates: Vec<f64> = e_dot.iter().chain(qf_dot).copied().collect();
-    out.fill(0.0);
-    for j in 0..4 + n {
-        let base = rates[j];
-        for (sign, target) in [(1.0, &mut plus), (-1.0, &mut minus)] {
-            rates[j] = base + sign;
-            let ed = [rates[0], rates[1], rates[2], rates[3]];
-            quadratic_velocity_at(inv, &c, &ed, &rates[4..], target);
-        }
-        rates[j] = base;
-        for i in 0..7 + n {
-            out[(i, 3 + j)] = 0.5 * (plus[i] - minus[i]);
-        }
-    }
+    Configuration::new(inv, e, qf).quadratic_velocity_rate_jacobian(inv, e_dot, qf_dot, out);
 }
 
 /// The generalized gravity force Σⱼ mⱼ Lⱼᵀ g at (e, q_f) into `out` (7 + n).
@@ -242,14 +323,5 @@ pub fn gravity_force(
     gravity: [f64; 3],
     out: &mut [f64],
 ) {
-    let c = Configuration::new(inv, e, qf);
-    for i in 0..3 {
-        out[i] = inv.mass * gravity[i];
-    }
-    for a in 0..4 {
-        out[3 + a] = crate::geometry::vec3::dot(gravity, mat3::mul_vec(&c.partials[a], c.first));
-    }
-    for (k, psi) in inv.first_modal.iter().enumerate() {
-        out[7 + k] = crate::geometry::vec3::dot(gravity, mat3::mul_vec(&c.a, *psi));
-    }
+    Configuration::new(inv, e, qf).gravity_force(inv, gravity, out);
 }

@@ -145,7 +145,7 @@ fn quadratic_velocity_vector_matches_lagrange_by_finite_differences() {
             expected[i]
         );
     }
-    // its rate Jacobian (exact by polarization) against a finite difference
+    // its rate Jacobian (closed form) against a finite difference
     let mut jac = Mat::zeros(nq, nq);
     quadratic_velocity_rate_jacobian(&inv, &e, &qf, &e_dot, &qf_dot, jac.as_mut());
     for j in 3..nq {

@@ -12,8 +12,7 @@
 //! R₄ = Φ(q, t)                                       = 0   (position constraints)
 //! ```
 //!
-//! (for BDF1 q̂ = q_n, v̂ = v_n, c_q = c_v = h) by Newton's method on the dense KKT matrix (faer
-//! LU with partial pivoting)
+//! (for BDF1 q̂ = q_n, v̂ = v_n, c_q = c_v = h, eq. 2.61) by Newton's method on the KKT matrix
 //!
 //! ```text
 //! ⎡ I − Σ μᵢ∇²Φᵢ          −c_q I        0      −Φ_qᵀ ⎤
@@ -26,9 +25,12 @@
 //! derivatives of M(q)(v − v̂), f_v and gravity with respect to q (of relative size h² ω²)
 //! are left out, so the iteration is a modified Newton method: [`crate::dynamics::newton`]'s
 //! driver with `JacobianUpdate::Reuse`, shared with the integrators of
-//! [`crate::dynamics::nonlinear`]. The factorization (sequential, in place, [`DenseLu`]) is
-//! kept across iterations and steps while c_q and c_v stay the same, and refreshed when the
-//! contraction rate of the corrections exceeds `slow_rate`. Corrections that grow under a
+//! [`crate::dynamics::nonlinear`]. When no force couples two bodies (M, K̂ and Ĉ block
+//! diagonal) the matrix is factored body by body with a Schur complement on the multiplier
+//! rows ([`BlockKkt`]; it also leaves out the constraint Hessians' blocks between two bodies
+//! and the μ-Hessian); otherwise as one dense LU (sequential, in place, [`DenseLu`]). The
+//! factorization is kept across iterations and steps while c_q and c_v stay the same, and
+//! refreshed when the contraction rate of the corrections exceeds `slow_rate`. Corrections that grow under a
 //! matrix just factored at the current iterate mean divergence: the attempt stops there. A
 //! step that does not converge in `max_iterations` (after one retry from the predictor with a
 //! fresh matrix when the first attempt began with an older one) is an error naming the time,
@@ -38,8 +40,10 @@
 //! accelerations (v = v̂ + c_v q̈_n, or q̈ linear in the last two steps) cuts the iterations of
 //! the flexible four-bar by 10–20 % but doubles its factorizations: the predictor's
 //! remaining error lies in the links' stiff modes, which a factorization from earlier steps
-//! does not contract (docs/fourbar.md, "Speed").
+//! does not contract (docs/fourbar.md, "Speed"). Refactoring at every step's predictor
+//! brings the four-bar to 3.9 iterations per step but costs more than it saves.
 
+use super::block_kkt::BlockKkt;
 use super::constraint_set::ConstraintSet;
 use super::dense_lu::DenseLu;
 use super::error::MultibodyError;
@@ -111,8 +115,12 @@ pub struct Ggl {
     history: History,
     form: StepForm,
     newton: NewtonDriver,
-    /// The iteration matrix and its factors.
+    /// The iteration matrix and its factors: dense, or by bodies when the forces couple no
+    /// two bodies ([`BlockKkt`]).
     lu: DenseLu,
+    block: BlockKkt,
+    /// Which of the two holds the current factorization.
+    factored_by_bodies: bool,
     /// (c_q, c_v) of the factored matrix.
     factored_for: (f64, f64),
     work: Workspace,
@@ -130,6 +138,9 @@ struct Workspace {
     /// Φ_qᵀ μ and Φ_qᵀ λ̂.
     gq_mu: Vec<f64>,
     gq_lam: Vec<f64>,
+    /// v − v̂ and M(q) (v − v̂).
+    relative: Vec<f64>,
+    momentum: Vec<f64>,
 }
 
 impl Workspace {
@@ -145,6 +156,8 @@ impl Workspace {
             phi_t: vec![0.0; m],
             gq_mu: vec![0.0; n],
             gq_lam: vec![0.0; n],
+            relative: vec![0.0; n],
+            momentum: vec![0.0; n],
         }
     }
 }
@@ -157,15 +170,10 @@ fn worst(phi: &[f64]) -> (usize, f64) {
     )
 }
 
-/// y = Aᵀ x (A m × n, x m).
+/// y = Aᵀ x (A m × n column-major, x m).
 fn transpose_mul(a: MatRef<'_, f64>, x: &[f64], y: &mut [f64]) {
-    y.fill(0.0);
-    for i in 0..a.nrows() {
-        if x[i] != 0.0 {
-            for j in 0..a.ncols() {
-                y[j] += a[(i, j)] * x[i];
-            }
-        }
+    for (j, yj) in y.iter_mut().enumerate() {
+        *yj = a.col(j).iter().zip(x).map(|(aij, xi)| aij * xi).sum();
     }
 }
 
@@ -278,6 +286,7 @@ impl Ggl {
         for (x, d) in v.iter_mut().zip(&correction) {
             *x -= d;
         }
+        let block = BlockKkt::new(&system.layout, m);
         let mut ggl = Self {
             system,
             redundant: split
@@ -304,6 +313,8 @@ impl Ggl {
                 },
             ),
             lu: DenseLu::new(2 * n + 2 * m),
+            block,
+            factored_by_bodies: false,
             factored_for: (0.0, 0.0),
             work,
             q,
@@ -420,6 +431,8 @@ impl Ggl {
             form: &self.form,
             work: &mut self.work,
             lu: &mut self.lu,
+            block: &mut self.block,
+            factored_by_bodies: &mut self.factored_by_bodies,
             factored_for: &mut self.factored_for,
             t,
             tolerance: self.settings.tolerance,
@@ -528,6 +541,8 @@ struct GglStep<'a> {
     form: &'a StepForm,
     work: &'a mut Workspace,
     lu: &'a mut DenseLu,
+    block: &'a mut BlockKkt,
+    factored_by_bodies: &'a mut bool,
     factored_for: &'a mut (f64, f64),
     t: f64,
     /// Relative tolerance on the corrections of q and v.
@@ -554,33 +569,32 @@ impl StepEquations for GglStep<'_> {
         c.jacobian(layout, q, t, w.phi_q.as_mut());
         c.values(layout, q, t, &mut w.phi);
         c.time_rates(layout, q, t, &mut w.phi_t);
-        self.system.mass_matrix(q, w.mass.as_mut());
-        self.system
-            .applied_forces(self.equations, q, v, t, &mut w.force, None);
+        for i in 0..n {
+            w.relative[i] = v[i] - v_hat[i];
+        }
+        self.system.forces_and_momentum(
+            self.equations,
+            q,
+            v,
+            t,
+            &mut w.force,
+            Some((&w.relative, &mut w.momentum)),
+            None,
+        );
         transpose_mul(w.phi_q.as_ref(), mu, &mut w.gq_mu);
         transpose_mul(w.phi_q.as_ref(), lam, &mut w.gq_lam);
         for i in 0..n {
             r[i] = q[i] - q_hat[i] - c_q * v[i] - w.gq_mu[i];
-            r[n + i] = -c_v * w.force[i] + w.gq_lam[i];
+            r[n + i] = w.momentum[i] - c_v * w.force[i] + w.gq_lam[i];
         }
-        // M is block diagonal: M (v − v̂) body by body
-        for s in layout.slices() {
-            for i in s.offset..s.offset + s.len() {
-                let mut sum = 0.0;
-                for j in s.offset..s.offset + s.len() {
-                    sum += w.mass[(i, j)] * (v[j] - v_hat[j]);
-                }
-                r[n + i] += sum;
+        let (r3, r4) = r[2 * n..].split_at_mut(m);
+        r3.copy_from_slice(&w.phi_t);
+        for (j, vj) in v.iter().enumerate() {
+            for (r3k, gkj) in r3.iter_mut().zip(w.phi_q.col(j).iter()) {
+                *r3k += gkj * vj;
             }
         }
-        for k in 0..m {
-            let mut r3 = w.phi_t[k];
-            for (j, vj) in v.iter().enumerate() {
-                r3 += w.phi_q[(k, j)] * vj;
-            }
-            r[2 * n + k] = r3;
-            r[2 * n + m + k] = w.phi[k];
-        }
+        r4.copy_from_slice(&w.phi);
         Ok(())
     }
 
@@ -605,7 +619,34 @@ impl StepEquations for GglStep<'_> {
         );
         self.system.mass_matrix(q, w.mass.as_mut());
         c.jacobian(layout, q, t, w.phi_q.as_mut());
-        c.velocity_equation_jacobian(layout, q, v, t, w.velocity_q.as_mut());
+        *self.factored_for = (c_q, c_v);
+        *self.factored_by_bodies = self.block.applies(&[w.dq.as_ref(), w.dv.as_ref()]);
+        if *self.factored_by_bodies {
+            // P = c_v K̂ + Σ λ̂ᵢ∇²Φᵢ and A₀ = M + c_v Ĉ
+            c.velocity_jacobian_and_weighted_hessian(
+                layout,
+                q,
+                v,
+                t,
+                lam,
+                1.0,
+                w.velocity_q.as_mut(),
+                w.dq.as_mut(),
+            );
+            for b in 0..n {
+                for a in 0..n {
+                    w.dv[(a, b)] += w.mass[(a, b)];
+                }
+            }
+            self.block.factor(
+                w.dv.as_ref(),
+                w.dq.as_ref(),
+                w.phi_q.as_ref(),
+                w.velocity_q.as_ref(),
+                c_q,
+            );
+            return Ok(());
+        }
         let mut j = self.lu.matrix_mut();
         j.fill(0.0);
         // R₁ rows
@@ -615,7 +656,16 @@ impl StepEquations for GglStep<'_> {
         }
         c.add_weighted_hessian(layout, q, t, mu, -1.0, j.as_mut().submatrix_mut(0, 0, n, n));
         // R₂ rows
-        c.add_weighted_hessian(layout, q, t, lam, 1.0, j.as_mut().submatrix_mut(n, 0, n, n));
+        c.velocity_jacobian_and_weighted_hessian(
+            layout,
+            q,
+            v,
+            t,
+            lam,
+            1.0,
+            w.velocity_q.as_mut(),
+            j.as_mut().submatrix_mut(n, 0, n, n),
+        );
         for a in 0..n {
             for b in 0..n {
                 j[(n + a, b)] += w.dq[(a, b)];
@@ -633,12 +683,15 @@ impl StepEquations for GglStep<'_> {
             }
         }
         self.lu.factor();
-        *self.factored_for = (c_q, c_v);
         Ok(())
     }
 
     fn solve(&mut self, r: &mut [f64]) -> Result<(), MultibodyError> {
-        self.lu.solve(r);
+        if *self.factored_by_bodies {
+            self.block.solve(r);
+        } else {
+            self.lu.solve(r);
+        }
         if r.iter().any(|d| !d.is_finite()) {
             return Err(MultibodyError::Singular {
                 what: "GGL iteration matrix",

@@ -31,6 +31,7 @@
 //! A system is built here from plain data; the system of a deck's mechanism, with its flexible
 //! bodies read from pROM artifacts, is built by [`crate::discretize::mechanism`].
 
+pub mod block_kkt;
 pub mod body;
 pub mod constraint;
 pub mod constraint_set;

@@ -308,15 +308,23 @@ impl System {
         }
     }
 
-    /// ½ q̇ᵀ M(q) q̇.
+    /// ½ q̇ᵀ M(q) q̇, body by body.
     pub fn kinetic_energy(&self, q: &[f64], v: &[f64]) -> f64 {
-        let n = self.size();
-        let mut m = faer::Mat::zeros(n, n);
-        self.mass_matrix(q, m.as_mut());
         let mut e = 0.0;
-        for i in 0..n {
-            for j in 0..n {
-                e += 0.5 * v[i] * m[(i, j)] * v[j];
+        for (body, s) in self.bodies.iter().zip(self.layout.slices()) {
+            let mut m = faer::Mat::zeros(s.len(), s.len());
+            inertia::mass_matrix(
+                &body.data.invariants,
+                body.data.mass.as_ref(),
+                &s.euler_parameters(q),
+                s.modal(q),
+                m.as_mut(),
+            );
+            let vb = &v[s.offset..s.offset + s.len()];
+            for i in 0..s.len() {
+                for j in 0..s.len() {
+                    e += 0.5 * vb[i] * m[(i, j)] * vb[j];
+                }
             }
         }
         e
@@ -332,40 +340,64 @@ impl System {
         v: &[f64],
         t: f64,
         force: &mut [f64],
+        iteration: Option<(MatMut<'_, f64>, MatMut<'_, f64>, f64)>,
+    ) {
+        self.forces_and_momentum(equations, q, v, t, force, None, iteration);
+    }
+
+    /// [`System::applied_forces`] and, with `momentum = Some((w, out))`, M(q) w into `out`,
+    /// body by body from the same configuration moments (no n × n matrix).
+    #[allow(clippy::too_many_arguments)]
+    pub fn forces_and_momentum(
+        &self,
+        equations: &Equations,
+        q: &[f64],
+        v: &[f64],
+        t: f64,
+        force: &mut [f64],
+        mut momentum: Option<(&[f64], &mut [f64])>,
         mut iteration: Option<(MatMut<'_, f64>, MatMut<'_, f64>, f64)>,
     ) {
         force.fill(0.0);
-        let mut scratch = vec![0.0; 7 + self.bodies.iter().map(Body::modes).max().unwrap_or(0)];
+        let largest = 7 + self.bodies.iter().map(Body::modes).max().unwrap_or(0);
+        let mut scratch = vec![0.0; largest];
+        let mut block = faer::Mat::zeros(largest, largest);
         for (body, s) in self.bodies.iter().zip(self.layout.slices()) {
             let inv = &body.data.invariants;
             let (e, qf) = (s.euler_parameters(q), s.modal(q));
             let (e_dot, qf_dot) = (s.euler_parameters(v), s.modal(v));
+            let configuration = inertia::Configuration::new(inv, &e, qf);
             let local = &mut scratch[..s.len()];
-            inertia::quadratic_velocity(inv, &e, qf, &e_dot, qf_dot, local);
+            configuration.quadratic_velocity(inv, &e_dot, qf_dot, local);
             let out = &mut force[s.offset..s.offset + s.len()];
             for (o, x) in out.iter_mut().zip(local.iter()) {
                 *o += x;
             }
-            inertia::gravity_force(inv, &e, qf, self.gravity, local);
+            configuration.gravity_force(inv, self.gravity, local);
             for (o, x) in out.iter_mut().zip(local.iter()) {
                 *o += x;
             }
             let (k, c) = (&body.data.stiffness, &body.data.damping);
-            for i in 0..s.modes {
-                for j in 0..s.modes {
-                    out[7 + i] -= k[(i, j)] * qf[j] + c[(i, j)] * qf_dot[j];
+            for j in 0..s.modes {
+                let (kj, cj) = (k.col(j), c.col(j));
+                for (i, o) in out[7..].iter_mut().enumerate() {
+                    *o -= kj[i] * qf[j] + cj[i] * qf_dot[j];
+                }
+            }
+            let mut block = block.as_mut().submatrix_mut(0, 0, s.len(), s.len());
+            if let Some((w, product)) = momentum.as_mut() {
+                configuration.mass_matrix(inv, body.data.mass.as_ref(), block.as_mut());
+                let range = s.offset..s.offset + s.len();
+                let (w, product) = (&w[range.clone()], &mut product[range]);
+                product.fill(0.0);
+                for (j, wj) in w.iter().enumerate() {
+                    for (p, mij) in product.iter_mut().zip(block.as_ref().col(j).iter()) {
+                        *p += mij * wj;
+                    }
                 }
             }
             if let Some((dq, dv, coef)) = iteration.as_mut() {
-                let mut block = faer::Mat::zeros(s.len(), s.len());
-                inertia::quadratic_velocity_rate_jacobian(
-                    inv,
-                    &e,
-                    qf,
-                    &e_dot,
-                    qf_dot,
-                    block.as_mut(),
-                );
+                configuration.quadratic_velocity_rate_jacobian(inv, &e_dot, qf_dot, block.as_mut());
                 for i in 0..s.len() {
                     for j in 0..s.len() {
                         dv[(s.offset + i, s.offset + j)] -= *coef * block[(i, j)];

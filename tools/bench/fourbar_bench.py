@@ -10,9 +10,11 @@ Builds the three links' pROM artifacts beside the deck in a work directory, runs
 1 ms (1000 steps) and at 0.25 ms (4000 steps, output every 4th: the same output times).
 Time: wall time of the run's "multibody" step as printed by paraflex (assembly, the time loop,
 the sensors and their output), best of --repeat runs; Newton iterations per step from the
-output's newton_iterations. Error: eq. 4.11 of the thesis, max_t ‖y(t) − y_ref(t)‖ /
-max_t ‖y_ref(t)‖, on the acceleration (AX, AY) of the coupler joint C and on the drive torque,
-over the output times the two runs share.
+output's newton_iterations. On a machine shared with other jobs the wall time can be 2–3 × the
+CPU time; compare binaries by the CPU time of a run of the kept work directory's coarse.dat
+(`perf stat -e task-clock`, docs/fourbar.md "Speed"). Error: eq. 4.11 of the thesis,
+max_t ‖y(t) − y_ref(t)‖ / max_t ‖y_ref(t)‖, on the acceleration (AX, AY) of the coupler joint C
+and on the drive torque, over the output times the two runs share.
 """
 from __future__ import annotations
 

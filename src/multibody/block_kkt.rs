@@ -1,0 +1,243 @@
+//! The GGL iteration matrix (eq. 2.60 discretized by eq. 2.61 or its BDF2 / generalized-α
+//! siblings, [`super::integrator`]) solved body by body: the bodies are independent blocks
+//! coupled only through the constraint Jacobian G = Φ_q, so after eliminating Δq with the step
+//! formula the velocity-level unknowns are solved per body and only the 2m multiplier rows
+//! form a dense Schur complement.
+//!
+//! With P = c_v K̂ + Σ λ̂ᵢ∇²Φᵢ (the q-block of the momentum rows), A₀ = M + c_v Ĉ (their
+//! v-block), V = ∂(Φ_q v + Φ_t)/∂q and the μ-Hessian of the first rows left out (μ vanishes
+//! with the step's error), J d = r for d = (Δq, Δv, Δλ̂, Δμ) reads
+//!
+//! ```text
+//! Δq − c_q Δv − Gᵀ Δμ = r₁       ⇒  Δq = r₁ + c_q Δv + Gᵀ Δμ
+//! P Δq + A₀ Δv + Gᵀ Δλ̂ = r₂      ⇒  A Δv + Gᵀ Δλ̂ + P Gᵀ Δμ = r₂ − P r₁,   A = A₀ + c_q P
+//! V Δq + G Δv = r₃               ⇒  (G + c_q V) Δv + V Gᵀ Δμ = r₃ − V r₁
+//! G Δq = r₄                      ⇒  c_q G Δv + G Gᵀ Δμ = r₄ − G r₁
+//! ```
+//!
+//! A is block diagonal when P and A₀ are: the constraint Hessians' blocks between two bodies
+//! are left out (a modified Newton matrix, like the omitted ∂(M(v − v̂))/∂q), and forces that
+//! couple two bodies (spring-dampers between them) make the caller use the dense matrix
+//! instead ([`BlockKkt::applies`]). With E = [Gᵀ, P Gᵀ], Y = A⁻¹ E (one solve per body and
+//! column) and y = (Δλ̂, Δμ),
+//!
+//! ```text
+//! S y = [r₃ − V w − G u;  r₄ − G w],   S = [0, V Gᵀ; 0, G Gᵀ] − [G + c_q V; c_q G] Y,
+//! u = A⁻¹ (r₂ − P r₁),   w = r₁ + c_q u,   Δv = u − Y y
+//! ```
+//!
+//! so a factorization is one LU per body (7 + n_f rows) and one of S (2m rows) instead of one
+//! LU of the whole matrix (2n + 2m rows).
+
+use super::dense_lu::DenseLu;
+use super::layout::{BodySlice, Layout};
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, MatRef, Par};
+
+/// The factored block form of the GGL iteration matrix (see module docs).
+pub struct BlockKkt {
+    slices: Vec<BodySlice>,
+    /// LU factors of each body's A.
+    blocks: Vec<DenseLu>,
+    /// Each body's block of P.
+    p: Vec<Mat<f64>>,
+    /// Gᵀ = Φ_qᵀ and Vᵀ = ∂(Φ_q v + Φ_t)/∂qᵀ (n × m: a row of G or V is a column here).
+    gt: Mat<f64>,
+    vt: Mat<f64>,
+    /// Y = A⁻¹ [Gᵀ, P Gᵀ] (n × 2m).
+    y: Mat<f64>,
+    /// G Y and V Y (m × 2m).
+    gy: Mat<f64>,
+    vy: Mat<f64>,
+    schur: DenseLu,
+    c_q: f64,
+    /// Scratch: u, w (n) and the Schur right-hand side (2m).
+    u: Vec<f64>,
+    w: Vec<f64>,
+    z: Vec<f64>,
+}
+
+impl BlockKkt {
+    /// Storage for the bodies of `layout` and m constraints.
+    pub fn new(layout: &Layout, m: usize) -> Self {
+        let n = layout.size();
+        let slices = layout.slices().to_vec();
+        Self {
+            blocks: slices.iter().map(|s| DenseLu::new(s.len())).collect(),
+            p: slices
+                .iter()
+                .map(|s| Mat::zeros(s.len(), s.len()))
+                .collect(),
+            slices,
+            gt: Mat::zeros(n, m),
+            vt: Mat::zeros(n, m),
+            y: Mat::zeros(n, 2 * m),
+            gy: Mat::zeros(m, 2 * m),
+            vy: Mat::zeros(m, 2 * m),
+            schur: DenseLu::new(2 * m),
+            c_q: 0.0,
+            u: vec![0.0; n],
+            w: vec![0.0; n],
+            z: vec![0.0; 2 * m],
+        }
+    }
+
+    /// Whether the n × n matrices (the mass matrix, K̂, Ĉ) are zero outside the bodies'
+    /// diagonal blocks, so that the block form is the caller's matrix.
+    pub fn applies(&self, matrices: &[MatRef<'_, f64>]) -> bool {
+        matrices.iter().all(|a| {
+            self.slices.iter().all(|s| {
+                (0..a.ncols())
+                    .filter(|&j| j < s.offset || j >= s.offset + s.len())
+                    .all(|j| (s.offset..s.offset + s.len()).all(|i| a[(i, j)] == 0.0))
+            })
+        })
+    }
+
+    /// Factors the matrix of the module docs from A₀ (n × n, read on the body blocks), P (n × n,
+    /// read on the body blocks), G, V (m × n) and c_q.
+    pub fn factor(
+        &mut self,
+        a0: MatRef<'_, f64>,
+        p: MatRef<'_, f64>,
+        g: MatRef<'_, f64>,
+        v: MatRef<'_, f64>,
+        c_q: f64,
+    ) {
+        let m = g.nrows();
+        self.c_q = c_q;
+        self.gt.copy_from(g.transpose());
+        self.vt.copy_from(v.transpose());
+        for ((s, lu), pb) in self.slices.iter().zip(&mut self.blocks).zip(&mut self.p) {
+            let (o, len) = (s.offset, s.len());
+            pb.copy_from(p.submatrix(o, o, len, len));
+            let mut a = lu.matrix_mut();
+            for j in 0..len {
+                for i in 0..len {
+                    a[(i, j)] = a0[(o + i, o + j)] + c_q * pb[(i, j)];
+                }
+            }
+            lu.factor();
+        }
+        // Y = A⁻¹ [Gᵀ, P Gᵀ], column by column
+        for k in 0..m {
+            let row = self.gt.col_as_slice(k);
+            self.y.col_as_slice_mut(k).copy_from_slice(row);
+            let column = self.y.col_as_slice_mut(m + k);
+            column.fill(0.0);
+            for (s, pb) in self.slices.iter().zip(&self.p) {
+                let block = &mut column[s.offset..s.offset + s.len()];
+                block_mul(pb.as_ref(), s.offset, |j| row[j], block);
+            }
+        }
+        for j in 0..2 * m {
+            let column = self.y.col_as_slice_mut(j);
+            for (s, lu) in self.slices.iter().zip(&mut self.blocks) {
+                lu.solve(&mut column[s.offset..s.offset + s.len()]);
+            }
+        }
+        matmul(
+            self.gy.as_mut(),
+            Accum::Replace,
+            self.gt.transpose(),
+            self.y.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        matmul(
+            self.vy.as_mut(),
+            Accum::Replace,
+            self.vt.transpose(),
+            self.y.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        let mut s = self.schur.matrix_mut();
+        for j in 0..2 * m {
+            for i in 0..m {
+                s[(i, j)] = -self.gy[(i, j)] - c_q * self.vy[(i, j)];
+                s[(m + i, j)] = -c_q * self.gy[(i, j)];
+            }
+        }
+        // [V Gᵀ; G Gᵀ] in the Δμ columns
+        matmul(
+            s.as_mut().submatrix_mut(0, m, m, m),
+            Accum::Add,
+            self.vt.transpose(),
+            self.gt.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        matmul(
+            s.as_mut().submatrix_mut(m, m, m, m),
+            Accum::Add,
+            self.gt.transpose(),
+            self.gt.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        self.schur.factor();
+    }
+
+    /// r = (r₁, r₂, r₃, r₄) ← (Δq, Δv, Δλ̂, Δμ) (module docs).
+    pub fn solve(&mut self, r: &mut [f64]) {
+        let (n, m) = (self.gt.nrows(), self.gt.ncols());
+        let c_q = self.c_q;
+        let (r1, rest) = r.split_at_mut(n);
+        let (r2, rest) = rest.split_at_mut(n);
+        let (r34, _) = rest.split_at_mut(2 * m);
+        // u = A⁻¹ (r₂ − P r₁)
+        self.u.copy_from_slice(r2);
+        for ((s, pb), lu) in self.slices.iter().zip(&self.p).zip(&mut self.blocks) {
+            let block = &mut self.u[s.offset..s.offset + s.len()];
+            block_mul(pb.as_ref(), s.offset, |j| -r1[j], block);
+            lu.solve(block);
+        }
+        for ((w, r), u) in self.w.iter_mut().zip(r1.iter()).zip(&self.u) {
+            *w = r + c_q * u;
+        }
+        for k in 0..m {
+            let (gk, vk) = (self.gt.col_as_slice(k), self.vt.col_as_slice(k));
+            let (mut z3, mut z4) = (r34[k], r34[m + k]);
+            for j in 0..n {
+                z3 -= vk[j] * self.w[j] + gk[j] * self.u[j];
+                z4 -= gk[j] * self.w[j];
+            }
+            self.z[k] = z3;
+            self.z[m + k] = z4;
+        }
+        self.schur.solve(&mut self.z);
+        // Δv = u − Y y, Δq = r₁ + c_q Δv + Gᵀ Δμ
+        r2.copy_from_slice(&self.u);
+        for (j, &yj) in self.z.iter().enumerate() {
+            if yj != 0.0 {
+                for (x, yij) in r2.iter_mut().zip(self.y.col_as_slice(j)) {
+                    *x -= yij * yj;
+                }
+            }
+        }
+        for i in 0..n {
+            r1[i] += c_q * r2[i];
+        }
+        for k in 0..m {
+            let mu = self.z[m + k];
+            for (x, gkj) in r1.iter_mut().zip(self.gt.col_as_slice(k)) {
+                *x += gkj * mu;
+            }
+        }
+        r34.copy_from_slice(&self.z);
+    }
+}
+
+/// out += P_b x_b for one body's block P_b, its coordinates from `offset` on (x read through
+/// `x(j)` with j the system index).
+fn block_mul(pb: MatRef<'_, f64>, offset: usize, x: impl Fn(usize) -> f64, out: &mut [f64]) {
+    for j in 0..pb.ncols() {
+        let xj = x(offset + j);
+        if xj != 0.0 {
+            for (o, pij) in out.iter_mut().zip(pb.col(j).iter()) {
+                *o += pij * xj;
+            }
+        }
+    }
+}
