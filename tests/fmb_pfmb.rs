@@ -35,8 +35,9 @@ fn run_in(dir: &Path, name: &str, text: &str) -> Result<hdf5_metno::File, String
 
 /// A flexible mechanism using every kind of card the artifact stores: the strip body on a
 /// driven revolute at its root, a rigid tip mass fixed to its tip, a point force on the mass
-/// from a table, a point spring-damper from the mass to the ground, a joint spring on a
-/// second (undriven) revolute of a rigid pendulum, and one output of each kind.
+/// from a table, a point spring-damper from the mass to the ground, a joint spring on a second
+/// (undriven) revolute of a rigid pendulum and a moment about that revolute from the same
+/// table, and one output of each kind.
 const MECHANISM: &str = "\
 FLEXB,1,STRIP,'strip_body.h5'
 RIGIDB,2,TIP,0.01,,0.3,0.015,0.
@@ -56,6 +57,7 @@ JDRIVE,1,1,5,0.5
 TABLED1,5
 ,0.,0.,1.,1.,ENDT
 MFORCE,1,20,6,0.2,0.,0.,1.
+MMOMENT,2,40,6,1.e-3,1.,0.,0.
 TABLED1,6
 ,0.,0.,0.05,1.,ENDT
 SPDMP,1,21,30,50.,0.05
