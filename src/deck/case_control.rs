@@ -343,15 +343,14 @@ impl CaseControl {
         let st = split_statement(text);
         let word = st.word.to_ascii_uppercase();
         let err = |msg: String| DeckError::at(loc, msg).on_card(word.clone());
-        if word == "OUTPUT" {
-            if let Some(section) = st
+        if word == "OUTPUT"
+            && let Some(section) = st
                 .describers
                 .iter()
                 .find(|d| PLOTTER_SECTIONS.contains(&d.as_str()))
-            {
-                self.plotter_section = Some((loc.clone(), section.clone(), 0));
-                return;
-            }
+        {
+            self.plotter_section = Some((loc.clone(), section.clone(), 0));
+            return;
         }
         match word.as_str() {
             "TITLE" | "SUBTITLE" | "LABEL" => {
