@@ -116,6 +116,10 @@ fn bad_mmoment_and_tstepvar_cards_name_the_card_and_field() {
             "TSTEPVAR,1,1.e-4,,1.e-3,1.e-4\n".to_string(),
             ["TSTEPVAR 1", "HMAX", "below HMIN"],
         ),
+        (
+            "TSTEPVAR,2,1.e-4\n".to_string(),
+            ["TSTEPVAR 2", "ID = 2 does not exist", "no TSTEP 2"],
+        ),
     ] {
         let message = errors(&pendulum().replace("ENDDATA", &format!("{cards}ENDDATA")));
         assert!(!message.is_empty(), "accepted:\n{cards}");

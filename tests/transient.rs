@@ -170,6 +170,23 @@ fn full_model_and_prom_transients_agree() {
     }
 }
 
+/// A TSTEPVAR on the TSTEP of a SOL TRANSIENT asks for step control that only SOL FMB has: the
+/// run stops and says so instead of running the fixed steps silently.
+#[test]
+fn tstepvar_is_refused_by_sol_transient() {
+    let chain = TwoDofChain::reference();
+    let deck = format!(
+        "SOL 112\nCEND\nTSTEP = 1\nDLOAD = 7\nBEGIN BULK\nTSTEP,1,20,1.e-4,1\nTSTEPVAR,1,1.e-4\nTLOAD1,7,8,,,9\nDAREA,8,2,1,1.\nTABLED1,9\n,0.,1.,10.,1.,ENDT\n{}ENDDATA\n",
+        chain.bulk()
+    );
+    let (r, _out) = run_deck(&deck);
+    let message = r.expect_err("TSTEPVAR in SOL 112").to_string();
+    assert!(
+        message.contains("TSTEPVAR 1 asks for error-controlled steps, which only SOL FMB takes"),
+        "{message}"
+    );
+}
+
 /// Builds the 2-DOF chain's pROM (parameter K1 = k₁ over [5e3, 5e4]; both DOFs are inputs,
 /// so the basis spans the whole space) and returns its directory.
 fn chain_prom(chain: &TwoDofChain) -> tempfile::TempDir {

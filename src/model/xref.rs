@@ -361,14 +361,16 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         errors,
     );
 
-    for t in &b.tinteg {
-        if !tsteps.contains_key(&t.id) {
+    let tstep_settings = b
+        .tinteg
+        .iter()
+        .map(|t| (t.id, &t.loc, "TINTEG"))
+        .chain(b.tstepvar.iter().map(|t| (t.id, &t.loc, "TSTEPVAR")));
+    for (id, loc, card) in tstep_settings {
+        if !tsteps.contains_key(&id) {
             errors.push(
-                DeckError::at(
-                    &t.loc,
-                    format!("ID = {} does not exist (no TSTEP {})", t.id, t.id),
-                )
-                .on_card(format!("TINTEG {}", t.id)),
+                DeckError::at(loc, format!("ID = {id} does not exist (no TSTEP {id})"))
+                    .on_card(format!("{card} {id}")),
             );
         }
     }

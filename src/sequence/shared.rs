@@ -27,6 +27,11 @@ pub fn method_of<'a>(
     let tstep = model
         .tstep(sid)
         .ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
+    if model.tstepvar(sid).is_some() {
+        return Err(case(format!(
+            "TSTEPVAR {sid} asks for error-controlled steps, which only SOL FMB takes; SOL TRANSIENT runs the fixed steps of TSTEP {sid} (remove the TSTEPVAR card)"
+        )));
+    }
     let (method, name) = match model.tinteg(sid).map(|t| (t.method, t.rho_inf)) {
         None | Some((TintegMethod::Bdf1, _)) => (Method::Bdf1, "BDF1".to_string()),
         Some((TintegMethod::Bdf2, _)) => (Method::Bdf2, "BDF2".to_string()),

@@ -394,7 +394,7 @@ pub struct Tinteg {
 
 /// `TSTEPVAR` — error-controlled steps for the `TSTEP` of the same id (`SOL FMB`); delete the card to return to the TSTEP's fixed Δt.
 ///
-/// The TSTEP keeps its output times (every NO-th step of each interval) and its first Δt is the first step; between outputs the GGL integrator chooses each step so that the estimated local error of every coordinate of q stays below ATOL + RTOL·|q| (docs/multibody-benchmarks.md). The achieved steps, rejections and largest estimate are written as attributes of `/results/<id>/fmb`.
+/// The TSTEP keeps its output times (every NO-th step of each interval) and its first Δt is the first step; between outputs the GGL integrator chooses each step so that the estimated local error of every coordinate of q stays below ATOL + RTOL·|q| (docs/multibody-benchmarks.md). The achieved steps, rejections and largest estimate are written as attributes of `/results/<id>/fmb`. SOL TRANSIENT (109/112) refuses a TSTEP with a TSTEPVAR rather than run fixed steps in its place.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
