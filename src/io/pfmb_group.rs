@@ -144,14 +144,8 @@ pub fn write_pfmb(group: &Group, pfmb: &Pfmb) -> Result<(), IoError> {
     let marker_id = |index: usize| m.markers[index].id;
     let markers = create_group(group, "markers")?;
     let n = m.markers.len();
-    write_u32(
-        &markers,
-        "ids",
-        &m.markers.iter().map(|x| x.id).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    let bodies_of: Vec<u32> = m.markers.iter().map(|x| body_id(x.body)).collect();
-    write_u32(&markers, "body", &bodies_of, &[n])?;
+    u32_column(&markers, "ids", &m.markers, |x| x.id)?;
+    u32_column(&markers, "body", &m.markers, |x| body_id(x.body))?;
     let (grids, points): (Vec<u32>, Vec<[f64; 3]>) = m
         .markers
         .iter()
@@ -164,23 +158,13 @@ pub fn write_pfmb(group: &Group, pfmb: &Pfmb) -> Result<(), IoError> {
     write_rows3(&markers, "point", &points)?;
 
     let joints = create_group(group, "joints")?;
-    let n = m.joints.len();
-    write_u32(
-        &joints,
-        "ids",
-        &m.joints.iter().map(|x| x.id).collect::<Vec<_>>(),
-        &[n],
-    )?;
+    u32_column(&joints, "ids", &m.joints, |x| x.id)?;
     let types: Vec<&str> = m.joints.iter().map(|x| x.kind.keyword()).collect();
     write_strings(&joints, "types", &types)?;
-    let first: Vec<u32> = m.joints.iter().map(|x| marker_id(x.first)).collect();
-    write_u32(&joints, "first", &first, &[n])?;
-    let second: Vec<u32> = m
-        .joints
-        .iter()
-        .map(|x| x.second.map_or(0, marker_id))
-        .collect();
-    write_u32(&joints, "second", &second, &[n])?;
+    u32_column(&joints, "first", &m.joints, |x| marker_id(x.first))?;
+    u32_column(&joints, "second", &m.joints, |x| {
+        x.second.map_or(0, marker_id)
+    })?;
     write_rows3(
         &joints,
         "axis",
@@ -189,134 +173,44 @@ pub fn write_pfmb(group: &Group, pfmb: &Pfmb) -> Result<(), IoError> {
 
     let joint_id = |index: usize| m.joints[index].id;
     let drives = create_group(group, "drives")?;
-    let n = m.drives.len();
-    write_u32(
-        &drives,
-        "ids",
-        &m.drives.iter().map(|x| x.id).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    let joint_of: Vec<u32> = m.drives.iter().map(|x| joint_id(x.joint)).collect();
-    write_u32(&drives, "joint", &joint_of, &[n])?;
-    write_u32(
-        &drives,
-        "table",
-        &m.drives.iter().map(|x| x.table).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    write_f64(
-        &drives,
-        "scale",
-        &m.drives.iter().map(|x| x.scale).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    let compliant: Vec<u32> = m
-        .drives
-        .iter()
-        .map(|x| u32::from(x.compliance.is_some()))
-        .collect();
-    write_u32(&drives, "compliant", &compliant, &[n])?;
-    let (k, c): (Vec<f64>, Vec<f64>) = m
-        .drives
-        .iter()
-        .map(|x| x.compliance.unwrap_or((0.0, 0.0)))
-        .unzip();
-    write_f64(&drives, "stiffness", &k, &[n])?;
-    write_f64(&drives, "damping", &c, &[n])?;
+    u32_column(&drives, "ids", &m.drives, |x| x.id)?;
+    u32_column(&drives, "joint", &m.drives, |x| joint_id(x.joint))?;
+    u32_column(&drives, "table", &m.drives, |x| x.table)?;
+    f64_column(&drives, "scale", &m.drives, |x| x.scale)?;
+    let d = &m.drives;
+    u32_column(&drives, "compliant", d, |x| {
+        u32::from(x.compliance.is_some())
+    })?;
+    f64_column(&drives, "stiffness", d, |x| {
+        x.compliance.map_or(0.0, |(k, _)| k)
+    })?;
+    f64_column(&drives, "damping", d, |x| {
+        x.compliance.map_or(0.0, |(_, c)| c)
+    })?;
 
     let springs = create_group(group, "joint_springs")?;
     let s = &m.joint_springs;
-    let n = s.len();
-    write_u32(
-        &springs,
-        "ids",
-        &s.iter().map(|x| x.id).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    write_u32(
-        &springs,
-        "joint",
-        &s.iter().map(|x| joint_id(x.joint)).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    write_f64(
-        &springs,
-        "stiffness",
-        &s.iter().map(|x| x.stiffness).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    write_f64(
-        &springs,
-        "damping",
-        &s.iter().map(|x| x.damping).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    write_f64(
-        &springs,
-        "rest",
-        &s.iter().map(|x| x.rest).collect::<Vec<_>>(),
-        &[n],
-    )?;
+    u32_column(&springs, "ids", s, |x| x.id)?;
+    u32_column(&springs, "joint", s, |x| joint_id(x.joint))?;
+    f64_column(&springs, "stiffness", s, |x| x.stiffness)?;
+    f64_column(&springs, "damping", s, |x| x.damping)?;
+    f64_column(&springs, "rest", s, |x| x.rest)?;
 
     let springs = create_group(group, "point_springs")?;
     let s = &m.point_springs;
-    let n = s.len();
-    write_u32(
-        &springs,
-        "ids",
-        &s.iter().map(|x| x.id).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    write_u32(
-        &springs,
-        "first",
-        &s.iter().map(|x| marker_id(x.first)).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    let second: Vec<u32> = s.iter().map(|x| marker_id(x.second)).collect();
-    write_u32(&springs, "second", &second, &[n])?;
-    write_f64(
-        &springs,
-        "stiffness",
-        &s.iter().map(|x| x.stiffness).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    write_f64(
-        &springs,
-        "damping",
-        &s.iter().map(|x| x.damping).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    let length: Vec<f64> = s.iter().map(|x| x.length.unwrap_or(f64::NAN)).collect();
-    write_f64(&springs, "length", &length, &[n])?;
+    u32_column(&springs, "ids", s, |x| x.id)?;
+    u32_column(&springs, "first", s, |x| marker_id(x.first))?;
+    u32_column(&springs, "second", s, |x| marker_id(x.second))?;
+    f64_column(&springs, "stiffness", s, |x| x.stiffness)?;
+    f64_column(&springs, "damping", s, |x| x.damping)?;
+    f64_column(&springs, "length", s, |x| x.length.unwrap_or(f64::NAN))?;
 
     let forces = create_group(group, "forces")?;
     let f = &m.forces;
-    let n = f.len();
-    write_u32(
-        &forces,
-        "ids",
-        &f.iter().map(|x| x.id).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    write_u32(
-        &forces,
-        "marker",
-        &f.iter().map(|x| marker_id(x.marker)).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    write_u32(
-        &forces,
-        "table",
-        &f.iter().map(|x| x.table).collect::<Vec<_>>(),
-        &[n],
-    )?;
-    write_f64(
-        &forces,
-        "scale",
-        &f.iter().map(|x| x.scale).collect::<Vec<_>>(),
-        &[n],
-    )?;
+    u32_column(&forces, "ids", f, |x| x.id)?;
+    u32_column(&forces, "marker", f, |x| marker_id(x.marker))?;
+    u32_column(&forces, "table", f, |x| x.table)?;
+    f64_column(&forces, "scale", f, |x| x.scale)?;
     write_rows3(
         &forces,
         "direction",
@@ -328,12 +222,7 @@ pub fn write_pfmb(group: &Group, pfmb: &Pfmb) -> Result<(), IoError> {
     let sensors = create_group(group, "sensors")?;
     let s = &m.sensors;
     let n = s.len();
-    write_u32(
-        &sensors,
-        "ids",
-        &s.iter().map(|x| x.id).collect::<Vec<_>>(),
-        &[n],
-    )?;
+    u32_column(&sensors, "ids", s, |x| x.id)?;
     write_strings(
         &sensors,
         "names",
@@ -884,6 +773,28 @@ fn read_flexible(r: &Reader<'_>) -> Result<ParametricBody, IoError> {
         interfaces,
         strain_sensors,
     })
+}
+
+/// One 1-D u32 dataset `name` of `group`: `value` of each item.
+fn u32_column<T>(
+    group: &Group,
+    name: &str,
+    items: &[T],
+    value: impl Fn(&T) -> u32,
+) -> Result<(), IoError> {
+    let column: Vec<u32> = items.iter().map(value).collect();
+    write_u32(group, name, &column, &[column.len()]).map(drop)
+}
+
+/// One 1-D f64 dataset `name` of `group`: `value` of each item.
+fn f64_column<T>(
+    group: &Group,
+    name: &str,
+    items: &[T],
+    value: impl Fn(&T) -> f64,
+) -> Result<(), IoError> {
+    let column: Vec<f64> = items.iter().map(value).collect();
+    write_f64(group, name, &column, &[column.len()]).map(drop)
 }
 
 /// The stored name of a marker load's kind: its card.
