@@ -226,3 +226,25 @@ ENDDATA
         );
     }
 }
+
+/// A second GRDSET is an error naming both cards; a GRDSET CP that does not exist is reported on
+/// every GRID that takes it (the GRID's line, where the location is read).
+#[test]
+fn a_second_grdset_and_a_missing_grdset_system_are_errors() {
+    let deck =
+        "BEGIN BULK\nGRDSET,,7\nGRDSET,,,,,,,6\nGRID,1,,0.,0.,0.\nGRID,2,0,1.,0.,0.\nENDDATA\n";
+    let errors = build(deck).expect_err("two GRDSETs");
+    assert!(
+        errors
+            .iter()
+            .any(|e| e.contains(":3: GRDSET") && e.contains("a second GRDSET")),
+        "{errors:#?}"
+    );
+    assert!(
+        errors
+            .iter()
+            .any(|e| e.contains(":4: GRID 1") && e.contains("CP = 7 does not exist")),
+        "{errors:#?}"
+    );
+    assert!(!errors.iter().any(|e| e.contains("GRID 2")), "{errors:#?}");
+}

@@ -144,7 +144,7 @@ impl Refs<'_> {
         let found = self.coords.get(&id);
         if found.is_none() {
             errors.push(
-                DeckError::at(loc, format!("{field} = {id} does not exist or is in error (no usable CORD2R/CORD2C {id})"))
+                DeckError::at(loc, format!("{field} = {id} does not exist or is in error (no usable CORD2R/CORD2C/CORD2S {id})"))
                     .on_card(card),
             );
         }
@@ -168,23 +168,29 @@ fn build_grids(
     );
     let mut order: Vec<usize> = unique.into_values().collect();
     order.sort_by_key(|&i| bulk.grids[i].id);
+    let defaults = grid_defaults(&bulk.grdset, errors);
     let mut grids = Vec::with_capacity(order.len());
     for i in order {
         let g = &bulk.grids[i];
         let card = format!("GRID {}", g.id);
+        let (cp, cd, ps) = (
+            g.cp.unwrap_or(defaults.cp),
+            g.cd.unwrap_or(defaults.cd),
+            g.ps.unwrap_or(defaults.ps),
+        );
         if !g.x.iter().all(|v| v.is_finite()) {
             errors
                 .push(DeckError::at(&g.loc, "X1-X3 must be finite numbers").on_card(card.clone()));
         }
-        let xyz = match coords.get(&g.cp) {
+        let xyz = match coords.get(&cp) {
             Some(sys) => sys.point_to_basic(g.x),
             None => {
                 errors.push(
                     DeckError::at(
                         &g.loc,
                         format!(
-                            "CP = {} does not exist or is in error (no usable CORD2R/CORD2C {})",
-                            g.cp, g.cp
+                            "CP = {} does not exist or is in error (no usable CORD2R/CORD2C/CORD2S {})",
+                            cp, cp
                         ),
                     )
                     .on_card(card.clone()),
@@ -192,13 +198,13 @@ fn build_grids(
                 g.x
             }
         };
-        match coords.get(&g.cd) {
+        match coords.get(&cd) {
             None => errors.push(
-                DeckError::at(&g.loc, format!("CD = {} does not exist or is in error (no usable CORD2R/CORD2C {})", g.cd, g.cd))
+                DeckError::at(&g.loc, format!("CD = {} does not exist or is in error (no usable CORD2R/CORD2C/CORD2S {})", cd, cd))
                     .on_card(card),
             ),
             Some(sys) if sys.on_polar_axis(xyz) => errors.push(
-                DeckError::at(&g.loc, format!("CD = {}: the grid lies on the polar axis of this cylindrical system, where its radial and tangential directions are undefined (as in Nastran); give the grid a rectangular CD", g.cd))
+                DeckError::at(&g.loc, format!("CD = {}: the grid lies on the polar axis of this cylindrical or spherical system, where its local directions are undefined (as in Nastran); give the grid a rectangular CD", cd))
                     .on_card(card),
             ),
             Some(_) => {}
@@ -206,14 +212,53 @@ fn build_grids(
         grids.push(GridPoint {
             id: g.id,
             xyz,
-            cp: g.cp,
-            cd: g.cd,
-            ps: g.ps,
+            cp,
+            cd,
+            ps,
             loc: g.loc.clone(),
         });
     }
     let grid_index = grids.iter().enumerate().map(|(i, g)| (g.id, i)).collect();
     (grids, grid_index)
+}
+
+/// The `GRDSET` defaults for blank GRID CP, CD and PS (all zero / none without one); a second
+/// `GRDSET` is an error (Nastran allows one).
+fn grid_defaults(
+    cards: &[crate::deck::cards::Grdset],
+    errors: &mut Vec<DeckError>,
+) -> GridDefaults {
+    for extra in cards.iter().skip(1) {
+        errors.push(
+            DeckError::at(
+                &extra.loc,
+                format!(
+                    "a second GRDSET (the first is at {}); a deck has at most one",
+                    cards[0].loc
+                ),
+            )
+            .on_card("GRDSET".to_string()),
+        );
+    }
+    cards.first().map_or(
+        GridDefaults {
+            cp: 0,
+            cd: 0,
+            ps: crate::card_values::Dofs::NONE,
+        },
+        |g| GridDefaults {
+            cp: g.cp,
+            cd: g.cd,
+            ps: g.ps,
+        },
+    )
+}
+
+/// CP, CD and PS of a GRID whose field is blank.
+struct GridDefaults {
+    cp: u32,
+    cd: u32,
+    ps: crate::card_values::Dofs,
 }
 
 fn index_properties(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32, PropertyRef> {

@@ -1,4 +1,4 @@
-//! Coordinate systems: `CORD2R` / `CORD2C` resolved to the basic system.
+//! Coordinate systems: `CORD2R` / `CORD2C` / `CORD2S` resolved to the basic system.
 //!
 //! A `CORD2x` gives three points A (origin), B (on the local z axis) and C (in the local x–z
 //! plane) in its reference system RID. The axes follow the Nastran construction:
@@ -11,7 +11,8 @@
 //! degenerate definition (A = B, or C on the A–B line) is an error on the offending card; a
 //! system whose RID is itself in error is skipped silently (the root cause is reported once).
 //!
-//! Point coordinates in a system: rectangular (x, y, z); cylindrical (r, θ in degrees, z).
+//! Point coordinates in a system: rectangular (x, y, z); cylindrical (r, θ in degrees, z);
+//! spherical (r, θ from the local z axis, φ about z from the local x axis, both in degrees).
 
 use std::collections::HashMap;
 
@@ -46,7 +47,8 @@ impl CoordSystem {
         }
     }
 
-    /// Point coordinates of this system (r, θ°, z for cylindrical) → basic.
+    /// Point coordinates of this system (r, θ°, z for cylindrical; r, θ°, φ° for spherical) →
+    /// basic.
     pub fn point_to_basic(&self, p: [f64; 3]) -> [f64; 3] {
         add(self.origin, self.vector_to_basic(self.to_cartesian(p)))
     }
@@ -57,13 +59,19 @@ impl CoordSystem {
         add(add(scale(i, v[0]), scale(j, v[1])), scale(k, v[2]))
     }
 
-    /// Local coordinates (r, θ°, z for cylindrical) → local Cartesian (x, y, z).
+    /// Local coordinates (r, θ°, z for cylindrical; r, θ°, φ° for spherical) → local Cartesian
+    /// (x, y, z).
     pub fn to_cartesian(&self, p: [f64; 3]) -> [f64; 3] {
         match self.kind {
             CordKind::Rectangular => p,
             CordKind::Cylindrical => {
                 let t = p[1].to_radians();
                 [p[0] * t.cos(), p[0] * t.sin(), p[2]]
+            }
+            CordKind::Spherical => {
+                let (st, ct) = p[1].to_radians().sin_cos();
+                let (sf, cf) = p[2].to_radians().sin_cos();
+                [p[0] * st * cf, p[0] * st * sf, p[0] * ct]
             }
         }
     }
@@ -75,44 +83,47 @@ impl CoordSystem {
         [dot(d, i), dot(d, j), dot(d, k)]
     }
 
-    /// Whether basic point `p` lies on the polar axis of a cylindrical system, where e_r and
-    /// e_θ are undefined: r at or below the round-off of p − origin, 64 ε (|p| + |origin|).
-    /// Always false for a rectangular system.
+    /// Whether basic point `p` lies on the polar axis (the local z axis) of a cylindrical or
+    /// spherical system, where the local directions are undefined (e_r, e_θ of a cylinder; e_θ,
+    /// e_φ of a sphere, and all three at its origin): the distance from the axis at or below the
+    /// round-off of p − origin, 64 ε (|p| + |origin|). Always false for a rectangular system.
     pub fn on_polar_axis(&self, p: [f64; 3]) -> bool {
         let l = self.basic_to_local_cartesian(p);
-        self.kind == CordKind::Cylindrical
+        self.kind != CordKind::Rectangular
             && l[0].hypot(l[1]) <= 64.0 * f64::EPSILON * (norm(p) + norm(self.origin))
     }
 
     /// The 3×3 matrix T whose columns are the local Cartesian axes *at basic point `p`* in
-    /// basic: (i, j, k) for rectangular, (e_r, e_θ, e_z) for cylindrical. A vector with local
-    /// components v has basic components T·v. On the polar axis ([`Self::on_polar_axis`]) θ = 0
-    /// (e_r = i, e_θ = j), not the angle of the last bits of p; a GRID there may not use the
-    /// system as its CD (model build refuses it, as Nastran does).
+    /// basic: (i, j, k) for rectangular, (e_r, e_θ, e_z) for cylindrical, (e_r, e_θ, e_φ) for
+    /// spherical. A vector with local components v has basic components T·v. On the polar axis
+    /// ([`Self::on_polar_axis`]) the azimuth is 0 (cylindrical e_r = i, e_θ = j; spherical
+    /// e_r = ±k, e_θ = ±i, e_φ = j, with θ = 0 at the origin), not the angle of the last bits of
+    /// p; a GRID there may not use the system as its CD (model build refuses it, as Nastran does).
     pub fn axes_at(&self, p: [f64; 3]) -> [[f64; 3]; 3] {
         let [i, j, k] = self.axes;
-        let (ex, ey) = match self.kind {
-            CordKind::Rectangular => (i, j),
-            CordKind::Cylindrical => {
-                let l = self.basic_to_local_cartesian(p);
-                let t = if self.on_polar_axis(p) {
-                    0.0
-                } else {
-                    l[1].atan2(l[0])
-                };
-                let (s, c) = t.sin_cos();
-                (
-                    add(scale(i, c), scale(j, s)),
-                    add(scale(i, -s), scale(j, c)),
-                )
+        let l = self.basic_to_local_cartesian(p);
+        let azimuth = if self.on_polar_axis(p) {
+            0.0
+        } else {
+            l[1].atan2(l[0])
+        };
+        let (s, c) = azimuth.sin_cos();
+        let radial = add(scale(i, c), scale(j, s));
+        let tangential = add(scale(i, -s), scale(j, c));
+        let columns = match self.kind {
+            CordKind::Rectangular => [i, j, k],
+            CordKind::Cylindrical => [radial, tangential, k],
+            CordKind::Spherical => {
+                // polar angle from +z; 0 at the origin and on the +z half-axis, π on −z
+                let (st, ct) = l[0].hypot(l[1]).atan2(l[2]).sin_cos();
+                [
+                    add(scale(radial, st), scale(k, ct)),
+                    add(scale(radial, ct), scale(k, -st)),
+                    tangential,
+                ]
             }
         };
-        // columns ex, ey, k
-        [
-            [ex[0], ey[0], k[0]],
-            [ex[1], ey[1], k[1]],
-            [ex[2], ey[2], k[2]],
-        ]
+        std::array::from_fn(|row| std::array::from_fn(|col| columns[col][row]))
     }
 }
 
@@ -144,7 +155,7 @@ pub fn resolve(cards: &[Cord2], errors: &mut Vec<DeckError>) -> HashMap<u32, Coo
                     break Err(Some(err(
                         last,
                         format!(
-                            "RID = {} does not exist (no CORD2R/CORD2C with this id)",
+                            "RID = {} does not exist (no CORD2R/CORD2C/CORD2S with this id)",
                             last.rid
                         ),
                     )));
@@ -197,6 +208,7 @@ pub fn kind_name(kind: CordKind) -> &'static str {
     match kind {
         CordKind::Rectangular => "CORD2R",
         CordKind::Cylindrical => "CORD2C",
+        CordKind::Spherical => "CORD2S",
     }
 }
 
@@ -317,6 +329,57 @@ mod tests {
         // 1e-9 off the axis along −y: e_r = −y
         let off = sys[&3].axes_at([0.0, 1.0 - 1e-9, 5.0]);
         assert!(off[1][0] + 1.0 < 1e-12 && off[0][0].abs() < 1e-6, "{off:?}");
+    }
+
+    /// A spherical system tilted in basic: a point given as (r, θ, φ) lands at r from the origin,
+    /// θ from the system's z axis and φ from its x–z plane; the local axes there are e_r along
+    /// the radius, e_φ = k × e_r / |k × e_r| and e_θ = e_φ × e_r (right-handed), each checked
+    /// without the formulas of `to_cartesian`/`axes_at`; on the polar axis e_φ = j.
+    #[test]
+    fn spherical_point_and_axes() {
+        let sph = card(
+            4,
+            CordKind::Spherical,
+            0,
+            [1., 2., 3.],
+            [1.3, 2.4, 4.],
+            [2., 2., 3.],
+        );
+        let mut errors = Vec::new();
+        let sys = resolve(&[sph], &mut errors);
+        assert!(errors.is_empty());
+        let s = &sys[&4];
+        let [i, j, k] = s.axes;
+        for (r, theta, phi) in [(2.0, 30.0, 40.0), (0.5, 120.0, -75.0), (3.0, 90.0, 180.0)] {
+            let p = s.point_to_basic([r, theta, phi]);
+            let d = sub(p, s.origin);
+            let (rho, t, f) = (norm(d), theta.to_radians(), phi.to_radians());
+            assert!((rho - r).abs() < 1e-14 * r, "{rho} vs {r}");
+            assert!((dot(d, k) / rho - t.cos()).abs() < 1e-14);
+            assert!(
+                (dot(d, j).atan2(dot(d, i)) - f).abs() < 1e-13 || f.abs() == std::f64::consts::PI
+            );
+            let t_at = s.axes_at(p);
+            let col = |c: usize| [t_at[0][c], t_at[1][c], t_at[2][c]];
+            let e_r = scale(d, 1.0 / rho);
+            let kr = cross(k, e_r);
+            let e_phi = scale(kr, 1.0 / norm(kr));
+            let e_theta = cross(e_phi, e_r);
+            for (c, e) in [(0, e_r), (1, e_theta), (2, e_phi)] {
+                assert!(
+                    norm(sub(col(c), e)) < 1e-14,
+                    "r {r} θ {theta} φ {phi} axis {c}"
+                );
+            }
+        }
+        // polar axis: φ = 0, e_r = ±k, e_φ = j
+        let top = s.point_to_basic([2.0, 0.0, 0.0]);
+        assert!(s.on_polar_axis(top));
+        let t_at = s.axes_at(top);
+        assert!(
+            (0..3).all(|row| (t_at[row][0] - k[row]).abs() < 1e-15
+                && (t_at[row][2] - j[row]).abs() < 1e-15)
+        );
     }
 
     #[test]

@@ -31,7 +31,7 @@ pub use extension::{
     Pmor, PmorRigid, PmorStatic, Pmpar, Ptable, Pval, Sensor, Tablef, Tinteg, TintegMethod,
     Tstepvar,
 };
-pub use geometry::{Cord2, CordKind, Grid};
+pub use geometry::{Cord2, CordKind, Grdset, Grid};
 pub use loads::{Force, Grav, Load};
 pub use materials::{Mat1, Mat8};
 pub use multibody::{Flexb, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
@@ -47,6 +47,7 @@ use crate::card_values::ForceKind;
 #[derive(Debug, Default, Clone)]
 pub struct BulkData {
     pub grids: Vec<Grid>,
+    pub grdset: Vec<Grdset>,
     pub coords: Vec<Cord2>,
     pub cquad4: Vec<Cquad4>,
     pub ctria3: Vec<Ctria3>,
@@ -116,11 +117,15 @@ pub type CardParser = fn(&RawCard, &mut BulkData) -> Result<(), Vec<DeckError>>;
 #[allow(clippy::unit_arg)] // one line per card: `Ok(push(parsed?))` stores the card and returns Ok(())
 pub static PARSERS: &[(&str, CardParser)] = &[
     ("GRID", |c, b| Ok(b.grids.push(Grid::from_card(c)?))),
+    ("GRDSET", |c, b| Ok(b.grdset.push(Grdset::from_card(c)?))),
     ("CORD2R", |c, b| {
         Ok(b.coords.push(Cord2::from_card(c, CordKind::Rectangular)?))
     }),
     ("CORD2C", |c, b| {
         Ok(b.coords.push(Cord2::from_card(c, CordKind::Cylindrical)?))
+    }),
+    ("CORD2S", |c, b| {
+        Ok(b.coords.push(Cord2::from_card(c, CordKind::Spherical)?))
     }),
     ("CQUAD4", |c, b| Ok(b.cquad4.push(Cquad4::from_card(c)?))),
     ("CTRIA3", |c, b| Ok(b.ctria3.push(Ctria3::from_card(c)?))),
