@@ -248,3 +248,40 @@ fn a_second_grdset_and_a_missing_grdset_system_are_errors() {
     );
     assert!(!errors.iter().any(|e| e.contains("GRID 2")), "{errors:#?}");
 }
+
+/// PLOAD4 on a missing element, on a CHEXA with G1 and G3 not diagonal on one face, and on a
+/// CTETRA without G4: one error each, at the card's line, all in one pass; a LOAD naming a
+/// PLOAD4 set is valid.
+#[test]
+fn pressure_cards_that_pick_no_face_are_errors() {
+    let mut deck =
+        String::from("SOL 101\nCEND\nLOAD = 9\nBEGIN BULK\nMAT1,1,1000.,,.3\nPSOLID,1,1\n");
+    for (k, (x, y, z)) in [
+        (0, 0, 0),
+        (1, 0, 0),
+        (1, 1, 0),
+        (0, 1, 0),
+        (0, 0, 1),
+        (1, 0, 1),
+        (1, 1, 1),
+        (0, 1, 1),
+    ]
+    .iter()
+    .enumerate()
+    {
+        deck += &format!("GRID,{},,{x}.,{y}.,{z}.\n", k + 1);
+    }
+    deck += "CHEXA,1,1,1,2,3,4,5,6,\n,7,8\nCTETRA,2,1,1,2,4,5\nSPC1,1,123,1,2,3,4\n";
+    deck += "PLOAD4,5,1,1.,,,,5,6\nPLOAD4,5,2,1.\nPLOAD4,5,77,1.\nLOAD,9,1.,1.,5\nENDDATA\n";
+    let errors = build(&deck).expect_err("bad PLOAD4s");
+    assert_eq!(errors.len(), 3, "{errors:#?}");
+    assert!(
+        errors[0].contains("PLOAD4 5") && errors[0].contains("diagonally opposite"),
+        "{errors:#?}"
+    );
+    assert!(
+        errors[1].contains("CTETRA 2") && errors[1].contains("G1 is required"),
+        "{errors:#?}"
+    );
+    assert!(errors[2].contains("EID = 77"), "{errors:#?}");
+}

@@ -7,7 +7,9 @@
 //!   direction is uniform). The load is P = M_gg · a_g with a_g the rigid translational
 //!   acceleration field (a in every grid's global frame, zero rotations), so the mass matrix
 //!   must be assembled first ([`gravity_load`]).
-//! - `LOAD sid S S1 L1 S2 L2 …`: P = S · Σ Si P(Li), with Li FORCE/MOMENT/GRAV sets; a LOAD that
+//! - `PLOAD4` / `PLOAD2` / `PLOAD`: the consistent nodal forces of the pressure on each loaded
+//!   face ([`crate::model::pressure`], [`crate::fe::pressure`]), added like FORCEs in basic.
+//! - `LOAD sid S S1 L1 S2 L2 …`: P = S · Σ Si P(Li), with Li FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD sets; a LOAD that
 //!   references a LOAD is an error, as in Nastran. The model resolves the set into scaled
 //!   vectors in the basic system ([`Model::load_set`]).
 //!
@@ -46,7 +48,7 @@ pub fn load_vector(
         },
         SetError::Missing(li) => AssemblyError::BadLoad {
             sid,
-            reason: format!("L = {li} selects no FORCE/MOMENT/GRAV set"),
+            reason: format!("L = {li} selects no FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD set"),
         },
     })?;
     let mut p = vec![0.0; map.size()];

@@ -13,6 +13,7 @@
 pub mod affine;
 pub mod laminate;
 pub mod lumped;
+pub mod pressure;
 pub mod shell;
 #[cfg(test)]
 mod shell_tests;

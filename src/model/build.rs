@@ -95,6 +95,10 @@ impl Model {
             mechanism,
             warnings,
         };
+        let pressures = super::pressure::check(&model);
+        if !pressures.is_empty() {
+            return Err(pressures);
+        }
         let massless = super::mass_check::check(deck, &model);
         if !massless.is_empty() {
             return Err(massless);

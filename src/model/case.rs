@@ -45,8 +45,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
         b.load
             .iter()
             .map(|s| s.sid)
-            .chain(b.forces.iter().map(|s| s.sid))
-            .chain(b.grav.iter().map(|s| s.sid))
+            .chain(b.static_load_sets())
             .collect(),
     );
     let method = set_of(b.eigrl.iter().map(|s| s.sid).collect());
@@ -106,7 +105,12 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
         need("SPC", sub.spc, &spc, "SPC/SPC1/SPCADD");
         // a deck loading a mechanism (FMB =) may select a gravity set stored with it
         if sub.fmb.is_none() {
-            need("LOAD", sub.load, &load, "LOAD/FORCE/MOMENT/GRAV");
+            need(
+                "LOAD",
+                sub.load,
+                &load,
+                "LOAD/FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD",
+            );
         }
         need("METHOD", sub.method, &method, "EIGRL");
         need("FREQUENCY", sub.frequency, &freq, "FREQ/FREQ1/FREQ2");
@@ -206,7 +210,10 @@ pub fn unselected_sets(deck: &Deck, warnings: &mut Vec<Warning>) {
         .iter()
         .map(|c| (c.sid, "LOAD", &c.loc))
         .chain(b.forces.iter().map(|c| (c.sid, force_name(c.kind), &c.loc)))
-        .chain(b.grav.iter().map(|c| (c.sid, "GRAV", &c.loc)));
+        .chain(b.grav.iter().map(|c| (c.sid, "GRAV", &c.loc)))
+        .chain(b.pload4.iter().map(|c| (c.sid, "PLOAD4", &c.loc)))
+        .chain(b.pload2.iter().map(|c| (c.sid, "PLOAD2", &c.loc)))
+        .chain(b.pload.iter().map(|c| (c.sid, "PLOAD", &c.loc)));
     let load_selected = subcases
         .iter()
         .filter_map(|s| s.load)

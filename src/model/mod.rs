@@ -36,6 +36,7 @@ pub mod mechanism;
 pub mod mesh;
 pub mod params;
 pub mod pmpar;
+pub mod pressure;
 pub mod properties;
 pub mod sensors;
 pub mod sets;

@@ -72,7 +72,8 @@ pub struct PointLoad {
     pub basic: [f64; 3],
 }
 
-/// One member of a load set: its FORCE / MOMENT cards and its GRAV accelerations.
+/// One member of a load set: its FORCE / MOMENT cards and the consistent nodal forces of its
+/// PLOAD4 / PLOAD2 / PLOAD pressures ([`crate::fe::pressure`]), and its GRAV accelerations.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct LoadTerm {
     pub point_loads: Vec<PointLoad>,
@@ -117,6 +118,26 @@ impl Model {
                 basic,
             });
         }
+        let faces = (b.pload4.iter().filter(|c| c.sid == set))
+            .flat_map(|c| self.pload4_faces(c).unwrap_or_default())
+            .chain(
+                (b.pload2.iter().filter(|c| c.sid == set))
+                    .flat_map(|c| self.pload2_faces(c).unwrap_or_default()),
+            )
+            .chain(
+                (b.pload.iter().filter(|c| c.sid == set)).filter_map(|c| self.pload_face(c).ok()),
+            );
+        for face in faces {
+            let xyz: Vec<[f64; 3]> = face.grids.iter().map(|&g| self.grids[g].xyz).collect();
+            let forces = crate::fe::pressure::face_forces(&xyz, &face.pressures, face.direction);
+            for (&grid, f) in face.grids.iter().zip(forces) {
+                term.point_loads.push(PointLoad {
+                    kind: ForceKind::Force,
+                    grid,
+                    basic: f.map(|v| scale * v),
+                });
+            }
+        }
         for g in b.grav.iter().filter(|g| g.sid == set) {
             if let Some(cs) = self.coords.get(&g.cid) {
                 term.accelerations
@@ -128,10 +149,10 @@ impl Model {
 }
 
 fn simple_set_exists(b: &BulkData, sid: u32) -> bool {
-    b.forces.iter().any(|f| f.sid == sid) || b.grav.iter().any(|g| g.sid == sid)
+    b.static_load_sets().any(|s| s == sid)
 }
 
-/// (factor, FORCE/MOMENT/GRAV set) of each member of `LOAD = sid`.
+/// (factor, FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD set) of each member of `LOAD = sid`.
 fn load_members(b: &BulkData, sid: u32) -> Result<Vec<(f64, u32)>, SetError> {
     let combos: Vec<_> = b.load.iter().filter(|l| l.sid == sid).collect();
     if combos.is_empty() {

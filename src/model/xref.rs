@@ -9,8 +9,8 @@
 //! | SPC, SPC1, ASET1, DAREA, FORCE/MOMENT | grids | GRID |
 //! | FORCE/MOMENT, GRAV | CID | coordinate system |
 //! | SPCADD | Si | SPC/SPC1 set |
-//! | LOAD | Li | FORCE/MOMENT/GRAV set |
-//! | TLOAD1, RLOAD1 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/GRAV/LOAD) |
+//! | LOAD | Li | FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD set |
+//! | TLOAD1, RLOAD1 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/LOAD) |
 //! | TLOAD1 TID, RLOAD1 TC/TD (≠ 0) | table | TABLED1 or TABLEF |
 //! | DLOAD | Li | TLOAD1/RLOAD1 set |
 //! | DESVAR | DDVAL | DDVAL |
@@ -176,19 +176,14 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
             }
         }
     }
-    let static_sets: HashSet<u32> = b
-        .forces
-        .iter()
-        .map(|f| f.sid)
-        .chain(b.grav.iter().map(|g| g.sid))
-        .collect();
+    let static_sets: HashSet<u32> = b.static_load_sets().collect();
     for l in &b.load {
         for (_, id) in &l.terms {
             if !static_sets.contains(id) {
                 errors.push(
                     DeckError::at(
                         &l.loc,
-                        format!("L = {id} does not exist (no FORCE, MOMENT or GRAV set {id})"),
+                        format!("L = {id} does not exist (no FORCE, MOMENT, GRAV, PLOAD4, PLOAD2 or PLOAD set {id})"),
                     )
                     .on_card(format!("LOAD {}", l.sid)),
                 );

@@ -1,9 +1,10 @@
-//! Static loads: `FORCE`, `MOMENT`, `GRAV`, `LOAD`.
+//! Static loads: `FORCE`, `MOMENT`, `GRAV`, `LOAD`, and pressures `PLOAD4`, `PLOAD2`, `PLOAD`.
 
 use crate::card_values::ForceKind;
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
+use crate::deck::value::Value;
 
 /// `FORCE` / `MOMENT` — concentrated load at a grid: F · (N1, N2, N3) in system CID.
 ///
@@ -141,7 +142,7 @@ pub(crate) fn combination(card: &RawCard) -> Result<Combination, Vec<DeckError>>
 /// |---|---|---|---|---|
 /// | 2 | SID | int > 0 | required | new load set id |
 /// | 3 | S | real | required | overall scale |
-/// | 4, 5, … | S1 L1 S2 L2 … | real, int > 0 | ≥ 1 pair | scale and FORCE/MOMENT/GRAV set id |
+/// | 4, 5, … | S1 L1 S2 L2 … | real, int > 0 | ≥ 1 pair | scale and FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD set id |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Load {
     pub sid: u32,
@@ -158,6 +159,207 @@ impl Load {
             sid,
             scale,
             terms,
+            loc,
+        })
+    }
+}
+
+/// Where a `PLOAD4` acts: one element's face, or every shell element of an id range.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Pload4Target {
+    /// One element; for a solid, the face through G1 and G3 (CHEXA, CPENTA quadrilateral
+    /// faces: diagonally opposite corners), through G1 alone (CPENTA triangular faces) or
+    /// opposite G4 (CTETRA).
+    Element {
+        eid: u32,
+        g1: Option<u32>,
+        g34: Option<u32>,
+    },
+    /// `EID1 THRU EID2`: every CQUAD4 / CTRIA3 with an id in the range (other ids are skipped).
+    Range { first: u32, last: u32 },
+}
+
+/// `PLOAD4` — pressure on a face of a shell or solid element.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | SID | int > 0 | required | load set id |
+/// | 3 | EID | int > 0 | required | element (EID1 of a THRU range) |
+/// | 4 | P1 | real | required | pressure at the face's first corner |
+/// | 5–7 | P2 P3 P4 | real | P1 | pressures at the other corners (P4 unused on a triangle) |
+/// | 8 | G1 or THRU | int > 0 or `THRU` | blank | solids: a corner grid of the face; `THRU`: shells EID … EID2 |
+/// | 9 | G3/G4 or EID2 | int > 0 | blank | CHEXA, CPENTA quadrilateral face: the corner diagonally opposite G1; CTETRA: the corner not on the face; after THRU: EID2 |
+/// | cont. 2 | CID | int ≥ 0 | blank | system of N (rectangular) |
+/// | cont. 3–5 | N1 N2 N3 | real | blank | direction of the load; blank: normal to the face |
+///
+/// Shells: positive pressure acts along the normal of G1 → G2 → G3 (right-hand rule), P1…P4 at
+/// G1…G4. Solids: positive pressure pushes into the element; P1 is at G1 and P2, P3, P4 follow
+/// around the face counter-clockwise seen from inside the element. With N the load per area is
+/// |p| along N (the pressure's sign kept) instead of along the normal. The consistent nodal forces
+/// ∫ N_i p dA are used (bilinear, linear or, on a 10-node CTETRA's face, quadratic shape
+/// functions). Line loads (cont. 6–7, SORL LDIR) are not supported.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pload4 {
+    pub sid: u32,
+    pub target: Pload4Target,
+    pub pressures: [f64; 4],
+    /// The load direction (CID, N) when given.
+    pub direction: Option<(u32, [f64; 3])>,
+    pub loc: Loc,
+}
+
+impl Pload4 {
+    /// Read a `PLOAD4` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let sid = f.id(1, "SID");
+        f.set_id(sid);
+        let eid = f.id(2, "EID");
+        let p1 = f.real(3, "P1");
+        let pressures = [
+            p1,
+            f.real_or(4, "P2", p1),
+            f.real_or(5, "P3", p1),
+            f.real_or(6, "P4", p1),
+        ];
+        let thru = matches!(f.value(7), Value::Text(t) if t.eq_ignore_ascii_case("THRU"));
+        let target = if thru {
+            let last = f.id(8, "EID2");
+            if last < eid {
+                f.error(8, "EID2", format!("EID2 = {last} is below EID1 = {eid}"));
+            }
+            Pload4Target::Range { first: eid, last }
+        } else {
+            Pload4Target::Element {
+                eid,
+                g1: f.opt_id(7, "G1"),
+                g34: f.opt_id(8, "G3/G4"),
+            }
+        };
+        let n = [
+            f.opt_real(10, "N1"),
+            f.opt_real(11, "N2"),
+            f.opt_real(12, "N3"),
+        ];
+        let cid = f.id0_or(9, "CID", 0);
+        let direction = if n.iter().all(Option::is_none) {
+            None
+        } else {
+            let n = n.map(|v| v.unwrap_or(0.0));
+            if n == [0.0; 3] {
+                f.error(10, "N1", "the direction vector is zero");
+            }
+            Some((cid, n))
+        };
+        for (i, name) in [(13, "SORL"), (14, "LDIR")] {
+            if !f.value(i).is_blank() {
+                f.error(
+                    i,
+                    name,
+                    "line loads on element edges are not supported (leave SORL and LDIR blank)",
+                );
+            }
+        }
+        let loc = f.loc();
+        f.finish(14)?;
+        Ok(Pload4 {
+            sid,
+            target,
+            pressures,
+            direction,
+            loc,
+        })
+    }
+}
+
+/// `PLOAD2` — uniform pressure on shell elements (CQUAD4, CTRIA3).
+///
+/// Positive along each element's normal of G1 → G2 → G3.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | SID | int > 0 | required | load set id |
+/// | 3 | P | real | required | pressure |
+/// | 4–9 | EID1 … | int > 0 or `THRU` | ≥ 1 | elements, or `EID1 THRU EID2` (ids in the range that are not shells are skipped) |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pload2 {
+    pub sid: u32,
+    pub pressure: f64,
+    /// Listed element ids, and the `THRU` range when given.
+    pub elements: Vec<u32>,
+    pub range: Option<(u32, u32)>,
+    pub loc: Loc,
+}
+
+impl Pload2 {
+    /// Read a `PLOAD2` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let sid = f.id(1, "SID");
+        f.set_id(sid);
+        let pressure = f.real(2, "P");
+        let thru = matches!(f.value(4), Value::Text(t) if t.eq_ignore_ascii_case("THRU"));
+        let (elements, range) = if thru {
+            let (first, last) = (f.id(3, "EID1"), f.id(5, "EID2"));
+            if last < first {
+                f.error(5, "EID2", format!("EID2 = {last} is below EID1 = {first}"));
+            }
+            (Vec::new(), Some((first, last)))
+        } else {
+            let ids: Vec<u32> = (3..=8).filter_map(|i| f.opt_id(i, "EID")).collect();
+            if ids.is_empty() {
+                f.error(3, "EID1", "expected at least one element id");
+            }
+            (ids, None)
+        };
+        let loc = f.loc();
+        f.finish(8)?;
+        Ok(Pload2 {
+            sid,
+            pressure,
+            elements,
+            range,
+            loc,
+        })
+    }
+}
+
+/// `PLOAD` — pressure on the triangle or quadrilateral through three or four grids.
+///
+/// Positive along the normal of G1 → G2 → G3; the consistent nodal forces of a linear triangle
+/// (a third of p·A each when flat) or a bilinear quadrilateral (Nastran splits a quadrilateral's
+/// load by sub-triangles: the same for a parallelogram, slightly different otherwise).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | SID | int > 0 | required | load set id |
+/// | 3 | P | real | required | pressure |
+/// | 4–7 | G1 … G4 | int > 0 | G4 blank or 0: triangle | corners, in order around the face |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pload {
+    pub sid: u32,
+    pub pressure: f64,
+    pub grids: Vec<u32>,
+    pub loc: Loc,
+}
+
+impl Pload {
+    /// Read a `PLOAD` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let sid = f.id(1, "SID");
+        f.set_id(sid);
+        let pressure = f.real(2, "P");
+        let mut grids = vec![f.id(3, "G1"), f.id(4, "G2"), f.id(5, "G3")];
+        if let g4 @ 1.. = f.id0_or(6, "G4", 0) {
+            grids.push(g4);
+        }
+        let loc = f.loc();
+        f.finish(6)?;
+        Ok(Pload {
+            sid,
+            pressure,
+            grids,
             loc,
         })
     }

@@ -32,7 +32,7 @@ pub use extension::{
     Tstepvar,
 };
 pub use geometry::{Cord2, CordKind, Grdset, Grid};
-pub use loads::{Force, Grav, Load};
+pub use loads::{Force, Grav, Load, Pload, Pload2, Pload4, Pload4Target};
 pub use materials::{Mat1, Mat8};
 pub use multibody::{Flexb, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
 pub use param::{Param, ParamValue};
@@ -72,6 +72,9 @@ pub struct BulkData {
     /// FORCE and MOMENT cards.
     pub forces: Vec<Force>,
     pub grav: Vec<Grav>,
+    pub pload4: Vec<Pload4>,
+    pub pload2: Vec<Pload2>,
+    pub pload: Vec<Pload>,
     pub load: Vec<Load>,
     pub eigrl: Vec<Eigrl>,
     /// FREQ, FREQ1 and FREQ2 cards.
@@ -108,6 +111,18 @@ pub struct BulkData {
     pub spdmp: Vec<Spdmp>,
     pub mforce: Vec<Mforce>,
     pub msensors: Vec<Msensor>,
+}
+
+impl BulkData {
+    /// The set ids of the static load cards a `LOAD` or `LOAD = sid` may select: FORCE, MOMENT,
+    /// GRAV, PLOAD4, PLOAD2, PLOAD (with repeats).
+    pub fn static_load_sets(&self) -> impl Iterator<Item = u32> + '_ {
+        (self.forces.iter().map(|c| c.sid))
+            .chain(self.grav.iter().map(|c| c.sid))
+            .chain(self.pload4.iter().map(|c| c.sid))
+            .chain(self.pload2.iter().map(|c| c.sid))
+            .chain(self.pload.iter().map(|c| c.sid))
+    }
 }
 
 /// A card constructor that stores its result in [`BulkData`].
@@ -154,6 +169,9 @@ pub static PARSERS: &[(&str, CardParser)] = &[
         Ok(b.forces.push(Force::from_card(c, ForceKind::Moment)?))
     }),
     ("GRAV", |c, b| Ok(b.grav.push(Grav::from_card(c)?))),
+    ("PLOAD4", |c, b| Ok(b.pload4.push(Pload4::from_card(c)?))),
+    ("PLOAD2", |c, b| Ok(b.pload2.push(Pload2::from_card(c)?))),
+    ("PLOAD", |c, b| Ok(b.pload.push(Pload::from_card(c)?))),
     ("LOAD", |c, b| Ok(b.load.push(Load::from_card(c)?))),
     ("EIGRL", |c, b| Ok(b.eigrl.push(Eigrl::from_card(c)?))),
     ("FREQ", |c, b| Ok(b.freq.push(Freq::from_card(c, "FREQ")?))),

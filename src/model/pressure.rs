@@ -1,0 +1,300 @@
+//! Pressure cards (`PLOAD4`, `PLOAD2`, `PLOAD`) resolved to loaded faces: the face's grids in
+//! the order whose right-hand normal is the direction of positive pressure, its corner
+//! pressures in that order, and the direction of the load; [`crate::fe::pressure`] turns a
+//! face into consistent nodal forces.
+//!
+//! Shell faces keep the element's grid order (positive pressure along the G1 → G2 → G3
+//! normal). A solid face is found from G1 and G3 (CHEXA, CPENTA quadrilateral faces: diagonal
+//! corners), G1 alone (CPENTA triangular faces) or G4 (CTETRA: the corner off the face), ordered
+//! from G1 so that its normal points into the element (positive pressure pushes inward, as in
+//! Nastran), mid-side grids of a 10-node CTETRA after the corners.
+
+use super::{ElementKind, Model};
+use crate::deck::cards::{Pload, Pload2, Pload4, Pload4Target};
+use crate::fe::pressure::Direction;
+use crate::geometry::vec3::{cross, dot, norm, scale, sub};
+
+/// A loaded face: grid indices into [`Model::grids`], corner pressures, direction.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadedFace {
+    pub grids: Vec<usize>,
+    pub pressures: Vec<f64>,
+    pub direction: Direction,
+}
+
+impl Model {
+    /// The faces a `PLOAD4` loads, or what is wrong with it (element missing or without faces,
+    /// G1/G3/G4 not on it, a curvilinear or missing CID).
+    pub fn pload4_faces(&self, card: &Pload4) -> Result<Vec<LoadedFace>, String> {
+        let direction = match card.direction {
+            None => Direction::Normal,
+            Some((cid, n)) => match self.coords.get(&cid) {
+                Some(c) if c.kind == crate::deck::cards::CordKind::Rectangular => {
+                    let d = c.vector_to_basic(n);
+                    Direction::Fixed(scale(d, 1.0 / norm(d)))
+                }
+                Some(_) => {
+                    return Err(format!(
+                        "CID = {cid} is curvilinear: give the load direction N in a rectangular system"
+                    ));
+                }
+                None => return Err(format!("CID = {cid} does not exist")),
+            },
+        };
+        match card.target {
+            Pload4Target::Range { first, last } => Ok(self
+                .elements
+                .iter()
+                .filter(|e| (first..=last).contains(&e.id))
+                .filter(|e| matches!(e.kind, ElementKind::Quad4 | ElementKind::Tria3))
+                .map(|e| shell_face(&e.nodes, &card.pressures, direction))
+                .collect()),
+            Pload4Target::Element { eid, g1, g34 } => {
+                let element = self
+                    .element_index
+                    .get(&eid)
+                    .map(|&i| &self.elements[i])
+                    .ok_or(format!(
+                        "EID = {eid} is not a CQUAD4, CTRIA3, CHEXA, CPENTA or CTETRA"
+                    ))?;
+                let face = match element.kind {
+                    ElementKind::Quad4 | ElementKind::Tria3 => {
+                        return Ok(vec![shell_face(&element.nodes, &card.pressures, direction)]);
+                    }
+                    ElementKind::Hexa8
+                    | ElementKind::Penta6
+                    | ElementKind::Tetra4
+                    | ElementKind::Tetra10 => {
+                        let grid = |id: Option<u32>, name: &str| -> Result<Option<usize>, String> {
+                            id.map(|id| {
+                                self.grid_index
+                                    .get(&id)
+                                    .copied()
+                                    .filter(|g| element.nodes.contains(g))
+                                    .ok_or(format!(
+                                        "{name} = {id} is not a grid of {} {eid}",
+                                        element.kind.card()
+                                    ))
+                            })
+                            .transpose()
+                        };
+                        let (g1, g34) = (grid(g1, "G1")?, grid(g34, "G3/G4")?);
+                        let g1 = g1.ok_or(format!(
+                            "G1 is required to pick a face of {} {eid}",
+                            element.kind.card()
+                        ))?;
+                        solid_face(self, element.kind, &element.nodes, g1, g34)
+                            .map_err(|e| format!("{} {eid}: {e}", element.kind.card()))?
+                    }
+                    _ => {
+                        return Err(format!(
+                            "EID = {eid} is a {}, which has no face to load",
+                            element.kind.card()
+                        ));
+                    }
+                };
+                let corners = if face.len() == 4 { 4 } else { 3 };
+                Ok(vec![LoadedFace {
+                    grids: face,
+                    pressures: card.pressures[..corners].to_vec(),
+                    direction,
+                }])
+            }
+        }
+    }
+
+    /// The shell faces a `PLOAD2` loads, or the listed id that is not a shell.
+    pub fn pload2_faces(&self, card: &Pload2) -> Result<Vec<LoadedFace>, String> {
+        let shells =
+            |e: &&super::Element| matches!(e.kind, ElementKind::Quad4 | ElementKind::Tria3);
+        let mut faces = Vec::new();
+        for &eid in &card.elements {
+            let e = self
+                .element_index
+                .get(&eid)
+                .map(|&i| &self.elements[i])
+                .filter(shells)
+                .ok_or(format!("EID = {eid} is not a CQUAD4 or CTRIA3"))?;
+            faces.push(shell_face(&e.nodes, &[card.pressure; 4], Direction::Normal));
+        }
+        if let Some((first, last)) = card.range {
+            faces.extend(
+                self.elements
+                    .iter()
+                    .filter(|e| (first..=last).contains(&e.id))
+                    .filter(shells)
+                    .map(|e| shell_face(&e.nodes, &[card.pressure; 4], Direction::Normal)),
+            );
+        }
+        Ok(faces)
+    }
+
+    /// The face of a `PLOAD`, or its grid that does not exist.
+    pub fn pload_face(&self, card: &Pload) -> Result<LoadedFace, String> {
+        let grids = card
+            .grids
+            .iter()
+            .map(|id| {
+                self.grid_index
+                    .get(id)
+                    .copied()
+                    .ok_or(format!("grid {id} does not exist"))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(LoadedFace {
+            pressures: vec![card.pressure; grids.len()],
+            grids,
+            direction: Direction::Normal,
+        })
+    }
+}
+
+fn shell_face(nodes: &[usize], pressures: &[f64; 4], direction: Direction) -> LoadedFace {
+    LoadedFace {
+        grids: nodes.to_vec(),
+        pressures: pressures[..nodes.len()].to_vec(),
+        direction,
+    }
+}
+
+/// Local corner numbers of the faces of each solid (any orientation; [`solid_face`] orients).
+fn faces_of(kind: ElementKind) -> &'static [&'static [usize]] {
+    match kind {
+        ElementKind::Hexa8 => &[
+            &[0, 1, 2, 3],
+            &[4, 5, 6, 7],
+            &[0, 1, 5, 4],
+            &[1, 2, 6, 5],
+            &[2, 3, 7, 6],
+            &[3, 0, 4, 7],
+        ],
+        ElementKind::Penta6 => &[
+            &[0, 1, 2],
+            &[3, 4, 5],
+            &[0, 1, 4, 3],
+            &[1, 2, 5, 4],
+            &[2, 0, 3, 5],
+        ],
+        _ => &[&[0, 1, 2], &[0, 1, 3], &[1, 2, 3], &[2, 0, 3]],
+    }
+}
+
+/// The loaded face of a solid as grid indices, from G1 (and G3 or G4), oriented inward and
+/// starting at G1; a 10-node tetra's face has its three mid-side grids after the corners.
+fn solid_face(
+    model: &Model,
+    kind: ElementKind,
+    nodes: &[usize],
+    g1: usize,
+    g34: Option<usize>,
+) -> Result<Vec<usize>, String> {
+    let local = |g: usize| {
+        nodes
+            .iter()
+            .position(|&n| n == g)
+            .expect("checked on the element")
+    };
+    let (a, other) = (local(g1), g34.map(local));
+    let is_tetra = matches!(kind, ElementKind::Tetra4 | ElementKind::Tetra10);
+    let candidates: Vec<&[usize]> = faces_of(kind)
+        .iter()
+        .copied()
+        .filter(|f| {
+            let at = |k: usize| f.iter().position(|&c| c == k);
+            match (is_tetra, other) {
+                (true, Some(opposite)) => at(a).is_some() && at(opposite).is_none(),
+                (true, None) => false,
+                (false, Some(diagonal)) => {
+                    f.len() == 4
+                        && matches!((at(a), at(diagonal)), (Some(i), Some(j)) if (i + 2) % 4 == j)
+                }
+                (false, None) => f.len() == 3 && at(a).is_some(),
+            }
+        })
+        .collect();
+    let [face] = candidates[..] else {
+        return Err(match (is_tetra, kind, other) {
+            (true, _, None) => "G4, the corner off the loaded face, is required".into(),
+            (true, _, Some(_)) => "G4 must be the corner off the face and G1 a corner on it".into(),
+            (false, ElementKind::Hexa8, _) | (false, _, Some(_)) => {
+                "G1 and G3 must be diagonally opposite corners of one quadrilateral face".into()
+            }
+            _ => "G1 must be a corner of a triangular face (leave G3 blank only for those)".into(),
+        });
+    };
+    let start = face
+        .iter()
+        .position(|&c| c == a)
+        .expect("G1 is on the face");
+    let mut corners: Vec<usize> = (0..face.len())
+        .map(|k| face[(start + k) % face.len()])
+        .collect();
+    let xyz = |k: usize| model.grids[nodes[k]].xyz;
+    let centre = |ks: &mut dyn Iterator<Item = usize>| {
+        let (mut s, mut n) = ([0.0; 3], 0.0);
+        for k in ks {
+            s = std::array::from_fn(|i| s[i] + xyz(k)[i]);
+            n += 1.0;
+        }
+        scale(s, 1.0 / n)
+    };
+    let corner_count = match kind {
+        ElementKind::Hexa8 => 8,
+        ElementKind::Penta6 => 6,
+        _ => 4,
+    };
+    let inward = sub(
+        centre(&mut (0..corner_count)),
+        centre(&mut corners.iter().copied()),
+    );
+    let normal = cross(
+        sub(xyz(corners[1]), xyz(corners[0])),
+        sub(xyz(corners[corners.len() - 1]), xyz(corners[0])),
+    );
+    if dot(normal, inward) < 0.0 {
+        corners[1..].reverse();
+    }
+    let mut face_grids: Vec<usize> = corners.iter().map(|&k| nodes[k]).collect();
+    if kind == ElementKind::Tetra10 {
+        // mid-side grids of edges (0,1) (1,2) (2,0) (0,3) (1,3) (2,3) are nodes 4..9
+        let edges = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
+        let mid = |p: usize, q: usize| {
+            let k = edges
+                .iter()
+                .position(|&(i, j)| (i, j) == (p, q) || (i, j) == (q, p))
+                .expect("tetra edge");
+            nodes[4 + k]
+        };
+        for k in 0..3 {
+            face_grids.push(mid(corners[k], corners[(k + 1) % 3]));
+        }
+    }
+    Ok(face_grids)
+}
+
+/// Every pressure card that cannot be resolved, as a deck error at its line.
+pub fn check(model: &Model) -> Vec<crate::deck::DeckError> {
+    let b = &model.bulk;
+    let error = |loc: &crate::deck::Loc, card: String, e: String| {
+        crate::deck::DeckError::at(loc, e).on_card(card)
+    };
+    let pload4 = b.pload4.iter().filter_map(|c| {
+        model
+            .pload4_faces(c)
+            .err()
+            .map(|e| error(&c.loc, format!("PLOAD4 {}", c.sid), e))
+    });
+    let pload2 = b.pload2.iter().filter_map(|c| {
+        model
+            .pload2_faces(c)
+            .err()
+            .map(|e| error(&c.loc, format!("PLOAD2 {}", c.sid), e))
+    });
+    let pload = b.pload.iter().filter_map(|c| {
+        model
+            .pload_face(c)
+            .err()
+            .map(|e| error(&c.loc, format!("PLOAD {}", c.sid), e))
+    });
+    pload4.chain(pload2).chain(pload).collect()
+}
