@@ -37,11 +37,14 @@ LINKS = ["crank", "coupler", "output_crank"]
 
 def closed_form_table(path: Path, t_end: float) -> None:
     """drive_table.py's θ(t) every 10 µs to t_end + 10 ms, at full precision (a table rounded
-    to 7 digits puts noise of percent size into the drive's acceleration)."""
-    n = round((t_end + 0.01) / 1e-5)
+    to 7 digits puts noise of percent size into the drive's acceleration), with the knot times
+    of tests/fourbar.rs (`closed_form_drive`): the steps fall on knots, and which segment's
+    slope the drive takes there follows the knot times' last bit (0.06 % of the torque)."""
+    span = round(t_end + 0.01, 9)
+    n = round(span / 1e-5)
     rows = []
     for k in range(n + 1):
-        t = (t_end + 0.01) * k / n
+        t = span * k / n
         rows.append(f"{t!r},{math.radians(20.0) * (1 - abs(2 * t - 1)) * math.sin(20 * math.pi * t)!r}")
     path.write_text("time,angle\n" + "\n".join(rows) + "\n")
 
