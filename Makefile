@@ -13,7 +13,7 @@ DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcurso
 	libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1
 
 .PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient bench-estimate \
-	reference-exudyn fourbar-plots clean
+	reference-exudyn exudyn-plot fourbar-plots clean
 
 demo: deps
 	$(CARGO) build --release --quiet
@@ -92,10 +92,20 @@ bench-estimate: deps
 	$$bench $$tmp/blade_prom_sensors_small.h5 3 $$tmp/blade_prom_sensors.h5; rc=$$?; rm -rf $$tmp; exit $$rc
 
 # The independent multibody peer: Exudyn (installed into the venv here only; not a dependency
-# of paraflex or its tests) runs the rigid four-bar and writes reference/exudyn/fourbar_rigid.json.
+# of paraflex or its tests) runs the rigid four-bar (reference/exudyn/fourbar_rigid.json) and
+# the flexible one on link artifacts paraflex builds with every grid's basis rows
+# (reference/exudyn/fourbar_flexible.json, ~3 min).
 reference-exudyn: deps
 	$(PY) -m pip install --quiet --disable-pip-version-check -r tools/exudyn/requirements.txt
+	$(CARGO) build --release --quiet
 	$(PY) tools/exudyn/fourbar.py
+	$(PY) tools/exudyn/fourbar_flexible.py --paraflex $(BIN)
+
+# paraflex against Exudyn on the flexible four-bar: docs/img/fourbar_exudyn.png
+# (tools/plot/fourbar_exudyn.py, reads reference/exudyn/fourbar_flexible.json).
+exudyn-plot: deps
+	$(CARGO) build --release --quiet
+	$(PY) tools/plot/fourbar_exudyn.py --paraflex $(BIN)
 
 # The four-bar's README pictures (docs/img/fourbar_mechanism.png, fourbar_pfmb_vs_fmb.png):
 # pFMB against FMB histories like thesis Fig. 4.6-4.11 (tools/plot/fourbar_histories.py, ~1 min).

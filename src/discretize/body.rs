@@ -11,19 +11,16 @@ use crate::model::Model;
 use crate::rom::invariants::{InterfaceRows, MassInvariants, TranslationRows};
 use crate::rom::mass::AffineMasses;
 
-/// The multibody data of a body whose f-set basis is `basis`: its columns expanded to every grid
-/// in basic (dependent DOFs recovered, constrained ones zero), the invariants of each affine
-/// mass component in `masses` and the rows of the interface grids (every ASET1 grid, in the
-/// order the cards list them).
-pub fn flexible_body(
-    model: &Model,
+/// The columns of the f-set basis `basis` expanded to every grid in basic (dependent DOFs
+/// recovered, constrained ones zero): `columns[k]` holds T1 T2 T3 R1 R2 R3 of each grid in
+/// `/model/grid_ids` order.
+pub fn basic_columns(
     st: &Structure,
     c: &Constrained,
     basis: &Mat<f64>,
-    masses: AffineMasses,
-) -> Result<PromBody, DiscretizeError> {
+) -> Result<Vec<Vec<f64>>, DiscretizeError> {
     let zero = vec![0.0; st.map.size()];
-    let columns = (0..basis.ncols())
+    (0..basis.ncols())
         .map(|k| {
             Ok(st.to_basic_rows(&recover_g(
                 basis.col_as_slice(k),
@@ -32,8 +29,19 @@ pub fn flexible_body(
                 &st.rigid,
             )?))
         })
-        .collect::<Result<Vec<_>, DiscretizeError>>()?;
-    let rows = TranslationRows::from_grid_columns(&columns, st.map.grids());
+        .collect()
+}
+
+/// The multibody data of a body whose basis columns expanded to every grid in basic are
+/// `columns` ([`basic_columns`]): the invariants of each affine mass component in `masses` and
+/// the rows of the interface grids (every ASET1 grid, in the order the cards list them).
+pub fn flexible_body(
+    model: &Model,
+    st: &Structure,
+    columns: &[Vec<f64>],
+    masses: AffineMasses,
+) -> PromBody {
+    let rows = TranslationRows::from_grid_columns(columns, st.map.grids());
     let invariants = masses
         .nodal
         .iter()
@@ -46,10 +54,10 @@ pub fn flexible_body(
             indices.push(index);
         }
     }
-    Ok(PromBody {
+    PromBody {
         grids: model.grids.iter().map(|g| g.id).collect(),
         masses,
         invariants,
-        interface: InterfaceRows::from_grid_columns(&columns, ids, &indices),
-    })
+        interface: InterfaceRows::from_grid_columns(columns, ids, &indices),
+    }
 }

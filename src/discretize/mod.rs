@@ -51,7 +51,7 @@ use faer::Par;
 
 use crate::assembly::AssemblyError;
 
-pub use body::flexible_body;
+pub use body::{basic_columns, flexible_body};
 pub use structure::{Constrained, Structure, affine_fom, affine_keys};
 
 /// How the discretization (and the solutions after it) run.

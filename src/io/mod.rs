@@ -34,6 +34,6 @@ pub use model_group::{CONNECTIVITY_INDEXING, ModelInfo, read_grid_ids, write_mod
 pub use pfmb_group::{PFMB_VERSION, read_pfmb, write_pfmb};
 pub use prom_group::{
     PromBody, read_prom, read_prom_body, read_prom_inputs, read_prom_sensors, write_prom,
-    write_prom_body,
+    write_prom_basis, write_prom_body,
 };
 pub use xdmf::{XdmfWritten, write_xdmf, xdmf_path_for};

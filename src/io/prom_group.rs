@@ -15,6 +15,9 @@
 //!                              in `rom::invariants`), row-major
 //! /prom/interface/grids        n_b interface grid ids (the ASET1 grids)
 //! /prom/interface/rows         n_b × 6 × n_red: basis rows T1 T2 T3 R1 R2 R3 in basic
+//! (written when the SOL PROM subcase has `DISPLACEMENT = ALL | set`; any PMOR RIGID)
+//! /prom/basis/grids            n_s ids of the selected grids, in /model/grid_ids order
+//! /prom/basis/rows             n_s × 6 × n_red: their basis rows T1 T2 T3 R1 R2 R3 in basic
 //! ```
 //! Component i of the body datasets uses the function of `/prom/K/<i>` and `/prom/M/<i>`: at p,
 //! m_j(p) = Σ_i f_i(p) m_j^i, and likewise every invariant (eq. 4.8).
@@ -113,17 +116,26 @@ pub fn write_prom_body(prom: &Group, body: &PromBody) -> Result<(), IoError> {
         write_f64(&nodal, &i.to_string(), m, &[n_g])?;
     }
     write_invariants(prom, &body.invariants)?;
-    let interface = create_group(prom, "interface")?;
-    let n_b = body.interface.grids.len();
-    let n_r = body.interface.rows.first().map_or(0, |r| r.ncols());
-    write_u32(&interface, "grids", &body.interface.grids, &[n_b])?;
-    let rows: Vec<f64> = body
-        .interface
+    write_grid_rows(&create_group(prom, "interface")?, &body.interface)
+}
+
+/// Write the basis rows of the grids a `DISPLACEMENT` request of the `SOL PROM` subcase selects
+/// as `/prom/basis/{grids, rows}` into `prom` (module doc).
+pub fn write_prom_basis(prom: &Group, rows: &InterfaceRows) -> Result<(), IoError> {
+    write_grid_rows(&create_group(prom, "basis")?, rows)
+}
+
+/// `grids` (n_b ids) and `rows` (n_b × 6 × n_red) of `rows` into `group`.
+fn write_grid_rows(group: &Group, rows: &InterfaceRows) -> Result<(), IoError> {
+    let n_b = rows.grids.len();
+    let n_r = rows.rows.first().map_or(0, |r| r.ncols());
+    write_u32(group, "grids", &rows.grids, &[n_b])?;
+    let values: Vec<f64> = rows
         .rows
         .iter()
         .flat_map(|r| (0..6).flat_map(move |c| (0..n_r).map(move |k| r[(c, k)])))
         .collect();
-    write_f64(&interface, "rows", &rows, &[n_b, 6, n_r])?;
+    write_f64(group, "rows", &values, &[n_b, 6, n_r])?;
     Ok(())
 }
 

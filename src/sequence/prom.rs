@@ -14,7 +14,10 @@
 //! `/prom/nodal_mass`, `/prom/invariants` and `/prom/interface` ([`crate::io::write_prom_body`]: affine
 //! nodal masses eq. 4.1–4.3, the affine components of the mass invariants eq. 4.8, A.11–A.19,
 //! and the basis rows of the ASET1 grids; only with `RIGID = REMOVE`, the floating-frame bodies
-//! of a multibody scene, which are the only users), and
+//! of a multibody scene, which are the only users), `/prom/basis/{grids, rows}` (the basis rows
+//! of the grids a `DISPLACEMENT = ALL | set` request selects, with any RIGID: what a peer code
+//! that takes the mode shapes at every node, e.g. an FFRF body of another multibody program,
+//! needs), and
 //! `/prom/build/{samples, singular_values, size_history, error_history, timings}` with
 //! attributes `mac_kept`, `concatenated`, `converged`, `singular_lines`.
 
@@ -23,17 +26,21 @@ use super::shared::structure;
 use crate::deck::Solution;
 use std::collections::HashMap;
 
+use super::GridRows;
 use super::report::{Report, sci};
 use super::{Clock, RunContext, RunError, SubcaseSummary};
 use crate::assembly::DofMap;
 use crate::deck::cards::{Pmor, PmorRigid, PmorStatic};
 use crate::discretize::sensors::sensor_kind_name;
-use crate::discretize::{Constrained, Structure, affine_fom, affine_keys, flexible_body};
+use crate::discretize::{
+    Constrained, Structure, affine_fom, affine_keys, basic_columns, flexible_body,
+};
 use crate::io::{
-    IoError, set_attr_i64, set_attr_strings, write_f64, write_mat, write_prom, write_prom_body,
-    write_strings,
+    IoError, set_attr_i64, set_attr_strings, write_f64, write_mat, write_prom, write_prom_basis,
+    write_prom_body, write_strings,
 };
 use crate::rom::build::{BuildLog, Built, PromSettings, build_prom};
+use crate::rom::invariants::InterfaceRows;
 use crate::rom::local_basis::{RigidModes, StaticModes};
 use crate::rom::mass::AffineMasses;
 
@@ -66,6 +73,10 @@ impl Driver for PromBuild {
 
     fn basis(&self) -> Basis {
         Basis::Mesh
+    }
+
+    fn honoured(&self) -> &'static [&'static str] {
+        &["DISPLACEMENT"]
     }
 
     fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
@@ -145,10 +156,20 @@ fn run(
         super::subcase_sensors(ctx, st, &c, sub)
     })?;
     let h_r = sensors.project(&basis);
-    let body = masses
-        .map(|masses| flexible_body(model, st, &c, &basis, masses))
-        .transpose()?;
+    let requested_rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
+    let columns = if masses.is_some() || requested_rows.is_some() {
+        basic_columns(st, &c, &basis)?
+    } else {
+        Vec::new()
+    };
     drop(basis);
+    let body = masses.map(|masses| flexible_body(model, st, &columns, masses));
+    let basis_rows = requested_rows.map(|rows| {
+        let indices = rows.indices(&st.map);
+        let ids = indices.iter().filter_map(|&g| st.map.grid_id(g)).collect();
+        InterfaceRows::from_grid_columns(&columns, ids, &indices)
+    });
+    drop(columns);
     let n_full = k_ff.nrows();
     clock.time(
         format!("subcase {id}: output"),
@@ -169,6 +190,9 @@ fn run(
             }
             if let Some(body) = &body {
                 write_prom_body(&group, body)?;
+            }
+            if let Some(rows) = &basis_rows {
+                write_prom_basis(&group, rows)?;
             }
             write_log(ctx, &log)
         },
