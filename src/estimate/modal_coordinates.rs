@@ -261,9 +261,9 @@ impl ModalColumns {
 }
 
 impl Modal {
-    /// P ← J P Jᵀ + the q and q̇ blocks of Q (eq. 8.24) in modal coordinates (J_v is J̃_v and b the weight of q̇_k
-    /// in q_k, [`super::propagation`]), one column pair at a time without forming G or H: J_v = [diag(jk), diag(jm), jw] is diagonal in its q
-    /// and q̇ blocks, so column j of Gᵀ = P J_vᵀ combines columns j, n + j and the w columns of
+    /// P ← J P Jᵀ + the q and q̇ blocks of Q (eq. 8.24) in modal coordinates (J_v is J̃_v and b
+    /// the weight of q̇_k in q_k, [`super::propagation`]), one column pair at a time without
+    /// forming G or H: J_v = [diag(jk), diag(jm), jw] is diagonal in its q and q̇ blocks, so column j of Gᵀ = P J_vᵀ combines columns j, n + j and the w columns of
     /// P, and — P being exactly symmetric — column j of G = J_v P (row j of Gᵀ) combines
     /// three rows of P's column j, as does column n + j of G from P's column n + j; column j of
     /// H = J_v Gᵀ and of Hᵀ (row j of H) follow from those. Every sum is the one a transposed

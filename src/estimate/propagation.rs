@@ -21,8 +21,8 @@ use super::kernels::{storage, storage_mut};
 /// P_wq̇' = G_wᵀ,  P_wq' = P_wq + b G_wᵀ,  P_ww unchanged,
 /// ```
 ///
-/// (b of the module documentation; J_v is J̃_v there) so J P Jᵀ costs the two products only. `gt_j` is column j of Gᵀ (N), `g_j` column j of G's
-/// q block (n: row j of Gᵀ) and `h_j` column j of H̄ = (H + Hᵀ)/2. Writes the q and q̇ rows of
+/// (b of the module documentation; J_v is J̃_v there) so J P Jᵀ costs the two products only.
+/// `gt_j` is column j of Gᵀ (N), `g_j` column j of G's q block (n: row j of Gᵀ) and `h_j` column j of H̄ = (H + Hᵀ)/2. Writes the q and q̇ rows of
 /// columns j and n + j whole (contiguous) and their w rows; reads only P_qq's column j. Every
 /// entry is computed from expressions symmetric in its two indices, so a symmetric P stays
 /// exactly symmetric once [`mirror_w_rows`] has copied the w rows to the w columns.
