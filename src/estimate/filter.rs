@@ -153,6 +153,7 @@ pub struct FilterSetup {
     pub p0_inputs: Vec<f64>,
     pub p0_params: Vec<f64>,
     pub coordinates: Coordinates,
+    /// The prediction's time discretization (eq. 8.22).
     pub prediction: Prediction,
 }
 
