@@ -1,12 +1,15 @@
 //! Speed of the augmented EKF on a pROM artifact with sensors, e.g. the blade
 //! pROM of decks/estimate/blade_prom_sensors.dat: filter steps per second in the physical, the
 //! modal and — where the modes do not diagonalize the pROM — the re-diagonalized modal
-//! coordinates with τ = 1e-2 and 1e-3 ([`paraflex::estimate::filter`]), and the estimation error
-//! for a few covariance settings (thesis §8.5.2, eq. 8.30–8.31).
+//! coordinates with τ = 1e-2 and 1e-3 ([`paraflex::estimate::filter`]), each with the BDF1 and the
+//! trapezoidal prediction, and the estimation error for a few covariance settings (thesis §8.5.2,
+//! eq. 8.30–8.31; BDF1 prediction).
 //!
 //!     cargo run --release --example estimate_bench -- blade_prom.h5 [REPEATS] [TRUTH.h5]
 //!
-//! Data: BDF1 of the pROM (or of the pROM TRUTH.h5, e.g. a larger basis of the same model:
+//! Data: the prediction's own integrator — BDF1, or generalized-α with ρ∞ = 1 (the trapezoidal
+//! rule; its load at t_k − Δt/2 instead of the average of t_{k−1} and t_k, a difference of order
+//! Δt² ω²) — on the pROM (or on the pROM TRUTH.h5, e.g. a larger basis of the same model:
 //! the filter then also meets its own truncation error; sensors and input matched by name) at
 //! the nominal parameters under 5 N at 20 Hz on input 71:3 (thesis
 //! Table 8.1), 1 s at 0.1 ms, every sensor plus seeded Gaussian noise (1e-7 on DISP/STRAIN,
@@ -22,7 +25,7 @@ use std::time::Instant;
 
 use faer::Mat;
 use paraflex::dynamics::integrators::{LinearSystem, Method, integrate};
-use paraflex::estimate::{Coordinates, Filter, FilterSetup, SensorRows, covariance};
+use paraflex::estimate::{Coordinates, Filter, FilterSetup, Prediction, SensorRows, covariance};
 use paraflex::io::{read_prom, read_prom_inputs, read_prom_sensors};
 use paraflex::linalg::random::SplitMix64;
 
@@ -60,9 +63,10 @@ fn main() -> Result<(), String> {
     let load = sine_load(&shape);
     let zeros = vec![0.0; n];
 
-    // data: BDF1 of the truth pROM at its nominal parameters, every sensor, seeded noise
+    // data: the prediction's integrator on the truth pROM at its nominal parameters, every
+    // sensor, seeded noise
     let truth_path = args.get(3).unwrap_or(path);
-    let (data_names, data) = {
+    let data_of = |method: Method| -> Result<(Vec<String>, Vec<Vec<f64>>), String> {
         let (model, sensors, shape) = load_prom(truth_path)?;
         let nominal: Vec<f64> = model.parameters.iter().map(|p| p.nominal).collect();
         let mut at = model.workspace();
@@ -79,7 +83,7 @@ fn main() -> Result<(), String> {
         let zeros = vec![0.0; model.size()];
         integrate(
             sys,
-            Method::Bdf1,
+            method,
             DT,
             STEPS,
             &zeros,
@@ -98,124 +102,133 @@ fn main() -> Result<(), String> {
             },
         )
         .map_err(|e| e.to_string())?;
-        (sensors.names, data)
+        Ok((sensors.names, data))
     };
+    let data_bdf1 = data_of(Method::Bdf1)?;
+    let data_trapezoidal = data_of(Method::GeneralizedAlpha { rho_inf: 1.0 })?;
 
-    let run =
-        |case: &Case, coordinates: Coordinates| -> Result<(String, [f64; 2], Vec<f64>), String> {
-            let rows: Vec<usize> = case
-                .sensors
+    let run = |case: &Case,
+               coordinates: Coordinates,
+               prediction: Prediction|
+     -> Result<(String, [f64; 2], Vec<f64>), String> {
+        let (data_names, data) = match prediction {
+            Prediction::Bdf1 => &data_bdf1,
+            Prediction::Trapezoidal => &data_trapezoidal,
+        };
+        let rows: Vec<usize> = case
+            .sensors
+            .iter()
+            .map(|s| {
+                sensors
+                    .names
+                    .iter()
+                    .position(|x| x == s)
+                    .ok_or(format!("no sensor {s}"))
+            })
+            .collect::<Result<_, _>>()?;
+        let columns: Vec<usize> = case
+            .sensors
+            .iter()
+            .map(|s| {
+                data_names
+                    .iter()
+                    .position(|x| x == s)
+                    .ok_or(format!("{truth_path}: no sensor {s}"))
+            })
+            .collect::<Result<_, _>>()?;
+        let measured = sensors.select(&rows);
+        let mut p = truth.clone();
+        let mut unknown = Vec::new();
+        for (name, factor, ..) in &case.params {
+            let j = param(name)?;
+            p[j] = factor * truth[j];
+            unknown.push(j);
+        }
+        let nu = usize::from(case.input.is_some());
+        let setup = FilterSetup {
+            prom: prom.clone(),
+            p: p.clone(),
+            unknown_params: unknown.clone(),
+            s_un: Mat::from_fn(n, nu, |i, _| shape[i]),
+            r: measured
+                .kinds
                 .iter()
-                .map(|s| {
-                    sensors
-                        .names
-                        .iter()
-                        .position(|x| x == s)
-                        .ok_or(format!("no sensor {s}"))
-                })
-                .collect::<Result<_, _>>()?;
-            let columns: Vec<usize> = case
-                .sensors
+                .map(|k| if k == "ACCEL" { 1e-6 } else { 1e-14 })
+                .collect(),
+            measured,
+            dt: DT,
+            q_state: f64::EPSILON,
+            q_inputs: case
+                .input
                 .iter()
-                .map(|s| {
-                    data_names
-                        .iter()
-                        .position(|x| x == s)
-                        .ok_or(format!("{truth_path}: no sensor {s}"))
-                })
-                .collect::<Result<_, _>>()?;
-            let measured = sensors.select(&rows);
-            let mut p = truth.clone();
-            let mut unknown = Vec::new();
-            for (name, factor, ..) in &case.params {
-                let j = param(name)?;
-                p[j] = factor * truth[j];
-                unknown.push(j);
-            }
-            let nu = usize::from(case.input.is_some());
-            let setup = FilterSetup {
-                prom: prom.clone(),
-                p: p.clone(),
-                unknown_params: unknown.clone(),
-                s_un: Mat::from_fn(n, nu, |i, _| shape[i]),
-                r: measured
-                    .kinds
-                    .iter()
-                    .map(|k| if k == "ACCEL" { 1e-6 } else { 1e-14 })
-                    .collect(),
-                measured,
-                dt: DT,
-                q_state: f64::EPSILON,
-                q_inputs: case
-                    .input
-                    .iter()
-                    .map(|&(w, a)| covariance::input(DT, w, a))
-                    .collect(),
-                q_params: case
-                    .params
-                    .iter()
-                    .zip(&unknown)
-                    .map(|((_, _, delta, _), &j)| covariance::parameter(DT, *delta, p[j]))
-                    .collect(),
-                q0: zeros.clone(),
-                v0: zeros.clone(),
-                u0: vec![0.0; nu],
-                p0_state: 1e-20,
-                p0_inputs: case.input.iter().map(|&(_, a)| a * a).collect(),
-                p0_params: case
-                    .params
-                    .iter()
-                    .zip(&unknown)
-                    .map(|((_, _, _, p0), &j)| p0 * p[j] * p[j])
-                    .collect(),
-                coordinates,
-            };
-            let mut best = [0.0_f64; 2];
-            let mut errors = Vec::new();
-            let mut label = String::new();
-            for _ in 0..repeats {
-                let mut filter = Filter::new(setup.clone()).map_err(|e| e.to_string())?;
-                let (mut f, mut y) = (vec![0.0; n], vec![0.0; rows.len()]);
-                let (mut sums, mut count) = (vec![0.0; unknown.len()], 0);
-                let tail = STEPS - STEPS / 5;
-                let started = (Instant::now(), cpu_seconds());
-                for (k, sample) in data.iter().enumerate().skip(1) {
-                    if case.input.is_none() {
-                        load(k as f64 * DT, &mut f);
-                    }
-                    y.iter_mut()
-                        .zip(&columns)
-                        .for_each(|(y, &c)| *y = sample[c]);
-                    filter
-                        .step(&f, &y)
-                        .map_err(|e| format!("{}: {e}", case.name))?;
-                    if k > tail {
-                        count += 1;
-                        for (s, &j) in sums.iter_mut().zip(&unknown) {
-                            *s += filter.parameters()[j] / truth[j] - 1.0;
-                        }
+                .map(|&(w, a)| covariance::input(DT, w, a))
+                .collect(),
+            q_params: case
+                .params
+                .iter()
+                .zip(&unknown)
+                .map(|((_, _, delta, _), &j)| covariance::parameter(DT, *delta, p[j]))
+                .collect(),
+            q0: zeros.clone(),
+            v0: zeros.clone(),
+            u0: vec![0.0; nu],
+            p0_state: 1e-20,
+            p0_inputs: case.input.iter().map(|&(_, a)| a * a).collect(),
+            p0_params: case
+                .params
+                .iter()
+                .zip(&unknown)
+                .map(|((_, _, _, p0), &j)| p0 * p[j] * p[j])
+                .collect(),
+            coordinates,
+            prediction,
+        };
+        let mut best = [0.0_f64; 2];
+        let mut errors = Vec::new();
+        let mut label = String::new();
+        for _ in 0..repeats {
+            let mut filter = Filter::new(setup.clone()).map_err(|e| e.to_string())?;
+            let (mut f, mut y) = (vec![0.0; n], vec![0.0; rows.len()]);
+            let (mut sums, mut count) = (vec![0.0; unknown.len()], 0);
+            let tail = STEPS - STEPS / 5;
+            let started = (Instant::now(), cpu_seconds());
+            for (k, sample) in data.iter().enumerate().skip(1) {
+                if case.input.is_none() {
+                    load(k as f64 * DT, &mut f);
+                }
+                y.iter_mut()
+                    .zip(&columns)
+                    .for_each(|(y, &c)| *y = sample[c]);
+                filter
+                    .step(&f, &y)
+                    .map_err(|e| format!("{}: {e}", case.name))?;
+                if k > tail {
+                    count += 1;
+                    for (s, &j) in sums.iter_mut().zip(&unknown) {
+                        *s += filter.parameters()[j] / truth[j] - 1.0;
                     }
                 }
-                let wall = started.0.elapsed().as_secs_f64();
-                let cpu = match (started.1, cpu_seconds()) {
-                    (Some(a), Some(b)) => b - a,
-                    _ => wall,
-                };
-                best = [
-                    best[0].max(STEPS as f64 / wall),
-                    best[1].max(STEPS as f64 / cpu),
-                ];
-                errors = sums.iter().map(|s| 100.0 * s / f64::from(count)).collect();
-                label = match (filter.modal(), filter.rediagonalizations(), coordinates) {
-                    (false, ..) => "physical".into(),
-                    (true, Some(count), Coordinates::Rediagonalized(tolerance)) => {
-                        format!("τ {tolerance:.0e} ({count})")
-                    }
-                    (true, ..) => "modal".into(),
-                };
             }
-            Ok((label, best, errors))
-        };
+            let wall = started.0.elapsed().as_secs_f64();
+            let cpu = match (started.1, cpu_seconds()) {
+                (Some(a), Some(b)) => b - a,
+                _ => wall,
+            };
+            best = [
+                best[0].max(STEPS as f64 / wall),
+                best[1].max(STEPS as f64 / cpu),
+            ];
+            errors = sums.iter().map(|s| 100.0 * s / f64::from(count)).collect();
+            label = match (filter.modal(), filter.rediagonalizations(), coordinates) {
+                (false, ..) => "physical".into(),
+                (true, Some(count), Coordinates::Rediagonalized(tolerance)) => {
+                    format!("τ {tolerance:.0e} ({count})")
+                }
+                (true, ..) => "modal".into(),
+            };
+        }
+        Ok((label, best, errors))
+    };
 
     let cases = [
         Case {
@@ -249,8 +262,8 @@ fn main() -> Result<(), String> {
     );
     println!("(µs/step: wall clock; CPU: of all threads)");
     println!(
-        "{:<10} {:>4} {:>16} {:>12} {:>9} {:>9} {:>9}  avg error [%]",
-        "case", "N", "coordinates", "steps/s", "µs/step", "CPU µs", "× real"
+        "{:<10} {:>4} {:>16} {:>11} {:>12} {:>9} {:>9} {:>9}  avg error [%]",
+        "case", "N", "coordinates", "prediction", "steps/s", "µs/step", "CPU µs", "× real"
     );
     for case in &cases {
         let mut modes_exact = false;
@@ -263,27 +276,32 @@ fn main() -> Result<(), String> {
             if modes_exact && matches!(coordinates, Coordinates::Rediagonalized(_)) {
                 continue; // the modes diagonalize the pROM: the same run as Auto's
             }
-            let (label, [speed, cpu], errors) = run(case, coordinates)?;
-            modes_exact |= label == "modal";
-            let big_n = 2 * n + case.params.len() + usize::from(case.input.is_some());
-            let errors: Vec<String> = case
-                .params
-                .iter()
-                .zip(&errors)
-                .map(|((p, ..), e)| format!("{p} {e:+.4}"))
-                .collect();
-            println!(
-                "{:<10} {big_n:>4} {label:>16} {speed:>12.0} {:>9.2} {:>9.2} {:>9.1}  {}",
-                case.name,
-                1e6 / speed,
-                1e6 / cpu,
-                speed * DT,
-                errors.join(", ")
-            );
+            for (prediction, name) in [
+                (Prediction::Bdf1, "BDF1"),
+                (Prediction::Trapezoidal, "TRAP"),
+            ] {
+                let (label, [speed, cpu], errors) = run(case, coordinates, prediction)?;
+                modes_exact |= label == "modal";
+                let big_n = 2 * n + case.params.len() + usize::from(case.input.is_some());
+                let errors: Vec<String> = case
+                    .params
+                    .iter()
+                    .zip(&errors)
+                    .map(|((p, ..), e)| format!("{p} {e:+.4}"))
+                    .collect();
+                println!(
+                    "{:<10} {big_n:>4} {label:>16} {name:>11} {speed:>12.0} {:>9.2} {:>9.2} {:>9.1}  {}",
+                    case.name,
+                    1e6 / speed,
+                    1e6 / cpu,
+                    speed * DT,
+                    errors.join(", ")
+                );
+            }
         }
     }
     println!(
-        "\ncovariance settings (modal path when it applies): δ in Hz (eq. 8.31), P0 as a factor of INIT²"
+        "\ncovariance settings (modal path when it applies, BDF1): δ in Hz (eq. 8.31), P0 as a factor of INIT²"
     );
     println!(
         "{:<10} {:>10} {:>10} {:>12}  avg error [%]",
@@ -308,7 +326,7 @@ fn main() -> Result<(), String> {
             input: None,
             name: base.name,
         };
-        let (_, [speed, _], errors) = run(&case, Coordinates::Auto)?;
+        let (_, [speed, _], errors) = run(&case, Coordinates::Auto, Prediction::Bdf1)?;
         let errors: Vec<String> = case
             .params
             .iter()

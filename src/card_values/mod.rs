@@ -5,11 +5,28 @@
 //! leaf module: it uses no other paraflex module, so `deck` and every later module share one
 //! vocabulary without a backwards edge. The range of the `EKF` card's REDIAG tolerance
 //! ([`valid_rediagonalization_tolerance`]) is here too: checked where the card is read and where
-//! the estimator is set up, both against this one rule.
+//! the estimator is set up, both against this one rule; so is its PREDICT choice ([`Prediction`],
+//! whose numbers the estimator adds).
 
 mod dofs;
 
 pub use dofs::Dofs;
+
+/// The time discretization of the augmented EKF's prediction (thesis eq. 8.22; `EKF` field
+/// PREDICT). Both are one solve with an effective matrix S = M + h C + h² K per step
+/// (`dynamics::velocity_form`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Prediction {
+    /// BDF1, as the thesis (eq. 8.10–8.13, 8.22; h = Δt): exact on data made by BDF1 on the
+    /// same pROM, but it damps a mode of frequency ω by ζ ≈ ω Δt / 2, an error the default
+    /// process noise of q and q̇ (ε) does not cover on data from elsewhere.
+    Bdf1,
+    /// The trapezoidal rule (Newmark's average acceleration; h = Δt/2): no numerical damping,
+    /// second order. The default: it estimates from data the filter did not make (the exact
+    /// response of the pROM) within the thesis's bounds with the default process noise.
+    #[default]
+    Trapezoidal,
+}
 
 /// Whether a `FORCE` / `MOMENT` card is a force or a moment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]

@@ -7,6 +7,7 @@
 use faer::Mat;
 use faer::dyn_stack::MemBuffer;
 
+use super::filter::Prediction;
 use super::modal_coordinates::Modal;
 use super::physical::Physical;
 use crate::dynamics::velocity_form::{Operator, VelocityForm};
@@ -18,16 +19,16 @@ pub(super) enum Refused {
     NotDefinite(&'static str),
 }
 
-/// The pROM's M, C, K, S = M + Δt C + Δt² K and the q̇ block row J_v of the transition in one
-/// system of coordinates.
+/// The pROM's M, C, K, S = M + h C + h² K (h of [`Prediction::effective_step`]) and the q̇ block
+/// row J̃_v of the transition in one system of coordinates.
 pub(super) trait PromCoordinates {
-    /// Evaluate at `params` and factor S and M (`first`: M was never factored).
+    /// Evaluate at `params` and factor S = M + h C + h² K and M (`first`: M was never factored).
     fn evaluate(
         &mut self,
         prom: &Prom,
         params: &[f64],
         unknown: &[usize],
-        dt: f64,
+        h: f64,
         first: bool,
         mem: &mut MemBuffer,
     ) -> Result<(), Refused>;
@@ -38,9 +39,11 @@ pub(super) trait PromCoordinates {
     /// D (n × n_p) from w_k = q + β q̇ and w_m = q̈ + α q̇ (see
     /// [`super::physical::parameter_columns`]).
     fn parameter_columns(&self, params: &[usize], w_k: &[f64], w_m: &[f64], d: &mut Mat<f64>);
-    /// J_v = S⁻¹ [−Δt K, M, Δt S_un, −Δt D] (eq. 8.16–8.20, 8.33).
-    fn set_transition(&mut self, dt: f64, s_un: &Mat<f64>, d: &Mat<f64>);
-    /// J_v as a dense n × N matrix.
+    /// J̃_v = S⁻¹ [−Δt K, V, Δt S_un, −Δt D] (eq. 8.16–8.20, 8.33) with V = M (BDF1) or
+    /// M − h C + h² K (trapezoidal: J_v = S⁻¹ [−Δt K, 2M − S, Δt S_un, −Δt D̄] minus Δt/2 times
+    /// its q columns in the q̇ columns, J_v A⁻¹ of [`super::propagation`]).
+    fn set_transition(&mut self, dt: f64, prediction: Prediction, s_un: &Mat<f64>, d: &Mat<f64>);
+    /// J̃_v as a dense n × N matrix.
     fn transition_rows(&self, n: usize, big_n: usize) -> Mat<f64>;
 }
 
@@ -58,13 +61,13 @@ impl PromCoordinates for Model {
         prom: &Prom,
         params: &[f64],
         unknown: &[usize],
-        dt: f64,
+        h: f64,
         first: bool,
         mem: &mut MemBuffer,
     ) -> Result<(), Refused> {
         match self {
-            Model::Physical(ph) => ph.evaluate(prom, params, unknown, dt, first, mem),
-            Model::Modal(md) => md.evaluate(prom, params, unknown, dt, first, mem),
+            Model::Physical(ph) => ph.evaluate(prom, params, unknown, h, first, mem),
+            Model::Modal(md) => md.evaluate(prom, params, unknown, h, first, mem),
         }
     }
     #[inline(always)]
@@ -87,10 +90,10 @@ impl PromCoordinates for Model {
             Model::Modal(md) => md.parameter_columns(params, w_k, w_m, d),
         }
     }
-    fn set_transition(&mut self, dt: f64, s_un: &Mat<f64>, d: &Mat<f64>) {
+    fn set_transition(&mut self, dt: f64, prediction: Prediction, s_un: &Mat<f64>, d: &Mat<f64>) {
         match self {
-            Model::Physical(ph) => ph.set_transition(dt, s_un, d),
-            Model::Modal(md) => md.set_transition(dt, s_un, d),
+            Model::Physical(ph) => ph.set_transition(dt, prediction, s_un, d),
+            Model::Modal(md) => md.set_transition(dt, prediction, s_un, d),
         }
     }
     fn transition_rows(&self, n: usize, big_n: usize) -> Mat<f64> {
@@ -101,7 +104,7 @@ impl PromCoordinates for Model {
     }
 }
 
-/// The prediction's BDF1 step (eq. 8.22) runs on the model's products and its factored S.
+/// The prediction's step (eq. 8.22) runs on the model's products and its factored S.
 impl VelocityForm for Model {
     #[inline(always)]
     fn add_product(&self, op: Operator, x: &[f64], out: &mut [f64], scale: f64) {

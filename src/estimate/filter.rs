@@ -2,21 +2,33 @@
 //!
 //! State x* = [q, q̇, u_un, p] (eq. 8.1), u_un and p random walks (eq. 8.2–8.3). One step:
 //!
-//! - **Prediction** (eq. 8.22): BDF1 on the first-order form (eq. 8.10–8.13). With u and p held
+//! - **Prediction** (eq. 8.22): BDF1 on the first-order form (eq. 8.10–8.13), as the thesis, or
+//!   the trapezoidal rule ([`Prediction`], EKF field PREDICT; the default). With u and p held
 //!   (their rows of A* are zero), g_d = 0 is linear in (q_k, q̇_k) at fixed p and is solved
-//!   exactly: S q̇_k = M q̇_{k−1} − Δt K q_{k−1} + Δt (S_un u + f_kn(t_k)), q_k = q_{k−1} + Δt q̇_k,
-//!   with the effective matrix S = M + Δt C + Δt² K at p_{k−1}⁺. q̈_k = (q̇_k − q̇_{k−1})/Δt
-//!   is the equation of motion at step k. The step is [`crate::dynamics::velocity_form`]'s,
-//!   on the model's products and factored S.
-//! - **Jacobian** J = −(∂g_d/∂x_k)⁻¹ ∂g_d/∂x_{k−1} = (I − Δt J_c)⁻¹ (eq. 8.16–8.18, J_c of
-//!   eq. 8.32). Its rows for u and p are identity rows and its q rows are e_q + Δt (q̇ rows), so
-//!   only the q̇ block row J_v (n × N) is computed, by one solve with S:
-//!   J_v = S⁻¹ [−Δt K, M, Δt S_un, −Δt D], D_j = ∂K/∂p_j q + ∂C/∂p_j q̇ + ∂M/∂p_j q̈ — the
-//!   analytic parameter derivatives of the affine pROM (eq. 8.19–8.20, 8.33–8.35: M D_j =
-//!   −M ∂q̈/∂p_j). Without unknown parameters J is constant and computed once.
+//!   exactly by one solve with an effective matrix S at p_{k−1}⁺
+//!   ([`crate::dynamics::velocity_form`], on the model's products and factored S):
+//!   - BDF1: S q̇_k = M q̇_{k−1} − Δt K q_{k−1} + Δt (S_un u + f_kn(t_k)), q_k = q_{k−1} + Δt q̇_k,
+//!     S = M + Δt C + Δt² K; q̈_k = (q̇_k − q̇_{k−1})/Δt is the equation of motion at step k.
+//!   - trapezoidal: S q̇_k = (2M − S) q̇_{k−1} − Δt K q_{k−1} + Δt S_un u + Δt/2 (f_kn(t_{k−1}) +
+//!     f_kn(t_k)) (written with M q̈_{k−1}, the equation of motion at x⁺_{k−1}),
+//!     q_k = q_{k−1} + Δt/2 (q̇_{k−1} + q̇_k), S = M + Δt/2 C + Δt²/4 K; no numerical damping.
+//! - **Jacobian** J = −(∂g_d/∂x_k)⁻¹ ∂g_d/∂x_{k−1} (eq. 8.16–8.18, J_c of eq. 8.32). Its rows
+//!   for u and p are identity rows and its q rows are e_q + a e_q̇ + b J_v (BDF1: a = 0, b = Δt;
+//!   trapezoidal: a = b = Δt/2), so only the q̇ block row J_v (n × N) is computed, by one solve
+//!   with S:
+//!   - BDF1 (eq. 8.16–8.18 = (I − Δt J_c)⁻¹): J_v = S⁻¹ [−Δt K, M, Δt S_un, −Δt D],
+//!     D_j = ∂K/∂p_j q + ∂C/∂p_j q̇ + ∂M/∂p_j q̈ at x_k, q̈_k — the analytic parameter
+//!     derivatives of the affine pROM (eq. 8.19–8.20, 8.33–8.35: M D_j = −M ∂q̈/∂p_j);
+//!   - trapezoidal: J_v = S⁻¹ [−Δt K, 2M − S, Δt S_un, −Δt D̄] with D̄ the same D at the step's
+//!     mid-point (x_{k−1} + x_k)/2, (q̈_{k−1} + q̈_k)/2 (differentiating S q̇_k = (2M − S) q̇_{k−1}
+//!     − Δt K q_{k−1} + … in p_j gives S ∂q̇_k/∂p_j = −∂S/∂p_j (q̇_k + q̇_{k−1}) + 2 ∂M/∂p_j q̇_{k−1}
+//!     − Δt ∂K/∂p_j q_{k−1} = −Δt D̄_j by the trapezoidal relations; derivation in
+//!     docs/estimation.md).
+//!
+//!   Without unknown parameters J is constant and computed once.
 //! - **Covariance** P⁻ = J P Jᵀ + Q (eq. 8.24) by blocks from G = J_v P and H = G J_vᵀ
-//!   (`propagation`): n N² + n² N multiply-adds instead of the dense 2 N³, and exactly
-//!   symmetric.
+//!   (`propagation`; the trapezoidal J as a shear of P followed by BDF1-shaped blocks): n N² +
+//!   n² N multiply-adds instead of the dense 2 N³, and exactly symmetric.
 //! - **Correction** ([`super::ekf`]): measurement Jacobian J_m (eq. 8.37–8.39; [`super::measurement`]), gain
 //!   (eq. 8.26), state update (eq. 8.27) and the Joseph-form covariance (eq. 8.28)
 //!   L P Lᵀ + 𝒦 R 𝒦ᵀ, L = I − 𝒦 J_m, expanded with U = P J_mᵀ, S_y = J_m U + R into
@@ -69,10 +81,11 @@
 use faer::{Mat, MatRef};
 
 use super::coordinates::{Model, PromCoordinates};
-use super::ekf::Ekf;
+use super::ekf::{Ekf, ProcessModel};
 use super::measurement::SensorRows;
 use super::prom_model::PromModel;
 use crate::card_values::MAX_REDIAGONALIZATION_TOLERANCE;
+pub use crate::card_values::Prediction;
 use crate::linalg::dense::{DenseEigenError, product, stiffness_semidefinite};
 use crate::rom::prom::Prom;
 
@@ -90,6 +103,26 @@ pub enum Coordinates {
     /// a coupled part has drifted by more than this relative tolerance (0 < τ ≤ 0.1; see the
     /// module documentation).
     Rediagonalized(f64),
+}
+
+/// The numbers of each prediction ([`Prediction`]: the `EKF` card's PREDICT field).
+impl Prediction {
+    /// h of S = M + h C + h² K: Δt (BDF1) or Δt/2 (trapezoidal).
+    pub fn effective_step(self, dt: f64) -> f64 {
+        match self {
+            Prediction::Bdf1 => dt,
+            Prediction::Trapezoidal => 0.5 * dt,
+        }
+    }
+
+    /// a and b of q_k = q_{k−1} + a q̇_{k−1} + b q̇_k: (0, Δt) for BDF1, (Δt/2, Δt/2) for the
+    /// trapezoidal rule.
+    pub fn displacement_weights(self, dt: f64) -> (f64, f64) {
+        match self {
+            Prediction::Bdf1 => (0.0, dt),
+            Prediction::Trapezoidal => (0.5 * dt, 0.5 * dt),
+        }
+    }
 }
 
 /// Everything the filter needs; no deck involved.
@@ -120,6 +153,8 @@ pub struct FilterSetup {
     pub p0_inputs: Vec<f64>,
     pub p0_params: Vec<f64>,
     pub coordinates: Coordinates,
+    /// The prediction's time discretization (eq. 8.22).
+    pub prediction: Prediction,
 }
 
 /// Why the filter cannot run.
@@ -295,19 +330,39 @@ impl Filter {
 
     /// The transition Jacobian J of the last step (dense N × N, for checks and tools), in the
     /// filter's coordinates.
+    /// Its q rows are e_q + a e_q̇ + b J_v ([`Prediction::displacement_weights`]); the model
+    /// keeps J̃_v = J_v A⁻¹ (see `propagation`), so J_v's q̇ columns are J̃_v's plus a times its
+    /// q columns.
     pub fn transition(&self) -> Mat<f64> {
         let (n, big_n) = (self.ekf.model.n, self.size());
-        let jv = self.ekf.model.model.transition_rows(n, big_n);
+        let setup = &self.ekf.model.setup;
+        let (a, b) = setup.prediction.displacement_weights(setup.dt);
+        let sheared = self.ekf.model.model.transition_rows(n, big_n);
+        let jv = Mat::from_fn(n, big_n, |i, j| match j {
+            j if (n..2 * n).contains(&j) => sheared[(i, j)] + a * sheared[(i, j - n)],
+            j => sheared[(i, j)],
+        });
         Mat::from_fn(big_n, big_n, |i, j| {
-            let e = if i == j { 1.0 } else { 0.0 };
+            let e = |i, j| if i == j { 1.0 } else { 0.0 };
             if i < n {
-                e + self.ekf.model.setup.dt * jv[(i, j)]
+                e(i, j) + a * e(i + n, j) + b * jv[(i, j)]
             } else if i < 2 * n {
                 jv[(i - n, j)]
             } else {
-                e
+                e(i, j)
             }
         })
+    }
+
+    /// The known reduced load at t₀ (zero unless given here, before the first step): q̈₀ from
+    /// the equation of motion with it. The trapezoidal prediction of the first step starts from
+    /// q̈₀; BDF1 does not use it.
+    pub fn set_initial_load(&mut self, f_kn: &[f64]) -> Result<(), FilterError> {
+        let model = &mut self.ekf.model;
+        model.check_input(f_kn)?;
+        model.set_load(f_kn);
+        model.set_acceleration(&self.ekf.x);
+        Ok(())
     }
 
     /// One filter step: predict to t_k with the known reduced load `f_kn` = S_kn u_kn(t_k), then
@@ -428,6 +483,7 @@ pub(crate) mod tests {
             p0_inputs: vec![1.0],
             p0_params: vec![0.1, 0.1],
             coordinates: Coordinates::Physical,
+            prediction: Prediction::Bdf1,
         }
     }
 
@@ -455,21 +511,37 @@ pub(crate) mod tests {
         }
     }
 
+    /// [`setup`] with the trapezoidal prediction.
+    fn trapezoidal(x: &[f64]) -> FilterSetup {
+        FilterSetup {
+            prediction: Prediction::Trapezoidal,
+            ..setup(x)
+        }
+    }
+
     /// J of eq. 8.16 (with the analytic parameter columns) against central differences of the
-    /// exact BDF1 prediction map x_{k−1} ↦ x_k. The map is quadratic-free in (q, q̇, u) and
-    /// smooth in p; steps of 1e-6 relative give truncation ~1e-12 and round-off ~1e-10 relative
-    /// to the column: bound 1e-7.
+    /// exact prediction map x_{k−1} ↦ x_k, BDF1 and trapezoidal (q̈_{k−1} from the equation of
+    /// motion at x_{k−1}: its parameter and state dependence is part of the map). The map is
+    /// quadratic-free in (q, q̇, u) and smooth in p; steps of 1e-6 relative give truncation
+    /// ~1e-12 and round-off ~1e-10 relative to the column: bound 1e-7.
     #[test]
     fn prediction_jacobian_matches_finite_differences() {
-        let mut base = Filter::new(setup(&X)).unwrap();
+        for make in [setup, trapezoidal] {
+            jacobian_matches_finite_differences(make);
+        }
+    }
+
+    fn jacobian_matches_finite_differences(make: fn(&[f64]) -> FilterSetup) {
+        let mut base = Filter::new(make(&X)).unwrap();
         base.predict(&LOAD).unwrap();
         let j = base.transition();
+        let prediction = base.ekf.model.setup.prediction;
         for c in 0..7 {
             let h = 1e-6 * X[c].abs().max(1e-3);
             let predicted = |sign: f64| {
                 let mut x = X;
                 x[c] += sign * h;
-                let mut f = Filter::new(setup(&x)).unwrap();
+                let mut f = Filter::new(make(&x)).unwrap();
                 f.predict(&LOAD).unwrap();
                 f.state().to_vec()
             };
@@ -486,7 +558,7 @@ pub(crate) mod tests {
             for r in 0..7 {
                 assert!(
                     (fd[r] - j[(r, c)]).abs() <= 1e-7 * scale,
-                    "J[{r},{c}] = {} vs finite difference {}",
+                    "{prediction:?}: J[{r},{c}] = {} vs finite difference {}",
                     j[(r, c)],
                     fd[r]
                 );
@@ -497,12 +569,18 @@ pub(crate) mod tests {
     /// The blockwise prediction ([`propagate`] from Gᵀ and H) equals the dense J P Jᵀ + Q
     /// (eq. 8.24) with J from [`Filter::transition`], after a few steps have filled P (physical
     /// coordinates, where both are in the same coordinates), and leaves P exactly symmetric in
-    /// both coordinate systems, after the prediction and after the correction. Bound 1e-12 of
-    /// max |P|: the two evaluations differ only in summation order.
+    /// both coordinate systems, after the prediction and after the correction; BDF1 and
+    /// trapezoidal (the shear A P Aᵀ before the BDF1-shaped blocks). Bound 1e-12 of max |P|: the
+    /// two evaluations differ only in summation order.
     #[test]
     fn covariance_prediction_is_j_p_jt_plus_q_and_exactly_symmetric() {
-        for coordinates in [Coordinates::Physical, Coordinates::Auto] {
-            let mut unit = setup(&X);
+        for (coordinates, make) in [
+            (Coordinates::Physical, setup as fn(&[f64]) -> FilterSetup),
+            (Coordinates::Auto, setup),
+            (Coordinates::Physical, trapezoidal),
+            (Coordinates::Auto, trapezoidal),
+        ] {
+            let mut unit = make(&X);
             unit.coordinates = coordinates;
             unit.prom.stiffness[0].fill(0.0); // one material: the modal path applies
             let mut filter = Filter::new(unit).unwrap();
@@ -647,8 +725,39 @@ pub(crate) mod tests {
     /// round-off over 200 steps of a sine load.
     #[test]
     fn prediction_equals_the_bdf1_integrator() {
+        let load = |t: f64, f: &mut [f64]| {
+            f.iter_mut()
+                .zip(LOAD)
+                .for_each(|(f, l)| *f = l * (40.0 * t).sin())
+        };
+        prediction_equals_the_integrator(setup, Method::Bdf1, load);
+    }
+
+    /// The trapezoidal prediction is generalized-α with ρ∞ = 1 (the trapezoidal rule on a
+    /// linear system) under a load linear in time (generalized-α's load at t_k − Δt/2 is then
+    /// the average of t_{k−1} and t_k), from q̈₀ with the load at t₀
+    /// ([`Filter::set_initial_load`]): same q, q̇, q̈ to round-off over 200 steps.
+    #[test]
+    fn trapezoidal_prediction_equals_the_generalized_alpha_integrator() {
+        let load = |t: f64, f: &mut [f64]| {
+            f.iter_mut()
+                .zip(LOAD)
+                .for_each(|(f, l)| *f = l * (1.0 + 30.0 * t))
+        };
+        prediction_equals_the_integrator(
+            trapezoidal,
+            Method::GeneralizedAlpha { rho_inf: 1.0 },
+            load,
+        );
+    }
+
+    fn prediction_equals_the_integrator(
+        make: fn(&[f64]) -> FilterSetup,
+        method: Method,
+        load: fn(f64, &mut [f64]),
+    ) {
         for coordinates in [Coordinates::Physical, Coordinates::Auto] {
-            let mut s = setup(&X);
+            let mut s = make(&X);
             s.unknown_params.clear();
             s.q_params.clear();
             s.p0_params.clear();
@@ -658,6 +767,9 @@ pub(crate) mod tests {
             s.u0.clear();
             s.coordinates = coordinates;
             let mut filter = Filter::new(s.clone()).unwrap();
+            let mut f0 = [0.0; 2];
+            load(0.0, &mut f0);
+            filter.set_initial_load(&f0).unwrap();
             assert_eq!(
                 filter.modal(),
                 coordinates == Coordinates::Auto,
@@ -670,13 +782,8 @@ pub(crate) mod tests {
                 damping: at.damping(),
                 stiffness: at.stiffness(),
             };
-            let load = |t: f64, f: &mut [f64]| {
-                f.iter_mut()
-                    .zip(LOAD)
-                    .for_each(|(f, l)| *f = l * (40.0 * t).sin())
-            };
             let mut reference = Vec::new();
-            integrate(sys, Method::Bdf1, s.dt, 200, &s.q0, &s.v0, load, |st| {
+            integrate(sys, method, s.dt, 200, &s.q0, &s.v0, load, |st| {
                 reference.push((st.q.to_vec(), st.v.to_vec(), st.a.to_vec()))
             })
             .unwrap();
@@ -690,7 +797,7 @@ pub(crate) mod tests {
                         (x[i] - q[i]).abs() <= 1e-12 * 1e-2
                             && (x[2 + i] - v[i]).abs() <= 1e-12
                             && (acc[i] - a[i]).abs() <= 1e-9,
-                        "{coordinates:?}, step {k}"
+                        "{method:?}, {coordinates:?}, step {k}"
                     );
                 }
             }
@@ -704,10 +811,19 @@ pub(crate) mod tests {
     /// E, ρ and their standard deviations agree over 400 steps. They differ by round-off only —
     /// of Φ and Φ⁻¹ = Φᵀ M₀ (Φ⁻¹ Φ = I to ~1e-15) and of the order of operations — amplified by
     /// the gain's dependence on P, whose entries span 1e-20 … 1: bound 1e-9 of each series'
-    /// range, as the filterpy cross-check.
+    /// range, as the filterpy cross-check. The same with the trapezoidal prediction on data
+    /// from generalized-α with ρ∞ = 1.
     #[test]
     fn modal_path_equals_physical_path() {
-        let mut truth = setup(&[0.0, 0.0, 0.0, 0.0, 2.0, 1.0, 1.0]);
+        modal_path_equals_physical_path_with(setup, Method::Bdf1);
+        modal_path_equals_physical_path_with(
+            trapezoidal,
+            Method::GeneralizedAlpha { rho_inf: 1.0 },
+        );
+    }
+
+    fn modal_path_equals_physical_path_with(make: fn(&[f64]) -> FilterSetup, method: Method) {
+        let mut truth = make(&[0.0, 0.0, 0.0, 0.0, 2.0, 1.0, 1.0]);
         truth.prom.stiffness[0].fill(0.0);
         let mut at = truth.prom.workspace();
         truth.prom.evaluate(&truth.p, &mut at).unwrap();
@@ -727,12 +843,12 @@ pub(crate) mod tests {
             known(t, f);
             f[1] += 2.0;
         };
-        integrate(sys, Method::Bdf1, truth.dt, 400, &q0, &v0, full, |st| {
+        integrate(sys, method, truth.dt, 400, &q0, &v0, full, |st| {
             data.push([st.q[0], st.a[1]])
         })
         .unwrap();
         let run = |coordinates: Coordinates| {
-            let mut s = setup(&[q0[0], q0[1], v0[0], v0[1], 0.0, 1.2, 0.9]);
+            let mut s = make(&[q0[0], q0[1], v0[0], v0[1], 0.0, 1.2, 0.9]);
             s.prom.stiffness[0].fill(0.0);
             s.coordinates = coordinates;
             s.p0_state = 1e-10;
@@ -758,10 +874,12 @@ pub(crate) mod tests {
             } else {
                 format!("σ of {}", names[c - 7])
             };
-            println!("{what}: max |physical − modal| = {worst:.2e} (range {range:.2e})");
+            println!(
+                "{method:?}: {what}: max |physical − modal| = {worst:.2e} (range {range:.2e})"
+            );
             assert!(
                 worst <= 1e-9 * range,
-                "{what}: {worst:e} vs range {range:e}"
+                "{method:?}: {what}: {worst:e} vs range {range:e}"
             );
         }
         // the estimate converged (the comparison is not between two diverged runs)
@@ -770,7 +888,7 @@ pub(crate) mod tests {
             (last[5] - 1.0).abs() < 0.02
                 && (last[6] - 1.0).abs() < 0.02
                 && (last[4] - 2.0).abs() < 0.1,
-            "{last:?}"
+            "{method:?}: {last:?}"
         );
         // the final covariance maps back to the physical one
         let scale = p_physical.norm_max();
@@ -803,11 +921,21 @@ mod rediagonalized {
     /// p_b = (1.25, 0.93) (drift 4 %, under τ = 0.1, so the coupled parts are in use), one
     /// prediction from the same physical state equals the physical path's BDF1 step at p_b.
     /// Both solve the same linear system (Jacobi to 4 ε against Cholesky): bound 1e-12 of the
-    /// largest entry.
+    /// largest entry. BDF1 and trapezoidal (S = M + h C + h² K with h = Δt/2).
     #[test]
     fn prediction_with_coupled_parts_equals_the_physical_one() {
+        for prediction in [Prediction::Bdf1, Prediction::Trapezoidal] {
+            coupled_prediction_equals_the_physical_one(prediction);
+        }
+    }
+
+    fn coupled_prediction_equals_the_physical_one(prediction: Prediction) {
         let p_b = [1.25, 0.93];
-        let mut coupled = Filter::new(setup(Coordinates::Rediagonalized(0.1), [1.2, 0.9])).unwrap();
+        let mut coupled = Filter::new(FilterSetup {
+            prediction,
+            ..setup(Coordinates::Rediagonalized(0.1), [1.2, 0.9])
+        })
+        .unwrap();
         assert!(
             coupled.modal() && coupled.rediagonalizations() == Some(0),
             "the chain couples: re-diagonalized coordinates"
@@ -818,7 +946,11 @@ mod rediagonalized {
         ekf.model.refresh(ekf.step, &mut ekf.x, &mut ekf.p).unwrap();
         ekf.model.set_acceleration(&ekf.x);
         assert_eq!(coupled.rediagonalizations(), Some(0), "4 % is under τ");
-        let mut physical = Filter::new(setup(Coordinates::Physical, p_b)).unwrap();
+        let mut physical = Filter::new(FilterSetup {
+            prediction,
+            ..setup(Coordinates::Physical, p_b)
+        })
+        .unwrap();
         coupled.predict(&LOAD).unwrap();
         physical.predict(&LOAD).unwrap();
         let (a, b) = (coupled.state(), physical.state());
@@ -1059,6 +1191,7 @@ mod filterpy_check {
             p0_inputs: vec![1.0],
             p0_params: vec![],
             coordinates: Coordinates::Physical,
+            prediction: Prediction::Bdf1,
         };
         let z = (1..=STEPS)
             .map(|k| k as f64 * 1e-3)

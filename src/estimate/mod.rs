@@ -4,7 +4,7 @@
 //! - [`ekf`]: the EKF's correction (gain and Joseph update, eq. 8.25–8.28) written once over a
 //!   [`ekf::ProcessModel`] that predicts and measures, and the [`ekf::Linearization`] the
 //!   observability tests read.
-//! - [`filter`]: the augmented EKF with BDF1 and analytic Jacobians (eq. 8.1–8.35), the
+//! - [`filter`]: the augmented EKF with a BDF1 or trapezoidal prediction and analytic Jacobians (eq. 8.1–8.35), the
 //!   process model of a pROM (`prom_model`) in one of the pROM's coordinates (`coordinates`: the trait they implement): [`physical`] (the
 //!   reduced coordinates q) or modal (`modal_coordinates`, with the couplings of re-diagonalized
 //!   modes in `drift`); `propagation` holds the covariance prediction by blocks and `kernels`
@@ -36,7 +36,7 @@ pub mod prom_linearization;
 mod prom_model;
 mod propagation;
 
-pub use filter::{Coordinates, Filter, FilterError, FilterSetup};
+pub use filter::{Coordinates, Filter, FilterError, FilterSetup, Prediction};
 pub use measurement::{Reads, SensorRows};
 
 /// Rules of thumb for the random-walk covariances (thesis §8.3).

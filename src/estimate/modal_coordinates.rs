@@ -9,6 +9,7 @@ use faer::dyn_stack::MemBuffer;
 
 use super::coordinates::{PromCoordinates, Refused};
 use super::drift::{Drift, add_coupled, solve_modal};
+use super::filter::Prediction;
 use super::kernels::{axpy, storage_mut};
 use super::modal::ModalForm;
 use super::propagation::{mirror_w_rows, propagate_column};
@@ -28,15 +29,15 @@ pub(super) struct Modal {
     /// diag of ∂K/∂p_j, ∂M/∂p_j per estimated parameter (n × n_p).
     pub(super) dk: Mat<f64>,
     pub(super) dm: Mat<f64>,
-    /// J_v = [diag(jk), diag(jm), jw] (jw: n × (n_un + n_p)).
+    /// J̃_v = [diag(jk), diag(jm), jw] (jw: n × (n_un + n_p)).
     pub(super) jk: Vec<f64>,
     pub(super) jm: Vec<f64>,
     pub(super) jw: Mat<f64>,
     /// x* and q̈ in the physical coordinates, mapped on the first request after a step
     /// ([`super::filter::Filter::state`], [`super::filter::Filter::acceleration`]): a step itself never needs them.
     pub(super) physical: OnceCell<(Vec<f64>, Vec<f64>)>,
-    /// Δt and the Rayleigh α, β (for the off-diagonal parts of C and S).
-    pub(super) dt: f64,
+    /// h of S = M + h C + h² K and the Rayleigh α, β (for the off-diagonal parts of C and S).
+    pub(super) h: f64,
     pub(super) alpha: f64,
     pub(super) beta: f64,
     /// The off-diagonal couplings (re-diagonalized coordinates only).
@@ -54,20 +55,20 @@ impl Modal {
         }
     }
 
-    /// [`Modal::off_factors`] of S = M + Δt C + Δt² K.
+    /// [`Modal::off_factors`] of S = M + h C + h² K.
     fn effective_factors(&self) -> (f64, f64) {
-        (1.0 + self.dt * self.alpha, self.dt * (self.beta + self.dt))
+        (1.0 + self.h * self.alpha, self.h * (self.beta + self.h))
     }
 }
 
 impl PromCoordinates for Modal {
-    /// Evaluate at `params` and factor S and M (`first`: M was never factored).
+    /// Evaluate at `params` and factor S = M + h C + h² K and M (`first`: M was never factored).
     fn evaluate(
         &mut self,
         prom: &Prom,
         params: &[f64],
         unknown: &[usize],
-        dt: f64,
+        h: f64,
         _: bool,
         _: &mut MemBuffer,
     ) -> Result<(), Refused> {
@@ -105,7 +106,7 @@ impl PromCoordinates for Modal {
         let (alpha, beta) = (prom.alpha, prom.beta);
         for i in 0..self.k.len() {
             self.c[i] = alpha * self.m[i] + beta * self.k[i];
-            self.s[i] = self.m[i] + dt * self.c[i] + dt * dt * self.k[i];
+            self.s[i] = self.m[i] + h * self.c[i] + h * h * self.k[i];
         }
         if let Some(dr) = &mut self.drift {
             dr.current = 0.0;
@@ -187,12 +188,17 @@ impl PromCoordinates for Modal {
         }
     }
 
-    /// J_v = S⁻¹ [−Δt K, M, Δt S_un, −Δt D] (eq. 8.16–8.20, 8.33).
-    fn set_transition(&mut self, dt: f64, s_un: &Mat<f64>, d: &Mat<f64>) {
+    /// J̃_v = S⁻¹ [−Δt K, V, Δt S_un, −Δt D] (eq. 8.16–8.20, 8.33; V of
+    /// [`PromCoordinates::set_transition`]; its q and q̇ blocks from the diagonals).
+    fn set_transition(&mut self, dt: f64, prediction: Prediction, s_un: &Mat<f64>, d: &Mat<f64>) {
         let nu = s_un.ncols();
+        let h = self.h;
         for i in 0..self.s.len() {
             self.jk[i] = -dt * self.k[i] / self.s[i];
-            self.jm[i] = self.m[i] / self.s[i];
+            self.jm[i] = match prediction {
+                Prediction::Bdf1 => self.m[i],
+                Prediction::Trapezoidal => self.m[i] - h * self.c[i] + h * h * self.k[i],
+            } / self.s[i];
         }
         for j in 0..self.jw.ncols() {
             let (src, scale) = if j < nu {
@@ -208,7 +214,7 @@ impl PromCoordinates for Modal {
         }
     }
 
-    /// J_v as a dense n × N matrix.
+    /// J̃_v as a dense n × N matrix.
     fn transition_rows(&self, n: usize, big_n: usize) -> Mat<f64> {
         Mat::from_fn(n, big_n, |i, j| match j {
             j if j < n => {
@@ -255,9 +261,9 @@ impl ModalColumns {
 }
 
 impl Modal {
-    /// P ← J P Jᵀ + the q and q̇ blocks of Q (eq. 8.24) in modal coordinates, one column pair
-    /// at a time without forming G or H: J_v = [diag(jk), diag(jm), jw] is diagonal in its q
-    /// and q̇ blocks, so column j of Gᵀ = P J_vᵀ combines columns j, n + j and the w columns of
+    /// P ← J P Jᵀ + the q and q̇ blocks of Q (eq. 8.24) in modal coordinates (J_v is J̃_v and b
+    /// the weight of q̇_k in q_k, [`super::propagation`]), one column pair at a time without
+    /// forming G or H: J_v = [diag(jk), diag(jm), jw] is diagonal in its q and q̇ blocks, so column j of Gᵀ = P J_vᵀ combines columns j, n + j and the w columns of
     /// P, and — P being exactly symmetric — column j of G = J_v P (row j of Gᵀ) combines
     /// three rows of P's column j, as does column n + j of G from P's column n + j; column j of
     /// H = J_v Gᵀ and of Hᵀ (row j of H) follow from those. Every sum is the one a transposed
@@ -272,7 +278,7 @@ impl Modal {
         p: &mut Mat<f64>,
         cols: &mut ModalColumns,
         q_state: f64,
-        dt: f64,
+        b: f64,
     ) {
         let (n, big_n, nw) = (self.jk.len(), p.nrows(), self.jw.ncols());
         let (jk, jm, jw) = (&self.jk[..n], &self.jm[..n], &self.jw);
@@ -331,7 +337,7 @@ impl Modal {
                 &cols.g_q,
                 &cols.h,
                 Some((self.gram.col_as_slice(j), q_state)),
-                dt,
+                b,
             );
         }
         mirror_w_rows(p, ps, n, big_n);

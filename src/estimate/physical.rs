@@ -6,6 +6,7 @@ use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatMut, Par};
 
 use super::coordinates::{PromCoordinates, Refused};
+use super::filter::Prediction;
 use super::kernels::{column, dot, factor_in_place, solve_seq};
 use crate::dynamics::velocity_form::Operator;
 use crate::rom::prom::{Prom, PromEvaluation};
@@ -13,23 +14,23 @@ use crate::rom::prom::{Prom, PromEvaluation};
 /// The pROM's dense matrices.
 pub(super) struct Physical {
     pub(super) at: PromEvaluation,
-    /// Lower Cholesky factors of S = M + Δt C + Δt² K and of M at the current parameters.
+    /// Lower Cholesky factors of S = M + h C + h² K and of M at the current parameters.
     pub(super) s_factor: Mat<f64>,
     pub(super) m_factor: Mat<f64>,
     /// The M that `m_factor` factors (refactored only when the estimate changes M).
     pub(super) factored_mass: Mat<f64>,
-    /// J_v (n × N).
+    /// J̃_v (n × N).
     pub(super) jv: Mat<f64>,
 }
 
 impl PromCoordinates for Physical {
-    /// Evaluate at `params` and factor S and M (`first`: M was never factored).
+    /// Evaluate at `params` and factor S = M + h C + h² K and M (`first`: M was never factored).
     fn evaluate(
         &mut self,
         prom: &Prom,
         params: &[f64],
         _: &[usize],
-        dt: f64,
+        h: f64,
         first: bool,
         mem: &mut MemBuffer,
     ) -> Result<(), Refused> {
@@ -45,7 +46,7 @@ impl PromCoordinates for Physical {
             let s = self.s_factor.col_as_slice_mut(c);
             s.iter_mut()
                 .zip(m.iter().zip(cd.iter().zip(k)))
-                .for_each(|(s, (m, (cd, k)))| *s = m + dt * cd + dt * dt * k);
+                .for_each(|(s, (m, (cd, k)))| *s = m + h * cd + h * h * k);
         }
         if !factor_in_place(self.s_factor.as_mut(), MemStack::new(mem)) {
             return Err(Refused::NotDefinite("M + Δt C + Δt² K"));
@@ -91,11 +92,25 @@ impl PromCoordinates for Physical {
         parameter_columns_into(&self.at, params, w_k, w_m, d)
     }
 
-    /// J_v = S⁻¹ [−Δt K, M, Δt S_un, −Δt D] (eq. 8.16–8.20, 8.33).
-    fn set_transition(&mut self, dt: f64, s_un: &Mat<f64>, d: &Mat<f64>) {
+    /// J̃_v = S⁻¹ [−Δt K, V, Δt S_un, −Δt D] (eq. 8.16–8.20, 8.33; V of
+    /// [`PromCoordinates::set_transition`]).
+    fn set_transition(&mut self, dt: f64, prediction: Prediction, s_un: &Mat<f64>, d: &Mat<f64>) {
         let (n, nu) = (s_un.nrows(), s_un.ncols());
+        let h = prediction.effective_step(dt);
         for j in 0..self.jv.ncols() {
             let col = self.jv.col_as_slice_mut(j);
+            if prediction == Prediction::Trapezoidal && (n..2 * n).contains(&j) {
+                let at = &self.at;
+                let (m, cd, k) = (
+                    column(at.mass(), j - n),
+                    column(at.damping(), j - n),
+                    column(at.stiffness(), j - n),
+                );
+                col.iter_mut()
+                    .zip(m.iter().zip(cd.iter().zip(k)))
+                    .for_each(|(o, (m, (cd, k)))| *o = m - h * cd + h * h * k);
+                continue;
+            }
             let (src, scale) = match j {
                 j if j < n => (column(self.at.stiffness(), j), -dt),
                 j if j < 2 * n => (column(self.at.mass(), j - n), 1.0),
@@ -107,7 +122,7 @@ impl PromCoordinates for Physical {
         solve_seq(self.s_factor.as_ref(), self.jv.as_mut());
     }
 
-    /// J_v as a dense n × N matrix.
+    /// J̃_v as a dense n × N matrix.
     fn transition_rows(&self, _: usize, _: usize) -> Mat<f64> {
         self.jv.clone()
     }

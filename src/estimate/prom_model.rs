@@ -1,7 +1,8 @@
 //! The pROM's augmented process model (thesis §8.2–8.3): the [`ProcessModel`] of
 //! [`super::filter::Filter`], in the coordinates of [`super::coordinates`]. Prediction by BDF1
-//! in velocity form ([`crate::dynamics::velocity_form`], eq. 8.22), its Jacobian's q̇ block row
-//! J_v (eq. 8.16–8.20, 8.33), P ← J P Jᵀ + Q by blocks ([`super::propagation`], eq. 8.24), the
+//! or the trapezoidal rule in velocity form ([`crate::dynamics::velocity_form`], eq. 8.22), its
+//! Jacobian's q̇ block row J_v (eq. 8.16–8.20, 8.33), P ← J P Jᵀ + Q by blocks
+//! ([`super::propagation`], eq. 8.24), the
 //! measurement rows (eq. 8.37–8.39), and after each correction the pROM at p⁺ (eq. 3.32) with
 //! S and M factored, re-diagonalized modes when the estimate has drifted ([`super::drift`]).
 
@@ -15,15 +16,15 @@ use faer::{Accum, Mat, MatRef, Par};
 use super::coordinates::{Model, PromCoordinates, Refused};
 use super::drift::{Drift, gram};
 use super::ekf::ProcessModel;
-use super::filter::{Coordinates, FilterError, FilterSetup, check_initial_stiffness};
+use super::filter::{Coordinates, FilterError, FilterSetup, Prediction, check_initial_stiffness};
 use super::kernels::{axpy, column, dot, vectorized};
 use super::measurement::Reads;
 use super::modal::{modal_form, modal_form_after};
 use super::modal_coordinates::{Modal, ModalColumns};
 use super::physical::Physical;
-use super::propagation::propagate;
+use super::propagation::{propagate, shear};
 use crate::card_values::valid_rediagonalization_tolerance;
-use crate::dynamics::velocity_form::{Operator, bdf1_step};
+use crate::dynamics::velocity_form::{Operator, bdf1_step, trapezoidal_step};
 use crate::linalg::dense::product;
 
 /// The pROM, its evaluation at the current estimate and the buffers of a step.
@@ -49,7 +50,8 @@ pub(super) struct PromModel {
 /// Buffers of one step (sizes fixed by n, N, n_p).
 struct Scratch {
     /// Known load in the filter's coordinates, reduced force, q̇ before the step, q + β q̇ and
-    /// q̈ + α q̇, right-hand side, M⁻¹ h of an ACCEL row and a product with it (n each).
+    /// q̈ + α q̇, right-hand side and scratch of the step, M⁻¹ h of an ACCEL row and a product
+    /// with it (n each).
     load: Vec<f64>,
     /// The modes (re-diagonalization count) and the physical load that `load` was made from
     /// (modal coordinates: the correction reuses the prediction's Φᵀ f; NaN: none yet).
@@ -59,6 +61,7 @@ struct Scratch {
     w_k: Vec<f64>,
     w_m: Vec<f64>,
     rhs: Vec<f64>,
+    work: Vec<f64>,
     g: Vec<f64>,
     t: Vec<f64>,
     /// D (n × n_p).
@@ -181,7 +184,7 @@ impl PromModel {
                     jm: vec![0.0; n],
                     jw: Mat::zeros(n, nu + np),
                     physical: OnceCell::new(),
-                    dt: setup.dt,
+                    h: setup.prediction.effective_step(setup.dt),
                     alpha: setup.prom.alpha,
                     beta: setup.prom.beta,
                     drift,
@@ -197,6 +200,7 @@ impl PromModel {
             w_k: vec![0.0; n],
             w_m: vec![0.0; n],
             rhs: vec![0.0; n],
+            work: vec![0.0; n],
             g: vec![0.0; n],
             t: vec![0.0; n],
             d: Mat::zeros(n, np),
@@ -263,7 +267,7 @@ impl PromModel {
             &s.prom,
             &self.params,
             &s.unknown_params,
-            s.dt,
+            s.prediction.effective_step(s.dt),
             step == 0,
             &mut self.scratch.mem,
         ) {
@@ -354,7 +358,7 @@ impl PromModel {
     }
 
     /// The known load in the filter's coordinates (Φᵀ f in modal ones) into `scratch.load`.
-    fn set_load(&mut self, f_kn: &[f64]) {
+    pub(super) fn set_load(&mut self, f_kn: &[f64]) {
         let (load, load_of) = (&mut self.scratch.load, &mut self.scratch.load_of);
         match &self.model {
             Model::Physical(_) => load.copy_from_slice(f_kn),
@@ -440,15 +444,24 @@ impl PromModel {
         }
     }
 
-    /// D at x and q̈ into `scratch.d` (see [`super::physical::parameter_columns`]).
-    fn parameter_columns(&mut self, x: &[f64]) {
-        let n = self.n;
+    /// D into `scratch.d` (see [`super::physical::parameter_columns`]) at x and q̈, or — with
+    /// `midpoint`, after a trapezoidal step from q̇_{k−1} = `scratch.v_old` — at the step's
+    /// mid-point (x_{k−1} + x_k)/2, (q̈_{k−1} + q̈_k)/2: q̇ = (q̇_{k−1} + q̇_k)/2,
+    /// q = q_k − Δt/2 q̇ and q̈ = (q̇_k − q̇_{k−1})/Δt by the trapezoidal relations.
+    fn parameter_columns(&mut self, x: &[f64], midpoint: bool) {
+        let (n, dt) = (self.n, self.setup.dt);
         let (alpha, beta) = (self.setup.prom.alpha, self.setup.prom.beta);
         let sc = &mut self.scratch;
         let (q, v) = (&x[..n], &x[n..2 * n]);
         for c in 0..n {
-            sc.w_k[c] = q[c] + beta * v[c];
-            sc.w_m[c] = self.a[c] + alpha * v[c];
+            let (q, v, a) = if midpoint {
+                let v_mid = 0.5 * (sc.v_old[c] + v[c]);
+                (q[c] - 0.5 * dt * v_mid, v_mid, (v[c] - sc.v_old[c]) / dt)
+            } else {
+                (q[c], v[c], self.a[c])
+            };
+            sc.w_k[c] = q + beta * v;
+            sc.w_m[c] = a + alpha * v;
         }
         self.model
             .parameter_columns(&self.setup.unknown_params, &sc.w_k, &sc.w_m, &mut sc.d);
@@ -461,7 +474,7 @@ impl PromModel {
         jm.fill(0.0);
         let any_accel = self.setup.measured.reads.contains(&Reads::Acceleration);
         if any_accel && self.np > 0 {
-            self.parameter_columns(x);
+            self.parameter_columns(x, false);
         }
         let rows = &self.setup.measured;
         for r in 0..rows.len() {
@@ -529,36 +542,55 @@ impl ProcessModel for PromModel {
         self.set_force(x);
         let (q, w) = x.split_at_mut(n);
         let sc = &mut self.scratch;
-        bdf1_step(
-            &mut self.model,
-            dt,
-            &sc.force,
-            q,
-            &mut w[..n],
-            &mut self.a,
-            &mut sc.v_old,
-            &mut sc.rhs,
-        );
-        // Jacobian block row J_v (eq. 8.16–8.20, 8.33) at the predicted x_k, q̈_k (D of g_d's q_k terms)
+        let prediction = self.setup.prediction;
+        match prediction {
+            Prediction::Bdf1 => bdf1_step(
+                &mut self.model,
+                dt,
+                &sc.force,
+                q,
+                &mut w[..n],
+                &mut self.a,
+                &mut sc.v_old,
+                &mut sc.rhs,
+            ),
+            Prediction::Trapezoidal => trapezoidal_step(
+                &mut self.model,
+                dt,
+                &sc.force,
+                q,
+                &mut w[..n],
+                &mut self.a,
+                &mut sc.v_old,
+                &mut sc.rhs,
+                &mut sc.work,
+            ),
+        }
+        // Jacobian block row J_v (eq. 8.16–8.20, 8.33): D of BDF1 at the predicted x_k, q̈_k
+        // (g_d's q_k terms), of the trapezoidal rule at the step's mid-point
         if !self.jv_valid || self.np > 0 {
-            self.parameter_columns(x);
+            self.parameter_columns(x, prediction == Prediction::Trapezoidal);
             self.model
-                .set_transition(dt, &self.setup.s_un, &self.scratch.d);
+                .set_transition(dt, prediction, &self.setup.s_un, &self.scratch.d);
             self.jv_valid = true;
         }
-        // P⁻ = J P Jᵀ + Q (eq. 8.24)
+        // P⁻ = J P Jᵀ + Q (eq. 8.24): P ← A P Aᵀ, then the BDF1-shaped blocks with J̃_v and b
+        let (a, b) = prediction.displacement_weights(dt);
+        if a != 0.0 {
+            shear(p, n, a);
+        }
         let sc = &mut self.scratch;
         match &self.model {
             Model::Physical(ph) => vectorized(
                 #[inline(always)]
                 || {
                     ph.transition_products(p, &mut self.gt, &mut self.h);
-                    propagate(p, &self.gt, &self.h, &mut sc.mirror, dt);
+                    propagate(p, &self.gt, &self.h, &mut sc.mirror, b);
                 },
             ),
             Model::Modal(md) => vectorized(
                 #[inline(always)]
-                || md.propagate(p, &mut sc.columns, self.setup.q_state, dt),
+                || md.propagate(p, &mut sc.columns, self.setup.q_state, b),
             ),
         }
         self.add_noise(p);

@@ -298,6 +298,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         coordinates: ekf
             .rediagonalize
             .map_or(Coordinates::Auto, Coordinates::Rediagonalized),
+        prediction: ekf.prediction,
         prom: prom.clone(),
     };
     let mut at = prom.workspace();
@@ -375,6 +376,11 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
 
     // the filter
     let mut filter = Filter::new(setup).map_err(|e| case(e.to_string()))?;
+    let mut f0 = vec![0.0; n];
+    load_at(0.0, &mut f0, &|_| true);
+    filter
+        .set_initial_load(&f0)
+        .map_err(|e| case(e.to_string()))?;
     let (nu, np) = (unknown_inputs.len(), unknown_params.len());
     let big_n = filter.size();
     let mut time = Vec::with_capacity(steps);

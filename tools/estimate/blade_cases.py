@@ -66,8 +66,9 @@ CASES += [
     ("E, RHO (strain)", "EKFPAR,1,E,{e0:e},1.\nEKFPAR,1,RHO,{r0:e},1.\n", ["S134", "S192", "A93"], ["sine", "random"], 0.5, True),
     ("degrading E (strain)", "EKFPAR,1,E,{e0:e},1.\n", ["S134", "S192"], ["sine, degrading E"], 1.0, True),
 ]
-# EKF card per case (P0STATE for the unknown initial state of the IC case)
-EKF_CARD = {"E, input (IC)": "EKF,1,,1.E-2\n"}
+# EKF card per case: the BDF1 prediction, as the thesis, on data made by BDF1 (P0STATE for the
+# unknown initial state of the IC case)
+EKF_CARD = {"E, input (IC)": "EKF,1,,1.E-2,,,BDF1\n"}
 SIGMA = {"D": 1e-7, "A": 1e-3, "S": 1e-7}
 
 
@@ -114,7 +115,7 @@ def main() -> None:
                 meas = "".join(f"MEAS,2,{c},{c},{SIGMA[c[0]]:e}\n" for c in channels)
                 deck = tmp / f"est_{load}.dat"
                 dload = "DLOAD = 7\n" if known else ""
-                ekf_card = EKF_CARD.get(name, "EKF,1\n")
+                ekf_card = EKF_CARD.get(name, "EKF,1,,,,,BDF1\n")
                 cards = f"TLOAD1,7,8,,,9\nDAREA,8,71,3,1.\nTABLEF,9,'load_{load}.csv',time,force\n" if known else ""
                 deck.write_text(f"SOL ESTIMATE\nCEND\nROM = '{prom}'\nESTIM = 1\nMEAS = 2\nTSTEP = 1\n{dload}BEGIN BULK\nTSTEP,1,{STEPS},{DT:e},1\n{ekf_card}"
                                 + unknowns.format(e0=1.25 * E, r0=0.7 * RHO)

@@ -3,7 +3,9 @@
 //! reported, not only the first.
 
 use crate::card_values::Column;
-use crate::card_values::{MAX_REDIAGONALIZATION_TOLERANCE, valid_rediagonalization_tolerance};
+use crate::card_values::{
+    MAX_REDIAGONALIZATION_TOLERANCE, Prediction, valid_rediagonalization_tolerance,
+};
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
@@ -18,6 +20,7 @@ use crate::deck::value::Value;
 /// | 4 | P0STATE | real > 0 | 1.0E-20 | initial variance of q and q̇ |
 /// | 5 | FORCE | `YES` `NO` | NO | run even when the observability check fails |
 /// | 6 | REDIAG | real in (0, 0.1] | blank | re-diagonalized modal coordinates with this drift tolerance when the estimated parameters change a pROM part that no modes diagonalize (blank: exact coordinates, the pROM's own when modal ones do not apply; paraflex-specific) |
+/// | 7 | PREDICT | `TRAP` `BDF1` | TRAP | the prediction's time discretization: the trapezoidal rule (no numerical damping) or BDF1 (the thesis's eq. 8.22, exact on data made by BDF1); paraflex-specific |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ekf {
     pub id: u32,
@@ -25,6 +28,7 @@ pub struct Ekf {
     pub p0_state: f64,
     pub force: bool,
     pub rediagonalize: Option<f64>,
+    pub prediction: Prediction,
     pub loc: Loc,
 }
 
@@ -45,14 +49,24 @@ impl Ekf {
                 format!("expected a real in (0, {MAX_REDIAGONALIZATION_TOLERANCE}], found {t:e}"),
             );
         }
+        let prediction = f.choice(
+            6,
+            "PREDICT",
+            &[
+                ("TRAP", Prediction::Trapezoidal),
+                ("BDF1", Prediction::Bdf1),
+            ],
+            Some(Prediction::Trapezoidal),
+        );
         let loc = f.loc();
-        f.finish(5)?;
+        f.finish(6)?;
         Ok(Ekf {
             id,
             q_state,
             p0_state,
             force,
             rediagonalize,
+            prediction,
             loc,
         })
     }
@@ -273,11 +287,20 @@ mod tests {
             (e.id, e.q_state, e.p0_state, e.force, e.rediagonalize),
             (3, f64::EPSILON, 1e-20, false, None)
         );
-        let e = Ekf::from_card(&card("EKF,3,1.e-12,1.e-10,YES,1.e-2")).unwrap();
+        assert_eq!(e.prediction, Prediction::Trapezoidal);
+        let e = Ekf::from_card(&card("EKF,3,1.e-12,1.e-10,YES,1.e-2,bdf1")).unwrap();
         assert_eq!(
-            (e.q_state, e.p0_state, e.force, e.rediagonalize),
-            (1e-12, 1e-10, true, Some(1e-2))
+            (
+                e.q_state,
+                e.p0_state,
+                e.force,
+                e.rediagonalize,
+                e.prediction
+            ),
+            (1e-12, 1e-10, true, Some(1e-2), Prediction::Bdf1)
         );
+        let e = Ekf::from_card(&card("EKF,3,,,,,TRAP")).unwrap();
+        assert_eq!(e.prediction, Prediction::Trapezoidal);
         let p = Ekfpar::from_card(&card("EKFPAR,3,e,2.5e11,1.e-3")).unwrap();
         assert_eq!(
             (p.name.as_str(), p.init, p.delta, p.p0),
@@ -303,8 +326,12 @@ mod tests {
     /// Every bad field is reported, each naming its field.
     #[test]
     fn every_bad_field_is_reported() {
-        let errors = Ekf::from_card(&card("EKF,3,-1.,0.,MAYBE,0.5")).unwrap_err();
-        assert_eq!(errors.len(), 4, "{errors:?}");
+        let errors = Ekf::from_card(&card("EKF,3,-1.,0.,MAYBE,0.5,BDF2")).unwrap_err();
+        assert_eq!(errors.len(), 5, "{errors:?}");
+        assert!(
+            errors.iter().any(|e| e.to_string().contains("PREDICT")),
+            "{errors:?}"
+        );
         assert!(
             errors.iter().any(|e| e.to_string().contains("REDIAG")),
             "{errors:?}"
