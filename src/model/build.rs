@@ -52,7 +52,7 @@ impl Model {
         elements.sort_by_key(|e| e.id);
         let mut rigids = build_rigids(&refs, &mut errors);
         rigids.sort_by_key(|r| r.id);
-        let element_index = element_id_space(bulk, &mut errors);
+        let declared_elements = element_id_space(bulk, &mut errors);
         let element_index: HashMap<u32, usize> = {
             // map ids to positions in the sorted element list (rigid ids are not in it)
             let by_id: HashMap<u32, usize> = elements
@@ -60,7 +60,7 @@ impl Model {
                 .enumerate()
                 .map(|(i, e)| (e.id, i))
                 .collect();
-            element_index
+            declared_elements
                 .keys()
                 .filter_map(|id| by_id.get(id).map(|&i| (*id, i)))
                 .collect()
@@ -75,10 +75,6 @@ impl Model {
         super::case::unselected_sets(deck, &mut warnings);
         warnings.extend(quality.into_warnings());
 
-        if !errors.is_empty() {
-            errors.sort_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));
-            return Err(errors);
-        }
         let model = Model {
             sol: deck.executive.sol.as_ref().map(|(s, _)| *s),
             grids,
@@ -95,9 +91,11 @@ impl Model {
             mechanism,
             warnings,
         };
-        let pressures = super::pressure::check(&model);
-        if !pressures.is_empty() {
-            return Err(pressures);
+        // the pressure cards' faces need the built elements and grids
+        errors.extend(super::pressure::check(&model, &declared_elements));
+        if !errors.is_empty() {
+            errors.sort_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));
+            return Err(errors);
         }
         let massless = super::mass_check::check(deck, &model);
         if !massless.is_empty() {

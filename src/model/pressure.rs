@@ -272,29 +272,51 @@ fn solid_face(
     Ok(face_grids)
 }
 
-/// Every pressure card that cannot be resolved, as a deck error at its line.
-pub fn check(model: &Model) -> Vec<crate::deck::DeckError> {
+/// Every pressure card that cannot be resolved, as a deck error at its line. A card on an element
+/// whose card exists (`declared`) but that is not in the model (its own error is reported) or on
+/// a grid that is not is skipped: no knock-on errors.
+pub fn check(
+    model: &Model,
+    declared: &std::collections::HashMap<u32, ()>,
+) -> Vec<crate::deck::DeckError> {
     let b = &model.bulk;
     let error = |loc: &crate::deck::Loc, card: String, e: String| {
         crate::deck::DeckError::at(loc, e).on_card(card)
     };
-    let pload4 = b.pload4.iter().filter_map(|c| {
-        model
-            .pload4_faces(c)
-            .err()
-            .map(|e| error(&c.loc, format!("PLOAD4 {}", c.sid), e))
-    });
-    let pload2 = b.pload2.iter().filter_map(|c| {
-        model
-            .pload2_faces(c)
-            .err()
-            .map(|e| error(&c.loc, format!("PLOAD2 {}", c.sid), e))
-    });
-    let pload = b.pload.iter().filter_map(|c| {
-        model
-            .pload_face(c)
-            .err()
-            .map(|e| error(&c.loc, format!("PLOAD {}", c.sid), e))
-    });
+    let known = |eid: u32| model.element_index.contains_key(&eid) || !declared.contains_key(&eid);
+    let pload4 = b
+        .pload4
+        .iter()
+        .filter(|c| !matches!(c.target, Pload4Target::Element { eid, .. } if !known(eid)))
+        .filter_map(|c| {
+            model
+                .pload4_faces(c)
+                .err()
+                .map(|e| error(&c.loc, format!("PLOAD4 {}", c.sid), e))
+        });
+    let pload2 = b
+        .pload2
+        .iter()
+        .filter(|c| c.elements.iter().all(|&eid| known(eid)))
+        .filter_map(|c| {
+            model
+                .pload2_faces(c)
+                .err()
+                .map(|e| error(&c.loc, format!("PLOAD2 {}", c.sid), e))
+        });
+    let pload = b
+        .pload
+        .iter()
+        .filter(|c| {
+            c.grids
+                .iter()
+                .all(|g| model.grid_index.contains_key(g) || !b.grids.iter().any(|d| d.id == *g))
+        })
+        .filter_map(|c| {
+            model
+                .pload_face(c)
+                .err()
+                .map(|e| error(&c.loc, format!("PLOAD {}", c.sid), e))
+        });
     pload4.chain(pload2).chain(pload).collect()
 }

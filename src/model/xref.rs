@@ -180,13 +180,16 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
     for l in &b.load {
         for (_, id) in &l.terms {
             if !static_sets.contains(id) {
-                errors.push(
-                    DeckError::at(
-                        &l.loc,
-                        format!("L = {id} does not exist (no FORCE, MOMENT, GRAV, PLOAD4, PLOAD2 or PLOAD set {id})"),
+                let message = if b.load.iter().any(|other| other.sid == *id) {
+                    format!(
+                        "L = {id} is itself a LOAD: a LOAD combines FORCE, MOMENT, GRAV, PLOAD4, PLOAD2 and PLOAD sets, not other LOADs (as in Nastran)"
                     )
-                    .on_card(format!("LOAD {}", l.sid)),
-                );
+                } else {
+                    format!(
+                        "L = {id} does not exist (no FORCE, MOMENT, GRAV, PLOAD4, PLOAD2 or PLOAD set {id})"
+                    )
+                };
+                errors.push(DeckError::at(&l.loc, message).on_card(format!("LOAD {}", l.sid)));
             }
         }
     }
