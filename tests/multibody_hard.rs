@@ -305,19 +305,37 @@ fn a_four_bar_passes_near_its_dead_centre_on_its_branch() {
 
 /// On the change point itself (ground 0.5: all four links on one line at θ = 0) the loop
 /// bifurcates and Φ_q loses rank: each scheme stops at the dead centre (t = 0.75 s, θ = 360°)
-/// with the step's time, its Newton residual and the worst constraint, never a silent jump
-/// to the other branch.
+/// with the step's time, its Newton residual, the worst constraint and the joints whose rows
+/// became dependent (all four: σ_min/σ_max of Φ_q measured 1e-11 to 1e-8), never a silent
+/// jump to the other branch.
 #[test]
 fn a_four_bar_on_its_change_point_stops_at_the_dead_centre() {
     for scheme in SCHEMES {
         match four_bar_turn(0.5, scheme) {
-            Err(MultibodyError::NotConverged { time, worst, .. }) => {
-                eprintln!("{scheme:?}: stopped at t = {time}, worst constraint {worst}");
+            Err(MultibodyError::NotConverged {
+                time,
+                worst,
+                dependent,
+                ..
+            }) => {
+                eprintln!(
+                    "{scheme:?}: stopped at t = {time}, worst constraint {worst}; {dependent}"
+                );
                 assert!((time - 0.75).abs() <= 2e-3, "{scheme:?}: stopped at {time}");
                 // The worst constraint of the last iterate is named (a joint of the loop, or
                 // a body's Euler-parameter normalization when the block solve's Newton steps
                 // leave it worst); which one depends on the iterate, not on the cause.
                 assert!(!worst.is_empty(), "the stop names a constraint");
+                // Φ_q lost a rank there: its weakest combination of rows is near zero and
+                // holds the rows of all four joints of the loop
+                assert!(dependent.ratio < 1e-6, "{scheme:?}: {dependent}");
+                for joint in 0..4 {
+                    let name = format!("joint {joint} (Revolute)");
+                    assert!(
+                        dependent.constraints.contains(&name),
+                        "{scheme:?}: {name} missing from {dependent}"
+                    );
+                }
             }
             other => panic!(
                 "{scheme:?}: expected a stop at the dead centre, got {:?}",

@@ -50,6 +50,9 @@ pub struct BlockKkt {
     gy: Mat<f64>,
     vy: Mat<f64>,
     schur: DenseLu,
+    /// The bodies each constraint row touches (nonzero in its row of G or V): a column of
+    /// Y = A⁻¹ [Gᵀ, P Gᵀ] is zero outside them, so products with G, V and Y skip the rest.
+    touched: Vec<Vec<usize>>,
     c_q: f64,
     /// Scratch: u, w (n) and the Schur right-hand side (2m).
     u: Vec<f64>,
@@ -75,6 +78,7 @@ impl BlockKkt {
             gy: Mat::zeros(m, 2 * m),
             vy: Mat::zeros(m, 2 * m),
             schur: DenseLu::new(2 * m),
+            touched: vec![Vec::new(); m],
             c_q: 0.0,
             u: vec![0.0; n],
             w: vec![0.0; n],
@@ -119,21 +123,29 @@ impl BlockKkt {
             }
             lu.factor();
         }
-        // Y = A⁻¹ [Gᵀ, P Gᵀ], column by column
-        for k in 0..m {
-            let row = self.gt.col_as_slice(k);
-            self.y.col_as_slice_mut(k).copy_from_slice(row);
-            let column = self.y.col_as_slice_mut(m + k);
-            column.fill(0.0);
-            for (s, pb) in self.slices.iter().zip(&self.p) {
-                let block = &mut column[s.offset..s.offset + s.len()];
-                block_mul(pb.as_ref(), s.offset, |j| row[j], block);
+        for (k, touched) in self.touched.iter_mut().enumerate() {
+            let (g, v) = (self.gt.col_as_slice(k), self.vt.col_as_slice(k));
+            touched.clear();
+            for (b, s) in self.slices.iter().enumerate() {
+                let range = coordinates(s);
+                if g[range.clone()].iter().chain(&v[range]).any(|&x| x != 0.0) {
+                    touched.push(b);
+                }
             }
         }
-        for j in 0..2 * m {
-            let column = self.y.col_as_slice_mut(j);
-            for (s, lu) in self.slices.iter().zip(&mut self.blocks) {
-                lu.solve(&mut column[s.offset..s.offset + s.len()]);
+        // Y = A⁻¹ [Gᵀ, P Gᵀ], column by column on the bodies the row touches
+        self.y.fill(0.0);
+        for (k, touched) in self.touched.iter().enumerate() {
+            let row = self.gt.col_as_slice(k);
+            for &b in touched {
+                let (s, lu) = (self.slices[b], &mut self.blocks[b]);
+                let range = coordinates(&s);
+                let column = &mut self.y.col_as_slice_mut(k)[range.clone()];
+                column.copy_from_slice(&row[range.clone()]);
+                lu.solve(column);
+                let column = &mut self.y.col_as_slice_mut(m + k)[range];
+                block_mul(self.p[b].as_ref(), s.offset, |j| row[j], column);
+                lu.solve(column);
             }
         }
         matmul(
@@ -196,10 +208,10 @@ impl BlockKkt {
         for ((w, r), u) in self.w.iter_mut().zip(r1.iter()).zip(&self.u) {
             *w = r + c_q * u;
         }
-        for k in 0..m {
+        for (k, touched) in self.touched.iter().enumerate() {
             let (gk, vk) = (self.gt.col_as_slice(k), self.vt.col_as_slice(k));
             let (mut z3, mut z4) = (r34[k], r34[m + k]);
-            for j in 0..n {
+            for j in touched.iter().flat_map(|&b| coordinates(&self.slices[b])) {
                 z3 -= vk[j] * self.w[j] + gk[j] * self.u[j];
                 z4 -= gk[j] * self.w[j];
             }
@@ -210,23 +222,30 @@ impl BlockKkt {
         // Δv = u − Y y, Δq = r₁ + c_q Δv + Gᵀ Δμ
         r2.copy_from_slice(&self.u);
         for (j, &yj) in self.z.iter().enumerate() {
-            if yj != 0.0 {
-                for (x, yij) in r2.iter_mut().zip(self.y.col_as_slice(j)) {
-                    *x -= yij * yj;
-                }
+            let column = self.y.col_as_slice(j);
+            for i in self.touched[j % m]
+                .iter()
+                .flat_map(|&b| coordinates(&self.slices[b]))
+            {
+                r2[i] -= column[i] * yj;
             }
         }
         for i in 0..n {
             r1[i] += c_q * r2[i];
         }
-        for k in 0..m {
-            let mu = self.z[m + k];
-            for (x, gkj) in r1.iter_mut().zip(self.gt.col_as_slice(k)) {
-                *x += gkj * mu;
+        for (k, touched) in self.touched.iter().enumerate() {
+            let (mu, gk) = (self.z[m + k], self.gt.col_as_slice(k));
+            for i in touched.iter().flat_map(|&b| coordinates(&self.slices[b])) {
+                r1[i] += gk[i] * mu;
             }
         }
         r34.copy_from_slice(&self.z);
     }
+}
+
+/// The indices of a body's coordinates in q.
+fn coordinates(s: &BodySlice) -> std::ops::Range<usize> {
+    s.offset..s.offset + s.len()
 }
 
 /// out += P_b x_b for one body's block P_b, its coordinates from `offset` on (x read through

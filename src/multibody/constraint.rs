@@ -18,6 +18,7 @@
 //! with the body-vector derivatives of [`super::vectors`].
 
 use super::layout::Layout;
+use super::rotations::Rotations;
 use super::signal::Signal;
 use super::vectors::BodyVector;
 
@@ -60,6 +61,32 @@ impl VectorSum {
             }
         }
         out
+    }
+
+    fn value_rotated(&self, layout: &Layout, q: &[f64], rotations: &Rotations) -> [f64; 3] {
+        let mut out = self.constant;
+        for (s, v) in &self.parts {
+            let x = v.value_rotated(layout, q, rotations.of(v.body));
+            for i in 0..3 {
+                out[i] += s * x[i];
+            }
+        }
+        out
+    }
+
+    /// Calls `sink(j, gᵀ ∂U/∂q_j)`.
+    fn contracted_jacobian(
+        &self,
+        layout: &Layout,
+        q: &[f64],
+        rotations: &Rotations,
+        g: [f64; 3],
+        sink: &mut impl FnMut(usize, f64),
+    ) {
+        for (s, v) in &self.parts {
+            let sg = g.map(|x| s * x);
+            v.contracted_jacobian(layout, q, rotations.of(v.body), sg, &mut *sink);
+        }
     }
 
     fn jacobian(&self, layout: &Layout, q: &[f64], sink: &mut impl FnMut(usize, usize, f64)) {
@@ -124,6 +151,39 @@ pub struct DotTerm {
     pub weight: Weight,
     pub u: VectorSum,
     pub w: VectorSum,
+}
+
+impl DotTerm {
+    /// Calls `sink(j, c ∂(U·W)/∂q_j)` = c (Wᵀ ∂U/∂q_j + Uᵀ ∂W/∂q_j) at the values U = u, W = w.
+    #[allow(clippy::too_many_arguments)]
+    fn add_gradient(
+        &self,
+        layout: &Layout,
+        q: &[f64],
+        rotations: &Rotations,
+        c: f64,
+        u: [f64; 3],
+        w: [f64; 3],
+        sink: &mut impl FnMut(usize, f64),
+    ) {
+        self.u
+            .contracted_jacobian(layout, q, rotations, w.map(|x| c * x), sink);
+        self.w
+            .contracted_jacobian(layout, q, rotations, u.map(|x| c * x), sink);
+    }
+}
+
+/// Calls `sink(j, ∂(eᵀe − 1)/∂q_j)` = 2 e on body `body`'s Euler parameters.
+fn normalization_gradient(
+    layout: &Layout,
+    body: usize,
+    q: &[f64],
+    mut sink: impl FnMut(usize, f64),
+) {
+    let s = layout.slice(body);
+    for (a, x) in s.euler_parameters(q).iter().enumerate() {
+        sink(s.euler() + a, 2.0 * x);
+    }
 }
 
 /// A scalar constraint (see module docs).
@@ -201,29 +261,72 @@ impl Constraint {
         q: &[f64],
         t: f64,
         derivative: usize,
+        sink: impl FnMut(usize, f64),
+    ) {
+        self.gradient(layout, q, t, &Rotations::at(layout, q), derivative, sink);
+    }
+
+    /// [`Constraint::jacobian`] with the bodies' rotations at q given.
+    pub fn gradient(
+        &self,
+        layout: &Layout,
+        q: &[f64],
+        t: f64,
+        rotations: &Rotations,
+        derivative: usize,
         mut sink: impl FnMut(usize, f64),
     ) {
         match self {
             Constraint::Normalization { body } => {
                 if derivative == 0 {
-                    let s = layout.slice(*body);
-                    for (a, x) in s.euler_parameters(q).iter().enumerate() {
-                        sink(s.euler() + a, 2.0 * x);
-                    }
+                    normalization_gradient(layout, *body, q, sink);
                 }
             }
             Constraint::Dots { terms, .. } => {
                 for term in terms {
                     let c = term.weight.at(t)[derivative];
-                    if c == 0.0 {
-                        continue;
+                    if c != 0.0 {
+                        let u = term.u.value_rotated(layout, q, rotations);
+                        let w = term.w.value_rotated(layout, q, rotations);
+                        term.add_gradient(layout, q, rotations, c, u, w, &mut sink);
                     }
-                    let (u, w) = (term.u.value(layout, q), term.w.value(layout, q));
-                    term.u
-                        .jacobian(layout, q, &mut |i, j, x| sink(j, c * w[i] * x));
-                    term.w
-                        .jacobian(layout, q, &mut |i, j, x| sink(j, c * u[i] * x));
                 }
+            }
+        }
+    }
+
+    /// Φ and Φ_t at (q, t), calling `sink(j, ∂Φ/∂q_j)` for Φ_q, in one pass with the
+    /// bodies' rotations at q given.
+    pub fn evaluate(
+        &self,
+        layout: &Layout,
+        q: &[f64],
+        t: f64,
+        rotations: &Rotations,
+        mut sink: impl FnMut(usize, f64),
+    ) -> [f64; 2] {
+        match self {
+            Constraint::Normalization { body } => {
+                normalization_gradient(layout, *body, q, sink);
+                [self.value(layout, q, t), 0.0]
+            }
+            Constraint::Dots { terms, offset } => {
+                let mut out = offset.as_ref().map_or([0.0; 2], |c| {
+                    let [x, xd, _] = c.at(t);
+                    [x, xd]
+                });
+                for term in terms {
+                    let [c, c_dot, _] = term.weight.at(t);
+                    let u = term.u.value_rotated(layout, q, rotations);
+                    let w = term.w.value_rotated(layout, q, rotations);
+                    let dot = u[0] * w[0] + u[1] * w[1] + u[2] * w[2];
+                    out[0] += c * dot;
+                    out[1] += c_dot * dot;
+                    if c != 0.0 {
+                        term.add_gradient(layout, q, rotations, c, u, w, &mut sink);
+                    }
+                }
+                out
             }
         }
     }

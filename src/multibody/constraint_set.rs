@@ -1,10 +1,12 @@
 //! The system's constraint equations as one set: Φ(q, t), Φ_q, Φ_t, the weighted Hessian
 //! Σᵢ wᵢ ∇²Φᵢ and the q-derivative of the velocity equation Φ_q v + Φ_t, each evaluated into
-//! dense caller-owned storage; rows found redundant are dropped ([`super::redundancy`]).
+//! dense caller-owned storage (Φ, Φ_t and Φ_q also in one pass, [`ConstraintSet::evaluate`]);
+//! rows found redundant are dropped ([`super::redundancy`]).
 
 use super::constraint::Constraint;
 use super::layout::Layout;
 use super::redundancy::{RankSplit, split_rows};
+use super::rotations::Rotations;
 use faer::{Mat, MatMut};
 
 /// Constraints with a name each (for reports).
@@ -48,8 +50,29 @@ impl ConstraintSet {
     /// Φ_q into `out` (m × n, overwritten).
     pub fn jacobian(&self, layout: &Layout, q: &[f64], t: f64, mut out: MatMut<'_, f64>) {
         out.fill(0.0);
+        let rotations = Rotations::at(layout, q);
         for (i, c) in self.constraints.iter().enumerate() {
-            c.jacobian(layout, q, t, 0, |j, x| out[(i, j)] += x);
+            c.gradient(layout, q, t, &rotations, 0, |j, x| out[(i, j)] += x);
+        }
+    }
+
+    /// Φ into `phi`, Φ_t into `phi_t` (m each) and Φ_q into `jacobian` (m × n, overwritten) in
+    /// one pass over the rows, with the bodies' rotations updated to q once.
+    #[allow(clippy::too_many_arguments)]
+    pub fn evaluate(
+        &self,
+        layout: &Layout,
+        q: &[f64],
+        t: f64,
+        rotations: &mut Rotations,
+        phi: &mut [f64],
+        phi_t: &mut [f64],
+        mut jacobian: MatMut<'_, f64>,
+    ) {
+        rotations.update(layout, q);
+        jacobian.fill(0.0);
+        for (i, c) in self.constraints.iter().enumerate() {
+            [phi[i], phi_t[i]] = c.evaluate(layout, q, t, rotations, |j, x| jacobian[(i, j)] += x);
         }
     }
 
@@ -86,13 +109,14 @@ impl ConstraintSet {
         mut hessian: MatMut<'_, f64>,
     ) {
         velocity_q.fill(0.0);
+        let rotations = Rotations::at(layout, q);
         for (i, (c, &w)) in self.constraints.iter().zip(weights).enumerate() {
             let sw = scale * w;
             c.hessian(layout, q, t, 1.0, |a, b, x| {
                 velocity_q[(i, b)] += v[a] * x;
                 hessian[(a, b)] += sw * x;
             });
-            c.jacobian(layout, q, t, 1, |j, x| velocity_q[(i, j)] += x);
+            c.gradient(layout, q, t, &rotations, 1, |j, x| velocity_q[(i, j)] += x);
         }
     }
 
@@ -100,10 +124,11 @@ impl ConstraintSet {
     /// γᵢ = −(vᵀ ∇²Φᵢ v + 2 ∂Φ_t,ᵢ/∂q · v + ∂²Φᵢ/∂t²), the second time derivative of Φᵢ = 0
     /// without its Φ_q q̈ part.
     pub fn acceleration_rhs(&self, layout: &Layout, q: &[f64], v: &[f64], t: f64, out: &mut [f64]) {
+        let rotations = Rotations::at(layout, q);
         for (o, c) in out.iter_mut().zip(&self.constraints) {
             let mut sum = c.time_derivative(layout, q, t, 2);
             c.hessian(layout, q, t, 1.0, |a, b, x| sum += v[a] * x * v[b]);
-            c.jacobian(layout, q, t, 1, |j, x| sum += 2.0 * x * v[j]);
+            c.gradient(layout, q, t, &rotations, 1, |j, x| sum += 2.0 * x * v[j]);
             *o = -sum;
         }
     }

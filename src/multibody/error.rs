@@ -1,5 +1,28 @@
 //! Errors of model building, assembly and integration.
 
+/// The constraints of a failed step's last iterate that came closest to depending on each
+/// other ([`super::redundancy::weakest_combination`] of Φ_q there): a loop at a dead centre
+/// names its joints.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dependence {
+    /// σ_min / σ_max of Φ_q.
+    pub ratio: f64,
+    /// The joints, drives or normalizations whose rows form the weakest combination, largest
+    /// weight first.
+    pub constraints: Vec<String>,
+}
+
+impl std::fmt::Display for Dependence {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "rows closest to dependent (σ_min/σ_max of Φ_q = {:.1e}): {}",
+            self.ratio,
+            self.constraints.join(", ")
+        )
+    }
+}
+
 /// Why a multibody computation stopped.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MultibodyError {
@@ -17,7 +40,7 @@ pub enum MultibodyError {
         violated: Vec<String>,
     },
     #[error(
-        "step to t = {time} did not converge in {iterations} Newton iterations: residual {residual:.3e}, worst constraint {worst} (|Φ| = {constraint:.3e})"
+        "step to t = {time} did not converge in {iterations} Newton iterations: residual {residual:.3e}, worst constraint {worst} (|Φ| = {constraint:.3e}); {dependent}"
     )]
     NotConverged {
         time: f64,
@@ -25,6 +48,17 @@ pub enum MultibodyError {
         residual: f64,
         worst: String,
         constraint: f64,
+        dependent: Dependence,
+    },
+    #[error(
+        "step to t = {time}: singular GGL iteration matrix at residual {residual:.3e}, worst constraint {worst} (|Φ| = {constraint:.3e}); {dependent}"
+    )]
+    SingularStep {
+        time: f64,
+        residual: f64,
+        worst: String,
+        constraint: f64,
+        dependent: Dependence,
     },
     #[error(
         "static equilibrium at t = {time} not found in {iterations} Newton iterations: force residual {residual:.3e}, worst constraint {worst} (|Φ| = {constraint:.3e})"

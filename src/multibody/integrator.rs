@@ -34,7 +34,10 @@
 //! matrix just factored at the current iterate mean divergence: the attempt stops there. A
 //! step that does not converge in `max_iterations` (after one retry from the predictor with a
 //! fresh matrix when the first attempt began with an older one) is an error naming the time,
-//! the largest residual entry and the worst position constraint (its joint or drive and |Φ|).
+//! the largest residual entry, the worst position constraint (its joint or drive and |Φ|) and
+//! the constraints whose rows came closest to depending on each other at the last iterate
+//! (the weakest combination of Φ_q's rows, [`weakest_combination`]: at a dead centre, the
+//! loop's joints); so is a singular iteration matrix.
 //!
 //! The predictor is q_n + h v_n, v_n and the multipliers of the last step. Extrapolating the
 //! accelerations (v = v̂ + c_v q̈_n, or q̈ linear in the last two steps) cuts the iterations of
@@ -46,7 +49,9 @@
 use super::block_kkt::BlockKkt;
 use super::constraint_set::ConstraintSet;
 use super::dense_lu::DenseLu;
-use super::error::MultibodyError;
+use super::error::{Dependence, MultibodyError};
+use super::redundancy::weakest_combination;
+use super::rotations::Rotations;
 use super::scheme::{History, Scheme, StepForm};
 use super::system::{DriveSource, Equations, System};
 use crate::dynamics::newton::{JacobianUpdate, NewtonDriver, NewtonPolicy, StepEquations, max_abs};
@@ -141,6 +146,8 @@ struct Workspace {
     /// v − v̂ and M(q) (v − v̂).
     relative: Vec<f64>,
     momentum: Vec<f64>,
+    /// The bodies' rotation matrices at the iterate.
+    rotations: Rotations,
 }
 
 impl Workspace {
@@ -158,6 +165,7 @@ impl Workspace {
             gq_lam: vec![0.0; n],
             relative: vec![0.0; n],
             momentum: vec![0.0; n],
+            rotations: Rotations::default(),
         }
     }
 }
@@ -437,7 +445,23 @@ impl Ggl {
             t,
             tolerance: self.settings.tolerance,
         };
-        let outcome = self.newton.solve(&mut equations)?;
+        let outcome = match self.newton.solve(&mut equations) {
+            Ok(outcome) => outcome,
+            Err(MultibodyError::Singular { .. }) => {
+                // the last iterate is the one whose matrix could not be solved with
+                let mut r = vec![0.0; self.newton.solution().len()];
+                equations.residual(self.newton.solution(), &mut r)?;
+                let (row, constraint) = worst(&self.work.phi);
+                return Err(MultibodyError::SingularStep {
+                    time: t,
+                    residual: max_abs(&r),
+                    worst: self.row_label(row),
+                    constraint,
+                    dependent: self.dependence(t),
+                });
+            }
+            Err(e) => return Err(e),
+        };
         if !outcome.converged {
             // the driver left the residual of the last iterate (and its Φ) behind
             let (row, constraint) = worst(&self.work.phi);
@@ -445,14 +469,9 @@ impl Ggl {
                 time: t,
                 iterations: outcome.stats.iterations,
                 residual: outcome.stats.residual,
-                worst: self
-                    .equations
-                    .constraints
-                    .labels
-                    .get(row)
-                    .cloned()
-                    .unwrap_or_default(),
+                worst: self.row_label(row),
                 constraint,
+                dependent: self.dependence(t),
             });
         }
         let (n, m) = (self.system.size(), self.constraint_count());
@@ -479,6 +498,49 @@ impl Ggl {
             factorizations: outcome.stats.factorizations,
             constraint_residual: max_abs(&self.work.phi),
         })
+    }
+
+    /// The label of kept constraint row `row`.
+    fn row_label(&self, row: usize) -> String {
+        self.equations
+            .constraints
+            .labels
+            .get(row)
+            .cloned()
+            .unwrap_or_default()
+    }
+
+    /// The constraints whose rows come closest to depending on each other at the Newton
+    /// driver's last iterate, at time t: each joint named once, drives and normalizations by
+    /// their labels.
+    fn dependence(&mut self, t: f64) -> Dependence {
+        let n = self.system.size();
+        let q = &self.newton.solution()[..n];
+        self.equations
+            .constraints
+            .jacobian(&self.system.layout, q, t, self.work.phi_q.as_mut());
+        let weakest = weakest_combination(self.work.phi_q.as_ref());
+        let mut constraints: Vec<String> = Vec::new();
+        for k in weakest.rows {
+            let full = self.active_row.iter().position(|&a| a == Some(k));
+            let joint = full.and_then(|i| {
+                self.equations
+                    .joint_rows
+                    .iter()
+                    .position(|rows| rows.contains(&i))
+            });
+            let name = match joint {
+                Some(j) => format!("joint {j} ({:?})", self.system.joints[j].kind),
+                None => self.row_label(k),
+            };
+            if !constraints.contains(&name) {
+                constraints.push(name);
+            }
+        }
+        Dependence {
+            ratio: weakest.ratio,
+            constraints,
+        }
     }
 
     /// The predictor of the step (module docs) into the Newton driver.
@@ -566,9 +628,15 @@ impl StepEquations for GglStep<'_> {
         let (layout, t) = (&self.system.layout, self.t);
         let c = &self.equations.constraints;
         let w = &mut *self.work;
-        c.jacobian(layout, q, t, w.phi_q.as_mut());
-        c.values(layout, q, t, &mut w.phi);
-        c.time_rates(layout, q, t, &mut w.phi_t);
+        c.evaluate(
+            layout,
+            q,
+            t,
+            &mut w.rotations,
+            &mut w.phi,
+            &mut w.phi_t,
+            w.phi_q.as_mut(),
+        );
         for i in 0..n {
             w.relative[i] = v[i] - v_hat[i];
         }

@@ -13,8 +13,10 @@
 //!   second derivatives with respect to q; [`marker`]: markers.
 //! - [`constraint`]: scalar constraints written as sums of time-weighted dot products of body
 //!   vectors (Φ, Φ_q, Φ_t and Hessian products); [`constraint_set`]: all of them evaluated into
-//!   dense storage; [`joints`]: joints and drives built from them; [`redundancy`]: redundant
-//!   constraints found by a column-pivoted QR of Φ_qᵀ.
+//!   dense storage, with the bodies' rotation matrices computed once per evaluation
+//!   ([`rotations`]); [`joints`]: joints and drives built from them; [`redundancy`]: redundant
+//!   constraints found by a column-pivoted QR of Φ_qᵀ, and the rows closest to dependent where
+//!   a step fails.
 //! - [`forces`]: point forces, point-to-point and joint spring-dampers, compliant drives.
 //! - [`signal`]: time functions with their first two derivatives; [`error`]: what stops a run.
 //! - [`system`]: the assembled system and its residual terms; [`integrator`]: consistent
@@ -51,6 +53,7 @@ pub mod layout;
 pub mod marker;
 pub mod output;
 pub mod redundancy;
+pub mod rotations;
 pub mod scheme;
 pub mod signal;
 pub mod simulation;
@@ -61,7 +64,7 @@ pub mod vectors;
 
 pub use body::Body;
 pub use derivatives::EomTerms;
-pub use error::MultibodyError;
+pub use error::{Dependence, MultibodyError};
 pub use flexible::{FlexibleBodyData, InterfaceRows, MassInvariants};
 pub use forces::Force;
 pub use integrator::{Ggl, NewtonSettings, StepReport};

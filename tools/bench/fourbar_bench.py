@@ -9,7 +9,8 @@ docs/fourbar.md): 1 s of the drive with BDF1 at Δt = 1 ms, timed, and its error
 Builds the three links' pROM artifacts beside the deck in a work directory, runs the deck at
 1 ms (1000 steps) and at 0.25 ms (4000 steps, output every 4th: the same output times).
 Time: wall time of the run's "multibody" step as printed by paraflex (assembly, the time loop,
-the sensors and their output), best of --repeat runs; Newton iterations per step from the
+the sensors and their output) and CPU time of the whole run (its child-process rusage,
+reading the artifacts included), each the best of --repeat runs; Newton iterations per step from the
 output's newton_iterations. On a machine shared with other jobs the wall time can be 2–3 × the
 CPU time; compare binaries by the CPU time of a run of the kept work directory's coarse.dat
 (`perf stat -e task-clock`, docs/fourbar.md "Speed"). Error: eq. 4.11 of the thesis,
@@ -20,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import re
+import resource
 import shutil
 import tempfile
 from pathlib import Path
@@ -78,26 +80,34 @@ def integrator_table(work: Path, deck: str, exe: Path, repeat: int) -> None:
     run_checked(work / "reference.dat", work / "reference.h5", exe)
     ref = histories(work / "reference.h5")
     print(f"reference: generalized-α ρ∞ = 0.9 at Δt = {REFERENCE_MS} ms")
-    print("| scheme | Δt (ms) | steps | wall (ms) | Newton it./step | accel. error | torque error |")
-    print("|---|---|---|---|---|---|---|")
+    print("| scheme | Δt (ms) | steps | wall (ms) | CPU (ms) | Newton it./step | accel. error | torque error |")
+    print("|---|---|---|---|---|---|---|---|")
     for name, scheme in SCHEMES.items():
         for dt in STEPS_MS:
             deck_path, out = work / "variant.dat", work / "variant.h5"
             deck_path.write_text(variant(deck, scheme, dt, dt))
-            wall = min(timed_run(deck_path, out, exe) for _ in range(repeat))
+            wall, cpu = (min(t) for t in zip(*(timed_run(deck_path, out, exe) for _ in range(repeat))))
             y = histories(out)
             accel, torque = errors(y, ref)
             steps = round(1000.0 / dt)
-            print(f"| {name} | {dt:g} | {steps} | {1e3 * wall:.0f} | {y['iterations'][1:].mean():.2f} "
+            print(f"| {name} | {dt:g} | {steps} | {1e3 * wall:.0f} | {1e3 * cpu:.0f} | {y['iterations'][1:].mean():.2f} "
                   f"| {accel:.2e} | {torque:.2e} |")
 
 
-def timed_run(deck: Path, out: Path, exe: Path) -> float:
+def children_cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def timed_run(deck: Path, out: Path, exe: Path) -> tuple[float, float]:
+    """Wall time of the run's multibody step and CPU time of the whole run (s)."""
+    before = children_cpu()
     r = run_checked(deck, out, exe)
+    cpu = children_cpu() - before
     m = re.search(r"multibody ([0-9.]+) s", r.stdout)
     if not m:
         raise RuntimeError(f"no multibody timing in:\n{r.stdout}")
-    return float(m.group(1))
+    return float(m.group(1)), cpu
 
 
 def main() -> None:
@@ -121,15 +131,16 @@ def main() -> None:
             raise RuntimeError(f"{line} not in fourbar_steel.dat")
     (work / "coarse.dat").write_text(coarse)
     (work / "fine.dat").write_text(coarse.replace(*FINE))
-    wall = min(timed_run(work / "coarse.dat", work / "coarse.h5", a.paraflex) for _ in range(a.repeat))
-    fine_wall = timed_run(work / "fine.dat", work / "fine.h5", a.paraflex)
+    wall, cpu = (min(t) for t in zip(*(timed_run(work / "coarse.dat", work / "coarse.h5", a.paraflex)
+                                         for _ in range(a.repeat))))
+    fine_wall, fine_cpu = timed_run(work / "fine.dat", work / "fine.h5", a.paraflex)
     y, ref = histories(work / "coarse.h5"), histories(work / "fine.h5")
     if not np.allclose(y["time"], ref["time"]):
         raise RuntimeError("output times differ")
-    print(f"{'dt [s]':>8}{'steps':>7}{'wall [ms]':>11}{'accel error':>13}{'torque error':>14}")
-    print(f"{1e-3:>8.2e}{1000:>7}{1e3 * wall:>11.1f}{error_4_11(y['accel'], ref['accel']):>13.2e}"
+    print(f"{'dt [s]':>8}{'steps':>7}{'wall [ms]':>11}{'CPU [ms]':>10}{'accel error':>13}{'torque error':>14}")
+    print(f"{1e-3:>8.2e}{1000:>7}{1e3 * wall:>11.1f}{1e3 * cpu:>10.1f}{error_4_11(y['accel'], ref['accel']):>13.2e}"
           f"{error_4_11(y['torque'], ref['torque']):>14.2e}")
-    print(f"{2.5e-4:>8.2e}{4000:>7}{1e3 * fine_wall:>11.1f}{'(reference)':>13}{'':>14}")
+    print(f"{2.5e-4:>8.2e}{4000:>7}{1e3 * fine_wall:>11.1f}{1e3 * fine_cpu:>10.1f}{'(reference)':>13}{'':>14}")
     print(f"Newton iterations per step at 1 ms: {y['iterations'][1:].mean():.2f}")
     if a.integrators:
         integrator_table(work, coarse, a.paraflex, a.repeat)
