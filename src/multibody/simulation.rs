@@ -123,7 +123,7 @@ fn drive_row(ggl: &Ggl, drive: usize) -> [f64; 4] {
 
 /// The value of `output` at the integrator's state; `energy` holds the actuation energy
 /// integrated so far of each drive, `twin` the rigid twin's integrator.
-fn value(ggl: &Ggl, twin: Option<&Ggl>, output: &Output, energy: &[f64]) -> f64 {
+pub(super) fn value(ggl: &Ggl, twin: Option<&Ggl>, output: &Output, energy: &[f64]) -> f64 {
     match output {
         &Output::Position { marker, direction } => dot(direction, ggl.marker_position(marker)),
         &Output::Acceleration { marker, direction } => {
