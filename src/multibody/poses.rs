@@ -333,7 +333,10 @@ mod tests {
         for sizes in [vec![5], vec![3, 4], vec![2, 2, 2], vec![3, 1, 4, 2]] {
             let grid = PoseGrid {
                 drives: (0..sizes.len()).collect(),
-                axes: sizes.iter().map(|&n| (0..n).map(f64::from).collect()).collect(),
+                axes: sizes
+                    .iter()
+                    .map(|&n| (0..n).map(f64::from).collect())
+                    .collect(),
             };
             let order = grid.serpentine();
             let mut seen = order.clone();

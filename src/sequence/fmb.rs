@@ -33,7 +33,7 @@ use crate::card_values::{FmbStart, MsensorKind};
 use crate::deck::Solution;
 use crate::deck::cards::{Tinteg, TintegMethod, Tstepvar};
 use crate::deck::case_control::{StrainReference, Subcase, Target};
-use crate::discretize::mechanism::{Bodies, MechanismError, build_system};
+use crate::discretize::mechanism::{Bodies, MechanismError, MechanismSystem, build_system};
 use crate::discretize::pfmb::Pfmb;
 use crate::io::{
     read_pfmb, set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_pfmb,
@@ -41,6 +41,8 @@ use crate::io::{
 };
 use crate::model::mechanism::{Mechanism, Sensor};
 use crate::multibody::{NewtonSettings, Scheme, Start, StepControl, TimeGrid, simulate};
+
+mod poses;
 
 /// What one `SOL FMB` subcase computed.
 #[derive(Debug, Clone)]
@@ -239,9 +241,17 @@ fn subcase(
     let case = |what: String| RunError::Case { subcase: id, what };
     let pfmb = mechanism_of(ctx, sub)?;
     let mechanism = &pfmb.mechanism;
-    let start = sub.fmbstart.unwrap_or(FmbStart::Assemble);
+    // POSES makes a subcase static (the model refuses it with TSTEP)
+    let start = sub.fmbstart.unwrap_or(if sub.poses.is_some() {
+        FmbStart::Static
+    } else {
+        FmbStart::Assemble
+    });
     // a subcase without TSTEP is a static one (FMBSTART = STATIC): the equilibrium at t = 0
     let (grid, scheme, method) = match (sub.tstep, start) {
+        (None, _) if sub.poses.is_some() => {
+            (TimeGrid::default(), Scheme::Bdf1, "STATICS".to_string())
+        }
         (None, FmbStart::Static) => (TimeGrid::default(), Scheme::Bdf1, "STATICS".to_string()),
         (None, FmbStart::Assemble) => {
             return Err(case(
@@ -305,6 +315,21 @@ fn subcase(
         .any(|s| s.kind == MsensorKind::Dev)
         .then(|| build(Bodies::RigidTwin))
         .transpose()?;
+    if let Some(pid) = sub.poses {
+        let run = poses::PoseRun {
+            pfmb: &pfmb,
+            flexible: &ms,
+            twin: twin.as_ref().map(|t| &t.system),
+            sensors: &sensors,
+        };
+        let (result, finals) = poses::run(ctx, sub, pid, &run, earlier)?;
+        let summary = SubcaseSummary {
+            id,
+            autospc: Vec::new(),
+            result: Box::new(result),
+        };
+        return Ok((summary, finals, pfmb));
+    }
     let start = match start {
         FmbStart::Assemble => Start::Assembled,
         FmbStart::Static => Start::Equilibrium,
@@ -359,17 +384,7 @@ fn subcase(
         set_attr_f64s(&group, "max_local_error", &[h.max_error])?;
         set_attr_f64s(&group, "step_range", &h.step_range)?;
     }
-    let (mut names, mut values, mut extrapolated) = (Vec::new(), Vec::new(), Vec::new());
-    for (body, at) in &ms.flexible {
-        for (name, value) in &at.parameters {
-            names.push(format!("{body}.{name}"));
-            values.push(*value);
-        }
-        extrapolated.extend(at.extrapolated.iter().map(|n| format!("{body}.{n}")));
-    }
-    let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
-    set_attr_strings(&group, "params", &name_refs)?;
-    set_attr_f64s(&group, "values", &values)?;
+    let extrapolated = write_parameters(&group, &ms)?;
 
     let summary = SubcaseSummary {
         id,
@@ -396,6 +411,46 @@ fn subcase(
         }),
     };
     Ok((summary, strain_finals, pfmb))
+}
+
+/// Writes the flexible bodies' `BODY.PMPAR` names and values used as the attributes `params`
+/// and `values` of `group`; returns those outside their pROM's box.
+fn write_parameters(
+    group: &hdf5_metno::Group,
+    ms: &MechanismSystem,
+) -> Result<Vec<String>, RunError> {
+    let (mut names, mut values, mut extrapolated) = (Vec::new(), Vec::new(), Vec::new());
+    for (body, at) in &ms.flexible {
+        for (name, value) in &at.parameters {
+            names.push(format!("{body}.{name}"));
+            values.push(*value);
+        }
+        extrapolated.extend(at.extrapolated.iter().map(|n| format!("{body}.{n}")));
+    }
+    let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
+    set_attr_strings(group, "params", &name_refs)?;
+    set_attr_f64s(group, "values", &values)?;
+    Ok(extrapolated)
+}
+
+/// The warnings every multibody subcase may give: constraints removed as redundant and
+/// parameters extrapolated beyond their pROM's box.
+fn system_warnings(subcase: u32, redundant: &[String], extrapolated: &[String]) -> Vec<String> {
+    let mut w = Vec::new();
+    if !redundant.is_empty() {
+        w.push(format!(
+            "subcase {subcase}: {} redundant constraint(s) removed: {}",
+            redundant.len(),
+            redundant.join("; ")
+        ));
+    }
+    if !extrapolated.is_empty() {
+        w.push(format!(
+            "subcase {subcase}: parameter(s) {} lie outside the box their pROM was built for: extrapolated",
+            extrapolated.join(", ")
+        ));
+    }
+    w
 }
 
 impl Report for FmbSummary {
@@ -438,20 +493,6 @@ impl Report for FmbSummary {
     }
 
     fn warnings(&self, subcase: u32) -> Vec<String> {
-        let mut w = Vec::new();
-        if !self.redundant.is_empty() {
-            w.push(format!(
-                "subcase {subcase}: {} redundant constraint(s) removed: {}",
-                self.redundant.len(),
-                self.redundant.join("; ")
-            ));
-        }
-        if !self.extrapolated.is_empty() {
-            w.push(format!(
-                "subcase {subcase}: parameter(s) {} lie outside the box their pROM was built for: extrapolated",
-                self.extrapolated.join(", ")
-            ));
-        }
-        w
+        system_warnings(subcase, &self.redundant, &self.extrapolated)
     }
 }
