@@ -12,7 +12,8 @@
 //! (configuration and constraint forces) with the new drive targets, keeping the factored
 //! matrix while the corrections contract ([`Refresh::WhenSlow`] at the Newton settings'
 //! `slow_rate`). A pose whose warm start fails, and the first pose, start from the kinematic
-//! assembly at their drive values ([`Ggl::new`] from the mechanism's initial configuration);
+//! assembly at their drive values (reached from the mechanism's initial configuration by
+//! continuation in the drive targets, [`PoseSolver::assembled`]);
 //! with [`Start::Assembly`] every pose does (the reference the warm start is measured
 //! against). A pose that cannot be assembled or has no equilibrium (out of reach) is marked
 //! not converged with NaN outputs, and the grid goes on.
@@ -28,6 +29,10 @@ use super::signal::Signal;
 use super::simulation::{Output, value};
 use super::statics::{KeptMatrix, Refresh, StaticSettings, equilibrium_from};
 use super::system::{DriveSource, System};
+
+/// Largest change of a drive target between two kinematic assemblies of a continuation
+/// ([`PoseSolver::assembled`]): 0.5 rad keeps cos(θ − θ_d) ≥ 0.88 in a rigid drive's row.
+const ASSEMBLY_STEP: f64 = 0.5;
 
 /// Drives set over the Cartesian product of their axes.
 #[derive(Debug, Clone, PartialEq)]
@@ -140,6 +145,9 @@ struct Solved {
 struct PoseSolver<'a> {
     system: &'a System,
     drives: &'a [usize],
+    /// Each drive's coordinate in the system's initial configuration (its targets are this +
+    /// motion).
+    origins: Vec<f64>,
     settings: NewtonSettings,
     start: Start,
     /// The last equilibrium's integrator state, its equations at that pose's targets.
@@ -147,7 +155,24 @@ struct PoseSolver<'a> {
     kept: KeptMatrix,
 }
 
-impl PoseSolver<'_> {
+impl<'a> PoseSolver<'a> {
+    fn new(
+        system: &'a System,
+        drives: &'a [usize],
+        settings: NewtonSettings,
+        start: Start,
+    ) -> Self {
+        Self {
+            system,
+            drives,
+            origins: drive_origins(system),
+            settings,
+            start,
+            current: None,
+            kept: KeptMatrix::default(),
+        }
+    }
+
     fn static_settings(&self) -> StaticSettings {
         StaticSettings {
             tolerance: self.settings.tolerance,
@@ -156,13 +181,58 @@ impl PoseSolver<'_> {
         }
     }
 
-    /// The system assembled at the drive values `values`.
+    /// The system assembled at the drive values `values`, by continuation from the initial
+    /// configuration: the targets move there in equal steps of at most [`ASSEMBLY_STEP`], each
+    /// assembled from the last (a rigid drive's row sin(θ − θ_d) = 0 has a singular Jacobian a
+    /// quarter turn from its target and a second root half a turn away, so one jump from the
+    /// initial configuration to a far pose fails or lands on the wrong root).
     fn assembled(&self, values: &[f64]) -> Result<Ggl, MultibodyError> {
-        let mut system = self.system.clone();
-        for (&d, &v) in self.drives.iter().zip(values) {
-            system.drives[d].motion = Signal::constant(v);
+        let largest = values.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        let steps = (largest / ASSEMBLY_STEP).ceil().max(1.0) as usize;
+        let (q0, _) = self.system.initial_state();
+        let mut guess = q0.to_vec();
+        let mut step = 1;
+        loop {
+            let fraction = step as f64 / steps as f64;
+            let partial: Vec<f64> = values.iter().map(|v| v * fraction).collect();
+            let system = self.targeted(&guess, &partial);
+            let ggl = Ggl::new(system, 1.0, 0.0, self.settings)?;
+            if step == steps {
+                return Ok(ggl);
+            }
+            guess = ggl.q;
+            step += 1;
         }
-        Ggl::new(system, 1.0, 0.0, self.settings)
+    }
+
+    /// The system with its initial guess `guess` and every drive's target unchanged (its
+    /// coordinate in the initial configuration + motion(t)), the grid's drives' motions set to
+    /// `values`: [`System::equations`] takes a drive's initial value in the guess, so each
+    /// motion is shifted by the difference.
+    fn targeted(&self, guess: &[f64], values: &[f64]) -> System {
+        let mut system = self.system.clone();
+        let mut gradient = vec![0.0; guess.len()];
+        for (d, origin) in self.origins.iter().enumerate() {
+            let at_guess = system.joint_coordinate(system.drives[d].joint).evaluate(
+                &system.layout,
+                guess,
+                &mut gradient,
+            );
+            let shift = origin - at_guess;
+            let motion = match self.drives.iter().position(|&g| g == d) {
+                Some(axis) => Signal::constant(values[axis] + shift),
+                None => {
+                    let motion = system.drives[d].motion.clone();
+                    Signal::new(move |t| {
+                        let [f, rate, acceleration] = motion.at(t);
+                        [f + shift, rate, acceleration]
+                    })
+                }
+            };
+            system.drives[d].motion = motion;
+        }
+        system.set_initial_state(guess, &vec![0.0; guess.len()]);
+        system
     }
 
     /// Solves the pose with drive values `values`: warm from the current state when there is
@@ -175,7 +245,7 @@ impl PoseSolver<'_> {
         if self.start == Start::Neighbour
             && let Some(ggl) = self.current.as_mut()
         {
-            set_targets(ggl, self.drives, values)?;
+            set_targets(ggl, self.drives, &self.origins, values)?;
             let attempt = equilibrium_from(
                 &ggl.system,
                 &ggl.equations,
@@ -228,12 +298,22 @@ impl PoseSolver<'_> {
 }
 
 /// Points the drives' constraint rows (rigid) or springs (compliant) of `ggl`'s equations at
-/// initial value + `values`.
-fn set_targets(ggl: &mut Ggl, drives: &[usize], values: &[f64]) -> Result<(), MultibodyError> {
+/// their coordinates in the initial configuration (`origins`, per drive of the system) +
+/// `values`.
+fn set_targets(
+    ggl: &mut Ggl,
+    drives: &[usize],
+    origins: &[f64],
+    values: &[f64],
+) -> Result<(), MultibodyError> {
     for (&d, &v) in drives.iter().zip(values) {
         let motion = Signal::constant(v);
         match ggl.equations.drive_sources[d] {
-            DriveSource::Spring(i) => ggl.equations.springs[i].motion = Some(motion),
+            DriveSource::Spring(i) => {
+                let spring = &mut ggl.equations.springs[i];
+                spring.rest = origins[d];
+                spring.motion = Some(motion);
+            }
             DriveSource::Row(row) => {
                 let Some(k) = ggl.active_row[row] else {
                     return Err(MultibodyError::Input(format!(
@@ -246,13 +326,28 @@ fn set_targets(ggl: &mut Ggl, drives: &[usize], values: &[f64]) -> Result<(), Mu
                     joint.kind,
                     &system.markers[joint.first],
                     &system.markers[joint.second],
-                    ggl.equations.drive_initial[d],
+                    origins[d],
                     &motion,
                 );
             }
         }
     }
     Ok(())
+}
+
+/// Each drive's joint coordinate in the system's initial configuration.
+fn drive_origins(system: &System) -> Vec<f64> {
+    let (q0, _) = system.initial_state();
+    let mut gradient = vec![0.0; q0.len()];
+    system
+        .drives
+        .iter()
+        .map(|d| {
+            system
+                .joint_coordinate(d.joint)
+                .evaluate(&system.layout, q0, &mut gradient)
+        })
+        .collect()
 }
 
 /// Solves the equilibrium of `system` at every pose of `grid` in boustrophedon order from
@@ -267,14 +362,7 @@ pub fn solve_grid(
     settings: NewtonSettings,
     start: Start,
 ) -> Result<PoseHistories, MultibodyError> {
-    let solver = |system| PoseSolver {
-        system,
-        drives: &grid.drives,
-        settings,
-        start,
-        current: None,
-        kept: KeptMatrix::default(),
-    };
+    let solver = |system| PoseSolver::new(system, &grid.drives, settings, start);
     let mut main = solver(system);
     let mut rigid = twin.map(solver);
     let poses = grid.len();

@@ -11,7 +11,8 @@
 //! at t = 0; or relative to the last state of the earlier subcase `id`, e.g. a static subcase's
 //! equilibrium under gravity: eq. 9.24's gauge zeroed in a reference configuration). A subcase
 //! with `FMBSTART = STATIC` and no `TSTEP` is a static subcase: its output is the one row of
-//! the equilibrium at t = 0, `method` = `STATICS`. The mechanism is the deck's bulk data or,
+//! the equilibrium at t = 0, `method` = `STATICS`; with `POSES = id` (and no `TSTEP`) it is
+//! solved at every pose of the FMBPOSE grid instead ([`poses`]). The mechanism is the deck's bulk data or,
 //! with `FMB = 'file.h5'`, the `/pfmb` of an earlier run (a [`Pfmb`] either way; a deck with
 //! both is refused; `LOAD = sid` takes the deck's own set `sid` if it has one, else the
 //! gravity stored with the loaded mechanism). The system is built by
@@ -241,19 +242,14 @@ fn subcase(
     let case = |what: String| RunError::Case { subcase: id, what };
     let pfmb = mechanism_of(ctx, sub)?;
     let mechanism = &pfmb.mechanism;
-    // POSES makes a subcase static (the model refuses it with TSTEP)
-    let start = sub.fmbstart.unwrap_or(if sub.poses.is_some() {
-        FmbStart::Static
-    } else {
-        FmbStart::Assemble
-    });
-    // a subcase without TSTEP is a static one (FMBSTART = STATIC): the equilibrium at t = 0
+    let start = sub.fmbstart.unwrap_or(FmbStart::Assemble);
+    // a subcase without TSTEP is a static one with FMBSTART = STATIC or POSES (the model
+    // refuses POSES with TSTEP): the equilibrium at t = 0, or at each pose of the grid
     let (grid, scheme, method) = match (sub.tstep, start) {
-        (None, _) if sub.poses.is_some() => {
+        (None, start) if start == FmbStart::Static || sub.poses.is_some() => {
             (TimeGrid::default(), Scheme::Bdf1, "STATICS".to_string())
         }
-        (None, FmbStart::Static) => (TimeGrid::default(), Scheme::Bdf1, "STATICS".to_string()),
-        (None, FmbStart::Assemble) => {
+        (None, _) => {
             return Err(case(
                 "SOL FMB needs TSTEP = <sid> in case control (or FMBSTART = STATIC without TSTEP for a static subcase)".into(),
             ));
