@@ -90,6 +90,8 @@ pub struct Subcase {
     pub msensor: Option<Target>,
     /// `FMBSTART = ASSEMBLE | STATIC` (the start of a `SOL FMB` run).
     pub fmbstart: Option<FmbStart>,
+    /// `POSES = id` (FMBPOSE card: the pose grid of a static `SOL FMB` subcase).
+    pub poses: Option<u32>,
     /// `STRREF = NONE | INITIAL | id` (what the STRAIN outputs of a `SOL FMB` run are relative
     /// to).
     pub strref: Option<StrainReference>,
@@ -115,7 +117,7 @@ impl Subcase {
         macro_rules! inherit { ($($f:ident),*) => { $( if out.$f.is_none() { out.$f = defaults.$f.clone(); } )* } }
         inherit!(
             title, subtitle, label, spc, load, method, frequency, dload, tstep, ic, prom, rom, fmb,
-            pval, sensor, estim, meas, msensor, fmbstart, strref
+            pval, sensor, estim, meas, msensor, fmbstart, poses, strref
         );
         let own: Vec<&str> = out.outputs.iter().map(|o| o.name).collect();
         let inherited: Vec<OutputRequest> = defaults
@@ -176,6 +178,7 @@ const SELECTIONS: &[&str] = &[
     "PVAL",
     "ESTIM",
     "MEAS",
+    "POSES",
 ];
 
 /// Output requests paraflex parses.
@@ -477,6 +480,7 @@ impl CaseControl {
                 "PROM" => &mut sub.prom,
                 "PVAL" => &mut sub.pval,
                 "ESTIM" => &mut sub.estim,
+                "POSES" => &mut sub.poses,
                 _ => &mut sub.meas,
             };
             *slot = Some(id);

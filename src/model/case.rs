@@ -10,6 +10,7 @@
 //! | TSTEP | TSTEP |
 //! | PROM | PMOR |
 //! | PVAL | PVAL |
+//! | POSES | FMBPOSE, in a subcase without TSTEP (a static one) |
 //! | SENSOR = n | case-control SET n, whose ids are SENSOR ids |
 //! | output request = n | case-control SET n |
 //!
@@ -69,6 +70,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
     );
     let tic = set_of(b.tic.iter().map(|s| s.sid).collect());
     let sensors = set_of(b.sensors.iter().map(|s| s.id).collect());
+    let poses = set_of(b.fmbpose.iter().map(|s| s.id).collect());
 
     let fallback = deck.executive.sol_loc.clone().unwrap_or_else(|| Loc {
         file: std::sync::Arc::from(deck.path.as_path()),
@@ -119,6 +121,19 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
         need("PROM", sub.prom, &prom, "PMOR");
         need("PVAL", sub.pval, &pval, "PVAL/PTABLE");
         need("IC", sub.ic, &tic, "TIC");
+        need("POSES", sub.poses, &poses, "FMBPOSE");
+        if let (Some(id), Some(sid)) = (sub.poses, sub.tstep) {
+            errors.push(
+                DeckError::at(
+                    &loc("POSES"),
+                    format!(
+                        "POSES = {id} in a transient subcase (TSTEP = {sid}){}: a pose grid is solved by statics; give it a subcase without TSTEP",
+                        subcase_text(&sub)
+                    ),
+                )
+                .on_card("POSES"),
+            );
+        }
         if let Some(StrainReference::Subcase(id)) = sub.strref
             && !subcases[..index].iter().any(|s| s.id == id)
         {

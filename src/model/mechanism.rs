@@ -809,7 +809,54 @@ pub fn build(
             }
         }
     }
+    pose_grids(bulk, &m, errors);
     m
+}
+
+/// The FMBPOSE checks: unique ids and, for a deck with its own mechanism, every axis on one
+/// of its JDRIVEs (a deck loading a mechanism with `FMB =` has its axes checked against the
+/// loaded drives when it runs).
+fn pose_grids(bulk: &BulkData, m: &Mechanism, errors: &mut Vec<DeckError>) {
+    index(
+        bulk.fmbpose
+            .iter()
+            .map(|x| entry(x.id, "FMBPOSE", &x.loc, ()))
+            .collect(),
+        "pose grid",
+        errors,
+    );
+    if m.is_empty() {
+        return;
+    }
+    for p in &bulk.fmbpose {
+        for axis in p.axes.iter().filter(|a| a.drive > 0) {
+            if !m.drives.iter().any(|d| d.id == axis.drive) {
+                errors.push(at(
+                    &axis.loc,
+                    "FMBPOSE",
+                    p.id,
+                    &format!("{} (JDRIVE)", axis.field),
+                    format!(
+                        "JDRIVE = {} does not exist (drives: {})",
+                        axis.drive,
+                        drive_list(m)
+                    ),
+                ));
+            }
+        }
+    }
+}
+
+/// The JDRIVE ids of a mechanism, for messages.
+pub fn drive_list(m: &Mechanism) -> String {
+    if m.drives.is_empty() {
+        return "none".to_string();
+    }
+    m.drives
+        .iter()
+        .map(|d| d.id.to_string())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// "MK1" from "field 4 (MK1)".
@@ -821,6 +868,11 @@ fn field_name(field: &str) -> &str {
 }
 
 impl super::Model {
+    /// The FMBPOSE of `POSES = id`.
+    pub fn fmbpose(&self, id: u32) -> Option<&crate::deck::cards::Fmbpose> {
+        self.bulk.fmbpose.iter().find(|p| p.id == id)
+    }
+
     /// Whether static load set `sid` has a GRAV or a LOAD card.
     pub fn has_load_set(&self, sid: u32) -> bool {
         self.bulk.grav.iter().any(|g| g.sid == sid) || self.bulk.load.iter().any(|l| l.sid == sid)

@@ -23,7 +23,8 @@
 //!   initial conditions and the GGL step (eq. 2.60–2.61) with the modified Newton of
 //!   [`crate::dynamics::newton`]; [`dense_lu`]: its iteration matrix's LU; [`scheme`]:
 //!   BDF1, BDF2 and generalized-α as one step form; [`statics`]: static equilibrium under
-//!   gravity with drives held;
+//!   gravity with drives held; [`poses`]: equilibria over a grid of drive poses, each started
+//!   from its neighbour's;
 //!   [`output`]: marker kinematics, reactions, drive torques, power and energy;
 //!   [`simulation`]: a run over a time grid with the histories of chosen outputs;
 //!   [`step_control`]: error-controlled step sizes (local error estimate and controller);
@@ -52,6 +53,7 @@ pub mod joints;
 pub mod layout;
 pub mod marker;
 pub mod output;
+pub mod poses;
 pub mod redundancy;
 pub mod rotations;
 pub mod scheme;

@@ -14,6 +14,7 @@
 use super::error::MultibodyError;
 use super::integrator::{Ggl, NewtonSettings};
 use super::scheme::Scheme;
+use super::signal::Signal;
 use super::statics;
 use super::step_control::{NOT_CONVERGED_RATIO, StepControl};
 use super::system::System;
@@ -123,7 +124,7 @@ fn drive_row(ggl: &Ggl, drive: usize) -> [f64; 4] {
 
 /// The value of `output` at the integrator's state; `energy` holds the actuation energy
 /// integrated so far of each drive, `twin` the rigid twin's integrator.
-fn value(ggl: &Ggl, twin: Option<&Ggl>, output: &Output, energy: &[f64]) -> f64 {
+pub(super) fn value(ggl: &Ggl, twin: Option<&Ggl>, output: &Output, energy: &[f64]) -> f64 {
     match output {
         &Output::Position { marker, direction } => dot(direction, ggl.marker_position(marker)),
         &Output::Acceleration { marker, direction } => {
@@ -150,7 +151,10 @@ fn value(ggl: &Ggl, twin: Option<&Ggl>, output: &Output, energy: &[f64]) -> f64 
 }
 
 /// The integrator of `system` at its start: the assembly, or the static equilibrium reached
-/// from it.
+/// from it. From the equilibrium the drives keep their targets (initial value + motion(t),
+/// the initial value taken in the first configuration, not in the equilibrium), and the
+/// constraint forces and accelerations are the consistent ones there (the static holding
+/// torques of rigid drives).
 fn started(
     system: &System,
     dt: f64,
@@ -159,19 +163,37 @@ fn started(
     start: Start,
 ) -> Result<Ggl, MultibodyError> {
     let mut system = system.clone();
-    if start == Start::Equilibrium {
-        let assembled = Ggl::new(system.clone(), dt, 0.0, settings)?;
-        let rest = statics::equilibrium(
-            &assembled.system,
-            &assembled.equations,
-            &assembled.q,
-            0.0,
-            settings.tolerance,
-            settings.assembly_tolerance,
-        )?;
-        system.set_initial_state(&rest.q, &vec![0.0; rest.q.len()]);
+    if start == Start::Assembled {
+        return Ggl::with_scheme(system, dt, 0.0, settings, scheme);
     }
-    Ggl::with_scheme(system, dt, 0.0, settings, scheme)
+    let assembled = Ggl::new(system.clone(), dt, 0.0, settings)?;
+    let rest = statics::equilibrium(
+        &assembled.system,
+        &assembled.equations,
+        &assembled.q,
+        0.0,
+        settings.tolerance,
+        settings.assembly_tolerance,
+    )?;
+    let mut gradient = vec![0.0; rest.q.len()];
+    for (d, initial) in assembled.equations.drive_initial.iter().enumerate() {
+        let at_rest = system.joint_coordinate(system.drives[d].joint).evaluate(
+            &system.layout,
+            &rest.q,
+            &mut gradient,
+        );
+        let (motion, shift) = (system.drives[d].motion.clone(), initial - at_rest);
+        system.drives[d].motion = Signal::new(move |t| {
+            let [f, rate, acceleration] = motion.at(t);
+            [f + shift, rate, acceleration]
+        });
+    }
+    system.set_initial_state(&rest.q, &vec![0.0; rest.q.len()]);
+    let mut ggl = Ggl::with_scheme(system, dt, 0.0, settings, scheme)?;
+    if !scheme.needs_initial_accelerations() {
+        ggl.solve_accelerations()?;
+    }
+    Ok(ggl)
 }
 
 /// Records output rows: the histories, the drives' actuation energy so far and the outputs

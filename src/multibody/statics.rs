@@ -6,8 +6,8 @@
 //! ```
 //!
 //! f the applied forces (gravity through the mass invariants, the bodies' K q_f, spring-dampers,
-//! point forces) and λ the constraint forces; drives hold their coordinates at t. Newton's method
-//! on (q, λ) with the matrix
+//! compliant drives, point forces) and λ the constraint forces; drives hold their coordinates
+//! at t. Newton's method on (q, λ) with the matrix
 //!
 //! ```text
 //! ⎡ Σ λᵢ ∇²Φᵢ − ∂f/∂q   Φ_qᵀ ⎤
@@ -18,11 +18,18 @@
 //! modal coordinates enters through the invariants, which have no analytic q-derivative here),
 //! the constraint Hessians are analytic. A correction that does not lower the residual is halved
 //! (up to ten times) so a start far from equilibrium does not overshoot.
+//!
+//! [`Refresh::Every`] factors the matrix at every iterate (full Newton, what [`equilibrium`]
+//! does). [`Refresh::WhenSlow`] keeps a factorization — across iterations and across calls,
+//! through the caller's [`KeptMatrix`] — while the corrections contract: it is refreshed at the
+//! current iterate when the ratio of two successive corrections exceeds the given rate or a
+//! correction had to be halved (the modified Newton policy of [`crate::dynamics::newton`]).
+//! Neighbouring poses of a grid ([`super::poses`]) share one matrix this way.
 
 use super::error::MultibodyError;
 use super::system::{Equations, System};
 use faer::Mat;
-use faer::linalg::solvers::Solve;
+use faer::linalg::solvers::{PartialPivLu, Solve};
 
 /// Iterations of the equilibrium Newton solve before it gives up.
 const MAX_ITERATIONS: usize = 50;
@@ -34,9 +41,41 @@ pub struct Equilibrium {
     /// Constraint forces, one per constraint of the equations solved.
     pub lambda: Vec<f64>,
     pub iterations: usize,
+    /// Factorizations of the iteration matrix.
+    pub factorizations: usize,
     /// max |Φ_qᵀ λ − f| and max |Φ| at the equilibrium.
     pub force_residual: f64,
     pub constraint_residual: f64,
+}
+
+/// When the iteration matrix is factored again (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Refresh {
+    /// At every iterate: full Newton.
+    Every,
+    /// When the ratio of successive corrections exceeds this rate, or a correction is halved.
+    WhenSlow(f64),
+}
+
+/// Convergence tolerances and matrix policy of one equilibrium solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StaticSettings {
+    /// Newton correction of q relative to 1 + |q|.
+    pub tolerance: f64,
+    /// max |Φ|.
+    pub assembly_tolerance: f64,
+    pub refresh: Refresh,
+}
+
+/// A factored iteration matrix kept between solves of the same system (module docs).
+#[derive(Default)]
+pub struct KeptMatrix(Option<PartialPivLu<f64>>);
+
+impl KeptMatrix {
+    /// Drops the factorization (the next iteration factors afresh).
+    pub fn clear(&mut self) {
+        self.0 = None;
+    }
 }
 
 /// The residual [Φ_qᵀ λ − f; Φ] at (q, λ) and Φ_q.
@@ -65,14 +104,59 @@ fn residual(
     r
 }
 
+/// The iteration matrix of the module docs at (q, λ), Φ_q given.
+fn iteration_matrix(
+    system: &System,
+    equations: &Equations,
+    q: &[f64],
+    lambda: &[f64],
+    t: f64,
+    phi_q: &Mat<f64>,
+) -> Mat<f64> {
+    let (n, m) = (q.len(), lambda.len());
+    let mut matrix = Mat::<f64>::zeros(n + m, n + m);
+    equations.constraints.add_weighted_hessian(
+        &system.layout,
+        q,
+        t,
+        lambda,
+        1.0,
+        matrix.as_mut().submatrix_mut(0, 0, n, n),
+    );
+    let zero = vec![0.0; n];
+    let mut force = vec![0.0; n];
+    let mut shifted = vec![0.0; n];
+    for j in 0..n {
+        let h = 1e-6 * (1.0 + q[j].abs());
+        shifted.copy_from_slice(q);
+        shifted[j] = q[j] + h;
+        system.applied_forces(equations, &shifted, &zero, t, &mut force, None);
+        for i in 0..n {
+            matrix[(i, j)] -= force[i] / (2.0 * h);
+        }
+        shifted[j] = q[j] - h;
+        system.applied_forces(equations, &shifted, &zero, t, &mut force, None);
+        for i in 0..n {
+            matrix[(i, j)] += force[i] / (2.0 * h);
+        }
+    }
+    for i in 0..m {
+        for j in 0..n {
+            matrix[(j, n + i)] = phi_q[(i, j)];
+            matrix[(n + i, j)] = phi_q[(i, j)];
+        }
+    }
+    matrix
+}
+
 fn max_abs(x: &[f64]) -> f64 {
     x.iter().fold(0.0, |a, b| a.max(b.abs()))
 }
 
 /// Solves for the equilibrium of `system` with the (redundancy-free) `equations` at time `t`,
-/// starting from the configuration `q0` (an assembled one). Converged when the full Newton
-/// correction of q is below `tolerance` relative to 1 + |q| and |Φ| is below
-/// `assembly_tolerance`.
+/// starting from the configuration `q0` (an assembled one) with zero constraint forces, by
+/// full Newton. Converged when the full Newton correction of q is below `tolerance` relative
+/// to 1 + |q| and |Φ| is below `assembly_tolerance`.
 pub fn equilibrium(
     system: &System,
     equations: &Equations,
@@ -81,47 +165,56 @@ pub fn equilibrium(
     tolerance: f64,
     assembly_tolerance: f64,
 ) -> Result<Equilibrium, MultibodyError> {
+    let settings = StaticSettings {
+        tolerance,
+        assembly_tolerance,
+        refresh: Refresh::Every,
+    };
+    let lambda0 = vec![0.0; equations.constraints.len()];
+    equilibrium_from(
+        system,
+        equations,
+        (q0, &lambda0),
+        t,
+        settings,
+        &mut KeptMatrix::default(),
+    )
+}
+
+/// [`equilibrium`] from the configuration and constraint forces `(q0, λ0)` (e.g. a
+/// neighbouring pose's equilibrium), with the matrix policy of `settings`; `kept` holds the
+/// factorization between calls under [`Refresh::WhenSlow`].
+pub fn equilibrium_from(
+    system: &System,
+    equations: &Equations,
+    (q0, lambda0): (&[f64], &[f64]),
+    t: f64,
+    settings: StaticSettings,
+    kept: &mut KeptMatrix,
+) -> Result<Equilibrium, MultibodyError> {
     let (n, m) = (q0.len(), equations.constraints.len());
     let mut q = q0.to_vec();
-    let mut lambda = vec![0.0; m];
+    let mut lambda = lambda0.to_vec();
     let mut phi_q = Mat::zeros(m, n);
     let mut r = residual(system, equations, &q, &lambda, t, &mut phi_q);
-    let mut force = vec![0.0; n];
-    let mut shifted = vec![0.0; n];
+    let mut factorizations = 0;
+    let mut previous_step = f64::INFINITY;
+    if settings.refresh == Refresh::Every {
+        kept.clear();
+    }
     for iteration in 1..=MAX_ITERATIONS {
-        let mut matrix = Mat::<f64>::zeros(n + m, n + m);
-        equations.constraints.add_weighted_hessian(
-            &system.layout,
-            &q,
-            t,
-            &lambda,
-            1.0,
-            matrix.as_mut().submatrix_mut(0, 0, n, n),
-        );
-        let zero = vec![0.0; n];
-        for j in 0..n {
-            let h = 1e-6 * (1.0 + q[j].abs());
-            shifted.copy_from_slice(&q);
-            shifted[j] = q[j] + h;
-            system.applied_forces(equations, &shifted, &zero, t, &mut force, None);
-            for i in 0..n {
-                matrix[(i, j)] -= force[i] / (2.0 * h);
-            }
-            shifted[j] = q[j] - h;
-            system.applied_forces(equations, &shifted, &zero, t, &mut force, None);
-            for i in 0..n {
-                matrix[(i, j)] += force[i] / (2.0 * h);
-            }
-        }
-        for i in 0..m {
-            for j in 0..n {
-                matrix[(j, n + i)] = phi_q[(i, j)];
-                matrix[(n + i, j)] = phi_q[(i, j)];
-            }
+        if kept.0.is_none() {
+            let matrix = iteration_matrix(system, equations, &q, &lambda, t, &phi_q);
+            kept.0 = Some(matrix.partial_piv_lu());
+            factorizations += 1;
         }
         let mut dx = Mat::from_fn(n + m, 1, |i, _| -r[i]);
-        matrix.partial_piv_lu().solve_in_place(dx.as_mut());
+        kept.0
+            .as_ref()
+            .expect("factored above")
+            .solve_in_place(dx.as_mut());
         if (0..n + m).any(|i| !dx[(i, 0)].is_finite()) {
+            kept.clear();
             return Err(MultibodyError::Singular {
                 what: "static equilibrium matrix",
                 time: t,
@@ -145,9 +238,17 @@ pub fn equilibrium(
         }
         let newton_step = (0..n).fold(0.0_f64, |a, j| a.max(dx[(j, 0)].abs()));
         (q, lambda) = (q_try, lambda_try);
+        let stale = match settings.refresh {
+            Refresh::Every => true,
+            Refresh::WhenSlow(rate) => scale < 1.0 || newton_step > rate * previous_step,
+        };
+        if stale {
+            kept.clear();
+        }
+        previous_step = newton_step;
         let constraint_residual = max_abs(&r[n..]);
-        if newton_step <= tolerance * (1.0 + max_abs(&q))
-            && constraint_residual <= assembly_tolerance
+        if newton_step <= settings.tolerance * (1.0 + max_abs(&q))
+            && constraint_residual <= settings.assembly_tolerance
         {
             return Ok(Equilibrium {
                 force_residual: max_abs(&r[..n]),
@@ -155,9 +256,11 @@ pub fn equilibrium(
                 q,
                 lambda,
                 iterations: iteration,
+                factorizations,
             });
         }
     }
+    kept.clear();
     let constraint = max_abs(&r[n..]);
     let worst = (0..m)
         .max_by(|&a, &b| r[n + a].abs().total_cmp(&r[n + b].abs()))

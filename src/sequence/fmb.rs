@@ -11,7 +11,8 @@
 //! at t = 0; or relative to the last state of the earlier subcase `id`, e.g. a static subcase's
 //! equilibrium under gravity: eq. 9.24's gauge zeroed in a reference configuration). A subcase
 //! with `FMBSTART = STATIC` and no `TSTEP` is a static subcase: its output is the one row of
-//! the equilibrium at t = 0, `method` = `STATICS`. The mechanism is the deck's bulk data or,
+//! the equilibrium at t = 0, `method` = `STATICS`; with `POSES = id` (and no `TSTEP`) it is
+//! solved at every pose of the FMBPOSE grid instead ([`poses`]). The mechanism is the deck's bulk data or,
 //! with `FMB = 'file.h5'`, the `/pfmb` of an earlier run (a [`Pfmb`] either way; a deck with
 //! both is refused; `LOAD = sid` takes the deck's own set `sid` if it has one, else the
 //! gravity stored with the loaded mechanism). The system is built by
@@ -33,7 +34,7 @@ use crate::card_values::{FmbStart, MsensorKind};
 use crate::deck::Solution;
 use crate::deck::cards::{Tinteg, TintegMethod, Tstepvar};
 use crate::deck::case_control::{StrainReference, Subcase, Target};
-use crate::discretize::mechanism::{Bodies, MechanismError, build_system};
+use crate::discretize::mechanism::{Bodies, MechanismError, MechanismSystem, build_system};
 use crate::discretize::pfmb::Pfmb;
 use crate::io::{
     read_pfmb, set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_pfmb,
@@ -41,6 +42,8 @@ use crate::io::{
 };
 use crate::model::mechanism::{Mechanism, Sensor};
 use crate::multibody::{NewtonSettings, Scheme, Start, StepControl, TimeGrid, simulate};
+
+mod poses;
 
 /// What one `SOL FMB` subcase computed.
 #[derive(Debug, Clone)]
@@ -240,10 +243,13 @@ fn subcase(
     let pfmb = mechanism_of(ctx, sub)?;
     let mechanism = &pfmb.mechanism;
     let start = sub.fmbstart.unwrap_or(FmbStart::Assemble);
-    // a subcase without TSTEP is a static one (FMBSTART = STATIC): the equilibrium at t = 0
+    // a subcase without TSTEP is a static one with FMBSTART = STATIC or POSES (the model
+    // refuses POSES with TSTEP): the equilibrium at t = 0, or at each pose of the grid
     let (grid, scheme, method) = match (sub.tstep, start) {
-        (None, FmbStart::Static) => (TimeGrid::default(), Scheme::Bdf1, "STATICS".to_string()),
-        (None, FmbStart::Assemble) => {
+        (None, start) if start == FmbStart::Static || sub.poses.is_some() => {
+            (TimeGrid::default(), Scheme::Bdf1, "STATICS".to_string())
+        }
+        (None, _) => {
             return Err(case(
                 "SOL FMB needs TSTEP = <sid> in case control (or FMBSTART = STATIC without TSTEP for a static subcase)".into(),
             ));
@@ -305,6 +311,21 @@ fn subcase(
         .any(|s| s.kind == MsensorKind::Dev)
         .then(|| build(Bodies::RigidTwin))
         .transpose()?;
+    if let Some(pid) = sub.poses {
+        let run = poses::PoseRun {
+            pfmb: &pfmb,
+            flexible: &ms,
+            twin: twin.as_ref().map(|t| &t.system),
+            sensors: &sensors,
+        };
+        let (result, finals) = poses::run(ctx, sub, pid, &run, earlier)?;
+        let summary = SubcaseSummary {
+            id,
+            autospc: Vec::new(),
+            result: Box::new(result),
+        };
+        return Ok((summary, finals, pfmb));
+    }
     let start = match start {
         FmbStart::Assemble => Start::Assembled,
         FmbStart::Static => Start::Equilibrium,
@@ -359,17 +380,7 @@ fn subcase(
         set_attr_f64s(&group, "max_local_error", &[h.max_error])?;
         set_attr_f64s(&group, "step_range", &h.step_range)?;
     }
-    let (mut names, mut values, mut extrapolated) = (Vec::new(), Vec::new(), Vec::new());
-    for (body, at) in &ms.flexible {
-        for (name, value) in &at.parameters {
-            names.push(format!("{body}.{name}"));
-            values.push(*value);
-        }
-        extrapolated.extend(at.extrapolated.iter().map(|n| format!("{body}.{n}")));
-    }
-    let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
-    set_attr_strings(&group, "params", &name_refs)?;
-    set_attr_f64s(&group, "values", &values)?;
+    let extrapolated = write_parameters(&group, &ms)?;
 
     let summary = SubcaseSummary {
         id,
@@ -396,6 +407,46 @@ fn subcase(
         }),
     };
     Ok((summary, strain_finals, pfmb))
+}
+
+/// Writes the flexible bodies' `BODY.PMPAR` names and values used as the attributes `params`
+/// and `values` of `group`; returns those outside their pROM's box.
+fn write_parameters(
+    group: &hdf5_metno::Group,
+    ms: &MechanismSystem,
+) -> Result<Vec<String>, RunError> {
+    let (mut names, mut values, mut extrapolated) = (Vec::new(), Vec::new(), Vec::new());
+    for (body, at) in &ms.flexible {
+        for (name, value) in &at.parameters {
+            names.push(format!("{body}.{name}"));
+            values.push(*value);
+        }
+        extrapolated.extend(at.extrapolated.iter().map(|n| format!("{body}.{n}")));
+    }
+    let name_refs: Vec<&str> = names.iter().map(String::as_str).collect();
+    set_attr_strings(group, "params", &name_refs)?;
+    set_attr_f64s(group, "values", &values)?;
+    Ok(extrapolated)
+}
+
+/// The warnings every multibody subcase may give: constraints removed as redundant and
+/// parameters extrapolated beyond their pROM's box.
+fn system_warnings(subcase: u32, redundant: &[String], extrapolated: &[String]) -> Vec<String> {
+    let mut w = Vec::new();
+    if !redundant.is_empty() {
+        w.push(format!(
+            "subcase {subcase}: {} redundant constraint(s) removed: {}",
+            redundant.len(),
+            redundant.join("; ")
+        ));
+    }
+    if !extrapolated.is_empty() {
+        w.push(format!(
+            "subcase {subcase}: parameter(s) {} lie outside the box their pROM was built for: extrapolated",
+            extrapolated.join(", ")
+        ));
+    }
+    w
 }
 
 impl Report for FmbSummary {
@@ -438,20 +489,6 @@ impl Report for FmbSummary {
     }
 
     fn warnings(&self, subcase: u32) -> Vec<String> {
-        let mut w = Vec::new();
-        if !self.redundant.is_empty() {
-            w.push(format!(
-                "subcase {subcase}: {} redundant constraint(s) removed: {}",
-                self.redundant.len(),
-                self.redundant.join("; ")
-            ));
-        }
-        if !self.extrapolated.is_empty() {
-            w.push(format!(
-                "subcase {subcase}: parameter(s) {} lie outside the box their pROM was built for: extrapolated",
-                self.extrapolated.join(", ")
-            ));
-        }
-        w
+        system_warnings(subcase, &self.redundant, &self.extrapolated)
     }
 }

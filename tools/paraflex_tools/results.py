@@ -200,6 +200,43 @@ def read_multibody(path: str | os.PathLike, subcase: str | int = 1) -> Multibody
 
 
 @dataclass
+class Poses:
+    """``/results/<subcase>/fmb/poses``: the static equilibria of a pose grid (``POSES = id``):
+    ``values[pose, drive]`` (row-major over the axes, the first drive slowest), the JDRIVE ids
+    of the axes, the axis lengths ``shape``, per pose whether it converged, its Newton
+    iterations and residuals, the MSENSOR values by name, and the group's attributes."""
+
+    values: np.ndarray
+    drives: list[str]
+    shape: tuple[int, ...]
+    converged: np.ndarray
+    iterations: np.ndarray
+    force_residual: np.ndarray
+    constraint_residual: np.ndarray
+    sensors: dict[str, np.ndarray]
+    attrs: dict[str, object]
+
+    def axis(self, drive: str | int) -> np.ndarray:
+        """The values of one drive's axis (JDRIVE id)."""
+        k = self.drives.index(str(drive))
+        grid = self.values.reshape(self.shape + (len(self.drives),))
+        along = tuple(slice(None) if i == k else 0 for i in range(len(self.shape)))
+        return grid[along + (k,)]
+
+    def map(self, sensor: str) -> np.ndarray:
+        """A sensor over the grid, shaped like the axes (NaN where a pose did not converge)."""
+        return self.sensors[sensor].reshape(self.shape)
+
+
+def read_poses(path: str | os.PathLike, subcase: str | int = 1) -> Poses:
+    with h5py.File(path, "r") as f:
+        g = f[f"results/{subcase}/fmb/poses"]
+        return Poses(g["values"][()], texts(g["drives"][()]), tuple(int(n) for n in g["shape"][()]),
+                     g["converged"][()].astype(bool), g["iterations"][()], g["force_residual"][()],
+                     g["constraint_residual"][()], _series(g, "sensors"), _attributes(g))
+
+
+@dataclass
 class Estimate:
     """``/results/<subcase>/estimate``: filter times, parameter and input estimates with their σ,
     posterior sensor histories, innovations, and the group's attributes."""

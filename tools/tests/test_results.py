@@ -77,3 +77,26 @@ def test_modes_carry_the_grid_of_each_row(result_file):
         modes.of_grid(1)
     every_grid = results.read_modes(result_file, subcase=3)
     np.testing.assert_array_equal(every_grid.grid_ids, [1, 7, 9])
+
+
+def test_poses_give_axes_and_maps_shaped_like_the_grid(tmp_path):
+    path = tmp_path / "poses.h5"
+    a, b = np.meshgrid([0.0, 0.5, 1.0], [0.0, 0.2], indexing="ij")
+    with h5py.File(path, "w") as f:
+        g = f.create_group("results/1/fmb/poses")
+        g["values"] = np.stack([a.ravel(), b.ravel()], axis=1)
+        g["drives"] = np.array([b"1", b"2"])
+        g["shape"] = np.array([3, 2], dtype=np.uint32)
+        g["converged"] = np.array([1, 1, 1, 0, 1, 1], dtype=np.uint32)
+        g["iterations"] = np.array([5, 3, 3, 0, 3, 3], dtype=np.uint32)
+        g["force_residual"] = np.zeros(6)
+        g["constraint_residual"] = np.zeros(6)
+        g["sensors/T1"] = np.arange(6.0)
+        g.attrs["method"] = b"STATICS"
+    p = results.read_poses(path)
+    assert p.drives == ["1", "2"] and p.shape == (3, 2)
+    assert np.array_equal(p.axis(1), [0.0, 0.5, 1.0])
+    assert np.array_equal(p.axis("2"), [0.0, 0.2])
+    assert p.map("T1")[2, 1] == 5.0
+    assert p.converged.tolist() == [True, True, True, False, True, True]
+    assert p.attrs["method"] == "STATICS"

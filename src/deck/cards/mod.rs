@@ -34,7 +34,7 @@ pub use extension::{
 pub use geometry::{Cord2, CordKind, Grdset, Grid};
 pub use loads::{Force, Grav, Load, Pload, Pload2, Pload4, Pload4Target};
 pub use materials::{Mat1, Mat8};
-pub use multibody::{Flexb, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
+pub use multibody::{Flexb, Fmbpose, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
 pub use param::{Param, ParamValue};
 pub use properties::{Pcomp, Pelas, Ply, Pshell, Psolid};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
@@ -111,6 +111,7 @@ pub struct BulkData {
     pub spdmp: Vec<Spdmp>,
     pub mforce: Vec<Mforce>,
     pub msensors: Vec<Msensor>,
+    pub fmbpose: Vec<Fmbpose>,
 }
 
 impl BulkData {
@@ -211,6 +212,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("MARKER", |c, b| Ok(b.markers.push(Marker::from_card(c)?))),
     ("JOINT", |c, b| Ok(b.joints.push(Joint::from_card(c)?))),
     ("JDRIVE", |c, b| Ok(b.jdrive.push(Jdrive::from_card(c)?))),
+    ("FMBPOSE", |c, b| Ok(b.fmbpose.push(Fmbpose::from_card(c)?))),
     ("JSPRD", |c, b| Ok(b.jsprd.push(Jsprd::from_card(c)?))),
     ("SPDMP", |c, b| Ok(b.spdmp.push(Spdmp::from_card(c)?))),
     ("MFORCE", |c, b| {

@@ -528,3 +528,94 @@ impl Msensor {
         })
     }
 }
+
+/// `FMBPOSE` — a grid of drive poses for the static subcases of `SOL FMB` (`POSES = id`).
+///
+/// The Cartesian product of one axis per drive, each axis N evenly spaced values from START
+/// to STOP (START alone for N = 1) of the drive's coordinate relative to its initial value, in
+/// the JDRIVE's units (what SCALE · TABLE(t) gives: radians for a REV joint, length for a
+/// PRIS joint). Each axis takes four fields, the axes following each other across
+/// continuation lines (as PVAL's pairs do).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | ID | int > 0 | required | pose grid id |
+/// | 3–6 | JDRIVE1 START1 STOP1 N1 | int > 0, real, real, int > 0 | required | first axis: the JDRIVE whose coordinate it sets, first and last value, number of values |
+/// | 7–9, cont. 1 field 2 | JDRIVE2 START2 STOP2 N2 | as above | blank | second axis (its drive different from the first's) |
+/// | cont. 1 fields 3–6, … | JDRIVE3 … | as above | blank | further axes, four fields each, each on its own drive |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fmbpose {
+    pub id: u32,
+    pub axes: Vec<PoseAxis>,
+    pub loc: Loc,
+}
+
+/// One axis of an `FMBPOSE`: the JDRIVE id and its values.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PoseAxis {
+    pub drive: u32,
+    pub start: f64,
+    pub stop: f64,
+    pub count: u32,
+    /// Where the JDRIVE field was written, for cross-reference messages.
+    pub loc: Loc,
+    /// The JDRIVE field's label (`field 3`, `field 3 of continuation 1` …).
+    pub field: String,
+}
+
+impl PoseAxis {
+    /// The N evenly spaced values START … STOP.
+    pub fn values(&self) -> Vec<f64> {
+        if self.count <= 1 {
+            return vec![self.start];
+        }
+        let last = f64::from(self.count - 1);
+        (0..self.count)
+            .map(|i| self.start + (self.stop - self.start) * f64::from(i) / last)
+            .collect()
+    }
+}
+
+impl Fmbpose {
+    /// Read an `FMBPOSE` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "ID");
+        f.set_id(id);
+        let len = f.len();
+        let mut axes: Vec<PoseAxis> = Vec::new();
+        let mut i = 2;
+        while i <= len {
+            if (i..i + 4).all(|k| f.value(k).is_blank()) {
+                i += 4;
+                continue;
+            }
+            let drive = f.id(i, "JDRIVE");
+            let start = f.real(i + 1, "START");
+            let stop = f.real(i + 2, "STOP");
+            let count = f.count(i + 3, "N");
+            if drive > 0 && axes.iter().any(|a| a.drive == drive) {
+                f.error(
+                    i,
+                    "JDRIVE",
+                    format!("JDRIVE {drive} has two axes on this card"),
+                );
+            }
+            axes.push(PoseAxis {
+                drive,
+                start,
+                stop,
+                count,
+                loc: card.loc_of(i),
+                field: RawCard::field_label(i),
+            });
+            i += 4;
+        }
+        if axes.is_empty() {
+            f.card_error("no (JDRIVE, START, STOP, N) group given");
+        }
+        let loc = f.loc();
+        f.finish(len.max(5))?;
+        Ok(Fmbpose { id, axes, loc })
+    }
+}
