@@ -324,9 +324,28 @@ fn judge(
     measured: &[&str],
     known: bool,
 ) -> EstimateSummary {
-    let (r, _out) = estimate(artifact, data, ekf, measured, known);
+    let (r, out) = estimate(artifact, data, ekf, measured, known);
     let r = r.unwrap_or_else(|e| panic!("{case}: {e}"));
     let s = summary(&r).clone();
+    // the run records which prediction it used: the EKF card's PREDICT, TRAP when blank
+    let prediction: hdf5_metno::types::VarLenUnicode =
+        hdf5_metno::File::open(out.path().join("out.h5"))
+            .and_then(|f| {
+                f.group("results/1/estimate")?
+                    .attr("prediction")?
+                    .read_scalar()
+            })
+            .unwrap_or_else(|e| panic!("{case}: prediction attribute: {e}"));
+    let card = ekf
+        .lines()
+        .find(|l| l.starts_with("EKF,"))
+        .expect("EKF card");
+    let expected = if card.ends_with(",BDF1") {
+        "BDF1"
+    } else {
+        "TRAP"
+    };
+    assert_eq!(prediction.as_str(), expected, "{case}: {card}");
     let limit = bound(case);
     println!(
         "{case}: {} — {:.0} steps/s, {} coordinates ({:?} re-diagonalizations)",

@@ -28,6 +28,16 @@ pub enum Prediction {
     Trapezoidal,
 }
 
+impl Prediction {
+    /// The name the `EKF` card's PREDICT field gives it.
+    pub fn card_name(self) -> &'static str {
+        match self {
+            Prediction::Bdf1 => "BDF1",
+            Prediction::Trapezoidal => "TRAP",
+        }
+    }
+}
+
 /// Whether a `FORCE` / `MOMENT` card is a force or a moment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub enum ForceKind {

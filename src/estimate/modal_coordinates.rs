@@ -121,7 +121,9 @@ impl PromCoordinates for Modal {
             }
         }
         if !self.s.iter().all(|&s| s > 0.0) {
-            return Err(Refused::NotDefinite("M + Δt C + Δt² K"));
+            return Err(Refused::NotDefinite(
+                "the step matrix S = M + h C + h² K (h = Δt for BDF1, Δt/2 for TRAP)",
+            ));
         }
         if !self.m.iter().all(|&m| m > 0.0) {
             return Err(Refused::NotDefinite("M"));

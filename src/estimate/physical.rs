@@ -49,7 +49,9 @@ impl PromCoordinates for Physical {
                 .for_each(|(s, (m, (cd, k)))| *s = m + h * cd + h * h * k);
         }
         if !factor_in_place(self.s_factor.as_mut(), MemStack::new(mem)) {
-            return Err(Refused::NotDefinite("M + Δt C + Δt² K"));
+            return Err(Refused::NotDefinite(
+                "the step matrix S = M + h C + h² K (h = Δt for BDF1, Δt/2 for TRAP)",
+            ));
         }
         let m_ok = (!first && self.factored_mass == at.mass()) || {
             self.factored_mass.copy_from(at.mass());

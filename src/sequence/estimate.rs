@@ -27,7 +27,8 @@
 //! error in % over the last 20 % of the window, attribute `rows`); attributes `rom`,
 //! `observability`, `forced`, `steps_per_second`, `coordinates` (`modal`, `rediagonalized` —
 //! EKF REDIAG, with `rediagonalizations`, the number of times the modes were recomputed — or
-//! `physical`: the filter's coordinates, [`crate::estimate::filter`]).
+//! `physical`: the filter's coordinates, [`crate::estimate::filter`]), `prediction` (`TRAP` or
+//! `BDF1`, the EKF card's PREDICT).
 
 use super::driver::{Basis, Driver};
 use crate::deck::Solution;
@@ -552,6 +553,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         }
     };
     set_attr_str(&group, "coordinates", coordinates)?;
+    set_attr_str(&group, "prediction", ekf.prediction.card_name())?;
     let params = (0..np)
         .map(|c| {
             (

@@ -52,10 +52,7 @@ impl Ekf {
         let prediction = f.choice(
             6,
             "PREDICT",
-            &[
-                ("TRAP", Prediction::Trapezoidal),
-                ("BDF1", Prediction::Bdf1),
-            ],
+            &[Prediction::Trapezoidal, Prediction::Bdf1].map(|p| (p.card_name(), p)),
             Some(Prediction::Trapezoidal),
         );
         let loc = f.loc();
