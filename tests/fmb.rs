@@ -6,7 +6,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{root, run_deck};
+use common::{read_dataset, root, run_deck, run_to_file};
 
 /// The mean of the samples `y` at times `t` ≥ `start` (the settled part of a run).
 fn mean_from(t: &[f64], y: &[f64], start: f64) -> f64 {
@@ -17,21 +17,6 @@ fn mean_from(t: &[f64], y: &[f64], start: f64) -> f64 {
         .map(|(_, y)| *y)
         .collect();
     tail.iter().sum::<f64>() / tail.len() as f64
-}
-
-fn read(g: &hdf5_metno::Group, name: &str) -> Vec<f64> {
-    g.dataset(name)
-        .unwrap_or_else(|e| panic!("{name}: {e}"))
-        .read_raw()
-        .unwrap()
-}
-
-/// Runs the deck text and returns its `/results/1/fmb` group's file.
-fn run_text(text: &str) -> (hdf5_metno::File, tempfile::TempDir) {
-    let (r, dir) = run_deck(text);
-    r.unwrap_or_else(|e| panic!("{e}"));
-    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
-    (file, dir)
 }
 
 fn deck(name: &str) -> String {
@@ -62,19 +47,19 @@ const K_HALF: f64 = 1.854_074_677_301_372;
 fn rigid_pendulum_meets_the_elliptic_period_and_dissipates_at_first_order() {
     let text = deck("pendulum_rigid.dat");
     let energy_loss = |text: &str| {
-        let (file, _dir) = run_text(text);
+        let (file, _dir) = run_to_file(text);
         let g = file.group("results/1/fmb").unwrap();
-        let t = read(&g, "time");
-        let ke = read(&g, "sensors/KE");
-        let y = read(&g, "sensors/YCM");
-        let x = read(&g, "sensors/XCM");
+        let t = read_dataset::<f64>(&g, "time");
+        let ke = read_dataset::<f64>(&g, "sensors/KE");
+        let y = read_dataset::<f64>(&g, "sensors/YCM");
+        let x = read_dataset::<f64>(&g, "sensors/XCM");
         let e: Vec<f64> = ke.iter().zip(&y).map(|(k, y)| k + G * y).collect();
         (
             t,
             x,
             e,
-            read(&g, "sensors/PIVOTY"),
-            read(&g, "constraint_residual"),
+            read_dataset::<f64>(&g, "sensors/PIVOTY"),
+            read_dataset::<f64>(&g, "constraint_residual"),
         )
     };
     let (t, x, e, pivot, residual) = energy_loss(&text);
@@ -120,15 +105,15 @@ fn rigid_pendulum_meets_the_elliptic_period_and_dissipates_at_first_order() {
 /// (the step-end rule of ∫ has error ω Δt / 2 relative).
 #[test]
 fn driven_rod_torque_power_and_energy_match_the_statics() {
-    let (file, _dir) = run_text(&deck("pendulum_driven.dat"));
+    let (file, _dir) = run_to_file(&deck("pendulum_driven.dat"));
     let g = file.group("results/1/fmb").unwrap();
-    let t = read(&g, "time");
-    let torque = read(&g, "sensors/TORQUE");
-    let power = read(&g, "sensors/POWER");
-    let work = read(&g, "sensors/WORK");
-    let angle = read(&g, "drives/1/angle");
-    let rate = read(&g, "drives/1/rate");
-    let drive_torque = read(&g, "drives/1/torque");
+    let t = read_dataset::<f64>(&g, "time");
+    let torque = read_dataset::<f64>(&g, "sensors/TORQUE");
+    let power = read_dataset::<f64>(&g, "sensors/POWER");
+    let work = read_dataset::<f64>(&g, "sensors/WORK");
+    let angle = read_dataset::<f64>(&g, "drives/1/angle");
+    let rate = read_dataset::<f64>(&g, "drives/1/rate");
+    let drive_torque = read_dataset::<f64>(&g, "drives/1/torque");
     let mgd = G * 0.5;
     for i in 1..t.len() {
         let theta = t[i];
@@ -232,14 +217,14 @@ fn clamped_flexible_strip_settles_to_the_sol_101_sag() {
     let dir = strip_artifact(|t| t);
     let (file, _out) = run_beside(&dir, &deck("strip_clamped_sag.dat")).expect("FMB run");
     let g = file.group("results/1/fmb").unwrap();
-    let t = read(&g, "time");
-    let z = read(&g, "sensors/TIPZ");
+    let t = read_dataset::<f64>(&g, "time");
+    let z = read_dataset::<f64>(&g, "sensors/TIPZ");
     let settled = mean_from(&t, &z, 0.8);
     let (r, _model, out) =
         common::run_deck_file(&root().join("decks/fmb/strip_clamped_sag_101.dat"));
     r.expect("SOL 101");
     let statics = hdf5_metno::File::open(out.path().join("out.h5")).unwrap();
-    let u = read(&statics.group("results/1/statics").unwrap(), "displacement");
+    let u = read_dataset::<f64>(&statics.group("results/1/statics").unwrap(), "displacement");
     // grid 26 is row 25 (grids 1 … 39 in order); T3
     let sag = u[6 * 25 + 2];
     assert!(sag < 0.0);
@@ -306,10 +291,10 @@ fn point_force_balances_gravity_and_a_joint_spring_swings_at_its_frequency() {
         "ENDDATA",
         "MFORCE,1,11,6,9.81,0.,1.,0.\nTABLED1,6\n,0.,1.,10.,1.,ENDT\nENDDATA",
     );
-    let (file, _dir) = run_text(&balanced);
+    let (file, _dir) = run_to_file(&balanced);
     let g = file.group("results/1/fmb").unwrap();
     for name in ["sensors/XCM", "sensors/YCM"] {
-        let x = read(&g, name);
+        let x = read_dataset::<f64>(&g, name);
         let drift = x.iter().map(|v| (v - x[0]).abs()).fold(0.0, f64::max);
         assert!(drift < 1e-9, "{name} moved by {drift}");
     }
@@ -318,10 +303,10 @@ fn point_force_balances_gravity_and_a_joint_spring_swings_at_its_frequency() {
     let spring = base
         .replace("LOAD = 1\n", "")
         .replace("ENDDATA", &format!("JSPRD,1,1,{k:?},0.,{x0:?}\nENDDATA"));
-    let (file, _dir) = run_text(&spring);
+    let (file, _dir) = run_to_file(&spring);
     let g = file.group("results/1/fmb").unwrap();
-    let t = read(&g, "time");
-    let y = read(&g, "sensors/YCM");
+    let t = read_dataset::<f64>(&g, "time");
+    let y = read_dataset::<f64>(&g, "sensors/YCM");
     let half = std::f64::consts::PI * (i_pivot / k).sqrt();
     let (i_max, y_max) = y
         .iter()
@@ -361,7 +346,7 @@ fn every_tinteg_scheme_meets_the_pendulum_period_with_second_order_energy_loss()
         let run = |tstep: &str| {
             let text = deck("pendulum_rigid.dat")
                 .replace("TSTEP,1,2500,1.e-3,5", &format!("{tstep}\n{card}"));
-            let (file, _dir) = run_text(&text);
+            let (file, _dir) = run_to_file(&text);
             let g = file.group("results/1/fmb").unwrap();
             let method: String = g
                 .attr("method")
@@ -370,10 +355,10 @@ fn every_tinteg_scheme_meets_the_pendulum_period_with_second_order_energy_loss()
                 .unwrap()
                 .to_string();
             assert_eq!(method, label);
-            let t = read(&g, "time");
-            let x = read(&g, "sensors/XCM");
-            let y = read(&g, "sensors/YCM");
-            let ke = read(&g, "sensors/KE");
+            let t = read_dataset::<f64>(&g, "time");
+            let x = read_dataset::<f64>(&g, "sensors/XCM");
+            let y = read_dataset::<f64>(&g, "sensors/YCM");
+            let ke = read_dataset::<f64>(&g, "sensors/KE");
             let e: Vec<f64> = ke.iter().zip(&y).map(|(k, y)| k + G * y).collect();
             let quarter = zero_crossings(&t, &x)[0];
             (quarter, (e[0] - e[e.len() - 1]).abs())
@@ -406,10 +391,13 @@ fn static_subcase_finds_the_pendulum_spring_equilibrium_angle() {
     let text = deck("pendulum_rigid.dat")
         .replace("TSTEP = 1\n", "FMBSTART = STATIC\n")
         .replace("ENDDATA", &format!("JSPRD,1,1,{k:?},0.,0.\nENDDATA"));
-    let (file, _dir) = run_text(&text);
+    let (file, _dir) = run_to_file(&text);
     let g = file.group("results/1/fmb").unwrap();
-    assert_eq!(read(&g, "time"), vec![0.0]);
-    let (x, y) = (read(&g, "sensors/XCM")[0], read(&g, "sensors/YCM")[0]);
+    assert_eq!(read_dataset::<f64>(&g, "time"), vec![0.0]);
+    let (x, y) = (
+        read_dataset::<f64>(&g, "sensors/XCM")[0],
+        read_dataset::<f64>(&g, "sensors/YCM")[0],
+    );
     let mut theta = 0.0_f64;
     for _ in 0..50 {
         theta -= (k * theta + mgd * theta.cos()) / (k - mgd * theta.sin());
@@ -431,13 +419,13 @@ fn static_fmb_sag_of_the_clamped_strip_equals_sol_101() {
     let dir = strip_artifact(|t| t);
     let (file, _out) = run_beside(&dir, &deck("strip_clamped_static.dat")).expect("static FMB");
     let g = file.group("results/1/fmb").unwrap();
-    let tip = read(&g, "sensors/TIPZ");
+    let tip = read_dataset::<f64>(&g, "sensors/TIPZ");
     assert_eq!(tip.len(), 1);
     let (r, _model, out) =
         common::run_deck_file(&root().join("decks/fmb/strip_clamped_sag_101.dat"));
     r.expect("SOL 101");
     let statics = hdf5_metno::File::open(out.path().join("out.h5")).unwrap();
-    let u = read(&statics.group("results/1/statics").unwrap(), "displacement");
+    let u = read_dataset::<f64>(&statics.group("results/1/statics").unwrap(), "displacement");
     let sag = u[6 * 25 + 2];
     assert!(
         (tip[0] - sag).abs() <= 1e-3 * sag.abs(),
@@ -448,7 +436,7 @@ fn static_fmb_sag_of_the_clamped_strip_equals_sol_101() {
         .replace("LOAD = 1\n", "LOAD = 1\nFMBSTART = STATIC\n")
         .replace("TSTEP,1,1000,1.e-3,5", "TSTEP,1,100,1.e-3,5");
     let (file, _out) = run_beside(&dir, &resting).expect("FMB from rest");
-    let z = read(&file.group("results/1/fmb").unwrap(), "sensors/TIPZ");
+    let z = read_dataset::<f64>(&file.group("results/1/fmb").unwrap(), "sensors/TIPZ");
     let drift = z.iter().map(|v| (v - tip[0]).abs()).fold(0.0, f64::max);
     assert!(drift < 1e-6 * sag.abs(), "tip drifted by {drift}");
 }
@@ -481,15 +469,15 @@ fn static_strain_of_the_clamped_strip_equals_sol_101() {
     let dir = strip_artifact_with_gauge();
     let (file, _out) =
         run_beside(&dir, &static_strip_with_gauge("", "")).expect("static FMB with strain");
-    let eps = read(&file.group("results/1/fmb").unwrap(), "sensors/ROOTEPS");
+    let eps = read_dataset::<f64>(&file.group("results/1/fmb").unwrap(), "sensors/ROOTEPS");
     assert_eq!(eps.len(), 1);
     let text = std::fs::read_to_string(root().join("decks/fmb/strip_clamped_sag_101.dat"))
         .unwrap()
         .replace("LOAD = 1\n", "LOAD = 1\nSTRAIN = ALL\n");
-    let (statics, _d) = run_text(&text);
+    let (statics, _d) = run_to_file(&text);
     let g = statics.group("results/1/statics/strain/CQUAD4").unwrap();
     let ids: Vec<u32> = g.dataset("ids").unwrap().read_raw().unwrap();
-    let top = read(&g, "top");
+    let top = read_dataset::<f64>(&g, "top");
     let row = ids.iter().position(|&i| i == 1).expect("element 1");
     let want = top[3 * row];
     assert!(want > 0.0, "the root's top fibre is stretched: {want}");
@@ -513,7 +501,7 @@ fn strref_measures_strain_from_a_static_subcase_or_the_start() {
     );
     let (file, _out) = run_beside(&dir, &two).expect("subcases");
     let eps = |sc: u32| {
-        read(
+        read_dataset::<f64>(
             &file.group(&format!("results/{sc}/fmb")).unwrap(),
             "sensors/ROOTEPS",
         )
@@ -570,7 +558,10 @@ fn deviation_from_the_rigid_twin_is_the_sag_and_scales_as_one_over_e() {
         let (file, _out) = run_beside(dir, &with_dev(deck("strip_clamped_static.dat")))
             .expect("static FMB with DEV");
         let g = file.group("results/1/fmb").unwrap();
-        (read(&g, "sensors/TIPDEV")[0], read(&g, "sensors/TIPZ")[0])
+        (
+            read_dataset::<f64>(&g, "sensors/TIPDEV")[0],
+            read_dataset::<f64>(&g, "sensors/TIPZ")[0],
+        )
     };
     let dir = strip_artifact(|t| t);
     let (dev, tipz) = static_dev(&dir);
@@ -585,7 +576,10 @@ fn deviation_from_the_rigid_twin_is_the_sag_and_scales_as_one_over_e() {
     let (file, _out) =
         run_beside(&dir, &with_dev(deck("strip_clamped_sag.dat"))).expect("FMB run with DEV");
     let g = file.group("results/1/fmb").unwrap();
-    let (t, d) = (read(&g, "time"), read(&g, "sensors/TIPDEV"));
+    let (t, d) = (
+        read_dataset::<f64>(&g, "time"),
+        read_dataset::<f64>(&g, "sensors/TIPDEV"),
+    );
     assert_eq!(d[0], 0.0);
     let settled = mean_from(&t, &d, 0.8);
     assert!(

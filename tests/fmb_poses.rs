@@ -7,7 +7,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{root, run_deck};
+use common::{read_dataset, root, run_deck, run_to_file};
 
 const G: f64 = 9.81;
 /// The arm of decks/fmb/two_link_arm_poses.dat: masses, lengths and centre-of-mass distances.
@@ -33,28 +33,6 @@ fn deck(name: &str) -> String {
     std::fs::read_to_string(root().join(Path::new("decks/fmb").join(name))).expect("deck")
 }
 
-fn read(g: &hdf5_metno::Group, name: &str) -> Vec<f64> {
-    g.dataset(name)
-        .unwrap_or_else(|e| panic!("{name}: {e}"))
-        .read_raw()
-        .unwrap()
-}
-
-fn read_u32(g: &hdf5_metno::Group, name: &str) -> Vec<u32> {
-    g.dataset(name)
-        .unwrap_or_else(|e| panic!("{name}: {e}"))
-        .read_raw()
-        .unwrap()
-}
-
-/// Runs the deck text; returns the output file (and the directory that holds it).
-fn run_text(text: &str) -> (hdf5_metno::File, tempfile::TempDir) {
-    let (r, dir) = run_deck(text);
-    r.unwrap_or_else(|e| panic!("{e}"));
-    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
-    (file, dir)
-}
-
 /// The rigid arm's holding torques over the 5 × 4 grid meet the closed form to 1e-9 of the
 /// torque scale: the drives hold the pose exactly (|Φ| ≤ 1e-12), the constraint forces come
 /// out of a Newton solve stopped at a correction below 1e-10 (1 + |q|), and the force balance
@@ -62,14 +40,20 @@ fn run_text(text: &str) -> (hdf5_metno::File, tempfile::TempDir) {
 /// pose converged, and the elbow sits at l1 (cos θ1, sin θ1).
 #[test]
 fn rigid_arm_holding_torques_match_the_closed_form_over_the_grid() {
-    let (file, _dir) = run_text(&deck("two_link_arm_poses.dat"));
+    let (file, _dir) = run_to_file(&deck("two_link_arm_poses.dat"));
     let g = file.group("results/1/fmb/poses").unwrap();
-    let values = read(&g, "values");
+    let values = read_dataset::<f64>(&g, "values");
     assert_eq!(values.len(), 40);
-    assert_eq!(read_u32(&g, "shape"), vec![5, 4]);
-    assert_eq!(read_u32(&g, "converged"), vec![1; 20]);
-    let (t1, t2) = (read(&g, "sensors/T1"), read(&g, "sensors/T2"));
-    let (ex, ey) = (read(&g, "sensors/ELBX"), read(&g, "sensors/ELBY"));
+    assert_eq!(read_dataset::<u32>(&g, "shape"), vec![5, 4]);
+    assert_eq!(read_dataset::<u32>(&g, "converged"), vec![1; 20]);
+    let (t1, t2) = (
+        read_dataset::<f64>(&g, "sensors/T1"),
+        read_dataset::<f64>(&g, "sensors/T2"),
+    );
+    let (ex, ey) = (
+        read_dataset::<f64>(&g, "sensors/ELBX"),
+        read_dataset::<f64>(&g, "sensors/ELBY"),
+    );
     for k in 0..20 {
         let (a, b) = (values[2 * k], values[2 * k + 1]);
         assert!(
@@ -87,12 +71,16 @@ fn rigid_arm_holding_torques_match_the_closed_form_over_the_grid() {
         );
         assert!((ex[k] - L1 * a.cos()).abs() < 1e-12 && (ey[k] - L1 * a.sin()).abs() < 1e-12);
     }
-    let iterations = read_u32(&g, "iterations");
+    let iterations = read_dataset::<u32>(&g, "iterations");
     assert!(
         iterations.iter().all(|&n| (1..=20).contains(&n)),
         "{iterations:?}"
     );
-    assert!(read(&g, "constraint_residual").iter().all(|r| *r <= 1e-12));
+    assert!(
+        read_dataset::<f64>(&g, "constraint_residual")
+            .iter()
+            .all(|r| *r <= 1e-12)
+    );
 }
 
 /// θ1 solving K (θ1d − θ1) = T1(θ1, θ2) by scalar Newton (T1 of [`holding_torques`]).
@@ -115,13 +103,13 @@ fn compliant_shoulder_drive_sags_by_the_torque_over_its_stiffness() {
     let k = 200.0;
     let text =
         deck("two_link_arm_poses.dat").replace("JDRIVE,1,1,5,1.\n", "JDRIVE,1,1,5,1.,200.\n");
-    let (file, _dir) = run_text(&text);
+    let (file, _dir) = run_to_file(&text);
     let g = file.group("results/1/fmb/poses").unwrap();
-    let values = read(&g, "values");
+    let values = read_dataset::<f64>(&g, "values");
     let (t1, ex, ey) = (
-        read(&g, "sensors/T1"),
-        read(&g, "sensors/ELBX"),
-        read(&g, "sensors/ELBY"),
+        read_dataset::<f64>(&g, "sensors/T1"),
+        read_dataset::<f64>(&g, "sensors/ELBX"),
+        read_dataset::<f64>(&g, "sensors/ELBY"),
     );
     for pose in 0..20 {
         let (target, elbow) = (values[2 * pose], values[2 * pose + 1]);
@@ -152,13 +140,19 @@ fn single_pose_static_subcase_includes_the_compliant_drive_deflection() {
             "ENDDATA",
             "TABLED1,6\n,0.,0.7,10.,0.7,ENDT\nTABLED1,7\n,0.,0.4,10.,0.4,ENDT\nENDDATA",
         );
-    let (file, _dir) = run_text(&text);
+    let (file, _dir) = run_to_file(&text);
     let g = file.group("results/1/fmb").unwrap();
-    let (ex, ey) = (read(&g, "sensors/ELBX")[0], read(&g, "sensors/ELBY")[0]);
+    let (ex, ey) = (
+        read_dataset::<f64>(&g, "sensors/ELBX")[0],
+        read_dataset::<f64>(&g, "sensors/ELBY")[0],
+    );
     let expected = compliant_shoulder(k, target, elbow);
     assert!((ey.atan2(ex) - expected).abs() < 1e-9);
     let [shoulder, rigid_elbow] = holding_torques(expected, elbow);
-    let (t1, t2) = (read(&g, "sensors/T1")[0], read(&g, "sensors/T2")[0]);
+    let (t1, t2) = (
+        read_dataset::<f64>(&g, "sensors/T1")[0],
+        read_dataset::<f64>(&g, "sensors/T2")[0],
+    );
     assert!(
         (t1 - shoulder).abs() < 1e-7 * torque_scale(),
         "T1 {t1} vs {shoulder}"
@@ -202,11 +196,11 @@ fn warm_started_flexible_grid_equals_independent_single_pose_subcases() {
     );
     let (file, _out) = run_beside(&dir, &grid);
     let g = file.group("results/1/fmb/poses").unwrap();
-    assert_eq!(read_u32(&g, "converged"), vec![1; 5]);
+    assert_eq!(read_dataset::<u32>(&g, "converged"), vec![1; 5]);
     let names = ["TIPZ", "T1", "T2", "TIPDEV"];
     let warm: Vec<Vec<f64>> = names
         .iter()
-        .map(|n| read(&g, &format!("sensors/{n}")))
+        .map(|n| read_dataset::<f64>(&g, &format!("sensors/{n}")))
         .collect();
     assert!(warm[3].iter().skip(1).all(|d| *d > 1e-4), "{:?}", warm[3]);
     for pose in 0..5 {
@@ -224,7 +218,7 @@ fn warm_started_flexible_grid_equals_independent_single_pose_subcases() {
         let (file, _out) = run_beside(&dir, &single);
         let s = file.group("results/1/fmb/sensors").unwrap();
         for (name, series) in names.iter().zip(&warm) {
-            let reference = read(&s, name)[0];
+            let reference = read_dataset::<f64>(&s, name)[0];
             let tolerance = if *name == "TIPZ" {
                 1e-9
             } else {

@@ -12,7 +12,7 @@ mod common;
 use std::f64::consts::PI;
 use std::path::Path;
 
-use common::root;
+use common::{read_dataset, root};
 
 const DECKS: &str = "decks/fourbar/fmb";
 /// The TSTEP of the test runs: 0.2 s at Δt = 1 ms, two periods of the 10 Hz drive while its
@@ -126,13 +126,6 @@ const MEASURES: [&str; 7] = [
     "strain OC",
 ];
 
-fn read(g: &hdf5_metno::Group, name: &str) -> Vec<f64> {
-    g.dataset(name)
-        .unwrap_or_else(|e| panic!("{name}: {e}"))
-        .read_raw()
-        .unwrap()
-}
-
 /// Runs the FMB deck `text` (its PVAL card `pval` replaced by `with`, its TSTEP by `tstep`)
 /// beside the artifacts in `dir`.
 fn simulate(dir: &Path, text: &str, pval: &str, with: &str, tstep: &str) -> Histories {
@@ -145,23 +138,29 @@ fn simulate(dir: &Path, text: &str, pval: &str, with: &str, tstep: &str) -> Hist
     let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
     let g = file.group("results/1/fmb").unwrap();
     let pair = |x: Vec<f64>, y: Vec<f64>| x.into_iter().zip(y).map(|(x, y)| [x, y]).collect();
-    let (cx, cy) = (read(&g, "sensors/CX"), read(&g, "sensors/CY"));
+    let (cx, cy) = (
+        read_dataset::<f64>(&g, "sensors/CX"),
+        read_dataset::<f64>(&g, "sensors/CY"),
+    );
     let (x0, y0) = (cx[0], cy[0]);
     let flexible = |name: &str| {
         let path = format!("sensors/{name}");
         if g.link_exists(&path) {
-            read(&g, &path)
+            read_dataset::<f64>(&g, &path)
         } else {
             Vec::new()
         }
     };
     Histories {
-        accel: pair(read(&g, "sensors/AX"), read(&g, "sensors/AY")),
+        accel: pair(
+            read_dataset::<f64>(&g, "sensors/AX"),
+            read_dataset::<f64>(&g, "sensors/AY"),
+        ),
         motion: pair(
             cx.iter().map(|x| x - x0).collect(),
             cy.iter().map(|y| y - y0).collect(),
         ),
-        torque: read(&g, "sensors/TORQUE"),
+        torque: read_dataset::<f64>(&g, "sensors/TORQUE"),
         deviation: flexible("CDEV"),
         strains: ["ICEPS", "CEPS", "OCEPS"].map(flexible),
     }
@@ -529,10 +528,10 @@ fn displacement_request_writes_every_grids_basis_rows() {
     let grids: Vec<u32> = g.dataset("basis/grids").unwrap().read_raw().unwrap();
     let model_grids: Vec<u32> = file.dataset("model/grid_ids").unwrap().read_raw().unwrap();
     assert_eq!(grids, model_grids);
-    let rows = read(&g, "basis/rows");
+    let rows = read_dataset::<f64>(&g, "basis/rows");
     let n = rows.len() / (6 * grids.len());
     let interface: Vec<u32> = g.dataset("interface/grids").unwrap().read_raw().unwrap();
-    let interface_rows = read(&g, "interface/rows");
+    let interface_rows = read_dataset::<f64>(&g, "interface/rows");
     for (b, id) in interface.iter().enumerate() {
         let j = grids.iter().position(|g| g == id).expect("interface grid");
         assert_eq!(
@@ -542,8 +541,8 @@ fn displacement_request_writes_every_grids_basis_rows() {
     }
     let components = g.group("M").unwrap().member_names().unwrap().len();
     for i in 0..components {
-        let masses = read(&g, &format!("nodal_mass/{i}"));
-        let stored = read(&g, &format!("invariants/2/{i}"));
+        let masses = read_dataset::<f64>(&g, &format!("nodal_mass/{i}"));
+        let stored = read_dataset::<f64>(&g, &format!("invariants/2/{i}"));
         for a in 0..3 {
             for k in 0..n {
                 let terms = (0..grids.len()).map(|j| masses[j] * rows[(6 * j + a) * n + k]);

@@ -2,14 +2,7 @@
 
 mod common;
 
-use common::{TwoDofChain, run_deck};
-
-fn read(g: &hdf5_metno::Group, name: &str) -> Vec<f64> {
-    g.dataset(name)
-        .unwrap_or_else(|e| panic!("{name}: {e}"))
-        .read_raw()
-        .unwrap()
-}
+use common::{TwoDofChain, read_dataset, run_deck};
 
 /// Step response of the damped 2-DOF chain on the full model (no ROM): a step force on DOF 2
 /// from rest, read through the D2 sensor (−u₂) and the DISPLACEMENT history. Second-order
@@ -33,14 +26,14 @@ fn full_model_step_response_equals_the_analytic_two_dof_chain() {
         r.unwrap_or_else(|e| panic!("{what}: {e}"));
         let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
         let g = file.group("results/1/transient").expect("transient group");
-        let time = read(&g, "time");
+        let time = read_dataset::<f64>(&g, "time");
         assert_eq!(
             time.len(),
             401,
             "{what}: 4000 steps, output every 10, plus t = 0"
         );
-        let d2 = read(&g, "sensors/D2");
-        let disp = read(&g, "displacement");
+        let d2 = read_dataset::<f64>(&g, "sensors/D2");
+        let disp = read_dataset::<f64>(&g, "displacement");
         assert_eq!(
             disp.len(),
             time.len() * 6,
@@ -93,7 +86,10 @@ fn full_model_structural_damping_g_over_w3_equals_the_analytic_two_dof_chain() {
         let summary = r.unwrap_or_else(|e| panic!("{e}"));
         let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
         let g = file.group("results/1/transient").expect("transient group");
-        let (time, d2) = (read(&g, "time"), read(&g, "sensors/D2"));
+        let (time, d2) = (
+            read_dataset::<f64>(&g, "time"),
+            read_dataset::<f64>(&g, "sensors/D2"),
+        );
         let exact = |t: f64| chain.response(t, [0.0; 2], [0.0; 2], 1.0)[1];
         let peak = time.iter().map(|&t| exact(t).abs()).fold(0.0, f64::max);
         (
@@ -154,7 +150,10 @@ fn full_model_and_prom_transients_agree() {
         r.expect("transient");
         let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
         let g = file.group("results/1/transient").expect("group");
-        (read(&g, "sensors/D2"), read(&g, "sensors/A2"))
+        (
+            read_dataset::<f64>(&g, "sensors/D2"),
+            read_dataset::<f64>(&g, "sensors/A2"),
+        )
     };
     let ((d_full, a_full), (d_rom, a_rom)) = (sensors(&full), sensors(&reduced));
     for (what, x, y) in [("D2", d_full, d_rom), ("A2", a_full, a_rom)] {
@@ -209,7 +208,11 @@ fn d2_history(deck: &str) -> (Vec<f64>, Vec<f64>, i64) {
         .attr("evaluations")
         .and_then(|a| a.read_scalar::<i64>())
         .unwrap_or(0);
-    (read(&g, "time"), read(&g, "sensors/D2"), evaluations)
+    (
+        read_dataset::<f64>(&g, "time"),
+        read_dataset::<f64>(&g, "sensors/D2"),
+        evaluations,
+    )
 }
 
 /// Free vibration of the damped 2-DOF chain from TIC initial displacements and velocities
@@ -420,9 +423,9 @@ fn massless_dofs_start_from_rest_and_a_loaded_start_is_refused() {
         let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
         let g = file.group("results/1/transient").expect("transient group");
         let (time, d1, d2) = (
-            read(&g, "time"),
-            read(&g, "sensors/D1"),
-            read(&g, "sensors/D2"),
+            read_dataset::<f64>(&g, "time"),
+            read_dataset::<f64>(&g, "sensors/D1"),
+            read_dataset::<f64>(&g, "sensors/D2"),
         );
         let exact = |t: f64| f1 / k * (t - (w * t).sin() / w);
         let peak = time.iter().map(|&t| exact(t).abs()).fold(0.0, f64::max);

@@ -235,3 +235,22 @@ pub fn f64s(v: &serde_json::Value) -> Vec<f64> {
         .map(|x| x.as_f64().expect("number"))
         .collect()
 }
+
+/// Run a deck text ([`run_deck`], which must succeed) and open its output file; the directory
+/// that holds it comes along so that the file outlives the call.
+#[allow(dead_code)]
+pub fn run_to_file(text: &str) -> (hdf5_metno::File, tempfile::TempDir) {
+    let (r, dir) = run_deck(text);
+    r.unwrap_or_else(|e| panic!("{e}"));
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+    (file, dir)
+}
+
+/// A dataset of group `g` read whole, panicking with its name when it is missing.
+#[allow(dead_code)]
+pub fn read_dataset<T: hdf5_metno::H5Type>(g: &hdf5_metno::Group, name: &str) -> Vec<T> {
+    g.dataset(name)
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+        .read_raw()
+        .unwrap()
+}
