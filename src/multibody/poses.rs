@@ -152,6 +152,10 @@ struct PoseSolver<'a> {
     start: Start,
     /// The last equilibrium's integrator state, its equations at that pose's targets.
     current: Option<Ggl>,
+    /// The drive values of `current`, and the equilibrium before it (drive values, q, λ) when
+    /// it was solved warm: the secant predictor's second point.
+    current_values: Vec<f64>,
+    previous: Option<(Vec<f64>, Vec<f64>, Vec<f64>)>,
     kept: KeptMatrix,
 }
 
@@ -169,6 +173,8 @@ impl<'a> PoseSolver<'a> {
             settings,
             start,
             current: None,
+            current_values: Vec::new(),
+            previous: None,
             kept: KeptMatrix::default(),
         }
     }
@@ -246,18 +252,26 @@ impl<'a> PoseSolver<'a> {
             && let Some(ggl) = self.current.as_mut()
         {
             set_targets(ggl, self.drives, &self.origins, values)?;
+            let (q0, lambda0) = secant_start(
+                (&ggl.q, &ggl.lambda),
+                &self.current_values,
+                self.previous.as_ref(),
+                values,
+            );
             let attempt = equilibrium_from(
                 &ggl.system,
                 &ggl.equations,
-                (&ggl.q, &ggl.lambda),
+                (&q0, &lambda0),
                 0.0,
                 settings,
                 &mut self.kept,
             );
             match attempt {
                 Ok(rest) => {
-                    ggl.q = rest.q;
-                    ggl.lambda = rest.lambda;
+                    let before = std::mem::replace(&mut self.current_values, values.to_vec());
+                    let q = std::mem::replace(&mut ggl.q, rest.q);
+                    let lambda = std::mem::replace(&mut ggl.lambda, rest.lambda);
+                    self.previous = Some((before, q, lambda));
                     return Ok(Solved {
                         iterations: rest.iterations,
                         factorizations: rest.factorizations,
@@ -288,12 +302,43 @@ impl<'a> PoseSolver<'a> {
         ggl.v.fill(0.0);
         ggl.acceleration.fill(0.0);
         self.current = Some(ggl);
+        self.current_values = values.to_vec();
+        self.previous = None;
         Ok(Solved {
             iterations,
             factorizations,
             assembled: true,
             residuals: [rest.force_residual, rest.constraint_residual],
         })
+    }
+}
+
+/// The start of a warm solve at drive values `next`: the secant extrapolation 2x − x_prev of
+/// the last two equilibria (q and λ) when `next` continues their step (the same increment of the
+/// drive values, as along a row of the grid), an O(h²) guess instead of the neighbour's O(h);
+/// else the last equilibrium itself.
+fn secant_start(
+    (q, lambda): (&[f64], &[f64]),
+    current: &[f64],
+    previous: Option<&(Vec<f64>, Vec<f64>, Vec<f64>)>,
+    next: &[f64],
+) -> (Vec<f64>, Vec<f64>) {
+    let continues = |before: &[f64]| {
+        (0..next.len()).all(|k| {
+            let (step, last) = (next[k] - current[k], current[k] - before[k]);
+            (step - last).abs() <= 1e-9 * (1.0 + step.abs())
+        })
+    };
+    match previous {
+        Some((before, q_prev, l_prev)) if continues(before) => (
+            q.iter().zip(q_prev).map(|(a, b)| 2.0 * a - b).collect(),
+            lambda
+                .iter()
+                .zip(l_prev)
+                .map(|(a, b)| 2.0 * a - b)
+                .collect(),
+        ),
+        _ => (q.to_vec(), lambda.to_vec()),
     }
 }
 
