@@ -494,4 +494,17 @@ mod tests {
         assert_eq!(grid.values(2), vec![0.0, 30.0]);
         assert_eq!(grid.values(4), vec![1.0, 20.0]);
     }
+
+    /// The secant start extrapolates only when the next pose continues the last step.
+    #[test]
+    fn secant_start_extrapolates_along_a_row_only() {
+        let previous = (vec![0.0, 0.1], vec![1.0, 2.0], vec![5.0]);
+        let (q, lambda) = ([1.5, 2.5], [6.0]);
+        let along = secant_start((&q, &lambda), &[0.0, 0.2], Some(&previous), &[0.0, 0.3]);
+        assert_eq!(along, (vec![2.0, 3.0], vec![7.0]));
+        let turn = secant_start((&q, &lambda), &[0.0, 0.2], Some(&previous), &[0.1, 0.2]);
+        assert_eq!(turn, (q.to_vec(), lambda.to_vec()));
+        let first = secant_start((&q, &lambda), &[0.0, 0.2], None, &[0.0, 0.3]);
+        assert_eq!(first, (q.to_vec(), lambda.to_vec()));
+    }
 }
