@@ -694,6 +694,12 @@ fn analytic_cantilever_beam_solid_modal() {
     );
 }
 
+/// A three-term MPC (through MPCADD) whose dependent DOF is in a rotated displacement system.
+#[test]
+fn analytic_mpc_lever() {
+    analytic_modal("mpc_lever", &[0], false, true, |_| None);
+}
+
 #[test]
 fn analytic_two_dof_spring_mass() {
     analytic_modal("two_dof_spring_mass", &[0], false, true, |_| None);

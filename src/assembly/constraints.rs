@@ -1,4 +1,5 @@
-//! RBE2 and RBE3 by elimination of the dependent DOFs: u_m = G_mn u_n, u_g = T u_n.
+//! RBE2, RBE3 and MPC equations by elimination of the dependent DOFs: u_m = G_mn u_n,
+//! u_g = T u_n.
 //!
 //! # RBE2 (rigid body)
 //! The CM components of each dependent grid d follow the independent grid i rigidly. In basic,
@@ -32,6 +33,11 @@
 //! recovered exactly. A singular A (fewer than three non-collinear translational grids and
 //! no rotations, …) is [`AssemblyError::Rbe3Singular`].
 //!
+//! # MPC
+//! An equation Σⱼ Aⱼ u_j = 0 (components in the grids' displacement frames, which are the
+//! g-set's frames) makes its first DOF dependent: u₁ = −Σ_{j>1} (Aⱼ / A₁) u_j. The set is the
+//! one case control selects ([`Model::selected_mpc`]), the same for every subcase.
+//!
 //! # Chains and checks
 //! A relation may refer to a DOF that is itself dependent (an RBE2 whose GN is a dependent grid
 //! of another RBE2): relations are substituted depth-first (iteratively, no recursion), so any
@@ -46,6 +52,8 @@ use super::dofs::{DofMap, DofSet};
 use super::error::AssemblyError;
 use super::frames::GridFrames;
 use crate::card_values::Dofs;
+use crate::deck::cards::MpcTerm;
+use crate::model::sets::SetError;
 use crate::model::{Model, RigidKind, WeightedGroup};
 
 /// Relative pivot tolerance of the 6 × 6 RBE3 fit.
@@ -73,7 +81,7 @@ pub struct RigidElimination {
 }
 
 impl RigidElimination {
-    /// The RBE2 / RBE3 relations of a model, eliminated.
+    /// The RBE2 / RBE3 relations and the selected MPC equations of a model, eliminated.
     pub fn of_model(
         model: &Model,
         frames: &GridFrames,
@@ -91,6 +99,9 @@ impl RigidElimination {
                     relations.extend(rbe3_relations(&xyz, frames, &owner, r.hub, *refc, groups)?);
                 }
             }
+        }
+        if let Some(sid) = model.selected_mpc() {
+            relations.extend(mpc_relations(model, sid)?);
         }
         RigidElimination::from_relations(map, relations)
     }
@@ -205,6 +216,54 @@ impl RigidElimination {
         }
         Ok(p_n)
     }
+}
+
+/// One relation per MPC card of `MPC = sid`.
+fn mpc_relations(model: &Model, sid: u32) -> Result<Vec<Relation>, AssemblyError> {
+    let cards = model.mpc_set(sid).map_err(|e| match e {
+        SetError::Empty => AssemblyError::NoConstraintSet {
+            selection: "MPC",
+            cards: "MPC/MPCADD",
+            sid,
+        },
+        SetError::Nested(s) => AssemblyError::BadUnion {
+            card: "MPCADD",
+            sid,
+            reason: format!("S = {s} is itself an MPCADD (nested MPCADD is not allowed)"),
+        },
+        SetError::Missing(s) => AssemblyError::BadUnion {
+            card: "MPCADD",
+            sid,
+            reason: format!("S = {s} selects no MPC set"),
+        },
+    })?;
+    cards
+        .into_iter()
+        .map(|card| {
+            let owner = format!("MPC {} at {}", card.sid, card.loc);
+            let dof = |t: &MpcTerm| match model.grid_index.get(&t.grid) {
+                Some(&g) => Ok(DofMap::dof(g, usize::from(t.component) - 1)),
+                None => Err(AssemblyError::MissingGrid {
+                    card: owner.clone(),
+                    grid: t.grid,
+                }),
+            };
+            let (first, rest) = card.terms.split_first().ok_or(AssemblyError::BadUnion {
+                card: "MPC",
+                sid,
+                reason: "an equation without terms".to_string(),
+            })?;
+            let terms = rest
+                .iter()
+                .map(|t| Ok((dof(t)?, -t.coefficient / first.coefficient)))
+                .collect::<Result<_, AssemblyError>>()?;
+            Ok(Relation {
+                dependent: dof(first)?,
+                terms,
+                owner: owner.clone(),
+            })
+        })
+        .collect()
 }
 
 /// Substitute dependent terms depth-first; returns each relation's terms over independent DOFs.

@@ -46,12 +46,20 @@ pub enum AssemblyError {
     /// A grid is referenced but does not exist.
     #[error("{card}: grid {grid} is referenced but does not exist")]
     MissingGrid { card: String, grid: u32 },
-    /// The SPC set does not exist.
-    #[error("SPC = {sid} selects no SPC/SPC1/SPCADD set {sid}")]
-    NoSpcSet { sid: u32 },
-    /// SPCADD references another SPCADD (not allowed, as in Nastran) or a missing set.
-    #[error("SPCADD {sid}: {reason}")]
-    BadSpcadd { sid: u32, reason: String },
+    /// The selected SPC or MPC set does not exist.
+    #[error("{selection} = {sid} selects no {cards} set {sid}")]
+    NoConstraintSet {
+        selection: &'static str,
+        cards: &'static str,
+        sid: u32,
+    },
+    /// SPCADD / MPCADD references another union (not allowed, as in Nastran) or a missing set.
+    #[error("{card} {sid}: {reason}")]
+    BadUnion {
+        card: &'static str,
+        sid: u32,
+        reason: String,
+    },
     /// Two different enforced values for one DOF in one SPC set.
     #[error("{dof} has two enforced values in SPC set {sid}: {a} and {b}")]
     ConflictingEnforced {
@@ -61,9 +69,7 @@ pub enum AssemblyError {
         b: f64,
     },
     /// The LOAD set does not exist.
-    #[error(
-        "LOAD = {sid} selects no LOAD/FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD4/PLOAD2/PLOAD set {sid}"
-    )]
+    #[error("LOAD = {sid} selects no LOAD/FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD set {sid}")]
     NoLoadSet { sid: u32 },
     /// A LOAD card references another LOAD (not allowed, as in Nastran) or a missing set.
     #[error("LOAD {sid}: {reason}")]

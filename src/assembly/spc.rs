@@ -71,12 +71,18 @@ impl SpcSet {
         }
         let Some(sid) = sid else { return Ok(out) };
         let entries = model.spc_set(sid).map_err(|e| match e {
-            SetError::Empty => AssemblyError::NoSpcSet { sid },
-            SetError::Nested(s) => AssemblyError::BadSpcadd {
+            SetError::Empty => AssemblyError::NoConstraintSet {
+                selection: "SPC",
+                cards: "SPC/SPC1/SPCADD",
+                sid,
+            },
+            SetError::Nested(s) => AssemblyError::BadUnion {
+                card: "SPCADD",
                 sid,
                 reason: format!("S = {s} is itself an SPCADD (nested SPCADD is not allowed)"),
             },
-            SetError::Missing(s) => AssemblyError::BadSpcadd {
+            SetError::Missing(s) => AssemblyError::BadUnion {
+                card: "SPCADD",
                 sid,
                 reason: format!("S = {s} selects no SPC/SPC1 set"),
             },

@@ -287,7 +287,11 @@ fn spcadd_union_and_errors() {
     );
     assert_eq!(
         SpcSet::of_model(&m, &map, Some(99)).unwrap_err(),
-        AssemblyError::NoSpcSet { sid: 99 }
+        AssemblyError::NoConstraintSet {
+            selection: "SPC",
+            cards: "SPC/SPC1/SPCADD",
+            sid: 99
+        }
     );
 }
 

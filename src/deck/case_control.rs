@@ -66,6 +66,8 @@ pub struct Subcase {
     pub subtitle: Option<String>,
     pub label: Option<String>,
     pub spc: Option<u32>,
+    /// `MPC = sid` (MPC / MPCADD set).
+    pub mpc: Option<u32>,
     pub load: Option<u32>,
     pub method: Option<u32>,
     pub frequency: Option<u32>,
@@ -116,8 +118,8 @@ impl Subcase {
         let mut out = self.clone();
         macro_rules! inherit { ($($f:ident),*) => { $( if out.$f.is_none() { out.$f = defaults.$f.clone(); } )* } }
         inherit!(
-            title, subtitle, label, spc, load, method, frequency, dload, tstep, ic, prom, rom, fmb,
-            pval, sensor, estim, meas, msensor, fmbstart, poses, strref
+            title, subtitle, label, spc, mpc, load, method, frequency, dload, tstep, ic, prom, rom,
+            fmb, pval, sensor, estim, meas, msensor, fmbstart, poses, strref
         );
         let own: Vec<&str> = out.outputs.iter().map(|o| o.name).collect();
         let inherited: Vec<OutputRequest> = defaults
@@ -168,6 +170,7 @@ const PLOTTER_SECTIONS: &[&str] = &["PLOT", "XYPLOT", "XYOUT", "XYPUNCH", "POST"
 /// Canonical case-control commands that select a bulk-data id.
 const SELECTIONS: &[&str] = &[
     "SPC",
+    "MPC",
     "LOAD",
     "METHOD",
     "FREQUENCY",
@@ -471,6 +474,7 @@ impl CaseControl {
             let sub = self.current();
             let slot = match name {
                 "SPC" => &mut sub.spc,
+                "MPC" => &mut sub.mpc,
                 "LOAD" => &mut sub.load,
                 "METHOD" => &mut sub.method,
                 "FREQUENCY" => &mut sub.frequency,
@@ -693,7 +697,7 @@ mod tests {
 
     #[test]
     fn bad_statements_are_located() {
-        let (_, d) = read(&["SPC = X", "MPC = 3", "SET 4 = 1 THRU", "ECHO = NONE"]);
+        let (_, d) = read(&["SPC = X", "MPC = X", "SET 4 = 1 THRU", "ECHO = NONE"]);
         assert_eq!(d.errors.len(), 3, "{:?}", d.errors);
         assert!(d.errors[1].to_string().starts_with("c.dat:2: MPC"));
         assert!(d.warnings.is_empty(), "{:?}", d.warnings);

@@ -3,6 +3,7 @@
 //! | selection | must exist |
 //! |---|---|
 //! | SPC | SPC / SPC1 / SPCADD set |
+//! | MPC | MPC / MPCADD set, the same in every subcase that selects one |
 //! | LOAD | LOAD / FORCE / MOMENT / GRAV set |
 //! | METHOD | EIGRL |
 //! | FREQUENCY | FREQ / FREQ1 / FREQ2 set |
@@ -17,9 +18,9 @@
 //! Errors point at the statement (`Subcase::loc_of`). Which output requests the solution
 //! sequence writes is the sequence's business (`crate::sequence::request_warnings`).
 //!
-//! The other way round, an SPC set (SPC / SPC1 / SPCADD) or a LOAD set (LOAD / FORCE / MOMENT
-//! / GRAV) that bulk data defines but nothing selects (no subcase's `SPC =` or `LOAD =`, no
-//! SPCADD or LOAD combination, no TLOAD1 / RLOAD1 EXCITEID) is a warning at its first card
+//! The other way round, an SPC set (SPC / SPC1 / SPCADD), an MPC set (MPC / MPCADD) or a LOAD
+//! set (LOAD / FORCE / MOMENT / GRAV) that bulk data defines but nothing selects (no subcase's
+//! `SPC =`, `MPC =` or `LOAD =`, no SPCADD, MPCADD or LOAD combination, no TLOAD1 / RLOAD1 EXCITEID) is a warning at its first card
 //! ([`unselected_sets`]): a forgotten `SPC = 1` otherwise leaves a structure free without a word.
 
 use std::collections::{BTreeMap, HashSet};
@@ -40,6 +41,13 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
             .map(|s| s.sid)
             .chain(b.spc1.iter().map(|s| s.sid))
             .chain(b.spcadd.iter().map(|s| s.sid))
+            .collect(),
+    );
+    let mpc = set_of(
+        b.mpc
+            .iter()
+            .map(|s| s.sid)
+            .chain(b.mpcadd.iter().map(|s| s.sid))
             .collect(),
     );
     let load = set_of(
@@ -105,6 +113,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
             }
         };
         need("SPC", sub.spc, &spc, "SPC/SPC1/SPCADD");
+        need("MPC", sub.mpc, &mpc, "MPC/MPCADD");
         // a deck loading a mechanism (FMB =) may select a gravity set stored with it
         if sub.fmb.is_none() {
             need(
@@ -183,8 +192,38 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
             }
         }
     }
+    one_mpc_set(&subcases, errors);
 }
 
+/// The MPC elimination is part of the structure every subcase shares: subcases that select
+/// different MPC sets, or a subcase without `MPC =` beside one with it, are refused at the
+/// statement (Nastran would eliminate per subcase).
+fn one_mpc_set(subcases: &[Subcase], errors: &mut Vec<DeckError>) {
+    let Some(first) = subcases.iter().find(|s| s.mpc.is_some()) else {
+        return;
+    };
+    for sub in subcases.iter().filter(|s| s.mpc != first.mpc) {
+        let (at, what) = match sub.mpc {
+            Some(id) => (sub.loc_of("MPC"), format!("MPC = {id}")),
+            None => (sub.loc_of("SUBCASE"), "no MPC =".to_string()),
+        };
+        let Some(at) = at.or_else(|| first.loc_of("MPC")) else {
+            continue;
+        };
+        errors.push(
+            DeckError::at(
+                at,
+                format!(
+                    "{what}{} while subcase {} selects MPC = {}: paraflex eliminates one MPC set for the whole run; select the same set in every subcase (MPC = above the first SUBCASE)",
+                    subcase_text(sub),
+                    first.id,
+                    first.mpc.unwrap_or_default()
+                ),
+            )
+            .on_card("MPC"),
+        );
+    }
+}
 fn subcase_text(sub: &Subcase) -> String {
     format!(" (subcase {})", sub.id)
 }
@@ -214,6 +253,24 @@ pub fn unselected_sets(deck: &Deck, warnings: &mut Vec<Warning>) {
         spc_selected,
         &subcases,
         |s| s.spc,
+        warnings,
+    );
+    let mpc_cards = b
+        .mpc
+        .iter()
+        .map(|c| (c.sid, "MPC", &c.loc))
+        .chain(b.mpcadd.iter().map(|c| (c.sid, "MPCADD", &c.loc)));
+    let mpc_selected = subcases
+        .iter()
+        .filter_map(|s| s.mpc)
+        .chain(b.mpcadd.iter().flat_map(|c| c.sets.iter().copied()));
+    warn_unselected(
+        "MPC",
+        "its equations are not applied",
+        mpc_cards,
+        mpc_selected,
+        &subcases,
+        |s| s.mpc,
         warnings,
     );
     let force_name = |kind: ForceKind| match kind {

@@ -1,18 +1,20 @@
 //! The static sets case control selects, resolved for the solver:
 //! - [`Model::spc_set`]: `SPC = sid` with its `SPCADD` expanded into the SPC / SPC1 entries of
 //!   every member set (members in increasing id, SPC before SPC1, card order within);
+//! - [`Model::mpc_set`]: `MPC = sid` with its `MPCADD` expanded into the MPC cards of every
+//!   member set (members in increasing id, card order within);
 //! - [`Model::load_set`]: `LOAD = sid` with its `LOAD` combination expanded into terms of
 //!   FORCE / MOMENT vectors and GRAV accelerations in the basic system, the combination factor
 //!   S · Si applied.
 //!
-//! An SPCADD of an SPCADD, a LOAD of a LOAD, and a member that selects nothing are errors, as in
+//! An SPCADD of an SPCADD, an MPCADD of an MPCADD, a LOAD of a LOAD, and a member that selects nothing are errors, as in
 //! Nastran ([`SetError`]); the model check rejects them already, and the resolution does not
 //! rely on it.
 
 use std::collections::BTreeSet;
 
 use crate::deck::Loc;
-use crate::deck::cards::BulkData;
+use crate::deck::cards::{BulkData, Mpc, SetUnion};
 
 use super::{Dofs, Model};
 use crate::card_values::ForceKind;
@@ -86,6 +88,26 @@ impl Model {
     /// The SPC / SPC1 entries of `SPC = sid` (see the module documentation).
     pub fn spc_set(&self, sid: u32) -> Result<Vec<SpcEntry>, SetError> {
         spc_entries(&self.bulk, sid)
+    }
+
+    /// The MPC cards of `MPC = sid` (see the module documentation).
+    pub fn mpc_set(&self, sid: u32) -> Result<Vec<&Mpc>, SetError> {
+        let b = &self.bulk;
+        let sets = union_members(&b.mpcadd, sid, |s| b.mpc.iter().any(|x| x.sid == s))?;
+        let out: Vec<&Mpc> = sets
+            .iter()
+            .flat_map(|&s| b.mpc.iter().filter(move |x| x.sid == s))
+            .collect();
+        if out.is_empty() {
+            Err(SetError::Empty)
+        } else {
+            Ok(out)
+        }
+    }
+
+    /// The MPC set the subcases select (the model check makes it one for all of them).
+    pub fn selected_mpc(&self) -> Option<u32> {
+        self.subcases.iter().find_map(|s| s.mpc)
     }
 
     /// The terms of `LOAD = sid`: one term of factor 1 for a FORCE / MOMENT / GRAV set, one
@@ -177,26 +199,37 @@ fn load_members(b: &BulkData, sid: u32) -> Result<Vec<(f64, u32)>, SetError> {
     Ok(members)
 }
 
+/// The member set ids of `sid`: those of its union cards (`SPCADD` / `MPCADD`), in increasing
+/// id, or `sid` itself when no union card has that id. `exists` tells whether a plain set exists.
+fn union_members(
+    unions: &[SetUnion],
+    sid: u32,
+    exists: impl Fn(u32) -> bool,
+) -> Result<Vec<u32>, SetError> {
+    let adds: Vec<_> = unions.iter().filter(|a| a.sid == sid).collect();
+    if adds.is_empty() {
+        return Ok(vec![sid]);
+    }
+    let mut sets = BTreeSet::new();
+    for a in &adds {
+        for &s in &a.sets {
+            if unions.iter().any(|x| x.sid == s) {
+                return Err(SetError::Nested(s));
+            }
+            if !exists(s) {
+                return Err(SetError::Missing(s));
+            }
+            sets.insert(s);
+        }
+    }
+    Ok(sets.into_iter().collect())
+}
+
 /// The entries of `SPC = sid` in a deck's bulk data.
 fn spc_entries(b: &BulkData, sid: u32) -> Result<Vec<SpcEntry>, SetError> {
-    let adds: Vec<_> = b.spcadd.iter().filter(|a| a.sid == sid).collect();
-    let sets: Vec<u32> = if adds.is_empty() {
-        vec![sid]
-    } else {
-        let mut sets = BTreeSet::new();
-        for a in &adds {
-            for &s in &a.sets {
-                if b.spcadd.iter().any(|x| x.sid == s) {
-                    return Err(SetError::Nested(s));
-                }
-                if !b.spc.iter().any(|x| x.sid == s) && !b.spc1.iter().any(|x| x.sid == s) {
-                    return Err(SetError::Missing(s));
-                }
-                sets.insert(s);
-            }
-        }
-        sets.into_iter().collect()
-    };
+    let sets = union_members(&b.spcadd, sid, |s| {
+        b.spc.iter().any(|x| x.sid == s) || b.spc1.iter().any(|x| x.sid == s)
+    })?;
     let mut out = Vec::new();
     for &s in &sets {
         out.extend(b.spc.iter().filter(|x| x.sid == s).map(|x| SpcEntry {

@@ -9,6 +9,8 @@
 //! | SPC, SPC1, ASET1, DAREA, FORCE/MOMENT | grids | GRID |
 //! | FORCE/MOMENT, GRAV | CID | coordinate system |
 //! | SPCADD | Si | SPC/SPC1 set |
+//! | MPC | Gi | GRID |
+//! | MPCADD | Si | MPC set |
 //! | LOAD | Li | FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD set |
 //! | TLOAD1, RLOAD1 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/LOAD) |
 //! | TLOAD1 TID, RLOAD1 TC/TD (≠ 0) | table | TABLED1 or TABLEF |
@@ -143,6 +145,11 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
             refs.grid(*g, "G", "ASET1", &a.loc, errors);
         }
     }
+    for m in &b.mpc {
+        for t in &m.terms {
+            refs.grid(t.grid, "G", &format!("MPC {}", m.sid), &m.loc, errors);
+        }
+    }
     // a deck that reads a pROM names the artifact's input DOFs: checked when it is read
     for d in b.darea.iter().filter(|_| !reads_rom(deck)) {
         refs.grid(d.grid, "P", &format!("DAREA {}", d.sid), &d.loc, errors);
@@ -174,6 +181,15 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
                     .on_card(format!("SPCADD {}", s.sid)),
                 );
             }
+        }
+    }
+    let mpc_sets: HashSet<u32> = b.mpc.iter().map(|s| s.sid).collect();
+    for s in &b.mpcadd {
+        for id in s.sets.iter().filter(|id| !mpc_sets.contains(id)) {
+            errors.push(
+                DeckError::at(&s.loc, format!("S = {id} does not exist (no MPC set {id})"))
+                    .on_card(format!("MPCADD {}", s.sid)),
+            );
         }
     }
     let static_sets: HashSet<u32> = b.static_load_sets().collect();

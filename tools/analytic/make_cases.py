@@ -910,6 +910,106 @@ def case_two_dof_spring_mass(write):
     }
 
 
+MPC_LEVER = {"m1": 2.0, "m2": 0.5, "m3": 1.5, "k1": 1000.0, "k2": 400.0, "k3": 1500.0, "r": 2.0,
+             "s": -0.75, "F": 10.0}
+
+
+def mpc_lever_model():
+    """Three masses on grounded springs; grid 2's T2 (in its CD system, rotated so that its y
+    axis is basic -x) is tied to grid 1's T1 and grid 3's T1 by u2 = r u1 + s u3. Eliminating u2
+    leaves the independent coordinates q = (u1, u3): with a = (r, s),
+    K = diag(k1, k3) + k2 a a^T, M = diag(m1, m3) + m2 a a^T. A FORCE F along basic x at grid 2
+    does the work F u2x = -F (r u1 + s u3): p = -F a. Returns K, M, the eigenvalues by the
+    closed-form quadratic and by scipy, and the static solution."""
+    c = MPC_LEVER
+    a = np.array([c["r"], c["s"]])
+    K = np.diag([c["k1"], c["k3"]]) + c["k2"] * np.outer(a, a)
+    M = np.diag([c["m1"], c["m3"]]) + c["m2"] * np.outer(a, a)
+    # det(K - lam M) = 0: A lam^2 + B lam + C = 0
+    A = np.linalg.det(M)
+    B = -(K[0, 0] * M[1, 1] + K[1, 1] * M[0, 0] - 2 * K[0, 1] * M[0, 1])
+    C = np.linalg.det(K)
+    d = math.sqrt(B * B - 4 * A * C)
+    lam = [(-B - d) / (2 * A), (-B + d) / (2 * A)]
+    lam2 = linalg.eigh(K, M, eigvals_only=True)
+    for i in range(2):
+        check("MPC lever eigenvalue %d: closed form vs scipy eigh" % (i + 1), lam[i], lam2[i],
+              1e-13)
+    q = np.linalg.solve(K, -c["F"] * a)
+    # by energy: the same solution minimizes 1/2 q^T K q - p^T q; Cramer's rule as the check
+    det = K[0, 0] * K[1, 1] - K[0, 1] ** 2
+    p = -c["F"] * a
+    q2 = [(p[0] * K[1, 1] - K[0, 1] * p[1]) / det, (K[0, 0] * p[1] - K[0, 1] * p[0]) / det]
+    for i in range(2):
+        check("MPC lever static displacement %d: solve vs Cramer" % (i + 1), q[i], q2[i], 1e-13)
+    u2_local_y = c["r"] * q[0] + c["s"] * q[1]
+    return lam, {"u1_T1": q[0], "u3_T1": q[1], "u2_T2_local": u2_local_y,
+                 "u2_basic_x": -u2_local_y}
+
+
+def mpc_lever_bulk(c):
+    """The lever model's bulk data; the MPC set 20 is an MPCADD of the one MPC card (set 10),
+    whose three terms need a continuation."""
+    return [card("CORD2R", 5, 0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0),
+            card("GRID", 1, None, 0.0, 0.0, 0.0),
+            card("GRID", 2, None, 1.0, 0.0, 0.0, 5),
+            card("GRID", 3, None, 2.0, 0.0, 0.0),
+            card("CONM2", 1, 1, 0, c["m1"]), card("CONM2", 2, 2, 0, c["m2"]),
+            card("CONM2", 3, 3, 0, c["m3"]),
+            card("CELAS2", 11, c["k1"], 1, 1), card("CELAS2", 12, c["k2"], 2, 2),
+            card("CELAS2", 13, c["k3"], 3, 1),
+            card("MPC", 10, 2, 2, 1.0, 1, 1, -c["r"], None, None, 3, 1, -c["s"]),
+            card("MPCADD", 20, 10),
+            spc1(1, "23456", [1, 3]), spc1(1, "13456", [2])]
+
+
+def case_mpc_lever(write):
+    name = "mpc_lever"
+    c = MPC_LEVER
+    lam, static = mpc_lever_model()
+    f = [math.sqrt(x) / (2 * math.pi) for x in lam]
+    deck = "%s/%s_n1.dat" % (DECK_DIR, name)
+    static_deck = "%s/%s_static.dat" % (DECK_DIR, name)
+    if write:
+        header = ["analytic case %s: CONM2 %g, %g, %g kg on CELAS2 %g, %g, %g N/m to ground; MPC "
+                  "u2(T2, CD 5) = %g u1(T1) %+g u3(T1)" % (name, c["m1"], c["m2"], c["m3"],
+                                                          c["k1"], c["k2"], c["k3"], c["r"],
+                                                          c["s"]),
+                  "reference: %s/%s.json" % (REF_DIR, name)]
+        modal = modal_case_control(name)
+        modal.insert(1, "MPC = 20")
+        write_deck(deck, header, 103, modal,
+                   mpc_lever_bulk(c) + [card("EIGRL", 10, None, None, 2)])
+        statics = static_case_control(name + " statics")
+        statics.insert(1, "MPC = 20")
+        write_deck(static_deck, header, 101, statics,
+                   mpc_lever_bulk(c) + [card("FORCE", 2, 2, 0, c["F"], 1.0, 0.0, 0.0)])
+    return {
+        "case": name,
+        "description": "three CONM2 masses on grounded CELAS2 springs tied by a three-term MPC "
+                       "(through an MPCADD) whose dependent DOF is T2 of a grid with a rotated "
+                       "displacement system",
+        "provenance": "elimination of the dependent DOF by hand (u2 = r u1 + s u3), 2x2 "
+                      "generalized eigenproblem by the closed-form quadratic, checked against "
+                      "scipy.linalg.eigh; statics by numpy solve, checked by Cramer's rule",
+        "formula": "a = (r, s); K = diag(k1, k3) + k2 a a^T, M = diag(m1, m3) + m2 a a^T; "
+                   "det(K - lam M) = 0, f = sqrt(lam)/(2 pi); K q = -F a, u2x = -(r u1 + s u3)",
+        "inputs": dict(c, eigenvalues_rad2_s2=lam),
+        "value_labels": ["mode 1", "mode 2"],
+        "units": "Hz",
+        "values": f,
+        "static": {"deck": static_deck, "units": "m", "values": static,
+                   "tolerance_relative": 1e-10,
+                   "justification": "a direct solve of a 2x2 SPD system of condition ~10: "
+                                    "round-off ~1e-15; 1e-10 is a wide margin"},
+        "meshes": [{"deck": deck, "elements": 6, "h": None}],
+        "expected_order": None,
+        "tolerance_finest": {"relative": [1e-10, 1e-10], "justification": [
+            "no discretization and no model-form difference: after the elimination the deck is "
+            "the 2x2 model itself; 1e-10 leaves room for the Lanczos convergence criterion"] * 2},
+    }
+
+
 # Spring chain ground-1-2-...-7-ground along T1 with CONM2 masses on grids 2, 4, 6 only: the
 # odd grids carry springs and no mass, so the 7-DOF pencil has 3 finite eigenvalues.
 MASSLESS_CHAIN_K = [1000.0, 1500.0, 800.0, 1200.0, 900.0, 2000.0, 1100.0, 700.0]
@@ -1580,6 +1680,7 @@ CASES = {
     "cantilever_static": lambda w: case_cantilever_static(w, solid=False),
     "cantilever_static_solid": lambda w: case_cantilever_static(w, solid=True),
     "two_dof_spring_mass": case_two_dof_spring_mass,
+    "mpc_lever": case_mpc_lever,
     "cantilever_strain_sensor": case_cantilever_strain_sensor,
     "frf_sdof": case_frf_sdof,
     "frf_two_dof": case_frf_two_dof,

@@ -1,4 +1,4 @@
-//! Constraints and DOF sets: `SPC`, `SPC1`, `SPCADD`, `ASET1`.
+//! Constraints and DOF sets: `SPC`, `SPC1`, `SPCADD`, `MPC`, `MPCADD`, `ASET1`.
 
 use crate::card_values::Dofs;
 use crate::deck::error::{DeckError, Loc};
@@ -85,21 +85,26 @@ impl Spc1 {
     }
 }
 
-/// `SPCADD` — union of constraint sets.
+/// `SPCADD` / `MPCADD` — union of constraint sets (SPC/SPC1 sets, or MPC sets).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | SID | int > 0 | required | new set id |
-/// | 3 … | S1 S2 … | int > 0 | ≥ 1 required | SPC/SPC1 set ids |
+/// | 3 … | S1 S2 … | int > 0 | ≥ 1 required | the united set ids |
 #[derive(Debug, Clone, PartialEq)]
-pub struct Spcadd {
+pub struct SetUnion {
     pub sid: u32,
     pub sets: Vec<u32>,
     pub loc: Loc,
 }
 
-impl Spcadd {
-    /// Read an `SPCADD` card.
+/// `SPCADD`: a union of SPC / SPC1 sets.
+pub type Spcadd = SetUnion;
+/// `MPCADD`: a union of MPC sets.
+pub type Mpcadd = SetUnion;
+
+impl SetUnion {
+    /// Read an `SPCADD` or `MPCADD` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let sid = f.id(1, "SID");
@@ -111,7 +116,104 @@ impl Spcadd {
         let loc = f.loc();
         let len = f.len();
         f.finish(len)?;
-        Ok(Spcadd { sid, sets, loc })
+        Ok(SetUnion { sid, sets, loc })
+    }
+}
+
+/// One term of an `MPC` equation: a grid's component and its coefficient.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MpcTerm {
+    pub grid: u32,
+    /// Component 1-6 in the grid's displacement frame.
+    pub component: u8,
+    pub coefficient: f64,
+}
+
+/// `MPC` — multipoint constraint Σ Aⱼ u_j = 0; the first term's DOF is the dependent one.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | SID | int > 0 | required | constraint set id |
+/// | 3, 4, 5 | G1 C1 A1 | int > 0, component 1-6, real ≠ 0 | required | the dependent DOF and its coefficient |
+/// | 6, 7, 8 | G2 C2 A2 | | blank | a second term |
+/// | continuation 3-5, 6-8 | G3 C3 A3, G4 C4 A4 … | | blank | two more terms per continuation (its fields 2 and 9 blank) |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mpc {
+    pub sid: u32,
+    pub terms: Vec<MpcTerm>,
+    pub loc: Loc,
+}
+
+impl Mpc {
+    /// Read an `MPC` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let sid = f.id(1, "SID");
+        f.set_id(sid);
+        let len = f.len();
+        let mut terms = Vec::new();
+        for line in 0..len.div_ceil(8).max(1) {
+            let base = 8 * line;
+            if line > 0 && !f.value(base + 1).is_blank() {
+                f.error(
+                    base + 1,
+                    "blank",
+                    "expected a blank field before G on a continuation",
+                );
+            }
+            for first in [base + 2, base + 5] {
+                if (first..first + 3).all(|i| f.value(i).is_blank()) {
+                    continue;
+                }
+                let (gname, cname, aname) = match terms.len() {
+                    0 => ("G1", "C1", "A1"),
+                    _ => ("Gi", "Ci", "Ai"),
+                };
+                let grid = f.id(first, gname);
+                let code = f.int(first + 1, cname);
+                let component = match code {
+                    1..=6 => code as u8,
+                    0 => {
+                        f.error(
+                            first + 1,
+                            cname,
+                            "component 0 (a scalar point) is not supported: paraflex has no SPOINT",
+                        );
+                        1
+                    }
+                    _ => {
+                        f.error(
+                            first + 1,
+                            cname,
+                            format!("expected a single component 1-6, found {code}"),
+                        );
+                        1
+                    }
+                };
+                let coefficient = f.real(first + 2, aname);
+                if terms.is_empty() && coefficient == 0.0 {
+                    f.error(
+                        first + 2,
+                        aname,
+                        "the first coefficient must be nonzero: it divides the equation for the dependent DOF",
+                    );
+                }
+                terms.push(MpcTerm {
+                    grid,
+                    component,
+                    coefficient,
+                });
+            }
+            if !f.value(base + 8).is_blank() {
+                f.error(base + 8, "blank", "expected a blank last field");
+            }
+        }
+        if terms.is_empty() {
+            f.card_error("no term given: expected G1 C1 A1");
+        }
+        let loc = f.loc();
+        f.finish(len)?;
+        Ok(Mpc { sid, terms, loc })
     }
 }
 

@@ -20,7 +20,7 @@ mod param;
 mod properties;
 mod rigid;
 
-pub use constraints::{Aset1, Spc, Spc1, Spcadd};
+pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd};
 pub use design::{Ddval, Desvar};
 pub use dynamic::{
     Darea, Dload, EigenNorm, Eigrl, Freq, FreqKind, Rload1, Tabled1, Tic, Tload1, Tstep,
@@ -68,6 +68,8 @@ pub struct BulkData {
     pub spc: Vec<Spc>,
     pub spc1: Vec<Spc1>,
     pub spcadd: Vec<Spcadd>,
+    pub mpc: Vec<Mpc>,
+    pub mpcadd: Vec<Mpcadd>,
     pub aset1: Vec<Aset1>,
     /// FORCE and MOMENT cards.
     pub forces: Vec<Force>,
@@ -162,6 +164,8 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("SPC", |c, b| Ok(b.spc.extend(Spc::from_card(c)?))),
     ("SPC1", |c, b| Ok(b.spc1.push(Spc1::from_card(c)?))),
     ("SPCADD", |c, b| Ok(b.spcadd.push(Spcadd::from_card(c)?))),
+    ("MPC", |c, b| Ok(b.mpc.push(Mpc::from_card(c)?))),
+    ("MPCADD", |c, b| Ok(b.mpcadd.push(Mpcadd::from_card(c)?))),
     ("ASET1", |c, b| Ok(b.aset1.push(Aset1::from_card(c)?))),
     ("FORCE", |c, b| {
         Ok(b.forces.push(Force::from_card(c, ForceKind::Force)?))
