@@ -7,12 +7,15 @@
 //!   resultants, centroid strains (SOL 101);
 //! - [`modal`]: normal modes by shift-invert Lanczos with one symbolic analysis per f-set,
 //!   NORM = MAX scaling, shapes on every grid (SOL 103);
+//! - [`weight`]: the grid-point weight generator (PARAM,GRDPNT): rigid-body mass matrix,
+//!   centres of gravity and inertias of the assembled mass;
 //! - [`frf`]: the receptance of the f-set, direct or by modes with residual vectors (SOL 108,
 //!   SOL 111).
 
 pub mod frf;
 pub mod modal;
 pub mod statics;
+pub mod weight;
 
 use std::time::{Duration, Instant};
 

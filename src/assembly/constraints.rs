@@ -332,7 +332,7 @@ fn resolve_chains(
 type M6 = [[f64; 6]; 6];
 
 /// R(r) = [I −[r×]; 0 I]: rigid motion at offset r from the motion (t, θ) at the origin.
-fn rigid_arm(r: [f64; 3]) -> M6 {
+pub(crate) fn rigid_arm(r: [f64; 3]) -> M6 {
     let mut m = [[0.0; 6]; 6];
     for (i, row) in m.iter_mut().enumerate() {
         row[i] = 1.0;
@@ -348,7 +348,7 @@ fn rigid_arm(r: [f64; 3]) -> M6 {
 }
 
 /// L = diag(Λ, Λ) of a grid (identity in basic).
-fn frame6(frames: &GridFrames, grid: usize) -> M6 {
+pub(crate) fn frame6(frames: &GridFrames, grid: usize) -> M6 {
     let mut l = [[0.0; 6]; 6];
     match frames.rotation(grid) {
         None => (0..6).for_each(|i| l[i][i] = 1.0),

@@ -27,6 +27,7 @@
 use std::collections::{HashMap, HashSet};
 
 use crate::card_values::{ForceKind, SensorKind};
+use crate::deck::cards::ParamValue;
 use crate::deck::{Deck, DeckError, Loc};
 
 use super::MaterialRef;
@@ -143,6 +144,14 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
     for a in &b.aset1 {
         for g in &a.grids {
             refs.grid(*g, "G", "ASET1", &a.loc, errors);
+        }
+    }
+    // the grid-point weight generator's reference grid
+    for p in b.params.iter().filter(|p| p.name == "GRDPNT") {
+        if let ParamValue::Int(id) = p.value
+            && let Ok(id @ 1..) = u32::try_from(id)
+        {
+            refs.grid(id, "V1", "PARAM GRDPNT", &p.loc, errors);
         }
     }
     for m in &b.mpc {

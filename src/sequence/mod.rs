@@ -94,6 +94,8 @@ pub struct RunContext<'a> {
 pub struct RunSummary {
     /// The sequence's name ([`Driver::name`]).
     pub sequence: &'static str,
+    /// Model-level lines printed before the subcases (the grid-point weight table).
+    pub model_lines: Vec<String>,
     pub subcases: Vec<SubcaseSummary>,
     /// Wall-clock time of each step, in order.
     pub timings: Vec<(String, Duration)>,
@@ -150,6 +152,8 @@ pub enum RunError {
     Linalg { subcase: u32, source: LinalgError },
     #[error(transparent)]
     Io(#[from] IoError),
+    #[error(transparent)]
+    Weight(#[from] crate::analysis::weight::WeightError),
 }
 
 /// Runs the deck's solution sequence (see the module documentation).
@@ -170,16 +174,19 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
     }
     Ok(RunSummary {
         sequence: driver.name(),
+        model_lines: clock.model_lines,
         subcases,
         timings: clock.steps,
         warnings,
     })
 }
 
-/// Step timings.
+/// Step timings of a run, and the model-level lines its steps report (the grid-point weight
+/// table of `PARAM,GRDPNT`), printed before the subcases.
 #[derive(Debug, Default)]
 pub struct Clock {
     steps: Vec<(String, Duration)>,
+    model_lines: Vec<String>,
 }
 
 impl Clock {
@@ -194,6 +201,11 @@ impl Clock {
     /// Records a step timed elsewhere.
     pub fn record(&mut self, name: impl Into<String>, duration: Duration) {
         self.steps.push((name.into(), duration));
+    }
+
+    /// Adds model-level report lines.
+    pub fn report_model(&mut self, lines: impl IntoIterator<Item = String>) {
+        self.model_lines.extend(lines);
     }
 }
 

@@ -5,6 +5,7 @@
 use std::time::Duration;
 
 use super::RunSummary;
+use crate::analysis::weight::WeightSummary;
 use crate::linalg::SturmCheck;
 
 /// What one subcase's result tells the user (the summary type of a driver; `Any` so that
@@ -24,6 +25,7 @@ impl RunSummary {
     /// subcase's lines with its AUTOSPC list, and the step timings.
     pub fn render(&self, deck: &std::path::Path, total: Duration) -> Vec<String> {
         let mut out = vec![format!("{} — {}", deck.display(), self.sequence)];
+        out.extend(self.model_lines.iter().cloned());
         for sub in &self.subcases {
             out.extend(sub.result.render(sub.id));
             if sub.autospc.is_empty() {
@@ -75,6 +77,35 @@ fn abbreviate(list: &[String], max: usize) -> String {
             list.len() - max
         )
     }
+}
+
+/// The grid-point weight table, laid out like Nastran's F06 (`reference` names the point).
+pub fn weight_lines(w: &WeightSummary, reference: &str) -> Vec<String> {
+    let row = |v: &[f64]| v.iter().map(|x| sci(*x, 6)).collect::<Vec<_>>().join(" ");
+    let mut out = vec![format!(
+        "  grid-point weight generator (PARAM,GRDPNT), reference point {reference}, input mass units (M / WTMASS):"
+    )];
+    out.push("    MO, rigid-body mass matrix about the reference point (basic):".to_string());
+    out.extend(w.mo.iter().map(|r| format!("      {}", row(r))));
+    out.push("    S, mass axes (columns):".to_string());
+    out.extend(w.s.iter().map(|r| format!("      {}", row(r))));
+    out.push("    direction  mass           X-C.G.         Y-C.G.         Z-C.G.".to_string());
+    for (k, name) in ["X", "Y", "Z"].iter().enumerate() {
+        out.push(format!(
+            "    {name:<10} {} {}",
+            sci(w.mass[k], 6),
+            row(&w.cg[k])
+        ));
+    }
+    out.push("    I(S), inertia about the C.G. (tensor, off-diagonal −∫xy dm):".to_string());
+    out.extend(w.inertia.iter().map(|r| format!("      {}", row(r))));
+    out.push(format!(
+        "    I(Q), principal inertias: {}",
+        row(&w.principal)
+    ));
+    out.push("    Q, principal axes (columns, in S):".to_string());
+    out.extend(w.q.iter().map(|r| format!("      {}", row(r))));
+    out
 }
 
 /// f = √max(λ, 0)/2π.

@@ -2,12 +2,15 @@
 //! time steps of a `TSTEP` and the damping warning (full-model and pROM transients), the
 //! frequency lines of `FREQUENCY` and the FRF output (full-model and pROM FRFs).
 
+use super::report::weight_lines;
 use super::{Clock, RunContext, RunError};
+use crate::analysis::weight;
+use crate::assembly::AssemblyError;
 use crate::deck::cards::{TintegMethod, Tstep};
 use crate::deck::case_control::Subcase;
 use crate::discretize::Structure;
 use crate::dynamics::integrators::Method;
-use crate::io::{IoError, write_c64, write_f64, write_strings};
+use crate::io::{IoError, set_attr_f64s, set_attr_str, write_c64, write_f64, write_strings};
 use crate::linalg::c64;
 use crate::model::Model;
 
@@ -87,14 +90,57 @@ pub fn write_frf(
     Ok(())
 }
 
-/// The mesh every mesh driver runs on: the [`Structure`] of the model, its build steps timed.
+/// The mesh every mesh driver runs on: the [`Structure`] of the model, its build steps timed;
+/// with `PARAM,GRDPNT` ≥ 0 also its grid-point weight table (console and `/model/gpwg`).
 pub fn structure(ctx: &RunContext, clock: &mut Clock) -> Result<Structure, RunError> {
-    Ok(Structure::build_timed(
-        ctx.model,
-        &ctx.options,
-        ctx.progress,
-        &mut |name, d| clock.record(name, d),
-    )?)
+    let st = Structure::build_timed(ctx.model, &ctx.options, ctx.progress, &mut |name, d| {
+        clock.record(name, d)
+    })?;
+    if ctx.model.params.grdpnt >= 0 {
+        let start = std::time::Instant::now();
+        let lines = grid_point_weight(ctx, &st)?;
+        clock.record("grid-point weight", start.elapsed());
+        clock.report_model(lines);
+    }
+    Ok(st)
+}
+
+/// The grid-point weight generator about `PARAM,GRDPNT` (0: the basic origin, > 0: a grid):
+/// writes `/model/gpwg`, returns the console table.
+fn grid_point_weight(ctx: &RunContext, st: &Structure) -> Result<Vec<String>, RunError> {
+    let model = ctx.model;
+    let id = u32::try_from(model.params.grdpnt).unwrap_or(0);
+    let (reference, label) = if id == 0 {
+        ([0.0; 3], "basic origin".to_string())
+    } else {
+        let grid = model.grid(id).ok_or(AssemblyError::MissingGrid {
+            card: "PARAM GRDPNT".to_string(),
+            grid: id,
+        })?;
+        (grid.xyz, format!("GRID {id}"))
+    };
+    let m_gg = st.mass_gg().evaluate(&st.weights(st.mass_gg()))?;
+    let xyz: Vec<[f64; 3]> = model.grids.iter().map(|g| g.xyz).collect();
+    let w = weight::grid_point_weight(
+        &m_gg,
+        &st.map,
+        &st.frames,
+        &xyz,
+        reference,
+        model.params.wtmass,
+    )?;
+    let group = ctx.output.group("model/gpwg")?;
+    set_attr_str(&group, "reference", &label)?;
+    set_attr_f64s(&group, "reference_xyz", &reference)?;
+    let flat = |rows: &[[f64; 3]; 3]| rows.concat();
+    write_f64(&group, "mo", &w.mo.concat(), &[6, 6])?;
+    write_f64(&group, "s", &flat(&w.s), &[3, 3])?;
+    write_f64(&group, "mass", &w.mass, &[3])?;
+    write_f64(&group, "cg", &flat(&w.cg), &[3, 3])?;
+    write_f64(&group, "inertia", &flat(&w.inertia), &[3, 3])?;
+    write_f64(&group, "principal_inertia", &w.principal, &[3])?;
+    write_f64(&group, "principal_axes", &flat(&w.q), &[3, 3])?;
+    Ok(weight_lines(&w, &label))
 }
 
 /// The warning of a transient run whose structural damping `PARAM,G` is not applied: Nastran
