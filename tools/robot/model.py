@@ -5,7 +5,7 @@ plate and links from the pROM artifacts of ``decks/robot/fmb/*_prom.dat``), its 
 variant ``decks/robot/fmb/robot_rigid_bodies.inc`` (every link a RIGIDB with its FE model's
 mass properties) and ``reference/robot/mass_properties.json`` (every body's mass, centre of
 mass and inertia, and the joint positions, for the independent checks of
-``tools/robot/holding_torques.py``).
+``tools/robot/rigid_chain.py``).
 
 Rigid bodies (thesis: "motors, gearboxes and gripper are modeled as rigid bodies with uniform
 density", their inertia from the CAD with the density that gives the weighed mass of Table 4.4):
@@ -378,7 +378,8 @@ def write_include(path: Path, flexible: bool, rigid: dict, links: dict) -> dict:
 def write_sensors(path: Path, info: dict) -> None:
     """The MSENSORs of the robot decks (joint and marker ids of ``info``)."""
     j, ee = info["drive_joint"], info["ee_marker"]
-    rows = [("EEX", "POS", None, ee, 1.0, 0.0, 0.0), ("EEZ", "POS", None, ee, 0.0, 0.0, 1.0),
+    rows = [("EEX", "POS", None, ee, 1.0, 0.0, 0.0), ("EEY", "POS", None, ee, 0.0, 1.0, 0.0),
+            ("EEZ", "POS", None, ee, 0.0, 0.0, 1.0),
             ("EEDEV", "DEV", None, ee), ("EEAZ", "ACCEL", None, ee, 0.0, 0.0, 1.0)]
     rows += [(f"T{k}", "JTORQ", None, j[f"M{k}"]) for k in range(1, 5)]
     rows += [("EPS2", "STRAIN", 3, "GAUGE"), ("EPS3", "STRAIN", 5, "GAUGE")]
