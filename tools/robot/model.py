@@ -29,7 +29,6 @@ Run: ``.venv/bin/python tools/robot/model.py`` (about 10 s).
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -209,7 +208,7 @@ class Placement:
 
 
 Z, Y, X = np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0]), np.array([1.0, 0.0, 0.0])
-# body id, name, artifact, mesh, placement, (E, rho, t)
+# body id, name, artifact, mesh, placement, (density, thickness) of the sheet
 LINKS = [
     (1, "P", "plate.h5", "base_plate", Placement(np.zeros(3), X, Z), (2630.0, 0.005)),
     (2, "L1", "l1.h5", "l1", Placement(np.array([0.0, 0.0, Z_L1]), X, Z), (7990.0, 0.002)),
@@ -234,9 +233,9 @@ def rigid_bodies() -> dict[str, MassProperties]:
                "M3": AXIS_POINT["M3"], "M4": AXIS_POINT["M4"]}
     for m in ("M1", "M2", "M3", "M4"):
         out[m + "E"], out[m + "I"] = motor(m, centres[m], AXIS_DIR[m])
-    lx, ly, lz = L4_BOX
+    lx, ly, _ = L4_BOX
     out["L4M5"] = box("L4M5", np.array([-lx / 2, -ly / 2, Z_M4 + L4_GAP]), L4_BOX)
-    ex, ey, ez = EE_BOX
+    ex, ey, _ = EE_BOX
     out["EE"] = box("EE", np.array([-ex / 2, -ey / 2, Z_M5]), EE_BOX)
     return out
 
@@ -258,26 +257,25 @@ class Mechanism:
         self.placement = {name: pl for _, name, _, _, pl, _ in LINKS}
         self.body_id = {name: bid for bid, name, *_ in LINKS} | RIGID_IDS
 
-    def grid_marker(self, body: str, grid: int, position: np.ndarray) -> int:
-        """A marker on a link's interface grid (a point marker on the rigid-link variant)."""
-        key = (body, grid)
+    def _marker(self, key: tuple, fields: tuple) -> int:
+        """The marker of ``key`` = (body, what), added with ``fields`` after its body id when
+        new; ids are 100 × body id + 1, 2, … in the order of addition."""
         if key not in self.marker_id:
-            mid = 100 * self.body_id[body] + len([k for k in self.marker_id if k[0] == body]) + 1
+            body = key[0]
+            mid = 100 * self.body_id[body] + sum(k[0] == body for k in self.marker_id) + 1
             self.marker_id[key] = mid
-            if self.flexible:
-                self.cards.append(card("MARKER", mid, self.body_id[body], grid))
-            else:
-                self.cards.append(card("MARKER", mid, self.body_id[body], None,
-                                       *map(float, position)))
+            self.cards.append(card("MARKER", mid, self.body_id[body], *fields))
         return self.marker_id[key]
 
+    def grid_marker(self, body: str, grid: int, position: np.ndarray) -> int:
+        """A marker on a link's interface grid (a point marker on the rigid-link variant)."""
+        fields = (grid,) if self.flexible else (None, *map(float, position))
+        return self._marker((body, grid), fields)
+
     def point_marker(self, body: str, position: np.ndarray) -> int:
-        key = (body, tuple(np.round(position, 12)))
-        if key not in self.marker_id:
-            mid = 100 * self.body_id[body] + len([k for k in self.marker_id if k[0] == body]) + 1
-            self.marker_id[key] = mid
-            self.cards.append(card("MARKER", mid, self.body_id[body], None, *map(float, position)))
-        return self.marker_id[key]
+        """A marker at ``position`` on a rigid body."""
+        return self._marker((body, tuple(np.round(position, 12))),
+                            (None, *map(float, position)))
 
     def joint(self, kind: str, mk1: int, mk2: int, axis=Z) -> int:
         self.joint_id += 1
@@ -288,7 +286,7 @@ class Mechanism:
         return self.grid_marker(link, master, self.placement[link].to_global(local))
 
 
-def link_ends() -> dict[str, np.ndarray]:
+def link_ends() -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """The local position of each link's masters (their meshes' *_rbe.bdf)."""
     return {"L1": (np.zeros(3), np.array([0.0, 0.0, L1_TOP])), "L2": (np.zeros(3), L2_B),
             "L3": (np.zeros(3), L3_B)}
@@ -317,9 +315,11 @@ def mechanism(flexible: bool) -> tuple[list[str], dict]:
     motor_joint("M1", "M1I", "M1E")
     m.joint("FIX", m.link_end("L1", MASTER_A, ends["L1"][0]), m.point_marker("M1I", AXIS_POINT["M1"]))
     m.joint("FIX", m.point_marker("M2E", AXIS_POINT["M2"]), m.link_end("L1", MASTER_B, ends["L1"][1]))
-    for k, (link, mot_in, mot_out, nxt) in enumerate((("L2", "M2I", "M2E", "M3E"),
-                                                       ("L3", "M3I", "M3E", "M4E"))):
-        motor_joint("M2" if k == 0 else "M3", mot_in, mot_out)
+    # each two-sided link: its motor's joint, both sides bracketed to the motor's internal
+    # part and to the next motor's external part (a closed loop per link)
+    for motor, link, mot_in, mot_out, nxt in (("M2", "L2", "M2I", "M2E", "M3E"),
+                                              ("M3", "L3", "M3I", "M3E", "M4E")):
+        motor_joint(motor, mot_in, mot_out)
         for side in ("R", "L"):
             name = link + side
             a = m.placement[name].to_global(ends[link][0])
@@ -354,13 +354,14 @@ $ Marker {ee} is the EE centre. Gravity: GRAV 1, 9.81 m/s2 along -z.
 
 
 def write_include(path: Path, flexible: bool, rigid: dict, links: dict) -> dict:
+    """The mechanism include (flexible links, or the rigid-link variant); its ids (``info``)."""
     cards, info = mechanism(flexible)
     out = [HEADER.format(what=path.name, prov=PROVENANCE, ee=info["ee_marker"],
                          drives=": M1-M4 compliant (Table 4.7), M5 rigid" if flexible else "",
                          kind="(flexible, FLEXB of the pROMs beside this file)" if flexible
                          else "(rigid: each link's FE mass properties;\n$ every drive rigid: the rigid chain of the holding-torque check)")]
     out.append(card("GRAV", 1, None, 9.81, 0.0, 0.0, -1.0))
-    for k, (bid, name, artifact, _, pl, _) in enumerate(LINKS):
+    for bid, name, artifact, _, pl, _ in LINKS:
         if flexible:
             cid = 0 if name == "P" else 10 + bid
             if cid:
