@@ -8,7 +8,10 @@
 //! ([`StepEquations`]); [`NewtonDriver`] iterates x ← x − J⁻¹ R(x) from the step's predictor
 //! under a [`JacobianUpdate`] policy:
 //!
-//! - a correction of size ≤ 1 (the equations' scaled measure) ends the step;
+//! - a correction of size ≤ 1 (the equations' scaled measure) ends the step; with
+//!   [`NewtonDriver::estimate_remaining_error`], so does a correction whose estimated remaining
+//!   error θ/(1 − θ)·size is ≤ 1, θ < 1 the contraction rate of the last two corrections (the
+//!   error left after a contraction by θ per iteration; Hairer & Wanner II, sec. IV.8);
 //! - a correction that grows under a matrix factored at the current iterate (or, with
 //!   `EveryStep`, at the predictor) means divergence: the attempt stops;
 //! - with `Reuse`, the factorization is kept across iterations and steps and refactored at the
@@ -83,6 +86,8 @@ pub struct NewtonDriver {
     x: Vec<f64>,
     r: Vec<f64>,
     factored: bool,
+    /// Whether a contraction-rate estimate of the remaining error may end the step.
+    rate_estimate: bool,
 }
 
 impl NewtonDriver {
@@ -94,7 +99,14 @@ impl NewtonDriver {
             x: vec![0.0; n],
             r: vec![0.0; n],
             factored: false,
+            rate_estimate: false,
         }
+    }
+
+    /// Also ends a step when the error left after the last correction, estimated from the
+    /// contraction rate θ of the last two corrections as θ/(1 − θ)·size, is ≤ 1 (module docs).
+    pub fn estimate_remaining_error(&mut self) {
+        self.rate_estimate = true;
     }
 
     /// Forgets the factorization (its coefficients changed).
@@ -169,7 +181,13 @@ impl NewtonDriver {
             if !size.is_finite() {
                 return Ok(false);
             }
-            if size <= 1.0 {
+            // θ of the last two corrections (none at the first)
+            let rate = size / previous;
+            let estimated = self.rate_estimate
+                && previous.is_finite()
+                && rate < 1.0
+                && rate / (1.0 - rate) * size <= 1.0;
+            if size <= 1.0 || estimated {
                 return Ok(true);
             }
             if size > previous && (fresh || update == JacobianUpdate::EveryStep) {
@@ -217,6 +235,36 @@ mod tests {
         fn correction_size(&self, _: &[f64], dx: &[f64]) -> f64 {
             dx[0].abs() / 1e-12
         }
+    }
+
+    /// With the slope frozen at the predictor the corrections contract linearly; the
+    /// contraction-rate estimate ends the step earlier with the error still within the
+    /// tolerance.
+    #[test]
+    fn rate_estimate_ends_a_linearly_contracting_step_earlier_within_the_tolerance() {
+        let policy = NewtonPolicy {
+            max_iterations: 50,
+            update: JacobianUpdate::EveryStep,
+            slow_rate: 0.3,
+        };
+        let mut iterations = Vec::new();
+        for estimate in [false, true] {
+            let mut driver = NewtonDriver::new(1, policy);
+            if estimate {
+                driver.estimate_remaining_error();
+            }
+            let mut root = Root {
+                slope: 0.0,
+                factorizations: 0,
+            };
+            driver.predictor_mut()[0] = 1.6;
+            let outcome = driver.solve(&mut root).unwrap();
+            assert!(outcome.converged);
+            let error = (driver.solution()[0] - 2f64.sqrt()).abs();
+            assert!(error < 1e-12, "estimate {estimate}: error {error:e}");
+            iterations.push(outcome.stats.iterations);
+        }
+        assert!(iterations[1] < iterations[0], "{iterations:?}");
     }
 
     #[test]

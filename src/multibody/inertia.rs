@@ -154,6 +154,60 @@ impl Configuration {
         }
     }
 
+    /// The product M w of the body mass matrix ([`Configuration::mass_matrix`]) with a vector
+    /// w = (w_r, w_e, w_f) of 7 + n entries into `out`, block by block from the moments
+    /// without forming M: O(n²) for M_ff w_f and O(n) for the rest.
+    pub fn mass_product(
+        &self,
+        inv: &MassInvariants,
+        modal_mass: MatRef<'_, f64>,
+        w: &[f64],
+        out: &mut [f64],
+    ) {
+        let n = inv.modes();
+        let (w_r, w_e, w_f) = (&w[..3], &w[3..7], &w[7..]);
+        // M_Rf w_f = A M̂₂ w_f and M_RΘ w_e = Σₐ wₐ A,ₐ S
+        let translation = mat3::mul_vec(&self.a, modal_rate(inv, w_f));
+        let mut first_columns = [[0.0; 3]; 4];
+        for (a, column) in first_columns.iter_mut().enumerate() {
+            *column = mat3::mul_vec(&self.partials[a], self.first);
+        }
+        for i in 0..3 {
+            out[i] = inv.mass * w_r[i]
+                + translation[i]
+                + (0..4).map(|a| first_columns[a][i] * w_e[a]).sum::<f64>();
+        }
+        // rows Θ: M_ΘR w_r + M_ΘΘ w_e + M_Θf w_f, with M_Θf[a, k] = tr((Aᵀ A,ₐ)ᵀ Tₖ) and
+        // Σₖ tr(Xᵀ Tₖ) w_fk = tr(Xᵀ Σₖ w_fk Tₖ)
+        let mixed_sum = scaled_sum((0..n).map(|k| (w_f[k], self.mixed[k])));
+        let at = mat3::transpose(&self.a);
+        // M_ΘΘ w_e = (tr(A,ₐᵀ Σ_b w_b A,_b Π))ₐ
+        let rotation_rate = mat3::mul(
+            &scaled_sum((0..4).map(|b| (w_e[b], self.partials[b]))),
+            &self.second,
+        );
+        let mut at_partials = [[[0.0; 3]; 3]; 4];
+        for a in 0..4 {
+            at_partials[a] = mat3::mul(&at, &self.partials[a]);
+            let rotation = frobenius(&self.partials[a], &rotation_rate);
+            out[3 + a] = vec3::dot(first_columns[a], [w_r[0], w_r[1], w_r[2]])
+                + rotation
+                + frobenius(&at_partials[a], &mixed_sum);
+        }
+        // rows f: M_fR w_r + M_fΘ w_e + M_ff w_f, with (A ψₖ)ᵀ w_r = ψₖ · (Aᵀ w_r)
+        let body_w_r = mat3::mul_vec(&at, [w_r[0], w_r[1], w_r[2]]);
+        let rotation_weight = scaled_sum((0..4).map(|a| (w_e[a], at_partials[a])));
+        for k in 0..n {
+            out[7 + k] = vec3::dot(inv.first_modal[k], body_w_r)
+                + frobenius(&rotation_weight, &self.mixed[k]);
+        }
+        for (l, &wl) in w_f.iter().enumerate() {
+            for (o, mkl) in out[7..7 + n].iter_mut().zip(modal_mass.col(l).iter()) {
+                *o += mkl * wl;
+            }
+        }
+    }
+
     /// The quadratic velocity vector f_v (eq. 2.47, 4.9) at the rates (ė, q̇_f) into `out`
     /// (7 + n).
     pub fn quadratic_velocity(

@@ -91,6 +91,28 @@ fn mass_matrix_from_the_invariants_equals_the_nodal_sum() {
 }
 
 #[test]
+fn mass_product_equals_the_mass_matrix_times_the_vector() {
+    let mut rng = SplitMix64::new(5);
+    let nodes = synthetic_nodes(&mut rng);
+    let inv = MassInvariants::from_nodes(&nodes);
+    let m_ff = lumped_modal_mass(&nodes);
+    let (e, qf, _, _) = state(&mut rng);
+    let w: Vec<f64> = (0..7 + MODES).map(|_| rng.symmetric()).collect();
+    let configuration = Configuration::new(&inv, &e, &qf);
+    let mut m = Mat::zeros(7 + MODES, 7 + MODES);
+    configuration.mass_matrix(&inv, m_ff.as_ref(), m.as_mut());
+    let mut product = vec![0.0; 7 + MODES];
+    configuration.mass_product(&inv, m_ff.as_ref(), &w, &mut product);
+    for (i, p) in product.iter().enumerate() {
+        let expected: f64 = (0..7 + MODES).map(|j| m[(i, j)] * w[j]).sum();
+        assert!(
+            (p - expected).abs() < 1e-13 * m.norm_max(),
+            "row {i}: {p} vs {expected}"
+        );
+    }
+}
+
+#[test]
 fn quadratic_velocity_vector_matches_lagrange_by_finite_differences() {
     let mut rng = SplitMix64::new(11);
     let nodes = synthetic_nodes(&mut rng);

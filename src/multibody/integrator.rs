@@ -30,7 +30,10 @@
 //! rows ([`BlockKkt`]; it also leaves out the constraint Hessians' blocks between two bodies
 //! and the μ-Hessian); otherwise as one dense LU (sequential, in place, [`DenseLu`]). The
 //! factorization is kept across iterations and steps while c_q and c_v stay the same, and
-//! refreshed when the contraction rate of the corrections exceeds `slow_rate`. Corrections that grow under a
+//! refreshed when the contraction rate of the corrections exceeds `slow_rate`. A step ends when
+//! its last correction is within the tolerance; with BDF1 and BDF2 also when the error left
+//! after it, estimated from the contraction rate ([`NewtonDriver::estimate_remaining_error`]),
+//! is. Corrections that grow under a
 //! matrix just factored at the current iterate mean divergence: the attempt stops there. A
 //! step that does not converge in `max_iterations` (after one retry from the predictor with a
 //! fresh matrix when the first attempt began with an older one) is an error naming the time,
@@ -44,7 +47,8 @@
 //! the flexible four-bar by 10–20 % but doubles its factorizations: the predictor's
 //! remaining error lies in the links' stiff modes, which a factorization from earlier steps
 //! does not contract (docs/fourbar.md, "Speed"). Refactoring at every step's predictor
-//! brings the four-bar to 3.9 iterations per step but costs more than it saves.
+//! brings the four-bar to 3.9 iterations per step but costs more than it saves; so does
+//! leaving the constraint Hessians out of the matrix (cheaper factorizations, more of them).
 
 use super::block_kkt::BlockKkt;
 use super::constraint_set::ConstraintSet;
@@ -329,6 +333,12 @@ impl Ggl {
             v,
             equations,
         };
+        // the BDF schemes damp what a step's iteration leaves behind; generalized-α with
+        // ρ∞ near 1 keeps it, and there the tighter stop keeps the conserved quantities'
+        // drift at the scheme's own order
+        if matches!(scheme, Scheme::Bdf1 | Scheme::Bdf2) {
+            ggl.newton.estimate_remaining_error();
+        }
         if scheme.needs_initial_accelerations() {
             ggl.solve_accelerations()?;
         }

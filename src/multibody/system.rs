@@ -312,20 +312,13 @@ impl System {
     pub fn kinetic_energy(&self, q: &[f64], v: &[f64]) -> f64 {
         let mut e = 0.0;
         for (body, s) in self.bodies.iter().zip(self.layout.slices()) {
-            let mut m = faer::Mat::zeros(s.len(), s.len());
-            inertia::mass_matrix(
-                &body.data.invariants,
-                body.data.mass.as_ref(),
-                &s.euler_parameters(q),
-                s.modal(q),
-                m.as_mut(),
-            );
+            let inv = &body.data.invariants;
+            let configuration =
+                inertia::Configuration::new(inv, &s.euler_parameters(q), s.modal(q));
             let vb = &v[s.offset..s.offset + s.len()];
-            for i in 0..s.len() {
-                for j in 0..s.len() {
-                    e += 0.5 * vb[i] * m[(i, j)] * vb[j];
-                }
-            }
+            let mut momentum = vec![0.0; s.len()];
+            configuration.mass_product(inv, body.data.mass.as_ref(), vb, &mut momentum);
+            e += 0.5 * vb.iter().zip(&momentum).map(|(a, b)| a * b).sum::<f64>();
         }
         e
     }
@@ -361,7 +354,9 @@ impl System {
         force.fill(0.0);
         let largest = 7 + self.bodies.iter().map(Body::modes).max().unwrap_or(0);
         let mut scratch = vec![0.0; largest];
-        let mut block = faer::Mat::zeros(largest, largest);
+        // the rate Jacobian's body block, only when the iteration matrix is asked for
+        let size = if iteration.is_some() { largest } else { 0 };
+        let mut block = faer::Mat::zeros(size, size);
         for (body, s) in self.bodies.iter().zip(self.layout.slices()) {
             let inv = &body.data.invariants;
             let (e, qf) = (s.euler_parameters(q), s.modal(q));
@@ -384,19 +379,17 @@ impl System {
                     *o -= kj[i] * qf[j] + cj[i] * qf_dot[j];
                 }
             }
-            let mut block = block.as_mut().submatrix_mut(0, 0, s.len(), s.len());
             if let Some((w, product)) = momentum.as_mut() {
-                configuration.mass_matrix(inv, body.data.mass.as_ref(), block.as_mut());
                 let range = s.offset..s.offset + s.len();
-                let (w, product) = (&w[range.clone()], &mut product[range]);
-                product.fill(0.0);
-                for (j, wj) in w.iter().enumerate() {
-                    for (p, mij) in product.iter_mut().zip(block.as_ref().col(j).iter()) {
-                        *p += mij * wj;
-                    }
-                }
+                configuration.mass_product(
+                    inv,
+                    body.data.mass.as_ref(),
+                    &w[range.clone()],
+                    &mut product[range],
+                );
             }
             if let Some((dq, dv, coef)) = iteration.as_mut() {
+                let mut block = block.as_mut().submatrix_mut(0, 0, s.len(), s.len());
                 configuration.quadratic_velocity_rate_jacobian(inv, &e_dot, qf_dot, block.as_mut());
                 for i in 0..s.len() {
                     for j in 0..s.len() {
