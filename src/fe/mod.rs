@@ -11,6 +11,8 @@
 //!   data, and know nothing of decks, cards or global DOF numbering.
 
 pub mod affine;
+pub mod beam;
+pub mod beam_section;
 pub mod laminate;
 pub mod lumped;
 pub mod pressure;
