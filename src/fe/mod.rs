@@ -13,6 +13,8 @@
 pub mod affine;
 pub mod beam;
 pub mod beam_section;
+#[cfg(test)]
+mod beam_tests;
 pub mod laminate;
 pub mod lumped;
 pub mod pressure;
