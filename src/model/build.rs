@@ -9,6 +9,7 @@ use std::collections::{BTreeMap, HashMap};
 use crate::deck::cards::BulkData;
 use crate::deck::fields::RawCard;
 use crate::deck::{Deck, DeckError, Loc, Warning};
+use crate::fe::beam_section::SectionError;
 
 use super::coords::{self, CoordSystem};
 use super::geometry::{self, ShapeReport};
@@ -779,9 +780,12 @@ fn build_lines(
                 let result = super::lines::property_section(b, p);
                 if let Err(e) = &result {
                     let at = super::lines::property_loc(b, p).unwrap_or(c.loc);
-                    errors.push(
-                        DeckError::at(at, e.to_string()).on_card(format!("{} {pid}", p.card())),
-                    );
+                    let mut error =
+                        DeckError::at(at, e.to_string()).on_card(format!("{} {pid}", p.card()));
+                    if matches!(e, SectionError::UnsupportedType(_)) {
+                        error.field = Some(format!("{} (TYPE)", RawCard::field_label(4)));
+                    }
+                    errors.push(error);
                 }
                 result.is_ok()
             }),

@@ -310,7 +310,7 @@ const LIBRARY_DIMENSIONS: [(&str, usize); 21] = [
 /// | 4–8 | A I1 I2 I12 J | real | 0.0 | section at end A (I12 = ∫yz dA) |
 /// | 9 | NSM | real | 0.0 | non-structural mass per length |
 /// | cont. | C1 … F2 | real | blank | stress recovery points at end A (kept, unused) |
-/// | cont. | SO X/XB A I1 I2 I12 J NSM (+ C1 … F2 when SO = YES) | | blank = end A's value | stations; a station that differs from end A (taper) is refused |
+/// | cont. | SO X/XB A I1 I2 I12 J NSM (+ C1 … F2 when SO = YES) | | blank = end A's value | stations; a station that differs from end A by more than 1e-4 relative (a taper, not the rounding of an 8-character field) is refused; end A's section is used |
 /// | cont. | K1 K2 S1 S2 NSI(A) NSI(B) CW(A) CW(B) | real | 1.0 1.0 0 … | shear factors (0.0: rigid in shear); S1 S2 and CW kept (no effect on a constant section without warping DOF); NSI ≠ 0 refused |
 /// | cont. | M1(A) M2(A) M1(B) M2(B) N1(A) N2(A) N1(B) N2(B) | real | 0.0 | mass and neutral-axis offsets: ≠ 0 refused |
 #[derive(Debug, Clone, PartialEq)]
@@ -327,6 +327,10 @@ pub struct Pbeam {
     pub k2: f64,
     pub loc: Loc,
 }
+
+/// Relative difference up to which a station's value is end A's value: the rounding of a value
+/// printed in an 8-character field (5 significant digits, e.g. 5.2083-3 and 5.208-3).
+const SAME_SECTION: f64 = 1e-4;
 
 /// The station fields A I1 I2 I12 J NSM, by offset from X/XB.
 const STATION: [&str; 6] = ["A", "I1", "I2", "I12", "J", "NSM"];
@@ -348,7 +352,7 @@ impl Pbeam {
             let x = f.real_or(i + 1, "X/XB", 1.0);
             for (k, name) in STATION.iter().enumerate() {
                 let v = f.real_or(i + 2 + k, name, end_a[k]);
-                if v != end_a[k] {
+                if (v - end_a[k]).abs() > SAME_SECTION * v.abs().max(end_a[k].abs()) {
                     f.error(
                         i + 2 + k,
                         name,
