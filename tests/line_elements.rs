@@ -334,3 +334,60 @@ fn bad_line_elements_are_reported_with_card_and_field() {
         );
     }
 }
+
+/// A frame of a CBAR, a CROD and a CBEAM (no shear flexibility) on one MAT1 with PMPARs E, NU
+/// and RHO: the assembled affine K(p), M(p) equal the operators of the deck with the MAT1 at
+/// p, to round-off (axial and bending ∝ E, torsion ∝ μ(E, ν), mass ∝ ρ plus NSM).
+#[test]
+fn beam_parameters_act_exactly_through_the_affine_parts() {
+    let frame = "GRID,1,,0.,0.,0.\nGRID,2,,0.,1.,0.\nGRID,3,,1.,1.,0.2\nGRID,4,,1.,0.,0.\n\
+        CBAR,1,10,1,2,1.,0.,0.\nPBAR,10,1,1.e-3,2.e-7,3.e-7,1.e-7,0.4\n\
+        CBEAM,2,11,2,3,0.,0.,1.\nPBEAM,11,1,2.e-3,4.e-7,5.e-7,,2.e-7,0.3\n,0.,0.,0.,0.,0.,0.,0.,0.\n,NO,1.\n,0.,0.\n\
+        CROD,3,12,3,4\nPROD,12,1,5.e-4,1.e-8,,0.1\n";
+    let operators = |bulk: &str, p: &[f64]| {
+        let (params, k, m) = common::affine_operators(bulk);
+        let at = if p.is_empty() {
+            params.nominal()
+        } else {
+            p.to_vec()
+        };
+        (
+            k.evaluate(&params.weights(&k, &at))
+                .unwrap()
+                .values()
+                .to_vec(),
+            m.evaluate(&params.weights(&m, &at))
+                .unwrap()
+                .values()
+                .to_vec(),
+            k.parts().len(),
+        )
+    };
+    let pmpar =
+        "PMPAR,1,E,E,1,1.e11,3.e11\nPMPAR,2,NU,NU,1,0.2,0.4\nPMPAR,3,RHO,RHO,1,2000.,9000.\n";
+    let p = [1.3e11, 0.37, 2700.0];
+    let (k, m, parts) = operators(&format!("{frame}MAT1,1,2.1e11,,0.3,7800.\n{pmpar}"), &p);
+    assert_eq!(parts, 3, "constant, E and μ parts");
+    let (k_ref, m_ref, _) = operators(&format!("{frame}MAT1,1,1.3e11,,0.37,2700.\n"), &[]);
+    for (got, want, what) in [(&k, &k_ref, "K"), (&m, &m_ref, "M")] {
+        let scale = want.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let worst = got
+            .iter()
+            .zip(want.iter())
+            .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+        assert!(worst <= 1e-12 * scale, "{what}: {worst:e} of {scale:e}");
+    }
+}
+
+/// NU as a parameter of a beam with shear flexibility (PBEAM's default K = 1) has no affine
+/// form: the run stops and says why.
+#[test]
+fn nu_parameter_on_a_shear_flexible_beam_is_refused() {
+    let deck = "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\n\
+        CBEAM,1,11,1,2,0.,0.,1.\nPBEAM,11,1,2.e-3,4.e-7,5.e-7,,2.e-7\nMAT1,1,2.1e11,,0.3,7800.\n\
+        PMPAR,1,NU,NU,1,0.2,0.4\nEIGRL,1,,,2\nENDDATA\n";
+    let (r, _dir) = run_deck(deck);
+    let message = r.err().map(|e| e.to_string()).unwrap_or_default();
+    assert!(message.contains("CBEAM 1"), "{message}");
+    assert!(message.contains("not affine in E and G"), "{message}");
+}
