@@ -191,6 +191,27 @@ fn offsets_carry_the_load_through_rigid_links() {
     );
     let u = statics(&bulk);
     let rz = 0.1 * p * l / (E * i);
+    // the bar is a mesh block of the output (a 2-node Polyline cell in the XDMF file)
+    let deck = format!(
+        "SOL 101\nCEND\nSUBCASE 1\n  SPC = 1\n  LOAD = 2\nBEGIN BULK\n{bulk}MAT1,1,{E:e},,{NU:?},{RHO:?}\nSPC1,1,123456,1\nENDDATA\n"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("deck.dat"), deck).unwrap();
+    let out = cargo_bin_cmd!("paraflex")
+        .current_dir(dir.path())
+        .args(["run", "deck.dat", "-o", "out.h5"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).unwrap();
+    let ids: Vec<u32> = read_dataset(&file.group("model/elements/CBAR").unwrap(), "ids");
+    assert_eq!(ids, [1]);
+    let xdmf = std::fs::read_to_string(dir.path().join("out.xdmf")).unwrap();
+    assert!(xdmf.contains("Polyline"), "{xdmf}");
     close(u[6 + 5], rz, 1e-9);
     close(u[6], p * l / (E * a) + 0.1 * rz, 1e-9);
     close(u[6 + 1], 0.1 * p * l * l / (2.0 * E * i), 1e-9);
