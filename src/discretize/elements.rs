@@ -8,6 +8,8 @@
 //! | CHEXA, CPENTA, CTETRA | PSOLID + MAT1 | [`solid`] (translations, expanded to 6 DOFs per grid) |
 //! | CELAS1 / CELAS2 | PELAS k / k on the card | [`ScalarSpring`], components in the grid's CD frame (as in Nastran) |
 //! | CONM2 | — | [`Conm2`] with the CG offset and inertia tensor from [`Model::element_mass`] |
+//! | CROD, CTUBE, CONROD | PROD, PTUBE / on the card + MAT1 | [`beam`] without bending (axial, torsion) |
+//! | CBAR, CBEAM | PBAR, PBARL / PBEAM, PBEAML + MAT1 | [`beam`]: offsets, orientation vector, pin flags ([`Model::line_element`]) |
 //!
 //! Shell details:
 //! - material x axis: THETA rotates the projected G1→G2 direction by θ about the element normal
@@ -24,8 +26,8 @@
 //! - PSHELL: ZOFFS needs MID1 and MID2 (Nastran); a role combination Nastran forbids (MID3
 //!   without MID2, MID4 without MID1 and MID2) is an error of the section.
 //!
-//! Mass: `PARAM,COUPMASS` = 1 gives consistent shell and solid masses, anything else (default
-//! −1) lumped, as in Nastran; `PARAM,WTMASS` multiplies every mass matrix, CONM2 included.
+//! Mass: `PARAM,COUPMASS` = 1 gives consistent shell, solid, rod and beam masses, anything else
+//! (default −1) lumped, as in Nastran; `PARAM,WTMASS` multiplies every mass matrix, CONM2 included.
 //!
 //! CQUAD4 membrane: `PARAM,QINCOMP,YES` (default) condenses its incompatible modes with the
 //! deck's section, `NO` leaves them out ([`shell::Incompatible`]). With YES, a quad whose
@@ -55,7 +57,7 @@ use crate::fe::laminate::{
     ShellMaterial, ShellSection, affine_sections,
 };
 use crate::fe::lumped::{Conm2, GridComponent, ScalarSpring};
-use crate::fe::{shell, solid};
+use crate::fe::{beam, shell, solid};
 use crate::linalg::Progress;
 use crate::model::materials::Material;
 use crate::model::properties::{
@@ -193,6 +195,11 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> 
         }
         ElementKind::Celas1 | ElementKind::Celas2 => spring_element(ctx, e)?,
         ElementKind::Conm2 => conm2_element(ctx, e)?,
+        ElementKind::Crod
+        | ElementKind::Conrod
+        | ElementKind::Ctube
+        | ElementKind::Cbar
+        | ElementKind::Cbeam => line_element(ctx, e)?,
     };
     if let Some(m) = built.m.as_mut()
         && wtmass != 1.0
@@ -824,6 +831,95 @@ fn solid_element(
         )),
         m: (m.rho != 0.0 || binding.is_some())
             .then(|| Contribution::from_affine(frames, &e.nodes, &mass, bind(binding, nominal))),
+        shell: None,
+        frozen: None,
+    })
+}
+
+/// A rod or beam ([`beam`]): its stiffness and mass, split by the PMPARs on its MAT1 (E: one
+/// part ∝ E at the card's G/E; NU (± E): axial and bending ∝ E, torsion ∝ μ = E/(2(1+ν)), which
+/// needs the card's G to be E/(2(1+ν)) and no shear flexibility; RHO: ρ part plus a constant
+/// NSM part). Pin flags are released by static condensation.
+fn line_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> {
+    let (line, used) = ctx
+        .model
+        .line_element(e)
+        .ok_or_else(|| err(e, "not a line element"))?
+        .map_err(|x| err(e, x))?;
+    let m = match used.material {
+        Some(Material::Isotropic(m)) => m,
+        Some(Material::Orthotropic(_)) => {
+            return Err(err(
+                e,
+                format!(
+                    "MID = {} is a MAT8, a shell material; rods and beams need a MAT1",
+                    used.mid
+                ),
+            ));
+        }
+        None => return Err(err(e, format!("material {} missing", used.mid))),
+    };
+    let s = line.section;
+    let section = beam::LineSection {
+        a: s.a,
+        i1: s.i1,
+        i2: s.i2,
+        i12: s.i12,
+        j: s.j,
+        k1: s.k1,
+        k2: s.k2,
+        nsm: s.nsm,
+    };
+    let target = ParamTarget::Material(used.mid);
+    let kinds = ctx.params.kinds_on(target);
+    let elasticity = if kinds.contains(&PmparKind::Nu) {
+        let derived = m.e / (2.0 * (1.0 + m.nu));
+        if (m.g - derived).abs() > 1e-9 * derived.abs() {
+            return Err(err(
+                e,
+                format!(
+                    "PMPAR NU on MAT1 {}: its G = {:e} is not E/(2(1+NU)) = {derived:e}, so the torsion stiffness would not follow NU; leave G blank on the MAT1",
+                    used.mid, m.g
+                ),
+            ));
+        }
+        beam::Elasticity::Separate
+    } else if kinds.contains(&PmparKind::E) {
+        beam::Elasticity::YoungsModulus { g_per_e: m.g / m.e }
+    } else {
+        beam::Elasticity::Fixed { e: m.e, g: m.g }
+    };
+    let density = if kinds.contains(&PmparKind::Rho) {
+        beam::Density::Parameter
+    } else {
+        beam::Density::Fixed { rho: m.rho }
+    };
+    let releases = line
+        .pins
+        .map(|p| std::array::from_fn(|c| p.contains(c + 1)));
+    let geometry = line.geometry();
+    let k = beam::affine_stiffness(&geometry, &section, elasticity, &releases, (m.e, m.g))
+        .map_err(|x| err(e, x))?;
+    let mass =
+        beam::affine_mass(&geometry, &section, density, ctx.lumped).map_err(|x| err(e, x))?;
+    let nominal = CoefficientValues {
+        e: m.e,
+        nu: m.nu,
+        rho: m.rho,
+        ..Default::default()
+    };
+    let binding = acted_on(ctx.params, target);
+    let massive = m.rho * s.a + s.nsm != 0.0 || binding.is_some();
+    Ok(Built {
+        k: Some(Contribution::from_affine(
+            ctx.frames,
+            &e.nodes,
+            &k,
+            bind(binding, nominal),
+        )),
+        m: massive.then(|| {
+            Contribution::from_affine(ctx.frames, &e.nodes, &mass, bind(binding, nominal))
+        }),
         shell: None,
         frozen: None,
     })

@@ -11,6 +11,10 @@
 //!   data, and know nothing of decks, cards or global DOF numbering.
 
 pub mod affine;
+pub mod beam;
+pub mod beam_section;
+#[cfg(test)]
+mod beam_tests;
 pub mod laminate;
 pub mod lumped;
 pub mod pressure;

@@ -7,7 +7,9 @@
 use std::collections::{BTreeMap, HashMap};
 
 use crate::deck::cards::BulkData;
+use crate::deck::fields::RawCard;
 use crate::deck::{Deck, DeckError, Loc, Warning};
+use crate::fe::beam_section::SectionError;
 
 use super::coords::{self, CoordSystem};
 use super::geometry::{self, ShapeReport};
@@ -289,6 +291,42 @@ fn index_properties(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32
             .enumerate()
             .map(|(i, p)| entry(p.id, "PELAS", &p.loc, PropertyRef::Pelas(i))),
     );
+    entries.extend(
+        bulk.prod
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PROD", &p.loc, PropertyRef::Prod(i))),
+    );
+    entries.extend(
+        bulk.ptube
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PTUBE", &p.loc, PropertyRef::Ptube(i))),
+    );
+    entries.extend(
+        bulk.pbar
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PBAR", &p.loc, PropertyRef::Pbar(i))),
+    );
+    entries.extend(
+        bulk.pbarl
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PBARL", &p.loc, PropertyRef::Pbarl(i))),
+    );
+    entries.extend(
+        bulk.pbeam
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PBEAM", &p.loc, PropertyRef::Pbeam(i))),
+    );
+    entries.extend(
+        bulk.pbeaml
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PBEAML", &p.loc, PropertyRef::Pbeaml(i))),
+    );
     index(entries, "property", errors)
 }
 
@@ -344,6 +382,15 @@ fn element_id_space(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32
             .map(|c| entry(c.id, "CELAS2", &c.loc, ())),
     );
     e.extend(bulk.conm2.iter().map(|c| entry(c.id, "CONM2", &c.loc, ())));
+    e.extend(bulk.crod.iter().map(|c| entry(c.id, "CROD", &c.loc, ())));
+    e.extend(bulk.ctube.iter().map(|c| entry(c.id, "CTUBE", &c.loc, ())));
+    e.extend(
+        bulk.conrod
+            .iter()
+            .map(|c| entry(c.id, "CONROD", &c.loc, ())),
+    );
+    e.extend(bulk.cbar.iter().map(|c| entry(c.id, "CBAR", &c.loc, ())));
+    e.extend(bulk.cbeam.iter().map(|c| entry(c.id, "CBEAM", &c.loc, ())));
     e.extend(bulk.rbe2.iter().map(|c| entry(c.id, "RBE2", &c.loc, ())));
     e.extend(bulk.rbe3.iter().map(|c| entry(c.id, "RBE3", &c.loc, ())));
     e.sort_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));
@@ -605,6 +652,7 @@ fn build_elements(
             });
         }
     }
+    build_lines(refs, grids, errors, &mut out);
     for (i, c) in b.conm2.iter().enumerate() {
         let card = format!("CONM2 {}", c.id);
         let node = refs.grid(c.grid, "G", &card, &c.loc, errors);
@@ -622,6 +670,137 @@ fn build_elements(
         }
     }
     out
+}
+
+/// A rod or beam card as [`build_lines`] reads it.
+struct LineCard<'a> {
+    kind: ElementKind,
+    /// Position in its card vector.
+    card: usize,
+    id: u32,
+    /// `None` for CONROD (properties on the card).
+    pid: Option<u32>,
+    grids: [u32; 2],
+    loc: &'a Loc,
+}
+
+/// The rods and beams: grids, property, and the checks of their placement (length,
+/// orientation) and of the sections they use (library shapes), each property reported once.
+fn build_lines(
+    refs: &Refs,
+    grids: &[GridPoint],
+    errors: &mut Vec<DeckError>,
+    out: &mut Vec<Element>,
+) {
+    let b = refs.bulk;
+    let line = |kind, card, id, pid, grids, loc| LineCard {
+        kind,
+        card,
+        id,
+        pid,
+        grids,
+        loc,
+    };
+    let mut cards: Vec<LineCard> = Vec::new();
+    for (i, c) in b.crod.iter().enumerate() {
+        cards.push(line(
+            ElementKind::Crod,
+            i,
+            c.id,
+            Some(c.pid),
+            c.nodes,
+            &c.loc,
+        ));
+    }
+    for (i, c) in b.ctube.iter().enumerate() {
+        cards.push(line(
+            ElementKind::Ctube,
+            i,
+            c.id,
+            Some(c.pid),
+            c.nodes,
+            &c.loc,
+        ));
+    }
+    for (i, c) in b.conrod.iter().enumerate() {
+        cards.push(line(ElementKind::Conrod, i, c.id, None, c.nodes, &c.loc));
+    }
+    for (i, c) in b.cbar.iter().enumerate() {
+        cards.push(line(
+            ElementKind::Cbar,
+            i,
+            c.id,
+            Some(c.pid),
+            c.nodes,
+            &c.loc,
+        ));
+    }
+    for (i, c) in b.cbeam.iter().enumerate() {
+        cards.push(line(
+            ElementKind::Cbeam,
+            i,
+            c.id,
+            Some(c.pid),
+            c.nodes,
+            &c.loc,
+        ));
+    }
+    let inputs = super::lines::LineInputs {
+        bulk: b,
+        coords: refs.coords,
+        grids,
+        grid_index: refs.grid_index,
+    };
+    let mut section_ok: HashMap<u32, bool> = HashMap::new();
+    for c in cards {
+        let (names, allowed): ([&str; 2], &[&str]) = match c.kind {
+            ElementKind::Crod => (["G1", "G2"], &["PROD"]),
+            ElementKind::Ctube => (["G1", "G2"], &["PTUBE"]),
+            ElementKind::Cbar => (["GA", "GB"], &["PBAR", "PBARL"]),
+            ElementKind::Cbeam => (["GA", "GB"], &["PBEAM", "PBEAML"]),
+            _ => (["G1", "G2"], &[]),
+        };
+        let card = format!("{} {}", c.kind.card(), c.id);
+        let nodes = resolve_nodes(refs, &c.grids, &names, &card, c.loc, errors);
+        let prop = c
+            .pid
+            .and_then(|pid| resolve_property(refs, pid, allowed, &card, c.loc, errors));
+        let Some(nodes) = nodes else { continue };
+        let element = Element {
+            id: c.id,
+            kind: c.kind,
+            card: c.card,
+            property: prop,
+            nodes,
+        };
+        let usable = match (c.pid, prop) {
+            (None, _) => true,
+            (Some(_), None) => false,
+            (Some(pid), Some(p)) => *section_ok.entry(pid).or_insert_with(|| {
+                let result = super::lines::property_section(b, p);
+                if let Err(e) = &result {
+                    let at = super::lines::property_loc(b, p).unwrap_or(c.loc);
+                    let mut error =
+                        DeckError::at(at, e.to_string()).on_card(format!("{} {pid}", p.card()));
+                    if matches!(e, SectionError::UnsupportedType(_)) {
+                        error.field = Some(format!("{} (TYPE)", RawCard::field_label(4)));
+                    }
+                    errors.push(error);
+                }
+                result.is_ok()
+            }),
+        };
+        if usable && let Err(reason) = inputs.resolve(&element, prop) {
+            let mut e = DeckError::at(c.loc, reason.clone()).on_card(card);
+            if reason.contains("orientation vector") {
+                e.field = Some(format!("{} (X1/G0)", RawCard::field_label(5)));
+            } else if reason.contains("zero length") {
+                e.field = Some(format!("{} ({})", RawCard::field_label(4), names[1]));
+            }
+            errors.push(e);
+        }
+        out.push(element);
+    }
 }
 
 /// Spring ends may be two components of one grid, so repeats are allowed.

@@ -8,6 +8,8 @@
 //!   m = A · (Σ over the full stack ρᵢ tᵢ + NSM) for `PCOMP` (LAM = SYM doubles the plies, not
 //!   NSM); ZOFFS and the PCOMP Z0 do not move the mass point (as in pyNastran);
 //! - solids: m = ρ V with ρ of the PSOLID's MAT1;
+//! - rods and beams: m = (ρ A + NSM) L at the middle of the element axis, L and the ends
+//!   between the offset points (A of PTUBE and PBARL/PBEAML from the shape's dimensions);
 //! - `CONM2`: mass M at the grid + offset: CID = 0 offset in basic; CID = −1: X is the CG in
 //!   basic; CID > 0: X are components along the local Cartesian axes of CID at the grid (for a
 //!   CORD2C: e_r, e_θ, e_z, Nastran QRG CONM2 remark; pyNastran instead reads X as (R, θ, z)
@@ -142,6 +144,25 @@ impl Model {
             }
             ElementKind::Celas1 | ElementKind::Celas2 => None,
             ElementKind::Conm2 => self.conm2_mass(self.bulk.conm2.get(e.card)?, *p.first()?),
+            ElementKind::Crod
+            | ElementKind::Conrod
+            | ElementKind::Ctube
+            | ElementKind::Cbar
+            | ElementKind::Cbeam => {
+                let (line, material) = self.line_element(e)?.ok()?;
+                let rho = material.material.map_or(0.0, |m| m.rho());
+                let geometry = line.geometry();
+                let ends = [
+                    add(geometry.grids[0], geometry.offsets[0]),
+                    add(geometry.grids[1], geometry.offsets[1]),
+                ];
+                let length = crate::geometry::vec3::norm(sub(ends[1], ends[0]));
+                Some(MassPoint {
+                    mass: (rho * line.section.a + line.section.nsm) * length,
+                    point: scale(add(ends[0], ends[1]), 0.5),
+                    inertia: None,
+                })
+            }
         }
     }
 
@@ -179,7 +200,7 @@ impl Model {
                     .sum();
                 Some([plies + pc.nsm; N])
             }
-            PropertyRef::Psolid(_) | PropertyRef::Pelas(_) => None,
+            _ => None,
         }
     }
 

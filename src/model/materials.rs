@@ -35,6 +35,16 @@ pub struct OrthotropicMaterial {
     pub rho: f64,
 }
 
+impl Material {
+    /// Mass density.
+    pub fn rho(&self) -> f64 {
+        match self {
+            Material::Isotropic(m) => m.rho,
+            Material::Orthotropic(m) => m.rho,
+        }
+    }
+}
+
 impl Model {
     /// The material with id `mid`.
     pub fn material(&self, mid: u32) -> Option<Material> {

@@ -21,7 +21,7 @@ pub struct ElementBlock {
     pub card: &'static str,
     /// Element id of each row (repeated for the legs of one rigid element).
     pub ids: Vec<u32>,
-    /// Property id of each row (0 when the element has none: CELAS2, CONM2, RBE2, RBE3).
+    /// Property id of each row (0 when the element has none: CELAS2, CONM2, CONROD, RBE2, RBE3).
     pub pids: Vec<u32>,
     /// Grids per element.
     pub nodes_per_element: usize,

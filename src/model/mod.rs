@@ -28,6 +28,7 @@ pub mod coords;
 pub mod dynamic_loads;
 pub mod geometry;
 pub mod ids;
+pub mod lines;
 pub mod lookup;
 pub mod mass;
 pub mod mass_check;
@@ -83,6 +84,11 @@ pub enum ElementKind {
     Celas1,
     Celas2,
     Conm2,
+    Crod,
+    Conrod,
+    Ctube,
+    Cbar,
+    Cbeam,
 }
 
 impl ElementKind {
@@ -97,6 +103,11 @@ impl ElementKind {
             ElementKind::Celas1 => "CELAS1",
             ElementKind::Celas2 => "CELAS2",
             ElementKind::Conm2 => "CONM2",
+            ElementKind::Crod => "CROD",
+            ElementKind::Conrod => "CONROD",
+            ElementKind::Ctube => "CTUBE",
+            ElementKind::Cbar => "CBAR",
+            ElementKind::Cbeam => "CBEAM",
         }
     }
 
@@ -123,6 +134,18 @@ impl ElementKind {
     pub fn is_shell(self) -> bool {
         matches!(self, ElementKind::Quad4 | ElementKind::Tria3)
     }
+
+    /// True for the rods and beams (CROD, CONROD, CTUBE, CBAR, CBEAM).
+    pub fn is_line(self) -> bool {
+        matches!(
+            self,
+            ElementKind::Crod
+                | ElementKind::Conrod
+                | ElementKind::Ctube
+                | ElementKind::Cbar
+                | ElementKind::Cbeam
+        )
+    }
 }
 
 /// A property by kind and position in its [`BulkData`] vector.
@@ -132,6 +155,12 @@ pub enum PropertyRef {
     Pcomp(usize),
     Psolid(usize),
     Pelas(usize),
+    Prod(usize),
+    Ptube(usize),
+    Pbar(usize),
+    Pbarl(usize),
+    Pbeam(usize),
+    Pbeaml(usize),
 }
 
 impl PropertyRef {
@@ -142,6 +171,12 @@ impl PropertyRef {
             PropertyRef::Pcomp(_) => "PCOMP",
             PropertyRef::Psolid(_) => "PSOLID",
             PropertyRef::Pelas(_) => "PELAS",
+            PropertyRef::Prod(_) => "PROD",
+            PropertyRef::Ptube(_) => "PTUBE",
+            PropertyRef::Pbar(_) => "PBAR",
+            PropertyRef::Pbarl(_) => "PBARL",
+            PropertyRef::Pbeam(_) => "PBEAM",
+            PropertyRef::Pbeaml(_) => "PBEAML",
         }
     }
 }

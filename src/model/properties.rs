@@ -158,7 +158,7 @@ impl Model {
                     thickness: p.thickness(),
                 })
             }),
-            PropertyRef::Psolid(_) | PropertyRef::Pelas(_) => None,
+            _ => None,
         }
     }
 

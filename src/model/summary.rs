@@ -74,6 +74,12 @@ impl Model {
                 ("PCOMP", b.pcomp.len()),
                 ("PSOLID", b.psolid.len()),
                 ("PELAS", b.pelas.len()),
+                ("PROD", b.prod.len()),
+                ("PTUBE", b.ptube.len()),
+                ("PBAR", b.pbar.len()),
+                ("PBARL", b.pbarl.len()),
+                ("PBEAM", b.pbeam.len()),
+                ("PBEAML", b.pbeaml.len()),
             ]),
             coords: self.coords.len().saturating_sub(1),
             wtmass: mp.wtmass,
@@ -81,7 +87,7 @@ impl Model {
     }
 
     /// Grids and connectivity as flat arrays (see [`MeshArrays`]). Blocks are in the order
-    /// CQUAD4, CTRIA3, CHEXA, CPENTA, CTETRA, CTETRA10, CELAS1, CELAS2, CONM2, RBE2, RBE3.
+    /// CQUAD4, CTRIA3, CHEXA, CPENTA, CTETRA, CTETRA10, CELAS1, CELAS2, CONM2, CROD, CONROD, CTUBE, CBAR, CBEAM, RBE2, RBE3.
     pub fn mesh_arrays(&self) -> MeshArrays {
         let mut blocks: BTreeMap<ElementKind, ElementBlock> = BTreeMap::new();
         for e in &self.elements {
@@ -141,6 +147,11 @@ impl Model {
             ElementKind::Penta6 => b.cpenta.get(e.card).map(|c| c.pid),
             ElementKind::Tetra4 | ElementKind::Tetra10 => b.ctetra.get(e.card).map(|c| c.pid),
             ElementKind::Celas1 => b.celas1.get(e.card).map(|c| c.pid),
+            ElementKind::Crod => b.crod.get(e.card).map(|c| c.pid),
+            ElementKind::Ctube => b.ctube.get(e.card).map(|c| c.pid),
+            ElementKind::Cbar => b.cbar.get(e.card).map(|c| c.pid),
+            ElementKind::Cbeam => b.cbeam.get(e.card).map(|c| c.pid),
+            ElementKind::Conrod => None,
             ElementKind::Celas2 | ElementKind::Conm2 => None,
         }
         .unwrap_or(0)

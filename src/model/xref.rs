@@ -6,6 +6,7 @@
 //! | PSHELL | MID1 MID2 MID3 MID4 | MAT1 or MAT8; MID1 or MID2 given; MID3 blank unless MID2 is given; MID4 blank unless MID1 and MID2 are given, and different from both (Nastran) |
 //! | PCOMP | MIDi | MAT8 or MAT1 |
 //! | PSOLID | MID | MAT1 (a MAT8 is an error: it is a plane-stress shell material) |
+//! | PROD, PTUBE, PBAR, PBARL, PBEAM, PBEAML, CONROD | MID | MAT1 |
 //! | SPC, SPC1, ASET1, DAREA, FORCE/MOMENT | grids | GRID |
 //! | FORCE/MOMENT, GRAV | CID | coordinate system |
 //! | SPCADD | Si | SPC/SPC1 set |
@@ -130,6 +131,30 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
             &required_by(p.id),
             errors,
         );
+    }
+
+    let line_materials = (b.prod.iter().map(|p| ("PROD", p.id, p.mid, &p.loc)))
+        .chain(b.ptube.iter().map(|p| ("PTUBE", p.id, p.mid, &p.loc)))
+        .chain(b.pbar.iter().map(|p| ("PBAR", p.id, p.mid, &p.loc)))
+        .chain(b.pbarl.iter().map(|p| ("PBARL", p.id, p.mid, &p.loc)))
+        .chain(b.pbeam.iter().map(|p| ("PBEAM", p.id, p.mid, &p.loc)))
+        .chain(b.pbeaml.iter().map(|p| ("PBEAML", p.id, p.mid, &p.loc)));
+    for (name, pid, mid, loc) in line_materials {
+        let card = format!("{name} {pid}");
+        material(
+            refs,
+            mid,
+            "MID",
+            &["MAT1"],
+            &card,
+            loc,
+            &required_by(pid),
+            errors,
+        );
+    }
+    for c in &b.conrod {
+        let card = format!("CONROD {}", c.id);
+        material(refs, c.mid, "MID", &["MAT1"], &card, &c.loc, "", errors);
     }
 
     // grids and systems of constraints and loads
@@ -592,5 +617,9 @@ fn property_users(refs: &Refs) -> HashMap<u32, Vec<String>> {
     b.cpenta.iter().for_each(|c| push(c.pid, "CPENTA", c.id));
     b.ctetra.iter().for_each(|c| push(c.pid, "CTETRA", c.id));
     b.celas1.iter().for_each(|c| push(c.pid, "CELAS1", c.id));
+    b.crod.iter().for_each(|c| push(c.pid, "CROD", c.id));
+    b.ctube.iter().for_each(|c| push(c.pid, "CTUBE", c.id));
+    b.cbar.iter().for_each(|c| push(c.pid, "CBAR", c.id));
+    b.cbeam.iter().for_each(|c| push(c.pid, "CBEAM", c.id));
     users
 }

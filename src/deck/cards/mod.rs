@@ -13,6 +13,8 @@ mod elements;
 mod estimate;
 mod extension;
 mod geometry;
+mod line_elements;
+mod line_properties;
 mod loads;
 mod materials;
 mod multibody;
@@ -32,6 +34,8 @@ pub use extension::{
     Tstepvar,
 };
 pub use geometry::{Cord2, CordKind, Grdset, Grid};
+pub use line_elements::{BeamOrientation, Cbar, Conrod, Crod, Offt};
+pub use line_properties::{Pbar, Pbarl, Pbeam, Prod, Ptube};
 pub use loads::{Force, Grav, Load, Pload, Pload2, Pload4, Pload4Target};
 pub use materials::{Mat1, Mat8};
 pub use multibody::{Flexb, Fmbpose, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
@@ -57,6 +61,11 @@ pub struct BulkData {
     pub celas1: Vec<Celas1>,
     pub celas2: Vec<Celas2>,
     pub conm2: Vec<Conm2>,
+    pub crod: Vec<Crod>,
+    pub ctube: Vec<Crod>,
+    pub conrod: Vec<Conrod>,
+    pub cbar: Vec<Cbar>,
+    pub cbeam: Vec<Cbar>,
     pub rbe2: Vec<Rbe2>,
     pub rbe3: Vec<Rbe3>,
     pub mat1: Vec<Mat1>,
@@ -65,6 +74,12 @@ pub struct BulkData {
     pub pcomp: Vec<Pcomp>,
     pub psolid: Vec<Psolid>,
     pub pelas: Vec<Pelas>,
+    pub prod: Vec<Prod>,
+    pub ptube: Vec<Ptube>,
+    pub pbar: Vec<Pbar>,
+    pub pbarl: Vec<Pbarl>,
+    pub pbeam: Vec<Pbeam>,
+    pub pbeaml: Vec<Pbarl>,
     pub spc: Vec<Spc>,
     pub spc1: Vec<Spc1>,
     pub spcadd: Vec<Spcadd>,
@@ -153,6 +168,11 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("CELAS1", |c, b| Ok(b.celas1.push(Celas1::from_card(c)?))),
     ("CELAS2", |c, b| Ok(b.celas2.push(Celas2::from_card(c)?))),
     ("CONM2", |c, b| Ok(b.conm2.push(Conm2::from_card(c)?))),
+    ("CROD", |c, b| Ok(b.crod.push(Crod::from_card(c)?))),
+    ("CTUBE", |c, b| Ok(b.ctube.push(Crod::from_card(c)?))),
+    ("CONROD", |c, b| Ok(b.conrod.push(Conrod::from_card(c)?))),
+    ("CBAR", |c, b| Ok(b.cbar.push(Cbar::from_card(c, false)?))),
+    ("CBEAM", |c, b| Ok(b.cbeam.push(Cbar::from_card(c, true)?))),
     ("RBE2", |c, b| Ok(b.rbe2.push(Rbe2::from_card(c)?))),
     ("RBE3", |c, b| Ok(b.rbe3.push(Rbe3::from_card(c)?))),
     ("MAT1", |c, b| Ok(b.mat1.push(Mat1::from_card(c)?))),
@@ -161,6 +181,16 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("PCOMP", |c, b| Ok(b.pcomp.push(Pcomp::from_card(c)?))),
     ("PSOLID", |c, b| Ok(b.psolid.push(Psolid::from_card(c)?))),
     ("PELAS", |c, b| Ok(b.pelas.extend(Pelas::from_card(c)?))),
+    ("PROD", |c, b| Ok(b.prod.push(Prod::from_card(c)?))),
+    ("PTUBE", |c, b| Ok(b.ptube.push(Ptube::from_card(c)?))),
+    ("PBAR", |c, b| Ok(b.pbar.push(Pbar::from_card(c)?))),
+    ("PBARL", |c, b| {
+        Ok(b.pbarl.push(Pbarl::from_card(c, false)?))
+    }),
+    ("PBEAM", |c, b| Ok(b.pbeam.push(Pbeam::from_card(c)?))),
+    ("PBEAML", |c, b| {
+        Ok(b.pbeaml.push(Pbarl::from_card(c, true)?))
+    }),
     ("SPC", |c, b| Ok(b.spc.extend(Spc::from_card(c)?))),
     ("SPC1", |c, b| Ok(b.spc1.push(Spc1::from_card(c)?))),
     ("SPCADD", |c, b| Ok(b.spcadd.push(Spcadd::from_card(c)?))),

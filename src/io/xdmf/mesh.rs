@@ -16,7 +16,7 @@
 //! | CPENTA (6) | Wedge (8) | G1..G3, G4..G6 with G4 over G1, as VTK_WEDGE (a deck whose first face points inward renders the same; only the sign of the cell volume differs) |
 //! | CTETRA (4) | Tetrahedron (6) | |
 //! | CTETRA10 | Tetrahedron_10 (38) | Nastran G5..G10 = edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4; VTK_QUADRATIC_TETRA uses edges (0,1),(1,2),(2,0),(0,3),(1,3),(2,3): identical |
-//! | CELAS1, CELAS2, RBE2, RBE3, other 2-node cards | Polyline, 2 nodes (2, then the node count 2) | a grounded spring repeats its grid (zero-length line) |
+//! | CROD, CONROD, CTUBE, CBAR, CBEAM, CELAS1, CELAS2, RBE2, RBE3, other 2-node cards | Polyline, 2 nodes (2, then the node count 2) | a grounded spring repeats its grid (zero-length line); a beam is drawn between its grids (offsets are not drawn) |
 //! | CONM2, other 1-node cards | Polyvertex; in a mixed topology a Polyline from the grid to itself (2, 2, p, p) | see below |
 //!
 //! Blocks with another card and node count, or with no elements, are left out and reported.

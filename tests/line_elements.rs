@@ -1,0 +1,414 @@
+//! Rods and beams (CROD, CONROD, CTUBE, CBAR, CBEAM) against closed forms; references and
+//! tolerances in reference/analytic/line_elements.json.
+
+mod common;
+use common::{read_dataset, run_deck, run_to_file};
+
+use std::io::Write;
+
+use assert_cmd::cargo::cargo_bin_cmd;
+use paraflex::deck::Deck;
+use paraflex::model::Model;
+use paraflex::sequence::modal::ModalSummary;
+
+const E: f64 = 2.1e11;
+const NU: f64 = 0.3;
+const RHO: f64 = 7800.0;
+
+fn reference() -> serde_json::Value {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/reference/analytic/line_elements.json"
+    );
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn beta_l(ends: &str) -> Vec<f64> {
+    reference()["beta_l"][ends]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect()
+}
+
+/// Grids 1…n+1 from `start` along `dir` (unit) over length `l`, with a CD and a PS code.
+fn grids_in(n: usize, start: [f64; 3], dir: [f64; 3], l: f64, cd: &str, ps: &str) -> String {
+    (0..=n)
+        .map(|i| {
+            let t = l * i as f64 / n as f64;
+            let p: Vec<f64> = (0..3).map(|c| start[c] + t * dir[c]).collect();
+            format!(
+                "GRID,{},,{:?},{:?},{:?},{cd},{ps}\n",
+                i + 1,
+                p[0],
+                p[1],
+                p[2]
+            )
+        })
+        .collect()
+}
+
+/// [`grids_in`] the basic system.
+fn grids(n: usize, start: [f64; 3], dir: [f64; 3], l: f64, ps: &str) -> String {
+    grids_in(n, start, dir, l, "", ps)
+}
+
+fn statics(bulk: &str) -> Vec<f64> {
+    let deck = format!(
+        "SOL 101\nCEND\nSUBCASE 1\n  SPC = 1\n  LOAD = 2\n  DISPLACEMENT = ALL\nBEGIN BULK\n{bulk}MAT1,1,{E:e},,{NU:?},{RHO:?}\nSPC1,1,123456,1\nENDDATA\n"
+    );
+    let (file, _dir) = run_to_file(&deck);
+    read_dataset::<f64>(&file.group("results/1/statics").unwrap(), "displacement")
+}
+
+fn close(got: f64, want: f64, tol: f64) {
+    assert!(
+        (got - want).abs() <= tol * want.abs(),
+        "{got:e} vs {want:e} (tolerance {tol:e} relative)"
+    );
+}
+
+/// Axial force P and torsion moment T at the tip of a 4-element rod along an oblique axis:
+/// u = P L/(E A), φ = T L/(G J), for CROD/PROD, CONROD and CTUBE/PTUBE. The grids' displacement
+/// system (CD 5) has its x axis along the rod, so PS = 2356 removes the DOFs a rod leaves free.
+#[test]
+fn rods_stretch_and_twist_like_pl_over_ea_and_tl_over_gj() {
+    let d = [1.0 / 3.0, 2.0 / 3.0, 2.0 / 3.0];
+    let (l, p, t) = (1.5, 2.0e3, 40.0);
+    let g = E / (2.0 * (1.0 + NU));
+    let (od, wall): (f64, f64) = (0.03, 0.004);
+    let ri = od / 2.0 - wall;
+    let tube_a = std::f64::consts::PI * ((od / 2.0).powi(2) - ri * ri);
+    let tube_j = std::f64::consts::PI * ((od / 2.0).powi(4) - ri.powi(4)) / 2.0;
+    let cases = [
+        ("PROD,10,1,4.e-4,3.e-8\n", "CROD", 4.0e-4, 3.0e-8),
+        ("", "CONROD", 4.0e-4, 3.0e-8),
+        ("PTUBE,10,1,0.03,0.004\n", "CTUBE", tube_a, tube_j),
+    ];
+    for (property, card, a, j) in cases {
+        let elements: String = (1..=4)
+            .map(|i| match card {
+                "CONROD" => format!("CONROD,{i},{i},{},1,4.e-4,3.e-8\n", i + 1),
+                _ => format!("{card},{i},10,{i},{}\n", i + 1),
+            })
+            .collect();
+        let load = format!(
+            "FORCE,2,5,,{p:?},{:?},{:?},{:?}\nMOMENT,2,5,,{t:?},{:?},{:?},{:?}\n",
+            d[0], d[1], d[2], d[0], d[1], d[2]
+        );
+        let frame = "CORD2R,5,,0.,0.,0.,2.,-1.,0.\n,1.,2.,2.\n";
+        let u = statics(&format!(
+            "{frame}{}{elements}{property}{load}",
+            grids_in(4, [0.2, 0.1, -0.3], d, l, "5", "2356")
+        ));
+        let tip = &u[4 * 6..5 * 6];
+        let along = |o: usize| (0..3).map(|c| tip[o + c] * d[c]).sum::<f64>();
+        close(along(0), p * l / (E * a), 1e-9);
+        close(along(3), t * l / (g * j), 1e-9);
+    }
+}
+
+/// A cantilever along an oblique axis with an oblique orientation vector: tip loads along the
+/// element y and z axes bend it by P L³/(3 E I1) and P L³/(3 E I2) (CBAR/PBAR, CBEAM/PBEAM
+/// with K1 = K2 = 0: no shear flexibility); CBEAM with its default K = 1 adds P L/(G A).
+#[test]
+fn oblique_cantilever_bends_like_pl3_over_3ei_in_both_planes() {
+    let x = [2.0 / 3.0, -1.0 / 3.0, 2.0 / 3.0];
+    let v = [0.3, 1.0, 0.2];
+    // element axes: z = x × v / |x × v|, y = z × x
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let z0 = cross(x, v);
+    let n = z0.iter().map(|c| c * c).sum::<f64>().sqrt();
+    let z = z0.map(|c| c / n);
+    let y = cross(z, x);
+    let (l, p, a, i1, i2) = (2.0, 150.0, 6.0e-4, 2.0e-8, 4.5e-8);
+    let g = E / (2.0 * (1.0 + NU));
+    let properties = [
+        (
+            "CBAR",
+            format!("PBAR,10,1,{a:e},{i1:e},{i2:e},1.e-8\n"),
+            0.0,
+        ),
+        (
+            "CBEAM",
+            format!(
+                "PBEAM,10,1,{a:e},{i1:e},{i2:e},,1.e-8\n,0.,0.,0.,0.,0.,0.,0.,0.\n,NO,1.\n,0.,0.\n"
+            ),
+            0.0,
+        ),
+        (
+            "CBEAM",
+            format!("PBEAM,10,1,{a:e},{i1:e},{i2:e},,1.e-8\n"),
+            1.0,
+        ),
+    ];
+    for (card, property, shear_k) in properties {
+        let elements: String = (1..=10)
+            .map(|i| {
+                format!(
+                    "{card},{i},10,{i},{},{:?},{:?},{:?}\n",
+                    i + 1,
+                    v[0],
+                    v[1],
+                    v[2]
+                )
+            })
+            .collect();
+        for (dir, inertia) in [(y, i1), (z, i2)] {
+            let load = format!("FORCE,2,11,,{p:?},{:?},{:?},{:?}\n", dir[0], dir[1], dir[2]);
+            let u = statics(&format!(
+                "{}{elements}{property}{load}",
+                grids(10, [0.0; 3], x, l, "")
+            ));
+            let tip: f64 = (0..3).map(|c| u[10 * 6 + c] * dir[c]).sum();
+            let shear = if shear_k > 0.0 {
+                p * l / (shear_k * g * a)
+            } else {
+                0.0
+            };
+            close(tip, p * l.powi(3) / (3.0 * E * inertia) + shear, 1e-9);
+        }
+    }
+}
+
+/// Offsets: grids on y = 0, the bar axis on y = 0.1 (WA = WB = (0, 0.1, 0)), clamped at grid 1.
+/// An axial force P at grid 2 acts 0.1 below the axis point B: the rigid link carries P and the
+/// moment M_z = 0.1 P to B, so θ_z = M_z L/(E I) and B moves by P L/(E A) along x; the grid, 0.1
+/// below B, moves by that plus θ_z · 0.1 along x.
+#[test]
+fn offsets_carry_the_load_through_rigid_links() {
+    let (l, p, a, i) = (1.0, 500.0, 1.0e-4, 1.0e-8);
+    let bulk = format!(
+        "{}CBAR,1,10,1,2,0.,0.,1.\n,,,0.,0.1,0.,0.,0.1,0.\nPBAR,10,1,{a:e},{i:e},{i:e},1.e-8\nFORCE,2,2,,{p:?},1.,0.,0.\n",
+        grids(1, [0.0; 3], [1.0, 0.0, 0.0], l, "")
+    );
+    let u = statics(&bulk);
+    let rz = 0.1 * p * l / (E * i);
+    // the bar is a mesh block of the output (a 2-node Polyline cell in the XDMF file)
+    let deck = format!(
+        "SOL 101\nCEND\nSUBCASE 1\n  SPC = 1\n  LOAD = 2\nBEGIN BULK\n{bulk}MAT1,1,{E:e},,{NU:?},{RHO:?}\nSPC1,1,123456,1\nENDDATA\n"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("deck.dat"), deck).unwrap();
+    let out = cargo_bin_cmd!("paraflex")
+        .current_dir(dir.path())
+        .args(["run", "deck.dat", "-o", "out.h5"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).unwrap();
+    let ids: Vec<u32> = read_dataset(&file.group("model/elements/CBAR").unwrap(), "ids");
+    assert_eq!(ids, [1]);
+    let xdmf = std::fs::read_to_string(dir.path().join("out.xdmf")).unwrap();
+    assert!(xdmf.contains("Polyline"), "{xdmf}");
+    close(u[6 + 5], rz, 1e-9);
+    close(u[6], p * l / (E * a) + 0.1 * rz, 1e-9);
+    close(u[6 + 1], 0.1 * p * l * l / (2.0 * E * i), 1e-9);
+}
+
+fn modes(bulk: &str, nd: usize, coupled: bool) -> Vec<f64> {
+    let coupmass = if coupled { "PARAM,COUPMASS,1\n" } else { "" };
+    let spc = if bulk.contains("SPC1") {
+        "SPC = 1\n"
+    } else {
+        ""
+    };
+    let deck = format!(
+        "SOL 103\nCEND\nMETHOD = 1\n{spc}BEGIN BULK\n{coupmass}{bulk}MAT1,1,{E:e},,{NU:?},{RHO:?}\nEIGRL,1,,,{nd}\nENDDATA\n"
+    );
+    let (r, _dir) = run_deck(&deck);
+    let s = r.unwrap_or_else(|e| panic!("{e}"));
+    let m = s.subcases[0].result::<ModalSummary>().expect("modal");
+    m.frequencies_hz.clone()
+}
+
+/// Euler–Bernoulli frequencies of a 40-element beam in the x–y plane (plane 1; T3 R1 R2
+/// fixed on every grid) clamped-free and free-free, lumped and consistent mass:
+/// f_n = (β_n L)²/(2π L²) √(E I/(ρ A)).
+#[test]
+fn beam_frequencies_match_euler_bernoulli_for_both_mass_forms() {
+    let (l, b, h): (f64, f64, f64) = (1.0, 0.01, 0.012);
+    let (a, i1) = (b * h, b * h.powi(3) / 12.0);
+    let scale = (E * i1 / (RHO * a)).sqrt() / (2.0 * std::f64::consts::PI * l * l);
+    let n = 40;
+    let elements: String = (1..=n)
+        .map(|i| format!("CBAR,{i},10,{i},{},0.,1.,0.\n", i + 1))
+        .collect();
+    // PBARL BAR: DIM1 along the element z, DIM2 along y (plane 1): I1 = DIM1·DIM2³/12
+    let property = format!("PBARL,10,1,,BAR\n,{b:?},{h:?}\n");
+    let mesh = grids(n, [0.0; 3], [1.0, 0.0, 0.0], l, "345");
+    for (coupled, tol) in [(true, 2e-4), (false, 5e-3)] {
+        let clamped = modes(
+            &format!("{mesh}{elements}{property}SPC1,1,126,1\n"),
+            3,
+            coupled,
+        );
+        for (f, bl) in clamped.iter().zip(beta_l("clamped_free")) {
+            close(*f, bl * bl * scale, tol);
+        }
+        // free-free: three rigid modes (T1, T2, R3) first
+        let free = modes(&format!("{mesh}{elements}{property}"), 6, coupled);
+        for (f, bl) in free[3..].iter().zip(beta_l("free_free")) {
+            close(*f, bl * bl * scale, tol);
+        }
+    }
+}
+
+/// Mass properties: (ρ A + NSM) L of every line element, A of PTUBE and PBARL from the shape.
+#[test]
+fn mass_properties_include_rods_and_beams() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("deck.dat");
+    let bulk = "GRID,1,,0.,0.,0.\nGRID,2,,2.,0.,0.\nGRID,3,,2.,1.,0.\n\
+        CTUBE,1,10,1,2\nPTUBE,10,1,0.05,0.005,0.2\n\
+        CBAR,2,11,2,3,0.,0.,1.\nPBARL,11,1,,I\n,0.1,0.05,0.06,0.004,0.006,0.008,0.1\n\
+        CONROD,3,1,3,1,2.e-4,,,0.05\nMAT1,1,2.1e11,,0.3,7800.\n";
+    std::fs::File::create(&path)
+        .and_then(|mut f| {
+            f.write_all(format!("SOL 101\nCEND\nBEGIN BULK\n{bulk}ENDDATA\n").as_bytes())
+        })
+        .unwrap();
+    let model = Model::build(&Deck::read(&path).unwrap()).unwrap();
+    let pi = std::f64::consts::PI;
+    let tube = pi * (0.025f64.powi(2) - 0.02f64.powi(2));
+    let i_area = 0.05 * 0.006 + 0.06 * 0.008 + 0.004 * (0.1 - 0.014);
+    let diagonal = 5.0f64.sqrt();
+    let masses = [
+        (RHO * tube + 0.2) * 2.0,
+        (RHO * i_area + 0.1) * 1.0,
+        (RHO * 2.0e-4 + 0.05) * diagonal,
+    ];
+    let points = [[1.0, 0.0, 0.0], [2.0, 0.5, 0.0], [1.0, 0.5, 0.0]];
+    let total: f64 = masses.iter().sum();
+    let mp = model.mass_properties();
+    close(mp.mass, total, 1e-12);
+    for c in 0..3 {
+        let cg: f64 = masses
+            .iter()
+            .zip(points)
+            .map(|(m, p)| m * p[c])
+            .sum::<f64>()
+            / total;
+        assert!((mp.cg[c] - cg).abs() < 1e-12, "{:?}", mp.cg);
+    }
+}
+
+/// Bad line-element input: `paraflex check` names file:line, card and field.
+#[test]
+fn bad_line_elements_are_reported_with_card_and_field() {
+    let cases = [
+        (
+            "GRID,1,,0.,0.,0.\nGRID,2,,0.,0.,0.\nCBAR,1,10,1,2,0.,1.,0.\nPBAR,10,1,1.e-4,1.e-8,1.e-8\n",
+            "deck.dat:6: CBAR 1: field 5 (GB): zero length",
+        ),
+        (
+            "GRID,1,,0.,0.,0.\nGRID,2,,1.,1.,0.\nCBAR,1,10,1,2,2.,2.,0.\nPBAR,10,1,1.e-4,1.e-8,1.e-8\n",
+            "deck.dat:6: CBAR 1: field 6 (X1/G0): the orientation vector is parallel",
+        ),
+        (
+            "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nCBEAM,1,10,1,2,0.,1.,0.\n",
+            "deck.dat:6: CBEAM 1: PID = 10 does not exist (no PBEAM or PBEAML 10)",
+        ),
+        (
+            "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nCBAR,1,10,1,2,0.,1.,0.\nPBARL,10,1,,ZED\n,1.,2.\n",
+            "deck.dat:7: PBARL 10: field 5 (TYPE): TYPE = ZED is not a shape",
+        ),
+        (
+            "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nCBAR,1,10,1,2,0.,1.,0.\nPBARL,10,1,,HAT\n,1.,2.,0.1,0.1\n",
+            "deck.dat:7: PBARL 10: field 5 (TYPE): TYPE = HAT is not supported",
+        ),
+        (
+            "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nCTUBE,1,10,1,2\nPTUBE,10,1,0.1,0.01,,0.2\n",
+            "deck.dat:7: PTUBE 10: field 7 (OD2): a tapered tube",
+        ),
+        (
+            "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nCBAR,1,10,1,2\nPBAR,10,1,1.e-4,1.e-8,1.e-8\n",
+            "deck.dat:6: CBAR 1: field 6 (X1/G0): give the orientation vector",
+        ),
+    ];
+    for (bulk, expected) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("deck.dat");
+        let text = format!("SOL 101\nCEND\nBEGIN BULK\n{bulk}MAT1,1,2.1e11,,0.3\nENDDATA\n");
+        std::fs::write(&path, text).unwrap();
+        let out = cargo_bin_cmd!("paraflex")
+            .arg("check")
+            .arg(&path)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(
+            stderr.lines().any(|l| l.contains(expected)),
+            "expected '{expected}' in:\n{stderr}"
+        );
+    }
+}
+
+/// A frame of a CBAR, a CROD and a CBEAM (no shear flexibility) on one MAT1 with PMPARs E, NU
+/// and RHO: the assembled affine K(p), M(p) equal the operators of the deck with the MAT1 at
+/// p, to round-off (axial and bending ∝ E, torsion ∝ μ(E, ν), mass ∝ ρ plus NSM).
+#[test]
+fn beam_parameters_act_exactly_through_the_affine_parts() {
+    let frame = "GRID,1,,0.,0.,0.\nGRID,2,,0.,1.,0.\nGRID,3,,1.,1.,0.2\nGRID,4,,1.,0.,0.\n\
+        CBAR,1,10,1,2,1.,0.,0.\nPBAR,10,1,1.e-3,2.e-7,3.e-7,1.e-7,0.4\n\
+        CBEAM,2,11,2,3,0.,0.,1.\nPBEAM,11,1,2.e-3,4.e-7,5.e-7,,2.e-7,0.3\n,0.,0.,0.,0.,0.,0.,0.,0.\n,NO,1.\n,0.,0.\n\
+        CROD,3,12,3,4\nPROD,12,1,5.e-4,1.e-8,,0.1\n";
+    let operators = |bulk: &str, p: &[f64]| {
+        let (params, k, m) = common::affine_operators(bulk);
+        let at = if p.is_empty() {
+            params.nominal()
+        } else {
+            p.to_vec()
+        };
+        (
+            k.evaluate(&params.weights(&k, &at))
+                .unwrap()
+                .values()
+                .to_vec(),
+            m.evaluate(&params.weights(&m, &at))
+                .unwrap()
+                .values()
+                .to_vec(),
+            k.parts().len(),
+        )
+    };
+    let pmpar =
+        "PMPAR,1,E,E,1,1.e11,3.e11\nPMPAR,2,NU,NU,1,0.2,0.4\nPMPAR,3,RHO,RHO,1,2000.,9000.\n";
+    let p = [1.3e11, 0.37, 2700.0];
+    let (k, m, parts) = operators(&format!("{frame}MAT1,1,2.1e11,,0.3,7800.\n{pmpar}"), &p);
+    assert_eq!(parts, 3, "constant, E and μ parts");
+    let (k_ref, m_ref, _) = operators(&format!("{frame}MAT1,1,1.3e11,,0.37,2700.\n"), &[]);
+    for (got, want, what) in [(&k, &k_ref, "K"), (&m, &m_ref, "M")] {
+        let scale = want.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let worst = got
+            .iter()
+            .zip(want.iter())
+            .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+        assert!(worst <= 1e-12 * scale, "{what}: {worst:e} of {scale:e}");
+    }
+}
+
+/// NU as a parameter of a beam with shear flexibility (PBEAM's default K = 1) has no affine
+/// form: the run stops and says why.
+#[test]
+fn nu_parameter_on_a_shear_flexible_beam_is_refused() {
+    let deck = "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\n\
+        CBEAM,1,11,1,2,0.,0.,1.\nPBEAM,11,1,2.e-3,4.e-7,5.e-7,,2.e-7\nMAT1,1,2.1e11,,0.3,7800.\n\
+        PMPAR,1,NU,NU,1,0.2,0.4\nEIGRL,1,,,2\nENDDATA\n";
+    let (r, _dir) = run_deck(deck);
+    let message = r.err().map(|e| e.to_string()).unwrap_or_default();
+    assert!(message.contains("CBEAM 1"), "{message}");
+    assert!(message.contains("not affine in E and G"), "{message}");
+}
