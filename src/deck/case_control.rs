@@ -390,11 +390,15 @@ impl CaseControl {
             }
             "SET" => self.read_set(loc, text.to_string(), diag),
             "PARAM" => {
-                let parts: Vec<&str> = text.splitn(3, ',').collect();
-                if parts.len() == 3 {
+                // commas or blanks between the fields, as Nastran reads `PARAM POST 0`
+                let parts: Vec<&str> = text
+                    .split(|c: char| c == ',' || c.is_whitespace())
+                    .filter(|p| !p.is_empty())
+                    .collect();
+                if parts.len() >= 3 {
                     self.params.push((
-                        parts[1].trim().to_ascii_uppercase(),
-                        parts[2].trim().to_string(),
+                        parts[1].to_ascii_uppercase(),
+                        parts[2..].join(","),
                         loc.clone(),
                     ));
                 } else {
@@ -701,6 +705,19 @@ mod tests {
         assert_eq!(d.errors.len(), 3, "{:?}", d.errors);
         assert!(d.errors[1].to_string().starts_with("c.dat:2: MPC"));
         assert!(d.warnings.is_empty(), "{:?}", d.warnings);
+    }
+
+    /// PARAM in case control takes commas or blanks between its fields.
+    #[test]
+    fn case_control_param_fields_may_be_blank_separated() {
+        let (cc, d) = read(&["PARAM,POST,-1", "param post 0", "PARAM, G , 0.02", "PARAM X"]);
+        let got: Vec<(&str, &str)> = cc
+            .params
+            .iter()
+            .map(|(n, v, _)| (n.as_str(), v.as_str()))
+            .collect();
+        assert_eq!(got, [("POST", "-1"), ("POST", "0"), ("G", "0.02")]);
+        assert_eq!(d.errors.len(), 1, "{:?}", d.errors);
     }
 
     /// ECHO = NONE is honoured silently; an ECHO asking for an echo is warned about once.
