@@ -896,4 +896,224 @@ pub(crate) mod tests {
             Err(IntegrationError::Singular("mass"))
         );
     }
+
+    /// A dense backend that records the name of every factorization it is asked for.
+    struct Counting<'a> {
+        dense: Dense<'a>,
+        prepared: Vec<&'static str>,
+    }
+
+    impl Backend for Counting<'_> {
+        fn size(&self) -> usize {
+            self.dense.size()
+        }
+        fn prepare(
+            &mut self,
+            effective: Combination,
+            products: &[Combination],
+            what: &'static str,
+        ) -> Result<(), IntegrationError> {
+            self.prepared.push(what);
+            self.dense.prepare(effective, products, what)
+        }
+        fn apply(&self, j: usize, x: &[f64], y: &mut [f64]) {
+            self.dense.apply(j, x, y);
+        }
+        fn solve(&mut self, x: &mut [f64]) -> Result<(), IntegrationError> {
+            self.dense.solve(x)
+        }
+    }
+
+    /// Constant matrices are factored once per step size (module doc): the mass once for a_0,
+    /// then the effective matrix once (BDF1, generalized-α) or twice (BDF2: its BDF1 start and
+    /// its own), however many steps follow.
+    #[test]
+    fn constant_matrices_are_factored_once_per_step_size() {
+        let (mm, cm, km) = (one(1.0), one(0.1), one(4.0));
+        let sys = LinearSystem {
+            mass: mm.as_ref(),
+            damping: cm.as_ref(),
+            stiffness: km.as_ref(),
+        };
+        for (method, expected) in [
+            (Method::Bdf1, vec!["mass", "effective"]),
+            (Method::Bdf2, vec!["mass", "effective", "effective"]),
+            (
+                Method::GeneralizedAlpha { rho_inf: 0.8 },
+                vec!["mass", "effective"],
+            ),
+        ] {
+            let mut backend = Counting {
+                dense: Dense::new(sys).unwrap(),
+                prepared: Vec::new(),
+            };
+            let run = Run {
+                dt: 0.01,
+                steps: 20,
+                t0: 0.0,
+            };
+            integrate_with(
+                &mut backend,
+                method,
+                run,
+                &[1.0],
+                &[0.0],
+                |_, f| f[0] = 0.0,
+                |_| {},
+            )
+            .unwrap();
+            assert_eq!(backend.prepared, expected, "{method:?}");
+        }
+    }
+
+    /// The observer's step 0 is the initial state with a_0 = M⁻¹(f(t0) − C v_0 − K q_0), on a
+    /// coupled 2-DOF system whose every input is non-zero. By hand: f − Cv − Kq = (0.05, −0.25)
+    /// and M⁻¹ = [[1, −0.5], [−0.5, 2]] / 1.75, so a_0 = (0.1, −0.3).
+    #[test]
+    fn step_zero_carries_the_acceleration_of_the_equation_of_motion() {
+        let mat = |a: [[f64; 2]; 2]| Mat::<f64>::from_fn(2, 2, |i, j| a[i][j]);
+        let m = mat([[2.0, 0.5], [0.5, 1.0]]);
+        let c = mat([[0.3, -0.1], [-0.1, 0.2]]);
+        let k = mat([[5.0, -2.0], [-2.0, 3.0]]);
+        let sys = LinearSystem {
+            mass: m.as_ref(),
+            damping: c.as_ref(),
+            stiffness: k.as_ref(),
+        };
+        for (method, _) in METHODS {
+            let mut first = None;
+            let run = Run {
+                dt: 0.01,
+                steps: 1,
+                t0: 0.5,
+            };
+            integrate_with(
+                &mut Dense::new(sys).unwrap(),
+                method,
+                run,
+                &[0.1, -0.2],
+                &[0.3, 0.4],
+                |t, f| f.copy_from_slice(&[1.0 + 2.0 * (t - 0.5), -1.0]),
+                |s| {
+                    if s.step == 0 {
+                        first = Some((s.time, s.q.to_vec(), s.v.to_vec(), s.a.to_vec()));
+                    }
+                },
+            )
+            .unwrap();
+            let (time, q, v, a) = first.unwrap();
+            assert_eq!((time, q, v), (0.5, vec![0.1, -0.2], vec![0.3, 0.4]));
+            assert!(
+                (a[0] - 0.1).abs() < 1e-14 && (a[1] + 0.3).abs() < 1e-14,
+                "{method:?}: a_0 = {a:?}"
+            );
+        }
+    }
+
+    /// A DOF without mass is allowed when the run starts at rest and unloaded (a_0 = 0): the
+    /// effective matrix holds its stiffness. With C = 0 and no mass, that DOF's row of the
+    /// equation of motion is static at every step: −q_1 + q_2 = f_2(t) (for generalized-α the
+    /// balance at t_{n+1−α_f} interpolates q and f alike, so with f linear in t it holds at the
+    /// step times too).
+    #[test]
+    fn a_massless_dof_at_rest_follows_its_static_balance() {
+        let m = Mat::<f64>::from_fn(2, 2, |i, j| if i == 0 && j == 0 { 1.0 } else { 0.0 });
+        let c = Mat::<f64>::zeros(2, 2);
+        let k = Mat::<f64>::from_fn(2, 2, |i, j| [[2.0, -1.0], [-1.0, 1.0]][i][j]);
+        let sys = LinearSystem {
+            mass: m.as_ref(),
+            damping: c.as_ref(),
+            stiffness: k.as_ref(),
+        };
+        for (method, _) in METHODS {
+            let mut balance: f64 = 0.0;
+            let mut a0 = None;
+            integrate(
+                sys,
+                method,
+                0.01,
+                50,
+                &[0.0, 0.0],
+                &[0.0, 0.0],
+                |t, f| f.copy_from_slice(&[0.0, t]),
+                |s| {
+                    a0.get_or_insert_with(|| s.a.to_vec());
+                    balance = balance.max((s.q[1] - s.q[0] - s.time).abs());
+                },
+            )
+            .unwrap();
+            assert_eq!(a0.unwrap(), vec![0.0, 0.0], "{method:?}");
+            assert!(balance < 1e-12, "{method:?}: static row off by {balance:e}");
+        }
+    }
+
+    /// A load that turns non-finite stops the run at the step it spoils, with that step's time.
+    #[test]
+    fn a_non_finite_solution_stops_the_run() {
+        let (mm, cm, km) = (one(1.0), one(0.0), one(1.0));
+        let sys = LinearSystem {
+            mass: mm.as_ref(),
+            damping: cm.as_ref(),
+            stiffness: km.as_ref(),
+        };
+        for (method, _) in METHODS {
+            let result = integrate(
+                sys,
+                method,
+                0.25,
+                3,
+                &[1.0],
+                &[0.0],
+                |t, f| f[0] = if t > 0.0 { f64::NAN } else { 0.0 },
+                |_| {},
+            );
+            assert_eq!(
+                result,
+                Err(IntegrationError::NonFinite {
+                    step: 1,
+                    time: 0.25
+                }),
+                "{method:?}"
+            );
+        }
+    }
+
+    /// The singularity test of the dense effective/mass matrix is relative: a mass whose
+    /// condition number is about 2/ε = 9e15 is refused whether its entries are of order 1e3 or
+    /// 1e-3, and a well-conditioned one with tiny entries (1e-6 I) is accepted.
+    #[test]
+    fn numerical_singularity_is_judged_relative_to_the_matrix_scale() {
+        let k = Mat::<f64>::identity(2, 2);
+        let c = Mat::<f64>::zeros(2, 2);
+        let start = |m: &Mat<f64>| {
+            let sys = LinearSystem {
+                mass: m.as_ref(),
+                damping: c.as_ref(),
+                stiffness: k.as_ref(),
+            };
+            integrate(
+                sys,
+                Method::Bdf1,
+                0.1,
+                1,
+                &[1.0, 0.0],
+                &[0.0, 0.0],
+                |_, f| f.fill(0.0),
+                |_| {},
+            )
+        };
+        let delta = 2.0 * f64::EPSILON;
+        for scale in [1e3, 1e-3] {
+            let nearly_singular = Mat::<f64>::from_fn(2, 2, |i, j| {
+                scale * if i + j == 2 { 1.0 + delta } else { 1.0 }
+            });
+            assert_eq!(
+                start(&nearly_singular),
+                Err(IntegrationError::Singular("mass")),
+                "scale {scale}"
+            );
+        }
+        let tiny = Mat::<f64>::identity(2, 2) * faer::Scale(1e-6);
+        assert_eq!(start(&tiny), Ok(()));
+    }
 }
