@@ -30,6 +30,9 @@ if [ ! -d "$target" ] && [ -d target/debug ]; then
     mkdir -p "$target"
     cp -al target/debug "$target/debug"
     find "$target/debug" -depth -name '*paraflex*' -exec rm -rf {} +
+    # cargo's lock on the build directory must be a file of its own, or each tree waits for the
+    # other's builds
+    rm -f "$target/debug/.cargo-lock"
 fi
 
 # Pure message formatting is not numerics: Display and Debug implementations are not mutated.
