@@ -56,6 +56,19 @@ class Module:
             merged.update(run.outcomes)
         return merged
 
+    def killed_later(self) -> dict[str, Path]:
+        """Mutants a run missed and a later run caught, with the log of the run that caught them."""
+        runs = [self.first, *self.reruns]
+        killed = {}
+        for i, run in enumerate(runs):
+            for name, outcome in run.outcomes.items():
+                if outcome != "MissedMutant":
+                    continue
+                later = [r for r in runs[i + 1 :] if name in r.outcomes]
+                if later and later[-1].outcomes[name] == "CaughtMutant":
+                    killed[name] = later[-1].logs[name]
+        return killed
+
     def counts(self) -> dict[str, int]:
         final = self.final()
         return {o: sum(1 for v in final.values() if v == o) for o in OUTCOMES}
@@ -144,55 +157,63 @@ def ratio(counts: dict[str, int]) -> str:
     return f"{100.0 * counts['CaughtMutant'] / viable:.1f} %" if viable else "—"
 
 
+def split_name(name: str) -> tuple[str, str]:
+    """`file:line:col: description` → (`line:col`, description)."""
+    if ": " not in name:
+        return "", name
+    place, what = name.split(": ", 1)
+    return place.split(":", 1)[1], what
+
+
 def render(modules: list[Module], explanations: dict[str, str], order: list[str]) -> tuple[str, int]:
     """The page's generated part, and the number of unexplained missed mutants."""
     rank = {f: i for i, f in enumerate(order)}
     modules = sorted(modules, key=lambda m: (rank.get(m.file, len(rank)), m.file))
     lines = [
-        "| module | mutants tested | caught | missed | timeout | unviable | caught ratio | first run: caught / missed |",
+        "| module | mutants tested | caught | missed | timeout | unviable | caught ratio | missed before the new tests |",
         "|---|---|---|---|---|---|---|---|",
     ]
     for m in modules:
-        c, first = m.counts(), m.first.outcomes.values()
-        first_caught = sum(1 for v in first if v == "CaughtMutant")
-        first_missed = sum(1 for v in first if v == "MissedMutant")
-        tested = f"{sum(c.values())}" if m.first.finished else f"{sum(c.values())} of {m.first.planned}"
+        c, final = m.counts(), m.final()
+        tested = f"{len(final)}" if len(final) >= m.first.planned else f"{len(final)} of {m.first.planned}"
         lines.append(
             f"| `{m.file}` | {tested} | {c['CaughtMutant']} | {c['MissedMutant']} | {c['Timeout']} "
-            f"| {c['Unviable']} | {ratio(c)} | {first_caught} / {first_missed} |"
+            f"| {c['Unviable']} | {ratio(c)} | {len(m.killed_later())} |"
         )
     unexplained = 0
     for m in modules:
         lines += ["", f"### `{m.file}`", ""]
-        for label, run in [("Run", m.first)] + [("Rerun of the missed mutants", r) for r in m.reruns]:
+        for label, run in [("Run", m.first)] + [("Rerun", r) for r in m.reruns]:
             done = "" if run.finished else f", stopped after {len(run.outcomes)} of its {run.planned} mutants"
             lines.append(f"{label} at commit {run.commit} (cargo-mutants {run.version}{done}):")
             lines += ["", "```sh", run.command, "```", ""]
         final = m.final()
-        missed_first = [n for n, o in m.first.outcomes.items() if o == "MissedMutant"]
+        if len(final) < m.first.planned:
+            lines += [f"{m.first.planned - len(final)} mutants of the file were not tested (the run was stopped).", ""]
+        killed = m.killed_later()
+        missed = [n for n, o in final.items() if o == "MissedMutant"]
         timeouts = [n for n, o in final.items() if o == "Timeout"]
-        if not missed_first and not timeouts:
-            lines.append("Every viable mutant was caught by the first run.")
-        for name in missed_first:
-            short = name.split(": ", 1)[1] if ": " in name else name
-            where = name.split(": ", 1)[0].split(":", 1)[1] if ": " in name else ""
-            if final[name] == "CaughtMutant":
-                log = next(r.logs[name] for r in reversed(m.reruns) if name in r.logs)
-                tests = failing_tests(log)
-                killers = ", ".join(f"`{t}`" for t in tests) if tests else "the rerun's tests"
-                lines.append(f"- line {where}, `{short}`: killed by {killers}")
-            elif name in explanations:
-                lines.append(f"- line {where}, `{short}`: equivalent: {explanations[name]}")
+        if not killed and not missed and not timeouts:
+            lines.append("Every viable mutant tested was caught.")
+        for name, log in killed.items():
+            where, what = split_name(name)
+            tests = failing_tests(log)
+            killers = ", ".join(f"`{t}`" for t in tests) if tests else "the rerun's tests"
+            lines.append(f"- {where} `{what}`: missed, now killed by {killers}")
+        for name in missed:
+            where, what = split_name(name)
+            if name in explanations:
+                lines.append(f"- {where} `{what}`: equivalent: {explanations[name]}")
             else:
                 unexplained += 1
-                lines.append(f"- line {where}, `{short}`: **UNEXPLAINED** (missed, no new test, no equivalence)")
+                lines.append(f"- {where} `{what}`: **UNEXPLAINED** (missed, no new test, no equivalence)")
         for name in timeouts:
-            short = name.split(": ", 1)[1] if ": " in name else name
-            lines.append(f"- timeout: `{short}` (the tests hang on it)")
-    stale = sorted(set(explanations) - {n for m in modules for n in m.final()})
+            where, what = split_name(name)
+            lines.append(f"- {where} `{what}`: timeout (the tests hang on it)")
+    stale = sorted(set(explanations) - {n for m in modules for n, o in m.final().items() if o == "MissedMutant"})
     if stale:
-        lines += ["", "Explanations in `tools/mutants/explained.toml` that match no mutant any more "
-                  "(the code moved; re-check them): " + ", ".join(f"`{s}`" for s in stale)]
+        lines += ["", "Explanations in `tools/mutants/explained.toml` that match no missed mutant any more "
+                  "(the code moved or a test catches it now; re-check them): " + ", ".join(f"`{s}`" for s in stale)]
     return "\n".join(lines) + "\n", unexplained
 
 
