@@ -1116,4 +1116,119 @@ pub(crate) mod tests {
         let tiny = Mat::<f64>::identity(2, 2) * faer::Scale(1e-6);
         assert_eq!(start(&tiny), Ok(()));
     }
+
+    /// Every step of every method satisfies the method's defining equations, checked from the
+    /// observed states of a damped, loaded 2-DOF system started off rest at t0 ≠ 0 (so that
+    /// every term of every update matters):
+    /// - BDF1: v_k = (q_k − q_{k−1})/Δt, a_k = (v_k − v_{k−1})/Δt; BDF2 from its second step:
+    ///   v_k = (3q_k − 4q_{k−1} + q_{k−2})/(2Δt), a_k likewise from v (thesis eq. 2.61 and its
+    ///   second-order sibling); both with M a_k + C v_k + K q_k = f(t_k).
+    /// - Generalized-α (Chung & Hulbert 1993, eqs. 9–11 with α_m, α_f, γ, β from ρ∞, eqs. 25, 17,
+    ///   20): the Newmark updates q_{n+1} = q_n + Δt v_n + Δt²((½−β)a_n + β a_{n+1}),
+    ///   v_{n+1} = v_n + Δt((1−γ)a_n + γ a_{n+1}), and the balance
+    ///   M((1−α_m)a_{n+1} + α_m a_n) + (1−α_f)(C v_{n+1} + K q_{n+1}) + α_f(C v_n + K q_n)
+    ///   = f(t_{n+1} − α_f Δt).
+    #[test]
+    fn every_step_satisfies_the_methods_defining_equations() {
+        let mat = |a: [[f64; 2]; 2]| Mat::<f64>::from_fn(2, 2, |i, j| a[i][j]);
+        let m = mat([[2.0, 0.5], [0.5, 1.0]]);
+        let c = mat([[0.3, -0.1], [-0.1, 0.2]]);
+        let k = mat([[5.0, -2.0], [-2.0, 3.0]]);
+        let sys = LinearSystem {
+            mass: m.as_ref(),
+            damping: c.as_ref(),
+            stiffness: k.as_ref(),
+        };
+        let load = |t: f64| [(3.0 * t).sin(), (2.0 * t).cos()];
+        let times = |a: &Mat<f64>, x: &[f64]| {
+            [
+                a[(0, 0)] * x[0] + a[(0, 1)] * x[1],
+                a[(1, 0)] * x[0] + a[(1, 1)] * x[1],
+            ]
+        };
+        let dt = 0.05;
+        let run = Run {
+            dt,
+            steps: 20,
+            t0: 0.3,
+        };
+        let close = |what: &str, method: Method, step: usize, lhs: [f64; 2], rhs: [f64; 2]| {
+            for i in 0..2 {
+                assert!(
+                    (lhs[i] - rhs[i]).abs() < 1e-10,
+                    "{method:?} step {step}, {what}[{i}]: {} vs {}",
+                    lhs[i],
+                    rhs[i]
+                );
+            }
+        };
+        let methods = [
+            Method::Bdf1,
+            Method::Bdf2,
+            Method::GeneralizedAlpha { rho_inf: 0.0 },
+            Method::GeneralizedAlpha { rho_inf: 0.5 },
+            Method::GeneralizedAlpha { rho_inf: 1.0 },
+        ];
+        for method in methods {
+            let mut states: Vec<(f64, [f64; 2], [f64; 2], [f64; 2])> = Vec::new();
+            integrate_with(
+                &mut Dense::new(sys).unwrap(),
+                method,
+                run,
+                &[0.1, -0.2],
+                &[0.3, 0.4],
+                |t, f| f.copy_from_slice(&load(t)),
+                |s| states.push((s.time, [s.q[0], s.q[1]], [s.v[0], s.v[1]], [s.a[0], s.a[1]])),
+            )
+            .unwrap();
+            assert_eq!(states.len(), 21, "{method:?}");
+            for n in 1..states.len() {
+                let (t, q, v, a) = states[n];
+                let (t_prev, q0, v0, a0) = states[n - 1];
+                assert!((t - (0.3 + n as f64 * dt)).abs() < 1e-14 && t > t_prev);
+                let (cv, kq, ma) = (times(&c, &v), times(&k, &q), times(&m, &a));
+                match method {
+                    Method::Bdf1 | Method::Bdf2 => {
+                        let (vk, ak) = if method == Method::Bdf2 && n >= 2 {
+                            let (_, q00, v00, _) = states[n - 2];
+                            let d = |x: [f64; 2], x1: [f64; 2], x2: [f64; 2]| {
+                                [0, 1].map(|i| (3.0 * x[i] - 4.0 * x1[i] + x2[i]) / (2.0 * dt))
+                            };
+                            (d(q, q0, q00), d(v, v0, v00))
+                        } else {
+                            (
+                                [0, 1].map(|i| (q[i] - q0[i]) / dt),
+                                [0, 1].map(|i| (v[i] - v0[i]) / dt),
+                            )
+                        };
+                        close("v", method, n, v, vk);
+                        close("a", method, n, a, ak);
+                        let balance = [0, 1].map(|i| ma[i] + cv[i] + kq[i]);
+                        close("balance", method, n, balance, load(t));
+                    }
+                    Method::GeneralizedAlpha { rho_inf } => {
+                        let am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
+                        let af = rho_inf / (rho_inf + 1.0);
+                        let gamma = 0.5 - am + af;
+                        let beta = 0.25 * (1.0 - am + af).powi(2);
+                        let q_newmark = [0, 1].map(|i| {
+                            q0[i] + dt * v0[i] + dt * dt * ((0.5 - beta) * a0[i] + beta * a[i])
+                        });
+                        let v_newmark =
+                            [0, 1].map(|i| v0[i] + dt * ((1.0 - gamma) * a0[i] + gamma * a[i]));
+                        close("q", method, n, q, q_newmark);
+                        close("v", method, n, v, v_newmark);
+                        let (cv0, kq0, ma0) = (times(&c, &v0), times(&k, &q0), times(&m, &a0));
+                        let balance = [0, 1].map(|i| {
+                            (1.0 - am) * ma[i]
+                                + am * ma0[i]
+                                + (1.0 - af) * (cv[i] + kq[i])
+                                + af * (cv0[i] + kq0[i])
+                        });
+                        close("balance", method, n, balance, load(t - af * dt));
+                    }
+                }
+            }
+        }
+    }
 }

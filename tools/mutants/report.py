@@ -198,7 +198,9 @@ def render(modules: list[Module], explanations: dict[str, str], order: list[str]
         for name, log in killed.items():
             where, what = split_name(name)
             tests = failing_tests(log)
-            killers = ", ".join(f"`{t}`" for t in tests) if tests else "the rerun's tests"
+            killers = ", ".join(f"`{t}`" for t in tests[:4]) if tests else "the rerun's tests"
+            if len(tests) > 4:
+                killers += f" and {len(tests) - 4} more"
             lines.append(f"- {where} `{what}`: missed, now killed by {killers}")
         for name in missed:
             where, what = split_name(name)
