@@ -7,8 +7,9 @@ replace the earlier ones for the same mutants), the command and commit recorded 
 tools/mutants/explained.toml, where each mutant the tests still miss is explained as equivalent.
 
 Per module: mutants total / caught / missed / timeout / unviable and the caught ratio
-caught / (caught + missed + timeout), i.e. among the mutants that compile. A timeout (the tests
-hang on the mutant) is detected but not by an assertion, so it counts against the ratio. Every
+(caught + timeout) / (caught + missed + timeout), i.e. among the mutants that compile; a timeout
+(a test hangs on the mutant) is a detection, and the report names the tests that had already
+failed by then. Every
 mutant missed by the first run is listed with the tests that catch it now (read from the rerun's
 log: the new tests) or with its equivalence argument; one that is neither is flagged
 "UNEXPLAINED", and the script exits with status 1 so that the habit cannot silently lapse.
@@ -154,7 +155,19 @@ def load_explanations(path: Path) -> dict[str, str]:
 
 def ratio(counts: dict[str, int]) -> str:
     viable = counts["CaughtMutant"] + counts["MissedMutant"] + counts["Timeout"]
-    return f"{100.0 * counts['CaughtMutant'] / viable:.1f} %" if viable else "—"
+    detected = counts["CaughtMutant"] + counts["Timeout"]
+    return f"{100.0 * detected / viable:.1f} %" if viable else "—"
+
+
+def failed_before_timeout(log: Path) -> list[str]:
+    """Tests that cargo test had already reported FAILED when a hang stopped the run."""
+    if not log.exists():
+        return []
+    return [
+        line.split()[1]
+        for line in log.read_text(errors="replace").splitlines()
+        if line.startswith("test ") and line.rstrip().endswith("... FAILED")
+    ]
 
 
 def split_name(name: str) -> tuple[str, str]:
@@ -211,7 +224,10 @@ def render(modules: list[Module], explanations: dict[str, str], order: list[str]
                 lines.append(f"- {where} `{what}`: **UNEXPLAINED** (missed, no new test, no equivalence)")
         for name in timeouts:
             where, what = split_name(name)
-            lines.append(f"- {where} `{what}`: timeout (the tests hang on it)")
+            log = next(r.logs[name] for r in reversed([m.first, *m.reruns]) if name in r.logs)
+            failed = failed_before_timeout(log)
+            also = f"; before that, failed: {', '.join(f'`{t}`' for t in failed)}" if failed else ""
+            lines.append(f"- {where} `{what}`: timeout (a test hangs on it){also}")
     stale = sorted(set(explanations) - {n for m in modules for n, o in m.final().items() if o == "MissedMutant"})
     if stale:
         lines += ["", "Explanations in `tools/mutants/explained.toml` that match no missed mutant any more "
