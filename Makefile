@@ -98,14 +98,15 @@ bench-estimate: deps
 # `nice` on one job), so not part of `make test`: run it on the kernels a change touches, e.g.
 # `make mutants MUTANTS_FILES=src/linalg/cholesky.rs`.
 MUTANTS_VERSION := 27.1.0
-MUTANTS_FILES := src/dynamics/integrators.rs src/linalg/cholesky.rs src/linalg/eigen.rs \
+MUTANTS_KERNELS := src/dynamics/integrators.rs src/linalg/cholesky.rs src/linalg/eigen.rs \
 	src/estimate/filter.rs src/estimate/ekf.rs src/fe/solid.rs src/fe/shell.rs \
 	src/assembly/constraints.rs
+MUTANTS_FILES ?= $(MUTANTS_KERNELS)
 mutants: sysdeps
 	@$(CARGO) mutants --version 2>/dev/null | grep -qx 'cargo-mutants $(MUTANTS_VERSION)' || \
 		$(CARGO) install --locked cargo-mutants --version $(MUTANTS_VERSION)
 	bash tools/mutants/run.sh $(MUTANTS_FILES)
-	python3 tools/mutants/report.py $(MUTANTS_FILES)
+	python3 tools/mutants/report.py $(MUTANTS_KERNELS)
 
 # The independent multibody peer: Exudyn (installed into the venv here only; not a dependency
 # of paraflex or its tests) runs the rigid four-bar (reference/exudyn/fourbar_rigid.json) and

@@ -193,6 +193,9 @@ def render(modules: list[Module], explanations: dict[str, str], order: list[str]
             f"| `{m.file}` | {tested} | {c['CaughtMutant']} | {c['MissedMutant']} | {c['Timeout']} "
             f"| {c['Unviable']} | {ratio(c)} | {len(m.killed_later())} |"
         )
+    for file in order:
+        if file not in {m.file for m in modules}:
+            lines.append(f"| `{file}` | not run yet | | | | | | |")
     unexplained = 0
     for m in modules:
         lines += ["", f"### `{m.file}`", ""]
