@@ -1170,7 +1170,7 @@ pub(crate) mod tests {
             Method::GeneralizedAlpha { rho_inf: 1.0 },
         ];
         for method in methods {
-            let mut states: Vec<(f64, [f64; 2], [f64; 2], [f64; 2])> = Vec::new();
+            let mut states = Vec::new();
             integrate_with(
                 &mut Dense::new(sys).unwrap(),
                 method,
