@@ -13,7 +13,7 @@ DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcurso
 	libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1
 
 .PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient bench-estimate \
-	reference-exudyn exudyn-plot fourbar-plots clean
+	reference-exudyn exudyn-plot fourbar-plots mutants clean
 
 demo: deps
 	$(CARGO) build --release --quiet
@@ -90,6 +90,23 @@ bench-estimate: deps
 	done && bench=$(or $(CARGO_TARGET_DIR),target)/release/examples/estimate_bench && \
 	$$bench $$tmp/blade_prom_sensors.h5 && $$bench $$tmp/blade_prom_clamped.h5 && \
 	$$bench $$tmp/blade_prom_sensors_small.h5 3 $$tmp/blade_prom_sensors.h5; rc=$$?; rm -rf $$tmp; exit $$rc
+
+# Mutation testing of the numerical kernels (docs/mutation-testing.md): cargo-mutants plants
+# small bugs in each file of MUTANTS_FILES and checks that the file's tests
+# (tools/mutants/modules.tsv) catch them; tools/mutants/report.py writes the caught ratios and
+# the account of every survivor into the docs. Slow (one incremental build per mutant, run under
+# `nice` on one job), so not part of `make test`: run it on the kernels a change touches, e.g.
+# `make mutants MUTANTS_FILES=src/linalg/cholesky.rs`.
+MUTANTS_VERSION := 27.1.0
+MUTANTS_KERNELS := src/dynamics/integrators.rs src/linalg/cholesky.rs src/linalg/eigen.rs \
+	src/estimate/filter.rs src/estimate/ekf.rs src/fe/solid.rs src/fe/shell.rs \
+	src/assembly/constraints.rs
+MUTANTS_FILES ?= $(MUTANTS_KERNELS)
+mutants: sysdeps
+	@$(CARGO) mutants --version 2>/dev/null | grep -qx 'cargo-mutants $(MUTANTS_VERSION)' || \
+		$(CARGO) install --locked cargo-mutants --version $(MUTANTS_VERSION)
+	bash tools/mutants/run.sh $(MUTANTS_FILES)
+	python3 tools/mutants/report.py $(MUTANTS_KERNELS)
 
 # The independent multibody peer: Exudyn (installed into the venv here only; not a dependency
 # of paraflex or its tests) runs the rigid four-bar (reference/exudyn/fourbar_rigid.json) and

@@ -1,0 +1,95 @@
+"""tools/mutants/report.py on hand-made cargo-mutants output: a first run and a rerun."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+SCRIPT = Path(__file__).resolve().parents[1] / "mutants" / "report.py"
+FILE = "src/k.rs"
+MISSED_THEN_KILLED = f"{FILE}:3:5: replace + with - in f"
+EQUIVALENT = f"{FILE}:4:9: replace < with <= in f"
+UNEXPLAINED = f"{FILE}:5:9: replace * with / in f"
+CAUGHT = f"{FILE}:6:1: replace f -> f64 with 0.0"
+HANG = f"{FILE}:7:2: delete ! in g"
+UNVIABLE = f"{FILE}:8:2: replace g -> usize with 1"
+
+CAUGHT_LOG = """running 3 tests
+test k::tests::new_test ... FAILED
+failures:
+
+---- k::tests::new_test stdout ----
+assertion failed
+
+failures:
+    k::tests::new_test
+    k::tests::other_test
+
+test result: FAILED. 1 passed; 2 failed
+"""
+HANG_LOG = "test k::tests::fast ... ok\ntest k::tests::slow_check ... FAILED\n*** result: Timeout\n"
+
+
+def write_run(directory: Path, outcomes: dict[str, str], planned: int, finished: bool, logs=None) -> None:
+    out = directory / "mutants.out"
+    (out / "log").mkdir(parents=True)
+    entries = [{"scenario": "Baseline", "summary": "Success", "log_path": "log/baseline.log"}]
+    for i, (name, summary) in enumerate(outcomes.items()):
+        log = f"log/m{i}.log"
+        (out / log).write_text((logs or {}).get(name, ""))
+        entries.append({"scenario": {"Mutant": {"name": name}}, "summary": summary, "log_path": log})
+    (out / "outcomes.json").write_text(json.dumps({
+        "outcomes": entries, "cargo_mutants_version": "27.1.0",
+        "end_time": "2026-01-01T00:00:00Z" if finished else None,
+    }))
+    (out / "mutants.json").write_text(json.dumps([{} for _ in range(planned)]))
+    (directory / "command.txt").write_text("cargo mutants --file src/k.rs")
+    (directory / "commit.txt").write_text("abc1234")
+
+
+def run_report(tmp_path: Path, explained: str) -> tuple[int, str]:
+    doc = tmp_path / "page.md"
+    doc.write_text("intro\n<!-- mutants report: begin (tools/mutants/report.py) -->\nold\n"
+                   "<!-- mutants report: end -->\ntail\n")
+    (tmp_path / "explained.toml").write_text(explained)
+    done = subprocess.run(
+        [sys.executable, str(SCRIPT), "--out-dir", str(tmp_path / "out"), "--explained",
+         str(tmp_path / "explained.toml"), "--doc", str(doc), FILE, "src/other.rs"],
+        capture_output=True, text=True,
+    )
+    return done.returncode, doc.read_text()
+
+
+def make_runs(tmp_path: Path) -> None:
+    write_run(tmp_path / "out" / "k", {
+        MISSED_THEN_KILLED: "MissedMutant", EQUIVALENT: "MissedMutant", UNEXPLAINED: "MissedMutant",
+        CAUGHT: "CaughtMutant", UNVIABLE: "Unviable",
+    }, planned=7, finished=False)
+    write_run(tmp_path / "out" / "k-rerun-20260101T000000", {
+        MISSED_THEN_KILLED: "CaughtMutant", EQUIVALENT: "MissedMutant", UNEXPLAINED: "MissedMutant",
+        HANG: "Timeout",
+    }, planned=5, finished=False, logs={MISSED_THEN_KILLED: CAUGHT_LOG, HANG: HANG_LOG})
+
+
+def test_counts_ratio_and_the_account_of_every_missed_mutant(tmp_path: Path):
+    make_runs(tmp_path)
+    code, page = run_report(tmp_path, f'[[mutant]]\nname = "{EQUIVALENT}"\nequivalent = "same values"\n')
+    assert code == 1  # one missed mutant has neither a killing test nor an equivalence
+    assert page.startswith("intro\n") and page.endswith("<!-- mutants report: end -->\ntail\n")
+    assert "old" not in page
+    # 6 of 7 tested; caught 2 (one after the rerun), missed 2, timeout 1, unviable 1;
+    # ratio (2 + 1) / (2 + 2 + 1) = 60 %; one mutant was missed before the new tests
+    assert "| `src/k.rs` | 6 of 7 | 2 | 2 | 1 | 1 | 60.0 % | 1 |" in page
+    assert "| `src/other.rs` | not run yet |" in page
+    assert "3:5 `replace + with - in f`: missed, now killed by `k::tests::new_test`, `k::tests::other_test`" in page
+    assert "4:9 `replace < with <= in f`: equivalent: same values" in page
+    assert "5:9 `replace * with / in f`: **UNEXPLAINED**" in page
+    assert "7:2 `delete ! in g`: timeout (a test hangs on it); before that, failed: `k::tests::slow_check`" in page
+    assert "stopped after 5 of its 7 mutants" in page and "Rerun at commit abc1234" in page
+
+
+def test_every_missed_mutant_explained_passes(tmp_path: Path):
+    make_runs(tmp_path)
+    explained = "".join(f'[[mutant]]\nname = "{n}"\nequivalent = "why"\n' for n in (EQUIVALENT, UNEXPLAINED))
+    code, page = run_report(tmp_path, explained)
+    assert code == 0
+    assert "UNEXPLAINED" not in page and "match no missed mutant" not in page
