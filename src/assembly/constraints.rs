@@ -53,7 +53,6 @@ use super::error::AssemblyError;
 use super::frames::GridFrames;
 use crate::card_values::Dofs;
 use crate::deck::cards::MpcTerm;
-use crate::model::sets::SetError;
 use crate::model::{Model, RigidKind, WeightedGroup};
 
 /// Relative pivot tolerance of the 6 × 6 RBE3 fit.
@@ -220,23 +219,9 @@ impl RigidElimination {
 
 /// One relation per MPC card of `MPC = sid`.
 fn mpc_relations(model: &Model, sid: u32) -> Result<Vec<Relation>, AssemblyError> {
-    let cards = model.mpc_set(sid).map_err(|e| match e {
-        SetError::Empty => AssemblyError::NoConstraintSet {
-            selection: "MPC",
-            cards: "MPC/MPCADD",
-            sid,
-        },
-        SetError::Nested(s) => AssemblyError::BadUnion {
-            card: "MPCADD",
-            sid,
-            reason: format!("S = {s} is itself an MPCADD (nested MPCADD is not allowed)"),
-        },
-        SetError::Missing(s) => AssemblyError::BadUnion {
-            card: "MPCADD",
-            sid,
-            reason: format!("S = {s} selects no MPC set"),
-        },
-    })?;
+    let cards = model
+        .mpc_set(sid)
+        .map_err(|e| AssemblyError::unresolved_set(e, "MPC", "MPC", "MPCADD", sid))?;
     cards
         .into_iter()
         .map(|card| {

@@ -3,6 +3,8 @@
 
 use thiserror::Error;
 
+use crate::model::sets::SetError;
+
 /// A DOF as the user knows it: GRID id and component 1–6.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct DofName {
@@ -50,7 +52,7 @@ pub enum AssemblyError {
     #[error("{selection} = {sid} selects no {cards} set {sid}")]
     NoConstraintSet {
         selection: &'static str,
-        cards: &'static str,
+        cards: String,
         sid: u32,
     },
     /// SPCADD / MPCADD references another union (not allowed, as in Nastran) or a missing set.
@@ -90,4 +92,34 @@ pub enum AssemblyError {
     /// Affine parts of one operator that do not share its pattern.
     #[error("matrix pattern differs from the operator's pattern ({what})")]
     PatternMismatch { what: &'static str },
+}
+
+impl AssemblyError {
+    /// The error of a selected constraint set `selection = sid` that cannot be resolved:
+    /// `members` are the cards of a plain set (`SPC/SPC1`), `union` the card that unites sets.
+    pub fn unresolved_set(
+        e: SetError,
+        selection: &'static str,
+        members: &str,
+        union: &'static str,
+        sid: u32,
+    ) -> Self {
+        match e {
+            SetError::Empty => AssemblyError::NoConstraintSet {
+                selection,
+                cards: format!("{members}/{union}"),
+                sid,
+            },
+            SetError::Nested(s) => AssemblyError::BadUnion {
+                card: union,
+                sid,
+                reason: format!("S = {s} is itself an {union} (nested {union} is not allowed)"),
+            },
+            SetError::Missing(s) => AssemblyError::BadUnion {
+                card: union,
+                sid,
+                reason: format!("S = {s} selects no {members} set"),
+            },
+        }
+    }
 }

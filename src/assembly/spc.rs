@@ -28,7 +28,6 @@ use super::dofs::{DofMap, DofSet};
 use super::error::{AssemblyError, DofName};
 use crate::card_values::Dofs;
 use crate::model::Model;
-use crate::model::sets::SetError;
 
 /// AUTOSPC threshold: a diagonal ≤ ratio × the largest diagonal of its grid's translation or
 /// rotation triple counts as "no stiffness" (Nastran's EPZERO default).
@@ -70,23 +69,9 @@ impl SpcSet {
             }
         }
         let Some(sid) = sid else { return Ok(out) };
-        let entries = model.spc_set(sid).map_err(|e| match e {
-            SetError::Empty => AssemblyError::NoConstraintSet {
-                selection: "SPC",
-                cards: "SPC/SPC1/SPCADD",
-                sid,
-            },
-            SetError::Nested(s) => AssemblyError::BadUnion {
-                card: "SPCADD",
-                sid,
-                reason: format!("S = {s} is itself an SPCADD (nested SPCADD is not allowed)"),
-            },
-            SetError::Missing(s) => AssemblyError::BadUnion {
-                card: "SPCADD",
-                sid,
-                reason: format!("S = {s} selects no SPC/SPC1 set"),
-            },
-        })?;
+        let entries = model
+            .spc_set(sid)
+            .map_err(|e| AssemblyError::unresolved_set(e, "SPC", "SPC/SPC1", "SPCADD", sid))?;
         for entry in &entries {
             let card = format!("{} {}", entry.card.name(), entry.set);
             for &g in &entry.grids {

@@ -289,7 +289,7 @@ fn spcadd_union_and_errors() {
         SpcSet::of_model(&m, &map, Some(99)).unwrap_err(),
         AssemblyError::NoConstraintSet {
             selection: "SPC",
-            cards: "SPC/SPC1/SPCADD",
+            cards: "SPC/SPC1/SPCADD".to_string(),
             sid: 99
         }
     );

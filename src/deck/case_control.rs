@@ -710,7 +710,12 @@ mod tests {
     /// PARAM in case control takes commas or blanks between its fields.
     #[test]
     fn case_control_param_fields_may_be_blank_separated() {
-        let (cc, d) = read(&["PARAM,POST,-1", "param post 0", "PARAM, G , 0.02", "PARAM X"]);
+        let (cc, d) = read(&[
+            "PARAM,POST,-1",
+            "param post 0",
+            "PARAM, G , 0.02",
+            "PARAM X",
+        ]);
         let got: Vec<(&str, &str)> = cc
             .params
             .iter()
