@@ -31,6 +31,7 @@ const MODEL_LAYER: &[&str] = &[
     "duplicate_element.dat",
     "duplicate_grid.dat",
     "fmb_drive_on_spherical.dat",
+    "fmb_jforce_on_inline.dat",
     "fmb_marker_grid_on_rigid.dat",
     "fmb_marker_unknown_body.dat",
     "fmb_pose_unknown_drive.dat",

@@ -184,6 +184,15 @@ impl JointType {
             .map_or("?", |(n, _)| n)
     }
 
+    /// Whether its first three equations make the two markers' points coincide, so that their
+    /// multipliers are the joint's reaction force (what an `MSENSOR JFORCE` reads).
+    pub fn makes_points_coincide(self) -> bool {
+        matches!(
+            self,
+            JointType::Revolute | JointType::Fixed | JointType::Spherical | JointType::Universal
+        )
+    }
+
     /// Whether a drive or a joint spring-damper can act on its relative coordinate.
     pub fn has_coordinate(self) -> bool {
         matches!(self, JointType::Revolute | JointType::Prismatic)

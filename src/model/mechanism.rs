@@ -714,6 +714,18 @@ pub fn build(
                         format!("REF = {reference} does not exist (no JOINT {reference})"),
                     ));
                 }
+                if let Some(kind) = j.map(|j| m.joints[j].kind)
+                    && s.kind == MsensorKind::Jforce
+                    && !kind.makes_points_coincide()
+                {
+                    errors.push(e(
+                        "field 6 (REF)",
+                        format!(
+                            "JOINT {reference} is {}: JFORCE reads the reaction force of joints that make two points coincide (REV, FIX, SPH, UNIV)",
+                            kind.keyword()
+                        ),
+                    ));
+                }
                 if s.kind == MsensorKind::Jtorq
                     && j.is_some_and(|j| !m.drives.iter().any(|d| d.joint == j))
                 {
