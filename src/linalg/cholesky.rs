@@ -822,6 +822,43 @@ pub(crate) mod tests {
         );
     }
 
+    /// A matrix whose columns hold as many entries as the analysed pattern's, in other rows,
+    /// is refused: the column offsets alone do not identify a pattern.
+    #[test]
+    fn same_column_counts_in_other_rows_are_a_pattern_mismatch() {
+        let full = |entries: &[(usize, usize)]| {
+            let mut coo = CooMatrix::new(3, 3);
+            for &(i, j) in entries {
+                coo.push(i, j, if i == j { 4.0 } else { 1.0 });
+            }
+            CscMatrix::from(&coo)
+        };
+        let a = full(&[(0, 0), (1, 0), (0, 1), (1, 1), (2, 2)]);
+        let b = full(&[(0, 0), (2, 0), (1, 1), (2, 1), (2, 2)]);
+        let sym = SymbolicFactor::analyze(a.pattern()).unwrap();
+        assert_eq!(a.col_offsets(), b.col_offsets());
+        assert_ne!(a.row_indices(), b.row_indices());
+        assert!(matches!(
+            sym.factor_llt(&b, Par::Seq),
+            Err(LinalgError::PatternMismatch { .. })
+        ));
+    }
+
+    /// The reported pivot ratio is a_kk / l_kk²: for [[4, 2], [2, 2]], L = [[2, 0], [1, 1]], the
+    /// ratios are 4/4 and 2/1, so the worst is 2 at the second row.
+    #[test]
+    fn pivot_ratio_is_the_diagonal_over_the_squared_pivot() {
+        let mut coo = CooMatrix::new(2, 2);
+        for (i, j, v) in [(0, 0, 4.0), (1, 0, 2.0), (0, 1, 2.0), (1, 1, 2.0)] {
+            coo.push(i, j, v);
+        }
+        let a = CscMatrix::from(&coo);
+        let sym = SymbolicFactor::analyze(a.pattern()).unwrap();
+        let worst = sym.factor_llt(&a, Par::Seq).unwrap().max_pivot_ratio();
+        assert!((worst.ratio - 2.0).abs() < 1e-14, "{worst:?}");
+        assert_eq!(worst.index, 1);
+    }
+
     /// One symbolic object, factors of K and K − σM computed in parallel threads, equal to the
     /// factors of fresh analyses.
     #[test]
