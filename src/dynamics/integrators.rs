@@ -966,15 +966,23 @@ pub(crate) mod tests {
         }
     }
 
+    /// M, C, K of a coupled 2-DOF system with every entry non-zero: M = [[2, 0.5], [0.5, 1]],
+    /// C = [[0.3, −0.1], [−0.1, 0.2]], K = [[5, −2], [−2, 3]].
+    fn coupled_two_dof() -> [Mat<f64>; 3] {
+        let mat = |a: [[f64; 2]; 2]| Mat::<f64>::from_fn(2, 2, |i, j| a[i][j]);
+        [
+            mat([[2.0, 0.5], [0.5, 1.0]]),
+            mat([[0.3, -0.1], [-0.1, 0.2]]),
+            mat([[5.0, -2.0], [-2.0, 3.0]]),
+        ]
+    }
+
     /// The observer's step 0 is the initial state with a_0 = M⁻¹(f(t0) − C v_0 − K q_0), on a
     /// coupled 2-DOF system whose every input is non-zero. By hand: f − Cv − Kq = (0.05, −0.25)
     /// and M⁻¹ = [[1, −0.5], [−0.5, 2]] / 1.75, so a_0 = (0.1, −0.3).
     #[test]
     fn step_zero_carries_the_acceleration_of_the_equation_of_motion() {
-        let mat = |a: [[f64; 2]; 2]| Mat::<f64>::from_fn(2, 2, |i, j| a[i][j]);
-        let m = mat([[2.0, 0.5], [0.5, 1.0]]);
-        let c = mat([[0.3, -0.1], [-0.1, 0.2]]);
-        let k = mat([[5.0, -2.0], [-2.0, 3.0]]);
+        let [m, c, k] = coupled_two_dof();
         let sys = LinearSystem {
             mass: m.as_ref(),
             damping: c.as_ref(),
@@ -1130,10 +1138,7 @@ pub(crate) mod tests {
     ///   = f(t_{n+1} − α_f Δt).
     #[test]
     fn every_step_satisfies_the_methods_defining_equations() {
-        let mat = |a: [[f64; 2]; 2]| Mat::<f64>::from_fn(2, 2, |i, j| a[i][j]);
-        let m = mat([[2.0, 0.5], [0.5, 1.0]]);
-        let c = mat([[0.3, -0.1], [-0.1, 0.2]]);
-        let k = mat([[5.0, -2.0], [-2.0, 3.0]]);
+        let [m, c, k] = coupled_two_dof();
         let sys = LinearSystem {
             mass: m.as_ref(),
             damping: c.as_ref(),
