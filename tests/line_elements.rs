@@ -412,3 +412,117 @@ fn nu_parameter_on_a_shear_flexible_beam_is_refused() {
     assert!(message.contains("CBEAM 1"), "{message}");
     assert!(message.contains("not affine in E and G"), "{message}");
 }
+
+/// PLOAD1 on a cantilever of four CBARs in the x-y plane at 30° to x (clamped at grid 1,
+/// orientation vector n = (−sin α, cos α, 0), so element y = n and element z = basic z): the
+/// tip displacement under each load against the closed form of Euler–Bernoulli beam theory
+/// (Roark, Table 8.1 cases 1a, 2a, 2b and 3a; distributed moment by integrating M(x) = m (L − x)).
+/// Consistent loads make the cubic element exact at its nodes, so 1e-9 is round-off.
+#[test]
+fn pload1_loads_bend_the_cantilever_like_closed_forms() {
+    let alpha = std::f64::consts::PI / 6.0;
+    let (x, n) = (
+        [alpha.cos(), alpha.sin(), 0.0],
+        [-alpha.sin(), alpha.cos(), 0.0],
+    );
+    let z = [0.0, 0.0, 1.0];
+    let (l, a, i1, i2) = (2.0, 6.0e-4, 2.0e-8, 4.5e-8);
+    let h = l / 4.0;
+    let elements: String = (1..=4)
+        .map(|i| format!("CBAR,{i},10,{i},{},{:?},{:?},0.\n", i + 1, n[0], n[1]))
+        .collect();
+    let mesh = format!(
+        "{}{elements}PBAR,10,1,{a:e},{i1:e},{i2:e},1.e-8\n",
+        grids(4, [0.0; 3], x, l, "")
+    );
+    let tip = |loads: &str, dir: [f64; 3]| -> f64 {
+        let u = statics(&format!("{mesh}{loads}"));
+        (0..3).map(|c| u[4 * 6 + c] * dir[c]).sum()
+    };
+    let each = |f: &dyn Fn(usize) -> String| (1..=4).map(f).collect::<String>();
+    let (q, p, m) = (30.0, 150.0, 8.0);
+    // uniform force along element y, in fractions: q L⁴ / (8 E I1)
+    let uniform = each(&|i| format!("PLOAD1,2,{i},FYE,FR,0.,{q:?},1.,{q:?}\n"));
+    close(tip(&uniform, n), q * l.powi(4) / (8.0 * E * i1), 1e-9);
+    // triangular force, q at the root and 0 at the tip, in lengths: q L⁴ / (30 E I1)
+    let triangle = each(&|i| {
+        let (qa, qb) = (q * (1.0 - (i - 1) as f64 / 4.0), q * (1.0 - i as f64 / 4.0));
+        format!("PLOAD1,2,{i},FYE,LE,0.,{qa:?},{h:?},{qb:?}\n")
+    });
+    close(tip(&triangle, n), q * l.powi(4) / (30.0 * E * i1), 1e-9);
+    // a concentrated basic FZ at 0.3 of element 2 (a = 1.3 h): P a² (3 L − a) / (6 E I2)
+    let at = 1.3 * h;
+    let point = format!("PLOAD1,2,2,FZ,FR,0.3,{p:?}\n");
+    close(
+        tip(&point, z),
+        p * at * at * (3.0 * l - at) / (6.0 * E * i2),
+        1e-9,
+    );
+    // a uniform moment about element z: M(x) = m (L − x), tip m L³ / (3 E I1)
+    let moment = each(&|i| format!("PLOAD1,2,{i},MZE,FR,0.,{m:?},1.\n"));
+    close(tip(&moment, n), m * l.powi(3) / (3.0 * E * i1), 1e-9);
+    // a moment about element y at the tip: θ_y = −w′, so the tip moves by −M L² / (2 E I2) along z
+    let end_moment = format!("PLOAD1,2,4,MYE,LE,{h:?},{m:?}\n");
+    close(tip(&end_moment, z), -m * l * l / (2.0 * E * i2), 1e-9);
+    // basic FY per unit projected length: q cos α per unit length, q cos² α across the axis and
+    // q cos α sin α along it, so u_y = q cos³α L⁴/(8 E I1) + q cos α sin² α L²/(2 E A)
+    let projected = each(&|i| format!("PLOAD1,2,{i},FY,FRPR,0.,{q:?},1.\n"));
+    let (c, s) = (alpha.cos(), alpha.sin());
+    close(
+        tip(&projected, [0.0, 1.0, 0.0]),
+        q * c.powi(3) * l.powi(4) / (8.0 * E * i1) + q * c * s * s * l * l / (2.0 * E * a),
+        1e-9,
+    );
+}
+
+/// PLOAD1 that cannot act: `paraflex check` names file:line, card and what is wrong.
+#[test]
+fn bad_pload1_cards_are_reported() {
+    let bar =
+        "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nCBAR,1,10,1,2,0.,1.,0.\nPBAR,10,1,1.e-4,1.e-8,1.e-8\n";
+    let cases = [
+        (
+            "CROD,2,11,1,2\nPROD,11,1,1.e-4\nPLOAD1,3,2,FY,FR,0.5,1.\n",
+            "deck.dat:11: PLOAD1 3: EID = 2 is not a CBAR or CBEAM",
+        ),
+        (
+            "PLOAD1,3,1,FY,FR,0.5,1.,1.2,1.\n",
+            "deck.dat:9: PLOAD1 3: field 8 (X2): X2 = 1.2 exceeds 1",
+        ),
+        (
+            "PLOAD1,3,1,FYE,LEPR,0.,1.,1.,1.\n",
+            "deck.dat:9: PLOAD1 3: field 5 (SCALE): a projected SCALE",
+        ),
+        (
+            "PLOAD1,3,1,FY,LE,0.,1.,1.5,1.\n",
+            "deck.dat:9: PLOAD1 3: X2 = 1.5 is beyond the element's length",
+        ),
+        (
+            "PLOAD1,3,1,FW,LE,0.,1.\n",
+            "deck.dat:9: PLOAD1 3: field 4 (TYPE)",
+        ),
+        (
+            "CBAR,2,10,1,2,0.,1.,0.\n,1\nPLOAD1,3,2,FY,FR,0.5,1.\n",
+            "deck.dat:11: PLOAD1 3: CBAR 2 has pin flags",
+        ),
+    ];
+    for (extra, expected) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("deck.dat");
+        let text = format!(
+            "SOL 101\nCEND\nLOAD = 3\nBEGIN BULK\n{bar}{extra}MAT1,1,2.1e11,,0.3\nENDDATA\n"
+        );
+        std::fs::write(&path, text).unwrap();
+        let out = cargo_bin_cmd!("paraflex")
+            .arg("check")
+            .arg(&path)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(
+            stderr.lines().any(|l| l.contains(expected)),
+            "expected '{expected}' in:\n{stderr}"
+        );
+    }
+}

@@ -71,7 +71,7 @@ pub enum AssemblyError {
         b: f64,
     },
     /// The LOAD set does not exist.
-    #[error("LOAD = {sid} selects no LOAD/FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD set {sid}")]
+    #[error("LOAD = {sid} selects no LOAD/FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set {sid}")]
     NoLoadSet { sid: u32 },
     /// A LOAD card references another LOAD (not allowed, as in Nastran) or a missing set.
     #[error("LOAD {sid}: {reason}")]

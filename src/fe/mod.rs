@@ -12,6 +12,7 @@
 
 pub mod affine;
 pub mod beam;
+pub mod beam_load;
 pub mod beam_section;
 #[cfg(test)]
 mod beam_tests;

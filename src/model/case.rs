@@ -120,7 +120,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
                 "LOAD",
                 sub.load,
                 &load,
-                "LOAD/FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD",
+                "LOAD/FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1",
             );
         }
         need("METHOD", sub.method, &method, "EIGRL");
@@ -285,7 +285,8 @@ pub fn unselected_sets(deck: &Deck, warnings: &mut Vec<Warning>) {
         .chain(b.grav.iter().map(|c| (c.sid, "GRAV", &c.loc)))
         .chain(b.pload4.iter().map(|c| (c.sid, "PLOAD4", &c.loc)))
         .chain(b.pload2.iter().map(|c| (c.sid, "PLOAD2", &c.loc)))
-        .chain(b.pload.iter().map(|c| (c.sid, "PLOAD", &c.loc)));
+        .chain(b.pload.iter().map(|c| (c.sid, "PLOAD", &c.loc)))
+        .chain(b.pload1.iter().map(|c| (c.sid, "PLOAD1", &c.loc)));
     let load_selected = subcases
         .iter()
         .filter_map(|s| s.load)

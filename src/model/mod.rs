@@ -28,6 +28,7 @@ pub mod coords;
 pub mod dynamic_loads;
 pub mod geometry;
 pub mod ids;
+pub mod line_loads;
 pub mod lines;
 pub mod lookup;
 pub mod mass;

@@ -75,7 +75,8 @@ pub struct PointLoad {
 }
 
 /// One member of a load set: its FORCE / MOMENT cards and the consistent nodal forces of its
-/// PLOAD4 / PLOAD2 / PLOAD pressures ([`crate::fe::pressure`]), and its GRAV accelerations.
+/// PLOAD4 / PLOAD2 / PLOAD pressures ([`crate::fe::pressure`]), the grid loads of its PLOAD1
+/// beam loads ([`crate::fe::beam_load`]), and its GRAV accelerations.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct LoadTerm {
     pub point_loads: Vec<PointLoad>,
@@ -160,6 +161,10 @@ impl Model {
                 });
             }
         }
+        for c in b.pload1.iter().filter(|c| c.sid == set) {
+            term.point_loads
+                .extend(self.pload1_loads(c, scale).unwrap_or_default());
+        }
         for g in b.grav.iter().filter(|g| g.sid == set) {
             if let Some(cs) = self.coords.get(&g.cid) {
                 term.accelerations
@@ -174,7 +179,7 @@ fn simple_set_exists(b: &BulkData, sid: u32) -> bool {
     b.static_load_sets().any(|s| s == sid)
 }
 
-/// (factor, FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD set) of each member of `LOAD = sid`.
+/// (factor, FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set) of each member of `LOAD = sid`.
 fn load_members(b: &BulkData, sid: u32) -> Result<Vec<(f64, u32)>, SetError> {
     let combos: Vec<_> = b.load.iter().filter(|l| l.sid == sid).collect();
     if combos.is_empty() {

@@ -12,8 +12,8 @@
 //! | SPCADD | Si | SPC/SPC1 set |
 //! | MPC | Gi | GRID |
 //! | MPCADD | Si | MPC set |
-//! | LOAD | Li | FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD set |
-//! | TLOAD1, RLOAD1 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/LOAD) |
+//! | LOAD | Li | FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set |
+//! | TLOAD1, RLOAD1 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/LOAD) |
 //! | TLOAD1 TID, RLOAD1 TC/TD (≠ 0) | table | TABLED1 or TABLEF |
 //! | DLOAD | Li | TLOAD1/RLOAD1 set |
 //! | DESVAR | DDVAL | DDVAL |
@@ -232,11 +232,11 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
             if !static_sets.contains(id) {
                 let message = if b.load.iter().any(|other| other.sid == *id) {
                     format!(
-                        "L = {id} is itself a LOAD: a LOAD combines FORCE, MOMENT, GRAV, PLOAD4, PLOAD2 and PLOAD sets, not other LOADs (as in Nastran)"
+                        "L = {id} is itself a LOAD: a LOAD combines FORCE, MOMENT, GRAV, PLOAD4, PLOAD2, PLOAD and PLOAD1 sets, not other LOADs (as in Nastran)"
                     )
                 } else {
                     format!(
-                        "L = {id} does not exist (no FORCE, MOMENT, GRAV, PLOAD4, PLOAD2 or PLOAD set {id})"
+                        "L = {id} does not exist (no FORCE, MOMENT, GRAV, PLOAD4, PLOAD2, PLOAD or PLOAD1 set {id})"
                     )
                 };
                 errors.push(DeckError::at(&l.loc, message).on_card(format!("LOAD {}", l.sid)));

@@ -1,4 +1,5 @@
-//! Static loads: `FORCE`, `MOMENT`, `GRAV`, `LOAD`, and pressures `PLOAD4`, `PLOAD2`, `PLOAD`.
+//! Static loads: `FORCE`, `MOMENT`, `GRAV`, `LOAD`, pressures `PLOAD4`, `PLOAD2`, `PLOAD`, and
+//! loads along beams `PLOAD1`.
 
 use crate::card_values::ForceKind;
 use crate::deck::error::{DeckError, Loc};
@@ -142,7 +143,7 @@ pub(crate) fn combination(card: &RawCard) -> Result<Combination, Vec<DeckError>>
 /// |---|---|---|---|---|
 /// | 2 | SID | int > 0 | required | new load set id |
 /// | 3 | S | real | required | overall scale |
-/// | 4, 5, … | S1 L1 S2 L2 … | real, int > 0 | ≥ 1 pair | scale and FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD set id |
+/// | 4, 5, … | S1 L1 S2 L2 … | real, int > 0 | ≥ 1 pair | scale and FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set id |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Load {
     pub sid: u32,
@@ -360,6 +361,133 @@ impl Pload {
             sid,
             pressure,
             grids,
+            loc,
+        })
+    }
+}
+
+/// How `PLOAD1` positions and intensities are measured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pload1Scale {
+    /// Positions as lengths from end A; intensities per unit length.
+    Length,
+    /// Positions as fractions of the length.
+    Fraction,
+    /// As `Length`, intensities per unit projected length.
+    LengthProjected,
+    /// As `Fraction`, intensities per unit projected length.
+    FractionProjected,
+}
+
+impl Pload1Scale {
+    /// Positions are fractions of the element length.
+    pub fn fractional(self) -> bool {
+        matches!(self, Pload1Scale::Fraction | Pload1Scale::FractionProjected)
+    }
+
+    /// Intensities are per unit of projected length.
+    pub fn projected(self) -> bool {
+        matches!(
+            self,
+            Pload1Scale::LengthProjected | Pload1Scale::FractionProjected
+        )
+    }
+}
+
+/// `PLOAD1` — a concentrated or linearly distributed force or moment on a CBAR or CBEAM.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | SID | int > 0 | required | load set id |
+/// | 3 | EID | int > 0 | required | CBAR or CBEAM id |
+/// | 4 | TYPE | FX FY FZ MX MY MZ (basic), FXE … MZE (element axes) | required | force or moment and its direction |
+/// | 5 | SCALE | LE FR LEPR FRPR | required | positions as lengths (LE) or fractions (FR) of the axis from end A; PR: intensities per unit length projected on a plane normal to the load (basic TYPEs only) |
+/// | 6 | X1 | real ≥ 0 | required | first position |
+/// | 7 | P1 | real | required | value at X1 |
+/// | 8 | X2 | real ≥ X1 | X1 | second position; X2 = X1: P1 is a concentrated load |
+/// | 9 | P2 | real | P1 | intensity at X2 (linear in between) |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pload1 {
+    pub sid: u32,
+    pub eid: u32,
+    pub kind: ForceKind,
+    /// Direction axis 0, 1, 2 (x, y, z).
+    pub axis: usize,
+    /// The direction is along the element's axes (TYPE ending in E), else basic.
+    pub element_axes: bool,
+    pub scale: Pload1Scale,
+    pub x: [f64; 2],
+    pub p: [f64; 2],
+    pub loc: Loc,
+}
+
+impl Pload1 {
+    /// Read a `PLOAD1` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        const TYPES: [&str; 12] = [
+            "FX", "FY", "FZ", "MX", "MY", "MZ", "FXE", "FYE", "FZE", "MXE", "MYE", "MZE",
+        ];
+        let mut f = FieldReader::new(card);
+        let sid = f.id(1, "SID");
+        f.set_id(sid);
+        let eid = f.id(2, "EID");
+        let kind = f.keyword(3, "TYPE", &TYPES, None);
+        let t = TYPES.iter().position(|&n| n == kind).unwrap_or(0);
+        let scale = f.choice(
+            4,
+            "SCALE",
+            &[
+                ("LE", Pload1Scale::Length),
+                ("FR", Pload1Scale::Fraction),
+                ("LEPR", Pload1Scale::LengthProjected),
+                ("FRPR", Pload1Scale::FractionProjected),
+            ],
+            None,
+        );
+        let x1 = f.real(5, "X1");
+        let p1 = f.real(6, "P1");
+        let x2 = f.real_or(7, "X2", x1);
+        let p2 = f.real_or(8, "P2", p1);
+        let element_axes = t >= 6;
+        if x1 < 0.0 {
+            f.error(
+                5,
+                "X1",
+                format!("X1 = {x1} is negative: positions start at end A"),
+            );
+        }
+        if x2 < x1 {
+            f.error(7, "X2", format!("X2 = {x2} is below X1 = {x1}"));
+        }
+        if scale.fractional() && x2 > 1.0 {
+            f.error(
+                7,
+                "X2",
+                format!("X2 = {x2} exceeds 1 (SCALE = FR/FRPR: fractions of the length)"),
+            );
+        }
+        if scale.projected() && element_axes {
+            f.error(
+                4,
+                "SCALE",
+                "a projected SCALE (LEPR, FRPR) needs a TYPE in the basic system (FX … MZ)",
+            );
+        }
+        let loc = f.loc();
+        f.finish(8)?;
+        Ok(Pload1 {
+            sid,
+            eid,
+            kind: if t % 6 < 3 {
+                ForceKind::Force
+            } else {
+                ForceKind::Moment
+            },
+            axis: t % 3,
+            element_axes,
+            scale,
+            x: [x1, x2],
+            p: [p1, p2],
             loc,
         })
     }

@@ -36,7 +36,7 @@ pub use extension::{
 pub use geometry::{Cord2, CordKind, Grdset, Grid};
 pub use line_elements::{BeamOrientation, Cbar, Conrod, Crod, Offt};
 pub use line_properties::{Pbar, Pbarl, Pbeam, Prod, Ptube};
-pub use loads::{Force, Grav, Load, Pload, Pload2, Pload4, Pload4Target};
+pub use loads::{Force, Grav, Load, Pload, Pload1, Pload1Scale, Pload2, Pload4, Pload4Target};
 pub use materials::{Mat1, Mat8};
 pub use multibody::{Flexb, Fmbpose, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
 pub use param::{Param, ParamValue};
@@ -92,6 +92,7 @@ pub struct BulkData {
     pub pload4: Vec<Pload4>,
     pub pload2: Vec<Pload2>,
     pub pload: Vec<Pload>,
+    pub pload1: Vec<Pload1>,
     pub load: Vec<Load>,
     pub eigrl: Vec<Eigrl>,
     /// FREQ, FREQ1 and FREQ2 cards.
@@ -133,13 +134,14 @@ pub struct BulkData {
 
 impl BulkData {
     /// The set ids of the static load cards a `LOAD` or `LOAD = sid` may select: FORCE, MOMENT,
-    /// GRAV, PLOAD4, PLOAD2, PLOAD (with repeats).
+    /// GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 (with repeats).
     pub fn static_load_sets(&self) -> impl Iterator<Item = u32> + '_ {
         (self.forces.iter().map(|c| c.sid))
             .chain(self.grav.iter().map(|c| c.sid))
             .chain(self.pload4.iter().map(|c| c.sid))
             .chain(self.pload2.iter().map(|c| c.sid))
             .chain(self.pload.iter().map(|c| c.sid))
+            .chain(self.pload1.iter().map(|c| c.sid))
     }
 }
 
@@ -207,6 +209,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("PLOAD4", |c, b| Ok(b.pload4.push(Pload4::from_card(c)?))),
     ("PLOAD2", |c, b| Ok(b.pload2.push(Pload2::from_card(c)?))),
     ("PLOAD", |c, b| Ok(b.pload.push(Pload::from_card(c)?))),
+    ("PLOAD1", |c, b| Ok(b.pload1.push(Pload1::from_card(c)?))),
     ("LOAD", |c, b| Ok(b.load.push(Load::from_card(c)?))),
     ("EIGRL", |c, b| Ok(b.eigrl.push(Eigrl::from_card(c)?))),
     ("FREQ", |c, b| Ok(b.freq.push(Freq::from_card(c, "FREQ")?))),
