@@ -252,6 +252,15 @@ fn mechanism_with_autospc_no_names_grid_and_component() {
         msg.contains("GRID ") && msg.contains("component ") && msg.contains("AUTOSPC"),
         "{msg}"
     );
+    // MSC's case-control AUTOSPC is the same switch
+    let case_form = deck
+        .replace("PARAM,AUTOSPC,NO\n", "")
+        .replace("LOAD = 2\n", "LOAD = 2\nAUTOSPC(NOPRINT) = NO\n");
+    let (r, _dir) = run_deck(&case_form);
+    assert!(
+        matches!(r, Err(RunError::Mechanism { subcase: 1, .. })),
+        "{r:?}"
+    );
     // with AUTOSPC (the default) the same deck solves
     let (ok, _dir) = run_deck(&deck.replace("PARAM,AUTOSPC,NO\n", ""));
     let s = ok.expect("with AUTOSPC");

@@ -213,6 +213,8 @@ const OUTPUTS: &[&str] = &[
 /// Statements accepted and ignored (printing and bookkeeping options that do not change results).
 const IGNORED: &[&str] = &[
     "LINE",
+    // MSC reads `LINES = n` as LINE
+    "LINES",
     "MAXLINES",
     "ANALYSIS",
     "GROUNDCHECK",
@@ -405,6 +407,14 @@ impl CaseControl {
                     diag.error(err("expected PARAM,NAME,VALUE".into()));
                 }
             }
+            // MSC's case-control AUTOSPC(describers) = YES | NO: the same switch as PARAM,AUTOSPC
+            // (run-wide in paraflex, like every PARAM)
+            "AUTOSPC" => match st.value.map(|v| v.trim().to_ascii_uppercase()) {
+                Some(v) if v == "YES" || v == "NO" => {
+                    self.params.push(("AUTOSPC".into(), v, loc.clone()));
+                }
+                _ => diag.error(err("expected AUTOSPC = YES | NO".into())),
+            },
             "ROM" => match st.value.and_then(strip_quotes) {
                 Some(path) => {
                     let sub = self.current();
@@ -519,7 +529,7 @@ impl CaseControl {
             );
         } else {
             diag.error(err(format!(
-                "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SET PARAM ROM FMB SENSOR MSENSOR FMBSTART STRREF {} and output requests {}",
+                "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SET PARAM AUTOSPC ROM FMB SENSOR MSENSOR FMBSTART STRREF {} and output requests {}",
                 SELECTIONS.join(" "),
                 OUTPUTS.join(" ")
             )));

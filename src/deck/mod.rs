@@ -143,6 +143,8 @@ struct Builder {
     last_loc: Loc,
     /// Whether an unsupported card's error already listed the supported cards.
     supported_listed: bool,
+    /// Cards read and set aside ([`cards::ignored_card`]): name, reason, first position, count.
+    ignored: Vec<(String, &'static str, Loc, usize)>,
 }
 
 impl Builder {
@@ -159,6 +161,7 @@ impl Builder {
             bulk: BulkData::default(),
             assembler: CardAssembler::new(),
             supported_listed: false,
+            ignored: Vec::new(),
         }
     }
 
@@ -169,10 +172,23 @@ impl Builder {
                     diag.errors.extend(errors);
                 }
             }
-            None => {
-                diag.error(cards::unsupported_card(&card, !self.supported_listed));
-                self.supported_listed = true;
-            }
+            None => match cards::ignored_card(&card.name) {
+                Some((why, check)) => match check.map_or(Ok(()), |c| c(&card)) {
+                    Ok(()) => self.set_aside(card, why),
+                    Err(errors) => diag.errors.extend(errors),
+                },
+                None => {
+                    diag.error(cards::unsupported_card(&card, !self.supported_listed));
+                    self.supported_listed = true;
+                }
+            },
+        }
+    }
+
+    fn set_aside(&mut self, card: fields::RawCard, why: &'static str) {
+        match self.ignored.iter_mut().find(|(n, ..)| *n == card.name) {
+            Some((.., count)) => *count += 1,
+            None => self.ignored.push((card.name, why, card.loc, 1)),
         }
     }
 
@@ -181,6 +197,13 @@ impl Builder {
             self.parse(card, diag);
         }
         self.case.finish(diag);
+        for (name, why, loc, count) in &self.ignored {
+            let cards = if *count == 1 { "card" } else { "cards" };
+            diag.warn_at(
+                loc,
+                format!("{name} accepted and ignored ({count} {cards}): {why}"),
+            );
+        }
         match self.section {
             Section::Start => diag.error(DeckError::at(
                 &self.last_loc,

@@ -13,6 +13,7 @@ mod elements;
 mod estimate;
 mod extension;
 mod geometry;
+mod ignored;
 mod line_elements;
 mod line_properties;
 mod loads;
@@ -34,6 +35,7 @@ pub use extension::{
     Tstepvar,
 };
 pub use geometry::{Cord2, CordKind, Grdset, Grid};
+pub use ignored::ignored_card;
 pub use line_elements::{BeamOrientation, Cbar, Conrod, Crod, Offt};
 pub use line_properties::{Pbar, Pbarl, Pbeam, Prod, Ptube};
 pub use loads::{Force, Grav, Load, Pload, Pload1, Pload1Scale, Pload2, Pload4, Pload4Target};

@@ -1,0 +1,111 @@
+//! Bulk data cards that paraflex reads and sets aside because they cannot change its results,
+//! each with the reason given to the user once per deck, and a check where only some of a
+//! card's uses are harmless (the others are refused at their field).
+//!
+//! | card | why it has no effect | refused |
+//! |---|---|---|
+//! | `ECHOON`, `ECHOOFF` | echo control; paraflex prints no echo | – |
+//! | `PLOTEL` | a plot element: no stiffness, mass or load | – |
+//! | `CBARAO` | output points along a CBAR; paraflex writes no bar forces or stresses | – |
+//! | `USET`, `USET1` | user DOF sets U1–U6 partition matrices for DMAP alters and OUTPUT2/4; paraflex runs no DMAP | any set name other than U1–U6 or ZERO |
+//! | `MAT4`, `MAT5` | thermal materials, read by heat-transfer solutions only | – |
+//! | `MDLPRM` | HDF5 output options (`HDF5`, `H5…`); paraflex writes its own HDF5 file | every other model parameter (they change the model, e.g. `OFFDEF`) |
+
+use crate::deck::error::DeckError;
+use crate::deck::fields::RawCard;
+use crate::deck::reader::FieldReader;
+use crate::deck::value::Value;
+
+/// A check of a card that is harmless only in some uses.
+type Check = fn(&RawCard) -> Result<(), Vec<DeckError>>;
+
+/// Card name, reason, check.
+static IGNORED: &[(&str, &str, Option<Check>)] = &[
+    (
+        "ECHOON",
+        "echo control: paraflex prints no echo of the deck",
+        None,
+    ),
+    (
+        "ECHOOFF",
+        "echo control: paraflex prints no echo of the deck",
+        None,
+    ),
+    (
+        "PLOTEL",
+        "a plot element has no stiffness, mass or load",
+        None,
+    ),
+    (
+        "CBARAO",
+        "output points along a CBAR: paraflex writes no bar forces or stresses",
+        None,
+    ),
+    (
+        "USET",
+        "user DOF sets U1–U6 only partition matrices for DMAP alters and OUTPUT2/4, and paraflex runs no DMAP",
+        Some(user_set_name),
+    ),
+    (
+        "USET1",
+        "user DOF sets U1–U6 only partition matrices for DMAP alters and OUTPUT2/4, and paraflex runs no DMAP",
+        Some(user_set_name),
+    ),
+    (
+        "MAT4",
+        "a thermal material is read by heat-transfer solutions only",
+        None,
+    ),
+    (
+        "MAT5",
+        "a thermal material is read by heat-transfer solutions only",
+        None,
+    ),
+    (
+        "MDLPRM",
+        "its HDF5 output options do not apply: paraflex writes its own HDF5 file",
+        Some(hdf5_options_only),
+    ),
+];
+
+/// Why `name` is read and set aside, and its check, when it is such a card.
+pub fn ignored_card(name: &str) -> Option<(&'static str, Option<Check>)> {
+    IGNORED
+        .iter()
+        .find(|(n, _, _)| *n == name)
+        .map(|(_, why, check)| (*why, *check))
+}
+
+/// `USET`/`USET1` SNAME must be a user set: another set name would change the solution's sets.
+fn user_set_name(card: &RawCard) -> Result<(), Vec<DeckError>> {
+    let mut f = FieldReader::new(card);
+    let name = f.text(1, "SNAME").to_ascii_uppercase();
+    let user = ["U1", "U2", "U3", "U4", "U5", "U6", "ZERO"];
+    if !name.is_empty() && !user.contains(&name.as_str()) {
+        f.error(
+            1,
+            "SNAME",
+            format!("set {name} is not supported: paraflex reads the user sets U1–U6 (and ZERO) only, which do not change its results"),
+        );
+    }
+    f.finish(card.fields.len())
+}
+
+/// `MDLPRM` pairs: only the HDF5 output options (`HDF5`, `H5…`) are harmless.
+fn hdf5_options_only(card: &RawCard) -> Result<(), Vec<DeckError>> {
+    let mut f = FieldReader::new(card);
+    for i in (1..=card.fields.len()).step_by(2) {
+        let Value::Text(name) = f.value(i) else {
+            continue;
+        };
+        let name = name.to_ascii_uppercase();
+        if name != "HDF5" && !name.starts_with("H5") {
+            f.error(
+                i,
+                "PARAMi",
+                format!("model parameter {name} is not supported (paraflex accepts only the HDF5 output options HDF5 and H5…, which do not change results)"),
+            );
+        }
+    }
+    f.finish(card.fields.len())
+}
