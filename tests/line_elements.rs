@@ -447,7 +447,11 @@ fn pload1_loads_bend_the_cantilever_like_closed_forms() {
     // triangular force, q at the root and 0 at the tip, in lengths: q L⁴ / (30 E I1)
     let triangle = each(&|i| {
         let (qa, qb) = (q * (1.0 - (i - 1) as f64 / 4.0), q * (1.0 - i as f64 / 4.0));
-        format!("PLOAD1,2,{i},FYE,LE,0.,{qa:?},{h:?},{qb:?}\n")
+        // the last element's P2 = 0 is left blank: blank P2 is 0, as MSC Nastran computes it
+        match i {
+            4 => format!("PLOAD1,2,{i},FYE,LE,0.,{qa:?},{h:?}\n"),
+            _ => format!("PLOAD1,2,{i},FYE,LE,0.,{qa:?},{h:?},{qb:?}\n"),
+        }
     });
     close(tip(&triangle, n), q * l.powi(4) / (30.0 * E * i1), 1e-9);
     // a concentrated basic FZ at 0.3 of element 2 (a = 1.3 h): P a² (3 L − a) / (6 E I2)
@@ -459,14 +463,14 @@ fn pload1_loads_bend_the_cantilever_like_closed_forms() {
         1e-9,
     );
     // a uniform moment about element z: M(x) = m (L − x), tip m L³ / (3 E I1)
-    let moment = each(&|i| format!("PLOAD1,2,{i},MZE,FR,0.,{m:?},1.\n"));
+    let moment = each(&|i| format!("PLOAD1,2,{i},MZE,FR,0.,{m:?},1.,{m:?}\n"));
     close(tip(&moment, n), m * l.powi(3) / (3.0 * E * i1), 1e-9);
     // a moment about element y at the tip: θ_y = −w′, so the tip moves by −M L² / (2 E I2) along z
     let end_moment = format!("PLOAD1,2,4,MYE,LE,{h:?},{m:?}\n");
     close(tip(&end_moment, z), -m * l * l / (2.0 * E * i2), 1e-9);
     // basic FY per unit projected length: q cos α per unit length, q cos² α across the axis and
     // q cos α sin α along it, so u_y = q cos³α L⁴/(8 E I1) + q cos α sin² α L²/(2 E A)
-    let projected = each(&|i| format!("PLOAD1,2,{i},FY,FRPR,0.,{q:?},1.\n"));
+    let projected = each(&|i| format!("PLOAD1,2,{i},FY,FRPR,0.,{q:?},1.,{q:?}\n"));
     let (c, s) = (alpha.cos(), alpha.sin());
     close(
         tip(&projected, [0.0, 1.0, 0.0]),
@@ -524,5 +528,49 @@ fn bad_pload1_cards_are_reported() {
             stderr.lines().any(|l| l.contains(expected)),
             "expected '{expected}' in:\n{stderr}"
         );
+    }
+}
+
+/// PLOAD1 against MSC Nastran: decks/verify/pload1_cbar.dat is the model of pyNastran's
+/// models/unit/pload4/pload1.bdf, whose OP2 holds MSC Nastran's displacements
+/// (reference/nastran/pload1_cbar.json): concentrated forces and moments in each basic direction
+/// and distributed moments with a blank P2. The OP2 stores single precision, so 1e-6 of each
+/// subcase's largest component.
+#[test]
+fn pload1_matches_msc_nastran() {
+    let reference = common::json("reference/nastran/pload1_cbar.json");
+    let deck =
+        std::fs::read_to_string(common::root().join("decks/verify/pload1_cbar.dat")).unwrap();
+    let (file, _dir) = run_to_file(&deck);
+    // the deck's grids are 1 and 2: displacement rows 0 and 1
+    let ids = [1, 2];
+    for (subcase, grids) in reference["displacement"].as_object().unwrap() {
+        let u = read_dataset::<f64>(
+            &file.group(&format!("results/{subcase}/statics")).unwrap(),
+            "displacement",
+        );
+        let want: Vec<(usize, Vec<f64>)> = grids
+            .as_object()
+            .unwrap()
+            .iter()
+            .map(|(g, v)| {
+                let row = ids.iter().position(|&i| i.to_string() == *g).unwrap();
+                (row, common::f64s(v))
+            })
+            .collect();
+        let scale = want
+            .iter()
+            .flat_map(|(_, v)| v.iter().map(|x| x.abs()))
+            .fold(0.0, f64::max);
+        for (row, v) in want {
+            for c in 0..6 {
+                let got = u[6 * row + c];
+                assert!(
+                    (got - v[c]).abs() <= 1e-6 * scale,
+                    "subcase {subcase} row {row} component {c}: {got:e} vs MSC {:e}",
+                    v[c]
+                );
+            }
+        }
     }
 }

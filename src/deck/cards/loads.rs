@@ -405,7 +405,7 @@ impl Pload1Scale {
 /// | 6 | X1 | real ≥ 0 | required | first position |
 /// | 7 | P1 | real | required | value at X1 |
 /// | 8 | X2 | real ≥ X1 | X1 | second position; X2 = X1: P1 is a concentrated load |
-/// | 9 | P2 | real | P1 | intensity at X2 (linear in between) |
+/// | 9 | P2 | real | 0.0 | intensity at X2 (linear in between; blank is 0.0, as MSC Nastran computes it) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pload1 {
     pub sid: u32,
@@ -447,7 +447,7 @@ impl Pload1 {
         let x1 = f.real(5, "X1");
         let p1 = f.real(6, "P1");
         let x2 = f.real_or(7, "X2", x1);
-        let p2 = f.real_or(8, "P2", p1);
+        let p2 = f.real_or(8, "P2", 0.0);
         let element_axes = t >= 6;
         if x1 < 0.0 {
             f.error(
