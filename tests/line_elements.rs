@@ -574,3 +574,20 @@ fn pload1_matches_msc_nastran() {
         }
     }
 }
+
+/// Modes against Simcenter Nastran: decks/verify/beam_modes.dat (a thick CBAR/CBEAM cantilever
+/// with Timoshenko shear, lumped mass and a tip CONM2) against the ten frequencies of
+/// reference/nastran/beam_modes.json. The torsion mode checks Nastran's lumped CBEAM torsional
+/// inertia ρ(I1 + I2)L/2 (the CBARs have none); 1e-6: single-precision reference.
+#[test]
+fn beam_modes_match_simcenter_nastran() {
+    let reference = common::json("reference/nastran/beam_modes.json");
+    let want = common::f64s(&reference["frequency_hz"]);
+    let deck = std::fs::read_to_string(common::root().join("decks/verify/beam_modes.dat")).unwrap();
+    let (file, _dir) = run_to_file(&deck);
+    let got = read_dataset::<f64>(&file.group("results/1/modal").unwrap(), "frequency_hz");
+    assert_eq!(got.len(), want.len());
+    for (g, w) in got.iter().zip(&want) {
+        close(*g, *w, 1e-6);
+    }
+}

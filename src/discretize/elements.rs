@@ -900,8 +900,14 @@ fn line_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeEr
     let geometry = line.geometry();
     let k = beam::affine_stiffness(&geometry, &section, elasticity, &releases, (m.e, m.g))
         .map_err(|x| err(e, x))?;
-    let mass =
-        beam::affine_mass(&geometry, &section, density, ctx.lumped).map_err(|x| err(e, x))?;
+    let form = if ctx.lumped {
+        beam::MassForm::Lumped {
+            torsion: e.kind == ElementKind::Cbeam,
+        }
+    } else {
+        beam::MassForm::Coupled
+    };
+    let mass = beam::affine_mass(&geometry, &section, density, form).map_err(|x| err(e, x))?;
     let nominal = CoefficientValues {
         e: m.e,
         nu: m.nu,

@@ -213,11 +213,15 @@ fn local_stiffness(s: &LineSection, l: f64, e: f64, g: f64, ge: (f64, f64)) -> M
 }
 
 /// Local mass with mass per length `m` and polar rotary inertia per length `ip`.
-fn local_mass(m: f64, ip: f64, l: f64, lumped: bool, rod: bool) -> Mat<f64> {
+fn local_mass(m: f64, ip: f64, l: f64, form: MassForm, rod: bool) -> Mat<f64> {
     let mut out = Mat::<f64>::zeros(12, 12);
-    if lumped {
+    if let MassForm::Lumped { torsion } = form {
         for i in [0, 1, 2, 6, 7, 8] {
             out[(i, i)] = m * l / 2.0;
+        }
+        if torsion {
+            out[(3, 3)] = ip * l / 2.0;
+            out[(9, 9)] = ip * l / 2.0;
         }
         return out;
     }
@@ -362,18 +366,28 @@ pub fn affine_stiffness(
     Ok(AffineMatrix { parts })
 }
 
+/// Consistent or lumped mass.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MassForm {
+    /// Linear axial and torsional, cubic Hermite bending (and, for rods, linear transverse).
+    Coupled,
+    /// m L/2 on each end's translations; with `torsion`, also ρ(I1 + I2)L/2 on each end's
+    /// twist, as Nastran lumps a CBEAM (a CBAR's lumped mass has none).
+    Lumped { torsion: bool },
+}
+
 /// Mass of a line element split as `density` says (see module doc).
 pub fn affine_mass(
     g: &LineGeometry,
     s: &LineSection,
     density: Density,
-    lumped: bool,
+    form: MassForm,
 ) -> Result<AffineMatrix, BeamError> {
     let (axes, l) = frame(g)?;
     let rod = g.orientation.is_none();
     let polar = if rod { 0.0 } else { s.i1 + s.i2 };
     let t = transformation(g, &axes);
-    let at = |m: f64, ip: f64| to_grids(&local_mass(m, ip, l, lumped, rod), &t);
+    let at = |m: f64, ip: f64| to_grids(&local_mass(m, ip, l, form, rod), &t);
     let parts = match density {
         Density::Fixed { rho } => vec![(Coefficient::Constant, at(rho * s.a + s.nsm, rho * polar))],
         Density::Parameter => {

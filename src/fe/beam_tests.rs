@@ -4,7 +4,7 @@ use faer::{Mat, Side};
 
 use super::affine::{AffineMatrix, Coefficient, CoefficientValues};
 use super::beam::{
-    BeamError, Density, Elasticity, LineGeometry, LineSection, Releases, affine_mass,
+    BeamError, Density, Elasticity, LineGeometry, LineSection, MassForm, Releases, affine_mass,
     affine_stiffness,
 };
 use crate::geometry::vec3::{cross, sub};
@@ -95,7 +95,8 @@ fn rigid_motions_are_stress_free_and_the_matrices_symmetric() {
             "rigid motion {t:?} {w:?}: {f:?}"
         );
     }
-    let m = evaluate(&affine_mass(&g, &s, Density::Fixed { rho: 7800.0 }, false).unwrap());
+    let m =
+        evaluate(&affine_mass(&g, &s, Density::Fixed { rho: 7800.0 }, MassForm::Coupled).unwrap());
     for mat in [&k, &m] {
         let asym = max_abs(&(mat - mat.transpose()));
         assert!(asym <= 1e-12 * max_abs(mat));
@@ -208,19 +209,24 @@ fn mass_of_a_rigid_translation_is_the_element_mass() {
     ];
     let l = crate::geometry::vec3::norm(sub(a[1], a[0]));
     let total = (7800.0 * s.a + s.nsm) * l;
-    for lumped in [true, false] {
+    let forms = [
+        MassForm::Lumped { torsion: false },
+        MassForm::Lumped { torsion: true },
+        MassForm::Coupled,
+    ];
+    for form in forms {
         for rod in [true, false] {
             let g = LineGeometry {
                 orientation: if rod { None } else { g.orientation },
                 ..g
             };
-            let m = evaluate(&affine_mass(&g, &s, Density::Fixed { rho: 7800.0 }, lumped).unwrap());
+            let m = evaluate(&affine_mass(&g, &s, Density::Fixed { rho: 7800.0 }, form).unwrap());
             for t in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]] {
                 let u = rigid(&g.grids, t, [0.0; 3]);
                 let mass = (u.transpose() * &m * &u)[(0, 0)];
                 assert!(
                     (mass - total).abs() < 1e-12 * total,
-                    "{lumped} {rod}: {mass}"
+                    "{form:?} {rod}: {mass}"
                 );
             }
         }
@@ -245,8 +251,9 @@ fn affine_parts_sum_to_the_fixed_matrices() {
     for k in [by_e, separate] {
         assert!(max_abs(&(evaluate(&k) - &full)) < 1e-12 * max_abs(&full));
     }
-    let m_fixed = evaluate(&affine_mass(&g, &s, Density::Fixed { rho: 7800.0 }, false).unwrap());
-    let m_split = evaluate(&affine_mass(&g, &s, Density::Parameter, false).unwrap());
+    let m_fixed =
+        evaluate(&affine_mass(&g, &s, Density::Fixed { rho: 7800.0 }, MassForm::Coupled).unwrap());
+    let m_split = evaluate(&affine_mass(&g, &s, Density::Parameter, MassForm::Coupled).unwrap());
     assert!(max_abs(&(&m_fixed - &m_split)) < 1e-12 * max_abs(&m_split));
     // E and G separately are not affine with shear flexibility
     let sheared = LineSection { k1: Some(0.8), ..s };
@@ -274,6 +281,11 @@ fn degenerate_geometry_is_refused() {
         offsets: [[0.0; 3]; 2],
         orientation: None,
     };
-    let e = affine_mass(&g, &section(), Density::Parameter, true);
+    let e = affine_mass(
+        &g,
+        &section(),
+        Density::Parameter,
+        MassForm::Lumped { torsion: false },
+    );
     assert_eq!(e.unwrap_err(), BeamError::ZeroLength);
 }

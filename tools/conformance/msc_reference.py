@@ -4,9 +4,13 @@
     .venv/bin/python tools/conformance/msc_reference.py --models /tmp/pyNastran/models \\
         --label "pyNastran commit 1d25a9244"
 
-writes reference/nastran/pload1_cbar.json: the displacements MSC Nastran computed for
-models/unit/pload4/pload1.bdf (a CBAR cantilever under nine PLOAD1 cases; the same model is
-decks/verify/pload1_cbar.dat), read from the OP2 beside it with pyNastran.
+writes, from the OP2 files beside the collection's decks (read with pyNastran):
+- reference/nastran/pload1_cbar.json: the displacements MSC Nastran computed for
+  models/unit/pload4/pload1.bdf (a CBAR cantilever under nine PLOAD1 cases; the same model is
+  decks/verify/pload1_cbar.dat);
+- reference/nastran/beam_modes.json: the natural frequencies Simcenter Nastran computed for
+  models/beam_modes/beam_modes.dat (a thick CBAR/CBEAM cantilever with a tip CONM2; the model
+  with explicit sections is decks/verify/beam_modes.dat).
 """
 from __future__ import annotations
 
@@ -40,8 +44,29 @@ def main() -> None:
         "tolerance": "1e-6 of the subcase's largest component: the OP2 stores single precision (6e-8 relative)",
         "displacement": subcases,
     }
-    path = ROOT / "reference" / "nastran" / "pload1_cbar.json"
-    path.write_text(json.dumps(out, indent=1) + "\n")
+    write("pload1_cbar.json", out)
+    source = "beam_modes/beam_modes_m2.op2"
+    op2 = read_op2(str(args.models / source), debug=None, log=None, build_dataframe=False, mode="nx")
+    table = next(iter(op2.eigenvalues.values()))
+    write("beam_modes.json", {
+        "case": "beam_modes",
+        "deck": "decks/verify/beam_modes.dat",
+        "description": "nine CBAR and one CBEAM (ROD section, radius 1, L = 10) clamped at one end, "
+        "tip CONM2, lumped mass (Nastran's default): the first ten natural frequencies",
+        "provenance": f"Simcenter Nastran 2019 ({op2._nastran_format}) results in pyNastran's model collection, "
+        f"models/{source} (the f06 beside it prints the same values)"
+        + (f" ({args.label})" if args.label else "") + "; read with pyNastran's OP2 reader",
+        "model_note": "the collection's deck gives the sections as PBARL/PBEAML ROD; Nastran computes their "
+        "shear factors itself, and K1 = K2 = 0.9 reproduces its bending frequencies to five digits, so the "
+        "paraflex deck gives PBAR/PBEAM with J = pi r^4/2, I = pi r^4/4 and K1 = K2 = 0.9 explicitly",
+        "tolerance": "1e-6 relative: the OP2 stores single precision (6e-8) and both solve the same discrete model",
+        "frequency_hz": [float(f) for f in table.cycles],
+    })
+
+
+def write(name: str, data: dict) -> None:
+    path = ROOT / "reference" / "nastran" / name
+    path.write_text(json.dumps(data, indent=1) + "\n")
     print(f"wrote {path.relative_to(ROOT)}")
 
 
