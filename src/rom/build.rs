@@ -646,16 +646,11 @@ mod tests {
         let ground = k1.col_offsets()[0];
         k1.values_mut()[ground] -= 1.0;
         let half = |second: bool| {
-            let mut x = m.clone();
-            let (offsets, rows) = (x.col_offsets().to_vec(), x.row_indices().to_vec());
-            for j in 0..30 {
-                for k in offsets[j]..offsets[j + 1] {
-                    if (rows[k] >= 15) != second {
-                        x.values_mut()[k] = 0.0;
-                    }
-                }
+            let mut coo = CooMatrix::new(30, 30);
+            for (i, j, v) in m.triplet_iter() {
+                coo.push(i, j, if (i >= 15) == second { *v } else { 0.0 });
             }
-            x
+            CscMatrix::from(&coo)
         };
         let zero = {
             let mut z = m.clone();
