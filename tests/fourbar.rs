@@ -278,9 +278,11 @@ fn composite_four_bar_pfmb_matches_fmb_of_roms_at_three_fibre_angles() {
         let err = errors(&p, &f);
         println!("Θ = {theta}°: eq. 4.11 error {}", shown(&err));
         assert_eq!(err.len(), MEASURES.len());
-        // the coupler's gauge at Θ = 0° is the one measure above 1 % (1.9e-2): not from the
-        // sampling (ten samples, one at 1.5°, give the same) nor from the ROM of the reference
-        // (converged in its modes); docs/fourbar.md, the study of this gauge
+        // the coupler's gauge at Θ = 0° is the one measure above 1 % (1.9e-2): the GGL
+        // position correction Φ_qᵀμ of the integrator also moves the links' reduced
+        // coordinates, and per unit μ the pROM's basis strains this gauge far more than the
+        // ROM's; with that share of the correction scaled down the gauge agrees to 5.6e-4
+        // (`composite_gauge_at_zero_degrees_is_the_integrators_position_correction`)
         let bound = |k: usize| {
             if MEASURES[k] == "strain C" && theta == 0.0 {
                 2.5e-2
@@ -294,6 +296,82 @@ fn composite_four_bar_pfmb_matches_fmb_of_roms_at_three_fibre_angles() {
             shown(&err)
         );
     }
+}
+
+/// Rewrites the pROM artifact at `path` in reduced coordinates q' = q / c (its basis times c):
+/// K_r, M_r and the invariants quadratic in the basis (M̂₅, M̂₇, M̂₉) times c², the interface,
+/// input and sensor rows and the invariants linear in it (M̂₂, M̂₄, M̂₆, M̂₈) times c. The same
+/// body: only the units of its flexible coordinates change.
+fn scale_coordinates(path: &Path, c: f64) {
+    let file = hdf5_metno::File::open_rw(path).expect("open artifact");
+    let prom = file.group("prom").expect("/prom");
+    let scale = |name: &str, factor: f64| {
+        let d = prom.dataset(name).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let values: Vec<f64> = d.read_raw().expect("read");
+        let scaled: Vec<f64> = values.iter().map(|x| x * factor).collect();
+        d.write_raw(&scaled).expect("write");
+    };
+    let functions = prom.group("K").expect("/prom/K").len() as usize;
+    for i in 0..functions {
+        scale(&format!("K/{i}"), c * c);
+        scale(&format!("M/{i}"), c * c);
+        for (k, power) in [(2, 1), (4, 1), (6, 1), (8, 1), (5, 2), (7, 2), (9, 2)] {
+            scale(&format!("invariants/{k}/{i}"), c.powi(power));
+        }
+    }
+    for name in ["inputs/S_r", "interface/rows", "sensors/H_r"] {
+        scale(name, c);
+    }
+}
+
+/// The coupler's gauge at Θ = 0° (the one measure of
+/// [`composite_four_bar_pfmb_matches_fmb_of_roms_at_three_fibre_angles`] above 1 %): pFMB and
+/// FMB as there, then both again with every link's reduced coordinates in units 100 times
+/// smaller ([`scale_coordinates`], c = 0.01). Scaling q by 1/c leaves the equations of motion
+/// and the constraints as they are but weights the flexible coordinates' share of the GGL
+/// position correction q − q̂ − c_q v = Φ_qᵀμ (eq. 2.60 with 2.61) by c² = 1e-4: the frames
+/// then take it. The pFMB then matches the FMB on the gauge to the pROM's own error at 0°
+/// (measured 5.6e-4; a pROM whose samples lie in [0°, 10°] gives 6.6e-4), where at c = 1 it
+/// differs by 1.9e-2: per unit μ on joint B's axial row, the pROM's basis (130 columns from
+/// samples across [0°, 90°], with stiff axial directions large at the joint masters) strains
+/// this gauge 200 times more than the ROM's 22 columns. So the 1.9e-2 is the integrator's
+/// correction through the links' coordinates, a metric the reduced basis fixes; the pROM
+/// itself reproduces the ROM at 0°.
+#[test]
+fn composite_gauge_at_zero_degrees_is_the_integrators_position_correction() {
+    let dirs = [
+        tempfile::tempdir().expect("temp dir"),
+        tempfile::tempdir().expect("temp dir"),
+    ];
+    let cranks = [LINKS[0], LINKS[2]];
+    for (name, artifact) in cranks {
+        build(&deck(name), dirs[0].path(), artifact);
+        build(&steel_at(name, E_REF, RHO_REF), dirs[1].path(), artifact);
+    }
+    build(
+        &deck("coupler_composite_prom.dat"),
+        dirs[0].path(),
+        "coupler_composite.h5",
+    );
+    build(&composite_at(0.0), dirs[1].path(), "coupler_composite.h5");
+    let fmb = deck("fourbar_composite.dat");
+    let (pval, nominal) = ("PVAL,1,C.THETA,0.0", "PVAL,1,C.THETA,45.");
+    let gauge_error = |dirs: &[tempfile::TempDir; 2]| {
+        let [p, f] = [0, 1].map(|k| simulate(dirs[k].path(), &fmb, nominal, pval, TSTEP));
+        errors(&p, &f)[5]
+    };
+    let plain = gauge_error(&dirs);
+    for dir in &dirs {
+        for artifact in ["crank.h5", "coupler_composite.h5", "output_crank.h5"] {
+            scale_coordinates(&dir.path().join(artifact), 1e-2);
+        }
+    }
+    let scaled = gauge_error(&dirs);
+    println!(
+        "strain C at Θ = 0° (eq. 4.11): coordinates as built {plain:.2e}, scaled {scaled:.2e}"
+    );
+    assert_eq!(MEASURES[5], "strain C");
+    assert!(scaled < 1e-3, "as built {plain:e}, scaled {scaled:e}");
 }
 
 /// The rigid four-bar: fourbar_steel.dat with each link a RIGIDB carrying the mass, centre of

@@ -1655,4 +1655,45 @@ mod tests {
             assert!(sections_close(&evaluate(&parts, &v), &want, 1e-12));
         }
     }
+
+    /// The Θ parts of an angle-ply laminate summed at Θ = 0° and 90°, where the five functions
+    /// of eq. 3.18 are 0 or 1 (cos⁴ + sin⁴ + 2cos²sin² = 1 leaves nothing to cancel), equal the
+    /// section built directly at that angle: A, B, D, S, drill and mass to 1e-15 of each
+    /// matrix's largest entry (a few ulps; cos 90° = 6e-17 instead of 0).
+    #[test]
+    fn theta_parts_at_zero_and_ninety_degrees_equal_the_direct_sections() {
+        let base = angle_ply(20.0, 0.125e-3, 1600.0, None);
+        let parts = affine_sections(&SectionData::Laminate(base), SectionParameter::Theta).unwrap();
+        for theta_deg in [0.0, 90.0] {
+            let v = CoefficientValues {
+                theta_deg,
+                ..CoefficientValues::default()
+            };
+            let got = evaluate(&parts, &v);
+            let want =
+                ShellSection::laminate(&angle_ply(theta_deg, 0.125e-3, 1600.0, None)).unwrap();
+            let scale = want.a.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+            assert!(close3(&got.a, &want.a, 1e-15), "Θ = {theta_deg}: A");
+            assert!(close3(&got.d, &want.d, 1e-15), "Θ = {theta_deg}: D");
+            assert!(
+                got.b
+                    .iter()
+                    .flatten()
+                    .zip(want.b.iter().flatten())
+                    .all(|(x, y)| (x - y).abs() <= 1e-15 * scale * 0.125e-3),
+                "Θ = {theta_deg}: B"
+            );
+            let s_scale = want.s.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+            assert!(
+                got.s
+                    .iter()
+                    .flatten()
+                    .zip(want.s.iter().flatten())
+                    .all(|(x, y)| (x - y).abs() <= 1e-15 * s_scale),
+                "Θ = {theta_deg}: S"
+            );
+            assert!((got.drill - want.drill).abs() <= 1e-15 * want.drill);
+            assert_eq!(got.mass, want.mass);
+        }
+    }
 }

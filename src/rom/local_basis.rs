@@ -18,7 +18,10 @@
 //!   analysis are computed once ([`LocalBasisSetup`]) and shared by every sample. The
 //!   constraint modes carry the rigid-body motion, so `RIGID = REMOVE` is refused with them.
 //! - `RIGID = REMOVE` drops the rigid-body modes from the basis (floating-frame bodies: the
-//!   multibody frame carries the rigid motion); `KEEP` keeps them.
+//!   multibody frame carries the rigid motion); `KEEP` keeps them. The modes found are
+//!   returned either way, for [`remove_rigid_content`]: a pROM build makes the columns of all
+//!   samples M-orthogonal to one set of them (each sample's own, computed to the eigen
+//!   solver's tolerance, differ from sample to sample by more than round-off).
 //!
 //! Rigid-body modes are recognised as λ ≤ [`RIGID_REL`] · λ_max of the modes computed.
 
@@ -98,8 +101,8 @@ pub struct LocalBasis {
     pub vectors: Mat<f64>,
     /// Frequencies (Hz) of the normal-mode columns (rigid kept, then elastic).
     pub frequencies_hz: Vec<f64>,
-    /// Rigid-body modes found (whether kept or not).
-    pub n_rigid: usize,
+    /// The rigid-body modes found (n × n_rigid, M-normalized; whether kept or not).
+    pub rigid: Mat<f64>,
     /// Static-mode columns (last).
     pub n_static: usize,
 }
@@ -276,7 +279,9 @@ pub fn local_basis(
             .iter()
             .map(|&j| eigen.frequencies_hz[j])
             .collect(),
-        n_rigid: rigid_cols.len(),
+        rigid: Mat::from_fn(n, rigid_cols.len(), |i, c| {
+            eigen.vectors[(i, rigid_cols[c])]
+        }),
         n_static,
     })
 }
@@ -356,7 +361,7 @@ fn craig_bampton(
     Ok(LocalBasis {
         vectors,
         frequencies_hz: eigen.frequencies_hz,
-        n_rigid: 0,
+        rigid: Mat::zeros(n, 0),
         n_static: nb,
     })
 }
@@ -449,6 +454,37 @@ fn attachment_modes(
         out.col_as_slice_mut(col).copy_from_slice(&x);
     }
     Ok(out)
+}
+
+/// Removes the rigid-body content of every column x of `vectors` in the mass metric of `mass`:
+/// x ← x − Φ (ΦᵀMΦ)⁻¹ ΦᵀM x, so that Φᵀ M x = 0 to round-off (the mean-axis conditions of a
+/// floating frame, thesis §2.4). Φ = `rigid` need not be M-normalized. A column's span with
+/// the rigid-body modes is unchanged, which is all a floating-frame body sees of it.
+pub fn remove_rigid_content(
+    vectors: &mut Mat<f64>,
+    rigid: faer::MatRef<'_, f64>,
+    mass: &CscMatrix<f64>,
+) -> Result<(), LinalgError> {
+    use faer::prelude::Solve;
+    let (n, r) = (rigid.nrows(), rigid.ncols());
+    if r == 0 || vectors.ncols() == 0 {
+        return Ok(());
+    }
+    let mut m_phi = Mat::<f64>::zeros(n, r);
+    let mut column = vec![0.0; n];
+    for j in 0..r {
+        column
+            .iter_mut()
+            .enumerate()
+            .for_each(|(i, c)| *c = rigid[(i, j)]);
+        sym_matvec(mass, &column, m_phi.col_as_slice_mut(j))?;
+    }
+    let gram = rigid.transpose() * &m_phi;
+    let content = gram
+        .partial_piv_lu()
+        .solve(m_phi.transpose() * vectors.as_ref());
+    *vectors -= rigid * &content;
+    Ok(())
 }
 
 /// K − σM on K's pattern (M shares it).
@@ -556,7 +592,7 @@ mod tests {
             boundary.clone(),
         )
         .unwrap();
-        assert_eq!((b.n_rigid, b.n_static, b.vectors.ncols()), (0, 3, 6));
+        assert_eq!((b.rigid.ncols(), b.n_static, b.vectors.ncols()), (0, 3, 6));
         let u_b = [0.3, -1.1, 0.45];
         let interior: Vec<usize> = (0..20).filter(|i| !boundary.contains(i)).collect();
         let kd = dense(&k);
@@ -684,7 +720,7 @@ mod tests {
     fn supported_attachment_modes_solve_k() {
         let (k, m) = chain(20, true);
         let b = basis(&k, &m, RigidModes::Keep, vec![19, 7]);
-        assert_eq!((b.n_rigid, b.n_static, b.vectors.ncols()), (0, 2, 5));
+        assert_eq!((b.rigid.ncols(), b.n_static, b.vectors.ncols()), (0, 2, 5));
         for (c, &dof) in [19usize, 7].iter().enumerate() {
             let r = apply(&k, b.vectors.col_as_slice(3 + c));
             for (i, v) in r.iter().enumerate() {
@@ -700,7 +736,7 @@ mod tests {
     fn free_attachment_modes_are_inertia_relief() {
         let (k, m) = chain(20, false);
         let b = basis(&k, &m, RigidModes::Remove, vec![19]);
-        assert_eq!((b.n_rigid, b.n_static, b.vectors.ncols()), (1, 1, 4));
+        assert_eq!((b.rigid.ncols(), b.n_static, b.vectors.ncols()), (1, 1, 4));
         assert!(
             b.frequencies_hz.iter().all(|&f| f > 1e-3),
             "{:?}",
