@@ -5,8 +5,8 @@
 //! - Simulated binary crossover (Deb & Agrawal 1995) in the bounded form of Deb's NSGA-II code:
 //!   a mating crosses with probability 0.9, each variable with probability 0.5, distribution
 //!   index η_c = 15, and the two children's values are exchanged with probability 0.5.
-//! - Polynomial mutation (Deb & Goyal 1996), bounded form: each child mutates, each variable
-//!   with probability min(0.5, 1/n), distribution index η_m = 20.
+//! - Polynomial mutation (Deb & Goyal 1996), bounded form: a child mutates with probability
+//!   0.9, each of its variables with probability min(0.5, 1/n), distribution index η_m = 20.
 //! - Binary tournament: an infeasible candidate loses to a less violating one, a feasible pair
 //!   is decided by dominance and then by the larger crowding distance, ties at random.
 
@@ -38,6 +38,8 @@ impl Default for Sbx {
 /// Polynomial mutation settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pm {
+    /// Probability that a child is mutated at all.
+    pub probability: f64,
     /// Probability of mutating a variable; `None`: min(0.5, 1/n) for n variables.
     pub variable_probability: Option<f64>,
     /// Distribution index η_m.
@@ -45,9 +47,10 @@ pub struct Pm {
 }
 
 impl Default for Pm {
-    /// pymoo's `PM()`: prob_var min(0.5, 1/n), η = 20.
+    /// pymoo's `PM()`: prob 0.9, prob_var min(0.5, 1/n), η = 20.
     fn default() -> Self {
         Pm {
+            probability: 0.9,
             variable_probability: None,
             eta: 20.0,
         }
@@ -107,6 +110,9 @@ impl Pm {
             .variable_probability
             .unwrap_or_else(|| (1.0 / bounds.len() as f64).min(0.5));
         let power = 1.0 / (self.eta + 1.0);
+        if rng.unit() > self.probability {
+            return;
+        }
         for (xi, &(low, high)) in x.iter_mut().zip(bounds) {
             if rng.unit() >= p || low == high {
                 continue;
