@@ -162,3 +162,38 @@ fn mixed_variable_nsga2_reaches_pymoos_hypervolume_at_equal_budget() {
     let failure = check_against_pymoo("mixed toy", &reference["runs"], &ours);
     assert!(failure.is_none(), "{failure:?}");
 }
+
+/// The design cards' bad input, all reported by the reader at once with the card and field:
+/// a discrete variable with a move limit, the gradient-based search (not in this version), a
+/// MASS response (not in this version), a constraint without bounds.
+#[test]
+fn bad_design_cards_are_reported_together() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("study.dat");
+    let text = "SOL OPTIMIZE\nCEND\nBEGIN BULK\n\
+        DESVAR,1,THETA,20.,0.,90.\n\
+        DESVAR,2,PLIES,8.,6.,12.,1.,3\n\
+        DDVAL,3,6.,8.,10.,12.\n\
+        DVMAP,1,1,C.THETA\n\
+        DOBJ,1,DEV,MIN,CDEV,MEAN\n\
+        DOBJ,2,M,MIN,MASS,FINAL\n\
+        DCONSTR,1,TQ,TORQUE,MAX\n\
+        MOOPT,1,GRAD,100\n\
+        ENDDATA\n";
+    std::fs::write(&path, text).expect("write deck");
+    let message = paraflex::deck::Deck::read(&path)
+        .expect_err("refused")
+        .to_string();
+    for expected in [
+        "DESVAR 2",
+        "DELXV",
+        "MASS responses are not available",
+        "neither LOW nor HIGH",
+        "GRAD (gradient-based search with parametric sensitivities) is not available",
+    ] {
+        assert!(
+            message.contains(expected),
+            "'{expected}' not in:\n{message}"
+        );
+    }
+}

@@ -18,6 +18,7 @@ mod line_properties;
 mod loads;
 mod materials;
 mod multibody;
+mod optimize;
 mod param;
 mod properties;
 mod rigid;
@@ -39,6 +40,7 @@ pub use line_properties::{Pbar, Pbarl, Pbeam, Prod, Ptube};
 pub use loads::{Force, Grav, Load, Pload, Pload2, Pload4, Pload4Target};
 pub use materials::{Mat1, Mat8};
 pub use multibody::{Flexb, Fmbpose, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
+pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, ResponseSource, SearchMethod, Statistic};
 pub use param::{Param, ParamValue};
 pub use properties::{Pcomp, Pelas, Ply, Pshell, Psolid};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
@@ -129,6 +131,10 @@ pub struct BulkData {
     pub mforce: Vec<Mforce>,
     pub msensors: Vec<Msensor>,
     pub fmbpose: Vec<Fmbpose>,
+    pub dvmap: Vec<Dvmap>,
+    pub dobj: Vec<Dobj>,
+    pub dconstr: Vec<Dconstr>,
+    pub moopt: Vec<Moopt>,
 }
 
 impl BulkData {
@@ -258,6 +264,10 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("MSENSOR", |c, b| {
         Ok(b.msensors.push(Msensor::from_card(c)?))
     }),
+    ("DVMAP", |c, b| Ok(b.dvmap.push(Dvmap::from_card(c)?))),
+    ("DOBJ", |c, b| Ok(b.dobj.push(Dobj::from_card(c)?))),
+    ("DCONSTR", |c, b| Ok(b.dconstr.push(Dconstr::from_card(c)?))),
+    ("MOOPT", |c, b| Ok(b.moopt.push(Moopt::from_card(c)?))),
 ];
 
 /// The parser for a card name (upper case), if paraflex supports the card.
