@@ -13,7 +13,7 @@ DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcurso
 	libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1
 
 .PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient bench-estimate \
-	reference-exudyn exudyn-plot fourbar-plots mutants clean
+	reference-exudyn reference-pymoo exudyn-plot fourbar-plots mutants clean
 
 demo: deps
 	$(CARGO) build --release --quiet
@@ -117,6 +117,12 @@ reference-exudyn: deps
 	$(CARGO) build --release --quiet
 	$(PY) tools/exudyn/fourbar.py
 	$(PY) tools/exudyn/fourbar_flexible.py --paraflex $(BIN)
+
+# pymoo, the NSGA-II and hypervolume peer of src/optimize (tools/optimize/pymoo_reference.py):
+# reference/optimize/{hypervolume,nsga2_zdt,nsga2_mixed}.json, committed (~3 min).
+reference-pymoo: deps
+	$(PY) -m pip install --quiet --disable-pip-version-check -r tools/optimize/requirements.txt
+	$(PY) tools/optimize/pymoo_reference.py
 
 # paraflex against Exudyn on the flexible four-bar: docs/img/fourbar_exudyn.png
 # (tools/plot/fourbar_exudyn.py, reads reference/exudyn/fourbar_flexible.json).

@@ -23,6 +23,7 @@ pub mod io;
 pub mod linalg;
 pub mod model;
 pub mod multibody;
+pub mod optimize;
 pub mod rom;
 pub mod sequence;
 

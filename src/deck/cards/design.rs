@@ -46,6 +46,15 @@ impl Desvar {
         }
         let delxv = f.opt_real(6, "DELXV");
         let ddval = f.opt_id(7, "DDVAL");
+        if let (Some(_), Some(set)) = (delxv, ddval) {
+            f.error(
+                6,
+                "DELXV",
+                format!(
+                    "a move limit DELXV for a discrete variable (DDVAL = {set}): leave DELXV blank"
+                ),
+            );
+        }
         let loc = f.loc();
         f.finish(7)?;
         Ok(Desvar {

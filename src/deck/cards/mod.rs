@@ -19,6 +19,7 @@ mod line_properties;
 mod loads;
 mod materials;
 mod multibody;
+mod optimize;
 mod param;
 mod properties;
 mod rigid;
@@ -41,6 +42,7 @@ pub use line_properties::{Pbar, Pbarl, Pbeam, Prod, Ptube};
 pub use loads::{Force, Grav, Load, Pload, Pload1, Pload1Scale, Pload2, Pload4, Pload4Target};
 pub use materials::{Mat1, Mat8};
 pub use multibody::{Flexb, Fmbpose, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
+pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, ResponseSource, SearchMethod, Statistic};
 pub use param::{Param, ParamValue};
 pub use properties::{Pcomp, Pelas, Ply, Pshell, Psolid};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
@@ -132,6 +134,10 @@ pub struct BulkData {
     pub mforce: Vec<Mforce>,
     pub msensors: Vec<Msensor>,
     pub fmbpose: Vec<Fmbpose>,
+    pub dvmap: Vec<Dvmap>,
+    pub dobj: Vec<Dobj>,
+    pub dconstr: Vec<Dconstr>,
+    pub moopt: Vec<Moopt>,
 }
 
 impl BulkData {
@@ -263,6 +269,10 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("MSENSOR", |c, b| {
         Ok(b.msensors.push(Msensor::from_card(c)?))
     }),
+    ("DVMAP", |c, b| Ok(b.dvmap.push(Dvmap::from_card(c)?))),
+    ("DOBJ", |c, b| Ok(b.dobj.push(Dobj::from_card(c)?))),
+    ("DCONSTR", |c, b| Ok(b.dconstr.push(Dconstr::from_card(c)?))),
+    ("MOOPT", |c, b| Ok(b.moopt.push(Moopt::from_card(c)?))),
 ];
 
 /// The parser for a card name (upper case), if paraflex supports the card.
