@@ -130,12 +130,12 @@ impl BlockKkt {
         let mut runs = Vec::new();
         let mut first = 0;
         let mut last = 0;
-        for b in 0..count {
+        for (b, &far) in reach.iter().enumerate() {
             if b > last {
                 runs.push(self.bodies[first].start..self.bodies[last].end);
                 first = b;
             }
-            last = last.max(reach[b]);
+            last = last.max(far);
         }
         if count > 0 {
             runs.push(self.bodies[first].start..self.bodies[last].end);
