@@ -15,31 +15,38 @@
 //! G Δq = r₄                      ⇒  c_q G Δv + G Gᵀ Δμ = r₄ − G r₁
 //! ```
 //!
-//! A is block diagonal when P and A₀ are: the constraint Hessians' blocks between two bodies
-//! are left out (a modified Newton matrix, like the omitted ∂(M(v − v̂))/∂q), and forces that
-//! couple two bodies (spring-dampers between them) make the caller use the dense matrix
-//! instead ([`BlockKkt::applies`]). With E = [Gᵀ, P Gᵀ], Y = A⁻¹ E (one solve per body and
-//! column) and y = (Δλ̂, Δμ),
+//! A is block diagonal when P and A₀ are. The blocks are runs of consecutive bodies: a body
+//! alone, or the bodies a force couples (a spring-damper or compliant drive between two bodies
+//! joins the run from the one to the other, [`BlockKkt::applies`]), whose K̂ and Ĉ blocks
+//! between them are kept; the constraint Hessians' blocks between two runs are left out (a
+//! modified Newton matrix, like the omitted ∂(M(v − v̂))/∂q). When one run would span the
+//! whole system the caller uses the dense matrix instead. With E = [Gᵀ, P Gᵀ], Y = A⁻¹ E (one
+//! solve per run and column) and y = (Δλ̂, Δμ),
 //!
 //! ```text
 //! S y = [r₃ − V w − G u;  r₄ − G w],   S = [0, V Gᵀ; 0, G Gᵀ] − [G + c_q V; c_q G] Y,
 //! u = A⁻¹ (r₂ − P r₁),   w = r₁ + c_q u,   Δv = u − Y y
 //! ```
 //!
-//! so a factorization is one LU per body (7 + n_f rows) and one of S (2m rows) instead of one
-//! LU of the whole matrix (2n + 2m rows).
+//! so a factorization is one LU per run (7 + n_f rows for a body alone) and one of S (2m rows)
+//! instead of one LU of the whole matrix (2n + 2m rows), and a solve reads those factors
+//! instead of the whole matrix's.
 
 use super::dense_lu::DenseLu;
-use super::layout::{BodySlice, Layout};
+use super::layout::Layout;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par};
+use std::ops::Range;
 
 /// The factored block form of the GGL iteration matrix (see module docs).
 pub struct BlockKkt {
-    slices: Vec<BodySlice>,
-    /// LU factors of each body's A.
+    /// Each body's coordinates.
+    bodies: Vec<Range<usize>>,
+    /// The coordinates of each run of bodies (module docs).
+    runs: Vec<Range<usize>>,
+    /// LU factors of each run's A.
     blocks: Vec<DenseLu>,
-    /// Each body's block of P.
+    /// Each run's block of P.
     p: Vec<Mat<f64>>,
     /// Gᵀ = Φ_qᵀ and Vᵀ = ∂(Φ_q v + Φ_t)/∂qᵀ (n × m: a row of G or V is a column here).
     gt: Mat<f64>,
@@ -50,7 +57,7 @@ pub struct BlockKkt {
     gy: Mat<f64>,
     vy: Mat<f64>,
     schur: DenseLu,
-    /// The bodies each constraint row touches (nonzero in its row of G or V): a column of
+    /// The runs each constraint row touches (nonzero in its row of G or V): a column of
     /// Y = A⁻¹ [Gᵀ, P Gᵀ] is zero outside them, so products with G, V and Y skip the rest.
     touched: Vec<Vec<usize>>,
     c_q: f64,
@@ -64,14 +71,16 @@ impl BlockKkt {
     /// Storage for the bodies of `layout` and m constraints.
     pub fn new(layout: &Layout, m: usize) -> Self {
         let n = layout.size();
-        let slices = layout.slices().to_vec();
-        Self {
-            blocks: slices.iter().map(|s| DenseLu::new(s.len())).collect(),
-            p: slices
-                .iter()
-                .map(|s| Mat::zeros(s.len(), s.len()))
-                .collect(),
-            slices,
+        let bodies: Vec<Range<usize>> = layout
+            .slices()
+            .iter()
+            .map(|s| s.offset..s.offset + s.len())
+            .collect();
+        let mut kkt = Self {
+            blocks: Vec::new(),
+            p: Vec::new(),
+            runs: Vec::new(),
+            bodies: bodies.clone(),
             gt: Mat::zeros(n, m),
             vt: Mat::zeros(n, m),
             y: Mat::zeros(n, 2 * m),
@@ -83,23 +92,62 @@ impl BlockKkt {
             u: vec![0.0; n],
             w: vec![0.0; n],
             z: vec![0.0; 2 * m],
+        };
+        kkt.set_runs(bodies);
+        kkt
+    }
+
+    /// Sets the runs (coordinate ranges) and sizes the storage of their blocks.
+    fn set_runs(&mut self, runs: Vec<Range<usize>>) {
+        self.blocks = runs.iter().map(|r| DenseLu::new(r.len())).collect();
+        self.p = runs.iter().map(|r| Mat::zeros(r.len(), r.len())).collect();
+        self.runs = runs;
+    }
+
+    /// Groups the bodies into the runs of the module docs for the n × n matrices (the mass
+    /// matrix, K̂, Ĉ): the fewest runs of consecutive bodies outside whose diagonal blocks the
+    /// matrices are zero, so that the block form is the caller's matrix (up to the constraint
+    /// Hessians between runs). Whether the block form applies: more than one run, or at most one
+    /// body.
+    pub fn applies(&mut self, matrices: &[MatRef<'_, f64>]) -> bool {
+        let count = self.bodies.len();
+        // the last body each body is coupled with
+        let mut reach: Vec<usize> = (0..count).collect();
+        for a in matrices {
+            for (b, rows) in self.bodies.iter().enumerate() {
+                for (c, columns) in self.bodies.iter().enumerate() {
+                    let coupled = b != c
+                        && columns
+                            .clone()
+                            .any(|j| rows.clone().any(|i| a[(i, j)] != 0.0));
+                    if coupled {
+                        let (low, high) = (b.min(c), b.max(c));
+                        reach[low] = reach[low].max(high);
+                    }
+                }
+            }
         }
+        let mut runs = Vec::new();
+        let mut first = 0;
+        let mut last = 0;
+        for (b, &far) in reach.iter().enumerate() {
+            if b > last {
+                runs.push(self.bodies[first].start..self.bodies[last].end);
+                first = b;
+            }
+            last = last.max(far);
+        }
+        if count > 0 {
+            runs.push(self.bodies[first].start..self.bodies[last].end);
+        }
+        if runs != self.runs {
+            self.set_runs(runs);
+        }
+        self.runs.len() > 1 || count <= 1
     }
 
-    /// Whether the n × n matrices (the mass matrix, K̂, Ĉ) are zero outside the bodies'
-    /// diagonal blocks, so that the block form is the caller's matrix.
-    pub fn applies(&self, matrices: &[MatRef<'_, f64>]) -> bool {
-        matrices.iter().all(|a| {
-            self.slices.iter().all(|s| {
-                (0..a.ncols())
-                    .filter(|&j| j < s.offset || j >= s.offset + s.len())
-                    .all(|j| (s.offset..s.offset + s.len()).all(|i| a[(i, j)] == 0.0))
-            })
-        })
-    }
-
-    /// Factors the matrix of the module docs from A₀ (n × n, read on the body blocks), P (n × n,
-    /// read on the body blocks), G, V (m × n) and c_q.
+    /// Factors the matrix of the module docs from A₀ (n × n, read on the runs' blocks), P (n × n,
+    /// read on the runs' blocks), G, V (m × n) and c_q.
     pub fn factor(
         &mut self,
         a0: MatRef<'_, f64>,
@@ -112,8 +160,8 @@ impl BlockKkt {
         self.c_q = c_q;
         self.gt.copy_from(g.transpose());
         self.vt.copy_from(v.transpose());
-        for ((s, lu), pb) in self.slices.iter().zip(&mut self.blocks).zip(&mut self.p) {
-            let (o, len) = (s.offset, s.len());
+        for ((run, lu), pb) in self.runs.iter().zip(&mut self.blocks).zip(&mut self.p) {
+            let (o, len) = (run.start, run.len());
             pb.copy_from(p.submatrix(o, o, len, len));
             let mut a = lu.matrix_mut();
             for j in 0..len {
@@ -126,9 +174,12 @@ impl BlockKkt {
         for (k, touched) in self.touched.iter_mut().enumerate() {
             let (g, v) = (self.gt.col_as_slice(k), self.vt.col_as_slice(k));
             touched.clear();
-            for (b, s) in self.slices.iter().enumerate() {
-                let range = coordinates(s);
-                if g[range.clone()].iter().chain(&v[range]).any(|&x| x != 0.0) {
+            for (b, range) in self.runs.iter().enumerate() {
+                if g[range.clone()]
+                    .iter()
+                    .chain(&v[range.clone()])
+                    .any(|&x| x != 0.0)
+                {
                     touched.push(b);
                 }
             }
@@ -138,13 +189,12 @@ impl BlockKkt {
         for (k, touched) in self.touched.iter().enumerate() {
             let row = self.gt.col_as_slice(k);
             for &b in touched {
-                let (s, lu) = (self.slices[b], &mut self.blocks[b]);
-                let range = coordinates(&s);
+                let (range, lu) = (self.runs[b].clone(), &mut self.blocks[b]);
                 let column = &mut self.y.col_as_slice_mut(k)[range.clone()];
                 column.copy_from_slice(&row[range.clone()]);
                 lu.solve(column);
-                let column = &mut self.y.col_as_slice_mut(m + k)[range];
-                block_mul(self.p[b].as_ref(), s.offset, |j| row[j], column);
+                let column = &mut self.y.col_as_slice_mut(m + k)[range.clone()];
+                block_mul(self.p[b].as_ref(), range.start, |j| row[j], column);
                 lu.solve(column);
             }
         }
@@ -200,9 +250,9 @@ impl BlockKkt {
         let (r34, _) = rest.split_at_mut(2 * m);
         // u = A⁻¹ (r₂ − P r₁)
         self.u.copy_from_slice(r2);
-        for ((s, pb), lu) in self.slices.iter().zip(&self.p).zip(&mut self.blocks) {
-            let block = &mut self.u[s.offset..s.offset + s.len()];
-            block_mul(pb.as_ref(), s.offset, |j| -r1[j], block);
+        for ((range, pb), lu) in self.runs.iter().zip(&self.p).zip(&mut self.blocks) {
+            let block = &mut self.u[range.clone()];
+            block_mul(pb.as_ref(), range.start, |j| -r1[j], block);
             lu.solve(block);
         }
         for ((w, r), u) in self.w.iter_mut().zip(r1.iter()).zip(&self.u) {
@@ -211,7 +261,7 @@ impl BlockKkt {
         for (k, touched) in self.touched.iter().enumerate() {
             let (gk, vk) = (self.gt.col_as_slice(k), self.vt.col_as_slice(k));
             let (mut z3, mut z4) = (r34[k], r34[m + k]);
-            for j in touched.iter().flat_map(|&b| coordinates(&self.slices[b])) {
+            for j in touched.iter().flat_map(|&b| self.runs[b].clone()) {
                 z3 -= vk[j] * self.w[j] + gk[j] * self.u[j];
                 z4 -= gk[j] * self.w[j];
             }
@@ -225,7 +275,7 @@ impl BlockKkt {
             let column = self.y.col_as_slice(j);
             for i in self.touched[j % m]
                 .iter()
-                .flat_map(|&b| coordinates(&self.slices[b]))
+                .flat_map(|&b| self.runs[b].clone())
             {
                 r2[i] -= column[i] * yj;
             }
@@ -235,7 +285,7 @@ impl BlockKkt {
         }
         for (k, touched) in self.touched.iter().enumerate() {
             let (mu, gk) = (self.z[m + k], self.gt.col_as_slice(k));
-            for i in touched.iter().flat_map(|&b| coordinates(&self.slices[b])) {
+            for i in touched.iter().flat_map(|&b| self.runs[b].clone()) {
                 r1[i] += gk[i] * mu;
             }
         }
@@ -243,12 +293,7 @@ impl BlockKkt {
     }
 }
 
-/// The indices of a body's coordinates in q.
-fn coordinates(s: &BodySlice) -> std::ops::Range<usize> {
-    s.offset..s.offset + s.len()
-}
-
-/// out += P_b x_b for one body's block P_b, its coordinates from `offset` on (x read through
+/// out += P_b x_b for one run's block P_b, its coordinates from `offset` on (x read through
 /// `x(j)` with j the system index).
 fn block_mul(pb: MatRef<'_, f64>, offset: usize, x: impl Fn(usize) -> f64, out: &mut [f64]) {
     for j in 0..pb.ncols() {

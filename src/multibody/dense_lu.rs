@@ -35,6 +35,11 @@ impl DenseLu {
         }
     }
 
+    /// Number of rows n.
+    pub fn size(&self) -> usize {
+        self.matrix.nrows()
+    }
+
     /// The matrix to assemble (its factors after [`DenseLu::factor`]).
     pub fn matrix_mut(&mut self) -> MatMut<'_, f64> {
         self.matrix.as_mut()

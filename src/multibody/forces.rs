@@ -7,8 +7,16 @@
 //! ```
 //!
 //! with ℓ_d = ℓ₀ + f(t) (ℓ₀ the free length, rest angle or the drive's initial value). Angle
-//! differences are taken in (−π, π]. The Newton iteration matrix gets K ∇ℓ ∇ℓᵀ and C ∇ℓ ∇ℓᵀ
-//! (the curvature of ℓ times T is left out).
+//! differences are taken in (−π, π]. The integrator's Newton matrix gets K ∇ℓ ∇ℓᵀ and
+//! C ∇ℓ ∇ℓᵀ (the curvature of ℓ times T is left out); the static stiffness −∂Q/∂q at rest is
+//! exact, K ∇ℓ ∇ℓᵀ − T ∇²ℓ, with for θ = atan2(s, c), ρ² = s² + c², a = ∇s, b = ∇c
+//!
+//! ```text
+//! ∇²θ = (c ∇²s − s ∇²c) / ρ² + (2cs (b bᵀ − a aᵀ) + (s² − c²)(a bᵀ + b aᵀ)) / ρ⁴,
+//! ∇²|d| = ∇²(d·d) / (2 |d|) − ∇|d| ∇|d|ᵀ / |d|,
+//! ```
+//!
+//! and a slide's ∇²ℓ the Hessian of its dot product.
 //!
 //! A force F n at a marker point p does the virtual work F nᵀ δp, so Q = F (∂p/∂q)ᵀ n. A moment
 //! M n does M nᵀ δθ with δθ the small rotation of the marker's frame; its axes uₖ move by
@@ -19,8 +27,13 @@
 //! ```
 //!
 //! which on a rigid body is the Euler-parameter form Q_e = 2 Gᵀ (M n) and on a flexible body
-//! adds the interface grid's rotation rows. Neither load's derivative enters the iteration
-//! matrix (the direction n is fixed in space, the loads are given).
+//! adds the interface grid's rotation rows. Neither load's derivative enters the integrator's
+//! iteration matrix (the direction n is fixed in space, the loads are given); the static
+//! stiffness takes them exactly: ∂Q/∂q = F ∇²(nᵀp) for the force and, for the moment,
+//!
+//! ```text
+//! ∂Q/∂q = ½ M Σₖ (J_kᵀ [n]× J_k + ∇²((n × uₖ)ᵀ uₖ) with n × uₖ held),   J_k = ∂uₖ/∂q.
+//! ```
 
 use super::constraint::{Constraint, VectorSum};
 use super::layout::Layout;
@@ -28,6 +41,20 @@ use super::marker::Marker;
 use super::signal::Signal;
 use crate::geometry::vec3::cross;
 use faer::MatMut;
+
+/// Adds scale · g gᵀ to `out` over the entries `nonzero` of g.
+fn add_outer(out: &mut MatMut<'_, f64>, nonzero: &[usize], g: &[f64], scale: f64) {
+    for &i in nonzero {
+        for &j in nonzero {
+            out[(i, j)] += scale * (g[i] * g[j]);
+        }
+    }
+}
+
+/// The indices of the nonzero entries of g.
+fn nonzero(g: &[f64]) -> Vec<usize> {
+    (0..g.len()).filter(|&j| g[j] != 0.0).collect()
+}
 
 /// An applied force element (user-facing).
 #[derive(Debug, Clone)]
@@ -100,6 +127,57 @@ impl Force {
             Force::PointSpringDamper { .. } | Force::JointSpringDamper { .. } => {}
         }
     }
+
+    /// Adds −∂Q/∂q of a point force or moment at time t to `out` (n × n; module docs);
+    /// spring-dampers add nothing here ([`SpringDamper::add_static_stiffness`]).
+    pub fn add_load_stiffness(
+        &self,
+        markers: &[Marker],
+        layout: &Layout,
+        q: &[f64],
+        t: f64,
+        out: &mut MatMut<'_, f64>,
+    ) {
+        match self {
+            Force::Point {
+                marker,
+                direction,
+                signal,
+            } => {
+                let amplitude = signal.at(t)[0];
+                markers[*marker]
+                    .point()
+                    .hessian(layout, q, *direction, |i, j, x| {
+                        out[(i, j)] -= amplitude * x
+                    });
+            }
+            Force::Moment {
+                marker,
+                direction,
+                signal,
+            } => {
+                let amplitude = 0.5 * signal.at(t)[0];
+                let mut jacobian = Vec::new();
+                for k in 0..3 {
+                    let axis = markers[*marker].axis(k);
+                    let w = cross(*direction, axis.value(layout, q));
+                    axis.hessian(layout, q, w, |i, j, x| out[(i, j)] -= amplitude * x);
+                    jacobian.clear();
+                    axis.jacobian(layout, q, |r, j, x| jacobian.push((r, j, x)));
+                    // (n × ∂u/∂qᵢ) · ∂u/∂q_j, row by row of the Jacobian
+                    for &(r, i, x) in &jacobian {
+                        let mut unit = [0.0; 3];
+                        unit[r] = 1.0;
+                        let turned = cross(*direction, unit);
+                        for &(s, j, y) in &jacobian {
+                            out[(j, i)] -= amplitude * turned[s] * x * y;
+                        }
+                    }
+                }
+            }
+            Force::PointSpringDamper { .. } | Force::JointSpringDamper { .. } => {}
+        }
+    }
 }
 
 /// A scalar coordinate ℓ(q) with its gradient.
@@ -139,6 +217,49 @@ impl Coordinate {
         }
     }
 
+    /// Adds weight · ∇²ℓ at q to `out` (n × n; module docs).
+    pub fn add_hessian(&self, layout: &Layout, q: &[f64], weight: f64, out: &mut MatMut<'_, f64>) {
+        match self {
+            Coordinate::Angle([s_part, c_part]) => {
+                let (s, c) = (s_part.value(layout, q, 0.0), c_part.value(layout, q, 0.0));
+                let rho2 = s * s + c * c;
+                s_part.hessian(layout, q, 0.0, weight * c / rho2, |i, j, x| {
+                    out[(i, j)] += x
+                });
+                c_part.hessian(layout, q, 0.0, -weight * s / rho2, |i, j, x| {
+                    out[(i, j)] += x
+                });
+                let (mut a, mut b) = (vec![0.0; q.len()], vec![0.0; q.len()]);
+                s_part.jacobian(layout, q, 0.0, 0, |j, x| a[j] += x);
+                c_part.jacobian(layout, q, 0.0, 0, |j, x| b[j] += x);
+                let w = weight / (rho2 * rho2);
+                let either: Vec<usize> = (0..q.len())
+                    .filter(|&j| a[j] != 0.0 || b[j] != 0.0)
+                    .collect();
+                add_outer(out, &either, &b, 2.0 * c * s * w);
+                add_outer(out, &either, &a, -2.0 * c * s * w);
+                let mixed = (s * s - c * c) * w;
+                for &j in &either {
+                    for &i in &either {
+                        out[(i, j)] += mixed * (a[i] * b[j] + b[i] * a[j]);
+                    }
+                }
+            }
+            Coordinate::Slide(part) => {
+                part.hessian(layout, q, 0.0, weight, |i, j, x| out[(i, j)] += x);
+            }
+            Coordinate::Distance(sep) => {
+                let mut gradient = vec![0.0; q.len()];
+                let length = self.evaluate(layout, q, &mut gradient);
+                let d = Constraint::dot(sep.clone(), sep.clone());
+                d.hessian(layout, q, 0.0, 0.5 * weight / length, |i, j, x| {
+                    out[(i, j)] += x
+                });
+                add_outer(out, &nonzero(&gradient), &gradient, -weight / length);
+            }
+        }
+    }
+
     fn difference(&self, value: f64, target: f64) -> f64 {
         match self {
             Coordinate::Angle(_) => {
@@ -174,26 +295,39 @@ impl SpringDamper {
         force: &mut [f64],
         iteration: Option<(MatMut<'_, f64>, MatMut<'_, f64>, f64, f64)>,
     ) -> f64 {
-        let value = self.coordinate.evaluate(layout, q, gradient);
-        let rate: f64 = gradient.iter().zip(v).map(|(g, x)| g * x).sum();
-        let [target, target_rate, _] = self.motion.as_ref().map_or([0.0; 3], |m| m.at(t));
-        let error = self.coordinate.difference(value, self.rest + target);
-        let tension = -self.stiffness * error - self.damping * (rate - target_rate);
-        let nonzero: Vec<usize> = (0..gradient.len())
-            .filter(|&j| gradient[j] != 0.0)
-            .collect();
+        let tension = self.tension(layout, q, v, t, gradient);
+        let nonzero = nonzero(gradient);
         for &j in &nonzero {
             force[j] += tension * gradient[j];
         }
         if let Some((mut dq, mut dv, cq, cv)) = iteration {
-            for &i in &nonzero {
-                for &j in &nonzero {
-                    let g = gradient[i] * gradient[j];
-                    dq[(i, j)] += cq * self.stiffness * g;
-                    dv[(i, j)] += cv * self.damping * g;
-                }
-            }
+            add_outer(&mut dq, &nonzero, gradient, cq * self.stiffness);
+            add_outer(&mut dv, &nonzero, gradient, cv * self.damping);
         }
         tension
+    }
+
+    /// T at (q, q̇, t), with ∇ℓ written into `gradient` (length n, overwritten).
+    fn tension(&self, layout: &Layout, q: &[f64], v: &[f64], t: f64, gradient: &mut [f64]) -> f64 {
+        let value = self.coordinate.evaluate(layout, q, gradient);
+        let rate: f64 = gradient.iter().zip(v).map(|(g, x)| g * x).sum();
+        let [target, target_rate, _] = self.motion.as_ref().map_or([0.0; 3], |m| m.at(t));
+        let error = self.coordinate.difference(value, self.rest + target);
+        -self.stiffness * error - self.damping * (rate - target_rate)
+    }
+
+    /// Adds the static stiffness −∂Q/∂q = K ∇ℓ∇ℓᵀ − T ∇²ℓ at (q, q̇ = 0, t) to `out` (n × n;
+    /// module docs); `gradient` is scratch of length n.
+    pub fn add_static_stiffness(
+        &self,
+        layout: &Layout,
+        q: &[f64],
+        t: f64,
+        gradient: &mut [f64],
+        out: &mut MatMut<'_, f64>,
+    ) {
+        let tension = self.tension(layout, q, &vec![0.0; q.len()], t, gradient);
+        add_outer(out, &nonzero(gradient), gradient, self.stiffness);
+        self.coordinate.add_hessian(layout, q, -tension, out);
     }
 }

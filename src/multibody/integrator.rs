@@ -25,10 +25,11 @@
 //! derivatives of M(q)(v − v̂), f_v and gravity with respect to q (of relative size h² ω²)
 //! are left out, so the iteration is a modified Newton method: [`crate::dynamics::newton`]'s
 //! driver with `JacobianUpdate::Reuse`, shared with the integrators of
-//! [`crate::dynamics::nonlinear`]. When no force couples two bodies (M, K̂ and Ĉ block
-//! diagonal) the matrix is factored body by body with a Schur complement on the multiplier
-//! rows ([`BlockKkt`]; it also leaves out the constraint Hessians' blocks between two bodies
-//! and the μ-Hessian); otherwise as one dense LU (sequential, in place, [`DenseLu`]). The
+//! [`crate::dynamics::nonlinear`]. The matrix is factored by runs of bodies — a body alone,
+//! or the consecutive bodies that forces couple (M, K̂ and Ĉ are block diagonal over the
+//! runs) — with a Schur complement on the multiplier rows ([`BlockKkt`]; it also leaves out
+//! the constraint Hessians' blocks between two runs and the μ-Hessian); when one run would
+//! span the system, as one dense LU (sequential, in place, [`DenseLu`]). The
 //! factorization is kept across iterations and steps while c_q and c_v stay the same, and
 //! refreshed when the contraction rate of the corrections exceeds `slow_rate`. A step ends when
 //! its last correction is within the tolerance; with BDF1 and BDF2 also when the error left
@@ -124,8 +125,7 @@ pub struct Ggl {
     history: History,
     form: StepForm,
     newton: NewtonDriver,
-    /// The iteration matrix and its factors: dense, or by bodies when the forces couple no
-    /// two bodies ([`BlockKkt`]).
+    /// The iteration matrix and its factors: dense, or by runs of bodies ([`BlockKkt`]).
     lu: DenseLu,
     block: BlockKkt,
     /// Which of the two holds the current factorization.

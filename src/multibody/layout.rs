@@ -3,6 +3,8 @@
 //! added; a rigid body has n_r = 0 and the ground (body `None`) has no coordinates. The
 //! velocity vector v = q̇ has the same layout.
 
+use faer::{MatMut, MatRef};
+
 /// Where one body's coordinates sit in the system vector.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BodySlice {
@@ -41,6 +43,14 @@ impl BodySlice {
     /// q_f of this body in q.
     pub fn modal<'a>(&self, q: &'a [f64]) -> &'a [f64] {
         &q[self.flexible()..self.flexible() + self.modes]
+    }
+    /// Adds scale · `block` (n_r × n_r, e.g. K_ff) to the q_f–q_f block of `out` (system size).
+    pub fn add_modal_block(&self, out: &mut MatMut<'_, f64>, block: MatRef<'_, f64>, scale: f64) {
+        for i in 0..self.modes {
+            for j in 0..self.modes {
+                out[(self.flexible() + i, self.flexible() + j)] += scale * block[(i, j)];
+            }
+        }
     }
 }
 

@@ -23,7 +23,8 @@
 //!   initial conditions and the GGL step (eq. 2.60–2.61) with the modified Newton of
 //!   [`crate::dynamics::newton`]; [`dense_lu`]: its iteration matrix's LU; [`scheme`]:
 //!   BDF1, BDF2 and generalized-α as one step form; [`statics`]: static equilibrium under
-//!   gravity with drives held; [`poses`]: equilibria over a grid of drive poses, each started
+//!   gravity with drives held, with the exact stiffness of the applied forces at rest
+//!   ([`stiffness`]); [`poses`]: equilibria over a grid of drive poses, each started
 //!   from its neighbour's;
 //!   [`output`]: marker kinematics, reactions, drive torques, power and energy;
 //!   [`simulation`]: a run over a time grid with the histories of chosen outputs;
@@ -60,7 +61,10 @@ pub mod scheme;
 pub mod signal;
 pub mod simulation;
 pub mod statics;
+#[cfg(test)]
+mod statics_tests;
 pub mod step_control;
+pub mod stiffness;
 pub mod system;
 pub mod vectors;
 

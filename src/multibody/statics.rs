@@ -14,10 +14,11 @@
 //! ⎣ Φ_q                 0    ⎦
 //! ```
 //!
-//! where ∂f/∂q is taken by central differences (gravity's dependence on the orientation and the
-//! modal coordinates enters through the invariants, which have no analytic q-derivative here),
-//! the constraint Hessians are analytic. A correction that does not lower the residual is halved
-//! (up to ten times) so a start far from equilibrium does not overshoot.
+//! with −∂f/∂q the exact static stiffness of [`super::stiffness`] (elastic, gravity through the
+//! invariants, springs and compliant drives with their curvature, point loads) and the
+//! constraint Hessians of [`super::constraint`]: the exact tangent, so the iteration converges
+//! quadratically. A correction that does not lower the residual is halved (up to ten times) so
+//! a start far from equilibrium does not overshoot.
 //!
 //! [`Refresh::Every`] factors the matrix at every iterate (full Newton, what [`equilibrium`]
 //! does). [`Refresh::WhenSlow`] keeps a factorization — across iterations and across calls,
@@ -26,10 +27,10 @@
 //! correction had to be halved (the modified Newton policy of [`crate::dynamics::newton`]).
 //! Neighbouring poses of a grid ([`super::poses`]) share one matrix this way.
 
+use super::dense_lu::DenseLu;
 use super::error::MultibodyError;
 use super::system::{Equations, System};
-use faer::Mat;
-use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::{Mat, MatMut};
 
 /// Iterations of the equilibrium Newton solve before it gives up.
 const MAX_ITERATIONS: usize = 50;
@@ -67,19 +68,31 @@ pub struct StaticSettings {
     pub refresh: Refresh,
 }
 
-/// A factored iteration matrix kept between solves of the same system (module docs).
+/// A factored iteration matrix kept between solves of the same system (module docs): the
+/// integrator's sequential in-place LU, its storage reused from one factorization to the next.
 #[derive(Default)]
-pub struct KeptMatrix(Option<PartialPivLu<f64>>);
+pub struct KeptMatrix {
+    lu: Option<DenseLu>,
+    factored: bool,
+}
 
 impl KeptMatrix {
     /// Drops the factorization (the next iteration factors afresh).
     pub fn clear(&mut self) {
-        self.0 = None;
+        self.factored = false;
+    }
+
+    /// The LU storage for a matrix of `size` rows.
+    fn storage(&mut self, size: usize) -> &mut DenseLu {
+        if self.lu.as_ref().is_none_or(|lu| lu.size() != size) {
+            self.lu = Some(DenseLu::new(size));
+        }
+        self.lu.as_mut().expect("set above")
     }
 }
 
 /// The residual [Φ_qᵀ λ − f; Φ] at (q, λ) and Φ_q.
-fn residual(
+pub(super) fn residual(
     system: &System,
     equations: &Equations,
     q: &[f64],
@@ -104,17 +117,19 @@ fn residual(
     r
 }
 
-/// The iteration matrix of the module docs at (q, λ), Φ_q given.
-fn iteration_matrix(
+/// The iteration matrix of the module docs at (q, λ), Φ_q given, into `matrix` ((n + m)
+/// square, overwritten).
+pub(super) fn iteration_matrix(
     system: &System,
     equations: &Equations,
-    q: &[f64],
-    lambda: &[f64],
+    (q, lambda): (&[f64], &[f64]),
     t: f64,
     phi_q: &Mat<f64>,
-) -> Mat<f64> {
+    mut matrix: MatMut<'_, f64>,
+) {
     let (n, m) = (q.len(), lambda.len());
-    let mut matrix = Mat::<f64>::zeros(n + m, n + m);
+    matrix.fill(0.0);
+    system.static_stiffness(equations, q, t, matrix.as_mut().submatrix_mut(0, 0, n, n));
     equations.constraints.add_weighted_hessian(
         &system.layout,
         q,
@@ -123,30 +138,12 @@ fn iteration_matrix(
         1.0,
         matrix.as_mut().submatrix_mut(0, 0, n, n),
     );
-    let zero = vec![0.0; n];
-    let mut force = vec![0.0; n];
-    let mut shifted = vec![0.0; n];
-    for j in 0..n {
-        let h = 1e-6 * (1.0 + q[j].abs());
-        shifted.copy_from_slice(q);
-        shifted[j] = q[j] + h;
-        system.applied_forces(equations, &shifted, &zero, t, &mut force, None);
-        for i in 0..n {
-            matrix[(i, j)] -= force[i] / (2.0 * h);
-        }
-        shifted[j] = q[j] - h;
-        system.applied_forces(equations, &shifted, &zero, t, &mut force, None);
-        for i in 0..n {
-            matrix[(i, j)] += force[i] / (2.0 * h);
-        }
-    }
     for i in 0..m {
         for j in 0..n {
             matrix[(j, n + i)] = phi_q[(i, j)];
             matrix[(n + i, j)] = phi_q[(i, j)];
         }
     }
-    matrix
 }
 
 fn max_abs(x: &[f64]) -> f64 {
@@ -203,17 +200,16 @@ pub fn equilibrium_from(
         kept.clear();
     }
     for iteration in 1..=MAX_ITERATIONS {
-        if kept.0.is_none() {
-            let matrix = iteration_matrix(system, equations, &q, &lambda, t, &phi_q);
-            kept.0 = Some(matrix.partial_piv_lu());
+        if !kept.factored {
+            let lu = kept.storage(n + m);
+            iteration_matrix(system, equations, (&q, &lambda), t, &phi_q, lu.matrix_mut());
+            lu.factor();
+            kept.factored = true;
             factorizations += 1;
         }
-        let mut dx = Mat::from_fn(n + m, 1, |i, _| -r[i]);
-        kept.0
-            .as_ref()
-            .expect("factored above")
-            .solve_in_place(dx.as_mut());
-        if (0..n + m).any(|i| !dx[(i, 0)].is_finite()) {
+        let mut dx: Vec<f64> = r.iter().map(|x| -x).collect();
+        kept.storage(n + m).solve(&mut dx);
+        if dx.iter().any(|d| !d.is_finite()) {
             kept.clear();
             return Err(MultibodyError::Singular {
                 what: "static equilibrium matrix",
@@ -225,10 +221,10 @@ pub fn equilibrium_from(
         let (mut q_try, mut lambda_try) = (q.clone(), lambda.clone());
         for _ in 0..10 {
             for j in 0..n {
-                q_try[j] = q[j] + scale * dx[(j, 0)];
+                q_try[j] = q[j] + scale * dx[j];
             }
             for i in 0..m {
-                lambda_try[i] = lambda[i] + scale * dx[(n + i, 0)];
+                lambda_try[i] = lambda[i] + scale * dx[n + i];
             }
             r = residual(system, equations, &q_try, &lambda_try, t, &mut phi_q);
             if max_abs(&r) <= before {
@@ -236,7 +232,7 @@ pub fn equilibrium_from(
             }
             scale *= 0.5;
         }
-        let newton_step = (0..n).fold(0.0_f64, |a, j| a.max(dx[(j, 0)].abs()));
+        let newton_step = max_abs(&dx[..n]);
         (q, lambda) = (q_try, lambda_try);
         let stale = match settings.refresh {
             Refresh::Every => true,

@@ -396,13 +396,8 @@ impl System {
                         dv[(s.offset + i, s.offset + j)] -= *coef * block[(i, j)];
                     }
                 }
-                for i in 0..s.modes {
-                    for j in 0..s.modes {
-                        let (fi, fj) = (s.flexible() + i, s.flexible() + j);
-                        dq[(fi, fj)] += *coef * k[(i, j)];
-                        dv[(fi, fj)] += *coef * c[(i, j)];
-                    }
-                }
+                s.add_modal_block(dq, k.as_ref(), *coef);
+                s.add_modal_block(dv, c.as_ref(), *coef);
             }
         }
         for f in &self.forces {
