@@ -15,6 +15,7 @@ pub mod beam;
 pub mod beam_section;
 #[cfg(test)]
 mod beam_tests;
+pub mod failure;
 pub mod laminate;
 pub mod lumped;
 pub mod pressure;
@@ -25,3 +26,4 @@ pub mod solid;
 mod solid_shape;
 #[cfg(test)]
 mod solid_tests;
+pub mod stress;
