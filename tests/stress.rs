@@ -4,7 +4,7 @@
 //! (`tools/calculix/solid_stress.py`).
 
 mod common;
-use common::{read_dataset, run_to_file};
+use common::{f64s, json, read_dataset, root, run_deck, run_deck_file, run_to_file};
 
 const E: f64 = 70.0e9;
 const NU: f64 = 0.3;
@@ -185,4 +185,286 @@ fn pure_bending_gives_six_m_over_t_squared() {
             }
         }
     }
+}
+
+/// Grid loads of the uniform membrane resultant N = (Nx, Ny, Nxy) on the plate's four edges
+/// (traction N·n, h/2 of each edge segment to its end grids), as FORCE cards of set 5.
+fn membrane_loads(n: [f64; 3]) -> String {
+    let mut at = std::collections::BTreeMap::<usize, [f64; 2]>::new();
+    let mut add = |g: usize, w: f64, t: [f64; 2]| {
+        let f = at.entry(g).or_default();
+        f[0] += w * t[0];
+        f[1] += w * t[1];
+    };
+    let (hx, hy) = (LX / NX as f64, LY / NY as f64);
+    for j in 0..NY {
+        for (i, sign) in [(NX, 1.0), (0, -1.0)] {
+            let t = [sign * n[0], sign * n[2]];
+            add(gid(i, j), 0.5 * hy, t);
+            add(gid(i, j + 1), 0.5 * hy, t);
+        }
+    }
+    for i in 0..NX {
+        for (j, sign) in [(NY, 1.0), (0, -1.0)] {
+            let t = [sign * n[2], sign * n[1]];
+            add(gid(i, j), 0.5 * hx, t);
+            add(gid(i + 1, j), 0.5 * hx, t);
+        }
+    }
+    at.iter()
+        .map(|(g, f)| format!("FORCE,5,{g},,1.,{:?},{:?},0.\n", f[0], f[1]))
+        .collect()
+}
+
+/// The PCOMP of `reference/analytic/pcomp_membrane_plies.json` (LAM = SYM, the lower half
+/// given) with failure theory `ft` on CTRIA3 triangles, under the reference's resultant N.
+fn laminate_deck(r: &serde_json::Value, ft: &str, case: &str) -> String {
+    let m = &r["material"];
+    let a = &r["allowables"];
+    let v = |x: &serde_json::Value| x.as_f64().expect("number");
+    let t = v(&r["ply_thickness"]);
+    let layup = f64s(&r["layup_deg"]);
+    let plies: String = layup[..layup.len() / 2]
+        .iter()
+        .map(|th| format!("+,10,{t:?},{th:?},YES\n"))
+        .collect();
+    let n = f64s(&r["resultant_N"]);
+    let mut spc: String = (0..=NY)
+        .flat_map(|j| (0..=NX).map(move |i| format!("SPC1,1,345,{}\n", gid(i, j))))
+        .collect();
+    spc += &format!("SPC1,1,12,{}\nSPC1,1,2,{}\n", gid(0, 0), gid(NX, 0));
+    format!(
+        "SOL 101\nCEND\nSPC = 1\nLOAD = 5\n{case}BEGIN BULK\n\
+         PCOMP,1,,,,{ft},,,SYM\n{plies}\
+         MAT8,10,{:?},{:?},{:?},{:?},{:?},{:?},1600.\n+,,,,{:?},{:?},{:?},{:?},{:?}\n+,,{:?}\n\
+         {}{spc}{}ENDDATA\n",
+        v(&m["E1"]),
+        v(&m["E2"]),
+        v(&m["NU12"]),
+        v(&m["G12"]),
+        v(&m["G1Z"]),
+        v(&m["G2Z"]),
+        v(&a["Xt"]),
+        v(&a["Xc"]),
+        v(&a["Yt"]),
+        v(&a["Yc"]),
+        v(&a["S"]),
+        v(&a["F12"]),
+        plate(true),
+        membrane_loads([n[0], n[1], n[2]]),
+    )
+}
+
+/// A symmetric [0/30/−60/90]s laminate under N = (Nx, Ny, Nxy) on a distorted CTRIA3 mesh
+/// against the independent numpy CLT of `tools/analytic/clt_plies.py`: every element's plies
+/// (1 = bottom) carry the reference's ply-axis strains and stresses, no transverse shear, and
+/// the Tsai–Wu and Hill indices by the hand formulas. The constant membrane state is exact for
+/// the CTRIA3 (the CQUAD4's Allman edge modes would need drilling moments in the edge loads,
+/// see the tension test), so the bound is round-off: 1e-9 of the largest ply stress (strain),
+/// 1e-9 absolute on the indices (of order 0.1). The triangles (c, d, a) have their x axis
+/// along −x, which leaves ply-axis stresses unchanged (a 180° turn of both axes).
+#[test]
+fn laminate_plies_match_classical_lamination_theory() {
+    let r = json("reference/analytic/pcomp_membrane_plies.json");
+    let plies = r["plies"].as_array().unwrap();
+    for (ft, key) in [("TSAI", "tsai_wu"), ("HILL", "hill")] {
+        let (file, _dir) = run_to_file(&laminate_deck(&r, ft, "STRESS = ALL\nFORCE = ALL\n"));
+        let g = file.group("results/1/statics/ply_stress/CTRIA3").unwrap();
+        let ids: Vec<u32> = read_dataset(&g, "ids");
+        let ply: Vec<u32> = read_dataset(&g, "ply");
+        let stress: Vec<f64> = read_dataset(&g, "stress");
+        let strain: Vec<f64> = read_dataset(&g, "strain");
+        let fi: Vec<f64> = read_dataset(&g, "failure_index");
+        assert_eq!(ids.len(), 2 * NX * NY * plies.len());
+        let smax = plies
+            .iter()
+            .flat_map(|p| f64s(&p["stress"]))
+            .fold(0.0, |m: f64, x| m.max(x.abs()));
+        let emax = f64s(&r["laminate_strain"])
+            .iter()
+            .fold(0.0, |m: f64, x| m.max(x.abs()));
+        for (row, k) in (0..ids.len()).zip((0..plies.len()).cycle()) {
+            let p = &plies[k];
+            assert_eq!(ply[row] as usize, k + 1);
+            let (s, e) = (&stress[5 * row..5 * row + 5], &strain[5 * row..5 * row + 5]);
+            let mut want_s = f64s(&p["stress"]);
+            want_s.extend([0.0, 0.0]);
+            let mut want_e = f64s(&p["strain"]);
+            want_e.extend([0.0, 0.0]);
+            assert!(
+                max_abs_diff(s, &want_s) < 1e-9 * smax,
+                "element {} ply {}: {s:?} vs {want_s:?}",
+                ids[row],
+                k + 1
+            );
+            assert!(
+                max_abs_diff(e, &want_e) < 1e-9 * emax,
+                "element {} ply {}: {e:?}",
+                ids[row],
+                k + 1
+            );
+            let want = p[key].as_f64().unwrap();
+            assert!(
+                (fi[row] - want).abs() < 1e-9,
+                "{ft} ply {}: {} vs {want}",
+                k + 1,
+                fi[row]
+            );
+        }
+        // the element forces are the applied resultant
+        let f: Vec<f64> = read_dataset(
+            &file.group("results/1/statics/force/CTRIA3").unwrap(),
+            "forces",
+        );
+        let n = f64s(&r["resultant_N"]);
+        for row in rows(&f, 8) {
+            assert!(max_abs_diff(&row[..3], &n) < 1e-9 * n[0].abs(), "{row:?}");
+        }
+        // PCOMP elements have ply results only, no fibre stresses
+        assert!(file.group("results/1/statics/stress/CTRIA3").is_err());
+    }
+}
+
+/// A failure theory the allowables cannot serve warns once per PCOMP and material, and the
+/// index is NaN: HILL with MAT8 S blank; an FT paraflex does not evaluate (PUCK) likewise.
+/// Without a STRESS request nothing is said.
+#[test]
+fn failure_theory_without_strengths_warns_and_writes_nan() {
+    let r = json("reference/analytic/pcomp_membrane_plies.json");
+    let deck = laminate_deck(&r, "HILL", "STRESS = ALL\n").replace(
+        &format!("{:?},{:?}\n+,,", 250e6, 70e6),
+        &format!("{:?},\n+,,", 250e6),
+    );
+    assert!(!deck.contains(",70000000.0"), "S not removed");
+    let (res, dir) = run_deck(&deck);
+    let s = res.expect("run");
+    let hits: Vec<&String> = s
+        .warnings
+        .iter()
+        .filter(|w| w.contains("PCOMP 1"))
+        .collect();
+    assert_eq!(hits.len(), 1, "{:?}", s.warnings);
+    assert!(hits[0].contains("HILL needs MAT8 S"), "{}", hits[0]);
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).unwrap();
+    let fi: Vec<f64> = read_dataset(
+        &file.group("results/1/statics/ply_stress/CTRIA3").unwrap(),
+        "failure_index",
+    );
+    assert!(fi.iter().all(|x| x.is_nan()));
+
+    let (res, _dir) = run_deck(&laminate_deck(&r, "PUCK", "STRESS = ALL\n"));
+    let s = res.expect("run");
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| w.contains("FT = PUCK is not evaluated")),
+        "{:?}",
+        s.warnings
+    );
+
+    let (res, _dir) = run_deck(&laminate_deck(&r, "PUCK", ""));
+    assert!(
+        !res.expect("run")
+            .warnings
+            .iter()
+            .any(|w| w.contains("PCOMP"))
+    );
+}
+
+/// CHEXA cantilever (10 × 2 × 2 bricks, tip loads in y and z) against CalculiX C3D8I on the
+/// same mesh (`tools/calculix/solid_stress.py`): the centroid stresses against the mean of
+/// ccx's 8 integration-point stresses, the corner stresses against ccx's integration-point
+/// stresses extrapolated trilinearly to the corners, element by element and grid by grid. Same
+/// element family on undistorted bricks, so the JSON's bound (1e-6 of the largest stress,
+/// ccx prints 7 digits) is round-off and print precision. Von Mises is checked against the
+/// formula on paraflex's own components.
+#[test]
+fn chexa_stresses_match_calculix_c3d8i() {
+    let r = json("reference/calculix/solid/cantilever_chexa_stress.json");
+    let (res, _model, dir) = run_deck_file(&root().join(r["deck"].as_str().unwrap()));
+    res.expect("run");
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).unwrap();
+    let g = file.group("results/1/statics/stress/CHEXA").unwrap();
+    let ids: Vec<u32> = read_dataset(&g, "ids");
+    let centroid: Vec<f64> = read_dataset(&g, "centroid");
+    let corners: Vec<f64> = read_dataset(&g, "corners");
+    let grids: Vec<u32> = read_dataset(&g, "corner_grid_ids");
+    let vm: Vec<f64> = read_dataset(&g, "von_mises");
+    let elements = r["elements"].as_array().unwrap();
+    assert_eq!(ids.len(), elements.len());
+    let smax = elements
+        .iter()
+        .flat_map(|e| e["corners"].as_array().unwrap().iter().flat_map(f64s))
+        .fold(0.0, |m: f64, x| m.max(x.abs()));
+    let tol = r["tolerance"]["rel"].as_f64().unwrap() * smax;
+    for (k, e) in elements.iter().enumerate() {
+        assert_eq!(ids[k] as u64, e["id"].as_u64().unwrap());
+        let c = &centroid[6 * k..6 * k + 6];
+        assert!(
+            max_abs_diff(c, &f64s(&e["centroid"])) < tol,
+            "element {}: {c:?}",
+            ids[k]
+        );
+        let s: [f64; 6] = std::array::from_fn(|i| c[i]);
+        let d = (s[0] - s[1]).powi(2) + (s[1] - s[2]).powi(2) + (s[2] - s[0]).powi(2);
+        let want = (0.5 * d + 3.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5])).sqrt();
+        assert!((vm[k] - want).abs() < 1e-12 * smax);
+        let want_grids: Vec<u32> = f64s(&e["grids"]).iter().map(|&x| x as u32).collect();
+        assert_eq!(&grids[8 * k..8 * k + 8], want_grids.as_slice());
+        for (a, corner) in e["corners"].as_array().unwrap().iter().enumerate() {
+            let got = &corners[48 * k + 6 * a..48 * k + 6 * a + 6];
+            assert!(
+                max_abs_diff(got, &f64s(corner)) < tol,
+                "element {} corner {}: {got:?} vs {corner}",
+                ids[k],
+                a + 1
+            );
+        }
+    }
+}
+
+/// The "not honoured" warnings of a deck text (what `paraflex check` and `run` print).
+fn request_warnings(text: &str) -> Vec<String> {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("deck.dat");
+    std::fs::write(&path, text).unwrap();
+    let deck = paraflex::deck::Deck::read(&path).expect("deck");
+    let model = paraflex::model::Model::build(&deck).expect("model");
+    paraflex::sequence::request_warnings(&deck, &model)
+        .iter()
+        .map(|w| w.to_string())
+        .collect()
+}
+
+/// STRESS and FORCE are SOL 101 requests: SOL 101 honours them silently, SOL 103 still warns
+/// at each statement, and writes neither.
+#[test]
+fn stress_and_force_are_honoured_by_sol_101_only() {
+    let requests = "STRESS = ALL\nFORCE = ALL\n";
+    let statics = deck(
+        requests,
+        "SPC1,1,123456,1,5,9\nFORCE,5,4,,1.,0.,0.,1.\n",
+        false,
+    );
+    assert!(request_warnings(&statics).is_empty());
+    let modal = deck(
+        &format!("{requests}METHOD = 1\n"),
+        "EIGRL,1,,,2\nSPC1,1,123456,1,5,9\n",
+        false,
+    )
+    .replace("SOL 101", "SOL 103")
+    .replace("LOAD = 5\n", "");
+    let w = request_warnings(&modal);
+    for name in ["STRESS", "FORCE"] {
+        assert!(
+            w.iter()
+                .any(|x| x.contains(&format!("output request {name} is not honoured by SOL 103"))),
+            "{w:?}"
+        );
+    }
+    let (res, dir) = run_deck(&modal);
+    res.expect("run");
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).unwrap();
+    let modal = file.group("results/1/modal").unwrap();
+    assert!(modal.group("stress").is_err() && modal.group("force").is_err());
 }
