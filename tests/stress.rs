@@ -468,3 +468,55 @@ fn stress_and_force_are_honoured_by_sol_101_only() {
     let modal = file.group("results/1/modal").unwrap();
     assert!(modal.group("stress").is_err() && modal.group("force").is_err());
 }
+
+/// The XDMF of a run with STRESS and FORCE on a one-block shell mesh draws the von Mises
+/// stresses, the fibre stresses and the element forces as Cell attributes, by reference to the
+/// HDF5 datasets (`tools/xdmf/check_xdmf.py` and meshio read them like the strains).
+#[test]
+fn xdmf_draws_stresses_and_forces_as_cell_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let spc: String = (0..=NY)
+        .map(|j| format!("SPC1,1,{},{}\n", if j == 0 { "12" } else { "1" }, gid(0, j)))
+        .chain((0..=NY).flat_map(|j| (0..=NX).map(move |i| format!("SPC1,1,3456,{}\n", gid(i, j)))))
+        .collect();
+    let text = deck(
+        "STRESS = ALL\nFORCE = ALL\n",
+        &(spc + &edge_load("FORCE", 1.0e5, [1.0, 0.0, 0.0])),
+        false,
+    );
+    let path = dir.path().join("plate.dat");
+    std::fs::write(&path, text).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_paraflex"))
+        .arg("run")
+        .arg(&path)
+        .arg("-o")
+        .arg(dir.path().join("plate.h5"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let xml = std::fs::read_to_string(dir.path().join("plate.xdmf")).unwrap();
+    for (name, kind, dataset) in [
+        ("stress_von_mises", "Matrix", "stress/CQUAD4/von_mises"),
+        ("stress_top", "Vector", "stress/CQUAD4/top"),
+        ("force_forces", "Matrix", "force/CQUAD4/forces"),
+    ] {
+        let at = xml
+            .find(&format!("Name=\"{name}\""))
+            .unwrap_or_else(|| panic!("{name} missing:\n{xml}"));
+        let element = &xml[xml[..at].rfind('<').unwrap()..];
+        let element = &element[..element.find("</Attribute>").unwrap()];
+        assert!(
+            element.contains(&format!("AttributeType=\"{kind}\"")),
+            "{element}"
+        );
+        assert!(element.contains("Center=\"Cell\""), "{element}");
+        assert!(
+            element.contains(&format!("/results/1/statics/{dataset}")),
+            "{element}"
+        );
+    }
+}
