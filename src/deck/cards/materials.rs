@@ -93,7 +93,11 @@ impl Mat1 {
 /// | 7 | G1Z | real | blank | transverse shear modulus 1–Z; blank = rigid in transverse shear |
 /// | 8 | G2Z | real | blank | transverse shear modulus 2–Z; blank = rigid in transverse shear |
 /// | 9 | RHO | real | 0.0 | mass density |
-/// | cont. 2–9, 2–4 | A1 A2 TREF Xt Xc Yt Yc S GE F12 STRN | real | | thermal (kept, unused), strength allowables and F12, STRN (ply failure indices; Xc = Xt and Yc = Yt when blank), damping GE |
+/// | cont. 2–4 | A1 A2 TREF | real | blank | thermal (kept, unused) |
+/// | cont. 5–9 | Xt Xc Yt Yc S | real > 0 | blank; Xc = Xt, Yc = Yt | allowables along and across the fibres (tension, compression as magnitudes) and in-plane shear, for PCOMP failure indices |
+/// | cont. 2 | GE | real | 0.0 | structural damping coefficient |
+/// | cont. 3 | F12 | real | blank | Tsai–Wu interaction coefficient (FT = TSAI needs it) |
+/// | cont. 4 | STRN | real | blank | 1.0: Xt … S are strain allowables (FT = STRN needs it; HILL, HOFF need stress allowables) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mat8 {
     pub id: u32,
