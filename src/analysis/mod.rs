@@ -5,6 +5,8 @@
 //!
 //! - [`statics`]: K_ff u_f = P_f per load set with one factor per f-set, SPC forces, load
 //!   resultants, centroid strains (SOL 101);
+//! - [`stress`]: element forces and stresses of a static displacement field (SOL 101's FORCE
+//!   and STRESS);
 //! - [`modal`]: normal modes by shift-invert Lanczos with one symbolic analysis per f-set,
 //!   NORM = MAX scaling, shapes on every grid (SOL 103);
 //! - [`weight`]: the grid-point weight generator (PARAM,GRDPNT): rigid-body mass matrix,
@@ -15,6 +17,7 @@
 pub mod frf;
 pub mod modal;
 pub mod statics;
+pub mod stress;
 pub mod weight;
 
 use std::time::{Duration, Instant};

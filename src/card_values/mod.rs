@@ -254,3 +254,57 @@ pub const MAX_REDIAGONALIZATION_TOLERANCE: f64 = 0.1;
 pub fn valid_rediagonalization_tolerance(tolerance: f64) -> bool {
     tolerance > 0.0 && tolerance <= MAX_REDIAGONALIZATION_TOLERANCE
 }
+
+/// MAT8 strength allowables (fields Xt Xc Yt Yc S F12 STRN), positive magnitudes as on the card;
+/// blank fields `None`. With `strain_allowables` (STRN = 1.0) Xt … S are strains.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PlyAllowables {
+    /// Tension and compression along the fibres.
+    pub xt: Option<f64>,
+    pub xc: Option<f64>,
+    /// Tension and compression across the fibres.
+    pub yt: Option<f64>,
+    pub yc: Option<f64>,
+    /// In-plane shear.
+    pub s: Option<f64>,
+    /// Tsai–Wu interaction coefficient F12.
+    pub f12: Option<f64>,
+    /// STRN = 1.0: the allowables are strains.
+    pub strain_allowables: bool,
+}
+
+/// The ply failure theory of a PCOMP (field FT).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FailureTheory {
+    /// HILL: Tsai–Hill.
+    Hill,
+    /// HOFF: Hoffman.
+    Hoffman,
+    /// TSAI: Tsai–Wu.
+    TsaiWu,
+    /// STRN: maximum strain.
+    MaxStrain,
+}
+
+impl FailureTheory {
+    /// The theory of an FT keyword (HILL, HOFF, TSAI, STRN); `None` for any other.
+    pub fn from_keyword(ft: &str) -> Option<Self> {
+        Some(match ft {
+            "HILL" => FailureTheory::Hill,
+            "HOFF" => FailureTheory::Hoffman,
+            "TSAI" => FailureTheory::TsaiWu,
+            "STRN" => FailureTheory::MaxStrain,
+            _ => return None,
+        })
+    }
+
+    /// The FT keyword.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            FailureTheory::Hill => "HILL",
+            FailureTheory::Hoffman => "HOFF",
+            FailureTheory::TsaiWu => "TSAI",
+            FailureTheory::MaxStrain => "STRN",
+        }
+    }
+}

@@ -1040,6 +1040,27 @@ fn conm2_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeE
     })
 }
 
+/// The centroid section of a shell as its stress recovery reads it, at the deck's values.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CentreSection {
+    /// PSHELL: the roles, thickness (mean of the corners) and ZOFFS (boxed: its role materials
+    /// make it large).
+    Pshell(Box<PshellSection>),
+    /// PCOMP: the full ply stack, its bottom at Z0 + ZOFFS.
+    Laminate(Laminate),
+}
+
+/// The [`CentreSection`] of a CQUAD4 / CTRIA3: the section its mass and strain fibres use.
+pub fn shell_centre_section(model: &Model, e: &Element) -> Result<CentreSection, DiscretizeError> {
+    let card = model
+        .shell_placement(e)
+        .ok_or_else(|| err(e, "card missing"))?;
+    Ok(match shell_section(model, e, &card)?.centre {
+        SectionInput::Pshell { section, .. } => CentreSection::Pshell(Box::new(section)),
+        SectionInput::Laminate { laminate, .. } => CentreSection::Laminate(laminate),
+    })
+}
+
 /// Element displacements (basic, 6 per grid, grid-major) from basic n×6 rows.
 pub fn element_displacements(rows: &[f64], nodes: &[usize]) -> Vec<f64> {
     nodes

@@ -1009,6 +1009,57 @@ fn uniform(
     }
 }
 
+/// Strains and stresses of one ply at its mid-plane, in the ply axes (1 = fibre, 2 = across,
+/// z = element normal).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlyState {
+    /// The ply's mid-plane z from the reference plane.
+    pub z: f64,
+    /// [ε1, ε2, γ12, γ1z, γ2z] (engineering shear strains).
+    pub strain: [f64; 5],
+    /// [σ1, σ2, τ12, τ1z, τ2z].
+    pub stress: [f64; 5],
+}
+
+/// The [`PlyState`] of every ply of `l` (the full stack, bottom first) for the reference-plane
+/// strains ε⁰ (`membrane`), curvatures κ and transverse shear strains γ = [γxz, γyz], all in the
+/// element material axes (CLT, thesis eq. 2.7–2.8): ε(z) = ε⁰ + zκ at the ply's mid-plane,
+/// rotated into the ply axes by the engineering-strain rotation T_ε(Θ), σ = Q ε with the ply's
+/// reduced stiffness; the transverse shear strain is constant through the thickness (first-order
+/// shear theory, the strain the section's S = 5/6 Σ Q̄s t is consistent with), rotated by
+/// [[c, s], [−s, c]], τ = diag(G1Z, G2Z) γ (a blank modulus is the penalty of
+/// [`KIRCHHOFF_SHEAR_PENALTY`], so τ is then the penalty's, ≈ 6/5 of the mean shear Q/h).
+pub fn ply_states(
+    l: &Laminate,
+    membrane: [f64; 3],
+    curvature: [f64; 3],
+    shear: [f64; 2],
+) -> Result<Vec<PlyState>, SectionError> {
+    let plies = expand_plies(l)?;
+    let z = ply_interfaces(&plies, l.z0);
+    Ok(plies
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let zm = 0.5 * (z[k] + z[k + 1]);
+            let angle = p.theta_deg.to_radians();
+            let t = super::shell::strain_rotation(angle);
+            let e: [f64; 3] = std::array::from_fn(|i| membrane[i] + zm * curvature[i]);
+            let ep: [f64; 3] = std::array::from_fn(|i| (0..3).map(|j| t[i][j] * e[j]).sum());
+            let q = ply_q(p);
+            let sp: [f64; 3] = std::array::from_fn(|i| (0..3).map(|j| q[i][j] * ep[j]).sum());
+            let (sn, c) = angle.sin_cos();
+            let g = [c * shear[0] + sn * shear[1], -sn * shear[0] + c * shear[1]];
+            let (g1, g2) = ply_g(p);
+            PlyState {
+                z: zm,
+                strain: [ep[0], ep[1], ep[2], g[0], g[1]],
+                stress: [sp[0], sp[1], sp[2], g1 * g[0], g2 * g[1]],
+            }
+        })
+        .collect())
+}
+
 #[cfg(test)]
 impl PshellSection {
     /// MID1 = MID2 = MID3 = `m`, 12I/T³ = 1, TS/T = 5/6, no NSM, no offset (tests).

@@ -16,6 +16,7 @@ pub mod beam_load;
 pub mod beam_section;
 #[cfg(test)]
 mod beam_tests;
+pub mod failure;
 pub mod laminate;
 pub mod lumped;
 pub mod pressure;
@@ -26,3 +27,4 @@ pub mod solid;
 mod solid_shape;
 #[cfg(test)]
 mod solid_tests;
+pub mod stress;

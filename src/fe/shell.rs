@@ -545,7 +545,7 @@ fn mitc3_operator(xy: &[[f64; 2]], r: f64, s: f64) -> (Mat<f64>, f64) {
 
 /// Engineering-strain rotation T_ε(φ): strains [εx, εy, γxy] of a frame → those of the frame
 /// rotated by φ about the normal.
-fn strain_rotation(phi: f64) -> [[f64; 3]; 3] {
+pub(crate) fn strain_rotation(phi: f64) -> [[f64; 3]; 3] {
     let (s, c) = phi.sin_cos();
     [
         [c * c, s * s, c * s],

@@ -68,7 +68,7 @@
 use super::affine::{AffineMatrix, Coefficient};
 use super::solid_shape::{self as shape, Gauss, MAX_NODES, QuadPoint};
 use crate::geometry::{mat3, vec3};
-use faer::linalg::solvers::Solve;
+use faer::linalg::solvers::{Llt, Solve};
 use faer::{Mat, Side};
 use std::fmt;
 
@@ -361,6 +361,60 @@ fn stiffness_lame(kind: SolidKind, xyz: &[[f64; 3]], lame: Lame) -> Result<Mat<f
     Ok(Mat::from_fn(nd, nd, |i, j| k[i * nd + j]))
 }
 
+/// CHEXA 8 DOFs: 24 grid translations and 9 incompatible-mode amplitudes α.
+const HEXA_NU: usize = 24;
+const HEXA_NA: usize = 9;
+const HEXA_ND: usize = HEXA_NU + HEXA_NA;
+
+/// Cartesian gradients of the 8 grids' shape functions and of the 3 incompatible modes (Taylor's
+/// form, module doc) at each evaluated 2×2×2 Gauss point of `points`.
+fn hexa_gradients(
+    xyz: &[[f64; 3]],
+    points: &[(f64, PointEval)],
+) -> Result<Vec<[[f64; 3]; 11]>, SolidError> {
+    let kind = SolidKind::Hexa8;
+    let centre = shape::shape(kind, [0.0; 3]);
+    let (det0, j0it) = checked_jacobian(kind, xyz, &centre.dn[..8], [0.0; 3], EvalPoint::Centre)?;
+    let rule = shape::hexa_rule(Gauss::Two);
+    Ok(rule
+        .iter()
+        .zip(points)
+        .map(|(q, (_, p))| {
+            let mut g = [[0.0; 3]; 11];
+            g[..8].copy_from_slice(&p.g[..8]);
+            for m in 0..3 {
+                let mut dp = [0.0; 3];
+                dp[m] = -2.0 * q.xi[m];
+                g[8 + m] = mat_vec(&j0it, dp).map(|v| v * det0 / p.det);
+            }
+            g
+        })
+        .collect())
+}
+
+/// The 33 × 33 stiffness of grids and modes (row-major, grids first) at the Gauss points
+/// `points` with the gradients `grads`, and the Cholesky factor of its mode block K_αα.
+fn hexa_extended(
+    lame: Lame,
+    points: &[(f64, PointEval)],
+    grads: &[[[f64; 3]; 11]],
+) -> Result<(Vec<f64>, Llt<f64>), SolidError> {
+    let mut k = vec![0.0; HEXA_ND * HEXA_ND];
+    for ((w, p), g) in points.iter().zip(grads) {
+        add_lame_blocks(&mut k, g, lame, w * p.det);
+    }
+    let kaa = Mat::from_fn(HEXA_NA, HEXA_NA, |i, j| {
+        k[(HEXA_NU + i) * HEXA_ND + HEXA_NU + j]
+    });
+    let llt = kaa
+        .llt(Side::Lower)
+        .map_err(|_| SolidError::CondensationFailed {
+            lambda: lame.lambda,
+            mu: lame.mu,
+        })?;
+    Ok((k, llt))
+}
+
 /// CHEXA 8 with the Taylor–Beresford–Wilson incompatible modes, statically condensed (module
 /// doc). `points` are the evaluated 2×2×2 Gauss points.
 fn hexa_incompatible(
@@ -368,31 +422,10 @@ fn hexa_incompatible(
     lame: Lame,
     points: &[(f64, PointEval)],
 ) -> Result<Mat<f64>, SolidError> {
-    const NU: usize = 24;
-    const NA: usize = 9;
-    const ND: usize = NU + NA;
-    let kind = SolidKind::Hexa8;
-    let centre = shape::shape(kind, [0.0; 3]);
-    let (det0, j0it) = checked_jacobian(kind, xyz, &centre.dn[..8], [0.0; 3], EvalPoint::Centre)?;
-    let rule = shape::hexa_rule(Gauss::Two);
-    let mut k = vec![0.0; ND * ND];
-    let mut g = [[0.0; 3]; 11];
-    for (q, (w, p)) in rule.iter().zip(points) {
-        g[..8].copy_from_slice(&p.g[..8]);
-        for m in 0..3 {
-            let mut dp = [0.0; 3];
-            dp[m] = -2.0 * q.xi[m];
-            g[8 + m] = mat_vec(&j0it, dp).map(|v| v * det0 / p.det);
-        }
-        add_lame_blocks(&mut k, &g, lame, w * p.det);
-    }
-    let kaa = Mat::from_fn(NA, NA, |i, j| k[(NU + i) * ND + NU + j]);
-    let llt = kaa
-        .llt(Side::Lower)
-        .map_err(|_| SolidError::CondensationFailed {
-            lambda: lame.lambda,
-            mu: lame.mu,
-        })?;
+    const NU: usize = HEXA_NU;
+    const NA: usize = HEXA_NA;
+    const ND: usize = HEXA_ND;
+    let (k, llt) = hexa_extended(lame, points, &hexa_gradients(xyz, points)?)?;
     let mut x = Mat::from_fn(NA, NU, |i, j| k[(NU + i) * ND + j]);
     llt.solve_in_place(x.as_mut());
     let condensed = |i: usize, j: usize| {
@@ -576,21 +609,101 @@ pub fn strain_at_centroid(
         });
     }
     let p = evaluate(kind, xyz, shape::centroid(kind), EvalPoint::Centre)?;
+    Ok(strain_of(&p.g[..n], u))
+}
+
+/// Engineering strain of the field Σ_a u_a N_a for the gradients g_a = ∇N_a and the
+/// (pseudo-)node vectors u_a (3 per gradient).
+fn strain_of(g: &[[f64; 3]], u: &[f64]) -> [f64; 6] {
     // displacement gradient H_ij = ∂u_i/∂x_j
     let mut h = [[0.0; 3]; 3];
-    for (ga, ua) in p.g[..n].iter().zip(u.chunks_exact(3)) {
+    for (ga, ua) in g.iter().zip(u.chunks_exact(3)) {
         for i in 0..3 {
             for j in 0..3 {
                 h[i][j] += ua[i] * ga[j];
             }
         }
     }
-    Ok([
+    [
         h[0][0],
         h[1][1],
         h[2][2],
         h[0][1] + h[1][0],
         h[1][2] + h[2][1],
         h[2][0] + h[0][2],
-    ])
+    ]
+}
+
+/// The element's corner grids: all of them, the first four of CTETRA 10.
+pub fn corners(kind: SolidKind) -> usize {
+    match kind {
+        SolidKind::Tetra10 => 4,
+        k => k.nodes(),
+    }
+}
+
+/// Strains at the corner grids ([`corners`] of them, in grid order), extrapolated from the
+/// stiffness integration points as CalculiX and Nastran's CORNER output do: the strains of
+/// the element's own field at its stiffness points (CHEXA 8 with its incompatible modes
+/// recovered, α = −K_αα⁻¹ K_αu u for the material `material`) are interpolated by the linear
+/// element on the corners that passes through them (2×2×2 points → trilinear on the 8 corners,
+/// CPENTA's 3 × 2 points → the linear wedge, CTETRA 10's 4 points → the linear tetrahedron);
+/// CTETRA 4 has one point, a constant strain. Exact for strain fields the element's points
+/// represent linearly (e.g. pure bending of a brick).
+pub fn corner_strains(
+    kind: SolidKind,
+    xyz: &[[f64; 3]],
+    u: &[f64],
+    material: Isotropic,
+) -> Result<Vec<[f64; 6]>, SolidError> {
+    check_nodes(kind, xyz)?;
+    let n = kind.nodes();
+    if u.len() != 3 * n {
+        return Err(SolidError::DisplacementLength {
+            kind,
+            expected: 3 * n,
+            got: u.len(),
+        });
+    }
+    let rule = stiffness_rule(kind);
+    let points = evaluate_rule(kind, xyz, &rule)?;
+    let at_points: Vec<[f64; 6]> = if kind == SolidKind::Hexa8 {
+        let grads = hexa_gradients(xyz, &points)?;
+        let (k, llt) = hexa_extended(material.lame(), &points, &grads)?;
+        let mut alpha = Mat::from_fn(HEXA_NA, 1, |i, _| {
+            -(0..HEXA_NU)
+                .map(|j| k[(HEXA_NU + i) * HEXA_ND + j] * u[j])
+                .sum::<f64>()
+        });
+        llt.solve_in_place(alpha.as_mut());
+        let extended: Vec<f64> = u
+            .iter()
+            .copied()
+            .chain((0..HEXA_NA).map(|i| alpha[(i, 0)]))
+            .collect();
+        grads.iter().map(|g| strain_of(g, &extended)).collect()
+    } else {
+        points
+            .iter()
+            .map(|(_, p)| strain_of(&p.g[..n], u))
+            .collect()
+    };
+    let c = corners(kind);
+    if at_points.len() == 1 {
+        return Ok(vec![at_points[0]; c]);
+    }
+    // corner values s_c from the point values: N_lin(ξ_q) s_c = s_q
+    let linear = if kind == SolidKind::Tetra10 {
+        SolidKind::Tetra4
+    } else {
+        kind
+    };
+    let interpolation = Mat::from_fn(c, c, |q, a| shape::shape(linear, rule[q].xi).n[a]);
+    let mut values = Mat::from_fn(c, 6, |q, i| at_points[q][i]);
+    interpolation
+        .partial_piv_lu()
+        .solve_in_place(values.as_mut());
+    Ok((0..c)
+        .map(|a| std::array::from_fn(|i| values[(a, i)]))
+        .collect())
 }

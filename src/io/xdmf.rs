@@ -8,7 +8,8 @@
 //! <out>.xdmf                    Domain / Grid "model" (Uniform): the mesh, Cell attributes
 //!                               element_id, property_id; per static subcase the Node attribute
 //!                               displacement_<subcase> (n × 6: T1 T2 T3 R1 R2 R3) and, when
-//!                               drawable, strain_<fibre> (Cell)
+//!                               drawable, strain_<dataset>, force_forces and
+//!                               stress_<dataset> (Cell; not the corner or ply results)
 //! <out>_<subcase>_statics.xdmf  one step (Time 0)                  \  Domain / Grid (Collection,
 //! <out>_<subcase>_modes.xdmf    a step per mode, Time = mode 1, 2, …  >  Temporal) / Grid per step
 //! <out>_<subcase>_transient.xdmf a step per output time, Time = t  /   (Uniform)
@@ -28,8 +29,8 @@
 //!
 //! Left out and reported in [`XdmfWritten::skipped`]: element blocks without an XDMF topology
 //! (see [`mesh`]), fields of a SET of grids (they do not cover the mesh), complex FRF
-//! displacements (a compound type XDMF cannot address), strains on a mesh of several element
-//! blocks or of part of a block.
+//! displacements (a compound type XDMF cannot address), strains, element forces and stresses on
+//! a mesh of several element blocks or of part of a block.
 
 mod fields;
 mod mesh;

@@ -3,6 +3,7 @@
 //! shell plane.
 
 use super::{MaterialRef, Model};
+use crate::card_values::PlyAllowables;
 
 /// A material by the kind of its elasticity.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -33,6 +34,8 @@ pub struct OrthotropicMaterial {
     pub g1z: Option<f64>,
     pub g2z: Option<f64>,
     pub rho: f64,
+    /// Strength allowables (ply failure indices).
+    pub allowables: PlyAllowables,
 }
 
 impl Material {
@@ -68,6 +71,7 @@ impl Model {
                     g1z: m.g1z,
                     g2z: m.g2z,
                     rho: m.rho,
+                    allowables: m.allowables,
                 })
             }
         })

@@ -66,6 +66,8 @@ pub struct LaminateProperty {
     pub nsm: f64,
     /// Total thickness.
     pub thickness: f64,
+    /// The ply failure theory (FT) as written, `None` when blank.
+    pub failure_theory: Option<String>,
 }
 
 /// A shell section property.
@@ -156,6 +158,7 @@ impl Model {
                     z0_given: p.z0.is_some(),
                     nsm: p.nsm,
                     thickness: p.thickness(),
+                    failure_theory: p.ft.clone(),
                 })
             }),
             _ => None,

@@ -270,10 +270,8 @@ fn kept_fields(refs: &Refs, warnings: &mut Vec<Warning>) {
         "MAT1 A/TREF are kept and have no effect (no thermal loads)",
     );
     note(
-        b.pcomp
-            .iter()
-            .any(|p| p.sb != 0.0 || p.ft.is_some() || p.tref != 0.0),
-        "PCOMP SB/FT/TREF are kept and have no effect (no failure or thermal analysis)",
+        b.pcomp.iter().any(|p| p.sb != 0.0 || p.tref != 0.0),
+        "PCOMP SB/TREF are kept and have no effect (no interlaminar bonding index, no thermal analysis)",
     );
     note(
         b.pelas.iter().any(|p| p.s != 0.0),

@@ -59,6 +59,7 @@ pub mod rom_modal;
 pub mod rom_transient;
 pub mod shared;
 pub mod statics;
+pub mod statics_stress;
 pub mod transient;
 
 use std::time::{Duration, Instant};

@@ -21,6 +21,8 @@
 //! material system at the fibres Z2 (top) and Z1 (bottom) of the PSHELL (the laminate's top and
 //! bottom surfaces for PCOMP) — and `strain/<CHEXA|CPENTA|CTETRA|CTETRA10>/{ids (m),
 //! centroid (m×6)}` — [εxx, εyy, εzz, γxy, γyz, γzx] in basic (engineering shear strains).
+//! Element forces with `FORCE` and stresses with `STRESS` (the same element selection), in the
+//! layout of [`super::statics_stress`].
 //! The SPC forces are always computed (one K·u product): the console summary's reaction sum
 //! uses them.
 
@@ -31,10 +33,12 @@ use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary, requested, se
 use crate::analysis::statics::{
     ElementStrains, StaticFactors, StaticSolution, element_strains, mass_values, resultant,
 };
+use crate::analysis::stress::{element_forces, element_stresses, failure_warnings};
 use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
 use crate::discretize::{Constrained, Structure};
 use crate::io::{write_f64, write_u32};
+use crate::model::Model;
 
 /// What one static subcase found (basic system).
 #[derive(Debug, Clone)]
@@ -54,8 +58,8 @@ pub struct StaticsSummary {
 /// The STATICS driver on the mesh.
 pub struct Statics;
 
-/// The output requests STATICS writes: displacements (every grid when not requested at all, none for `= NONE`), SPC forces and strains on request.
-pub const HONOURED: &[&str] = &["DISPLACEMENT", "SPCFORCES", "STRAIN"];
+/// The output requests STATICS writes: displacements (every grid when not requested at all, none for `= NONE`), SPC forces, strains, element forces and stresses on request.
+pub const HONOURED: &[&str] = &["DISPLACEMENT", "SPCFORCES", "STRAIN", "FORCE", "STRESS"];
 
 impl Driver for Statics {
     fn name(&self) -> &'static str {
@@ -72,6 +76,19 @@ impl Driver for Statics {
 
     fn honoured(&self) -> &'static [&'static str] {
         HONOURED
+    }
+
+    /// PCOMP failure theories that give no index, when some subcase asks for STRESS.
+    fn warnings(&self, model: &Model) -> Vec<String> {
+        if model
+            .subcases
+            .iter()
+            .any(|s| requested(s, "STRESS").is_some())
+        {
+            failure_warnings(model)
+        } else {
+            Vec::new()
+        }
     }
 
     fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
@@ -154,6 +171,14 @@ fn write_subcase(
     if let Some(req) = requested(sub, "STRAIN") {
         let strains = element_strains(model, st, &u, |eid| selected(ctx.deck, req, eid))?;
         write_strains(ctx, &group, &strains)?;
+    }
+    if let Some(req) = requested(sub, "FORCE") {
+        let forces = element_forces(model, st, &u, |eid| selected(ctx.deck, req, eid))?;
+        super::statics_stress::write_forces(ctx, &group, &forces)?;
+    }
+    if let Some(req) = requested(sub, "STRESS") {
+        let stresses = element_stresses(model, st, &u, |eid| selected(ctx.deck, req, eid))?;
+        super::statics_stress::write_stresses(ctx, &group, &stresses)?;
     }
 
     let grid_id = |g: usize| st.map.grid_id(g).unwrap_or(0);

@@ -1,5 +1,6 @@
 //! Materials: isotropic `MAT1` and orthotropic plane-stress `MAT8`.
 
+use crate::card_values::PlyAllowables;
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
@@ -92,7 +93,11 @@ impl Mat1 {
 /// | 7 | G1Z | real | blank | transverse shear modulus 1–Z; blank = rigid in transverse shear |
 /// | 8 | G2Z | real | blank | transverse shear modulus 2–Z; blank = rigid in transverse shear |
 /// | 9 | RHO | real | 0.0 | mass density |
-/// | cont. 2–9, 2–4 | A1 A2 TREF Xt Xc Yt Yc S GE F12 STRN | real | | thermal, strength, damping (GE used; rest kept, unused) |
+/// | cont. 2–4 | A1 A2 TREF | real | blank | thermal (kept, unused) |
+/// | cont. 5–9 | Xt Xc Yt Yc S | real > 0 | blank; Xc = Xt, Yc = Yt | allowables along and across the fibres (tension, compression as magnitudes) and in-plane shear, for PCOMP failure indices |
+/// | cont. 2 | GE | real | 0.0 | structural damping coefficient |
+/// | cont. 3 | F12 | real | blank | Tsai–Wu interaction coefficient (FT = TSAI needs it) |
+/// | cont. 4 | STRN | real | blank | 1.0: Xt … S are strain allowables (FT = STRN needs it; HILL, HOFF need stress allowables) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mat8 {
     pub id: u32,
@@ -104,6 +109,8 @@ pub struct Mat8 {
     pub g2z: Option<f64>,
     pub rho: f64,
     pub ge: f64,
+    /// Strength allowables (ply failure indices).
+    pub allowables: PlyAllowables,
     pub loc: Loc,
 }
 
@@ -120,21 +127,26 @@ impl Mat8 {
         let g1z = f.opt_real(6, "G1Z");
         let g2z = f.opt_real(7, "G2Z");
         let rho = f.real_or(8, "RHO", 0.0);
-        for (i, name) in [
-            (9, "A1"),
-            (10, "A2"),
-            (11, "TREF"),
-            (12, "Xt"),
-            (13, "Xc"),
-            (14, "Yt"),
-            (15, "Yc"),
-            (16, "S"),
-        ] {
+        for (i, name) in [(9, "A1"), (10, "A2"), (11, "TREF")] {
             f.opt_real(i, name);
         }
+        let xt = f.opt_real(12, "Xt");
+        let yt = f.opt_real(14, "Yt");
+        let allowables = PlyAllowables {
+            xt,
+            xc: f.opt_real(13, "Xc").or(xt),
+            yt,
+            yc: f.opt_real(15, "Yc").or(yt),
+            s: f.opt_real(16, "S"),
+            f12: None,
+            strain_allowables: false,
+        };
         let ge = f.real_or(17, "GE", 0.0);
-        f.opt_real(18, "F12");
-        f.opt_real(19, "STRN");
+        let allowables = PlyAllowables {
+            f12: f.opt_real(18, "F12"),
+            strain_allowables: f.opt_real(19, "STRN") == Some(1.0),
+            ..allowables
+        };
         let loc = f.loc();
         f.finish(19)?;
         Ok(Mat8 {
@@ -147,6 +159,7 @@ impl Mat8 {
             g2z,
             rho,
             ge,
+            allowables,
             loc,
         })
     }

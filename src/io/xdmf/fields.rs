@@ -77,13 +77,24 @@ pub(super) fn result_fields(
                     &hdf_item(h5, &dataset, &shape, Number::Float8),
                 );
                 let mut attributes = node_vectors(h5, &dataset, &shape, None);
-                let strains = strain_fields(&file, h5_path, result, &base, mesh, h5, single_block)?;
-                match strains {
-                    Ok(cells) => {
-                        fields.model_attributes += &cells;
-                        attributes += &cells;
+                for (group, what) in CELL_GROUPS {
+                    let cells = cell_fields(
+                        &file,
+                        h5_path,
+                        result,
+                        &base,
+                        (group, what),
+                        mesh,
+                        h5,
+                        single_block,
+                    )?;
+                    match cells {
+                        Ok(cells) => {
+                            fields.model_attributes += &cells;
+                            attributes += &cells;
+                        }
+                        Err(reason) => fields.skipped.push(reason),
                     }
-                    Err(reason) => fields.skipped.push(reason),
                 }
                 fields.series.push(Series {
                     subcase: result.subcase.clone(),
@@ -204,13 +215,26 @@ fn node_vectors(h5: &str, dataset: &str, shape: &[usize], step: Option<usize>) -
         .collect()
 }
 
-/// Cell attributes of the strains of a static subcase: `Ok("")` when it has none, `Err` with
-/// the reason when they cannot be drawn (several element blocks, or not every element).
-fn strain_fields(
+/// The element-result groups of a static subcase drawn as Cell attributes `<group>_<dataset>`:
+/// strains, element forces and stresses (the corner stresses and ply results are not one value
+/// per cell and stay in the HDF5 file).
+/// Each with the plural its skip reasons name.
+const CELL_GROUPS: [(&str, &str); 3] = [
+    ("strain", "strains"),
+    ("force", "element forces"),
+    ("stress", "stresses"),
+];
+
+/// Cell attributes of the element results `<base>/<group>/<card>/...` of a static subcase:
+/// `Ok("")` when it has none, `Err` with the reason when they cannot be drawn (several element
+/// blocks, or not every element).
+#[allow(clippy::too_many_arguments)]
+fn cell_fields(
     file: &hdf5::File,
     h5_path: &Path,
     result: &ResultSummary,
     base: &str,
+    (group, what): (&str, &str),
     mesh: &MeshArrays,
     h5: &str,
     single_block: Option<&str>,
@@ -218,43 +242,49 @@ fn strain_fields(
     let cards: Vec<&str> = result
         .datasets
         .iter()
-        .filter_map(|d| d.name.strip_prefix("strain/")?.strip_suffix("/ids"))
+        .filter_map(|d| {
+            d.name
+                .strip_prefix(&format!("{group}/"))?
+                .strip_suffix("/ids")
+        })
         .collect();
     let [card] = cards.as_slice() else {
         return Ok(if cards.is_empty() {
             Ok(String::new())
         } else {
             Err(format!(
-                "{base}/strain: strains of several element types ({}) on a mesh drawn as one \
+                "{base}/{group}: {what} of several element types ({}) on a mesh drawn as one \
                  mixed grid",
                 cards.join(", ")
             ))
         });
     };
     let block = mesh.blocks.iter().find(|b| b.card == *card);
-    let ids = read_u32(file, h5_path, &format!("{base}/strain/{card}/ids"))?;
+    let ids = read_u32(file, h5_path, &format!("{base}/{group}/{card}/ids"))?;
     let covers = single_block == Some(*card) && block.is_some_and(|b| b.ids == ids);
     if !covers {
         return Ok(Err(format!(
-            "{base}/strain/{card}: drawn only when the mesh is this one element block and the \
-             strains cover all of it"
+            "{base}/{group}/{card}: drawn only when the mesh is this one element block and the \
+             {what} cover all of it"
         )));
     }
     let attributes = result
         .datasets
         .iter()
         .filter_map(|d| {
-            let name = d.name.strip_prefix(&format!("strain/{card}/"))?;
-            (name != "ids").then(|| {
+            let name = d.name.strip_prefix(&format!("{group}/{card}/"))?;
+            (name != "ids" && !name.starts_with("corner")).then(|| {
                 let item = hdf_item(h5, &format!("{base}/{}", d.name), &d.shape, Number::Float8);
-                // Shell fibres hold [εx, εy, γxy]; solid centroids six engineering strains,
-                // which are not the components of a tensor.
-                let kind = if d.shape.get(1) == Some(&3) {
-                    "Vector"
-                } else {
-                    "Matrix"
+                // Shell fibres hold [εx, εy, γxy] or [σx, σy, τxy]; solid centroids six
+                // engineering strains or stresses and shell forces eight resultants, which are
+                // not the components of a tensor; von Mises one value per cell (solids) or one
+                // per fibre (shells).
+                let kind = match d.shape.get(1) {
+                    None => "Scalar",
+                    Some(3) => "Vector",
+                    Some(_) => "Matrix",
                 };
-                attribute(&format!("strain_{name}"), kind, "Cell", &item)
+                attribute(&format!("{group}_{name}"), kind, "Cell", &item)
             })
         })
         .collect();
