@@ -338,22 +338,29 @@ fn bad_line_elements_are_reported_with_card_and_field() {
         ),
     ];
     for (bulk, expected) in cases {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("deck.dat");
-        let text = format!("SOL 101\nCEND\nBEGIN BULK\n{bulk}MAT1,1,2.1e11,,0.3\nENDDATA\n");
-        std::fs::write(&path, text).unwrap();
-        let out = cargo_bin_cmd!("paraflex")
-            .arg("check")
-            .arg(&path)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{stderr}");
-        assert!(
-            stderr.lines().any(|l| l.contains(expected)),
-            "expected '{expected}' in:\n{stderr}"
+        check_reports(
+            &format!("SOL 101\nCEND\nBEGIN BULK\n{bulk}MAT1,1,2.1e11,,0.3\nENDDATA\n"),
+            expected,
         );
     }
+}
+
+/// `paraflex check` on `text` (as deck.dat) fails with exit 2 and a line containing `expected`.
+fn check_reports(text: &str, expected: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("deck.dat");
+    std::fs::write(&path, text).unwrap();
+    let out = cargo_bin_cmd!("paraflex")
+        .arg("check")
+        .arg(&path)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.lines().any(|l| l.contains(expected)),
+        "expected '{expected}' in:\n{stderr}"
+    );
 }
 
 /// A frame of a CBAR, a CROD and a CBEAM (no shear flexibility) on one MAT1 with PMPARs E, NU
@@ -511,22 +518,11 @@ fn bad_pload1_cards_are_reported() {
         ),
     ];
     for (extra, expected) in cases {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("deck.dat");
-        let text = format!(
-            "SOL 101\nCEND\nLOAD = 3\nBEGIN BULK\n{bar}{extra}MAT1,1,2.1e11,,0.3\nENDDATA\n"
-        );
-        std::fs::write(&path, text).unwrap();
-        let out = cargo_bin_cmd!("paraflex")
-            .arg("check")
-            .arg(&path)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{stderr}");
-        assert!(
-            stderr.lines().any(|l| l.contains(expected)),
-            "expected '{expected}' in:\n{stderr}"
+        check_reports(
+            &format!(
+                "SOL 101\nCEND\nLOAD = 3\nBEGIN BULK\n{bar}{extra}MAT1,1,2.1e11,,0.3\nENDDATA\n"
+            ),
+            expected,
         );
     }
 }

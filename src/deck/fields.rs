@@ -66,6 +66,19 @@ impl RawCard {
     }
 }
 
+/// A card from a free-field line (`NAME,field,…`) at t.bdf:1, for the card readers' unit tests.
+#[cfg(test)]
+pub fn card_from_line(line: &str) -> RawCard {
+    let mut parts = line.split(',');
+    let name = parts.next().unwrap_or_default().to_string();
+    RawCard {
+        name,
+        loc: Loc::new(&std::sync::Arc::from(std::path::Path::new("t.bdf")), 1),
+        fields: parts.map(super::value::lex).collect(),
+        row_lines: vec![2],
+    }
+}
+
 /// The format of one physical line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Format {

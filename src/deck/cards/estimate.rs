@@ -265,17 +265,7 @@ mod tests {
     use super::*;
     use crate::card_values::Column;
 
-    /// A card from a free-field line (name, fields…).
-    fn card(line: &str) -> RawCard {
-        let mut parts = line.split(',');
-        let name = parts.next().unwrap().to_string();
-        RawCard {
-            name,
-            loc: Loc::new(&std::sync::Arc::from(std::path::Path::new("t.bdf")), 1),
-            fields: parts.map(crate::deck::value::lex).collect(),
-            row_lines: vec![2],
-        }
-    }
+    use crate::deck::fields::card_from_line as card;
 
     #[test]
     fn cards_read_with_defaults() {

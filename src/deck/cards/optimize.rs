@@ -264,17 +264,7 @@ impl Moopt {
 mod tests {
     use super::*;
 
-    /// A card from a free-field line (name, fields…).
-    fn card(line: &str) -> RawCard {
-        let mut parts = line.split(',');
-        let name = parts.next().unwrap().to_string();
-        RawCard {
-            name,
-            loc: Loc::new(&std::sync::Arc::from(std::path::Path::new("t.bdf")), 1),
-            fields: parts.map(crate::deck::value::lex).collect(),
-            row_lines: vec![2],
-        }
-    }
+    use crate::deck::fields::card_from_line as card;
 
     /// The messages of a card that must be refused.
     fn refused<T: std::fmt::Debug>(r: Result<T, Vec<DeckError>>) -> String {
