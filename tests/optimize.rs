@@ -53,17 +53,9 @@ fn zdt(name: &str, x: &[f64]) -> Responses {
     vec![f1, g * h]
 }
 
-/// A serial batch over `f`.
+/// [`paraflex::optimize::serial`] over an infallible `f`.
 fn serial(f: impl Fn(&[f64]) -> Responses) -> impl FnMut(&[Design]) -> Vec<Evaluated> {
-    move |designs: &[Design]| {
-        designs
-            .iter()
-            .map(|d| Evaluated {
-                result: Ok(f(d)),
-                seconds: 0.0,
-            })
-            .collect()
-    }
+    paraflex::optimize::serial(move |d| Ok(f(d)))
 }
 
 fn archive_hypervolume(archive: &Archive, r: &[f64]) -> f64 {

@@ -31,6 +31,27 @@ pub struct Evaluated {
 /// A batch evaluator: one result per design, in order.
 pub type Batch<'a> = dyn FnMut(&[Design]) -> Vec<Evaluated> + 'a;
 
+/// A batch evaluator that runs `evaluate` on each design in turn, in the calling thread (cheap
+/// responses such as the reference problems, or one evaluation at a time).
+pub fn serial<F>(evaluate: F) -> impl FnMut(&[Design]) -> Vec<Evaluated>
+where
+    F: Fn(&[f64]) -> Result<Responses, EvalError>,
+{
+    move |designs: &[Design]| {
+        designs
+            .iter()
+            .map(|d| {
+                let start = Instant::now();
+                let result = evaluate(d);
+                Evaluated {
+                    result,
+                    seconds: start.elapsed().as_secs_f64(),
+                }
+            })
+            .collect()
+    }
+}
+
 /// Evaluates batches with a per-design function on a pool of its own threads.
 pub struct Threaded<F> {
     pool: rayon::ThreadPool,

@@ -24,7 +24,7 @@ pub mod scoring;
 pub mod space;
 pub mod summary;
 
-pub use evaluate::{Batch, EvalError, Evaluated, Responses, Threaded};
+pub use evaluate::{Batch, EvalError, Evaluated, Responses, Threaded, serial};
 pub use nsga2::{Archive, Nsga2};
 pub use scoring::{Constraint, Objective, Score, Scoring, Sense};
 pub use space::{Design, DesignSpace, Domain, Variable};
