@@ -18,11 +18,14 @@ use super::AnalysisError;
 use crate::assembly::AssemblyError;
 use crate::assembly::loads::{Mass, load_vector, reduce_load};
 use crate::assembly::recover::{expand_f_to_n, spc_forces};
-use crate::discretize::elements::{element_displacements, shell_strains, solid_kind_of};
+use crate::discretize::elements::{
+    ShellRecovery, element_displacements, shell_strains, solid_kind_of,
+};
 use crate::discretize::{Constrained, DiscretizeError, Structure};
+use crate::fe::shell::ShellStrains;
 use crate::fe::solid;
 use crate::linalg::{Factor, LinalgError, SymbolicFactor};
-use crate::model::Model;
+use crate::model::{Element, Model};
 
 /// The Cholesky factors of K_ff, one per distinct f-set.
 pub struct StaticFactors {
@@ -165,6 +168,27 @@ pub struct ElementStrains {
     pub solids: BTreeMap<&'static str, StrainBlock>,
 }
 
+/// The shells `keep` selects, each with its recovery data and its centroid strains for the
+/// basic-system displacement rows `u`.
+pub(crate) fn selected_shell_strains<'m, 'i, F: Fn(u32) -> bool>(
+    model: &'m Model,
+    st: &'i Structure,
+    u: &'i [f64],
+    keep: &'i F,
+) -> impl Iterator<Item = Result<(&'m Element, &'i ShellRecovery, ShellStrains), DiscretizeError>> + 'i
+where
+    'm: 'i,
+{
+    st.shells
+        .iter()
+        .map(|(idx, rec)| (&model.elements[*idx], rec))
+        .filter(|(e, _)| keep(e.id))
+        .map(|(e, rec)| {
+            shell_strains(model, e, rec, &element_displacements(u, &e.nodes))
+                .map(|strains| (e, rec, strains))
+        })
+}
+
 /// The centroid strains of the elements `keep` selects, for the basic-system displacement
 /// rows `u` (n×6).
 pub fn element_strains(
@@ -174,12 +198,8 @@ pub fn element_strains(
     keep: impl Fn(u32) -> bool,
 ) -> Result<ElementStrains, DiscretizeError> {
     let mut out = ElementStrains::default();
-    for (idx, rec) in &st.shells {
-        let e = &model.elements[*idx];
-        if !keep(e.id) {
-            continue;
-        }
-        let strains = shell_strains(model, e, rec, &element_displacements(u, &e.nodes))?;
+    for shell in selected_shell_strains(model, st, u, &keep) {
+        let (e, _, strains) = shell?;
         let block = out.shells.entry(e.kind.block_name()).or_default();
         block.ids.push(e.id);
         block.first.extend(strains.top);

@@ -13,10 +13,9 @@
 
 use std::collections::BTreeMap;
 
+use super::statics::selected_shell_strains;
 use crate::card_values::FailureTheory;
-use crate::discretize::elements::{
-    CentreSection, element_displacements, shell_centre_section, shell_strains, solid_kind_of,
-};
+use crate::discretize::elements::{CentreSection, shell_centre_section, solid_kind_of};
 use crate::discretize::{DiscretizeError, Structure};
 use crate::fe::laminate::{ShellSection, ply_states};
 use crate::fe::stress::{
@@ -121,12 +120,8 @@ fn shell_states<'m>(
     keep: impl Fn(u32) -> bool,
 ) -> Result<Vec<(&'m Element, ShellState)>, DiscretizeError> {
     let mut out = Vec::new();
-    for (idx, rec) in &st.shells {
-        let e = &model.elements[*idx];
-        if !keep(e.id) {
-            continue;
-        }
-        let strains = shell_strains(model, e, rec, &element_displacements(u, &e.nodes))?;
+    for shell in selected_shell_strains(model, st, u, &keep) {
+        let (e, rec, strains) = shell?;
         let section = shell_centre_section(model, e)?;
         let full = match &section {
             CentreSection::Pshell(p) => ShellSection::pshell(p),
