@@ -60,8 +60,8 @@ fn without_locs(bulk: &BulkData) -> BulkData {
     clear!(
         grids, coords, cquad4, ctria3, chexa, cpenta, ctetra, celas1, celas2, conm2, rbe2, rbe3,
         mat1, mat8, pshell, pcomp, psolid, pelas, spc, spc1, spcadd, aset1, forces, grav, load,
-        eigrl, freq, tstep, tload1, rload1, darea, tabled1, dload, params, desvar, ddval, pmpar,
-        pmor, pval, sensors, tablef, tinteg,
+        eigrl, freq, tstep, tload, rload, darea, tabled, tabled4, dload, params, desvar, ddval,
+        pmpar, pmor, pval, sensors, tablef, tinteg,
     );
     b
 }
@@ -83,8 +83,8 @@ fn assert_same_bulk(a: &BulkData, b: &BulkData, what: &str) {
     compare!(
         grids, coords, cquad4, ctria3, chexa, cpenta, ctetra, celas1, celas2, conm2, rbe2, rbe3,
         mat1, mat8, pshell, pcomp, psolid, pelas, spc, spc1, spcadd, aset1, forces, grav, load,
-        eigrl, freq, tstep, tload1, rload1, darea, tabled1, dload, params, desvar, ddval, pmpar,
-        pmor, pval, sensors, tablef, tinteg,
+        eigrl, freq, tstep, tload, rload, darea, tabled, tabled4, dload, params, desvar, ddval,
+        pmpar, pmor, pval, sensors, tablef, tinteg,
     );
     assert!(diffs.is_empty(), "{what}:\n{}", diffs.join("\n"));
 }

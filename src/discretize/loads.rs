@@ -7,11 +7,13 @@
 //!   the same way ([`static_shape`]). A load on a constrained DOF is an error: it would be lost.
 //!   On a pROM, a DAREA entry names one of its input DOFs and loads that column of S_r
 //!   ([`place_input`]).
-//! - Time domain ([`load_terms`]): `DLOAD = sid` as a DLOAD combination S·Σ Sᵢ·(TLOAD1 Lᵢ) or one
-//!   TLOAD1 set, each term a shape × table(t − delay) ([`LoadTerm`], summed by [`load_into`]).
-//! - Frequency domain ([`frequency_inputs`]): the DAREA DOFs of the RLOAD1s of `DLOAD = sid` are
-//!   the inputs; each RLOAD1 term is scale · (C(f) + iD(f)) · e^{i(θ − 2πfτ)} ([`FrequencyLoad`]).
-//! - Tables ([`dynamic_table`]): a TABLED1 or a TABLEF (CSV read through
+//! - Time domain ([`load_terms`]): `DLOAD = sid` as a DLOAD combination S·Σ Sᵢ·Lᵢ or one load
+//!   set, each TLOAD1/TLOAD2 a shape × F(t − delay), F a table or a pulse ([`LoadTerm`], summed
+//!   by [`load_into`]).
+//! - Frequency domain ([`frequency_inputs`]): the DAREA DOFs of the RLOAD1/RLOAD2s of
+//!   `DLOAD = sid` are the inputs; each term is scale · P(f) · e^{i(θ − 2πfτ)} with
+//!   P = C(f) + iD(f) (RLOAD1) or B(f) e^{iφ(f)} (RLOAD2) ([`FrequencyLoad`]).
+//! - Tables ([`dynamic_table`]): a TABLED1–TABLED4 or a TABLEF (CSV read through
 //!   [`crate::io::csv_table`]).
 //! - Initial conditions ([`initial_state`]): the TIC cards of `IC = sid` on the f-set.
 
@@ -20,19 +22,24 @@ use faer::{Mat, c64};
 use super::{Constrained, Structure};
 use crate::assembly::DofMap;
 use crate::assembly::loads::load_vector;
+use crate::deck::cards::{RloadTables, TloadFunction};
+use crate::dynamics::pulse::Pulse;
 use crate::dynamics::table::Table;
 use crate::io::csv_table::read_columns;
 use crate::model::Model;
 use crate::model::dynamic_loads::{DynamicTable, Excitation, TableData};
 
-/// A TABLED1 or TABLEF (CSV, path relative to the file holding the card) by id.
+/// A TABLED1–TABLED4 or TABLEF (CSV, path relative to the file holding the card) by id.
 pub fn dynamic_table(model: &Model, tid: u32) -> Result<Table, String> {
     let Some(DynamicTable { card, data, loc }) = model.dynamic_table(tid) else {
-        return Err(format!("table {tid} is no TABLED1 or TABLEF"));
+        return Err(format!("table {tid} is no TABLED1–TABLED4 or TABLEF"));
     };
     match data {
         TableData::Points(points) => {
             Table::new(&points).map_err(|e| format!("{loc}: {card} {tid}: {e}"))
+        }
+        TableData::PowerSeries(series) => {
+            Table::power_series(series).map_err(|e| format!("{loc}: {card} {tid}: {e}"))
         }
         TableData::Csv { path, x, y } => {
             let points =
@@ -48,19 +55,36 @@ pub fn table_of(model: &Model, tid: u32, user: &str) -> Result<Table, String> {
     dynamic_table(model, tid).map_err(|e| format!("{user}: {e}"))
 }
 
-/// One time-domain load term: shape × table(t − delay).
+/// One time-domain load term: shape × F(t − delay).
 pub struct LoadTerm {
     pub shape: Vec<f64>,
-    pub table: Table,
+    pub function: TimeFunction,
     pub delay: f64,
 }
 
-/// f(t) = Σ shape · table(t − delay) into `f`.
+/// A TLOAD's F: a table (TLOAD1) or a pulse (TLOAD2).
+pub enum TimeFunction {
+    Table(Table),
+    Pulse(Pulse),
+}
+
+impl LoadTerm {
+    /// F(t − delay).
+    pub fn factor(&self, t: f64) -> f64 {
+        let local = t - self.delay;
+        match &self.function {
+            TimeFunction::Table(table) => table.value(local),
+            TimeFunction::Pulse(pulse) => pulse.value(local),
+        }
+    }
+}
+
+/// f(t) = Σ shape · F(t − delay) into `f`.
 pub fn load_into(terms: &[LoadTerm], t: f64, f: &mut [f64]) {
     load_into_where(terms, t, f, &|_| true);
 }
 
-/// f(t) = Σ shape · table(t − delay) over the terms `which` keeps.
+/// f(t) = Σ shape · F(t − delay) over the terms `which` keeps.
 pub fn load_into_where(
     terms: &[LoadTerm],
     t: f64,
@@ -69,7 +93,7 @@ pub fn load_into_where(
 ) {
     f.fill(0.0);
     for term in terms.iter().filter(|term| which(term)) {
-        let a = term.table.value(t - term.delay);
+        let a = term.factor(t);
         if a != 0.0 {
             f.iter_mut()
                 .zip(&term.shape)
@@ -78,7 +102,7 @@ pub fn load_into_where(
     }
 }
 
-/// The load terms of `DLOAD = sid`: a DLOAD combination S·Σ Sᵢ·(TLOAD1 Lᵢ), or one TLOAD1.
+/// The load terms of `DLOAD = sid`: a DLOAD combination S·Σ Sᵢ·(TLOAD Lᵢ), or one TLOAD set.
 /// `place(excitation, scale, shape)` adds one DAREA entry (scale including the DLOAD factors) to a shape vector of length `len`; when a TLOAD1's EXCITEID selects no
 /// DAREA, `static_set(excite_id)` may supply the shape of a static load set (FORCE, LOAD) as the
 /// full model does, or `None` (pROMs: loads act on input DOFs only).
@@ -93,10 +117,21 @@ pub fn load_terms(
     for (scale, set) in model.dynamic_load_members(sid) {
         let tloads = model.transient_loads(set);
         if tloads.is_empty() {
-            return Err(format!("DLOAD {sid}: load set {set} has no TLOAD1"));
+            return Err(format!(
+                "DLOAD {sid}: load set {set} has no TLOAD1 or TLOAD2"
+            ));
         }
         for t in tloads {
-            let table = table_of(model, t.table, &format!("TLOAD1 {}", t.sid))?;
+            let card = match t.function {
+                TloadFunction::Table(_) => "TLOAD1",
+                TloadFunction::Pulse(_) => "TLOAD2",
+            };
+            let function = match &t.function {
+                TloadFunction::Table(tid) => {
+                    TimeFunction::Table(table_of(model, *tid, &format!("{card} {}", t.sid))?)
+                }
+                TloadFunction::Pulse(pulse) => TimeFunction::Pulse(pulse.clone()),
+            };
             let mut shape = vec![0.0; len];
             for x in &t.excitation {
                 place(x, scale * x.scale, &mut shape)?;
@@ -104,7 +139,7 @@ pub fn load_terms(
             if t.excitation.is_empty() {
                 let p = static_set(t.excite_id)?.ok_or_else(|| {
                     format!(
-                        "TLOAD1 {}: EXCITEID {} selects no DAREA",
+                        "{card} {}: EXCITEID {} selects no DAREA",
                         t.sid, t.excite_id
                     )
                 })?;
@@ -112,7 +147,7 @@ pub fn load_terms(
             }
             out.push(LoadTerm {
                 shape,
-                table,
+                function,
                 delay: t.delay,
             });
         }
@@ -197,13 +232,12 @@ pub fn initial_state(
     Ok((u, v))
 }
 
-/// One RLOAD1 term on one input: scale · (C(f) + iD(f)) · e^{i(θ − 2πfτ)}.
+/// One RLOAD1/RLOAD2 term on one input: scale · P(f) · e^{i(θ − 2πfτ)}.
 pub struct FrequencyLoad {
     /// Index of the input DOF the term loads.
     pub input: usize,
     pub scale: f64,
-    pub c: Option<Table>,
-    pub d: Option<Table>,
+    pub p: FrequencyFunction,
     /// θ (rad).
     pub phase: f64,
     /// τ (s).
@@ -213,11 +247,26 @@ pub struct FrequencyLoad {
 impl FrequencyLoad {
     /// The complex load at `hz`.
     pub fn at(&self, hz: f64) -> c64 {
-        let c = self.c.as_ref().map_or(0.0, |t| t.value(hz));
-        let d = self.d.as_ref().map_or(0.0, |t| t.value(hz));
+        let value = |t: &Option<Table>| t.as_ref().map_or(0.0, |t| t.value(hz));
+        let p = match &self.p {
+            FrequencyFunction::Rectangular { c, d } => c64::new(value(c), value(d)),
+            FrequencyFunction::Polar { b, phi } => {
+                let phi = value(phi).to_radians();
+                c64::new(phi.cos(), phi.sin()) * b.value(hz)
+            }
+        };
         let angle = self.phase - 2.0 * std::f64::consts::PI * hz * self.delay;
-        c64::new(c, d) * c64::new(angle.cos(), angle.sin()) * self.scale
+        p * c64::new(angle.cos(), angle.sin()) * self.scale
     }
+}
+
+/// An RLOAD's P(f) (a table `None`: zero).
+#[derive(Clone)]
+pub enum FrequencyFunction {
+    /// RLOAD1: C(f) + i D(f).
+    Rectangular { c: Option<Table>, d: Option<Table> },
+    /// RLOAD2: B(f) e^{i φ(f)}, φ in degrees.
+    Polar { b: Table, phi: Option<Table> },
 }
 
 /// The inputs of a frequency response: names `GRID:component`, f-set unit-load columns
@@ -263,19 +312,31 @@ pub fn frequency_inputs(
     for (scale, set) in model.dynamic_load_members(sid) {
         let rloads = model.harmonic_loads(set);
         if rloads.is_empty() {
-            return Err(format!("DLOAD {sid}: load set {set} has no RLOAD1"));
+            return Err(format!(
+                "DLOAD {sid}: load set {set} has no RLOAD1 or RLOAD2"
+            ));
         }
         for r in rloads {
+            let card = r.tables.card();
             let table = |tid: u32| {
                 if tid == 0 {
                     Ok(None)
                 } else {
                     dynamic_table(model, tid)
                         .map(Some)
-                        .map_err(|e| format!("RLOAD1 {}: {e}", r.sid))
+                        .map_err(|e| format!("{card} {}: {e}", r.sid))
                 }
             };
-            let (tc, td) = (table(r.tc)?, table(r.td)?);
+            let p = match r.tables {
+                RloadTables::Rectangular { tc, td } => FrequencyFunction::Rectangular {
+                    c: table(tc)?,
+                    d: table(td)?,
+                },
+                RloadTables::Polar { tb, tp } => FrequencyFunction::Polar {
+                    b: table(tb)?.ok_or_else(|| format!("{card} {}: TB is required", r.sid))?,
+                    phi: table(tp)?,
+                },
+            };
             for x in &r.excitation {
                 let dof = (x.grid, x.component);
                 let input = match dofs.iter().position(|&d| d == dof) {
@@ -288,15 +349,14 @@ pub fn frequency_inputs(
                 terms.push(FrequencyLoad {
                     input,
                     scale: scale * x.scale,
-                    c: tc.clone(),
-                    d: td.clone(),
+                    p: p.clone(),
                     phase: r.phase_deg.to_radians(),
                     delay: r.delay,
                 });
             }
             if r.excitation.is_empty() {
                 return Err(format!(
-                    "RLOAD1 {}: EXCITEID {} selects no DAREA",
+                    "{card} {}: EXCITEID {} selects no DAREA",
                     r.sid, r.excite_id
                 ));
             }

@@ -11,13 +11,15 @@
 //! - [`velocity_form`]: one BDF1 step in velocity form over the caller's operators (the
 //!   estimator's prediction);
 //! - [`sparse_backend`]: the integrators' full-model (sparse f-set) backend;
-//! - [`table`]: piecewise-linear tables of time (TABLED1).
+//! - [`table`]: tabulated functions of time or frequency (TABLED1–TABLED4, TABLEF);
+//! - [`pulse`]: the TLOAD2 pulse.
 
 pub mod frf;
 pub mod integrators;
 pub mod measurement;
 pub mod newton;
 pub mod nonlinear;
+pub mod pulse;
 pub mod sparse_backend;
 pub mod table;
 pub mod velocity_form;

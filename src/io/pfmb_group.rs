@@ -22,7 +22,7 @@
 //! /pfmb/sensors/{ids, names, kinds (POS …), ref (marker, joint or drive id by kind; 0 for KE
 //!                and STRAIN), body (STRAIN: body id, else 0), gauge (STRAIN: the artifact's
 //!                sensor name, else ""), direction (s × 3)}
-//! /pfmb/tables/<tid>/{x, y}
+//! /pfmb/tables/<tid>/{x, y} (points), or {series (X1, X2, X3, X4), coefficients} (TABLED4)
 //! /pfmb/gravity/{sids (k), vectors (k × 3)}
 //! ```
 //! Every position and direction is in the basic system of the initial configuration. A
@@ -45,7 +45,7 @@ use crate::card_values::{ForceKind, JointType, MsensorKind};
 use crate::deck::Loc;
 use crate::discretize::pfmb::Pfmb;
 use crate::discretize::prom_body::ParametricBody;
-use crate::dynamics::table::Table;
+use crate::dynamics::table::{PowerSeries, Table};
 use crate::model::mechanism::{
     Body, BodyKind, Drive, Joint, JointSpring, Marker, MarkerPlace, Mechanism, PointForce,
     PointSpring, Sensor, SensorTarget,
@@ -53,7 +53,7 @@ use crate::model::mechanism::{
 use crate::multibody::InterfaceRows;
 
 /// Version of the `/pfmb` layout (module doc).
-pub const PFMB_VERSION: i64 = 1;
+pub const PFMB_VERSION: i64 = 2;
 
 fn rows9(m: &[[f64; 3]; 3]) -> [f64; 9] {
     std::array::from_fn(|k| m[k / 3][k % 3])
@@ -258,9 +258,18 @@ pub fn write_pfmb(group: &Group, pfmb: &Pfmb) -> Result<(), IoError> {
     let tables = create_group(group, "tables")?;
     for (tid, table) in &pfmb.tables {
         let t = create_group(&tables, &tid.to_string())?;
-        let n = table.abscissae().len();
-        write_f64(&t, "x", table.abscissae(), &[n])?;
-        write_f64(&t, "y", table.ordinates(), &[n])?;
+        match (table.points(), table.series()) {
+            (Some((x, y)), _) => {
+                write_f64(&t, "x", x, &[x.len()])?;
+                write_f64(&t, "y", y, &[y.len()])?;
+            }
+            (None, Some(s)) => {
+                let (low, high) = s.range;
+                write_f64(&t, "series", &[s.shift, s.scale, low, high], &[4])?;
+                write_f64(&t, "coefficients", &s.coefficients, &[s.coefficients.len()])?;
+            }
+            (None, None) => unreachable!("a table is points or a power series"),
+        }
     }
     let gravity = create_group(group, "gravity")?;
     let sids: Vec<u32> = pfmb.gravity.iter().map(|(sid, _)| *sid).collect();
@@ -692,14 +701,30 @@ pub fn read_pfmb(path: &Path, loc: &Loc) -> Result<Pfmb, IoError> {
             .parse()
             .map_err(|_| t.malformed(&name, "a table's group is named by its id".into()))?;
         let g = t.sub(&name)?;
-        let (x, y) = (g.f64s("x")?, g.f64s("y")?);
-        g.check(
-            "y",
-            x.len() == y.len(),
-            format!("{} x for {} y", x.len(), y.len()),
-        )?;
-        let points: Vec<(f64, f64)> = x.into_iter().zip(y).collect();
-        let table = Table::new(&points).map_err(|e| g.malformed("x", e.to_string()))?;
+        let table = if g.group.link_exists("series") {
+            let series = g.f64s("series")?;
+            g.check(
+                "series",
+                series.len() == 4,
+                format!("{} values, 4 expected", series.len()),
+            )?;
+            Table::power_series(PowerSeries {
+                shift: series[0],
+                scale: series[1],
+                range: (series[2], series[3]),
+                coefficients: g.f64s("coefficients")?,
+            })
+            .map_err(|e| g.malformed("series", e.to_string()))?
+        } else {
+            let (x, y) = (g.f64s("x")?, g.f64s("y")?);
+            g.check(
+                "y",
+                x.len() == y.len(),
+                format!("{} x for {} y", x.len(), y.len()),
+            )?;
+            let points: Vec<(f64, f64)> = x.into_iter().zip(y).collect();
+            Table::new(&points).map_err(|e| g.malformed("x", e.to_string()))?
+        };
         tables.push((tid, table));
     }
     tables.sort_by_key(|(id, _)| *id);

@@ -7,7 +7,7 @@
 //! | LOAD | LOAD / FORCE / MOMENT / GRAV set |
 //! | METHOD | EIGRL |
 //! | FREQUENCY | FREQ / FREQ1 / FREQ2 set |
-//! | DLOAD | DLOAD / TLOAD1 / RLOAD1 set |
+//! | DLOAD | DLOAD / TLOAD1–2 / RLOAD1–2 set |
 //! | TSTEP | TSTEP |
 //! | PROM | PMOR |
 //! | PVAL | PVAL |
@@ -20,7 +20,7 @@
 //!
 //! The other way round, an SPC set (SPC / SPC1 / SPCADD), an MPC set (MPC / MPCADD) or a LOAD
 //! set (LOAD / FORCE / MOMENT / GRAV) that bulk data defines but nothing selects (no subcase's
-//! `SPC =`, `MPC =` or `LOAD =`, no SPCADD, MPCADD or LOAD combination, no TLOAD1 / RLOAD1 EXCITEID) is a warning at its first card
+//! `SPC =`, `MPC =` or `LOAD =`, no SPCADD, MPCADD or LOAD combination, no TLOAD / RLOAD EXCITEID) is a warning at its first card
 //! ([`unselected_sets`]): a forgotten `SPC = 1` otherwise leaves a structure free without a word.
 
 use std::collections::{BTreeMap, HashSet};
@@ -63,8 +63,8 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
         b.dload
             .iter()
             .map(|s| s.sid)
-            .chain(b.tload1.iter().map(|s| s.sid))
-            .chain(b.rload1.iter().map(|s| s.sid))
+            .chain(b.tload.iter().map(|s| s.sid))
+            .chain(b.rload.iter().map(|s| s.sid))
             .collect(),
     );
     let tstep = set_of(b.tstep.iter().map(|s| s.sid).collect());
@@ -125,7 +125,12 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
         }
         need("METHOD", sub.method, &method, "EIGRL");
         need("FREQUENCY", sub.frequency, &freq, "FREQ/FREQ1/FREQ2");
-        need("DLOAD", sub.dload, &dload, "DLOAD/TLOAD1/RLOAD1");
+        need(
+            "DLOAD",
+            sub.dload,
+            &dload,
+            "DLOAD/TLOAD1/TLOAD2/RLOAD1/RLOAD2",
+        );
         need("TSTEP", sub.tstep, &tstep, "TSTEP");
         need("PROM", sub.prom, &prom, "PMOR");
         need("PVAL", sub.pval, &pval, "PVAL/PTABLE");
@@ -295,8 +300,8 @@ pub fn unselected_sets(deck: &Deck, warnings: &mut Vec<Warning>) {
                 .iter()
                 .flat_map(|c| c.terms.iter().map(|(_, sid)| *sid)),
         )
-        .chain(b.tload1.iter().map(|t| t.excite_id))
-        .chain(b.rload1.iter().map(|r| r.excite_id));
+        .chain(b.tload.iter().map(|t| t.excite_id))
+        .chain(b.rload.iter().map(|r| r.excite_id));
     warn_unselected(
         "LOAD",
         "it is not applied",

@@ -1,18 +1,20 @@
 //! Dynamic loads as the solver reads them:
 //! - [`Model::dynamic_load_members`]: `DLOAD = sid` as (factor S · Sᵢ, load set Lᵢ) pairs, or
 //!   the one set `sid` with factor 1 when no DLOAD combination has that id;
-//! - [`Model::transient_loads`] / [`Model::harmonic_loads`]: the TLOAD1 / RLOAD1 cards of a
-//!   load set, each with the DAREA entries of its EXCITEID expanded per component
+//! - [`Model::transient_loads`] / [`Model::harmonic_loads`]: the TLOAD1/TLOAD2 / RLOAD1/RLOAD2
+//!   cards of a load set, each with the DAREA entries of its EXCITEID expanded per component
 //!   ([`Excitation`]);
-//! - [`Model::dynamic_table`]: a TABLED1's points, or a TABLEF's CSV file (path resolved
-//!   relative to the file holding the card) and columns.
+//! - [`Model::dynamic_table`]: a TABLED1–TABLED3's points, a TABLED4's power series, or a
+//!   TABLEF's CSV file (path resolved relative to the file holding the card) and columns.
 
 use std::path::PathBuf;
 
 use crate::deck::Loc;
+use crate::deck::cards::{RloadTables, TloadFunction};
 
 use super::Model;
 use crate::card_values::Column;
+use crate::dynamics::table::PowerSeries;
 
 /// One component of a DAREA entry: a unit load direction scaled by A.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -27,7 +29,7 @@ pub struct Excitation {
     pub scale: f64,
 }
 
-/// A TLOAD1: excitation × table(t − τ).
+/// A TLOAD1 (excitation × table(t − τ)) or TLOAD2 (excitation × pulse(t − τ)).
 #[derive(Debug, Clone, PartialEq)]
 pub struct TransientLoad {
     pub sid: u32,
@@ -36,11 +38,12 @@ pub struct TransientLoad {
     pub excitation: Vec<Excitation>,
     /// τ (s).
     pub delay: f64,
-    /// Table id TID.
-    pub table: u32,
+    /// The table (TLOAD1) or the pulse (TLOAD2).
+    pub function: TloadFunction,
 }
 
-/// An RLOAD1: excitation × (C(f) + iD(f)) · e^{i(θ − 2πfτ)}.
+/// An RLOAD1 (excitation × (C(f) + iD(f)) · e^{i(θ − 2πfτ)}) or RLOAD2 (B(f) e^{iφ(f)} in
+/// place of C + iD).
 #[derive(Debug, Clone, PartialEq)]
 pub struct HarmonicLoad {
     pub sid: u32,
@@ -51,21 +54,22 @@ pub struct HarmonicLoad {
     pub delay: f64,
     /// θ (degrees).
     pub phase_deg: f64,
-    /// Table ids TC and TD (0: none).
-    pub tc: u32,
-    pub td: u32,
+    /// Table ids of P(f).
+    pub tables: RloadTables,
 }
 
 /// Where a table's (x, y) points come from.
 #[derive(Debug, Clone, PartialEq)]
 pub enum TableData {
-    /// TABLED1: the points on the card.
+    /// TABLED1–TABLED3: the points on the card, abscissae mapped to x.
     Points(Vec<(f64, f64)>),
+    /// TABLED4.
+    PowerSeries(PowerSeries),
     /// TABLEF: two columns of a CSV file.
     Csv { path: PathBuf, x: Column, y: Column },
 }
 
-/// A TABLED1 or TABLEF.
+/// A TABLED1–TABLED4 or TABLEF.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DynamicTable {
     /// Card name.
@@ -83,10 +87,10 @@ impl Model {
         }
     }
 
-    /// The TLOAD1 cards of load set `sid`, in card order.
+    /// The TLOAD1 and TLOAD2 cards of load set `sid`, in card order.
     pub fn transient_loads(&self, sid: u32) -> Vec<TransientLoad> {
         self.bulk
-            .tload1
+            .tload
             .iter()
             .filter(|t| t.sid == sid)
             .map(|t| TransientLoad {
@@ -94,15 +98,15 @@ impl Model {
                 excite_id: t.excite_id,
                 excitation: self.excitation(t.excite_id),
                 delay: t.delay,
-                table: t.tid,
+                function: t.function.clone(),
             })
             .collect()
     }
 
-    /// The RLOAD1 cards of load set `sid`, in card order.
+    /// The RLOAD1 and RLOAD2 cards of load set `sid`, in card order.
     pub fn harmonic_loads(&self, sid: u32) -> Vec<HarmonicLoad> {
         self.bulk
-            .rload1
+            .rload
             .iter()
             .filter(|r| r.sid == sid)
             .map(|r| HarmonicLoad {
@@ -111,8 +115,7 @@ impl Model {
                 excitation: self.excitation(r.excite_id),
                 delay: r.delay,
                 phase_deg: r.phase_deg,
-                tc: r.tc,
-                td: r.td,
+                tables: r.tables,
             })
             .collect()
     }
@@ -134,13 +137,25 @@ impl Model {
             .collect()
     }
 
-    /// The TABLED1 (first) or TABLEF with id `tid`.
+    /// The TABLED1–TABLED3, TABLED4 or TABLEF with id `tid`, first in that order.
     pub fn dynamic_table(&self, tid: u32) -> Option<DynamicTable> {
         let b = &self.bulk;
-        if let Some(x) = b.tabled1.iter().find(|x| x.id == tid) {
+        if let Some(x) = b.tabled.iter().find(|x| x.id == tid) {
             return Some(DynamicTable {
-                card: "TABLED1",
+                card: x.card,
                 data: TableData::Points(x.points.clone()),
+                loc: x.loc.clone(),
+            });
+        }
+        if let Some(x) = b.tabled4.iter().find(|x| x.id == tid) {
+            return Some(DynamicTable {
+                card: "TABLED4",
+                data: TableData::PowerSeries(PowerSeries {
+                    shift: x.shift,
+                    scale: x.scale,
+                    range: x.range,
+                    coefficients: x.coefficients.clone(),
+                }),
                 loc: x.loc.clone(),
             });
         }

@@ -562,13 +562,13 @@ pub fn build(
     let table = |tid: u32,
                  (loc, card, cid, field): (&Loc, &str, u32, &str),
                  errors: &mut Vec<DeckError>| {
-        if !bulk.tabled1.iter().any(|t| t.id == tid) && !bulk.tablef.iter().any(|t| t.id == tid) {
+        if !bulk.dynamic_tables().any(|(id, _, _)| id == tid) {
             errors.push(at(
                 loc,
                 card,
                 cid,
                 field,
-                format!("TID = {tid} does not exist (no TABLED1 or TABLEF {tid})"),
+                format!("TID = {tid} does not exist (no TABLED1–TABLED4 or TABLEF {tid})"),
             ));
         }
     };

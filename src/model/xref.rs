@@ -13,9 +13,9 @@
 //! | MPC | Gi | GRID |
 //! | MPCADD | Si | MPC set |
 //! | LOAD | Li | FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set |
-//! | TLOAD1, RLOAD1 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/LOAD) |
-//! | TLOAD1 TID, RLOAD1 TC/TD (≠ 0) | table | TABLED1 or TABLEF |
-//! | DLOAD | Li | TLOAD1/RLOAD1 set |
+//! | TLOAD1/2, RLOAD1/2 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/LOAD) |
+//! | TLOAD1 TID, RLOAD1 TC/TD, RLOAD2 TB/TP (≠ 0) | table | TABLED1–TABLED4 or TABLEF |
+//! | DLOAD | Li | TLOAD1/2, RLOAD1/2 set |
 //! | DESVAR | DDVAL | DDVAL |
 //! | SENSOR | REF | GRID (DISP/VEL/ACCEL) or element (STRAIN); SURF only on shells |
 //! | PVAL | NAMEi | PMPAR name |
@@ -28,7 +28,7 @@
 use std::collections::{HashMap, HashSet};
 
 use crate::card_values::{ForceKind, SensorKind};
-use crate::deck::cards::ParamValue;
+use crate::deck::cards::{ParamValue, TloadFunction};
 use crate::deck::{Deck, DeckError, Loc};
 
 use super::MaterialRef;
@@ -251,10 +251,8 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         .chain(b.load.iter().map(|l| l.sid))
         .collect();
     let tables = index(
-        b.tabled1
-            .iter()
-            .map(|t| entry(t.id, "TABLED1", &t.loc, ()))
-            .chain(b.tablef.iter().map(|t| entry(t.id, "TABLEF", &t.loc, ())))
+        b.dynamic_tables()
+            .map(|(id, card, loc)| entry(id, card, loc, ()))
             .collect(),
         "table",
         errors,
@@ -264,14 +262,17 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
             errors.push(
                 DeckError::at(
                     loc,
-                    format!("{field} = {id} does not exist (no TABLED1 or TABLEF {id})"),
+                    format!("{field} = {id} does not exist (no TABLED1–TABLED4 or TABLEF {id})"),
                 )
                 .on_card(card),
             );
         }
     };
-    for t in &b.tload1 {
-        let card = format!("TLOAD1 {}", t.sid);
+    for t in &b.tload {
+        let card = match t.function {
+            TloadFunction::Table(_) => format!("TLOAD1 {}", t.sid),
+            TloadFunction::Pulse(_) => format!("TLOAD2 {}", t.sid),
+        };
         if !excite.contains(&t.excite_id) {
             errors.push(
                 DeckError::at(
@@ -284,10 +285,12 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
                 .on_card(&card),
             );
         }
-        table(t.tid, "TID", &card, &t.loc, errors);
+        if let TloadFunction::Table(tid) = t.function {
+            table(tid, "TID", &card, &t.loc, errors);
+        }
     }
-    for r in &b.rload1 {
-        let card = format!("RLOAD1 {}", r.sid);
+    for r in &b.rload {
+        let card = format!("{} {}", r.tables.card(), r.sid);
         if !excite.contains(&r.excite_id) {
             errors.push(
                 DeckError::at(
@@ -300,12 +303,10 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
                 .on_card(&card),
             );
         }
-        for (name, id) in [("TC", r.tc), ("TD", r.td)] {
-            if id != 0 {
-                table(id, name, &card, &r.loc, errors);
-            }
+        for (name, id) in r.tables.named() {
+            table(id, name, &card, &r.loc, errors);
         }
-        if r.tc == 0 && r.td == 0 {
+        if r.tables.named().is_empty() {
             errors.push(
                 DeckError::at(
                     &r.loc,
@@ -316,10 +317,10 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         }
     }
     let dynamic: HashSet<u32> = b
-        .tload1
+        .tload
         .iter()
         .map(|t| t.sid)
-        .chain(b.rload1.iter().map(|r| r.sid))
+        .chain(b.rload.iter().map(|r| r.sid))
         .collect();
     for d in &b.dload {
         for (_, id) in &d.terms {
@@ -327,7 +328,9 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
                 errors.push(
                     DeckError::at(
                         &d.loc,
-                        format!("L = {id} does not exist (no TLOAD1 or RLOAD1 set {id})"),
+                        format!(
+                            "L = {id} does not exist (no TLOAD1/TLOAD2 or RLOAD1/RLOAD2 set {id})"
+                        ),
                     )
                     .on_card(format!("DLOAD {}", d.sid)),
                 );

@@ -311,11 +311,8 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         .iter()
         .map(|(_, _, u)| (u.omega, u.amplitude))
         .collect();
-    let constant = |term: &LoadTerm| {
-        (1..=steps).all(|k| {
-            term.table.value(k as f64 * dt - term.delay) == term.table.value(dt - term.delay)
-        })
-    };
+    let constant =
+        |term: &LoadTerm| (1..=steps).all(|k| term.factor(k as f64 * dt) == term.factor(dt));
     let points = operating_points::of_initial_estimate(
         &at,
         &s_un,

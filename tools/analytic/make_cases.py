@@ -1588,6 +1588,143 @@ def case_frf_sdof(write):
     }
 
 
+def case_frf_sdof_rload2(write):
+    """The SDOF of case_frf_sdof under a DLOAD combination of an RLOAD2 (B(f) a TABLED4 power
+    series clamped to its range, phi(f) a TABLED3) and an RLOAD1 whose C(f) is a TABLED2: the
+    forced response (sum of both loads) H."""
+    name = "frf_sdof_rload2"
+    k, m, alpha, beta = 4.0e4, 2.0, 0.8, 2.0e-4
+    A, phase_deg, delay = 2.5, 30.0, 0.01
+    f0 = math.sqrt(k / m) / (2 * math.pi)
+    hz = [1.0, 10.0, round(f0, 6), 40.0, 100.0, 150.0]
+    # TABLED4: B = sum a_i ((f - X1)/X2)^i with f clamped to [X3, X4]
+    x1, x2, x3, x4, coeffs = 50.0, 100.0, 0.0, 120.0, [1.0, 0.5, -0.25]
+    B = lambda f: sum(a * ((min(max(f, x3), x4) - x1) / x2) ** i for i, a in enumerate(coeffs))
+    # TABLED3: phi(f) = T((f - X1)/X2), T through (-1, -20) and (8, 70) degrees (a line)
+    t3x1, t3x2, t3pts = 10.0, 20.0, [(-1.0, -20.0), (8.0, 70.0)]
+    phi = lambda f: np.interp((f - t3x1) / t3x2, [p[0] for p in t3pts], [p[1] for p in t3pts])
+    # TABLED2: C(f) = T(f - X1), T through (-5, 1) and (195, 2): C = 1 + f/200 on [0, 200]
+    t2x1, t2pts = 5.0, [(-5.0, 1.0), (195.0, 2.0)]
+    C = lambda f: np.interp(f - t2x1, [p[0] for p in t2pts], [p[1] for p in t2pts])
+    s1, s2 = 1.0, 0.5  # DLOAD scales of the RLOAD2 set (7) and the RLOAD1 set (9)
+    R = []
+    for f in hz:
+        w = 2 * math.pi * f
+        h = 1.0 / complex(k - w * w * m, w * (alpha * m + beta * k))
+        turn = lambda deg: complex(math.cos(math.radians(deg) - w * delay),
+                                   math.sin(math.radians(deg) - w * delay))
+        p2 = A * B(f) * turn(phi(f) + phase_deg)
+        p1 = A * complex(C(f), 0.0) * turn(phase_deg)
+        R.append((s1 * p2 + s2 * p1) * h)
+    deck = "%s/%s_n1.dat" % (DECK_DIR, name)
+    if write:
+        bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("CONM2", 1, 1, 0, m),
+                card("CELAS2", 11, k, 1, 1), spc1(1, "23456", [1]),
+                "PARAM,ALPHA1,%s" % free_real(alpha), "PARAM,BETA1,%s" % free_real(beta),
+                card("FREQ", 5, *[float(f) for f in hz]),
+                card("DLOAD", 10, 1.0, s1, 7, s2, 9),
+                card("RLOAD2", 7, 8, delay, phase_deg, 20, 21),
+                card("RLOAD1", 9, 8, delay, phase_deg, 22), card("DAREA", 8, 1, 1, A),
+                card("TABLED4", 20, x1, x2, x3, x4, None, None, None, *coeffs, "ENDT"),
+                card("TABLED3", 21, t3x1, t3x2, *([None] * 5), *[v for p in t3pts for v in p],
+                     "ENDT"),
+                card("TABLED2", 22, t2x1, *([None] * 6), *[v for p in t2pts for v in p], "ENDT")]
+        cc = ["TITLE = " + name, "SUBCASE 1", "  SPC = 1", "  FREQUENCY = 5", "  DLOAD = 10"]
+        write_deck(deck, ["analytic case %s: CONM2 %g kg on CELAS2 %g N/m, Rayleigh alpha %g, "
+                          "beta %g; DLOAD of RLOAD2 (TABLED4, TABLED3) and RLOAD1 (TABLED2)"
+                          % (name, m, k, alpha, beta),
+                          "reference: %s/%s.json" % (REF_DIR, name)],
+                   108, cc, bulk)
+    return {
+        "case": name,
+        "description": "single-DOF spring-mass with Rayleigh damping: forced response to an "
+                       "RLOAD2 with TABLED4/TABLED3 tables plus an RLOAD1 with a TABLED2 (SOL 108)",
+        "provenance": "single-DOF harmonic response (Inman, Engineering Vibration, 4th ed. 2014, "
+                      "sec. 2.2); RLOAD1, RLOAD2, TABLED2, TABLED3, TABLED4 as defined in the "
+                      "Nastran Quick Reference Guide (Autodesk Nastran 2022 reference pages); "
+                      "tables evaluated here with numpy.interp and the power series directly",
+        "formula": "response = H [s1 A B(f) e^{i(phi(f) + theta - w tau)} + s2 A C(f) "
+                   "e^{i(theta - w tau)}]; H = 1/(k - w^2 m + i w (alpha m + beta k)); "
+                   "B(f) = sum a_i ((clamp(f, X3, X4) - X1)/X2)^i; phi(f) = T3((f - X1)/X2); "
+                   "C(f) = T2(f - X1)",
+        "inputs": {"k": k, "m": m, "alpha": alpha, "beta": beta, "A": A, "phase_deg": phase_deg,
+                   "delay": delay, "tabled4": [x1, x2, x3, x4] + coeffs,
+                   "tabled3": [t3x1, t3x2] + [v for p in t3pts for v in p],
+                   "tabled2": [t2x1] + [v for p in t2pts for v in p], "dload_scales": [s1, s2]},
+        "frequency_hz": hz,
+        "response_re": [x.real for x in R], "response_im": [x.imag for x in R],
+        "value_labels": ["|response| at %g Hz" % f for f in hz],
+        "units": "m",
+        "values": [abs(x) for x in R],
+        "meshes": [{"deck": deck, "elements": 2, "h": None}],
+        "expected_order": None,
+        "tolerance_finest": {"relative": [1e-10] * len(hz), "justification": [
+            "no discretization: the 1-DOF model's 1x1 complex solve is exact to ~1e-16; the "
+            "tables are straight lines and a polynomial, evaluated exactly by both sides"] * len(hz)},
+    }
+
+
+def case_tload2_sdof(write):
+    """An undamped SDOF under a TLOAD2 pulse with delay, T1, growth exponent B, exponential C,
+    frequency F and phase P (ending at zero): displacement history against an independent
+    high-accuracy integration (scipy DOP853) of m u'' + k u = A F(t)."""
+    from scipy.integrate import solve_ivp
+    name = "tload2_sdof"
+    k, m = 4.0e4, 2.0
+    A, delay, t1, t2, freq, phase_deg, c_exp, b_pow = 3.0, 0.005, 0.01, 0.05, 50.0, 90.0, -10.0, 1.0
+    dt, steps, every = 2.0e-5, 10000, 50
+
+    def load(t):
+        s = t - delay - t1
+        if s < 0.0 or s > t2 - t1:
+            return 0.0
+        return A * s ** b_pow * math.exp(c_exp * s) * math.cos(2 * math.pi * freq * s
+                                                              + math.radians(phase_deg))
+
+    times = [i * every * dt for i in range(steps // every + 1)]
+    sol = solve_ivp(lambda t, y: [y[1], (load(t) - k * y[0]) / m], (0.0, times[-1]), [0.0, 0.0],
+                    method="DOP853", rtol=1e-12, atol=1e-16, t_eval=times, max_step=1e-4)
+    u = list(sol.y[0])
+    peak = max(abs(x) for x in u)
+    deck = "%s/%s_n1.dat" % (DECK_DIR, name)
+    if write:
+        bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("CONM2", 1, 1, 0, m),
+                card("CELAS2", 11, k, 1, 1), spc1(1, "23456", [1]),
+                card("TSTEP", 1, steps, dt, every), card("TINTEG", 1, "GALPHA", 1.0),
+                card("TLOAD2", 7, 8, delay, None, t1, t2, freq, phase_deg, c_exp, b_pow),
+                card("DAREA", 8, 1, 1, A)]
+        cc = ["TITLE = " + name, "SUBCASE 1", "  SPC = 1", "  TSTEP = 1", "  DLOAD = 7",
+              "  DISPLACEMENT = ALL"]
+        write_deck(deck, ["analytic case %s: CONM2 %g kg on CELAS2 %g N/m, TLOAD2 pulse"
+                          % (name, m, k), "reference: %s/%s.json" % (REF_DIR, name)],
+                   109, cc, bulk)
+    w = math.sqrt(k / m)
+    return {
+        "case": name,
+        "description": "undamped single-DOF spring-mass under a TLOAD2 pulse (SOL 109, "
+                       "generalized-alpha rho = 1): displacement history",
+        "provenance": "TLOAD2 as defined in the Nastran Quick Reference Guide: F(t) = A t~^B "
+                      "e^{C t~} cos(2 pi F t~ + P), t~ = t - T1 - tau on [0, T2 - T1], 0 elsewhere; "
+                      "reference by scipy.integrate.solve_ivp (DOP853, rtol 1e-12)",
+        "formula": "m u'' + k u = A F(t), u(0) = u'(0) = 0",
+        "inputs": {"k": k, "m": m, "A": A, "delay": delay, "T1": t1, "T2": t2, "F": freq,
+                   "P_deg": phase_deg, "C": c_exp, "B": b_pow, "dt": dt, "steps": steps,
+                   "every": every},
+        "time": times,
+        "u": u,
+        "value_labels": ["peak |u|"],
+        "units": "m",
+        "values": [peak],
+        "meshes": [{"deck": deck, "elements": 2, "h": None}],
+        "expected_order": None,
+        "tolerance_finest": {"relative": [1e-4], "justification": [
+            "generalized-alpha with rho = 1 is the trapezoidal rule: phase error ~ (w dt)^2/12 per "
+            "radian, w dt = %.1e, over w T = %.0f rad: %.1e of the peak; the load is continuous "
+            "(it starts and ends at zero), so no jump adds a first-order error; 1e-4 of the peak"
+            % (w * dt, w * times[-1], (w * dt) ** 2 / 12 * w * times[-1])]},
+    }
+
+
 def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
     """Ground-k1-m1-k2-m2 chain along T1 with Rayleigh damping, unit RLOAD1 on both masses:
     receptance matrix and DISP / VEL / ACCEL sensors, direct (SOL 108) and modal (SOL 111).
@@ -1683,6 +1820,8 @@ CASES = {
     "mpc_lever": case_mpc_lever,
     "cantilever_strain_sensor": case_cantilever_strain_sensor,
     "frf_sdof": case_frf_sdof,
+    "frf_sdof_rload2": case_frf_sdof_rload2,
+    "tload2_sdof": case_tload2_sdof,
     "frf_two_dof": case_frf_two_dof,
     "frf_two_dof_g": lambda w: case_frf_two_dof(w, "frf_two_dof_g", 0.05),
     "laminate_abd": case_laminate_abd,

@@ -1,5 +1,5 @@
-//! Dynamics cards: `EIGRL`, `FREQ`/`FREQ1`/`FREQ2`, `TSTEP`, `TLOAD1`, `RLOAD1`, `DAREA`,
-//! `TABLED1`, `DLOAD`.
+//! Dynamics cards: `EIGRL`, `FREQ`/`FREQ1`/`FREQ2`, `TSTEP`, `TLOAD1`/`TLOAD2`,
+//! `RLOAD1`/`RLOAD2`, `DAREA`, `TABLED1`–`TABLED4`, `DLOAD`.
 
 use super::loads::combination;
 use crate::card_values::Dofs;
@@ -7,6 +7,7 @@ use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 use crate::deck::value::Value;
+use crate::dynamics::pulse::Pulse;
 
 /// `EIGRL` — real eigenvalue extraction (Lanczos).
 ///
@@ -235,7 +236,11 @@ impl Tstep {
     }
 }
 
-/// `TLOAD1` — transient load: u(t) = A · F(t − τ), A from `DAREA` (or a static load set).
+/// `TLOAD1`, `TLOAD2` — transient load: A · F(t − τ) with A from `DAREA` (or a static load set)
+/// and F a table (TLOAD1) or a pulse (TLOAD2): with t̃ = t − T1 − τ,
+/// F = t̃^B e^{C t̃} cos(2π F t̃ + P) for 0 ≤ t̃ ≤ T2 − T1 and 0 elsewhere.
+///
+/// TLOAD1:
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
@@ -243,15 +248,35 @@ impl Tstep {
 /// | 3 | EXCITEID | int > 0 | required | DAREA (or static load) set id |
 /// | 4 | DELAY | real | 0.0 | time delay τ (a DELAY card id is not supported) |
 /// | 5 | TYPE | `LOAD` / `DISP` / `VELO` / `ACCE` or 0–3 | LOAD | excitation type (only LOAD supported) |
-/// | 6 | TID | int > 0 | required | TABLED1 or TABLEF id of F(t) |
+/// | 6 | TID | int > 0 | required | TABLED1–TABLED4 or TABLEF id of F(t) |
 /// | 7, 8 | US0 VS0 | real | 0.0 | enforced-motion initial values (kept, unused) |
+///
+/// TLOAD2 (fields 2–5 as TLOAD1):
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 6 | T1 | real ≥ 0 | 0.0 | start of the pulse |
+/// | 7 | T2 | real > T1 | required | end of the pulse |
+/// | 8 | F | real ≥ 0 | 0.0 | frequency (cycles per unit time) |
+/// | 9 | P | real | 0.0 | phase (degrees) |
+/// | cont. 2, 3 | C B | real; real ≥ 0 | 0.0 | exponential coefficient and growth exponent |
+/// | cont. 4, 5 | US0 VS0 | real | 0.0 | enforced-motion initial values (kept, unused) |
 #[derive(Debug, Clone, PartialEq)]
-pub struct Tload1 {
+pub struct Tload {
     pub sid: u32,
     pub excite_id: u32,
     pub delay: f64,
-    pub tid: u32,
+    pub function: TloadFunction,
     pub loc: Loc,
+}
+
+/// What multiplies a TLOAD's excitation.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TloadFunction {
+    /// TLOAD1: the table TID.
+    Table(u32),
+    /// TLOAD2.
+    Pulse(Pulse),
 }
 
 /// Read an excitation TYPE field (`LOAD`/0 only) and report the others as unsupported.
@@ -291,31 +316,80 @@ fn delay(f: &mut FieldReader, i: usize) -> f64 {
     }
 }
 
-impl Tload1 {
+impl Tload {
     /// Read a `TLOAD1` card.
-    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+    pub fn tload1(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
-        let sid = f.id(1, "SID");
-        f.set_id(sid);
-        let excite_id = f.id(2, "EXCITEID");
-        let delay = delay(&mut f, 3);
-        excitation_type(&mut f, 4);
+        let (sid, excite_id, delay) = tload_head(&mut f);
         let tid = f.id(5, "TID");
         f.opt_real(6, "US0");
         f.opt_real(7, "VS0");
         let loc = f.loc();
         f.finish(7)?;
-        Ok(Tload1 {
+        Ok(Tload {
             sid,
             excite_id,
             delay,
-            tid,
+            function: TloadFunction::Table(tid),
+            loc,
+        })
+    }
+
+    /// Read a `TLOAD2` card.
+    pub fn tload2(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let (sid, excite_id, delay) = tload_head(&mut f);
+        let start = f.real_or(5, "T1", 0.0);
+        let end = f.real(6, "T2");
+        if start < 0.0 {
+            f.error(5, "T1", format!("T1 must be ≥ 0, found {start:e}"));
+        }
+        if !(end > start) {
+            f.error(6, "T2", format!("T2 = {end:e} must exceed T1 = {start:e}"));
+        }
+        let frequency = f.real_or(7, "F", 0.0);
+        if frequency < 0.0 {
+            f.error(7, "F", format!("F must be ≥ 0, found {frequency:e}"));
+        }
+        let phase_deg = f.real_or(8, "P", 0.0);
+        let exponential = f.real_or(9, "C", 0.0);
+        let power = f.real_or(10, "B", 0.0);
+        if power < 0.0 {
+            f.error(10, "B", format!("B must be ≥ 0, found {power:e}"));
+        }
+        f.opt_real(11, "US0");
+        f.opt_real(12, "VS0");
+        let loc = f.loc();
+        f.finish(12)?;
+        Ok(Tload {
+            sid,
+            excite_id,
+            delay,
+            function: TloadFunction::Pulse(Pulse {
+                start,
+                end,
+                frequency,
+                phase_deg,
+                exponential,
+                power,
+            }),
             loc,
         })
     }
 }
 
-/// `RLOAD1` — frequency-dependent load: A · (C(f) + i D(f)) · e^{i(θ − 2πfτ)}.
+/// SID, EXCITEID, DELAY and TYPE of a TLOAD1 or TLOAD2.
+fn tload_head(f: &mut FieldReader) -> (u32, u32, f64) {
+    let sid = f.id(1, "SID");
+    f.set_id(sid);
+    let excite_id = f.id(2, "EXCITEID");
+    let delay = delay(f, 3);
+    excitation_type(f, 4);
+    (sid, excite_id, delay)
+}
+
+/// `RLOAD1`, `RLOAD2` — frequency-dependent load A · P(f) · e^{i(θ − 2πfτ)}, A from `DAREA`:
+/// P = C(f) + i D(f) (RLOAD1) or P = B(f) e^{i φ(f)} with φ in degrees (RLOAD2).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
@@ -323,23 +397,74 @@ impl Tload1 {
 /// | 3 | EXCITEID | int > 0 | required | DAREA (or static load) set id |
 /// | 4 | DELAY | real | 0.0 | time delay τ |
 /// | 5 | DPHASE | real | 0.0 | phase θ in degrees (a DPHASE card id is not supported) |
-/// | 6 | TC | int ≥ 0 | 0 | TABLED1/TABLEF id of C(f); 0 = none |
-/// | 7 | TD | int ≥ 0 | 0 | TABLED1/TABLEF id of D(f); 0 = none |
+/// | 6 | TC (RLOAD1) / TB (RLOAD2) | int ≥ 0 / int > 0 | 0 / required | table id of C(f) (0 = none) / of B(f) |
+/// | 7 | TD (RLOAD1) / TP (RLOAD2) | int ≥ 0 | 0 | table id of D(f) / of φ(f) in degrees; 0 = none |
 /// | 8 | TYPE | | LOAD | only LOAD supported |
+///
+/// Tables are TABLED1–TABLED4 or TABLEF.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Rload1 {
+pub struct Rload {
     pub sid: u32,
     pub excite_id: u32,
     pub delay: f64,
     pub phase_deg: f64,
-    pub tc: u32,
-    pub td: u32,
+    pub tables: RloadTables,
     pub loc: Loc,
 }
 
-impl Rload1 {
+/// The tables of an RLOAD's P(f) (0: none).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RloadTables {
+    /// RLOAD1: C(f) + i D(f).
+    Rectangular { tc: u32, td: u32 },
+    /// RLOAD2: B(f) e^{i φ(f)}, φ in degrees.
+    Polar { tb: u32, tp: u32 },
+}
+
+impl RloadTables {
+    /// The card these tables come from.
+    pub fn card(&self) -> &'static str {
+        match self {
+            RloadTables::Rectangular { .. } => "RLOAD1",
+            RloadTables::Polar { .. } => "RLOAD2",
+        }
+    }
+
+    /// (field name, table id) of each table given (id ≠ 0).
+    pub fn named(&self) -> Vec<(&'static str, u32)> {
+        let pairs = match *self {
+            RloadTables::Rectangular { tc, td } => [("TC", tc), ("TD", td)],
+            RloadTables::Polar { tb, tp } => [("TB", tb), ("TP", tp)],
+        };
+        pairs.into_iter().filter(|(_, id)| *id != 0).collect()
+    }
+}
+
+impl Rload {
     /// Read an `RLOAD1` card.
-    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+    pub fn rload1(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        Self::read(card, |f| {
+            let tc = f.id0_or(5, "TC", 0);
+            let td = f.id0_or(6, "TD", 0);
+            if tc == 0 && td == 0 {
+                f.card_error("give TC or TD (a table of the load's frequency dependence)");
+            }
+            RloadTables::Rectangular { tc, td }
+        })
+    }
+
+    /// Read an `RLOAD2` card.
+    pub fn rload2(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        Self::read(card, |f| RloadTables::Polar {
+            tb: f.id(5, "TB"),
+            tp: f.id0_or(6, "TP", 0),
+        })
+    }
+
+    fn read(
+        card: &RawCard,
+        tables: impl FnOnce(&mut FieldReader) -> RloadTables,
+    ) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let sid = f.id(1, "SID");
         f.set_id(sid);
@@ -356,21 +481,16 @@ impl Rload1 {
             }
             _ => f.real_or(4, "DPHASE", 0.0),
         };
-        let tc = f.id0_or(5, "TC", 0);
-        let td = f.id0_or(6, "TD", 0);
-        if tc == 0 && td == 0 {
-            f.card_error("give TC or TD (a table of the load's frequency dependence)");
-        }
+        let tables = tables(&mut f);
         excitation_type(&mut f, 7);
         let loc = f.loc();
         f.finish(7)?;
-        Ok(Rload1 {
+        Ok(Rload {
             sid,
             excite_id,
             delay,
             phase_deg,
-            tc,
-            td,
+            tables,
             loc,
         })
     }
@@ -464,67 +584,155 @@ impl Tic {
     }
 }
 
-/// `TABLED1` — tabular function y(x) with linear interpolation.
+/// `TABLED1`, `TABLED2`, `TABLED3` — tabular function y(x) with linear interpolation (the end
+/// values held outside the table; a jump is two points at one x, where y is their mean).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | TID | int > 0 | required | table id |
-/// | 3 | XAXIS | `LINEAR` / `LOG` | LINEAR | (only LINEAR supported) |
-/// | 4 | YAXIS | `LINEAR` / `LOG` | LINEAR | (only LINEAR supported) |
-/// | cont. | x1 y1 x2 y2 … `ENDT` | real pairs | ≥ 2 points | x increasing |
+/// | 3 | XAXIS (TABLED1) / X1 (TABLED2, TABLED3) | `LINEAR` / real | LINEAR / 0.0 | TABLED1: only LINEAR supported; TABLED2: y = T(x − X1); TABLED3: y = T((x − X1)/X2) |
+/// | 4 | YAXIS (TABLED1) / X2 (TABLED3) | `LINEAR` / real ≠ 0 | LINEAR / required | TABLED1: only LINEAR supported |
+/// | cont. | x1 y1 x2 y2 … `ENDT` | real pairs | ≥ 2 points | x all increasing or all decreasing; `SKIP SKIP` drops a pair |
 #[derive(Debug, Clone, PartialEq)]
-pub struct Tabled1 {
+pub struct Tabled {
     pub id: u32,
+    /// TABLED1, TABLED2 or TABLED3.
+    pub card: &'static str,
+    /// The points with their abscissae mapped to x (X1 + X2 · xᵢ; X1 = 0, X2 = 1 for TABLED1).
     pub points: Vec<(f64, f64)>,
     pub loc: Loc,
 }
 
-impl Tabled1 {
-    /// Read a `TABLED1` card.
-    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+impl Tabled {
+    /// Read a `TABLED1`, `TABLED2` or `TABLED3` card (`card` names which).
+    pub fn from_card(card: &RawCard, name: &'static str) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "TID");
         f.set_id(id);
-        for (i, name) in [(2, "XAXIS"), (3, "YAXIS")] {
-            f.keyword(i, name, &["LINEAR"], Some("LINEAR"));
-        }
+        let (shift, scale) = match name {
+            "TABLED1" => {
+                for (i, field) in [(2, "XAXIS"), (3, "YAXIS")] {
+                    f.keyword(i, field, &["LINEAR"], Some("LINEAR"));
+                }
+                (0.0, 1.0)
+            }
+            "TABLED2" => (f.real_or(2, "X1", 0.0), 1.0),
+            _ => {
+                let shift = f.real_or(2, "X1", 0.0);
+                let scale = f.real(3, "X2");
+                if scale == 0.0 {
+                    f.error(3, "X2", "X2 must not be zero");
+                }
+                (shift, scale)
+            }
+        };
         let mut points: Vec<(f64, f64)> = Vec::new();
         let len = f.len();
-        let mut i = 9;
-        let mut ended = false;
-        while i <= len {
-            if matches!(f.value(i), Value::Text(t) if t.eq_ignore_ascii_case("ENDT")) {
-                ended = true;
-                break;
-            }
-            if matches!(f.value(i), Value::Text(t) if t.eq_ignore_ascii_case("SKIP")) {
-                i += 2;
-                continue;
-            }
+        let ended = table_entries(&mut f, |f, i| {
             let x = f.real(i, "x");
             let y = f.real(i + 1, "y");
-            if let Some(&(px, _)) = points.last()
-                && x < px
-            {
-                f.error(
-                    i,
-                    "x",
-                    format!("x values must not decrease: {x:e} after {px:e}"),
-                );
-            }
-            points.push((x, y));
-            i += 2;
-        }
+            points.push((shift + scale * x, y));
+            2
+        });
         if !ended {
             f.card_error("the table does not end with ENDT");
         }
         if points.len() < 2 {
             f.card_error("a table needs at least two points");
         }
+        if let Err(e) = crate::dynamics::table::Table::new(&points) {
+            f.card_error(e.to_string());
+        }
         let loc = f.loc();
         f.finish(len)?;
-        Ok(Tabled1 { id, points, loc })
+        Ok(Tabled {
+            id,
+            card: name,
+            points,
+            loc,
+        })
     }
+}
+
+/// `TABLED4` — power series y = Σᵢ aᵢ ((x − X1)/X2)ⁱ, x clamped to [X3, X4].
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | TID | int > 0 | required | table id (shares the id space of TABLED1) |
+/// | 3 | X1 | real | 0.0 | shift |
+/// | 4 | X2 | real ≠ 0 | required | scale |
+/// | 5, 6 | X3 X4 | real, X3 < X4 | required | the range x is clamped to |
+/// | cont. | A0 A1 … `ENDT` | real | ≥ 1 | coefficients |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tabled4 {
+    pub id: u32,
+    pub shift: f64,
+    pub scale: f64,
+    pub range: (f64, f64),
+    pub coefficients: Vec<f64>,
+    pub loc: Loc,
+}
+
+impl Tabled4 {
+    /// Read a `TABLED4` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "TID");
+        f.set_id(id);
+        let shift = f.real_or(2, "X1", 0.0);
+        let scale = f.real(3, "X2");
+        if scale == 0.0 {
+            f.error(3, "X2", "X2 must not be zero");
+        }
+        let (low, high) = (f.real(4, "X3"), f.real(5, "X4"));
+        if !(low < high) {
+            f.error(5, "X4", format!("X4 = {high:e} must exceed X3 = {low:e}"));
+        }
+        let mut coefficients = Vec::new();
+        let len = f.len();
+        let ended = table_entries(&mut f, |f, i| {
+            coefficients.push(f.real(i, "A"));
+            1
+        });
+        if !ended {
+            f.card_error("the table does not end with ENDT");
+        }
+        if coefficients.is_empty() {
+            f.card_error("a power series needs at least one coefficient");
+        }
+        let loc = f.loc();
+        f.finish(len)?;
+        Ok(Tabled4 {
+            id,
+            shift,
+            scale,
+            range: (low, high),
+            coefficients,
+            loc,
+        })
+    }
+}
+
+/// Walk a table's entries from field 9 (the first continuation) to `ENDT`, skipping `SKIP`
+/// pairs; `read(f, i)` reads the entry at field i and returns how many fields it took. Returns
+/// whether `ENDT` was found.
+fn table_entries(
+    f: &mut FieldReader,
+    mut read: impl FnMut(&mut FieldReader, usize) -> usize,
+) -> bool {
+    let len = f.len();
+    let mut i = 9;
+    while i <= len {
+        if matches!(f.value(i), Value::Text(t) if t.eq_ignore_ascii_case("ENDT")) {
+            return true;
+        }
+        if matches!(f.value(i), Value::Text(t) if t.eq_ignore_ascii_case("SKIP")) {
+            i += 2;
+            continue;
+        }
+        i += read(f, i);
+    }
+    false
 }
 
 /// `DLOAD` — linear combination of dynamic load sets (TLOAD1 or RLOAD1): S · Σ Si · (set Li).
@@ -559,6 +767,7 @@ impl Dload {
 mod tests {
     use super::*;
     use crate::deck::cards::geometry::tests::raw;
+    use crate::deck::fields::card_from_line;
 
     /// With neither V2 nor ND, EIGRL asks for the lowest root (above V1), as Nastran does.
     #[test]
@@ -567,5 +776,98 @@ mod tests {
         assert_eq!((e.v1, e.v2, e.nd), (Some(0.0), None, Some(1)));
         let e = Eigrl::from_card(&raw("EIGRL", &["1", "", "100."])).expect("valid");
         assert_eq!((e.v2, e.nd), (Some(100.0), None));
+    }
+
+    fn messages(r: Result<impl std::fmt::Debug, Vec<DeckError>>) -> String {
+        let errors = r.expect_err("the card is refused");
+        errors
+            .iter()
+            .map(|e| e.to_string())
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+
+    /// TABLED2 shifts and TABLED3 shifts and scales the abscissae (a negative X2 reverses
+    /// them); the points are stored in x.
+    #[test]
+    fn tabled2_and_tabled3_map_their_abscissae_to_x() {
+        let t = Tabled::from_card(
+            &card_from_line("TABLED2,5,1.,,,,,,,0.,1.,2.,3.,ENDT"),
+            "TABLED2",
+        )
+        .unwrap();
+        assert_eq!(t.points, vec![(1.0, 1.0), (3.0, 3.0)]);
+        let t = Tabled::from_card(
+            &card_from_line("TABLED3,6,10.,-2.,,,,,,0.,1.,1.,3.,ENDT"),
+            "TABLED3",
+        )
+        .unwrap();
+        assert_eq!(t.points, vec![(10.0, 1.0), (8.0, 3.0)]);
+        let table = crate::dynamics::table::Table::new(&t.points).unwrap();
+        assert_eq!(table.value(9.0), 2.0);
+        let m = messages(Tabled::from_card(
+            &card_from_line("TABLED3,6,10.,0.,,,,,,0.,1.,1.,3.,ENDT"),
+            "TABLED3",
+        ));
+        assert!(m.contains("X2 must not be zero"), "{m}");
+        let m = messages(Tabled::from_card(
+            &card_from_line("TABLED1,7,,,,,,,,0.,1.,2.,3.,1.,0.,ENDT"),
+            "TABLED1",
+        ));
+        assert!(m.contains("monotonic"), "{m}");
+    }
+
+    #[test]
+    fn tabled4_reads_its_power_series_and_refuses_an_empty_range() {
+        let t =
+            Tabled4::from_card(&card_from_line("TABLED4,8,1.,2.,0.,5.,,,,1.,2.,-1.,ENDT")).unwrap();
+        assert_eq!(
+            (t.shift, t.scale, t.range, t.coefficients),
+            (1.0, 2.0, (0.0, 5.0), vec![1.0, 2.0, -1.0])
+        );
+        let m = messages(Tabled4::from_card(&card_from_line(
+            "TABLED4,8,1.,0.,5.,5.,,,,1.,ENDT",
+        )));
+        assert!(
+            m.contains("X2 must not be zero") && m.contains("must exceed X3"),
+            "{m}"
+        );
+        let m = messages(Tabled4::from_card(&card_from_line(
+            "TABLED4,8,1.,2.,0.,5.,,,,1.",
+        )));
+        assert!(m.contains("ENDT"), "{m}");
+    }
+
+    #[test]
+    fn tload2_reads_its_pulse_and_refuses_an_empty_one() {
+        let t = Tload::tload2(&card_from_line("TLOAD2,7,8,0.5,,0.1,0.3,50.,90.,-10.,1.5")).unwrap();
+        assert_eq!((t.sid, t.excite_id, t.delay), (7, 8, 0.5));
+        assert_eq!(
+            t.function,
+            TloadFunction::Pulse(Pulse {
+                start: 0.1,
+                end: 0.3,
+                frequency: 50.0,
+                phase_deg: 90.0,
+                exponential: -10.0,
+                power: 1.5,
+            })
+        );
+        let m = messages(Tload::tload2(&card_from_line(
+            "TLOAD2,7,8,,,0.3,0.3,,,,-1.",
+        )));
+        assert!(
+            m.contains("must exceed T1") && m.contains("B must be"),
+            "{m}"
+        );
+    }
+
+    #[test]
+    fn rload2_needs_its_amplitude_table() {
+        let r = Rload::rload2(&card_from_line("RLOAD2,7,8,,30.,20,21")).unwrap();
+        assert_eq!(r.tables, RloadTables::Polar { tb: 20, tp: 21 });
+        assert_eq!(r.tables.card(), "RLOAD2");
+        let m = messages(Rload::rload2(&card_from_line("RLOAD2,7,8,,30.,,21")));
+        assert!(m.contains("TB"), "{m}");
     }
 }

@@ -27,7 +27,8 @@ mod rigid;
 pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd};
 pub use design::{Ddval, Desvar};
 pub use dynamic::{
-    Darea, Dload, EigenNorm, Eigrl, Freq, FreqKind, Rload1, Tabled1, Tic, Tload1, Tstep,
+    Darea, Dload, EigenNorm, Eigrl, Freq, FreqKind, Rload, RloadTables, Tabled, Tabled4, Tic,
+    Tload, TloadFunction, Tstep,
 };
 pub use elements::{Celas1, Celas2, Chexa, Conm2, Cpenta, Cquad4, Ctetra, Ctria3};
 pub use estimate::{Ekf, Ekfinp, Ekfpar, Meas, Measf};
@@ -47,6 +48,7 @@ pub use param::{Param, ParamValue};
 pub use properties::{Pcomp, Pelas, Ply, Pshell, Psolid};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
 
+use super::Loc;
 use super::error::DeckError;
 use super::fields::RawCard;
 use crate::card_values::ForceKind;
@@ -102,12 +104,16 @@ pub struct BulkData {
     /// FREQ, FREQ1 and FREQ2 cards.
     pub freq: Vec<Freq>,
     pub tstep: Vec<Tstep>,
-    pub tload1: Vec<Tload1>,
-    pub rload1: Vec<Rload1>,
+    /// TLOAD1 and TLOAD2.
+    pub tload: Vec<Tload>,
+    /// RLOAD1 and RLOAD2.
+    pub rload: Vec<Rload>,
     pub darea: Vec<Darea>,
     pub tic: Vec<Tic>,
     pub ptable: Vec<Ptable>,
-    pub tabled1: Vec<Tabled1>,
+    /// TABLED1, TABLED2 and TABLED3.
+    pub tabled: Vec<Tabled>,
+    pub tabled4: Vec<Tabled4>,
     pub dload: Vec<Dload>,
     pub params: Vec<Param>,
     pub desvar: Vec<Desvar>,
@@ -150,6 +156,14 @@ impl BulkData {
             .chain(self.pload2.iter().map(|c| c.sid))
             .chain(self.pload.iter().map(|c| c.sid))
             .chain(self.pload1.iter().map(|c| c.sid))
+    }
+
+    /// (id, card name, where) of every table a dynamic load, a parameter or a mechanism's
+    /// drive or force may name: TABLED1–TABLED4 and TABLEF.
+    pub fn dynamic_tables(&self) -> impl Iterator<Item = (u32, &'static str, &Loc)> + '_ {
+        (self.tabled.iter().map(|t| (t.id, t.card, &t.loc)))
+            .chain(self.tabled4.iter().map(|t| (t.id, "TABLED4", &t.loc)))
+            .chain(self.tablef.iter().map(|t| (t.id, "TABLEF", &t.loc)))
     }
 }
 
@@ -228,12 +242,23 @@ pub static PARSERS: &[(&str, CardParser)] = &[
         Ok(b.freq.push(Freq::from_card(c, "FREQ2")?))
     }),
     ("TSTEP", |c, b| Ok(b.tstep.push(Tstep::from_card(c)?))),
-    ("TLOAD1", |c, b| Ok(b.tload1.push(Tload1::from_card(c)?))),
-    ("RLOAD1", |c, b| Ok(b.rload1.push(Rload1::from_card(c)?))),
+    ("TLOAD1", |c, b| Ok(b.tload.push(Tload::tload1(c)?))),
+    ("TLOAD2", |c, b| Ok(b.tload.push(Tload::tload2(c)?))),
+    ("RLOAD1", |c, b| Ok(b.rload.push(Rload::rload1(c)?))),
+    ("RLOAD2", |c, b| Ok(b.rload.push(Rload::rload2(c)?))),
     ("DAREA", |c, b| Ok(b.darea.extend(Darea::from_card(c)?))),
     ("TIC", |c, b| Ok(b.tic.push(Tic::from_card(c)?))),
     ("PTABLE", |c, b| Ok(b.ptable.push(Ptable::from_card(c)?))),
-    ("TABLED1", |c, b| Ok(b.tabled1.push(Tabled1::from_card(c)?))),
+    ("TABLED1", |c, b| {
+        Ok(b.tabled.push(Tabled::from_card(c, "TABLED1")?))
+    }),
+    ("TABLED2", |c, b| {
+        Ok(b.tabled.push(Tabled::from_card(c, "TABLED2")?))
+    }),
+    ("TABLED3", |c, b| {
+        Ok(b.tabled.push(Tabled::from_card(c, "TABLED3")?))
+    }),
+    ("TABLED4", |c, b| Ok(b.tabled4.push(Tabled4::from_card(c)?))),
     ("DLOAD", |c, b| Ok(b.dload.push(Dload::from_card(c)?))),
     ("PARAM", |c, b| Ok(b.params.push(Param::from_card(c)?))),
     ("DESVAR", |c, b| Ok(b.desvar.push(Desvar::from_card(c)?))),

@@ -1,0 +1,70 @@
+//! Dynamic loads beyond TLOAD1/RLOAD1 with tables: TLOAD2 pulses, RLOAD2 (amplitude and phase
+//! tables) and the TABLED2–TABLED4 table forms, against the analytic and independently
+//! integrated references of `reference/analytic/{frf_sdof_rload2,tload2_sdof}.json`
+//! (`tools/analytic/make_cases.py`). Tolerances come from the JSONs, with their reasons.
+
+mod common;
+
+use common::{f64s, json, read_dataset, root, run_deck_file};
+use faer::c64;
+
+/// An SDOF under a DLOAD of an RLOAD2 (B(f) a TABLED4 power series clamped to its range, φ(f) a
+/// TABLED3) and an RLOAD1 whose C(f) is a TABLED2: the forced response at every line equals
+/// H (s₁ P₂ + s₂ P₁) evaluated independently in Python, including a line (150 Hz) beyond the
+/// power series' range X4 where B is clamped.
+#[test]
+fn rload2_and_parametric_tables_equal_the_analytic_sdof_response() {
+    let r = json("reference/analytic/frf_sdof_rload2.json");
+    let deck = root().join(r["meshes"][0]["deck"].as_str().unwrap());
+    let (result, _, out) = run_deck_file(&deck);
+    result.unwrap_or_else(|e| panic!("{}: {e}", deck.display()));
+    let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
+    let g = file.group("results/1/frf").expect("frf group");
+    let hz: Vec<f64> = read_dataset(&g, "frequency_hz");
+    let response: Vec<c64> = read_dataset(&g, "response");
+    assert_eq!(hz, f64s(&r["frequency_hz"]));
+    let (re, im) = (f64s(&r["response_re"]), f64s(&r["response_im"]));
+    let tolerance = f64s(&r["tolerance_finest"]["relative"]);
+    let peak = re
+        .iter()
+        .zip(&im)
+        .map(|(a, b)| a.hypot(*b))
+        .fold(0.0, f64::max);
+    for (l, f) in hz.iter().enumerate() {
+        let error = (response[l] - c64::new(re[l], im[l])).norm() / peak;
+        println!("{f} Hz: |response − reference| / peak = {error:.1e}");
+        assert!(error <= tolerance[l], "{f} Hz: {error:e}");
+    }
+}
+
+/// An undamped SDOF under a TLOAD2 pulse with delay, T1, growth exponent, exponential and
+/// phase: the displacement history against scipy's DOP853 integration of the same load.
+#[test]
+fn tload2_pulse_response_equals_the_independent_integration() {
+    let r = json("reference/analytic/tload2_sdof.json");
+    let deck = root().join(r["meshes"][0]["deck"].as_str().unwrap());
+    let (result, _, out) = run_deck_file(&deck);
+    result.unwrap_or_else(|e| panic!("{}: {e}", deck.display()));
+    let file = hdf5_metno::File::open(out.path().join("out.h5")).expect("open");
+    let g = file.group("results/1/transient").expect("transient group");
+    let time: Vec<f64> = read_dataset(&g, "time");
+    let displacement: Vec<f64> = read_dataset(&g, "displacement");
+    let (want_time, want) = (f64s(&r["time"]), f64s(&r["u"]));
+    assert_eq!(time.len(), want_time.len(), "output times");
+    let peak = want.iter().fold(0.0_f64, |a, b| a.max(b.abs()));
+    let worst = (0..time.len())
+        .map(|i| {
+            assert!((time[i] - want_time[i]).abs() < 1e-12, "time row {i}");
+            (displacement[6 * i] - want[i]).abs()
+        })
+        .fold(0.0, f64::max);
+    let tolerance = f64s(&r["tolerance_finest"]["relative"])[0];
+    println!(
+        "TLOAD2: max |u − reference| = {worst:.2e}, peak {peak:.3e} ({:.1e} of it)",
+        worst / peak
+    );
+    assert!(
+        peak > 0.0 && worst <= tolerance * peak,
+        "{worst:e} vs {peak:e}"
+    );
+}
