@@ -270,7 +270,7 @@ fn bad_input_stops_before_any_evaluation_and_writes_nothing() {
             "outside_box.dat",
             "DESVAR,1,THETA,45.,0.,90.",
             "DESVAR,1,THETA,45.,-10.,90.",
-            "DESVAR 1: field 5 (XLB): XLB = -1e1 is outside the box of C.THETA",
+            "DESVAR 1: field 5 (XLB): XLB = -1e1 is outside the box [0e0, 9e1] of C.THETA",
         ),
         (
             "unknown_sensor.dat",

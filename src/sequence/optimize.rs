@@ -54,6 +54,11 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
         subcase: sub.id,
         what,
     };
+    if ctx.model.mechanism.is_empty() && sub.fmb.is_none() {
+        return Err(case(
+            "SOL OPTIMIZE runs on a mechanism: FLEXB or RIGIDB bodies, MARKERs and JOINTs (or FMB = 'file.h5', the /pfmb of a SOL FMB run)".into(),
+        ));
+    }
     let prepared = PreparedFmb::new(ctx, sub)?;
     if prepared.grid.intervals.is_empty() {
         return Err(case(

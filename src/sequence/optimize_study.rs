@@ -15,7 +15,7 @@ use crate::deck::error::{DeckError, Loc};
 use crate::discretize::pfmb::Pfmb;
 use crate::optimize::grid::grid_size;
 use crate::optimize::{
-    Constraint, DesignSpace, EvalError, Objective, Responses, Scoring, Sense, Variable,
+    Constraint, DesignSpace, Domain, EvalError, Objective, Responses, Scoring, Sense, Variable,
 };
 
 /// One response: an MSENSOR's history reduced by a statistic.
@@ -76,9 +76,9 @@ fn variable(desvar: &Desvar, ddvals: &[Ddval]) -> Variable {
 fn within_box(desvar: &Desvar, v: &Variable, target: &str, (low, high): (f64, f64)) -> Vec<String> {
     let card = format!("DESVAR {}", desvar.id);
     let outside = |x: f64| x < low || x > high;
-    let shown = format!("the box of {target} is [{low:e}, {high:e}]: the pROM would extrapolate");
+    let shown = format!("the box [{low:e}, {high:e}] of {target} (the pROM would extrapolate)");
     match &v.domain {
-        crate::optimize::Domain::Continuous {
+        Domain::Continuous {
             low: xlb,
             high: xub,
         } => [
@@ -96,7 +96,7 @@ fn within_box(desvar: &Desvar, v: &Variable, target: &str, (low, high): (f64, f6
             )
         })
         .collect(),
-        crate::optimize::Domain::Discrete { values } => values
+        Domain::Discrete { values } => values
             .iter()
             .filter(|x| outside(**x))
             .map(|x| {
