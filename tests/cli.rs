@@ -127,16 +127,15 @@ fn run_demo_writes_model_results_and_xdmf_and_prints_the_frequency_table() {
     );
 }
 
-/// A deck asking for a solution this version does not run (paraflex's own `SOL OPTIMIZE`, and
-/// Nastran sequences such as 200, 106, 144) exits 3 naming it and writes nothing: no XDMF, and
-/// an earlier output file stays as it was.
+/// A deck asking for a solution this version does not run (Nastran sequences such as 200, 106,
+/// 144) exits 3 naming it and writes nothing: no XDMF, and an earlier output file stays as it
+/// was.
 #[test]
 fn an_unavailable_solution_exits_3_and_writes_nothing() {
     let dir = tempfile::tempdir().expect("tempdir");
     let text =
         std::fs::read_to_string(root().join("decks/demo/bracket_plate.dat")).expect("demo deck");
     for (sol, named) in [
-        ("OPTIMIZE", "SOL OPTIMIZE"),
         ("200", "SOL 200 (design optimization)"),
         ("106", "SOL 106 (nonlinear statics)"),
         ("144", "SOL 144 (static aeroelastic response)"),

@@ -397,6 +397,33 @@ pub fn build_system(
 }
 
 impl MechanismSystem {
+    /// This system with its flexible bodies evaluated at the PVAL values `pval` (`BODY.PMPAR`,
+    /// value; nominal where not given) instead: only the bodies' affine sums of eq. 4.8 and
+    /// the pROM's matrices are recomputed ([`super::prom_body::ParametricBody::at`]); markers,
+    /// joints, drives and forces do not depend on p (the basis is constant). `pfmb` is the
+    /// mechanism this system was built from with `bodies`; a name that is no parameter of its
+    /// body's artifact is an error naming the body.
+    pub fn at_parameters(
+        &self,
+        pfmb: &Pfmb,
+        pval: &[(String, f64)],
+        bodies: Bodies,
+    ) -> Result<MechanismSystem, String> {
+        let mut out = self.clone();
+        for (index, b) in pfmb.mechanism.bodies.iter().enumerate() {
+            let (Some(parametric), Some(f)) = (&pfmb.bodies[index], self.flexible_of[index]) else {
+                continue;
+            };
+            let at = parametric.at(&values_of(&b.name, pval), &b.name)?;
+            out.system.bodies[index] = Body::flexible(match bodies {
+                Bodies::Flexible => at.data.clone(),
+                Bodies::RigidTwin => rigid(&at.data),
+            });
+            out.flexible[f].1 = at;
+        }
+        Ok(out)
+    }
+
     /// The outputs of `sensors` (MSENSORs of the model this system was built from) on the
     /// system's markers, joints and drives.
     pub fn outputs(&self, sensors: &[Sensor]) -> Vec<Output> {

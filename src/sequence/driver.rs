@@ -7,8 +7,8 @@
 use std::collections::HashSet;
 
 use super::{
-    Clock, RunContext, RunError, SubcaseSummary, estimate, fmb, frf, modal, prom, rom_case,
-    rom_frf, rom_modal, rom_transient, statics, transient,
+    Clock, RunContext, RunError, SubcaseSummary, estimate, fmb, frf, modal, optimize, prom,
+    rom_case, rom_frf, rom_modal, rom_transient, statics, transient,
 };
 use crate::deck::case_control::Subcase;
 use crate::deck::{Deck, Solution, Warning};
@@ -62,6 +62,7 @@ pub const DRIVERS: &[&dyn Driver] = &[
     &rom_transient::RomTransient,
     &estimate::Estimate,
     &fmb::Fmb,
+    &optimize::Optimize,
 ];
 
 /// The driver of `sol` on `basis`, if there is one.

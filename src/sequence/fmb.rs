@@ -30,20 +30,23 @@ use std::path::PathBuf;
 
 use super::report::{Report, sci};
 use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
-use crate::card_values::{FmbStart, MsensorKind};
+use crate::card_values::MsensorKind;
 use crate::deck::Solution;
 use crate::deck::cards::{Tinteg, TintegMethod, Tstepvar};
 use crate::deck::case_control::{StrainReference, Subcase, Target};
-use crate::discretize::mechanism::{Bodies, MechanismError, MechanismSystem, build_system};
+use crate::discretize::mechanism::{MechanismError, MechanismSystem};
 use crate::discretize::pfmb::Pfmb;
 use crate::io::{
     read_pfmb, set_attr_f64s, set_attr_i64, set_attr_str, set_attr_strings, write_f64, write_pfmb,
     write_u32,
 };
 use crate::model::mechanism::{Mechanism, Sensor};
-use crate::multibody::{NewtonSettings, Scheme, Start, StepControl, TimeGrid, simulate};
+use crate::multibody::{Scheme, StepControl};
 
 mod poses;
+mod prepared;
+
+pub use prepared::PreparedFmb;
 
 /// What one `SOL FMB` subcase computed.
 #[derive(Debug, Clone)]
@@ -240,83 +243,14 @@ fn subcase(
 ) -> Result<(SubcaseSummary, StrainFinals, Pfmb), RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
-    let pfmb = mechanism_of(ctx, sub)?;
-    let mechanism = &pfmb.mechanism;
-    let start = sub.fmbstart.unwrap_or(FmbStart::Assemble);
-    // a subcase without TSTEP is a static one with FMBSTART = STATIC or POSES (the model
-    // refuses POSES with TSTEP): the equilibrium at t = 0, or at each pose of the grid
-    let (grid, scheme, method) = match (sub.tstep, start) {
-        (None, start) if start == FmbStart::Static || sub.poses.is_some() => {
-            (TimeGrid::default(), Scheme::Bdf1, "STATICS".to_string())
-        }
-        (None, _) => {
-            return Err(case(
-                "SOL FMB needs TSTEP = <sid> in case control (or FMBSTART = STATIC without TSTEP for a static subcase)".into(),
-            ));
-        }
-        (Some(sid), _) => {
-            let tstep = ctx
-                .model
-                .tstep(sid)
-                .ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
-            let (scheme, method) = scheme_of(ctx.model.tinteg(sid));
-            let dt0 = tstep.intervals.first().map_or(1.0, |i| i.1);
-            let grid = TimeGrid {
-                intervals: tstep.intervals.clone(),
-                control: ctx.model.tstepvar(sid).map(|c| control_of(c, dt0)),
-            };
-            (grid, scheme, method)
-        }
-    };
-    let gravity = match sub.load {
-        None => [0.0; 3],
-        Some(sid) if ctx.model.has_load_set(sid) => ctx.model.gravity(sid),
-        Some(sid) => pfmb.gravity_of(sid).ok_or_else(|| {
-            case(format!(
-                "LOAD = {sid} selects no GRAV or LOAD set {sid} of the deck, nor a gravity stored with the mechanism (sets: {})",
-                pfmb.gravity
-                    .iter()
-                    .map(|(s, _)| s.to_string())
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            ))
-        })?,
-    };
-    let pval: Vec<(String, f64)> = match sub.pval {
-        None => Vec::new(),
-        Some(pid) => {
-            let card = ctx
-                .model
-                .pval(pid)
-                .ok_or_else(|| case(format!("PVAL {pid} missing")))?;
-            if sub.fmb.is_some() {
-                pfmb.check_parameter_names(&card.values)
-                    .map_err(|e| case(format!("{}: PVAL {pid}: {e}", card.loc)))?;
-            }
-            card.values.clone()
-        }
-    };
-    let build = |bodies: Bodies| {
-        build_system(&pfmb, gravity, &pval, bodies)
-            .map_err(|errors| mechanism_errors(mechanism, errors, case))
-    };
-    let ms = build(Bodies::Flexible)?;
-    let sensors: Vec<Sensor> = selected(ctx, &mechanism.sensors, sub)
-        .into_iter()
-        .cloned()
-        .collect();
-    // the rigid twin runs only when a DEV output asks for it
-    let twin = sensors
-        .iter()
-        .any(|s| s.kind == MsensorKind::Dev)
-        .then(|| build(Bodies::RigidTwin))
-        .transpose()?;
+    let prepared = PreparedFmb::new(ctx, sub)?;
+    let sensors = &prepared.sensors;
     if let Some(pid) = sub.poses {
         let run = poses::PoseRun {
-            pfmb: &pfmb,
-            flexible: &ms,
-            twin: twin.as_ref().map(|t| &t.system),
-            sensors: &sensors,
+            pfmb: &prepared.pfmb,
+            flexible: &prepared.flexible,
+            twin: prepared.twin.as_ref().map(|t| &t.system),
+            sensors,
         };
         let (result, finals) = poses::run(ctx, sub, pid, &run, earlier)?;
         let summary = SubcaseSummary {
@@ -324,24 +258,12 @@ fn subcase(
             autospc: Vec::new(),
             result: Box::new(result),
         };
-        return Ok((summary, finals, pfmb));
+        return Ok((summary, finals, prepared.pfmb));
     }
-    let start = match start {
-        FmbStart::Assemble => Start::Assembled,
-        FmbStart::Static => Start::Equilibrium,
-    };
-    let mut h = simulate(
-        &ms.system,
-        twin.as_ref().map(|t| &t.system),
-        &ms.outputs(&sensors),
-        &grid,
-        NewtonSettings::default(),
-        scheme,
-        start,
-    )
-    .map_err(|e| case(e.to_string()))?;
+    let mut h = prepared.simulate().map_err(|e| case(e.to_string()))?;
     let strain_finals =
-        strain_relative_to(sub.strref, &sensors, &mut h.outputs, earlier).map_err(case)?;
+        strain_relative_to(sub.strref, sensors, &mut h.outputs, earlier).map_err(case)?;
+    let (mechanism, grid, method) = (&prepared.pfmb.mechanism, &prepared.grid, &prepared.method);
 
     let group = ctx.output.group(&format!("results/{id}/fmb"))?;
     let rows = h.time.len();
@@ -367,7 +289,7 @@ fn subcase(
             write_f64(&dg, name, values, &[rows])?;
         }
     }
-    set_attr_str(&group, "method", &method)?;
+    set_attr_str(&group, "method", method)?;
     set_attr_i64(&group, "coordinates", h.coordinates as i64)?;
     set_attr_i64(&group, "constraints", h.constraints as i64)?;
     let redundant: Vec<&str> = h.redundant.iter().map(String::as_str).collect();
@@ -380,14 +302,14 @@ fn subcase(
         set_attr_f64s(&group, "max_local_error", &[h.max_error])?;
         set_attr_f64s(&group, "step_range", &h.step_range)?;
     }
-    let extrapolated = write_parameters(&group, &ms)?;
+    let extrapolated = write_parameters(&group, &prepared.flexible)?;
 
     let summary = SubcaseSummary {
         id,
         autospc: Vec::new(),
         result: Box::new(FmbSummary {
             bodies: mechanism.bodies.len(),
-            method,
+            method: method.clone(),
             coordinates: h.coordinates,
             constraints: h.constraints,
             redundant: h.redundant.clone(),
@@ -406,7 +328,7 @@ fn subcase(
                 .map(|_| (h.rejected, h.max_error, h.step_range)),
         }),
     };
-    Ok((summary, strain_finals, pfmb))
+    Ok((summary, strain_finals, prepared.pfmb))
 }
 
 /// Writes the flexible bodies' `BODY.PMPAR` names and values used as the attributes `params`

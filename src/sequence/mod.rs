@@ -14,6 +14,7 @@
 //! | `109`, `112`, `TRANSIENT` | [`transient`] (mesh), [`rom_transient`] (`ROM =`) | `TSTEP` (+`TINTEG`), `DLOAD`, `IC` → sensor histories |
 //! | `ESTIMATE` | [`estimate`] (`ROM =`) | `ESTIM` (EKF), `MEAS` (MEASF) → states, inputs, parameters |
 //! | `FMB` | [`fmb`] | the mechanism, `TSTEP`, `LOAD` (GRAV), `PVAL` (`BODY.PMPAR`) → MSENSOR and drive histories |
+//! | `OPTIMIZE` | [`optimize`] | the mechanism run as `FMB` per design: `DESVAR`/`DDVAL`, `DVMAP`, `DOBJ`, `DCONSTR`, `MOOPT` → designs, responses, Pareto set, hypervolume, correlations, representative histories |
 //!
 //! The mesh drivers share the discretization of [`crate::discretize`] ([`shared::structure`]):
 //! one [`Structure`] (element matrices, one grid-block pattern for K and M, rigid elimination
@@ -51,6 +52,9 @@ pub mod estimate;
 pub mod fmb;
 pub mod frf;
 pub mod modal;
+pub mod optimize;
+mod optimize_output;
+pub mod optimize_study;
 pub mod prom;
 pub mod report;
 pub mod rom_case;

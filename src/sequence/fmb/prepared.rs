@@ -1,0 +1,180 @@
+//! A `SOL FMB` subcase made ready to run, and run as a pure function of the parameters: the
+//! mechanism gathered once (the bodies' artifacts and the tables read, [`Pfmb`]), its system
+//! and, when a `DEV` output asks for it, its rigid twin built once at the subcase's `PVAL`,
+//! the selected MSENSORs turned into outputs, the time grid and the GGL scheme. [`simulate`]
+//! runs it at the subcase's values; [`simulate_at`] at other values of some `BODY.PMPAR`,
+//! recomputing only the flexible bodies' affine sums
+//! ([`MechanismSystem::at_parameters`]) and writing nothing — one design evaluation of
+//! `SOL OPTIMIZE`.
+//!
+//! [`simulate`]: PreparedFmb::simulate
+//! [`simulate_at`]: PreparedFmb::simulate_at
+
+use super::super::{RunContext, RunError};
+use super::{control_of, mechanism_errors, mechanism_of, scheme_of, selected};
+use crate::card_values::{FmbStart, MsensorKind};
+use crate::deck::case_control::Subcase;
+use crate::discretize::mechanism::{Bodies, MechanismSystem, build_system};
+use crate::discretize::pfmb::Pfmb;
+use crate::model::mechanism::Sensor;
+use crate::multibody::{
+    Histories, MultibodyError, NewtonSettings, Output, Scheme, Start, TimeGrid, simulate,
+};
+
+/// A subcase's mechanism, systems, outputs and time integration, ready to run.
+pub struct PreparedFmb {
+    pub pfmb: Pfmb,
+    /// The system at the subcase's `PVAL`.
+    pub flexible: MechanismSystem,
+    /// Its rigid twin (eq. 4.10), built only when a selected output is a `DEV`.
+    pub twin: Option<MechanismSystem>,
+    /// The MSENSORs the subcase selects, in card order, and their outputs.
+    pub sensors: Vec<Sensor>,
+    pub outputs: Vec<Output>,
+    /// The time grid (empty for a static subcase), the scheme and its label.
+    pub grid: TimeGrid,
+    pub scheme: Scheme,
+    pub method: String,
+    pub start: Start,
+    /// The subcase's `PVAL` values (`BODY.PMPAR`, value).
+    pub pval: Vec<(String, f64)>,
+}
+
+impl PreparedFmb {
+    /// Gathers subcase `sub`'s mechanism, builds its systems and reads its time grid, gravity
+    /// and parameter values; every error at its card or statement.
+    pub fn new(ctx: &RunContext, sub: &Subcase) -> Result<Self, RunError> {
+        let id = sub.id;
+        let case = |what: String| RunError::Case { subcase: id, what };
+        let pfmb = mechanism_of(ctx, sub)?;
+        let start = sub.fmbstart.unwrap_or(FmbStart::Assemble);
+        // a subcase without TSTEP is a static one with FMBSTART = STATIC or POSES (the model
+        // refuses POSES with TSTEP): the equilibrium at t = 0, or at each pose of the grid
+        let (grid, scheme, method) = match (sub.tstep, start) {
+            (None, start) if start == FmbStart::Static || sub.poses.is_some() => {
+                (TimeGrid::default(), Scheme::Bdf1, "STATICS".to_string())
+            }
+            (None, _) => {
+                return Err(case(
+                    "SOL FMB needs TSTEP = <sid> in case control (or FMBSTART = STATIC without TSTEP for a static subcase)".into(),
+                ));
+            }
+            (Some(sid), _) => {
+                let tstep = ctx
+                    .model
+                    .tstep(sid)
+                    .ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
+                let (scheme, method) = scheme_of(ctx.model.tinteg(sid));
+                let dt0 = tstep.intervals.first().map_or(1.0, |i| i.1);
+                let grid = TimeGrid {
+                    intervals: tstep.intervals.clone(),
+                    control: ctx.model.tstepvar(sid).map(|c| control_of(c, dt0)),
+                };
+                (grid, scheme, method)
+            }
+        };
+        let gravity = match sub.load {
+            None => [0.0; 3],
+            Some(sid) if ctx.model.has_load_set(sid) => ctx.model.gravity(sid),
+            Some(sid) => pfmb.gravity_of(sid).ok_or_else(|| {
+                case(format!(
+                    "LOAD = {sid} selects no GRAV or LOAD set {sid} of the deck, nor a gravity stored with the mechanism (sets: {})",
+                    pfmb.gravity
+                        .iter()
+                        .map(|(s, _)| s.to_string())
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                ))
+            })?,
+        };
+        let pval: Vec<(String, f64)> = match sub.pval {
+            None => Vec::new(),
+            Some(pid) => {
+                let card = ctx
+                    .model
+                    .pval(pid)
+                    .ok_or_else(|| case(format!("PVAL {pid} missing")))?;
+                if sub.fmb.is_some() {
+                    pfmb.check_parameter_names(&card.values)
+                        .map_err(|e| case(format!("{}: PVAL {pid}: {e}", card.loc)))?;
+                }
+                card.values.clone()
+            }
+        };
+        let mechanism = &pfmb.mechanism;
+        let build = |bodies: Bodies| {
+            build_system(&pfmb, gravity, &pval, bodies)
+                .map_err(|errors| mechanism_errors(mechanism, errors, case))
+        };
+        let flexible = build(Bodies::Flexible)?;
+        let sensors: Vec<Sensor> = selected(ctx, &mechanism.sensors, sub)
+            .into_iter()
+            .cloned()
+            .collect();
+        // the rigid twin runs only when a DEV output asks for it
+        let twin = sensors
+            .iter()
+            .any(|s| s.kind == MsensorKind::Dev)
+            .then(|| build(Bodies::RigidTwin))
+            .transpose()?;
+        let outputs = flexible.outputs(&sensors);
+        let start = match start {
+            FmbStart::Assemble => Start::Assembled,
+            FmbStart::Static => Start::Equilibrium,
+        };
+        Ok(PreparedFmb {
+            pfmb,
+            flexible,
+            twin,
+            sensors,
+            outputs,
+            grid,
+            scheme,
+            method,
+            start,
+            pval,
+        })
+    }
+
+    /// The run at the subcase's own parameter values.
+    pub fn simulate(&self) -> Result<Histories, MultibodyError> {
+        self.run(&self.flexible, self.twin.as_ref())
+    }
+
+    /// The run with the parameters of `values` (`BODY.PMPAR`, value) set and the others at
+    /// the subcase's values: the systems re-evaluated at p, nothing written. An unknown name
+    /// or a failed integration is the error's message.
+    pub fn simulate_at(&self, values: &[(String, f64)]) -> Result<Histories, String> {
+        let mut pval = self.pval.clone();
+        for (name, value) in values {
+            match pval.iter_mut().find(|(n, _)| n.eq_ignore_ascii_case(name)) {
+                Some(entry) => entry.1 = *value,
+                None => pval.push((name.clone(), *value)),
+            }
+        }
+        let flexible = self
+            .flexible
+            .at_parameters(&self.pfmb, &pval, Bodies::Flexible)?;
+        let twin = (self.twin.as_ref())
+            .map(|t| t.at_parameters(&self.pfmb, &pval, Bodies::RigidTwin))
+            .transpose()?;
+        self.run(&flexible, twin.as_ref())
+            .map_err(|e| e.to_string())
+    }
+
+    fn run(
+        &self,
+        flexible: &MechanismSystem,
+        twin: Option<&MechanismSystem>,
+    ) -> Result<Histories, MultibodyError> {
+        simulate(
+            &flexible.system,
+            twin.map(|t| &t.system),
+            &self.outputs,
+            &self.grid,
+            NewtonSettings::default(),
+            self.scheme,
+            self.start,
+        )
+    }
+}

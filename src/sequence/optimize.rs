@@ -1,0 +1,128 @@
+//! `SOL OPTIMIZE`: a multi-objective design study on the deck's mechanism (DESIGN.md §12,
+//! thesis ch. 5–6), one study per subcase.
+//!
+//! The subcase is prepared as a `SOL FMB` run ([`PreparedFmb`]: mechanism, systems, outputs,
+//! time grid, `PVAL` for the parameters no variable sets), the study read from the design
+//! cards and checked against the mechanism before any evaluation ([`Study`]). One evaluation
+//! is the transient at the design's parameters with nothing written, its MSENSOR histories
+//! reduced to the responses ([`Study::evaluate`]); the search (`MOOPT NSGA2` or the
+//! full-factorial `GRID`) evaluates batches on NPAR threads ([`Threaded`]), a failed
+//! evaluation recorded and the study going on. The report ([`crate::optimize::summarize`]) and
+//! the histories of the representative designs (the front's extremes and knee, run again) are
+//! written by [`super::optimize_output`].
+
+use std::time::Instant;
+
+use super::fmb::PreparedFmb;
+use super::optimize_output::{OptimizeSummary, Representative, write_study};
+use super::optimize_study::Study;
+use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
+use crate::deck::Solution;
+use crate::deck::cards::SearchMethod;
+use crate::deck::case_control::Subcase;
+use crate::optimize::grid::full_factorial;
+use crate::optimize::{Archive, Design, Evaluated, Nsga2, Threaded, summarize};
+
+/// The `SOL OPTIMIZE` driver, on the deck's mechanism.
+pub struct Optimize;
+
+impl Driver for Optimize {
+    fn name(&self) -> &'static str {
+        "OPTIMIZE"
+    }
+
+    fn solutions(&self) -> &'static [Solution] {
+        &[Solution::Optimize]
+    }
+
+    fn basis(&self) -> Basis {
+        Basis::Mesh
+    }
+
+    fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+        ctx.model
+            .subcases
+            .iter()
+            .map(|sub| clock.time(format!("subcase {}: optimize", sub.id), || study(ctx, sub)))
+            .collect()
+    }
+}
+
+/// Runs the study of subcase `sub` and writes it.
+fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
+    let case = |what: String| RunError::Case {
+        subcase: sub.id,
+        what,
+    };
+    if ctx.model.mechanism.is_empty() && sub.fmb.is_none() {
+        return Err(case(
+            "SOL OPTIMIZE runs on a mechanism: FLEXB or RIGIDB bodies, MARKERs and JOINTs (or FMB = 'file.h5', the /pfmb of a SOL FMB run)".into(),
+        ));
+    }
+    let prepared = PreparedFmb::new(ctx, sub)?;
+    if prepared.grid.intervals.is_empty() {
+        return Err(case(
+            "SOL OPTIMIZE evaluates a transient: give TSTEP = <sid> in case control".into(),
+        ));
+    }
+    let study = Study::of_deck(&ctx.deck.bulk, &prepared).map_err(|e| case(e.join("\n")))?;
+    let threads = study.search.npar;
+    let threaded = Threaded::new(threads, |design: &[f64]| study.evaluate(&prepared, design))
+        .map_err(|e| case(e.to_string()))?;
+    let total = study.budget();
+    let mut done = 0;
+    let mut batch = |designs: &[Design]| -> Vec<Evaluated> {
+        let results = threaded.batch(designs);
+        done += designs.len();
+        ctx.progress.step("optimize: evaluations", done, total);
+        results
+    };
+    let start = Instant::now();
+    let archive = match study.search.method {
+        SearchMethod::Grid => {
+            let mut archive = Archive::default();
+            let levels = study.search.pop as usize;
+            archive.evaluate(full_factorial(&study.space, levels), &mut batch);
+            archive
+        }
+        SearchMethod::Nsga2 => {
+            let m = &study.search;
+            Nsga2::new(m.pop as usize, m.neval as usize, m.seed).run(
+                &study.space,
+                &study.scoring,
+                &mut batch,
+            )
+        }
+    };
+    let wall = start.elapsed().as_secs_f64();
+    let summary = summarize(&archive, &study.scoring, None);
+    // the representative designs run again for their histories (an evaluation keeps only
+    // its responses)
+    let representatives = Representative::of(&summary, &study)
+        .into_iter()
+        .map(|r| {
+            let design = &archive.designs[r.design];
+            let histories = prepared
+                .simulate_at(&study.parameters(design))
+                .map_err(|e| case(format!("representative design {}: {e}", r.design)))?;
+            Ok((r, histories))
+        })
+        .collect::<Result<Vec<_>, RunError>>()?;
+    let sensors: Vec<String> = prepared.sensors.iter().map(|s| s.name.clone()).collect();
+    write_study(
+        ctx,
+        sub.id,
+        &study,
+        &archive,
+        &summary,
+        &representatives,
+        &sensors,
+    )?;
+    Ok(SubcaseSummary {
+        id: sub.id,
+        autospc: Vec::new(),
+        result: Box::new(OptimizeSummary::new(
+            &study, &archive, &summary, wall, threads,
+        )),
+    })
+}
