@@ -29,8 +29,9 @@
 //! ∂f/∂v is the system's exact rate Jacobian (C, ∂f_v/∂q̇, the dampers'); ∂r₂/∂q — the
 //! q-derivatives of M(q) w, f_v, gravity, K q, springs and loads, for which the multibody
 //! module has no exact form — is taken by central differences of
-//! [`System::forces_and_momentum`] with steps 10⁻⁶ (1 + |qⱼ|): those terms are polynomials of
-//! low degree in q, so the differences are exact to round-off and O(10⁻¹²) truncation.
+//! [`crate::multibody::System::forces_and_momentum`] with steps 10⁻⁶ (1 + |qⱼ|), one coordinate of every body
+//! at a time when no spring couples bodies: those terms are polynomials of low degree in q, so
+//! the differences are exact to round-off and O(10⁻¹²) truncation.
 
 use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef};
@@ -67,6 +68,27 @@ fn momentum_residual(ggl: &Ggl, q: &[f64], v: &[f64], w: &[f64], out: &mut [f64]
     }
 }
 
+/// The columns of ∂r₂/∂q differenced together, each with the rows it can change. Without
+/// spring-dampers every term of r₂ is a body's own (inertia, gravity, K q_f, C q̇_f, and point
+/// loads at its markers), so the j-th coordinate of every body shares one evaluation (the
+/// largest body's size pairs of evaluations instead of n); a spring couples two bodies and
+/// then each column is differenced alone over all rows.
+fn column_groups(ggl: &Ggl) -> Vec<Vec<(usize, std::ops::Range<usize>)>> {
+    let slices = ggl.system.layout.slices();
+    let n = ggl.system.size();
+    if !ggl.equations.springs.is_empty() {
+        return (0..n).map(|j| vec![(j, 0..n)]).collect();
+    }
+    let largest = slices.iter().map(|s| s.len()).max().unwrap_or(0);
+    (0..largest)
+        .map(|k| {
+            (slices.iter().filter(|s| s.len() > k))
+                .map(|s| (s.offset + k, s.offset..s.offset + s.len()))
+                .collect()
+        })
+        .collect()
+}
+
 /// J of the step that took `ggl` from `previous` = (q_{k−1}, v_{k−1}) to its current state
 /// (time t_k, step h), with the nullspace at q_k and the rates ∂terms/∂θⱼ at (q_k, v_k).
 /// `None` if ∂G/∂z_k is singular.
@@ -90,15 +112,23 @@ pub fn transition(
     c.add_weighted_hessian(layout, q, t, &mu, -1.0, g1q.as_mut());
     let mut g2q = Mat::<f64>::zeros(n, n);
     let (mut plus, mut minus, mut shifted) = (vec![0.0; n], vec![0.0; n], q.to_vec());
-    for j in 0..n {
-        let step = STEP * (1.0 + q[j].abs());
-        shifted[j] = q[j] + step;
-        momentum_residual(ggl, &shifted, v, &w, &mut plus);
-        shifted[j] = q[j] - step;
-        momentum_residual(ggl, &shifted, v, &w, &mut minus);
-        shifted[j] = q[j];
-        for i in 0..n {
-            g2q[(i, j)] = (plus[i] - minus[i]) / (2.0 * step);
+    for group in column_groups(ggl) {
+        let steps: Vec<f64> = group
+            .iter()
+            .map(|(j, _)| STEP * (1.0 + q[*j].abs()))
+            .collect();
+        for sign in [1.0, -1.0] {
+            for ((j, _), step) in group.iter().zip(&steps) {
+                shifted[*j] = q[*j] + sign * step;
+            }
+            let out = if sign > 0.0 { &mut plus } else { &mut minus };
+            momentum_residual(ggl, &shifted, v, &w, out);
+        }
+        for ((j, rows), step) in group.iter().zip(&steps) {
+            shifted[*j] = q[*j];
+            for i in rows.clone() {
+                g2q[(i, *j)] = (plus[i] - minus[i]) / (2.0 * step);
+            }
         }
     }
     let mut velocity_q = Mat::<f64>::zeros(m, n);
