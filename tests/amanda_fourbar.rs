@@ -22,7 +22,7 @@ use paraflex::estimate::errors::percent_errors;
 use paraflex::estimate::mechanism::manifold::{Manifold, ManifoldSettings};
 use paraflex::estimate::mechanism::nullspace::Partition;
 use paraflex::estimate::mechanism::parameters::{EstimatedBody, Parameter, Parameters};
-use paraflex::estimate::mechanism::sensors::Sensor;
+use paraflex::estimate::mechanism::sensors::{Sensor, measure};
 use paraflex::estimate::mechanism::transition::transition;
 use paraflex::estimate::mechanism::{Amanda, AmandaSetup};
 use paraflex::model::Model;
@@ -339,6 +339,62 @@ fn manifold_step_returns_to_the_constraints() {
     assert!(report.position_residual <= settings.tolerance);
     assert!(report.velocity_residual <= settings.tolerance);
     assert!(report.distance <= push, "{} > {push}", report.distance);
+}
+
+/// The rows of J_m (eq. 9.19) of the deck's position (CX, CY), acceleration (AX, AY) and
+/// strain gauges at a moving state of the four-bar against central differences of h over q
+/// and v (steps 1e-6 (1 + |x|)): the position rows are the marker's exact Jacobian, the strain
+/// rows C_ε, the acceleration rows differences themselves (here of a 10 times larger step). A
+/// bound of 1e-5 on the largest entry's relative error leaves the differences' O(ε²) and
+/// round-off room and fails on a row on the wrong coordinates or with the wrong sign.
+#[test]
+fn measurement_rows_match_central_differences() {
+    let (_, system, model) = four_bar(E_TRUE);
+    let mut ggl = integrator(&system, 1e-10);
+    ggl.run(30, |_, _| {}).expect("run");
+    let previous = ggl.v.clone();
+    ggl.run(1, |_, _| {}).expect("run");
+    let n = ggl.system.size();
+    let names = ["CX", "CY", "AX", "AY", "ICEPS", "CEPS", "OCEPS"];
+    let sensors: Vec<Sensor> = names
+        .iter()
+        .map(|name| {
+            let s = (model.mechanism.sensors.iter())
+                .find(|s| s.name == *name)
+                .expect("sensor");
+            Sensor {
+                output: system.outputs(std::slice::from_ref(s)).remove(0),
+                reference: 0.0,
+                variance: 1.0,
+            }
+        })
+        .collect();
+    let k = sensors.len();
+    let mut x: Vec<f64> = ggl.q.iter().chain(&ggl.v).copied().collect();
+    x.push(1.0);
+    let (mut y, mut jm) = (vec![0.0; k], Mat::zeros(k, 2 * n + 1));
+    measure(&sensors, &ggl, &x, &previous, &mut y, &mut jm);
+    let mut numeric = Mat::zeros(k, 2 * n + 1);
+    let (mut plus, mut minus, mut scratch) = (vec![0.0; k], vec![0.0; k], Mat::zeros(k, 2 * n + 1));
+    for c in 0..2 * n {
+        let eps = 1e-6 * (1.0 + x[c].abs());
+        let mut xs = x.clone();
+        xs[c] = x[c] + eps;
+        measure(&sensors, &ggl, &xs, &previous, &mut plus, &mut scratch);
+        xs[c] = x[c] - eps;
+        measure(&sensors, &ggl, &xs, &previous, &mut minus, &mut scratch);
+        for i in 0..k {
+            numeric[(i, c)] = (plus[i] - minus[i]) / (2.0 * eps);
+        }
+    }
+    for (i, s) in sensors.iter().enumerate() {
+        let e = relative_error(&jm, &numeric, i..i + 1, 0..2 * n + 1);
+        println!(
+            "{:?}: relative error {e:.2e}",
+            std::mem::discriminant(&s.output)
+        );
+        assert!(e < 1e-5, "row {i}: {e:e}");
+    }
 }
 
 /// The benchmark of the four-bar case over the whole measured second (1000 steps at
