@@ -304,4 +304,29 @@ mod tests {
         );
         assert!(worst < 1e-7, "{worst:e}");
     }
+
+    /// A strain relative to a fixed reference configuration (eq. 9.24) reads zero there and
+    /// C_ε (q_f − q_f,ref) elsewhere, with the absolute gauge's row.
+    #[test]
+    fn relative_strain_reads_zero_at_its_reference() {
+        let ggl = one_body(&chain_body(), E_TRUE);
+        let n = ggl.system.size();
+        let rows = vec![0.5, -2.0];
+        let relative = Sensor::relative_strain(0, rows.clone(), &Q0, 1.0);
+        let absolute = Sensor {
+            output: Output::Strain { body: 0, rows },
+            reference: 0.0,
+            variance: 1.0,
+        };
+        let mut x: Vec<f64> = ggl.q.iter().chain(&ggl.v).copied().collect();
+        let (mut y, mut jm) = (vec![0.0; 2], Mat::zeros(2, 2 * n));
+        let sensors = [relative, absolute];
+        sensors::measure(&sensors, &ggl, &x, &ggl.v, &mut y, &mut jm);
+        assert_eq!(y[0], 0.0);
+        assert!((y[1] - (0.5 * Q0[0] - 2.0 * Q0[1])).abs() < 1e-18);
+        x[n - 1] += 1e-3;
+        sensors::measure(&sensors, &ggl, &x, &ggl.v, &mut y, &mut jm);
+        assert!((y[0] + 2e-3).abs() < 1e-15);
+        assert!((0..2 * n).all(|j| jm[(0, j)] == jm[(1, j)]));
+    }
 }
