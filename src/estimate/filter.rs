@@ -180,6 +180,8 @@ pub enum FilterError {
     NonFinite { step: usize },
     #[error("{0}")]
     Prom(String),
+    #[error("{0}")]
+    Mechanism(String),
     #[error("re-diagonalization tolerance {0}: expected 0 < τ ≤ {MAX_REDIAGONALIZATION_TOLERANCE}")]
     Tolerance(f64),
     #[error("the pROM at the initial guess {params:?}: {cause}")]

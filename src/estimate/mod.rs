@@ -18,6 +18,7 @@
 //!   linearization is [`prom_linearization`].
 //! - [`errors`]: the accuracy of an estimate against a reference (Table 8.2's percent errors,
 //!   the sensors' average absolute error).
+//! - [`mechanism`]: the AMANDA-EKF on pFMB models (thesis ch. 9), over the same [`ekf::Ekf`].
 //! - [`covariance`]: the rules of thumb for Q of inputs and parameters (eq. 8.30–8.31).
 
 mod coordinates;
@@ -26,6 +27,7 @@ pub mod ekf;
 pub mod errors;
 pub mod filter;
 mod kernels;
+pub mod mechanism;
 pub use crate::dynamics::measurement;
 pub mod modal;
 mod modal_coordinates;

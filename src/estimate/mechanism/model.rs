@@ -1,0 +1,236 @@
+//! The AMANDA-EKF's process model of a pFMB ([`ProcessModel`], thesis §9.2.3): x* = (q, v, θ)
+//! (eq. 9.4; θ the parameters scaled by their initial guesses, [`super::parameters`]), the
+//! prediction by one GGL–BDF1 step of the system at the current θ (eq. 9.15), the transition
+//! Jacobian of [`super::transition`] (eq. 9.17) and P⁻ = J P⁺ Jᵀ + Q (eq. 9.18), the
+//! measurements of [`super::sensors`] (eq. 9.16, 9.19), and after the correction the AMANDA
+//! step of [`super::manifold`] (eq. 9.23), whose residuals the step's [`StepReport`] keeps.
+
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, Par};
+
+use super::manifold::{Manifold, ManifoldReport, ManifoldSettings};
+use super::nullspace::Partition;
+use super::parameters::Parameters;
+use super::sensors::{Sensor, measure};
+use super::transition::transition;
+use crate::estimate::ekf::ProcessModel;
+use crate::estimate::filter::FilterError;
+use crate::multibody::Ggl;
+
+/// What one estimation step did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepReport {
+    pub time: f64,
+    /// Newton iterations of the prediction's GGL step.
+    pub newton_iterations: usize,
+    /// max |Φ| after the prediction.
+    pub predicted_residual: f64,
+    /// The AMANDA step after the correction (its residuals: the estimate's).
+    pub manifold: ManifoldReport,
+    /// Times the dependent coordinates have been chosen so far.
+    pub partition_choices: usize,
+}
+
+/// The process model (module docs).
+pub struct MechanismModel {
+    pub ggl: Ggl,
+    pub parameters: Parameters,
+    pub sensors: Vec<Sensor>,
+    noise: Vec<f64>,
+    /// Diagonal of Q.
+    process_noise: Vec<f64>,
+    partition: Partition,
+    /// z_{k−1} = (q, v) of the last posterior, and q_k⁻ of the last prediction.
+    previous: Vec<f64>,
+    prior_q: Vec<f64>,
+    /// J (augmented) and J P.
+    jacobian: Mat<f64>,
+    product: Mat<f64>,
+    manifold: ManifoldSettings,
+    pub report: StepReport,
+}
+
+fn mechanism_error(e: impl std::fmt::Display) -> FilterError {
+    FilterError::Mechanism(e.to_string())
+}
+
+impl MechanismModel {
+    /// The model of `ggl`'s system (integrated with BDF1) with `parameters`, `sensors` and the
+    /// diagonal `process_noise` of Q (2n + n_θ).
+    pub fn new(
+        ggl: Ggl,
+        parameters: Parameters,
+        sensors: Vec<Sensor>,
+        process_noise: Vec<f64>,
+        manifold: ManifoldSettings,
+    ) -> Result<Self, FilterError> {
+        let (n, m) = (ggl.system.size(), ggl.constraint_count());
+        let big_n = 2 * n + parameters.len();
+        if process_noise.len() != big_n {
+            return Err(FilterError::Shape {
+                what: "process noise",
+                expected: big_n,
+                got: process_noise.len(),
+            });
+        }
+        let mut phi_q = Mat::zeros(m, n);
+        ggl.equations
+            .constraints
+            .jacobian(&ggl.system.layout, &ggl.q, ggl.time, phi_q.as_mut());
+        let partition = Partition::choose(phi_q.as_ref()).map_err(mechanism_error)?;
+        let mut previous = ggl.q.clone();
+        previous.extend(&ggl.v);
+        Ok(Self {
+            noise: sensors.iter().map(|s| s.variance).collect(),
+            prior_q: ggl.q.clone(),
+            ggl,
+            parameters,
+            sensors,
+            process_noise,
+            partition,
+            previous,
+            jacobian: Mat::identity(big_n, big_n),
+            product: Mat::zeros(big_n, big_n),
+            manifold,
+            report: StepReport::default(),
+        })
+    }
+}
+
+impl ProcessModel for MechanismModel {
+    type Input = ();
+
+    fn size(&self) -> usize {
+        2 * self.ggl.system.size() + self.parameters.len()
+    }
+
+    fn measurement_noise(&self) -> &[f64] {
+        &self.noise
+    }
+
+    fn check_input(&self, _: &()) -> Result<(), FilterError> {
+        Ok(())
+    }
+
+    fn predict(
+        &mut self,
+        _step: usize,
+        _: &(),
+        x: &mut [f64],
+        p: &mut Mat<f64>,
+    ) -> Result<(), FilterError> {
+        let n = self.ggl.system.size();
+        let (m, z) = (self.ggl.constraint_count(), 2 * n);
+        self.previous.copy_from_slice(&x[..z]);
+        let theta = x[z..].to_vec();
+        self.parameters
+            .apply(&theta, &mut self.ggl.system)
+            .map_err(mechanism_error)?;
+        self.ggl.q.copy_from_slice(&x[..n]);
+        self.ggl.v.copy_from_slice(&x[n..z]);
+        let step = self.ggl.step().map_err(mechanism_error)?;
+        x[..n].copy_from_slice(&self.ggl.q);
+        x[n..z].copy_from_slice(&self.ggl.v);
+        self.prior_q.copy_from_slice(&self.ggl.q);
+        let ggl = &self.ggl;
+        let rates = self
+            .parameters
+            .rates(&theta, &ggl.system, &ggl.q, &ggl.v)
+            .map_err(mechanism_error)?;
+        let mut phi_q = Mat::zeros(m, n);
+        ggl.equations
+            .constraints
+            .jacobian(&ggl.system.layout, &ggl.q, ggl.time, phi_q.as_mut());
+        let nullspace = self
+            .partition
+            .nullspace(phi_q.as_ref())
+            .map_err(mechanism_error)?;
+        let j = transition(
+            ggl,
+            (&self.previous[..n], &self.previous[n..]),
+            &nullspace,
+            &rates,
+        )
+        .ok_or_else(|| {
+            mechanism_error(format!(
+                "at t = {}: the projected step equations are singular",
+                ggl.time
+            ))
+        })?;
+        let np = self.parameters.len();
+        self.jacobian
+            .as_mut()
+            .submatrix_mut(0, 0, z, z)
+            .copy_from(&j.states);
+        self.jacobian
+            .as_mut()
+            .submatrix_mut(0, z, z, np)
+            .copy_from(&j.parameters);
+        // P⁻ = J P Jᵀ + Q (eq. 9.18)
+        matmul(
+            self.product.as_mut(),
+            Accum::Replace,
+            self.jacobian.as_ref(),
+            p.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        matmul(
+            p.as_mut(),
+            Accum::Replace,
+            self.product.as_ref(),
+            self.jacobian.transpose(),
+            1.0,
+            Par::Seq,
+        );
+        for (i, q) in self.process_noise.iter().enumerate() {
+            p[(i, i)] += q;
+        }
+        self.report = StepReport {
+            time: ggl.time,
+            newton_iterations: step.iterations,
+            predicted_residual: step.constraint_residual,
+            manifold: ManifoldReport::default(),
+            partition_choices: self.partition.choices,
+        };
+        Ok(())
+    }
+
+    fn measure(&mut self, x: &[f64], predicted: &mut [f64], jm: &mut Mat<f64>) {
+        let n = self.ggl.system.size();
+        measure(
+            &self.sensors,
+            &self.ggl,
+            x,
+            &self.previous[n..],
+            predicted,
+            jm,
+        );
+    }
+
+    fn corrected(
+        &mut self,
+        _step: usize,
+        _: &(),
+        x: &mut [f64],
+        _p: &mut Mat<f64>,
+    ) -> Result<(), FilterError> {
+        let n = self.ggl.system.size();
+        let manifold = Manifold {
+            layout: &self.ggl.system.layout,
+            constraints: &self.ggl.equations.constraints,
+            time: self.ggl.time,
+            settings: self.manifold,
+        };
+        let (q, rest) = x.split_at_mut(n);
+        self.report.manifold = manifold
+            .step(&self.prior_q, q, &mut rest[..n])
+            .map_err(|e| {
+                mechanism_error(format!(
+                    "at t = {}: the AMANDA step left |Φ| = {:e}",
+                    self.ggl.time, e.residual
+                ))
+            })?;
+        Ok(())
+    }
+}
