@@ -6,19 +6,22 @@
 //! scaled likewise), one step solves for x = (q, v, λ̂, μ) at t = t_n + h
 //!
 //! ```text
-//! R₁ = q − q̂ − c_q v − Φ_qᵀ μ                        = 0   (q̇ − v = Φ_qᵀ μ)
+//! R₁ = q − q̂ − c_q v − W Φ_qᵀ μ                      = 0   (q̇ − v = W Φ_qᵀ μ)
 //! R₂ = M(q) (v − v̂) − c_v f(q, v, t) + Φ_qᵀ λ̂          = 0   (M v̇ + C v + K q + Φ_qᵀ λ = f_e + f_v)
 //! R₃ = Φ_q v + Φ_t                                   = 0   (velocity constraints)
 //! R₄ = Φ(q, t)                                       = 0   (position constraints)
 //! ```
 //!
-//! (for BDF1 q̂ = q_n, v̂ = v_n, c_q = c_v = h, eq. 2.61) by Newton's method on the KKT matrix
+//! (for BDF1 q̂ = q_n, v̂ = v_n, c_q = c_v = h, eq. 2.61; W = I is eq. 2.60 as written, the
+//! default weights the links' flexible coordinates by their step's mass and stiffness so that
+//! the correction does not depend on their units, [`super::correction`]) by Newton's method
+//! on the KKT matrix
 //!
 //! ```text
-//! ⎡ I − Σ μᵢ∇²Φᵢ          −c_q I        0      −Φ_qᵀ ⎤
-//! ⎢ c_v K̂ + Σ λ̂ᵢ∇²Φᵢ      M + c_v Ĉ     Φ_qᵀ    0    ⎥
-//! ⎢ ∂(Φ_q v + Φ_t)/∂q      Φ_q           0      0    ⎥
-//! ⎣ Φ_q                    0             0      0    ⎦
+//! ⎡ I − W Σ μᵢ∇²Φᵢ        −c_q I        0      −W Φ_qᵀ ⎤
+//! ⎢ c_v K̂ + Σ λ̂ᵢ∇²Φᵢ      M + c_v Ĉ     Φ_qᵀ    0      ⎥
+//! ⎢ ∂(Φ_q v + Φ_t)/∂q      Φ_q           0      0      ⎥
+//! ⎣ Φ_q                    0             0      0      ⎦
 //! ```
 //!
 //! with K̂ = K + the spring-dampers' K ∇ℓ∇ℓᵀ and Ĉ = C − ∂f_v/∂v + their C ∇ℓ∇ℓᵀ; the
@@ -53,6 +56,7 @@
 
 use super::block_kkt::BlockKkt;
 use super::constraint_set::ConstraintSet;
+use super::correction::{CorrectionMetric, CorrectionWeight};
 use super::dense_lu::DenseLu;
 use super::error::{Dependence, MultibodyError};
 use super::redundancy::weakest_combination;
@@ -76,6 +80,8 @@ pub struct NewtonSettings {
     pub redundancy_tolerance: f64,
     /// Tolerance on |Φ| of the kinematic assembly.
     pub assembly_tolerance: f64,
+    /// The metric of the GGL position correction ([`super::correction`]).
+    pub correction: CorrectionMetric,
 }
 
 impl Default for NewtonSettings {
@@ -86,6 +92,7 @@ impl Default for NewtonSettings {
             slow_rate: 0.3,
             redundancy_tolerance: 1e-9,
             assembly_tolerance: 1e-12,
+            correction: CorrectionMetric::StepInertia,
         }
     }
 }
@@ -124,6 +131,8 @@ pub struct Ggl {
     scheme: Scheme,
     history: History,
     form: StepForm,
+    /// The weight W of the position correction for `form`.
+    weight: CorrectionWeight,
     newton: NewtonDriver,
     /// The iteration matrix and its factors: dense, or by runs of bodies ([`BlockKkt`]).
     lu: DenseLu,
@@ -316,6 +325,7 @@ impl Ggl {
             scheme,
             history: History::default(),
             form: StepForm::default(),
+            weight: CorrectionWeight::new(settings.correction),
             newton: NewtonDriver::new(
                 2 * n + 2 * m,
                 NewtonPolicy {
@@ -439,6 +449,8 @@ impl Ggl {
             &self.acceleration,
             &mut self.form,
         );
+        self.weight
+            .form(&self.system, self.form.c_q, self.form.c_v)?;
         if self.factored_for != (self.form.c_q, self.form.c_v) {
             self.newton.invalidate();
         }
@@ -447,6 +459,7 @@ impl Ggl {
             system: &self.system,
             equations: &self.equations,
             form: &self.form,
+            weight: &mut self.weight,
             work: &mut self.work,
             lu: &mut self.lu,
             block: &mut self.block,
@@ -611,6 +624,7 @@ struct GglStep<'a> {
     system: &'a System,
     equations: &'a Equations,
     form: &'a StepForm,
+    weight: &'a mut CorrectionWeight,
     work: &'a mut Workspace,
     lu: &'a mut DenseLu,
     block: &'a mut BlockKkt,
@@ -660,6 +674,7 @@ impl StepEquations for GglStep<'_> {
             None,
         );
         transpose_mul(w.phi_q.as_ref(), mu, &mut w.gq_mu);
+        self.weight.apply(&mut w.gq_mu);
         transpose_mul(w.phi_q.as_ref(), lam, &mut w.gq_lam);
         for i in 0..n {
             r[i] = q[i] - q_hat[i] - c_q * v[i] - w.gq_mu[i];
@@ -722,6 +737,7 @@ impl StepEquations for GglStep<'_> {
                 w.phi_q.as_ref(),
                 w.velocity_q.as_ref(),
                 c_q,
+                self.weight,
             );
             return Ok(());
         }
@@ -733,6 +749,26 @@ impl StepEquations for GglStep<'_> {
             j[(i, n + i)] = -c_q;
         }
         c.add_weighted_hessian(layout, q, t, mu, -1.0, j.as_mut().submatrix_mut(0, 0, n, n));
+        // I − W Σ μᵢ∇²Φᵢ and −W Φ_qᵀ, column by column
+        let mut column = vec![0.0; n];
+        for b in 0..n {
+            for (a, x) in column.iter_mut().enumerate() {
+                *x = j[(a, b)];
+            }
+            self.weight.apply_beside_identity(b, &mut column);
+            for (a, x) in column.iter().enumerate() {
+                j[(a, b)] = *x;
+            }
+        }
+        for k in 0..m {
+            for (a, x) in column.iter_mut().enumerate() {
+                *x = -w.phi_q[(k, a)];
+            }
+            self.weight.apply(&mut column);
+            for (a, x) in column.iter().enumerate() {
+                j[(a, 2 * n + m + k)] = *x;
+            }
+        }
         // R₂ rows
         c.velocity_jacobian_and_weighted_hessian(
             layout,
@@ -753,7 +789,6 @@ impl StepEquations for GglStep<'_> {
         for k in 0..m {
             for a in 0..n {
                 let g = w.phi_q[(k, a)];
-                j[(a, 2 * n + m + k)] = -g;
                 j[(n + a, 2 * n + k)] = g;
                 j[(2 * n + k, a)] = w.velocity_q[(k, a)];
                 j[(2 * n + k, n + a)] = g;
