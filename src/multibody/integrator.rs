@@ -198,15 +198,21 @@ fn transpose_mul(a: MatRef<'_, f64>, x: &[f64], y: &mut [f64]) {
     }
 }
 
-/// Minimum-norm solution of A Δ = b for A (m × n) of full row rank: Δ = Aᵀ (A Aᵀ)⁻¹ b.
+/// Minimum-norm solution of A Δ = b for A (m × n) of full row rank in the metric W⁻¹ of the
+/// position correction: Δ = W Aᵀ (A W Aᵀ)⁻¹ b.
 fn minimum_norm(
     a: MatRef<'_, f64>,
     b: &[f64],
     out: &mut [f64],
     time: f64,
+    weight: &mut CorrectionWeight,
 ) -> Result<(), MultibodyError> {
     let m = a.nrows();
-    let gram = a * a.transpose();
+    let mut weighted = a.transpose().to_owned();
+    for k in 0..m {
+        weight.apply(weighted.col_as_slice_mut(k));
+    }
+    let gram = a * &weighted;
     let mut y = Mat::from_fn(m, 1, |i, _| b[i]);
     gram.partial_piv_lu().solve_in_place(y.as_mut());
     if (0..m).any(|i| !y[(i, 0)].is_finite()) {
@@ -218,7 +224,7 @@ fn minimum_norm(
     out.fill(0.0);
     for i in 0..m {
         for j in 0..a.ncols() {
-            out[j] += a[(i, j)] * y[(i, 0)];
+            out[j] += weighted[(j, i)] * y[(i, 0)];
         }
     }
     Ok(())
@@ -237,9 +243,11 @@ impl Ggl {
 
     /// Builds the equations at the system's initial guess, removes redundant constraints,
     /// assembles the configuration at t₀ (Newton with minimum-norm corrections on Φ = 0,
-    /// drives included; an error if a row removed as redundant is violated there), projects the initial velocities onto Φ_q v + Φ_t = 0 (the
-    /// minimum-norm change of the given ones, so a drive's rate at t₀ sets the velocities of
-    /// its mechanism) and, for generalized-α, solves for the consistent accelerations.
+    /// drives included; an error if a row removed as redundant is violated there), projects
+    /// the initial velocities onto Φ_q v + Φ_t = 0 (the minimum-norm change of the given ones,
+    /// so a drive's rate at t₀ sets the velocities of its mechanism; both norms in the metric
+    /// of the position correction, [`super::correction`]) and, for generalized-α, solves for
+    /// the consistent accelerations.
     pub fn with_scheme(
         system: System,
         step_size: f64,
@@ -269,6 +277,9 @@ impl Ggl {
         }
         let (n, m) = (system.size(), equations.constraints.len());
         let mut work = Workspace::new(n, m);
+        // the start's projections in the metric of a BDF1 step of size h
+        let mut weight = CorrectionWeight::new(settings.correction);
+        weight.form(&system, step_size, step_size)?;
         assemble(
             &system,
             &equations.constraints,
@@ -276,6 +287,7 @@ impl Ggl {
             start,
             &settings,
             &mut work,
+            &mut weight,
         )?;
         // rows judged redundant at the guess must hold at the assembled pose as consequences
         // of the kept ones (to far better than √tol when those hold to tol); one violated
@@ -290,7 +302,7 @@ impl Ggl {
         {
             return Err(unsatisfied(&every_row, &phi, start, &settings));
         }
-        // velocities: v ← v − Φ_qᵀ (Φ_q Φ_qᵀ)⁻¹ (Φ_q v + Φ_t)
+        // velocities: v ← v − W Φ_qᵀ (Φ_q W Φ_qᵀ)⁻¹ (Φ_q v + Φ_t)
         let c = &equations.constraints;
         c.jacobian(&system.layout, &q, start, work.phi_q.as_mut());
         c.time_rates(&system.layout, &q, start, &mut work.phi_t);
@@ -303,7 +315,13 @@ impl Ggl {
                 .sum::<f64>();
         }
         let mut correction = vec![0.0; n];
-        minimum_norm(work.phi_q.as_ref(), &violation, &mut correction, start)?;
+        minimum_norm(
+            work.phi_q.as_ref(),
+            &violation,
+            &mut correction,
+            start,
+            &mut weight,
+        )?;
         for (x, d) in v.iter_mut().zip(&correction) {
             *x -= d;
         }
@@ -325,7 +343,7 @@ impl Ggl {
             scheme,
             history: History::default(),
             form: StepForm::default(),
-            weight: CorrectionWeight::new(settings.correction),
+            weight,
             newton: NewtonDriver::new(
                 2 * n + 2 * m,
                 NewtonPolicy {
@@ -823,7 +841,8 @@ impl StepEquations for GglStep<'_> {
     }
 }
 
-/// Kinematic assembly: Newton with minimum-norm corrections Δq = −Φ_qᵀ (Φ_q Φ_qᵀ)⁻¹ Φ until
+/// Kinematic assembly: Newton with minimum-norm corrections Δq = −W Φ_qᵀ (Φ_q W Φ_qᵀ)⁻¹ Φ
+/// (W the weight of the position correction: the frames take what they can) until
 /// |Φ| ≤ the assembly tolerance. A loop that cannot close stops on a singular Φ_q Φ_qᵀ (the
 /// closest configuration is a dead centre) or after 50 iterations; either way the error
 /// lists every constraint still violated.
@@ -834,6 +853,7 @@ fn assemble(
     t: f64,
     settings: &NewtonSettings,
     work: &mut Workspace,
+    weight: &mut CorrectionWeight,
 ) -> Result<(), MultibodyError> {
     let layout = &system.layout;
     let mut correction = vec![0.0; q.len()];
@@ -843,7 +863,7 @@ fn assemble(
             return Ok(());
         }
         constraints.jacobian(layout, q, t, work.phi_q.as_mut());
-        if minimum_norm(work.phi_q.as_ref(), &work.phi, &mut correction, t).is_err() {
+        if minimum_norm(work.phi_q.as_ref(), &work.phi, &mut correction, t, weight).is_err() {
             break;
         }
         for (x, d) in q.iter_mut().zip(&correction) {
