@@ -12,10 +12,10 @@
 //! R₄ = Φ(q, t)                                       = 0   (position constraints)
 //! ```
 //!
-//! (for BDF1 q̂ = q_n, v̂ = v_n, c_q = c_v = h, eq. 2.61; W = I is eq. 2.60 as written, the
-//! default weights the links' flexible coordinates by their step's mass and stiffness so that
-//! the correction does not depend on their units, [`super::correction`]) by Newton's method
-//! on the KKT matrix
+//! (for BDF1 q̂ = q_n, v̂ = v_n, c_q = c_v = h, eq. 2.61; W = I is eq. 2.60 as written; the
+//! default keeps I on the frames and gives each body's flexible coordinates the small share
+//! ε m (M_ff + c_q c_v K_ff)⁻¹, which does not depend on their units, [`super::correction`]) by
+//! Newton's method on the KKT matrix
 //!
 //! ```text
 //! ⎡ I − W Σ μᵢ∇²Φᵢ        −c_q I        0      −W Φ_qᵀ ⎤
