@@ -5,14 +5,15 @@
 //! form a dense Schur complement.
 //!
 //! With P = c_v K̂ + Σ λ̂ᵢ∇²Φᵢ (the q-block of the momentum rows), A₀ = M + c_v Ĉ (their
-//! v-block), V = ∂(Φ_q v + Φ_t)/∂q and the μ-Hessian of the first rows left out (μ vanishes
-//! with the step's error), J d = r for d = (Δq, Δv, Δλ̂, Δμ) reads
+//! v-block), V = ∂(Φ_q v + Φ_t)/∂q, W the weight of the position correction
+//! ([`super::correction`]) and the μ-Hessian of the first rows left out (μ vanishes with the
+//! step's error), J d = r for d = (Δq, Δv, Δλ̂, Δμ) reads
 //!
 //! ```text
-//! Δq − c_q Δv − Gᵀ Δμ = r₁       ⇒  Δq = r₁ + c_q Δv + Gᵀ Δμ
-//! P Δq + A₀ Δv + Gᵀ Δλ̂ = r₂      ⇒  A Δv + Gᵀ Δλ̂ + P Gᵀ Δμ = r₂ − P r₁,   A = A₀ + c_q P
-//! V Δq + G Δv = r₃               ⇒  (G + c_q V) Δv + V Gᵀ Δμ = r₃ − V r₁
-//! G Δq = r₄                      ⇒  c_q G Δv + G Gᵀ Δμ = r₄ − G r₁
+//! Δq − c_q Δv − W Gᵀ Δμ = r₁     ⇒  Δq = r₁ + c_q Δv + W Gᵀ Δμ
+//! P Δq + A₀ Δv + Gᵀ Δλ̂ = r₂      ⇒  A Δv + Gᵀ Δλ̂ + P W Gᵀ Δμ = r₂ − P r₁,   A = A₀ + c_q P
+//! V Δq + G Δv = r₃               ⇒  (G + c_q V) Δv + V W Gᵀ Δμ = r₃ − V r₁
+//! G Δq = r₄                      ⇒  c_q G Δv + G W Gᵀ Δμ = r₄ − G r₁
 //! ```
 //!
 //! A is block diagonal when P and A₀ are. The blocks are runs of consecutive bodies: a body
@@ -20,18 +21,19 @@
 //! joins the run from the one to the other, [`BlockKkt::applies`]), whose K̂ and Ĉ blocks
 //! between them are kept; the constraint Hessians' blocks between two runs are left out (a
 //! modified Newton matrix, like the omitted ∂(M(v − v̂))/∂q). When one run would span the
-//! whole system the caller uses the dense matrix instead. With E = [Gᵀ, P Gᵀ], Y = A⁻¹ E (one
-//! solve per run and column) and y = (Δλ̂, Δμ),
+//! whole system the caller uses the dense matrix instead. With E = [Gᵀ, P W Gᵀ], Y = A⁻¹ E
+//! (one solve per run and column) and y = (Δλ̂, Δμ),
 //!
 //! ```text
-//! S y = [r₃ − V w − G u;  r₄ − G w],   S = [0, V Gᵀ; 0, G Gᵀ] − [G + c_q V; c_q G] Y,
+//! S y = [r₃ − V w − G u;  r₄ − G w],   S = [0, V W Gᵀ; 0, G W Gᵀ] − [G + c_q V; c_q G] Y,
 //! u = A⁻¹ (r₂ − P r₁),   w = r₁ + c_q u,   Δv = u − Y y
 //! ```
 //!
 //! so a factorization is one LU per run (7 + n_f rows for a body alone) and one of S (2m rows)
 //! instead of one LU of the whole matrix (2n + 2m rows), and a solve reads those factors
-//! instead of the whole matrix's.
+//! instead of the whole matrix's. W is block diagonal by body, so W Gᵀ has the bodies of Gᵀ.
 
+use super::correction::CorrectionWeight;
 use super::dense_lu::DenseLu;
 use super::layout::Layout;
 use faer::linalg::matmul::matmul;
@@ -51,14 +53,16 @@ pub struct BlockKkt {
     /// Gᵀ = Φ_qᵀ and Vᵀ = ∂(Φ_q v + Φ_t)/∂qᵀ (n × m: a row of G or V is a column here).
     gt: Mat<f64>,
     vt: Mat<f64>,
-    /// Y = A⁻¹ [Gᵀ, P Gᵀ] (n × 2m).
+    /// W Gᵀ (n × m).
+    wgt: Mat<f64>,
+    /// Y = A⁻¹ [Gᵀ, P W Gᵀ] (n × 2m).
     y: Mat<f64>,
     /// G Y and V Y (m × 2m).
     gy: Mat<f64>,
     vy: Mat<f64>,
     schur: DenseLu,
     /// The runs each constraint row touches (nonzero in its row of G or V): a column of
-    /// Y = A⁻¹ [Gᵀ, P Gᵀ] is zero outside them, so products with G, V and Y skip the rest.
+    /// Y = A⁻¹ [Gᵀ, P W Gᵀ] is zero outside them, so products with G, V and Y skip the rest.
     touched: Vec<Vec<usize>>,
     c_q: f64,
     /// Scratch: u, w (n) and the Schur right-hand side (2m).
@@ -83,6 +87,7 @@ impl BlockKkt {
             bodies: bodies.clone(),
             gt: Mat::zeros(n, m),
             vt: Mat::zeros(n, m),
+            wgt: Mat::zeros(n, m),
             y: Mat::zeros(n, 2 * m),
             gy: Mat::zeros(m, 2 * m),
             vy: Mat::zeros(m, 2 * m),
@@ -147,7 +152,7 @@ impl BlockKkt {
     }
 
     /// Factors the matrix of the module docs from A₀ (n × n, read on the runs' blocks), P (n × n,
-    /// read on the runs' blocks), G, V (m × n) and c_q.
+    /// read on the runs' blocks), G, V (m × n), c_q and the weight W.
     pub fn factor(
         &mut self,
         a0: MatRef<'_, f64>,
@@ -155,11 +160,16 @@ impl BlockKkt {
         g: MatRef<'_, f64>,
         v: MatRef<'_, f64>,
         c_q: f64,
+        weight: &mut CorrectionWeight,
     ) {
         let m = g.nrows();
         self.c_q = c_q;
         self.gt.copy_from(g.transpose());
         self.vt.copy_from(v.transpose());
+        self.wgt.copy_from(g.transpose());
+        for k in 0..m {
+            weight.apply(self.wgt.col_as_slice_mut(k));
+        }
         for ((run, lu), pb) in self.runs.iter().zip(&mut self.blocks).zip(&mut self.p) {
             let (o, len) = (run.start, run.len());
             pb.copy_from(p.submatrix(o, o, len, len));
@@ -184,17 +194,17 @@ impl BlockKkt {
                 }
             }
         }
-        // Y = A⁻¹ [Gᵀ, P Gᵀ], column by column on the bodies the row touches
+        // Y = A⁻¹ [Gᵀ, P W Gᵀ], column by column on the bodies the row touches
         self.y.fill(0.0);
         for (k, touched) in self.touched.iter().enumerate() {
-            let row = self.gt.col_as_slice(k);
+            let (row, weighted) = (self.gt.col_as_slice(k), self.wgt.col_as_slice(k));
             for &b in touched {
                 let (range, lu) = (self.runs[b].clone(), &mut self.blocks[b]);
                 let column = &mut self.y.col_as_slice_mut(k)[range.clone()];
                 column.copy_from_slice(&row[range.clone()]);
                 lu.solve(column);
                 let column = &mut self.y.col_as_slice_mut(m + k)[range.clone()];
-                block_mul(self.p[b].as_ref(), range.start, |j| row[j], column);
+                block_mul(self.p[b].as_ref(), range.start, |j| weighted[j], column);
                 lu.solve(column);
             }
         }
@@ -221,12 +231,12 @@ impl BlockKkt {
                 s[(m + i, j)] = -c_q * self.gy[(i, j)];
             }
         }
-        // [V Gᵀ; G Gᵀ] in the Δμ columns
+        // [V W Gᵀ; G W Gᵀ] in the Δμ columns
         matmul(
             s.as_mut().submatrix_mut(0, m, m, m),
             Accum::Add,
             self.vt.transpose(),
-            self.gt.as_ref(),
+            self.wgt.as_ref(),
             1.0,
             Par::Seq,
         );
@@ -234,7 +244,7 @@ impl BlockKkt {
             s.as_mut().submatrix_mut(m, m, m, m),
             Accum::Add,
             self.gt.transpose(),
-            self.gt.as_ref(),
+            self.wgt.as_ref(),
             1.0,
             Par::Seq,
         );
@@ -269,7 +279,7 @@ impl BlockKkt {
             self.z[m + k] = z4;
         }
         self.schur.solve(&mut self.z);
-        // Δv = u − Y y, Δq = r₁ + c_q Δv + Gᵀ Δμ
+        // Δv = u − Y y, Δq = r₁ + c_q Δv + W Gᵀ Δμ
         r2.copy_from_slice(&self.u);
         for (j, &yj) in self.z.iter().enumerate() {
             let column = self.y.col_as_slice(j);
@@ -284,7 +294,7 @@ impl BlockKkt {
             r1[i] += c_q * r2[i];
         }
         for (k, touched) in self.touched.iter().enumerate() {
-            let (mu, gk) = (self.z[m + k], self.gt.col_as_slice(k));
+            let (mu, gk) = (self.z[m + k], self.wgt.col_as_slice(k));
             for i in touched.iter().flat_map(|&b| self.runs[b].clone()) {
                 r1[i] += gk[i] * mu;
             }

@@ -6,19 +6,22 @@
 //! scaled likewise), one step solves for x = (q, v, λ̂, μ) at t = t_n + h
 //!
 //! ```text
-//! R₁ = q − q̂ − c_q v − Φ_qᵀ μ                        = 0   (q̇ − v = Φ_qᵀ μ)
+//! R₁ = q − q̂ − c_q v − W Φ_qᵀ μ                      = 0   (q̇ − v = W Φ_qᵀ μ)
 //! R₂ = M(q) (v − v̂) − c_v f(q, v, t) + Φ_qᵀ λ̂          = 0   (M v̇ + C v + K q + Φ_qᵀ λ = f_e + f_v)
 //! R₃ = Φ_q v + Φ_t                                   = 0   (velocity constraints)
 //! R₄ = Φ(q, t)                                       = 0   (position constraints)
 //! ```
 //!
-//! (for BDF1 q̂ = q_n, v̂ = v_n, c_q = c_v = h, eq. 2.61) by Newton's method on the KKT matrix
+//! (for BDF1 q̂ = q_n, v̂ = v_n, c_q = c_v = h, eq. 2.61; W = I is eq. 2.60 as written; the
+//! default keeps I on the frames and gives each body's flexible coordinates the small share
+//! ε m (M_ff + c_q c_v K_ff)⁻¹, which does not depend on their units, [`super::correction`]) by
+//! Newton's method on the KKT matrix
 //!
 //! ```text
-//! ⎡ I − Σ μᵢ∇²Φᵢ          −c_q I        0      −Φ_qᵀ ⎤
-//! ⎢ c_v K̂ + Σ λ̂ᵢ∇²Φᵢ      M + c_v Ĉ     Φ_qᵀ    0    ⎥
-//! ⎢ ∂(Φ_q v + Φ_t)/∂q      Φ_q           0      0    ⎥
-//! ⎣ Φ_q                    0             0      0    ⎦
+//! ⎡ I − W Σ μᵢ∇²Φᵢ        −c_q I        0      −W Φ_qᵀ ⎤
+//! ⎢ c_v K̂ + Σ λ̂ᵢ∇²Φᵢ      M + c_v Ĉ     Φ_qᵀ    0      ⎥
+//! ⎢ ∂(Φ_q v + Φ_t)/∂q      Φ_q           0      0      ⎥
+//! ⎣ Φ_q                    0             0      0      ⎦
 //! ```
 //!
 //! with K̂ = K + the spring-dampers' K ∇ℓ∇ℓᵀ and Ĉ = C − ∂f_v/∂v + their C ∇ℓ∇ℓᵀ; the
@@ -53,6 +56,7 @@
 
 use super::block_kkt::BlockKkt;
 use super::constraint_set::ConstraintSet;
+use super::correction::{CorrectionMetric, CorrectionWeight};
 use super::dense_lu::DenseLu;
 use super::error::{Dependence, MultibodyError};
 use super::redundancy::weakest_combination;
@@ -76,6 +80,8 @@ pub struct NewtonSettings {
     pub redundancy_tolerance: f64,
     /// Tolerance on |Φ| of the kinematic assembly.
     pub assembly_tolerance: f64,
+    /// The metric of the GGL position correction ([`super::correction`]).
+    pub correction: CorrectionMetric,
 }
 
 impl Default for NewtonSettings {
@@ -86,6 +92,7 @@ impl Default for NewtonSettings {
             slow_rate: 0.3,
             redundancy_tolerance: 1e-9,
             assembly_tolerance: 1e-12,
+            correction: CorrectionMetric::StepInertia,
         }
     }
 }
@@ -124,6 +131,8 @@ pub struct Ggl {
     scheme: Scheme,
     history: History,
     form: StepForm,
+    /// The weight W of the position correction for `form`.
+    weight: CorrectionWeight,
     newton: NewtonDriver,
     /// The iteration matrix and its factors: dense, or by runs of bodies ([`BlockKkt`]).
     lu: DenseLu,
@@ -189,15 +198,21 @@ fn transpose_mul(a: MatRef<'_, f64>, x: &[f64], y: &mut [f64]) {
     }
 }
 
-/// Minimum-norm solution of A Δ = b for A (m × n) of full row rank: Δ = Aᵀ (A Aᵀ)⁻¹ b.
+/// Minimum-norm solution of A Δ = b for A (m × n) of full row rank in the metric W⁻¹ of the
+/// position correction: Δ = W Aᵀ (A W Aᵀ)⁻¹ b.
 fn minimum_norm(
     a: MatRef<'_, f64>,
     b: &[f64],
     out: &mut [f64],
     time: f64,
+    weight: &mut CorrectionWeight,
 ) -> Result<(), MultibodyError> {
     let m = a.nrows();
-    let gram = a * a.transpose();
+    let mut weighted = a.transpose().to_owned();
+    for k in 0..m {
+        weight.apply(weighted.col_as_slice_mut(k));
+    }
+    let gram = a * &weighted;
     let mut y = Mat::from_fn(m, 1, |i, _| b[i]);
     gram.partial_piv_lu().solve_in_place(y.as_mut());
     if (0..m).any(|i| !y[(i, 0)].is_finite()) {
@@ -209,7 +224,7 @@ fn minimum_norm(
     out.fill(0.0);
     for i in 0..m {
         for j in 0..a.ncols() {
-            out[j] += a[(i, j)] * y[(i, 0)];
+            out[j] += weighted[(j, i)] * y[(i, 0)];
         }
     }
     Ok(())
@@ -228,9 +243,11 @@ impl Ggl {
 
     /// Builds the equations at the system's initial guess, removes redundant constraints,
     /// assembles the configuration at t₀ (Newton with minimum-norm corrections on Φ = 0,
-    /// drives included; an error if a row removed as redundant is violated there), projects the initial velocities onto Φ_q v + Φ_t = 0 (the
-    /// minimum-norm change of the given ones, so a drive's rate at t₀ sets the velocities of
-    /// its mechanism) and, for generalized-α, solves for the consistent accelerations.
+    /// drives included; an error if a row removed as redundant is violated there), projects
+    /// the initial velocities onto Φ_q v + Φ_t = 0 (the minimum-norm change of the given ones,
+    /// so a drive's rate at t₀ sets the velocities of its mechanism; both norms in the metric
+    /// of the position correction, [`super::correction`]) and, for generalized-α, solves for
+    /// the consistent accelerations.
     pub fn with_scheme(
         system: System,
         step_size: f64,
@@ -260,6 +277,9 @@ impl Ggl {
         }
         let (n, m) = (system.size(), equations.constraints.len());
         let mut work = Workspace::new(n, m);
+        // the start's projections in the metric of a BDF1 step of size h
+        let mut weight = CorrectionWeight::new(settings.correction);
+        weight.form(&system, step_size, step_size)?;
         assemble(
             &system,
             &equations.constraints,
@@ -267,6 +287,7 @@ impl Ggl {
             start,
             &settings,
             &mut work,
+            &mut weight,
         )?;
         // rows judged redundant at the guess must hold at the assembled pose as consequences
         // of the kept ones (to far better than √tol when those hold to tol); one violated
@@ -281,7 +302,7 @@ impl Ggl {
         {
             return Err(unsatisfied(&every_row, &phi, start, &settings));
         }
-        // velocities: v ← v − Φ_qᵀ (Φ_q Φ_qᵀ)⁻¹ (Φ_q v + Φ_t)
+        // velocities: v ← v − W Φ_qᵀ (Φ_q W Φ_qᵀ)⁻¹ (Φ_q v + Φ_t)
         let c = &equations.constraints;
         c.jacobian(&system.layout, &q, start, work.phi_q.as_mut());
         c.time_rates(&system.layout, &q, start, &mut work.phi_t);
@@ -294,7 +315,13 @@ impl Ggl {
                 .sum::<f64>();
         }
         let mut correction = vec![0.0; n];
-        minimum_norm(work.phi_q.as_ref(), &violation, &mut correction, start)?;
+        minimum_norm(
+            work.phi_q.as_ref(),
+            &violation,
+            &mut correction,
+            start,
+            &mut weight,
+        )?;
         for (x, d) in v.iter_mut().zip(&correction) {
             *x -= d;
         }
@@ -316,6 +343,7 @@ impl Ggl {
             scheme,
             history: History::default(),
             form: StepForm::default(),
+            weight,
             newton: NewtonDriver::new(
                 2 * n + 2 * m,
                 NewtonPolicy {
@@ -439,6 +467,8 @@ impl Ggl {
             &self.acceleration,
             &mut self.form,
         );
+        self.weight
+            .form(&self.system, self.form.c_q, self.form.c_v)?;
         if self.factored_for != (self.form.c_q, self.form.c_v) {
             self.newton.invalidate();
         }
@@ -447,6 +477,7 @@ impl Ggl {
             system: &self.system,
             equations: &self.equations,
             form: &self.form,
+            weight: &mut self.weight,
             work: &mut self.work,
             lu: &mut self.lu,
             block: &mut self.block,
@@ -611,6 +642,7 @@ struct GglStep<'a> {
     system: &'a System,
     equations: &'a Equations,
     form: &'a StepForm,
+    weight: &'a mut CorrectionWeight,
     work: &'a mut Workspace,
     lu: &'a mut DenseLu,
     block: &'a mut BlockKkt,
@@ -660,6 +692,7 @@ impl StepEquations for GglStep<'_> {
             None,
         );
         transpose_mul(w.phi_q.as_ref(), mu, &mut w.gq_mu);
+        self.weight.apply(&mut w.gq_mu);
         transpose_mul(w.phi_q.as_ref(), lam, &mut w.gq_lam);
         for i in 0..n {
             r[i] = q[i] - q_hat[i] - c_q * v[i] - w.gq_mu[i];
@@ -722,6 +755,7 @@ impl StepEquations for GglStep<'_> {
                 w.phi_q.as_ref(),
                 w.velocity_q.as_ref(),
                 c_q,
+                self.weight,
             );
             return Ok(());
         }
@@ -733,6 +767,26 @@ impl StepEquations for GglStep<'_> {
             j[(i, n + i)] = -c_q;
         }
         c.add_weighted_hessian(layout, q, t, mu, -1.0, j.as_mut().submatrix_mut(0, 0, n, n));
+        // I − W Σ μᵢ∇²Φᵢ and −W Φ_qᵀ, column by column
+        let mut column = vec![0.0; n];
+        for b in 0..n {
+            for (a, x) in column.iter_mut().enumerate() {
+                *x = j[(a, b)];
+            }
+            self.weight.apply_beside_identity(b, &mut column);
+            for (a, x) in column.iter().enumerate() {
+                j[(a, b)] = *x;
+            }
+        }
+        for k in 0..m {
+            for (a, x) in column.iter_mut().enumerate() {
+                *x = -w.phi_q[(k, a)];
+            }
+            self.weight.apply(&mut column);
+            for (a, x) in column.iter().enumerate() {
+                j[(a, 2 * n + m + k)] = *x;
+            }
+        }
         // R₂ rows
         c.velocity_jacobian_and_weighted_hessian(
             layout,
@@ -753,7 +807,6 @@ impl StepEquations for GglStep<'_> {
         for k in 0..m {
             for a in 0..n {
                 let g = w.phi_q[(k, a)];
-                j[(a, 2 * n + m + k)] = -g;
                 j[(n + a, 2 * n + k)] = g;
                 j[(2 * n + k, a)] = w.velocity_q[(k, a)];
                 j[(2 * n + k, n + a)] = g;
@@ -788,7 +841,8 @@ impl StepEquations for GglStep<'_> {
     }
 }
 
-/// Kinematic assembly: Newton with minimum-norm corrections Δq = −Φ_qᵀ (Φ_q Φ_qᵀ)⁻¹ Φ until
+/// Kinematic assembly: Newton with minimum-norm corrections Δq = −W Φ_qᵀ (Φ_q W Φ_qᵀ)⁻¹ Φ
+/// (W the weight of the position correction: the frames take what they can) until
 /// |Φ| ≤ the assembly tolerance. A loop that cannot close stops on a singular Φ_q Φ_qᵀ (the
 /// closest configuration is a dead centre) or after 50 iterations; either way the error
 /// lists every constraint still violated.
@@ -799,6 +853,7 @@ fn assemble(
     t: f64,
     settings: &NewtonSettings,
     work: &mut Workspace,
+    weight: &mut CorrectionWeight,
 ) -> Result<(), MultibodyError> {
     let layout = &system.layout;
     let mut correction = vec![0.0; q.len()];
@@ -808,7 +863,7 @@ fn assemble(
             return Ok(());
         }
         constraints.jacobian(layout, q, t, work.phi_q.as_mut());
-        if minimum_norm(work.phi_q.as_ref(), &work.phi, &mut correction, t).is_err() {
+        if minimum_norm(work.phi_q.as_ref(), &work.phi, &mut correction, t, weight).is_err() {
             break;
         }
         for (x, d) in q.iter_mut().zip(&correction) {

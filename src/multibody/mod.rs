@@ -21,7 +21,8 @@
 //! - [`signal`]: time functions with their first two derivatives; [`error`]: what stops a run.
 //! - [`system`]: the assembled system and its residual terms; [`integrator`]: consistent
 //!   initial conditions and the GGL step (eq. 2.60–2.61) with the modified Newton of
-//!   [`crate::dynamics::newton`]; [`dense_lu`]: its iteration matrix's LU; [`scheme`]:
+//!   [`crate::dynamics::newton`]; [`correction`]: the metric of its position correction;
+//!   [`dense_lu`]: its iteration matrix's LU; [`scheme`]:
 //!   BDF1, BDF2 and generalized-α as one step form; [`statics`]: static equilibrium under
 //!   gravity with drives held, with the exact stiffness of the applied forces at rest
 //!   ([`stiffness`]); [`poses`]: equilibria over a grid of drive poses, each started
@@ -41,6 +42,7 @@ pub mod constraint;
 pub mod constraint_set;
 #[cfg(test)]
 mod constraint_tests;
+pub mod correction;
 pub mod dense_lu;
 pub mod derivatives;
 pub mod error;
@@ -69,6 +71,7 @@ pub mod system;
 pub mod vectors;
 
 pub use body::Body;
+pub use correction::CorrectionMetric;
 pub use derivatives::EomTerms;
 pub use error::{Dependence, MultibodyError};
 pub use flexible::{FlexibleBodyData, InterfaceRows, MassInvariants};

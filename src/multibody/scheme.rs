@@ -2,11 +2,12 @@
 //! step from t_n to t_{n+1} = t_n + h into equations in the unknowns (q, v, λ̂, μ) at t_{n+1}
 //!
 //! ```text
-//! q − q̂ − c_q v − Φ_qᵀ μ = 0,   M(q) (v − v̂) − c_v f(q, v, t) + Φ_qᵀ λ̂ = 0,
-//! Φ_q v + Φ_t = 0,              Φ(q, t) = 0,
+//! q − q̂ − c_q v − W Φ_qᵀ μ = 0,   M(q) (v − v̂) − c_v f(q, v, t) + Φ_qᵀ λ̂ = 0,
+//! Φ_q v + Φ_t = 0,                Φ(q, t) = 0,
 //! ```
 //!
-//! with λ̂ = c_v λ and q̈_{n+1} = (v − v̂)/c_v; the predictions (q̂, v̂) and the factors c_q, c_v
+//! with λ̂ = c_v λ, q̈_{n+1} = (v − v̂)/c_v and W the weight of the position correction, the same
+//! for every scheme ([`super::correction`]); the predictions (q̂, v̂) and the factors c_q, c_v
 //! come from the scheme and the past states:
 //!
 //! | scheme | q̂ | v̂ | c_q | c_v |
@@ -24,12 +25,12 @@
 //! (J. Appl. Mech. 60, 1993) in the form of Arnold & Brüls (Multibody Syst. Dyn. 18, 2007),
 //!
 //! ```text
-//! q_{n+1} = q_n + h v_n + h² (½ − β) a_n + h² β a_{n+1} + Φ_qᵀ μ,
+//! q_{n+1} = q_n + h v_n + h² (½ − β) a_n + h² β a_{n+1} + W Φ_qᵀ μ,
 //! v_{n+1} = v_n + h (1 − γ) a_n + h γ a_{n+1},
 //! (1 − α_m) a_{n+1} + α_m a_n = (1 − α_f) q̈_{n+1} + α_f q̈_n,
 //! ```
 //!
-//! with a the pseudo-acceleration, eliminated through the v row; the Φ_qᵀ μ term and the
+//! with a the pseudo-acceleration, eliminated through the v row; the W Φ_qᵀ μ term and the
 //! velocity constraint are the stabilized index-2 variant whose global errors in q, v, q̈ and λ
 //! are O(h²) (Arnold, Brüls & Cardona, Numer. Math. 129, 2015), without the index-3 form's
 //! order reduction in λ. The parameters follow from the spectral radius at infinity ρ∞ ∈ [0, 1]:
