@@ -44,11 +44,37 @@
 
 use super::dense_lu::DenseLu;
 use super::error::MultibodyError;
+use super::flexible::FlexibleBodyData;
 use super::system::System;
 use faer::Mat;
 
 /// ε: the flexible coordinates' share of the correction relative to a frame's (module docs).
 pub const FLEXIBLE_SHARE: f64 = 1e-4;
+
+/// Entry (i, j) of a flexible body's W_ff⁻¹ = (M_ff + c_q c_v K_ff) / (ε m), `c` = c_q c_v.
+fn inverse_block_entry(data: &FlexibleBodyData, c: f64, i: usize, j: usize) -> f64 {
+    (data.mass[(i, j)] + c * data.stiffness[(i, j)]) / (FLEXIBLE_SHARE * data.invariants.mass)
+}
+
+/// W⁻¹ of `metric` for a step with factors c_q, c_v, dense and of the system's size: the
+/// identity on the frames, W_ff⁻¹ on each body's flexible coordinates. Vᵀ W⁻¹ with
+/// Vᵀ Φ_qᵀ = 0 removes the multipliers W Φ_qᵀ μ from a step's position equation.
+pub fn inverse_weight(system: &System, metric: CorrectionMetric, c_q: f64, c_v: f64) -> Mat<f64> {
+    let n = system.size();
+    let mut out = Mat::identity(n, n);
+    if metric == CorrectionMetric::Coordinates {
+        return out;
+    }
+    for (body, slice) in system.bodies.iter().zip(system.layout.slices()) {
+        let first = slice.flexible();
+        for j in 0..slice.modes {
+            for i in 0..slice.modes {
+                out[(first + i, first + j)] = inverse_block_entry(&body.data, c_q * c_v, i, j);
+            }
+        }
+    }
+    out
+}
 
 /// Which metric the GGL position correction uses (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -101,12 +127,11 @@ impl CorrectionWeight {
             if n == 0 {
                 continue;
             }
-            let mass = FLEXIBLE_SHARE * data.invariants.mass;
             let mut lu = DenseLu::new(n);
             let mut a = lu.matrix_mut();
             for j in 0..n {
                 for i in 0..n {
-                    a[(i, j)] = (data.mass[(i, j)] + c * data.stiffness[(i, j)]) / mass;
+                    a[(i, j)] = inverse_block_entry(data, c, i, j);
                 }
             }
             lu.factor();

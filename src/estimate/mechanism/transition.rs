@@ -4,27 +4,31 @@
 //! (eq. 9.3) discretized with BDF1 (eq. 9.6), with V from [`super::nullspace`]:
 //!
 //! ```text
-//! G₁ = Vᵀ (q_k − q_{k−1} − h v_k)                              = 0   (n − m)
+//! G₁ = Vᵀ W⁻¹ (q_k − q_{k−1} − h v_k)                          = 0   (n − m)
 //! G₂ = Vᵀ (M(q_k, θ) (v_k − v_{k−1}) − h f(q_k, v_k, t_k, θ))  = 0   (n − m)
 //! G₃ = Φ_q v_k + Φ_t                                          = 0   (m)
 //! G₄ = Φ(q_k, t_k)                                             = 0   (m)
 //! ```
 //!
-//! The GGL step's solution satisfies them (Vᵀ Φ_qᵀ = 0 removes the multipliers), and they are
+//! W is the metric of the step's position correction q_k − q_{k−1} − h v_k = W Φ_qᵀ μ
+//! ([`crate::multibody::correction`]; constant in q). The GGL step's solution satisfies them
+//! (Vᵀ Φ_qᵀ = 0 removes the multipliers), and they are
 //! 2n equations in z_k, so the step's derivatives follow by implicit differentiation:
 //! J = −(∂G/∂z_k)⁻¹ [∂G/∂z_{k−1}  ∂G/∂θ] (eq. 9.8, which writes ∂G/∂z_k through g_d's two
 //! arguments). The rows of ∂G/∂z_k:
 //!
 //! ```text
-//! Vᵀ [I − Σ μ̂ₖ∇²Φₖ,  −h I]                 μ̂ = Φ_d⁻ᵀ (q_k − q_{k−1} − h v_k)_d
+//! Vᵀ [W⁻¹ − Σ μ̂ₖ∇²Φₖ,  −h W⁻¹]            μ̂ = Φ_d⁻ᵀ (W⁻¹ (q_k − q_{k−1} − h v_k))_d
 //! Vᵀ [∂r₂/∂q − Σ λ̂ₖ∇²Φₖ,  M − h ∂f/∂v]     λ̂ = Φ_d⁻ᵀ (r₂)_d, r₂ the bracket of G₂
 //! [∂(Φ_q v + Φ_t)/∂q,  Φ_q]
 //! [Φ_q,  0]
 //! ```
 //!
 //! (the λ̂ and μ̂ terms are the nullspace's derivative, [`super::nullspace`]); ∂G/∂z_{k−1} has
-//! −Vᵀ and −Vᵀ M(q_k) in G₁'s q and G₂'s v columns; ∂G₂/∂θⱼ = Vᵀ(∂M/∂θⱼ w − h ∂f/∂θⱼ),
-//! w = v_k − v_{k−1}, from the exact rates of [`super::parameters`].
+//! −Vᵀ W⁻¹ and −Vᵀ M(q_k) in G₁'s q and G₂'s v columns; ∂G₂/∂θⱼ = Vᵀ(∂M/∂θⱼ w − h ∂f/∂θⱼ),
+//! w = v_k − v_{k−1}, from the exact rates of [`super::parameters`]. W depends on θ through
+//! the bodies' M_ff and K_ff, but G₁'s θ-derivative Vᵀ (∂W⁻¹/∂θ) W Φ_qᵀ μ is of the size of the
+//! step's multiplier μ (the scheme's drift, zero for the exact solution) and is left out.
 //!
 //! ∂f/∂v is the system's exact rate Jacobian (C, ∂f_v/∂q̇, the dampers'); ∂r₂/∂q — the
 //! q-derivatives of M(q) w, f_v, gravity, K q, springs and loads, for which the multibody
@@ -37,7 +41,7 @@ use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef};
 
 use super::nullspace::Nullspace;
-use crate::multibody::{EomTerms, Ggl};
+use crate::multibody::{EomTerms, Ggl, correction};
 
 /// Relative step of the central differences of ∂r₂/∂q.
 const STEP: f64 = 1e-6;
@@ -106,9 +110,16 @@ pub fn transition(
     let r1: Vec<f64> = (0..n).map(|i| q[i] - previous.0[i] - h * v[i]).collect();
     let mut r2 = vec![0.0; n];
     momentum_residual(ggl, q, v, &w, &mut r2);
-    let (mu, lambda) = (nullspace.multiplier(&r1), nullspace.multiplier(&r2));
+    let inverse_weight = correction::inverse_weight(&ggl.system, ggl.settings.correction, h, h);
+    let weighted_r1: Vec<f64> = (0..n)
+        .map(|i| (0..n).map(|j| inverse_weight[(i, j)] * r1[j]).sum())
+        .collect();
+    let (mu, lambda) = (
+        nullspace.multiplier(&weighted_r1),
+        nullspace.multiplier(&r2),
+    );
     // full-space blocks before projection: G₁'s q block and G₂'s q and v blocks
-    let mut g1q = Mat::<f64>::identity(n, n);
+    let mut g1q = inverse_weight.clone();
     c.add_weighted_hessian(layout, q, t, &mu, -1.0, g1q.as_mut());
     let mut g2q = Mat::<f64>::zeros(n, n);
     let (mut plus, mut minus, mut shifted) = (vec![0.0; n], vec![0.0; n], q.to_vec());
@@ -165,7 +176,8 @@ pub fn transition(
             .copy_from(block);
     };
     put(0, 0, (vt * &g1q).as_ref());
-    put(0, n, (vt * faer::Scale(-h)).as_ref());
+    let vt_inverse_weight = vt * &inverse_weight;
+    put(0, n, (&vt_inverse_weight * faer::Scale(-h)).as_ref());
     put(r, 0, (vt * &g2q).as_ref());
     put(r, n, (vt * &g2v).as_ref());
     put(2 * r, 0, velocity_q.as_ref());
@@ -174,7 +186,9 @@ pub fn transition(
     // −[∂G/∂z_{k−1}  ∂G/∂θ]
     let np = rates.len();
     let mut rhs = Mat::<f64>::zeros(2 * n, 2 * n + np);
-    rhs.as_mut().submatrix_mut(0, 0, r, n).copy_from(vt);
+    rhs.as_mut()
+        .submatrix_mut(0, 0, r, n)
+        .copy_from(&vt_inverse_weight);
     rhs.as_mut().submatrix_mut(r, n, r, n).copy_from(vt * &mass);
     for (j, terms) in rates.iter().enumerate() {
         let dr2 = Mat::from_fn(n, 1, |i, _| {
