@@ -318,8 +318,9 @@ fn spring_ends(f: &mut FieldReader, first: usize, scalar_only: bool) -> [SpringE
     ends
 }
 
-/// `CELAS1` — scalar spring with a PELAS property; the same layout reads `CDAMP1` (scalar
-/// damper with a PDAMP property).
+/// `CELAS1` — scalar spring with a PELAS property (also the layout of `CDAMP1`).
+///
+/// `CDAMP1` is a scalar damper with a PDAMP property.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
@@ -366,8 +367,9 @@ impl Celas1 {
     }
 }
 
-/// `CELAS2` — scalar spring with its properties on the card; the same layout reads `CDAMP2`
-/// (B instead of K, no GE or S).
+/// `CELAS2` — scalar spring with its properties on the card (also the layout of `CDAMP2`).
+///
+/// `CDAMP2` carries B instead of K and no GE or S.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
