@@ -1,36 +1,56 @@
 //! The DOF map and the DOF sets g, m, s, n, f.
 //!
 //! Global (g-set) numbering is grid-major with six DOFs per grid, grids in the order of
-//! [`Model::grids`](crate::model::Model::grids) (sorted by id):
+//! [`Model::grids`](crate::model::Model::grids) (sorted by id), then one DOF per scalar point
+//! in the order of [`Model::scalar_points`](crate::model::Model::scalar_points):
 //!
 //! ```text
 //! g = 6 · grid_index + c,   c = 0..6  ↔  components 1..6 = T1 T2 T3 R1 R2 R3
+//! g = 6 · grids + scalar_index       (scalar points)
 //! ```
+//!
+//! Grids keep the 6·i numbering of a model without scalar points, so every grid-block loop
+//! stays as it is; Nastran sorts grids and scalar points together by id, an internal ordering no
+//! output depends on.
 //!
 //! A [`DofSet`] is a sorted subset of a parent numbering with the maps both ways; [`Sets`]
 //! holds m, s, n = g − m and f = n − s, all as subsets of g.
 
 use super::error::{AssemblyError, DofName};
+use crate::model::scalar_points::PointDof;
 
 /// DOFs per grid.
 pub const DOFS_PER_GRID: usize = 6;
 
-/// Map between g-set indices and (GRID id, component).
+/// Map between g-set indices and (GRID id, component) or SPOINT id.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct DofMap {
     /// GRID id of each grid index.
     grid_ids: Vec<u32>,
+    /// SPOINT id of each scalar point index.
+    scalar_ids: Vec<u32>,
 }
 
 impl DofMap {
-    /// The map for grids with these ids, in grid-index order.
+    /// The map for grids with these ids, in grid-index order, without scalar points.
     pub fn new(grid_ids: Vec<u32>) -> Self {
-        DofMap { grid_ids }
+        DofMap::with_scalar_points(grid_ids, Vec::new())
+    }
+
+    /// The map for grids and then scalar points with these ids, in index order.
+    pub fn with_scalar_points(grid_ids: Vec<u32>, scalar_ids: Vec<u32>) -> Self {
+        DofMap {
+            grid_ids,
+            scalar_ids,
+        }
     }
 
     /// The map of a model.
     pub fn of_model(model: &crate::model::Model) -> Self {
-        DofMap::new(model.grids.iter().map(|g| g.id).collect())
+        DofMap::with_scalar_points(
+            model.grids.iter().map(|g| g.id).collect(),
+            model.scalar_points.clone(),
+        )
     }
 
     /// Number of grids.
@@ -38,9 +58,37 @@ impl DofMap {
         self.grid_ids.len()
     }
 
+    /// Number of scalar points.
+    pub fn scalar_points(&self) -> usize {
+        self.scalar_ids.len()
+    }
+
+    /// SPOINT ids, in scalar point order.
+    pub fn scalar_ids(&self) -> &[u32] {
+        &self.scalar_ids
+    }
+
     /// Size of the g-set.
     pub fn size(&self) -> usize {
-        DOFS_PER_GRID * self.grid_ids.len()
+        DOFS_PER_GRID * self.grid_ids.len() + self.scalar_ids.len()
+    }
+
+    /// g index of the scalar point with index `k`.
+    pub fn scalar_dof(&self, k: usize) -> usize {
+        DOFS_PER_GRID * self.grid_ids.len() + k
+    }
+
+    /// The g indices of the scalar points, in scalar point order.
+    pub fn scalar_dofs(&self) -> std::ops::Range<usize> {
+        self.scalar_dof(0)..self.size()
+    }
+
+    /// g index of a grid component or scalar point.
+    pub fn point_dof(&self, point: PointDof) -> usize {
+        match point {
+            PointDof::Grid { grid, component0 } => DofMap::dof(grid, component0),
+            PointDof::Scalar(k) => self.scalar_dof(k),
+        }
     }
 
     /// g index of component `component0` (0-based) of grid index `grid`.
@@ -53,8 +101,16 @@ impl DofMap {
         DOFS_PER_GRID * grid..DOFS_PER_GRID * (grid + 1)
     }
 
-    /// (GRID id, component 1–6) of a g index, for messages; `None` past the end.
+    /// (GRID id, component 1–6) of a g index, or (SPOINT id, component 0), for messages;
+    /// `None` past the end.
     pub fn dof_name(&self, index: usize) -> Option<DofName> {
+        let grid_dofs = DOFS_PER_GRID * self.grid_ids.len();
+        if index >= grid_dofs {
+            return Some(DofName {
+                grid: *self.scalar_ids.get(index - grid_dofs)?,
+                component: 0,
+            });
+        }
         let grid = *self.grid_ids.get(index / DOFS_PER_GRID)?;
         Some(DofName {
             grid,

@@ -8,14 +8,18 @@ use crate::model::sets::SetError;
 /// A DOF as the user knows it: GRID id and component 1–6.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct DofName {
+    /// GRID id, or SPOINT id when `component` is 0.
     pub grid: u32,
-    /// Component 1–6 (T1 T2 T3 R1 R2 R3).
+    /// Component 1–6 (T1 T2 T3 R1 R2 R3), 0 for a scalar point.
     pub component: u8,
 }
 
 impl std::fmt::Display for DofName {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "GRID {} component {}", self.grid, self.component)
+        match self.component {
+            0 => write!(f, "SPOINT {}", self.grid),
+            c => write!(f, "GRID {} component {c}", self.grid),
+        }
     }
 }
 

@@ -5,6 +5,7 @@
 //! element contribution has it among its DOFs (a solid's grid: T1–T3; a shell's: all six). If two
 //! grids share an element, every pair of their active components is in the pattern; every DOF
 //! has its diagonal entry, active or not (AUTOSPC and the factorization rely on it). The pattern
+//! A scalar point is a block of one DOF after the grids' blocks. The pattern
 //! is a superset of the exact DOF pattern (a spring couples one component); the extra entries are
 //! stored zeros. Restricting the blocks to active components keeps solid meshes at 3 × 3 blocks
 //! (a quarter of the 6 × 6 entries: K, M and every operator derived from them). It is computed
@@ -19,30 +20,51 @@ use nalgebra_sparse::pattern::SparsityPattern;
 use super::dofs::DOFS_PER_GRID;
 use super::error::AssemblyError;
 
-/// Grid-block pattern (module doc) of a g-set of `grids` grids from the DOF lists of the element
-/// contributions (g indices). Errors on a DOF past the g-set.
+/// Grid-block pattern (module doc) of a g-set of `grids` grids followed by `scalars` scalar
+/// points (one DOF each, a block of one) from the DOF lists of the element contributions
+/// (g indices). Errors on a DOF past the g-set.
 pub fn grid_block_pattern<'a>(
     grids: usize,
+    scalars: usize,
     dof_lists: impl IntoIterator<Item = &'a [usize]>,
 ) -> Result<SparsityPattern, AssemblyError> {
-    let size = DOFS_PER_GRID * grids;
-    let mut adjacent: Vec<Vec<usize>> = (0..grids).map(|a| vec![a]).collect();
-    // bit c of active[a]: component c of grid a is a DOF of some contribution
-    let mut active = vec![0u8; grids];
-    let mut element_grids: Vec<usize> = Vec::new();
+    let grid_dofs = DOFS_PER_GRID * grids;
+    let size = grid_dofs + scalars;
+    let blocks = grids + scalars;
+    // block of a g index and its component in the block
+    let block_of = |d: usize| {
+        if d < grid_dofs {
+            (d / DOFS_PER_GRID, d % DOFS_PER_GRID)
+        } else {
+            (grids + d - grid_dofs, 0)
+        }
+    };
+    let start = |a: usize| {
+        if a < grids {
+            DOFS_PER_GRID * a
+        } else {
+            grid_dofs + a - grids
+        }
+    };
+    let width = |a: usize| if a < grids { DOFS_PER_GRID } else { 1 };
+    let mut adjacent: Vec<Vec<usize>> = (0..blocks).map(|a| vec![a]).collect();
+    // bit c of active[a]: component c of block a is a DOF of some contribution
+    let mut active = vec![0u8; blocks];
+    let mut element_blocks: Vec<usize> = Vec::new();
     for dofs in dof_lists {
-        element_grids.clear();
+        element_blocks.clear();
         for &d in dofs {
             if d >= size {
                 return Err(AssemblyError::DofOutOfRange { index: d, size });
             }
-            element_grids.push(d / DOFS_PER_GRID);
-            active[d / DOFS_PER_GRID] |= 1 << (d % DOFS_PER_GRID);
+            let (a, c) = block_of(d);
+            element_blocks.push(a);
+            active[a] |= 1 << c;
         }
-        element_grids.sort_unstable();
-        element_grids.dedup();
-        for &a in &element_grids {
-            adjacent[a].extend(element_grids.iter().copied().filter(|&b| b != a));
+        element_blocks.sort_unstable();
+        element_blocks.dedup();
+        for &a in &element_blocks {
+            adjacent[a].extend(element_blocks.iter().copied().filter(|&b| b != a));
         }
     }
     for list in &mut adjacent {
@@ -54,17 +76,17 @@ pub fn grid_block_pattern<'a>(
     let mut rows = Vec::new();
     offsets.push(0);
     for (a, list) in adjacent.iter().enumerate() {
-        for c in 0..DOFS_PER_GRID {
+        for c in 0..width(a) {
             if is_active(a, c) {
                 for &b in list {
                     rows.extend(
-                        (0..DOFS_PER_GRID)
+                        (0..width(b))
                             .filter(|&r| is_active(b, r) || (b == a && r == c))
-                            .map(|r| DOFS_PER_GRID * b + r),
+                            .map(|r| start(b) + r),
                     );
                 }
             } else {
-                rows.push(DOFS_PER_GRID * a + c);
+                rows.push(start(a) + c);
             }
             offsets.push(rows.len());
         }

@@ -75,6 +75,16 @@ impl SpcSet {
         for entry in &entries {
             let card = format!("{} {}", entry.card.name(), entry.set);
             for &g in &entry.grids {
+                if let Some(&k) = model.scalar_index.get(&g) {
+                    out.set(
+                        map,
+                        map.scalar_dof(k),
+                        entry.value,
+                        format!("{card} at {}", entry.loc),
+                        Some(sid),
+                    )?;
+                    continue;
+                }
                 let grid = grid_of(model, g, &card)?;
                 out.add_components(
                     map,
@@ -219,10 +229,13 @@ pub fn autospc(
     super::dofs::check_len("K_nn values", op.pattern().nnz(), k_nn.len())?;
     let diag = op.diagonal(k_nn);
     let max = diag.iter().fold(0.0_f64, |m, d| m.max(d.abs()));
-    // Largest diagonal of each (grid, translations | rotations) triple among the n-set DOFs.
+    // Largest diagonal of each (grid, translations | rotations) triple among the n-set DOFs; a
+    // scalar point is a group of its own (keys g / 3 < 2·grids never meet scalar g ≥ 6·grids).
+    let grid_dofs = map.size() - map.scalar_points();
+    let group = |g: usize| if g < grid_dofs { g / 3 } else { g };
     let mut triple_max: std::collections::HashMap<usize, f64> = std::collections::HashMap::new();
     for (k, &g) in n.members().iter().enumerate() {
-        let entry = triple_max.entry(g / 3).or_insert(0.0);
+        let entry = triple_max.entry(group(g)).or_insert(0.0);
         *entry = entry.max(diag[k].abs());
     }
     let mut report = AutoSpcReport {
@@ -233,7 +246,7 @@ pub fn autospc(
         if s_mask.get(g).copied().unwrap_or(false) {
             continue;
         }
-        let local = triple_max.get(&(g / 3)).copied().unwrap_or(0.0);
+        let local = triple_max.get(&group(g)).copied().unwrap_or(0.0);
         let d = diag[k].abs();
         if d <= AUTOSPC_RATIO * local {
             report.dofs.push(g);

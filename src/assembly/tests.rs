@@ -64,6 +64,7 @@ fn solve(model: &Model, contributions: &[Contribution]) -> Result<Solved, Assemb
     let frames = GridFrames::of_model(model);
     let pattern = Arc::new(grid_block_pattern(
         map.grids(),
+        map.scalar_points(),
         contributions.iter().map(|c| c.dofs.as_slice()),
     )?);
     let k_gg = AffineOperator::assemble(pattern, contributions, true)?;
@@ -362,7 +363,7 @@ fn load_combination_and_gravity() {
         Mat::from_fn(3, 3, |i, j| if i == j { 2.0 } else { 0.0 }),
     );
     let pattern =
-        Arc::new(grid_block_pattern(map.grids(), [mass.dofs.as_slice()]).expect("pattern"));
+        Arc::new(grid_block_pattern(map.grids(), 0, [mass.dofs.as_slice()]).expect("pattern"));
     let m_gg = AffineOperator::assemble(pattern, &[mass], false).expect("mass");
     let values = m_gg.parts()[0].1.clone();
     let p = load_vector(
@@ -462,8 +463,9 @@ fn affine_parts_share_one_pattern() {
         })
         .collect();
     let map = DofMap::new(vec![1, 2, 3]);
-    let pattern =
-        Arc::new(grid_block_pattern(3, parts.iter().map(|c| c.dofs.as_slice())).expect("pattern"));
+    let pattern = Arc::new(
+        grid_block_pattern(3, 0, parts.iter().map(|c| c.dofs.as_slice())).expect("pattern"),
+    );
     let k = AffineOperator::assemble(pattern.clone(), &parts, true).expect("assemble");
     let k_direct = AffineOperator::assemble(pattern.clone(), &direct, false).expect("assemble");
     assert_eq!(k.keys(), vec![ParamKey::Constant, e, rho]);
@@ -595,7 +597,7 @@ fn rigid_errors_are_typed() {
     );
     assert_eq!(map.dof_name(6), None);
     let bad = AffineOperator::assemble(
-        Arc::new(grid_block_pattern(1, [&[0usize][..]]).expect("p")),
+        Arc::new(grid_block_pattern(1, 0, [&[0usize][..]]).expect("p")),
         &[spring(1., 0, 40)],
         false,
     );
@@ -612,7 +614,7 @@ fn rigid_errors_are_typed() {
 fn pattern_blocks_hold_only_active_components() {
     let solid: Vec<usize> = (0..3).chain(6..9).collect();
     let spring = [8usize, 15];
-    let p = grid_block_pattern(3, [solid.as_slice(), &spring[..]]).expect("pattern");
+    let p = grid_block_pattern(3, 0, [solid.as_slice(), &spring[..]]).expect("pattern");
     let has = |r: usize, c: usize| super::pattern::entry_position(&p, r, c).is_some();
     assert!(has(0, 8) && has(8, 0) && has(7, 2));
     for d in 0..18 {

@@ -6,7 +6,9 @@
 //! | CQUAD4, CTRIA3 | PSHELL, each of MID1…MID4 MAT1 or MAT8 | [`ShellSection::pshell`]: MID1 membrane, MID2 bending with 12I/T³, MID3 transverse shear with TS/T (MAT1 G, MAT8 G1Z/G2Z), MID4 membrane–bending coupling; MID1 blank = no membrane, MID2 blank = membrane only, MID3 blank = Kirchhoff penalty (see [`PshellSection`]) |
 //! | CQUAD4, CTRIA3 | PCOMP (plies MAT8 or MAT1) | [`ShellSection::laminate`] of the full ply stack ([`crate::model::properties::LaminateProperty`]), bottom at Z0 + ZOFFS, NSM |
 //! | CHEXA, CPENTA, CTETRA | PSOLID + MAT1 | [`solid`] (translations, expanded to 6 DOFs per grid) |
-//! | CELAS1 / CELAS2 | PELAS k / k on the card | [`ScalarSpring`], components in the grid's CD frame (as in Nastran) |
+//! | CELAS1–CELAS4 | PELAS k (CELAS1, CELAS3) / k on the card (CELAS2, CELAS4) | [`ScalarSpring`] between g DOFs: grid components in the grid's CD frame (as in Nastran) or scalar points |
+//! | CBUSH | PBUSH K1–K6 | [`bush`]: six springs along and about the element axes at the spring location |
+//! | CDAMP1–CDAMP4, CVISC | PDAMP / B on the card, PVISC | nothing: no stiffness or mass (viscous damping is refused by the solutions that would use it) |
 //! | CONM2 | — | [`Conm2`] with the CG offset and inertia tensor from [`Model::element_mass`] |
 //! | CROD, CTUBE, CONROD | PROD, PTUBE / on the card + MAT1 | [`beam`] without bending (axial, torsion) |
 //! | CBAR, CBEAM | PBAR, PBARL / PBEAM, PBEAML + MAT1 | [`beam`]: offsets, orientation vector, pin flags ([`Model::line_element`]) |
@@ -50,13 +52,13 @@ use super::DiscretizeError;
 use super::parameters::Parameters;
 use crate::assembly::assemble::Binding;
 use crate::assembly::{Contribution, DofMap, GridFrames, ParamTarget};
-use crate::card_values::{CornerThickness, PmparKind, ShellOrientation, SpringEnd};
+use crate::card_values::{CornerThickness, PmparKind, ShellOrientation};
 use crate::fe::affine::{AffineMatrix, Coefficient, CoefficientValues};
 use crate::fe::laminate::{
     Laminate, Ply, PshellSection, RoleMaterial, SectionData, SectionError, SectionParameter,
     ShellMaterial, ShellSection, affine_sections,
 };
-use crate::fe::lumped::{Conm2, GridComponent, ScalarSpring};
+use crate::fe::lumped::{Conm2, ScalarSpring};
 use crate::fe::{beam, shell, solid};
 use crate::linalg::Progress;
 use crate::model::materials::Material;
@@ -102,6 +104,8 @@ struct Built {
 /// What every element's wiring needs.
 struct ElementContext<'a> {
     model: &'a Model,
+    /// The g-set numbering (scalar elements place their DOFs directly).
+    map: DofMap,
     frames: &'a GridFrames,
     params: &'a Parameters,
     /// Lumped mass (PARAM,COUPMASS ≠ 1).
@@ -124,6 +128,7 @@ pub fn element_matrices(
     let step = (total / 100).max(1);
     let ctx = ElementContext {
         model,
+        map: DofMap::of_model(model),
         frames,
         params,
         lumped: model.params.coupmass != 1,
@@ -193,7 +198,17 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> 
         ElementKind::Hexa8 | ElementKind::Penta6 | ElementKind::Tetra4 | ElementKind::Tetra10 => {
             solid_element(ctx, e, &xyz)?
         }
-        ElementKind::Celas1 | ElementKind::Celas2 => spring_element(ctx, e)?,
+        ElementKind::Celas1 | ElementKind::Celas2 | ElementKind::Celas3 | ElementKind::Celas4 => {
+            spring_element(ctx, e)?
+        }
+        // viscous dampers have no stiffness or mass; the solutions refuse them where their
+        // damping would matter
+        ElementKind::Cdamp1
+        | ElementKind::Cdamp2
+        | ElementKind::Cdamp3
+        | ElementKind::Cdamp4
+        | ElementKind::Cvisc => Built::default(),
+        ElementKind::Cbush => bush_element(ctx, e)?,
         ElementKind::Conm2 => conm2_element(ctx, e)?,
         ElementKind::Crod
         | ElementKind::Conrod
@@ -942,28 +957,8 @@ fn on_dofs(
     c
 }
 
-fn spring_end(
-    model: &Model,
-    e: &Element,
-    end: SpringEnd,
-) -> Result<Option<GridComponent>, DiscretizeError> {
-    match end.grid {
-        Some(g) if end.component > 0 => {
-            let grid = *model
-                .grid_index
-                .get(&g)
-                .ok_or_else(|| err(e, format!("grid {g} missing")))?;
-            Ok(Some(GridComponent {
-                grid,
-                component: usize::from(end.component) - 1,
-            }))
-        }
-        _ => Ok(None),
-    }
-}
-
-/// A spring; `PMPAR K` on its PELAS makes k a parameter (eq. 3.23). CELAS2 carries k on the
-/// card, which no PMPAR can reach.
+/// A spring; `PMPAR K` on its PELAS makes k a parameter (eq. 3.23). CELAS2 / CELAS4 carry k on
+/// the card, which no PMPAR can reach.
 fn spring_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> {
     let model = ctx.model;
     let Spring { stiffness, ends } = model.spring(e).ok_or_else(|| err(e, "card missing"))?;
@@ -976,16 +971,9 @@ fn spring_element(ctx: &ElementContext, e: &Element) -> Result<Built, Discretize
         }
         SpringStiffness::OnCard(k) => (k, None),
     };
-    let spring = ScalarSpring::new(
-        spring_end(model, e, ends[0])?,
-        spring_end(model, e, ends[1])?,
-    )
-    .map_err(|x| err(e, x))?;
-    let dofs = spring
-        .dofs
-        .iter()
-        .map(|d| DofMap::dof(d.grid, d.component))
-        .collect();
+    let [a, b] = ends.map(|end| model.point_dof(end).map(|p| ctx.map.point_dof(p)));
+    let spring = ScalarSpring::new(a, b).map_err(|x| err(e, x))?;
+    let dofs = spring.dofs.clone();
     let nominal = CoefficientValues {
         lumped: k,
         ..Default::default()
@@ -999,6 +987,27 @@ fn spring_element(ctx: &ElementContext, e: &Element) -> Result<Built, Discretize
         m: None,
         shell: None,
         frozen: None,
+    })
+}
+
+/// A CBUSH: K1–K6 of its PBUSH at the spring location (frozen: no PMPAR reaches a PBUSH).
+fn bush_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> {
+    let placement = ctx
+        .model
+        .bush(e)
+        .ok_or_else(|| err(e, "card missing"))?
+        .map_err(|reason| err(e, reason))?;
+    let matrix = AffineMatrix {
+        parts: vec![(Coefficient::Constant, placement.bush.stiffness(placement.k))],
+    };
+    Ok(Built {
+        k: Some(Contribution::from_affine(
+            ctx.frames,
+            &e.nodes,
+            &matrix,
+            bind(None, CoefficientValues::default()),
+        )),
+        ..Built::default()
     })
 }
 

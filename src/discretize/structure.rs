@@ -73,6 +73,7 @@ impl Structure {
                 .map(|c| c.dofs.as_slice());
             let pattern = Arc::new(crate::assembly::pattern::grid_block_pattern(
                 map.grids(),
+                map.scalar_points(),
                 lists,
             )?);
             let k =
@@ -126,9 +127,10 @@ impl Structure {
         self.params.weights(op, &self.params.nominal())
     }
 
-    /// u_g (global frames) → n × 6 rows in basic.
+    /// u_g (global frames) → n × 6 grid rows in basic, followed by the scalar point values
+    /// (which have no frame) in [`DofMap::scalar_ids`](crate::assembly::DofMap::scalar_ids) order.
     pub fn to_basic_rows(&self, u_g: &[f64]) -> Vec<f64> {
-        let mut out = vec![0.0; u_g.len()];
+        let mut out = u_g.to_vec();
         for grid in 0..self.map.grids() {
             let b = 6 * grid;
             let t = self.frames.to_basic(grid, [u_g[b], u_g[b + 1], u_g[b + 2]]);

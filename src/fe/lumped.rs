@@ -1,12 +1,11 @@
 //! Lumped elements: scalar springs CELAS1/CELAS2 and the concentrated mass CONM2
 //! (DESIGN.md §4; thesis eq. 3.23 and 3.25).
 //!
-//! These act on single DOFs, so instead of a 6·n block they return a small matrix together with
-//! the list of DOFs its rows and columns refer to. A DOF is a [`GridComponent`]: the caller's
-//! grid index (whatever the assembly uses; the kernels never interpret it) and a 0-based
-//! component 0..6 = T1 T2 T3 R1 R2 R3 in the basic system, as in [`crate::fe`].
+//! A spring acts on single DOFs, so instead of a 6·n block it returns a small matrix together
+//! with the list of DOFs its rows and columns refer to: the caller's DOF indices (a grid
+//! component or a scalar point; the kernel never interprets them).
 //!
-//! # Scalar spring (CELAS1, CELAS2)
+//! # Scalar spring (CELAS1–CELAS4)
 //! Between DOFs a and b: `K = k [[1, −1], [−1, 1]]` over (a, b); grounded (one grid blank):
 //! `K = [k]` on the remaining DOF. Affine in k (eq. 3.23): one [`Coefficient::Lumped`] part with
 //! the k = 1 matrix. The CELAS2 damping GE and stress coefficient S are not part of K.
@@ -30,25 +29,13 @@ use super::affine::{AffineMatrix, Coefficient};
 use crate::geometry::vec3::{dot, skew};
 use faer::Mat;
 
-/// One DOF of a lumped element: the caller's grid index and a 0-based component
-/// (0..3 = T1..T3, 3..6 = R1..R3).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct GridComponent {
-    pub grid: usize,
-    pub component: usize,
-}
-
 /// Errors of the lumped elements.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum LumpedError {
-    #[error("scalar spring: component {component} of grid {grid} is out of range (0..6 = T1..R3)")]
-    ComponentOutOfRange { grid: usize, component: usize },
-    #[error("scalar spring: both ends are grounded; at least one grid is required")]
+    #[error("scalar spring: both ends are grounded; at least one grid or scalar point is required")]
     BothEndsGrounded,
-    #[error(
-        "scalar spring: both ends are the same DOF (grid index {grid}, 0-based component {component}); the spring would do nothing"
-    )]
-    SameDof { grid: usize, component: usize },
+    #[error("scalar spring: both ends are the same DOF ({dof}); the spring would do nothing")]
+    SameDof { dof: usize },
     #[error("CONM2: {what} is not finite")]
     NotFinite { what: &'static str },
     #[error("CONM2: inertia tensor is not symmetric (J[{i}][{j}] = {a:e}, J[{j}][{i}] = {b:e})")]
@@ -59,33 +46,20 @@ pub enum LumpedError {
     ZeroMassParameter,
 }
 
-/// A CELAS1/CELAS2 spring: DOFs and the stiffness at k = 1.
+/// A CELAS1–CELAS4 spring: DOFs and the stiffness at k = 1.
 #[derive(Debug, Clone)]
 pub struct ScalarSpring {
     /// The DOFs of the rows and columns of [`ScalarSpring::stiffness`]: one (grounded) or two.
-    pub dofs: Vec<GridComponent>,
+    pub dofs: Vec<usize>,
     unit: Mat<f64>,
 }
 
 impl ScalarSpring {
-    /// Spring between `a` and `b`; `None` is a grounded end.
-    pub fn new(a: Option<GridComponent>, b: Option<GridComponent>) -> Result<Self, LumpedError> {
-        for end in [a, b].into_iter().flatten() {
-            if end.component >= 6 {
-                return Err(LumpedError::ComponentOutOfRange {
-                    grid: end.grid,
-                    component: end.component,
-                });
-            }
-        }
+    /// Spring between DOFs `a` and `b`; `None` is a grounded end.
+    pub fn new(a: Option<usize>, b: Option<usize>) -> Result<Self, LumpedError> {
         let (dofs, unit) = match (a, b) {
             (None, None) => return Err(LumpedError::BothEndsGrounded),
-            (Some(a), Some(b)) if a == b => {
-                return Err(LumpedError::SameDof {
-                    grid: a.grid,
-                    component: a.component,
-                });
-            }
+            (Some(a), Some(b)) if a == b => return Err(LumpedError::SameDof { dof: a }),
             (Some(a), Some(b)) => (
                 vec![a, b],
                 Mat::from_fn(2, 2, |i, j| if i == j { 1.0 } else { -1.0 }),
@@ -200,14 +174,7 @@ mod tests {
 
     #[test]
     fn spring_between_two_dofs_and_grounded() {
-        let a = GridComponent {
-            grid: 7,
-            component: 2,
-        };
-        let b = GridComponent {
-            grid: 9,
-            component: 4,
-        };
+        let (a, b) = (44, 58);
         let s = ScalarSpring::new(Some(a), Some(b)).unwrap();
         assert_eq!(s.dofs, vec![a, b]);
         let k = s.stiffness(3.5);
@@ -229,18 +196,7 @@ mod tests {
         );
         assert!(matches!(
             ScalarSpring::new(Some(a), Some(a)),
-            Err(LumpedError::SameDof {
-                grid: 7,
-                component: 2
-            })
-        ));
-        let bad = GridComponent {
-            grid: 1,
-            component: 6,
-        };
-        assert!(matches!(
-            ScalarSpring::new(Some(bad), None),
-            Err(LumpedError::ComponentOutOfRange { .. })
+            Err(LumpedError::SameDof { dof: 44 })
         ));
     }
 

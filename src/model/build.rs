@@ -40,12 +40,15 @@ impl Model {
         );
         let coords = coords::resolve(&bulk.coords, &mut errors);
         let (grids, grid_index) = build_grids(bulk, &coords, &mut errors);
+        let (scalar_points, scalar_index) =
+            super::scalar_points::build(bulk, &grid_index, &mut errors);
         let properties = index_properties(bulk, &mut errors);
         let materials = index_materials(bulk, &mut errors);
         let refs = Refs {
             bulk,
             coords: &coords,
             grid_index: &grid_index,
+            scalar_index: &scalar_index,
             properties: &properties,
             materials: &materials,
         };
@@ -81,6 +84,8 @@ impl Model {
             sol: deck.executive.sol.as_ref().map(|(s, _)| *s),
             grids,
             grid_index,
+            scalar_points,
+            scalar_index,
             coords,
             elements,
             element_index,
@@ -96,6 +101,7 @@ impl Model {
         // the pressure cards' faces need the built elements and grids
         errors.extend(super::pressure::check(&model, &declared_elements));
         errors.extend(super::line_loads::check(&model, &declared_elements));
+        errors.extend(super::bush::check(&model));
         if !errors.is_empty() {
             errors.sort_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));
             return Err(errors);
@@ -113,6 +119,8 @@ pub struct Refs<'a> {
     pub bulk: &'a BulkData,
     pub coords: &'a HashMap<u32, CoordSystem>,
     pub grid_index: &'a HashMap<u32, usize>,
+    /// Scalar point id → index into [`Model::scalar_points`].
+    pub scalar_index: &'a HashMap<u32, usize>,
     pub properties: &'a HashMap<u32, PropertyRef>,
     pub materials: &'a HashMap<u32, MaterialRef>,
 }
@@ -132,6 +140,29 @@ impl Refs<'_> {
             errors.push(
                 DeckError::at(loc, format!("{field} = {id} does not exist (no GRID {id})"))
                     .on_card(card),
+            );
+        }
+        found
+    }
+
+    /// True when `id` is a grid or a scalar point; otherwise an error "`FIELD = id` does not
+    /// exist" on `card` at `loc`.
+    pub fn point(
+        &self,
+        id: u32,
+        field: &str,
+        card: &str,
+        loc: &Loc,
+        errors: &mut Vec<DeckError>,
+    ) -> bool {
+        let found = self.grid_index.contains_key(&id) || self.scalar_index.contains_key(&id);
+        if !found {
+            errors.push(
+                DeckError::at(
+                    loc,
+                    format!("{field} = {id} does not exist (no GRID or SPOINT {id})"),
+                )
+                .on_card(card),
             );
         }
         found
@@ -293,6 +324,24 @@ fn index_properties(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32
             .map(|(i, p)| entry(p.id, "PELAS", &p.loc, PropertyRef::Pelas(i))),
     );
     entries.extend(
+        bulk.pdamp
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PDAMP", &p.loc, PropertyRef::Pdamp(i))),
+    );
+    entries.extend(
+        bulk.pvisc
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PVISC", &p.loc, PropertyRef::Pvisc(i))),
+    );
+    entries.extend(
+        bulk.pbush
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PBUSH", &p.loc, PropertyRef::Pbush(i))),
+    );
+    entries.extend(
         bulk.prod
             .iter()
             .enumerate()
@@ -382,6 +431,13 @@ fn element_id_space(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32
             .iter()
             .map(|c| entry(c.id, "CELAS2", &c.loc, ())),
     );
+    for (name, id, _, loc) in super::scalar_points::scalar_element_ends(bulk) {
+        if !matches!(name, "CELAS1" | "CELAS2") {
+            e.push(entry(id, name, loc, ()));
+        }
+    }
+    e.extend(bulk.cvisc.iter().map(|c| entry(c.id, "CVISC", &c.loc, ())));
+    e.extend(bulk.cbush.iter().map(|c| entry(c.id, "CBUSH", &c.loc, ())));
     e.extend(bulk.conm2.iter().map(|c| entry(c.id, "CONM2", &c.loc, ())));
     e.extend(bulk.crod.iter().map(|c| entry(c.id, "CROD", &c.loc, ())));
     e.extend(bulk.ctube.iter().map(|c| entry(c.id, "CTUBE", &c.loc, ())));
@@ -625,30 +681,86 @@ fn build_elements(
             nodes,
         });
     }
-    for (i, c) in b.celas1.iter().enumerate() {
-        let card = format!("CELAS1 {}", c.id);
-        let ids: Vec<u32> = c.ends.iter().filter_map(|e| e.grid).collect();
-        let nodes = resolve_nodes_allow_same(refs, &ids, &card, &c.loc, errors);
-        let prop = resolve_property(refs, c.pid, &["PELAS"], &card, &c.loc, errors);
+    let scalar_cards = [
+        (ElementKind::Celas1, &b.celas1, Some("PELAS")),
+        (ElementKind::Celas3, &b.celas3, Some("PELAS")),
+        (ElementKind::Cdamp1, &b.cdamp1, Some("PDAMP")),
+        (ElementKind::Cdamp3, &b.cdamp3, Some("PDAMP")),
+    ]
+    .into_iter()
+    .flat_map(|(kind, cards, property)| {
+        cards
+            .iter()
+            .enumerate()
+            .map(move |(i, c)| (kind, i, c.id, Some(c.pid), property, c.ends, &c.loc))
+    });
+    let on_card = [
+        (ElementKind::Celas2, &b.celas2),
+        (ElementKind::Celas4, &b.celas4),
+        (ElementKind::Cdamp2, &b.cdamp2),
+        (ElementKind::Cdamp4, &b.cdamp4),
+    ]
+    .into_iter()
+    .flat_map(|(kind, cards)| {
+        cards
+            .iter()
+            .enumerate()
+            .map(move |(i, c)| (kind, i, c.id, None, None, c.ends, &c.loc))
+    });
+    for (kind, i, id, pid, property, ends, loc) in scalar_cards.chain(on_card) {
+        let card = format!("{} {id}", kind.card());
+        let nodes = scalar_element_grids(refs, &ends, &card, loc, errors);
+        let prop = match (pid, property) {
+            (Some(pid), Some(name)) => resolve_property(refs, pid, &[name], &card, loc, errors),
+            _ => None,
+        };
         if let Some(nodes) = nodes {
             out.push(Element {
-                id: c.id,
-                kind: ElementKind::Celas1,
+                id,
+                kind,
                 card: i,
                 property: prop,
                 nodes,
             });
         }
     }
-    for (i, c) in b.celas2.iter().enumerate() {
-        let card = format!("CELAS2 {}", c.id);
-        let ids: Vec<u32> = c.ends.iter().filter_map(|e| e.grid).collect();
-        if let Some(nodes) = resolve_nodes_allow_same(refs, &ids, &card, &c.loc, errors) {
+    for (i, c) in b.cvisc.iter().enumerate() {
+        let card = format!("CVISC {}", c.id);
+        let nodes = resolve_nodes(refs, &c.grids, &G, &card, &c.loc, errors);
+        let prop = resolve_property(refs, c.pid, &["PVISC"], &card, &c.loc, errors);
+        if let Some(nodes) = nodes {
             out.push(Element {
                 id: c.id,
-                kind: ElementKind::Celas2,
+                kind: ElementKind::Cvisc,
                 card: i,
-                property: None,
+                property: prop,
+                nodes,
+            });
+        }
+    }
+    for (i, c) in b.cbush.iter().enumerate() {
+        let card = format!("CBUSH {}", c.id);
+        let ids: Vec<u32> = std::iter::once(c.ga).chain(c.gb).collect();
+        let nodes = resolve_nodes(refs, &ids, &["GA", "GB"], &card, &c.loc, errors);
+        let prop = resolve_property(refs, c.pid, &["PBUSH"], &card, &c.loc, errors);
+        match c.axes {
+            crate::deck::cards::BushAxes::System(cid) => {
+                refs.coord(cid, "CID", &card, &c.loc, errors);
+            }
+            crate::deck::cards::BushAxes::Grid(go) => {
+                refs.grid(go, "GO", &card, &c.loc, errors);
+            }
+            _ => {}
+        }
+        if let Ok(ocid @ 0..) = u32::try_from(c.ocid) {
+            refs.coord(ocid, "OCID", &card, &c.loc, errors);
+        }
+        if let Some(nodes) = nodes {
+            out.push(Element {
+                id: c.id,
+                kind: ElementKind::Cbush,
+                card: i,
+                property: prop,
                 nodes,
             });
         }
@@ -804,26 +916,36 @@ fn build_lines(
     }
 }
 
-/// Spring ends may be two components of one grid, so repeats are allowed.
-fn resolve_nodes_allow_same(
+/// The grid indices of a scalar element's ends that are grids (component 1–6); a scalar point
+/// end (component 0) must name a scalar point, not a GRID.
+fn scalar_element_grids(
     refs: &Refs,
-    ids: &[u32],
+    ends: &[crate::card_values::SpringEnd; 2],
     card: &str,
     loc: &Loc,
     errors: &mut Vec<DeckError>,
 ) -> Option<Vec<usize>> {
     let mut ok = true;
     let mut out = Vec::new();
-    for (k, &id) in ids.iter().enumerate() {
-        match refs.grid(
-            id,
-            ["G1", "G2"].get(k).copied().unwrap_or("G"),
-            card,
-            loc,
-            errors,
-        ) {
-            Some(i) => out.push(i),
-            None => ok = false,
+    for (k, end) in ends.iter().enumerate() {
+        let Some(id) = end.grid else { continue };
+        let field = ["G1", "G2"][k];
+        if end.component == 0 {
+            if refs.grid_index.contains_key(&id) {
+                errors.push(
+                    DeckError::at(
+                        loc,
+                        format!("{field} = {id} is a GRID: give its component 1-6 (component 0 or blank names a scalar point)"),
+                    )
+                    .on_card(card),
+                );
+                ok = false;
+            }
+        } else {
+            match refs.grid(id, field, card, loc, errors) {
+                Some(i) => out.push(i),
+                None => ok = false,
+            }
         }
     }
     ok.then_some(out)

@@ -142,7 +142,16 @@ impl Model {
                     inertia: None,
                 })
             }
-            ElementKind::Celas1 | ElementKind::Celas2 => None,
+            ElementKind::Celas1
+            | ElementKind::Celas2
+            | ElementKind::Celas3
+            | ElementKind::Celas4
+            | ElementKind::Cdamp1
+            | ElementKind::Cdamp2
+            | ElementKind::Cdamp3
+            | ElementKind::Cdamp4
+            | ElementKind::Cvisc
+            | ElementKind::Cbush => None,
             ElementKind::Conm2 => self.conm2_mass(self.bulk.conm2.get(e.card)?, *p.first()?),
             ElementKind::Crod
             | ElementKind::Conrod

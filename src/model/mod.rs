@@ -23,6 +23,7 @@
 //! [`sensors`]; rigid elements carry their own data ([`RigidKind`]).
 
 pub mod build;
+pub mod bush;
 pub mod case;
 pub mod coords;
 pub mod dynamic_loads;
@@ -40,6 +41,7 @@ pub mod params;
 pub mod pmpar;
 pub mod pressure;
 pub mod properties;
+pub mod scalar_points;
 pub mod sensors;
 pub mod sets;
 pub mod summary;
@@ -84,6 +86,14 @@ pub enum ElementKind {
     Tetra10,
     Celas1,
     Celas2,
+    Celas3,
+    Celas4,
+    Cdamp1,
+    Cdamp2,
+    Cdamp3,
+    Cdamp4,
+    Cvisc,
+    Cbush,
     Conm2,
     Crod,
     Conrod,
@@ -103,6 +113,14 @@ impl ElementKind {
             ElementKind::Tetra4 | ElementKind::Tetra10 => "CTETRA",
             ElementKind::Celas1 => "CELAS1",
             ElementKind::Celas2 => "CELAS2",
+            ElementKind::Celas3 => "CELAS3",
+            ElementKind::Celas4 => "CELAS4",
+            ElementKind::Cdamp1 => "CDAMP1",
+            ElementKind::Cdamp2 => "CDAMP2",
+            ElementKind::Cdamp3 => "CDAMP3",
+            ElementKind::Cdamp4 => "CDAMP4",
+            ElementKind::Cvisc => "CVISC",
+            ElementKind::Cbush => "CBUSH",
             ElementKind::Conm2 => "CONM2",
             ElementKind::Crod => "CROD",
             ElementKind::Conrod => "CONROD",
@@ -131,6 +149,27 @@ impl ElementKind {
         }
     }
 
+    /// True for the scalar springs CELAS1–CELAS4.
+    pub fn is_scalar_spring(self) -> bool {
+        matches!(
+            self,
+            ElementKind::Celas1 | ElementKind::Celas2 | ElementKind::Celas3 | ElementKind::Celas4
+        )
+    }
+
+    /// True for the viscous dampers CDAMP1–CDAMP4 and CVISC, whose matrices go into no
+    /// solution paraflex runs (statics and real modes ignore them, as Nastran does).
+    pub fn is_damper(self) -> bool {
+        matches!(
+            self,
+            ElementKind::Cdamp1
+                | ElementKind::Cdamp2
+                | ElementKind::Cdamp3
+                | ElementKind::Cdamp4
+                | ElementKind::Cvisc
+        )
+    }
+
     /// True for CQUAD4 and CTRIA3.
     pub fn is_shell(self) -> bool {
         matches!(self, ElementKind::Quad4 | ElementKind::Tria3)
@@ -156,6 +195,9 @@ pub enum PropertyRef {
     Pcomp(usize),
     Psolid(usize),
     Pelas(usize),
+    Pdamp(usize),
+    Pvisc(usize),
+    Pbush(usize),
     Prod(usize),
     Ptube(usize),
     Pbar(usize),
@@ -172,6 +214,9 @@ impl PropertyRef {
             PropertyRef::Pcomp(_) => "PCOMP",
             PropertyRef::Psolid(_) => "PSOLID",
             PropertyRef::Pelas(_) => "PELAS",
+            PropertyRef::Pdamp(_) => "PDAMP",
+            PropertyRef::Pvisc(_) => "PVISC",
+            PropertyRef::Pbush(_) => "PBUSH",
             PropertyRef::Prod(_) => "PROD",
             PropertyRef::Ptube(_) => "PTUBE",
             PropertyRef::Pbar(_) => "PBAR",
@@ -208,7 +253,8 @@ pub struct Element {
     pub card: usize,
     /// The property, for elements that have one.
     pub property: Option<PropertyRef>,
-    /// Grid indices into [`Model::grids`], in card order (grounded spring ends omitted).
+    /// Grid indices into [`Model::grids`], in card order (grounded and scalar-point ends of
+    /// scalar elements omitted).
     pub nodes: Vec<usize>,
 }
 
@@ -265,6 +311,10 @@ pub struct Model {
     pub grids: Vec<GridPoint>,
     /// Grid id → index into [`Model::grids`].
     pub grid_index: HashMap<u32, usize>,
+    /// Scalar point ids, sorted ([`scalar_points`]).
+    pub scalar_points: Vec<u32>,
+    /// Scalar point id → index into [`Model::scalar_points`].
+    pub scalar_index: HashMap<u32, usize>,
     /// Coordinate systems by id (basic = 0 included).
     pub coords: HashMap<u32, CoordSystem>,
     /// Elements sorted by id.

@@ -5,6 +5,7 @@
 //! ([`Model::spring`]).
 
 use super::materials::Material;
+use super::scalar_points::PointDof;
 use super::{Element, ElementKind, Model, PropertyRef};
 use crate::card_values::{CornerThickness, ShellOrientation, SpringEnd};
 
@@ -81,13 +82,13 @@ pub enum ShellProperty {
 /// How stiff a scalar spring is.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum SpringStiffness {
-    /// CELAS1: K of its PELAS (`None`: PID names no PELAS).
+    /// CELAS1 / CELAS3: K of its PELAS (`None`: PID names no PELAS).
     Property { pid: u32, k: Option<f64> },
-    /// CELAS2: K on the card.
+    /// CELAS2 / CELAS4: K on the card.
     OnCard(f64),
 }
 
-/// A scalar spring (CELAS1, CELAS2).
+/// A scalar spring (CELAS1–CELAS4); an end is a grid component, a scalar point or ground.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Spring {
     pub stiffness: SpringStiffness,
@@ -174,25 +175,64 @@ impl Model {
         Some((p.id, self.material_use(p.mid)))
     }
 
-    /// The stiffness and ends of a CELAS1 / CELAS2 element.
+    /// The stiffness and ends of a CELAS1–CELAS4 element.
     pub fn spring(&self, e: &Element) -> Option<Spring> {
         let b = &self.bulk;
+        let on_card = |c: &crate::deck::cards::Celas2| Spring {
+            stiffness: SpringStiffness::OnCard(c.k),
+            ends: c.ends,
+        };
         match e.kind {
-            ElementKind::Celas1 => b.celas1.get(e.card).map(|c| Spring {
-                stiffness: SpringStiffness::Property {
-                    pid: c.pid,
-                    k: match e.property {
-                        Some(PropertyRef::Pelas(i)) => b.pelas.get(i).map(|p| p.k),
-                        _ => None,
+            ElementKind::Celas1 | ElementKind::Celas3 => {
+                let cards = if e.kind == ElementKind::Celas1 {
+                    &b.celas1
+                } else {
+                    &b.celas3
+                };
+                cards.get(e.card).map(|c| Spring {
+                    stiffness: SpringStiffness::Property {
+                        pid: c.pid,
+                        k: match e.property {
+                            Some(PropertyRef::Pelas(i)) => b.pelas.get(i).map(|p| p.k),
+                            _ => None,
+                        },
                     },
-                },
-                ends: c.ends,
-            }),
-            ElementKind::Celas2 => b.celas2.get(e.card).map(|c| Spring {
-                stiffness: SpringStiffness::OnCard(c.k),
-                ends: c.ends,
-            }),
+                    ends: c.ends,
+                })
+            }
+            ElementKind::Celas2 => b.celas2.get(e.card).map(on_card),
+            ElementKind::Celas4 => b.celas4.get(e.card).map(on_card),
             _ => None,
+        }
+    }
+
+    /// The elements with viscous damping ("CDAMP2 7", "CBUSH 3" when its PBUSH has a B), at
+    /// most `limit` of them: their damping matrix goes into no solution of this version, so
+    /// only statics and real modes (which ignore it, as Nastran does) run them.
+    pub fn viscous_damping_elements(&self, limit: usize) -> Vec<String> {
+        self.elements
+            .iter()
+            .filter(|e| {
+                e.kind.is_damper()
+                    || (e.kind == ElementKind::Cbush
+                        && matches!(e.property, Some(PropertyRef::Pbush(i))
+                            if self.bulk.pbush.get(i).is_some_and(|p| p.b.iter().any(|&b| b != 0.0))))
+            })
+            .take(limit)
+            .map(|e| format!("{} {}", e.kind.card(), e.id))
+            .collect()
+    }
+
+    /// The DOF of a scalar element end: a grid component, a scalar point, or `None` for ground
+    /// (or an id the model check has already reported).
+    pub fn point_dof(&self, end: SpringEnd) -> Option<PointDof> {
+        let id = end.grid?;
+        match end.component {
+            0 => self.scalar_index.get(&id).map(|&k| PointDof::Scalar(k)),
+            c => self.grid_index.get(&id).map(|&grid| PointDof::Grid {
+                grid,
+                component0: usize::from(c) - 1,
+            }),
         }
     }
 }

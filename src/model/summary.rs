@@ -61,7 +61,7 @@ impl Model {
             grids: self.grids.len(),
             elements,
             rigid,
-            dofs: 6 * self.grids.len(),
+            dofs: 6 * self.grids.len() + self.scalar_points.len(),
             mass: mp.mass,
             cg: mp.cg,
             inertia_cg: mp.inertia_cg,
@@ -87,12 +87,16 @@ impl Model {
     }
 
     /// Grids and connectivity as flat arrays (see [`MeshArrays`]). Blocks are in the order
-    /// CQUAD4, CTRIA3, CHEXA, CPENTA, CTETRA, CTETRA10, CELAS1, CELAS2, CONM2, CROD, CONROD, CTUBE, CBAR, CBEAM, RBE2, RBE3.
+    /// CQUAD4, CTRIA3, CHEXA, CPENTA, CTETRA, CTETRA10, CELAS1–CELAS4, CDAMP1–CDAMP4, CVISC, CBUSH, CONM2, CROD, CONROD, CTUBE, CBAR, CBEAM, RBE2, RBE3.
     pub fn mesh_arrays(&self) -> MeshArrays {
         let mut blocks: BTreeMap<ElementKind, ElementBlock> = BTreeMap::new();
         for e in &self.elements {
+            if e.nodes.is_empty() {
+                // a scalar element between scalar points and ground has no place in the mesh
+                continue;
+            }
             let per = match e.kind {
-                ElementKind::Celas1 | ElementKind::Celas2 => 2,
+                k if k.is_scalar_spring() || k.is_damper() || k == ElementKind::Cbush => 2,
                 _ => e.nodes.len(),
             };
             let block = blocks.entry(e.kind).or_insert_with(|| ElementBlock {
@@ -147,12 +151,21 @@ impl Model {
             ElementKind::Penta6 => b.cpenta.get(e.card).map(|c| c.pid),
             ElementKind::Tetra4 | ElementKind::Tetra10 => b.ctetra.get(e.card).map(|c| c.pid),
             ElementKind::Celas1 => b.celas1.get(e.card).map(|c| c.pid),
+            ElementKind::Celas3 => b.celas3.get(e.card).map(|c| c.pid),
+            ElementKind::Cdamp1 => b.cdamp1.get(e.card).map(|c| c.pid),
+            ElementKind::Cdamp3 => b.cdamp3.get(e.card).map(|c| c.pid),
+            ElementKind::Cvisc => b.cvisc.get(e.card).map(|c| c.pid),
+            ElementKind::Cbush => b.cbush.get(e.card).map(|c| c.pid),
             ElementKind::Crod => b.crod.get(e.card).map(|c| c.pid),
             ElementKind::Ctube => b.ctube.get(e.card).map(|c| c.pid),
             ElementKind::Cbar => b.cbar.get(e.card).map(|c| c.pid),
             ElementKind::Cbeam => b.cbeam.get(e.card).map(|c| c.pid),
             ElementKind::Conrod => None,
-            ElementKind::Celas2 | ElementKind::Conm2 => None,
+            ElementKind::Celas2
+            | ElementKind::Celas4
+            | ElementKind::Cdamp2
+            | ElementKind::Cdamp4
+            | ElementKind::Conm2 => None,
         }
         .unwrap_or(0)
     }

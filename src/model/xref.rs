@@ -27,7 +27,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use crate::card_values::{ForceKind, SensorKind};
+use crate::card_values::{Dofs, ForceKind, SensorKind};
 use crate::deck::cards::{ParamValue, TloadFunction};
 use crate::deck::{Deck, DeckError, Loc};
 
@@ -158,12 +158,34 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
     }
 
     // grids and systems of constraints and loads
-    for s in &b.spc {
-        refs.grid(s.grid, "G", &format!("SPC {}", s.sid), &s.loc, errors);
-    }
-    for s in &b.spc1 {
-        for g in &s.grids {
-            refs.grid(*g, "G", &format!("SPC1 {}", s.sid), &s.loc, errors);
+    // a scalar point takes component 0 or blank (1 is accepted too), a grid components 1-6
+    let spc_points = (b
+        .spc
+        .iter()
+        .map(|s| ("SPC", s.sid, s.grid, s.components, &s.loc)))
+    .chain(b.spc1.iter().flat_map(|s| {
+        s.grids
+            .iter()
+            .map(|&g| ("SPC1", s.sid, g, s.components, &s.loc))
+    }));
+    for (name, sid, id, components, loc) in spc_points {
+        let card = format!("{name} {sid}");
+        if !refs.point(id, "G", &card, loc, errors) {
+            continue;
+        }
+        let scalar = refs.scalar_index.contains_key(&id);
+        if scalar && !(components.is_empty() || components == Dofs(1)) {
+            errors.push(DeckError::at(loc, format!("C = {components} on scalar point {id}: a scalar point has one DOF, give C = 0 or blank")).on_card(card));
+        } else if !scalar && components.is_empty() && name == "SPC1" {
+            errors.push(
+                DeckError::at(
+                    loc,
+                    format!(
+                        "C is blank or 0 on GRID {id}: give the constrained components, e.g. 123"
+                    ),
+                )
+                .on_card(card),
+            );
         }
     }
     for a in &b.aset1 {

@@ -82,6 +82,15 @@ pub fn runnable(deck: &Deck, model: &Model) -> Result<&'static dyn Driver, RunEr
     if !DRIVERS.iter().any(|d| d.solutions().contains(sol)) {
         return Err(RunError::NotAvailable(format!("{text} ({})", sol.name())));
     }
+    let dampers = model.viscous_damping_elements(4);
+    if !dampers.is_empty() && !matches!(sol, Solution::Statics | Solution::Modal) {
+        return Err(RunError::NotAvailable(format!(
+            "{text} ({}) with viscous damping elements ({}{}): their damping matrix is not assembled; statics and real modes ignore them",
+            sol.name(),
+            dampers.join(", "),
+            if dampers.len() == 4 { ", …" } else { "" }
+        )));
+    }
     let on_rom: Vec<u32> = model
         .subcases
         .iter()

@@ -355,10 +355,12 @@ impl GridRows {
         Ok(())
     }
 
-    /// Writes `values` (`lead` blocks of n × 6 grid rows in `/model/grid_ids` order, e.g.
-    /// `[modes]` or none) as dataset `name` of shape lead × k × 6 holding the selected rows, and
-    /// [`Self::write_ids`]. One writer for every real grid-point output of every sequence (the
-    /// complex FRF displacement solves only the selected rows and writes them itself).
+    /// Writes `values` (`lead` blocks of n × 6 grid rows in `/model/grid_ids` order followed by
+    /// the values of the scalar points, e.g. `[modes]` or none) as dataset `name` of shape
+    /// lead × k × 6 holding the selected rows, and [`Self::write_ids`]. A model with scalar
+    /// points also gets `<name>_scalar` (lead × n_s, every scalar point) and `scalar_point_ids`.
+    /// One writer for every real grid-point output of every sequence (the complex FRF
+    /// displacement solves only the selected rows and writes them itself).
     pub fn write(
         &self,
         group: &hdf5_metno::Group,
@@ -367,21 +369,27 @@ impl GridRows {
         lead: &[usize],
         map: &DofMap,
     ) -> Result<(), IoError> {
-        let n = map.grids();
+        let (n, n_s) = (map.grids(), map.scalar_points());
+        let block = 6 * n + n_s;
         let shape = |k: usize| lead.iter().copied().chain([k, 6]).collect::<Vec<_>>();
-        match self {
-            GridRows::All => {
-                crate::io::write_f64(group, name, values, &shape(n))?;
-            }
-            GridRows::Set(rows) => {
-                let kept: Vec<f64> = values
-                    .chunks_exact(6 * n)
-                    .flat_map(|block| {
-                        rows.iter()
-                            .flat_map(move |&g| block[6 * g..6 * g + 6].iter().copied())
-                    })
-                    .collect();
-                crate::io::write_f64(group, name, &kept, &shape(rows.len()))?;
+        let rows: Vec<usize> = self.indices(map);
+        let kept: Vec<f64> = values
+            .chunks_exact(block)
+            .flat_map(|b| {
+                rows.iter()
+                    .flat_map(move |&g| b[6 * g..6 * g + 6].iter().copied())
+            })
+            .collect();
+        crate::io::write_f64(group, name, &kept, &shape(rows.len()))?;
+        if n_s > 0 {
+            let scalar: Vec<f64> = values
+                .chunks_exact(block)
+                .flat_map(|b| b[6 * n..].iter().copied())
+                .collect();
+            let scalar_shape: Vec<usize> = lead.iter().copied().chain([n_s]).collect();
+            crate::io::write_f64(group, &format!("{name}_scalar"), &scalar, &scalar_shape)?;
+            if !group.link_exists("scalar_point_ids") {
+                crate::io::write_u32(group, "scalar_point_ids", map.scalar_ids(), &[n_s])?;
             }
         }
         self.write_ids(group, name, map)

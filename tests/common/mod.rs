@@ -39,6 +39,7 @@ pub fn affine_operators(
     let pattern = std::sync::Arc::new(
         paraflex::assembly::pattern::grid_block_pattern(
             map.grids(),
+            map.scalar_points(),
             el.stiffness
                 .iter()
                 .chain(&el.mass)

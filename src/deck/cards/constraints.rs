@@ -49,8 +49,8 @@ impl Spc {
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | SID | int > 0 | required | constraint set id |
-/// | 3 | C | components | required | components |
-/// | 4 … | G1 G2 … | int > 0 (`THRU` allowed) | ≥ 1 required | grids |
+/// | 3 | C | components | required on grids | components; 0 or blank for scalar points |
+/// | 4 … | G1 G2 … | int > 0 (`THRU` allowed) | ≥ 1 required | grids or scalar points |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Spc1 {
     pub sid: u32,
@@ -65,10 +65,8 @@ impl Spc1 {
         let mut f = FieldReader::new(card);
         let sid = f.id(1, "SID");
         f.set_id(sid);
+        // blank or 0 constrains scalar points; the model check refuses it on a grid
         let components = f.dofs(2, "C");
-        if components.is_empty() {
-            f.error(2, "C", "expected the constrained components, e.g. 123");
-        }
         let grids = f.id_list(3, "G");
         if grids.is_empty() {
             f.card_error("no grid given");

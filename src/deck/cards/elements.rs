@@ -1,5 +1,6 @@
-//! Elements: shells `CQUAD4`, `CTRIA3`; solids `CHEXA`, `CPENTA`, `CTETRA`; springs `CELAS1`,
-//! `CELAS2`; concentrated mass `CONM2`.
+//! Elements: shells `CQUAD4`, `CTRIA3`; solids `CHEXA`, `CPENTA`, `CTETRA`; scalar springs
+//! `CELAS1`–`CELAS4` and dampers `CDAMP1`–`CDAMP4`; the viscous damper `CVISC`; the bush
+//! `CBUSH`; concentrated mass `CONM2`; scalar points `SPOINT`.
 
 use crate::card_values::{CornerThickness, ShellOrientation, SpringEnd};
 use crate::deck::error::{DeckError, Loc};
@@ -262,13 +263,16 @@ fn spring_end(f: &mut FieldReader, i: usize, gname: &str, cname: &str) -> Spring
     let grid = f.opt_id(i, gname);
     let code = f.int_or(i + 1, cname, 0);
     let component = match (grid, code) {
-        (None, 0) => 0,
+        // a blank or zero component names a scalar point (or ground without a point)
+        (_, 0) => 0,
         (Some(_), 1..=6) => code as u8,
         (Some(_), _) => {
             f.error(
                 i + 1,
                 cname,
-                format!("expected a single component 1-6, found {code}"),
+                format!(
+                    "expected a single component 1-6 (0 or blank for a scalar point), found {code}"
+                ),
             );
             0
         }
@@ -280,31 +284,53 @@ fn spring_end(f: &mut FieldReader, i: usize, gname: &str, cname: &str) -> Spring
     SpringEnd { grid, component }
 }
 
-fn spring_ends(f: &mut FieldReader, first: usize) -> [SpringEnd; 2] {
-    let ends = [
-        spring_end(f, first, "G1", "C1"),
-        spring_end(f, first + 2, "G2", "C2"),
-    ];
+/// The two ends of a scalar element; `scalar_only`: both are scalar points (no component field).
+fn spring_ends(f: &mut FieldReader, first: usize, scalar_only: bool) -> [SpringEnd; 2] {
+    let ends = if scalar_only {
+        [
+            SpringEnd {
+                grid: f.opt_id(first, "S1"),
+                component: 0,
+            },
+            SpringEnd {
+                grid: f.opt_id(first + 1, "S2"),
+                component: 0,
+            },
+        ]
+    } else {
+        [
+            spring_end(f, first, "G1", "C1"),
+            spring_end(f, first + 2, "G2", "C2"),
+        ]
+    };
     if ends[0].grid.is_none() && ends[1].grid.is_none() {
-        f.card_error("both ends are grounded; give at least one grid and component");
+        f.card_error("both ends are grounded; give at least one grid or scalar point");
     }
-    if let (Some(g), true) = (ends[0].grid, ends[0] == ends[1] && ends[0].component > 0) {
+    if let (Some(g), true) = (ends[0].grid, ends[0] == ends[1]) {
+        let what = match ends[0].component {
+            0 => format!("point {g}"),
+            c => format!("GRID {g} component {c}"),
+        };
         f.card_error(format!(
-            "both ends are GRID {g} component {}: the spring would connect a DOF to itself",
-            ends[0].component
+            "both ends are {what}: the element would connect a DOF to itself"
         ));
     }
     ends
 }
 
-/// `CELAS1` — scalar spring with a PELAS property.
+/// `CELAS1` — scalar spring with a PELAS property (also the layout of `CDAMP1`).
+///
+/// `CDAMP1` is a scalar damper with a PDAMP property.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | EID | int > 0 | required | element id |
-/// | 3 | PID | int > 0 | EID | PELAS id |
-/// | 4, 5 | G1 C1 | int | blank | first end (blank grid = ground) |
-/// | 6, 7 | G2 C2 | int | blank | second end (blank grid = ground) |
+/// | 3 | PID | int > 0 | EID | PELAS id (CDAMP1: PDAMP id) |
+/// | 4, 5 | G1 C1 | int | blank | first end: a grid and component 1–6, a scalar point with C1 0 or blank, or ground (blank G1) |
+/// | 6, 7 | G2 C2 | int | blank | second end, as the first |
+///
+/// `CELAS3` / `CDAMP3` carry two scalar points instead (fields 4, 5: S1 S2, blank = ground),
+/// read into the same struct with components 0.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Celas1 {
     pub id: u32,
@@ -313,33 +339,52 @@ pub struct Celas1 {
     pub loc: Loc,
 }
 
+/// `CELAS3` — scalar spring between scalar points with a PELAS property (EID, PID, S1, S2).
+pub type Celas3 = Celas1;
+/// `CDAMP1` / `CDAMP3` — scalar damper with a PDAMP property (layouts of CELAS1 / CELAS3).
+pub type Cdamp1 = Celas1;
+
 impl Celas1 {
-    /// Read a `CELAS1` card.
+    /// Read a `CELAS1` / `CDAMP1` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        Self::read(card, false)
+    }
+
+    /// Read a `CELAS3` / `CDAMP3` card (two scalar points).
+    pub fn from_scalar_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        Self::read(card, true)
+    }
+
+    fn read(card: &RawCard, scalar_only: bool) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "EID");
         f.set_id(id);
         let pid = f.opt_id(2, "PID").unwrap_or(id);
-        let ends = spring_ends(&mut f, 3);
+        let ends = spring_ends(&mut f, 3, scalar_only);
         let loc = f.loc();
-        f.finish(6)?;
+        f.finish(if scalar_only { 4 } else { 6 })?;
         Ok(Celas1 { id, pid, ends, loc })
     }
 }
 
-/// `CELAS2` — scalar spring with its properties on the card.
+/// `CELAS2` — scalar spring with its properties on the card (also the layout of `CDAMP2`).
+///
+/// `CDAMP2` carries B instead of K and no GE or S.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | EID | int > 0 | required | element id |
-/// | 3 | K | real | required | stiffness |
-/// | 4, 5 | G1 C1 | int | blank | first end (blank grid = ground) |
+/// | 3 | K | real | required | stiffness (CDAMP2: damping B) |
+/// | 4, 5 | G1 C1 | int | blank | first end (grid and component, scalar point with C1 0 or blank, or ground) |
 /// | 6, 7 | G2 C2 | int | blank | second end |
-/// | 8 | GE | real | 0.0 | structural damping coefficient |
-/// | 9 | S | real | 0.0 | stress coefficient (kept, unused) |
+/// | 8 | GE | real | 0.0 | structural damping coefficient (not on CDAMP2) |
+/// | 9 | S | real | 0.0 | stress coefficient (kept, unused; not on CDAMP2) |
+///
+/// `CELAS4` (EID, K, S1, S2) and `CDAMP4` (EID, B, S1, S2) carry two scalar points instead.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Celas2 {
     pub id: u32,
+    /// K (springs) or B (dampers).
     pub k: f64,
     pub ends: [SpringEnd; 2],
     pub ge: f64,
@@ -347,18 +392,46 @@ pub struct Celas2 {
     pub loc: Loc,
 }
 
+/// `CELAS4` — scalar spring between scalar points with K on the card (EID, K, S1, S2).
+pub type Celas4 = Celas2;
+/// `CDAMP2` / `CDAMP4` — scalar damper with B on the card (layouts of CELAS2 / CELAS4).
+pub type Cdamp2 = Celas2;
+
+/// Which layout of a scalar element with its value on the card.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OnCardLayout {
+    /// CELAS2: grids and components, GE and S.
+    Celas2,
+    /// CELAS4: scalar points, nothing after them.
+    Celas4,
+    /// CDAMP2: grids and components, nothing after them.
+    Cdamp2,
+    /// CDAMP4: scalar points.
+    Cdamp4,
+}
+
 impl Celas2 {
     /// Read a `CELAS2` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        Self::read(card, OnCardLayout::Celas2)
+    }
+
+    /// Read a `CELAS2`, `CELAS4`, `CDAMP2` or `CDAMP4` card.
+    pub fn read(card: &RawCard, layout: OnCardLayout) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "EID");
         f.set_id(id);
-        let k = f.real(2, "K");
-        let ends = spring_ends(&mut f, 3);
-        let ge = f.real_or(7, "GE", 0.0);
-        let s = f.real_or(8, "S", 0.0);
+        let damper = matches!(layout, OnCardLayout::Cdamp2 | OnCardLayout::Cdamp4);
+        let k = f.real(2, if damper { "B" } else { "K" });
+        let scalar_only = matches!(layout, OnCardLayout::Celas4 | OnCardLayout::Cdamp4);
+        let ends = spring_ends(&mut f, 3, scalar_only);
+        let (ge, s, last) = match layout {
+            OnCardLayout::Celas2 => (f.real_or(7, "GE", 0.0), f.real_or(8, "S", 0.0), 8),
+            OnCardLayout::Cdamp2 => (0.0, 0.0, 6),
+            OnCardLayout::Celas4 | OnCardLayout::Cdamp4 => (0.0, 0.0, 4),
+        };
         let loc = f.loc();
-        f.finish(8)?;
+        f.finish(last)?;
         Ok(Celas2 {
             id,
             k,
@@ -367,6 +440,169 @@ impl Celas2 {
             s,
             loc,
         })
+    }
+}
+
+/// `CVISC` — viscous damper between two grids (axial and torsional, PVISC property).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | EID | int > 0 | required | element id |
+/// | 3 | PID | int > 0 | EID | PVISC id |
+/// | 4, 5 | G1 G2 | int > 0 | required | grids |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cvisc {
+    pub id: u32,
+    pub pid: u32,
+    pub grids: [u32; 2],
+    pub loc: Loc,
+}
+
+impl Cvisc {
+    /// Read a `CVISC` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "EID");
+        f.set_id(id);
+        let pid = f.opt_id(2, "PID").unwrap_or(id);
+        let grids = [f.id(3, "G1"), f.id(4, "G2")];
+        if grids[0] == grids[1] {
+            f.error(
+                4,
+                "G2",
+                format!("G2 = G1 = {}: the damper needs two grids", grids[0]),
+            );
+        }
+        let loc = f.loc();
+        f.finish(4)?;
+        Ok(Cvisc {
+            id,
+            pid,
+            grids,
+            loc,
+        })
+    }
+}
+
+/// How the element axes of a `CBUSH` are given.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub enum BushAxes {
+    /// CID given: the axes of that system (0 = basic).
+    System(u32),
+    /// GO: x from GA to GB, y in the plane of x and the vector GA→GO.
+    Grid(u32),
+    /// X1–X3: x from GA to GB, y in the plane of x and this vector (in GA's displacement system).
+    Vector([f64; 3]),
+    /// Nothing given: basic axes (coincident grids; refused for non-coincident grids).
+    Blank,
+}
+
+/// `CBUSH` — generalized spring-damper with six stiffnesses (PBUSH property).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | EID | int > 0 | required | element id |
+/// | 3 | PID | int > 0 | EID | PBUSH id |
+/// | 4 | GA | int > 0 | required | first grid |
+/// | 5 | GB | int > 0 | blank | second grid (blank: grounded) |
+/// | 6–8 | GO/X1 X2 X3 | int or reals | blank | orientation grid, or vector in GA's displacement system |
+/// | 9 | CID | int ≥ 0 | blank | element system (overrides GO/X) |
+/// | cont. 2 | S | real 0–1 | 0.5 | location of the spring between GA (0) and GB (1) |
+/// | cont. 3 | OCID | int ≥ −1 | −1 | −1: the spring sits on the line GA–GB at S; ≥ 0: at the offset S1–S3 from GA in system OCID |
+/// | cont. 4–6 | S1 S2 S3 | real | 0.0 | offset of the spring from GA (OCID ≥ 0) |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cbush {
+    pub id: u32,
+    pub pid: u32,
+    pub ga: u32,
+    pub gb: Option<u32>,
+    pub axes: BushAxes,
+    pub s: f64,
+    pub ocid: i32,
+    pub offset: [f64; 3],
+    pub loc: Loc,
+}
+
+impl Cbush {
+    /// Read a `CBUSH` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "EID");
+        f.set_id(id);
+        let pid = f.opt_id(2, "PID").unwrap_or(id);
+        let ga = f.id(3, "GA");
+        let gb = f.opt_id(4, "GB");
+        let cid = f.opt_int(8, "CID");
+        let axes = match (cid, f.value(5)) {
+            (Some(c), _) if c >= 0 => BushAxes::System(c as u32),
+            (Some(c), _) => {
+                f.error(8, "CID", format!("expected a system id ≥ 0, found {c}"));
+                BushAxes::Blank
+            }
+            (None, Value::Int(_)) => BushAxes::Grid(f.id(5, "GO")),
+            (None, Value::Blank) if (6..=7).all(|i| f.value(i).is_blank()) => BushAxes::Blank,
+            (None, _) => BushAxes::Vector([
+                f.real_or(5, "X1", 0.0),
+                f.real_or(6, "X2", 0.0),
+                f.real_or(7, "X3", 0.0),
+            ]),
+        };
+        let s = f.real_or(9, "S", 0.5);
+        if !(0.0..=1.0).contains(&s) {
+            f.error(9, "S", format!("expected a location 0 to 1, found {s}"));
+        }
+        let ocid = f.int_or(10, "OCID", -1);
+        if ocid < -1 {
+            f.error(
+                10,
+                "OCID",
+                format!("expected -1 or a system id, found {ocid}"),
+            );
+        }
+        let offset = [
+            f.real_or(11, "S1", 0.0),
+            f.real_or(12, "S2", 0.0),
+            f.real_or(13, "S3", 0.0),
+        ];
+        let loc = f.loc();
+        f.finish(13)?;
+        Ok(Cbush {
+            id,
+            pid,
+            ga,
+            gb,
+            axes,
+            s,
+            ocid: ocid as i32,
+            offset,
+            loc,
+        })
+    }
+}
+
+/// `SPOINT` — scalar points: one DOF each, no location.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 … | ID1 ID2 … | int > 0 (`THRU` allowed) | ≥ 1 required | scalar point ids |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Spoint {
+    pub ids: Vec<u32>,
+    pub loc: Loc,
+}
+
+impl Spoint {
+    /// Read an `SPOINT` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let ids = f.id_list(1, "ID");
+        if ids.is_empty() {
+            f.card_error("no scalar point id given");
+        }
+        let loc = f.loc();
+        let len = f.len();
+        f.finish(len)?;
+        Ok(Spoint { ids, loc })
     }
 }
 

@@ -30,7 +30,10 @@ pub use dynamic::{
     Darea, Dload, EigenNorm, Eigrl, Freq, FreqKind, Rload, RloadTables, Tabled, Tabled4, Tic,
     Tload, TloadFunction, Tstep,
 };
-pub use elements::{Celas1, Celas2, Chexa, Conm2, Cpenta, Cquad4, Ctetra, Ctria3};
+pub use elements::{
+    BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Conm2, Cpenta, Cquad4,
+    Ctetra, Ctria3, Cvisc, OnCardLayout, Spoint,
+};
 pub use estimate::{Ekf, Ekfinp, Ekfpar, Meas, Measf};
 pub use extension::{
     Pmor, PmorRigid, PmorStatic, Pmpar, Ptable, Pval, Sensor, Tablef, Tinteg, TintegMethod,
@@ -45,7 +48,7 @@ pub use materials::{Mat1, Mat8};
 pub use multibody::{Flexb, Fmbpose, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
 pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, ResponseSource, SearchMethod, Statistic};
 pub use param::{Param, ParamValue};
-pub use properties::{Pcomp, Pelas, Ply, Pshell, Psolid};
+pub use properties::{Pbush, Pcomp, Pdamp, Pelas, Ply, Pshell, Psolid, Pvisc};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
 
 use super::Loc;
@@ -66,6 +69,15 @@ pub struct BulkData {
     pub ctetra: Vec<Ctetra>,
     pub celas1: Vec<Celas1>,
     pub celas2: Vec<Celas2>,
+    pub celas3: Vec<Celas3>,
+    pub celas4: Vec<Celas4>,
+    pub cdamp1: Vec<Cdamp1>,
+    pub cdamp2: Vec<Cdamp2>,
+    pub cdamp3: Vec<Cdamp1>,
+    pub cdamp4: Vec<Cdamp2>,
+    pub cvisc: Vec<Cvisc>,
+    pub cbush: Vec<Cbush>,
+    pub spoints: Vec<Spoint>,
     pub conm2: Vec<Conm2>,
     pub crod: Vec<Crod>,
     pub ctube: Vec<Crod>,
@@ -80,6 +92,9 @@ pub struct BulkData {
     pub pcomp: Vec<Pcomp>,
     pub psolid: Vec<Psolid>,
     pub pelas: Vec<Pelas>,
+    pub pdamp: Vec<Pdamp>,
+    pub pvisc: Vec<Pvisc>,
+    pub pbush: Vec<Pbush>,
     pub prod: Vec<Prod>,
     pub ptube: Vec<Ptube>,
     pub pbar: Vec<Pbar>,
@@ -191,6 +206,25 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("CTETRA", |c, b| Ok(b.ctetra.push(Ctetra::from_card(c)?))),
     ("CELAS1", |c, b| Ok(b.celas1.push(Celas1::from_card(c)?))),
     ("CELAS2", |c, b| Ok(b.celas2.push(Celas2::from_card(c)?))),
+    ("CELAS3", |c, b| {
+        Ok(b.celas3.push(Celas3::from_scalar_card(c)?))
+    }),
+    ("CELAS4", |c, b| {
+        Ok(b.celas4.push(Celas4::read(c, OnCardLayout::Celas4)?))
+    }),
+    ("CDAMP1", |c, b| Ok(b.cdamp1.push(Cdamp1::from_card(c)?))),
+    ("CDAMP2", |c, b| {
+        Ok(b.cdamp2.push(Cdamp2::read(c, OnCardLayout::Cdamp2)?))
+    }),
+    ("CDAMP3", |c, b| {
+        Ok(b.cdamp3.push(Cdamp1::from_scalar_card(c)?))
+    }),
+    ("CDAMP4", |c, b| {
+        Ok(b.cdamp4.push(Cdamp2::read(c, OnCardLayout::Cdamp4)?))
+    }),
+    ("CVISC", |c, b| Ok(b.cvisc.push(Cvisc::from_card(c)?))),
+    ("CBUSH", |c, b| Ok(b.cbush.push(Cbush::from_card(c)?))),
+    ("SPOINT", |c, b| Ok(b.spoints.push(Spoint::from_card(c)?))),
     ("CONM2", |c, b| Ok(b.conm2.push(Conm2::from_card(c)?))),
     ("CROD", |c, b| Ok(b.crod.push(Crod::from_card(c)?))),
     ("CTUBE", |c, b| Ok(b.ctube.push(Crod::from_card(c)?))),
@@ -205,6 +239,9 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("PCOMP", |c, b| Ok(b.pcomp.push(Pcomp::from_card(c)?))),
     ("PSOLID", |c, b| Ok(b.psolid.push(Psolid::from_card(c)?))),
     ("PELAS", |c, b| Ok(b.pelas.extend(Pelas::from_card(c)?))),
+    ("PDAMP", |c, b| Ok(b.pdamp.extend(Pdamp::from_card(c)?))),
+    ("PVISC", |c, b| Ok(b.pvisc.extend(Pvisc::from_card(c)?))),
+    ("PBUSH", |c, b| Ok(b.pbush.push(Pbush::from_card(c)?))),
     ("PROD", |c, b| Ok(b.prod.push(Prod::from_card(c)?))),
     ("PTUBE", |c, b| Ok(b.ptube.push(Ptube::from_card(c)?))),
     ("PBAR", |c, b| Ok(b.pbar.push(Pbar::from_card(c)?))),

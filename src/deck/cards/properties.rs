@@ -1,4 +1,4 @@
-//! Properties: `PSHELL`, `PCOMP`, `PSOLID`, `PELAS`.
+//! Properties: `PSHELL`, `PCOMP`, `PSOLID`, `PELAS`, `PDAMP`, `PVISC`, `PBUSH`.
 
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
@@ -330,5 +330,146 @@ impl Pelas {
         }
         f.finish(8)?;
         Ok(out)
+    }
+}
+
+/// `PDAMP` — scalar damper property (up to four per card).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2, 3 | PID1 B1 | int > 0, real | required | property id and damping |
+/// | 4–9 | PID2 B2 … PID4 B4 | | blank | further properties |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pdamp {
+    pub id: u32,
+    pub b: f64,
+    pub loc: Loc,
+}
+
+impl Pdamp {
+    /// Read a `PDAMP` card (one to four properties).
+    pub fn from_card(card: &RawCard) -> Result<Vec<Self>, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let mut out = Vec::new();
+        for first in [1, 3, 5, 7] {
+            if first > 1 && (first..=first + 1).all(|i| f.value(i).is_blank()) {
+                continue;
+            }
+            let id = f.id(first, "PID");
+            f.set_id(id);
+            let b = f.real(first + 1, "B");
+            out.push(Pdamp {
+                id,
+                b,
+                loc: f.loc(),
+            });
+        }
+        f.finish(8)?;
+        Ok(out)
+    }
+}
+
+/// `PVISC` — viscous damper property of a CVISC (one or two per card).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | PID1 | int > 0 | required | property id |
+/// | 3 | CE1 | real | 0.0 | axial damping (force per velocity) |
+/// | 4 | CR1 | real | 0.0 | torsional damping (moment per angular velocity) |
+/// | 6–8 | PID2 CE2 CR2 | | blank | an optional second property |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pvisc {
+    pub id: u32,
+    pub ce: f64,
+    pub cr: f64,
+    pub loc: Loc,
+}
+
+impl Pvisc {
+    /// Read a `PVISC` card (one or two properties).
+    pub fn from_card(card: &RawCard) -> Result<Vec<Self>, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let mut out = Vec::new();
+        for first in [1, 5] {
+            if first == 5 && (5..=7).all(|i| f.value(i).is_blank()) {
+                break;
+            }
+            let id = f.id(first, "PID");
+            f.set_id(id);
+            let ce = f.real_or(first + 1, "CE", 0.0);
+            let cr = f.real_or(first + 2, "CR", 0.0);
+            out.push(Pvisc {
+                id,
+                ce,
+                cr,
+                loc: f.loc(),
+            });
+        }
+        f.finish(7)?;
+        Ok(out)
+    }
+}
+
+/// `PBUSH` — CBUSH property: lines of six values, each introduced by its keyword in field 3.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | PID | int > 0 | required | property id |
+/// | 3, 4–9 | `K` K1–K6 | real | 0.0 | stiffnesses along and about the element axes |
+/// | next line 3, 4–9 | `B` B1–B6 | real | 0.0 | viscous damping |
+/// | next line 3, 4–9 | `GE` GE1–GE6 | real | 0.0 | structural damping (kept, unused) |
+/// | next line 3, 4–7 | `RCV` SA ST EA ET | real | 1.0 | stress and strain recovery coefficients (kept, unused: no CBUSH force output) |
+///
+/// The lines may come in any order; `M` (mass) lines are refused.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pbush {
+    pub id: u32,
+    pub k: [f64; 6],
+    pub b: [f64; 6],
+    pub ge: [f64; 6],
+    pub rcv: [f64; 4],
+    pub loc: Loc,
+}
+
+impl Pbush {
+    /// Read a `PBUSH` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "PID");
+        f.set_id(id);
+        let (mut k, mut b, mut ge, mut rcv) = ([0.0; 6], [0.0; 6], [0.0; 6], [1.0; 4]);
+        let mut key = 2;
+        while key <= f.len() {
+            let word = f.opt_text(key, "keyword").unwrap_or_default();
+            let read = |f: &mut FieldReader, out: &mut [f64], name: &str, default: f64| {
+                for (j, v) in out.iter_mut().enumerate() {
+                    *v = f.real_or(key + 1 + j, &format!("{name}{}", j + 1), default);
+                }
+            };
+            match word.to_ascii_uppercase().as_str() {
+                "K" => read(&mut f, &mut k, "K", 0.0),
+                "B" => read(&mut f, &mut b, "B", 0.0),
+                "GE" => read(&mut f, &mut ge, "GE", 0.0),
+                "RCV" => read(&mut f, &mut rcv, "S", 1.0),
+                "" if (key..key + 8).all(|i| f.value(i).is_blank()) => {}
+                other => f.error(
+                    key,
+                    "keyword",
+                    format!("expected K, B, GE or RCV, found '{other}' (paraflex reads no PBUSH mass line)"),
+                ),
+            }
+            key += 8;
+        }
+        let loc = f.loc();
+        let len = f.len();
+        f.finish(len)?;
+        Ok(Pbush {
+            id,
+            k,
+            b,
+            ge,
+            rcv,
+            loc,
+        })
     }
 }
