@@ -1,21 +1,14 @@
 //! Bad input: every problem is reported in one pass, located at the card, never a panic.
 
+mod common;
+
 use std::io::Write;
+
+use common::build_model;
 
 use paraflex::deck::Deck;
 use paraflex::model::Model;
 use paraflex::sequence::request_warnings;
-
-fn build(text: &str) -> Result<Model, Vec<String>> {
-    let mut file = tempfile::Builder::new()
-        .suffix(".bdf")
-        .tempfile()
-        .expect("temp file");
-    file.write_all(text.as_bytes()).expect("write deck");
-    let deck = Deck::read(file.path())
-        .map_err(|e| e.errors.iter().map(|x| x.to_string()).collect::<Vec<_>>())?;
-    Model::build(&deck).map_err(|e| e.iter().map(|x| x.to_string()).collect())
-}
 
 /// The warnings `paraflex check` prints for a valid deck: the model's, then the output
 /// requests its solution sequence does not write.
@@ -71,7 +64,7 @@ ENDDATA
 
 #[test]
 fn every_error_is_collected_with_its_card() {
-    let errors = build(BAD).expect_err("the deck is invalid");
+    let errors = build_model(BAD).expect_err("the deck is invalid");
     let expect = [
         "CQUAD4 101: G3 = 77 does not exist",
         "duplicate grid id 3",
@@ -130,7 +123,7 @@ PSOLID,5,1,,2
 ENDDATA
 ";
     let w = warnings(deck);
-    let model = build(deck).expect("valid deck");
+    let model = build_model(deck).expect("valid deck");
     assert_eq!(
         w.iter()
             .filter(|x| x.contains("accepted and ignored: POST, PRTMAXIM"))
@@ -178,7 +171,7 @@ CONM2,1,1,10,2.,1.,0.,0.
 ,1.,0.,2.,0.,0.,3.
 ENDDATA
 ";
-    let model = build(deck).expect("valid deck");
+    let model = build_model(deck).expect("valid deck");
     let mp = model.mass_properties();
     // offset (1,0,0) local → (0,1,0) basic; tensor diag(1,2,3) local → diag(2,1,3) basic
     assert!(
@@ -233,7 +226,7 @@ ENDDATA
 fn a_second_grdset_and_a_missing_grdset_system_are_errors() {
     let deck =
         "BEGIN BULK\nGRDSET,,7\nGRDSET,,,,,,,6\nGRID,1,,0.,0.,0.\nGRID,2,0,1.,0.,0.\nENDDATA\n";
-    let errors = build(deck).expect_err("two GRDSETs");
+    let errors = build_model(deck).expect_err("two GRDSETs");
     assert!(
         errors
             .iter()
@@ -273,7 +266,7 @@ fn pressure_cards_that_pick_no_face_are_errors() {
     }
     deck += "CHEXA,1,1,1,2,3,4,5,6,\n,7,8\nCTETRA,2,1,1,2,4,5\nSPC1,1,123,1,2,3,4\n";
     deck += "PLOAD4,5,1,1.,,,,5,6\nPLOAD4,5,2,1.\nPLOAD4,5,77,1.\nLOAD,9,1.,1.,5\nLOAD,10,1.,1.,9\nENDDATA\n";
-    let errors = build(&deck).expect_err("bad PLOAD4s");
+    let errors = build_model(&deck).expect_err("bad PLOAD4s");
     assert_eq!(errors.len(), 4, "{errors:#?}");
     assert!(errors[3].contains("L = 9 is itself a LOAD"), "{errors:#?}");
     assert!(

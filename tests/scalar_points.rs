@@ -6,20 +6,8 @@ mod common;
 
 use std::io::Write;
 
-use common::{read_dataset, run_deck, run_to_file};
+use common::{build_model, read_dataset, run_deck, run_to_file};
 use paraflex::deck::Deck;
-use paraflex::model::Model;
-
-fn build(text: &str) -> Result<Model, Vec<String>> {
-    let mut file = tempfile::Builder::new()
-        .suffix(".bdf")
-        .tempfile()
-        .expect("temp file");
-    file.write_all(text.as_bytes()).expect("write deck");
-    let deck = Deck::read(file.path())
-        .map_err(|e| e.errors.iter().map(|x| x.to_string()).collect::<Vec<_>>())?;
-    Model::build(&deck).map_err(|e| e.iter().map(|x| x.to_string()).collect())
-}
 
 /// A chain ground –k₁– s1 –k₁₂– s2 –k₂₃– s3 on scalar points, s3 enforced to 1 by SPC, and
 /// GRID 10 (only T1 free) tied to s1 by a CELAS2 of k = 4 and pulled by F = 5. With
@@ -82,7 +70,11 @@ fn implicit_scalar_points_are_the_declared_ones() {
 
 #[test]
 fn errors_name_scalar_points() {
-    let bad = |from: &str, to: &str| build(&CHAIN.replace(from, to)).unwrap_err().join("\n");
+    let bad = |from: &str, to: &str| {
+        build_model(&CHAIN.replace(from, to))
+            .unwrap_err()
+            .join("\n")
+    };
     let e = bad("SPC,1,3,0,1.0", "SPC,1,3,123,1.0");
     assert!(
         e.contains("scalar point 3") && e.contains("C = 0 or blank"),
@@ -128,7 +120,7 @@ fn dampers_run_in_statics_and_are_refused_in_dynamics() {
     let frf = deck
         .replace("SOL 101", "SOL 108")
         .replace("ENDDATA", "CONM2,301,10,,1.0\nENDDATA");
-    let model = build(&frf).expect("model");
+    let model = build_model(&frf).expect("model");
     let deck_read = {
         let mut file = tempfile::Builder::new().suffix(".bdf").tempfile().unwrap();
         file.write_all(frf.as_bytes()).unwrap();

@@ -217,6 +217,19 @@ pub fn root() -> std::path::PathBuf {
     std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The model of a deck text, or every deck and model error as text.
+#[allow(dead_code)]
+pub fn build_model(text: &str) -> Result<Model, Vec<String>> {
+    let mut file = tempfile::Builder::new()
+        .suffix(".bdf")
+        .tempfile()
+        .expect("temp file");
+    file.write_all(text.as_bytes()).expect("write deck");
+    let deck = Deck::read(file.path())
+        .map_err(|e| e.errors.iter().map(|x| x.to_string()).collect::<Vec<_>>())?;
+    Model::build(&deck).map_err(|e| e.iter().map(|x| x.to_string()).collect())
+}
+
 /// A JSON file of the repository, e.g. a reference in `reference/`.
 #[allow(dead_code)]
 pub fn json(rel: &str) -> serde_json::Value {
