@@ -228,7 +228,10 @@ fn fmb_statement_errors_name_the_line_and_the_cause() {
     }
     let e = run_in(dir.path(), "c.dat", &loading_deck("old.h5", 1, "")).unwrap_err();
     assert!(
-        e.contains("pFMB layout is version 99, this paraflex reads version 1"),
+        e.contains(&format!(
+            "pFMB layout is version 99, this paraflex reads version {}",
+            paraflex::io::PFMB_VERSION
+        )),
         "{e}"
     );
     let both = full_deck(1).replace("CEND\n", "CEND\nFMB = 'source.dat.h5'\n");
