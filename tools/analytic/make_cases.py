@@ -1611,6 +1611,9 @@ def case_frf_sdof_rload2(write):
     for f in hz:
         w = 2 * math.pi * f
         h = 1.0 / complex(k - w * w * m, w * (alpha * m + beta * k))
+        h2 = np.linalg.solve(np.array([[k - w * w * m + 1j * w * (alpha * m + beta * k)]]),
+                             np.array([1.0]))[0]
+        check("%s: H at %g Hz closed form vs numpy" % (name, f), abs(h), abs(h2), 1e-14)
         turn = lambda deg: complex(math.cos(math.radians(deg) - w * delay),
                                    math.sin(math.radians(deg) - w * delay))
         p2 = A * B(f) * turn(phi(f) + phase_deg)
@@ -1686,6 +1689,12 @@ def case_tload2_sdof(write):
                     method="DOP853", rtol=1e-12, atol=1e-16, t_eval=times, max_step=1e-4)
     u = list(sol.y[0])
     peak = max(abs(x) for x in u)
+    # second computation: an implicit method (Radau) on the same equation
+    radau = solve_ivp(lambda t, y: [y[1], (load(t) - k * y[0]) / m], (0.0, times[-1]),
+                      [0.0, 0.0], method="Radau", rtol=1e-11, atol=1e-17, t_eval=times,
+                      max_step=1e-4)
+    check("%s: DOP853 vs Radau, max |u| difference over the peak" % name,
+          1.0 + max(abs(a - b) for a, b in zip(u, radau.y[0])) / peak, 1.0, 1e-7)
     deck = "%s/%s_n1.dat" % (DECK_DIR, name)
     if write:
         bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("CONM2", 1, 1, 0, m),
