@@ -122,10 +122,7 @@ pub fn load_terms(
             ));
         }
         for t in tloads {
-            let card = match t.function {
-                TloadFunction::Table(_) => "TLOAD1",
-                TloadFunction::Pulse(_) => "TLOAD2",
-            };
+            let card = t.function.card();
             let function = match &t.function {
                 TloadFunction::Table(tid) => {
                     TimeFunction::Table(table_of(model, *tid, &format!("{card} {}", t.sid))?)

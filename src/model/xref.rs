@@ -291,10 +291,7 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         }
     };
     for t in &b.tload {
-        let card = match t.function {
-            TloadFunction::Table(_) => format!("TLOAD1 {}", t.sid),
-            TloadFunction::Pulse(_) => format!("TLOAD2 {}", t.sid),
-        };
+        let card = format!("{} {}", t.function.card(), t.sid);
         if !excite.contains(&t.excite_id) {
             errors.push(
                 DeckError::at(

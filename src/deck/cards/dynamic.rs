@@ -279,6 +279,16 @@ pub enum TloadFunction {
     Pulse(Pulse),
 }
 
+impl TloadFunction {
+    /// The card this function comes from.
+    pub fn card(&self) -> &'static str {
+        match self {
+            TloadFunction::Table(_) => "TLOAD1",
+            TloadFunction::Pulse(_) => "TLOAD2",
+        }
+    }
+}
+
 /// Read an excitation TYPE field (`LOAD`/0 only) and report the others as unsupported.
 fn excitation_type(f: &mut FieldReader, i: usize) {
     let ok = match f.value(i) {
