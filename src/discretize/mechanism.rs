@@ -78,10 +78,17 @@ fn joint_kind(t: JointType) -> JointKind {
     }
 }
 
-/// SCALE · TABLE(t) with its slope (a piecewise-linear table has no second derivative).
+/// SCALE · TABLE(t) with its first and second derivatives (a piecewise-linear table's second
+/// derivative is zero between its points).
 fn table_signal(table: &Table, scale: f64) -> Signal {
     let table = table.clone();
-    Signal::new(move |t| [scale * table.value(t), scale * table.slope(t), 0.0])
+    Signal::new(move |t| {
+        [
+            scale * table.value(t),
+            scale * table.slope(t),
+            scale * table.curvature(t),
+        ]
+    })
 }
 
 /// The PVAL values `BODY.PMPAR` of body `name` as (PMPAR, value).

@@ -187,6 +187,28 @@ impl Table {
         }
     }
 
+    /// d²y/dx²: zero for a table of points (between its points), the power series' second
+    /// derivative inside [X3, X4] and zero outside.
+    pub fn curvature(&self, x: f64) -> f64 {
+        match &self.form {
+            Form::Points { .. } => 0.0,
+            Form::PowerSeries(s) => {
+                if x < s.range.0 || x > s.range.1 {
+                    return 0.0;
+                }
+                let u = (x - s.shift) / s.scale;
+                let second = s
+                    .coefficients
+                    .iter()
+                    .enumerate()
+                    .skip(2)
+                    .rev()
+                    .fold(0.0, |acc, (i, a)| acc * u + (i * (i - 1)) as f64 * a);
+                second / (s.scale * s.scale)
+            }
+        }
+    }
+
     /// The abscissae (increasing, a jump's twice) and ordinates of a table of points; `None`
     /// for a power series.
     pub fn points(&self) -> Option<(&[f64], &[f64])> {
@@ -297,10 +319,12 @@ mod tests {
             assert!((t.value(x) - exact(x)).abs() < 1e-15, "x = {x}");
             let slope = (1.0 - (x - 1.0) / 2.0) * 2.0 / 2.0;
             assert!((t.slope(x) - slope).abs() < 1e-15, "x = {x}");
+            assert_eq!(t.curvature(x), -0.5, "x = {x}: y'' = −2 / X2²");
         }
         assert_eq!(t.value(-3.0), exact(0.0));
         assert_eq!(t.value(9.0), exact(5.0));
         assert_eq!(t.slope(9.0), 0.0);
+        assert_eq!(t.curvature(9.0), 0.0);
         let bad = |scale, range| {
             Table::power_series(PowerSeries {
                 shift: 0.0,
