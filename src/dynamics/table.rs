@@ -33,6 +33,21 @@ pub struct PowerSeries {
     pub coefficients: Vec<f64>,
 }
 
+impl PowerSeries {
+    /// The derivative of order ≥ 1 at x inside [X3, X4] (Horner on the differentiated
+    /// coefficients i!/(i − order)! aᵢ, over X2^order), zero outside, where y is clamped.
+    fn derivative(&self, x: f64, order: usize) -> f64 {
+        if x < self.range.0 || x > self.range.1 {
+            return 0.0;
+        }
+        let u = (x - self.shift) / self.scale;
+        let falling = |i: usize| ((i + 1 - order)..=i).product::<usize>() as f64;
+        let sum = (self.coefficients.iter().enumerate().skip(order).rev())
+            .fold(0.0, |acc, (i, a)| acc * u + falling(i) * a);
+        sum / self.scale.powi(order as i32)
+    }
+}
+
 /// Why a table is refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TableError {
@@ -170,20 +185,7 @@ impl Table {
                 let k = xs.partition_point(|&v| v <= x);
                 (y[k] - y[k - 1]) / (xs[k] - xs[k - 1])
             }
-            Form::PowerSeries(s) => {
-                if x < s.range.0 || x > s.range.1 {
-                    return 0.0;
-                }
-                let u = (x - s.shift) / s.scale;
-                let derivative = s
-                    .coefficients
-                    .iter()
-                    .enumerate()
-                    .skip(1)
-                    .rev()
-                    .fold(0.0, |acc, (i, a)| acc * u + i as f64 * a);
-                derivative / s.scale
-            }
+            Form::PowerSeries(s) => s.derivative(x, 1),
         }
     }
 
@@ -192,20 +194,7 @@ impl Table {
     pub fn curvature(&self, x: f64) -> f64 {
         match &self.form {
             Form::Points { .. } => 0.0,
-            Form::PowerSeries(s) => {
-                if x < s.range.0 || x > s.range.1 {
-                    return 0.0;
-                }
-                let u = (x - s.shift) / s.scale;
-                let second = s
-                    .coefficients
-                    .iter()
-                    .enumerate()
-                    .skip(2)
-                    .rev()
-                    .fold(0.0, |acc, (i, a)| acc * u + (i * (i - 1)) as f64 * a);
-                second / (s.scale * s.scale)
-            }
+            Form::PowerSeries(s) => s.derivative(x, 2),
         }
     }
 
