@@ -460,14 +460,14 @@ fn begin_super_is_one_error_and_its_cards_read_as_bulk() {
 }
 
 /// Cards that cannot change results are read and set aside with one warning per card name that
-/// says why; where only some uses are harmless (USET set names, MDLPRM options) the others are
-/// refused at their field.
+/// says why; where only some uses are harmless (USET set names, MDLPRM options: OFFDEF = LROFF
+/// changes only nonlinear analyses, NOMASS changes the mass) the others are refused at their field.
 #[test]
 fn harmless_cards_are_set_aside_with_a_reason_and_the_others_refused() {
     let deck = read_text(
         "SOL 101\nCEND\nLINES = 9999\nBEGIN BULK\nECHOON\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\n\
          USET,U2,1,123,2,456\nUSET1,U1,123,1,2\nUSET,U2,2,1\nCBARAO,1,2,FR,0.2,0.4\n\
-         PLOTEL,7,1,2\nMAT4,14,8.6\nMDLPRM,HDF5,1,H5MDL,0\nECHOOFF\nENDDATA\n",
+         PLOTEL,7,1,2\nMAT4,14,8.6\nMDLPRM,HDF5,1,H5MDL,0,OFFDEF,LROFF\nECHOOFF\nENDDATA\n",
     );
     let warned = |text: &str| deck.warnings.iter().any(|w| w.message.contains(text));
     for text in [
@@ -484,7 +484,7 @@ fn harmless_cards_are_set_aside_with_a_reason_and_the_others_refused() {
     }
     let (_dir, refused) = read_files(&[(
         "deck.dat",
-        "SOL 101\nCEND\nBEGIN BULK\nUSET,A,1,123\nMDLPRM,HDF5,1,OFFDEF,LROFF\nENDDATA\n",
+        "SOL 101\nCEND\nBEGIN BULK\nUSET,A,1,123\nMDLPRM,HDF5,1,OFFDEF,NOMASS\nENDDATA\n",
     )]);
     let message = refused.expect_err("refused").to_string();
     for text in [

@@ -567,3 +567,37 @@ fn grdset_defaults_and_cord2s_locations_give_the_basic_strip() {
         "GRDSET/CORD2S strip differs by {diff:e} of {scale:e}"
     );
 }
+
+/// A rod along basic x whose tip grid lies on the polar axis (at the origin) of a cylindrical
+/// CD: there its directions are those of azimuth 0, e_r = the system's i (basic y here) and
+/// e_θ = k × i (basic −x). With the tip held in e_r, z and the rotations and loaded along x,
+/// the only free direction is e_θ, so the rod stretches by the closed form F L/(E A). Were e_r
+/// taken along x the tip could not move (u = 0). The CORD2C is written as one free-field line
+/// of 12 fields, which runs on into its second row (C = (1, 1, 0)).
+#[test]
+fn grid_on_the_polar_axis_of_its_cd_uses_azimuth_zero() {
+    let (length, e, area, force) = (2.0, 7.0e10, 1.0e-4, 1.0e3);
+    let deck = format!(
+        "SOL 101\nCEND\nSPC = 1\nLOAD = 2\nDISPLACEMENT = ALL\nBEGIN BULK\n\
+         CORD2C,5,0, {length:?},0.,0., {length:?},0.,1., {length:?},1.,0.\n\
+         GRID,1,,0.,0.,0.\nGRID,2,,{length:?},0.,0.,5\n\
+         CROD,10,11,1,2\nPROD,11,12,{area:?}\nMAT1,12,{e:?},,0.3\n\
+         SPC1,1,123456,1\nSPC1,1,13456,2\nFORCE,2,2,,{force:?},1.,0.,0.\nENDDATA\n"
+    );
+    let (r, dir) = run_deck(&deck);
+    r.expect("run");
+    let u: Vec<f64> = hdf5_metno::File::open(dir.path().join("out.h5"))
+        .expect("open")
+        .dataset("results/1/statics/displacement")
+        .expect("u")
+        .read_raw()
+        .expect("read");
+    let expected = force * length / (e * area);
+    // One rod element is exact for an axial end load: round-off of the 2×2 solve only.
+    assert!(
+        (u[6] - expected).abs() <= 1e-12 * expected,
+        "tip u_x = {:e}, F L/(E A) = {expected:e}",
+        u[6]
+    );
+    assert!(u[7].abs() <= 1e-15 && u[8].abs() <= 1e-15, "{:?}", &u[6..9]);
+}

@@ -1,8 +1,9 @@
 //! Bulk-data lines → fields → raw cards.
 //!
 //! Each physical line is sliced by its own format, as Nastran and pyNastran's `to_fields` do:
-//! - free field: a comma anywhere in the line; entries separated by commas, at most 10 per line
-//!   (name or continuation marker, 8 data fields, continuation marker);
+//! - free field: a comma anywhere in the line; entries separated by commas, 10 per line (name or
+//!   continuation marker, 8 data fields, continuation marker); a longer small-field line runs on
+//!   into the next rows, all its fields data;
 //! - large field: the first field ends in `*` (`GRID*`) or the line is a `*` continuation; four
 //!   16-column data fields (columns 9–72);
 //! - small field: eight 8-column data fields (columns 9–72).
@@ -225,12 +226,16 @@ impl CardAssembler {
             }
         }
         let per_line = if large { 4 } else { 8 };
-        if line.format == Format::Free && line.data.len() > per_line + 1 {
+        // A small-field free line longer than one row runs on: its fields after the name are all
+        // data, 8 to a row, with no continuation markers between them (MSC Nastran reads
+        // `CORD2C,1,0, 0.,0.,0., 0.,0.,1., 0.,1.,0.` as one card with C = (0, 1, 0)).
+        let runs_on = line.format == Format::Free && !large && line.data.len() > per_line + 1;
+        if line.format == Format::Free && large && line.data.len() > per_line + 1 {
             diag.error(
                 DeckError::at(
                     loc,
                     format!(
-                        "free-field line has {} fields; at most {} are allowed (name, {per_line} data fields, continuation marker)",
+                        "large-field free-field line has {} fields; at most {} are allowed (name, {per_line} data fields, continuation marker)",
                         line.data.len() + 1,
                         per_line + 2
                     ),
@@ -238,9 +243,22 @@ impl CardAssembler {
                 .on_card(card.name.clone()),
             );
         }
-        let data = &line.data[..line.data.len().min(per_line)];
+        let data = if runs_on {
+            &line.data[..]
+        } else {
+            &line.data[..line.data.len().min(per_line)]
+        };
         let row_start = card.fields.len() / 8 * 8;
         card.fields.extend(data.iter().map(|s| lex(s)));
+        if runs_on {
+            let rows = card.fields.len().div_ceil(8);
+            let first_extra_row = row_start / 8 + 1;
+            card.row_lines
+                .extend((first_extra_row..rows).map(|_| loc.line));
+            card.fields.resize(rows * 8, Value::Blank);
+            *half_row = false;
+            return;
+        }
         // Every physical line fills its share of the row even when written short.
         let filled = if large && starts_row {
             row_start + 4
@@ -366,8 +384,26 @@ mod tests {
     }
 
     #[test]
-    fn too_many_free_fields_is_an_error() {
-        let (_, d) = cards("GRID,1,,1.,2.,3.,,,,,,,,");
+    fn long_free_field_line_runs_on_into_the_next_rows() {
+        let (c, d) = cards("CORD2C,1,0, 0.,0.,0., 0.,0.,1., 0.,1.,0.\n+,9\nGRID,2");
+        assert!(d.is_ok());
+        assert_eq!(c.len(), 2);
+        let f = &c[0].fields;
+        // Row 0: CID RID A B; row 1: C; row 2: the continuation line.
+        assert_eq!(f.len(), 24);
+        assert_eq!(f[7], Value::Real(1.));
+        assert_eq!(
+            &f[8..11],
+            &[Value::Real(0.), Value::Real(1.), Value::Real(0.)]
+        );
+        assert!(f[11..16].iter().all(Value::is_blank));
+        assert_eq!(f[16], Value::Int(9));
+        assert_eq!((c[0].line_of(9), c[0].line_of(17)), (1, 2));
+    }
+
+    #[test]
+    fn too_many_large_free_fields_is_an_error() {
+        let (_, d) = cards("GRID*,1,,1.,2.,3.,4.");
         assert_eq!(d.errors.len(), 1);
     }
 

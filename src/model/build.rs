@@ -39,7 +39,7 @@ impl Model {
             &mut errors,
         );
         let coords = coords::resolve(&bulk.coords, &mut errors);
-        let (grids, grid_index) = build_grids(bulk, &coords, &mut errors);
+        let (grids, grid_index) = build_grids(bulk, &coords, &mut errors, &mut warnings);
         let (scalar_points, scalar_index) =
             super::scalar_points::build(bulk, &grid_index, &mut errors);
         let properties = index_properties(bulk, &mut errors);
@@ -192,6 +192,7 @@ fn build_grids(
     bulk: &BulkData,
     coords: &HashMap<u32, CoordSystem>,
     errors: &mut Vec<DeckError>,
+    warnings: &mut Vec<Warning>,
 ) -> (Vec<GridPoint>, HashMap<u32, usize>) {
     let unique = index(
         bulk.grids
@@ -239,10 +240,12 @@ fn build_grids(
                 DeckError::at(&g.loc, format!("CD = {} does not exist or is in error (no usable CORD2R/CORD2C/CORD2S {})", cd, cd))
                     .on_card(card),
             ),
-            Some(sys) if sys.on_polar_axis(xyz) => errors.push(
-                DeckError::at(&g.loc, format!("CD = {}: the grid lies on the polar axis of this cylindrical or spherical system, where its local directions are undefined (as in Nastran); give the grid a rectangular CD", cd))
-                    .on_card(card),
-            ),
+            Some(sys) if sys.on_polar_axis(xyz) => warnings.push(Warning {
+                loc: Some(g.loc.to_string()),
+                message: format!(
+                    "{card} lies on the polar axis of its CD = {cd}, where the azimuth is undefined: its displacement directions are taken at azimuth 0 (e_r along the system's x axis); other codes may choose other directions there"
+                ),
+            }),
             Some(_) => {}
         }
         grids.push(GridPoint {

@@ -98,7 +98,7 @@ impl CoordSystem {
     /// spherical. A vector with local components v has basic components T·v. On the polar axis
     /// ([`Self::on_polar_axis`]) the azimuth is 0 (cylindrical e_r = i, e_θ = j; spherical
     /// e_r = ±k, e_θ = ±i, e_φ = j, with θ = 0 at the origin), not the angle of the last bits of
-    /// p; a GRID there may not use the system as its CD (model build refuses it, as Nastran does).
+    /// p; a GRID there that uses the system as its CD gets these directions, with a warning.
     pub fn axes_at(&self, p: [f64; 3]) -> [[f64; 3]; 3] {
         let [i, j, k] = self.axes;
         let l = self.basic_to_local_cartesian(p);

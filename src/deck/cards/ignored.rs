@@ -9,7 +9,7 @@
 //! | `CBARAO` | output points along a CBAR; paraflex writes no bar forces or stresses | – |
 //! | `USET`, `USET1` | user DOF sets U1–U6 partition matrices for DMAP alters and OUTPUT2/4; paraflex runs no DMAP | any set name other than U1–U6 or ZERO |
 //! | `MAT4`, `MAT5` | thermal materials, read by heat-transfer solutions only | – |
-//! | `MDLPRM` | HDF5 output options (`HDF5`, `H5…`); paraflex writes its own HDF5 file | every other model parameter (they change the model, e.g. `OFFDEF`) |
+//! | `MDLPRM` | HDF5 output options (`HDF5`, `H5…`): paraflex writes its own HDF5 file; `OFFDEF = LROFF`: offsets that do not follow large rotations, a nonlinear option | every other model parameter (they change the model, e.g. `OFFDEF = NOMASS`) |
 
 use crate::deck::error::DeckError;
 use crate::deck::fields::RawCard;
@@ -64,7 +64,7 @@ static IGNORED: &[(&str, &str, Option<Check>)] = &[
     (
         "MDLPRM",
         "its HDF5 output options do not apply: paraflex writes its own HDF5 file",
-        Some(hdf5_options_only),
+        Some(harmless_model_parameters),
     ),
 ];
 
@@ -91,19 +91,27 @@ fn user_set_name(card: &RawCard) -> Result<(), Vec<DeckError>> {
     f.finish(card.fields.len())
 }
 
-/// `MDLPRM` pairs: only the HDF5 output options (`HDF5`, `H5…`) are harmless.
-fn hdf5_options_only(card: &RawCard) -> Result<(), Vec<DeckError>> {
+/// `MDLPRM` pairs: only the HDF5 output options (`HDF5`, `H5…`) and `OFFDEF = LROFF` (offsets
+/// that do not follow large rotations: a nonlinear-analysis option, no effect on the linear
+/// solutions paraflex runs) are harmless.
+fn harmless_model_parameters(card: &RawCard) -> Result<(), Vec<DeckError>> {
     let mut f = FieldReader::new(card);
     for i in (1..=card.fields.len()).step_by(2) {
         let Value::Text(name) = f.value(i) else {
             continue;
         };
         let name = name.to_ascii_uppercase();
-        if name != "HDF5" && !name.starts_with("H5") {
+        let value = match f.value(i + 1) {
+            Value::Text(v) => v.to_ascii_uppercase(),
+            _ => String::new(),
+        };
+        let harmless =
+            name == "HDF5" || name.starts_with("H5") || (name == "OFFDEF" && value == "LROFF");
+        if !harmless {
             f.error(
                 i,
                 "PARAMi",
-                format!("model parameter {name} is not supported (paraflex accepts only the HDF5 output options HDF5 and H5…, which do not change results)"),
+                format!("model parameter {name} is not supported (paraflex accepts only the HDF5 output options HDF5 and H5… and OFFDEF = LROFF, which do not change linear results)"),
             );
         }
     }
