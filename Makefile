@@ -12,7 +12,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcursor1 libxfixes3 \
 	libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1
 
-.PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient bench-estimate \
+.PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient bench-estimate bench-fmb \
 	reference-exudyn reference-pymoo exudyn-plot fourbar-plots mutants clean
 
 demo: deps
@@ -77,6 +77,13 @@ bench-transient: deps
 	$(CARGO) build --release --quiet
 	$(PY) tools/bench/transient_bench.py --scene blade --paraflex $${CARGO_TARGET_DIR:-target}/release/paraflex
 	$(PY) tools/bench/transient_bench.py --scene link --paraflex $${CARGO_TARGET_DIR:-target}/release/paraflex
+
+# The flexible four-bar (SOL FMB, thesis §4.4): CPU time, Newton iterations per step and the
+# eq. 4.11 error against a finer step for BDF1 at 1 ms, then each GGL integrator at 2, 1 and
+# 0.5 ms (tools/bench/fourbar_bench.py; docs/fourbar.md "Speed") — prints, not part of the tests.
+bench-fmb: deps
+	$(CARGO) build --release --quiet
+	$(PY) tools/bench/fourbar_bench.py --integrators --repeat 5 --paraflex $(BIN)
 
 # SOL ESTIMATE filter speed against the goal of 10x real time: steps/s in physical and modal
 # coordinates on the blade pROM and on its clamped one-material variant, and the error for a few

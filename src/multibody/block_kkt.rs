@@ -268,12 +268,20 @@ impl BlockKkt {
         for ((w, r), u) in self.w.iter_mut().zip(r1.iter()).zip(&self.u) {
             *w = r + c_q * u;
         }
+        // (the loops below run over the touched runs' slices, one run after the other)
         for (k, touched) in self.touched.iter().enumerate() {
             let (gk, vk) = (self.gt.col_as_slice(k), self.vt.col_as_slice(k));
             let (mut z3, mut z4) = (r34[k], r34[m + k]);
-            for j in touched.iter().flat_map(|&b| self.runs[b].clone()) {
-                z3 -= vk[j] * self.w[j] + gk[j] * self.u[j];
-                z4 -= gk[j] * self.w[j];
+            for range in touched.iter().map(|&b| self.runs[b].clone()) {
+                let (w, u) = (&self.w[range.clone()], &self.u[range.clone()]);
+                for ((g, v), (w, u)) in gk[range.clone()]
+                    .iter()
+                    .zip(&vk[range])
+                    .zip(w.iter().zip(u))
+                {
+                    z3 -= v * w + g * u;
+                    z4 -= g * w;
+                }
             }
             self.z[k] = z3;
             self.z[m + k] = z4;
@@ -283,20 +291,21 @@ impl BlockKkt {
         r2.copy_from_slice(&self.u);
         for (j, &yj) in self.z.iter().enumerate() {
             let column = self.y.col_as_slice(j);
-            for i in self.touched[j % m]
-                .iter()
-                .flat_map(|&b| self.runs[b].clone())
-            {
-                r2[i] -= column[i] * yj;
+            for range in self.touched[j % m].iter().map(|&b| self.runs[b].clone()) {
+                for (r, y) in r2[range.clone()].iter_mut().zip(&column[range]) {
+                    *r -= y * yj;
+                }
             }
         }
-        for i in 0..n {
-            r1[i] += c_q * r2[i];
+        for (r, d) in r1.iter_mut().zip(r2.iter()) {
+            *r += c_q * d;
         }
         for (k, touched) in self.touched.iter().enumerate() {
             let (mu, gk) = (self.z[m + k], self.wgt.col_as_slice(k));
-            for i in touched.iter().flat_map(|&b| self.runs[b].clone()) {
-                r1[i] += gk[i] * mu;
+            for range in touched.iter().map(|&b| self.runs[b].clone()) {
+                for (r, g) in r1[range.clone()].iter_mut().zip(&gk[range]) {
+                    *r += g * mu;
+                }
             }
         }
         r34.copy_from_slice(&self.z);

@@ -47,11 +47,10 @@ fn frobenius(p: &Mat3, q: &Mat3) -> f64 {
         .sum()
 }
 
+/// target += s m, entry by entry over the nine entries in a row (vectorizable).
 fn add_scaled(target: &mut Mat3, s: f64, m: &Mat3) {
-    for i in 0..3 {
-        for j in 0..3 {
-            target[i][j] += s * m[i][j];
-        }
+    for (t, x) in target.as_flattened_mut().iter_mut().zip(m.as_flattened()) {
+        *t += s * x;
     }
 }
 
@@ -331,7 +330,11 @@ fn modal_rate(inv: &MassInvariants, qf_dot: &[f64]) -> [f64; 3] {
 /// Nₖ = Σₗ q̇ₗ Σ m ψₗ ψₖᵀ.
 fn modal_rate_moment(inv: &MassInvariants, qf_dot: &[f64], k: usize) -> Mat3 {
     let n = inv.modes();
-    scaled_sum((0..n).map(|l| (qf_dot[l], inv.second_modal[l * n + k])))
+    let mut moment = [[0.0; 3]; 3];
+    for (l, &rate) in qf_dot.iter().enumerate() {
+        add_scaled(&mut moment, rate, &inv.second_modal[l * n + k]);
+    }
+    moment
 }
 
 /// The body mass matrix (7 + n square) at (e, q_f) into `out`; `modal_mass` is M_ff.

@@ -10,7 +10,8 @@ Builds the three links' pROM artifacts beside the deck in a work directory, runs
 1 ms (1000 steps) and at 0.25 ms (4000 steps, output every 4th: the same output times).
 Time: wall time of the run's "multibody" step as printed by paraflex (assembly, the time loop,
 the sensors and their output) and CPU time of the whole run (its child-process rusage,
-reading the artifacts included), each the best of --repeat runs; Newton iterations per step from the
+reading the artifacts included), each the best of --repeat runs (the median CPU time too, and
+that of the deck without its DEV sensor, whose rigid twin is a second integration); Newton iterations per step from the
 output's newton_iterations. On a machine shared with other jobs the wall time can be 2–3 × the
 CPU time; compare binaries by the CPU time of a run of the kept work directory's coarse.dat
 (`perf stat -e task-clock`, docs/fourbar.md "Speed"). Error: eq. 4.11 of the thesis,
@@ -64,6 +65,15 @@ def errors(y: dict[str, np.ndarray], ref: dict[str, np.ndarray]) -> tuple[float,
     if len(common) < 2:
         raise RuntimeError("the runs share no output times")
     return (error_4_11(y["accel"][iy], ref["accel"][ir]), error_4_11(y["torque"][iy], ref["torque"][ir]))
+
+
+def without_twin(deck: str) -> str:
+    """The deck without its DEV sensor (the one output that makes paraflex integrate the rigid
+    twin, eq. 4.10, beside the flexible links)."""
+    kept = [line for line in deck.splitlines() if not (line.startswith("MSENSOR") and ",DEV," in line)]
+    if len(kept) == len(deck.splitlines()):
+        raise RuntimeError("no DEV sensor in fourbar_steel.dat")
+    return "\n".join(kept) + "\n"
 
 
 def variant(deck: str, scheme: str, dt_ms: float, out_every_ms: float) -> str:
@@ -131,8 +141,12 @@ def main() -> None:
             raise RuntimeError(f"{line} not in fourbar_steel.dat")
     (work / "coarse.dat").write_text(coarse)
     (work / "fine.dat").write_text(coarse.replace(*FINE))
-    wall, cpu = (min(t) for t in zip(*(timed_run(work / "coarse.dat", work / "coarse.h5", a.paraflex)
-                                         for _ in range(a.repeat))))
+    runs = [timed_run(work / "coarse.dat", work / "coarse.h5", a.paraflex) for _ in range(a.repeat)]
+    wall, cpu = (min(t) for t in zip(*runs))
+    median_cpu = float(np.median([r[1] for r in runs]))
+    # the same deck without its DEV sensor: no rigid twin to integrate beside the links
+    (work / "no_twin.dat").write_text(without_twin(coarse))
+    no_twin = [timed_run(work / "no_twin.dat", work / "no_twin.h5", a.paraflex)[1] for _ in range(a.repeat)]
     fine_wall, fine_cpu = timed_run(work / "fine.dat", work / "fine.h5", a.paraflex)
     y, ref = histories(work / "coarse.h5"), histories(work / "fine.h5")
     if not np.allclose(y["time"], ref["time"]):
@@ -142,6 +156,8 @@ def main() -> None:
           f"{error_4_11(y['torque'], ref['torque']):>14.2e}")
     print(f"{2.5e-4:>8.2e}{4000:>7}{1e3 * fine_wall:>11.1f}{1e3 * fine_cpu:>10.1f}{'(reference)':>13}{'':>14}")
     print(f"Newton iterations per step at 1 ms: {y['iterations'][1:].mean():.2f}")
+    print(f"CPU at 1 ms, median of {a.repeat}: {1e3 * median_cpu:.1f} ms; without the DEV sensor (no rigid twin): "
+          f"{1e3 * float(np.median(no_twin)):.1f} ms")
     if a.integrators:
         integrator_table(work, coarse, a.paraflex, a.repeat)
     print(f"work directory: {work}" if a.keep else "")
