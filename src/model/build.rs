@@ -318,6 +318,12 @@ fn index_properties(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32
             .map(|(i, p)| entry(p.id, "PSOLID", &p.loc, PropertyRef::Psolid(i))),
     );
     entries.extend(
+        bulk.pshear
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PSHEAR", &p.loc, PropertyRef::Pshear(i))),
+    );
+    entries.extend(
         bulk.pelas
             .iter()
             .enumerate()
@@ -409,6 +415,11 @@ fn element_id_space(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32
         bulk.ctria3
             .iter()
             .map(|c| entry(c.id, "CTRIA3", &c.loc, ())),
+    );
+    e.extend(
+        bulk.cshear
+            .iter()
+            .map(|c| entry(c.id, "CSHEAR", &c.loc, ())),
     );
     e.extend(bulk.chexa.iter().map(|c| entry(c.id, "CHEXA", &c.loc, ())));
     e.extend(
@@ -623,6 +634,25 @@ fn build_elements(
             out.push(Element {
                 id: c.id,
                 kind: ElementKind::Tria3,
+                card: i,
+                property: prop,
+                nodes,
+            });
+        }
+    }
+    for (i, c) in b.cshear.iter().enumerate() {
+        let card = format!("CSHEAR {}", c.id);
+        let nodes = resolve_nodes(refs, &c.nodes, &G, &card, &c.loc, errors);
+        let prop = resolve_property(refs, c.pid, &["PSHEAR"], &card, &c.loc, errors);
+        if let Some(nodes) = nodes {
+            if let Ok(p) = <[[f64; 3]; 4]>::try_from(pos(&nodes)) {
+                let report = geometry::check_quad(&p, &c.nodes);
+                shape_errors(&report, &card, &c.loc, errors);
+                quality.add("CSHEAR", c.id, &report);
+            }
+            out.push(Element {
+                id: c.id,
+                kind: ElementKind::Cshear,
                 card: i,
                 property: prop,
                 nodes,

@@ -126,6 +126,17 @@ impl Model {
                     inertia: None,
                 })
             }
+            ElementKind::Cshear => {
+                let q = <[[f64; 3]; 4]>::try_from(p).ok()?;
+                let ps = self.pshear(e)?;
+                let mu = ps.nsm + self.rho(ps.mid).unwrap_or(0.0) * ps.t;
+                let (mass, point) = geometry::quad_weighted(&q, [mu; 4]);
+                Some(MassPoint {
+                    mass,
+                    point,
+                    inertia: None,
+                })
+            }
             ElementKind::Hexa8
             | ElementKind::Penta6
             | ElementKind::Tetra4

@@ -80,6 +80,7 @@ pub struct GridPoint {
 pub enum ElementKind {
     Quad4,
     Tria3,
+    Cshear,
     Hexa8,
     Penta6,
     Tetra4,
@@ -108,6 +109,7 @@ impl ElementKind {
         match self {
             ElementKind::Quad4 => "CQUAD4",
             ElementKind::Tria3 => "CTRIA3",
+            ElementKind::Cshear => "CSHEAR",
             ElementKind::Hexa8 => "CHEXA",
             ElementKind::Penta6 => "CPENTA",
             ElementKind::Tetra4 | ElementKind::Tetra10 => "CTETRA",
@@ -194,6 +196,7 @@ pub enum PropertyRef {
     Pshell(usize),
     Pcomp(usize),
     Psolid(usize),
+    Pshear(usize),
     Pelas(usize),
     Pdamp(usize),
     Pvisc(usize),
@@ -213,6 +216,7 @@ impl PropertyRef {
             PropertyRef::Pshell(_) => "PSHELL",
             PropertyRef::Pcomp(_) => "PCOMP",
             PropertyRef::Psolid(_) => "PSOLID",
+            PropertyRef::Pshear(_) => "PSHEAR",
             PropertyRef::Pelas(_) => "PELAS",
             PropertyRef::Pdamp(_) => "PDAMP",
             PropertyRef::Pvisc(_) => "PVISC",

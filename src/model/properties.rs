@@ -175,6 +175,14 @@ impl Model {
         Some((p.id, self.material_use(p.mid)))
     }
 
+    /// The PSHEAR of a CSHEAR element.
+    pub fn pshear(&self, e: &Element) -> Option<&crate::deck::cards::Pshear> {
+        let PropertyRef::Pshear(i) = e.property? else {
+            return None;
+        };
+        self.bulk.pshear.get(i)
+    }
+
     /// The stiffness and ends of a CELAS1–CELAS4 element.
     pub fn spring(&self, e: &Element) -> Option<Spring> {
         let b = &self.bulk;

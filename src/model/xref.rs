@@ -635,6 +635,7 @@ fn property_users(refs: &Refs) -> HashMap<u32, Vec<String>> {
     };
     b.cquad4.iter().for_each(|c| push(c.pid, "CQUAD4", c.id));
     b.ctria3.iter().for_each(|c| push(c.pid, "CTRIA3", c.id));
+    b.cshear.iter().for_each(|c| push(c.pid, "CSHEAR", c.id));
     b.chexa.iter().for_each(|c| push(c.pid, "CHEXA", c.id));
     b.cpenta.iter().for_each(|c| push(c.pid, "CPENTA", c.id));
     b.ctetra.iter().for_each(|c| push(c.pid, "CTETRA", c.id));

@@ -23,6 +23,7 @@ mod optimize;
 mod param;
 mod properties;
 mod rigid;
+mod shear_panel;
 
 pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd};
 pub use design::{Ddval, Desvar};
@@ -50,6 +51,7 @@ pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, ResponseSource, SearchMethod, St
 pub use param::{Param, ParamValue};
 pub use properties::{Pbush, Pcomp, Pdamp, Pelas, Ply, Pshell, Psolid, Pvisc};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
+pub use shear_panel::{Cshear, Pshear};
 
 use super::Loc;
 use super::error::DeckError;
@@ -64,6 +66,7 @@ pub struct BulkData {
     pub coords: Vec<Cord2>,
     pub cquad4: Vec<Cquad4>,
     pub ctria3: Vec<Ctria3>,
+    pub cshear: Vec<Cshear>,
     pub chexa: Vec<Chexa>,
     pub cpenta: Vec<Cpenta>,
     pub ctetra: Vec<Ctetra>,
@@ -91,6 +94,7 @@ pub struct BulkData {
     pub pshell: Vec<Pshell>,
     pub pcomp: Vec<Pcomp>,
     pub psolid: Vec<Psolid>,
+    pub pshear: Vec<Pshear>,
     pub pelas: Vec<Pelas>,
     pub pdamp: Vec<Pdamp>,
     pub pvisc: Vec<Pvisc>,
@@ -201,6 +205,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     }),
     ("CQUAD4", |c, b| Ok(b.cquad4.push(Cquad4::from_card(c)?))),
     ("CTRIA3", |c, b| Ok(b.ctria3.push(Ctria3::from_card(c)?))),
+    ("CSHEAR", |c, b| Ok(b.cshear.push(Cshear::from_card(c)?))),
     ("CHEXA", |c, b| Ok(b.chexa.push(Chexa::from_card(c)?))),
     ("CPENTA", |c, b| Ok(b.cpenta.push(Cpenta::from_card(c)?))),
     ("CTETRA", |c, b| Ok(b.ctetra.push(Ctetra::from_card(c)?))),
@@ -238,6 +243,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("PSHELL", |c, b| Ok(b.pshell.push(Pshell::from_card(c)?))),
     ("PCOMP", |c, b| Ok(b.pcomp.push(Pcomp::from_card(c)?))),
     ("PSOLID", |c, b| Ok(b.psolid.push(Psolid::from_card(c)?))),
+    ("PSHEAR", |c, b| Ok(b.pshear.push(Pshear::from_card(c)?))),
     ("PELAS", |c, b| Ok(b.pelas.extend(Pelas::from_card(c)?))),
     ("PDAMP", |c, b| Ok(b.pdamp.extend(Pdamp::from_card(c)?))),
     ("PVISC", |c, b| Ok(b.pvisc.extend(Pvisc::from_card(c)?))),
