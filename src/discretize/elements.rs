@@ -197,7 +197,9 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> 
     let wtmass = ctx.model.params.wtmass;
     let xyz = ctx.model.positions(e);
     let mut built = match e.kind {
-        ElementKind::Quad4 | ElementKind::Tria3 => shell_element(ctx, e, &xyz)?,
+        ElementKind::Quad4 | ElementKind::Tria3 | ElementKind::QuadR | ElementKind::TriaR => {
+            shell_element(ctx, e, &xyz)?
+        }
         ElementKind::Cshear => shear_panel::shear_panel_element(ctx, e)?,
         ElementKind::Hexa8 | ElementKind::Penta6 | ElementKind::Tetra4 | ElementKind::Tetra10 => {
             solid_element(ctx, e, &xyz)?
@@ -682,7 +684,7 @@ fn shell_element(
     // The deck's section(s), i.e. the parts at the nominal parameter values: the CQUAD4
     // condenses its incompatible modes with them (shell module doc, "frozen condensation"),
     // unless PARAM,QINCOMP,NO leaves the modes out.
-    let incompatible = ctx.incompatible && e.kind == ElementKind::Quad4;
+    let incompatible = ctx.incompatible && e.nodes.len() == 4;
     let (k, condensation_frozen) = match points {
         None => {
             let nominal = if incompatible {

@@ -80,6 +80,10 @@ pub struct GridPoint {
 pub enum ElementKind {
     Quad4,
     Tria3,
+    /// CQUADR: a CQUAD4 by another name (same kernel).
+    QuadR,
+    /// CTRIAR: a CTRIA3 by another name (same kernel).
+    TriaR,
     Cshear,
     Hexa8,
     Penta6,
@@ -109,6 +113,8 @@ impl ElementKind {
         match self {
             ElementKind::Quad4 => "CQUAD4",
             ElementKind::Tria3 => "CTRIA3",
+            ElementKind::QuadR => "CQUADR",
+            ElementKind::TriaR => "CTRIAR",
             ElementKind::Cshear => "CSHEAR",
             ElementKind::Hexa8 => "CHEXA",
             ElementKind::Penta6 => "CPENTA",
@@ -172,9 +178,12 @@ impl ElementKind {
         )
     }
 
-    /// True for CQUAD4 and CTRIA3.
+    /// True for CQUAD4, CTRIA3, CQUADR and CTRIAR.
     pub fn is_shell(self) -> bool {
-        matches!(self, ElementKind::Quad4 | ElementKind::Tria3)
+        matches!(
+            self,
+            ElementKind::Quad4 | ElementKind::Tria3 | ElementKind::QuadR | ElementKind::TriaR
+        )
     }
 
     /// True for the rods and beams (CROD, CONROD, CTUBE, CBAR, CBEAM).

@@ -66,6 +66,10 @@ pub struct BulkData {
     pub coords: Vec<Cord2>,
     pub cquad4: Vec<Cquad4>,
     pub ctria3: Vec<Ctria3>,
+    /// CQUADR: the CQUAD4 layout and kernel (docs/departures.md).
+    pub cquadr: Vec<Cquad4>,
+    /// CTRIAR: the CTRIA3 layout and kernel (docs/departures.md).
+    pub ctriar: Vec<Ctria3>,
     pub cshear: Vec<Cshear>,
     pub chexa: Vec<Chexa>,
     pub cpenta: Vec<Cpenta>,
@@ -205,6 +209,8 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     }),
     ("CQUAD4", |c, b| Ok(b.cquad4.push(Cquad4::from_card(c)?))),
     ("CTRIA3", |c, b| Ok(b.ctria3.push(Ctria3::from_card(c)?))),
+    ("CQUADR", |c, b| Ok(b.cquadr.push(Cquad4::from_card(c)?))),
+    ("CTRIAR", |c, b| Ok(b.ctriar.push(Ctria3::from_card(c)?))),
     ("CSHEAR", |c, b| Ok(b.cshear.push(Cshear::from_card(c)?))),
     ("CHEXA", |c, b| Ok(b.chexa.push(Chexa::from_card(c)?))),
     ("CPENTA", |c, b| Ok(b.cpenta.push(Cpenta::from_card(c)?))),
