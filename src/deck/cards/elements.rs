@@ -1,4 +1,4 @@
-//! Elements: shells `CQUAD4`, `CTRIA3`; solids `CHEXA`, `CPENTA`, `CTETRA`; scalar springs
+//! Elements: shells `CQUAD4`, `CTRIA3` (and `CQUADR`, `CTRIAR` in their layouts); solids `CHEXA`, `CPENTA`, `CTETRA`; scalar springs
 //! `CELAS1`–`CELAS4` and dampers `CDAMP1`–`CDAMP4`; the viscous damper `CVISC`; the bush
 //! `CBUSH`; concentrated mass `CONM2`; scalar points `SPOINT`.
 
@@ -45,7 +45,8 @@ fn corner_thickness(f: &mut FieldReader, first: usize, count: usize) -> Option<C
     Some(CornerThickness { relative, t })
 }
 
-/// `CQUAD4` — four-node shell.
+/// `CQUAD4` / `CQUADR` — four-node shell (a CQUADR is read and computed as a CQUAD4, see
+/// docs/departures.md).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
@@ -68,7 +69,7 @@ pub struct Cquad4 {
 }
 
 impl Cquad4 {
-    /// Read a `CQUAD4` card.
+    /// Read a `CQUAD4` or `CQUADR` card (same layout).
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "EID");
@@ -92,7 +93,8 @@ impl Cquad4 {
     }
 }
 
-/// `CTRIA3` — three-node shell.
+/// `CTRIA3` / `CTRIAR` — three-node shell (a CTRIAR is read and computed as a CTRIA3, see
+/// docs/departures.md).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
@@ -115,7 +117,7 @@ pub struct Ctria3 {
 }
 
 impl Ctria3 {
-    /// Read a `CTRIA3` card.
+    /// Read a `CTRIA3` or `CTRIAR` card (same layout).
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "EID");
