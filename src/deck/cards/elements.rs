@@ -45,8 +45,7 @@ fn corner_thickness(f: &mut FieldReader, first: usize, count: usize) -> Option<C
     Some(CornerThickness { relative, t })
 }
 
-/// `CQUAD4` / `CQUADR` — four-node shell (a CQUADR is read and computed as a CQUAD4, see
-/// docs/departures.md).
+/// `CQUAD4` / `CQUADR` — four-node shell.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
@@ -57,6 +56,8 @@ fn corner_thickness(f: &mut FieldReader, first: usize, count: usize) -> Option<C
 /// | 9 | ZOFFS | real | 0.0 | offset of the reference plane from the grids |
 /// | cont. 3 | TFLAG | 0 or 1 | 0 | 1: T1–T4 are ratios of the property thickness |
 /// | cont. 4–7 | T1–T4 | real > 0 | property T | corner thicknesses (bilinear over the element) |
+///
+/// A CQUADR is read and computed as a CQUAD4 (docs/departures.md).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cquad4 {
     pub id: u32,
@@ -93,8 +94,7 @@ impl Cquad4 {
     }
 }
 
-/// `CTRIA3` / `CTRIAR` — three-node shell (a CTRIAR is read and computed as a CTRIA3, see
-/// docs/departures.md).
+/// `CTRIA3` / `CTRIAR` — three-node shell.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
@@ -105,6 +105,8 @@ impl Cquad4 {
 /// | 8 | ZOFFS | real | 0.0 | offset of the reference plane from the grids |
 /// | cont. 3 | TFLAG | 0 or 1 | 0 | 1: T1–T3 are ratios of the property thickness |
 /// | cont. 4–6 | T1–T3 | real > 0 | property T | corner thicknesses (linear over the element) |
+///
+/// A CTRIAR is read and computed as a CTRIA3 (docs/departures.md).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ctria3 {
     pub id: u32,
