@@ -45,6 +45,7 @@ pub mod scalar_points;
 pub mod sensors;
 pub mod sets;
 pub mod summary;
+pub mod temperature;
 pub mod values;
 pub mod xref;
 

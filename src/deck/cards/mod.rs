@@ -24,6 +24,7 @@ mod param;
 mod properties;
 mod rigid;
 mod shear_panel;
+mod temperature;
 
 pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd};
 pub use design::{Ddval, Desvar};
@@ -52,6 +53,7 @@ pub use param::{Param, ParamValue};
 pub use properties::{Pbush, Pcomp, Pdamp, Pelas, Ply, Pshell, Psolid, Pvisc};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
 pub use shear_panel::{Cshear, Pshear};
+pub use temperature::Matt1;
 
 use super::Loc;
 use super::error::DeckError;
@@ -95,6 +97,11 @@ pub struct BulkData {
     pub rbe3: Vec<Rbe3>,
     pub mat1: Vec<Mat1>,
     pub mat8: Vec<Mat8>,
+    pub matt1: Vec<Matt1>,
+    /// TABLEM1, TABLEM2 and TABLEM3 (material tables, read by MATT1).
+    pub tablem: Vec<Tabled>,
+    /// TABLEM4.
+    pub tablem4: Vec<Tabled4>,
     pub pshell: Vec<Pshell>,
     pub pcomp: Vec<Pcomp>,
     pub psolid: Vec<Psolid>,
@@ -246,6 +253,17 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("RBE3", |c, b| Ok(b.rbe3.push(Rbe3::from_card(c)?))),
     ("MAT1", |c, b| Ok(b.mat1.push(Mat1::from_card(c)?))),
     ("MAT8", |c, b| Ok(b.mat8.push(Mat8::from_card(c)?))),
+    ("MATT1", |c, b| Ok(b.matt1.push(Matt1::from_card(c)?))),
+    ("TABLEM1", |c, b| {
+        Ok(b.tablem.push(Tabled::from_card(c, "TABLEM1")?))
+    }),
+    ("TABLEM2", |c, b| {
+        Ok(b.tablem.push(Tabled::from_card(c, "TABLEM2")?))
+    }),
+    ("TABLEM3", |c, b| {
+        Ok(b.tablem.push(Tabled::from_card(c, "TABLEM3")?))
+    }),
+    ("TABLEM4", |c, b| Ok(b.tablem4.push(Tabled4::from_card(c)?))),
     ("PSHELL", |c, b| Ok(b.pshell.push(Pshell::from_card(c)?))),
     ("PCOMP", |c, b| Ok(b.pcomp.push(Pcomp::from_card(c)?))),
     ("PSOLID", |c, b| Ok(b.psolid.push(Psolid::from_card(c)?))),
