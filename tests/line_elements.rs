@@ -415,8 +415,9 @@ fn beam_parameters_act_exactly_through_the_affine_parts() {
 /// q·a·(n − i + ½) in bay i, the panel's corner forces being q·a/2 along and q·h/2 across), so
 /// the unit-load method gives the exact tip deflection of the discrete model,
 /// δ = 2 P a³ Σ_{m=1..n} (m − ½)² / (h² E A_f) + P L/(G t h)
-/// (reference/analytic/shear_panel.json): 1e-9 is round-off. The mass properties are
-/// (ρt + NSM)·a·h per panel at its centre, plus the rods'.
+/// (reference/analytic/shear_panel.json): 1e-9 is round-off. Every panel's STRESS is
+/// τ = −P/(h t) (element axes x along the span, y up: the downward tip load gives negative
+/// shear), its shear flow −P/h. The mass properties are (ρt + NSM)·a·h per panel, plus the rods'.
 #[test]
 fn shear_panel_beam_deflects_like_the_unit_load_closed_form() {
     let reference = common::json("reference/analytic/shear_panel.json");
@@ -452,7 +453,23 @@ fn shear_panel_beam_deflects_like_the_unit_load_closed_form() {
             bulk += &format!("CSHEAR,{k},30,{k},{},{},{}\n", k + 1, 101 + k, 100 + k);
         }
     }
-    let u = statics(&bulk);
+    let deck = format!(
+        "SOL 101\nCEND\nSUBCASE 1\n  SPC = 1\n  LOAD = 2\n  STRESS = ALL\nBEGIN BULK\n{bulk}MAT1,1,{E:e},,{NU:?},{RHO:?}\nSPC1,1,123456,1\nENDDATA\n"
+    );
+    let (file, _dir) = run_to_file(&deck);
+    let statics = file.group("results/1/statics").unwrap();
+    let u = read_dataset::<f64>(&statics, "displacement");
+    let stress = statics.group("stress/CSHEAR").unwrap();
+    assert_eq!(
+        read_dataset::<u32>(&stress, "ids"),
+        (1..=n as u32).collect::<Vec<_>>()
+    );
+    for tau in read_dataset::<f64>(&stress, "shear") {
+        close(tau, -p / (h * t), 1e-9);
+    }
+    for q in read_dataset::<f64>(&stress, "shear_flow") {
+        close(q, -p / h, 1e-9);
+    }
     let sum: f64 = (1..=n).map(|m| (m as f64 - 0.5).powi(2)).sum();
     let l = a * n as f64;
     let delta = 2.0 * p * a.powi(3) * sum / (h * h * E * af) + p * l / (g * t * h);
@@ -462,7 +479,6 @@ fn shear_panel_beam_deflects_like_the_unit_load_closed_form() {
         close(-u[6 * row + 1], delta, 1e-9);
     }
     // the grid-point weight: panels and rods
-    let deck = format!("SOL 101\nCEND\nBEGIN BULK\n{bulk}MAT1,1,{E:e},,{NU:?},{RHO:?}\nENDDATA\n");
     let model = common::build_model(&deck).unwrap();
     let panels = n as f64 * (RHO * t + nsm) * a * h;
     let rods = RHO * (2.0 * l * af + (n + 1) as f64 * h * 1.0e-4);

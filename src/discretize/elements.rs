@@ -45,7 +45,7 @@
 //! the card values into the constant part. [`Parameters`] turns each (entity, coefficient) part
 //! into its function f_i(p).
 
-mod shear_panel;
+pub(crate) mod shear_panel;
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
