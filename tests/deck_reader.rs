@@ -429,7 +429,7 @@ fn bulk_only_file_reads_with_a_warning() {
 fn every_error_is_collected_with_its_position() {
     let (_dir, deck) = read_files(&[(
         "deck.dat",
-        "SOL 103\nCEND\nBEGIN BULK\nGRID    1               1       0.      0.\nCQUAD4  10      1.      1       2       3       4\nCSHEAR  1\n",
+        "SOL 103\nCEND\nBEGIN BULK\nGRID    1               1       0.      0.\nCQUAD4  10      1.      1       2       3       4\nCGAP    1\n",
     )]);
     let errors = deck.expect_err("three errors").errors;
     let lines: Vec<u32> = errors.iter().map(|e| e.loc.line).collect();
