@@ -60,7 +60,7 @@ fn unsupported_cards_suggest_a_spelling_and_list_the_cards_once() {
     let dir = tempfile::tempdir().expect("tempdir");
     let text = PLATE
         .replacen("CQUAD4,1,", "CQAUD4,1,", 1)
-        .replacen("CQUAD4,2,", "CSHEAR,2,", 1)
+        .replacen("CQUAD4,2,", "CGAP,2,", 1)
         .replacen("CQUAD4,3,", "CQAUD4,3,", 1);
     let deck = dir.path().join("typo.dat");
     std::fs::write(&deck, text).expect("write");
@@ -74,7 +74,7 @@ fn unsupported_cards_suggest_a_spelling_and_list_the_cards_once() {
         "{stderr}"
     );
     assert!(
-        errors[1].ends_with("unsupported bulk data card 'CSHEAR'"),
+        errors[1].ends_with("unsupported bulk data card 'CGAP'"),
         "{stderr}"
     );
     assert!(

@@ -429,7 +429,7 @@ fn bulk_only_file_reads_with_a_warning() {
 fn every_error_is_collected_with_its_position() {
     let (_dir, deck) = read_files(&[(
         "deck.dat",
-        "SOL 103\nCEND\nBEGIN BULK\nGRID    1               1       0.      0.\nCQUAD4  10      1.      1       2       3       4\nCSHEAR  1\n",
+        "SOL 103\nCEND\nBEGIN BULK\nGRID    1               1       0.      0.\nCQUAD4  10      1.      1       2       3       4\nCGAP    1\n",
     )]);
     let errors = deck.expect_err("three errors").errors;
     let lines: Vec<u32> = errors.iter().map(|e| e.loc.line).collect();
@@ -467,7 +467,8 @@ fn harmless_cards_are_set_aside_with_a_reason_and_the_others_refused() {
     let deck = read_text(
         "SOL 101\nCEND\nLINES = 9999\nBEGIN BULK\nECHOON\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\n\
          USET,U2,1,123,2,456\nUSET1,U1,123,1,2\nUSET,U2,2,1\nCBARAO,1,2,FR,0.2,0.4\n\
-         PLOTEL,7,1,2\nMAT4,14,8.6\nMDLPRM,HDF5,1,H5MDL,0,OFFDEF,LROFF\nECHOOFF\nENDDATA\n",
+         PLOTEL,7,1,2\nMAT4,14,8.6\nMDLPRM,HDF5,1,H5MDL,0,OFFDEF,LROFF\nECHOOFF\n\
+         DTI,MATALL,1,YIELD,2.417e5,ULTIMATE,2.7595e5\nENDDATA\n",
     );
     let warned = |text: &str| deck.warnings.iter().any(|w| w.message.contains(text));
     for text in [
@@ -478,6 +479,7 @@ fn harmless_cards_are_set_aside_with_a_reason_and_the_others_refused() {
         "MAT4 accepted and ignored",
         "MDLPRM accepted and ignored",
         "ECHOON accepted and ignored",
+        "DTI accepted and ignored (1 card): a direct table is data for DMAP modules",
         "case control 'LINES' is accepted and ignored",
     ] {
         assert!(warned(text), "no warning '{text}' in {:?}", deck.warnings);

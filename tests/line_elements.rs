@@ -363,15 +363,17 @@ fn check_reports(text: &str, expected: &str) {
     );
 }
 
-/// A frame of a CBAR, a CROD and a CBEAM (no shear flexibility) on one MAT1 with PMPARs E, NU
-/// and RHO: the assembled affine K(p), M(p) equal the operators of the deck with the MAT1 at
-/// p, to round-off (axial and bending ∝ E, torsion ∝ μ(E, ν), mass ∝ ρ plus NSM).
+/// A frame of a CBAR, a CROD, a CBEAM (no shear flexibility) and a warped CSHEAR on one MAT1
+/// with PMPARs E, NU and RHO: the assembled affine K(p), M(p) equal the operators of the deck
+/// with the MAT1 at p, to round-off (axial and bending ∝ E, torsion and panel shear ∝ μ(E, ν),
+/// mass ∝ ρ plus NSM).
 #[test]
 fn beam_parameters_act_exactly_through_the_affine_parts() {
     let frame = "GRID,1,,0.,0.,0.\nGRID,2,,0.,1.,0.\nGRID,3,,1.,1.,0.2\nGRID,4,,1.,0.,0.\n\
         CBAR,1,10,1,2,1.,0.,0.\nPBAR,10,1,1.e-3,2.e-7,3.e-7,1.e-7,0.4\n\
         CBEAM,2,11,2,3,0.,0.,1.\nPBEAM,11,1,2.e-3,4.e-7,5.e-7,,2.e-7,0.3\n,0.,0.,0.,0.,0.,0.,0.,0.\n,NO,1.\n,0.,0.\n\
-        CROD,3,12,3,4\nPROD,12,1,5.e-4,1.e-8,,0.1\n";
+        CROD,3,12,3,4\nPROD,12,1,5.e-4,1.e-8,,0.1\n\
+        CSHEAR,4,13,1,2,3,4\nPSHEAR,13,1,2.e-3,0.5\n";
     let operators = |bulk: &str, p: &[f64]| {
         let (params, k, m) = common::affine_operators(bulk);
         let at = if p.is_empty() {
@@ -404,6 +406,112 @@ fn beam_parameters_act_exactly_through_the_affine_parts() {
             .zip(want.iter())
             .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
         assert!(worst <= 1e-12 * scale, "{what}: {worst:e} of {scale:e}");
+    }
+}
+
+/// A cantilever of shear panels (CSHEAR, bays a × h) between CROD flanges (area A_f) with CROD
+/// posts at every station, tip load P shared by the two tip grids: the assembly is statically
+/// determinate (constant shear flow q = P/h in every panel, posts unloaded, flange force
+/// q·a·(n − i + ½) in bay i, the panel's corner forces being q·a/2 along and q·h/2 across), so
+/// the unit-load method gives the exact tip deflection of the discrete model,
+/// δ = 2 P a³ Σ_{m=1..n} (m − ½)² / (h² E A_f) + P L/(G t h)
+/// (reference/analytic/shear_panel.json): 1e-9 is round-off. Every panel's STRESS is
+/// τ = −P/(h t) (element axes x along the span, y up: the downward tip load gives negative
+/// shear), its shear flow −P/h. The mass properties are (ρt + NSM)·a·h per panel, plus the rods'.
+#[test]
+fn shear_panel_beam_deflects_like_the_unit_load_closed_form() {
+    let reference = common::json("reference/analytic/shear_panel.json");
+    let v = |k: &str| reference["parameters"][k].as_f64().unwrap();
+    let (a, h, af, t, nsm, p) = (v("a"), v("h"), v("A_f"), v("t"), v("nsm"), v("P"));
+    let n = reference["parameters"]["n"].as_u64().unwrap() as usize;
+    let g = E / (2.0 * (1.0 + NU));
+    let mut bulk = String::from("SPC1,1,123456,101\nPROD,20,1,1.e-4\nPSHEAR,30,1,");
+    bulk += &format!(
+        "{t:e},{nsm:e}\nFORCE,2,{},,{:e},0.,-1.,0.\n",
+        n + 1,
+        p / 2.0
+    );
+    bulk += &format!("FORCE,2,{},,{:e},0.,-1.,0.\n", 101 + n, p / 2.0);
+    bulk += &format!("PROD,10,1,{af:e}\n");
+    for k in 0..=n {
+        let x = a * k as f64;
+        bulk += &format!(
+            "GRID,{},,{x:?},0.,0.,,3456\nGRID,{},,{x:?},{h:?},0.,,3456\n",
+            k + 1,
+            101 + k
+        );
+        bulk += &format!("CROD,{},20,{},{}\n", 300 + k, k + 1, 101 + k);
+        if k > 0 {
+            bulk += &format!(
+                "CROD,{},10,{k},{}\nCROD,{},10,{},{}\n",
+                100 + k,
+                k + 1,
+                200 + k,
+                100 + k,
+                101 + k
+            );
+            bulk += &format!("CSHEAR,{k},30,{k},{},{},{}\n", k + 1, 101 + k, 100 + k);
+        }
+    }
+    let deck = format!(
+        "SOL 101\nCEND\nSUBCASE 1\n  SPC = 1\n  LOAD = 2\n  STRESS = ALL\nBEGIN BULK\n{bulk}MAT1,1,{E:e},,{NU:?},{RHO:?}\nSPC1,1,123456,1\nENDDATA\n"
+    );
+    let (file, _dir) = run_to_file(&deck);
+    let statics = file.group("results/1/statics").unwrap();
+    let u = read_dataset::<f64>(&statics, "displacement");
+    let stress = statics.group("stress/CSHEAR").unwrap();
+    assert_eq!(
+        read_dataset::<u32>(&stress, "ids"),
+        (1..=n as u32).collect::<Vec<_>>()
+    );
+    for tau in read_dataset::<f64>(&stress, "shear") {
+        close(tau, -p / (h * t), 1e-9);
+    }
+    for q in read_dataset::<f64>(&stress, "shear_flow") {
+        close(q, -p / h, 1e-9);
+    }
+    let sum: f64 = (1..=n).map(|m| (m as f64 - 0.5).powi(2)).sum();
+    let l = a * n as f64;
+    let delta = 2.0 * p * a.powi(3) * sum / (h * h * E * af) + p * l / (g * t * h);
+    close(delta, reference["tip_deflection"].as_f64().unwrap(), 1e-12);
+    // rows: grids 1..=n+1, then 101..=101+n
+    for row in [n, 2 * n + 1] {
+        close(-u[6 * row + 1], delta, 1e-9);
+    }
+    // the grid-point weight: panels and rods
+    let model = common::build_model(&deck).unwrap();
+    let panels = n as f64 * (RHO * t + nsm) * a * h;
+    let rods = RHO * (2.0 * l * af + (n + 1) as f64 * h * 1.0e-4);
+    close(model.mass_properties().mass, panels + rods, 1e-12);
+}
+
+/// Bad shear-panel input is named with file:line, card and field.
+#[test]
+fn bad_shear_panels_are_reported_with_card_and_field() {
+    let grids = "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,1.,1.,0.\nGRID,4,,0.,1.,0.\n";
+    let cases = [
+        (
+            "CSHEAR,1,10,1,2,3,4\nPSHEAR,10,1,0.01,,0.5\n",
+            "deck.dat:9: PSHEAR 10: field 6 (F1): extensional effectiveness F1",
+        ),
+        (
+            "CSHEAR,1,10,1,2,3,4\nPSHEAR,10,1,-0.01\n",
+            "deck.dat:9: PSHEAR 10: field 4 (T): expected a real > 0",
+        ),
+        (
+            "CSHEAR,1,10,1,2,3,4\nPSHELL,10,1,0.01\n",
+            "deck.dat:8: CSHEAR 1: PID = 10 is a PSHELL",
+        ),
+        (
+            "CSHEAR,1,10,1,3,2,4\nPSHEAR,10,1,0.01\n",
+            "deck.dat:8: CSHEAR 1: ",
+        ),
+    ];
+    for (bulk, expected) in cases {
+        check_reports(
+            &format!("SOL 101\nCEND\nBEGIN BULK\n{grids}{bulk}MAT1,1,2.1e11,,0.3\nENDDATA\n"),
+            expected,
+        );
     }
 }
 

@@ -279,3 +279,44 @@ fn pressure_cards_that_pick_no_face_are_errors() {
     );
     assert!(errors[2].contains("EID = 77"), "{errors:#?}");
 }
+
+/// MATT1 with TABLEM1–TABLEM4: the tables apply only at a material temperature set, which
+/// paraflex does not read, so the MAT1's values apply (Nastran without TEMPERATURE(MATERIAL)):
+/// a rod whose MATT1 E table says 1e11 everywhere stretches by P L/(E A) with the MAT1's
+/// E = 2e11 (1e-12: round-off of a one-element solve), and one warning says why. A MATT1
+/// naming a missing table or a MAT8 is an error at its field.
+#[test]
+fn matt1_leaves_the_mat1_values_without_a_temperature_set() {
+    let bulk = "GRID,1,,0.,0.,0.,,123456\nGRID,2,,2.,0.,0.,,23456\nCROD,1,10,1,2\n\
+        PROD,10,1,1.e-4\nMAT1,1,2.e11,,0.3,7800.\nFORCE,3,2,,1.e4,1.,0.,0.\n\
+        MATT1,1,5,,6,,7,,8\nTABLEM1,5,,,1\n,0.,1.e11,100.,1.e11,ENDT\n\
+        TABLEM2,6,20.\n,0.,0.3,100.,0.3,ENDT\nTABLEM3,7,20.,10.\n,0.,1.e-5,10.,2.e-5,ENDT\n\
+        TABLEM4,8,0.,1.,0.,100.\n,0.01,1.e-4,ENDT\n";
+    let deck = format!("SOL 101\nCEND\nLOAD = 3\nBEGIN BULK\n{bulk}ENDDATA\n");
+    let warned = warnings(&deck);
+    assert!(
+        warned
+            .iter()
+            .any(|w| w.contains("MATT1 (1 card)") && w.contains("each MAT1 keeps its own values")),
+        "{warned:#?}"
+    );
+    let (file, _dir) = common::run_to_file(&deck);
+    let u = common::read_dataset::<f64>(&file.group("results/1/statics").unwrap(), "displacement");
+    let want = 1.0e4 * 2.0 / (2.0e11 * 1.0e-4);
+    assert!((u[6] - want).abs() <= 1e-12 * want, "{} vs {want}", u[6]);
+
+    let bad = deck.replace("MATT1,1,5,,6", "MATT1,1,9,,6").replace(
+        "MAT1,1,2.e11,,0.3,7800.\n",
+        "MAT1,1,2.e11,,0.3,7800.\nMAT8,2,1.e11,1.e10,0.3\nMATT1,2,5\n",
+    );
+    let errors = build_model(&bad).expect_err("bad MATT1");
+    for text in [
+        "MATT1 1: field 3 (T(E)): T(E) = 9 does not exist (no TABLEM1",
+        "MATT1 2: field 2 (MID): MID = 2 is a MAT8; a MATT1 applies to a MAT1",
+    ] {
+        assert!(
+            errors.iter().any(|e| e.contains(text)),
+            "'{text}' not in {errors:#?}"
+        );
+    }
+}

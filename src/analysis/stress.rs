@@ -6,6 +6,7 @@
 //! |---|---|---|
 //! | CQUAD4, CTRIA3 (PSHELL or PCOMP) | [Nx Ny Nxy Mx My Mxy Qx Qy] at the centroid, element material system | PSHELL: [σx σy τxy] and von Mises at the fibres Z2 (top) and Z1 (bottom), same system |
 //! | CQUAD4, CTRIA3 (PCOMP) | as above | every ply at its mid-plane: [σ1 σ2 τ12 τ1z τ2z], [ε1 ε2 γ12 γ1z γ2z] in the ply axes, the FT failure index |
+//! | CSHEAR | — | the panel's mean shear stress τ = G γ̄ (γ̄: [`crate::fe::shear_panel`]), shear flow q = τ t |
 //! | CHEXA, CPENTA, CTETRA (4, 10) | — | [σxx σyy σzz τxy τyz τzx] and von Mises in basic at the centroid and at the corner grids (extrapolated from the integration points, [`solid::corner_strains`]) |
 //!
 //! A ply without a failure index (blank FT, an FT other than HILL, HOFF, TSAI, STRN, a MAT1
@@ -15,7 +16,9 @@ use std::collections::BTreeMap;
 
 use super::statics::selected_shell_strains;
 use crate::card_values::FailureTheory;
-use crate::discretize::elements::{CentreSection, shell_centre_section, solid_kind_of};
+use crate::discretize::elements::{
+    CentreSection, shear_panel, shell_centre_section, solid_kind_of,
+};
 use crate::discretize::{DiscretizeError, Structure};
 use crate::fe::laminate::{ShellSection, ply_states};
 use crate::fe::stress::{
@@ -24,7 +27,7 @@ use crate::fe::stress::{
 use crate::fe::{failure, solid};
 use crate::model::materials::Material;
 use crate::model::properties::{LaminateProperty, ShellProperty};
-use crate::model::{Element, Model};
+use crate::model::{Element, ElementKind, Model};
 
 /// Element forces of one shell block, in element order.
 #[derive(Debug, Default, Clone)]
@@ -81,6 +84,16 @@ pub struct SolidBlock {
     pub corner_von_mises: Vec<f64>,
 }
 
+/// Shear stresses of the CSHEAR panels.
+#[derive(Debug, Default, Clone)]
+pub struct ShearPanelBlock {
+    pub ids: Vec<u32>,
+    /// Mean shear stress τ = G γ̄ (m).
+    pub shear: Vec<f64>,
+    /// Shear flow q = τ t (m).
+    pub shear_flow: Vec<f64>,
+}
+
 /// The element forces of a displacement field, by shell block name (CQUAD4, CTRIA3).
 pub type ElementForces = BTreeMap<&'static str, ForceBlock>;
 
@@ -93,6 +106,8 @@ pub struct ElementStresses {
     pub plies: BTreeMap<&'static str, PlyBlock>,
     /// Solids (CHEXA, CPENTA, CTETRA, CTETRA10).
     pub solids: BTreeMap<&'static str, SolidBlock>,
+    /// Shear panels (CSHEAR).
+    pub shear_panels: ShearPanelBlock,
 }
 
 /// One shell's recovered state: its centre section, strains and forces.
@@ -201,6 +216,26 @@ pub fn element_stresses(
                 }
             }
         }
+    }
+    for e in model
+        .elements
+        .iter()
+        .filter(|e| e.kind == ElementKind::Cshear)
+    {
+        if !keep(e.id) {
+            continue;
+        }
+        let (panel, t, _, mid) = shear_panel::panel(model, e)?;
+        let g = match model.material(mid) {
+            Some(Material::Isotropic(m)) => m.g,
+            _ => return Err(element_error(e, format!("MID = {mid} is not a MAT1"))),
+        };
+        let ut: [f64; 12] = std::array::from_fn(|i| u[6 * e.nodes[i / 3] + i % 3]);
+        let tau = g * panel.mean_shear(&ut);
+        let block = &mut out.shear_panels;
+        block.ids.push(e.id);
+        block.shear.push(tau);
+        block.shear_flow.push(tau * t);
     }
     for e in &model.elements {
         let Some(kind) = solid_kind_of(e.kind) else {

@@ -5,6 +5,7 @@
 //! |---|---|---|
 //! | CQUAD4, CTRIA3 | PSHELL, each of MID1…MID4 MAT1 or MAT8 | [`ShellSection::pshell`]: MID1 membrane, MID2 bending with 12I/T³, MID3 transverse shear with TS/T (MAT1 G, MAT8 G1Z/G2Z), MID4 membrane–bending coupling; MID1 blank = no membrane, MID2 blank = membrane only, MID3 blank = Kirchhoff penalty (see [`PshellSection`]) |
 //! | CQUAD4, CTRIA3 | PCOMP (plies MAT8 or MAT1) | [`ShellSection::laminate`] of the full ply stack ([`crate::model::properties::LaminateProperty`]), bottom at Z0 + ZOFFS, NSM |
+//! | CSHEAR | PSHEAR + MAT1 | [`crate::fe::shear_panel`]: shear only, translations only (K = G·t·A·b·bᵀ) |
 //! | CHEXA, CPENTA, CTETRA | PSOLID + MAT1 | [`solid`] (translations, expanded to 6 DOFs per grid) |
 //! | CELAS1–CELAS4 | PELAS k (CELAS1, CELAS3) / k on the card (CELAS2, CELAS4) | [`ScalarSpring`] between g DOFs: grid components in the grid's CD frame (as in Nastran) or scalar points |
 //! | CBUSH | PBUSH K1–K6 | [`bush`]: six springs along and about the element axes at the spring location |
@@ -43,6 +44,8 @@
 //! non-constant coefficient to that entity ([`ParamTarget`]); otherwise everything is frozen at
 //! the card values into the constant part. [`Parameters`] turns each (entity, coefficient) part
 //! into its function f_i(p).
+
+pub(crate) mod shear_panel;
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -194,7 +197,10 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> 
     let wtmass = ctx.model.params.wtmass;
     let xyz = ctx.model.positions(e);
     let mut built = match e.kind {
-        ElementKind::Quad4 | ElementKind::Tria3 => shell_element(ctx, e, &xyz)?,
+        ElementKind::Quad4 | ElementKind::Tria3 | ElementKind::QuadR | ElementKind::TriaR => {
+            shell_element(ctx, e, &xyz)?
+        }
+        ElementKind::Cshear => shear_panel::shear_panel_element(ctx, e)?,
         ElementKind::Hexa8 | ElementKind::Penta6 | ElementKind::Tetra4 | ElementKind::Tetra10 => {
             solid_element(ctx, e, &xyz)?
         }
@@ -678,7 +684,7 @@ fn shell_element(
     // The deck's section(s), i.e. the parts at the nominal parameter values: the CQUAD4
     // condenses its incompatible modes with them (shell module doc, "frozen condensation"),
     // unless PARAM,QINCOMP,NO leaves the modes out.
-    let incompatible = ctx.incompatible && e.kind == ElementKind::Quad4;
+    let incompatible = ctx.incompatible && e.nodes.len() == 4;
     let (k, condensation_frozen) = match points {
         None => {
             let nominal = if incompatible {

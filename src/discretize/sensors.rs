@@ -227,7 +227,7 @@ fn strain_row(
         }
     } else {
         return Err(bad(
-            "STRAIN sensors need a shell (CQUAD4, CTRIA3) or solid element".into(),
+            "STRAIN sensors need a shell (CQUAD4, CTRIA3, CQUADR, CTRIAR) or solid element".into(),
         ));
     }
     Ok(row)

@@ -21,6 +21,7 @@ pub mod failure;
 pub mod laminate;
 pub mod lumped;
 pub mod pressure;
+pub mod shear_panel;
 pub mod shell;
 #[cfg(test)]
 mod shell_tests;

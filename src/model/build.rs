@@ -73,6 +73,7 @@ impl Model {
 
         super::xref::check(&refs, deck, &mut errors);
         super::values::check(&refs, &mut errors, &mut warnings);
+        super::temperature::check(&refs, &mut errors, &mut warnings);
         super::pmpar::check(&refs, &mut errors);
         let mechanism = super::mechanism::build(bulk, &coords, &mut errors);
         let params = super::params::read(&bulk.params, &deck.case, &mut errors, &mut warnings);
@@ -321,6 +322,12 @@ fn index_properties(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32
             .map(|(i, p)| entry(p.id, "PSOLID", &p.loc, PropertyRef::Psolid(i))),
     );
     entries.extend(
+        bulk.pshear
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PSHEAR", &p.loc, PropertyRef::Pshear(i))),
+    );
+    entries.extend(
         bulk.pelas
             .iter()
             .enumerate()
@@ -412,6 +419,21 @@ fn element_id_space(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32
         bulk.ctria3
             .iter()
             .map(|c| entry(c.id, "CTRIA3", &c.loc, ())),
+    );
+    e.extend(
+        bulk.cshear
+            .iter()
+            .map(|c| entry(c.id, "CSHEAR", &c.loc, ())),
+    );
+    e.extend(
+        bulk.cquadr
+            .iter()
+            .map(|c| entry(c.id, "CQUADR", &c.loc, ())),
+    );
+    e.extend(
+        bulk.ctriar
+            .iter()
+            .map(|c| entry(c.id, "CTRIAR", &c.loc, ())),
     );
     e.extend(bulk.chexa.iter().map(|c| entry(c.id, "CHEXA", &c.loc, ())));
     e.extend(
@@ -594,38 +616,67 @@ fn build_elements(
     let shell = ["PSHELL", "PCOMP"];
     let solid = ["PSOLID"];
 
-    for (i, c) in b.cquad4.iter().enumerate() {
-        let card = format!("CQUAD4 {}", c.id);
+    for (cards, kind) in [
+        (&b.cquad4, ElementKind::Quad4),
+        (&b.cquadr, ElementKind::QuadR),
+    ] {
+        for (i, c) in cards.iter().enumerate() {
+            let card = format!("{} {}", kind.card(), c.id);
+            let nodes = resolve_nodes(refs, &c.nodes, &G, &card, &c.loc, errors);
+            let prop = resolve_property(refs, c.pid, &shell, &card, &c.loc, errors);
+            if let Some(nodes) = nodes {
+                if let Ok(p) = <[[f64; 3]; 4]>::try_from(pos(&nodes)) {
+                    let report = geometry::check_quad(&p, &c.nodes);
+                    shape_errors(&report, &card, &c.loc, errors);
+                    quality.add(kind.card(), c.id, &report);
+                }
+                out.push(Element {
+                    id: c.id,
+                    kind,
+                    card: i,
+                    property: prop,
+                    nodes,
+                });
+            }
+        }
+    }
+    for (cards, kind) in [
+        (&b.ctria3, ElementKind::Tria3),
+        (&b.ctriar, ElementKind::TriaR),
+    ] {
+        for (i, c) in cards.iter().enumerate() {
+            let card = format!("{} {}", kind.card(), c.id);
+            let nodes = resolve_nodes(refs, &c.nodes, &G, &card, &c.loc, errors);
+            let prop = resolve_property(refs, c.pid, &shell, &card, &c.loc, errors);
+            if let Some(nodes) = nodes {
+                if let Ok(p) = <[[f64; 3]; 3]>::try_from(pos(&nodes)) {
+                    let report = geometry::check_tria(&p, &c.nodes);
+                    shape_errors(&report, &card, &c.loc, errors);
+                    quality.add(kind.card(), c.id, &report);
+                }
+                out.push(Element {
+                    id: c.id,
+                    kind,
+                    card: i,
+                    property: prop,
+                    nodes,
+                });
+            }
+        }
+    }
+    for (i, c) in b.cshear.iter().enumerate() {
+        let card = format!("CSHEAR {}", c.id);
         let nodes = resolve_nodes(refs, &c.nodes, &G, &card, &c.loc, errors);
-        let prop = resolve_property(refs, c.pid, &shell, &card, &c.loc, errors);
+        let prop = resolve_property(refs, c.pid, &["PSHEAR"], &card, &c.loc, errors);
         if let Some(nodes) = nodes {
             if let Ok(p) = <[[f64; 3]; 4]>::try_from(pos(&nodes)) {
                 let report = geometry::check_quad(&p, &c.nodes);
                 shape_errors(&report, &card, &c.loc, errors);
-                quality.add("CQUAD4", c.id, &report);
+                quality.add("CSHEAR", c.id, &report);
             }
             out.push(Element {
                 id: c.id,
-                kind: ElementKind::Quad4,
-                card: i,
-                property: prop,
-                nodes,
-            });
-        }
-    }
-    for (i, c) in b.ctria3.iter().enumerate() {
-        let card = format!("CTRIA3 {}", c.id);
-        let nodes = resolve_nodes(refs, &c.nodes, &G, &card, &c.loc, errors);
-        let prop = resolve_property(refs, c.pid, &shell, &card, &c.loc, errors);
-        if let Some(nodes) = nodes {
-            if let Ok(p) = <[[f64; 3]; 3]>::try_from(pos(&nodes)) {
-                let report = geometry::check_tria(&p, &c.nodes);
-                shape_errors(&report, &card, &c.loc, errors);
-                quality.add("CTRIA3", c.id, &report);
-            }
-            out.push(Element {
-                id: c.id,
-                kind: ElementKind::Tria3,
+                kind: ElementKind::Cshear,
                 card: i,
                 property: prop,
                 nodes,

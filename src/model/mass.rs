@@ -104,10 +104,12 @@ impl Model {
     pub fn element_mass(&self, e: &Element) -> Option<MassPoint> {
         let p = self.positions(e);
         match e.kind {
-            ElementKind::Quad4 => {
+            ElementKind::Quad4 | ElementKind::QuadR => {
                 let q = <[[f64; 3]; 4]>::try_from(p).ok()?;
-                let card = self.bulk.cquad4.get(e.card)?;
-                let w = self.corner_densities::<4>(e.property?, card.corner_thickness.as_ref())?;
+                let w = self.corner_densities::<4>(
+                    e.property?,
+                    self.shell_placement(e)?.corners.as_ref(),
+                )?;
                 let (mass, point) = geometry::quad_weighted(&q, w);
                 Some(MassPoint {
                     mass,
@@ -115,11 +117,24 @@ impl Model {
                     inertia: None,
                 })
             }
-            ElementKind::Tria3 => {
+            ElementKind::Tria3 | ElementKind::TriaR => {
                 let t = <[[f64; 3]; 3]>::try_from(p).ok()?;
-                let card = self.bulk.ctria3.get(e.card)?;
-                let w = self.corner_densities::<3>(e.property?, card.corner_thickness.as_ref())?;
+                let w = self.corner_densities::<3>(
+                    e.property?,
+                    self.shell_placement(e)?.corners.as_ref(),
+                )?;
                 let (mass, point) = geometry::tria_weighted(&t, w);
+                Some(MassPoint {
+                    mass,
+                    point,
+                    inertia: None,
+                })
+            }
+            ElementKind::Cshear => {
+                let q = <[[f64; 3]; 4]>::try_from(p).ok()?;
+                let ps = self.pshear(e)?;
+                let mu = ps.nsm + self.rho(ps.mid).unwrap_or(0.0) * ps.t;
+                let (mass, point) = geometry::quad_weighted(&q, [mu; 4]);
                 Some(MassPoint {
                     mass,
                     point,

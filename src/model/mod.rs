@@ -45,6 +45,7 @@ pub mod scalar_points;
 pub mod sensors;
 pub mod sets;
 pub mod summary;
+pub mod temperature;
 pub mod values;
 pub mod xref;
 
@@ -80,6 +81,11 @@ pub struct GridPoint {
 pub enum ElementKind {
     Quad4,
     Tria3,
+    /// CQUADR: a CQUAD4 by another name (same kernel).
+    QuadR,
+    /// CTRIAR: a CTRIA3 by another name (same kernel).
+    TriaR,
+    Cshear,
     Hexa8,
     Penta6,
     Tetra4,
@@ -108,6 +114,9 @@ impl ElementKind {
         match self {
             ElementKind::Quad4 => "CQUAD4",
             ElementKind::Tria3 => "CTRIA3",
+            ElementKind::QuadR => "CQUADR",
+            ElementKind::TriaR => "CTRIAR",
+            ElementKind::Cshear => "CSHEAR",
             ElementKind::Hexa8 => "CHEXA",
             ElementKind::Penta6 => "CPENTA",
             ElementKind::Tetra4 | ElementKind::Tetra10 => "CTETRA",
@@ -170,9 +179,12 @@ impl ElementKind {
         )
     }
 
-    /// True for CQUAD4 and CTRIA3.
+    /// True for CQUAD4, CTRIA3, CQUADR and CTRIAR.
     pub fn is_shell(self) -> bool {
-        matches!(self, ElementKind::Quad4 | ElementKind::Tria3)
+        matches!(
+            self,
+            ElementKind::Quad4 | ElementKind::Tria3 | ElementKind::QuadR | ElementKind::TriaR
+        )
     }
 
     /// True for the rods and beams (CROD, CONROD, CTUBE, CBAR, CBEAM).
@@ -194,6 +206,7 @@ pub enum PropertyRef {
     Pshell(usize),
     Pcomp(usize),
     Psolid(usize),
+    Pshear(usize),
     Pelas(usize),
     Pdamp(usize),
     Pvisc(usize),
@@ -213,6 +226,7 @@ impl PropertyRef {
             PropertyRef::Pshell(_) => "PSHELL",
             PropertyRef::Pcomp(_) => "PCOMP",
             PropertyRef::Psolid(_) => "PSOLID",
+            PropertyRef::Pshear(_) => "PSHEAR",
             PropertyRef::Pelas(_) => "PELAS",
             PropertyRef::Pdamp(_) => "PDAMP",
             PropertyRef::Pvisc(_) => "PVISC",

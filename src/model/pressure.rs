@@ -46,7 +46,7 @@ impl Model {
                 .elements
                 .iter()
                 .filter(|e| (first..=last).contains(&e.id))
-                .filter(|e| matches!(e.kind, ElementKind::Quad4 | ElementKind::Tria3))
+                .filter(|e| e.kind.is_shell())
                 .map(|e| shell_face(&e.nodes, &card.pressures, direction))
                 .collect()),
             Pload4Target::Element { eid, g1, g34 } => {
@@ -55,10 +55,13 @@ impl Model {
                     .get(&eid)
                     .map(|&i| &self.elements[i])
                     .ok_or(format!(
-                        "EID = {eid} is not a CQUAD4, CTRIA3, CHEXA, CPENTA or CTETRA"
+                        "EID = {eid} is not a CQUAD4, CTRIA3, CQUADR, CTRIAR, CHEXA, CPENTA or CTETRA"
                     ))?;
                 let face = match element.kind {
-                    ElementKind::Quad4 | ElementKind::Tria3 => {
+                    ElementKind::Quad4
+                    | ElementKind::Tria3
+                    | ElementKind::QuadR
+                    | ElementKind::TriaR => {
                         return Ok(vec![shell_face(&element.nodes, &card.pressures, direction)]);
                     }
                     ElementKind::Hexa8
@@ -105,8 +108,7 @@ impl Model {
 
     /// The shell faces a `PLOAD2` loads, or the listed id that is not a shell.
     pub fn pload2_faces(&self, card: &Pload2) -> Result<Vec<LoadedFace>, String> {
-        let shells =
-            |e: &&super::Element| matches!(e.kind, ElementKind::Quad4 | ElementKind::Tria3);
+        let shells = |e: &&super::Element| e.kind.is_shell();
         let mut faces = Vec::new();
         for &eid in &card.elements {
             let e = self
@@ -114,7 +116,9 @@ impl Model {
                 .get(&eid)
                 .map(|&i| &self.elements[i])
                 .filter(shells)
-                .ok_or(format!("EID = {eid} is not a CQUAD4 or CTRIA3"))?;
+                .ok_or(format!(
+                    "EID = {eid} is not a CQUAD4, CTRIA3, CQUADR or CTRIAR"
+                ))?;
             faces.push(shell_face(&e.nodes, &[card.pressure; 4], Direction::Normal));
         }
         if let Some((first, last)) = card.range {

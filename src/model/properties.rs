@@ -103,17 +103,26 @@ impl Model {
         }
     }
 
-    /// The shell fields of a CQUAD4 / CTRIA3 element.
+    /// The shell fields of a CQUAD4 / CTRIA3 / CQUADR / CTRIAR element.
     pub fn shell_placement(&self, e: &Element) -> Option<ShellPlacement> {
         let b = &self.bulk;
+        let quads = match e.kind {
+            ElementKind::Quad4 => &b.cquad4,
+            ElementKind::QuadR => &b.cquadr,
+            _ => &b.cquad4,
+        };
+        let trias = match e.kind {
+            ElementKind::TriaR => &b.ctriar,
+            _ => &b.ctria3,
+        };
         match e.kind {
-            ElementKind::Quad4 => b.cquad4.get(e.card).map(|c| ShellPlacement {
+            ElementKind::Quad4 | ElementKind::QuadR => quads.get(e.card).map(|c| ShellPlacement {
                 pid: c.pid,
                 orientation: c.orientation,
                 zoffs: c.zoffs,
                 corners: c.corner_thickness,
             }),
-            ElementKind::Tria3 => b.ctria3.get(e.card).map(|c| ShellPlacement {
+            ElementKind::Tria3 | ElementKind::TriaR => trias.get(e.card).map(|c| ShellPlacement {
                 pid: c.pid,
                 orientation: c.orientation,
                 zoffs: c.zoffs,
@@ -173,6 +182,14 @@ impl Model {
         };
         let p = self.bulk.psolid.get(i)?;
         Some((p.id, self.material_use(p.mid)))
+    }
+
+    /// The PSHEAR of a CSHEAR element.
+    pub fn pshear(&self, e: &Element) -> Option<&crate::deck::cards::Pshear> {
+        let PropertyRef::Pshear(i) = e.property? else {
+            return None;
+        };
+        self.bulk.pshear.get(i)
     }
 
     /// The stiffness and ends of a CELAS1–CELAS4 element.

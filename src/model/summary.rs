@@ -147,6 +147,9 @@ impl Model {
         match e.kind {
             ElementKind::Quad4 => b.cquad4.get(e.card).map(|c| c.pid),
             ElementKind::Tria3 => b.ctria3.get(e.card).map(|c| c.pid),
+            ElementKind::QuadR => b.cquadr.get(e.card).map(|c| c.pid),
+            ElementKind::TriaR => b.ctriar.get(e.card).map(|c| c.pid),
+            ElementKind::Cshear => b.cshear.get(e.card).map(|c| c.pid),
             ElementKind::Hexa8 => b.chexa.get(e.card).map(|c| c.pid),
             ElementKind::Penta6 => b.cpenta.get(e.card).map(|c| c.pid),
             ElementKind::Tetra4 | ElementKind::Tetra10 => b.ctetra.get(e.card).map(|c| c.pid),

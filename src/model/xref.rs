@@ -513,6 +513,8 @@ fn sensors(refs: &Refs, errors: &mut Vec<DeckError>) {
     for (name, ids) in [
         ("CQUAD4", b.cquad4.iter().map(|c| c.id).collect::<Vec<_>>()),
         ("CTRIA3", b.ctria3.iter().map(|c| c.id).collect()),
+        ("CQUADR", b.cquadr.iter().map(|c| c.id).collect()),
+        ("CTRIAR", b.ctriar.iter().map(|c| c.id).collect()),
         ("CHEXA", b.chexa.iter().map(|c| c.id).collect()),
         ("CPENTA", b.cpenta.iter().map(|c| c.id).collect()),
         ("CTETRA", b.ctetra.iter().map(|c| c.id).collect()),
@@ -544,7 +546,7 @@ fn sensors(refs: &Refs, errors: &mut Vec<DeckError>) {
                     )
                     .on_card(&card),
                 ),
-                Some("CQUAD4" | "CTRIA3") => {}
+                Some("CQUAD4" | "CTRIA3" | "CQUADR" | "CTRIAR") => {}
                 Some(kind @ ("CHEXA" | "CPENTA" | "CTETRA")) => {
                     if let Some(surf) = s.surface {
                         errors.push(
@@ -635,6 +637,9 @@ fn property_users(refs: &Refs) -> HashMap<u32, Vec<String>> {
     };
     b.cquad4.iter().for_each(|c| push(c.pid, "CQUAD4", c.id));
     b.ctria3.iter().for_each(|c| push(c.pid, "CTRIA3", c.id));
+    b.cquadr.iter().for_each(|c| push(c.pid, "CQUADR", c.id));
+    b.ctriar.iter().for_each(|c| push(c.pid, "CTRIAR", c.id));
+    b.cshear.iter().for_each(|c| push(c.pid, "CSHEAR", c.id));
     b.chexa.iter().for_each(|c| push(c.pid, "CHEXA", c.id));
     b.cpenta.iter().for_each(|c| push(c.pid, "CPENTA", c.id));
     b.ctetra.iter().for_each(|c| push(c.pid, "CTETRA", c.id));

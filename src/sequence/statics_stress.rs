@@ -6,6 +6,7 @@
 //! stress/<CQUAD4|CTRIA3>/{ids (m), top (m×3), bottom (m×3), von_mises (m×2)}   PSHELL elements
 //! ply_stress/<CQUAD4|CTRIA3>/{ids (r), ply (r), z (r), stress (r×5), strain (r×5),
 //!                             failure_index (r)}                             PCOMP elements
+//! stress/CSHEAR/{ids (m), shear (m), shear_flow (m)}   mean shear stress τ = G γ̄, q = τ t
 //! stress/<CHEXA|CPENTA|CTETRA|CTETRA10>/{ids (m), centroid (m×6), von_mises (m),
 //!     corner_grid_ids (m×c), corners (m×c×6), corner_von_mises (m×c)}    basic system
 //! ```
@@ -76,6 +77,14 @@ pub fn write_stresses(
         write_u32(&g, "corner_grid_ids", &b.corner_grids, &[m, c])?;
         write_f64(&g, "corners", &b.corner_stress, &[m, c, 6])?;
         write_f64(&g, "corner_von_mises", &b.corner_von_mises, &[m, c])?;
+    }
+    let b = &stresses.shear_panels;
+    if !b.ids.is_empty() {
+        let g = block_group(ctx, group, "stress", "CSHEAR")?;
+        let m = b.ids.len();
+        write_u32(&g, "ids", &b.ids, &[m])?;
+        write_f64(&g, "shear", &b.shear, &[m])?;
+        write_f64(&g, "shear_flow", &b.shear_flow, &[m])?;
     }
     Ok(())
 }

@@ -594,19 +594,20 @@ impl Tic {
     }
 }
 
-/// `TABLED1`, `TABLED2`, `TABLED3` — tabular function y(x) with linear interpolation (the end
+/// `TABLED1`, `TABLED2`, `TABLED3`, `TABLEM1`, `TABLEM2`, `TABLEM3` — tabular function y(x) with linear interpolation (the end
 /// values held outside the table; a jump is two points at one x, where y is their mean).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | TID | int > 0 | required | table id |
-/// | 3 | XAXIS (TABLED1) / X1 (TABLED2, TABLED3) | `LINEAR` / real | LINEAR / 0.0 | TABLED1: only LINEAR supported; TABLED2: y = T(x − X1); TABLED3: y = T((x − X1)/X2) |
-/// | 4 | YAXIS (TABLED1) / X2 (TABLED3) | `LINEAR` / real ≠ 0 | LINEAR / required | TABLED1: only LINEAR supported |
+/// | 3 | XAXIS (TABLED1, TABLEM1) / X1 (TABLED2, TABLED3, TABLEM2, TABLEM3) | `LINEAR` / real | LINEAR / 0.0 | TABLED1: only LINEAR supported; TABLED2: y = T(x − X1); TABLED3: y = T((x − X1)/X2) |
+/// | 4 | YAXIS (TABLED1, TABLEM1) / X2 (TABLED3, TABLEM3) | `LINEAR` / real ≠ 0 | LINEAR / required | TABLED1: only LINEAR supported |
+/// | 5 | EXTRAP (TABLEM1, Simcenter) | int | blank | kept, not used (material tables are not evaluated, see MATT1) |
 /// | cont. | x1 y1 x2 y2 … `ENDT` | real pairs | ≥ 2 points | x all increasing or all decreasing; `SKIP SKIP` drops a pair |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tabled {
     pub id: u32,
-    /// TABLED1, TABLED2 or TABLED3.
+    /// TABLED1, TABLED2, TABLED3, TABLEM1, TABLEM2 or TABLEM3.
     pub card: &'static str,
     /// The points with their abscissae mapped to x (X1 + X2 · xᵢ; X1 = 0, X2 = 1 for TABLED1).
     pub points: Vec<(f64, f64)>,
@@ -614,19 +615,23 @@ pub struct Tabled {
 }
 
 impl Tabled {
-    /// Read a `TABLED1`, `TABLED2` or `TABLED3` card (`card` names which).
+    /// Read a `TABLED1`, `TABLED2`, `TABLED3` or a `TABLEM1`–`TABLEM3` card (`name` says which;
+    /// a TABLEMi has the layout of the TABLEDi).
     pub fn from_card(card: &RawCard, name: &'static str) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "TID");
         f.set_id(id);
         let (shift, scale) = match name {
-            "TABLED1" => {
+            "TABLED1" | "TABLEM1" => {
                 for (i, field) in [(2, "XAXIS"), (3, "YAXIS")] {
                     f.keyword(i, field, &["LINEAR"], Some("LINEAR"));
                 }
+                if name == "TABLEM1" {
+                    f.opt_int(4, "EXTRAP");
+                }
                 (0.0, 1.0)
             }
-            "TABLED2" => (f.real_or(2, "X1", 0.0), 1.0),
+            "TABLED2" | "TABLEM2" => (f.real_or(2, "X1", 0.0), 1.0),
             _ => {
                 let shift = f.real_or(2, "X1", 0.0);
                 let scale = f.real(3, "X2");
@@ -664,7 +669,7 @@ impl Tabled {
     }
 }
 
-/// `TABLED4` — power series y = Σᵢ aᵢ ((x − X1)/X2)ⁱ, x clamped to [X3, X4].
+/// `TABLED4`, `TABLEM4` — power series y = Σᵢ aᵢ ((x − X1)/X2)ⁱ, x clamped to [X3, X4].
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
@@ -684,7 +689,7 @@ pub struct Tabled4 {
 }
 
 impl Tabled4 {
-    /// Read a `TABLED4` card.
+    /// Read a `TABLED4` or `TABLEM4` card (same layout).
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "TID");

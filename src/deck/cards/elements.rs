@@ -1,4 +1,4 @@
-//! Elements: shells `CQUAD4`, `CTRIA3`; solids `CHEXA`, `CPENTA`, `CTETRA`; scalar springs
+//! Elements: shells `CQUAD4`, `CTRIA3` (and `CQUADR`, `CTRIAR` in their layouts); solids `CHEXA`, `CPENTA`, `CTETRA`; scalar springs
 //! `CELAS1`–`CELAS4` and dampers `CDAMP1`–`CDAMP4`; the viscous damper `CVISC`; the bush
 //! `CBUSH`; concentrated mass `CONM2`; scalar points `SPOINT`.
 
@@ -45,7 +45,7 @@ fn corner_thickness(f: &mut FieldReader, first: usize, count: usize) -> Option<C
     Some(CornerThickness { relative, t })
 }
 
-/// `CQUAD4` — four-node shell.
+/// `CQUAD4` / `CQUADR` — four-node shell.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
@@ -56,6 +56,8 @@ fn corner_thickness(f: &mut FieldReader, first: usize, count: usize) -> Option<C
 /// | 9 | ZOFFS | real | 0.0 | offset of the reference plane from the grids |
 /// | cont. 3 | TFLAG | 0 or 1 | 0 | 1: T1–T4 are ratios of the property thickness |
 /// | cont. 4–7 | T1–T4 | real > 0 | property T | corner thicknesses (bilinear over the element) |
+///
+/// A CQUADR is read and computed as a CQUAD4 (docs/departures.md).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cquad4 {
     pub id: u32,
@@ -68,7 +70,7 @@ pub struct Cquad4 {
 }
 
 impl Cquad4 {
-    /// Read a `CQUAD4` card.
+    /// Read a `CQUAD4` or `CQUADR` card (same layout).
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "EID");
@@ -92,7 +94,7 @@ impl Cquad4 {
     }
 }
 
-/// `CTRIA3` — three-node shell.
+/// `CTRIA3` / `CTRIAR` — three-node shell.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
@@ -103,6 +105,8 @@ impl Cquad4 {
 /// | 8 | ZOFFS | real | 0.0 | offset of the reference plane from the grids |
 /// | cont. 3 | TFLAG | 0 or 1 | 0 | 1: T1–T3 are ratios of the property thickness |
 /// | cont. 4–6 | T1–T3 | real > 0 | property T | corner thicknesses (linear over the element) |
+///
+/// A CTRIAR is read and computed as a CTRIA3 (docs/departures.md).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ctria3 {
     pub id: u32,
@@ -115,7 +119,7 @@ pub struct Ctria3 {
 }
 
 impl Ctria3 {
-    /// Read a `CTRIA3` card.
+    /// Read a `CTRIA3` or `CTRIAR` card (same layout).
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "EID");

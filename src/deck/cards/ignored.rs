@@ -9,6 +9,7 @@
 //! | `CBARAO` | output points along a CBAR; paraflex writes no bar forces or stresses | – |
 //! | `USET`, `USET1` | user DOF sets U1–U6 partition matrices for DMAP alters and OUTPUT2/4; paraflex runs no DMAP | any set name other than U1–U6 or ZERO |
 //! | `MAT4`, `MAT5` | thermal materials, read by heat-transfer solutions only | – |
+//! | `DTI` | a direct table is data for DMAP modules (and `SETREE` for superelement processing, whose cards paraflex refuses); paraflex runs no DMAP | – |
 //! | `MDLPRM` | HDF5 output options (`HDF5`, `H5…`): paraflex writes its own HDF5 file; `OFFDEF = LROFF`: offsets that do not follow large rotations, a nonlinear option | every other model parameter (they change the model, e.g. `OFFDEF = NOMASS`) |
 
 use crate::deck::error::DeckError;
@@ -59,6 +60,11 @@ static IGNORED: &[(&str, &str, Option<Check>)] = &[
     (
         "MAT5",
         "a thermal material is read by heat-transfer solutions only",
+        None,
+    ),
+    (
+        "DTI",
+        "a direct table is data for DMAP modules (SETREE: for superelement processing), and paraflex runs no DMAP and no superelements",
         None,
     ),
     (

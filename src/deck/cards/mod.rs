@@ -23,6 +23,8 @@ mod optimize;
 mod param;
 mod properties;
 mod rigid;
+mod shear_panel;
+mod temperature;
 
 pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd};
 pub use design::{Ddval, Desvar};
@@ -50,6 +52,8 @@ pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, ResponseSource, SearchMethod, St
 pub use param::{Param, ParamValue};
 pub use properties::{Pbush, Pcomp, Pdamp, Pelas, Ply, Pshell, Psolid, Pvisc};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
+pub use shear_panel::{Cshear, Pshear};
+pub use temperature::Matt1;
 
 use super::Loc;
 use super::error::DeckError;
@@ -64,6 +68,11 @@ pub struct BulkData {
     pub coords: Vec<Cord2>,
     pub cquad4: Vec<Cquad4>,
     pub ctria3: Vec<Ctria3>,
+    /// CQUADR: the CQUAD4 layout and kernel (docs/departures.md).
+    pub cquadr: Vec<Cquad4>,
+    /// CTRIAR: the CTRIA3 layout and kernel (docs/departures.md).
+    pub ctriar: Vec<Ctria3>,
+    pub cshear: Vec<Cshear>,
     pub chexa: Vec<Chexa>,
     pub cpenta: Vec<Cpenta>,
     pub ctetra: Vec<Ctetra>,
@@ -88,9 +97,15 @@ pub struct BulkData {
     pub rbe3: Vec<Rbe3>,
     pub mat1: Vec<Mat1>,
     pub mat8: Vec<Mat8>,
+    pub matt1: Vec<Matt1>,
+    /// TABLEM1, TABLEM2 and TABLEM3 (material tables, read by MATT1).
+    pub tablem: Vec<Tabled>,
+    /// TABLEM4.
+    pub tablem4: Vec<Tabled4>,
     pub pshell: Vec<Pshell>,
     pub pcomp: Vec<Pcomp>,
     pub psolid: Vec<Psolid>,
+    pub pshear: Vec<Pshear>,
     pub pelas: Vec<Pelas>,
     pub pdamp: Vec<Pdamp>,
     pub pvisc: Vec<Pvisc>,
@@ -201,6 +216,9 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     }),
     ("CQUAD4", |c, b| Ok(b.cquad4.push(Cquad4::from_card(c)?))),
     ("CTRIA3", |c, b| Ok(b.ctria3.push(Ctria3::from_card(c)?))),
+    ("CQUADR", |c, b| Ok(b.cquadr.push(Cquad4::from_card(c)?))),
+    ("CTRIAR", |c, b| Ok(b.ctriar.push(Ctria3::from_card(c)?))),
+    ("CSHEAR", |c, b| Ok(b.cshear.push(Cshear::from_card(c)?))),
     ("CHEXA", |c, b| Ok(b.chexa.push(Chexa::from_card(c)?))),
     ("CPENTA", |c, b| Ok(b.cpenta.push(Cpenta::from_card(c)?))),
     ("CTETRA", |c, b| Ok(b.ctetra.push(Ctetra::from_card(c)?))),
@@ -235,9 +253,21 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("RBE3", |c, b| Ok(b.rbe3.push(Rbe3::from_card(c)?))),
     ("MAT1", |c, b| Ok(b.mat1.push(Mat1::from_card(c)?))),
     ("MAT8", |c, b| Ok(b.mat8.push(Mat8::from_card(c)?))),
+    ("MATT1", |c, b| Ok(b.matt1.push(Matt1::from_card(c)?))),
+    ("TABLEM1", |c, b| {
+        Ok(b.tablem.push(Tabled::from_card(c, "TABLEM1")?))
+    }),
+    ("TABLEM2", |c, b| {
+        Ok(b.tablem.push(Tabled::from_card(c, "TABLEM2")?))
+    }),
+    ("TABLEM3", |c, b| {
+        Ok(b.tablem.push(Tabled::from_card(c, "TABLEM3")?))
+    }),
+    ("TABLEM4", |c, b| Ok(b.tablem4.push(Tabled4::from_card(c)?))),
     ("PSHELL", |c, b| Ok(b.pshell.push(Pshell::from_card(c)?))),
     ("PCOMP", |c, b| Ok(b.pcomp.push(Pcomp::from_card(c)?))),
     ("PSOLID", |c, b| Ok(b.psolid.push(Psolid::from_card(c)?))),
+    ("PSHEAR", |c, b| Ok(b.pshear.push(Pshear::from_card(c)?))),
     ("PELAS", |c, b| Ok(b.pelas.extend(Pelas::from_card(c)?))),
     ("PDAMP", |c, b| Ok(b.pdamp.extend(Pdamp::from_card(c)?))),
     ("PVISC", |c, b| Ok(b.pvisc.extend(Pvisc::from_card(c)?))),

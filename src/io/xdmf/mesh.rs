@@ -10,8 +10,8 @@
 //!
 //! | card | XDMF topology (mixed code) | note |
 //! |---|---|---|
-//! | CQUAD4 | Quadrilateral (5) | G1..G4 |
-//! | CTRIA3 | Triangle (4) | G1..G3 |
+//! | CQUAD4, CQUADR, CSHEAR | Quadrilateral (5) | G1..G4 |
+//! | CTRIA3, CTRIAR | Triangle (4) | G1..G3 |
 //! | CHEXA (8) | Hexahedron (9) | G1..G4 bottom, G5..G8 top, as VTK_HEXAHEDRON |
 //! | CPENTA (6) | Wedge (8) | G1..G3, G4..G6 with G4 over G1, as VTK_WEDGE (a deck whose first face points inward renders the same; only the sign of the cell volume differs) |
 //! | CTETRA (4) | Tetrahedron (6) | |
@@ -45,8 +45,8 @@ impl Topology {
     /// Topology for a card with `k` nodes per element, or `None` when there is none.
     fn for_block(card: &str, k: usize) -> Option<Self> {
         let t = match (card, k) {
-            ("CQUAD4", 4) => Topology::Quadrilateral,
-            ("CTRIA3", 3) => Topology::Triangle,
+            ("CQUAD4" | "CQUADR" | "CSHEAR", 4) => Topology::Quadrilateral,
+            ("CTRIA3" | "CTRIAR", 3) => Topology::Triangle,
             ("CHEXA", 8) => Topology::Hexahedron,
             ("CPENTA", 6) => Topology::Wedge,
             ("CTETRA", 4) => Topology::Tetrahedron,
