@@ -10,7 +10,11 @@
 //!   free-free model (K singular) they are skipped ([`FullFrf::resvec_skipped`]).
 //!
 //! Damping: Rayleigh C = αM + βK and structural damping G as Nastran: K(1 + iG) in the direct
-//! solution, G on each modal stiffness ω_j²(1 + iG) in the modal one.
+//! solution, G on each modal stiffness ω_j²(1 + iG) in the modal one. The element damping
+//! matrices of [`Constrained::damping_ff`] (viscous B, structural K₄ = Σ GE_e K_e) enter the
+//! direct solution as iωB + iK₄ and the modal one projected on the modes (ΦᵀBΦ, ΦᵀK₄Φ), which
+//! couples the modal equations: one dense complex LU per line
+//! ([`coupled_modal_receptance`]).
 
 use std::time::Duration;
 
@@ -21,7 +25,8 @@ use super::{AnalysisError, timed};
 use crate::discretize::Constrained;
 use crate::discretize::sensors::project_rows;
 use crate::dynamics::frf::{
-    SparseModel, direct_receptance, modal_receptance, residual_vectors, static_stiffness_is_regular,
+    SparseModel, congruence, coupled_modal_receptance, direct_receptance, modal_receptance,
+    residual_vectors, static_stiffness_is_regular,
 };
 use crate::linalg::dense::product;
 use crate::linalg::{
@@ -127,6 +132,8 @@ pub fn receptance(
                 alpha: d.alpha,
                 beta: d.beta,
                 structural: d.structural,
+                viscous_matrix: c.damping_ff.viscous.as_ref(),
+                structural_matrix: c.damping_ff.structural.as_ref(),
             };
             let h = timed(record, format!("direct FRF ({lines} lines)"), || {
                 direct_receptance(
@@ -200,18 +207,37 @@ pub fn receptance(
                 "modal FRF ({modes} modes, {} residual vectors, {lines} lines)",
                 basis.len() - modes
             );
-            let h = timed(record, name, || {
+            let h = timed(record, name, || -> Result<_, AnalysisError> {
                 let modal_in = product(phi.transpose(), run.inputs);
                 let modal_out = project_rows(run.outputs, &phi);
-                modal_receptance(
+                if c.damping_ff.is_empty() {
+                    return Ok(modal_receptance(
+                        &basis,
+                        d.alpha,
+                        d.beta,
+                        d.structural,
+                        modal_in.as_ref(),
+                        modal_out.as_ref(),
+                        run.omegas,
+                    )?);
+                }
+                // element damping couples the modal equations
+                let project = |a: Option<&CscMatrix<f64>>| match a {
+                    Some(a) => congruence(a, phi.as_ref()),
+                    None => Ok(Mat::zeros(basis.len(), basis.len())),
+                };
+                let viscous = project(c.damping_ff.viscous.as_ref())?;
+                let structural = project(c.damping_ff.structural.as_ref())?;
+                Ok(coupled_modal_receptance(
                     &basis,
-                    d.alpha,
-                    d.beta,
+                    (d.alpha, d.beta),
                     d.structural,
+                    viscous.as_ref(),
+                    structural.as_ref(),
                     modal_in.as_ref(),
                     modal_out.as_ref(),
                     run.omegas,
-                )
+                )?)
             })?;
             Ok(FullFrf {
                 h,

@@ -97,6 +97,13 @@ pub const KNOWN_PARAMS: &[KnownParam] = &[
         doc: "frequency (rad/s) at which PARAM,G is turned into viscous damping (G/W3)·K in transient response, as Nastran; default 0 = G left out of transient response",
     },
     KnownParam {
+        name: "W4",
+        kind: ParamType::Real,
+        rule: "a real >= 0",
+        ok: |v| v >= 0.0,
+        doc: "frequency (rad/s) at which the element structural damping GE (MAT1, MAT8, PCOMP, PELAS, CELAS2, PBUSH) is turned into viscous damping (1/W4)·Σ GE·K_e in full-model transient response, as Nastran; default 0 = element GE left out of transient response",
+    },
+    KnownParam {
         name: "QINCOMP",
         kind: ParamType::YesNo,
         rule: "YES or NO",
@@ -133,6 +140,8 @@ pub struct ModelParams {
     pub g: f64,
     /// Nastran W3 (rad/s): transient response adds (G/W3)·K when > 0.
     pub w3: f64,
+    /// Nastran W4 (rad/s): transient response adds (1/W4)·Σ GE_e K_e when > 0.
+    pub w4: f64,
     /// SOL 101 factorization: largest a_kk / d_k accepted (Nastran MAXRATIO).
     pub maxratio: f64,
     /// CQUAD4 incompatible membrane modes (PARAM,QINCOMP; [`crate::fe::shell::Incompatible`]).
@@ -165,6 +174,7 @@ impl Default for ModelParams {
             beta1: 0.0,
             g: 0.0,
             w3: 0.0,
+            w4: 0.0,
             maxratio: crate::linalg::cholesky::DEFAULT_MAX_RATIO,
             qincomp: true,
             resvec: true,
@@ -271,6 +281,7 @@ fn apply(
                 "BETA1" => out.beta1 = v,
                 "G" => out.g = v,
                 "W3" => out.w3 = v,
+                "W4" => out.w4 = v,
                 "MAXRATIO" => out.maxratio = v,
                 _ => {}
             }

@@ -32,7 +32,7 @@
 //! displacement output; `displacement_grid_ids` for a set). Their rows join the outputs of the
 //! solve and are dropped from H.
 
-use super::driver::{Basis, Driver};
+use super::driver::{Basis, Driver, ElementDampingUse};
 use super::report::{Report, sci};
 use super::shared::{frequency_lines, structure, write_frf};
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
@@ -99,6 +99,10 @@ impl Driver for Frf {
 
     fn basis(&self) -> Basis {
         Basis::Mesh
+    }
+
+    fn element_damping(&self) -> ElementDampingUse {
+        ElementDampingUse::Applied
     }
 
     fn honoured(&self) -> &'static [&'static str] {
