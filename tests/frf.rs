@@ -195,6 +195,15 @@ fn two_dof_structural_damping_matches_the_complex_stiffness() {
     two_dof_matches("frf_two_dof_g");
 }
 
+/// The same chain with viscous dampers (CDAMP2 to ground, CDAMP1 + PDAMP between the masses)
+/// and GE on the coupling spring: Z = K − ω²M + iω(αM + βK + B) + i·GE·K_e in SOL 108, and in
+/// SOL 111 the coupled modal equations (ΦᵀBΦ and Φᵀ GE K_e Φ are not diagonal), exact with both
+/// modes; same tolerance (`reference/analytic/frf_two_dof_dampers.json`).
+#[test]
+fn two_dof_dampers_and_element_ge_match_the_analytic_receptance() {
+    two_dof_matches("frf_two_dof_dampers");
+}
+
 /// The 2-DOF chain without its ground spring is free along x: a 0 Hz line (the static
 /// response) is refused by SOL 108 and SOL 111 alike, naming the reason, instead of being
 /// solved from round-off pivots or the round-off λ of the rigid-body mode; from 2 Hz up both

@@ -1667,13 +1667,16 @@ def case_frf_sdof_rload2(write):
     }
 
 
-def case_tload2_sdof(write):
+def case_tload2_sdof(write, name="tload2_sdof", damped=False):
     """An undamped SDOF under a TLOAD2 pulse with delay, T1, growth exponent B, exponential C,
     frequency F and phase P (ending at zero): displacement history against an independent
-    high-accuracy integration (scipy DOP853) of m u'' + k u = A F(t)."""
+    high-accuracy integration (scipy DOP853) of m u'' + k u = A F(t). With `damped`, a CDAMP2 c
+    and GE on the CELAS2 with PARAM,W4 (Nastran's equivalent viscous GE k / W4):
+    m u'' + (c + GE k / W4) u' + k u = A F(t)."""
     from scipy.integrate import solve_ivp
-    name = "tload2_sdof"
     k, m = 4.0e4, 2.0
+    c, ge, w4 = (8.0, 0.06, 150.0) if damped else (0.0, 0.0, 0.0)
+    cv = c + (ge * k / w4 if damped else 0.0)
     A, delay, t1, t2, freq, phase_deg, c_exp, b_pow = 3.0, 0.005, 0.01, 0.05, 50.0, 90.0, -10.0, 1.0
     dt, steps, every = 2.0e-5, 10000, 50
 
@@ -1685,12 +1688,13 @@ def case_tload2_sdof(write):
                                                               + math.radians(phase_deg))
 
     times = [i * every * dt for i in range(steps // every + 1)]
-    sol = solve_ivp(lambda t, y: [y[1], (load(t) - k * y[0]) / m], (0.0, times[-1]), [0.0, 0.0],
+    sol = solve_ivp(lambda t, y: [y[1], (load(t) - cv * y[1] - k * y[0]) / m], (0.0, times[-1]),
+                    [0.0, 0.0],
                     method="DOP853", rtol=1e-12, atol=1e-16, t_eval=times, max_step=1e-4)
     u = list(sol.y[0])
     peak = max(abs(x) for x in u)
     # second computation: an implicit method (Radau) on the same equation
-    radau = solve_ivp(lambda t, y: [y[1], (load(t) - k * y[0]) / m], (0.0, times[-1]),
+    radau = solve_ivp(lambda t, y: [y[1], (load(t) - cv * y[1] - k * y[0]) / m], (0.0, times[-1]),
                       [0.0, 0.0], method="Radau", rtol=1e-11, atol=1e-17, t_eval=times,
                       max_step=1e-4)
     check("%s: DOP853 vs Radau, max |u| difference over the peak" % name,
@@ -1698,27 +1702,39 @@ def case_tload2_sdof(write):
     deck = "%s/%s_n1.dat" % (DECK_DIR, name)
     if write:
         bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("CONM2", 1, 1, 0, m),
-                card("CELAS2", 11, k, 1, 1), spc1(1, "23456", [1]),
+                card("CELAS2", 11, k, 1, 1, *([None, None, ge] if damped else [])),
+                spc1(1, "23456", [1]),
                 card("TSTEP", 1, steps, dt, every), card("TINTEG", 1, "GALPHA", 1.0),
                 card("TLOAD2", 7, 8, delay, None, t1, t2, freq, phase_deg, c_exp, b_pow),
                 card("DAREA", 8, 1, 1, A)]
+        if damped:
+            bulk += [card("CDAMP2", 21, c, 1, 1), "PARAM,W4,%s" % free_real(w4)]
         cc = ["TITLE = " + name, "SUBCASE 1", "  SPC = 1", "  TSTEP = 1", "  DLOAD = 7",
               "  DISPLACEMENT = ALL"]
-        write_deck(deck, ["analytic case %s: CONM2 %g kg on CELAS2 %g N/m, TLOAD2 pulse"
-                          % (name, m, k), "reference: %s/%s.json" % (REF_DIR, name)],
+        write_deck(deck, ["analytic case %s: CONM2 %g kg on CELAS2 %g N/m%s, TLOAD2 pulse"
+                          % (name, m, k, ", CDAMP2 %g N s/m, GE %g with PARAM,W4 %g rad/s"
+                             % (c, ge, w4) if damped else ""),
+                          "reference: %s/%s.json" % (REF_DIR, name)],
                    109, cc, bulk)
     w = math.sqrt(k / m)
     return {
         "case": name,
-        "description": "undamped single-DOF spring-mass under a TLOAD2 pulse (SOL 109, "
-                       "generalized-alpha rho = 1): displacement history",
+        "description": ("single-DOF spring-mass with a CDAMP2 and element GE turned viscous by "
+                        "PARAM,W4" if damped else "undamped single-DOF spring-mass") +
+                       " under a TLOAD2 pulse (SOL 109, generalized-alpha rho = 1): displacement "
+                       "history",
         "provenance": "TLOAD2 as defined in the Nastran Quick Reference Guide: F(t) = A t~^B "
                       "e^{C t~} cos(2 pi F t~ + P), t~ = t - T1 - tau on [0, T2 - T1], 0 elsewhere; "
-                      "reference by scipy.integrate.solve_ivp (DOP853, rtol 1e-12)",
-        "formula": "m u'' + k u = A F(t), u(0) = u'(0) = 0",
-        "inputs": {"k": k, "m": m, "A": A, "delay": delay, "T1": t1, "T2": t2, "F": freq,
+                      "reference by scipy.integrate.solve_ivp (DOP853, rtol 1e-12)" +
+                      ("; element GE in transient response as the viscous GE K_e / W4 (MSC "
+                       "Nastran Dynamic Analysis User's Guide, 'Damping', PARAM,W4)"
+                       if damped else ""),
+        "formula": ("m u'' + (c + GE k / W4) u' + k u = A F(t), u(0) = u'(0) = 0" if damped
+                    else "m u'' + k u = A F(t), u(0) = u'(0) = 0"),
+        "inputs": dict({"k": k, "m": m, "A": A, "delay": delay, "T1": t1, "T2": t2, "F": freq,
                    "P_deg": phase_deg, "C": c_exp, "B": b_pow, "dt": dt, "steps": steps,
                    "every": every},
+                   **({"c": c, "GE": ge, "W4": w4} if damped else {})),
         "time": times,
         "u": u,
         "value_labels": ["peak |u|"],
@@ -1734,15 +1750,21 @@ def case_tload2_sdof(write):
     }
 
 
-def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
+def case_frf_two_dof(write, name="frf_two_dof", g=0.0, dampers=False):
     """Ground-k1-m1-k2-m2 chain along T1 with Rayleigh damping, unit RLOAD1 on both masses:
     receptance matrix and DISP / VEL / ACCEL sensors, direct (SOL 108) and modal (SOL 111).
     With g > 0, PARAM,G structural damping as Nastran applies it in frequency response: the
     complex stiffness K (1 + iG) in SOL 108, and G on each modal stiffness, w_j^2 (1 + iG), in
-    SOL 111 (both exact here: G K is diagonal in the modes)."""
+    SOL 111 (both exact here: G K is diagonal in the modes).
+    With dampers, element damping that the modes do not diagonalize: a CDAMP2 c1 from ground to
+    m1, a CDAMP1 (PDAMP) c2 between m1 and m2 and GE on the m1-m2 CELAS2: Z = K - w^2 M +
+    i w (alpha M + beta K + B) + i GE K_12, in SOL 111 projected on both modes (coupled)."""
     k1, k2, m1, m2, alpha, beta = 2.5e4, 3.0e4, 2.0, 1.0, 0.8, 2.0e-4
+    c1, c2, ge2 = (15.0, 6.0, 0.04) if dampers else (0.0, 0.0, 0.0)
     K = np.array([[k1 + k2, -k2], [-k2, k2]])
     M = np.diag([m1, m2])
+    B = np.array([[c1 + c2, -c2], [-c2, c2]])
+    K4 = ge2 * np.array([[k2, -k2], [-k2, k2]])
     lam, phi = linalg.eigh(K, M)
     fn = [math.sqrt(x) / (2 * math.pi) for x in lam]
     hz = [2.0, round(fn[0], 6), 30.0, round(fn[1], 6), 80.0]
@@ -1750,12 +1772,19 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
     H = []
     for f in hz:
         w = 2 * math.pi * f
-        Z = K * (1 + 1j * g) - w * w * M + 1j * w * (alpha * M + beta * K)
+        Z = K * (1 + 1j * g) - w * w * M + 1j * w * (alpha * M + beta * K + B) + 1j * K4
         h = np.linalg.inv(Z)
-        # second computation: modal superposition over both mass-normalized modes
-        hm = sum(np.outer(phi[:, j], phi[:, j])
-                 / (lam[j] * (1 + 1j * g) - w * w + 1j * w * (alpha + beta * lam[j]))
-                 for j in range(2))
+        # second computation: modal superposition over both mass-normalized modes, the element
+        # damping projected (phi^T B phi, phi^T K4 phi: coupled modal equations)
+        if dampers:
+            zq = (np.diag(lam * (1 + 1j * g)) - w * w * np.eye(2)
+                  + 1j * w * (alpha * np.eye(2) + beta * np.diag(lam) + phi.T @ B @ phi)
+                  + 1j * phi.T @ K4 @ phi)
+            hm = phi @ np.linalg.solve(zq, phi.T)
+        else:
+            hm = sum(np.outer(phi[:, j], phi[:, j])
+                     / (lam[j] * (1 + 1j * g) - w * w + 1j * w * (alpha + beta * lam[j]))
+                     for j in range(2))
         check("%s: H at %g Hz inverse vs modal superposition" % (name, f),
               np.abs(h).max(), np.abs(h - hm).max() + np.abs(h).max(), 1e-12)
         rows = [h[0], h[1], -h[1], 1j * w * h[1], -w * w * h[0]]
@@ -1764,7 +1793,8 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
     if write:
         bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("GRID", 2, None, 1.0, 0.0, 0.0),
                 card("CONM2", 1, 1, 0, m1), card("CONM2", 2, 2, 0, m2),
-                card("CELAS2", 11, k1, 1, 1), card("CELAS2", 12, k2, 1, 1, 2, 1),
+                card("CELAS2", 11, k1, 1, 1),
+                card("CELAS2", 12, k2, 1, 1, 2, 1, *([ge2] if dampers else [])),
                 spc1(1, "23456", [1, 2]), "PARAM,ALPHA1,%s" % free_real(alpha), "PARAM,BETA1,%s" % free_real(beta),
                 card("FREQ", 5, *[float(f) for f in hz]), card("EIGRL", 10, None, None, 2),
                 card("RLOAD1", 7, 8, None, None, 20), card("DAREA", 8, 1, 1, 1.0, 2, 1, 1.0),
@@ -1774,11 +1804,16 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
                 card("SENSOR", 3, "A1", "ACCEL", 1, None, 2.0, 0.0, 0.0)]
         if g:
             bulk.append("PARAM,G,%s" % free_real(g))
+        if dampers:
+            bulk += [card("CDAMP2", 21, c1, 1, 1), card("CDAMP1", 22, 23, 1, 1, 2, 1),
+                     card("PDAMP", 23, c2)]
         for deck, sol in zip(decks, (108, 111)):
             write_deck(deck, ["analytic case %s: CONM2 %g and %g kg on T1, CELAS2 ground-m1 %g "
-                              "N/m and m1-m2 %g N/m, Rayleigh alpha %g, beta %g%s; SOL %d"
+                              "N/m and m1-m2 %g N/m, Rayleigh alpha %g, beta %g%s%s; SOL %d"
                               % (name, m1, m2, k1, k2, alpha, beta,
-                                 ", structural damping G %g" % g if g else "", sol),
+                                 ", structural damping G %g" % g if g else "",
+                                 ", CDAMP2 ground-m1 %g, CDAMP1 m1-m2 %g N s/m, GE %g on the "
+                                 "m1-m2 spring" % (c1, c2, ge2) if dampers else "", sol),
                               "reference: %s/%s.json" % (REF_DIR, name)],
                        sol, frf_case_control(name, sol == 111), bulk)
     labels = ["|H| max over outputs x inputs at %g Hz" % f for f in hz]
@@ -1786,8 +1821,17 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
         "case": name,
         "description": "two CONM2 masses on CELAS2 springs along T1 (ground-m1-m2 chain) with "
                        "Rayleigh damping" + (" and PARAM,G structural damping" if g else "") +
+                       (", viscous dampers (CDAMP2, CDAMP1 + PDAMP) and element GE on a spring"
+                        if dampers else "") +
                        ": receptance matrix at the masses and DISP / VEL / ACCEL sensors",
-        "provenance": ("2-DOF harmonic response Z(w)^-1, Z = K - w^2 M + i w (alpha M + beta K) "
+        "provenance": ("2-DOF harmonic response Z(w)^-1, Z = K - w^2 M + i w (alpha M + beta K + "
+                       "B) + i GE K_e: viscous dampers and element structural damping (Inman, "
+                       "Engineering Vibration, 4th ed. 2014, sec. 5.2 and 2.6; MSC Nastran "
+                       "Dynamic Analysis User's Guide, 'Damping': CDAMP B and element GE in "
+                       "SOL 108/111); checked against the coupled modal equations over both "
+                       "modes (phi^T B phi and phi^T GE K_e phi are not diagonal)")
+                      if dampers else
+                      ("2-DOF harmonic response Z(w)^-1, Z = K - w^2 M + i w (alpha M + beta K) "
                        "(e.g. Inman, Engineering Vibration, 4th ed. 2014, sec. 5.2; Rayleigh "
                        "damping sec. 4.5); checked against modal superposition over both modes")
                       if not g else
@@ -1799,7 +1843,9 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
                        "superposition over both modes with w_j^2 (1 + i G)"),
         "formula": "H = Z^-1; outputs 1:1, 2:1, D2 = -H[2,:], V2 = i w H[2,:], A1 = -w^2 H[1,:]",
         "inputs": dict({"k1": k1, "k2": k2, "m1": m1, "m2": m2, "alpha": alpha, "beta": beta},
-                       **({"G": g} if g else {}), natural_frequencies_hz=fn),
+                       **({"G": g} if g else {}),
+                       **({"c1": c1, "c2": c2, "GE_k2": ge2} if dampers else {}),
+                       natural_frequencies_hz=fn),
         "frequency_hz": hz,
         "outputs": ["1:1", "2:1", "D2", "V2", "A1"],
         "inputs_dofs": ["1:1", "2:1"],
@@ -1833,6 +1879,8 @@ CASES = {
     "tload2_sdof": case_tload2_sdof,
     "frf_two_dof": case_frf_two_dof,
     "frf_two_dof_g": lambda w: case_frf_two_dof(w, "frf_two_dof_g", 0.05),
+    "frf_two_dof_dampers": lambda w: case_frf_two_dof(w, "frf_two_dof_dampers", dampers=True),
+    "tload2_sdof_damped": lambda w: case_tload2_sdof(w, "tload2_sdof_damped", damped=True),
     "laminate_abd": case_laminate_abd,
     "massless_spring_chain": lambda w: case_massless_spring_chain(
         w, "massless_spring_chain", lambda f: (None, None, 10), [0, 1, 2],
