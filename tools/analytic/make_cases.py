@@ -1863,6 +1863,106 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0, dampers=False):
     }
 
 
+def case_frf_damped_rods(write):
+    """Two grids on a line at 53.13 deg in the x-y plane (displacement system 5 with x along the
+    line), each free along and about the line (T1, R1 in system 5): a CROD from the clamped grid 1
+    to grid 2 whose MAT1 has GE, a second CROD and a CVISC (PVISC CE, CR) from grid 2 to grid 3,
+    a grounded CBUSH at grid 3 (CID 5) with K, B and per-direction GE, CONM2 masses and inertias
+    about the line (CID 5). Receptance at the two inputs, direct (SOL 108) and modal (SOL 111,
+    all four modes: the damping couples them), against a separately written 4-DOF numpy model."""
+    name = "frf_damped_rods"
+    e_line = np.array([0.6, 0.8, 0.0])
+    E, nu = 1.0e6, 0.25
+    G = E / (2 * (1 + nu))
+    A1, J1, A2, J2, L = 0.04, 7.5e-4, 0.03, 5.0e-4, 1.0
+    ge_rod = 0.03
+    ce, cr = 20.0, 0.1
+    kb, bb, geb = (1.0e4, 100.0), (10.0, 0.05), (0.05, 0.08)  # (T1, R1) of the bush
+    m2, i2, m3, i3 = 2.0, 0.01, 1.0, 0.005
+    # q = (u2, th2, u3, th3) along / about the line
+    ka1, kt1, ka2, kt2 = E * A1 / L, G * J1 / L, E * A2 / L, G * J2 / L
+    K = np.array([[ka1 + ka2, 0, -ka2, 0], [0, kt1 + kt2, 0, -kt2],
+                  [-ka2, 0, ka2 + kb[0], 0], [0, -kt2, 0, kt2 + kb[1]]])
+    B = np.array([[ce, 0, -ce, 0], [0, cr, 0, -cr], [-ce, 0, ce + bb[0], 0],
+                  [0, -cr, 0, cr + bb[1]]])
+    K4 = np.diag([ge_rod * ka1, ge_rod * kt1, geb[0] * kb[0], geb[1] * kb[1]])
+    M = np.diag([m2, i2, m3, i3])
+    lam, phi = linalg.eigh(K, M)
+    fn = [math.sqrt(x) / (2 * math.pi) for x in lam]
+    hz = [1.0] + [round(f, 6) for f in fn] + [round(1.5 * fn[-1], 6)]
+    H = []
+    inputs = [0, 3]  # 2:1 (force along the line), 3:4 (moment about it)
+    for f in hz:
+        w = 2 * math.pi * f
+        Z = K - w * w * M + 1j * w * B + 1j * K4
+        h = np.linalg.inv(Z)
+        zq = np.diag(lam) - w * w * np.eye(4) + 1j * w * phi.T @ B @ phi + 1j * phi.T @ K4 @ phi
+        hm = phi @ np.linalg.solve(zq, phi.T)
+        check("%s: H at %g Hz inverse vs coupled modal equations" % (name, f),
+              np.abs(h).max(), np.abs(h - hm).max() + np.abs(h).max(), 1e-12)
+        H.append([[complex(h[o, i]) for i in inputs] for o in inputs])
+    decks = ["%s/%s_direct.dat" % (DECK_DIR, name), "%s/%s_modal.dat" % (DECK_DIR, name)]
+    if write:
+        x2, x3 = L * e_line, 2 * L * e_line
+        bulk = [card("CORD2R", 5, None, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.6, 0.8, 0.0),
+                card("GRID", 1, None, 0.0, 0.0, 0.0),
+                card("GRID", 2, None, *[float(v) for v in x2], 5),
+                card("GRID", 3, None, *[float(v) for v in x3], 5),
+                card("MAT1", 100, E, None, nu, 0.0, None, None, ge_rod),
+                card("MAT1", 101, E, None, nu, 0.0),
+                card("PROD", 10, 100, A1, J1), card("PROD", 11, 101, A2, J2),
+                card("CROD", 1, 10, 1, 2), card("CROD", 4, 11, 2, 3),
+                card("PVISC", 20, ce, cr), card("CVISC", 2, 20, 2, 3),
+                card("CBUSH", 3, 30, 3, None, None, None, None, 5),
+                card("PBUSH", 30, "K", kb[0], None, None, kb[1], None, None,
+                     None, "B", bb[0], None, None, bb[1], None, None,
+                     None, "GE", geb[0], None, None, geb[1]),
+                card("CONM2", 21, 2, 5, m2, None, None, None, None, i2),
+                card("CONM2", 22, 3, 5, m3, None, None, None, None, i3),
+                spc1(1, "123456", [1]), spc1(1, "2356", [2, 3]),
+                card("FREQ", 5, *[float(f) for f in hz]), card("EIGRL", 10, None, None, 4),
+                card("RLOAD1", 7, 8, None, None, 20), card("DAREA", 8, 2, 1, 1.0, 3, 4, 1.0),
+                tabled1(20, [(0.0, 1.0), (1000.0, 1.0)])]
+        for deck, sol in zip(decks, (108, 111)):
+            write_deck(deck, ["analytic case %s: CROD (MAT1 GE %g) and CROD + CVISC on an "
+                              "inclined line, grounded CBUSH with B and GE, CONM2s; SOL %d"
+                              % (name, ge_rod, sol),
+                              "reference: %s/%s.json" % (REF_DIR, name)],
+                       sol, frf_case_control(name, sol == 111), bulk)
+    return {
+        "case": name,
+        "description": "rods, a CVISC and a grounded CBUSH (K, B, GE) on a line inclined in x-y, "
+                       "each grid free along and about the line: receptance at a force along "
+                       "the line (2:1) and a moment about it (3:4), direct and coupled modal",
+        "provenance": "separately written 4-DOF numpy model (rod axial EA/L and torsion GJ/L, "
+                      "CVISC CE on the axial and CR on the torsional relative motion, the bush's "
+                      "K, B, GE per direction, GE of the MAT1 times the rod's stiffness); "
+                      "Z = K - w^2 M + i w B + i K4 (MSC Nastran Dynamic Analysis User's Guide, "
+                      "'Damping'); checked against the coupled modal equations over the four "
+                      "modes",
+        "formula": "H = Z^-1 at the inputs 2:1 and 3:4 (system 5: x along the line)",
+        "inputs": {"E": E, "nu": nu, "A1": A1, "J1": J1, "A2": A2, "J2": J2, "L": L,
+                   "GE_rod": ge_rod, "CE": ce, "CR": cr, "bush_K": kb, "bush_B": bb,
+                   "bush_GE": geb, "m2": m2, "I2": i2, "m3": m3, "I3": i3,
+                   "natural_frequencies_hz": fn},
+        "frequency_hz": hz,
+        "outputs": ["2:1", "3:4"],
+        "inputs_dofs": ["2:1", "3:4"],
+        "modes": 4,
+        "H_re": [[[v.real for v in row] for row in h] for h in H],
+        "H_im": [[[v.imag for v in row] for row in h] for h in H],
+        "value_labels": ["|H| max over outputs x inputs at %g Hz" % f for f in hz],
+        "units": "m/N, rad/(N m)",
+        "values": [max(abs(v) for row in h for v in row) for h in H],
+        "meshes": [{"deck": d, "elements": 6, "h": None} for d in decks],
+        "expected_order": None,
+        "tolerance_finest": {"relative": [1e-9] * len(hz), "justification": [
+            "no discretization and no truncation (all four modes superposed in SOL 111): "
+            "relative to the largest |H| of each output row; round-off of a 4x4 complex solve, "
+            "of the rotation into system 5 and of the Lanczos eigenpairs -> 1e-9"] * len(hz)},
+    }
+
+
 CASES = {
     "cantilever_plate_modal": case_cantilever_plate_modal,
     "cantilever_beam_solid_modal": case_cantilever_beam_solid_modal,
@@ -1879,6 +1979,7 @@ CASES = {
     "tload2_sdof": case_tload2_sdof,
     "frf_two_dof": case_frf_two_dof,
     "frf_two_dof_g": lambda w: case_frf_two_dof(w, "frf_two_dof_g", 0.05),
+    "frf_damped_rods": case_frf_damped_rods,
     "frf_two_dof_dampers": lambda w: case_frf_two_dof(w, "frf_two_dof_dampers", dampers=True),
     "tload2_sdof_damped": lambda w: case_tload2_sdof(w, "tload2_sdof_damped", damped=True),
     "laminate_abd": case_laminate_abd,
