@@ -214,6 +214,25 @@ fn rods_cvisc_and_bush_damping_match_the_independent_model() {
     two_dof_matches("frf_damped_rods");
 }
 
+/// The chain's modal FRF with a TABDMP1 (TYPE CRIT) selected by SDAMPING: ζ interpolated at
+/// the first mode and extrapolated from the table's end points at the second, viscous 2ζ_jω_j
+/// per mode (`reference/analytic/frf_two_dof_tabdmp.json`, same tolerance). SOL 108 leaves
+/// SDAMPING out with a warning, as a direct solution has no modes.
+#[test]
+fn two_dof_tabdmp1_modal_damping_matches_the_analytic_receptance() {
+    two_dof_matches("frf_two_dof_tabdmp");
+    let text =
+        std::fs::read_to_string(root().join("decks/verify/analytic/frf_two_dof_tabdmp_modal.dat"))
+            .unwrap()
+            .replace("SOL 111", "SOL 108");
+    let (run, _dir) = run_deck(&text);
+    let warnings = run.expect("SOL 108").warnings.join("\n");
+    assert!(
+        warnings.contains("SDAMPING = 30 is not applied by SOL FRF"),
+        "{warnings}"
+    );
+}
+
 /// The 2-DOF chain without its ground spring is free along x: a 0 Hz line (the static
 /// response) is refused by SOL 108 and SOL 111 alike, naming the reason, instead of being
 /// solved from round-off pivots or the round-off λ of the rigid-body mode; from 2 Hz up both

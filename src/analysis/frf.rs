@@ -14,7 +14,9 @@
 //! matrices of [`Constrained::damping_ff`] (viscous B, structural K₄ = Σ GE_e K_e) enter the
 //! direct solution as iωB + iK₄ and the modal one projected on the modes (ΦᵀBΦ, ΦᵀK₄Φ), which
 //! couples the modal equations: one dense complex LU per line
-//! ([`coupled_modal_receptance`]).
+//! ([`coupled_modal_receptance`]). The modal solution also takes a modal damping table
+//! ([`ModalDampingTable`], Nastran's TABDMP1 with SDAMPING): ζ_j at each basis vector's
+//! frequency, as viscous 2ζ_jω_j or (KDAMP = −1) structural 2ζ_jω_j² damping.
 
 use std::time::Duration;
 
@@ -25,8 +27,8 @@ use super::{AnalysisError, timed};
 use crate::discretize::Constrained;
 use crate::discretize::sensors::project_rows;
 use crate::dynamics::frf::{
-    SparseModel, congruence, coupled_modal_receptance, direct_receptance, modal_receptance,
-    residual_vectors, static_stiffness_is_regular,
+    ModalDampingTable, SparseModel, congruence, coupled_modal_receptance, direct_receptance,
+    modal_receptance, residual_vectors, static_stiffness_is_regular,
 };
 use crate::linalg::dense::product;
 use crate::linalg::{
@@ -47,12 +49,14 @@ pub enum Method {
     },
 }
 
-/// Rayleigh (α, β) and structural (G) damping.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Rayleigh (α, β) and structural (G) damping, and the modal damping table of the modal
+/// solution.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Damping {
     pub alpha: f64,
     pub beta: f64,
     pub structural: f64,
+    pub modal_table: Option<ModalDampingTable>,
 }
 
 /// The receptance H(ω) (outputs × inputs per line) and what the modal solution superposed.
@@ -123,7 +127,7 @@ pub fn receptance(
     record: &mut dyn FnMut(String, Duration),
 ) -> Result<FullFrf, AnalysisError> {
     let lines = run.omegas.len();
-    let d = run.damping;
+    let d = &run.damping;
     match method {
         Method::Direct => {
             let model = SparseModel {
@@ -210,7 +214,7 @@ pub fn receptance(
             let h = timed(record, name, || -> Result<_, AnalysisError> {
                 let modal_in = product(phi.transpose(), run.inputs);
                 let modal_out = project_rows(run.outputs, &phi);
-                if c.damping_ff.is_empty() {
+                if c.damping_ff.is_empty() && d.modal_table.is_none() {
                     return Ok(modal_receptance(
                         &basis,
                         d.alpha,
@@ -226,8 +230,19 @@ pub fn receptance(
                     Some(a) => congruence(a, phi.as_ref()),
                     None => Ok(Mat::zeros(basis.len(), basis.len())),
                 };
-                let viscous = project(c.damping_ff.viscous.as_ref())?;
-                let structural = project(c.damping_ff.structural.as_ref())?;
+                let mut viscous = project(c.damping_ff.viscous.as_ref())?;
+                let mut structural = project(c.damping_ff.structural.as_ref())?;
+                if let Some(table) = &d.modal_table {
+                    for (j, &lambda) in basis.iter().enumerate() {
+                        let w = lambda.max(0.0).sqrt();
+                        let zeta = table.critical_ratio(w / (2.0 * std::f64::consts::PI));
+                        if table.structural {
+                            structural[(j, j)] += 2.0 * zeta * lambda;
+                        } else {
+                            viscous[(j, j)] += 2.0 * zeta * w;
+                        }
+                    }
+                }
                 Ok(coupled_modal_receptance(
                     &basis,
                     (d.alpha, d.beta),

@@ -19,6 +19,7 @@ use nalgebra_sparse::CscMatrix;
 use rayon::prelude::*;
 
 use super::measurement::Reads;
+use crate::deck::cards::ModalDampingUnits;
 use crate::linalg::dense::generalized_eigen;
 use crate::linalg::{ComplexLuSymbolic, LinalgError, SymbolicFactor, sym_matvec};
 
@@ -340,6 +341,56 @@ pub fn coupled_modal_receptance(
         structural: Some(imaginary.as_ref()),
     };
     receptance(&model, modal_inputs, modal_outputs, omegas)
+}
+
+/// Modal damping as a function of the natural frequency (Nastran's TABDMP1 selected by
+/// SDAMPING): linear between the points, linear extrapolation from the two end points, the
+/// values converted to ζ after the look-up.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModalDampingTable {
+    /// (f Hz, value) by increasing f.
+    points: Vec<(f64, f64)>,
+    units: ModalDampingUnits,
+    /// Structural damping ω_j²·2iζ_j (Nastran's PARAM,KDAMP,-1) instead of viscous 2ζ_jω_j.
+    pub structural: bool,
+}
+
+impl ModalDampingTable {
+    /// The table of `points` (increasing or decreasing f) in `units`.
+    pub fn new(points: &[(f64, f64)], units: ModalDampingUnits, structural: bool) -> Self {
+        let mut points = points.to_vec();
+        if points.first().map(|p| p.0) > points.last().map(|p| p.0) {
+            points.reverse();
+        }
+        ModalDampingTable {
+            points,
+            units,
+            structural,
+        }
+    }
+
+    /// ζ at the natural frequency `hz`.
+    pub fn critical_ratio(&self, hz: f64) -> f64 {
+        let p = &self.points;
+        let n = p.len();
+        let line = |a: (f64, f64), b: (f64, f64)| {
+            if b.0 == a.0 {
+                a.1
+            } else {
+                a.1 + (b.1 - a.1) * (hz - a.0) / (b.0 - a.0)
+            }
+        };
+        let value = if n < 2 {
+            p.first().map_or(0.0, |q| q.1)
+        } else if hz <= p[0].0 {
+            line(p[0], p[1])
+        } else if hz >= p[n - 1].0 {
+            line(p[n - 1], p[n - 2])
+        } else {
+            crate::dynamics::table::Table::new(p).map_or(0.0, |t| t.value(hz))
+        };
+        self.units.critical_ratio(value)
+    }
 }
 
 /// The dense model of one frequency-response evaluation.

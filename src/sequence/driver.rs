@@ -134,6 +134,27 @@ pub fn element_damping_warning(driver: &dyn Driver, model: &Model) -> Option<Str
     })
 }
 
+/// The warnings of subcases whose `SDAMPING` is left out: only the modal full-model FRF
+/// (SOL 111, or SOL FRF with METHOD) applies a modal damping table, as Nastran applies it in
+/// modal solutions only (full-model SOL 112 integrates the full model directly).
+pub fn sdamping_warnings(driver: &dyn Driver, model: &Model, sol: Solution) -> Vec<String> {
+    let modal = driver.name() == "FRF" && driver.basis() == Basis::Mesh;
+    model
+        .subcases
+        .iter()
+        .filter_map(|sub| {
+            let tid = sub.sdamping?;
+            let applied = modal
+                && match sol {
+                    Solution::FrfModal => true,
+                    Solution::Frf => sub.method.is_some(),
+                    _ => false,
+                };
+            (!applied).then(|| format!("subcase {}: SDAMPING = {tid} is not applied by SOL {} here: a modal damping table acts in the modal FRF on the full model only (SOL 111)", sub.id, sol.name()))
+        })
+        .collect()
+}
+
 /// The driver of `sol` on the basis the subcases ask for (module doc of [`runnable`]).
 fn choose(model: &Model, sol: Solution, text: &str) -> Result<&'static dyn Driver, RunError> {
     let on_rom: Vec<u32> = model

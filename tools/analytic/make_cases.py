@@ -1750,7 +1750,7 @@ def case_tload2_sdof(write, name="tload2_sdof", damped=False):
     }
 
 
-def case_frf_two_dof(write, name="frf_two_dof", g=0.0, dampers=False):
+def case_frf_two_dof(write, name="frf_two_dof", g=0.0, dampers=False, tabdmp=False):
     """Ground-k1-m1-k2-m2 chain along T1 with Rayleigh damping, unit RLOAD1 on both masses:
     receptance matrix and DISP / VEL / ACCEL sensors, direct (SOL 108) and modal (SOL 111).
     With g > 0, PARAM,G structural damping as Nastran applies it in frequency response: the
@@ -1758,7 +1758,9 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0, dampers=False):
     SOL 111 (both exact here: G K is diagonal in the modes).
     With dampers, element damping that the modes do not diagonalize: a CDAMP2 c1 from ground to
     m1, a CDAMP1 (PDAMP) c2 between m1 and m2 and GE on the m1-m2 CELAS2: Z = K - w^2 M +
-    i w (alpha M + beta K + B) + i GE K_12, in SOL 111 projected on both modes (coupled)."""
+    i w (alpha M + beta K + B) + i GE K_12, in SOL 111 projected on both modes (coupled).
+    With tabdmp, SOL 111 only, a TABDMP1 (TYPE CRIT) selected by SDAMPING: zeta_j interpolated
+    at f_1 and extrapolated from the two end points at f_2, viscous 2 zeta_j w_j per mode."""
     k1, k2, m1, m2, alpha, beta = 2.5e4, 3.0e4, 2.0, 1.0, 0.8, 2.0e-4
     c1, c2, ge2 = (15.0, 6.0, 0.04) if dampers else (0.0, 0.0, 0.0)
     K = np.array([[k1 + k2, -k2], [-k2, k2]])
@@ -1768,6 +1770,14 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0, dampers=False):
     lam, phi = linalg.eigh(K, M)
     fn = [math.sqrt(x) / (2 * math.pi) for x in lam]
     hz = [2.0, round(fn[0], 6), 30.0, round(fn[1], 6), 80.0]
+    table = [(5.0, 0.02), (20.0, 0.05)]
+    zeta = [0.0, 0.0]
+    if tabdmp:
+        # linear through the two points, beyond 20 Hz extrapolated from them (TABDMP1)
+        zeta = [float(np.interp(f, [5.0, 20.0], [0.02, 0.05])) if f <= 20.0
+                else 0.05 + (0.05 - 0.02) * (f - 20.0) / 15.0 for f in fn]
+        # the modal damping as a physical matrix: M phi diag(2 zeta w) phi^T M
+        B = M @ phi @ np.diag([2 * z * math.sqrt(x) for z, x in zip(zeta, lam)]) @ phi.T @ M
     # outputs: 1:1, 2:1 (the inputs), then D2 = -u2 (DISP along -x), V2 = i w u2, A1 = -w^2 u1
     H = []
     for f in hz:
@@ -1776,7 +1786,12 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0, dampers=False):
         h = np.linalg.inv(Z)
         # second computation: modal superposition over both mass-normalized modes, the element
         # damping projected (phi^T B phi, phi^T K4 phi: coupled modal equations)
-        if dampers:
+        if tabdmp:
+            hm = sum(np.outer(phi[:, j], phi[:, j])
+                     / (lam[j] - w * w + 1j * w * (alpha + beta * lam[j]
+                                                     + 2 * zeta[j] * math.sqrt(lam[j])))
+                     for j in range(2))
+        elif dampers:
             zq = (np.diag(lam * (1 + 1j * g)) - w * w * np.eye(2)
                   + 1j * w * (alpha * np.eye(2) + beta * np.diag(lam) + phi.T @ B @ phi)
                   + 1j * phi.T @ K4 @ phi)
@@ -1789,7 +1804,8 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0, dampers=False):
               np.abs(h).max(), np.abs(h - hm).max() + np.abs(h).max(), 1e-12)
         rows = [h[0], h[1], -h[1], 1j * w * h[1], -w * w * h[0]]
         H.append([[complex(v) for v in row] for row in rows])
-    decks = ["%s/%s_direct.dat" % (DECK_DIR, name), "%s/%s_modal.dat" % (DECK_DIR, name)]
+    sols = (111,) if tabdmp else (108, 111)
+    decks = ["%s/%s_%s.dat" % (DECK_DIR, name, "direct" if sol == 108 else "modal") for sol in sols]
     if write:
         bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("GRID", 2, None, 1.0, 0.0, 0.0),
                 card("CONM2", 1, 1, 0, m1), card("CONM2", 2, 2, 0, m2),
@@ -1807,7 +1823,10 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0, dampers=False):
         if dampers:
             bulk += [card("CDAMP2", 21, c1, 1, 1), card("CDAMP1", 22, 23, 1, 1, 2, 1),
                      card("PDAMP", 23, c2)]
-        for deck, sol in zip(decks, (108, 111)):
+        if tabdmp:
+            bulk.append(card("TABDMP1", 30, "CRIT", *([None] * 6),
+                             *[v for p in table for v in p], "ENDT"))
+        for deck, sol in zip(decks, sols):
             write_deck(deck, ["analytic case %s: CONM2 %g and %g kg on T1, CELAS2 ground-m1 %g "
                               "N/m and m1-m2 %g N/m, Rayleigh alpha %g, beta %g%s%s; SOL %d"
                               % (name, m1, m2, k1, k2, alpha, beta,
@@ -1815,7 +1834,8 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0, dampers=False):
                                  ", CDAMP2 ground-m1 %g, CDAMP1 m1-m2 %g N s/m, GE %g on the "
                                  "m1-m2 spring" % (c1, c2, ge2) if dampers else "", sol),
                               "reference: %s/%s.json" % (REF_DIR, name)],
-                       sol, frf_case_control(name, sol == 111), bulk)
+                       sol, frf_case_control(name, sol == 111)
+                       + (["  SDAMPING = 30"] if tabdmp else []), bulk)
     labels = ["|H| max over outputs x inputs at %g Hz" % f for f in hz]
     return {
         "case": name,
@@ -1824,7 +1844,14 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0, dampers=False):
                        (", viscous dampers (CDAMP2, CDAMP1 + PDAMP) and element GE on a spring"
                         if dampers else "") +
                        ": receptance matrix at the masses and DISP / VEL / ACCEL sensors",
-        "provenance": ("2-DOF harmonic response Z(w)^-1, Z = K - w^2 M + i w (alpha M + beta K + "
+        "provenance": ("2-DOF modal frequency response with modal damping from a TABDMP1 "
+                       "(TYPE CRIT): H = sum_j phi_j phi_j^T / (w_j^2 - w^2 + i w (alpha + beta "
+                       "w_j^2 + 2 zeta_j w_j)), zeta_j linear in f, extrapolated from the two end "
+                       "points (MSC Nastran Quick Reference Guide, TABDMP1; viscous modal "
+                       "damping, PARAM,KDAMP = 1); checked against Z^-1 with the modal damping "
+                       "as the matrix M phi diag(2 zeta_j w_j) phi^T M")
+                      if tabdmp else
+                      ("2-DOF harmonic response Z(w)^-1, Z = K - w^2 M + i w (alpha M + beta K + "
                        "B) + i GE K_e: viscous dampers and element structural damping (Inman, "
                        "Engineering Vibration, 4th ed. 2014, sec. 5.2 and 2.6; MSC Nastran "
                        "Dynamic Analysis User's Guide, 'Damping': CDAMP B and element GE in "
@@ -1845,6 +1872,7 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0, dampers=False):
         "inputs": dict({"k1": k1, "k2": k2, "m1": m1, "m2": m2, "alpha": alpha, "beta": beta},
                        **({"G": g} if g else {}),
                        **({"c1": c1, "c2": c2, "GE_k2": ge2} if dampers else {}),
+                       **({"TABDMP1_CRIT": table, "zeta": zeta} if tabdmp else {}),
                        natural_frequencies_hz=fn),
         "frequency_hz": hz,
         "outputs": ["1:1", "2:1", "D2", "V2", "A1"],
@@ -1981,6 +2009,7 @@ CASES = {
     "frf_two_dof_g": lambda w: case_frf_two_dof(w, "frf_two_dof_g", 0.05),
     "frf_damped_rods": case_frf_damped_rods,
     "frf_two_dof_dampers": lambda w: case_frf_two_dof(w, "frf_two_dof_dampers", dampers=True),
+    "frf_two_dof_tabdmp": lambda w: case_frf_two_dof(w, "frf_two_dof_tabdmp", tabdmp=True),
     "tload2_sdof_damped": lambda w: case_tload2_sdof(w, "tload2_sdof_damped", damped=True),
     "laminate_abd": case_laminate_abd,
     "massless_spring_chain": lambda w: case_massless_spring_chain(
