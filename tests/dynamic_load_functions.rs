@@ -1,11 +1,11 @@
 //! Dynamic loads beyond TLOAD1/RLOAD1 with tables: TLOAD2 pulses, RLOAD2 (amplitude and phase
 //! tables) and the TABLED2–TABLED4 table forms, against the analytic and independently
-//! integrated references of `reference/analytic/{frf_sdof_rload2,tload2_sdof}.json`
-//! (`tools/analytic/make_cases.py`). Tolerances come from the JSONs, with their reasons.
+//! integrated references of `reference/analytic/{frf_sdof_rload2,tload2_sdof,
+//! tload2_sdof_damped}.json` (`tools/analytic/make_cases.py`). Tolerances come from the JSONs, with their reasons.
 
 mod common;
 
-use common::{f64s, json, read_dataset, root, run_deck_file};
+use common::{f64s, json, read_dataset, root, run_deck, run_deck_file};
 use faer::c64;
 
 /// An SDOF under a DLOAD of an RLOAD2 (B(f) a TABLED4 power series clamped to its range, φ(f) a
@@ -41,7 +41,30 @@ fn rload2_and_parametric_tables_equal_the_analytic_sdof_response() {
 /// phase: the displacement history against scipy's DOP853 integration of the same load.
 #[test]
 fn tload2_pulse_response_equals_the_independent_integration() {
-    let r = json("reference/analytic/tload2_sdof.json");
+    pulse_response_matches("tload2_sdof");
+}
+
+/// The same pulse on the SDOF with a CDAMP2 and GE on its CELAS2 with PARAM,W4: the damping
+/// c + GE·k/W4 of Nastran's transient response (tolerance from the JSON, as above). Without
+/// W4, GE is left out with a warning naming the spring.
+#[test]
+fn damped_pulse_response_applies_the_damper_and_ge_over_w4() {
+    pulse_response_matches("tload2_sdof_damped");
+    let r = json("reference/analytic/tload2_sdof_damped.json");
+    let text = std::fs::read_to_string(root().join(r["meshes"][0]["deck"].as_str().unwrap()))
+        .unwrap()
+        .replace("PARAM,W4,150.0\n", "")
+        .replace("TSTEP,1,10000,", "TSTEP,1,10,");
+    let (result, _dir) = run_deck(&text);
+    let warnings = result.expect("without W4").warnings.join("\n");
+    assert!(
+        warnings.contains("GE of CELAS2 11 is not applied by SOL TRANSIENT without PARAM,W4"),
+        "{warnings}"
+    );
+}
+
+fn pulse_response_matches(case: &str) {
+    let r = json(&format!("reference/analytic/{case}.json"));
     let deck = root().join(r["meshes"][0]["deck"].as_str().unwrap());
     let (result, _, out) = run_deck_file(&deck);
     result.unwrap_or_else(|e| panic!("{}: {e}", deck.display()));
@@ -60,7 +83,7 @@ fn tload2_pulse_response_equals_the_independent_integration() {
         .fold(0.0, f64::max);
     let tolerance = f64s(&r["tolerance_finest"]["relative"])[0];
     println!(
-        "TLOAD2: max |u − reference| = {worst:.2e}, peak {peak:.3e} ({:.1e} of it)",
+        "{case}: max |u − reference| = {worst:.2e}, peak {peak:.3e} ({:.1e} of it)",
         worst / peak
     );
     assert!(

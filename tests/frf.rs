@@ -195,6 +195,44 @@ fn two_dof_structural_damping_matches_the_complex_stiffness() {
     two_dof_matches("frf_two_dof_g");
 }
 
+/// The same chain with viscous dampers (CDAMP2 to ground, CDAMP1 + PDAMP between the masses)
+/// and GE on the coupling spring: Z = K − ω²M + iω(αM + βK + B) + i·GE·K_e in SOL 108, and in
+/// SOL 111 the coupled modal equations (ΦᵀBΦ and Φᵀ GE K_e Φ are not diagonal), exact with both
+/// modes; same tolerance (`reference/analytic/frf_two_dof_dampers.json`).
+#[test]
+fn two_dof_dampers_and_element_ge_match_the_analytic_receptance() {
+    two_dof_matches("frf_two_dof_dampers");
+}
+
+/// Rods (one with MAT1 GE), a CVISC and a grounded CBUSH with K, B and per-direction GE on a
+/// line inclined in x-y, the grids' displacement system along the line: the receptance at a
+/// force along the line and a moment about it against a separately written 4-DOF numpy model,
+/// direct and coupled modal (`reference/analytic/frf_damped_rods.json`, tolerance 1e-9 of
+/// each output's largest |H|: round-off only, all modes superposed).
+#[test]
+fn rods_cvisc_and_bush_damping_match_the_independent_model() {
+    two_dof_matches("frf_damped_rods");
+}
+
+/// The chain's modal FRF with a TABDMP1 (TYPE CRIT) selected by SDAMPING: ζ interpolated at
+/// the first mode and extrapolated from the table's end points at the second, viscous 2ζ_jω_j
+/// per mode (`reference/analytic/frf_two_dof_tabdmp.json`, same tolerance). SOL 108 leaves
+/// SDAMPING out with a warning, as a direct solution has no modes.
+#[test]
+fn two_dof_tabdmp1_modal_damping_matches_the_analytic_receptance() {
+    two_dof_matches("frf_two_dof_tabdmp");
+    let text =
+        std::fs::read_to_string(root().join("decks/verify/analytic/frf_two_dof_tabdmp_modal.dat"))
+            .unwrap()
+            .replace("SOL 111", "SOL 108");
+    let (run, _dir) = run_deck(&text);
+    let warnings = run.expect("SOL 108").warnings.join("\n");
+    assert!(
+        warnings.contains("SDAMPING = 30 is not applied by SOL FRF"),
+        "{warnings}"
+    );
+}
+
 /// The 2-DOF chain without its ground spring is free along x: a 0 Hz line (the static
 /// response) is refused by SOL 108 and SOL 111 alike, naming the reason, instead of being
 /// solved from round-off pivots or the round-off λ of the rigid-body mode; from 2 Hz up both
@@ -245,14 +283,15 @@ fn two_dof_matches(case: &str) {
         let Some(s) = summary.subcases[0].result::<FrfSummary>() else {
             panic!("{deck}: not a full-model FRF")
         };
+        let modes = r["modes"].as_u64().unwrap_or(2) as usize;
         assert_eq!(
             s.modes,
-            if deck.contains("modal") { 2 } else { 0 },
+            if deck.contains("modal") { modes } else { 0 },
             "{deck}"
         );
         let out = read_frf(&dir.path().join("out.h5"));
         assert_eq!(out.outputs, outputs, "{deck}");
-        let (n_o, n_i) = (outputs.len(), 2);
+        let (n_o, n_i) = (outputs.len(), r["inputs_dofs"].as_array().unwrap().len());
         for (o, name) in outputs.iter().enumerate() {
             let idx: Vec<usize> = (0..out.hz.len())
                 .flat_map(|l| (0..n_i).map(move |i| (l * n_o + o) * n_i + i))

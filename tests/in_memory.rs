@@ -123,6 +123,7 @@ fn statics_and_receptance_of_a_model_in_memory_at_p() {
                 alpha: 0.0,
                 beta: 0.0,
                 structural: 0.0,
+                modal_table: None,
             },
             par,
             progress: &quiet,

@@ -57,6 +57,7 @@ fn magnitude(a: &Artifact, p: &[f64], pair: &str, omegas: &[f64]) -> Vec<f64> {
         stiffness: at.stiffness(),
         mass: at.mass(),
         damping: at.damping(),
+        structural: None,
     };
     let s = a.inputs.as_ref().subcols(k, 1);
     let h: Vec<Mat<c64>> = receptance(&model, s, s.transpose(), omegas).expect("FRF");

@@ -107,10 +107,10 @@ fn a_loose_scalar_point_is_named() {
     assert!(text.contains("SPOINT 77"), "{text}");
 }
 
-/// Viscous dampers are read and ignored by statics (as Nastran), and refused where their
-/// damping would matter.
+/// Viscous dampers are read and ignored by statics (as Nastran), applied by SOL 108, and
+/// refused where the damping matrix cannot be carried (a pROM build).
 #[test]
-fn dampers_run_in_statics_and_are_refused_in_dynamics() {
+fn dampers_run_in_statics_and_frf_and_are_refused_by_a_prom() {
     let dampers = "CDAMP1,201,8,1,0,2,0\nPDAMP,8,0.5\nCDAMP2,202,0.1,10,1\nCDAMP3,203,8,1,2\nCDAMP4,204,0.2,3\nGRID,11,,1.,0.,0.,,23456\nCVISC,205,9,10,11\nPVISC,9,0.3,0.1\nCELAS2,206,1.0,11,1\n";
     let deck = CHAIN.replace("ENDDATA", &format!("{dampers}ENDDATA"));
     let (file, _dir) = run_to_file(&deck);
@@ -121,11 +121,15 @@ fn dampers_run_in_statics_and_are_refused_in_dynamics() {
         .replace("SOL 101", "SOL 108")
         .replace("ENDDATA", "CONM2,301,10,,1.0\nENDDATA");
     let model = build_model(&frf).expect("model");
-    let deck_read = {
+    let deck_read = |text: &str| {
         let mut file = tempfile::Builder::new().suffix(".bdf").tempfile().unwrap();
-        file.write_all(frf.as_bytes()).unwrap();
+        file.write_all(text.as_bytes()).unwrap();
         Deck::read(file.path()).unwrap()
     };
+    assert!(paraflex::sequence::driver::runnable(&deck_read(&frf), &model).is_ok());
+    let prom = frf.replace("SOL 108", "SOL PROM");
+    let model = build_model(&prom).expect("model");
+    let deck_read = deck_read(&prom);
     let e = paraflex::sequence::driver::runnable(&deck_read, &model)
         .err()
         .expect("refused")

@@ -10,7 +10,13 @@
 //!   free-free model (K singular) they are skipped ([`FullFrf::resvec_skipped`]).
 //!
 //! Damping: Rayleigh C = αM + βK and structural damping G as Nastran: K(1 + iG) in the direct
-//! solution, G on each modal stiffness ω_j²(1 + iG) in the modal one.
+//! solution, G on each modal stiffness ω_j²(1 + iG) in the modal one. The element damping
+//! matrices of [`Constrained::damping_ff`] (viscous B, structural K₄ = Σ GE_e K_e) enter the
+//! direct solution as iωB + iK₄ and the modal one projected on the modes (ΦᵀBΦ, ΦᵀK₄Φ), which
+//! couples the modal equations: one dense complex LU per line
+//! ([`coupled_modal_receptance`]). The modal solution also takes a modal damping table
+//! ([`ModalDampingTable`], Nastran's TABDMP1 with SDAMPING): ζ_j at each basis vector's
+//! frequency, as viscous 2ζ_jω_j or (KDAMP = −1) structural 2ζ_jω_j² damping.
 
 use std::time::Duration;
 
@@ -21,7 +27,8 @@ use super::{AnalysisError, timed};
 use crate::discretize::Constrained;
 use crate::discretize::sensors::project_rows;
 use crate::dynamics::frf::{
-    SparseModel, direct_receptance, modal_receptance, residual_vectors, static_stiffness_is_regular,
+    ModalDampingTable, SparseModel, congruence, coupled_modal_receptance, direct_receptance,
+    modal_receptance, residual_vectors, static_stiffness_is_regular,
 };
 use crate::linalg::dense::product;
 use crate::linalg::{
@@ -42,12 +49,14 @@ pub enum Method {
     },
 }
 
-/// Rayleigh (α, β) and structural (G) damping.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Rayleigh (α, β) and structural (G) damping, and the modal damping table of the modal
+/// solution.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Damping {
     pub alpha: f64,
     pub beta: f64,
     pub structural: f64,
+    pub modal_table: Option<ModalDampingTable>,
 }
 
 /// The receptance H(ω) (outputs × inputs per line) and what the modal solution superposed.
@@ -118,7 +127,7 @@ pub fn receptance(
     record: &mut dyn FnMut(String, Duration),
 ) -> Result<FullFrf, AnalysisError> {
     let lines = run.omegas.len();
-    let d = run.damping;
+    let d = &run.damping;
     match method {
         Method::Direct => {
             let model = SparseModel {
@@ -127,6 +136,8 @@ pub fn receptance(
                 alpha: d.alpha,
                 beta: d.beta,
                 structural: d.structural,
+                viscous_matrix: c.damping_ff.viscous.as_ref(),
+                structural_matrix: c.damping_ff.structural.as_ref(),
             };
             let h = timed(record, format!("direct FRF ({lines} lines)"), || {
                 direct_receptance(
@@ -200,18 +211,48 @@ pub fn receptance(
                 "modal FRF ({modes} modes, {} residual vectors, {lines} lines)",
                 basis.len() - modes
             );
-            let h = timed(record, name, || {
+            let h = timed(record, name, || -> Result<_, AnalysisError> {
                 let modal_in = product(phi.transpose(), run.inputs);
                 let modal_out = project_rows(run.outputs, &phi);
-                modal_receptance(
+                if c.damping_ff.is_empty() && d.modal_table.is_none() {
+                    return Ok(modal_receptance(
+                        &basis,
+                        d.alpha,
+                        d.beta,
+                        d.structural,
+                        modal_in.as_ref(),
+                        modal_out.as_ref(),
+                        run.omegas,
+                    )?);
+                }
+                // element damping couples the modal equations
+                let project = |a: Option<&CscMatrix<f64>>| match a {
+                    Some(a) => congruence(a, phi.as_ref()),
+                    None => Ok(Mat::zeros(basis.len(), basis.len())),
+                };
+                let mut viscous = project(c.damping_ff.viscous.as_ref())?;
+                let mut structural = project(c.damping_ff.structural.as_ref())?;
+                if let Some(table) = &d.modal_table {
+                    for (j, &lambda) in basis.iter().enumerate() {
+                        let w = lambda.max(0.0).sqrt();
+                        let zeta = table.critical_ratio(w / (2.0 * std::f64::consts::PI));
+                        if table.structural {
+                            structural[(j, j)] += 2.0 * zeta * lambda;
+                        } else {
+                            viscous[(j, j)] += 2.0 * zeta * w;
+                        }
+                    }
+                }
+                Ok(coupled_modal_receptance(
                     &basis,
-                    d.alpha,
-                    d.beta,
+                    (d.alpha, d.beta),
                     d.structural,
+                    viscous.as_ref(),
+                    structural.as_ref(),
                     modal_in.as_ref(),
                     modal_out.as_ref(),
                     run.omegas,
-                )
+                )?)
             })?;
             Ok(FullFrf {
                 h,

@@ -71,6 +71,8 @@ pub struct Subcase {
     pub load: Option<u32>,
     pub method: Option<u32>,
     pub frequency: Option<u32>,
+    /// `SDAMPING = tid`: the TABDMP1 of the modal damping.
+    pub sdamping: Option<u32>,
     pub dload: Option<u32>,
     pub tstep: Option<u32>,
     /// `IC = sid` (TIC cards of a transient).
@@ -118,8 +120,8 @@ impl Subcase {
         let mut out = self.clone();
         macro_rules! inherit { ($($f:ident),*) => { $( if out.$f.is_none() { out.$f = defaults.$f.clone(); } )* } }
         inherit!(
-            title, subtitle, label, spc, mpc, load, method, frequency, dload, tstep, ic, prom, rom,
-            fmb, pval, sensor, estim, meas, msensor, fmbstart, poses, strref
+            title, subtitle, label, spc, mpc, load, method, frequency, sdamping, dload, tstep, ic,
+            prom, rom, fmb, pval, sensor, estim, meas, msensor, fmbstart, poses, strref
         );
         let own: Vec<&str> = out.outputs.iter().map(|o| o.name).collect();
         let inherited: Vec<OutputRequest> = defaults
@@ -174,6 +176,7 @@ const SELECTIONS: &[&str] = &[
     "LOAD",
     "METHOD",
     "FREQUENCY",
+    "SDAMPING",
     "DLOAD",
     "TSTEP",
     "IC",
@@ -492,6 +495,7 @@ impl CaseControl {
                 "LOAD" => &mut sub.load,
                 "METHOD" => &mut sub.method,
                 "FREQUENCY" => &mut sub.frequency,
+                "SDAMPING" => &mut sub.sdamping,
                 "DLOAD" => &mut sub.dload,
                 "TSTEP" => &mut sub.tstep,
                 "IC" => &mut sub.ic,

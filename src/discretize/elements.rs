@@ -8,8 +8,9 @@
 //! | CSHEAR | PSHEAR + MAT1 | [`crate::fe::shear_panel`]: shear only, translations only (K = G·t·A·b·bᵀ) |
 //! | CHEXA, CPENTA, CTETRA | PSOLID + MAT1 | [`solid`] (translations, expanded to 6 DOFs per grid) |
 //! | CELAS1–CELAS4 | PELAS k (CELAS1, CELAS3) / k on the card (CELAS2, CELAS4) | [`ScalarSpring`] between g DOFs: grid components in the grid's CD frame (as in Nastran) or scalar points |
-//! | CBUSH | PBUSH K1–K6 | [`bush`]: six springs along and about the element axes at the spring location |
-//! | CDAMP1–CDAMP4, CVISC | PDAMP / B on the card, PVISC | nothing: no stiffness or mass (viscous damping is refused by the solutions that would use it) |
+//! | CBUSH | PBUSH K1–K6, B1–B6 | [`bush`]: six springs (and dampers) along and about the element axes at the spring location |
+//! | CDAMP1–CDAMP4 | PDAMP / B on the card | damping only: [`ScalarSpring`] with b ([`damper_element`]) |
+//! | CVISC | PVISC CE, CR | damping only: axial CE and torsional CR along G1→G2 ([`rod_damping`]) |
 //! | CONM2 | — | [`Conm2`] with the CG offset and inertia tensor from [`Model::element_mass`] |
 //! | CROD, CTUBE, CONROD | PROD, PTUBE / on the card + MAT1 | [`beam`] without bending (axial, torsion) |
 //! | CBAR, CBEAM | PBAR, PBARL / PBEAM, PBEAML + MAT1 | [`beam`]: offsets, orientation vector, pin flags ([`Model::line_element`]) |
@@ -28,6 +29,11 @@
 //!   ply stack;
 //! - PSHELL: ZOFFS needs MID1 and MID2 (Nastran); a role combination Nastran forbids (MID3
 //!   without MID2, MID4 without MID1 and MID2) is an error of the section.
+//!
+//! Damping: the viscous dampers and PBUSH B give the viscous damping matrix B
+//! ([`ElementMatrices::damping`], constant: no PMPAR acts on PDAMP, PVISC or PBUSH); an element
+//! with structural damping GE ([`Model::element_ge`]; CBUSH per direction) gives GE·K_e, K_e's
+//! affine parts scaled ([`ElementMatrices::structural`]).
 //!
 //! Mass: `PARAM,COUPMASS` = 1 gives consistent shell, solid, rod and beam masses, anything else
 //! (default −1) lumped, as in Nastran; `PARAM,WTMASS` multiplies every mass matrix, CONM2 included.
@@ -54,7 +60,7 @@ use rayon::prelude::*;
 use super::DiscretizeError;
 use super::parameters::Parameters;
 use crate::assembly::assemble::Binding;
-use crate::assembly::{Contribution, DofMap, GridFrames, ParamTarget};
+use crate::assembly::{Contribution, DofMap, GridFrames, ParamKey, ParamTarget};
 use crate::card_values::{CornerThickness, PmparKind, ShellOrientation};
 use crate::fe::affine::{AffineMatrix, Coefficient, CoefficientValues};
 use crate::fe::laminate::{
@@ -63,7 +69,9 @@ use crate::fe::laminate::{
 };
 use crate::fe::lumped::{Conm2, ScalarSpring};
 use crate::fe::{beam, shell, solid};
+use crate::geometry::vec3::{normalize, sub};
 use crate::linalg::Progress;
+use crate::model::damping::Damper;
 use crate::model::materials::Material;
 use crate::model::properties::{
     MaterialUse, ShellPlacement, ShellProperty, Spring, SpringStiffness,
@@ -77,6 +85,10 @@ pub struct ElementMatrices {
     pub stiffness: Vec<Contribution>,
     /// Mass contributions (global frames, WTMASS applied).
     pub mass: Vec<Contribution>,
+    /// Viscous damping contributions B (global frames): dampers and PBUSH B.
+    pub damping: Vec<Contribution>,
+    /// Structural damping contributions GE·K_e (global frames): the imaginary stiffness.
+    pub structural: Vec<Contribution>,
     /// Recovery data of each shell, by index into `model.elements`.
     pub shells: Vec<(usize, ShellRecovery)>,
     /// The entities whose parameters change the section of a CQUAD4 whose incompatible modes are
@@ -99,6 +111,10 @@ pub struct ShellRecovery {
 struct Built {
     k: Option<Contribution>,
     m: Option<Contribution>,
+    /// Viscous damping.
+    b: Option<Contribution>,
+    /// Structural damping GE·K (set by the element only when GE is not one scale of K).
+    k4: Option<Contribution>,
     shell: Option<ShellRecovery>,
     /// The entity of a frozen condensation ([`ElementMatrices::frozen_condensation`]).
     frozen: Option<ParamTarget>,
@@ -158,6 +174,8 @@ pub fn element_matrices(
     for (i, b) in built.into_iter().enumerate() {
         out.stiffness.extend(b.k);
         out.mass.extend(b.m);
+        out.damping.extend(b.b);
+        out.structural.extend(b.k4);
         if let Some(s) = b.shell {
             out.shells.push((i, s));
         }
@@ -207,13 +225,11 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> 
         ElementKind::Celas1 | ElementKind::Celas2 | ElementKind::Celas3 | ElementKind::Celas4 => {
             spring_element(ctx, e)?
         }
-        // viscous dampers have no stiffness or mass; the solutions refuse them where their
-        // damping would matter
         ElementKind::Cdamp1
         | ElementKind::Cdamp2
         | ElementKind::Cdamp3
         | ElementKind::Cdamp4
-        | ElementKind::Cvisc => Built::default(),
+        | ElementKind::Cvisc => damper_element(ctx, e)?,
         ElementKind::Cbush => bush_element(ctx, e)?,
         ElementKind::Conm2 => conm2_element(ctx, e)?,
         ElementKind::Crod
@@ -228,6 +244,17 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> 
         for (_, part) in m.parts.iter_mut() {
             *part = &*part * faer::Scale(wtmass);
         }
+    }
+    let ge = ctx.model.element_ge(e);
+    if built.k4.is_none()
+        && ge != 0.0
+        && let Some(k) = &built.k
+    {
+        let mut k4 = k.clone();
+        for (_, part) in k4.parts.iter_mut() {
+            *part = &*part * faer::Scale(ge);
+        }
+        built.k4 = Some(k4);
     }
     Ok(built)
 }
@@ -761,6 +788,7 @@ fn shell_element(
         }),
         shell: Some(ShellRecovery { material_x, fibres }),
         frozen: parts.stiffness_target.filter(|_| condensation_frozen),
+        ..Built::default()
     })
 }
 
@@ -852,8 +880,7 @@ fn solid_element(
         )),
         m: (m.rho != 0.0 || binding.is_some())
             .then(|| Contribution::from_affine(frames, &e.nodes, &mass, bind(binding, nominal))),
-        shell: None,
-        frozen: None,
+        ..Built::default()
     })
 }
 
@@ -947,8 +974,7 @@ fn line_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeEr
         m: massive.then(|| {
             Contribution::from_affine(ctx.frames, &e.nodes, &mass, bind(binding, nominal))
         }),
-        shell: None,
-        frozen: None,
+        ..Built::default()
     })
 }
 
@@ -990,29 +1016,78 @@ fn spring_element(ctx: &ElementContext, e: &Element) -> Result<Built, Discretize
             &spring.affine_stiffness(),
             bind(target, nominal),
         )),
-        m: None,
-        shell: None,
-        frozen: None,
+        ..Built::default()
     })
 }
 
-/// A CBUSH: K1–K6 of its PBUSH at the spring location (frozen: no PMPAR reaches a PBUSH).
+/// A CDAMP1–CDAMP4 (a [`ScalarSpring`] with b) or a CVISC ([`rod_damping`]): damping only.
+fn damper_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> {
+    let model = ctx.model;
+    let damper = model
+        .damper(e)
+        .ok_or_else(|| err(e, "card missing"))?
+        .map_err(|x| err(e, x))?;
+    let b = match damper {
+        Damper::Scalar { b, ends } => {
+            let [a, z] = ends.map(|end| model.point_dof(end).map(|p| ctx.map.point_dof(p)));
+            let spring = ScalarSpring::new(a, z).map_err(|x| err(e, x))?;
+            Contribution::constant(spring.dofs.clone(), spring.stiffness(b))
+        }
+        Damper::Rod { ce, cr } => {
+            let xyz = model.positions(e);
+            let matrix = rod_damping(&xyz, ce, cr).map_err(|x| err(e, x))?;
+            Contribution::element(ctx.frames, &e.nodes, vec![(ParamKey::Constant, matrix)])
+        }
+    };
+    Ok(Built {
+        b: Some(b),
+        ..Built::default()
+    })
+}
+
+/// The 12 × 12 damping matrix (basic, (u_a, θ_a, u_b, θ_b)) of a CVISC between `xyz[0]` and
+/// `xyz[1]`: axial `ce` on the translations and torsional `cr` on the rotations along the unit
+/// axis e, each ±c·eeᵀ (a rod's axial and torsion terms).
+fn rod_damping(xyz: &[[f64; 3]], ce: f64, cr: f64) -> Result<faer::Mat<f64>, String> {
+    let [a, b] = [xyz.first(), xyz.get(1)].map(|p| p.copied().unwrap_or_default());
+    let axis = normalize(sub(b, a)).ok_or("G1 and G2 coincide: the damper has no axis")?;
+    Ok(faer::Mat::from_fn(12, 12, |i, j| {
+        let (node_i, node_j) = (i / 6, j / 6);
+        let (ri, rj) = (i % 6, j % 6);
+        if ri / 3 != rj / 3 {
+            return 0.0;
+        }
+        let c = if ri < 3 { ce } else { cr };
+        let sign = if node_i == node_j { 1.0 } else { -1.0 };
+        sign * c * axis[ri % 3] * axis[rj % 3]
+    }))
+}
+
+/// A CBUSH: K1–K6, B1–B6 and GE of its PBUSH at the spring location (constant: no PMPAR
+/// reaches a PBUSH).
 fn bush_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> {
     let placement = ctx
         .model
         .bush(e)
         .ok_or_else(|| err(e, "card missing"))?
         .map_err(|reason| err(e, reason))?;
-    let matrix = AffineMatrix {
-        parts: vec![(Coefficient::Constant, placement.bush.stiffness(placement.k))],
+    let on_axes = |values: [f64; 6]| {
+        values.iter().any(|&v| v != 0.0).then(|| {
+            Contribution::element(
+                ctx.frames,
+                &e.nodes,
+                vec![(ParamKey::Constant, placement.bush.stiffness(values))],
+            )
+        })
     };
     Ok(Built {
-        k: Some(Contribution::from_affine(
+        k: Some(Contribution::element(
             ctx.frames,
             &e.nodes,
-            &matrix,
-            bind(None, CoefficientValues::default()),
+            vec![(ParamKey::Constant, placement.bush.stiffness(placement.k))],
         )),
+        b: on_axes(placement.b),
+        k4: on_axes(placement.structural()),
         ..Built::default()
     })
 }
@@ -1050,8 +1125,7 @@ fn conm2_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeE
             &matrix,
             bind(target, nominal),
         )),
-        shell: None,
-        frozen: None,
+        ..Built::default()
     })
 }
 

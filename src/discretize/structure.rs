@@ -25,6 +25,9 @@ pub struct Structure {
     /// K_nn and M_nn as affine operators on one shared pattern.
     pub k_nn: AffineOperator,
     pub m_nn: AffineOperator,
+    /// The viscous damping B_nn and the structural damping Σ GE_e K_e on the same pattern,
+    /// when some element has them ([`elements::ElementMatrices::damping`], `structural`).
+    pub damping: ElementDamping<AffineOperator>,
     /// M_gg when rigid elements make n ≠ g (GRAV loads need it; see [`Structure::mass_gg`]).
     m_gg: Option<AffineOperator>,
     /// Recovery data of each shell (strains), by index into `model.elements`.
@@ -70,6 +73,8 @@ impl Structure {
                 .stiffness
                 .iter()
                 .chain(&elements.mass)
+                .chain(&elements.damping)
+                .chain(&elements.structural)
                 .map(|c| c.dofs.as_slice());
             let pattern = Arc::new(crate::assembly::pattern::grid_block_pattern(
                 map.grids(),
@@ -79,12 +84,21 @@ impl Structure {
             let k =
                 AffineOperator::assemble(pattern.clone(), &elements.stiffness, options.parallel)?;
             progress.step("assembly", 1, 2);
-            let m = AffineOperator::assemble(pattern, &elements.mass, options.parallel)?;
+            let m = AffineOperator::assemble(pattern.clone(), &elements.mass, options.parallel)?;
+            let optional = |list: &[crate::assembly::Contribution]| {
+                (!list.is_empty())
+                    .then(|| AffineOperator::assemble(pattern.clone(), list, options.parallel))
+                    .transpose()
+            };
+            let damping = ElementDamping {
+                viscous: optional(&elements.damping)?,
+                structural: optional(&elements.structural)?,
+            };
             progress.step("assembly", 2, 2);
-            Ok((k, m))
+            Ok((k, m, damping))
         })();
         time("assembly", start);
-        let (k_gg, m_gg) = assembled?;
+        let (k_gg, m_gg, damping_gg) = assembled?;
         // the element matrices are assembled: only the shells' recovery data stay
         let shells = elements.shells;
         let frozen_condensation =
@@ -95,20 +109,22 @@ impl Structure {
             if rigid.m_mask.iter().any(|&m| m) {
                 let plan = GToN::new(k_gg.pattern().clone(), &rigid.t)?;
                 let (k_nn, m_nn) = (plan.apply(&k_gg)?, plan.apply(&m_gg)?);
-                Ok((rigid, k_nn, m_nn, Some(m_gg)))
+                let damping = damping_gg.try_map(|op| plan.apply(op))?;
+                Ok((rigid, k_nn, m_nn, damping, Some(m_gg)))
             } else {
                 // no dependent DOFs: n = g in the same order and T = I, so K_nn = K_gg (no copy)
-                Ok((rigid, k_gg, m_gg, None))
+                Ok((rigid, k_gg, m_gg, damping_gg, None))
             }
         })();
         time("rigid elimination g → n", start);
-        let (rigid, k_nn, m_nn, m_gg) = reduced?;
+        let (rigid, k_nn, m_nn, damping, m_gg) = reduced?;
         Ok(Structure {
             map,
             frames,
             rigid,
             k_nn,
             m_nn,
+            damping,
             m_gg,
             shells,
             params,
@@ -156,6 +172,8 @@ pub struct Constrained {
     pub k_nn_values: Vec<f64>,
     pub k_ff: CscMatrix<f64>,
     pub m_ff: CscMatrix<f64>,
+    /// B_ff and Σ GE_e K_e,ff at `p`, on K_ff's pattern, when the structure has them.
+    pub damping_ff: ElementDamping<CscMatrix<f64>>,
     /// K_fs for enforced displacements.
     pub k_fs: AffineOperator,
 }
@@ -193,6 +211,10 @@ impl Constrained {
         let m_ff = ff.apply(&st.m_nn)?;
         let k_ff = k_ff.evaluate(&weights(&k_ff))?;
         let m_ff = m_ff.evaluate(&weights(&m_ff))?;
+        let damping_ff = st.damping.try_map(|op| {
+            let op = ff.apply(op)?;
+            op.evaluate(&weights(&op))
+        })?;
         let k_fs = crate::assembly::reduce::partition(&st.k_nn, &sets.f_in_n, &sets.s_in_n)?;
         Ok(Constrained {
             spc,
@@ -202,6 +224,7 @@ impl Constrained {
             k_nn_values,
             k_ff,
             m_ff,
+            damping_ff,
             k_fs,
         })
     }
@@ -263,6 +286,31 @@ impl Constrained {
             .members()
             .get(index)
             .and_then(|&g| st.map.dof_name(g))
+    }
+}
+
+/// The element damping matrices of a structure (operators) or of a constrained system (f-set
+/// matrices): each `None` when no element has it.
+#[derive(Debug, Clone, Default)]
+pub struct ElementDamping<T> {
+    /// The viscous damping matrix B (CDAMP, CVISC, PBUSH B).
+    pub viscous: Option<T>,
+    /// The structural damping matrix Σ GE_e K_e (the imaginary stiffness).
+    pub structural: Option<T>,
+}
+
+impl<T> ElementDamping<T> {
+    /// Both matrices through `f`.
+    pub fn try_map<U, E>(&self, f: impl Fn(&T) -> Result<U, E>) -> Result<ElementDamping<U>, E> {
+        Ok(ElementDamping {
+            viscous: self.viscous.as_ref().map(&f).transpose()?,
+            structural: self.structural.as_ref().map(&f).transpose()?,
+        })
+    }
+
+    /// True when neither matrix is present.
+    pub fn is_empty(&self) -> bool {
+        self.viscous.is_none() && self.structural.is_none()
     }
 }
 

@@ -19,6 +19,7 @@ use nalgebra_sparse::CscMatrix;
 use rayon::prelude::*;
 
 use super::measurement::Reads;
+use crate::deck::cards::ModalDampingUnits;
 use crate::linalg::dense::generalized_eigen;
 use crate::linalg::{ComplexLuSymbolic, LinalgError, SymbolicFactor, sym_matvec};
 
@@ -39,7 +40,7 @@ pub enum FrfError {
         "at 0 Hz the dynamic stiffness is K (1 + iG), and K is singular (a free-free structure or a mechanism: no static response exists): start the frequency list above 0 Hz or constrain the model"
     )]
     StaticSingular,
-    #[error("K and M must share one sparsity pattern (nnz {k} and {m})")]
+    #[error("K, M and the damping matrices must share one sparsity pattern (nnz {k} and {m})")]
     Pattern { k: usize, m: usize },
     #[error("sparse LU: {0}")]
     Linalg(LinalgError),
@@ -48,17 +49,20 @@ pub enum FrfError {
 }
 
 /// A sparse model with Rayleigh damping C = αM + βK and structural damping G (stiffness
-/// K(1 + iG)); K and M on one pattern.
+/// K(1 + iG)), plus the element damping matrices: viscous B (C = αM + βK + B) and structural
+/// K₄ = Σ GE_e K_e (stiffness K(1 + iG) + iK₄); all on one pattern.
 pub struct SparseModel<'a> {
     pub stiffness: &'a CscMatrix<f64>,
     pub mass: &'a CscMatrix<f64>,
     pub alpha: f64,
     pub beta: f64,
     pub structural: f64,
+    pub viscous_matrix: Option<&'a CscMatrix<f64>>,
+    pub structural_matrix: Option<&'a CscMatrix<f64>>,
 }
 
 /// H(ω_l) (outputs × inputs) of a sparse model by direct solution at every angular frequency:
-/// A(ω) = (1 + i(ωβ + G)) K + (iωα − ω²) M factored by sparse LU on the one symbolic analysis,
+/// A(ω) = (1 + i(ωβ + G)) K + (iωα − ω²) M + iωB + iK₄ factored by sparse LU on the one symbolic analysis,
 /// lines in parallel when `parallel`. `inputs` is n × n_in, `outputs` n_out × n (sparse rows).
 pub fn direct_receptance(
     model: &SparseModel<'_>,
@@ -83,12 +87,20 @@ pub fn direct_receptance(
             });
         }
     }
-    if k.pattern() != m.pattern() {
+    let extra = [model.viscous_matrix, model.structural_matrix];
+    if let Some(other) = std::iter::once(m)
+        .chain(extra.into_iter().flatten())
+        .find(|x| x.pattern() != k.pattern())
+    {
         return Err(FrfError::Pattern {
             k: k.nnz(),
-            m: m.nnz(),
+            m: other.nnz(),
         });
     }
+    let (b, k4) = (
+        model.viscous_matrix.map(CscMatrix::values),
+        model.structural_matrix.map(CscMatrix::values),
+    );
     if omegas.contains(&0.0) {
         static_stiffness_is_regular(
             k,
@@ -101,12 +113,20 @@ pub fn direct_receptance(
             c64::new(1.0, w * model.beta + model.structural),
             c64::new(-w * w, w * model.alpha),
         );
-        let values: Vec<c64> = k
+        let mut values: Vec<c64> = k
             .values()
             .iter()
             .zip(m.values())
             .map(|(&kv, &mv)| ck * kv + cm * mv)
             .collect();
+        for (x, scale) in [(b, w), (k4, 1.0)] {
+            if let Some(x) = x {
+                values
+                    .iter_mut()
+                    .zip(x)
+                    .for_each(|(v, &xv)| v.im += scale * xv);
+            }
+        }
         let mut x = Mat::<c64>::from_fn(n, inputs.ncols(), |i, j| c64::new(inputs[(i, j)], 0.0));
         symbolic
             .solve_in_place(&values, x.as_mut())
@@ -207,18 +227,7 @@ pub fn residual_vectors(
     }
     let r = kept.len();
     let basis = Mat::<f64>::from_fn(n, r, |i, c| kept[c][i]);
-    let project = |a: &CscMatrix<f64>| -> Result<Mat<f64>, FrfError> {
-        let mut out = Mat::<f64>::zeros(r, r);
-        let mut ax = vec![0.0; n];
-        for c in 0..r {
-            sym_matvec(a, &kept[c], &mut ax).map_err(FrfError::Linalg)?;
-            for row in 0..r {
-                out[(row, c)] = kept[row].iter().zip(&ax).map(|(a, b)| a * b).sum();
-            }
-        }
-        // exactly symmetric for the dense eigen solver
-        Ok(Mat::from_fn(r, r, |i, j| 0.5 * (out[(i, j)] + out[(j, i)])))
-    };
+    let project = |a| congruence(a, basis.as_ref()).map_err(FrfError::Linalg);
     let (k_r, m_r) = (project(stiffness)?, project(mass)?);
     let (lambda, q) = generalized_eigen(k_r.as_ref(), m_r.as_ref())
         .map_err(|e| FrfError::Residual(e.to_string()))?;
@@ -226,6 +235,22 @@ pub fn residual_vectors(
         eigenvalues: lambda,
         shapes: &basis * &q,
     }))
+}
+
+/// Vᵀ A V of a symmetric sparse `a` (full pattern) and a basis `v` (n × r), made exactly
+/// symmetric (for the dense eigen solver and the modal matrices).
+pub fn congruence(a: &CscMatrix<f64>, v: MatRef<'_, f64>) -> Result<Mat<f64>, LinalgError> {
+    let (n, r) = (v.nrows(), v.ncols());
+    let mut out = Mat::<f64>::zeros(r, r);
+    let (mut x, mut ax) = (vec![0.0; n], vec![0.0; n]);
+    for c in 0..r {
+        x.iter_mut().enumerate().for_each(|(i, x)| *x = v[(i, c)]);
+        sym_matvec(a, &x, &mut ax)?;
+        for row in 0..r {
+            out[(row, c)] = (0..n).map(|i| v[(i, row)] * ax[i]).sum();
+        }
+    }
+    Ok(Mat::from_fn(r, r, |i, j| 0.5 * (out[(i, j)] + out[(j, i)])))
 }
 
 /// Residual vectors ([`residual_vectors`]): Rayleigh–Ritz ω̃² and M-normalized shapes (n × r).
@@ -283,11 +308,98 @@ pub fn modal_receptance(
         .collect()
 }
 
+/// H(ω_l) by coupled modal equations, for element damping that the modes do not diagonalize:
+/// (Λ(1 + iG) + iΦᵀK₄Φ − ω² I + iω(αI + βΛ + ΦᵀBΦ)) q = Φᵀ S_in, one dense complex LU per
+/// line. `eigenvalues` Λ of mass-normalized modes, `viscous` ΦᵀBΦ and `structural` ΦᵀK₄Φ
+/// (m × m), `modal_inputs` Φᵀ S_in, `modal_outputs` S_out Φ.
+#[allow(clippy::too_many_arguments)]
+pub fn coupled_modal_receptance(
+    eigenvalues: &[f64],
+    rayleigh: (f64, f64),
+    g: f64,
+    viscous: MatRef<'_, f64>,
+    structural: MatRef<'_, f64>,
+    modal_inputs: MatRef<'_, f64>,
+    modal_outputs: MatRef<'_, f64>,
+    omegas: &[f64],
+) -> Result<Vec<Mat<c64>>, FrfError> {
+    let m = eigenvalues.len();
+    let (alpha, beta) = rayleigh;
+    let diagonal = |i: usize, j: usize, d: f64| if i == j { d } else { 0.0 };
+    let stiffness = Mat::<f64>::from_fn(m, m, |i, j| diagonal(i, j, eigenvalues[i]));
+    let mass = Mat::<f64>::from_fn(m, m, |i, j| diagonal(i, j, 1.0));
+    let damping = Mat::<f64>::from_fn(m, m, |i, j| {
+        viscous[(i, j)] + diagonal(i, j, alpha + beta * eigenvalues[i])
+    });
+    let imaginary = Mat::<f64>::from_fn(m, m, |i, j| {
+        structural[(i, j)] + diagonal(i, j, g * eigenvalues[i])
+    });
+    let model = DenseModel {
+        stiffness: stiffness.as_ref(),
+        mass: mass.as_ref(),
+        damping: damping.as_ref(),
+        structural: Some(imaginary.as_ref()),
+    };
+    receptance(&model, modal_inputs, modal_outputs, omegas)
+}
+
+/// Modal damping as a function of the natural frequency (Nastran's TABDMP1 selected by
+/// SDAMPING): linear between the points, linear extrapolation from the two end points, the
+/// values converted to ζ after the look-up.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModalDampingTable {
+    /// (f Hz, value) by increasing f.
+    points: Vec<(f64, f64)>,
+    units: ModalDampingUnits,
+    /// Structural damping ω_j²·2iζ_j (Nastran's PARAM,KDAMP,-1) instead of viscous 2ζ_jω_j.
+    pub structural: bool,
+}
+
+impl ModalDampingTable {
+    /// The table of `points` (increasing or decreasing f) in `units`.
+    pub fn new(points: &[(f64, f64)], units: ModalDampingUnits, structural: bool) -> Self {
+        let mut points = points.to_vec();
+        if points.first().map(|p| p.0) > points.last().map(|p| p.0) {
+            points.reverse();
+        }
+        ModalDampingTable {
+            points,
+            units,
+            structural,
+        }
+    }
+
+    /// ζ at the natural frequency `hz`.
+    pub fn critical_ratio(&self, hz: f64) -> f64 {
+        let p = &self.points;
+        let n = p.len();
+        let line = |a: (f64, f64), b: (f64, f64)| {
+            if b.0 == a.0 {
+                a.1
+            } else {
+                a.1 + (b.1 - a.1) * (hz - a.0) / (b.0 - a.0)
+            }
+        };
+        let value = if n < 2 {
+            p.first().map_or(0.0, |q| q.1)
+        } else if hz <= p[0].0 {
+            line(p[0], p[1])
+        } else if hz >= p[n - 1].0 {
+            line(p[n - 1], p[n - 2])
+        } else {
+            crate::dynamics::table::Table::new(p).map_or(0.0, |t| t.value(hz))
+        };
+        self.units.critical_ratio(value)
+    }
+}
+
 /// The dense model of one frequency-response evaluation.
 pub struct DenseModel<'a> {
     pub stiffness: MatRef<'a, f64>,
     pub mass: MatRef<'a, f64>,
     pub damping: MatRef<'a, f64>,
+    /// The imaginary part of the stiffness (structural damping), if any: K + iK₄.
+    pub structural: Option<MatRef<'a, f64>>,
 }
 
 /// H(ω_l) (outputs × inputs) at every angular frequency in `omegas` (rad/s).
@@ -299,6 +411,15 @@ pub fn receptance(
     omegas: &[f64],
 ) -> Result<Vec<Mat<c64>>, FrfError> {
     let n = model.stiffness.nrows();
+    if let Some(k4) = model.structural
+        && (k4.nrows(), k4.ncols()) != (n, n)
+    {
+        return Err(FrfError::Shape {
+            what: "structural damping size",
+            expected: n,
+            got: k4.nrows(),
+        });
+    }
     for (what, got) in [
         ("stiffness columns", model.stiffness.ncols()),
         ("mass size", model.mass.nrows()),
@@ -324,7 +445,7 @@ pub fn receptance(
             let a = Mat::<c64>::from_fn(n, n, |i, j| {
                 c64::new(
                     model.stiffness[(i, j)] - w * w * model.mass[(i, j)],
-                    w * model.damping[(i, j)],
+                    w * model.damping[(i, j)] + model.structural.map_or(0.0, |k4| k4[(i, j)]),
                 )
             });
             let x = a.partial_piv_lu().solve(&rhs);
@@ -378,6 +499,7 @@ mod tests {
             stiffness: km.as_ref(),
             mass: mm.as_ref(),
             damping: cm.as_ref(),
+            structural: None,
         };
         let omegas = [0.0, 50.0, (k / m).sqrt(), 400.0];
         let h = receptance(&model, unit.as_ref(), unit.as_ref(), &omegas).unwrap();
@@ -398,6 +520,7 @@ mod tests {
             stiffness: km.as_ref(),
             mass: mm.as_ref(),
             damping: cm.as_ref(),
+            structural: None,
         };
         match receptance(&model, unit.as_ref(), unit.as_ref(), &[1.0]) {
             Err(FrfError::Singular { hz }) => {
@@ -442,6 +565,7 @@ mod tests {
                 stiffness: km.as_ref(),
                 mass: mm.as_ref(),
                 damping: cm.as_ref(),
+                structural: None,
             },
             inputs.as_ref(),
             outputs.as_ref(),
@@ -459,6 +583,8 @@ mod tests {
                 alpha,
                 beta,
                 structural: 0.0,
+                viscous_matrix: None,
+                structural_matrix: None,
             },
             inputs.as_ref(),
             &out_sparse,
@@ -532,6 +658,8 @@ mod tests {
                 alpha: 0.0,
                 beta: 0.0,
                 structural,
+                viscous_matrix: None,
+                structural_matrix: None,
             };
             assert_eq!(
                 direct_receptance(&model, inputs.as_ref(), &outputs, &[0.0, 100.0], false)
@@ -549,6 +677,8 @@ mod tests {
             alpha: 0.0,
             beta: 0.0,
             structural: 0.0,
+            viscous_matrix: None,
+            structural_matrix: None,
         };
         assert!(direct_receptance(&model, inputs.as_ref(), &outputs, &[0.0], false).is_ok());
     }

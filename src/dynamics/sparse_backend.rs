@@ -1,6 +1,8 @@
 //! The full-model (f-set) [`Backend`] of the integrators: K_ff and M_ff on one sparse pattern,
-//! Rayleigh damping C = αM + βK (eq. 2.23), so every combination c_m M + c_c C + c_k K is
-//! (c_m + αc_c) M + (βc_c + c_k) K on the same pattern. The effective matrix is factored by the
+//! Rayleigh damping C = αM + βK (eq. 2.23) plus, when given, a damping matrix D on the same
+//! pattern (the elements' viscous and equivalent structural damping, PSD), so every
+//! combination c_m M + c_c C + c_k K is (c_m + αc_c) M + (βc_c + c_k) K + c_c D on the same
+//! pattern. The effective matrix is factored by the
 //! crate's sparse Cholesky with one symbolic analysis: with M positive definite on the f-set and
 //! K positive semi-definite, α, β ≥ 0, c_m > 0 and c_c, c_k ≥ 0 (true of BDF1, BDF2 and
 //! generalized-α with ρ∞ ∈ [0, 1], whose c_k = 1 − α_f > 0), it is symmetric positive
@@ -19,6 +21,8 @@ pub struct SparseBackend<'a> {
     m: &'a CscMatrix<f64>,
     alpha: f64,
     beta: f64,
+    /// Values of the extra damping matrix D on the pattern.
+    extra: Option<Vec<f64>>,
     symbolic: SymbolicFactor,
     par: Par,
     factor: Option<(Factor, SolveScratch)>,
@@ -49,6 +53,7 @@ impl<'a> SparseBackend<'a> {
             m,
             alpha,
             beta,
+            extra: None,
             symbolic,
             par,
             factor: None,
@@ -57,15 +62,40 @@ impl<'a> SparseBackend<'a> {
         })
     }
 
+    /// Adds the damping matrix Σ wᵢ Dᵢ of `terms` (each on K_ff's pattern) to C.
+    pub fn with_damping(
+        mut self,
+        terms: &[(f64, &CscMatrix<f64>)],
+    ) -> Result<Self, IntegrationError> {
+        for &(w, d) in terms {
+            if d.pattern() != self.k.pattern() {
+                return Err(IntegrationError::Backend(
+                    "the damping matrix must share K_ff's sparsity pattern".into(),
+                ));
+            }
+            let extra = self.extra.get_or_insert_with(|| vec![0.0; d.nnz()]);
+            extra
+                .iter_mut()
+                .zip(d.values())
+                .for_each(|(e, v)| *e += w * v);
+        }
+        Ok(self)
+    }
+
     /// Values of c_m M + c_c C + c_k K on the pattern.
     fn values(&self, c: Combination) -> Vec<f64> {
         let (wm, wk) = (c[0] + self.alpha * c[1], self.beta * c[1] + c[2]);
-        self.m
+        let mut out: Vec<f64> = self
+            .m
             .values()
             .iter()
             .zip(self.k.values())
             .map(|(m, k)| wm * m + wk * k)
-            .collect()
+            .collect();
+        if let Some(d) = &self.extra {
+            out.iter_mut().zip(d).for_each(|(o, d)| *o += c[1] * d);
+        }
+        out
     }
 }
 

@@ -23,6 +23,10 @@ pub struct BushPlacement {
     pub pid: u32,
     pub bush: Bush,
     pub k: [f64; 6],
+    /// Viscous damping B1–B6 along and about the same axes.
+    pub b: [f64; 6],
+    /// Structural damping GE1–GE6 ([`BushPlacement::structural`]).
+    pub ge: [f64; 6],
 }
 
 impl Model {
@@ -36,7 +40,8 @@ impl Model {
         let Some(PropertyRef::Pbush(i)) = e.property else {
             return Some(Err(format!("PID {} is not a PBUSH", c.pid)));
         };
-        let k = self.bulk.pbush.get(i)?.k;
+        let pbush = self.bulk.pbush.get(i)?;
+        let (k, b, ge) = (pbush.k, pbush.b, pbush.ge);
         let xa = self.grids.get(*e.nodes.first()?)?.xyz;
         let xb = e
             .nodes
@@ -92,7 +97,22 @@ impl Model {
                 arm_b: xb.map(|b| sub(p, b)),
             },
             k,
+            b,
+            ge,
         }))
+    }
+}
+
+impl BushPlacement {
+    /// The stiffnesses GEᵢ·kᵢ of the structural damping matrix (its imaginary stiffness): with
+    /// GE1 alone (GE2–GE6 zero) Nastran's single element GE, GE1·K; otherwise one GE per
+    /// direction, as OptiStruct's PBUSH.
+    pub fn structural(&self) -> [f64; 6] {
+        if self.ge[1..].iter().all(|&g| g == 0.0) {
+            self.k.map(|k| self.ge[0] * k)
+        } else {
+            std::array::from_fn(|i| self.ge[i] * self.k[i])
+        }
     }
 }
 

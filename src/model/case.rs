@@ -59,6 +59,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
     );
     let method = set_of(b.eigrl.iter().map(|s| s.sid).collect());
     let freq = set_of(b.freq.iter().map(|s| s.sid).collect());
+    let tabdmp1 = set_of(b.tabdmp1.iter().map(|t| t.id).collect());
     let dload = set_of(
         b.dload
             .iter()
@@ -125,6 +126,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
         }
         need("METHOD", sub.method, &method, "EIGRL");
         need("FREQUENCY", sub.frequency, &freq, "FREQ/FREQ1/FREQ2");
+        need("SDAMPING", sub.sdamping, &tabdmp1, "TABDMP1");
         need(
             "DLOAD",
             sub.dload,

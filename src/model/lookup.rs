@@ -14,6 +14,11 @@ impl Model {
         self.bulk.eigrl.iter().find(|e| e.sid == sid)
     }
 
+    /// The TABDMP1 with id `id` (`SDAMPING = id`).
+    pub fn tabdmp1(&self, id: u32) -> Option<&crate::deck::cards::Tabdmp1> {
+        self.bulk.tabdmp1.iter().find(|t| t.id == id)
+    }
+
     /// The frequency lines (Hz) of `FREQUENCY = sid`: every FREQ, FREQ1, FREQ2 of that SID,
     /// sorted, duplicates removed (empty when none exists).
     pub fn frequencies_hz(&self, sid: u32) -> Vec<f64> {

@@ -26,6 +26,7 @@ pub mod build;
 pub mod bush;
 pub mod case;
 pub mod coords;
+pub mod damping;
 pub mod dynamic_loads;
 pub mod geometry;
 pub mod ids;
@@ -166,8 +167,8 @@ impl ElementKind {
         )
     }
 
-    /// True for the viscous dampers CDAMP1–CDAMP4 and CVISC, whose matrices go into no
-    /// solution paraflex runs (statics and real modes ignore them, as Nastran does).
+    /// True for the viscous dampers CDAMP1–CDAMP4 and CVISC: no stiffness or mass, a damping
+    /// matrix that statics and real modes ignore (as Nastran does).
     pub fn is_damper(self) -> bool {
         matches!(
             self,

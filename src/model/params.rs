@@ -97,6 +97,20 @@ pub const KNOWN_PARAMS: &[KnownParam] = &[
         doc: "frequency (rad/s) at which PARAM,G is turned into viscous damping (G/W3)·K in transient response, as Nastran; default 0 = G left out of transient response",
     },
     KnownParam {
+        name: "W4",
+        kind: ParamType::Real,
+        rule: "a real >= 0",
+        ok: |v| v >= 0.0,
+        doc: "frequency (rad/s) at which the element structural damping GE (MAT1, MAT8, PCOMP, PELAS, CELAS2, PBUSH) is turned into viscous damping (1/W4)·Σ GE·K_e in full-model transient response, as Nastran; default 0 = element GE left out of transient response",
+    },
+    KnownParam {
+        name: "KDAMP",
+        kind: ParamType::Int,
+        rule: "1 or -1",
+        ok: |v| v == 1.0 || v == -1.0,
+        doc: "SOL 111: the modal damping of SDAMPING's TABDMP1 as viscous 2ζ_jω_j (1, default) or as structural damping ω_j²(1 + 2iζ_j) (-1), as Nastran",
+    },
+    KnownParam {
         name: "QINCOMP",
         kind: ParamType::YesNo,
         rule: "YES or NO",
@@ -133,6 +147,10 @@ pub struct ModelParams {
     pub g: f64,
     /// Nastran W3 (rad/s): transient response adds (G/W3)·K when > 0.
     pub w3: f64,
+    /// Nastran W4 (rad/s): transient response adds (1/W4)·Σ GE_e K_e when > 0.
+    pub w4: f64,
+    /// Modal damping tables as viscous (1) or structural (−1) damping (Nastran KDAMP).
+    pub kdamp: i64,
     /// SOL 101 factorization: largest a_kk / d_k accepted (Nastran MAXRATIO).
     pub maxratio: f64,
     /// CQUAD4 incompatible membrane modes (PARAM,QINCOMP; [`crate::fe::shell::Incompatible`]).
@@ -165,6 +183,8 @@ impl Default for ModelParams {
             beta1: 0.0,
             g: 0.0,
             w3: 0.0,
+            w4: 0.0,
+            kdamp: 1,
             maxratio: crate::linalg::cholesky::DEFAULT_MAX_RATIO,
             qincomp: true,
             resvec: true,
@@ -271,6 +291,8 @@ fn apply(
                 "BETA1" => out.beta1 = v,
                 "G" => out.g = v,
                 "W3" => out.w3 = v,
+                "W4" => out.w4 = v,
+                "KDAMP" => out.kdamp = v as i64,
                 "MAXRATIO" => out.maxratio = v,
                 _ => {}
             }

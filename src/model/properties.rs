@@ -223,23 +223,6 @@ impl Model {
         }
     }
 
-    /// The elements with viscous damping ("CDAMP2 7", "CBUSH 3" when its PBUSH has a B), at
-    /// most `limit` of them: their damping matrix goes into no solution of this version, so
-    /// only statics and real modes (which ignore it, as Nastran does) run them.
-    pub fn viscous_damping_elements(&self, limit: usize) -> Vec<String> {
-        self.elements
-            .iter()
-            .filter(|e| {
-                e.kind.is_damper()
-                    || (e.kind == ElementKind::Cbush
-                        && matches!(e.property, Some(PropertyRef::Pbush(i))
-                            if self.bulk.pbush.get(i).is_some_and(|p| p.b.iter().any(|&b| b != 0.0))))
-            })
-            .take(limit)
-            .map(|e| format!("{} {}", e.kind.card(), e.id))
-            .collect()
-    }
-
     /// The DOF of a scalar element end: a grid component, a scalar point, or `None` for ground
     /// (or an id the model check has already reported).
     pub fn point_dof(&self, end: SpringEnd) -> Option<PointDof> {

@@ -318,6 +318,7 @@ pub fn build_prom(
                 stiffness: k.as_ref(),
                 mass: m.as_ref(),
                 damping: c.as_ref(),
+                structural: None,
             };
             let s_in = inputs.as_ref().subrows(0, size);
             let s_out = s_in.transpose();

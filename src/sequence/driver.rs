@@ -24,6 +24,19 @@ pub enum Basis {
     Rom,
 }
 
+/// What a driver does with the elements' damping (the viscous dampers' and PBUSH's B, the
+/// structural damping GE).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ElementDampingUse {
+    /// Assembled and applied (full-model FRF and transient).
+    Applied,
+    /// Not part of the problem (statics and real modes, as Nastran).
+    Ignored,
+    /// The basis it runs on cannot carry it (pROM artifacts carry Rayleigh damping only): a
+    /// viscous damper is refused ([`runnable`]), GE left out with a warning.
+    NotCarried,
+}
+
 /// One solution sequence on one [`Basis`]: a unit struct in its own file of `src/sequence/`.
 pub trait Driver: Sync {
     /// The sequence's name as in DESIGN.md (`STATICS`, `MODAL`), the report's header.
@@ -39,6 +52,11 @@ pub trait Driver: Sync {
     /// request of its subcases gets a "not honoured" warning.
     fn honoured(&self) -> &'static [&'static str] {
         &[]
+    }
+
+    /// What it does with the elements' damping.
+    fn element_damping(&self) -> ElementDampingUse {
+        ElementDampingUse::NotCarried
     }
 
     /// Warnings about the whole run, before those of its subcases.
@@ -82,15 +100,63 @@ pub fn runnable(deck: &Deck, model: &Model) -> Result<&'static dyn Driver, RunEr
     if !DRIVERS.iter().any(|d| d.solutions().contains(sol)) {
         return Err(RunError::NotAvailable(format!("{text} ({})", sol.name())));
     }
+    let chosen = choose(model, *sol, text)?;
     let dampers = model.viscous_damping_elements(4);
-    if !dampers.is_empty() && !matches!(sol, Solution::Statics | Solution::Modal) {
+    if !dampers.is_empty() && chosen.element_damping() == ElementDampingUse::NotCarried {
         return Err(RunError::NotAvailable(format!(
-            "{text} ({}) with viscous damping elements ({}{}): their damping matrix is not assembled; statics and real modes ignore them",
+            "{text} ({}) {} with viscous damping elements ({}{}): their damping matrix is not carried by pROMs or this sequence; SOL 108, 109, 111 and 112 on the full model apply them, statics and real modes ignore them",
             sol.name(),
+            if chosen.basis() == Basis::Rom {
+                "on a pROM".to_string()
+            } else {
+                format!("by the sequence {}", chosen.name())
+            },
             dampers.join(", "),
             if dampers.len() == 4 { ", …" } else { "" }
         )));
     }
+    Ok(chosen)
+}
+
+/// The warning of a run whose driver cannot carry the elements' structural damping GE.
+pub fn element_damping_warning(driver: &dyn Driver, model: &Model) -> Option<String> {
+    if driver.element_damping() != ElementDampingUse::NotCarried {
+        return None;
+    }
+    let some = model.structural_damping_elements(4);
+    (!some.is_empty()).then(|| {
+        format!(
+            "the structural damping GE of {}{} is not applied by the sequence {} (pROM artifacts carry Rayleigh damping only)",
+            some.join(", "),
+            if some.len() == 4 { ", …" } else { "" },
+            driver.name()
+        )
+    })
+}
+
+/// The warnings of subcases whose `SDAMPING` is left out: only the modal full-model FRF
+/// (SOL 111, or SOL FRF with METHOD) applies a modal damping table, as Nastran applies it in
+/// modal solutions only (full-model SOL 112 integrates the full model directly).
+pub fn sdamping_warnings(driver: &dyn Driver, model: &Model, sol: Solution) -> Vec<String> {
+    let modal = driver.name() == "FRF" && driver.basis() == Basis::Mesh;
+    model
+        .subcases
+        .iter()
+        .filter_map(|sub| {
+            let tid = sub.sdamping?;
+            let applied = modal
+                && match sol {
+                    Solution::FrfModal => true,
+                    Solution::Frf => sub.method.is_some(),
+                    _ => false,
+                };
+            (!applied).then(|| format!("subcase {}: SDAMPING = {tid} is not applied by SOL {} here: a modal damping table acts in the modal FRF on the full model only (SOL 111)", sub.id, sol.name()))
+        })
+        .collect()
+}
+
+/// The driver of `sol` on the basis the subcases ask for (module doc of [`runnable`]).
+fn choose(model: &Model, sol: Solution, text: &str) -> Result<&'static dyn Driver, RunError> {
     let on_rom: Vec<u32> = model
         .subcases
         .iter()
@@ -111,7 +177,7 @@ pub fn runnable(deck: &Deck, model: &Model) -> Result<&'static dyn Driver, RunEr
         )));
     }
     if rom_case::applies(model) {
-        driver(*sol, Basis::Rom).ok_or_else(|| {
+        driver(sol, Basis::Rom).ok_or_else(|| {
             let names: Vec<&str> = DRIVERS
                 .iter()
                 .filter(|d| d.basis() == Basis::Rom)
@@ -124,7 +190,7 @@ pub fn runnable(deck: &Deck, model: &Model) -> Result<&'static dyn Driver, RunEr
             ))
         })
     } else {
-        driver(*sol, Basis::Mesh).ok_or_else(|| {
+        driver(sol, Basis::Mesh).ok_or_else(|| {
             RunError::NotAvailable(format!(
                 "{text} ({}) on the full model (this version runs it on pROM artifacts: every subcase needs ROM = 'file.h5')",
                 sol.name()

@@ -19,7 +19,8 @@
 //! - modal: the modes of `METHOD = sid` (EIGRL, shift-invert Lanczos as SOL 103, mass
 //!   normalized) and, unless `PARAM,RESVEC,NO`, the residual vectors of the inputs' load shapes
 //!   ([`residual_vectors`], Nastran's RESVEC default in modal frequency response), superposed
-//!   with modal damping 2ζ_jω_j = α + βω_j² ([`modal_receptance`]). The residual vectors carry
+//!   with modal damping 2ζ_jω_j = α + βω_j² ([`modal_receptance`]) plus the TABDMP1 of
+//!   `SDAMPING` (viscous, or structural with `PARAM,KDAMP,-1`). The residual vectors carry
 //!   the static part of the modes left out (exact at 0 Hz); on a free-free model (K singular)
 //!   they are skipped with a warning and EIGRL should reach well above the band.
 //!
@@ -32,7 +33,7 @@
 //! displacement output; `displacement_grid_ids` for a set). Their rows join the outputs of the
 //! solve and are dropped from H.
 
-use super::driver::{Basis, Driver};
+use super::driver::{Basis, Driver, ElementDampingUse};
 use super::report::{Report, sci};
 use super::shared::{frequency_lines, structure, write_frf};
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
@@ -41,7 +42,7 @@ use crate::deck::Solution;
 use crate::discretize::loads::frequency_inputs;
 use crate::discretize::sensors::displacement_rows;
 use crate::discretize::{Constrained, Structure};
-use crate::dynamics::frf::scaled_flat;
+use crate::dynamics::frf::{ModalDampingTable, scaled_flat};
 use crate::dynamics::measurement::Reads;
 use crate::io::{set_attr_i64, set_attr_str, write_c64};
 use crate::linalg::EigenRequest;
@@ -99,6 +100,10 @@ impl Driver for Frf {
 
     fn basis(&self) -> Basis {
         Basis::Mesh
+    }
+
+    fn element_damping(&self) -> ElementDampingUse {
+        ElementDampingUse::Applied
     }
 
     fn honoured(&self) -> &'static [&'static str] {
@@ -180,6 +185,20 @@ fn run(
                 alpha: model.params.alpha1,
                 beta: model.params.beta1,
                 structural: model.params.g,
+                modal_table: match (method, sub.sdamping) {
+                    (FrfMethod::Modal, Some(tid)) => {
+                        let t = model.tabdmp1(tid).ok_or_else(|| RunError::Case {
+                            subcase: id,
+                            what: format!("SDAMPING = {tid} selects no TABDMP1 card"),
+                        })?;
+                        Some(ModalDampingTable::new(
+                            &t.points,
+                            t.units,
+                            model.params.kdamp == -1,
+                        ))
+                    }
+                    _ => None,
+                },
             },
             par: ctx.options.par(),
             progress: ctx.progress,

@@ -167,6 +167,10 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
     let mut clock = Clock::default();
     let subcases = driver.run(ctx, &mut clock)?;
     let mut warnings = driver.warnings(ctx.model);
+    warnings.extend(driver::element_damping_warning(driver, ctx.model));
+    if let Some((sol, _)) = &ctx.deck.executive.sol {
+        warnings.extend(driver::sdamping_warnings(driver, ctx.model, *sol));
+    }
     for s in &subcases {
         if !s.autospc.is_empty() {
             warnings.push(format!(

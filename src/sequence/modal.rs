@@ -23,7 +23,7 @@
 //! ND asks for more, only the finite modes are returned and the run warns (see
 //! [`crate::linalg::eigen`], "Singular M").
 
-use super::driver::{Basis, Driver};
+use super::driver::{Basis, Driver, ElementDampingUse};
 use super::report::{Report, lambda_to_hz, sci, sturm_line};
 use super::shared::structure;
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
@@ -79,6 +79,10 @@ impl Driver for Modal {
 
     fn basis(&self) -> Basis {
         Basis::Mesh
+    }
+
+    fn element_damping(&self) -> ElementDampingUse {
+        ElementDampingUse::Ignored
     }
 
     fn honoured(&self) -> &'static [&'static str] {

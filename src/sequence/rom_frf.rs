@@ -104,6 +104,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         stiffness: at.stiffness(),
         mass: at.mass(),
         damping: at.damping(),
+        structural: None,
     };
     let h = receptance(&model, s_r.as_ref(), outputs.as_ref(), &omegas)
         .map_err(|e| case(format!("{}: {e}", path.display())))?;

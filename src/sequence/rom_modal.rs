@@ -10,7 +10,7 @@
 //! Written: `/results/<id>/modal/{frequency_hz, eigenvalue, generalized_mass, residual}` with
 //! attributes `rom` (the artifact path), `params` and `values`.
 
-use super::driver::{Basis, Driver};
+use super::driver::{Basis, Driver, ElementDampingUse};
 use crate::deck::Solution;
 use std::path::PathBuf;
 
@@ -50,6 +50,10 @@ impl Driver for RomModal {
 
     fn basis(&self) -> Basis {
         Basis::Rom
+    }
+
+    fn element_damping(&self) -> ElementDampingUse {
+        ElementDampingUse::Ignored
     }
 
     /// Runs every subcase on its pROM.

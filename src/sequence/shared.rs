@@ -150,3 +150,13 @@ pub fn damping_warning(model: &Model) -> Option<String> {
     let p = &model.params;
     (p.g != 0.0 && p.w3 == 0.0).then(|| format!("PARAM,G = {} is not applied by SOL TRANSIENT without PARAM,W3 (as Nastran): set W3 (rad/s) for (G/W3)·K, or use Rayleigh damping (PARAM,ALPHA1 / BETA1)", p.g))
 }
+
+/// The warning of a full-model transient run whose elements' structural damping GE is not
+/// applied: Nastran turns it into viscous damping (1/W4)·Σ GE_e K_e only with PARAM,W4.
+pub fn w4_warning(model: &Model) -> Option<String> {
+    if model.params.w4 > 0.0 {
+        return None;
+    }
+    let some = model.structural_damping_elements(4);
+    (!some.is_empty()).then(|| format!("the structural damping GE of {}{} is not applied by SOL TRANSIENT without PARAM,W4 (as Nastran): set W4 (rad/s) for (1/W4)·Σ GE·K_e", some.join(", "), if some.len() == 4 { ", …" } else { "" }))
+}

@@ -26,7 +26,7 @@
 //! The SPC forces are always computed (one K·u product): the console summary's reaction sum
 //! uses them.
 
-use super::driver::{Basis, Driver};
+use super::driver::{Basis, Driver, ElementDampingUse};
 use super::report::{Report, sci};
 use super::shared::structure;
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary, requested, selected};
@@ -72,6 +72,10 @@ impl Driver for Statics {
 
     fn basis(&self) -> Basis {
         Basis::Mesh
+    }
+
+    fn element_damping(&self) -> ElementDampingUse {
+        ElementDampingUse::Ignored
     }
 
     fn honoured(&self) -> &'static [&'static str] {

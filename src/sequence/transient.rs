@@ -1,5 +1,7 @@
 //! `SOL TRANSIENT` (109/112) on the full model by direct integration of the f-set
-//! M_ff ü + C_ff u̇ + K_ff u = p_f(t), C = αM + βK (`PARAM,ALPHA1` / `BETA1`), with the
+//! M_ff ü + C_ff u̇ + K_ff u = p_f(t), C = αM + βK + B + (1/W4)·Σ GE_e K_e (`PARAM,ALPHA1` /
+//! `BETA1` with (G/W3)·K added to βK; the elements' viscous damping B; their structural damping
+//! GE turned viscous at `PARAM,W4` as Nastran, left out while W4 = 0), with the
 //! `TINTEG` of the `TSTEP` (BDF1 by default, eq. 2.61; BDF2; generalized-α) from rest or from
 //! the TIC state of `IC = sid`. Each
 //! TSTEP interval has a constant Δt: one sparse Cholesky of the effective matrix per interval
@@ -11,10 +13,10 @@
 //! full histories are large, so none by default. Attributes `method`, `f_size`,
 //! `factorizations`.
 
-use super::driver::{Basis, Driver};
+use super::driver::{Basis, Driver, ElementDampingUse};
 use super::report::{Report, sci};
-use super::shared::damping_warning;
 use super::shared::structure;
+use super::shared::{damping_warning, w4_warning};
 use super::shared::{method_of, output_rows};
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
 use crate::assembly::recover::expand_f_to_n;
@@ -62,12 +64,19 @@ impl Driver for Transient {
         Basis::Mesh
     }
 
+    fn element_damping(&self) -> ElementDampingUse {
+        ElementDampingUse::Applied
+    }
+
     fn honoured(&self) -> &'static [&'static str] {
         HONOURED
     }
 
     fn warnings(&self, model: &Model) -> Vec<String> {
-        damping_warning(model).into_iter().collect()
+        damping_warning(model)
+            .into_iter()
+            .chain(w4_warning(model))
+            .collect()
     }
 
     fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
@@ -132,13 +141,30 @@ fn subcase(
     let grid_rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
     let mut history: Vec<f64> = Vec::new();
     let mut recovery_error = None;
+    let params = &ctx.model.params;
+    // the elements' viscous B and, with PARAM,W4, their structural damping as (1/W4)·Σ GE K_e
+    let damping: Vec<(f64, &nalgebra_sparse::CscMatrix<f64>)> = [
+        (1.0, c.damping_ff.viscous.as_ref()),
+        (
+            if params.w4 > 0.0 {
+                1.0 / params.w4
+            } else {
+                0.0
+            },
+            c.damping_ff.structural.as_ref(),
+        ),
+    ]
+    .into_iter()
+    .filter_map(|(w, d)| d.filter(|_| w != 0.0).map(|d| (w, d)))
+    .collect();
     let mut backend = SparseBackend::new(
         &c.k_ff,
         &c.m_ff,
-        ctx.model.params.alpha1,
-        ctx.model.params.transient_beta(),
+        params.alpha1,
+        params.transient_beta(),
         ctx.options.par(),
     )
+    .and_then(|b| b.with_damping(&damping))
     .map_err(|e| case(e.to_string()))?;
     let (mut u, mut v) = initial_state(ctx.model, c, sub.ic).map_err(case)?;
     let mut t0 = 0.0;

@@ -1667,13 +1667,16 @@ def case_frf_sdof_rload2(write):
     }
 
 
-def case_tload2_sdof(write):
+def case_tload2_sdof(write, name="tload2_sdof", damped=False):
     """An undamped SDOF under a TLOAD2 pulse with delay, T1, growth exponent B, exponential C,
     frequency F and phase P (ending at zero): displacement history against an independent
-    high-accuracy integration (scipy DOP853) of m u'' + k u = A F(t)."""
+    high-accuracy integration (scipy DOP853) of m u'' + k u = A F(t). With `damped`, a CDAMP2 c
+    and GE on the CELAS2 with PARAM,W4 (Nastran's equivalent viscous GE k / W4):
+    m u'' + (c + GE k / W4) u' + k u = A F(t)."""
     from scipy.integrate import solve_ivp
-    name = "tload2_sdof"
     k, m = 4.0e4, 2.0
+    c, ge, w4 = (8.0, 0.06, 150.0) if damped else (0.0, 0.0, 0.0)
+    cv = c + (ge * k / w4 if damped else 0.0)
     A, delay, t1, t2, freq, phase_deg, c_exp, b_pow = 3.0, 0.005, 0.01, 0.05, 50.0, 90.0, -10.0, 1.0
     dt, steps, every = 2.0e-5, 10000, 50
 
@@ -1685,12 +1688,13 @@ def case_tload2_sdof(write):
                                                               + math.radians(phase_deg))
 
     times = [i * every * dt for i in range(steps // every + 1)]
-    sol = solve_ivp(lambda t, y: [y[1], (load(t) - k * y[0]) / m], (0.0, times[-1]), [0.0, 0.0],
+    sol = solve_ivp(lambda t, y: [y[1], (load(t) - cv * y[1] - k * y[0]) / m], (0.0, times[-1]),
+                    [0.0, 0.0],
                     method="DOP853", rtol=1e-12, atol=1e-16, t_eval=times, max_step=1e-4)
     u = list(sol.y[0])
     peak = max(abs(x) for x in u)
     # second computation: an implicit method (Radau) on the same equation
-    radau = solve_ivp(lambda t, y: [y[1], (load(t) - k * y[0]) / m], (0.0, times[-1]),
+    radau = solve_ivp(lambda t, y: [y[1], (load(t) - cv * y[1] - k * y[0]) / m], (0.0, times[-1]),
                       [0.0, 0.0], method="Radau", rtol=1e-11, atol=1e-17, t_eval=times,
                       max_step=1e-4)
     check("%s: DOP853 vs Radau, max |u| difference over the peak" % name,
@@ -1698,27 +1702,39 @@ def case_tload2_sdof(write):
     deck = "%s/%s_n1.dat" % (DECK_DIR, name)
     if write:
         bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("CONM2", 1, 1, 0, m),
-                card("CELAS2", 11, k, 1, 1), spc1(1, "23456", [1]),
+                card("CELAS2", 11, k, 1, 1, *([None, None, ge] if damped else [])),
+                spc1(1, "23456", [1]),
                 card("TSTEP", 1, steps, dt, every), card("TINTEG", 1, "GALPHA", 1.0),
                 card("TLOAD2", 7, 8, delay, None, t1, t2, freq, phase_deg, c_exp, b_pow),
                 card("DAREA", 8, 1, 1, A)]
+        if damped:
+            bulk += [card("CDAMP2", 21, c, 1, 1), "PARAM,W4,%s" % free_real(w4)]
         cc = ["TITLE = " + name, "SUBCASE 1", "  SPC = 1", "  TSTEP = 1", "  DLOAD = 7",
               "  DISPLACEMENT = ALL"]
-        write_deck(deck, ["analytic case %s: CONM2 %g kg on CELAS2 %g N/m, TLOAD2 pulse"
-                          % (name, m, k), "reference: %s/%s.json" % (REF_DIR, name)],
+        write_deck(deck, ["analytic case %s: CONM2 %g kg on CELAS2 %g N/m%s, TLOAD2 pulse"
+                          % (name, m, k, ", CDAMP2 %g N s/m, GE %g with PARAM,W4 %g rad/s"
+                             % (c, ge, w4) if damped else ""),
+                          "reference: %s/%s.json" % (REF_DIR, name)],
                    109, cc, bulk)
     w = math.sqrt(k / m)
     return {
         "case": name,
-        "description": "undamped single-DOF spring-mass under a TLOAD2 pulse (SOL 109, "
-                       "generalized-alpha rho = 1): displacement history",
+        "description": ("single-DOF spring-mass with a CDAMP2 and element GE turned viscous by "
+                        "PARAM,W4" if damped else "undamped single-DOF spring-mass") +
+                       " under a TLOAD2 pulse (SOL 109, generalized-alpha rho = 1): displacement "
+                       "history",
         "provenance": "TLOAD2 as defined in the Nastran Quick Reference Guide: F(t) = A t~^B "
                       "e^{C t~} cos(2 pi F t~ + P), t~ = t - T1 - tau on [0, T2 - T1], 0 elsewhere; "
-                      "reference by scipy.integrate.solve_ivp (DOP853, rtol 1e-12)",
-        "formula": "m u'' + k u = A F(t), u(0) = u'(0) = 0",
-        "inputs": {"k": k, "m": m, "A": A, "delay": delay, "T1": t1, "T2": t2, "F": freq,
+                      "reference by scipy.integrate.solve_ivp (DOP853, rtol 1e-12)" +
+                      ("; element GE in transient response as the viscous GE K_e / W4 (MSC "
+                       "Nastran Dynamic Analysis User's Guide, 'Damping', PARAM,W4)"
+                       if damped else ""),
+        "formula": ("m u'' + (c + GE k / W4) u' + k u = A F(t), u(0) = u'(0) = 0" if damped
+                    else "m u'' + k u = A F(t), u(0) = u'(0) = 0"),
+        "inputs": dict({"k": k, "m": m, "A": A, "delay": delay, "T1": t1, "T2": t2, "F": freq,
                    "P_deg": phase_deg, "C": c_exp, "B": b_pow, "dt": dt, "steps": steps,
                    "every": every},
+                   **({"c": c, "GE": ge, "W4": w4} if damped else {})),
         "time": times,
         "u": u,
         "value_labels": ["peak |u|"],
@@ -1734,37 +1750,67 @@ def case_tload2_sdof(write):
     }
 
 
-def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
+def case_frf_two_dof(write, name="frf_two_dof", g=0.0, dampers=False, tabdmp=False):
     """Ground-k1-m1-k2-m2 chain along T1 with Rayleigh damping, unit RLOAD1 on both masses:
     receptance matrix and DISP / VEL / ACCEL sensors, direct (SOL 108) and modal (SOL 111).
     With g > 0, PARAM,G structural damping as Nastran applies it in frequency response: the
     complex stiffness K (1 + iG) in SOL 108, and G on each modal stiffness, w_j^2 (1 + iG), in
-    SOL 111 (both exact here: G K is diagonal in the modes)."""
+    SOL 111 (both exact here: G K is diagonal in the modes).
+    With dampers, element damping that the modes do not diagonalize: a CDAMP2 c1 from ground to
+    m1, a CDAMP1 (PDAMP) c2 between m1 and m2 and GE on the m1-m2 CELAS2: Z = K - w^2 M +
+    i w (alpha M + beta K + B) + i GE K_12, in SOL 111 projected on both modes (coupled).
+    With tabdmp, SOL 111 only, a TABDMP1 (TYPE CRIT) selected by SDAMPING: zeta_j interpolated
+    at f_1 and extrapolated from the two end points at f_2, viscous 2 zeta_j w_j per mode."""
     k1, k2, m1, m2, alpha, beta = 2.5e4, 3.0e4, 2.0, 1.0, 0.8, 2.0e-4
+    c1, c2, ge2 = (15.0, 6.0, 0.04) if dampers else (0.0, 0.0, 0.0)
     K = np.array([[k1 + k2, -k2], [-k2, k2]])
     M = np.diag([m1, m2])
+    B = np.array([[c1 + c2, -c2], [-c2, c2]])
+    K4 = ge2 * np.array([[k2, -k2], [-k2, k2]])
     lam, phi = linalg.eigh(K, M)
     fn = [math.sqrt(x) / (2 * math.pi) for x in lam]
     hz = [2.0, round(fn[0], 6), 30.0, round(fn[1], 6), 80.0]
+    table = [(5.0, 0.02), (20.0, 0.05)]
+    zeta = [0.0, 0.0]
+    if tabdmp:
+        # linear through the two points, beyond 20 Hz extrapolated from them (TABDMP1)
+        zeta = [float(np.interp(f, [5.0, 20.0], [0.02, 0.05])) if f <= 20.0
+                else 0.05 + (0.05 - 0.02) * (f - 20.0) / 15.0 for f in fn]
+        # the modal damping as a physical matrix: M phi diag(2 zeta w) phi^T M
+        B = M @ phi @ np.diag([2 * z * math.sqrt(x) for z, x in zip(zeta, lam)]) @ phi.T @ M
     # outputs: 1:1, 2:1 (the inputs), then D2 = -u2 (DISP along -x), V2 = i w u2, A1 = -w^2 u1
     H = []
     for f in hz:
         w = 2 * math.pi * f
-        Z = K * (1 + 1j * g) - w * w * M + 1j * w * (alpha * M + beta * K)
+        Z = K * (1 + 1j * g) - w * w * M + 1j * w * (alpha * M + beta * K + B) + 1j * K4
         h = np.linalg.inv(Z)
-        # second computation: modal superposition over both mass-normalized modes
-        hm = sum(np.outer(phi[:, j], phi[:, j])
-                 / (lam[j] * (1 + 1j * g) - w * w + 1j * w * (alpha + beta * lam[j]))
-                 for j in range(2))
+        # second computation: modal superposition over both mass-normalized modes, the element
+        # damping projected (phi^T B phi, phi^T K4 phi: coupled modal equations)
+        if tabdmp:
+            hm = sum(np.outer(phi[:, j], phi[:, j])
+                     / (lam[j] - w * w + 1j * w * (alpha + beta * lam[j]
+                                                     + 2 * zeta[j] * math.sqrt(lam[j])))
+                     for j in range(2))
+        elif dampers:
+            zq = (np.diag(lam * (1 + 1j * g)) - w * w * np.eye(2)
+                  + 1j * w * (alpha * np.eye(2) + beta * np.diag(lam) + phi.T @ B @ phi)
+                  + 1j * phi.T @ K4 @ phi)
+            hm = phi @ np.linalg.solve(zq, phi.T)
+        else:
+            hm = sum(np.outer(phi[:, j], phi[:, j])
+                     / (lam[j] * (1 + 1j * g) - w * w + 1j * w * (alpha + beta * lam[j]))
+                     for j in range(2))
         check("%s: H at %g Hz inverse vs modal superposition" % (name, f),
               np.abs(h).max(), np.abs(h - hm).max() + np.abs(h).max(), 1e-12)
         rows = [h[0], h[1], -h[1], 1j * w * h[1], -w * w * h[0]]
         H.append([[complex(v) for v in row] for row in rows])
-    decks = ["%s/%s_direct.dat" % (DECK_DIR, name), "%s/%s_modal.dat" % (DECK_DIR, name)]
+    sols = (111,) if tabdmp else (108, 111)
+    decks = ["%s/%s_%s.dat" % (DECK_DIR, name, "direct" if sol == 108 else "modal") for sol in sols]
     if write:
         bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("GRID", 2, None, 1.0, 0.0, 0.0),
                 card("CONM2", 1, 1, 0, m1), card("CONM2", 2, 2, 0, m2),
-                card("CELAS2", 11, k1, 1, 1), card("CELAS2", 12, k2, 1, 1, 2, 1),
+                card("CELAS2", 11, k1, 1, 1),
+                card("CELAS2", 12, k2, 1, 1, 2, 1, *([ge2] if dampers else [])),
                 spc1(1, "23456", [1, 2]), "PARAM,ALPHA1,%s" % free_real(alpha), "PARAM,BETA1,%s" % free_real(beta),
                 card("FREQ", 5, *[float(f) for f in hz]), card("EIGRL", 10, None, None, 2),
                 card("RLOAD1", 7, 8, None, None, 20), card("DAREA", 8, 1, 1, 1.0, 2, 1, 1.0),
@@ -1774,20 +1820,45 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
                 card("SENSOR", 3, "A1", "ACCEL", 1, None, 2.0, 0.0, 0.0)]
         if g:
             bulk.append("PARAM,G,%s" % free_real(g))
-        for deck, sol in zip(decks, (108, 111)):
+        if dampers:
+            bulk += [card("CDAMP2", 21, c1, 1, 1), card("CDAMP1", 22, 23, 1, 1, 2, 1),
+                     card("PDAMP", 23, c2)]
+        if tabdmp:
+            bulk.append(card("TABDMP1", 30, "CRIT", *([None] * 6),
+                             *[v for p in table for v in p], "ENDT"))
+        for deck, sol in zip(decks, sols):
             write_deck(deck, ["analytic case %s: CONM2 %g and %g kg on T1, CELAS2 ground-m1 %g "
-                              "N/m and m1-m2 %g N/m, Rayleigh alpha %g, beta %g%s; SOL %d"
+                              "N/m and m1-m2 %g N/m, Rayleigh alpha %g, beta %g%s%s; SOL %d"
                               % (name, m1, m2, k1, k2, alpha, beta,
-                                 ", structural damping G %g" % g if g else "", sol),
+                                 ", structural damping G %g" % g if g else "",
+                                 ", CDAMP2 ground-m1 %g, CDAMP1 m1-m2 %g N s/m, GE %g on the "
+                                 "m1-m2 spring" % (c1, c2, ge2) if dampers else "", sol),
                               "reference: %s/%s.json" % (REF_DIR, name)],
-                       sol, frf_case_control(name, sol == 111), bulk)
+                       sol, frf_case_control(name, sol == 111)
+                       + (["  SDAMPING = 30"] if tabdmp else []), bulk)
     labels = ["|H| max over outputs x inputs at %g Hz" % f for f in hz]
     return {
         "case": name,
         "description": "two CONM2 masses on CELAS2 springs along T1 (ground-m1-m2 chain) with "
                        "Rayleigh damping" + (" and PARAM,G structural damping" if g else "") +
+                       (", viscous dampers (CDAMP2, CDAMP1 + PDAMP) and element GE on a spring"
+                        if dampers else "") +
                        ": receptance matrix at the masses and DISP / VEL / ACCEL sensors",
-        "provenance": ("2-DOF harmonic response Z(w)^-1, Z = K - w^2 M + i w (alpha M + beta K) "
+        "provenance": ("2-DOF modal frequency response with modal damping from a TABDMP1 "
+                       "(TYPE CRIT): H = sum_j phi_j phi_j^T / (w_j^2 - w^2 + i w (alpha + beta "
+                       "w_j^2 + 2 zeta_j w_j)), zeta_j linear in f, extrapolated from the two end "
+                       "points (MSC Nastran Quick Reference Guide, TABDMP1; viscous modal "
+                       "damping, PARAM,KDAMP = 1); checked against Z^-1 with the modal damping "
+                       "as the matrix M phi diag(2 zeta_j w_j) phi^T M")
+                      if tabdmp else
+                      ("2-DOF harmonic response Z(w)^-1, Z = K - w^2 M + i w (alpha M + beta K + "
+                       "B) + i GE K_e: viscous dampers and element structural damping (Inman, "
+                       "Engineering Vibration, 4th ed. 2014, sec. 5.2 and 2.6; MSC Nastran "
+                       "Dynamic Analysis User's Guide, 'Damping': CDAMP B and element GE in "
+                       "SOL 108/111); checked against the coupled modal equations over both "
+                       "modes (phi^T B phi and phi^T GE K_e phi are not diagonal)")
+                      if dampers else
+                      ("2-DOF harmonic response Z(w)^-1, Z = K - w^2 M + i w (alpha M + beta K) "
                        "(e.g. Inman, Engineering Vibration, 4th ed. 2014, sec. 5.2; Rayleigh "
                        "damping sec. 4.5); checked against modal superposition over both modes")
                       if not g else
@@ -1799,7 +1870,10 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
                        "superposition over both modes with w_j^2 (1 + i G)"),
         "formula": "H = Z^-1; outputs 1:1, 2:1, D2 = -H[2,:], V2 = i w H[2,:], A1 = -w^2 H[1,:]",
         "inputs": dict({"k1": k1, "k2": k2, "m1": m1, "m2": m2, "alpha": alpha, "beta": beta},
-                       **({"G": g} if g else {}), natural_frequencies_hz=fn),
+                       **({"G": g} if g else {}),
+                       **({"c1": c1, "c2": c2, "GE_k2": ge2} if dampers else {}),
+                       **({"TABDMP1_CRIT": table, "zeta": zeta} if tabdmp else {}),
+                       natural_frequencies_hz=fn),
         "frequency_hz": hz,
         "outputs": ["1:1", "2:1", "D2", "V2", "A1"],
         "inputs_dofs": ["1:1", "2:1"],
@@ -1814,6 +1888,106 @@ def case_frf_two_dof(write, name="frf_two_dof", g=0.0):
             "no discretization and no truncation (both modes superposed in SOL 111): relative to "
             "the largest |H| of each output row; round-off of a 2x2 complex solve and of the "
             "Lanczos eigenpairs (converged to ~1e-12) -> 1e-9"] * len(hz)},
+    }
+
+
+def case_frf_damped_rods(write):
+    """Two grids on a line at 53.13 deg in the x-y plane (displacement system 5 with x along the
+    line), each free along and about the line (T1, R1 in system 5): a CROD from the clamped grid 1
+    to grid 2 whose MAT1 has GE, a second CROD and a CVISC (PVISC CE, CR) from grid 2 to grid 3,
+    a grounded CBUSH at grid 3 (CID 5) with K, B and per-direction GE, CONM2 masses and inertias
+    about the line (CID 5). Receptance at the two inputs, direct (SOL 108) and modal (SOL 111,
+    all four modes: the damping couples them), against a separately written 4-DOF numpy model."""
+    name = "frf_damped_rods"
+    e_line = np.array([0.6, 0.8, 0.0])
+    E, nu = 1.0e6, 0.25
+    G = E / (2 * (1 + nu))
+    A1, J1, A2, J2, L = 0.04, 7.5e-4, 0.03, 5.0e-4, 1.0
+    ge_rod = 0.03
+    ce, cr = 20.0, 0.1
+    kb, bb, geb = (1.0e4, 100.0), (10.0, 0.05), (0.05, 0.08)  # (T1, R1) of the bush
+    m2, i2, m3, i3 = 2.0, 0.01, 1.0, 0.005
+    # q = (u2, th2, u3, th3) along / about the line
+    ka1, kt1, ka2, kt2 = E * A1 / L, G * J1 / L, E * A2 / L, G * J2 / L
+    K = np.array([[ka1 + ka2, 0, -ka2, 0], [0, kt1 + kt2, 0, -kt2],
+                  [-ka2, 0, ka2 + kb[0], 0], [0, -kt2, 0, kt2 + kb[1]]])
+    B = np.array([[ce, 0, -ce, 0], [0, cr, 0, -cr], [-ce, 0, ce + bb[0], 0],
+                  [0, -cr, 0, cr + bb[1]]])
+    K4 = np.diag([ge_rod * ka1, ge_rod * kt1, geb[0] * kb[0], geb[1] * kb[1]])
+    M = np.diag([m2, i2, m3, i3])
+    lam, phi = linalg.eigh(K, M)
+    fn = [math.sqrt(x) / (2 * math.pi) for x in lam]
+    hz = [1.0] + [round(f, 6) for f in fn] + [round(1.5 * fn[-1], 6)]
+    H = []
+    inputs = [0, 3]  # 2:1 (force along the line), 3:4 (moment about it)
+    for f in hz:
+        w = 2 * math.pi * f
+        Z = K - w * w * M + 1j * w * B + 1j * K4
+        h = np.linalg.inv(Z)
+        zq = np.diag(lam) - w * w * np.eye(4) + 1j * w * phi.T @ B @ phi + 1j * phi.T @ K4 @ phi
+        hm = phi @ np.linalg.solve(zq, phi.T)
+        check("%s: H at %g Hz inverse vs coupled modal equations" % (name, f),
+              np.abs(h).max(), np.abs(h - hm).max() + np.abs(h).max(), 1e-12)
+        H.append([[complex(h[o, i]) for i in inputs] for o in inputs])
+    decks = ["%s/%s_direct.dat" % (DECK_DIR, name), "%s/%s_modal.dat" % (DECK_DIR, name)]
+    if write:
+        x2, x3 = L * e_line, 2 * L * e_line
+        bulk = [card("CORD2R", 5, None, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.6, 0.8, 0.0),
+                card("GRID", 1, None, 0.0, 0.0, 0.0),
+                card("GRID", 2, None, *[float(v) for v in x2], 5),
+                card("GRID", 3, None, *[float(v) for v in x3], 5),
+                card("MAT1", 100, E, None, nu, 0.0, None, None, ge_rod),
+                card("MAT1", 101, E, None, nu, 0.0),
+                card("PROD", 10, 100, A1, J1), card("PROD", 11, 101, A2, J2),
+                card("CROD", 1, 10, 1, 2), card("CROD", 4, 11, 2, 3),
+                card("PVISC", 20, ce, cr), card("CVISC", 2, 20, 2, 3),
+                card("CBUSH", 3, 30, 3, None, None, None, None, 5),
+                card("PBUSH", 30, "K", kb[0], None, None, kb[1], None, None,
+                     None, "B", bb[0], None, None, bb[1], None, None,
+                     None, "GE", geb[0], None, None, geb[1]),
+                card("CONM2", 21, 2, 5, m2, None, None, None, None, i2),
+                card("CONM2", 22, 3, 5, m3, None, None, None, None, i3),
+                spc1(1, "123456", [1]), spc1(1, "2356", [2, 3]),
+                card("FREQ", 5, *[float(f) for f in hz]), card("EIGRL", 10, None, None, 4),
+                card("RLOAD1", 7, 8, None, None, 20), card("DAREA", 8, 2, 1, 1.0, 3, 4, 1.0),
+                tabled1(20, [(0.0, 1.0), (1000.0, 1.0)])]
+        for deck, sol in zip(decks, (108, 111)):
+            write_deck(deck, ["analytic case %s: CROD (MAT1 GE %g) and CROD + CVISC on an "
+                              "inclined line, grounded CBUSH with B and GE, CONM2s; SOL %d"
+                              % (name, ge_rod, sol),
+                              "reference: %s/%s.json" % (REF_DIR, name)],
+                       sol, frf_case_control(name, sol == 111), bulk)
+    return {
+        "case": name,
+        "description": "rods, a CVISC and a grounded CBUSH (K, B, GE) on a line inclined in x-y, "
+                       "each grid free along and about the line: receptance at a force along "
+                       "the line (2:1) and a moment about it (3:4), direct and coupled modal",
+        "provenance": "separately written 4-DOF numpy model (rod axial EA/L and torsion GJ/L, "
+                      "CVISC CE on the axial and CR on the torsional relative motion, the bush's "
+                      "K, B, GE per direction, GE of the MAT1 times the rod's stiffness); "
+                      "Z = K - w^2 M + i w B + i K4 (MSC Nastran Dynamic Analysis User's Guide, "
+                      "'Damping'); checked against the coupled modal equations over the four "
+                      "modes",
+        "formula": "H = Z^-1 at the inputs 2:1 and 3:4 (system 5: x along the line)",
+        "inputs": {"E": E, "nu": nu, "A1": A1, "J1": J1, "A2": A2, "J2": J2, "L": L,
+                   "GE_rod": ge_rod, "CE": ce, "CR": cr, "bush_K": kb, "bush_B": bb,
+                   "bush_GE": geb, "m2": m2, "I2": i2, "m3": m3, "I3": i3,
+                   "natural_frequencies_hz": fn},
+        "frequency_hz": hz,
+        "outputs": ["2:1", "3:4"],
+        "inputs_dofs": ["2:1", "3:4"],
+        "modes": 4,
+        "H_re": [[[v.real for v in row] for row in h] for h in H],
+        "H_im": [[[v.imag for v in row] for row in h] for h in H],
+        "value_labels": ["|H| max over outputs x inputs at %g Hz" % f for f in hz],
+        "units": "m/N, rad/(N m)",
+        "values": [max(abs(v) for row in h for v in row) for h in H],
+        "meshes": [{"deck": d, "elements": 6, "h": None} for d in decks],
+        "expected_order": None,
+        "tolerance_finest": {"relative": [1e-9] * len(hz), "justification": [
+            "no discretization and no truncation (all four modes superposed in SOL 111): "
+            "relative to the largest |H| of each output row; round-off of a 4x4 complex solve, "
+            "of the rotation into system 5 and of the Lanczos eigenpairs -> 1e-9"] * len(hz)},
     }
 
 
@@ -1833,6 +2007,10 @@ CASES = {
     "tload2_sdof": case_tload2_sdof,
     "frf_two_dof": case_frf_two_dof,
     "frf_two_dof_g": lambda w: case_frf_two_dof(w, "frf_two_dof_g", 0.05),
+    "frf_damped_rods": case_frf_damped_rods,
+    "frf_two_dof_dampers": lambda w: case_frf_two_dof(w, "frf_two_dof_dampers", dampers=True),
+    "frf_two_dof_tabdmp": lambda w: case_frf_two_dof(w, "frf_two_dof_tabdmp", tabdmp=True),
+    "tload2_sdof_damped": lambda w: case_tload2_sdof(w, "tload2_sdof_damped", damped=True),
     "laminate_abd": case_laminate_abd,
     "massless_spring_chain": lambda w: case_massless_spring_chain(
         w, "massless_spring_chain", lambda f: (None, None, 10), [0, 1, 2],

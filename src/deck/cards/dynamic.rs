@@ -669,6 +669,91 @@ impl Tabled {
     }
 }
 
+/// `TABDMP1` — modal damping as a function of the natural frequency, selected by `SDAMPING`:
+/// linear between the points, extrapolated linearly from the two end points (as Nastran), a
+/// jump's mean at the jump.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | TID | int > 0 | required | table id |
+/// | 3 | TYPE | `G`, `CRIT`, `Q` | G | units: structural damping g (ζ = g/2), fraction of critical ζ, or quality factor Q (ζ = 1/(2Q)) |
+/// | cont. | f1 g1 f2 g2 … `ENDT` | real pairs | ≥ 2 points | natural frequency (Hz) and damping; f all increasing or all decreasing; `SKIP SKIP` drops a pair |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tabdmp1 {
+    pub id: u32,
+    pub units: ModalDampingUnits,
+    /// (f Hz, damping in `units`).
+    pub points: Vec<(f64, f64)>,
+    pub loc: Loc,
+}
+
+/// The units of a TABDMP1's damping values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModalDampingUnits {
+    /// Structural damping g = 2ζ.
+    G,
+    /// Fraction of critical damping ζ.
+    Crit,
+    /// Quality factor Q = 1/(2ζ).
+    Q,
+}
+
+impl ModalDampingUnits {
+    /// The fraction of critical damping of `value` in these units.
+    pub fn critical_ratio(self, value: f64) -> f64 {
+        match self {
+            ModalDampingUnits::G => 0.5 * value,
+            ModalDampingUnits::Crit => value,
+            ModalDampingUnits::Q => 0.5 / value,
+        }
+    }
+}
+
+impl Tabdmp1 {
+    /// Read a `TABDMP1` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "TID");
+        f.set_id(id);
+        let units = match f.keyword(2, "TYPE", &["G", "CRIT", "Q"], Some("G")) {
+            "CRIT" => ModalDampingUnits::Crit,
+            "Q" => ModalDampingUnits::Q,
+            _ => ModalDampingUnits::G,
+        };
+        let mut points: Vec<(f64, f64)> = Vec::new();
+        let len = f.len();
+        let ended = table_entries(&mut f, |f, i| {
+            let x = f.real(i, "f");
+            let y = f.real(i + 1, "g");
+            points.push((x, y));
+            2
+        });
+        if !ended {
+            f.card_error("the table does not end with ENDT");
+        }
+        if points.len() < 2 {
+            f.card_error("a table needs at least two points");
+        }
+        if points.iter().any(|&(x, _)| x < 0.0) {
+            f.card_error("the frequencies of a TABDMP1 must be >= 0");
+        }
+        if units == ModalDampingUnits::Q && points.iter().any(|&(_, q)| q <= 0.0) {
+            f.card_error("TYPE = Q needs quality factors > 0");
+        }
+        if let Err(e) = crate::dynamics::table::Table::new(&points) {
+            f.card_error(e.to_string());
+        }
+        let loc = f.loc();
+        f.finish(len)?;
+        Ok(Tabdmp1 {
+            id,
+            units,
+            points,
+            loc,
+        })
+    }
+}
+
 /// `TABLED4`, `TABLEM4` — power series y = Σᵢ aᵢ ((x − X1)/X2)ⁱ, x clamped to [X3, X4].
 ///
 /// | field | name | type | default | meaning |

@@ -29,8 +29,8 @@ mod temperature;
 pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd};
 pub use design::{Ddval, Desvar};
 pub use dynamic::{
-    Darea, Dload, EigenNorm, Eigrl, Freq, FreqKind, Rload, RloadTables, Tabled, Tabled4, Tic,
-    Tload, TloadFunction, Tstep,
+    Darea, Dload, EigenNorm, Eigrl, Freq, FreqKind, ModalDampingUnits, Rload, RloadTables, Tabdmp1,
+    Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep,
 };
 pub use elements::{
     BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Conm2, Cpenta, Cquad4,
@@ -144,6 +144,7 @@ pub struct BulkData {
     /// TABLED1, TABLED2 and TABLED3.
     pub tabled: Vec<Tabled>,
     pub tabled4: Vec<Tabled4>,
+    pub tabdmp1: Vec<Tabdmp1>,
     pub dload: Vec<Dload>,
     pub params: Vec<Param>,
     pub desvar: Vec<Desvar>,
@@ -316,6 +317,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("DAREA", |c, b| Ok(b.darea.extend(Darea::from_card(c)?))),
     ("TIC", |c, b| Ok(b.tic.push(Tic::from_card(c)?))),
     ("PTABLE", |c, b| Ok(b.ptable.push(Ptable::from_card(c)?))),
+    ("TABDMP1", |c, b| Ok(b.tabdmp1.push(Tabdmp1::from_card(c)?))),
     ("TABLED1", |c, b| {
         Ok(b.tabled.push(Tabled::from_card(c, "TABLED1")?))
     }),

@@ -417,7 +417,7 @@ impl Pvisc {
 /// | 2 | PID | int > 0 | required | property id |
 /// | 3, 4–9 | `K` K1–K6 | real | 0.0 | stiffnesses along and about the element axes |
 /// | next line 3, 4–9 | `B` B1–B6 | real | 0.0 | viscous damping |
-/// | next line 3, 4–9 | `GE` GE1–GE6 | real | 0.0 | structural damping (kept, unused) |
+/// | next line 3, 4–9 | `GE` GE1–GE6 | real | 0.0 | structural damping: GE1 alone is the element GE (GE1·K), GE2–GE6 given make one per direction (GEᵢ·Kᵢ) |
 /// | next line 3, 4–7 | `RCV` SA ST EA ET | real | 1.0 | stress and strain recovery coefficients (kept, unused: no CBUSH force output) |
 ///
 /// The lines may come in any order; `M` (mass) lines are refused.
