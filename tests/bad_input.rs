@@ -38,7 +38,6 @@ const MODEL_LAYER: &[&str] = &[
     "fmb_poses_missing.dat",
     "fmb_poses_transient.dat",
     "fmb_pval_not_body_parameter.dat",
-    "grid_cd_on_cylinder_axis.dat",
     "inverted_hexa.dat",
     "mat1_e_nonpositive.dat",
     "mat1_nu_half.dat",
