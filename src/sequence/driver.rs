@@ -7,8 +7,8 @@
 use std::collections::HashSet;
 
 use super::{
-    Clock, RunContext, RunError, SubcaseSummary, estimate, fmb, frf, modal, optimize, prom,
-    rom_case, rom_frf, rom_modal, rom_transient, statics, transient,
+    Clock, RunContext, RunError, SubcaseSummary, estimate, fmb, fmb_estimate, frf, modal, optimize,
+    prom, rom_case, rom_frf, rom_modal, rom_transient, statics, transient,
 };
 use crate::deck::case_control::Subcase;
 use crate::deck::{Deck, Solution, Warning};
@@ -62,6 +62,7 @@ pub const DRIVERS: &[&dyn Driver] = &[
     &rom_transient::RomTransient,
     &estimate::Estimate,
     &fmb::Fmb,
+    &fmb_estimate::MechanismEstimate,
     &optimize::Optimize,
 ];
 
