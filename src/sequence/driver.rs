@@ -124,6 +124,14 @@ pub fn runnable(deck: &Deck, model: &Model) -> Result<&'static dyn Driver, RunEr
                 list(&names)
             ))
         })
+    } else if *sol == Solution::Estimate
+        && model.mechanism.is_empty()
+        && model.subcases.iter().all(|s| s.fmb.is_none())
+    {
+        Err(RunError::NotAvailable(format!(
+            "{text} ({}) on the full model: the estimators run on pROM artifacts (ROM = 'file.h5' in every subcase) or on a mechanism (FLEXB or RIGIDB bodies, or FMB = 'file.h5')",
+            sol.name()
+        )))
     } else {
         driver(*sol, Basis::Mesh).ok_or_else(|| {
             RunError::NotAvailable(format!(

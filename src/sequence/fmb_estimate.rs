@@ -16,7 +16,10 @@
 //! Every bad input is reported before any computation, each at its card and field: an
 //! EKFPAR that is not `BODY.PMPAR` of a flexible body or is listed twice, a MEAS naming no
 //! MSENSOR or one of a kind without a measurement equation (STRAIN, POS and ACCEL have one),
-//! more than one AMANDA card.
+//! more than one AMANDA card, an EKFINP (unknown inputs are not built for mechanisms). Then the setups that cannot work (accelerations only; no
+//! absolute information on free rigid coordinates) are refused unless the EKF says FORCE =
+//! YES, and the numerical observability over the first steps is reported
+//! ([`crate::estimate::mechanism::observability`]).
 //!
 //! Measurements are read like the component estimator's ([`super::estimate::resample`]: the
 //! CSV interpolated onto t_k = k Δt, k = 1 … steps).
@@ -25,9 +28,15 @@
 //! `params_sigma/<BODY.PMPAR>` (t: estimate and standard deviation); `sensors/<name>` (t, the
 //! selected STRAIN, POS and ACCEL MSENSORs at the posterior, attribute `measured`);
 //! `constraint_residual (t)` and `velocity_residual (t)` (max |Φ| and max |Φ_q v + Φ_t| of the
-//! estimate after the AMANDA step), `manifold_iterations (t)`; attributes `mechanism` (`deck`
-//! or the FMB file), `filter` (`AMANDA-EKF`), `fallbacks` (AMANDA steps that needed the
-//! kinematic assembly), `steps_per_second`.
+//! estimate after the AMANDA step), `manifold_iterations (t)`, `sensitivity (t)` (the smallest
+//! over the parameters of the largest measurement sensitivity, in noise σ per 100 % change,
+//! [`crate::estimate::mechanism`]'s freeze); attributes `mechanism` (`deck` or the FMB file),
+//! `filter` (`AMANDA-EKF`), `fallbacks` (AMANDA steps that needed the kinematic assembly),
+//! `frozen_steps` (steps at which FREEZE froze a parameter update), `steps_per_second`, the
+//! observability of [`crate::estimate::mechanism::observability`] (`observability` in words,
+//! `observability_rank`, `observability_columns`, `observability_steps`,
+//! `observability_ratio`, `parameter_identifiability`) and `forced` (a refused setup run with
+//! FORCE = YES).
 
 use std::time::Instant;
 
@@ -41,12 +50,16 @@ use crate::deck::case_control::{StrainReference, Subcase};
 use crate::deck::error::DeckError;
 use crate::deck::fields::RawCard;
 use crate::discretize::mechanism::Bodies;
+use crate::estimate::mechanism::observability::{self, Observability, Refusal};
 use crate::estimate::mechanism::parameters::{EstimatedBody, Parameter, Parameters};
-use crate::estimate::mechanism::sensors::{Sensor, measure};
+use crate::estimate::mechanism::sensors::{Sensor, values};
 use crate::estimate::mechanism::{Amanda, AmandaSetup, ManifoldSettings};
-use crate::io::{set_attr_f64, set_attr_i64, set_attr_str, write_f64, write_u32};
+use crate::io::{set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str, write_f64, write_u32};
 use crate::model::mechanism::Sensor as Msensor;
 use crate::multibody::{Ggl, NewtonSettings, Scheme};
+
+/// The longest window of the numerical observability check (steps).
+const OBSERVABILITY_STEPS: usize = 200;
 
 /// What one mechanism estimation subcase computed.
 #[derive(Debug, Clone)]
@@ -66,6 +79,11 @@ pub struct MechanismEstimateSummary {
     pub seconds_per_step: f64,
     /// Selected MSENSORs of kinds the filter does not estimate.
     pub not_estimated: Vec<String>,
+    /// The numerical observability at the start, and the refusal FORCE = YES overrode.
+    pub observability: Observability,
+    pub forced: Option<Refusal>,
+    /// The AMANDA card's FREEZE and the steps at which it froze a parameter update.
+    pub freeze: Option<(f64, usize)>,
 }
 
 /// The `SOL ESTIMATE` driver on a mechanism.
@@ -327,7 +345,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let case = |what: String| RunError::Case { subcase: id, what };
     if ctx.model.mechanism.is_empty() && sub.fmb.is_none() {
         return Err(case(
-            "SOL ESTIMATE runs on pROM artifacts (ROM = 'file.h5' in every subcase) or on a mechanism (FLEXB or RIGIDB bodies, MARKERs and JOINTs, or FMB = 'file.h5'); this deck has neither".into(),
+            "the deck has no mechanism and this subcase no FMB = 'file.h5': SOL ESTIMATE on a mechanism needs one of them".into(),
         ));
     }
     let selection = Selection::of(ctx.model, sub)?;
@@ -341,6 +359,13 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let params = parameters(ctx, &prepared, selection.ekf_id).map_err(|e| errors.extend(e));
     let sensors = measured(&prepared, &selection).map_err(|e| errors.extend(e));
     let card = amanda_card(ctx, selection.ekf_id).map_err(|e| errors.push(e));
+    errors.extend(ctx.model.ekfinp(selection.ekf_id).into_iter().map(|u| {
+        DeckError::at(
+            &u.loc,
+            "unknown inputs of a mechanism (an MFORCE in the augmented state) are not available in this version; remove the card",
+        )
+        .on_card(format!("EKFINP {}", u.id))
+    }));
     let (Ok((parameters, covariances)), Ok(sensors), Ok(card)) = (params, sensors, card) else {
         return Err(case(joined(&errors)));
     };
@@ -383,6 +408,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         p0_positions: ekf.p0_state,
         p0_velocities: card.and_then(|c| c.p0_velocities).unwrap_or(ekf.p0_state),
         p0_parameters: covariances.p0,
+        freeze: card.and_then(|c| c.freeze),
         manifold: card.map_or_else(ManifoldSettings::default, |c| ManifoldSettings {
             tolerance: c.tolerance,
             max_iterations: c.max_iterations as usize,
@@ -402,24 +428,41 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             variance: 1.0,
         })
         .collect();
+    // observability (§9.3.1): the setups that cannot work, refused unless forced, and the
+    // numerical observability over the first steps
+    let refusal = observability::structural(&ggl, &filter_sensors);
+    if let (Some(why), false) = (&refusal, ekf.force) {
+        return Err(case(format!(
+            "{}: EKF {}: {why}. Set FORCE = YES on the EKF card to run anyway",
+            ekf.loc, selection.ekf_id
+        )));
+    }
+    let probe = Ggl::new(
+        system.system.clone(),
+        selection.dt,
+        0.0,
+        NewtonSettings::default(),
+    )
+    .map_err(|e| case(format!("kinematic assembly at t = 0: {e}")))?;
+    let observed =
+        observability::numerical(probe, &parameters, &filter_sensors, OBSERVABILITY_STEPS)
+            .map_err(|e| case(format!("observability check: {e}")))?;
     let mut filter =
         Amanda::new(ggl, parameters, filter_sensors, &setup).map_err(|e| case(e.to_string()))?;
 
     // the run
     let np = names.len();
     let mut time = Vec::with_capacity(steps);
-    let (mut values, mut sigmas) = (
+    let (mut estimates, mut sigmas) = (
         vec![Vec::with_capacity(steps); np],
         vec![Vec::with_capacity(steps); np],
     );
     let mut sensor_series = vec![Vec::with_capacity(steps); virtual_sensors.len()];
     let (mut position, mut velocity, mut iterations) = (Vec::new(), Vec::new(), Vec::new());
     let mut fallbacks = 0;
+    let (mut sensitivity, mut frozen_steps) = (Vec::with_capacity(steps), 0);
     let mut previous = filter.state().1.to_vec();
-    let (mut y, mut jm) = (
-        vec![0.0; virtual_sensors.len()],
-        faer::Mat::zeros(virtual_sensors.len(), 2 * n),
-    );
+    let mut y = vec![0.0; virtual_sensors.len()];
     let mut x = vec![0.0; 2 * n];
     let mut measurement = vec![0.0; series.len()];
     let clock = Instant::now();
@@ -439,22 +482,17 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         velocity.push(report.manifold.velocity_residual);
         iterations.push(report.manifold.iterations as u32);
         fallbacks += usize::from(report.manifold.fallback);
+        sensitivity.push(report.sensitivity);
+        frozen_steps += usize::from(report.frozen > 0);
         let (p, sigma) = filter.parameters();
         for j in 0..np {
-            values[j].push(p[j]);
+            estimates[j].push(p[j]);
             sigmas[j].push(sigma[j]);
         }
         let (q, v) = filter.state();
         x[..n].copy_from_slice(q);
         x[n..].copy_from_slice(v);
-        measure(
-            &virtual_sensors,
-            filter.integrator(),
-            &x,
-            &previous,
-            &mut y,
-            &mut jm,
-        );
+        values(&virtual_sensors, filter.integrator(), &x, &previous, &mut y);
         for (series, value) in sensor_series.iter_mut().zip(&y) {
             series.push(*value);
         }
@@ -470,7 +508,9 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     write_f64(&group, "constraint_residual", &position, &[steps])?;
     write_f64(&group, "velocity_residual", &velocity, &[steps])?;
     write_u32(&group, "manifold_iterations", &iterations, &[steps])?;
-    for (sub_name, data) in [("params", &values), ("params_sigma", &sigmas)] {
+    write_f64(&group, "sensitivity", &sensitivity, &[steps])?;
+    set_attr_i64(&group, "frozen_steps", frozen_steps as i64)?;
+    for (sub_name, data) in [("params", &estimates), ("params_sigma", &sigmas)] {
         if np > 0 {
             let g = ctx.output.group(&format!("{root}/{sub_name}"))?;
             for (name, series) in names.iter().zip(data) {
@@ -495,6 +535,17 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         "steps_per_second",
         steps as f64 / elapsed.max(f64::MIN_POSITIVE),
     )?;
+    set_attr_str(
+        &group,
+        "observability",
+        &observability_text(&observed, &names),
+    )?;
+    set_attr_i64(&group, "observability_rank", observed.rank as i64)?;
+    set_attr_i64(&group, "observability_columns", observed.columns as i64)?;
+    set_attr_i64(&group, "observability_steps", observed.steps as i64)?;
+    set_attr_f64(&group, "observability_ratio", observed.ratio)?;
+    set_attr_f64s(&group, "parameter_identifiability", &observed.parameters)?;
+    set_attr_i64(&group, "forced", i64::from(refusal.is_some()))?;
     let last = |s: &[Vec<f64>], j: usize| s[j].last().copied().unwrap_or(f64::NAN);
     let summary = MechanismEstimateSummary {
         mechanism,
@@ -502,19 +553,43 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         coordinates: n,
         steps,
         params: (0..np)
-            .map(|j| (names[j].clone(), last(&values, j), last(&sigmas, j)))
+            .map(|j| (names[j].clone(), last(&estimates, j), last(&sigmas, j)))
             .collect(),
         position_residual: position.iter().fold(0.0, |a, b| a.max(*b)),
         velocity_residual: velocity.iter().fold(0.0, |a, b| a.max(*b)),
         fallbacks,
         seconds_per_step: elapsed / steps.max(1) as f64,
         not_estimated: not_estimated.iter().map(|s| s.name.clone()).collect(),
+        observability: observed,
+        forced: refusal,
+        freeze: setup.freeze.map(|f| (f, frozen_steps)),
     };
     Ok(SubcaseSummary {
         id,
         autospc: Vec::new(),
         result: Box::new(summary),
     })
+}
+
+/// The numerical observability in words: rank, conditioning and each parameter's distance
+/// from the span of the other columns.
+fn observability_text(o: &Observability, names: &[String]) -> String {
+    let parameters: Vec<String> = (names.iter().zip(&o.parameters))
+        .map(|(n, d)| format!("{n} {}", sci(*d, 2)))
+        .collect();
+    format!(
+        "observability over the first {} step(s): rank {} of {} (σ_min/σ_max {}, tolerance {:e}); parameter identifiability (0 … 1): {}",
+        o.steps,
+        o.rank,
+        o.columns,
+        sci(o.ratio, 2),
+        observability::RANK_TOLERANCE,
+        if parameters.is_empty() {
+            "none estimated".to_string()
+        } else {
+            parameters.join(", ")
+        }
+    )
 }
 
 impl Report for MechanismEstimateSummary {
@@ -527,6 +602,11 @@ impl Report for MechanismEstimateSummary {
             self.steps,
             sci(1e3 * self.seconds_per_step, 3)
         )];
+        let names: Vec<String> = self.params.iter().map(|p| p.0.clone()).collect();
+        out.push(format!(
+            "  {}",
+            observability_text(&self.observability, &names)
+        ));
         for (name, value, sigma) in &self.params {
             out.push(format!(
                 "  {name} = {} ± {} (3σ) at the end",
@@ -540,16 +620,28 @@ impl Report for MechanismEstimateSummary {
             sci(self.velocity_residual, 2),
             self.fallbacks
         ));
+        if let Some((threshold, count)) = self.freeze {
+            out.push(format!(
+                "  parameter updates frozen at {count} step(s) (a sensitivity below FREEZE = {})",
+                sci(threshold, 3)
+            ));
+        }
         out
     }
 
     fn warnings(&self, subcase: u32) -> Vec<String> {
-        if self.not_estimated.is_empty() {
-            return Vec::new();
+        let mut warnings = Vec::new();
+        if let Some(why) = &self.forced {
+            warnings.push(format!(
+                "subcase {subcase}: FORCE = YES: the filter ran although {why}"
+            ));
         }
-        vec![format!(
-            "subcase {subcase}: MSENSOR(s) {} are not estimated (the AMANDA-EKF estimates STRAIN, POS and ACCEL sensors)",
-            self.not_estimated.join(", ")
-        )]
+        if !self.not_estimated.is_empty() {
+            warnings.push(format!(
+                "subcase {subcase}: MSENSOR(s) {} are not estimated (the AMANDA-EKF estimates STRAIN, POS and ACCEL sensors)",
+                self.not_estimated.join(", ")
+            ));
+        }
+        warnings
     }
 }

@@ -1,6 +1,6 @@
 //! Virtual-sensing cards of `SOL ESTIMATE` (augmented EKF, thesis ch. 8): `EKF`, `EKFPAR`,
-//! `EKFINP`, `MEASF`, `MEAS`, and `AMANDA` (the AMANDA-EKF on a mechanism, thesis ch. 9). Same field rules as the other extension cards; every bad field is
-//! reported, not only the first.
+//! `EKFINP`, `MEASF`, `MEAS`, and `AMANDA` (the AMANDA-EKF on a mechanism, thesis ch. 9). Same
+//! field rules as the other extension cards; every bad field is reported, not only the first.
 
 use crate::card_values::Column;
 use crate::card_values::{
@@ -16,8 +16,8 @@ use crate::deck::value::Value;
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | ID | int > 0 | required | id |
-/// | 3 | QSTATE | real > 0 | machine ε | diagonal of Q for q and q̇ (thesis §8.5.2: Q_q = Q_q̇ = εI) |
-/// | 4 | P0STATE | real > 0 | 1.0E-20 | initial variance of q and q̇ |
+/// | 3 | QSTATE | real > 0 | machine ε | diagonal of Q for q and q̇ (thesis §8.5.2: Q_q = Q_q̇ = εI); on a mechanism for q only, q̇'s on `AMANDA` |
+/// | 4 | P0STATE | real > 0 | 1.0E-20 | initial variance of q and q̇; on a mechanism of q only, q̇'s on `AMANDA` |
 /// | 5 | FORCE | `YES` `NO` | NO | run even when the observability check fails |
 /// | 6 | REDIAG | real in (0, 0.1] | blank | re-diagonalized modal coordinates with this drift tolerance when the estimated parameters change a pROM part that no modes diagonalize (blank: exact coordinates, the pROM's own when modal ones do not apply; paraflex-specific) |
 /// | 7 | PREDICT | `TRAP` `BDF1` | TRAP | the prediction's time discretization: the trapezoidal rule (no numerical damping) or BDF1 (the thesis's eq. 8.22, exact on data made by BDF1); paraflex-specific |
@@ -74,7 +74,7 @@ impl Ekf {
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | ID | int > 0 | required | the EKF id |
-/// | 3 | NAME | name | required | PMPAR name in the pROM |
+/// | 3 | NAME | name | required | PMPAR name in the pROM; on a mechanism `BODY.PMPAR` of a flexible body |
 /// | 4 | INIT | real ≠ 0 | required | initial guess p₀ |
 /// | 5 | DELTA | real > 0 | required | δ_p in Hz: Q_p = (Δt δ_p INIT)² (eq. 8.31) |
 /// | 6 | P0 | real > 0 | INIT² | initial variance |
@@ -206,7 +206,7 @@ impl Measf {
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | ID | int > 0 | required | the MEASF id |
-/// | 3 | SENSOR | name | required | SENSOR name in the pROM |
+/// | 3 | SENSOR | name | required | SENSOR name in the pROM; on a mechanism an MSENSOR name (kind STRAIN, POS or ACCEL) |
 /// | 4 | COLUMN | int ≥ 1 or name | required | CSV column |
 /// | 5 | SIGMA | real > 0 | required | noise standard deviation (R = σ²) |
 #[derive(Debug, Clone, PartialEq)]
@@ -248,15 +248,17 @@ impl Meas {
     }
 }
 
-/// `AMANDA` — settings of the AMANDA-EKF (thesis ch. 9) of the `EKF` with the same id, used
-/// when `SOL ESTIMATE` runs on a mechanism (bodies in the deck or `FMB = 'file.h5'`).
+/// `AMANDA` — settings of the AMANDA-EKF (thesis ch. 9) on a mechanism.
+///
+/// Read with the `EKF` of the same id when `SOL ESTIMATE` runs on a mechanism (bodies in the
+/// deck or `FMB = 'file.h5'`).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | ID | int > 0 | required | the EKF id |
 /// | 3 | TOL | real > 0 | 1.0E-10 | the AMANDA step (eq. 9.9–9.14) ends when max \|Φ\| and max \|Φ_q v + Φ_t\| are below TOL |
 /// | 4 | MAXIT | int > 0 | 10 | Gauss–Newton iterations of the AMANDA step before the kinematic-assembly fallback |
-/// | 5 | FREEZE | real > 0 | blank | parameter updates are frozen at a step whose largest measurement sensitivity to the parameters (relative, \|∂h/∂θ\| over the noise σ) is below FREEZE (§9.3.2); blank: never frozen |
+/// | 5 | FREEZE | real > 0 | blank | a parameter's update is frozen at a step where its largest reading sensitivity max_i \|∂h_i/∂θ\| / σ_i (θ = p / INIT, along the prior trajectory: noise σ per 100 % change) is below FREEZE (§9.3.2); blank: never frozen |
 /// | 6 | QVEL | real > 0 | EKF QSTATE | Q of the velocity coordinates (the EKF's QSTATE is the positions'); paraflex-specific |
 /// | 7 | P0VEL | real > 0 | EKF P0STATE | initial variance of the velocities (the EKF's P0STATE is the positions'); paraflex-specific |
 #[derive(Debug, Clone, PartialEq)]
