@@ -366,7 +366,9 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         )
         .on_card(format!("EKFINP {}", u.id))
     }));
-    let (Ok((parameters, covariances)), Ok(sensors), Ok(card)) = (params, sensors, card) else {
+    let (Ok((parameters, covariances)), Ok(sensors), Ok(card), true) =
+        (params, sensors, card, errors.is_empty())
+    else {
         return Err(case(joined(&errors)));
     };
     let steps = selection.steps;
