@@ -92,11 +92,22 @@ fn estimation_deck(
     path
 }
 
-/// The deck route over the Rust test's 400 steps: C.E per step, the largest constraint
-/// residuals of the estimates (position, velocity), whether CEPS is marked measured and the
-/// sensitivity per step; run once for the tests that read it.
-fn deck_estimate() -> &'static (Vec<f64>, f64, f64, i64, Vec<f64>) {
-    static RUN: OnceLock<(Vec<f64>, f64, f64, i64, Vec<f64>)> = OnceLock::new();
+/// What the deck route wrote over the Rust test's 400 steps.
+struct DeckRun {
+    /// C.E per step.
+    e: Vec<f64>,
+    /// The largest constraint residuals of the estimates (position, velocity).
+    position: f64,
+    velocity: f64,
+    /// Whether CEPS is marked measured.
+    measured: i64,
+    /// The sensitivity per step.
+    sensitivity: Vec<f64>,
+}
+
+/// The deck route ([`DeckRun`]), run once for the tests that read it.
+fn deck_estimate() -> &'static DeckRun {
+    static RUN: OnceLock<DeckRun> = OnceLock::new();
     RUN.get_or_init(|| {
         let path = estimation_deck("estimate_ec.dat", 400, |t| t);
         let (result, _, dir) = run_deck_file(&path);
@@ -114,13 +125,13 @@ fn deck_estimate() -> &'static (Vec<f64>, f64, f64, i64, Vec<f64>) {
             .attr("measured")
             .and_then(|a| a.read_scalar::<i64>())
             .expect("measured");
-        (
+        DeckRun {
             e,
-            largest("constraint_residual"),
-            largest("velocity_residual"),
+            position: largest("constraint_residual"),
+            velocity: largest("velocity_residual"),
             measured,
-            read_dataset::<f64>(&g, "sensitivity"),
-        )
+            sensitivity: read_dataset::<f64>(&g, "sensitivity"),
+        }
     })
 }
 
@@ -350,7 +361,13 @@ fn estimate_coupler_modulus(steps: usize) -> (Vec<f64>, f64, f64) {
 /// overhead only.)
 #[test]
 fn coupler_modulus_from_sensor_set_1() {
-    let (e, position, velocity, measured, _) = deck_estimate();
+    let DeckRun {
+        e,
+        position,
+        velocity,
+        measured,
+        ..
+    } = deck_estimate();
     let truth = vec![E_TRUE; e.len()];
     let err = percent_errors(e, &truth);
     println!(
@@ -374,7 +391,7 @@ fn coupler_modulus_from_sensor_set_1() {
 fn the_deck_runs_the_rust_filter() {
     let steps = 50;
     let (e, _, _) = estimate_coupler_modulus(steps);
-    let deck = &deck_estimate().0;
+    let deck = &deck_estimate().e;
     for (k, (a, b)) in e.iter().zip(deck).enumerate() {
         assert!((a - b).abs() <= 1e-9 * b, "step {}: {a} vs {b}", k + 1);
     }
@@ -386,7 +403,8 @@ fn the_deck_runs_the_rust_filter() {
 /// (not built for mechanisms); and a STRREF the filter does not support.
 #[test]
 fn bad_estimation_input_is_refused_at_its_card() {
-    let cases: [(&str, fn(String) -> String, &[&str]); 6] = [
+    type Case = (&'static str, fn(String) -> String, &'static [&'static str]);
+    let cases: [Case; 6] = [
         (
             "bad_parameter.dat",
             |t| t.replace("EKFPAR,1,C.E,", "EKFPAR,1,C.G,"),
@@ -496,7 +514,7 @@ fn setups_without_static_or_absolute_information_are_refused_unless_forced() {
 /// both kinds occur.
 #[test]
 fn parameter_updates_freeze_below_the_sensitivity_threshold() {
-    let threshold = deck_estimate().4[14];
+    let threshold = deck_estimate().sensitivity[14];
     let path = estimation_deck("freeze.dat", 30, |t| {
         t.replace("AMANDA,1,,,,", &format!("AMANDA,1,,,{threshold:e},"))
     });
@@ -516,15 +534,9 @@ fn parameter_updates_freeze_below_the_sensitivity_threshold() {
     );
     let attr = g.attr("frozen_steps").and_then(|a| a.read_scalar::<i64>());
     assert_eq!(attr.expect("frozen_steps"), count as i64);
-    for k in 0..e.len() {
-        let before = if k == 0 { E_GUESS } else { e[k - 1] };
-        assert_eq!(
-            e[k] == before,
-            frozen[k],
-            "step {}: {before} → {}",
-            k + 1,
-            e[k]
-        );
+    let before = std::iter::once(E_GUESS).chain(e.iter().copied());
+    for (k, ((now, before), frozen)) in e.iter().zip(before).zip(&frozen).enumerate() {
+        assert_eq!(*now == before, *frozen, "step {}: {before} → {now}", k + 1);
     }
 }
 

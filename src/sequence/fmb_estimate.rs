@@ -135,13 +135,13 @@ fn refused_settings(ctx: &RunContext, sub: &Subcase) -> Vec<String> {
     let at = |name: &str| sub.loc_of(name).map_or(String::new(), |l| format!("{l}: "));
     let mut refused = Vec::new();
     if let Some(sid) = sub.tstep {
-        if let Some(t) = ctx.model.tinteg(sid) {
-            if !matches!(t.method, crate::deck::cards::TintegMethod::Bdf1) {
-                refused.push(format!(
-                    "{}: TINTEG {sid}: the AMANDA-EKF predicts with BDF1 (eq. 9.6); remove the card or set METHOD = BDF1",
-                    t.loc
-                ));
-            }
+        if let Some(t) = ctx.model.tinteg(sid)
+            && !matches!(t.method, crate::deck::cards::TintegMethod::Bdf1)
+        {
+            refused.push(format!(
+                "{}: TINTEG {sid}: the AMANDA-EKF predicts with BDF1 (eq. 9.6); remove the card or set METHOD = BDF1",
+                t.loc
+            ));
         }
         if let Some(t) = ctx.model.tstepvar(sid) {
             refused.push(format!(
@@ -487,9 +487,13 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         sensitivity.push(report.sensitivity);
         frozen_steps += usize::from(report.frozen > 0);
         let (p, sigma) = filter.parameters();
-        for j in 0..np {
-            estimates[j].push(p[j]);
-            sigmas[j].push(sigma[j]);
+        for ((series, deviations), (value, deviation)) in estimates
+            .iter_mut()
+            .zip(&mut sigmas)
+            .zip(p.iter().zip(&sigma))
+        {
+            series.push(*value);
+            deviations.push(*deviation);
         }
         let (q, v) = filter.state();
         x[..n].copy_from_slice(q);
