@@ -445,15 +445,25 @@ impl CaseControl {
             },
             "FMBSTART" => match st.value.map(str::to_ascii_uppercase).as_deref() {
                 Some("ASSEMBLE") => self.current().fmbstart = Some(FmbStart::Assemble),
-                Some("STATIC") => self.current().fmbstart = Some(FmbStart::Static),
+                Some("STATIC") => {
+                    let sub = self.current();
+                    sub.fmbstart = Some(FmbStart::Static);
+                    sub.locs.push(("FMBSTART", loc.clone()));
+                }
                 other => diag.error(err(format!(
                     "expected FMBSTART = ASSEMBLE | STATIC, found '{}'",
                     other.unwrap_or("")
                 ))),
             },
             "STRREF" => match st.value.map(str::to_ascii_uppercase).as_deref() {
-                Some("NONE") => self.current().strref = Some(StrainReference::None),
-                Some("INITIAL") => self.current().strref = Some(StrainReference::Initial),
+                Some(v @ ("NONE" | "INITIAL")) => {
+                    let sub = self.current();
+                    sub.strref = Some(match v {
+                        "NONE" => StrainReference::None,
+                        _ => StrainReference::Initial,
+                    });
+                    sub.locs.push(("STRREF", loc.clone()));
+                }
                 Some(v) if v.parse::<u32>().is_ok_and(|id| id > 0) => {
                     let sub = self.current();
                     sub.strref = v.parse().ok().map(StrainReference::Subcase);

@@ -47,6 +47,12 @@ pub trait ProcessModel {
     ) -> Result<(), FilterError>;
     /// The predicted measurements h(x) and the rows of J_m (m × N) at the prior x.
     fn measure(&mut self, x: &[f64], predicted: &mut [f64], jm: &mut Mat<f64>);
+    /// Entries of x that this step's correction leaves unchanged (their rows of the gain are
+    /// zero; the Joseph form keeps P consistent with any gain), decided by [`Self::measure`];
+    /// none by default.
+    fn frozen(&self) -> &[usize] {
+        &[]
+    }
     /// Linearize again at the posterior of step `step` (which may change the coordinates of x
     /// and P), for the correction's and the next prediction's input `input`.
     fn corrected(
@@ -193,6 +199,11 @@ impl<M: ProcessModel> Ekf<M> {
         // 𝒦ᵀ = S_y⁻¹ Uᵀ, solved on the transposed view of 𝒦 (N × m)
         sc.gain.copy_from(&sc.pht);
         solve_seq(sc.sy_factor.as_ref(), sc.gain.as_mut().transpose_mut());
+        for &i in self.model.frozen() {
+            for j in 0..m {
+                sc.gain[(i, j)] = 0.0;
+            }
+        }
         for (j, e) in self.innovation.iter().enumerate() {
             axpy(&mut self.x, *e, sc.gain.col_as_slice(j));
         }

@@ -4,7 +4,7 @@
 
 use super::Model;
 use crate::deck::cards::{
-    Aset1, Eigrl, Ekf, Ekfinp, Ekfpar, Meas, Measf, Pmor, Ptable, Pval, Tic, Tinteg, Tstep,
+    Amanda, Aset1, Eigrl, Ekf, Ekfinp, Ekfpar, Meas, Measf, Pmor, Ptable, Pval, Tic, Tinteg, Tstep,
     Tstepvar,
 };
 
@@ -87,6 +87,11 @@ impl Model {
     /// The EKFINP cards of EKF `id`, in card order.
     pub fn ekfinp(&self, id: u32) -> Vec<&Ekfinp> {
         self.bulk.ekfinp.iter().filter(|x| x.id == id).collect()
+    }
+
+    /// The AMANDA cards of EKF `id` (at most one is valid; the driver refuses more).
+    pub fn amanda(&self, id: u32) -> Vec<&Amanda> {
+        self.bulk.amanda.iter().filter(|a| a.id == id).collect()
     }
 
     /// The MEASF of `MEAS = id`.

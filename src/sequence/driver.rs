@@ -7,8 +7,8 @@
 use std::collections::HashSet;
 
 use super::{
-    Clock, RunContext, RunError, SubcaseSummary, estimate, fmb, frf, modal, optimize, prom,
-    rom_case, rom_frf, rom_modal, rom_transient, statics, transient,
+    Clock, RunContext, RunError, SubcaseSummary, estimate, fmb, fmb_estimate, frf, modal, optimize,
+    prom, rom_case, rom_frf, rom_modal, rom_transient, statics, transient,
 };
 use crate::deck::case_control::Subcase;
 use crate::deck::{Deck, Solution, Warning};
@@ -80,6 +80,7 @@ pub const DRIVERS: &[&dyn Driver] = &[
     &rom_transient::RomTransient,
     &estimate::Estimate,
     &fmb::Fmb,
+    &fmb_estimate::MechanismEstimate,
     &optimize::Optimize,
 ];
 
@@ -189,6 +190,14 @@ fn choose(model: &Model, sol: Solution, text: &str) -> Result<&'static dyn Drive
                 list(&names)
             ))
         })
+    } else if *sol == Solution::Estimate
+        && model.mechanism.is_empty()
+        && model.subcases.iter().all(|s| s.fmb.is_none())
+    {
+        Err(RunError::NotAvailable(format!(
+            "{text} ({}) on the full model: the estimators run on pROM artifacts (ROM = 'file.h5' in every subcase) or on a mechanism (FLEXB or RIGIDB bodies, or FMB = 'file.h5')",
+            sol.name()
+        )))
     } else {
         driver(sol, Basis::Mesh).ok_or_else(|| {
             RunError::NotAvailable(format!(

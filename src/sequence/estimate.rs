@@ -133,35 +133,17 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         ..
     } = RomAtPoint::load(ctx, sub)?;
     let n = prom.size();
-    let ekf_id = sub
-        .estim
-        .ok_or_else(|| case("SOL ESTIMATE needs ESTIM = <EKF id> in case control".into()))?;
-    let ekf = model
-        .ekf(ekf_id)
-        .ok_or_else(|| case(format!("ESTIM = {ekf_id} selects no EKF card")))?;
-    let meas_id = sub
-        .meas
-        .ok_or_else(|| case("SOL ESTIMATE needs MEAS = <MEASF id> in case control".into()))?;
-    let measf = model
-        .measf(meas_id)
-        .ok_or_else(|| case(format!("MEAS = {meas_id} selects no MEASF card")))?;
-    let channels = model.meas(meas_id);
-    if channels.is_empty() {
-        return Err(case(format!("MEASF {meas_id} has no MEAS channel")));
-    }
-    let sid = sub
-        .tstep
-        .ok_or_else(|| case("SOL ESTIMATE needs TSTEP = <sid> for the filter step".into()))?;
-    let tstep = model
-        .tstep(sid)
-        .ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
-    let dt = tstep.intervals[0].1;
-    if tstep.intervals.iter().any(|i| i.1 != dt) {
-        return Err(case(format!(
-            "TSTEP {sid}: the filter runs with one step Δt; intervals have different DT"
-        )));
-    }
-    let steps: usize = tstep.intervals.iter().map(|i| i.0 as usize).sum();
+    let selection = Selection::of(model, sub)?;
+    let csv = selection.csv();
+    let Selection {
+        ekf_id,
+        ekf,
+        meas_id,
+        measf,
+        channels,
+        dt,
+        steps,
+    } = selection;
 
     // unknowns
     let param_names: Vec<&str> = prom.parameters.iter().map(|q| q.name.as_str()).collect();
@@ -206,11 +188,6 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, n)?;
     let sensors = SensorRows::new(sensor_names, sensor_kinds, h_r)
         .map_err(|e| case(format!("{}: {e}", path.display())))?;
-    let csv = measf
-        .loc
-        .file
-        .parent()
-        .map_or_else(|| PathBuf::from(&measf.path), |dir| dir.join(&measf.path));
     let window = (dt, steps as f64 * dt);
     let mut measured_rows = Vec::new();
     let mut measured_series = Vec::new();
@@ -581,10 +558,80 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     })
 }
 
+/// What an estimation subcase selects in case control: the EKF (`ESTIM`), the measurement
+/// file and its channels (`MEAS`), and the filter step Δt with the number of steps (`TSTEP`,
+/// one Δt for all intervals). Shared by the pROM and the mechanism estimators.
+pub(super) struct Selection<'a> {
+    pub ekf_id: u32,
+    pub ekf: &'a crate::deck::cards::Ekf,
+    pub meas_id: u32,
+    pub measf: &'a crate::deck::cards::Measf,
+    pub channels: Vec<&'a crate::deck::cards::Meas>,
+    pub dt: f64,
+    pub steps: usize,
+}
+
+impl<'a> Selection<'a> {
+    /// The selections of `sub`, each missing or dangling one an error naming the statement.
+    pub fn of(model: &'a crate::model::Model, sub: &Subcase) -> Result<Self, RunError> {
+        let case = |what: String| RunError::Case {
+            subcase: sub.id,
+            what,
+        };
+        let ekf_id = sub
+            .estim
+            .ok_or_else(|| case("SOL ESTIMATE needs ESTIM = <EKF id> in case control".into()))?;
+        let ekf = model
+            .ekf(ekf_id)
+            .ok_or_else(|| case(format!("ESTIM = {ekf_id} selects no EKF card")))?;
+        let meas_id = sub
+            .meas
+            .ok_or_else(|| case("SOL ESTIMATE needs MEAS = <MEASF id> in case control".into()))?;
+        let measf = model
+            .measf(meas_id)
+            .ok_or_else(|| case(format!("MEAS = {meas_id} selects no MEASF card")))?;
+        let channels = model.meas(meas_id);
+        if channels.is_empty() {
+            return Err(case(format!("MEASF {meas_id} has no MEAS channel")));
+        }
+        let sid = sub
+            .tstep
+            .ok_or_else(|| case("SOL ESTIMATE needs TSTEP = <sid> for the filter step".into()))?;
+        let tstep = model
+            .tstep(sid)
+            .ok_or_else(|| case(format!("TSTEP = {sid} selects no TSTEP card")))?;
+        let dt = tstep.intervals[0].1;
+        if tstep.intervals.iter().any(|i| i.1 != dt) {
+            return Err(case(format!(
+                "TSTEP {sid}: the filter runs with one step Δt; intervals have different DT"
+            )));
+        }
+        let steps = tstep.intervals.iter().map(|i| i.0 as usize).sum();
+        Ok(Self {
+            ekf_id,
+            ekf,
+            meas_id,
+            measf,
+            channels,
+            dt,
+            steps,
+        })
+    }
+
+    /// The measurement file's path (MEASF PATH relative to the file holding the card).
+    pub fn csv(&self) -> PathBuf {
+        let m = self.measf;
+        m.loc
+            .file
+            .parent()
+            .map_or_else(|| PathBuf::from(&m.path), |dir| dir.join(&m.path))
+    }
+}
+
 /// Column `column` of the CSV against its time column, interpolated linearly onto t_k = k Δt,
 /// k = 1 … steps (`first` = Δt, `last` = steps Δt); the window must lie inside the measured
 /// time range.
-fn resample(
+pub(super) fn resample(
     csv: &Path,
     tcol: &Column,
     column: &Column,

@@ -12,7 +12,7 @@
 //! | `PROM` | [`prom`] | `PROM` (PMOR), `SPC` → the pROM artifact |
 //! | `108`, `111`, `FRF` | [`frf`] (mesh), [`rom_frf`] (`ROM =`) | `SPC`, `FREQUENCY`, `DLOAD` (RLOAD1/DAREA inputs), `METHOD` (111) → complex FRFs at inputs and SENSORs |
 //! | `109`, `112`, `TRANSIENT` | [`transient`] (mesh), [`rom_transient`] (`ROM =`) | `TSTEP` (+`TINTEG`), `DLOAD`, `IC` → sensor histories |
-//! | `ESTIMATE` | [`estimate`] (`ROM =`) | `ESTIM` (EKF), `MEAS` (MEASF) → states, inputs, parameters |
+//! | `ESTIMATE` | [`estimate`] (`ROM =`), [`fmb_estimate`] (a mechanism) | `ESTIM` (EKF), `MEAS` (MEASF) → states, inputs, parameters (the AMANDA-EKF on a mechanism: `EKFPAR` `BODY.PMPAR`, `AMANDA`) |
 //! | `FMB` | [`fmb`] | the mechanism, `TSTEP`, `LOAD` (GRAV), `PVAL` (`BODY.PMPAR`) → MSENSOR and drive histories |
 //! | `OPTIMIZE` | [`optimize`] | the mechanism run as `FMB` per design: `DESVAR`/`DDVAL`, `DVMAP`, `DOBJ`, `DCONSTR`, `MOOPT` → designs, responses, Pareto set, hypervolume, correlations, representative histories |
 //!
@@ -50,6 +50,7 @@
 pub mod driver;
 pub mod estimate;
 pub mod fmb;
+pub mod fmb_estimate;
 pub mod frf;
 pub mod modal;
 pub mod optimize;

@@ -1,6 +1,6 @@
 //! Virtual-sensing cards of `SOL ESTIMATE` (augmented EKF, thesis ch. 8): `EKF`, `EKFPAR`,
-//! `EKFINP`, `MEASF`, `MEAS`. Same field rules as the other extension cards; every bad field is
-//! reported, not only the first.
+//! `EKFINP`, `MEASF`, `MEAS`, and `AMANDA` (the AMANDA-EKF on a mechanism, thesis ch. 9). Same
+//! field rules as the other extension cards; every bad field is reported, not only the first.
 
 use crate::card_values::Column;
 use crate::card_values::{
@@ -16,8 +16,8 @@ use crate::deck::value::Value;
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | ID | int > 0 | required | id |
-/// | 3 | QSTATE | real > 0 | machine ε | diagonal of Q for q and q̇ (thesis §8.5.2: Q_q = Q_q̇ = εI) |
-/// | 4 | P0STATE | real > 0 | 1.0E-20 | initial variance of q and q̇ |
+/// | 3 | QSTATE | real > 0 | machine ε | diagonal of Q for q and q̇ (thesis §8.5.2: Q_q = Q_q̇ = εI); on a mechanism for q only, q̇'s on `AMANDA` |
+/// | 4 | P0STATE | real > 0 | 1.0E-20 | initial variance of q and q̇; on a mechanism of q only, q̇'s on `AMANDA` |
 /// | 5 | FORCE | `YES` `NO` | NO | run even when the observability check fails |
 /// | 6 | REDIAG | real in (0, 0.1] | blank | re-diagonalized modal coordinates with this drift tolerance when the estimated parameters change a pROM part that no modes diagonalize (blank: exact coordinates, the pROM's own when modal ones do not apply; paraflex-specific) |
 /// | 7 | PREDICT | `TRAP` `BDF1` | TRAP | the prediction's time discretization: the trapezoidal rule (no numerical damping) or BDF1 (the thesis's eq. 8.22, exact on data made by BDF1); paraflex-specific |
@@ -74,7 +74,7 @@ impl Ekf {
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | ID | int > 0 | required | the EKF id |
-/// | 3 | NAME | name | required | PMPAR name in the pROM |
+/// | 3 | NAME | name | required | PMPAR name in the pROM; on a mechanism `BODY.PMPAR` of a flexible body |
 /// | 4 | INIT | real ≠ 0 | required | initial guess p₀ |
 /// | 5 | DELTA | real > 0 | required | δ_p in Hz: Q_p = (Δt δ_p INIT)² (eq. 8.31) |
 /// | 6 | P0 | real > 0 | INIT² | initial variance |
@@ -206,7 +206,7 @@ impl Measf {
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | ID | int > 0 | required | the MEASF id |
-/// | 3 | SENSOR | name | required | SENSOR name in the pROM |
+/// | 3 | SENSOR | name | required | SENSOR name in the pROM; on a mechanism an MSENSOR name (kind STRAIN, POS or ACCEL) |
 /// | 4 | COLUMN | int ≥ 1 or name | required | CSV column |
 /// | 5 | SIGMA | real > 0 | required | noise standard deviation (R = σ²) |
 #[derive(Debug, Clone, PartialEq)]
@@ -246,6 +246,64 @@ impl Meas {
             loc,
         })
     }
+}
+
+/// `AMANDA` — settings of the AMANDA-EKF (thesis ch. 9) on a mechanism.
+///
+/// Read with the `EKF` of the same id when `SOL ESTIMATE` runs on a mechanism (bodies in the
+/// deck or `FMB = 'file.h5'`).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | ID | int > 0 | required | the EKF id |
+/// | 3 | TOL | real > 0 | 1.0E-10 | the AMANDA step (eq. 9.9–9.14) ends when max \|Φ\| and max \|Φ_q v + Φ_t\| are below TOL |
+/// | 4 | MAXIT | int > 0 | 10 | Gauss–Newton iterations of the AMANDA step before the kinematic-assembly fallback |
+/// | 5 | FREEZE | real > 0 | blank | a parameter's update is frozen at a step where its largest reading sensitivity max_i \|∂h_i/∂θ\| / σ_i (θ = p / INIT, along the prior trajectory: noise σ per 100 % change) is below FREEZE (§9.3.2); blank: never frozen |
+/// | 6 | QVEL | real > 0 | EKF QSTATE | Q of the velocity coordinates (the EKF's QSTATE is the positions'); paraflex-specific |
+/// | 7 | P0VEL | real > 0 | EKF P0STATE | initial variance of the velocities (the EKF's P0STATE is the positions'); paraflex-specific |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Amanda {
+    pub id: u32,
+    pub tolerance: f64,
+    pub max_iterations: u32,
+    pub freeze: Option<f64>,
+    pub q_velocities: Option<f64>,
+    pub p0_velocities: Option<f64>,
+    pub loc: Loc,
+}
+
+impl Amanda {
+    /// Read an `AMANDA` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "ID");
+        f.set_id(id);
+        let tolerance = optional_positive(&mut f, 2, "TOL", 1e-10);
+        let max_iterations = f.opt_count(3, "MAXIT").unwrap_or(10);
+        let freeze = blank_or_positive(&mut f, 4, "FREEZE");
+        let q_velocities = blank_or_positive(&mut f, 5, "QVEL");
+        let p0_velocities = blank_or_positive(&mut f, 6, "P0VEL");
+        let loc = f.loc();
+        f.finish(6)?;
+        Ok(Amanda {
+            id,
+            tolerance,
+            max_iterations,
+            freeze,
+            q_velocities,
+            p0_velocities,
+            loc,
+        })
+    }
+}
+
+/// A real that must be > 0 when given; `None` when blank.
+fn blank_or_positive(f: &mut FieldReader, i: usize, name: &str) -> Option<f64> {
+    let v = f.opt_real(i, name)?;
+    if v <= 0.0 {
+        f.error(i, name, format!("expected a real > 0, found {v:e}"));
+    }
+    Some(v)
 }
 
 /// A real that must be > 0 when given; `default` when blank.
@@ -303,6 +361,20 @@ mod tests {
             (m.path.as_str(), m.tcol.clone()),
             ("meas.csv", Column::Name("time".into()))
         );
+        let a = Amanda::from_card(&card("AMANDA,3")).unwrap();
+        assert_eq!(
+            (a.tolerance, a.max_iterations, a.freeze, a.q_velocities),
+            (1e-10, 10, None, None)
+        );
+        let a = Amanda::from_card(&card("AMANDA,3,1.e-9,4,0.5,1.e-14,1.e-10")).unwrap();
+        assert_eq!(
+            (a.tolerance, a.max_iterations, a.freeze),
+            (1e-9, 4, Some(0.5))
+        );
+        assert_eq!(
+            (a.q_velocities, a.p0_velocities),
+            (Some(1e-14), Some(1e-10))
+        );
         let m = Meas::from_card(&card("MEAS,4,S1,3,1.e-7")).unwrap();
         assert_eq!(
             (m.sensor.as_str(), m.column.clone(), m.sigma),
@@ -336,6 +408,12 @@ mod tests {
                 .unwrap_err()
                 .len(),
             3
+        );
+        assert_eq!(
+            Amanda::from_card(&card("AMANDA,3,0.,-2,-1.,0.,x"))
+                .unwrap_err()
+                .len(),
+            5
         );
         assert_eq!(
             Meas::from_card(&card("MEAS,4,S1,,0.")).unwrap_err().len(),

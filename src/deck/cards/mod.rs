@@ -36,7 +36,7 @@ pub use elements::{
     BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Conm2, Cpenta, Cquad4,
     Ctetra, Ctria3, Cvisc, OnCardLayout, Spoint,
 };
-pub use estimate::{Ekf, Ekfinp, Ekfpar, Meas, Measf};
+pub use estimate::{Amanda, Ekf, Ekfinp, Ekfpar, Meas, Measf};
 pub use extension::{
     Pmor, PmorRigid, PmorStatic, Pmpar, Ptable, Pval, Sensor, Tablef, Tinteg, TintegMethod,
     Tstepvar,
@@ -161,6 +161,7 @@ pub struct BulkData {
     pub ekfinp: Vec<Ekfinp>,
     pub measf: Vec<Measf>,
     pub meas: Vec<Meas>,
+    pub amanda: Vec<Amanda>,
     pub flexb: Vec<Flexb>,
     pub rigidb: Vec<Rigidb>,
     pub markers: Vec<Marker>,
@@ -346,6 +347,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("EKFINP", |c, b| Ok(b.ekfinp.push(Ekfinp::from_card(c)?))),
     ("MEASF", |c, b| Ok(b.measf.push(Measf::from_card(c)?))),
     ("MEAS", |c, b| Ok(b.meas.push(Meas::from_card(c)?))),
+    ("AMANDA", |c, b| Ok(b.amanda.push(Amanda::from_card(c)?))),
     ("FLEXB", |c, b| Ok(b.flexb.push(Flexb::from_card(c)?))),
     ("RIGIDB", |c, b| Ok(b.rigidb.push(Rigidb::from_card(c)?))),
     ("MARKER", |c, b| Ok(b.markers.push(Marker::from_card(c)?))),

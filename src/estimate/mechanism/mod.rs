@@ -10,6 +10,8 @@
 //!   9.8);
 //! - [`sensors`]: strain, marker position and acceleration measurements and their rows;
 //! - [`manifold`]: the AMANDA step back onto the constraints (eq. 9.9–9.14);
+//! - [`observability`]: the setups that cannot work (§9.3.1) and the numerical observability
+//!   of the linearized system over the first steps;
 //! - `model`: the [`crate::estimate::ekf::ProcessModel`] that ties them to the EKF's gain and
 //!   Joseph update ([`crate::estimate::ekf::Ekf`], eq. 9.20–9.22).
 
@@ -17,6 +19,7 @@ mod model;
 
 pub mod manifold;
 pub mod nullspace;
+pub mod observability;
 pub mod parameters;
 pub mod sensors;
 pub mod transition;
@@ -47,6 +50,9 @@ pub struct AmandaSetup {
     /// P₀ of each parameter, relative (variance of θ).
     pub p0_parameters: Vec<f64>,
     pub manifold: ManifoldSettings,
+    /// The sensitivity below which parameter updates are frozen (§9.3.2, [`StepReport`]'s
+    /// `sensitivity`); `None`: never.
+    pub freeze: Option<f64>,
 }
 
 /// The AMANDA-EKF on a pFMB (module docs).
@@ -112,7 +118,14 @@ impl Amanda {
         parameters
             .apply(&x[2 * n..], &mut ggl.system)
             .map_err(FilterError::Mechanism)?;
-        let model = MechanismModel::new(ggl, parameters, sensors, process, setup.manifold)?;
+        let model = MechanismModel::new(
+            ggl,
+            parameters,
+            sensors,
+            process,
+            setup.manifold,
+            setup.freeze,
+        )?;
         let p = Mat::from_fn(p0.len(), p0.len(), |i, j| if i == j { p0[i] } else { 0.0 });
         Ok(Self {
             ekf: Ekf::new(model, x, p),
@@ -283,6 +296,7 @@ mod tests {
             p0_velocities: p0_state,
             p0_parameters: vec![p0_e / (E_GUESS * E_GUESS)],
             manifold: ManifoldSettings::default(),
+            freeze: None,
         };
         let mut amanda =
             Amanda::new(one_body(&model, E_GUESS), parameters, sensors, &setup).expect("AMANDA");

@@ -4,6 +4,12 @@
 //! Jacobian of [`super::transition`] (eq. 9.17) and P⁻ = J P⁺ Jᵀ + Q (eq. 9.18), the
 //! measurements of [`super::sensors`] (eq. 9.16, 9.19), and after the correction the AMANDA
 //! step of [`super::manifold`] (eq. 9.23), whose residuals the step's [`StepReport`] keeps.
+//!
+//! The freeze of §9.3.2: the model carries the sensitivity S_k = ∂(q_k, v_k)/∂θ of the prior
+//! trajectory (S_k = J_z S_{k−1} + J_θ, from the transition Jacobian's blocks, S_0 = 0); a
+//! parameter j whose largest measurement sensitivity max_i |(J_m S_k)_ij| / σ_i — the change
+//! of a reading, in noise standard deviations, per 100 % change of the parameter — is below
+//! the threshold is not updated by that step's correction (its gain row is zero).
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
@@ -29,6 +35,11 @@ pub struct StepReport {
     pub manifold: ManifoldReport,
     /// Times the dependent coordinates have been chosen so far.
     pub partition_choices: usize,
+    /// The smallest over the parameters of their largest measurement sensitivity
+    /// max_i |∂h_i/∂θ_j| / σ_i (see [`MechanismModel`]); zero without parameters.
+    pub sensitivity: f64,
+    /// Parameters whose update this step froze (sensitivity below the threshold).
+    pub frozen: usize,
 }
 
 /// The process model (module docs).
@@ -47,6 +58,12 @@ pub struct MechanismModel {
     jacobian: Mat<f64>,
     product: Mat<f64>,
     manifold: ManifoldSettings,
+    /// ∂(q, v)/∂θ along the prior trajectory: S_k = J_z S_{k−1} + J_θ (eq. 9.8's blocks).
+    sensitivity: Mat<f64>,
+    /// The sensitivity below which a parameter's update is frozen (§9.3.2), and the frozen
+    /// entries of x this step.
+    freeze: Option<f64>,
+    frozen: Vec<usize>,
     pub report: StepReport,
 }
 
@@ -63,9 +80,11 @@ impl MechanismModel {
         sensors: Vec<Sensor>,
         process_noise: Vec<f64>,
         manifold: ManifoldSettings,
+        freeze: Option<f64>,
     ) -> Result<Self, FilterError> {
         let (n, m) = (ggl.system.size(), ggl.constraint_count());
-        let big_n = 2 * n + parameters.len();
+        let parameters_len = parameters.len();
+        let big_n = 2 * n + parameters_len;
         if process_noise.len() != big_n {
             return Err(FilterError::Shape {
                 what: "process noise",
@@ -92,6 +111,9 @@ impl MechanismModel {
             jacobian: Mat::identity(big_n, big_n),
             product: Mat::zeros(big_n, big_n),
             manifold,
+            sensitivity: Mat::zeros(2 * n, parameters_len),
+            freeze,
+            frozen: Vec::new(),
             report: StepReport::default(),
         })
     }
@@ -166,6 +188,17 @@ impl ProcessModel for MechanismModel {
             .as_mut()
             .submatrix_mut(0, z, z, np)
             .copy_from(&j.parameters);
+        // S_k = J_z S_{k−1} + J_θ
+        let mut next = j.parameters.clone();
+        matmul(
+            next.as_mut(),
+            Accum::Add,
+            j.states.as_ref(),
+            self.sensitivity.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        self.sensitivity = next;
         // P⁻ = J P Jᵀ + Q (eq. 9.18)
         matmul(
             self.product.as_mut(),
@@ -192,6 +225,8 @@ impl ProcessModel for MechanismModel {
             predicted_residual: step.constraint_residual,
             manifold: ManifoldReport::default(),
             partition_choices: self.partition.choices,
+            sensitivity: 0.0,
+            frozen: 0,
         };
         Ok(())
     }
@@ -206,6 +241,34 @@ impl ProcessModel for MechanismModel {
             predicted,
             jm,
         );
+        let z = 2 * n;
+        let (rows, np) = (self.sensors.len(), self.parameters.len());
+        let largest = |j: usize| {
+            (0..rows)
+                .map(|i| {
+                    let d: f64 = (0..z).map(|l| jm[(i, l)] * self.sensitivity[(l, j)]).sum();
+                    d.abs() / self.noise[i].sqrt()
+                })
+                .fold(0.0, f64::max)
+        };
+        let sensitivities: Vec<f64> = (0..np).map(largest).collect();
+        self.report.sensitivity = sensitivities.iter().copied().fold(f64::INFINITY, f64::min);
+        if np == 0 {
+            self.report.sensitivity = 0.0;
+        }
+        self.frozen.clear();
+        if let Some(threshold) = self.freeze {
+            self.frozen.extend(
+                (0..np)
+                    .filter(|&j| sensitivities[j] < threshold)
+                    .map(|j| z + j),
+            );
+        }
+        self.report.frozen = self.frozen.len();
+    }
+
+    fn frozen(&self) -> &[usize] {
+        &self.frozen
     }
 
     fn corrected(

@@ -72,9 +72,33 @@ fn acceleration(
     dot(direction, a)
 }
 
-/// h(x) of every sensor at (q, v) = x's first 2n entries into `y`, and their rows (over all
-/// of x) into `jm` (overwritten); `previous` is v_{k−1} and `ggl` the system (its state is
-/// not read).
+/// h(x) of every sensor at (q, v) = x's first 2n entries into `y` (no rows: the estimated
+/// sensors' values); `previous` is v_{k−1} and `ggl` the system (its state is not read).
+pub fn values(sensors: &[Sensor], ggl: &Ggl, x: &[f64], previous: &[f64], y: &mut [f64]) {
+    let n = ggl.system.size();
+    let (q, v) = (&x[..n], &x[n..2 * n]);
+    let layout = &ggl.system.layout;
+    for (k, s) in sensors.iter().enumerate() {
+        y[k] = match &s.output {
+            Output::Strain { body, rows } => {
+                let f = layout.slice(*body).flexible();
+                rows.iter().zip(&q[f..]).map(|(c, x)| c * x).sum::<f64>() - s.reference
+            }
+            &Output::Position { marker, direction } => {
+                let p = ggl.system.markers[marker].point();
+                dot(direction, p.value(layout, q))
+            }
+            &Output::Acceleration { marker, direction } => {
+                acceleration(ggl, marker, direction, q, v, previous)
+            }
+            other => unreachable!("{other:?} is checked to have a measurement equation"),
+        };
+    }
+}
+
+/// h(x) of every sensor at (q, v) = x's first 2n entries into `y` ([`values`]), and their rows
+/// (over all of x) into `jm` (overwritten); `previous` is v_{k−1} and `ggl` the system (its
+/// state is not read).
 pub fn measure(
     sensors: &[Sensor],
     ggl: &Ggl,
@@ -83,23 +107,22 @@ pub fn measure(
     y: &mut [f64],
     jm: &mut Mat<f64>,
 ) {
+    values(sensors, ggl, x, previous, y);
     let n = ggl.system.size();
     let (q, v) = (&x[..n], &x[n..2 * n]);
     let layout = &ggl.system.layout;
     jm.fill(0.0);
     for (k, s) in sensors.iter().enumerate() {
-        y[k] = match &s.output {
+        match &s.output {
             Output::Strain { body, rows } => {
                 let f = layout.slice(*body).flexible();
                 for (i, c) in rows.iter().enumerate() {
                     jm[(k, f + i)] = *c;
                 }
-                rows.iter().zip(&q[f..]).map(|(c, x)| c * x).sum::<f64>() - s.reference
             }
             &Output::Position { marker, direction } => {
                 let p = ggl.system.markers[marker].point();
                 p.jacobian(layout, q, |i, j, d| jm[(k, j)] += direction[i] * d);
-                dot(direction, p.value(layout, q))
             }
             &Output::Acceleration { marker, direction } => {
                 let (mut qs, mut vs) = (q.to_vec(), v.to_vec());
@@ -119,9 +142,8 @@ pub fn measure(
                     vs[j] = v[j];
                     jm[(k, n + j)] = (plus - minus) / (2.0 * step);
                 }
-                acceleration(ggl, marker, direction, q, v, previous)
             }
             other => unreachable!("{other:?} is checked to have a measurement equation"),
-        };
+        }
     }
 }

@@ -1,0 +1,265 @@
+//! Observability of a mechanism estimation (thesis §9.3.1) before the filter runs: the two
+//! setups the thesis names as unable to work, and the numerical observability of the
+//! linearized system along the first steps of the prior trajectory.
+//!
+//! - [`structural`]: accelerations only carry no static information (the estimates drift);
+//!   strains read flexible coordinates only, so without a position measurement the rigid
+//!   coordinates that the joints and drives leave free (an undriven mechanism) have no
+//!   absolute information. The free rigid coordinates are counted as n_rigid − rank Φ_q[:,
+//!   rigid] at the assembled start (the flexible coordinates held).
+//! - [`numerical`]: the observability matrix of the linearized system over the first K steps
+//!   from the initial estimate (the filter's prediction without corrections),
+//!
+//!   ```text
+//!   O = [ R^{-1/2} J_m,1 Φ_1 ; … ; R^{-1/2} J_m,K Φ_K ] T,   Φ_k = J_k Φ_{k−1},  Φ_0 = I,
+//!   ```
+//!
+//!   J_k the augmented transition Jacobian (eq. 9.8, 9.17), J_m,k the measurement rows (eq.
+//!   9.19), T = diag(N₀, N₀, I) restricting the initial perturbation to the independent
+//!   coordinates (N₀ the nullspace of Φ_q at the start: perturbations off the constraints are
+//!   not states), its columns scaled to unit norm (the coordinates, velocities and scaled
+//!   parameters have different units). Its rank (singular values above
+//!   [`RANK_TOLERANCE`] × the largest) and its smallest singular value over the largest are
+//!   reported, and per parameter the distance of its (unit) column from the span of all the
+//!   other columns: 0 when the data cannot tell a parameter change from a change of the
+//!   states or the other parameters, 1 when its effect is orthogonal to theirs.
+
+use faer::Mat;
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Par};
+
+use super::nullspace::Partition;
+use super::parameters::Parameters;
+use super::sensors::{Sensor, measure};
+use super::transition::transition;
+use crate::multibody::{Ggl, Output};
+
+/// Singular values below this fraction of the largest count as zero.
+pub const RANK_TOLERANCE: f64 = 1e-9;
+
+/// Why a setup cannot work (module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Refusal {
+    /// Every measurement is an acceleration.
+    AccelerationsOnly,
+    /// `free` rigid coordinates are not fixed by joints and drives and no position is measured.
+    NoAbsoluteInformation { free: usize },
+}
+
+impl std::fmt::Display for Refusal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Refusal::AccelerationsOnly => write!(
+                f,
+                "every measurement is an acceleration: accelerations carry no static information, the estimates would drift (thesis §9.3.1); add a position or strain measurement"
+            ),
+            Refusal::NoAbsoluteInformation { free } => write!(
+                f,
+                "the joints and drives leave {free} rigid degree(s) of freedom free and no POS is measured: strains read the flexible coordinates only, so nothing fixes the rigid ones absolutely (thesis §9.3.1); measure a marker position or drive the mechanism"
+            ),
+        }
+    }
+}
+
+/// The rank of `a` (singular values above [`RANK_TOLERANCE`] × the largest), its smallest
+/// and largest singular values (of its thin SVD; zero for an empty matrix).
+fn rank(a: &Mat<f64>) -> (usize, f64, f64) {
+    if a.nrows() == 0 || a.ncols() == 0 {
+        return (0, 0.0, 0.0);
+    }
+    let Ok(values) = a.singular_values() else {
+        return (0, 0.0, 0.0);
+    };
+    let largest = values.iter().copied().fold(0.0, f64::max);
+    let count = values
+        .iter()
+        .filter(|s| **s > RANK_TOLERANCE * largest)
+        .count();
+    let smallest = if a.nrows() >= a.ncols() {
+        values.iter().copied().fold(f64::INFINITY, f64::min)
+    } else {
+        0.0
+    };
+    (count, smallest, largest)
+}
+
+/// The setup's refusal, if any (module docs), at `ggl`'s assembled start.
+pub fn structural(ggl: &Ggl, sensors: &[Sensor]) -> Option<Refusal> {
+    let kinds = |f: fn(&Output) -> bool| sensors.iter().filter(|s| f(&s.output)).count();
+    if kinds(|o| matches!(o, Output::Acceleration { .. })) == sensors.len() {
+        return Some(Refusal::AccelerationsOnly);
+    }
+    if kinds(|o| matches!(o, Output::Position { .. })) > 0 {
+        return None;
+    }
+    let layout = &ggl.system.layout;
+    let (n, m) = (ggl.system.size(), ggl.constraint_count());
+    let mut phi_q = Mat::zeros(m, n);
+    ggl.equations
+        .constraints
+        .jacobian(layout, &ggl.q, ggl.time, phi_q.as_mut());
+    let rigid: Vec<usize> = (layout.slices().iter())
+        .flat_map(|s| s.offset..s.offset + 7)
+        .collect();
+    let columns = Mat::from_fn(m, rigid.len(), |i, j| phi_q[(i, rigid[j])]);
+    let free = rigid.len() - rank(&columns).0;
+    (free > 0).then_some(Refusal::NoAbsoluteInformation { free })
+}
+
+/// The numerical observability (module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Observability {
+    /// Steps of the window.
+    pub steps: usize,
+    /// Rank and number of columns (independent coordinates, velocities and parameters).
+    pub rank: usize,
+    pub columns: usize,
+    /// Smallest over largest singular value of the column-scaled matrix.
+    pub ratio: f64,
+    /// Per parameter, the distance of its unit column from the span of the others.
+    pub parameters: Vec<f64>,
+}
+
+impl Observability {
+    /// Whether the matrix has full column rank.
+    pub fn full(&self) -> bool {
+        self.rank == self.columns
+    }
+}
+
+/// The observability matrix of `ggl` (assembled at the start, its system at the initial
+/// guesses θ = 1 of `parameters`) with `sensors` (module docs), over the shortest window whose
+/// rows outnumber its columns (two steps more), at most `limit` steps.
+pub fn numerical(
+    mut ggl: Ggl,
+    parameters: &Parameters,
+    sensors: &[Sensor],
+    limit: usize,
+) -> Result<Observability, String> {
+    let (n, m, np) = (ggl.system.size(), ggl.constraint_count(), parameters.len());
+    let big_n = 2 * n + np;
+    let theta = vec![1.0; np];
+    parameters.apply(&theta, &mut ggl.system)?;
+    let jacobian_at = |ggl: &Ggl| {
+        let mut phi_q = Mat::zeros(m, n);
+        ggl.equations
+            .constraints
+            .jacobian(&ggl.system.layout, &ggl.q, ggl.time, phi_q.as_mut());
+        phi_q
+    };
+    let start = jacobian_at(&ggl);
+    let mut partition = Partition::choose(start.as_ref()).map_err(|e| format!("{e:?}"))?;
+    let n0 = partition
+        .nullspace(start.as_ref())
+        .map_err(|e| format!("{e:?}"))?
+        .basis;
+    let free = n0.ncols();
+    let columns = 2 * free + np;
+    // T = diag(N₀, N₀, I)
+    let t = Mat::from_fn(big_n, columns, |i, j| {
+        match (i < n, i < 2 * n, j < free, j < 2 * free) {
+            (true, _, true, _) => n0[(i, j)],
+            (false, true, false, true) => n0[(i - n, j - free)],
+            (false, false, false, false) => f64::from(u8::from(i - 2 * n == j - 2 * free)),
+            _ => 0.0,
+        }
+    });
+    let k = sensors.len();
+    let steps = (columns.div_ceil(k.max(1)) + 2).min(limit);
+    let mut o = Mat::zeros(steps * k, columns);
+    let mut phi = t;
+    let mut augmented = Mat::identity(big_n, big_n);
+    let (mut y, mut jm) = (vec![0.0; k], Mat::zeros(k, big_n));
+    for step in 0..steps {
+        let previous: Vec<f64> = ggl.q.iter().chain(&ggl.v).copied().collect();
+        ggl.step().map_err(|e| e.to_string())?;
+        let rates = parameters.rates(&theta, &ggl.system, &ggl.q, &ggl.v)?;
+        let phi_q = jacobian_at(&ggl);
+        let nullspace = partition
+            .nullspace(phi_q.as_ref())
+            .map_err(|e| format!("{e:?}"))?;
+        let j = transition(&ggl, (&previous[..n], &previous[n..]), &nullspace, &rates).ok_or_else(
+            || {
+                format!(
+                    "at t = {}: the projected step equations are singular",
+                    ggl.time
+                )
+            },
+        )?;
+        augmented
+            .as_mut()
+            .submatrix_mut(0, 0, 2 * n, 2 * n)
+            .copy_from(&j.states);
+        augmented
+            .as_mut()
+            .submatrix_mut(0, 2 * n, 2 * n, np)
+            .copy_from(&j.parameters);
+        let mut next = Mat::zeros(big_n, columns);
+        matmul(
+            next.as_mut(),
+            Accum::Replace,
+            augmented.as_ref(),
+            phi.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        phi = next;
+        let x: Vec<f64> = (ggl.q.iter().chain(&ggl.v).copied())
+            .chain(theta.iter().copied())
+            .collect();
+        measure(sensors, &ggl, &x, &previous[n..], &mut y, &mut jm);
+        for (r, s) in sensors.iter().enumerate() {
+            let weight = 1.0 / s.variance.sqrt();
+            for c in 0..columns {
+                o[(step * k + r, c)] =
+                    weight * (0..big_n).map(|i| jm[(r, i)] * phi[(i, c)]).sum::<f64>();
+            }
+        }
+    }
+    for c in 0..columns {
+        let norm = (0..o.nrows())
+            .map(|r| o[(r, c)] * o[(r, c)])
+            .sum::<f64>()
+            .sqrt();
+        if norm > 0.0 {
+            (0..o.nrows()).for_each(|r| o[(r, c)] /= norm);
+        }
+    }
+    let (rank, smallest, largest) = rank(&o);
+    Ok(Observability {
+        steps,
+        rank,
+        columns,
+        ratio: if largest > 0.0 {
+            smallest / largest
+        } else {
+            0.0
+        },
+        parameters: (2 * free..columns)
+            .map(|c| distance_from_others(&o, c))
+            .collect(),
+    })
+}
+
+/// ‖o_c − U Uᵀ o_c‖ for a unit column o_c of `o` and U the range of the other columns (left
+/// singular vectors of singular values above [`RANK_TOLERANCE`] × the largest).
+fn distance_from_others(o: &Mat<f64>, c: usize) -> f64 {
+    let others = Mat::from_fn(o.nrows(), o.ncols() - 1, |i, j| {
+        o[(i, j + usize::from(j >= c))]
+    });
+    let column: Vec<f64> = (0..o.nrows()).map(|i| o[(i, c)]).collect();
+    let Ok(svd) = others.thin_svd() else {
+        return 0.0;
+    };
+    let sigma = svd.S().column_vector();
+    let largest = (0..sigma.nrows()).map(|i| sigma[i]).fold(0.0, f64::max);
+    let mut residual = column.clone();
+    for k in (0..sigma.nrows()).filter(|&k| sigma[k] > RANK_TOLERANCE * largest) {
+        let u = svd.U().col(k);
+        let along: f64 = (0..o.nrows()).map(|i| u[i] * column[i]).sum();
+        for (i, r) in residual.iter_mut().enumerate() {
+            *r -= along * u[i];
+        }
+    }
+    residual.iter().map(|r| r * r).sum::<f64>().sqrt()
+}
