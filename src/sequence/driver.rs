@@ -190,7 +190,7 @@ fn choose(model: &Model, sol: Solution, text: &str) -> Result<&'static dyn Drive
                 list(&names)
             ))
         })
-    } else if *sol == Solution::Estimate
+    } else if sol == Solution::Estimate
         && model.mechanism.is_empty()
         && model.subcases.iter().all(|s| s.fmb.is_none())
     {
