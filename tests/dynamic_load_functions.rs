@@ -37,6 +37,40 @@ fn rload2_and_parametric_tables_equal_the_analytic_sdof_response() {
     }
 }
 
+/// The same SDOF with its DAREA replaced by a static FORCE set of the same id (MSC Nastran's
+/// EXCITEID may select a static load set): the input is the load vector p = 2.5 e_x, named
+/// `LOAD 8`, and its output row is the work-conjugate displacement pᵀu = 2.5 u, so the response
+/// divided by 2.5 equals the analytic SDOF response to the same tolerance.
+#[test]
+fn rload_excitation_by_a_static_force_set_equals_the_analytic_sdof_response() {
+    let r = json("reference/analytic/frf_sdof_rload2.json");
+    let deck = root().join(r["meshes"][0]["deck"].as_str().unwrap());
+    let text = std::fs::read_to_string(&deck).expect("deck");
+    assert!(text.contains("DAREA,8,1,1,2.5\n"));
+    let (result, dir) = run_deck(&text.replace("DAREA,8,1,1,2.5\n", "FORCE,8,1,,2.5,1.,0.,0.\n"));
+    result.expect("run");
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+    let g = file.group("results/1/frf").expect("frf group");
+    let response: Vec<c64> = read_dataset(&g, "response");
+    let names: Vec<hdf5_metno::types::VarLenUnicode> = g
+        .dataset("inputs")
+        .and_then(|d| d.read_raw())
+        .expect("inputs");
+    assert_eq!(names.len(), 1);
+    assert_eq!(names[0].as_str(), "LOAD 8");
+    let (re, im) = (f64s(&r["response_re"]), f64s(&r["response_im"]));
+    let tolerance = f64s(&r["tolerance_finest"]["relative"]);
+    let peak = re
+        .iter()
+        .zip(&im)
+        .map(|(a, b)| a.hypot(*b))
+        .fold(0.0, f64::max);
+    for l in 0..re.len() {
+        let error = (response[l] / 2.5 - c64::new(re[l], im[l])).norm() / peak;
+        assert!(error <= tolerance[l], "line {l}: {error:e}");
+    }
+}
+
 /// An undamped SDOF under a TLOAD2 pulse with delay, T1, growth exponent, exponential and
 /// phase: the displacement history against scipy's DOP853 integration of the same load.
 #[test]

@@ -3,15 +3,15 @@
 //! - Placement: a DAREA entry (component in the grid's CD frame, as Nastran's DAREA) is a
 //!   g-set unit load reduced to n through the rigid elimination (Tᵀ: a dependent RBE DOF
 //!   spreads to its independent DOFs) and restricted to f ([`place_darea`],
-//!   [`unit_load_columns`]); a static load set (FORCE, MOMENT, LOAD) used as a TLOAD1's EXCITEID
-//!   the same way ([`static_shape`]). A load on a constrained DOF is an error: it would be lost.
+//!   [`unit_load_columns`]); a static load set (FORCE, MOMENT, LOAD) used as a TLOAD's or an
+//!   RLOAD's EXCITEID the same way ([`static_shape`]). A load on a constrained DOF is an error: it would be lost.
 //!   On a pROM, a DAREA entry names one of its input DOFs and loads that column of S_r
 //!   ([`place_input`]).
 //! - Time domain ([`load_terms`]): `DLOAD = sid` as a DLOAD combination S·Σ Sᵢ·Lᵢ or one load
 //!   set, each TLOAD1/TLOAD2 a shape × F(t − delay), F a table or a pulse ([`LoadTerm`], summed
 //!   by [`load_into`]).
 //! - Frequency domain ([`frequency_inputs`]): the DAREA DOFs of the RLOAD1/RLOAD2s of
-//!   `DLOAD = sid` are the inputs; each term is scale · P(f) · e^{i(θ − 2πfτ)} with
+//!   `DLOAD = sid` are the inputs, and so is each static load set an EXCITEID selects; each term is scale · P(f) · e^{i(θ − 2πfτ)} with
 //!   P = C(f) + iD(f) (RLOAD1) or B(f) e^{iφ(f)} (RLOAD2) ([`FrequencyLoad`]).
 //! - Tables ([`dynamic_table`]): a TABLED1–TABLED4 or a TABLEF (CSV read through
 //!   [`crate::io::csv_table`]).
@@ -152,8 +152,8 @@ pub fn load_terms(
     Ok(out)
 }
 
-/// The f-set shape of a static load set (FORCE, MOMENT, LOAD combinations) used as a TLOAD1's
-/// EXCITEID (as MSC Nastran accepts without LSEQ).
+/// The f-set shape of a static load set (FORCE, MOMENT, LOAD combinations) used as a TLOAD's or
+/// an RLOAD's EXCITEID (as MSC Nastran accepts without LSEQ).
 pub fn static_shape(
     model: &Model,
     st: &Structure,
@@ -161,7 +161,7 @@ pub fn static_shape(
     sid: u32,
 ) -> Result<Option<Vec<f64>>, String> {
     let p_g = load_vector(model, &st.frames, &st.map, sid, None)
-        .map_err(|e| format!("TLOAD1 EXCITEID {sid}: no DAREA and {e}"))?;
+        .map_err(|e| format!("EXCITEID {sid}: no DAREA and {e}"))?;
     let p_n = st.rigid.reduce_vector(&p_g).map_err(|e| e.to_string())?;
     c.sets
         .f_in_n
@@ -266,8 +266,9 @@ pub enum FrequencyFunction {
     Polar { b: Table, phi: Option<Table> },
 }
 
-/// The inputs of a frequency response: names `GRID:component`, f-set unit-load columns
-/// (n_f × k) and the RLOAD1 terms on them.
+/// The inputs of a frequency response: names `GRID:component` (DAREA DOFs, unit-load columns)
+/// then `LOAD sid` (static load sets selected by an EXCITEID, their load vector as the column),
+/// the f-set columns (n_f × k) and the RLOAD terms on them.
 pub struct FrequencyInputs {
     pub names: Vec<String>,
     pub columns: Mat<f64>,
@@ -296,8 +297,10 @@ impl FrequencyInputs {
     }
 }
 
-/// The inputs of `DLOAD = sid` (a DLOAD combination S·Σ Sᵢ·Lᵢ or one RLOAD1 set): every DAREA
-/// entry of its RLOAD1s' EXCITEIDs is an input DOF, loaded by a unit force through Tᵀ.
+/// The inputs of `DLOAD = sid` (a DLOAD combination S·Σ Sᵢ·Lᵢ or one RLOAD set): every DAREA
+/// entry of its RLOADs' EXCITEIDs is an input DOF, loaded by a unit force through Tᵀ; an
+/// EXCITEID with no DAREA selects a static load set, one input whose column is its load vector
+/// (its output row is the load's work-conjugate displacement pᵀu).
 pub fn frequency_inputs(
     model: &Model,
     st: &Structure,
@@ -305,6 +308,9 @@ pub fn frequency_inputs(
     sid: u32,
 ) -> Result<FrequencyInputs, String> {
     let mut dofs: Vec<(u32, usize)> = Vec::new();
+    let mut static_sets: Vec<(u32, Vec<f64>)> = Vec::new();
+    // terms on a static set: (index in `terms`, index in `static_sets`), numbered after the DOFs
+    let mut on_static_sets: Vec<(usize, usize)> = Vec::new();
     let mut terms = Vec::new();
     for (scale, set) in model.dynamic_load_members(sid) {
         let rloads = model.harmonic_loads(set);
@@ -352,16 +358,51 @@ pub fn frequency_inputs(
                 });
             }
             if r.excitation.is_empty() {
-                return Err(format!(
-                    "{card} {}: EXCITEID {} selects no DAREA",
-                    r.sid, r.excite_id
-                ));
+                let known = static_sets.iter().position(|(id, _)| *id == r.excite_id);
+                let index = match known {
+                    Some(i) => i,
+                    None => {
+                        let shape = static_shape(model, st, c, r.excite_id)
+                            .map_err(|e| format!("{card} {}: {e}", r.sid))?
+                            .ok_or_else(|| {
+                                format!(
+                                    "{card} {}: EXCITEID {} selects no DAREA",
+                                    r.sid, r.excite_id
+                                )
+                            })?;
+                        static_sets.push((r.excite_id, shape));
+                        static_sets.len() - 1
+                    }
+                };
+                on_static_sets.push((terms.len(), index));
+                terms.push(FrequencyLoad {
+                    input: index,
+                    scale,
+                    p: p.clone(),
+                    phase: r.phase_deg.to_radians(),
+                    delay: r.delay,
+                });
             }
         }
     }
+    for (term, index) in on_static_sets {
+        terms[term].input = dofs.len() + index;
+    }
+    let unit = unit_load_columns(model, st, c, &dofs)?;
+    let columns = Mat::from_fn(unit.nrows(), dofs.len() + static_sets.len(), |i, j| match j
+        .checked_sub(dofs.len())
+    {
+        None => unit[(i, j)],
+        Some(k) => static_sets[k].1[i],
+    });
+    let names = dofs
+        .iter()
+        .map(|(g, c)| format!("{g}:{c}"))
+        .chain(static_sets.iter().map(|(id, _)| format!("LOAD {id}")))
+        .collect();
     Ok(FrequencyInputs {
-        names: dofs.iter().map(|(g, c)| format!("{g}:{c}")).collect(),
-        columns: unit_load_columns(model, st, c, &dofs)?,
+        names,
+        columns,
         terms,
     })
 }
