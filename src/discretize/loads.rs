@@ -134,12 +134,14 @@ pub fn load_terms(
                 place(x, scale * x.scale, &mut shape)?;
             }
             if t.excitation.is_empty() {
-                let p = static_set(t.excite_id)?.ok_or_else(|| {
-                    format!(
-                        "{card} {}: EXCITEID {} selects no DAREA",
-                        t.sid, t.excite_id
-                    )
-                })?;
+                let p = static_set(t.excite_id)
+                    .map_err(|e| format!("{card} {}: {e}", t.sid))?
+                    .ok_or_else(|| {
+                        format!(
+                            "{card} {}: EXCITEID {} selects no DAREA",
+                            t.sid, t.excite_id
+                        )
+                    })?;
                 shape.iter_mut().zip(&p).for_each(|(s, p)| *s += scale * p);
             }
             out.push(LoadTerm {
