@@ -72,7 +72,7 @@ use crate::fe::{beam, shell, solid};
 use crate::geometry::vec3::{normalize, sub};
 use crate::linalg::Progress;
 use crate::model::damping::Damper;
-use crate::model::materials::Material;
+use crate::model::materials::{IsotropicMaterial, Material};
 use crate::model::properties::{
     MaterialUse, ShellPlacement, ShellProperty, Spring, SpringStiffness,
 };
@@ -819,7 +819,7 @@ fn solid_element(
     e: &Element,
     xyz: &[[f64; 3]],
 ) -> Result<Built, DiscretizeError> {
-    let (model, frames) = (ctx.model, ctx.frames);
+    let model = ctx.model;
     let kind = solid_kind(e.kind).ok_or_else(|| err(e, "not a solid"))?;
     let Some((pid, used)) = e.property.and_then(|p| model.solid_material(p)) else {
         return Err(err(e, "a solid needs a PSOLID"));
@@ -863,25 +863,15 @@ fn solid_element(
         solid::MassLumping::Consistent
     };
     let mass = solid::affine_mass(kind, xyz, lumping, mass_split).map_err(|x| err(e, x))?;
-    let nominal = CoefficientValues {
-        e: m.e,
-        nu: m.nu,
-        rho: m.rho,
-        ..Default::default()
-    };
     // 3·n translational matrices: the contributions carry T1–T3 of each grid only
-    let binding = acted_on(ctx.params, target);
-    Ok(Built {
-        k: Some(Contribution::from_affine(
-            frames,
-            &e.nodes,
-            &k,
-            bind(binding, nominal),
-        )),
-        m: (m.rho != 0.0 || binding.is_some())
-            .then(|| Contribution::from_affine(frames, &e.nodes, &mass, bind(binding, nominal))),
-        ..Built::default()
-    })
+    Ok(isotropic_built(
+        ctx,
+        e,
+        target,
+        &m,
+        (&k, &mass),
+        m.rho != 0.0,
+    ))
 }
 
 /// A rod or beam ([`beam`]): its stiffness and mass, split by the PMPARs on its MAT1 (E: one
@@ -956,6 +946,21 @@ fn line_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeEr
         beam::MassForm::Coupled
     };
     let mass = beam::affine_mass(&geometry, &section, density, form).map_err(|x| err(e, x))?;
+    let has_mass = m.rho * s.a + s.nsm != 0.0;
+    Ok(isotropic_built(ctx, e, target, &m, (&k, &mass), has_mass))
+}
+
+/// The stiffness and mass of an element of one MAT1 `m`, their affine parts bound to the PMPAR
+/// acting on `target` or fixed at the card's E, NU and RHO; the mass only when the element has
+/// some (`has_mass`) or a PMPAR may give it some.
+fn isotropic_built(
+    ctx: &ElementContext,
+    e: &Element,
+    target: ParamTarget,
+    m: &IsotropicMaterial,
+    (k, mass): (&AffineMatrix, &AffineMatrix),
+    has_mass: bool,
+) -> Built {
     let nominal = CoefficientValues {
         e: m.e,
         nu: m.nu,
@@ -963,19 +968,14 @@ fn line_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeEr
         ..Default::default()
     };
     let binding = acted_on(ctx.params, target);
-    let massive = m.rho * s.a + s.nsm != 0.0 || binding.is_some();
-    Ok(Built {
-        k: Some(Contribution::from_affine(
-            ctx.frames,
-            &e.nodes,
-            &k,
-            bind(binding, nominal),
-        )),
-        m: massive.then(|| {
-            Contribution::from_affine(ctx.frames, &e.nodes, &mass, bind(binding, nominal))
-        }),
+    let contribution = |a: &AffineMatrix| {
+        Contribution::from_affine(ctx.frames, &e.nodes, a, bind(binding, nominal))
+    };
+    Built {
+        k: Some(contribution(k)),
+        m: (has_mass || binding.is_some()).then(|| contribution(mass)),
         ..Built::default()
-    })
+    }
 }
 
 /// A contribution whose rows are g DOFs given directly (no frame rotation).

@@ -4,11 +4,11 @@
 //! G/E fixed under `PMPAR E`, ∝ μ = E/(2(1+ν)) under `PMPAR NU` (which needs G blank on the
 //! MAT1, so that G follows E and ν). M = (ρt + NSM)·M₁: the ρt part ∝ ρ under `PMPAR RHO`.
 
-use super::{Built, ElementContext, acted_on, bind, err};
-use crate::assembly::{Contribution, ParamTarget};
+use super::{Built, ElementContext, err, isotropic_built};
+use crate::assembly::ParamTarget;
 use crate::card_values::PmparKind;
 use crate::discretize::DiscretizeError;
-use crate::fe::affine::{AffineMatrix, Coefficient, CoefficientValues};
+use crate::fe::affine::{AffineMatrix, Coefficient};
 use crate::fe::shear_panel::ShearPanel;
 use crate::model::Element;
 use crate::model::materials::Material;
@@ -69,28 +69,16 @@ pub(super) fn shear_panel_element(
     } else {
         mass[0].1 = &unit_mass * faer::Scale(nsm + m.rho * t);
     }
-    let nominal = CoefficientValues {
-        e: m.e,
-        nu: m.nu,
-        rho: m.rho,
-        ..Default::default()
-    };
-    let binding = acted_on(ctx.params, target);
-    let massive = m.rho * t + nsm != 0.0 || binding.is_some();
     let k = AffineMatrix {
         parts: vec![stiffness],
     };
     let mass = AffineMatrix { parts: mass };
-    Ok(Built {
-        k: Some(Contribution::from_affine(
-            ctx.frames,
-            &e.nodes,
-            &k,
-            bind(binding, nominal),
-        )),
-        m: massive.then(|| {
-            Contribution::from_affine(ctx.frames, &e.nodes, &mass, bind(binding, nominal))
-        }),
-        ..Built::default()
-    })
+    Ok(isotropic_built(
+        ctx,
+        e,
+        target,
+        &m,
+        (&k, &mass),
+        m.rho * t + nsm != 0.0,
+    ))
 }
