@@ -461,14 +461,17 @@ fn begin_super_is_one_error_and_its_cards_read_as_bulk() {
 
 /// Cards that cannot change results are read and set aside with one warning per card name that
 /// says why; where only some uses are harmless (USET set names, MDLPRM options: OFFDEF = LROFF
-/// changes only nonlinear analyses, NOMASS changes the mass) the others are refused at their field.
+/// changes only nonlinear analyses, NOMASS changes the mass; PELAST: TKNID is nonlinear only, TKID
+/// changes frequency responses) the others are refused at their field.
 #[test]
 fn harmless_cards_are_set_aside_with_a_reason_and_the_others_refused() {
     let deck = read_text(
         "SOL 101\nCEND\nLINES = 9999\nBEGIN BULK\nECHOON\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\n\
          USET,U2,1,123,2,456\nUSET1,U1,123,1,2\nUSET,U2,2,1\nCBARAO,1,2,FR,0.2,0.4\n\
          PLOTEL,7,1,2\nMAT4,14,8.6\nMDLPRM,HDF5,1,H5MDL,0,OFFDEF,LROFF\nECHOOFF\n\
-         DTI,MATALL,1,YIELD,2.417e5,ULTIMATE,2.7595e5\nENDDATA\n",
+         DTI,MATALL,1,YIELD,2.417e5,ULTIMATE,2.7595e5\nDVPREL1,10,PSHELL,4,T\n,1,1.\n\
+         PBEND,70,1,1.,1.,.1,.1,0.,45.\nPBUSH1D,71,3000.,200.,300.\nPELAST,11,,,42\n\
+         EPOINT,103,THRU,107\nENDDATA\n",
     );
     let warned = |text: &str| deck.warnings.iter().any(|w| w.message.contains(text));
     for text in [
@@ -481,17 +484,23 @@ fn harmless_cards_are_set_aside_with_a_reason_and_the_others_refused() {
         "ECHOON accepted and ignored",
         "DTI accepted and ignored (1 card): a direct table is data for DMAP modules",
         "case control 'LINES' is accepted and ignored",
+        "DVPREL1 accepted and ignored (1 card): Nastran's design model is read by SOL 200 only",
+        "PBEND accepted and ignored (1 card): a property of CBEND",
+        "PBUSH1D accepted and ignored",
+        "PELAST accepted and ignored (1 card): its nonlinear force-deflection table",
+        "EPOINT accepted and ignored (1 card): extra points carry no stiffness or mass",
     ] {
         assert!(warned(text), "no warning '{text}' in {:?}", deck.warnings);
     }
     let (_dir, refused) = read_files(&[(
         "deck.dat",
-        "SOL 101\nCEND\nBEGIN BULK\nUSET,A,1,123\nMDLPRM,HDF5,1,OFFDEF,NOMASS\nENDDATA\n",
+        "SOL 101\nCEND\nBEGIN BULK\nUSET,A,1,123\nMDLPRM,HDF5,1,OFFDEF,NOMASS\nPELAST,12,7\nENDDATA\n",
     )]);
     let message = refused.expect_err("refused").to_string();
     for text in [
         "deck.dat:4: USET: field 2 (SNAME): set A is not supported",
         "deck.dat:5: MDLPRM: field 4 (PARAMi): model parameter OFFDEF is not supported",
+        "deck.dat:6: PELAST 12: field 3 (TKID): frequency-dependent stiffness of a PELAS is not supported",
     ] {
         assert!(message.contains(text), "'{text}' not in:\n{message}");
     }

@@ -86,7 +86,7 @@ fn every_error_is_collected_with_its_card() {
         "GRID 4: CD = 9 does not exist",
         "PMPAR 1: nominal E = -1 (from MAT1 9) lies outside [LOW, HIGH] = [1, 2]",
         "PARAM WTMASS: WTMASS must be a real > 0",
-        "METHOD = 7 selects no EIGRL set 7",
+        "METHOD = 7 selects no EIGRL/EIGR set 7",
         "SPC = 1 selects no SPC/SPC1/SPCADD set 1",
         "DISPLACEMENT = 5: no case-control SET 5",
     ];

@@ -124,7 +124,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
                 "LOAD/FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1",
             );
         }
-        need("METHOD", sub.method, &method, "EIGRL");
+        need("METHOD", sub.method, &method, "EIGRL/EIGR");
         need("FREQUENCY", sub.frequency, &freq, "FREQ/FREQ1/FREQ2");
         need("SDAMPING", sub.sdamping, &tabdmp1, "TABDMP1");
         need(

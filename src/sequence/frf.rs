@@ -160,11 +160,11 @@ fn run(
             FrfMethod::Modal => {
                 let sid = sub.method.ok_or_else(|| RunError::Case {
                     subcase: id,
-                    what: "SOL 111 needs METHOD = <EIGRL sid> in case control".into(),
+                    what: "SOL 111 needs METHOD = <EIGRL or EIGR sid> in case control".into(),
                 })?;
                 let eigrl = model.eigrl(sid).ok_or_else(|| RunError::Case {
                     subcase: id,
-                    what: format!("METHOD = {sid} selects no EIGRL card"),
+                    what: format!("METHOD = {sid} selects no EIGRL or EIGR card"),
                 })?;
                 frf::Method::Modal {
                     request: EigenRequest {

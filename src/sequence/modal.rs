@@ -107,11 +107,11 @@ fn run(
         let id = sub.id;
         let method = sub.method.ok_or_else(|| RunError::Case {
             subcase: id,
-            what: "SOL 103 needs METHOD = <EIGRL sid> in case control".into(),
+            what: "SOL 103 needs METHOD = <EIGRL or EIGR sid> in case control".into(),
         })?;
         let eigrl = ctx.model.eigrl(method).ok_or_else(|| RunError::Case {
             subcase: id,
-            what: format!("METHOD = {method} selects no EIGRL card"),
+            what: format!("METHOD = {method} selects no EIGRL or EIGR card"),
         })?;
         let norm = eigrl.norm;
         let c = clock.time(format!("subcase {id}: constraints"), || {

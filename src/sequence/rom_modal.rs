@@ -124,7 +124,7 @@ fn selection(
     };
     let eigrl = ctx.model.eigrl(method).ok_or_else(|| RunError::Case {
         subcase: sub.id,
-        what: format!("METHOD = {method} selects no EIGRL card"),
+        what: format!("METHOD = {method} selects no EIGRL or EIGR card"),
     })?;
     let (v1, v2) = (
         eigrl.v1.unwrap_or(f64::NEG_INFINITY),

@@ -1,4 +1,5 @@
-"""Generate the card section of docs/deck-reference.md from the card structs' doc comments.
+"""Generate the card section of docs/deck-reference.md from the card structs' doc comments
+(and those of the functions that read one card as another's struct, e.g. EIGR as EIGRL).
 
 Every card struct in src/deck/cards/*.rs carries its field table in its doc comment (the one
 source of truth). This script collects them, in the order of the PARSERS table, and writes
@@ -29,7 +30,8 @@ def doc_blocks():
             elif s.startswith("#["):
                 continue
             else:
-                if doc and s.startswith("pub struct") and doc[0].startswith("`"):
+                card_item = s.startswith("pub struct") or s.startswith("pub fn")
+                if doc and card_item and doc[0].startswith("`"):
                     blocks.append((doc[0], "\n".join(doc[1:]).strip()))
                 doc = []
     return blocks

@@ -102,6 +102,62 @@ impl Eigrl {
     }
 }
 
+/// `EIGR` — real eigenvalue extraction by a named method, read as the equivalent `EIGRL`.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | SID | int > 0 | required | set id (selected by `METHOD`) |
+/// | 3 | METHOD | `LAN`, `AHOU`, `HOU`, `MHOU`, `GIV`, `MGIV`, `INV`, `SINV` | required | extraction method |
+/// | 4 | F1 | real | blank | lower frequency bound (Hz) |
+/// | 5 | F2 | real | blank | upper frequency bound (Hz) |
+/// | 6 | NE | int | blank | estimate of the roots in the range (kept, unused) |
+/// | 7 | ND | int > 0 | blank | number of roots wanted |
+/// | 10 | NORM | `MASS` / `MAX` | MASS | eigenvector normalization (`POINT` refused) |
+/// | 11, 12 | G, C | int | blank | the grid and component of `NORM = POINT` |
+///
+/// The method names an algorithm, not a different answer: every method returns the roots in
+/// [F1, F2] (the ND lowest of them when ND is given), which paraflex finds with the same
+/// shift-invert Lanczos as EIGRL. With neither F2 nor ND the tridiagonal methods return every
+/// root of the model, which only a dense method can: such a card is refused with a request for
+/// F2 or ND.
+pub fn eigr_from_card(card: &RawCard) -> Result<Eigrl, Vec<DeckError>> {
+    const METHODS: [&str; 8] = ["LAN", "AHOU", "HOU", "MHOU", "GIV", "MGIV", "INV", "SINV"];
+    let mut f = FieldReader::new(card);
+    let sid = f.id(1, "SID");
+    f.set_id(sid);
+    f.keyword(2, "METHOD", &METHODS, None);
+    let v1 = f.opt_real(3, "F1");
+    let v2 = f.opt_real(4, "F2");
+    f.opt_int(5, "NE");
+    let nd = f.opt_count(6, "ND");
+    if v2.is_none() && nd.is_none() {
+        f.error(
+            6,
+            "ND",
+            "give F2 or ND: with neither, EIGR asks for every root of the model, and paraflex extracts a subset of roots with Lanczos",
+        );
+    }
+    if let (Some(a), Some(b)) = (v1, v2)
+        && b <= a
+    {
+        f.error(4, "F2", format!("F2 = {b:e} must be greater than F1 = {a:e}"));
+    }
+    let norm = f.choice(9, "NORM", &EigenNorm::KEYWORDS, Some(EigenNorm::Mass));
+    f.opt_id(10, "G");
+    f.opt_int(11, "C");
+    let loc = f.loc();
+    f.finish(11)?;
+    Ok(Eigrl {
+        sid,
+        v1,
+        v2,
+        nd,
+        shfscl: None,
+        norm,
+        loc,
+    })
+}
+
 /// How a frequency card lists its frequencies.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub enum FreqKind {
@@ -876,6 +932,22 @@ mod tests {
         assert_eq!((e.v1, e.v2, e.nd), (Some(0.0), None, Some(1)));
         let e = Eigrl::from_card(&raw("EIGRL", &["1", "", "100."])).expect("valid");
         assert_eq!((e.v2, e.nd), (Some(100.0), None));
+    }
+
+    /// EIGR reads as the EIGRL of the same range and count whatever its method; asking for
+    /// every root (neither F2 nor ND) and NORM = POINT are refused at their fields.
+    #[test]
+    fn eigr_reads_as_the_eigrl_of_its_range() {
+        let e = eigr_from_card(&card_from_line("EIGR,2,MGIV,0.,200.")).expect("valid");
+        assert_eq!((e.sid, e.v1, e.v2, e.nd), (2, Some(0.0), Some(200.0), None));
+        let e = eigr_from_card(&card_from_line("EIGR,301,LAN,,,,3,,,MAX")).expect("valid");
+        assert_eq!((e.v2, e.nd, e.norm), (None, Some(3), EigenNorm::Max));
+        let m = messages(eigr_from_card(&card_from_line("EIGR,3,AHOU,0.")));
+        assert!(m.contains("field 7 (ND): give F2 or ND"), "{m}");
+        let m = messages(eigr_from_card(&card_from_line("EIGR,4,LAN,,,,3,,,POINT,7,1")));
+        assert!(m.contains("(NORM): expected one of MASS, MAX, found 'POINT'"), "{m}");
+        let m = messages(eigr_from_card(&card_from_line("EIGR,5,QR,,,,3")));
+        assert!(m.contains("field 3 (METHOD)"), "{m}");
     }
 
     fn messages(r: Result<impl std::fmt::Debug, Vec<DeckError>>) -> String {

@@ -10,6 +10,10 @@
 //! | `USET`, `USET1` | user DOF sets U1–U6 partition matrices for DMAP alters and OUTPUT2/4; paraflex runs no DMAP | any set name other than U1–U6 or ZERO |
 //! | `MAT4`, `MAT5` | thermal materials, read by heat-transfer solutions only | – |
 //! | `DTI` | a direct table is data for DMAP modules (and `SETREE` for superelement processing, whose cards paraflex refuses); paraflex runs no DMAP | – |
+//! | `DVPREL1`, `DVPREL2`, `DVMREL1`, `DVMREL2`, `DVCREL1`, `DVCREL2`, `DLINK`, `DRESP1`, `DRESP2`, `DOPTPRM` | Nastran's design model, read by SOL 200 only (paraflex's own studies use `DVMAP`, `DOBJ`, `DCONSTR`) | – |
+//! | `PBEND`, `PBUSH1D` | properties of CBEND and CBUSH1D, which paraflex refuses: no element of a deck it runs can use them | – |
+//! | `PELAST` | frequency-dependent (TKID) and structural-damping (TGEID) tables of a PELAS, or its nonlinear force–deflection table (TKNID, read by nonlinear solutions only) | a TKID or TGEID table |
+//! | `EPOINT` | extra points carry no stiffness or mass; only transfer functions, DMIG and loads act on them, and paraflex refuses a load or constraint on a point it does not know | – |
 //! | `MDLPRM` | HDF5 output options (`HDF5`, `H5…`): paraflex writes its own HDF5 file; `OFFDEF = LROFF`: offsets that do not follow large rotations, a nonlinear option | every other model parameter (they change the model, e.g. `OFFDEF = NOMASS`) |
 
 use crate::deck::error::DeckError;
@@ -68,6 +72,76 @@ static IGNORED: &[(&str, &str, Option<Check>)] = &[
         None,
     ),
     (
+        "DVPREL1",
+        "Nastran's design model is read by SOL 200 only (paraflex's own studies use DVMAP, DOBJ and DCONSTR)",
+        None,
+    ),
+    (
+        "DVPREL2",
+        "Nastran's design model is read by SOL 200 only (paraflex's own studies use DVMAP, DOBJ and DCONSTR)",
+        None,
+    ),
+    (
+        "DVMREL1",
+        "Nastran's design model is read by SOL 200 only (paraflex's own studies use DVMAP, DOBJ and DCONSTR)",
+        None,
+    ),
+    (
+        "DVMREL2",
+        "Nastran's design model is read by SOL 200 only (paraflex's own studies use DVMAP, DOBJ and DCONSTR)",
+        None,
+    ),
+    (
+        "DVCREL1",
+        "Nastran's design model is read by SOL 200 only (paraflex's own studies use DVMAP, DOBJ and DCONSTR)",
+        None,
+    ),
+    (
+        "DVCREL2",
+        "Nastran's design model is read by SOL 200 only (paraflex's own studies use DVMAP, DOBJ and DCONSTR)",
+        None,
+    ),
+    (
+        "DLINK",
+        "Nastran's design model is read by SOL 200 only (paraflex's own studies use DVMAP, DOBJ and DCONSTR)",
+        None,
+    ),
+    (
+        "DRESP1",
+        "Nastran's design model is read by SOL 200 only (paraflex's own studies use DVMAP, DOBJ and DCONSTR)",
+        None,
+    ),
+    (
+        "DRESP2",
+        "Nastran's design model is read by SOL 200 only (paraflex's own studies use DVMAP, DOBJ and DCONSTR)",
+        None,
+    ),
+    (
+        "DOPTPRM",
+        "Nastran's design model is read by SOL 200 only (paraflex's own studies use DVMAP, DOBJ and DCONSTR)",
+        None,
+    ),
+    (
+        "PBEND",
+        "a property of CBEND, which paraflex does not support: no element of this deck can use it",
+        None,
+    ),
+    (
+        "PBUSH1D",
+        "a property of CBUSH1D, which paraflex does not support: no element of this deck can use it",
+        None,
+    ),
+    (
+        "PELAST",
+        "its nonlinear force-deflection table (TKNID) is read by nonlinear solutions only",
+        Some(linear_spring_tables),
+    ),
+    (
+        "EPOINT",
+        "extra points carry no stiffness or mass (only transfer functions, DMIG and loads act on them, and a load or constraint on a point paraflex does not know is refused)",
+        None,
+    ),
+    (
         "MDLPRM",
         "its HDF5 output options do not apply: paraflex writes its own HDF5 file",
         Some(harmless_model_parameters),
@@ -95,6 +169,28 @@ fn user_set_name(card: &RawCard) -> Result<(), Vec<DeckError>> {
         );
     }
     f.finish(card.fields.len())
+}
+
+/// `PELAST` TKID (stiffness against frequency) and TGEID (damping against frequency) change
+/// frequency responses; only TKNID (nonlinear force–deflection) is harmless in linear solutions.
+fn linear_spring_tables(card: &RawCard) -> Result<(), Vec<DeckError>> {
+    let mut f = FieldReader::new(card);
+    let pid = f.id(1, "PID");
+    f.set_id(pid);
+    for (i, name, what) in [
+        (2, "TKID", "frequency-dependent stiffness"),
+        (3, "TGEID", "frequency-dependent structural damping"),
+    ] {
+        if f.opt_id(i, name).is_some() {
+            f.error(
+                i,
+                name,
+                format!("{what} of a PELAS is not supported: leave {name} blank"),
+            );
+        }
+    }
+    f.opt_id(4, "TKNID");
+    f.finish(4)
 }
 
 /// `MDLPRM` pairs: only the HDF5 output options (`HDF5`, `H5…`) and `OFFDEF = LROFF` (offsets

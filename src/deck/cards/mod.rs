@@ -29,6 +29,7 @@ mod temperature;
 pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd};
 pub use design::{Ddval, Desvar};
 pub use dynamic::{
+    eigr_from_card,
     Darea, Dload, EigenNorm, Eigrl, Freq, FreqKind, ModalDampingUnits, Rload, RloadTables, Tabdmp1,
     Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep,
 };
@@ -303,6 +304,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("PLOAD1", |c, b| Ok(b.pload1.push(Pload1::from_card(c)?))),
     ("LOAD", |c, b| Ok(b.load.push(Load::from_card(c)?))),
     ("EIGRL", |c, b| Ok(b.eigrl.push(Eigrl::from_card(c)?))),
+    ("EIGR", |c, b| Ok(b.eigrl.push(eigr_from_card(c)?))),
     ("FREQ", |c, b| Ok(b.freq.push(Freq::from_card(c, "FREQ")?))),
     ("FREQ1", |c, b| {
         Ok(b.freq.push(Freq::from_card(c, "FREQ1")?))
