@@ -223,6 +223,76 @@ fn two_subcases_share_the_factor_and_strains_follow_beam_theory() {
     );
 }
 
+/// A SUBCOM combines the preceding SUBCASEs with its SUBSEQ coefficients: tip force P and tip
+/// moment M as subcases 1 and 2, SUBCOM 3 = 2·(1) + 1·(2) gives w = 2 P L³/(3EI) + M L²/(2EI)
+/// (0.5 % as the single-load test above), the displacements are 2 u₁ + u₂ to round-off, the
+/// strains (recovered from the combined displacements) follow, and the applied load and SPC
+/// reaction of the summary are the combined ones. SUBSEQ with more coefficients than preceding
+/// SUBCASEs, and a SUBCOM in SOL 103, are refused at the SUBSEQ.
+#[test]
+fn subcom_combines_the_preceding_subcases() {
+    let (p, m) = (10.0, 3.0);
+    let case = "SPC = 1\nSTRAIN = ALL\nSUBCASE 1\n  LOAD = 5\nSUBCASE 2\n  LOAD = 7\n\
+                SUBCOM 3\n  SUBSEQ = 2.0, 1.0\n";
+    let deck = strip(
+        case,
+        &format!("FORCE,5,1000,,{p:?},0.,0.,1.\nMOMENT,7,1000,,{m:?},0.,-1.,0.\n"),
+    );
+    let (r, dir) = run_deck(&deck);
+    let s = r.expect("run");
+    let i = B * T.powi(3) / 12.0;
+    let w = 2.0 * p * L.powi(3) / (3.0 * E * i) + m * L.powi(2) / (2.0 * E * i);
+    let combined = statics(&s, 2);
+    assert!(
+        (combined.max_translation.1 - w).abs() < 5e-3 * w,
+        "{} vs {w}",
+        combined.max_translation.1
+    );
+    assert!((combined.applied[2] - 2.0 * p).abs() < 1e-12 * p);
+    assert!((combined.reaction[2] + 2.0 * p).abs() < 1e-8 * p);
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+    let read = |path: &str| -> Vec<f64> { file.dataset(path).expect(path).read_raw().expect(path) };
+    for name in ["displacement", "strain/CQUAD4/top"] {
+        let (u1, u2, u3) = (
+            read(&format!("results/1/statics/{name}")),
+            read(&format!("results/2/statics/{name}")),
+            read(&format!("results/3/statics/{name}")),
+        );
+        let scale = u3.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        for k in 0..u3.len() {
+            assert!(
+                (u3[k] - 2.0 * u1[k] - u2[k]).abs() < 1e-12 * scale,
+                "{name}[{k}]"
+            );
+        }
+    }
+
+    let refused = |case: &str, sol: &str| {
+        let deck = strip(
+            case,
+            &format!("FORCE,5,1000,,{p:?},0.,0.,1.\nEIGRL,9,,,2\n"),
+        )
+        .replacen("SOL 101", sol, 1);
+        common::build_model(&deck).expect_err("refused").join("\n")
+    };
+    let e = refused(
+        "SPC = 1\nSUBCASE 1\n  LOAD = 5\nSUBCOM 2\n  SUBSEQ = 1.0, 1.0\n",
+        "SOL 101",
+    );
+    assert!(
+        e.contains("SUBCOM 2: SUBSEQ lists 2 coefficients, but 1 SUBCASE(s) precede this SUBCOM"),
+        "{e}"
+    );
+    let e = refused(
+        "SPC = 1\nMETHOD = 9\nSUBCASE 1\nSUBCOM 2\n  SUBSEQ = 1.0\n",
+        "SOL 103",
+    );
+    assert!(
+        e.contains("SUBCOM 2: SUBCOM combines the results of static subcases"),
+        "{e}"
+    );
+}
+
 /// A CHEXA cube with PARAM,AUTOSPC,NO: the rotations of solid-only grids have no stiffness and
 /// the Cholesky fails; the error names the GRID and the component and suggests SPC / AUTOSPC.
 #[test]

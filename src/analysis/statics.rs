@@ -89,6 +89,27 @@ pub struct StaticSolution {
 }
 
 impl StaticSolution {
+    /// Σ cᵢ solutionᵢ over the first `coefficients.len()` solutions (a `SUBCOM`): statics is
+    /// linear, so displacements, loads and SPC forces combine with the same coefficients.
+    pub fn combine(solutions: &[StaticSolution], coefficients: &[f64]) -> StaticSolution {
+        let n = solutions.first().map_or(0, |s| s.u_g.len());
+        let mut sum = StaticSolution {
+            u_g: vec![0.0; n],
+            q_g: vec![0.0; n],
+            p_g: vec![0.0; n],
+        };
+        for (s, &c) in solutions.iter().zip(coefficients) {
+            for (total, part) in [
+                (&mut sum.u_g, &s.u_g),
+                (&mut sum.q_g, &s.q_g),
+                (&mut sum.p_g, &s.p_g),
+            ] {
+                total.iter_mut().zip(part).for_each(|(t, x)| *t += c * x);
+            }
+        }
+        sum
+    }
+
     /// Solves K_ff u_f = P_f for the load set `load` (`None`: no load, enforced displacements
     /// only) with `factor` of `c`'s K_ff; `mass_values` are M_gg's ([`mass_values`]).
     pub fn solve(

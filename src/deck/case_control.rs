@@ -8,6 +8,7 @@
 
 use super::error::{DeckError, Diagnostics, Loc};
 use super::reader::expand_thru;
+use super::value::{Value, lex};
 use crate::card_values::FmbStart;
 
 /// What an output request or `SENSOR` selects.
@@ -100,6 +101,9 @@ pub struct Subcase {
     /// to).
     pub strref: Option<StrainReference>,
     pub outputs: Vec<OutputRequest>,
+    /// `SUBCOM`: the coefficients of its `SUBSEQ`, one per preceding `SUBCASE` in deck order
+    /// (empty until `SUBSEQ` is read); `None` for a `SUBCASE`.
+    pub combination: Option<Vec<f64>>,
     /// Positions of the selections, by canonical name, for cross-reference messages.
     #[serde(skip)]
     pub locs: Vec<(&'static str, Loc)>,
@@ -317,6 +321,28 @@ fn parse_set_list(text: &str) -> Result<Vec<u32>, String> {
     Ok(ids)
 }
 
+/// The real coefficients of `SUBSEQ = c1, c2, …` (commas or blanks between them).
+fn parse_coefficients(value: &str) -> Result<Vec<f64>, String> {
+    let tokens: Vec<&str> = value
+        .split([',', ' '])
+        .map(str::trim)
+        .filter(|t| !t.is_empty())
+        .collect();
+    if tokens.is_empty() {
+        return Err("SUBSEQ has no coefficients".into());
+    }
+    tokens
+        .iter()
+        .map(|t| match lex(t) {
+            Value::Real(x) => Ok(x),
+            Value::Int(i) => Ok(i as f64),
+            _ => Err(format!(
+                "expected a real coefficient, found '{t}' (SUBSEQ lists one real per preceding subcase, on one line)"
+            )),
+        })
+        .collect()
+}
+
 fn parse_target(value: &str) -> Result<Target, String> {
     match value.to_ascii_uppercase().as_str() {
         "ALL" => Ok(Target::All),
@@ -393,6 +419,40 @@ impl CaseControl {
                     ))),
                 }
             }
+            "SUBCOM" => {
+                let rest = text[st.word.len()..].trim();
+                match rest.parse::<u32>() {
+                    Ok(id) if id > 0 => {
+                        if self.explicit.iter().any(|s| s.id == id) {
+                            diag.error(err(format!("SUBCOM {id}: subcase {id} defined twice")));
+                        }
+                        self.explicit.push(Subcase {
+                            id,
+                            combination: Some(Vec::new()),
+                            locs: vec![("SUBCOM", loc.clone())],
+                            ..Subcase::default()
+                        });
+                    }
+                    _ => diag.error(err(format!(
+                        "expected a positive subcase id, found '{rest}'"
+                    ))),
+                }
+            }
+            "SUBSEQ" => match (st.value.map(parse_coefficients), self.current()) {
+                (Some(Ok(c)), Subcase {
+                    combination: Some(combination),
+                    locs,
+                    ..
+                }) => {
+                    *combination = c;
+                    locs.push(("SUBSEQ", loc.clone()));
+                }
+                (Some(Ok(_)), _) => diag.error(err(
+                    "SUBSEQ outside a SUBCOM: it gives the coefficients of a SUBCOM's combination of the preceding subcases".into(),
+                )),
+                (Some(Err(m)), _) => diag.error(err(m)),
+                (None, _) => diag.error(err("expected SUBSEQ = c1, c2, …".into())),
+            },
             "SET" => self.read_set(loc, text.to_string(), diag),
             "PARAM" => {
                 // commas or blanks between the fields, as Nastran reads `PARAM POST 0`
@@ -543,7 +603,7 @@ impl CaseControl {
             );
         } else {
             diag.error(err(format!(
-                "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SET PARAM AUTOSPC ROM FMB SENSOR MSENSOR FMBSTART STRREF {} and output requests {}",
+                "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SUBCOM SUBSEQ SET PARAM AUTOSPC ROM FMB SENSOR MSENSOR FMBSTART STRREF {} and output requests {}",
                 SELECTIONS.join(" "),
                 OUTPUTS.join(" ")
             )));

@@ -150,6 +150,32 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
                 .on_card("POSES"),
             );
         }
+        if let Some(coefficients) = &sub.combination {
+            let preceding = subcases[..index]
+                .iter()
+                .filter(|s| s.combination.is_none())
+                .count();
+            let statics = matches!(
+                deck.executive.sol,
+                Some((crate::deck::Solution::Statics, _))
+            );
+            let problem = if !statics {
+                Some("SUBCOM combines the results of static subcases; this deck's SOL is not SOL 101".to_string())
+            } else if coefficients.is_empty() {
+                Some("SUBCOM without SUBSEQ: give SUBSEQ = c1, c2, … (one coefficient per preceding SUBCASE)".to_string())
+            } else if coefficients.len() > preceding {
+                Some(format!(
+                    "SUBSEQ lists {} coefficients, but {preceding} SUBCASE(s) precede this SUBCOM (one coefficient per preceding SUBCASE, in deck order)",
+                    coefficients.len()
+                ))
+            } else {
+                None
+            };
+            if let Some(problem) = problem {
+                let at = sub.loc_of("SUBSEQ").unwrap_or(&loc("SUBCOM")).clone();
+                errors.push(DeckError::at(&at, problem).on_card(format!("SUBCOM {}", sub.id)));
+            }
+        }
         if let Some(StrainReference::Subcase(id)) = sub.strref
             && !subcases[..index].iter().any(|s| s.id == id)
         {

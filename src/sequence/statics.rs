@@ -23,6 +23,9 @@
 //! centroid (m×6)}` — [εxx, εyy, εzz, γxy, γyz, γzx] in basic (engineering shear strains).
 //! Element forces with `FORCE` and stresses with `STRESS` (the same element selection), in the
 //! layout of [`super::statics_stress`].
+//! A `SUBCOM` writes the same outputs for Σ cᵢ (uᵢ, Pᵢ, qᵢ) over the preceding SUBCASEs
+//! (`SUBSEQ` coefficients in deck order; stresses, strains and forces are recovered from the
+//! combined displacements, so von Mises and failure indices are those of the combined state).
 //! The SPC forces are always computed (one K·u product): the console summary's reaction sum
 //! uses them.
 
@@ -110,11 +113,31 @@ fn run(
     let mut factors = StaticFactors::new(ctx.model.params.maxratio, ctx.options.par());
     let m_gg_values = mass_values(st)?;
     let mut out = Vec::new();
+    // the solutions of the SUBCASEs so far, in deck order, when a SUBCOM combines them
+    let combines = ctx.model.subcases.iter().any(|s| s.combination.is_some());
+    let mut solved: Vec<StaticSolution> = Vec::new();
     for sub in &ctx.model.subcases {
         let id = sub.id;
         let c = clock.time(format!("subcase {id}: constraints"), || {
             Constrained::build(ctx.model, st, sub.spc)
         })?;
+        if let Some(coefficients) = &sub.combination {
+            let summary = clock.time(format!("subcase {id}: combination and output"), || {
+                write_subcase(
+                    ctx,
+                    st,
+                    &c,
+                    sub,
+                    &StaticSolution::combine(&solved, coefficients),
+                )
+            })?;
+            out.push(SubcaseSummary {
+                id,
+                autospc: c.autospc.names.clone(),
+                result: Box::new(summary),
+            });
+            continue;
+        }
         if factors.get(&c).is_none() {
             let symbolic = clock
                 .time(format!("subcase {id}: symbolic analysis"), || {
@@ -136,7 +159,11 @@ fn run(
         let summary = clock.time(format!("subcase {id}: solve and output"), || {
             let solution = StaticSolution::solve(ctx.model, st, &c, sub.load, factor, &m_gg_values)
                 .map_err(|e| super::analysis_error(&c, st, id, e))?;
-            write_subcase(ctx, st, &c, sub, &solution)
+            let summary = write_subcase(ctx, st, &c, sub, &solution)?;
+            if combines {
+                solved.push(solution);
+            }
+            Ok::<_, RunError>(summary)
         })?;
         out.push(SubcaseSummary {
             id,

@@ -140,7 +140,11 @@ pub fn eigr_from_card(card: &RawCard) -> Result<Eigrl, Vec<DeckError>> {
     if let (Some(a), Some(b)) = (v1, v2)
         && b <= a
     {
-        f.error(4, "F2", format!("F2 = {b:e} must be greater than F1 = {a:e}"));
+        f.error(
+            4,
+            "F2",
+            format!("F2 = {b:e} must be greater than F1 = {a:e}"),
+        );
     }
     let norm = f.choice(9, "NORM", &EigenNorm::KEYWORDS, Some(EigenNorm::Mass));
     f.opt_id(10, "G");
@@ -944,8 +948,13 @@ mod tests {
         assert_eq!((e.v2, e.nd, e.norm), (None, Some(3), EigenNorm::Max));
         let m = messages(eigr_from_card(&card_from_line("EIGR,3,AHOU,0.")));
         assert!(m.contains("field 7 (ND): give F2 or ND"), "{m}");
-        let m = messages(eigr_from_card(&card_from_line("EIGR,4,LAN,,,,3,,,POINT,7,1")));
-        assert!(m.contains("(NORM): expected one of MASS, MAX, found 'POINT'"), "{m}");
+        let m = messages(eigr_from_card(&card_from_line(
+            "EIGR,4,LAN,,,,3,,,POINT,7,1",
+        )));
+        assert!(
+            m.contains("(NORM): expected one of MASS, MAX, found 'POINT'"),
+            "{m}"
+        );
         let m = messages(eigr_from_card(&card_from_line("EIGR,5,QR,,,,3")));
         assert!(m.contains("field 3 (METHOD)"), "{m}");
     }
