@@ -108,7 +108,9 @@ impl Truth {
     }
 }
 
-/// [`measurements`] with the transient of `truth`.
+/// [`measurements`] with the transient of `truth`, integrated by BDF1 (`TINTEG`: SOL 112's
+/// default is the trapezoidal rule), the thesis's data, on which the BDF1 prediction is exact
+/// (docs/estimation.md, "Data from outside the filter's own integrator").
 fn measurements_of(prom: &Path, dir: &Path, load: Load, seed: u64, truth: &Truth) {
     let table = write_load(dir, load);
     let e = if truth.e_card {
@@ -117,7 +119,7 @@ fn measurements_of(prom: &Path, dir: &Path, load: Load, seed: u64, truth: &Truth
         String::new()
     };
     let deck = format!(
-        "SOL 112\nCEND\nROM = '{}'\nPVAL = 1\nTSTEP = 1\nDLOAD = 7\n{}BEGIN BULK\nPVAL,1,{e}RHO,{RHO_TRUE:?}\n{}TSTEP,1,{STEPS},{DT:e},1\nTLOAD1,7,8,,,9\nDAREA,8,14,3,1.\nTABLEF,9,'{}',time,force\nENDDATA\n",
+        "SOL 112\nCEND\nROM = '{}'\nPVAL = 1\nTSTEP = 1\nDLOAD = 7\n{}BEGIN BULK\nPVAL,1,{e}RHO,{RHO_TRUE:?}\n{}TSTEP,1,{STEPS},{DT:e},1\nTINTEG,1,BDF1\nTLOAD1,7,8,,,9\nDAREA,8,14,3,1.\nTABLEF,9,'{}',time,force\nENDDATA\n",
         prom.display(),
         truth.case,
         truth.bulk,

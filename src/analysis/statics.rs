@@ -71,10 +71,7 @@ impl StaticFactors {
 
 /// M_gg's values at the structure's parameter point (the GRAV loads' mass).
 pub fn mass_values(st: &Structure) -> Result<Vec<f64>, AssemblyError> {
-    let m_gg = st.mass_gg();
-    let mut values = vec![0.0; m_gg.pattern().nnz()];
-    m_gg.evaluate_into(&st.weights(m_gg), &mut values)?;
-    Ok(values)
+    st.mass_gg_values()
 }
 
 /// The static response to one load selection, g-set (the structure's DOF map, output frames).

@@ -20,8 +20,9 @@
 use faer::{Mat, c64};
 
 use super::{Constrained, Structure};
+use crate::assembly::AssemblyError;
 use crate::assembly::DofMap;
-use crate::assembly::loads::load_vector;
+use crate::assembly::loads::{Mass, load_vector};
 use crate::deck::cards::{RloadTables, TloadFunction};
 use crate::dynamics::pulse::Pulse;
 use crate::dynamics::table::Table;
@@ -162,8 +163,26 @@ pub fn static_shape(
     c: &Constrained,
     sid: u32,
 ) -> Result<Option<Vec<f64>>, String> {
-    let p_g = load_vector(model, &st.frames, &st.map, sid, None)
-        .map_err(|e| format!("EXCITEID {sid}: no DAREA and {e}"))?;
+    let with_mass = |values: &[f64]| {
+        load_vector(
+            model,
+            &st.frames,
+            &st.map,
+            sid,
+            Some(Mass {
+                operator: st.mass_gg(),
+                values,
+            }),
+        )
+    };
+    // M_gg is evaluated only for a set with GRAV
+    let p_g = match load_vector(model, &st.frames, &st.map, sid, None) {
+        Err(AssemblyError::MassRequired { .. }) => {
+            st.mass_gg_values().and_then(|values| with_mass(&values))
+        }
+        other => other,
+    }
+    .map_err(|e| format!("EXCITEID {sid}: no DAREA and {e}"))?;
     let p_n = st.rigid.reduce_vector(&p_g).map_err(|e| e.to_string())?;
     c.sets
         .f_in_n

@@ -137,6 +137,15 @@ impl Structure {
         self.m_gg.as_ref().unwrap_or(&self.m_nn)
     }
 
+    /// The values of M_gg at the PMPAR nominal values (on [`Self::mass_gg`]'s pattern), for the
+    /// GRAV loads of a load set.
+    pub fn mass_gg_values(&self) -> Result<Vec<f64>, crate::assembly::AssemblyError> {
+        let m_gg = self.mass_gg();
+        let mut values = vec![0.0; m_gg.pattern().nnz()];
+        m_gg.evaluate_into(&self.weights(m_gg), &mut values)?;
+        Ok(values)
+    }
+
     /// Weights of an operator's affine parts at the PMPAR nominal values (all weights are 1
     /// for the constant part).
     pub fn weights(&self, op: &AffineOperator) -> Vec<f64> {

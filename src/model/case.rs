@@ -126,7 +126,20 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
         }
         need("METHOD", sub.method, &method, "EIGRL/EIGR");
         need("FREQUENCY", sub.frequency, &freq, "FREQ/FREQ1/FREQ2");
-        need("SDAMPING", sub.sdamping, &tabdmp1, "TABDMP1");
+        // direct transient, statics and modes do not read SDAMPING (Nastran ignores it there,
+        // whatever it selects; the sequence warns that it is not applied)
+        let reads_sdamping = !matches!(
+            deck.executive.sol,
+            Some((
+                crate::deck::Solution::TransientDirect
+                    | crate::deck::Solution::Statics
+                    | crate::deck::Solution::Modal,
+                _
+            ))
+        );
+        if reads_sdamping {
+            need("SDAMPING", sub.sdamping, &tabdmp1, "TABDMP1");
+        }
         need(
             "DLOAD",
             sub.dload,

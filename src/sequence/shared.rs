@@ -6,6 +6,7 @@ use super::report::weight_lines;
 use super::{Clock, RunContext, RunError};
 use crate::analysis::weight;
 use crate::assembly::AssemblyError;
+use crate::deck::Solution;
 use crate::deck::cards::{TintegMethod, Tstep};
 use crate::deck::case_control::Subcase;
 use crate::discretize::Structure;
@@ -14,8 +15,11 @@ use crate::io::{IoError, set_attr_f64s, set_attr_str, write_c64, write_f64, writ
 use crate::linalg::c64;
 use crate::model::Model;
 
-/// The TSTEP of a subcase, its method (TINTEG with the TSTEP's id; BDF1 without one) and the
-/// method's name for output.
+/// The TSTEP of a subcase, its method and the method's name for output: the TINTEG with the
+/// TSTEP's id; without one, for the Nastran sequences (SOL 109/112, SEDTRAN, SEMTRAN) the
+/// trapezoidal rule (generalized-α with ρ∞ = 1: second order, no numerical damping, as the
+/// Newmark-β integration of Nastran's transient solutions), for `SOL TRANSIENT` BDF1 (the
+/// thesis's eq. 2.61).
 pub fn method_of<'a>(
     model: &'a Model,
     sub: &Subcase,
@@ -35,7 +39,15 @@ pub fn method_of<'a>(
             "TSTEPVAR {sid} asks for error-controlled steps, which only SOL FMB takes; SOL TRANSIENT runs the fixed steps of TSTEP {sid} (remove the TSTEPVAR card)"
         )));
     }
+    let nastran = matches!(
+        model.sol,
+        Some(Solution::TransientDirect | Solution::TransientModal)
+    );
     let (method, name) = match model.tinteg(sid).map(|t| (t.method, t.rho_inf)) {
+        None if nastran => (
+            Method::GeneralizedAlpha { rho_inf: 1.0 },
+            "trapezoidal (GALPHA rho_inf = 1, the SOL 109/112 default without TINTEG)".to_string(),
+        ),
         None | Some((TintegMethod::Bdf1, _)) => (Method::Bdf1, "BDF1".to_string()),
         Some((TintegMethod::Bdf2, _)) => (Method::Bdf2, "BDF2".to_string()),
         Some((TintegMethod::Galpha, rho_inf)) => (

@@ -95,7 +95,7 @@ def main() -> None:
             deck = tmp / f"tr_{k}.dat"
             pval = f"PVAL,1,E,{E:e},RHO,{RHO!r}\n" if e_card else f"PVAL,1,RHO,{RHO!r}\n"
             deck.write_text(f"SOL 112\nCEND\nROM = '{prom}'\nPVAL = 1\nTSTEP = 1\nDLOAD = 7\n{case_control}BEGIN BULK\n{pval}{bulk}"
-                            f"TSTEP,1,{STEPS},{DT:e},1\nTLOAD1,7,8,,,9\nDAREA,8,71,3,1.\nTABLEF,9,'load_{load}.csv',time,force\nENDDATA\n")
+                            f"TSTEP,1,{STEPS},{DT:e},1\nTINTEG,1,BDF1\nTLOAD1,7,8,,,9\nDAREA,8,71,3,1.\nTABLEF,9,'load_{load}.csv',time,force\nENDDATA\n")
             r = run(deck, tmp / f"tr_{k}.h5", args.paraflex)
             assert r.returncode == 0, r.stderr
             meas = tmp / f"meas_{k}.csv"

@@ -65,7 +65,7 @@ def main() -> None:
     make = [sys.executable, str(REPO / "tools" / "estimate" / "make_measurements.py"), "--sigma", "DISP=1e-7",
             "--sigma", "ACCEL=1e-3", "--truth", "E=2e11", "--truth", "RHO=7800", "--seed", "13"]
     run(binary, work, "bdf1", f"SOL 112\nCEND\nROM = 'prom.h5'\nPVAL = 1\nTSTEP = 1\nDLOAD = 7\nBEGIN BULK\n"
-        f"PVAL,1,E,2.E11,RHO,7800.\nTSTEP,1,{STEPS},{DT!r},1\n{LOAD}ENDDATA\n")
+        f"PVAL,1,E,2.E11,RHO,7800.\nTSTEP,1,{STEPS},{DT!r},1\nTINTEG,1,BDF1\n{LOAD}ENDDATA\n")
     subprocess.run([*make, str(work / "bdf1.h5"), "-o", str(work / "bdf1.csv")], check=True, capture_output=True)
     subprocess.run([*make, "--simulate", str(work / "prom.h5"), "--load", str(work / "load.csv"), "--dt", repr(DT),
                     "--steps", str(STEPS), "-o", str(work / "exact.csv")], check=True, capture_output=True)

@@ -384,6 +384,10 @@ impl Ptable {
 /// | 2 | ID | int > 0 | required | the TSTEP id it applies to |
 /// | 3 | METHOD | `BDF1` `BDF2` `GALPHA` | BDF1 | integrator (BDF1 is the thesis's, eq. 2.61) |
 /// | 4 | RHOINF | real in [0, 1] | 0.9 | spectral radius at infinity for GALPHA |
+///
+/// A TSTEP without a TINTEG is integrated by BDF1 in `SOL TRANSIENT` and `SOL FMB`, and by the
+/// trapezoidal rule (GALPHA with ρ∞ = 1: no numerical damping, as Nastran's Newmark-β) in the
+/// Nastran sequences SOL 109 and 112.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tinteg {
     pub id: u32,
