@@ -48,6 +48,8 @@ PSHELL,1,8,0.
 PSOLID,2,8
 MAT8,8,1.e10,1.e9,0.3,0.
 MAT1,9,-1.,,0.7,-2.
+PSHELL,3,10,0.01
+MAT1,10,2.e7,5.e6
 CONM2,104,66,,-1.
 CORD2R,5,6,0.,0.,0.,0.,0.,1.
 +,1.,0.,0.
@@ -79,6 +81,7 @@ fn every_error_is_collected_with_its_card() {
         "MAT1 9: E = -1e0 must be > 0",
         "MAT1 9: NU = 0.7 must lie in (−1, 0.5)",
         "MAT1 9: RHO = -2e0 must be ≥ 0",
+        "MAT1 10: NU = 1 (derived as E/(2G) − 1) must lie in (−1, 0.5)",
         "CONM2 104: G = 66 does not exist",
         "CONM2 104: M = -1e0 must be ≥ 0",
         "RID cycle",
@@ -319,4 +322,21 @@ fn matt1_leaves_the_mat1_values_without_a_temperature_set() {
             "'{text}' not in {errors:#?}"
         );
     }
+}
+
+/// A MAT1 whose derived ν = E/(2G) − 1 lies outside (−1, 0.5) is accepted with a warning when
+/// only line elements use it (they take E and G as given, as in Nastran; the shell use is an
+/// error, above).
+#[test]
+fn derived_poisson_ratio_out_of_range_is_accepted_for_line_elements() {
+    let w = warnings(
+        "SOL 101\nCEND\nBEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nCROD,1,1,1,2\n\
+         PROD,1,1,0.1,0.001\nMAT1,1,2.e7,5.e6\nENDDATA\n",
+    );
+    assert!(
+        w.iter().any(|w| w.contains(
+            "MAT1 1: NU = 1 (derived as E/(2G) − 1) lies outside (−1, 0.5); no shell, solid or shear panel uses this material"
+        )),
+        "{w:#?}"
+    );
 }

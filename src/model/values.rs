@@ -2,7 +2,7 @@
 //!
 //! | card | rule (error unless stated) |
 //! |---|---|
-//! | MAT1 | E > 0 when given; G > 0 (given or derived); −1 < ν < 0.5 (given or derived); ρ ≥ 0; all finite |
+//! | MAT1 | E > 0 when given; G > 0 (given or derived); −1 < ν < 0.5 (given, or derived for a material of a plate, solid or shear panel; a warning when only line elements, which take E and G as given, use it); ρ ≥ 0; all finite |
 //! | MAT8 | E1, E2, G12 > 0; ρ ≥ 0; G1Z, G2Z > 0 when given; ν12² < E1/E2 (positive-definite compliance) |
 //! | PSHELL | T > 0; 12I/T³ > 0, TS/T > 0; NSM, Z1, Z2 finite |
 //! | PCOMP | every ply T > 0; NSM finite |
@@ -22,6 +22,20 @@ fn bad(errors: &mut Vec<DeckError>, loc: &Loc, card: String, message: String) {
 /// Run the checks of the table above and note the kept-but-unused fields.
 pub fn check(refs: &Refs, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warning>) {
     let b = refs.bulk;
+    // materials whose Poisson ratio enters an element (plates, solids, shear panels)
+    let continuum: std::collections::HashSet<u32> = b
+        .pshell
+        .iter()
+        .flat_map(|p| [p.mid1, p.mid2, p.mid3, p.mid4])
+        .flatten()
+        .chain(
+            b.pcomp
+                .iter()
+                .flat_map(|p| p.plies.iter().map(|ply| ply.mid)),
+        )
+        .chain(b.psolid.iter().map(|p| p.mid))
+        .chain(b.pshear.iter().map(|p| p.mid))
+        .collect();
     for m in &b.mat1 {
         let card = format!("MAT1 {}", m.id);
         let [e_given, g_given, nu_given] = m.given;
@@ -58,7 +72,16 @@ pub fn check(refs: &Refs, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warnin
                 format!("G = {:e}{how} must be > 0", m.g),
             );
         }
-        if !(m.nu > -1.0 && m.nu < 0.5) {
+        if !(m.nu > -1.0 && m.nu < 0.5) && !nu_given && !continuum.contains(&m.id) {
+            // Nastran's line elements take E and G as given; only plates and solids use ν
+            warnings.push(Warning {
+                loc: Some(m.loc.to_string()),
+                message: format!(
+                    "MAT1 {}: NU = {} (derived as E/(2G) − 1) lies outside (−1, 0.5); no shell, solid or shear panel uses this material, and bars, beams and rods take E and G as given: accepted",
+                    m.id, m.nu
+                ),
+            });
+        } else if !(m.nu > -1.0 && m.nu < 0.5) {
             let how = if nu_given {
                 ""
             } else {
