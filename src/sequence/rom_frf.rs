@@ -2,8 +2,9 @@
 //! the pROM's load inputs (its BSET DOFs, `/prom/inputs`) at the subcase's `PVAL` values,
 //! H(ω) = S_rᵀ (K_r − ω²M_r + iωC_r)⁻¹ S_r with C_r = αM_r + βK_r (thesis eq. 3.31), at the
 //! frequencies of `FREQUENCY = sid` (FREQ, FREQ1, FREQ2 cards of that SID, combined and
-//! sorted). A line where the reduced dynamic stiffness is singular (undamped resonance) is an
-//! error naming the frequency.
+//! sorted), by modal superposition over all the pROM's modes at p (one n_r × n_r eigenproblem,
+//! exact since C_r is Rayleigh; [`rayleigh_receptance`]). A line where the reduced dynamic
+//! stiffness is singular (undamped resonance) is an error naming the frequency.
 //!
 //! Outputs: the input DOFs (receptance) and then the pROM's SENSORs (DISP: displacement, STRAIN:
 //! strain, VEL: iω × displacement, ACCEL: −ω² × displacement, per unit force).
@@ -20,7 +21,7 @@ use super::{Clock, RunContext, RunError, SubcaseSummary};
 use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
 use crate::dynamics::frf::scaled_flat;
-use crate::dynamics::frf::{DenseModel, receptance};
+use crate::dynamics::frf::{DenseModel, FrfError, rayleigh_receptance, receptance};
 use crate::dynamics::measurement::{Reads, SensorRows};
 use crate::io::{
     read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_str, set_attr_strings,
@@ -100,14 +101,30 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     // outputs: the input DOFs (receptance), then the sensors (DISP ×1, VEL ×iω, ACCEL ×−ω²)
     let k = names.len();
     let outputs = sensors.below_inputs(s_r.as_ref());
-    let model = DenseModel {
-        stiffness: at.stiffness(),
-        mass: at.mass(),
-        damping: at.damping(),
-        structural: None,
-    };
-    let h = receptance(&model, s_r.as_ref(), outputs.as_ref(), &omegas)
-        .map_err(|e| case(format!("{}: {e}", path.display())))?;
+    // all the pROM's modes at p, then O(n) per line and pair; the dense LU per line only when
+    // the reduced eigenproblem cannot be solved (an ill-conditioned M_r)
+    let h = match rayleigh_receptance(
+        at.stiffness(),
+        at.mass(),
+        (prom.alpha, prom.beta),
+        s_r.as_ref(),
+        outputs.as_ref(),
+        &omegas,
+    ) {
+        Err(FrfError::Eigen(_)) => receptance(
+            &DenseModel {
+                stiffness: at.stiffness(),
+                mass: at.mass(),
+                damping: at.damping(),
+                structural: None,
+            },
+            s_r.as_ref(),
+            outputs.as_ref(),
+            &omegas,
+        ),
+        modal => modal,
+    }
+    .map_err(|e| case(format!("{}: {e}", path.display())))?;
     let reads: Vec<Reads> = (0..k)
         .map(|_| Reads::Displacement)
         .chain(sensors.reads.iter().copied())
