@@ -16,7 +16,11 @@
 //! Every bad input is reported before any computation, each at its card and field: an
 //! EKFPAR that is not `BODY.PMPAR` of a flexible body or is listed twice, a MEAS naming no
 //! MSENSOR or one of a kind without a measurement equation (STRAIN, POS and ACCEL have one),
-//! more than one AMANDA card, an EKFINP (unknown inputs are not built for mechanisms). Then the setups that cannot work (accelerations only; no
+//! more than one AMANDA card, an EKFINP whose GRID is no MFORCE or MMOMENT id, that gives a
+//! COMP or is listed twice. An EKFINP makes the MFORCE (MMOMENT) of id GRID an unknown input
+//! ([`crate::estimate::mechanism::inputs`]): its amplitude along its direction is estimated
+//! from zero instead of read from its table, with Q_u = (Δt OMEGA AMPL)² (eq. 8.30) and
+//! P₀ = AMPL². Then the setups that cannot work (accelerations only; no
 //! absolute information on free rigid coordinates) are refused unless the EKF says FORCE =
 //! YES, and the numerical observability over the first steps is reported
 //! ([`crate::estimate::mechanism::observability`]).
@@ -25,7 +29,9 @@
 //! CSV interpolated onto t_k = k Δt, k = 1 … steps).
 //!
 //! Written under `/results/<id>/estimate/`: `time (t)`; `params/<BODY.PMPAR>`,
-//! `params_sigma/<BODY.PMPAR>` (t: estimate and standard deviation); `sensors/<name>` (t, the
+//! `params_sigma/<BODY.PMPAR>` (t: estimate and standard deviation); `inputs/<MFORCEid>`,
+//! `inputs_sigma/<MFORCEid>` (t: the unknown inputs' amplitudes, e.g. `inputs/MFORCE7`, and
+//! their standard deviations); `sensors/<name>` (t, the
 //! selected STRAIN, POS and ACCEL MSENSORs at the posterior, attribute `measured`);
 //! `constraint_residual (t)` and `velocity_residual (t)` (max |Φ| and max |Φ_q v + Φ_t| of the
 //! estimate after the AMANDA step), `manifold_iterations (t)`, `sensitivity (t)` (the smallest
@@ -35,7 +41,8 @@
 //! `frozen_steps` (steps at which FREEZE froze a parameter update), `steps_per_second`, the
 //! observability of [`crate::estimate::mechanism::observability`] (`observability` in words,
 //! `observability_rank`, `observability_columns`, `observability_steps`,
-//! `observability_ratio`, `parameter_identifiability`) and `forced` (a refused setup run with
+//! `observability_ratio`, `parameter_identifiability`, `input_identifiability`) and `forced`
+//! (a refused setup run with
 //! FORCE = YES).
 
 use std::time::Instant;
@@ -44,19 +51,20 @@ use super::estimate::{Selection, resample};
 use super::fmb::PreparedFmb;
 use super::report::{Report, sci};
 use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
-use crate::card_values::{FmbStart, MsensorKind};
+use crate::card_values::{FmbStart, ForceKind, MsensorKind};
 use crate::deck::Solution;
 use crate::deck::case_control::{StrainReference, Subcase};
 use crate::deck::error::DeckError;
 use crate::deck::fields::RawCard;
 use crate::discretize::mechanism::Bodies;
+use crate::estimate::mechanism::inputs::{Input, Inputs};
 use crate::estimate::mechanism::observability::{self, Observability, Refusal};
 use crate::estimate::mechanism::parameters::{EstimatedBody, Parameter, Parameters};
 use crate::estimate::mechanism::sensors::{Sensor, values};
-use crate::estimate::mechanism::{Amanda, AmandaSetup, ManifoldSettings};
+use crate::estimate::mechanism::{Amanda, AmandaSetup, InputNoise, ManifoldSettings};
 use crate::io::{set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str, write_f64, write_u32};
 use crate::model::mechanism::Sensor as Msensor;
-use crate::multibody::{Ggl, NewtonSettings, Scheme};
+use crate::multibody::{Force, Ggl, NewtonSettings, Scheme, System};
 
 /// The longest window of the numerical observability check (steps).
 const OBSERVABILITY_STEPS: usize = 200;
@@ -71,6 +79,8 @@ pub struct MechanismEstimateSummary {
     pub steps: usize,
     /// (BODY.PMPAR, final estimate, final σ).
     pub params: Vec<(String, f64, f64)>,
+    /// (MFORCEid, RMS of the estimate over the run, final σ) of each unknown input.
+    pub inputs: Vec<(String, f64, f64)>,
     /// Largest max |Φ| and max |Φ_q v + Φ_t| of the estimates.
     pub position_residual: f64,
     pub velocity_residual: f64,
@@ -253,6 +263,78 @@ struct AmandaParameters {
     p0: Vec<f64>,
 }
 
+/// The unknown inputs from the EKFINP cards of EKF `ekf_id` (GRID an MFORCE or MMOMENT id,
+/// COMP blank) in `system`, with their random walks; every bad card an error at its field.
+fn unknown_inputs(
+    ctx: &RunContext,
+    prepared: &PreparedFmb,
+    system: &System,
+    ekf_id: u32,
+) -> Result<(Inputs, Vec<InputNoise>), Vec<DeckError>> {
+    let loads = &prepared.pfmb.mechanism.forces;
+    // the system's point forces and moments, in the order of the mechanism's loads
+    let elements: Vec<usize> = (system.forces.iter().enumerate())
+        .filter(|(_, f)| matches!(f, Force::Point { .. } | Force::Moment { .. }))
+        .map(|(i, _)| i)
+        .collect();
+    let (mut errors, mut inputs, mut noise) = (Vec::new(), Inputs::default(), Vec::new());
+    for u in ctx.model.ekfinp(ekf_id) {
+        let card = || format!("EKFINP {ekf_id}");
+        if let Some(c) = u.component {
+            errors.push(field_error(&u.loc, card(), 3, "COMP", format!(
+                "found {c}: on a mechanism an unknown input is the amplitude of an MFORCE or MMOMENT along its own direction; leave COMP blank"
+            )));
+            continue;
+        }
+        let Some(i) = loads.iter().position(|f| f.id == u.grid) else {
+            errors.push(field_error(
+                &u.loc,
+                card(),
+                2,
+                "GRID",
+                format!(
+                    "{} is not an MFORCE or MMOMENT id of the mechanism (ids: {})",
+                    u.grid,
+                    loads
+                        .iter()
+                        .map(|f| f.id.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
+            continue;
+        };
+        let kind = match loads[i].kind {
+            ForceKind::Force => "MFORCE",
+            ForceKind::Moment => "MMOMENT",
+        };
+        let name = format!("{kind}{}", u.grid);
+        if inputs.list.iter().any(|x| x.name == name) {
+            errors.push(field_error(
+                &u.loc,
+                card(),
+                2,
+                "GRID",
+                format!("{name} is listed twice"),
+            ));
+            continue;
+        }
+        inputs.list.push(Input {
+            force: elements[i],
+            name,
+        });
+        noise.push(InputNoise {
+            frequency: u.omega,
+            amplitude: u.amplitude,
+        });
+    }
+    if errors.is_empty() {
+        Ok((inputs, noise))
+    } else {
+        Err(errors)
+    }
+}
+
 /// The filter's sensors: one per MEAS channel of `selection`, its MSENSOR by name; every
 /// channel naming no MSENSOR or one without a measurement equation an error at its card.
 fn measured(
@@ -359,15 +441,10 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let params = parameters(ctx, &prepared, selection.ekf_id).map_err(|e| errors.extend(e));
     let sensors = measured(&prepared, &selection).map_err(|e| errors.extend(e));
     let card = amanda_card(ctx, selection.ekf_id).map_err(|e| errors.push(e));
-    errors.extend(ctx.model.ekfinp(selection.ekf_id).into_iter().map(|u| {
-        DeckError::at(
-            &u.loc,
-            "unknown inputs of a mechanism (an MFORCE in the augmented state) are not available in this version; remove the card",
-        )
-        .on_card(format!("EKFINP {}", u.id))
-    }));
-    let (Ok((parameters, covariances)), Ok(sensors), Ok(card), true) =
-        (params, sensors, card, errors.is_empty())
+    let inputs = unknown_inputs(ctx, &prepared, &prepared.flexible.system, selection.ekf_id)
+        .map_err(|e| errors.extend(e));
+    let (Ok((parameters, covariances)), Ok(sensors), Ok(card), Ok((inputs, input_noise)), true) =
+        (params, sensors, card, inputs, errors.is_empty())
     else {
         return Err(case(joined(&errors)));
     };
@@ -406,6 +483,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let setup = AmandaSetup {
         q_positions: ekf.q_state,
         q_velocities: card.and_then(|c| c.q_velocities).unwrap_or(ekf.q_state),
+        inputs: input_noise,
         parameter_rates: covariances.rates,
         p0_positions: ekf.p0_state,
         p0_velocities: card.and_then(|c| c.p0_velocities).unwrap_or(ekf.p0_state),
@@ -417,6 +495,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         }),
     };
     let names = parameters.names();
+    let input_names = inputs.names();
     let n = ggl.system.size();
     let (filter_sensors, measured_msensors): (Vec<Sensor>, Vec<Msensor>) =
         sensors.into_iter().unzip();
@@ -446,11 +525,16 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         NewtonSettings::default(),
     )
     .map_err(|e| case(format!("kinematic assembly at t = 0: {e}")))?;
-    let observed =
-        observability::numerical(probe, &parameters, &filter_sensors, OBSERVABILITY_STEPS)
-            .map_err(|e| case(format!("observability check: {e}")))?;
-    let mut filter =
-        Amanda::new(ggl, parameters, filter_sensors, &setup).map_err(|e| case(e.to_string()))?;
+    let observed = observability::numerical(
+        probe,
+        &inputs,
+        &parameters,
+        &filter_sensors,
+        OBSERVABILITY_STEPS,
+    )
+    .map_err(|e| case(format!("observability check: {e}")))?;
+    let mut filter = Amanda::new(ggl, inputs, parameters, filter_sensors, &setup)
+        .map_err(|e| case(e.to_string()))?;
 
     // the run
     let np = names.len();
@@ -458,6 +542,11 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let (mut estimates, mut sigmas) = (
         vec![Vec::with_capacity(steps); np],
         vec![Vec::with_capacity(steps); np],
+    );
+    let nu = input_names.len();
+    let (mut input_estimates, mut input_sigmas) = (
+        vec![Vec::with_capacity(steps); nu],
+        vec![Vec::with_capacity(steps); nu],
     );
     let mut sensor_series = vec![Vec::with_capacity(steps); virtual_sensors.len()];
     let (mut position, mut velocity, mut iterations) = (Vec::new(), Vec::new(), Vec::new());
@@ -495,6 +584,15 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             series.push(*value);
             deviations.push(*deviation);
         }
+        let (u, sigma) = filter.inputs();
+        for ((series, deviations), (value, deviation)) in input_estimates
+            .iter_mut()
+            .zip(&mut input_sigmas)
+            .zip(u.iter().zip(&sigma))
+        {
+            series.push(*value);
+            deviations.push(*deviation);
+        }
         let (q, v) = filter.state();
         x[..n].copy_from_slice(q);
         x[n..].copy_from_slice(v);
@@ -516,10 +614,15 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     write_u32(&group, "manifold_iterations", &iterations, &[steps])?;
     write_f64(&group, "sensitivity", &sensitivity, &[steps])?;
     set_attr_i64(&group, "frozen_steps", frozen_steps as i64)?;
-    for (sub_name, data) in [("params", &estimates), ("params_sigma", &sigmas)] {
-        if np > 0 {
+    for (sub_name, labels, data) in [
+        ("params", &names, &estimates),
+        ("params_sigma", &names, &sigmas),
+        ("inputs", &input_names, &input_estimates),
+        ("inputs_sigma", &input_names, &input_sigmas),
+    ] {
+        if !labels.is_empty() {
             let g = ctx.output.group(&format!("{root}/{sub_name}"))?;
-            for (name, series) in names.iter().zip(data) {
+            for (name, series) in labels.iter().zip(data) {
                 write_f64(&g, name, series, &[steps])?;
             }
         }
@@ -544,13 +647,14 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     set_attr_str(
         &group,
         "observability",
-        &observability_text(&observed, &names),
+        &observability_text(&observed, &names, &input_names),
     )?;
     set_attr_i64(&group, "observability_rank", observed.rank as i64)?;
     set_attr_i64(&group, "observability_columns", observed.columns as i64)?;
     set_attr_i64(&group, "observability_steps", observed.steps as i64)?;
     set_attr_f64(&group, "observability_ratio", observed.ratio)?;
     set_attr_f64s(&group, "parameter_identifiability", &observed.parameters)?;
+    set_attr_f64s(&group, "input_identifiability", &observed.inputs)?;
     set_attr_i64(&group, "forced", i64::from(refusal.is_some()))?;
     let last = |s: &[Vec<f64>], j: usize| s[j].last().copied().unwrap_or(f64::NAN);
     let summary = MechanismEstimateSummary {
@@ -560,6 +664,14 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         steps,
         params: (0..np)
             .map(|j| (names[j].clone(), last(&estimates, j), last(&sigmas, j)))
+            .collect(),
+        inputs: (0..nu)
+            .map(|j| {
+                let rms = (input_estimates[j].iter().map(|u| u * u).sum::<f64>()
+                    / steps.max(1) as f64)
+                    .sqrt();
+                (input_names[j].clone(), rms, last(&input_sigmas, j))
+            })
             .collect(),
         position_residual: position.iter().fold(0.0, |a, b| a.max(*b)),
         velocity_residual: velocity.iter().fold(0.0, |a, b| a.max(*b)),
@@ -577,14 +689,15 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     })
 }
 
-/// The numerical observability in words: rank, conditioning and each parameter's distance
-/// from the span of the other columns.
-fn observability_text(o: &Observability, names: &[String]) -> String {
+/// The numerical observability in words: rank, conditioning and each parameter's and
+/// input's distance from the span of the other columns.
+fn observability_text(o: &Observability, names: &[String], inputs: &[String]) -> String {
     let parameters: Vec<String> = (names.iter().zip(&o.parameters))
+        .chain(inputs.iter().zip(&o.inputs))
         .map(|(n, d)| format!("{n} {}", sci(*d, 2)))
         .collect();
     format!(
-        "observability over the first {} step(s): rank {} of {} (σ_min/σ_max {}, tolerance {:e}); parameter identifiability (0 … 1): {}",
+        "observability over the first {} step(s): rank {} of {} (σ_min/σ_max {}, tolerance {:e}); identifiability of the unknowns (0 … 1): {}",
         o.steps,
         o.rank,
         o.columns,
@@ -609,14 +722,22 @@ impl Report for MechanismEstimateSummary {
             sci(1e3 * self.seconds_per_step, 3)
         )];
         let names: Vec<String> = self.params.iter().map(|p| p.0.clone()).collect();
+        let inputs: Vec<String> = self.inputs.iter().map(|p| p.0.clone()).collect();
         out.push(format!(
             "  {}",
-            observability_text(&self.observability, &names)
+            observability_text(&self.observability, &names, &inputs)
         ));
         for (name, value, sigma) in &self.params {
             out.push(format!(
                 "  {name} = {} ± {} (3σ) at the end",
                 sci(*value, 6),
+                sci(3.0 * sigma, 2)
+            ));
+        }
+        for (name, rms, sigma) in &self.inputs {
+            out.push(format!(
+                "  input {name}: RMS {} over the run, ± {} (3σ) at the end",
+                sci(*rms, 4),
                 sci(3.0 * sigma, 2)
             ));
         }

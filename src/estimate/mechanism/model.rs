@@ -1,5 +1,6 @@
-//! The AMANDA-EKF's process model of a pFMB ([`ProcessModel`], thesis §9.2.3): x* = (q, v, θ)
-//! (eq. 9.4; θ the parameters scaled by their initial guesses, [`super::parameters`]), the
+//! The AMANDA-EKF's process model of a pFMB ([`ProcessModel`], thesis §9.2.3): x* = (q, v, u,
+//! θ) (eq. 9.4; u the unknown inputs' amplitudes, [`super::inputs`]; θ the parameters scaled
+//! by their initial guesses, [`super::parameters`]), the
 //! prediction by one GGL–BDF1 step of the system at the current θ (eq. 9.15), the transition
 //! Jacobian of [`super::transition`] (eq. 9.17) and P⁻ = J P⁺ Jᵀ + Q (eq. 9.18), the
 //! measurements of [`super::sensors`] (eq. 9.16, 9.19), and after the correction the AMANDA
@@ -14,6 +15,7 @@
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
 
+use super::inputs::Inputs;
 use super::manifold::{Manifold, ManifoldReport, ManifoldSettings};
 use super::nullspace::Partition;
 use super::parameters::Parameters;
@@ -45,6 +47,7 @@ pub struct StepReport {
 /// The process model (module docs).
 pub struct MechanismModel {
     pub ggl: Ggl,
+    pub inputs: Inputs,
     pub parameters: Parameters,
     pub sensors: Vec<Sensor>,
     noise: Vec<f64>,
@@ -72,10 +75,11 @@ fn mechanism_error(e: impl std::fmt::Display) -> FilterError {
 }
 
 impl MechanismModel {
-    /// The model of `ggl`'s system (integrated with BDF1) with `parameters`, `sensors` and the
-    /// diagonal `process_noise` of Q (2n + n_θ).
+    /// The model of `ggl`'s system (integrated with BDF1) with `inputs`, `parameters`,
+    /// `sensors` and the diagonal `process_noise` of Q (2n + n_u + n_θ).
     pub fn new(
         ggl: Ggl,
+        inputs: Inputs,
         parameters: Parameters,
         sensors: Vec<Sensor>,
         process_noise: Vec<f64>,
@@ -84,7 +88,7 @@ impl MechanismModel {
     ) -> Result<Self, FilterError> {
         let (n, m) = (ggl.system.size(), ggl.constraint_count());
         let parameters_len = parameters.len();
-        let big_n = 2 * n + parameters_len;
+        let big_n = 2 * n + inputs.len() + parameters_len;
         if process_noise.len() != big_n {
             return Err(FilterError::Shape {
                 what: "process noise",
@@ -103,6 +107,7 @@ impl MechanismModel {
             noise: sensors.iter().map(|s| s.variance).collect(),
             prior_q: ggl.q.clone(),
             ggl,
+            inputs,
             parameters,
             sensors,
             process_noise,
@@ -123,7 +128,7 @@ impl ProcessModel for MechanismModel {
     type Input = ();
 
     fn size(&self) -> usize {
-        2 * self.ggl.system.size() + self.parameters.len()
+        2 * self.ggl.system.size() + self.inputs.len() + self.parameters.len()
     }
 
     fn measurement_noise(&self) -> &[f64] {
@@ -142,12 +147,13 @@ impl ProcessModel for MechanismModel {
         p: &mut Mat<f64>,
     ) -> Result<(), FilterError> {
         let n = self.ggl.system.size();
-        let (m, z) = (self.ggl.constraint_count(), 2 * n);
+        let (m, z, nu) = (self.ggl.constraint_count(), 2 * n, self.inputs.len());
         self.previous.copy_from_slice(&x[..z]);
-        let theta = x[z..].to_vec();
+        let theta = x[z + nu..].to_vec();
         self.parameters
             .apply(&theta, &mut self.ggl.system)
             .map_err(mechanism_error)?;
+        self.inputs.apply(&x[z..z + nu], &mut self.ggl.system);
         self.ggl.q.copy_from_slice(&x[..n]);
         self.ggl.v.copy_from_slice(&x[n..z]);
         let step = self.ggl.step().map_err(mechanism_error)?;
@@ -167,10 +173,12 @@ impl ProcessModel for MechanismModel {
             .partition
             .nullspace(phi_q.as_ref())
             .map_err(mechanism_error)?;
+        let loads = self.inputs.unit_loads(&ggl.system, &ggl.q, ggl.time);
         let j = transition(
             ggl,
             (&self.previous[..n], &self.previous[n..]),
             &nullspace,
+            &loads,
             &rates,
         )
         .ok_or_else(|| {
@@ -186,7 +194,11 @@ impl ProcessModel for MechanismModel {
             .copy_from(&j.states);
         self.jacobian
             .as_mut()
-            .submatrix_mut(0, z, z, np)
+            .submatrix_mut(0, z, z, nu)
+            .copy_from(&j.inputs);
+        self.jacobian
+            .as_mut()
+            .submatrix_mut(0, z + nu, z, np)
             .copy_from(&j.parameters);
         // S_k = J_z S_{k−1} + J_θ
         let mut next = j.parameters.clone();
@@ -261,7 +273,7 @@ impl ProcessModel for MechanismModel {
             self.frozen.extend(
                 (0..np)
                     .filter(|&j| sensitivities[j] < threshold)
-                    .map(|j| z + j),
+                    .map(|j| z + self.inputs.len() + j),
             );
         }
         self.report.frozen = self.frozen.len();
