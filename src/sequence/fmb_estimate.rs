@@ -41,7 +41,10 @@
 //! `frozen_steps` (steps at which FREEZE froze a parameter update), `steps_per_second`, the
 //! observability of [`crate::estimate::mechanism::observability`] (`observability` in words,
 //! `observability_rank`, `observability_columns`, `observability_steps`,
-//! `observability_ratio`, `parameter_identifiability`, `input_identifiability`) and `forced`
+//! `observability_ratio`, `parameter_identifiability`, `input_identifiability`), with
+//! AMANDA's OBSEVERY the windows along the run under `observability/` (`time` of each
+//! window's start, `steps`, `rank`, `columns`, `ratio`, and per unknown `<BODY.PMPAR>` or
+//! `<MFORCEid>` its identifiability; [`crate::estimate::mechanism`]'s model), and `forced`
 //! (a refused setup run with
 //! FORCE = YES).
 
@@ -94,6 +97,9 @@ pub struct MechanismEstimateSummary {
     pub forced: Option<Refusal>,
     /// The AMANDA card's FREEZE and the steps at which it froze a parameter update.
     pub freeze: Option<(f64, usize)>,
+    /// The AMANDA card's OBSEVERY and the observability windows along the run (start time,
+    /// result).
+    pub observed: Option<(usize, Vec<(f64, Observability)>)>,
 }
 
 /// The `SOL ESTIMATE` driver on a mechanism.
@@ -489,6 +495,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         p0_velocities: card.and_then(|c| c.p0_velocities).unwrap_or(ekf.p0_state),
         p0_parameters: covariances.p0,
         freeze: card.and_then(|c| c.freeze),
+        observe_every: card.and_then(|c| c.observe_every).map(|e| e as usize),
         manifold: card.map_or_else(ManifoldSettings::default, |c| ManifoldSettings {
             tolerance: c.tolerance,
             max_iterations: c.max_iterations as usize,
@@ -656,6 +663,10 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     set_attr_f64s(&group, "parameter_identifiability", &observed.parameters)?;
     set_attr_f64s(&group, "input_identifiability", &observed.inputs)?;
     set_attr_i64(&group, "forced", i64::from(refusal.is_some()))?;
+    let along = filter.observed().to_vec();
+    if setup.observe_every.is_some() {
+        write_observed(ctx, &root, &along, &names, &input_names)?;
+    }
     let last = |s: &[Vec<f64>], j: usize| s[j].last().copied().unwrap_or(f64::NAN);
     let summary = MechanismEstimateSummary {
         mechanism,
@@ -681,12 +692,94 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         observability: observed,
         forced: refusal,
         freeze: setup.freeze.map(|f| (f, frozen_steps)),
+        observed: setup.observe_every.map(|e| (e, along)),
     };
     Ok(SubcaseSummary {
         id,
         autospc: Vec::new(),
         result: Box::new(summary),
     })
+}
+
+/// The observability windows along the run under `<root>/observability`: `time` (each
+/// window's start), `steps`, `rank`, `columns`, `ratio`, and per unknown (parameter or input)
+/// its identifiability.
+fn write_observed(
+    ctx: &RunContext,
+    root: &str,
+    along: &[(f64, Observability)],
+    names: &[String],
+    inputs: &[String],
+) -> Result<(), RunError> {
+    let g = ctx.output.group(&format!("{root}/observability"))?;
+    let count = along.len();
+    let column = |f: &dyn Fn(&Observability) -> f64| -> Vec<f64> {
+        along.iter().map(|(_, o)| f(o)).collect()
+    };
+    let time: Vec<f64> = along.iter().map(|(t, _)| *t).collect();
+    write_f64(&g, "time", &time, &[count])?;
+    for (name, values) in [
+        ("steps", column(&|o| o.steps as f64)),
+        ("rank", column(&|o| o.rank as f64)),
+        ("columns", column(&|o| o.columns as f64)),
+        ("ratio", column(&|o| o.ratio)),
+    ] {
+        write_f64(&g, name, &values, &[count])?;
+    }
+    for (j, name) in names.iter().enumerate() {
+        write_f64(&g, name, &column(&|o| o.parameters[j]), &[count])?;
+    }
+    for (j, name) in inputs.iter().enumerate() {
+        write_f64(&g, name, &column(&|o| o.inputs[j]), &[count])?;
+    }
+    Ok(())
+}
+
+/// The observability windows along the run in words: how many, the range of their rank and
+/// conditioning, and each unknown's smallest identifiability and when.
+fn observed_text(every: usize, along: &[(f64, Observability)], unknowns: &[String]) -> String {
+    if along.is_empty() {
+        return format!(
+            "observability along the run (a window every {every} step(s)): no window finished"
+        );
+    }
+    let ranks = along.iter().map(|(_, o)| o.rank);
+    let (low, high) = (ranks.clone().min().unwrap_or(0), ranks.max().unwrap_or(0));
+    let worst = along
+        .iter()
+        .map(|(_, o)| o.ratio)
+        .fold(f64::INFINITY, f64::min);
+    let per_unknown: Vec<String> = (unknowns.iter().enumerate())
+        .map(|(j, name)| {
+            let (t, d) = along
+                .iter()
+                .map(|(t, o)| {
+                    (
+                        *t,
+                        o.parameters
+                            .iter()
+                            .chain(&o.inputs)
+                            .nth(j)
+                            .copied()
+                            .unwrap_or(0.0),
+                    )
+                })
+                .fold((0.0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+            format!("{name} {} (window from t = {})", sci(d, 2), sci(t, 3))
+        })
+        .collect();
+    format!(
+        "observability along the run: {} window(s) of {} step(s), one every {every} step(s): rank {low} … {high} of {}, smallest σ_min/σ_max {}; least identifiability: {}",
+        along.len(),
+        along[0].1.steps,
+        along[0].1.columns,
+        sci(worst, 2),
+        if per_unknown.is_empty() {
+            "none estimated".to_string()
+        } else {
+            per_unknown.join(", ")
+        }
+    )
 }
 
 /// The numerical observability in words: rank, conditioning and each parameter's and
@@ -747,6 +840,10 @@ impl Report for MechanismEstimateSummary {
             sci(self.velocity_residual, 2),
             self.fallbacks
         ));
+        if let Some((every, along)) = &self.observed {
+            let unknowns: Vec<String> = names.iter().chain(&inputs).cloned().collect();
+            out.push(format!("  {}", observed_text(*every, along, &unknowns)));
+        }
         if let Some((threshold, count)) = self.freeze {
             out.push(format!(
                 "  parameter updates frozen at {count} step(s) (a sensitivity below FREEZE = {})",

@@ -259,6 +259,7 @@ impl Meas {
 /// | 5 | FREEZE | real > 0 | blank | a parameter's update is frozen at a step where its largest reading sensitivity max_i \|∂h_i/∂θ\| / σ_i (θ = p / INIT, along the prior trajectory: noise σ per 100 % change) is below FREEZE (§9.3.2); blank: never frozen |
 /// | 6 | QVEL | real > 0 | EKF QSTATE | Q of the velocity coordinates (the EKF's QSTATE is the positions'); paraflex-specific |
 /// | 7 | P0VEL | real > 0 | EKF P0STATE | initial variance of the velocities (the EKF's P0STATE is the positions'); paraflex-specific |
+/// | 8 | OBSEVERY | int > 0 | blank | the numerical observability of the linearized filter (§9.3.1) over a window starting every OBSEVERY steps along the run, written and summarized; blank: at the start only; paraflex-specific |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Amanda {
     pub id: u32,
@@ -267,6 +268,7 @@ pub struct Amanda {
     pub freeze: Option<f64>,
     pub q_velocities: Option<f64>,
     pub p0_velocities: Option<f64>,
+    pub observe_every: Option<u32>,
     pub loc: Loc,
 }
 
@@ -281,8 +283,9 @@ impl Amanda {
         let freeze = blank_or_positive(&mut f, 4, "FREEZE");
         let q_velocities = blank_or_positive(&mut f, 5, "QVEL");
         let p0_velocities = blank_or_positive(&mut f, 6, "P0VEL");
+        let observe_every = f.opt_count(7, "OBSEVERY");
         let loc = f.loc();
-        f.finish(6)?;
+        f.finish(7)?;
         Ok(Amanda {
             id,
             tolerance,
@@ -290,6 +293,7 @@ impl Amanda {
             freeze,
             q_velocities,
             p0_velocities,
+            observe_every,
             loc,
         })
     }

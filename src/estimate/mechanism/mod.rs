@@ -68,6 +68,9 @@ pub struct AmandaSetup {
     /// The sensitivity below which parameter updates are frozen (§9.3.2, [`StepReport`]'s
     /// `sensitivity`); `None`: never.
     pub freeze: Option<f64>,
+    /// The period (steps) of the observability windows along the run
+    /// ([`Amanda::observed`]); `None`: none.
+    pub observe_every: Option<usize>,
 }
 
 /// The AMANDA-EKF on a pFMB (module docs).
@@ -163,6 +166,7 @@ impl Amanda {
             process,
             setup.manifold,
             setup.freeze,
+            setup.observe_every,
         )?;
         let p = Mat::from_fn(p0.len(), p0.len(), |i, j| if i == j { p0[i] } else { 0.0 });
         Ok(Self {
@@ -205,6 +209,12 @@ impl Amanda {
     pub fn state(&self) -> (&[f64], &[f64]) {
         let n = self.ekf.model.ggl.system.size();
         (&self.ekf.x[..n], &self.ekf.x[n..2 * n])
+    }
+
+    /// The observability windows finished so far along the run (their start time and result;
+    /// [`AmandaSetup::observe_every`]).
+    pub fn observed(&self) -> &[(f64, observability::Observability)] {
+        &self.ekf.model.observed
     }
 
     /// The integrator the filter predicts with (its system at the current estimate).
@@ -344,6 +354,7 @@ mod tests {
             p0_parameters: vec![p0_e / (E_GUESS * E_GUESS)],
             manifold: ManifoldSettings::default(),
             freeze: None,
+            observe_every: None,
         };
         let mut amanda = Amanda::new(
             one_body(&model, E_GUESS),

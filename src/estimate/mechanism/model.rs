@@ -11,6 +11,12 @@
 //! parameter j whose largest measurement sensitivity max_i |(J_m S_k)_ij| / σ_i — the change
 //! of a reading, in noise standard deviations, per 100 % change of the parameter — is below
 //! the threshold is not updated by that step's correction (its gain row is zero).
+//!
+//! The observability along the run (§9.3.1): every `every` steps a window of
+//! [`super::observability::Window`] starts at the posterior and takes the filter's own
+//! augmented transition Jacobians and measurement rows of the steps that follow, so the
+//! linearization is the estimate's, at no extra prediction; each finished window is kept with
+//! the time it started.
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
@@ -18,6 +24,7 @@ use faer::{Accum, Mat, Par};
 use super::inputs::Inputs;
 use super::manifold::{Manifold, ManifoldReport, ManifoldSettings};
 use super::nullspace::Partition;
+use super::observability::{Observability, Window};
 use super::parameters::Parameters;
 use super::sensors::{Sensor, measure};
 use super::transition::transition;
@@ -67,6 +74,13 @@ pub struct MechanismModel {
     /// entries of x this step.
     freeze: Option<f64>,
     frozen: Vec<usize>,
+    /// The observability along the run: the period (steps), the step at which the next window
+    /// starts (or the first after the current one ends), the window being accumulated (with
+    /// its start time) and the finished windows (start time, result).
+    every: Option<usize>,
+    next_window: usize,
+    window: Option<(f64, Window)>,
+    pub observed: Vec<(f64, Observability)>,
     pub report: StepReport,
 }
 
@@ -85,6 +99,7 @@ impl MechanismModel {
         process_noise: Vec<f64>,
         manifold: ManifoldSettings,
         freeze: Option<f64>,
+        every: Option<usize>,
     ) -> Result<Self, FilterError> {
         let (n, m) = (ggl.system.size(), ggl.constraint_count());
         let parameters_len = parameters.len();
@@ -119,6 +134,10 @@ impl MechanismModel {
             sensitivity: Mat::zeros(2 * n, parameters_len),
             freeze,
             frozen: Vec::new(),
+            every,
+            next_window: 0,
+            window: None,
+            observed: Vec::new(),
             report: StepReport::default(),
         })
     }
@@ -277,6 +296,12 @@ impl ProcessModel for MechanismModel {
             );
         }
         self.report.frozen = self.frozen.len();
+        if let Some((_, window)) = &mut self.window
+            && window.add(&self.jacobian, jm, &self.noise)
+        {
+            let (time, window) = self.window.take().expect("a window");
+            self.observed.push((time, window.finish()));
+        }
     }
 
     fn frozen(&self) -> &[usize] {
@@ -285,11 +310,44 @@ impl ProcessModel for MechanismModel {
 
     fn corrected(
         &mut self,
-        _step: usize,
+        step: usize,
         _: &(),
         x: &mut [f64],
         _p: &mut Mat<f64>,
     ) -> Result<(), FilterError> {
+        self.correct_onto_constraints(x)?;
+        if let Some(every) = self.every
+            && self.window.is_none()
+            && step >= self.next_window
+        {
+            self.next_window = step + every;
+            let (n, m) = (self.ggl.system.size(), self.ggl.constraint_count());
+            let mut phi_q = Mat::zeros(m, n);
+            (self.ggl.equations.constraints).jacobian(
+                &self.ggl.system.layout,
+                &x[..n],
+                self.ggl.time,
+                phi_q.as_mut(),
+            );
+            let mut partition = self.partition.clone();
+            let unknowns = (self.inputs.len(), self.parameters.len());
+            let window = Window::start(
+                &phi_q,
+                &mut partition,
+                unknowns,
+                self.sensors.len(),
+                usize::MAX,
+            )
+            .map_err(mechanism_error)?;
+            self.window = Some((self.ggl.time, window));
+        }
+        Ok(())
+    }
+}
+
+impl MechanismModel {
+    /// The AMANDA step of the posterior `x` back onto the constraints.
+    fn correct_onto_constraints(&mut self, x: &mut [f64]) -> Result<(), FilterError> {
         let n = self.ggl.system.size();
         let manifold = Manifold {
             layout: &self.ggl.system.layout,

@@ -17,10 +17,12 @@
 //!   J_k the augmented transition Jacobian (eq. 9.8, 9.17), J_m,k the measurement rows (eq.
 //!   9.19), T = diag(N₀, N₀, I) restricting the initial perturbation to the independent
 //!   coordinates (N₀ the nullspace of Φ_q at the start: perturbations off the constraints are
-//!   not states), its columns scaled to unit norm (the coordinates, velocities and scaled
-//!   parameters have different units). Its rank (singular values above
+//!   not states), its columns scaled to unit norm (the coordinates, velocities, inputs and
+//!   scaled parameters have different units; a column below [`RANK_TOLERANCE`] × the largest
+//!   column's norm is round-off of an exact zero, an unknown no reading sees, and stays zero).
+//!   Its rank (singular values above
 //!   [`RANK_TOLERANCE`] × the largest) and its smallest singular value over the largest are
-//!   reported, and per parameter the distance of its (unit) column from the span of all the
+//!   reported, and per parameter and input the distance of its (unit) column from the span of all the
 //!   other columns: 0 when the data cannot tell a parameter change from a change of the
 //!   states or the other parameters, 1 when its effect is orthogonal to theirs.
 
@@ -242,14 +244,20 @@ impl Window {
             .submatrix(0, 0, self.added * k, self.o.ncols())
             .to_owned();
         let columns = o.ncols();
-        for c in 0..columns {
-            let norm = (0..o.nrows())
-                .map(|r| o[(r, c)] * o[(r, c)])
-                .sum::<f64>()
-                .sqrt();
-            if norm > 0.0 {
-                (0..o.nrows()).for_each(|r| o[(r, c)] /= norm);
-            }
+        let norms: Vec<f64> = (0..columns)
+            .map(|c| {
+                (0..o.nrows())
+                    .map(|r| o[(r, c)] * o[(r, c)])
+                    .sum::<f64>()
+                    .sqrt()
+            })
+            .collect();
+        // a column this much smaller than the largest is round-off of an exact zero (an
+        // unknown the readings do not see): left zero rather than scaled up to unit norm
+        let floor = RANK_TOLERANCE * norms.iter().copied().fold(0.0, f64::max);
+        for (c, norm) in norms.iter().enumerate() {
+            let scale = if *norm > floor { 1.0 / norm } else { 0.0 };
+            (0..o.nrows()).for_each(|r| o[(r, c)] *= scale);
         }
         let (rank, smallest, largest) = rank(&o);
         let first = 2 * self.free;
