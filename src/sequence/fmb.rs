@@ -154,6 +154,12 @@ fn strain_relative_to(
         let zero = match reference {
             None | Some(StrainReference::None) => continue,
             Some(StrainReference::Initial) => values.first().copied().unwrap_or(0.0),
+            Some(r @ (StrainReference::Static | StrainReference::Adaptive)) => {
+                return Err(format!(
+                    "STRREF = {}: a reference of the AMANDA-EKF (SOL ESTIMATE on a mechanism); in SOL FMB use STRREF = INITIAL with FMBSTART = STATIC, or the id of a static subcase",
+                    if r == StrainReference::Static { "STATIC" } else { "ADAPTIVE" }
+                ));
+            }
             Some(StrainReference::Subcase(id)) => earlier
                 .iter()
                 .find(|(sub, _)| *sub == id)

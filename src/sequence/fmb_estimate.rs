@@ -8,8 +8,11 @@
 //! plus the component estimator's `ESTIM = id` (EKF with its EKFPAR and an optional AMANDA
 //! card of the same id), `MEAS = id` (MEASF with its MEAS channels) and `TSTEP` (the filter
 //! step, one Δt). The filter predicts with GGL–BDF1 from the kinematic assembly at t = 0
-//! (`TINTEG` other than BDF1, `TSTEPVAR`, `FMBSTART = STATIC`, `POSES` and `STRREF` are
-//! refused). The EKF's QSTATE and P0STATE are Q and P₀ of the positions, the AMANDA card's
+//! (`TINTEG` other than BDF1, `TSTEPVAR`, `FMBSTART = STATIC`, `POSES` and `STRREF = INITIAL`
+//! or a subcase id are refused). `STRREF = STATIC` zeroes the STRAIN gauges in the static
+//! equilibrium at t = 0 at the initial guesses (eq. 9.24), `STRREF = ADAPTIVE` at the current
+//! estimate every step (eq. 9.25; [`crate::estimate::mechanism::reference`]); without it they
+//! read absolute strains. The EKF's QSTATE and P0STATE are Q and P₀ of the positions, the AMANDA card's
 //! QVEL and P0VEL those of the velocities; an EKFPAR's P0 is the variance of the physical
 //! parameter (divided by INIT² for the scaled θ = p / INIT) and DELTA its δ_p (eq. 8.31).
 //!
@@ -63,6 +66,7 @@ use crate::discretize::mechanism::Bodies;
 use crate::estimate::mechanism::inputs::{Input, Inputs};
 use crate::estimate::mechanism::observability::{self, Observability, Refusal};
 use crate::estimate::mechanism::parameters::{EstimatedBody, Parameter, Parameters};
+use crate::estimate::mechanism::reference::StrainReference as Gauges;
 use crate::estimate::mechanism::sensors::{Sensor, values};
 use crate::estimate::mechanism::{Amanda, AmandaSetup, InputNoise, ManifoldSettings};
 use crate::io::{set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str, write_f64, write_u32};
@@ -178,9 +182,12 @@ fn refused_settings(ctx: &RunContext, sub: &Subcase) -> Vec<String> {
             at("POSES")
         ));
     }
-    if !matches!(sub.strref, None | Some(StrainReference::None)) {
+    if matches!(
+        sub.strref,
+        Some(StrainReference::Initial | StrainReference::Subcase(_))
+    ) {
         refused.push(format!(
-            "{}STRREF: the filter's strain gauges are absolute (eq. 2.57) in this version; measure absolute strains or remove STRREF",
+            "{}STRREF: the filter's gauges read absolute strains (NONE), or from the static equilibrium at t = 0 at the initial guesses (STATIC, eq. 9.24) or at the current estimate (ADAPTIVE, eq. 9.25)",
             at("STRREF")
         ));
     }
@@ -496,6 +503,11 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         p0_parameters: covariances.p0,
         freeze: card.and_then(|c| c.freeze),
         observe_every: card.and_then(|c| c.observe_every).map(|e| e as usize),
+        strain_reference: match sub.strref {
+            Some(StrainReference::Static) => Gauges::Fixed,
+            Some(StrainReference::Adaptive) => Gauges::Adaptive,
+            _ => Gauges::Absolute,
+        },
         manifold: card.map_or_else(ManifoldSettings::default, |c| ManifoldSettings {
             tolerance: c.tolerance,
             max_iterations: c.max_iterations as usize,

@@ -19,7 +19,14 @@ mid-span gauges read bending. The table is sampled every 0.25 ms (its linear int
 exact at the 1 ms steps). Writes reference/amanda_fourbar_input_set1.csv with the same columns
 plus the applied force (column "force"); the noise has its own seed.
 
-    .venv/bin/python tools/amanda/fourbar_measurements.py [--steps 1000] [--input] [--binary PATH]
+With --relative the gauges read from the reference configuration (thesis eq. 9.24): the
+static equilibrium at t = 0 (drive at its initial angle, gravity) of the same non-parametric
+links, from a second forward run with FMBSTART = STATIC; each column is the absolute strain
+minus that reference, with the same noise as the absolute file. Writes
+reference/amanda_fourbar_set1_relative.csv (the reference strains in its header).
+
+    .venv/bin/python tools/amanda/fourbar_measurements.py [--steps 1000] [--input | --relative]
+        [--binary PATH]
 """
 
 import argparse
@@ -66,6 +73,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=1000)
     parser.add_argument("--input", action="store_true", help="apply the 15 Hz, 10 N input on OC")
+    parser.add_argument("--relative", action="store_true", help="strains from the static reference")
     parser.add_argument("--binary", default=None)
     args = parser.parse_args()
     binary = args.binary or default_binary()
@@ -90,9 +98,22 @@ def main() -> None:
             g = f["results/1/fmb"]
             time = g["time"][()]
             clean = np.column_stack([g[f"sensors/{n}"][()] for n in GAUGES])
+        reference = np.zeros(len(GAUGES))
+        if args.relative:
+            static = fmb.replace(f"TSTEP,1,{args.steps},1.e-3,1", "TSTEP,1,1,1.e-3,1")
+            static = static.replace("TSTEP = 1\n", "TSTEP = 1\nFMBSTART = STATIC\n", 1)
+            path = d / "static.dat"
+            path.write_text(static)
+            run_checked(path, d / "static.h5", binary)
+            with h5py.File(d / "static.h5", "r") as f:
+                g = f["results/1/fmb"]
+                reference = np.array([g[f"sensors/{n}"][0] for n in GAUGES])
     seed = INPUT_SEED if args.input else SEED
     noisy = clean + NOISE * np.random.default_rng(seed).standard_normal(clean.shape)
+    noisy, clean = noisy - reference, clean - reference
     name = "amanda_fourbar_input_set1.csv" if args.input else "amanda_fourbar_set1.csv"
+    if args.relative:
+        name = "amanda_fourbar_set1_relative.csv"
     out = ROOT / "reference" / name
     load = (
         f", with the input MFORCE 7 = {INPUT_N:g} sin(2 pi {INPUT_HZ:g} t) N at marker 32 along x"
@@ -103,7 +124,14 @@ def main() -> None:
         "AMANDA-EKF four-bar measurements, sensor set 1 (thesis 9.4.1): SOL FMB of "
         "decks/fourbar/fmb/fourbar_steel.dat with its links as non-parametric ROMs at E = "
         f"{E_TRUE:e} Pa, RHO = {RHO_TRUE} kg/m3{load} (tools/amanda/fourbar_measurements.py), "
-        f"dt = 1 ms, strains with white Gaussian noise sigma = {NOISE:g} (seed {seed})\n"
+        f"dt = 1 ms, strains with white Gaussian noise sigma = {NOISE:g} (seed {seed})"
+        + (
+            ", relative to the static equilibrium at t = 0 (FMBSTART = STATIC), reference strains "
+            + ", ".join(f"{n} {r:.17g}" for n, r in zip(GAUGES, reference))
+            if args.relative
+            else ""
+        )
+        + "\n"
         "time," + ",".join(GAUGES) + "," + ",".join(f"{n}_clean" for n in GAUGES)
     )
     columns = [time, noisy, clean]

@@ -11,6 +11,8 @@
 //! - [`transition`]: the Jacobian of a GGL–BDF1 step from the projected equations (eq. 9.3,
 //!   9.8);
 //! - [`sensors`]: strain, marker position and acceleration measurements and their rows;
+//! - [`reference`]: the strain gauges' reference configuration, fixed (eq. 9.24) or adaptive
+//!   (eq. 9.25);
 //! - [`manifold`]: the AMANDA step back onto the constraints (eq. 9.9–9.14);
 //! - [`observability`]: the setups that cannot work (§9.3.1) and the numerical observability
 //!   of the linearized system over the first steps;
@@ -24,6 +26,7 @@ pub mod manifold;
 pub mod nullspace;
 pub mod observability;
 pub mod parameters;
+pub mod reference;
 pub mod sensors;
 pub mod transition;
 
@@ -37,6 +40,7 @@ pub use manifold::{ManifoldReport, ManifoldSettings};
 use model::MechanismModel;
 pub use model::StepReport;
 use parameters::Parameters;
+use reference::{Reference, StrainReference};
 use sensors::Sensor;
 
 /// The random walk of an unknown input (eq. 8.30): expected frequency ω_u (Hz) and amplitude
@@ -71,6 +75,8 @@ pub struct AmandaSetup {
     /// The period (steps) of the observability windows along the run
     /// ([`Amanda::observed`]); `None`: none.
     pub observe_every: Option<usize>,
+    /// The strain gauges' reference configuration.
+    pub strain_reference: StrainReference,
 }
 
 /// The AMANDA-EKF on a pFMB (module docs).
@@ -158,6 +164,15 @@ impl Amanda {
             .apply(&x[2 * n + nu..], &mut ggl.system)
             .map_err(FilterError::Mechanism)?;
         inputs.apply(&x[2 * n..2 * n + nu], &mut ggl.system);
+        let reference = Reference::new(
+            setup.strain_reference,
+            &mut ggl,
+            &inputs,
+            &x[2 * n..2 * n + nu],
+            &parameters,
+            &x[2 * n + nu..],
+        )
+        .map_err(FilterError::Mechanism)?;
         let model = MechanismModel::new(
             ggl,
             inputs,
@@ -167,6 +182,7 @@ impl Amanda {
             setup.manifold,
             setup.freeze,
             setup.observe_every,
+            reference,
         )?;
         let p = Mat::from_fn(p0.len(), p0.len(), |i, j| if i == j { p0[i] } else { 0.0 });
         Ok(Self {
@@ -355,6 +371,7 @@ mod tests {
             manifold: ManifoldSettings::default(),
             freeze: None,
             observe_every: None,
+            strain_reference: StrainReference::Absolute,
         };
         let mut amanda = Amanda::new(
             one_body(&model, E_GUESS),

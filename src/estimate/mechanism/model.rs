@@ -8,7 +8,8 @@
 //!
 //! The freeze of §9.3.2: the model carries the sensitivity S_k = ∂(q_k, v_k)/∂θ of the prior
 //! trajectory (S_k = J_z S_{k−1} + J_θ, from the transition Jacobian's blocks, S_0 = 0); a
-//! parameter j whose largest measurement sensitivity max_i |(J_m S_k)_ij| / σ_i — the change
+//! parameter j whose largest measurement sensitivity max_i |(J_m,z S_k + J_m,θ)_ij| / σ_i
+//! (J_m,θ the adaptive strain reference's direct dependence, [`super::reference`]) — the change
 //! of a reading, in noise standard deviations, per 100 % change of the parameter — is below
 //! the threshold is not updated by that step's correction (its gain row is zero).
 //!
@@ -26,6 +27,7 @@ use super::manifold::{Manifold, ManifoldReport, ManifoldSettings};
 use super::nullspace::Partition;
 use super::observability::{Observability, Window};
 use super::parameters::Parameters;
+use super::reference::Reference;
 use super::sensors::{Sensor, measure};
 use super::transition::transition;
 use crate::estimate::ekf::ProcessModel;
@@ -79,6 +81,8 @@ pub struct MechanismModel {
     /// its start time) and the finished windows (start time, result).
     every: Option<usize>,
     next_window: usize,
+    /// The gauges' reference configuration (eq. 9.24, 9.25), if not absolute.
+    reference: Option<Reference>,
     window: Option<(f64, Window)>,
     pub observed: Vec<(f64, Observability)>,
     pub report: StepReport,
@@ -100,6 +104,7 @@ impl MechanismModel {
         manifold: ManifoldSettings,
         freeze: Option<f64>,
         every: Option<usize>,
+        reference: Option<Reference>,
     ) -> Result<Self, FilterError> {
         let (n, m) = (ggl.system.size(), ggl.constraint_count());
         let parameters_len = parameters.len();
@@ -118,6 +123,10 @@ impl MechanismModel {
         let partition = Partition::choose(phi_q.as_ref()).map_err(mechanism_error)?;
         let mut previous = ggl.q.clone();
         previous.extend(&ggl.v);
+        let mut sensors = sensors;
+        if let Some(r) = &reference {
+            r.apply(&mut sensors, &ggl);
+        }
         Ok(Self {
             noise: sensors.iter().map(|s| s.variance).collect(),
             prior_q: ggl.q.clone(),
@@ -136,6 +145,7 @@ impl MechanismModel {
             frozen: Vec::new(),
             every,
             next_window: 0,
+            reference,
             window: None,
             observed: Vec::new(),
             report: StepReport::default(),
@@ -250,6 +260,13 @@ impl ProcessModel for MechanismModel {
         for (i, q) in self.process_noise.iter().enumerate() {
             p[(i, i)] += q;
         }
+        if let Some(r) = &mut self.reference {
+            let u = &x[z..z + nu];
+            (r.update(&mut self.ggl, &self.inputs, u, &self.parameters, &theta))
+                .map_err(|e| mechanism_error(format!("at t = {}: {e}", self.ggl.time)))?;
+            r.apply(&mut self.sensors, &self.ggl);
+        }
+        let ggl = &self.ggl;
         self.report = StepReport {
             time: ggl.time,
             newton_iterations: step.iterations,
@@ -273,11 +290,17 @@ impl ProcessModel for MechanismModel {
             jm,
         );
         let z = 2 * n;
+        if let Some(r) = &self.reference {
+            r.add_rows(&self.sensors, &self.ggl, jm, z + self.inputs.len());
+        }
         let (rows, np) = (self.sensors.len(), self.parameters.len());
         let largest = |j: usize| {
             (0..rows)
                 .map(|i| {
-                    let d: f64 = (0..z).map(|l| jm[(i, l)] * self.sensitivity[(l, j)]).sum();
+                    let d: f64 = (0..z)
+                        .map(|l| jm[(i, l)] * self.sensitivity[(l, j)])
+                        .sum::<f64>()
+                        + jm[(i, z + self.inputs.len() + j)];
                     d.abs() / self.noise[i].sqrt()
                 })
                 .fold(0.0, f64::max)
