@@ -173,17 +173,8 @@ impl Amanda {
             &x[2 * n + nu..],
         )
         .map_err(FilterError::Mechanism)?;
-        let model = MechanismModel::new(
-            ggl,
-            inputs,
-            parameters,
-            sensors,
-            process,
-            setup.manifold,
-            setup.freeze,
-            setup.observe_every,
-            reference,
-        )?;
+        let model =
+            MechanismModel::new(ggl, inputs, parameters, sensors, process, setup, reference)?;
         let p = Mat::from_fn(p0.len(), p0.len(), |i, j| if i == j { p0[i] } else { 0.0 });
         Ok(Self {
             ekf: Ekf::new(model, x, p),

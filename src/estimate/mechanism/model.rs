@@ -22,6 +22,7 @@
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
 
+use super::AmandaSetup;
 use super::inputs::Inputs;
 use super::manifold::{Manifold, ManifoldReport, ManifoldSettings};
 use super::nullspace::Partition;
@@ -94,16 +95,15 @@ fn mechanism_error(e: impl std::fmt::Display) -> FilterError {
 
 impl MechanismModel {
     /// The model of `ggl`'s system (integrated with BDF1) with `inputs`, `parameters`,
-    /// `sensors` and the diagonal `process_noise` of Q (2n + n_u + n_θ).
+    /// `sensors`, the diagonal `process_noise` of Q (2n + n_u + n_θ), the manifold step, freeze
+    /// and observability period of `setup`, and the gauges' `reference`.
     pub fn new(
         ggl: Ggl,
         inputs: Inputs,
         parameters: Parameters,
         sensors: Vec<Sensor>,
         process_noise: Vec<f64>,
-        manifold: ManifoldSettings,
-        freeze: Option<f64>,
-        every: Option<usize>,
+        setup: &AmandaSetup,
         reference: Option<Reference>,
     ) -> Result<Self, FilterError> {
         let (n, m) = (ggl.system.size(), ggl.constraint_count());
@@ -139,11 +139,11 @@ impl MechanismModel {
             previous,
             jacobian: Mat::identity(big_n, big_n),
             product: Mat::zeros(big_n, big_n),
-            manifold,
+            manifold: setup.manifold,
             sensitivity: Mat::zeros(2 * n, parameters_len),
-            freeze,
+            freeze: setup.freeze,
             frozen: Vec::new(),
-            every,
+            every: setup.observe_every,
             next_window: 0,
             reference,
             window: None,
