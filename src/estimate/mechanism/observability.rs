@@ -131,12 +131,6 @@ impl Observability {
     pub fn full(&self) -> bool {
         self.rank == self.columns
     }
-
-    /// The smallest distance of an input's or parameter's column from the others (1 without
-    /// unknowns).
-    pub fn least_identifiable(&self) -> f64 {
-        (self.inputs.iter().chain(&self.parameters)).fold(1.0, |a, b| a.min(*b))
-    }
 }
 
 /// The observability matrix of a window being accumulated (module docs): Φ_k and the rows
