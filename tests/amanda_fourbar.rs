@@ -753,9 +753,9 @@ fn input_case_errors(e: &[f64], u: &[f64]) -> (PercentErrors, f64) {
 
 /// Table 9.1's "E_C, input" case with sensor set 1, from the deck: C.E from 25 % above the
 /// truth and the amplitude of MFORCE 7 (15 Hz, 10 N on OC; tools/amanda/fourbar_measurements.py
-/// --input) from zero, over the first 80 steps (1.7 s in the debug profile; the whole second
-/// is [`coupler_modulus_and_input_benchmark`], which holds Table 9.1's bound). Checked over the
-/// last 20 % of the window:
+/// --input) from zero, over the first 80 steps (1.6–2.3 s in the debug profile on the shared
+/// machine; the whole second is [`coupler_modulus_and_input_benchmark`], which holds Table
+/// 9.1's bound). Checked over the last 20 % of the window:
 /// - the input's RMS error is below 2π f Δt = 9.4 % of its RMS, the error of the random
 ///   walk's own prediction u_k⁻ = u_{k−1}⁺ of a 15 Hz sine at Δt = 1 ms: an estimate no
 ///   better than that has learnt nothing from the correction (a missing or wrong input column
