@@ -518,6 +518,15 @@ fn strref_measures_strain_from_a_static_subcase_or_the_start() {
     assert!((absolute[0] - reference).abs() < 1e-9 * reference);
     let initial = eps(4);
     assert_eq!(initial[0], 0.0);
+    // the estimation's references are refused before any subcase runs, at the statement
+    let adaptive = two.replace("  STRREF = INITIAL\n", "  STRREF = ADAPTIVE\n");
+    let Err(message) = run_beside(&dir, &adaptive) else {
+        panic!("STRREF = ADAPTIVE ran in SOL FMB")
+    };
+    assert!(
+        message.contains("STRREF = ADAPTIVE: a reference of the AMANDA-EKF"),
+        "{message}"
+    );
 }
 
 /// A STRAIN output whose REF is no STRAIN sensor of the body's artifact is an error at its

@@ -33,6 +33,12 @@ pub enum StrainReference {
     /// The last state of an earlier subcase of the same deck (e.g. a static subcase: the
     /// equilibrium under gravity).
     Subcase(u32),
+    /// `SOL ESTIMATE` on a mechanism: the static equilibrium at t = 0 at the initial
+    /// parameter guesses (eq. 9.24).
+    Static,
+    /// `SOL ESTIMATE` on a mechanism: the static equilibrium at t = 0 at the current estimate,
+    /// every step (eq. 9.25).
+    Adaptive,
 }
 
 /// An output request such as `STRAIN(PLOT,FIBER) = 5`.
@@ -516,10 +522,12 @@ impl CaseControl {
                 ))),
             },
             "STRREF" => match st.value.map(str::to_ascii_uppercase).as_deref() {
-                Some(v @ ("NONE" | "INITIAL")) => {
+                Some(v @ ("NONE" | "INITIAL" | "STATIC" | "ADAPTIVE")) => {
                     let sub = self.current();
                     sub.strref = Some(match v {
                         "NONE" => StrainReference::None,
+                        "STATIC" => StrainReference::Static,
+                        "ADAPTIVE" => StrainReference::Adaptive,
                         _ => StrainReference::Initial,
                     });
                     sub.locs.push(("STRREF", loc.clone()));
@@ -530,7 +538,7 @@ impl CaseControl {
                     sub.locs.push(("STRREF", loc.clone()));
                 }
                 other => diag.error(err(format!(
-                    "expected STRREF = NONE | INITIAL | subcase id, found '{}'",
+                    "expected STRREF = NONE | INITIAL | STATIC | ADAPTIVE | subcase id, found '{}'",
                     other.unwrap_or("")
                 ))),
             },

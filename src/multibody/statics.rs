@@ -178,6 +178,50 @@ pub fn equilibrium(
     )
 }
 
+/// The derivatives (∂q/∂pⱼ) of the equilibrium `eq` of `system` at time `t` with respect to
+/// parameters whose applied-force rates ∂f/∂pⱼ at (eq.q, v = 0) are `rates` (n each): the
+/// residual [Φ_qᵀ λ − f; Φ] stays zero, so the iteration matrix A (the exact tangent) gives
+/// A [∂q/∂pⱼ; ∂λ/∂pⱼ] = [∂f/∂pⱼ; 0], one factorization for all j.
+pub fn equilibrium_rates(
+    system: &System,
+    equations: &Equations,
+    eq: &Equilibrium,
+    t: f64,
+    rates: &[Vec<f64>],
+) -> Result<Vec<Vec<f64>>, MultibodyError> {
+    let (n, m) = (eq.q.len(), eq.lambda.len());
+    let mut phi_q = Mat::zeros(m, n);
+    equations
+        .constraints
+        .jacobian(&system.layout, &eq.q, t, phi_q.as_mut());
+    let mut lu = DenseLu::new(n + m);
+    iteration_matrix(
+        system,
+        equations,
+        (&eq.q, &eq.lambda),
+        t,
+        &phi_q,
+        lu.matrix_mut(),
+    );
+    lu.factor();
+    rates
+        .iter()
+        .map(|rate| {
+            let mut x = rate.clone();
+            x.resize(n + m, 0.0);
+            lu.solve(&mut x);
+            if x.iter().any(|d| !d.is_finite()) {
+                return Err(MultibodyError::Singular {
+                    what: "static equilibrium matrix",
+                    time: t,
+                });
+            }
+            x.truncate(n);
+            Ok(x)
+        })
+        .collect()
+}
+
 /// [`equilibrium`] from the configuration and constraint forces `(q0, λ0)` (e.g. a
 /// neighbouring pose's equilibrium), with the matrix policy of `settings`; `kept` holds the
 /// factorization between calls under [`Refresh::WhenSlow`].

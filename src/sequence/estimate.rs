@@ -172,8 +172,14 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let (input_names, s_r) = read_prom_inputs(&path, n)?;
     let mut unknown_inputs = Vec::new();
     for inp in model.ekfinp(ekf_id) {
-        let name = format!("{}:{}", inp.grid, inp.component);
-        let j = input_names.iter().position(|x| *x == name).ok_or_else(|| case(format!("EKFINP {ekf_id}: GRID {} component {} is not an input DOF of the pROM (inputs: {})", inp.grid, inp.component, input_names.join(", "))))?;
+        let component = inp.component.ok_or_else(|| {
+            case(format!(
+                "{}: EKFINP {ekf_id}: field 4 (COMP): a pROM input DOF needs its component 1–6",
+                inp.loc
+            ))
+        })?;
+        let name = format!("{}:{component}", inp.grid);
+        let j = input_names.iter().position(|x| *x == name).ok_or_else(|| case(format!("EKFINP {ekf_id}: GRID {} component {component} is not an input DOF of the pROM (inputs: {})", inp.grid, input_names.join(", "))))?;
         unknown_inputs.push((j, name, inp));
     }
     let s_un = input_columns(

@@ -117,9 +117,32 @@ fn control_of(card: &Tstepvar, dt0: f64) -> StepControl {
 /// The last absolute value of each STRAIN output of a subcase, by name.
 type StrainFinals = Vec<(String, f64)>;
 
+/// The error of an estimation-only strain reference (`STATIC`, `ADAPTIVE`) in `SOL FMB`.
+fn estimation_reference(reference: StrainReference) -> String {
+    format!(
+        "STRREF = {}: a reference of the AMANDA-EKF (SOL ESTIMATE on a mechanism); in SOL FMB use STRREF = INITIAL with FMBSTART = STATIC, or the id of a static subcase",
+        if reference == StrainReference::Static {
+            "STATIC"
+        } else {
+            "ADAPTIVE"
+        }
+    )
+}
+
 /// Runs every subcase, in order (a later subcase's `STRREF = id` reads an earlier one's
-/// strains).
+/// strains); an estimation-only STRREF is refused before any subcase runs.
 fn run(ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+    for sub in &ctx.model.subcases {
+        if let Some(r @ (StrainReference::Static | StrainReference::Adaptive)) = sub.strref {
+            let at = sub
+                .loc_of("STRREF")
+                .map_or(String::new(), |l| format!("{l}: "));
+            return Err(RunError::Case {
+                subcase: sub.id,
+                what: format!("{at}{}", estimation_reference(r)),
+            });
+        }
+    }
     let mut earlier: Vec<(u32, StrainFinals)> = Vec::new();
     let mut summaries = Vec::new();
     for sub in &ctx.model.subcases {
@@ -154,6 +177,9 @@ fn strain_relative_to(
         let zero = match reference {
             None | Some(StrainReference::None) => continue,
             Some(StrainReference::Initial) => values.first().copied().unwrap_or(0.0),
+            Some(r @ (StrainReference::Static | StrainReference::Adaptive)) => {
+                return Err(estimation_reference(r));
+            }
             Some(StrainReference::Subcase(id)) => earlier
                 .iter()
                 .find(|(sub, _)| *sub == id)

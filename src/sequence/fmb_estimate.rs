@@ -8,15 +8,22 @@
 //! plus the component estimator's `ESTIM = id` (EKF with its EKFPAR and an optional AMANDA
 //! card of the same id), `MEAS = id` (MEASF with its MEAS channels) and `TSTEP` (the filter
 //! step, one Δt). The filter predicts with GGL–BDF1 from the kinematic assembly at t = 0
-//! (`TINTEG` other than BDF1, `TSTEPVAR`, `FMBSTART = STATIC`, `POSES` and `STRREF` are
-//! refused). The EKF's QSTATE and P0STATE are Q and P₀ of the positions, the AMANDA card's
+//! (`TINTEG` other than BDF1, `TSTEPVAR`, `FMBSTART = STATIC`, `POSES` and `STRREF = INITIAL`
+//! or a subcase id are refused). `STRREF = STATIC` zeroes the STRAIN gauges in the static
+//! equilibrium at t = 0 at the initial guesses (eq. 9.24), `STRREF = ADAPTIVE` at the current
+//! estimate every step (eq. 9.25; [`crate::estimate::mechanism::reference`]); without it they
+//! read absolute strains. The EKF's QSTATE and P0STATE are Q and P₀ of the positions, the AMANDA card's
 //! QVEL and P0VEL those of the velocities; an EKFPAR's P0 is the variance of the physical
 //! parameter (divided by INIT² for the scaled θ = p / INIT) and DELTA its δ_p (eq. 8.31).
 //!
 //! Every bad input is reported before any computation, each at its card and field: an
 //! EKFPAR that is not `BODY.PMPAR` of a flexible body or is listed twice, a MEAS naming no
 //! MSENSOR or one of a kind without a measurement equation (STRAIN, POS and ACCEL have one),
-//! more than one AMANDA card, an EKFINP (unknown inputs are not built for mechanisms). Then the setups that cannot work (accelerations only; no
+//! more than one AMANDA card, an EKFINP whose GRID is no MFORCE or MMOMENT id, that gives a
+//! COMP or is listed twice. An EKFINP makes the MFORCE (MMOMENT) of id GRID an unknown input
+//! ([`crate::estimate::mechanism::inputs`]): its amplitude along its direction is estimated
+//! from zero instead of read from its table, with Q_u = (Δt OMEGA AMPL)² (eq. 8.30) and
+//! P₀ = AMPL². Then the setups that cannot work (accelerations only; no
 //! absolute information on free rigid coordinates) are refused unless the EKF says FORCE =
 //! YES, and the numerical observability over the first steps is reported
 //! ([`crate::estimate::mechanism::observability`]).
@@ -25,7 +32,9 @@
 //! CSV interpolated onto t_k = k Δt, k = 1 … steps).
 //!
 //! Written under `/results/<id>/estimate/`: `time (t)`; `params/<BODY.PMPAR>`,
-//! `params_sigma/<BODY.PMPAR>` (t: estimate and standard deviation); `sensors/<name>` (t, the
+//! `params_sigma/<BODY.PMPAR>` (t: estimate and standard deviation); `inputs/<MFORCEid>`,
+//! `inputs_sigma/<MFORCEid>` (t: the unknown inputs' amplitudes, e.g. `inputs/MFORCE7`, and
+//! their standard deviations); `sensors/<name>` (t, the
 //! selected STRAIN, POS and ACCEL MSENSORs at the posterior, attribute `measured`);
 //! `constraint_residual (t)` and `velocity_residual (t)` (max |Φ| and max |Φ_q v + Φ_t| of the
 //! estimate after the AMANDA step), `manifold_iterations (t)`, `sensitivity (t)` (the smallest
@@ -35,7 +44,11 @@
 //! `frozen_steps` (steps at which FREEZE froze a parameter update), `steps_per_second`, the
 //! observability of [`crate::estimate::mechanism::observability`] (`observability` in words,
 //! `observability_rank`, `observability_columns`, `observability_steps`,
-//! `observability_ratio`, `parameter_identifiability`) and `forced` (a refused setup run with
+//! `observability_ratio`, `parameter_identifiability`, `input_identifiability`), with
+//! AMANDA's OBSEVERY the windows along the run under `observability/` (`time` of each
+//! window's start, `steps`, `rank`, `columns`, `ratio`, and per unknown `<BODY.PMPAR>` or
+//! `<MFORCEid>` its identifiability; [`crate::estimate::mechanism`]'s model), and `forced`
+//! (a refused setup run with
 //! FORCE = YES).
 
 use std::time::Instant;
@@ -44,19 +57,21 @@ use super::estimate::{Selection, resample};
 use super::fmb::PreparedFmb;
 use super::report::{Report, sci};
 use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
-use crate::card_values::{FmbStart, MsensorKind};
+use crate::card_values::{FmbStart, ForceKind, MsensorKind};
 use crate::deck::Solution;
 use crate::deck::case_control::{StrainReference, Subcase};
 use crate::deck::error::DeckError;
 use crate::deck::fields::RawCard;
 use crate::discretize::mechanism::Bodies;
+use crate::estimate::mechanism::inputs::{Input, Inputs};
 use crate::estimate::mechanism::observability::{self, Observability, Refusal};
 use crate::estimate::mechanism::parameters::{EstimatedBody, Parameter, Parameters};
+use crate::estimate::mechanism::reference::StrainReference as Gauges;
 use crate::estimate::mechanism::sensors::{Sensor, values};
-use crate::estimate::mechanism::{Amanda, AmandaSetup, ManifoldSettings};
+use crate::estimate::mechanism::{Amanda, AmandaSetup, InputNoise, ManifoldSettings};
 use crate::io::{set_attr_f64, set_attr_f64s, set_attr_i64, set_attr_str, write_f64, write_u32};
 use crate::model::mechanism::Sensor as Msensor;
-use crate::multibody::{Ggl, NewtonSettings, Scheme};
+use crate::multibody::{Force, Ggl, NewtonSettings, Scheme, System};
 
 /// The longest window of the numerical observability check (steps).
 const OBSERVABILITY_STEPS: usize = 200;
@@ -71,6 +86,8 @@ pub struct MechanismEstimateSummary {
     pub steps: usize,
     /// (BODY.PMPAR, final estimate, final σ).
     pub params: Vec<(String, f64, f64)>,
+    /// (MFORCEid, RMS of the estimate over the run, final σ) of each unknown input.
+    pub inputs: Vec<(String, f64, f64)>,
     /// Largest max |Φ| and max |Φ_q v + Φ_t| of the estimates.
     pub position_residual: f64,
     pub velocity_residual: f64,
@@ -84,6 +101,9 @@ pub struct MechanismEstimateSummary {
     pub forced: Option<Refusal>,
     /// The AMANDA card's FREEZE and the steps at which it froze a parameter update.
     pub freeze: Option<(f64, usize)>,
+    /// The AMANDA card's OBSEVERY and the observability windows along the run (start time,
+    /// result).
+    pub observed: Option<(usize, Vec<(f64, Observability)>)>,
 }
 
 /// The `SOL ESTIMATE` driver on a mechanism.
@@ -162,9 +182,12 @@ fn refused_settings(ctx: &RunContext, sub: &Subcase) -> Vec<String> {
             at("POSES")
         ));
     }
-    if !matches!(sub.strref, None | Some(StrainReference::None)) {
+    if matches!(
+        sub.strref,
+        Some(StrainReference::Initial | StrainReference::Subcase(_))
+    ) {
         refused.push(format!(
-            "{}STRREF: the filter's strain gauges are absolute (eq. 2.57) in this version; measure absolute strains or remove STRREF",
+            "{}STRREF: the filter's gauges read absolute strains (NONE), or from the static equilibrium at t = 0 at the initial guesses (STATIC, eq. 9.24) or at the current estimate (ADAPTIVE, eq. 9.25)",
             at("STRREF")
         ));
     }
@@ -251,6 +274,78 @@ fn parameters(
 struct AmandaParameters {
     rates: Vec<f64>,
     p0: Vec<f64>,
+}
+
+/// The unknown inputs from the EKFINP cards of EKF `ekf_id` (GRID an MFORCE or MMOMENT id,
+/// COMP blank) in `system`, with their random walks; every bad card an error at its field.
+fn unknown_inputs(
+    ctx: &RunContext,
+    prepared: &PreparedFmb,
+    system: &System,
+    ekf_id: u32,
+) -> Result<(Inputs, Vec<InputNoise>), Vec<DeckError>> {
+    let loads = &prepared.pfmb.mechanism.forces;
+    // the system's point forces and moments, in the order of the mechanism's loads
+    let elements: Vec<usize> = (system.forces.iter().enumerate())
+        .filter(|(_, f)| matches!(f, Force::Point { .. } | Force::Moment { .. }))
+        .map(|(i, _)| i)
+        .collect();
+    let (mut errors, mut inputs, mut noise) = (Vec::new(), Inputs::default(), Vec::new());
+    for u in ctx.model.ekfinp(ekf_id) {
+        let card = || format!("EKFINP {ekf_id}");
+        if let Some(c) = u.component {
+            errors.push(field_error(&u.loc, card(), 3, "COMP", format!(
+                "found {c}: on a mechanism an unknown input is the amplitude of an MFORCE or MMOMENT along its own direction; leave COMP blank"
+            )));
+            continue;
+        }
+        let Some(i) = loads.iter().position(|f| f.id == u.grid) else {
+            errors.push(field_error(
+                &u.loc,
+                card(),
+                2,
+                "GRID",
+                format!(
+                    "{} is not an MFORCE or MMOMENT id of the mechanism (ids: {})",
+                    u.grid,
+                    loads
+                        .iter()
+                        .map(|f| f.id.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
+            continue;
+        };
+        let kind = match loads[i].kind {
+            ForceKind::Force => "MFORCE",
+            ForceKind::Moment => "MMOMENT",
+        };
+        let name = format!("{kind}{}", u.grid);
+        if inputs.list.iter().any(|x| x.name == name) {
+            errors.push(field_error(
+                &u.loc,
+                card(),
+                2,
+                "GRID",
+                format!("{name} is listed twice"),
+            ));
+            continue;
+        }
+        inputs.list.push(Input {
+            force: elements[i],
+            name,
+        });
+        noise.push(InputNoise {
+            frequency: u.omega,
+            amplitude: u.amplitude,
+        });
+    }
+    if errors.is_empty() {
+        Ok((inputs, noise))
+    } else {
+        Err(errors)
+    }
 }
 
 /// The filter's sensors: one per MEAS channel of `selection`, its MSENSOR by name; every
@@ -359,15 +454,10 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let params = parameters(ctx, &prepared, selection.ekf_id).map_err(|e| errors.extend(e));
     let sensors = measured(&prepared, &selection).map_err(|e| errors.extend(e));
     let card = amanda_card(ctx, selection.ekf_id).map_err(|e| errors.push(e));
-    errors.extend(ctx.model.ekfinp(selection.ekf_id).into_iter().map(|u| {
-        DeckError::at(
-            &u.loc,
-            "unknown inputs of a mechanism (an MFORCE in the augmented state) are not available in this version; remove the card",
-        )
-        .on_card(format!("EKFINP {}", u.id))
-    }));
-    let (Ok((parameters, covariances)), Ok(sensors), Ok(card), true) =
-        (params, sensors, card, errors.is_empty())
+    let inputs = unknown_inputs(ctx, &prepared, &prepared.flexible.system, selection.ekf_id)
+        .map_err(|e| errors.extend(e));
+    let (Ok((parameters, covariances)), Ok(sensors), Ok(card), Ok((inputs, input_noise)), true) =
+        (params, sensors, card, inputs, errors.is_empty())
     else {
         return Err(case(joined(&errors)));
     };
@@ -406,17 +496,25 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let setup = AmandaSetup {
         q_positions: ekf.q_state,
         q_velocities: card.and_then(|c| c.q_velocities).unwrap_or(ekf.q_state),
+        inputs: input_noise,
         parameter_rates: covariances.rates,
         p0_positions: ekf.p0_state,
         p0_velocities: card.and_then(|c| c.p0_velocities).unwrap_or(ekf.p0_state),
         p0_parameters: covariances.p0,
         freeze: card.and_then(|c| c.freeze),
+        observe_every: card.and_then(|c| c.observe_every).map(|e| e as usize),
+        strain_reference: match sub.strref {
+            Some(StrainReference::Static) => Gauges::Fixed,
+            Some(StrainReference::Adaptive) => Gauges::Adaptive,
+            _ => Gauges::Absolute,
+        },
         manifold: card.map_or_else(ManifoldSettings::default, |c| ManifoldSettings {
             tolerance: c.tolerance,
             max_iterations: c.max_iterations as usize,
         }),
     };
     let names = parameters.names();
+    let input_names = inputs.names();
     let n = ggl.system.size();
     let (filter_sensors, measured_msensors): (Vec<Sensor>, Vec<Msensor>) =
         sensors.into_iter().unzip();
@@ -446,11 +544,16 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         NewtonSettings::default(),
     )
     .map_err(|e| case(format!("kinematic assembly at t = 0: {e}")))?;
-    let observed =
-        observability::numerical(probe, &parameters, &filter_sensors, OBSERVABILITY_STEPS)
-            .map_err(|e| case(format!("observability check: {e}")))?;
-    let mut filter =
-        Amanda::new(ggl, parameters, filter_sensors, &setup).map_err(|e| case(e.to_string()))?;
+    let observed = observability::numerical(
+        probe,
+        &inputs,
+        &parameters,
+        &filter_sensors,
+        OBSERVABILITY_STEPS,
+    )
+    .map_err(|e| case(format!("observability check: {e}")))?;
+    let mut filter = Amanda::new(ggl, inputs, parameters, filter_sensors, &setup)
+        .map_err(|e| case(e.to_string()))?;
 
     // the run
     let np = names.len();
@@ -458,6 +561,11 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     let (mut estimates, mut sigmas) = (
         vec![Vec::with_capacity(steps); np],
         vec![Vec::with_capacity(steps); np],
+    );
+    let nu = input_names.len();
+    let (mut input_estimates, mut input_sigmas) = (
+        vec![Vec::with_capacity(steps); nu],
+        vec![Vec::with_capacity(steps); nu],
     );
     let mut sensor_series = vec![Vec::with_capacity(steps); virtual_sensors.len()];
     let (mut position, mut velocity, mut iterations) = (Vec::new(), Vec::new(), Vec::new());
@@ -495,6 +603,15 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             series.push(*value);
             deviations.push(*deviation);
         }
+        let (u, sigma) = filter.inputs();
+        for ((series, deviations), (value, deviation)) in input_estimates
+            .iter_mut()
+            .zip(&mut input_sigmas)
+            .zip(u.iter().zip(&sigma))
+        {
+            series.push(*value);
+            deviations.push(*deviation);
+        }
         let (q, v) = filter.state();
         x[..n].copy_from_slice(q);
         x[n..].copy_from_slice(v);
@@ -516,10 +633,15 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     write_u32(&group, "manifold_iterations", &iterations, &[steps])?;
     write_f64(&group, "sensitivity", &sensitivity, &[steps])?;
     set_attr_i64(&group, "frozen_steps", frozen_steps as i64)?;
-    for (sub_name, data) in [("params", &estimates), ("params_sigma", &sigmas)] {
-        if np > 0 {
+    for (sub_name, labels, data) in [
+        ("params", &names, &estimates),
+        ("params_sigma", &names, &sigmas),
+        ("inputs", &input_names, &input_estimates),
+        ("inputs_sigma", &input_names, &input_sigmas),
+    ] {
+        if !labels.is_empty() {
             let g = ctx.output.group(&format!("{root}/{sub_name}"))?;
-            for (name, series) in names.iter().zip(data) {
+            for (name, series) in labels.iter().zip(data) {
                 write_f64(&g, name, series, &[steps])?;
             }
         }
@@ -544,14 +666,19 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     set_attr_str(
         &group,
         "observability",
-        &observability_text(&observed, &names),
+        &observability_text(&observed, &names, &input_names),
     )?;
     set_attr_i64(&group, "observability_rank", observed.rank as i64)?;
     set_attr_i64(&group, "observability_columns", observed.columns as i64)?;
     set_attr_i64(&group, "observability_steps", observed.steps as i64)?;
     set_attr_f64(&group, "observability_ratio", observed.ratio)?;
     set_attr_f64s(&group, "parameter_identifiability", &observed.parameters)?;
+    set_attr_f64s(&group, "input_identifiability", &observed.inputs)?;
     set_attr_i64(&group, "forced", i64::from(refusal.is_some()))?;
+    let along = filter.observed().to_vec();
+    if setup.observe_every.is_some() {
+        write_observed(ctx, &root, &along, &names, &input_names)?;
+    }
     let last = |s: &[Vec<f64>], j: usize| s[j].last().copied().unwrap_or(f64::NAN);
     let summary = MechanismEstimateSummary {
         mechanism,
@@ -561,6 +688,14 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         params: (0..np)
             .map(|j| (names[j].clone(), last(&estimates, j), last(&sigmas, j)))
             .collect(),
+        inputs: (0..nu)
+            .map(|j| {
+                let rms = (input_estimates[j].iter().map(|u| u * u).sum::<f64>()
+                    / steps.max(1) as f64)
+                    .sqrt();
+                (input_names[j].clone(), rms, last(&input_sigmas, j))
+            })
+            .collect(),
         position_residual: position.iter().fold(0.0, |a, b| a.max(*b)),
         velocity_residual: velocity.iter().fold(0.0, |a, b| a.max(*b)),
         fallbacks,
@@ -569,6 +704,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         observability: observed,
         forced: refusal,
         freeze: setup.freeze.map(|f| (f, frozen_steps)),
+        observed: setup.observe_every.map(|e| (e, along)),
     };
     Ok(SubcaseSummary {
         id,
@@ -577,14 +713,96 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     })
 }
 
-/// The numerical observability in words: rank, conditioning and each parameter's distance
-/// from the span of the other columns.
-fn observability_text(o: &Observability, names: &[String]) -> String {
+/// The observability windows along the run under `<root>/observability`: `time` (each
+/// window's start), `steps`, `rank`, `columns`, `ratio`, and per unknown (parameter or input)
+/// its identifiability.
+fn write_observed(
+    ctx: &RunContext,
+    root: &str,
+    along: &[(f64, Observability)],
+    names: &[String],
+    inputs: &[String],
+) -> Result<(), RunError> {
+    let g = ctx.output.group(&format!("{root}/observability"))?;
+    let count = along.len();
+    let column = |f: &dyn Fn(&Observability) -> f64| -> Vec<f64> {
+        along.iter().map(|(_, o)| f(o)).collect()
+    };
+    let time: Vec<f64> = along.iter().map(|(t, _)| *t).collect();
+    write_f64(&g, "time", &time, &[count])?;
+    for (name, values) in [
+        ("steps", column(&|o| o.steps as f64)),
+        ("rank", column(&|o| o.rank as f64)),
+        ("columns", column(&|o| o.columns as f64)),
+        ("ratio", column(&|o| o.ratio)),
+    ] {
+        write_f64(&g, name, &values, &[count])?;
+    }
+    for (j, name) in names.iter().enumerate() {
+        write_f64(&g, name, &column(&|o| o.parameters[j]), &[count])?;
+    }
+    for (j, name) in inputs.iter().enumerate() {
+        write_f64(&g, name, &column(&|o| o.inputs[j]), &[count])?;
+    }
+    Ok(())
+}
+
+/// The observability windows along the run in words: how many, the range of their rank and
+/// conditioning, and each unknown's smallest identifiability and when.
+fn observed_text(every: usize, along: &[(f64, Observability)], unknowns: &[String]) -> String {
+    if along.is_empty() {
+        return format!(
+            "observability along the run (a window every {every} step(s)): no window finished"
+        );
+    }
+    let ranks = along.iter().map(|(_, o)| o.rank);
+    let (low, high) = (ranks.clone().min().unwrap_or(0), ranks.max().unwrap_or(0));
+    let worst = along
+        .iter()
+        .map(|(_, o)| o.ratio)
+        .fold(f64::INFINITY, f64::min);
+    let per_unknown: Vec<String> = (unknowns.iter().enumerate())
+        .map(|(j, name)| {
+            let (t, d) = along
+                .iter()
+                .map(|(t, o)| {
+                    (
+                        *t,
+                        o.parameters
+                            .iter()
+                            .chain(&o.inputs)
+                            .nth(j)
+                            .copied()
+                            .unwrap_or(0.0),
+                    )
+                })
+                .fold((0.0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+            format!("{name} {} (window from t = {})", sci(d, 2), sci(t, 3))
+        })
+        .collect();
+    format!(
+        "observability along the run: {} window(s) of {} step(s), one every {every} step(s): rank {low} … {high} of {}, smallest σ_min/σ_max {}; least identifiability: {}",
+        along.len(),
+        along[0].1.steps,
+        along[0].1.columns,
+        sci(worst, 2),
+        if per_unknown.is_empty() {
+            "none estimated".to_string()
+        } else {
+            per_unknown.join(", ")
+        }
+    )
+}
+
+/// The numerical observability in words: rank, conditioning and each parameter's and
+/// input's distance from the span of the other columns.
+fn observability_text(o: &Observability, names: &[String], inputs: &[String]) -> String {
     let parameters: Vec<String> = (names.iter().zip(&o.parameters))
+        .chain(inputs.iter().zip(&o.inputs))
         .map(|(n, d)| format!("{n} {}", sci(*d, 2)))
         .collect();
     format!(
-        "observability over the first {} step(s): rank {} of {} (σ_min/σ_max {}, tolerance {:e}); parameter identifiability (0 … 1): {}",
+        "observability over the first {} step(s): rank {} of {} (σ_min/σ_max {}, tolerance {:e}); identifiability of the unknowns (0 … 1): {}",
         o.steps,
         o.rank,
         o.columns,
@@ -609,14 +827,22 @@ impl Report for MechanismEstimateSummary {
             sci(1e3 * self.seconds_per_step, 3)
         )];
         let names: Vec<String> = self.params.iter().map(|p| p.0.clone()).collect();
+        let inputs: Vec<String> = self.inputs.iter().map(|p| p.0.clone()).collect();
         out.push(format!(
             "  {}",
-            observability_text(&self.observability, &names)
+            observability_text(&self.observability, &names, &inputs)
         ));
         for (name, value, sigma) in &self.params {
             out.push(format!(
                 "  {name} = {} ± {} (3σ) at the end",
                 sci(*value, 6),
+                sci(3.0 * sigma, 2)
+            ));
+        }
+        for (name, rms, sigma) in &self.inputs {
+            out.push(format!(
+                "  input {name}: RMS {} over the run, ± {} (3σ) at the end",
+                sci(*rms, 4),
                 sci(3.0 * sigma, 2)
             ));
         }
@@ -626,6 +852,10 @@ impl Report for MechanismEstimateSummary {
             sci(self.velocity_residual, 2),
             self.fallbacks
         ));
+        if let Some((every, along)) = &self.observed {
+            let unknowns: Vec<String> = names.iter().chain(&inputs).cloned().collect();
+            out.push(format!("  {}", observed_text(*every, along, &unknowns)));
+        }
         if let Some((threshold, count)) = self.freeze {
             out.push(format!(
                 "  parameter updates frozen at {count} step(s) (a sensitivity below FREEZE = {})",

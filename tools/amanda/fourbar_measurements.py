@@ -1,4 +1,4 @@
-"""Measurements for the AMANDA-EKF four-bar case (thesis §9.4.1, Table 9.1, sensor set 1).
+"""Measurements for the AMANDA-EKF four-bar cases (thesis §9.4.1, Table 9.1, sensor set 1).
 
 The truth is a forward SOL FMB run of decks/fourbar/fmb/fourbar_steel.dat whose three links are
 NON-parametric ROMs reduced at the true parameters (each pROM deck with one sample and its PMPAR
@@ -10,7 +10,23 @@ Gaussian noise of standard deviation 1e-7 (§9.4.1.1), seeded.
 Writes reference/amanda_fourbar_set1.csv: time and the three noisy strains per step (t = 0
 included), and the noise-free ones, with a header naming the provenance.
 
-    .venv/bin/python tools/amanda/fourbar_measurements.py [--steps 1000] [--binary PATH]
+With --input (Table 9.1's "E_C, input" case) the forward run also applies the 15 Hz, 10 N sine
+F(t) = 10 sin(2π 15 t) N as an MFORCE (id 7) at marker 32, OC's end at the coupler joint,
+along global x (perpendicular to OC in the initial configuration): the thesis loads OC's
+centre of mass out of plane, but the OC artifact's interface grids are its two joint masters
+only, so the load sits at the one that is not grounded, in the mechanism's plane where the
+mid-span gauges read bending. The table is sampled every 0.25 ms (its linear interpolation is
+exact at the 1 ms steps). Writes reference/amanda_fourbar_input_set1.csv with the same columns
+plus the applied force (column "force"); the noise has its own seed.
+
+With --relative the gauges read from the reference configuration (thesis eq. 9.24): the
+static equilibrium at t = 0 (drive at its initial angle, gravity) of the same non-parametric
+links, from a second forward run with FMBSTART = STATIC; each column is the absolute strain
+minus that reference, with the same noise as the absolute file. Writes
+reference/amanda_fourbar_set1_relative.csv (the reference strains in its header).
+
+    .venv/bin/python tools/amanda/fourbar_measurements.py [--steps 1000] [--input | --relative]
+        [--binary PATH]
 """
 
 import argparse
@@ -34,6 +50,15 @@ LINKS = [
     ("output_crank_prom.dat", "output_crank.h5"),
 ]
 GAUGES = ["ICEPS", "CEPS", "OCEPS"]
+INPUT_SEED = 20261128
+INPUT_HZ, INPUT_N = 15.0, 10.0
+# the unknown input: MFORCE 7 at marker 32 along x, amplitude from TABLEF 8
+INPUT_CARDS = "MFORCE,7,32,8,1.,1.,0.,0.\nTABLEF,8,'input.csv',time,force\n"
+
+
+def input_force(t: np.ndarray) -> np.ndarray:
+    """The input's amplitude F(t) = 10 sin(2π 15 t) N."""
+    return INPUT_N * np.sin(2.0 * np.pi * INPUT_HZ * t)
 
 
 def at_point(text: str) -> str:
@@ -47,6 +72,8 @@ def at_point(text: str) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=1000)
+    parser.add_argument("--input", action="store_true", help="apply the 15 Hz, 10 N input on OC")
+    parser.add_argument("--relative", action="store_true", help="strains from the static reference")
     parser.add_argument("--binary", default=None)
     args = parser.parse_args()
     binary = args.binary or default_binary()
@@ -59,6 +86,11 @@ def main() -> None:
         fmb = (DECKS / "fourbar_steel.dat").read_text()
         fmb = fmb.replace("TSTEP,1,1000,1.e-3,1", f"TSTEP,1,{args.steps},1.e-3,1")
         (d / "drive.csv").write_text((DECKS / "drive.csv").read_text())
+        if args.input:
+            fmb = fmb.replace("ENDDATA", INPUT_CARDS + "ENDDATA")
+            grid = np.arange(4 * args.steps + 1) * 0.25e-3
+            np.savetxt(d / "input.csv", np.column_stack([grid, input_force(grid)]), delimiter=",",
+                       header="time,force", comments="", fmt="%.17g")
         path = d / "fourbar.dat"
         path.write_text(fmb)
         run_checked(path, d / "fourbar.h5", binary)
@@ -66,16 +98,47 @@ def main() -> None:
             g = f["results/1/fmb"]
             time = g["time"][()]
             clean = np.column_stack([g[f"sensors/{n}"][()] for n in GAUGES])
-    noisy = clean + NOISE * np.random.default_rng(SEED).standard_normal(clean.shape)
-    out = ROOT / "reference/amanda_fourbar_set1.csv"
+        reference = np.zeros(len(GAUGES))
+        if args.relative:
+            static = fmb.replace(f"TSTEP,1,{args.steps},1.e-3,1", "TSTEP,1,1,1.e-3,1")
+            static = static.replace("TSTEP = 1\n", "TSTEP = 1\nFMBSTART = STATIC\n", 1)
+            path = d / "static.dat"
+            path.write_text(static)
+            run_checked(path, d / "static.h5", binary)
+            with h5py.File(d / "static.h5", "r") as f:
+                g = f["results/1/fmb"]
+                reference = np.array([g[f"sensors/{n}"][0] for n in GAUGES])
+    seed = INPUT_SEED if args.input else SEED
+    noisy = clean + NOISE * np.random.default_rng(seed).standard_normal(clean.shape)
+    noisy, clean = noisy - reference, clean - reference
+    name = "amanda_fourbar_input_set1.csv" if args.input else "amanda_fourbar_set1.csv"
+    if args.relative:
+        name = "amanda_fourbar_set1_relative.csv"
+    out = ROOT / "reference" / name
+    load = (
+        f", with the input MFORCE 7 = {INPUT_N:g} sin(2 pi {INPUT_HZ:g} t) N at marker 32 along x"
+        if args.input
+        else ""
+    )
     header = (
         "AMANDA-EKF four-bar measurements, sensor set 1 (thesis 9.4.1): SOL FMB of "
         "decks/fourbar/fmb/fourbar_steel.dat with its links as non-parametric ROMs at E = "
-        f"{E_TRUE:e} Pa, RHO = {RHO_TRUE} kg/m3 (tools/amanda/fourbar_measurements.py), "
-        f"dt = 1 ms, strains with white Gaussian noise sigma = {NOISE:g} (seed {SEED})\n"
+        f"{E_TRUE:e} Pa, RHO = {RHO_TRUE} kg/m3{load} (tools/amanda/fourbar_measurements.py), "
+        f"dt = 1 ms, strains with white Gaussian noise sigma = {NOISE:g} (seed {seed})"
+        + (
+            ", relative to the static equilibrium at t = 0 (FMBSTART = STATIC), reference strains "
+            + ", ".join(f"{n} {r:.17g}" for n, r in zip(GAUGES, reference))
+            if args.relative
+            else ""
+        )
+        + "\n"
         "time," + ",".join(GAUGES) + "," + ",".join(f"{n}_clean" for n in GAUGES)
     )
-    np.savetxt(out, np.column_stack([time, noisy, clean]), delimiter=",", header=header, fmt="%.17g")
+    columns = [time, noisy, clean]
+    if args.input:
+        header += ",force"
+        columns.append(input_force(time))
+    np.savetxt(out, np.column_stack(columns), delimiter=",", header=header, fmt="%.17g")
     print(f"wrote {out} ({len(time)} rows)")
 
 

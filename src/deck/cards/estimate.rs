@@ -114,20 +114,22 @@ impl Ekfpar {
     }
 }
 
-/// `EKFINP` — an unknown input at a pROM input DOF, of the `EKF` with the same id.
+/// `EKFINP` — an unknown input of the `EKF` with the same id: a pROM input DOF (GRID, COMP),
+/// or on a mechanism the amplitude of an `MFORCE` / `MMOMENT` (GRID its id, COMP blank; the
+/// element's table is not used).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | ID | int > 0 | required | the EKF id |
-/// | 3 | GRID | int > 0 | required | grid of the input DOF |
-/// | 4 | COMP | int 1–6 | required | component |
+/// | 3 | GRID | int > 0 | required | grid of the input DOF; on a mechanism the MFORCE or MMOMENT id |
+/// | 4 | COMP | int 1–6 | blank | component (required for a pROM input DOF, blank on a mechanism) |
 /// | 5 | OMEGA | real > 0 | required | ω_u in Hz: Q_u = (Δt ω_u a_u)² (eq. 8.30) |
-/// | 6 | AMPL | real > 0 | required | expected amplitude a_u |
+/// | 6 | AMPL | real > 0 | required | expected amplitude a_u (also the input's P₀ = a_u²) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ekfinp {
     pub id: u32,
     pub grid: u32,
-    pub component: u8,
+    pub component: Option<u8>,
     pub omega: f64,
     pub amplitude: f64,
     pub loc: Loc,
@@ -140,13 +142,9 @@ impl Ekfinp {
         let id = f.id(1, "ID");
         f.set_id(id);
         let grid = f.id(2, "GRID");
-        let component = f.int(3, "COMP");
-        if !(1..=6).contains(&component) && matches!(f.value(3), Value::Int(_)) {
-            f.error(
-                3,
-                "COMP",
-                format!("expected one component 1–6, found {component}"),
-            );
+        let component = f.opt_int(3, "COMP");
+        if let Some(c) = component.filter(|c| !(1..=6).contains(c)) {
+            f.error(3, "COMP", format!("expected one component 1–6, found {c}"));
         }
         let omega = f.positive_real(4, "OMEGA");
         let amplitude = f.positive_real(5, "AMPL");
@@ -155,7 +153,7 @@ impl Ekfinp {
         Ok(Ekfinp {
             id,
             grid,
-            component: component.clamp(1, 6) as u8,
+            component: component.map(|c| c.clamp(1, 6) as u8),
             omega,
             amplitude,
             loc,
@@ -261,6 +259,7 @@ impl Meas {
 /// | 5 | FREEZE | real > 0 | blank | a parameter's update is frozen at a step where its largest reading sensitivity max_i \|∂h_i/∂θ\| / σ_i (θ = p / INIT, along the prior trajectory: noise σ per 100 % change) is below FREEZE (§9.3.2); blank: never frozen |
 /// | 6 | QVEL | real > 0 | EKF QSTATE | Q of the velocity coordinates (the EKF's QSTATE is the positions'); paraflex-specific |
 /// | 7 | P0VEL | real > 0 | EKF P0STATE | initial variance of the velocities (the EKF's P0STATE is the positions'); paraflex-specific |
+/// | 8 | OBSEVERY | int > 0 | blank | the numerical observability of the linearized filter (§9.3.1) over a window starting every OBSEVERY steps along the run, written and summarized; blank: at the start only; paraflex-specific |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Amanda {
     pub id: u32,
@@ -269,6 +268,7 @@ pub struct Amanda {
     pub freeze: Option<f64>,
     pub q_velocities: Option<f64>,
     pub p0_velocities: Option<f64>,
+    pub observe_every: Option<u32>,
     pub loc: Loc,
 }
 
@@ -283,8 +283,9 @@ impl Amanda {
         let freeze = blank_or_positive(&mut f, 4, "FREEZE");
         let q_velocities = blank_or_positive(&mut f, 5, "QVEL");
         let p0_velocities = blank_or_positive(&mut f, 6, "P0VEL");
+        let observe_every = f.opt_count(7, "OBSEVERY");
         let loc = f.loc();
-        f.finish(6)?;
+        f.finish(7)?;
         Ok(Amanda {
             id,
             tolerance,
@@ -292,6 +293,7 @@ impl Amanda {
             freeze,
             q_velocities,
             p0_velocities,
+            observe_every,
             loc,
         })
     }
@@ -354,8 +356,10 @@ mod tests {
         let u = Ekfinp::from_card(&card("EKFINP,3,12,3,80.,5.")).unwrap();
         assert_eq!(
             (u.grid, u.component, u.omega, u.amplitude),
-            (12, 3, 80.0, 5.0)
+            (12, Some(3), 80.0, 5.0)
         );
+        let u = Ekfinp::from_card(&card("EKFINP,3,7,,150.,10.")).unwrap();
+        assert_eq!((u.grid, u.component), (7, None));
         let m = Measf::from_card(&card("MEASF,4,'meas.csv',time")).unwrap();
         assert_eq!(
             (m.path.as_str(), m.tcol.clone()),

@@ -2,6 +2,8 @@
 //! estimation of a mechanism's states and its flexible bodies' parameters, usable from Rust
 //! without a deck.
 //!
+//! - [`inputs`]: the unknown inputs (point forces and moments whose amplitude is estimated)
+//!   and their unit generalized forces;
 //! - [`parameters`]: the estimated `BODY.PMPAR`s, the bodies' data at them and the exact
 //!   parameter rates of the equations of motion;
 //! - [`nullspace`]: Φ_q's nullspace by coordinate partitioning (Yen–Petzold, eq. 9.2) and the
@@ -9,6 +11,8 @@
 //! - [`transition`]: the Jacobian of a GGL–BDF1 step from the projected equations (eq. 9.3,
 //!   9.8);
 //! - [`sensors`]: strain, marker position and acceleration measurements and their rows;
+//! - [`reference`]: the strain gauges' reference configuration, fixed (eq. 9.24) or adaptive
+//!   (eq. 9.25);
 //! - [`manifold`]: the AMANDA step back onto the constraints (eq. 9.9–9.14);
 //! - [`observability`]: the setups that cannot work (§9.3.1) and the numerical observability
 //!   of the linearized system over the first steps;
@@ -17,10 +21,12 @@
 
 mod model;
 
+pub mod inputs;
 pub mod manifold;
 pub mod nullspace;
 pub mod observability;
 pub mod parameters;
+pub mod reference;
 pub mod sensors;
 pub mod transition;
 
@@ -29,19 +35,32 @@ use faer::Mat;
 use super::ekf::Ekf;
 use super::filter::FilterError;
 use crate::multibody::{Ggl, Scheme};
+use inputs::Inputs;
 pub use manifold::{ManifoldReport, ManifoldSettings};
 use model::MechanismModel;
 pub use model::StepReport;
 use parameters::Parameters;
+use reference::{Reference, StrainReference};
 use sensors::Sensor;
 
-/// Covariances of the filter: Q and P₀ diagonal per block (eq. 8.29), the parameters' Q from
-/// the rule of thumb of eq. 8.31 in the scaled θ = p / a_p: Q_θ = (Δt δ_p)².
+/// The random walk of an unknown input (eq. 8.30): expected frequency ω_u (Hz) and amplitude
+/// a_u; Q_u = (Δt ω_u a_u)², P₀ = a_u² (the component filter's choice), u₀ = 0.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InputNoise {
+    pub frequency: f64,
+    pub amplitude: f64,
+}
+
+/// Covariances of the filter: Q and P₀ diagonal per block (eq. 8.29), the inputs' from
+/// [`InputNoise`], the parameters' Q from the rule of thumb of eq. 8.31 in the scaled
+/// θ = p / a_p: Q_θ = (Δt δ_p)².
 #[derive(Debug, Clone, PartialEq)]
 pub struct AmandaSetup {
     /// Q of each position and velocity coordinate (model uncertainty).
     pub q_positions: f64,
     pub q_velocities: f64,
+    /// The random walk of each unknown input.
+    pub inputs: Vec<InputNoise>,
     /// δ_p of each parameter (Hz).
     pub parameter_rates: Vec<f64>,
     /// P₀ of each position and velocity coordinate.
@@ -53,6 +72,11 @@ pub struct AmandaSetup {
     /// The sensitivity below which parameter updates are frozen (§9.3.2, [`StepReport`]'s
     /// `sensitivity`); `None`: never.
     pub freeze: Option<f64>,
+    /// The period (steps) of the observability windows along the run
+    /// ([`Amanda::observed`]); `None`: none.
+    pub observe_every: Option<usize>,
+    /// The strain gauges' reference configuration.
+    pub strain_reference: StrainReference,
 }
 
 /// The AMANDA-EKF on a pFMB (module docs).
@@ -62,9 +86,11 @@ pub struct Amanda {
 
 impl Amanda {
     /// The filter of `ggl`'s system (assembled at its start, integrated with BDF1, its bodies'
-    /// data at the initial guesses of `parameters`), estimating `parameters` from `sensors`.
+    /// data at the initial guesses of `parameters`), estimating `inputs` (from zero) and
+    /// `parameters` from `sensors`.
     pub fn new(
         ggl: Ggl,
+        inputs: Inputs,
         parameters: Parameters,
         sensors: Vec<Sensor>,
         setup: &AmandaSetup,
@@ -81,7 +107,15 @@ impl Amanda {
                 s.output
             )));
         }
-        let np = parameters.len();
+        inputs.check(&ggl.system).map_err(FilterError::Mechanism)?;
+        let (nu, np) = (inputs.len(), parameters.len());
+        if setup.inputs.len() != nu {
+            return Err(FilterError::Shape {
+                what: "input random walks",
+                expected: nu,
+                got: setup.inputs.len(),
+            });
+        }
         for (what, got) in [
             ("parameter rates δ_p", setup.parameter_rates.len()),
             ("parameter P₀", setup.p0_parameters.len()),
@@ -96,36 +130,51 @@ impl Amanda {
         }
         let n = ggl.system.size();
         let dt = ggl.step_size;
-        let block = |a: f64, b: f64, c: &[f64]| -> Vec<f64> {
+        let block = |a: f64, b: f64, u: &[f64], c: &[f64]| -> Vec<f64> {
             let mut d = vec![a; n];
             d.extend(std::iter::repeat_n(b, n));
+            d.extend(u);
             d.extend(c);
             d
         };
         let q_theta: Vec<f64> = (setup.parameter_rates.iter())
             .map(|d| super::covariance::parameter(dt, *d, 1.0))
             .collect();
-        let process = block(setup.q_positions, setup.q_velocities, &q_theta);
+        let (q_u, p0_u): (Vec<f64>, Vec<f64>) = (setup.inputs.iter())
+            .map(|u| {
+                (
+                    super::covariance::input(dt, u.frequency, u.amplitude),
+                    u.amplitude * u.amplitude,
+                )
+            })
+            .unzip();
+        let process = block(setup.q_positions, setup.q_velocities, &q_u, &q_theta);
         let p0 = block(
             setup.p0_positions,
             setup.p0_velocities,
+            &p0_u,
             &setup.p0_parameters,
         );
         let mut x = ggl.q.clone();
         x.extend(&ggl.v);
+        x.extend(std::iter::repeat_n(0.0, nu));
         x.extend(std::iter::repeat_n(1.0, np));
         let mut ggl = ggl;
         parameters
-            .apply(&x[2 * n..], &mut ggl.system)
+            .apply(&x[2 * n + nu..], &mut ggl.system)
             .map_err(FilterError::Mechanism)?;
-        let model = MechanismModel::new(
-            ggl,
-            parameters,
-            sensors,
-            process,
-            setup.manifold,
-            setup.freeze,
-        )?;
+        inputs.apply(&x[2 * n..2 * n + nu], &mut ggl.system);
+        let reference = Reference::new(
+            setup.strain_reference,
+            &mut ggl,
+            &inputs,
+            &x[2 * n..2 * n + nu],
+            &parameters,
+            &x[2 * n + nu..],
+        )
+        .map_err(FilterError::Mechanism)?;
+        let model =
+            MechanismModel::new(ggl, inputs, parameters, sensors, process, setup, reference)?;
         let p = Mat::from_fn(p0.len(), p0.len(), |i, j| if i == j { p0[i] } else { 0.0 });
         Ok(Self {
             ekf: Ekf::new(model, x, p),
@@ -145,9 +194,17 @@ impl Amanda {
         self.ekf.model.ggl.time
     }
 
+    /// The estimated inputs (amplitudes) and their standard deviations.
+    pub fn inputs(&self) -> (Vec<f64>, Vec<f64>) {
+        let z = 2 * self.ekf.model.ggl.system.size();
+        let nu = self.ekf.model.inputs.len();
+        let sigma = (z..z + nu).map(|i| self.ekf.p[(i, i)].sqrt()).collect();
+        (self.ekf.x[z..z + nu].to_vec(), sigma)
+    }
+
     /// The estimated parameters (physical values) and their standard deviations.
     pub fn parameters(&self) -> (Vec<f64>, Vec<f64>) {
-        let z = 2 * self.ekf.model.ggl.system.size();
+        let z = 2 * self.ekf.model.ggl.system.size() + self.ekf.model.inputs.len();
         let params = &self.ekf.model.parameters;
         let sigma = (params.list.iter().enumerate())
             .map(|(i, p)| p.initial * self.ekf.p[(z + i, z + i)].sqrt())
@@ -159,6 +216,12 @@ impl Amanda {
     pub fn state(&self) -> (&[f64], &[f64]) {
         let n = self.ekf.model.ggl.system.size();
         (&self.ekf.x[..n], &self.ekf.x[n..2 * n])
+    }
+
+    /// The observability windows finished so far along the run (their start time and result;
+    /// [`AmandaSetup::observe_every`]).
+    pub fn observed(&self) -> &[(f64, observability::Observability)] {
+        &self.ekf.model.observed
     }
 
     /// The integrator the filter predicts with (its system at the current estimate).
@@ -291,15 +354,24 @@ mod tests {
         let setup = AmandaSetup {
             q_positions: q_state,
             q_velocities: q_state,
+            inputs: Vec::new(),
             parameter_rates: vec![q_e.sqrt() / (E_GUESS * DT)],
             p0_positions: p0_state,
             p0_velocities: p0_state,
             p0_parameters: vec![p0_e / (E_GUESS * E_GUESS)],
             manifold: ManifoldSettings::default(),
             freeze: None,
+            observe_every: None,
+            strain_reference: StrainReference::Absolute,
         };
-        let mut amanda =
-            Amanda::new(one_body(&model, E_GUESS), parameters, sensors, &setup).expect("AMANDA");
+        let mut amanda = Amanda::new(
+            one_body(&model, E_GUESS),
+            Inputs::default(),
+            parameters,
+            sensors,
+            &setup,
+        )
+        .expect("AMANDA");
         let mut worst = 0.0_f64;
         for y in &data {
             reference.step(&[0.0, 0.0], &[*y]).expect("component step");

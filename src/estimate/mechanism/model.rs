@@ -1,5 +1,6 @@
-//! The AMANDA-EKF's process model of a pFMB ([`ProcessModel`], thesis §9.2.3): x* = (q, v, θ)
-//! (eq. 9.4; θ the parameters scaled by their initial guesses, [`super::parameters`]), the
+//! The AMANDA-EKF's process model of a pFMB ([`ProcessModel`], thesis §9.2.3): x* = (q, v, u,
+//! θ) (eq. 9.4; u the unknown inputs' amplitudes, [`super::inputs`]; θ the parameters scaled
+//! by their initial guesses, [`super::parameters`]), the
 //! prediction by one GGL–BDF1 step of the system at the current θ (eq. 9.15), the transition
 //! Jacobian of [`super::transition`] (eq. 9.17) and P⁻ = J P⁺ Jᵀ + Q (eq. 9.18), the
 //! measurements of [`super::sensors`] (eq. 9.16, 9.19), and after the correction the AMANDA
@@ -7,16 +8,27 @@
 //!
 //! The freeze of §9.3.2: the model carries the sensitivity S_k = ∂(q_k, v_k)/∂θ of the prior
 //! trajectory (S_k = J_z S_{k−1} + J_θ, from the transition Jacobian's blocks, S_0 = 0); a
-//! parameter j whose largest measurement sensitivity max_i |(J_m S_k)_ij| / σ_i — the change
+//! parameter j whose largest measurement sensitivity max_i |(J_m,z S_k + J_m,θ)_ij| / σ_i
+//! (J_m,θ the adaptive strain reference's direct dependence, [`super::reference`]) — the change
 //! of a reading, in noise standard deviations, per 100 % change of the parameter — is below
 //! the threshold is not updated by that step's correction (its gain row is zero).
+//!
+//! The observability along the run (§9.3.1): every `every` steps a window of
+//! [`super::observability::Window`] starts at the posterior and takes the filter's own
+//! augmented transition Jacobians and measurement rows of the steps that follow, so the
+//! linearization is the estimate's, at no extra prediction; each finished window is kept with
+//! the time it started.
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, Par};
 
+use super::AmandaSetup;
+use super::inputs::Inputs;
 use super::manifold::{Manifold, ManifoldReport, ManifoldSettings};
 use super::nullspace::Partition;
+use super::observability::{Observability, Window};
 use super::parameters::Parameters;
+use super::reference::Reference;
 use super::sensors::{Sensor, measure};
 use super::transition::transition;
 use crate::estimate::ekf::ProcessModel;
@@ -45,6 +57,7 @@ pub struct StepReport {
 /// The process model (module docs).
 pub struct MechanismModel {
     pub ggl: Ggl,
+    pub inputs: Inputs,
     pub parameters: Parameters,
     pub sensors: Vec<Sensor>,
     noise: Vec<f64>,
@@ -64,6 +77,15 @@ pub struct MechanismModel {
     /// entries of x this step.
     freeze: Option<f64>,
     frozen: Vec<usize>,
+    /// The observability along the run: the period (steps), the step at which the next window
+    /// starts (or the first after the current one ends), the window being accumulated (with
+    /// its start time) and the finished windows (start time, result).
+    every: Option<usize>,
+    next_window: usize,
+    /// The gauges' reference configuration (eq. 9.24, 9.25), if not absolute.
+    reference: Option<Reference>,
+    window: Option<(f64, Window)>,
+    pub observed: Vec<(f64, Observability)>,
     pub report: StepReport,
 }
 
@@ -72,19 +94,21 @@ fn mechanism_error(e: impl std::fmt::Display) -> FilterError {
 }
 
 impl MechanismModel {
-    /// The model of `ggl`'s system (integrated with BDF1) with `parameters`, `sensors` and the
-    /// diagonal `process_noise` of Q (2n + n_θ).
+    /// The model of `ggl`'s system (integrated with BDF1) with `inputs`, `parameters`,
+    /// `sensors`, the diagonal `process_noise` of Q (2n + n_u + n_θ), the manifold step, freeze
+    /// and observability period of `setup`, and the gauges' `reference`.
     pub fn new(
         ggl: Ggl,
+        inputs: Inputs,
         parameters: Parameters,
         sensors: Vec<Sensor>,
         process_noise: Vec<f64>,
-        manifold: ManifoldSettings,
-        freeze: Option<f64>,
+        setup: &AmandaSetup,
+        reference: Option<Reference>,
     ) -> Result<Self, FilterError> {
         let (n, m) = (ggl.system.size(), ggl.constraint_count());
         let parameters_len = parameters.len();
-        let big_n = 2 * n + parameters_len;
+        let big_n = 2 * n + inputs.len() + parameters_len;
         if process_noise.len() != big_n {
             return Err(FilterError::Shape {
                 what: "process noise",
@@ -99,10 +123,15 @@ impl MechanismModel {
         let partition = Partition::choose(phi_q.as_ref()).map_err(mechanism_error)?;
         let mut previous = ggl.q.clone();
         previous.extend(&ggl.v);
+        let mut sensors = sensors;
+        if let Some(r) = &reference {
+            r.apply(&mut sensors, &ggl);
+        }
         Ok(Self {
             noise: sensors.iter().map(|s| s.variance).collect(),
             prior_q: ggl.q.clone(),
             ggl,
+            inputs,
             parameters,
             sensors,
             process_noise,
@@ -110,10 +139,15 @@ impl MechanismModel {
             previous,
             jacobian: Mat::identity(big_n, big_n),
             product: Mat::zeros(big_n, big_n),
-            manifold,
+            manifold: setup.manifold,
             sensitivity: Mat::zeros(2 * n, parameters_len),
-            freeze,
+            freeze: setup.freeze,
             frozen: Vec::new(),
+            every: setup.observe_every,
+            next_window: 0,
+            reference,
+            window: None,
+            observed: Vec::new(),
             report: StepReport::default(),
         })
     }
@@ -123,7 +157,7 @@ impl ProcessModel for MechanismModel {
     type Input = ();
 
     fn size(&self) -> usize {
-        2 * self.ggl.system.size() + self.parameters.len()
+        2 * self.ggl.system.size() + self.inputs.len() + self.parameters.len()
     }
 
     fn measurement_noise(&self) -> &[f64] {
@@ -142,12 +176,13 @@ impl ProcessModel for MechanismModel {
         p: &mut Mat<f64>,
     ) -> Result<(), FilterError> {
         let n = self.ggl.system.size();
-        let (m, z) = (self.ggl.constraint_count(), 2 * n);
+        let (m, z, nu) = (self.ggl.constraint_count(), 2 * n, self.inputs.len());
         self.previous.copy_from_slice(&x[..z]);
-        let theta = x[z..].to_vec();
+        let theta = x[z + nu..].to_vec();
         self.parameters
             .apply(&theta, &mut self.ggl.system)
             .map_err(mechanism_error)?;
+        self.inputs.apply(&x[z..z + nu], &mut self.ggl.system);
         self.ggl.q.copy_from_slice(&x[..n]);
         self.ggl.v.copy_from_slice(&x[n..z]);
         let step = self.ggl.step().map_err(mechanism_error)?;
@@ -167,10 +202,12 @@ impl ProcessModel for MechanismModel {
             .partition
             .nullspace(phi_q.as_ref())
             .map_err(mechanism_error)?;
+        let loads = self.inputs.unit_loads(&ggl.system, &ggl.q, ggl.time);
         let j = transition(
             ggl,
             (&self.previous[..n], &self.previous[n..]),
             &nullspace,
+            &loads,
             &rates,
         )
         .ok_or_else(|| {
@@ -186,7 +223,11 @@ impl ProcessModel for MechanismModel {
             .copy_from(&j.states);
         self.jacobian
             .as_mut()
-            .submatrix_mut(0, z, z, np)
+            .submatrix_mut(0, z, z, nu)
+            .copy_from(&j.inputs);
+        self.jacobian
+            .as_mut()
+            .submatrix_mut(0, z + nu, z, np)
             .copy_from(&j.parameters);
         // S_k = J_z S_{k−1} + J_θ
         let mut next = j.parameters.clone();
@@ -219,6 +260,13 @@ impl ProcessModel for MechanismModel {
         for (i, q) in self.process_noise.iter().enumerate() {
             p[(i, i)] += q;
         }
+        if let Some(r) = &mut self.reference {
+            let u = &x[z..z + nu];
+            (r.update(&mut self.ggl, &self.inputs, u, &self.parameters, &theta))
+                .map_err(|e| mechanism_error(format!("at t = {}: {e}", self.ggl.time)))?;
+            r.apply(&mut self.sensors, &self.ggl);
+        }
+        let ggl = &self.ggl;
         self.report = StepReport {
             time: ggl.time,
             newton_iterations: step.iterations,
@@ -242,11 +290,17 @@ impl ProcessModel for MechanismModel {
             jm,
         );
         let z = 2 * n;
+        if let Some(r) = &self.reference {
+            r.add_rows(&self.sensors, &self.ggl, jm, z + self.inputs.len());
+        }
         let (rows, np) = (self.sensors.len(), self.parameters.len());
         let largest = |j: usize| {
             (0..rows)
                 .map(|i| {
-                    let d: f64 = (0..z).map(|l| jm[(i, l)] * self.sensitivity[(l, j)]).sum();
+                    let d: f64 = (0..z)
+                        .map(|l| jm[(i, l)] * self.sensitivity[(l, j)])
+                        .sum::<f64>()
+                        + jm[(i, z + self.inputs.len() + j)];
                     d.abs() / self.noise[i].sqrt()
                 })
                 .fold(0.0, f64::max)
@@ -261,10 +315,16 @@ impl ProcessModel for MechanismModel {
             self.frozen.extend(
                 (0..np)
                     .filter(|&j| sensitivities[j] < threshold)
-                    .map(|j| z + j),
+                    .map(|j| z + self.inputs.len() + j),
             );
         }
         self.report.frozen = self.frozen.len();
+        if let Some((_, window)) = &mut self.window
+            && window.add(&self.jacobian, jm, &self.noise)
+        {
+            let (time, window) = self.window.take().expect("a window");
+            self.observed.push((time, window.finish()));
+        }
     }
 
     fn frozen(&self) -> &[usize] {
@@ -273,11 +333,44 @@ impl ProcessModel for MechanismModel {
 
     fn corrected(
         &mut self,
-        _step: usize,
+        step: usize,
         _: &(),
         x: &mut [f64],
         _p: &mut Mat<f64>,
     ) -> Result<(), FilterError> {
+        self.correct_onto_constraints(x)?;
+        if let Some(every) = self.every
+            && self.window.is_none()
+            && step >= self.next_window
+        {
+            self.next_window = step + every;
+            let (n, m) = (self.ggl.system.size(), self.ggl.constraint_count());
+            let mut phi_q = Mat::zeros(m, n);
+            (self.ggl.equations.constraints).jacobian(
+                &self.ggl.system.layout,
+                &x[..n],
+                self.ggl.time,
+                phi_q.as_mut(),
+            );
+            let mut partition = self.partition.clone();
+            let unknowns = (self.inputs.len(), self.parameters.len());
+            let window = Window::start(
+                &phi_q,
+                &mut partition,
+                unknowns,
+                self.sensors.len(),
+                usize::MAX,
+            )
+            .map_err(mechanism_error)?;
+            self.window = Some((self.ggl.time, window));
+        }
+        Ok(())
+    }
+}
+
+impl MechanismModel {
+    /// The AMANDA step of the posterior `x` back onto the constraints.
+    fn correct_onto_constraints(&mut self, x: &mut [f64]) -> Result<(), FilterError> {
         let n = self.ggl.system.size();
         let manifold = Manifold {
             layout: &self.ggl.system.layout,

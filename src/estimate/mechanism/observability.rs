@@ -17,10 +17,12 @@
 //!   J_k the augmented transition Jacobian (eq. 9.8, 9.17), J_m,k the measurement rows (eq.
 //!   9.19), T = diag(N₀, N₀, I) restricting the initial perturbation to the independent
 //!   coordinates (N₀ the nullspace of Φ_q at the start: perturbations off the constraints are
-//!   not states), its columns scaled to unit norm (the coordinates, velocities and scaled
-//!   parameters have different units). Its rank (singular values above
+//!   not states), its columns scaled to unit norm (the coordinates, velocities, inputs and
+//!   scaled parameters have different units; a column below [`RANK_TOLERANCE`] × the largest
+//!   column's norm is round-off of an exact zero, an unknown no reading sees, and stays zero).
+//!   Its rank (singular values above
 //!   [`RANK_TOLERANCE`] × the largest) and its smallest singular value over the largest are
-//!   reported, and per parameter the distance of its (unit) column from the span of all the
+//!   reported, and per parameter and input the distance of its (unit) column from the span of all the
 //!   other columns: 0 when the data cannot tell a parameter change from a change of the
 //!   states or the other parameters, 1 when its effect is orthogonal to theirs.
 
@@ -28,6 +30,7 @@ use faer::Mat;
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Par};
 
+use super::inputs::Inputs;
 use super::nullspace::Partition;
 use super::parameters::Parameters;
 use super::sensors::{Sensor, measure};
@@ -111,11 +114,14 @@ pub fn structural(ggl: &Ggl, sensors: &[Sensor]) -> Option<Refusal> {
 pub struct Observability {
     /// Steps of the window.
     pub steps: usize,
-    /// Rank and number of columns (independent coordinates, velocities and parameters).
+    /// Rank and number of columns (independent coordinates, velocities, inputs and
+    /// parameters).
     pub rank: usize,
     pub columns: usize,
     /// Smallest over largest singular value of the column-scaled matrix.
     pub ratio: f64,
+    /// Per input, the distance of its unit column from the span of the others.
+    pub inputs: Vec<f64>,
     /// Per parameter, the distance of its unit column from the span of the others.
     pub parameters: Vec<f64>,
 }
@@ -127,19 +133,162 @@ impl Observability {
     }
 }
 
+/// The observability matrix of a window being accumulated (module docs): Φ_k and the rows
+/// of the steps so far. The augmented state is x* = (q, v, u, θ) with `nu` inputs and `np`
+/// parameters.
+#[derive(Debug, Clone)]
+pub struct Window {
+    /// Φ_k T (N × columns).
+    phi: Mat<f64>,
+    o: Mat<f64>,
+    /// Columns of the independent coordinates (and velocities), and of the unknowns.
+    free: usize,
+    unknowns: (usize, usize),
+    /// Steps of the window and steps added.
+    pub steps: usize,
+    added: usize,
+}
+
+impl Window {
+    /// A window from the configuration whose constraint Jacobian is `phi_q` (partitioned by
+    /// `partition`), with `sensors` rows per step: the shortest whose rows outnumber its
+    /// columns (two steps more), at most `limit` steps.
+    pub fn start(
+        phi_q: &Mat<f64>,
+        partition: &mut Partition,
+        unknowns: (usize, usize),
+        sensors: usize,
+        limit: usize,
+    ) -> Result<Self, String> {
+        let n = phi_q.ncols();
+        let (nu, np) = unknowns;
+        let big_n = 2 * n + nu + np;
+        let n0 = partition
+            .nullspace(phi_q.as_ref())
+            .map_err(|e| format!("{e:?}"))?
+            .basis;
+        let free = n0.ncols();
+        let columns = 2 * free + nu + np;
+        // T = diag(N₀, N₀, I)
+        let phi = Mat::from_fn(big_n, columns, |i, j| {
+            match (i < n, i < 2 * n, j < free, j < 2 * free) {
+                (true, _, true, _) => n0[(i, j)],
+                (false, true, false, true) => n0[(i - n, j - free)],
+                (false, false, false, false) => f64::from(u8::from(i - 2 * n == j - 2 * free)),
+                _ => 0.0,
+            }
+        });
+        let steps = (columns.div_ceil(sensors.max(1)) + 2).min(limit).max(1);
+        Ok(Self {
+            phi,
+            o: Mat::zeros(steps * sensors, columns),
+            free,
+            unknowns,
+            steps,
+            added: 0,
+        })
+    }
+
+    /// Adds a step: Φ_k = J_k Φ_{k−1} with the augmented transition Jacobian `jacobian`,
+    /// and the rows R^{-1/2} J_m,k Φ_k of the measurement rows `jm` (noise `variances`).
+    /// Whether the window is complete.
+    pub fn add(&mut self, jacobian: &Mat<f64>, jm: &Mat<f64>, variances: &[f64]) -> bool {
+        if self.added == self.steps {
+            return true;
+        }
+        let mut next = Mat::zeros(self.phi.nrows(), self.phi.ncols());
+        matmul(
+            next.as_mut(),
+            Accum::Replace,
+            jacobian.as_ref(),
+            self.phi.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        self.phi = next;
+        let k = variances.len();
+        let rows = self
+            .o
+            .as_mut()
+            .submatrix_mut(self.added * k, 0, k, self.phi.ncols());
+        matmul(
+            rows,
+            Accum::Replace,
+            jm.as_ref(),
+            self.phi.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        for (r, variance) in variances.iter().enumerate() {
+            let weight = 1.0 / variance.sqrt();
+            for c in 0..self.o.ncols() {
+                self.o[(self.added * k + r, c)] *= weight;
+            }
+        }
+        self.added += 1;
+        self.added == self.steps
+    }
+
+    /// The observability of the rows added so far (module docs).
+    pub fn finish(&self) -> Observability {
+        let k = self.o.nrows() / self.steps;
+        let mut o = self
+            .o
+            .as_ref()
+            .submatrix(0, 0, self.added * k, self.o.ncols())
+            .to_owned();
+        let columns = o.ncols();
+        let norms: Vec<f64> = (0..columns)
+            .map(|c| {
+                (0..o.nrows())
+                    .map(|r| o[(r, c)] * o[(r, c)])
+                    .sum::<f64>()
+                    .sqrt()
+            })
+            .collect();
+        // a column this much smaller than the largest is round-off of an exact zero (an
+        // unknown the readings do not see): left zero rather than scaled up to unit norm
+        let floor = RANK_TOLERANCE * norms.iter().copied().fold(0.0, f64::max);
+        for (c, norm) in norms.iter().enumerate() {
+            let scale = if *norm > floor { 1.0 / norm } else { 0.0 };
+            (0..o.nrows()).for_each(|r| o[(r, c)] *= scale);
+        }
+        let (rank, smallest, largest) = rank(&o);
+        let first = 2 * self.free;
+        let (nu, np) = self.unknowns;
+        let distances =
+            |range: std::ops::Range<usize>| range.map(|c| distance_from_others(&o, c)).collect();
+        Observability {
+            steps: self.added,
+            rank,
+            columns,
+            ratio: if largest > 0.0 {
+                smallest / largest
+            } else {
+                0.0
+            },
+            inputs: distances(first..first + nu),
+            parameters: distances(first + nu..first + nu + np),
+        }
+    }
+}
+
 /// The observability matrix of `ggl` (assembled at the start, its system at the initial
-/// guesses θ = 1 of `parameters`) with `sensors` (module docs), over the shortest window whose
-/// rows outnumber its columns (two steps more), at most `limit` steps.
+/// guesses θ = 1 of `parameters` and u = 0 of `inputs`) with `sensors` (module docs), over the
+/// shortest window whose rows outnumber its columns (two steps more), at most `limit` steps.
 pub fn numerical(
     mut ggl: Ggl,
+    inputs: &Inputs,
     parameters: &Parameters,
     sensors: &[Sensor],
     limit: usize,
 ) -> Result<Observability, String> {
-    let (n, m, np) = (ggl.system.size(), ggl.constraint_count(), parameters.len());
-    let big_n = 2 * n + np;
+    let (n, m) = (ggl.system.size(), ggl.constraint_count());
+    let (nu, np) = (inputs.len(), parameters.len());
+    let big_n = 2 * n + nu + np;
     let theta = vec![1.0; np];
     parameters.apply(&theta, &mut ggl.system)?;
+    inputs.apply(&vec![0.0; nu], &mut ggl.system);
     let jacobian_at = |ggl: &Ggl| {
         let mut phi_q = Mat::zeros(m, n);
         ggl.equations
@@ -149,96 +298,55 @@ pub fn numerical(
     };
     let start = jacobian_at(&ggl);
     let mut partition = Partition::choose(start.as_ref()).map_err(|e| format!("{e:?}"))?;
-    let n0 = partition
-        .nullspace(start.as_ref())
-        .map_err(|e| format!("{e:?}"))?
-        .basis;
-    let free = n0.ncols();
-    let columns = 2 * free + np;
-    // T = diag(N₀, N₀, I)
-    let t = Mat::from_fn(big_n, columns, |i, j| {
-        match (i < n, i < 2 * n, j < free, j < 2 * free) {
-            (true, _, true, _) => n0[(i, j)],
-            (false, true, false, true) => n0[(i - n, j - free)],
-            (false, false, false, false) => f64::from(u8::from(i - 2 * n == j - 2 * free)),
-            _ => 0.0,
-        }
-    });
     let k = sensors.len();
-    let steps = (columns.div_ceil(k.max(1)) + 2).min(limit);
-    let mut o = Mat::zeros(steps * k, columns);
-    let mut phi = t;
+    let mut window = Window::start(&start, &mut partition, (nu, np), k, limit)?;
+    let variances: Vec<f64> = sensors.iter().map(|s| s.variance).collect();
     let mut augmented = Mat::identity(big_n, big_n);
     let (mut y, mut jm) = (vec![0.0; k], Mat::zeros(k, big_n));
-    for step in 0..steps {
+    loop {
         let previous: Vec<f64> = ggl.q.iter().chain(&ggl.v).copied().collect();
         ggl.step().map_err(|e| e.to_string())?;
         let rates = parameters.rates(&theta, &ggl.system, &ggl.q, &ggl.v)?;
+        let loads = inputs.unit_loads(&ggl.system, &ggl.q, ggl.time);
         let phi_q = jacobian_at(&ggl);
         let nullspace = partition
             .nullspace(phi_q.as_ref())
             .map_err(|e| format!("{e:?}"))?;
-        let j = transition(&ggl, (&previous[..n], &previous[n..]), &nullspace, &rates).ok_or_else(
-            || {
-                format!(
-                    "at t = {}: the projected step equations are singular",
-                    ggl.time
-                )
-            },
-        )?;
+        let j = transition(
+            &ggl,
+            (&previous[..n], &previous[n..]),
+            &nullspace,
+            &loads,
+            &rates,
+        )
+        .ok_or_else(|| {
+            format!(
+                "at t = {}: the projected step equations are singular",
+                ggl.time
+            )
+        })?;
+        let z = 2 * n;
         augmented
             .as_mut()
-            .submatrix_mut(0, 0, 2 * n, 2 * n)
+            .submatrix_mut(0, 0, z, z)
             .copy_from(&j.states);
         augmented
             .as_mut()
-            .submatrix_mut(0, 2 * n, 2 * n, np)
+            .submatrix_mut(0, z, z, nu)
+            .copy_from(&j.inputs);
+        augmented
+            .as_mut()
+            .submatrix_mut(0, z + nu, z, np)
             .copy_from(&j.parameters);
-        let mut next = Mat::zeros(big_n, columns);
-        matmul(
-            next.as_mut(),
-            Accum::Replace,
-            augmented.as_ref(),
-            phi.as_ref(),
-            1.0,
-            Par::Seq,
-        );
-        phi = next;
         let x: Vec<f64> = (ggl.q.iter().chain(&ggl.v).copied())
+            .chain(std::iter::repeat_n(0.0, nu))
             .chain(theta.iter().copied())
             .collect();
         measure(sensors, &ggl, &x, &previous[n..], &mut y, &mut jm);
-        for (r, s) in sensors.iter().enumerate() {
-            let weight = 1.0 / s.variance.sqrt();
-            for c in 0..columns {
-                o[(step * k + r, c)] =
-                    weight * (0..big_n).map(|i| jm[(r, i)] * phi[(i, c)]).sum::<f64>();
-            }
+        if window.add(&augmented, &jm, &variances) {
+            return Ok(window.finish());
         }
     }
-    for c in 0..columns {
-        let norm = (0..o.nrows())
-            .map(|r| o[(r, c)] * o[(r, c)])
-            .sum::<f64>()
-            .sqrt();
-        if norm > 0.0 {
-            (0..o.nrows()).for_each(|r| o[(r, c)] /= norm);
-        }
-    }
-    let (rank, smallest, largest) = rank(&o);
-    Ok(Observability {
-        steps,
-        rank,
-        columns,
-        ratio: if largest > 0.0 {
-            smallest / largest
-        } else {
-            0.0
-        },
-        parameters: (2 * free..columns)
-            .map(|c| distance_from_others(&o, c))
-            .collect(),
-    })
 }
 
 /// ‖o_c − U Uᵀ o_c‖ for a unit column o_c of `o` and U the range of the other columns (left

@@ -26,7 +26,8 @@
 //!
 //! (the λ̂ and μ̂ terms are the nullspace's derivative, [`super::nullspace`]); ∂G/∂z_{k−1} has
 //! −Vᵀ W⁻¹ and −Vᵀ M(q_k) in G₁'s q and G₂'s v columns; ∂G₂/∂θⱼ = Vᵀ(∂M/∂θⱼ w − h ∂f/∂θⱼ),
-//! w = v_k − v_{k−1}, from the exact rates of [`super::parameters`]. W depends on θ through
+//! w = v_k − v_{k−1}, from the exact rates of [`super::parameters`]; an unknown input's
+//! ∂G₂/∂uⱼ = −h Vᵀ Qⱼ(q_k), Qⱼ its unit generalized force ([`super::inputs`]). W depends on θ through
 //! the bodies' M_ff and K_ff, but G₁'s θ-derivative Vᵀ (∂W⁻¹/∂θ) W Φ_qᵀ μ is of the size of the
 //! step's multiplier μ (the scheme's drift, zero for the exact solution) and is left out.
 //!
@@ -46,11 +47,12 @@ use crate::multibody::{EomTerms, Ggl, correction};
 /// Relative step of the central differences of ∂r₂/∂q.
 const STEP: f64 = 1e-6;
 
-/// J of one step (module docs): the state block ∂z_k/∂z_{k−1} (2n × 2n) and the parameter
-/// block ∂z_k/∂θ (2n × n_θ).
+/// J of one step (module docs): the state block ∂z_k/∂z_{k−1} (2n × 2n), the input block
+/// ∂z_k/∂u (2n × n_u) and the parameter block ∂z_k/∂θ (2n × n_θ).
 #[derive(Debug, Clone)]
 pub struct Transition {
     pub states: Mat<f64>,
+    pub inputs: Mat<f64>,
     pub parameters: Mat<f64>,
 }
 
@@ -94,12 +96,13 @@ fn column_groups(ggl: &Ggl) -> Vec<Vec<(usize, std::ops::Range<usize>)>> {
 }
 
 /// J of the step that took `ggl` from `previous` = (q_{k−1}, v_{k−1}) to its current state
-/// (time t_k, step h), with the nullspace at q_k and the rates ∂terms/∂θⱼ at (q_k, v_k).
-/// `None` if ∂G/∂z_k is singular.
+/// (time t_k, step h), with the nullspace at q_k, the unknown inputs' unit generalized forces
+/// Qⱼ(q_k) (`loads`) and the rates ∂terms/∂θⱼ at (q_k, v_k). `None` if ∂G/∂z_k is singular.
 pub fn transition(
     ggl: &Ggl,
     previous: (&[f64], &[f64]),
     nullspace: &Nullspace,
+    loads: &[Vec<f64>],
     rates: &[EomTerms],
 ) -> Option<Transition> {
     let (q, v, t, h) = (&ggl.q[..], &ggl.v[..], ggl.time, ggl.step_size);
@@ -183,13 +186,19 @@ pub fn transition(
     put(2 * r, 0, velocity_q.as_ref());
     put(2 * r, n, phi_q.as_ref());
     put(2 * r + m, 0, phi_q.as_ref());
-    // −[∂G/∂z_{k−1}  ∂G/∂θ]
-    let np = rates.len();
-    let mut rhs = Mat::<f64>::zeros(2 * n, 2 * n + np);
+    // −[∂G/∂z_{k−1}  ∂G/∂u  ∂G/∂θ]
+    let (nu, np) = (loads.len(), rates.len());
+    let mut rhs = Mat::<f64>::zeros(2 * n, 2 * n + nu + np);
     rhs.as_mut()
         .submatrix_mut(0, 0, r, n)
         .copy_from(&vt_inverse_weight);
     rhs.as_mut().submatrix_mut(r, n, r, n).copy_from(vt * &mass);
+    for (j, load) in loads.iter().enumerate() {
+        let column = Mat::from_fn(n, 1, |i, _| h * load[i]);
+        rhs.as_mut()
+            .submatrix_mut(r, 2 * n + j, r, 1)
+            .copy_from(vt * &column);
+    }
     for (j, terms) in rates.iter().enumerate() {
         let dr2 = Mat::from_fn(n, 1, |i, _| {
             let dm_w: f64 = (0..n).map(|k| terms.mass[(i, k)] * w[k]).sum();
@@ -199,7 +208,7 @@ pub fn transition(
             -(dm_w - h * df)
         });
         rhs.as_mut()
-            .submatrix_mut(r, 2 * n + j, r, 1)
+            .submatrix_mut(r, 2 * n + nu + j, r, 1)
             .copy_from(vt * &dr2);
     }
     a.partial_piv_lu().solve_in_place(rhs.as_mut());
@@ -208,6 +217,7 @@ pub fn transition(
     }
     Some(Transition {
         states: rhs.as_ref().submatrix(0, 0, 2 * n, 2 * n).to_owned(),
-        parameters: rhs.as_ref().submatrix(0, 2 * n, 2 * n, np).to_owned(),
+        inputs: rhs.as_ref().submatrix(0, 2 * n, 2 * n, nu).to_owned(),
+        parameters: rhs.as_ref().submatrix(0, 2 * n + nu, 2 * n, np).to_owned(),
     })
 }
