@@ -102,8 +102,8 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
         .into_iter()
         .map(|r| {
             let design = &archive.designs[r.design];
-            let histories = prepared
-                .simulate_at(&study.parameters(design))
+            let histories = study
+                .histories(&prepared, design)
                 .map_err(|e| case(format!("representative design {}: {e}", r.design)))?;
             Ok((r, histories))
         })

@@ -13,7 +13,7 @@
 //! `representative/<label>/{time, sensors/<name>}` (`best_<objective>` per objective and
 //! `knee`), attributes `design` (its archive index) and `values`.
 
-use super::optimize_study::Study;
+use super::optimize_study::{Quantity, Study};
 use super::report::{Report, sci};
 use super::{RunContext, RunError};
 use crate::deck::cards::{SearchMethod, Statistic};
@@ -134,13 +134,13 @@ pub fn write_study(
         .collect();
     let targets: Vec<String> = study.targets.iter().map(|t| t.join(" ")).collect();
     let response_names: Vec<String> = study.responses.iter().map(|r| r.name.clone()).collect();
-    let response_sensors: Vec<String> = study
-        .responses
-        .iter()
-        .map(|r| sensors[r.sensor].clone())
-        .collect();
+    let response_sources: Vec<String> = study.responses.iter().map(|r| r.source.clone()).collect();
     let statistics: Vec<String> = (study.responses.iter())
-        .map(|r| statistic_name(r.statistic).to_string())
+        .map(|r| match r.quantity {
+            Quantity::Sensor { statistic, .. } => statistic_name(statistic).to_string(),
+            Quantity::Mass => String::new(),
+            Quantity::Frequency { mode, .. } => mode.to_string(),
+        })
         .collect();
     let objectives: Vec<String> = (study.scoring.objectives.iter())
         .map(|o| study.responses[o.response].name.clone())
@@ -155,7 +155,7 @@ pub fn write_study(
         ("variables", &names),
         ("targets", &targets),
         ("responses", &response_names),
-        ("sensors", &response_sensors),
+        ("sensors", &response_sources),
         ("statistics", &statistics),
         ("objectives", &objectives),
         ("senses", &senses),
