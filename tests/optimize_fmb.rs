@@ -378,6 +378,67 @@ fn mass_and_frequency_responses_match_the_full_models() {
     }
 }
 
+#[test]
+fn an_interrupted_study_resumes_from_its_journal_to_the_uninterrupted_output() {
+    let text = |moopt: &str| {
+        edit(
+            &edit(&deck(STUDY), "TSTEP,1,100,", "TSTEP,1,20,"),
+            "MOOPT,1,NSGA2,24,8,1,2",
+            moopt,
+        )
+    };
+    let run_into = |name: &str, text: &str, out: &Path| {
+        let path = artifacts().join(name);
+        std::fs::write(&path, text).expect("write deck");
+        let r = paraflex(&path, out);
+        assert!(
+            r.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&r.stderr)
+        );
+    };
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("out.h5");
+    let journal = dir.path().join("out.h5.designs-1.jsonl");
+    let lines = || {
+        std::fs::read_to_string(&journal)
+            .expect("journal")
+            .lines()
+            .count()
+    };
+    // interrupted after 16 of its 24 evaluations (two of three generations)
+    run_into("resume_a.dat", &text("MOOPT,1,NSGA2,16,8,3,2"), &out);
+    assert_eq!(lines(), 1 + 16);
+    // resumed with the full budget: only the last generation is evaluated
+    run_into("resume_b.dat", &text("MOOPT,1,NSGA2,24,8,3,2,RESUME"), &out);
+    assert_eq!(lines(), 1 + 24);
+    let other = tempfile::tempdir().expect("temp dir");
+    let whole = other.path().join("out.h5");
+    run_into("resume_c.dat", &text("MOOPT,1,NSGA2,24,8,3,2"), &whole);
+    let resumed = hdf5_metno::File::open(&out).expect("open");
+    let uninterrupted = hdf5_metno::File::open(&whole).expect("open");
+    let (a, b) = (
+        resumed.group("results/1/optimize").expect("optimize"),
+        uninterrupted.group("results/1/optimize").expect("optimize"),
+    );
+    // everything but the wall times, bit for bit
+    for name in ["designs", "responses", "hypervolume", "correlation"] {
+        let (x, y) = (read_dataset::<f64>(&a, name), read_dataset::<f64>(&b, name));
+        assert_eq!(x.len(), y.len(), "{name}");
+        assert!(
+            x.iter().zip(&y).all(|(p, q)| p.to_bits() == q.to_bits()),
+            "{name}: {x:?} against {y:?}"
+        );
+    }
+    for name in ["feasible", "pareto", "extremes", "knee"] {
+        assert_eq!(
+            read_dataset::<u32>(&a, name),
+            read_dataset::<u32>(&b, name),
+            "{name}"
+        );
+    }
+}
+
 /// The archive of a written study, evaluations in order.
 fn archive_of(designs: &[Vec<f64>], responses: &[Vec<f64>], errors: &[bool]) -> Archive {
     Archive {
@@ -518,6 +579,18 @@ fn bad_input_stops_before_any_evaluation_and_writes_nothing() {
             "MOOPT,1,NSGA2,24,8,1,2",
             "MOOPT,1,GRID,4,3",
             "MOOPT 1: field 4 (NEVAL): the full-factorial grid of 3 level(s) per continuous variable has 9 designs, more than NEVAL = 4",
+        ),
+        (
+            "freq_mode_too_high.dat",
+            "DOBJ,2,ENERGY,MIN,WORK,FINAL",
+            "DOBJ,2,F500,MAX,FREQ,500,C",
+            "DOBJ 2: field 5 (SOURCE): FREQ 500 of body C: its pROM has 130 modal coordinate(s)",
+        ),
+        (
+            "freq_of_rigid.dat",
+            "DOBJ,2,ENERGY,MIN,WORK,FINAL",
+            "DOBJ,2,F1,MAX,FREQ,1,CX",
+            "DOBJ 2: field 5 (SOURCE): FREQ of CX: no FLEXB of this mechanism has that NAME (flexible bodies: IC C OC)",
         ),
         (
             "promlib_value_without_artifact.dat",

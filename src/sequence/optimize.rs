@@ -14,6 +14,7 @@
 use std::time::Instant;
 
 use super::fmb::PreparedFmb;
+use super::optimize_journal::{Header, Journal, journal_path};
 use super::optimize_output::{OptimizeSummary, Representative, write_study};
 use super::optimize_study::Study;
 use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
@@ -66,13 +67,54 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
         ));
     }
     let study = Study::of_deck(&ctx.deck.bulk, &prepared).map_err(|e| case(e.join("\n")))?;
+    let header = Header {
+        variables: study
+            .space
+            .variables
+            .iter()
+            .map(|v| v.name.clone())
+            .collect(),
+        responses: study.responses.iter().map(|r| r.name.clone()).collect(),
+    };
+    let journal = Journal::open(
+        &journal_path(ctx.output.path(), sub.id),
+        &header,
+        study.search.resume,
+    )
+    .map_err(case)?;
     let threads = study.search.npar;
-    let threaded = Threaded::new(threads, |design: &[f64]| study.evaluate(&prepared, design))
-        .map_err(|e| case(e.to_string()))?;
+    // each evaluation journaled as it completes (a panic is caught outside, not journaled)
+    let journal_error = std::sync::Mutex::new(None);
+    let threaded = Threaded::new(threads, |design: &[f64]| {
+        let start = Instant::now();
+        let result = study.evaluate(&prepared, design);
+        let evaluated = Evaluated {
+            result,
+            seconds: start.elapsed().as_secs_f64(),
+        };
+        if let Err(e) = journal.record(design, &evaluated) {
+            journal_error
+                .lock()
+                .unwrap_or_else(|p| p.into_inner())
+                .get_or_insert(e);
+        }
+        evaluated.result
+    })
+    .map_err(|e| case(e.to_string()))?;
     let total = study.budget();
     let mut done = 0;
     let mut batch = |designs: &[Design]| -> Vec<Evaluated> {
-        let results = threaded.batch(designs);
+        // the designs the journal holds are not evaluated again
+        let known: Vec<Option<Evaluated>> = designs.iter().map(|d| journal.known(d)).collect();
+        let missing: Vec<Design> = (designs.iter().zip(&known))
+            .filter(|(_, k)| k.is_none())
+            .map(|(d, _)| d.clone())
+            .collect();
+        let mut fresh = threaded.batch(&missing).into_iter();
+        let results = known
+            .into_iter()
+            .map(|k| k.unwrap_or_else(|| fresh.next().expect("one result per missing design")))
+            .collect();
         done += designs.len();
         ctx.progress.step("optimize: evaluations", done, total);
         results
@@ -95,6 +137,12 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
         }
     };
     let wall = start.elapsed().as_secs_f64();
+    if let Some(e) = journal_error
+        .into_inner()
+        .unwrap_or_else(|p| p.into_inner())
+    {
+        return Err(case(e));
+    }
     let summary = summarize(&archive, &study.scoring, None);
     // the representative designs run again for their histories (an evaluation keeps only
     // its responses)

@@ -5,8 +5,10 @@
 //! not), pareto (archive indices of the feasible non-dominated designs), hypervolume (n: after
 //! each evaluation), correlation (d×k: eq. 6.2), eval_seconds (n), extremes (per objective:
 //! the front's best design), knee (0 or 1 index)}` with attributes `method`, `variables`,
-//! `targets` (per variable, the `BODY.PMPAR` it sets, space-separated), `responses`,
-//! `sensors`, `statistics`, `objectives` (response names), `senses`, `constraints`,
+//! `targets` (per variable, the `BODY.PMPAR` it sets and the bodies whose artifact it
+//! chooses, space-separated), `responses`, `sensors` (each response's SOURCE: the MSENSOR,
+//! `MASS` or `FREQ <body>`), `statistics` (empty for MASS, the mode number for FREQ),
+//! `objectives` (response names), `senses`, `constraints`,
 //! `constraint_low`, `constraint_high` (NaN: open), `reference` (the hypervolume's reference
 //! point in minimized objectives), `seed`, `population` (NSGA2: the population; GRID: the
 //! levels); and each representative design's histories under

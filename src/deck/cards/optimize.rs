@@ -284,6 +284,7 @@ pub enum SearchMethod {
 /// | 5 | POP | int > 0 | NSGA2: 20; GRID: 3 | NSGA2: population size; GRID: levels of each continuous variable (bounds included; a discrete variable takes all its values) |
 /// | 6 | SEED | int ≥ 0 | 1 | random seed |
 /// | 7 | NPAR | int ≥ 0 | 0 | parallel evaluations (0: one per core) |
+/// | 8 | START | `NEW`/`RESUME` | `NEW` | `NEW`: a new journal of the evaluations (`<output>.designs-<subcase>.jsonl`); `RESUME`: the designs the existing journal holds are not evaluated again (the study, deterministic, proposes the same designs) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Moopt {
     pub id: u32,
@@ -292,6 +293,8 @@ pub struct Moopt {
     pub pop: u32,
     pub seed: u64,
     pub npar: usize,
+    /// START = RESUME.
+    pub resume: bool,
     pub loc: Loc,
 }
 
@@ -325,8 +328,9 @@ impl Moopt {
         if npar < 0 {
             f.error(6, "NPAR", format!("expected an integer ≥ 0, found {npar}"));
         }
+        let resume = f.choice(7, "START", &[("NEW", false), ("RESUME", true)], Some(false));
         let loc = f.loc();
-        f.finish(6)?;
+        f.finish(7)?;
         Ok(Moopt {
             id,
             method,
@@ -334,6 +338,7 @@ impl Moopt {
             pop,
             seed: seed.max(0) as u64,
             npar: npar.max(0) as usize,
+            resume,
             loc,
         })
     }
@@ -394,8 +399,13 @@ mod tests {
         );
         let n = Moopt::from_card(&card("MOOPT,1,NSGA2,40,8,7,2")).unwrap();
         assert_eq!(
-            (n.method, n.neval, n.pop, n.seed, n.npar),
-            (SearchMethod::Nsga2, 40, 8, 7, 2)
+            (n.method, n.neval, n.pop, n.seed, n.npar, n.resume),
+            (SearchMethod::Nsga2, 40, 8, 7, 2, false)
+        );
+        assert!(
+            Moopt::from_card(&card("MOOPT,1,NSGA2,40,8,7,2,RESUME"))
+                .unwrap()
+                .resume
         );
     }
 
