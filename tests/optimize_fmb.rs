@@ -9,9 +9,17 @@
 //! - A seeded NSGA-II study: feasibility as the constraint says, the Pareto set non-dominated
 //!   and complete, the hypervolume history non-decreasing and equal to the engine's own
 //!   recomputation from the written designs and responses; the same seed gives the same study.
+//! - A PROMLIB variable (the coupler's ply count, a 4-ply artifact built here) equals the same
+//!   designs run as SOL FMB decks whose FLEXB reads the chosen artifact.
+//! - MASS and FREQ responses against SOL 103 runs of the full links at the same p (mass from
+//!   the weight generator, frequencies from the eigensolution).
+//! - A study interrupted (a smaller budget) and resumed from its journal ends with the output of
+//!   the uninterrupted study, evaluating only the missing designs.
 //! - Bad input (a DVMAP onto an unknown parameter, bounds outside the pROM's box, an objective
-//!   on an unknown MSENSOR, a discrete variable with a DELXV, a GRID larger than its budget)
-//!   stops with its error at the card before any evaluation and writes no file.
+//!   on an unknown MSENSOR, a discrete variable with a DELXV, a GRID larger than its budget, a
+//!   FREQ beyond the pROM or of no FLEXB, a PROMLIB value without artifact, a missing or
+//!   unfitting artifact, a continuous variable choosing an artifact, an unused PROMLIB) stops
+//!   with its error at the card before any evaluation and writes no file.
 
 mod common;
 
