@@ -404,6 +404,7 @@ fn an_interrupted_study_resumes_from_its_journal_to_the_uninterrupted_output() {
             "{name}: {}",
             String::from_utf8_lossy(&r.stderr)
         );
+        String::from_utf8_lossy(&r.stdout).to_string()
     };
     let dir = tempfile::tempdir().expect("temp dir");
     let out = dir.path().join("out.h5");
@@ -418,8 +419,12 @@ fn an_interrupted_study_resumes_from_its_journal_to_the_uninterrupted_output() {
     run_into("resume_a.dat", &text("MOOPT,1,NSGA2,16,8,3,2"), &out);
     assert_eq!(lines(), 1 + 16);
     // resumed with the full budget: only the last generation is evaluated
-    run_into("resume_b.dat", &text("MOOPT,1,NSGA2,24,8,3,2,RESUME"), &out);
+    let printed = run_into("resume_b.dat", &text("MOOPT,1,NSGA2,24,8,3,2,RESUME"), &out);
     assert_eq!(lines(), 1 + 24);
+    assert!(
+        printed.contains("16 evaluation(s) taken from it, 8 run"),
+        "{printed}"
+    );
     let other = tempfile::tempdir().expect("temp dir");
     let whole = other.path().join("out.h5");
     run_into("resume_c.dat", &text("MOOPT,1,NSGA2,24,8,3,2"), &whole);

@@ -7,7 +7,9 @@
 //! is the transient at the design's parameters with nothing written, its MSENSOR histories
 //! reduced to the responses ([`Study::evaluate`]); the search (`MOOPT NSGA2` or the
 //! full-factorial `GRID`) evaluates batches on NPAR threads ([`Threaded`]), a failed
-//! evaluation recorded and the study going on. The report ([`crate::optimize::summarize`]) and
+//! evaluation recorded and the study going on. Each evaluation is journaled as it completes
+//! ([`super::optimize_journal`]); with `MOOPT` START = RESUME the designs the journal holds
+//! are taken from it instead of evaluated. The report ([`crate::optimize::summarize`]) and
 //! the histories of the representative designs (the front's extremes and knee, run again) are
 //! written by [`super::optimize_output`].
 
@@ -76,12 +78,9 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
             .collect(),
         responses: study.responses.iter().map(|r| r.name.clone()).collect(),
     };
-    let journal = Journal::open(
-        &journal_path(ctx.output.path(), sub.id),
-        &header,
-        study.search.resume,
-    )
-    .map_err(case)?;
+    let path = journal_path(ctx.output.path(), sub.id);
+    let journal = Journal::open(&path, &header, study.search.resume).map_err(case)?;
+    let journal_shown = path.display().to_string();
     let threads = study.search.npar;
     // each evaluation journaled as it completes (a panic is caught outside, not journaled)
     let journal_error = std::sync::Mutex::new(None);
@@ -103,6 +102,7 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
     .map_err(|e| case(e.to_string()))?;
     let total = study.budget();
     let mut done = 0;
+    let mut resumed = 0;
     let mut batch = |designs: &[Design]| -> Vec<Evaluated> {
         // the designs the journal holds are not evaluated again
         let known: Vec<Option<Evaluated>> = designs.iter().map(|d| journal.known(d)).collect();
@@ -110,6 +110,7 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
             .filter(|(_, k)| k.is_none())
             .map(|(d, _)| d.clone())
             .collect();
+        resumed += designs.len() - missing.len();
         let mut fresh = threaded.batch(&missing).into_iter();
         let results = known
             .into_iter()
@@ -170,7 +171,12 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
         id: sub.id,
         autospc: Vec::new(),
         result: Box::new(OptimizeSummary::new(
-            &study, &archive, &summary, wall, threads,
+            &study,
+            &archive,
+            &summary,
+            wall,
+            threads,
+            (journal_shown, resumed),
         )),
     })
 }

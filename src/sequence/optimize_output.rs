@@ -223,6 +223,9 @@ pub struct OptimizeSummary {
     pub wall_seconds: f64,
     /// NPAR (0: one per core).
     pub threads: usize,
+    /// The journal's path and how many evaluations were taken from it (START = RESUME).
+    pub journal: String,
+    pub resumed: usize,
     /// The knee's archive index, design and responses.
     pub knee: Option<(usize, Vec<f64>, Vec<f64>)>,
 }
@@ -234,6 +237,7 @@ impl OptimizeSummary {
         summary: &Summary,
         wall_seconds: f64,
         threads: usize,
+        (journal, resumed): (String, usize),
     ) -> Self {
         let n = archive.len();
         let failures: Vec<&str> = (archive.evaluated.iter())
@@ -260,6 +264,8 @@ impl OptimizeSummary {
                 / n.max(1) as f64,
             wall_seconds,
             threads,
+            journal,
+            resumed,
             knee: summary.knee.map(|i| {
                 (
                     i,
@@ -307,6 +313,12 @@ impl Report for OptimizeSummary {
             format!(
                 "  {:.3} s per evaluation; {:.3} s wall on {threads}",
                 self.mean_seconds, self.wall_seconds
+            ),
+            format!(
+                "  journal {}: {} evaluation(s) taken from it, {} run",
+                self.journal,
+                self.resumed,
+                self.evaluations - self.resumed
             ),
         ];
         if let Some((i, design, responses)) = &self.knee {
