@@ -415,19 +415,19 @@ fn an_interrupted_study_resumes_from_its_journal_to_the_uninterrupted_output() {
             .lines()
             .count()
     };
-    // interrupted after 16 of its 24 evaluations (two of three generations)
-    run_into("resume_a.dat", &text("MOOPT,1,NSGA2,16,8,3,2"), &out);
-    assert_eq!(lines(), 1 + 16);
+    // interrupted after 8 of its 12 evaluations (two of three generations)
+    run_into("resume_a.dat", &text("MOOPT,1,NSGA2,8,4,3,2"), &out);
+    assert_eq!(lines(), 1 + 8);
     // resumed with the full budget: only the last generation is evaluated
-    let printed = run_into("resume_b.dat", &text("MOOPT,1,NSGA2,24,8,3,2,RESUME"), &out);
-    assert_eq!(lines(), 1 + 24);
+    let printed = run_into("resume_b.dat", &text("MOOPT,1,NSGA2,12,4,3,2,RESUME"), &out);
+    assert_eq!(lines(), 1 + 12);
     assert!(
-        printed.contains("16 evaluation(s) taken from it, 8 run"),
+        printed.contains("8 evaluation(s) taken from it, 4 run"),
         "{printed}"
     );
     let other = tempfile::tempdir().expect("temp dir");
     let whole = other.path().join("out.h5");
-    run_into("resume_c.dat", &text("MOOPT,1,NSGA2,24,8,3,2"), &whole);
+    run_into("resume_c.dat", &text("MOOPT,1,NSGA2,12,4,3,2"), &whole);
     let resumed = hdf5_metno::File::open(&out).expect("open");
     let uninterrupted = hdf5_metno::File::open(&whole).expect("open");
     let (a, b) = (
