@@ -452,6 +452,57 @@ fn an_interrupted_study_resumes_from_its_journal_to_the_uninterrupted_output() {
     }
 }
 
+#[test]
+fn paraflex_evaluate_repeats_the_study_responses_bit_for_bit() {
+    let text = edit(
+        &edit(&deck(STUDY), "TSTEP,1,100,", "TSTEP,1,20,"),
+        "MOOPT,1,NSGA2,24,8,1,2",
+        "MOOPT,1,GRID,6,2",
+    );
+    let (g, _dir) = study("evaluate.dat", &text);
+    let designs = rows(read_dataset::<f64>(&g, "designs"), 2);
+    let responses = rows(read_dataset::<f64>(&g, "responses"), 3);
+    let dir = tempfile::tempdir().expect("temp dir");
+    let evaluate = |designs: &str| {
+        let file = dir.path().join("designs.json");
+        std::fs::write(&file, designs).expect("write designs");
+        Command::new(env!("CARGO_BIN_EXE_paraflex"))
+            .arg("evaluate")
+            .arg(artifacts().join("evaluate.dat"))
+            .arg("--designs")
+            .arg(&file)
+            .output()
+            .expect("run paraflex")
+    };
+    let json = serde_json::to_string(&designs).expect("json");
+    let r = evaluate(&json);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let lines: Vec<serde_json::Value> = String::from_utf8_lossy(&r.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON line"))
+        .collect();
+    assert_eq!(lines.len(), designs.len());
+    for ((line, design), response) in lines.iter().zip(&designs).zip(&responses) {
+        let got: Vec<f64> = serde_json::from_value(line["responses"].clone()).expect("responses");
+        let echoed: Vec<f64> = serde_json::from_value(line["design"].clone()).expect("design");
+        assert_eq!(&echoed, design);
+        assert!(
+            got.iter()
+                .zip(response)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{design:?}: evaluate {got:?}, study {response:?}"
+        );
+    }
+    // a design outside the study's space is refused
+    let r = evaluate("[[45.0, 7000.0]]");
+    assert!(!r.status.success());
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        stderr.contains("design 0 [45.0, 7000.0] is not a point of the study's space"),
+        "{stderr}"
+    );
+}
+
 /// The archive of a written study, evaluations in order.
 fn archive_of(designs: &[Vec<f64>], responses: &[Vec<f64>], errors: &[bool]) -> Archive {
     Archive {

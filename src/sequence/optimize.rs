@@ -51,8 +51,8 @@ impl Driver for Optimize {
     }
 }
 
-/// Runs the study of subcase `sub` and writes it.
-fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
+/// Subcase `sub` prepared as a `SOL FMB` run and its study checked against it.
+fn prepare(ctx: &RunContext, sub: &Subcase) -> Result<(PreparedFmb, Study), RunError> {
     let case = |what: String| RunError::Case {
         subcase: sub.id,
         what,
@@ -69,6 +69,59 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
         ));
     }
     let study = Study::of_deck(&ctx.deck.bulk, &prepared).map_err(|e| case(e.join("\n")))?;
+    Ok((prepared, study))
+}
+
+/// Evaluates `designs` with the study of subcase `subcase` as `SOL OPTIMIZE` evaluates a batch
+/// (NPAR threads), nothing written: the design evaluation as a pure function, for an engine
+/// outside this process (`paraflex evaluate`). A design of the wrong length or outside the
+/// variables' domains is an error naming it.
+pub fn evaluate_designs(
+    ctx: &RunContext,
+    subcase: u32,
+    designs: &[Design],
+) -> Result<Vec<Evaluated>, RunError> {
+    let sub = (ctx.model.subcases.iter())
+        .find(|s| s.id == subcase)
+        .ok_or_else(|| RunError::Case {
+            subcase,
+            what: format!("the deck has no subcase {subcase}"),
+        })?;
+    let (prepared, study) = prepare(ctx, sub)?;
+    for (i, d) in designs.iter().enumerate() {
+        let inside = d.len() == study.space.len()
+            && (d.iter().zip(&study.space.variables)).all(|(x, v)| v.contains(*x));
+        if !inside {
+            return Err(RunError::Case {
+                subcase,
+                what: format!(
+                    "design {i} {d:?} is not a point of the study's space ({} variable(s): {})",
+                    study.space.len(),
+                    (study.space.variables.iter())
+                        .map(|v| v.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            });
+        }
+    }
+    let threaded = Threaded::new(study.search.npar, |design: &[f64]| {
+        study.evaluate(&prepared, design)
+    })
+    .map_err(|e| RunError::Case {
+        subcase,
+        what: e.to_string(),
+    })?;
+    Ok(threaded.batch(designs))
+}
+
+/// Runs the study of subcase `sub` and writes it.
+fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
+    let case = |what: String| RunError::Case {
+        subcase: sub.id,
+        what,
+    };
+    let (prepared, study) = prepare(ctx, sub)?;
     let header = Header {
         variables: study
             .space

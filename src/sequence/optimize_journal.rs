@@ -66,6 +66,12 @@ impl Entry {
     }
 }
 
+/// The journal line (JSON, without its newline) of the evaluation of `design`; also what
+/// `paraflex evaluate` prints per design.
+pub fn entry_line(design: &[f64], evaluated: &Evaluated) -> Result<String, String> {
+    serde_json::to_string(&Entry::of(design, evaluated)).map_err(|e| e.to_string())
+}
+
 /// An open journal: the evaluations read from it (on resume) and the file appended to.
 pub struct Journal {
     path: PathBuf,
@@ -147,8 +153,7 @@ impl Journal {
 
     /// Appends the evaluation of `design` (one line, flushed).
     pub fn record(&self, design: &[f64], evaluated: &Evaluated) -> Result<(), String> {
-        let line =
-            serde_json::to_string(&Entry::of(design, evaluated)).map_err(|e| e.to_string())? + "\n";
+        let line = entry_line(design, evaluated)? + "\n";
         let mut file = self.file.lock().unwrap_or_else(|p| p.into_inner());
         file.write_all(line.as_bytes())
             .and_then(|()| file.flush())
