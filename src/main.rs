@@ -53,6 +53,19 @@ enum Command {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
+    /// Evaluate designs of a SOL OPTIMIZE deck's study, nothing written: one JSON line per
+    /// design on stdout (design, responses or error, seconds), as the study's journal holds
+    /// them. The design evaluation as a pure function, for an engine outside this process.
+    Evaluate {
+        /// The SOL OPTIMIZE deck.
+        deck: PathBuf,
+        /// A JSON file holding the designs: an array of arrays of the variables' values.
+        #[arg(long)]
+        designs: PathBuf,
+        /// The subcase whose study evaluates them.
+        #[arg(long, default_value_t = 1)]
+        subcase: u32,
+    },
     /// Describe a paraflex HDF5 file.
     Info {
         /// The HDF5 file.
@@ -163,6 +176,11 @@ fn main() -> ExitCode {
         Command::Check { deck, json } => commands::check(&deck, json),
         Command::Run { deck, output } => commands::run(&deck, output.as_deref()),
         Command::Info { file, json } => commands::info(&file, json),
+        Command::Evaluate {
+            deck,
+            designs,
+            subcase,
+        } => commands::evaluate(&deck, &designs, subcase),
         Command::PromLsq { manifest, output } => commands::prom_lsq(&manifest, output.as_deref()),
     };
     match result {
@@ -242,6 +260,52 @@ mod commands {
             println!("{line}");
         }
         eprintln!("wrote {}", written.display());
+        Ok(())
+    }
+
+    pub fn evaluate(path: &Path, designs: &Path, subcase: u32) -> Result<(), Failure> {
+        let (deck, model) = load_model(path)?;
+        let fail = |message: String| {
+            eprintln!("error: {message}");
+            Failure(2)
+        };
+        if deck.executive.sol.as_ref().map(|(s, _)| *s) != Some(paraflex::deck::Solution::Optimize)
+        {
+            return Err(fail(format!(
+                "{}: paraflex evaluate takes a SOL OPTIMIZE deck",
+                path.display()
+            )));
+        }
+        let text = std::fs::read_to_string(designs)
+            .map_err(|e| fail(format!("cannot read {}: {e}", designs.display())))?;
+        let designs: Vec<Vec<f64>> = serde_json::from_str(&text).map_err(|e| {
+            fail(format!(
+                "{}: expected an array of designs (arrays of numbers): {e}",
+                designs.display()
+            ))
+        })?;
+        // the preparation reads the deck's model only: the output it is given is a scratch
+        // file, removed unwritten
+        let scratch =
+            std::env::temp_dir().join(format!("paraflex-evaluate-{}.h5", std::process::id()));
+        let file = paraflex::io::OutputFile::create(&scratch).map_err(|e| fail(e.to_string()))?;
+        let bars = progress::Bars::new();
+        let ctx = RunContext {
+            deck: &deck,
+            model: &model,
+            output: &file,
+            progress: &bars,
+            options: BuildOptions::default(),
+        };
+        let evaluated =
+            sequence::optimize::evaluate_designs(&ctx, subcase, &designs).map_err(|e| {
+                eprintln!("error: {e}");
+                Failure(run_failure_code(&e))
+            })?;
+        for (design, e) in designs.iter().zip(&evaluated) {
+            let line = sequence::optimize_journal::entry_line(design, e).map_err(fail)?;
+            println!("{line}");
+        }
         Ok(())
     }
 

@@ -9,9 +9,17 @@
 //! - A seeded NSGA-II study: feasibility as the constraint says, the Pareto set non-dominated
 //!   and complete, the hypervolume history non-decreasing and equal to the engine's own
 //!   recomputation from the written designs and responses; the same seed gives the same study.
+//! - A PROMLIB variable (the coupler's ply count, a 4-ply artifact built here) equals the same
+//!   designs run as SOL FMB decks whose FLEXB reads the chosen artifact.
+//! - MASS and FREQ responses against SOL 103 runs of the full links at the same p (mass from
+//!   the weight generator, frequencies from the eigensolution).
+//! - A study interrupted (a smaller budget) and resumed from its journal ends with the output of
+//!   the uninterrupted study, evaluating only the missing designs.
 //! - Bad input (a DVMAP onto an unknown parameter, bounds outside the pROM's box, an objective
-//!   on an unknown MSENSOR, a discrete variable with a DELXV, a GRID larger than its budget)
-//!   stops with its error at the card before any evaluation and writes no file.
+//!   on an unknown MSENSOR, a discrete variable with a DELXV, a GRID larger than its budget, a
+//!   FREQ beyond the pROM or of no FLEXB, a PROMLIB value without artifact, a missing or
+//!   unfitting artifact, a continuous variable choosing an artifact, an unused PROMLIB) stops
+//!   with its error at the card before any evaluation and writes no file.
 
 mod common;
 
@@ -159,6 +167,342 @@ fn a_grid_study_equals_its_designs_run_as_separate_fmb_decks() {
     }
 }
 
+/// The coupler's artifact with 4 plies ([T/-T]s, half the 8-ply laminate of
+/// `coupler_composite_prom.dat`, 2 samples), built once beside the others: the second entry of
+/// the coupler's PROMLIB.
+fn four_ply_coupler() -> &'static str {
+    static BUILT: OnceLock<()> = OnceLock::new();
+    BUILT.get_or_init(|| {
+        let meshes = format!("'{}/", root().join("meshes").display());
+        let ply = ",2,0.00025,20.0,,2,0.00025,-20.0,\n";
+        let text = edit(
+            &deck("coupler_composite_prom.dat"),
+            &format!("{ply}{ply}"),
+            ply,
+        );
+        let text = edit(&text, "PMOR,1,6,", "PMOR,1,2,").replace("'../../../meshes/", &meshes);
+        let path = artifacts().join("coupler_4ply_prom.dat");
+        std::fs::write(&path, text).expect("write deck");
+        let run = paraflex(&path, &artifacts().join("coupler_4ply.h5"));
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+    });
+    "coupler_4ply.h5"
+}
+
+/// The study deck over 20 steps with `cards` before its MOOPT, which is `moopt`.
+fn study_with(cards: &str, moopt: &str) -> String {
+    let text = edit(&deck(STUDY), "TSTEP,1,100,", "TSTEP,1,20,");
+    edit(
+        &text,
+        "MOOPT,1,NSGA2,24,8,1,2",
+        &format!("{cards}\n{moopt}"),
+    )
+}
+
+/// The design cards of a third variable, the coupler's ply count: 4 or 8, each its artifact.
+fn ply_cards(four_ply: &str) -> String {
+    format!(
+        "DESVAR,3,PLIES,8.,,,,3\nDDVAL,3,4.,8.\nPROMLIB,1,C,4.,'{four_ply}',8.,'coupler_composite.h5'\nDVMAP,3,3,C"
+    )
+}
+
+#[test]
+fn a_promlib_variable_runs_each_design_with_its_artifact() {
+    let four_ply = four_ply_coupler();
+    // THETA at 0 and 90 deg, the cranks' density 6000, 4 or 8 plies: four designs
+    let text = edit(
+        &study_with(&ply_cards(four_ply), "MOOPT,1,GRID,4,2"),
+        "DDVAL,2,6000.,7990.,10000.",
+        "DDVAL,2,6000.",
+    );
+    let (g, _dir) = study("plies.dat", &text);
+    let designs = rows(read_dataset::<f64>(&g, "designs"), 3);
+    let responses = rows(read_dataset::<f64>(&g, "responses"), 3);
+    assert_eq!(designs.len(), 4);
+    let fmb = edit(
+        &edit(&deck(STUDY), "SOL OPTIMIZE", "SOL FMB"),
+        "TSTEP,1,100,",
+        "TSTEP,1,20,",
+    );
+    for (design, response) in designs.iter().zip(&responses) {
+        let [theta, rho, plies] = [design[0], design[1], design[2]];
+        let artifact = if plies == 4.0 {
+            four_ply
+        } else {
+            "coupler_composite.h5"
+        };
+        let text = edit(
+            &edit(
+                &fmb,
+                "PVAL,1,C.THETA,45.",
+                &format!("PVAL,1,C.THETA,{theta:?},IC.RHO,{rho:?},OC.RHO,{rho:?}"),
+            ),
+            "FLEXB,2,C,'coupler_composite.h5',2",
+            &format!("FLEXB,2,C,'{artifact}',2"),
+        );
+        let (r, _out_dir, out) = run(&format!("fmb_{theta}_{rho}_{plies}.dat"), &text);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let file = hdf5_metno::File::open(&out).expect("open");
+        let h = file.group("results/1/fmb").expect("fmb");
+        let t = read_dataset::<f64>(&h, "time");
+        let dev = read_dataset::<f64>(&h, "sensors/CDEV");
+        let work = read_dataset::<f64>(&h, "sensors/WORK");
+        let torque = read_dataset::<f64>(&h, "sensors/TORQUE");
+        let reference = [
+            mean(&t, &dev),
+            work[work.len() - 1],
+            torque.iter().fold(0.0_f64, |m, x| m.max(x.abs())),
+        ];
+        // the same systems integrated by the same code: equal to round-off of the sums
+        for (k, (got, want)) in response.iter().zip(reference).enumerate() {
+            assert!(
+                (got - want).abs() <= 1e-12 * want.abs().max(1e-30),
+                "design {design:?} response {k}: study {got:e}, SOL FMB {want:e}"
+            );
+        }
+    }
+    // the artifact is swapped: the drive works against the gravity and the inertia of links
+    // whose masses it scales, and the 4-ply coupler weighs half the 8-ply one
+    for (d4, r4) in designs.iter().zip(&responses).filter(|(d, _)| d[2] == 4.0) {
+        let (_, r8) = (designs.iter().zip(&responses))
+            .find(|(d, _)| d[..2] == d4[..2] && d[2] == 8.0)
+            .expect("the 8-ply twin of a design");
+        assert!(r4[1] < r8[1], "{d4:?}: {r4:?} against 8 plies {r8:?}");
+    }
+}
+
+/// Runs the SOL 103 deck `text` of one link (meshes under `meshes/`) with the grid-point
+/// weight generator; returns its total mass and its natural frequencies (Hz).
+fn link_modes(name: &str, text: &str) -> (f64, Vec<f64>) {
+    let meshes = format!("'{}/", root().join("meshes").display());
+    let text = text
+        .replace("'../../../meshes/", &meshes)
+        .replace("'../../meshes/", &meshes)
+        .replace("BEGIN BULK", "BEGIN BULK\nPARAM,GRDPNT,0");
+    let (r, _dir, out) = run(name, &text);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let file = hdf5_metno::File::open(&out).expect("open");
+    let mass = read_dataset::<f64>(&file.group("model/gpwg").expect("gpwg"), "mass")[0];
+    let modal = file.group("results/1/modal").expect("modal");
+    (mass, read_dataset::<f64>(&modal, "frequency_hz"))
+}
+
+#[test]
+fn mass_and_frequency_responses_match_the_full_models() {
+    // THETA at 0, 45 and 90 deg by the cranks' density 6000 or 10000: six designs, no
+    // transient (no response reads an MSENSOR)
+    let text = edit(
+        &deck(STUDY),
+        "DDVAL,2,6000.,7990.,10000.",
+        "DDVAL,2,6000.,10000.",
+    );
+    let text = edit(
+        &text,
+        "DOBJ,1,DEV,MIN,CDEV,MEAN\nDOBJ,2,ENERGY,MIN,WORK,FINAL\nDCONSTR,3,TORQUE,TORQUE,MAX,,0.1",
+        "DOBJ,1,MASS,MIN,MASS\nDOBJ,2,F1,MAX,FREQ,1,C\nDCONSTR,3,F2,FREQ,2,,1.E6,C",
+    );
+    let text = edit(&text, "MOOPT,1,NSGA2,24,8,1,2", "MOOPT,1,GRID,6,3");
+    let (g, _dir) = study("mass_freq.dat", &text);
+    let designs = rows(read_dataset::<f64>(&g, "designs"), 2);
+    let responses = rows(read_dataset::<f64>(&g, "responses"), 3);
+    let errors: Vec<String> = (read_dataset::<hdf5_metno::types::VarLenUnicode>(&g, "errors"))
+        .iter()
+        .map(|e| e.as_str().to_string())
+        .collect();
+    assert_eq!(designs.len(), 6);
+    // the full models: each crank at the design's density, the coupler at its fibre angle
+    // (the pROM deck's mesh and laminate, as SOL 103 with the plies at ±THETA)
+    let crank = |file: &str, rho: f64| {
+        let text = std::fs::read_to_string(root().join("decks/fourbar").join(file)).expect("deck");
+        let text = edit(
+            &text,
+            "MAT1,1,201.99E9,,0.34,7990.0",
+            &format!("MAT1,1,201.99E9,,0.34,{rho:?}"),
+        );
+        link_modes(&format!("{rho}_{file}"), &text).0
+    };
+    let coupler = |theta: f64| {
+        let ply = format!(",2,0.00025,{theta:?},,2,0.00025,{:?},\n", -theta);
+        let text = deck("coupler_composite_prom.dat");
+        let text = edit(&text, "SOL PROM", "SOL 103");
+        let text = edit(&text, "PROM = 1", "METHOD = 1");
+        let text = edit(
+            &text,
+            ",2,0.00025,20.0,,2,0.00025,-20.0,\n,2,0.00025,20.0,,2,0.00025,-20.0,\n",
+            &format!("{ply}{ply}"),
+        );
+        let text = edit(&text, "PMPAR,1,THETA,THETA,1,0.,90.\n", "EIGRL,1,,,8\n");
+        let text = edit(
+            &text,
+            "PMOR,1,6,10,2000.,1.E-3,4\n,1,ATTACH,REMOVE,40\n",
+            "",
+        );
+        link_modes(&format!("coupler_{theta}.dat"), &text)
+    };
+    let cranks: Vec<(f64, f64)> = [6000.0, 10000.0]
+        .into_iter()
+        .map(|rho| {
+            (
+                rho,
+                crank("crank_free.dat", rho) + crank("output_crank_free.dat", rho),
+            )
+        })
+        .collect();
+    for theta in [0.0, 45.0] {
+        let (coupler_mass, f) = coupler(theta);
+        for &(rho, cranks_mass) in &cranks {
+            let k = (designs.iter())
+                .position(|d| d[..] == [theta, rho])
+                .expect("the grid has the design");
+            let mass = cranks_mass + coupler_mass;
+            // the invariants' mass is the affine sum of the nodal masses (eq. 4.8), the sums
+            // the weight generator adds: equal to round-off
+            assert!(
+                (responses[k][0] - mass).abs() <= 1e-12 * mass,
+                "design {:?}: mass {:e}, full models {mass:e}",
+                designs[k],
+                responses[k][0]
+            );
+            // six rigid-body modes, then the flexible ones the pROM keeps (RIGID = REMOVE);
+            // its build's ERRTOL and the goal docs/prom.md holds the THETA pROMs to: 1e-3
+            for (got, want, which) in [(responses[k][1], f[6], "F1"), (responses[k][2], f[7], "F2")]
+            {
+                println!(
+                    "THETA {theta}: {which} pROM {got:.6} Hz, SOL 103 {want:.6} Hz, {:.2e}",
+                    got / want - 1.0
+                );
+                assert!((got / want - 1.0).abs() <= 1e-3, "THETA {theta}: {which}");
+            }
+        }
+    }
+    // at THETA = 90 deg this pROM's reduced stiffness has a negative eigenvalue: the design
+    // is recorded as failed, not given a frequency
+    for (d, e) in designs.iter().zip(&errors).filter(|(d, _)| d[0] == 90.0) {
+        assert!(e.contains("indefinite"), "{d:?}: '{e}'");
+    }
+}
+
+#[test]
+fn an_interrupted_study_resumes_from_its_journal_to_the_uninterrupted_output() {
+    let text = |moopt: &str| {
+        edit(
+            &edit(&deck(STUDY), "TSTEP,1,100,", "TSTEP,1,20,"),
+            "MOOPT,1,NSGA2,24,8,1,2",
+            moopt,
+        )
+    };
+    let run_into = |name: &str, text: &str, out: &Path| {
+        let path = artifacts().join(name);
+        std::fs::write(&path, text).expect("write deck");
+        let r = paraflex(&path, out);
+        assert!(
+            r.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&r.stderr)
+        );
+        String::from_utf8_lossy(&r.stdout).to_string()
+    };
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("out.h5");
+    let journal = dir.path().join("out.h5.designs-1.jsonl");
+    let lines = || {
+        std::fs::read_to_string(&journal)
+            .expect("journal")
+            .lines()
+            .count()
+    };
+    // interrupted after 8 of its 12 evaluations (two of three generations)
+    run_into("resume_a.dat", &text("MOOPT,1,NSGA2,8,4,3,2"), &out);
+    assert_eq!(lines(), 1 + 8);
+    // resumed with the full budget: only the last generation is evaluated
+    let printed = run_into("resume_b.dat", &text("MOOPT,1,NSGA2,12,4,3,2,RESUME"), &out);
+    assert_eq!(lines(), 1 + 12);
+    assert!(
+        printed.contains("8 evaluation(s) taken from it, 4 run"),
+        "{printed}"
+    );
+    let other = tempfile::tempdir().expect("temp dir");
+    let whole = other.path().join("out.h5");
+    run_into("resume_c.dat", &text("MOOPT,1,NSGA2,12,4,3,2"), &whole);
+    let resumed = hdf5_metno::File::open(&out).expect("open");
+    let uninterrupted = hdf5_metno::File::open(&whole).expect("open");
+    let (a, b) = (
+        resumed.group("results/1/optimize").expect("optimize"),
+        uninterrupted.group("results/1/optimize").expect("optimize"),
+    );
+    // everything but the wall times, bit for bit
+    for name in ["designs", "responses", "hypervolume", "correlation"] {
+        let (x, y) = (read_dataset::<f64>(&a, name), read_dataset::<f64>(&b, name));
+        assert_eq!(x.len(), y.len(), "{name}");
+        assert!(
+            x.iter().zip(&y).all(|(p, q)| p.to_bits() == q.to_bits()),
+            "{name}: {x:?} against {y:?}"
+        );
+    }
+    for name in ["feasible", "pareto", "extremes", "knee"] {
+        assert_eq!(
+            read_dataset::<u32>(&a, name),
+            read_dataset::<u32>(&b, name),
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn paraflex_evaluate_repeats_the_study_responses_bit_for_bit() {
+    let text = edit(
+        &edit(&deck(STUDY), "TSTEP,1,100,", "TSTEP,1,20,"),
+        "MOOPT,1,NSGA2,24,8,1,2",
+        "MOOPT,1,GRID,6,2",
+    );
+    let (g, _dir) = study("evaluate.dat", &text);
+    let designs = rows(read_dataset::<f64>(&g, "designs"), 2);
+    let responses = rows(read_dataset::<f64>(&g, "responses"), 3);
+    let dir = tempfile::tempdir().expect("temp dir");
+    let evaluate = |designs: &str| {
+        let file = dir.path().join("designs.json");
+        std::fs::write(&file, designs).expect("write designs");
+        Command::new(env!("CARGO_BIN_EXE_paraflex"))
+            .arg("evaluate")
+            .arg(artifacts().join("evaluate.dat"))
+            .arg("--designs")
+            .arg(&file)
+            .output()
+            .expect("run paraflex")
+    };
+    let json = serde_json::to_string(&designs).expect("json");
+    let r = evaluate(&json);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let lines: Vec<serde_json::Value> = String::from_utf8_lossy(&r.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON line"))
+        .collect();
+    assert_eq!(lines.len(), designs.len());
+    for ((line, design), response) in lines.iter().zip(&designs).zip(&responses) {
+        let got: Vec<f64> = serde_json::from_value(line["responses"].clone()).expect("responses");
+        let echoed: Vec<f64> = serde_json::from_value(line["design"].clone()).expect("design");
+        assert_eq!(&echoed, design);
+        assert!(
+            got.iter()
+                .zip(response)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{design:?}: evaluate {got:?}, study {response:?}"
+        );
+    }
+    // a design outside the study's space is refused
+    let r = evaluate("[[45.0, 7000.0]]");
+    assert!(!r.status.success());
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        stderr.contains("design 0 [45.0, 7000.0] is not a point of the study's space"),
+        "{stderr}"
+    );
+}
+
 /// The archive of a written study, evaluations in order.
 fn archive_of(designs: &[Vec<f64>], responses: &[Vec<f64>], errors: &[bool]) -> Archive {
     Archive {
@@ -259,6 +603,16 @@ fn a_seeded_nsga2_study_marks_feasibility_keeps_its_front_and_repeats() {
 #[test]
 fn bad_input_stops_before_any_evaluation_and_writes_nothing() {
     let study_deck = deck(STUDY);
+    // the ply-count variable of the PROMLIB study with a `library` (its artifacts) before
+    // the MOOPT
+    let plies = |library: &str| {
+        format!(
+            "DESVAR,3,PLIES,8.,,,,3\nDDVAL,3,4.,8.\nPROMLIB,1,C,{library}\nDVMAP,3,3,C\nMOOPT,1,NSGA2,24,8,1,2"
+        )
+    };
+    let without_artifact = plies("8.,'coupler_composite.h5'");
+    let missing = plies("4.,'missing.h5',8.,'coupler_composite.h5'");
+    let other_link = plies("4.,'crank.h5',8.,'coupler_composite.h5'");
     for (name, from, to, expected) in [
         (
             "unknown_target.dat",
@@ -289,6 +643,48 @@ fn bad_input_stops_before_any_evaluation_and_writes_nothing() {
             "MOOPT,1,NSGA2,24,8,1,2",
             "MOOPT,1,GRID,4,3",
             "MOOPT 1: field 4 (NEVAL): the full-factorial grid of 3 level(s) per continuous variable has 9 designs, more than NEVAL = 4",
+        ),
+        (
+            "freq_mode_too_high.dat",
+            "DOBJ,2,ENERGY,MIN,WORK,FINAL",
+            "DOBJ,2,F500,MAX,FREQ,500,C",
+            "DOBJ 2: field 5 (SOURCE): FREQ 500 of body C: its pROM has 130 modal coordinate(s)",
+        ),
+        (
+            "freq_of_rigid.dat",
+            "DOBJ,2,ENERGY,MIN,WORK,FINAL",
+            "DOBJ,2,F1,MAX,FREQ,1,CX",
+            "DOBJ 2: field 5 (SOURCE): FREQ of CX: no FLEXB of this mechanism has that NAME (flexible bodies: IC C OC)",
+        ),
+        (
+            "promlib_value_without_artifact.dat",
+            "MOOPT,1,NSGA2,24,8,1,2",
+            &without_artifact,
+            "PROMLIB 1: field 4 (V1): DESVAR 3 takes the value 4e0 (its DDVAL), which has no artifact here (values: 8e0)",
+        ),
+        (
+            "promlib_missing_file.dat",
+            "MOOPT,1,NSGA2,24,8,1,2",
+            &missing,
+            "PROMLIB 1: field 5 (PATH1): 'missing.h5' (value 4e0): ",
+        ),
+        (
+            "promlib_other_link.dat",
+            "MOOPT,1,NSGA2,24,8,1,2",
+            &other_link,
+            "PROMLIB 1: field 5 (PATH1): 'crank.h5' (value 4e0) does not fit body C: interface grid 1000002 (MARKER 22) is at [0.1, 0.0, 0.0] in it and at [0.35, 0.0, 0.0] in the FLEXB's artifact",
+        ),
+        (
+            "promlib_continuous.dat",
+            "DVMAP,1,1,C.THETA",
+            "DVMAP,1,1,C.THETA,C\nPROMLIB,1,C,8.,'coupler_composite.h5'",
+            "DVMAP 1: field 5 (TARGET2): DESVAR 1 is continuous",
+        ),
+        (
+            "promlib_unused.dat",
+            "DVMAP,1,1,C.THETA",
+            "DVMAP,1,1,C.THETA\nPROMLIB,1,C,8.,'coupler_composite.h5'",
+            "PROMLIB 1: field 3 (BODY): no DVMAP chooses body C's artifact",
         ),
     ] {
         let (r, dir, out) = run(name, &edit(&study_deck, from, to));

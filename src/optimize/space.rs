@@ -36,6 +36,14 @@ impl Variable {
         }
     }
 
+    /// Whether `x` is a value of the variable: within its bounds, or one of its values.
+    pub fn contains(&self, x: f64) -> bool {
+        match &self.domain {
+            Domain::Continuous { low, high } => (*low..=*high).contains(&x),
+            Domain::Discrete { values } => values.contains(&x),
+        }
+    }
+
     /// A discrete variable on `values` (sorted, repeats dropped).
     pub fn discrete(name: impl Into<String>, values: &[f64]) -> Self {
         let mut values = values.to_vec();

@@ -46,7 +46,7 @@ use crate::multibody::{Scheme, StepControl};
 mod poses;
 mod prepared;
 
-pub use prepared::PreparedFmb;
+pub use prepared::{LoadedArtifact, PreparedFmb};
 
 /// What one `SOL FMB` subcase computed.
 #[derive(Debug, Clone)]

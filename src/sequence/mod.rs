@@ -54,6 +54,8 @@ pub mod fmb_estimate;
 pub mod frf;
 pub mod modal;
 pub mod optimize;
+pub mod optimize_journal;
+pub mod optimize_library;
 mod optimize_output;
 pub mod optimize_study;
 pub mod prom;

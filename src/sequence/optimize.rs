@@ -7,13 +7,16 @@
 //! is the transient at the design's parameters with nothing written, its MSENSOR histories
 //! reduced to the responses ([`Study::evaluate`]); the search (`MOOPT NSGA2` or the
 //! full-factorial `GRID`) evaluates batches on NPAR threads ([`Threaded`]), a failed
-//! evaluation recorded and the study going on. The report ([`crate::optimize::summarize`]) and
+//! evaluation recorded and the study going on. Each evaluation is journaled as it completes
+//! ([`super::optimize_journal`]); with `MOOPT` START = RESUME the designs the journal holds
+//! are taken from it instead of evaluated. The report ([`crate::optimize::summarize`]) and
 //! the histories of the representative designs (the front's extremes and knee, run again) are
 //! written by [`super::optimize_output`].
 
 use std::time::Instant;
 
 use super::fmb::PreparedFmb;
+use super::optimize_journal::{Header, Journal, journal_path};
 use super::optimize_output::{OptimizeSummary, Representative, write_study};
 use super::optimize_study::Study;
 use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
@@ -48,8 +51,8 @@ impl Driver for Optimize {
     }
 }
 
-/// Runs the study of subcase `sub` and writes it.
-fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
+/// Subcase `sub` prepared as a `SOL FMB` run and its study checked against it.
+fn prepare(ctx: &RunContext, sub: &Subcase) -> Result<(PreparedFmb, Study), RunError> {
     let case = |what: String| RunError::Case {
         subcase: sub.id,
         what,
@@ -66,13 +69,106 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
         ));
     }
     let study = Study::of_deck(&ctx.deck.bulk, &prepared).map_err(|e| case(e.join("\n")))?;
+    Ok((prepared, study))
+}
+
+/// Evaluates `designs` with the study of subcase `subcase` as `SOL OPTIMIZE` evaluates a batch
+/// (NPAR threads), nothing written: the design evaluation as a pure function, for an engine
+/// outside this process (`paraflex evaluate`). A design of the wrong length or outside the
+/// variables' domains is an error naming it.
+pub fn evaluate_designs(
+    ctx: &RunContext,
+    subcase: u32,
+    designs: &[Design],
+) -> Result<Vec<Evaluated>, RunError> {
+    let sub = (ctx.model.subcases.iter())
+        .find(|s| s.id == subcase)
+        .ok_or_else(|| RunError::Case {
+            subcase,
+            what: format!("the deck has no subcase {subcase}"),
+        })?;
+    let (prepared, study) = prepare(ctx, sub)?;
+    for (i, d) in designs.iter().enumerate() {
+        let inside = d.len() == study.space.len()
+            && (d.iter().zip(&study.space.variables)).all(|(x, v)| v.contains(*x));
+        if !inside {
+            return Err(RunError::Case {
+                subcase,
+                what: format!(
+                    "design {i} {d:?} is not a point of the study's space ({} variable(s): {})",
+                    study.space.len(),
+                    (study.space.variables.iter())
+                        .map(|v| v.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            });
+        }
+    }
+    let threaded = Threaded::new(study.search.npar, |design: &[f64]| {
+        study.evaluate(&prepared, design)
+    })
+    .map_err(|e| RunError::Case {
+        subcase,
+        what: e.to_string(),
+    })?;
+    Ok(threaded.batch(designs))
+}
+
+/// Runs the study of subcase `sub` and writes it.
+fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
+    let case = |what: String| RunError::Case {
+        subcase: sub.id,
+        what,
+    };
+    let (prepared, study) = prepare(ctx, sub)?;
+    let header = Header {
+        variables: study
+            .space
+            .variables
+            .iter()
+            .map(|v| v.name.clone())
+            .collect(),
+        responses: study.responses.iter().map(|r| r.name.clone()).collect(),
+    };
+    let path = journal_path(ctx.output.path(), sub.id);
+    let journal = Journal::open(&path, &header, study.search.resume).map_err(case)?;
+    let journal_shown = path.display().to_string();
     let threads = study.search.npar;
-    let threaded = Threaded::new(threads, |design: &[f64]| study.evaluate(&prepared, design))
-        .map_err(|e| case(e.to_string()))?;
+    // each evaluation journaled as it completes (a panic is caught outside, not journaled)
+    let journal_error = std::sync::Mutex::new(None);
+    let threaded = Threaded::new(threads, |design: &[f64]| {
+        let start = Instant::now();
+        let result = study.evaluate(&prepared, design);
+        let evaluated = Evaluated {
+            result,
+            seconds: start.elapsed().as_secs_f64(),
+        };
+        if let Err(e) = journal.record(design, &evaluated) {
+            journal_error
+                .lock()
+                .unwrap_or_else(|p| p.into_inner())
+                .get_or_insert(e);
+        }
+        evaluated.result
+    })
+    .map_err(|e| case(e.to_string()))?;
     let total = study.budget();
     let mut done = 0;
+    let mut resumed = 0;
     let mut batch = |designs: &[Design]| -> Vec<Evaluated> {
-        let results = threaded.batch(designs);
+        // the designs the journal holds are not evaluated again
+        let known: Vec<Option<Evaluated>> = designs.iter().map(|d| journal.known(d)).collect();
+        let missing: Vec<Design> = (designs.iter().zip(&known))
+            .filter(|(_, k)| k.is_none())
+            .map(|(d, _)| d.clone())
+            .collect();
+        resumed += designs.len() - missing.len();
+        let mut fresh = threaded.batch(&missing).into_iter();
+        let results = known
+            .into_iter()
+            .map(|k| k.unwrap_or_else(|| fresh.next().expect("one result per missing design")))
+            .collect();
         done += designs.len();
         ctx.progress.step("optimize: evaluations", done, total);
         results
@@ -95,6 +191,12 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
         }
     };
     let wall = start.elapsed().as_secs_f64();
+    if let Some(e) = journal_error
+        .into_inner()
+        .unwrap_or_else(|p| p.into_inner())
+    {
+        return Err(case(e));
+    }
     let summary = summarize(&archive, &study.scoring, None);
     // the representative designs run again for their histories (an evaluation keeps only
     // its responses)
@@ -102,8 +204,8 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
         .into_iter()
         .map(|r| {
             let design = &archive.designs[r.design];
-            let histories = prepared
-                .simulate_at(&study.parameters(design))
+            let histories = study
+                .histories(&prepared, design)
                 .map_err(|e| case(format!("representative design {}: {e}", r.design)))?;
             Ok((r, histories))
         })
@@ -122,7 +224,12 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
         id: sub.id,
         autospc: Vec::new(),
         result: Box::new(OptimizeSummary::new(
-            &study, &archive, &summary, wall, threads,
+            &study,
+            &archive,
+            &summary,
+            wall,
+            threads,
+            (journal_shown, resumed),
         )),
     })
 }

@@ -5,15 +5,17 @@
 //! not), pareto (archive indices of the feasible non-dominated designs), hypervolume (n: after
 //! each evaluation), correlation (d×k: eq. 6.2), eval_seconds (n), extremes (per objective:
 //! the front's best design), knee (0 or 1 index)}` with attributes `method`, `variables`,
-//! `targets` (per variable, the `BODY.PMPAR` it sets, space-separated), `responses`,
-//! `sensors`, `statistics`, `objectives` (response names), `senses`, `constraints`,
+//! `targets` (per variable, the `BODY.PMPAR` it sets and the bodies whose artifact it
+//! chooses, space-separated), `responses`, `sensors` (each response's SOURCE: the MSENSOR,
+//! `MASS` or `FREQ <body>`), `statistics` (empty for MASS, the mode number for FREQ),
+//! `objectives` (response names), `senses`, `constraints`,
 //! `constraint_low`, `constraint_high` (NaN: open), `reference` (the hypervolume's reference
 //! point in minimized objectives), `seed`, `population` (NSGA2: the population; GRID: the
 //! levels); and each representative design's histories under
 //! `representative/<label>/{time, sensors/<name>}` (`best_<objective>` per objective and
 //! `knee`), attributes `design` (its archive index) and `values`.
 
-use super::optimize_study::Study;
+use super::optimize_study::{Quantity, Study};
 use super::report::{Report, sci};
 use super::{RunContext, RunError};
 use crate::deck::cards::{SearchMethod, Statistic};
@@ -134,13 +136,13 @@ pub fn write_study(
         .collect();
     let targets: Vec<String> = study.targets.iter().map(|t| t.join(" ")).collect();
     let response_names: Vec<String> = study.responses.iter().map(|r| r.name.clone()).collect();
-    let response_sensors: Vec<String> = study
-        .responses
-        .iter()
-        .map(|r| sensors[r.sensor].clone())
-        .collect();
+    let response_sources: Vec<String> = study.responses.iter().map(|r| r.source.clone()).collect();
     let statistics: Vec<String> = (study.responses.iter())
-        .map(|r| statistic_name(r.statistic).to_string())
+        .map(|r| match r.quantity {
+            Quantity::Sensor { statistic, .. } => statistic_name(statistic).to_string(),
+            Quantity::Mass => String::new(),
+            Quantity::Frequency { mode, .. } => mode.to_string(),
+        })
         .collect();
     let objectives: Vec<String> = (study.scoring.objectives.iter())
         .map(|o| study.responses[o.response].name.clone())
@@ -155,7 +157,7 @@ pub fn write_study(
         ("variables", &names),
         ("targets", &targets),
         ("responses", &response_names),
-        ("sensors", &response_sensors),
+        ("sensors", &response_sources),
         ("statistics", &statistics),
         ("objectives", &objectives),
         ("senses", &senses),
@@ -221,6 +223,9 @@ pub struct OptimizeSummary {
     pub wall_seconds: f64,
     /// NPAR (0: one per core).
     pub threads: usize,
+    /// The journal's path and how many evaluations were taken from it (START = RESUME).
+    pub journal: String,
+    pub resumed: usize,
     /// The knee's archive index, design and responses.
     pub knee: Option<(usize, Vec<f64>, Vec<f64>)>,
 }
@@ -232,6 +237,7 @@ impl OptimizeSummary {
         summary: &Summary,
         wall_seconds: f64,
         threads: usize,
+        (journal, resumed): (String, usize),
     ) -> Self {
         let n = archive.len();
         let failures: Vec<&str> = (archive.evaluated.iter())
@@ -258,6 +264,8 @@ impl OptimizeSummary {
                 / n.max(1) as f64,
             wall_seconds,
             threads,
+            journal,
+            resumed,
             knee: summary.knee.map(|i| {
                 (
                     i,
@@ -305,6 +313,12 @@ impl Report for OptimizeSummary {
             format!(
                 "  {:.3} s per evaluation; {:.3} s wall on {threads}",
                 self.mean_seconds, self.wall_seconds
+            ),
+            format!(
+                "  journal {}: {} evaluation(s) taken from it, {} run",
+                self.journal,
+                self.resumed,
+                self.evaluations - self.resumed
             ),
         ];
         if let Some((i, design, responses)) = &self.knee {

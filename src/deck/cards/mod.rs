@@ -48,7 +48,7 @@ pub use line_properties::{Pbar, Pbarl, Pbeam, Prod, Ptube};
 pub use loads::{Force, Grav, Load, Pload, Pload1, Pload1Scale, Pload2, Pload4, Pload4Target};
 pub use materials::{Mat1, Mat8};
 pub use multibody::{Flexb, Fmbpose, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
-pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, ResponseSource, SearchMethod, Statistic};
+pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, Promlib, ResponseSource, SearchMethod, Statistic};
 pub use param::{Param, ParamValue};
 pub use properties::{Pbush, Pcomp, Pdamp, Pelas, Ply, Pshell, Psolid, Pvisc};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
@@ -173,6 +173,7 @@ pub struct BulkData {
     pub msensors: Vec<Msensor>,
     pub fmbpose: Vec<Fmbpose>,
     pub dvmap: Vec<Dvmap>,
+    pub promlib: Vec<Promlib>,
     pub dobj: Vec<Dobj>,
     pub dconstr: Vec<Dconstr>,
     pub moopt: Vec<Moopt>,
@@ -367,6 +368,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
         Ok(b.msensors.push(Msensor::from_card(c)?))
     }),
     ("DVMAP", |c, b| Ok(b.dvmap.push(Dvmap::from_card(c)?))),
+    ("PROMLIB", |c, b| Ok(b.promlib.push(Promlib::from_card(c)?))),
     ("DOBJ", |c, b| Ok(b.dobj.push(Dobj::from_card(c)?))),
     ("DCONSTR", |c, b| Ok(b.dconstr.push(Dconstr::from_card(c)?))),
     ("MOOPT", |c, b| Ok(b.moopt.push(Moopt::from_card(c)?))),

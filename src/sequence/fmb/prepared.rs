@@ -2,13 +2,17 @@
 //! mechanism gathered once (the bodies' artifacts and the tables read, [`Pfmb`]), its system
 //! and, when a `DEV` output asks for it, its rigid twin built once at the subcase's `PVAL`,
 //! the selected MSENSORs turned into outputs, the time grid and the GGL scheme. [`simulate`]
-//! runs it at the subcase's values; [`simulate_at`] at other values of some `BODY.PMPAR`,
-//! recomputing only the flexible bodies' affine sums
-//! ([`MechanismSystem::at_parameters`]) and writing nothing — one design evaluation of
-//! `SOL OPTIMIZE`.
+//! runs it at the subcase's values; [`systems_at`] builds the systems at other values of
+//! some `BODY.PMPAR`, recomputing only the flexible bodies' affine sums
+//! ([`MechanismSystem::at_parameters`]), or with other artifacts for some flexible bodies
+//! (rebuilding the systems), and [`simulate_systems`] runs them, writing nothing — one design
+//! evaluation of `SOL OPTIMIZE`.
 //!
 //! [`simulate`]: PreparedFmb::simulate
-//! [`simulate_at`]: PreparedFmb::simulate_at
+//! [`systems_at`]: PreparedFmb::systems_at
+//! [`simulate_systems`]: PreparedFmb::simulate_systems
+
+use std::path::PathBuf;
 
 use super::super::{RunContext, RunError};
 use super::{control_of, mechanism_errors, mechanism_of, scheme_of, selected};
@@ -16,10 +20,18 @@ use crate::card_values::{FmbStart, MsensorKind};
 use crate::deck::case_control::Subcase;
 use crate::discretize::mechanism::{Bodies, MechanismSystem, build_system};
 use crate::discretize::pfmb::Pfmb;
-use crate::model::mechanism::Sensor;
+use crate::discretize::prom_body::ParametricBody;
+use crate::model::mechanism::{BodyKind, Sensor};
 use crate::multibody::{
     Histories, MultibodyError, NewtonSettings, Output, Scheme, Start, TimeGrid, simulate,
 };
+
+/// A flexible body's pROM artifact read once: where from, and its parametric data.
+#[derive(Debug, Clone)]
+pub struct LoadedArtifact {
+    pub path: PathBuf,
+    pub data: ParametricBody,
+}
 
 /// A subcase's mechanism, systems, outputs and time integration, ready to run.
 pub struct PreparedFmb {
@@ -38,6 +50,8 @@ pub struct PreparedFmb {
     pub start: Start,
     /// The subcase's `PVAL` values (`BODY.PMPAR`, value).
     pub pval: Vec<(String, f64)>,
+    /// The subcase's gravity (basic).
+    pub gravity: [f64; 3],
 }
 
 impl PreparedFmb {
@@ -133,18 +147,30 @@ impl PreparedFmb {
             method,
             start,
             pval,
+            gravity,
         })
     }
 
     /// The run at the subcase's own parameter values.
     pub fn simulate(&self) -> Result<Histories, MultibodyError> {
-        self.run(&self.flexible, self.twin.as_ref())
+        self.run(&self.flexible, self.twin.as_ref(), &self.outputs)
     }
 
-    /// The run with the parameters of `values` (`BODY.PMPAR`, value) set and the others at
-    /// the subcase's values: the systems re-evaluated at p, nothing written. An unknown name
-    /// or a failed integration is the error's message.
-    pub fn simulate_at(&self, values: &[(String, f64)]) -> Result<Histories, String> {
+    /// The run of `flexible` and its `twin` (built from this run's mechanism, with other
+    /// parameters or artifacts), the outputs taken on them (a STRAIN output's rows are the
+    /// artifact's).
+    pub fn simulate_systems(
+        &self,
+        flexible: &MechanismSystem,
+        twin: Option<&MechanismSystem>,
+    ) -> Result<Histories, String> {
+        let outputs = flexible.outputs(&self.sensors);
+        self.run(flexible, twin, &outputs)
+            .map_err(|e| e.to_string())
+    }
+
+    /// The subcase's `PVAL` with `values` set over it.
+    fn pval_with(&self, values: &[(String, f64)]) -> Vec<(String, f64)> {
         let mut pval = self.pval.clone();
         for (name, value) in values {
             match pval.iter_mut().find(|(n, _)| n.eq_ignore_ascii_case(name)) {
@@ -152,25 +178,65 @@ impl PreparedFmb {
                 None => pval.push((name.clone(), *value)),
             }
         }
-        let flexible = self
-            .flexible
-            .at_parameters(&self.pfmb, &pval, Bodies::Flexible)?;
-        let twin = (self.twin.as_ref())
-            .map(|t| t.at_parameters(&self.pfmb, &pval, Bodies::RigidTwin))
+        pval
+    }
+
+    /// The flexible system and its twin (when the subcase has one) with the parameters of
+    /// `values` (`BODY.PMPAR`, value) set and the others at the subcase's values, and the
+    /// flexible bodies of `artifacts` (index into the mechanism's bodies, artifact) taking
+    /// those artifacts in place of their FLEXB's (the systems rebuilt: the basis is another).
+    /// An unknown name or a mechanism the swapped artifact does not fit is the error's
+    /// message.
+    pub fn systems_at(
+        &self,
+        values: &[(String, f64)],
+        artifacts: &[(usize, &LoadedArtifact)],
+    ) -> Result<(MechanismSystem, Option<MechanismSystem>), String> {
+        let pval = self.pval_with(values);
+        if artifacts.is_empty() {
+            let flexible = self
+                .flexible
+                .at_parameters(&self.pfmb, &pval, Bodies::Flexible)?;
+            let twin = (self.twin.as_ref())
+                .map(|t| t.at_parameters(&self.pfmb, &pval, Bodies::RigidTwin))
+                .transpose()?;
+            return Ok((flexible, twin));
+        }
+        let mut pfmb = self.pfmb.clone();
+        for (body, artifact) in artifacts {
+            pfmb.bodies[*body] = Some(artifact.data.clone());
+            if let BodyKind::Flexible { artifact: path, .. } =
+                &mut pfmb.mechanism.bodies[*body].kind
+            {
+                path.clone_from(&artifact.path);
+            }
+        }
+        let mechanism = &pfmb.mechanism;
+        let build = |bodies: Bodies| {
+            build_system(&pfmb, self.gravity, &pval, bodies).map_err(|errors| {
+                (errors.into_iter())
+                    .map(|e| mechanism.error_at(e.card, e.field, e.message).to_string())
+                    .collect::<Vec<_>>()
+                    .join("\n")
+            })
+        };
+        let flexible = build(Bodies::Flexible)?;
+        let twin = (self.twin.is_some())
+            .then(|| build(Bodies::RigidTwin))
             .transpose()?;
-        self.run(&flexible, twin.as_ref())
-            .map_err(|e| e.to_string())
+        Ok((flexible, twin))
     }
 
     fn run(
         &self,
         flexible: &MechanismSystem,
         twin: Option<&MechanismSystem>,
+        outputs: &[Output],
     ) -> Result<Histories, MultibodyError> {
         simulate(
             &flexible.system,
             twin.map(|t| &t.system),
-            &self.outputs,
+            outputs,
             &self.grid,
             NewtonSettings::default(),
             self.scheme,
