@@ -62,7 +62,7 @@ bench-read: deps
 # full-size pROM validation plots (error maps, angle sweep) — not part of the tests.
 bench-prom: deps
 	$(CARGO) build --release --quiet
-	$(CARGO) build --release --quiet --example prom_eval
+	$(CARGO) build --release --quiet --example prom_eval --example prom_frf
 	$(PY) tools/bench/prom_speed.py
 
 validate-prom: deps
