@@ -72,7 +72,8 @@ pub fn check(refs: &Refs, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warnin
                 format!("G = {:e}{how} must be > 0", m.g),
             );
         }
-        if !(m.nu > -1.0 && m.nu < 0.5) && !nu_given && !continuum.contains(&m.id) {
+        let nu_in_range = m.nu > -1.0 && m.nu < 0.5;
+        if !nu_in_range && !nu_given && !continuum.contains(&m.id) {
             // Nastran's line elements take E and G as given; only plates and solids use ν
             warnings.push(Warning {
                 loc: Some(m.loc.to_string()),
@@ -81,7 +82,7 @@ pub fn check(refs: &Refs, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warnin
                     m.id, m.nu
                 ),
             });
-        } else if !(m.nu > -1.0 && m.nu < 0.5) {
+        } else if !nu_in_range {
             let how = if nu_given {
                 ""
             } else {
