@@ -9,7 +9,7 @@
 //!   must be assembled first ([`gravity_load`]).
 //! - `PLOAD4` / `PLOAD2` / `PLOAD`: the consistent nodal forces of the pressure on each loaded
 //!   face ([`crate::model::pressure`], [`crate::fe::pressure`]), added like FORCEs in basic.
-//! - `LOAD sid S S1 L1 S2 L2 …`: P = S · Σ Si P(Li), with Li FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 sets; a LOAD that
+//! - `LOAD sid S S1 L1 S2 L2 …`: P = S · Σ Si P(Li), with Li FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD sets; a LOAD that
 //!   references a LOAD is an error, as in Nastran. The model resolves the set into scaled
 //!   vectors in the basic system ([`Model::load_set`]).
 //!
@@ -48,7 +48,9 @@ pub fn load_vector(
         },
         SetError::Missing(li) => AssemblyError::BadLoad {
             sid,
-            reason: format!("L = {li} selects no FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set"),
+            reason: format!(
+                "L = {li} selects no FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set"
+            ),
         },
     })?;
     let mut p = vec![0.0; map.size()];

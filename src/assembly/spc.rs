@@ -4,6 +4,10 @@
 //! non-zero value D; the values are kept in the g-set vector [`SpcSet::enforced`] and enter the
 //! reduced load as −K_fs u_s ([`loads::reduce_load`](super::loads::reduce_load)).
 //!
+//! An SPCD set of the load selection ([`SpcSet::with_spcd`]) replaces the enforced values of its
+//! DOFs, which must be in the s-set by SPC, SPC1 or GRID PS (Nastran's rule; a DOF AUTOSPC alone
+//! constrained is refused too: it has no stiffness to be moved against).
+//!
 //! `SPCADD sid S1 S2 …` is the union of the SPC/SPC1 sets Si; an SPCADD of an SPCADD is an
 //! error, as in Nastran. One DOF given two different values in one set is an error.
 //!
@@ -28,6 +32,7 @@ use super::dofs::{DofMap, DofSet};
 use super::error::{AssemblyError, DofName};
 use crate::card_values::Dofs;
 use crate::model::Model;
+use crate::model::sets::EnforcedEntry;
 
 /// AUTOSPC threshold: a diagonal ≤ ratio × the largest diagonal of its grid's translation or
 /// rotation triple counts as "no stiffness" (Nastran's EPZERO default).
@@ -147,6 +152,46 @@ impl SpcSet {
         self.mask[dof] = true;
         self.enforced[dof] = value;
         Ok(())
+    }
+
+    /// The g-set enforced values with the SPCD entries `spcd` applied: each DOF an SPCD names
+    /// takes the sum of its SPCD values in place of its SPC value. A DOF outside the s-set, or
+    /// constrained by AUTOSPC only, is an error naming the SPCD card and its file:line.
+    pub fn with_spcd(
+        &self,
+        model: &Model,
+        map: &DofMap,
+        spcd: &[EnforcedEntry],
+    ) -> Result<Vec<f64>, AssemblyError> {
+        let mut out = self.enforced.clone();
+        let mut touched = vec![false; out.len()];
+        for entry in spcd {
+            let card = format!("SPCD {} at {}", entry.set, entry.loc);
+            let dofs: Vec<usize> = match model.scalar_index.get(&entry.grid) {
+                Some(&k) => vec![map.scalar_dof(k)],
+                None => {
+                    let grid = grid_of(model, entry.grid, &card)?;
+                    (entry.components.components())
+                        .map(|c| DofMap::dof(grid, c - 1))
+                        .collect()
+                }
+            };
+            for dof in dofs {
+                let by_autospc = self.source[dof].as_deref() == Some("AUTOSPC");
+                if !self.mask[dof] || by_autospc {
+                    return Err(AssemblyError::SpcdNotConstrained {
+                        dof: map.name(dof),
+                        card,
+                        autospc: by_autospc,
+                    });
+                }
+                if !touched[dof] {
+                    (touched[dof], out[dof]) = (true, 0.0);
+                }
+                out[dof] += entry.value;
+            }
+        }
+        Ok(out)
     }
 
     /// Error if a constrained DOF is dependent in a rigid element.

@@ -5,7 +5,9 @@
 //!   member set (members in increasing id, card order within);
 //! - [`Model::load_set`]: `LOAD = sid` with its `LOAD` combination expanded into terms of
 //!   FORCE / MOMENT vectors and GRAV accelerations in the basic system, the combination factor
-//!   S · Si applied.
+//!   S · Si applied;
+//! - [`Model::enforced_displacements`]: the SPCD entries of `LOAD = sid` (a member set of a LOAD
+//!   combination, or the set itself), their values scaled by the combination factor S · Si.
 //!
 //! An SPCADD of an SPCADD, an MPCADD of an MPCADD, a LOAD of a LOAD, and a member that selects nothing are errors, as in
 //! Nastran ([`SetError`]); the model check rejects them already, and the resolution does not
@@ -59,6 +61,19 @@ pub struct SpcEntry {
     pub grids: Vec<u32>,
     pub components: Dofs,
     /// Enforced value (0 for SPC1).
+    pub value: f64,
+    pub loc: Loc,
+}
+
+/// Components of a grid (or a scalar point) moved by an enforced displacement, from one SPCD.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnforcedEntry {
+    /// The SPCD set (a LOAD member, or the selected set itself).
+    pub set: u32,
+    /// Grid or scalar point id.
+    pub grid: u32,
+    pub components: Dofs,
+    /// S · Si · D.
     pub value: f64,
     pub loc: Loc,
 }
@@ -121,6 +136,28 @@ impl Model {
             .collect())
     }
 
+    /// The SPCD entries of `LOAD = sid`, scaled by their combination factor (see the module
+    /// documentation); empty when the selection holds no SPCD.
+    pub fn enforced_displacements(&self, sid: u32) -> Result<Vec<EnforcedEntry>, SetError> {
+        Ok(self.enforced_members(&load_members(&self.bulk, sid)?))
+    }
+
+    /// The SPCD entries of the (factor, set) pairs `members`.
+    pub fn enforced_members(&self, members: &[(f64, u32)]) -> Vec<EnforcedEntry> {
+        members
+            .iter()
+            .flat_map(|&(scale, set)| {
+                (self.bulk.spcd.iter().filter(move |c| c.sid == set)).map(move |c| EnforcedEntry {
+                    set,
+                    grid: c.grid,
+                    components: c.components,
+                    value: scale * c.value,
+                    loc: c.loc.clone(),
+                })
+            })
+            .collect()
+    }
+
     fn load_term(&self, set: u32, scale: f64) -> LoadTerm {
         let b = &self.bulk;
         let mut term = LoadTerm::default();
@@ -179,7 +216,7 @@ fn simple_set_exists(b: &BulkData, sid: u32) -> bool {
     b.static_load_sets().any(|s| s == sid)
 }
 
-/// (factor, FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set) of each member of `LOAD = sid`.
+/// (factor, FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set) of each member of `LOAD = sid`.
 fn load_members(b: &BulkData, sid: u32) -> Result<Vec<(f64, u32)>, SetError> {
     let combos: Vec<_> = b.load.iter().filter(|l| l.sid == sid).collect();
     if combos.is_empty() {

@@ -12,8 +12,8 @@
 //! | SPCADD | Si | SPC/SPC1 set |
 //! | MPC | Gi | GRID |
 //! | MPCADD | Si | MPC set |
-//! | LOAD | Li | FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set |
-//! | TLOAD1/2, RLOAD1/2 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/LOAD) |
+//! | LOAD | Li | FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set |
+//! | TLOAD1/2, RLOAD1/2 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD/LOAD) |
 //! | TLOAD1 TID, RLOAD1 TC/TD, RLOAD2 TB/TP (≠ 0) | table | TABLED1–TABLED4 or TABLEF |
 //! | DLOAD | Li | TLOAD1/2, RLOAD1/2 set |
 //! | DESVAR | DDVAL | DDVAL |
@@ -163,6 +163,7 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         .spc
         .iter()
         .map(|s| ("SPC", s.sid, s.grid, s.components, &s.loc)))
+    .chain((b.spcd.iter()).map(|s| ("SPCD", s.sid, s.grid, s.components, &s.loc)))
     .chain(b.spc1.iter().flat_map(|s| {
         s.grids
             .iter()
@@ -254,11 +255,11 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
             if !static_sets.contains(id) {
                 let message = if b.load.iter().any(|other| other.sid == *id) {
                     format!(
-                        "L = {id} is itself a LOAD: a LOAD combines FORCE, MOMENT, GRAV, PLOAD4, PLOAD2, PLOAD and PLOAD1 sets, not other LOADs (as in Nastran)"
+                        "L = {id} is itself a LOAD: a LOAD combines FORCE, MOMENT, GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 and SPCD sets, not other LOADs (as in Nastran)"
                     )
                 } else {
                     format!(
-                        "L = {id} does not exist (no FORCE, MOMENT, GRAV, PLOAD4, PLOAD2, PLOAD or PLOAD1 set {id})"
+                        "L = {id} does not exist (no FORCE, MOMENT, GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 or SPCD set {id})"
                     )
                 };
                 errors.push(DeckError::at(&l.loc, message).on_card(format!("LOAD {}", l.sid)));

@@ -1,17 +1,23 @@
-//! Constraints and DOF sets: `SPC`, `SPC1`, `SPCADD`, `MPC`, `MPCADD`, `ASET1`.
+//! Constraints and DOF sets: `SPC`, `SPCD`, `SPC1`, `SPCADD`, `MPC`, `MPCADD`, `ASET1`.
 
 use crate::card_values::Dofs;
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 
-/// `SPC` — single-point constraint with an enforced value (one entry per grid on the card).
+/// `SPC` / `SPCD` — single-point constraint with an enforced value / enforced displacement
+/// (one entry per grid on the card).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
-/// | 2 | SID | int > 0 | required | constraint set id |
+/// | 2 | SID | int > 0 | required | constraint set id (SPC) / load set id (SPCD) |
 /// | 3, 4, 5 | G1 C1 D1 | int, components, real | G1 C1 required; D1 0.0 | grid, components, enforced value |
 /// | 6, 7, 8 | G2 C2 D2 | | blank | an optional second grid |
+///
+/// An `SPCD` set is a load set: `LOAD = sid` selects it in statics (directly or as a member of
+/// a `LOAD` combination, whose factors scale D), an RLOAD1/RLOAD2/TLOAD1/TLOAD2 EXCITEID in
+/// dynamics. Its DOFs must be constrained by the subcase's SPC set (SPC, SPC1 or GRID PS), as
+/// in Nastran; its values replace the D of the SPC there.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Spc {
     pub sid: u32,

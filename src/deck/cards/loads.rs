@@ -143,7 +143,7 @@ pub(crate) fn combination(card: &RawCard) -> Result<Combination, Vec<DeckError>>
 /// |---|---|---|---|---|
 /// | 2 | SID | int > 0 | required | new load set id |
 /// | 3 | S | real | required | overall scale |
-/// | 4, 5, … | S1 L1 S2 L2 … | real, int > 0 | ≥ 1 pair | scale and FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set id |
+/// | 4, 5, … | S1 L1 S2 L2 … | real, int > 0 | ≥ 1 pair | scale and FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set id |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Load {
     pub sid: u32,

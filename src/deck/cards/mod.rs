@@ -117,6 +117,8 @@ pub struct BulkData {
     pub pbeam: Vec<Pbeam>,
     pub pbeaml: Vec<Pbarl>,
     pub spc: Vec<Spc>,
+    /// SPCD cards (enforced displacements, a load set).
+    pub spcd: Vec<Spc>,
     pub spc1: Vec<Spc1>,
     pub spcadd: Vec<Spcadd>,
     pub mpc: Vec<Mpc>,
@@ -180,7 +182,7 @@ pub struct BulkData {
 
 impl BulkData {
     /// The set ids of the static load cards a `LOAD` or `LOAD = sid` may select: FORCE, MOMENT,
-    /// GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 (with repeats).
+    /// GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1, SPCD (with repeats).
     pub fn static_load_sets(&self) -> impl Iterator<Item = u32> + '_ {
         (self.forces.iter().map(|c| c.sid))
             .chain(self.grav.iter().map(|c| c.sid))
@@ -188,6 +190,7 @@ impl BulkData {
             .chain(self.pload2.iter().map(|c| c.sid))
             .chain(self.pload.iter().map(|c| c.sid))
             .chain(self.pload1.iter().map(|c| c.sid))
+            .chain(self.spcd.iter().map(|c| c.sid))
     }
 
     /// (id, card name, where) of every table a dynamic load, a parameter or a mechanism's
@@ -285,6 +288,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
         Ok(b.pbeaml.push(Pbarl::from_card(c, true)?))
     }),
     ("SPC", |c, b| Ok(b.spc.extend(Spc::from_card(c)?))),
+    ("SPCD", |c, b| Ok(b.spcd.extend(Spc::from_card(c)?))),
     ("SPC1", |c, b| Ok(b.spc1.push(Spc1::from_card(c)?))),
     ("SPCADD", |c, b| Ok(b.spcadd.push(Spcadd::from_card(c)?))),
     ("MPC", |c, b| Ok(b.mpc.push(Mpc::from_card(c)?))),
