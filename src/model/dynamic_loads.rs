@@ -10,7 +10,7 @@
 use std::path::PathBuf;
 
 use crate::deck::Loc;
-use crate::deck::cards::{RloadTables, TloadFunction};
+use crate::deck::cards::{ExcitationKind, RloadTables, TloadFunction};
 
 use super::Model;
 use crate::card_values::Column;
@@ -38,6 +38,8 @@ pub struct TransientLoad {
     pub excitation: Vec<Excitation>,
     /// τ (s).
     pub delay: f64,
+    /// TYPE: an applied load or enforced motion.
+    pub kind: ExcitationKind,
     /// The table (TLOAD1) or the pulse (TLOAD2).
     pub function: TloadFunction,
 }
@@ -56,6 +58,8 @@ pub struct HarmonicLoad {
     pub phase_deg: f64,
     /// Table ids of P(f).
     pub tables: RloadTables,
+    /// TYPE: an applied load, or the enforced motion of EXCITEID's SPCD DOFs.
+    pub kind: ExcitationKind,
 }
 
 /// Where a table's (x, y) points come from.
@@ -98,6 +102,7 @@ impl Model {
                 excite_id: t.excite_id,
                 excitation: self.excitation(t.excite_id),
                 delay: t.delay,
+                kind: t.kind,
                 function: t.function.clone(),
             })
             .collect()
@@ -116,6 +121,7 @@ impl Model {
                 delay: r.delay,
                 phase_deg: r.phase_deg,
                 tables: r.tables,
+                kind: r.kind,
             })
             .collect()
     }

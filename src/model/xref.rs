@@ -28,7 +28,7 @@
 use std::collections::{HashMap, HashSet};
 
 use crate::card_values::{Dofs, ForceKind, SensorKind};
-use crate::deck::cards::{ParamValue, TloadFunction};
+use crate::deck::cards::{BulkData, ExcitationKind, ParamValue, TloadFunction};
 use crate::deck::{Deck, DeckError, Loc};
 
 use super::MaterialRef;
@@ -305,6 +305,7 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
                 .on_card(&card),
             );
         }
+        excitation_kind(b, t.kind, t.excite_id, &card, &t.loc, errors);
         if let TloadFunction::Table(tid) = t.function {
             table(tid, "TID", &card, &t.loc, errors);
         }
@@ -323,6 +324,7 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
                 .on_card(&card),
             );
         }
+        excitation_kind(b, r.kind, r.excite_id, &card, &r.loc, errors);
         for (name, id) in r.tables.named() {
             table(id, name, &card, &r.loc, errors);
         }
@@ -650,4 +652,30 @@ fn property_users(refs: &Refs) -> HashMap<u32, Vec<String>> {
     b.cbar.iter().for_each(|c| push(c.pid, "CBAR", c.id));
     b.cbeam.iter().for_each(|c| push(c.pid, "CBEAM", c.id));
     users
+}
+
+/// A dynamic load's TYPE against its EXCITEID: enforced motion (DISP, VELO, ACCE) moves the
+/// DOFs of an SPCD set and nothing else; an applied load (LOAD) must not select SPCDs, whose
+/// values it would ignore.
+fn excitation_kind(
+    b: &BulkData,
+    kind: ExcitationKind,
+    excite_id: u32,
+    card: &str,
+    loc: &Loc,
+    errors: &mut Vec<DeckError>,
+) {
+    let spcd = b.spcd.iter().any(|c| c.sid == excite_id);
+    let message = match kind {
+        ExcitationKind::Load if spcd => format!(
+            "EXCITEID = {excite_id} selects SPCD cards, which an applied load (TYPE = LOAD) ignores: give TYPE = DISP, VELO or ACCE for enforced motion"
+        ),
+        ExcitationKind::Load => return,
+        _ if !spcd => format!(
+            "TYPE = {} (enforced motion) needs EXCITEID = an SPCD set; there is no SPCD {excite_id}",
+            kind.name()
+        ),
+        _ => return,
+    };
+    errors.push(DeckError::at(loc, message).on_card(card));
 }

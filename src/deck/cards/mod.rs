@@ -29,8 +29,8 @@ mod temperature;
 pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd};
 pub use design::{Ddval, Desvar};
 pub use dynamic::{
-    Darea, Dload, EigenNorm, Eigrl, Freq, FreqKind, ModalDampingUnits, Rload, RloadTables, Tabdmp1,
-    Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep,
+    Darea, Dload, EigenNorm, Eigrl, ExcitationKind, Freq, FreqKind, ModalDampingUnits, Rload,
+    RloadTables, Tabdmp1, Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep,
 };
 pub use elements::{
     BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Conm2, Cpenta, Cquad4,
