@@ -679,3 +679,54 @@ fn spcd_on_an_unconstrained_dof_is_refused_with_its_card_and_line() {
         "{message}"
     );
 }
+
+/// FORCE1, FORCE2, MOMENT1, MOMENT2 on grid 1, held by six grounded CELAS2 springs kᵢ (one per
+/// component), so uᵢ = Pᵢ/kᵢ exactly. Directions from the grids' positions: FORCE1/MOMENT1
+/// along G1 → G2 = (0, 2, 2)/√8; FORCE2/MOMENT2 along (G2 − G1) × (G4 − G3) = (0, 2, 2) ×
+/// (3, 0, 0) = (0, 6, −6), normalized. Grids 2–5 carry nothing (AUTOSPC holds them).
+/// Coincident direction grids are refused at the card.
+#[test]
+fn force1_force2_moment1_moment2_follow_their_grids() {
+    let k = [1.0e3, 2.0e3, 4.0e3, 5.0e2, 2.5e2, 8.0e2];
+    let (f1, f2, m1, m2) = (30.0, -12.0, 7.0, 5.0);
+    let mut deck = String::from("SOL 101\nCEND\nLOAD = 1\nBEGIN BULK\nGRID,1,,0.,0.,0.\n");
+    deck += "GRID,2,,1.,0.,0.\nGRID,3,,1.,2.,2.\nGRID,4,,0.,0.,1.\nGRID,5,,3.,0.,1.\n";
+    for (c, kc) in k.iter().enumerate() {
+        deck += &format!("CELAS2,{},{kc:?},1,{}\n", 10 + c, c + 1);
+    }
+    deck += &format!(
+        "FORCE1,1,1,{f1:?},2,3\nFORCE2,1,1,{f2:?},2,3,4,5\nMOMENT1,1,1,{m1:?},2,3\nMOMENT2,1,1,{m2:?},2,3,4,5\nENDDATA\n"
+    );
+    let (file, _dir) = common::run_to_file(&deck);
+    let u: Vec<f64> = common::read_dataset(
+        &file.group("results/1/statics").expect("statics"),
+        "displacement",
+    );
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let p = [
+        0.0,
+        (f1 + f2) * s,
+        (f1 - f2) * s,
+        0.0,
+        (m1 + m2) * s,
+        (m1 - m2) * s,
+    ];
+    for c in 0..6 {
+        let want = p[c] / k[c];
+        assert!(
+            (u[c] - want).abs() <= 1e-13,
+            "component {}: {} vs {want}",
+            c + 1,
+            u[c]
+        );
+    }
+    let bad = deck.replace("FORCE1,1,1,30.0,2,3", "FORCE1,1,1,30.0,2,2");
+    let e = common::build_model(&bad).unwrap_err().join("\n");
+    assert!(
+        e.contains("FORCE1 1") && e.contains("G1 and G2 are the same grid"),
+        "{e}"
+    );
+    let parallel = deck.replace("GRID,5,,3.,0.,1.", "GRID,5,,0.,2.,3.");
+    let e = common::build_model(&parallel).unwrap_err().join("\n");
+    assert!(e.contains("FORCE2 1") && e.contains("has no length"), "{e}");
+}

@@ -83,7 +83,7 @@ pub enum AssemblyError {
     },
     /// The LOAD set does not exist.
     #[error(
-        "LOAD = {sid} selects no LOAD/FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set {sid}"
+        "LOAD = {sid} selects no LOAD/FORCE/MOMENT/FORCE1/FORCE2/MOMENT1/MOMENT2/SLOAD/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set {sid}"
     )]
     NoLoadSet { sid: u32 },
     /// A LOAD card references another LOAD (not allowed, as in Nastran) or a missing set.

@@ -89,7 +89,8 @@ pub struct PointLoad {
     pub basic: [f64; 3],
 }
 
-/// One member of a load set: its FORCE / MOMENT cards and the consistent nodal forces of its
+/// One member of a load set: its FORCE / MOMENT / FORCE1 / FORCE2 / MOMENT1 / MOMENT2 cards,
+/// its SLOAD scalar-point loads, and the consistent nodal forces of its
 /// PLOAD4 / PLOAD2 / PLOAD pressures ([`crate::fe::pressure`]), the grid loads of its PLOAD1
 /// beam loads ([`crate::fe::beam_load`]), and its GRAV accelerations.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -98,6 +99,8 @@ pub struct LoadTerm {
     /// Uniform translational accelerations S · Si · A · (N1, N2, N3) in the basic system, N in
     /// CID's Cartesian axes.
     pub accelerations: Vec<[f64; 3]>,
+    /// SLOAD loads: (scalar point index into the model's scalar points, S · Si · F).
+    pub scalar_loads: Vec<(usize, f64)>,
 }
 
 impl Model {
@@ -178,6 +181,25 @@ impl Model {
                 basic,
             });
         }
+        for c in b.forces_by_grids.iter().filter(|c| c.sid == set) {
+            // grids and directions are checked when the model is built
+            let (Some(&grid), Ok(n)) = (self.grid_index.get(&c.grid), self.direction_by_grids(c))
+            else {
+                continue;
+            };
+            term.point_loads.push(PointLoad {
+                kind: c.kind,
+                grid,
+                basic: n.map(|v| scale * c.magnitude * v),
+            });
+        }
+        for c in b.sload.iter().filter(|c| c.sid == set) {
+            for &(point, f) in &c.loads {
+                if let Some(&k) = self.scalar_index.get(&point) {
+                    term.scalar_loads.push((k, scale * f));
+                }
+            }
+        }
         let faces = (b.pload4.iter().filter(|c| c.sid == set))
             .flat_map(|c| self.pload4_faces(c).unwrap_or_default())
             .chain(
@@ -216,7 +238,7 @@ fn simple_set_exists(b: &BulkData, sid: u32) -> bool {
     b.static_load_sets().any(|s| s == sid)
 }
 
-/// (factor, FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set) of each member of `LOAD = sid`.
+/// (factor, FORCE/MOMENT/FORCE1/FORCE2/MOMENT1/MOMENT2/SLOAD/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set) of each member of `LOAD = sid`.
 fn load_members(b: &BulkData, sid: u32) -> Result<Vec<(f64, u32)>, SetError> {
     let combos: Vec<_> = b.load.iter().filter(|l| l.sid == sid).collect();
     if combos.is_empty() {

@@ -12,8 +12,8 @@
 //! | SPCADD | Si | SPC/SPC1 set |
 //! | MPC | Gi | GRID |
 //! | MPCADD | Si | MPC set |
-//! | LOAD | Li | FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set |
-//! | TLOAD1/2, RLOAD1/2 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD/LOAD) |
+//! | LOAD | Li | FORCE/MOMENT/FORCE1/FORCE2/MOMENT1/MOMENT2/SLOAD/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set |
+//! | TLOAD1/2, RLOAD1/2 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/FORCE1/FORCE2/MOMENT1/MOMENT2/SLOAD/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD/LOAD) |
 //! | TLOAD1 TID, RLOAD1 TC/TD, RLOAD2 TB/TP (≠ 0) | table | TABLED1–TABLED4 or TABLEF |
 //! | DLOAD | Li | TLOAD1/2, RLOAD1/2 set |
 //! | DESVAR | DDVAL | DDVAL |
@@ -216,6 +216,13 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         refs.grid(f.grid, "G", &card, &f.loc, errors);
         refs.coord(f.cid, "CID", &card, &f.loc, errors);
     }
+    for f in &b.forces_by_grids {
+        let card = format!("{} {}", f.card(), f.sid);
+        refs.grid(f.grid, "G", &card, &f.loc, errors);
+        for (k, &g) in f.grids.iter().enumerate() {
+            refs.grid(g, &format!("G{}", k + 1), &card, &f.loc, errors);
+        }
+    }
     for g in &b.grav {
         refs.coord(g.cid, "CID", &format!("GRAV {}", g.sid), &g.loc, errors);
     }
@@ -255,11 +262,11 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
             if !static_sets.contains(id) {
                 let message = if b.load.iter().any(|other| other.sid == *id) {
                     format!(
-                        "L = {id} is itself a LOAD: a LOAD combines FORCE, MOMENT, GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 and SPCD sets, not other LOADs (as in Nastran)"
+                        "L = {id} is itself a LOAD: a LOAD combines FORCE, MOMENT, FORCE1, FORCE2, MOMENT1, MOMENT2, SLOAD, GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 and SPCD sets, not other LOADs (as in Nastran)"
                     )
                 } else {
                     format!(
-                        "L = {id} does not exist (no FORCE, MOMENT, GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 or SPCD set {id})"
+                        "L = {id} does not exist (no FORCE, MOMENT, FORCE1, FORCE2, MOMENT1, MOMENT2, SLOAD, GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 or SPCD set {id})"
                     )
                 };
                 errors.push(DeckError::at(&l.loc, message).on_card(format!("LOAD {}", l.sid)));

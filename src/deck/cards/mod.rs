@@ -45,7 +45,10 @@ pub use geometry::{Cord2, CordKind, Grdset, Grid};
 pub use ignored::ignored_card;
 pub use line_elements::{BeamOrientation, Cbar, Conrod, Crod, Offt};
 pub use line_properties::{Pbar, Pbarl, Pbeam, Prod, Ptube};
-pub use loads::{Force, Grav, Load, Pload, Pload1, Pload1Scale, Pload2, Pload4, Pload4Target};
+pub use loads::{
+    Force, ForceByGrids, Grav, Load, Pload, Pload1, Pload1Scale, Pload2, Pload4, Pload4Target,
+    Sload,
+};
 pub use materials::{Mat1, Mat8};
 pub use multibody::{Flexb, Fmbpose, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
 pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, ResponseSource, SearchMethod, Statistic};
@@ -126,6 +129,9 @@ pub struct BulkData {
     pub aset1: Vec<Aset1>,
     /// FORCE and MOMENT cards.
     pub forces: Vec<Force>,
+    /// FORCE1, FORCE2, MOMENT1 and MOMENT2 cards.
+    pub forces_by_grids: Vec<ForceByGrids>,
+    pub sload: Vec<Sload>,
     pub grav: Vec<Grav>,
     pub pload4: Vec<Pload4>,
     pub pload2: Vec<Pload2>,
@@ -182,9 +188,12 @@ pub struct BulkData {
 
 impl BulkData {
     /// The set ids of the static load cards a `LOAD` or `LOAD = sid` may select: FORCE, MOMENT,
-    /// GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1, SPCD (with repeats).
+    /// FORCE1, FORCE2, MOMENT1, MOMENT2, SLOAD, GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1, SPCD (with
+    /// repeats).
     pub fn static_load_sets(&self) -> impl Iterator<Item = u32> + '_ {
         (self.forces.iter().map(|c| c.sid))
+            .chain(self.forces_by_grids.iter().map(|c| c.sid))
+            .chain(self.sload.iter().map(|c| c.sid))
             .chain(self.grav.iter().map(|c| c.sid))
             .chain(self.pload4.iter().map(|c| c.sid))
             .chain(self.pload2.iter().map(|c| c.sid))
@@ -300,6 +309,23 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("MOMENT", |c, b| {
         Ok(b.forces.push(Force::from_card(c, ForceKind::Moment)?))
     }),
+    ("FORCE1", |c, b| {
+        let card = ForceByGrids::from_card(c, ForceKind::Force, false)?;
+        Ok(b.forces_by_grids.push(card))
+    }),
+    ("FORCE2", |c, b| {
+        let card = ForceByGrids::from_card(c, ForceKind::Force, true)?;
+        Ok(b.forces_by_grids.push(card))
+    }),
+    ("MOMENT1", |c, b| {
+        let card = ForceByGrids::from_card(c, ForceKind::Moment, false)?;
+        Ok(b.forces_by_grids.push(card))
+    }),
+    ("MOMENT2", |c, b| {
+        let card = ForceByGrids::from_card(c, ForceKind::Moment, true)?;
+        Ok(b.forces_by_grids.push(card))
+    }),
+    ("SLOAD", |c, b| Ok(b.sload.push(Sload::from_card(c)?))),
     ("GRAV", |c, b| Ok(b.grav.push(Grav::from_card(c)?))),
     ("PLOAD4", |c, b| Ok(b.pload4.push(Pload4::from_card(c)?))),
     ("PLOAD2", |c, b| Ok(b.pload2.push(Pload2::from_card(c)?))),
