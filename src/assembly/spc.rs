@@ -167,15 +167,7 @@ impl SpcSet {
         let mut touched = vec![false; out.len()];
         for entry in spcd {
             let card = format!("SPCD {} at {}", entry.set, entry.loc);
-            let dofs: Vec<usize> = match model.scalar_index.get(&entry.grid) {
-                Some(&k) => vec![map.scalar_dof(k)],
-                None => {
-                    let grid = grid_of(model, entry.grid, &card)?;
-                    (entry.components.components())
-                        .map(|c| DofMap::dof(grid, c - 1))
-                        .collect()
-                }
-            };
+            let dofs = point_dofs(model, map, entry.grid, entry.components, &card)?;
             for dof in dofs {
                 let by_autospc = self.source[dof].as_deref() == Some("AUTOSPC");
                 if !self.mask[dof] || by_autospc {
@@ -212,6 +204,17 @@ impl SpcSet {
         Ok(())
     }
 
+    /// Hold the r-set DOFs `suport` ([`suport_dofs`]) like SPCs at zero (SOL 101 without
+    /// inertia relief, as MSC Nastran); a DOF already constrained keeps its constraint.
+    pub fn add_suport(&mut self, suport: &[(usize, String)]) {
+        for (d, source) in suport {
+            if *d < self.mask.len() && !self.mask[*d] {
+                self.mask[*d] = true;
+                self.source[*d] = Some(source.clone());
+            }
+        }
+    }
+
     /// Add the DOFs AUTOSPC found (enforced value 0).
     pub fn add_autospc(&mut self, report: &AutoSpcReport) {
         for &d in &report.dofs {
@@ -222,6 +225,47 @@ impl SpcSet {
             }
         }
     }
+}
+
+/// The g indices of a grid's components, or of a scalar point's one DOF (`card` names the
+/// referencing card in the error for a missing grid).
+pub fn point_dofs(
+    model: &Model,
+    map: &DofMap,
+    id: u32,
+    components: Dofs,
+    card: &str,
+) -> Result<Vec<usize>, AssemblyError> {
+    if let Some(&k) = model.scalar_index.get(&id) {
+        return Ok(vec![map.scalar_dof(k)]);
+    }
+    let grid = grid_of(model, id, card)?;
+    Ok((components.components())
+        .map(|c| DofMap::dof(grid, c - 1))
+        .collect())
+}
+
+/// The g indices of the r-set of a subcase (SUPORT cards and its `SUPORT1` set), each with
+/// the card that put it there.
+pub fn suport_dofs(
+    model: &Model,
+    map: &DofMap,
+    suport1: Option<u32>,
+) -> Result<Vec<(usize, String)>, AssemblyError> {
+    let entries = (model.suport_entries(suport1)).map_err(|_| AssemblyError::NoConstraintSet {
+        selection: "SUPORT1",
+        cards: "SUPORT1".into(),
+        sid: suport1.unwrap_or(0),
+    })?;
+    let mut out: Vec<(usize, String)> = Vec::new();
+    for (id, dofs, source) in entries {
+        for d in point_dofs(model, map, id, dofs, &source)? {
+            if !out.iter().any(|(x, _)| *x == d) {
+                out.push((d, source.clone()));
+            }
+        }
+    }
+    Ok(out)
 }
 
 fn grid_of(model: &Model, id: u32, card: &str) -> Result<usize, AssemblyError> {

@@ -161,6 +161,36 @@ impl Model {
             .collect()
     }
 
+    /// Whether the deck has SUPORT or SUPORT1 cards.
+    pub fn has_suport(&self) -> bool {
+        !self.bulk.suport.is_empty()
+    }
+
+    /// The r-set of a subcase: every SUPORT card's (point, components) and those of the SUPORT1
+    /// set `suport1`, each with its card and file:line; an error when `suport1` selects no card.
+    pub fn suport_entries(
+        &self,
+        suport1: Option<u32>,
+    ) -> Result<Vec<(u32, Dofs, String)>, SetError> {
+        if let Some(sid) = suport1
+            && !self.bulk.suport.iter().any(|c| c.sid == Some(sid))
+        {
+            return Err(SetError::Empty);
+        }
+        Ok((self.bulk.suport.iter())
+            .filter(|c| c.sid.is_none() || c.sid == suport1)
+            .flat_map(|c| {
+                let source = match c.sid {
+                    Some(sid) => format!("SUPORT1 {sid} at {}", c.loc),
+                    None => format!("SUPORT at {}", c.loc),
+                };
+                c.points
+                    .iter()
+                    .map(move |&(id, dofs)| (id, dofs, source.clone()))
+            })
+            .collect())
+    }
+
     fn load_term(&self, set: u32, scale: f64) -> LoadTerm {
         let b = &self.bulk;
         let mut term = LoadTerm::default();

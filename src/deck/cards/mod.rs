@@ -26,7 +26,7 @@ mod rigid;
 mod shear_panel;
 mod temperature;
 
-pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd};
+pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd, Suport};
 pub use design::{Ddval, Desvar};
 pub use dynamic::{
     Darea, Dload, EigenNorm, Eigrl, ExcitationKind, Freq, FreqKind, ModalDampingUnits, Rload,
@@ -127,6 +127,8 @@ pub struct BulkData {
     pub mpc: Vec<Mpc>,
     pub mpcadd: Vec<Mpcadd>,
     pub aset1: Vec<Aset1>,
+    /// SUPORT and SUPORT1 cards.
+    pub suport: Vec<Suport>,
     /// FORCE and MOMENT cards.
     pub forces: Vec<Force>,
     /// FORCE1, FORCE2, MOMENT1 and MOMENT2 cards.
@@ -303,6 +305,12 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("MPC", |c, b| Ok(b.mpc.push(Mpc::from_card(c)?))),
     ("MPCADD", |c, b| Ok(b.mpcadd.push(Mpcadd::from_card(c)?))),
     ("ASET1", |c, b| Ok(b.aset1.push(Aset1::from_card(c)?))),
+    ("SUPORT", |c, b| {
+        Ok(b.suport.push(Suport::from_card(c, false)?))
+    }),
+    ("SUPORT1", |c, b| {
+        Ok(b.suport.push(Suport::from_card(c, true)?))
+    }),
     ("FORCE", |c, b| {
         Ok(b.forces.push(Force::from_card(c, ForceKind::Force)?))
     }),
