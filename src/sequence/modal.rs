@@ -62,8 +62,19 @@ pub struct ModalSummary {
     pub finite_exhausted: bool,
     /// ND of the EIGRL.
     pub nd: Option<usize>,
-    /// With a SUPORT r-set: its size, the rigid-body error ratio ε and the strain energies.
-    pub suport: Option<(usize, f64, Vec<f64>)>,
+    /// The SUPORT r-set's check, when the deck has one.
+    pub suport: Option<SuportCheck>,
+}
+
+/// What the SUPORT r-set's rigid-body check found.
+#[derive(Debug, Clone)]
+pub struct SuportCheck {
+    /// r-set size (the rigid-body modes reported at 0 Hz).
+    pub dofs: usize,
+    /// Rigid-body error ratio ε.
+    pub epsilon: f64,
+    /// Strain energy of each unit rigid-body motion.
+    pub strain_energy: Vec<f64>,
 }
 
 /// The MODAL driver on the mesh.
@@ -231,7 +242,7 @@ fn with_rigid_body_modes(
     c: &Constrained,
     sub: &Subcase,
     mut r: EigenResult,
-) -> Result<(EigenResult, Option<(usize, f64, Vec<f64>)>), RunError> {
+) -> Result<(EigenResult, Option<SuportCheck>), RunError> {
     let case = |what: String| RunError::Case {
         subcase: sub.id,
         what,
@@ -283,7 +294,12 @@ fn with_rigid_body_modes(
         r.frequencies_hz[k] = 0.0;
         r.residuals[k] = rb.residuals[k];
     }
-    Ok((r, Some((n_r, rb.epsilon, rb.strain_energy))))
+    let check = SuportCheck {
+        dofs: n_r,
+        epsilon: rb.epsilon,
+        strain_energy: rb.strain_energy,
+    };
+    Ok((r, Some(check)))
 }
 
 /// When the Sturm check counts more roots found between the lower end of the search and its
@@ -329,8 +345,13 @@ impl Report for ModalSummary {
                 sci(m.residuals[k], 1)
             ));
         }
-        if let Some((n_r, epsilon, energy)) = &m.suport {
-            let worst = energy.iter().fold(0.0_f64, |a, e| a.max(e.abs()));
+        if let Some(SuportCheck {
+            dofs: n_r,
+            epsilon,
+            strain_energy,
+        }) = &m.suport
+        {
+            let worst = strain_energy.iter().fold(0.0_f64, |a, e| a.max(e.abs()));
             out.push(format!(
                 "  SUPORT r-set of {n_r} DOF(s): rigid-body error ratio ε = {}, largest strain energy {}; the first {n_r} mode(s) are its rigid-body modes at 0 Hz",
                 sci(*epsilon, 2),
@@ -428,6 +449,7 @@ mod tests {
             massless: 0,
             finite_exhausted: false,
             nd: Some(12),
+            suport: None,
         };
         let lines = summary.render(1);
         assert!(
