@@ -606,3 +606,39 @@ fn base_excitation_by_spcd_matches_the_transmissibility() {
         }
     }
 }
+
+/// LSEQ with case control LOADSET: the RLOAD1's EXCITEID 8 maps to the static FORCE set 30
+/// (2.5 N along T1, the DAREA scale of the reference deck), so the grid's displacement is the
+/// closed-form SDOF response of `frf_sdof.json` (same tolerance); the input is named after the
+/// EXCITEID. Without LOADSET the EXCITEID selects nothing and the run stops naming it.
+#[test]
+fn lseq_maps_an_exciteid_to_a_static_load_set() {
+    let r = reference("frf_sdof");
+    let text = std::fs::read_to_string(root().join(r["meshes"][0]["deck"].as_str().unwrap()))
+        .unwrap()
+        .replace(
+            "  DLOAD = 7\n",
+            "  DLOAD = 7\n  LOADSET = 5\n  DISPLACEMENT = ALL\n",
+        )
+        .replace(
+            "DAREA,8,1,1,2.5\n",
+            "FORCE,30,1,,2.5,1.,0.,0.\nLSEQ,5,8,30\n",
+        );
+    assert!(text.contains("LSEQ,5,8,30") && text.contains("LOADSET = 5"));
+    let (run, dir) = run_deck(&text);
+    run.unwrap_or_else(|e| panic!("{e}"));
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).unwrap();
+    let d: Vec<c64> = file
+        .dataset("results/1/frf/displacement")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    let t1: Vec<c64> = d.chunks_exact(6).map(|g| g[0]).collect();
+    let tol = f64s(&r["tolerance_finest"]["relative"])[0];
+    let err = worst(&t1, &f64s(&r["response_re"]), &f64s(&r["response_im"]));
+    assert!(err <= tol, "T1 response {err:e}");
+    assert_eq!(read_frf(&dir.path().join("out.h5")).outputs, ["LOAD 8"]);
+    let (run, _dir) = run_deck(&text.replace("  LOADSET = 5\n", ""));
+    let e = run.expect_err("EXCITEID 8 without LOADSET").to_string();
+    assert!(e.contains("EXCITEID 8"), "{e}");
+}

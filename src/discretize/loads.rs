@@ -163,13 +163,16 @@ pub fn load_terms(
 }
 
 /// The f-set shape of a static load set (FORCE, MOMENT, LOAD combinations) used as a TLOAD's or
-/// an RLOAD's EXCITEID (as MSC Nastran accepts without LSEQ).
+/// an RLOAD's EXCITEID: the LID of an LSEQ of the subcase's `loadset` with that EXCITEID, or
+/// the set of that id itself (as MSC Nastran accepts without LSEQ).
 pub fn static_shape(
     model: &Model,
     st: &Structure,
     c: &Constrained,
-    sid: u32,
+    excite_id: u32,
+    loadset: Option<u32>,
 ) -> Result<Option<Vec<f64>>, String> {
+    let sid = model.excited_static_set(excite_id, loadset);
     let p_g = load_vector(model, &st.frames, &st.map, sid, None)
         .map_err(|e| format!("EXCITEID {sid}: no DAREA and {e}"))?;
     let p_n = st.rigid.reduce_vector(&p_g).map_err(|e| e.to_string())?;
@@ -331,6 +334,7 @@ pub fn frequency_inputs(
     st: &Structure,
     c: &Constrained,
     sid: u32,
+    loadset: Option<u32>,
 ) -> Result<FrequencyInputs, String> {
     let mut dofs: Vec<(u32, usize)> = Vec::new();
     let mut static_sets: Vec<(u32, Vec<f64>)> = Vec::new();
@@ -413,7 +417,7 @@ pub fn frequency_inputs(
                 let index = match known {
                     Some(i) => i,
                     None => {
-                        let shape = static_shape(model, st, c, r.excite_id)
+                        let shape = static_shape(model, st, c, r.excite_id, loadset)
                             .map_err(|e| format!("{card} {}: {e}", r.sid))?
                             .ok_or_else(|| {
                                 format!(

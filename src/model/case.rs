@@ -306,7 +306,8 @@ pub fn unselected_sets(deck: &Deck, warnings: &mut Vec<Warning>) {
                 .flat_map(|c| c.terms.iter().map(|(_, sid)| *sid)),
         )
         .chain(b.tload.iter().map(|t| t.excite_id))
-        .chain(b.rload.iter().map(|r| r.excite_id));
+        .chain(b.rload.iter().map(|r| r.excite_id))
+        .chain(b.lseq.iter().map(|l| l.lid));
     warn_unselected(
         "LOAD",
         "it is not applied",

@@ -126,6 +126,14 @@ impl Model {
             .collect()
     }
 
+    /// The static load set a dynamic load's EXCITEID selects: the LID of the LSEQ of set
+    /// `loadset` (case control `LOADSET`) with that EXCITEID, or the EXCITEID itself.
+    pub fn excited_static_set(&self, excite_id: u32, loadset: Option<u32>) -> u32 {
+        (self.bulk.lseq.iter())
+            .find(|l| Some(l.sid) == loadset && l.excite_id == excite_id)
+            .map_or(excite_id, |l| l.lid)
+    }
+
     /// The DAREA entries of set `sid`, one per component, in card order.
     fn excitation(&self, sid: u32) -> Vec<Excitation> {
         self.bulk

@@ -279,7 +279,29 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         .map(|d| d.sid)
         .chain(static_sets.iter().copied())
         .chain(b.load.iter().map(|l| l.sid))
+        .chain(b.lseq.iter().map(|l| l.excite_id))
         .collect();
+    for l in &b.lseq {
+        let card = format!("LSEQ {}", l.sid);
+        if !static_sets.contains(&l.lid) && !b.load.iter().any(|x| x.sid == l.lid) {
+            errors.push(
+                DeckError::at(
+                    &l.loc,
+                    format!(
+                        "LID = {} does not exist (no static load set {})",
+                        l.lid, l.lid
+                    ),
+                )
+                .on_card(&card),
+            );
+        }
+        if b.darea.iter().any(|d| d.sid == l.excite_id) {
+            errors.push(
+                DeckError::at(&l.loc, format!("EXCITEID = {} is also a DAREA set: combining DAREA and LSEQ loads on one EXCITEID is not supported", l.excite_id))
+                    .on_card(&card),
+            );
+        }
+    }
     let tables = index(
         b.dynamic_tables()
             .map(|(id, card, loc)| entry(id, card, loc, ()))

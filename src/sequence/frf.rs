@@ -143,7 +143,7 @@ fn run(
         let hz = frequency_lines(model, sub)?;
         let omegas: Vec<f64> = hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
         let sid = sub.dload.ok_or_else(|| RunError::Case { subcase: id, what: "SOL FRF on the full model needs DLOAD = <RLOAD1 or DLOAD sid> (its DAREA DOFs are the inputs)".into() })?;
-        let inputs = frequency_inputs(model, st, &c, sid)
+        let inputs = frequency_inputs(model, st, &c, sid, sub.loadset)
             .map_err(|what| RunError::Case { subcase: id, what })?;
         let sensors = clock.time(format!("subcase {id}: sensor rows"), || {
             super::subcase_sensors(ctx, st, &c, sub)

@@ -139,7 +139,7 @@ fn subcase(
             dload,
             n_f,
             |d, scale, shape| place_darea(ctx.model, st, c, d, scale, shape),
-            |excite| static_shape(ctx.model, st, c, excite),
+            |excite| static_shape(ctx.model, st, c, excite, sub.loadset),
         )
         .map_err(case)?,
     };

@@ -548,6 +548,50 @@ impl Rload {
     }
 }
 
+/// `LSEQ` — a static load set as the excitation of dynamic loads: with case control
+/// `LOADSET = SID`, a TLOAD1/TLOAD2/RLOAD1/RLOAD2 whose EXCITEID is this card's EXCITEID takes
+/// the load vector of static load set LID (FORCE, MOMENT, LOAD, PLOAD4, GRAV, …).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | SID | int > 0 | required | the set LOADSET selects |
+/// | 3 | EXCITEID | int > 0 | required | the id dynamic loads reference |
+/// | 4 | LID | int > 0 | required | static load set |
+/// | 5 | TID | int ≥ 0 | blank | thermal load set (refused: paraflex reads no temperatures) |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lseq {
+    pub sid: u32,
+    pub excite_id: u32,
+    pub lid: u32,
+    pub loc: Loc,
+}
+
+impl Lseq {
+    /// Read an `LSEQ` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let sid = f.id(1, "SID");
+        f.set_id(sid);
+        let excite_id = f.id(2, "EXCITEID");
+        let lid = f.id(3, "LID");
+        if f.id0_or(4, "TID", 0) != 0 {
+            f.error(
+                4,
+                "TID",
+                "thermal load sets are not supported (paraflex reads no TEMP cards)",
+            );
+        }
+        let loc = f.loc();
+        f.finish(4)?;
+        Ok(Lseq {
+            sid,
+            excite_id,
+            lid,
+            loc,
+        })
+    }
+}
+
 /// `DAREA` — load scale factor at a grid component (one entry per grid on the card).
 ///
 /// | field | name | type | default | meaning |

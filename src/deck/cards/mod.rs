@@ -29,7 +29,7 @@ mod temperature;
 pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd, Suport};
 pub use design::{Ddval, Desvar};
 pub use dynamic::{
-    Darea, Dload, EigenNorm, Eigrl, ExcitationKind, Freq, FreqKind, ModalDampingUnits, Rload,
+    Darea, Dload, EigenNorm, Eigrl, ExcitationKind, Freq, FreqKind, Lseq, ModalDampingUnits, Rload,
     RloadTables, Tabdmp1, Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep,
 };
 pub use elements::{
@@ -149,6 +149,7 @@ pub struct BulkData {
     /// RLOAD1 and RLOAD2.
     pub rload: Vec<Rload>,
     pub darea: Vec<Darea>,
+    pub lseq: Vec<Lseq>,
     pub tic: Vec<Tic>,
     pub ptable: Vec<Ptable>,
     /// TABLED1, TABLED2 and TABLED3.
@@ -354,6 +355,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("RLOAD1", |c, b| Ok(b.rload.push(Rload::rload1(c)?))),
     ("RLOAD2", |c, b| Ok(b.rload.push(Rload::rload2(c)?))),
     ("DAREA", |c, b| Ok(b.darea.extend(Darea::from_card(c)?))),
+    ("LSEQ", |c, b| Ok(b.lseq.push(Lseq::from_card(c)?))),
     ("TIC", |c, b| Ok(b.tic.push(Tic::from_card(c)?))),
     ("PTABLE", |c, b| Ok(b.ptable.push(Ptable::from_card(c)?))),
     ("TABDMP1", |c, b| Ok(b.tabdmp1.push(Tabdmp1::from_card(c)?))),
