@@ -245,7 +245,7 @@ impl Tstep {
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | SID | int > 0 | required | load set id |
-/// | 3 | EXCITEID | int > 0 | required | DAREA (or static load) set id |
+/// | 3 | EXCITEID | int > 0 | required | DAREA, static load set (directly or through an LSEQ), or SPCD set (TYPE DISP/VELO/ACCE) |
 /// | 4 | DELAY | real | 0.0 | time delay τ (a DELAY card id is not supported) |
 /// | 5 | TYPE | `LOAD` / `DISP` / `VELO` / `ACCE` or 0–3 | LOAD | excitation type: DISP, VELO and ACCE (enforced motion of an SPCD set) are read but refused by SOL 109/112 |
 /// | 6 | TID | int > 0 | required | TABLED1–TABLED4 or TABLEF id of F(t) |
@@ -444,7 +444,7 @@ fn tload_head(f: &mut FieldReader) -> (u32, u32, f64, ExcitationKind) {
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | SID | int > 0 | required | load set id |
-/// | 3 | EXCITEID | int > 0 | required | DAREA (or static load) set id |
+/// | 3 | EXCITEID | int > 0 | required | DAREA, static load set (directly or through an LSEQ), or SPCD set (TYPE DISP/VELO/ACCE) |
 /// | 4 | DELAY | real | 0.0 | time delay τ |
 /// | 5 | DPHASE | real | 0.0 | phase θ in degrees (a DPHASE card id is not supported) |
 /// | 6 | TC (RLOAD1) / TB (RLOAD2) | int ≥ 0 / int > 0 | 0 / required | table id of C(f) (0 = none) / of B(f) |
