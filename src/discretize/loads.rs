@@ -535,3 +535,42 @@ pub fn place_input(
         .for_each(|(i, s)| *s += scale * s_r[(i, j)]);
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An enforced velocity is integrated to a displacement as v/(iω) and an acceleration as
+    /// a/(−ω²) (Nastran's frequency-domain enforced motion); a displacement or a load is taken
+    /// as it is. P(f) = 2 (a constant table), scale 3, no phase or delay.
+    #[test]
+    fn enforced_velocity_and_acceleration_are_integrated() {
+        let table = Table::new(&[(0.0, 2.0), (100.0, 2.0)]).expect("table");
+        let term = |kind| FrequencyLoad {
+            input: 0,
+            scale: 3.0,
+            p: FrequencyFunction::Rectangular {
+                c: Some(table.clone()),
+                d: None,
+            },
+            phase: 0.0,
+            delay: 0.0,
+            kind,
+        };
+        let (hz, w) = (10.0, 2.0 * std::f64::consts::PI * 10.0);
+        let close = |a: c64, b: c64| (a - b).norm() <= 1e-15 * b.norm();
+        assert!(close(term(ExcitationKind::Load).at(hz), c64::new(6.0, 0.0)));
+        assert!(close(
+            term(ExcitationKind::Displacement).at(hz),
+            c64::new(6.0, 0.0)
+        ));
+        assert!(close(
+            term(ExcitationKind::Velocity).at(hz),
+            c64::new(0.0, -6.0 / w)
+        ));
+        assert!(close(
+            term(ExcitationKind::Acceleration).at(hz),
+            c64::new(-6.0 / (w * w), 0.0)
+        ));
+    }
+}
