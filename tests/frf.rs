@@ -554,3 +554,91 @@ fn missing_dload_and_constrained_inputs_are_reported() {
         .to_string();
     assert!(e.contains("GRID 2 component 2 is constrained"), "{e}");
 }
+
+/// Enforced motion: a mass on a spring and a damper to a base moved by an SPCD
+/// (`reference/analytic/frf_base_excitation.json`). TYPE = DISP by the direct partition method
+/// (SOL 108) and TYPE = ACCE (u = a/(−ω²)) by the modal route (SOL 111, quasi-static + modal):
+/// the mass's absolute displacement against the transmissibility closed form, the base grid
+/// reading its enforced displacement, and the base input's own H entry 1 (the DOF reads its
+/// unit motion). Tolerance from the reference (1e-9 of max |X|, no discretization).
+#[test]
+fn base_excitation_by_spcd_matches_the_transmissibility() {
+    let r = reference("frf_base_excitation");
+    let tol = f64s(&r["tolerance_finest"]["relative"])[0];
+    let hz = f64s(&r["frequency_hz"]);
+    for (mesh, key, base) in [(0, "disp", true), (1, "acce", false)] {
+        let deck = root().join(r["meshes"][mesh]["deck"].as_str().unwrap());
+        let (run, _model, dir) = run_deck_file(&deck);
+        run.unwrap_or_else(|e| panic!("{key}: {e}"));
+        let path = dir.path().join("out.h5");
+        let out = read_frf(&path);
+        assert_eq!(out.outputs, ["1:1"], "{key}");
+        let file = hdf5_metno::File::open(&path).unwrap();
+        let d: Vec<c64> = file
+            .dataset("results/1/frf/displacement")
+            .unwrap()
+            .read_raw()
+            .unwrap();
+        // lines × 2 grids × 6: grid 2's T1 is the mass, grid 1's T1 the base
+        let mass: Vec<c64> = d.chunks_exact(12).map(|l| l[6]).collect();
+        let err = worst(
+            &mass,
+            &f64s(&r[format!("{key}_re")]),
+            &f64s(&r[format!("{key}_im")]),
+        );
+        println!("base excitation {key}: error {err:.1e} (tol {tol:.0e})");
+        assert!(err <= tol, "{key}: {err:e}");
+        let y = r["inputs"]["Y"].as_f64().unwrap();
+        let a = r["inputs"]["A"].as_f64().unwrap();
+        for (l, f) in hz.iter().enumerate() {
+            let w = 2.0 * std::f64::consts::PI * f;
+            let want = if base { y } else { -a / (w * w) };
+            let got = d[12 * l];
+            assert!(
+                (got - c64::new(want, 0.0)).norm() <= 1e-12 * want.abs(),
+                "{key}: base {got}"
+            );
+            assert!(
+                (out.h[l] - c64::new(1.0, 0.0)).norm() <= 1e-12,
+                "{key}: H {}",
+                out.h[l]
+            );
+        }
+    }
+}
+
+/// LSEQ with case control LOADSET: the RLOAD1's EXCITEID 8 maps to the static FORCE set 30
+/// (2.5 N along T1, the DAREA scale of the reference deck), so the grid's displacement is the
+/// closed-form SDOF response of `frf_sdof.json` (same tolerance); the input is named after the
+/// EXCITEID. Without LOADSET the EXCITEID selects nothing and the run stops naming it.
+#[test]
+fn lseq_maps_an_exciteid_to_a_static_load_set() {
+    let r = reference("frf_sdof");
+    let text = std::fs::read_to_string(root().join(r["meshes"][0]["deck"].as_str().unwrap()))
+        .unwrap()
+        .replace(
+            "  DLOAD = 7\n",
+            "  DLOAD = 7\n  LOADSET = 5\n  DISPLACEMENT = ALL\n",
+        )
+        .replace(
+            "DAREA,8,1,1,2.5\n",
+            "FORCE,30,1,,2.5,1.,0.,0.\nLSEQ,5,8,30\n",
+        );
+    assert!(text.contains("LSEQ,5,8,30") && text.contains("LOADSET = 5"));
+    let (run, dir) = run_deck(&text);
+    run.unwrap_or_else(|e| panic!("{e}"));
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).unwrap();
+    let d: Vec<c64> = file
+        .dataset("results/1/frf/displacement")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    let t1: Vec<c64> = d.chunks_exact(6).map(|g| g[0]).collect();
+    let tol = f64s(&r["tolerance_finest"]["relative"])[0];
+    let err = worst(&t1, &f64s(&r["response_re"]), &f64s(&r["response_im"]));
+    assert!(err <= tol, "T1 response {err:e}");
+    assert_eq!(read_frf(&dir.path().join("out.h5")).outputs, ["LOAD 8"]);
+    let (run, _dir) = run_deck(&text.replace("  LOADSET = 5\n", ""));
+    let e = run.expect_err("EXCITEID 8 without LOADSET").to_string();
+    assert!(e.contains("EXCITEID 8"), "{e}");
+}

@@ -340,3 +340,32 @@ fn derived_poisson_ratio_out_of_range_is_accepted_for_line_elements() {
         "{w:#?}"
     );
 }
+
+/// Enforced motion needs an SPCD set and an SPCD set needs enforced motion: an RLOAD1 or TLOAD1
+/// of TYPE = DISP/VELO/ACCE whose EXCITEID has no SPCD, and one of TYPE = LOAD whose EXCITEID
+/// selects SPCDs (whose values it would ignore), are errors at the card; a bad TYPE names the
+/// field.
+#[test]
+fn enforced_motion_type_and_exciteid_must_agree() {
+    let deck = "SOL 108\nCEND\nSPC = 1\nFREQUENCY = 5\nDLOAD = 7\nBEGIN BULK\n\
+                GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nCONM2,1,2,,1.\nCELAS2,3,1.e3,1,1,2,1\n\
+                SPC1,1,123456,1\nSPC1,1,23456,2\nFREQ,5,10.\nTABLED1,20\n+,0.,1.,100.,1.,ENDT\n\
+                SPCD,8,1,1,1.e-3\nDAREA,9,2,1,1.\n\
+                RLOAD1,7,9,,,20,,DISP\nRLOAD1,7,8,,,20\nTLOAD1,6,8,,LOAD,20\nENDDATA\n";
+    let mut errors = build_model(deck).expect_err("the deck is invalid");
+    // a TYPE that is no excitation type is a field error of the reader
+    let bad_type = deck.replace("ENDDATA", "RLOAD1,4,8,,,20,,SHAKE\nENDDATA");
+    errors.extend(build_model(&bad_type).expect_err("bad TYPE"));
+    let expect = [
+        "RLOAD1 7: TYPE = DISP (enforced motion) needs EXCITEID = an SPCD set; there is no SPCD 9",
+        "RLOAD1 7: EXCITEID = 8 selects SPCD cards, which an applied load (TYPE = LOAD) ignores",
+        "TLOAD1 6: EXCITEID = 8 selects SPCD cards",
+        "RLOAD1 4: field 8 (TYPE): expected LOAD, DISP, VELO, ACCE or 0-3, found 'SHAKE'",
+    ];
+    let missing: Vec<&str> = expect
+        .iter()
+        .copied()
+        .filter(|e| !errors.iter().any(|x| x.contains(e)))
+        .collect();
+    assert!(missing.is_empty(), "missing {missing:#?}\nin {errors:#?}");
+}

@@ -671,3 +671,132 @@ fn grid_on_the_polar_axis_of_its_cd_uses_azimuth_zero() {
     );
     assert!(u[7].abs() <= 1e-15 && u[8].abs() <= 1e-15, "{:?}", &u[6..9]);
 }
+
+/// A rod of four CROD elements (E A / element length k = E·A·4/L) held at x = 0 and pulled to
+/// d at x = L by an SPCD on a DOF of the SPC set. Nodal values of a linear rod are exact, so the
+/// analytic answers hold to round-off:
+/// - subcase 1, `LOAD = 7` (the SPCD set): u(x) = d·x/L, SPC forces ∓E A d/L at the ends; the
+///   SPC card's own D (5e-3 on that DOF) is replaced by the SPCD value, as in Nastran;
+/// - subcase 2, `LOAD = 10` = 0.5·(2·SPCD 7 + 1·FORCE 8): the same d plus a force F/2 at mid
+///   span: u(L/2) = d/2 + (F/2)·L/(4 E A) (two halves, each of stiffness 2 E A/L, in parallel),
+///   SPC force at x = L: E A d/L − F/4, at x = 0: −E A d/L − F/4;
+/// - subcase 3, `LOAD = 8` (the FORCE alone): the SPC's D = 5e-3 holds again.
+#[test]
+fn spcd_enforces_the_rod_end_directly_and_through_a_load_combination() {
+    let (e, a, l, d, f) = (7.0e10, 1.0e-4, 2.0, 1.0e-3, 3.0e4);
+    let mut deck = format!(
+        "SOL 101\nCEND\nSPC = 1\nSPCFORCES = ALL\nSUBCASE 1\nLOAD = 7\nSUBCASE 2\nLOAD = 10\nSUBCASE 3\nLOAD = 8\nBEGIN BULK\n\
+         MAT1,1,{e:?},,0.3\nPROD,1,1,{a:?}\nSPC1,1,123456,1\nSPC,1,5,1,5.e-3\nSPCD,7,5,1,{d:?}\n\
+         FORCE,8,3,,{f:?},1.,0.,0.\nLOAD,10,0.5,2.,7,1.,8\n"
+    );
+    for i in 0..5 {
+        deck += &format!("GRID,{},,{:?},0.,0.,,23456\n", i + 1, l * i as f64 / 4.0);
+    }
+    for i in 0..4 {
+        deck += &format!("CROD,{},1,{},{}\n", i + 1, i + 1, i + 2);
+    }
+    deck += "ENDDATA\n";
+    let (r, dir) = run_deck(&deck);
+    r.unwrap_or_else(|e| panic!("{e}"));
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+    let read = |sub: u32, name: &str| -> Vec<f64> {
+        file.dataset(&format!("results/{sub}/statics/{name}"))
+            .expect(name)
+            .read_raw()
+            .expect("read")
+    };
+    let ea_l = e * a / l;
+    let tol = 1e-12 * d;
+    let (u, q) = (read(1, "displacement"), read(1, "spc_force"));
+    for i in 0..5 {
+        assert!(
+            (u[6 * i] - d * i as f64 / 4.0).abs() <= tol,
+            "{i}: {}",
+            u[6 * i]
+        );
+    }
+    assert!((q[24] - ea_l * d).abs() <= 1e-9 * ea_l * d, "{}", q[24]);
+    assert!((q[0] + ea_l * d).abs() <= 1e-9 * ea_l * d, "{}", q[0]);
+    let (u, q) = (read(2, "displacement"), read(2, "spc_force"));
+    let mid = d / 2.0 + (f / 2.0) / (4.0 * ea_l);
+    assert!((u[12] - mid).abs() <= tol, "{} vs {mid}", u[12]);
+    assert!((u[24] - d).abs() <= tol, "{}", u[24]);
+    assert!(
+        (q[24] - (ea_l * d - f / 4.0)).abs() <= 1e-9 * f,
+        "{}",
+        q[24]
+    );
+    assert!((q[0] - (-ea_l * d - f / 4.0)).abs() <= 1e-9 * f, "{}", q[0]);
+    let u = read(3, "displacement");
+    assert!((u[24] - 5.0e-3).abs() <= tol, "{}", u[24]);
+}
+
+/// An SPCD on a DOF that no SPC of the subcase constrains is refused, naming the SPCD card, its
+/// file:line and the DOF (Nastran's rule), instead of being dropped or applied as a load.
+#[test]
+fn spcd_on_an_unconstrained_dof_is_refused_with_its_card_and_line() {
+    let deck = "SOL 101\nCEND\nSPC = 1\nLOAD = 7\nBEGIN BULK\nMAT1,1,7.e10,,0.3\nPROD,1,1,1.e-4\n\
+                GRID,1,,0.,0.,0.,,23456\nGRID,2,,1.,0.,0.,,23456\nCROD,1,1,1,2\nSPC1,1,1,1\n\
+                SPCD,7,2,1,1.e-3\nENDDATA\n";
+    let (r, _dir) = run_deck(deck);
+    let message = r
+        .expect_err("an SPCD on a free DOF must be refused")
+        .to_string();
+    assert!(
+        message.contains("SPCD 7 at")
+            && message.contains("deck.dat:12")
+            && message.contains("GRID 2 component 1 is not constrained"),
+        "{message}"
+    );
+}
+
+/// FORCE1, FORCE2, MOMENT1, MOMENT2 on grid 1, held by six grounded CELAS2 springs kᵢ (one per
+/// component), so uᵢ = Pᵢ/kᵢ exactly. Directions from the grids' positions: FORCE1/MOMENT1
+/// along G1 → G2 = (0, 2, 2)/√8; FORCE2/MOMENT2 along (G2 − G1) × (G4 − G3) = (0, 2, 2) ×
+/// (3, 0, 0) = (0, 6, −6), normalized. Grids 2–5 carry nothing (AUTOSPC holds them).
+/// Coincident direction grids are refused at the card.
+#[test]
+fn force1_force2_moment1_moment2_follow_their_grids() {
+    let k = [1.0e3, 2.0e3, 4.0e3, 5.0e2, 2.5e2, 8.0e2];
+    let (f1, f2, m1, m2) = (30.0, -12.0, 7.0, 5.0);
+    let mut deck = String::from("SOL 101\nCEND\nLOAD = 1\nBEGIN BULK\nGRID,1,,0.,0.,0.\n");
+    deck += "GRID,2,,1.,0.,0.\nGRID,3,,1.,2.,2.\nGRID,4,,0.,0.,1.\nGRID,5,,3.,0.,1.\n";
+    for (c, kc) in k.iter().enumerate() {
+        deck += &format!("CELAS2,{},{kc:?},1,{}\n", 10 + c, c + 1);
+    }
+    deck += &format!(
+        "FORCE1,1,1,{f1:?},2,3\nFORCE2,1,1,{f2:?},2,3,4,5\nMOMENT1,1,1,{m1:?},2,3\nMOMENT2,1,1,{m2:?},2,3,4,5\nENDDATA\n"
+    );
+    let (file, _dir) = common::run_to_file(&deck);
+    let u: Vec<f64> = common::read_dataset(
+        &file.group("results/1/statics").expect("statics"),
+        "displacement",
+    );
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let p = [
+        0.0,
+        (f1 + f2) * s,
+        (f1 - f2) * s,
+        0.0,
+        (m1 + m2) * s,
+        (m1 - m2) * s,
+    ];
+    for c in 0..6 {
+        let want = p[c] / k[c];
+        assert!(
+            (u[c] - want).abs() <= 1e-13,
+            "component {}: {} vs {want}",
+            c + 1,
+            u[c]
+        );
+    }
+    let bad = deck.replace("FORCE1,1,1,30.0,2,3", "FORCE1,1,1,30.0,2,2");
+    let e = common::build_model(&bad).unwrap_err().join("\n");
+    assert!(
+        e.contains("FORCE1 1") && e.contains("G1 and G2 are the same grid"),
+        "{e}"
+    );
+    let parallel = deck.replace("GRID,5,,3.,0.,1.", "GRID,5,,0.,2.,3.");
+    let e = common::build_model(&parallel).unwrap_err().join("\n");
+    assert!(e.contains("FORCE2 1") && e.contains("has no length"), "{e}");
+}

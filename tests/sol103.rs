@@ -445,3 +445,58 @@ fn mode_shapes_follow_the_displacement_set() {
     }
     assert!(shapes("DISPLACEMENT = NONE\n").is_none());
 }
+
+/// SUPORT on the free-free solid block of the test above, 3-2-1 (grid 1: T1 T2 T3; grid 4, on
+/// the x edge: T2 T3; grid 9, on the y edge: T3), a statically determinate r-set: the first six
+/// modes are its rigid-body modes at exactly 0 Hz, the elastic ones are those of the run without
+/// SUPORT (the same eigenproblem, so to round-off), and the rigid-body error ratio is round-off.
+/// The same r-set as a SUPORT1 set selected in case control gives the same modes. An
+/// over-determined r-set (grid 9 T1 added) and an under-determined one (grid 1 alone) are refused
+/// with the reason. SOL 101 holds the SUPORT DOFs like SPCs: a self-balanced load leaves
+/// reactions of round-off there.
+#[test]
+fn suport_gives_rigid_modes_at_zero_and_the_free_elastic_frequencies() {
+    let mesh = hexa_mesh([3, 2, 2], [0.3, 0.2, 0.2]);
+    let run = |case: &str, bulk: &str| {
+        let deck = format!(
+            "SOL 103\nCEND\nMETHOD = 1\n{case}BEGIN BULK\nEIGRL,1,,,9\n{bulk}{mesh}ENDDATA\n"
+        );
+        run_deck(&deck).0
+    };
+    let free = run("", "").expect("free");
+    let free = modal(&free).frequencies_hz.clone();
+    let supported = run("", "SUPORT,1,123,4,23,9,3\n").expect("SUPORT");
+    let m = modal(&supported);
+    let check = m.suport.clone().expect("r-set reported");
+    assert_eq!(check.dofs, 6);
+    assert!(check.epsilon <= 1e-9, "ε = {:e}", check.epsilon);
+    assert!(
+        m.frequencies_hz[..6].iter().all(|f| *f == 0.0),
+        "{:?}",
+        m.frequencies_hz
+    );
+    for (k, (a, b)) in m.frequencies_hz.iter().zip(&free).enumerate().skip(6) {
+        assert!((a - b).abs() <= 1e-9 * b, "mode {}: {a} vs {b}", k + 1);
+    }
+    let set = run("SUPORT1 = 5\n", "SUPORT1,5,1,123,4,23,9,3\n").expect("SUPORT1");
+    assert_eq!(modal(&set).frequencies_hz, m.frequencies_hz);
+    let over = run("", "SUPORT,1,123,4,23,9,13\n").expect_err("over-determined");
+    assert!(
+        over.to_string().contains("not statically determinate"),
+        "{over}"
+    );
+    let under = run("", "SUPORT,1,123\n").expect_err("under-determined");
+    assert!(
+        under
+            .to_string()
+            .contains("do not hold every rigid-body motion"),
+        "{under}"
+    );
+    let statics = format!(
+        "SOL 101\nCEND\nLOAD = 2\nSPCFORCES = ALL\nBEGIN BULK\nSUPORT,1,123,4,23,9,3\nFORCE,2,1,,-1.e4,1.,0.,0.\nFORCE,2,4,,1.e4,1.,0.,0.\n{mesh}ENDDATA\n"
+    );
+    let (file, _dir) = common::run_to_file(&statics);
+    let q: Vec<f64> = common::read_dataset(&file.group("results/1/statics").unwrap(), "spc_force");
+    let worst = q.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    assert!(worst <= 1e-6 * 1.0e4, "largest SUPORT reaction {worst:e}");
+}

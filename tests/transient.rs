@@ -188,6 +188,24 @@ fn tstepvar_is_refused_by_sol_transient() {
     );
 }
 
+/// Enforced motion (a TLOAD1 of TYPE = ACCE on an SPCD set) is not available in the time
+/// domain: SOL 109 stops with "not available" (exit 3) instead of ignoring the base motion.
+#[test]
+fn enforced_motion_is_refused_by_sol_transient() {
+    let chain = TwoDofChain::reference();
+    let deck = format!(
+        "SOL 109\nCEND\nSPC = 1\nTSTEP = 1\nDLOAD = 7\nBEGIN BULK\nTSTEP,1,20,1.e-4,1\nGRID,3,,2.,0.,0.\nSPC1,1,123456,3\nCELAS2,99,1.e3,2,1,3,1\nSPCD,8,3,1,9.81\nTLOAD1,7,8,,ACCE,9\nTABLED1,9\n,0.,1.,10.,1.,ENDT\n{}ENDDATA\n",
+        chain.bulk()
+    );
+    let (r, _out) = run_deck(&deck);
+    let e = r.expect_err("enforced motion in SOL 109");
+    assert!(
+        matches!(e, paraflex::sequence::RunError::NotAvailable(_)),
+        "{e}"
+    );
+    assert!(e.to_string().contains("enforced motion"), "{e}");
+}
+
 /// Builds the 2-DOF chain's pROM (parameter K1 = k₁ over [5e3, 5e4]; both DOFs are inputs,
 /// so the basis spans the whole space) and returns its directory.
 fn chain_prom(chain: &TwoDofChain) -> tempfile::TempDir {

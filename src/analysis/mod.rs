@@ -18,6 +18,7 @@ pub mod frf;
 pub mod modal;
 pub mod statics;
 pub mod stress;
+pub mod suport;
 pub mod weight;
 
 use std::time::{Duration, Instant};

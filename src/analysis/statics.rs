@@ -3,7 +3,8 @@
 //!
 //! 1. K_ff = LLᵀ: one symbolic analysis and one numeric factor per distinct f-set, shared by
 //!    every load case with that f-set (K does not depend on the load) — [`StaticFactors`];
-//! 2. P_g of a load selection (FORCE, MOMENT, GRAV with M_gg), P_f = (Tᵀ P_g)_f − K_fs u_s;
+//! 2. P_g of a load selection (FORCE, MOMENT, GRAV with M_gg), u_s the SPC values with the
+//!    selection's SPCD values in their place ([`SpcSet::with_spcd`]), P_f = (Tᵀ P_g)_f − K_fs u_s;
 //! 3. u_f by the factor plus one step of iterative refinement
 //!    ([`Constrained::solve_static`]: shell models mix membrane and bending stiffness,
 //!    condition numbers 1e8–1e10);
@@ -18,6 +19,8 @@ use super::AnalysisError;
 use crate::assembly::AssemblyError;
 use crate::assembly::loads::{Mass, load_vector, reduce_load};
 use crate::assembly::recover::{expand_f_to_n, spc_forces};
+#[cfg(doc)]
+use crate::assembly::spc::SpcSet;
 use crate::discretize::elements::{
     ShellRecovery, element_displacements, shell_strains, solid_kind_of,
 };
@@ -130,17 +133,19 @@ impl StaticSolution {
             )?,
             None => vec![0.0; st.map.size()],
         };
+        let enforced = match load {
+            Some(sid) => {
+                let spcd = model
+                    .enforced_displacements(sid)
+                    .map_err(|_| AssemblyError::NoLoadSet { sid })?;
+                c.spc.with_spcd(model, &st.map, &spcd)?
+            }
+            None => c.spc.enforced.clone(),
+        };
         let k_fs_values = c.k_fs.evaluate(&st.weights(&c.k_fs))?.values().to_vec();
-        let p_f = reduce_load(
-            &p_g,
-            &st.rigid,
-            &c.sets,
-            &c.k_fs,
-            &k_fs_values,
-            &c.spc.enforced,
-        )?;
+        let p_f = reduce_load(&p_g, &st.rigid, &c.sets, &c.k_fs, &k_fs_values, &enforced)?;
         let u_f = c.solve_static(factor, &p_f)?;
-        let u_n = expand_f_to_n(&u_f, &c.sets, &c.spc.enforced)?;
+        let u_n = expand_f_to_n(&u_f, &c.sets, &enforced)?;
         let u_g = st.rigid.expand(&u_n)?;
         let p_n = st.rigid.reduce_vector(&p_g)?;
         let q_s = spc_forces(&st.k_nn, &c.k_nn_values, &u_n, &p_n, &c.sets)?;

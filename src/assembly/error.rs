@@ -74,8 +74,17 @@ pub enum AssemblyError {
         a: f64,
         b: f64,
     },
+    /// An SPCD names a DOF that the subcase's SPC set does not constrain.
+    #[error("{card}: {dof} is {}: an enforced displacement (SPCD) must act on a DOF of the subcase's SPC set (SPC, SPC1 or GRID PS), as in Nastran; add it to the SPC set selected by SPC =", if *autospc { "constrained by AUTOSPC only" } else { "not constrained" })]
+    SpcdNotConstrained {
+        dof: DofName,
+        card: String,
+        autospc: bool,
+    },
     /// The LOAD set does not exist.
-    #[error("LOAD = {sid} selects no LOAD/FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set {sid}")]
+    #[error(
+        "LOAD = {sid} selects no LOAD/FORCE/MOMENT/FORCE1/FORCE2/MOMENT1/MOMENT2/SLOAD/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set {sid}"
+    )]
     NoLoadSet { sid: u32 },
     /// A LOAD card references another LOAD (not allowed, as in Nastran) or a missing set.
     #[error("LOAD {sid}: {reason}")]

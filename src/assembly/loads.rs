@@ -3,13 +3,15 @@
 //! - `FORCE` / `MOMENT`: F·(N1, N2, N3) with N in system CID *at the grid* (for a CORD2C the
 //!   local (e_r, e_θ, e_z) there, `CoordSystem::axes_at`), rotated to the grid's global (CD)
 //!   frame and added to its translations / rotations.
+//! - `FORCE1` / `FORCE2` / `MOMENT1` / `MOMENT2`: as FORCE / MOMENT, the direction from the
+//!   grids' basic positions ([`Model::direction_by_grids`]); `SLOAD`: F on a scalar point's DOF.
 //! - `GRAV`: acceleration a = A·(N1, N2, N3) in CID's axes (its Cartesian axes i, j, k; the
 //!   direction is uniform). The load is P = M_gg · a_g with a_g the rigid translational
 //!   acceleration field (a in every grid's global frame, zero rotations), so the mass matrix
 //!   must be assembled first ([`gravity_load`]).
 //! - `PLOAD4` / `PLOAD2` / `PLOAD`: the consistent nodal forces of the pressure on each loaded
 //!   face ([`crate::model::pressure`], [`crate::fe::pressure`]), added like FORCEs in basic.
-//! - `LOAD sid S S1 L1 S2 L2 …`: P = S · Σ Si P(Li), with Li FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 sets; a LOAD that
+//! - `LOAD sid S S1 L1 S2 L2 …`: P = S · Σ Si P(Li), with Li FORCE/MOMENT/FORCE1/FORCE2/MOMENT1/MOMENT2/SLOAD/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD sets; a LOAD that
 //!   references a LOAD is an error, as in Nastran. The model resolves the set into scaled
 //!   vectors in the basic system ([`Model::load_set`]).
 //!
@@ -48,12 +50,17 @@ pub fn load_vector(
         },
         SetError::Missing(li) => AssemblyError::BadLoad {
             sid,
-            reason: format!("L = {li} selects no FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set"),
+            reason: format!(
+                "L = {li} selects no FORCE/MOMENT/FORCE1/FORCE2/MOMENT1/MOMENT2/SLOAD/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set"
+            ),
         },
     })?;
     let mut p = vec![0.0; map.size()];
     for term in &terms {
         add_term(frames, term, &mass, sid, &mut p)?;
+        for &(k, f) in &term.scalar_loads {
+            p[map.scalar_dof(k)] += f;
+        }
     }
     Ok(p)
 }

@@ -4,6 +4,10 @@
 //! non-zero value D; the values are kept in the g-set vector [`SpcSet::enforced`] and enter the
 //! reduced load as −K_fs u_s ([`loads::reduce_load`](super::loads::reduce_load)).
 //!
+//! An SPCD set of the load selection ([`SpcSet::with_spcd`]) replaces the enforced values of its
+//! DOFs, which must be in the s-set by SPC, SPC1 or GRID PS (Nastran's rule; a DOF AUTOSPC alone
+//! constrained is refused too: it has no stiffness to be moved against).
+//!
 //! `SPCADD sid S1 S2 …` is the union of the SPC/SPC1 sets Si; an SPCADD of an SPCADD is an
 //! error, as in Nastran. One DOF given two different values in one set is an error.
 //!
@@ -28,6 +32,7 @@ use super::dofs::{DofMap, DofSet};
 use super::error::{AssemblyError, DofName};
 use crate::card_values::Dofs;
 use crate::model::Model;
+use crate::model::sets::EnforcedEntry;
 
 /// AUTOSPC threshold: a diagonal ≤ ratio × the largest diagonal of its grid's translation or
 /// rotation triple counts as "no stiffness" (Nastran's EPZERO default).
@@ -149,6 +154,38 @@ impl SpcSet {
         Ok(())
     }
 
+    /// The g-set enforced values with the SPCD entries `spcd` applied: each DOF an SPCD names
+    /// takes the sum of its SPCD values in place of its SPC value. A DOF outside the s-set, or
+    /// constrained by AUTOSPC only, is an error naming the SPCD card and its file:line.
+    pub fn with_spcd(
+        &self,
+        model: &Model,
+        map: &DofMap,
+        spcd: &[EnforcedEntry],
+    ) -> Result<Vec<f64>, AssemblyError> {
+        let mut out = self.enforced.clone();
+        let mut touched = vec![false; out.len()];
+        for entry in spcd {
+            let card = format!("SPCD {} at {}", entry.set, entry.loc);
+            let dofs = point_dofs(model, map, entry.grid, entry.components, &card)?;
+            for dof in dofs {
+                let by_autospc = self.source[dof].as_deref() == Some("AUTOSPC");
+                if !self.mask[dof] || by_autospc {
+                    return Err(AssemblyError::SpcdNotConstrained {
+                        dof: map.name(dof),
+                        card,
+                        autospc: by_autospc,
+                    });
+                }
+                if !touched[dof] {
+                    (touched[dof], out[dof]) = (true, 0.0);
+                }
+                out[dof] += entry.value;
+            }
+        }
+        Ok(out)
+    }
+
     /// Error if a constrained DOF is dependent in a rigid element.
     pub fn check_against_rigids(
         &self,
@@ -167,6 +204,17 @@ impl SpcSet {
         Ok(())
     }
 
+    /// Hold the r-set DOFs `suport` ([`suport_dofs`]) like SPCs at zero (SOL 101 without
+    /// inertia relief, as MSC Nastran); a DOF already constrained keeps its constraint.
+    pub fn add_suport(&mut self, suport: &[(usize, String)]) {
+        for (d, source) in suport {
+            if *d < self.mask.len() && !self.mask[*d] {
+                self.mask[*d] = true;
+                self.source[*d] = Some(source.clone());
+            }
+        }
+    }
+
     /// Add the DOFs AUTOSPC found (enforced value 0).
     pub fn add_autospc(&mut self, report: &AutoSpcReport) {
         for &d in &report.dofs {
@@ -177,6 +225,47 @@ impl SpcSet {
             }
         }
     }
+}
+
+/// The g indices of a grid's components, or of a scalar point's one DOF (`card` names the
+/// referencing card in the error for a missing grid).
+pub fn point_dofs(
+    model: &Model,
+    map: &DofMap,
+    id: u32,
+    components: Dofs,
+    card: &str,
+) -> Result<Vec<usize>, AssemblyError> {
+    if let Some(&k) = model.scalar_index.get(&id) {
+        return Ok(vec![map.scalar_dof(k)]);
+    }
+    let grid = grid_of(model, id, card)?;
+    Ok((components.components())
+        .map(|c| DofMap::dof(grid, c - 1))
+        .collect())
+}
+
+/// The g indices of the r-set of a subcase (SUPORT cards and its `SUPORT1` set), each with
+/// the card that put it there.
+pub fn suport_dofs(
+    model: &Model,
+    map: &DofMap,
+    suport1: Option<u32>,
+) -> Result<Vec<(usize, String)>, AssemblyError> {
+    let entries = (model.suport_entries(suport1)).map_err(|_| AssemblyError::NoConstraintSet {
+        selection: "SUPORT1",
+        cards: "SUPORT1".into(),
+        sid: suport1.unwrap_or(0),
+    })?;
+    let mut out: Vec<(usize, String)> = Vec::new();
+    for (id, dofs, source) in entries {
+        for d in point_dofs(model, map, id, dofs, &source)? {
+            if !out.iter().any(|(x, _)| *x == d) {
+                out.push((d, source.clone()));
+            }
+        }
+    }
+    Ok(out)
 }
 
 fn grid_of(model: &Model, id: u32, card: &str) -> Result<usize, AssemblyError> {

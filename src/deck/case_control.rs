@@ -103,6 +103,10 @@ pub struct Subcase {
     pub fmbstart: Option<FmbStart>,
     /// `POSES = id` (FMBPOSE card: the pose grid of a static `SOL FMB` subcase).
     pub poses: Option<u32>,
+    /// `SUPORT1 = sid` (SUPORT1 set of the r-set, with every SUPORT card).
+    pub suport1: Option<u32>,
+    /// `LOADSET = sid` (LSEQ cards: static load sets as dynamic excitations).
+    pub loadset: Option<u32>,
     /// `STRREF = NONE | INITIAL | id` (what the STRAIN outputs of a `SOL FMB` run are relative
     /// to).
     pub strref: Option<StrainReference>,
@@ -131,7 +135,8 @@ impl Subcase {
         macro_rules! inherit { ($($f:ident),*) => { $( if out.$f.is_none() { out.$f = defaults.$f.clone(); } )* } }
         inherit!(
             title, subtitle, label, spc, mpc, load, method, frequency, sdamping, dload, tstep, ic,
-            prom, rom, fmb, pval, sensor, estim, meas, msensor, fmbstart, poses, strref
+            prom, rom, fmb, pval, sensor, estim, meas, msensor, fmbstart, poses, strref, suport1,
+            loadset
         );
         let own: Vec<&str> = out.outputs.iter().map(|o| o.name).collect();
         let inherited: Vec<OutputRequest> = defaults
@@ -195,6 +200,8 @@ const SELECTIONS: &[&str] = &[
     "ESTIM",
     "MEAS",
     "POSES",
+    "SUPORT1",
+    "LOADSET",
 ];
 
 /// Output requests paraflex parses.
@@ -581,6 +588,8 @@ impl CaseControl {
                 "PVAL" => &mut sub.pval,
                 "ESTIM" => &mut sub.estim,
                 "POSES" => &mut sub.poses,
+                "SUPORT1" => &mut sub.suport1,
+                "LOADSET" => &mut sub.loadset,
                 _ => &mut sub.meas,
             };
             *slot = Some(id);

@@ -19,11 +19,12 @@
 
 use faer::{Mat, c64};
 
+use super::enforced::enforced_dofs;
 use super::{Constrained, Structure};
 use crate::assembly::AssemblyError;
 use crate::assembly::DofMap;
 use crate::assembly::loads::{Mass, load_vector};
-use crate::deck::cards::{RloadTables, TloadFunction};
+use crate::deck::cards::{ExcitationKind, RloadTables, TloadFunction};
 use crate::dynamics::pulse::Pulse;
 use crate::dynamics::table::Table;
 use crate::io::csv_table::read_columns;
@@ -124,6 +125,13 @@ pub fn load_terms(
         }
         for t in tloads {
             let card = t.function.card();
+            if t.kind != ExcitationKind::Load {
+                return Err(format!(
+                    "{card} {}: TYPE = {} (enforced motion) is not available in the time domain in this version",
+                    t.sid,
+                    t.kind.name()
+                ));
+            }
             let function = match &t.function {
                 TloadFunction::Table(tid) => {
                     TimeFunction::Table(table_of(model, *tid, &format!("{card} {}", t.sid))?)
@@ -156,13 +164,16 @@ pub fn load_terms(
 }
 
 /// The f-set shape of a static load set (FORCE, MOMENT, LOAD combinations) used as a TLOAD's or
-/// an RLOAD's EXCITEID (as MSC Nastran accepts without LSEQ).
+/// an RLOAD's EXCITEID: the LID of an LSEQ of the subcase's `loadset` with that EXCITEID, or
+/// the set of that id itself (as MSC Nastran accepts without LSEQ).
 pub fn static_shape(
     model: &Model,
     st: &Structure,
     c: &Constrained,
-    sid: u32,
+    excite_id: u32,
+    loadset: Option<u32>,
 ) -> Result<Option<Vec<f64>>, String> {
+    let sid = model.excited_static_set(excite_id, loadset);
     let with_mass = |values: &[f64]| {
         load_vector(
             model,
@@ -250,7 +261,8 @@ pub fn initial_state(
     Ok((u, v))
 }
 
-/// One RLOAD1/RLOAD2 term on one input: scale · P(f) · e^{i(θ − 2πfτ)}.
+/// One RLOAD1/RLOAD2 term on one input: scale · P(f) · e^{i(θ − 2πfτ)}, for enforced motion
+/// the displacement of that value (a velocity divided by iω, an acceleration by −ω²).
 pub struct FrequencyLoad {
     /// Index of the input DOF the term loads.
     pub input: usize,
@@ -260,11 +272,20 @@ pub struct FrequencyLoad {
     pub phase: f64,
     /// τ (s).
     pub delay: f64,
+    /// TYPE of the RLOAD.
+    pub kind: ExcitationKind,
 }
 
 impl FrequencyLoad {
-    /// The complex load at `hz`.
+    /// The complex load (or enforced displacement) at `hz`; a VELO or ACCE term at 0 Hz is
+    /// infinite (the caller refuses that line).
     pub fn at(&self, hz: f64) -> c64 {
+        let w = 2.0 * std::f64::consts::PI * hz;
+        let integrate = match self.kind {
+            ExcitationKind::Load | ExcitationKind::Displacement => c64::new(1.0, 0.0),
+            ExcitationKind::Velocity => c64::new(0.0, -1.0 / w),
+            ExcitationKind::Acceleration => c64::new(-1.0 / (w * w), 0.0),
+        };
         let value = |t: &Option<Table>| t.as_ref().map_or(0.0, |t| t.value(hz));
         let p = match &self.p {
             FrequencyFunction::Rectangular { c, d } => c64::new(value(c), value(d)),
@@ -273,8 +294,8 @@ impl FrequencyLoad {
                 c64::new(phi.cos(), phi.sin()) * b.value(hz)
             }
         };
-        let angle = self.phase - 2.0 * std::f64::consts::PI * hz * self.delay;
-        p * c64::new(angle.cos(), angle.sin()) * self.scale
+        let angle = self.phase - w * self.delay;
+        p * c64::new(angle.cos(), angle.sin()) * self.scale * integrate
     }
 }
 
@@ -289,11 +310,16 @@ pub enum FrequencyFunction {
 
 /// The inputs of a frequency response: names `GRID:component` (DAREA DOFs, unit-load columns)
 /// then `LOAD sid` (static load sets selected by an EXCITEID, their load vector as the column),
-/// the f-set columns (n_f × k) and the RLOAD terms on them.
+/// then `GRID:component` of the enforced DOFs (SPCD DOFs of RLOADs with TYPE = DISP, VELO or
+/// ACCE: a zero column here, their response is composed by the caller from
+/// [`crate::discretize::enforced::EnforcedColumns`]); the f-set columns (n_f × k) and the RLOAD
+/// terms on them.
 pub struct FrequencyInputs {
     pub names: Vec<String>,
     pub columns: Mat<f64>,
     pub terms: Vec<FrequencyLoad>,
+    /// g index of each enforced DOF: the last `enforced.len()` inputs.
+    pub enforced: Vec<usize>,
 }
 
 impl FrequencyInputs {
@@ -327,11 +353,15 @@ pub fn frequency_inputs(
     st: &Structure,
     c: &Constrained,
     sid: u32,
+    loadset: Option<u32>,
 ) -> Result<FrequencyInputs, String> {
     let mut dofs: Vec<(u32, usize)> = Vec::new();
     let mut static_sets: Vec<(u32, Vec<f64>)> = Vec::new();
     // terms on a static set: (index in `terms`, index in `static_sets`), numbered after the DOFs
     let mut on_static_sets: Vec<(usize, usize)> = Vec::new();
+    // enforced DOFs (g indices) and the terms on them, numbered after the static sets
+    let mut enforced: Vec<usize> = Vec::new();
+    let mut on_enforced: Vec<(usize, usize)> = Vec::new();
     let mut terms = Vec::new();
     for (scale, set) in model.dynamic_load_members(sid) {
         let rloads = model.harmonic_loads(set);
@@ -376,14 +406,37 @@ pub fn frequency_inputs(
                     p: p.clone(),
                     phase: r.phase_deg.to_radians(),
                     delay: r.delay,
+                    kind: r.kind,
                 });
             }
-            if r.excitation.is_empty() {
+            if r.kind != ExcitationKind::Load {
+                let entries = model.enforced_members(&[(1.0, r.excite_id)]);
+                let moved = enforced_dofs(model, st, c, &entries)
+                    .map_err(|e| format!("{card} {}: {e}", r.sid))?;
+                for (g, value) in moved {
+                    let index = match enforced.iter().position(|&x| x == g) {
+                        Some(i) => i,
+                        None => {
+                            enforced.push(g);
+                            enforced.len() - 1
+                        }
+                    };
+                    on_enforced.push((terms.len(), index));
+                    terms.push(FrequencyLoad {
+                        input: index,
+                        scale: scale * value,
+                        p: p.clone(),
+                        phase: r.phase_deg.to_radians(),
+                        delay: r.delay,
+                        kind: r.kind,
+                    });
+                }
+            } else if r.excitation.is_empty() {
                 let known = static_sets.iter().position(|(id, _)| *id == r.excite_id);
                 let index = match known {
                     Some(i) => i,
                     None => {
-                        let shape = static_shape(model, st, c, r.excite_id)
+                        let shape = static_shape(model, st, c, r.excite_id, loadset)
                             .map_err(|e| format!("{card} {}: {e}", r.sid))?
                             .ok_or_else(|| {
                                 format!(
@@ -402,6 +455,7 @@ pub fn frequency_inputs(
                     p: p.clone(),
                     phase: r.phase_deg.to_radians(),
                     delay: r.delay,
+                    kind: r.kind,
                 });
             }
         }
@@ -409,22 +463,32 @@ pub fn frequency_inputs(
     for (term, index) in on_static_sets {
         terms[term].input = dofs.len() + index;
     }
+    for (term, index) in on_enforced {
+        terms[term].input = dofs.len() + static_sets.len() + index;
+    }
     let unit = unit_load_columns(model, st, c, &dofs)?;
-    let columns = Mat::from_fn(unit.nrows(), dofs.len() + static_sets.len(), |i, j| match j
-        .checked_sub(dofs.len())
-    {
-        None => unit[(i, j)],
-        Some(k) => static_sets[k].1[i],
+    let loads = dofs.len() + static_sets.len();
+    let columns = Mat::from_fn(unit.nrows(), loads + enforced.len(), |i, j| {
+        match j.checked_sub(dofs.len()) {
+            None => unit[(i, j)],
+            Some(k) if k < static_sets.len() => static_sets[k].1[i],
+            Some(_) => 0.0,
+        }
     });
     let names = dofs
         .iter()
         .map(|(g, c)| format!("{g}:{c}"))
         .chain(static_sets.iter().map(|(id, _)| format!("LOAD {id}")))
+        .chain(enforced.iter().map(|&g| {
+            let n = st.map.name(g);
+            format!("{}:{}", n.grid, n.component)
+        }))
         .collect();
     Ok(FrequencyInputs {
         names,
         columns,
         terms,
+        enforced,
     })
 }
 
@@ -489,4 +553,43 @@ pub fn place_input(
         .enumerate()
         .for_each(|(i, s)| *s += scale * s_r[(i, j)]);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An enforced velocity is integrated to a displacement as v/(iω) and an acceleration as
+    /// a/(−ω²) (Nastran's frequency-domain enforced motion); a displacement or a load is taken
+    /// as it is. P(f) = 2 (a constant table), scale 3, no phase or delay.
+    #[test]
+    fn enforced_velocity_and_acceleration_are_integrated() {
+        let table = Table::new(&[(0.0, 2.0), (100.0, 2.0)]).expect("table");
+        let term = |kind| FrequencyLoad {
+            input: 0,
+            scale: 3.0,
+            p: FrequencyFunction::Rectangular {
+                c: Some(table.clone()),
+                d: None,
+            },
+            phase: 0.0,
+            delay: 0.0,
+            kind,
+        };
+        let (hz, w) = (10.0, 2.0 * std::f64::consts::PI * 10.0);
+        let close = |a: c64, b: c64| (a - b).norm() <= 1e-15 * b.norm();
+        assert!(close(term(ExcitationKind::Load).at(hz), c64::new(6.0, 0.0)));
+        assert!(close(
+            term(ExcitationKind::Displacement).at(hz),
+            c64::new(6.0, 0.0)
+        ));
+        assert!(close(
+            term(ExcitationKind::Velocity).at(hz),
+            c64::new(0.0, -6.0 / w)
+        ));
+        assert!(close(
+            term(ExcitationKind::Acceleration).at(hz),
+            c64::new(-6.0 / (w * w), 0.0)
+        ));
+    }
 }

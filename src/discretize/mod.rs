@@ -39,6 +39,7 @@
 
 pub mod body;
 pub mod elements;
+pub mod enforced;
 pub mod loads;
 pub mod mechanism;
 pub mod parameters;

@@ -31,6 +31,7 @@ use nalgebra_sparse::{CooMatrix, CscMatrix};
 
 use super::elements::{shell_strains, solid_kind_of};
 use super::{Constrained, DiscretizeError, Structure};
+use crate::assembly::DofSet;
 use crate::card_values::SensorKind;
 use crate::dynamics::measurement::Reads;
 use crate::fe::solid;
@@ -47,6 +48,9 @@ pub struct SensorOperator {
     pub reads: Vec<Reads>,
     /// s × n_f: y = H u_f (DISP, STRAIN); VEL and ACCEL rows act on u̇_f and ü_f.
     pub rows: CscMatrix<f64>,
+    /// The same rows on the constrained DOFs (sensors × n_s): what an enforced motion of the
+    /// s-set adds to y.
+    pub rows_s: CscMatrix<f64>,
 }
 
 impl SensorOperator {
@@ -127,6 +131,7 @@ pub fn sensor_operator(
         .map(|(i, e)| (e.id, i))
         .collect();
     let mut coo = CooMatrix::new(sensors.len(), c.sets.f.len());
+    let mut coo_s = CooMatrix::new(sensors.len(), c.sets.s.len());
     let mut names = Vec::with_capacity(sensors.len());
     let mut kinds = Vec::with_capacity(sensors.len());
     for (r, s) in sensors.iter().enumerate() {
@@ -151,8 +156,11 @@ pub fn sensor_operator(
                 strain_row(model, st, index, s, d).map_err(|e| case(e.to_string()))?
             }
         };
-        for (f, h) in f_row(st, c, &basic) {
+        for (f, h) in set_row(st, &c.sets.f_in_n, &basic) {
             coo.push(r, f, h);
+        }
+        for (k, h) in set_row(st, &c.sets.s_in_n, &basic) {
+            coo_s.push(r, k, h);
         }
         names.push(s.name.clone());
         kinds.push(s.kind);
@@ -163,6 +171,7 @@ pub fn sensor_operator(
         kinds,
         reads,
         rows: CscMatrix::from(&coo),
+        rows_s: CscMatrix::from(&coo_s),
     })
 }
 
@@ -237,10 +246,20 @@ fn strain_row(
 /// the order given): u_basic = R u_f, through the same CD-frame, g → n and f-set mapping as a
 /// DISP sensor (a dependent RBE grid moves with its independent DOFs, a constrained one reads 0).
 pub fn displacement_rows(st: &Structure, c: &Constrained, grids: &[usize]) -> CscMatrix<f64> {
-    let mut coo = CooMatrix::new(6 * grids.len(), c.sets.f.len());
+    grid_rows(st, &c.sets.f_in_n, grids)
+}
+
+/// [`displacement_rows`] on the s-set (6·grids × n_s): what an enforced motion adds.
+pub fn displacement_rows_s(st: &Structure, c: &Constrained, grids: &[usize]) -> CscMatrix<f64> {
+    grid_rows(st, &c.sets.s_in_n, grids)
+}
+
+/// The basic displacement rows of `grids` restricted to `set` (positions in n).
+fn grid_rows(st: &Structure, set: &DofSet, grids: &[usize]) -> CscMatrix<f64> {
+    let mut coo = CooMatrix::new(6 * grids.len(), set.len());
     for (r, &grid) in grids.iter().enumerate() {
         for k in 0..6 {
-            for (f, h) in f_row(st, c, &[(6 * grid + k, 1.0)]) {
+            for (f, h) in set_row(st, set, &[(6 * grid + k, 1.0)]) {
                 coo.push(6 * r + k, f, h);
             }
         }
@@ -248,9 +267,9 @@ pub fn displacement_rows(st: &Structure, c: &Constrained, grids: &[usize]) -> Cs
     CscMatrix::from(&coo)
 }
 
-/// A row over basic g-set DOFs → (f index, value): Λᵀ per grid (CD frames), Tᵀ (g → n),
-/// then the f-set members.
-fn f_row(st: &Structure, c: &Constrained, basic: &[(usize, f64)]) -> Vec<(usize, f64)> {
+/// A row over basic g-set DOFs → (index in `set`, value): Λᵀ per grid (CD frames), Tᵀ (g → n),
+/// then the members of `set` (the f- or the s-set as positions in n).
+fn set_row(st: &Structure, set: &DofSet, basic: &[(usize, f64)]) -> Vec<(usize, f64)> {
     let mut by_grid: BTreeMap<usize, [f64; 6]> = BTreeMap::new();
     for &(dof, h) in basic {
         by_grid.entry(dof / 6).or_default()[dof % 6] += h;
@@ -269,6 +288,6 @@ fn f_row(st: &Structure, c: &Constrained, basic: &[(usize, f64)]) -> Vec<(usize,
     n_row
         .into_iter()
         .filter(|(_, h)| *h != 0.0)
-        .filter_map(|(j, h)| c.sets.f_in_n.position(j).map(|f| (f, h)))
+        .filter_map(|(j, h)| set.position(j).map(|f| (f, h)))
         .collect()
 }

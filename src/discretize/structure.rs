@@ -202,8 +202,30 @@ impl Constrained {
         sid: Option<u32>,
         p: &[f64],
     ) -> Result<Self, DiscretizeError> {
+        Self::held(model, st, sid, p, &[])
+    }
+
+    /// [`Constrained::build`] with the DOFs `also` (g index, source card) held as well: the
+    /// SUPORT DOFs of SOL 101 without inertia relief.
+    pub fn build_holding(
+        model: &Model,
+        st: &Structure,
+        sid: Option<u32>,
+        also: &[(usize, String)],
+    ) -> Result<Self, DiscretizeError> {
+        Self::held(model, st, sid, &st.params.nominal(), also)
+    }
+
+    fn held(
+        model: &Model,
+        st: &Structure,
+        sid: Option<u32>,
+        p: &[f64],
+        also: &[(usize, String)],
+    ) -> Result<Self, DiscretizeError> {
         let weights = |op: &AffineOperator| st.params.weights(op, p);
         let mut spc = SpcSet::of_model(model, &st.map, sid)?;
+        spc.add_suport(also);
         spc.check_against_rigids(&st.rigid, &st.map)?;
         let mut k_nn_values = vec![0.0; st.k_nn.pattern().nnz()];
         st.k_nn

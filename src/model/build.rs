@@ -102,6 +102,7 @@ impl Model {
         // the pressure cards' faces need the built elements and grids
         errors.extend(super::pressure::check(&model, &declared_elements));
         errors.extend(super::line_loads::check(&model, &declared_elements));
+        errors.extend(super::grid_loads::check(&model));
         errors.extend(super::bush::check(&model));
         if !errors.is_empty() {
             errors.sort_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));

@@ -121,7 +121,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
                 "LOAD",
                 sub.load,
                 &load,
-                "LOAD/FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1",
+                "LOAD/FORCE/MOMENT/FORCE1/FORCE2/MOMENT1/MOMENT2/SLOAD/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD",
             );
         }
         need("METHOD", sub.method, &method, "EIGRL/EIGR");
@@ -332,7 +332,10 @@ pub fn unselected_sets(deck: &Deck, warnings: &mut Vec<Warning>) {
         .chain(b.pload4.iter().map(|c| (c.sid, "PLOAD4", &c.loc)))
         .chain(b.pload2.iter().map(|c| (c.sid, "PLOAD2", &c.loc)))
         .chain(b.pload.iter().map(|c| (c.sid, "PLOAD", &c.loc)))
-        .chain(b.pload1.iter().map(|c| (c.sid, "PLOAD1", &c.loc)));
+        .chain(b.pload1.iter().map(|c| (c.sid, "PLOAD1", &c.loc)))
+        .chain(b.spcd.iter().map(|c| (c.sid, "SPCD", &c.loc)))
+        .chain((b.forces_by_grids.iter()).map(|c| (c.sid, c.card(), &c.loc)))
+        .chain(b.sload.iter().map(|c| (c.sid, "SLOAD", &c.loc)));
     let load_selected = subcases
         .iter()
         .filter_map(|s| s.load)
@@ -342,7 +345,8 @@ pub fn unselected_sets(deck: &Deck, warnings: &mut Vec<Warning>) {
                 .flat_map(|c| c.terms.iter().map(|(_, sid)| *sid)),
         )
         .chain(b.tload.iter().map(|t| t.excite_id))
-        .chain(b.rload.iter().map(|r| r.excite_id));
+        .chain(b.rload.iter().map(|r| r.excite_id))
+        .chain(b.lseq.iter().map(|l| l.lid));
     warn_unselected(
         "LOAD",
         "it is not applied",

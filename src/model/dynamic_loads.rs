@@ -10,7 +10,7 @@
 use std::path::PathBuf;
 
 use crate::deck::Loc;
-use crate::deck::cards::{RloadTables, TloadFunction};
+use crate::deck::cards::{ExcitationKind, RloadTables, TloadFunction};
 
 use super::Model;
 use crate::card_values::Column;
@@ -38,6 +38,8 @@ pub struct TransientLoad {
     pub excitation: Vec<Excitation>,
     /// τ (s).
     pub delay: f64,
+    /// TYPE: an applied load or enforced motion.
+    pub kind: ExcitationKind,
     /// The table (TLOAD1) or the pulse (TLOAD2).
     pub function: TloadFunction,
 }
@@ -56,6 +58,8 @@ pub struct HarmonicLoad {
     pub phase_deg: f64,
     /// Table ids of P(f).
     pub tables: RloadTables,
+    /// TYPE: an applied load, or the enforced motion of EXCITEID's SPCD DOFs.
+    pub kind: ExcitationKind,
 }
 
 /// Where a table's (x, y) points come from.
@@ -98,6 +102,7 @@ impl Model {
                 excite_id: t.excite_id,
                 excitation: self.excitation(t.excite_id),
                 delay: t.delay,
+                kind: t.kind,
                 function: t.function.clone(),
             })
             .collect()
@@ -116,8 +121,17 @@ impl Model {
                 delay: r.delay,
                 phase_deg: r.phase_deg,
                 tables: r.tables,
+                kind: r.kind,
             })
             .collect()
+    }
+
+    /// The static load set a dynamic load's EXCITEID selects: the LID of the LSEQ of set
+    /// `loadset` (case control `LOADSET`) with that EXCITEID, or the EXCITEID itself.
+    pub fn excited_static_set(&self, excite_id: u32, loadset: Option<u32>) -> u32 {
+        (self.bulk.lseq.iter())
+            .find(|l| Some(l.sid) == loadset && l.excite_id == excite_id)
+            .map_or(excite_id, |l| l.lid)
     }
 
     /// The DAREA entries of set `sid`, one per component, in card order.

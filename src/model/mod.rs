@@ -29,6 +29,7 @@ pub mod coords;
 pub mod damping;
 pub mod dynamic_loads;
 pub mod geometry;
+pub mod grid_loads;
 pub mod ids;
 pub mod line_loads;
 pub mod lines;

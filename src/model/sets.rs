@@ -5,7 +5,9 @@
 //!   member set (members in increasing id, card order within);
 //! - [`Model::load_set`]: `LOAD = sid` with its `LOAD` combination expanded into terms of
 //!   FORCE / MOMENT vectors and GRAV accelerations in the basic system, the combination factor
-//!   S · Si applied.
+//!   S · Si applied;
+//! - [`Model::enforced_displacements`]: the SPCD entries of `LOAD = sid` (a member set of a LOAD
+//!   combination, or the set itself), their values scaled by the combination factor S · Si.
 //!
 //! An SPCADD of an SPCADD, an MPCADD of an MPCADD, a LOAD of a LOAD, and a member that selects nothing are errors, as in
 //! Nastran ([`SetError`]); the model check rejects them already, and the resolution does not
@@ -63,6 +65,19 @@ pub struct SpcEntry {
     pub loc: Loc,
 }
 
+/// Components of a grid (or a scalar point) moved by an enforced displacement, from one SPCD.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnforcedEntry {
+    /// The SPCD set (a LOAD member, or the selected set itself).
+    pub set: u32,
+    /// Grid or scalar point id.
+    pub grid: u32,
+    pub components: Dofs,
+    /// S · Si · D.
+    pub value: f64,
+    pub loc: Loc,
+}
+
 /// A force or moment of a load set at one grid.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointLoad {
@@ -74,7 +89,8 @@ pub struct PointLoad {
     pub basic: [f64; 3],
 }
 
-/// One member of a load set: its FORCE / MOMENT cards and the consistent nodal forces of its
+/// One member of a load set: its FORCE / MOMENT / FORCE1 / FORCE2 / MOMENT1 / MOMENT2 cards,
+/// its SLOAD scalar-point loads, and the consistent nodal forces of its
 /// PLOAD4 / PLOAD2 / PLOAD pressures ([`crate::fe::pressure`]), the grid loads of its PLOAD1
 /// beam loads ([`crate::fe::beam_load`]), and its GRAV accelerations.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -83,6 +99,8 @@ pub struct LoadTerm {
     /// Uniform translational accelerations S · Si · A · (N1, N2, N3) in the basic system, N in
     /// CID's Cartesian axes.
     pub accelerations: Vec<[f64; 3]>,
+    /// SLOAD loads: (scalar point index into the model's scalar points, S · Si · F).
+    pub scalar_loads: Vec<(usize, f64)>,
 }
 
 impl Model {
@@ -121,6 +139,58 @@ impl Model {
             .collect())
     }
 
+    /// The SPCD entries of `LOAD = sid`, scaled by their combination factor (see the module
+    /// documentation); empty when the selection holds no SPCD.
+    pub fn enforced_displacements(&self, sid: u32) -> Result<Vec<EnforcedEntry>, SetError> {
+        Ok(self.enforced_members(&load_members(&self.bulk, sid)?))
+    }
+
+    /// The SPCD entries of the (factor, set) pairs `members`.
+    pub fn enforced_members(&self, members: &[(f64, u32)]) -> Vec<EnforcedEntry> {
+        members
+            .iter()
+            .flat_map(|&(scale, set)| {
+                (self.bulk.spcd.iter().filter(move |c| c.sid == set)).map(move |c| EnforcedEntry {
+                    set,
+                    grid: c.grid,
+                    components: c.components,
+                    value: scale * c.value,
+                    loc: c.loc.clone(),
+                })
+            })
+            .collect()
+    }
+
+    /// Whether the deck has SUPORT or SUPORT1 cards.
+    pub fn has_suport(&self) -> bool {
+        !self.bulk.suport.is_empty()
+    }
+
+    /// The r-set of a subcase: every SUPORT card's (point, components) and those of the SUPORT1
+    /// set `suport1`, each with its card and file:line; an error when `suport1` selects no card.
+    pub fn suport_entries(
+        &self,
+        suport1: Option<u32>,
+    ) -> Result<Vec<(u32, Dofs, String)>, SetError> {
+        if let Some(sid) = suport1
+            && !self.bulk.suport.iter().any(|c| c.sid == Some(sid))
+        {
+            return Err(SetError::Empty);
+        }
+        Ok((self.bulk.suport.iter())
+            .filter(|c| c.sid.is_none() || c.sid == suport1)
+            .flat_map(|c| {
+                let source = match c.sid {
+                    Some(sid) => format!("SUPORT1 {sid} at {}", c.loc),
+                    None => format!("SUPORT at {}", c.loc),
+                };
+                c.points
+                    .iter()
+                    .map(move |&(id, dofs)| (id, dofs, source.clone()))
+            })
+            .collect())
+    }
+
     fn load_term(&self, set: u32, scale: f64) -> LoadTerm {
         let b = &self.bulk;
         let mut term = LoadTerm::default();
@@ -140,6 +210,25 @@ impl Model {
                 grid,
                 basic,
             });
+        }
+        for c in b.forces_by_grids.iter().filter(|c| c.sid == set) {
+            // grids and directions are checked when the model is built
+            let (Some(&grid), Ok(n)) = (self.grid_index.get(&c.grid), self.direction_by_grids(c))
+            else {
+                continue;
+            };
+            term.point_loads.push(PointLoad {
+                kind: c.kind,
+                grid,
+                basic: n.map(|v| scale * c.magnitude * v),
+            });
+        }
+        for c in b.sload.iter().filter(|c| c.sid == set) {
+            for &(point, f) in &c.loads {
+                if let Some(&k) = self.scalar_index.get(&point) {
+                    term.scalar_loads.push((k, scale * f));
+                }
+            }
         }
         let faces = (b.pload4.iter().filter(|c| c.sid == set))
             .flat_map(|c| self.pload4_faces(c).unwrap_or_default())
@@ -179,7 +268,7 @@ fn simple_set_exists(b: &BulkData, sid: u32) -> bool {
     b.static_load_sets().any(|s| s == sid)
 }
 
-/// (factor, FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set) of each member of `LOAD = sid`.
+/// (factor, FORCE/MOMENT/FORCE1/FORCE2/MOMENT1/MOMENT2/SLOAD/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set) of each member of `LOAD = sid`.
 fn load_members(b: &BulkData, sid: u32) -> Result<Vec<(f64, u32)>, SetError> {
     let combos: Vec<_> = b.load.iter().filter(|l| l.sid == sid).collect();
     if combos.is_empty() {

@@ -12,8 +12,8 @@
 //! | SPCADD | Si | SPC/SPC1 set |
 //! | MPC | Gi | GRID |
 //! | MPCADD | Si | MPC set |
-//! | LOAD | Li | FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set |
-//! | TLOAD1/2, RLOAD1/2 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/LOAD) |
+//! | LOAD | Li | FORCE/MOMENT/FORCE1/FORCE2/MOMENT1/MOMENT2/SLOAD/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set |
+//! | TLOAD1/2, RLOAD1/2 | EXCITEID | DAREA set or static load set (FORCE/MOMENT/FORCE1/FORCE2/MOMENT1/MOMENT2/SLOAD/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD/LOAD) |
 //! | TLOAD1 TID, RLOAD1 TC/TD, RLOAD2 TB/TP (≠ 0) | table | TABLED1–TABLED4 or TABLEF |
 //! | DLOAD | Li | TLOAD1/2, RLOAD1/2 set |
 //! | DESVAR | DDVAL | DDVAL |
@@ -28,7 +28,7 @@
 use std::collections::{HashMap, HashSet};
 
 use crate::card_values::{Dofs, ForceKind, SensorKind};
-use crate::deck::cards::{ParamValue, TloadFunction};
+use crate::deck::cards::{BulkData, ExcitationKind, ParamValue, TloadFunction};
 use crate::deck::{Deck, DeckError, Loc};
 
 use super::MaterialRef;
@@ -163,6 +163,7 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         .spc
         .iter()
         .map(|s| ("SPC", s.sid, s.grid, s.components, &s.loc)))
+    .chain((b.spcd.iter()).map(|s| ("SPCD", s.sid, s.grid, s.components, &s.loc)))
     .chain(b.spc1.iter().flat_map(|s| {
         s.grids
             .iter()
@@ -215,6 +216,13 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         refs.grid(f.grid, "G", &card, &f.loc, errors);
         refs.coord(f.cid, "CID", &card, &f.loc, errors);
     }
+    for f in &b.forces_by_grids {
+        let card = format!("{} {}", f.card(), f.sid);
+        refs.grid(f.grid, "G", &card, &f.loc, errors);
+        for (k, &g) in f.grids.iter().enumerate() {
+            refs.grid(g, &format!("G{}", k + 1), &card, &f.loc, errors);
+        }
+    }
     for g in &b.grav {
         refs.coord(g.cid, "CID", &format!("GRAV {}", g.sid), &g.loc, errors);
     }
@@ -254,11 +262,11 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
             if !static_sets.contains(id) {
                 let message = if b.load.iter().any(|other| other.sid == *id) {
                     format!(
-                        "L = {id} is itself a LOAD: a LOAD combines FORCE, MOMENT, GRAV, PLOAD4, PLOAD2, PLOAD and PLOAD1 sets, not other LOADs (as in Nastran)"
+                        "L = {id} is itself a LOAD: a LOAD combines FORCE, MOMENT, FORCE1, FORCE2, MOMENT1, MOMENT2, SLOAD, GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 and SPCD sets, not other LOADs (as in Nastran)"
                     )
                 } else {
                     format!(
-                        "L = {id} does not exist (no FORCE, MOMENT, GRAV, PLOAD4, PLOAD2, PLOAD or PLOAD1 set {id})"
+                        "L = {id} does not exist (no FORCE, MOMENT, FORCE1, FORCE2, MOMENT1, MOMENT2, SLOAD, GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 or SPCD set {id})"
                     )
                 };
                 errors.push(DeckError::at(&l.loc, message).on_card(format!("LOAD {}", l.sid)));
@@ -271,7 +279,29 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
         .map(|d| d.sid)
         .chain(static_sets.iter().copied())
         .chain(b.load.iter().map(|l| l.sid))
+        .chain(b.lseq.iter().map(|l| l.excite_id))
         .collect();
+    for l in &b.lseq {
+        let card = format!("LSEQ {}", l.sid);
+        if !static_sets.contains(&l.lid) && !b.load.iter().any(|x| x.sid == l.lid) {
+            errors.push(
+                DeckError::at(
+                    &l.loc,
+                    format!(
+                        "LID = {} does not exist (no static load set {})",
+                        l.lid, l.lid
+                    ),
+                )
+                .on_card(&card),
+            );
+        }
+        if b.darea.iter().any(|d| d.sid == l.excite_id) {
+            errors.push(
+                DeckError::at(&l.loc, format!("EXCITEID = {} is also a DAREA set: combining DAREA and LSEQ loads on one EXCITEID is not supported", l.excite_id))
+                    .on_card(&card),
+            );
+        }
+    }
     let tables = index(
         b.dynamic_tables()
             .map(|(id, card, loc)| entry(id, card, loc, ()))
@@ -304,6 +334,7 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
                 .on_card(&card),
             );
         }
+        excitation_kind(b, t.kind, t.excite_id, &card, &t.loc, errors);
         if let TloadFunction::Table(tid) = t.function {
             table(tid, "TID", &card, &t.loc, errors);
         }
@@ -322,6 +353,7 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
                 .on_card(&card),
             );
         }
+        excitation_kind(b, r.kind, r.excite_id, &card, &r.loc, errors);
         for (name, id) in r.tables.named() {
             table(id, name, &card, &r.loc, errors);
         }
@@ -649,4 +681,30 @@ fn property_users(refs: &Refs) -> HashMap<u32, Vec<String>> {
     b.cbar.iter().for_each(|c| push(c.pid, "CBAR", c.id));
     b.cbeam.iter().for_each(|c| push(c.pid, "CBEAM", c.id));
     users
+}
+
+/// A dynamic load's TYPE against its EXCITEID: enforced motion (DISP, VELO, ACCE) moves the
+/// DOFs of an SPCD set and nothing else; an applied load (LOAD) must not select SPCDs, whose
+/// values it would ignore.
+fn excitation_kind(
+    b: &BulkData,
+    kind: ExcitationKind,
+    excite_id: u32,
+    card: &str,
+    loc: &Loc,
+    errors: &mut Vec<DeckError>,
+) {
+    let spcd = b.spcd.iter().any(|c| c.sid == excite_id);
+    let message = match kind {
+        ExcitationKind::Load if spcd => format!(
+            "EXCITEID = {excite_id} selects SPCD cards, which an applied load (TYPE = LOAD) ignores: give TYPE = DISP, VELO or ACCE for enforced motion"
+        ),
+        ExcitationKind::Load => return,
+        _ if !spcd => format!(
+            "TYPE = {} (enforced motion) needs EXCITEID = an SPCD set; there is no SPCD {excite_id}",
+            kind.name()
+        ),
+        _ => return,
+    };
+    errors.push(DeckError::at(loc, message).on_card(card));
 }

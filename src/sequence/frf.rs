@@ -39,13 +39,17 @@ use super::shared::{frequency_lines, structure, write_frf};
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
 use crate::analysis::frf::{self, Damping, FrfRun, FullFrf, first_rows, output_rows};
 use crate::deck::Solution;
-use crate::discretize::loads::frequency_inputs;
-use crate::discretize::sensors::displacement_rows;
+use crate::deck::cards::ExcitationKind;
+use crate::discretize::enforced::EnforcedColumns;
+use crate::discretize::loads::{FrequencyInputs, frequency_inputs};
+use crate::discretize::sensors::{SensorOperator, displacement_rows, displacement_rows_s};
 use crate::discretize::{Constrained, Structure};
 use crate::dynamics::frf::{ModalDampingTable, scaled_flat};
 use crate::dynamics::measurement::Reads;
 use crate::io::{set_attr_i64, set_attr_str, write_c64};
 use crate::linalg::EigenRequest;
+use crate::linalg::Mat;
+use nalgebra_sparse::CscMatrix;
 
 /// How the full-model FRF is computed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -139,7 +143,7 @@ fn run(
         let hz = frequency_lines(model, sub)?;
         let omegas: Vec<f64> = hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
         let sid = sub.dload.ok_or_else(|| RunError::Case { subcase: id, what: "SOL FRF on the full model needs DLOAD = <RLOAD1 or DLOAD sid> (its DAREA DOFs are the inputs)".into() })?;
-        let inputs = frequency_inputs(model, st, &c, sid)
+        let inputs = frequency_inputs(model, st, &c, sid, sub.loadset)
             .map_err(|what| RunError::Case { subcase: id, what })?;
         let sensors = clock.time(format!("subcase {id}: sensor rows"), || {
             super::subcase_sensors(ctx, st, &c, sub)
@@ -155,6 +159,13 @@ fn run(
         let n_f = c.sets.f.len();
         let named = k + sensors.len();
         let outputs = output_rows(inputs.columns.as_ref(), &[&sensors.rows, &grid_outputs]);
+        let enforced = enforced_motion(ctx, st, &c, &inputs, &hz, &sensors, &grids)
+            .map_err(|what| RunError::Case { subcase: id, what })?;
+        let applied = k - inputs.enforced.len();
+        let solve_inputs = match &enforced {
+            Some((e, _)) => e.solve_columns(&inputs.columns, applied),
+            None => inputs.columns.clone(),
+        };
         let analysis_method = match method {
             FrfMethod::Direct => frf::Method::Direct,
             FrfMethod::Modal => {
@@ -178,7 +189,7 @@ fn run(
             }
         };
         let run = FrfRun {
-            inputs: inputs.columns.as_ref(),
+            inputs: solve_inputs.as_ref(),
             outputs: &outputs,
             omegas: &omegas,
             damping: Damping {
@@ -212,6 +223,10 @@ fn run(
             clock.record(format!("subcase {id}: {name}"), d)
         })
         .map_err(|e| super::analysis_error(&c, st, id, e))?;
+        let h = match &enforced {
+            Some((e, outputs_s)) => e.compose(&h, applied, &omegas, &outputs, outputs_s),
+            None => h,
+        };
         // the grids' response to the deck's load, then H without their rows
         let n_disp = grid_outputs.nrows();
         let displacement = inputs.response(&hz, n_disp, |l, o, i| h[l][(named + o, i)]);
@@ -301,4 +316,57 @@ impl Report for FrfSummary {
         }
         warnings
     }
+}
+
+/// The enforced-motion columns of a subcase whose RLOADs move SPCD DOFs, with the output rows
+/// on the s-set (input rows: each enforced DOF reads itself; sensors; grid displacements);
+/// `None` without enforced motion. A VELO or ACCE excitation at 0 Hz is refused.
+fn enforced_motion(
+    ctx: &RunContext,
+    st: &Structure,
+    c: &Constrained,
+    inputs: &FrequencyInputs,
+    hz: &[f64],
+    sensors: &SensorOperator,
+    grids: &[usize],
+) -> Result<Option<(EnforcedColumns, CscMatrix<f64>)>, String> {
+    if inputs.enforced.is_empty() {
+        return Ok(None);
+    }
+    let integrated = inputs.terms.iter().find(|t| {
+        matches!(
+            t.kind,
+            ExcitationKind::Velocity | ExcitationKind::Acceleration
+        )
+    });
+    if let (Some(t), true) = (integrated, hz.contains(&0.0)) {
+        return Err(format!(
+            "an enforced {} (TYPE = {}) has no displacement at 0 Hz: start the FREQ lines above 0",
+            if t.kind == ExcitationKind::Velocity {
+                "velocity"
+            } else {
+                "acceleration"
+            },
+            t.kind.name()
+        ));
+    }
+    let model = ctx.model;
+    let columns = EnforcedColumns::new(
+        st,
+        c,
+        &inputs.enforced,
+        model.params.alpha1,
+        model.params.maxratio,
+    )?;
+    let k = inputs.names.len();
+    let first = k - inputs.enforced.len();
+    let mut reads_self = Mat::<f64>::zeros(c.sets.s.len(), k);
+    for (j, &s) in columns.s_positions.iter().enumerate() {
+        reads_self[(s, first + j)] = 1.0;
+    }
+    let outputs_s = output_rows(
+        reads_self.as_ref(),
+        &[&sensors.rows_s, &displacement_rows_s(st, c, grids)],
+    );
+    Ok(Some((columns, outputs_s)))
 }

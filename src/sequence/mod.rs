@@ -171,6 +171,12 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
     let subcases = driver.run(ctx, &mut clock)?;
     let mut warnings = driver.warnings(ctx.model);
     warnings.extend(driver::element_damping_warning(driver, ctx.model));
+    if ctx.model.has_suport() && !matches!(driver.name(), "STATICS" | "MODAL") {
+        warnings.push(format!(
+            "SUPORT/SUPORT1 cards are ignored by {} (only SOL 101 and SOL 103 use the r-set)",
+            driver.name()
+        ));
+    }
     if let Some((sol, _)) = &ctx.deck.executive.sol {
         warnings.extend(driver::sdamping_warnings(driver, ctx.model, *sol));
     }

@@ -28,6 +28,8 @@ use super::report::{Report, lambda_to_hz, sci, sturm_line};
 use super::shared::structure;
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
 use crate::analysis::modal::{SymbolicCache, modes, normalize_to_unit_max, shapes_in_basic};
+use crate::analysis::suport::{EPSILON_LIMIT, rigid_body_modes};
+use crate::assembly::spc::suport_dofs;
 use crate::deck::Solution;
 use crate::deck::cards::EigenNorm;
 use crate::deck::case_control::Subcase;
@@ -60,6 +62,19 @@ pub struct ModalSummary {
     pub finite_exhausted: bool,
     /// ND of the EIGRL.
     pub nd: Option<usize>,
+    /// The SUPORT r-set's check, when the deck has one.
+    pub suport: Option<SuportCheck>,
+}
+
+/// What the SUPORT r-set's rigid-body check found.
+#[derive(Debug, Clone)]
+pub struct SuportCheck {
+    /// r-set size (the rigid-body modes reported at 0 Hz).
+    pub dofs: usize,
+    /// Rigid-body error ratio ε.
+    pub epsilon: f64,
+    /// Strain energy of each unit rigid-body motion.
+    pub strain_energy: Vec<f64>,
 }
 
 /// The MODAL driver on the mesh.
@@ -139,9 +154,11 @@ fn run(
                 modes(&c, &request, symbolic, ctx.options.par(), ctx.progress)
             })
             .map_err(|e| super::mechanism(&c, st, id, e))?;
+        let (result, suport) = with_rigid_body_modes(ctx, st, &c, sub, result)?;
         let summary = clock.time(format!("subcase {id}: output"), || {
             write_subcase(ctx, st, &c, sub, norm, eigrl.nd.map(|n| n as usize), result)
         })?;
+        let summary = ModalSummary { suport, ..summary };
         out.push(SubcaseSummary {
             id,
             autospc: c.autospc.names.clone(),
@@ -211,7 +228,78 @@ fn write_subcase(
         massless: r.massless,
         finite_exhausted: r.finite_exhausted,
         nd,
+        suport: None,
     })
+}
+
+/// A subcase's eigensolution with its SUPORT r-set applied ([`rigid_body_modes`]): the r-set
+/// checked (refused when K_ll is singular or ε exceeds [`EPSILON_LIMIT`]) and the lowest r
+/// roots, which must be the rigid-body ones, replaced by the M-orthonormal rigid-body shapes at
+/// 0 Hz. Without SUPORT cards the result is returned as it is.
+fn with_rigid_body_modes(
+    ctx: &RunContext,
+    st: &Structure,
+    c: &Constrained,
+    sub: &Subcase,
+    mut r: EigenResult,
+) -> Result<(EigenResult, Option<SuportCheck>), RunError> {
+    let case = |what: String| RunError::Case {
+        subcase: sub.id,
+        what,
+    };
+    let dofs = suport_dofs(ctx.model, &st.map, sub.suport1).map_err(|e| case(e.to_string()))?;
+    if dofs.is_empty() {
+        return Ok((r, None));
+    }
+    let positions = (dofs.iter())
+        .map(|(g, source)| {
+            c.sets.f.position(*g).ok_or_else(|| {
+                case(format!(
+                    "{source}: {} is constrained (SPC, AUTOSPC) or dependent: a SUPORT DOF must be free",
+                    st.map.name(*g)
+                ))
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let rb = rigid_body_modes(c, &positions, ctx.model.params.maxratio).map_err(case)?;
+    let n_r = positions.len();
+    if !(rb.epsilon <= EPSILON_LIMIT) {
+        let energies: Vec<String> = rb
+            .strain_energy
+            .iter()
+            .map(|e| format!("{e:.3e}"))
+            .collect();
+        return Err(case(format!(
+            "the SUPORT r-set ({n_r} DOFs) is not statically determinate: rigid-body error ratio ε = {:.3e} > {EPSILON_LIMIT:e}, strain energies [{}]; a redundant SUPORT or an SPC already holding the structure strains it — remove the redundant components",
+            rb.epsilon,
+            energies.join(", ")
+        )));
+    }
+    // the lowest r roots must be the rigid-body ones: well below the first elastic root
+    let m = r.eigenvalues.len();
+    let first_elastic = r.eigenvalues.get(n_r).copied();
+    let rigid_found = m >= n_r
+        && (r.eigenvalues[..n_r].iter())
+            .all(|l| first_elastic.is_none_or(|e| l.abs() <= 1e-6 * e.abs()));
+    if !rigid_found {
+        return Err(case(format!(
+            "the eigensolution does not start with the {n_r} rigid-body modes of the SUPORT r-set (EIGRL V1 must be blank or ≤ 0 and ND at least {n_r})"
+        )));
+    }
+    for k in 0..n_r {
+        for i in 0..r.vectors.nrows() {
+            r.vectors[(i, k)] = rb.shapes[(i, k)];
+        }
+        r.eigenvalues[k] = 0.0;
+        r.frequencies_hz[k] = 0.0;
+        r.residuals[k] = rb.residuals[k];
+    }
+    let check = SuportCheck {
+        dofs: n_r,
+        epsilon: rb.epsilon,
+        strain_energy: rb.strain_energy,
+    };
+    Ok((r, Some(check)))
 }
 
 /// When the Sturm check counts more roots found between the lower end of the search and its
@@ -255,6 +343,19 @@ impl Report for ModalSummary {
                 sci(*f, 6),
                 sci(m.generalized_mass[k], 6),
                 sci(m.residuals[k], 1)
+            ));
+        }
+        if let Some(SuportCheck {
+            dofs: n_r,
+            epsilon,
+            strain_energy,
+        }) = &m.suport
+        {
+            let worst = strain_energy.iter().fold(0.0_f64, |a, e| a.max(e.abs()));
+            out.push(format!(
+                "  SUPORT r-set of {n_r} DOF(s): rigid-body error ratio ε = {}, largest strain energy {}; the first {n_r} mode(s) are its rigid-body modes at 0 Hz",
+                sci(*epsilon, 2),
+                sci(worst, 2)
             ));
         }
         out.push(format!("  {}", sturm_line(&m.sturm)));
@@ -348,6 +449,7 @@ mod tests {
             massless: 0,
             finite_exhausted: false,
             nd: Some(12),
+            suport: None,
         };
         let lines = summary.render(1);
         assert!(

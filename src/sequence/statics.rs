@@ -37,7 +37,9 @@ use crate::analysis::statics::{
     ElementStrains, StaticFactors, StaticSolution, element_strains, mass_values, resultant,
 };
 use crate::analysis::stress::{element_forces, element_stresses, failure_warnings};
+use crate::assembly::spc::suport_dofs;
 use crate::deck::Solution;
+use crate::deck::cards::ParamValue;
 use crate::deck::case_control::Subcase;
 use crate::discretize::{Constrained, Structure};
 use crate::io::{write_f64, write_u32};
@@ -85,9 +87,10 @@ impl Driver for Statics {
         HONOURED
     }
 
-    /// PCOMP failure theories that give no index, when some subcase asks for STRESS.
+    /// PCOMP failure theories that give no index, when some subcase asks for STRESS; the note
+    /// that SUPORT DOFs are held like SPCs.
     fn warnings(&self, model: &Model) -> Vec<String> {
-        if model
+        let mut out = if model
             .subcases
             .iter()
             .any(|s| requested(s, "STRESS").is_some())
@@ -95,10 +98,21 @@ impl Driver for Statics {
             failure_warnings(model)
         } else {
             Vec::new()
+        };
+        if model.has_suport() {
+            out.push("SUPORT/SUPORT1 in SOL 101 without PARAM,INREL: the SUPORT DOFs are held like SPCs (as MSC Nastran does); their reactions are the SPC forces there and should be near zero for a balanced load".into());
         }
+        out
     }
 
     fn run(&self, ctx: &RunContext, clock: &mut Clock) -> Result<Vec<SubcaseSummary>, RunError> {
+        let inertia_relief = (ctx.deck.bulk.params.iter())
+            .any(|p| p.name == "INREL" && matches!(p.value, ParamValue::Int(v) if v < 0));
+        if inertia_relief {
+            return Err(RunError::NotAvailable(
+                "PARAM,INREL (inertia relief) is not available in SOL 101 in this version; without it the SUPORT DOFs are held like SPCs".into(),
+            ));
+        }
         let st = structure(ctx, clock)?;
         run(ctx, &st, clock)
     }
@@ -118,8 +132,12 @@ fn run(
     let mut solved: Vec<StaticSolution> = Vec::new();
     for sub in &ctx.model.subcases {
         let id = sub.id;
+        let suport = suport_dofs(ctx.model, &st.map, sub.suport1).map_err(|e| RunError::Case {
+            subcase: id,
+            what: e.to_string(),
+        })?;
         let c = clock.time(format!("subcase {id}: constraints"), || {
-            Constrained::build(ctx.model, st, sub.spc)
+            Constrained::build_holding(ctx.model, st, sub.spc, &suport)
         })?;
         if let Some(coefficients) = &sub.combination {
             let summary = clock.time(format!("subcase {id}: combination and output"), || {

@@ -21,6 +21,7 @@ use super::shared::{method_of, output_rows};
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
 use crate::assembly::recover::expand_f_to_n;
 use crate::deck::Solution;
+use crate::deck::cards::ExcitationKind;
 use crate::deck::case_control::Subcase;
 use crate::discretize::loads::{initial_state, load_into, load_terms, place_darea, static_shape};
 use crate::discretize::{Constrained, Structure};
@@ -116,6 +117,16 @@ fn subcase(
 ) -> Result<TransientSummary, RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
+    let enforced_motion = sub.dload.is_some_and(|sid| {
+        (ctx.model.dynamic_load_members(sid).iter()).any(|(_, set)| {
+            (ctx.model.transient_loads(*set).iter()).any(|t| t.kind != ExcitationKind::Load)
+        })
+    });
+    if enforced_motion {
+        return Err(RunError::NotAvailable(format!(
+            "subcase {id}: enforced motion (a TLOAD1/TLOAD2 with TYPE = DISP, VELO or ACCE) is not available in SOL 109/112 in this version; SOL 108/111 take it (RLOAD1/RLOAD2)"
+        )));
+    }
     if c.spc.enforced.iter().any(|x| *x != 0.0) {
         return Err(case("enforced displacements (SPC with a non-zero value) are not supported by SOL TRANSIENT in this version".into()));
     }
@@ -128,7 +139,7 @@ fn subcase(
             dload,
             n_f,
             |d, scale, shape| place_darea(ctx.model, st, c, d, scale, shape),
-            |excite| static_shape(ctx.model, st, c, excite),
+            |excite| static_shape(ctx.model, st, c, excite, sub.loadset),
         )
         .map_err(case)?,
     };

@@ -1588,6 +1588,82 @@ def case_frf_sdof(write):
     }
 
 
+def case_frf_base_excitation(write):
+    """A mass on a spring and a damper to a moving base: the base grid is held by SPC1 and
+    moved by an SPCD through an RLOAD1 of TYPE = DISP (SOL 108, direct) or TYPE = ACCE (SOL 111,
+    modal); the mass's absolute displacement against the transmissibility formula."""
+    name = "frf_base_excitation"
+    k, m, b = 4.0e4, 2.0, 40.0
+    Y, A = 2.0e-3, 9.81  # SPCD values: base displacement (DISP deck), base acceleration (ACCE)
+    wn = math.sqrt(k / m)
+    zeta = b / (2.0 * math.sqrt(k * m))
+    f0 = wn / (2 * math.pi)
+    hz = [1.0, 10.0, round(f0, 6), 40.0, 100.0]
+    X_disp, X_acce, T = [], [], []
+    for f in hz:
+        w = 2 * math.pi * f
+        r = w / wn
+        t = math.sqrt(1 + (2 * zeta * r) ** 2) / math.sqrt((1 - r * r) ** 2 + (2 * zeta * r) ** 2)
+        x = complex(k, w * b) / complex(k - w * w * m, w * b)  # per unit base displacement
+        # second computation: the partitioned 2-DOF system [base, mass], Z_ff x = -Z_fs y
+        Z = np.array([[k, -k], [-k, k]]) + 1j * w * np.array([[b, -b], [-b, b]]) \
+            - w * w * np.diag([0.0, m])
+        x2 = -Z[1, 0] / Z[1, 1]
+        check("%s: X/Y at %g Hz closed form vs partitioned solve" % (name, f), abs(x), abs(x2),
+              1e-13)
+        check("%s: |X/Y| at %g Hz vs the transmissibility formula" % (name, f), abs(x), t, 1e-13)
+        T.append(t)
+        X_disp.append(Y * x)
+        X_acce.append(A / (-w * w) * x)
+    decks = []
+    for kind, sol, value, modal in (("DISP", 108, Y, False), ("ACCE", 111, A, True)):
+        deck = "%s/%s_%s.dat" % (DECK_DIR, name, kind.lower())
+        decks.append(deck)
+        if write:
+            bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("GRID", 2, None, 1.0, 0.0, 0.0),
+                    card("CONM2", 1, 2, 0, m), card("CELAS2", 11, k, 1, 1, 2, 1),
+                    card("CDAMP2", 12, b, 1, 1, 2, 1), spc1(1, "123456", [1]),
+                    spc1(1, "23456", [2]), card("SPCD", 8, 1, 1, value),
+                    card("FREQ", 5, *[float(f) for f in hz]),
+                    card("RLOAD1", 7, 8, None, None, 20, None, kind),
+                    tabled1(20, [(0.0, 1.0), (200.0, 1.0)])]
+            if modal:
+                bulk.append(card("EIGRL", 10, None, None, 1))
+            write_deck(deck, ["analytic case %s: CONM2 %g kg on CELAS2 %g N/m and CDAMP2 %g N s/m "
+                              "to a base moved by SPCD through RLOAD1 TYPE = %s"
+                              % (name, m, k, b, kind),
+                              "reference: %s/%s.json" % (REF_DIR, name)],
+                       sol, frf_case_control(name, modal) + ["  DISPLACEMENT = ALL"], bulk)
+    return {
+        "case": name,
+        "description": "base excitation of a single-DOF spring-mass-damper by enforced motion "
+                       "(SPCD with RLOAD1 TYPE = DISP, SOL 108 direct; TYPE = ACCE, SOL 111 "
+                       "modal): absolute displacement of the mass",
+        "provenance": "base excitation transmissibility, any vibrations text (e.g. Inman, "
+                      "Engineering Vibration, 4th ed. 2014, sec. 2.4, eq. 2.71); enforced motion "
+                      "as in the MSC Nastran Dynamic Analysis User's Guide (u = a/(-w^2) for "
+                      "TYPE = ACCE); checked against the partitioned 2-DOF complex solve",
+        "formula": "X/Y = (k + i w b)/(k - w^2 m + i w b); |X/Y| = sqrt(1 + (2 zeta r)^2) / "
+                   "sqrt((1 - r^2)^2 + (2 zeta r)^2), r = w/wn, zeta = b/(2 sqrt(k m)); "
+                   "DISP: X = Y X/Y; ACCE: X = A/(-w^2) X/Y",
+        "inputs": {"k": k, "m": m, "b": b, "Y": Y, "A": A, "zeta": zeta, "f0_hz": f0},
+        "frequency_hz": hz,
+        "transmissibility": T,
+        "disp_re": [x.real for x in X_disp], "disp_im": [x.imag for x in X_disp],
+        "acce_re": [x.real for x in X_acce], "acce_im": [x.imag for x in X_acce],
+        "value_labels": ["|X/Y| at %g Hz" % f for f in hz],
+        "units": "1",
+        "values": T,
+        "meshes": [{"deck": d, "elements": 3, "h": None} for d in decks],
+        "expected_order": None,
+        "tolerance_finest": {"relative": [1e-9] * len(hz), "justification": [
+            "no discretization: the deck is the 1-DOF model; the static shape is one Cholesky "
+            "solve and the dynamic part one complex LU (direct) or one mode (modal, exact for "
+            "one DOF), each exact to ~1e-15; 1e-9 of max |X| covers the composition "
+            "u_qs + w_2 H m_r near resonance, where w^2 m H ~ 1/(2 zeta)"] * len(hz)},
+    }
+
+
 def case_frf_sdof_rload2(write):
     """The SDOF of case_frf_sdof under a DLOAD combination of an RLOAD2 (B(f) a TABLED4 power
     series clamped to its range, phi(f) a TABLED3) and an RLOAD1 whose C(f) is a TABLED2: the
@@ -2004,6 +2080,7 @@ CASES = {
     "cantilever_strain_sensor": case_cantilever_strain_sensor,
     "frf_sdof": case_frf_sdof,
     "frf_sdof_rload2": case_frf_sdof_rload2,
+    "frf_base_excitation": case_frf_base_excitation,
     "tload2_sdof": case_tload2_sdof,
     "frf_two_dof": case_frf_two_dof,
     "frf_two_dof_g": lambda w: case_frf_two_dof(w, "frf_two_dof_g", 0.05),

@@ -1,17 +1,24 @@
-//! Constraints and DOF sets: `SPC`, `SPC1`, `SPCADD`, `MPC`, `MPCADD`, `ASET1`.
+//! Constraints and DOF sets: `SPC`, `SPCD`, `SPC1`, `SPCADD`, `MPC`, `MPCADD`, `ASET1`,
+//! `SUPORT`, `SUPORT1`.
 
 use crate::card_values::Dofs;
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
 use crate::deck::reader::FieldReader;
 
-/// `SPC` — single-point constraint with an enforced value (one entry per grid on the card).
+/// `SPC` / `SPCD` — single-point constraint with an enforced value / enforced displacement
+/// (one entry per grid on the card).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
-/// | 2 | SID | int > 0 | required | constraint set id |
+/// | 2 | SID | int > 0 | required | constraint set id (SPC) / load set id (SPCD) |
 /// | 3, 4, 5 | G1 C1 D1 | int, components, real | G1 C1 required; D1 0.0 | grid, components, enforced value |
 /// | 6, 7, 8 | G2 C2 D2 | | blank | an optional second grid |
+///
+/// An `SPCD` set is a load set: `LOAD = sid` selects it in statics (directly or as a member of
+/// a `LOAD` combination, whose factors scale D), an RLOAD1/RLOAD2/TLOAD1/TLOAD2 EXCITEID in
+/// dynamics. Its DOFs must be constrained by the subcase's SPC set (SPC, SPC1 or GRID PS), as
+/// in Nastran; its values replace the D of the SPC there.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Spc {
     pub sid: u32,
@@ -250,5 +257,78 @@ impl Aset1 {
             grids,
             loc,
         })
+    }
+}
+
+/// `SUPORT` / `SUPORT1` — the DOFs of the r-set (free-body supports): SUPORT cards always
+/// apply, a SUPORT1 set when case control selects it (`SUPORT1 = sid`).
+///
+/// SUPORT:
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2, 3 | ID1 C1 | int > 0, components | required | grid and components |
+/// | 4 … | ID2 C2 … | | blank | more pairs (continuations as well) |
+///
+/// SUPORT1: field 2 SID (int > 0, the set), then the pairs from field 3.
+///
+/// SOL 103: the r-set must hold the structure statically determinate (the rigid-body check
+/// below); the rigid-body modes are then reported at 0 Hz (the mass-orthonormalized static
+/// rigid-body shapes). SOL 101 (no PARAM,INREL): the SUPORT DOFs are held like SPCs, their
+/// reactions reported as SPC forces, as MSC Nastran does.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Suport {
+    /// `None` for SUPORT, the set id for SUPORT1.
+    pub sid: Option<u32>,
+    /// (grid or scalar point, components).
+    pub points: Vec<(u32, Dofs)>,
+    pub loc: Loc,
+}
+
+impl Suport {
+    /// Read a SUPORT (`set` false) or SUPORT1 (`set` true) card.
+    pub fn from_card(card: &RawCard, set: bool) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let sid = set.then(|| {
+            let sid = f.id(1, "SID");
+            f.set_id(sid);
+            sid
+        });
+        let first = if set { 2 } else { 1 };
+        let len = f.len();
+        let mut points = Vec::new();
+        let mut i = first;
+        while i < len.max(first + 1) {
+            // SUPORT1's pairs leave the first line's field 9 (index 8) blank: continuation pairs
+            // start in field 2 as SUPORT's do
+            if set && i % 8 == 0 {
+                i += 1;
+                continue;
+            }
+            if f.value(i).is_blank() && f.value(i + 1).is_blank() {
+                i += 2;
+                continue;
+            }
+            let k = points.len() + 1;
+            let id = f.id(i, &format!("ID{k}"));
+            let c = f.dofs(i + 1, &format!("C{k}"));
+            points.push((id, c));
+            i += 2;
+        }
+        if points.is_empty() {
+            f.card_error("no (ID, C) pair given");
+        }
+        let loc = f.loc();
+        f.finish(len.max(first))?;
+        Ok(Suport { sid, points, loc })
+    }
+
+    /// The card name.
+    pub fn card(&self) -> &'static str {
+        if self.sid.is_some() {
+            "SUPORT1"
+        } else {
+            "SUPORT"
+        }
     }
 }

@@ -305,9 +305,9 @@ impl Tstep {
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | SID | int > 0 | required | load set id |
-/// | 3 | EXCITEID | int > 0 | required | DAREA (or static load) set id |
+/// | 3 | EXCITEID | int > 0 | required | DAREA, static load set (directly or through an LSEQ), or SPCD set (TYPE DISP/VELO/ACCE) |
 /// | 4 | DELAY | real | 0.0 | time delay τ (a DELAY card id is not supported) |
-/// | 5 | TYPE | `LOAD` / `DISP` / `VELO` / `ACCE` or 0–3 | LOAD | excitation type (only LOAD supported) |
+/// | 5 | TYPE | `LOAD` / `DISP` / `VELO` / `ACCE` or 0–3 | LOAD | excitation type: DISP, VELO and ACCE (enforced motion of an SPCD set) are read but refused by SOL 109/112 |
 /// | 6 | TID | int > 0 | required | TABLED1–TABLED4 or TABLEF id of F(t) |
 /// | 7, 8 | US0 VS0 | real | 0.0 | enforced-motion initial values (kept, unused) |
 ///
@@ -326,6 +326,7 @@ pub struct Tload {
     pub sid: u32,
     pub excite_id: u32,
     pub delay: f64,
+    pub kind: ExcitationKind,
     pub function: TloadFunction,
     pub loc: Loc,
 }
@@ -349,26 +350,63 @@ impl TloadFunction {
     }
 }
 
-/// Read an excitation TYPE field (`LOAD`/0 only) and report the others as unsupported.
-fn excitation_type(f: &mut FieldReader, i: usize) {
-    let ok = match f.value(i) {
-        Value::Blank => true,
-        Value::Int(0) => true,
-        Value::Text(t) => {
-            t.eq_ignore_ascii_case("LOAD")
-                || t.eq_ignore_ascii_case("L")
-                || t.eq_ignore_ascii_case("LO")
+/// What a dynamic load's EXCITEID excites (its TYPE field).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExcitationKind {
+    /// `LOAD` / 0: an applied load (DAREA or a static load set).
+    Load,
+    /// `DISP` / 1: an enforced displacement (EXCITEID an SPCD set).
+    Displacement,
+    /// `VELO` / 2: an enforced velocity (EXCITEID an SPCD set).
+    Velocity,
+    /// `ACCE` / 3: an enforced acceleration (EXCITEID an SPCD set).
+    Acceleration,
+}
+
+impl ExcitationKind {
+    /// The TYPE keyword.
+    pub fn name(self) -> &'static str {
+        match self {
+            ExcitationKind::Load => "LOAD",
+            ExcitationKind::Displacement => "DISP",
+            ExcitationKind::Velocity => "VELO",
+            ExcitationKind::Acceleration => "ACCE",
         }
-        _ => false,
+    }
+}
+
+/// Read an excitation TYPE field: an integer 0–3 or a keyword, which Nastran matches by its
+/// first letters (`L`, `LO`, `LOA`, `LOAD`; `D` … `DISP`; `V` … `VELO`; `A` … `ACCE`).
+fn excitation_type(f: &mut FieldReader, i: usize) -> ExcitationKind {
+    let by_prefix = |t: &str| {
+        let t = t.to_ascii_uppercase();
+        [
+            ("LOAD", ExcitationKind::Load),
+            ("DISP", ExcitationKind::Displacement),
+            ("VELO", ExcitationKind::Velocity),
+            ("ACCE", ExcitationKind::Acceleration),
+        ]
+        .into_iter()
+        .find(|(name, _)| !t.is_empty() && name.starts_with(t.as_str()))
+        .map(|(_, kind)| kind)
     };
-    if !ok {
+    let kind = match f.value(i) {
+        Value::Blank | Value::Int(0) => Some(ExcitationKind::Load),
+        Value::Int(1) => Some(ExcitationKind::Displacement),
+        Value::Int(2) => Some(ExcitationKind::Velocity),
+        Value::Int(3) => Some(ExcitationKind::Acceleration),
+        Value::Text(t) => by_prefix(t),
+        _ => None,
+    };
+    kind.unwrap_or_else(|| {
         let found = f.value(i).describe();
         f.error(
             i,
             "TYPE",
-            format!("only applied loads (TYPE = LOAD or 0) are supported, found {found}"),
+            format!("expected LOAD, DISP, VELO, ACCE or 0-3, found {found}"),
         );
-    }
+        ExcitationKind::Load
+    })
 }
 
 /// Read a DELAY field: a real delay, or an error for a DELAY card reference.
@@ -390,7 +428,7 @@ impl Tload {
     /// Read a `TLOAD1` card.
     pub fn tload1(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
-        let (sid, excite_id, delay) = tload_head(&mut f);
+        let (sid, excite_id, delay, kind) = tload_head(&mut f);
         let tid = f.id(5, "TID");
         f.opt_real(6, "US0");
         f.opt_real(7, "VS0");
@@ -400,6 +438,7 @@ impl Tload {
             sid,
             excite_id,
             delay,
+            kind,
             function: TloadFunction::Table(tid),
             loc,
         })
@@ -408,7 +447,7 @@ impl Tload {
     /// Read a `TLOAD2` card.
     pub fn tload2(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
-        let (sid, excite_id, delay) = tload_head(&mut f);
+        let (sid, excite_id, delay, kind) = tload_head(&mut f);
         let start = f.real_or(5, "T1", 0.0);
         let end = f.real(6, "T2");
         if start < 0.0 {
@@ -435,6 +474,7 @@ impl Tload {
             sid,
             excite_id,
             delay,
+            kind,
             function: TloadFunction::Pulse(Pulse {
                 start,
                 end,
@@ -449,13 +489,13 @@ impl Tload {
 }
 
 /// SID, EXCITEID, DELAY and TYPE of a TLOAD1 or TLOAD2.
-fn tload_head(f: &mut FieldReader) -> (u32, u32, f64) {
+fn tload_head(f: &mut FieldReader) -> (u32, u32, f64, ExcitationKind) {
     let sid = f.id(1, "SID");
     f.set_id(sid);
     let excite_id = f.id(2, "EXCITEID");
     let delay = delay(f, 3);
-    excitation_type(f, 4);
-    (sid, excite_id, delay)
+    let kind = excitation_type(f, 4);
+    (sid, excite_id, delay, kind)
 }
 
 /// `RLOAD1`, `RLOAD2` — frequency-dependent load A · P(f) · e^{i(θ − 2πfτ)}, A from `DAREA`:
@@ -464,12 +504,12 @@ fn tload_head(f: &mut FieldReader) -> (u32, u32, f64) {
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | SID | int > 0 | required | load set id |
-/// | 3 | EXCITEID | int > 0 | required | DAREA (or static load) set id |
+/// | 3 | EXCITEID | int > 0 | required | DAREA, static load set (directly or through an LSEQ), or SPCD set (TYPE DISP/VELO/ACCE) |
 /// | 4 | DELAY | real | 0.0 | time delay τ |
 /// | 5 | DPHASE | real | 0.0 | phase θ in degrees (a DPHASE card id is not supported) |
 /// | 6 | TC (RLOAD1) / TB (RLOAD2) | int ≥ 0 / int > 0 | 0 / required | table id of C(f) (0 = none) / of B(f) |
 /// | 7 | TD (RLOAD1) / TP (RLOAD2) | int ≥ 0 | 0 | table id of D(f) / of φ(f) in degrees; 0 = none |
-/// | 8 | TYPE | | LOAD | only LOAD supported |
+/// | 8 | TYPE | `LOAD` / `DISP` / `VELO` / `ACCE` or 0–3 | LOAD | excitation type: an applied load, or the enforced displacement, velocity or acceleration of the DOFs of an SPCD set (EXCITEID) |
 ///
 /// Tables are TABLED1–TABLED4 or TABLEF.
 #[derive(Debug, Clone, PartialEq)]
@@ -479,6 +519,7 @@ pub struct Rload {
     pub delay: f64,
     pub phase_deg: f64,
     pub tables: RloadTables,
+    pub kind: ExcitationKind,
     pub loc: Loc,
 }
 
@@ -552,7 +593,7 @@ impl Rload {
             _ => f.real_or(4, "DPHASE", 0.0),
         };
         let tables = tables(&mut f);
-        excitation_type(&mut f, 7);
+        let kind = excitation_type(&mut f, 7);
         let loc = f.loc();
         f.finish(7)?;
         Ok(Rload {
@@ -561,6 +602,51 @@ impl Rload {
             delay,
             phase_deg,
             tables,
+            kind,
+            loc,
+        })
+    }
+}
+
+/// `LSEQ` — a static load set as the excitation of dynamic loads: with case control
+/// `LOADSET = SID`, a TLOAD1/TLOAD2/RLOAD1/RLOAD2 whose EXCITEID is this card's EXCITEID takes
+/// the load vector of static load set LID (FORCE, MOMENT, LOAD, PLOAD4, GRAV, …).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | SID | int > 0 | required | the set LOADSET selects |
+/// | 3 | EXCITEID | int > 0 | required | the id dynamic loads reference |
+/// | 4 | LID | int > 0 | required | static load set |
+/// | 5 | TID | int ≥ 0 | blank | thermal load set (refused: paraflex reads no temperatures) |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lseq {
+    pub sid: u32,
+    pub excite_id: u32,
+    pub lid: u32,
+    pub loc: Loc,
+}
+
+impl Lseq {
+    /// Read an `LSEQ` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let sid = f.id(1, "SID");
+        f.set_id(sid);
+        let excite_id = f.id(2, "EXCITEID");
+        let lid = f.id(3, "LID");
+        if f.id0_or(4, "TID", 0) != 0 {
+            f.error(
+                4,
+                "TID",
+                "thermal load sets are not supported (paraflex reads no TEMP cards)",
+            );
+        }
+        let loc = f.loc();
+        f.finish(4)?;
+        Ok(Lseq {
+            sid,
+            excite_id,
+            lid,
             loc,
         })
     }

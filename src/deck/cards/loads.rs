@@ -1,5 +1,5 @@
-//! Static loads: `FORCE`, `MOMENT`, `GRAV`, `LOAD`, pressures `PLOAD4`, `PLOAD2`, `PLOAD`, and
-//! loads along beams `PLOAD1`.
+//! Static loads: `FORCE`, `MOMENT`, `FORCE1`, `FORCE2`, `MOMENT1`, `MOMENT2`, `SLOAD`, `GRAV`,
+//! `LOAD`, pressures `PLOAD4`, `PLOAD2`, `PLOAD`, and loads along beams `PLOAD1`.
 
 use crate::card_values::ForceKind;
 use crate::deck::error::{DeckError, Loc};
@@ -52,6 +52,118 @@ impl Force {
             direction,
             loc,
         })
+    }
+}
+
+/// `FORCE1` / `MOMENT1` / `FORCE2` / `MOMENT2` — a force or moment of magnitude F at a grid,
+/// its direction given by grids: from G1 to G2 (FORCE1, MOMENT1), or the cross product
+/// (G2 − G1) × (G4 − G3) (FORCE2, MOMENT2), both normalized, from the grids' basic positions.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | SID | int > 0 | required | load set id |
+/// | 3 | G | int > 0 | required | loaded grid |
+/// | 4 | F / M | real | required | magnitude |
+/// | 5, 6 | G1 G2 | int > 0 | required | the direction's grids (G1 ≠ G2) |
+/// | 7, 8 | G3 G4 | int > 0 | required (FORCE2, MOMENT2) | the second vector's grids |
+///
+/// A direction of zero length (coincident grids, parallel vectors) is an error at the card.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ForceByGrids {
+    pub kind: ForceKind,
+    pub sid: u32,
+    pub grid: u32,
+    pub magnitude: f64,
+    /// G1 G2 (FORCE1, MOMENT1) or G1 G2 G3 G4 (FORCE2, MOMENT2).
+    pub grids: Vec<u32>,
+    pub loc: Loc,
+}
+
+impl ForceByGrids {
+    /// Read a FORCE1/MOMENT1 (`cross` false) or FORCE2/MOMENT2 (`cross` true) card.
+    pub fn from_card(card: &RawCard, kind: ForceKind, cross: bool) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let sid = f.id(1, "SID");
+        f.set_id(sid);
+        let grid = f.id(2, "G");
+        let magnitude = f.real(3, if kind == ForceKind::Force { "F" } else { "M" });
+        let names: &[&str] = if cross {
+            &["G1", "G2", "G3", "G4"]
+        } else {
+            &["G1", "G2"]
+        };
+        let grids: Vec<u32> = (names.iter().enumerate())
+            .map(|(k, n)| f.id(4 + k, n))
+            .collect();
+        if grids[0] == grids[1] {
+            f.error(
+                5,
+                "G2",
+                "G1 and G2 are the same grid: the direction has no length",
+            );
+        }
+        if cross && grids[2] == grids[3] {
+            f.error(
+                7,
+                "G4",
+                "G3 and G4 are the same grid: the direction has no length",
+            );
+        }
+        let loc = f.loc();
+        f.finish(3 + names.len())?;
+        Ok(ForceByGrids {
+            kind,
+            sid,
+            grid,
+            magnitude,
+            grids,
+            loc,
+        })
+    }
+
+    /// The card name.
+    pub fn card(&self) -> &'static str {
+        match (self.kind, self.grids.len()) {
+            (ForceKind::Force, 2) => "FORCE1",
+            (ForceKind::Moment, 2) => "MOMENT1",
+            (ForceKind::Force, _) => "FORCE2",
+            (ForceKind::Moment, _) => "MOMENT2",
+        }
+    }
+}
+
+/// `SLOAD` — loads on scalar points (up to three per card).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | SID | int > 0 | required | load set id |
+/// | 3, 4 | S1 F1 | int > 0, real | required | scalar point (SPOINT) and its load |
+/// | 5–8 | S2 F2 S3 F3 | | blank | two more pairs |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sload {
+    pub sid: u32,
+    /// (scalar point id, load).
+    pub loads: Vec<(u32, f64)>,
+    pub loc: Loc,
+}
+
+impl Sload {
+    /// Read an `SLOAD` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let sid = f.id(1, "SID");
+        f.set_id(sid);
+        let mut loads = Vec::new();
+        for (k, i) in [2, 4, 6].into_iter().enumerate() {
+            if k > 0 && f.value(i).is_blank() && f.value(i + 1).is_blank() {
+                continue;
+            }
+            let point = f.id(i, &format!("S{}", k + 1));
+            loads.push((point, f.real(i + 1, &format!("F{}", k + 1))));
+        }
+        let loc = f.loc();
+        f.finish(7)?;
+        Ok(Sload { sid, loads, loc })
     }
 }
 
@@ -143,7 +255,7 @@ pub(crate) fn combination(card: &RawCard) -> Result<Combination, Vec<DeckError>>
 /// |---|---|---|---|---|
 /// | 2 | SID | int > 0 | required | new load set id |
 /// | 3 | S | real | required | overall scale |
-/// | 4, 5, … | S1 L1 S2 L2 … | real, int > 0 | ≥ 1 pair | scale and FORCE/MOMENT/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1 set id |
+/// | 4, 5, … | S1 L1 S2 L2 … | real, int > 0 | ≥ 1 pair | scale and FORCE/MOMENT/FORCE1/FORCE2/MOMENT1/MOMENT2/SLOAD/GRAV/PLOAD4/PLOAD2/PLOAD/PLOAD1/SPCD set id |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Load {
     pub sid: u32,

@@ -26,11 +26,11 @@ mod rigid;
 mod shear_panel;
 mod temperature;
 
-pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd};
+pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd, Suport};
 pub use design::{Ddval, Desvar};
 pub use dynamic::{
-    Darea, Dload, EigenNorm, Eigrl, Freq, FreqKind, ModalDampingUnits, Rload, RloadTables, Tabdmp1,
-    Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep, eigr_from_card,
+    Darea, Dload, EigenNorm, Eigrl, ExcitationKind, Freq, FreqKind, Lseq, ModalDampingUnits, Rload,
+    RloadTables, Tabdmp1, Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep, eigr_from_card,
 };
 pub use elements::{
     BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Conm2, Cpenta, Cquad4,
@@ -45,7 +45,10 @@ pub use geometry::{Cord2, CordKind, Grdset, Grid};
 pub use ignored::ignored_card;
 pub use line_elements::{BeamOrientation, Cbar, Conrod, Crod, Offt};
 pub use line_properties::{Pbar, Pbarl, Pbeam, Prod, Ptube};
-pub use loads::{Force, Grav, Load, Pload, Pload1, Pload1Scale, Pload2, Pload4, Pload4Target};
+pub use loads::{
+    Force, ForceByGrids, Grav, Load, Pload, Pload1, Pload1Scale, Pload2, Pload4, Pload4Target,
+    Sload,
+};
 pub use materials::{Mat1, Mat8};
 pub use multibody::{Flexb, Fmbpose, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
 pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, Promlib, ResponseSource, SearchMethod, Statistic};
@@ -117,13 +120,20 @@ pub struct BulkData {
     pub pbeam: Vec<Pbeam>,
     pub pbeaml: Vec<Pbarl>,
     pub spc: Vec<Spc>,
+    /// SPCD cards (enforced displacements, a load set).
+    pub spcd: Vec<Spc>,
     pub spc1: Vec<Spc1>,
     pub spcadd: Vec<Spcadd>,
     pub mpc: Vec<Mpc>,
     pub mpcadd: Vec<Mpcadd>,
     pub aset1: Vec<Aset1>,
+    /// SUPORT and SUPORT1 cards.
+    pub suport: Vec<Suport>,
     /// FORCE and MOMENT cards.
     pub forces: Vec<Force>,
+    /// FORCE1, FORCE2, MOMENT1 and MOMENT2 cards.
+    pub forces_by_grids: Vec<ForceByGrids>,
+    pub sload: Vec<Sload>,
     pub grav: Vec<Grav>,
     pub pload4: Vec<Pload4>,
     pub pload2: Vec<Pload2>,
@@ -139,6 +149,7 @@ pub struct BulkData {
     /// RLOAD1 and RLOAD2.
     pub rload: Vec<Rload>,
     pub darea: Vec<Darea>,
+    pub lseq: Vec<Lseq>,
     pub tic: Vec<Tic>,
     pub ptable: Vec<Ptable>,
     /// TABLED1, TABLED2 and TABLED3.
@@ -181,14 +192,18 @@ pub struct BulkData {
 
 impl BulkData {
     /// The set ids of the static load cards a `LOAD` or `LOAD = sid` may select: FORCE, MOMENT,
-    /// GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 (with repeats).
+    /// FORCE1, FORCE2, MOMENT1, MOMENT2, SLOAD, GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1, SPCD (with
+    /// repeats).
     pub fn static_load_sets(&self) -> impl Iterator<Item = u32> + '_ {
         (self.forces.iter().map(|c| c.sid))
+            .chain(self.forces_by_grids.iter().map(|c| c.sid))
+            .chain(self.sload.iter().map(|c| c.sid))
             .chain(self.grav.iter().map(|c| c.sid))
             .chain(self.pload4.iter().map(|c| c.sid))
             .chain(self.pload2.iter().map(|c| c.sid))
             .chain(self.pload.iter().map(|c| c.sid))
             .chain(self.pload1.iter().map(|c| c.sid))
+            .chain(self.spcd.iter().map(|c| c.sid))
     }
 
     /// (id, card name, where) of every table a dynamic load, a parameter or a mechanism's
@@ -286,17 +301,41 @@ pub static PARSERS: &[(&str, CardParser)] = &[
         Ok(b.pbeaml.push(Pbarl::from_card(c, true)?))
     }),
     ("SPC", |c, b| Ok(b.spc.extend(Spc::from_card(c)?))),
+    ("SPCD", |c, b| Ok(b.spcd.extend(Spc::from_card(c)?))),
     ("SPC1", |c, b| Ok(b.spc1.push(Spc1::from_card(c)?))),
     ("SPCADD", |c, b| Ok(b.spcadd.push(Spcadd::from_card(c)?))),
     ("MPC", |c, b| Ok(b.mpc.push(Mpc::from_card(c)?))),
     ("MPCADD", |c, b| Ok(b.mpcadd.push(Mpcadd::from_card(c)?))),
     ("ASET1", |c, b| Ok(b.aset1.push(Aset1::from_card(c)?))),
+    ("SUPORT", |c, b| {
+        Ok(b.suport.push(Suport::from_card(c, false)?))
+    }),
+    ("SUPORT1", |c, b| {
+        Ok(b.suport.push(Suport::from_card(c, true)?))
+    }),
     ("FORCE", |c, b| {
         Ok(b.forces.push(Force::from_card(c, ForceKind::Force)?))
     }),
     ("MOMENT", |c, b| {
         Ok(b.forces.push(Force::from_card(c, ForceKind::Moment)?))
     }),
+    ("FORCE1", |c, b| {
+        let card = ForceByGrids::from_card(c, ForceKind::Force, false)?;
+        Ok(b.forces_by_grids.push(card))
+    }),
+    ("FORCE2", |c, b| {
+        let card = ForceByGrids::from_card(c, ForceKind::Force, true)?;
+        Ok(b.forces_by_grids.push(card))
+    }),
+    ("MOMENT1", |c, b| {
+        let card = ForceByGrids::from_card(c, ForceKind::Moment, false)?;
+        Ok(b.forces_by_grids.push(card))
+    }),
+    ("MOMENT2", |c, b| {
+        let card = ForceByGrids::from_card(c, ForceKind::Moment, true)?;
+        Ok(b.forces_by_grids.push(card))
+    }),
+    ("SLOAD", |c, b| Ok(b.sload.push(Sload::from_card(c)?))),
     ("GRAV", |c, b| Ok(b.grav.push(Grav::from_card(c)?))),
     ("PLOAD4", |c, b| Ok(b.pload4.push(Pload4::from_card(c)?))),
     ("PLOAD2", |c, b| Ok(b.pload2.push(Pload2::from_card(c)?))),
@@ -318,6 +357,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("RLOAD1", |c, b| Ok(b.rload.push(Rload::rload1(c)?))),
     ("RLOAD2", |c, b| Ok(b.rload.push(Rload::rload2(c)?))),
     ("DAREA", |c, b| Ok(b.darea.extend(Darea::from_card(c)?))),
+    ("LSEQ", |c, b| Ok(b.lseq.push(Lseq::from_card(c)?))),
     ("TIC", |c, b| Ok(b.tic.push(Tic::from_card(c)?))),
     ("PTABLE", |c, b| Ok(b.ptable.push(Ptable::from_card(c)?))),
     ("TABDMP1", |c, b| Ok(b.tabdmp1.push(Tabdmp1::from_card(c)?))),
