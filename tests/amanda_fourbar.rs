@@ -923,7 +923,8 @@ fn adaptive_strain_reference_removes_the_fixed_reference_bias() {
 
 /// The input case over the whole measured second (1000 steps), on demand with the
 /// benchmarks: Table 9.1's bound of its "E_C, input" row with set 1 (the row's largest
-/// |error| over the last 20 %, 0.07 %, printed to 0.01 %: below 0.075 %), the input's error as in
+/// |error| over the last 20 %, 0.07 % as printed; measured 0.071 %, so this check fails by
+/// 0.001 %: docs/estimation.md reports the distance), the input's error as in
 /// [`coupler_modulus_and_input_from_sensor_set_1`], and the time per step.
 #[test]
 #[ignore]
@@ -938,7 +939,7 @@ fn coupler_modulus_and_input_benchmark() {
         e_error.max
     );
     assert!(
-        e_error.min.abs().max(e_error.max.abs()) < 0.075,
+        e_error.min.abs().max(e_error.max.abs()) <= 0.07,
         "{e_error:?}"
     );
     assert!(u_error < 2.0 * std::f64::consts::PI * 15.0 * 1e-3);
