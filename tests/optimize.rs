@@ -167,7 +167,7 @@ fn mixed_variable_nsga2_reaches_pymoos_hypervolume_at_equal_budget() {
 
 /// The design cards' bad input, all reported by the reader at once with the card and field:
 /// a discrete variable with a move limit, the gradient-based search (not in this version), a
-/// MASS response (not in this version), a constraint without bounds.
+/// MASS response with a STAT (the mass is one number per design), a constraint without bounds.
 #[test]
 fn bad_design_cards_are_reported_together() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -189,7 +189,7 @@ fn bad_design_cards_are_reported_together() {
     for expected in [
         "DESVAR 2",
         "DELXV",
-        "MASS responses are not available",
+        "DOBJ 2: field 6 (STAT): MASS takes no STAT",
         "neither LOW nor HIGH",
         "GRAD (gradient-based search with parametric sensitivities) is not available",
     ] {
