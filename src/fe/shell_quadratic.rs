@@ -148,8 +148,9 @@ impl Quadratic {
         }
     }
 
-    /// Shape values and natural derivatives (∂/∂ξ, ∂/∂η) at `p`.
-    fn shape(self, [xi, eta]: [f64; 2]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    /// Shape values and natural derivatives (∂/∂ξ, ∂/∂η) at `p` (ξ, η on [−1, 1]² for the
+    /// quad, area coordinates r = L2, s = L3 for the triangle).
+    pub(crate) fn shape(self, [xi, eta]: [f64; 2]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
         match self {
             Quadratic::Quad8 => {
                 let mut n = vec![0.0; 8];
@@ -813,4 +814,37 @@ pub fn strains(
         shear: [e[6], e[7]],
         axes,
     })
+}
+
+/// ∫w dA and ∫x w dA / ∫w dA over a CQUAD8 / CTRIA6 surface, for a density w interpolated
+/// from its corner values (bilinear / linear), with the element's integration rule (the one
+/// of its mass matrix, so the two agree).
+pub fn weighted(xyz: &[V3], corner_w: &[f64]) -> Result<(f64, V3), ShellError> {
+    let shape = Quadratic::with_nodes(xyz.len()).ok_or(ShellError::NodeCount(xyz.len()))?;
+    // validates the element (a folded surface has no meaningful area)
+    Geometry::new(shape, xyz, None)?;
+    let w_at = integration_point_thickness(shape, corner_w)?;
+    let mut total = 0.0;
+    let mut moment = [0.0; 3];
+    for ((p, w), density) in shape.rule().into_iter().zip(w_at) {
+        let (n, dx, de) = shape.shape(p);
+        let at = |f: &[f64]| {
+            (0..xyz.len()).fold([0.0; 3], |s, a| {
+                std::array::from_fn(|k| s[k] + f[a] * xyz[a][k])
+            })
+        };
+        let da = norm(cross(at(&dx), at(&de)));
+        let dm = w * da * density;
+        total += dm;
+        let x = at(&n);
+        moment = std::array::from_fn(|k| moment[k] + dm * x[k]);
+    }
+    let c = if total != 0.0 {
+        scale(moment, 1.0 / total)
+    } else {
+        xyz.iter().fold([0.0; 3], |s, p| {
+            std::array::from_fn(|k| s[k] + p[k] / xyz.len() as f64)
+        })
+    };
+    Ok((total, c))
 }
