@@ -278,6 +278,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("TABLEM4", |c, b| Ok(b.tablem4.push(Tabled4::from_card(c)?))),
     ("PSHELL", |c, b| Ok(b.pshell.push(Pshell::from_card(c)?))),
     ("PCOMP", |c, b| Ok(b.pcomp.push(Pcomp::from_card(c)?))),
+    ("PCOMPG", |c, b| Ok(b.pcomp.push(Pcomp::from_pcompg(c)?))),
     ("PSOLID", |c, b| Ok(b.psolid.push(Psolid::from_card(c)?))),
     ("PSHEAR", |c, b| Ok(b.pshear.push(Pshear::from_card(c)?))),
     ("PELAS", |c, b| Ok(b.pelas.extend(Pelas::from_card(c)?))),
