@@ -277,6 +277,9 @@ struct Covariant {
     axes: [V3; 3],
 }
 
+/// Assumed covariant rows: membrane ε⁰_ξξ, ε⁰_ηη, ε⁰_ξη and transverse 2ε_ξ3, 2ε_η3.
+type Assumed = ([Vec<f64>; 3], [Vec<f64>; 2]);
+
 /// The element's geometry, ready for strain rows at any point.
 struct Geometry {
     shape: Quadratic,
@@ -448,11 +451,7 @@ impl Geometry {
     }
 
     /// The assumed covariant membrane and shear rows at `p` (module doc, "Assumed strains").
-    fn assumed(
-        &self,
-        p: [f64; 2],
-        direct: &Covariant,
-    ) -> Result<([Vec<f64>; 3], [Vec<f64>; 2]), ShellError> {
+    fn assumed(&self, p: [f64; 2], direct: &Covariant) -> Result<Assumed, ShellError> {
         let len = self.dofs();
         match self.shape {
             Quadratic::Quad8 => {
@@ -489,8 +488,8 @@ impl Geometry {
                     for (j, &t) in two.iter().enumerate() {
                         let cov = self.covariant([s, t])?;
                         let w = lx[i] * le[j];
-                        for k in 0..len {
-                            membrane[2][k] += w * cov.membrane[2][k];
+                        for (o, x) in membrane[2].iter_mut().zip(&cov.membrane[2]) {
+                            *o += w * x;
                         }
                     }
                 }

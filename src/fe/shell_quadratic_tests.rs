@@ -549,3 +549,44 @@ fn thin_quarter_ring_bends_like_a_curved_beam() {
         }
     }
 }
+
+/// PLOAD4 on a CQUAD8 / CTRIA6 ([`super::pressure::face_forces`] with their shape functions):
+/// a uniform pressure p on a flat square CQUAD8 of area A gives the classical consistent loads
+/// −pA/12 at each corner and pA/3 at each mid-side grid, on a CTRIA6 0 at the corners and pA/3
+/// at the mid-sides (Zienkiewicz & Taylor, *The Finite Element Method*, vol. 1, §8.8); exact
+/// to round-off.
+#[test]
+fn uniform_pressure_on_quadratic_faces_gives_the_classical_loads() {
+    use super::pressure::{Direction, face_forces};
+    let quad = [
+        [0.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [2.0, 2.0, 0.0],
+        [0.0, 2.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [2.0, 1.0, 0.0],
+        [1.0, 2.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
+    let f = face_forces(&quad, &[3.0; 4], Direction::Normal);
+    for (a, fa) in f.iter().enumerate() {
+        let want = if a < 4 { -12.0 / 12.0 } else { 12.0 / 3.0 };
+        assert!(
+            (fa[2] - want).abs() < 1e-12 && fa[0].abs() + fa[1].abs() < 1e-12,
+            "{a}: {fa:?}"
+        );
+    }
+    let tria = [
+        [0.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 2.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
+    let f = face_forces(&tria, &[3.0; 3], Direction::Normal);
+    for (a, fa) in f.iter().enumerate() {
+        let want = if a < 3 { 0.0 } else { 6.0 / 3.0 };
+        assert!((fa[2] - want).abs() < 1e-12, "{a}: {fa:?}");
+    }
+}

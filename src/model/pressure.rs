@@ -157,7 +157,7 @@ impl Model {
 
 fn shell_face(nodes: &[usize], pressures: &[f64; 4], direction: Direction) -> LoadedFace {
     // one pressure per corner: 4 for CQUAD4 / CQUAD8, 3 for CTRIA3 / CTRIA6
-    let corners = if nodes.len() % 4 == 0 { 4 } else { 3 };
+    let corners = if nodes.len().is_multiple_of(4) { 4 } else { 3 };
     LoadedFace {
         grids: nodes.to_vec(),
         pressures: pressures[..corners].to_vec(),
