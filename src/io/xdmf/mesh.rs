@@ -23,6 +23,9 @@
 //!
 //! Blocks with another card and node count, or with no elements, are left out and reported.
 //!
+//! meshio 5 reads a single CQUAD8, CTRIA6 or CTETRA10 block, but its `Mixed` reader knows no
+//! codes 36–38 (ParaView reads both).
+//!
 //! In a `Mixed` list XDMF puts the node count after the code of a polyvertex, as of a
 //! polyline (ParaView reads it so), while meshio reads a polyvertex without one; a one-node
 //! element is therefore written as a zero-length polyline, which both read alike.
