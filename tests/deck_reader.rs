@@ -10,6 +10,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use paraflex::card_values::ShellOrientation;
 use paraflex::deck::cards::BulkData;
 use paraflex::deck::{Deck, Loc, Solution};
 
@@ -504,4 +505,47 @@ fn harmless_cards_are_set_aside_with_a_reason_and_the_others_refused() {
     ] {
         assert!(message.contains(text), "'{text}' not in:\n{message}");
     }
+}
+
+/// PCOMPG is a PCOMP with a global ply id per line: the same plies (the second ply's MID
+/// defaults to the first's), the ids kept; CQUAD8 and CTRIA6 read their grids, THETA/MCID,
+/// ZOFFS and corner thicknesses from their own field positions.
+#[test]
+fn pcompg_and_quadratic_shell_cards_read_their_fields() {
+    let deck = read_text(
+        "SOL 103
+CEND
+BEGIN BULK
+PCOMPG  1               .1                                      SYM
+        11      1       .001    30.
+        12              .002    -45.    YES
+PCOMP   2               .1                                      SYM
+        1       .001    30.             1       .002    -45.    YES
+CQUAD8  5       1       1       2       3       4       5       6
+        7       8       .1      .2      .3      .4      7       .05
+        1
+CTRIA6  6       2       1       2       3       4       5       6
+        15.     -.02    1.      2.      3.      1
+ENDDATA
+",
+    );
+    let b = &deck.bulk;
+    assert_eq!(b.pcomp[0].plies, b.pcomp[1].plies);
+    assert_eq!(b.pcomp[0].global_ply_ids, vec![11, 12]);
+    assert!(b.pcomp[1].global_ply_ids.is_empty());
+    let q = &b.cquad8[0];
+    assert_eq!(q.nodes, vec![1, 2, 3, 4, 5, 6, 7, 8]);
+    assert_eq!(q.orientation, ShellOrientation::Mcid(7));
+    assert_eq!(q.zoffs, 0.05);
+    let c = q.corner_thickness.unwrap();
+    assert!(c.relative);
+    assert_eq!(c.t, [Some(0.1), Some(0.2), Some(0.3), Some(0.4)]);
+    let t = &b.ctria6[0];
+    assert_eq!((t.id, t.pid), (6, 2));
+    assert_eq!(t.nodes, vec![1, 2, 3, 4, 5, 6]);
+    assert_eq!(t.orientation, ShellOrientation::Theta(15.0));
+    assert_eq!(t.zoffs, -0.02);
+    let c = t.corner_thickness.unwrap();
+    assert!(c.relative);
+    assert_eq!(c.t, [Some(1.0), Some(2.0), Some(3.0), None]);
 }

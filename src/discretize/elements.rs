@@ -68,7 +68,7 @@ use crate::fe::laminate::{
     ShellMaterial, ShellSection, affine_sections,
 };
 use crate::fe::lumped::{Conm2, ScalarSpring};
-use crate::fe::{beam, shell, solid};
+use crate::fe::{beam, shell, shell_quadratic, solid};
 use crate::geometry::vec3::{normalize, sub};
 use crate::linalg::Progress;
 use crate::model::damping::Damper;
@@ -215,9 +215,12 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> 
     let wtmass = ctx.model.params.wtmass;
     let xyz = ctx.model.positions(e);
     let mut built = match e.kind {
-        ElementKind::Quad4 | ElementKind::Tria3 | ElementKind::QuadR | ElementKind::TriaR => {
-            shell_element(ctx, e, &xyz)?
-        }
+        ElementKind::Quad4
+        | ElementKind::Tria3
+        | ElementKind::QuadR
+        | ElementKind::TriaR
+        | ElementKind::Quad8
+        | ElementKind::Tria6 => shell_element(ctx, e, &xyz)?,
         ElementKind::Cshear => shear_panel::shear_panel_element(ctx, e)?,
         ElementKind::Hexa8 | ElementKind::Penta6 | ElementKind::Tetra4 | ElementKind::Tetra10 => {
             solid_element(ctx, e, &xyz)?
@@ -365,7 +368,13 @@ fn shell_section(
     e: &Element,
     card: &ShellPlacement,
 ) -> Result<ShellSections, DiscretizeError> {
-    let n = e.nodes.len();
+    // corner grids: the quadratic shells' corner thicknesses are those of their corners
+    let quadratic = shell_quadratic::Quadratic::with_nodes(e.nodes.len());
+    let n = match quadratic {
+        Some(shell_quadratic::Quadratic::Quad8) => 4,
+        Some(shell_quadratic::Quadratic::Tria6) => 3,
+        None => e.nodes.len(),
+    };
     let zoffs = card.zoffs;
     match e.property {
         Some(property @ PropertyRef::Pshell(_)) => {
@@ -400,7 +409,11 @@ fn shell_section(
             let points = match corners {
                 None => None,
                 Some(c) => {
-                    let at = shell::integration_point_thickness(&c).map_err(|x| err(e, x))?;
+                    let at = match quadratic {
+                        Some(q) => shell_quadratic::integration_point_thickness(q, &c),
+                        None => shell::integration_point_thickness(&c),
+                    }
+                    .map_err(|x| err(e, x))?;
                     Some(
                         at.into_iter()
                             .map(|t| SectionInput::Pshell {
@@ -664,7 +677,7 @@ fn material_axis(
     match orientation {
         ShellOrientation::Theta(0.0) => Ok(None),
         ShellOrientation::Theta(theta) => {
-            let n = if xyz.len() == 4 {
+            let n = if xyz.len() == 4 || xyz.len() == 8 {
                 cross(sub(xyz[2], xyz[0]), sub(xyz[3], xyz[1]))
             } else {
                 cross(sub(xyz[1], xyz[0]), sub(xyz[2], xyz[0]))
@@ -708,6 +721,16 @@ fn shell_element(
     } = shell_section(model, e, &card)?;
     let material_x = material_axis(model, e, xyz, card.orientation)?;
     let parts = shell_parts(&centre, ctx.params).map_err(|x| err(e, x))?;
+    if shell_quadratic::Quadratic::with_nodes(xyz.len()).is_some() {
+        return quadratic_shell(
+            ctx,
+            e,
+            xyz,
+            parts,
+            points,
+            ShellRecovery { material_x, fibres },
+        );
+    }
     // The deck's section(s), i.e. the parts at the nominal parameter values: the CQUAD4
     // condenses its incompatible modes with them (shell module doc, "frozen condensation"),
     // unless PARAM,QINCOMP,NO leaves the modes out.
@@ -788,6 +811,47 @@ fn shell_element(
         }),
         shell: Some(ShellRecovery { material_x, fibres }),
         frozen: parts.stiffness_target.filter(|_| condensation_frozen),
+        ..Built::default()
+    })
+}
+
+/// A CQUAD8 / CTRIA6 ([`shell_quadratic`]): the section parts as for the CQUAD4, nothing
+/// condensed, so nothing is frozen.
+fn quadratic_shell(
+    ctx: &ElementContext,
+    e: &Element,
+    xyz: &[[f64; 3]],
+    parts: ShellParts,
+    points: Option<Vec<SectionInput>>,
+    recovery: ShellRecovery,
+) -> Result<Built, DiscretizeError> {
+    let k = match points {
+        None => shell_quadratic::affine_stiffness(xyz, &parts.stiffness, recovery.material_x),
+        Some(points) => {
+            let at = points
+                .iter()
+                .map(|s| shell_parts(s, ctx.params).map(|p| p.stiffness))
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(|x| err(e, x))?;
+            shell_quadratic::affine_stiffness_at_points(xyz, &at, recovery.material_x)
+        }
+    }
+    .map_err(|x| err(e, x))?;
+    let m = shell_quadratic::affine_mass(xyz, &parts.mass, ctx.lumped).map_err(|x| err(e, x))?;
+    let frozen = CoefficientValues::default();
+    Ok(Built {
+        k: nonempty(&k).then(|| {
+            Contribution::from_affine(
+                ctx.frames,
+                &e.nodes,
+                &k,
+                bind(parts.stiffness_target, frozen),
+            )
+        }),
+        m: nonempty(&m).then(|| {
+            Contribution::from_affine(ctx.frames, &e.nodes, &m, bind(parts.mass_target, frozen))
+        }),
+        shell: Some(recovery),
         ..Built::default()
     })
 }
@@ -1186,6 +1250,7 @@ pub fn shell_strains(
             rec.fibres,
             &std::array::from_fn(|i| ue[i]),
         ),
+        (8, 48) | (6, 36) => shell_quadratic::strains(&xyz, rec.material_x, rec.fibres, ue),
         (k, _) => return Err(bad(format!("a shell with {k} grids"))),
     }
     .map_err(|x| bad(x.to_string()))

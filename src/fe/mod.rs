@@ -23,6 +23,9 @@ pub mod lumped;
 pub mod pressure;
 pub mod shear_panel;
 pub mod shell;
+pub mod shell_quadratic;
+#[cfg(test)]
+mod shell_quadratic_tests;
 #[cfg(test)]
 mod shell_tests;
 pub mod solid;

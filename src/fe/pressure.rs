@@ -4,9 +4,11 @@
 //! (n dA = x_ξ × x_η dξ dη, oriented by the node order) or a fixed unit direction.
 //!
 //! Faces: 3-node triangles and 4-node quadrilaterals (the shells, the faces of CHEXA, CPENTA,
-//! CTETRA 4) and the 6-node triangles of CTETRA 10 (corners then mid-sides 1–2, 2–3, 3–1). The
-//! rules integrate the pressure products exactly for flat faces and the bilinear warp of a
-//! quadrilateral: 3 × 3 Gauss points (degree 5 per direction, beyond the 3 a pressure needs, for
+//! CTETRA 4), the 6-node triangles of CTETRA 10 and CTRIA6 (corners then mid-sides 1–2, 2–3,
+//! 3–1) and the 8-node CQUAD8 (corners, then mid-sides 1–2, 2–3, 3–4, 4–1; shape functions of
+//! [`crate::fe::shell_quadratic`]); the pressure is interpolated from the corners. The rules
+//! integrate the pressure products exactly for flat faces (straight-sided for the quadratic
+//! ones) and the bilinear warp of a quadrilateral: 3 × 3 Gauss points (degree 5 per direction, beyond the 3 a pressure needs, for
 //! the non-polynomial |x_ξ × x_η| of a fixed direction on a warped face), the 3-point (degree 2)
 //! and 7-point (degree 5) triangle rules.
 
@@ -27,7 +29,7 @@ pub fn face_forces(x: &[[f64; 3]], p: &[f64], direction: Direction) -> Vec<[f64;
     let mut f = vec![[0.0; 3]; x.len()];
     for (xi, eta, w) in rule(x.len()) {
         let (n, dn_dxi, dn_deta) = shape(x.len(), xi, eta);
-        let corners = if x.len() == 4 { 4 } else { 3 };
+        let corners = if x.len() == 4 || x.len() == 8 { 4 } else { 3 };
         let (c, _, _) = shape(corners, xi, eta);
         let pressure: f64 = c.iter().zip(p).map(|(ci, pi)| ci * pi).sum();
         let tangent = |d: &[f64]| -> [f64; 3] {
@@ -66,26 +68,9 @@ fn shape(nodes: usize, xi: f64, eta: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
                 s.iter().map(|(a, b)| 0.25 * b * (1.0 + a * xi)).collect(),
             )
         }
-        6 => {
-            let l = [1.0 - xi - eta, xi, eta];
-            // dL/dξ, dL/dη
-            let (dx, de) = ([-1.0, 1.0, 0.0], [-1.0, 0.0, 1.0]);
-            let corner = |i: usize, d: &[f64; 3]| (4.0 * l[i] - 1.0) * d[i];
-            let mid = |i: usize, j: usize, d: &[f64; 3]| 4.0 * (l[i] * d[j] + l[j] * d[i]);
-            let pairs = [(0, 1), (1, 2), (2, 0)];
-            let values = (0..3)
-                .map(|i| l[i] * (2.0 * l[i] - 1.0))
-                .chain(pairs.iter().map(|&(i, j)| 4.0 * l[i] * l[j]))
-                .collect();
-            let derivative = |d: &[f64; 3]| -> Vec<f64> {
-                (0..3)
-                    .map(|i| corner(i, d))
-                    .chain(pairs.iter().map(|&(i, j)| mid(i, j, d)))
-                    .collect()
-            };
-            (values, derivative(&dx), derivative(&de))
-        }
-        _ => unreachable!("faces have 3, 4 or 6 nodes"),
+        6 => crate::fe::shell_quadratic::Quadratic::Tria6.shape([xi, eta]),
+        8 => crate::fe::shell_quadratic::Quadratic::Quad8.shape([xi, eta]),
+        _ => unreachable!("faces have 3, 4, 6 or 8 nodes"),
     }
 }
 
@@ -94,7 +79,7 @@ fn shape(nodes: usize, xi: f64, eta: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
 /// 7-point rule exact to degree 5 (Dunavant) for the 6-node face.
 fn rule(nodes: usize) -> Vec<(f64, f64, f64)> {
     match nodes {
-        4 => {
+        4 | 8 => {
             let (g, w) = ((0.6f64).sqrt(), [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0]);
             let points = [-g, 0.0, g];
             (0..9)

@@ -195,9 +195,18 @@ pub enum ShellError {
         /// The direction given.
         direction: [f64; 3],
     },
-    /// A matrix was asked for a node count other than 3 or 4.
-    #[error("a shell element has 3 or 4 grids, got {0}")]
+    /// A matrix was asked for a node count other than 3, 4, 6 or 8.
+    #[error("a shell element has 3, 4, 6 or 8 grids, got {0}")]
     NodeCount(usize),
+    /// The curved surface of a quadratic element folds over (its Jacobian changes sign), at a
+    /// grid or between them: a mid-side grid too far from its edge's middle.
+    #[error("{shape} is too distorted: its surface folds over{}", .grid.map_or(" inside the element".to_string(), |g| format!(" at its grid {g} (1-based)")))]
+    Distorted {
+        /// "CQUAD8" or "CTRIA6".
+        shape: &'static str,
+        /// 1-based position of the grid in the connectivity, `None` inside the element.
+        grid: Option<usize>,
+    },
     /// Per-point sections do not match the element's integration points.
     #[error(
         "expected one section and one nominal section per integration point ({expected}), with the same affine coefficients at each; got {got}"
@@ -806,7 +815,7 @@ impl Flat {
 }
 
 /// C = diag([[A, B], [B, D]], S, γ) (9 × 9), the generalized-strain constitutive matrix.
-fn constitutive(s: &ShellSection) -> Mat<f64> {
+pub(crate) fn constitutive(s: &ShellSection) -> Mat<f64> {
     let mut c = Mat::<f64>::zeros(NSTRAIN, NSTRAIN);
     for i in 0..3 {
         for j in 0..3 {

@@ -19,16 +19,16 @@ use super::shell::{
 
 type V3 = [f64; 3];
 
-fn steel(t: f64, nu: f64) -> ShellSection {
+pub(super) fn steel(t: f64, nu: f64) -> ShellSection {
     ShellSection::pshell(&iso(210e9, nu, t)).unwrap()
 }
 
-fn iso(e: f64, nu: f64, t: f64) -> PshellSection {
+pub(super) fn iso(e: f64, nu: f64, t: f64) -> PshellSection {
     PshellSection::homogeneous(RoleMaterial::mat1(1, e, nu, 7850.0), t)
 }
 
 /// Dense assembly of element matrices given by their grid lists.
-fn assemble(nnodes: usize, elements: &[(Vec<usize>, Mat<f64>)]) -> Mat<f64> {
+pub(super) fn assemble(nnodes: usize, elements: &[(Vec<usize>, Mat<f64>)]) -> Mat<f64> {
     let mut k = Mat::<f64>::zeros(6 * nnodes, 6 * nnodes);
     for (grids, ke) in elements {
         for (a, &ga) in grids.iter().enumerate() {
@@ -69,7 +69,7 @@ fn quad_mesh_stiffness(xyz: &[V3], quads: &[[usize; 4]], section: &ShellSection)
 }
 
 /// Number of eigenvalues with |λ| < 1e-8 · max λ.
-fn zero_modes(k: &Mat<f64>) -> usize {
+pub(super) fn zero_modes(k: &Mat<f64>) -> usize {
     let ev = k.self_adjoint_eigenvalues(Side::Lower).unwrap();
     let max = ev.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     ev.iter().filter(|x| x.abs() < 1e-8 * max).count()
@@ -102,7 +102,7 @@ fn grid_mesh(
 
 /// Solve K u = f for each load in `loads`, with the DOFs in `fixed` prescribed to `values`
 /// (one dense LU on the free set).
-fn solve_with_prescribed(
+pub(super) fn solve_with_prescribed(
     k: &Mat<f64>,
     loads: &[Vec<f64>],
     fixed: &[usize],
@@ -221,12 +221,12 @@ fn rotation() -> [V3; 3] {
     mat3::mul(&rz, &mat3::mul(&ry, &rx))
 }
 
-fn rotate(v: V3) -> V3 {
+pub(super) fn rotate(v: V3) -> V3 {
     mat3::mul_vec(&rotation(), v)
 }
 
 /// MacNeal–Harder patch (1985): 0.24 × 0.12 rectangle, 4 interior grids, 5 distorted quads.
-fn macneal_harder_patch() -> (Vec<[f64; 2]>, Vec<[usize; 4]>) {
+pub(super) fn macneal_harder_patch() -> (Vec<[f64; 2]>, Vec<[usize; 4]>) {
     let xy = vec![
         [0.0, 0.0],
         [0.24, 0.0],
@@ -249,7 +249,7 @@ fn macneal_harder_patch() -> (Vec<[f64; 2]>, Vec<[usize; 4]>) {
 
 /// Exact patch field in the patch plane: u = 1e-3(x + y/2), v = 1e-3(y + x/2),
 /// w = 1e-3(x² + xy + y²)/2, θx = ∂w/∂y, θy = −∂w/∂x, θz = ½(∂v/∂x − ∂u/∂y) = 0.
-fn patch_field(x: f64, y: f64) -> [f64; 6] {
+pub(super) fn patch_field(x: f64, y: f64) -> [f64; 6] {
     let e = 1e-3;
     [
         e * (x + 0.5 * y),

@@ -210,13 +210,13 @@ mod tests {
     #[test]
     fn unknown_and_empty_blocks_are_reported() {
         let mut mesh = test_mesh();
-        mesh.blocks[0].card = "CQUAD8";
-        mesh.blocks[0].nodes_per_element = 8;
+        mesh.blocks[0].card = "CQUAD4";
+        mesh.blocks[0].nodes_per_element = 9;
         mesh.blocks[1].ids.clear();
         let m = mesh_xml("a&amp;b.h5", &mesh);
         assert!(m.shape.contains("a&amp;b.h5:/model/xyz"));
         assert_eq!(m.skipped.len(), 2, "{:?}", m.skipped);
-        assert!(m.skipped[0].starts_with("CQUAD8") && m.skipped[1].starts_with("CTRIA3"));
+        assert!(m.skipped[0].starts_with("CQUAD4") && m.skipped[1].starts_with("CTRIA3"));
     }
 
     /// Writes a model with a static displacement and two mode shapes, then the XDMF files;

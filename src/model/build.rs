@@ -421,6 +421,14 @@ fn element_id_space(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32
             .iter()
             .map(|c| entry(c.id, "CTRIA3", &c.loc, ())),
     );
+    for c in bulk.cquad8.iter().chain(&bulk.ctria6) {
+        let card = if c.nodes.len() == 8 {
+            "CQUAD8"
+        } else {
+            "CTRIA6"
+        };
+        e.push(entry(c.id, card, &c.loc, ()));
+    }
     e.extend(
         bulk.cshear
             .iter()
@@ -652,6 +660,42 @@ fn build_elements(
             if let Some(nodes) = nodes {
                 if let Ok(p) = <[[f64; 3]; 3]>::try_from(pos(&nodes)) {
                     let report = geometry::check_tria(&p, &c.nodes);
+                    shape_errors(&report, &card, &c.loc, errors);
+                    quality.add(kind.card(), c.id, &report);
+                }
+                out.push(Element {
+                    id: c.id,
+                    kind,
+                    card: i,
+                    property: prop,
+                    nodes,
+                });
+            }
+        }
+    }
+    // Quadratic shells: the corner grids take the CQUAD4 / CTRIA3 shape checks; the kernel
+    // refuses a surface that folds over.
+    for (cards, kind) in [
+        (&b.cquad8, ElementKind::Quad8),
+        (&b.ctria6, ElementKind::Tria6),
+    ] {
+        for (i, c) in cards.iter().enumerate() {
+            let card = format!("{} {}", kind.card(), c.id);
+            let nodes = resolve_nodes(refs, &c.nodes, &G, &card, &c.loc, errors);
+            let prop = resolve_property(refs, c.pid, &shell, &card, &c.loc, errors);
+            if let Some(nodes) = nodes {
+                let p = pos(&nodes);
+                let report = match kind {
+                    ElementKind::Quad8 => <[[f64; 3]; 4]>::try_from(&p[..4.min(p.len())])
+                        .ok()
+                        .zip(<[u32; 4]>::try_from(&c.nodes[..4]).ok())
+                        .map(|(q, g)| geometry::check_quad(&q, &g)),
+                    _ => <[[f64; 3]; 3]>::try_from(&p[..3.min(p.len())])
+                        .ok()
+                        .zip(<[u32; 3]>::try_from(&c.nodes[..3]).ok())
+                        .map(|(t, g)| geometry::check_tria(&t, &g)),
+                };
+                if let Some(report) = report {
                     shape_errors(&report, &card, &c.loc, errors);
                     quality.add(kind.card(), c.id, &report);
                 }

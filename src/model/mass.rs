@@ -130,6 +130,22 @@ impl Model {
                     inertia: None,
                 })
             }
+            ElementKind::Quad8 | ElementKind::Tria6 => {
+                let corners = self.shell_placement(e)?.corners;
+                let w: Vec<f64> = if e.kind == ElementKind::Quad8 {
+                    self.corner_densities::<4>(e.property?, corners.as_ref())?
+                        .to_vec()
+                } else {
+                    self.corner_densities::<3>(e.property?, corners.as_ref())?
+                        .to_vec()
+                };
+                let (mass, point) = crate::fe::shell_quadratic::weighted(&p, &w).ok()?;
+                Some(MassPoint {
+                    mass,
+                    point,
+                    inertia: None,
+                })
+            }
             ElementKind::Cshear => {
                 let q = <[[f64; 3]; 4]>::try_from(p).ok()?;
                 let ps = self.pshear(e)?;

@@ -87,6 +87,10 @@ pub enum ElementKind {
     QuadR,
     /// CTRIAR: a CTRIA3 by another name (same kernel).
     TriaR,
+    /// CQUAD8: eight-node curved shell.
+    Quad8,
+    /// CTRIA6: six-node curved shell.
+    Tria6,
     Cshear,
     Hexa8,
     Penta6,
@@ -118,6 +122,8 @@ impl ElementKind {
             ElementKind::Tria3 => "CTRIA3",
             ElementKind::QuadR => "CQUADR",
             ElementKind::TriaR => "CTRIAR",
+            ElementKind::Quad8 => "CQUAD8",
+            ElementKind::Tria6 => "CTRIA6",
             ElementKind::Cshear => "CSHEAR",
             ElementKind::Hexa8 => "CHEXA",
             ElementKind::Penta6 => "CPENTA",
@@ -181,11 +187,16 @@ impl ElementKind {
         )
     }
 
-    /// True for CQUAD4, CTRIA3, CQUADR and CTRIAR.
+    /// True for CQUAD4, CTRIA3, CQUADR, CTRIAR, CQUAD8 and CTRIA6.
     pub fn is_shell(self) -> bool {
         matches!(
             self,
-            ElementKind::Quad4 | ElementKind::Tria3 | ElementKind::QuadR | ElementKind::TriaR
+            ElementKind::Quad4
+                | ElementKind::Tria3
+                | ElementKind::QuadR
+                | ElementKind::TriaR
+                | ElementKind::Quad8
+                | ElementKind::Tria6
         )
     }
 

@@ -55,13 +55,15 @@ impl Model {
                     .get(&eid)
                     .map(|&i| &self.elements[i])
                     .ok_or(format!(
-                        "EID = {eid} is not a CQUAD4, CTRIA3, CQUADR, CTRIAR, CHEXA, CPENTA or CTETRA"
+                        "EID = {eid} is not a CQUAD4, CTRIA3, CQUADR, CTRIAR, CQUAD8, CTRIA6, CHEXA, CPENTA or CTETRA"
                     ))?;
                 let face = match element.kind {
                     ElementKind::Quad4
                     | ElementKind::Tria3
                     | ElementKind::QuadR
-                    | ElementKind::TriaR => {
+                    | ElementKind::TriaR
+                    | ElementKind::Quad8
+                    | ElementKind::Tria6 => {
                         return Ok(vec![shell_face(&element.nodes, &card.pressures, direction)]);
                     }
                     ElementKind::Hexa8
@@ -117,7 +119,7 @@ impl Model {
                 .map(|&i| &self.elements[i])
                 .filter(shells)
                 .ok_or(format!(
-                    "EID = {eid} is not a CQUAD4, CTRIA3, CQUADR or CTRIAR"
+                    "EID = {eid} is not a CQUAD4, CTRIA3, CQUADR, CTRIAR, CQUAD8 or CTRIA6"
                 ))?;
             faces.push(shell_face(&e.nodes, &[card.pressure; 4], Direction::Normal));
         }
@@ -154,9 +156,11 @@ impl Model {
 }
 
 fn shell_face(nodes: &[usize], pressures: &[f64; 4], direction: Direction) -> LoadedFace {
+    // one pressure per corner: 4 for CQUAD4 / CQUAD8, 3 for CTRIA3 / CTRIA6
+    let corners = if nodes.len().is_multiple_of(4) { 4 } else { 3 };
     LoadedFace {
         grids: nodes.to_vec(),
-        pressures: pressures[..nodes.len()].to_vec(),
+        pressures: pressures[..corners].to_vec(),
         direction,
     }
 }

@@ -103,7 +103,7 @@ impl Model {
         }
     }
 
-    /// The shell fields of a CQUAD4 / CTRIA3 / CQUADR / CTRIAR element.
+    /// The shell fields of a CQUAD4 / CTRIA3 / CQUADR / CTRIAR / CQUAD8 / CTRIA6 element.
     pub fn shell_placement(&self, e: &Element) -> Option<ShellPlacement> {
         let b = &self.bulk;
         let quads = match e.kind {
@@ -128,6 +128,19 @@ impl Model {
                 zoffs: c.zoffs,
                 corners: c.corner_thickness,
             }),
+            ElementKind::Quad8 | ElementKind::Tria6 => {
+                let cards = if e.kind == ElementKind::Quad8 {
+                    &b.cquad8
+                } else {
+                    &b.ctria6
+                };
+                cards.get(e.card).map(|c| ShellPlacement {
+                    pid: c.pid,
+                    orientation: c.orientation,
+                    zoffs: c.zoffs,
+                    corners: c.corner_thickness,
+                })
+            }
             _ => None,
         }
     }

@@ -149,6 +149,8 @@ impl Model {
             ElementKind::Tria3 => b.ctria3.get(e.card).map(|c| c.pid),
             ElementKind::QuadR => b.cquadr.get(e.card).map(|c| c.pid),
             ElementKind::TriaR => b.ctriar.get(e.card).map(|c| c.pid),
+            ElementKind::Quad8 => b.cquad8.get(e.card).map(|c| c.pid),
+            ElementKind::Tria6 => b.ctria6.get(e.card).map(|c| c.pid),
             ElementKind::Cshear => b.cshear.get(e.card).map(|c| c.pid),
             ElementKind::Hexa8 => b.chexa.get(e.card).map(|c| c.pid),
             ElementKind::Penta6 => b.cpenta.get(e.card).map(|c| c.pid),

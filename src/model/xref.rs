@@ -547,6 +547,8 @@ fn sensors(refs: &Refs, errors: &mut Vec<DeckError>) {
         ("CTRIA3", b.ctria3.iter().map(|c| c.id).collect()),
         ("CQUADR", b.cquadr.iter().map(|c| c.id).collect()),
         ("CTRIAR", b.ctriar.iter().map(|c| c.id).collect()),
+        ("CQUAD8", b.cquad8.iter().map(|c| c.id).collect()),
+        ("CTRIA6", b.ctria6.iter().map(|c| c.id).collect()),
         ("CHEXA", b.chexa.iter().map(|c| c.id).collect()),
         ("CPENTA", b.cpenta.iter().map(|c| c.id).collect()),
         ("CTETRA", b.ctetra.iter().map(|c| c.id).collect()),
@@ -578,7 +580,7 @@ fn sensors(refs: &Refs, errors: &mut Vec<DeckError>) {
                     )
                     .on_card(&card),
                 ),
-                Some("CQUAD4" | "CTRIA3" | "CQUADR" | "CTRIAR") => {}
+                Some("CQUAD4" | "CTRIA3" | "CQUADR" | "CTRIAR" | "CQUAD8" | "CTRIA6") => {}
                 Some(kind @ ("CHEXA" | "CPENTA" | "CTETRA")) => {
                     if let Some(surf) = s.surface {
                         errors.push(
@@ -671,6 +673,8 @@ fn property_users(refs: &Refs) -> HashMap<u32, Vec<String>> {
     b.ctria3.iter().for_each(|c| push(c.pid, "CTRIA3", c.id));
     b.cquadr.iter().for_each(|c| push(c.pid, "CQUADR", c.id));
     b.ctriar.iter().for_each(|c| push(c.pid, "CTRIAR", c.id));
+    b.cquad8.iter().for_each(|c| push(c.pid, "CQUAD8", c.id));
+    b.ctria6.iter().for_each(|c| push(c.pid, "CTRIA6", c.id));
     b.cshear.iter().for_each(|c| push(c.pid, "CSHEAR", c.id));
     b.chexa.iter().for_each(|c| push(c.pid, "CHEXA", c.id));
     b.cpenta.iter().for_each(|c| push(c.pid, "CPENTA", c.id));

@@ -1,4 +1,4 @@
-//! Elements: shells `CQUAD4`, `CTRIA3` (and `CQUADR`, `CTRIAR` in their layouts); solids `CHEXA`, `CPENTA`, `CTETRA`; scalar springs
+//! Elements: shells `CQUAD4`, `CTRIA3` (and `CQUADR`, `CTRIAR` in their layouts), `CQUAD8`, `CTRIA6`; solids `CHEXA`, `CPENTA`, `CTETRA`; scalar springs
 //! `CELAS1`–`CELAS4` and dampers `CDAMP1`–`CDAMP4`; the viscous damper `CVISC`; the bush
 //! `CBUSH`; concentrated mass `CONM2`; scalar points `SPOINT`.
 
@@ -15,28 +15,32 @@ fn orientation(f: &mut FieldReader, i: usize) -> ShellOrientation {
     }
 }
 
-/// Read the corner-thickness continuation (TFLAG at `first`, then `count` corner values).
-/// Returns `None` when all are blank.
-fn corner_thickness(f: &mut FieldReader, first: usize, count: usize) -> Option<CornerThickness> {
-    if (first..=first + count).all(|i| f.value(i).is_blank()) {
+/// Read corner thicknesses: TFLAG at field `tflag`, the corner values T1, T2, … at the fields
+/// `fields`. Returns `None` when all are blank.
+fn corner_thickness(
+    f: &mut FieldReader,
+    tflag: usize,
+    fields: &[usize],
+) -> Option<CornerThickness> {
+    if f.value(tflag).is_blank() && fields.iter().all(|&i| f.value(i).is_blank()) {
         return None;
     }
-    let relative = match f.int_or(first, "TFLAG", 0) {
+    let relative = match f.int_or(tflag, "TFLAG", 0) {
         0 => false,
         1 => true,
         other => {
-            f.error(first, "TFLAG", format!("expected 0 or 1, found {other}"));
+            f.error(tflag, "TFLAG", format!("expected 0 or 1, found {other}"));
             false
         }
     };
     let mut t = [None; 4];
-    for (k, slot) in t.iter_mut().take(count).enumerate() {
-        *slot = f.opt_real(first + 1 + k, &format!("T{}", k + 1));
+    for (k, (slot, &i)) in t.iter_mut().zip(fields).enumerate() {
+        *slot = f.opt_real(i, &format!("T{}", k + 1));
         if let Some(v) = *slot
             && v <= 0.0
         {
             f.error(
-                first + 1 + k,
+                i,
                 &format!("T{}", k + 1),
                 format!("expected a thickness > 0, found {v:e}"),
             );
@@ -79,7 +83,7 @@ impl Cquad4 {
         let nodes = [f.id(3, "G1"), f.id(4, "G2"), f.id(5, "G3"), f.id(6, "G4")];
         let orientation = orientation(&mut f, 7);
         let zoffs = f.real_or(8, "ZOFFS", 0.0);
-        let corner_thickness = corner_thickness(&mut f, 10, 4);
+        let corner_thickness = corner_thickness(&mut f, 10, &[11, 12, 13, 14]);
         let loc = f.loc();
         f.finish(14)?;
         Ok(Cquad4 {
@@ -128,10 +132,119 @@ impl Ctria3 {
         let nodes = [f.id(3, "G1"), f.id(4, "G2"), f.id(5, "G3")];
         let orientation = orientation(&mut f, 6);
         let zoffs = f.real_or(7, "ZOFFS", 0.0);
-        let corner_thickness = corner_thickness(&mut f, 10, 3);
+        let corner_thickness = corner_thickness(&mut f, 10, &[11, 12, 13]);
         let loc = f.loc();
         f.finish(13)?;
         Ok(Ctria3 {
+            id,
+            pid,
+            nodes,
+            orientation,
+            zoffs,
+            corner_thickness,
+            loc,
+        })
+    }
+}
+
+/// `CQUAD8` / `CTRIA6` — eight- and six-node curved shells (`fe::shell_quadratic`).
+///
+/// CQUAD8:
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | EID | int > 0 | required | element id |
+/// | 3 | PID | int > 0 | EID | PSHELL or PCOMP id |
+/// | 4–7 | G1–G4 | int > 0 | required | corner grids, in order around the element |
+/// | 8–9, cont. 2–3 | G5–G8 | int > 0 | required | mid-side grids of edges 1-2, 2-3, 3-4, 4-1 (a blank mid-side grid is refused) |
+/// | cont. 4–7 | T1–T4 | real > 0 | property T | corner thicknesses (bilinear over the element) |
+/// | cont. 8 | THETA/MCID | real or int | 0.0 | material orientation angle (deg) or system id |
+/// | cont. 9 | ZOFFS | real | 0.0 | offset of the reference surface from the grids |
+/// | 2nd cont. 2 | TFLAG | 0 or 1 | 0 | 1: T1–T4 are ratios of the property thickness |
+///
+/// CTRIA6:
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | EID | int > 0 | required | element id |
+/// | 3 | PID | int > 0 | EID | PSHELL or PCOMP id |
+/// | 4–6 | G1–G3 | int > 0 | required | corner grids |
+/// | 7–9 | G4–G6 | int > 0 | required | mid-side grids of edges 1-2, 2-3, 3-1 (a blank mid-side grid is refused) |
+/// | cont. 2 | THETA/MCID | real or int | 0.0 | material orientation angle (deg) or system id |
+/// | cont. 3 | ZOFFS | real | 0.0 | offset of the reference surface from the grids |
+/// | cont. 4–6 | T1–T3 | real > 0 | property T | corner thicknesses (linear over the element) |
+/// | cont. 7 | TFLAG | 0 or 1 | 0 | 1: T1–T3 are ratios of the property thickness |
+#[derive(Debug, Clone, PartialEq)]
+pub struct QuadraticShell {
+    pub id: u32,
+    pub pid: u32,
+    /// Corner grids, then mid-side grids (8 for a CQUAD8, 6 for a CTRIA6).
+    pub nodes: Vec<u32>,
+    pub orientation: ShellOrientation,
+    pub zoffs: f64,
+    pub corner_thickness: Option<CornerThickness>,
+    pub loc: Loc,
+}
+
+impl QuadraticShell {
+    /// Read a `CQUAD8` card.
+    pub fn cquad8(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        Self::read(
+            card,
+            4,
+            &[3, 4, 5, 6, 7, 8, 9, 10],
+            (15, 16),
+            (17, &[11, 12, 13, 14]),
+            17,
+        )
+    }
+
+    /// Read a `CTRIA6` card.
+    pub fn ctria6(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        Self::read(
+            card,
+            3,
+            &[3, 4, 5, 6, 7, 8],
+            (9, 10),
+            (14, &[11, 12, 13]),
+            14,
+        )
+    }
+
+    /// The card with `corners` corner grids followed by mid-side grids at the fields `grids`,
+    /// THETA/MCID and ZOFFS at `placement`, TFLAG and T1… at `thickness`, `last` data fields.
+    fn read(
+        card: &RawCard,
+        corners: usize,
+        grids: &[usize],
+        (orient, zoffs): (usize, usize),
+        (tflag, t): (usize, &[usize]),
+        last: usize,
+    ) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "EID");
+        f.set_id(id);
+        let pid = f.opt_id(2, "PID").unwrap_or(id);
+        let mut nodes = Vec::with_capacity(grids.len());
+        for (k, &i) in grids.iter().enumerate() {
+            let name = format!("G{}", k + 1);
+            if k >= corners && f.value(i).is_blank() {
+                f.error(
+                    i,
+                    &name,
+                    "a blank mid-side grid is not supported: give every mid-side grid (a straight edge takes a grid at its middle)",
+                );
+                nodes.push(0);
+            } else {
+                nodes.push(f.id(i, &name));
+            }
+        }
+        let orientation = orientation(&mut f, orient);
+        let zoffs = f.real_or(zoffs, "ZOFFS", 0.0);
+        let corner_thickness = corner_thickness(&mut f, tflag, t);
+        let loc = f.loc();
+        f.finish(last)?;
+        Ok(QuadraticShell {
             id,
             pid,
             nodes,

@@ -34,7 +34,7 @@ pub use dynamic::{
 };
 pub use elements::{
     BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Conm2, Cpenta, Cquad4,
-    Ctetra, Ctria3, Cvisc, OnCardLayout, Spoint,
+    Ctetra, Ctria3, Cvisc, OnCardLayout, QuadraticShell, Spoint,
 };
 pub use estimate::{Amanda, Ekf, Ekfinp, Ekfpar, Meas, Measf};
 pub use extension::{
@@ -75,6 +75,10 @@ pub struct BulkData {
     pub cquadr: Vec<Cquad4>,
     /// CTRIAR: the CTRIA3 layout and kernel (docs/departures.md).
     pub ctriar: Vec<Ctria3>,
+    /// CQUAD8: eight-node curved shell.
+    pub cquad8: Vec<QuadraticShell>,
+    /// CTRIA6: six-node curved shell.
+    pub ctria6: Vec<QuadraticShell>,
     pub cshear: Vec<Cshear>,
     pub chexa: Vec<Chexa>,
     pub cpenta: Vec<Cpenta>,
@@ -236,6 +240,12 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("CTRIA3", |c, b| Ok(b.ctria3.push(Ctria3::from_card(c)?))),
     ("CQUADR", |c, b| Ok(b.cquadr.push(Cquad4::from_card(c)?))),
     ("CTRIAR", |c, b| Ok(b.ctriar.push(Ctria3::from_card(c)?))),
+    ("CQUAD8", |c, b| {
+        Ok(b.cquad8.push(QuadraticShell::cquad8(c)?))
+    }),
+    ("CTRIA6", |c, b| {
+        Ok(b.ctria6.push(QuadraticShell::ctria6(c)?))
+    }),
     ("CSHEAR", |c, b| Ok(b.cshear.push(Cshear::from_card(c)?))),
     ("CHEXA", |c, b| Ok(b.chexa.push(Chexa::from_card(c)?))),
     ("CPENTA", |c, b| Ok(b.cpenta.push(Cpenta::from_card(c)?))),
@@ -284,6 +294,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("TABLEM4", |c, b| Ok(b.tablem4.push(Tabled4::from_card(c)?))),
     ("PSHELL", |c, b| Ok(b.pshell.push(Pshell::from_card(c)?))),
     ("PCOMP", |c, b| Ok(b.pcomp.push(Pcomp::from_card(c)?))),
+    ("PCOMPG", |c, b| Ok(b.pcomp.push(Pcomp::from_pcompg(c)?))),
     ("PSOLID", |c, b| Ok(b.psolid.push(Psolid::from_card(c)?))),
     ("PSHEAR", |c, b| Ok(b.pshear.push(Pshear::from_card(c)?))),
     ("PELAS", |c, b| Ok(b.pelas.extend(Pelas::from_card(c)?))),

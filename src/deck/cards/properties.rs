@@ -1,4 +1,4 @@
-//! Properties: `PSHELL`, `PCOMP`, `PSOLID`, `PELAS`, `PDAMP`, `PVISC`, `PBUSH`.
+//! Properties: `PSHELL`, `PCOMP`, `PCOMPG`, `PSOLID`, `PELAS`, `PDAMP`, `PVISC`, `PBUSH`.
 
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
@@ -106,6 +106,13 @@ pub struct Ply {
 /// | 8 | GE | real | 0.0 | structural damping coefficient |
 /// | 9 | LAM | blank or `SYM` | blank | `SYM`: plies given are the lower half of a symmetric laminate |
 /// | cont. | MIDi Ti THETAi SOUTi | int, real, real, YES/NO | previous ply's MID and T; THETA 0.0; NO | plies from bottom to top, two per line (SOUT is not consulted: STRESS writes every ply) |
+///
+/// `PCOMPG` has the same first line and one ply per continuation line:
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | cont. 2 | GPLYIDi | int > 0 | required | global ply id (unique on the card; kept, output numbers plies by position) |
+/// | cont. 3–6 | MIDi Ti THETAi SOUTi | int, real, real, YES/NO | as PCOMP | the ply, bottom to top |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pcomp {
     pub id: u32,
@@ -120,12 +127,27 @@ pub struct Pcomp {
     pub symmetric: bool,
     /// Plies as written (the lower half when symmetric).
     pub plies: Vec<Ply>,
+    /// PCOMPG: the global ply id of each ply of `plies` (empty for a PCOMP).
+    pub global_ply_ids: Vec<u32>,
     pub loc: Loc,
 }
 
 impl Pcomp {
     /// Read a `PCOMP` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        Self::read(card, false)
+    }
+
+    /// Read a `PCOMPG` card: the PCOMP header, then one ply per continuation line,
+    /// `GPLYID MID T THETA SOUT`. The global ply ids are kept (unique, > 0) and the laminate is
+    /// the PCOMP's; paraflex's ply output numbers plies by position, not by these ids.
+    pub fn from_pcompg(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        Self::read(card, true)
+    }
+
+    /// `global`: the PCOMPG layout (8 fields a ply, its global id first) instead of the
+    /// PCOMP's 4 fields a ply.
+    fn read(card: &RawCard, global: bool) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "PID");
         f.set_id(id);
@@ -150,11 +172,26 @@ impl Pcomp {
             );
         }
         let mut plies: Vec<Ply> = Vec::new();
+        let mut global_ply_ids: Vec<u32> = Vec::new();
         let len = f.len();
-        let mut i = 9;
+        let (stride, mut i) = if global { (8, 10) } else { (4, 9) };
         while i <= len {
             let blank_ply = (i..i + 4).all(|k| f.value(k).is_blank());
-            if !blank_ply {
+            // a PCOMPG ply is there when its line has a global id or any ply field
+            let present = !blank_ply || (global && !f.value(i - 1).is_blank());
+            if global && present {
+                let k = plies.len() + 1;
+                let id = f.id(i - 1, &format!("GPLYID{k}"));
+                if global_ply_ids.contains(&id) {
+                    f.error(
+                        i - 1,
+                        &format!("GPLYID{k}"),
+                        format!("global ply id {id} is repeated"),
+                    );
+                }
+                global_ply_ids.push(id);
+            }
+            if present {
                 let k = plies.len() + 1;
                 let prev = plies.last().cloned();
                 let mid = match (f.opt_id(i, &format!("MID{k}")), &prev) {
@@ -183,7 +220,7 @@ impl Pcomp {
                     sout,
                 });
             }
-            i += 4;
+            i += stride;
         }
         if plies.is_empty() {
             f.card_error("no ply given (MID1 T1 THETA1 SOUT1 on the continuation)");
@@ -200,6 +237,7 @@ impl Pcomp {
             ge,
             symmetric,
             plies,
+            global_ply_ids,
             loc,
         })
     }

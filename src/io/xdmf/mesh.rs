@@ -12,6 +12,8 @@
 //! |---|---|---|
 //! | CQUAD4, CQUADR, CSHEAR | Quadrilateral (5) | G1..G4 |
 //! | CTRIA3, CTRIAR | Triangle (4) | G1..G3 |
+//! | CQUAD8 | Quadrilateral_8 (37) | corners, then mid-sides of edges 1-2, 2-3, 3-4, 4-1, as VTK_QUADRATIC_QUAD |
+//! | CTRIA6 | Triangle_6 (36) | corners, then mid-sides of edges 1-2, 2-3, 3-1, as VTK_QUADRATIC_TRIANGLE |
 //! | CHEXA (8) | Hexahedron (9) | G1..G4 bottom, G5..G8 top, as VTK_HEXAHEDRON |
 //! | CPENTA (6) | Wedge (8) | G1..G3, G4..G6 with G4 over G1, as VTK_WEDGE (a deck whose first face points inward renders the same; only the sign of the cell volume differs) |
 //! | CTETRA (4) | Tetrahedron (6) | |
@@ -20,6 +22,9 @@
 //! | CONM2, other 1-node cards | Polyvertex; in a mixed topology a Polyline from the grid to itself (2, 2, p, p) | see below |
 //!
 //! Blocks with another card and node count, or with no elements, are left out and reported.
+//!
+//! meshio 5 reads a single CQUAD8, CTRIA6 or CTETRA10 block, but its `Mixed` reader knows no
+//! codes 36–38 (ParaView reads both).
 //!
 //! In a `Mixed` list XDMF puts the node count after the code of a polyvertex, as of a
 //! polyline (ParaView reads it so), while meshio reads a polyvertex without one; a one-node
@@ -33,6 +38,8 @@ use crate::model::mesh::{ElementBlock, MeshArrays};
 enum Topology {
     Quadrilateral,
     Triangle,
+    Quadrilateral8,
+    Triangle6,
     Hexahedron,
     Wedge,
     Tetrahedron,
@@ -47,6 +54,8 @@ impl Topology {
         let t = match (card, k) {
             ("CQUAD4" | "CQUADR" | "CSHEAR", 4) => Topology::Quadrilateral,
             ("CTRIA3" | "CTRIAR", 3) => Topology::Triangle,
+            ("CQUAD8", 8) => Topology::Quadrilateral8,
+            ("CTRIA6", 6) => Topology::Triangle6,
             ("CHEXA", 8) => Topology::Hexahedron,
             ("CPENTA", 6) => Topology::Wedge,
             ("CTETRA", 4) => Topology::Tetrahedron,
@@ -63,6 +72,8 @@ impl Topology {
         match self {
             Topology::Quadrilateral => r#"TopologyType="Quadrilateral""#,
             Topology::Triangle => r#"TopologyType="Triangle""#,
+            Topology::Quadrilateral8 => r#"TopologyType="Quadrilateral_8""#,
+            Topology::Triangle6 => r#"TopologyType="Triangle_6""#,
             Topology::Hexahedron => r#"TopologyType="Hexahedron""#,
             Topology::Wedge => r#"TopologyType="Wedge""#,
             Topology::Tetrahedron => r#"TopologyType="Tetrahedron""#,
@@ -91,6 +102,8 @@ impl Topology {
             Topology::Wedge => 8,
             Topology::Hexahedron => 9,
             Topology::Tetrahedron10 => 38,
+            Topology::Triangle6 => 36,
+            Topology::Quadrilateral8 => 37,
         };
         cells.push(code);
         cells.extend_from_slice(element);
