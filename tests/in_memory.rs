@@ -11,7 +11,7 @@
 use std::path::Path;
 
 use paraflex::analysis::frf::{self, Damping, FrfRun, output_rows};
-use paraflex::analysis::statics::{StaticFactors, StaticSolution, mass_values};
+use paraflex::analysis::statics::{StaticFactors, StaticSolution};
 use paraflex::deck::Deck;
 use paraflex::discretize::{BuildOptions, Constrained, Structure};
 use paraflex::linalg::{
@@ -98,7 +98,7 @@ fn statics_and_receptance_of_a_model_in_memory_at_p() {
     let (model, structure) = oscillator();
     let quiet = |_: &str, _: usize, _: usize| {};
     let par = BuildOptions { parallel: false }.par();
-    let masses = mass_values(&structure).expect("M_gg");
+    let masses = structure.mass_gg_values().expect("M_gg");
     for k in [1000.0, 500.0, 2000.0] {
         let c = Constrained::at(&model, &structure, None, &[k]).expect("constraints");
         // statics: u = F/k (one DOF: exact to round-off)

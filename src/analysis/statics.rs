@@ -72,11 +72,6 @@ impl StaticFactors {
     }
 }
 
-/// M_gg's values at the structure's parameter point (the GRAV loads' mass).
-pub fn mass_values(st: &Structure) -> Result<Vec<f64>, AssemblyError> {
-    st.mass_gg_values()
-}
-
 /// The static response to one load selection, g-set (the structure's DOF map, output frames).
 #[derive(Debug, Clone)]
 pub struct StaticSolution {
@@ -111,7 +106,7 @@ impl StaticSolution {
     }
 
     /// Solves K_ff u_f = P_f for the load set `load` (`None`: no load, enforced displacements
-    /// only) with `factor` of `c`'s K_ff; `mass_values` are M_gg's ([`mass_values`]).
+    /// only) with `factor` of `c`'s K_ff; `mass_values` are M_gg's ([`Structure::mass_gg_values`]).
     pub fn solve(
         model: &Model,
         st: &Structure,

@@ -34,7 +34,7 @@ use super::report::{Report, sci};
 use super::shared::structure;
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary, requested, selected};
 use crate::analysis::statics::{
-    ElementStrains, StaticFactors, StaticSolution, element_strains, mass_values, resultant,
+    ElementStrains, StaticFactors, StaticSolution, element_strains, resultant,
 };
 use crate::analysis::stress::{element_forces, element_stresses, failure_warnings};
 use crate::assembly::spc::suport_dofs;
@@ -125,7 +125,7 @@ fn run(
     clock: &mut Clock,
 ) -> Result<Vec<SubcaseSummary>, RunError> {
     let mut factors = StaticFactors::new(ctx.model.params.maxratio, ctx.options.par());
-    let m_gg_values = mass_values(st)?;
+    let m_gg_values = st.mass_gg_values()?;
     let mut out = Vec::new();
     // the solutions of the SUBCASEs so far, in deck order, when a SUBCOM combines them
     let combines = ctx.model.subcases.iter().any(|s| s.combination.is_some());
