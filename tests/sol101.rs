@@ -293,6 +293,34 @@ fn subcom_combines_the_preceding_subcases() {
     );
 }
 
+/// A LOAD named as a member of another LOAD adds nothing, as in MSC Nastran, which reads the
+/// members as simple load sets only: its OP2 of pyNastran's `unit/pload4/cquad4.bdf` (LOAD 8 =
+/// 13 (11 L1 + 17 L5 + 1.1 L7), L7 a LOAD) has SPC forces summing to 13 (11 P1 + 17 P5) =
+/// 537.485, not to the sum with L7 (1037.985). Here FORCE 1 = 1 N and FORCE 5 = 2 N along z at
+/// the tip: the applied load of LOAD 8 is 13 (11 + 34) = 585 N (exact sums), with a warning
+/// naming the LOAD.
+#[test]
+fn a_load_named_in_a_load_adds_nothing() {
+    let case = "SPC = 1\nLOAD = 8\n";
+    let deck = strip(
+        case,
+        "FORCE,1,1000,,1.,0.,0.,1.\nFORCE,5,1000,,2.,0.,0.,1.\nLOAD,7,5.,7.,1\n\
+         LOAD,8,13.,11.,1,17.,5,1.1,7\n",
+    );
+    let model = common::build_model(&deck).expect("valid deck");
+    assert!(
+        model.warnings.iter().any(|w| w
+            .message
+            .contains("LOAD 8: L = 7 is itself a LOAD and adds nothing")),
+        "{:#?}",
+        model.warnings
+    );
+    let (r, _dir) = run_deck(&deck);
+    let s = r.expect("run");
+    let applied = statics(&s, 0).applied[2];
+    assert!((applied - 585.0).abs() < 1e-12 * 585.0, "{applied}");
+}
+
 /// A CHEXA cube with PARAM,AUTOSPC,NO: the rotations of solid-only grids have no stiffness and
 /// the Cholesky fails; the error names the GRID and the component and suggests SPC / AUTOSPC.
 #[test]

@@ -336,8 +336,8 @@ fn enforced_displacement() {
 }
 
 /// LOAD 2 = 2.0 · (1.5 · FORCE 10 − 1.0 · MOMENT 11); GRAV without mass is an error, with
-/// mass it is M · a. (Nested LOAD, which the model check rejects, is an error of the set
-/// resolution itself: `model::sets` tests it.)
+/// mass it is M · a. (A LOAD named in a LOAD adds nothing, as in Nastran: `model::sets` tests
+/// it.)
 #[test]
 fn load_combination_and_gravity() {
     let bulk = format!(

@@ -71,7 +71,7 @@ impl Model {
                 .collect()
         };
 
-        super::xref::check(&refs, deck, &mut errors);
+        super::xref::check(&refs, deck, &mut errors, &mut warnings);
         super::values::check(&refs, &mut errors, &mut warnings);
         super::temperature::check(&refs, &mut errors, &mut warnings);
         super::pmpar::check(&refs, &mut errors);

@@ -281,8 +281,9 @@ fn load_members(b: &BulkData, sid: u32) -> Result<Vec<(f64, u32)>, SetError> {
     let mut members = Vec::new();
     for combo in combos {
         for &(si, li) in &combo.terms {
-            if b.load.iter().any(|l| l.sid == li) {
-                return Err(SetError::Nested(li));
+            // a LOAD named in a LOAD adds nothing (Nastran reads Li as simple sets only)
+            if !simple_set_exists(b, li) && b.load.iter().any(|l| l.sid == li) {
+                continue;
             }
             if !simple_set_exists(b, li) {
                 return Err(SetError::Missing(li));
@@ -398,7 +399,7 @@ mod tests {
         d.bulk.load.extend([nested, missing]);
         assert_eq!(load_members(&d.bulk, 2), Ok(vec![(3.0, 10)]));
         assert_eq!(load_members(&d.bulk, 10), Ok(vec![(1.0, 10)]));
-        assert_eq!(load_members(&d.bulk, 5), Err(SetError::Nested(2)));
+        assert_eq!(load_members(&d.bulk, 5), Ok(vec![]));
         assert_eq!(load_members(&d.bulk, 6), Err(SetError::Missing(77)));
         assert_eq!(load_members(&d.bulk, 77), Err(SetError::Empty));
     }

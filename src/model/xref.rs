@@ -29,14 +29,14 @@ use std::collections::{HashMap, HashSet};
 
 use crate::card_values::{Dofs, ForceKind, SensorKind};
 use crate::deck::cards::{BulkData, ExcitationKind, ParamValue, TloadFunction};
-use crate::deck::{Deck, DeckError, Loc};
+use crate::deck::{Deck, DeckError, Loc, Warning};
 
 use super::MaterialRef;
 use super::build::Refs;
 use super::ids::{entry, index};
 
 /// Run every check of the table above.
-pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
+pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warning>) {
     let b = refs.bulk;
     let users = property_users(refs);
     let required_by = |pid: u32| -> String {
@@ -259,17 +259,29 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>) {
     let static_sets: HashSet<u32> = b.static_load_sets().collect();
     for l in &b.load {
         for (_, id) in &l.terms {
-            if !static_sets.contains(id) {
-                let message = if b.load.iter().any(|other| other.sid == *id) {
-                    format!(
-                        "L = {id} is itself a LOAD: a LOAD combines FORCE, MOMENT, FORCE1, FORCE2, MOMENT1, MOMENT2, SLOAD, GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 and SPCD sets, not other LOADs (as in Nastran)"
+            if static_sets.contains(id) {
+                continue;
+            }
+            if b.load.iter().any(|other| other.sid == *id) {
+                // MSC Nastran reads Li as simple load sets only: a LOAD of that id adds nothing
+                // (its OP2 of pyNastran's unit/pload4/cquad4.bdf sums LOAD 8 without its LOAD 7)
+                warnings.push(Warning {
+                    loc: Some(l.loc.to_string()),
+                    message: format!(
+                        "LOAD {}: L = {id} is itself a LOAD and adds nothing: a LOAD combines simple load sets (FORCE, MOMENT, GRAV, PLOAD4, …), and Nastran, like paraflex, does not expand a LOAD named in another",
+                        l.sid
+                    ),
+                });
+            } else {
+                errors.push(
+                    DeckError::at(
+                        &l.loc,
+                        format!(
+                            "L = {id} does not exist (no FORCE, MOMENT, FORCE1, FORCE2, MOMENT1, MOMENT2, SLOAD, GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 or SPCD set {id})"
+                        ),
                     )
-                } else {
-                    format!(
-                        "L = {id} does not exist (no FORCE, MOMENT, FORCE1, FORCE2, MOMENT1, MOMENT2, SLOAD, GRAV, PLOAD4, PLOAD2, PLOAD, PLOAD1 or SPCD set {id})"
-                    )
-                };
-                errors.push(DeckError::at(&l.loc, message).on_card(format!("LOAD {}", l.sid)));
+                    .on_card(format!("LOAD {}", l.sid)),
+                );
             }
         }
     }
