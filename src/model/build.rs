@@ -605,6 +605,9 @@ type SolidCard<'a> = (
     &'a Loc,
 );
 
+/// A shell or shear panel card: kind, index in its card list, id, PID, grids, position.
+type SurfaceCard<'a> = (ElementKind, usize, u32, u32, &'a [u32], &'a Loc);
+
 const G: [&str; 10] = ["G1", "G2", "G3", "G4", "G5", "G6", "G7", "G8", "G9", "G10"];
 
 fn build_elements(
@@ -625,108 +628,90 @@ fn build_elements(
     let shell = ["PSHELL", "PCOMP"];
     let solid = ["PSOLID"];
 
+    let mut surfaces: Vec<SurfaceCard> = Vec::new();
     for (cards, kind) in [
         (&b.cquad4, ElementKind::Quad4),
         (&b.cquadr, ElementKind::QuadR),
     ] {
-        for (i, c) in cards.iter().enumerate() {
-            let card = format!("{} {}", kind.card(), c.id);
-            let nodes = resolve_nodes(refs, &c.nodes, &G, &card, &c.loc, errors);
-            let prop = resolve_property(refs, c.pid, &shell, &card, &c.loc, errors);
-            if let Some(nodes) = nodes {
-                if let Ok(p) = <[[f64; 3]; 4]>::try_from(pos(&nodes)) {
-                    let report = geometry::check_quad(&p, &c.nodes);
-                    shape_errors(&report, &card, &c.loc, errors);
-                    quality.add(kind.card(), c.id, &report);
-                }
-                out.push(Element {
-                    id: c.id,
-                    kind,
-                    card: i,
-                    property: prop,
-                    nodes,
-                });
-            }
-        }
+        surfaces.extend(
+            cards
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (kind, i, c.id, c.pid, &c.nodes[..], &c.loc)),
+        );
     }
     for (cards, kind) in [
         (&b.ctria3, ElementKind::Tria3),
         (&b.ctriar, ElementKind::TriaR),
     ] {
-        for (i, c) in cards.iter().enumerate() {
-            let card = format!("{} {}", kind.card(), c.id);
-            let nodes = resolve_nodes(refs, &c.nodes, &G, &card, &c.loc, errors);
-            let prop = resolve_property(refs, c.pid, &shell, &card, &c.loc, errors);
-            if let Some(nodes) = nodes {
-                if let Ok(p) = <[[f64; 3]; 3]>::try_from(pos(&nodes)) {
-                    let report = geometry::check_tria(&p, &c.nodes);
-                    shape_errors(&report, &card, &c.loc, errors);
-                    quality.add(kind.card(), c.id, &report);
-                }
-                out.push(Element {
-                    id: c.id,
-                    kind,
-                    card: i,
-                    property: prop,
-                    nodes,
-                });
-            }
-        }
+        surfaces.extend(
+            cards
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (kind, i, c.id, c.pid, &c.nodes[..], &c.loc)),
+        );
     }
-    // Quadratic shells: the corner grids take the CQUAD4 / CTRIA3 shape checks; the kernel
-    // refuses a surface that folds over.
     for (cards, kind) in [
         (&b.cquad8, ElementKind::Quad8),
         (&b.ctria6, ElementKind::Tria6),
     ] {
-        for (i, c) in cards.iter().enumerate() {
-            let card = format!("{} {}", kind.card(), c.id);
-            let nodes = resolve_nodes(refs, &c.nodes, &G, &card, &c.loc, errors);
-            let prop = resolve_property(refs, c.pid, &shell, &card, &c.loc, errors);
-            if let Some(nodes) = nodes {
-                let p = pos(&nodes);
-                let report = match kind {
-                    ElementKind::Quad8 => <[[f64; 3]; 4]>::try_from(&p[..4.min(p.len())])
-                        .ok()
-                        .zip(<[u32; 4]>::try_from(&c.nodes[..4]).ok())
-                        .map(|(q, g)| geometry::check_quad(&q, &g)),
-                    _ => <[[f64; 3]; 3]>::try_from(&p[..3.min(p.len())])
-                        .ok()
-                        .zip(<[u32; 3]>::try_from(&c.nodes[..3]).ok())
-                        .map(|(t, g)| geometry::check_tria(&t, &g)),
-                };
-                if let Some(report) = report {
-                    shape_errors(&report, &card, &c.loc, errors);
-                    quality.add(kind.card(), c.id, &report);
-                }
-                out.push(Element {
-                    id: c.id,
-                    kind,
-                    card: i,
-                    property: prop,
-                    nodes,
-                });
-            }
-        }
+        surfaces.extend(
+            cards
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (kind, i, c.id, c.pid, &c.nodes[..], &c.loc)),
+        );
     }
-    for (i, c) in b.cshear.iter().enumerate() {
-        let card = format!("CSHEAR {}", c.id);
-        let nodes = resolve_nodes(refs, &c.nodes, &G, &card, &c.loc, errors);
-        let prop = resolve_property(refs, c.pid, &["PSHEAR"], &card, &c.loc, errors);
-        if let Some(nodes) = nodes {
-            if let Ok(p) = <[[f64; 3]; 4]>::try_from(pos(&nodes)) {
-                let report = geometry::check_quad(&p, &c.nodes);
-                shape_errors(&report, &card, &c.loc, errors);
-                quality.add("CSHEAR", c.id, &report);
-            }
-            out.push(Element {
-                id: c.id,
-                kind: ElementKind::Cshear,
-                card: i,
-                property: prop,
-                nodes,
-            });
+    surfaces.extend(
+        b.cshear
+            .iter()
+            .enumerate()
+            .map(|(i, c)| (ElementKind::Cshear, i, c.id, c.pid, &c.nodes[..], &c.loc)),
+    );
+    for (kind, i, id, pid, ids, loc) in surfaces {
+        let card = format!("{} {id}", kind.card());
+        let allowed: &[&str] = if kind == ElementKind::Cshear {
+            &["PSHEAR"]
+        } else {
+            &shell
+        };
+        let nodes = resolve_nodes(refs, ids, &G, &card, loc, errors);
+        let prop = resolve_property(refs, pid, allowed, &card, loc, errors);
+        let Some(nodes) = nodes else {
+            continue;
+        };
+        // the shape checks of the corner grids (4 of a CQUAD8, 3 of a CTRIA6: the kernel of a
+        // quadratic shell refuses a surface that folds over)
+        let corners = if matches!(
+            kind,
+            ElementKind::Tria3 | ElementKind::TriaR | ElementKind::Tria6
+        ) {
+            3
+        } else {
+            4
+        };
+        let xyz = pos(&nodes[..corners.min(nodes.len())]);
+        let report = match corners {
+            3 => <[[f64; 3]; 3]>::try_from(xyz)
+                .ok()
+                .zip(<[u32; 3]>::try_from(&ids[..3]).ok())
+                .map(|(t, g)| geometry::check_tria(&t, &g)),
+            _ => <[[f64; 3]; 4]>::try_from(xyz)
+                .ok()
+                .zip(<[u32; 4]>::try_from(&ids[..4]).ok())
+                .map(|(q, g)| geometry::check_quad(&q, &g)),
+        };
+        if let Some(report) = report {
+            shape_errors(&report, &card, loc, errors);
+            quality.add(kind.card(), id, &report);
         }
+        out.push(Element {
+            id,
+            kind,
+            card: i,
+            property: prop,
+            nodes,
+        });
     }
     let mut solids: Vec<SolidCard> = Vec::new();
     solids.extend(b.chexa.iter().enumerate().map(|(i, c)| {
