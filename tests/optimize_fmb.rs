@@ -352,7 +352,7 @@ fn mass_and_frequency_responses_match_the_full_models() {
             )
         })
         .collect();
-    for theta in [0.0, 45.0] {
+    for theta in [0.0, 45.0, 90.0] {
         let (coupler_mass, f) = coupler(theta);
         for &(rho, cranks_mass) in &cranks {
             let k = (designs.iter())
@@ -379,11 +379,7 @@ fn mass_and_frequency_responses_match_the_full_models() {
             }
         }
     }
-    // at THETA = 90 deg this pROM's reduced stiffness has a negative eigenvalue: the design
-    // is recorded as failed, not given a frequency
-    for (d, e) in designs.iter().zip(&errors).filter(|(d, _)| d[0] == 90.0) {
-        assert!(e.contains("indefinite"), "{d:?}: '{e}'");
-    }
+    assert!(errors.iter().all(|e| e.is_empty()), "{errors:?}");
 }
 
 #[test]

@@ -70,7 +70,7 @@
 use super::random::SplitMix64;
 use faer::linalg::matmul::matmul;
 use faer::reborrow::{Reborrow, ReborrowMut};
-use faer::{Accum, Mat, MatMut, MatRef, Par, Side};
+use faer::{Accum, Mat, MatMut, MatRef, Par};
 use nalgebra_sparse::CscMatrix;
 
 use super::cholesky::DEFAULT_MAX_RATIO;
@@ -773,15 +773,14 @@ impl<'a> Lanczos<'a> {
 
     fn rayleigh_ritz(&self, m: usize, beta: f64, tol: f64) -> Result<Ritz, LinalgError> {
         let hm = self.h.as_ref().submatrix(0, 0, m, m).to_owned();
-        let evd = hm
-            .self_adjoint_eigen(Side::Lower)
-            .map_err(|_| LinalgError::NotConverged {
-                converged: 0,
-                wanted: m,
-                restarts: self.restarts,
+        let (theta_all, s) =
+            crate::linalg::dense::symmetric_eigen_vectors(hm.as_ref()).map_err(|_| {
+                LinalgError::NotConverged {
+                    converged: 0,
+                    wanted: m,
+                    restarts: self.restarts,
+                }
             })?;
-        let s = evd.U().to_owned();
-        let theta_all: Vec<f64> = (0..m).map(|i| evd.S().column_vector()[i]).collect();
         let mut columns: Vec<usize> = (0..m).filter(|&i| theta_all[i] > 0.0).collect();
         columns.sort_by(|&a, &b| theta_all[b].total_cmp(&theta_all[a]));
         let theta: Vec<f64> = columns.iter().map(|&i| theta_all[i]).collect();
