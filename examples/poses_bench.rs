@@ -44,6 +44,7 @@ fn build_strip(root: &Path, dir: &Path) {
         output: &file,
         progress: &|_: &str, _: usize, _: usize| {},
         options: BuildOptions { parallel: false },
+        engine: None,
     };
     run(&ctx).unwrap_or_else(|e| panic!("strip pROM: {e}"));
     file.commit().expect("commit");

@@ -41,6 +41,12 @@ enum Command {
         /// Output file (default: the deck name with .h5).
         #[arg(short, long)]
         output: Option<PathBuf>,
+        /// SOL OPTIMIZE: evaluate the study's designs with this command (run by `sh -c`)
+        /// instead of NPAR threads here, e.g. the Dask driver
+        /// `.venv/bin/python -m paraflex_tools.dask_engine --scheduler tcp://host:8786`
+        /// (docs/optimize.md, "Evaluation engines").
+        #[arg(long, value_name = "COMMAND")]
+        engine: Option<String>,
     },
     /// Affine components of stiffness and mass matrices sampled by another FE code (Matrix
     /// Market files listed in a CSV manifest with the affine function values, or one HDF5 file
@@ -174,7 +180,11 @@ fn main() -> ExitCode {
     interrupt::install();
     let result = match cli.command {
         Command::Check { deck, json } => commands::check(&deck, json),
-        Command::Run { deck, output } => commands::run(&deck, output.as_deref()),
+        Command::Run {
+            deck,
+            output,
+            engine,
+        } => commands::run(&deck, output.as_deref(), engine.as_deref()),
         Command::Info { file, json } => commands::info(&file, json),
         Command::Evaluate {
             deck,
@@ -213,10 +223,15 @@ mod commands {
         Ok(())
     }
 
-    pub fn run(path: &Path, output: Option<&Path>) -> Result<(), Failure> {
+    pub fn run(path: &Path, output: Option<&Path>, engine: Option<&str>) -> Result<(), Failure> {
         let (deck, model) = load_model(path)?;
         print_warnings(&model.warnings);
         print_warnings(&sequence::request_warnings(&deck, &model));
+        let optimize = deck.executive.sol.as_ref().map(|(s, _)| *s)
+            == Some(paraflex::deck::Solution::Optimize);
+        if engine.is_some() && !optimize {
+            eprintln!("warning: --engine is ignored: only SOL OPTIMIZE evaluates designs");
+        }
         let out = output
             .map(Path::to_path_buf)
             .unwrap_or_else(|| path.with_extension("h5"));
@@ -241,6 +256,7 @@ mod commands {
             output: &file,
             progress: &bars,
             options: BuildOptions::default(),
+            engine,
         };
         let result = sequence::run(&ctx);
         bars.finish();
@@ -296,6 +312,7 @@ mod commands {
             output: &file,
             progress: &bars,
             options: BuildOptions::default(),
+            engine: None,
         };
         let evaluated =
             sequence::optimize::evaluate_designs(&ctx, subcase, &designs).map_err(|e| {

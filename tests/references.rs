@@ -65,6 +65,7 @@ fn run_deck(rel: &str) -> Run {
         output: &file,
         progress: &|_: &str, _: usize, _: usize| {},
         options: BuildOptions { parallel: false },
+        engine: None,
     };
     let summary = run(&ctx).unwrap_or_else(|e| panic!("{rel}: run: {e}"));
     file.commit().expect("commit");

@@ -40,6 +40,7 @@ fn strain_and_displacement_sensors_match_the_beam_formula() {
         output: &file,
         progress: &|_: &str, _: usize, _: usize| {},
         options: BuildOptions { parallel: false },
+        engine: None,
     };
     run(&ctx).expect("SOL 101");
     let st = Structure::build(&model, &ctx.options, ctx.progress).expect("structure");

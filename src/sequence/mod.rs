@@ -54,6 +54,7 @@ pub mod fmb_estimate;
 pub mod frf;
 pub mod modal;
 pub mod optimize;
+pub mod optimize_engine;
 pub mod optimize_journal;
 pub mod optimize_library;
 mod optimize_output;
@@ -95,6 +96,9 @@ pub struct RunContext<'a> {
     pub output: &'a OutputFile,
     pub progress: &'a dyn Progress,
     pub options: BuildOptions,
+    /// The command of an evaluation engine outside this process for `SOL OPTIMIZE`'s batches
+    /// (`paraflex run --engine`, [`optimize_engine`]); `None`: NPAR threads here.
+    pub engine: Option<&'a str>,
 }
 
 /// Result of a run, for the console.

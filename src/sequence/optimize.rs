@@ -16,6 +16,7 @@
 use std::time::Instant;
 
 use super::fmb::PreparedFmb;
+use super::optimize_engine::Engine;
 use super::optimize_journal::{Header, Journal, journal_path};
 use super::optimize_output::{OptimizeSummary, Representative, write_study};
 use super::optimize_study::Study;
@@ -24,7 +25,7 @@ use crate::deck::Solution;
 use crate::deck::cards::SearchMethod;
 use crate::deck::case_control::Subcase;
 use crate::optimize::grid::full_factorial;
-use crate::optimize::{Archive, Design, Evaluated, Nsga2, Threaded, summarize};
+use crate::optimize::{Archive, Design, EvalError, Evaluated, Nsga2, Threaded, summarize};
 
 /// The `SOL OPTIMIZE` driver, on the deck's mechanism.
 pub struct Optimize;
@@ -115,6 +116,23 @@ pub fn evaluate_designs(
     Ok(threaded.batch(designs))
 }
 
+/// Where a study's batches are evaluated.
+enum Evaluator<F> {
+    /// NPAR threads of this process.
+    Threads(Threaded<F>),
+    /// An engine outside this process (`paraflex run --engine`).
+    Engine(Engine),
+}
+
+/// `n` evaluations failed because the engine did.
+fn engine_failed(why: &str, n: usize) -> Vec<Evaluated> {
+    let failed = Evaluated {
+        result: Err(EvalError(format!("not evaluated: {why}"))),
+        seconds: 0.0,
+    };
+    vec![failed; n]
+}
+
 /// Runs the study of subcase `sub` and writes it.
 fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
     let case = |what: String| RunError::Case {
@@ -137,25 +155,39 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
     let threads = study.search.npar;
     // each evaluation journaled as it completes (a panic is caught outside, not journaled)
     let journal_error = std::sync::Mutex::new(None);
-    let threaded = Threaded::new(threads, |design: &[f64]| {
-        let start = Instant::now();
-        let result = study.evaluate(&prepared, design);
-        let evaluated = Evaluated {
-            result,
-            seconds: start.elapsed().as_secs_f64(),
-        };
-        if let Err(e) = journal.record(design, &evaluated) {
-            journal_error
-                .lock()
-                .unwrap_or_else(|p| p.into_inner())
-                .get_or_insert(e);
+    let keep_error = |e: String| {
+        (journal_error.lock().unwrap_or_else(|p| p.into_inner())).get_or_insert(e);
+    };
+    let mut evaluator = match ctx.engine {
+        None => Evaluator::Threads(
+            Threaded::new(threads, |design: &[f64]| {
+                let start = Instant::now();
+                let result = study.evaluate(&prepared, design);
+                let evaluated = Evaluated {
+                    result,
+                    seconds: start.elapsed().as_secs_f64(),
+                };
+                if let Err(e) = journal.record(design, &evaluated) {
+                    keep_error(e);
+                }
+                evaluated.result
+            })
+            .map_err(|e| case(e.to_string()))?,
+        ),
+        Some(command) => {
+            Evaluator::Engine(Engine::start(command, &ctx.deck.path, sub.id).map_err(case)?)
         }
-        evaluated.result
-    })
-    .map_err(|e| case(e.to_string()))?;
+    };
+    let engine_shown = match &evaluator {
+        Evaluator::Threads(_) if threads == 0 => "one thread per core".to_string(),
+        Evaluator::Threads(_) => format!("{threads} thread(s)"),
+        Evaluator::Engine(e) => format!("the engine `{}`", e.command()),
+    };
     let total = study.budget();
     let mut done = 0;
     let mut resumed = 0;
+    // an engine failure ends the study; the search gets failed evaluations meanwhile
+    let mut engine_error: Option<String> = None;
     let mut batch = |designs: &[Design]| -> Vec<Evaluated> {
         // the designs the journal holds are not evaluated again
         let known: Vec<Option<Evaluated>> = designs.iter().map(|d| journal.known(d)).collect();
@@ -164,7 +196,22 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
             .map(|(d, _)| d.clone())
             .collect();
         resumed += designs.len() - missing.len();
-        let mut fresh = threaded.batch(&missing).into_iter();
+        let fresh = match &mut evaluator {
+            Evaluator::Threads(threaded) => threaded.batch(&missing),
+            Evaluator::Engine(engine) if engine_error.is_none() => engine
+                .batch(&missing, |design, evaluated| {
+                    if let Err(e) = journal.record(design, evaluated) {
+                        keep_error(e);
+                    }
+                })
+                .unwrap_or_else(|e| {
+                    let failed = engine_failed(&e, missing.len());
+                    engine_error = Some(e);
+                    failed
+                }),
+            Evaluator::Engine(_) => engine_failed("the engine failed before", missing.len()),
+        };
+        let mut fresh = fresh.into_iter();
         let results = known
             .into_iter()
             .map(|k| k.unwrap_or_else(|| fresh.next().expect("one result per missing design")))
@@ -191,6 +238,14 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
         }
     };
     let wall = start.elapsed().as_secs_f64();
+    if let Some(e) = engine_error {
+        return Err(case(format!(
+            "{e}; the evaluations done are in the journal {journal_shown} (MOOPT START = RESUME goes on from them)"
+        )));
+    }
+    if let Evaluator::Engine(engine) = evaluator {
+        engine.finish().map_err(case)?;
+    }
     if let Some(e) = journal_error
         .into_inner()
         .unwrap_or_else(|p| p.into_inner())
@@ -228,7 +283,7 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
             &archive,
             &summary,
             wall,
-            threads,
+            engine_shown,
             (journal_shown, resumed),
         )),
     })

@@ -72,6 +72,13 @@ pub fn entry_line(design: &[f64], evaluated: &Evaluated) -> Result<String, Strin
     serde_json::to_string(&Entry::of(design, evaluated)).map_err(|e| e.to_string())
 }
 
+/// The design and evaluation of a journal line (what `paraflex evaluate` prints per design).
+pub fn parse_entry_line(line: &str) -> Result<(Design, Evaluated), String> {
+    let entry: Entry = serde_json::from_str(line).map_err(|e| e.to_string())?;
+    let evaluated = entry.evaluated();
+    Ok((entry.design, evaluated))
+}
+
 /// An open journal: the evaluations read from it (on resume) and the file appended to.
 pub struct Journal {
     path: PathBuf,

@@ -221,8 +221,8 @@ pub struct OptimizeSummary {
     pub hypervolume: f64,
     pub mean_seconds: f64,
     pub wall_seconds: f64,
-    /// NPAR (0: one per core).
-    pub threads: usize,
+    /// Where the designs were evaluated (NPAR threads, or an engine's command).
+    pub engine: String,
     /// The journal's path and how many evaluations were taken from it (START = RESUME).
     pub journal: String,
     pub resumed: usize,
@@ -236,7 +236,7 @@ impl OptimizeSummary {
         archive: &Archive,
         summary: &Summary,
         wall_seconds: f64,
-        threads: usize,
+        engine: String,
         (journal, resumed): (String, usize),
     ) -> Self {
         let n = archive.len();
@@ -263,7 +263,7 @@ impl OptimizeSummary {
             mean_seconds: archive.evaluated.iter().map(|e| e.seconds).sum::<f64>()
                 / n.max(1) as f64,
             wall_seconds,
-            threads,
+            engine,
             journal,
             resumed,
             knee: summary.knee.map(|i| {
@@ -289,10 +289,6 @@ fn pairs(names: &[String], values: &[f64]) -> String {
 
 impl Report for OptimizeSummary {
     fn render(&self, subcase: u32) -> Vec<String> {
-        let threads = match self.threads {
-            0 => "one thread per core".to_string(),
-            t => format!("{t} thread(s)"),
-        };
         let mut out = vec![
             format!(
                 "subcase {subcase}: optimize ({}), {} evaluation(s) of {} variable(s) ({}), {} objective(s), {} constraint(s)",
@@ -311,8 +307,8 @@ impl Report for OptimizeSummary {
                 sci(self.hypervolume, 5)
             ),
             format!(
-                "  {:.3} s per evaluation; {:.3} s wall on {threads}",
-                self.mean_seconds, self.wall_seconds
+                "  {:.3} s per evaluation; {:.3} s wall on {}",
+                self.mean_seconds, self.wall_seconds, self.engine
             ),
             format!(
                 "  journal {}: {} evaluation(s) taken from it, {} run",

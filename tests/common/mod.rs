@@ -90,6 +90,7 @@ fn run_in(
         output: &file,
         progress: &|_: &str, _: usize, _: usize| {},
         options: BuildOptions { parallel: false },
+        engine: None,
     };
     let result = run(&ctx);
     if result.is_ok() {
