@@ -147,8 +147,9 @@ pub fn symmetric_eigen_vectors(
 /// such as L⁻¹ K L⁻ᵀ of a pROM whose reduced mass spans seven decades, faer 0.24.4's divide and
 /// conquer returned a lowest eigenvalue of −4.25e7 where QR (and LAPACK) give +4.93e4, an error
 /// of 2e-7 ‖A‖ instead of the ε ‖A‖ of a backward-stable solver (test
-/// `graded_spectrum_keeps_its_smallest_eigenvalue`). QR costs O(n³) with vectors, as divide and
-/// conquer does at these sizes (0.9 ms at n = 130).
+/// `graded_spectrum_keeps_its_smallest_eigenvalue`). Its price, measured with vectors on random
+/// symmetric matrices (release, one thread): 0.9 ms against divide and conquer's 1.0 ms at
+/// n = 130, 15 against 10 ms at n = 300, 102 against 60 ms at n = 600.
 fn symmetric_eigen(
     a: MatRef<'_, f64>,
     vectors: ComputeEigenvectors,
