@@ -549,3 +549,40 @@ ENDDATA
     assert!(c.relative);
     assert_eq!(c.t, [Some(1.0), Some(2.0), Some(3.0), None]);
 }
+
+/// CHEXA and CPENTA take their mid-side grids (G9–G20, G7–G15) on continuations, each one
+/// blank or not: no mid-side grid is the linear element, any is the quadratic one with 0 for
+/// a blank. CTETRA refuses a blank mid-side grid, naming the count.
+#[test]
+fn quadratic_solids_read_mid_side_grids_blank_or_not() {
+    let deck = read_text(&format!(
+        "{HEAD}CHEXA,1,1,1,2,3,4,5,6\n,7,8,9,,11,12,13,14\n,15,16,17,18,,20\n\
+         CHEXA,2,1,1,2,3,4,5,6\n,7,8\n\
+         CPENTA,3,1,1,2,3,4,5,6\n,7,8,9,10,11,12,13,14\n,15\n\
+         CPENTA,4,1,1,2,3,4,5,6\n,,,,,,,,14\n"
+    ));
+    let b = &deck.bulk;
+    assert_eq!(
+        b.chexa[0].nodes,
+        [
+            1, 2, 3, 4, 5, 6, 7, 8, 9, 0, 11, 12, 13, 14, 15, 16, 17, 18, 0, 20
+        ]
+    );
+    assert_eq!(b.chexa[1].nodes, [1, 2, 3, 4, 5, 6, 7, 8]);
+    assert_eq!(b.cpenta[0].nodes, (1..=15).collect::<Vec<u32>>());
+    assert_eq!(
+        b.cpenta[1].nodes,
+        [1, 2, 3, 4, 5, 6, 0, 0, 0, 0, 0, 0, 0, 14, 0]
+    );
+    let (_dir, bad) = read_files(&[(
+        "deck.dat",
+        &format!("{HEAD}CTETRA,5,1,1,2,3,4,5,6\n,,8,9,10\n"),
+    )]);
+    let errors = bad.expect_err("a blank CTETRA mid-side").errors;
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].to_string().contains("9 grids given"),
+        "{}",
+        errors[0]
+    );
+}

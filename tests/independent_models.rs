@@ -200,6 +200,22 @@ fn cpenta6_cantilever_matches_the_same_mesh() {
     solid_cantilever("cantilever_cpenta6");
 }
 
+#[test]
+fn chexa20_cantilever_matches_the_same_mesh() {
+    solid_cantilever("cantilever_chexa20");
+}
+
+#[test]
+fn cpenta15_cantilever_matches_the_same_mesh() {
+    solid_cantilever("cantilever_cpenta15");
+}
+
+/// CHEXA 20 with curved edges: the cantilever bent into a quarter ring.
+#[test]
+fn chexa20_quarter_ring_matches_the_same_mesh() {
+    solid_cantilever("ring_chexa20");
+}
+
 // ---------------------------------------------------------------------------------------------
 // RBE3: unequal weights, partial components, reference point off the centroid
 

@@ -205,6 +205,94 @@ fn pload4_on_solid_faces_compresses_the_column_exactly() {
         let label = if quadratic { "CTETRA 10" } else { "CTETRA 4" };
         assert_uniform_compression(&displacement(&column_deck(&tets, &mids)), &top, label);
     }
+
+    // CHEXA 20 and CPENTA 15: the same cells with mid-side grids (shared, base ones sliding on
+    // z = 0); the PLOAD4 then loads the 8-node quadrilateral and 6-node triangular top faces
+    type Mids = (std::collections::HashMap<(u32, u32), u32>, String);
+    let quadratic_card =
+        |state: &mut Mids, card: &str, eid: usize, g: &[u32], edges: &[(usize, usize)]| {
+            let (mid_of, mids) = state;
+            let mut all: Vec<u32> = g.to_vec();
+            for &(p, q) in edges {
+                let key = (g[p].min(g[q]), g[p].max(g[q]));
+                let next = 2000 + mid_of.len() as u32;
+                let m = *mid_of.entry(key).or_insert_with(|| {
+                    let (x, y) = (xyz(key.0), xyz(key.1));
+                    *mids += &format!(
+                        "GRID,{next},,{:?},{:?},{:?}\n",
+                        0.5 * (x[0] + y[0]),
+                        0.5 * (x[1] + y[1]),
+                        0.5 * (x[2] + y[2])
+                    );
+                    if x[2] + y[2] == 0.0 {
+                        *mids += &format!("SPC1,1,3,{next}\n");
+                    }
+                    next
+                });
+                all.push(m);
+            }
+            let ids: Vec<String> = all.iter().map(u32::to_string).collect();
+            let mut line = format!("{card},{eid},1,{}", ids[..6].join(","));
+            for chunk in ids[6..].chunks(8) {
+                line += &format!("\n,{}", chunk.join(","));
+            }
+            line + "\n"
+        };
+    let hexa_edges = [
+        (0, 1),
+        (1, 2),
+        (2, 3),
+        (3, 0),
+        (0, 4),
+        (1, 5),
+        (2, 6),
+        (3, 7),
+        (4, 5),
+        (5, 6),
+        (6, 7),
+        (7, 4),
+    ];
+    let mut state = Mids::default();
+    let mut hexa20 = String::new();
+    for k in 0..2 {
+        let g: Vec<u32> = (0..4)
+            .map(|c| corner(c, k))
+            .chain((0..4).map(|c| corner(c, k + 1)))
+            .collect();
+        hexa20 += &quadratic_card(&mut state, "CHEXA", 1 + k, &g, &hexa_edges);
+    }
+    hexa20 += &format!("PLOAD4,5,2,{P:?},,,,{},{}\n", corner(1, 2), corner(3, 2));
+    let deck = column_deck(&hexa20, &state.1);
+    assert_uniform_compression(&displacement(&deck), &top, "CHEXA 20");
+    let penta_edges = [
+        (0, 1),
+        (1, 2),
+        (2, 0),
+        (0, 3),
+        (1, 4),
+        (2, 5),
+        (3, 4),
+        (4, 5),
+        (5, 3),
+    ];
+    let mut state = Mids::default();
+    let mut penta15 = String::new();
+    for k in 0..2 {
+        for (n, tri) in [[0, 1, 2], [0, 2, 3]].iter().enumerate() {
+            let eid = 1 + 2 * k + n;
+            let g: Vec<u32> = tri
+                .iter()
+                .map(|&c| corner(c, k))
+                .chain(tri.iter().map(|&c| corner(c, k + 1)))
+                .collect();
+            penta15 += &quadratic_card(&mut state, "CPENTA", eid, &g, &penta_edges);
+            if k == 1 {
+                penta15 += &format!("PLOAD4,5,{eid},{P:?},,,,{}\n", g[4]);
+            }
+        }
+    }
+    let deck = column_deck(&penta15, &state.1);
+    assert_uniform_compression(&displacement(&deck), &top, "CPENTA 15");
 }
 
 /// Navier's series for the centre deflection of a simply supported a × a Kirchhoff plate under

@@ -524,3 +524,132 @@ fn xdmf_draws_stresses_and_forces_as_cell_data() {
         );
     }
 }
+
+/// A CHEXA 20 cantilever 4 × 1 × 1 (4 elements, E = 1000, ν = 0, clamped at x = 0) under a tip
+/// moment M = 1 applied as a PLOAD4 on the tip face (corner pressures −σxx(z), interpolated
+/// linearly: the consistent loads of σxx = M z / I on the 8-node face). The exact solution
+/// u = κ x z, w = −κ x²/2 (κ = M/EI; ν = 0 so the clamp does not restrain a contraction) is
+/// quadratic, in the element space, so statics and the recovered stresses are exact: σxx = ±6
+/// at the corners (z = ±½), 0 at the centroids, every other component 0, tip w = −κL²/2.
+/// The mid-side grids along y at x = 0 and x = 1 are blank (straight edges with a linear
+/// displacement; the exact field is constant along them), in both elements on each such edge,
+/// so the mesh stays conforming and the solution exact. Round-off bound 1e-9 of σ0 = 6
+/// (condition number of K ~1e5).
+#[test]
+fn chexa20_pure_bending_stresses_are_exact_with_blank_midsides() {
+    // grid (i, j, k) on a half-unit lattice: x = i/2, y = j/2, z = k/2 − ½
+    let gid = |i: usize, j: usize, k: usize| 1 + i + 9 * (j + 3 * k);
+    // the blank mid-sides: along y (j = 1) at x = 0 and x = 1 (i = 0, 2)
+    let blank = |i: usize, j: usize| j == 1 && i <= 2;
+    let mut bulk = String::new();
+    for k in 0..3 {
+        for j in 0..3 {
+            for i in 0..9 {
+                if (i % 2) + (j % 2) + (k % 2) <= 1 && !blank(i, j) {
+                    let (x, y, z) = (i as f64 / 2.0, j as f64 / 2.0, k as f64 / 2.0 - 0.5);
+                    bulk += &format!("GRID,{},,{x:?},{y:?},{z:?}\n", gid(i, j, k));
+                }
+            }
+        }
+    }
+    let corners = [
+        [0, 0, 0],
+        [2, 0, 0],
+        [2, 2, 0],
+        [0, 2, 0],
+        [0, 0, 2],
+        [2, 0, 2],
+        [2, 2, 2],
+        [0, 2, 2],
+    ];
+    let edges = [
+        [0, 1],
+        [1, 2],
+        [2, 3],
+        [3, 0],
+        [0, 4],
+        [1, 5],
+        [2, 6],
+        [3, 7],
+        [4, 5],
+        [5, 6],
+        [6, 7],
+        [7, 4],
+    ];
+    for c in 0..4 {
+        let at = |p: [usize; 3]| gid(2 * c + p[0], p[1], p[2]);
+        let mut g: Vec<String> = corners.iter().map(|&p| at(p).to_string()).collect();
+        for [a, b] in &edges {
+            let mid: [usize; 3] = std::array::from_fn(|d| (corners[*a][d] + corners[*b][d]) / 2);
+            g.push(if blank(2 * c + mid[0], mid[1]) {
+                String::new()
+            } else {
+                at(mid).to_string()
+            });
+        }
+        bulk += &format!(
+            "CHEXA,{},1,{}\n,{}\n,{}\n",
+            c + 1,
+            g[..6].join(","),
+            g[6..14].join(","),
+            g[14..].join(",")
+        );
+    }
+    for k in 0..3 {
+        for j in 0..3 {
+            if (j % 2) + (k % 2) <= 1 && !blank(0, j) {
+                bulk += &format!("SPC1,1,123,{}\n", gid(0, j, k));
+            }
+        }
+    }
+    // tip face of element 4 from G2 (y = 0, z = −½) to its diagonal G7 (y = 1, z = ½): corners
+    // ordered G2, G6, G7, G3 (inward normal −x), so −σxx = (6, −6, −6, 6)
+    let (g2, g7) = (gid(8, 0, 0), gid(8, 2, 2));
+    bulk += &format!("PLOAD4,5,4,6.,-6.,-6.,6.,{g2},{g7}\n");
+    let text = format!(
+        "SOL 101\nCEND\nSPC = 1\nLOAD = 5\nSTRESS = ALL\nDISPLACEMENT = ALL\nBEGIN BULK\nPSOLID,1,1\nMAT1,1,1000.,,0.,1.\n{bulk}ENDDATA\n"
+    );
+    let (res, dir) = run_deck(&text);
+    res.expect("run");
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).unwrap();
+    let g = file.group("results/1/statics/stress/CHEXA20").unwrap();
+    let ids: Vec<u32> = read_dataset(&g, "ids");
+    assert_eq!(ids, [1, 2, 3, 4]);
+    let centroid: Vec<f64> = read_dataset(&g, "centroid");
+    let corners_out: Vec<f64> = read_dataset(&g, "corners");
+    let grids: Vec<u32> = read_dataset(&g, "corner_grid_ids");
+    assert_eq!(grids.len(), 32);
+    let tol = 1e-9 * 6.0;
+    assert!(centroid.iter().all(|s| s.abs() < tol), "{centroid:?}");
+    for (n, s) in corners_out.chunks_exact(6).enumerate() {
+        let z = corners[n % 8][2] as f64 / 2.0 - 0.5;
+        let want = [12.0 * z, 0.0, 0.0, 0.0, 0.0, 0.0];
+        assert!(
+            max_abs_diff(s, &want) < tol,
+            "element {} corner {}: {s:?}",
+            n / 8 + 1,
+            n % 8 + 1
+        );
+    }
+    let disp: Vec<f64> = read_dataset(&file.group("results/1/statics").unwrap(), "displacement");
+    // displacement rows: the grids in increasing id
+    let mut grid_ids: Vec<usize> = bulk
+        .lines()
+        .filter_map(|l| l.strip_prefix("GRID,"))
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    grid_ids.sort_unstable();
+    assert_eq!(disp.len(), 6 * grid_ids.len());
+    let kappa = 12.0 / 1000.0;
+    for (n, &id) in grid_ids.iter().enumerate() {
+        let i = (id - 1) % 9;
+        let k = (id - 1) / 27;
+        let (x, z) = (i as f64 / 2.0, k as f64 / 2.0 - 0.5);
+        let want = [kappa * x * z, 0.0, -0.5 * kappa * x * x];
+        assert!(
+            max_abs_diff(&disp[6 * n..6 * n + 3], &want) < 1e-9 * 0.5 * kappa * 16.0,
+            "grid {id}: {:?} vs {want:?}",
+            &disp[6 * n..6 * n + 3]
+        );
+    }
+}

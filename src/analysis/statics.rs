@@ -21,12 +21,9 @@ use crate::assembly::loads::{Mass, load_vector, reduce_load};
 use crate::assembly::recover::{expand_f_to_n, spc_forces};
 #[cfg(doc)]
 use crate::assembly::spc::SpcSet;
-use crate::discretize::elements::{
-    ShellRecovery, element_displacements, shell_strains, solid_kind_of,
-};
+use crate::discretize::elements::{ShellRecovery, element_displacements, shell_strains};
 use crate::discretize::{Constrained, DiscretizeError, Structure};
 use crate::fe::shell::ShellStrains;
-use crate::fe::solid;
 use crate::linalg::{Factor, LinalgError, SymbolicFactor};
 use crate::model::{Element, Model};
 
@@ -224,7 +221,7 @@ pub fn element_strains(
         block.second.extend(strains.bottom);
     }
     for e in &model.elements {
-        let Some(kind) = solid_kind_of(e.kind) else {
+        let Some(midsides) = model.solid_midsides(e) else {
             continue;
         };
         if !keep(e.id) {
@@ -236,8 +233,9 @@ pub fn element_strains(
             .iter()
             .flat_map(|&a| u[6 * a..6 * a + 3].iter().copied())
             .collect();
-        let eps =
-            solid::strain_at_centroid(kind, &xyz, &ut).map_err(|x| DiscretizeError::Element {
+        let eps = midsides
+            .strain_at_centroid(&xyz, &ut)
+            .map_err(|x| DiscretizeError::Element {
                 card: e.kind.card(),
                 id: e.id,
                 reason: x.to_string(),

@@ -16,9 +16,7 @@ use std::collections::BTreeMap;
 
 use super::statics::selected_shell_strains;
 use crate::card_values::FailureTheory;
-use crate::discretize::elements::{
-    CentreSection, shear_panel, shell_centre_section, solid_kind_of,
-};
+use crate::discretize::elements::{CentreSection, shear_panel, shell_centre_section};
 use crate::discretize::{DiscretizeError, Structure};
 use crate::fe::laminate::{ShellSection, ply_states};
 use crate::fe::stress::{
@@ -238,7 +236,7 @@ pub fn element_stresses(
         block.shear_flow.push(tau * t);
     }
     for e in &model.elements {
-        let Some(kind) = solid_kind_of(e.kind) else {
+        let Some(midsides) = model.solid_midsides(e) else {
             continue;
         };
         if !keep(e.id) {
@@ -254,9 +252,9 @@ pub fn element_stresses(
         let bad = |x: solid::SolidError| element_error(e, x);
         let centroid = solid_stress(
             material,
-            &solid::strain_at_centroid(kind, &xyz, &ut).map_err(bad)?,
+            &midsides.strain_at_centroid(&xyz, &ut).map_err(bad)?,
         );
-        let corners = solid::corner_strains(kind, &xyz, &ut, material).map_err(bad)?;
+        let corners = midsides.corner_strains(&xyz, &ut, material).map_err(bad)?;
         let block = out.solids.entry(e.kind.block_name()).or_default();
         block.corners = corners.len();
         block.ids.push(e.id);

@@ -222,9 +222,12 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> 
         | ElementKind::Quad8
         | ElementKind::Tria6 => shell_element(ctx, e, &xyz)?,
         ElementKind::Cshear => shear_panel::shear_panel_element(ctx, e)?,
-        ElementKind::Hexa8 | ElementKind::Penta6 | ElementKind::Tetra4 | ElementKind::Tetra10 => {
-            solid_element(ctx, e, &xyz)?
-        }
+        ElementKind::Hexa8
+        | ElementKind::Penta6
+        | ElementKind::Tetra4
+        | ElementKind::Tetra10
+        | ElementKind::Hexa20
+        | ElementKind::Penta15 => solid_element(ctx, e, &xyz)?,
         ElementKind::Celas1 | ElementKind::Celas2 | ElementKind::Celas3 | ElementKind::Celas4 => {
             spring_element(ctx, e)?
         }
@@ -860,21 +863,6 @@ fn nonempty(a: &AffineMatrix) -> bool {
     !a.parts.is_empty()
 }
 
-fn solid_kind(kind: ElementKind) -> Option<solid::SolidKind> {
-    Some(match kind {
-        ElementKind::Hexa8 => solid::SolidKind::Hexa8,
-        ElementKind::Penta6 => solid::SolidKind::Penta6,
-        ElementKind::Tetra4 => solid::SolidKind::Tetra4,
-        ElementKind::Tetra10 => solid::SolidKind::Tetra10,
-        _ => return None,
-    })
-}
-
-/// The solid kernel's topology of a solid element.
-pub fn solid_kind_of(kind: ElementKind) -> Option<solid::SolidKind> {
-    solid_kind(kind)
-}
-
 /// A solid's stiffness and mass, split by the PMPARs on its MAT1: E → one E part at fixed ν;
 /// NU (± E) → Lamé parts (refused for CHEXA by the kernel: its condensed incompatible modes
 /// are not affine in ν); RHO → one ρ part.
@@ -884,7 +872,9 @@ fn solid_element(
     xyz: &[[f64; 3]],
 ) -> Result<Built, DiscretizeError> {
     let model = ctx.model;
-    let kind = solid_kind(e.kind).ok_or_else(|| err(e, "not a solid"))?;
+    let midsides = model
+        .solid_midsides(e)
+        .ok_or_else(|| err(e, "not a solid"))?;
     let Some((pid, used)) = e.property.and_then(|p| model.solid_material(p)) else {
         return Err(err(e, "a solid needs a PSOLID"));
     };
@@ -920,13 +910,17 @@ fn solid_element(
     } else {
         solid::MassParametrization::Fixed { rho: m.rho }
     };
-    let k = solid::affine_stiffness(kind, xyz, stiffness_split).map_err(|x| err(e, x))?;
+    let k = midsides
+        .affine_stiffness(xyz, stiffness_split)
+        .map_err(|x| err(e, x))?;
     let lumping = if ctx.lumped {
         solid::MassLumping::Lumped
     } else {
         solid::MassLumping::Consistent
     };
-    let mass = solid::affine_mass(kind, xyz, lumping, mass_split).map_err(|x| err(e, x))?;
+    let mass = midsides
+        .affine_mass(xyz, lumping, mass_split)
+        .map_err(|x| err(e, x))?;
     // 3·n translational matrices: the contributions carry T1–T3 of each grid only
     Ok(isotropic_built(
         ctx,

@@ -29,12 +29,11 @@ use std::collections::{BTreeMap, HashMap};
 use faer::Mat;
 use nalgebra_sparse::{CooMatrix, CscMatrix};
 
-use super::elements::{shell_strains, solid_kind_of};
+use super::elements::shell_strains;
 use super::{Constrained, DiscretizeError, Structure};
 use crate::assembly::DofSet;
 use crate::card_values::SensorKind;
 use crate::dynamics::measurement::Reads;
-use crate::fe::solid;
 use crate::geometry::vec3::dot;
 use crate::model::Model;
 use crate::model::sensors::Sensor;
@@ -211,7 +210,7 @@ fn strain_row(
                 row.push((6 * e.nodes[k / 6] + k % 6, h));
             }
         }
-    } else if let Some(kind) = solid_kind_of(e.kind) {
+    } else if let Some(midsides) = model.solid_midsides(e) {
         if let Some(surf) = s.surface {
             return Err(bad(format!("SURF = {surf} applies to shells only")));
         }
@@ -226,8 +225,9 @@ fn strain_row(
         let mut unit = vec![0.0; 3 * e.nodes.len()];
         for k in 0..unit.len() {
             unit[k] = 1.0;
-            let eps =
-                solid::strain_at_centroid(kind, &xyz, &unit).map_err(|x| bad(x.to_string()))?;
+            let eps = midsides
+                .strain_at_centroid(&xyz, &unit)
+                .map_err(|x| bad(x.to_string()))?;
             unit[k] = 0.0;
             let h: f64 = weights.iter().zip(&eps).map(|(w, e)| w * e).sum();
             if h != 0.0 {

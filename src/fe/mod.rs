@@ -29,6 +29,7 @@ mod shell_quadratic_tests;
 #[cfg(test)]
 mod shell_tests;
 pub mod solid;
+pub mod solid_midside;
 mod solid_shape;
 #[cfg(test)]
 mod solid_tests;

@@ -93,23 +93,7 @@ fn rule(nodes: usize) -> Vec<(f64, f64, f64)> {
         ]
         .map(|(a, b)| (a, b, 1.0 / 6.0))
         .to_vec(),
-        6 => {
-            let (a1, b1, w1) = (
-                0.059_715_871_789_770,
-                0.470_142_064_105_115,
-                0.132_394_152_788_506,
-            );
-            let (a2, b2, w2) = (
-                0.797_426_985_353_087,
-                0.101_286_507_323_456,
-                0.125_939_180_544_827,
-            );
-            let mut points = vec![(1.0 / 3.0, 1.0 / 3.0, 0.225 / 2.0)];
-            for (a, b, w) in [(a1, b1, w1), (a2, b2, w2)] {
-                points.extend([(b, b, w / 2.0), (a, b, w / 2.0), (b, a, w / 2.0)]);
-            }
-            points
-        }
+        6 => super::solid_shape::triangle_seven(),
         _ => unreachable!("faces have 3, 4 or 6 nodes"),
     }
 }

@@ -1,5 +1,5 @@
-//! Isotropic 3-D solid elements: CHEXA 8 (incompatible modes), CPENTA 6, CTETRA 4, CTETRA 10
-//! (DESIGN.md §4–§5; thesis §2.1 and eq. 3.13–3.16).
+//! Isotropic 3-D solid elements: CHEXA 8 (incompatible modes), CPENTA 6, CTETRA 4, CTETRA 10,
+//! CHEXA 20, CPENTA 15 (DESIGN.md §4–§5; thesis §2.1 and eq. 3.13–3.16).
 //!
 //! # Translational matrices (3 DOFs per grid)
 //! Solids have no rotational stiffness or mass. Unlike the rest of [`crate::fe`], every function
@@ -22,7 +22,8 @@
 //!
 //! K_ab,ij = ∫ λ g_a,i g_b,j + μ (g_a,j g_b,i + δ_ij g_a · g_b) dV,
 //!
-//! which is how the kernels evaluate it. K is linear in (λ, μ) for CPENTA and CTETRA, so the
+//! which is how the kernels evaluate it. K is linear in (λ, μ) for every element but CHEXA 8
+//! (the isoparametric CPENTA 6/15, CTETRA 4/10 and CHEXA 20 condense nothing), so the
 //! Lamé parts K_λ, K_μ of eq. 3.14 are exact; K ∝ E at fixed ν (eq. 3.15) for every element,
 //! CHEXA included (static condensation commutes with scaling D). Mass M ∝ ρ (eq. 3.16).
 //! For CHEXA with incompatible modes the condensed matrix K_uu − K_ua K_aa⁻¹ K_au is *not*
@@ -36,13 +37,19 @@
 //! | CPENTA 6 | 3-point triangle × 2-point Gauss | collapsed 3×3 triangle × 3 Gauss | row sum |
 //! | CTETRA 4 | 1 point (constant strain) | 4-point, degree 2 | row sum (ρV/4 each) |
 //! | CTETRA 10 | 4-point, degree 2 | collapsed 5×5×5, degree 7 (curved edges too) | HRZ |
+//! | CHEXA 20 | 3×3×3 Gauss (full) | 5×5×5 Gauss, degree 9 per direction (curved edges too) | HRZ |
+//! | CPENTA 15 | 7-point triangle × 3 Gauss (21 points, full) | collapsed 5×5 triangle × 5 Gauss | HRZ |
 //!
 //! Node orders and shape functions are documented in `solid_shape.rs`. The consistent mass is
 //! M_ab = ρ ∫ N_a N_b dV · I₃. Lumping by row sum is positive for the linear elements
-//! (N_a ≥ 0); for CTETRA 10 the row sums of the corner nodes are negative, so the HRZ scheme
+//! (N_a ≥ 0); for the quadratic elements the row sums of the corner nodes are negative
+//! (CTETRA 10) or small and of either sign, so the HRZ scheme
 //! (Hinton, Rock & Zienkiewicz 1976) is used instead: m_a = M_aa · ρV / Σ_b M_bb, i.e. the
-//! diagonal of the consistent mass scaled to the total mass (straight edges: corners ρV/36,
-//! mid-edge nodes 4ρV/27).
+//! diagonal of the consistent mass scaled to the total mass (CTETRA 10 with straight edges:
+//! corners ρV/36, mid-edge nodes 4ρV/27).
+//!
+//! Blank mid-side grids of CHEXA 20 and CPENTA 15 are handled in `solid_midside.rs` on top of
+//! these full-node kernels.
 //!
 //! ## CHEXA 8 with incompatible modes
 //! Wilson's incompatible modes P₁ = 1 − ξ², P₂ = 1 − η², P₃ = 1 − ζ², one per displacement
@@ -83,6 +90,10 @@ pub enum SolidKind {
     Tetra4,
     /// CTETRA with 10 grids (quadratic).
     Tetra10,
+    /// CHEXA with 20 grids (quadratic serendipity).
+    Hexa20,
+    /// CPENTA with 15 grids (quadratic).
+    Penta15,
 }
 
 impl SolidKind {
@@ -93,6 +104,8 @@ impl SolidKind {
             SolidKind::Penta6 => 6,
             SolidKind::Tetra4 => 4,
             SolidKind::Tetra10 => 10,
+            SolidKind::Hexa20 => 20,
+            SolidKind::Penta15 => 15,
         }
     }
 
@@ -109,6 +122,8 @@ impl fmt::Display for SolidKind {
             SolidKind::Penta6 => "CPENTA",
             SolidKind::Tetra4 => "CTETRA (4 grids)",
             SolidKind::Tetra10 => "CTETRA (10 grids)",
+            SolidKind::Hexa20 => "CHEXA (20 grids)",
+            SolidKind::Penta15 => "CPENTA (15 grids)",
         })
     }
 }
@@ -144,6 +159,8 @@ pub enum EvalPoint {
     Integration { index: usize, of: usize },
     /// The element centre (CHEXA incompatible modes) or centroid (strain recovery).
     Centre,
+    /// Corner `0-based index` (strain recovery of the quadratic elements).
+    Corner(usize),
 }
 
 impl fmt::Display for EvalPoint {
@@ -153,6 +170,7 @@ impl fmt::Display for EvalPoint {
                 write!(f, "integration point {} of {}", index + 1, of)
             }
             EvalPoint::Centre => f.write_str("the element centre"),
+            EvalPoint::Corner(a) => write!(f, "corner G{}", a + 1),
         }
     }
 }
@@ -341,6 +359,8 @@ fn stiffness_rule(kind: SolidKind) -> Vec<QuadPoint> {
         SolidKind::Penta6 => shape::wedge_stiffness_rule(),
         SolidKind::Tetra4 => shape::tet_centroid_rule(),
         SolidKind::Tetra10 => shape::tet_four_rule(),
+        SolidKind::Hexa20 => shape::hexa_rule(Gauss::Three),
+        SolidKind::Penta15 => shape::wedge15_stiffness_rule(),
     }
 }
 
@@ -513,7 +533,8 @@ pub fn affine_stiffness(
 pub enum MassLumping {
     /// M_ab = ρ ∫ N_a N_b dV · I₃, integrated exactly.
     Consistent,
-    /// Diagonal: row sums (CHEXA, CPENTA, CTETRA 4) or HRZ (CTETRA 10); module doc.
+    /// Diagonal: row sums (CHEXA 8, CPENTA 6, CTETRA 4) or HRZ (CTETRA 10, CHEXA 20,
+    /// CPENTA 15); module doc.
     Lumped,
 }
 
@@ -523,6 +544,8 @@ fn mass_rule(kind: SolidKind) -> Vec<QuadPoint> {
         SolidKind::Penta6 => shape::wedge_mass_rule(),
         SolidKind::Tetra4 => shape::tet_four_rule(),
         SolidKind::Tetra10 => shape::tet_collapsed_rule(Gauss::Five),
+        SolidKind::Hexa20 => shape::hexa_rule(Gauss::Five),
+        SolidKind::Penta15 => shape::wedge15_mass_rule(),
     }
 }
 
@@ -533,37 +556,78 @@ pub fn mass(
     rho: f64,
     lumping: MassLumping,
 ) -> Result<Mat<f64>, SolidError> {
+    let mut m = scalar_mass(kind, xyz, rho)?;
+    if lumping == MassLumping::Lumped {
+        lump(kind, &mut m);
+    }
+    Ok(translational(&m))
+}
+
+/// The consistent scalar mass ρ ∫ N_a N_b dV (n × n, one block of I₃ ⊗ m).
+pub(crate) fn scalar_mass(
+    kind: SolidKind,
+    xyz: &[[f64; 3]],
+    rho: f64,
+) -> Result<Mat<f64>, SolidError> {
     check_nodes(kind, xyz)?;
     let n = kind.nodes();
-    let mut m = vec![0.0; n * n];
+    let mut m = Mat::<f64>::zeros(n, n);
     for (w, p) in evaluate_rule(kind, xyz, &mass_rule(kind))? {
-        for a in 0..n {
-            for b in 0..n {
-                m[a * n + b] += rho * w * p.det * p.n[a] * p.n[b];
+        for b in 0..n {
+            for a in 0..n {
+                m[(a, b)] += rho * w * p.det * p.n[a] * p.n[b];
             }
         }
     }
-    if lumping == MassLumping::Lumped {
-        let diag: Vec<f64> = match kind {
-            SolidKind::Tetra10 => {
-                let total: f64 = m.iter().sum();
-                let trace: f64 = (0..n).map(|a| m[a * n + a]).sum();
-                (0..n).map(|a| m[a * n + a] * total / trace).collect()
-            }
-            _ => (0..n).map(|a| m[a * n..][..n].iter().sum()).collect(),
-        };
-        m.iter_mut().for_each(|v| *v = 0.0);
-        for (a, d) in diag.into_iter().enumerate() {
-            m[a * n + a] = d;
+    Ok(m)
+}
+
+/// Lumps a scalar mass in place: row sums (linear elements) or HRZ (quadratic; module doc).
+pub(crate) fn lump(kind: SolidKind, m: &mut Mat<f64>) {
+    let n = m.nrows();
+    let row = |a: usize| (0..n).map(|b| m[(a, b)]).sum::<f64>();
+    let diag: Vec<f64> = match kind {
+        SolidKind::Tetra10 | SolidKind::Hexa20 | SolidKind::Penta15 => {
+            let total: f64 = (0..n).map(row).sum();
+            let trace: f64 = (0..n).map(|a| m[(a, a)]).sum();
+            (0..n).map(|a| m[(a, a)] * total / trace).collect()
         }
-    }
-    Ok(Mat::from_fn(3 * n, 3 * n, |i, j| {
+        SolidKind::Hexa8 | SolidKind::Penta6 | SolidKind::Tetra4 => (0..n).map(row).collect(),
+    };
+    *m = Mat::from_fn(n, n, |a, b| if a == b { diag[a] } else { 0.0 });
+}
+
+/// I₃ ⊗ m: the 3·n × 3·n translational matrix of a scalar n × n mass, grid-major.
+pub(crate) fn translational(m: &Mat<f64>) -> Mat<f64> {
+    let n = 3 * m.nrows();
+    Mat::from_fn(n, n, |i, j| {
         if i % 3 == j % 3 {
-            m[(i / 3) * n + j / 3]
+            m[(i / 3, j / 3)]
         } else {
             0.0
         }
-    }))
+    })
+}
+
+/// Volume ∫ dV and centroid (1/V) ∫ x dV of the element, by its mass rule.
+pub fn volume_and_centroid(
+    kind: SolidKind,
+    xyz: &[[f64; 3]],
+) -> Result<(f64, [f64; 3]), SolidError> {
+    check_nodes(kind, xyz)?;
+    let n = kind.nodes();
+    let mut volume = 0.0;
+    let mut moment = [0.0; 3];
+    for (w, p) in evaluate_rule(kind, xyz, &mass_rule(kind))? {
+        let dv = w * p.det;
+        volume += dv;
+        for (na, x) in p.n[..n].iter().zip(xyz) {
+            for k in 0..3 {
+                moment[k] += dv * na * x[k];
+            }
+        }
+    }
+    Ok((volume, moment.map(|m| m / volume)))
 }
 
 /// Whether the density is a parameter.
@@ -582,13 +646,7 @@ pub fn affine_mass(
     lumping: MassLumping,
     parametrization: MassParametrization,
 ) -> Result<AffineMatrix, SolidError> {
-    let part = match parametrization {
-        MassParametrization::Fixed { rho } => {
-            (Coefficient::Constant, mass(kind, xyz, rho, lumping)?)
-        }
-        MassParametrization::Density => (Coefficient::Rho, mass(kind, xyz, 1.0, lumping)?),
-    };
-    Ok(AffineMatrix { parts: vec![part] })
+    super::solid_midside::Midsides::complete(kind).affine_mass(xyz, lumping, parametrization)
 }
 
 /// Strain [εxx, εyy, εzz, γxy, γyz, γzx] (engineering shear) at the element centroid from the
@@ -634,12 +692,10 @@ fn strain_of(g: &[[f64; 3]], u: &[f64]) -> [f64; 6] {
     ]
 }
 
-/// The element's corner grids: all of them, the first four of CTETRA 10.
+/// The element's corner grids: all of them for the linear elements, the first 4 (CTETRA 10),
+/// 8 (CHEXA 20) or 6 (CPENTA 15) of the quadratic ones.
 pub fn corners(kind: SolidKind) -> usize {
-    match kind {
-        SolidKind::Tetra10 => 4,
-        k => k.nodes(),
-    }
+    kind.nodes() - shape::midside_edges(kind).len()
 }
 
 /// Strains at the corner grids ([`corners`] of them, in grid order), extrapolated from the
@@ -649,7 +705,9 @@ pub fn corners(kind: SolidKind) -> usize {
 /// element on the corners that passes through them (2×2×2 points → trilinear on the 8 corners,
 /// CPENTA's 3 × 2 points → the linear wedge, CTETRA 10's 4 points → the linear tetrahedron);
 /// CTETRA 4 has one point, a constant strain. Exact for strain fields the element's points
-/// represent linearly (e.g. pure bending of a brick).
+/// represent linearly (e.g. pure bending of a brick). CHEXA 20 and CPENTA 15 evaluate their
+/// own strain field at the corners instead (their 27 and 21 points are more than the corners,
+/// and the quadratic field holds a linear strain exactly).
 pub fn corner_strains(
     kind: SolidKind,
     xyz: &[[f64; 3]],
@@ -664,6 +722,15 @@ pub fn corner_strains(
             expected: 3 * n,
             got: u.len(),
         });
+    }
+    if matches!(kind, SolidKind::Hexa20 | SolidKind::Penta15) {
+        return (0..corners(kind))
+            .map(|a| {
+                let xi = shape::node_xi(kind, a);
+                let p = evaluate(kind, xyz, xi, EvalPoint::Corner(a))?;
+                Ok(strain_of(&p.g[..n], u))
+            })
+            .collect();
     }
     let rule = stiffness_rule(kind);
     let points = evaluate_rule(kind, xyz, &rule)?;

@@ -9,18 +9,27 @@
 //! | CPENTA 6 | triangle ξ, η ≥ 0, ξ + η ≤ 1, times ζ ∈ [−1, 1] | G1 (0,0) G2 (1,0) G3 (0,1) at ζ = −1; G4–G6 above them at ζ = +1 |
 //! | CTETRA 4 | ξ, η, ζ ≥ 0, ξ + η + ζ ≤ 1 | G1 origin, G2 ξ = 1, G3 η = 1, G4 ζ = 1 |
 //! | CTETRA 10 | as CTETRA 4 | G1–G4 corners; G5 on 1–2, G6 2–3, G7 3–1, G8 1–4, G9 2–4, G10 3–4 |
+//! | CHEXA 20 | as CHEXA 8 | G1–G8 corners; G9–G12 on 1–2, 2–3, 3–4, 4–1; G13–G16 on 1–5, 2–6, 3–7, 4–8; G17–G20 on 5–6, 6–7, 7–8, 8–5 |
+//! | CPENTA 15 | as CPENTA 6 | G1–G6 corners; G7–G9 on 1–2, 2–3, 3–1; G10–G12 on 1–4, 2–5, 3–6; G13–G15 on 4–5, 5–6, 6–4 |
 //!
 //! Shape functions, with volume coordinates L1 = 1 − ξ − η − ζ, L2 = ξ, L3 = η, L4 = ζ
 //! (triangle: L1 = 1 − ξ − η, L2 = ξ, L3 = η):
 //! - CHEXA 8: N_a = ⅛ (1 + ξ_a ξ)(1 + η_a η)(1 + ζ_a ζ);
 //! - CPENTA 6: N_a = L_a (1 − ζ)/2, N_{a+3} = L_a (1 + ζ)/2 (a = 1..3);
 //! - CTETRA 4: N_a = L_a;
-//! - CTETRA 10: corners N_a = L_a (2 L_a − 1), mid-edge N_ab = 4 L_a L_b.
+//! - CTETRA 10: corners N_a = L_a (2 L_a − 1), mid-edge N_ab = 4 L_a L_b;
+//! - CHEXA 20 (serendipity; Zienkiewicz & Taylor, *The Finite Element Method* vol. 1, §8.7):
+//!   corners N_a = ⅛ (1 + ξ_a ξ)(1 + η_a η)(1 + ζ_a ζ)(ξ_a ξ + η_a η + ζ_a ζ − 2), mid-sides
+//!   N_m = ¼ Π_k g_k with g_k = 1 − ξ_k² along the edge's direction (ξ_m,k = 0) and
+//!   1 + ξ_m,k ξ_k across it;
+//! - CPENTA 15 (with s_a = ∓1 the ζ of the corner's triangle): corners
+//!   N_a = ½ L_a [(2 L_a − 1)(1 + s_a ζ) − (1 − ζ²)], triangle mid-sides
+//!   N_ab = 2 L_a L_b (1 + s ζ), vertical mid-sides N_a = L_a (1 − ζ²).
 
 use super::solid::SolidKind;
 
-/// Largest number of nodes of a solid element (CTETRA 10).
-pub(crate) const MAX_NODES: usize = 10;
+/// Largest number of nodes of a solid element (CHEXA 20).
+pub(crate) const MAX_NODES: usize = 20;
 
 /// Shape-function values and natural derivatives ∂N_a/∂(ξ, η, ζ) at one natural point; only
 /// the first `kind.nodes()` entries are meaningful.
@@ -43,6 +52,70 @@ const HEXA_SIGNS: [[f64; 3]; 8] = [
 /// CTETRA 10 mid-edge nodes G5–G10: the (0-based) corners of each edge.
 const TET10_EDGES: [[usize; 2]; 6] = [[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]];
 
+/// CHEXA 20 mid-side nodes G9–G20: the (0-based) corners of each edge.
+const HEXA20_EDGES: [[usize; 2]; 12] = [
+    [0, 1],
+    [1, 2],
+    [2, 3],
+    [3, 0],
+    [0, 4],
+    [1, 5],
+    [2, 6],
+    [3, 7],
+    [4, 5],
+    [5, 6],
+    [6, 7],
+    [7, 4],
+];
+
+/// CPENTA 15 mid-side nodes G7–G15: the (0-based) corners of each edge.
+const PENTA15_EDGES: [[usize; 2]; 9] = [
+    [0, 1],
+    [1, 2],
+    [2, 0],
+    [0, 3],
+    [1, 4],
+    [2, 5],
+    [3, 4],
+    [4, 5],
+    [5, 3],
+];
+
+/// The corner pairs of the mid-side nodes of `kind`, in node order after the corners (empty for
+/// the linear elements).
+pub(crate) fn midside_edges(kind: SolidKind) -> &'static [[usize; 2]] {
+    match kind {
+        SolidKind::Tetra10 => &TET10_EDGES,
+        SolidKind::Hexa20 => &HEXA20_EDGES,
+        SolidKind::Penta15 => &PENTA15_EDGES,
+        SolidKind::Hexa8 | SolidKind::Penta6 | SolidKind::Tetra4 => &[],
+    }
+}
+
+/// Natural coordinates of node `a` of `kind` (a mid-side node at the middle of its edge).
+pub(crate) fn node_xi(kind: SolidKind, a: usize) -> [f64; 3] {
+    let corners = kind.nodes() - midside_edges(kind).len();
+    if a >= corners {
+        let [p, q] = midside_edges(kind)[a - corners];
+        let (xp, xq) = (node_xi(kind, p), node_xi(kind, q));
+        return std::array::from_fn(|k| 0.5 * (xp[k] + xq[k]));
+    }
+    match kind {
+        SolidKind::Hexa8 | SolidKind::Hexa20 => HEXA_SIGNS[a],
+        SolidKind::Penta6 | SolidKind::Penta15 => {
+            let tri = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]][a % 3];
+            [tri[0], tri[1], if a < 3 { -1.0 } else { 1.0 }]
+        }
+        SolidKind::Tetra4 | SolidKind::Tetra10 => {
+            let mut x = [0.0; 3];
+            if a > 0 {
+                x[a - 1] = 1.0;
+            }
+            x
+        }
+    }
+}
+
 /// Shape functions of `kind` at natural point `xi`.
 pub(crate) fn shape(kind: SolidKind, xi: [f64; 3]) -> Shape {
     let mut s = Shape {
@@ -62,6 +135,8 @@ pub(crate) fn shape(kind: SolidKind, xi: [f64; 3]) -> Shape {
                 ];
             }
         }
+        SolidKind::Hexa20 => hexa20(&mut s, xi),
+        SolidKind::Penta15 => penta15(&mut s, xi),
         SolidKind::Penta6 => {
             let l = [1.0 - x - y, x, y];
             let dl = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
@@ -100,11 +175,78 @@ pub(crate) fn shape(kind: SolidKind, xi: [f64; 3]) -> Shape {
     s
 }
 
+/// CHEXA 20 serendipity functions (module doc).
+fn hexa20(s: &mut Shape, xi: [f64; 3]) {
+    for (a, sg) in HEXA_SIGNS.iter().enumerate() {
+        let f = [0, 1, 2].map(|k| 1.0 + sg[k] * xi[k]);
+        let t = sg[0] * xi[0] + sg[1] * xi[1] + sg[2] * xi[2];
+        s.n[a] = 0.125 * f[0] * f[1] * f[2] * (t - 2.0);
+        // ∂/∂ξ_k: ⅛ s_k Π_{j≠k} f_j (2 s_k ξ_k + Σ_{j≠k} s_j ξ_j − 1)
+        s.dn[a] = std::array::from_fn(|k| {
+            let others = f[(k + 1) % 3] * f[(k + 2) % 3];
+            0.125 * sg[k] * others * (t + sg[k] * xi[k] - 1.0)
+        });
+    }
+    for (m, &[p, q]) in HEXA20_EDGES.iter().enumerate() {
+        let c: [f64; 3] = std::array::from_fn(|k| 0.5 * (HEXA_SIGNS[p][k] + HEXA_SIGNS[q][k]));
+        let g = [0, 1, 2].map(|k| {
+            if c[k] == 0.0 {
+                1.0 - xi[k] * xi[k]
+            } else {
+                1.0 + c[k] * xi[k]
+            }
+        });
+        let dg = [0, 1, 2].map(|k| if c[k] == 0.0 { -2.0 * xi[k] } else { c[k] });
+        s.n[8 + m] = 0.25 * g[0] * g[1] * g[2];
+        s.dn[8 + m] = std::array::from_fn(|k| 0.25 * dg[k] * g[(k + 1) % 3] * g[(k + 2) % 3]);
+    }
+}
+
+/// CPENTA 15 functions (module doc).
+fn penta15(s: &mut Shape, xi: [f64; 3]) {
+    let [x, y, z] = xi;
+    let l = [1.0 - x - y, x, y];
+    let dl = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
+    let bubble = 1.0 - z * z;
+    for a in 0..3 {
+        for (node, sz) in [(a, -1.0), (a + 3, 1.0)] {
+            let h = 1.0 + sz * z;
+            let r = (2.0 * l[a] - 1.0) * h - bubble;
+            s.n[node] = 0.5 * l[a] * r;
+            let dr_dl = 2.0 * h;
+            let d = 0.5 * (r + l[a] * dr_dl);
+            s.dn[node] = [
+                d * dl[a][0],
+                d * dl[a][1],
+                0.5 * l[a] * ((2.0 * l[a] - 1.0) * sz + 2.0 * z),
+            ];
+        }
+    }
+    for (m, &[p, q]) in PENTA15_EDGES.iter().enumerate() {
+        let node = 6 + m;
+        let (i, j) = (p % 3, q % 3);
+        if i == j {
+            // vertical edge: L_i (1 − ζ²)
+            s.n[node] = l[i] * bubble;
+            s.dn[node] = [dl[i][0] * bubble, dl[i][1] * bubble, -2.0 * z * l[i]];
+        } else {
+            let sz = if p < 3 { -1.0 } else { 1.0 };
+            let h = 1.0 + sz * z;
+            s.n[node] = 2.0 * l[i] * l[j] * h;
+            s.dn[node] = [
+                2.0 * (dl[i][0] * l[j] + l[i] * dl[j][0]) * h,
+                2.0 * (dl[i][1] * l[j] + l[i] * dl[j][1]) * h,
+                2.0 * l[i] * l[j] * sz,
+            ];
+        }
+    }
+}
+
 /// Natural coordinates of the element centroid (where strains are recovered).
 pub(crate) fn centroid(kind: SolidKind) -> [f64; 3] {
     match kind {
-        SolidKind::Hexa8 => [0.0; 3],
-        SolidKind::Penta6 => [1.0 / 3.0, 1.0 / 3.0, 0.0],
+        SolidKind::Hexa8 | SolidKind::Hexa20 => [0.0; 3],
+        SolidKind::Penta6 | SolidKind::Penta15 => [1.0 / 3.0, 1.0 / 3.0, 0.0],
         SolidKind::Tetra4 | SolidKind::Tetra10 => [0.25; 3],
     }
 }
@@ -184,9 +326,39 @@ fn triangle_three() -> Vec<(f64, f64, f64)> {
     vec![(a, a, w), (b, a, w), (a, b, w)]
 }
 
+/// Dunavant's 7-point rule of degree 5 on the unit triangle (weights include the area ½):
+/// the centroid (weight 9/80) and the orbits of (a, a) for a = (6 ∓ √15)/21 with weights
+/// (155 ∓ √15)/2400.
+pub(crate) fn triangle_seven() -> Vec<(f64, f64, f64)> {
+    let r = 15.0_f64.sqrt();
+    let mut out = vec![(1.0 / 3.0, 1.0 / 3.0, 9.0 / 80.0)];
+    for (a, w) in [
+        ((6.0 - r) / 21.0, (155.0 - r) / 2400.0),
+        ((6.0 + r) / 21.0, (155.0 + r) / 2400.0),
+    ] {
+        let b = 1.0 - 2.0 * a;
+        out.extend([(a, a, w), (b, a, w), (a, b, w)]);
+    }
+    out
+}
+
 /// CPENTA stiffness rule: 3-point triangle × 2-point Gauss (6 points).
 pub(crate) fn wedge_stiffness_rule() -> Vec<QuadPoint> {
     wedge_product(&triangle_three(), Gauss::Two)
+}
+
+/// CPENTA 15 stiffness rule: 7-point triangle (degree 5) × 3-point Gauss (degree 5), 21 points,
+/// exact for Bᵀ D B det J of a wedge with straight edges and parallel triangles (degree 4 in
+/// ξ, η and in ζ).
+pub(crate) fn wedge15_stiffness_rule() -> Vec<QuadPoint> {
+    wedge_product(&triangle_seven(), Gauss::Three)
+}
+
+/// CPENTA 15 mass rule: collapsed 5 × 5 triangle (degree 8) × 5-point Gauss (degree 9), exact
+/// for N_a N_b det J (degree 4 in ξ, η and in ζ) with a det J up to degree 4 in ξ, η and 5 in ζ
+/// (curved edges).
+pub(crate) fn wedge15_mass_rule() -> Vec<QuadPoint> {
+    wedge_product(&triangle_collapsed(Gauss::Five), Gauss::Five)
 }
 
 /// CPENTA mass rule: collapsed 3 × 3 triangle (degree 4) × 3-point Gauss (degree 5), exact
@@ -295,9 +467,12 @@ mod tests {
             }
         };
         let wedge = |a: u32, b: u32, c: u32| f(a) * f(b) / f(a + b + 2) * line(c);
+        let cube = |a: u32, b: u32, c: u32| line(a) * line(b) * line(c);
         check(&wedge_mass_rule(), 4, &wedge);
         check(&wedge_stiffness_rule(), 2, &wedge);
-        let cube = |a: u32, b: u32, c: u32| line(a) * line(b) * line(c);
+        check(&wedge15_stiffness_rule(), 5, &wedge);
+        check(&wedge15_mass_rule(), 8, &wedge);
+        check(&hexa_rule(Gauss::Five), 9, &cube);
         check(&hexa_rule(Gauss::Three), 5, &cube);
     }
 
@@ -308,9 +483,18 @@ mod tests {
             SolidKind::Penta6,
             SolidKind::Tetra4,
             SolidKind::Tetra10,
+            SolidKind::Hexa20,
+            SolidKind::Penta15,
         ] {
-            let s = shape(kind, [0.21, 0.17, 0.33]);
             let n = kind.nodes();
+            for a in 0..n {
+                let at = shape(kind, node_xi(kind, a));
+                for b in 0..n {
+                    let delta = if a == b { 1.0 } else { 0.0 };
+                    assert!((at.n[b] - delta).abs() < 1e-14, "{kind}: N{b} at node {a}");
+                }
+            }
+            let s = shape(kind, [0.21, 0.17, 0.33]);
             assert!((s.n[..n].iter().sum::<f64>() - 1.0).abs() < 1e-14);
             for k in 0..3 {
                 assert!(s.dn[..n].iter().map(|d| d[k]).sum::<f64>().abs() < 1e-14);

@@ -3,6 +3,8 @@
 
 use super::affine::CoefficientValues;
 use super::solid::*;
+use super::solid_midside::Midsides;
+use super::solid_shape as shape;
 use crate::geometry::vec3::triple;
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
@@ -78,12 +80,12 @@ fn distorted_tet() -> Vec<[f64; 3]> {
     ]
 }
 
-/// CTETRA 10 on the corners `c` with mid-edge grids at the edge midpoints plus `bend` · an
-/// edge-specific offset (bend = 0: straight edges).
-fn tet10(c: &[[f64; 3]], bend: f64) -> Vec<[f64; 3]> {
-    const EDGES: [[usize; 2]; 6] = [[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]];
+/// The quadratic element `kind` on the corners `c`: each mid-side grid at the middle of its
+/// edge moved by `bend` times a fixed offset (curved edges when `bend` ≠ 0).
+fn quadratic(kind: SolidKind, c: &[[f64; 3]], bend: f64) -> Vec<[f64; 3]> {
     let mut x = c.to_vec();
-    for (e, [a, b]) in EDGES.iter().enumerate() {
+    for (edge, [a, b]) in shape::midside_edges(kind).iter().enumerate() {
+        let e = edge % 6;
         let off = [
             0.7 - 0.2 * e as f64,
             0.3 * e as f64 - 0.5,
@@ -96,9 +98,22 @@ fn tet10(c: &[[f64; 3]], bend: f64) -> Vec<[f64; 3]> {
     x
 }
 
-/// Every element kind, regular and distorted (and CTETRA 10 with curved edges).
+/// CTETRA 10 on the corners `c` with mid-edge grids at the edge midpoints plus `bend` · an
+/// edge-specific offset (bend = 0: straight edges).
+fn tet10(c: &[[f64; 3]], bend: f64) -> Vec<[f64; 3]> {
+    quadratic(SolidKind::Tetra10, c, bend)
+}
+
+/// Every element kind, regular and distorted (and the quadratic ones with curved edges).
 fn samples() -> Vec<(SolidKind, &'static str, Vec<[f64; 3]>)> {
+    let (h20, p15) = (SolidKind::Hexa20, SolidKind::Penta15);
     vec![
+        (h20, "regular", quadratic(h20, &unit_hexa(), 0.0)),
+        (h20, "distorted", quadratic(h20, &distorted_hexa(), 0.0)),
+        (h20, "curved", quadratic(h20, &distorted_hexa(), 0.06)),
+        (p15, "regular", quadratic(p15, &unit_penta(), 0.0)),
+        (p15, "distorted", quadratic(p15, &distorted_penta(), 0.0)),
+        (p15, "curved", quadratic(p15, &distorted_penta(), 0.06)),
         (SolidKind::Hexa8, "regular", unit_hexa()),
         (SolidKind::Hexa8, "distorted", distorted_hexa()),
         (SolidKind::Penta6, "regular", unit_penta()),
@@ -139,14 +154,26 @@ fn zero_modes(k: &Mat<f64>) -> usize {
     ev.iter().filter(|v| v.abs() < 1e-8 * top).count()
 }
 
-type Mesh = (Vec<[f64; 3]>, Vec<(SolidKind, Vec<usize>)>);
+/// Grids and elements (topology with its blank mid-sides, given grids).
+type Mesh = (Vec<[f64; 3]>, Vec<(Midsides, Vec<usize>)>);
+
+fn whole(kind: SolidKind, nodes: Vec<usize>) -> (Midsides, Vec<usize>) {
+    (Midsides::complete(kind), nodes)
+}
+
+fn element_stiffness(mids: &Midsides, x: &[[f64; 3]], mat: Isotropic) -> Mat<f64> {
+    let mut k = mids
+        .affine_stiffness(x, StiffnessParametrization::Fixed(mat))
+        .expect("element stiffness");
+    k.parts.remove(0).1
+}
 
 fn assemble(mesh: &Mesh, mat: Isotropic) -> Mat<f64> {
     let (xyz, elements) = mesh;
     let mut k = Mat::<f64>::zeros(3 * xyz.len(), 3 * xyz.len());
-    for (kind, nodes) in elements {
+    for (mids, nodes) in elements {
         let x: Vec<[f64; 3]> = nodes.iter().map(|&n| xyz[n]).collect();
-        let ke = stiffness(*kind, &x, mat).expect("element stiffness");
+        let ke = element_stiffness(mids, &x, mat);
         let dof = |i: usize| 3 * nodes[i / 3] + i % 3;
         for j in 0..ke.ncols() {
             for i in 0..ke.nrows() {
@@ -202,21 +229,33 @@ fn cell(id: &impl Fn(usize, usize, usize) -> usize, i: usize, j: usize, k: usize
     ]
 }
 
-/// Meshes the n³ cells of a lattice with CHEXA, CPENTA (2 per cell), CTETRA 4 or CTETRA 10
-/// (6 Kuhn tetrahedra per cell, conforming).
+/// Meshes the n³ cells of a lattice with CHEXA, CPENTA (2 per cell), CTETRA (6 Kuhn
+/// tetrahedra per cell, conforming), linear or quadratic.
 fn lattice_mesh(kind: SolidKind, n: usize, amp: f64) -> Mesh {
+    quadratic_lattice(kind, n, amp, 0.0, &|_| false)
+}
+
+/// [`lattice_mesh`] whose interior mid-side grids (quadratic kinds) are moved off their edge's
+/// middle by up to `bend`/n in each direction (curved edges), and whose k-th mid-side edge (in
+/// creation order) has no grid when `blank(k)`: every element on that edge takes it blank.
+fn quadratic_lattice(
+    kind: SolidKind,
+    n: usize,
+    amp: f64,
+    bend: f64,
+    blank: &dyn Fn(usize) -> bool,
+) -> Mesh {
     let (mut xyz, id) = lattice(n, amp);
-    let mut elements = Vec::new();
-    let mut midside: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut corner_lists: Vec<Vec<usize>> = Vec::new();
     for k in 0..n {
         for j in 0..n {
             for i in 0..n {
                 let c = cell(&id, i, j, k);
                 match kind {
-                    SolidKind::Hexa8 => elements.push((kind, c.to_vec())),
-                    SolidKind::Penta6 => {
-                        elements.push((kind, vec![c[0], c[1], c[2], c[4], c[5], c[6]]));
-                        elements.push((kind, vec![c[0], c[2], c[3], c[4], c[6], c[7]]));
+                    SolidKind::Hexa8 | SolidKind::Hexa20 => corner_lists.push(c.to_vec()),
+                    SolidKind::Penta6 | SolidKind::Penta15 => {
+                        corner_lists.push(vec![c[0], c[1], c[2], c[4], c[5], c[6]]);
+                        corner_lists.push(vec![c[0], c[2], c[3], c[4], c[6], c[7]]);
                     }
                     SolidKind::Tetra4 | SolidKind::Tetra10 => {
                         // Kuhn: paths 000 → e_p → e_p + e_q → 111 along every axis order;
@@ -235,29 +274,46 @@ fn lattice_mesh(kind: SolidKind, n: usize, amp: f64) -> Mesh {
                             b1[p] = 1;
                             let mut b2 = b1;
                             b2[q] = 1;
-                            let mut t = [c[0], corner(b1), corner(b2), c[6]];
+                            let mut t = vec![c[0], corner(b1), corner(b2), c[6]];
                             if odd {
                                 t.swap(1, 2);
                             }
-                            let mut nodes = t.to_vec();
-                            if kind == SolidKind::Tetra10 {
-                                for [a, b] in [[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]] {
-                                    let key = (t[a].min(t[b]), t[a].max(t[b]));
-                                    let m = *midside.entry(key).or_insert_with(|| {
-                                        xyz.push(std::array::from_fn(|d| {
-                                            0.5 * (xyz[t[a]][d] + xyz[t[b]][d])
-                                        }));
-                                        xyz.len() - 1
-                                    });
-                                    nodes.push(m);
-                                }
-                            }
-                            elements.push((kind, nodes));
+                            corner_lists.push(t);
                         }
                     }
                 }
             }
         }
+    }
+    let on_boundary = |x: [f64; 3]| {
+        x.iter()
+            .any(|&c| c.abs() < 1e-12 || (c - 1.0).abs() < 1e-12)
+    };
+    let mut midside: HashMap<(usize, usize), Option<usize>> = HashMap::new();
+    let mut elements = Vec::new();
+    for t in corner_lists {
+        let mut nodes = t.clone();
+        let mut present = vec![true; t.len()];
+        for &[a, b] in shape::midside_edges(kind) {
+            let key = (t[a].min(t[b]), t[a].max(t[b]));
+            let count = midside.len();
+            let m = *midside.entry(key).or_insert_with(|| {
+                if blank(count) {
+                    return None;
+                }
+                let mid: [f64; 3] = std::array::from_fn(|d| 0.5 * (xyz[t[a]][d] + xyz[t[b]][d]));
+                let p = xyz.len();
+                xyz.push(if on_boundary(mid) {
+                    mid
+                } else {
+                    std::array::from_fn(|d| mid[d] + bend / n as f64 * jitter(7 * p + d))
+                });
+                Some(p)
+            });
+            present.push(m.is_some());
+            nodes.extend(m);
+        }
+        elements.push((Midsides::new(kind, &present), nodes));
     }
     (xyz, elements)
 }
@@ -283,7 +339,7 @@ fn macneal_harder_patch() -> Mesh {
         [2, 3, 7, 6],
         [3, 0, 4, 7],
     ];
-    let mut elements = vec![(SolidKind::Hexa8, (8..16).collect::<Vec<_>>())];
+    let mut elements = vec![whole(SolidKind::Hexa8, (8..16).collect::<Vec<_>>())];
     for f in outward_faces {
         // outer face (outward normal) reversed as the bottom, the inner face on top
         let nodes = vec![
@@ -296,7 +352,7 @@ fn macneal_harder_patch() -> Mesh {
             f[2] + 8,
             f[1] + 8,
         ];
-        elements.push((SolidKind::Hexa8, nodes));
+        elements.push(whole(SolidKind::Hexa8, nodes));
     }
     (xyz, elements)
 }
@@ -358,13 +414,13 @@ fn patch_test(mesh: &Mesh) -> (f64, f64) {
         A[2][0] + A[0][2],
     ];
     let mut de = 0.0_f64;
-    for (kind, nodes) in elements {
+    for (mids, nodes) in elements {
         let x: Vec<[f64; 3]> = nodes.iter().map(|&n| xyz[n]).collect();
         let ue: Vec<f64> = nodes
             .iter()
             .flat_map(|&n| u[3 * n..3 * n + 3].to_vec())
             .collect();
-        let s = strain_at_centroid(*kind, &x, &ue).expect("strain");
+        let s = mids.strain_at_centroid(&x, &ue).expect("strain");
         for (a, b) in s.iter().zip(eps) {
             de = de.max((a - b).abs());
         }
@@ -445,7 +501,7 @@ fn hexa_cantilever_tip_deflection_within_three_percent() {
         }
     }
     let elements = (0..10)
-        .map(|i| (SolidKind::Hexa8, cell(&id, i, 0, 0).to_vec()))
+        .map(|i| whole(SolidKind::Hexa8, cell(&id, i, 0, 0).to_vec()))
         .collect();
     let k = assemble(&(xyz, elements), Isotropic { e, nu });
     let free: Vec<usize> = (12..3 * 44).collect();
@@ -498,7 +554,13 @@ fn matrices_are_symmetric_and_semi_definite() {
 /// Volume by the divergence theorem, V = ⅓ ∮ x · n dA over the element faces (independent of the
 /// element's volume quadrature): quadrilateral faces bilinear, triangular faces 6-node quadratic
 /// (corner, corner, corner, mid 0–1, mid 1–2, mid 2–0), each oriented outward.
+/// A straight-edged CHEXA 20 / CPENTA 15 has the volume of its corners' linear element.
 fn surface_volume(kind: SolidKind, x: &[[f64; 3]]) -> f64 {
+    match kind {
+        SolidKind::Hexa20 => return surface_volume(SolidKind::Hexa8, &x[..8]),
+        SolidKind::Penta15 => return surface_volume(SolidKind::Penta6, &x[..6]),
+        _ => {}
+    }
     let mid =
         |a: usize, b: usize| -> [f64; 3] { std::array::from_fn(|k| 0.5 * (x[a][k] + x[b][k])) };
     let (quads, tris): (Vec<[usize; 4]>, Vec<[[f64; 3]; 6]>) = match kind {
@@ -539,6 +601,7 @@ fn surface_volume(kind: SolidKind, x: &[[f64; 3]]) -> f64 {
             .map(|f| f.map(|i| x[i]))
             .collect(),
         ),
+        SolidKind::Hexa20 | SolidKind::Penta15 => unreachable!("reduced to the corners above"),
     };
     let gauss = [
         (0.5 - 0.5 * 0.6_f64.sqrt(), 5.0 / 18.0),
@@ -601,11 +664,16 @@ fn surface_volume(kind: SolidKind, x: &[[f64; 3]]) -> f64 {
 fn total_mass_is_rho_v_consistent_and_lumped() {
     let rho = 2.7;
     for (kind, label, xyz) in samples() {
-        let v = surface_volume(kind, &xyz);
+        // curved quadratic elements: the element's own volume (the total mass check remains)
+        let v = if label == "curved" && kind != SolidKind::Tetra10 {
+            volume_and_centroid(kind, &xyz).unwrap().0
+        } else {
+            surface_volume(kind, &xyz)
+        };
         if label == "regular" {
             let exact = match kind {
-                SolidKind::Hexa8 => 1.0,
-                SolidKind::Penta6 => 0.5,
+                SolidKind::Hexa8 | SolidKind::Hexa20 => 1.0,
+                SolidKind::Penta6 | SolidKind::Penta15 => 0.5,
                 _ => 1.0 / 6.0,
             };
             assert!((v - exact).abs() < 1e-14, "{kind}: surface volume {v}");
@@ -802,4 +870,165 @@ fn inverted_and_degenerate_elements_are_errors_naming_the_point() {
         ),
         Err(SolidError::CondensationFailed { .. })
     ));
+}
+
+// ---------------------------------------------------------------- quadratic solids
+
+#[test]
+fn quadratic_meshes_have_six_zero_energy_modes_and_pass_the_curved_patch_test() {
+    // curved interior edges and some blank mid-sides (every third edge, shared by all its
+    // elements): an isoparametric element represents a linear field whatever its edges, and
+    // the transition elements stay conforming
+    for kind in [SolidKind::Hexa20, SolidKind::Penta15] {
+        for (label, blank) in [
+            ("all mid-sides", &(|_| false) as &dyn Fn(usize) -> bool),
+            ("every third mid-side blank", &|k| k % 3 == 0),
+        ] {
+            let mesh = quadratic_lattice(kind, 2, 0.2, 0.15, blank);
+            let (du, de) = patch_test(&mesh);
+            assert!(
+                du < 1e-10 && de < 1e-10,
+                "{kind} {label}: displacement {du:.2e}, strain {de:.2e}"
+            );
+            assert_eq!(zero_modes(&assemble(&mesh, STEEL)), 6, "{kind} {label}");
+        }
+    }
+}
+
+/// The trilinear (8-node, no incompatible modes) hexahedron under 3×3×3 Gauss, written out here.
+fn trilinear_hexa(xyz: &[[f64; 3]], mat: Isotropic) -> Mat<f64> {
+    let Lame { lambda, mu } = mat.lame();
+    let mut k = Mat::<f64>::zeros(24, 24);
+    for q in shape::hexa_rule(shape::Gauss::Three) {
+        let s = shape::shape(SolidKind::Hexa8, q.xi);
+        let j = Mat::from_fn(3, 3, |r, c| {
+            (0..8).map(|a| xyz[a][r] * s.dn[a][c]).sum::<f64>()
+        });
+        let det = j.determinant();
+        let mut jinv = Mat::<f64>::identity(3, 3);
+        j.partial_piv_lu().solve_in_place(jinv.as_mut());
+        // ∇N_a = J⁻ᵀ ∇_ξ N_a
+        let g: Vec<[f64; 3]> = (0..8)
+            .map(|a| std::array::from_fn(|i| (0..3).map(|c| jinv[(c, i)] * s.dn[a][c]).sum()))
+            .collect();
+        for a in 0..8 {
+            for b in 0..8 {
+                let dot: f64 = (0..3).map(|i| g[a][i] * g[b][i]).sum();
+                for i in 0..3 {
+                    for jj in 0..3 {
+                        let diag = if i == jj { dot } else { 0.0 };
+                        k[(3 * a + i, 3 * b + jj)] += q.w
+                            * det
+                            * (lambda * g[a][i] * g[b][jj] + mu * (g[a][jj] * g[b][i] + diag));
+                    }
+                }
+            }
+        }
+    }
+    k
+}
+
+#[test]
+fn quadratic_solids_with_every_midside_blank_are_the_linear_elements() {
+    // CHEXA 20 without mid-sides: the trilinear element (same 3×3×3 rule)
+    let corners = distorted_hexa();
+    let hexa = Midsides::new(SolidKind::Hexa20, &[false; 20]);
+    let k = element_stiffness(&hexa, &corners, STEEL);
+    let reference = trilinear_hexa(&corners, STEEL);
+    assert!(relative_difference(&k, &reference) < 1e-13);
+    // … and stiffer than nothing: the CHEXA 8 with incompatible modes is softer
+    let wilson = stiffness(SolidKind::Hexa8, &corners, STEEL).unwrap();
+    assert!(relative_difference(&k, &wilson) > 1e-3);
+    // CPENTA 15 without mid-sides on a right prism: the CPENTA 6 (both rules exact there)
+    let penta = Midsides::new(SolidKind::Penta15, &[false; 15]);
+    let k = element_stiffness(&penta, &unit_penta(), STEEL);
+    let reference = stiffness(SolidKind::Penta6, &unit_penta(), STEEL).unwrap();
+    assert!(relative_difference(&k, &reference) < 1e-13);
+    let m = penta
+        .affine_mass(
+            &unit_penta(),
+            MassLumping::Consistent,
+            MassParametrization::Fixed { rho: 2.0 },
+        )
+        .unwrap()
+        .evaluate(&CoefficientValues::default());
+    let reference = mass(
+        SolidKind::Penta6,
+        &unit_penta(),
+        2.0,
+        MassLumping::Consistent,
+    )
+    .unwrap();
+    assert!(relative_difference(&m, &reference) < 1e-13);
+}
+
+/// A cantilever 4 × 1 × 1 clamped at x = 0 (ν = 0, so the clamp does not restrain a Poisson
+/// contraction) under a tip moment M (σxx = M z / I on the tip face): the exact solution
+/// u = κ x z, w = −κ x²/2 (κ = M/EI) is quadratic, so the quadratic elements reproduce it to
+/// round-off on a coarse mesh (one element through the depth); the linear CPENTA 6 does not
+/// (checked as the contrast, so the test can fail).
+#[test]
+fn quadratic_cantilever_under_a_tip_moment_is_exact() {
+    let (e, moment, l) = (1000.0, 2.0, 4.0);
+    let inertia = 1.0 / 12.0;
+    let kappa = moment / (e * inertia);
+    let mat = Isotropic { e, nu: 0.0 };
+    let tip_error = |kind: SolidKind| {
+        let (mut xyz, mut elements) = (Vec::new(), Vec::new());
+        // four copies of a one-cell lattice along x
+        let (lx, lattice_elements) = quadratic_lattice(kind, 1, 0.0, 0.0, &|_| false);
+        for i in 0..4 {
+            let offset = xyz.len();
+            xyz.extend(lx.iter().map(|p| [p[0] + i as f64, p[1], p[2] - 0.5]));
+            elements.extend(
+                lattice_elements
+                    .iter()
+                    .map(|(m, n)| (m.clone(), n.iter().map(|&a| a + offset).collect::<Vec<_>>())),
+            );
+        }
+        // merge the coincident grids of neighbouring cells
+        let mut canonical: Vec<usize> = (0..xyz.len()).collect();
+        for a in 0..xyz.len() {
+            if let Some(b) = (0..a).find(|&b| (0..3).all(|k| (xyz[a][k] - xyz[b][k]).abs() < 1e-12))
+            {
+                canonical[a] = canonical[b];
+            }
+        }
+        for (_, nodes) in elements.iter_mut() {
+            nodes.iter_mut().for_each(|a| *a = canonical[*a]);
+        }
+        let k = assemble(&(xyz.clone(), elements), mat);
+        let fixed = |a: usize| xyz[a][0].abs() < 1e-12 || canonical[a] != a;
+        let free: Vec<usize> = (0..xyz.len())
+            .filter(|&a| !fixed(a))
+            .flat_map(|a| 3 * a..3 * a + 3)
+            .collect();
+        // tip loads: the x-components of K u_exact at the tip grids, which are the consistent
+        // loads ∫ N_a σxx dA of σxx = E κ z when the element space holds u_exact; every other
+        // residual of K u_exact is dropped, so the solve returns u_exact only if it does
+        let exact: Vec<f64> = xyz
+            .iter()
+            .flat_map(|p| [kappa * p[0] * p[2], 0.0, -0.5 * kappa * p[0] * p[0]])
+            .collect();
+        let tip = |a: usize| (xyz[a][0] - l).abs() < 1e-12 && canonical[a] == a;
+        let mut f = Mat::<f64>::zeros(free.len(), 1);
+        for (r, &d) in free.iter().enumerate() {
+            if tip(d / 3) && d % 3 == 0 {
+                f[(r, 0)] = (0..exact.len()).map(|c| k[(d, c)] * exact[c]).sum::<f64>();
+            }
+        }
+        let kff = Mat::from_fn(free.len(), free.len(), |i, j| k[(free[i], free[j])]);
+        kff.llt(Side::Lower).unwrap().solve_in_place(f.as_mut());
+        let mut err = 0.0_f64;
+        for (r, &d) in free.iter().enumerate() {
+            err = err.max((f[(r, 0)] - exact[d]).abs());
+        }
+        err / (0.5 * kappa * l * l)
+    };
+    for kind in [SolidKind::Hexa20, SolidKind::Penta15] {
+        let err = tip_error(kind);
+        assert!(err < 1e-10, "{kind}: max |u − u_exact| / w_tip = {err:.2e}");
+    }
+    let err = tip_error(SolidKind::Penta6);
+    assert!(err > 1e-2, "CPENTA 6 would lock: {err:.2e}");
 }

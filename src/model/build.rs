@@ -715,26 +715,20 @@ fn build_elements(
     }
     let mut solids: Vec<SolidCard> = Vec::new();
     solids.extend(b.chexa.iter().enumerate().map(|(i, c)| {
-        (
-            c.id,
-            c.pid,
-            &c.nodes[..],
-            ElementKind::Hexa8,
-            i,
-            "CHEXA",
-            &c.loc,
-        )
+        let kind = if c.nodes.len() > 8 {
+            ElementKind::Hexa20
+        } else {
+            ElementKind::Hexa8
+        };
+        (c.id, c.pid, &c.nodes[..], kind, i, "CHEXA", &c.loc)
     }));
     solids.extend(b.cpenta.iter().enumerate().map(|(i, c)| {
-        (
-            c.id,
-            c.pid,
-            &c.nodes[..],
-            ElementKind::Penta6,
-            i,
-            "CPENTA",
-            &c.loc,
-        )
+        let kind = if c.nodes.len() > 6 {
+            ElementKind::Penta15
+        } else {
+            ElementKind::Penta6
+        };
+        (c.id, c.pid, &c.nodes[..], kind, i, "CPENTA", &c.loc)
     }));
     for (i, c) in b.ctetra.iter().enumerate() {
         let kind = if c.nodes.len() == 10 {
@@ -744,15 +738,26 @@ fn build_elements(
         };
         solids.push((c.id, c.pid, &c.nodes[..], kind, i, "CTETRA", &c.loc));
     }
-    for (id, pid, ids, kind, i, name, loc) in solids {
+    for (id, pid, card_ids, kind, i, name, loc) in solids {
         let card = format!("{name} {id}");
-        let nodes = resolve_nodes(refs, ids, &G, &card, loc, errors);
+        // a quadratic CHEXA / CPENTA lists 0 for a blank mid-side grid: its element keeps the
+        // given grids (Model::solid_midsides recovers the blank ones from the card)
+        let (ids, names): (Vec<u32>, Vec<String>) = card_ids
+            .iter()
+            .enumerate()
+            .filter(|&(_, &g)| g != 0)
+            .map(|(k, &g)| (g, format!("G{}", k + 1)))
+            .unzip();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let nodes = resolve_nodes(refs, &ids, &names, &card, loc, errors);
         let prop = resolve_property(refs, pid, &solid, &card, loc, errors);
         let Some(nodes) = nodes else { continue };
         if let Some(shape) = kind.solid_shape() {
-            let p = pos(&nodes);
+            // quadratic CHEXA / CPENTA: the corners (the kernel checks det J at its points)
+            let corners = shape.nodes().min(nodes.len());
+            let p = pos(&nodes[..corners]);
             if p.len() == shape.nodes() {
-                let (_, report) = geometry::check_solid(shape, &p, ids);
+                let (_, report) = geometry::check_solid(shape, &p, &ids[..corners]);
                 shape_errors(&report, &card, loc, errors);
                 quality.add(name, id, &report);
             }

@@ -160,16 +160,17 @@ impl Model {
             ElementKind::Hexa8
             | ElementKind::Penta6
             | ElementKind::Tetra4
-            | ElementKind::Tetra10 => {
-                let shape = e.kind.solid_shape()?;
+            | ElementKind::Tetra10
+            | ElementKind::Hexa20
+            | ElementKind::Penta15 => {
                 let PropertyRef::Psolid(i) = e.property? else {
                     return None;
                 };
                 let rho = self.rho(self.bulk.psolid.get(i)?.mid)?;
-                let s = shape.integrate(&p);
+                let (volume, centroid) = self.solid_midsides(e)?.volume_and_centroid(&p).ok()?;
                 Some(MassPoint {
-                    mass: rho * s.volume,
-                    point: s.centroid,
+                    mass: rho * volume,
+                    point: centroid,
                     inertia: None,
                 })
             }

@@ -55,6 +55,8 @@ use std::collections::HashMap;
 
 use crate::deck::case_control::Subcase;
 use crate::deck::{BulkData, Loc, Solution, Warning};
+use crate::fe::solid::SolidKind;
+use crate::fe::solid_midside::Midsides;
 
 pub use crate::card_values::Dofs;
 pub use coords::CoordSystem;
@@ -96,6 +98,10 @@ pub enum ElementKind {
     Penta6,
     Tetra4,
     Tetra10,
+    /// CHEXA with mid-side grids (20 nodes, blank mid-sides allowed).
+    Hexa20,
+    /// CPENTA with mid-side grids (15 nodes, blank mid-sides allowed).
+    Penta15,
     Celas1,
     Celas2,
     Celas3,
@@ -125,8 +131,8 @@ impl ElementKind {
             ElementKind::Quad8 => "CQUAD8",
             ElementKind::Tria6 => "CTRIA6",
             ElementKind::Cshear => "CSHEAR",
-            ElementKind::Hexa8 => "CHEXA",
-            ElementKind::Penta6 => "CPENTA",
+            ElementKind::Hexa8 | ElementKind::Hexa20 => "CHEXA",
+            ElementKind::Penta6 | ElementKind::Penta15 => "CPENTA",
             ElementKind::Tetra4 | ElementKind::Tetra10 => "CTETRA",
             ElementKind::Celas1 => "CELAS1",
             ElementKind::Celas2 => "CELAS2",
@@ -147,19 +153,23 @@ impl ElementKind {
         }
     }
 
-    /// Name of the output block (`CTETRA10` for the 10-node tetra), see [`ElementBlock::card`].
+    /// Name of the output block (`CTETRA10`, `CHEXA20`, `CPENTA15` for the quadratic solids),
+    /// see [`ElementBlock::card`].
     pub fn block_name(self) -> &'static str {
         match self {
             ElementKind::Tetra10 => "CTETRA10",
+            ElementKind::Hexa20 => "CHEXA20",
+            ElementKind::Penta15 => "CPENTA15",
             k => k.card(),
         }
     }
 
-    /// The solid shape, for solids.
+    /// The shape of the geometry checks, for solids: the element's own, the linear shape of
+    /// the corners (its first grids) for CHEXA 20 and CPENTA 15.
     pub fn solid_shape(self) -> Option<geometry::SolidShape> {
         match self {
-            ElementKind::Hexa8 => Some(geometry::SolidShape::Hexa8),
-            ElementKind::Penta6 => Some(geometry::SolidShape::Penta6),
+            ElementKind::Hexa8 | ElementKind::Hexa20 => Some(geometry::SolidShape::Hexa8),
+            ElementKind::Penta6 | ElementKind::Penta15 => Some(geometry::SolidShape::Penta6),
             ElementKind::Tetra4 => Some(geometry::SolidShape::Tetra4),
             ElementKind::Tetra10 => Some(geometry::SolidShape::Tetra10),
             _ => None,
@@ -378,6 +388,29 @@ impl Model {
         self.element_index
             .get(&id)
             .and_then(|&i| self.elements.get(i))
+    }
+
+    /// The solid kernel's topology and given nodes of a solid element (blank mid-side grids of
+    /// a CHEXA 20 / CPENTA 15 from its card), `None` for other elements.
+    pub fn solid_midsides(&self, e: &Element) -> Option<Midsides> {
+        let kind = match e.kind {
+            ElementKind::Hexa8 => SolidKind::Hexa8,
+            ElementKind::Penta6 => SolidKind::Penta6,
+            ElementKind::Tetra4 => SolidKind::Tetra4,
+            ElementKind::Tetra10 => SolidKind::Tetra10,
+            ElementKind::Hexa20 => SolidKind::Hexa20,
+            ElementKind::Penta15 => SolidKind::Penta15,
+            _ => return None,
+        };
+        let card = match e.kind {
+            ElementKind::Hexa20 => self.bulk.chexa.get(e.card).map(|c| &c.nodes),
+            ElementKind::Penta15 => self.bulk.cpenta.get(e.card).map(|c| &c.nodes),
+            _ => None,
+        };
+        Some(match card {
+            Some(ids) => Midsides::new(kind, &ids.iter().map(|&g| g != 0).collect::<Vec<_>>()),
+            None => Midsides::complete(kind),
+        })
     }
 
     /// Basic locations of an element's grids.

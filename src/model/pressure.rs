@@ -69,7 +69,9 @@ impl Model {
                     ElementKind::Hexa8
                     | ElementKind::Penta6
                     | ElementKind::Tetra4
-                    | ElementKind::Tetra10 => {
+                    | ElementKind::Tetra10
+                    | ElementKind::Hexa20
+                    | ElementKind::Penta15 => {
                         let grid = |id: Option<u32>, name: &str| -> Result<Option<usize>, String> {
                             id.map(|id| {
                                 self.grid_index
@@ -88,7 +90,7 @@ impl Model {
                             "G1 is required to pick a face of {} {eid}",
                             element.kind.card()
                         ))?;
-                        solid_face(self, element.kind, &element.nodes, g1, g34)
+                        solid_face(self, element, g1, g34)
                             .map_err(|e| format!("{} {eid}: {e}", element.kind.card()))?
                     }
                     _ => {
@@ -98,7 +100,7 @@ impl Model {
                         ));
                     }
                 };
-                let corners = if face.len() == 4 { 4 } else { 3 };
+                let corners = if face.len() % 4 == 0 { 4 } else { 3 };
                 Ok(vec![LoadedFace {
                     grids: face,
                     pressures: card.pressures[..corners].to_vec(),
@@ -168,7 +170,7 @@ fn shell_face(nodes: &[usize], pressures: &[f64; 4], direction: Direction) -> Lo
 /// Local corner numbers of the faces of each solid (any orientation; [`solid_face`] orients).
 fn faces_of(kind: ElementKind) -> &'static [&'static [usize]] {
     match kind {
-        ElementKind::Hexa8 => &[
+        ElementKind::Hexa8 | ElementKind::Hexa20 => &[
             &[0, 1, 2, 3],
             &[4, 5, 6, 7],
             &[0, 1, 5, 4],
@@ -176,7 +178,7 @@ fn faces_of(kind: ElementKind) -> &'static [&'static [usize]] {
             &[2, 3, 7, 6],
             &[3, 0, 4, 7],
         ],
-        ElementKind::Penta6 => &[
+        ElementKind::Penta6 | ElementKind::Penta15 => &[
             &[0, 1, 2],
             &[3, 4, 5],
             &[0, 1, 4, 3],
@@ -188,14 +190,18 @@ fn faces_of(kind: ElementKind) -> &'static [&'static [usize]] {
 }
 
 /// The loaded face of a solid as grid indices, from G1 (and G3 or G4), oriented inward and
-/// starting at G1; a 10-node tetra's face has its three mid-side grids after the corners.
+/// starting at G1; a quadratic element's face has its mid-side grids after the corners (in
+/// edge order 1–2, 2–3, …), or none when they are all blank (the face is then linear).
 fn solid_face(
     model: &Model,
-    kind: ElementKind,
-    nodes: &[usize],
+    element: &super::Element,
     g1: usize,
     g34: Option<usize>,
 ) -> Result<Vec<usize>, String> {
+    let (kind, nodes) = (element.kind, &element.nodes[..]);
+    let midsides = model
+        .solid_midsides(element)
+        .expect("a solid element has a kernel topology");
     let local = |g: usize| {
         nodes
             .iter()
@@ -224,7 +230,7 @@ fn solid_face(
         return Err(match (is_tetra, kind, other) {
             (true, _, None) => "G4, the corner off the loaded face, is required".into(),
             (true, _, Some(_)) => "G4 must be the corner off the face and G1 a corner on it".into(),
-            (false, ElementKind::Hexa8, _) | (false, _, Some(_)) => {
+            (false, ElementKind::Hexa8 | ElementKind::Hexa20, _) | (false, _, Some(_)) => {
                 "G1 and G3 must be diagonally opposite corners of one quadrilateral face".into()
             }
             _ => "G1 must be a corner of a triangular face (leave G3 blank only for those)".into(),
@@ -246,11 +252,7 @@ fn solid_face(
         }
         scale(s, 1.0 / n)
     };
-    let corner_count = match kind {
-        ElementKind::Hexa8 => 8,
-        ElementKind::Penta6 => 6,
-        _ => 4,
-    };
+    let corner_count = crate::fe::solid::corners(midsides.kind());
     let inward = sub(
         centre(&mut (0..corner_count)),
         centre(&mut corners.iter().copied()),
@@ -263,18 +265,16 @@ fn solid_face(
         corners[1..].reverse();
     }
     let mut face_grids: Vec<usize> = corners.iter().map(|&k| nodes[k]).collect();
-    if kind == ElementKind::Tetra10 {
-        // mid-side grids of edges (0,1) (1,2) (2,0) (0,3) (1,3) (2,3) are nodes 4..9
-        let edges = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
-        let mid = |p: usize, q: usize| {
-            let k = edges
-                .iter()
-                .position(|&(i, j)| (i, j) == (p, q) || (i, j) == (q, p))
-                .expect("tetra edge");
-            nodes[4 + k]
-        };
-        for k in 0..3 {
-            face_grids.push(mid(corners[k], corners[(k + 1) % 3]));
+    let mids: Vec<Option<usize>> = (0..corners.len())
+        .map(|k| midsides.edge_midside(corners[k], corners[(k + 1) % corners.len()]))
+        .collect();
+    match mids.iter().filter(|m| m.is_some()).count() {
+        0 => {}
+        n if n == mids.len() => face_grids.extend(mids.iter().flatten().map(|&m| nodes[m])),
+        _ => {
+            return Err(
+                "the loaded face has some but not all of its mid-side grids: a pressure on a face with blank mid-side grids is supported only when all of them are blank".into(),
+            );
         }
     }
     Ok(face_grids)

@@ -87,7 +87,8 @@ impl Model {
     }
 
     /// Grids and connectivity as flat arrays (see [`MeshArrays`]). Blocks are in the order
-    /// CQUAD4, CTRIA3, CHEXA, CPENTA, CTETRA, CTETRA10, CELAS1–CELAS4, CDAMP1–CDAMP4, CVISC, CBUSH, CONM2, CROD, CONROD, CTUBE, CBAR, CBEAM, RBE2, RBE3.
+    /// CQUAD4, CTRIA3, CHEXA, CPENTA, CTETRA, CTETRA10, CHEXA20 and CPENTA15 (their corner
+    /// grids only), CELAS1–CELAS4, CDAMP1–CDAMP4, CVISC, CBUSH, CONM2, CROD, CONROD, CTUBE, CBAR, CBEAM, RBE2, RBE3.
     pub fn mesh_arrays(&self) -> MeshArrays {
         let mut blocks: BTreeMap<ElementKind, ElementBlock> = BTreeMap::new();
         for e in &self.elements {
@@ -97,6 +98,9 @@ impl Model {
             }
             let per = match e.kind {
                 k if k.is_scalar_spring() || k.is_damper() || k == ElementKind::Cbush => 2,
+                // quadratic CHEXA / CPENTA (mid-side grids may be blank) as their corner cells
+                ElementKind::Hexa20 => 8,
+                ElementKind::Penta15 => 6,
                 _ => e.nodes.len(),
             };
             let block = blocks.entry(e.kind).or_insert_with(|| ElementBlock {
@@ -108,7 +112,7 @@ impl Model {
             });
             block.ids.push(e.id);
             block.pids.push(self.pid_of(e));
-            let mut conn: Vec<u32> = e.nodes.iter().map(|&n| n as u32).collect();
+            let mut conn: Vec<u32> = e.nodes.iter().take(per).map(|&n| n as u32).collect();
             while conn.len() < per {
                 // a grounded spring end repeats the spring's grid
                 conn.push(conn.first().copied().unwrap_or(0));
@@ -152,8 +156,8 @@ impl Model {
             ElementKind::Quad8 => b.cquad8.get(e.card).map(|c| c.pid),
             ElementKind::Tria6 => b.ctria6.get(e.card).map(|c| c.pid),
             ElementKind::Cshear => b.cshear.get(e.card).map(|c| c.pid),
-            ElementKind::Hexa8 => b.chexa.get(e.card).map(|c| c.pid),
-            ElementKind::Penta6 => b.cpenta.get(e.card).map(|c| c.pid),
+            ElementKind::Hexa8 | ElementKind::Hexa20 => b.chexa.get(e.card).map(|c| c.pid),
+            ElementKind::Penta6 | ElementKind::Penta15 => b.cpenta.get(e.card).map(|c| c.pid),
             ElementKind::Tetra4 | ElementKind::Tetra10 => b.ctetra.get(e.card).map(|c| c.pid),
             ElementKind::Celas1 => b.celas1.get(e.card).map(|c| c.pid),
             ElementKind::Celas3 => b.celas3.get(e.card).map(|c| c.pid),

@@ -1,5 +1,5 @@
 """A small, separately written numpy model of the linear-elastic solids CTETRA 4 / C3D4,
-CTETRA 10 / C3D10 and CPENTA 6 / C3D6: isoparametric shape functions, B = ∂N/∂x, K = ∫ Bᵀ D B dV
+CTETRA 10 / C3D10, CPENTA 6 / C3D6, CHEXA 20 / C3D20 and CPENTA 15 / C3D15: isoparametric shape functions, B = ∂N/∂x, K = ∫ Bᵀ D B dV
 and M = ρ ∫ Nᵀ N dV, both under a quadrature rule chosen by the caller, assembled densely and
 solved with scipy. Used by solid_same_mesh.py in two ways: with CalculiX's quadrature it must
 reproduce ccx on the same mesh (a check of this model), with exact quadrature it is the reference
@@ -7,7 +7,10 @@ paraflex is compared with.
 
 Node orders (Nastran = CalculiX): tetra G1..G4 corners at natural (0,0,0), (1,0,0), (0,1,0),
 (0,0,1), G5..G10 on edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4; wedge G1..G3 the triangle (0,0), (1,0),
-(0,1) at ζ = -1, G4..G6 above them at ζ = +1.
+(0,1) at ζ = -1, G4..G6 above them at ζ = +1; hexa20 G1..G8 corners (±1)^3 (G1..G4 at ζ = -1
+counter-clockwise from (-1,-1)), G9..G12 on edges 1-2, 2-3, 3-4, 4-1, G13..G16 on 1-5, 2-6, 3-7,
+4-8, G17..G20 on 5-6, 6-7, 7-8, 8-5 (Nastran; CalculiX puts 13..16 and 17..20 the other way
+round); wedge15 G7..G9 on 1-2, 2-3, 3-1, G10..G12 on 1-4, 2-5, 3-6, G13..G15 on 4-5, 5-6, 6-4.
 """
 from __future__ import annotations
 
@@ -57,8 +60,79 @@ CCX_TET4 = (np.array([[_B, _B, _B], [_A, _B, _B], [_B, _A, _B], [_B, _B, _A]]), 
 CCX_WEDGE2 = (np.array([[1 / 3, 1 / 3, -1 / np.sqrt(3)], [1 / 3, 1 / 3, 1 / np.sqrt(3)]]), np.array([0.5, 0.5]))
 
 
+def gauss_cube_rule(n: int):
+    """n x n x n Gauss-Legendre on [-1, 1]^3 (degree 2n - 1 per direction)."""
+    x, w = _line_gauss(n)
+    pts = [(a, b, c) for a in x for b in x for c in x]
+    wts = [wa * wb * wc for wa in w for wb in w for wc in w]
+    return np.array(pts), np.array(wts)
+
+
+_HEX_CORNERS = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                         [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], float)
+_HEX20_EDGES = ((0, 1), (1, 2), (2, 3), (3, 0), (0, 4), (1, 5), (2, 6), (3, 7),
+                (4, 5), (5, 6), (6, 7), (7, 4))
+HEX20_NODES = np.vstack([_HEX_CORNERS] + [0.5 * (_HEX_CORNERS[a] + _HEX_CORNERS[b]) for a, b in _HEX20_EDGES])
+WEDGE15_EDGES = ((0, 1), (1, 2), (2, 0), (0, 3), (1, 4), (2, 5), (3, 4), (4, 5), (5, 3))
+
+
+def _hexa20(p):
+    """Serendipity 20-node brick: N and dN/dξ from the natural node coordinates."""
+    n, dn = np.zeros(20), np.zeros((20, 3))
+    for a, c in enumerate(HEX20_NODES):
+        f = 1 + c * p  # per-direction linear factors (c_k = 0 on a mid-side's own direction)
+        if a < 8:
+            s = c @ p - 2
+            n[a] = f.prod() * s / 8
+            for k in range(3):
+                rest = np.prod(np.delete(f, k))
+                dn[a, k] = c[k] * rest * (s + f[k]) / 8  # ∂(Πf)/∂ξ_k s + Πf ∂s/∂ξ_k
+        else:
+            k0 = int(np.flatnonzero(c == 0)[0])
+            g = f.copy()
+            g[k0] = 1 - p[k0] ** 2
+            dg = c.copy()
+            dg[k0] = -2 * p[k0]
+            n[a] = g.prod() / 4
+            for k in range(3):
+                dn[a, k] = dg[k] * np.prod(np.delete(g, k)) / 4
+    return n, dn
+
+
+def _wedge15(p):
+    """15-node wedge: corners L(2L - 1)(1 ± ζ)/2 - L(1 - ζ²)/2, triangle mid-sides
+    2 L_a L_b (1 ± ζ), vertical mid-sides L (1 - ζ²); derivatives by the chain rule in (L, ζ)."""
+    x, y, z = p
+    l = np.array([1 - x - y, x, y])
+    dl = np.array([[-1, -1], [1, 0], [0, 1]], float)
+    n, dn = np.zeros(15), np.zeros((15, 3))
+    for a in range(6):
+        t, s = a % 3, (-1.0 if a < 3 else 1.0)
+        n[a] = 0.5 * l[t] * (2 * l[t] - 1) * (1 + s * z) - 0.5 * l[t] * (1 - z * z)
+        d_dl = 0.5 * (4 * l[t] - 1) * (1 + s * z) - 0.5 * (1 - z * z)
+        dn[a, :2] = d_dl * dl[t]
+        dn[a, 2] = 0.5 * l[t] * (2 * l[t] - 1) * s + l[t] * z
+    for m, (a, b) in enumerate(WEDGE15_EDGES, 6):
+        ta, tb = a % 3, b % 3
+        if ta == tb:
+            n[m] = l[ta] * (1 - z * z)
+            dn[m, :2] = (1 - z * z) * dl[ta]
+            dn[m, 2] = -2 * z * l[ta]
+        else:
+            s = -1.0 if a < 3 else 1.0
+            n[m] = 2 * l[ta] * l[tb] * (1 + s * z)
+            dn[m, :2] = 2 * (1 + s * z) * (dl[ta] * l[tb] + l[ta] * dl[tb])
+            dn[m, 2] = 2 * l[ta] * l[tb] * s
+    return n, dn
+
+
 def shape(kind: str, p):
     """(N, dN/dξ) at natural point p."""
+    p = np.asarray(p, float)
+    if kind == "hexa20":
+        return _hexa20(p)
+    if kind == "wedge15":
+        return _wedge15(p)
     x, y, z = p
     if kind in ("tet4", "tet10"):
         l = np.array([1 - x - y - z, x, y, z])

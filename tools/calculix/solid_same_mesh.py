@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""CalculiX references for the tetrahedral and pentahedral solids on the same mesh.
+"""CalculiX references for the tetrahedral, pentahedral and quadratic hexahedral solids on the same mesh.
 
 A steel cantilever 1.0 x 0.1 x 0.1 m (x along the span, clamped at x = 0: every grid of the
 root face fixed in T1-T3), meshed on a 10 x 2 x 2 grid of cells, each cell split into
@@ -7,7 +7,11 @@ root face fixed in T1-T3), meshed on a 10 x 2 x 2 grid of cells, each cell split
 * 6 tetrahedra (Kuhn subdivision around the cell diagonal: conforming across cells) -> CTETRA 4
   against C3D4, and the same tetrahedra with straight-edge mid-side nodes -> CTETRA 10 against
   C3D10;
-* 2 wedges (the cell's x-y face cut along its diagonal, extruded in z) -> CPENTA 6 against C3D6.
+* 2 wedges (the cell's x-y face cut along its diagonal, extruded in z) -> CPENTA 6 against C3D6,
+  and the same wedges with mid-side grids -> CPENTA 15 against C3D15;
+* the cells themselves with mid-side grids -> CHEXA 20 against C3D20; and the same CHEXA 20 mesh
+  bent into a quarter ring (inner radius 0.5 m, every grid mapped exactly, so the element edges
+  are curved), root in the plane x = 0, tip in the plane y = 0.
 
 For each mesh this script writes
 
@@ -20,7 +24,9 @@ For each mesh this script writes
   of the .dat, 7 significant digits), the ccx frequencies, and the comparison tolerances with
   their reasons.
 
-Run from the repository root: ``.venv/bin/python tools/calculix/solid_same_mesh.py``.
+Run from the repository root: ``.venv/bin/python tools/calculix/solid_same_mesh.py [--case NAME ...]``.
+Without ccx on PATH the CalculiX inputs are written but not run, and the JSON records no CalculiX
+results (``"calculix": null``): the reference is then the numpy model alone.
 Deterministic (fixed mesh, single-threaded ccx, no timestamps).
 
 Same element, same mesh, same nodal loads: where the two codes integrate the element the same
@@ -32,6 +38,11 @@ way the results agree to the precision ccx prints. Quadrature (CalculiX 2.20 ``e
 | CTETRA 4 / C3D4 | 1 point (exact) / 4-point degree 2 (exact) | 1 point / 1 point (ρV/16 in every block: not the consistent mass) |
 | CTETRA 10 / C3D10 | 4-point degree 2 (exact) / degree 7 (exact) | 4-point / 4-point (degree 2: N_a N_b is degree 4, inexact) |
 | CPENTA 6 / C3D6 | 3-point triangle x 2 Gauss (exact) / exact | 2 points (triangle centroid x 2 Gauss) / the same 2 points |
+| CHEXA 20 / C3D20 | 3x3x3 Gauss / 5x5x5 Gauss (both exact on the straight mesh) | 3x3x3 / 3x3x3 (exact on the straight mesh) |
+| CPENTA 15 / C3D15 | 7-point triangle x 3 Gauss (exact) / exact | not compared (ccx not run) |
+
+The quarter-ring CHEXA 20 has curved edges: no rule is exact there, so its reference uses
+paraflex's own rules (3x3x3 stiffness, 5x5x5 mass) and agrees to round-off only with them.
 
 So statics agree to print precision for C3D4 and C3D10; the modes and the C3D6 statics differ
 by the quadrature, measured here and stated in each JSON's tolerance with its reason.
@@ -133,10 +144,76 @@ def penta_mesh():
     return nodes, wedges
 
 
+def with_midsides(nodes, elems, edges, place=None):
+    """Adds a mid-side grid on each listed element edge (shared by the elements on it, numbered
+    after the existing grids in order of first use), at the edge's middle or at `place(a, b)`."""
+    xyz = {n: np.array((x, y, z)) for n, x, y, z in nodes}
+    mid, out = {}, []
+    for e in elems:
+        extra = []
+        for a, b in edges:
+            key = tuple(sorted((e[a], e[b])))
+            if key not in mid:
+                mid[key] = len(nodes) + len(mid) + 1
+            extra.append(mid[key])
+        out.append(e + extra)
+    grids = list(nodes)
+    for (a, b), m in sorted(mid.items(), key=lambda kv: kv[1]):
+        p = place(a, b) if place else 0.5 * (xyz[a] + xyz[b])
+        grids.append((m, *map(float, p)))
+    return grids, out
+
+
+HEXA20_EDGES = ((0, 1), (1, 2), (2, 3), (3, 0), (0, 4), (1, 5), (2, 6), (3, 7),
+                (4, 5), (5, 6), (6, 7), (7, 4))
+
+
+def hexa_cells():
+    nid, nodes = corner_grid()
+    cells = [[nid(i, j, k), nid(i + 1, j, k), nid(i + 1, j + 1, k), nid(i, j + 1, k),
+              nid(i, j, k + 1), nid(i + 1, j, k + 1), nid(i + 1, j + 1, k + 1), nid(i, j + 1, k + 1)]
+             for k, j, i in itertools.product(range(NZ), range(NY), range(NX))]
+    return nodes, cells
+
+
+def hexa20_mesh():
+    return with_midsides(*hexa_cells(), HEXA20_EDGES)
+
+
+def penta15_mesh():
+    return with_midsides(*penta_mesh(), sm.WEDGE15_EDGES)
+
+
+RING_R = 0.5
+
+
+def ring(p):
+    """The box point p = (x, y, z) on the quarter ring: angle (π/2) x / L, radius RING_R + y."""
+    x, y, z = p
+    t = 0.5 * np.pi * x / L
+    s, c = (1.0, 0.0) if x == L else (np.sin(t), np.cos(t))
+    r = RING_R + y
+    return np.array((r * s, r * c, z))
+
+
+def ring_hexa20_mesh():
+    """hexa20_mesh mapped onto the quarter ring; mid-side grids at the mapped edge midpoints of
+    the box (on the arcs), so the edges are curved."""
+    nodes, cells = hexa_cells()
+    box = {n: np.array((x, y, z)) for n, x, y, z in nodes}
+    grids, elems = with_midsides(nodes, cells, HEXA20_EDGES,
+                                 place=lambda a, b: ring(0.5 * (box[a] + box[b])))
+    n_corner = len(nodes)
+    mapped = [(n, *map(float, ring(box[n]))) if n <= n_corner else (n, x, y, z)
+              for n, x, y, z in grids]
+    return mapped, elems
+
+
 # case: Nastran card, CalculiX element, mesher, numpy kind, CalculiX's (K, M) quadrature, the
 # exact (K, M) quadrature paraflex states for the element (src/fe/solid.rs module doc)
 EXACT_TET = sm.tet_exact_rule(5)
 EXACT_WEDGE = sm.wedge_rule(sm.tri_exact_rule(4), 3)
+CUBE3, CUBE5 = sm.gauss_cube_rule(3), sm.gauss_cube_rule(5)
 CASES = {
     "cantilever_ctetra4": ("CTETRA", "C3D4", tetra_mesh, "tet4",
                            (sm.CCX_TET1, sm.CCX_TET1), (sm.CCX_TET1, EXACT_TET)),
@@ -144,17 +221,27 @@ CASES = {
                             (sm.CCX_TET4, sm.CCX_TET4), (EXACT_TET, EXACT_TET)),
     "cantilever_cpenta6": ("CPENTA", "C3D6", penta_mesh, "wedge",
                            (sm.CCX_WEDGE2, sm.CCX_WEDGE2), (EXACT_WEDGE, EXACT_WEDGE)),
+    "cantilever_chexa20": ("CHEXA", "C3D20", hexa20_mesh, "hexa20",
+                           (CUBE3, CUBE3), (CUBE3, CUBE5)),
+    "cantilever_cpenta15": ("CPENTA", "C3D15", penta15_mesh, "wedge15",
+                            None, (EXACT_WEDGE, EXACT_WEDGE)),
+    "ring_chexa20": ("CHEXA", "C3D20", ring_hexa20_mesh, "hexa20",
+                     (CUBE3, CUBE3), (CUBE3, CUBE5)),
 }
+# the tip face of each mesh (the root is x = 0 for all)
+TIP_PLANE = {"ring_chexa20": (1, 0.0)}
 
 
-def root_and_tip(nodes):
+def root_and_tip(nodes, tip_plane=(0, L)):
+    """Grids on the plane x = 0 and on the tip plane (axis, value)."""
+    axis, value = tip_plane
     root = [n for n, x, _, _ in nodes if x == 0.0]
-    tip = [n for n, x, _, _ in nodes if x == L]
+    tip = [n for n, *p in nodes if p[axis] == value]
     return root, tip
 
 
 def nastran_deck(case: str, card: str, nodes, elems, static: bool) -> str:
-    root, tip = root_and_tip(nodes)
+    root, tip = root_and_tip(nodes, TIP_PLANE.get(case, (0, L)))
     kind = "SOL 101, tip load" if static else f"SOL 103, {NMODES} modes, consistent mass"
     out = [f"$ paraflex verification deck, generated by tools/calculix/solid_same_mesh.py (do not edit).",
            f"$ CalculiX reference on the same mesh: reference/calculix/solid/{case}.json",
@@ -181,14 +268,21 @@ def nastran_deck(case: str, card: str, nodes, elems, static: bool) -> str:
     return "\n".join(out) + "\n"
 
 
-def ccx_input(etype: str, nodes, elems, static: bool) -> str:
-    root, tip = root_and_tip(nodes)
+def ccx_input(case: str, etype: str, nodes, elems, static: bool) -> str:
+    root, tip = root_and_tip(nodes, TIP_PLANE.get(case, (0, L)))
     out = ["*NODE, NSET=NALL"] + [f"{n}, {num(x)}, {num(y)}, {num(z)}" for n, x, y, z in nodes]
     out.append(f"*ELEMENT, TYPE={etype}, ELSET=EALL")
     for e, conn in enumerate(elems, 1):
         ids = [e, *conn]
-        # ccx data lines hold at most 16 entries; C3D10 lines have 11
-        out.append(", ".join(map(str, ids)))
+        if etype == "C3D20":
+            # CalculiX numbers the mid-sides of the vertical edges last (Nastran: G13-G16)
+            ids = [e, *conn[:12], *conn[16:20], *conn[12:16]]
+        elif etype == "C3D15":
+            # likewise (Nastran: G10-G12)
+            ids = [e, *conn[:9], *conn[12:15], *conn[9:12]]
+        # ccx data lines hold at most 16 entries (a trailing comma continues the element)
+        lines = [", ".join(map(str, ids[i:i + 15])) for i in range(0, len(ids), 15)]
+        out.append(",\n".join(lines))
     out += ["*NSET, NSET=ROOT"] + [", ".join(map(str, root[i:i + 16])) for i in range(0, len(root), 16)]
     out += ["*MATERIAL, NAME=STEEL", "*ELASTIC", f"{num(E)}, {num(NU)}", "*DENSITY", num(RHO),
             "*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL", "*BOUNDARY", "ROOT, 1, 3", "*STEP"]
@@ -254,13 +348,18 @@ def tolerance(etype: str, kappa: float) -> dict:
             f"codes and assembly round-off. Applied to ||u - u_ref||_2 / ||u_ref||_2 over every grid "
             f"and to |f / f_ref - 1| per mode. A stiffness error of 1 % moves both by ~1e-2."),
     }
-    if etype in ("C3D4", "C3D10"):
+    if etype in ("C3D4", "C3D10", "C3D20"):
         out["calculix_displacement_over_max_u"] = 2e-6
         out["calculix_justification"] = (
             "CalculiX integrates this element's stiffness with the same rule as paraflex, so the static "
             "displacements agree to the 7 significant digits ccx prints (half-unit 5e-7 of a value): "
             "max |u - u_ccx| / max |u_ccx| <= 2e-6. The frequencies are not compared with ccx directly: "
             "its mass uses the stiffness points (see quadrature_effect).")
+    elif etype == "C3D15":
+        out["calculix_displacement_over_max_u"] = None
+        out["calculix_justification"] = (
+            "C3D15's integration rule is not paraflex's 21-point one: CalculiX checks the numpy model "
+            "with CalculiX's points, the numpy model with exact quadrature checks paraflex.")
     else:
         out["calculix_displacement_over_max_u"] = None
         out["calculix_justification"] = (
@@ -279,63 +378,98 @@ def ccx_version() -> str:
 def main():
     DECKS.mkdir(parents=True, exist_ok=True)
     REFS.mkdir(parents=True, exist_ok=True)
-    for case, (card, etype, mesher, kind, ccx_rules, exact_rules) in CASES.items():
+    import argparse
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--case", action="append", choices=sorted(CASES), help="only these cases")
+    chosen = parser.parse_args().case or list(CASES)
+    have_ccx = shutil.which("ccx") is not None
+    for case in chosen:
+        card, etype, mesher, kind, ccx_rules, exact_rules = CASES[case]
         nodes, elems = mesher()
         results = {}
         for static in (True, False):
             tag = "static" if static else "modal"
             (DECKS / f"{case}_{tag}.dat").write_text(nastran_deck(case, card, nodes, elems, static))
             (WORK / f"{case}_{tag}.inp").parent.mkdir(parents=True, exist_ok=True)
-            (WORK / f"{case}_{tag}.inp").write_text(ccx_input(etype, nodes, elems, static))
-            results[tag] = run_ccx(f"{case}_{tag}")
+            (WORK / f"{case}_{tag}.inp").write_text(ccx_input(case, etype, nodes, elems, static))
+            if have_ccx:
+                results[tag] = run_ccx(f"{case}_{tag}")
+        root, tip = root_and_tip(nodes, TIP_PLANE.get(case, (0, L)))
+        loads = {n: (0.0, FY / len(tip), FZ / len(tip)) for n in tip}
+        model = lambda rules: sm.static_and_modes(kind, nodes, elems, E, NU, RHO, *rules, root, loads, NMODES)
+        u_ex, f_ex, kappa = model(exact_rules)
+        if not have_ccx:
+            print(f"{case}: {len(nodes)} grids, {len(elems)} elements; ccx not on PATH: numpy reference only, "
+                  f"cond(K) {kappa:.2e}, f {np.round(f_ex, 3)}")
+            write_reference(case, card, etype, nodes, elems, kappa, u_ex, f_ex, None)
+            continue
         u = node_print(results["static"])
         f = eigen_frequencies(results["modal"])
         assert len(u) == len(nodes) and len(f) == NMODES, (case, len(u), len(f))
-        root, tip = root_and_tip(nodes)
-        loads = {n: (0.0, FY / len(tip), FZ / len(tip)) for n in tip}
-        model = lambda rules: sm.static_and_modes(kind, nodes, elems, E, NU, RHO, *rules, root, loads, NMODES)
         u_np, f_np, _ = model(ccx_rules)
         umax = max(abs(x) for v in u.values() for x in v)
         check_u = max(abs(a - b) for n in u for a, b in zip(u[n], u_np[n])) / umax
         check_f = max(abs(a / b - 1) for a, b in zip(f_np, f))
         # ccx prints 7 significant digits: 5e-7 of a value
         assert check_u < 2e-6 and check_f < 2e-6, (case, check_u, check_f)
-        u_ex, f_ex, kappa = model(exact_rules)
         quad_u = max(abs(a - b) for n in u for a, b in zip(u[n], u_ex[n])) / umax
         quad_f = [a / b - 1 for a, b in zip(f_ex, f)]
         print(f"{case}: {len(nodes)} grids, {len(elems)} elements; numpy with ccx's rules vs ccx: "
               f"u {check_u:.1e}, f {check_f:.1e}; exact vs ccx's rules: u {quad_u:.2e}, f {np.round(quad_f, 5)}; cond(K) {kappa:.2e}")
-        REFS.joinpath(f"{case}.json").write_text(json.dumps({
-            "case": case,
-            "decks": {"static": f"decks/verify/solid/{case}_static.dat",
-                      "modal": f"decks/verify/solid/{case}_modal.dat"},
-            "provenance": {
-                "generator": "tools/calculix/solid_same_mesh.py",
-                "ccx_version": ccx_version(),
-                "element": f"{card} (paraflex) against {etype} (CalculiX), same grids and connectivity",
-                "mesh": f"{L} x {B} x {H} m, {NX} x {NY} x {NZ} cells, {len(nodes)} grids, {len(elems)} elements",
-                "command": f"OMP_NUM_THREADS=1 ccx -i {case}_static / {case}_modal (cwd tools/calculix/work)",
-                "read": "displacements: the *NODE PRINT U block of the static .dat (7 significant digits); "
-                        "frequencies: the eigenvalue table of the modal .dat (cycles/time)",
-            },
-            "units": "SI: m, N, kg, s, Pa",
-            "material": {"E": E, "nu": NU, "rho": RHO},
-            "tip_load_N": {"Fy": FY, "Fz": FZ},
-            "calculix": {"displacements": {str(n): u[n] for n in sorted(u)}, "frequencies_hz": f},
-            "numpy_with_calculix_quadrature": {
-                "what": "tools/calculix/solid_model.py with CalculiX's integration points: checks that model against ccx",
-                "max_displacement_difference_over_max_u": check_u,
-                "max_frequency_rel_difference": check_f},
-            "reference": {
-                "what": "tools/calculix/solid_model.py with exact quadrature (the rules paraflex states for the element)",
-                "displacements": {str(n): u_ex[n] for n in sorted(u_ex)},
-                "frequencies_hz": f_ex},
-            "tolerance": tolerance(etype, kappa),
-            "quadrature_effect": {
-                "what": "exact-quadrature reference against CalculiX: the difference due to CalculiX's integration rule alone",
-                "max_displacement_difference_over_max_u": quad_u,
-                "frequency_rel_difference": quad_f},
-        }, indent=1) + "\n")
+        write_reference(case, card, etype, nodes, elems, kappa, u_ex, f_ex, {
+            "u": u, "f": f, "check_u": check_u, "check_f": check_f, "quad_u": quad_u, "quad_f": quad_f})
+
+
+def write_reference(case, card, etype, nodes, elems, kappa, u_ex, f_ex, ccx):
+    """The case's JSON; `ccx` None when CalculiX was not run."""
+    provenance = {
+        "generator": "tools/calculix/solid_same_mesh.py",
+        "ccx_version": ccx_version() if ccx else None,
+        "element": f"{card} (paraflex) against {etype} (CalculiX), same grids and connectivity",
+        "mesh": f"{L} x {B} x {H} m, {NX} x {NY} x {NZ} cells, {len(nodes)} grids, {len(elems)} elements"
+                + (f", bent into a quarter ring of inner radius {RING_R} m" if case in TIP_PLANE else ""),
+        "command": f"OMP_NUM_THREADS=1 ccx -i {case}_static / {case}_modal (cwd tools/calculix/work)",
+        "read": "displacements: the *NODE PRINT U block of the static .dat (7 significant digits); "
+                "frequencies: the eigenvalue table of the modal .dat (cycles/time)",
+    }
+    if not ccx:
+        provenance["calculix_not_run"] = (
+            "ccx was not on PATH when this reference was generated: the CalculiX inputs are in "
+            "tools/calculix/work, the reference is the numpy model alone; rerun this script with ccx "
+            "installed to add the CalculiX results and checks")
+    tol = tolerance(etype, kappa)
+    if not ccx:
+        tol["calculix_displacement_over_max_u"] = None
+        tol["calculix_justification"] = "CalculiX not run (provenance.calculix_not_run)"
+    out = {
+        "case": case,
+        "decks": {"static": f"decks/verify/solid/{case}_static.dat",
+                  "modal": f"decks/verify/solid/{case}_modal.dat"},
+        "provenance": provenance,
+        "units": "SI: m, N, kg, s, Pa",
+        "material": {"E": E, "nu": NU, "rho": RHO},
+        "tip_load_N": {"Fy": FY, "Fz": FZ},
+        "calculix": ({"displacements": {str(n): ccx["u"][n] for n in sorted(ccx["u"])},
+                      "frequencies_hz": ccx["f"]} if ccx else None),
+    }
+    if ccx:
+        out["numpy_with_calculix_quadrature"] = {
+            "what": "tools/calculix/solid_model.py with CalculiX's integration points: checks that model against ccx",
+            "max_displacement_difference_over_max_u": ccx["check_u"],
+            "max_frequency_rel_difference": ccx["check_f"]}
+    out["reference"] = {
+        "what": "tools/calculix/solid_model.py with exact quadrature (the rules paraflex states for the element)"
+                if case not in TIP_PLANE else
+                "tools/calculix/solid_model.py with paraflex's rules (3x3x3 stiffness, 5x5x5 mass; curved edges: no rule is exact)",
+        "displacements": {str(n): u_ex[n] for n in sorted(u_ex)},
+        "frequencies_hz": f_ex}
+    out["tolerance"] = tol
+    if ccx:
+        out["quadrature_effect"] = {
+            "what": "exact-quadrature reference against CalculiX: the difference due to CalculiX's integration rule alone",
+            "max_displacement_difference_over_max_u": ccx["quad_u"],
+            "frequency_rel_difference": ccx["quad_f"]}
+    REFS.joinpath(f"{case}.json").write_text(json.dumps(out, indent=1) + "\n")
 
 
 if __name__ == "__main__":

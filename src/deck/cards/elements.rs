@@ -256,91 +256,105 @@ impl QuadraticShell {
     }
 }
 
-/// Read a solid element: EID, PID, then grids; `counts` are the accepted numbers of grids and
-/// `supported` those paraflex has formulations for.
+/// Read a solid element: EID, PID, `corners` required corner grids, then up to `midsides`
+/// optional mid-side grids. Without any mid-side grid the element is linear (`corners` grids);
+/// with at least one it is quadratic (`corners + midsides` entries, 0 for a blank mid-side,
+/// whose edge is then straight and linear, as in Nastran). `blank_midsides` says whether a
+/// blank mid-side is accepted in a quadratic element.
 fn solid_nodes(
     card: &RawCard,
-    max_nodes: usize,
-    supported: &[usize],
+    corners: usize,
+    midsides: usize,
+    blank_midsides: bool,
 ) -> Result<(u32, u32, Vec<u32>, Loc), Vec<DeckError>> {
     let mut f = FieldReader::new(card);
     let id = f.id(1, "EID");
     f.set_id(id);
     let pid = f.opt_id(2, "PID").unwrap_or(id);
-    let last = f.len().max(3);
-    let mut nodes = Vec::with_capacity(last - 2);
-    for i in 3..=last.min(max_nodes + 2) {
-        let name = format!("G{}", i - 2);
-        nodes.push(f.id(i, &name));
+    let mut nodes = Vec::with_capacity(corners + midsides);
+    for k in 0..corners {
+        nodes.push(f.id(3 + k, &format!("G{}", k + 1)));
     }
-    if !supported.contains(&nodes.len()) {
-        let counts: Vec<String> = supported.iter().map(|n| n.to_string()).collect();
-        f.card_error(format!(
-            "{} grids given; paraflex supports {} grids for this element",
-            nodes.len(),
-            counts.join(" or ")
-        ));
+    let mids: Vec<Option<u32>> = (corners..corners + midsides)
+        .map(|k| f.opt_id(3 + k, &format!("G{}", k + 1)))
+        .collect();
+    let given = mids.iter().flatten().count();
+    if given > 0 {
+        if !blank_midsides && given < midsides {
+            f.card_error(format!(
+                "{} grids given; paraflex supports {corners} or {} grids for this element (no blank mid-side grid)",
+                corners + given,
+                corners + midsides
+            ));
+        }
+        nodes.extend(mids.iter().map(|g| g.unwrap_or(0)));
     }
     let loc = f.loc();
-    f.finish(max_nodes + 2)?;
+    f.finish(corners + midsides + 2)?;
     Ok((id, pid, nodes, loc))
 }
 
-/// `CHEXA` — eight-node hexahedron (linear; incompatible modes in the formulation).
+/// `CHEXA` — hexahedron with 8 corner grids and up to 12 mid-side grids.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | EID | int > 0 | required | element id |
 /// | 3 | PID | int > 0 | EID | PSOLID id |
 /// | 4–9, cont. 2–3 | G1–G8 | int > 0 | required | corner grids (G1–G4 one face, G5–G8 opposite) |
+/// | cont. 4–9, 2nd cont. 2–7 | G9–G20 | int > 0 | blank | mid-side grids of edges 1-2, 2-3, 3-4, 4-1, 1-5, 2-6, 3-7, 4-8, 5-6, 6-7, 7-8, 8-5 |
 ///
-/// The 20-node form is rejected (not supported).
+/// With no mid-side grid the element is the 8-node CHEXA; with any, the 20-node one, each
+/// blank mid-side making its edge straight with a linear displacement.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Chexa {
     pub id: u32,
     pub pid: u32,
-    pub nodes: [u32; 8],
+    /// 8 grids, or 20 with 0 for a blank mid-side grid.
+    pub nodes: Vec<u32>,
     pub loc: Loc,
 }
 
 impl Chexa {
     /// Read a `CHEXA` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
-        let (id, pid, nodes, loc) = solid_nodes(card, 20, &[8])?;
+        let (id, pid, nodes, loc) = solid_nodes(card, 8, 12, true)?;
         Ok(Chexa {
             id,
             pid,
-            nodes: nodes.try_into().unwrap_or([0; 8]),
+            nodes,
             loc,
         })
     }
 }
 
-/// `CPENTA` — six-node pentahedron (wedge).
+/// `CPENTA` — pentahedron (wedge) with 6 corner grids and up to 9 mid-side grids.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | EID | int > 0 | required | element id |
 /// | 3 | PID | int > 0 | EID | PSOLID id |
 /// | 4–9 | G1–G6 | int > 0 | required | G1–G3 one triangle, G4–G6 the opposite |
+/// | cont. 2–9, 2nd cont. 2 | G7–G15 | int > 0 | blank | mid-side grids of edges 1-2, 2-3, 3-1, 1-4, 2-5, 3-6, 4-5, 5-6, 6-4 |
 ///
-/// The 15-node form is rejected (not supported).
+/// With no mid-side grid the element is the 6-node CPENTA; with any, the 15-node one, each
+/// blank mid-side making its edge straight with a linear displacement.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cpenta {
     pub id: u32,
     pub pid: u32,
-    pub nodes: [u32; 6],
+    /// 6 grids, or 15 with 0 for a blank mid-side grid.
+    pub nodes: Vec<u32>,
     pub loc: Loc,
 }
 
 impl Cpenta {
     /// Read a `CPENTA` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
-        let (id, pid, nodes, loc) = solid_nodes(card, 15, &[6])?;
+        let (id, pid, nodes, loc) = solid_nodes(card, 6, 9, true)?;
         Ok(Cpenta {
             id,
             pid,
-            nodes: nodes.try_into().unwrap_or([0; 6]),
+            nodes,
             loc,
         })
     }
@@ -366,7 +380,7 @@ pub struct Ctetra {
 impl Ctetra {
     /// Read a `CTETRA` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
-        let (id, pid, nodes, loc) = solid_nodes(card, 10, &[4, 10])?;
+        let (id, pid, nodes, loc) = solid_nodes(card, 4, 6, false)?;
         Ok(Ctetra {
             id,
             pid,

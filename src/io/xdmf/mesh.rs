@@ -17,6 +17,7 @@
 //! | CHEXA (8) | Hexahedron (9) | G1..G4 bottom, G5..G8 top, as VTK_HEXAHEDRON |
 //! | CPENTA (6) | Wedge (8) | G1..G3, G4..G6 with G4 over G1, as VTK_WEDGE (a deck whose first face points inward renders the same; only the sign of the cell volume differs) |
 //! | CTETRA (4) | Tetrahedron (6) | |
+//! | CHEXA20, CPENTA15 | Hexahedron (9), Wedge (8) | the corner grids only: `/model` holds their corner cells (a blank mid-side grid has no grid to draw); results at the mid-side grids are in the grid datasets |
 //! | CTETRA10 | Tetrahedron_10 (38) | Nastran G5..G10 = edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4; VTK_QUADRATIC_TETRA uses edges (0,1),(1,2),(2,0),(0,3),(1,3),(2,3): identical |
 //! | CROD, CONROD, CTUBE, CBAR, CBEAM, CELAS1, CELAS2, RBE2, RBE3, other 2-node cards | Polyline, 2 nodes (2, then the node count 2) | a grounded spring repeats its grid (zero-length line); a beam is drawn between its grids (offsets are not drawn) |
 //! | CONM2, other 1-node cards | Polyvertex; in a mixed topology a Polyline from the grid to itself (2, 2, p, p) | see below |
@@ -56,8 +57,8 @@ impl Topology {
             ("CTRIA3" | "CTRIAR", 3) => Topology::Triangle,
             ("CQUAD8", 8) => Topology::Quadrilateral8,
             ("CTRIA6", 6) => Topology::Triangle6,
-            ("CHEXA", 8) => Topology::Hexahedron,
-            ("CPENTA", 6) => Topology::Wedge,
+            ("CHEXA" | "CHEXA20", 8) => Topology::Hexahedron,
+            ("CPENTA" | "CPENTA15", 6) => Topology::Wedge,
             ("CTETRA", 4) => Topology::Tetrahedron,
             ("CTETRA10" | "CTETRA", 10) => Topology::Tetrahedron10,
             (_, 2) => Topology::Polyline2,
