@@ -13,7 +13,7 @@ DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcurso
 	libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1
 
 .PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient bench-estimate bench-amanda bench-fmb \
-	reference-exudyn reference-pymoo exudyn-plot fourbar-plots mutants clean
+	reference-calculix reference-exudyn reference-pymoo exudyn-plot fourbar-plots mutants clean
 
 demo: deps
 	$(CARGO) build --release --quiet
@@ -120,6 +120,16 @@ mutants: sysdeps
 		$(CARGO) install --locked cargo-mutants --version $(MUTANTS_VERSION)
 	bash tools/mutants/run.sh $(MUTANTS_FILES)
 	python3 tools/mutants/report.py $(MUTANTS_KERNELS)
+
+# The CalculiX references (tools/calculix/README.md): the Debian package calculix-ccx installed
+# here only (not a dependency of paraflex or its tests), then every generator run; the outputs in
+# decks/verify/ and reference/calculix/ are committed (~5 min).
+reference-calculix: deps
+	@dpkg -s calculix-ccx >/dev/null 2>&1 || { $(SUDO) apt-get update -q && \
+		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -q calculix-ccx; }
+	$(PY) tools/calculix/make_references.py
+	$(PY) tools/calculix/make_references.py --hard
+	$(PY) tools/calculix/solid_same_mesh.py
 
 # The independent multibody peer: Exudyn (installed into the venv here only; not a dependency
 # of paraflex or its tests) runs the rigid four-bar (reference/exudyn/fourbar_rigid.json) and

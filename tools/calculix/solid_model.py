@@ -58,6 +58,9 @@ CCX_TET1 = (np.array([[0.25, 0.25, 0.25]]), np.array([1.0 / 6.0]))
 _A, _B = 0.5854101966249685, 0.1381966011250105
 CCX_TET4 = (np.array([[_B, _B, _B], [_A, _B, _B], [_B, _A, _B], [_B, _B, _A]]), np.full(4, 1.0 / 24.0))
 CCX_WEDGE2 = (np.array([[1 / 3, 1 / 3, -1 / np.sqrt(3)], [1 / 3, 1 / 3, 1 / np.sqrt(3)]]), np.array([0.5, 0.5]))
+# C3D15: the 3-point interior triangle rule (degree 2) x 3 Gauss points through the thickness (with
+# these points this model reproduces ccx 2.20's C3D15 cantilever to its 7 printed digits)
+CCX_WEDGE9 = wedge_rule((np.array([[1 / 6, 1 / 6], [2 / 3, 1 / 6], [1 / 6, 2 / 3]]), np.full(3, 1 / 6)), 3)
 
 
 def gauss_cube_rule(n: int):
