@@ -959,3 +959,76 @@ fn coupler_modulus_benchmark() {
         err.min, err.avg, err.max
     );
 }
+
+/// fourbar_steel.dat beside the artifacts as `name`, cut to `steps` steps and, unless `cards`
+/// is empty, with C.E taken out of its PVAL and `cards` added (the PTABLE of C.E and its
+/// table), run by SOL FMB: CEPS per row (t = 0 included).
+fn forward_with_coupler_table(name: &str, steps: usize, cards: &str) -> Vec<f64> {
+    let mut text = std::fs::read_to_string(artifacts().join("fourbar_steel.dat"))
+        .expect("deck")
+        .replace("TSTEP,1,1000,", &format!("TSTEP,1,{steps},"));
+    if !cards.is_empty() {
+        text = text.replace(
+            "PVAL,1,IC.E,201.99E9,IC.RHO,7990.,C.E,201.99E9,C.RHO\n,7990.,OC.E,201.99E9,OC.RHO,7990.",
+            "PVAL,1,IC.E,201.99E9,IC.RHO,7990.,C.RHO,7990.,OC.E\n,201.99E9,OC.RHO,7990.",
+        )
+        .replace("ENDDATA", &format!("{cards}ENDDATA"));
+    }
+    let path = artifacts().join(name);
+    std::fs::write(&path, text).expect("write");
+    let (result, _, dir) = run_deck_file(&path);
+    result.unwrap_or_else(|e| panic!("{e}"));
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+    read_dataset::<f64>(&file.group("results/1/fmb").expect("fmb"), "sensors/CEPS")
+}
+
+/// A `BODY.PMPAR` that follows a table of time in SOL FMB (PTABLE, the degrading-E_C case's
+/// forward model): over 60 steps of the four-bar,
+/// - a table constant at E gives the run of PVAL C.E = E to round-off (1e-12 of the largest
+///   strain: the schedule's data are the build's, re-evaluated each step);
+/// - a table jumping from E to 0.8 E at t = 30.5 ms gives the constant run's gauge readings
+///   exactly up to step 30 (the step's data are taken at its end time) and differs after it by
+///   more than 1 % of the largest strain (the coupler gauge reads about 1/E: a 20 % softer
+///   link reads 25 % more);
+/// - a PTABLE naming no body's parameter is refused at its card.
+#[test]
+fn coupler_modulus_follows_a_table_of_time() {
+    let steps = 60;
+    let e = "201.99E9";
+    let constant = forward_with_coupler_table("pval_ce.dat", steps, "");
+    let tabulated = forward_with_coupler_table(
+        "ptable_ce.dat",
+        steps,
+        &format!("PTABLE,1,C.E,9\nTABLED1,9\n,0.,{e},1.,{e},ENDT\n"),
+    );
+    let largest = constant.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+    let worst = (constant.iter().zip(&tabulated)).fold(0.0_f64, |a, (x, y)| a.max((x - y).abs()));
+    assert!(worst <= 1e-12 * largest, "{worst:e} of {largest:e}");
+    let jump = forward_with_coupler_table(
+        "ptable_jump.dat",
+        steps,
+        &format!(
+            "PTABLE,1,C.E,9\nTABLED1,9\n,0.,{e},0.0305,{e},0.0305,161.592E9,1.,161.592E9\n,ENDT\n"
+        ),
+    );
+    let k = 30;
+    assert!(
+        (0..=k).all(|i| (jump[i] - constant[i]).abs() <= 1e-12 * largest),
+        "before the jump"
+    );
+    let after = (k + 1..=steps).fold(0.0_f64, |a, i| a.max((jump[i] - constant[i]).abs()));
+    println!("after the jump: largest change of CEPS {after:.3e} (largest reading {largest:.3e})");
+    assert!(after > 0.01 * largest);
+    let path = artifacts().join("ptable_bad.dat");
+    let text = std::fs::read_to_string(artifacts().join("ptable_ce.dat"))
+        .expect("deck")
+        .replace("PTABLE,1,C.E,9", "PTABLE,1,C.G,9");
+    std::fs::write(&path, text).expect("write");
+    let message = run_deck_file(&path).0.expect_err("refused").to_string();
+    assert!(
+        message.contains("ptable_bad.dat")
+            && message.contains("PTABLE 1")
+            && message.contains("C.G"),
+        "{message}"
+    );
+}

@@ -191,6 +191,14 @@ fn refused_settings(ctx: &RunContext, sub: &Subcase) -> Vec<String> {
             at("STRREF")
         ));
     }
+    if let Some(id) = sub.pval {
+        for card in ctx.model.ptables(id) {
+            refused.push(format!(
+                "{}: PTABLE {id}: field 3 (NAME): the filter's model keeps {} constant; a parameter that changes in time is estimated as a random walk (EKFPAR with a larger DELTA), or given a constant value in the PVAL",
+                card.loc, card.name
+            ));
+        }
+    }
     refused
 }
 
