@@ -1155,9 +1155,8 @@ fn degrading_coupler_modulus_and_input_from_sensor_set_1() {
 /// `set` (deck fourbar_estimate_e3_set<set>.dat) over 30 steps, with its AMANDA RANK cut to
 /// the same 30 steps (the five gauges of both sets are candidates in both decks), run once:
 /// the run and its ranking (unknowns, the measured set's log det and predicted σ).
-fn three_moduli(set: usize) -> &'static (EstimateRun, Vec<String>, f64, Vec<f64>) {
-    static RUNS: [OnceLock<(EstimateRun, Vec<String>, f64, Vec<f64>)>; 2] =
-        [OnceLock::new(), OnceLock::new()];
+fn three_moduli(set: usize) -> &'static ThreeModuli {
+    static RUNS: [OnceLock<ThreeModuli>; 2] = [OnceLock::new(), OnceLock::new()];
     RUNS[set - 1].get_or_init(|| {
         let steps = 30;
         let deck = format!("fourbar_estimate_e3_set{set}.dat");
@@ -1181,8 +1180,22 @@ fn three_moduli(set: usize) -> &'static (EstimateRun, Vec<String>, f64, Vec<f64>
             .read_scalar::<f64>()
             .expect("log det");
         let sigma = attr("measured_sigma").read_raw::<f64>().expect("sigma");
-        (run, unknowns, log_det, sigma)
+        ThreeModuli {
+            run,
+            unknowns,
+            log_det,
+            sigma,
+        }
     })
+}
+
+/// A [`three_moduli`] run and its ranking's prediction for the measured set.
+struct ThreeModuli {
+    run: EstimateRun,
+    /// The unknowns, log det of their predicted covariance and their predicted σ.
+    unknowns: Vec<String>,
+    log_det: f64,
+    sigma: Vec<f64>,
 }
 
 /// |estimate − truth| / truth of `name` at the end of `run`.
@@ -1201,7 +1214,12 @@ fn final_error(run: &EstimateRun, name: &str) -> f64 {
 #[test]
 fn three_moduli_from_sensor_sets_1_and_2() {
     for set in [1, 2] {
-        let (run, unknowns, _, sigma) = three_moduli(set);
+        let ThreeModuli {
+            run,
+            unknowns,
+            sigma,
+            ..
+        } = three_moduli(set);
         for (name, s) in unknowns.iter().zip(sigma) {
             let e = final_error(run, name);
             println!(
@@ -1224,8 +1242,9 @@ fn three_moduli_from_sensor_sets_1_and_2() {
 ///   window — a factor that one noisy estimate cannot swap.
 #[test]
 fn sensor_ranking_predicts_the_better_sensor_set() {
-    let [(run1, unknowns, det1, sigma1), (run2, _, det2, sigma2)] =
-        [three_moduli(1), three_moduli(2)];
+    let (one, two) = (three_moduli(1), three_moduli(2));
+    let (unknowns, det1, det2) = (&one.unknowns, one.log_det, two.log_det);
+    let (run1, run2, sigma1, sigma2) = (&one.run, &two.run, &one.sigma, &two.sigma);
     println!("log det: set 1 {det1:.3}, set 2 {det2:.3}");
     assert!(det1 < det2);
     let mut compared = 0;

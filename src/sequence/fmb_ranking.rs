@@ -46,7 +46,6 @@ pub struct SensorRanking {
 /// The ranking of `candidates` (name, sensor with its noise variance) of which `measured`
 /// are measured, over `steps` steps of the prior trajectory of `probe` (the filter's
 /// integrator at its start), with the filter's prior `setup`.
-#[allow(clippy::too_many_arguments)]
 pub fn rank_sensors(
     probe: Ggl,
     inputs: &Inputs,
