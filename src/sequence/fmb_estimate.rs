@@ -47,9 +47,9 @@
 //! `observability_ratio`, `parameter_identifiability`, `input_identifiability`), with
 //! AMANDA's OBSEVERY the windows along the run under `observability/` (`time` of each
 //! window's start, `steps`, `rank`, `columns`, `ratio`, and per unknown `<BODY.PMPAR>` or
-//! `<MFORCEid>` its identifiability; [`crate::estimate::mechanism`]'s model), and `forced`
-//! (a refused setup run with
-//! FORCE = YES).
+//! `<MFORCEid>` its identifiability; [`crate::estimate::mechanism`]'s model), with AMANDA's
+//! RANK the sensor ranking under `ranking/` ([`super::fmb_ranking`]), and `forced` (a refused
+//! setup run with FORCE = YES).
 
 use std::time::Instant;
 
