@@ -87,7 +87,8 @@ bench-fmb: deps
 
 # The AMANDA-EKF four-bar cases over the whole measured second (tests/amanda_fourbar.rs, the
 # ignored tests): ms per step against the error of E_C (and of the input) over the last 20 %,
-# with Table 9.1's bound on the E_C-and-input case (docs/estimation.md "Mechanisms").
+# with Table 9.1's bound on the E_C-and-input case, and its three-moduli and degrading-E_C rows
+# with sensor sets 1 and 2 printed (docs/estimation.md "Mechanisms").
 bench-amanda: deps
 	$(CARGO) test --release --quiet --test amanda_fourbar -- --ignored --nocapture
 

@@ -959,3 +959,353 @@ fn coupler_modulus_benchmark() {
         err.min, err.avg, err.max
     );
 }
+
+/// fourbar_steel.dat beside the artifacts as `name`, cut to `steps` steps and, unless `cards`
+/// is empty, with C.E taken out of its PVAL and `cards` added (the PTABLE of C.E and its
+/// table), run by SOL FMB: CEPS per row (t = 0 included).
+fn forward_with_coupler_table(name: &str, steps: usize, cards: &str) -> Vec<f64> {
+    let mut text = std::fs::read_to_string(artifacts().join("fourbar_steel.dat"))
+        .expect("deck")
+        .replace("TSTEP,1,1000,", &format!("TSTEP,1,{steps},"));
+    if !cards.is_empty() {
+        text = text.replace(
+            "PVAL,1,IC.E,201.99E9,IC.RHO,7990.,C.E,201.99E9,C.RHO\n,7990.,OC.E,201.99E9,OC.RHO,7990.",
+            "PVAL,1,IC.E,201.99E9,IC.RHO,7990.,C.RHO,7990.,OC.E\n,201.99E9,OC.RHO,7990.",
+        )
+        .replace("ENDDATA", &format!("{cards}ENDDATA"));
+    }
+    let path = artifacts().join(name);
+    std::fs::write(&path, text).expect("write");
+    let (result, _, dir) = run_deck_file(&path);
+    result.unwrap_or_else(|e| panic!("{e}"));
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+    read_dataset::<f64>(&file.group("results/1/fmb").expect("fmb"), "sensors/CEPS")
+}
+
+/// A `BODY.PMPAR` that follows a table of time in SOL FMB (PTABLE, the degrading-E_C case's
+/// forward model): over 60 steps of the four-bar,
+/// - a table constant at E gives the run of PVAL C.E = E to round-off (1e-12 of the largest
+///   strain: the schedule's data are the build's, re-evaluated each step);
+/// - a table jumping from E to 0.8 E at t = 30.5 ms gives the constant run's gauge readings
+///   exactly up to step 30 (the step's data are taken at its end time) and differs after it by
+///   more than 1 % of the largest strain (the coupler gauge reads about 1/E: a 20 % softer
+///   link reads 25 % more);
+/// - a PTABLE naming no body's parameter is refused at its card.
+#[test]
+fn coupler_modulus_follows_a_table_of_time() {
+    let steps = 60;
+    let e = "201.99E9";
+    let constant = forward_with_coupler_table("pval_ce.dat", steps, "");
+    let tabulated = forward_with_coupler_table(
+        "ptable_ce.dat",
+        steps,
+        &format!("PTABLE,1,C.E,9\nTABLED1,9\n,0.,{e},1.,{e},ENDT\n"),
+    );
+    let largest = constant.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+    let worst = (constant.iter().zip(&tabulated)).fold(0.0_f64, |a, (x, y)| a.max((x - y).abs()));
+    assert!(worst <= 1e-12 * largest, "{worst:e} of {largest:e}");
+    let jump = forward_with_coupler_table(
+        "ptable_jump.dat",
+        steps,
+        &format!(
+            "PTABLE,1,C.E,9\nTABLED1,9\n,0.,{e},0.0305,{e},0.0305,161.592E9,1.,161.592E9\n,ENDT\n"
+        ),
+    );
+    let k = 30;
+    assert!(
+        (0..=k).all(|i| (jump[i] - constant[i]).abs() <= 1e-12 * largest),
+        "before the jump"
+    );
+    let after = (k + 1..=steps).fold(0.0_f64, |a, i| a.max((jump[i] - constant[i]).abs()));
+    println!("after the jump: largest change of CEPS {after:.3e} (largest reading {largest:.3e})");
+    assert!(after > 0.01 * largest);
+    let path = artifacts().join("ptable_bad.dat");
+    let text = std::fs::read_to_string(artifacts().join("ptable_ce.dat"))
+        .expect("deck")
+        .replace("PTABLE,1,C.E,9", "PTABLE,1,C.G,9");
+    std::fs::write(&path, text).expect("write");
+    let message = run_deck_file(&path).0.expect_err("refused").to_string();
+    assert!(
+        message.contains("ptable_bad.dat")
+            && message.contains("PTABLE 1")
+            && message.contains("C.G"),
+        "{message}"
+    );
+}
+
+/// The degrading case's truth per row of reference/amanda_fourbar_degrading.csv: (time, force,
+/// E_C(t)).
+fn degrading_truth() -> Vec<(f64, f64, f64)> {
+    let text = std::fs::read_to_string(root().join("reference/amanda_fourbar_degrading.csv"))
+        .expect("measurements");
+    text.lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|x| x.parse().expect("number")).collect();
+            (v[0], v[11], v[12])
+        })
+        .collect()
+}
+
+/// What an estimation deck wrote: the estimate group's parameters and inputs (name, series),
+/// its steps per second, and the output file's directory (kept alive) for the other datasets.
+struct EstimateRun {
+    params: Vec<(String, Vec<f64>)>,
+    inputs: Vec<(String, Vec<f64>)>,
+    speed: f64,
+    dir: tempfile::TempDir,
+}
+
+/// What the deck `deck` (an estimation deck of decks/fourbar/fmb) wrote over `steps` steps.
+fn run_estimation_deck(deck: &str, steps: usize) -> EstimateRun {
+    estimation_run(&deck_beside_artifacts(
+        deck,
+        &format!("run_{steps}_{deck}"),
+        steps,
+        |t| t,
+    ))
+}
+
+/// What the estimation deck at `path` wrote ([`EstimateRun`]).
+fn estimation_run(path: &Path) -> EstimateRun {
+    let (result, _, dir) = run_deck_file(path);
+    let summary = result.unwrap_or_else(|e| panic!("{e}"));
+    println!("{summary:?}");
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+    let g = file.group("results/1/estimate").expect("estimate group");
+    let series = |group: &str| -> Vec<(String, Vec<f64>)> {
+        let Ok(g) = g.group(group) else {
+            return Vec::new();
+        };
+        let mut names = g.member_names().expect("names");
+        names.sort();
+        names
+            .into_iter()
+            .map(|n| {
+                let values = read_dataset::<f64>(&g, &n);
+                (n, values)
+            })
+            .collect()
+    };
+    let speed = g
+        .attr("steps_per_second")
+        .and_then(|a| a.read_scalar::<f64>())
+        .expect("steps_per_second");
+    EstimateRun {
+        params: series("params"),
+        inputs: series("inputs"),
+        speed,
+        dir,
+    }
+}
+
+/// E_C's error (per cent of the truth E_C(t)) per step and the input's RMS error over its RMS
+/// over the last 20 % of a degrading-case run.
+fn degrading_errors(run: &EstimateRun) -> (Vec<f64>, f64) {
+    let truth = degrading_truth();
+    let e = &run.params[0].1;
+    let u = &run.inputs[0].1;
+    let errors: Vec<f64> = (e.iter().enumerate())
+        .map(|(k, value)| {
+            let (time, _, modulus) = truth[k + 1];
+            assert!((time - (k + 1) as f64 * 1e-3).abs() < 1e-12);
+            100.0 * (value - modulus) / modulus
+        })
+        .collect();
+    let from = tail_start(u.len());
+    let (mut error, mut size) = (0.0, 0.0);
+    for (k, estimate) in u.iter().enumerate().skip(from) {
+        let force = truth[k + 1].1;
+        error += (estimate - force).powi(2);
+        size += force * force;
+    }
+    (errors, (error / size).sqrt())
+}
+
+/// Table 9.1's "degrading E_C, input" case with sensor set 1 (thesis §9.4.1.4, Fig. 9.7), from
+/// decks/fourbar/fmb/fourbar_estimate_degrading_set1.dat: the data's E_C falls by 10 %/s
+/// (tools/amanda/fourbar_measurements.py --degrading, a PTABLE in the forward run), the filter
+/// starts at the true initial E_C with δ_E = 1 Hz and learns the 15 Hz, 10 N input on OC from
+/// zero. Over the first 80 steps (the 2 s budget of the debug profile):
+/// - E_C's error stays below 2 % from step 10 on: the thesis's "errors always below 2 %" for
+///   set 1 (Fig. 9.7, text of §9.4.1.4). The first steps are left out: there the input's
+///   random walk still starts from zero and C.E (P₀ = (0.2 E)²) absorbs the unexplained force
+///   (4.7 % at step 3), a transient the figure's one-second scale does not resolve;
+/// - the input's RMS error over the last 20 % is below 2π f Δt (as in
+///   [`coupler_modulus_and_input_from_sensor_set_1`]): the input is learnt.
+///
+/// The window is too short to show the tracking itself (the truth falls by 0.8 % in 80 ms,
+/// inside the bound, so an estimate that stayed at E(0) would pass the first check); the
+/// tracking over the whole second, against Table 9.1's errors, is the ignored
+/// [`table_9_1_benchmark`] (docs/estimation.md).
+#[test]
+fn degrading_coupler_modulus_and_input_from_sensor_set_1() {
+    let run = run_estimation_deck("fourbar_estimate_degrading_set1.dat", 80);
+    let (errors, u_error) = degrading_errors(&run);
+    let worst = errors[9..].iter().fold(0.0_f64, |a, e| a.max(e.abs()));
+    println!("E_C error from step 10: largest {worst:.3} %; input RMS error / RMS {u_error:.4}");
+    assert!(worst < 2.0, "{worst} %");
+    assert!(
+        u_error < 2.0 * std::f64::consts::PI * 15.0 * 1e-3,
+        "{u_error}"
+    );
+}
+
+/// Table 9.1's first case (the three moduli, each from 25 % above the truth) from sensor set
+/// `set` (deck fourbar_estimate_e3_set<set>.dat) over 30 steps, with its AMANDA RANK cut to
+/// the same 30 steps (the five gauges of both sets are candidates in both decks), run once:
+/// the run and its ranking (unknowns, the measured set's log det and predicted σ).
+fn three_moduli(set: usize) -> &'static ThreeModuli {
+    static RUNS: [OnceLock<ThreeModuli>; 2] = [OnceLock::new(), OnceLock::new()];
+    RUNS[set - 1].get_or_init(|| {
+        let steps = 30;
+        let deck = format!("fourbar_estimate_e3_set{set}.dat");
+        let path = deck_beside_artifacts(&deck, &format!("three_moduli_{set}.dat"), steps, |t| {
+            t.replace(
+                "AMANDA,1,,,,1.e-14,1.e-10,,45",
+                "AMANDA,1,,,,1.e-14,1.e-10,,30",
+            )
+        });
+        let run = estimation_run(&path);
+        let file = hdf5_metno::File::open(run.dir.path().join("out.h5")).expect("open");
+        let g = file.group("results/1/estimate/ranking").expect("ranking");
+        let attr = |name: &str| g.attr(name).expect(name);
+        let unknowns: Vec<String> = attr("unknowns")
+            .read_raw::<hdf5_metno::types::VarLenUnicode>()
+            .expect("unknowns")
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let log_det = attr("measured_log_det")
+            .read_scalar::<f64>()
+            .expect("log det");
+        let sigma = attr("measured_sigma").read_raw::<f64>().expect("sigma");
+        ThreeModuli {
+            run,
+            unknowns,
+            log_det,
+            sigma,
+        }
+    })
+}
+
+/// A [`three_moduli`] run and its ranking's prediction for the measured set.
+struct ThreeModuli {
+    run: EstimateRun,
+    /// The unknowns, log det of their predicted covariance and their predicted σ.
+    unknowns: Vec<String>,
+    log_det: f64,
+    sigma: Vec<f64>,
+}
+
+/// |estimate − truth| / truth of `name` at the end of `run`.
+fn final_error(run: &EstimateRun, name: &str) -> f64 {
+    let (_, series) = (run.params.iter())
+        .find(|(n, _)| n == name)
+        .expect("parameter");
+    (series[series.len() - 1] - E_TRUE).abs() / E_TRUE
+}
+
+/// The three moduli from sensor sets 1 and 2 ([`three_moduli`]): every estimate at the end of
+/// the 30 steps lies within 3 σ of the truth, σ the ranking's prediction for the measured set
+/// (the covariance of the linearized problem over the same window, the filter's own P₀ as
+/// prior): the prediction is a consistent account of what each set achieves. Table 9.1's
+/// settled errors need the whole second: [`table_9_1_benchmark`].
+#[test]
+fn three_moduli_from_sensor_sets_1_and_2() {
+    for set in [1, 2] {
+        let ThreeModuli {
+            run,
+            unknowns,
+            sigma,
+            ..
+        } = three_moduli(set);
+        for (name, s) in unknowns.iter().zip(sigma) {
+            let e = final_error(run, name);
+            println!(
+                "set {set}: {name} error {:.3} %, predicted σ {:.3} %",
+                100.0 * e,
+                100.0 * s
+            );
+            assert!(e < 3.0 * s, "set {set}: {name}: {e} vs σ {s}");
+        }
+    }
+}
+
+/// The sensor ranking (AMANDA RANK, beyond the thesis) predicts which of the four-bar's two
+/// sensor sets estimates the moduli better ([`three_moduli`]):
+/// - set 1 (a gauge on each link) has the smaller log det of the unknowns' predicted
+///   covariance (the ranking's criterion) than set 2 (three gauges on IC);
+/// - for every modulus whose predicted σ differs between the sets by more than a factor of
+///   two (C.E and OC.E: set 2 sees C and OC only through IC's deformation; measured: about
+///   ten times), the set with the smaller predicted σ has the smaller error at the end of the
+///   window — a factor that one noisy estimate cannot swap.
+#[test]
+fn sensor_ranking_predicts_the_better_sensor_set() {
+    let (one, two) = (three_moduli(1), three_moduli(2));
+    let (unknowns, det1, det2) = (&one.unknowns, one.log_det, two.log_det);
+    let (run1, run2, sigma1, sigma2) = (&one.run, &two.run, &one.sigma, &two.sigma);
+    println!("log det: set 1 {det1:.3}, set 2 {det2:.3}");
+    assert!(det1 < det2);
+    let mut compared = 0;
+    for (j, name) in unknowns.iter().enumerate() {
+        let (e1, e2) = (final_error(run1, name), final_error(run2, name));
+        println!(
+            "{name}: predicted σ {:.3} % / {:.3} %, error {:.3} % / {:.3} % (sets 1 / 2)",
+            100.0 * sigma1[j],
+            100.0 * sigma2[j],
+            100.0 * e1,
+            100.0 * e2
+        );
+        if sigma2[j] > 2.0 * sigma1[j] {
+            assert!(e1 < e2, "{name}");
+            compared += 1;
+        } else if sigma1[j] > 2.0 * sigma2[j] {
+            assert!(e2 < e1, "{name}");
+            compared += 1;
+        }
+    }
+    assert!(compared >= 2, "the sets differ on C.E and OC.E");
+}
+
+/// Table 9.1's rows the decks fourbar_estimate_e3_set{1,2}.dat and
+/// fourbar_estimate_degrading_set{1,2}.dat reproduce, over the whole measured second, on
+/// demand (`cargo test --release --test amanda_fourbar table_9_1 -- --ignored --nocapture`):
+/// per parameter its error over the last 20 % (min / avg / max, per cent, against E_true or
+/// E_C(t)), the input's RMS error over its RMS, and the time per step; docs/estimation.md
+/// compares them with the thesis's.
+#[test]
+#[ignore]
+fn table_9_1_benchmark() {
+    for deck in [
+        "fourbar_estimate_e3_set1.dat",
+        "fourbar_estimate_e3_set2.dat",
+        "fourbar_estimate_degrading_set1.dat",
+        "fourbar_estimate_degrading_set2.dat",
+    ] {
+        let run = run_estimation_deck(deck, 1000);
+        let ms = 1e3 / run.speed;
+        if run.inputs.is_empty() {
+            for (name, e) in &run.params {
+                let err = percent_errors(e, &vec![E_TRUE; e.len()]);
+                println!(
+                    "{deck}: {name} error over the last 20 %: min {:.3} %, avg {:.3} %, max {:.3} %; {ms:.2} ms per step",
+                    err.min, err.avg, err.max
+                );
+            }
+        } else {
+            let (errors, u_error) = degrading_errors(&run);
+            let tail = &errors[tail_start(errors.len())..];
+            let (min, max) = tail
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), e| {
+                    (a.min(*e), b.max(*e))
+                });
+            let avg = tail.iter().sum::<f64>() / tail.len() as f64;
+            println!(
+                "{deck}: E_C error over the last 20 %: min {min:.3} %, avg {avg:.3} %, max {max:.3} %; largest from step 10 {:.3} %; input RMS error / RMS {u_error:.4}; {ms:.2} ms per step",
+                errors[9..].iter().fold(0.0_f64, |a, e| a.max(e.abs()))
+            );
+        }
+    }
+}

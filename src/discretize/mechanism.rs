@@ -23,8 +23,8 @@ use crate::geometry::mat3::{IDENTITY, Mat3, mul_vec, transpose};
 use crate::geometry::vec3::{add, dot, norm, sub};
 use crate::model::mechanism::{BodyKind, Card, MarkerPlace, Mechanism, Sensor, SensorTarget};
 use crate::multibody::{
-    Body, DriveKind, FlexibleBodyData, Force, InterfaceRows, JointKind, Marker, MassInvariants,
-    Output, Signal, System,
+    Body, BodySchedule, DriveKind, FlexibleBodyData, Force, InterfaceRows, JointKind, Marker,
+    MassInvariants, Output, Signal, System,
 };
 use faer::Mat;
 
@@ -429,6 +429,57 @@ impl MechanismSystem {
             out.flexible[f].1 = at;
         }
         Ok(out)
+    }
+
+    /// Makes the flexible bodies named in `tables` (`BODY.PMPAR`, p(t)) follow time: each such
+    /// body's data become its pROM's affine sums at the tables' values at t and the constant
+    /// values of `pval` for its other parameters ([`crate::multibody::schedule`]), the rigid
+    /// twin's its undeformed mass properties at them. `pfmb` is the mechanism this system was
+    /// built from with `bodies`; the names are `BODY.PMPAR`s of its flexible bodies
+    /// ([`Pfmb::check_parameter_names`]), a PMPAR its body's pROM lacks is the error.
+    pub fn schedule(
+        &mut self,
+        pfmb: &Pfmb,
+        pval: &[(String, f64)],
+        tables: &[(String, Table)],
+        bodies: Bodies,
+    ) -> Result<(), String> {
+        for (index, b) in pfmb.mechanism.bodies.iter().enumerate() {
+            let Some(parametric) = &pfmb.bodies[index] else {
+                continue;
+            };
+            let varying: Vec<(String, Table)> = (tables.iter())
+                .filter_map(|(n, table)| {
+                    let (body, parameter) = n.split_once('.')?;
+                    body.eq_ignore_ascii_case(&b.name)
+                        .then(|| (parameter.to_string(), table.clone()))
+                })
+                .collect();
+            if varying.is_empty() {
+                continue;
+            }
+            let constant = values_of(&b.name, pval);
+            let values = move |t: f64| {
+                let mut values = constant.clone();
+                values.extend(varying.iter().map(|(n, table)| (n.clone(), table.value(t))));
+                values
+            };
+            // the names are checked here, once: at any later t only the values differ
+            parametric.at(&values(0.0), &b.name)?;
+            let (parametric, name) = (parametric.clone(), b.name.clone());
+            self.system
+                .schedules
+                .push(BodySchedule::new(index, move |t| {
+                    let at = parametric
+                        .at(&values(t), &name)
+                        .expect("the parameter names were checked when the schedule was built");
+                    match bodies {
+                        Bodies::Flexible => at.data,
+                        Bodies::RigidTwin => rigid(&at.data),
+                    }
+                }));
+        }
+        Ok(())
     }
 
     /// The outputs of `sensors` (MSENSORs of the model this system was built from) on the

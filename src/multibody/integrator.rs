@@ -459,6 +459,7 @@ impl Ggl {
     pub fn step(&mut self) -> Result<StepReport, MultibodyError> {
         let t = self.time + self.step_size;
         let h = self.step_size;
+        self.system.apply_schedules(t);
         self.history.form(
             self.scheme,
             h,

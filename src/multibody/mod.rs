@@ -18,7 +18,9 @@
 //!   constraints found by a column-pivoted QR of Φ_qᵀ, and the rows closest to dependent where
 //!   a step fails.
 //! - [`forces`]: point forces, point-to-point and joint spring-dampers, compliant drives.
-//! - [`signal`]: time functions with their first two derivatives; [`error`]: what stops a run.
+//! - [`signal`]: time functions with their first two derivatives; [`schedule`]: bodies whose
+//!   data follow time (pROM parameters that are functions of time); [`error`]: what stops a
+//!   run.
 //! - [`system`]: the assembled system and its residual terms; [`integrator`]: consistent
 //!   initial conditions and the GGL step (eq. 2.60–2.61) with the modified Newton of
 //!   [`crate::dynamics::newton`]; [`correction`]: the metric of its position correction;
@@ -59,6 +61,7 @@ pub mod output;
 pub mod poses;
 pub mod redundancy;
 pub mod rotations;
+pub mod schedule;
 pub mod scheme;
 pub mod signal;
 pub mod simulation;
@@ -79,6 +82,7 @@ pub use forces::Force;
 pub use integrator::{Ggl, NewtonSettings, StepReport};
 pub use joints::{Drive, DriveKind, Joint, JointKind};
 pub use marker::Marker;
+pub use schedule::BodySchedule;
 pub use scheme::Scheme;
 pub use signal::Signal;
 pub use simulation::{Histories, Output, Start, TimeGrid, simulate};

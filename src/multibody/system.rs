@@ -11,6 +11,7 @@ use super::inertia;
 use super::joints::{Drive, DriveKind, Joint, JointKind, coordinate_parts, drive_constraint};
 use super::layout::Layout;
 use super::marker::Marker;
+use super::schedule::BodySchedule;
 use super::signal::Signal;
 use crate::geometry::euler_parameters::{EulerParameters, rates_from_global_angular_velocity};
 use faer::MatMut;
@@ -31,6 +32,8 @@ pub struct System {
     pub forces: Vec<Force>,
     /// Gravity acceleration in global components.
     pub gravity: [f64; 3],
+    /// Bodies whose data follow time ([`super::schedule`]), set at each step's end time.
+    pub schedules: Vec<BodySchedule>,
     initial_q: Vec<f64>,
     initial_v: Vec<f64>,
 }
@@ -97,6 +100,13 @@ impl System {
     pub fn set_initial_state(&mut self, q: &[f64], v: &[f64]) {
         self.initial_q.copy_from_slice(q);
         self.initial_v.copy_from_slice(v);
+    }
+
+    /// Sets the data of every scheduled body to its value at t.
+    pub fn apply_schedules(&mut self, t: f64) {
+        for schedule in &self.schedules {
+            self.bodies[schedule.body].data = schedule.at(t);
+        }
     }
 
     /// Sets the initial flexible coordinates of a body.

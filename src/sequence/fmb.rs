@@ -3,7 +3,9 @@
 //! Per subcase: `TSTEP` (time grid; `TINTEG` selects the GGL scheme of eq. 2.60: BDF1, the
 //! thesis's eq. 2.61 and the default, BDF2 or GALPHA with its RHOINF; `TSTEPVAR` replaces the
 //! fixed Δt by error-controlled steps onto the same output times),
-//! `LOAD` (GRAV: gravity), `PVAL` (values of `BODY.PMPAR` for the flexible bodies' pROMs),
+//! `LOAD` (GRAV: gravity), `PVAL` (values of `BODY.PMPAR` for the flexible bodies' pROMs;
+//! the PTABLE cards of the same id make a `BODY.PMPAR` follow a table of time, its body's data
+//! re-evaluated from the pROM's affine sums at every step, [`crate::multibody::schedule`]),
 //! `MSENSOR = ALL | NONE | set` (all MSENSORs without the statement), `FMBSTART = ASSEMBLE`
 //! (kinematic assembly at t = 0, the default) or `STATIC` (the static equilibrium under the
 //! subcase's gravity reached from the assembly, drives held at their t = 0 values), `STRREF =
@@ -21,7 +23,7 @@
 //! Written: `/results/<id>/fmb/{time (t), sensors/<name> (t), drives/<JDRIVE id>/{angle, rate,
 //! torque, power} (t), constraint_residual (t), newton_iterations (t)}`, attributes `method`,
 //! `coordinates`, `constraints`, `redundant` (labels of removed constraints), `params` and
-//! `values` (the flexible bodies' `BODY.PMPAR` values used); under `TSTEPVAR` also `rtol`,
+//! `values` (the flexible bodies' `BODY.PMPAR` values used, at t = 0 for a PTABLE's); under `TSTEPVAR` also `rtol`,
 //! `atol`, `steps`, `rejected_steps`, `max_local_error` (the largest estimate of an accepted
 //! step in units of the tolerance) and `step_range` (smallest and largest step); and once per
 //! run the first subcase's mechanism as the pFMB artifact `/pfmb` ([`crate::io::write_pfmb`]).

@@ -47,14 +47,15 @@
 //! `observability_ratio`, `parameter_identifiability`, `input_identifiability`), with
 //! AMANDA's OBSEVERY the windows along the run under `observability/` (`time` of each
 //! window's start, `steps`, `rank`, `columns`, `ratio`, and per unknown `<BODY.PMPAR>` or
-//! `<MFORCEid>` its identifiability; [`crate::estimate::mechanism`]'s model), and `forced`
-//! (a refused setup run with
-//! FORCE = YES).
+//! `<MFORCEid>` its identifiability; [`crate::estimate::mechanism`]'s model), with AMANDA's
+//! RANK the sensor ranking under `ranking/` ([`super::fmb_ranking`]), and `forced` (a refused
+//! setup run with FORCE = YES).
 
 use std::time::Instant;
 
 use super::estimate::{Selection, resample};
 use super::fmb::PreparedFmb;
+use super::fmb_ranking::{SensorRanking, rank_sensors};
 use super::report::{Report, sci};
 use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
 use crate::card_values::{FmbStart, ForceKind, MsensorKind};
@@ -104,6 +105,8 @@ pub struct MechanismEstimateSummary {
     /// The AMANDA card's OBSEVERY and the observability windows along the run (start time,
     /// result).
     pub observed: Option<(usize, Vec<(f64, Observability)>)>,
+    /// The sensor ranking (AMANDA RANK).
+    pub ranking: Option<SensorRanking>,
 }
 
 /// The `SOL ESTIMATE` driver on a mechanism.
@@ -190,6 +193,14 @@ fn refused_settings(ctx: &RunContext, sub: &Subcase) -> Vec<String> {
             "{}STRREF: the filter's gauges read absolute strains (NONE), or from the static equilibrium at t = 0 at the initial guesses (STATIC, eq. 9.24) or at the current estimate (ADAPTIVE, eq. 9.25)",
             at("STRREF")
         ));
+    }
+    if let Some(id) = sub.pval {
+        for card in ctx.model.ptables(id) {
+            refused.push(format!(
+                "{}: PTABLE {id}: field 3 (NAME): the filter's model keeps {} constant; a parameter that changes in time is estimated as a random walk (EKFPAR with a larger DELTA), or given a constant value in the PVAL",
+                card.loc, card.name
+            ));
+        }
     }
     refused
 }
@@ -537,13 +548,62 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             ekf.loc, selection.ekf_id
         )));
     }
-    let probe = Ggl::new(
-        system.system.clone(),
-        selection.dt,
-        0.0,
-        NewtonSettings::default(),
-    )
-    .map_err(|e| case(format!("kinematic assembly at t = 0: {e}")))?;
+    let new_probe = || {
+        Ggl::new(
+            system.system.clone(),
+            selection.dt,
+            0.0,
+            NewtonSettings::default(),
+        )
+        .map_err(|e| case(format!("kinematic assembly at t = 0: {e}")))
+    };
+    let probe = new_probe()?;
+    let ranking = card
+        .and_then(|c| c.rank)
+        .map(|steps| {
+            let candidates: Vec<&Msensor> = (shown.iter().copied())
+                .filter(|s| s.kind == MsensorKind::Strain)
+                .collect();
+            let sigma = (filter_sensors.iter())
+                .filter(|s| matches!(s.output, crate::multibody::Output::Strain { .. }))
+                .map(|s| s.variance.sqrt())
+                .fold(0.0, f64::max);
+            if candidates.is_empty() || sigma == 0.0 {
+                return Err(case(format!(
+                    "{}: AMANDA {}: field 9 (RANK): the ranking needs STRAIN MSENSORs among the subcase's sensors and a MEAS on one of them (its σ is the candidates')",
+                    card.map(|c| c.loc.to_string()).unwrap_or_default(),
+                    selection.ekf_id
+                )));
+            }
+            let measured = (candidates.iter().enumerate())
+                .filter(|(_, c)| measured_msensors.iter().any(|m| m.id == c.id))
+                .map(|(r, _)| r)
+                .collect();
+            let sensors = (candidates.iter())
+                .map(|c| {
+                    let output = system.outputs(std::slice::from_ref(*c)).remove(0);
+                    (
+                        c.name.clone(),
+                        Sensor {
+                            output,
+                            reference: 0.0,
+                            variance: sigma * sigma,
+                        },
+                    )
+                })
+                .collect();
+            rank_sensors(
+                new_probe()?,
+                &inputs,
+                &parameters,
+                sensors,
+                measured,
+                &setup,
+                steps as usize,
+            )
+            .map_err(|e| case(format!("sensor ranking: {e}")))
+        })
+        .transpose()?;
     let observed = observability::numerical(
         probe,
         &inputs,
@@ -675,6 +735,9 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
     set_attr_f64s(&group, "parameter_identifiability", &observed.parameters)?;
     set_attr_f64s(&group, "input_identifiability", &observed.inputs)?;
     set_attr_i64(&group, "forced", i64::from(refusal.is_some()))?;
+    if let Some(ranking) = &ranking {
+        ranking.write(ctx, &root)?;
+    }
     let along = filter.observed().to_vec();
     if setup.observe_every.is_some() {
         write_observed(ctx, &root, &along, &names, &input_names)?;
@@ -705,6 +768,7 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         forced: refusal,
         freeze: setup.freeze.map(|f| (f, frozen_steps)),
         observed: setup.observe_every.map(|e| (e, along)),
+        ranking,
     };
     Ok(SubcaseSummary {
         id,
@@ -852,6 +916,9 @@ impl Report for MechanismEstimateSummary {
             sci(self.velocity_residual, 2),
             self.fallbacks
         ));
+        if let Some(ranking) = &self.ranking {
+            out.extend(ranking.lines().into_iter().map(|l| format!("  {l}")));
+        }
         if let Some((every, along)) = &self.observed {
             let unknowns: Vec<String> = names.iter().chain(&inputs).cloned().collect();
             out.push(format!("  {}", observed_text(*every, along, &unknowns)));

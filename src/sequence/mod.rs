@@ -51,6 +51,7 @@ pub mod driver;
 pub mod estimate;
 pub mod fmb;
 pub mod fmb_estimate;
+pub mod fmb_ranking;
 pub mod frf;
 pub mod modal;
 pub mod optimize;

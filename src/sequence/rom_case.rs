@@ -59,7 +59,7 @@ impl RomAtPoint {
             });
             if tabulated && !transient {
                 return Err(case(format!(
-                    "PTABLE {pval_id}: parameters varying in time apply to SOL TRANSIENT only"
+                    "PTABLE {pval_id}: parameters varying in time apply to SOL TRANSIENT only (and to SOL FMB on a mechanism)"
                 )));
             }
             let card = ctx.model.pval(pval_id);

@@ -260,6 +260,7 @@ impl Meas {
 /// | 6 | QVEL | real > 0 | EKF QSTATE | Q of the velocity coordinates (the EKF's QSTATE is the positions'); paraflex-specific |
 /// | 7 | P0VEL | real > 0 | EKF P0STATE | initial variance of the velocities (the EKF's P0STATE is the positions'); paraflex-specific |
 /// | 8 | OBSEVERY | int > 0 | blank | the numerical observability of the linearized filter (§9.3.1) over a window starting every OBSEVERY steps along the run, written and summarized; blank: at the start only; paraflex-specific |
+/// | 9 | RANK | int > 0 | blank | before the run, rank the subcase's STRAIN MSENSORs as candidate gauges by the information they add about the unknowns over the first RANK steps of the prior trajectory (greedy, log det of the unknowns' predicted covariance; each with the largest σ of the MEAS on strain gauges), written and printed with the prediction for the measured set; blank: no ranking; paraflex-specific |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Amanda {
     pub id: u32,
@@ -269,6 +270,7 @@ pub struct Amanda {
     pub q_velocities: Option<f64>,
     pub p0_velocities: Option<f64>,
     pub observe_every: Option<u32>,
+    pub rank: Option<u32>,
     pub loc: Loc,
 }
 
@@ -284,8 +286,9 @@ impl Amanda {
         let q_velocities = blank_or_positive(&mut f, 5, "QVEL");
         let p0_velocities = blank_or_positive(&mut f, 6, "P0VEL");
         let observe_every = f.opt_count(7, "OBSEVERY");
+        let rank = f.opt_count(8, "RANK");
         let loc = f.loc();
-        f.finish(7)?;
+        f.finish(8)?;
         Ok(Amanda {
             id,
             tolerance,
@@ -294,6 +297,7 @@ impl Amanda {
             q_velocities,
             p0_velocities,
             observe_every,
+            rank,
             loc,
         })
     }

@@ -346,14 +346,18 @@ impl Tablef {
 }
 
 /// `PTABLE` — a pROM parameter that follows a table of time in a transient (`SOL 109/112` with
-/// `ROM =`), e.g. E degrading 10 %/s (thesis §8.6.2). Selected together with the constant
-/// values by the subcase's `PVAL = ID`: one id names the whole parameter state of a run, and a
-/// parameter is either constant (PVAL) or tabulated (PTABLE), never both.
+/// `ROM =`, or `SOL FMB` on a mechanism), e.g. E degrading 10 %/s (thesis §8.6.2, §9.4.1.4).
+/// Selected together with the constant values by the subcase's `PVAL = ID`: one id names the
+/// whole parameter state of a run, and a parameter is either constant (PVAL) or tabulated
+/// (PTABLE), never both. In `SOL FMB` NAME is `BODY.PMPAR` of a flexible body: the run starts
+/// (assembly or statics) at p(0) and each time step takes the body's pROM at p(t) at the
+/// step's end time (exact affine sums, no Ṁ term). `SOL ESTIMATE` refuses it (the filter
+/// estimates a varying parameter as a random walk).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | ID | int > 0 | required | id (selected by case control `PVAL = id`) |
-/// | 3 | NAME | name | required | PMPAR name |
+/// | 3 | NAME | name | required | PMPAR name; on a mechanism `BODY.PMPAR` of a flexible body |
 /// | 4 | TID | int > 0 | required | TABLED1 or TABLEF id of the value p(t) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ptable {

@@ -16,6 +16,8 @@
 //! - [`manifold`]: the AMANDA step back onto the constraints (eq. 9.9–9.14);
 //! - [`observability`]: the setups that cannot work (§9.3.1) and the numerical observability
 //!   of the linearized system over the first steps;
+//! - [`ranking`]: candidate sensors ranked by the information they add about the unknowns
+//!   along the prior trajectory (greedy, log det of the unknowns' covariance);
 //! - `model`: the [`crate::estimate::ekf::ProcessModel`] that ties them to the EKF's gain and
 //!   Joseph update ([`crate::estimate::ekf::Ekf`], eq. 9.20–9.22).
 
@@ -26,6 +28,7 @@ pub mod manifold;
 pub mod nullspace;
 pub mod observability;
 pub mod parameters;
+pub mod ranking;
 pub mod reference;
 pub mod sensors;
 pub mod transition;

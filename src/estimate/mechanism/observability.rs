@@ -160,6 +160,27 @@ impl Window {
         sensors: usize,
         limit: usize,
     ) -> Result<Self, String> {
+        let columns = 2 * Self::independent(phi_q, partition)? + unknowns.0 + unknowns.1;
+        let steps = (columns.div_ceil(sensors.max(1)) + 2).min(limit).max(1);
+        Self::of_length(phi_q, partition, unknowns, sensors, steps)
+    }
+
+    /// The number of independent coordinates of the partition at `phi_q`.
+    fn independent(phi_q: &Mat<f64>, partition: &mut Partition) -> Result<usize, String> {
+        partition
+            .nullspace(phi_q.as_ref())
+            .map(|n| n.basis.ncols())
+            .map_err(|e| format!("{e:?}"))
+    }
+
+    /// A window as [`Window::start`] of `steps` steps.
+    pub fn of_length(
+        phi_q: &Mat<f64>,
+        partition: &mut Partition,
+        unknowns: (usize, usize),
+        sensors: usize,
+        steps: usize,
+    ) -> Result<Self, String> {
         let n = phi_q.ncols();
         let (nu, np) = unknowns;
         let big_n = 2 * n + nu + np;
@@ -178,7 +199,7 @@ impl Window {
                 _ => 0.0,
             }
         });
-        let steps = (columns.div_ceil(sensors.max(1)) + 2).min(limit).max(1);
+        let steps = steps.max(1);
         Ok(Self {
             phi,
             o: Mat::zeros(steps * sensors, columns),
@@ -229,6 +250,29 @@ impl Window {
         self.added == self.steps
     }
 
+    /// The Fisher information of sensor `r`'s readings over the steps added so far about the
+    /// window's columns: Σ_k o_k,rᵀ o_k,r with o_k,r = σ_r⁻¹ J_m,k,r Φ_k T, unscaled.
+    pub fn information(&self, r: usize) -> Mat<f64> {
+        let k = self.o.nrows() / self.steps;
+        let rows = Mat::from_fn(self.added, self.o.ncols(), |i, c| self.o[(i * k + r, c)]);
+        let mut f = Mat::zeros(self.o.ncols(), self.o.ncols());
+        matmul(
+            f.as_mut(),
+            Accum::Replace,
+            rows.transpose(),
+            rows.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        f
+    }
+
+    /// Columns of the independent coordinates (the velocities' as many after them) and the
+    /// unknowns (inputs, parameters).
+    pub fn layout(&self) -> (usize, (usize, usize)) {
+        (self.free, self.unknowns)
+    }
+
     /// The observability of the rows added so far (module docs).
     pub fn finish(&self) -> Observability {
         let k = self.o.nrows() / self.steps;
@@ -277,12 +321,30 @@ impl Window {
 /// guesses θ = 1 of `parameters` and u = 0 of `inputs`) with `sensors` (module docs), over the
 /// shortest window whose rows outnumber its columns (two steps more), at most `limit` steps.
 pub fn numerical(
-    mut ggl: Ggl,
+    ggl: Ggl,
     inputs: &Inputs,
     parameters: &Parameters,
     sensors: &[Sensor],
     limit: usize,
 ) -> Result<Observability, String> {
+    let k = sensors.len();
+    let (nu, np) = (inputs.len(), parameters.len());
+    let window = along_prior(ggl, inputs, parameters, sensors, |phi_q, partition| {
+        Window::start(phi_q, partition, (nu, np), k, limit)
+    })?;
+    Ok(window.finish())
+}
+
+/// The window that `start` makes from the constraint Jacobian at the start of `ggl` (as
+/// [`numerical`]), filled with `sensors`' rows along the prior trajectory: the prediction
+/// from the initial guesses, uncorrected.
+pub fn along_prior(
+    mut ggl: Ggl,
+    inputs: &Inputs,
+    parameters: &Parameters,
+    sensors: &[Sensor],
+    start: impl FnOnce(&Mat<f64>, &mut Partition) -> Result<Window, String>,
+) -> Result<Window, String> {
     let (n, m) = (ggl.system.size(), ggl.constraint_count());
     let (nu, np) = (inputs.len(), parameters.len());
     let big_n = 2 * n + nu + np;
@@ -296,10 +358,10 @@ pub fn numerical(
             .jacobian(&ggl.system.layout, &ggl.q, ggl.time, phi_q.as_mut());
         phi_q
     };
-    let start = jacobian_at(&ggl);
-    let mut partition = Partition::choose(start.as_ref()).map_err(|e| format!("{e:?}"))?;
+    let first = jacobian_at(&ggl);
+    let mut partition = Partition::choose(first.as_ref()).map_err(|e| format!("{e:?}"))?;
     let k = sensors.len();
-    let mut window = Window::start(&start, &mut partition, (nu, np), k, limit)?;
+    let mut window = start(&first, &mut partition)?;
     let variances: Vec<f64> = sensors.iter().map(|s| s.variance).collect();
     let mut augmented = Mat::identity(big_n, big_n);
     let (mut y, mut jm) = (vec![0.0; k], Mat::zeros(k, big_n));
@@ -344,7 +406,7 @@ pub fn numerical(
             .collect();
         measure(sensors, &ggl, &x, &previous[n..], &mut y, &mut jm);
         if window.add(&augmented, &jm, &variances) {
-            return Ok(window.finish());
+            return Ok(window);
         }
     }
 }

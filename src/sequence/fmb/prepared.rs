@@ -18,9 +18,11 @@ use super::super::{RunContext, RunError};
 use super::{control_of, mechanism_errors, mechanism_of, scheme_of, selected};
 use crate::card_values::{FmbStart, MsensorKind};
 use crate::deck::case_control::Subcase;
+use crate::discretize::loads::table_of;
 use crate::discretize::mechanism::{Bodies, MechanismSystem, build_system};
 use crate::discretize::pfmb::Pfmb;
 use crate::discretize::prom_body::ParametricBody;
+use crate::dynamics::table::Table;
 use crate::model::mechanism::{BodyKind, Sensor};
 use crate::multibody::{
     Histories, MultibodyError, NewtonSettings, Output, Scheme, Start, TimeGrid, simulate,
@@ -48,8 +50,10 @@ pub struct PreparedFmb {
     pub scheme: Scheme,
     pub method: String,
     pub start: Start,
-    /// The subcase's `PVAL` values (`BODY.PMPAR`, value).
+    /// The subcase's `PVAL` values (`BODY.PMPAR`, value), constant in time.
     pub pval: Vec<(String, f64)>,
+    /// The `BODY.PMPAR`s of the subcase's PTABLEs (same id as its PVAL) and their p(t).
+    pub tables: Vec<(String, Table)>,
     /// The subcase's gravity (basic).
     pub gravity: [f64; 3],
 }
@@ -103,6 +107,9 @@ impl PreparedFmb {
         };
         let pval: Vec<(String, f64)> = match sub.pval {
             None => Vec::new(),
+            Some(pid) if ctx.model.pval(pid).is_none() && !ctx.model.ptables(pid).is_empty() => {
+                Vec::new()
+            }
             Some(pid) => {
                 let card = ctx
                     .model
@@ -115,10 +122,15 @@ impl PreparedFmb {
                 card.values.clone()
             }
         };
+        let tables = parameter_tables(ctx, sub, &pval, &pfmb)?;
+        // the systems are built at p(0) and follow the tables from the first step on
+        let at_start = with_tables_at(&pval, &tables, 0.0);
         let mechanism = &pfmb.mechanism;
         let build = |bodies: Bodies| {
-            build_system(&pfmb, gravity, &pval, bodies)
-                .map_err(|errors| mechanism_errors(mechanism, errors, case))
+            let mut system = build_system(&pfmb, gravity, &at_start, bodies)
+                .map_err(|errors| mechanism_errors(mechanism, errors, case))?;
+            scheduled(&mut system, &pfmb, &pval, &tables, bodies).map_err(case)?;
+            Ok::<_, RunError>(system)
         };
         let flexible = build(Bodies::Flexible)?;
         let sensors: Vec<Sensor> = selected(ctx, &mechanism.sensors, sub)
@@ -147,6 +159,7 @@ impl PreparedFmb {
             method,
             start,
             pval,
+            tables,
             gravity,
         })
     }
@@ -193,12 +206,16 @@ impl PreparedFmb {
         artifacts: &[(usize, &LoadedArtifact)],
     ) -> Result<(MechanismSystem, Option<MechanismSystem>), String> {
         let pval = self.pval_with(values);
+        let at_start = with_tables_at(&pval, &self.tables, 0.0);
         if artifacts.is_empty() {
-            let flexible = self
-                .flexible
-                .at_parameters(&self.pfmb, &pval, Bodies::Flexible)?;
+            let at = |system: &MechanismSystem, bodies| {
+                let mut out = system.at_parameters(&self.pfmb, &at_start, bodies)?;
+                scheduled(&mut out, &self.pfmb, &pval, &self.tables, bodies)?;
+                Ok::<_, String>(out)
+            };
+            let flexible = at(&self.flexible, Bodies::Flexible)?;
             let twin = (self.twin.as_ref())
-                .map(|t| t.at_parameters(&self.pfmb, &pval, Bodies::RigidTwin))
+                .map(|t| at(t, Bodies::RigidTwin))
                 .transpose()?;
             return Ok((flexible, twin));
         }
@@ -213,12 +230,15 @@ impl PreparedFmb {
         }
         let mechanism = &pfmb.mechanism;
         let build = |bodies: Bodies| {
-            build_system(&pfmb, self.gravity, &pval, bodies).map_err(|errors| {
-                (errors.into_iter())
-                    .map(|e| mechanism.error_at(e.card, e.field, e.message).to_string())
-                    .collect::<Vec<_>>()
-                    .join("\n")
-            })
+            let mut system =
+                build_system(&pfmb, self.gravity, &at_start, bodies).map_err(|errors| {
+                    (errors.into_iter())
+                        .map(|e| mechanism.error_at(e.card, e.field, e.message).to_string())
+                        .collect::<Vec<_>>()
+                        .join("\n")
+                })?;
+            scheduled(&mut system, &pfmb, &pval, &self.tables, bodies)?;
+            Ok::<_, String>(system)
         };
         let flexible = build(Bodies::Flexible)?;
         let twin = (self.twin.is_some())
@@ -243,4 +263,60 @@ impl PreparedFmb {
             self.start,
         )
     }
+}
+
+/// The PTABLEs of the subcase's `PVAL = id` (`BODY.PMPAR`, p(t)), each table read; a name
+/// also given a constant value by the PVAL, or tabulated twice, is an error at the card.
+fn parameter_tables(
+    ctx: &RunContext,
+    sub: &Subcase,
+    pval: &[(String, f64)],
+    pfmb: &Pfmb,
+) -> Result<Vec<(String, Table)>, RunError> {
+    let Some(id) = sub.pval else {
+        return Ok(Vec::new());
+    };
+    let mut tables: Vec<(String, Table)> = Vec::new();
+    for card in ctx.model.ptables(id) {
+        let at = |what: String| RunError::Case {
+            subcase: sub.id,
+            what: format!("{}: PTABLE {id}: {what}", card.loc),
+        };
+        let named = |n: &String| n.eq_ignore_ascii_case(&card.name);
+        if pval.iter().any(|(n, _)| named(n)) || tables.iter().any(|(n, _)| named(n)) {
+            return Err(at(format!(
+                "field 3 (NAME): {} is given twice (PVAL and PTABLE, or two PTABLEs)",
+                card.name
+            )));
+        }
+        pfmb.check_parameter_names(&[(card.name.clone(), 0.0)])
+            .map_err(|e| at(format!("field 3 (NAME): {e}")))?;
+        let table = table_of(ctx.model, card.tid, "field 4 (TID)").map_err(at)?;
+        tables.push((card.name.clone(), table));
+    }
+    Ok(tables)
+}
+
+/// `pval` with the tabulated parameters' values at t.
+fn with_tables_at(
+    pval: &[(String, f64)],
+    tables: &[(String, Table)],
+    t: f64,
+) -> Vec<(String, f64)> {
+    let mut values = pval.to_vec();
+    values.extend(tables.iter().map(|(n, table)| (n.clone(), table.value(t))));
+    values
+}
+
+/// `system` (built from `pfmb` with `bodies`) with its bodies following `tables` over the
+/// constant `pval`, replacing any schedule it had.
+fn scheduled(
+    system: &mut MechanismSystem,
+    pfmb: &Pfmb,
+    pval: &[(String, f64)],
+    tables: &[(String, Table)],
+    bodies: Bodies,
+) -> Result<(), String> {
+    system.system.schedules.clear();
+    system.schedule(pfmb, pval, tables, bodies)
 }
