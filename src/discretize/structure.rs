@@ -238,14 +238,10 @@ impl Constrained {
         spc.add_autospc(&autospc);
         let sets = Sets::new(&st.map, &st.rigid.m_mask, &spc.mask)?;
         let ff = Partition::new(st.k_nn.pattern().clone(), &sets.f_in_n, &sets.f_in_n)?;
-        let k_ff = ff.apply(&st.k_nn)?;
-        let m_ff = ff.apply(&st.m_nn)?;
-        let k_ff = k_ff.evaluate(&weights(&k_ff))?;
-        let m_ff = m_ff.evaluate(&weights(&m_ff))?;
-        let damping_ff = st.damping.try_map(|op| {
-            let op = ff.apply(op)?;
-            op.evaluate(&weights(&op))
-        })?;
+        let k_ff = ff.evaluate(&st.k_nn, &weights(&st.k_nn))?;
+        let m_ff = ff.evaluate(&st.m_nn, &weights(&st.m_nn))?;
+        let damping_ff = st.damping.try_map(|op| ff.evaluate(op, &weights(op)))?;
+        drop(ff);
         let k_fs = crate::assembly::reduce::partition(&st.k_nn, &sets.f_in_n, &sets.s_in_n)?;
         Ok(Constrained {
             spc,
