@@ -372,7 +372,7 @@ impl Report for ModalSummary {
         }
         out.push(format!("  {}", sturm_line(&m.sturm)));
         out.push(format!(
-            "  Lanczos: {} step(s) (solves with K − σM), {} restart(s); factor of K − σM: {} entries ({:.0} MB)",
+            "  Lanczos: {} step(s) (solves with K − σM), {} restart(s); factor of K − σM: {} entries ({:.1} MB)",
             m.solves,
             m.restarts,
             m.factor_nnz,

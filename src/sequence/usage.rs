@@ -57,23 +57,25 @@ pub struct Phase {
 }
 
 /// The phases as console lines: a header, then one line per phase (wall s, CPU s, resident MB at
-/// the end, peak MB so far, `*` where the phase raised the peak).
+/// the end, peak MB so far, `*` where the phase raised the peak by a printed MB or more).
 pub fn render(phases: &[Phase]) -> Vec<String> {
-    let mb = |b: Option<u64>| b.map_or("-".to_string(), |b| format!("{:.0}", b as f64 / 1e6));
+    let megabytes = |b: u64| (b as f64 / 1e6).round() as u64;
+    let mb = |b: Option<u64>| b.map_or("-".to_string(), |b| megabytes(b).to_string());
     let mut out = vec![
         "resources per phase (CPU: all threads, getrusage; memory: VmRSS / VmHWM of /proc/self/status, Linux only; * = the phase raised the peak):"
             .to_string(),
     ];
     out.push(format!(
-        "  {:<36} {:>9} {:>9} {:>9} {:>9}",
+        "  {:<42} {:>9} {:>9} {:>9} {:>9}",
         "phase", "wall s", "CPU s", "RSS MB", "peak MB"
     ));
     let mut peak_before = 0;
     for p in phases {
-        let raised = p.peak.is_some_and(|b| b > peak_before);
-        peak_before = peak_before.max(p.peak.unwrap_or(0));
+        let peak = p.peak.map_or(0, megabytes);
+        let raised = peak > peak_before;
+        peak_before = peak_before.max(peak);
         out.push(format!(
-            "  {:<36} {:>9.3} {:>9.3} {:>9} {:>9}{}",
+            "  {:<42} {:>9.3} {:>9.3} {:>9} {:>9}{}",
             p.name,
             p.wall.as_secs_f64(),
             p.cpu.as_secs_f64(),
