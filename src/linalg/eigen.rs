@@ -12,7 +12,9 @@
 //! - **Lanczos with full reorthogonalization** in the M-inner product (classical Gram–Schmidt
 //!   repeated while the norm drops by more than 1/0.7, the DGKS criterion), so the projected
 //!   matrix H = Vᵀ M OP V is formed explicitly and symmetric. On breakdown (an invariant
-//!   subspace) a fresh random vector, mapped through OP, continues the basis.
+//!   subspace) a fresh random vector, mapped through OP, continues the basis. The M products
+//!   are column gathers over the symmetric M (parallel, independent of the thread count), and
+//!   M vⱼ₊₁ = (M w)/β comes from the orthogonalization's last product.
 //! - **Thick restart** (Wu & Simon 2000, the symmetric Krylov–Schur of Stewart 2001): after m
 //!   steps the wanted Ritz vectors Y = V S are kept, H becomes diag(θ) bordered by the
 //!   residual couplings β sₘ, and the iteration continues from the residual vector. The basis
@@ -34,7 +36,9 @@
 //!   repeated eigenvalue in exact arithmetic — and the run is extended: converged vectors are
 //!   locked, a random vector orthogonal to them restarts the Krylov space, and iteration goes on
 //!   until the count is met (at most `max_recoveries` times; the final [`SturmCheck`] is
-//!   returned either way).
+//!   returned either way). The modes are purified before the count and the factor of K − σM
+//!   is released, so that the count's factorization takes its memory (one factor alive at a
+//!   time); an extended run factors K − σM again at the same σ.
 //!
 //! # EIGRL semantics ([`EigenRequest`], frequencies in Hz, λ = (2πf)²)
 //! - V1, V2 and ND: the lowest ND modes in [V1, V2] (fewer if the range holds fewer);
