@@ -50,7 +50,8 @@ impl Structure {
     }
 
     /// [`Structure::build`], reporting the wall-clock time of each of its three steps
-    /// (`element matrices`, `assembly`, `rigid elimination g → n`) to `record`.
+    /// (`element matrices`, `assembly`, `rigid elimination g → n`, the last with the release
+    /// of the element matrices) to `record`.
     pub fn build_timed(
         model: &Model,
         options: &BuildOptions,
@@ -99,7 +100,9 @@ impl Structure {
         })();
         time("assembly", start);
         let (k_gg, m_gg, damping_gg) = assembled?;
-        // the element matrices are assembled: only the shells' recovery data stay
+        // the element matrices are assembled: only the shells' recovery data stay (their
+        // release is timed with the next step)
+        let start = Instant::now();
         let frozen_condensation =
             params.names_on(&elements.frozen_condensation, &elements::SECTION_STIFFNESS);
         let shells = elements.shells;
@@ -110,7 +113,6 @@ impl Structure {
             elements.structural,
         ));
         return_freed_memory();
-        let start = Instant::now();
         let reduced = (|| -> Result<_, DiscretizeError> {
             let rigid = RigidElimination::of_model(model, &frames, &map)?;
             if rigid.m_mask.iter().any(|&m| m) {

@@ -205,7 +205,9 @@ mod tests {
         let sum: u64 = block.iter().map(|&b| u64::from(b)).sum();
         let phase = start.phase("allocate");
         assert!(sum > 0);
-        assert!(phase.cpu > Duration::ZERO, "{phase:?}");
+        if cfg!(unix) {
+            assert!(phase.cpu > Duration::ZERO, "{phase:?}");
+        }
         assert!(phase.wall > Duration::ZERO);
         if cfg!(target_os = "linux") {
             let (rss, peak) = (phase.rss.expect("VmRSS"), phase.peak.expect("VmHWM"));

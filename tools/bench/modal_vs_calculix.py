@@ -243,7 +243,10 @@ def ccx_eigensolver() -> str:
 
 
 def ccx_version() -> str:
-    p = subprocess.run([CCX, "-v"], capture_output=True, text=True)
+    try:
+        p = subprocess.run([CCX, "-v"], capture_output=True, text=True)
+    except OSError:
+        return f"CalculiX not found at {CCX}"
     m = re.search(r"Version\s+(\S+)", p.stdout + p.stderr)
     return f"CalculiX {m.group(1)}" if m else "CalculiX ?"
 
