@@ -224,7 +224,9 @@ mod commands {
     }
 
     pub fn run(path: &Path, output: Option<&Path>, engine: Option<&str>) -> Result<(), Failure> {
+        let read_start = paraflex::sequence::usage::Usage::now();
         let (deck, model) = load_model(path)?;
+        let read = read_start.phase("read and validate the deck");
         print_warnings(&model.warnings);
         print_warnings(&sequence::request_warnings(&deck, &model));
         let optimize = deck.executive.sol.as_ref().map(|(s, _)| *s)
@@ -260,10 +262,11 @@ mod commands {
         };
         let result = sequence::run(&ctx);
         bars.finish();
-        let summary = result.map_err(|e| {
+        let mut summary = result.map_err(|e| {
             eprintln!("error: {e}");
             Failure(run_failure_code(&e))
         })?;
+        summary.phases.insert(0, read);
         let written = file.commit().map_err(io_failure)?;
         let xdmf = paraflex::io::write_xdmf(&written, &mesh).map_err(io_failure)?;
         for skipped in &xdmf.skipped {

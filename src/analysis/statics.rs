@@ -140,7 +140,7 @@ impl StaticSolution {
         let u_n = expand_f_to_n(&u_f, &c.sets, &enforced)?;
         let u_g = st.rigid.expand(&u_n)?;
         let p_n = st.rigid.reduce_vector(&p_g)?;
-        let q_s = spc_forces(&st.k_nn, &c.k_nn_values, &u_n, &p_n, &c.sets)?;
+        let q_s = spc_forces(&st.k_nn, &c.k_nn_values(st)?, &u_n, &p_n, &c.sets)?;
         let mut q_g = vec![0.0; st.map.size()];
         c.sets.s.scatter_into(&q_s, &mut q_g)?;
         Ok(StaticSolution { u_g, q_g, p_g })

@@ -12,8 +12,8 @@
 
 use std::sync::Arc;
 
-use nalgebra_sparse::CsrMatrix;
 use nalgebra_sparse::pattern::SparsityPattern;
+use nalgebra_sparse::{CscMatrix, CsrMatrix};
 
 use super::assemble::AffineOperator;
 use super::dofs::{DofSet, check_len};
@@ -195,6 +195,38 @@ impl Partition {
             .map(|(k, v)| (*k, self.source.iter().map(|&s| v[s]).collect()))
             .collect();
         AffineOperator::from_parts(self.pattern.clone(), parts)
+    }
+}
+
+impl Partition {
+    /// The sub-matrix of `op` evaluated at `weights` (one per part, [`AffineOperator::keys`]
+    /// order): Σᵢ wᵢ Aᵢ\[rows, cols\] summed entry by entry in the order of
+    /// [`AffineOperator::evaluate_into`], so it equals `self.apply(op)?.evaluate(weights)` bit
+    /// for bit without the sub-matrices of the parts in between.
+    pub fn evaluate(
+        &self,
+        op: &AffineOperator,
+        weights: &[f64],
+    ) -> Result<CscMatrix<f64>, AssemblyError> {
+        if !Arc::ptr_eq(op.pattern(), &self.parent) && **op.pattern() != *self.parent {
+            return Err(AssemblyError::PatternMismatch {
+                what: "operator is not on the planned parent pattern",
+            });
+        }
+        check_len("weights (one per part)", op.parts().len(), weights.len())?;
+        let mut values = vec![0.0; self.source.len()];
+        for ((_, part), &w) in op.parts().iter().zip(weights) {
+            if w != 0.0 {
+                for (v, &s) in values.iter_mut().zip(&self.source) {
+                    *v += w * part[s];
+                }
+            }
+        }
+        CscMatrix::try_from_pattern_and_values((*self.pattern).clone(), values).map_err(|_| {
+            AssemblyError::PatternMismatch {
+                what: "internal: pattern rejected by CscMatrix",
+            }
+        })
     }
 }
 

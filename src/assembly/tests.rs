@@ -518,6 +518,10 @@ fn affine_parts_share_one_pattern() {
     let mut buf = vec![0.0; k_ff.pattern().nnz()];
     k_ff.evaluate_into(&w, &mut buf).expect("into");
     assert_eq!(buf, a.values());
+    // the partition evaluated directly from the n-set parts: the same values, bit for bit
+    let direct = ff.evaluate(&k_nn, &w).expect("direct");
+    assert_eq!(direct.values(), a.values());
+    assert_eq!(direct.pattern(), a.pattern());
 }
 
 /// Errors name the grid and component (or the rigid elements) instead of panicking.

@@ -12,7 +12,9 @@
 //! - **Lanczos with full reorthogonalization** in the M-inner product (classical Gram–Schmidt
 //!   repeated while the norm drops by more than 1/0.7, the DGKS criterion), so the projected
 //!   matrix H = Vᵀ M OP V is formed explicitly and symmetric. On breakdown (an invariant
-//!   subspace) a fresh random vector, mapped through OP, continues the basis.
+//!   subspace) a fresh random vector, mapped through OP, continues the basis. The M products
+//!   are column gathers over the symmetric M (parallel, independent of the thread count), and
+//!   M vⱼ₊₁ = (M w)/β comes from the orthogonalization's last product.
 //! - **Thick restart** (Wu & Simon 2000, the symmetric Krylov–Schur of Stewart 2001): after m
 //!   steps the wanted Ritz vectors Y = V S are kept, H becomes diag(θ) bordered by the
 //!   residual couplings β sₘ, and the iteration continues from the residual vector. The basis
@@ -34,7 +36,9 @@
 //!   repeated eigenvalue in exact arithmetic — and the run is extended: converged vectors are
 //!   locked, a random vector orthogonal to them restarts the Krylov space, and iteration goes on
 //!   until the count is met (at most `max_recoveries` times; the final [`SturmCheck`] is
-//!   returned either way).
+//!   returned either way). The modes are purified before the count and the factor of K − σM
+//!   is released, so that the count's factorization takes its memory (one factor alive at a
+//!   time); an extended run factors K − σM again at the same σ.
 //!
 //! # EIGRL semantics ([`EigenRequest`], frequencies in Hz, λ = (2πf)²)
 //! - V1, V2 and ND: the lowest ND modes in [V1, V2] (fewer if the range holds fewer);
@@ -74,7 +78,7 @@ use faer::{Accum, Mat, MatMut, MatRef, Par};
 use nalgebra_sparse::CscMatrix;
 
 use super::cholesky::DEFAULT_MAX_RATIO;
-use super::sparse::{matvec_unchecked, norm_1};
+use super::sparse::{norm_1, sym_matvec_gather};
 use super::{Factor, Inertia, LinalgError, Progress, SolveScratch, SymbolicFactor};
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
@@ -174,6 +178,9 @@ pub struct EigenResult {
     pub restarts: usize,
     /// Runs extended after a Sturm deficit.
     pub recoveries: usize,
+    /// Lanczos steps: applications of OP, one solve with the factor of K − σM each (the
+    /// purification's block solve not counted).
+    pub solves: usize,
     /// Massless DOFs ([`massless_dofs`]): the pencil has at most n − `massless` finite
     /// eigenvalues.
     pub massless: usize,
@@ -304,8 +311,8 @@ fn solve_modes_from(
             target.available = target.available.min(ritz.lambdas.len());
         }
         let want = target.wanted(&ritz.lambdas).min(ritz.lambdas.len());
-        let top = match (upper, target.cap) {
-            (Some((shift, inertia)), Some(cap)) if want == cap => (shift, inertia),
+        let (top, modes) = match (upper, target.cap) {
+            (Some((shift, inertia)), Some(cap)) if want == cap => ((shift, inertia), None),
             _ => {
                 let lambda_top = if want == 0 {
                     sigma
@@ -313,8 +320,16 @@ fn solve_modes_from(
                     ritz.lambdas[want - 1].max(sigma)
                 };
                 let margin = 1e-6 * lambda_top.abs().max(sigma.abs()).max(f64::MIN_POSITIVE);
+                // The modes are purified first and the operator's factor released, so that
+                // the Sturm count's factorization of K − sM takes its place in memory: one
+                // factor alive at a time (it is recomputed only if the run must go on).
+                let modes = purified(&mut lanczos, &ritz, want, &bounds, progress)?;
+                lanczos.release_factor();
                 progress.step("eigen: Sturm check", 0, 1);
-                count_above(problem, lambda_top + margin, sigma, par)?
+                (
+                    count_above(problem, lambda_top + margin, sigma, par)?,
+                    Some(modes),
+                )
             }
         };
         let sturm = SturmCheck {
@@ -326,7 +341,12 @@ fn solve_modes_from(
         progress.step("eigen: Sturm check", 1, 1);
         if sturm.is_consistent() || recoveries == options.max_recoveries {
             let finite_exhausted = target.demand(&ritz.lambdas) > want;
-            let mut result = lanczos.finish(&ritz, want, &bounds, sturm, recoveries)?;
+            let mut result = match modes {
+                Some(modes) => modes,
+                None => purified(&mut lanczos, &ritz, want, &bounds, progress)?,
+            };
+            result.sturm = sturm;
+            result.recoveries = recoveries;
             result.massless = massless;
             result.finite_exhausted = finite_exhausted;
             return Ok(result);
@@ -334,6 +354,20 @@ fn solve_modes_from(
         recoveries += 1;
         lanczos.recover(&ritz, top.0, sturm.negative_pivots - below_sigma)?;
     }
+}
+
+/// [`Lanczos::modes`] of the wanted Ritz pairs, reported as a phase of its own.
+fn purified(
+    lanczos: &mut Lanczos,
+    ritz: &Ritz,
+    want: usize,
+    bounds: &Bounds,
+    progress: &dyn Progress,
+) -> Result<EigenResult, LinalgError> {
+    progress.step("eigen: purify and normalize the modes", 0, 1);
+    let modes = lanczos.modes(ritz, want, bounds)?;
+    progress.step("eigen: purify and normalize the modes", 1, 1);
+    Ok(modes)
 }
 
 /// λ bounds of the request; `lower`/`upper` are (2πV1)², (2πV2)².
@@ -525,6 +559,31 @@ fn choose_shift(
     factor_near(problem, -TWO_PI * TWO_PI, -1.0, par)
 }
 
+/// The factor of K − σM in `slot`, computed (again, after [`Lanczos::release_factor`]) when
+/// the slot is empty.
+fn factor_at<'f>(
+    slot: &'f mut Option<Factor>,
+    problem: &EigenProblem,
+    sigma: f64,
+    par: Par,
+) -> Result<&'f Factor, LinalgError> {
+    match slot {
+        Some(factor) => Ok(factor),
+        None => {
+            let values = shifted_values(problem, sigma);
+            Ok(slot.insert(problem.symbolic.factor_ldlt_values(&values, par)?))
+        }
+    }
+}
+
+/// The Sturm check of a result not yet checked ([`Lanczos::modes`]; the caller sets it).
+const UNCHECKED: SturmCheck = SturmCheck {
+    shift: f64::NAN,
+    negative_pivots: 0,
+    below_lower: 0,
+    found: 0,
+};
+
 /// Rayleigh–Ritz data of one Lanczos cycle, positive θ only, sorted by descending θ
 /// (= ascending λ).
 struct Ritz {
@@ -552,7 +611,8 @@ impl Ritz {
 /// State of the thick-restart Lanczos iteration (module doc).
 struct Lanczos<'a> {
     problem: &'a EigenProblem<'a>,
-    factor: Factor,
+    /// LDLᵀ of K − σM; `None` while released for the Sturm count ([`Self::release_factor`]).
+    factor: Option<Factor>,
     scratch: SolveScratch,
     sigma: f64,
     par: Par,
@@ -572,6 +632,8 @@ struct Lanczos<'a> {
     /// Sturm deficit).
     floor: Option<(f64, usize)>,
     restarts: usize,
+    /// Applications of OP so far.
+    solves: usize,
     rng: SplitMix64,
     /// 1 / diag(M) (0 on massless DOFs): random start vectors are scaled by it so that M x is
     /// a balanced random load ([`Self::start`]).
@@ -579,6 +641,9 @@ struct Lanczos<'a> {
     /// Per-step buffers (no allocation inside a cycle).
     w: Vec<f64>,
     p: Vec<f64>,
+    /// The column j of V such that `p` holds M vⱼ (set when vⱼ is made from w, whose M w is in
+    /// p, so that the next step need not multiply by M again).
+    p_is_mv: Option<usize>,
     c: Vec<f64>,
     c_pass: Vec<f64>,
 }
@@ -597,7 +662,7 @@ impl<'a> Lanczos<'a> {
         let scratch = factor.solve_scratch(1)?;
         let mut this = Self {
             problem,
-            factor,
+            factor: Some(factor),
             scratch,
             sigma,
             par,
@@ -610,6 +675,7 @@ impl<'a> Lanczos<'a> {
             m: 0,
             floor: None,
             restarts: 0,
+            solves: 0,
             rng: SplitMix64::new(options.seed),
             start_scale: (0..n)
                 .map(|i| problem.m.get_entry(i, i).map_or(0.0, |v| v.into_value()))
@@ -617,6 +683,7 @@ impl<'a> Lanczos<'a> {
                 .collect(),
             w: vec![0.0; n],
             p: vec![0.0; n],
+            p_is_mv: None,
             c: Vec::new(),
             c_pass: Vec::new(),
         };
@@ -641,23 +708,35 @@ impl<'a> Lanczos<'a> {
         self.m = m;
     }
 
-    /// w ← OP x = (K − σM)⁻¹ M x.
+    /// w ← OP x = (K − σM)⁻¹ M x, x = column `x_col` of V or w itself.
     fn apply_op(&mut self, x_col: Option<usize>) -> Result<(), LinalgError> {
+        let (m, par) = (self.problem.m, self.par);
         match x_col {
-            Some(j) => matvec_unchecked(self.problem.m, self.v.col_as_slice(j), &mut self.p),
-            None => matvec_unchecked(self.problem.m, &self.w, &mut self.p),
+            Some(j) if self.p_is_mv == Some(j) => {}
+            Some(j) => sym_matvec_gather(m, self.v.col_as_slice(j), &mut self.p, par),
+            None => sym_matvec_gather(m, &self.w, &mut self.p, par),
         }
+        self.p_is_mv = None;
         self.w.copy_from_slice(&self.p);
         let n = self.n;
-        self.factor.solve_in_place_with_scratch(
+        self.solves += 1;
+        let factor = factor_at(&mut self.factor, self.problem, self.sigma, par)?;
+        factor.solve_in_place_with_scratch(
             MatMut::from_column_major_slice_mut(&mut self.w, n, 1),
             &mut self.scratch,
         )
     }
 
+    /// Frees the factor of K − σM (for the Sturm count's); [`Self::apply_op`] computes it
+    /// again, at the same σ, should the iteration continue.
+    fn release_factor(&mut self) {
+        self.factor = None;
+    }
+
     /// ‖w‖_M, leaving M w in p.
     fn m_norm_w(&mut self) -> f64 {
-        matvec_unchecked(self.problem.m, &self.w, &mut self.p);
+        sym_matvec_gather(self.problem.m, &self.w, &mut self.p, self.par);
+        self.p_is_mv = None;
         self.w
             .iter()
             .zip(&self.p)
@@ -766,6 +845,9 @@ impl<'a> Lanczos<'a> {
                 for (dst, &x) in self.v.col_as_slice_mut(j + 1).iter_mut().zip(&self.w) {
                     *dst = x / beta;
                 }
+                // p = M w, so M v_{j+1} = p / β for the next step
+                self.p.iter_mut().for_each(|x| *x /= beta);
+                self.p_is_mv = Some(j + 1);
             }
         }
         Ok((self.m, self.h[(self.m, self.m - 1)]))
@@ -809,6 +891,7 @@ impl<'a> Lanczos<'a> {
         progress: &dyn Progress,
     ) -> Result<Ritz, LinalgError> {
         let initial = target.nd.unwrap_or(0).max(target.cap.unwrap_or(0)).max(1);
+        progress.step("eigen: Lanczos", 0, initial);
         self.ensure_size((2 * initial + 10).max(initial + 20));
         loop {
             let (m, beta) = self.expand()?;
@@ -860,6 +943,7 @@ impl<'a> Lanczos<'a> {
             self.par,
         );
         self.v.as_mut().subcols_mut(0, k).copy_from(y.as_ref());
+        self.p_is_mv = None;
         self.h.fill(0.0);
         for (dst, &e) in keep.iter().enumerate() {
             self.h[(dst, dst)] = ritz.theta[e];
@@ -900,14 +984,13 @@ impl<'a> Lanczos<'a> {
     }
 
     /// Purified, M-normalized vectors, Rayleigh quotients and residuals of the first `want`
-    /// Ritz pairs, filtered to the requested interval.
-    fn finish(
-        self,
+    /// Ritz pairs, filtered to the requested interval; the caller sets the Sturm check, the
+    /// recoveries and the counts of the result.
+    fn modes(
+        &mut self,
         ritz: &Ritz,
         want: usize,
         bounds: &Bounds,
-        sturm: SturmCheck,
-        recoveries: usize,
     ) -> Result<EigenResult, LinalgError> {
         let (n, m) = (self.n, ritz.m);
         let selected: Vec<usize> = (0..want.min(ritz.lambdas.len()))
@@ -935,10 +1018,11 @@ impl<'a> Lanczos<'a> {
         // OP removes it, since M annihilates it. Exact arithmetic would give Vs + (β sₘ/θ) vₘ.
         let mut vectors = Mat::<f64>::zeros(n, selected.len());
         for (dst, &e) in selected.iter().enumerate() {
-            matvec_unchecked(
+            sym_matvec_gather(
                 self.problem.m,
                 ritz_vectors.col_as_slice(dst),
                 vectors.col_as_slice_mut(dst),
+                self.par,
             );
             vectors
                 .col_as_slice_mut(dst)
@@ -946,9 +1030,9 @@ impl<'a> Lanczos<'a> {
                 .for_each(|x| *x /= ritz.theta[e]);
         }
         drop(ritz_vectors);
-        let mut block_scratch = self.factor.solve_scratch(selected.len())?;
-        self.factor
-            .solve_in_place_with_scratch(vectors.as_mut(), &mut block_scratch)?;
+        let factor = factor_at(&mut self.factor, self.problem, self.sigma, self.par)?;
+        let mut block_scratch = factor.solve_scratch(selected.len())?;
+        factor.solve_in_place_with_scratch(vectors.as_mut(), &mut block_scratch)?;
         let k_norm = norm_1(self.problem.k);
         let (mut kx, mut mx) = (vec![0.0; n], vec![0.0; n]);
         let mut result = EigenResult {
@@ -958,15 +1042,16 @@ impl<'a> Lanczos<'a> {
             residuals: Vec::with_capacity(selected.len()),
             clamped: Vec::new(),
             shift: self.sigma,
-            sturm,
+            sturm: UNCHECKED,
             restarts: self.restarts,
-            recoveries,
+            recoveries: 0,
+            solves: self.solves,
             massless: 0,
             finite_exhausted: false,
         };
         for dst in 0..selected.len() {
             let phi = result.vectors.col_as_slice_mut(dst);
-            matvec_unchecked(self.problem.m, phi, &mut mx);
+            sym_matvec_gather(self.problem.m, phi, &mut mx, self.par);
             let mass = dot(phi, &mx).sqrt();
             let sign = if phi
                 .iter()
@@ -980,8 +1065,8 @@ impl<'a> Lanczos<'a> {
             for x in phi.iter_mut() {
                 *x *= sign / mass;
             }
-            matvec_unchecked(self.problem.m, phi, &mut mx);
-            matvec_unchecked(self.problem.k, phi, &mut kx);
+            sym_matvec_gather(self.problem.m, phi, &mut mx, self.par);
+            sym_matvec_gather(self.problem.k, phi, &mut kx, self.par);
             let lambda = dot(phi, &kx) / dot(phi, &mx);
             let r = kx
                 .iter()

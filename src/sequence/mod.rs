@@ -70,8 +70,9 @@ pub mod shared;
 pub mod statics;
 pub mod statics_stress;
 pub mod transient;
+pub mod usage;
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use crate::analysis::AnalysisError;
 use crate::assembly::error::DofName;
@@ -112,6 +113,9 @@ pub struct RunSummary {
     pub subcases: Vec<SubcaseSummary>,
     /// Wall-clock time of each step, in order.
     pub timings: Vec<(String, Duration)>,
+    /// Wall time, CPU time and memory of each step, in order ([`usage`]); the binary puts the
+    /// reading of the deck in front.
+    pub phases: Vec<usage::Phase>,
     /// Things the user should know (AUTOSPC lists, inconsistent Sturm checks, …).
     pub warnings: Vec<String>,
 }
@@ -172,7 +176,7 @@ pub enum RunError {
 /// Runs the deck's solution sequence (see the module documentation).
 pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
     let driver = runnable(ctx.deck, ctx.model)?;
-    let mut clock = Clock::default();
+    let mut clock = Clock::new();
     let subcases = driver.run(ctx, &mut clock)?;
     let mut warnings = driver.warnings(ctx.model);
     warnings.extend(driver::element_damping_warning(driver, ctx.model));
@@ -200,35 +204,89 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
         model_lines: clock.model_lines,
         subcases,
         timings: clock.steps,
+        phases: clock.phases,
         warnings,
     })
 }
 
-/// Step timings of a run, and the model-level lines its steps report (the grid-point weight
-/// table of `PARAM,GRDPNT`), printed before the subcases.
-#[derive(Debug, Default)]
+/// Step timings of a run with each step's resources ([`usage`]), and the model-level lines its
+/// steps report (the grid-point weight table of `PARAM,GRDPNT`), printed before the subcases.
+#[derive(Debug)]
 pub struct Clock {
     steps: Vec<(String, Duration)>,
+    phases: Vec<usage::Phase>,
+    /// The reading at the end of the last step: the CPU time of a step recorded with
+    /// [`Clock::record`] is counted from it.
+    mark: usage::Usage,
     model_lines: Vec<String>,
 }
 
 impl Clock {
-    /// Runs `f` and records its duration under `name`.
+    /// A clock starting now.
+    pub fn new() -> Self {
+        Clock {
+            steps: Vec::new(),
+            phases: Vec::new(),
+            mark: usage::Usage::now(),
+            model_lines: Vec::new(),
+        }
+    }
+
+    /// Runs `f` and records its duration and resources under `name`.
     pub fn time<T>(&mut self, name: impl Into<String>, f: impl FnOnce() -> T) -> T {
-        let start = Instant::now();
+        let start = usage::Usage::now();
         let out = f();
-        self.record(name, start.elapsed());
+        self.push(start.phase(name));
         out
     }
 
-    /// Records a step timed elsewhere.
+    /// [`Clock::time`] for work that reports progress: `f` gets a [`Progress`] forwarding to
+    /// `progress` that also splits the step into sub-phases at each new event name
+    /// ([`usage::PhaseSplitter`]); they are listed before the step's own line.
+    pub fn time_split<T>(
+        &mut self,
+        name: impl Into<String>,
+        progress: &dyn Progress,
+        f: impl FnOnce(&dyn Progress) -> T,
+    ) -> T {
+        let start = usage::Usage::now();
+        let split = usage::PhaseSplitter::new(progress);
+        let out = f(&split);
+        for sub in split.finish() {
+            self.phases.push(usage::Phase {
+                name: format!("  · {}", sub.name),
+                ..sub
+            });
+        }
+        self.push(start.phase(name));
+        out
+    }
+
+    /// Records a step timed elsewhere that took `duration`; its CPU time is the process's since
+    /// the previous step ended.
     pub fn record(&mut self, name: impl Into<String>, duration: Duration) {
-        self.steps.push((name.into(), duration));
+        let phase = usage::Phase {
+            wall: duration,
+            ..self.mark.phase(name)
+        };
+        self.push(phase);
+    }
+
+    fn push(&mut self, phase: usage::Phase) {
+        self.steps.push((phase.name.clone(), phase.wall));
+        self.phases.push(phase);
+        self.mark = usage::Usage::now();
     }
 
     /// Adds model-level report lines.
     pub fn report_model(&mut self, lines: impl IntoIterator<Item = String>) {
         self.model_lines.extend(lines);
+    }
+}
+
+impl Default for Clock {
+    fn default() -> Self {
+        Self::new()
     }
 }
 

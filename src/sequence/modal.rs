@@ -64,6 +64,11 @@ pub struct ModalSummary {
     pub nd: Option<usize>,
     /// The SUPORT r-set's check, when the deck has one.
     pub suport: Option<SuportCheck>,
+    /// Lanczos thick restarts and steps (solves with K − σM).
+    pub restarts: usize,
+    pub solves: usize,
+    /// Entries of the factor L of K − σM at the symbolic analysis's ordering (8 bytes each).
+    pub factor_nnz: usize,
 }
 
 /// What the SUPORT r-set's rigid-body check found.
@@ -150,15 +155,19 @@ fn run(
             shift_hz: eigrl.shfscl,
         };
         let result = clock
-            .time(format!("subcase {id}: Lanczos"), || {
-                modes(&c, &request, symbolic, ctx.options.par(), ctx.progress)
+            .time_split(format!("subcase {id}: Lanczos"), ctx.progress, |progress| {
+                modes(&c, &request, symbolic, ctx.options.par(), progress)
             })
             .map_err(|e| super::mechanism(&c, st, id, e))?;
         let (result, suport) = with_rigid_body_modes(ctx, st, &c, sub, result)?;
         let summary = clock.time(format!("subcase {id}: output"), || {
             write_subcase(ctx, st, &c, sub, norm, eigrl.nd.map(|n| n as usize), result)
         })?;
-        let summary = ModalSummary { suport, ..summary };
+        let summary = ModalSummary {
+            suport,
+            factor_nnz: symbolic.factor_nnz(),
+            ..summary
+        };
         out.push(SubcaseSummary {
             id,
             autospc: c.autospc.names.clone(),
@@ -229,6 +238,9 @@ fn write_subcase(
         finite_exhausted: r.finite_exhausted,
         nd,
         suport: None,
+        restarts: r.restarts,
+        solves: r.solves,
+        factor_nnz: 0,
     })
 }
 
@@ -359,6 +371,13 @@ impl Report for ModalSummary {
             ));
         }
         out.push(format!("  {}", sturm_line(&m.sturm)));
+        out.push(format!(
+            "  Lanczos: {} step(s) (solves with K − σM), {} restart(s); factor of K − σM: {} entries ({:.1} MB)",
+            m.solves,
+            m.restarts,
+            m.factor_nnz,
+            m.factor_nnz as f64 * 8.0 / 1e6
+        ));
         if let Some(note) = cut_note(&m.sturm, m.eigenvalues.len()) {
             out.push(format!("  note: {note}"));
         }
@@ -450,6 +469,9 @@ mod tests {
             finite_exhausted: false,
             nd: Some(12),
             suport: None,
+            restarts: 0,
+            solves: 0,
+            factor_nnz: 0,
         };
         let lines = summary.render(1);
         assert!(

@@ -53,6 +53,9 @@ impl RunSummary {
             steps.join(", "),
             total.as_secs_f64()
         ));
+        if !self.phases.is_empty() {
+            out.extend(super::usage::render(&self.phases));
+        }
         out
     }
 }

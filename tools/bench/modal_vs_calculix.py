@@ -243,7 +243,10 @@ def ccx_eigensolver() -> str:
 
 
 def ccx_version() -> str:
-    p = subprocess.run([CCX, "-v"], capture_output=True, text=True)
+    try:
+        p = subprocess.run([CCX, "-v"], capture_output=True, text=True)
+    except OSError:
+        return f"CalculiX not found at {CCX}"
     m = re.search(r"Version\s+(\S+)", p.stdout + p.stderr)
     return f"CalculiX {m.group(1)}" if m else "CalculiX ?"
 
@@ -349,9 +352,14 @@ def run_paraflex(work: Path, threads: int, binary: Path) -> Run:
         r.details.append(f"frequencies from stdout ({type(e).__name__}: {e})")
     m = re.search(r"f-set (\d+) DOFs", log)
     r.equations = int(m.group(1)) if m else None
+    in_resources = False
     for line in log.splitlines():
-        if line.startswith("timings:") or "Sturm" in line or "sturm" in line:
-            r.details.append(line.strip())
+        if line.startswith("resources per phase"):
+            in_resources = True
+        elif in_resources and not line.startswith("  "):
+            in_resources = False
+        if in_resources or line.startswith("timings:") or "Sturm" in line or "Lanczos:" in line:
+            r.details.append(line.rstrip() if in_resources else line.strip())
     r.ok = len(r.freqs) > 0
     if not r.ok:
         r.note = "paraflex ran but no frequencies were found (HDF5 /results/1/modal/frequency_hz nor stdout)"
