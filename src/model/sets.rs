@@ -241,7 +241,7 @@ impl Model {
             );
         for face in faces {
             let xyz: Vec<[f64; 3]> = face.grids.iter().map(|&g| self.grids[g].xyz).collect();
-            let forces = crate::fe::pressure::face_forces(&xyz, &face.pressures, face.direction);
+            let forces = face.forces(&xyz);
             for (&grid, f) in face.grids.iter().zip(forces) {
                 term.point_loads.push(PointLoad {
                     kind: ForceKind::Force,
