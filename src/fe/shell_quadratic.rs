@@ -229,8 +229,9 @@ impl Quadratic {
 }
 
 /// Which mid-side grids of a CQUAD8 / CTRIA6 are given. A blank mid-side grid leaves its
-/// edge straight and the displacement along it linear (MSC Nastran QRG, CQUAD8 and CTRIA6
-/// remarks: the transition element to a CQUAD4 / CTRIA3 neighbour). The element is built as
+/// edge straight and the displacement along it linear: the transition element to a CQUAD4 /
+/// CTRIA3 neighbour (the MSC Nastran QRG, CQUAD8 remark 3, allows any subset blank, "the
+/// element equations are modified" for the reduced connections). The element is built as
 /// the full 8- / 6-node element with that mid-side node at the middle of its edge, tied by
 /// u_m = ½(u_a + u_b) on all six DOFs (a, b the edge's corners): with T the map from the
 /// given grids' DOFs to the full element's, its strain operator is B T, its shape functions
