@@ -372,7 +372,7 @@ fn shell_section(
     card: &ShellPlacement,
 ) -> Result<ShellSections, DiscretizeError> {
     // corner grids: the quadratic shells' corner thicknesses are those of their corners
-    let quadratic = shell_quadratic::Quadratic::with_nodes(e.nodes.len());
+    let quadratic = model.quadratic_layout(e).map(|l| l.shape);
     let n = match quadratic {
         Some(shell_quadratic::Quadratic::Quad8) => 4,
         Some(shell_quadratic::Quadratic::Tria6) => 3,
@@ -680,7 +680,10 @@ fn material_axis(
     match orientation {
         ShellOrientation::Theta(0.0) => Ok(None),
         ShellOrientation::Theta(theta) => {
-            let n = if xyz.len() == 4 || xyz.len() == 8 {
+            let n = if matches!(
+                e.kind,
+                ElementKind::Quad4 | ElementKind::QuadR | ElementKind::Quad8
+            ) {
                 cross(sub(xyz[2], xyz[0]), sub(xyz[3], xyz[1]))
             } else {
                 cross(sub(xyz[1], xyz[0]), sub(xyz[2], xyz[0]))
@@ -724,11 +727,11 @@ fn shell_element(
     } = shell_section(model, e, &card)?;
     let material_x = material_axis(model, e, xyz, card.orientation)?;
     let parts = shell_parts(&centre, ctx.params).map_err(|x| err(e, x))?;
-    if shell_quadratic::Quadratic::with_nodes(xyz.len()).is_some() {
+    if let Some(layout) = model.quadratic_layout(e) {
         return quadratic_shell(
             ctx,
             e,
-            xyz,
+            (layout, xyz),
             parts,
             points,
             ShellRecovery { material_x, fibres },
@@ -823,24 +826,27 @@ fn shell_element(
 fn quadratic_shell(
     ctx: &ElementContext,
     e: &Element,
-    xyz: &[[f64; 3]],
+    (layout, xyz): (shell_quadratic::Layout, &[[f64; 3]]),
     parts: ShellParts,
     points: Option<Vec<SectionInput>>,
     recovery: ShellRecovery,
 ) -> Result<Built, DiscretizeError> {
     let k = match points {
-        None => shell_quadratic::affine_stiffness(xyz, &parts.stiffness, recovery.material_x),
+        None => {
+            shell_quadratic::affine_stiffness(layout, xyz, &parts.stiffness, recovery.material_x)
+        }
         Some(points) => {
             let at = points
                 .iter()
                 .map(|s| shell_parts(s, ctx.params).map(|p| p.stiffness))
                 .collect::<Result<Vec<_>, _>>()
                 .map_err(|x| err(e, x))?;
-            shell_quadratic::affine_stiffness_at_points(xyz, &at, recovery.material_x)
+            shell_quadratic::affine_stiffness_at_points(layout, xyz, &at, recovery.material_x)
         }
     }
     .map_err(|x| err(e, x))?;
-    let m = shell_quadratic::affine_mass(xyz, &parts.mass, ctx.lumped).map_err(|x| err(e, x))?;
+    let m = shell_quadratic::affine_mass(layout, xyz, &parts.mass, ctx.lumped)
+        .map_err(|x| err(e, x))?;
     let frozen = CoefficientValues::default();
     Ok(Built {
         k: nonempty(&k).then(|| {
@@ -1231,6 +1237,10 @@ pub fn shell_strains(
         id: e.id,
         reason,
     };
+    if let Some(layout) = model.quadratic_layout(e) {
+        return shell_quadratic::strains(layout, &xyz, rec.material_x, rec.fibres, ue)
+            .map_err(|x| bad(x.to_string()));
+    }
     match (xyz.len(), ue.len()) {
         (4, 24) => shell::quad4_strains(
             &[xyz[0], xyz[1], xyz[2], xyz[3]],
@@ -1244,7 +1254,6 @@ pub fn shell_strains(
             rec.fibres,
             &std::array::from_fn(|i| ue[i]),
         ),
-        (8, 48) | (6, 36) => shell_quadratic::strains(&xyz, rec.material_x, rec.fibres, ue),
         (k, _) => return Err(bad(format!("a shell with {k} grids"))),
     }
     .map_err(|x| bad(x.to_string()))

@@ -35,6 +35,16 @@
 //! the in-plane rotation of the quadratic membrane lie in the same polynomial space, so the
 //! penalty constrains no membrane motion (no locking) and leaves no spurious drilling mode.
 //!
+//! **Blank mid-side grids** ([`Layout`]): the 4-to-8 (3-to-6) node transition element
+//! (Bathe, *Finite Element Procedures*, 2014, §5.3.1): the missing node is put at its edge's
+//! middle and tied to the edge's corners inside the element, so its matrices are those of the
+//! full element reduced by T (K' = Tᵀ K T), exactly affine in the section. On a CQUAD8 the tie
+//! includes the in-plane edge mode of the CQUAD4's Allman membrane, so a blank edge conforms
+//! with a CQUAD4 neighbour (membrane patch exact on a mixed patch). Measured: six rigid modes
+//! for every subset of blanks; the bending patch (w quadratic) is not in the space of an element
+//! with a blank edge and is not passed; a cantilever strip of transition elements (edges across
+//! the strip blank) is within 0.3 % of beam theory.
+//!
 //! **Assumed strains, CQUAD8** (the MITC9 tying of Bucalem & Bathe, "Higher-order MITC general
 //! shell elements", IJNME 36 (1993) 3729–3754, on the 8-node serendipity field): with
 //! a = 1/√3, b = √(3/5), ε⁰_ξξ and 2ε_ξ3 are tied at ξ = ±a, η ∈ {−b, 0, b} and interpolated
@@ -215,6 +225,151 @@ impl Quadratic {
                 .collect(),
             Quadratic::Tria6 => vec![1.0 - xi - eta, xi, eta],
         }
+    }
+}
+
+/// Which mid-side grids of a CQUAD8 / CTRIA6 are given. A blank mid-side grid leaves its
+/// edge straight and the displacement along it linear: the transition element to a CQUAD4 /
+/// CTRIA3 neighbour (the MSC Nastran QRG, CQUAD8 remark 3, allows any subset blank, "the
+/// element equations are modified" for the reduced connections). The element is built as
+/// the full 8- / 6-node element with that mid-side node at the middle of its edge, tied by
+/// u_m = ½(u_a + u_b) on all six DOFs (a, b the edge's corners): with T the map from the
+/// given grids' DOFs to the full element's, its strain operator is B T, its shape functions
+/// Tᵀ N, so K' = Tᵀ K T, M' = Tᵀ M T and loads Tᵀ f. No grid and no constraint is added to the
+/// model, and K' stays linear in the section (the affine split is the full element's).
+/// Along a tied edge the serendipity / quadratic functions with the middle value the mean of
+/// the ends are linear, so the edge conforms with a CQUAD4 / CTRIA3 edge; a rigid motion is
+/// linear in x and satisfies the tie on a straight edge, so the six rigid-body modes stay in
+/// the element's space.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Layout {
+    pub shape: Quadratic,
+    /// `blank[k]`: the mid-side grid of edge k (from corner k to corner k + 1) is blank; only
+    /// the first three are used by a CTRIA6.
+    pub blank: [bool; 4],
+}
+
+impl Layout {
+    /// Every mid-side grid given.
+    pub fn full(shape: Quadratic) -> Self {
+        Layout {
+            shape,
+            blank: [false; 4],
+        }
+    }
+
+    /// The layout of a card's grid list (corners, then mid-sides, 0 for a blank one), `None`
+    /// for a list of another length than 8 or 6.
+    pub fn of_card(nodes: &[u32]) -> Option<Self> {
+        let shape = Quadratic::with_nodes(nodes.len())?;
+        let corners = shape.nodes() / 2;
+        let mut blank = [false; 4];
+        for (b, &g) in blank.iter_mut().zip(&nodes[corners..]) {
+            *b = g == 0;
+        }
+        Some(Layout { shape, blank })
+    }
+
+    /// True when a mid-side grid is blank.
+    pub fn has_blank(self) -> bool {
+        self.blank[..self.shape.nodes() / 2].contains(&true)
+    }
+
+    /// Number of grids given (corners and mid-sides).
+    pub fn grids(self) -> usize {
+        let corners = self.shape.nodes() / 2;
+        corners + self.blank[..corners].iter().filter(|&&b| !b).count()
+    }
+
+    /// For each node of the full element, the given grids (positions in the given list:
+    /// corners first, then the given mid-sides in order) and weights it is tied to.
+    fn ties(self) -> Vec<Vec<(usize, f64)>> {
+        let corners = self.shape.nodes() / 2;
+        let mut out: Vec<Vec<(usize, f64)>> = (0..corners).map(|a| vec![(a, 1.0)]).collect();
+        let mut next = corners;
+        for k in 0..corners {
+            if self.blank[k] {
+                out.push(vec![(k, 0.5), ((k + 1) % corners, 0.5)]);
+            } else {
+                out.push(vec![(next, 1.0)]);
+                next += 1;
+            }
+        }
+        out
+    }
+
+    /// The full element's grid positions from the given grids' (a blank mid-side grid at the
+    /// middle of its edge).
+    pub fn complete(self, xyz: &[V3]) -> Result<Vec<V3>, ShellError> {
+        if xyz.len() != self.grids() {
+            return Err(ShellError::NodeCount(xyz.len()));
+        }
+        Ok(self
+            .ties()
+            .iter()
+            .map(|tie| {
+                tie.iter().fold([0.0; 3], |s, &(a, w)| {
+                    std::array::from_fn(|k| s[k] + w * xyz[a][k])
+                })
+            })
+            .collect())
+    }
+
+    /// Tᵀ v: `v` of the full element's nodes (grid-major, `per` values each) summed onto the
+    /// given grids.
+    pub fn condense(self, v: &[f64], per: usize) -> Vec<f64> {
+        let mut out = vec![0.0; per * self.grids()];
+        for (f, tie) in self.ties().iter().enumerate() {
+            for &(a, w) in tie {
+                for i in 0..per {
+                    out[per * a + i] += w * v[per * f + i];
+                }
+            }
+        }
+        out
+    }
+
+    /// The in-plane (Allman) part of a CQUAD8's tie: for each blank edge k from corner a to
+    /// b, with n the surface normal at its middle, u_m gains ((θ_b − θ_a)·n) c with
+    /// c = (x_b − x_a) × n / 8; `None` for given edges and for the CTRIA6.
+    fn allman(self, geometry: &Geometry) -> [Option<(V3, V3)>; 4] {
+        let mut out = [None; 4];
+        if self.shape == Quadratic::Quad8 {
+            for (k, o) in out.iter_mut().enumerate().filter(|(k, _)| self.blank[*k]) {
+                let n = geometry.normals[4 + k];
+                let e = sub(geometry.xyz[(k + 1) % 4], geometry.xyz[k]);
+                *o = Some((scale(cross(e, n), 0.125), n));
+            }
+        }
+        out
+    }
+
+    /// B T: the columns (6 per full node) of `b` onto the given grids', with the in-plane
+    /// edge modes `allman` of [`Layout::allman`].
+    fn condense_columns(self, b: &Mat<f64>, allman: &[Option<(V3, V3)>; 4]) -> Mat<f64> {
+        let mut out = Mat::<f64>::zeros(b.nrows(), 6 * self.grids());
+        let corners = self.shape.nodes() / 2;
+        for (f, tie) in self.ties().iter().enumerate() {
+            for &(a, w) in tie {
+                for r in 0..b.nrows() {
+                    for i in 0..6 {
+                        out[(r, 6 * a + i)] += w * b[(r, 6 * f + i)];
+                    }
+                }
+            }
+            let Some((c, n)) = f.checked_sub(corners).and_then(|k| allman[k]) else {
+                continue;
+            };
+            let (a, bb) = (f - corners, (f - corners + 1) % corners);
+            for r in 0..b.nrows() {
+                let v: f64 = (0..3).map(|i| b[(r, 6 * f + i)] * c[i]).sum();
+                for i in 0..3 {
+                    out[(r, 6 * bb + 3 + i)] += v * n[i];
+                    out[(r, 6 * a + 3 + i)] -= v * n[i];
+                }
+            }
+        }
+        out
     }
 }
 
@@ -599,16 +754,25 @@ struct Point {
     normal: V3,
 }
 
-/// A quadratic shell element, ready for any section.
+/// A quadratic shell element, ready for any section: strain operators and shape functions
+/// on the given grids (blank mid-side nodes tied, [`Layout`]).
 struct Curved {
-    geometry: Geometry,
+    /// Nodal normals of the given grids.
+    normals: Vec<V3>,
     points: Vec<Point>,
 }
 
 impl Curved {
-    fn new(xyz: &[V3], material_x: Option<V3>) -> Result<Self, ShellError> {
-        let shape = Quadratic::with_nodes(xyz.len()).ok_or(ShellError::NodeCount(xyz.len()))?;
-        let geometry = Geometry::new(shape, xyz, material_x)?;
+    fn new(layout: Layout, xyz: &[V3], material_x: Option<V3>) -> Result<Self, ShellError> {
+        let shape = layout.shape;
+        let geometry = Geometry::new(shape, &layout.complete(xyz)?, material_x)?;
+        let allman = layout.allman(&geometry);
+        let mut normals = vec![[0.0; 3]; layout.grids()];
+        for (f, tie) in layout.ties().iter().enumerate() {
+            if let [(a, _)] = tie[..] {
+                normals[a] = geometry.normals[f];
+            }
+        }
         let points = shape
             .rule()
             .into_iter()
@@ -616,17 +780,21 @@ impl Curved {
                 let (b, da, axes) = geometry.operator(p)?;
                 Ok(Point {
                     wda: w * da,
-                    shape: shape.shape(p).0,
-                    b,
+                    shape: layout.condense(&shape.shape(p).0, 1),
+                    b: layout.condense_columns(&b, &allman),
                     normal: axes[2],
                 })
             })
             .collect::<Result<Vec<_>, ShellError>>()?;
-        Ok(Curved { geometry, points })
+        Ok(Curved { normals, points })
+    }
+
+    fn dofs(&self) -> usize {
+        6 * self.normals.len()
     }
 
     fn stiffness_at_points(&self, sections: &[&ShellSection]) -> Mat<f64> {
-        let n = self.geometry.dofs();
+        let n = self.dofs();
         let mut k = Mat::<f64>::zeros(n, n);
         for (p, s) in self.points.iter().zip(sections) {
             let cb = constitutive(s) * &p.b;
@@ -641,7 +809,7 @@ impl Curved {
     }
 
     fn mass(&self, m: &ShellMass, lumped: bool) -> Mat<f64> {
-        let nn = self.geometry.xyz.len();
+        let nn = self.normals.len();
         let mut out = Mat::<f64>::zeros(6 * nn, 6 * nn);
         let mut add = |a: usize, b: usize, f: f64, normal: V3| {
             let rho = mass_density(m, normal);
@@ -658,7 +826,7 @@ impl Curved {
             let area: f64 = self.points.iter().map(|p| p.wda).sum();
             let total: f64 = diag.iter().sum();
             for (a, d) in diag.iter().enumerate() {
-                add(a, a, area * d / total, self.geometry.normals[a]);
+                add(a, a, area * d / total, self.normals[a]);
             }
         } else {
             for p in &self.points {
@@ -730,14 +898,16 @@ pub fn integration_point_thickness(
         .collect())
 }
 
-/// Affine stiffness Σ f_i K_i of a CQUAD8 (8 grids) or CTRIA6 (6 grids), basic system:
+/// Affine stiffness Σ f_i K_i of a CQUAD8 or CTRIA6 of `layout` (`xyz`: its given grids,
+/// corners first), basic system:
 /// K_i = K(section_i) by linearity; parts without stiffness are skipped.
 pub fn affine_stiffness(
+    layout: Layout,
     xyz: &[V3],
     sections: &[(Coefficient, ShellSection)],
     material_x: Option<V3>,
 ) -> Result<AffineMatrix, ShellError> {
-    let el = Curved::new(xyz, material_x)?;
+    let el = Curved::new(layout, xyz, material_x)?;
     let parts = sections
         .iter()
         .filter(|(_, s)| !s.stiffness_is_zero())
@@ -750,11 +920,12 @@ pub fn affine_stiffness(
 /// [`integration_point_thickness`]); every point must give the same coefficients in the same
 /// order.
 pub fn affine_stiffness_at_points(
+    layout: Layout,
     xyz: &[V3],
     sections: &[Vec<(Coefficient, ShellSection)>],
     material_x: Option<V3>,
 ) -> Result<AffineMatrix, ShellError> {
-    let el = Curved::new(xyz, material_x)?;
+    let el = Curved::new(layout, xyz, material_x)?;
     let expected = el.points.len();
     let first = sections
         .first()
@@ -781,11 +952,12 @@ pub fn affine_stiffness_at_points(
 /// Affine mass Σ f_i M_i of a CQUAD8 or CTRIA6 (consistent or HRZ-lumped); parts without mass
 /// are skipped.
 pub fn affine_mass(
+    layout: Layout,
     xyz: &[V3],
     sections: &[(Coefficient, ShellSection)],
     lumped: bool,
 ) -> Result<AffineMatrix, ShellError> {
-    let el = Curved::new(xyz, None)?;
+    let el = Curved::new(layout, xyz, None)?;
     let parts = sections
         .iter()
         .filter(|(_, s)| !s.mass.is_zero())
@@ -797,17 +969,19 @@ pub fn affine_mass(
 /// Centroid strains of a CQUAD8 or CTRIA6 in the material system there, from basic
 /// displacements `u` (grid-major, 6 per grid); `section_z` = (z_top, z_bot) of the fibres.
 pub fn strains(
+    layout: Layout,
     xyz: &[V3],
     material_x: Option<V3>,
     section_z: (f64, f64),
     u: &[f64],
 ) -> Result<ShellStrains, ShellError> {
-    let shape = Quadratic::with_nodes(xyz.len()).ok_or(ShellError::NodeCount(xyz.len()))?;
-    let geometry = Geometry::new(shape, xyz, material_x)?;
-    if u.len() != geometry.dofs() {
+    let shape = layout.shape;
+    let geometry = Geometry::new(shape, &layout.complete(xyz)?, material_x)?;
+    if u.len() != 6 * layout.grids() {
         return Err(ShellError::NodeCount(u.len() / 6));
     }
     let (b, _, axes) = geometry.operator(shape.centre())?;
+    let b = layout.condense_columns(&b, &layout.allman(&geometry));
     let e: Vec<f64> = (0..NSTRAIN)
         .map(|r| (0..u.len()).map(|c| b[(r, c)] * u[c]).sum())
         .collect();
@@ -827,8 +1001,9 @@ pub fn strains(
 /// ∫w dA and ∫x w dA / ∫w dA over a CQUAD8 / CTRIA6 surface, for a density w interpolated
 /// from its corner values (bilinear / linear), with the element's integration rule (the one
 /// of its mass matrix, so the two agree).
-pub fn weighted(xyz: &[V3], corner_w: &[f64]) -> Result<(f64, V3), ShellError> {
-    let shape = Quadratic::with_nodes(xyz.len()).ok_or(ShellError::NodeCount(xyz.len()))?;
+pub fn weighted(layout: Layout, xyz: &[V3], corner_w: &[f64]) -> Result<(f64, V3), ShellError> {
+    let shape = layout.shape;
+    let xyz = &layout.complete(xyz)?;
     // validates the element (a folded surface has no meaningful area)
     Geometry::new(shape, xyz, None)?;
     let w_at = integration_point_thickness(shape, corner_w)?;

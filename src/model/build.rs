@@ -675,7 +675,10 @@ fn build_elements(
         } else {
             &shell
         };
-        let nodes = resolve_nodes(refs, ids, &G, &card, loc, errors);
+        // a blank (0) mid-side grid of a CQUAD8 / CTRIA6 is no grid of the element
+        let (given, names): (Vec<u32>, Vec<&str>) =
+            ids.iter().zip(G).filter(|(id, _)| **id != 0).unzip();
+        let nodes = resolve_nodes(refs, &given, &names, &card, loc, errors);
         let prop = resolve_property(refs, pid, allowed, &card, loc, errors);
         let Some(nodes) = nodes else {
             continue;

@@ -139,7 +139,8 @@ impl Model {
                     self.corner_densities::<3>(e.property?, corners.as_ref())?
                         .to_vec()
                 };
-                let (mass, point) = crate::fe::shell_quadratic::weighted(&p, &w).ok()?;
+                let layout = self.quadratic_layout(e)?;
+                let (mass, point) = crate::fe::shell_quadratic::weighted(layout, &p, &w).ok()?;
                 Some(MassPoint {
                     mass,
                     point,

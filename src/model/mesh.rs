@@ -15,7 +15,8 @@ pub struct MeshArrays {
 /// All elements of one type.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ElementBlock {
-    /// Card name: `CQUAD4`, `CTRIA3`, `CHEXA`, `CPENTA`, `CTETRA` (4 nodes), `CTETRA10`,
+    /// Card name: `CQUAD4`, `CTRIA3`, `CQUAD8`, `CTRIA6` (and `CQUAD8_CORNERS`,
+    /// `CTRIA6_CORNERS`: those with a blank mid-side grid, by their corner grids), `CHEXA`, `CPENTA`, `CTETRA` (4 nodes), `CTETRA10`,
     /// `CELAS1`, `CELAS2`, `CONM2`, and `RBE2`/`RBE3` as one two-node line per leg
     /// (independent/reference grid to each dependent/independent grid), for drawing spiders.
     pub card: &'static str,

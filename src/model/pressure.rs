@@ -11,7 +11,8 @@
 
 use super::{ElementKind, Model};
 use crate::deck::cards::{Pload, Pload2, Pload4, Pload4Target};
-use crate::fe::pressure::Direction;
+use crate::fe::pressure::{Direction, face_forces};
+use crate::fe::shell_quadratic::Layout;
 use crate::geometry::vec3::{cross, dot, norm, scale, sub};
 
 /// A loaded face: grid indices into [`Model::grids`], corner pressures, direction.
@@ -20,6 +21,31 @@ pub struct LoadedFace {
     pub grids: Vec<usize>,
     pub pressures: Vec<f64>,
     pub direction: Direction,
+    /// The face of a CQUAD8 / CTRIA6: which of its mid-side grids are given (`grids` holds
+    /// the given ones); a blank one is tied to its edge's corners, as in the element.
+    pub layout: Option<Layout>,
+}
+
+impl LoadedFace {
+    /// Consistent nodal forces (basic) on `grids`, from their positions `xyz`.
+    pub fn forces(&self, xyz: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        let Some(layout) = self.layout.filter(|l| l.has_blank()) else {
+            return face_forces(xyz, &self.pressures, self.direction);
+        };
+        match layout.complete(xyz) {
+            Ok(full) => {
+                let f = face_forces(&full, &self.pressures, self.direction);
+                let flat: Vec<f64> = f.iter().flatten().copied().collect();
+                layout
+                    .condense(&flat, 3)
+                    .chunks(3)
+                    .map(|c| [c[0], c[1], c[2]])
+                    .collect()
+            }
+            // the grid list does not match the layout: no load (the element itself is refused)
+            Err(_) => vec![[0.0; 3]; xyz.len()],
+        }
+    }
 }
 
 impl Model {
@@ -47,7 +73,7 @@ impl Model {
                 .iter()
                 .filter(|e| (first..=last).contains(&e.id))
                 .filter(|e| e.kind.is_shell())
-                .map(|e| shell_face(&e.nodes, &card.pressures, direction))
+                .map(|e| self.shell_face(e, &card.pressures, direction))
                 .collect()),
             Pload4Target::Element { eid, g1, g34 } => {
                 let element = self
@@ -64,7 +90,7 @@ impl Model {
                     | ElementKind::TriaR
                     | ElementKind::Quad8
                     | ElementKind::Tria6 => {
-                        return Ok(vec![shell_face(&element.nodes, &card.pressures, direction)]);
+                        return Ok(vec![self.shell_face(element, &card.pressures, direction)]);
                     }
                     ElementKind::Hexa8
                     | ElementKind::Penta6
@@ -105,6 +131,7 @@ impl Model {
                     grids: face,
                     pressures: card.pressures[..corners].to_vec(),
                     direction,
+                    layout: None,
                 }])
             }
         }
@@ -123,7 +150,7 @@ impl Model {
                 .ok_or(format!(
                     "EID = {eid} is not a CQUAD4, CTRIA3, CQUADR, CTRIAR, CQUAD8 or CTRIA6"
                 ))?;
-            faces.push(shell_face(&e.nodes, &[card.pressure; 4], Direction::Normal));
+            faces.push(self.shell_face(e, &[card.pressure; 4], Direction::Normal));
         }
         if let Some((first, last)) = card.range {
             faces.extend(
@@ -131,7 +158,7 @@ impl Model {
                     .iter()
                     .filter(|e| (first..=last).contains(&e.id))
                     .filter(shells)
-                    .map(|e| shell_face(&e.nodes, &[card.pressure; 4], Direction::Normal)),
+                    .map(|e| self.shell_face(e, &[card.pressure; 4], Direction::Normal)),
             );
         }
         Ok(faces)
@@ -153,17 +180,30 @@ impl Model {
             pressures: vec![card.pressure; grids.len()],
             grids,
             direction: Direction::Normal,
+            layout: None,
         })
     }
 }
 
-fn shell_face(nodes: &[usize], pressures: &[f64; 4], direction: Direction) -> LoadedFace {
-    // one pressure per corner: 4 for CQUAD4 / CQUAD8, 3 for CTRIA3 / CTRIA6
-    let corners = if nodes.len().is_multiple_of(4) { 4 } else { 3 };
-    LoadedFace {
-        grids: nodes.to_vec(),
-        pressures: pressures[..corners].to_vec(),
-        direction,
+impl Model {
+    /// The face of a shell element: its grids in its order.
+    fn shell_face(
+        &self,
+        e: &super::Element,
+        pressures: &[f64; 4],
+        direction: Direction,
+    ) -> LoadedFace {
+        // one pressure per corner: 4 for CQUAD4 / CQUAD8, 3 for CTRIA3 / CTRIA6
+        let corners = match e.kind {
+            ElementKind::Quad4 | ElementKind::QuadR | ElementKind::Quad8 => 4,
+            _ => 3,
+        };
+        LoadedFace {
+            grids: e.nodes.clone(),
+            pressures: pressures[..corners].to_vec(),
+            direction,
+            layout: self.quadratic_layout(e),
+        }
     }
 }
 

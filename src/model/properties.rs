@@ -103,6 +103,19 @@ impl Model {
         }
     }
 
+    /// Which mid-side grids of a CQUAD8 / CTRIA6 are given (`None` for other elements); the
+    /// element's grids are the given ones, corners first.
+    pub fn quadratic_layout(&self, e: &Element) -> Option<crate::fe::shell_quadratic::Layout> {
+        let cards = match e.kind {
+            ElementKind::Quad8 => &self.bulk.cquad8,
+            ElementKind::Tria6 => &self.bulk.ctria6,
+            _ => return None,
+        };
+        cards
+            .get(e.card)
+            .and_then(|c| crate::fe::shell_quadratic::Layout::of_card(&c.nodes))
+    }
+
     /// The shell fields of a CQUAD4 / CTRIA3 / CQUADR / CTRIAR / CQUAD8 / CTRIA6 element.
     pub fn shell_placement(&self, e: &Element) -> Option<ShellPlacement> {
         let b = &self.bulk;

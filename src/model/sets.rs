@@ -241,7 +241,7 @@ impl Model {
             );
         for face in faces {
             let xyz: Vec<[f64; 3]> = face.grids.iter().map(|&g| self.grids[g].xyz).collect();
-            let forces = crate::fe::pressure::face_forces(&xyz, &face.pressures, face.direction);
+            let forces = face.forces(&xyz);
             for (&grid, f) in face.grids.iter().zip(forces) {
                 term.point_loads.push(PointLoad {
                     kind: ForceKind::Force,
@@ -366,6 +366,47 @@ mod tests {
             .expect("temp file");
         file.write_all(text.as_bytes()).expect("write deck");
         Deck::read(file.path()).unwrap_or_else(|e| panic!("deck: {e}"))
+    }
+
+    /// A flat 2 × 2 CQUAD8 whose mid-side grid G6 (edge G2–G3) is blank, next to a CQUAD4 on
+    /// that edge: the element has seven grids, the mesh draws it by its corners, and a uniform
+    /// PLOAD4 p on it gives the full element's consistent loads (−pA/12 at the corners, pA/3
+    /// at the mid-sides; Zienkiewicz & Taylor vol. 1 §8.8) with the blank mid-side's share
+    /// split to G2 and G3 (T^T f): pA/12 each there, total pA. Exact to round-off.
+    #[test]
+    fn pload4_on_a_cquad8_with_a_blank_midside_grid() {
+        let text = "SOL 101\nCEND\nBEGIN BULK\n\
+            GRID,1,,0.,0.,0.\nGRID,2,,2.,0.,0.\nGRID,3,,2.,2.,0.\nGRID,4,,0.,2.,0.\n\
+            GRID,5,,1.,0.,0.\nGRID,7,,1.,2.,0.\nGRID,8,,0.,1.,0.\n\
+            GRID,9,,4.,0.,0.\nGRID,10,,4.,2.,0.\n\
+            MAT1,1,70000.,,.3\nPSHELL,1,1,.1,1,,1\n\
+            CQUAD8,10,1,1,2,3,4,5,,\n,7,8\nCQUAD4,11,1,2,9,10,3\n\
+            PLOAD4,5,10,3.\nENDDATA\n";
+        let model = crate::model::testing::model_of_text(text);
+        let e = &model.elements[model.element_index[&10]];
+        assert_eq!(e.nodes.len(), 7);
+        let mesh = model.mesh_arrays();
+        let cards: Vec<&str> = mesh.blocks.iter().map(|b| b.card).collect();
+        assert_eq!(cards, ["CQUAD4", "CQUAD8_CORNERS"]);
+        let loads = model.load_set(5).unwrap();
+        let (p, area) = (3.0, 4.0);
+        let mut total = 0.0;
+        for l in &loads[0].point_loads {
+            let id = model.grids[l.grid].id;
+            let want = match id {
+                1 | 4 => -p * area / 12.0,
+                2 | 3 => p * area / 12.0,
+                5 | 7 | 8 => p * area / 3.0,
+                _ => panic!("load on grid {id}"),
+            };
+            assert!(
+                (l.basic[2] - want).abs() < 1e-12 && l.basic[0].abs() + l.basic[1].abs() < 1e-12,
+                "grid {id}: {:?}",
+                l.basic
+            );
+            total += l.basic[2];
+        }
+        assert!((total - p * area).abs() < 1e-12);
     }
 
     /// Nested SPCADD and members without cards are errors of the resolution itself, whatever

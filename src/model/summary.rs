@@ -4,6 +4,7 @@ use std::collections::BTreeMap;
 
 use super::mesh::{ElementBlock, MeshArrays};
 use super::{ElementKind, Model};
+use crate::fe::shell_quadratic::Quadratic;
 
 /// Counts and mass properties of a model, serialized as
 /// `{"grids", "elements": {card: n}, "rigid": {"RBE2", "RBE3"}, "dofs", "mass", "cg",
@@ -87,32 +88,47 @@ impl Model {
     }
 
     /// Grids and connectivity as flat arrays (see [`MeshArrays`]). Blocks are in the order
-    /// CQUAD4, CTRIA3, CHEXA, CPENTA, CTETRA, CTETRA10, CHEXA20 and CPENTA15 (their corner
-    /// grids only), CELAS1–CELAS4, CDAMP1–CDAMP4, CVISC, CBUSH, CONM2, CROD, CONROD, CTUBE, CBAR, CBEAM, RBE2, RBE3.
+    /// CQUAD4, CTRIA3, CQUADR, CTRIAR, CQUAD8, CQUAD8_CORNERS, CTRIA6, CTRIA6_CORNERS, CSHEAR, CHEXA,
+    /// CPENTA, CTETRA, CTETRA10, CHEXA20 and CPENTA15 (their corner grids only), CELAS1–CELAS4,
+    /// CDAMP1–CDAMP4, CVISC, CBUSH, CONM2, CROD, CONROD, CTUBE, CBAR, CBEAM, RBE2, RBE3.
     pub fn mesh_arrays(&self) -> MeshArrays {
-        let mut blocks: BTreeMap<ElementKind, ElementBlock> = BTreeMap::new();
+        let mut blocks: BTreeMap<(ElementKind, bool), ElementBlock> = BTreeMap::new();
         for e in &self.elements {
             if e.nodes.is_empty() {
                 // a scalar element between scalar points and ground has no place in the mesh
                 continue;
             }
+            // a CQUAD8 / CTRIA6 with a blank mid-side grid is drawn by its corners
+            let corners =
+                self.quadratic_layout(e)
+                    .filter(|l| l.has_blank())
+                    .map(|l| match l.shape {
+                        Quadratic::Quad8 => (4, "CQUAD8_CORNERS"),
+                        Quadratic::Tria6 => (3, "CTRIA6_CORNERS"),
+                    });
+            let (nodes, card) = match corners {
+                Some((n, card)) => (&e.nodes[..n], card),
+                None => (&e.nodes[..], e.kind.block_name()),
+            };
             let per = match e.kind {
                 k if k.is_scalar_spring() || k.is_damper() || k == ElementKind::Cbush => 2,
                 // quadratic CHEXA / CPENTA (mid-side grids may be blank) as their corner cells
                 ElementKind::Hexa20 => 8,
                 ElementKind::Penta15 => 6,
-                _ => e.nodes.len(),
+                _ => nodes.len(),
             };
-            let block = blocks.entry(e.kind).or_insert_with(|| ElementBlock {
-                card: e.kind.block_name(),
-                ids: Vec::new(),
-                pids: Vec::new(),
-                nodes_per_element: per,
-                connectivity: Vec::new(),
-            });
+            let block = blocks
+                .entry((e.kind, corners.is_some()))
+                .or_insert_with(|| ElementBlock {
+                    card,
+                    ids: Vec::new(),
+                    pids: Vec::new(),
+                    nodes_per_element: per,
+                    connectivity: Vec::new(),
+                });
             block.ids.push(e.id);
             block.pids.push(self.pid_of(e));
-            let mut conn: Vec<u32> = e.nodes.iter().take(per).map(|&n| n as u32).collect();
+            let mut conn: Vec<u32> = nodes.iter().take(per).map(|&n| n as u32).collect();
             while conn.len() < per {
                 // a grounded spring end repeats the spring's grid
                 conn.push(conn.first().copied().unwrap_or(0));

@@ -156,7 +156,7 @@ impl Ctria3 {
 /// | 2 | EID | int > 0 | required | element id |
 /// | 3 | PID | int > 0 | EID | PSHELL or PCOMP id |
 /// | 4–7 | G1–G4 | int > 0 | required | corner grids, in order around the element |
-/// | 8–9, cont. 2–3 | G5–G8 | int > 0 | required | mid-side grids of edges 1-2, 2-3, 3-4, 4-1 (a blank mid-side grid is refused) |
+/// | 8–9, cont. 2–3 | G5–G8 | int ≥ 0 | blank | mid-side grids of edges 1-2, 2-3, 3-4, 4-1; blank or 0: that edge is straight and the displacement along it linear |
 /// | cont. 4–7 | T1–T4 | real > 0 | property T | corner thicknesses (bilinear over the element) |
 /// | cont. 8 | THETA/MCID | real or int | 0.0 | material orientation angle (deg) or system id |
 /// | cont. 9 | ZOFFS | real | 0.0 | offset of the reference surface from the grids |
@@ -169,7 +169,7 @@ impl Ctria3 {
 /// | 2 | EID | int > 0 | required | element id |
 /// | 3 | PID | int > 0 | EID | PSHELL or PCOMP id |
 /// | 4–6 | G1–G3 | int > 0 | required | corner grids |
-/// | 7–9 | G4–G6 | int > 0 | required | mid-side grids of edges 1-2, 2-3, 3-1 (a blank mid-side grid is refused) |
+/// | 7–9 | G4–G6 | int ≥ 0 | blank | mid-side grids of edges 1-2, 2-3, 3-1; blank or 0: that edge is straight and the displacement along it linear |
 /// | cont. 2 | THETA/MCID | real or int | 0.0 | material orientation angle (deg) or system id |
 /// | cont. 3 | ZOFFS | real | 0.0 | offset of the reference surface from the grids |
 /// | cont. 4–6 | T1–T3 | real > 0 | property T | corner thicknesses (linear over the element) |
@@ -178,7 +178,8 @@ impl Ctria3 {
 pub struct QuadraticShell {
     pub id: u32,
     pub pid: u32,
-    /// Corner grids, then mid-side grids (8 for a CQUAD8, 6 for a CTRIA6).
+    /// Corner grids, then mid-side grids (8 for a CQUAD8, 6 for a CTRIA6); 0 for a blank
+    /// mid-side grid.
     pub nodes: Vec<u32>,
     pub orientation: ShellOrientation,
     pub zoffs: f64,
@@ -228,13 +229,9 @@ impl QuadraticShell {
         let mut nodes = Vec::with_capacity(grids.len());
         for (k, &i) in grids.iter().enumerate() {
             let name = format!("G{}", k + 1);
-            if k >= corners && f.value(i).is_blank() {
-                f.error(
-                    i,
-                    &name,
-                    "a blank mid-side grid is not supported: give every mid-side grid (a straight edge takes a grid at its middle)",
-                );
-                nodes.push(0);
+            if k >= corners {
+                // blank or 0: no mid-side grid on this edge
+                nodes.push(f.id0_or(i, &name, 0));
             } else {
                 nodes.push(f.id(i, &name));
             }

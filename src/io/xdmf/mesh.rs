@@ -53,8 +53,8 @@ impl Topology {
     /// Topology for a card with `k` nodes per element, or `None` when there is none.
     fn for_block(card: &str, k: usize) -> Option<Self> {
         let t = match (card, k) {
-            ("CQUAD4" | "CQUADR" | "CSHEAR", 4) => Topology::Quadrilateral,
-            ("CTRIA3" | "CTRIAR", 3) => Topology::Triangle,
+            ("CQUAD4" | "CQUADR" | "CSHEAR" | "CQUAD8_CORNERS", 4) => Topology::Quadrilateral,
+            ("CTRIA3" | "CTRIAR" | "CTRIA6_CORNERS", 3) => Topology::Triangle,
             ("CQUAD8", 8) => Topology::Quadrilateral8,
             ("CTRIA6", 6) => Topology::Triangle6,
             ("CHEXA" | "CHEXA20", 8) => Topology::Hexahedron,
