@@ -800,25 +800,44 @@ fn shell_element(
     };
     let k = k.map_err(|x| err(e, x))?;
     let m = shell::affine_mass(xyz, &parts.mass, ctx.lumped).map_err(|x| err(e, x))?;
-    // split sections carry unit-parameter parts: only bound coefficients appear besides the
-    // constant one, so frozen values are never needed here
-    let frozen = CoefficientValues::default();
     Ok(Built {
-        k: nonempty(&k).then(|| {
+        frozen: parts.stiffness_target.filter(|_| condensation_frozen),
+        ..shell_built(
+            ctx,
+            e,
+            (&k, &m),
+            &parts,
+            ShellRecovery { material_x, fibres },
+        )
+    })
+}
+
+/// A shell's [`Built`] from its affine stiffness and mass parts. Split sections carry
+/// unit-parameter parts: only bound coefficients appear besides the constant one, so frozen
+/// values are never needed here.
+fn shell_built(
+    ctx: &ElementContext,
+    e: &Element,
+    (k, m): (&AffineMatrix, &AffineMatrix),
+    parts: &ShellParts,
+    recovery: ShellRecovery,
+) -> Built {
+    let frozen = CoefficientValues::default();
+    Built {
+        k: nonempty(k).then(|| {
             Contribution::from_affine(
                 ctx.frames,
                 &e.nodes,
-                &k,
+                k,
                 bind(parts.stiffness_target, frozen),
             )
         }),
-        m: nonempty(&m).then(|| {
-            Contribution::from_affine(ctx.frames, &e.nodes, &m, bind(parts.mass_target, frozen))
+        m: nonempty(m).then(|| {
+            Contribution::from_affine(ctx.frames, &e.nodes, m, bind(parts.mass_target, frozen))
         }),
-        shell: Some(ShellRecovery { material_x, fibres }),
-        frozen: parts.stiffness_target.filter(|_| condensation_frozen),
+        shell: Some(recovery),
         ..Built::default()
-    })
+    }
 }
 
 /// A CQUAD8 / CTRIA6 ([`shell_quadratic`]): the section parts as for the CQUAD4, nothing
@@ -847,22 +866,7 @@ fn quadratic_shell(
     .map_err(|x| err(e, x))?;
     let m = shell_quadratic::affine_mass(layout, xyz, &parts.mass, ctx.lumped)
         .map_err(|x| err(e, x))?;
-    let frozen = CoefficientValues::default();
-    Ok(Built {
-        k: nonempty(&k).then(|| {
-            Contribution::from_affine(
-                ctx.frames,
-                &e.nodes,
-                &k,
-                bind(parts.stiffness_target, frozen),
-            )
-        }),
-        m: nonempty(&m).then(|| {
-            Contribution::from_affine(ctx.frames, &e.nodes, &m, bind(parts.mass_target, frozen))
-        }),
-        shell: Some(recovery),
-        ..Built::default()
-    })
+    Ok(shell_built(ctx, e, (&k, &m), &parts, recovery))
 }
 
 fn nonempty(a: &AffineMatrix) -> bool {
