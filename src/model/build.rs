@@ -629,44 +629,25 @@ fn build_elements(
     let solid = ["PSOLID"];
 
     let mut surfaces: Vec<SurfaceCard> = Vec::new();
-    for (cards, kind) in [
-        (&b.cquad4, ElementKind::Quad4),
-        (&b.cquadr, ElementKind::QuadR),
-    ] {
-        surfaces.extend(
-            cards
-                .iter()
-                .enumerate()
-                .map(|(i, c)| (kind, i, c.id, c.pid, &c.nodes[..], &c.loc)),
-        );
+    // the surface card lists are of different card types with the same fields
+    macro_rules! surfaces_of {
+        ($($cards:expr => $kind:expr),* $(,)?) => {$(
+            surfaces.extend(
+                $cards
+                    .iter()
+                    .enumerate()
+                    .map(|(i, c)| ($kind, i, c.id, c.pid, &c.nodes[..], &c.loc)),
+            );
+        )*};
     }
-    for (cards, kind) in [
-        (&b.ctria3, ElementKind::Tria3),
-        (&b.ctriar, ElementKind::TriaR),
-    ] {
-        surfaces.extend(
-            cards
-                .iter()
-                .enumerate()
-                .map(|(i, c)| (kind, i, c.id, c.pid, &c.nodes[..], &c.loc)),
-        );
-    }
-    for (cards, kind) in [
-        (&b.cquad8, ElementKind::Quad8),
-        (&b.ctria6, ElementKind::Tria6),
-    ] {
-        surfaces.extend(
-            cards
-                .iter()
-                .enumerate()
-                .map(|(i, c)| (kind, i, c.id, c.pid, &c.nodes[..], &c.loc)),
-        );
-    }
-    surfaces.extend(
-        b.cshear
-            .iter()
-            .enumerate()
-            .map(|(i, c)| (ElementKind::Cshear, i, c.id, c.pid, &c.nodes[..], &c.loc)),
+    surfaces_of!(
+        b.cquad4 => ElementKind::Quad4,
+        b.cquadr => ElementKind::QuadR,
+        b.ctria3 => ElementKind::Tria3,
+        b.ctriar => ElementKind::TriaR,
+        b.cquad8 => ElementKind::Quad8,
+        b.ctria6 => ElementKind::Tria6,
+        b.cshear => ElementKind::Cshear,
     );
     for (kind, i, id, pid, ids, loc) in surfaces {
         let card = format!("{} {id}", kind.card());
