@@ -1,6 +1,6 @@
-//! Quadratic solids with blank mid-side grids (CHEXA 20, CPENTA 15).
+//! Quadratic solids with blank mid-side grids (CHEXA 20, CPENTA 15, CTETRA 10).
 //!
-//! Nastran lets any mid-side grid of a CHEXA 20 or CPENTA 15 be blank: that edge is then
+//! Nastran lets any mid-side grid of a CHEXA 20, CPENTA 15 or CTETRA 10 be blank: that edge is then
 //! straight and the displacement varies linearly along it. Here the element keeps its full node
 //! set: a blank mid-side node m of the edge (a, b) sits at the middle of the edge,
 //! x_m = (x_a + x_b)/2, and moves with it, u_m = (u_a + u_b)/2. With T the map from the given

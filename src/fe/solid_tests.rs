@@ -939,6 +939,23 @@ fn quadratic_solids_with_every_midside_blank_are_the_linear_elements() {
     // … and stiffer than nothing: the CHEXA 8 with incompatible modes is softer
     let wilson = stiffness(SolidKind::Hexa8, &corners, STEEL).unwrap();
     assert!(relative_difference(&k, &wilson) > 1e-3);
+    // CTETRA 10 without mid-sides: the constant-strain CTETRA 4; with one mid-side blank on a
+    // curved element, still exactly six zero-energy modes
+    let tetra = Midsides::new(SolidKind::Tetra10, &[false; 10]);
+    let k = element_stiffness(&tetra, &distorted_tet(), STEEL);
+    let reference = stiffness(SolidKind::Tetra4, &distorted_tet(), STEEL).unwrap();
+    assert!(relative_difference(&k, &reference) < 1e-13);
+    let mut present = [true; 10];
+    present[5] = false;
+    let curved: Vec<[f64; 3]> = (tet10(&distorted_tet(), 0.05).into_iter().enumerate())
+        .filter(|&(a, _)| present[a])
+        .map(|(_, x)| x)
+        .collect();
+    let one_blank = Midsides::new(SolidKind::Tetra10, &present);
+    assert_eq!(
+        zero_modes(&element_stiffness(&one_blank, &curved, STEEL)),
+        6
+    );
     // CPENTA 15 without mid-sides on a right prism: the CPENTA 6 (both rules exact there)
     let penta = Midsides::new(SolidKind::Penta15, &[false; 15]);
     let k = element_stiffness(&penta, &unit_penta(), STEEL);

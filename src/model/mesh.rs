@@ -16,7 +16,7 @@ pub struct MeshArrays {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ElementBlock {
     /// Card name: `CQUAD4`, `CTRIA3`, `CQUAD8`, `CTRIA6` (and `CQUAD8_CORNERS`,
-    /// `CTRIA6_CORNERS`: those with a blank mid-side grid, by their corner grids), `CHEXA`, `CPENTA`, `CTETRA` (4 nodes), `CTETRA10`,
+    /// `CTRIA6_CORNERS`: those with a blank mid-side grid, by their corner grids), `CHEXA`, `CPENTA`, `CTETRA` (4 nodes), `CTETRA10` (`CTETRA10_CORNERS`: with a blank mid-edge grid, by its corners),
     /// `CELAS1`, `CELAS2`, `CONM2`, and `RBE2`/`RBE3` as one two-node line per leg
     /// (independent/reference grid to each dependent/independent grid), for drawing spiders.
     pub card: &'static str,

@@ -405,6 +405,7 @@ impl Model {
         let card = match e.kind {
             ElementKind::Hexa20 => self.bulk.chexa.get(e.card).map(|c| &c.nodes),
             ElementKind::Penta15 => self.bulk.cpenta.get(e.card).map(|c| &c.nodes),
+            ElementKind::Tetra10 => self.bulk.ctetra.get(e.card).map(|c| &c.nodes),
             _ => None,
         };
         Some(match card {

@@ -89,7 +89,7 @@ impl Model {
 
     /// Grids and connectivity as flat arrays (see [`MeshArrays`]). Blocks are in the order
     /// CQUAD4, CTRIA3, CQUADR, CTRIAR, CQUAD8, CQUAD8_CORNERS, CTRIA6, CTRIA6_CORNERS, CSHEAR, CHEXA,
-    /// CPENTA, CTETRA, CTETRA10, CHEXA20 and CPENTA15 (their corner grids only), CELAS1–CELAS4,
+    /// CPENTA, CTETRA, CTETRA10, CTETRA10_CORNERS, CHEXA20 and CPENTA15 (their corner grids only), CELAS1–CELAS4,
     /// CDAMP1–CDAMP4, CVISC, CBUSH, CONM2, CROD, CONROD, CTUBE, CBAR, CBEAM, RBE2, RBE3.
     pub fn mesh_arrays(&self) -> MeshArrays {
         let mut blocks: BTreeMap<(ElementKind, bool), ElementBlock> = BTreeMap::new();
@@ -98,14 +98,15 @@ impl Model {
                 // a scalar element between scalar points and ground has no place in the mesh
                 continue;
             }
-            // a CQUAD8 / CTRIA6 with a blank mid-side grid is drawn by its corners
-            let corners =
-                self.quadratic_layout(e)
-                    .filter(|l| l.has_blank())
-                    .map(|l| match l.shape {
-                        Quadratic::Quad8 => (4, "CQUAD8_CORNERS"),
-                        Quadratic::Tria6 => (3, "CTRIA6_CORNERS"),
-                    });
+            // a CQUAD8 / CTRIA6 / CTETRA 10 with a blank mid-side grid is drawn by its corners
+            let tetra_blank = e.kind == ElementKind::Tetra10 && e.nodes.len() < 10;
+            let corners = (self.quadratic_layout(e))
+                .filter(|l| l.has_blank())
+                .map(|l| match l.shape {
+                    Quadratic::Quad8 => (4, "CQUAD8_CORNERS"),
+                    Quadratic::Tria6 => (3, "CTRIA6_CORNERS"),
+                })
+                .or(tetra_blank.then_some((4, "CTETRA10_CORNERS")));
             let (nodes, card) = match corners {
                 Some((n, card)) => (&e.nodes[..n], card),
                 None => (&e.nodes[..], e.kind.block_name()),

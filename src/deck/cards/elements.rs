@@ -256,13 +256,11 @@ impl QuadraticShell {
 /// Read a solid element: EID, PID, `corners` required corner grids, then up to `midsides`
 /// optional mid-side grids. Without any mid-side grid the element is linear (`corners` grids);
 /// with at least one it is quadratic (`corners + midsides` entries, 0 for a blank mid-side,
-/// whose edge is then straight and linear, as in Nastran). `blank_midsides` says whether a
-/// blank mid-side is accepted in a quadratic element.
+/// whose edge is then straight and linear, as in Nastran).
 fn solid_nodes(
     card: &RawCard,
     corners: usize,
     midsides: usize,
-    blank_midsides: bool,
 ) -> Result<(u32, u32, Vec<u32>, Loc), Vec<DeckError>> {
     let mut f = FieldReader::new(card);
     let id = f.id(1, "EID");
@@ -275,15 +273,7 @@ fn solid_nodes(
     let mids: Vec<Option<u32>> = (corners..corners + midsides)
         .map(|k| f.opt_id(3 + k, &format!("G{}", k + 1)))
         .collect();
-    let given = mids.iter().flatten().count();
-    if given > 0 {
-        if !blank_midsides && given < midsides {
-            f.card_error(format!(
-                "{} grids given; paraflex supports {corners} or {} grids for this element (no blank mid-side grid)",
-                corners + given,
-                corners + midsides
-            ));
-        }
+    if mids.iter().any(Option::is_some) {
         nodes.extend(mids.iter().map(|g| g.unwrap_or(0)));
     }
     let loc = f.loc();
@@ -314,7 +304,7 @@ pub struct Chexa {
 impl Chexa {
     /// Read a `CHEXA` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
-        let (id, pid, nodes, loc) = solid_nodes(card, 8, 12, true)?;
+        let (id, pid, nodes, loc) = solid_nodes(card, 8, 12)?;
         Ok(Chexa {
             id,
             pid,
@@ -347,7 +337,7 @@ pub struct Cpenta {
 impl Cpenta {
     /// Read a `CPENTA` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
-        let (id, pid, nodes, loc) = solid_nodes(card, 6, 9, true)?;
+        let (id, pid, nodes, loc) = solid_nodes(card, 6, 9)?;
         Ok(Cpenta {
             id,
             pid,
@@ -357,14 +347,15 @@ impl Cpenta {
     }
 }
 
-/// `CTETRA` — four- or ten-node tetrahedron.
+/// `CTETRA` — four- or ten-node tetrahedron; in a ten-node one a blank mid-edge grid makes its
+/// edge straight with a linear displacement.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | EID | int > 0 | required | element id |
 /// | 3 | PID | int > 0 | EID | PSOLID id |
 /// | 4–7 | G1–G4 | int > 0 | required | corner grids |
-/// | 8–9, cont. 2–5 | G5–G10 | int > 0 | blank | mid-edge grids (G1G2, G2G3, G3G1, G1G4, G2G4, G3G4) |
+/// | 8–9, cont. 2–5 | G5–G10 | int ≥ 0 | blank | mid-edge grids (G1G2, G2G3, G3G1, G1G4, G2G4, G3G4); with any of them given, the others may be blank or 0 |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ctetra {
     pub id: u32,
@@ -377,7 +368,7 @@ pub struct Ctetra {
 impl Ctetra {
     /// Read a `CTETRA` card.
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
-        let (id, pid, nodes, loc) = solid_nodes(card, 4, 6, false)?;
+        let (id, pid, nodes, loc) = solid_nodes(card, 4, 6)?;
         Ok(Ctetra {
             id,
             pid,

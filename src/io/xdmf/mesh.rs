@@ -59,7 +59,7 @@ impl Topology {
             ("CTRIA6", 6) => Topology::Triangle6,
             ("CHEXA" | "CHEXA20", 8) => Topology::Hexahedron,
             ("CPENTA" | "CPENTA15", 6) => Topology::Wedge,
-            ("CTETRA", 4) => Topology::Tetrahedron,
+            ("CTETRA" | "CTETRA10_CORNERS", 4) => Topology::Tetrahedron,
             ("CTETRA10" | "CTETRA", 10) => Topology::Tetrahedron10,
             (_, 2) => Topology::Polyline2,
             (_, 1) => Topology::Polyvertex,
