@@ -22,6 +22,8 @@
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, MatRef};
 
+use super::prescribed::{AlphaUpdate, PrescribedMotion};
+
 /// Integration method (TINTEG).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Method {
@@ -241,6 +243,9 @@ pub struct StepState<'s> {
     pub v: &'s [f64],
     /// q̈ from the method's own update (BDF: difference of velocities; generalized-α: a_{n+1}).
     pub a: &'s [f64],
+    /// (g, ġ, g̈) of each prescribed-motion term ([`PrescribedMotion::kinematics`]; empty
+    /// without prescribed motion).
+    pub motion: &'s [[f64; 3]],
 }
 
 /// Integrate a dense system: [`integrate_with`] on [`Dense`].
@@ -284,11 +289,35 @@ pub fn integrate_with<B: Backend>(
     run: Run,
     q0: &[f64],
     v0: &[f64],
+    load: impl FnMut(f64, &mut [f64]),
+    observe: impl FnMut(&StepState<'_>),
+) -> Result<(), IntegrationError> {
+    let mut none = PrescribedMotion::none();
+    integrate_prescribed(backend, method, run, q0, v0, load, &mut none, observe)
+}
+
+/// [`integrate_with`] with constrained DOFs in prescribed motion: each step's load is f(t)
+/// minus the coupling of `motion`'s terms at that step's kinematics ([`PrescribedMotion`]).
+#[allow(clippy::too_many_arguments)]
+pub fn integrate_prescribed<B: Backend>(
+    backend: &mut B,
+    method: Method,
+    run: Run,
+    q0: &[f64],
+    v0: &[f64],
     mut load: impl FnMut(f64, &mut [f64]),
+    motion: &mut PrescribedMotion<'_>,
     mut observe: impl FnMut(&StepState<'_>),
 ) -> Result<(), IntegrationError> {
     let n = backend.size();
     check_start(n, q0, v0, run.dt)?;
+    if let Some(got) = motion.columns().filter(|&m| m != n) {
+        return Err(IntegrationError::Shape {
+            what: "prescribed-motion coupling",
+            expected: n,
+            got,
+        });
+    }
     if let Method::GeneralizedAlpha { rho_inf } = method
         && !(0.0..=1.0).contains(&rho_inf)
     {
@@ -302,13 +331,19 @@ pub fn integrate_with<B: Backend>(
         f: vec![0.0; n],
         rhs: vec![0.0; n],
     };
-    initial_acceleration(backend, run.t0, &mut state, &mut load)?;
+    motion.start();
+    let mut load = |t: f64, f: &mut [f64], motion: &PrescribedMotion<'_>| {
+        load(t, f);
+        motion.subtract_coupling(f);
+    };
+    initial_acceleration(backend, run.t0, &mut state, |t, f| load(t, f, motion))?;
     observe(&StepState {
         step: 0,
         time: run.t0,
         q: &state.q,
         v: &state.v,
         a: &state.a,
+        motion: motion.kinematics(),
     });
     match method {
         Method::Bdf1 | Method::Bdf2 => bdf(
@@ -316,11 +351,12 @@ pub fn integrate_with<B: Backend>(
             run,
             method == Method::Bdf2,
             &mut state,
+            motion,
             load,
             observe,
         ),
         Method::GeneralizedAlpha { rho_inf } => {
-            generalized_alpha(backend, run, rho_inf, &mut state, load, observe)
+            generalized_alpha(backend, run, rho_inf, &mut state, motion, load, observe)
         }
     }
 }
@@ -340,7 +376,7 @@ fn initial_acceleration<B: Backend>(
     backend: &mut B,
     t0: f64,
     state: &mut State,
-    load: &mut impl FnMut(f64, &mut [f64]),
+    mut load: impl FnMut(f64, &mut [f64]),
 ) -> Result<(), IntegrationError> {
     let State { q, v, a, f, .. } = state;
     load(t0, f);
@@ -372,7 +408,8 @@ fn bdf<B: Backend>(
     run: Run,
     second_order: bool,
     state: &mut State,
-    mut load: impl FnMut(f64, &mut [f64]),
+    motion: &mut PrescribedMotion<'_>,
+    mut load: impl FnMut(f64, &mut [f64], &PrescribedMotion<'_>),
     mut observe: impl FnMut(&StepState<'_>),
 ) -> Result<(), IntegrationError> {
     let Run { dt, steps, t0 } = run;
@@ -404,7 +441,8 @@ fn bdf<B: Backend>(
                 r_v[i] = 2.0 * v[i] - 0.5 * v_prev[i];
             }
         }
-        load(t, f);
+        motion.advance_bdf(t, dt, c);
+        load(t, f, motion);
         rhs.copy_from_slice(f);
         backend.apply(0, &r_q, rhs);
         backend.apply(1, &r_v, rhs);
@@ -423,6 +461,7 @@ fn bdf<B: Backend>(
             q,
             v,
             a,
+            motion: motion.kinematics(),
         });
     }
     Ok(())
@@ -442,7 +481,8 @@ fn generalized_alpha<B: Backend>(
     run: Run,
     rho_inf: f64,
     state: &mut State,
-    mut load: impl FnMut(f64, &mut [f64]),
+    motion: &mut PrescribedMotion<'_>,
+    mut load: impl FnMut(f64, &mut [f64], &PrescribedMotion<'_>),
     mut observe: impl FnMut(&StepState<'_>),
 ) -> Result<(), IntegrationError> {
     let Run { dt, steps, t0 } = run;
@@ -476,7 +516,17 @@ fn generalized_alpha<B: Backend>(
             backend.prepare(effective, &[g_q, g_v, g_a], "effective")?;
             prepared = true;
         }
-        load(t - af * dt, f);
+        motion.advance_alpha(
+            t,
+            AlphaUpdate {
+                dt,
+                beta,
+                gamma,
+                alpha_m: am,
+                alpha_f: af,
+            },
+        );
+        load(t - af * dt, f, motion);
         rhs.copy_from_slice(f);
         backend.apply(0, q, rhs);
         backend.apply(1, v, rhs);
@@ -496,6 +546,7 @@ fn generalized_alpha<B: Backend>(
             q,
             v,
             a,
+            motion: motion.kinematics(),
         });
     }
     Ok(())

@@ -12,6 +12,7 @@
 //!   estimator's prediction);
 //! - [`sparse_backend`]: the integrators' full-model (sparse f-set) backend;
 //! - [`table`]: tabulated functions of time or frequency (TABLED1–TABLED4, TABLEF);
+//! - [`prescribed`]: enforced motion of constrained DOFs, advanced by each method's own update;
 //! - [`pulse`]: the TLOAD2 pulse.
 
 pub mod frf;
@@ -19,6 +20,7 @@ pub mod integrators;
 pub mod measurement;
 pub mod newton;
 pub mod nonlinear;
+pub mod prescribed;
 pub mod pulse;
 pub mod sparse_backend;
 pub mod table;

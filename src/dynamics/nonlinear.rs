@@ -145,6 +145,7 @@ impl Kinematics {
             q: &self.q,
             v: &self.v,
             a: &self.a,
+            motion: &[],
         }
     }
 }

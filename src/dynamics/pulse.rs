@@ -34,6 +34,43 @@ impl Pulse {
             2.0 * std::f64::consts::PI * self.frequency * local + self.phase_deg.to_radians();
         growth * (self.exponential * local).exp() * angle.cos()
     }
+
+    /// (F, F', F'') at t (measured from the load's delay), the right-hand limits at T1 and
+    /// T2 (zero from T2 on): with h = t̃^B e^{C t̃} and c = cos(2πF t̃ + P),
+    /// F' = h'c + hc', F'' = h''c + 2h'c' + hc''. A growth exponent 0 < B < 2 has an infinite
+    /// derivative at T1 (t̃^{B−1} or t̃^{B−2}); it is returned as such.
+    pub fn derivatives(&self, t: f64) -> [f64; 3] {
+        let local = t - self.start;
+        if local < 0.0 || local >= self.end - self.start {
+            return [0.0; 3];
+        }
+        let (b, c) = (self.power, self.exponential);
+        // t̃^e, with 0^0 = 1; a term whose coefficient is zero is dropped (no 0 · ∞)
+        let power = |coefficient: f64, e: f64| {
+            if coefficient == 0.0 {
+                0.0
+            } else if e == 0.0 {
+                coefficient
+            } else {
+                coefficient * local.powf(e)
+            }
+        };
+        let exp = (c * local).exp();
+        let h = [
+            power(1.0, b) * exp,
+            (power(b, b - 1.0) + power(c, b)) * exp,
+            (power(b * (b - 1.0), b - 2.0) + power(2.0 * b * c, b - 1.0) + power(c * c, b)) * exp,
+        ];
+        let w = 2.0 * std::f64::consts::PI * self.frequency;
+        let angle = w * local + self.phase_deg.to_radians();
+        let (sin, cos) = angle.sin_cos();
+        let k = [cos, -w * sin, -w * w * cos];
+        [
+            h[0] * k[0],
+            h[1] * k[0] + h[0] * k[1],
+            h[2] * k[0] + 2.0 * h[1] * k[1] + h[0] * k[2],
+        ]
+    }
 }
 
 #[cfg(test)]
@@ -69,5 +106,46 @@ mod tests {
             power: 0.0,
         };
         assert_eq!(step.value(0.0), 1.0, "t̃⁰ = 1 at the start");
+        assert_eq!(step.derivatives(0.0), [1.0, 0.0, 0.0]);
+        assert_eq!(step.derivatives(1.0), [0.0; 3], "zero from T2 on");
+    }
+
+    #[test]
+    fn pulse_derivatives_match_central_differences() {
+        // h = 1e-4 on a pulse whose second derivative is O(1e3): the central differences'
+        // truncation (h²/6 F''' ~ 1e-4 relative) dominates their round-off (ε F / h² ~ 1e-8).
+        for power in [0.0, 1.0, 2.0, 2.5] {
+            let p = Pulse {
+                start: 0.1,
+                end: 2.0,
+                frequency: 1.5,
+                phase_deg: 40.0,
+                exponential: -0.7,
+                power,
+            };
+            let h = 1e-4;
+            for t in [0.4, 1.1, 1.7] {
+                let [f, d1, d2] = p.derivatives(t);
+                assert!((f - p.value(t)).abs() < 1e-14);
+                let fd1 = (p.value(t + h) - p.value(t - h)) / (2.0 * h);
+                let fd2 = (p.value(t + h) - 2.0 * f + p.value(t - h)) / (h * h);
+                let scale = 1.0 + d1.abs() + d2.abs();
+                assert!(
+                    (d1 - fd1).abs() < 1e-5 * scale,
+                    "B {power} t {t}: {d1} {fd1}"
+                );
+                assert!(
+                    (d2 - fd2).abs() < 1e-4 * scale,
+                    "B {power} t {t}: {d2} {fd2}"
+                );
+            }
+            // at T1: the right-hand limits (B = 0: C and C² times the cosine terms)
+            let [f, d1, _] = p.derivatives(0.1);
+            if power == 0.0 {
+                let w = 3.0 * std::f64::consts::PI;
+                let (s, c) = 40f64.to_radians().sin_cos();
+                assert!((f - c).abs() < 1e-15 && (d1 - (-0.7 * c - w * s)).abs() < 1e-12);
+            }
+        }
     }
 }
