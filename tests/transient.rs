@@ -188,24 +188,6 @@ fn tstepvar_is_refused_by_sol_transient() {
     );
 }
 
-/// Enforced motion (a TLOAD1 of TYPE = ACCE on an SPCD set) is not available in the time
-/// domain: SOL 109 stops with "not available" (exit 3) instead of ignoring the base motion.
-#[test]
-fn enforced_motion_is_refused_by_sol_transient() {
-    let chain = TwoDofChain::reference();
-    let deck = format!(
-        "SOL 109\nCEND\nSPC = 1\nTSTEP = 1\nDLOAD = 7\nBEGIN BULK\nTSTEP,1,20,1.e-4,1\nGRID,3,,2.,0.,0.\nSPC1,1,123456,3\nCELAS2,99,1.e3,2,1,3,1\nSPCD,8,3,1,9.81\nTLOAD1,7,8,,ACCE,9\nTABLED1,9\n,0.,1.,10.,1.,ENDT\n{}ENDDATA\n",
-        chain.bulk()
-    );
-    let (r, _out) = run_deck(&deck);
-    let e = r.expect_err("enforced motion in SOL 109");
-    assert!(
-        matches!(e, paraflex::sequence::RunError::NotAvailable(_)),
-        "{e}"
-    );
-    assert!(e.to_string().contains("enforced motion"), "{e}");
-}
-
 /// Builds the 2-DOF chain's pROM (parameter K1 = k₁ over [5e3, 5e4]; both DOFs are inputs,
 /// so the basis spans the whole space) and returns its directory.
 fn chain_prom(chain: &TwoDofChain) -> tempfile::TempDir {
@@ -216,6 +198,31 @@ fn chain_prom(chain: &TwoDofChain) -> tempfile::TempDir {
     let (r, dir) = run_deck(&build);
     r.expect("SOL PROM");
     dir
+}
+
+/// Enforced motion needs the full model's constrained DOFs: on a pROM (`ROM =`) a TLOAD of
+/// TYPE = ACCE stops as "not available" (exit code 3), naming the TLOAD, instead of being
+/// dropped from the loads.
+#[test]
+fn enforced_motion_on_a_prom_is_not_available() {
+    let chain = TwoDofChain::reference();
+    let prom = chain_prom(&chain);
+    let deck = format!(
+        "SOL 112\nCEND\nROM = '{}'\nTSTEP = 1\nDLOAD = 7\nPVAL = 4\nBEGIN BULK\nTSTEP,1,10,1.e-4\nPVAL,4,K1,1.e4\nTLOAD1,7,8,,ACCE,9\nGRID,2,,0.,0.,0.\nSPCD,8,2,1,9.81\nTABLED1,9\n,0.,1.,10.,1.,ENDT\nENDDATA\n",
+        prom.path().join("out.h5").display()
+    );
+    let (r, _out) = run_deck(&deck);
+    let e = r.expect_err("enforced motion on a pROM");
+    assert!(
+        matches!(e, paraflex::sequence::RunError::NotAvailable(_)),
+        "{e}"
+    );
+    assert!(
+        e.to_string().contains(
+            "TLOAD1 7: TYPE = ACCE (enforced motion) is not available on a reduced model"
+        ),
+        "{e}"
+    );
 }
 
 /// Runs a transient deck and returns (time, D2 sensor, the group's `evaluations` attribute or 0).

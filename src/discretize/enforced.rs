@@ -19,9 +19,12 @@
 use faer::{Mat, c64};
 use nalgebra_sparse::CscMatrix;
 
+use super::loads::EnforcedLoad;
 use super::{Constrained, Structure};
 use crate::assembly::AffineOperator;
 use crate::assembly::reduce::partition;
+use crate::deck::cards::ExcitationKind;
+use crate::dynamics::prescribed::{Drive, PrescribedMotion, PrescribedTerm};
 use crate::linalg::{SymbolicFactor, sym_matvec};
 use crate::model::Model;
 use crate::model::sets::EnforcedEntry;
@@ -61,22 +64,10 @@ impl EnforcedColumns {
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let fs = |op: &AffineOperator| -> Result<(AffineOperator, Vec<f64>), String> {
-            let op = partition(op, &c.sets.f_in_n, &c.sets.s_in_n).map_err(|e| e.to_string())?;
-            let values = op
-                .evaluate(&c.weights(st, &op))
-                .map_err(|e| e.to_string())?;
-            let values = values.values().to_vec();
-            Ok((op, values))
-        };
+        let fs = |op: &AffineOperator| free_by_constrained(st, c, op);
         let (m_fs, m_fs_values) = fs(&st.m_nn)?;
         let damping_fs = st.damping.try_map(fs)?;
-        let k_fs_values = c
-            .k_fs
-            .evaluate(&c.weights(st, &c.k_fs))
-            .map_err(|e| e.to_string())?
-            .values()
-            .to_vec();
+        let k_fs_values = stiffness_fs_values(st, c)?;
         let factor = SymbolicFactor::analyze(c.k_ff.pattern())
             .and_then(|s| {
                 s.with_max_ratio(max_ratio)
@@ -158,6 +149,220 @@ impl EnforcedColumns {
     }
 }
 
+/// The f × s block of an n-set operator and its values at the subcase's weights.
+fn free_by_constrained(
+    st: &Structure,
+    c: &Constrained,
+    op: &AffineOperator,
+) -> Result<(AffineOperator, Vec<f64>), String> {
+    let op = partition(op, &c.sets.f_in_n, &c.sets.s_in_n).map_err(|e| e.to_string())?;
+    let values = op
+        .evaluate(&c.weights(st, &op))
+        .map_err(|e| e.to_string())?;
+    let values = values.values().to_vec();
+    Ok((op, values))
+}
+
+/// The values of K_fs at the subcase's weights.
+fn stiffness_fs_values(st: &Structure, c: &Constrained) -> Result<Vec<f64>, String> {
+    Ok(c.k_fs
+        .evaluate(&c.weights(st, &c.k_fs))
+        .map_err(|e| e.to_string())?
+        .values()
+        .to_vec())
+}
+
+/// The coupling of enforced motions with the free DOFs in the time domain (absolute
+/// formulation, [`crate::dynamics::prescribed`]): per moved pattern e_j of the s-set, the
+/// columns M_fs e_j, C_fs e_j and K_fs e_j, with C = αM + βK + B + w₄·K₄ the transient damping
+/// of the full model (Rayleigh α, β; the elements' viscous B; their structural damping K₄
+/// weighted by w₄ = 1/W4, or 0).
+pub struct EnforcedCoupling {
+    pub mass: Vec<f64>,
+    pub damping: Vec<f64>,
+    pub stiffness: Vec<f64>,
+}
+
+/// Rayleigh and structural weights of the transient damping C = αM + βK + B + w₄·K₄.
+#[derive(Debug, Clone, Copy)]
+pub struct TransientDamping {
+    pub alpha: f64,
+    pub beta: f64,
+    pub structural: f64,
+}
+
+impl EnforcedCoupling {
+    /// The columns of each s-set pattern of `patterns` (n_s each).
+    pub fn of_patterns(
+        st: &Structure,
+        c: &Constrained,
+        patterns: &[Vec<f64>],
+        damping: TransientDamping,
+    ) -> Result<Vec<Self>, String> {
+        let (m_fs, m_values) = free_by_constrained(st, c, &st.m_nn)?;
+        let damping_fs = st.damping.try_map(|op| free_by_constrained(st, c, op))?;
+        let k_values = stiffness_fs_values(st, c)?;
+        let product = |op: &AffineOperator, values: &[f64], e: &[f64]| {
+            op.mul_values(values, e).map_err(|e| e.to_string())
+        };
+        patterns
+            .iter()
+            .map(|e| {
+                let mass = product(&m_fs, &m_values, e)?;
+                let stiffness = product(&c.k_fs, &k_values, e)?;
+                let mut damping_col: Vec<f64> = mass
+                    .iter()
+                    .zip(&stiffness)
+                    .map(|(m, k)| damping.alpha * m + damping.beta * k)
+                    .collect();
+                let weighted = [
+                    (1.0, damping_fs.viscous.as_ref()),
+                    (damping.structural, damping_fs.structural.as_ref()),
+                ];
+                for (w, block) in weighted {
+                    if let (Some((op, values)), true) = (block, w != 0.0) {
+                        let col = product(op, values, e)?;
+                        damping_col
+                            .iter_mut()
+                            .zip(&col)
+                            .for_each(|(d, x)| *d += w * x);
+                    }
+                }
+                Ok(EnforcedCoupling {
+                    mass,
+                    damping: damping_col,
+                    stiffness,
+                })
+            })
+            .collect()
+    }
+}
+
+/// The enforced motions of a time-domain subcase: each [`EnforcedLoad`]'s s-set pattern e_j
+/// (its SPCD values) and coupling columns; g_j(t) = F_j(t − delay_j).
+pub struct EnforcedMotion {
+    pub patterns: Vec<Vec<f64>>,
+    pub couplings: Vec<EnforcedCoupling>,
+}
+
+impl EnforcedMotion {
+    /// The patterns and couplings of `loads` with the model's transient damping (PARAM,ALPHA1,
+    /// BETA1 with G/W3, W4).
+    pub fn new(
+        model: &Model,
+        st: &Structure,
+        c: &Constrained,
+        loads: &[EnforcedLoad],
+    ) -> Result<Self, String> {
+        let patterns = loads
+            .iter()
+            .map(|l| {
+                enforced_pattern(model, st, c, &l.entries).map_err(|e| format!("{}: {e}", l.name))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let p = &model.params;
+        let damping = TransientDamping {
+            alpha: p.alpha1,
+            beta: p.transient_beta(),
+            structural: if p.w4 > 0.0 { 1.0 / p.w4 } else { 0.0 },
+        };
+        let couplings = if loads.is_empty() {
+            Vec::new()
+        } else {
+            EnforcedCoupling::of_patterns(st, c, &patterns, damping)?
+        };
+        Ok(EnforcedMotion {
+            patterns,
+            couplings,
+        })
+    }
+
+    /// The integrator's prescribed terms from time `t0`: each load's F as the displacement,
+    /// velocity or acceleration of its pattern, started at F's right-hand derivatives at t0.
+    pub fn prescribed<'a>(&self, loads: &'a [EnforcedLoad], t0: f64) -> PrescribedMotion<'a> {
+        PrescribedMotion::new(
+            loads
+                .iter()
+                .zip(&self.couplings)
+                .map(|(load, coupling)| {
+                    let [f, d1, d2] = load.function.derivatives(t0 - load.delay);
+                    let (drive, initial) = match load.kind {
+                        ExcitationKind::Velocity => (Drive::Velocity, [0.0, f, d1]),
+                        ExcitationKind::Acceleration => (Drive::Acceleration, [0.0, 0.0, f]),
+                        _ => (Drive::Displacement, [f, d1, d2]),
+                    };
+                    PrescribedTerm {
+                        drive,
+                        function: Box::new(move |t| load.function.value(t - load.delay)),
+                        initial,
+                        mass: coupling.mass.clone(),
+                        damping: coupling.damping.clone(),
+                        stiffness: coupling.stiffness.clone(),
+                    }
+                })
+                .collect(),
+        )
+    }
+}
+
+/// The s-set displacement, velocity and acceleration Σ_j e_j (g_j, ġ_j, g̈_j) of the moved DOFs.
+pub struct MovedState {
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+    pub a: Vec<f64>,
+}
+
+impl MovedState {
+    /// At rest, for an s-set of `n_s` DOFs.
+    pub fn new(n_s: usize) -> Self {
+        MovedState {
+            u: vec![0.0; n_s],
+            v: vec![0.0; n_s],
+            a: vec![0.0; n_s],
+        }
+    }
+
+    /// The displacements written over a g-set vector at the s-set's g indices `s_members`.
+    pub fn scatter_displacement(&self, s_members: &[usize], u_g: &mut [f64]) {
+        for (&g, &u) in s_members.iter().zip(&self.u) {
+            u_g[g] = u;
+        }
+    }
+
+    /// Σ_j e_j (g_j, ġ_j, g̈_j) for the patterns e_j and the terms' kinematics.
+    pub fn set(&mut self, patterns: &[Vec<f64>], kinematics: &[[f64; 3]]) {
+        for x in [&mut self.u, &mut self.v, &mut self.a] {
+            x.fill(0.0);
+        }
+        for (e, k) in patterns.iter().zip(kinematics) {
+            for (i, ei) in e.iter().enumerate().filter(|(_, x)| **x != 0.0) {
+                self.u[i] += ei * k[0];
+                self.v[i] += ei * k[1];
+                self.a[i] += ei * k[2];
+            }
+        }
+    }
+}
+
+/// The s-set pattern (n_s) of enforced-motion SPCD entries: each moved DOF's value at its
+/// s-set position ([`enforced_dofs`]'s checks).
+pub fn enforced_pattern(
+    model: &Model,
+    st: &Structure,
+    c: &Constrained,
+    entries: &[EnforcedEntry],
+) -> Result<Vec<f64>, String> {
+    let mut e = vec![0.0; c.sets.s.len()];
+    for (g, value) in enforced_dofs(model, st, c, entries)? {
+        let s =
+            c.sets.s.position(g).ok_or_else(|| {
+                format!("{} is not constrained: it cannot be moved", st.map.name(g))
+            })?;
+        e[s] += value;
+    }
+    Ok(e)
+}
+
 /// The g indices of the DOFs an enforced-motion load's SPCD entries name, checked against the
 /// subcase's s-set ([`crate::assembly::spc::SpcSet::with_spcd`]'s rule), each with its value.
 pub fn enforced_dofs(
@@ -173,7 +378,7 @@ pub fn enforced_dofs(
     for entry in entries {
         let grid = *model.grid_index.get(&entry.grid).ok_or_else(|| {
             format!(
-                "SPCD {} at {}: enforced motion of a scalar point in frequency response is not supported; use a grid",
+                "SPCD {} at {}: enforced motion of a scalar point is not supported; use a grid",
                 entry.set, entry.loc
             )
         })?;

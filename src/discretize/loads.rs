@@ -30,6 +30,7 @@ use crate::dynamics::table::Table;
 use crate::io::csv_table::read_columns;
 use crate::model::Model;
 use crate::model::dynamic_loads::{DynamicTable, Excitation, TableData};
+use crate::model::sets::EnforcedEntry;
 
 /// A TABLED1–TABLED4 or TABLEF (CSV, path relative to the file holding the card) by id.
 pub fn dynamic_table(model: &Model, tid: u32) -> Result<Table, String> {
@@ -70,14 +71,29 @@ pub enum TimeFunction {
     Pulse(Pulse),
 }
 
+impl TimeFunction {
+    /// F(x).
+    pub fn value(&self, x: f64) -> f64 {
+        match self {
+            TimeFunction::Table(table) => table.value(x),
+            TimeFunction::Pulse(pulse) => pulse.value(x),
+        }
+    }
+
+    /// (F, F', F'') at x, right-hand limits where F has a corner ([`Table::slope`],
+    /// [`Table::curvature`], [`Pulse::derivatives`]).
+    pub fn derivatives(&self, x: f64) -> [f64; 3] {
+        match self {
+            TimeFunction::Table(table) => [table.value(x), table.slope(x), table.curvature(x)],
+            TimeFunction::Pulse(pulse) => pulse.derivatives(x),
+        }
+    }
+}
+
 impl LoadTerm {
     /// F(t − delay).
     pub fn factor(&self, t: f64) -> f64 {
-        let local = t - self.delay;
-        match &self.function {
-            TimeFunction::Table(table) => table.value(local),
-            TimeFunction::Pulse(pulse) => pulse.value(local),
-        }
+        self.function.value(t - self.delay)
     }
 }
 
@@ -104,18 +120,55 @@ pub fn load_into_where(
     }
 }
 
+/// A TLOAD1/TLOAD2 of TYPE = DISP, VELO or ACCE: the SPCD entries its EXCITEID selects (values
+/// scaled by the DLOAD factors) move by value · F(t − delay), F the displacement, velocity or
+/// acceleration `kind` says.
+pub struct EnforcedLoad {
+    pub kind: ExcitationKind,
+    pub entries: Vec<EnforcedEntry>,
+    pub function: TimeFunction,
+    pub delay: f64,
+    /// The card and its SID, for messages ("TLOAD1 7").
+    pub name: String,
+}
+
+/// The time-domain loads of `DLOAD = sid`: applied loads and enforced motions.
+pub struct TimeLoads {
+    pub applied: Vec<LoadTerm>,
+    pub enforced: Vec<EnforcedLoad>,
+}
+
+impl TimeLoads {
+    /// The applied loads, for a model on which enforced motion is not available (`model`
+    /// names it); an error naming the first enforced-motion TLOAD otherwise.
+    pub fn applied_only(self, model: &str) -> Result<Vec<LoadTerm>, String> {
+        match self.enforced.first() {
+            None => Ok(self.applied),
+            Some(e) => Err(format!(
+                "{}: TYPE = {} (enforced motion) is not available on {model} in this version; the full model takes it (SOL 109/112 without ROM)",
+                e.name,
+                e.kind.name()
+            )),
+        }
+    }
+}
+
 /// The load terms of `DLOAD = sid`: a DLOAD combination S·Σ Sᵢ·(TLOAD Lᵢ), or one TLOAD set.
 /// `place(excitation, scale, shape)` adds one DAREA entry (scale including the DLOAD factors) to a shape vector of length `len`; when a TLOAD1's EXCITEID selects no
 /// DAREA, `static_set(excite_id)` may supply the shape of a static load set (FORCE, LOAD) as the
-/// full model does, or `None` (pROMs: loads act on input DOFs only).
+/// full model does, or `None` (pROMs: loads act on input DOFs only). A TLOAD of TYPE = DISP,
+/// VELO or ACCE is an enforced motion of the SPCD set its EXCITEID names ([`EnforcedLoad`]).
 pub fn load_terms(
     model: &Model,
     sid: u32,
     len: usize,
     mut place: impl FnMut(&Excitation, f64, &mut [f64]) -> Result<(), String>,
     mut static_set: impl FnMut(u32) -> Result<Option<Vec<f64>>, String>,
-) -> Result<Vec<LoadTerm>, String> {
-    let mut out = Vec::new();
+) -> Result<TimeLoads, String> {
+    let mut out = TimeLoads {
+        applied: Vec::new(),
+        enforced: Vec::new(),
+    };
     for (scale, set) in model.dynamic_load_members(sid) {
         let tloads = model.transient_loads(set);
         if tloads.is_empty() {
@@ -125,19 +178,31 @@ pub fn load_terms(
         }
         for t in tloads {
             let card = t.function.card();
-            if t.kind != ExcitationKind::Load {
-                return Err(format!(
-                    "{card} {}: TYPE = {} (enforced motion) is not available in the time domain in this version",
-                    t.sid,
-                    t.kind.name()
-                ));
-            }
             let function = match &t.function {
                 TloadFunction::Table(tid) => {
                     TimeFunction::Table(table_of(model, *tid, &format!("{card} {}", t.sid))?)
                 }
                 TloadFunction::Pulse(pulse) => TimeFunction::Pulse(pulse.clone()),
             };
+            if t.kind != ExcitationKind::Load {
+                let entries = model.enforced_members(&[(scale, t.excite_id)]);
+                if entries.is_empty() {
+                    return Err(format!(
+                        "{card} {}: TYPE = {} needs EXCITEID = an SPCD set; there is no SPCD {}",
+                        t.sid,
+                        t.kind.name(),
+                        t.excite_id
+                    ));
+                }
+                out.enforced.push(EnforcedLoad {
+                    kind: t.kind,
+                    entries,
+                    function,
+                    delay: t.delay,
+                    name: format!("{card} {}", t.sid),
+                });
+                continue;
+            }
             let mut shape = vec![0.0; len];
             for x in &t.excitation {
                 place(x, scale * x.scale, &mut shape)?;
@@ -153,7 +218,7 @@ pub fn load_terms(
                     })?;
                 shape.iter_mut().zip(&p).for_each(|(s, p)| *s += scale * p);
             }
-            out.push(LoadTerm {
+            out.applied.push(LoadTerm {
                 shape,
                 function,
                 delay: t.delay,

@@ -80,6 +80,16 @@ impl SensorOperator {
         }
     }
 
+    /// y += H_s (u_s, u̇_s or ü_s as each row reads): what a prescribed motion of the
+    /// constrained DOFs adds to [`Self::evaluate`].
+    pub fn add_constrained(&self, u_s: &[f64], v_s: &[f64], a_s: &[f64], y: &mut [f64]) {
+        for (j, col) in self.rows_s.col_iter().enumerate() {
+            for (&i, &h) in col.row_indices().iter().zip(col.values()) {
+                y[i] += h * self.reads[i].select(u_s, v_s, a_s)[j];
+            }
+        }
+    }
+
     /// y = H u_f.
     pub fn apply(&self, u_f: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; self.rows.nrows()];

@@ -249,7 +249,9 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             |d, scale, shape| place_input(&input_names, &s_r, d, scale, shape),
             |_| Ok(None),
         )
-        .map_err(case)?,
+        .map_err(case)?
+        .applied_only("a pROM estimation")
+        .map_err(|e| RunError::NotAvailable(format!("subcase {}: {e}", sub.id)))?,
     };
     let load_at = |t: f64, f: &mut [f64], which: &dyn Fn(&LoadTerm) -> bool| {
         load_into_where(&loads, t, f, which)

@@ -119,7 +119,9 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             |d, scale, shape| place_input(&names, &s_r, d, scale, shape),
             |_| Ok(None),
         )
-        .map_err(case)?,
+        .map_err(case)?
+        .applied_only("a reduced model")
+        .map_err(|e| RunError::NotAvailable(format!("subcase {}: {e}", sub.id)))?,
     };
     let k = names.len();
     let tables = parameter_tables(ctx, sub, &prom).map_err(case)?;

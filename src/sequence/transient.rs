@@ -3,7 +3,8 @@
 //! `BETA1` with (G/W3)·K added to βK; the elements' viscous damping B; their structural damping
 //! GE turned viscous at `PARAM,W4` as Nastran, left out while W4 = 0), with the
 //! `TINTEG` of the `TSTEP` (BDF1 by default, eq. 2.61; BDF2; generalized-α) from rest or from
-//! the TIC state of `IC = sid`. Each
+//! the TIC state of `IC = sid`; a TLOAD of TYPE = DISP, VELO or ACCE moves the DOFs of its SPCD
+//! set ([`crate::dynamics::prescribed`], [`crate::discretize::enforced::EnforcedMotion`]). Each
 //! TSTEP interval has a constant Δt: one sparse Cholesky of the effective matrix per interval
 //! (two for BDF2, whose first step is BDF1), one symbolic analysis for the run.
 //!
@@ -21,11 +22,13 @@ use super::shared::{method_of, output_rows};
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
 use crate::assembly::recover::expand_f_to_n;
 use crate::deck::Solution;
-use crate::deck::cards::ExcitationKind;
 use crate::deck::case_control::Subcase;
-use crate::discretize::loads::{initial_state, load_into, load_terms, place_darea, static_shape};
+use crate::discretize::enforced::{EnforcedMotion, MovedState};
+use crate::discretize::loads::{
+    TimeLoads, initial_state, load_into, load_terms, place_darea, static_shape,
+};
 use crate::discretize::{Constrained, Structure};
-use crate::dynamics::integrators::{IntegrationError, Run, integrate_with};
+use crate::dynamics::integrators::{IntegrationError, Run, integrate_prescribed};
 use crate::dynamics::sparse_backend::SparseBackend;
 use crate::io::{set_attr_i64, set_attr_str, write_f64};
 use crate::model::Model;
@@ -117,23 +120,19 @@ fn subcase(
 ) -> Result<TransientSummary, RunError> {
     let id = sub.id;
     let case = |what: String| RunError::Case { subcase: id, what };
-    let enforced_motion = sub.dload.is_some_and(|sid| {
-        (ctx.model.dynamic_load_members(sid).iter()).any(|(_, set)| {
-            (ctx.model.transient_loads(*set).iter()).any(|t| t.kind != ExcitationKind::Load)
-        })
-    });
-    if enforced_motion {
-        return Err(RunError::NotAvailable(format!(
-            "subcase {id}: enforced motion (a TLOAD1/TLOAD2 with TYPE = DISP, VELO or ACCE) is not available in SOL 109/112 in this version; SOL 108/111 take it (RLOAD1/RLOAD2)"
-        )));
-    }
     if c.spc.enforced.iter().any(|x| *x != 0.0) {
         return Err(case("enforced displacements (SPC with a non-zero value) are not supported by SOL TRANSIENT in this version".into()));
     }
     let (tstep, method, method_name) = method_of(ctx.model, sub)?;
     let n_f = c.sets.f.len();
-    let loads = match sub.dload {
-        None => Vec::new(),
+    let TimeLoads {
+        applied: loads,
+        enforced,
+    } = match sub.dload {
+        None => TimeLoads {
+            applied: Vec::new(),
+            enforced: Vec::new(),
+        },
         Some(dload) => load_terms(
             ctx.model,
             dload,
@@ -143,6 +142,8 @@ fn subcase(
         )
         .map_err(case)?,
     };
+    let moved = EnforcedMotion::new(ctx.model, st, c, &enforced).map_err(case)?;
+    let mut motion = moved.prescribed(&enforced, 0.0);
     let sensors = super::subcase_sensors(ctx, st, c, sub)?;
     let rows = output_rows(&tstep.intervals);
     let s = sensors.len();
@@ -152,6 +153,8 @@ fn subcase(
     let grid_rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
     let mut history: Vec<f64> = Vec::new();
     let mut recovery_error = None;
+    let mut moved_state = MovedState::new(c.sets.s.len());
+    let mut enforced_g = c.spc.enforced.clone();
     let params = &ctx.model.params;
     // the elements' viscous B and, with PARAM,W4, their structural damping as (1/W4)·Σ GE K_e
     let damping: Vec<(f64, &nalgebra_sparse::CscMatrix<f64>)> = [
@@ -188,24 +191,28 @@ fn subcase(
             steps: count as usize,
             t0,
         };
-        integrate_with(
+        integrate_prescribed(
             &mut backend,
             method,
             run,
             &u0,
             &v0,
             |t, f| load_into(&loads, t, f),
+            &mut motion,
             |state| {
                 if (state.step > 0 || interval == 0) && state.step % every == 0 && time.len() < rows
                 {
                     let r = time.len();
                     time.push(state.time);
+                    moved_state.set(&moved.patterns, state.motion);
                     sensors.evaluate(state.q, state.v, state.a, &mut y);
+                    sensors.add_constrained(&moved_state.u, &moved_state.v, &moved_state.a, &mut y);
                     for (i, yi) in y.iter().enumerate() {
                         series[i * rows + r] = *yi;
                     }
                     if grid_rows.is_some() {
-                        match expand_f_to_n(state.q, &c.sets, &c.spc.enforced)
+                        moved_state.scatter_displacement(c.sets.s.members(), &mut enforced_g);
+                        match expand_f_to_n(state.q, &c.sets, &enforced_g)
                             .and_then(|u_n| st.rigid.expand(&u_n))
                         {
                             Ok(u_g) => history.extend(st.to_basic_rows(&u_g)),

@@ -1664,6 +1664,152 @@ def case_frf_base_excitation(write):
     }
 
 
+def case_tload_base_excitation(write):
+    """A mass on a spring, a damper and a rod with consistent mass to a moving base (SPCD moved
+    by TLOAD1/TLOAD2 of TYPE = DISP, VELO, ACCE in SOL 109/112): the mass's absolute
+    displacement history against an independent integration (scipy DOP853) of
+    (m + 2 mu) u'' + b u' + k u = -mu g'' + b g' + k g, mu = rho A L / 6 the rod's consistent
+    mass coupling. Smooth motion g = Y (1 - cos W t) given as the displacement (a DLOAD of a
+    constant and a cosine TLOAD2), the velocity and the acceleration; and a TABLED1 ramp-hold-ramp
+    displacement, whose kinks are impulses mu [g'] on the mass (integrated in z = u + mu g / M,
+    which stays smooth)."""
+    from scipy.integrate import solve_ivp
+    name = "tload_base_excitation"
+    m, k_spring, b = 2.0, 4.0e4, 40.0
+    E, A, L, rho = 2.0e8, 1.0e-4, 1.0, 3.0e4
+    k = k_spring + E * A / L
+    mu = rho * A * L / 6.0
+    M = m + 2.0 * mu
+    Y, f_hz = 2.0e-3, 15.0
+    W = 2 * math.pi * f_hz
+    dt, steps, every = 5.0e-5, 6000, 20
+    times = [i * every * dt for i in range(steps // every + 1)]
+    T = times[-1]
+    wn = math.sqrt(k / M)
+    ramp = [(0.0, 0.0), (0.05, 1.0), (0.1, 1.0), (0.15, 0.0), (1.0, 0.0)]
+
+    def smooth(t):
+        return Y * (1 - math.cos(W * t)), Y * W * math.sin(W * t), Y * W * W * math.cos(W * t)
+
+    def rhs_smooth(t, y):
+        g, gd, ga = smooth(t)
+        return [y[1], (-mu * ga + b * (gd - y[1]) + k * (g - y[0])) / M]
+
+    sol = solve_ivp(rhs_smooth, (0.0, T), [0.0, 0.0], method="DOP853", rtol=1e-12, atol=1e-16,
+                    t_eval=times, max_step=1e-4)
+    u_smooth = list(sol.y[0])
+    radau = solve_ivp(rhs_smooth, (0.0, T), [0.0, 0.0], method="Radau", rtol=1e-11, atol=1e-17,
+                      t_eval=times, max_step=1e-4)
+    peak = max(abs(x) for x in u_smooth)
+    check("%s: smooth motion, DOP853 vs Radau over the peak" % name,
+          1.0 + max(abs(a - c) for a, c in zip(u_smooth, radau.y[0])) / peak, 1.0, 1e-7)
+    # the ramp: u = z - (mu / M) g with M z'' = b (g' - u') + k (g - u) between kinks, where g'
+    # is constant; z and z' are continuous (the kinks' impulses act on u only); at t = 0 the
+    # motion starts with its right-hand slope and the mass at rest: z'(0) = (mu / M) g'(0+)
+    nu = -mu / M
+    xs, ys = [p[0] for p in ramp], [p[1] for p in ramp]
+
+    def g_ramp(t):
+        return Y * float(np.interp(t, xs, ys))
+
+    def ramp_response(method, rtol, atol):
+        u = [0.0] * len(times)
+        state = [0.0, -nu * Y * (ys[1] - ys[0]) / (xs[1] - xs[0])]
+        for i in range(len(xs) - 1):
+            t0, t1 = xs[i], min(xs[i + 1], T)
+            if t0 >= T:
+                break
+            slope = Y * (ys[i + 1] - ys[i]) / (xs[i + 1] - xs[i])
+
+            def rhs(t, y, slope=slope):
+                g = g_ramp(t)
+                return [y[1], (b * (slope - (y[1] + nu * slope)) + k * (g - (y[0] + nu * g))) / M]
+
+            seg = solve_ivp(rhs, (t0, t1), state, method=method, rtol=rtol, atol=atol,
+                            dense_output=True, max_step=1e-4)
+            for j, t in enumerate(times):
+                if t0 <= t <= t1:
+                    u[j] = float(seg.sol(t)[0]) + nu * g_ramp(t)
+            state = list(seg.y[:, -1])
+        return u
+
+    u_ramp = ramp_response("DOP853", 1e-12, 1e-16)
+    peak_ramp = max(abs(x) for x in u_ramp)
+    check("%s: ramp, DOP853 vs Radau over the peak" % name,
+          1.0 + max(abs(a - c) for a, c in zip(u_ramp, ramp_response("Radau", 1e-11, 1e-17)))
+          / peak_ramp, 1.0, 1e-6)
+    decks = []
+    kinds = [("disp", 109, "DISP", Y, "GALPHA"), ("velo", 112, "VELO", Y * W, "GALPHA"),
+             ("acce", 109, "ACCE", Y * W * W, "GALPHA"), ("ramp", 109, "DISP", Y, "BDF2")]
+    for key, sol_no, kind, value, integ in kinds:
+        deck = "%s/%s_%s.dat" % (DECK_DIR, name, key)
+        decks.append(deck)
+        if not write:
+            continue
+        bulk = [card("GRID", 1, None, 0.0, 0.0, 0.0), card("GRID", 2, None, L, 0.0, 0.0),
+                card("CONM2", 1, 2, 0, m), card("CELAS2", 11, k_spring, 1, 1, 2, 1),
+                card("CDAMP2", 12, b, 1, 1, 2, 1), card("CROD", 13, 14, 1, 2),
+                card("PROD", 14, 15, A), card("MAT1", 15, E, None, 0.3, rho),
+                "PARAM,COUPMASS,1", spc1(1, "123456", [1]), spc1(1, "23456", [2]),
+                card("SPCD", 8, 1, 1, value), card("TSTEP", 1, steps, dt, every),
+                card("TINTEG", 1, integ, *([1.0] if integ == "GALPHA" else [])),
+                card("SENSOR", 1, "BASEA", "ACCEL", 1, None, 1.0, 0.0, 0.0)]
+        if key == "disp":
+            bulk += [card("DLOAD", 7, 1.0, 1.0, 71, -1.0, 72),
+                     card("TLOAD2", 71, 8, None, kind, 0.0, 10.0, 0.0, 0.0),
+                     card("TLOAD2", 72, 8, None, kind, 0.0, 10.0, f_hz, 0.0)]
+        elif key == "ramp":
+            bulk += [card("TLOAD1", 7, 8, None, kind, 20), tabled1(20, ramp)]
+        else:
+            bulk.append(card("TLOAD2", 7, 8, None, kind, 0.0, 10.0, f_hz,
+                             -90.0 if kind == "VELO" else 0.0))
+        cc = ["TITLE = %s_%s" % (name, key), "SUBCASE 1", "  SPC = 1", "  TSTEP = 1",
+              "  DLOAD = 7", "  DISPLACEMENT = ALL"]
+        write_deck(deck, ["analytic case %s: CONM2 %g kg on CELAS2 %g N/m, CDAMP2 %g N s/m and a "
+                          "CROD (consistent mass) to a base moved by SPCD through a TLOAD of "
+                          "TYPE = %s (%s)" % (name, m, k_spring, b, kind, integ),
+                          "reference: %s/%s.json" % (REF_DIR, name)],
+                   sol_no, cc, bulk)
+    # a-priori error bounds of the integrators over the run, relative to the response:
+    # trapezoidal rule (generalized-alpha, rho = 1): phase error (w dt)^2 / 12 per radian;
+    # BDF2: local error (2/9) (w dt)^3 per step, (2/9) (w dt)^2 per radian; both over w T
+    # radians at the natural frequency (the forcing's own, W < w, errs less)
+    trap = (wn * dt) ** 2 / 12 * wn * T
+    bdf2 = 2.0 / 9.0 * (wn * dt) ** 2 * wn * T
+    return {
+        "case": name,
+        "description": "base excitation of a spring-mass-damper with a consistent-mass rod by "
+                       "enforced motion in the time domain (SPCD with TLOAD1/TLOAD2 TYPE = DISP, "
+                       "VELO, ACCE; SOL 109/112): absolute displacement of the mass",
+        "provenance": "equation of motion of the partitioned 2-DOF system [base, mass] with the "
+                      "base motion prescribed (MSC Nastran Dynamic Analysis User's Guide, "
+                      "enforced motion with SPC/SPCD); the consistent rod mass rho A L / 6 [2 1; "
+                      "1 2]; reference by scipy.integrate.solve_ivp (DOP853, rtol 1e-12), "
+                      "smooth case checked against Radau",
+        "formula": "(m + 2 mu) u'' + b u' + k u = -mu g'' + b g' + k g, u(0) = u'(0) = 0, "
+                   "k = k_spring + E A / L, mu = rho A L / 6; smooth: g = Y (1 - cos W t); "
+                   "ramp: g = Y * TABLED1 (piecewise linear)",
+        "inputs": {"m": m, "k_spring": k_spring, "b": b, "E": E, "A": A, "L": L, "rho": rho,
+                   "k": k, "mu": mu, "Y": Y, "f_hz": f_hz, "dt": dt, "steps": steps,
+                   "every": every, "ramp": ramp},
+        "time": times,
+        "u_smooth": u_smooth,
+        "u_ramp": u_ramp,
+        "value_labels": ["peak |u| smooth", "peak |u| ramp"],
+        "units": "m",
+        "values": [peak, peak_ramp],
+        "meshes": [{"deck": d, "elements": 4, "h": None} for d in decks],
+        "expected_order": None,
+        "tolerance_finest": {"relative": [trap, bdf2], "justification": [
+            "generalized-alpha with rho = 1 (the trapezoidal rule) on the smooth motion: phase "
+            "error (w dt)^2/12 per radian, w dt = %.1e, over w T = %.0f rad: %.1e of the peak"
+            % (wn * dt, wn * T, trap),
+            "BDF2 on the ramp: local error (2/9)(w dt)^3 per step, over w T = %.0f rad: %.1e of "
+            "the peak; the kinks lie on step times, where the method's own difference formulas "
+            "give the base's velocity and acceleration" % (wn * T, bdf2)]},
+    }
+
+
 def case_frf_sdof_rload2(write):
     """The SDOF of case_frf_sdof under a DLOAD combination of an RLOAD2 (B(f) a TABLED4 power
     series clamped to its range, phi(f) a TABLED3) and an RLOAD1 whose C(f) is a TABLED2: the
@@ -2082,6 +2228,7 @@ CASES = {
     "frf_sdof_rload2": case_frf_sdof_rload2,
     "frf_base_excitation": case_frf_base_excitation,
     "tload2_sdof": case_tload2_sdof,
+    "tload_base_excitation": case_tload_base_excitation,
     "frf_two_dof": case_frf_two_dof,
     "frf_two_dof_g": lambda w: case_frf_two_dof(w, "frf_two_dof_g", 0.05),
     "frf_damped_rods": case_frf_damped_rods,

@@ -307,7 +307,7 @@ impl Tstep {
 /// | 2 | SID | int > 0 | required | load set id |
 /// | 3 | EXCITEID | int > 0 | required | DAREA, static load set (directly or through an LSEQ), or SPCD set (TYPE DISP/VELO/ACCE) |
 /// | 4 | DELAY | real | 0.0 | time delay τ (a DELAY card id is not supported) |
-/// | 5 | TYPE | `LOAD` / `DISP` / `VELO` / `ACCE` or 0–3 | LOAD | excitation type: DISP, VELO and ACCE (enforced motion of an SPCD set) are read but refused by SOL 109/112 |
+/// | 5 | TYPE | `LOAD` / `DISP` / `VELO` / `ACCE` or 0–3 | LOAD | excitation type: an applied load, or the enforced displacement, velocity or acceleration of the DOFs of an SPCD set (EXCITEID; full-model SOL 109/112) |
 /// | 6 | TID | int > 0 | required | TABLED1–TABLED4 or TABLEF id of F(t) |
 /// | 7, 8 | US0 VS0 | real | 0.0 | enforced-motion initial values (kept, unused) |
 ///
