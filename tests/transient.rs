@@ -346,6 +346,24 @@ fn parameters_following_tables_on_a_prom() {
         change > 100.0 * e1,
         "the ramp must change the response well above the step error: {change:e} vs {e1:e}"
     );
+    // a PTABLE naming no parameter of the pROM, or one the PVAL already sets, stops at its card
+    for (params, expected) in [
+        (
+            "PTABLE,4,K9,20\nTABLED1,20\n,0.,2.5e4,1.,2.5e4,ENDT\n",
+            "PTABLE 4: field 3 (NAME): K9 is not a parameter of the pROM (parameters: K1)",
+        ),
+        (
+            "PVAL,4,K1,2.5e4\nPTABLE,4,k1,20\nTABLED1,20\n,0.,2.5e4,1.,2.5e4,ENDT\n",
+            "PTABLE 4: field 3 (NAME): K1 is given twice (PVAL and PTABLE, or two PTABLEs)",
+        ),
+    ] {
+        let (r, _out) = run_deck(&deck(100, 1e-4, params));
+        let message = r.expect_err(expected).to_string();
+        assert!(
+            message.contains(expected) && message.contains("deck.dat:"),
+            "{message}"
+        );
+    }
 }
 
 /// Hard cases on a pROM: a PTABLE leaving the parameter box during the run is warned about,

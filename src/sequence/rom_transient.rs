@@ -20,21 +20,19 @@ use super::report::{Report, sci};
 use super::rom_case::RomAtPoint;
 use super::rom_case::extrapolation_warning;
 use super::shared::damping_warning;
-use super::shared::{method_of, output_rows};
+use super::shared::{method_of, output_rows, parameter_tables};
 use super::{Clock, RunContext, RunError, SubcaseSummary};
 use crate::deck::Solution;
 use crate::deck::case_control::Subcase;
 use crate::discretize::loads::place_input;
-use crate::discretize::loads::{load_into, load_terms, table_of};
+use crate::discretize::loads::{load_into, load_terms};
 use crate::dynamics::integrators::{Backend, Run, integrate_with};
 use crate::dynamics::measurement::{Recorder, SensorRows};
-use crate::dynamics::table::Table;
 use crate::io::{
     read_prom_inputs, read_prom_sensors, set_attr_f64s, set_attr_i64, set_attr_str,
     set_attr_strings, write_f64, write_strings,
 };
 use crate::model::Model;
-use crate::rom::prom::Prom;
 use crate::rom::transient::{InputStaticShapes, VaryingProm};
 
 /// What one pROM transient subcase computed.
@@ -124,7 +122,30 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         .map_err(|e| RunError::NotAvailable(format!("subcase {}: {e}", sub.id)))?,
     };
     let k = names.len();
-    let tables = parameter_tables(ctx, sub, &prom).map_err(case)?;
+    let tables = match sub.pval {
+        None => Vec::new(),
+        Some(id) => parameter_tables(
+            ctx.model,
+            id,
+            |name| {
+                (ctx.model.pval(id).iter())
+                    .any(|c| c.values.iter().any(|(n, _)| n.eq_ignore_ascii_case(name)))
+            },
+            |name| {
+                (prom.parameters.iter())
+                    .position(|q| q.name.eq_ignore_ascii_case(name))
+                    .ok_or_else(|| {
+                        let names: Vec<&str> =
+                            prom.parameters.iter().map(|q| q.name.as_str()).collect();
+                        format!(
+                            "{name} is not a parameter of the pROM (parameters: {})",
+                            names.join(", ")
+                        )
+                    })
+            },
+        )
+        .map_err(case)?,
+    };
     let mut backend = VaryingProm::new(&prom, at, p, tables, extrapolated);
     backend
         .advance(0.0)
@@ -222,52 +243,6 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
         autospc: Vec::new(),
         result: Box::new(summary),
     })
-}
-
-/// The tabulated parameters of `PVAL = id` (PTABLE cards): (parameter index, p(t)). A
-/// parameter may not be both in a PVAL and a PTABLE of the same id.
-fn parameter_tables(
-    ctx: &RunContext,
-    sub: &Subcase,
-    prom: &Prom,
-) -> Result<Vec<(usize, Table)>, String> {
-    let Some(id) = sub.pval else {
-        return Ok(Vec::new());
-    };
-    let mut out: Vec<(usize, Table)> = Vec::new();
-    for card in ctx.model.ptables(id) {
-        let names = || {
-            prom.parameters
-                .iter()
-                .map(|q| q.name.as_str())
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
-        let j = prom
-            .parameters
-            .iter()
-            .position(|q| q.name.eq_ignore_ascii_case(&card.name))
-            .ok_or_else(|| {
-                format!(
-                    "PTABLE {id} names {}, which is not a parameter of the pROM (parameters: {})",
-                    card.name,
-                    names()
-                )
-            })?;
-        if ctx.model.pval(id).iter().any(|c| {
-            c.values
-                .iter()
-                .any(|(n, _)| n.eq_ignore_ascii_case(&card.name))
-        }) || out.iter().any(|(k, _)| *k == j)
-        {
-            return Err(format!(
-                "PTABLE {id}: parameter {} is given twice (PVAL and PTABLE, or two PTABLEs)",
-                card.name
-            ));
-        }
-        out.push((j, table_of(ctx.model, card.tid, &format!("PTABLE {id}"))?));
-    }
-    Ok(out)
 }
 
 /// The reduced initial state of `IC = sid`. TIC cards name pROM input DOFs (`GRID:component`);

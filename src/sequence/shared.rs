@@ -1,6 +1,7 @@
 //! What several drivers share: the discretized mesh of the mesh drivers ([`structure`]), the
 //! time steps of a `TSTEP` and the damping warning (full-model and pROM transients), the
-//! frequency lines of `FREQUENCY` and the FRF output (full-model and pROM FRFs).
+//! frequency lines of `FREQUENCY` and the FRF output (full-model and pROM FRFs), the PTABLE
+//! parameters of a `PVAL` selection (pROM transients and SOL FMB).
 
 use super::report::weight_lines;
 use super::{Clock, RunContext, RunError};
@@ -10,7 +11,9 @@ use crate::deck::Solution;
 use crate::deck::cards::{TintegMethod, Tstep};
 use crate::deck::case_control::Subcase;
 use crate::discretize::Structure;
+use crate::discretize::loads::table_of;
 use crate::dynamics::integrators::Method;
+use crate::dynamics::table::Table;
 use crate::io::{IoError, set_attr_f64s, set_attr_str, write_c64, write_f64, write_strings};
 use crate::linalg::c64;
 use crate::model::Model;
@@ -171,4 +174,32 @@ pub fn w4_warning(model: &Model) -> Option<String> {
     }
     let some = model.structural_damping_elements(4);
     (!some.is_empty()).then(|| format!("the structural damping GE of {}{} is not applied by SOL TRANSIENT without PARAM,W4 (as Nastran): set W4 (rad/s) for (1/W4)·Σ GE·K_e", some.join(", "), if some.len() == 4 { ", …" } else { "" }))
+}
+
+/// The tables of the PTABLE cards of `PVAL = id`, each keyed by `resolve(NAME)` (an error text
+/// when NAME is no parameter of the model run); a NAME that the PVAL cards set (`in_pval`) or an
+/// earlier PTABLE already names (names compare without case) is refused. Errors name the card's
+/// file:line and field.
+pub fn parameter_tables<K>(
+    model: &Model,
+    id: u32,
+    in_pval: impl Fn(&str) -> bool,
+    resolve: impl Fn(&str) -> Result<K, String>,
+) -> Result<Vec<(K, Table)>, String> {
+    let mut out: Vec<(K, Table)> = Vec::new();
+    let mut names: Vec<&str> = Vec::new();
+    for card in model.ptables(id) {
+        let at = |what: String| format!("{}: PTABLE {id}: {what}", card.loc);
+        let key = resolve(&card.name).map_err(|e| at(format!("field 3 (NAME): {e}")))?;
+        if in_pval(&card.name) || names.iter().any(|n| n.eq_ignore_ascii_case(&card.name)) {
+            return Err(at(format!(
+                "field 3 (NAME): {} is given twice (PVAL and PTABLE, or two PTABLEs)",
+                card.name
+            )));
+        }
+        let table = table_of(model, card.tid, "field 4 (TID)").map_err(at)?;
+        names.push(&card.name);
+        out.push((key, table));
+    }
+    Ok(out)
 }

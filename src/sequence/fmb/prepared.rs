@@ -14,11 +14,11 @@
 
 use std::path::PathBuf;
 
+use super::super::shared::parameter_tables;
 use super::super::{RunContext, RunError};
 use super::{control_of, mechanism_errors, mechanism_of, scheme_of, selected};
 use crate::card_values::{FmbStart, MsensorKind};
 use crate::deck::case_control::Subcase;
-use crate::discretize::loads::table_of;
 use crate::discretize::mechanism::{Bodies, MechanismSystem, build_system};
 use crate::discretize::pfmb::Pfmb;
 use crate::discretize::prom_body::ParametricBody;
@@ -122,7 +122,19 @@ impl PreparedFmb {
                 card.values.clone()
             }
         };
-        let tables = parameter_tables(ctx, sub, &pval, &pfmb)?;
+        let tables = match sub.pval {
+            None => Vec::new(),
+            Some(id) => parameter_tables(
+                ctx.model,
+                id,
+                |name| pval.iter().any(|(n, _)| n.eq_ignore_ascii_case(name)),
+                |name| {
+                    pfmb.check_parameter_names(&[(name.to_string(), 0.0)])
+                        .map(|_| name.to_string())
+                },
+            )
+            .map_err(case)?,
+        };
         // the systems are built at p(0) and follow the tables from the first step on
         let at_start = with_tables_at(&pval, &tables, 0.0);
         let mechanism = &pfmb.mechanism;
@@ -263,38 +275,6 @@ impl PreparedFmb {
             self.start,
         )
     }
-}
-
-/// The PTABLEs of the subcase's `PVAL = id` (`BODY.PMPAR`, p(t)), each table read; a name
-/// also given a constant value by the PVAL, or tabulated twice, is an error at the card.
-fn parameter_tables(
-    ctx: &RunContext,
-    sub: &Subcase,
-    pval: &[(String, f64)],
-    pfmb: &Pfmb,
-) -> Result<Vec<(String, Table)>, RunError> {
-    let Some(id) = sub.pval else {
-        return Ok(Vec::new());
-    };
-    let mut tables: Vec<(String, Table)> = Vec::new();
-    for card in ctx.model.ptables(id) {
-        let at = |what: String| RunError::Case {
-            subcase: sub.id,
-            what: format!("{}: PTABLE {id}: {what}", card.loc),
-        };
-        let named = |n: &String| n.eq_ignore_ascii_case(&card.name);
-        if pval.iter().any(|(n, _)| named(n)) || tables.iter().any(|(n, _)| named(n)) {
-            return Err(at(format!(
-                "field 3 (NAME): {} is given twice (PVAL and PTABLE, or two PTABLEs)",
-                card.name
-            )));
-        }
-        pfmb.check_parameter_names(&[(card.name.clone(), 0.0)])
-            .map_err(|e| at(format!("field 3 (NAME): {e}")))?;
-        let table = table_of(ctx.model, card.tid, "field 4 (TID)").map_err(at)?;
-        tables.push((card.name.clone(), table));
-    }
-    Ok(tables)
 }
 
 /// `pval` with the tabulated parameters' values at t.
