@@ -292,7 +292,7 @@ pub fn integrate_with<B: Backend>(
     load: impl FnMut(f64, &mut [f64]),
     observe: impl FnMut(&StepState<'_>),
 ) -> Result<(), IntegrationError> {
-    let mut none = PrescribedMotion::none();
+    let mut none = PrescribedMotion::default();
     integrate_prescribed(backend, method, run, q0, v0, load, &mut none, observe)
 }
 

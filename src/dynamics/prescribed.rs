@@ -62,11 +62,6 @@ pub(crate) struct AlphaUpdate {
 }
 
 impl<'a> PrescribedMotion<'a> {
-    /// No prescribed motion.
-    pub fn none() -> Self {
-        Self::default()
-    }
-
     /// The terms, each of whose columns has the unknowns' length.
     pub fn new(terms: Vec<PrescribedTerm<'a>>) -> Self {
         let n = terms.len();
@@ -76,16 +71,6 @@ impl<'a> PrescribedMotion<'a> {
             previous: vec![[0.0; 3]; n],
             balance: vec![[0.0; 3]; n],
         }
-    }
-
-    /// Number of terms.
-    pub fn len(&self) -> usize {
-        self.terms.len()
-    }
-
-    /// True without terms.
-    pub fn is_empty(&self) -> bool {
-        self.terms.is_empty()
     }
 
     /// Length of the coupling columns (`None` without terms).
@@ -269,6 +254,71 @@ mod tests {
             assert!((g - t * t).abs() < 1e-14);
             assert!((v - 2.0 * t).abs() < 1e-12, "step {step}: {v}");
         }
+    }
+
+    #[test]
+    fn bdf2_kinematics_of_a_quadratic_motion_are_exact_for_every_drive() {
+        // BDF2 differentiates and integrates polynomials of degree 2 exactly: with the two
+        // previous states exact, every drive reproduces (t², 2t, 2) at every step
+        let dt = 0.1;
+        let exact = |t: f64| [t * t, 2.0 * t, 2.0];
+        let mut m = quadratic_terms(exact(0.0));
+        m.start();
+        m.previous = vec![exact(-dt); 3];
+        for step in 1..=20 {
+            let t = step as f64 * dt;
+            m.advance_bdf(t, dt, 1.5);
+            for (j, k) in m.kinematics().iter().enumerate() {
+                for i in 0..3 {
+                    assert!(
+                        (k[i] - exact(t)[i]).abs() < 1e-9,
+                        "term {j} {i}: {k:?} at {t}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn coupling_columns_of_another_length_are_refused() {
+        use crate::dynamics::integrators::Dense;
+        use crate::dynamics::integrators::{
+            IntegrationError, LinearSystem, Run, integrate_prescribed,
+        };
+        let (m, c, k) = (
+            faer::Mat::<f64>::identity(2, 2),
+            faer::Mat::<f64>::zeros(2, 2),
+            faer::Mat::<f64>::identity(2, 2),
+        );
+        let sys = LinearSystem {
+            mass: m.as_ref(),
+            damping: c.as_ref(),
+            stiffness: k.as_ref(),
+        };
+        let mut motion = PrescribedMotion::new(vec![term(Drive::Displacement, |t| t, [0.0; 3])]);
+        let run = Run {
+            dt: 0.1,
+            steps: 3,
+            t0: 0.0,
+        };
+        let result = integrate_prescribed(
+            &mut Dense::new(sys).unwrap(),
+            crate::dynamics::integrators::Method::Bdf1,
+            run,
+            &[0.0, 0.0],
+            &[0.0, 0.0],
+            |_, f| f.fill(0.0),
+            &mut motion,
+            |_| {},
+        );
+        assert_eq!(
+            result,
+            Err(IntegrationError::Shape {
+                what: "prescribed-motion coupling",
+                expected: 2,
+                got: 1
+            })
+        );
     }
 
     #[test]
