@@ -24,6 +24,7 @@ mod param;
 mod properties;
 mod rigid;
 mod shear_panel;
+mod superelement;
 mod temperature;
 
 pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd, Suport};
@@ -271,6 +272,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("CVISC", |c, b| Ok(b.cvisc.push(Cvisc::from_card(c)?))),
     ("CBUSH", |c, b| Ok(b.cbush.push(Cbush::from_card(c)?))),
     ("SPOINT", |c, b| Ok(b.spoints.push(Spoint::from_card(c)?))),
+    ("SELOC", |c, _| superelement::seloc(c)),
     ("CONM2", |c, b| Ok(b.conm2.push(Conm2::from_card(c)?))),
     ("CROD", |c, b| Ok(b.crod.push(Crod::from_card(c)?))),
     ("CTUBE", |c, b| Ok(b.ctube.push(Crod::from_card(c)?))),
