@@ -38,7 +38,7 @@ pub fn seloc(card: &RawCard) -> Result<(), Vec<DeckError>> {
         1,
         "SEID",
         format!(
-            "SELOC moves part superelement {seid}, which paraflex does not read (no BEGIN SUPER sections); Nastran stops on a SELOC whose superelement is not defined"
+            "SELOC moves part superelement {seid}, which paraflex does not read (it reads no part superelements); Nastran stops on a SELOC whose superelement is not defined"
         ),
     );
     f.finish(7)
