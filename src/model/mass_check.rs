@@ -60,6 +60,12 @@ pub fn check(deck: &Deck, model: &Model) -> Vec<DeckError> {
                 .filter(|m| m.rho == 0.0)
                 .map(|m| zero_rho(&m.loc, format!("MAT8 {}", m.id), &why, "")),
         )
+        .chain(
+            b.mat2
+                .iter()
+                .filter(|m| m.rho == 0.0)
+                .map(|m| zero_rho(&m.loc, format!("MAT2 {}", m.id), &why, "")),
+        )
         .collect();
     if errors.is_empty() {
         let at = deck.executive.sol_loc.clone().unwrap_or_else(|| Loc {

@@ -50,7 +50,7 @@ pub use loads::{
     Force, ForceByGrids, Grav, Load, Pload, Pload1, Pload1Scale, Pload2, Pload4, Pload4Target,
     Sload,
 };
-pub use materials::{Mat1, Mat8};
+pub use materials::{Mat1, Mat2, Mat8};
 pub use multibody::{Flexb, Fmbpose, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
 pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, Promlib, ResponseSource, SearchMethod, Statistic};
 pub use param::{Param, ParamValue};
@@ -105,6 +105,7 @@ pub struct BulkData {
     pub rbe3: Vec<Rbe3>,
     pub mat1: Vec<Mat1>,
     pub mat8: Vec<Mat8>,
+    pub mat2: Vec<Mat2>,
     pub matt1: Vec<Matt1>,
     /// TABLEM1, TABLEM2 and TABLEM3 (material tables, read by MATT1).
     pub tablem: Vec<Tabled>,
@@ -283,6 +284,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("RBE3", |c, b| Ok(b.rbe3.push(Rbe3::from_card(c)?))),
     ("MAT1", |c, b| Ok(b.mat1.push(Mat1::from_card(c)?))),
     ("MAT8", |c, b| Ok(b.mat8.push(Mat8::from_card(c)?))),
+    ("MAT2", |c, b| Ok(b.mat2.push(Mat2::from_card(c)?))),
     ("MATT1", |c, b| Ok(b.matt1.push(Matt1::from_card(c)?))),
     ("TABLEM1", |c, b| {
         Ok(b.tablem.push(Tabled::from_card(c, "TABLEM1")?))
