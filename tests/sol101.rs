@@ -1056,3 +1056,71 @@ fn mat2_misuse_is_refused_with_its_card() {
         );
     }
 }
+
+/// A 4 × 1 × 1 CHEXA cantilever 2 × 0.5 × 0.5, clamped at x = 0, loaded at the tip in y and
+/// z, its elements of property 1 (`property`: the PSOLID or PCOMPS card, with its MAT1s).
+fn hex_cantilever(property: &str) -> String {
+    let mut s =
+        format!("SOL 101\nCEND\nSPC = 1\nLOAD = 5\nDISPLACEMENT = ALL\nBEGIN BULK\n{property}\n");
+    for i in 0..=4 {
+        for (k, (y, z)) in [(0.0, 0.0), (0.5, 0.0), (0.5, 0.5), (0.0, 0.5)]
+            .iter()
+            .enumerate()
+        {
+            s += &format!(
+                "GRID,{},,{:?},{y:?},{z:?}\n",
+                10 * i + k + 1,
+                0.5 * i as f64
+            );
+        }
+    }
+    for i in 0..4 {
+        let g = |k: usize| 10 * i + k;
+        s += &format!(
+            "CHEXA,{},1,{},{},{},{},{},{}\n,{},{}\n",
+            i + 1,
+            g(1),
+            g(2),
+            g(3),
+            g(4),
+            g(11),
+            g(12),
+            g(13),
+            g(14)
+        );
+    }
+    s += "SPC1,1,123,1,2,3,4\nFORCE,5,43,,100.,0.,1.,-2.\nENDDATA\n";
+    s
+}
+
+/// A PCOMPS whose plies all use one MAT1 is that homogeneous solid: with plies of unequal
+/// thickness and different angles it gives the PSOLID's displacements to round-off (the same
+/// element matrices; bound 1e-12 of the largest). Plies of different materials (a laminate
+/// paraflex would have to integrate ply by ply) and a GE are refused at their field.
+#[test]
+fn pcomps_of_one_mat1_is_that_psolid() {
+    let mat = "MAT1,7,2.e11,,0.3,7850.";
+    let psolid = displacements(&hex_cantilever(&format!("PSOLID,1,7\n{mat}")));
+    let pcomps = displacements(&hex_cantilever(&format!(
+        "PCOMPS,1,0,13,,,20.,0.\n,11,7,2.,0.,,,YES,ABS\n,12,7,3.,45.\n{mat}"
+    )));
+    let d = relative_difference(&psolid, &pcomps);
+    assert!(d < 1e-12, "PCOMPS vs PSOLID: {d:e}");
+    let (_dir, deck) = {
+        let dir = tempfile::tempdir().expect("dir");
+        let path = dir.path().join("deck.dat");
+        let text = hex_cantilever(&format!(
+            "PCOMPS,1,,,,,,0.02\n,11,7,2.,0.\n,12,8,3.,45.\n{mat}\nMAT1,8,1.e11,,0.3"
+        ));
+        std::fs::write(&path, text).expect("write");
+        let deck = paraflex::deck::Deck::read(&path);
+        (dir, deck)
+    };
+    let message = deck.expect_err("refused").to_string();
+    for text in [
+        "PCOMPS 1: field 8 (GE): a PCOMPS GE is not supported",
+        "PCOMPS 1: field 3 of continuation 2 (MID2): ply 2 has MID 8 and ply 1 MID 7",
+    ] {
+        assert!(message.contains(text), "'{text}' not in:\n{message}");
+    }
+}

@@ -894,7 +894,7 @@ fn solid_element(
     let midsides = model
         .solid_midsides(e)
         .ok_or_else(|| err(e, "not a solid"))?;
-    let Some((pid, used)) = e.property.and_then(|p| model.solid_material(p)) else {
+    let Some((property, used)) = e.property.and_then(|p| model.solid_material(p)) else {
         return Err(err(e, "a solid needs a PSOLID"));
     };
     let m = match used.material {
@@ -903,17 +903,14 @@ fn solid_element(
             return Err(err(
                 e,
                 format!(
-                    "PSOLID {pid}: {} {} is a shell material; solids need MAT1",
+                    "{property}: {} {} is a shell material; solids need MAT1",
                     other.card(),
                     used.mid
                 ),
             ));
         }
         None => {
-            return Err(err(
-                e,
-                format!("PSOLID {pid}: material {} missing", used.mid),
-            ));
+            return Err(err(e, format!("{property}: material {} missing", used.mid)));
         }
     };
     let target = ParamTarget::Material(used.mid);

@@ -120,7 +120,7 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>, warnings: &m
         }
     }
     for p in &b.psolid {
-        let card = format!("PSOLID {}", p.id);
+        let card = p.label();
         material(
             refs,
             p.mid,

@@ -300,6 +300,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("PCOMP", |c, b| Ok(b.pcomp.push(Pcomp::from_card(c)?))),
     ("PCOMPG", |c, b| Ok(b.pcomp.push(Pcomp::from_pcompg(c)?))),
     ("PSOLID", |c, b| Ok(b.psolid.push(Psolid::from_card(c)?))),
+    ("PCOMPS", |c, b| Ok(b.psolid.push(properties::pcomps(c)?))),
     ("PSHEAR", |c, b| Ok(b.pshear.push(Pshear::from_card(c)?))),
     ("PELAS", |c, b| Ok(b.pelas.extend(Pelas::from_card(c)?))),
     ("PDAMP", |c, b| Ok(b.pdamp.extend(Pdamp::from_card(c)?))),
