@@ -166,8 +166,7 @@ impl Mat8 {
     }
 }
 
-/// `MAT2` — anisotropic material for shells (plane stress), its stiffness matrix given
-/// directly.
+/// `MAT2` — anisotropic plane-stress material for shells, its stiffness matrix given directly.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|

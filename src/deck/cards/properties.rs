@@ -334,8 +334,9 @@ impl Psolid {
     }
 }
 
-/// `PCOMPS` — layered solid property for CHEXA and CPENTA (NX): read when every ply has one
-/// material, as the homogeneous PSOLID it then is.
+/// `PCOMPS` — layered solid property (NX), read when all plies share one MAT1.
+///
+/// For CHEXA and CPENTA; read as the homogeneous PSOLID it then is.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
