@@ -1042,6 +1042,13 @@ fn mat2_misuse_is_refused_with_its_card() {
             skew_plate("PSHELL,1,1,0.02,1\nPMPAR,1,EM,E,1,1.,2.", mats),
             "REFID = 1 is a MAT2; KIND = E acts on a MAT1",
         ),
+        (
+            skew_plate("PSHELL,1,2,0.02,2", mats)
+                .replace("SOL 101", "SOL 103")
+                .replace("LOAD = 5", "METHOD = 9")
+                .replace("ENDDATA", "EIGRL,9,,,3\nENDDATA"),
+            "MAT2 2: field 9 (RHO): RHO is zero or blank: SOL 103",
+        ),
     ];
     for (k, (deck, expected)) in cases.iter().enumerate() {
         // the section errors surface when the elements are built, the others with the model

@@ -1627,7 +1627,9 @@ mod tests {
         let m = roles.iter().flatten().find(|m| m.mid == mid).unwrap();
         match m.material {
             ShellMaterial::Isotropic { e, nu } => (e, nu, m.rho),
-            ShellMaterial::Orthotropic { .. } => unreachable!("mat1 only"),
+            ShellMaterial::Orthotropic { .. } | ShellMaterial::Anisotropic { .. } => {
+                unreachable!("mat1 only")
+            }
         }
     }
 
