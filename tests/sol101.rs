@@ -898,7 +898,8 @@ fn relative_difference(a: &[f64], b: &[f64]) -> f64 {
 /// matrices are the same numbers reached by another route, so the displacements agree to
 /// round-off (bound 1e-10 of the largest: cond(K) · ε ~ 1e-11 here); a transverse-shear matrix
 /// taken from the wrong Gij, a G13/G23 coupling dropped or the material angle ignored for MAT2
-/// changes them by O(1e-3) or more.
+/// changes them by O(1e-3) or more. The first four natural frequencies of the MAT8 and MAT2
+/// plates agree to 1e-10 too (the mass is MID1's RHO in both).
 #[test]
 fn mat2_equals_the_mat1_and_mat8_it_spells_out() {
     let (e, nu) = (7.0e10, 0.3);
@@ -941,6 +942,27 @@ fn mat2_equals_the_mat1_and_mat8_it_spells_out() {
         &displacements(&skew_plate(pshell, &ortho)),
     );
     assert!(d < 1e-10, "MAT2 (orthotropic) vs MAT8: {d:e}");
+
+    // the mass comes from MID1's RHO: the modes of the MAT8 and MAT2 plates agree as closely
+    let frequencies = |materials: &str| -> Vec<f64> {
+        let deck = skew_plate(pshell, materials)
+            .replace("SOL 101", "SOL 103")
+            .replace("LOAD = 5", "METHOD = 9")
+            .replace("ENDDATA", "EIGRL,9,,,4\nENDDATA");
+        let (r, dir) = run_deck(&deck);
+        r.expect("run");
+        hdf5_metno::File::open(dir.path().join("out.h5"))
+            .expect("open")
+            .dataset("results/1/modal/frequency_hz")
+            .expect("frequencies")
+            .read_raw()
+            .expect("read")
+    };
+    let (f8, f2) = (frequencies(&mat8), frequencies(&ortho));
+    assert_eq!(f8.len(), 4);
+    for (a, b) in f8.iter().zip(&f2) {
+        assert!((a - b).abs() < 1e-10 * a, "MAT8 {a} Hz vs MAT2 {b} Hz");
+    }
 }
 
 /// A fully anisotropic MAT2 (G13, G23 ≠ 0) in a free membrane patch pulled by a uniform
