@@ -460,6 +460,38 @@ fn begin_super_is_one_error_and_its_cards_read_as_bulk() {
     assert!(!errors.contains("case control command"), "{errors}");
 }
 
+/// `BEGIN BULK SUPER = n` (the older spelling of `BEGIN SUPER = n`) opens a part superelement
+/// too: one error at its line, not a silent merge of the part's cards into the main model.
+/// A SELOC (which moves a part superelement) is refused at its SEID with Nastran's reason; a
+/// POINT (geometry for superelement cards only) is set aside with a warning, its fields checked.
+#[test]
+fn begin_bulk_super_and_seloc_are_refused_and_point_set_aside() {
+    let (_dir, deck) = read_files(&[(
+        "deck.dat",
+        "SOL 101\nCEND\nBEGIN BULK\nGRID,40,,-5.,15.,0.\nSELOC,1,16,13,12,40,50,60\n\
+         POINT,7,,1.,2.,3.\nPOINT,8,,x\nBEGIN BULK SUPER = 1\nGRID,11,,0.,0.,0.\nENDDATA\n",
+    )]);
+    let errors = deck
+        .expect_err("part superelements are refused")
+        .to_string();
+    for text in [
+        "deck.dat:5: SELOC 1: field 2 (SEID): SELOC moves part superelement 1, which paraflex does not read",
+        "deck.dat:7: POINT 8: field 4 (X1)",
+        "deck.dat:8: 'BEGIN BULK SUPER = 1': paraflex reads one bulk data section",
+    ] {
+        assert!(errors.contains(text), "'{text}' not in:\n{errors}");
+    }
+    let deck =
+        read_text("SOL 101\nCEND\nBEGIN BULK\nGRID,1,,0.,0.,0.\nPOINT,7,,1.,2.,3.\nENDDATA\n");
+    assert!(
+        deck.warnings.iter().any(|w| w
+            .message
+            .contains("POINT accepted and ignored (1 card): a POINT is a geometric point")),
+        "{:?}",
+        deck.warnings
+    );
+}
+
 /// Cards that cannot change results are read and set aside with one warning per card name that
 /// says why; where only some uses are harmless (USET set names, MDLPRM options: OFFDEF = LROFF
 /// changes only nonlinear analyses, NOMASS changes the mass; PELAST: TKNID is nonlinear only, TKID

@@ -828,3 +828,328 @@ fn force1_force2_moment1_moment2_follow_their_grids() {
     let e = common::build_model(&parallel).unwrap_err().join("\n");
     assert!(e.contains("FORCE2 1") && e.contains("has no length"), "{e}");
 }
+
+/// Static displacements (n × 6, grid id order) of a deck.
+fn displacements(deck: &str) -> Vec<f64> {
+    let (r, dir) = run_deck(deck);
+    r.expect("run");
+    hdf5_metno::File::open(dir.path().join("out.h5"))
+        .expect("open")
+        .dataset("results/1/statics/displacement")
+        .expect("u")
+        .read_raw()
+        .expect("read")
+}
+
+/// A 4 × 3 CQUAD4 plate 1.2 × 0.9 (grid 10·i + j + 1 at column i, row j; interior grids moved
+/// off the regular lattice so the elements are general quadrilaterals), every element with
+/// material angle THETA = 30°, PSHELL 1 (`pshell`, with the material cards `materials`),
+/// clamped along x = 0, loaded at the x = 1.2 corners in z and along the edge in x and y.
+fn skew_plate(pshell: &str, materials: &str) -> String {
+    let mut s = format!(
+        "SOL 101\nCEND\nSPC = 1\nLOAD = 5\nDISPLACEMENT = ALL\nBEGIN BULK\n{pshell}\n{materials}"
+    );
+    for i in 0..=4 {
+        for j in 0..=3 {
+            let interior = i > 0 && i < 4 && j > 0 && j < 3;
+            let (dx, dy) = if interior {
+                (0.04 * ((i + j) % 2) as f64, -0.03 * (j % 2) as f64)
+            } else {
+                (0.0, 0.0)
+            };
+            let (x, y) = (0.3 * i as f64 + dx, 0.3 * j as f64 + dy);
+            s += &format!("GRID,{},,{x:?},{y:?},0.\n", 10 * i + j + 1);
+        }
+    }
+    for i in 0..4 {
+        for j in 0..3 {
+            let g = 10 * i + j + 1;
+            s += &format!(
+                "CQUAD4,{},1,{},{},{},{},30.\n",
+                10 * i + j + 1,
+                g,
+                g + 10,
+                g + 11,
+                g + 1
+            );
+        }
+    }
+    s += "SPC1,1,123456,1,2,3,4\nFORCE,5,41,,1.,0.3,0.2,1.\nFORCE,5,44,,1.,-0.1,0.4,-0.5\n\
+          MOMENT,5,42,,0.2,1.,0.,0.\nENDDATA\n";
+    s
+}
+
+/// Largest difference between two displacement sets, relative to the largest displacement.
+fn relative_difference(a: &[f64], b: &[f64]) -> f64 {
+    let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    assert!(scale > 0.0, "the plate moves");
+    let diff = a
+        .iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    diff / scale
+}
+
+/// MAT2 in all three PSHELL roles against the cards whose matrices it spells out: a MAT2 equal
+/// to a MAT1's plane-stress matrix E/(1−ν²)[[1, ν, 0], [ν, 1, 0], [0, 0, (1−ν)/2]] (MID3: a MAT2
+/// with G11 = G22 = E/(2(1+ν))), and one equal to a MAT8's Q (Q11 = E1/(1−ν12ν21), Q12 =
+/// ν12 E2/(1−ν12ν21), Q22 = E2/(1−ν12ν21), Q66 = G12; MID3: diag(G1Z, G2Z)), on a distorted
+/// plate with material angle 30° loaded in bending, torsion and in-plane. The element
+/// matrices are the same numbers reached by another route, so the displacements agree to
+/// round-off (bound 1e-10 of the largest: cond(K) · ε ~ 1e-11 here); a transverse-shear matrix
+/// taken from the wrong Gij, a G13/G23 coupling dropped or the material angle ignored for MAT2
+/// changes them by O(1e-3) or more. The first four natural frequencies of the MAT8 and MAT2
+/// plates agree to 1e-10 too (the mass is MID1's RHO in both).
+#[test]
+fn mat2_equals_the_mat1_and_mat8_it_spells_out() {
+    let (e, nu) = (7.0e10, 0.3);
+    let c = e / (1.0 - nu * nu);
+    let g = e / (2.0 * (1.0 + nu));
+    let pshell = "PSHELL,1,1,0.02,2,,3";
+    let mat1 = format!("MAT1,1,{e:?},,{nu:?},2700.\nMAT1,2,{e:?},,{nu:?}\nMAT1,3,{e:?},,{nu:?}\n");
+    let iso = format!(
+        "MAT2,1,{:?},{:?},0.,{c:?},0.,{:?},2700.\nMAT2,2,{:?},{:?},0.,{c:?},0.,{:?}\nMAT2,3,{g:?},0.,,{g:?}\n",
+        c,
+        c * nu,
+        c * (1.0 - nu) / 2.0,
+        c,
+        c * nu,
+        c * (1.0 - nu) / 2.0
+    );
+    let d = relative_difference(
+        &displacements(&skew_plate(pshell, &mat1)),
+        &displacements(&skew_plate(pshell, &iso)),
+    );
+    assert!(d < 1e-10, "MAT2 (isotropic) vs MAT1: {d:e}");
+
+    let (e1, e2, nu12, g12, g1z, g2z) = (1.4e11, 1.0e10, 0.3, 5.0e9, 4.0e9, 3.0e9);
+    let nu21 = nu12 * e2 / e1;
+    let den = 1.0 - nu12 * nu21;
+    let mat8 = format!(
+        "MAT8,1,{e1:?},{e2:?},{nu12:?},{g12:?},{g1z:?},{g2z:?},1600.\n\
+         MAT8,2,{e1:?},{e2:?},{nu12:?},{g12:?},{g1z:?},{g2z:?}\n\
+         MAT8,3,{e1:?},{e2:?},{nu12:?},{g12:?},{g1z:?},{g2z:?}\n"
+    );
+    let q = format!(
+        "{:?},{:?},0.,{:?},0.,{g12:?}",
+        e1 / den,
+        nu12 * e2 / den,
+        e2 / den
+    );
+    let ortho = format!("MAT2,1,{q},1600.\nMAT2,2,{q}\nMAT2,3,{g1z:?},0.,,{g2z:?}\n");
+    let d = relative_difference(
+        &displacements(&skew_plate(pshell, &mat8)),
+        &displacements(&skew_plate(pshell, &ortho)),
+    );
+    assert!(d < 1e-10, "MAT2 (orthotropic) vs MAT8: {d:e}");
+
+    // the mass comes from MID1's RHO: the modes of the MAT8 and MAT2 plates agree as closely
+    let frequencies = |materials: &str| -> Vec<f64> {
+        let deck = skew_plate(pshell, materials)
+            .replace("SOL 101", "SOL 103")
+            .replace("LOAD = 5", "METHOD = 9")
+            .replace("ENDDATA", "EIGRL,9,,,4\nENDDATA");
+        let (r, dir) = run_deck(&deck);
+        r.expect("run");
+        hdf5_metno::File::open(dir.path().join("out.h5"))
+            .expect("open")
+            .dataset("results/1/modal/frequency_hz")
+            .expect("frequencies")
+            .read_raw()
+            .expect("read")
+    };
+    let (f8, f2) = (frequencies(&mat8), frequencies(&ortho));
+    assert_eq!(f8.len(), 4);
+    for (a, b) in f8.iter().zip(&f2) {
+        assert!((a - b).abs() < 1e-10 * a, "MAT8 {a} Hz vs MAT2 {b} Hz");
+    }
+}
+
+/// A fully anisotropic MAT2 (G13, G23 ≠ 0) in a free membrane patch pulled by a uniform
+/// tension N along x at both ends (self-equilibrated nodal forces): every CQUAD4 passes the
+/// patch test, so the strain is uniform and exact, ε = G⁻¹ (N/t, 0, 0). The drilling
+/// rotations are held at 0 on every grid, which leaves the in-plane rotation ω = 0 (the
+/// drilling penalty ties it to them) and, with the origin held, the displacements are
+/// u = εx x + γxy y/2, v = εy y + γxy x/2. Bound 1e-9 of the largest displacement
+/// (round-off; a coupling term G13 or G23 left out changes v by O(1)).
+#[test]
+fn anisotropic_mat2_membrane_patch_follows_its_compliance() {
+    let (t, n, lx, ly) = (0.01, 1.0e5, 1.0, 0.6);
+    let gm = [
+        [2.0e11, 5.0e10, 2.0e10],
+        [5.0e10, 1.0e11, -1.5e10],
+        [2.0e10, -1.5e10, 4.0e10],
+    ];
+    let mut s = format!(
+        "SOL 101\nCEND\nSPC = 1\nLOAD = 5\nDISPLACEMENT = ALL\nBEGIN BULK\nPSHELL,1,7,{t:?}\n\
+         MAT2,7,{:?},{:?},{:?},{:?},{:?},{:?}\n",
+        gm[0][0], gm[0][1], gm[0][2], gm[1][1], gm[1][2], gm[2][2]
+    );
+    let (nx, ny) = (3, 2);
+    for i in 0..=nx {
+        for j in 0..=ny {
+            let (x, y) = (lx * i as f64 / nx as f64, ly * j as f64 / ny as f64);
+            s += &format!("GRID,{},,{x:?},{y:?},0.,,3456\n", 10 * i + j + 1);
+        }
+    }
+    for i in 0..nx {
+        for j in 0..ny {
+            let g = 10 * i + j + 1;
+            s += &format!("CQUAD4,{g},1,{g},{},{},{}\n", g + 10, g + 11, g + 1);
+        }
+    }
+    // edges x = 0 and x = lx: the consistent nodal forces of the traction ∓N (per length)
+    let h = ly / ny as f64;
+    for j in 0..=ny {
+        let share = if j == 0 || j == ny { 0.5 } else { 1.0 };
+        for (i, sign) in [(0, -1.0), (nx, 1.0)] {
+            let f = sign * n * h * share;
+            s += &format!("FORCE,5,{},,{f:?},1.,0.,0.\n", 10 * i + j + 1);
+        }
+    }
+    s += "SPC1,1,12,1\nENDDATA\n";
+    let u = displacements(&s);
+    // ε = G⁻¹ σ by Cramer's rule for σ = (N/t, 0, 0): the first column of G⁻¹ times σx
+    let det = gm[0][0] * (gm[1][1] * gm[2][2] - gm[1][2] * gm[2][1])
+        - gm[0][1] * (gm[1][0] * gm[2][2] - gm[1][2] * gm[2][0])
+        + gm[0][2] * (gm[1][0] * gm[2][1] - gm[1][1] * gm[2][0]);
+    let sx = n / t;
+    let ex = sx * (gm[1][1] * gm[2][2] - gm[1][2] * gm[2][1]) / det;
+    let ey = -sx * (gm[1][0] * gm[2][2] - gm[1][2] * gm[2][0]) / det;
+    let gxy = sx * (gm[1][0] * gm[2][1] - gm[1][1] * gm[2][0]) / det;
+    let mut k = 0;
+    for i in 0..=nx {
+        for j in 0..=ny {
+            let (x, y) = (lx * i as f64 / nx as f64, ly * j as f64 / ny as f64);
+            let (ue, ve) = (ex * x + gxy * y / 2.0, ey * y + gxy * x / 2.0);
+            let tol = 1e-9 * (ex * lx).abs();
+            assert!(
+                (u[6 * k] - ue).abs() < tol && (u[6 * k + 1] - ve).abs() < tol,
+                "grid ({x}, {y}): ({}, {}) vs ({ue:e}, {ve:e})",
+                u[6 * k],
+                u[6 * k + 1]
+            );
+            k += 1;
+        }
+    }
+    assert!(
+        gxy.abs() > 0.1 * ex.abs(),
+        "the patch shears: {gxy:e} vs {ex:e}"
+    );
+}
+
+/// MAT2 where its matrix cannot serve is refused with the card and the reason: as MID3 with
+/// G33 ≠ 0 (Nastran requires G13, G23, G33 blank there), with negative stiffness as MID1, as a
+/// PCOMP ply or a PSOLID material, and as the REFID of a PMPAR E (no E to scale).
+#[test]
+fn mat2_misuse_is_refused_with_its_card() {
+    let mats = "MAT2,1,2.e11,5.e10,0.,1.e11,0.,4.e10,1600.\nMAT2,2,2.e11,5.e10,0.,1.e11,0.,4.e10\n";
+    let cases = [
+        (
+            skew_plate("PSHELL,1,1,0.02,1,,2", mats),
+            "MID3 = 2 (MAT2): as MID3 (transverse shear from G11, G12, G22) G13, G23 and G33 must be blank",
+        ),
+        (
+            skew_plate(
+                "PSHELL,1,3,0.02",
+                "MAT2,3,2.e11,3.e11,0.,1.e11,0.,4.e10,1600.\n",
+            ),
+            "MID1 = 3 (MAT2): G11 … G33 must form a positive semi-definite matrix",
+        ),
+        (
+            skew_plate("PCOMP,1\n,1,0.01,0.", mats),
+            "MID1 = 1 is a MAT2; PCOMP needs a MAT8 or MAT1: MAT2 is a plane-stress material, read by PSHELL only",
+        ),
+        (
+            skew_plate("PSHELL,1,1,0.02,1\nPMPAR,1,EM,E,1,1.,2.", mats),
+            "REFID = 1 is a MAT2; KIND = E acts on a MAT1",
+        ),
+        (
+            skew_plate("PSHELL,1,2,0.02,2", mats)
+                .replace("SOL 101", "SOL 103")
+                .replace("LOAD = 5", "METHOD = 9")
+                .replace("ENDDATA", "EIGRL,9,,,3\nENDDATA"),
+            "MAT2 2: field 9 (RHO): RHO is zero or blank: SOL 103",
+        ),
+    ];
+    for (k, (deck, expected)) in cases.iter().enumerate() {
+        // the section errors surface when the elements are built, the others with the model
+        let message = if k < 2 {
+            run_deck(deck).0.expect_err("refused").to_string()
+        } else {
+            common::build_model(deck).expect_err("refused").join("\n")
+        };
+        assert!(
+            message.contains(expected),
+            "'{expected}' not in:\n{message}"
+        );
+    }
+}
+
+/// A 4 × 1 × 1 CHEXA cantilever 2 × 0.5 × 0.5, clamped at x = 0, loaded at the tip in y and
+/// z, its elements of property 1 (`property`: the PSOLID or PCOMPS card, with its MAT1s).
+fn hex_cantilever(property: &str) -> String {
+    let mut s =
+        format!("SOL 101\nCEND\nSPC = 1\nLOAD = 5\nDISPLACEMENT = ALL\nBEGIN BULK\n{property}\n");
+    for i in 0..=4 {
+        for (k, (y, z)) in [(0.0, 0.0), (0.5, 0.0), (0.5, 0.5), (0.0, 0.5)]
+            .iter()
+            .enumerate()
+        {
+            s += &format!(
+                "GRID,{},,{:?},{y:?},{z:?}\n",
+                10 * i + k + 1,
+                0.5 * i as f64
+            );
+        }
+    }
+    for i in 0..4 {
+        let g = |k: usize| 10 * i + k;
+        s += &format!(
+            "CHEXA,{},1,{},{},{},{},{},{}\n,{},{}\n",
+            i + 1,
+            g(1),
+            g(2),
+            g(3),
+            g(4),
+            g(11),
+            g(12),
+            g(13),
+            g(14)
+        );
+    }
+    s += "SPC1,1,123,1,2,3,4\nFORCE,5,43,,100.,0.,1.,-2.\nENDDATA\n";
+    s
+}
+
+/// A PCOMPS whose plies all use one MAT1 is that homogeneous solid: with plies of unequal
+/// thickness and different angles it gives the PSOLID's displacements to round-off (the same
+/// element matrices; bound 1e-12 of the largest). Plies of different materials (a laminate
+/// paraflex would have to integrate ply by ply) and a GE are refused at their field.
+#[test]
+fn pcomps_of_one_mat1_is_that_psolid() {
+    let mat = "MAT1,7,2.e11,,0.3,7850.";
+    let psolid = displacements(&hex_cantilever(&format!("PSOLID,1,7\n{mat}")));
+    let pcomps = displacements(&hex_cantilever(&format!(
+        "PCOMPS,1,0,13,,,20.,0.\n,11,7,2.,0.,,,YES,ABS\n,12,7,3.,45.\n{mat}"
+    )));
+    let d = relative_difference(&psolid, &pcomps);
+    assert!(d < 1e-12, "PCOMPS vs PSOLID: {d:e}");
+    let (_dir, deck) = {
+        let dir = tempfile::tempdir().expect("dir");
+        let path = dir.path().join("deck.dat");
+        let text = hex_cantilever(&format!(
+            "PCOMPS,1,,,,,,0.02\n,11,7,2.,0.\n,12,8,3.,45.\n{mat}\nMAT1,8,1.e11,,0.3"
+        ));
+        std::fs::write(&path, text).expect("write");
+        let deck = paraflex::deck::Deck::read(&path);
+        (dir, deck)
+    };
+    let message = deck.expect_err("refused").to_string();
+    for text in [
+        "PCOMPS 1: field 8 (GE): a PCOMPS GE is not supported",
+        "PCOMPS 1: field 3 of continuation 2 (MID2): ply 2 has MID 8 and ply 1 MID 7",
+    ] {
+        assert!(message.contains(text), "'{text}' not in:\n{message}");
+    }
+}

@@ -233,13 +233,20 @@ fn first_word(text: &str) -> String {
         .to_ascii_uppercase()
 }
 
+/// `BEGIN BULK` alone: the main bulk data section. `BEGIN BULK SUPER = n` (the older spelling
+/// of `BEGIN SUPER = n`) opens a part superelement's section and is not this.
 fn is_begin_bulk(text: &str) -> bool {
     let t = text.trim().to_ascii_uppercase();
-    t.starts_with("BEGIN") && t[5..].trim_start().starts_with("BULK")
+    let Some(rest) = t.strip_prefix("BEGIN") else {
+        return false;
+    };
+    rest.trim_start()
+        .strip_prefix("BULK")
+        .is_some_and(|after| after.trim().is_empty())
 }
 
-/// `BEGIN SUPER = n`, `BEGIN AUXMODEL = n` …: a bulk section of its own (part superelements,
-/// auxiliary models), which paraflex does not read, as an error at its line.
+/// `BEGIN SUPER = n`, `BEGIN BULK SUPER = n`, `BEGIN AUXMODEL = n` …: a bulk section of its own
+/// (part superelements, auxiliary models), which paraflex does not read, as an error at its line.
 fn other_begin_section(loc: &Loc, text: &str) -> Option<DeckError> {
     (first_word(text) == "BEGIN" && !is_begin_bulk(text)).then(|| {
         DeckError::at(

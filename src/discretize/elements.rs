@@ -280,9 +280,13 @@ fn corner_thicknesses(t: f64, corners: Option<&CornerThickness>, n: usize) -> Op
     })
 }
 
-/// A ply of a material (a MAT1 is a ply with E1 = E2 = E, G12 = G1Z = G2Z = G).
-fn ply_of(material: Material, t: f64, theta_deg: f64) -> Ply {
-    match material {
+/// A ply of a material (a MAT1 is a ply with E1 = E2 = E, G12 = G1Z = G2Z = G); a MAT2
+/// has no ply constants (Nastran's PCOMP reads MAT2 plies, paraflex does not).
+fn ply_of(material: Material, t: f64, theta_deg: f64) -> Result<Ply, String> {
+    Ok(match material {
+        Material::Anisotropic(_) => {
+            return Err("a PCOMP ply needs a MAT8 or MAT1; MAT2 plies are not supported".into());
+        }
         Material::Orthotropic(m) => Ply {
             e1: m.e1,
             e2: m.e2,
@@ -305,10 +309,10 @@ fn ply_of(material: Material, t: f64, theta_deg: f64) -> Ply {
             t,
             theta_deg,
         },
-    }
+    })
 }
 
-/// A MAT1 / MAT8 as the material of a PSHELL role.
+/// A MAT1 / MAT8 / MAT2 as the material of a PSHELL role.
 fn shell_material(mid: u32, material: Material) -> RoleMaterial {
     match material {
         Material::Isotropic(m) => RoleMaterial {
@@ -326,6 +330,11 @@ fn shell_material(mid: u32, material: Material) -> RoleMaterial {
                 g1z: m.g1z,
                 g2z: m.g2z,
             },
+            rho: m.rho,
+        },
+        Material::Anisotropic(m) => RoleMaterial {
+            mid,
+            material: ShellMaterial::Anisotropic { g: m.g },
             rho: m.rho,
         },
     }
@@ -450,15 +459,15 @@ fn shell_section(
                 .plies
                 .iter()
                 .map(|ply| {
-                    ply.material
-                        .material
-                        .map(|m| ply_of(m, ply.t, ply.theta_deg))
-                        .ok_or_else(|| {
-                            err(
-                                e,
-                                format!("PCOMP {}: material {} missing", p.id, ply.material.mid),
-                            )
-                        })
+                    let m = ply.material.material.ok_or_else(|| {
+                        err(
+                            e,
+                            format!("PCOMP {}: material {} missing", p.id, ply.material.mid),
+                        )
+                    })?;
+                    ply_of(m, ply.t, ply.theta_deg).map_err(|x| {
+                        err(e, format!("PCOMP {}: MID {}: {x}", p.id, ply.material.mid))
+                    })
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             let bottom = p.z0 + zoffs;
@@ -885,25 +894,23 @@ fn solid_element(
     let midsides = model
         .solid_midsides(e)
         .ok_or_else(|| err(e, "not a solid"))?;
-    let Some((pid, used)) = e.property.and_then(|p| model.solid_material(p)) else {
+    let Some((property, used)) = e.property.and_then(|p| model.solid_material(p)) else {
         return Err(err(e, "a solid needs a PSOLID"));
     };
     let m = match used.material {
         Some(Material::Isotropic(m)) => m,
-        Some(Material::Orthotropic(_)) => {
+        Some(other) => {
             return Err(err(
                 e,
                 format!(
-                    "PSOLID {pid}: MAT8 {} is a shell material; solids need MAT1",
+                    "{property}: {} {} is a shell material; solids need MAT1",
+                    other.card(),
                     used.mid
                 ),
             ));
         }
         None => {
-            return Err(err(
-                e,
-                format!("PSOLID {pid}: material {} missing", used.mid),
-            ));
+            return Err(err(e, format!("{property}: material {} missing", used.mid)));
         }
     };
     let target = ParamTarget::Material(used.mid);
@@ -954,12 +961,13 @@ fn line_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeEr
         .map_err(|x| err(e, x))?;
     let m = match used.material {
         Some(Material::Isotropic(m)) => m,
-        Some(Material::Orthotropic(_)) => {
+        Some(other) => {
             return Err(err(
                 e,
                 format!(
-                    "MID = {} is a MAT8, a shell material; rods and beams need a MAT1",
-                    used.mid
+                    "MID = {} is a {}, a shell material; rods and beams need a MAT1",
+                    used.mid,
+                    other.card()
                 ),
             ));
         }

@@ -115,6 +115,13 @@ pub enum ShellMaterial {
         /// Transverse shear modulus G2Z; `None` = rigid.
         g2z: Option<f64>,
     },
+    /// MAT2: the plane-stress matrix Q = G (symmetric, order xx, yy, xy) taken as given; as
+    /// MID3 its [[G11, G12], [G12, G22]] is the transverse-shear matrix of (xz, yz) and G13,
+    /// G23, G33 must be 0 (MSC/NX Quick Reference Guide, MAT2).
+    Anisotropic {
+        /// G11 … G33.
+        g: [[f64; 3]; 3],
+    },
 }
 
 /// The material of one PSHELL role (MID1 … MID4): its card id, constants and density.
@@ -429,7 +436,7 @@ fn validate_pshell(p: &PshellSection) -> Result<(), SectionError> {
     ];
     for (name, role) in roles {
         if let Some(m) = role {
-            validate_material(&format!("{name} = {}", m.mid), &m.material)?;
+            validate_material(&format!("{name} = {}", m.mid), name, &m.material)?;
         }
     }
     let rule = |ok: bool, what: &str| {
@@ -461,7 +468,8 @@ fn validate_pshell(p: &PshellSection) -> Result<(), SectionError> {
     Ok(())
 }
 
-fn validate_material(what: &str, m: &ShellMaterial) -> Result<(), SectionError> {
+/// The constants of the material of PSHELL role `role` (`MID1` … `MID4`).
+fn validate_material(what: &str, role: &str, m: &ShellMaterial) -> Result<(), SectionError> {
     match *m {
         ShellMaterial::Isotropic { e, nu } => {
             positive(&format!("{what}: Young's modulus E"), e)?;
@@ -472,6 +480,7 @@ fn validate_material(what: &str, m: &ShellMaterial) -> Result<(), SectionError> 
                 });
             }
         }
+        ShellMaterial::Anisotropic { g } => validate_anisotropic(what, role, &g)?,
         ShellMaterial::Orthotropic {
             e1,
             e2,
@@ -495,6 +504,50 @@ fn validate_material(what: &str, m: &ShellMaterial) -> Result<(), SectionError> 
                 });
             }
         }
+    }
+    Ok(())
+}
+
+/// A MAT2 in PSHELL role `role`: finite; as MID1 or MID2 (membrane, bending) positive
+/// semi-definite, as MID3 G13 = G23 = G33 = 0 and [[G11, G12], [G12, G22]] positive
+/// semi-definite; as MID4 (coupling, which may be indefinite) only finite. Semi-definite, not
+/// definite: Nastran accepts e.g. G33 = 0, and a structure left without stiffness is caught
+/// as singular where it is solved.
+fn validate_anisotropic(what: &str, role: &str, g: &[[f64; 3]; 3]) -> Result<(), SectionError> {
+    let bad = |why: &str| Err(SectionError::Roles(format!("{what} (MAT2): {why}")));
+    if !g.iter().flatten().all(|x| x.is_finite()) {
+        return bad("G11 … G33 must be finite");
+    }
+    let scale = g.iter().flatten().fold(0.0_f64, |a, x| a.max(x.abs()));
+    let tol = 1e-12 * scale;
+    let minor2 = |i: usize, j: usize| g[i][i] * g[j][j] - g[i][j] * g[i][j];
+    let det3 = g[0][0] * minor2(1, 2) - g[0][1] * (g[1][0] * g[2][2] - g[1][2] * g[2][0])
+        + g[0][2] * (g[1][0] * g[2][1] - g[1][1] * g[2][0]);
+    match role {
+        "MID3" => {
+            if g[0][2] != 0.0 || g[1][2] != 0.0 || g[2][2] != 0.0 {
+                return bad(
+                    "as MID3 (transverse shear from G11, G12, G22) G13, G23 and G33 must be blank",
+                );
+            }
+            if g[0][0] < -tol || g[1][1] < -tol || minor2(0, 1) < -tol * scale {
+                return bad(
+                    "the transverse-shear matrix [[G11, G12], [G12, G22]] must not be negative in any direction",
+                );
+            }
+        }
+        "MID1" | "MID2" => {
+            let diagonal = (0..3).all(|i| g[i][i] >= -tol);
+            let minors = [(0, 1), (0, 2), (1, 2)]
+                .iter()
+                .all(|&(i, j)| minor2(i, j) >= -tol * scale);
+            if !diagonal || !minors || det3 < -tol * scale * scale {
+                return bad(
+                    "G11 … G33 must form a positive semi-definite matrix (a material with negative stiffness in some direction)",
+                );
+            }
+        }
+        _ => {}
     }
     Ok(())
 }
@@ -540,6 +593,7 @@ fn role_matrices(m: &ShellMaterial) -> (M3, M2) {
             let (g1, g2) = transverse_moduli(g12, g1z, g2z);
             (orthotropic_q(e1, e2, nu12, g12), [[g1, 0.0], [0.0, g2]])
         }
+        ShellMaterial::Anisotropic { g } => (g, [[g[0][0], g[0][1]], [g[1][0], g[1][1]]]),
     }
 }
 
@@ -810,6 +864,12 @@ fn affine_pshell(
                     return Err(SectionError::UnsupportedParameter {
                         parameter,
                         section: "MAT8 PSHELL",
+                    });
+                }
+                ShellMaterial::Anisotropic { .. } => {
+                    return Err(SectionError::UnsupportedParameter {
+                        parameter,
+                        section: "MAT2 PSHELL",
                     });
                 }
             }
@@ -1567,7 +1627,9 @@ mod tests {
         let m = roles.iter().flatten().find(|m| m.mid == mid).unwrap();
         match m.material {
             ShellMaterial::Isotropic { e, nu } => (e, nu, m.rho),
-            ShellMaterial::Orthotropic { .. } => unreachable!("mat1 only"),
+            ShellMaterial::Orthotropic { .. } | ShellMaterial::Anisotropic { .. } => {
+                unreachable!("mat1 only")
+            }
         }
     }
 

@@ -405,6 +405,12 @@ fn index_materials(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32,
             .enumerate()
             .map(|(i, m)| entry(m.id, "MAT8", &m.loc, MaterialRef::Mat8(i))),
     );
+    entries.extend(
+        bulk.mat2
+            .iter()
+            .enumerate()
+            .map(|(i, m)| entry(m.id, "MAT2", &m.loc, MaterialRef::Mat2(i))),
+    );
     index(entries, "material", errors)
 }
 

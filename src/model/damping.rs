@@ -84,6 +84,7 @@ impl Model {
                 .and_then(|m| match *m {
                     super::MaterialRef::Mat1(i) => b.mat1.get(i).map(|m| m.ge),
                     super::MaterialRef::Mat8(i) => b.mat8.get(i).map(|m| m.ge),
+                    super::MaterialRef::Mat2(i) => b.mat2.get(i).map(|m| m.ge),
                 })
                 .unwrap_or(0.0)
         };

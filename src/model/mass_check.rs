@@ -52,13 +52,19 @@ pub fn check(deck: &Deck, model: &Model) -> Vec<DeckError> {
             } else {
                 String::new()
             };
-            zero_rho(&m.loc, format!("MAT1 {}", m.id), &why, &hint)
+            zero_rho(&m.loc, format!("MAT1 {}", m.id), 6, &why, &hint)
         })
         .chain(
             b.mat8
                 .iter()
                 .filter(|m| m.rho == 0.0)
-                .map(|m| zero_rho(&m.loc, format!("MAT8 {}", m.id), &why, "")),
+                .map(|m| zero_rho(&m.loc, format!("MAT8 {}", m.id), 9, &why, "")),
+        )
+        .chain(
+            b.mat2
+                .iter()
+                .filter(|m| m.rho == 0.0)
+                .map(|m| zero_rho(&m.loc, format!("MAT2 {}", m.id), 9, &why, "")),
         )
         .collect();
     if errors.is_empty() {
@@ -78,8 +84,9 @@ pub fn check(deck: &Deck, model: &Model) -> Vec<DeckError> {
 }
 
 /// The error on one material card with zero density.
-fn zero_rho(loc: &Loc, card: String, why: &str, hint: &str) -> DeckError {
+/// The error at a material's RHO field (`field`: 6 on a MAT1, 9 on a MAT8 or MAT2).
+fn zero_rho(loc: &Loc, card: String, field: u32, why: &str, hint: &str) -> DeckError {
     let mut e = DeckError::at(loc, format!("RHO is zero or blank: {why}{hint}")).on_card(card);
-    e.field = Some("field 6 (RHO)".into());
+    e.field = Some(format!("field {field} (RHO)"));
     e
 }

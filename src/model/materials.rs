@@ -1,6 +1,6 @@
 //! Materials as the element kernels read them ([`Model::material`]): MAT1 is isotropic
 //! (E, G, ν, ρ with the missing one of E, G, ν derived on the card), MAT8 orthotropic in the
-//! shell plane.
+//! shell plane, MAT2 anisotropic in the shell plane (its matrix given directly).
 
 use super::{MaterialRef, Model};
 use crate::card_values::PlyAllowables;
@@ -12,6 +12,16 @@ pub enum Material {
     Isotropic(IsotropicMaterial),
     /// MAT8.
     Orthotropic(OrthotropicMaterial),
+    /// MAT2.
+    Anisotropic(AnisotropicMaterial),
+}
+
+/// Plane-stress anisotropic elasticity and density (MAT2): {σ1 σ2 τ12} = G {ε1 ε2 γ12}.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AnisotropicMaterial {
+    /// The symmetric matrix G (order 1, 2, 12).
+    pub g: [[f64; 3]; 3],
+    pub rho: f64,
 }
 
 /// Isotropic elasticity and density (MAT1).
@@ -39,11 +49,21 @@ pub struct OrthotropicMaterial {
 }
 
 impl Material {
+    /// The card that defines it.
+    pub fn card(&self) -> &'static str {
+        match self {
+            Material::Isotropic(_) => "MAT1",
+            Material::Orthotropic(_) => "MAT8",
+            Material::Anisotropic(_) => "MAT2",
+        }
+    }
+
     /// Mass density.
     pub fn rho(&self) -> f64 {
         match self {
             Material::Isotropic(m) => m.rho,
             Material::Orthotropic(m) => m.rho,
+            Material::Anisotropic(m) => m.rho,
         }
     }
 }
@@ -72,6 +92,13 @@ impl Model {
                     g2z: m.g2z,
                     rho: m.rho,
                     allowables: m.allowables,
+                })
+            }
+            MaterialRef::Mat2(i) => {
+                let m = self.bulk.mat2.get(i)?;
+                Material::Anisotropic(AnisotropicMaterial {
+                    g: m.in_plane(),
+                    rho: m.rho,
                 })
             }
         })

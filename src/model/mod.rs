@@ -269,6 +269,7 @@ impl PropertyRef {
 pub enum MaterialRef {
     Mat1(usize),
     Mat8(usize),
+    Mat2(usize),
 }
 
 impl MaterialRef {
@@ -277,6 +278,7 @@ impl MaterialRef {
         match self {
             MaterialRef::Mat1(_) => "MAT1",
             MaterialRef::Mat8(_) => "MAT8",
+            MaterialRef::Mat2(_) => "MAT2",
         }
     }
 }
@@ -424,11 +426,12 @@ impl Model {
             .collect()
     }
 
-    /// Mass density of a material (MAT1 or MAT8 RHO).
+    /// Mass density of a material (MAT1, MAT8 or MAT2 RHO).
     pub fn rho(&self, mid: u32) -> Option<f64> {
         match self.materials.get(&mid)? {
             MaterialRef::Mat1(i) => self.bulk.mat1.get(*i).map(|m| m.rho),
             MaterialRef::Mat8(i) => self.bulk.mat8.get(*i).map(|m| m.rho),
+            MaterialRef::Mat2(i) => self.bulk.mat2.get(*i).map(|m| m.rho),
         }
     }
 }

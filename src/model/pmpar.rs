@@ -156,6 +156,13 @@ pub fn nominal(b: &BulkData, p: &Pmpar) -> Result<f64, String> {
     };
     match p.kind {
         PmparKind::E | PmparKind::Rho | PmparKind::Nu => {
+            if b.mat2.iter().any(|m| m.id == p.refid) {
+                return Err(format!(
+                    "REFID = {} is a MAT2; KIND = {} acts on a MAT1 (a MAT2 gives its matrix G11 … G33 directly, with no E or NU the affine split could scale)",
+                    p.refid,
+                    p.kind.name()
+                ));
+            }
             let m = b
                 .mat1
                 .iter()

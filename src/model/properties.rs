@@ -201,13 +201,14 @@ impl Model {
         }
     }
 
-    /// The PSOLID id and its material of a PSOLID property reference.
-    pub fn solid_material(&self, property: PropertyRef) -> Option<(u32, MaterialUse)> {
+    /// The card and id (`PSOLID 3`, `PCOMPS 2`) and the material of a solid property
+    /// reference.
+    pub fn solid_material(&self, property: PropertyRef) -> Option<(String, MaterialUse)> {
         let PropertyRef::Psolid(i) = property else {
             return None;
         };
         let p = self.bulk.psolid.get(i)?;
-        Some((p.id, self.material_use(p.mid)))
+        Some((p.label(), self.material_use(p.mid)))
     }
 
     /// The PSHEAR of a CSHEAR element.

@@ -69,7 +69,11 @@ impl Model {
             warnings: self.warnings.iter().map(|w| w.to_string()).collect(),
             sol: self.sol.map(|s| s.name()),
             subcases: self.subcases.iter().map(|s| s.id).collect(),
-            materials: nonzero(&[("MAT1", b.mat1.len()), ("MAT8", b.mat8.len())]),
+            materials: nonzero(&[
+                ("MAT1", b.mat1.len()),
+                ("MAT8", b.mat8.len()),
+                ("MAT2", b.mat2.len()),
+            ]),
             properties: nonzero(&[
                 ("PSHELL", b.pshell.len()),
                 ("PCOMP", b.pcomp.len()),

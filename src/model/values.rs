@@ -160,6 +160,19 @@ pub fn check(refs: &Refs, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warnin
             );
         }
     }
+    for m in &b.mat2 {
+        let card = format!("MAT2 {}", m.id);
+        if !m.g.iter().chain([&m.rho, &m.ge]).all(|v| v.is_finite()) {
+            bad(errors, &m.loc, card, "every value must be finite".into());
+        } else if m.rho < 0.0 {
+            bad(
+                errors,
+                &m.loc,
+                card,
+                format!("RHO = {:e} must be ≥ 0", m.rho),
+            );
+        }
+    }
     for p in &b.pshell {
         let card = format!("PSHELL {}", p.id);
         if !(p.t > 0.0 && p.t.is_finite()) {

@@ -92,7 +92,7 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>, warnings: &m
                     refs,
                     mid,
                     name,
-                    &["MAT1", "MAT8"],
+                    &["MAT1", "MAT8", "MAT2"],
                     &card,
                     &p.loc,
                     &required_by(p.id),
@@ -120,7 +120,7 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>, warnings: &m
         }
     }
     for p in &b.psolid {
-        let card = format!("PSOLID {}", p.id);
+        let card = p.label();
         material(
             refs,
             p.mid,
@@ -651,6 +651,7 @@ fn material(
         Some(m) if !allowed.contains(&m.card()) => {
             let why = match m {
                 MaterialRef::Mat8(_) => ": MAT8 is a plane-stress (shell) material",
+                MaterialRef::Mat2(_) => ": MAT2 is a plane-stress material, read by PSHELL only",
                 MaterialRef::Mat1(_) => "",
             };
             errors.push(

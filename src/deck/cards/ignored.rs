@@ -14,6 +14,7 @@
 //! | `PBEND`, `PBUSH1D` | properties of CBEND and CBUSH1D, which paraflex refuses: no element of a deck it runs can use them | – |
 //! | `PELAST` | frequency-dependent (TKID) and structural-damping (TGEID) tables of a PELAS, or its nonlinear force–deflection table (TKNID, read by nonlinear solutions only) | a TKID or TGEID table |
 //! | `EPOINT` | extra points carry no stiffness or mass; only transfer functions, DMIG and loads act on them, and paraflex refuses a load or constraint on a point it does not know | – |
+//! | `POINT` | a geometric point without DOF, read only by superelement cards (SELOC, SEMPLN, SEBULK), which paraflex refuses | – (its fields are checked) |
 //! | `MDLPRM` | HDF5 output options (`HDF5`, `H5…`): paraflex writes its own HDF5 file; `OFFDEF = LROFF`: offsets that do not follow large rotations, a nonlinear option | every other model parameter (they change the model, e.g. `OFFDEF = NOMASS`) |
 
 use crate::deck::error::DeckError;
@@ -142,6 +143,11 @@ static IGNORED: &[(&str, &str, Option<Check>)] = &[
         None,
     ),
     (
+        "POINT",
+        "a POINT is a geometric point without DOF, read only by superelement cards (SELOC, SEMPLN …), which paraflex refuses",
+        Some(point_fields),
+    ),
+    (
         "MDLPRM",
         "its HDF5 output options do not apply: paraflex writes its own HDF5 file",
         Some(harmless_model_parameters),
@@ -191,6 +197,18 @@ fn linear_spring_tables(card: &RawCard) -> Result<(), Vec<DeckError>> {
     }
     f.opt_id(4, "TKNID");
     f.finish(4)
+}
+
+/// `POINT` ID, CP, X1–X3: checked like a GRID's, although nothing paraflex builds reads them.
+fn point_fields(card: &RawCard) -> Result<(), Vec<DeckError>> {
+    let mut f = FieldReader::new(card);
+    let id = f.id(1, "ID");
+    f.set_id(id);
+    f.id0_or(2, "CP", 0);
+    for (i, name) in [(3, "X1"), (4, "X2"), (5, "X3")] {
+        f.real_or(i, name, 0.0);
+    }
+    f.finish(5)
 }
 
 /// `MDLPRM` pairs: only the HDF5 output options (`HDF5`, `H5…`) and `OFFDEF = LROFF` (offsets

@@ -1,4 +1,5 @@
-//! Materials: isotropic `MAT1` and orthotropic plane-stress `MAT8`.
+//! Materials: isotropic `MAT1`, orthotropic plane-stress `MAT8` and anisotropic plane-stress
+//! `MAT2`.
 
 use crate::card_values::PlyAllowables;
 use crate::deck::error::{DeckError, Loc};
@@ -162,5 +163,65 @@ impl Mat8 {
             allowables,
             loc,
         })
+    }
+}
+
+/// `MAT2` — anisotropic plane-stress material for shells, its stiffness matrix given directly.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | MID | int > 0 | required | material id |
+/// | 3–8 | G11 G12 G13 G22 G23 G33 | real | 0.0 | symmetric stiffness {σ1 σ2 τ12} = G {ε1 ε2 γ12} in the element material axes |
+/// | 9 | RHO | real | 0.0 | mass density |
+/// | cont. 2–5 | A1 A2 A3 TREF | real | blank | thermal (kept, unused) |
+/// | cont. 6 | GE | real | 0.0 | structural damping coefficient |
+/// | cont. 7–9 | ST SC SS | real | blank | stress limits (kept, unused) |
+/// | cont. 2 | MCSID | int ≥ 0 | blank | material system for PARAM,CURV output (kept, unused) |
+///
+/// A PSHELL MID1, MID2 or MID4 takes G as its plane-stress matrix; a MID3 takes
+/// [[G11, G12], [G12, G22]] as the transverse-shear matrix of {τxz τyz} (G13, G23, G33 must
+/// then be 0, as Nastran requires). PCOMP plies, solids, rods and beams refuse a MAT2.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mat2 {
+    pub id: u32,
+    /// G11, G12, G13, G22, G23, G33.
+    pub g: [f64; 6],
+    pub rho: f64,
+    pub ge: f64,
+    pub loc: Loc,
+}
+
+impl Mat2 {
+    /// Read a `MAT2` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "MID");
+        f.set_id(id);
+        let names = ["G11", "G12", "G13", "G22", "G23", "G33"];
+        let g: [f64; 6] = std::array::from_fn(|k| f.real_or(2 + k, names[k], 0.0));
+        let rho = f.real_or(8, "RHO", 0.0);
+        for (i, name) in [(9, "A1"), (10, "A2"), (11, "A3"), (12, "TREF")] {
+            f.opt_real(i, name);
+        }
+        let ge = f.real_or(13, "GE", 0.0);
+        for (i, name) in [(14, "ST"), (15, "SC"), (16, "SS")] {
+            f.opt_real(i, name);
+        }
+        f.id0_or(17, "MCSID", 0);
+        let loc = f.loc();
+        f.finish(17)?;
+        Ok(Mat2 {
+            id,
+            g,
+            rho,
+            ge,
+            loc,
+        })
+    }
+
+    /// The 3 × 3 in-plane matrix G (order 1, 2, 12).
+    pub fn in_plane(&self) -> [[f64; 3]; 3] {
+        let [g11, g12, g13, g22, g23, g33] = self.g;
+        [[g11, g12, g13], [g12, g22, g23], [g13, g23, g33]]
     }
 }

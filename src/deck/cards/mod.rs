@@ -24,6 +24,7 @@ mod param;
 mod properties;
 mod rigid;
 mod shear_panel;
+mod superelement;
 mod temperature;
 
 pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd, Suport};
@@ -49,7 +50,7 @@ pub use loads::{
     Force, ForceByGrids, Grav, Load, Pload, Pload1, Pload1Scale, Pload2, Pload4, Pload4Target,
     Sload,
 };
-pub use materials::{Mat1, Mat8};
+pub use materials::{Mat1, Mat2, Mat8};
 pub use multibody::{Flexb, Fmbpose, Jdrive, Joint, Jsprd, Marker, Mforce, Msensor, Rigidb, Spdmp};
 pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, Promlib, ResponseSource, SearchMethod, Statistic};
 pub use param::{Param, ParamValue};
@@ -104,6 +105,7 @@ pub struct BulkData {
     pub rbe3: Vec<Rbe3>,
     pub mat1: Vec<Mat1>,
     pub mat8: Vec<Mat8>,
+    pub mat2: Vec<Mat2>,
     pub matt1: Vec<Matt1>,
     /// TABLEM1, TABLEM2 and TABLEM3 (material tables, read by MATT1).
     pub tablem: Vec<Tabled>,
@@ -271,6 +273,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("CVISC", |c, b| Ok(b.cvisc.push(Cvisc::from_card(c)?))),
     ("CBUSH", |c, b| Ok(b.cbush.push(Cbush::from_card(c)?))),
     ("SPOINT", |c, b| Ok(b.spoints.push(Spoint::from_card(c)?))),
+    ("SELOC", |c, _| superelement::seloc(c)),
     ("CONM2", |c, b| Ok(b.conm2.push(Conm2::from_card(c)?))),
     ("CROD", |c, b| Ok(b.crod.push(Crod::from_card(c)?))),
     ("CTUBE", |c, b| Ok(b.ctube.push(Crod::from_card(c)?))),
@@ -281,6 +284,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("RBE3", |c, b| Ok(b.rbe3.push(Rbe3::from_card(c)?))),
     ("MAT1", |c, b| Ok(b.mat1.push(Mat1::from_card(c)?))),
     ("MAT8", |c, b| Ok(b.mat8.push(Mat8::from_card(c)?))),
+    ("MAT2", |c, b| Ok(b.mat2.push(Mat2::from_card(c)?))),
     ("MATT1", |c, b| Ok(b.matt1.push(Matt1::from_card(c)?))),
     ("TABLEM1", |c, b| {
         Ok(b.tablem.push(Tabled::from_card(c, "TABLEM1")?))
@@ -296,6 +300,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("PCOMP", |c, b| Ok(b.pcomp.push(Pcomp::from_card(c)?))),
     ("PCOMPG", |c, b| Ok(b.pcomp.push(Pcomp::from_pcompg(c)?))),
     ("PSOLID", |c, b| Ok(b.psolid.push(Psolid::from_card(c)?))),
+    ("PCOMPS", |c, b| Ok(b.psolid.push(properties::pcomps(c)?))),
     ("PSHEAR", |c, b| Ok(b.pshear.push(Pshear::from_card(c)?))),
     ("PELAS", |c, b| Ok(b.pelas.extend(Pelas::from_card(c)?))),
     ("PDAMP", |c, b| Ok(b.pdamp.extend(Pdamp::from_card(c)?))),

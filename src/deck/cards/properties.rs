@@ -276,6 +276,8 @@ impl Pcomp {
 /// | 8 | FCTN | name | SMECH | only SMECH (structural) is supported |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Psolid {
+    /// The card it was read from: `PSOLID`, or `PCOMPS` for a one-material solid laminate.
+    pub card: &'static str,
     pub id: u32,
     pub mid: u32,
     pub cordm: i64,
@@ -317,6 +319,7 @@ impl Psolid {
         let loc = f.loc();
         f.finish(7)?;
         Ok(Psolid {
+            card: "PSOLID",
             id,
             mid,
             cordm,
@@ -324,6 +327,107 @@ impl Psolid {
             loc,
         })
     }
+
+    /// Its card and id, e.g. `PCOMPS 2`.
+    pub fn label(&self) -> String {
+        format!("{} {}", self.card, self.id)
+    }
+}
+
+/// `PCOMPS` — layered solid property (NX), read when all plies share one MAT1.
+///
+/// For CHEXA and CPENTA; read as the homogeneous PSOLID it then is.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | PID | int > 0 | required | property id |
+/// | 3 | CORDM | int ≥ −1 | 0 | material coordinate system (no effect for one isotropic MAT1) |
+/// | 4 | PSDIR | 12, 13, 21, 23, 31, 32 | 13 | ply plane and stacking directions (no effect with one material) |
+/// | 5, 6 | SB NB | real > 0 | blank | inter-laminar shear and normal allowables (kept, unused) |
+/// | 7 | TREF | real | 0.0 | reference temperature (kept, unused) |
+/// | 8 | GE | real | 0.0 | structural damping: only 0 (the MAT1's GE applies, as for a PSOLID) |
+/// | per ply row: 2 | GPLYID | int > 0 | required | global ply id |
+/// | 3 | MID | int > 0 | required | the ply's MAT1: the same on every ply |
+/// | 4 | T | real > 0 | required | ply thickness (relative: the element's thickness is shared in these proportions) |
+/// | 5 | THETA | real | 0.0 | ply angle (no effect for an isotropic MAT1) |
+/// | 6–9 | FT, IR, SOUT, … | | blank | failure theory and ply output options (kept, unused) |
+///
+/// With one isotropic material in every ply, the ply-wise integration through the thickness
+/// gives the homogeneous solid's stiffness and mass whatever the ply thicknesses, angles and
+/// stacking direction, so the element is a PSOLID of that MAT1. Plies of different materials
+/// (a real laminate, which needs ply-wise integration in the solid kernels) are refused at the
+/// first MID that differs.
+pub fn pcomps(card: &RawCard) -> Result<Psolid, Vec<DeckError>> {
+    let mut f = FieldReader::new(card);
+    let id = f.id(1, "PID");
+    f.set_id(id);
+    let cordm = f.int_or(2, "CORDM", 0);
+    if cordm < -1 {
+        f.error(
+            2,
+            "CORDM",
+            format!("expected -1 or a system id >= 0, found {cordm}"),
+        );
+    }
+    let psdir = f.int_or(3, "PSDIR", 13);
+    if ![12, 13, 21, 23, 31, 32].contains(&psdir) {
+        f.error(
+            3,
+            "PSDIR",
+            format!("expected 12, 13, 21, 23, 31 or 32, found {psdir}"),
+        );
+    }
+    for (i, name) in [(4, "SB"), (5, "NB"), (6, "TREF")] {
+        f.opt_real(i, name);
+    }
+    if f.real_or(7, "GE", 0.0) != 0.0 {
+        f.error(
+            7,
+            "GE",
+            "a PCOMPS GE is not supported: leave it blank (the MAT1's GE gives the damping, as for a PSOLID)",
+        );
+    }
+    let mut mid = None;
+    let len = f.len();
+    let mut i = 9;
+    while i <= len {
+        let k = (i - 9) / 8 + 1;
+        if (i..i + 8).all(|j| f.value(j).is_blank()) {
+            i += 8;
+            continue;
+        }
+        f.id(i, &format!("GPLYID{k}"));
+        let m = f.id(i + 1, &format!("MID{k}"));
+        let t = f.real(i + 2, &format!("T{k}"));
+        if t <= 0.0 {
+            f.error(i + 2, &format!("T{k}"), format!("T{k} = {t} must be > 0"));
+        }
+        f.real_or(i + 3, &format!("THETA{k}"), 0.0);
+        match mid {
+            None => mid = Some(m),
+            Some(first) if first != m => f.error(
+                i + 1,
+                &format!("MID{k}"),
+                format!("ply {k} has MID {m} and ply 1 MID {first}: paraflex reads a PCOMPS whose plies share one MAT1 (a homogeneous solid); plies of different materials need ply-wise integration, which is not supported"),
+            ),
+            Some(_) => {}
+        }
+        i += 8;
+    }
+    let Some(mid) = mid else {
+        f.card_error("a PCOMPS needs at least one ply");
+        return Err(f.finish(len).err().unwrap_or_default());
+    };
+    let loc = f.loc();
+    f.finish(len)?;
+    Ok(Psolid {
+        card: "PCOMPS",
+        id,
+        mid,
+        cordm,
+        kept: Vec::new(),
+        loc,
+    })
 }
 
 /// `PELAS` — scalar spring property (one or two per card).

@@ -34,10 +34,10 @@ pub(super) fn shear_panel_element(
     let (panel, t, nsm, mid) = panel(ctx.model, e)?;
     let m = match ctx.model.material(mid) {
         Some(Material::Isotropic(m)) => m,
-        Some(Material::Orthotropic(_)) => {
+        Some(other) => {
             return Err(err(
                 e,
-                format!("MID = {mid} is a MAT8; a PSHEAR needs a MAT1"),
+                format!("MID = {mid} is a {}; a PSHEAR needs a MAT1", other.card()),
             ));
         }
         None => return Err(err(e, format!("material {mid} missing"))),
