@@ -299,12 +299,12 @@ fn robot_measurements(name: &str) -> Vec<Vec<f64>> {
 /// (reference/amanda_robot_e_traj1.csv). The robot's compliant drives tie its four rigid
 /// motor rotations to their tables, so strains alone are accepted by the start-of-run check
 /// (the springs' rows count as absolute information). A step costs about 0.3 s in the debug
-/// profile (N = 496 augmented states), so the window is 5 steps: the filter must be
+/// profile at load (N = 496 augmented states), so the window is 5 steps: the filter must be
 /// consistent (each modulus within 3 predicted σ of the truth at every step) and have learnt
 /// from the data (the error of each below half the initial 25 % at the end: in these 5 ms the
 /// released robot's gauges read their static strain, which the adaptive reference makes a
-/// function of E; the estimates at step 5 are +9.7 % and +1.3 %). Table 9.2's bounds need the settled estimate over seconds: the ignored
-/// `table_9_2_benchmark`.
+/// function of E; the estimates at step 5 are +9.7 % and +1.3 %). Table 9.2's bounds need
+/// the settled estimate over seconds: the ignored `table_9_2_benchmark`.
 #[test]
 fn robolink_moduli_from_two_gauges_short_window() {
     use paraflex::deck::Deck;
