@@ -537,7 +537,7 @@ fn setups_without_static_or_absolute_information_are_refused_unless_forced() {
         (
             "undriven.dat",
             &undriven,
-            "undriven.dat:28: EKF 1: the joints and drives leave 1 rigid degree(s) of freedom free and no POS is measured",
+            "undriven.dat:28: EKF 1: the joints, drives and springs leave 1 rigid degree(s) of freedom free and no POS is measured",
         ),
     ] {
         let path = estimation_deck(name, 400, edit);

@@ -251,3 +251,193 @@ fn trajectory_one_window_follows_the_rigid_chain() {
         ex[ex.len() - 1]
     );
 }
+
+/// The estimation decks of thesis Table 9.2 (decks/robot/estimate).
+const ESTIMATE_DECKS: &str = "decks/robot/estimate";
+/// The true moduli of L2r and L3r (thesis Table 4.6).
+const E2_TRUE: f64 = 201.99e9;
+const E3_TRUE: f64 = 194.37e9;
+
+/// The estimation deck `name` of decks/robot/estimate beside the shared artifacts, its window
+/// cut to `steps` steps and its measurement file read from reference/.
+fn estimation_deck_in_workdir(name: &str, steps: usize) -> PathBuf {
+    let text = std::fs::read_to_string(root().join(ESTIMATE_DECKS).join(name))
+        .expect("deck")
+        .replace("TSTEP,1,9000,", &format!("TSTEP,1,{steps},"))
+        .replace("'../fmb/", "'")
+        .replace(
+            "'../../../reference/",
+            &format!("'{}/", root().join("reference").display()),
+        );
+    let dir = workdir();
+    std::fs::copy(
+        root().join(ESTIMATE_DECKS).join("gauges.inc"),
+        dir.join("gauges.inc"),
+    )
+    .expect("copy");
+    for file in ["trajectory2.inc", "trajectory2.csv"] {
+        std::fs::copy(root().join(DECKS).join(file), dir.join(file)).expect("copy");
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write");
+    path
+}
+
+/// Rows (time, gauges…) of a measurement file of tools/amanda/robot_measurements.py.
+fn robot_measurements(name: &str) -> Vec<Vec<f64>> {
+    let text = std::fs::read_to_string(root().join("reference").join(name)).expect("data");
+    text.lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split(',').map(|x| x.parse().expect("number")).collect())
+        .collect()
+}
+
+/// Table 9.2's first application on maneuver 1 through the Rust filter, over a short window:
+/// E of L2r and L3r from 25 % above the truth (δ_E = 0.1 Hz, P₀ = (0.2 INIT)², the deck
+/// robot_estimate_e_traj1.dat's settings) from the relative gauges EPS2, EPS3 with the
+/// adaptive reference (eq. 9.25), on the data of the 40-mode ROMs
+/// (reference/amanda_robot_e_traj1.csv). The robot's compliant drives tie its four rigid
+/// motor rotations to their tables, so strains alone are accepted by the start-of-run check
+/// (the springs' rows count as absolute information). A step costs about 0.3 s in the debug
+/// profile at load (N = 496 augmented states), so the window is 5 steps: the filter must be
+/// consistent (each modulus within 3 predicted σ of the truth at every step) and have learnt
+/// from the data (the error of each below half the initial 25 % at the end: in these 5 ms the
+/// released robot's gauges read their static strain, which the adaptive reference makes a
+/// function of E; the estimates at step 5 are +9.7 % and +1.3 %). Table 9.2's bounds need
+/// the settled estimate over seconds: the ignored `table_9_2_benchmark`.
+#[test]
+fn robolink_moduli_from_two_gauges_short_window() {
+    use paraflex::deck::Deck;
+    use paraflex::discretize::mechanism::{Bodies, build_system};
+    use paraflex::discretize::pfmb::Pfmb;
+    use paraflex::estimate::mechanism::inputs::Inputs;
+    use paraflex::estimate::mechanism::observability::structural;
+    use paraflex::estimate::mechanism::parameters::{EstimatedBody, Parameter, Parameters};
+    use paraflex::estimate::mechanism::reference::StrainReference;
+    use paraflex::estimate::mechanism::sensors::Sensor;
+    use paraflex::estimate::mechanism::{Amanda, AmandaSetup, ManifoldSettings};
+    use paraflex::model::Model;
+    use paraflex::multibody::{Ggl, NewtonSettings};
+
+    let steps = 5;
+    let path = estimation_deck_in_workdir("robot_estimate_e_traj1.dat", steps);
+    let clock = std::time::Instant::now();
+    let model = Model::build(&Deck::read(&path).expect("deck")).expect("model");
+    let pfmb = Pfmb::of_model(&model).expect("pFMB");
+    let truth = [E2_TRUE, E3_TRUE];
+    let names = ["L2R", "L3R"];
+    let pval: Vec<(String, f64)> = (names.iter().zip(truth))
+        .map(|(b, e)| (format!("{b}.E"), 1.25 * e))
+        .collect();
+    let system = build_system(&pfmb, model.gravity(1), &pval, Bodies::Flexible).expect("system");
+    let bodies = names
+        .iter()
+        .map(|name| {
+            let body = (pfmb.mechanism.bodies.iter())
+                .position(|b| b.name == *name)
+                .expect("body");
+            EstimatedBody {
+                body,
+                name: name.to_string(),
+                model: pfmb.bodies[body].clone().expect("flexible"),
+                fixed: vec![("RHO".into(), 7990.0)],
+            }
+        })
+        .collect();
+    let parameters = Parameters {
+        bodies,
+        list: (0..2)
+            .map(|k| Parameter {
+                body: k,
+                pmpar: "E".into(),
+                initial: 1.25 * truth[k],
+            })
+            .collect(),
+    };
+    let sensors: Vec<Sensor> = ["EPS2", "EPS3"]
+        .iter()
+        .map(|name| {
+            let s = (model.mechanism.sensors.iter())
+                .find(|s| s.name == *name)
+                .expect("gauge");
+            Sensor {
+                output: system.outputs(std::slice::from_ref(s)).remove(0),
+                reference: 0.0,
+                variance: 1e-14,
+            }
+        })
+        .collect();
+    let ggl =
+        Ggl::new(system.system.clone(), 1e-3, 0.0, NewtonSettings::default()).expect("assembly");
+    assert_eq!(
+        structural(&ggl, &sensors),
+        None,
+        "compliant drives fix the rigid rotations"
+    );
+    let setup = AmandaSetup {
+        q_positions: 1e-18,
+        q_velocities: 1e-14,
+        inputs: Vec::new(),
+        parameter_rates: vec![0.1, 0.1],
+        p0_positions: 1e-14,
+        p0_velocities: 1e-10,
+        p0_parameters: vec![0.04, 0.04],
+        manifold: ManifoldSettings::default(),
+        freeze: None,
+        observe_every: None,
+        strain_reference: StrainReference::Adaptive,
+    };
+    let mut filter =
+        Amanda::new(ggl, Inputs::default(), parameters, sensors, &setup).expect("filter");
+    let rows = robot_measurements("amanda_robot_e_traj1.csv");
+    let mut errors = [0.0; 2];
+    for row in &rows[1..=steps] {
+        let report = filter.step(&row[1..3]).expect("step");
+        assert!((report.time - row[0]).abs() < 1e-9);
+        let (p, sigma) = filter.parameters();
+        for k in 0..2 {
+            errors[k] = (p[k] - truth[k]) / truth[k];
+            assert!(
+                (p[k] - truth[k]).abs() <= 3.0 * sigma[k],
+                "t = {}: {} = {} ± {} (3σ)",
+                row[0],
+                names[k],
+                p[k],
+                3.0 * sigma[k]
+            );
+        }
+    }
+    println!(
+        "{steps} steps, with the filter's setup, in {:.2} s; errors at the end {:.2} %, {:.2} %",
+        clock.elapsed().as_secs_f64(),
+        100.0 * errors[0],
+        100.0 * errors[1]
+    );
+    for e in errors {
+        assert!(e.abs() < 0.125, "{errors:?}");
+    }
+}
+
+/// Table 9.2, row "E2r, E3r", maneuver 1, over the whole 9 s from the deck
+/// robot_estimate_e_traj1.dat (on demand: `cargo test --release --test fmb_robot
+/// table_9_2_benchmark -- --ignored --nocapture`; 9000 steps at some 40 ms each): the largest
+/// |error| over the last 20 % within the row's, 0.17 % for E2r and 0.27 % for E3r, and the time
+/// per step the run reports printed.
+#[test]
+#[ignore]
+fn table_9_2_benchmark() {
+    use paraflex::estimate::errors::{PercentErrors, percent_errors};
+    let path = estimation_deck_in_workdir("robot_estimate_e_traj1.dat", 9000);
+    let out = workdir().join("table_9_2_e_traj1.h5");
+    let console = run(&path, &out);
+    let file = hdf5_metno::File::open(out).expect("open");
+    let g = file.group("results/1/estimate/params").expect("params");
+    for (name, truth, bound) in [("L2R.E", E2_TRUE, 0.17), ("L3R.E", E3_TRUE, 0.27)] {
+        let e = read_dataset::<f64>(&g, name);
+        let PercentErrors { min, avg, max } = percent_errors(&e, &vec![truth; e.len()]);
+        println!("{name}: error over the last 20 % {min:.3} / {avg:.3} / {max:.3} %");
+        assert!(min.abs().max(max.abs()) <= bound, "{name}: {min} {max}");
+    }
+    let timing = console.lines().find(|l| l.contains("ms/step"));
+    println!("{}", timing.unwrap_or("no timing line"));
+}

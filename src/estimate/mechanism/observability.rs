@@ -6,7 +6,9 @@
 //!   strains read flexible coordinates only, so without a position measurement the rigid
 //!   coordinates that the joints and drives leave free (an undriven mechanism) have no
 //!   absolute information. The free rigid coordinates are counted as n_rigid − rank Φ_q[:,
-//!   rigid] at the assembled start (the flexible coordinates held).
+//!   rigid] at the assembled start (the flexible coordinates held), the gradients of the
+//!   coordinates of springs with stiffness (compliant drives, joint and point springs: each
+//!   ties its coordinate to a known table or rest value) counted as rows of Φ_q.
 //! - [`numerical`]: the observability matrix of the linearized system over the first K steps
 //!   from the initial estimate (the filter's prediction without corrections),
 //!
@@ -45,7 +47,8 @@ pub const RANK_TOLERANCE: f64 = 1e-9;
 pub enum Refusal {
     /// Every measurement is an acceleration.
     AccelerationsOnly,
-    /// `free` rigid coordinates are not fixed by joints and drives and no position is measured.
+    /// `free` rigid coordinates are not fixed by joints, drives and springs and no position is
+    /// measured.
     NoAbsoluteInformation { free: usize },
 }
 
@@ -58,7 +61,7 @@ impl std::fmt::Display for Refusal {
             ),
             Refusal::NoAbsoluteInformation { free } => write!(
                 f,
-                "the joints and drives leave {free} rigid degree(s) of freedom free and no POS is measured: strains read the flexible coordinates only, so nothing fixes the rigid ones absolutely (thesis §9.3.1); measure a marker position or drive the mechanism"
+                "the joints, drives and springs leave {free} rigid degree(s) of freedom free and no POS is measured: strains read the flexible coordinates only, so nothing fixes the rigid ones absolutely (thesis §9.3.1); measure a marker position or drive the mechanism"
             ),
         }
     }
@@ -104,7 +107,23 @@ pub fn structural(ggl: &Ggl, sensors: &[Sensor]) -> Option<Refusal> {
     let rigid: Vec<usize> = (layout.slices().iter())
         .flat_map(|s| s.offset..s.offset + 7)
         .collect();
-    let columns = Mat::from_fn(m, rigid.len(), |i, j| phi_q[(i, rigid[j])]);
+    // A spring with stiffness (a compliant drive toward its table, a joint or point spring
+    // toward its rest value) ties its coordinate to a known value: its gradient is a row of
+    // absolute information like a constraint's.
+    let springs = &ggl.equations.springs;
+    let mut gradients = Vec::new();
+    for spring in springs.iter().filter(|s| s.stiffness > 0.0) {
+        let mut gradient = vec![0.0; n];
+        spring.coordinate.evaluate(layout, &ggl.q, &mut gradient);
+        gradients.push(gradient);
+    }
+    let columns = Mat::from_fn(m + gradients.len(), rigid.len(), |i, j| {
+        if i < m {
+            phi_q[(i, rigid[j])]
+        } else {
+            gradients[i - m][rigid[j]]
+        }
+    });
     let free = rigid.len() - rank(&columns).0;
     (free > 0).then_some(Refusal::NoAbsoluteInformation { free })
 }
