@@ -304,7 +304,7 @@ fn robot_measurements(name: &str) -> Vec<Vec<f64>> {
 /// from the data (the error of each below half the initial 25 % at the end: in these 5 ms the
 /// released robot's gauges read their static strain, which the adaptive reference makes a
 /// function of E; the estimates at step 5 are +9.7 % and +1.3 %). Table 9.2's bounds need
-/// the settled estimate over seconds: the ignored `table_9_2_benchmark`.
+/// the settled estimate over seconds: the benchmark `tools/amanda/robot_cases.py`.
 #[test]
 fn robolink_moduli_from_two_gauges_short_window() {
     use paraflex::deck::Deck;
@@ -416,28 +416,4 @@ fn robolink_moduli_from_two_gauges_short_window() {
     for e in errors {
         assert!(e.abs() < 0.125, "{errors:?}");
     }
-}
-
-/// Table 9.2, row "E2r, E3r", maneuver 1, over the whole 9 s from the deck
-/// robot_estimate_e_traj1.dat (on demand: `cargo test --release --test fmb_robot
-/// table_9_2_benchmark -- --ignored --nocapture`; 9000 steps at some 40 ms each): the largest
-/// |error| over the last 20 % within the row's, 0.17 % for E2r and 0.27 % for E3r, and the time
-/// per step the run reports printed.
-#[test]
-#[ignore]
-fn table_9_2_benchmark() {
-    use paraflex::estimate::errors::{PercentErrors, percent_errors};
-    let path = estimation_deck_in_workdir("robot_estimate_e_traj1.dat", 9000);
-    let out = workdir().join("table_9_2_e_traj1.h5");
-    let console = run(&path, &out);
-    let file = hdf5_metno::File::open(out).expect("open");
-    let g = file.group("results/1/estimate/params").expect("params");
-    for (name, truth, bound) in [("L2R.E", E2_TRUE, 0.17), ("L3R.E", E3_TRUE, 0.27)] {
-        let e = read_dataset::<f64>(&g, name);
-        let PercentErrors { min, avg, max } = percent_errors(&e, &vec![truth; e.len()]);
-        println!("{name}: error over the last 20 % {min:.3} / {avg:.3} / {max:.3} %");
-        assert!(min.abs().max(max.abs()) <= bound, "{name}: {min} {max}");
-    }
-    let timing = console.lines().find(|l| l.contains("ms/step"));
-    println!("{}", timing.unwrap_or("no timing line"));
 }
