@@ -10,6 +10,7 @@ use crate::deck::cards::BulkData;
 use crate::deck::fields::RawCard;
 use crate::deck::{Deck, DeckError, Loc, Warning};
 use crate::fe::beam_section::SectionError;
+use crate::fe::solid_midside::Midsides;
 
 use super::coords::{self, CoordSystem};
 use super::geometry::{self, ShapeReport};
@@ -685,6 +686,20 @@ fn build_elements(
                 .zip(<[u32; 4]>::try_from(&ids[..4]).ok())
                 .map(|(q, g)| geometry::check_quad(&q, &g)),
         };
+        let report = match report {
+            // a quadratic shell whose corners pass: its curved surface
+            Some(r)
+                if r.errors.is_empty()
+                    && matches!(kind, ElementKind::Quad8 | ElementKind::Tria6) =>
+            {
+                let curved = geometry::check_quadratic_shell(ids, &pos(&nodes));
+                Some(ShapeReport {
+                    errors: curved.errors,
+                    warnings: r.warnings.into_iter().chain(curved.warnings).collect(),
+                })
+            }
+            r => r,
+        };
         if let Some(report) = report {
             shape_errors(&report, &card, loc, errors);
             quality.add(kind.card(), id, &report);
@@ -736,12 +751,13 @@ fn build_elements(
         let nodes = resolve_nodes(refs, &ids, &names, &card, loc, errors);
         let prop = resolve_property(refs, pid, &solid, &card, loc, errors);
         let Some(nodes) = nodes else { continue };
-        if let Some(shape) = kind.solid_shape() {
-            // quadratic CHEXA / CPENTA: the corners (the kernel checks det J at its points)
-            let corners = shape.nodes().min(nodes.len());
-            let p = pos(&nodes[..corners]);
-            if p.len() == shape.nodes() {
-                let (_, report) = geometry::check_solid(shape, &p, &ids[..corners]);
+        if let Some(solid_kind) = kind.solid_kind() {
+            // the complete element (a blank mid-side grid at its edge's middle), sampled where
+            // the kernels evaluate it
+            let present: Vec<bool> = card_ids.iter().map(|&g| g != 0).collect();
+            let range = Midsides::new(solid_kind, &present).jacobian_range(&pos(&nodes));
+            if let Ok(range) = range {
+                let report = geometry::check_solid(&range, &ids);
                 shape_errors(&report, &card, loc, errors);
                 quality.add(name, id, &report);
             }
