@@ -344,3 +344,29 @@ pub fn autospc(
     }
     Ok(report)
 }
+
+/// The n-set DOFs outside s whose diagonal is exactly zero in every matrix of `diagonals` (K, M
+/// and the damping matrices over the n-set): with `PARAM,AUTOSPC,NO` these DOFs (no element
+/// gives them stiffness, mass or damping; e.g. the rotations of a grid only rods reach) carry
+/// no equation at all, and Nastran still removes them (its mode shapes are exactly zero
+/// there). The matrices are positive semi-definite, so a zero diagonal is a null row and column.
+pub fn null_dofs(
+    diagonals: &[Vec<f64>],
+    n: &DofSet,
+    s_mask: &[bool],
+    map: &DofMap,
+) -> AutoSpcReport {
+    let mut report = AutoSpcReport::default();
+    for (k, &g) in n.members().iter().enumerate() {
+        let free = !s_mask.get(g).copied().unwrap_or(false);
+        if free
+            && diagonals
+                .iter()
+                .all(|d| d.get(k).copied().unwrap_or(0.0) == 0.0)
+        {
+            report.dofs.push(g);
+            report.names.push(map.name(g));
+        }
+    }
+    report
+}
