@@ -345,11 +345,11 @@ pub fn autospc(
     Ok(report)
 }
 
-/// The n-set DOFs outside s whose diagonal is exactly zero in every matrix of `diagonals` (K, M
-/// and the damping matrices over the n-set): with `PARAM,AUTOSPC,NO` these DOFs (no element
-/// gives them stiffness, mass or damping; e.g. the rotations of a grid only rods reach) carry
-/// no equation at all, and Nastran still removes them (its mode shapes are exactly zero
-/// there). The matrices are positive semi-definite, so a zero diagonal is a null row and column.
+/// The n-set DOFs outside s whose diagonal is exactly zero in every matrix of `diagonals` (the
+/// solution's matrices over the n-set: K in statics, K and M in the eigenproblems, and the
+/// damping matrices in direct response): with `PARAM,AUTOSPC,NO` these DOFs (e.g. the rotations
+/// of a grid only rods reach) carry no equation of the solution, and MSC Nastran still removes
+/// them (its static displacements and mode shapes of such decks are exactly zero there). The matrices are positive semi-definite, so a zero diagonal is a null row and column.
 pub fn null_dofs(
     diagonals: &[Vec<f64>],
     n: &DofSet,

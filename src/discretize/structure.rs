@@ -252,11 +252,13 @@ impl Constrained {
             let k_nn_values = Self::k_nn_at(st, p)?;
             autospc(&st.k_nn, &k_nn_values, &st.rigid.n, &spc.mask, &st.map)?
         } else {
-            // without AUTOSPC the DOFs no element reaches are still removed (null_dofs); the
-            // damping matrices count only where they enter the solution directly (a modal
-            // solution's eigenproblem has K and M only)
+            // without AUTOSPC the DOFs no matrix of the solution reaches are still removed
+            // (null_dofs): K in statics, K and M in the eigenproblems, and the damping matrices
+            // where they enter the solution directly
             let mut diagonals = vec![Self::diagonal_at(st, &st.k_nn, p)?];
-            diagonals.push(Self::diagonal_at(st, &st.m_nn, p)?);
+            if !matches!(model.sol, None | Some(Solution::Statics)) {
+                diagonals.push(Self::diagonal_at(st, &st.m_nn, p)?);
+            }
             let direct = matches!(
                 model.sol,
                 Some(

@@ -40,8 +40,9 @@ pub struct LineLoad {
     pub at: [f64; 2],
     /// Intensities per unit length at the two positions; a concentrated load is `values[0]`.
     pub values: [f64; 2],
-    /// Intensities per unit of the length projected on a plane normal to the direction
-    /// (basic directions only): the load per unit length is P·√(1 − (x·d)²).
+    /// Intensities per unit of the length projected on a plane normal to the direction: the
+    /// load per unit length is P·√(1 − (x·d)²), x the element axis (for an element direction
+    /// x·d is its x component: 0 for y and z, so P unchanged; 1 for x, so no load).
     pub projected: bool,
 }
 
@@ -93,8 +94,9 @@ pub fn grid_loads(g: &LineGeometry, load: &LineLoad) -> Result<GridLoads, BeamEr
         LoadAxes::Element => load.direction,
         LoadAxes::Basic => axes.map(|a| dot(a, load.direction)),
     };
+    // the cosine between the element axis and the load direction, in either frame
     let projection = if load.projected {
-        let c = dot(axes[0], load.direction) / norm(load.direction);
+        let c = local[0] / norm(local);
         (1.0 - c * c).max(0.0).sqrt()
     } else {
         1.0
