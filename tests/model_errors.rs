@@ -400,3 +400,28 @@ fn a_conm2_may_share_its_id_with_another_element_only() {
         "{errors:#?}"
     );
 }
+
+/// An LSEQ acts only where a subcase's LOADSET selects it (Nastran): beside a DAREA set of its
+/// EXCITEID and selected by no LOADSET (pyNastran's `other/trncomp12.bdf`) it is a warning and
+/// the DAREA loads stand alone; selected, the combination is refused at the LSEQ.
+#[test]
+fn an_lseq_no_loadset_selects_leaves_the_darea_set_alone() {
+    let deck = |loadset: &str| {
+        format!(
+            "SOL 109\nCEND\nTSTEP = 5\nDLOAD = 10\n{loadset}BEGIN BULK\nGRID,1,,0.,0.,0.,,23456\nCELAS2,1,1000.,1,1\nCONM2,2,1,,1.\nTSTEP,5,10,.01\nTLOAD1,10,10,,,7\nTABLED1,7\n,0.,1.,1.,1.,ENDT\nDAREA,10,1,1,1.\nFORCE,12,1,,2.,1.,0.,0.\nLSEQ,10,10,12\nENDDATA\n"
+        )
+    };
+    let w = warnings(&deck(""));
+    assert!(
+        w.iter()
+            .any(|w| w.contains(":15:") && w.contains("LSEQ 10: no subcase selects it")),
+        "{w:#?}"
+    );
+    let errors = build_model(&deck("LOADSET = 10\n")).expect_err("DAREA and LSEQ combined");
+    assert!(
+        errors
+            .iter()
+            .any(|e| e.contains(":16: LSEQ 10") && e.contains("is also a DAREA set")),
+        "{errors:#?}"
+    );
+}
