@@ -262,4 +262,39 @@ mod tests {
         let r = grid_loads(&g, &q).unwrap();
         close(r.force[0][1] + r.force[1][1], 4.0 * 0.5, 1e-12);
     }
+
+    /// Projected loads in the element frame: the length projected on the plane normal to the
+    /// element's own y (or z) axis is the whole length, so FYE is unchanged; on the plane normal
+    /// to its x axis it is zero, so FXE carries nothing.
+    #[test]
+    fn projected_element_loads_keep_transverse_and_drop_axial_intensities() {
+        let g = geometry();
+        for (axis, expected) in [(1, 1.0), (2, 1.0), (0, 0.0)] {
+            let mut q = load(
+                LineLoadKind::Force,
+                LoadAxes::Element,
+                [0.1, 0.8],
+                [2.0, 3.0],
+            );
+            q.direction = [0.0; 3];
+            q.direction[axis] = 1.0;
+            let plain = grid_loads(&g, &q).unwrap();
+            q.projected = true;
+            let projected = grid_loads(&g, &q).unwrap();
+            for end in 0..2 {
+                for k in 0..3 {
+                    close(
+                        projected.force[end][k],
+                        expected * plain.force[end][k],
+                        1e-12,
+                    );
+                    close(
+                        projected.moment[end][k],
+                        expected * plain.moment[end][k],
+                        1e-12,
+                    );
+                }
+            }
+        }
+    }
 }
