@@ -24,7 +24,10 @@ use assert_cmd::cargo::cargo_bin_cmd;
 /// Decks whose problem is found by model validation (cross references and physics), not by
 /// the deck reader.
 const MODEL_LAYER: &[&str] = &[
+    "chexa20_midside_folded.dat",
     "cord_cycle.dat",
+    "cquad8_midside_folded.dat",
+    "ctetra10_midside_folded.dat",
     "dangling_grid.dat",
     "dangling_material.dat",
     "dangling_property.dat",

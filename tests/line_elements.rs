@@ -609,10 +609,6 @@ fn bad_pload1_cards_are_reported() {
             "deck.dat:9: PLOAD1 3: field 8 (X2): X2 = 1.2 exceeds 1",
         ),
         (
-            "PLOAD1,3,1,FYE,LEPR,0.,1.,1.,1.\n",
-            "deck.dat:9: PLOAD1 3: field 5 (SCALE): a projected SCALE",
-        ),
-        (
             "PLOAD1,3,1,FY,LE,0.,1.,1.5,1.\n",
             "deck.dat:9: PLOAD1 3: X2 = 1.5 is beyond the element's length",
         ),

@@ -369,3 +369,59 @@ fn enforced_motion_type_and_exciteid_must_agree() {
         .collect();
     assert!(missing.is_empty(), "missing {missing:#?}\nin {errors:#?}");
 }
+
+/// A CONM2 may share its id with another element (MSC Nastran keeps mass elements apart: four
+/// decks of pyNastran's collection, with MSC results, have CONM2 50 beside CVISC 50), with a
+/// warning; two CONM2 with one id and two other elements with one id stay errors.
+#[test]
+fn a_conm2_may_share_its_id_with_another_element_only() {
+    let base = "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nEIGRL,1,,,1\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nCELAS2,5,1000.,1,1\nCONM2,5,1,,1.\n";
+    let shared = warnings(&format!("{base}ENDDATA\n"));
+    assert!(
+        shared
+            .iter()
+            .any(|w| w.contains(":9:") && w.contains("CONM2 5 has the id of another element")),
+        "{shared:#?}"
+    );
+    let errors = build_model(&format!(
+        "{base}CONM2,5,2,,1.\nCELAS2,5,1000.,2,1\nENDDATA\n"
+    ))
+    .expect_err("repeated ids");
+    assert!(
+        errors
+            .iter()
+            .any(|e| e.contains(":10: CONM2 5") && e.contains("duplicate mass element id 5")),
+        "{errors:#?}"
+    );
+    assert!(
+        errors
+            .iter()
+            .any(|e| e.contains(":11: CELAS2 5") && e.contains("duplicate element id 5")),
+        "{errors:#?}"
+    );
+}
+
+/// An LSEQ acts only where a subcase's LOADSET selects it (Nastran): beside a DAREA set of its
+/// EXCITEID and selected by no LOADSET (pyNastran's `other/trncomp12.bdf`) it is a warning and
+/// the DAREA loads stand alone; selected, the combination is refused at the LSEQ.
+#[test]
+fn an_lseq_no_loadset_selects_leaves_the_darea_set_alone() {
+    let deck = |loadset: &str| {
+        format!(
+            "SOL 109\nCEND\nTSTEP = 5\nDLOAD = 10\n{loadset}BEGIN BULK\nGRID,1,,0.,0.,0.,,23456\nCELAS2,1,1000.,1,1\nCONM2,2,1,,1.\nTSTEP,5,10,.01\nTLOAD1,10,10,,,7\nTABLED1,7\n,0.,1.,1.,1.,ENDT\nDAREA,10,1,1,1.\nFORCE,12,1,,2.,1.,0.,0.\nLSEQ,10,10,12\nENDDATA\n"
+        )
+    };
+    let w = warnings(&deck(""));
+    assert!(
+        w.iter()
+            .any(|w| w.contains(":15:") && w.contains("LSEQ 10: no subcase selects it")),
+        "{w:#?}"
+    );
+    let errors = build_model(&deck("LOADSET = 10\n")).expect_err("DAREA and LSEQ combined");
+    assert!(
+        errors
+            .iter()
+            .any(|e| e.contains(":16: LSEQ 10") && e.contains("is also a DAREA set")),
+        "{errors:#?}"
+    );
+}

@@ -50,7 +50,7 @@ fn run_deck(rel: &str) -> Run {
         && model
             .elements
             .iter()
-            .any(|e| e.kind.is_shell() || e.kind.solid_shape().is_some())
+            .any(|e| e.kind.is_shell() || e.kind.solid_kind().is_some())
     {
         assert_eq!(
             model.params.coupmass, 1,

@@ -139,9 +139,11 @@ fn dampers_run_in_statics_and_frf_and_are_refused_by_a_prom() {
 
 /// SLOAD: the chain of [`CHAIN`] with a load of 3 on s2 besides the FORCE: the s2 equation
 /// becomes −2 u₁ + 5 u₂ = 3 + 3, so u₂ = 28/11, u₁ = 37/11, and the SPC force at s3 is
-/// 3 (1 − u₂) = −51/11. An SLOAD on a GRID is refused at its card.
+/// 3 (1 − u₂) = −51/11. An SLOAD of 3 on GRID 10 instead loads its T1 (Nastran QRG: component
+/// T1 of the grid's CD system), as the FORCE does: 4 (u₁₀ − u₁) = 8, 3 u₁ − 2 u₂ = 8, so
+/// u₁ = 46/11, u₂ = 25/11, u₁₀ = u₁ + 2 = 68/11. An SLOAD on no point is refused at its card.
 #[test]
-fn sload_loads_a_scalar_point() {
+fn sload_loads_a_scalar_point_or_a_grid_t1() {
     let deck = CHAIN.replace("ENDDATA", "SLOAD,2,2,3.0\nENDDATA");
     let (file, _dir) = run_to_file(&deck);
     let g = file.group("results/1/statics").expect("statics");
@@ -152,11 +154,20 @@ fn sload_loads_a_scalar_point() {
     }
     let q: Vec<f64> = read_dataset(&g, "spc_force_scalar");
     assert!((q[2] + 51.0 / 11.0).abs() <= 1e-12, "{q:?}");
-    let e = build_model(&CHAIN.replace("ENDDATA", "SLOAD,2,10,3.0\nENDDATA"))
+    let (file, _dir) = run_to_file(&CHAIN.replace("ENDDATA", "SLOAD,2,10,3.0\nENDDATA"));
+    let g = file.group("results/1/statics").expect("statics");
+    let u: Vec<f64> = read_dataset(&g, "displacement_scalar");
+    let expected = [46.0 / 11.0, 25.0 / 11.0, 1.0];
+    for (a, b) in u.iter().zip(expected) {
+        assert!((a - b).abs() <= 1e-12, "{u:?} vs {expected:?}");
+    }
+    let grid: Vec<f64> = read_dataset(&g, "displacement");
+    assert!((grid[0] - 68.0 / 11.0).abs() <= 1e-12, "{grid:?}");
+    let e = build_model(&CHAIN.replace("ENDDATA", "SLOAD,2,33,3.0\nENDDATA"))
         .unwrap_err()
         .join("\n");
     assert!(
-        e.contains("SLOAD 2") && e.contains("S1 = 10 is a GRID"),
+        e.contains("SLOAD 2") && e.contains("S1 = 33 does not exist"),
         "{e}"
     );
 }

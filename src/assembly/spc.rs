@@ -344,3 +344,29 @@ pub fn autospc(
     }
     Ok(report)
 }
+
+/// The n-set DOFs outside s whose diagonal is exactly zero in every matrix of `diagonals` (the
+/// solution's matrices over the n-set: K in statics, K and M in the eigenproblems, and the
+/// damping matrices in direct response): with `PARAM,AUTOSPC,NO` these DOFs (e.g. the rotations
+/// of a grid only rods reach) carry no equation of the solution, and MSC Nastran still removes
+/// them (its static displacements and mode shapes of such decks are exactly zero there). The matrices are positive semi-definite, so a zero diagonal is a null row and column.
+pub fn null_dofs(
+    diagonals: &[Vec<f64>],
+    n: &DofSet,
+    s_mask: &[bool],
+    map: &DofMap,
+) -> AutoSpcReport {
+    let mut report = AutoSpcReport::default();
+    for (k, &g) in n.members().iter().enumerate() {
+        let free = !s_mask.get(g).copied().unwrap_or(false);
+        if free
+            && diagonals
+                .iter()
+                .all(|d| d.get(k).copied().unwrap_or(0.0) == 0.0)
+        {
+            report.dofs.push(g);
+            report.names.push(map.name(g));
+        }
+    }
+    report
+}

@@ -11,8 +11,9 @@ use super::parameters::Parameters;
 use super::{BuildOptions, DiscretizeError};
 use crate::assembly::error::DofName;
 use crate::assembly::reduce::{GToN, Partition};
-use crate::assembly::spc::{AutoSpcReport, SpcSet, autospc};
+use crate::assembly::spc::{AutoSpcReport, SpcSet, autospc, null_dofs};
 use crate::assembly::{AffineOperator, DofMap, GridFrames, ParamKey, RigidElimination, Sets};
+use crate::deck::Solution;
 use crate::linalg::{Factor, LinalgError, Progress, sym_matvec};
 use crate::model::Model;
 use crate::rom::build::AffineFom;
@@ -251,7 +252,27 @@ impl Constrained {
             let k_nn_values = Self::k_nn_at(st, p)?;
             autospc(&st.k_nn, &k_nn_values, &st.rigid.n, &spc.mask, &st.map)?
         } else {
-            AutoSpcReport::default()
+            // without AUTOSPC the DOFs no matrix of the solution reaches are still removed
+            // (null_dofs): K in statics, K and M in the eigenproblems, and the damping matrices
+            // where they enter the solution directly
+            let mut diagonals = vec![Self::diagonal_at(st, &st.k_nn, p)?];
+            if !matches!(model.sol, None | Some(Solution::Statics)) {
+                diagonals.push(Self::diagonal_at(st, &st.m_nn, p)?);
+            }
+            let direct = matches!(
+                model.sol,
+                Some(
+                    Solution::FrfDirect
+                        | Solution::Frf
+                        | Solution::TransientDirect
+                        | Solution::Transient
+                )
+            );
+            let damping = [&st.damping.viscous, &st.damping.structural];
+            for op in damping.into_iter().flatten().filter(|_| direct) {
+                diagonals.push(Self::diagonal_at(st, op, p)?);
+            }
+            null_dofs(&diagonals, &st.rigid.n, &spc.mask, &st.map)
         };
         spc.add_autospc(&autospc);
         let sets = Sets::new(&st.map, &st.rigid.m_mask, &spc.mask)?;
@@ -277,6 +298,17 @@ impl Constrained {
     /// computed on request rather than kept, as it is the size of K_gg.
     pub fn k_nn_values(&self, st: &Structure) -> Result<Vec<f64>, DiscretizeError> {
         Self::k_nn_at(st, &self.p)
+    }
+
+    /// The diagonal of the n-set operator `op` at `p`.
+    fn diagonal_at(
+        st: &Structure,
+        op: &AffineOperator,
+        p: &[f64],
+    ) -> Result<Vec<f64>, DiscretizeError> {
+        let mut values = vec![0.0; op.pattern().nnz()];
+        op.evaluate_into(&st.params.weights(op, p), &mut values)?;
+        Ok(op.diagonal(&values))
     }
 
     fn k_nn_at(st: &Structure, p: &[f64]) -> Result<Vec<f64>, DiscretizeError> {

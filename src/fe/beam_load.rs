@@ -40,8 +40,9 @@ pub struct LineLoad {
     pub at: [f64; 2],
     /// Intensities per unit length at the two positions; a concentrated load is `values[0]`.
     pub values: [f64; 2],
-    /// Intensities per unit of the length projected on a plane normal to the direction
-    /// (basic directions only): the load per unit length is P·√(1 − (x·d)²).
+    /// Intensities per unit of the length projected on a plane normal to the direction: the
+    /// load per unit length is P·√(1 − (x·d)²), x the element axis (for an element direction
+    /// x·d is its x component: 0 for y and z, so P unchanged; 1 for x, so no load).
     pub projected: bool,
 }
 
@@ -93,8 +94,9 @@ pub fn grid_loads(g: &LineGeometry, load: &LineLoad) -> Result<GridLoads, BeamEr
         LoadAxes::Element => load.direction,
         LoadAxes::Basic => axes.map(|a| dot(a, load.direction)),
     };
+    // the cosine between the element axis and the load direction, in either frame
     let projection = if load.projected {
-        let c = dot(axes[0], load.direction) / norm(load.direction);
+        let c = local[0] / norm(local);
         (1.0 - c * c).max(0.0).sqrt()
     } else {
         1.0
@@ -259,5 +261,40 @@ mod tests {
         q.projected = true;
         let r = grid_loads(&g, &q).unwrap();
         close(r.force[0][1] + r.force[1][1], 4.0 * 0.5, 1e-12);
+    }
+
+    /// Projected loads in the element frame: the length projected on the plane normal to the
+    /// element's own y (or z) axis is the whole length, so FYE is unchanged; on the plane normal
+    /// to its x axis it is zero, so FXE carries nothing.
+    #[test]
+    fn projected_element_loads_keep_transverse_and_drop_axial_intensities() {
+        let g = geometry();
+        for (axis, expected) in [(1, 1.0), (2, 1.0), (0, 0.0)] {
+            let mut q = load(
+                LineLoadKind::Force,
+                LoadAxes::Element,
+                [0.1, 0.8],
+                [2.0, 3.0],
+            );
+            q.direction = [0.0; 3];
+            q.direction[axis] = 1.0;
+            let plain = grid_loads(&g, &q).unwrap();
+            q.projected = true;
+            let projected = grid_loads(&g, &q).unwrap();
+            for end in 0..2 {
+                for k in 0..3 {
+                    close(
+                        projected.force[end][k],
+                        expected * plain.force[end][k],
+                        1e-12,
+                    );
+                    close(
+                        projected.moment[end][k],
+                        expected * plain.moment[end][k],
+                        1e-12,
+                    );
+                }
+            }
+        }
     }
 }

@@ -459,53 +459,71 @@ fn combine(rows: &[(&[f64], f64)], len: usize) -> Vec<f64> {
     out
 }
 
-impl Geometry {
-    fn new(shape: Quadratic, xyz: &[V3], material_x: Option<V3>) -> Result<Self, ShellError> {
-        if xyz.len() != shape.nodes() {
-            return Err(ShellError::NodeCount(xyz.len()));
-        }
-        let tangents = |p: [f64; 2]| {
-            let (_, dx, de) = shape.shape(p);
-            let t = |d: &[f64]| {
-                (0..xyz.len()).fold([0.0; 3], |s, a| {
-                    [
-                        s[0] + d[a] * xyz[a][0],
-                        s[1] + d[a] * xyz[a][1],
-                        s[2] + d[a] * xyz[a][2],
-                    ]
-                })
-            };
-            cross(t(&dx), t(&de))
+/// The tangent normals g = x_ξ × x_η of a quadratic surface at its nodes, checked at the nodes
+/// and the integration points against the centre's (the surface must not fold over: every
+/// g · g_centre > 10⁻⁸ |g_centre|²), and the Jacobian ratio min / max of g · g_centre over
+/// those points.
+fn surface_jacobians(shape: Quadratic, xyz: &[V3]) -> Result<(Vec<V3>, f64), ShellError> {
+    if xyz.len() != shape.nodes() {
+        return Err(ShellError::NodeCount(xyz.len()));
+    }
+    let tangents = |p: [f64; 2]| {
+        let (_, dx, de) = shape.shape(p);
+        let t = |d: &[f64]| {
+            (0..xyz.len()).fold([0.0; 3], |s, a| {
+                [
+                    s[0] + d[a] * xyz[a][0],
+                    s[1] + d[a] * xyz[a][1],
+                    s[2] + d[a] * xyz[a][2],
+                ]
+            })
         };
-        let size = xyz
-            .iter()
-            .flat_map(|p| xyz.iter().map(move |q| norm(sub(*p, *q))))
-            .fold(0.0, f64::max);
-        let centre = tangents(shape.centre());
-        if !(norm(centre) > 1e-10 * size * size) {
-            return Err(ShellError::ZeroArea {
+        cross(t(&dx), t(&de))
+    };
+    let size = xyz
+        .iter()
+        .flat_map(|p| xyz.iter().map(move |q| norm(sub(*p, *q))))
+        .fold(0.0, f64::max);
+    let centre = tangents(shape.centre());
+    if !(norm(centre) > 1e-10 * size * size) {
+        return Err(ShellError::ZeroArea {
+            shape: shape.card(),
+        });
+    }
+    let mut normals = Vec::with_capacity(xyz.len());
+    let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
+    let check = shape
+        .node_coordinates()
+        .iter()
+        .map(|&p| (p, true))
+        .chain(shape.rule().into_iter().map(|(p, _)| (p, false)));
+    for (k, (p, at_node)) in check.enumerate() {
+        let g = tangents(p);
+        let along = dot(g, centre);
+        if !(along > 1e-8 * dot(centre, centre)) {
+            return Err(ShellError::Distorted {
                 shape: shape.card(),
+                grid: at_node.then_some(k + 1),
             });
         }
-        let mut normals = Vec::with_capacity(xyz.len());
-        let check = shape
-            .node_coordinates()
-            .iter()
-            .map(|&p| (p, true))
-            .chain(shape.rule().into_iter().map(|(p, _)| (p, false)));
-        for (k, (p, at_node)) in check.enumerate() {
-            let g = tangents(p);
-            // the surface must not fold over (Jacobian of one sign, relative to the centre)
-            if !(dot(g, centre) > 1e-8 * dot(centre, centre)) {
-                return Err(ShellError::Distorted {
-                    shape: shape.card(),
-                    grid: at_node.then_some(k + 1),
-                });
-            }
-            if at_node {
-                normals.push(scale(g, 1.0 / norm(g)));
-            }
+        (min, max) = (min.min(along), max.max(along));
+        if at_node {
+            normals.push(scale(g, 1.0 / norm(g)));
         }
+    }
+    Ok((normals, min / max))
+}
+
+/// The Jacobian ratio (min / max of the surface Jacobian over the nodes and integration points)
+/// of a CQUAD8 / CTRIA6 with the given grids' positions `xyz`, or the kernel's error for a
+/// degenerate or folded surface: the geometry check of `paraflex check`.
+pub fn jacobian_ratio(layout: Layout, xyz: &[V3]) -> Result<f64, ShellError> {
+    surface_jacobians(layout.shape, &layout.complete(xyz)?).map(|(_, ratio)| ratio)
+}
+
+impl Geometry {
+    fn new(shape: Quadratic, xyz: &[V3], material_x: Option<V3>) -> Result<Self, ShellError> {
+        let (normals, _) = surface_jacobians(shape, xyz)?;
         Ok(Geometry {
             shape,
             xyz: xyz.to_vec(),

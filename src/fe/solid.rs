@@ -161,6 +161,8 @@ pub enum EvalPoint {
     Centre,
     /// Corner `0-based index` (strain recovery of the quadratic elements).
     Corner(usize),
+    /// Mid-side node `0-based index` (its natural position; the grid may be blank).
+    MidSide(usize),
 }
 
 impl fmt::Display for EvalPoint {
@@ -171,6 +173,7 @@ impl fmt::Display for EvalPoint {
             }
             EvalPoint::Centre => f.write_str("the element centre"),
             EvalPoint::Corner(a) => write!(f, "corner G{}", a + 1),
+            EvalPoint::MidSide(a) => write!(f, "mid-side node G{}", a + 1),
         }
     }
 }
@@ -628,6 +631,89 @@ pub fn volume_and_centroid(
         }
     }
     Ok((volume, moment.map(|m| m / volume)))
+}
+
+/// The Jacobian determinant of an element sampled where the kernels evaluate it and at its
+/// nodes: [`jacobian_range`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JacobianRange {
+    /// Smallest det J.
+    pub min: f64,
+    /// Largest det J.
+    pub max: f64,
+    /// Where det J is smallest.
+    pub min_at: EvalPoint,
+    /// Natural coordinates of `min_at`.
+    pub min_xi: [f64; 3],
+    /// Smallest scaled Jacobian det J / (|J₁||J₂||J₃|) (the kernels refuse ≤ 10⁻¹⁰, module doc).
+    pub min_scaled: f64,
+    /// ∫ det J by the mass rule: the signed volume.
+    pub volume: f64,
+}
+
+impl JacobianRange {
+    /// Whether the kernels accept the element: every sampled scaled Jacobian above 10⁻¹⁰.
+    pub fn is_valid(&self) -> bool {
+        self.min_scaled > MIN_SCALED_JACOBIAN
+    }
+}
+
+/// det J of the element with grids `xyz` at its nodes (corners and mid-side nodes), its centre
+/// and every point of its stiffness and mass rules, without refusing any: the geometry check
+/// of `paraflex check` (an element that [`JacobianRange::is_valid`] accepts passes the
+/// kernels' own check at every point they evaluate). NaN coordinates give a NaN range.
+pub fn jacobian_range(kind: SolidKind, xyz: &[[f64; 3]]) -> Result<JacobianRange, SolidError> {
+    check_nodes(kind, xyz)?;
+    let n = kind.nodes();
+    let corners = corners(kind);
+    let nodes = (0..n).map(|a| {
+        let at = if a < corners {
+            EvalPoint::Corner(a)
+        } else {
+            EvalPoint::MidSide(a)
+        };
+        (at, shape::node_xi(kind, a))
+    });
+    let rule_points = |rule: Vec<QuadPoint>| {
+        let of = rule.len();
+        rule.into_iter()
+            .enumerate()
+            .map(move |(index, p)| (EvalPoint::Integration { index, of }, p.xi))
+    };
+    let mut range = JacobianRange {
+        min: f64::INFINITY,
+        max: f64::NEG_INFINITY,
+        min_at: EvalPoint::Centre,
+        min_xi: shape::centroid(kind),
+        min_scaled: f64::INFINITY,
+        volume: 0.0,
+    };
+    let points = nodes
+        .chain([(EvalPoint::Centre, shape::centroid(kind))])
+        .chain(rule_points(stiffness_rule(kind)))
+        .chain(rule_points(mass_rule(kind)));
+    for (at, xi) in points {
+        let j = jacobian(xyz, &shape::shape(kind, xi).dn[..n]);
+        let det = mat3::det(&j);
+        let norms: f64 = (0..3)
+            .map(|c| vec3::norm([j[0][c], j[1][c], j[2][c]]))
+            .product();
+        if det.is_nan() || det < range.min {
+            range.min = det;
+            range.min_at = at;
+            range.min_xi = xi;
+        }
+        range.max = range.max.max(det);
+        let scaled = det / norms;
+        if scaled.is_nan() || scaled < range.min_scaled {
+            range.min_scaled = scaled;
+        }
+    }
+    for p in mass_rule(kind) {
+        let j = jacobian(xyz, &shape::shape(kind, p.xi).dn[..n]);
+        range.volume += p.w * mat3::det(&j);
+    }
+    Ok(range)
 }
 
 /// Whether the density is a parameter.

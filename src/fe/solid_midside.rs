@@ -213,4 +213,9 @@ impl Midsides {
     pub fn volume_and_centroid(&self, xyz: &[[f64; 3]]) -> Result<(f64, [f64; 3]), SolidError> {
         solid::volume_and_centroid(self.kind, &self.full_xyz(xyz)?)
     }
+
+    /// [`solid::jacobian_range`] of the complete element from the given grids' positions.
+    pub fn jacobian_range(&self, xyz: &[[f64; 3]]) -> Result<solid::JacobianRange, SolidError> {
+        solid::jacobian_range(self.kind, &self.full_xyz(xyz)?)
+    }
 }

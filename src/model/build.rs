@@ -10,6 +10,7 @@ use crate::deck::cards::BulkData;
 use crate::deck::fields::RawCard;
 use crate::deck::{Deck, DeckError, Loc, Warning};
 use crate::fe::beam_section::SectionError;
+use crate::fe::solid_midside::Midsides;
 
 use super::coords::{self, CoordSystem};
 use super::geometry::{self, ShapeReport};
@@ -57,14 +58,19 @@ impl Model {
         elements.sort_by_key(|e| e.id);
         let mut rigids = build_rigids(&refs, &mut errors);
         rigids.sort_by_key(|r| r.id);
-        let declared_elements = element_id_space(bulk, &mut errors);
+        let declared_elements = element_id_space(bulk, &mut errors, &mut warnings);
         let element_index: HashMap<u32, usize> = {
-            // map ids to positions in the sorted element list (rigid ids are not in it)
-            let by_id: HashMap<u32, usize> = elements
-                .iter()
-                .enumerate()
-                .map(|(i, e)| (e.id, i))
-                .collect();
+            // map ids to positions in the sorted element list (rigid ids are not in it); an id
+            // shared by a CONM2 and another element is the other element's
+            let mut by_id: HashMap<u32, usize> = HashMap::with_capacity(elements.len());
+            for (i, e) in elements.iter().enumerate() {
+                if e.kind != ElementKind::Conm2 {
+                    by_id.insert(e.id, i);
+                }
+            }
+            for (i, e) in elements.iter().enumerate() {
+                by_id.entry(e.id).or_insert(i);
+            }
             declared_elements
                 .keys()
                 .filter_map(|id| by_id.get(id).map(|&i| (*id, i)))
@@ -414,8 +420,14 @@ fn index_materials(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32,
     index(entries, "material", errors)
 }
 
-/// The element id space (elements, CONM2, CELAS, RBE2, RBE3); returns id → () for the ids.
-fn element_id_space(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32, ()> {
+/// The element id space (elements, CELAS, RBE2, RBE3) and the mass element id space (CONM2),
+/// each without duplicates; a mass element may share an id with another element (MSC Nastran
+/// stores mass elements apart and runs such decks), with a warning. Returns id → () for the ids.
+fn element_id_space(
+    bulk: &BulkData,
+    errors: &mut Vec<DeckError>,
+    warnings: &mut Vec<Warning>,
+) -> HashMap<u32, ()> {
     let mut e = Vec::new();
     e.extend(
         bulk.cquad4
@@ -478,7 +490,6 @@ fn element_id_space(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32
     }
     e.extend(bulk.cvisc.iter().map(|c| entry(c.id, "CVISC", &c.loc, ())));
     e.extend(bulk.cbush.iter().map(|c| entry(c.id, "CBUSH", &c.loc, ())));
-    e.extend(bulk.conm2.iter().map(|c| entry(c.id, "CONM2", &c.loc, ())));
     e.extend(bulk.crod.iter().map(|c| entry(c.id, "CROD", &c.loc, ())));
     e.extend(bulk.ctube.iter().map(|c| entry(c.id, "CTUBE", &c.loc, ())));
     e.extend(
@@ -491,7 +502,30 @@ fn element_id_space(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32
     e.extend(bulk.rbe2.iter().map(|c| entry(c.id, "RBE2", &c.loc, ())));
     e.extend(bulk.rbe3.iter().map(|c| entry(c.id, "RBE3", &c.loc, ())));
     e.sort_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));
-    index(e, "element", errors)
+    let mut declared = index(e, "element", errors);
+    let masses = bulk
+        .conm2
+        .iter()
+        .map(|c| entry(c.id, "CONM2", &c.loc, ()))
+        .collect();
+    let masses = index(masses, "mass element", errors);
+    // in card order; a repeated CONM2 id was reported above
+    let mut seen = std::collections::HashSet::new();
+    for c in bulk.conm2.iter().filter(|c| masses.contains_key(&c.id)) {
+        let id = c.id;
+        if !seen.insert(id) {
+            continue;
+        }
+        if declared.insert(id, ()).is_some() {
+            warnings.push(Warning {
+                loc: Some(c.loc.to_string()),
+                message: format!(
+                    "CONM2 {id} has the id of another element: the QRG asks for unique element ids, MSC Nastran keeps mass elements apart and accepts it, and so does paraflex (element {id} in loads and output is the other element)"
+                ),
+            });
+        }
+    }
+    declared
 }
 
 /// Geometry warnings grouped by (card, check): one warning per group.
@@ -691,6 +725,20 @@ fn build_elements(
                 .zip(<[u32; 4]>::try_from(&ids[..4]).ok())
                 .map(|(q, g)| geometry::check_quad(&q, &g)),
         };
+        let report = match report {
+            // a quadratic shell whose corners pass: its curved surface
+            Some(r)
+                if r.errors.is_empty()
+                    && matches!(kind, ElementKind::Quad8 | ElementKind::Tria6) =>
+            {
+                let curved = geometry::check_quadratic_shell(ids, &pos(&nodes));
+                Some(ShapeReport {
+                    errors: curved.errors,
+                    warnings: r.warnings.into_iter().chain(curved.warnings).collect(),
+                })
+            }
+            r => r,
+        };
         if let Some(report) = report {
             shape_errors(&report, &card, loc, errors);
             quality.add(kind.card(), id, &report);
@@ -742,12 +790,13 @@ fn build_elements(
         let nodes = resolve_nodes(refs, &ids, &names, &card, loc, errors);
         let prop = resolve_property(refs, pid, &solid, &card, loc, errors);
         let Some(nodes) = nodes else { continue };
-        if let Some(shape) = kind.solid_shape() {
-            // quadratic CHEXA / CPENTA: the corners (the kernel checks det J at its points)
-            let corners = shape.nodes().min(nodes.len());
-            let p = pos(&nodes[..corners]);
-            if p.len() == shape.nodes() {
-                let (_, report) = geometry::check_solid(shape, &p, &ids[..corners]);
+        if let Some(solid_kind) = kind.solid_kind() {
+            // the complete element (a blank mid-side grid at its edge's middle), sampled where
+            // the kernels evaluate it
+            let present: Vec<bool> = card_ids.iter().map(|&g| g != 0).collect();
+            let range = Midsides::new(solid_kind, &present).jacobian_range(&pos(&nodes));
+            if let Ok(range) = range {
+                let report = geometry::check_solid(&range, &ids);
                 shape_errors(&report, &card, loc, errors);
                 quality.add(name, id, &report);
             }

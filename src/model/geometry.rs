@@ -7,16 +7,22 @@
 //! - `CQUAD4`: bilinear surface, A = ∫|x_ξ × x_η| dξ dη and centroid ∫x dA / A with an 8×8
 //!   Gauss–Legendre rule. For a planar quad |x_ξ × x_η| is linear in (ξ, η), so the rule is exact
 //!   to round-off; for a warped quad the integrand is smooth and the rule converges exponentially.
-//! - `CHEXA` (trilinear), `CPENTA` (linear triangle × linear), `CTETRA` 4 and 10 (quadratic,
-//!   mid-side grids where they are): V = ∫det J and centroid ∫x det J / V with rules exact for
-//!   these polynomial integrands (3×3×3 Gauss for the hexa, degree-5 collapsed rules for wedge
-//!   and tetra). A sheared hexa therefore has volume base × height, not pyNastran's face formula.
+//! - the solids' volumes and centroids are those of their kernels
+//!   (`fe::solid::volume_and_centroid`, exact for the isoparametric maps, curved edges too).
 //!
 //! # Checks and thresholds
-//! Solids (`check_solid`): det J is sampled at the corners and at the quadrature points.
-//! - any det J ≤ 0 → **error** "inverted or degenerate element"; when det J < 0 everywhere the
-//!   message says the node order is reversed (mirror image numbering);
+//! Solids (`check_solid`): det J of the complete element (blank mid-side grids at their edges'
+//! middles) is sampled by `fe::solid::jacobian_range` at every node, the centre and the points of
+//! the stiffness and mass rules, so a quadratic element with a misplaced mid-side grid is caught.
+//! - a scaled Jacobian det J / (|J₁||J₂||J₃|) ≤ 10⁻¹⁰ anywhere (det J ≤ 0 included; the kernels'
+//!   own limit) → **error** "inverted or degenerate element" naming the point; when det J < 0
+//!   everywhere the message says the node order is reversed (mirror image numbering);
 //! - Jacobian ratio min det J / max det J < [`JACOBIAN_RATIO_WARN`] → warning (very distorted).
+//!
+//! CQUAD8 / CTRIA6 (`check_quadratic_shell`, besides the checks of their corners below): the
+//! kernel's surface Jacobian x_ξ × x_η, projected on the centre's, must stay positive at every
+//! node and integration point → **error** otherwise (a misplaced mid-side grid folds the
+//! surface); its min / max ratio below [`JACOBIAN_RATIO_WARN`] → warning.
 //!
 //! Shells (`check_quad`, `check_tria`), following Nastran's GEOMCHECK defaults for warnings:
 //! - area ≤ [`ZERO_AREA_REL`] · (longest edge)² → **error** (zero area);
@@ -31,7 +37,10 @@
 //! - skew: the smaller angle between the lines joining opposite edge midpoints < [`SKEW_MIN`] →
 //!   warning.
 
-use crate::geometry::vec3::{self, add, cross, dot, norm, scale, sub, triple};
+use crate::fe::shell::ShellError;
+use crate::fe::shell_quadratic::{self, Layout};
+use crate::fe::solid::JacobianRange;
+use crate::geometry::vec3::{self, add, cross, dot, norm, scale, sub};
 use std::sync::OnceLock;
 
 /// Solids: Jacobian ratio (min/max det J) below which a warning is issued.
@@ -52,219 +61,6 @@ pub const WARP_WARN: f64 = 0.05;
 pub const TAPER_WARN: f64 = 0.5;
 /// CQUAD4 skew warning limit (degrees), Nastran GEOMCHECK Q4_SKEW.
 pub const SKEW_MIN: f64 = 30.0;
-
-/// Solid element shapes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SolidShape {
-    Hexa8,
-    Penta6,
-    Tetra4,
-    Tetra10,
-}
-
-impl SolidShape {
-    /// Number of grids.
-    pub fn nodes(self) -> usize {
-        match self {
-            SolidShape::Hexa8 => 8,
-            SolidShape::Penta6 => 6,
-            SolidShape::Tetra4 => 4,
-            SolidShape::Tetra10 => 10,
-        }
-    }
-
-    /// Natural coordinates of the corner grids.
-    fn corners(self) -> Vec<[f64; 3]> {
-        match self {
-            SolidShape::Hexa8 => HEXA_CORNERS.to_vec(),
-            SolidShape::Penta6 => {
-                vec![
-                    [0., 0., -1.],
-                    [1., 0., -1.],
-                    [0., 1., -1.],
-                    [0., 0., 1.],
-                    [1., 0., 1.],
-                    [0., 1., 1.],
-                ]
-            }
-            SolidShape::Tetra4 | SolidShape::Tetra10 => {
-                vec![[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]]
-            }
-        }
-    }
-
-    /// Quadrature rule (natural point, weight), exact for the volume and first-moment integrands.
-    fn rule(self) -> &'static [([f64; 3], f64)] {
-        type Rule = Vec<([f64; 3], f64)>;
-        static RULES: OnceLock<[Rule; 3]> = OnceLock::new();
-        let rules = RULES.get_or_init(|| {
-            [
-                SolidShape::Hexa8.compute_rule(),
-                SolidShape::Penta6.compute_rule(),
-                SolidShape::Tetra4.compute_rule(),
-            ]
-        });
-        match self {
-            SolidShape::Hexa8 => &rules[0],
-            SolidShape::Penta6 => &rules[1],
-            SolidShape::Tetra4 | SolidShape::Tetra10 => &rules[2],
-        }
-    }
-
-    fn compute_rule(self) -> Vec<([f64; 3], f64)> {
-        match self {
-            SolidShape::Hexa8 => {
-                let g = gauss_legendre(3);
-                let mut out = Vec::with_capacity(27);
-                for &(a, wa) in g {
-                    for &(b, wb) in g {
-                        for &(c, wc) in g {
-                            out.push(([a, b, c], wa * wb * wc));
-                        }
-                    }
-                }
-                out
-            }
-            SolidShape::Penta6 => {
-                let g = gauss_legendre(3);
-                let mut out = Vec::new();
-                for (rs, w) in triangle_rule(4) {
-                    for &(z, wz) in g {
-                        out.push(([rs[0], rs[1], z], w * wz));
-                    }
-                }
-                out
-            }
-            SolidShape::Tetra4 | SolidShape::Tetra10 => tetra_rule(4),
-        }
-    }
-
-    /// Shape functions and their derivatives with respect to the natural coordinates.
-    fn shape(self, q: [f64; 3]) -> (Vec<f64>, Vec<[f64; 3]>) {
-        match self {
-            SolidShape::Hexa8 => {
-                let mut n = Vec::with_capacity(8);
-                let mut d = Vec::with_capacity(8);
-                for c in HEXA_CORNERS {
-                    let (a, b, e) = (1.0 + c[0] * q[0], 1.0 + c[1] * q[1], 1.0 + c[2] * q[2]);
-                    n.push(a * b * e / 8.0);
-                    d.push([c[0] * b * e / 8.0, a * c[1] * e / 8.0, a * b * c[2] / 8.0]);
-                }
-                (n, d)
-            }
-            SolidShape::Penta6 => {
-                let l = [1.0 - q[0] - q[1], q[0], q[1]];
-                let dl = [[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]];
-                let mut n = Vec::with_capacity(6);
-                let mut d = Vec::with_capacity(6);
-                for (sign, half) in [(-1.0, 0.5 * (1.0 - q[2])), (1.0, 0.5 * (1.0 + q[2]))] {
-                    for k in 0..3 {
-                        n.push(l[k] * half);
-                        d.push([dl[k][0] * half, dl[k][1] * half, 0.5 * sign * l[k]]);
-                    }
-                }
-                (n, d)
-            }
-            SolidShape::Tetra4 => {
-                let n = vec![1.0 - q[0] - q[1] - q[2], q[0], q[1], q[2]];
-                let d = vec![[-1., -1., -1.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
-                (n, d)
-            }
-            SolidShape::Tetra10 => {
-                let l = [1.0 - q[0] - q[1] - q[2], q[0], q[1], q[2]];
-                let dl: [[f64; 3]; 4] = [[-1., -1., -1.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
-                let mut n = Vec::with_capacity(10);
-                let mut d = Vec::with_capacity(10);
-                for k in 0..4 {
-                    n.push(l[k] * (2.0 * l[k] - 1.0));
-                    d.push(scale(dl[k], 4.0 * l[k] - 1.0));
-                }
-                for (a, b) in TETRA10_EDGES {
-                    n.push(4.0 * l[a] * l[b]);
-                    d.push(scale(add(scale(dl[a], l[b]), scale(dl[b], l[a])), 4.0));
-                }
-                (n, d)
-            }
-        }
-    }
-
-    /// Volume, centroid and det J extremes of an element with grids `p` (basic).
-    pub fn integrate(self, p: &[[f64; 3]]) -> SolidIntegrals {
-        let mut volume = 0.0;
-        let mut moment = [0.0; 3];
-        let mut min_det = f64::INFINITY;
-        let mut max_det = f64::NEG_INFINITY;
-        for &(q, w) in self.rule() {
-            let (n, d) = self.shape(q);
-            let det = jacobian_det(&d, p);
-            let x = p
-                .iter()
-                .zip(&n)
-                .fold([0.0; 3], |acc, (pi, ni)| add(acc, scale(*pi, *ni)));
-            volume += w * det;
-            moment = add(moment, scale(x, w * det));
-            min_det = min_det.min(det);
-            max_det = max_det.max(det);
-        }
-        for q in self.corners() {
-            let (_, d) = self.shape(q);
-            let det = jacobian_det(&d, p);
-            min_det = min_det.min(det);
-            max_det = max_det.max(det);
-        }
-        let centroid = if volume != 0.0 {
-            scale(moment, 1.0 / volume)
-        } else {
-            vec3::mean(p)
-        };
-        SolidIntegrals {
-            volume,
-            centroid,
-            min_det,
-            max_det,
-        }
-    }
-}
-
-/// Corner natural coordinates of the 8-node hexa in Nastran order.
-const HEXA_CORNERS: [[f64; 3]; 8] = [
-    [-1., -1., -1.],
-    [1., -1., -1.],
-    [1., 1., -1.],
-    [-1., 1., -1.],
-    [-1., -1., 1.],
-    [1., -1., 1.],
-    [1., 1., 1.],
-    [-1., 1., 1.],
-];
-
-/// CTETRA G5…G10 edges (0-based corner pairs): G1G2, G2G3, G3G1, G1G4, G2G4, G3G4.
-const TETRA10_EDGES: [(usize, usize); 6] = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
-
-/// Result of [`SolidShape::integrate`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SolidIntegrals {
-    /// ∫ det J (signed).
-    pub volume: f64,
-    /// ∫ x det J / V.
-    pub centroid: [f64; 3],
-    /// Smallest det J at the corners and quadrature points.
-    pub min_det: f64,
-    /// Largest det J at the corners and quadrature points.
-    pub max_det: f64,
-}
-
-fn jacobian_det(d: &[[f64; 3]], p: &[[f64; 3]]) -> f64 {
-    let mut j = [[0.0; 3]; 3];
-    for (di, pi) in d.iter().zip(p) {
-        for a in 0..3 {
-            for b in 0..3 {
-                j[a][b] += di[a] * pi[b];
-            }
-        }
-    }
-    triple(j[0], j[1], j[2])
-}
 
 /// Gauss–Legendre points and weights on [−1, 1] (Newton iteration on Pₙ, to round-off).
 /// Gauss–Legendre rule with `n` points on [−1, 1] (1 ≤ n ≤ 8; other values are clamped),
@@ -295,40 +91,6 @@ fn compute_gauss_legendre(n: usize) -> Vec<(f64, f64)> {
             }
         }
         out.push((x, 2.0 / ((1.0 - x * x) * dp * dp)));
-    }
-    out
-}
-
-/// Collapsed (Duffy) rule on the unit triangle {r, s ≥ 0, r + s ≤ 1}: exact for polynomials of
-/// degree ≤ 2n − 2.
-fn triangle_rule(n: usize) -> Vec<([f64; 2], f64)> {
-    let g: Vec<(f64, f64)> = gauss_legendre(n)
-        .iter()
-        .map(|&(x, w)| (0.5 * (x + 1.0), 0.5 * w))
-        .collect();
-    let mut out = Vec::with_capacity(n * n);
-    for &(u, wu) in &g {
-        for &(v, wv) in &g {
-            out.push(([u * (1.0 - v), v], wu * wv * (1.0 - v)));
-        }
-    }
-    out
-}
-
-/// Collapsed rule on the unit tetrahedron: exact for polynomials of degree ≤ 2n − 3.
-fn tetra_rule(n: usize) -> Vec<([f64; 3], f64)> {
-    let g: Vec<(f64, f64)> = gauss_legendre(n)
-        .iter()
-        .map(|&(x, w)| (0.5 * (x + 1.0), 0.5 * w))
-        .collect();
-    let mut out = Vec::with_capacity(n * n * n);
-    for &(u, wu) in &g {
-        for &(v, wv) in &g {
-            for &(w, ww) in &g {
-                let q = [u * (1.0 - v) * (1.0 - w), v * (1.0 - w), w];
-                out.push((q, wu * wv * ww * (1.0 - v) * (1.0 - w) * (1.0 - w)));
-            }
-        }
     }
     out
 }
@@ -412,43 +174,68 @@ pub struct ShapeReport {
     pub warnings: Vec<(&'static str, String)>,
 }
 
-/// Check a solid; `nodes` are the grid ids (for messages).
-pub fn check_solid(
-    shape: SolidShape,
-    p: &[[f64; 3]],
-    nodes: &[u32],
-) -> (SolidIntegrals, ShapeReport) {
-    let integrals = shape.integrate(p);
+/// Check a solid from its Jacobian range (`fe::solid::jacobian_range`); `nodes` are the grid
+/// ids (for messages).
+pub fn check_solid(range: &JacobianRange, nodes: &[u32]) -> ShapeReport {
     let mut report = ShapeReport::default();
     let grids = nodes
         .iter()
         .map(|g| g.to_string())
         .collect::<Vec<_>>()
         .join(" ");
-    let finite = integrals.volume.is_finite() && integrals.min_det.is_finite();
-    if !finite {
+    let [xi, eta, zeta] = range.min_xi;
+    if !(range.volume.is_finite() && range.min.is_finite()) {
         report
             .errors
             .push(format!("non-finite geometry (grids {grids})"));
-    } else if integrals.max_det < 0.0 {
+    } else if range.max < 0.0 {
         report.errors.push(format!(
             "inverted or degenerate element: det J < 0 everywhere (volume {:.6e}); the node order is reversed (mirror-image numbering of grids {grids})",
-            integrals.volume
+            range.volume
         ));
-    } else if integrals.min_det <= 0.0 {
+    } else if !range.is_valid() {
         report.errors.push(format!(
-            "inverted or degenerate element: det J = {:.3e} ≤ 0 at a corner or integration point (zero volume or folded; grids {grids})",
-            integrals.min_det
+            "inverted or degenerate element: det J = {:.3e} at {}, (ξ, η, ζ) = ({xi:.3}, {eta:.3}, {zeta:.3}) (zero volume or folded: a corner or mid-side grid misplaced; grids {grids})",
+            range.min, range.min_at
         ));
     } else {
-        let ratio = integrals.min_det / integrals.max_det;
+        let ratio = range.min / range.max;
         if ratio < JACOBIAN_RATIO_WARN {
             report
                 .warnings
                 .push(("Jacobian ratio", format!("{ratio:.3}")));
         }
     }
-    (integrals, report)
+    report
+}
+
+/// Check the curved surface of a CQUAD8 / CTRIA6 from its card's grid list `card_grids`
+/// (corners, then mid-sides, 0 for a blank one) and the given grids' positions `xyz`: the
+/// surface Jacobian must keep its sign at every node and integration point (error otherwise),
+/// and a Jacobian ratio below [`JACOBIAN_RATIO_WARN`] is a warning.
+pub fn check_quadratic_shell(card_grids: &[u32], xyz: &[[f64; 3]]) -> ShapeReport {
+    let mut report = ShapeReport::default();
+    let Some(layout) = Layout::of_card(card_grids) else {
+        return report;
+    };
+    match shell_quadratic::jacobian_ratio(layout, xyz) {
+        Ok(ratio) if ratio < JACOBIAN_RATIO_WARN => report
+            .warnings
+            .push(("Jacobian ratio", format!("{ratio:.3}"))),
+        Ok(_) => {}
+        Err(ShellError::Distorted { grid, .. }) => {
+            let at = match grid.map(|k| (k, card_grids.get(k - 1).copied().unwrap_or(0))) {
+                Some((k, 0)) => format!(" at the blank mid-side G{k}"),
+                Some((k, g)) => format!(" at G{k} (grid {g})"),
+                None => " between the grids".to_string(),
+            };
+            report.errors.push(format!(
+                "inverted or degenerate element: the curved surface folds over{at} (det J ≤ 0: a mid-side grid too far from its edge's middle, or corners out of order)"
+            ));
+        }
+        Err(e) => report.errors.push(e.to_string()),
+    }
+    report
 }
 
 fn angle_deg(a: [f64; 3], b: [f64; 3], n: [f64; 3]) -> f64 {
@@ -574,70 +361,97 @@ pub fn check_tria(p: &[[f64; 3]; 3], nodes: &[u32; 3]) -> ShapeReport {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fe::solid::SolidKind;
 
     fn close(a: f64, b: f64) -> bool {
         (a - b).abs() <= 1e-13 * a.abs().max(b.abs()).max(1.0)
     }
 
     #[test]
-    fn unit_cube_volume_and_centroid() {
-        let p: Vec<[f64; 3]> = HEXA_CORNERS
-            .iter()
-            .map(|c| scale(add(*c, [1., 1., 1.]), 0.5))
-            .collect();
-        let s = SolidShape::Hexa8.integrate(&p);
-        assert!(close(s.volume, 1.0));
-        assert!(s.centroid.iter().all(|c| close(*c, 0.5)));
-    }
-
-    #[test]
-    fn sheared_hexa_volume_is_base_times_height() {
-        // unit square base, height 2, top shifted by (0.7, 0.3): V = 2 exactly
-        let mut p: Vec<[f64; 3]> = HEXA_CORNERS
-            .iter()
-            .map(|c| scale(add(*c, [1., 1., 1.]), 0.5))
-            .collect();
-        for q in p.iter_mut().skip(4) {
-            *q = [q[0] + 0.7, q[1] + 0.3, 2.0];
-        }
-        let s = SolidShape::Hexa8.integrate(&p);
-        assert!(close(s.volume, 2.0), "{}", s.volume);
-        assert!(close(s.centroid[0], 0.5 + 0.35) && close(s.centroid[2], 1.0));
-    }
-
-    #[test]
-    fn wedge_and_tets() {
-        let w = [
-            [0., 0., 0.],
-            [2., 0., 0.],
-            [0., 1., 0.],
-            [0., 0., 3.],
-            [2., 0., 3.],
-            [0., 1., 3.],
-        ];
-        let s = SolidShape::Penta6.integrate(&w);
-        assert!(close(s.volume, 3.0));
-        assert!(
-            close(s.centroid[0], 2.0 / 3.0)
-                && close(s.centroid[1], 1.0 / 3.0)
-                && close(s.centroid[2], 1.5)
-        );
-        let t = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
-        let s = SolidShape::Tetra4.integrate(&t);
-        assert!(close(s.volume, 1.0 / 6.0) && s.centroid.iter().all(|c| close(*c, 0.25)));
-        let mut t10 = t.to_vec();
-        for (a, b) in TETRA10_EDGES {
-            t10.push(scale(add(t[a], t[b]), 0.5));
-        }
-        let s = SolidShape::Tetra10.integrate(&t10);
-        assert!(close(s.volume, 1.0 / 6.0) && s.centroid.iter().all(|c| close(*c, 0.25)));
-    }
-
-    #[test]
     fn reversed_tetra_is_an_error_naming_the_order() {
         let t = [[0., 0., 0.], [0., 1., 0.], [1., 0., 0.], [0., 0., 1.]];
-        let (_, r) = check_solid(SolidShape::Tetra4, &t, &[1, 2, 3, 4]);
+        let range = crate::fe::solid::jacobian_range(SolidKind::Tetra4, &t).unwrap();
+        let r = check_solid(&range, &[1, 2, 3, 4]);
         assert!(r.errors[0].contains("node order is reversed"), "{r:?}");
+    }
+
+    /// A unit cube CHEXA 20 whose mid-side G9 (edge G1–G2, along x) sits at x = `m`: along that
+    /// edge x'(ξ) runs from 4m − 1 at G1 to 3 − 4m at G2 (per unit ξ/2), so det J stays positive
+    /// up to the quarter point m = ¾, with min/max ratio (3 − 4m)/(4m − 1) at the edge.
+    fn hexa20_with_g9_at(m: f64) -> ShapeReport {
+        let corners = [
+            [0., 0., 0.],
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [0., 1., 0.],
+            [0., 0., 1.],
+            [1., 0., 1.],
+            [1., 1., 1.],
+            [0., 1., 1.],
+        ];
+        // G9–G20 on 1–2, 2–3, 3–4, 4–1, 1–5, 2–6, 3–7, 4–8, 5–6, 6–7, 7–8, 8–5
+        let edges = [
+            (0, 1),
+            (1, 2),
+            (2, 3),
+            (3, 0),
+            (0, 4),
+            (1, 5),
+            (2, 6),
+            (3, 7),
+        ]
+        .into_iter()
+        .chain([(4, 5), (5, 6), (6, 7), (7, 4)]);
+        let mut p = corners.to_vec();
+        p.extend(edges.map(|(a, b)| scale(add(corners[a], corners[b]), 0.5)));
+        p[8][0] = m;
+        let range = crate::fe::solid::jacobian_range(SolidKind::Hexa20, &p).unwrap();
+        check_solid(&range, &(1..=20).collect::<Vec<u32>>())
+    }
+
+    #[test]
+    fn quadratic_solid_midside_folds_or_warns() {
+        let regular = hexa20_with_g9_at(0.5);
+        assert!(
+            regular.errors.is_empty() && regular.warnings.is_empty(),
+            "{regular:?}"
+        );
+        // (3 − 4m)/(4m − 1) = 0.08/1.92 ≈ 0.04 at the edge: below 0.05, a warning
+        let poor = hexa20_with_g9_at(0.73);
+        assert!(poor.errors.is_empty(), "{poor:?}");
+        assert_eq!(poor.warnings[0].0, "Jacobian ratio", "{poor:?}");
+        let folded = hexa20_with_g9_at(0.9);
+        assert!(folded.errors[0].contains("at corner G2"), "{folded:?}");
+    }
+
+    #[test]
+    fn quadratic_shell_midside_folds_or_warns() {
+        let square = |m: f64| {
+            let p = [
+                [0., 0., 0.],
+                [1., 0., 0.],
+                [1., 1., 0.],
+                [0., 1., 0.],
+                [0.5, 0., 0.],
+                [1., m, 0.],
+                [0.5, 1., 0.],
+                [0., 0.5, 0.],
+            ];
+            check_quadratic_shell(&[1, 2, 3, 4, 5, 6, 7, 8], &p)
+        };
+        assert_eq!(square(0.5), ShapeReport::default());
+        assert_eq!(square(0.73).warnings[0].0, "Jacobian ratio");
+        assert!(square(0.9).errors[0].contains("folds over at G3 (grid 3)"));
+        // a blank mid-side is at its edge's middle: the straight-edged square passes
+        let blank = [
+            [0., 0., 0.],
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [0., 1., 0.],
+            [0.5, 0., 0.],
+        ];
+        let r = check_quadratic_shell(&[1, 2, 3, 4, 5, 0, 0, 0], &blank);
+        assert_eq!(r, ShapeReport::default());
     }
 
     #[test]

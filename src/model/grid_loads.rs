@@ -4,10 +4,11 @@
 //! - FORCE1/MOMENT1: n = (x_G2 − x_G1)/|x_G2 − x_G1|; FORCE2/MOMENT2: n = a × b/|a × b| with
 //!   a = x_G2 − x_G1, b = x_G4 − x_G3; x in the basic system (the grids' positions), the load
 //!   F·n in basic as a FORCE's.
-//! - SLOAD: F on the scalar point's one DOF.
+//! - SLOAD: F on the scalar point's one DOF, or on component T1 of a grid's displacement
+//!   system (CD), as the Nastran QRG says for an Si that is a grid.
 //!
 //! [`check`] reports, at its card, a direction of no length relative to the grids' distances
-//! and an SLOAD on a point that is no SPOINT.
+//! and an SLOAD on a point that is neither an SPOINT nor a GRID.
 
 use crate::deck::DeckError;
 use crate::deck::cards::ForceByGrids;
@@ -47,7 +48,7 @@ impl Model {
 }
 
 /// Every FORCE1/FORCE2/MOMENT1/MOMENT2 without a direction and every SLOAD on a point that is
-/// no scalar point, as deck errors at their cards. Missing grids are the reference check's.
+/// neither a scalar point nor a grid, as deck errors at their cards. Missing grids are the reference check's.
 pub fn check(model: &Model) -> Vec<DeckError> {
     let b = &model.bulk;
     let mut errors = Vec::new();
@@ -59,15 +60,11 @@ pub fn check(model: &Model) -> Vec<DeckError> {
     }
     for c in &b.sload {
         for (k, &(point, _)) in c.loads.iter().enumerate() {
-            if !model.scalar_index.contains_key(&point) {
-                let what = if model.grid_index.contains_key(&point) {
-                    format!(
-                        "S{} = {point} is a GRID: SLOAD loads scalar points (SPOINT); use FORCE or MOMENT on a grid",
-                        k + 1
-                    )
-                } else {
-                    format!("S{} = {point} does not exist (no SPOINT {point})", k + 1)
-                };
+            if !model.scalar_index.contains_key(&point) && !model.grid_index.contains_key(&point) {
+                let what = format!(
+                    "S{} = {point} does not exist (no SPOINT or GRID {point})",
+                    k + 1
+                );
                 errors.push(DeckError::at(&c.loc, what).on_card(format!("SLOAD {}", c.sid)));
             }
         }

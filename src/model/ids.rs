@@ -6,7 +6,8 @@
 //! |---|---|
 //! | grids | GRID |
 //! | coordinate systems | CORD2R CORD2C |
-//! | elements | CQUAD4 CTRIA3 CHEXA CPENTA CTETRA CELAS1 CELAS2 CONM2 RBE2 RBE3 |
+//! | elements | CQUAD4 CTRIA3 CHEXA CPENTA CTETRA CELAS1 CELAS2 RBE2 RBE3 and the other element cards |
+//! | mass elements | CONM2 (may share an id with another element, with a warning) |
 //! | properties | PSHELL PCOMP PSOLID PELAS |
 //! | materials | MAT1 MAT8 |
 //! | tables | TABLED1 TABLEF |

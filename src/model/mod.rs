@@ -164,14 +164,15 @@ impl ElementKind {
         }
     }
 
-    /// The shape of the geometry checks, for solids: the element's own, the linear shape of
-    /// the corners (its first grids) for CHEXA 20 and CPENTA 15.
-    pub fn solid_shape(self) -> Option<geometry::SolidShape> {
+    /// The solid kernel's topology of a solid element, `None` for other elements.
+    pub fn solid_kind(self) -> Option<SolidKind> {
         match self {
-            ElementKind::Hexa8 | ElementKind::Hexa20 => Some(geometry::SolidShape::Hexa8),
-            ElementKind::Penta6 | ElementKind::Penta15 => Some(geometry::SolidShape::Penta6),
-            ElementKind::Tetra4 => Some(geometry::SolidShape::Tetra4),
-            ElementKind::Tetra10 => Some(geometry::SolidShape::Tetra10),
+            ElementKind::Hexa8 => Some(SolidKind::Hexa8),
+            ElementKind::Penta6 => Some(SolidKind::Penta6),
+            ElementKind::Tetra4 => Some(SolidKind::Tetra4),
+            ElementKind::Tetra10 => Some(SolidKind::Tetra10),
+            ElementKind::Hexa20 => Some(SolidKind::Hexa20),
+            ElementKind::Penta15 => Some(SolidKind::Penta15),
             _ => None,
         }
     }
@@ -395,15 +396,7 @@ impl Model {
     /// The solid kernel's topology and given nodes of a solid element (blank mid-side grids of
     /// a CHEXA 20 / CPENTA 15 from its card), `None` for other elements.
     pub fn solid_midsides(&self, e: &Element) -> Option<Midsides> {
-        let kind = match e.kind {
-            ElementKind::Hexa8 => SolidKind::Hexa8,
-            ElementKind::Penta6 => SolidKind::Penta6,
-            ElementKind::Tetra4 => SolidKind::Tetra4,
-            ElementKind::Tetra10 => SolidKind::Tetra10,
-            ElementKind::Hexa20 => SolidKind::Hexa20,
-            ElementKind::Penta15 => SolidKind::Penta15,
-            _ => return None,
-        };
+        let kind = e.kind.solid_kind()?;
         let card = match e.kind {
             ElementKind::Hexa20 => self.bulk.chexa.get(e.card).map(|c| &c.nodes),
             ElementKind::Penta15 => self.bulk.cpenta.get(e.card).map(|c| &c.nodes),

@@ -227,6 +227,17 @@ impl Model {
             for &(point, f) in &c.loads {
                 if let Some(&k) = self.scalar_index.get(&point) {
                     term.scalar_loads.push((k, scale * f));
+                } else if let Some(&grid) = self.grid_index.get(&point) {
+                    // on a grid: component T1 of its displacement system (CD)
+                    let Some(cs) = self.coords.get(&self.grids[grid].cd) else {
+                        continue;
+                    };
+                    let axes = cs.axes_at(self.grids[grid].xyz);
+                    term.point_loads.push(PointLoad {
+                        kind: ForceKind::Force,
+                        grid,
+                        basic: std::array::from_fn(|i| scale * f * axes[i][0]),
+                    });
                 }
             }
         }

@@ -293,6 +293,12 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>, warnings: &m
         .chain(b.load.iter().map(|l| l.sid))
         .chain(b.lseq.iter().map(|l| l.excite_id))
         .collect();
+    let selected_lseqs: HashSet<u32> = deck
+        .case
+        .subcases()
+        .iter()
+        .filter_map(|sub| sub.loadset)
+        .collect();
     for l in &b.lseq {
         let card = format!("LSEQ {}", l.sid);
         if !static_sets.contains(&l.lid) && !b.load.iter().any(|x| x.sid == l.lid) {
@@ -307,7 +313,19 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>, warnings: &m
                 .on_card(&card),
             );
         }
-        if b.darea.iter().any(|d| d.sid == l.excite_id) {
+        // an LSEQ acts only where a subcase's LOADSET selects it (Nastran): one beside a DAREA
+        // set of its EXCITEID that no LOADSET selects leaves the DAREA loads alone
+        let selected = selected_lseqs.contains(&l.sid);
+        if !selected {
+            warnings.push(Warning {
+                loc: Some(l.loc.to_string()),
+                message: format!(
+                    "LSEQ {}: no subcase selects it with LOADSET = {}: its load set {} is not applied to EXCITEID {}",
+                    l.sid, l.sid, l.lid, l.excite_id
+                ),
+            });
+        }
+        if selected && b.darea.iter().any(|d| d.sid == l.excite_id) {
             errors.push(
                 DeckError::at(&l.loc, format!("EXCITEID = {} is also a DAREA set: combining DAREA and LSEQ loads on one EXCITEID is not supported", l.excite_id))
                     .on_card(&card),

@@ -132,12 +132,12 @@ impl ForceByGrids {
     }
 }
 
-/// `SLOAD` — loads on scalar points (up to three per card).
+/// `SLOAD` — loads on scalar points or grids (up to three per card).
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | SID | int > 0 | required | load set id |
-/// | 3, 4 | S1 F1 | int > 0, real | required | scalar point (SPOINT) and its load |
+/// | 3, 4 | S1 F1 | int > 0, real | required | scalar point (SPOINT) or grid (its component T1 in its CD system, as Nastran) and its load |
 /// | 5–8 | S2 F2 S3 F3 | | blank | two more pairs |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sload {
@@ -513,7 +513,7 @@ impl Pload1Scale {
 /// | 2 | SID | int > 0 | required | load set id |
 /// | 3 | EID | int > 0 | required | CBAR or CBEAM id |
 /// | 4 | TYPE | FX FY FZ MX MY MZ (basic), FXE … MZE (element axes) | required | force or moment and its direction |
-/// | 5 | SCALE | LE FR LEPR FRPR | required | positions as lengths (LE) or fractions (FR) of the axis from end A; PR: intensities per unit length projected on a plane normal to the load (basic TYPEs only) |
+/// | 5 | SCALE | LE FR LEPR FRPR | required | positions as lengths (LE) or fractions (FR) of the axis from end A; PR: intensities per unit length projected on a plane normal to the load (for an element TYPE the plane normal to that element axis: FXE/MXE projected loads are zero, FYE … MZE are not reduced) |
 /// | 6 | X1 | real ≥ 0 | required | first position |
 /// | 7 | P1 | real | required | value at X1 |
 /// | 8 | X2 | real ≥ X1 | X1 | second position; X2 = X1: P1 is a concentrated load |
@@ -576,13 +576,6 @@ impl Pload1 {
                 7,
                 "X2",
                 format!("X2 = {x2} exceeds 1 (SCALE = FR/FRPR: fractions of the length)"),
-            );
-        }
-        if scale.projected() && element_axes {
-            f.error(
-                4,
-                "SCALE",
-                "a projected SCALE (LEPR, FRPR) needs a TYPE in the basic system (FX … MZ)",
             );
         }
         let loc = f.loc();
