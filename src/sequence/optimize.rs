@@ -17,6 +17,7 @@ use std::time::Instant;
 
 use super::fmb::PreparedFmb;
 use super::optimize_engine::Engine;
+use super::optimize_gradient::Gradient;
 use super::optimize_journal::{Header, Journal, journal_path};
 use super::optimize_output::{OptimizeSummary, Representative, write_study};
 use super::optimize_study::Study;
@@ -82,6 +83,39 @@ pub fn evaluate_designs(
     subcase: u32,
     designs: &[Design],
 ) -> Result<Vec<Evaluated>, RunError> {
+    let (prepared, study) = prepare_for(ctx, subcase, designs)?;
+    let threaded = Threaded::new(study.search.npar, |design: &[f64]| {
+        study.evaluate(&prepared, design)
+    })
+    .map_err(|e| RunError::Case {
+        subcase,
+        what: e.to_string(),
+    })?;
+    Ok(threaded.batch(designs))
+}
+
+/// The responses of `designs` and their gradients with respect to the continuous variables
+/// ([`Study::gradient`]), one design after the other (`paraflex evaluate --gradient`); a
+/// design whose run or gradient fails gives its message.
+pub fn gradients_of_designs(
+    ctx: &RunContext,
+    subcase: u32,
+    designs: &[Design],
+) -> Result<Vec<Result<Gradient, String>>, RunError> {
+    let (prepared, study) = prepare_for(ctx, subcase, designs)?;
+    Ok(designs
+        .iter()
+        .map(|d| study.gradient(&prepared, d))
+        .collect())
+}
+
+/// Subcase `subcase` prepared and its study checked, and `designs` checked to be points of
+/// its space.
+fn prepare_for(
+    ctx: &RunContext,
+    subcase: u32,
+    designs: &[Design],
+) -> Result<(PreparedFmb, Study), RunError> {
     let sub = (ctx.model.subcases.iter())
         .find(|s| s.id == subcase)
         .ok_or_else(|| RunError::Case {
@@ -106,14 +140,7 @@ pub fn evaluate_designs(
             });
         }
     }
-    let threaded = Threaded::new(study.search.npar, |design: &[f64]| {
-        study.evaluate(&prepared, design)
-    })
-    .map_err(|e| RunError::Case {
-        subcase,
-        what: e.to_string(),
-    })?;
-    Ok(threaded.batch(designs))
+    Ok((prepared, study))
 }
 
 /// Where a study's batches are evaluated.

@@ -374,7 +374,7 @@ impl Study {
 
     /// The systems of the prepared run at `design`: its parameters set and its bodies'
     /// artifacts chosen.
-    fn systems(
+    pub(crate) fn systems(
         &self,
         prepared: &PreparedFmb,
         design: &[f64],
