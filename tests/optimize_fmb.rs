@@ -499,6 +499,102 @@ fn paraflex_evaluate_repeats_the_study_responses_bit_for_bit() {
     );
 }
 
+/// The study deck with every parameter of the three links a continuous variable (the
+/// coupler's fibre angle, each crank's density and Young's modulus) and every kind of
+/// response: a DEV mean, an ENERGY final value, a torque maximum, a strain RMS, the mass.
+fn every_parameter_study(steps: u32) -> String {
+    let text = edit(&deck(STUDY), "TSTEP,1,100,", &format!("TSTEP,1,{steps},"));
+    let start = text.find("\nDESVAR,1").expect("DESVAR") + 1;
+    let end = text.find("\nMOOPT,").expect("MOOPT") + 1;
+    let cards = "DESVAR,1,THETA,45.,0.,90.\nDESVAR,2,RHOI,7990.,6000.,10000.\n\
+                 DESVAR,3,RHOO,7990.,6000.,10000.\nDESVAR,4,EI,2.e11,1.5e11,2.5e11\n\
+                 DESVAR,5,EO,2.e11,1.5e11,2.5e11\nDVMAP,1,1,C.THETA\nDVMAP,2,2,IC.RHO\n\
+                 DVMAP,3,3,OC.RHO\nDVMAP,4,4,IC.E\nDVMAP,5,5,OC.E\n\
+                 DOBJ,1,DEV,MIN,CDEV,MEAN\nDOBJ,2,ENERGY,MIN,WORK,FINAL\n\
+                 DCONSTR,3,TORQUE,TORQUE,MAX,,0.1\nDCONSTR,4,STRAIN,CEPS,RMS,,1.\n\
+                 DCONSTR,5,MASS,MASS,,,10.\n";
+    format!("{}{cards}{}", &text[..start], &text[end..])
+}
+
+/// `paraflex evaluate <name> --designs <designs> [extra]` on deck `text` written beside the
+/// artifacts: its JSON lines.
+fn evaluate_lines(
+    name: &str,
+    text: &str,
+    designs: &[Vec<f64>],
+    extra: &[&str],
+) -> Vec<serde_json::Value> {
+    let deck = artifacts().join(name);
+    std::fs::write(&deck, text).expect("write deck");
+    let file = artifacts().join(format!("{name}.designs.json"));
+    std::fs::write(&file, serde_json::to_string(designs).expect("json")).expect("write designs");
+    let r = Command::new(env!("CARGO_BIN_EXE_paraflex"))
+        .arg("evaluate")
+        .arg(&deck)
+        .arg("--designs")
+        .arg(&file)
+        .args(extra)
+        .output()
+        .expect("run paraflex");
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    String::from_utf8_lossy(&r.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON line"))
+        .collect()
+}
+
+#[test]
+fn response_gradients_match_central_differences_for_every_parameter() {
+    // 40 BDF1 steps (the drive's first 0.04 s) keep the test short; the benchmark
+    // `sensitivities` runs the same check over 300 steps
+    let text = every_parameter_study(40);
+    let x = vec![30.0, 7000.0, 8000.0, 1.8e11, 2.2e11];
+    let range = [90.0, 4000.0, 4000.0, 1e11, 1e11];
+    let line = &evaluate_lines("gradient.dat", &text, &[x.clone()], &["--gradient"])[0];
+    let gradient: Vec<Vec<f64>> =
+        serde_json::from_value(line["gradient"].clone()).expect("gradient");
+    let responses: Vec<f64> = serde_json::from_value(line["responses"].clone()).expect("responses");
+    // central differences, step 1e-4 of each value
+    let delta: Vec<f64> = x.iter().map(|v| 1e-4 * v).collect();
+    let mut designs = Vec::new();
+    for i in 0..x.len() {
+        for sign in [1.0, -1.0] {
+            let mut d = x.clone();
+            d[i] += sign * delta[i];
+            designs.push(d);
+        }
+    }
+    let lines = evaluate_lines("gradient.dat", &text, &designs, &[]);
+    let r: Vec<Vec<f64>> = (lines.iter())
+        .map(|l| serde_json::from_value(l["responses"].clone()).expect("responses"))
+        .collect();
+    let plain = evaluate_lines("gradient.dat", &text, &[x.clone()], &[]);
+    let at_x: Vec<f64> = serde_json::from_value(plain[0]["responses"].clone()).expect("responses");
+    assert_eq!(
+        responses, at_x,
+        "the gradient run's responses are the evaluation's"
+    );
+    for (k, row) in gradient.iter().enumerate() {
+        let fd: Vec<f64> = (0..x.len())
+            .map(|i| (r[2 * i][k] - r[2 * i + 1][k]) / (2.0 * delta[i]))
+            .collect();
+        // each derivative in units of the response's change over the variable's range, the
+        // scale an optimizer steps on; relative to the largest of the row
+        let scale = (fd.iter().zip(&range)).fold(0.0_f64, |m, (f, w)| m.max((f * w).abs()));
+        let error = (row.iter().zip(&fd).zip(&range))
+            .fold(0.0_f64, |m, ((g, f), w)| m.max(((g - f) * w).abs()));
+        // the differences' own error: truncation O(δ²) ≈ 1e-8 relative (steps 1e-3 and 1e-4
+        // agree to 1e-6), and the Newton iterates' tolerance (1e-10 relative on q per
+        // step) divided by δ = 1e-4: ≈ 1e-6 of the response's scale. Measured: 2.2e-6 (the
+        // DEV mean, the smallest response), 1.3e-6 (energy), 1.4e-7 (strain RMS), 3e-10
+        // (peak torque), 5e-13 (mass, exact both ways); over 300 steps all ≤ 9e-8.
+        assert!(
+            error <= 1e-4 * scale,
+            "response {k}: gradient {row:?} against differences {fd:?} (error {error:e}, scale {scale:e})"
+        );
+    }
+}
+
 /// The archive of a written study, evaluations in order.
 fn archive_of(designs: &[Vec<f64>], responses: &[Vec<f64>], errors: &[bool]) -> Archive {
     Archive {

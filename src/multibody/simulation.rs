@@ -273,6 +273,24 @@ impl Recorder<'_> {
                             .sum();
                         direct + s.along(ggl, |g| g.kinetic_energy())
                     }
+                    &Output::Deviation(marker) => match twin {
+                        // ‖d‖ with d = x − x_R is not smooth where d = 0 (at the start): the
+                        // chain rule on the smooth x, ∂‖d‖ = d·∂x/‖d‖ (the twin has no p)
+                        Some(twin) => {
+                            let d = sub(ggl.marker_position(marker), twin.marker_position(marker));
+                            let size = norm(d);
+                            if size > 0.0 {
+                                (0..3)
+                                    .map(|c| {
+                                        d[c] / size * s.along(ggl, |g| g.marker_position(marker)[c])
+                                    })
+                                    .sum()
+                            } else {
+                                0.0
+                            }
+                        }
+                        None => f64::NAN,
+                    },
                     other => s.along(ggl, |g| value(g, twin, other, &self.energy)),
                 };
                 series.push(rate);
