@@ -56,6 +56,7 @@ fn method_name(m: SearchMethod) -> &'static str {
     match m {
         SearchMethod::Nsga2 => "NSGA2",
         SearchMethod::Grid => "GRID",
+        SearchMethod::Grad => "GRAD",
     }
 }
 
