@@ -550,7 +550,12 @@ fn response_gradients_match_central_differences_for_every_parameter() {
     let text = every_parameter_study(40);
     let x = vec![30.0, 7000.0, 8000.0, 1.8e11, 2.2e11];
     let range = [90.0, 4000.0, 4000.0, 1e11, 1e11];
-    let line = &evaluate_lines("gradient.dat", &text, &[x.clone()], &["--gradient"])[0];
+    let line = &evaluate_lines(
+        "gradient.dat",
+        &text,
+        std::slice::from_ref(&x),
+        &["--gradient"],
+    )[0];
     let gradient: Vec<Vec<f64>> =
         serde_json::from_value(line["gradient"].clone()).expect("gradient");
     let responses: Vec<f64> = serde_json::from_value(line["responses"].clone()).expect("responses");
@@ -568,7 +573,7 @@ fn response_gradients_match_central_differences_for_every_parameter() {
     let r: Vec<Vec<f64>> = (lines.iter())
         .map(|l| serde_json::from_value(l["responses"].clone()).expect("responses"))
         .collect();
-    let plain = evaluate_lines("gradient.dat", &text, &[x.clone()], &[]);
+    let plain = evaluate_lines("gradient.dat", &text, std::slice::from_ref(&x), &[]);
     let at_x: Vec<f64> = serde_json::from_value(plain[0]["responses"].clone()).expect("responses");
     assert_eq!(
         responses, at_x,
