@@ -73,7 +73,8 @@ enum Command {
         subcase: u32,
         /// Also the gradients of the responses with respect to the continuous variables
         /// (forward sensitivities): each line gets `gradient`, one row per response, one
-        /// column per variable (null for a discrete one); the designs run one after the other.
+        /// column per variable (null for a discrete one), and `sensitivity_iterations` (over
+        /// every step and variable); the designs run one after the other.
         #[arg(long)]
         gradient: bool,
     },
@@ -341,6 +342,7 @@ mod commands {
                         "design": design,
                         "responses": g.responses,
                         "gradient": g.gradient,
+                        "sensitivity_iterations": g.iterations,
                     }),
                     Err(e) => serde_json::json!({ "design": design, "error": e }),
                 };

@@ -257,21 +257,7 @@ impl Recorder<'_> {
                 let rate = match output {
                     &Output::DriveEnergy(d) => energy[d],
                     Output::KineticEnergy => {
-                        // ½ q̇ᵀ ∂M/∂p q̇ at the state, plus the state's change
-                        let direct: f64 = (rate.bodies.iter())
-                            .map(|(body, data)| {
-                                let terms = ggl.system.eom_terms_rate(*body, data, &ggl.q, &ggl.v);
-                                let m = &terms.mass;
-                                0.5 * (0..ggl.v.len())
-                                    .map(|i| {
-                                        (0..ggl.v.len())
-                                            .map(|j| ggl.v[i] * m[(i, j)] * ggl.v[j])
-                                            .sum::<f64>()
-                                    })
-                                    .sum::<f64>()
-                            })
-                            .sum();
-                        direct + s.along(ggl, |g| g.kinetic_energy())
+                        s.kinetic_energy_rate(ggl, rate) + s.along(ggl, |g| g.kinetic_energy())
                     }
                     &Output::Deviation(marker) => match twin {
                         // ‖d‖ with d = x − x_R is not smooth where d = 0 (at the start): the

@@ -22,6 +22,8 @@ use crate::optimize::{Domain, Responses};
 pub struct Gradient {
     pub responses: Responses,
     pub gradient: Vec<Vec<f64>>,
+    /// The sensitivity iterations of the run, over every step and continuous variable.
+    pub iterations: usize,
 }
 
 impl Study {
@@ -114,6 +116,7 @@ impl Study {
         Ok(Gradient {
             responses,
             gradient,
+            iterations: sensitivities.iterations,
         })
     }
 }

@@ -116,7 +116,8 @@ def sensitivities(work: Path, exe: Path, steps: int) -> None:
             designs.append(d)
     r = np.array([l["responses"] for l in evaluate(work, deck, designs, exe)], dtype=float)
     print(f"\nforward sensitivities, {steps} BDF1 steps, 5 parameters: gradient run {t_gradient:.2f} s, "
-          f"plain evaluation {t_plain:.2f} s (each a paraflex process, the artifacts read included)")
+          f"plain evaluation {t_plain:.2f} s (each a paraflex process, the artifacts read included); "
+          f"{line['sensitivity_iterations'] / (5 * steps):.2f} sensitivity iterations per step and parameter")
     print(f"{'response':>12}{'|sens − FD| / scale':>22}")
     for k, name in enumerate(RESPONSES):
         fd = np.array([(r[2 * i, k] - r[2 * i + 1, k]) / (2e-4 * DESIGN[i]) for i in range(5)])
