@@ -260,21 +260,6 @@ impl StateSensitivity {
         )))
     }
 
-    /// ½ q̇ᵀ ∂M/∂p q̇ at the integrator's state: the kinetic energy's change with the
-    /// bodies' data at a fixed state (its change with the state is [`Self::along`]).
-    pub fn kinetic_energy_rate(&self, ggl: &Ggl, rate: &ParameterRate) -> f64 {
-        let (q, v) = (&ggl.q, &ggl.v);
-        (rate.bodies.iter())
-            .map(|(body, data)| {
-                let m = ggl.system.eom_terms_rate(*body, data, q, v).mass;
-                let product: f64 = (0..v.len())
-                    .map(|i| v[i] * (0..v.len()).map(|j| m[(i, j)] * v[j]).sum::<f64>())
-                    .sum();
-                0.5 * product
-            })
-            .sum()
-    }
-
     /// The derivative along this sensitivity of a quantity `f` of the integrator's state
     /// (q, v, λ, q̈): a central difference, the state restored after.
     pub fn along(&self, ggl: &mut Ggl, f: impl Fn(&Ggl) -> f64) -> f64 {
@@ -309,4 +294,19 @@ impl StateSensitivity {
         (ggl.q, ggl.v, ggl.lambda, ggl.acceleration) = (q, v, lambda, a);
         (plus - minus) / (2.0 * eps)
     }
+}
+
+/// ½ q̇ᵀ ∂M/∂p q̇ at the integrator's state: the kinetic energy's change with the
+/// bodies' data at a fixed state (its change with the state is [`StateSensitivity::along`]).
+pub fn kinetic_energy_rate(ggl: &Ggl, rate: &ParameterRate) -> f64 {
+    let (q, v) = (&ggl.q, &ggl.v);
+    (rate.bodies.iter())
+        .map(|(body, data)| {
+            let m = ggl.system.eom_terms_rate(*body, data, q, v).mass;
+            let product: f64 = (0..v.len())
+                .map(|i| v[i] * (0..v.len()).map(|j| m[(i, j)] * v[j]).sum::<f64>())
+                .sum();
+            0.5 * product
+        })
+        .sum()
 }

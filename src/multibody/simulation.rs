@@ -14,7 +14,7 @@
 use super::error::MultibodyError;
 use super::integrator::{Ggl, NewtonSettings};
 use super::scheme::Scheme;
-use super::sensitivity::{ParameterRate, Sensitivities};
+use super::sensitivity::{ParameterRate, Sensitivities, kinetic_energy_rate};
 use super::signal::Signal;
 use super::statics;
 use super::step_control::{NOT_CONVERGED_RATIO, StepControl};
@@ -257,7 +257,7 @@ impl Recorder<'_> {
                 let rate = match output {
                     &Output::DriveEnergy(d) => energy[d],
                     Output::KineticEnergy => {
-                        s.kinetic_energy_rate(ggl, rate) + s.along(ggl, |g| g.kinetic_energy())
+                        kinetic_energy_rate(ggl, rate) + s.along(ggl, |g| g.kinetic_energy())
                     }
                     &Output::Deviation(marker) => match twin {
                         // ‖d‖ with d = x − x_R is not smooth where d = 0 (at the start): the
