@@ -12,7 +12,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEB_PACKAGES := libhdf5-dev pkg-config libglu1-mesa libgl1 libxrender1 libxcursor1 libxfixes3 \
 	libxext6 libxft2 libfontconfig1 libxinerama1 libx11-6 libgomp1
 
-.PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient bench-estimate bench-amanda bench-fmb \
+.PHONY: demo test deps sysdeps venv build bench-read bench-prom validate-prom bench-transient bench-estimate bench-amanda bench-fmb bench-optimize \
 	reference-calculix reference-exudyn reference-pymoo exudyn-plot fourbar-plots mutants clean
 
 demo: deps
@@ -84,6 +84,14 @@ bench-transient: deps
 bench-fmb: deps
 	$(CARGO) build --release --quiet
 	$(PY) tools/bench/fourbar_bench.py --integrators --repeat 5 --paraflex $(BIN)
+
+# MOOPT GRAD against NSGA-II on the four-bar design study at equal budgets (hypervolume
+# against evaluations), and the forward sensitivities against central differences over 300
+# steps (tools/bench/optimize_bench.py; docs/optimize.md "Gradient-based search") — prints,
+# not part of the tests.
+bench-optimize: deps
+	$(CARGO) build --release --quiet
+	$(PY) tools/bench/optimize_bench.py --paraflex $(BIN)
 
 # The AMANDA-EKF four-bar cases over the whole measured second (tests/amanda_fourbar.rs, the
 # ignored tests): ms per step against the error of E_C (and of the input) over the last 20 %,

@@ -71,6 +71,12 @@ enum Command {
         /// The subcase whose study evaluates them.
         #[arg(long, default_value_t = 1)]
         subcase: u32,
+        /// Also the gradients of the responses with respect to the continuous variables
+        /// (forward sensitivities): each line gets `gradient`, one row per response, one
+        /// column per variable (null for a discrete one), and `sensitivity_iterations` (over
+        /// every step and variable); the designs run one after the other.
+        #[arg(long)]
+        gradient: bool,
     },
     /// Describe a paraflex HDF5 file.
     Info {
@@ -190,7 +196,8 @@ fn main() -> ExitCode {
             deck,
             designs,
             subcase,
-        } => commands::evaluate(&deck, &designs, subcase),
+            gradient,
+        } => commands::evaluate(&deck, &designs, subcase, gradient),
         Command::PromLsq { manifest, output } => commands::prom_lsq(&manifest, output.as_deref()),
     };
     match result {
@@ -282,7 +289,12 @@ mod commands {
         Ok(())
     }
 
-    pub fn evaluate(path: &Path, designs: &Path, subcase: u32) -> Result<(), Failure> {
+    pub fn evaluate(
+        path: &Path,
+        designs: &Path,
+        subcase: u32,
+        gradient: bool,
+    ) -> Result<(), Failure> {
         let (deck, model) = load_model(path)?;
         let fail = |message: String| {
             eprintln!("error: {message}");
@@ -317,11 +329,29 @@ mod commands {
             options: BuildOptions::default(),
             engine: None,
         };
+        let stopped = |e: sequence::RunError| {
+            eprintln!("error: {e}");
+            Failure(run_failure_code(&e))
+        };
+        if gradient {
+            let gradients = sequence::optimize::gradients_of_designs(&ctx, subcase, &designs)
+                .map_err(stopped)?;
+            for (design, g) in designs.iter().zip(gradients) {
+                let line = match g {
+                    Ok(g) => serde_json::json!({
+                        "design": design,
+                        "responses": g.responses,
+                        "gradient": g.gradient,
+                        "sensitivity_iterations": g.iterations,
+                    }),
+                    Err(e) => serde_json::json!({ "design": design, "error": e }),
+                };
+                println!("{line}");
+            }
+            return Ok(());
+        }
         let evaluated =
-            sequence::optimize::evaluate_designs(&ctx, subcase, &designs).map_err(|e| {
-                eprintln!("error: {e}");
-                Failure(run_failure_code(&e))
-            })?;
+            sequence::optimize::evaluate_designs(&ctx, subcase, &designs).map_err(stopped)?;
         for (design, e) in designs.iter().zip(&evaluated) {
             let line = sequence::optimize_journal::entry_line(design, e).map_err(fail)?;
             println!("{line}");

@@ -166,7 +166,7 @@ fn mixed_variable_nsga2_reaches_pymoos_hypervolume_at_equal_budget() {
 }
 
 /// The design cards' bad input, all reported by the reader at once with the card and field:
-/// a discrete variable with a move limit, the gradient-based search (not in this version), a
+/// a discrete variable with a move limit, the gradient-based search resumed from a journal, a
 /// MASS response with a STAT (the mass is one number per design), a constraint without bounds.
 #[test]
 fn bad_design_cards_are_reported_together() {
@@ -180,7 +180,7 @@ fn bad_design_cards_are_reported_together() {
         DOBJ,1,DEV,MIN,CDEV,MEAN\n\
         DOBJ,2,M,MIN,MASS,FINAL\n\
         DCONSTR,1,TQ,TORQUE,MAX\n\
-        MOOPT,1,GRAD,100\n\
+        MOOPT,1,GRAD,100,5,1,1,RESUME\n\
         ENDDATA\n";
     std::fs::write(&path, text).expect("write deck");
     let message = paraflex::deck::Deck::read(&path)
@@ -191,7 +191,7 @@ fn bad_design_cards_are_reported_together() {
         "DELXV",
         "DOBJ 2: field 6 (STAT): MASS takes no STAT",
         "neither LOW nor HIGH",
-        "GRAD (gradient-based search with parametric sensitivities) is not available",
+        "MOOPT 1: field 8 (START): RESUME with GRAD",
     ] {
         assert!(
             message.contains(expected),

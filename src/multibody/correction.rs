@@ -157,6 +157,46 @@ impl CorrectionWeight {
         self.apply_to_column(None, x);
     }
 
+    /// ∂W/∂p x for the rate `rate` = ∂D/∂p of the data of the flexible body whose flexible
+    /// coordinates start at `first` (`modes` of them), with `data` its data: zero outside
+    /// the body's block, and there, with A = W_ff⁻¹ = (M_ff + c K_ff)/(ε m) and
+    /// ∂W = −W ∂A W, ∂A = (∂M_ff + c ∂K_ff)/(ε m) − A ∂m/m,
+    /// ∂W x = −W (∂M_ff + c ∂K_ff) W x/(ε m) + (∂m/m) W x. Needs the blocks formed for the
+    /// step ([`CorrectionWeight::form`]), c = c_q c_v.
+    pub fn rate_product(
+        &mut self,
+        (first, modes): (usize, usize),
+        data: &FlexibleBodyData,
+        rate: &FlexibleBodyData,
+        x: &[f64],
+    ) -> Vec<f64> {
+        let mut out = vec![0.0; x.len()];
+        let (CorrectionMetric::StepInertia, Some(c)) = (self.metric, self.formed_for) else {
+            return out;
+        };
+        if modes == 0 {
+            return out;
+        }
+        let range = first..first + modes;
+        let mut wx = vec![0.0; x.len()];
+        wx[range.clone()].copy_from_slice(&x[range.clone()]);
+        self.apply(&mut wx);
+        let m = data.invariants.mass;
+        let mut z = vec![0.0; x.len()];
+        for (i, zi) in z[range.clone()].iter_mut().enumerate() {
+            *zi = -(0..modes)
+                .map(|j| (rate.mass[(i, j)] + c * rate.stiffness[(i, j)]) * wx[first + j])
+                .sum::<f64>()
+                / (FLEXIBLE_SHARE * m);
+        }
+        self.apply(&mut z);
+        let share = rate.invariants.mass / m;
+        for i in range {
+            out[i] = z[i] + share * wx[i];
+        }
+        out
+    }
+
     /// x ← W (x − e_j) + e_j for column j of a matrix I + X (system size): W applied to X,
     /// the identity left in place.
     pub fn apply_beside_identity(&mut self, j: usize, x: &mut [f64]) {

@@ -474,35 +474,29 @@ impl Ggl {
             self.newton.invalidate();
         }
         self.predict();
-        let mut equations = GglStep {
-            system: &self.system,
-            equations: &self.equations,
-            form: &self.form,
-            weight: &mut self.weight,
-            work: &mut self.work,
-            lu: &mut self.lu,
-            block: &mut self.block,
-            factored_by_bodies: &mut self.factored_by_bodies,
-            factored_for: &mut self.factored_for,
-            t,
-            tolerance: self.settings.tolerance,
-        };
-        let outcome = match self.newton.solve(&mut equations) {
+        let solved = self.with_step_equations(t, None, |equations, newton| {
+            match newton.solve(equations) {
+                Err(MultibodyError::Singular { .. }) => {
+                    // the last iterate is the one whose matrix could not be solved with
+                    let mut r = vec![0.0; newton.solution().len()];
+                    equations.residual(newton.solution(), &mut r)?;
+                    Ok(Err(max_abs(&r)))
+                }
+                other => other.map(Ok),
+            }
+        })?;
+        let outcome = match solved {
             Ok(outcome) => outcome,
-            Err(MultibodyError::Singular { .. }) => {
-                // the last iterate is the one whose matrix could not be solved with
-                let mut r = vec![0.0; self.newton.solution().len()];
-                equations.residual(self.newton.solution(), &mut r)?;
+            Err(residual) => {
                 let (row, constraint) = worst(&self.work.phi);
                 return Err(MultibodyError::SingularStep {
                     time: t,
-                    residual: max_abs(&r),
+                    residual,
                     worst: self.row_label(row),
                     constraint,
                     dependent: self.dependence(t),
                 });
             }
-            Err(e) => return Err(e),
         };
         if !outcome.converged {
             // the driver left the residual of the last iterate (and its Φ) behind
@@ -540,6 +534,71 @@ impl Ggl {
             factorizations: outcome.stats.factorizations,
             constraint_residual: max_abs(&self.work.phi),
         })
+    }
+
+    /// Runs `f` on the equations of a step ending at t (with the step form `form`, or the
+    /// integrator's) and the Newton driver.
+    fn with_step_equations<T>(
+        &mut self,
+        t: f64,
+        form: Option<&StepForm>,
+        f: impl FnOnce(&mut GglStep<'_>, &mut NewtonDriver) -> T,
+    ) -> T {
+        let mut equations = GglStep {
+            system: &self.system,
+            equations: &self.equations,
+            form: form.unwrap_or(&self.form),
+            weight: &mut self.weight,
+            work: &mut self.work,
+            lu: &mut self.lu,
+            block: &mut self.block,
+            factored_by_bodies: &mut self.factored_by_bodies,
+            factored_for: &mut self.factored_for,
+            t,
+            tolerance: self.settings.tolerance,
+        };
+        f(&mut equations, &mut self.newton)
+    }
+
+    /// The unknowns x = (q, v, λ̂, μ) of the last step and its step form: what the forward
+    /// sensitivities differentiate ([`super::sensitivity`]).
+    pub(super) fn last_step(&self) -> (Vec<f64>, &StepForm) {
+        let c_v = self.form.c_v;
+        let x = (self.q.iter().chain(&self.v).copied())
+            .chain(self.lambda.iter().map(|l| c_v * l))
+            .chain(self.mu.iter().copied())
+            .collect();
+        (x, &self.form)
+    }
+
+    /// The residual R(x) of the last step's equations (at the integrator's time) with the
+    /// step form `form` in place of the step's, and Φ_q at x into `phi_q` (m × n).
+    pub(super) fn step_residual(
+        &mut self,
+        x: &[f64],
+        form: &StepForm,
+        r: &mut [f64],
+        phi_q: Option<&mut Mat<f64>>,
+    ) -> Result<(), MultibodyError> {
+        let t = self.time;
+        self.with_step_equations(t, Some(form), |equations, _| {
+            equations.residual(x, r)?;
+            if let Some(out) = phi_q {
+                out.copy_from(&equations.work.phi_q);
+            }
+            Ok(())
+        })
+    }
+
+    /// r ← J̃⁻¹ r with the factored iteration matrix of the last step.
+    pub(super) fn iteration_solve(&mut self, r: &mut [f64]) -> Result<(), MultibodyError> {
+        let t = self.time;
+        self.with_step_equations(t, None, |equations, _| equations.solve(r))
+    }
+
+    /// The weight of the position correction for the last step's form.
+    pub(super) fn correction_weight(&mut self) -> &mut CorrectionWeight {
+        &mut self.weight
     }
 
     /// The label of kept constraint row `row`.

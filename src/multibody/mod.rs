@@ -63,6 +63,7 @@ pub mod redundancy;
 pub mod rotations;
 pub mod schedule;
 pub mod scheme;
+pub mod sensitivity;
 pub mod signal;
 pub mod simulation;
 pub mod statics;
@@ -84,7 +85,10 @@ pub use joints::{Drive, DriveKind, Joint, JointKind};
 pub use marker::Marker;
 pub use schedule::BodySchedule;
 pub use scheme::Scheme;
+pub use sensitivity::{ParameterRate, Sensitivities};
 pub use signal::Signal;
-pub use simulation::{Histories, Output, Start, TimeGrid, simulate};
+pub use simulation::{
+    Histories, Output, OutputSensitivities, Start, TimeGrid, simulate, simulate_sensitivities,
+};
 pub use step_control::StepControl;
 pub use system::{BodyId, MarkerId, System};

@@ -14,6 +14,7 @@
 use super::error::MultibodyError;
 use super::integrator::{Ggl, NewtonSettings};
 use super::scheme::Scheme;
+use super::sensitivity::{ParameterRate, Sensitivities, kinetic_energy_rate};
 use super::signal::Signal;
 use super::statics;
 use super::step_control::{NOT_CONVERGED_RATIO, StepControl};
@@ -196,20 +197,90 @@ fn started(
     Ok(ggl)
 }
 
+/// The derivatives of a run's outputs with respect to parameters ([`simulate_sensitivities`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct OutputSensitivities {
+    /// Per parameter, per output, per recorded row: ∂y/∂p.
+    pub outputs: Vec<Vec<Vec<f64>>>,
+    /// Sensitivity iterations over every step and parameter.
+    pub iterations: usize,
+}
+
+/// The forward sensitivities of a run and what they have recorded.
+struct Tracker {
+    sensitivities: Sensitivities,
+    /// Per parameter, per drive: ∂(actuation energy so far)/∂p.
+    energy: Vec<Vec<f64>>,
+    recorded: OutputSensitivities,
+}
+
 /// Records output rows: the histories, the drives' actuation energy so far and the outputs
-/// asked for.
+/// asked for, and with `tracker` their derivatives with respect to parameters.
 struct Recorder<'a> {
     histories: Histories,
     energy: Vec<f64>,
     outputs: &'a [Output],
+    tracker: Option<Tracker>,
 }
 
 impl Recorder<'_> {
     /// Adds the power of every drive over a step of size `dt` to its energy (the rectangle
-    /// rule with the power at the step's end, that of BDF1).
-    fn integrate(&mut self, ggl: &Ggl, dt: f64) {
+    /// rule with the power at the step's end, that of BDF1); with sensitivities, advances
+    /// them over the step and adds the power's derivatives likewise.
+    fn integrate(&mut self, ggl: &mut Ggl, dt: f64) -> Result<(), MultibodyError> {
         for (d, e) in self.energy.iter_mut().enumerate() {
             *e += drive_row(ggl, d)[3] * dt;
+        }
+        let Some(tracker) = self.tracker.as_mut() else {
+            return Ok(());
+        };
+        tracker.sensitivities.advance(ggl)?;
+        tracker.recorded.iterations = tracker.sensitivities.iterations;
+        for (s, energy) in (tracker.sensitivities.states.iter()).zip(&mut tracker.energy) {
+            for (d, e) in energy.iter_mut().enumerate() {
+                *e += s.along(ggl, |g| drive_row(g, d)[3]) * dt;
+            }
+        }
+        Ok(())
+    }
+
+    /// The outputs' derivatives at the integrator's state, with a recorded row.
+    fn record_rates(&mut self, ggl: &mut Ggl, twin: Option<&Ggl>) {
+        let Some(tracker) = self.tracker.as_mut() else {
+            return;
+        };
+        let parameters = (tracker.sensitivities.states.iter())
+            .zip(&tracker.sensitivities.rates)
+            .zip(&tracker.energy);
+        for (((s, rate), energy), series) in parameters.zip(&mut tracker.recorded.outputs) {
+            for (output, series) in self.outputs.iter().zip(series.iter_mut()) {
+                let rate = match output {
+                    &Output::DriveEnergy(d) => energy[d],
+                    Output::KineticEnergy => {
+                        kinetic_energy_rate(ggl, rate) + s.along(ggl, |g| g.kinetic_energy())
+                    }
+                    &Output::Deviation(marker) => match twin {
+                        // ‖d‖ with d = x − x_R is not smooth where d = 0 (at the start): the
+                        // chain rule on the smooth x, ∂‖d‖ = d·∂x/‖d‖ (the twin has no p)
+                        Some(twin) => {
+                            let d = sub(ggl.marker_position(marker), twin.marker_position(marker));
+                            let size = norm(d);
+                            if size > 0.0 {
+                                (0..3)
+                                    .map(|c| {
+                                        d[c] / size * s.along(ggl, |g| g.marker_position(marker)[c])
+                                    })
+                                    .sum()
+                            } else {
+                                0.0
+                            }
+                        }
+                        None => f64::NAN,
+                    },
+                    other => s.along(ggl, |g| value(g, twin, other, &self.energy)),
+                };
+                series.push(rate);
+            }
         }
     }
 
@@ -255,45 +326,133 @@ pub fn simulate(
     scheme: Scheme,
     start: Start,
 ) -> Result<Histories, MultibodyError> {
-    let dt0 = grid.intervals.first().map_or(1.0, |i| i.1);
-    let mut ggl = started(system, dt0, settings, scheme, start)?;
-    let mut twin = twin
-        .map(|t| {
-            let slow_rate = settings.slow_rate.min(TWIN_SLOW_RATE);
-            let settings = NewtonSettings {
-                slow_rate,
-                ..settings
-            };
-            started(t, dt0, settings, scheme, start)
-        })
-        .transpose()?;
-    let drives = system.drives.len();
-    let mut recorder = Recorder {
-        histories: Histories {
-            outputs: vec![Vec::new(); outputs.len()],
-            drives: vec![Default::default(); drives],
-            redundant: ggl.redundant.clone(),
-            coordinates: ggl.system.size(),
-            constraints: ggl.constraint_count(),
-            ..Histories::default()
-        },
-        energy: vec![0.0; drives],
+    let run = Run {
+        system,
+        twin,
         outputs,
+        grid,
+        settings,
+        scheme,
+        start,
     };
-    let mut phi = vec![0.0; ggl.equations.constraints.len()];
-    ggl.equations
-        .constraints
-        .values(&ggl.system.layout, &ggl.q, 0.0, &mut phi);
-    let residual0 = phi.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
-    recorder.record(&ggl, twin.as_ref(), residual0, 0);
-    match grid.control {
-        None => fixed_steps(&mut ggl, twin.as_mut(), &grid.intervals, &mut recorder)?,
-        Some(control) => {
-            control.check()?;
-            controlled_steps(&mut ggl, twin.as_mut(), grid, control, &mut recorder)?
-        }
+    Ok(run.go(None)?.0)
+}
+
+/// [`simulate`] with the derivatives of the outputs with respect to the parameters whose
+/// data rates are `rates`, by forward sensitivities ([`super::sensitivity`]): at every
+/// recorded row, the derivative of each output along the state's sensitivity (a central
+/// difference of the output, whose dependence on the state is smooth and cheap to evaluate),
+/// plus ½ q̇ᵀ ∂M/∂p q̇ for the kinetic energy (the other outputs do not read the bodies' data);
+/// the actuation energy's by the same rectangle rule. From an assembled start on fixed steps
+/// of BDF1 or BDF2 (else an error: the start or the steps would depend on p).
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_sensitivities(
+    system: &System,
+    twin: Option<&System>,
+    outputs: &[Output],
+    grid: &TimeGrid,
+    settings: NewtonSettings,
+    scheme: Scheme,
+    start: Start,
+    rates: Vec<ParameterRate>,
+) -> Result<(Histories, OutputSensitivities), MultibodyError> {
+    if start != Start::Assembled || grid.control.is_some() {
+        return Err(MultibodyError::Input(
+            "forward sensitivities need an assembled start and fixed steps (the static equilibrium and the controlled steps depend on the parameters)".into(),
+        ));
     }
-    Ok(recorder.histories)
+    let run = Run {
+        system,
+        twin,
+        outputs,
+        grid,
+        settings,
+        scheme,
+        start,
+    };
+    let (histories, rates) = run.go(Some(rates))?;
+    Ok((histories, rates.unwrap_or_default()))
+}
+
+/// What a run is given.
+struct Run<'a> {
+    system: &'a System,
+    twin: Option<&'a System>,
+    outputs: &'a [Output],
+    grid: &'a TimeGrid,
+    settings: NewtonSettings,
+    scheme: Scheme,
+    start: Start,
+}
+
+impl Run<'_> {
+    /// The run, with sensitivities when `rates` are given.
+    fn go(
+        &self,
+        rates: Option<Vec<ParameterRate>>,
+    ) -> Result<(Histories, Option<OutputSensitivities>), MultibodyError> {
+        let Run {
+            system,
+            twin,
+            outputs,
+            grid,
+            settings,
+            scheme,
+            start,
+        } = *self;
+        let dt0 = grid.intervals.first().map_or(1.0, |i| i.1);
+        let mut ggl = started(system, dt0, settings, scheme, start)?;
+        let mut twin = twin
+            .map(|t| {
+                let slow_rate = settings.slow_rate.min(TWIN_SLOW_RATE);
+                let settings = NewtonSettings {
+                    slow_rate,
+                    ..settings
+                };
+                started(t, dt0, settings, scheme, start)
+            })
+            .transpose()?;
+        let drives = system.drives.len();
+        let mut recorder = Recorder {
+            histories: Histories {
+                outputs: vec![Vec::new(); outputs.len()],
+                drives: vec![Default::default(); drives],
+                redundant: ggl.redundant.clone(),
+                coordinates: ggl.system.size(),
+                constraints: ggl.constraint_count(),
+                ..Histories::default()
+            },
+            energy: vec![0.0; drives],
+            outputs,
+            tracker: None,
+        };
+        if let Some(rates) = rates {
+            let count = rates.len();
+            recorder.tracker = Some(Tracker {
+                sensitivities: Sensitivities::start(&ggl, rates)?,
+                energy: vec![vec![0.0; drives]; count],
+                recorded: OutputSensitivities {
+                    outputs: vec![vec![Vec::new(); outputs.len()]; count],
+                    iterations: 0,
+                },
+            });
+        }
+        let mut phi = vec![0.0; ggl.equations.constraints.len()];
+        ggl.equations
+            .constraints
+            .values(&ggl.system.layout, &ggl.q, 0.0, &mut phi);
+        let residual0 = phi.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+        recorder.record(&ggl, twin.as_ref(), residual0, 0);
+        recorder.record_rates(&mut ggl, twin.as_ref());
+        match grid.control {
+            None => fixed_steps(&mut ggl, twin.as_mut(), &grid.intervals, &mut recorder)?,
+            Some(control) => {
+                control.check()?;
+                controlled_steps(&mut ggl, twin.as_mut(), grid, control, &mut recorder)?
+            }
+        }
+        Ok((recorder.histories, recorder.tracker.map(|t| t.recorded)))
+    }
 }
 
 /// The TSTEP intervals at their Δt.
@@ -317,7 +476,7 @@ fn fixed_steps(
             let h = &mut recorder.histories;
             h.steps += 1;
             h.max_iterations = h.max_iterations.max(report.iterations);
-            recorder.integrate(ggl, dt);
+            recorder.integrate(ggl, dt)?;
             if step % every == 0 {
                 recorder.record(
                     ggl,
@@ -325,6 +484,7 @@ fn fixed_steps(
                     report.constraint_residual,
                     report.iterations,
                 );
+                recorder.record_rates(ggl, twin.as_deref());
             }
         }
     }
@@ -396,7 +556,7 @@ fn controlled_steps(
                     stats.max_iterations = stats.max_iterations.max(report.iterations);
                     stats.max_error = stats.max_error.max(error);
                     (smallest, largest) = (smallest.min(step), largest.max(step));
-                    recorder.integrate(ggl, step);
+                    recorder.integrate(ggl, step)?;
                     // a step shortened before a target keeps the size reached before it
                     let next = if step < h && ratio >= 1.0 {
                         h.max(step * ratio)

@@ -15,6 +15,7 @@
 pub mod correlation;
 pub mod dominance;
 pub mod evaluate;
+pub mod gradient;
 pub mod grid;
 pub mod hypervolume;
 pub mod knee;

@@ -56,6 +56,7 @@ pub mod frf;
 pub mod modal;
 pub mod optimize;
 pub mod optimize_engine;
+pub mod optimize_gradient;
 pub mod optimize_journal;
 pub mod optimize_library;
 mod optimize_output;

@@ -17,6 +17,7 @@ use std::time::Instant;
 
 use super::fmb::PreparedFmb;
 use super::optimize_engine::Engine;
+use super::optimize_gradient::Gradient;
 use super::optimize_journal::{Header, Journal, journal_path};
 use super::optimize_output::{OptimizeSummary, Representative, write_study};
 use super::optimize_study::Study;
@@ -24,6 +25,8 @@ use super::{Basis, Clock, Driver, RunContext, RunError, SubcaseSummary};
 use crate::deck::Solution;
 use crate::deck::cards::SearchMethod;
 use crate::deck::case_control::Subcase;
+use crate::multibody::{Scheme, Start};
+use crate::optimize::gradient::{GradientSearch, WithGradient};
 use crate::optimize::grid::full_factorial;
 use crate::optimize::{Archive, Design, EvalError, Evaluated, Nsga2, Threaded, summarize};
 
@@ -70,6 +73,30 @@ fn prepare(ctx: &RunContext, sub: &Subcase) -> Result<(PreparedFmb, Study), RunE
         ));
     }
     let study = Study::of_deck(&ctx.deck.bulk, &prepared).map_err(|e| case(e.join("\n")))?;
+    if study.search.method == SearchMethod::Grad {
+        let m = &study.search;
+        let refuse = |why: &str| {
+            case(format!(
+                "{}: MOOPT {}: field 3 (METHOD): GRAD {why}",
+                m.loc, m.id
+            ))
+        };
+        if prepared.start != Start::Assembled {
+            return Err(refuse(
+                "needs FMBSTART = ASSEMBLE (the static equilibrium's sensitivities are not computed)",
+            ));
+        }
+        if prepared.grid.control.is_some() {
+            return Err(refuse(
+                "needs fixed steps (TSTEPVAR's accepted steps depend on the parameters)",
+            ));
+        }
+        if let Scheme::GeneralizedAlpha { .. } = prepared.scheme {
+            return Err(refuse(
+                "needs TINTEG BDF1 or BDF2 (generalized-α starts from accelerations that depend on the parameters)",
+            ));
+        }
+    }
     Ok((prepared, study))
 }
 
@@ -82,6 +109,39 @@ pub fn evaluate_designs(
     subcase: u32,
     designs: &[Design],
 ) -> Result<Vec<Evaluated>, RunError> {
+    let (prepared, study) = prepare_for(ctx, subcase, designs)?;
+    let threaded = Threaded::new(study.search.npar, |design: &[f64]| {
+        study.evaluate(&prepared, design)
+    })
+    .map_err(|e| RunError::Case {
+        subcase,
+        what: e.to_string(),
+    })?;
+    Ok(threaded.batch(designs))
+}
+
+/// The responses of `designs` and their gradients with respect to the continuous variables
+/// ([`Study::gradient`]), one design after the other (`paraflex evaluate --gradient`); a
+/// design whose run or gradient fails gives its message.
+pub fn gradients_of_designs(
+    ctx: &RunContext,
+    subcase: u32,
+    designs: &[Design],
+) -> Result<Vec<Result<Gradient, String>>, RunError> {
+    let (prepared, study) = prepare_for(ctx, subcase, designs)?;
+    Ok(designs
+        .iter()
+        .map(|d| study.gradient(&prepared, d))
+        .collect())
+}
+
+/// Subcase `subcase` prepared and its study checked, and `designs` checked to be points of
+/// its space.
+fn prepare_for(
+    ctx: &RunContext,
+    subcase: u32,
+    designs: &[Design],
+) -> Result<(PreparedFmb, Study), RunError> {
     let sub = (ctx.model.subcases.iter())
         .find(|s| s.id == subcase)
         .ok_or_else(|| RunError::Case {
@@ -106,14 +166,7 @@ pub fn evaluate_designs(
             });
         }
     }
-    let threaded = Threaded::new(study.search.npar, |design: &[f64]| {
-        study.evaluate(&prepared, design)
-    })
-    .map_err(|e| RunError::Case {
-        subcase,
-        what: e.to_string(),
-    })?;
-    Ok(threaded.batch(designs))
+    Ok((prepared, study))
 }
 
 /// Where a study's batches are evaluated.
@@ -158,6 +211,11 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
     let keep_error = |e: String| {
         (journal_error.lock().unwrap_or_else(|p| p.into_inner())).get_or_insert(e);
     };
+    if study.search.method == SearchMethod::Grad && ctx.engine.is_some() {
+        return Err(case(
+            "MOOPT GRAD evaluates its designs in this process, one after the other (each step needs the last gradient): run it without --engine".into(),
+        ));
+    }
     let mut evaluator = match ctx.engine {
         None => Evaluator::Threads(
             Threaded::new(threads, |design: &[f64]| {
@@ -222,6 +280,32 @@ fn study(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> {
     };
     let start = Instant::now();
     let archive = match study.search.method {
+        SearchMethod::Grad => {
+            // one design after the other: each step of the descent needs the last gradient
+            let mut evaluate = |design: &[f64]| -> WithGradient {
+                let start = Instant::now();
+                let (result, gradient) = match study.gradient(&prepared, design) {
+                    Ok(g) => (Ok(g.responses), Some(g.gradient)),
+                    Err(e) => (Err(EvalError(e)), None),
+                };
+                let evaluated = Evaluated {
+                    result,
+                    seconds: start.elapsed().as_secs_f64(),
+                };
+                if let Err(e) = journal.record(design, &evaluated) {
+                    keep_error(e);
+                }
+                done += 1;
+                ctx.progress.step("optimize: evaluations", done, total);
+                (evaluated, gradient)
+            };
+            let m = &study.search;
+            GradientSearch {
+                weights: m.pop as usize,
+                budget: m.neval as usize,
+            }
+            .run(&study.space, &study.scoring, &study.start, &mut evaluate)
+        }
         SearchMethod::Grid => {
             let mut archive = Archive::default();
             let levels = study.search.pop as usize;

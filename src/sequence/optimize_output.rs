@@ -11,7 +11,7 @@
 //! `objectives` (response names), `senses`, `constraints`,
 //! `constraint_low`, `constraint_high` (NaN: open), `reference` (the hypervolume's reference
 //! point in minimized objectives), `seed`, `population` (NSGA2: the population; GRID: the
-//! levels); and each representative design's histories under
+//! levels; GRAD: the most weights per combination); and each representative design's histories under
 //! `representative/<label>/{time, sensors/<name>}` (`best_<objective>` per objective and
 //! `knee`), attributes `design` (its archive index) and `values`.
 
@@ -56,6 +56,7 @@ fn method_name(m: SearchMethod) -> &'static str {
     match m {
         SearchMethod::Nsga2 => "NSGA2",
         SearchMethod::Grid => "GRID",
+        SearchMethod::Grad => "GRAD",
     }
 }
 

@@ -23,7 +23,8 @@ use crate::linalg::dense::generalized_eigen;
 use crate::multibody::Histories;
 use crate::optimize::grid::grid_size;
 use crate::optimize::{
-    Constraint, DesignSpace, Domain, EvalError, Objective, Responses, Scoring, Sense, Variable,
+    Constraint, Design, DesignSpace, Domain, EvalError, Objective, Responses, Scoring, Sense,
+    Variable,
 };
 
 /// What a response measures.
@@ -63,6 +64,9 @@ pub struct Study {
     pub responses: Vec<Response>,
     pub scoring: Scoring,
     pub search: Moopt,
+    /// Each DESVAR's XINIT (within its bounds): where `MOOPT GRAD` starts (the discrete
+    /// values are each combination's).
+    pub start: Design,
 }
 
 /// An error at `loc` on `card`, field `field` (number and name).
@@ -272,7 +276,17 @@ impl Study {
                     "field 4 (SOURCE)",
                 )
             }));
+        let gradient = (bulk.moopt.first()).is_some_and(|m| m.method == SearchMethod::Grad);
         for (source, name, loc, card, field) in sources {
+            if gradient && matches!(source, ResponseSource::Frequency { .. }) {
+                errors.push(at(
+                    loc,
+                    card.clone(),
+                    field,
+                    "MOOPT GRAD: a FREQ response has no gradient (GRAD takes MSENSOR and MASS responses)".to_string(),
+                ));
+                continue;
+            }
             let quantity = match source {
                 ResponseSource::Sensor {
                     name: sensor,
@@ -348,6 +362,12 @@ impl Study {
         }
         match search {
             Some(search) if errors.is_empty() => Ok(Study {
+                start: (bulk.desvar.iter().zip(&space.variables))
+                    .map(|(d, v)| match &v.domain {
+                        Domain::Continuous { low, high } => d.xinit.clamp(*low, *high),
+                        Domain::Discrete { values } => values[0],
+                    })
+                    .collect(),
                 space,
                 targets,
                 libraries,
@@ -374,7 +394,7 @@ impl Study {
 
     /// The systems of the prepared run at `design`: its parameters set and its bodies'
     /// artifacts chosen.
-    fn systems(
+    pub(crate) fn systems(
         &self,
         prepared: &PreparedFmb,
         design: &[f64],
@@ -419,7 +439,7 @@ impl Study {
     pub fn budget(&self) -> usize {
         match self.search.method {
             SearchMethod::Grid => grid_size(&self.space, self.search.pop as usize),
-            SearchMethod::Nsga2 => self.search.neval as usize,
+            SearchMethod::Nsga2 | SearchMethod::Grad => self.search.neval as usize,
         }
     }
 }

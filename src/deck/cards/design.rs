@@ -11,7 +11,7 @@ use crate::deck::value::Value;
 /// |---|---|---|---|---|
 /// | 2 | ID | int > 0 | required | id |
 /// | 3 | LABEL | name | required | label |
-/// | 4 | XINIT | real | required | initial value |
+/// | 4 | XINIT | real | required | initial value (where `MOOPT GRAD` starts; NSGA2 and GRID do not use it) |
 /// | 5 | XLB | real | −1.0E20 | lower bound |
 /// | 6 | XUB | real | 1.0E20 | upper bound |
 /// | 7 | DELXV | real | blank | move limit (kept) |

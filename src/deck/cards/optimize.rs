@@ -272,6 +272,9 @@ pub enum SearchMethod {
     Nsga2,
     /// Full-factorial grid, for validation.
     Grid,
+    /// Gradient-based: a weighted-sum sweep per combination of the discrete values, each
+    /// scalarization descended with the responses' sensitivities ([`crate::optimize::gradient`]).
+    Grad,
 }
 
 /// `MOOPT` — the search of a `SOL OPTIMIZE` run (a deck has one).
@@ -279,12 +282,12 @@ pub enum SearchMethod {
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | ID | int > 0 | required | id |
-/// | 3 | METHOD | `NSGA2`/`GRID` | required | the search (`GRAD` is refused: not available in this version) |
-/// | 4 | NEVAL | int > 0 | 100 | NSGA2: evaluation budget; GRID: largest grid accepted |
-/// | 5 | POP | int > 0 | NSGA2: 20; GRID: 3 | NSGA2: population size; GRID: levels of each continuous variable (bounds included; a discrete variable takes all its values) |
-/// | 6 | SEED | int ≥ 0 | 1 | random seed |
-/// | 7 | NPAR | int ≥ 0 | 0 | parallel evaluations (0: one per core) |
-/// | 8 | START | `NEW`/`RESUME` | `NEW` | `NEW`: a new journal of the evaluations (`<output>.designs-<subcase>.jsonl`); `RESUME`: the designs the existing journal holds are not evaluated again (the study, deterministic, proposes the same designs) |
+/// | 3 | METHOD | `NSGA2`/`GRID`/`GRAD` | required | the search: NSGA-II, a full-factorial grid, or gradient-based (a weighted-sum sweep per combination of the discrete values, with the responses' exact sensitivities) |
+/// | 4 | NEVAL | int > 0 | 100 | NSGA2, GRAD: evaluation budget; GRID: largest grid accepted |
+/// | 5 | POP | int > 0 | NSGA2: 20; GRID: 3; GRAD: 5 | NSGA2: population size; GRID: levels of each continuous variable (bounds included; a discrete variable takes all its values); GRAD: most weights of the sweep per combination |
+/// | 6 | SEED | int ≥ 0 | 1 | random seed (GRAD: unused, the search is deterministic) |
+/// | 7 | NPAR | int ≥ 0 | 0 | parallel evaluations (0: one per core; GRAD evaluates one design after the other) |
+/// | 8 | START | `NEW`/`RESUME` | `NEW` | `NEW`: a new journal of the evaluations (`<output>.designs-<subcase>.jsonl`); `RESUME`: the designs the existing journal holds are not evaluated again (the study, deterministic, proposes the same designs; not with GRAD, whose journal keeps no gradients) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Moopt {
     pub id: u32,
@@ -305,20 +308,17 @@ impl Moopt {
         let id = f.id(1, "ID");
         f.set_id(id);
         let keyword = f.keyword(2, "METHOD", &["NSGA2", "GRID", "GRAD"], None);
-        if keyword == "GRAD" {
-            f.error(
-                2,
-                "METHOD",
-                "GRAD (gradient-based search with parametric sensitivities) is not available in this version: use NSGA2 or GRID",
-            );
-        }
-        let method = if keyword == "GRID" {
-            SearchMethod::Grid
-        } else {
-            SearchMethod::Nsga2
+        let method = match keyword {
+            "GRID" => SearchMethod::Grid,
+            "GRAD" => SearchMethod::Grad,
+            _ => SearchMethod::Nsga2,
         };
         let neval = f.opt_count(3, "NEVAL").unwrap_or(100);
-        let default_pop = if method == SearchMethod::Grid { 3 } else { 20 };
+        let default_pop = match method {
+            SearchMethod::Grid => 3,
+            SearchMethod::Grad => 5,
+            SearchMethod::Nsga2 => 20,
+        };
         let pop = f.opt_count(4, "POP").unwrap_or(default_pop);
         let seed = f.int_or(5, "SEED", 1);
         if seed < 0 {
@@ -329,6 +329,13 @@ impl Moopt {
             f.error(6, "NPAR", format!("expected an integer ≥ 0, found {npar}"));
         }
         let resume = f.choice(7, "START", &[("NEW", false), ("RESUME", true)], Some(false));
+        if resume && method == SearchMethod::Grad {
+            f.error(
+                7,
+                "START",
+                "RESUME with GRAD: the journal keeps no gradients to go on from (use NEW)",
+            );
+        }
         let loc = f.loc();
         f.finish(7)?;
         Ok(Moopt {
@@ -402,6 +409,8 @@ mod tests {
             (n.method, n.neval, n.pop, n.seed, n.npar, n.resume),
             (SearchMethod::Nsga2, 40, 8, 7, 2, false)
         );
+        let g = Moopt::from_card(&card("MOOPT,1,GRAD,30")).unwrap();
+        assert_eq!((g.method, g.neval, g.pop), (SearchMethod::Grad, 30, 5));
         assert!(
             Moopt::from_card(&card("MOOPT,1,NSGA2,40,8,7,2,RESUME"))
                 .unwrap()
@@ -411,8 +420,11 @@ mod tests {
 
     #[test]
     fn bad_cards_are_refused_at_their_field() {
-        let m = refused(Moopt::from_card(&card("MOOPT,1,GRAD")));
-        assert!(m.contains("GRAD") && m.contains("not available"), "{m}");
+        let m = refused(Moopt::from_card(&card("MOOPT,1,GRAD,10,5,1,1,RESUME")));
+        assert!(
+            m.contains("field 8 (START)") && m.contains("RESUME with GRAD"),
+            "{m}"
+        );
         let m = refused(Dobj::from_card(&card("DOBJ,1,M,MIN,MASS,FINAL")));
         assert!(
             m.contains("field 6 (STAT)") && m.contains("MASS takes no STAT"),

@@ -25,7 +25,8 @@ use crate::discretize::prom_body::ParametricBody;
 use crate::dynamics::table::Table;
 use crate::model::mechanism::{BodyKind, Sensor};
 use crate::multibody::{
-    Histories, MultibodyError, NewtonSettings, Output, Scheme, Start, TimeGrid, simulate,
+    Histories, MultibodyError, NewtonSettings, Output, OutputSensitivities, ParameterRate, Scheme,
+    Start, TimeGrid, simulate, simulate_sensitivities,
 };
 
 /// A flexible body's pROM artifact read once: where from, and its parametric data.
@@ -194,8 +195,31 @@ impl PreparedFmb {
             .map_err(|e| e.to_string())
     }
 
+    /// [`PreparedFmb::simulate_systems`] with the outputs' derivatives with respect to the
+    /// parameters whose data rates are `rates` (forward sensitivities,
+    /// [`crate::multibody::sensitivity`]).
+    pub fn simulate_sensitivities(
+        &self,
+        flexible: &MechanismSystem,
+        twin: Option<&MechanismSystem>,
+        rates: Vec<ParameterRate>,
+    ) -> Result<(Histories, OutputSensitivities), String> {
+        let outputs = flexible.outputs(&self.sensors);
+        simulate_sensitivities(
+            &flexible.system,
+            twin.map(|t| &t.system),
+            &outputs,
+            &self.grid,
+            NewtonSettings::default(),
+            self.scheme,
+            self.start,
+            rates,
+        )
+        .map_err(|e| e.to_string())
+    }
+
     /// The subcase's `PVAL` with `values` set over it.
-    fn pval_with(&self, values: &[(String, f64)]) -> Vec<(String, f64)> {
+    pub(crate) fn pval_with(&self, values: &[(String, f64)]) -> Vec<(String, f64)> {
         let mut pval = self.pval.clone();
         for (name, value) in values {
             match pval.iter_mut().find(|(n, _)| n.eq_ignore_ascii_case(name)) {
