@@ -323,27 +323,42 @@ mod tests {
 
     #[test]
     fn the_coupling_force_reads_the_alpha_shifted_kinematics() {
+        // one Newmark step of a DISP drive g = t² from (g, ġ, g̈) = (0.3, 1, 0.5), written out:
+        // g̃ = g + Δt ġ + (½ − β)Δt² g̈, g̈' = (g(t) − g̃)/(βΔt²), ġ' = ġ + (1 − γ)Δt g̈ + γΔt g̈'
+        let (g0, v0, a0) = (0.3, 1.0, 0.5);
         let mut m = PrescribedMotion::new(vec![PrescribedTerm {
             drive: Drive::Displacement,
             function: Box::new(|t| t * t),
-            initial: [0.0, 1.0, 0.0],
+            initial: [g0, v0, a0],
             mass: vec![1.0, 0.0],
             damping: vec![0.0, 10.0],
             stiffness: vec![100.0, 0.0],
         }]);
         m.start();
+        let (dt, beta, gamma, alpha_m, alpha_f) = (0.5, 0.3, 0.6, 0.2, 0.4);
         let p = AlphaUpdate {
-            dt: 0.5,
-            beta: 0.3,
-            gamma: 0.6,
-            alpha_m: 0.2,
-            alpha_f: 0.4,
+            dt,
+            beta,
+            gamma,
+            alpha_m,
+            alpha_f,
         };
         m.advance_alpha(0.5, p);
+        let g_pred = g0 + dt * v0 + (0.5 - beta) * dt * dt * a0;
+        let a1 = (0.25 - g_pred) / (beta * dt * dt);
+        let v1 = v0 + (1.0 - gamma) * dt * a0 + gamma * dt * a1;
         let [g, v, a] = m.kinematics()[0];
+        assert!((g - 0.25).abs() < 1e-15 && (v - v1).abs() < 1e-12 && (a - a1).abs() < 1e-12);
         let mut f = vec![0.0, 0.0];
         m.subtract_coupling(&mut f);
-        assert!((f[0] + (0.8 * a + 100.0 * 0.6 * g)).abs() < 1e-12);
-        assert!((f[1] + 10.0 * (0.6 * v + 0.4 * 1.0)).abs() < 1e-12);
+        let shifted = |new: f64, old: f64, alpha: f64| (1.0 - alpha) * new + alpha * old;
+        let want = [
+            -(shifted(a1, a0, alpha_m) + 100.0 * shifted(0.25, g0, alpha_f)),
+            -10.0 * shifted(v1, v0, alpha_f),
+        ];
+        assert!(
+            (f[0] - want[0]).abs() < 1e-12 && (f[1] - want[1]).abs() < 1e-12,
+            "{f:?}"
+        );
     }
 }
