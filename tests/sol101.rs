@@ -3,8 +3,8 @@
 mod common;
 use common::run_deck;
 
-use paraflex::sequence::statics::StaticsSummary;
 use paraflex::sequence::RunSummary;
+use paraflex::sequence::statics::StaticsSummary;
 
 fn statics(s: &RunSummary, k: usize) -> &StaticsSummary {
     match s.subcases[k].result::<StaticsSummary>() {
