@@ -30,10 +30,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+from paraflex_tools.fourbar_work import DECKS, prepare_links
 from paraflex_tools.runner import default_binary, run_checked
 
-ROOT = Path(__file__).resolve().parents[2]
-DECKS = ROOT / "decks" / "fourbar" / "fmb"
 LINKS = {"crank_prom.dat": "crank.h5", "coupler_prom.dat": "coupler.h5", "output_crank_prom.dat": "output_crank.h5"}
 COARSE_STEP = "TSTEP,1,1000,1.e-3,1"
 FINE = (COARSE_STEP, "TSTEP,1,4000,2.5e-4,4")
@@ -130,11 +129,7 @@ def main() -> None:
     a = ap.parse_args()
     work = a.keep or Path(tempfile.mkdtemp(prefix="fourbar_bench_"))
     work.mkdir(parents=True, exist_ok=True)
-    for deck, artifact in LINKS.items():
-        text = (DECKS / deck).read_text().replace("'../../../meshes/", f"'{ROOT / 'meshes'}/")
-        (work / deck).write_text(text)
-        run_checked(work / deck, work / artifact, a.paraflex)
-    shutil.copy(DECKS / "drive.csv", work / "drive.csv")
+    prepare_links(work, LINKS, a.paraflex)
     coarse = (DECKS / "fourbar_steel.dat").read_text()
     for line in (COARSE_STEP, INTEGRATOR):
         if line not in coarse:

@@ -32,10 +32,9 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+from paraflex_tools.fourbar_work import DECKS, prepare_links
 from paraflex_tools.runner import default_binary, run_checked
 
-ROOT = Path(__file__).resolve().parents[2]
-DECKS = ROOT / "decks" / "fourbar" / "fmb"
 LINKS = {"crank_prom.dat": "crank.h5", "coupler_composite_prom.dat": "coupler_composite.h5",
          "output_crank_prom.dat": "output_crank.h5"}
 MOOPT = "MOOPT,1,NSGA2,24,8,1,2"
@@ -135,11 +134,7 @@ def main() -> None:
     a = ap.parse_args()
     work = a.keep or Path(tempfile.mkdtemp(prefix="optimize_bench_"))
     work.mkdir(parents=True, exist_ok=True)
-    for deck, artifact in LINKS.items():
-        text = (DECKS / deck).read_text().replace("'../../../meshes/", f"'{ROOT / 'meshes'}/")
-        (work / deck).write_text(text)
-        run_checked(work / deck, work / artifact, a.paraflex)
-    shutil.copy(DECKS / "drive.csv", work / "drive.csv")
+    prepare_links(work, LINKS, a.paraflex)
     base = (DECKS / "optimize_composite.dat").read_text()
     if MOOPT not in base:
         raise RuntimeError(f"{MOOPT} not in optimize_composite.dat")
