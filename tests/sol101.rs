@@ -349,6 +349,17 @@ fn autospc_no_still_removes_the_null_rows_of_solid_grids() {
     let solve = |deck: &str| {
         let (r, dir) = run_deck(deck);
         let s = r.unwrap_or_else(|e| panic!("{e}"));
+        let autospc_on = !deck.contains("AUTOSPC,NO") && !deck.contains("AUTOSPC(NOPRINT) = NO");
+        let wording = if autospc_on {
+            "AUTOSPC constrained 24 DOF(s)"
+        } else {
+            "24 DOF(s) that no element reaches (null rows of the solution's matrices) removed although AUTOSPC is off"
+        };
+        assert!(
+            s.warnings.iter().any(|w| w.contains(wording)),
+            "{:?}",
+            s.warnings
+        );
         let u: Vec<f64> = hdf5_metno::File::open(dir.path().join("out.h5"))
             .expect("open")
             .dataset("results/1/statics/displacement")

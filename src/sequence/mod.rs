@@ -192,11 +192,15 @@ pub fn run(ctx: &RunContext) -> Result<RunSummary, RunError> {
     }
     for s in &subcases {
         if !s.autospc.is_empty() {
-            warnings.push(format!(
-                "subcase {}: AUTOSPC constrained {} DOF(s) without stiffness (listed in the summary and in the results group's `autospc` dataset)",
-                s.id,
-                s.autospc.len()
-            ));
+            let (n, id) = (s.autospc.len(), s.id);
+            let listed = "listed in the summary and in the results group's `autospc` dataset";
+            warnings.push(if ctx.model.params.autospc {
+                format!("subcase {id}: AUTOSPC constrained {n} DOF(s) without stiffness ({listed})")
+            } else {
+                format!(
+                    "subcase {id}: {n} DOF(s) that no element reaches (null rows of the solution's matrices) removed although AUTOSPC is off, as MSC Nastran removes them ({listed})"
+                )
+            });
         }
         warnings.extend(s.result.warnings(s.id));
     }
