@@ -323,9 +323,10 @@ mod tests {
 
     #[test]
     fn the_coupling_force_reads_the_alpha_shifted_kinematics() {
-        // one Newmark step of a DISP drive g = t² from (g, ġ, g̈) = (0.3, 1, 0.5), written out:
+        // one Newmark step of a DISP drive g = t² from (g, ġ, g̈) = (0.3, 1.5, 0.5) (no unit value,
+        // which would hide a · turned into a /), written out:
         // g̃ = g + Δt ġ + (½ − β)Δt² g̈, g̈' = (g(t) − g̃)/(βΔt²), ġ' = ġ + (1 − γ)Δt g̈ + γΔt g̈'
-        let (g0, v0, a0) = (0.3, 1.0, 0.5);
+        let (g0, v0, a0) = (0.3, 1.5, 0.5);
         let mut m = PrescribedMotion::new(vec![PrescribedTerm {
             drive: Drive::Displacement,
             function: Box::new(|t| t * t),
