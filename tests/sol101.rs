@@ -661,17 +661,7 @@ fn grdset_defaults_and_cord2s_locations_give_the_basic_strip() {
             tilted += "\n";
         }
     }
-    let displacement = |deck: &str| -> Vec<f64> {
-        let (r, dir) = run_deck(deck);
-        r.expect("run");
-        hdf5_metno::File::open(dir.path().join("out.h5"))
-            .expect("open")
-            .dataset("results/1/statics/displacement")
-            .expect("u")
-            .read_raw()
-            .expect("read")
-    };
-    let (u_basic, u_tilted) = (displacement(&basic), displacement(&tilted));
+    let (u_basic, u_tilted) = (displacements(&basic), displacements(&tilted));
     let scale = u_basic.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     assert!(scale > 1e-6, "the strip deflects: {scale:e}");
     let diff = u_basic
