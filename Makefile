@@ -122,7 +122,8 @@ bench-estimate: deps
 MUTANTS_VERSION := 27.1.0
 MUTANTS_KERNELS := src/dynamics/integrators.rs src/linalg/cholesky.rs src/linalg/eigen.rs \
 	src/estimate/filter.rs src/estimate/ekf.rs src/fe/solid.rs src/fe/shell.rs \
-	src/assembly/constraints.rs
+	src/assembly/constraints.rs src/dynamics/prescribed.rs src/multibody/inertia.rs \
+	src/multibody/integrator.rs
 MUTANTS_FILES ?= $(MUTANTS_KERNELS)
 mutants: sysdeps
 	@$(CARGO) mutants --version 2>/dev/null | grep -qx 'cargo-mutants $(MUTANTS_VERSION)' || \

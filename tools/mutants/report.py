@@ -1,46 +1,58 @@
 #!/usr/bin/env python3
-"""Write docs/mutation-testing.md from the cargo-mutants outcomes of tools/mutants/run.sh.
+"""Write docs/mutation-testing.md from the mutation-testing ledger, tools/mutants/ledger/.
 
-Reads mutants.out/<module>/mutants.out/outcomes.json for every module run (and
-mutants.out/<module>-rerun-<time>/..., later runs of some of the module's mutants, whose outcomes
-replace the earlier ones for the same mutants), the command and commit recorded beside them, and
-tools/mutants/explained.toml, where each mutant the tests still miss is explained as equivalent.
+The ledger holds one JSON file per cargo-mutants run (tools/mutants/record.py writes it from the
+git-ignored mutants.out/ that tools/mutants/run.sh fills): <module>.json for a module's first run,
+<module>-rerun-<time>.json for later runs of some or all of its mutants, whose outcomes replace the
+earlier ones for the same mutants (matched by `record.mutant_key`, so that a line moved by later
+code still matches; a finished `--iterate` rerun tests every mutant not caught before, so a
+missed mutant it did not test no longer exists), and tools/mutants/explained.toml, where each mutant the tests still miss is
+explained as equivalent.
 
 Per module: mutants total / caught / missed / timeout / unviable and the caught ratio
 (caught + timeout) / (caught + missed + timeout), i.e. among the mutants that compile; a timeout
 (a test hangs on the mutant) is a detection, and the report names the tests that had already
-failed by then. Every
-mutant missed by the first run is listed with the tests that catch it now (read from the rerun's
-log: the new tests) or with its equivalence argument; one that is neither is flagged
-"UNEXPLAINED", and the script exits with status 1 so that the habit cannot silently lapse.
+failed by then. Every mutant missed by an earlier run is listed with the tests that catch it now
+(recorded from the rerun's log: the new tests) or with its equivalence argument; one that is
+neither is flagged "UNEXPLAINED", and the script exits with status 1 so that the habit cannot
+silently lapse.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import re
 import sys
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from record import mutant_key
+
 OUTCOMES = ("CaughtMutant", "MissedMutant", "Timeout", "Unviable")
-LABELS = {"CaughtMutant": "caught", "MissedMutant": "missed", "Timeout": "timeout", "Unviable": "unviable"}
 
 
 @dataclass
 class Run:
-    """One cargo-mutants run: its command, commit, version and per-mutant outcomes."""
+    """One cargo-mutants run as the ledger keeps it."""
 
-    directory: Path
+    name: str
     command: str
     commit: str
     version: str
     outcomes: dict[str, str]
-    logs: dict[str, Path]
+    offsets: dict[str, list[int]]
+    failing_tests: dict[str, dict]
     planned: int
     finished: bool
+
+    def keyed(self) -> dict[tuple[str, int, int], str]:
+        """Mutant key → the mutant's name in this run."""
+        return {mutant_key(name, self.offsets[name]): name for name in self.outcomes}
+
+    def covers_the_uncaught(self) -> bool:
+        """A finished `--iterate` run: it tested every mutant of the file not caught before."""
+        return self.finished and "--iterate" in self.command
 
 
 @dataclass
@@ -51,98 +63,65 @@ class Module:
     first: Run
     reruns: list[Run] = field(default_factory=list)
 
-    def final(self) -> dict[str, str]:
-        merged = dict(self.first.outcomes)
-        for run in self.reruns:
-            merged.update(run.outcomes)
+    def runs(self) -> list[Run]:
+        return [self.first, *self.reruns]
+
+    def final(self) -> dict[tuple[str, int, int], tuple[str, str, Run]]:
+        """Mutant key → (latest name, latest outcome, the run that gave it)."""
+        merged = {}
+        for run in self.runs():
+            keyed = run.keyed()
+            if run.covers_the_uncaught():
+                merged = {k: v for k, v in merged.items() if v[1] == "CaughtMutant" or k in keyed}
+            for k, name in keyed.items():
+                merged[k] = (name, run.outcomes[name], run)
         return merged
 
-    def killed_later(self) -> dict[str, Path]:
-        """Mutants a run missed and a later run caught, with the log of the run that caught them."""
-        runs = [self.first, *self.reruns]
+    def killed_later(self) -> dict[tuple[str, int, int], tuple[str, dict]]:
+        """Mutants a run missed and a later run caught: key → (name, that run's failing tests)."""
+        runs = self.runs()
         killed = {}
         for i, run in enumerate(runs):
-            for name, outcome in run.outcomes.items():
-                if outcome != "MissedMutant":
+            for k, name in run.keyed().items():
+                if run.outcomes[name] != "MissedMutant":
                     continue
-                later = [r for r in runs[i + 1 :] if name in r.outcomes]
-                if later and later[-1].outcomes[name] == "CaughtMutant":
-                    killed[name] = later[-1].logs[name]
+                later = [(r, r.keyed()[k]) for r in runs[i + 1 :] if k in r.keyed()]
+                if later and later[-1][0].outcomes[later[-1][1]] == "CaughtMutant":
+                    r, latest = later[-1]
+                    killed[k] = (latest, r.failing_tests.get(latest, {"first": [], "total": 0}))
         return killed
 
+    def untested(self) -> int:
+        """Mutants the latest run over the whole file (the first, or an `--iterate` rerun) did not
+        reach because it was stopped."""
+        whole = [r for r in self.runs() if r is self.first or "--iterate" in r.command][-1]
+        if whole is self.first:  # later partial runs may have reached some of them
+            return max(0, whole.planned - len(self.final()))
+        return whole.planned - len(whole.outcomes)
+
     def counts(self) -> dict[str, int]:
-        final = self.final()
-        return {o: sum(1 for v in final.values() if v == o) for o in OUTCOMES}
+        final = self.final().values()
+        return {o: sum(1 for _, v, _ in final if v == o) for o in OUTCOMES}
 
 
-def read_run(directory: Path) -> Run | None:
-    """The run recorded in `directory` (run.sh's output for one module), if it finished."""
-    out = directory / "mutants.out"
-    path = out / "outcomes.json"
-    if not path.exists():
-        return None
-    data = json.loads(path.read_text())
-    outcomes, logs = {}, {}
-    for o in data["outcomes"]:
-        scenario = o["scenario"]
-        if not isinstance(scenario, dict) or "Mutant" not in scenario:
-            continue
-        name = scenario["Mutant"]["name"]
-        outcomes[name] = o["summary"]
-        logs[name] = out / o["log_path"]
-
-    def text(name: str) -> str:
-        p = directory / name
-        return p.read_text().strip() if p.exists() else "(not recorded)"
-
-    planned = len(json.loads((out / "mutants.json").read_text()))
-    finished = data.get("end_time") is not None
+def read_run(path: Path) -> Run:
+    d = json.loads(path.read_text())
     return Run(
-        directory, text("command.txt"), text("commit.txt"), data["cargo_mutants_version"], outcomes, logs,
-        planned, finished,
+        path.stem, d["command"], d["commit"], d["cargo_mutants_version"], d["outcomes"], d["offsets"], d["failing_tests"],
+        d["planned"], d["finished"],
     )
 
 
-def failing_tests(log: Path) -> list[str]:
-    """The test names cargo test lists under its closing `failures:` heading in a mutant's log."""
-    if not log.exists():
-        return []
-    lines = log.read_text(errors="replace").splitlines()
-    starts = [i for i, line in enumerate(lines) if line.strip() == "failures:"]
-    if not starts:
-        return []
-    names = []
-    for line in lines[starts[-1] + 1 :]:
-        line = line.strip()
-        if not line:
-            break
-        names.append(line)
-    return names
-
-
-def file_of(run: Run) -> str:
-    """The source file a run mutated, from the names of its mutants or its command."""
-    for name in run.outcomes:
-        return name.split(":", 1)[0]
-    m = re.search(r"--file (\S+)", run.command)
-    return m.group(1) if m else run.directory.name
-
-
-def load_modules(root: Path) -> list[Module]:
+def load_modules(ledger: Path) -> list[Module]:
     modules: dict[str, Module] = {}
-    directories = sorted(p for p in root.iterdir() if p.is_dir()) if root.exists() else []
-    for d in directories:
-        if "-rerun-" in d.name:
-            continue
-        run = read_run(d)
-        if run is not None:
-            modules[d.name] = Module(file_of(run), run)
-    for d in directories:  # sorted: reruns in time order
-        base = d.name.split("-rerun-", 1)[0]
-        if "-rerun-" in d.name and base in modules:
-            run = read_run(d)
-            if run is not None:
-                modules[base].reruns.append(run)
+    paths = sorted(ledger.glob("*.json")) if ledger.exists() else []
+    for p in paths:
+        if "-rerun-" not in p.stem:
+            modules[p.stem] = Module(json.loads(p.read_text())["file"], read_run(p))
+    for p in paths:  # sorted: reruns in time order
+        base = p.stem.split("-rerun-", 1)[0]
+        if "-rerun-" in p.stem and base in modules:
+            modules[base].reruns.append(read_run(p))
     return list(modules.values())
 
 
@@ -159,15 +138,11 @@ def ratio(counts: dict[str, int]) -> str:
     return f"{100.0 * detected / viable:.1f} %" if viable else "—"
 
 
-def failed_before_timeout(log: Path) -> list[str]:
-    """Tests that cargo test had already reported FAILED when a hang stopped the run."""
-    if not log.exists():
-        return []
-    return [
-        line.split()[1]
-        for line in log.read_text(errors="replace").splitlines()
-        if line.startswith("test ") and line.rstrip().endswith("... FAILED")
-    ]
+def named(tests: dict) -> str:
+    """`a`, `b` and N more, from a ledger's failing-tests record."""
+    first, total = tests.get("first", []), tests.get("total", 0)
+    text = ", ".join(f"`{t}`" for t in first)
+    return text + (f" and {total - len(first)} more" if total > len(first) else "")
 
 
 def split_name(name: str) -> tuple[str, str]:
@@ -186,16 +161,18 @@ def render(modules: list[Module], explanations: dict[str, str], order: list[str]
         "| module | mutants tested | caught | missed | timeout | unviable | caught ratio | missed before the new tests |",
         "|---|---|---|---|---|---|---|---|",
     ]
-    for m in modules:
+    by_file = {m.file: m for m in modules}
+    for file in [*order, *(m.file for m in modules if m.file not in rank)]:
+        m = by_file.get(file)
+        if m is None:
+            lines.append(f"| `{file}` | not run yet | | | | | | |")
+            continue
         c, final = m.counts(), m.final()
-        tested = f"{len(final)}" if len(final) >= m.first.planned else f"{len(final)} of {m.first.planned}"
+        tested = f"{len(final)}" + (f" ({m.untested()} not reached)" if m.untested() else "")
         lines.append(
             f"| `{m.file}` | {tested} | {c['CaughtMutant']} | {c['MissedMutant']} | {c['Timeout']} "
             f"| {c['Unviable']} | {ratio(c)} | {len(m.killed_later())} |"
         )
-    for file in order:
-        if file not in {m.file for m in modules}:
-            lines.append(f"| `{file}` | not run yet | | | | | | |")
     unexplained = 0
     for m in modules:
         lines += ["", f"### `{m.file}`", ""]
@@ -204,19 +181,16 @@ def render(modules: list[Module], explanations: dict[str, str], order: list[str]
             lines.append(f"{label} at commit {run.commit} (cargo-mutants {run.version}{done}):")
             lines += ["", "```sh", run.command, "```", ""]
         final = m.final()
-        if len(final) < m.first.planned:
-            lines += [f"{m.first.planned - len(final)} mutants of the file were not tested (the run was stopped).", ""]
+        if m.untested():
+            lines += [f"{m.untested()} mutants of the file were not tested (the run was stopped).", ""]
         killed = m.killed_later()
-        missed = [n for n, o in final.items() if o == "MissedMutant"]
-        timeouts = [n for n, o in final.items() if o == "Timeout"]
+        missed = [n for n, o, _ in final.values() if o == "MissedMutant"]
+        timeouts = [(n, r) for n, o, r in final.values() if o == "Timeout"]
         if not killed and not missed and not timeouts:
             lines.append("Every viable mutant tested was caught.")
-        for name, log in killed.items():
+        for name, tests in killed.values():
             where, what = split_name(name)
-            tests = failing_tests(log)
-            killers = ", ".join(f"`{t}`" for t in tests[:4]) if tests else "the rerun's tests"
-            if len(tests) > 4:
-                killers += f" and {len(tests) - 4} more"
+            killers = named(tests) or "the rerun's tests"
             lines.append(f"- {where} `{what}`: missed, now killed by {killers}")
         for name in missed:
             where, what = split_name(name)
@@ -225,13 +199,14 @@ def render(modules: list[Module], explanations: dict[str, str], order: list[str]
             else:
                 unexplained += 1
                 lines.append(f"- {where} `{what}`: **UNEXPLAINED** (missed, no new test, no equivalence)")
-        for name in timeouts:
+        for name, run in timeouts:
             where, what = split_name(name)
-            log = next(r.logs[name] for r in reversed([m.first, *m.reruns]) if name in r.logs)
-            failed = failed_before_timeout(log)
-            also = f"; before that, failed: {', '.join(f'`{t}`' for t in failed)}" if failed else ""
+            failed = named(run.failing_tests.get(name, {}))
+            also = f"; before that, failed: {failed}" if failed else ""
             lines.append(f"- {where} `{what}`: timeout (a test hangs on it){also}")
-    stale = sorted(set(explanations) - {n for m in modules for n, o in m.final().items() if o == "MissedMutant"})
+    ledgered = {m.file for m in modules}
+    missed = {n for m in modules for n, o, _ in m.final().values() if o == "MissedMutant"}
+    stale = sorted(e for e in explanations if e.split(":", 1)[0] in ledgered and e not in missed)
     if stale:
         lines += ["", "Explanations in `tools/mutants/explained.toml` that match no missed mutant any more "
                   "(the code moved or a test catches it now; re-check them): " + ", ".join(f"`{s}`" for s in stale)]
@@ -243,14 +218,14 @@ BEGIN, END = "<!-- mutants report: begin (tools/mutants/report.py) -->", "<!-- m
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out-dir", type=Path, default=Path("mutants.out"))
+    parser.add_argument("--ledger", type=Path, default=Path(__file__).parent / "ledger")
     parser.add_argument("--explained", type=Path, default=Path("tools/mutants/explained.toml"))
     parser.add_argument("--doc", type=Path, default=Path("docs/mutation-testing.md"))
     parser.add_argument("files", nargs="*", help="the order of the modules in the table (MUTANTS_FILES)")
     args = parser.parse_args()
-    modules = load_modules(args.out_dir)
+    modules = load_modules(args.ledger)
     if not modules:
-        print(f"no finished cargo-mutants run under {args.out_dir}", file=sys.stderr)
+        print(f"no cargo-mutants run in {args.ledger}", file=sys.stderr)
         return 1
     body, unexplained = render(modules, load_explanations(args.explained), args.files)
     page = args.doc.read_text()

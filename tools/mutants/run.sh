@@ -8,8 +8,9 @@
 # Each file is mutated in its own cargo-mutants run against the tests tools/mutants/modules.tsv
 # assigns it, and its outcomes land in mutants.out/<file, / as ->/mutants.out/ (a rerun's in
 # mutants.out/<file>-rerun-<time>/mutants.out/) with the command (command.txt) and the commit
-# (commit.txt) that produced them; tools/mutants/report.py turns them into
-# docs/mutation-testing.md.
+# (commit.txt) that produced them; tools/mutants/record.py then copies the outcomes into the
+# repository's ledger (tools/mutants/ledger/, committed), from which tools/mutants/report.py
+# writes docs/mutation-testing.md.
 #
 # Affordability on a small shared machine: one job under `nice -n 19`, so it only takes idle CPU;
 # a target directory of its own (target/mutants, its dependencies hard-linked from target/debug
@@ -87,7 +88,7 @@ for file in "$@"; do
     rc=0
     CARGO_TARGET_DIR=$target CARGO_INCREMENTAL=1 "${cmd[@]}" || rc=$?
     case $rc in
-    0 | 2 | 3) ;;
+    0 | 2 | 3) python3 tools/mutants/record.py "$out" ;;
     *) echo "cargo mutants failed on $file (exit $rc)" >&2; exit "$rc" ;;
     esac
 done

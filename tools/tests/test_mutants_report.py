@@ -1,10 +1,10 @@
-"""tools/mutants/report.py on hand-made cargo-mutants output: a first run and a rerun."""
+"""tools/mutants/record.py and report.py on hand-made cargo-mutants output: runs and reruns."""
 import json
 import subprocess
 import sys
 from pathlib import Path
 
-SCRIPT = Path(__file__).resolve().parents[1] / "mutants" / "report.py"
+TOOLS = Path(__file__).resolve().parents[1] / "mutants"
 FILE = "src/k.rs"
 MISSED_THEN_KILLED = f"{FILE}:3:5: replace + with - in f"
 EQUIVALENT = f"{FILE}:4:9: replace < with <= in f"
@@ -29,21 +29,44 @@ test result: FAILED. 1 passed; 2 failed
 HANG_LOG = "test k::tests::fast ... ok\ntest k::tests::slow_check ... FAILED\n*** result: Timeout\n"
 
 
-def write_run(directory: Path, outcomes: dict[str, str], planned: int, finished: bool, logs=None) -> None:
+def moved(name: str, lines: int) -> str:
+    """The same mutant after `lines` lines were inserted above its function."""
+    place, what = name.split(": ", 1)
+    file, line, col = place.split(":")
+    return f"{file}:{int(line) + lines}:{col}: {what}"
+
+
+def write_run(directory: Path, outcomes: dict[str, str], planned: int, finished: bool, logs=None,
+              function_line: int = 1, command: str = "cargo mutants --file src/k.rs") -> None:
     out = directory / "mutants.out"
     (out / "log").mkdir(parents=True)
     entries = [{"scenario": "Baseline", "summary": "Success", "log_path": "log/baseline.log"}]
     for i, (name, summary) in enumerate(outcomes.items()):
         log = f"log/m{i}.log"
         (out / log).write_text((logs or {}).get(name, ""))
-        entries.append({"scenario": {"Mutant": {"name": name}}, "summary": summary, "log_path": log})
+        _, line, col = name.split(": ", 1)[0].split(":")
+        mutant = {
+            "name": name,
+            "span": {"start": {"line": int(line), "column": int(col)}},
+            "function": {"span": {"start": {"line": function_line}}},
+        }
+        entries.append({"scenario": {"Mutant": mutant}, "summary": summary, "log_path": log})
     (out / "outcomes.json").write_text(json.dumps({
         "outcomes": entries, "cargo_mutants_version": "27.1.0",
         "end_time": "2026-01-01T00:00:00Z" if finished else None,
     }))
     (out / "mutants.json").write_text(json.dumps([{} for _ in range(planned)]))
-    (directory / "command.txt").write_text("cargo mutants --file src/k.rs")
+    (directory / "command.txt").write_text(command)
     (directory / "commit.txt").write_text("abc1234")
+
+
+def record(tmp_path: Path, *runs: str) -> None:
+    for run in runs:
+        subprocess.run(
+            [sys.executable, str(TOOLS / "record.py"), str(tmp_path / "out" / run), "--ledger",
+             str(tmp_path / "ledger")],
+            check=True, capture_output=True,
+        )
 
 
 def run_report(tmp_path: Path, explained: str) -> tuple[int, str]:
@@ -52,7 +75,7 @@ def run_report(tmp_path: Path, explained: str) -> tuple[int, str]:
                    "<!-- mutants report: end -->\ntail\n")
     (tmp_path / "explained.toml").write_text(explained)
     done = subprocess.run(
-        [sys.executable, str(SCRIPT), "--out-dir", str(tmp_path / "out"), "--explained",
+        [sys.executable, str(TOOLS / "report.py"), "--ledger", str(tmp_path / "ledger"), "--explained",
          str(tmp_path / "explained.toml"), "--doc", str(doc), FILE, "src/other.rs"],
         capture_output=True, text=True,
     )
@@ -68,6 +91,7 @@ def make_runs(tmp_path: Path) -> None:
         MISSED_THEN_KILLED: "CaughtMutant", EQUIVALENT: "MissedMutant", UNEXPLAINED: "MissedMutant",
         HANG: "Timeout",
     }, planned=5, finished=False, logs={MISSED_THEN_KILLED: CAUGHT_LOG, HANG: HANG_LOG})
+    record(tmp_path, "k", "k-rerun-20260101T000000")
 
 
 def test_counts_ratio_and_the_account_of_every_missed_mutant(tmp_path: Path):
@@ -78,7 +102,7 @@ def test_counts_ratio_and_the_account_of_every_missed_mutant(tmp_path: Path):
     assert "old" not in page
     # 6 of 7 tested; caught 2 (one after the rerun), missed 2, timeout 1, unviable 1;
     # ratio (2 + 1) / (2 + 2 + 1) = 60 %; one mutant was missed before the new tests
-    assert "| `src/k.rs` | 6 of 7 | 2 | 2 | 1 | 1 | 60.0 % | 1 |" in page
+    assert "| `src/k.rs` | 6 (1 not reached) | 2 | 2 | 1 | 1 | 60.0 % | 1 |" in page
     assert "| `src/other.rs` | not run yet |" in page
     assert "3:5 `replace + with - in f`: missed, now killed by `k::tests::new_test`, `k::tests::other_test`" in page
     assert "4:9 `replace < with <= in f`: equivalent: same values" in page
@@ -93,3 +117,30 @@ def test_every_missed_mutant_explained_passes(tmp_path: Path):
     code, page = run_report(tmp_path, explained)
     assert code == 0
     assert "UNEXPLAINED" not in page and "match no missed mutant" not in page
+
+
+def test_the_report_needs_only_the_ledger(tmp_path: Path):
+    make_runs(tmp_path)
+    for path in (tmp_path / "out").rglob("*"):
+        if path.is_file():
+            path.unlink()
+    code, page = run_report(tmp_path, "")
+    assert "| `src/k.rs` | 6 (1 not reached) | 2 | 2 | 1 | 1 | 60.0 % | 1 |" in page
+    assert "missed, now killed by `k::tests::new_test`" in page
+
+
+def test_a_rerun_after_code_moved_the_mutants_matches_them_by_place_in_their_function(tmp_path: Path):
+    write_run(tmp_path / "out" / "k", {
+        MISSED_THEN_KILLED: "MissedMutant", UNEXPLAINED: "MissedMutant", CAUGHT: "CaughtMutant",
+    }, planned=3, finished=True)
+    # ten lines were added above f; the iterate rerun retests what was not caught: the killed
+    # mutant at its new line, and nothing of UNEXPLAINED's line, whose code was deleted
+    write_run(tmp_path / "out" / "k-rerun-20260101T000000", {moved(MISSED_THEN_KILLED, 10): "CaughtMutant"},
+              planned=1, finished=True, logs={moved(MISSED_THEN_KILLED, 10): CAUGHT_LOG}, function_line=11,
+              command="cargo mutants --file src/k.rs --iterate")
+    record(tmp_path, "k", "k-rerun-20260101T000000")
+    code, page = run_report(tmp_path, "")
+    assert code == 0
+    assert "| `src/k.rs` | 2 | 2 | 0 | 0 | 0 | 100.0 % | 1 |" in page
+    assert "13:5 `replace + with - in f`: missed, now killed by `k::tests::new_test`" in page
+    assert "UNEXPLAINED" not in page
