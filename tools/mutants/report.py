@@ -165,7 +165,7 @@ def render(modules: list[Module], explanations: dict[str, str], order: list[str]
     for file in [*order, *(m.file for m in modules if m.file not in rank)]:
         m = by_file.get(file)
         if m is None:
-            lines.append(f"| `{file}` | not run yet | | | | | | |")
+            lines.append(f"| `{file}` | not in the ledger | | | | | | |")
             continue
         c, final = m.counts(), m.final()
         tested = f"{len(final)}" + (f" ({m.untested()} not reached)" if m.untested() else "")

@@ -103,7 +103,7 @@ def test_counts_ratio_and_the_account_of_every_missed_mutant(tmp_path: Path):
     # 6 of 7 tested; caught 2 (one after the rerun), missed 2, timeout 1, unviable 1;
     # ratio (2 + 1) / (2 + 2 + 1) = 60 %; one mutant was missed before the new tests
     assert "| `src/k.rs` | 6 (1 not reached) | 2 | 2 | 1 | 1 | 60.0 % | 1 |" in page
-    assert "| `src/other.rs` | not run yet |" in page
+    assert "| `src/other.rs` | not in the ledger |" in page
     assert "3:5 `replace + with - in f`: missed, now killed by `k::tests::new_test`, `k::tests::other_test`" in page
     assert "4:9 `replace < with <= in f`: equivalent: same values" in page
     assert "5:9 `replace * with / in f`: **UNEXPLAINED**" in page
