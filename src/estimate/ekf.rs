@@ -279,3 +279,325 @@ fn joseph_pass<const K: usize>(col: &mut [f64], j: usize, gain: [&[f64]; K], w: 
         col[i] = v;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! The correction against the textbook Kalman update written out here with plain loops
+    //! (gain 𝒦 = P Hᵀ (H P Hᵀ + R)⁻¹ by Gauss–Jordan, Joseph form (I − 𝒦H) P (I − 𝒦H)ᵀ + 𝒦 R 𝒦ᵀ),
+    //! on a linear model whose prediction is x ← F x + b, P ← F P Fᵀ + Q.
+    use super::*;
+
+    type Dense = Vec<Vec<f64>>;
+
+    fn product(a: &Dense, b: &Dense) -> Dense {
+        let (n, k, m) = (a.len(), b.len(), b[0].len());
+        (0..n)
+            .map(|i| {
+                (0..m)
+                    .map(|j| (0..k).map(|l| a[i][l] * b[l][j]).sum())
+                    .collect()
+            })
+            .collect()
+    }
+
+    fn transpose(a: &Dense) -> Dense {
+        (0..a[0].len())
+            .map(|j| a.iter().map(|row| row[j]).collect())
+            .collect()
+    }
+
+    fn inverse(a: &Dense) -> Dense {
+        let n = a.len();
+        let mut aug: Dense = a
+            .iter()
+            .enumerate()
+            .map(|(i, row)| {
+                let mut r = row.clone();
+                r.extend((0..n).map(|j| if i == j { 1.0 } else { 0.0 }));
+                r
+            })
+            .collect();
+        for c in 0..n {
+            let pivot = (c..n)
+                .max_by(|&i, &j| aug[i][c].abs().total_cmp(&aug[j][c].abs()))
+                .unwrap();
+            aug.swap(c, pivot);
+            let d = aug[c][c];
+            aug[c].iter_mut().for_each(|v| *v /= d);
+            for i in (0..n).filter(|&i| i != c) {
+                let f = aug[i][c];
+                let row_c = aug[c].clone();
+                aug[i].iter_mut().zip(&row_c).for_each(|(v, r)| *v -= f * r);
+            }
+        }
+        aug.into_iter().map(|r| r[n..].to_vec()).collect()
+    }
+
+    /// x ← F x + b, P ← F P Fᵀ + diag(q); y = H x + noise of variances r.
+    #[derive(Clone)]
+    struct Linear {
+        f: Dense,
+        b: Vec<f64>,
+        q: Vec<f64>,
+        h: Dense,
+        r: Vec<f64>,
+        frozen: Vec<usize>,
+        /// ('p' | 'c', step) of every call, in order.
+        calls: Vec<(char, usize)>,
+    }
+
+    impl Linear {
+        fn new(m: usize) -> Self {
+            let n = 4;
+            let f = (0..n)
+                .map(|i| {
+                    (0..n)
+                        .map(|j| match (i, j) {
+                            _ if i == j => 0.97 - 0.01 * i as f64,
+                            _ if j == i + 1 => 0.1,
+                            _ if i == j + 2 => -0.05,
+                            _ => 0.0,
+                        })
+                        .collect()
+                })
+                .collect();
+            let h = (0..m)
+                .map(|k| {
+                    (0..n)
+                        .map(|j| (((k + 1) * (j + 2)) % 5) as f64 - 1.5)
+                        .collect()
+                })
+                .collect();
+            Linear {
+                f,
+                b: vec![0.01, -0.02, 0.03, 0.0],
+                q: vec![1e-3, 2e-3, 5e-4, 1e-4],
+                h,
+                r: (0..m).map(|k| 1e-2 * (1.0 + k as f64)).collect(),
+                frozen: vec![],
+                calls: vec![],
+            }
+        }
+
+        fn dense(p: &Mat<f64>) -> Dense {
+            (0..p.nrows())
+                .map(|i| (0..p.ncols()).map(|j| p[(i, j)]).collect())
+                .collect()
+        }
+
+        /// The textbook step: prediction, then the correction with the gain's frozen rows zeroed.
+        fn reference(&self, x: &mut Vec<f64>, p: &mut Dense, y: &[f64]) {
+            let xp: Vec<f64> = (0..x.len())
+                .map(|i| (0..x.len()).map(|j| self.f[i][j] * x[j]).sum::<f64>() + self.b[i])
+                .collect();
+            let mut pp = product(&product(&self.f, p), &transpose(&self.f));
+            (0..x.len()).for_each(|i| pp[i][i] += self.q[i]);
+            let pp: Dense = (0..x.len())
+                .map(|i| (0..x.len()).map(|j| 0.5 * (pp[i][j] + pp[j][i])).collect())
+                .collect();
+            let ht = transpose(&self.h);
+            let mut s = product(&product(&self.h, &pp), &ht);
+            (0..y.len()).for_each(|k| s[k][k] += self.r[k]);
+            let mut gain = product(&product(&pp, &ht), &inverse(&s));
+            for &i in &self.frozen {
+                gain[i].iter_mut().for_each(|g| *g = 0.0);
+            }
+            let hx: Vec<f64> = self
+                .h
+                .iter()
+                .map(|row| row.iter().zip(&xp).map(|(a, b)| a * b).sum())
+                .collect();
+            *x = (0..x.len())
+                .map(|i| {
+                    xp[i]
+                        + (0..y.len())
+                            .map(|k| gain[i][k] * (y[k] - hx[k]))
+                            .sum::<f64>()
+                })
+                .collect();
+            let n = x.len();
+            let l: Dense = (0..n)
+                .map(|i| {
+                    (0..n)
+                        .map(|j| {
+                            let kh: f64 = (0..y.len()).map(|k| gain[i][k] * self.h[k][j]).sum();
+                            if i == j { 1.0 - kh } else { -kh }
+                        })
+                        .collect()
+                })
+                .collect();
+            let r: Dense = (0..y.len())
+                .map(|i| {
+                    (0..y.len())
+                        .map(|j| if i == j { self.r[i] } else { 0.0 })
+                        .collect()
+                })
+                .collect();
+            let lpl = product(&product(&l, &pp), &transpose(&l));
+            let krk = product(&product(&gain, &r), &transpose(&gain));
+            *p = (0..n)
+                .map(|i| (0..n).map(|j| lpl[i][j] + krk[i][j]).collect())
+                .collect();
+        }
+    }
+
+    impl ProcessModel for Linear {
+        type Input = ();
+        fn size(&self) -> usize {
+            self.f.len()
+        }
+        fn measurement_noise(&self) -> &[f64] {
+            &self.r
+        }
+        fn check_input(&self, _: &()) -> Result<(), FilterError> {
+            Ok(())
+        }
+        fn predict(
+            &mut self,
+            step: usize,
+            _: &(),
+            x: &mut [f64],
+            p: &mut Mat<f64>,
+        ) -> Result<(), FilterError> {
+            self.calls.push(('p', step));
+            let n = x.len();
+            let xp: Vec<f64> = (0..n)
+                .map(|i| (0..n).map(|j| self.f[i][j] * x[j]).sum::<f64>() + self.b[i])
+                .collect();
+            x.copy_from_slice(&xp);
+            let mut pp = product(&product(&self.f, &Self::dense(p)), &transpose(&self.f));
+            (0..n).for_each(|i| pp[i][i] += self.q[i]);
+            // symmetrized, so that the correction's exact symmetry can be asserted
+            *p = Mat::from_fn(n, n, |i, j| 0.5 * (pp[i][j] + pp[j][i]));
+            Ok(())
+        }
+        fn measure(&mut self, x: &[f64], predicted: &mut [f64], jm: &mut Mat<f64>) {
+            for (k, row) in self.h.iter().enumerate() {
+                predicted[k] = row.iter().zip(x).map(|(a, b)| a * b).sum();
+                row.iter().enumerate().for_each(|(j, v)| jm[(k, j)] = *v);
+            }
+        }
+        fn frozen(&self) -> &[usize] {
+            &self.frozen
+        }
+        fn corrected(
+            &mut self,
+            step: usize,
+            _: &(),
+            _: &mut [f64],
+            _: &mut Mat<f64>,
+        ) -> Result<(), FilterError> {
+            self.calls.push(('c', step));
+            Ok(())
+        }
+    }
+
+    fn measurements(m: usize, step: usize) -> Vec<f64> {
+        (0..m).map(|k| (0.3 * (k + step) as f64).sin()).collect()
+    }
+
+    fn start() -> (Vec<f64>, Dense) {
+        let x = vec![0.5, -0.2, 0.1, 0.3];
+        let p = (0..4)
+            .map(|i| {
+                (0..4)
+                    .map(|j| if i == j { 0.2 + 0.1 * i as f64 } else { 0.02 })
+                    .collect()
+            })
+            .collect();
+        (x, p)
+    }
+
+    /// Runs three steps of the filter and of the reference; the largest difference of x and P.
+    fn compare(model: Linear) -> f64 {
+        let m = model.r.len();
+        let (mut x_ref, mut p_ref) = start();
+        let p0 = Mat::from_fn(4, 4, |i, j| p_ref[i][j]);
+        let reference = model.clone();
+        let mut ekf = Ekf::new(model, x_ref.clone(), p0);
+        let mut worst = 0.0f64;
+        for step in 1..=3 {
+            let y = measurements(m, step);
+            ekf.predict(&()).unwrap();
+            ekf.correct(&(), &y).unwrap();
+            reference.reference(&mut x_ref, &mut p_ref, &y);
+            for i in 0..4 {
+                worst = worst.max((ekf.x[i] - x_ref[i]).abs());
+                for j in 0..4 {
+                    worst = worst.max((ekf.p[(i, j)] - p_ref[i][j]).abs());
+                    assert_eq!(ekf.p[(i, j)], ekf.p[(j, i)], "P stays exactly symmetric");
+                }
+            }
+        }
+        worst
+    }
+
+    #[test]
+    fn correction_matches_the_textbook_joseph_update_for_every_sensor_grouping() {
+        // one to seven sensors: the Joseph pass groups them by three (3, 3 + 1, 3 + 2, 3 + 3 + 1);
+        // x and P are O(1): round-off of a few dozen operations is ~1e-15
+        for m in 1..=7 {
+            let worst = compare(Linear::new(m));
+            assert!(worst < 1e-12, "{m} sensors: largest difference {worst:e}");
+        }
+    }
+
+    #[test]
+    fn frozen_entries_take_no_correction_and_p_follows_that_gain() {
+        let mut model = Linear::new(3);
+        model.frozen = vec![1, 3];
+        let worst = compare(model);
+        assert!(worst < 1e-12, "largest difference {worst:e}");
+        // and the frozen entries keep their predicted values
+        let mut model = Linear::new(3);
+        model.frozen = vec![2];
+        let (x, p) = start();
+        let mut ekf = Ekf::new(model, x, Mat::from_fn(4, 4, |i, j| p[i][j]));
+        ekf.predict(&()).unwrap();
+        let predicted = ekf.x[2];
+        ekf.correct(&(), &measurements(3, 1)).unwrap();
+        assert_eq!(ekf.x[2], predicted);
+    }
+
+    #[test]
+    fn the_model_sees_the_step_number_of_each_prediction_and_correction() {
+        let (x, p) = start();
+        let mut ekf = Ekf::new(Linear::new(2), x, Mat::from_fn(4, 4, |i, j| p[i][j]));
+        for step in 1..=3 {
+            ekf.predict(&()).unwrap();
+            ekf.correct(&(), &measurements(2, step)).unwrap();
+        }
+        let expected: Vec<(char, usize)> = (1..=3).flat_map(|s| [('p', s), ('c', s)]).collect();
+        assert_eq!(ekf.model.calls, expected);
+    }
+
+    #[test]
+    fn bad_measurements_and_an_indefinite_innovation_are_refused_with_their_step() {
+        let (x, p) = start();
+        let p0 = Mat::from_fn(4, 4, |i, j| p[i][j]);
+        let mut ekf = Ekf::new(Linear::new(2), x.clone(), p0.clone());
+        ekf.predict(&()).unwrap();
+        assert!(matches!(
+            ekf.correct(&(), &[0.0; 3]),
+            Err(FilterError::Shape {
+                expected: 2,
+                got: 3,
+                ..
+            })
+        ));
+        ekf.predict(&()).unwrap();
+        assert!(matches!(
+            ekf.correct(&(), &[f64::NAN, 0.0]),
+            Err(FilterError::NonFinite { step: 2 })
+        ));
+        // a negative noise variance larger than H P Hᵀ: S_y is not positive definite
+        let mut model = Linear::new(2);
+        model.r = vec![-1e6, 1e-2];
+        let mut ekf = Ekf::new(model, x, p0);
+        ekf.predict(&()).unwrap();
+        assert!(matches!(
+            ekf.correct(&(), &[0.0, 0.0]),
+            Err(FilterError::Innovation { step: 1 })
+        ));
+    }
+}
