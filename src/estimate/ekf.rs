@@ -521,10 +521,10 @@ mod tests {
             ekf.predict(&()).unwrap();
             ekf.correct(&(), &y).unwrap();
             reference.reference(&mut x_ref, &mut p_ref, &y);
-            for i in 0..4 {
+            for (i, row) in p_ref.iter().enumerate() {
                 worst = worst.max((ekf.x[i] - x_ref[i]).abs());
-                for j in 0..4 {
-                    worst = worst.max((ekf.p[(i, j)] - p_ref[i][j]).abs());
+                for (j, reference) in row.iter().enumerate() {
+                    worst = worst.max((ekf.p[(i, j)] - reference).abs());
                     assert_eq!(ekf.p[(i, j)], ekf.p[(j, i)], "P stays exactly symmetric");
                 }
             }
