@@ -353,10 +353,13 @@ $ Marker {ee} is the EE centre. Gravity: GRAV 1, 9.81 m/s2 along -z.
 """
 
 
-def write_include(path: Path, flexible: bool, rigid: dict, links: dict) -> dict:
-    """The mechanism include (flexible links, or the rigid-link variant); its ids (``info``)."""
+def include_text(name: str, flexible: bool, rigid: dict, links: dict, artifacts: dict | None = None,
+                 prov: str = PROVENANCE) -> tuple[str, dict]:
+    """The text of the mechanism include ``name`` (flexible links, or the rigid-link variant) and
+    its ids (``info``). ``artifacts`` replaces the pROM artifact of the bodies it names (e.g. the
+    composite sides)."""
     cards, info = mechanism(flexible)
-    out = [HEADER.format(what=path.name, prov=PROVENANCE, ee=info["ee_marker"],
+    out = [HEADER.format(what=name, prov=prov, ee=info["ee_marker"],
                          drives=": M1-M4 compliant (Table 4.7), M5 rigid" if flexible else "",
                          kind="(flexible, FLEXB of the pROMs beside this file)" if flexible
                          else "(rigid: each link's FE mass properties;\n$ every drive rigid: the rigid chain of the holding-torque check)")]
@@ -366,13 +369,20 @@ def write_include(path: Path, flexible: bool, rigid: dict, links: dict) -> dict:
             cid = 0 if name == "P" else 10 + bid
             if cid:
                 out.append(pl.cord2r(cid))
+            artifact = (artifacts or {}).get(name, artifact)
             out.append(card("FLEXB", bid, name, f"'{artifact}'", cid))
         else:
             out.append(rigidb(bid, name, links[name]))
     for name, bid in RIGID_IDS.items():
         out.append(rigidb(bid, name, rigid[name]))
     out += cards
-    path.write_text("".join(out))
+    return "".join(out), info
+
+
+def write_include(path: Path, flexible: bool, rigid: dict, links: dict) -> dict:
+    """Writes the mechanism include (flexible links, or the rigid-link variant); its ids."""
+    text, info = include_text(path.name, flexible, rigid, links)
+    path.write_text(text)
     return info
 
 
