@@ -140,6 +140,49 @@ fn driven_rod_torque_power_and_energy_match_the_statics() {
     }
 }
 
+/// A rigid two-link arm in gravity with both joints driven (θ₁ = t, θ₂ = −t/2 relative):
+/// `POWER` and `ENERGY` with REF blank are the sums over the drives (eq. 6.1 f₂), equal to
+/// the per-drive sensors' sum to round-off, and the total actuation energy is the mechanical
+/// energy gained, ΔKE (the `KE` sensor) + ΔPE (g Σ m y of the centres, `POS` sensors on
+/// markers there): no damping, no other force. Bound 2e-3 of the energy gained (11.1 J): the
+/// step-end rule of ∫ ω T dt errs by about Δt/2 · |P(t_end) − P(0)| = 0.5 ms · 13 W = 6.5e-3 J
+/// (6e-4 of it), and BDF1's own energy drift is O(Δt) as well; measured 2.2e-4.
+#[test]
+fn total_drive_energy_is_the_sum_over_drives_and_the_mechanical_energy_gained() {
+    let text = "SOL FMB\nCEND\nTSTEP = 1\nLOAD = 1\nBEGIN BULK\nTSTEP,1,1000,1.e-3,1\n\
+        GRAV,1,,9.81,0.,-1.,0.\n\
+        RIGIDB,1,L1,2.,,0.3,0.,0.\n,1.e-4,0.,0.06,0.,0.,0.06\n\
+        RIGIDB,2,L2,1.,,0.85,0.,0.\n,1.e-4,0.,0.0208333,0.,0.,0.0208333\n\
+        MARKER,10,1,,0.,0.,0.\nMARKER,11,1,,0.6,0.,0.\nMARKER,12,1,,0.3,0.,0.\n\
+        MARKER,20,2,,0.6,0.,0.\nMARKER,22,2,,0.85,0.,0.\n\
+        JOINT,1,REV,10,0,0.,0.,1.\nJOINT,2,REV,20,11,0.,0.,1.\n\
+        JDRIVE,1,1,5,1.\nJDRIVE,2,2,6,1.\n\
+        TABLED1,5\n,0.,0.,10.,10.,ENDT\nTABLED1,6\n,0.,0.,10.,-5.,ENDT\n\
+        MSENSOR,1,P1,POWER,,1\nMSENSOR,2,P2,POWER,,2\nMSENSOR,3,PALL,POWER\n\
+        MSENSOR,4,W1,ENERGY,,1\nMSENSOR,5,W2,ENERGY,,2\nMSENSOR,6,WALL,ENERGY\n\
+        MSENSOR,7,KIN,KE\nMSENSOR,8,Y1,POS,,12,0.,1.,0.\nMSENSOR,9,Y2,POS,,22,0.,1.,0.\n\
+        ENDDATA\n";
+    let (file, _dir) = run_to_file(text);
+    let g = file.group("results/1/fmb/sensors").unwrap();
+    let read = |name: &str| read_dataset::<f64>(&g, name);
+    let (p1, p2, pall) = (read("P1"), read("P2"), read("PALL"));
+    let (w1, w2, wall) = (read("W1"), read("W2"), read("WALL"));
+    let (kinetic, y1, y2) = (read("KIN"), read("Y1"), read("Y2"));
+    let gained = |i: usize| kinetic[i] - kinetic[0] + G * (2.0 * (y1[i] - y1[0]) + (y2[i] - y2[0]));
+    let scale = (0..wall.len()).map(|i| gained(i).abs()).fold(0.0, f64::max);
+    assert!(scale > 1.0, "the arm gains energy: {scale}");
+    for i in 0..wall.len() {
+        assert!((pall[i] - (p1[i] + p2[i])).abs() <= 1e-12 * (p1[i].abs() + p2[i].abs()));
+        assert!((wall[i] - (w1[i] + w2[i])).abs() <= 1e-12 * (w1[i].abs() + w2[i].abs()));
+        assert!(
+            (wall[i] - gained(i)).abs() < 2e-3 * scale,
+            "step {i}: energy {} against ΔKE + ΔPE {}",
+            wall[i],
+            gained(i)
+        );
+    }
+}
+
 /// Builds the strip body's pROM (decks/fmb/strip_body_prom.dat, optionally edited) into a temp
 /// directory as `strip_body.h5`, the name the FMB decks beside it read.
 fn strip_artifact(edit: impl Fn(String) -> String) -> tempfile::TempDir {

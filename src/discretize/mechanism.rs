@@ -507,6 +507,8 @@ impl MechanismSystem {
                 (MsensorKind::Energy, SensorTarget::Drive(d)) => {
                     Output::DriveEnergy(self.drives[d])
                 }
+                (MsensorKind::Power, SensorTarget::System) => Output::DrivesPower,
+                (MsensorKind::Energy, SensorTarget::System) => Output::DrivesEnergy,
                 (MsensorKind::Ke, _) => Output::KineticEnergy,
                 (MsensorKind::Dev, SensorTarget::Marker(m)) => Output::Deviation(self.markers[m]),
                 (MsensorKind::Strain, SensorTarget::Strain { body, sensor }) => Output::Strain {

@@ -670,6 +670,7 @@ pub fn read_pfmb(path: &Path, loc: &Loc) -> Result<Pfmb, IoError> {
             MsensorKind::Jforce | MsensorKind::Jtorq => {
                 SensorTarget::Joint(joint(reference[i], "sensors/ref")?)
             }
+            MsensorKind::Power | MsensorKind::Energy if reference[i] == 0 => SensorTarget::System,
             MsensorKind::Power | MsensorKind::Energy => {
                 SensorTarget::Drive(s.index(&drive_ids, reference[i], "ref")?)
             }

@@ -736,6 +736,10 @@ pub fn build(
                 }
                 j.map(SensorTarget::Joint)
             }
+            // REF blank: every drive, the total of eq. 6.1 f₂
+            MsensorKind::Power | MsensorKind::Energy if s.reference.is_none() => {
+                Some(SensorTarget::System)
+            }
             MsensorKind::Power | MsensorKind::Energy => {
                 let d = m.drives.iter().position(|d| d.id == reference);
                 if d.is_none() {

@@ -36,8 +36,12 @@ pub enum Output {
     DriveEffort(usize),
     /// A drive's power ω T.
     DrivePower(usize),
-    /// A drive's actuation energy ∫ ω T dt so far (eq. 6.1 f₂).
+    /// A drive's actuation energy ∫ ω T dt so far.
     DriveEnergy(usize),
+    /// The power Σ ω T of every drive.
+    DrivesPower,
+    /// The actuation energy of every drive, Σ ∫ ω T dt so far (eq. 6.1 f₂).
+    DrivesEnergy,
     /// Kinetic energy of the system.
     KineticEnergy,
     /// The distance ‖x − x_R‖ of a marker from the same marker of the rigid twin (eq. 4.10),
@@ -137,6 +141,8 @@ pub(super) fn value(ggl: &Ggl, twin: Option<&Ggl>, output: &Output, energy: &[f6
         &Output::DriveEffort(d) => ggl.drive_effort(d),
         &Output::DrivePower(d) => drive_row(ggl, d)[3],
         &Output::DriveEnergy(d) => energy[d],
+        Output::DrivesPower => (0..energy.len()).map(|d| drive_row(ggl, d)[3]).sum(),
+        Output::DrivesEnergy => energy.iter().sum(),
         Output::KineticEnergy => ggl.kinetic_energy(),
         &Output::Deviation(marker) => twin.map_or(f64::NAN, |twin| {
             norm(sub(
@@ -256,6 +262,7 @@ impl Recorder<'_> {
             for (output, series) in self.outputs.iter().zip(series.iter_mut()) {
                 let rate = match output {
                     &Output::DriveEnergy(d) => energy[d],
+                    Output::DrivesEnergy => energy.iter().sum(),
                     Output::KineticEnergy => {
                         kinetic_energy_rate(ggl, rate) + s.along(ggl, |g| g.kinetic_energy())
                     }

@@ -453,9 +453,9 @@ impl Mforce {
 /// |---|---|---|---|---|
 /// | 2 | ID | int > 0 | required | id |
 /// | 3 | NAME | name | required | output name (unique) |
-/// | 4 | KIND | `POS` `ACCEL` `JFORCE` `JTORQ` `POWER` `ENERGY` `KE` `STRAIN` `DEV` | required | global position (eq. 2.58) or acceleration (eq. 2.59) of marker REF along N; reaction force of joint REF (REV, FIX, SPH or UNIV) on MK1's body along N; torque (force) of the JDRIVE of joint REF; power ω·T and actuation energy ∫ω·T dt of JDRIVE REF (eq. 6.1 f₂); kinetic energy of the system (REF blank); strain ε = C_ε q_f of the flexible body BODY at the STRAIN sensor REF of its artifact (eq. 2.57; relative to the configuration case control `STRREF` names); `DEV`: the distance ‖x − x_R‖ of marker REF from the same marker of the rigid twin (eq. 4.10: the mechanism with its flexible bodies rigid, with their undeformed mass properties at p; run only when a DEV output is selected) |
+/// | 4 | KIND | `POS` `ACCEL` `JFORCE` `JTORQ` `POWER` `ENERGY` `KE` `STRAIN` `DEV` | required | global position (eq. 2.58) or acceleration (eq. 2.59) of marker REF along N; reaction force of joint REF (REV, FIX, SPH or UNIV) on MK1's body along N; torque (force) of the JDRIVE of joint REF; power ω·T and actuation energy ∫ω·T dt of JDRIVE REF, or with REF blank summed over every JDRIVE (eq. 6.1 f₂); kinetic energy of the system (REF blank); strain ε = C_ε q_f of the flexible body BODY at the STRAIN sensor REF of its artifact (eq. 2.57; relative to the configuration case control `STRREF` names); `DEV`: the distance ‖x − x_R‖ of marker REF from the same marker of the rigid twin (eq. 4.10: the mechanism with its flexible bodies rigid, with their undeformed mass properties at p; run only when a DEV output is selected) |
 /// | 5 | BODY | int ≥ 0 | 0 | the FLEXB of a STRAIN output; blank otherwise |
-/// | 6 | REF | int > 0 or name | blank | marker (POS, ACCEL, DEV), joint (JFORCE, JTORQ) or JDRIVE (POWER, ENERGY) id; the name of a STRAIN sensor of BODY's artifact (STRAIN); blank for KE |
+/// | 6 | REF | int > 0 or name | blank | marker (POS, ACCEL, DEV), joint (JFORCE, JTORQ) or JDRIVE (POWER, ENERGY; blank: every JDRIVE) id; the name of a STRAIN sensor of BODY's artifact (STRAIN); blank for KE |
 /// | 7–9 | N1 N2 N3 | real | required for POS, ACCEL, JFORCE | direction in the global (basic) system, normalized |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Msensor {
@@ -495,7 +495,8 @@ impl Msensor {
             (MsensorKind::Ke, Some(_)) => {
                 f.error(5, "REF", "KE is the system's: REF must be blank")
             }
-            (MsensorKind::Ke, None) => {}
+            // POWER and ENERGY with REF blank: the sum over every JDRIVE (eq. 6.1 f₂)
+            (MsensorKind::Ke | MsensorKind::Power | MsensorKind::Energy, None) => {}
             (_, None) => f.error(
                 5,
                 "REF",
