@@ -31,8 +31,8 @@ pub struct Entry<'a, K, T> {
 /// Index the entries by id; every repeated id is an error at the repeat, naming the first.
 ///
 /// `space` names the id space in the message (`"element"`, `"property"` …).
-pub fn index<K, T>(
-    entries: Vec<Entry<'_, K, T>>,
+pub fn index<'a, K, T>(
+    entries: Vec<Entry<'a, K, T>>,
     space: &str,
     errors: &mut Vec<DeckError>,
 ) -> HashMap<K, T>
@@ -40,7 +40,7 @@ where
     K: Hash + Eq + Clone + std::fmt::Display,
 {
     let mut map: HashMap<K, T> = HashMap::with_capacity(entries.len());
-    let mut first: HashMap<K, (&'static str, Loc)> = HashMap::with_capacity(entries.len());
+    let mut first: HashMap<K, (&'static str, &'a Loc)> = HashMap::with_capacity(entries.len());
     for e in entries {
         if let Some((card, loc)) = first.get(&e.id) {
             errors.push(
@@ -55,7 +55,7 @@ where
             );
             continue;
         }
-        first.insert(e.id.clone(), (e.card, e.loc.clone()));
+        first.insert(e.id.clone(), (e.card, e.loc));
         map.insert(e.id, e.value);
     }
     map
