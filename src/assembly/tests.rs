@@ -200,6 +200,28 @@ fn rbe2_joins_two_springs() {
     assert_eq!(s.sets.m.len(), 6);
 }
 
+/// An MPC 2 u2 − u3 − 3 u4 = 0 (T1 of each), u2 dependent: u2 = u3/2 + 3 u4/2. Springs
+/// k3 = 100 and k4 = 150 hold grids 3 and 4 to the clamped grid 1 and F = 10 pulls grid 2: by
+/// virtual work k3 u3 = F/2, k4 u4 = 3F/2, so u3 = 0.05, u4 = 0.1 and u2 = 0.175.
+#[test]
+fn mpc_equation_ties_its_first_term_to_the_others() {
+    let bulk = format!(
+        "{CHAIN}MPC,5,2,1,2.,3,1,-1.\n,,4,1,-3.\nSPC1,1,123456,1\nSPC1,1,23456,2,3,4\n\
+         FORCE,2,2,,10.,1.,0.,0.\n"
+    );
+    let m = model(&bulk, "SPC = 1\nMPC = 5\nLOAD = 2\n");
+    let s = solve(
+        &m,
+        &[spring(100., t1(0), t1(2)), spring(150., t1(0), t1(3))],
+    )
+    .expect("solve");
+    assert!(
+        close(s.u_g[t1(1)], 0.175) && close(s.u_g[t1(2)], 0.05) && close(s.u_g[t1(3)], 0.1),
+        "{:?}",
+        s.u_g
+    );
+}
+
 /// RBE2 kinematics with a lever arm: a rotation θz = 1 of GN moves a dependent grid at
 /// r = (0, 1, 0) by θ × r = (−1, 0, 0); chains (GM of one RBE2 is GN of the next) resolve.
 #[test]
