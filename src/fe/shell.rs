@@ -1,6 +1,6 @@
 //! Four- and three-node Mindlin–Reissner shells (CQUAD4, CTRIA3): MITC4 and MITC3 with a
-//! Hughes–Brezzi drilling rotation, the quad with an Allman-type drilling membrane and two
-//! incompatible membrane modes condensed with the nominal section (DESIGN.md §4).
+//! Hughes–Brezzi drilling rotation, the quad with straight edges and the four incompatible
+//! membrane modes of QM6 condensed with the nominal section (DESIGN.md §4).
 //!
 //! # Formulation
 //!
@@ -42,42 +42,51 @@
 //! (½, ½); ẽ_r = e_rᵗ¹ + c·s, ẽ_s = e_sᵗ² − c·r, c = e_sᵗ² − e_rᵗ¹ + e_rᵗ³ − e_sᵗ³ (constant
 //! tangential shear along each edge).
 //!
-//! **Membrane and drilling (CQUAD4).** The quad membrane is the drilling-rotation element of
-//! Ibrahimbegovic, Taylor & Wilson, "A robust quadrilateral membrane finite element with
-//! drilling degrees of freedom", IJNME 30 (1990) 445–457, after Allman (1984, 1988): bilinear
-//! u, v plus, on each edge i→j (length l, outward normal n), the quadratic Allman mode
-//! N_k (θz_j − θz_i) l n / 8 with the serendipity mid-side function N_k (N_5 = ½(1−ξ²)(1−η), …),
-//! i.e. (u, v) += N_k (θz_j − θz_i) (y_j − y_i, x_i − x_j)/8: a normal edge displacement whose
-//! end slopes are the corner drilling rotations, conforming between neighbours. The
-//! Hughes–Brezzi penalty ½∫γ (θz − ω)² dA (Hughes & Brezzi, CMAME 72 (1989) 105–121),
-//! ω = ½(∂v/∂x − ∂u/∂y) of this field, has the full strength γ = `section.drill` = A66 = G·t
-//! (`DRILL_FRACTION` = 1, see [`crate::fe::laminate`]) that ITW recommend: θz is then the true
-//! rotation of the membrane, which ties the rotations of non-coplanar neighbours (twisted
-//! shells). Membrane strains and the penalty use 2 × 2 Gauss points. The in-plane shear is an
-//! assumed strain: in the element's intrinsic axes (x along ∂x/∂ξ at the centre) εxx and εyy
-//! are taken at the Gauss points and γxy is the element mean (1/A)∫γxy dA (for the bilinear
-//! part this is the centre value; for the Allman part it is not, and only the mean keeps
-//! ∫Bᵀσ dA exact for constant σ, i.e. the patch test). This removes the parasitic shear of
-//! in-plane bending (a 20 × 2 cantilever: 1.002 of beam theory with γ = A66; with the plain
-//! Gauss-point shear 0.888). The reported membrane strains are the element means. The Allman
-//! modes carry no mass.
+//! **Membrane and drilling (CQUAD4).** Every edge of the quad membrane is straight and its
+//! displacement linear in the corner translations, as in Nastran's QUAD4: a support that holds
+//! the translations of an edge's grids holds the edge, and edge loads applied as nodal FORCEs
+//! are the consistent load, whatever the drilling rotations do (a uniform-tension patch with θz
+//! free is exact, `membrane_tension_patch_with_free_drilling_rotations_is_exact`). The
+//! membrane is the bilinear u, v with Taylor's incompatible modes below (QM6), strains at 2 × 2
+//! Gauss points, and the drilling rotation θz enters only through the Hughes–Brezzi penalty
+//! ½∫γ (θz − ω)² dA (Hughes & Brezzi, "On drilling degrees of freedom", CMAME 72 (1989)
+//! 105–121), ω = ½(∂v/∂x − ∂u/∂y) the rotation of the enhanced field (bilinear + modes),
+//! integrated at the same 2 × 2 points: no spurious zero-energy mode (six rigid-body modes,
+//! tested flat and warped). γ = `section.drill` = A66 = G·t (`DRILL_FRACTION` = 1, see
+//! [`crate::fe::laminate`]): θz is then the rotation of the membrane, which ties the rotations
+//! of non-coplanar neighbours. Measured on the MacNeal–Harder beams (tests/references.rs) for
+//! γ/A66 = 1, 10⁻¹, 10⁻², 10⁻³: the straight beam's in-plane shear 0.993 (rectangles) at every
+//! γ, 0.952, 0.988, 0.993, 0.993 (parallelograms), 0.049–0.052 (trapezoids); the thick twisted
+//! beam 0.997/1.001, 0.999/1.004, 1.028/1.028, 1.306/1.266 (loads z/y): a weak tie lets the
+//! twisted facets' normal rotations go soft, so the full strength is kept. The element with
+//! the modes has no assumed strains: with the modes the parasitic shear of in-plane bending is
+//! gone (QM6), and the element-mean shear used without them (`PARAM,QINCOMP`) would, with the
+//! modes (1 − ξ²) y_i and (1 − η²) x_i, leave zero-energy hourglass modes. The reported
+//! membrane strains are the element means of the compatible field.
 //!
-//! **Incompatible modes (CQUAD4).** Bilinear and Allman fields cannot give εy the linear
-//! variation across the depth that pure in-plane bending needs (εy = −ν εx): without more, the
-//! element is too stiff in in-plane bending by 1/(1 − ν²) (MacNeal–Harder rectangular cantilever
-//! 0.904). Two Wilson incompatible modes, in Taylor's form (Taylor, Beresford & Wilson, "A
-//! non-conforming element for stress analysis", IJNME 10 (1976) 1211–1219), are added to the
-//! membrane: (u, v) += α₁ (1 − ξ²) x_i + α₂ (1 − η²) y_i along the intrinsic axes x_i, y_i,
-//! with Cartesian derivatives taken from the centre Jacobian J₀ and scaled by detJ₀/detJ, so that
-//! ∫B_i dA = 0 exactly (2 × 2 Gauss) on any convex quad: the patch test holds, and the element
-//! means of the strains (what is reported) are those of the compatible field. The modes take
-//! the same assumed shear as the rest of the membrane, i.e. none (their mean shear is zero), so
-//! they add only εxx ∝ ξ and εyy ∝ η in the intrinsic axes and cannot bring the parasitic
-//! shear back; the other two QM6 modes, (1 − η²) x_i and (1 − ξ²) y_i, would then carry no
-//! strain on a rectangle and are left out. The modes enter neither the drilling residual (as
-//! in QM6, which has no θz) nor the mass. Pure in-plane bending of a rectangle (u = −κxy,
-//! v = κ(x² + νy²)/2) now lies in the element space and is exact
-//! (`fe::shell_tests::quad_in_plane_pure_bending_is_exact`).
+//! Edges linear in the corner translations cost accuracy on tapered shapes: by MacNeal's
+//! theorem ("A theorem regarding the locking of tapered four-noded membrane elements", IJNME 24
+//! (1987) 1793–1799) such an element that passes the patch test locks in in-plane bending of
+//! trapezoids (MacNeal–Harder trapezoidal beam: 0.049; MSC's QUAD4 0.173, CalculiX C3D8I
+//! 0.051). Allman's edge modes, which this element used before (Ibrahimbegovic, Taylor & Wilson,
+//! IJNME 30 (1990) 445–457) escape the theorem (trapezoids 0.954) only because their edges
+//! bulge with the corner θz, which made a free-θz support or nodal-force edge load wrong by a
+//! boundary layer of first order in h (43 % of u_x on a 3 × 2 tension patch).
+//!
+//! **Incompatible modes (CQUAD4).** The bilinear field cannot bend in its plane without
+//! parasitic shear, nor give εy the linear variation across the depth that pure in-plane
+//! bending needs. The four modes of QM6 (Taylor, Beresford & Wilson, "A non-conforming element
+//! for stress analysis", IJNME 10 (1976) 1211–1219) are added: (u, v) += α₁ (1 − ξ²) x_i +
+//! α₂ (1 − η²) y_i + α₃ (1 − η²) x_i + α₄ (1 − ξ²) y_i along the intrinsic axes x_i, y_i
+//! (x_i along ∂x/∂ξ at the centre), with Cartesian derivatives taken from the centre Jacobian
+//! J₀ and scaled by detJ₀/detJ, so that ∫B_i dA = 0 exactly (2 × 2 Gauss) on any convex quad:
+//! the patch test holds, the modes are orthogonal to any constant stress (the nodal-force patch
+//! above is exact with and without them), and the element means of the strains (what is
+//! reported) are those of the compatible field. Their rotation enters the drilling residual, so
+//! θz follows the rotation of in-plane bending. On a parallelogram the map is affine and every
+//! quadratic field lies in the element space, so pure in-plane bending (u = −κxy,
+//! v = κ(x² + νy²)/2, θz = κx) is exact, rectangles and parallelograms alike
+//! (`fe::shell_tests::quad_in_plane_pure_bending_is_exact`). The modes carry no mass.
 //!
 //! **Frozen condensation.** The modes are condensed per element, α = T q with
 //! T = −K_ii⁺ K_ic, K_ii = ∫B_iᵀ C B_i dA, K_ic = ∫B_iᵀ C B dA (K_ii⁺: pseudo-inverse, zero for a
@@ -92,17 +101,27 @@
 //! condensation is frozen, and since the condensed energy is the minimum over α,
 //! K_frozen − K_condensed is positive semi-definite and of second order in the change of the
 //! section (`frozen_condensation_is_exact_under_scaling_and_second_order_otherwise`: ν 0.3 →
-//! 0.2 changes K by 2.3e-3 of its largest entry, 0.3 → 0.25 by 5.9e-4). C is the full section:
-//! the modes only strain the reference plane, so K_ii involves A only, while K_ic also takes
-//! the coupling B (offsets, unsymmetric laminates) — the condensation of the element's own
-//! energy, in which a curvature of an offset shell strains the reference plane, rather than of
-//! its membrane part alone.
+//! 0.2 changes K by NU02 of its largest entry, 0.3 → 0.25 by NU025). C is the full section:
+//! the modes only strain the reference plane and rotate it, so K_ii involves A and the drilling
+//! modulus (a fixed multiple of A66) only, while K_ic also takes the coupling B (offsets,
+//! unsymmetric laminates) — the condensation of the element's own energy, in which a curvature
+//! of an offset shell strains the reference plane, rather than of its membrane part alone.
 //!
 //! **`PARAM,QINCOMP`.** The modes are a user choice ([`Incompatible`]): `YES` (default)
-//! condenses them as above; `NO` leaves them out (T = 0, B̄ = B: the plain Allman membrane,
-//! Poisson-stiff in in-plane bending by ≈ 1/(1 − ν²)), so K(section) depends on the section
-//! alone and a pROM with ν, Θ or ply-thickness parameters agrees to round-off with a deck
-//! rebuilt at any parameter value.
+//! condenses them as above; `NO` leaves them out, so K(section) depends on the section alone
+//! and a pROM with ν, Θ or ply-thickness parameters agrees to round-off with a deck rebuilt at
+//! any parameter value. The bilinear membrane then takes two B̄-type corrections in place of
+//! the modes: the in-plane shear is an assumed strain — in the intrinsic axes εxx and εyy are
+//! taken at the Gauss points and γxy is the element mean (1/A)∫γxy dA, which removes the
+//! parasitic shear of in-plane bending and keeps ∫Bᵀσ dA exact for constant σ — and the
+//! drilling residual is θz − ω* with ω* = ω + (ω − ω̄) (ω̄ the element mean): the hourglass
+//! rotation of the bilinear field is half the rotation of the bending it stands for (on a
+//! rectangle u = −κxy has ω = κx/2 about the centre, the bending rotation is κx), and with ω
+//! itself the penalty locks in-plane bending (MacNeal–Harder rectangular beam 0.285 against
+//! 0.904). Constant strains and rigid rotations are unchanged. The element is then exact for
+//! the rectangle's pure bending but for the Poisson term (εy cannot vary across the depth: too
+//! stiff by 1/(1 − ν²), rectangular beam 0.904) and locks on parallelograms (0.033) and
+//! trapezoids (0.065).
 //!
 //! **Membrane and drilling (CTRIA3).** Linear u, v (constant strain) with the same penalty at
 //! γ = `TRIA_DRILL_SCALE`·`section.drill` = 10⁻³·A66, integrated at the 3 points. The Allman
@@ -863,7 +882,7 @@ fn mass_density(m: &ShellMass) -> [[f64; 6]; 6] {
     r
 }
 
-/// CQUAD4 stiffness (24 × 24, basic system), MITC4 with the Allman-type drilling membrane and,
+/// CQUAD4 stiffness (24 × 24, basic system), MITC4 with the straight-edged drilling membrane and,
 /// with [`Incompatible::Condensed`], incompatible membrane modes condensed with that nominal
 /// section (module doc, "frozen condensation"); linear in `section`. `Condensed(section)`
 /// gives the element with its modes condensed exactly; the affine parts of a parametrized
