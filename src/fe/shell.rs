@@ -101,7 +101,7 @@
 //! condensation is frozen, and since the condensed energy is the minimum over α,
 //! K_frozen − K_condensed is positive semi-definite and of second order in the change of the
 //! section (`frozen_condensation_is_exact_under_scaling_and_second_order_otherwise`: ν 0.3 →
-//! 0.2 changes K by NU02 of its largest entry, 0.3 → 0.25 by NU025). C is the full section:
+//! 0.2 changes K by 2.3e-3 of its largest entry, 0.3 → 0.25 by 5.7e-4). C is the full section:
 //! the modes only strain the reference plane and rotate it, so K_ii involves A and the drilling
 //! modulus (a fixed multiple of A66) only, while K_ic also takes the coupling B (offsets,
 //! unsymmetric laminates) — the condensation of the element's own energy, in which a curvature
@@ -587,7 +587,7 @@ fn assume_membrane_shear_and_rotation(
             .map(|c| if c % 6 == 5 { p.shape[c / 6] } else { 0.0 } - p.b[(8, c)])
             .collect()
     };
-    let mut mean_rotation = vec![0.0; 24];
+    let mut mean_rotation = [0.0; 24];
     for p in points.iter() {
         for (m, w) in mean_rotation.iter_mut().zip(rotation(p)) {
             *m += w * p.wdet / area;
