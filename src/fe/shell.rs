@@ -1,6 +1,6 @@
 //! Four- and three-node Mindlin–Reissner shells (CQUAD4, CTRIA3): MITC4 and MITC3 with a
-//! Hughes–Brezzi drilling rotation, the quad with an Allman-type drilling membrane and two
-//! incompatible membrane modes condensed with the nominal section (DESIGN.md §4).
+//! Hughes–Brezzi drilling rotation, the quad with straight edges and the four incompatible
+//! membrane modes of QM6 condensed with the nominal section (DESIGN.md §4).
 //!
 //! # Formulation
 //!
@@ -42,42 +42,51 @@
 //! (½, ½); ẽ_r = e_rᵗ¹ + c·s, ẽ_s = e_sᵗ² − c·r, c = e_sᵗ² − e_rᵗ¹ + e_rᵗ³ − e_sᵗ³ (constant
 //! tangential shear along each edge).
 //!
-//! **Membrane and drilling (CQUAD4).** The quad membrane is the drilling-rotation element of
-//! Ibrahimbegovic, Taylor & Wilson, "A robust quadrilateral membrane finite element with
-//! drilling degrees of freedom", IJNME 30 (1990) 445–457, after Allman (1984, 1988): bilinear
-//! u, v plus, on each edge i→j (length l, outward normal n), the quadratic Allman mode
-//! N_k (θz_j − θz_i) l n / 8 with the serendipity mid-side function N_k (N_5 = ½(1−ξ²)(1−η), …),
-//! i.e. (u, v) += N_k (θz_j − θz_i) (y_j − y_i, x_i − x_j)/8: a normal edge displacement whose
-//! end slopes are the corner drilling rotations, conforming between neighbours. The
-//! Hughes–Brezzi penalty ½∫γ (θz − ω)² dA (Hughes & Brezzi, CMAME 72 (1989) 105–121),
-//! ω = ½(∂v/∂x − ∂u/∂y) of this field, has the full strength γ = `section.drill` = A66 = G·t
-//! (`DRILL_FRACTION` = 1, see [`crate::fe::laminate`]) that ITW recommend: θz is then the true
-//! rotation of the membrane, which ties the rotations of non-coplanar neighbours (twisted
-//! shells). Membrane strains and the penalty use 2 × 2 Gauss points. The in-plane shear is an
-//! assumed strain: in the element's intrinsic axes (x along ∂x/∂ξ at the centre) εxx and εyy
-//! are taken at the Gauss points and γxy is the element mean (1/A)∫γxy dA (for the bilinear
-//! part this is the centre value; for the Allman part it is not, and only the mean keeps
-//! ∫Bᵀσ dA exact for constant σ, i.e. the patch test). This removes the parasitic shear of
-//! in-plane bending (a 20 × 2 cantilever: 1.002 of beam theory with γ = A66; with the plain
-//! Gauss-point shear 0.888). The reported membrane strains are the element means. The Allman
-//! modes carry no mass.
+//! **Membrane and drilling (CQUAD4).** Every edge of the quad membrane is straight and its
+//! displacement linear in the corner translations, as in Nastran's QUAD4: a support that holds
+//! the translations of an edge's grids holds the edge, and edge loads applied as nodal FORCEs
+//! are the consistent load, whatever the drilling rotations do (a uniform-tension patch with θz
+//! free is exact, `membrane_tension_patch_with_free_drilling_rotations_is_exact`). The
+//! membrane is the bilinear u, v with Taylor's incompatible modes below (QM6), strains at 2 × 2
+//! Gauss points, and the drilling rotation θz enters only through the Hughes–Brezzi penalty
+//! ½∫γ (θz − ω)² dA (Hughes & Brezzi, "On drilling degrees of freedom", CMAME 72 (1989)
+//! 105–121), ω = ½(∂v/∂x − ∂u/∂y) the rotation of the enhanced field (bilinear + modes),
+//! integrated at the same 2 × 2 points: no spurious zero-energy mode (six rigid-body modes,
+//! tested flat and warped). γ = `section.drill` = A66 = G·t (`DRILL_FRACTION` = 1, see
+//! [`crate::fe::laminate`]): θz is then the rotation of the membrane, which ties the rotations
+//! of non-coplanar neighbours. Measured on the MacNeal–Harder beams (tests/references.rs) for
+//! γ/A66 = 1, 10⁻¹, 10⁻², 10⁻³: the straight beam's in-plane shear 0.993 (rectangles) at every
+//! γ, 0.952, 0.988, 0.993, 0.993 (parallelograms), 0.049–0.052 (trapezoids); the thick twisted
+//! beam 0.997/1.001, 0.999/1.004, 1.028/1.028, 1.306/1.266 (loads z/y): a weak tie lets the
+//! twisted facets' normal rotations go soft, so the full strength is kept. The element with
+//! the modes has no assumed strains: with the modes the parasitic shear of in-plane bending is
+//! gone (QM6), and the element-mean shear used without them (`PARAM,QINCOMP`) would, with the
+//! modes (1 − ξ²) y_i and (1 − η²) x_i, leave zero-energy hourglass modes. The reported
+//! membrane strains are the element means of the compatible field.
 //!
-//! **Incompatible modes (CQUAD4).** Bilinear and Allman fields cannot give εy the linear
-//! variation across the depth that pure in-plane bending needs (εy = −ν εx): without more, the
-//! element is too stiff in in-plane bending by 1/(1 − ν²) (MacNeal–Harder rectangular cantilever
-//! 0.904). Two Wilson incompatible modes, in Taylor's form (Taylor, Beresford & Wilson, "A
-//! non-conforming element for stress analysis", IJNME 10 (1976) 1211–1219), are added to the
-//! membrane: (u, v) += α₁ (1 − ξ²) x_i + α₂ (1 − η²) y_i along the intrinsic axes x_i, y_i,
-//! with Cartesian derivatives taken from the centre Jacobian J₀ and scaled by detJ₀/detJ, so that
-//! ∫B_i dA = 0 exactly (2 × 2 Gauss) on any convex quad: the patch test holds, and the element
-//! means of the strains (what is reported) are those of the compatible field. The modes take
-//! the same assumed shear as the rest of the membrane, i.e. none (their mean shear is zero), so
-//! they add only εxx ∝ ξ and εyy ∝ η in the intrinsic axes and cannot bring the parasitic
-//! shear back; the other two QM6 modes, (1 − η²) x_i and (1 − ξ²) y_i, would then carry no
-//! strain on a rectangle and are left out. The modes enter neither the drilling residual (as
-//! in QM6, which has no θz) nor the mass. Pure in-plane bending of a rectangle (u = −κxy,
-//! v = κ(x² + νy²)/2) now lies in the element space and is exact
-//! (`fe::shell_tests::quad_in_plane_pure_bending_is_exact`).
+//! Edges linear in the corner translations cost accuracy on tapered shapes: by MacNeal's
+//! theorem ("A theorem regarding the locking of tapered four-noded membrane elements", IJNME 24
+//! (1987) 1793–1799) such an element that passes the patch test locks in in-plane bending of
+//! trapezoids (MacNeal–Harder trapezoidal beam: 0.049; MSC's QUAD4 0.173, CalculiX C3D8I
+//! 0.051). Allman's edge modes, which this element used before (Ibrahimbegovic, Taylor & Wilson,
+//! IJNME 30 (1990) 445–457) escape the theorem (trapezoids 0.954) only because their edges
+//! bulge with the corner θz, which made a free-θz support or nodal-force edge load wrong by a
+//! boundary layer of first order in h (43 % of u_x on a 3 × 2 tension patch).
+//!
+//! **Incompatible modes (CQUAD4).** The bilinear field cannot bend in its plane without
+//! parasitic shear, nor give εy the linear variation across the depth that pure in-plane
+//! bending needs. The four modes of QM6 (Taylor, Beresford & Wilson, "A non-conforming element
+//! for stress analysis", IJNME 10 (1976) 1211–1219) are added: (u, v) += α₁ (1 − ξ²) x_i +
+//! α₂ (1 − η²) y_i + α₃ (1 − η²) x_i + α₄ (1 − ξ²) y_i along the intrinsic axes x_i, y_i
+//! (x_i along ∂x/∂ξ at the centre), with Cartesian derivatives taken from the centre Jacobian
+//! J₀ and scaled by detJ₀/detJ, so that ∫B_i dA = 0 exactly (2 × 2 Gauss) on any convex quad:
+//! the patch test holds, the modes are orthogonal to any constant stress (the nodal-force patch
+//! above is exact with and without them), and the element means of the strains (what is
+//! reported) are those of the compatible field. Their rotation enters the drilling residual, so
+//! θz follows the rotation of in-plane bending. On a parallelogram the map is affine and every
+//! quadratic field lies in the element space, so pure in-plane bending (u = −κxy,
+//! v = κ(x² + νy²)/2, θz = κx) is exact, rectangles and parallelograms alike
+//! (`fe::shell_tests::quad_in_plane_pure_bending_is_exact`). The modes carry no mass.
 //!
 //! **Frozen condensation.** The modes are condensed per element, α = T q with
 //! T = −K_ii⁺ K_ic, K_ii = ∫B_iᵀ C B_i dA, K_ic = ∫B_iᵀ C B dA (K_ii⁺: pseudo-inverse, zero for a
@@ -92,17 +101,27 @@
 //! condensation is frozen, and since the condensed energy is the minimum over α,
 //! K_frozen − K_condensed is positive semi-definite and of second order in the change of the
 //! section (`frozen_condensation_is_exact_under_scaling_and_second_order_otherwise`: ν 0.3 →
-//! 0.2 changes K by 2.3e-3 of its largest entry, 0.3 → 0.25 by 5.9e-4). C is the full section:
-//! the modes only strain the reference plane, so K_ii involves A only, while K_ic also takes
-//! the coupling B (offsets, unsymmetric laminates) — the condensation of the element's own
-//! energy, in which a curvature of an offset shell strains the reference plane, rather than of
-//! its membrane part alone.
+//! 0.2 changes K by 2.3e-3 of its largest entry, 0.3 → 0.25 by 5.7e-4). C is the full section:
+//! the modes only strain the reference plane and rotate it, so K_ii involves A and the drilling
+//! modulus (a fixed multiple of A66) only, while K_ic also takes the coupling B (offsets,
+//! unsymmetric laminates) — the condensation of the element's own energy, in which a curvature
+//! of an offset shell strains the reference plane, rather than of its membrane part alone.
 //!
 //! **`PARAM,QINCOMP`.** The modes are a user choice ([`Incompatible`]): `YES` (default)
-//! condenses them as above; `NO` leaves them out (T = 0, B̄ = B: the plain Allman membrane,
-//! Poisson-stiff in in-plane bending by ≈ 1/(1 − ν²)), so K(section) depends on the section
-//! alone and a pROM with ν, Θ or ply-thickness parameters agrees to round-off with a deck
-//! rebuilt at any parameter value.
+//! condenses them as above; `NO` leaves them out, so K(section) depends on the section alone
+//! and a pROM with ν, Θ or ply-thickness parameters agrees to round-off with a deck rebuilt at
+//! any parameter value. The bilinear membrane then takes two B̄-type corrections in place of
+//! the modes: the in-plane shear is an assumed strain — in the intrinsic axes εxx and εyy are
+//! taken at the Gauss points and γxy is the element mean (1/A)∫γxy dA, which removes the
+//! parasitic shear of in-plane bending and keeps ∫Bᵀσ dA exact for constant σ — and the
+//! drilling residual is θz − ω* with ω* = ω + (ω − ω̄) (ω̄ the element mean): the hourglass
+//! rotation of the bilinear field is half the rotation of the bending it stands for (on a
+//! rectangle u = −κxy has ω = κx/2 about the centre, the bending rotation is κx), and with ω
+//! itself the penalty locks in-plane bending (MacNeal–Harder rectangular beam 0.285 against
+//! 0.904). Constant strains and rigid rotations are unchanged. The element is then exact for
+//! the rectangle's pure bending but for the Poisson term (εy cannot vary across the depth: too
+//! stiff by 1/(1 − ν²), rectangular beam 0.904) and locks on parallelograms (0.033) and
+//! trapezoids (0.065).
 //!
 //! **Membrane and drilling (CTRIA3).** Linear u, v (constant strain) with the same penalty at
 //! γ = `TRIA_DRILL_SCALE`·`section.drill` = 10⁻³·A66, integrated at the 3 points. The Allman
@@ -241,13 +260,16 @@ const TRIA_DRILL_SCALE: f64 = 1.0e-3;
 /// Number of generalized strains: 3 membrane, 3 curvature, 2 shear, 1 drilling.
 const NSTRAIN: usize = 9;
 
-/// One integration point: weight × detJ, shape-function values, strain operator B (9 × 6n) and
-/// the incompatible-mode operator B_i (9 × 2 on quads, membrane rows only; 9 × 0 on triangles).
+/// One integration point: weight × detJ, shape-function values, strain operator B (9 × 6n),
+/// the incompatible-mode operator B_i (9 × 4 on quads, membrane and drilling rows; 9 × 0 on
+/// triangles) and, on quads, the hourglass rotation ω − ω̄ of the compatible field (a row over
+/// the 24 local DOFs; empty on triangles).
 struct GaussPoint {
     wdet: f64,
     shape: [f64; 4],
     b: Mat<f64>,
     bi: Mat<f64>,
+    hourglass_rotation: Vec<f64>,
 }
 
 /// A flat element on its projected geometry, ready for any section.
@@ -407,26 +429,6 @@ fn fill_standard_rows(b: &mut Mat<f64>, n: &[f64], nx: &[f64], ny: &[f64]) {
     }
 }
 
-/// Allman edge modes (module doc): edge k runs from node k to node k + 1 (cyclic) and adds
-/// N_k (θz_j − θz_i)·(y_j − y_i, x_i − x_j)/8 to (u, v), a quadratic normal displacement whose
-/// end slopes are the corner drilling rotations. Adds their columns (θz) to the membrane rows
-/// 0–2 and the drilling row 8, from the edge functions' Cartesian derivatives `nx`, `ny`.
-fn add_allman_rows(b: &mut Mat<f64>, xy: &[[f64; 2]], nx: &[f64], ny: &[f64]) {
-    let nodes = xy.len();
-    for k in 0..nodes {
-        let (i, j) = (k, (k + 1) % nodes);
-        let cu = (xy[j][1] - xy[i][1]) / 8.0;
-        let cv = (xy[i][0] - xy[j][0]) / 8.0;
-        for (node, sign) in [(j, 1.0), (i, -1.0)] {
-            let tz = 6 * node + 5;
-            b[(0, tz)] += sign * nx[k] * cu;
-            b[(1, tz)] += sign * ny[k] * cv;
-            b[(2, tz)] += sign * (ny[k] * cu + nx[k] * cv);
-            b[(8, tz)] -= sign * 0.5 * (nx[k] * cv - ny[k] * cu);
-        }
-    }
-}
-
 /// Cartesian derivatives (∂/∂x, ∂/∂y) of functions with natural derivatives `dr`, `ds`.
 fn cartesian(jinv: &[[f64; 2]; 2], dr: &[f64], ds: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let nx = (0..dr.len())
@@ -453,13 +455,6 @@ fn mitc4_operator(xy: &[[f64; 2]], xi: f64, eta: f64) -> (Mat<f64>, f64) {
     let (nx, ny) = cartesian(&jinv, &dxi, &deta);
     let mut b = Mat::<f64>::zeros(NSTRAIN, 24);
     fill_standard_rows(&mut b, &n, &nx, &ny);
-    // Serendipity mid-side functions of edges 1-2 (η = −1), 2-3 (ξ = 1), 3-4 (η = 1), 4-1
-    // (ξ = −1), natural derivatives.
-    let (p, q) = (1.0 - xi * xi, 1.0 - eta * eta);
-    let edge_dxi = [-xi * (1.0 - eta), 0.5 * q, -xi * (1.0 + eta), -0.5 * q];
-    let edge_deta = [-0.5 * p, -(1.0 + xi) * eta, 0.5 * p, -(1.0 - xi) * eta];
-    let (ex, ey) = cartesian(&jinv, &edge_dxi, &edge_deta);
-    add_allman_rows(&mut b, xy, &ex, &ey);
     let tied = |txi: f64, teta: f64, along_xi: bool| {
         let (tn, txd, ted) = quad_shape(txi, teta);
         let j = jacobian(xy, &txd, &ted);
@@ -482,47 +477,56 @@ fn mitc4_operator(xy: &[[f64; 2]], xi: f64, eta: f64) -> (Mat<f64>, f64) {
 }
 
 /// Number of incompatible membrane modes of the quad (module doc, "Incompatible modes").
-const INCOMPATIBLE: usize = 2;
+const INCOMPATIBLE: usize = 4;
 
-/// Membrane strains (rows 0–2 of a 9 × 2 operator) at (ξ, η) of the two incompatible modes
-/// (1 − ξ²)·x_i and (1 − η²)·y_i, x_i = (cos φ, sin φ) and y_i = (−sin φ, cos φ) the intrinsic
-/// axes, with Taylor's correction: Cartesian derivatives from the centre Jacobian J₀, scaled by
-/// detJ₀/detJ, so that ∫B_i dA = detJ₀ J₀⁻¹ Σ_gauss w ∂N/∂(ξ, η) = 0 (module doc).
+/// Operator (9 × 4: membrane rows 0–2 and drilling row 8) at (ξ, η) of the four incompatible
+/// modes (1 − ξ²)·x_i, (1 − η²)·y_i, (1 − η²)·x_i, (1 − ξ²)·y_i, x_i = (cos φ, sin φ) and
+/// y_i = (−sin φ, cos φ) the intrinsic axes, with Taylor's correction: Cartesian derivatives
+/// from the centre Jacobian J₀, scaled by detJ₀/detJ, so that
+/// ∫B_i dA = detJ₀ J₀⁻¹ Σ_gauss w ∂N/∂(ξ, η) = 0 (module doc). Row 8 is −ω of the mode,
+/// ω = ½(∂v/∂x − ∂u/∂y): the modes' rotation enters the drilling residual.
 fn incompatible_operator(xy: &[[f64; 2]], xi: f64, eta: f64, phi: f64) -> Mat<f64> {
     let (_, dxi, deta) = quad_shape(xi, eta);
     let det = inverse(&jacobian(xy, &dxi, &deta)).1;
     let (_, dxi0, deta0) = quad_shape(0.0, 0.0);
     let (j0inv, det0) = inverse(&jacobian(xy, &dxi0, &deta0));
+    // Cartesian gradients of the bubbles 1 − ξ² (index 0) and 1 − η² (index 1)
     let (mx, my) = cartesian(&j0inv, &[-2.0 * xi, 0.0], &[0.0, -2.0 * eta]);
     let (s, c) = phi.sin_cos();
     let directions = [[c, s], [-s, c]];
     let taylor = det0 / det;
+    // (bubble, direction) of each mode
+    let modes = [(0, 0), (1, 1), (1, 0), (0, 1)];
     let mut b = Mat::<f64>::zeros(NSTRAIN, INCOMPATIBLE);
-    for (k, [ux, uy]) in directions.into_iter().enumerate() {
-        let (gx, gy) = (taylor * mx[k], taylor * my[k]);
+    for (k, (bubble, direction)) in modes.into_iter().enumerate() {
+        let [ux, uy] = directions[direction];
+        let (gx, gy) = (taylor * mx[bubble], taylor * my[bubble]);
         b[(0, k)] = gx * ux;
         b[(1, k)] = gy * uy;
         b[(2, k)] = gy * ux + gx * uy;
+        b[(8, k)] = -0.5 * (gx * uy - gy * ux);
     }
     b
 }
 
-/// Moore–Penrose inverse of a symmetric positive semi-definite 2 × 2 matrix (closed-form
-/// eigendecomposition; eigenvalues below 10⁻¹² of the largest count as zero).
-fn pseudo_inverse_2x2(k: &Mat<f64>) -> Mat<f64> {
-    let (a, b, c) = (k[(0, 0)], 0.5 * (k[(0, 1)] + k[(1, 0)]), k[(1, 1)]);
-    let angle = 0.5 * (2.0 * b).atan2(a - c);
-    let (s, co) = angle.sin_cos();
-    let vectors = [[co, s], [-s, co]];
-    let values = vectors.map(|[x, y]| a * x * x + 2.0 * b * x * y + c * y * y);
-    let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let mut inv = Mat::<f64>::zeros(2, 2);
-    for ([x, y], l) in vectors.into_iter().zip(values) {
-        if largest > 0.0 && l > 1e-12 * largest {
-            let v = [x, y];
-            for i in 0..2 {
-                for j in 0..2 {
-                    inv[(i, j)] += v[i] * v[j] / l;
+/// Moore–Penrose inverse of a symmetric positive semi-definite matrix (eigenvalues below
+/// 10⁻¹² of the largest count as zero).
+fn pseudo_inverse(k: &Mat<f64>) -> Mat<f64> {
+    let n = k.nrows();
+    let mut inv = Mat::<f64>::zeros(n, n);
+    if n == 0 {
+        return inv;
+    }
+    let Ok(evd) = k.self_adjoint_eigen(faer::Side::Lower) else {
+        return inv;
+    };
+    let (u, values) = (evd.U(), evd.S().column_vector());
+    let largest = (0..n).fold(0.0f64, |m, i| m.max(values[i].abs()));
+    for l in 0..n {
+        if largest > 0.0 && values[l] > 1e-12 * largest {
+            for i in 0..n {
+                for j in 0..n {
+                    inv[(i, j)] += u[(i, l)] * u[(j, l)] / values[l];
                 }
             }
         }
@@ -563,21 +567,44 @@ pub(crate) fn strain_rotation(phi: f64) -> [[f64; 3]; 3] {
     ]
 }
 
-/// Assumed membrane shear of the quad: in the element's intrinsic axes (x_i along ∂x/∂ξ at the
-/// centre, at angle φ from the local x), εxx and εyy are taken at the Gauss point and γxy is the
-/// element mean, then rotated back:
-/// B̃_m = T_ε(−φ) [diag(1,1,0) T_ε(φ) B_m + diag(0,0,1) T_ε(φ) B̄_m], B̄_m = (1/A)∫B_m dA.
-/// Constant strain states are unchanged and ∫B̃ᵀσ dA = ∫Bᵀσ dA for constant σ (patch test),
-/// the parasitic shear of in-plane bending is removed, and the hourglass modes keep their εxx,
-/// εyy energy.
-fn assume_membrane_shear(b: &mut Mat<f64>, mean: &Mat<f64>, phi: f64) {
+/// The membrane of the quad without incompatible modes (module doc, `PARAM,QINCOMP`), applied
+/// to the compatible operators B of the points: (1) assumed shear: in the element's intrinsic
+/// axes (x_i along ∂x/∂ξ at the centre, at angle φ from the local x), εxx and εyy are taken at
+/// the point and γxy is the element mean,
+/// B̃_m = T_ε(−φ) [diag(1,1,0) T_ε(φ) B_m + diag(0,0,1) T_ε(φ) B̄_m], B̄_m = (1/A)∫B_m dA;
+/// (2) the drilling residual θz − ω* with ω* = ω + (ω − ω̄), ω the rotation of the bilinear
+/// field (row 8 = θz − ω), ω̄ its element mean. Constant strain states and rigid rotations are
+/// unchanged, ∫B̃ᵀσ dA = ∫Bᵀσ dA for constant σ (patch test), the parasitic shear of in-plane
+/// bending is removed and ω* is the rotation of pure bending on a rectangle (module doc).
+fn assume_membrane_shear_and_rotation(
+    points: &mut [GaussPoint],
+    mean: &Mat<f64>,
+    area: f64,
+    phi: f64,
+) {
+    let rotation = |p: &GaussPoint| -> Vec<f64> {
+        (0..24)
+            .map(|c| if c % 6 == 5 { p.shape[c / 6] } else { 0.0 } - p.b[(8, c)])
+            .collect()
+    };
+    let mut mean_rotation = [0.0; 24];
+    for p in points.iter() {
+        for (m, w) in mean_rotation.iter_mut().zip(rotation(p)) {
+            *m += w * p.wdet / area;
+        }
+    }
     let (t, back) = (strain_rotation(phi), strain_rotation(-phi));
-    for c in 0..b.ncols() {
-        let m: [f64; 3] = std::array::from_fn(|i| (0..3).map(|k| t[i][k] * b[(k, c)]).sum());
-        let mc: f64 = (0..3).map(|k| t[2][k] * mean[(k, c)]).sum();
-        let assumed = [m[0], m[1], mc];
-        for i in 0..3 {
-            b[(i, c)] = (0..3).map(|k| back[i][k] * assumed[k]).sum();
+    for p in points.iter_mut() {
+        let omega = rotation(p);
+        let b = &mut p.b;
+        for c in 0..24 {
+            b[(8, c)] -= omega[c] - mean_rotation[c];
+            let m: [f64; 3] = std::array::from_fn(|i| (0..3).map(|k| t[i][k] * b[(k, c)]).sum());
+            let mc: f64 = (0..3).map(|k| t[2][k] * mean[(k, c)]).sum();
+            let assumed = [m[0], m[1], mc];
+            for i in 0..3 {
+                b[(i, c)] = (0..3).map(|k| back[i][k] * assumed[k]).sum();
+            }
         }
     }
 }
@@ -595,7 +622,9 @@ fn size2(xyz: &[V3]) -> f64 {
 }
 
 impl Flat {
-    fn quad(xyz: &[V3; 4], material_x: Option<V3>) -> Result<Self, ShellError> {
+    /// The projected quad; `modes`: whether its stiffness will condense the incompatible modes,
+    /// which selects the membrane (module doc, "Membrane and drilling (CQUAD4)").
+    fn quad(xyz: &[V3; 4], material_x: Option<V3>, modes: bool) -> Result<Self, ShellError> {
         let normal = cross(sub(xyz[2], xyz[0]), sub(xyz[3], xyz[1]));
         let area = 0.5 * norm(normal);
         if area.is_nan() || area <= 1e-10 * size2(xyz) {
@@ -624,20 +653,16 @@ impl Flat {
                     shape: quad_shape(xi, eta).0,
                     b,
                     bi: incompatible_operator(&f.xy, xi, eta, phi),
+                    hourglass_rotation: Vec::new(),
                 }
             })
             .collect();
         let mut mean = Mat::<f64>::zeros(NSTRAIN, 24);
-        // ∫B_i dA / A: zero by Taylor's correction up to round-off; the incompatible modes take
-        // the same assumed shear, i.e. none in the intrinsic axes.
-        let mut mean_i = Mat::<f64>::zeros(NSTRAIN, INCOMPATIBLE);
         for p in &points {
             mean += &p.b * faer::Scale(p.wdet / area);
-            mean_i += &p.bi * faer::Scale(p.wdet / area);
         }
-        for p in &mut points {
-            assume_membrane_shear(&mut p.b, &mean, phi);
-            assume_membrane_shear(&mut p.bi, &mean_i, phi);
+        if !modes {
+            assume_membrane_shear_and_rotation(&mut points, &mean, area, phi);
         }
         // Reported membrane strains: the element mean, which the assumed field shares.
         let mut centroid = centroid;
@@ -672,6 +697,7 @@ impl Flat {
                     shape: [1.0 - r - s, r, s, 0.0],
                     b,
                     bi: Mat::zeros(NSTRAIN, 0),
+                    hourglass_rotation: Vec::new(),
                 }
             })
             .collect();
@@ -686,9 +712,10 @@ impl Flat {
         })
     }
 
-    fn new(xyz: &[V3], material_x: Option<V3>) -> Result<Self, ShellError> {
+    /// A quad ([`Flat::quad`], `modes` as there) or a triangle (`modes` ignored).
+    fn new(xyz: &[V3], material_x: Option<V3>, modes: bool) -> Result<Self, ShellError> {
         match xyz.len() {
-            4 => Self::quad(&[xyz[0], xyz[1], xyz[2], xyz[3]], material_x),
+            4 => Self::quad(&[xyz[0], xyz[1], xyz[2], xyz[3]], material_x, modes),
             3 => Self::tria(&[xyz[0], xyz[1], xyz[2]], material_x),
             n => Err(ShellError::NodeCount(n)),
         }
@@ -729,7 +756,7 @@ impl Flat {
             kii += cbi.transpose() * &p.bi * faer::Scale(p.wdet);
             kic += cbi.transpose() * &p.b * faer::Scale(p.wdet);
         }
-        -(pseudo_inverse_2x2(&kii) * &kic)
+        -(pseudo_inverse(&kii) * &kic)
     }
 
     /// Tᵀ (Σₚ wₚ detJₚ B̄ₚᵀ C(sectionₚ) B̄ₚ) T: one section per integration point, B̄ = B + B_i T
@@ -744,7 +771,13 @@ impl Flat {
         let t = self.condensation(nominal);
         let mut k = Mat::<f64>::zeros(n, n);
         for (p, section) in self.points.iter().zip(sections) {
-            let b = &p.b + &p.bi * &t;
+            let mut b = &p.b + &p.bi * &t;
+            if nominal.is_none() {
+                // without the modes, the drilling residual takes ω* = ω + (ω − ω̄) (module doc)
+                for (c, w) in p.hourglass_rotation.iter().enumerate() {
+                    b[(8, c)] -= w;
+                }
+            }
             let cb = self.constitutive(section) * &b;
             k += b.transpose() * &cb * faer::Scale(p.wdet);
         }
@@ -849,7 +882,7 @@ fn mass_density(m: &ShellMass) -> [[f64; 6]; 6] {
     r
 }
 
-/// CQUAD4 stiffness (24 × 24, basic system), MITC4 with the Allman-type drilling membrane and,
+/// CQUAD4 stiffness (24 × 24, basic system), MITC4 with the straight-edged drilling membrane and,
 /// with [`Incompatible::Condensed`], incompatible membrane modes condensed with that nominal
 /// section (module doc, "frozen condensation"); linear in `section`. `Condensed(section)`
 /// gives the element with its modes condensed exactly; the affine parts of a parametrized
@@ -861,7 +894,8 @@ pub fn quad4_stiffness(
     modes: Incompatible<&ShellSection>,
     material_x: Option<V3>,
 ) -> Result<Mat<f64>, ShellError> {
-    Ok(Flat::quad(xyz, material_x)?.stiffness(section, modes.nominal()))
+    let nominal = modes.nominal();
+    Ok(Flat::quad(xyz, material_x, nominal.is_some())?.stiffness(section, nominal))
 }
 
 /// CTRIA3 stiffness (18 × 18, basic system), MITC3 with drilling; linear in `section`.
@@ -875,7 +909,7 @@ pub fn tria3_stiffness(
 
 /// CQUAD4 mass (24 × 24, basic): consistent (bilinear, 2 × 2 Gauss, exact) or lumped.
 pub fn quad4_mass(xyz: &[V3; 4], mass: &ShellMass, lumped: bool) -> Result<Mat<f64>, ShellError> {
-    Ok(Flat::quad(xyz, None)?.mass(mass, lumped))
+    Ok(Flat::quad(xyz, None, true)?.mass(mass, lumped))
 }
 
 /// CTRIA3 mass (18 × 18, basic): consistent (linear, exact 3-point rule) or lumped.
@@ -891,7 +925,7 @@ pub fn quad4_strains(
     section_z: (f64, f64),
     u: &[f64; 24],
 ) -> Result<ShellStrains, ShellError> {
-    Ok(Flat::quad(xyz, material_x)?.strains(section_z, u))
+    Ok(Flat::quad(xyz, material_x, true)?.strains(section_z, u))
 }
 
 /// CTRIA3 centroid strains, as [`quad4_strains`].
@@ -916,8 +950,8 @@ pub fn affine_stiffness(
     modes: Incompatible<&ShellSection>,
     material_x: Option<V3>,
 ) -> Result<AffineMatrix, ShellError> {
-    let el = Flat::new(xyz, material_x)?;
     let nominal = modes.nominal();
+    let el = Flat::new(xyz, material_x, nominal.is_some())?;
     let parts = sections
         .iter()
         .filter(|(_, s)| !s.stiffness_is_zero())
@@ -960,7 +994,7 @@ pub fn affine_stiffness_at_points(
     modes: Incompatible<&[ShellSection]>,
     material_x: Option<V3>,
 ) -> Result<AffineMatrix, ShellError> {
-    let el = Flat::new(xyz, material_x)?;
+    let el = Flat::new(xyz, material_x, modes.nominal().is_some())?;
     let points = el.points.len();
     let Some(first) = sections.first() else {
         return Err(ShellError::PointCount {
@@ -1003,7 +1037,7 @@ pub fn affine_mass(
     sections: &[(Coefficient, ShellSection)],
     lumped: bool,
 ) -> Result<AffineMatrix, ShellError> {
-    let el = Flat::new(xyz, None)?;
+    let el = Flat::new(xyz, None, true)?;
     let parts = sections
         .iter()
         .filter(|(_, s)| !s.mass.is_zero())

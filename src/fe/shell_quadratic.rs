@@ -38,9 +38,9 @@
 //! **Blank mid-side grids** ([`Layout`]): the 4-to-8 (3-to-6) node transition element
 //! (Bathe, *Finite Element Procedures*, 2014, §5.3.1): the missing node is put at its edge's
 //! middle and tied to the edge's corners inside the element, so its matrices are those of the
-//! full element reduced by T (K' = Tᵀ K T), exactly affine in the section. On a CQUAD8 the tie
-//! includes the in-plane edge mode of the CQUAD4's Allman membrane, so a blank edge conforms
-//! with a CQUAD4 neighbour (membrane patch exact on a mixed patch). Measured: six rigid modes
+//! full element reduced by T (K' = Tᵀ K T), exactly affine in the section. A blank edge is
+//! straight with linear displacements, as a CQUAD4 edge, so it conforms with a CQUAD4
+//! neighbour (membrane patch exact on a mixed patch). Measured: six rigid modes
 //! for every subset of blanks; the bending patch (w quadratic) is not in the space of an element
 //! with a blank edge and is not passed; a cantilever strip of transition elements (edges across
 //! the strip blank) is within 0.3 % of beam theory.
@@ -329,43 +329,15 @@ impl Layout {
         out
     }
 
-    /// The in-plane (Allman) part of a CQUAD8's tie: for each blank edge k from corner a to
-    /// b, with n the surface normal at its middle, u_m gains ((θ_b − θ_a)·n) c with
-    /// c = (x_b − x_a) × n / 8; `None` for given edges and for the CTRIA6.
-    fn allman(self, geometry: &Geometry) -> [Option<(V3, V3)>; 4] {
-        let mut out = [None; 4];
-        if self.shape == Quadratic::Quad8 {
-            for (k, o) in out.iter_mut().enumerate().filter(|(k, _)| self.blank[*k]) {
-                let n = geometry.normals[4 + k];
-                let e = sub(geometry.xyz[(k + 1) % 4], geometry.xyz[k]);
-                *o = Some((scale(cross(e, n), 0.125), n));
-            }
-        }
-        out
-    }
-
-    /// B T: the columns (6 per full node) of `b` onto the given grids', with the in-plane
-    /// edge modes `allman` of [`Layout::allman`].
-    fn condense_columns(self, b: &Mat<f64>, allman: &[Option<(V3, V3)>; 4]) -> Mat<f64> {
+    /// B T: the columns (6 per full node) of `b` onto the given grids'.
+    fn condense_columns(self, b: &Mat<f64>) -> Mat<f64> {
         let mut out = Mat::<f64>::zeros(b.nrows(), 6 * self.grids());
-        let corners = self.shape.nodes() / 2;
         for (f, tie) in self.ties().iter().enumerate() {
             for &(a, w) in tie {
                 for r in 0..b.nrows() {
                     for i in 0..6 {
                         out[(r, 6 * a + i)] += w * b[(r, 6 * f + i)];
                     }
-                }
-            }
-            let Some((c, n)) = f.checked_sub(corners).and_then(|k| allman[k]) else {
-                continue;
-            };
-            let (a, bb) = (f - corners, (f - corners + 1) % corners);
-            for r in 0..b.nrows() {
-                let v: f64 = (0..3).map(|i| b[(r, 6 * f + i)] * c[i]).sum();
-                for i in 0..3 {
-                    out[(r, 6 * bb + 3 + i)] += v * n[i];
-                    out[(r, 6 * a + 3 + i)] -= v * n[i];
                 }
             }
         }
@@ -784,7 +756,6 @@ impl Curved {
     fn new(layout: Layout, xyz: &[V3], material_x: Option<V3>) -> Result<Self, ShellError> {
         let shape = layout.shape;
         let geometry = Geometry::new(shape, &layout.complete(xyz)?, material_x)?;
-        let allman = layout.allman(&geometry);
         let mut normals = vec![[0.0; 3]; layout.grids()];
         for (f, tie) in layout.ties().iter().enumerate() {
             if let [(a, _)] = tie[..] {
@@ -799,7 +770,7 @@ impl Curved {
                 Ok(Point {
                     wda: w * da,
                     shape: layout.condense(&shape.shape(p).0, 1),
-                    b: layout.condense_columns(&b, &allman),
+                    b: layout.condense_columns(&b),
                     normal: axes[2],
                 })
             })
@@ -999,7 +970,7 @@ pub fn strains(
         return Err(ShellError::NodeCount(u.len() / 6));
     }
     let (b, _, axes) = geometry.operator(shape.centre())?;
-    let b = layout.condense_columns(&b, &layout.allman(&geometry));
+    let b = layout.condense_columns(&b);
     let e: Vec<f64> = (0..NSTRAIN)
         .map(|r| (0..u.len()).map(|c| b[(r, c)] * u[c]).sum())
         .collect();

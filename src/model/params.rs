@@ -115,7 +115,7 @@ pub const KNOWN_PARAMS: &[KnownParam] = &[
         kind: ParamType::YesNo,
         rule: "YES or NO",
         ok: |_| true,
-        doc: "CQUAD4 incompatible membrane modes; default YES: in-plane bending exact on rectangles (MacNeal–Harder 0.993), the modes condensed once with the deck's section, so a pROM with NU, THETA or TPLY parameters differs from a deck rebuilt far from the nominal values (second order in the change); NO: the plain membrane, 1/(1−ν²) too stiff in in-plane bending (0.904), and pROMs agree exactly with rebuilt decks",
+        doc: "CQUAD4 incompatible membrane modes; default YES: in-plane bending exact on rectangles and parallelograms (MacNeal–Harder 0.993 / 0.952), the modes condensed once with the deck's section, so a pROM with NU, THETA or TPLY parameters differs from a deck rebuilt far from the nominal values (second order in the change); NO: the bilinear membrane with element-mean shear, 1/(1−ν²) too stiff in in-plane bending of rectangles (0.904) and locking on distorted shapes (parallelogram 0.033), and pROMs agree exactly with rebuilt decks",
     },
     KnownParam {
         name: "RESVEC",

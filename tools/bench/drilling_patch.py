@@ -4,8 +4,10 @@
 A plate 1 x 0.6 (t = 0.01, E = 1e11, nu = 0.25) held by u = 0 at the x = 0 grids (v = 0 at the
 origin) and pulled by nodal FORCEs at x = 1 (60 kN, edge shares l/2 at the corners): the exact
 field is u = 1e-4 x. Prints, per mesh and per PS (345: drilling rotation free, 3456: held), the
-largest |u_x - 1e-4 x| and the tip's mean u_x relative to 1e-4 (docs/elements.md, "Known
-limitation"). Not a test: it documents a convergence rate.
+largest |u_x - 1e-4 x| and the tip's mean u_x relative to 1e-4 (docs/elements.md, "CQUAD4
+membrane and drilling rotation": exact to round-off either way, since the element's edges are
+linear in the corner translations). Not a test: the distorted-mesh version is
+fe::shell_tests::membrane_tension_patch_with_free_drilling_rotations_is_exact.
 
     .venv/bin/python tools/bench/drilling_patch.py --paraflex target/release/paraflex
 """
