@@ -369,7 +369,7 @@ impl Report for PromSummary {
         let mut warnings = Vec::new();
         if !p.frozen_condensation.is_empty() {
             warnings.push(format!(
-                "subcase {}: PMPAR {} change(s) by more than a scale the section of CQUAD4s whose incompatible membrane modes are condensed once with the deck's section (PARAM,QINCOMP,YES, the default; docs/elements.md \"Frozen condensation\"): the pROM is exact for that model, but differs from a deck rebuilt at parameter values far from the nominal ones (measured on a [±Θ]2s link: ~5e-4 in frequency 10° from nominal, ~1e-1 on single membrane modes 30° away); PARAM,QINCOMP,NO restores exact agreement at the cost of in-plane bending accuracy (the plain membrane is ≈ 1/(1−ν²) too stiff there)",
+                "subcase {}: PMPAR {} change(s) by more than a scale the section of CQUAD4s whose incompatible membrane modes are condensed once with the deck's section (PARAM,QINCOMP,YES, the default; docs/elements.md \"Frozen condensation\"): the pROM is exact for that model, but differs from a deck rebuilt at parameter values far from the nominal ones (second order in the change); PARAM,QINCOMP,NO restores exact agreement at the cost of in-plane bending accuracy (the membrane without modes is ≈ 1/(1−ν²) too stiff on rectangles and locks on distorted quads)",
                 subcase,
                 p.frozen_condensation.join(", ")
             ));
