@@ -186,6 +186,31 @@ pub fn element_matrices(
     Ok(out)
 }
 
+/// The stiffness contribution (global frames, coefficients bound as in [`element_matrices`])
+/// of every element `keep` selects that has one, with its element: what each adds to K(p).
+pub(crate) fn element_stiffnesses<'m>(
+    model: &'m Model,
+    frames: &GridFrames,
+    params: &Parameters,
+    keep: impl Fn(&Element) -> bool,
+) -> Result<Vec<(&'m Element, Contribution)>, DiscretizeError> {
+    let ctx = ElementContext {
+        model,
+        map: DofMap::of_model(model),
+        frames,
+        params,
+        lumped: model.params.coupmass != 1,
+        incompatible: model.params.qincomp,
+    };
+    let mut out = Vec::new();
+    for e in model.elements.iter().filter(|e| keep(e)) {
+        if let Some(k) = element(&ctx, e)?.k {
+            out.push((e, k));
+        }
+    }
+    Ok(out)
+}
+
 /// The binding of an element's coefficients: to `target` when PMPARs act on it, otherwise
 /// frozen at `nominal` (the element's card values) and folded into the constant part.
 fn bind(

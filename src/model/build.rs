@@ -79,7 +79,7 @@ impl Model {
 
         super::xref::check(&refs, deck, &mut errors, &mut warnings);
         super::values::check(&refs, &mut errors, &mut warnings);
-        super::temperature::check(&refs, &mut errors, &mut warnings);
+        super::temperature::check(deck, &refs, &mut errors, &mut warnings);
         super::pmpar::check(&refs, &mut errors);
         let mechanism = super::mechanism::build(bulk, &coords, &mut errors);
         let params = super::params::read(&bulk.params, &deck.case, &mut errors, &mut warnings);

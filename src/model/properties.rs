@@ -69,6 +69,8 @@ pub struct LaminateProperty {
     pub thickness: f64,
     /// The ply failure theory (FT) as written, `None` when blank.
     pub failure_theory: Option<String>,
+    /// TREF: the reference (stress-free) temperature of every ply.
+    pub tref: f64,
 }
 
 /// A shell section property.
@@ -195,6 +197,7 @@ impl Model {
                     nsm: p.nsm,
                     thickness: p.thickness(),
                     failure_theory: p.ft.clone(),
+                    tref: p.tref,
                 })
             }),
             _ => None,

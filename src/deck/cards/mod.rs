@@ -57,7 +57,7 @@ pub use param::{Param, ParamValue};
 pub use properties::{Pbush, Pcomp, Pdamp, Pelas, Ply, Pshell, Psolid, Pvisc};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
 pub use shear_panel::{Cshear, Pshear};
-pub use temperature::Matt1;
+pub use temperature::{Matt1, Temp, Tempd};
 
 use super::Loc;
 use super::error::DeckError;
@@ -107,6 +107,8 @@ pub struct BulkData {
     pub mat8: Vec<Mat8>,
     pub mat2: Vec<Mat2>,
     pub matt1: Vec<Matt1>,
+    pub temp: Vec<Temp>,
+    pub tempd: Vec<Tempd>,
     /// TABLEM1, TABLEM2 and TABLEM3 (material tables, read by MATT1).
     pub tablem: Vec<Tabled>,
     /// TABLEM4.
@@ -286,6 +288,8 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("MAT8", |c, b| Ok(b.mat8.push(Mat8::from_card(c)?))),
     ("MAT2", |c, b| Ok(b.mat2.push(Mat2::from_card(c)?))),
     ("MATT1", |c, b| Ok(b.matt1.push(Matt1::from_card(c)?))),
+    ("TEMP", |c, b| Ok(b.temp.push(Temp::from_card(c)?))),
+    ("TEMPD", |c, b| Ok(b.tempd.extend(Tempd::from_card(c)?))),
     ("TABLEM1", |c, b| {
         Ok(b.tablem.push(Tabled::from_card(c, "TABLEM1")?))
     }),
