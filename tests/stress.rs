@@ -885,3 +885,48 @@ fn heated_cube_expands_freely_or_carries_minus_e_alpha_dt_over_one_minus_two_nu(
         }
     }
 }
+
+/// MSC Nastran's results for pyNastran's `other/v10112.bdf` (a [0/90/0] PCOMP CQUAD4 under a
+/// uniform ΔT = 1, a membrane load and two SUBCOMs; `reference/nastran/pcomp_thermal_v10112.json`):
+/// displacements and ply stresses of every subcase, including the SUBCOM whose stresses take
+/// its own TEMP(LOAD) and the SUBCOM whose one coefficient applies to the most recent subcase.
+/// One element with a uniform temperature: both codes solve the same discrete problem, so the
+/// bound is the OP2's single precision, 1e-6 of each subcase's largest value.
+#[test]
+fn pcomp_thermal_loads_match_msc_nastran() {
+    let r = json("reference/nastran/pcomp_thermal_v10112.json");
+    let (res, _model, dir) = run_deck_file(&root().join(r["deck"].as_str().unwrap()));
+    res.expect("run");
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).unwrap();
+    for (subcase, grids) in r["displacement"].as_object().unwrap() {
+        let g = file.group(&format!("results/{subcase}/statics")).unwrap();
+        let u: Vec<f64> = read_dataset(&g, "displacement");
+        let want: Vec<f64> = (1..=4).flat_map(|k| f64s(&grids[k.to_string()])).collect();
+        let scale = want.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+        assert!(
+            max_abs_diff(&u, &want) < 1e-6 * scale,
+            "subcase {subcase}: {u:?} vs MSC {want:?}"
+        );
+        let stress: Vec<f64> = read_dataset(
+            &file
+                .group(&format!("results/{subcase}/statics/ply_stress/CQUAD4"))
+                .unwrap(),
+            "stress",
+        );
+        let want: Vec<f64> = r["ply_stress"][subcase]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(f64s)
+            .collect();
+        let got: Vec<f64> = rows(&stress, 5)
+            .iter()
+            .flat_map(|p| p[..3].to_vec())
+            .collect();
+        let scale = want.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+        assert!(
+            max_abs_diff(&got, &want) < 1e-6 * scale,
+            "subcase {subcase}: {got:?} vs MSC {want:?}"
+        );
+    }
+}

@@ -55,8 +55,9 @@ impl Matt1 {
     }
 }
 
-/// `TEMP` — grid temperatures of a temperature set (thermal loads with case control
-/// `TEMPERATURE(LOAD) = SID`).
+/// `TEMP` — grid temperatures of a temperature set.
+///
+/// The set is a thermal load when case control selects it by `TEMPERATURE(LOAD) = SID`.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
@@ -92,8 +93,9 @@ impl Temp {
     }
 }
 
-/// `TEMPD` — the default temperature of temperature sets: every grid without a `TEMP` in the
-/// set has it.
+/// `TEMPD` — default temperatures of temperature sets.
+///
+/// Every grid without a `TEMP` in the set has the set's TEMPD temperature.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
