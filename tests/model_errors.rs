@@ -367,6 +367,10 @@ fn temperature_sets_are_checked() {
         e.contains("CROD 1") && e.contains("GRID 2 has no temperature in temperature set 7"),
         "{e}"
     );
+    // an element that does not expand (A = 0) needs no temperatures
+    let cold = base.replace("7800.,1.e-5", "7800.");
+    let (r, _dir) = common::run_deck(&format!("{cold}TEMP,7,1,10.\nENDDATA\n"));
+    r.expect("no expansion, no temperature needed");
 }
 
 /// A MAT1 whose derived ν = E/(2G) − 1 lies outside (−1, 0.5) is accepted with a warning when

@@ -38,11 +38,12 @@ use faer::linalg::solvers::Solve;
 
 use super::elements::{ShellRecovery, element_stiffnesses};
 use super::{DiscretizeError, Structure};
+use crate::assembly::DofMap;
 use crate::fe::laminate::{Laminate, ShellSection, thermal_resultants};
 use crate::fe::shell::ShellStrains;
 use crate::geometry::vec3::{cross, dot, norm, scale, sub};
 use crate::model::materials::Material;
-use crate::model::properties::ShellProperty;
+use crate::model::properties::{LaminateProperty, ShellProperty};
 use crate::model::{Element, Model};
 
 use super::elements::{CentreSection, shell_centre_section};
@@ -139,55 +140,77 @@ pub fn free_strain(
             None => None,
         })
     };
+    // the element's temperature, asked for only when its material expands (a set may leave the
+    // grids of non-expanding elements without temperatures)
+    let temperature = || element_temperature(model, e, temps, sid);
+    let expands = |mid: u32| {
+        model
+            .expansion(mid)
+            .is_some_and(|x| x.alpha.iter().any(|&a| a != 0.0))
+    };
     if e.kind.is_line() {
         let (_, used) = model
             .line_element(e)
             .ok_or_else(|| err(e, "not a line element"))?
             .map_err(|x| err(e, x))?;
-        let t = element_temperature(model, e, temps, sid)?;
-        return isotropic(used.mid, t);
+        if !expands(used.mid) {
+            return Ok(None);
+        }
+        return isotropic(used.mid, temperature()?);
     }
     if let Some((_, used)) = model
         .solid_midsides(e)
         .and(e.property)
         .and_then(|p| model.solid_material(p))
     {
-        let t = element_temperature(model, e, temps, sid)?;
-        return isotropic(used.mid, t);
+        if !expands(used.mid) {
+            return Ok(None);
+        }
+        return isotropic(used.mid, temperature()?);
     }
     if !e.kind.is_shell() {
         return Ok(None);
     }
-    let t = element_temperature(model, e, temps, sid)?;
     match shell_centre_section(model, e)? {
         CentreSection::Pshell(p) => {
-            let Some(role) = p.membrane else {
+            let Some(role) = p.membrane.filter(|r| expands(r.mid)) else {
                 return Ok(None);
             };
-            Ok(match thermal_strain(model, e, role.mid, t, None)? {
-                None => None,
-                Some([a1, a2, a12]) if a1 == a2 && a12 == 0.0 => Some(FreeStrain::Isotropic(a1)),
-                Some(membrane) => Some(FreeStrain::Shell(ShellThermal {
-                    membrane,
-                    curvature: [0.0; 3],
-                    plies: Vec::new(),
-                })),
-            })
+            Ok(
+                match thermal_strain(model, e, role.mid, temperature()?, None)? {
+                    None => None,
+                    Some([a1, a2, a12]) if a1 == a2 && a12 == 0.0 => {
+                        Some(FreeStrain::Isotropic(a1))
+                    }
+                    Some(membrane) => Some(FreeStrain::Shell(ShellThermal {
+                        membrane,
+                        curvature: [0.0; 3],
+                        plies: Vec::new(),
+                    })),
+                },
+            )
         }
-        CentreSection::Laminate(l) => laminate_free_strain(model, e, &l, t),
+        CentreSection::Laminate(l) => {
+            let Some(ShellProperty::Laminate(p)) = e.property.and_then(|p| model.shell_property(p))
+            else {
+                return Err(err(e, "PCOMP missing"));
+            };
+            if !p.plies.iter().any(|ply| expands(ply.material.mid)) {
+                return Ok(None);
+            }
+            laminate_free_strain(model, e, (&l, &p), temperature()?)
+        }
     }
 }
 
-/// A PCOMP's free strains: (ε⁰, κ) = ABD⁻¹ (N_T, M_T).
+/// A PCOMP's free strains at temperature `t`: (ε⁰, κ) = ABD⁻¹ (N_T, M_T), `l` its section and
+/// `p` its card's plies and TREF.
 fn laminate_free_strain(
     model: &Model,
     e: &Element,
-    l: &Laminate,
+    (l, p): (&Laminate, &LaminateProperty),
     t: f64,
 ) -> Result<Option<FreeStrain>, DiscretizeError> {
-    let Some(ShellProperty::Laminate(p)) = e.property.and_then(|p| model.shell_property(p)) else {
-        return Err(err(e, "PCOMP missing"));
-    };
     let mut plies = Vec::with_capacity(p.plies.len());
     for ply in &p.plies {
         if matches!(ply.material.material, Some(Material::Anisotropic(_))) {
@@ -259,7 +282,7 @@ fn centre(xyz: &[[f64; 3]]) -> [f64; 3] {
 /// The free displacement and rotation (basic) of each of the element's grids.
 fn free_field(
     model: &Model,
-    st: &Structure,
+    shells: &HashMap<usize, &ShellRecovery>,
     e: &Element,
     free: &FreeStrain,
 ) -> Result<Vec<[f64; 6]>, DiscretizeError> {
@@ -284,12 +307,10 @@ fn free_field(
                 .collect())
         }
         FreeStrain::Shell(s) => {
-            let index = model.element_index.get(&e.id).copied();
-            let rec = st
-                .shells
-                .iter()
-                .find(|(i, _)| Some(*i) == index)
-                .map(|(_, r)| r)
+            let rec = model
+                .element_index
+                .get(&e.id)
+                .and_then(|i| shells.get(i))
                 .ok_or_else(|| err(e, "shell recovery data missing"))?;
             let ([ax, ay, n], c) = shell_axes(e, &xyz, rec)?;
             let ([ex, ey, g], [kx, ky, kxy]) = (s.membrane, s.curvature);
@@ -391,27 +412,22 @@ pub fn thermal_load(
     let mut p = vec![0.0; st.map.size()];
     let nominal = st.params.nominal();
     let keep = |e: &Element| free.contains_key(&e.id);
+    let shells: HashMap<usize, &ShellRecovery> = st.shells.iter().map(|(i, r)| (*i, r)).collect();
     for (e, k) in element_stiffnesses(model, &st.frames, &st.params, keep)? {
-        let field = free_field(model, st, e, &free[&e.id])?;
-        // the free field in each grid's global frame, on the contribution's DOFs
-        let global: Vec<[f64; 6]> = e
-            .nodes
-            .iter()
-            .zip(&field)
-            .map(|(&a, r)| {
-                let t = st.frames.to_global(a, [r[0], r[1], r[2]]);
-                let q = st.frames.to_global(a, [r[3], r[4], r[5]]);
-                [t[0], t[1], t[2], q[0], q[1], q[2]]
-            })
-            .collect();
+        let field = free_field(model, &shells, e, &free[&e.id])?;
+        // the free field in each grid's global frame, by g index, on the contribution's DOFs
+        let mut global = HashMap::new();
+        for (&a, r) in e.nodes.iter().zip(&field) {
+            let t = st.frames.to_global(a, [r[0], r[1], r[2]]);
+            let q = st.frames.to_global(a, [r[3], r[4], r[5]]);
+            for (c, v) in t.into_iter().chain(q).enumerate() {
+                global.insert(DofMap::dof(a, c), v);
+            }
+        }
         let u: Vec<f64> = k
             .dofs
             .iter()
-            .map(|&d| {
-                let (grid, c) = (d / 6, d % 6);
-                let slot = e.nodes.iter().position(|&a| a == grid);
-                slot.map_or(0.0, |s| global[s][c])
-            })
+            .map(|d| global.get(d).copied().unwrap_or(0.0))
             .collect();
         for (key, part) in &k.parts {
             let w = st.params.function(*key).value(&nominal);

@@ -827,6 +827,7 @@ fn build_elements(
         (ElementKind::Celas4, &b.celas4),
         (ElementKind::Cdamp2, &b.cdamp2),
         (ElementKind::Cdamp4, &b.cdamp4),
+        (ElementKind::Cmass2, &b.cmass2),
     ]
     .into_iter()
     .flat_map(|(kind, cards)| {

@@ -253,6 +253,14 @@ impl Model {
         }
     }
 
+    /// The mass M and ends of a CMASS2 element.
+    pub fn scalar_mass(&self, e: &Element) -> Option<(f64, [SpringEnd; 2])> {
+        match e.kind {
+            ElementKind::Cmass2 => self.bulk.cmass2.get(e.card).map(|c| (c.k, c.ends)),
+            _ => None,
+        }
+    }
+
     /// The DOF of a scalar element end: a grid component, a scalar point, or `None` for ground
     /// (or an id the model check has already reported).
     pub fn point_dof(&self, end: SpringEnd) -> Option<PointDof> {

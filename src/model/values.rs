@@ -307,6 +307,10 @@ fn kept_fields(refs: &Refs, warnings: &mut Vec<Warning>) {
         "PCOMP SB is kept and has no effect (no interlaminar bonding index)",
     );
     note(
+        !b.cmass2.is_empty(),
+        "CMASS2 masses are in the mass matrix but not in the mass properties (each acts along one component, not as a point mass)",
+    );
+    note(
         b.pelas.iter().any(|p| p.s != 0.0),
         "PELAS S is kept and has no effect (no spring stress output)",
     );

@@ -34,8 +34,8 @@ pub use dynamic::{
     RloadTables, Tabdmp1, Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep, eigr_from_card,
 };
 pub use elements::{
-    BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Conm2, Cpenta, Cquad4,
-    Ctetra, Ctria3, Cvisc, OnCardLayout, QuadraticShell, Spoint,
+    BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Cmass2, Conm2, Cpenta,
+    Cquad4, Ctetra, Ctria3, Cvisc, OnCardLayout, QuadraticShell, Spoint,
 };
 pub use estimate::{Amanda, Ekf, Ekfinp, Ekfpar, Meas, Measf};
 pub use extension::{
@@ -93,6 +93,7 @@ pub struct BulkData {
     pub cdamp3: Vec<Cdamp1>,
     pub cdamp4: Vec<Cdamp2>,
     pub cvisc: Vec<Cvisc>,
+    pub cmass2: Vec<Cmass2>,
     pub cbush: Vec<Cbush>,
     pub spoints: Vec<Spoint>,
     pub conm2: Vec<Conm2>,
@@ -273,6 +274,9 @@ pub static PARSERS: &[(&str, CardParser)] = &[
         Ok(b.cdamp4.push(Cdamp2::read(c, OnCardLayout::Cdamp4)?))
     }),
     ("CVISC", |c, b| Ok(b.cvisc.push(Cvisc::from_card(c)?))),
+    ("CMASS2", |c, b| {
+        Ok(b.cmass2.push(Cmass2::read(c, OnCardLayout::Cmass2)?))
+    }),
     ("CBUSH", |c, b| Ok(b.cbush.push(Cbush::from_card(c)?))),
     ("SPOINT", |c, b| Ok(b.spoints.push(Spoint::from_card(c)?))),
     ("SELOC", |c, _| superelement::seloc(c)),
