@@ -26,7 +26,9 @@
 //! exactly — the patch test: B u_free = ε_th at every integration point, with the CQUAD4's
 //! condensed incompatible modes silent since ∫B_i dA = 0 and the MITC shear strains zero on a
 //! field without transverse shear — so f = K_e u_free, K_e the element stiffness at the nominal
-//! parameters. The loads are added in each grid's global frame like the element matrices.
+//! parameters. The loads are added in each grid's global frame like the element matrices. (A
+//! curved CQUAD8/CTRIA6 is the exception: its director does not stretch, so the homothety's
+//! through-thickness part is missing, a bending strain of order αΔT·t/R.)
 //!
 //! **Recovery.** Stresses are C (ε − ε_th): shell forces from (ε⁰ − ε⁰_free, κ − κ_free), ply
 //! stresses Q (ε − {α1 α2 0}ΔT) in the ply axes, solid stresses with αΔT off the normal
