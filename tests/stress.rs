@@ -930,3 +930,44 @@ fn pcomp_thermal_loads_match_msc_nastran() {
         );
     }
 }
+
+/// A heated free plate of one MAT8 (PSHELL MID1 = MID2, A1 ≠ A2, TREF) expands by A1·ΔT along
+/// the material x axis (G1→G2: ±x on this mesh, the sign irrelevant for a strain) and A2·ΔT
+/// along y, stress-free: the orthotropic free membrane strain of the thermal module, exact for
+/// both elements (patch test), so round-off bounds as in the isotropic case.
+#[test]
+fn heated_free_orthotropic_plate_expands_along_its_material_axes() {
+    let (a1, a2) = (1.0e-6, 3.0e-5);
+    let section = format!(
+        "PSHELL,1,1,{T:?},1,,1\nMAT8,1,1.5e11,1.e10,0.3,5.e9,,,1600.\n+,{a1:?},{a2:?},{TREF:?}\n"
+    );
+    let bulk = format!("SPC1,1,123456,{}\n{section}", gid(0, 0));
+    for triangles in [false, true] {
+        let text = thermal_deck("STRESS = ALL\n", &bulk, triangles, false);
+        let (file, _dir) = run_to_file(&text);
+        let u: Vec<f64> = read_dataset(&file.group("results/1/statics").unwrap(), "displacement");
+        let mut want = Vec::new();
+        for j in 0..=NY {
+            for i in 0..=NX {
+                let [x, y] = position(i, j);
+                want.push((gid(i, j), [a1 * DT * x, a2 * DT * y, 0.0, 0.0, 0.0, 0.0]));
+            }
+        }
+        want.sort_by_key(|(g, _)| *g);
+        for (row, (g, w)) in rows(&u, 6).iter().zip(&want) {
+            assert!(
+                max_abs_diff(row, w) < 1e-9 * a2 * DT * LX,
+                "triangles {triangles} grid {g}: {row:?} vs {w:?}"
+            );
+        }
+        let block = if triangles { "CTRIA3" } else { "CQUAD4" };
+        let s = file
+            .group(&format!("results/1/statics/stress/{block}"))
+            .unwrap();
+        let top: Vec<f64> = read_dataset(&s, "top");
+        assert!(
+            top.iter().all(|x| x.abs() < 1e-8 * 1.5e11 * a2 * DT),
+            "{top:?}"
+        );
+    }
+}
