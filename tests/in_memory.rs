@@ -107,8 +107,9 @@ fn statics_and_receptance_of_a_model_in_memory_at_p() {
         let symbolic = StaticFactors::analyze(&c).expect("symbolic");
         factors.factor(&c, symbolic).expect("Cholesky");
         let factor = factors.get(&c).expect("the factor of this f-set");
-        let solution = StaticSolution::solve(&model, &structure, &c, Some(10), factor, &masses)
-            .unwrap_or_else(|e| panic!("statics: {e}"));
+        let solution =
+            StaticSolution::solve(&model, &structure, &c, (Some(10), None), factor, &masses)
+                .unwrap_or_else(|e| panic!("statics: {e}"));
         let u = structure.to_basic_rows(&solution.u_g)[0];
         assert!((u - 5.0 / k).abs() <= 1e-12 * 5.0 / k, "k = {k}: u = {u}");
 

@@ -691,3 +691,59 @@ fn beam_modes_match_simcenter_nastran() {
         close(*g, *w, 1e-6);
     }
 }
+
+/// Thermal loads on rods and beams (αΔT = 1e-3, TEMPD; MAT1 A and TREF): a CROD held at one
+/// end grows by αΔT·L; held at both ends it carries N = −EAαΔT, the SPC forces ±EAαΔT along the
+/// axis. A CBAR whose axis is offset by w = 0.05 in y at both ends (WA = WB) and is held at both
+/// grids: the same axial force, now acting on the offset axis, so each grid's support also
+/// carries the moment w × F (Mz = ∓0.05·EAαΔT); free at one grid, the far grid moves by αΔT·L
+/// along x without rotation (the rigid offsets do not expand). A uniform axial strain is exact
+/// for these elements: 1e-9 of the values (round-off).
+#[test]
+fn heated_rods_and_offset_bars_expand_or_push_by_e_a_alpha_dt() {
+    let (l, a, alpha, tref, dt) = (2.0, 1.0e-4, 1.0e-5, 20.0, 100.0);
+    let f = E * a * alpha * dt;
+    let deck = |element: &str, spc: &str| {
+        format!(
+            "SOL 101\nCEND\nSPC = 1\nTEMPERATURE(LOAD) = 3\nSPCFORCES = ALL\nBEGIN BULK\n\
+             GRID,1,,0.,0.,0.\nGRID,2,,{l:?},0.,0.\n{element}\
+             PROD,10,1,{a:?}\nPBAR,20,1,{a:?},1.e-8,1.e-8,1.e-8\n\
+             MAT1,1,{E:?},,{NU:?},{RHO:?},{alpha:?},{tref:?}\nTEMPD,3,{:?}\n{spc}ENDDATA\n",
+            tref + dt
+        )
+    };
+    let rod = "CROD,1,10,1,2\n";
+    let bar = "CBAR,1,20,1,2,0.,0.,1.\n+,,,0.,0.05,0.,0.,0.05,0.\n";
+    for element in [rod, bar] {
+        let (file, _dir) = run_to_file(&deck(element, "SPC1,1,123456,1\nSPC1,1,2345,2\n"));
+        let u: Vec<f64> = read_dataset(&file.group("results/1/statics").unwrap(), "displacement");
+        let want = [alpha * dt * l, 0.0, 0.0, 0.0, 0.0, 0.0];
+        for (got, w) in u[6..12].iter().zip(want) {
+            assert!(
+                (got - w).abs() < 1e-9 * alpha * dt * l,
+                "{element}: {:?}",
+                &u[6..]
+            );
+        }
+        let (file, _dir) = run_to_file(&deck(element, "SPC1,1,123456,1,2\n"));
+        let q: Vec<f64> = read_dataset(&file.group("results/1/statics").unwrap(), "spc_force");
+        let arm = if element == bar { 0.05 } else { 0.0 };
+        let want = [
+            f,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            -arm * f,
+            -f,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            arm * f,
+        ];
+        for (got, w) in q.iter().zip(want) {
+            assert!((got - w).abs() < 1e-9 * f, "{element}: {q:?}");
+        }
+    }
+}

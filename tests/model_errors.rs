@@ -284,7 +284,7 @@ fn pressure_cards_that_pick_no_face_are_errors() {
 }
 
 /// MATT1 with TABLEM1–TABLEM4: the tables apply only at a material temperature set, which
-/// paraflex does not read, so the MAT1's values apply (Nastran without TEMPERATURE(MATERIAL)):
+/// paraflex does not evaluate, so the MAT1's values apply (Nastran without TEMPERATURE(MATERIAL)):
 /// a rod whose MATT1 E table says 1e11 everywhere stretches by P L/(E A) with the MAT1's
 /// E = 2e11 (1e-12: round-off of a one-element solve), and one warning says why. A MATT1
 /// naming a missing table or a MAT8 is an error at its field.
@@ -322,6 +322,55 @@ fn matt1_leaves_the_mat1_values_without_a_temperature_set() {
             "'{text}' not in {errors:#?}"
         );
     }
+    // a material temperature set would evaluate the tables: refused, at the statement
+    let with_set = deck
+        .replace("LOAD = 3\n", "LOAD = 3\nTEMPERATURE(INITIAL) = 4\n")
+        .replace("ENDDATA", "TEMPD,4,100.\nENDDATA");
+    let errors = build_model(&with_set).expect_err("material set with MATT1");
+    assert!(
+        errors.iter().any(|e| e.contains(":4: TEMPERATURE: TEMPERATURE(MATERIAL | INITIAL | BOTH) = 4 with MATT1 cards: temperature-dependent material properties are not available")),
+        "{errors:#?}"
+    );
+}
+
+/// Temperature sets: `TEMPERATURE(LOAD)` must select a TEMP or TEMPD set, a TEMP must name
+/// existing grids, and a thermal load needs a temperature at every grid of an element that
+/// expands (no TEMP for it and no TEMPD: an error naming the grid and the set). Describers
+/// other than LOAD, MATERIAL, INITIAL, BOTH are refused at their line.
+#[test]
+fn temperature_sets_are_checked() {
+    let base = "SOL 101\nCEND\nSPC = 1\nTEMP(LOAD) = 7\nBEGIN BULK\n\
+        GRID,1,,0.,0.,0.,,123456\nGRID,2,,2.,0.,0.,,23456\nCROD,1,10,1,2\n\
+        PROD,10,1,1.e-4\nMAT1,1,2.e11,,0.3,7800.,1.e-5\nSPC1,1,1,2\n";
+    let e = build_model(&format!("{base}TEMP,8,1,10.\nENDDATA\n")).expect_err("no set 7");
+    assert!(
+        e.iter()
+            .any(|e| e.contains("TEMPERATURE(LOAD) = 7 selects no TEMP/TEMPD set 7")),
+        "{e:#?}"
+    );
+    let e = build_model(&format!("{base}TEMP,7,1,10.,3,20.\nENDDATA\n")).expect_err("grid 3");
+    assert!(
+        e.iter()
+            .any(|e| e.contains("TEMP 7") && e.contains("G2 = 3 does not exist")),
+        "{e:#?}"
+    );
+    let e = build_model(&base.replace("TEMP(LOAD)", "TEMP(HEAT)")).expect_err("describer");
+    assert!(
+        e.iter().any(|e| e.contains(
+            ":4: TEMPERATURE: TEMPERATURE(HEAT): expected LOAD, MATERIAL, INITIAL or BOTH"
+        )),
+        "{e:#?}"
+    );
+    let (r, _dir) = common::run_deck(&format!("{base}TEMP,7,1,10.\nENDDATA\n"));
+    let e = r.expect_err("grid 2 has no temperature").to_string();
+    assert!(
+        e.contains("CROD 1") && e.contains("GRID 2 has no temperature in temperature set 7"),
+        "{e}"
+    );
+    // an element that does not expand (A = 0) needs no temperatures
+    let cold = base.replace("7800.,1.e-5", "7800.");
+    let (r, _dir) = common::run_deck(&format!("{cold}TEMP,7,1,10.\nENDDATA\n"));
+    r.expect("no expansion, no temperature needed");
 }
 
 /// A MAT1 whose derived ν = E/(2G) − 1 lies outside (−1, 0.5) is accepted with a warning when

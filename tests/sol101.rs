@@ -233,7 +233,7 @@ fn two_subcases_share_the_factor_and_strains_follow_beam_theory() {
 fn subcom_combines_the_preceding_subcases() {
     let (p, m) = (10.0, 3.0);
     let case = "SPC = 1\nSTRAIN = ALL\nSUBCASE 1\n  LOAD = 5\nSUBCASE 2\n  LOAD = 7\n\
-                SUBCOM 3\n  SUBSEQ = 2.0, 1.0\n";
+                SUBCOM 3\n  SUBSEQ = 2.0, 1.0\nSUBCOM 4\n  SUBSEQ = 3.0\n";
     let deck = strip(
         case,
         &format!("FORCE,5,1000,,{p:?},0.,0.,1.\nMOMENT,7,1000,,{m:?},0.,-1.,0.\n"),
@@ -264,6 +264,12 @@ fn subcom_combines_the_preceding_subcases() {
                 (u3[k] - 2.0 * u1[k] - u2[k]).abs() < 1e-12 * scale,
                 "{name}[{k}]"
             );
+        }
+        // one coefficient applies to the most recent SUBCASE (Nastran's SUBSEQ: Rn to the
+        // latest), as MSC's OP2 of pyNastran's other/v10112.bdf shows (its SUBCOM 40)
+        let u4 = read(&format!("results/4/statics/{name}"));
+        for k in 0..u4.len() {
+            assert!((u4[k] - 3.0 * u2[k]).abs() < 1e-12 * scale, "{name}[{k}]");
         }
     }
 

@@ -43,6 +43,45 @@ fn two_dof_spring_mass_matches_the_analytic_2x2_eigenproblem() {
     assert_eq!(s.subcases[0].autospc.len(), 10);
 }
 
+/// The same two-DOF system with CMASS2 scalar masses instead of CONM2s: m1 grounded at grid 1
+/// T1, and m2 split as a grounded CMASS2 at grid 2 T1 plus a CMASS2 *between* grid 1 T1 and
+/// grid 2 T1 of mass mc. A scalar mass between two DOFs has the matrix of a spring,
+/// mc [[1, −1], [−1, 1]] (Nastran's CMASS2), so M = [[m1 + mc, −mc], [−mc, m2 + mc]] and the
+/// frequencies are the roots of det(K − λM) = 0 (the 2 × 2 quadratic, round-off: 1e-10). The
+/// deck warns that CMASS2 masses are not in the mass properties.
+#[test]
+fn cmass2_scalar_masses_give_the_analytic_2x2_eigenproblem() {
+    let (k1, k2, m1, m2, mc): (f64, f64, f64, f64, f64) = (1.0e4, 2.5e3, 2.0, 0.5, 0.3);
+    let deck = format!(
+        "SOL 103\nCEND\nMETHOD = 1\nBEGIN BULK\nGRID,1,,0.,0.,0.,,23456\nGRID,2,,1.,0.,0.,,23456\n\
+         CELAS2,1,{k1:?},1,1\nCELAS2,2,{k2:?},1,1,2,1\nCMASS2,3,{m1:?},1,1\nCMASS2,4,{m2:?},2,1\n\
+         CMASS2,5,{mc:?},1,1,2,1\nEIGRL,1,,,2\nENDDATA\n"
+    );
+    let model = common::build_model(&deck).expect("model");
+    assert!(
+        model.warnings.iter().any(|w| w
+            .message
+            .contains("CMASS2 masses are in the mass matrix but not in the mass properties")),
+        "{:?}",
+        model.warnings
+    );
+    let (r, _dir) = run_deck(&deck);
+    let s = r.expect("run");
+    let m = modal(&s);
+    // det([[k1 + k2 − λ(m1 + mc), −k2 + λ mc], [−k2 + λ mc, k2 − λ(m2 + mc)]]) = a λ² + b λ + c
+    let (ma, mb) = (m1 + mc, m2 + mc);
+    let a = ma * mb - mc * mc;
+    let b = -((k1 + k2) * mb + k2 * ma) + 2.0 * k2 * mc;
+    let c = k1 * k2;
+    let disc = (b * b - 4.0 * a * c).sqrt();
+    let lambdas = [(-b - disc) / (2.0 * a), (-b + disc) / (2.0 * a)];
+    assert_eq!(m.frequencies_hz.len(), 2);
+    for (got, l) in m.frequencies_hz.iter().zip(lambdas) {
+        let f = l.sqrt() / TWO_PI;
+        assert!((got - f).abs() <= 1e-10 * f, "{got} vs {f}");
+    }
+}
+
 /// RBE2 + CONM2: grid 1 on grounded springs (kt in T1–T3, k4, k5, k6 in R1–R3), a mass m
 /// with inertia I (I11 = I22 = I33) at grid 2, at distance d along y, tied to grid 1 by an
 /// RBE2. About grid 1 the pairs (T1, R3) and (T3, R1) are coupled by m d, with

@@ -27,14 +27,7 @@ fn plate(triangles: bool) -> String {
     let mut s = String::new();
     for j in 0..=NY {
         for i in 0..=NX {
-            let interior = i > 0 && i < NX && j > 0 && j < NY;
-            let shift = if interior {
-                0.017 * (i as f64 + 1.0)
-            } else {
-                0.0
-            };
-            let x = i as f64 * LX / NX as f64 + shift;
-            let y = j as f64 * LY / NY as f64;
+            let [x, y] = position(i, j);
             s += &format!("GRID,{},,{x:?},{y:?},0.\n", gid(i, j));
         }
     }
@@ -54,6 +47,17 @@ fn plate(triangles: bool) -> String {
         }
     }
     s
+}
+
+/// (x, y) of mesh point (i, j) of [`plate`].
+fn position(i: usize, j: usize) -> [f64; 2] {
+    let interior = i > 0 && i < NX && j > 0 && j < NY;
+    let shift = if interior {
+        0.017 * (i as f64 + 1.0)
+    } else {
+        0.0
+    };
+    [i as f64 * LX / NX as f64 + shift, j as f64 * LY / NY as f64]
 }
 
 /// Nodal loads of a uniform line load `q` (per length) on the edge x = LX, on component
@@ -650,6 +654,320 @@ fn chexa20_pure_bending_stresses_are_exact_with_blank_midsides() {
             max_abs_diff(&disp[6 * n..6 * n + 3], &want) < 1e-9 * 0.5 * kappa * 16.0,
             "grid {id}: {:?} vs {want:?}",
             &disp[6 * n..6 * n + 3]
+        );
+    }
+}
+
+const ALPHA: f64 = 2.3e-5;
+const TREF: f64 = 20.0;
+const DT: f64 = 100.0;
+
+/// A SOL 101 deck with no mechanical load: SPC set 1 and temperature set 7 (`case` adds the
+/// requests, `bulk` the SPCs and anything else), on the [`plate`] mesh with PSHELL 1 of MAT1 1
+/// (A = ALPHA, TREF) unless `bulk` brings its own property. Set 7 gives TREF + DT everywhere:
+/// TEMP for the grids of the first mesh row, TEMPD for the others.
+fn thermal_deck(case: &str, bulk: &str, triangles: bool, property: bool) -> String {
+    let t = TREF + DT;
+    let temps: String = (0..=NX)
+        .map(|i| format!("TEMP,7,{},{t:?}\n", gid(i, 0)))
+        .collect();
+    let section = if property {
+        format!("PSHELL,1,1,{T:?},1,,1\nMAT1,1,{E:?},,{NU:?},2700.,{ALPHA:?},{TREF:?}\n")
+    } else {
+        String::new()
+    };
+    format!(
+        "SOL 101\nCEND\nSPC = 1\nTEMPERATURE(LOAD) = 7\n{case}BEGIN BULK\n{section}{}{temps}TEMPD,7,{t:?}\n{bulk}ENDDATA\n",
+        plate(triangles)
+    )
+}
+
+/// A heated plate held at one grid only (123456) expands freely: every grid moves by
+/// αΔT (x − x₁, y − y₁, 0) without rotation, and every element is stress-free (fibre stresses
+/// and forces zero). The homogeneous expansion is a constant-strain state both elements
+/// represent exactly (patch test), so the displacements are exact to the round-off of the
+/// solve, 1e-9 of αΔT·LX, and the stresses to 1e-8 of EαΔT (a difference of two
+/// K·u-sized terms of that magnitude).
+#[test]
+fn heated_free_plate_expands_without_stress() {
+    let bulk = format!("SPC1,1,123456,{}\n", gid(0, 0));
+    for triangles in [false, true] {
+        let block = if triangles { "CTRIA3" } else { "CQUAD4" };
+        let text = thermal_deck("STRESS = ALL\nFORCE = ALL\n", &bulk, triangles, true);
+        let (file, _dir) = run_to_file(&text);
+        let u: Vec<f64> = read_dataset(&file.group("results/1/statics").unwrap(), "displacement");
+        let mut want = Vec::new();
+        for j in 0..=NY {
+            for i in 0..=NX {
+                let [x, y] = position(i, j);
+                want.push((gid(i, j), [ALPHA * DT * x, ALPHA * DT * y]));
+            }
+        }
+        want.sort_by_key(|(g, _)| *g);
+        for (row, (g, w)) in rows(&u, 6).iter().zip(&want) {
+            let expected = [w[0], w[1], 0.0, 0.0, 0.0, 0.0];
+            assert!(
+                max_abs_diff(row, &expected) < 1e-9 * ALPHA * DT * LX,
+                "{block} grid {g}: {row:?} vs {expected:?}"
+            );
+        }
+        let sigma = E * ALPHA * DT;
+        let s = file
+            .group(&format!("results/1/statics/stress/{block}"))
+            .unwrap();
+        for fibre in ["top", "bottom"] {
+            let got: Vec<f64> = read_dataset(&s, fibre);
+            assert!(
+                got.iter().all(|x| x.abs() < 1e-8 * sigma),
+                "{block} {fibre}: {got:?}"
+            );
+        }
+        let f: Vec<f64> = read_dataset(
+            &file
+                .group(&format!("results/1/statics/force/{block}"))
+                .unwrap(),
+            "forces",
+        );
+        assert!(f.iter().all(|x| x.abs() < 1e-8 * sigma * T), "{f:?}");
+    }
+}
+
+/// A heated plate held at every grid: no strain, so the stress is −C ε_th, the biaxial
+/// σx = σy = −EαΔT/(1 − ν), τxy = 0 at both fibres and Nx = Ny = −EαΔT T/(1 − ν); the SPC
+/// forces carry the thermal load and sum to zero. Only round-off: 1e-9 of the stress.
+#[test]
+fn heated_clamped_plate_carries_minus_e_alpha_dt_over_one_minus_nu() {
+    let bulk: String = (0..=NY)
+        .flat_map(|j| (0..=NX).map(move |i| format!("SPC1,1,123456,{}\n", gid(i, j))))
+        .collect();
+    let sigma = -E * ALPHA * DT / (1.0 - NU);
+    for triangles in [false, true] {
+        let block = if triangles { "CTRIA3" } else { "CQUAD4" };
+        let text = thermal_deck("STRESS = ALL\nFORCE = ALL\n", &bulk, triangles, true);
+        let (file, _dir) = run_to_file(&text);
+        let s = file
+            .group(&format!("results/1/statics/stress/{block}"))
+            .unwrap();
+        for fibre in ["top", "bottom"] {
+            let got: Vec<f64> = read_dataset(&s, fibre);
+            for row in rows(&got, 3) {
+                assert!(
+                    max_abs_diff(row, &[sigma, sigma, 0.0]) < 1e-9 * sigma.abs(),
+                    "{block} {fibre}: {row:?}"
+                );
+            }
+        }
+        let f: Vec<f64> = read_dataset(
+            &file
+                .group(&format!("results/1/statics/force/{block}"))
+                .unwrap(),
+            "forces",
+        );
+        for row in rows(&f, 8) {
+            let n = sigma * T;
+            let want = [n, n, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+            assert!(max_abs_diff(row, &want) < 1e-9 * n.abs(), "{row:?}");
+        }
+    }
+}
+
+/// A free bimetallic plate: two MAT1 plies of equal thickness h/2 and moduli (a PCOMP), with
+/// expansion coefficients α₁ (bottom) and α₂ (top), heated by ΔT. Timoshenko's bimetal
+/// ("Analysis of bi-metal thermostats", JOSA 11 (1925) 233–255) for equal layers, in its plate
+/// form (biaxial, equal moduli: the 1/(1 − ν) factors cancel): mid-plane strain
+/// ε⁰ = (α₁ + α₂)ΔT/2 in x and y, spherical curvature κx = κy = 3(α₂ − α₁)ΔT/(2h), so a plate held
+/// at grid 1 (the origin) takes u = ε⁰ x, v = ε⁰ y, w = −κ(x² + y²)/2 and the rotations
+/// θ = (∂w/∂y, −∂w/∂x) = (−κ y, κ x). The ply stresses at the ply mid-planes
+/// z = ∓h/4 are ±E/(1 − ν)·(α₂ − α₁)ΔT/8 in both ply directions (bottom tension). Constant
+/// strain and curvature are exact for the elements (patch tests): 1e-8 of the largest value.
+#[test]
+fn free_bimetal_plate_curves_as_timoshenko() {
+    let (a1, a2, h) = (1.0e-5, 2.0e-5, 0.002);
+    let bulk = format!(
+        "SPC1,1,123456,{}\nPCOMP,1,,,,,{TREF:?}\n+,11,{:?},0.,YES,12,{:?},0.\n\
+         MAT1,11,{E:?},,{NU:?},2700.,{a1:?},{TREF:?}\nMAT1,12,{E:?},,{NU:?},2700.,{a2:?},500.\n",
+        gid(0, 0),
+        h / 2.0,
+        h / 2.0
+    );
+    let eps0 = 0.5 * (a1 + a2) * DT;
+    let kappa = 1.5 * (a2 - a1) * DT / h;
+    for triangles in [false, true] {
+        let block = if triangles { "CTRIA3" } else { "CQUAD4" };
+        let text = thermal_deck("STRESS = ALL\n", &bulk, triangles, false);
+        let (file, _dir) = run_to_file(&text);
+        let u: Vec<f64> = read_dataset(&file.group("results/1/statics").unwrap(), "displacement");
+        let mut want = Vec::new();
+        for j in 0..=NY {
+            for i in 0..=NX {
+                let [x, y] = position(i, j);
+                let w = -0.5 * kappa * (x * x + y * y);
+                want.push((
+                    gid(i, j),
+                    [eps0 * x, eps0 * y, w, -kappa * y, kappa * x, 0.0],
+                ));
+            }
+        }
+        want.sort_by_key(|(g, _)| *g);
+        let scale = kappa * LX * LX;
+        for (row, (g, w)) in rows(&u, 6).iter().zip(&want) {
+            assert!(
+                max_abs_diff(&row[..3], &w[..3]) < 1e-8 * scale,
+                "{block} grid {g}: {row:?} vs {w:?}"
+            );
+            assert!(
+                max_abs_diff(&row[3..], &w[3..]) < 1e-8 * kappa * LX,
+                "{block} grid {g}: {row:?} vs {w:?}"
+            );
+        }
+        let g = file
+            .group(&format!("results/1/statics/ply_stress/{block}"))
+            .unwrap();
+        let stress: Vec<f64> = read_dataset(&g, "stress");
+        let s = E / (1.0 - NU) * (a2 - a1) * DT / 8.0;
+        for (k, row) in rows(&stress, 5).iter().enumerate() {
+            let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
+            let want = [sign * s, sign * s, 0.0, 0.0, 0.0];
+            assert!(
+                max_abs_diff(row, &want) < 1e-8 * s,
+                "{block} row {k}: {row:?} vs {want:?}"
+            );
+        }
+    }
+}
+
+/// A heated CHEXA cube: held statically determinately it expands freely (u = αΔT x, no
+/// stress); held at every grid it carries σ = −EαΔT/(1 − 2ν) on the three normals and no shear,
+/// at the centroid and the corners. Round-off only: 1e-9.
+#[test]
+fn heated_cube_expands_freely_or_carries_minus_e_alpha_dt_over_one_minus_two_nu() {
+    let grids = "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,1.,1.,0.\nGRID,4,,0.,1.,0.\n\
+                 GRID,5,,0.,0.,1.\nGRID,6,,1.,0.,1.\nGRID,7,,1.,1.,1.\nGRID,8,,0.,1.,1.\n";
+    let xyz = [
+        [0., 0., 0.],
+        [1., 0., 0.],
+        [1., 1., 0.],
+        [0., 1., 0.],
+        [0., 0., 1.],
+        [1., 0., 1.],
+        [1., 1., 1.],
+        [0., 1., 1.],
+    ];
+    let cube = |spc: &str| {
+        format!(
+            "SOL 101\nCEND\nSPC = 1\nTEMP(LOAD) = 7\nSTRESS = ALL\nBEGIN BULK\n{grids}\
+             CHEXA,1,1,1,2,3,4,5,6,+\n+,7,8\nPSOLID,1,1\n\
+             MAT1,1,{E:?},,{NU:?},2700.,{ALPHA:?},{TREF:?}\nTEMPD,7,{:?}\n{spc}ENDDATA\n",
+            TREF + DT
+        )
+    };
+    let (file, _dir) = run_to_file(&cube("SPC1,1,123,1\nSPC1,1,23,2\nSPC1,1,3,4\n"));
+    let u: Vec<f64> = read_dataset(&file.group("results/1/statics").unwrap(), "displacement");
+    for (row, p) in rows(&u, 6).iter().zip(&xyz) {
+        let want = [ALPHA * DT * p[0], ALPHA * DT * p[1], ALPHA * DT * p[2]];
+        assert!(
+            max_abs_diff(&row[..3], &want) < 1e-9 * ALPHA * DT,
+            "{row:?}"
+        );
+    }
+    let sigma = E * ALPHA * DT;
+    let g = file.group("results/1/statics/stress/CHEXA").unwrap();
+    let c: Vec<f64> = read_dataset(&g, "centroid");
+    assert!(c.iter().all(|x| x.abs() < 1e-9 * sigma), "{c:?}");
+    let (file, _dir) = run_to_file(&cube("SPC1,1,123,1,THRU,8\n"));
+    let g = file.group("results/1/statics/stress/CHEXA").unwrap();
+    let s = -E * ALPHA * DT / (1.0 - 2.0 * NU);
+    let want = [s, s, s, 0.0, 0.0, 0.0];
+    for name in ["centroid", "corners"] {
+        let got: Vec<f64> = read_dataset(&g, name);
+        for row in rows(&got, 6) {
+            assert!(max_abs_diff(row, &want) < 1e-9 * s.abs(), "{name}: {row:?}");
+        }
+    }
+}
+
+/// MSC Nastran's results for pyNastran's `other/v10112.bdf` (a [0/90/0] PCOMP CQUAD4 under a
+/// uniform ΔT = 1, a membrane load and two SUBCOMs; `reference/nastran/pcomp_thermal_v10112.json`):
+/// displacements and ply stresses of every subcase, including the SUBCOM whose stresses take
+/// its own TEMP(LOAD) and the SUBCOM whose one coefficient applies to the most recent subcase.
+/// One element with a uniform temperature: both codes solve the same discrete problem, so the
+/// bound is the OP2's single precision, 1e-6 of each subcase's largest value.
+#[test]
+fn pcomp_thermal_loads_match_msc_nastran() {
+    let r = json("reference/nastran/pcomp_thermal_v10112.json");
+    let (res, _model, dir) = run_deck_file(&root().join(r["deck"].as_str().unwrap()));
+    res.expect("run");
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).unwrap();
+    for (subcase, grids) in r["displacement"].as_object().unwrap() {
+        let g = file.group(&format!("results/{subcase}/statics")).unwrap();
+        let u: Vec<f64> = read_dataset(&g, "displacement");
+        let want: Vec<f64> = (1..=4).flat_map(|k| f64s(&grids[k.to_string()])).collect();
+        let scale = want.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+        assert!(
+            max_abs_diff(&u, &want) < 1e-6 * scale,
+            "subcase {subcase}: {u:?} vs MSC {want:?}"
+        );
+        let stress: Vec<f64> = read_dataset(
+            &file
+                .group(&format!("results/{subcase}/statics/ply_stress/CQUAD4"))
+                .unwrap(),
+            "stress",
+        );
+        let want: Vec<f64> = r["ply_stress"][subcase]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(f64s)
+            .collect();
+        let got: Vec<f64> = rows(&stress, 5)
+            .iter()
+            .flat_map(|p| p[..3].to_vec())
+            .collect();
+        let scale = want.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+        assert!(
+            max_abs_diff(&got, &want) < 1e-6 * scale,
+            "subcase {subcase}: {got:?} vs MSC {want:?}"
+        );
+    }
+}
+
+/// A heated free plate of one MAT8 (PSHELL MID1 = MID2, A1 ≠ A2, TREF) expands by A1·ΔT along
+/// the material x axis (G1→G2: ±x on this mesh, the sign irrelevant for a strain) and A2·ΔT
+/// along y, stress-free: the orthotropic free membrane strain of the thermal module, exact for
+/// both elements (patch test), so round-off bounds as in the isotropic case.
+#[test]
+fn heated_free_orthotropic_plate_expands_along_its_material_axes() {
+    let (a1, a2) = (1.0e-6, 3.0e-5);
+    let section = format!(
+        "PSHELL,1,1,{T:?},1,,1\nMAT8,1,1.5e11,1.e10,0.3,5.e9,,,1600.\n+,{a1:?},{a2:?},{TREF:?}\n"
+    );
+    let bulk = format!("SPC1,1,123456,{}\n{section}", gid(0, 0));
+    for triangles in [false, true] {
+        let text = thermal_deck("STRESS = ALL\n", &bulk, triangles, false);
+        let (file, _dir) = run_to_file(&text);
+        let u: Vec<f64> = read_dataset(&file.group("results/1/statics").unwrap(), "displacement");
+        let mut want = Vec::new();
+        for j in 0..=NY {
+            for i in 0..=NX {
+                let [x, y] = position(i, j);
+                want.push((gid(i, j), [a1 * DT * x, a2 * DT * y, 0.0, 0.0, 0.0, 0.0]));
+            }
+        }
+        want.sort_by_key(|(g, _)| *g);
+        for (row, (g, w)) in rows(&u, 6).iter().zip(&want) {
+            assert!(
+                max_abs_diff(row, w) < 1e-9 * a2 * DT * LX,
+                "triangles {triangles} grid {g}: {row:?} vs {w:?}"
+            );
+        }
+        let block = if triangles { "CTRIA3" } else { "CQUAD4" };
+        let s = file
+            .group(&format!("results/1/statics/stress/{block}"))
+            .unwrap();
+        let top: Vec<f64> = read_dataset(&s, "top");
+        assert!(
+            top.iter().all(|x| x.abs() < 1e-8 * 1.5e11 * a2 * DT),
+            "{top:?}"
         );
     }
 }

@@ -3,7 +3,7 @@
 //!
 //! 1. K_ff = LLᵀ: one symbolic analysis and one numeric factor per distinct f-set, shared by
 //!    every load case with that f-set (K does not depend on the load) — [`StaticFactors`];
-//! 2. P_g of a load selection (FORCE, MOMENT, GRAV with M_gg), u_s the SPC values with the
+//! 2. P_g of a load selection (FORCE, MOMENT, GRAV with M_gg; plus a thermal load), u_s the SPC values with the
 //!    selection's SPCD values in their place ([`SpcSet::with_spcd`]), P_f = (Tᵀ P_g)_f − K_fs u_s;
 //! 3. u_f by the factor plus one step of iterative refinement
 //!    ([`Constrained::solve_static`]: shell models mix membrane and bending stiffness,
@@ -81,8 +81,10 @@ pub struct StaticSolution {
 }
 
 impl StaticSolution {
-    /// Σ cᵢ solutionᵢ over the first `coefficients.len()` solutions (a `SUBCOM`): statics is
-    /// linear, so displacements, loads and SPC forces combine with the same coefficients.
+    /// Σ cᵢ solutionᵢ (a `SUBCOM`): the last coefficient applies to the last solution, the one
+    /// before it to the one before, and so on (Nastran's SUBSEQ: Rn to the most recent
+    /// subcase), so a short list combines the most recent subcases. Statics is linear, so
+    /// displacements, loads and SPC forces combine with the same coefficients.
     pub fn combine(solutions: &[StaticSolution], coefficients: &[f64]) -> StaticSolution {
         let n = solutions.first().map_or(0, |s| s.u_g.len());
         let mut sum = StaticSolution {
@@ -90,7 +92,9 @@ impl StaticSolution {
             q_g: vec![0.0; n],
             p_g: vec![0.0; n],
         };
-        for (s, &c) in solutions.iter().zip(coefficients) {
+        let recent = &solutions[solutions.len().saturating_sub(coefficients.len())..];
+        let first = coefficients.len().saturating_sub(recent.len());
+        for (s, &c) in recent.iter().zip(&coefficients[first..]) {
             for (total, part) in [
                 (&mut sum.u_g, &s.u_g),
                 (&mut sum.q_g, &s.q_g),
@@ -103,16 +107,17 @@ impl StaticSolution {
     }
 
     /// Solves K_ff u_f = P_f for the load set `load` (`None`: no load, enforced displacements
-    /// only) with `factor` of `c`'s K_ff; `mass_values` are M_gg's ([`Structure::mass_gg_values`]).
+    /// only) plus the thermal load `thermal` (P_g, [`crate::discretize::thermal::thermal_load`])
+    /// with `factor` of `c`'s K_ff; `mass_values` are M_gg's ([`Structure::mass_gg_values`]).
     pub fn solve(
         model: &Model,
         st: &Structure,
         c: &Constrained,
-        load: Option<u32>,
+        (load, thermal): (Option<u32>, Option<&[f64]>),
         factor: &Factor,
         mass_values: &[f64],
     ) -> Result<StaticSolution, AnalysisError> {
-        let p_g = match load {
+        let mut p_g = match load {
             Some(sid) => load_vector(
                 model,
                 &st.frames,
@@ -125,6 +130,9 @@ impl StaticSolution {
             )?,
             None => vec![0.0; st.map.size()],
         };
+        if let Some(thermal) = thermal {
+            p_g.iter_mut().zip(thermal).for_each(|(p, t)| *p += t);
+        }
         let enforced = match load {
             Some(sid) => {
                 let spcd = model

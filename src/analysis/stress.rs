@@ -17,6 +17,7 @@ use std::collections::BTreeMap;
 use super::statics::selected_shell_strains;
 use crate::card_values::FailureTheory;
 use crate::discretize::elements::{CentreSection, shear_panel, shell_centre_section};
+use crate::discretize::thermal::ThermalStrains;
 use crate::discretize::{DiscretizeError, Structure};
 use crate::fe::laminate::{ShellSection, ply_states};
 use crate::fe::stress::{
@@ -125,11 +126,13 @@ fn element_error(e: &Element, reason: impl ToString) -> DiscretizeError {
     }
 }
 
-/// The shells `keep` selects with their recovered state, for the basic displacement rows `u`.
+/// The shells `keep` selects with their recovered state, for the basic displacement rows `u`
+/// and the thermal strains `thermal` (forces from the mechanical strains).
 fn shell_states<'m>(
     model: &'m Model,
     st: &Structure,
     u: &[f64],
+    thermal: &ThermalStrains,
     keep: impl Fn(u32) -> bool,
 ) -> Result<Vec<(&'m Element, ShellState)>, DiscretizeError> {
     let mut out = Vec::new();
@@ -141,7 +144,7 @@ fn shell_states<'m>(
             CentreSection::Laminate(l) => ShellSection::laminate(l),
         }
         .map_err(|x| element_error(e, x))?;
-        let forces = shell_forces(&full, &strains);
+        let forces = shell_forces(&full, &thermal.shell_mechanical(e.id, &strains));
         out.push((
             e,
             ShellState {
@@ -155,15 +158,17 @@ fn shell_states<'m>(
     Ok(out)
 }
 
-/// The centroid element forces of the shells `keep` selects (module doc).
+/// The centroid element forces of the shells `keep` selects (module doc), less the thermal
+/// resultants of `thermal`.
 pub fn element_forces(
     model: &Model,
     st: &Structure,
     u: &[f64],
+    thermal: &ThermalStrains,
     keep: impl Fn(u32) -> bool,
 ) -> Result<ElementForces, DiscretizeError> {
     let mut out = ElementForces::new();
-    for (e, s) in shell_states(model, st, u, keep)? {
+    for (e, s) in shell_states(model, st, u, thermal, keep)? {
         let block = out.entry(e.kind.block_name()).or_default();
         block.ids.push(e.id);
         block.forces.extend(s.forces.row());
@@ -171,16 +176,18 @@ pub fn element_forces(
     Ok(out)
 }
 
-/// The stresses of the elements `keep` selects (module doc).
+/// The stresses of the elements `keep` selects (module doc): C (ε − ε_th) with the thermal
+/// strains of `thermal`.
 pub fn element_stresses(
     model: &Model,
     st: &Structure,
     u: &[f64],
+    thermal: &ThermalStrains,
     keep: impl Fn(u32) -> bool,
 ) -> Result<ElementStresses, DiscretizeError> {
     let mut out = ElementStresses::default();
     let keep = &keep;
-    for (e, s) in shell_states(model, st, u, keep)? {
+    for (e, s) in shell_states(model, st, u, thermal, keep)? {
         match &s.section {
             CentreSection::Pshell(p) => {
                 let (z_top, z_bottom) = s.fibres;
@@ -195,8 +202,14 @@ pub fn element_stresses(
                     .extend([von_mises_plane(top), von_mises_plane(bottom)]);
             }
             CentreSection::Laminate(l) => {
-                let plies = ply_states(l, s.strains.membrane, s.strains.curvature, s.strains.shear)
-                    .map_err(|x| element_error(e, x))?;
+                let plies = ply_states(
+                    l,
+                    s.strains.membrane,
+                    s.strains.curvature,
+                    s.strains.shear,
+                    thermal.plies(e.id),
+                )
+                .map_err(|x| element_error(e, x))?;
                 let property = laminate_property(model, e);
                 let block = out.plies.entry(e.kind.block_name()).or_default();
                 for (k, p) in plies.iter().enumerate() {
@@ -252,7 +265,7 @@ pub fn element_stresses(
         let bad = |x: solid::SolidError| element_error(e, x);
         let centroid = solid_stress(
             material,
-            &midsides.strain_at_centroid(&xyz, &ut).map_err(bad)?,
+            &thermal.solid_mechanical(e.id, &midsides.strain_at_centroid(&xyz, &ut).map_err(bad)?),
         );
         let corners = midsides.corner_strains(&xyz, &ut, material).map_err(bad)?;
         let block = out.solids.entry(e.kind.block_name()).or_default();
@@ -261,7 +274,7 @@ pub fn element_stresses(
         block.centroid.extend(centroid);
         block.von_mises.push(von_mises(&centroid));
         for (&a, strain) in e.nodes.iter().zip(&corners) {
-            let s = solid_stress(material, strain);
+            let s = solid_stress(material, &thermal.solid_mechanical(e.id, strain));
             block.corner_grids.push(st.map.grid_id(a).unwrap_or(0));
             block.corner_stress.extend(s);
             block.corner_von_mises.push(von_mises(&s));

@@ -107,12 +107,20 @@ pub struct Subcase {
     pub suport1: Option<u32>,
     /// `LOADSET = sid` (LSEQ cards: static load sets as dynamic excitations).
     pub loadset: Option<u32>,
+    /// `TEMPERATURE(LOAD) = sid` or `TEMPERATURE(BOTH) = sid` (TEMP/TEMPD set of the thermal
+    /// load).
+    pub temperature_load: Option<u32>,
+    /// `TEMPERATURE(MATERIAL) = sid`, `TEMPERATURE(INITIAL) = sid` or `TEMPERATURE(BOTH) = sid`:
+    /// the set temperature-dependent material properties would be evaluated at (paraflex
+    /// evaluates none; see `model::temperature`).
+    pub temperature_material: Option<u32>,
     /// `STRREF = NONE | INITIAL | id` (what the STRAIN outputs of a `SOL FMB` run are relative
     /// to).
     pub strref: Option<StrainReference>,
     pub outputs: Vec<OutputRequest>,
-    /// `SUBCOM`: the coefficients of its `SUBSEQ`, one per preceding `SUBCASE` in deck order
-    /// (empty until `SUBSEQ` is read); `None` for a `SUBCASE`.
+    /// `SUBCOM`: the coefficients of its `SUBSEQ`, the last one for the most recent preceding
+    /// `SUBCASE`, the one before for the one before it, … (empty until `SUBSEQ` is read);
+    /// `None` for a `SUBCASE`.
     pub combination: Option<Vec<f64>>,
     /// Positions of the selections, by canonical name, for cross-reference messages.
     #[serde(skip)]
@@ -134,9 +142,33 @@ impl Subcase {
         let mut out = self.clone();
         macro_rules! inherit { ($($f:ident),*) => { $( if out.$f.is_none() { out.$f = defaults.$f.clone(); } )* } }
         inherit!(
-            title, subtitle, label, spc, mpc, load, method, frequency, sdamping, dload, tstep, ic,
-            prom, rom, fmb, pval, sensor, estim, meas, msensor, fmbstart, poses, strref, suport1,
-            loadset
+            title,
+            subtitle,
+            label,
+            spc,
+            mpc,
+            load,
+            method,
+            frequency,
+            sdamping,
+            dload,
+            tstep,
+            ic,
+            prom,
+            rom,
+            fmb,
+            pval,
+            sensor,
+            estim,
+            meas,
+            msensor,
+            fmbstart,
+            poses,
+            strref,
+            suport1,
+            loadset,
+            temperature_load,
+            temperature_material
         );
         let own: Vec<&str> = out.outputs.iter().map(|o| o.name).collect();
         let inherited: Vec<OutputRequest> = defaults
@@ -228,6 +260,9 @@ const OUTPUTS: &[&str] = &[
     "GPSTRESS",
     "STRFIELD",
     "GPSTRAIN",
+    // stress discontinuity estimates (grid point and element), mesh-quality outputs
+    "GPSDCON",
+    "ELSDCON",
 ];
 
 /// Statements accepted and ignored (printing and bookkeeping options that do not change results).
@@ -391,7 +426,9 @@ impl CaseControl {
         }
         let text = text.trim();
         let st = split_statement(text);
-        let word = st.word.to_ascii_uppercase();
+        // TITLE, SUBTITLE and LABEL may be abbreviated like every command (`SUBTIT`, `TITL`)
+        let word = canonical(st.word, &["TITLE", "SUBTITLE", "LABEL"])
+            .map_or_else(|| st.word.to_ascii_uppercase(), str::to_string);
         let err = |msg: String| DeckError::at(loc, msg).on_card(word.clone());
         if word == "OUTPUT"
             && let Some(section) = st
@@ -611,6 +648,8 @@ impl CaseControl {
                 loc: loc.clone(),
             };
             self.current().outputs.push(req);
+        } else if canonical(word, &["TEMPERATURE"]).is_some() {
+            self.read_temperature(loc, &st, diag);
         } else if canonical(word, &["ECHO"]).is_some() {
             self.read_echo(loc, st.value, diag);
         } else if let Some(name) = canonical(word, IGNORED) {
@@ -620,10 +659,49 @@ impl CaseControl {
             );
         } else {
             diag.error(err(format!(
-                "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SUBCOM SUBSEQ SET PARAM AUTOSPC ROM FMB SENSOR MSENSOR FMBSTART STRREF {} and output requests {}",
+                "unsupported case control command '{word}': paraflex reads TITLE SUBTITLE LABEL SUBCASE SUBCOM SUBSEQ SET PARAM AUTOSPC ROM FMB SENSOR MSENSOR FMBSTART STRREF TEMPERATURE ECHO {} and output requests {}",
                 SELECTIONS.join(" "),
                 OUTPUTS.join(" ")
             )));
+        }
+    }
+
+    /// `TEMPERATURE(LOAD | MATERIAL | INITIAL | BOTH) = sid` (BOTH when no describer), as
+    /// Nastran: LOAD selects the thermal load, MATERIAL and INITIAL the temperatures of
+    /// temperature-dependent material properties, BOTH the two.
+    fn read_temperature(&mut self, loc: &Loc, st: &Statement<'_>, diag: &mut Diagnostics) {
+        let err = |msg: String| DeckError::at(loc, msg).on_card("TEMPERATURE");
+        let Some(sid) = st.value.and_then(parse_id) else {
+            return diag.error(err(format!(
+                "expected TEMPERATURE(LOAD | MATERIAL | INITIAL | BOTH) = a TEMP/TEMPD set id, found '{}'",
+                st.value.unwrap_or("")
+            )));
+        };
+        let kind = match st.describers.as_slice() {
+            [] => "BOTH",
+            [one] => match canonical(one, &["LOAD", "MATERIAL", "INITIAL", "BOTH"]) {
+                Some(k) => k,
+                None => {
+                    return diag.error(err(format!(
+                        "TEMPERATURE({one}): expected LOAD, MATERIAL, INITIAL or BOTH"
+                    )));
+                }
+            },
+            _ => {
+                return diag.error(err(format!(
+                    "TEMPERATURE({}): expected one of LOAD, MATERIAL, INITIAL, BOTH",
+                    st.describers.join(",")
+                )));
+            }
+        };
+        let sub = self.current();
+        if matches!(kind, "LOAD" | "BOTH") {
+            sub.temperature_load = Some(sid);
+            sub.locs.push(("TEMPERATURE(LOAD)", loc.clone()));
+        }
+        if kind != "LOAD" {
+            sub.temperature_material = Some(sid);
+            sub.locs.push(("TEMPERATURE(MATERIAL)", loc.clone()));
         }
     }
 

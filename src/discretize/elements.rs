@@ -10,6 +10,7 @@
 //! | CELAS1–CELAS4 | PELAS k (CELAS1, CELAS3) / k on the card (CELAS2, CELAS4) | [`ScalarSpring`] between g DOFs: grid components in the grid's CD frame (as in Nastran) or scalar points |
 //! | CBUSH | PBUSH K1–K6, B1–B6 | [`bush`]: six springs (and dampers) along and about the element axes at the spring location |
 //! | CDAMP1–CDAMP4 | PDAMP / B on the card | damping only: [`ScalarSpring`] with b ([`damper_element`]) |
+//! | CMASS2 | M on the card | mass only: [`ScalarSpring`]'s matrix with M ([`scalar_mass_element`]) |
 //! | CVISC | PVISC CE, CR | damping only: axial CE and torsional CR along G1→G2 ([`rod_damping`]) |
 //! | CONM2 | — | [`Conm2`] with the CG offset and inertia tensor from [`Model::element_mass`] |
 //! | CROD, CTUBE, CONROD | PROD, PTUBE / on the card + MAT1 | [`beam`] without bending (axial, torsion) |
@@ -186,6 +187,31 @@ pub fn element_matrices(
     Ok(out)
 }
 
+/// The stiffness contribution (global frames, coefficients bound as in [`element_matrices`])
+/// of every element `keep` selects that has one, with its element: what each adds to K(p).
+pub(crate) fn element_stiffnesses<'m>(
+    model: &'m Model,
+    frames: &GridFrames,
+    params: &Parameters,
+    keep: impl Fn(&Element) -> bool,
+) -> Result<Vec<(&'m Element, Contribution)>, DiscretizeError> {
+    let ctx = ElementContext {
+        model,
+        map: DofMap::of_model(model),
+        frames,
+        params,
+        lumped: model.params.coupmass != 1,
+        incompatible: model.params.qincomp,
+    };
+    let mut out = Vec::new();
+    for e in model.elements.iter().filter(|e| keep(e)) {
+        if let Some(k) = element(&ctx, e)?.k {
+            out.push((e, k));
+        }
+    }
+    Ok(out)
+}
+
 /// The binding of an element's coefficients: to `target` when PMPARs act on it, otherwise
 /// frozen at `nominal` (the element's card values) and folded into the constant part.
 fn bind(
@@ -237,6 +263,7 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> 
         | ElementKind::Cdamp4
         | ElementKind::Cvisc => damper_element(ctx, e)?,
         ElementKind::Cbush => bush_element(ctx, e)?,
+        ElementKind::Cmass2 => scalar_mass_element(ctx, e)?,
         ElementKind::Conm2 => conm2_element(ctx, e)?,
         ElementKind::Crod
         | ElementKind::Conrod
@@ -1092,6 +1119,19 @@ fn spring_element(ctx: &ElementContext, e: &Element) -> Result<Built, Discretize
             &spring.affine_stiffness(),
             bind(target, nominal),
         )),
+        ..Built::default()
+    })
+}
+
+/// A CMASS2: the mass M between its two DOFs, M·[[1, −1], [−1, 1]] (a [`ScalarSpring`]'s
+/// matrix with M; one end grounded: M on the other DOF), as Nastran's scalar masses.
+fn scalar_mass_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> {
+    let model = ctx.model;
+    let (m, ends) = model.scalar_mass(e).ok_or_else(|| err(e, "card missing"))?;
+    let [a, b] = ends.map(|end| model.point_dof(end).map(|p| ctx.map.point_dof(p)));
+    let mass = ScalarSpring::new(a, b).map_err(|x| err(e, x))?;
+    Ok(Built {
+        m: Some(Contribution::constant(mass.dofs.clone(), mass.stiffness(m))),
         ..Built::default()
     })
 }

@@ -47,6 +47,7 @@ pub mod pfmb;
 pub mod prom_body;
 pub mod sensors;
 mod structure;
+pub mod thermal;
 
 use faer::Par;
 

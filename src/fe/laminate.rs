@@ -1089,11 +1089,16 @@ pub struct PlyState {
 /// shear theory, the strain the section's S = 5/6 Σ Q̄s t is consistent with), rotated by
 /// [[c, s], [−s, c]], τ = diag(G1Z, G2Z) γ (a blank modulus is the penalty of
 /// [`KIRCHHOFF_SHEAR_PENALTY`], so τ is then the penalty's, ≈ 6/5 of the mean shear Q/h).
+///
+/// `thermal` holds each ply's free thermal strain {ε1 ε2 γ12} in its own axes (full stack
+/// order; empty without a thermal load): the stress is then Q (ε − ε_th), the strain reported
+/// the total ε, as Nastran reports element strains.
 pub fn ply_states(
     l: &Laminate,
     membrane: [f64; 3],
     curvature: [f64; 3],
     shear: [f64; 2],
+    thermal: &[[f64; 3]],
 ) -> Result<Vec<PlyState>, SectionError> {
     let plies = expand_plies(l)?;
     let z = ply_interfaces(&plies, l.z0);
@@ -1107,7 +1112,9 @@ pub fn ply_states(
             let e: [f64; 3] = std::array::from_fn(|i| membrane[i] + zm * curvature[i]);
             let ep: [f64; 3] = std::array::from_fn(|i| (0..3).map(|j| t[i][j] * e[j]).sum());
             let q = ply_q(p);
-            let sp: [f64; 3] = std::array::from_fn(|i| (0..3).map(|j| q[i][j] * ep[j]).sum());
+            let th = thermal.get(k).copied().unwrap_or_default();
+            let sp: [f64; 3] =
+                std::array::from_fn(|i| (0..3).map(|j| q[i][j] * (ep[j] - th[j])).sum());
             let (sn, c) = angle.sin_cos();
             let g = [c * shear[0] + sn * shear[1], -sn * shear[0] + c * shear[1]];
             let (g1, g2) = ply_g(p);
@@ -1118,6 +1125,39 @@ pub fn ply_states(
             }
         })
         .collect())
+}
+
+/// The thermal resultants (N_T, M_T) about the reference plane of a laminate whose plies have
+/// the free thermal strains `thermal` ({ε1 ε2 γ12} in each ply's axes, full stack order):
+///
+/// ```text
+/// N_T = Σ_k Q̄_k ᾱ_k (z_{k+1} − z_k),   M_T = Σ_k Q̄_k ᾱ_k (z_{k+1}² − z_k²)/2
+/// ```
+///
+/// with Q̄_k ᾱ_k = T_εᵀ Q_k α_k (ᾱ = T_ε⁻¹ α, Q̄ = T_εᵀ Q T_ε): the resultants of the stresses
+/// −Q̄_k ᾱ_k a fully restrained laminate carries, with the sign reversed (Jones, *Mechanics of
+/// Composite Materials*, 2nd ed. 1999, §4.8).
+pub fn thermal_resultants(
+    l: &Laminate,
+    thermal: &[[f64; 3]],
+) -> Result<([f64; 3], [f64; 3]), SectionError> {
+    let plies = expand_plies(l)?;
+    let z = ply_interfaces(&plies, l.z0);
+    let (mut n, mut m) = ([0.0; 3], [0.0; 3]);
+    for (k, p) in plies.iter().enumerate() {
+        let th = thermal.get(k).copied().unwrap_or_default();
+        let q = ply_q(p);
+        let sigma: [f64; 3] = std::array::from_fn(|i| (0..3).map(|j| q[i][j] * th[j]).sum());
+        let t = super::shell::strain_rotation(p.theta_deg.to_radians());
+        // T_εᵀ σ: the ply-axes stress of the thermal strain as laminate-axes resultant density
+        let s: [f64; 3] = std::array::from_fn(|i| (0..3).map(|j| t[j][i] * sigma[j]).sum());
+        let (z1, z2) = (z[k], z[k + 1]);
+        for i in 0..3 {
+            n[i] += s[i] * (z2 - z1);
+            m[i] += s[i] * 0.5 * (z2 * z2 - z1 * z1);
+        }
+    }
+    Ok((n, m))
 }
 
 #[cfg(test)]

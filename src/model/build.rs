@@ -79,7 +79,7 @@ impl Model {
 
         super::xref::check(&refs, deck, &mut errors, &mut warnings);
         super::values::check(&refs, &mut errors, &mut warnings);
-        super::temperature::check(&refs, &mut errors, &mut warnings);
+        super::temperature::check(deck, &refs, &mut errors, &mut warnings);
         super::pmpar::check(&refs, &mut errors);
         let mechanism = super::mechanism::build(bulk, &coords, &mut errors);
         let params = super::params::read(&bulk.params, &deck.case, &mut errors, &mut warnings);
@@ -827,6 +827,7 @@ fn build_elements(
         (ElementKind::Celas4, &b.celas4),
         (ElementKind::Cdamp2, &b.cdamp2),
         (ElementKind::Cdamp4, &b.cdamp4),
+        (ElementKind::Cmass2, &b.cmass2),
     ]
     .into_iter()
     .flat_map(|(kind, cards)| {

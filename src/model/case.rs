@@ -12,6 +12,7 @@
 //! | PROM | PMOR |
 //! | PVAL | PVAL |
 //! | POSES | FMBPOSE, in a subcase without TSTEP (a static one) |
+//! | TEMPERATURE(LOAD), TEMPERATURE(MATERIAL / INITIAL / BOTH) | TEMP / TEMPD set |
 //! | SENSOR = n | case-control SET n, whose ids are SENSOR ids |
 //! | output request = n | case-control SET n |
 //!
@@ -80,6 +81,13 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
     let tic = set_of(b.tic.iter().map(|s| s.sid).collect());
     let sensors = set_of(b.sensors.iter().map(|s| s.id).collect());
     let poses = set_of(b.fmbpose.iter().map(|s| s.id).collect());
+    let temperatures = set_of(
+        b.temp
+            .iter()
+            .map(|t| t.sid)
+            .chain(b.tempd.iter().map(|t| t.sid))
+            .collect(),
+    );
 
     let fallback = deck.executive.sol_loc.clone().unwrap_or_else(|| Loc {
         file: std::sync::Arc::from(deck.path.as_path()),
@@ -151,6 +159,18 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
         need("PVAL", sub.pval, &pval, "PVAL/PTABLE");
         need("IC", sub.ic, &tic, "TIC");
         need("POSES", sub.poses, &poses, "FMBPOSE");
+        need(
+            "TEMPERATURE(LOAD)",
+            sub.temperature_load,
+            &temperatures,
+            "TEMP/TEMPD",
+        );
+        need(
+            "TEMPERATURE(MATERIAL)",
+            sub.temperature_material,
+            &temperatures,
+            "TEMP/TEMPD",
+        );
         if let (Some(id), Some(sid)) = (sub.poses, sub.tstep) {
             errors.push(
                 DeckError::at(

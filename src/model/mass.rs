@@ -184,7 +184,9 @@ impl Model {
             | ElementKind::Cdamp3
             | ElementKind::Cdamp4
             | ElementKind::Cvisc
-            | ElementKind::Cbush => None,
+            | ElementKind::Cbush
+            // a scalar mass acts along one component: no point mass (values.rs warns)
+            | ElementKind::Cmass2 => None,
             ElementKind::Conm2 => self.conm2_mass(self.bulk.conm2.get(e.card)?, *p.first()?),
             ElementKind::Crod
             | ElementKind::Conrod

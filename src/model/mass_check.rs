@@ -1,5 +1,5 @@
 //! A dynamic solution needs mass: on a model whose mass matrix would be zero (no density on any
-//! material, no CONM2), `SOL 103`, frequency and transient response and `SOL PROM` have no
+//! material, no CONM2, no CMASS2), `SOL 103`, frequency and transient response and `SOL PROM` have no
 //! finite eigenvalue or response, so the model check refuses them, naming the materials
 //! without density. The classic slip, the density typed one column too far (in MAT1's A, the
 //! thermal expansion coefficient, with RHO blank), gets a "did you mean RHO" hint. Statics
@@ -31,7 +31,9 @@ pub fn check(deck: &Deck, model: &Model) -> Vec<DeckError> {
         return Vec::new();
     }
     let mp = model.mass_properties();
-    if mp.mass != 0.0 || mp.inertia_cg.iter().flatten().any(|v| *v != 0.0) {
+    // CMASS2 scalar masses are not in the mass properties (they act along one component)
+    let scalar_masses = deck.bulk.cmass2.iter().any(|c| c.k != 0.0);
+    if scalar_masses || mp.mass != 0.0 || mp.inertia_cg.iter().flatten().any(|v| *v != 0.0) {
         return Vec::new();
     }
     let why = format!(

@@ -104,3 +104,41 @@ impl Model {
         })
     }
 }
+
+/// The thermal expansion of a material: the coefficients of the free thermal strain
+/// {ε1 ε2 γ12} per degree in the material axes (MAT1: {A, A, 0}, MAT8: {A1, A2, 0}, MAT2:
+/// {A1, A2, A3}) and the reference (stress-free) temperature TREF.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Expansion {
+    pub alpha: [f64; 3],
+    pub tref: f64,
+}
+
+impl Model {
+    /// The thermal expansion of material `mid`.
+    pub fn expansion(&self, mid: u32) -> Option<Expansion> {
+        Some(match *self.materials.get(&mid)? {
+            MaterialRef::Mat1(i) => {
+                let m = self.bulk.mat1.get(i)?;
+                Expansion {
+                    alpha: [m.a, m.a, 0.0],
+                    tref: m.tref,
+                }
+            }
+            MaterialRef::Mat8(i) => {
+                let m = self.bulk.mat8.get(i)?;
+                Expansion {
+                    alpha: [m.a[0], m.a[1], 0.0],
+                    tref: m.tref,
+                }
+            }
+            MaterialRef::Mat2(i) => {
+                let m = self.bulk.mat2.get(i)?;
+                Expansion {
+                    alpha: m.a,
+                    tref: m.tref,
+                }
+            }
+        })
+    }
+}

@@ -112,6 +112,8 @@ pub enum ElementKind {
     Cdamp4,
     Cvisc,
     Cbush,
+    /// CMASS2: a scalar mass between two DOFs (or a DOF and ground).
+    Cmass2,
     Conm2,
     Crod,
     Conrod,
@@ -144,6 +146,7 @@ impl ElementKind {
             ElementKind::Cdamp4 => "CDAMP4",
             ElementKind::Cvisc => "CVISC",
             ElementKind::Cbush => "CBUSH",
+            ElementKind::Cmass2 => "CMASS2",
             ElementKind::Conm2 => "CONM2",
             ElementKind::Crod => "CROD",
             ElementKind::Conrod => "CONROD",

@@ -69,6 +69,8 @@ pub struct LaminateProperty {
     pub thickness: f64,
     /// The ply failure theory (FT) as written, `None` when blank.
     pub failure_theory: Option<String>,
+    /// TREF: the reference (stress-free) temperature of every ply.
+    pub tref: f64,
 }
 
 /// A shell section property.
@@ -195,6 +197,7 @@ impl Model {
                     nsm: p.nsm,
                     thickness: p.thickness(),
                     failure_theory: p.ft.clone(),
+                    tref: p.tref,
                 })
             }),
             _ => None,
@@ -246,6 +249,14 @@ impl Model {
             }
             ElementKind::Celas2 => b.celas2.get(e.card).map(on_card),
             ElementKind::Celas4 => b.celas4.get(e.card).map(on_card),
+            _ => None,
+        }
+    }
+
+    /// The mass M and ends of a CMASS2 element.
+    pub fn scalar_mass(&self, e: &Element) -> Option<(f64, [SpringEnd; 2])> {
+        match e.kind {
+            ElementKind::Cmass2 => self.bulk.cmass2.get(e.card).map(|c| (c.k, c.ends)),
             _ => None,
         }
     }

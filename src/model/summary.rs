@@ -195,6 +195,7 @@ impl Model {
             | ElementKind::Celas4
             | ElementKind::Cdamp2
             | ElementKind::Cdamp4
+            | ElementKind::Cmass2
             | ElementKind::Conm2 => None,
         }
         .unwrap_or(0)

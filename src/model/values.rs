@@ -303,12 +303,12 @@ fn kept_fields(refs: &Refs, warnings: &mut Vec<Warning>) {
         "PSOLID IN/STRESS/ISOP are kept and have no effect (paraflex chooses its own integration)",
     );
     note(
-        b.mat1.iter().any(|m| m.a != 0.0 || m.tref != 0.0),
-        "MAT1 A/TREF are kept and have no effect (no thermal loads)",
+        b.pcomp.iter().any(|p| p.sb != 0.0),
+        "PCOMP SB is kept and has no effect (no interlaminar bonding index)",
     );
     note(
-        b.pcomp.iter().any(|p| p.sb != 0.0 || p.tref != 0.0),
-        "PCOMP SB/TREF are kept and have no effect (no interlaminar bonding index, no thermal analysis)",
+        !b.cmass2.is_empty(),
+        "CMASS2 masses are in the mass matrix but not in the mass properties (each acts along one component, not as a point mass)",
     );
     note(
         b.pelas.iter().any(|p| p.s != 0.0),
@@ -320,10 +320,10 @@ fn kept_fields(refs: &Refs, warnings: &mut Vec<Warning>) {
     );
     note(
         b.rbe2.iter().any(|r| r.alpha != 0.0),
-        "RBE2 ALPHA is kept and has no effect (no thermal loads)",
+        "RBE2 ALPHA is kept and has no effect (rigid elements take no thermal expansion)",
     );
     note(
         b.rbe3.iter().any(|r| r.alpha != 0.0),
-        "RBE3 ALPHA is kept and has no effect (no thermal loads)",
+        "RBE3 ALPHA is kept and has no effect (rigid elements take no thermal expansion)",
     );
 }

@@ -6,7 +6,8 @@
 //! 2. K_ff = LLᵀ: one symbolic analysis *and* one numeric factor per distinct f-set, shared by
 //!    every subcase with that f-set (K does not depend on the load). A failing pivot is a
 //!    mechanism, reported with its GRID and component;
-//! 3. P_g of `LOAD = sid` (FORCE, MOMENT, GRAV with M_gg), P_f = (Tᵀ P_g)_f − K_fs u_s;
+//! 3. P_g of `LOAD = sid` (FORCE, MOMENT, GRAV with M_gg) plus the thermal load of
+//!    `TEMPERATURE(LOAD) = sid` ([`crate::discretize::thermal`]), P_f = (Tᵀ P_g)_f − K_fs u_s;
 //! 4. u_f by the factor plus one step of iterative refinement (shell models mix membrane and
 //!    bending stiffness, condition numbers 1e8–1e10);
 //! 5. u_g = T [u_f; u_s]; SPC forces q_s = (K_nn u_n − P_n)_s.
@@ -22,9 +23,12 @@
 //! bottom surfaces for PCOMP) — and `strain/<CHEXA|CPENTA|CTETRA|CTETRA10>/{ids (m),
 //! centroid (m×6)}` — [εxx, εyy, εzz, γxy, γyz, γzx] in basic (engineering shear strains).
 //! Element forces with `FORCE` and stresses with `STRESS` (the same element selection), in the
-//! layout of [`super::statics_stress`].
+//! layout of [`super::statics_stress`], from the mechanical strains (total less thermal) of the
+//! subcase's `TEMPERATURE(LOAD)` set; a SUBCOM's stresses take its own `TEMPERATURE(LOAD)` set
+//! (Nastran's rule), so a combination of thermal subcases needs one.
 //! A `SUBCOM` writes the same outputs for Σ cᵢ (uᵢ, Pᵢ, qᵢ) over the preceding SUBCASEs
-//! (`SUBSEQ` coefficients in deck order; stresses, strains and forces are recovered from the
+//! (`SUBSEQ` coefficients aligned on the most recent: the last for the last SUBCASE, as
+//! Nastran's SUBSEQ, so fewer coefficients than SUBCASEs combine the latest ones; stresses, strains and forces are recovered from the
 //! combined displacements, so von Mises and failure indices are those of the combined state).
 //! The SPC forces are always computed (one K·u product): the console summary's reaction sum
 //! uses them.
@@ -41,6 +45,7 @@ use crate::assembly::spc::suport_dofs;
 use crate::deck::Solution;
 use crate::deck::cards::ParamValue;
 use crate::deck::case_control::Subcase;
+use crate::discretize::thermal::{ThermalStrains, thermal_load};
 use crate::discretize::{Constrained, Structure};
 use crate::io::{write_f64, write_u32};
 use crate::model::Model;
@@ -175,8 +180,26 @@ fn run(
         }
         let factor = factors.get(&c).ok_or(RunError::NoSolution)?;
         let summary = clock.time(format!("subcase {id}: solve and output"), || {
-            let solution = StaticSolution::solve(ctx.model, st, &c, sub.load, factor, &m_gg_values)
-                .map_err(|e| super::analysis_error(&c, st, id, e))?;
+            let thermal = match &thermal_strains(ctx, sub)? {
+                Some(strains) => {
+                    Some(
+                        thermal_load(ctx.model, st, strains).map_err(|e| RunError::Case {
+                            subcase: id,
+                            what: e.to_string(),
+                        })?,
+                    )
+                }
+                None => None,
+            };
+            let solution = StaticSolution::solve(
+                ctx.model,
+                st,
+                &c,
+                (sub.load, thermal.as_deref()),
+                factor,
+                &m_gg_values,
+            )
+            .map_err(|e| super::analysis_error(&c, st, id, e))?;
             let summary = write_subcase(ctx, st, &c, sub, &solution)?;
             if combines {
                 solved.push(solution);
@@ -202,6 +225,7 @@ fn write_subcase(
 ) -> Result<StaticsSummary, RunError> {
     let model = ctx.model;
     let n = st.map.grids();
+    let thermal = thermal_strains(ctx, sub)?.unwrap_or_default();
     let u = st.to_basic_rows(&solution.u_g);
     let q = st.to_basic_rows(&solution.q_g);
     let p = st.to_basic_rows(&solution.p_g);
@@ -222,11 +246,12 @@ fn write_subcase(
         write_strains(ctx, &group, &strains)?;
     }
     if let Some(req) = requested(sub, "FORCE") {
-        let forces = element_forces(model, st, &u, |eid| selected(ctx.deck, req, eid))?;
+        let forces = element_forces(model, st, &u, &thermal, |eid| selected(ctx.deck, req, eid))?;
         super::statics_stress::write_forces(ctx, &group, &forces)?;
     }
     if let Some(req) = requested(sub, "STRESS") {
-        let stresses = element_stresses(model, st, &u, |eid| selected(ctx.deck, req, eid))?;
+        let stresses =
+            element_stresses(model, st, &u, &thermal, |eid| selected(ctx.deck, req, eid))?;
         super::statics_stress::write_stresses(ctx, &group, &stresses)?;
     }
 
@@ -252,6 +277,19 @@ fn write_subcase(
         reaction: resultant(model, &q),
         f_size: c.sets.f.len(),
     })
+}
+
+/// The thermal strains of the subcase's `TEMPERATURE(LOAD)` set, if it has one (a SUBCOM's
+/// own set: the temperatures of the combined state, as Nastran's stress recovery of a SUBCOM
+/// reads them).
+fn thermal_strains(ctx: &RunContext, sub: &Subcase) -> Result<Option<ThermalStrains>, RunError> {
+    sub.temperature_load
+        .map(|sid| ThermalStrains::of_set(ctx.model, sid))
+        .transpose()
+        .map_err(|e| RunError::Case {
+            subcase: sub.id,
+            what: e.to_string(),
+        })
 }
 
 /// Writes `strain/<block>/{ids, top, bottom}` (shells) and `strain/<block>/{ids, centroid}`

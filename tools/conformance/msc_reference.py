@@ -10,7 +10,11 @@ writes, from the OP2 files beside the collection's decks (read with pyNastran):
   decks/verify/pload1_cbar.dat);
 - reference/nastran/beam_modes.json: the natural frequencies Simcenter Nastran computed for
   models/beam_modes/beam_modes.dat (a thick CBAR/CBEAM cantilever with a tip CONM2; the model
-  with explicit sections is decks/verify/beam_modes.dat).
+  with explicit sections is decks/verify/beam_modes.dat);
+- reference/nastran/pcomp_thermal_v10112.json: the displacements and ply stresses MSC Nastran
+  computed for models/other/v10112.bdf (one PCOMP CQUAD4 [0/90/0] under ΔT = 1, a membrane load
+  and two SUBCOMs, one with its own TEMP(LOAD); the same model is
+  decks/verify/pcomp_thermal_v10112.dat).
 """
 from __future__ import annotations
 
@@ -61,6 +65,29 @@ def main() -> None:
         "paraflex deck gives PBAR/PBEAM with J = pi r^4/2, I = pi r^4/4 and K1 = K2 = 0.9 explicitly",
         "tolerance": "1e-6 relative: the OP2 stores single precision (6e-8) and both solve the same discrete model",
         "frequency_hz": [float(f) for f in table.cycles],
+    })
+    source = "other/v10112.op2"
+    op2 = read_op2(str(args.models / source), debug=None, log=None, build_dataframe=False, mode="msc")
+    displacement, plies = {}, {}
+    for sc, table in sorted(op2.displacements.items()):
+        grids = table.node_gridtype[:, 0].tolist()
+        displacement[str(sc)] = {str(g): [float(v) for v in row] for g, row in zip(grids, table.data[0])}
+    for sc, table in sorted(op2.op2_results.stress.cquad4_composite_stress.items()):
+        plies[str(sc)] = [[float(v) for v in row[:3]] for row in table.data[0]]
+    write("pcomp_thermal_v10112.json", {
+        "case": "pcomp_thermal_v10112",
+        "deck": "decks/verify/pcomp_thermal_v10112.dat",
+        "description": "one CQUAD4 of a [0/90/0] PCOMP (Jones, Mechanics of Composite Materials, 1975, "
+        "pp. 199-201): subcase 10 a uniform temperature rise of 1 (TEMP(LOAD) of a TEMPD), subcase 20 "
+        "Nx = 12 for t = 12, SUBCOM 30 = -200 x (10) + 3400 x (20) with TEMP(LOAD) = -200 for its stresses, "
+        "SUBCOM 40 = 5320 x the most recent subcase (20)",
+        "provenance": f"MSC Nastran ({op2._nastran_format}) results in pyNastran's model collection, models/{source}"
+        + (f" ({args.label})" if args.label else "") + "; read with pyNastran's OP2 reader",
+        "units": "displacement T1 T2 T3 R1 R2 R3 per grid, basic system; ply stresses [sigma1, sigma2, tau12] "
+        "in the ply axes, plies 1-3 bottom to top, element 101",
+        "tolerance": "1e-6 of the subcase's largest value: the OP2 stores single precision (6e-8 relative)",
+        "displacement": displacement,
+        "ply_stress": plies,
     })
 
 

@@ -617,7 +617,7 @@ impl Rload {
 /// | 2 | SID | int > 0 | required | the set LOADSET selects |
 /// | 3 | EXCITEID | int > 0 | required | the id dynamic loads reference |
 /// | 4 | LID | int > 0 | required | static load set |
-/// | 5 | TID | int ≥ 0 | blank | thermal load set (refused: paraflex reads no temperatures) |
+/// | 5 | TID | int ≥ 0 | blank | thermal load set (refused: thermal loads are static, SOL 101 only) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Lseq {
     pub sid: u32,
@@ -638,7 +638,7 @@ impl Lseq {
             f.error(
                 4,
                 "TID",
-                "thermal load sets are not supported (paraflex reads no TEMP cards)",
+                "thermal load sets as dynamic excitations are not supported (paraflex applies thermal loads in SOL 101 only)",
             );
         }
         let loc = f.loc();

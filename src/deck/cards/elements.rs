@@ -500,6 +500,7 @@ impl Celas1 {
 /// | 9 | S | real | 0.0 | stress coefficient (kept, unused; not on CDAMP2) |
 ///
 /// `CELAS4` (EID, K, S1, S2) and `CDAMP4` (EID, B, S1, S2) carry two scalar points instead.
+/// `CMASS2` (EID, M, G1, C1, G2, C2) has the layout of `CDAMP2` with the mass M.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Celas2 {
     pub id: u32,
@@ -515,6 +516,8 @@ pub struct Celas2 {
 pub type Celas4 = Celas2;
 /// `CDAMP2` / `CDAMP4` — scalar damper with B on the card (layouts of CELAS2 / CELAS4).
 pub type Cdamp2 = Celas2;
+/// `CMASS2` — scalar mass with M on the card (the layout of CDAMP2).
+pub type Cmass2 = Celas2;
 
 /// Which layout of a scalar element with its value on the card.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -527,6 +530,8 @@ pub enum OnCardLayout {
     Cdamp2,
     /// CDAMP4: scalar points.
     Cdamp4,
+    /// CMASS2: grids and components, nothing after them.
+    Cmass2,
 }
 
 impl Celas2 {
@@ -535,18 +540,23 @@ impl Celas2 {
         Self::read(card, OnCardLayout::Celas2)
     }
 
-    /// Read a `CELAS2`, `CELAS4`, `CDAMP2` or `CDAMP4` card.
+    /// Read a `CELAS2`, `CELAS4`, `CDAMP2`, `CDAMP4` or `CMASS2` card.
     pub fn read(card: &RawCard, layout: OnCardLayout) -> Result<Self, Vec<DeckError>> {
         let mut f = FieldReader::new(card);
         let id = f.id(1, "EID");
         f.set_id(id);
         let damper = matches!(layout, OnCardLayout::Cdamp2 | OnCardLayout::Cdamp4);
-        let k = f.real(2, if damper { "B" } else { "K" });
+        let value = match layout {
+            OnCardLayout::Cmass2 => "M",
+            _ if damper => "B",
+            _ => "K",
+        };
+        let k = f.real(2, value);
         let scalar_only = matches!(layout, OnCardLayout::Celas4 | OnCardLayout::Cdamp4);
         let ends = spring_ends(&mut f, 3, scalar_only);
         let (ge, s, last) = match layout {
             OnCardLayout::Celas2 => (f.real_or(7, "GE", 0.0), f.real_or(8, "S", 0.0), 8),
-            OnCardLayout::Cdamp2 => (0.0, 0.0, 6),
+            OnCardLayout::Cdamp2 | OnCardLayout::Cmass2 => (0.0, 0.0, 6),
             OnCardLayout::Celas4 | OnCardLayout::Cdamp4 => (0.0, 0.0, 4),
         };
         let loc = f.loc();

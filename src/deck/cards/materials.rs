@@ -15,8 +15,8 @@ use crate::deck::reader::FieldReader;
 /// | 4 | G | real | see below | shear modulus |
 /// | 5 | NU | real | see below | Poisson's ratio |
 /// | 6 | RHO | real | 0.0 | mass density |
-/// | 7 | A | real | 0.0 | thermal expansion (kept, unused) |
-/// | 8 | TREF | real | 0.0 | reference temperature (kept, unused) |
+/// | 7 | A | real | 0.0 | thermal expansion coefficient (thermal loads, `TEMPERATURE(LOAD)`) |
+/// | 8 | TREF | real | 0.0 | reference (stress-free) temperature |
 /// | 9 | GE | real | 0.0 | structural damping coefficient |
 /// | cont. 2–5 | ST SC SS MCSID | | blank | stress limits (kept, unused) |
 ///
@@ -94,7 +94,8 @@ impl Mat1 {
 /// | 7 | G1Z | real | blank | transverse shear modulus 1–Z; blank = rigid in transverse shear |
 /// | 8 | G2Z | real | blank | transverse shear modulus 2–Z; blank = rigid in transverse shear |
 /// | 9 | RHO | real | 0.0 | mass density |
-/// | cont. 2–4 | A1 A2 TREF | real | blank | thermal (kept, unused) |
+/// | cont. 2–3 | A1 A2 | real | 0.0 | thermal expansion coefficients along material axes 1, 2 |
+/// | cont. 4 | TREF | real | 0.0 | reference (stress-free) temperature |
 /// | cont. 5–9 | Xt Xc Yt Yc S | real > 0 | blank; Xc = Xt, Yc = Yt | allowables along and across the fibres (tension, compression as magnitudes) and in-plane shear, for PCOMP failure indices |
 /// | cont. 2 | GE | real | 0.0 | structural damping coefficient |
 /// | cont. 3 | F12 | real | blank | Tsai–Wu interaction coefficient (FT = TSAI needs it) |
@@ -109,6 +110,10 @@ pub struct Mat8 {
     pub g1z: Option<f64>,
     pub g2z: Option<f64>,
     pub rho: f64,
+    /// Thermal expansion coefficients A1, A2 along the material axes 1, 2.
+    pub a: [f64; 2],
+    /// Reference (stress-free) temperature.
+    pub tref: f64,
     pub ge: f64,
     /// Strength allowables (ply failure indices).
     pub allowables: PlyAllowables,
@@ -128,9 +133,8 @@ impl Mat8 {
         let g1z = f.opt_real(6, "G1Z");
         let g2z = f.opt_real(7, "G2Z");
         let rho = f.real_or(8, "RHO", 0.0);
-        for (i, name) in [(9, "A1"), (10, "A2"), (11, "TREF")] {
-            f.opt_real(i, name);
-        }
+        let a = [f.real_or(9, "A1", 0.0), f.real_or(10, "A2", 0.0)];
+        let tref = f.real_or(11, "TREF", 0.0);
         let xt = f.opt_real(12, "Xt");
         let yt = f.opt_real(14, "Yt");
         let allowables = PlyAllowables {
@@ -159,6 +163,8 @@ impl Mat8 {
             g1z,
             g2z,
             rho,
+            a,
+            tref,
             ge,
             allowables,
             loc,
@@ -173,7 +179,8 @@ impl Mat8 {
 /// | 2 | MID | int > 0 | required | material id |
 /// | 3–8 | G11 G12 G13 G22 G23 G33 | real | 0.0 | symmetric stiffness {σ1 σ2 τ12} = G {ε1 ε2 γ12} in the element material axes |
 /// | 9 | RHO | real | 0.0 | mass density |
-/// | cont. 2–5 | A1 A2 A3 TREF | real | blank | thermal (kept, unused) |
+/// | cont. 2–4 | A1 A2 A3 | real | 0.0 | thermal expansion coefficients of {ε1 ε2 γ12} |
+/// | cont. 5 | TREF | real | 0.0 | reference temperature |
 /// | cont. 6 | GE | real | 0.0 | structural damping coefficient |
 /// | cont. 7–9 | ST SC SS | real | blank | stress limits (kept, unused) |
 /// | cont. 2 | MCSID | int ≥ 0 | blank | material system for PARAM,CURV output (kept, unused) |
@@ -187,6 +194,10 @@ pub struct Mat2 {
     /// G11, G12, G13, G22, G23, G33.
     pub g: [f64; 6],
     pub rho: f64,
+    /// Thermal expansion coefficients A1, A2, A3 ({ε1 ε2 γ12} per degree, material axes).
+    pub a: [f64; 3],
+    /// Reference (stress-free) temperature.
+    pub tref: f64,
     pub ge: f64,
     pub loc: Loc,
 }
@@ -200,9 +211,12 @@ impl Mat2 {
         let names = ["G11", "G12", "G13", "G22", "G23", "G33"];
         let g: [f64; 6] = std::array::from_fn(|k| f.real_or(2 + k, names[k], 0.0));
         let rho = f.real_or(8, "RHO", 0.0);
-        for (i, name) in [(9, "A1"), (10, "A2"), (11, "A3"), (12, "TREF")] {
-            f.opt_real(i, name);
-        }
+        let a = [
+            f.real_or(9, "A1", 0.0),
+            f.real_or(10, "A2", 0.0),
+            f.real_or(11, "A3", 0.0),
+        ];
+        let tref = f.real_or(12, "TREF", 0.0);
         let ge = f.real_or(13, "GE", 0.0);
         for (i, name) in [(14, "ST"), (15, "SC"), (16, "SS")] {
             f.opt_real(i, name);
@@ -214,6 +228,8 @@ impl Mat2 {
             id,
             g,
             rho,
+            a,
+            tref,
             ge,
             loc,
         })

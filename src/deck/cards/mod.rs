@@ -34,8 +34,8 @@ pub use dynamic::{
     RloadTables, Tabdmp1, Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep, eigr_from_card,
 };
 pub use elements::{
-    BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Conm2, Cpenta, Cquad4,
-    Ctetra, Ctria3, Cvisc, OnCardLayout, QuadraticShell, Spoint,
+    BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Cmass2, Conm2, Cpenta,
+    Cquad4, Ctetra, Ctria3, Cvisc, OnCardLayout, QuadraticShell, Spoint,
 };
 pub use estimate::{Amanda, Ekf, Ekfinp, Ekfpar, Meas, Measf};
 pub use extension::{
@@ -57,7 +57,7 @@ pub use param::{Param, ParamValue};
 pub use properties::{Pbush, Pcomp, Pdamp, Pelas, Ply, Pshell, Psolid, Pvisc};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
 pub use shear_panel::{Cshear, Pshear};
-pub use temperature::Matt1;
+pub use temperature::{Matt1, Temp, Tempd};
 
 use super::Loc;
 use super::error::DeckError;
@@ -93,6 +93,7 @@ pub struct BulkData {
     pub cdamp3: Vec<Cdamp1>,
     pub cdamp4: Vec<Cdamp2>,
     pub cvisc: Vec<Cvisc>,
+    pub cmass2: Vec<Cmass2>,
     pub cbush: Vec<Cbush>,
     pub spoints: Vec<Spoint>,
     pub conm2: Vec<Conm2>,
@@ -107,6 +108,8 @@ pub struct BulkData {
     pub mat8: Vec<Mat8>,
     pub mat2: Vec<Mat2>,
     pub matt1: Vec<Matt1>,
+    pub temp: Vec<Temp>,
+    pub tempd: Vec<Tempd>,
     /// TABLEM1, TABLEM2 and TABLEM3 (material tables, read by MATT1).
     pub tablem: Vec<Tabled>,
     /// TABLEM4.
@@ -271,6 +274,9 @@ pub static PARSERS: &[(&str, CardParser)] = &[
         Ok(b.cdamp4.push(Cdamp2::read(c, OnCardLayout::Cdamp4)?))
     }),
     ("CVISC", |c, b| Ok(b.cvisc.push(Cvisc::from_card(c)?))),
+    ("CMASS2", |c, b| {
+        Ok(b.cmass2.push(Cmass2::read(c, OnCardLayout::Cmass2)?))
+    }),
     ("CBUSH", |c, b| Ok(b.cbush.push(Cbush::from_card(c)?))),
     ("SPOINT", |c, b| Ok(b.spoints.push(Spoint::from_card(c)?))),
     ("SELOC", |c, _| superelement::seloc(c)),
@@ -286,6 +292,8 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("MAT8", |c, b| Ok(b.mat8.push(Mat8::from_card(c)?))),
     ("MAT2", |c, b| Ok(b.mat2.push(Mat2::from_card(c)?))),
     ("MATT1", |c, b| Ok(b.matt1.push(Matt1::from_card(c)?))),
+    ("TEMP", |c, b| Ok(b.temp.push(Temp::from_card(c)?))),
+    ("TEMPD", |c, b| Ok(b.tempd.extend(Tempd::from_card(c)?))),
     ("TABLEM1", |c, b| {
         Ok(b.tablem.push(Tabled::from_card(c, "TABLEM1")?))
     }),

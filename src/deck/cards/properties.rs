@@ -102,7 +102,7 @@ pub struct Ply {
 /// | 4 | NSM | real | 0.0 | non-structural mass per area |
 /// | 5 | SB | real | 0.0 | allowable interlaminar shear (kept, unused: no bonding index) |
 /// | 6 | FT | name | blank | ply failure theory of the SOL 101 STRESS output: `HILL`, `HOFF`, `TSAI`, `STRN` (formulas in [elements.md](elements.md#stress-recovery)); another name, a MAT1 ply or missing MAT8 allowables give NaN indices and one warning per PCOMP and material |
-/// | 7 | TREF | real | 0.0 | (kept, unused) |
+/// | 7 | TREF | real | 0.0 | reference (stress-free) temperature of every ply (the plies' material TREFs are not used) |
 /// | 8 | GE | real | 0.0 | structural damping coefficient |
 /// | 9 | LAM | blank or `SYM` | blank | `SYM`: plies given are the lower half of a symmetric laminate |
 /// | cont. | MIDi Ti THETAi SOUTi | int, real, real, YES/NO | previous ply's MID and T; THETA 0.0; NO | plies from bottom to top, two per line (SOUT is not consulted: STRESS writes every ply) |

@@ -14,7 +14,7 @@ use crate::deck::value::Value;
 /// | 3 | GN | int > 0 | required | independent grid |
 /// | 4 | CM | components | required | dependent components |
 /// | 5 … | GM1 GM2 … | int > 0 | ≥ 1 required | dependent grids (`THRU` allowed) |
-/// | after the grids | ALPHA | real | 0.0 | thermal expansion (kept; no thermal loads in paraflex) |
+/// | after the grids | ALPHA | real | 0.0 | thermal expansion (kept; paraflex's rigid elements take no thermal expansion) |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Rbe2 {
     pub id: u32,
