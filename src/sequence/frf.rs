@@ -2,8 +2,10 @@
 //! the subcase selects `METHOD`, direct otherwise.
 //!
 //! Per subcase:
-//! - frequencies: `FREQUENCY = sid` (FREQ, FREQ1, FREQ2 of that SID, combined, sorted,
-//!   duplicates removed) — [`frequency_lines`], shared with the pROM FRF;
+//! - frequencies: `FREQUENCY = sid` (FREQ, FREQ1–FREQ5 of that SID, combined, sorted,
+//!   duplicates removed) — [`frequency_lines`], shared with the pROM FRF. FREQ3–FREQ5 place
+//!   lines from the natural frequencies of the modal solution, computed before the lines
+//!   ([`frf::modal_basis`]); the direct solution ignores them with a warning, as Nastran;
 //! - inputs: `DLOAD = sid` (a DLOAD combination S·Σ Sᵢ·Lᵢ or one RLOAD1 set): every DAREA
 //!   entry of its RLOAD1s' EXCITEIDs is an input DOF `GRID:component` (components in the
 //!   grid's CD frame, as for Nastran's DAREA), loaded by a unit force through Tᵀ (a dependent
@@ -37,7 +39,7 @@ use super::driver::{Basis, Driver, ElementDampingUse};
 use super::report::{Report, sci};
 use super::shared::{frequency_lines, structure, write_frf};
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
-use crate::analysis::frf::{self, Damping, FrfRun, FullFrf, first_rows, output_rows};
+use crate::analysis::frf::{self, Damping, FrfRun, FullFrf, ModalBasis, first_rows, output_rows};
 use crate::deck::Solution;
 use crate::deck::cards::ExcitationKind;
 use crate::discretize::enforced::EnforcedColumns;
@@ -85,6 +87,8 @@ pub struct FrfSummary {
     pub f_size: usize,
     /// Largest |H| over lines and pairs, with its frequency (Hz).
     pub peak: (f64, f64),
+    /// FREQ3–FREQ5 cards the direct solution left out (`CARD at file:line`).
+    pub ignored: Vec<String>,
 }
 
 /// The FRF driver on the mesh.
@@ -140,8 +144,6 @@ fn run(
         let c = clock.time(format!("subcase {id}: constraints"), || {
             Constrained::build(model, st, sub.spc)
         })?;
-        let hz = frequency_lines(model, sub)?;
-        let omegas: Vec<f64> = hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
         let sid = sub.dload.ok_or_else(|| RunError::Case { subcase: id, what: "SOL FRF on the full model needs DLOAD = <RLOAD1 or DLOAD sid> (its DAREA DOFs are the inputs)".into() })?;
         let inputs = frequency_inputs(model, st, &c, sid, sub.loadset)
             .map_err(|what| RunError::Case { subcase: id, what })?;
@@ -159,15 +161,15 @@ fn run(
         let n_f = c.sets.f.len();
         let named = k + sensors.len();
         let outputs = output_rows(inputs.columns.as_ref(), &[&sensors.rows, &grid_outputs]);
-        let enforced = enforced_motion(ctx, st, &c, &inputs, &hz, &sensors, &grids)
+        let enforced = enforced_motion(ctx, st, &c, &inputs, &sensors, &grids)
             .map_err(|what| RunError::Case { subcase: id, what })?;
         let applied = k - inputs.enforced.len();
         let solve_inputs = match &enforced {
             Some((e, _)) => e.solve_columns(&inputs.columns, applied),
             None => inputs.columns.clone(),
         };
-        let analysis_method = match method {
-            FrfMethod::Direct => frf::Method::Direct,
+        let eigen_request = match method {
+            FrfMethod::Direct => None,
             FrfMethod::Modal => {
                 let sid = sub.method.ok_or_else(|| RunError::Case {
                     subcase: id,
@@ -177,21 +179,18 @@ fn run(
                     subcase: id,
                     what: format!("METHOD = {sid} selects no EIGRL or EIGR card"),
                 })?;
-                frf::Method::Modal {
-                    request: EigenRequest {
-                        v1_hz: eigrl.v1,
-                        v2_hz: eigrl.v2,
-                        nd: eigrl.nd.map(|n| n as usize),
-                        shift_hz: eigrl.shfscl,
-                    },
-                    residual_vectors: model.params.resvec,
-                }
+                Some(EigenRequest {
+                    v1_hz: eigrl.v1,
+                    v2_hz: eigrl.v2,
+                    nd: eigrl.nd.map(|n| n as usize),
+                    shift_hz: eigrl.shfscl,
+                })
             }
         };
-        let run = FrfRun {
+        let mut run = FrfRun {
             inputs: solve_inputs.as_ref(),
             outputs: &outputs,
-            omegas: &omegas,
+            omegas: &[],
             damping: Damping {
                 alpha: model.params.alpha1,
                 beta: model.params.beta1,
@@ -214,15 +213,27 @@ fn run(
             par: ctx.options.par(),
             progress: ctx.progress,
         };
+        let mut record = |name, d| clock.record(format!("subcase {id}: {name}"), d);
+        let basis = eigen_request
+            .map(|request| frf::modal_basis(&c, &request, model.params.resvec, &run, &mut record))
+            .transpose()
+            .map_err(|e| super::analysis_error(&c, st, id, e))?;
+        let modes_hz = basis.as_ref().map(ModalBasis::natural_frequencies_hz);
+        let (hz, ignored) = frequency_lines(model, sub, modes_hz.as_deref())?;
+        let ignored: Vec<String> = ignored
+            .iter()
+            .map(|f| format!("{} at {}", f.card_name(), f.loc))
+            .collect();
+        check_enforced_lines(&inputs, &hz).map_err(|what| RunError::Case { subcase: id, what })?;
+        let omegas: Vec<f64> = hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
+        run.omegas = &omegas;
         let FullFrf {
             h,
             modes,
             residual_vectors: residual,
             resvec_skipped,
-        } = frf::receptance(&c, analysis_method, &run, &mut |name, d| {
-            clock.record(format!("subcase {id}: {name}"), d)
-        })
-        .map_err(|e| super::analysis_error(&c, st, id, e))?;
+        } = frf::basis_receptance(&c, basis.as_ref(), &run, &mut record)
+            .map_err(|e| super::analysis_error(&c, st, id, e))?;
         let h = match &enforced {
             Some((e, outputs_s)) => e.compose(&h, applied, &omegas, &outputs, outputs_s),
             None => h,
@@ -271,6 +282,7 @@ fn run(
             resvec_skipped,
             f_size: n_f,
             peak,
+            ignored,
         };
         out.push(SubcaseSummary {
             id,
@@ -311,6 +323,9 @@ impl Report for FrfSummary {
     fn warnings(&self, subcase: u32) -> Vec<String> {
         let f = self;
         let mut warnings = Vec::new();
+        if !f.ignored.is_empty() {
+            warnings.push(format!("subcase {}: {} ignored: FREQ3/FREQ4/FREQ5 place lines from natural frequencies, which the direct frequency response does not compute (Nastran ignores them in SOL 108 too)", subcase, f.ignored.join(", ")));
+        }
         if f.resvec_skipped {
             warnings.push(format!("subcase {}: no residual vectors (PARAM,RESVEC): K is singular (a free-free model or a mechanism), so the {} modes alone are superposed; the modes left out are missing, so EIGRL should reach well above the band", subcase, f.modes));
         }
@@ -318,20 +333,11 @@ impl Report for FrfSummary {
     }
 }
 
-/// The enforced-motion columns of a subcase whose RLOADs move SPCD DOFs, with the output rows
-/// on the s-set (input rows: each enforced DOF reads itself; sensors; grid displacements);
-/// `None` without enforced motion. A VELO or ACCE excitation at 0 Hz is refused.
-fn enforced_motion(
-    ctx: &RunContext,
-    st: &Structure,
-    c: &Constrained,
-    inputs: &FrequencyInputs,
-    hz: &[f64],
-    sensors: &SensorOperator,
-    grids: &[usize],
-) -> Result<Option<(EnforcedColumns, CscMatrix<f64>)>, String> {
+/// Refuses a 0 Hz line when an enforced motion is a velocity or an acceleration (it has no
+/// displacement there).
+fn check_enforced_lines(inputs: &FrequencyInputs, hz: &[f64]) -> Result<(), String> {
     if inputs.enforced.is_empty() {
-        return Ok(None);
+        return Ok(());
     }
     let integrated = inputs.terms.iter().find(|t| {
         matches!(
@@ -349,6 +355,23 @@ fn enforced_motion(
             },
             t.kind.name()
         ));
+    }
+    Ok(())
+}
+
+/// The enforced-motion columns of a subcase whose RLOADs move SPCD DOFs, with the output rows
+/// on the s-set (input rows: each enforced DOF reads itself; sensors; grid displacements);
+/// `None` without enforced motion.
+fn enforced_motion(
+    ctx: &RunContext,
+    st: &Structure,
+    c: &Constrained,
+    inputs: &FrequencyInputs,
+    sensors: &SensorOperator,
+    grids: &[usize],
+) -> Result<Option<(EnforcedColumns, CscMatrix<f64>)>, String> {
+    if inputs.enforced.is_empty() {
+        return Ok(None);
     }
     let model = ctx.model;
     let columns = EnforcedColumns::new(

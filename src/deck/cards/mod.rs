@@ -147,7 +147,7 @@ pub struct BulkData {
     pub pload1: Vec<Pload1>,
     pub load: Vec<Load>,
     pub eigrl: Vec<Eigrl>,
-    /// FREQ, FREQ1 and FREQ2 cards.
+    /// FREQ and FREQ1–FREQ5 cards.
     pub freq: Vec<Freq>,
     pub tstep: Vec<Tstep>,
     /// TLOAD1 and TLOAD2.
@@ -366,6 +366,15 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     }),
     ("FREQ2", |c, b| {
         Ok(b.freq.push(Freq::from_card(c, "FREQ2")?))
+    }),
+    ("FREQ3", |c, b| {
+        Ok(b.freq.push(Freq::from_card(c, "FREQ3")?))
+    }),
+    ("FREQ4", |c, b| {
+        Ok(b.freq.push(Freq::from_card(c, "FREQ4")?))
+    }),
+    ("FREQ5", |c, b| {
+        Ok(b.freq.push(Freq::from_card(c, "FREQ5")?))
     }),
     ("TSTEP", |c, b| Ok(b.tstep.push(Tstep::from_card(c)?))),
     ("TLOAD1", |c, b| Ok(b.tload.push(Tload::tload1(c)?))),
