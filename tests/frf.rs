@@ -721,3 +721,71 @@ fn freq3_freq4_freq5_place_lines_from_the_natural_frequencies() {
         .to_string();
     assert!(e.contains("selects only FREQ3/FREQ4/FREQ5"), "{e}");
 }
+
+/// Random response (RANDOM, RANDPS with a cross-spectrum, TABRND1 LOG/LOG, RANDT1) of the 2-DOF
+/// chain loaded on each mass by its own subcase, against `reference/analytic/random_two_dof.json`
+/// (numpy: h (G S) hᴴ with the full Hermitian input matrix, trapezoid RMS, Simpson second
+/// moment, quad autocorrelation): T1 PSD, RMS, N0 and R(τ) of displacement and acceleration
+/// at both grids. Tolerance 1e-8 relative to each quantity's largest value: the direct FRF of a
+/// 2-DOF model is exact to round-off (1e-12 in `two_dof_direct…`), the integrals are exact for
+/// the piecewise-linear PSD, and quad is asked for 1e-13.
+#[test]
+fn random_two_dof_matches_the_hermitian_form_reference() {
+    let r = reference("random_two_dof");
+    let (run, _model, dir) = run_deck_file(&root().join(r["deck"].as_str().unwrap()));
+    let summary = run.expect("SOL 108 random");
+    let f = summary.subcases[0].result::<FrfSummary>().unwrap();
+    assert_eq!(
+        f.random.len(),
+        1,
+        "the random analysis reports with subcase 1"
+    );
+    assert_eq!(f.random[0].subcases, [1, 2]);
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).unwrap();
+    let g = file.group("random/50").unwrap();
+    let read = |name: &str| -> Vec<f64> { g.dataset(name).unwrap().read_raw().unwrap() };
+    assert_eq!(read("frequency_hz"), f64s(&r["frequency_hz"]));
+    assert_eq!(read("lag_s"), f64s(&r["lags_s"]));
+    let close = |what: &str, got: Vec<f64>, want: Vec<f64>| {
+        assert_eq!(got.len(), want.len(), "{what}");
+        let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let err = got
+            .iter()
+            .zip(&want)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            / scale;
+        println!("{what}: {err:.1e}");
+        assert!(err <= 1e-8, "{what}: {err:e}");
+    };
+    for q in ["displacement", "acceleration"] {
+        let ids: Vec<u32> = g
+            .dataset(&format!("{q}_grid_ids"))
+            .unwrap()
+            .read_raw()
+            .unwrap();
+        assert_eq!(ids, [1, 2]);
+        // T1 (component 0) of each grid; the other components carry no response
+        let t1 = |v: Vec<f64>| -> Vec<f64> { v.chunks_exact(6).map(|c| c[0]).collect() };
+        let psd = read(&format!("{q}_psd"));
+        assert!(
+            psd.chunks_exact(6)
+                .all(|c| c[1..].iter().all(|&x| x == 0.0))
+        );
+        close(&format!("{q} PSD"), t1(psd), f64s(&r[q]["psd"]));
+        close(
+            &format!("{q} RMS"),
+            t1(read(&format!("{q}_rms"))),
+            f64s(&r[q]["rms"]),
+        );
+        close(
+            &format!("{q} N0"),
+            t1(read(&format!("{q}_n0"))),
+            f64s(&r[q]["n0"]),
+        );
+        close(
+            &format!("{q} autocorrelation"),
+            t1(read(&format!("{q}_autocorrelation"))),
+            f64s(&r[q]["autocorrelation"]),
+        );
+    }
+}

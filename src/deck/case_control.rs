@@ -80,6 +80,8 @@ pub struct Subcase {
     pub frequency: Option<u32>,
     /// `SDAMPING = tid`: the TABDMP1 of the modal damping.
     pub sdamping: Option<u32>,
+    /// `RANDOM = sid`: the RANDPS (and RANDT1) cards of a random response.
+    pub random: Option<u32>,
     pub dload: Option<u32>,
     pub tstep: Option<u32>,
     /// `IC = sid` (TIC cards of a transient).
@@ -134,9 +136,9 @@ impl Subcase {
         let mut out = self.clone();
         macro_rules! inherit { ($($f:ident),*) => { $( if out.$f.is_none() { out.$f = defaults.$f.clone(); } )* } }
         inherit!(
-            title, subtitle, label, spc, mpc, load, method, frequency, sdamping, dload, tstep, ic,
-            prom, rom, fmb, pval, sensor, estim, meas, msensor, fmbstart, poses, strref, suport1,
-            loadset
+            title, subtitle, label, spc, mpc, load, method, frequency, sdamping, random, dload,
+            tstep, ic, prom, rom, fmb, pval, sensor, estim, meas, msensor, fmbstart, poses, strref,
+            suport1, loadset
         );
         let own: Vec<&str> = out.outputs.iter().map(|o| o.name).collect();
         let inherited: Vec<OutputRequest> = defaults
@@ -192,6 +194,7 @@ const SELECTIONS: &[&str] = &[
     "METHOD",
     "FREQUENCY",
     "SDAMPING",
+    "RANDOM",
     "DLOAD",
     "TSTEP",
     "IC",
@@ -581,6 +584,7 @@ impl CaseControl {
                 "METHOD" => &mut sub.method,
                 "FREQUENCY" => &mut sub.frequency,
                 "SDAMPING" => &mut sub.sdamping,
+                "RANDOM" => &mut sub.random,
                 "DLOAD" => &mut sub.dload,
                 "TSTEP" => &mut sub.tstep,
                 "IC" => &mut sub.ic,

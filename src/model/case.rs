@@ -60,6 +60,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
     let method = set_of(b.eigrl.iter().map(|s| s.sid).collect());
     let freq = set_of(b.freq.iter().map(|s| s.sid).collect());
     let tabdmp1 = set_of(b.tabdmp1.iter().map(|t| t.id).collect());
+    let randps = set_of(b.randps.iter().map(|r| r.sid).collect());
     let dload = set_of(
         b.dload
             .iter()
@@ -125,7 +126,8 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
             );
         }
         need("METHOD", sub.method, &method, "EIGRL/EIGR");
-        need("FREQUENCY", sub.frequency, &freq, "FREQ/FREQ1/FREQ2");
+        need("FREQUENCY", sub.frequency, &freq, "FREQ/FREQ1 … FREQ5");
+        need("RANDOM", sub.random, &randps, "RANDPS");
         // direct transient, statics and modes do not read SDAMPING (Nastran ignores it there,
         // whatever it selects; the sequence warns that it is not applied)
         let reads_sdamping = !matches!(

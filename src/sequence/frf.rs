@@ -36,6 +36,7 @@
 //! solve and are dropped from H.
 
 use super::driver::{Basis, Driver, ElementDampingUse};
+use super::random::{GridResponse, QUANTITIES, RandomSummary};
 use super::report::{Report, sci};
 use super::shared::{frequency_lines, structure, write_frf};
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
@@ -50,7 +51,7 @@ use crate::dynamics::frf::{ModalDampingTable, scaled_flat};
 use crate::dynamics::measurement::Reads;
 use crate::io::{set_attr_i64, set_attr_str, write_c64};
 use crate::linalg::EigenRequest;
-use crate::linalg::Mat;
+use crate::linalg::{Mat, c64};
 use nalgebra_sparse::CscMatrix;
 
 /// How the full-model FRF is computed.
@@ -89,13 +90,15 @@ pub struct FrfSummary {
     pub peak: (f64, f64),
     /// FREQ3–FREQ5 cards the direct solution left out (`CARD at file:line`).
     pub ignored: Vec<String>,
+    /// The random analyses (RANDOM) whose first subcase this is.
+    pub random: Vec<RandomSummary>,
 }
 
 /// The FRF driver on the mesh.
 pub struct Frf;
 
 /// The output requests FRF (108, 111) writes: complex displacement responses on request.
-pub const HONOURED: &[&str] = &["DISPLACEMENT"];
+pub const HONOURED: &[&str] = &["DISPLACEMENT", "VELOCITY", "ACCELERATION"];
 
 impl Driver for Frf {
     fn name(&self) -> &'static str {
@@ -132,7 +135,7 @@ fn run(
 ) -> Result<Vec<SubcaseSummary>, RunError> {
     let model = ctx.model;
     let sol = ctx.deck.executive.sol.as_ref().map(|(s, _)| *s);
-    let mut out = Vec::new();
+    let (mut done, mut responses) = (Vec::new(), Vec::new());
     for sub in &model.subcases {
         let id = sub.id;
         let method = match sol {
@@ -151,11 +154,19 @@ fn run(
             super::subcase_sensors(ctx, st, &c, sub)
         })?;
         // output rows: the input DOFs (their load columns read the displacement there), the
-        // sensors, then 6 per grid of a DISPLACEMENT request
-        let grid_rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
-        let grids = grid_rows
-            .as_ref()
-            .map_or_else(Vec::new, |rows| rows.indices(&st.map));
+        // sensors, then 6 per grid of a DISPLACEMENT, VELOCITY or ACCELERATION request (the
+        // union of their grids)
+        let requests: Vec<Option<GridRows>> = QUANTITIES
+            .iter()
+            .map(|(name, _)| GridRows::of_subcase(ctx.deck, &st.map, sub, name, None))
+            .collect();
+        let mut grids: Vec<usize> = requests
+            .iter()
+            .flatten()
+            .flat_map(|r| r.indices(&st.map))
+            .collect();
+        grids.sort_unstable();
+        grids.dedup();
         let grid_outputs = displacement_rows(st, &c, &grids);
         let k = inputs.names.len();
         let n_f = c.sets.f.len();
@@ -256,14 +267,13 @@ fn run(
                 let n_out = names.len();
                 let response = inputs.response(&hz, n_out, |l, o, i| flat[(l * n_out + o) * k + i]);
                 write_c64(&group, "response", &response, &[hz.len(), n_out])?;
-                if let Some(rows) = &grid_rows {
-                    write_c64(
-                        &group,
-                        "displacement",
-                        &displacement,
-                        &[hz.len(), grids.len(), 6],
-                    )?;
-                    rows.write_ids(&group, "displacement", &st.map)?;
+                for ((name, power), rows) in QUANTITIES.iter().zip(&requests) {
+                    let Some(rows) = rows else { continue };
+                    let at = positions(&grids, &rows.indices(&st.map));
+                    let values = grid_quantity(&displacement, &omegas, grids.len(), &at, *power);
+                    let name = name.to_lowercase();
+                    write_c64(&group, &name, &values, &[hz.len(), at.len(), 6])?;
+                    rows.write_ids(&group, &name, &st.map)?;
                 }
                 set_attr_str(&group, "method", method.name())?;
                 set_attr_i64(&group, "modes", modes as i64)?;
@@ -283,14 +293,68 @@ fn run(
             f_size: n_f,
             peak,
             ignored,
+            random: Vec::new(),
         };
+        responses.push(GridResponse {
+            subcase: id,
+            random: sub.random,
+            requests: std::array::from_fn(|q| {
+                requests[q]
+                    .as_ref()
+                    .map(|rows| positions(&grids, &rows.indices(&st.map)))
+            }),
+            grid_ids: grids.iter().filter_map(|&g| st.map.grid_id(g)).collect(),
+            hz,
+            displacement,
+        });
+        done.push((id, c.autospc.names.clone(), summary));
+    }
+    let mut analyses = clock.time("random response".to_string(), || {
+        super::random::run(ctx, &responses)
+    })?;
+    // each random analysis is reported with the first subcase it combines
+    let mut out = Vec::new();
+    for (id, autospc, mut summary) in done {
+        let (mine, rest) = analyses.into_iter().partition(|a| a.subcases[0] == id);
+        (summary.random, analyses) = (mine, rest);
         out.push(SubcaseSummary {
             id,
-            autospc: c.autospc.names.clone(),
+            autospc,
             result: Box::new(summary),
         });
     }
     Ok(out)
+}
+
+/// The positions of the grid indices `wanted` in the sorted list `grids` (which holds them).
+fn positions(grids: &[usize], wanted: &[usize]) -> Vec<usize> {
+    wanted
+        .iter()
+        .map(|g| {
+            grids
+                .binary_search(g)
+                .expect("a requested grid is in the union")
+        })
+        .collect()
+}
+
+/// (iω)^power × the displacement response (lines × grids × 6) of the grids at `at`.
+fn grid_quantity(
+    displacement: &[c64],
+    omegas: &[f64],
+    grids: usize,
+    at: &[usize],
+    power: i32,
+) -> Vec<c64> {
+    let mut out = Vec::with_capacity(omegas.len() * at.len() * 6);
+    for (l, &w) in omegas.iter().enumerate() {
+        let factor = c64::new(0.0, w).powi(power);
+        for &g in at {
+            let row = &displacement[(l * grids + g) * 6..(l * grids + g + 1) * 6];
+            out.extend(row.iter().map(|&z| z * factor));
+        }
+    }
+    out
 }
 
 impl Report for FrfSummary {
@@ -318,6 +382,9 @@ impl Report for FrfSummary {
                 sci(r.peak.1, 4)
             ),
         ]
+        .into_iter()
+        .chain(r.random.iter().flat_map(RandomSummary::lines))
+        .collect()
     }
 
     fn warnings(&self, subcase: u32) -> Vec<String> {

@@ -1156,7 +1156,7 @@ impl Tabled4 {
 /// Walk a table's entries from field 9 (the first continuation) to `ENDT`, skipping `SKIP`
 /// pairs; `read(f, i)` reads the entry at field i and returns how many fields it took. Returns
 /// whether `ENDT` was found.
-fn table_entries(
+pub(super) fn table_entries(
     f: &mut FieldReader,
     mut read: impl FnMut(&mut FieldReader, usize) -> usize,
 ) -> bool {
