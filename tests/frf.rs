@@ -789,3 +789,47 @@ fn random_two_dof_matches_the_hermitian_form_reference() {
         );
     }
 }
+
+/// Bad random input is a clear error naming the card: a set whose RANDPS all name a subcase
+/// the deck does not run (one such card among others is left out with a warning, as MSC
+/// Nastran runs such decks), a TID with no TABRND1/TABRNDG, an auto-spectrum with an
+/// imaginary part (at read).
+#[test]
+fn random_input_errors_name_the_card() {
+    let text =
+        std::fs::read_to_string(root().join("decks/verify/analytic/random_two_dof.dat")).unwrap();
+    let cases = [
+        (
+            "RANDPS,50,1,1,1.0,,10\nRANDPS,50,2,2,2.0,,10\nRANDPS,50,1,2,0.5,0.3,10",
+            "RANDPS,50,3,3,1.0,,10",
+            "names subcases 3 and 3",
+        ),
+        (
+            "RANDPS,50,2,2,2.0,,10",
+            "RANDPS,50,2,2,2.0,,11",
+            "TID = 11 selects no TABRND1",
+        ),
+    ];
+    for (from, to, want) in cases {
+        assert!(text.contains(from));
+        let (r, _dir) = run_deck(&text.replace(from, to));
+        let e = r.expect_err(to).to_string();
+        assert!(e.contains(want), "{to}: {e}");
+    }
+    let e = common::build_model(&text.replace("RANDPS,50,2,2,2.0,,10", "RANDPS,50,2,2,2.0,0.1,10"))
+        .expect_err("Y on an auto-spectrum")
+        .join("\n");
+    assert!(
+        e.contains("RANDPS 50: field 6 (Y)") && e.contains("expected Y = 0"),
+        "{e}"
+    );
+    let extra = text.replace("RANDT1,", "RANDPS,50,3,3,1.0,,10\nRANDT1,");
+    let summary = run_deck(&extra)
+        .0
+        .expect("a RANDPS of subcase 3 is left out");
+    assert!(
+        summary.warnings.iter().any(|w| w.contains("left out")),
+        "{:?}",
+        summary.warnings
+    );
+}

@@ -231,6 +231,8 @@ const OUTPUTS: &[&str] = &[
     "GPSTRESS",
     "STRFIELD",
     "GPSTRAIN",
+    "RCROSS",
+    "GPRSORT",
 ];
 
 /// Statements accepted and ignored (printing and bookkeeping options that do not change results).

@@ -390,6 +390,23 @@ impl Report for FrfSummary {
     fn warnings(&self, subcase: u32) -> Vec<String> {
         let f = self;
         let mut warnings = Vec::new();
+        for r in f.random.iter().filter(|r| !r.ignored.is_empty()) {
+            warnings.push(format!(
+                "random {}: RANDPS at {} left out: it names a subcase this deck does not run",
+                r.sid,
+                r.ignored.join(", ")
+            ));
+        }
+        for r in f.random.iter().filter(|r| !r.ignored.is_empty()) {
+            warnings.push(format!(
+                "random {}: RANDPS at {} left out: it names a subcase this deck does not run",
+                r.sid,
+                r.ignored.join(", ")
+            ));
+        }
+        for r in f.random.iter().filter(|r| r.outputs.is_empty()) {
+            warnings.push(format!("random {}: its subcases ask no DISPLACEMENT, VELOCITY or ACCELERATION, the quantities paraflex gives spectral densities of, so /random/{} holds only the frequency lines", r.sid, r.sid));
+        }
         if !f.ignored.is_empty() {
             warnings.push(format!("subcase {}: {} ignored: FREQ3/FREQ4/FREQ5 place lines from natural frequencies, which the direct frequency response does not compute (Nastran ignores them in SOL 108 too)", subcase, f.ignored.join(", ")));
         }

@@ -4,7 +4,9 @@
 //! ([`crate::dynamics::random`]).
 //!
 //! The RANDPS cards of the set combine the responses of the subcases they name (J, K): those
-//! subcases must have run in this deck with the same frequency lines and the same grids.
+//! subcases must have run in this deck with the same frequency lines and the same grids. A
+//! card naming a subcase the deck does not run is left out with a warning (MSC Nastran runs
+//! such decks).
 //! Written: `/random/<sid>/{frequency_hz (f), <quantity>_psd (f × k × 6), <quantity>_rms
 //! (k × 6), <quantity>_n0 (k × 6), <quantity>_grid_ids (k)}` per requested quantity
 //! (`displacement`, `velocity`, `acceleration`: S × (2πf)^(2p), p = 0, 1, 2, components in
@@ -48,6 +50,9 @@ pub struct RandomSummary {
     /// Largest RMS of each quantity: (value, grid id, component 1–6).
     pub largest: Vec<(&'static str, f64, u32, usize)>,
     pub lags: usize,
+    /// RANDPS cards left out because they name a subcase the deck does not run (their
+    /// positions).
+    pub ignored: Vec<String>,
 }
 
 impl RandomSummary {
@@ -92,28 +97,30 @@ fn one(ctx: &RunContext, responses: &[GridResponse], sid: u32) -> Result<RandomS
         subcase: first_user.map_or(0, |r| r.subcase),
         what,
     };
-    let cards: Vec<&Randps> = model.randps(sid);
+    // a card naming a subcase the deck does not run is left out, as MSC Nastran does
+    let runs = |id: u32| responses.iter().any(|r| r.subcase == id);
+    let (cards, ignored): (Vec<&Randps>, Vec<&Randps>) = model
+        .randps(sid)
+        .into_iter()
+        .partition(|c| runs(c.j) && runs(c.k));
     if cards.is_empty() {
-        return Err(case(format!("RANDOM = {sid} selects no RANDPS card")));
+        let what = match ignored.first() {
+            Some(c) => format!(
+                "RANDOM = {sid}: every RANDPS of the set names a subcase this deck does not run (RANDPS at {} names subcases {} and {})",
+                c.loc, c.j, c.k
+            ),
+            None => format!("RANDOM = {sid} selects no RANDPS card"),
+        };
+        return Err(case(what));
     }
     // the subcases the cards combine, in increasing id
     let mut subcases: Vec<u32> = cards.iter().flat_map(|c| [c.j, c.k]).collect();
     subcases.sort_unstable();
     subcases.dedup();
-    let mut used: Vec<&GridResponse> = Vec::new();
-    for &id in &subcases {
-        let Some(r) = responses.iter().find(|r| r.subcase == id) else {
-            let card = cards
-                .iter()
-                .find(|c| c.j == id || c.k == id)
-                .expect("named");
-            return Err(case(format!(
-                "RANDPS {sid} at {} names subcase {id}, which is no frequency-response subcase of this deck",
-                card.loc
-            )));
-        };
-        used.push(r);
-    }
+    let used: Vec<&GridResponse> = subcases
+        .iter()
+        .filter_map(|&id| responses.iter().find(|r| r.subcase == id))
+        .collect();
     let base = used[0];
     if let Some(r) = used
         .iter()
@@ -185,6 +192,7 @@ fn one(ctx: &RunContext, responses: &[GridResponse], sid: u32) -> Result<RandomS
         outputs: Vec::new(),
         largest: Vec::new(),
         lags: lags.len(),
+        ignored: ignored.iter().map(|c| c.loc.to_string()).collect(),
     };
     for (q, (name, power)) in QUANTITIES.iter().enumerate() {
         let Some(rows) = &base.requests[q] else {
