@@ -115,7 +115,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
             }
         };
         need("SPC", sub.spc, &spc, "SPC/SPC1/SPCADD");
-        need("MPC", sub.mpc, &mpc, "MPC/MPCADD");
+        // an MPC selection without any MPC/MPCADD card is a warning (`unselected_sets`)
         // a deck loading a mechanism (FMB =) may select a gravity set stored with it
         if sub.fmb.is_none() {
             need(
@@ -321,6 +321,21 @@ pub fn unselected_sets(deck: &Deck, warnings: &mut Vec<Warning>) {
         |s| s.mpc,
         warnings,
     );
+    // MPC = sid with no MPC/MPCADD card of that id applies nothing: MSC Nastran runs such
+    // decks (pyNastran's random/random_test_bar_plus_tri.bdf and its OP2), so a warning
+    let mut warned = HashSet::new();
+    for sub in &subcases {
+        let Some(sid) = sub.mpc else { continue };
+        let defined = b.mpc.iter().any(|c| c.sid == sid) || b.mpcadd.iter().any(|c| c.sid == sid);
+        if !defined && warned.insert(sid) {
+            warnings.push(Warning {
+                loc: sub.loc_of("MPC").map(ToString::to_string),
+                message: format!(
+                    "MPC = {sid} selects no MPC/MPCADD set {sid}: no multipoint constraint is applied (MSC Nastran runs such a deck too)"
+                ),
+            });
+        }
+    }
     let force_name = |kind: ForceKind| match kind {
         ForceKind::Force => "FORCE",
         ForceKind::Moment => "MOMENT",

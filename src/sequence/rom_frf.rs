@@ -87,6 +87,11 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             path.display()
         )));
     }
+    if let Some(sid) = sub.random {
+        return Err(case(format!(
+            "RANDOM = {sid}: a random response is computed from the grid responses of the full-model SOL 108/111; a pROM FRF has no grids"
+        )));
+    }
     if ctx.model.params.g != 0.0 {
         return Err(case(format!(
             "PARAM,G = {}: structural damping is applied by the full-model SOL 108/111 only; a pROM carries the Rayleigh damping of its build (PARAM,ALPHA1 / BETA1)",

@@ -413,11 +413,8 @@ fn cluster_lines(
     cluster: f64,
     modes_hz: &[f64],
 ) -> Vec<f64> {
-    let (map, unmap): (fn(f64) -> f64, fn(f64) -> f64) = if log {
-        (f64::ln, f64::exp)
-    } else {
-        (|x| x, |x| x)
-    };
+    let map = |x: f64| if log { x.ln() } else { x };
+    let unmap = |x: f64| if log { x.exp() } else { x };
     let mut breaks = vec![f1];
     breaks.extend(modes_hz.iter().copied().filter(|&x| x > f1 && x < f2));
     breaks.push(f2);
