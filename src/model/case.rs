@@ -43,13 +43,6 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
             .chain(b.spcadd.iter().map(|s| s.sid))
             .collect(),
     );
-    let mpc = set_of(
-        b.mpc
-            .iter()
-            .map(|s| s.sid)
-            .chain(b.mpcadd.iter().map(|s| s.sid))
-            .collect(),
-    );
     let load = set_of(
         b.load
             .iter()
