@@ -642,3 +642,194 @@ fn lseq_maps_an_exciteid_to_a_static_load_set() {
     let e = run.expect_err("EXCITEID 8 without LOADSET").to_string();
     assert!(e.contains("EXCITEID 8"), "{e}");
 }
+
+/// FREQ3, FREQ4 and FREQ5 place the lines of SOL 111 from the natural frequencies of the 2-DOF
+/// chain, f₁ = √7500/2π and f₂ = √50000/2π (roots of 2λ² − 115000λ + 7.5e8 = 0), against the
+/// lists written out by hand from the card rules (docs/dynamics.md). Tolerance 1e-9 relative:
+/// the Lanczos roots of a 2-DOF problem are exact to round-off.
+#[test]
+fn freq3_freq4_freq5_place_lines_from_the_natural_frequencies() {
+    let text = std::fs::read_to_string(root().join("decks/verify/analytic/frf_two_dof_modal.dat"))
+        .unwrap();
+    let tau = 2.0 * std::f64::consts::PI;
+    let (f1, f2) = (7500f64.sqrt() / tau, 50000f64.sqrt() / tau);
+    // FREQ3 LINEAR, NEF 5, CLUSTER 2: per sub-range a + (b − a)(1 + s)/2 with
+    // s = −1, −√½, 0, √½, 1 (|ξ|^½ sign ξ of ξ = −1, −½, 0, ½, 1)
+    let r = 0.5f64.sqrt();
+    let cluster = |a: f64, b: f64| -> Vec<f64> {
+        [-1.0, -r, 0.0, r, 1.0]
+            .iter()
+            .map(|s| 0.5 * (a + b) + 0.5 * (b - a) * s)
+            .collect()
+    };
+    let mut freq3: Vec<f64> = [cluster(5.0, f1), cluster(f1, f2), cluster(f2, 45.0)].concat();
+    freq3.sort_by(f64::total_cmp);
+    freq3.dedup();
+    // FREQ3 LOG, NEF 3: the geometric means of each sub-range between 5, f1, f2, 45
+    let freq3_log = vec![
+        5.0,
+        (5.0 * f1).sqrt(),
+        f1,
+        (f1 * f2).sqrt(),
+        f2,
+        (f2 * 45.0).sqrt(),
+        45.0,
+    ];
+    // FREQ4 FSPD 0.1, NFM 2 (→ 3): 0.9, 1, 1.1 × f_n kept in [0, 38] (1.1 f₂ = 39.1 dropped)
+    let freq4 = vec![0.9 * f1, f1, 1.1 * f1, 0.9 * f2, f2];
+    // FREQ5 FR 0.5 1 2 within [10, 40]: 0.5 f₁ = 6.9 and 2 f₂ = 71.2 dropped
+    let freq5 = vec![f1, 0.5 * f2, 2.0 * f1, f2];
+    let cases = [
+        ("FREQ3,6,5.0,45.0,LINEAR,5,2.0", freq3),
+        ("FREQ3,6,5.0,45.0,LOG,3", freq3_log),
+        ("FREQ4,6,,38.0,,2", freq4),
+        ("FREQ5,6,10.0,40.0,0.5,1.0,2.0", freq5),
+    ];
+    for (card, want) in cases {
+        let deck = text
+            .replace("FREQUENCY = 5", "FREQUENCY = 6")
+            .replace("EIGRL,10,", &format!("{card}\nEIGRL,10,"));
+        let (run, dir) = run_deck(&deck);
+        run.unwrap_or_else(|e| panic!("{card}: {e}"));
+        let got = read_frf(&dir.path().join("out.h5")).hz;
+        assert_eq!(got.len(), want.len(), "{card}: {got:?} vs {want:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert!((g - w).abs() <= 1e-9 * w, "{card}: {got:?} vs {want:?}");
+        }
+    }
+    // the direct solution ignores FREQ4 with a warning; alone, it leaves no line: an error
+    let direct =
+        std::fs::read_to_string(root().join("decks/verify/analytic/frf_two_dof_direct.dat"))
+            .unwrap()
+            .replace("FREQ,5,", "FREQ4,5\nFREQ,5,");
+    let (run, _dir) = run_deck(&direct);
+    let summary = run.expect("SOL 108 with FREQ and FREQ4");
+    let f = summary.subcases[0].result::<FrfSummary>().unwrap();
+    assert_eq!(f.lines, 5);
+    assert!(
+        summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("FREQ4 at") && w.contains("ignored")),
+        "{:?}",
+        summary.warnings
+    );
+    let only = direct.replace("FREQ,5,", "FREQ,55,");
+    let e = run_deck(&only)
+        .0
+        .expect_err("FREQ4 alone in SOL 108")
+        .to_string();
+    assert!(e.contains("selects only FREQ3/FREQ4/FREQ5"), "{e}");
+}
+
+/// Random response (RANDOM, RANDPS with a cross-spectrum, TABRND1 LOG/LOG, RANDT1) of the 2-DOF
+/// chain loaded on each mass by its own subcase, against `reference/analytic/random_two_dof.json`
+/// (numpy: h (G S) hᴴ with the full Hermitian input matrix, trapezoid RMS, Simpson second
+/// moment, quad autocorrelation): T1 PSD, RMS, N0 and R(τ) of displacement and acceleration
+/// at both grids. Tolerance 1e-8 relative to each quantity's largest value: the direct FRF of a
+/// 2-DOF model is exact to round-off (1e-12 in `two_dof_direct…`), the integrals are exact for
+/// the piecewise-linear PSD, and quad is asked for 1e-13.
+#[test]
+fn random_two_dof_matches_the_hermitian_form_reference() {
+    let r = reference("random_two_dof");
+    let (run, _model, dir) = run_deck_file(&root().join(r["deck"].as_str().unwrap()));
+    let summary = run.expect("SOL 108 random");
+    let f = summary.subcases[0].result::<FrfSummary>().unwrap();
+    assert_eq!(
+        f.random.len(),
+        1,
+        "the random analysis reports with subcase 1"
+    );
+    assert_eq!(f.random[0].subcases, [1, 2]);
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).unwrap();
+    let g = file.group("random/50").unwrap();
+    let read = |name: &str| -> Vec<f64> { g.dataset(name).unwrap().read_raw().unwrap() };
+    assert_eq!(read("frequency_hz"), f64s(&r["frequency_hz"]));
+    assert_eq!(read("lag_s"), f64s(&r["lags_s"]));
+    let close = |what: &str, got: Vec<f64>, want: Vec<f64>| {
+        assert_eq!(got.len(), want.len(), "{what}");
+        let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let err = got
+            .iter()
+            .zip(&want)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            / scale;
+        println!("{what}: {err:.1e}");
+        assert!(err <= 1e-8, "{what}: {err:e}");
+    };
+    for q in ["displacement", "acceleration"] {
+        let ids: Vec<u32> = g
+            .dataset(&format!("{q}_grid_ids"))
+            .unwrap()
+            .read_raw()
+            .unwrap();
+        assert_eq!(ids, [1, 2]);
+        // T1 (component 0) of each grid; the other components carry no response
+        let t1 = |v: Vec<f64>| -> Vec<f64> { v.chunks_exact(6).map(|c| c[0]).collect() };
+        let psd = read(&format!("{q}_psd"));
+        assert!(
+            psd.chunks_exact(6)
+                .all(|c| c[1..].iter().all(|&x| x == 0.0))
+        );
+        close(&format!("{q} PSD"), t1(psd), f64s(&r[q]["psd"]));
+        close(
+            &format!("{q} RMS"),
+            t1(read(&format!("{q}_rms"))),
+            f64s(&r[q]["rms"]),
+        );
+        close(
+            &format!("{q} N0"),
+            t1(read(&format!("{q}_n0"))),
+            f64s(&r[q]["n0"]),
+        );
+        close(
+            &format!("{q} autocorrelation"),
+            t1(read(&format!("{q}_autocorrelation"))),
+            f64s(&r[q]["autocorrelation"]),
+        );
+    }
+}
+
+/// Bad random input is a clear error naming the card: a set whose RANDPS all name a subcase
+/// the deck does not run (one such card among others is left out with a warning, as MSC
+/// Nastran runs such decks), a TID with no TABRND1/TABRNDG, an auto-spectrum with an
+/// imaginary part (at read).
+#[test]
+fn random_input_errors_name_the_card() {
+    let text =
+        std::fs::read_to_string(root().join("decks/verify/analytic/random_two_dof.dat")).unwrap();
+    let cases = [
+        (
+            "RANDPS,50,1,1,1.0,,10\nRANDPS,50,2,2,2.0,,10\nRANDPS,50,1,2,0.5,0.3,10",
+            "RANDPS,50,3,3,1.0,,10",
+            "names subcases 3 and 3",
+        ),
+        (
+            "RANDPS,50,2,2,2.0,,10",
+            "RANDPS,50,2,2,2.0,,11",
+            "TID = 11 selects no TABRND1",
+        ),
+    ];
+    for (from, to, want) in cases {
+        assert!(text.contains(from));
+        let (r, _dir) = run_deck(&text.replace(from, to));
+        let e = r.expect_err(to).to_string();
+        assert!(e.contains(want), "{to}: {e}");
+    }
+    let e = common::build_model(&text.replace("RANDPS,50,2,2,2.0,,10", "RANDPS,50,2,2,2.0,0.1,10"))
+        .expect_err("Y on an auto-spectrum")
+        .join("\n");
+    assert!(
+        e.contains("RANDPS 50: field 6 (Y)") && e.contains("expected Y = 0"),
+        "{e}"
+    );
+    let extra = text.replace("RANDT1,", "RANDPS,50,3,3,1.0,,10\nRANDT1,");
+    let summary = run_deck(&extra)
+        .0
+        .expect("a RANDPS of subcase 3 is left out");
+    assert!(
+        summary.warnings.iter().any(|w| w.contains("left out")),
+        "{:?}",
+        summary.warnings
+    );
+}

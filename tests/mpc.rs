@@ -85,6 +85,23 @@ fn subcases_must_share_one_mpc_set() {
     );
 }
 
+/// `MPC = sid` with no MPC/MPCADD card of that id applies nothing, with a warning at the
+/// command (MSC Nastran runs such decks): the lever without its MPC cards runs.
+#[test]
+fn an_mpc_selection_without_cards_is_a_warning() {
+    let deck = with_case(&lever_static_deck(), "MPC = 20\n", "MPC = 99\n");
+    let model = common::build_model(&deck).expect("reads");
+    assert!(
+        model
+            .warnings
+            .iter()
+            .any(|w| w.message.contains("MPC = 99 selects no MPC/MPCADD set 99")),
+        "{:?}",
+        model.warnings
+    );
+    run_deck(&deck).0.expect("runs without the MPC");
+}
+
 #[test]
 fn bad_mpc_cards_are_reported_in_one_pass() {
     let fields = with_case(

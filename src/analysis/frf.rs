@@ -119,147 +119,204 @@ pub struct FrfRun<'a> {
 }
 
 /// H(ω) of `c` by `method`; each phase ("direct FRF", "Lanczos", "residual vectors",
-/// "modal FRF") is reported to `record` with its wall time.
+/// "modal FRF") is reported to `record` with its wall time. The modal method is
+/// [`modal_basis`] then [`basis_receptance`] (callers whose frequency lines depend on the
+/// modes, as FREQ3–FREQ5, call the two in turn).
 pub fn receptance(
     c: &Constrained,
     method: Method,
     run: &FrfRun<'_>,
     record: &mut dyn FnMut(String, Duration),
 ) -> Result<FullFrf, AnalysisError> {
-    let lines = run.omegas.len();
-    let d = &run.damping;
-    match method {
-        Method::Direct => {
-            let model = SparseModel {
-                stiffness: &c.k_ff,
-                mass: &c.m_ff,
-                alpha: d.alpha,
-                beta: d.beta,
-                structural: d.structural,
-                viscous_matrix: c.damping_ff.viscous.as_ref(),
-                structural_matrix: c.damping_ff.structural.as_ref(),
-            };
-            let h = timed(record, format!("direct FRF ({lines} lines)"), || {
-                direct_receptance(
-                    &model,
-                    run.inputs,
-                    run.outputs,
-                    run.omegas,
-                    run.par != Par::Seq,
-                )
-            })?;
-            Ok(FullFrf {
-                h,
-                modes: 0,
-                residual_vectors: None,
-                resvec_skipped: false,
-            })
-        }
+    let basis = match method {
+        Method::Direct => None,
         Method::Modal {
             request,
-            residual_vectors: with_residual,
-        } => {
-            let symbolic = SymbolicFactor::analyze(c.k_ff.pattern())?;
-            if run.omegas.contains(&0.0) {
-                static_stiffness_is_regular(&c.k_ff, &symbolic)?;
-            }
-            let problem = EigenProblem {
-                k: &c.k_ff,
-                m: &c.m_ff,
-                symbolic: &symbolic,
-            };
-            let r = timed(record, "Lanczos".to_string(), || {
-                solve_modes(
-                    &problem,
-                    &request,
-                    &LanczosOptions::default(),
-                    run.par,
-                    run.progress,
-                )
-            })?;
-            let modes = r.eigenvalues.len();
-            let extra = if with_residual {
-                timed(record, "residual vectors".to_string(), || {
-                    residual_vectors(&c.k_ff, &c.m_ff, &symbolic, r.vectors.as_ref(), run.inputs)
-                })?
-            } else {
-                None
-            };
-            let resvec_skipped = with_residual && extra.is_none();
-            let residual = extra.as_ref().map(|e| e.eigenvalues.len());
-            // the modes, then the residual vectors (the modes alone when there are none)
-            let (eigenvalues, phi) = match extra {
-                Some(extra) => {
-                    let psi = &extra.shapes;
-                    let n_f = r.vectors.nrows();
-                    let phi = Mat::<f64>::from_fn(n_f, modes + psi.ncols(), |i, j| {
-                        if j < modes {
-                            r.vectors[(i, j)]
-                        } else {
-                            psi[(i, j - modes)]
-                        }
-                    });
-                    (
-                        r.eigenvalues.into_iter().chain(extra.eigenvalues).collect(),
-                        phi,
-                    )
-                }
-                None => (r.eigenvalues, r.vectors),
-            };
-            let basis: Vec<f64> = eigenvalues;
-            let name = format!(
-                "modal FRF ({modes} modes, {} residual vectors, {lines} lines)",
-                basis.len() - modes
-            );
-            let h = timed(record, name, || -> Result<_, AnalysisError> {
-                let modal_in = product(phi.transpose(), run.inputs);
-                let modal_out = project_rows(run.outputs, &phi);
-                if c.damping_ff.is_empty() && d.modal_table.is_none() {
-                    return Ok(modal_receptance(
-                        &basis,
-                        d.alpha,
-                        d.beta,
-                        d.structural,
-                        modal_in.as_ref(),
-                        modal_out.as_ref(),
-                        run.omegas,
-                    )?);
-                }
-                // element damping couples the modal equations
-                let project = |a: Option<&CscMatrix<f64>>| match a {
-                    Some(a) => congruence(a, phi.as_ref()),
-                    None => Ok(Mat::zeros(basis.len(), basis.len())),
-                };
-                let mut viscous = project(c.damping_ff.viscous.as_ref())?;
-                let mut structural = project(c.damping_ff.structural.as_ref())?;
-                if let Some(table) = &d.modal_table {
-                    for (j, &lambda) in basis.iter().enumerate() {
-                        let w = lambda.max(0.0).sqrt();
-                        let zeta = table.critical_ratio(w / (2.0 * std::f64::consts::PI));
-                        if table.structural {
-                            structural[(j, j)] += 2.0 * zeta * lambda;
-                        } else {
-                            viscous[(j, j)] += 2.0 * zeta * w;
-                        }
-                    }
-                }
-                Ok(coupled_modal_receptance(
-                    &basis,
-                    (d.alpha, d.beta),
-                    d.structural,
-                    viscous.as_ref(),
-                    structural.as_ref(),
-                    modal_in.as_ref(),
-                    modal_out.as_ref(),
-                    run.omegas,
-                )?)
-            })?;
-            Ok(FullFrf {
-                h,
-                modes,
-                residual_vectors: residual,
-                resvec_skipped,
-            })
-        }
+            residual_vectors,
+        } => Some(modal_basis(c, &request, residual_vectors, run, record)?),
+    };
+    basis_receptance(c, basis.as_ref(), run, record)
+}
+
+/// The basis of a modal FRF: the modes of an eigen request (mass normalized) and, on request,
+/// the residual vectors of the input shapes, with the symbolic factorization of K_ff.
+pub struct ModalBasis {
+    symbolic: SymbolicFactor,
+    /// Generalized stiffnesses (ω_j² of the modes, then of the residual vectors).
+    eigenvalues: Vec<f64>,
+    /// The basis vectors as columns (modes first).
+    phi: Mat<f64>,
+    /// How many of the columns are modes.
+    pub modes: usize,
+    /// As [`FullFrf::residual_vectors`].
+    pub residual_vectors: Option<usize>,
+    /// As [`FullFrf::resvec_skipped`].
+    pub resvec_skipped: bool,
+}
+
+impl ModalBasis {
+    /// The natural frequencies (Hz) of the modes (residual vectors left out), ascending.
+    pub fn natural_frequencies_hz(&self) -> Vec<f64> {
+        self.eigenvalues[..self.modes]
+            .iter()
+            .map(|&l| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+            .collect()
     }
+}
+
+/// The modes of `request` and (when `with_residual`) the residual vectors of `run.inputs`;
+/// `run.omegas` is not used.
+pub fn modal_basis(
+    c: &Constrained,
+    request: &EigenRequest,
+    with_residual: bool,
+    run: &FrfRun<'_>,
+    record: &mut dyn FnMut(String, Duration),
+) -> Result<ModalBasis, AnalysisError> {
+    let symbolic = SymbolicFactor::analyze(c.k_ff.pattern())?;
+    let problem = EigenProblem {
+        k: &c.k_ff,
+        m: &c.m_ff,
+        symbolic: &symbolic,
+    };
+    let r = timed(record, "Lanczos".to_string(), || {
+        solve_modes(
+            &problem,
+            request,
+            &LanczosOptions::default(),
+            run.par,
+            run.progress,
+        )
+    })?;
+    let modes = r.eigenvalues.len();
+    let extra = if with_residual {
+        timed(record, "residual vectors".to_string(), || {
+            residual_vectors(&c.k_ff, &c.m_ff, &symbolic, r.vectors.as_ref(), run.inputs)
+        })?
+    } else {
+        None
+    };
+    let resvec_skipped = with_residual && extra.is_none();
+    let residual = extra.as_ref().map(|e| e.eigenvalues.len());
+    // the modes, then the residual vectors (the modes alone when there are none)
+    let (eigenvalues, phi) = match extra {
+        Some(extra) => {
+            let psi = &extra.shapes;
+            let n_f = r.vectors.nrows();
+            let phi = Mat::<f64>::from_fn(n_f, modes + psi.ncols(), |i, j| {
+                if j < modes {
+                    r.vectors[(i, j)]
+                } else {
+                    psi[(i, j - modes)]
+                }
+            });
+            (
+                r.eigenvalues.into_iter().chain(extra.eigenvalues).collect(),
+                phi,
+            )
+        }
+        None => (r.eigenvalues, r.vectors),
+    };
+    Ok(ModalBasis {
+        symbolic,
+        eigenvalues,
+        phi,
+        modes,
+        residual_vectors: residual,
+        resvec_skipped,
+    })
+}
+
+/// H(ω) at `run.omegas`: direct when `basis` is `None`, else superposed on the basis.
+pub fn basis_receptance(
+    c: &Constrained,
+    basis: Option<&ModalBasis>,
+    run: &FrfRun<'_>,
+    record: &mut dyn FnMut(String, Duration),
+) -> Result<FullFrf, AnalysisError> {
+    let lines = run.omegas.len();
+    let d = &run.damping;
+    let Some(b) = basis else {
+        let model = SparseModel {
+            stiffness: &c.k_ff,
+            mass: &c.m_ff,
+            alpha: d.alpha,
+            beta: d.beta,
+            structural: d.structural,
+            viscous_matrix: c.damping_ff.viscous.as_ref(),
+            structural_matrix: c.damping_ff.structural.as_ref(),
+        };
+        let h = timed(record, format!("direct FRF ({lines} lines)"), || {
+            direct_receptance(
+                &model,
+                run.inputs,
+                run.outputs,
+                run.omegas,
+                run.par != Par::Seq,
+            )
+        })?;
+        return Ok(FullFrf {
+            h,
+            modes: 0,
+            residual_vectors: None,
+            resvec_skipped: false,
+        });
+    };
+    if run.omegas.contains(&0.0) {
+        static_stiffness_is_regular(&c.k_ff, &b.symbolic)?;
+    }
+    let (basis, phi, modes) = (&b.eigenvalues, &b.phi, b.modes);
+    let name = format!(
+        "modal FRF ({modes} modes, {} residual vectors, {lines} lines)",
+        basis.len() - modes
+    );
+    let h = timed(record, name, || -> Result<_, AnalysisError> {
+        let modal_in = product(phi.transpose(), run.inputs);
+        let modal_out = project_rows(run.outputs, phi);
+        if c.damping_ff.is_empty() && d.modal_table.is_none() {
+            return Ok(modal_receptance(
+                basis,
+                d.alpha,
+                d.beta,
+                d.structural,
+                modal_in.as_ref(),
+                modal_out.as_ref(),
+                run.omegas,
+            )?);
+        }
+        // element damping couples the modal equations
+        let project = |a: Option<&CscMatrix<f64>>| match a {
+            Some(a) => congruence(a, phi.as_ref()),
+            None => Ok(Mat::zeros(basis.len(), basis.len())),
+        };
+        let mut viscous = project(c.damping_ff.viscous.as_ref())?;
+        let mut structural = project(c.damping_ff.structural.as_ref())?;
+        if let Some(table) = &d.modal_table {
+            for (j, &lambda) in basis.iter().enumerate() {
+                let w = lambda.max(0.0).sqrt();
+                let zeta = table.critical_ratio(w / (2.0 * std::f64::consts::PI));
+                if table.structural {
+                    structural[(j, j)] += 2.0 * zeta * lambda;
+                } else {
+                    viscous[(j, j)] += 2.0 * zeta * w;
+                }
+            }
+        }
+        Ok(coupled_modal_receptance(
+            basis,
+            (d.alpha, d.beta),
+            d.structural,
+            viscous.as_ref(),
+            structural.as_ref(),
+            modal_in.as_ref(),
+            modal_out.as_ref(),
+            run.omegas,
+        )?)
+    })?;
+    Ok(FullFrf {
+        h,
+        modes,
+        residual_vectors: b.residual_vectors,
+        resvec_skipped: b.resvec_skipped,
+    })
 }

@@ -80,6 +80,8 @@ pub struct Subcase {
     pub frequency: Option<u32>,
     /// `SDAMPING = tid`: the TABDMP1 of the modal damping.
     pub sdamping: Option<u32>,
+    /// `RANDOM = sid`: the RANDPS (and RANDT1) cards of a random response.
+    pub random: Option<u32>,
     pub dload: Option<u32>,
     pub tstep: Option<u32>,
     /// `IC = sid` (TIC cards of a transient).
@@ -151,6 +153,7 @@ impl Subcase {
             method,
             frequency,
             sdamping,
+            random,
             dload,
             tstep,
             ic,
@@ -224,6 +227,7 @@ const SELECTIONS: &[&str] = &[
     "METHOD",
     "FREQUENCY",
     "SDAMPING",
+    "RANDOM",
     "DLOAD",
     "TSTEP",
     "IC",
@@ -263,6 +267,9 @@ const OUTPUTS: &[&str] = &[
     // stress discontinuity estimates (grid point and element), mesh-quality outputs
     "GPSDCON",
     "ELSDCON",
+    // random response: cross-spectra and grid-point sorting (not computed)
+    "RCROSS",
+    "GPRSORT",
 ];
 
 /// Statements accepted and ignored (printing and bookkeeping options that do not change results).
@@ -618,6 +625,7 @@ impl CaseControl {
                 "METHOD" => &mut sub.method,
                 "FREQUENCY" => &mut sub.frequency,
                 "SDAMPING" => &mut sub.sdamping,
+                "RANDOM" => &mut sub.random,
                 "DLOAD" => &mut sub.dload,
                 "TSTEP" => &mut sub.tstep,
                 "IC" => &mut sub.ic,

@@ -13,7 +13,8 @@
 //! - [`sparse_backend`]: the integrators' full-model (sparse f-set) backend;
 //! - [`table`]: tabulated functions of time or frequency (TABLED1–TABLED4, TABLEF);
 //! - [`prescribed`]: enforced motion of constrained DOFs, advanced by each method's own update;
-//! - [`pulse`]: the TLOAD2 pulse.
+//! - [`pulse`]: the TLOAD2 pulse;
+//! - [`random`]: output spectral densities, RMS, N0 and autocorrelation of a random response.
 
 pub mod frf;
 pub mod integrators;
@@ -22,6 +23,7 @@ pub mod newton;
 pub mod nonlinear;
 pub mod prescribed;
 pub mod pulse;
+pub mod random;
 pub mod sparse_backend;
 pub mod table;
 pub mod velocity_form;

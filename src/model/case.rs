@@ -44,13 +44,6 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
             .chain(b.spcadd.iter().map(|s| s.sid))
             .collect(),
     );
-    let mpc = set_of(
-        b.mpc
-            .iter()
-            .map(|s| s.sid)
-            .chain(b.mpcadd.iter().map(|s| s.sid))
-            .collect(),
-    );
     let load = set_of(
         b.load
             .iter()
@@ -61,6 +54,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
     let method = set_of(b.eigrl.iter().map(|s| s.sid).collect());
     let freq = set_of(b.freq.iter().map(|s| s.sid).collect());
     let tabdmp1 = set_of(b.tabdmp1.iter().map(|t| t.id).collect());
+    let randps = set_of(b.randps.iter().map(|r| r.sid).collect());
     let dload = set_of(
         b.dload
             .iter()
@@ -122,7 +116,7 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
             }
         };
         need("SPC", sub.spc, &spc, "SPC/SPC1/SPCADD");
-        need("MPC", sub.mpc, &mpc, "MPC/MPCADD");
+        // an MPC selection without any MPC/MPCADD card is a warning (`unselected_sets`)
         // a deck loading a mechanism (FMB =) may select a gravity set stored with it
         if sub.fmb.is_none() {
             need(
@@ -133,7 +127,8 @@ pub fn check(deck: &Deck, refs: &Refs, errors: &mut Vec<DeckError>) {
             );
         }
         need("METHOD", sub.method, &method, "EIGRL/EIGR");
-        need("FREQUENCY", sub.frequency, &freq, "FREQ/FREQ1/FREQ2");
+        need("FREQUENCY", sub.frequency, &freq, "FREQ/FREQ1 … FREQ5");
+        need("RANDOM", sub.random, &randps, "RANDPS");
         // direct transient, statics and modes do not read SDAMPING (Nastran ignores it there,
         // whatever it selects; the sequence warns that it is not applied)
         let reads_sdamping = !matches!(
@@ -339,6 +334,21 @@ pub fn unselected_sets(deck: &Deck, warnings: &mut Vec<Warning>) {
         |s| s.mpc,
         warnings,
     );
+    // MPC = sid with no MPC/MPCADD card of that id applies nothing: MSC Nastran runs such
+    // decks (pyNastran's random/random_test_bar_plus_tri.bdf and its OP2), so a warning
+    let mut warned = HashSet::new();
+    for sub in &subcases {
+        let Some(sid) = sub.mpc else { continue };
+        let defined = b.mpc.iter().any(|c| c.sid == sid) || b.mpcadd.iter().any(|c| c.sid == sid);
+        if !defined && warned.insert(sid) {
+            warnings.push(Warning {
+                loc: sub.loc_of("MPC").map(ToString::to_string),
+                message: format!(
+                    "MPC = {sid} selects no MPC/MPCADD set {sid}: no multipoint constraint is applied (MSC Nastran runs such a deck too)"
+                ),
+            });
+        }
+    }
     let force_name = |kind: ForceKind| match kind {
         ForceKind::Force => "FORCE",
         ForceKind::Moment => "MOMENT",

@@ -4,8 +4,8 @@
 
 use super::Model;
 use crate::deck::cards::{
-    Amanda, Aset1, Eigrl, Ekf, Ekfinp, Ekfpar, Meas, Measf, Pmor, Ptable, Pval, Tic, Tinteg, Tstep,
-    Tstepvar,
+    Amanda, Aset1, Eigrl, Ekf, Ekfinp, Ekfpar, Freq, Meas, Measf, Pmor, Ptable, Pval, Randps,
+    Randt1, Tabrnd, Tic, Tinteg, Tstep, Tstepvar,
 };
 
 impl Model {
@@ -19,19 +19,24 @@ impl Model {
         self.bulk.tabdmp1.iter().find(|t| t.id == id)
     }
 
-    /// The frequency lines (Hz) of `FREQUENCY = sid`: every FREQ, FREQ1, FREQ2 of that SID,
-    /// sorted, duplicates removed (empty when none exists).
-    pub fn frequencies_hz(&self, sid: u32) -> Vec<f64> {
-        let mut hz: Vec<f64> = self
-            .bulk
-            .freq
-            .iter()
-            .filter(|f| f.sid == sid)
-            .flat_map(|f| f.frequencies())
-            .collect();
-        hz.sort_by(f64::total_cmp);
-        hz.dedup();
-        hz
+    /// The frequency cards (FREQ, FREQ1–FREQ5) of `FREQUENCY = sid`, in card order.
+    pub fn frequency_cards(&self, sid: u32) -> Vec<&Freq> {
+        self.bulk.freq.iter().filter(|f| f.sid == sid).collect()
+    }
+
+    /// The RANDPS cards of `RANDOM = sid`, in card order.
+    pub fn randps(&self, sid: u32) -> Vec<&Randps> {
+        self.bulk.randps.iter().filter(|r| r.sid == sid).collect()
+    }
+
+    /// The RANDT1 of `RANDOM = sid` (the autocorrelation lags), if any.
+    pub fn randt1(&self, sid: u32) -> Option<&Randt1> {
+        self.bulk.randt1.iter().find(|r| r.sid == sid)
+    }
+
+    /// The TABRND1 or TABRNDG with id `id`.
+    pub fn tabrnd(&self, id: u32) -> Option<&Tabrnd> {
+        self.bulk.tabrnd.iter().find(|t| t.id == id)
     }
 
     /// The TSTEP of `TSTEP = sid`.

@@ -124,9 +124,13 @@ impl Model {
         }
     }
 
-    /// The MPC set the subcases select (the model check makes it one for all of them).
+    /// The MPC set the subcases select (the model check makes it one for all of them);
+    /// `None` also when no MPC/MPCADD card has that id (a warning of the model check).
     pub fn selected_mpc(&self) -> Option<u32> {
-        self.subcases.iter().find_map(|s| s.mpc)
+        let b = &self.bulk;
+        self.subcases.iter().find_map(|s| s.mpc).filter(|&sid| {
+            b.mpc.iter().any(|c| c.sid == sid) || b.mpcadd.iter().any(|c| c.sid == sid)
+        })
     }
 
     /// The terms of `LOAD = sid`: one term of factor 1 for a FORCE / MOMENT / GRAV set, one

@@ -2,8 +2,10 @@
 //! the subcase selects `METHOD`, direct otherwise.
 //!
 //! Per subcase:
-//! - frequencies: `FREQUENCY = sid` (FREQ, FREQ1, FREQ2 of that SID, combined, sorted,
-//!   duplicates removed) — [`frequency_lines`], shared with the pROM FRF;
+//! - frequencies: `FREQUENCY = sid` (FREQ, FREQ1–FREQ5 of that SID, combined, sorted,
+//!   duplicates removed) — [`frequency_lines`], shared with the pROM FRF. FREQ3–FREQ5 place
+//!   lines from the natural frequencies of the modal solution, computed before the lines
+//!   ([`frf::modal_basis`]); the direct solution ignores them with a warning, as Nastran;
 //! - inputs: `DLOAD = sid` (a DLOAD combination S·Σ Sᵢ·Lᵢ or one RLOAD1 set): every DAREA
 //!   entry of its RLOAD1s' EXCITEIDs is an input DOF `GRID:component` (components in the
 //!   grid's CD frame, as for Nastran's DAREA), loaded by a unit force through Tᵀ (a dependent
@@ -34,10 +36,11 @@
 //! solve and are dropped from H.
 
 use super::driver::{Basis, Driver, ElementDampingUse};
+use super::random::{GridResponse, QUANTITIES, RandomSummary};
 use super::report::{Report, sci};
 use super::shared::{frequency_lines, structure, write_frf};
 use super::{Clock, GridRows, RunContext, RunError, SubcaseSummary};
-use crate::analysis::frf::{self, Damping, FrfRun, FullFrf, first_rows, output_rows};
+use crate::analysis::frf::{self, Damping, FrfRun, FullFrf, ModalBasis, first_rows, output_rows};
 use crate::deck::Solution;
 use crate::deck::cards::ExcitationKind;
 use crate::discretize::enforced::EnforcedColumns;
@@ -48,7 +51,7 @@ use crate::dynamics::frf::{ModalDampingTable, scaled_flat};
 use crate::dynamics::measurement::Reads;
 use crate::io::{set_attr_i64, set_attr_str, write_c64};
 use crate::linalg::EigenRequest;
-use crate::linalg::Mat;
+use crate::linalg::{Mat, c64};
 use nalgebra_sparse::CscMatrix;
 
 /// How the full-model FRF is computed.
@@ -85,13 +88,17 @@ pub struct FrfSummary {
     pub f_size: usize,
     /// Largest |H| over lines and pairs, with its frequency (Hz).
     pub peak: (f64, f64),
+    /// FREQ3–FREQ5 cards the direct solution left out (`CARD at file:line`).
+    pub ignored: Vec<String>,
+    /// The random analyses (RANDOM) whose first subcase this is.
+    pub random: Vec<RandomSummary>,
 }
 
 /// The FRF driver on the mesh.
 pub struct Frf;
 
 /// The output requests FRF (108, 111) writes: complex displacement responses on request.
-pub const HONOURED: &[&str] = &["DISPLACEMENT"];
+pub const HONOURED: &[&str] = &["DISPLACEMENT", "VELOCITY", "ACCELERATION"];
 
 impl Driver for Frf {
     fn name(&self) -> &'static str {
@@ -128,7 +135,7 @@ fn run(
 ) -> Result<Vec<SubcaseSummary>, RunError> {
     let model = ctx.model;
     let sol = ctx.deck.executive.sol.as_ref().map(|(s, _)| *s);
-    let mut out = Vec::new();
+    let (mut done, mut responses) = (Vec::new(), Vec::new());
     for sub in &model.subcases {
         let id = sub.id;
         let method = match sol {
@@ -140,8 +147,6 @@ fn run(
         let c = clock.time(format!("subcase {id}: constraints"), || {
             Constrained::build(model, st, sub.spc)
         })?;
-        let hz = frequency_lines(model, sub)?;
-        let omegas: Vec<f64> = hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
         let sid = sub.dload.ok_or_else(|| RunError::Case { subcase: id, what: "SOL FRF on the full model needs DLOAD = <RLOAD1 or DLOAD sid> (its DAREA DOFs are the inputs)".into() })?;
         let inputs = frequency_inputs(model, st, &c, sid, sub.loadset)
             .map_err(|what| RunError::Case { subcase: id, what })?;
@@ -149,25 +154,33 @@ fn run(
             super::subcase_sensors(ctx, st, &c, sub)
         })?;
         // output rows: the input DOFs (their load columns read the displacement there), the
-        // sensors, then 6 per grid of a DISPLACEMENT request
-        let grid_rows = GridRows::of_subcase(ctx.deck, &st.map, sub, "DISPLACEMENT", None);
-        let grids = grid_rows
-            .as_ref()
-            .map_or_else(Vec::new, |rows| rows.indices(&st.map));
+        // sensors, then 6 per grid of a DISPLACEMENT, VELOCITY or ACCELERATION request (the
+        // union of their grids)
+        let requests: Vec<Option<GridRows>> = QUANTITIES
+            .iter()
+            .map(|(name, _)| GridRows::of_subcase(ctx.deck, &st.map, sub, name, None))
+            .collect();
+        let mut grids: Vec<usize> = requests
+            .iter()
+            .flatten()
+            .flat_map(|r| r.indices(&st.map))
+            .collect();
+        grids.sort_unstable();
+        grids.dedup();
         let grid_outputs = displacement_rows(st, &c, &grids);
         let k = inputs.names.len();
         let n_f = c.sets.f.len();
         let named = k + sensors.len();
         let outputs = output_rows(inputs.columns.as_ref(), &[&sensors.rows, &grid_outputs]);
-        let enforced = enforced_motion(ctx, st, &c, &inputs, &hz, &sensors, &grids)
+        let enforced = enforced_motion(ctx, st, &c, &inputs, &sensors, &grids)
             .map_err(|what| RunError::Case { subcase: id, what })?;
         let applied = k - inputs.enforced.len();
         let solve_inputs = match &enforced {
             Some((e, _)) => e.solve_columns(&inputs.columns, applied),
             None => inputs.columns.clone(),
         };
-        let analysis_method = match method {
-            FrfMethod::Direct => frf::Method::Direct,
+        let eigen_request = match method {
+            FrfMethod::Direct => None,
             FrfMethod::Modal => {
                 let sid = sub.method.ok_or_else(|| RunError::Case {
                     subcase: id,
@@ -177,21 +190,18 @@ fn run(
                     subcase: id,
                     what: format!("METHOD = {sid} selects no EIGRL or EIGR card"),
                 })?;
-                frf::Method::Modal {
-                    request: EigenRequest {
-                        v1_hz: eigrl.v1,
-                        v2_hz: eigrl.v2,
-                        nd: eigrl.nd.map(|n| n as usize),
-                        shift_hz: eigrl.shfscl,
-                    },
-                    residual_vectors: model.params.resvec,
-                }
+                Some(EigenRequest {
+                    v1_hz: eigrl.v1,
+                    v2_hz: eigrl.v2,
+                    nd: eigrl.nd.map(|n| n as usize),
+                    shift_hz: eigrl.shfscl,
+                })
             }
         };
-        let run = FrfRun {
+        let mut run = FrfRun {
             inputs: solve_inputs.as_ref(),
             outputs: &outputs,
-            omegas: &omegas,
+            omegas: &[],
             damping: Damping {
                 alpha: model.params.alpha1,
                 beta: model.params.beta1,
@@ -214,15 +224,27 @@ fn run(
             par: ctx.options.par(),
             progress: ctx.progress,
         };
+        let mut record = |name, d| clock.record(format!("subcase {id}: {name}"), d);
+        let basis = eigen_request
+            .map(|request| frf::modal_basis(&c, &request, model.params.resvec, &run, &mut record))
+            .transpose()
+            .map_err(|e| super::analysis_error(&c, st, id, e))?;
+        let modes_hz = basis.as_ref().map(ModalBasis::natural_frequencies_hz);
+        let (hz, ignored) = frequency_lines(model, sub, modes_hz.as_deref())?;
+        let ignored: Vec<String> = ignored
+            .iter()
+            .map(|f| format!("{} at {}", f.card_name(), f.loc))
+            .collect();
+        check_enforced_lines(&inputs, &hz).map_err(|what| RunError::Case { subcase: id, what })?;
+        let omegas: Vec<f64> = hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
+        run.omegas = &omegas;
         let FullFrf {
             h,
             modes,
             residual_vectors: residual,
             resvec_skipped,
-        } = frf::receptance(&c, analysis_method, &run, &mut |name, d| {
-            clock.record(format!("subcase {id}: {name}"), d)
-        })
-        .map_err(|e| super::analysis_error(&c, st, id, e))?;
+        } = frf::basis_receptance(&c, basis.as_ref(), &run, &mut record)
+            .map_err(|e| super::analysis_error(&c, st, id, e))?;
         let h = match &enforced {
             Some((e, outputs_s)) => e.compose(&h, applied, &omegas, &outputs, outputs_s),
             None => h,
@@ -245,14 +267,13 @@ fn run(
                 let n_out = names.len();
                 let response = inputs.response(&hz, n_out, |l, o, i| flat[(l * n_out + o) * k + i]);
                 write_c64(&group, "response", &response, &[hz.len(), n_out])?;
-                if let Some(rows) = &grid_rows {
-                    write_c64(
-                        &group,
-                        "displacement",
-                        &displacement,
-                        &[hz.len(), grids.len(), 6],
-                    )?;
-                    rows.write_ids(&group, "displacement", &st.map)?;
+                for ((name, power), rows) in QUANTITIES.iter().zip(&requests) {
+                    let Some(rows) = rows else { continue };
+                    let at = positions(&grids, &rows.indices(&st.map));
+                    let values = grid_quantity(&displacement, &omegas, grids.len(), &at, *power);
+                    let name = name.to_lowercase();
+                    write_c64(&group, &name, &values, &[hz.len(), at.len(), 6])?;
+                    rows.write_ids(&group, &name, &st.map)?;
                 }
                 set_attr_str(&group, "method", method.name())?;
                 set_attr_i64(&group, "modes", modes as i64)?;
@@ -271,14 +292,69 @@ fn run(
             resvec_skipped,
             f_size: n_f,
             peak,
+            ignored,
+            random: Vec::new(),
         };
+        responses.push(GridResponse {
+            subcase: id,
+            random: sub.random,
+            requests: std::array::from_fn(|q| {
+                requests[q]
+                    .as_ref()
+                    .map(|rows| positions(&grids, &rows.indices(&st.map)))
+            }),
+            grid_ids: grids.iter().filter_map(|&g| st.map.grid_id(g)).collect(),
+            hz,
+            displacement,
+        });
+        done.push((id, c.autospc.names.clone(), summary));
+    }
+    let mut analyses = clock.time("random response".to_string(), || {
+        super::random::run(ctx, &responses)
+    })?;
+    // each random analysis is reported with the first subcase it combines
+    let mut out = Vec::new();
+    for (id, autospc, mut summary) in done {
+        let (mine, rest) = analyses.into_iter().partition(|a| a.subcases[0] == id);
+        (summary.random, analyses) = (mine, rest);
         out.push(SubcaseSummary {
             id,
-            autospc: c.autospc.names.clone(),
+            autospc,
             result: Box::new(summary),
         });
     }
     Ok(out)
+}
+
+/// The positions of the grid indices `wanted` in the sorted list `grids` (which holds them).
+fn positions(grids: &[usize], wanted: &[usize]) -> Vec<usize> {
+    wanted
+        .iter()
+        .map(|g| {
+            grids
+                .binary_search(g)
+                .expect("a requested grid is in the union")
+        })
+        .collect()
+}
+
+/// (iω)^power × the displacement response (lines × grids × 6) of the grids at `at`.
+fn grid_quantity(
+    displacement: &[c64],
+    omegas: &[f64],
+    grids: usize,
+    at: &[usize],
+    power: i32,
+) -> Vec<c64> {
+    let mut out = Vec::with_capacity(omegas.len() * at.len() * 6);
+    for (l, &w) in omegas.iter().enumerate() {
+        let factor = c64::new(0.0, w).powi(power);
+        for &g in at {
+            let row = &displacement[(l * grids + g) * 6..(l * grids + g + 1) * 6];
+            out.extend(row.iter().map(|&z| z * factor));
+        }
+    }
+    out
 }
 
 impl Report for FrfSummary {
@@ -306,11 +382,34 @@ impl Report for FrfSummary {
                 sci(r.peak.1, 4)
             ),
         ]
+        .into_iter()
+        .chain(r.random.iter().flat_map(RandomSummary::lines))
+        .collect()
     }
 
     fn warnings(&self, subcase: u32) -> Vec<String> {
         let f = self;
         let mut warnings = Vec::new();
+        for r in f.random.iter().filter(|r| !r.ignored.is_empty()) {
+            warnings.push(format!(
+                "random {}: RANDPS at {} left out: it names a subcase this deck does not run",
+                r.sid,
+                r.ignored.join(", ")
+            ));
+        }
+        for r in f.random.iter().filter(|r| !r.ignored.is_empty()) {
+            warnings.push(format!(
+                "random {}: RANDPS at {} left out: it names a subcase this deck does not run",
+                r.sid,
+                r.ignored.join(", ")
+            ));
+        }
+        for r in f.random.iter().filter(|r| r.outputs.is_empty()) {
+            warnings.push(format!("random {}: its subcases ask no DISPLACEMENT, VELOCITY or ACCELERATION, the quantities paraflex gives spectral densities of, so /random/{} holds only the frequency lines", r.sid, r.sid));
+        }
+        if !f.ignored.is_empty() {
+            warnings.push(format!("subcase {}: {} ignored: FREQ3/FREQ4/FREQ5 place lines from natural frequencies, which the direct frequency response does not compute (Nastran ignores them in SOL 108 too)", subcase, f.ignored.join(", ")));
+        }
         if f.resvec_skipped {
             warnings.push(format!("subcase {}: no residual vectors (PARAM,RESVEC): K is singular (a free-free model or a mechanism), so the {} modes alone are superposed; the modes left out are missing, so EIGRL should reach well above the band", subcase, f.modes));
         }
@@ -318,20 +417,11 @@ impl Report for FrfSummary {
     }
 }
 
-/// The enforced-motion columns of a subcase whose RLOADs move SPCD DOFs, with the output rows
-/// on the s-set (input rows: each enforced DOF reads itself; sensors; grid displacements);
-/// `None` without enforced motion. A VELO or ACCE excitation at 0 Hz is refused.
-fn enforced_motion(
-    ctx: &RunContext,
-    st: &Structure,
-    c: &Constrained,
-    inputs: &FrequencyInputs,
-    hz: &[f64],
-    sensors: &SensorOperator,
-    grids: &[usize],
-) -> Result<Option<(EnforcedColumns, CscMatrix<f64>)>, String> {
+/// Refuses a 0 Hz line when an enforced motion is a velocity or an acceleration (it has no
+/// displacement there).
+fn check_enforced_lines(inputs: &FrequencyInputs, hz: &[f64]) -> Result<(), String> {
     if inputs.enforced.is_empty() {
-        return Ok(None);
+        return Ok(());
     }
     let integrated = inputs.terms.iter().find(|t| {
         matches!(
@@ -349,6 +439,23 @@ fn enforced_motion(
             },
             t.kind.name()
         ));
+    }
+    Ok(())
+}
+
+/// The enforced-motion columns of a subcase whose RLOADs move SPCD DOFs, with the output rows
+/// on the s-set (input rows: each enforced DOF reads itself; sensors; grid displacements);
+/// `None` without enforced motion.
+fn enforced_motion(
+    ctx: &RunContext,
+    st: &Structure,
+    c: &Constrained,
+    inputs: &FrequencyInputs,
+    sensors: &SensorOperator,
+    grids: &[usize],
+) -> Result<Option<(EnforcedColumns, CscMatrix<f64>)>, String> {
+    if inputs.enforced.is_empty() {
+        return Ok(None);
     }
     let model = ctx.model;
     let columns = EnforcedColumns::new(

@@ -62,6 +62,7 @@ pub mod optimize_library;
 mod optimize_output;
 pub mod optimize_study;
 pub mod prom;
+pub mod random;
 pub mod report;
 pub mod rom_case;
 pub mod rom_frf;

@@ -2,7 +2,7 @@
 //! the pROM's load inputs (its BSET DOFs, `/prom/inputs`) at the subcase's `PVAL` values,
 //! H(ω) = S_rᵀ (K_r − ω²M_r + iωC_r)⁻¹ S_r with C_r = αM_r + βK_r (thesis eq. 3.31), at the
 //! frequencies of `FREQUENCY = sid` (FREQ, FREQ1, FREQ2 cards of that SID, combined and
-//! sorted), by modal superposition over all the pROM's modes at p (one n_r × n_r eigenproblem,
+//! sorted; FREQ3–FREQ5, which place lines from natural frequencies, are refused), by modal superposition over all the pROM's modes at p (one n_r × n_r eigenproblem,
 //! exact since C_r is Rayleigh; [`rayleigh_receptance`]). A line where the reduced dynamic
 //! stiffness is singular (undamped resonance) is an error naming the frequency.
 //!
@@ -87,13 +87,25 @@ fn subcase(ctx: &RunContext, sub: &Subcase) -> Result<SubcaseSummary, RunError> 
             path.display()
         )));
     }
+    if let Some(sid) = sub.random {
+        return Err(case(format!(
+            "RANDOM = {sid}: a random response is computed from the grid responses of the full-model SOL 108/111; a pROM FRF has no grids"
+        )));
+    }
     if ctx.model.params.g != 0.0 {
         return Err(case(format!(
             "PARAM,G = {}: structural damping is applied by the full-model SOL 108/111 only; a pROM carries the Rayleigh damping of its build (PARAM,ALPHA1 / BETA1)",
             ctx.model.params.g
         )));
     }
-    let hz = frequency_lines(ctx.model, sub)?;
+    let (hz, ignored) = frequency_lines(ctx.model, sub, None)?;
+    if let Some(f) = ignored.first() {
+        return Err(case(format!(
+            "{} at {} places lines from natural frequencies, which a pROM FRF does not compute; list the lines with FREQ, FREQ1 or FREQ2",
+            f.card_name(),
+            f.loc
+        )));
+    }
     let omegas: Vec<f64> = hz.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
     let (sensor_names, sensor_kinds, h_r) = read_prom_sensors(&path, prom.size())?;
     let sensors = SensorRows::new(sensor_names, sensor_kinds, h_r)

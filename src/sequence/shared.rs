@@ -8,7 +8,7 @@ use super::{Clock, RunContext, RunError};
 use crate::analysis::weight;
 use crate::assembly::AssemblyError;
 use crate::deck::Solution;
-use crate::deck::cards::{TintegMethod, Tstep};
+use crate::deck::cards::{Freq, TintegMethod, Tstep};
 use crate::deck::case_control::Subcase;
 use crate::discretize::Structure;
 use crate::discretize::loads::table_of;
@@ -69,9 +69,15 @@ pub fn output_rows(intervals: &[(u32, f64, u32)]) -> usize {
         .sum::<usize>()
 }
 
-/// The frequency lines (Hz) of the subcase's `FREQUENCY = sid`: every FREQ, FREQ1, FREQ2 of
-/// that SID, sorted, duplicates removed.
-pub fn frequency_lines(model: &Model, sub: &Subcase) -> Result<Vec<f64>, RunError> {
+/// The frequency lines (Hz) of the subcase's `FREQUENCY = sid`: every FREQ, FREQ1–FREQ5 of
+/// that SID, sorted, duplicates removed. FREQ3–FREQ5 place lines from `modes_hz`, the natural
+/// frequencies of a modal solution; without them (`None`: a direct solution) those cards are
+/// left out and returned as the second value, for the caller to warn or refuse.
+pub fn frequency_lines<'m>(
+    model: &'m Model,
+    sub: &Subcase,
+    modes_hz: Option<&[f64]>,
+) -> Result<(Vec<f64>, Vec<&'m Freq>), RunError> {
     let case = |what: String| RunError::Case {
         subcase: sub.id,
         what,
@@ -79,13 +85,31 @@ pub fn frequency_lines(model: &Model, sub: &Subcase) -> Result<Vec<f64>, RunErro
     let sid = sub
         .frequency
         .ok_or_else(|| case("SOL FRF needs FREQUENCY = <FREQ sid> in case control".into()))?;
-    let hz = model.frequencies_hz(sid);
+    let cards = model.frequency_cards(sid);
+    let (used, ignored): (Vec<&Freq>, Vec<&Freq>) = cards
+        .iter()
+        .partition(|f| modes_hz.is_some() || !f.needs_modes());
+    let mut hz: Vec<f64> = used
+        .iter()
+        .flat_map(|f| f.frequencies(modes_hz.unwrap_or_default()))
+        .collect();
+    hz.sort_by(f64::total_cmp);
+    hz.dedup();
     if hz.is_empty() {
-        return Err(case(format!(
-            "FREQUENCY = {sid} selects no FREQ, FREQ1 or FREQ2 card"
-        )));
+        let what = match (cards.is_empty(), ignored.first()) {
+            (true, _) => format!("FREQUENCY = {sid} selects no FREQ, FREQ1 … FREQ5 card"),
+            (false, Some(f)) => format!(
+                "FREQUENCY = {sid} selects only FREQ3/FREQ4/FREQ5 cards ({} at {}), which place lines from the natural frequencies of a modal frequency response (SOL 111); this solution has none",
+                f.card_name(),
+                f.loc
+            ),
+            (false, None) => format!(
+                "FREQUENCY = {sid}: its cards place no line (FREQ3/FREQ4/FREQ5 found no natural frequency in their range)"
+            ),
+        };
+        return Err(case(what));
     }
-    Ok(hz)
+    Ok((hz, ignored))
 }
 
 /// Writes `frequency_hz`, `H` (f × o × i), `inputs` and `outputs` into `group`.

@@ -171,15 +171,47 @@ pub enum FreqKind {
     Linear { f1: f64, df: f64, ndf: u32 },
     /// `FREQ2 SID F1 F2 NF`: NF logarithmic intervals from F1 to F2.
     Log { f1: f64, f2: f64, nf: u32 },
+    /// `FREQ3 SID F1 F2 TYPE NEF CLUSTER`: NEF lines in each sub-range between F1, the
+    /// natural frequencies inside (F1, F2) and F2, clustered towards the ends for CLUSTER > 1.
+    Cluster {
+        f1: f64,
+        f2: f64,
+        log: bool,
+        nef: u32,
+        cluster: f64,
+    },
+    /// `FREQ4 SID F1 F2 FSPD NFM`: NFM lines evenly spread over (1 ± FSPD)·f_n of each
+    /// natural frequency f_n.
+    Spread {
+        f1: f64,
+        f2: f64,
+        fspd: f64,
+        nfm: u32,
+    },
+    /// `FREQ5 SID F1 F2 FR1 FR2 …`: FRᵢ·f_n for each natural frequency f_n.
+    Fractions { f1: f64, f2: f64, fr: Vec<f64> },
 }
 
-/// `FREQ`, `FREQ1`, `FREQ2` — excitation frequencies (Hz). All cards with the same SID combine.
+/// `FREQ`, `FREQ1` … `FREQ5` — excitation frequencies (Hz).
+///
+/// All cards with the same SID combine. FREQ3–FREQ5 place lines from the natural frequencies of a
+/// modal frequency response (SOL 111): as in Nastran, a direct one (SOL 108) ignores them,
+/// with a warning.
 ///
 /// | card | fields 2 … | defaults |
 /// |---|---|---|
 /// | FREQ | SID F1 F2 F3 … | — |
 /// | FREQ1 | SID F1 DF NDF | NDF = 1 |
 /// | FREQ2 | SID F1 F2 NF | NF = 1; F1 > 0 |
+/// | FREQ3 | SID F1 F2 TYPE NEF CLUSTER | F2 = F1, TYPE = LINEAR (or LOG, then F1 > 0), NEF = 10 (> 1), CLUSTER = 1.0 (> 0) |
+/// | FREQ4 | SID F1 F2 FSPD NFM | F1 = 0, F2 = 1e20, FSPD = 0.1 (0 < FSPD < 1), NFM = 3 (an even NFM takes NFM + 1) |
+/// | FREQ5 | SID F1 F2 FR1 FR2 … | F1 = 0, F2 = 1e20, FRᵢ > 0 (at least one) |
+///
+/// FREQ3: the break points are F1, the natural frequencies f_n with F1 < f_n < F2, and F2;
+/// in each sub-range [a, b] the lines are f̂ = (â + b̂)/2 + (b̂ − â)/2 · |ξ|^(1/CLUSTER) sign ξ,
+/// ξ = −1 + 2k/(NEF − 1), k = 0 … NEF − 1, with f̂ = f (LINEAR) or ln f (LOG).
+/// FREQ4: f_n (1 − FSPD + 2 FSPD k/(NFM − 1)), k = 0 … NFM − 1 (f_n alone for NFM = 1).
+/// FREQ4 and FREQ5 take every natural frequency and keep the lines within [F1, F2].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Freq {
     pub sid: u32,
@@ -217,6 +249,29 @@ impl Freq {
                 }
                 FreqKind::Log { f1, f2, nf }
             }
+            "FREQ3" => freq3(&mut f),
+            "FREQ4" => {
+                let (f1, f2) = modal_range(&mut f);
+                let fspd = f.real_or(4, "FSPD", 0.1);
+                if !(fspd > 0.0 && fspd < 1.0) {
+                    f.error(4, "FSPD", format!("expected 0 < FSPD < 1, found {fspd:e}"));
+                }
+                let nfm = f.opt_count(5, "NFM").unwrap_or(3);
+                // an even count gets the natural frequency itself too
+                let nfm = nfm + (1 - nfm % 2);
+                FreqKind::Spread { f1, f2, fspd, nfm }
+            }
+            "FREQ5" => {
+                let (f1, f2) = modal_range(&mut f);
+                let fr = f.real_list(4, "FR");
+                if fr.is_empty() {
+                    f.card_error("no fraction FR1 … given");
+                }
+                if let Some(bad) = fr.iter().find(|&&r| r <= 0.0) {
+                    f.card_error(format!("the fractions FRi must be > 0, found {bad:e}"));
+                }
+                FreqKind::Fractions { f1, f2, fr }
+            }
             _ => {
                 let list = f.real_list(2, "F");
                 if list.is_empty() {
@@ -226,13 +281,69 @@ impl Freq {
             }
         };
         let loc = f.loc();
-        f.finish(if name == "FREQ" { len.max(1) } else { 4 })?;
+        let last = match name {
+            "FREQ" | "FREQ5" => len.max(1),
+            "FREQ3" => 7,
+            "FREQ4" => 5,
+            _ => 4,
+        };
+        f.finish(last)?;
         Ok(Freq { sid, kind, loc })
     }
 
-    /// The frequencies this card lists (Hz).
-    pub fn frequencies(&self) -> Vec<f64> {
+    /// Whether the card places its lines from natural frequencies (FREQ3, FREQ4, FREQ5).
+    pub fn needs_modes(&self) -> bool {
+        matches!(
+            self.kind,
+            FreqKind::Cluster { .. } | FreqKind::Spread { .. } | FreqKind::Fractions { .. }
+        )
+    }
+
+    /// The card's name.
+    pub fn card_name(&self) -> &'static str {
+        match self.kind {
+            FreqKind::List(_) => "FREQ",
+            FreqKind::Linear { .. } => "FREQ1",
+            FreqKind::Log { .. } => "FREQ2",
+            FreqKind::Cluster { .. } => "FREQ3",
+            FreqKind::Spread { .. } => "FREQ4",
+            FreqKind::Fractions { .. } => "FREQ5",
+        }
+    }
+
+    /// The frequencies this card lists (Hz); FREQ3–FREQ5 place them from `modes_hz`, the
+    /// natural frequencies of the structure (ascending).
+    pub fn frequencies(&self, modes_hz: &[f64]) -> Vec<f64> {
+        let within = |f1: f64, f2: f64, lines: Vec<f64>| -> Vec<f64> {
+            lines.into_iter().filter(|&x| x >= f1 && x <= f2).collect()
+        };
         match &self.kind {
+            FreqKind::Cluster {
+                f1,
+                f2,
+                log,
+                nef,
+                cluster,
+            } => cluster_lines(*f1, *f2, *log, *nef, *cluster, modes_hz),
+            FreqKind::Spread { f1, f2, fspd, nfm } => {
+                let steps = f64::from(nfm.saturating_sub(1).max(1));
+                let lines = modes_hz.iter().flat_map(|&fnat| {
+                    (0..*nfm).map(move |k| {
+                        if *nfm == 1 {
+                            fnat
+                        } else {
+                            fnat * (1.0 - fspd + 2.0 * fspd * f64::from(k) / steps)
+                        }
+                    })
+                });
+                within(*f1, *f2, lines.collect())
+            }
+            FreqKind::Fractions { f1, f2, fr } => {
+                let lines = modes_hz
+                    .iter()
+                    .flat_map(|&fnat| fr.iter().map(move |r| r * fnat));
+                within(*f1, *f2, lines.collect())
+            }
             FreqKind::List(v) => v.clone(),
             FreqKind::Linear { f1, df, ndf } => {
                 (0..=*ndf).map(|k| f1 + f64::from(k) * df).collect()
@@ -243,6 +354,86 @@ impl Freq {
             }
         }
     }
+}
+
+/// FREQ4's and FREQ5's F1 (default 0) and F2 (default 1e20, > F1), fields 2 and 3.
+fn modal_range(f: &mut FieldReader) -> (f64, f64) {
+    let f1 = f.real_or(2, "F1", 0.0);
+    let f2 = f.real_or(3, "F2", 1e20);
+    if f1 < 0.0 {
+        f.error(2, "F1", format!("expected F1 >= 0, found {f1:e}"));
+    }
+    if f2 <= f1 {
+        f.card_error(format!("needs F2 > F1, found F1 = {f1:e}, F2 = {f2:e}"));
+    }
+    (f1, f2)
+}
+
+/// Reads FREQ3's fields 2–7.
+fn freq3(f: &mut FieldReader) -> FreqKind {
+    let f1 = f.real(2, "F1");
+    let f2 = f.opt_real(3, "F2").unwrap_or(f1);
+    let log = f.keyword(4, "TYPE", &["LINEAR", "LOG"], Some("LINEAR")) == "LOG";
+    let nef = f.opt_count(5, "NEF").unwrap_or(10);
+    let cluster = f.real_or(6, "CLUSTER", 1.0);
+    if f1 < 0.0 || (log && f1 <= 0.0) {
+        let bound = if log { "> 0 (TYPE = LOG)" } else { ">= 0" };
+        f.error(2, "F1", format!("expected F1 {bound}, found {f1:e}"));
+    }
+    if f2 < f1 {
+        f.card_error(format!("needs F2 >= F1, found F1 = {f1:e}, F2 = {f2:e}"));
+    }
+    if nef < 2 {
+        f.error(5, "NEF", format!("expected NEF > 1, found {nef}"));
+    }
+    if cluster <= 0.0 {
+        f.error(
+            6,
+            "CLUSTER",
+            format!("expected CLUSTER > 0, found {cluster:e}"),
+        );
+    }
+    FreqKind::Cluster {
+        f1,
+        f2,
+        log,
+        nef,
+        cluster,
+    }
+}
+
+/// FREQ3's lines: NEF per sub-range between F1, the natural frequencies strictly inside
+/// (F1, F2) and F2, each sub-range spaced by the clustering rule of [`Freq`] (shared end
+/// points appear once after the set's duplicates are removed).
+fn cluster_lines(
+    f1: f64,
+    f2: f64,
+    log: bool,
+    nef: u32,
+    cluster: f64,
+    modes_hz: &[f64],
+) -> Vec<f64> {
+    let map = |x: f64| if log { x.ln() } else { x };
+    let unmap = |x: f64| if log { x.exp() } else { x };
+    let mut breaks = vec![f1];
+    breaks.extend(modes_hz.iter().copied().filter(|&x| x > f1 && x < f2));
+    breaks.push(f2);
+    let steps = f64::from(nef.max(2) - 1);
+    let mut lines = Vec::new();
+    for pair in breaks.windows(2) {
+        let (a, b) = (map(pair[0]), map(pair[1]));
+        for k in 0..nef.max(2) {
+            let xi = -1.0 + 2.0 * f64::from(k) / steps;
+            let s = xi.abs().powf(1.0 / cluster) * xi.signum();
+            lines.push(unmap(0.5 * (a + b) + 0.5 * (b - a) * s));
+        }
+    }
+    // the end points exactly (no round-off through ln/exp)
+    for (pair, chunk) in breaks.windows(2).zip(lines.chunks_mut(nef.max(2) as usize)) {
+        chunk[0] = pair[0];
+        *chunk.last_mut().expect("NEF >= 2") = pair[1];
+    }
+    lines
 }
 
 /// `TSTEP` — time step intervals.
@@ -962,7 +1153,7 @@ impl Tabled4 {
 /// Walk a table's entries from field 9 (the first continuation) to `ENDT`, skipping `SKIP`
 /// pairs; `read(f, i)` reads the entry at field i and returns how many fields it took. Returns
 /// whether `ENDT` was found.
-fn table_entries(
+pub(super) fn table_entries(
     f: &mut FieldReader,
     mut read: impl FnMut(&mut FieldReader, usize) -> usize,
 ) -> bool {

@@ -22,6 +22,7 @@ mod multibody;
 mod optimize;
 mod param;
 mod properties;
+mod random;
 mod rigid;
 mod shear_panel;
 mod superelement;
@@ -55,6 +56,7 @@ pub use multibody::{Flexb, Fmbpose, Jdrive, Joint, Jsprd, Marker, Mforce, Msenso
 pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, Promlib, ResponseSource, SearchMethod, Statistic};
 pub use param::{Param, ParamValue};
 pub use properties::{Pbush, Pcomp, Pdamp, Pelas, Ply, Pshell, Psolid, Pvisc};
+pub use random::{Randps, Randt1, Tabrnd, TabrndKind};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group};
 pub use shear_panel::{Cshear, Pshear};
 pub use temperature::{Matt1, Temp, Tempd};
@@ -150,7 +152,7 @@ pub struct BulkData {
     pub pload1: Vec<Pload1>,
     pub load: Vec<Load>,
     pub eigrl: Vec<Eigrl>,
-    /// FREQ, FREQ1 and FREQ2 cards.
+    /// FREQ and FREQ1–FREQ5 cards.
     pub freq: Vec<Freq>,
     pub tstep: Vec<Tstep>,
     /// TLOAD1 and TLOAD2.
@@ -165,6 +167,10 @@ pub struct BulkData {
     pub tabled: Vec<Tabled>,
     pub tabled4: Vec<Tabled4>,
     pub tabdmp1: Vec<Tabdmp1>,
+    pub randps: Vec<Randps>,
+    pub randt1: Vec<Randt1>,
+    /// TABRND1 and TABRNDG cards.
+    pub tabrnd: Vec<Tabrnd>,
     pub dload: Vec<Dload>,
     pub params: Vec<Param>,
     pub desvar: Vec<Desvar>,
@@ -375,6 +381,15 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("FREQ2", |c, b| {
         Ok(b.freq.push(Freq::from_card(c, "FREQ2")?))
     }),
+    ("FREQ3", |c, b| {
+        Ok(b.freq.push(Freq::from_card(c, "FREQ3")?))
+    }),
+    ("FREQ4", |c, b| {
+        Ok(b.freq.push(Freq::from_card(c, "FREQ4")?))
+    }),
+    ("FREQ5", |c, b| {
+        Ok(b.freq.push(Freq::from_card(c, "FREQ5")?))
+    }),
     ("TSTEP", |c, b| Ok(b.tstep.push(Tstep::from_card(c)?))),
     ("TLOAD1", |c, b| Ok(b.tload.push(Tload::tload1(c)?))),
     ("TLOAD2", |c, b| Ok(b.tload.push(Tload::tload2(c)?))),
@@ -385,6 +400,10 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("TIC", |c, b| Ok(b.tic.push(Tic::from_card(c)?))),
     ("PTABLE", |c, b| Ok(b.ptable.push(Ptable::from_card(c)?))),
     ("TABDMP1", |c, b| Ok(b.tabdmp1.push(Tabdmp1::from_card(c)?))),
+    ("RANDPS", |c, b| Ok(b.randps.push(Randps::from_card(c)?))),
+    ("RANDT1", |c, b| Ok(b.randt1.push(Randt1::from_card(c)?))),
+    ("TABRND1", |c, b| Ok(b.tabrnd.push(Tabrnd::tabrnd1(c)?))),
+    ("TABRNDG", |c, b| Ok(b.tabrnd.push(Tabrnd::tabrndg(c)?))),
     ("TABLED1", |c, b| {
         Ok(b.tabled.push(Tabled::from_card(c, "TABLED1")?))
     }),

@@ -154,11 +154,15 @@ pub(super) fn result_fields(
                     steps,
                 });
             }
-            "frf" if dataset(result, "displacement").is_some() => {
-                fields.skipped.push(format!(
-                    "{base}/displacement: complex values, which XDMF cannot address \
-                     (read them from the HDF5 file)"
-                ));
+            "frf" => {
+                for name in ["displacement", "velocity", "acceleration"] {
+                    if dataset(result, name).is_some() {
+                        fields.skipped.push(format!(
+                            "{base}/{name}: complex values, which XDMF cannot address \
+                             (read them from the HDF5 file)"
+                        ));
+                    }
+                }
             }
             _ => {}
         }
