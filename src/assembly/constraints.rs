@@ -1,4 +1,4 @@
-//! RBE2, RBE3 and MPC equations by elimination of the dependent DOFs: u_m = G_mn u_n,
+//! RBE2, RBE3, RSSCON and MPC equations by elimination of the dependent DOFs: u_m = G_mn u_n,
 //! u_g = T u_n.
 //!
 //! # RBE2 (rigid body)
@@ -37,6 +37,10 @@
 //! An equation Σⱼ Aⱼ u_j = 0 (components in the grids' displacement frames, which are the
 //! g-set's frames) makes its first DOF dependent: u₁ = −Σ_{j>1} (Aⱼ / A₁) u_j. The set is the
 //! one case control selects ([`Model::selected_mpc`]), the same for every subcase.
+//!
+//! # RSSCON
+//! Each link of a shell-to-solid connector gives up to five relations of its shell grid
+//! ([`rsscon`](super::rsscon)); a link repeated by two RSSCONs is imposed once.
 //!
 //! # Chains and checks
 //! A relation may refer to a DOF that is itself dependent (an RBE2 whose GN is a dependent grid
@@ -87,6 +91,9 @@ impl RigidElimination {
         map: &DofMap,
     ) -> Result<Self, AssemblyError> {
         let mut relations = Vec::new();
+        // a shell grid shared by two shell elements meeting one solid edge is linked by the
+        // RSSCON of each: the same equations, imposed once
+        let mut linked = std::collections::HashSet::new();
         for r in &model.rigids {
             let owner = format!("{} {} at {}", r.kind.card(), r.id, r.loc);
             match &r.kind {
@@ -96,6 +103,12 @@ impl RigidElimination {
                 RigidKind::Rbe3 { refc, groups } => {
                     let xyz: Vec<[f64; 3]> = model.grids.iter().map(|g| g.xyz).collect();
                     relations.extend(rbe3_relations(&xyz, frames, &owner, r.hub, *refc, groups)?);
+                }
+                RigidKind::Rsscon { links } => {
+                    let xyz: Vec<[f64; 3]> = model.grids.iter().map(|g| g.xyz).collect();
+                    for &link in links.iter().filter(|&&l| linked.insert(l)) {
+                        relations.extend(super::rsscon::link_relations(&xyz, frames, &owner, link));
+                    }
                 }
             }
         }

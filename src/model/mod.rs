@@ -43,6 +43,7 @@ pub mod params;
 pub mod pmpar;
 pub mod pressure;
 pub mod properties;
+pub mod rsscon;
 pub mod scalar_points;
 pub mod sensors;
 pub mod sets;
@@ -309,6 +310,8 @@ pub enum RigidKind {
         refc: Dofs,
         groups: Vec<WeightedGroup>,
     },
+    /// RSSCON: each shell grid follows the solid edge through it ([`rsscon`]).
+    Rsscon { links: Vec<rsscon::RssconLink> },
 }
 
 impl RigidKind {
@@ -317,6 +320,7 @@ impl RigidKind {
         match self {
             RigidKind::Rbe2 { .. } => "RBE2",
             RigidKind::Rbe3 { .. } => "RBE3",
+            RigidKind::Rsscon { .. } => "RSSCON",
         }
     }
 }
@@ -363,7 +367,8 @@ pub struct Model {
     pub element_index: HashMap<u32, usize>,
     /// Rigid elements sorted by id.
     pub rigids: Vec<Rigid>,
-    /// Property id → property.
+    /// Property id → property (a PSOLID with the id of another property, which its solid
+    /// elements name, is in their [`Element::property`] only).
     pub properties: HashMap<u32, PropertyRef>,
     /// Material id → material.
     pub materials: HashMap<u32, MaterialRef>,

@@ -141,7 +141,7 @@ impl Model {
             block.connectivity.extend(conn);
         }
         let mut out: Vec<ElementBlock> = blocks.into_values().collect();
-        for card in ["RBE2", "RBE3"] {
+        for card in ["RBE2", "RBE3", "RSSCON"] {
             let mut block = ElementBlock {
                 card,
                 ids: Vec::new(),

@@ -55,7 +55,7 @@ pub use multibody::{Flexb, Fmbpose, Jdrive, Joint, Jsprd, Marker, Mforce, Msenso
 pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, Promlib, ResponseSource, SearchMethod, Statistic};
 pub use param::{Param, ParamValue};
 pub use properties::{Pbush, Pcomp, Pdamp, Pelas, Ply, Pshell, Psolid, Pvisc};
-pub use rigid::{Rbe2, Rbe3, Rbe3Group};
+pub use rigid::{Rbe2, Rbe3, Rbe3Group, Rsscon, RssconForm};
 pub use shear_panel::{Cshear, Pshear};
 pub use temperature::Matt1;
 
@@ -103,6 +103,7 @@ pub struct BulkData {
     pub cbeam: Vec<Cbar>,
     pub rbe2: Vec<Rbe2>,
     pub rbe3: Vec<Rbe3>,
+    pub rsscon: Vec<Rsscon>,
     pub mat1: Vec<Mat1>,
     pub mat8: Vec<Mat8>,
     pub mat2: Vec<Mat2>,
@@ -282,6 +283,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("CBEAM", |c, b| Ok(b.cbeam.push(Cbar::from_card(c, true)?))),
     ("RBE2", |c, b| Ok(b.rbe2.push(Rbe2::from_card(c)?))),
     ("RBE3", |c, b| Ok(b.rbe3.push(Rbe3::from_card(c)?))),
+    ("RSSCON", |c, b| Ok(b.rsscon.push(Rsscon::from_card(c)?))),
     ("MAT1", |c, b| Ok(b.mat1.push(Mat1::from_card(c)?))),
     ("MAT8", |c, b| Ok(b.mat8.push(Mat8::from_card(c)?))),
     ("MAT2", |c, b| Ok(b.mat2.push(Mat2::from_card(c)?))),
