@@ -90,11 +90,11 @@ fn bad_mpc_cards_are_reported_in_one_pass() {
     let fields = with_case(
         &lever_static_deck(),
         "MPCADD,20,10\n",
-        "MPCADD,20,10\nMPC,30,2,0,1.0\nMPC,31,2,1,0.0,1,1,1.0\nMPC,32,2,1,1.0,1,1,1.0,7\n",
+        "MPCADD,20,10\nMPC,30,2,7,1.0\nMPC,31,2,1,0.0,1,1,1.0\nMPC,32,2,1,1.0,1,1,1.0,7\n",
     );
     let e = error_text(&fields);
     for want in [
-        "MPC 30: field 4 (C1): component 0 (a scalar point) is not supported",
+        "MPC 30: field 4 (C1): expected a single component 1-6 (0 or blank for a scalar point), found 7",
         "MPC 31: field 5 (A1): the first coefficient must be nonzero",
         "MPC 32: field 9 (blank)",
     ] {
@@ -103,11 +103,14 @@ fn bad_mpc_cards_are_reported_in_one_pass() {
     let references = with_case(
         &lever_static_deck(),
         "MPCADD,20,10\n",
-        "MPCADD,20,10\nMPC,32,99,1,1.0\nMPCADD,33,20\n",
+        "MPCADD,20,10\nMPC,32,99,1,1.0\nMPCADD,33,20\nSPOINT,50\nMPC,34,2,0,1.0\nMPC,35,50,1,1.0\nMPC,36,98,0,1.0\n",
     );
     let e = error_text(&references);
     for want in [
         "G = 99 does not exist",
+        "MPC 34: G = 2 is a GRID: give its component 1-6",
+        "MPC 35: G = 50 is a scalar point: its component is 0 or blank, found 1",
+        "MPC 36: G = 98 does not exist (no GRID or SPOINT 98)",
         "S = 20 does not exist (no MPC set 20)",
     ] {
         assert!(e.contains(want), "missing '{want}' in:\n{e}");

@@ -35,7 +35,7 @@
 //!
 //! # MPC
 //! An equation Σⱼ Aⱼ u_j = 0 (components in the grids' displacement frames, which are the
-//! g-set's frames) makes its first DOF dependent: u₁ = −Σ_{j>1} (Aⱼ / A₁) u_j. The set is the
+//! g-set's frames, or scalar points) makes its first DOF dependent: u₁ = −Σ_{j>1} (Aⱼ / A₁) u_j. The set is the
 //! one case control selects ([`Model::selected_mpc`]), the same for every subcase.
 //!
 //! # RSSCON
@@ -113,7 +113,7 @@ impl RigidElimination {
             }
         }
         if let Some(sid) = model.selected_mpc() {
-            relations.extend(mpc_relations(model, sid)?);
+            relations.extend(mpc_relations(model, map, sid)?);
         }
         RigidElimination::from_relations(map, relations)
     }
@@ -231,7 +231,7 @@ impl RigidElimination {
 }
 
 /// One relation per MPC card of `MPC = sid`.
-fn mpc_relations(model: &Model, sid: u32) -> Result<Vec<Relation>, AssemblyError> {
+fn mpc_relations(model: &Model, map: &DofMap, sid: u32) -> Result<Vec<Relation>, AssemblyError> {
     let cards = model
         .mpc_set(sid)
         .map_err(|e| AssemblyError::unresolved_set(e, "MPC", "MPC", "MPCADD", sid))?;
@@ -239,12 +239,18 @@ fn mpc_relations(model: &Model, sid: u32) -> Result<Vec<Relation>, AssemblyError
         .into_iter()
         .map(|card| {
             let owner = format!("MPC {} at {}", card.sid, card.loc);
-            let dof = |t: &MpcTerm| match model.grid_index.get(&t.grid) {
-                Some(&g) => Ok(DofMap::dof(g, usize::from(t.component) - 1)),
-                None => Err(AssemblyError::MissingGrid {
+            let dof = |t: &MpcTerm| {
+                let found = match t.component {
+                    0 => model.scalar_index.get(&t.grid).map(|&k| map.scalar_dof(k)),
+                    c => model
+                        .grid_index
+                        .get(&t.grid)
+                        .map(|&g| DofMap::dof(g, usize::from(c) - 1)),
+                };
+                found.ok_or_else(|| AssemblyError::MissingGrid {
                     card: owner.clone(),
                     grid: t.grid,
-                }),
+                })
             };
             let (first, rest) = card.terms.split_first().ok_or(AssemblyError::BadUnion {
                 card: "MPC",
