@@ -983,6 +983,7 @@ fn line_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeEr
         k1: s.k1,
         k2: s.k2,
         nsm: s.nsm,
+        neutral_axis: s.neutral_axis,
     };
     let target = ParamTarget::Material(used.mid);
     let kinds = ctx.params.kinds_on(target);
