@@ -227,7 +227,8 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> 
         | ElementKind::Tetra4
         | ElementKind::Tetra10
         | ElementKind::Hexa20
-        | ElementKind::Penta15 => solid_element(ctx, e, &xyz)?,
+        | ElementKind::Penta15
+        | ElementKind::Pyram5 => solid_element(ctx, e, &xyz)?,
         ElementKind::Celas1 | ElementKind::Celas2 | ElementKind::Celas3 | ElementKind::Celas4 => {
             spring_element(ctx, e)?
         }

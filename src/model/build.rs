@@ -487,6 +487,11 @@ fn element_id_space(
             .map(|c| entry(c.id, "CTETRA", &c.loc, ())),
     );
     e.extend(
+        bulk.cpyram
+            .iter()
+            .map(|c| entry(c.id, "CPYRAM", &c.loc, ())),
+    );
+    e.extend(
         bulk.celas1
             .iter()
             .map(|c| entry(c.id, "CELAS1", &c.loc, ())),
@@ -799,6 +804,17 @@ fn build_elements(
         };
         solids.push((c.id, c.pid, &c.nodes[..], kind, i, "CTETRA", &c.loc));
     }
+    solids.extend(b.cpyram.iter().enumerate().map(|(i, c)| {
+        (
+            c.id,
+            c.pid,
+            &c.nodes[..],
+            ElementKind::Pyram5,
+            i,
+            "CPYRAM",
+            &c.loc,
+        )
+    }));
     for (id, pid, card_ids, kind, i, name, loc) in solids {
         let card = format!("{name} {id}");
         // a quadratic CHEXA / CPENTA lists 0 for a blank mid-side grid: its element keeps the

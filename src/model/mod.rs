@@ -103,6 +103,8 @@ pub enum ElementKind {
     Hexa20,
     /// CPENTA with mid-side grids (15 nodes, blank mid-sides allowed).
     Penta15,
+    /// CPYRAM with 5 grids.
+    Pyram5,
     Celas1,
     Celas2,
     Celas3,
@@ -135,6 +137,7 @@ impl ElementKind {
             ElementKind::Hexa8 | ElementKind::Hexa20 => "CHEXA",
             ElementKind::Penta6 | ElementKind::Penta15 => "CPENTA",
             ElementKind::Tetra4 | ElementKind::Tetra10 => "CTETRA",
+            ElementKind::Pyram5 => "CPYRAM",
             ElementKind::Celas1 => "CELAS1",
             ElementKind::Celas2 => "CELAS2",
             ElementKind::Celas3 => "CELAS3",
@@ -174,6 +177,7 @@ impl ElementKind {
             ElementKind::Tetra10 => Some(SolidKind::Tetra10),
             ElementKind::Hexa20 => Some(SolidKind::Hexa20),
             ElementKind::Penta15 => Some(SolidKind::Penta15),
+            ElementKind::Pyram5 => Some(SolidKind::Pyram5),
             _ => None,
         }
     }

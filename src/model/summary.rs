@@ -179,6 +179,7 @@ impl Model {
             ElementKind::Cshear => b.cshear.get(e.card).map(|c| c.pid),
             ElementKind::Hexa8 | ElementKind::Hexa20 => b.chexa.get(e.card).map(|c| c.pid),
             ElementKind::Penta6 | ElementKind::Penta15 => b.cpenta.get(e.card).map(|c| c.pid),
+            ElementKind::Pyram5 => b.cpyram.get(e.card).map(|c| c.pid),
             ElementKind::Tetra4 | ElementKind::Tetra10 => b.ctetra.get(e.card).map(|c| c.pid),
             ElementKind::Celas1 => b.celas1.get(e.card).map(|c| c.pid),
             ElementKind::Celas3 => b.celas3.get(e.card).map(|c| c.pid),

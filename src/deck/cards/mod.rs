@@ -34,8 +34,8 @@ pub use dynamic::{
     RloadTables, Tabdmp1, Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep, eigr_from_card,
 };
 pub use elements::{
-    BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Conm2, Cpenta, Cquad4,
-    Ctetra, Ctria3, Cvisc, OnCardLayout, QuadraticShell, Spoint,
+    BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Conm2, Cpenta, Cpyram,
+    Cquad4, Ctetra, Ctria3, Cvisc, OnCardLayout, QuadraticShell, Spoint,
 };
 pub use estimate::{Amanda, Ekf, Ekfinp, Ekfpar, Meas, Measf};
 pub use extension::{
@@ -84,6 +84,7 @@ pub struct BulkData {
     pub chexa: Vec<Chexa>,
     pub cpenta: Vec<Cpenta>,
     pub ctetra: Vec<Ctetra>,
+    pub cpyram: Vec<Cpyram>,
     pub celas1: Vec<Celas1>,
     pub celas2: Vec<Celas2>,
     pub celas3: Vec<Celas3>,
@@ -253,6 +254,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("CHEXA", |c, b| Ok(b.chexa.push(Chexa::from_card(c)?))),
     ("CPENTA", |c, b| Ok(b.cpenta.push(Cpenta::from_card(c)?))),
     ("CTETRA", |c, b| Ok(b.ctetra.push(Ctetra::from_card(c)?))),
+    ("CPYRAM", |c, b| Ok(b.cpyram.push(Cpyram::from_card(c)?))),
     ("CELAS1", |c, b| Ok(b.celas1.push(Celas1::from_card(c)?))),
     ("CELAS2", |c, b| Ok(b.celas2.push(Celas2::from_card(c)?))),
     ("CELAS3", |c, b| {
