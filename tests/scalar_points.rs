@@ -60,6 +60,27 @@ fn spring_chain_on_scalar_points_matches_the_closed_form() {
 
 /// Scalar points need not be declared: a CELAS end with component 0 or blank whose id is no
 /// GRID is a scalar point (as in Nastran); same numbers as the declared chain.
+/// An MPC whose dependent DOF is a scalar point (as Femap writes relative motions): s = u₁ − u₂
+/// of grids 1 and 2 (T1 free only), a CELAS2 of k_s = 3 on s to ground and one of k = 1 from
+/// grid 2 to ground, grid 1 pulled by F = 2 and tied to grid 2 by nothing else: the relative
+/// spring makes u₁ − u₂ = F / k_s and the ground spring u₂ = F / k, so u₁ = 2 + 2/3, u₂ = 2,
+/// s = 2/3.
+#[test]
+fn an_mpc_may_make_a_scalar_point_dependent() {
+    let deck = "SOL 101\nCEND\nMPC = 5\nLOAD = 2\nBEGIN BULK\n\
+                SPOINT,9\nGRID,1,,0.,0.,0.,,23456\nGRID,2,,1.,0.,0.,,23456\n\
+                MPC,5,9,0,-1.,1,1,1.\n,,2,1,-1.\n\
+                CELAS2,101,3.0,9,0\nCELAS2,102,1.0,2,1\nFORCE,2,1,,2.0,1.,0.,0.\nENDDATA\n";
+    let (file, _dir) = run_to_file(deck);
+    let g = file.group("results/1/statics").expect("statics");
+    let s: Vec<f64> = read_dataset(&g, "displacement_scalar");
+    let u: Vec<f64> = read_dataset(&g, "displacement");
+    let (u1, u2) = (u[0], u[6]);
+    assert!((u2 - 2.0).abs() <= 1e-12, "u2 = {u2}");
+    assert!((u1 - 8.0 / 3.0).abs() <= 1e-12, "u1 = {u1}");
+    assert!((s[0] - 2.0 / 3.0).abs() <= 1e-12, "s = {s:?}");
+}
+
 #[test]
 fn implicit_scalar_points_are_the_declared_ones() {
     let (file, _dir) = run_to_file(&CHAIN.replace("SPOINT,1,THRU,3\n", ""));

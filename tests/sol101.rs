@@ -548,6 +548,50 @@ fn maxratio_param_admits_an_ill_conditioned_thin_shell() {
     let msg = err.expect_err("refused at MAXRATIO 1e6").to_string();
     assert!(msg.contains("GRID") && msg.contains("pivot ratio"), "{msg}");
 }
+/// Springs in series ground –k– grid 1 –K– grid 2, F on grid 2, K/k = 1e9: the pivot ratio
+/// of the factor is about K/k (whatever the ordering), above MAXRATIO's default 1e7. Nastran's
+/// default BAILOUT = 0 stops (UFM 9050) and so does paraflex, naming the DOF and BAILOUT;
+/// PARAM,BAILOUT,-1 goes on with a warning and the exact answer u₁ = F/k, u₂ = F/k + F/K.
+/// Without the ground spring K is exactly singular: an error even with BAILOUT = -1.
+#[test]
+fn bailout_lets_a_pivot_ratio_above_maxratio_through_but_not_a_singularity() {
+    let deck = |bailout: &str, ground: &str| {
+        format!(
+            "SOL 101\nCEND\nLOAD = 1\nBEGIN BULK\n{bailout}GRID,1,,0.,0.,0.,,23456\n\
+             GRID,2,,1.,0.,0.,,23456\n{ground}CELAS2,12,1.e9,1,1,2,1\nFORCE,1,2,,3.,1.,0.,0.\nENDDATA\n"
+        )
+    };
+    let soft = "CELAS2,11,1.,1,1\n";
+    let (err, _dir) = run_deck(&deck("", soft));
+    let msg = err.expect_err("stops at the default BAILOUT").to_string();
+    assert!(
+        msg.contains("GRID") && msg.contains("pivot ratio") && msg.contains("PARAM,BAILOUT,-1"),
+        "{msg}"
+    );
+    let (ok, dir) = run_deck(&deck("PARAM,BAILOUT,-1\n", soft));
+    let summary = ok.expect("runs with BAILOUT = -1");
+    let warned = summary.warnings.iter().any(|w| {
+        w.contains("exceeds PARAM,MAXRATIO") && w.contains("BAILOUT") && w.contains("GRID")
+    });
+    assert!(warned, "{:?}", summary.warnings);
+    let file = hdf5_metno::File::open(dir.path().join("out.h5")).expect("open");
+    let u: Vec<f64> = file
+        .dataset("results/1/statics/displacement")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    // an ill-conditioned but regular 2 × 2 system: relative error ~ ε · K/k
+    let (u1, u2) = (3.0, 3.0 + 3.0e-9);
+    assert!((u[0] - u1).abs() < 1e-6 * u1, "u1 = {}", u[0]);
+    assert!((u[6] - u2).abs() < 1e-6 * u2, "u2 = {}", u[6]);
+    let (err, _dir) = run_deck(&deck("PARAM,BAILOUT,-1\n", ""));
+    let msg = err.expect_err("a singular K stops").to_string();
+    assert!(
+        msg.contains("singular") && !msg.contains("BAILOUT"),
+        "{msg}"
+    );
+}
+
 /// Linearly tapered cantilever strip (t = T at the root to T/2 at the tip, CQUAD4 corner
 /// thicknesses), tip load P: unit-load integral of Euler–Bernoulli bending plus shear,
 /// δ = ∫₀ᴸ P(L−x)²/(E I(x)) dx + ∫₀ᴸ P/(κ G B t(x)) dx, I = B t³/12, t(x) = t0 + s x, in closed

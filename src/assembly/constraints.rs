@@ -1,4 +1,4 @@
-//! RBE2, RBE3 and MPC equations by elimination of the dependent DOFs: u_m = G_mn u_n,
+//! RBE2, RBE3, RSSCON and MPC equations by elimination of the dependent DOFs: u_m = G_mn u_n,
 //! u_g = T u_n.
 //!
 //! # RBE2 (rigid body)
@@ -35,8 +35,12 @@
 //!
 //! # MPC
 //! An equation Σⱼ Aⱼ u_j = 0 (components in the grids' displacement frames, which are the
-//! g-set's frames) makes its first DOF dependent: u₁ = −Σ_{j>1} (Aⱼ / A₁) u_j. The set is the
+//! g-set's frames, or scalar points) makes its first DOF dependent: u₁ = −Σ_{j>1} (Aⱼ / A₁) u_j. The set is the
 //! one case control selects ([`Model::selected_mpc`]), the same for every subcase.
+//!
+//! # RSSCON
+//! Each link of a shell-to-solid connector gives up to five relations of its shell grid
+//! ([`rsscon`](super::rsscon)); a link repeated by two RSSCONs is imposed once.
 //!
 //! # Chains and checks
 //! A relation may refer to a DOF that is itself dependent (an RBE2 whose GN is a dependent grid
@@ -87,6 +91,9 @@ impl RigidElimination {
         map: &DofMap,
     ) -> Result<Self, AssemblyError> {
         let mut relations = Vec::new();
+        // a shell grid shared by two shell elements meeting one solid edge is linked by the
+        // RSSCON of each: the same equations, imposed once
+        let mut linked = std::collections::HashSet::new();
         for r in &model.rigids {
             let owner = format!("{} {} at {}", r.kind.card(), r.id, r.loc);
             match &r.kind {
@@ -97,10 +104,16 @@ impl RigidElimination {
                     let xyz: Vec<[f64; 3]> = model.grids.iter().map(|g| g.xyz).collect();
                     relations.extend(rbe3_relations(&xyz, frames, &owner, r.hub, *refc, groups)?);
                 }
+                RigidKind::Rsscon { links } => {
+                    let xyz: Vec<[f64; 3]> = model.grids.iter().map(|g| g.xyz).collect();
+                    for &link in links.iter().filter(|&&l| linked.insert(l)) {
+                        relations.extend(super::rsscon::link_relations(&xyz, frames, &owner, link));
+                    }
+                }
             }
         }
         if let Some(sid) = model.selected_mpc() {
-            relations.extend(mpc_relations(model, sid)?);
+            relations.extend(mpc_relations(model, map, sid)?);
         }
         RigidElimination::from_relations(map, relations)
     }
@@ -218,7 +231,7 @@ impl RigidElimination {
 }
 
 /// One relation per MPC card of `MPC = sid`.
-fn mpc_relations(model: &Model, sid: u32) -> Result<Vec<Relation>, AssemblyError> {
+fn mpc_relations(model: &Model, map: &DofMap, sid: u32) -> Result<Vec<Relation>, AssemblyError> {
     let cards = model
         .mpc_set(sid)
         .map_err(|e| AssemblyError::unresolved_set(e, "MPC", "MPC", "MPCADD", sid))?;
@@ -226,12 +239,18 @@ fn mpc_relations(model: &Model, sid: u32) -> Result<Vec<Relation>, AssemblyError
         .into_iter()
         .map(|card| {
             let owner = format!("MPC {} at {}", card.sid, card.loc);
-            let dof = |t: &MpcTerm| match model.grid_index.get(&t.grid) {
-                Some(&g) => Ok(DofMap::dof(g, usize::from(t.component) - 1)),
-                None => Err(AssemblyError::MissingGrid {
+            let dof = |t: &MpcTerm| {
+                let found = match t.component {
+                    0 => model.scalar_index.get(&t.grid).map(|&k| map.scalar_dof(k)),
+                    c => model
+                        .grid_index
+                        .get(&t.grid)
+                        .map(|&g| DofMap::dof(g, usize::from(c) - 1)),
+                };
+                found.ok_or_else(|| AssemblyError::MissingGrid {
                     card: owner.clone(),
                     grid: t.grid,
-                }),
+                })
             };
             let (first, rest) = card.terms.split_first().ok_or(AssemblyError::BadUnion {
                 card: "MPC",

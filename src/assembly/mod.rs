@@ -40,6 +40,7 @@ pub mod loads;
 pub mod pattern;
 pub mod recover;
 pub mod reduce;
+pub mod rsscon;
 pub mod spc;
 
 #[cfg(test)]

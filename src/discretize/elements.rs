@@ -253,7 +253,8 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> 
         | ElementKind::Tetra4
         | ElementKind::Tetra10
         | ElementKind::Hexa20
-        | ElementKind::Penta15 => solid_element(ctx, e, &xyz)?,
+        | ElementKind::Penta15
+        | ElementKind::Pyram5 => solid_element(ctx, e, &xyz)?,
         ElementKind::Celas1 | ElementKind::Celas2 | ElementKind::Celas3 | ElementKind::Celas4 => {
             spring_element(ctx, e)?
         }
@@ -1010,6 +1011,7 @@ fn line_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeEr
         k1: s.k1,
         k2: s.k2,
         nsm: s.nsm,
+        neutral_axis: s.neutral_axis,
     };
     let target = ParamTarget::Material(used.mid);
     let kinds = ctx.params.kinds_on(target);

@@ -21,6 +21,9 @@
 //! - product of inertia I12 = ∫yz dA (Euler–Bernoulli only): the bending energy
 //!   ½ ∫ E (I1 v″² + 2 I12 v″ w″ + I2 w″²) dx couples the planes by E I12 ∫ N_v″ᵀ N_w″ dx;
 //!   with shear flexibility it is refused ([`BeamError::ProductWithShear`]).
+//! - neutral axis (PBEAM N1, N2) at (y_n, z_n) from the element axis: the axial and bending
+//!   terms above act on the neutral axis, whose axial displacement is u + θy z_n − θz y_n
+//!   (K_axis = Nᵀ K N); torsion and shear stay on the axis (the shear centre);
 //! - pin flags (released end components in the element frame): static condensation
 //!   K_cc − K_cr K_rr⁻¹ K_rc of each affine part separately. The parts act on disjoint DOF
 //!   groups (axial + bending ∝ E, torsion ∝ G), so condensing each part is exact.
@@ -60,6 +63,8 @@ pub struct LineSection {
     pub k2: Option<f64>,
     /// Non-structural mass per length.
     pub nsm: f64,
+    /// Neutral axis (y, z) from the element axis (the shear centre), element frame.
+    pub neutral_axis: [f64; 2],
 }
 
 /// Placement of a line element (basic system).
@@ -209,7 +214,21 @@ fn local_stiffness(s: &LineSection, l: f64, e: f64, g: f64, ge: (f64, f64)) -> M
             put(PLANE2[q], PLANE1[p], coupling);
         }
     }
-    k
+    neutral_axis_offset(&k, s.neutral_axis)
+}
+
+/// K on the element axis from K on the neutral axis (y_n, z_n): the axial displacement there is
+/// u + θy z_n − θz y_n at each end (a rigid section), everything else is the axis' own.
+fn neutral_axis_offset(k: &Mat<f64>, [yn, zn]: [f64; 2]) -> Mat<f64> {
+    if yn == 0.0 && zn == 0.0 {
+        return k.clone();
+    }
+    let mut n = Mat::<f64>::identity(12, 12);
+    for o in [0, 6] {
+        n[(o, o + 4)] = zn;
+        n[(o, o + 5)] = -yn;
+    }
+    n.transpose() * k * &n
 }
 
 /// Local mass with mass per length `m` and polar rotary inertia per length `ip`.

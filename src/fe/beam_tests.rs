@@ -1,5 +1,6 @@
 //! Unit tests of the line-element kernel ([`super::beam`]).
 
+use faer::linalg::solvers::Solve;
 use faer::{Mat, Side};
 
 use super::affine::{AffineMatrix, Coefficient, CoefficientValues};
@@ -31,6 +32,7 @@ fn section() -> LineSection {
         k1: None,
         k2: None,
         nsm: 0.7,
+        neutral_axis: [0.0; 2],
     }
 }
 
@@ -288,4 +290,41 @@ fn degenerate_geometry_is_refused() {
         MassForm::Lumped { torsion: false },
     );
     assert_eq!(e.unwrap_err(), BeamError::ZeroLength);
+}
+
+/// A cantilever along x whose neutral axis sits at (y_n, z_n) from its axis, pulled by P along
+/// the axis at the free end: on the neutral axis that is P and the moment (0, −z_n P, y_n P),
+/// so θy = −z_n P L/(E I2), θz = y_n P L/(E I1), v = θz L/2, w = −θy L/2 and the axis stretches
+/// by P L/(E A) + P L (z_n²/(E I2) + y_n²/(E I1)) (one element is exact: constant moment).
+#[test]
+fn a_neutral_axis_offset_couples_stretch_and_bending() {
+    let l = 2.0;
+    let g = LineGeometry {
+        grids: [[0.0; 3], [l, 0.0, 0.0]],
+        offsets: [[0.0; 3]; 2],
+        orientation: Some([0.0, 1.0, 0.0]),
+    };
+    let (yn, zn, p) = (0.01, 0.03, 1.0e4);
+    let s = LineSection {
+        neutral_axis: [yn, zn],
+        ..section()
+    };
+    let k = fixed(&g, &s, &FREE);
+    let kbb = Mat::from_fn(6, 6, |i, j| k[(6 + i, 6 + j)]);
+    let mut u = Mat::<f64>::zeros(6, 1);
+    u[(0, 0)] = p;
+    kbb.llt(Side::Lower)
+        .expect("clamped at A")
+        .solve_in_place(u.as_mut());
+    let (ty, tz) = (-zn * p * l / (E * s.i2), yn * p * l / (E * s.i1));
+    let stretch = p * l / (E * s.a) + p * l * (zn * zn / (E * s.i2) + yn * yn / (E * s.i1));
+    let want = [stretch, tz * l / 2.0, -ty * l / 2.0, 0.0, ty, tz];
+    for (c, w) in want.iter().enumerate() {
+        let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(
+            (u[(c, 0)] - w).abs() < 1e-9 * scale,
+            "component {c}: {} vs {w}",
+            u[(c, 0)]
+        );
+    }
 }

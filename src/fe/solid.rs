@@ -94,6 +94,8 @@ pub enum SolidKind {
     Hexa20,
     /// CPENTA with 15 grids (quadratic).
     Penta15,
+    /// CPYRAM with 5 grids (rational pyramid, [`shape`] module doc).
+    Pyram5,
 }
 
 impl SolidKind {
@@ -106,6 +108,7 @@ impl SolidKind {
             SolidKind::Tetra10 => 10,
             SolidKind::Hexa20 => 20,
             SolidKind::Penta15 => 15,
+            SolidKind::Pyram5 => 5,
         }
     }
 
@@ -124,6 +127,7 @@ impl fmt::Display for SolidKind {
             SolidKind::Tetra10 => "CTETRA (10 grids)",
             SolidKind::Hexa20 => "CHEXA (20 grids)",
             SolidKind::Penta15 => "CPENTA (15 grids)",
+            SolidKind::Pyram5 => "CPYRAM",
         })
     }
 }
@@ -364,6 +368,7 @@ fn stiffness_rule(kind: SolidKind) -> Vec<QuadPoint> {
         SolidKind::Tetra10 => shape::tet_four_rule(),
         SolidKind::Hexa20 => shape::hexa_rule(Gauss::Three),
         SolidKind::Penta15 => shape::wedge15_stiffness_rule(),
+        SolidKind::Pyram5 => shape::pyramid_rule(Gauss::Two),
     }
 }
 
@@ -549,6 +554,7 @@ fn mass_rule(kind: SolidKind) -> Vec<QuadPoint> {
         SolidKind::Tetra10 => shape::tet_collapsed_rule(Gauss::Five),
         SolidKind::Hexa20 => shape::hexa_rule(Gauss::Five),
         SolidKind::Penta15 => shape::wedge15_mass_rule(),
+        SolidKind::Pyram5 => shape::pyramid_rule(Gauss::Three),
     }
 }
 
@@ -595,7 +601,9 @@ pub(crate) fn lump(kind: SolidKind, m: &mut Mat<f64>) {
             let trace: f64 = (0..n).map(|a| m[(a, a)]).sum();
             (0..n).map(|a| m[(a, a)] * total / trace).collect()
         }
-        SolidKind::Hexa8 | SolidKind::Penta6 | SolidKind::Tetra4 => (0..n).map(row).collect(),
+        SolidKind::Hexa8 | SolidKind::Penta6 | SolidKind::Tetra4 | SolidKind::Pyram5 => {
+            (0..n).map(row).collect()
+        }
     };
     *m = Mat::from_fn(n, n, |a, b| if a == b { diag[a] } else { 0.0 });
 }
@@ -793,7 +801,8 @@ pub fn corners(kind: SolidKind) -> usize {
 /// CTETRA 4 has one point, a constant strain. Exact for strain fields the element's points
 /// represent linearly (e.g. pure bending of a brick). CHEXA 20 and CPENTA 15 evaluate their
 /// own strain field at the corners instead (their 27 and 21 points are more than the corners,
-/// and the quadratic field holds a linear strain exactly).
+/// and the quadratic field holds a linear strain exactly), and so does CPYRAM (8 points, 5
+/// corners).
 pub fn corner_strains(
     kind: SolidKind,
     xyz: &[[f64; 3]],
@@ -809,7 +818,10 @@ pub fn corner_strains(
             got: u.len(),
         });
     }
-    if matches!(kind, SolidKind::Hexa20 | SolidKind::Penta15) {
+    if matches!(
+        kind,
+        SolidKind::Hexa20 | SolidKind::Penta15 | SolidKind::Pyram5
+    ) {
         return (0..corners(kind))
             .map(|a| {
                 let xi = shape::node_xi(kind, a);

@@ -88,7 +88,7 @@ pub(crate) fn midside_edges(kind: SolidKind) -> &'static [[usize; 2]] {
         SolidKind::Tetra10 => &TET10_EDGES,
         SolidKind::Hexa20 => &HEXA20_EDGES,
         SolidKind::Penta15 => &PENTA15_EDGES,
-        SolidKind::Hexa8 | SolidKind::Penta6 | SolidKind::Tetra4 => &[],
+        SolidKind::Hexa8 | SolidKind::Penta6 | SolidKind::Tetra4 | SolidKind::Pyram5 => &[],
     }
 }
 
@@ -113,6 +113,10 @@ pub(crate) fn node_xi(kind: SolidKind, a: usize) -> [f64; 3] {
             }
             x
         }
+        SolidKind::Pyram5 => match a {
+            0..4 => [HEXA_SIGNS[a][0], HEXA_SIGNS[a][1], 0.0],
+            _ => [0.0, 0.0, 1.0],
+        },
     }
 }
 
@@ -136,6 +140,7 @@ pub(crate) fn shape(kind: SolidKind, xi: [f64; 3]) -> Shape {
             }
         }
         SolidKind::Hexa20 => hexa20(&mut s, xi),
+        SolidKind::Pyram5 => pyram5(&mut s, xi),
         SolidKind::Penta15 => penta15(&mut s, xi),
         SolidKind::Penta6 => {
             let l = [1.0 - x - y, x, y];
@@ -173,6 +178,28 @@ pub(crate) fn shape(kind: SolidKind, xi: [f64; 3]) -> Shape {
         }
     }
     s
+}
+
+/// CPYRAM 5 rational functions on the pyramid |ξ|, |η| ≤ 1 − ζ, 0 ≤ ζ ≤ 1 (base G1–G4 at
+/// (∓1, ∓1, 0) in CHEXA order, apex G5 at ζ = 1), with a = 1 − ζ:
+/// N_i = (a + ξ_i ξ)(a + η_i η) / (4a) = ¼ (a + ξ_i ξ + η_i η + ξ_i η_i ξη / a), N_5 = ζ
+/// (Bedrosian's pyramid, also Zienkiewicz–Taylor's): bilinear on the base, linear on the
+/// triangular faces (so it conforms to CTETRA 4 and CHEXA 8 neighbours), complete to degree
+/// one. At the apex ξ = η = 0, where the rational terms vanish: a is kept positive there (and
+/// a² too, so that 0/a² is 0).
+fn pyram5(s: &mut Shape, [x, y, z]: [f64; 3]) {
+    let a = (1.0 - z).max(1e-100);
+    for (i, sg) in HEXA_SIGNS.iter().take(4).enumerate() {
+        let (si, ti) = (sg[0], sg[1]);
+        s.n[i] = 0.25 * (a + si * x + ti * y + si * ti * x * y / a);
+        s.dn[i] = [
+            0.25 * (si + si * ti * y / a),
+            0.25 * (ti + si * ti * x / a),
+            0.25 * (-1.0 + si * ti * x * y / (a * a)),
+        ];
+    }
+    s.n[4] = z;
+    s.dn[4] = [0.0, 0.0, 1.0];
 }
 
 /// CHEXA 20 serendipity functions (module doc).
@@ -248,6 +275,7 @@ pub(crate) fn centroid(kind: SolidKind) -> [f64; 3] {
         SolidKind::Hexa8 | SolidKind::Hexa20 => [0.0; 3],
         SolidKind::Penta6 | SolidKind::Penta15 => [1.0 / 3.0, 1.0 / 3.0, 0.0],
         SolidKind::Tetra4 | SolidKind::Tetra10 => [0.25; 3],
+        SolidKind::Pyram5 => [0.0, 0.0, 0.25],
     }
 }
 
@@ -301,6 +329,26 @@ pub(crate) fn hexa_rule(g: Gauss) -> Vec<QuadPoint> {
         }
     }
     out
+}
+
+/// Collapsed (Duffy) Gauss rule on the pyramid |ξ|, |η| ≤ 1 − ζ, 0 ≤ ζ ≤ 1: ξ = u (1 − ζ),
+/// η = v (1 − ζ), ζ = (1 + w)/2 with (u, v, w) a tensor Gauss rule on [−1, 1]³, weight ×
+/// (1 − ζ)²/2. The pyramid's functions become polynomials of (u, v, w) under this map (N_i =
+/// ¼ a (1 + ξ_i u)(1 + η_i v)), so n points per direction integrate a straight-sided pyramid's
+/// stiffness (n = 2: degree ≤ 2 in u, v and w) and mass (n = 3) exactly; no point is at the apex.
+pub(crate) fn pyramid_rule(g: Gauss) -> Vec<QuadPoint> {
+    hexa_rule(g)
+        .into_iter()
+        .map(|p| {
+            let [u, v, w] = p.xi;
+            let z = 0.5 * (1.0 + w);
+            let a = 1.0 - z;
+            QuadPoint {
+                xi: [u * a, v * a, z],
+                w: p.w * a * a * 0.5,
+            }
+        })
+        .collect()
 }
 
 /// Collapsed (Duffy) Gauss rule on the unit triangle: ξ = u, η = (1 − u) v with u, v Gauss
@@ -474,6 +522,12 @@ mod tests {
         check(&wedge15_mass_rule(), 8, &wedge);
         check(&hexa_rule(Gauss::Five), 9, &cube);
         check(&hexa_rule(Gauss::Three), 5, &cube);
+        // pyramid: ∫ ξ^a η^b ζ^c = line(a) line(b) c! (a + b + 2)! / (a + b + c + 3)!; the
+        // collapsed rule with n points is exact while a + b + c + 2 ≤ 2n − 1
+        let pyramid =
+            |a: u32, b: u32, c: u32| line(a) * line(b) * f(c) * f(a + b + 2) / f(a + b + c + 3);
+        check(&pyramid_rule(Gauss::Two), 1, &pyramid);
+        check(&pyramid_rule(Gauss::Three), 3, &pyramid);
     }
 
     #[test]
@@ -485,6 +539,7 @@ mod tests {
             SolidKind::Tetra10,
             SolidKind::Hexa20,
             SolidKind::Penta15,
+            SolidKind::Pyram5,
         ] {
             let n = kind.nodes();
             for a in 0..n {

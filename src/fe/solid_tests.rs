@@ -127,6 +127,30 @@ fn samples() -> Vec<(SolidKind, &'static str, Vec<[f64; 3]>)> {
             tet10(&distorted_tet(), 0.0),
         ),
         (SolidKind::Tetra10, "curved", tet10(&distorted_tet(), 0.04)),
+        (SolidKind::Pyram5, "regular", unit_pyram()),
+        (SolidKind::Pyram5, "distorted", distorted_pyram()),
+    ]
+}
+
+/// Unit-square base, apex over its centre at height 1 (volume 1/3).
+fn unit_pyram() -> Vec<[f64; 3]> {
+    vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.5, 0.5, 1.0],
+    ]
+}
+
+/// A warped base and a leaning apex.
+fn distorted_pyram() -> Vec<[f64; 3]> {
+    vec![
+        [0.05, -0.02, 0.0],
+        [1.1, 0.03, 0.04],
+        [0.95, 1.05, -0.03],
+        [-0.04, 0.9, 0.02],
+        [0.6, 0.45, 1.1],
     ]
 }
 
@@ -281,6 +305,7 @@ fn quadratic_lattice(
                             corner_lists.push(t);
                         }
                     }
+                    SolidKind::Pyram5 => unreachable!("no pyramid lattice"),
                 }
             }
         }
@@ -458,6 +483,35 @@ fn free_meshes_have_exactly_six_zero_energy_modes() {
 
 // ---------------------------------------------------------------- (b) patch tests
 
+/// The unit cube as six CPYRAM, one on each face with the apex at a shifted interior grid: the
+/// patch test (a linear field on the cube's corners gives it exactly at the apex and constant
+/// strain in every pyramid).
+#[test]
+fn pyramids_pass_the_patch_test() {
+    let mut xyz: Vec<[f64; 3]> = (0..8)
+        .map(|a| super::solid_shape::node_xi(SolidKind::Hexa8, a).map(|s| 0.5 * (1.0 + s)))
+        .collect();
+    xyz.push([0.45, 0.56, 0.47]);
+    // the cube's faces, outward; a pyramid's base runs the other way (its normal to the apex)
+    let faces = [
+        [0, 3, 2, 1],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [1, 2, 6, 5],
+        [2, 3, 7, 6],
+        [3, 0, 4, 7],
+    ];
+    let elements = faces
+        .iter()
+        .map(|f| whole(SolidKind::Pyram5, vec![f[3], f[2], f[1], f[0], 8]))
+        .collect();
+    let (du, de) = patch_test(&(xyz, elements));
+    assert!(
+        du < 1e-10 && de < 1e-10,
+        "CPYRAM patch: displacement {du:.2e}, strain {de:.2e}"
+    );
+}
+
 #[test]
 fn hexa_passes_the_macneal_harder_patch_test() {
     let (du, de) = patch_test(&macneal_harder_patch());
@@ -582,6 +636,13 @@ fn surface_volume(kind: SolidKind, x: &[[f64; 3]]) -> f64 {
                 [x[3], x[4], x[5], mid(3, 4), mid(4, 5), mid(5, 3)],
             ],
         ),
+        SolidKind::Pyram5 => (
+            vec![[0, 3, 2, 1]],
+            [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]
+                .iter()
+                .map(|&[a, b, c]| [x[a], x[b], x[c], mid(a, b), mid(b, c), mid(c, a)])
+                .collect(),
+        ),
         SolidKind::Tetra4 => (
             vec![],
             [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]]
@@ -674,6 +735,7 @@ fn total_mass_is_rho_v_consistent_and_lumped() {
             let exact = match kind {
                 SolidKind::Hexa8 | SolidKind::Hexa20 => 1.0,
                 SolidKind::Penta6 | SolidKind::Penta15 => 0.5,
+                SolidKind::Pyram5 => 1.0 / 3.0,
                 _ => 1.0 / 6.0,
             };
             assert!((v - exact).abs() < 1e-14, "{kind}: surface volume {v}");

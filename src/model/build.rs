@@ -43,7 +43,7 @@ impl Model {
         let (grids, grid_index) = build_grids(bulk, &coords, &mut errors, &mut warnings);
         let (scalar_points, scalar_index) =
             super::scalar_points::build(bulk, &grid_index, &mut errors);
-        let properties = index_properties(bulk, &mut errors);
+        let (properties, solid_properties) = index_properties(bulk, &mut errors);
         let materials = index_materials(bulk, &mut errors);
         let refs = Refs {
             bulk,
@@ -51,12 +51,14 @@ impl Model {
             grid_index: &grid_index,
             scalar_index: &scalar_index,
             properties: &properties,
+            solid_properties: &solid_properties,
             materials: &materials,
         };
         let mut quality = Quality::default();
         let mut elements = build_elements(&refs, &grids, &mut errors, &mut quality);
         elements.sort_by_key(|e| e.id);
         let mut rigids = build_rigids(&refs, &mut errors);
+        rigids.extend(super::rsscon::build(&refs, &grids, &elements, &mut errors));
         rigids.sort_by_key(|r| r.id);
         let declared_elements = element_id_space(bulk, &mut errors, &mut warnings);
         let element_index: HashMap<u32, usize> = {
@@ -97,7 +99,7 @@ impl Model {
             elements,
             element_index,
             rigids,
-            properties,
+            properties: solid_properties.into_iter().chain(properties).collect(),
             materials,
             bulk: bulk.clone(),
             subcases: deck.case.subcases(),
@@ -129,7 +131,10 @@ pub struct Refs<'a> {
     pub grid_index: &'a HashMap<u32, usize>,
     /// Scalar point id → index into [`Model::scalar_points`].
     pub scalar_index: &'a HashMap<u32, usize>,
+    /// Property id → property, PSOLID excepted.
     pub properties: &'a HashMap<u32, PropertyRef>,
+    /// PSOLID id → property (an id space of its own, see `index_properties`).
+    pub solid_properties: &'a HashMap<u32, PropertyRef>,
     pub materials: &'a HashMap<u32, MaterialRef>,
 }
 
@@ -308,7 +313,21 @@ struct GridDefaults {
     ps: crate::card_values::Dofs,
 }
 
-fn index_properties(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32, PropertyRef> {
+/// The property id spaces: every property but PSOLID, and PSOLID apart. A PSOLID may share
+/// the id of a shell or line property, as MSC Nastran accepts (its test deck `rs321h` has a
+/// PSHELL 1 and a PSOLID 1): a solid element's PID names a PSOLID, any other element's PID one
+/// of the others.
+fn index_properties(
+    bulk: &BulkData,
+    errors: &mut Vec<DeckError>,
+) -> (HashMap<u32, PropertyRef>, HashMap<u32, PropertyRef>) {
+    let solids = bulk
+        .psolid
+        .iter()
+        .enumerate()
+        .map(|(i, p)| entry(p.id, "PSOLID", &p.loc, PropertyRef::Psolid(i)))
+        .collect();
+    let solids = index(solids, "property", errors);
     let mut entries = Vec::new();
     entries.extend(
         bulk.pshell
@@ -321,12 +340,6 @@ fn index_properties(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32
             .iter()
             .enumerate()
             .map(|(i, p)| entry(p.id, "PCOMP", &p.loc, PropertyRef::Pcomp(i))),
-    );
-    entries.extend(
-        bulk.psolid
-            .iter()
-            .enumerate()
-            .map(|(i, p)| entry(p.id, "PSOLID", &p.loc, PropertyRef::Psolid(i))),
     );
     entries.extend(
         bulk.pshear
@@ -394,7 +407,7 @@ fn index_properties(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32
             .enumerate()
             .map(|(i, p)| entry(p.id, "PBEAML", &p.loc, PropertyRef::Pbeaml(i))),
     );
-    index(entries, "property", errors)
+    (index(entries, "property", errors), solids)
 }
 
 fn index_materials(bulk: &BulkData, errors: &mut Vec<DeckError>) -> HashMap<u32, MaterialRef> {
@@ -474,6 +487,11 @@ fn element_id_space(
             .map(|c| entry(c.id, "CTETRA", &c.loc, ())),
     );
     e.extend(
+        bulk.cpyram
+            .iter()
+            .map(|c| entry(c.id, "CPYRAM", &c.loc, ())),
+    );
+    e.extend(
         bulk.celas1
             .iter()
             .map(|c| entry(c.id, "CELAS1", &c.loc, ())),
@@ -501,6 +519,11 @@ fn element_id_space(
     e.extend(bulk.cbeam.iter().map(|c| entry(c.id, "CBEAM", &c.loc, ())));
     e.extend(bulk.rbe2.iter().map(|c| entry(c.id, "RBE2", &c.loc, ())));
     e.extend(bulk.rbe3.iter().map(|c| entry(c.id, "RBE3", &c.loc, ())));
+    e.extend(
+        bulk.rsscon
+            .iter()
+            .map(|c| entry(c.id, "RSSCON", &c.loc, ())),
+    );
     e.sort_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));
     let mut declared = index(e, "element", errors);
     let masses = bulk
@@ -605,7 +628,12 @@ fn resolve_property(
     errors: &mut Vec<DeckError>,
 ) -> Option<PropertyRef> {
     let wanted = allowed.join(" or ");
-    match refs.properties.get(&pid) {
+    let (own, other) = if allowed.contains(&"PSOLID") {
+        (refs.solid_properties, refs.properties)
+    } else {
+        (refs.properties, refs.solid_properties)
+    };
+    match own.get(&pid).or_else(|| other.get(&pid)) {
         None => {
             errors.push(
                 DeckError::at(
@@ -776,6 +804,17 @@ fn build_elements(
         };
         solids.push((c.id, c.pid, &c.nodes[..], kind, i, "CTETRA", &c.loc));
     }
+    solids.extend(b.cpyram.iter().enumerate().map(|(i, c)| {
+        (
+            c.id,
+            c.pid,
+            &c.nodes[..],
+            ElementKind::Pyram5,
+            i,
+            "CPYRAM",
+            &c.loc,
+        )
+    }));
     for (id, pid, card_ids, kind, i, name, loc) in solids {
         let card = format!("{name} {id}");
         // a quadratic CHEXA / CPENTA lists 0 for a blank mid-side grid: its element keeps the

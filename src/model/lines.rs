@@ -38,6 +38,8 @@ pub struct LineSectionValues {
     /// Shear area factors (`None`: rigid in shear).
     pub k1: Option<f64>,
     pub k2: Option<f64>,
+    /// PBEAM neutral axis (N1, N2) in the element's y, z (0 for the other properties).
+    pub neutral_axis: [f64; 2],
 }
 
 /// A line element resolved into the basic system.
@@ -166,6 +168,7 @@ fn rod_section(mid: u32, a: f64, j: f64, nsm: f64) -> LineSectionValues {
         nsm,
         k1: None,
         k2: None,
+        neutral_axis: [0.0; 2],
     }
 }
 
@@ -180,6 +183,7 @@ fn shaped(mid: u32, s: SectionProperties, nsm: f64) -> LineSectionValues {
         nsm,
         k1: None,
         k2: None,
+        neutral_axis: [0.0; 2],
     }
 }
 
@@ -218,6 +222,7 @@ pub fn property_section(b: &BulkData, p: PropertyRef) -> Result<LineSectionValue
                 nsm: c.nsm,
                 k1: c.k1,
                 k2: c.k2,
+                neutral_axis: [0.0; 2],
             }
         }
         PropertyRef::Pbarl(i) | PropertyRef::Pbeaml(i) => {
@@ -242,6 +247,7 @@ pub fn property_section(b: &BulkData, p: PropertyRef) -> Result<LineSectionValue
                 nsm: c.nsm,
                 k1: factor(c.k1),
                 k2: factor(c.k2),
+                neutral_axis: c.neutral_axis,
             }
         }
         _ => return Err(gone()),

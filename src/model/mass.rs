@@ -163,7 +163,8 @@ impl Model {
             | ElementKind::Tetra4
             | ElementKind::Tetra10
             | ElementKind::Hexa20
-            | ElementKind::Penta15 => {
+            | ElementKind::Penta15
+            | ElementKind::Pyram5 => {
                 let PropertyRef::Psolid(i) = e.property? else {
                     return None;
                 };

@@ -43,6 +43,7 @@ pub mod params;
 pub mod pmpar;
 pub mod pressure;
 pub mod properties;
+pub mod rsscon;
 pub mod scalar_points;
 pub mod sensors;
 pub mod sets;
@@ -102,6 +103,8 @@ pub enum ElementKind {
     Hexa20,
     /// CPENTA with mid-side grids (15 nodes, blank mid-sides allowed).
     Penta15,
+    /// CPYRAM with 5 grids.
+    Pyram5,
     Celas1,
     Celas2,
     Celas3,
@@ -136,6 +139,7 @@ impl ElementKind {
             ElementKind::Hexa8 | ElementKind::Hexa20 => "CHEXA",
             ElementKind::Penta6 | ElementKind::Penta15 => "CPENTA",
             ElementKind::Tetra4 | ElementKind::Tetra10 => "CTETRA",
+            ElementKind::Pyram5 => "CPYRAM",
             ElementKind::Celas1 => "CELAS1",
             ElementKind::Celas2 => "CELAS2",
             ElementKind::Celas3 => "CELAS3",
@@ -176,6 +180,7 @@ impl ElementKind {
             ElementKind::Tetra10 => Some(SolidKind::Tetra10),
             ElementKind::Hexa20 => Some(SolidKind::Hexa20),
             ElementKind::Penta15 => Some(SolidKind::Penta15),
+            ElementKind::Pyram5 => Some(SolidKind::Pyram5),
             _ => None,
         }
     }
@@ -312,6 +317,8 @@ pub enum RigidKind {
         refc: Dofs,
         groups: Vec<WeightedGroup>,
     },
+    /// RSSCON: each shell grid follows the solid edge through it ([`rsscon`]).
+    Rsscon { links: Vec<rsscon::RssconLink> },
 }
 
 impl RigidKind {
@@ -320,6 +327,7 @@ impl RigidKind {
         match self {
             RigidKind::Rbe2 { .. } => "RBE2",
             RigidKind::Rbe3 { .. } => "RBE3",
+            RigidKind::Rsscon { .. } => "RSSCON",
         }
     }
 }
@@ -366,7 +374,8 @@ pub struct Model {
     pub element_index: HashMap<u32, usize>,
     /// Rigid elements sorted by id.
     pub rigids: Vec<Rigid>,
-    /// Property id → property.
+    /// Property id → property (a PSOLID with the id of another property, which its solid
+    /// elements name, is in their [`Element::property`] only).
     pub properties: HashMap<u32, PropertyRef>,
     /// Material id → material.
     pub materials: HashMap<u32, MaterialRef>,

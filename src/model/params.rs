@@ -131,6 +131,13 @@ pub const KNOWN_PARAMS: &[KnownParam] = &[
         ok: |v| v > 1.0,
         doc: "largest diagonal/pivot ratio the SOL 101 Cholesky accepts before reporting a mechanism; default 1e7 (Nastran)",
     },
+    KnownParam {
+        name: "BAILOUT",
+        kind: ParamType::Int,
+        rule: "an integer",
+        ok: |_| true,
+        doc: "SOL 101: a diagonal/pivot ratio above MAXRATIO stops the run (≥ 0, default 0) or is a warning and the run goes on (< 0), as MSC Nastran (UFM 9050 / BAILOUT); a zero or negative pivot stops it either way",
+    },
 ];
 
 /// Values of the known PARAMs (defaults as in [`KNOWN_PARAMS`]).
@@ -151,6 +158,9 @@ pub struct ModelParams {
     pub w4: f64,
     /// Modal damping tables as viscous (1) or structural (−1) damping (Nastran KDAMP).
     pub kdamp: i64,
+    /// SOL 101: a negative value turns a pivot ratio above MAXRATIO into a warning (Nastran
+    /// BAILOUT).
+    pub bailout: i64,
     /// SOL 101 factorization: largest a_kk / d_k accepted (Nastran MAXRATIO).
     pub maxratio: f64,
     /// CQUAD4 incompatible membrane modes (PARAM,QINCOMP; [`crate::fe::shell::Incompatible`]).
@@ -185,6 +195,7 @@ impl Default for ModelParams {
             w3: 0.0,
             w4: 0.0,
             kdamp: 1,
+            bailout: 0,
             maxratio: crate::linalg::cholesky::DEFAULT_MAX_RATIO,
             qincomp: true,
             resvec: true,
@@ -293,6 +304,7 @@ fn apply(
                 "W3" => out.w3 = v,
                 "W4" => out.w4 = v,
                 "KDAMP" => out.kdamp = v as i64,
+                "BAILOUT" => out.bailout = v as i64,
                 "MAXRATIO" => out.maxratio = v,
                 _ => {}
             }

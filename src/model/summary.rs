@@ -141,7 +141,7 @@ impl Model {
             block.connectivity.extend(conn);
         }
         let mut out: Vec<ElementBlock> = blocks.into_values().collect();
-        for card in ["RBE2", "RBE3"] {
+        for card in ["RBE2", "RBE3", "RSSCON"] {
             let mut block = ElementBlock {
                 card,
                 ids: Vec::new(),
@@ -179,6 +179,7 @@ impl Model {
             ElementKind::Cshear => b.cshear.get(e.card).map(|c| c.pid),
             ElementKind::Hexa8 | ElementKind::Hexa20 => b.chexa.get(e.card).map(|c| c.pid),
             ElementKind::Penta6 | ElementKind::Penta15 => b.cpenta.get(e.card).map(|c| c.pid),
+            ElementKind::Pyram5 => b.cpyram.get(e.card).map(|c| c.pid),
             ElementKind::Tetra4 | ElementKind::Tetra10 => b.ctetra.get(e.card).map(|c| c.pid),
             ElementKind::Celas1 => b.celas1.get(e.card).map(|c| c.pid),
             ElementKind::Celas3 => b.celas3.get(e.card).map(|c| c.pid),

@@ -203,8 +203,30 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>, warnings: &m
         }
     }
     for m in &b.mpc {
+        let card = format!("MPC {}", m.sid);
         for t in &m.terms {
-            refs.grid(t.grid, "G", &format!("MPC {}", m.sid), &m.loc, errors);
+            let (grid, scalar) = (
+                refs.grid_index.contains_key(&t.grid),
+                refs.scalar_index.contains_key(&t.grid),
+            );
+            let wrong = match (t.component, grid, scalar) {
+                (0, true, _) => Some(format!(
+                    "G = {} is a GRID: give its component 1-6 (0 or blank is for a scalar point)",
+                    t.grid
+                )),
+                (1.., _, true) => Some(format!(
+                    "G = {} is a scalar point: its component is 0 or blank, found {}",
+                    t.grid, t.component
+                )),
+                _ => None,
+            };
+            if let Some(message) = wrong {
+                errors.push(DeckError::at(&m.loc, message).on_card(card.clone()));
+            } else if t.component == 0 {
+                refs.point(t.grid, "G", &card, &m.loc, errors);
+            } else {
+                refs.grid(t.grid, "G", &card, &m.loc, errors);
+            }
         }
     }
     // a deck that reads a pROM names the artifact's input DOFs: checked when it is read

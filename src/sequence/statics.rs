@@ -48,6 +48,7 @@ use crate::deck::case_control::Subcase;
 use crate::discretize::thermal::{ThermalStrains, thermal_load};
 use crate::discretize::{Constrained, Structure};
 use crate::io::{write_f64, write_u32};
+use crate::linalg::LinalgError;
 use crate::model::Model;
 
 /// What one static subcase found (basic system).
@@ -63,6 +64,9 @@ pub struct StaticsSummary {
     pub reaction: [f64; 6],
     /// Size of K_ff.
     pub f_size: usize,
+    /// A pivot ratio above MAXRATIO let through by PARAM,BAILOUT < 0, on the subcase that
+    /// factored K_ff.
+    pub pivot_warning: Option<String>,
 }
 
 /// The STATICS driver on the mesh.
@@ -129,7 +133,14 @@ fn run(
     st: &Structure,
     clock: &mut Clock,
 ) -> Result<Vec<SubcaseSummary>, RunError> {
-    let mut factors = StaticFactors::new(ctx.model.params.maxratio, ctx.options.par());
+    let params = &ctx.model.params;
+    // BAILOUT < 0: factor with no ratio bound, then warn about a ratio above MAXRATIO
+    let bound = if params.bailout < 0 {
+        f64::INFINITY
+    } else {
+        params.maxratio
+    };
+    let mut factors = StaticFactors::new(bound, ctx.options.par());
     let m_gg_values = st.mass_gg_values()?;
     let mut out = Vec::new();
     // the solutions of the SUBCASEs so far, in deck order, when a SUBCOM combines them
@@ -161,6 +172,7 @@ fn run(
             });
             continue;
         }
+        let mut pivot_warning = None;
         if factors.get(&c).is_none() {
             let symbolic = clock
                 .time(format!("subcase {id}: symbolic analysis"), || {
@@ -175,8 +187,29 @@ fn run(
                 .time(format!("subcase {id}: Cholesky"), || {
                     factors.factor(&c, symbolic)
                 })
-                .map_err(|e| super::mechanism(&c, st, id, e))?;
+                .map_err(|e| {
+                    let ratio_only = matches!(e, LinalgError::NotPositiveDefinite { ratio, .. } if ratio.is_finite());
+                    let err = super::mechanism(&c, st, id, e);
+                    if ratio_only { bailout_hint(err) } else { err }
+                })?;
             ctx.progress.step("factorization", 1, 1);
+            let worst = factors
+                .get(&c)
+                .map(|f| f.max_pivot_ratio())
+                .filter(|w| w.ratio > params.maxratio);
+            pivot_warning = worst.map(|w| {
+                let ratio = LinalgError::NotPositiveDefinite {
+                    index: w.index,
+                    ratio: w.ratio,
+                };
+                let at = c
+                    .mechanism_dof(st, &ratio)
+                    .map_or_else(|| format!("f-set DOF {}", w.index), |d| d.to_string());
+                format!(
+                    "subcase {id}: the diagonal/pivot ratio {:e} at {at} exceeds PARAM,MAXRATIO = {:e}: the structure is nearly singular there; the run goes on because PARAM,BAILOUT is negative (check the results)",
+                    w.ratio, params.maxratio
+                )
+            });
         }
         let factor = factors.get(&c).ok_or(RunError::NoSolution)?;
         let summary = clock.time(format!("subcase {id}: solve and output"), || {
@@ -200,7 +233,8 @@ fn run(
                 &m_gg_values,
             )
             .map_err(|e| super::analysis_error(&c, st, id, e))?;
-            let summary = write_subcase(ctx, st, &c, sub, &solution)?;
+            let mut summary = write_subcase(ctx, st, &c, sub, &solution)?;
+            summary.pivot_warning = pivot_warning;
             if combines {
                 solved.push(solution);
             }
@@ -213,6 +247,25 @@ fn run(
         });
     }
     Ok(out)
+}
+
+/// A mechanism found by a finite pivot ratio above MAXRATIO (not a zero or negative pivot)
+/// says how to go on, as Nastran's UFM 9050 does.
+fn bailout_hint(e: RunError) -> RunError {
+    match e {
+        RunError::Mechanism {
+            subcase,
+            dof,
+            detail,
+        } => RunError::Mechanism {
+            subcase,
+            dof,
+            detail: format!(
+                "{detail}; PARAM,BAILOUT,-1 lets the run go on with a warning, as in MSC Nastran"
+            ),
+        },
+        e => e,
+    }
 }
 
 /// Writes one subcase's requested outputs and sums it up for the console.
@@ -276,6 +329,7 @@ fn write_subcase(
         applied: resultant(model, &p),
         reaction: resultant(model, &q),
         f_size: c.sets.f.len(),
+        pivot_warning: None,
     })
 }
 
@@ -344,5 +398,9 @@ impl Report for StaticsSummary {
         out.push(format!("  applied load           {}", f(&st.applied)));
         out.push(format!("  SPC reaction           {}", f(&st.reaction)));
         out
+    }
+
+    fn warnings(&self, _subcase: u32) -> Vec<String> {
+        self.pivot_warning.iter().cloned().collect()
     }
 }

@@ -128,8 +128,9 @@ impl SetUnion {
 /// One term of an `MPC` equation: a grid's component and its coefficient.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MpcTerm {
+    /// Grid or scalar point id.
     pub grid: u32,
-    /// Component 1-6 in the grid's displacement frame.
+    /// Component 1-6 in the grid's displacement frame; 0 for a scalar point.
     pub component: u8,
     pub coefficient: f64,
 }
@@ -139,7 +140,7 @@ pub struct MpcTerm {
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | SID | int > 0 | required | constraint set id |
-/// | 3, 4, 5 | G1 C1 A1 | int > 0, component 1-6, real ≠ 0 | required | the dependent DOF and its coefficient |
+/// | 3, 4, 5 | G1 C1 A1 | int > 0, component 1-6 (0 or blank: a scalar point), real ≠ 0 | required | the dependent DOF and its coefficient |
 /// | 6, 7, 8 | G2 C2 A2 | | blank | a second term |
 /// | continuation 3-5, 6-8 | G3 C3 A3, G4 C4 A4 … | | blank | two more terms per continuation (its fields 2 and 9 blank) |
 #[derive(Debug, Clone, PartialEq)]
@@ -175,22 +176,15 @@ impl Mpc {
                     _ => ("Gi", "Ci", "Ai"),
                 };
                 let grid = f.id(first, gname);
-                let code = f.int(first + 1, cname);
+                // blank or 0: a scalar point (the model check refuses it on a grid)
+                let code = f.int_or(first + 1, cname, 0);
                 let component = match code {
-                    1..=6 => code as u8,
-                    0 => {
-                        f.error(
-                            first + 1,
-                            cname,
-                            "component 0 (a scalar point) is not supported: paraflex has no SPOINT",
-                        );
-                        1
-                    }
+                    0..=6 => code as u8,
                     _ => {
                         f.error(
                             first + 1,
                             cname,
-                            format!("expected a single component 1-6, found {code}"),
+                            format!("expected a single component 1-6 (0 or blank for a scalar point), found {code}"),
                         );
                         1
                     }

@@ -1,4 +1,4 @@
-//! Elements: shells `CQUAD4`, `CTRIA3` (and `CQUADR`, `CTRIAR` in their layouts), `CQUAD8`, `CTRIA6`; solids `CHEXA`, `CPENTA`, `CTETRA`; scalar springs
+//! Elements: shells `CQUAD4`, `CTRIA3` (and `CQUADR`, `CTRIAR` in their layouts), `CQUAD8`, `CTRIA6`; solids `CHEXA`, `CPENTA`, `CTETRA`, `CPYRAM`; scalar springs
 //! `CELAS1`–`CELAS4` and dampers `CDAMP1`–`CDAMP4`; the viscous damper `CVISC`; the bush
 //! `CBUSH`; concentrated mass `CONM2`; scalar points `SPOINT`.
 
@@ -370,6 +370,45 @@ impl Ctetra {
     pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         let (id, pid, nodes, loc) = solid_nodes(card, 4, 6)?;
         Ok(Ctetra {
+            id,
+            pid,
+            nodes,
+            loc,
+        })
+    }
+}
+
+/// `CPYRAM` — pyramid with 4 base grids and an apex (the 13-node one, with mid-side grids, is
+/// refused).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | EID | int > 0 | required | element id |
+/// | 3 | PID | int > 0 | EID | PSOLID id |
+/// | 4–8 | G1–G5 | int > 0 | required | base G1–G4 (in order around it), apex G5 |
+/// | 9, cont. 2–9 | G6–G13 | int > 0 | blank | mid-side grids: not supported |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cpyram {
+    pub id: u32,
+    pub pid: u32,
+    /// The 5 grids.
+    pub nodes: Vec<u32>,
+    pub loc: Loc,
+}
+
+impl Cpyram {
+    /// Read a `CPYRAM` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let (id, pid, nodes, loc) = solid_nodes(card, 5, 8)?;
+        if nodes.len() > 5 {
+            let mut f = FieldReader::new(card);
+            f.set_id(id);
+            f.card_error(
+                "the 13-node CPYRAM (mid-side grids G6–G13) is not supported; give the 5 corner grids only",
+            );
+            return Err(f.into_errors());
+        }
+        Ok(Cpyram {
             id,
             pid,
             nodes,

@@ -312,7 +312,8 @@ const LIBRARY_DIMENSIONS: [(&str, usize); 21] = [
 /// | cont. | C1 … F2 | real | blank | stress recovery points at end A (kept, unused) |
 /// | cont. | SO X/XB A I1 I2 I12 J NSM (+ C1 … F2 when SO = YES) | | blank = end A's value | stations; a station that differs from end A by more than 1e-4 relative (a taper, not the rounding of an 8-character field) is refused; end A's section is used |
 /// | cont. | K1 K2 S1 S2 NSI(A) NSI(B) CW(A) CW(B) | real | 1.0 1.0 0 … | shear factors (0.0: rigid in shear); S1 S2 and CW kept (no effect on a constant section without warping DOF); NSI ≠ 0 refused |
-/// | cont. | M1(A) M2(A) M1(B) M2(B) N1(A) N2(A) N1(B) N2(B) | real | 0.0 | mass and neutral-axis offsets: ≠ 0 refused |
+/// | cont. | M1(A) M2(A) M1(B) M2(B) | real | 0.0 | centre-of-mass offsets: ≠ 0 refused |
+/// | cont. | N1(A) N2(A) N1(B) N2(B) | real | 0.0 (B: A's) | neutral axis (y, z) from the shear centre (the element axis): axial force acts on it, coupling stretch and bending; end B as end A only |
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pbeam {
     pub id: u32,
@@ -325,6 +326,8 @@ pub struct Pbeam {
     pub nsm: f64,
     pub k1: f64,
     pub k2: f64,
+    /// Neutral axis (N1, N2) from the shear centre in the element's y, z.
+    pub neutral_axis: [f64; 2],
     pub loc: Loc,
 }
 
@@ -384,17 +387,23 @@ impl Pbeam {
                 );
             }
         }
-        for (k, name) in [
-            "M1(A)", "M2(A)", "M1(B)", "M2(B)", "N1(A)", "N2(A)", "N1(B)", "N2(B)",
-        ]
-        .iter()
-        .enumerate()
-        {
+        for (k, name) in ["M1(A)", "M2(A)", "M1(B)", "M2(B)"].iter().enumerate() {
             if f.real_or(i + 8 + k, name, 0.0) != 0.0 {
+                f.error(i + 8 + k, name, "centre-of-mass offsets are not supported");
+            }
+        }
+        // the neutral axis of end A, end B's by default; a varying one would be a taper
+        let na_a = [
+            f.real_or(i + 12, "N1(A)", 0.0),
+            f.real_or(i + 13, "N2(A)", 0.0),
+        ];
+        for (k, name) in [(14, "N1(B)"), (15, "N2(B)")] {
+            let b = f.real_or(i + k, name, na_a[k - 14]);
+            if (b - na_a[k - 14]).abs() > SAME_SECTION * b.abs().max(na_a[k - 14].abs()) {
                 f.error(
-                    i + 8 + k,
+                    i + k,
                     name,
-                    "centre-of-mass and neutral-axis offsets are not supported",
+                    format!("{name} = {b:e} differs from end A's {:e}: a neutral axis that varies along the beam is not supported", na_a[k - 14]),
                 );
             }
         }
@@ -411,6 +420,7 @@ impl Pbeam {
             nsm: end_a[5],
             k1,
             k2,
+            neutral_axis: na_a,
             loc,
         })
     }

@@ -36,7 +36,7 @@ pub use dynamic::{
 };
 pub use elements::{
     BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Cmass2, Conm2, Cpenta,
-    Cquad4, Ctetra, Ctria3, Cvisc, OnCardLayout, QuadraticShell, Spoint,
+    Cpyram, Cquad4, Ctetra, Ctria3, Cvisc, OnCardLayout, QuadraticShell, Spoint,
 };
 pub use estimate::{Amanda, Ekf, Ekfinp, Ekfpar, Meas, Measf};
 pub use extension::{
@@ -57,7 +57,7 @@ pub use optimize::{Dconstr, Dobj, Dvmap, Moopt, Promlib, ResponseSource, SearchM
 pub use param::{Param, ParamValue};
 pub use properties::{Pbush, Pcomp, Pdamp, Pelas, Ply, Pshell, Psolid, Pvisc};
 pub use random::{Randps, Randt1, Tabrnd, TabrndKind};
-pub use rigid::{Rbe2, Rbe3, Rbe3Group};
+pub use rigid::{Rbe2, Rbe3, Rbe3Group, Rsscon, RssconForm};
 pub use shear_panel::{Cshear, Pshear};
 pub use temperature::{Matt1, Temp, Tempd};
 
@@ -86,6 +86,7 @@ pub struct BulkData {
     pub chexa: Vec<Chexa>,
     pub cpenta: Vec<Cpenta>,
     pub ctetra: Vec<Ctetra>,
+    pub cpyram: Vec<Cpyram>,
     pub celas1: Vec<Celas1>,
     pub celas2: Vec<Celas2>,
     pub celas3: Vec<Celas3>,
@@ -106,6 +107,7 @@ pub struct BulkData {
     pub cbeam: Vec<Cbar>,
     pub rbe2: Vec<Rbe2>,
     pub rbe3: Vec<Rbe3>,
+    pub rsscon: Vec<Rsscon>,
     pub mat1: Vec<Mat1>,
     pub mat8: Vec<Mat8>,
     pub mat2: Vec<Mat2>,
@@ -261,6 +263,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("CHEXA", |c, b| Ok(b.chexa.push(Chexa::from_card(c)?))),
     ("CPENTA", |c, b| Ok(b.cpenta.push(Cpenta::from_card(c)?))),
     ("CTETRA", |c, b| Ok(b.ctetra.push(Ctetra::from_card(c)?))),
+    ("CPYRAM", |c, b| Ok(b.cpyram.push(Cpyram::from_card(c)?))),
     ("CELAS1", |c, b| Ok(b.celas1.push(Celas1::from_card(c)?))),
     ("CELAS2", |c, b| Ok(b.celas2.push(Celas2::from_card(c)?))),
     ("CELAS3", |c, b| {
@@ -294,6 +297,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("CBEAM", |c, b| Ok(b.cbeam.push(Cbar::from_card(c, true)?))),
     ("RBE2", |c, b| Ok(b.rbe2.push(Rbe2::from_card(c)?))),
     ("RBE3", |c, b| Ok(b.rbe3.push(Rbe3::from_card(c)?))),
+    ("RSSCON", |c, b| Ok(b.rsscon.push(Rsscon::from_card(c)?))),
     ("MAT1", |c, b| Ok(b.mat1.push(Mat1::from_card(c)?))),
     ("MAT8", |c, b| Ok(b.mat8.push(Mat8::from_card(c)?))),
     ("MAT2", |c, b| Ok(b.mat2.push(Mat2::from_card(c)?))),

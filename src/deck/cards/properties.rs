@@ -265,6 +265,9 @@ impl Pcomp {
 
 /// `PSOLID` — solid element property.
 ///
+/// Its PID may repeat the id of a shell or line property: a solid element's PID names a PSOLID,
+/// any other element's PID the other property (MSC Nastran runs such decks, e.g. its `rs321h`).
+///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | PID | int > 0 | required | property id |

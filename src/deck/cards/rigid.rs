@@ -167,3 +167,68 @@ impl Rbe3 {
         })
     }
 }
+
+/// How an `RSSCON` names what it connects.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RssconForm {
+    /// `ELEM`: a shell element and the solid element its edge meets; the links are found from
+    /// the geometry (every shell grid on a line between two grids of the solid's face).
+    Elem { shell: u32, solid: u32 },
+    /// `GRID`: one or two links, each a shell grid and the bottom and top solid grids of the
+    /// solid edge it lies on.
+    Grid { links: Vec<[u32; 3]> },
+}
+
+/// `RSSCON` — shell-to-solid connector, a multipoint constraint.
+///
+/// The shell grids on a solid face become dependent on the solid grids of the edge through
+/// them (equations in `assembly::rsscon`).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | RBID | int > 0 | required | element id |
+/// | 3 | TYPE | `ELEM` or `GRID` | `ELEM` | how the connection is given |
+/// | 4 | ES1 | int > 0 | required | shell element (`ELEM`) or shell grid (`GRID`) |
+/// | 5 | EA1 | int > 0 | required | solid element (`ELEM`) or bottom solid grid (`GRID`) |
+/// | 6 | EB1 | int > 0 | `GRID`: required | top solid grid (`GRID` only) |
+/// | 7–9 | ES2 EA2 EB2 | int > 0 | blank | a second shell grid and its solid grids (`GRID` only) |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rsscon {
+    pub id: u32,
+    pub form: RssconForm,
+    pub loc: Loc,
+}
+
+impl Rsscon {
+    /// Read an `RSSCON` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "RBID");
+        f.set_id(id);
+        let grid_form = f.choice(2, "TYPE", &[("ELEM", false), ("GRID", true)], Some(false));
+        let form = if grid_form {
+            let mut links = vec![[f.id(3, "ES1"), f.id(4, "EA1"), f.id(5, "EB1")]];
+            if (6..=8).any(|i| !f.value(i).is_blank()) {
+                links.push([f.id(6, "ES2"), f.id(7, "EA2"), f.id(8, "EB2")]);
+            }
+            RssconForm::Grid { links }
+        } else {
+            for (i, name) in [(5, "EB1"), (6, "ES2"), (7, "EA2"), (8, "EB2")] {
+                if !f.value(i).is_blank() {
+                    f.error(
+                        i,
+                        name,
+                        "the ELEM form takes a shell and a solid element only",
+                    );
+                }
+            }
+            RssconForm::Elem {
+                shell: f.id(3, "ES1"),
+                solid: f.id(4, "EA1"),
+            }
+        };
+        let loc = f.loc();
+        f.finish(8)?;
+        Ok(Rsscon { id, form, loc })
+    }
+}

@@ -17,6 +17,7 @@
 //! | CHEXA (8) | Hexahedron (9) | G1..G4 bottom, G5..G8 top, as VTK_HEXAHEDRON |
 //! | CPENTA (6) | Wedge (8) | G1..G3, G4..G6 with G4 over G1, as VTK_WEDGE (a deck whose first face points inward renders the same; only the sign of the cell volume differs) |
 //! | CTETRA (4) | Tetrahedron (6) | |
+//! | CPYRAM (5) | Pyramid (7) | G1..G4 the base, G5 the apex, as VTK_PYRAMID |
 //! | CHEXA20, CPENTA15 | Hexahedron (9), Wedge (8) | the corner grids only: `/model` holds their corner cells (a blank mid-side grid has no grid to draw); results at the mid-side grids are in the grid datasets |
 //! | CTETRA10 | Tetrahedron_10 (38) | Nastran G5..G10 = edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4; VTK_QUADRATIC_TETRA uses edges (0,1),(1,2),(2,0),(0,3),(1,3),(2,3): identical |
 //! | CROD, CONROD, CTUBE, CBAR, CBEAM, CELAS1, CELAS2, RBE2, RBE3, other 2-node cards | Polyline, 2 nodes (2, then the node count 2) | a grounded spring repeats its grid (zero-length line); a beam is drawn between its grids (offsets are not drawn) |
@@ -43,6 +44,7 @@ enum Topology {
     Triangle6,
     Hexahedron,
     Wedge,
+    Pyramid,
     Tetrahedron,
     Tetrahedron10,
     Polyline2,
@@ -59,6 +61,7 @@ impl Topology {
             ("CTRIA6", 6) => Topology::Triangle6,
             ("CHEXA" | "CHEXA20", 8) => Topology::Hexahedron,
             ("CPENTA" | "CPENTA15", 6) => Topology::Wedge,
+            ("CPYRAM", 5) => Topology::Pyramid,
             ("CTETRA" | "CTETRA10_CORNERS", 4) => Topology::Tetrahedron,
             ("CTETRA10" | "CTETRA", 10) => Topology::Tetrahedron10,
             (_, 2) => Topology::Polyline2,
@@ -77,6 +80,7 @@ impl Topology {
             Topology::Triangle6 => r#"TopologyType="Triangle_6""#,
             Topology::Hexahedron => r#"TopologyType="Hexahedron""#,
             Topology::Wedge => r#"TopologyType="Wedge""#,
+            Topology::Pyramid => r#"TopologyType="Pyramid""#,
             Topology::Tetrahedron => r#"TopologyType="Tetrahedron""#,
             Topology::Tetrahedron10 => r#"TopologyType="Tetrahedron_10""#,
             Topology::Polyline2 => r#"TopologyType="Polyline" NodesPerElement="2""#,
@@ -101,6 +105,7 @@ impl Topology {
             Topology::Quadrilateral => 5,
             Topology::Tetrahedron => 6,
             Topology::Wedge => 8,
+            Topology::Pyramid => 7,
             Topology::Hexahedron => 9,
             Topology::Tetrahedron10 => 38,
             Topology::Triangle6 => 36,
