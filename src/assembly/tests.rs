@@ -240,6 +240,57 @@ fn rbe2_lever_arm_and_chain() {
 
 const SQUARE: &str = "GRID,1,,1.,1.,0.\nGRID,2,,-1.,1.,0.\nGRID,3,,-1.,-1.,0.\nGRID,4,,1.,-1.,0.\nGRID,5,,0.,0.,0.\n";
 
+/// RBE3 with unequal weights (1 on grids 1, 2; 3 on grids 3, 4; translations only): the
+/// reference's six DOFs are the weighted least-squares rigid motion of the legs,
+/// u_ref = (Σ Gᵢᵀ wᵢ Gᵢ)⁻¹ Σ Gᵢᵀ wᵢ uᵢ with Gᵢ = [I | −[rᵢ]×] (the RBE3 definition; the weighted
+/// centre is off the reference point, so translations and rotations couple), computed here
+/// with faer's dense LU rather than the module's 6 × 6 inverse.
+#[test]
+fn rbe3_unequal_weights_give_the_weighted_least_squares_motion() {
+    let m = model(
+        &format!("{SQUARE}RBE3,9,,5,123456,1.,123,1,2,\n+,3.,123,3,4\n"),
+        "",
+    );
+    let map = DofMap::of_model(&m);
+    let rigid = RigidElimination::of_model(&m, &GridFrames::of_model(&m), &map).expect("rigid");
+    let corners: [[f64; 3]; 4] = [[1., 2., 3.], [-1., 0., 5.], [4., 2., -1.], [0., 0., 1.]];
+    let weights = [1.0, 1.0, 3.0, 3.0];
+    let r: [[f64; 3]; 4] = [[1., 1., 0.], [-1., 1., 0.], [-1., -1., 0.], [1., -1., 0.]];
+    let mut u_n = vec![0.0; rigid.n.len()];
+    for (g, t) in corners.iter().enumerate() {
+        u_n[6 * g..6 * g + 3].copy_from_slice(t);
+    }
+    let u = rigid.expand(&u_n).expect("expand");
+    let mut normal = Mat::<f64>::zeros(6, 6);
+    let mut rhs = Mat::<f64>::zeros(6, 1);
+    for g in 0..4 {
+        let [x, y, z] = r[g];
+        // u_leg = u_ref + θ × r = u_ref − [r]× θ
+        let gi = Mat::from_fn(3, 6, |i, j| match (i, j) {
+            (i, j) if j < 3 => f64::from(u8::from(i == j)),
+            (0, 4) => z,
+            (0, 5) => -y,
+            (1, 3) => -z,
+            (1, 5) => x,
+            (2, 3) => y,
+            (2, 4) => -x,
+            _ => 0.0,
+        });
+        normal += gi.transpose() * &gi * weights[g];
+        rhs += gi.transpose() * Mat::from_fn(3, 1, |i, _| corners[g][i]) * weights[g];
+    }
+    let expected = normal.partial_piv_lu().solve(&rhs);
+    for k in 0..6 {
+        assert!(
+            close(u[24 + k], expected[(k, 0)]),
+            "reference DOF {}: {} vs {}",
+            k + 1,
+            u[24 + k],
+            expected[(k, 0)]
+        );
+    }
+}
+
 /// RBE3 with equal weights on the four corners of a square: the reference translation is the
 /// average; a rigid rotation of the corners gives the reference that rotation.
 #[test]
