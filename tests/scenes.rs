@@ -228,28 +228,31 @@ fn blade() {
 /// generators write now. `make test` creates `.venv` first; without it the check fails.
 #[test]
 fn committed_includes_are_current() {
+    check_generator("meshes/build.py");
+}
+
+/// `script --check` with the venv's Python must succeed: the committed files it writes are
+/// byte-identical to what it writes now. `make test` creates `.venv` first; without it the
+/// check fails.
+fn check_generator(script: &str) {
     let python = root().join(".venv/bin/python");
     assert!(
         python.exists(),
-        "{} is missing: run `make test` (it creates the venv) to check the committed mesh includes",
+        "{} is missing: run `make test` (it creates the venv) to check {script}'s files",
         python.display()
     );
     let out = std::process::Command::new(&python)
-        .arg("meshes/build.py")
-        .arg("--check")
+        .args([script, "--check"])
         .current_dir(root())
         .output()
-        .expect("run meshes/build.py --check");
+        .unwrap_or_else(|e| panic!("run {script} --check: {e}"));
     let text = format!(
         "{}{}",
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
     println!("{text}");
-    assert!(
-        out.status.success(),
-        "meshes/build.py --check failed:\n{text}"
-    );
+    assert!(out.status.success(), "{script} --check failed:\n{text}");
 }
 
 /// The composite link libraries of thesis §6.3.1 (`tools/robot/composite_library.py`): the
@@ -259,23 +262,7 @@ fn committed_includes_are_current() {
 /// once for the 8-ply mass, so the other counts test the laminate's thickness scaling).
 #[test]
 fn composite_link_libraries_are_current_and_weigh_what_tables_6_1_and_6_2_say() {
-    let python = root().join(".venv/bin/python");
-    assert!(
-        python.exists(),
-        "{} is missing: run `make test`",
-        python.display()
-    );
-    let out = std::process::Command::new(&python)
-        .args(["tools/robot/composite_library.py", "--check"])
-        .current_dir(root())
-        .output()
-        .expect("run tools/robot/composite_library.py --check");
-    assert!(
-        out.status.success(),
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    check_generator("tools/robot/composite_library.py");
     let table: [(&str, [f64; 4]); 2] = [
         ("l2", [0.2652, 0.3536, 0.4420, 0.5304]),
         ("l3", [0.1680, 0.2240, 0.2800, 0.3360]),

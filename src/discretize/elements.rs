@@ -134,6 +134,20 @@ struct ElementContext<'a> {
     incompatible: bool,
 }
 
+impl<'a> ElementContext<'a> {
+    /// The context of `model`'s elements: its numbering and its mass and membrane options.
+    fn new(model: &'a Model, frames: &'a GridFrames, params: &'a Parameters) -> Self {
+        ElementContext {
+            model,
+            map: DofMap::of_model(model),
+            frames,
+            params,
+            lumped: model.params.coupmass != 1,
+            incompatible: model.params.qincomp,
+        }
+    }
+}
+
 /// Element matrices of every element of `model` (in parallel when `parallel`), with their
 /// coefficients bound to the entities `params` act on.
 pub fn element_matrices(
@@ -146,14 +160,7 @@ pub fn element_matrices(
     let total = model.elements.len();
     let done = AtomicUsize::new(0);
     let step = (total / 100).max(1);
-    let ctx = ElementContext {
-        model,
-        map: DofMap::of_model(model),
-        frames,
-        params,
-        lumped: model.params.coupmass != 1,
-        incompatible: model.params.qincomp,
-    };
+    let ctx = ElementContext::new(model, frames, params);
     let one = |e: &Element| {
         let r = element(&ctx, e);
         let d = done.fetch_add(1, Ordering::Relaxed) + 1;
@@ -195,14 +202,7 @@ pub(crate) fn element_stiffnesses<'m>(
     params: &Parameters,
     keep: impl Fn(&Element) -> bool,
 ) -> Result<Vec<(&'m Element, Contribution)>, DiscretizeError> {
-    let ctx = ElementContext {
-        model,
-        map: DofMap::of_model(model),
-        frames,
-        params,
-        lumped: model.params.coupmass != 1,
-        incompatible: model.params.qincomp,
-    };
+    let ctx = ElementContext::new(model, frames, params);
     let mut out = Vec::new();
     for e in model.elements.iter().filter(|e| keep(e)) {
         if let Some(k) = element(&ctx, e)?.k {
