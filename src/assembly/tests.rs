@@ -238,6 +238,41 @@ fn rbe2_lever_arm_and_chain() {
     );
 }
 
+/// RBE2 onto a grid whose displacement system (CD) is turned 90° about z (x' = y, y' = −x):
+/// the dependent grid's DOFs are the rigid motion resolved in that system. A translation
+/// (1, 0, 0) of the independent grid reads (0, −1, 0); a rotation θz = 1 moves the grid at
+/// r = (0, 1, 0) by θ × r = (−1, 0, 0), i.e. (0, 1, 0) in CD, and turns it by (0, 0, 1).
+#[test]
+fn rbe2_resolves_the_rigid_motion_in_the_dependent_grid_cd_system() {
+    let bulk = "CORD2R,5,,0.,0.,0.,0.,0.,1.\n,0.,1.,0.\nGRID,1,,0.,0.,0.\nGRID,2,,0.,1.,0.,5\n\
+                RBE2,8,1,123456,2\n";
+    let m = model(bulk, "");
+    let map = DofMap::of_model(&m);
+    let rigid = RigidElimination::of_model(&m, &GridFrames::of_model(&m), &map).expect("rigid");
+    let u = rigid.expand(&[1., 0., 0., 0., 0., 0.]).expect("expand");
+    let expected = [0., -1., 0., 0., 0., 0.];
+    assert!(
+        (0..6).all(|k| close(u[6 + k], expected[k])),
+        "{:?}",
+        &u[6..]
+    );
+    let u = rigid.expand(&[0., 0., 0., 0., 0., 1.]).expect("expand");
+    let expected = [0., 1., 0., 0., 0., 1.];
+    assert!(
+        (0..6).all(|k| close(u[6 + k], expected[k])),
+        "{:?}",
+        &u[6..]
+    );
+    let u = rigid.expand(&[0., 0., 0., 1., 0., 0.]).expect("expand");
+    // θx = 1: θ × r = (0, 0, 1); the rotation (1, 0, 0) reads (0, −1, 0) in CD
+    let expected = [0., 0., 1., 0., -1., 0.];
+    assert!(
+        (0..6).all(|k| close(u[6 + k], expected[k])),
+        "{:?}",
+        &u[6..]
+    );
+}
+
 const SQUARE: &str = "GRID,1,,1.,1.,0.\nGRID,2,,-1.,1.,0.\nGRID,3,,-1.,-1.,0.\nGRID,4,,1.,-1.,0.\nGRID,5,,0.,0.,0.\n";
 
 /// RBE3 with unequal weights (1 on grids 1, 2; 3 on grids 3, 4; translations only): the
