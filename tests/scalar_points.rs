@@ -58,6 +58,27 @@ fn spring_chain_on_scalar_points_matches_the_closed_form() {
     assert!(q[0].abs() <= 1e-12 && q[1].abs() <= 1e-12, "{q:?}");
 }
 
+/// Ground may be written as a 0 id as well as a blank (QRG: G, S integer ≥ 0), as in MSC's
+/// `sdbush10` (`CELAS1 … 777 1 0 0`): the chain with CELAS4 101's ground end written as S2 = 0,
+/// plus a zero-stiffness CELAS1 from GRID 10 to a ground written G2 C2 = 0 0, gives the same
+/// closed form.
+#[test]
+fn ground_may_be_written_as_a_zero_id() {
+    let deck = CHAIN
+        .replace("CELAS4,101,1.0,1\n", "CELAS4,101,1.0,1,0\n")
+        .replace(
+            "PELAS,7,3.0\n",
+            "PELAS,7,3.0\nPELAS,8,0.0\nCELAS1,105,8,10,1,0,0\n",
+        );
+    let (file, _dir) = run_to_file(&deck);
+    let g = file.group("results/1/statics").expect("statics");
+    let u: Vec<f64> = read_dataset(&g, "displacement_scalar");
+    let expected = [31.0 / 11.0, 19.0 / 11.0, 1.0];
+    for (a, b) in u.iter().zip(expected) {
+        assert!((a - b).abs() <= 1e-12, "{u:?} vs {expected:?}");
+    }
+}
+
 /// Scalar points need not be declared: a CELAS end with component 0 or blank whose id is no
 /// GRID is a scalar point (as in Nastran); same numbers as the declared chain.
 /// An MPC whose dependent DOF is a scalar point (as Femap writes relative motions): s = u₁ − u₂

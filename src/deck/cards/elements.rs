@@ -417,8 +417,13 @@ impl Cpyram {
     }
 }
 
+/// A scalar element's grid or scalar point: blank or 0 is ground (QRG: integer ≥ 0).
+fn end_point(f: &mut FieldReader, i: usize, name: &str) -> Option<u32> {
+    Some(f.id0_or(i, name, 0)).filter(|&g| g != 0)
+}
+
 fn spring_end(f: &mut FieldReader, i: usize, gname: &str, cname: &str) -> SpringEnd {
-    let grid = f.opt_id(i, gname);
+    let grid = end_point(f, i, gname);
     let code = f.int_or(i + 1, cname, 0);
     let component = match (grid, code) {
         // a blank or zero component names a scalar point (or ground without a point)
@@ -447,11 +452,11 @@ fn spring_ends(f: &mut FieldReader, first: usize, scalar_only: bool) -> [SpringE
     let ends = if scalar_only {
         [
             SpringEnd {
-                grid: f.opt_id(first, "S1"),
+                grid: end_point(f, first, "S1"),
                 component: 0,
             },
             SpringEnd {
-                grid: f.opt_id(first + 1, "S2"),
+                grid: end_point(f, first + 1, "S2"),
                 component: 0,
             },
         ]
@@ -484,10 +489,10 @@ fn spring_ends(f: &mut FieldReader, first: usize, scalar_only: bool) -> [SpringE
 /// |---|---|---|---|---|
 /// | 2 | EID | int > 0 | required | element id |
 /// | 3 | PID | int > 0 | EID | PELAS id (CDAMP1: PDAMP id) |
-/// | 4, 5 | G1 C1 | int | blank | first end: a grid and component 1–6, a scalar point with C1 0 or blank, or ground (blank G1) |
+/// | 4, 5 | G1 C1 | int | blank | first end: a grid and component 1–6, a scalar point with C1 0 or blank, or ground (blank or 0 G1) |
 /// | 6, 7 | G2 C2 | int | blank | second end, as the first |
 ///
-/// `CELAS3` / `CDAMP3` carry two scalar points instead (fields 4, 5: S1 S2, blank = ground),
+/// `CELAS3` / `CDAMP3` carry two scalar points instead (fields 4, 5: S1 S2, blank or 0 = ground),
 /// read into the same struct with components 0.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Celas1 {
