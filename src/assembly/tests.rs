@@ -273,6 +273,30 @@ fn rbe2_resolves_the_rigid_motion_in_the_dependent_grid_cd_system() {
     );
 }
 
+/// A chain of RBE2s with levers other than 1 and out of plane: GN 1 → GM 2 at r = (0, 2, 0),
+/// GN 2 → GM 3 at r = (0, 1, 1). θz₁ = 1 moves grid 2 by (−2, 0, 0) and grid 3 by
+/// (−2, 0, 0) + (0, 0, 1) × (0, 1, 1) = (−3, 0, 0); θx₁ = 1 moves grid 2 by (0, 0, 2) and grid 3
+/// by (0, 0, 2) + (1, 0, 0) × (0, 1, 1) = (0, −1, 3).
+#[test]
+fn rbe2_chain_composes_levers_in_three_dimensions() {
+    let bulk = "GRID,1,,0.,0.,0.\nGRID,2,,0.,2.,0.\nGRID,3,,0.,3.,1.\nRBE2,7,1,123456,2\nRBE2,8,2,123456,3\n";
+    let m = model(bulk, "");
+    let map = DofMap::of_model(&m);
+    let rigid = RigidElimination::of_model(&m, &GridFrames::of_model(&m), &map).expect("rigid");
+    for (u1, grid2, grid3) in [
+        ([0., 0., 0., 0., 0., 1.], [-2., 0., 0.], [-3., 0., 0.]),
+        ([0., 0., 0., 1., 0., 0.], [0., 0., 2.], [0., -1., 3.]),
+    ] {
+        let u = rigid.expand(&u1).expect("expand");
+        for c in 0..3 {
+            assert!(
+                close(u[6 + c], grid2[c]) && close(u[12 + c], grid3[c]),
+                "{u1:?}: {u:?}"
+            );
+        }
+    }
+}
+
 const SQUARE: &str = "GRID,1,,1.,1.,0.\nGRID,2,,-1.,1.,0.\nGRID,3,,-1.,-1.,0.\nGRID,4,,1.,-1.,0.\nGRID,5,,0.,0.,0.\n";
 
 /// RBE3 with unequal weights (1 on grids 1, 2; 3 on grids 3, 4; translations only): the
@@ -670,8 +694,12 @@ fn rigid_errors_are_typed() {
     let e = RigidElimination::of_model(&cyc, &GridFrames::of_model(&cyc), &DofMap::of_model(&cyc))
         .unwrap_err();
     assert!(matches!(e, AssemblyError::RigidCycle { .. }), "{e}");
+    // the cycle is T3 of grids 1 and 2 (RBE2 9 and 10); RBE2 7 and 8 are not part of it
     assert!(
-        e.to_string().contains("RBE2 9") && e.to_string().contains("RBE2 10"),
+        e.to_string().contains("RBE2 9")
+            && e.to_string().contains("RBE2 10")
+            && !e.to_string().contains("RBE2 7")
+            && !e.to_string().contains("RBE2 8"),
         "{e}"
     );
 
