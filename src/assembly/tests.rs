@@ -299,54 +299,69 @@ fn rbe2_chain_composes_levers_in_three_dimensions() {
 
 const SQUARE: &str = "GRID,1,,1.,1.,0.\nGRID,2,,-1.,1.,0.\nGRID,3,,-1.,-1.,0.\nGRID,4,,1.,-1.,0.\nGRID,5,,0.,0.,0.\n";
 
-/// RBE3 with unequal weights (1 on grids 1, 2; 3 on grids 3, 4; translations only): the
-/// reference's six DOFs are the weighted least-squares rigid motion of the legs,
-/// u_ref = (Σ Gᵢᵀ wᵢ Gᵢ)⁻¹ Σ Gᵢᵀ wᵢ uᵢ with Gᵢ = [I | −[rᵢ]×] (the RBE3 definition; the weighted
-/// centre is off the reference point, so translations and rotations couple), computed here
-/// with faer's dense LU rather than the module's 6 × 6 inverse.
+/// RBE3 with unequal weights (1 on grids 1, 2; 3 on grids 3, 4): the reference's six DOFs are
+/// the weighted least-squares rigid motion of the legs, u_ref = (Σ Gᵢᵀ Wᵢ Gᵢ)⁻¹ Σ Gᵢᵀ Wᵢ uᵢ with
+/// Gᵢ = [I −[rᵢ]×; 0 I] restricted to each group's components and Wᵢ the group weight, times L_c²
+/// on rotations (L_c = √2, the corners' mean distance: the MSC definition of the module doc). The
+/// weighted centre is off the reference point, so translations and rotations couple. Computed
+/// here with faer's dense LU rather than the module's 6 × 6 inverse, for translations only and
+/// with the first group's rotations observed too.
 #[test]
 fn rbe3_unequal_weights_give_the_weighted_least_squares_motion() {
-    let m = model(
-        &format!("{SQUARE}RBE3,9,,5,123456,1.,123,1,2,\n+,3.,123,3,4\n"),
-        "",
-    );
-    let map = DofMap::of_model(&m);
-    let rigid = RigidElimination::of_model(&m, &GridFrames::of_model(&m), &map).expect("rigid");
-    let corners: [[f64; 3]; 4] = [[1., 2., 3.], [-1., 0., 5.], [4., 2., -1.], [0., 0., 1.]];
+    let legs: [[f64; 6]; 4] = [
+        [1., 2., 3., 0.1, -0.2, 0.3],
+        [-1., 0., 5., 0.4, 0.0, -0.1],
+        [4., 2., -1., 0.2, 0.3, 0.0],
+        [0., 0., 1., -0.3, 0.1, 0.2],
+    ];
     let weights = [1.0, 1.0, 3.0, 3.0];
     let r: [[f64; 3]; 4] = [[1., 1., 0.], [-1., 1., 0.], [-1., -1., 0.], [1., -1., 0.]];
-    let mut u_n = vec![0.0; rigid.n.len()];
-    for (g, t) in corners.iter().enumerate() {
-        u_n[6 * g..6 * g + 3].copy_from_slice(t);
-    }
-    let u = rigid.expand(&u_n).expect("expand");
-    let mut normal = Mat::<f64>::zeros(6, 6);
-    let mut rhs = Mat::<f64>::zeros(6, 1);
-    for g in 0..4 {
-        let [x, y, z] = r[g];
-        // u_leg = u_ref + θ × r = u_ref − [r]× θ
-        let gi = Mat::from_fn(3, 6, |i, j| match (i, j) {
-            (i, j) if j < 3 => f64::from(u8::from(i == j)),
-            (0, 4) => z,
-            (0, 5) => -y,
-            (1, 3) => -z,
-            (1, 5) => x,
-            (2, 3) => y,
-            (2, 4) => -x,
-            _ => 0.0,
-        });
-        normal += gi.transpose() * &gi * weights[g];
-        rhs += gi.transpose() * Mat::from_fn(3, 1, |i, _| corners[g][i]) * weights[g];
-    }
-    let expected = normal.partial_piv_lu().solve(&rhs);
-    for k in 0..6 {
-        assert!(
-            close(u[24 + k], expected[(k, 0)]),
-            "reference DOF {}: {} vs {}",
-            k + 1,
-            u[24 + k],
-            expected[(k, 0)]
+    let lc2 = 2.0;
+    for (first, observed) in [("123", 3), ("123456", 6)] {
+        let m = model(
+            &format!("{SQUARE}RBE3,9,,5,123456,1.,{first},1,2,\n+,3.,123,3,4\n"),
+            "",
         );
+        let map = DofMap::of_model(&m);
+        let rigid = RigidElimination::of_model(&m, &GridFrames::of_model(&m), &map).expect("rigid");
+        let mut u_n = vec![0.0; rigid.n.len()];
+        for (g, leg) in legs.iter().enumerate() {
+            u_n[6 * g..6 * g + 6].copy_from_slice(leg);
+        }
+        let u = rigid.expand(&u_n).expect("expand");
+        let mut normal = Mat::<f64>::zeros(6, 6);
+        let mut rhs = Mat::<f64>::zeros(6, 1);
+        for g in 0..4 {
+            let [x, y, z] = r[g];
+            // u_leg = u_ref + θ × r = u_ref − [r]× θ; θ_leg = θ
+            let gi = Mat::from_fn(6, 6, |i, j| match (i, j) {
+                (i, j) if i == j => 1.0,
+                (0, 4) => z,
+                (0, 5) => -y,
+                (1, 3) => -z,
+                (1, 5) => x,
+                (2, 3) => y,
+                (2, 4) => -x,
+                _ => 0.0,
+            });
+            let rows = if g < 2 { observed } else { 3 };
+            for c in 0..rows {
+                let w = weights[g] * if c < 3 { 1.0 } else { lc2 };
+                let row = gi.as_ref().subrows(c, 1);
+                normal += row.transpose() * row * w;
+                rhs += row.transpose() * Mat::from_fn(1, 1, |_, _| legs[g][c]) * w;
+            }
+        }
+        let expected = normal.partial_piv_lu().solve(&rhs);
+        for k in 0..6 {
+            assert!(
+                close(u[24 + k], expected[(k, 0)]),
+                "C = {first}, reference DOF {}: {} vs {}",
+                k + 1,
+                u[24 + k],
+                expected[(k, 0)]
+            );
+        }
     }
 }
 
