@@ -345,11 +345,11 @@ fn rbe3_unequal_weights_give_the_weighted_least_squares_motion() {
                 _ => 0.0,
             });
             let rows = if g < 2 { observed } else { 3 };
-            for c in 0..rows {
+            for (c, &value) in legs[g].iter().enumerate().take(rows) {
                 let w = weights[g] * if c < 3 { 1.0 } else { lc2 };
                 let row = gi.as_ref().subrows(c, 1);
                 normal += row.transpose() * row * w;
-                rhs += row.transpose() * Mat::from_fn(1, 1, |_, _| legs[g][c]) * w;
+                rhs += row.transpose() * Mat::from_fn(1, 1, |_, _| value) * w;
             }
         }
         let expected = normal.partial_piv_lu().solve(&rhs);
