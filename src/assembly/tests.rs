@@ -365,6 +365,30 @@ fn rbe3_unequal_weights_give_the_weighted_least_squares_motion() {
     }
 }
 
+/// RBE3 whose legs all sit on the reference point (L_c = 0, taken as 1): with all six
+/// components observed, the reference motion is the weighted average of the legs' motions,
+/// rotations included (weights 1 and 3).
+#[test]
+fn rbe3_with_legs_on_the_reference_point_averages_their_motions() {
+    let bulk = "GRID,1,,0.,0.,0.\nGRID,2,,0.,0.,0.\nGRID,5,,0.,0.,0.\n\
+                RBE3,9,,5,123456,1.,123456,1,\n+,3.,123456,2\n";
+    let m = model(bulk, "");
+    let map = DofMap::of_model(&m);
+    let rigid = RigidElimination::of_model(&m, &GridFrames::of_model(&m), &map).expect("rigid");
+    let legs = [[1., 2., 3., 0.4, -0.8, 1.2], [5., -2., 7., 0.0, 0.4, -0.4]];
+    let u_n: Vec<f64> = legs.iter().flatten().copied().collect();
+    let u = rigid.expand(&u_n).expect("expand");
+    for k in 0..6 {
+        let expected = (legs[0][k] + 3.0 * legs[1][k]) / 4.0;
+        assert!(
+            close(u[12 + k], expected),
+            "DOF {}: {} vs {expected}",
+            k + 1,
+            u[12 + k]
+        );
+    }
+}
+
 /// RBE3 with equal weights on the four corners of a square: the reference translation is the
 /// average; a rigid rotation of the corners gives the reference that rotation.
 #[test]
