@@ -337,12 +337,18 @@ fn other_begin_section(loc: &Loc, text: &str) -> Option<OtherBegin> {
                 Ok(seid) if seid > 0 && seid <= u32::MAX / 2 => OtherBegin::Part(seid),
                 _ => OtherBegin::Refused(DeckError::at(
                     loc,
-                    format!("'{}': expected a part superelement id > 0 after SUPER =", text.trim()),
+                    format!(
+                        "'{}': expected a part superelement id > 0 after SUPER =",
+                        text.trim()
+                    ),
                 )),
             },
             _ => OtherBegin::Refused(DeckError::at(
                 loc,
-                format!("'{}': expected BEGIN SUPER = n with one superelement id n > 0", text.trim()),
+                format!(
+                    "'{}': expected BEGIN SUPER = n with one superelement id n > 0",
+                    text.trim()
+                ),
             )),
         });
     }

@@ -41,6 +41,7 @@ impl Model {
         }
         let bulk = &deck.bulk;
         let mut errors: Vec<DeckError> = Vec::new();
+        super::parts::main_reduction_sets(deck, &mut errors, &mut warnings);
 
         index(
             bulk.coords

@@ -65,7 +65,11 @@ impl Sebulk {
         }
         let rseid = f.id0_or(3, "RSEID", 0);
         if rseid != 0 && kind == "PRIMARY" {
-            f.error(3, "RSEID", "a PRIMARY superelement has no RSEID (leave it blank)");
+            f.error(
+                3,
+                "RSEID",
+                "a PRIMARY superelement has no RSEID (leave it blank)",
+            );
         }
         let method = f.choice(
             4,
@@ -155,9 +159,7 @@ impl Seconct {
 
 /// The pairs of a `SECONCT` from field `from` on: `A B` pairs or `A1 THRU A2 B1 THRU B2`.
 fn grid_pairs(f: &mut FieldReader, from: usize) -> Vec<(u32, u32)> {
-    let is_thru = |f: &FieldReader, i: usize| {
-        matches!(f.value(i), crate::deck::value::Value::Text(t) if t.eq_ignore_ascii_case("THRU"))
-    };
+    let is_thru = |f: &FieldReader, i: usize| matches!(f.value(i), crate::deck::value::Value::Text(t) if t.eq_ignore_ascii_case("THRU"));
     let mut pairs = Vec::new();
     let end = f.len();
     let mut i = from;
@@ -167,7 +169,11 @@ fn grid_pairs(f: &mut FieldReader, from: usize) -> Vec<(u32, u32)> {
             let a2 = f.id(i + 2, "GIDA2");
             let b1 = f.id(i + 3, "GIDB1");
             if !is_thru(f, i + 4) {
-                f.error(i + 4, "THRU", "expected THRU (GIDA1 THRU GIDA2 GIDB1 THRU GIDB2)");
+                f.error(
+                    i + 4,
+                    "THRU",
+                    "expected THRU (GIDA1 THRU GIDA2 GIDB1 THRU GIDB2)",
+                );
             }
             let b2 = f.id(i + 5, "GIDB2");
             if a2 < a1 || b2 < b1 || a2 - a1 != b2 - b1 {
@@ -259,10 +265,19 @@ impl Seloc {
     }
 }
 
-/// `ASET`/`QSET` (pairs of grid and components) and `ASET1`/`QSET1` (components and a grid
-/// list) inside a part superelement: the part's boundary and generalized-coordinate sets, which
-/// only define how Nastran reduces the part. paraflex solves the assembled model unreduced, so
-/// they are read (their grids checked) and not honoured, with a warning.
+/// `ASET`, `QSET` — (grid, components) pairs — and `ASET1`, `QSET1` in a part — components,
+/// then grids (`THRU` allowed): the boundary and generalized-coordinate sets by which Nastran
+/// reduces a part or the residual. paraflex solves unreduced: in a part they are read (grids
+/// checked) and not honoured, with a warning; in the main bulk data likewise in SOL 101
+/// (static condensation is exact), refused in the other solutions (Guyan reduction changes
+/// their answer). A main-bulk `ASET1` keeps its own meaning (the a-set of `PMOR BSET`).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2, 4, 6, 8 | IDi | int > 0 | – | `ASET`/`QSET`: grid |
+/// | 3, 5, 7, 9 | Ci | components | blank | `ASET`/`QSET`: its components |
+/// | 2 | C | components | blank | `QSET1`: components |
+/// | 3 … | Gi | int > 0 (`THRU`) | – | `QSET1`: grids |
 #[derive(Debug, Clone)]
 pub struct ReductionSet {
     pub card: String,

@@ -114,7 +114,10 @@ fn move_constraints(out: &mut BulkData, from: usize, to: usize, default_ps: Dofs
         c.grid = head;
     }
     for c in &mut out.spc1 {
-        c.grids.iter_mut().filter(|g| **g == id).for_each(|g| *g = head);
+        c.grids
+            .iter_mut()
+            .filter(|g| **g == id)
+            .for_each(|g| *g = head);
     }
 }
 
@@ -143,16 +146,52 @@ pub fn connect(
                 .point_to_basic(g.x)
         })
         .collect();
-    let n = out.grids.len();
-    let mut uf = UnionFind((0..n).collect());
+    let mut uf = UnionFind((0..out.grids.len()).collect());
+    coincident(&at, owner, search, &mut uf);
+    seconct_pairs(&at, owner, &out.grids, seconct, &mut uf, errors);
+    let points = Points {
+        systems: &systems,
+        at: &at,
+        owner,
+        default_ps,
+    };
+    let (drop, first_of_id) = same_ids(out, &points, &mut uf, errors);
+    let joins = tie(
+        out,
+        &points,
+        &mut uf,
+        (&drop, &first_of_id),
+        loc_of,
+        used,
+        errors,
+    );
+    let mut k = 0;
+    out.grids.retain(|_| {
+        k += 1;
+        !drop[k - 1]
+    });
+    joins
+}
+
+/// What the connection steps know of the grid cards: displacement systems, basic locations,
+/// namespaces, GRDSET's PS.
+struct Points<'a> {
+    systems: &'a HashMap<u32, CoordSystem>,
+    at: &'a [[f64; 3]],
+    owner: &'a [u32],
+    default_ps: Dofs,
+}
+
+/// Join each grid of an `AUTO` part to the nearest grid within its TOL of the `AUTO`
+/// namespaces before it (residual first), found through a grid of cells of the largest TOL.
+fn coincident(at: &[[f64; 3]], owner: &[u32], search: &HashMap<u32, Search>, uf: &mut UnionFind) {
     let search_of = |seid: u32| {
         search.get(&seid).copied().unwrap_or(Search {
             method: SeMethod::Auto,
             tol: crate::deck::cards::DEFAULT_SE_TOL,
         })
     };
-
-    // coincidence search: each AUTO part against the AUTO namespaces before it
+    let n = at.len();
     let mut order: Vec<u32> = owner.to_vec();
     order.dedup();
     let max_tol = order.iter().map(|&s| search_of(s).tol).fold(0.0, f64::max);
@@ -189,11 +228,19 @@ pub fn connect(
             }
         }
     }
+}
 
-    // SECONCT pairs
-    let index: HashMap<(u32, u32), usize> = (0..n)
-        .map(|i| ((owner[i], out.grids[i].id), i))
-        .collect();
+/// Join the `SECONCT` pairs (an error for a grid the section lacks or a pair too far apart).
+fn seconct_pairs(
+    at: &[[f64; 3]],
+    owner: &[u32],
+    grids: &[Grid],
+    seconct: &[Seconct],
+    uf: &mut UnionFind,
+    errors: &mut Vec<DeckError>,
+) {
+    let n = at.len();
+    let index: HashMap<(u32, u32), usize> = (0..n).map(|i| ((owner[i], grids[i].id), i)).collect();
     for card in seconct {
         for &(a, b) in &card.pairs {
             let find = |seid: u32, gid: u32| {
@@ -234,8 +281,18 @@ pub fn connect(
             }
         }
     }
+}
 
-    // same ids: one point, or an error
+/// Grid cards with one id: one GRID when they are connected (PS combined; the later cards are
+/// dropped), else an error. Returns the dropped cards and each id's kept card.
+fn same_ids(
+    out: &mut BulkData,
+    p: &Points,
+    uf: &mut UnionFind,
+    errors: &mut Vec<DeckError>,
+) -> (Vec<bool>, HashMap<u32, usize>) {
+    let (at, owner, default_ps) = (p.at, p.owner, p.default_ps);
+    let n = at.len();
     let mut first_of_id: HashMap<u32, usize> = HashMap::new();
     let mut drop = vec![false; n];
     for i in 0..n {
@@ -261,7 +318,7 @@ pub fn connect(
             );
             continue;
         }
-        let same = same_frame(&systems, &out.grids, &at, i, f);
+        let same = same_frame(p.systems, &out.grids, at, i, f);
         if !same {
             errors.push(
                 DeckError::at(
@@ -279,7 +336,22 @@ pub fn connect(
         drop[i] = true;
     }
 
-    // different ids: rigid ties to one grid of each class
+    (drop, first_of_id)
+}
+
+/// The grids of each connected group with different ids: one generated RBE2 makes them follow
+/// one grid (the first constrained one, else the first), their constraints moved to it.
+fn tie(
+    out: &mut BulkData,
+    p: &Points,
+    uf: &mut UnionFind,
+    (drop, first_of_id): (&[bool], &HashMap<u32, usize>),
+    loc_of: &HashMap<u32, Loc>,
+    used: &mut UsedIds,
+    errors: &mut Vec<DeckError>,
+) -> Vec<Join> {
+    let (at, owner, default_ps) = (p.at, p.owner, p.default_ps);
+    let n = at.len();
     let mut classes: HashMap<usize, Vec<usize>> = HashMap::new();
     for i in 0..n {
         classes.entry(uf.find(i)).or_default().push(i);
@@ -311,7 +383,7 @@ pub fn connect(
         let mut tied = Vec::new();
         for &k in kept.iter().filter(|&&k| k != head) {
             let id = out.grids[k].id;
-            if same_frame(&systems, &out.grids, &at, k, head) {
+            if same_frame(p.systems, &out.grids, at, k, head) {
                 move_constraints(out, k, head, default_ps);
             } else if is_constrained(out, k, default_ps) {
                 errors.push(
@@ -341,10 +413,5 @@ pub fn connect(
             loc: (loc_of.get(&seid).cloned()).unwrap_or_else(|| out.grids[head].loc.clone()),
         });
     }
-    let mut k = 0;
-    out.grids.retain(|_| {
-        k += 1;
-        !drop[k - 1]
-    });
     joins
 }

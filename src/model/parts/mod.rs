@@ -120,6 +120,39 @@ pub fn assemble(deck: &Deck, warnings: &mut Vec<Warning>) -> Result<BulkData, Ve
     Ok(out)
 }
 
+/// `ASET`, `QSET` and `QSET1` of the main bulk data: only Nastran's reduction of the residual.
+/// In SOL 101 static condensation is exact, so they are read and not honoured, with a warning;
+/// in the other solutions Guyan reduction would change the answer and they are refused.
+pub fn main_reduction_sets(deck: &Deck, errors: &mut Vec<DeckError>, warnings: &mut Vec<Warning>) {
+    let Some(first) = deck.bulk.reduction_sets.first() else {
+        return;
+    };
+    let sol = deck.executive.sol.as_ref().map(|(s, _)| *s);
+    if matches!(sol, Some(Solution::Statics) | None) {
+        warnings.push(Warning {
+            loc: Some(first.loc.to_string()),
+            message: format!(
+                "{} accepted and not honoured ({} ASET/QSET/QSET1 cards): paraflex solves the model unreduced, which for statics is the same solution as Nastran's static condensation",
+                first.card,
+                deck.bulk.reduction_sets.len()
+            ),
+        });
+    } else {
+        for set in &deck.bulk.reduction_sets {
+            errors.push(
+                DeckError::at(
+                    &set.loc,
+                    format!(
+                        "{} reduces the model (Guyan reduction, or component modes with QSET) in Nastran, which changes modes and dynamic responses; paraflex does not reduce: remove it to solve the model unreduced",
+                        set.card
+                    ),
+                )
+                .on_card(set.card.clone()),
+            );
+        }
+    }
+}
+
 /// SEBULK, SECONCT and SELOC name parts the deck defines, once each.
 fn check_controls(deck: &Deck) -> Vec<DeckError> {
     let parts: HashSet<u32> = deck.parts.iter().map(|p| p.seid).collect();
@@ -155,14 +188,19 @@ fn check_controls(deck: &Deck) -> Vec<DeckError> {
                 errors.push(
                     DeckError::at(
                         loc,
-                        format!("a second {card} for part superelement {seid} (the first is at {first})"),
+                        format!(
+                            "a second {card} for part superelement {seid} (the first is at {first})"
+                        ),
                     )
                     .on_card(format!("{card} {seid}")),
                 );
             }
         }
     };
-    repeated("SEBULK", b.sebulk.iter().map(|c| (c.seid, &c.loc)).collect());
+    repeated(
+        "SEBULK",
+        b.sebulk.iter().map(|c| (c.seid, &c.loc)).collect(),
+    );
     repeated("SELOC", b.seloc.iter().map(|c| (c.seid, &c.loc)).collect());
     errors
 }
@@ -251,7 +289,11 @@ fn summary(part: &PartBulk, map: &PartMap, joins: &[Join]) -> Warning {
             " at {} boundary points: {}{}",
             points.len(),
             points[..points.len().min(LISTED_POINTS)].join(", "),
-            if more > 0 { format!(" and {more} more") } else { String::new() }
+            if more > 0 {
+                format!(" and {more} more")
+            } else {
+                String::new()
+            }
         ));
     }
     let renumbered = map.renumbered_text();

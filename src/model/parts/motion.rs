@@ -18,7 +18,11 @@ fn location(bulk: &BulkData, systems: &HashMap<u32, CoordSystem>, id: u32) -> Op
     let default_cp = bulk.grdset.first().map_or(0, |d| d.cp);
     let (cp, x) = match bulk.grids.iter().find(|g| g.id == id) {
         Some(g) => (g.cp.unwrap_or(default_cp), g.x),
-        None => bulk.points.iter().find(|p| p.id == id).map(|p| (p.cp, p.x))?,
+        None => bulk
+            .points
+            .iter()
+            .find(|p| p.id == id)
+            .map(|p| (p.cp, p.x))?,
     };
     Some(systems.get(&cp)?.point_to_basic(x))
 }
@@ -68,25 +72,37 @@ pub fn moved_basic(
     let mut ignored = Vec::new();
     let part_systems = coords::resolve(&part.coords, &mut ignored);
     let residual_systems = coords::resolve(&residual.coords, &mut ignored);
-    let points = |bulk: &BulkData, systems: &HashMap<u32, CoordSystem>, ids: [u32; 3], whose: &str| {
-        let mut out = [[0.0; 3]; 3];
-        for (k, gid) in ids.into_iter().enumerate() {
-            out[k] = location(bulk, systems, gid).ok_or_else(|| {
-                DeckError::at(
-                    &seloc.loc,
-                    format!("SELOC {}: {gid} is neither a GRID nor a POINT of {whose}", seloc.seid),
-                )
-                .on_card(format!("SELOC {}", seloc.seid))
-            })?;
-        }
-        Ok::<_, DeckError>(out)
-    };
-    let pa = points(part, &part_systems, seloc.pa, &format!("part superelement {}", seloc.seid))?;
+    let points =
+        |bulk: &BulkData, systems: &HashMap<u32, CoordSystem>, ids: [u32; 3], whose: &str| {
+            let mut out = [[0.0; 3]; 3];
+            for (k, gid) in ids.into_iter().enumerate() {
+                out[k] = location(bulk, systems, gid).ok_or_else(|| {
+                    DeckError::at(
+                        &seloc.loc,
+                        format!(
+                            "SELOC {}: {gid} is neither a GRID nor a POINT of {whose}",
+                            seloc.seid
+                        ),
+                    )
+                    .on_card(format!("SELOC {}", seloc.seid))
+                })?;
+            }
+            Ok::<_, DeckError>(out)
+        };
+    let pa = points(
+        part,
+        &part_systems,
+        seloc.pa,
+        &format!("part superelement {}", seloc.seid),
+    )?;
     let pb = points(residual, &residual_systems, seloc.pb, "the main bulk data")?;
     let collinear = |which: &str| {
         DeckError::at(
             &seloc.loc,
-            format!("SELOC {}: the points {which} are collinear; they must span a plane", seloc.seid),
+            format!(
+                "SELOC {}: the points {which} are collinear; they must span a plane",
+                seloc.seid
+            ),
         )
         .on_card(format!("SELOC {}", seloc.seid))
     };
@@ -134,4 +150,3 @@ pub fn moved_basic(
         loc: seloc.loc.clone(),
     })
 }
-

@@ -255,7 +255,10 @@ impl Mapper<'_> {
         self.errors.push(
             DeckError::at(
                 self.loc,
-                format!("{} in part superelement {}: {why}", self.card, self.map.seid),
+                format!(
+                    "{} in part superelement {}: {why}",
+                    self.card, self.map.seid
+                ),
             )
             .on_card(self.card.to_string()),
         );
@@ -413,7 +416,11 @@ pub fn place(
             ids.sort_unstable();
             c.elements.extend(ids);
         }
-        c.elements = c.elements.iter().map(|&e| m.id(Space::Element, e)).collect();
+        c.elements = c
+            .elements
+            .iter()
+            .map(|&e| m.id(Space::Element, e))
+            .collect();
     });
     each!(pload4, "PLOAD4", |m, c| {
         match &mut c.target {
