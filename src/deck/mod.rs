@@ -343,10 +343,18 @@ fn other_begin_section(loc: &Loc, text: &str) -> Option<OtherBegin> {
                     ),
                 )),
             },
+            [_, _, ..] => OtherBegin::Refused(DeckError::at(
+                loc,
+                format!(
+                    "'{}': options after BEGIN SUPER = n ({}) are not supported",
+                    text.trim(),
+                    rest[2..].join(" ")
+                ),
+            )),
             _ => OtherBegin::Refused(DeckError::at(
                 loc,
                 format!(
-                    "'{}': expected BEGIN SUPER = n with one superelement id n > 0",
+                    "'{}': expected BEGIN SUPER = n with a superelement id n > 0",
                     text.trim()
                 ),
             )),

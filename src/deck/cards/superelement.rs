@@ -265,9 +265,11 @@ impl Seloc {
     }
 }
 
-/// `ASET`, `QSET` — (grid, components) pairs — and `ASET1`, `QSET1` in a part — components,
-/// then grids (`THRU` allowed): the boundary and generalized-coordinate sets by which Nastran
-/// reduces a part or the residual. paraflex solves unreduced: in a part they are read (grids
+/// `ASET`, `QSET`, `QSET1` (and `ASET1` in a part) — reduction sets: read, not honoured.
+///
+/// `ASET`/`QSET` hold (grid, components) pairs, `ASET1`/`QSET1` components then grids (`THRU`
+/// allowed): the boundary and generalized-coordinate sets by which Nastran reduces a part or
+/// the residual. paraflex solves unreduced: in a part they are read (grids
 /// checked) and not honoured, with a warning; in the main bulk data likewise in SOL 101
 /// (static condensation is exact), refused in the other solutions (Guyan reduction changes
 /// their answer). A main-bulk `ASET1` keeps its own meaning (the a-set of `PMOR BSET`).
