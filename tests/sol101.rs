@@ -1367,7 +1367,8 @@ fn part_superelements_give_the_one_section_plate() {
 }
 
 /// The assembled model says what it did (renumbered ids, boundary points and their RBE2s);
-/// a SOL 103 deck with parts warns that Nastran's reduced parts give other modes; bad part
+/// a SOL 103 deck with parts warns that Nastran's reduced parts give other modes; ASET/QSET
+/// of the main bulk data are read with a warning in SOL 101 and refused in SOL 103; bad part
 /// input is refused with its card: a SELOC or SEBULK of a part the deck does not define, a
 /// SECONCT pair naming a grid the part lacks, two grids with one id at different points, a
 /// part card referring to a property only the residual defines.
@@ -1396,6 +1397,24 @@ fn part_superelement_reports_and_errors() {
         ),
         "{:?}",
         model.warnings
+    );
+    // ASET/QSET of the main bulk data: SOL 101 solves unreduced (the same solution), with a
+    // warning; SOL 103 would differ from Nastran's Guyan reduction, so it is refused
+    let aset = deck.replace("SPC1,1,", "ASET,21,123456\nQSET1,0,22\nSPC1,1,");
+    let model = common::build_model(&aset).expect("builds");
+    assert!(
+        warned(
+            &model,
+            "ASET accepted and not honoured (2 ASET/QSET/QSET1 cards)"
+        ),
+        "{:?}",
+        model.warnings
+    );
+    let e = common::build_model(&aset.replace("SOL 101", "SOL 103")).expect_err("refused");
+    assert!(
+        e.iter()
+            .any(|m| m.contains("ASET: ASET reduces the model (Guyan reduction")),
+        "{e:?}"
     );
     let refused = |from: &str, to: &str, text: &str| {
         let bad = deck.replacen(from, to, 1);
