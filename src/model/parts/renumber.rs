@@ -373,10 +373,11 @@ pub fn place(
     });
     each!(pshell, "PSHELL", |m, c| {
         c.id = m.id(Space::Property, c.id);
-        for mid in [&mut c.mid1, &mut c.mid2, &mut c.mid3, &mut c.mid4] {
-            if let Some(id) = mid {
-                *id = m.id(Space::Material, *id);
-            }
+        for id in [&mut c.mid1, &mut c.mid2, &mut c.mid3, &mut c.mid4]
+            .into_iter()
+            .flatten()
+        {
+            *id = m.id(Space::Material, *id);
         }
     });
     each!(pcomp, "PCOMP", |m, c| {
