@@ -1369,9 +1369,10 @@ fn part_superelements_give_the_one_section_plate() {
 /// The assembled model says what it did (renumbered ids, boundary points and their RBE2s);
 /// a SOL 103 deck with parts warns that Nastran's reduced parts give other modes; ASET/QSET
 /// of the main bulk data are read with a warning in SOL 101 and refused in SOL 103; bad part
-/// input is refused with its card: a SELOC or SEBULK of a part the deck does not define, a
-/// SECONCT pair naming a grid the part lacks, two grids with one id at different points, a
-/// part card referring to a property only the residual defines.
+/// input is refused with its card: a SELOC of a part the deck does not define, SECONCT pairs
+/// too far apart or naming a grid the section lacks, two grids with one id at different
+/// points, a part card referring to a property only the residual defines, a part's second
+/// GRDSET, an SEBULK of another type than PRIMARY.
 #[test]
 fn part_superelement_reports_and_errors() {
     let deck = skew_plate_in_parts(PartStyle::Coincident);
@@ -1453,6 +1454,11 @@ fn part_superelement_reports_and_errors() {
         "CQUAD4,1,1,121",
         "CQUAD4,1,3,121",
         "CQUAD4 of part superelement 7 refers to property 3, which part 7 does not define",
+    );
+    refused(
+        "BEGIN SUPER = 7\n",
+        "BEGIN SUPER = 7\nGRDSET,,,,,,,6\nGRDSET,,,,,,,6\n",
+        "a second GRDSET in part superelement 7",
     );
     refused(
         "BEGIN SUPER = 7",

@@ -205,8 +205,21 @@ fn check_controls(deck: &Deck) -> Vec<DeckError> {
     errors
 }
 
-/// Each card of a part section is one [`renumber`] places, and no superelement control card.
+/// Each card of a part section is one [`renumber`] places, and no superelement control card;
+/// a part has at most one GRDSET.
 fn check_cards(part: &PartBulk, errors: &mut Vec<DeckError>) {
+    for extra in part.bulk.grdset.iter().skip(1) {
+        errors.push(
+            DeckError::at(
+                &extra.loc,
+                format!(
+                    "a second GRDSET in part superelement {} (the first is at {}); a section has at most one",
+                    part.seid, part.bulk.grdset[0].loc
+                ),
+            )
+            .on_card("GRDSET".to_string()),
+        );
+    }
     for (name, loc) in &part.cards {
         let why = if CONTROL_CARDS.contains(&name.as_str()) {
             format!(
