@@ -1366,7 +1366,8 @@ fn part_superelements_give_the_one_section_plate() {
     }
 }
 
-/// The assembled model says what it did (renumbered ids, boundary points and their RBE2s);
+/// The assembled model says what it did (renumbered ids, boundary points and their RBE2s, or
+/// that none connects a part);
 /// a SOL 103 deck with parts warns that Nastran's reduced parts give other modes; ASET/QSET
 /// of the main bulk data are read with a warning in SOL 101 and refused in SOL 103; bad part
 /// input is refused with its card: a SELOC of a part the deck does not define, SECONCT pairs
@@ -1395,6 +1396,20 @@ fn part_superelement_reports_and_errors() {
         warned(
             &model,
             "assembled and solved unreduced: Nastran reduces each part"
+        ),
+        "{:?}",
+        model.warnings
+    );
+    // a MANUAL part without SECONCT pairs has no partner for its boundary grids
+    let alone = deck.replace(
+        "BEGIN SUPER = 7",
+        "SEBULK,7,PRIMARY,,MANUAL\nBEGIN SUPER = 7",
+    );
+    let model = common::build_model(&alone).expect("builds");
+    assert!(
+        warned(
+            &model,
+            "part superelement 7 assembled: no boundary point connects it"
         ),
         "{:?}",
         model.warnings
