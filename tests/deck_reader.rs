@@ -439,45 +439,68 @@ fn every_error_is_collected_with_its_position() {
     assert_eq!(errors[1].field.as_deref(), Some("field 3 (PID)"));
 }
 
-/// A part-superelement deck (bulk data after `BEGIN SUPER = 1`, as MSC writes them) gets one
-/// error at that line, and the cards after it are checked as bulk data, not reported one by
-/// one as unknown case control commands.
+/// A part superelement section may follow case control directly (`BEGIN SUPER = 1` before
+/// `BEGIN BULK`, as pyNastran writes them): its cards are read as that part's bulk data (a bad
+/// field is reported at its line, not as an unknown case control command), and `BEGIN BULK`
+/// returns to the main bulk data.
 #[test]
-fn begin_super_is_one_error_and_its_cards_read_as_bulk() {
+fn begin_super_after_case_control_opens_a_part_section() {
     let (_dir, deck) = read_files(&[(
         "deck.dat",
         "SOL 101\nCEND\nSUBCASE 1\n  LOAD = 2\nBEGIN SUPER=1\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.,-7\nENDDATA\n",
     )]);
-    let errors = deck.expect_err("BEGIN SUPER is not supported").to_string();
-    assert!(
-        errors.contains("deck.dat:5: 'BEGIN SUPER=1': paraflex reads one bulk data section"),
-        "{errors}"
-    );
+    let errors = deck.expect_err("bad CD").to_string();
     assert!(
         errors.contains("deck.dat:7: GRID 2: field 7 (CD)"),
         "the GRID cards are read as bulk data: {errors}"
     );
     assert!(!errors.contains("case control command"), "{errors}");
+    let deck = read_text(
+        "SOL 101\nCEND\nBEGIN SUPER=1\nGRID,1,,0.,0.,0.\nBEGIN BULK\nGRID,2,,1.,0.,0.\nENDDATA\n",
+    );
+    assert_eq!(deck.parts.len(), 1);
+    assert_eq!((deck.parts[0].seid, deck.parts[0].bulk.grids.len()), (1, 1));
+    assert_eq!(
+        deck.bulk.grids.len(),
+        1,
+        "BEGIN BULK returns to the main section"
+    );
 }
 
-/// `BEGIN BULK SUPER = n` (the older spelling of `BEGIN SUPER = n`) opens a part superelement
-/// too: one error at its line, not a silent merge of the part's cards into the main model.
-/// A SELOC (which moves a part superelement) is refused at its SEID with Nastran's reason; a
-/// POINT (geometry for superelement cards only) is set aside with a warning, its fields checked.
+/// `BEGIN BULK SUPER = n` (the older spelling of `BEGIN SUPER = n`) opens part n's section;
+/// a second section of one part, another kind of BEGIN section and a malformed one are errors
+/// at their line; SEBULK, SECONCT and SELOC are read with their fields checked; a POINT that
+/// no SELOC can use is set aside with a warning, its fields checked.
 #[test]
-fn begin_bulk_super_and_seloc_are_refused_and_point_set_aside() {
-    let (_dir, deck) = read_files(&[(
-        "deck.dat",
+fn part_sections_and_superelement_cards_are_read() {
+    let deck = read_text(
         "SOL 101\nCEND\nBEGIN BULK\nGRID,40,,-5.,15.,0.\nSELOC,1,16,13,12,40,50,60\n\
-         POINT,7,,1.,2.,3.\nPOINT,8,,x\nBEGIN BULK SUPER = 1\nGRID,11,,0.,0.,0.\nENDDATA\n",
+         SEBULK,1,PRIMARY,,MANUAL,2.e-5\nSECONCT,1,0,3.e-5,NO\n,16,40,1,THRU,3,41,THRU,43\n\
+         BEGIN BULK SUPER = 1\nGRID,11,,0.,0.,0.\nBEGIN SUPER 2\nGRID,12,,0.,0.,0.\nENDDATA\n",
+    );
+    let seids: Vec<u32> = deck.parts.iter().map(|p| p.seid).collect();
+    assert_eq!(seids, [1, 2]);
+    assert_eq!(deck.bulk.seloc[0].pa, [16, 13, 12]);
+    let sebulk = &deck.bulk.sebulk[0];
+    assert_eq!(
+        (sebulk.method, sebulk.tol),
+        (paraflex::deck::cards::SeMethod::Manual, 2.0e-5)
+    );
+    let seconct = &deck.bulk.seconct[0];
+    assert_eq!(seconct.pairs, [(16, 40), (1, 41), (2, 42), (3, 43)]);
+    assert!(!seconct.check_location);
+    let (_dir, bad) = read_files(&[(
+        "deck.dat",
+        "SOL 101\nCEND\nBEGIN BULK\nPOINT,8,,x\nSECONCT,1,1\n,5,6\nBEGIN SUPER = 1\n\
+         BEGIN SUPER = 1\nBEGIN AUXMODEL = 3\nBEGIN SUPER = x\nENDDATA\n",
     )]);
-    let errors = deck
-        .expect_err("part superelements are refused")
-        .to_string();
+    let errors = bad.expect_err("refused").to_string();
     for text in [
-        "deck.dat:5: SELOC 1: field 2 (SEID): SELOC moves part superelement 1, which paraflex does not read",
-        "deck.dat:7: POINT 8: field 4 (X1)",
-        "deck.dat:8: 'BEGIN BULK SUPER = 1': paraflex reads one bulk data section",
+        "deck.dat:4: POINT 8: field 4 (X1)",
+        "deck.dat:5: SECONCT 1: field 3 (SEIDB): SEIDB equals SEIDA (1)",
+        "deck.dat:8: a second BEGIN SUPER = 1 section",
+        "deck.dat:9: 'BEGIN AUXMODEL = 3': paraflex reads the main bulk data section",
+        "deck.dat:10: 'BEGIN SUPER = x': expected a part superelement id > 0",
     ] {
         assert!(errors.contains(text), "'{text}' not in:\n{errors}");
     }

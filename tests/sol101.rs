@@ -909,13 +909,7 @@ fn skew_plate(pshell: &str, materials: &str) -> String {
     );
     for i in 0..=4 {
         for j in 0..=3 {
-            let interior = i > 0 && i < 4 && j > 0 && j < 3;
-            let (dx, dy) = if interior {
-                (0.04 * ((i + j) % 2) as f64, -0.03 * (j % 2) as f64)
-            } else {
-                (0.0, 0.0)
-            };
-            let (x, y) = (0.3 * i as f64 + dx, 0.3 * j as f64 + dy);
+            let (x, y) = skew_xy(i, j);
             s += &format!("GRID,{},,{x:?},{y:?},0.\n", 10 * i + j + 1);
         }
     }
@@ -935,6 +929,17 @@ fn skew_plate(pshell: &str, materials: &str) -> String {
     s += "SPC1,1,123456,1,2,3,4\nFORCE,5,41,,1.,0.3,0.2,1.\nFORCE,5,44,,1.,-0.1,0.4,-0.5\n\
           MOMENT,5,42,,0.2,1.,0.,0.\nENDDATA\n";
     s
+}
+
+/// Location of grid (column `i`, row `j`) of [`skew_plate`]: interior grids off the lattice.
+fn skew_xy(i: usize, j: usize) -> (f64, f64) {
+    let interior = i > 0 && i < 4 && j > 0 && j < 3;
+    let (dx, dy) = if interior {
+        (0.04 * ((i + j) % 2) as f64, -0.03 * (j % 2) as f64)
+    } else {
+        (0.0, 0.0)
+    };
+    (0.3 * i as f64 + dx, 0.3 * j as f64 + dy)
 }
 
 /// Largest difference between two displacement sets, relative to the largest displacement.
@@ -1210,4 +1215,269 @@ fn pcomps_of_one_mat1_is_that_psolid() {
     ] {
         assert!(message.contains(text), "'{text}' not in:\n{message}");
     }
+}
+
+/// Static displacements by grid id (basic T1 T2 T3 R1 R2 R3) of a deck: the rows of the
+/// displacement dataset follow the model's grids, sorted by id.
+fn displacements_by_grid(deck: &str) -> std::collections::HashMap<u32, Vec<f64>> {
+    let model = common::build_model(deck).expect("builds");
+    let u = displacements(deck);
+    (model.grids.iter().map(|g| g.id))
+        .zip(u.chunks(6).map(|c| c.to_vec()))
+        .collect()
+}
+
+/// How the part of [`skew_plate_in_parts`] is written and connected.
+#[derive(Clone, Copy, PartialEq)]
+enum PartStyle {
+    /// Boundary grids repeated in the part with the residual's ids (one point each).
+    SharedIds,
+    /// Part grids numbered +100: the boundary connects by coincident location (AUTO).
+    Coincident,
+    /// Part grids numbered +100, `SEBULK … MANUAL` and the boundary pairs on `SECONCT`.
+    Seconct,
+    /// Part grids numbered +100 and drawn rotated 90° about z and shifted; `SELOC` moves
+    /// the part onto the residual's boundary (AUTO after the move).
+    Moved,
+}
+
+/// [`skew_plate`] split at column 2: the residual holds columns 0–2 (elements of columns 0–1,
+/// the clamp), part superelement 7 the elements of columns 2–3 with their own PSHELL 1, MAT1 1
+/// and element ids 1… (the residual's ids: renumbered) and the loads.
+fn skew_plate_in_parts(style: PartStyle) -> String {
+    let (pshell, mat) = ("PSHELL,1,1,0.01,1,,1", "MAT1,1,7.e10,,0.3,2700.");
+    let offset = if style == PartStyle::SharedIds {
+        0
+    } else {
+        100
+    };
+    // the part is drawn at R^T (x − t): rotated −90° about z, x' = y, y' = −x, then shifted
+    let drawn = |x: f64, y: f64| match style {
+        PartStyle::Moved => (y + 5.0, -x - 2.0),
+        _ => (x, y),
+    };
+    let direction = |d: [f64; 3]| match style {
+        PartStyle::Moved => [d[1], -d[0], d[2]],
+        _ => d,
+    };
+    let mut s = format!(
+        "SOL 101\nCEND\nSPC = 1\nLOAD = 5\nDISPLACEMENT = ALL\nBEGIN BULK\n{pshell}\n{mat}\n"
+    );
+    for i in 0..=2 {
+        for j in 0..=3 {
+            let (x, y) = skew_xy(i, j);
+            s += &format!("GRID,{},,{x:?},{y:?},0.\n", 10 * i + j + 1);
+        }
+    }
+    let quad = |s: &mut String, eid: usize, g: usize, off: usize| {
+        *s += &format!(
+            "CQUAD4,{eid},1,{},{},{},{},30.\n",
+            g + off,
+            g + 10 + off,
+            g + 11 + off,
+            g + 1 + off
+        );
+    };
+    for i in 0..2 {
+        for j in 0..3 {
+            quad(&mut s, 3 * i + j + 1, 10 * i + j + 1, 0);
+        }
+    }
+    s += "SPC1,1,123456,1,2,3,4\n";
+    match style {
+        PartStyle::Seconct => {
+            s += "SEBULK,7,PRIMARY,,MANUAL\nSECONCT,7,0\n,121,21,122,22,123,23,124,24\n";
+        }
+        PartStyle::Moved => {
+            // PA: part grids 121, 124, 141 (drawn rotated); PB: where they belong
+            let (x, y) = skew_xy(4, 0);
+            s += &format!("GRID,901,,{x:?},{y:?},0.\nSELOC,7,121,124,141,21,24,901\n");
+        }
+        _ => {}
+    }
+    s += &format!("BEGIN SUPER = 7\n{pshell}\n{mat}\n");
+    for i in 2..=4 {
+        for j in 0..=3 {
+            let (x, y) = skew_xy(i, j);
+            let (x, y) = drawn(x, y);
+            s += &format!("GRID,{},,{x:?},{y:?},0.\n", 10 * i + j + 1 + offset);
+        }
+    }
+    for i in 2..4 {
+        for j in 0..3 {
+            quad(&mut s, 3 * (i - 2) + j + 1, 10 * i + j + 1, offset);
+        }
+    }
+    let [a, b, c] = direction([0.3, 0.2, 1.0]);
+    let [d, e, f] = direction([-0.1, 0.4, -0.5]);
+    let [m, n, o] = direction([1.0, 0.0, 0.0]);
+    s += &format!(
+        "FORCE,5,{},,1.,{a:?},{b:?},{c:?}\nFORCE,5,{},,1.,{d:?},{e:?},{f:?}\n\
+         MOMENT,5,{},,0.2,{m:?},{n:?},{o:?}\nENDDATA\n",
+        41 + offset,
+        44 + offset,
+        42 + offset
+    );
+    s
+}
+
+/// A plate split into the residual and a part superelement (its own PSHELL, MAT1 and element
+/// ids, the residual's reused) gives the displacements of the same plate in one bulk data
+/// section, whether the part repeats the boundary grids' ids, connects by coincidence, by
+/// SECONCT pairs, or is drawn elsewhere and moved by SELOC. The part's elements are the same
+/// element matrices (for the moved part, from coordinates rotated and shifted: a change of
+/// 1e-16 relative) and the ties (RBE2 of all six components) are eliminated exactly, so the
+/// displacements agree to round-off: bound 1e-10 of the largest (cond(K) · ε ~ 1e-11, as in
+/// `mat2_equals_the_mat1_and_mat8_it_spells_out`); a boundary left unconnected, an element of
+/// the part on the wrong property or a load in the wrong direction changes them by O(1).
+#[test]
+fn part_superelements_give_the_one_section_plate() {
+    let pshell = "PSHELL,1,1,0.01,1,,1";
+    let one = displacements(&skew_plate(pshell, "MAT1,1,7.e10,,0.3,2700.\n"));
+    for style in [
+        PartStyle::SharedIds,
+        PartStyle::Coincident,
+        PartStyle::Seconct,
+        PartStyle::Moved,
+    ] {
+        let parts = displacements_by_grid(&skew_plate_in_parts(style));
+        let offset = if style == PartStyle::SharedIds {
+            0
+        } else {
+            100
+        };
+        let mut ours = Vec::new();
+        for i in 0..=4 {
+            for j in 0..=3 {
+                let id = 10 * i + j + 1;
+                let id = if i > 2 { id + offset } else { id };
+                ours.extend_from_slice(&parts[&(id as u32)]);
+            }
+        }
+        let d = relative_difference(&one, &ours);
+        assert!(d < 1e-10, "style {}: {d:e}", style as u8);
+        if offset > 0 {
+            // the part's boundary grids keep their ids and follow the residual's
+            for j in 1..=4u32 {
+                let (a, b) = (&parts[&(20 + j)], &parts[&(120 + j)]);
+                assert!(relative_difference(a, b) < 1e-12, "grid {j}: {a:?} {b:?}");
+            }
+        }
+    }
+}
+
+/// The assembled model says what it did (renumbered ids, boundary points and their RBE2s, or
+/// that none connects a part);
+/// a SOL 103 deck with parts warns that Nastran's reduced parts give other modes; ASET/QSET
+/// of the main bulk data are read with a warning in SOL 101 and refused in SOL 103; bad part
+/// input is refused with its card: a SELOC of a part the deck does not define, SECONCT pairs
+/// too far apart or naming a grid the section lacks, two grids with one id at different
+/// points, a part card referring to a property only the residual defines, a part's second
+/// GRDSET, an SEBULK of another type than PRIMARY.
+#[test]
+fn part_superelement_reports_and_errors() {
+    let deck = skew_plate_in_parts(PartStyle::Coincident);
+    let model = common::build_model(&deck).expect("builds");
+    let warned = |model: &paraflex::model::Model, text: &str| {
+        model.warnings.iter().any(|w| w.message.contains(text))
+    };
+    for text in [
+        "part superelement 7 assembled at 4 boundary points: 121 = residual 21 (RBE2 ",
+        "ids used by an earlier section renumbered: element ids 1→7 2→8 3→9 4→10 5→11 6→12; property ids 1→2; material ids 1→2",
+    ] {
+        assert!(warned(&model, text), "'{text}' not in {:?}", model.warnings);
+    }
+    let modal = deck
+        .replace("SOL 101", "SOL 103")
+        .replace("LOAD = 5", "METHOD = 1")
+        .replace("SPC1,1,", "EIGRL,1,,,2\nSPC1,1,");
+    let model = common::build_model(&modal).expect("builds");
+    assert!(
+        warned(
+            &model,
+            "assembled and solved unreduced: Nastran reduces each part"
+        ),
+        "{:?}",
+        model.warnings
+    );
+    // a MANUAL part without SECONCT pairs has no partner for its boundary grids
+    let alone = deck.replace(
+        "BEGIN SUPER = 7",
+        "SEBULK,7,PRIMARY,,MANUAL\nBEGIN SUPER = 7",
+    );
+    let model = common::build_model(&alone).expect("builds");
+    assert!(
+        warned(
+            &model,
+            "part superelement 7 assembled: no boundary point connects it"
+        ),
+        "{:?}",
+        model.warnings
+    );
+    // ASET/QSET of the main bulk data: SOL 101 solves unreduced (the same solution), with a
+    // warning; SOL 103 would differ from Nastran's Guyan reduction, so it is refused
+    let aset = deck.replace("SPC1,1,", "ASET,21,123456\nQSET1,0,22\nSPC1,1,");
+    let model = common::build_model(&aset).expect("builds");
+    assert!(
+        warned(
+            &model,
+            "ASET accepted and not honoured (2 ASET/QSET/QSET1 cards)"
+        ),
+        "{:?}",
+        model.warnings
+    );
+    let e = common::build_model(&aset.replace("SOL 101", "SOL 103")).expect_err("refused");
+    assert!(
+        e.iter()
+            .any(|m| m.contains("ASET: ASET reduces the model (Guyan reduction")),
+        "{e:?}"
+    );
+    let refused = |from: &str, to: &str, text: &str| {
+        let bad = deck.replacen(from, to, 1);
+        assert_ne!(bad, deck, "'{from}' not in the deck");
+        let e = common::build_model(&bad).expect_err(text).join("\n");
+        assert!(e.contains(text), "'{text}' not in:\n{e}");
+    };
+    let line = deck
+        .lines()
+        .position(|l| l == "BEGIN SUPER = 7")
+        .expect("part")
+        + 1;
+    refused(
+        "BEGIN SUPER = 7",
+        "SELOC,8,121,124,141,21,24,1\nBEGIN SUPER = 7",
+        &format!(
+            ".bdf:{line}: SELOC 8: SELOC names part superelement 8, which the deck does not define (no BEGIN SUPER = 8 section)"
+        ),
+    );
+    refused(
+        "BEGIN SUPER = 7",
+        "SEBULK,7,PRIMARY,,MANUAL\nSECONCT,7,0\n,121,21,122,22,124,23\nBEGIN SUPER = 7",
+        "SECONCT 7 0: GRID 124 and GRID 23 are",
+    );
+    refused(
+        "BEGIN SUPER = 7",
+        "SEBULK,7,PRIMARY,,MANUAL\nSECONCT,7,0\n,121,21,122,22,123,23,124,29\nBEGIN SUPER = 7",
+        "SECONCT 7 0: GRID 29 is not a grid of the main bulk data",
+    );
+    refused(
+        "BEGIN SUPER = 7\n",
+        "BEGIN SUPER = 7\nGRID,11,,9.,9.,0.\n",
+        "GRID 11 of part superelement 7 at [9.0, 9.0, 0.0] and GRID 11 of the main bulk data",
+    );
+    refused(
+        "CQUAD4,1,1,121",
+        "CQUAD4,1,3,121",
+        "CQUAD4 of part superelement 7 refers to property 3, which part 7 does not define",
+    );
+    refused(
+        "BEGIN SUPER = 7\n",
+        "BEGIN SUPER = 7\nGRDSET,,,,,,,6\nGRDSET,,,,,,,6\n",
+        "a second GRDSET in part superelement 7",
+    );
+    refused(
+        "BEGIN SUPER = 7",
+        "SEBULK,7,MIRROR,3\nBEGIN SUPER = 7",
+        "a MIRROR superelement is not supported",
+    );
 }

@@ -46,6 +46,20 @@ pub struct Deck {
     pub has_control_sections: bool,
     /// Accepted input worth mentioning.
     pub warnings: Vec<Warning>,
+    /// The part superelements (`BEGIN SUPER = n` sections), by increasing SEID; `bulk` is the
+    /// main bulk data (the residual). [`crate::model::parts`] assembles them into one model.
+    pub parts: Vec<PartBulk>,
+}
+
+/// The bulk data section of one part superelement, in its own id namespace.
+#[derive(Debug, Clone)]
+pub struct PartBulk {
+    pub seid: u32,
+    /// The `BEGIN SUPER` line.
+    pub loc: Loc,
+    pub bulk: BulkData,
+    /// Each card name read in the section, with its first position.
+    pub cards: Vec<(String, Loc)>,
 }
 
 impl Deck {
@@ -83,10 +97,22 @@ impl Deck {
             case,
             bulk,
             section_seen,
+            mut parts,
             ..
         } = builder;
+        parts.sort_by_key(|p| p.seid);
         let has_control_sections = section_seen;
         let mut warnings = diag.warnings;
+        if let (Some(point), true) = (bulk.points.first(), bulk.seloc.is_empty()) {
+            warnings.push(Warning {
+                loc: Some(point.loc.to_string()),
+                message: format!(
+                    "POINT accepted and ignored ({} card{}): a POINT is a geometric point without DOF, read only by SELOC",
+                    bulk.points.len(),
+                    if bulk.points.len() == 1 { "" } else { "s" }
+                ),
+            });
+        }
         if !has_control_sections {
             warnings.push(Warning {
                 loc: None,
@@ -101,6 +127,7 @@ impl Deck {
             bulk,
             has_control_sections,
             warnings,
+            parts,
         })
     }
 }
@@ -145,6 +172,10 @@ struct Builder {
     supported_listed: bool,
     /// Cards read and set aside ([`cards::ignored_card`]): name, reason, first position, count.
     ignored: Vec<(String, &'static str, Loc, usize)>,
+    /// Part superelement sections read so far.
+    parts: Vec<PartBulk>,
+    /// The part whose section is being read (index in `parts`), `None` in the main bulk data.
+    part: Option<usize>,
 }
 
 impl Builder {
@@ -162,13 +193,25 @@ impl Builder {
             assembler: CardAssembler::new(),
             supported_listed: false,
             ignored: Vec::new(),
+            parts: Vec::new(),
+            part: None,
         }
     }
 
     fn parse(&mut self, card: fields::RawCard, diag: &mut Diagnostics) {
+        let bulk = match self.part {
+            Some(i) => {
+                let part = &mut self.parts[i];
+                if !part.cards.iter().any(|(n, _)| *n == card.name) {
+                    part.cards.push((card.name.clone(), card.loc.clone()));
+                }
+                &mut part.bulk
+            }
+            None => &mut self.bulk,
+        };
         match cards::parser_for(&card.name) {
             Some(parse) => {
-                if let Err(errors) = parse(&card, &mut self.bulk) {
+                if let Err(errors) = parse(&card, bulk) {
                     diag.errors.extend(errors);
                 }
             }
@@ -183,6 +226,26 @@ impl Builder {
                 }
             },
         }
+    }
+
+    /// Start reading the section of part superelement `seid`.
+    fn open_part(&mut self, seid: u32, loc: &Loc, diag: &mut Diagnostics) {
+        if let Some(first) = self.parts.iter().find(|p| p.seid == seid) {
+            diag.error(DeckError::at(
+                loc,
+                format!(
+                    "a second BEGIN SUPER = {seid} section (the first is at {}); a part's bulk data is one section",
+                    first.loc
+                ),
+            ));
+        }
+        self.parts.push(PartBulk {
+            seid,
+            loc: loc.clone(),
+            bulk: BulkData::default(),
+            cards: Vec::new(),
+        });
+        self.part = Some(self.parts.len() - 1);
     }
 
     fn set_aside(&mut self, card: fields::RawCard, why: &'static str) {
@@ -245,18 +308,65 @@ fn is_begin_bulk(text: &str) -> bool {
         .is_some_and(|after| after.trim().is_empty())
 }
 
-/// `BEGIN SUPER = n`, `BEGIN BULK SUPER = n`, `BEGIN AUXMODEL = n` …: a bulk section of its own
-/// (part superelements, auxiliary models), which paraflex does not read, as an error at its line.
-fn other_begin_section(loc: &Loc, text: &str) -> Option<DeckError> {
-    (first_word(text) == "BEGIN" && !is_begin_bulk(text)).then(|| {
-        DeckError::at(
-            loc,
-            format!(
-                "'{}': paraflex reads one bulk data section, after BEGIN BULK; part superelements (BEGIN SUPER) and other BEGIN sections are not supported",
-                text.trim()
-            ),
-        )
-    })
+/// What a `BEGIN` line other than `BEGIN BULK` opens.
+enum OtherBegin {
+    /// `BEGIN SUPER = n` or `BEGIN BULK SUPER = n` (also without `=`): part superelement n.
+    Part(u32),
+    /// `BEGIN AUXMODEL = n` and the like, or a malformed `BEGIN SUPER`: an error at its line.
+    Refused(DeckError),
+}
+
+/// `BEGIN SUPER = n`, `BEGIN BULK SUPER = n`, `BEGIN AUXMODEL = n` …: a bulk section of its
+/// own. Part superelement sections are read; the others (auxiliary models …) are refused.
+fn other_begin_section(loc: &Loc, text: &str) -> Option<OtherBegin> {
+    if first_word(text) != "BEGIN" || is_begin_bulk(text) {
+        return None;
+    }
+    let upper = text.trim().to_ascii_uppercase();
+    let words: Vec<&str> = upper
+        .split(|c: char| c.is_whitespace() || c == '=' || c == ',')
+        .filter(|w| !w.is_empty())
+        .collect();
+    let rest = match words.get(1) {
+        Some(&"BULK") => &words[2..],
+        _ => &words[1..],
+    };
+    if rest.first() == Some(&"SUPER") {
+        return Some(match rest {
+            [_, n] => match n.parse::<u32>() {
+                Ok(seid) if seid > 0 && seid <= u32::MAX / 2 => OtherBegin::Part(seid),
+                _ => OtherBegin::Refused(DeckError::at(
+                    loc,
+                    format!(
+                        "'{}': expected a part superelement id > 0 after SUPER =",
+                        text.trim()
+                    ),
+                )),
+            },
+            [_, _, ..] => OtherBegin::Refused(DeckError::at(
+                loc,
+                format!(
+                    "'{}': options after BEGIN SUPER = n ({}) are not supported",
+                    text.trim(),
+                    rest[2..].join(" ")
+                ),
+            )),
+            _ => OtherBegin::Refused(DeckError::at(
+                loc,
+                format!(
+                    "'{}': expected BEGIN SUPER = n with a superelement id n > 0",
+                    text.trim()
+                ),
+            )),
+        });
+    }
+    Some(OtherBegin::Refused(DeckError::at(
+        loc,
+        format!(
+            "'{}': paraflex reads the main bulk data section (BEGIN BULK) and part superelement sections (BEGIN SUPER = n); other BEGIN sections are not supported",
+            text.trim()
+        ),
+    )))
 }
 
 impl LineVisitor for Builder {
@@ -285,9 +395,13 @@ impl LineVisitor for Builder {
                 }
             }
             Section::Case => {
-                if let Some(error) = other_begin_section(line.loc, text) {
-                    diag.error(error);
+                if let Some(begin) = other_begin_section(line.loc, text) {
+                    // a part section may end case control (the main bulk data follows later)
                     self.section = Section::Bulk;
+                    match begin {
+                        OtherBegin::Part(seid) => self.open_part(seid, line.loc, diag),
+                        OtherBegin::Refused(error) => diag.error(error),
+                    }
                 } else if is_begin_bulk(text) {
                     self.section = Section::Bulk;
                 } else {
@@ -303,10 +417,21 @@ impl LineVisitor for Builder {
                     return;
                 }
                 if is_begin_bulk(text) {
+                    // back to the main bulk data after a part section
+                    if let Some(card) = self.assembler.finish() {
+                        self.parse(card, diag);
+                    }
+                    self.part = None;
                     return;
                 }
-                if let Some(error) = other_begin_section(line.loc, text) {
-                    return diag.error(error);
+                if let Some(begin) = other_begin_section(line.loc, text) {
+                    if let Some(card) = self.assembler.finish() {
+                        self.parse(card, diag);
+                    }
+                    return match begin {
+                        OtherBegin::Part(seid) => self.open_part(seid, line.loc, diag),
+                        OtherBegin::Refused(error) => diag.error(error),
+                    };
                 }
                 if let Some(card) = self.assembler.push_line(line.loc, text, diag) {
                     self.parse(card, diag);

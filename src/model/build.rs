@@ -27,9 +27,21 @@ impl Model {
     /// Build and validate the model of a deck. On error, returns every error found, sorted by
     /// file and line.
     pub fn build(deck: &Deck) -> Result<Model, Vec<DeckError>> {
+        let mut warnings: Vec<Warning> = deck.warnings.clone();
+        if !deck.parts.is_empty() {
+            // the parts placed into one bulk data section, then built as any deck
+            let bulk = super::parts::assemble(deck, &mut warnings)?;
+            let assembled = Deck {
+                bulk,
+                parts: Vec::new(),
+                warnings,
+                ..deck.clone()
+            };
+            return Model::build(&assembled);
+        }
         let bulk = &deck.bulk;
         let mut errors: Vec<DeckError> = Vec::new();
-        let mut warnings: Vec<Warning> = deck.warnings.clone();
+        super::parts::main_reduction_sets(deck, &mut errors, &mut warnings);
 
         index(
             bulk.coords

@@ -40,6 +40,7 @@ pub mod materials;
 pub mod mechanism;
 pub mod mesh;
 pub mod params;
+pub mod parts;
 pub mod pmpar;
 pub mod pressure;
 pub mod properties;

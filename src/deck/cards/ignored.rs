@@ -9,12 +9,12 @@
 //! | `CBARAO` | output points along a CBAR; paraflex writes no bar forces or stresses | – |
 //! | `USET`, `USET1` | user DOF sets U1–U6 partition matrices for DMAP alters and OUTPUT2/4; paraflex runs no DMAP | any set name other than U1–U6 or ZERO |
 //! | `MAT4`, `MAT5` | thermal materials, read by heat-transfer solutions only | – |
-//! | `DTI` | a direct table is data for DMAP modules (and `SETREE` for superelement processing, whose cards paraflex refuses); paraflex runs no DMAP | – |
+//! | `DTI` | a direct table is data for DMAP modules (and `SETREE` for the processing tree of reduced superelements; paraflex assembles parts unreduced); paraflex runs no DMAP | – |
 //! | `DVPREL1`, `DVPREL2`, `DVMREL1`, `DVMREL2`, `DVCREL1`, `DVCREL2`, `DLINK`, `DRESP1`, `DRESP2`, `DOPTPRM` | Nastran's design model, read by SOL 200 only (paraflex's own studies use `DVMAP`, `DOBJ`, `DCONSTR`) | – |
 //! | `PBEND`, `PBUSH1D` | properties of CBEND and CBUSH1D, which paraflex refuses: no element of a deck it runs can use them | – |
 //! | `PELAST` | frequency-dependent (TKID) and structural-damping (TGEID) tables of a PELAS, or its nonlinear force–deflection table (TKNID, read by nonlinear solutions only) | a TKID or TGEID table |
 //! | `EPOINT` | extra points carry no stiffness or mass; only transfer functions, DMIG and loads act on them, and paraflex refuses a load or constraint on a point it does not know | – |
-//! | `POINT` | a geometric point without DOF, read only by superelement cards (SELOC, SEMPLN, SEBULK), which paraflex refuses | – (its fields are checked) |
+//! | `SELABEL` | a superelement's label titles printed output only | – |
 //! | `MDLPRM` | HDF5 output options (`HDF5`, `H5…`): paraflex writes its own HDF5 file; `OFFDEF = LROFF`: offsets that do not follow large rotations, a nonlinear option | every other model parameter (they change the model, e.g. `OFFDEF = NOMASS`) |
 
 use crate::deck::error::DeckError;
@@ -69,7 +69,7 @@ static IGNORED: &[(&str, &str, Option<Check>)] = &[
     ),
     (
         "DTI",
-        "a direct table is data for DMAP modules (SETREE: for superelement processing), and paraflex runs no DMAP and no superelements",
+        "a direct table is data for DMAP modules (SETREE: the processing tree of reduced superelements), and paraflex runs no DMAP and assembles parts unreduced",
         None,
     ),
     (
@@ -138,14 +138,14 @@ static IGNORED: &[(&str, &str, Option<Check>)] = &[
         Some(linear_spring_tables),
     ),
     (
-        "EPOINT",
-        "extra points carry no stiffness or mass (only transfer functions, DMIG and loads act on them, and a load or constraint on a point paraflex does not know is refused)",
+        "SELABEL",
+        "a superelement's label only titles Nastran's printed output",
         None,
     ),
     (
-        "POINT",
-        "a POINT is a geometric point without DOF, read only by superelement cards (SELOC, SEMPLN …), which paraflex refuses",
-        Some(point_fields),
+        "EPOINT",
+        "extra points carry no stiffness or mass (only transfer functions, DMIG and loads act on them, and a load or constraint on a point paraflex does not know is refused)",
+        None,
     ),
     (
         "MDLPRM",
@@ -197,18 +197,6 @@ fn linear_spring_tables(card: &RawCard) -> Result<(), Vec<DeckError>> {
     }
     f.opt_id(4, "TKNID");
     f.finish(4)
-}
-
-/// `POINT` ID, CP, X1–X3: checked like a GRID's, although nothing paraflex builds reads them.
-fn point_fields(card: &RawCard) -> Result<(), Vec<DeckError>> {
-    let mut f = FieldReader::new(card);
-    let id = f.id(1, "ID");
-    f.set_id(id);
-    f.id0_or(2, "CP", 0);
-    for (i, name) in [(3, "X1"), (4, "X2"), (5, "X3")] {
-        f.real_or(i, name, 0.0);
-    }
-    f.finish(5)
 }
 
 /// `MDLPRM` pairs: only the HDF5 output options (`HDF5`, `H5…`) and `OFFDEF = LROFF` (offsets

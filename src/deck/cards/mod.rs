@@ -59,6 +59,7 @@ pub use properties::{Pbush, Pcomp, Pdamp, Pelas, Ply, Pshell, Psolid, Pvisc};
 pub use random::{Randps, Randt1, Tabrnd, TabrndKind};
 pub use rigid::{Rbe2, Rbe3, Rbe3Group, Rsscon, RssconForm};
 pub use shear_panel::{Cshear, Pshear};
+pub use superelement::{DEFAULT_SE_TOL, Point, ReductionSet, SeMethod, Sebulk, Seconct, Seloc};
 pub use temperature::{Matt1, Temp, Tempd};
 
 use super::Loc;
@@ -205,6 +206,13 @@ pub struct BulkData {
     pub dobj: Vec<Dobj>,
     pub dconstr: Vec<Dconstr>,
     pub moopt: Vec<Moopt>,
+    pub sebulk: Vec<Sebulk>,
+    pub seconct: Vec<Seconct>,
+    pub seloc: Vec<Seloc>,
+    /// POINT cards (geometry for SELOC).
+    pub points: Vec<Point>,
+    /// ASET, QSET and QSET1 cards (read, not honoured: paraflex does not reduce).
+    pub reduction_sets: Vec<ReductionSet>,
 }
 
 impl BulkData {
@@ -288,7 +296,19 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     }),
     ("CBUSH", |c, b| Ok(b.cbush.push(Cbush::from_card(c)?))),
     ("SPOINT", |c, b| Ok(b.spoints.push(Spoint::from_card(c)?))),
-    ("SELOC", |c, _| superelement::seloc(c)),
+    ("SELOC", |c, b| Ok(b.seloc.push(Seloc::from_card(c)?))),
+    ("POINT", |c, b| Ok(b.points.push(Point::from_card(c)?))),
+    ("SEBULK", |c, b| Ok(b.sebulk.push(Sebulk::from_card(c)?))),
+    ("SECONCT", |c, b| Ok(b.seconct.push(Seconct::from_card(c)?))),
+    ("ASET", |c, b| {
+        Ok(b.reduction_sets.push(ReductionSet::pairs(c)?))
+    }),
+    ("QSET", |c, b| {
+        Ok(b.reduction_sets.push(ReductionSet::pairs(c)?))
+    }),
+    ("QSET1", |c, b| {
+        Ok(b.reduction_sets.push(ReductionSet::list(c)?))
+    }),
     ("CONM2", |c, b| Ok(b.conm2.push(Conm2::from_card(c)?))),
     ("CROD", |c, b| Ok(b.crod.push(Crod::from_card(c)?))),
     ("CTUBE", |c, b| Ok(b.ctube.push(Crod::from_card(c)?))),
