@@ -5,6 +5,7 @@
 //! ([`mass_check`](super::mass_check)).
 
 use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
 
 use crate::deck::cards::BulkData;
 use crate::deck::fields::RawCard;
@@ -73,10 +74,9 @@ impl Model {
             for (i, e) in elements.iter().enumerate() {
                 by_id.entry(e.id).or_insert(i);
             }
-            declared_elements
-                .keys()
-                .filter_map(|id| by_id.get(id).map(|&i| (*id, i)))
-                .collect()
+            // in place: a second map of every element was the largest block of a large deck
+            by_id.retain(|id, _| declared_elements.contains_key(id));
+            by_id
         };
 
         super::xref::check(&refs, deck, &mut errors, &mut warnings);
@@ -101,7 +101,7 @@ impl Model {
             rigids,
             properties: solid_properties.into_iter().chain(properties).collect(),
             materials,
-            bulk: bulk.clone(),
+            bulk: Arc::clone(&deck.bulk),
             subcases: deck.case.subcases(),
             params,
             mechanism,
@@ -524,7 +524,8 @@ fn element_id_space(
             .iter()
             .map(|c| entry(c.id, "RSSCON", &c.loc, ())),
     );
-    e.sort_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));
+    // no two cards share a line, so an unstable sort (no scratch copy of `e`) keeps file order
+    e.sort_unstable_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));
     let mut declared = index(e, "element", errors);
     let masses = bulk
         .conm2

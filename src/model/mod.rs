@@ -53,6 +53,7 @@ pub mod values;
 pub mod xref;
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use crate::deck::case_control::Subcase;
 use crate::deck::{BulkData, Loc, Solution, Warning};
@@ -380,8 +381,8 @@ pub struct Model {
     /// Material id → material.
     pub materials: HashMap<u32, MaterialRef>,
     /// The cards themselves (the typed structs the references point into); later modules read
-    /// them through the typed data `Model` offers.
-    bulk: BulkData,
+    /// them through the typed data `Model` offers. Shared with the deck, not copied.
+    bulk: Arc<BulkData>,
     /// The subcases with the global defaults applied.
     pub subcases: Vec<Subcase>,
     /// Values of the PARAMs paraflex uses.
