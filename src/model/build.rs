@@ -15,7 +15,7 @@ use crate::fe::solid_midside::Midsides;
 
 use super::coords::{self, CoordSystem};
 use super::geometry::{self, ShapeReport};
-use super::ids::{entry, index};
+use super::ids::{IdMap, entry, index};
 use super::{
     Element, ElementKind, GridPoint, MaterialRef, Model, PropertyRef, Rigid, RigidKind,
     WeightedGroup,
@@ -62,10 +62,10 @@ impl Model {
         rigids.extend(super::rsscon::build(&refs, &grids, &elements, &mut errors));
         rigids.sort_by_key(|r| r.id);
         let declared_elements = element_id_space(bulk, &mut errors, &mut warnings);
-        let element_index: HashMap<u32, usize> = {
+        let element_index: IdMap<usize> = {
             // map ids to positions in the sorted element list (rigid ids are not in it); an id
             // shared by a CONM2 and another element is the other element's
-            let mut by_id: HashMap<u32, usize> = HashMap::with_capacity(elements.len());
+            let mut by_id = IdMap::with_capacity_and_hasher(elements.len(), Default::default());
             for (i, e) in elements.iter().enumerate() {
                 if e.kind != ElementKind::Conm2 {
                     by_id.insert(e.id, i);
@@ -128,7 +128,7 @@ impl Model {
 pub struct Refs<'a> {
     pub bulk: &'a BulkData,
     pub coords: &'a HashMap<u32, CoordSystem>,
-    pub grid_index: &'a HashMap<u32, usize>,
+    pub grid_index: &'a IdMap<usize>,
     /// Scalar point id → index into [`Model::scalar_points`].
     pub scalar_index: &'a HashMap<u32, usize>,
     /// Property id → property, PSOLID excepted.
@@ -206,7 +206,7 @@ fn build_grids(
     coords: &HashMap<u32, CoordSystem>,
     errors: &mut Vec<DeckError>,
     warnings: &mut Vec<Warning>,
-) -> (Vec<GridPoint>, HashMap<u32, usize>) {
+) -> (Vec<GridPoint>, IdMap<usize>) {
     let unique = index(
         bulk.grids
             .iter()

@@ -20,6 +20,12 @@ use std::hash::Hash;
 
 use crate::deck::{DeckError, Loc};
 
+/// A map keyed by card id: FxHash (rustc-hash), a multiply and a rotate per key, instead of the
+/// standard SipHash, whose hashing of a million grid ids was the reader's largest single cost
+/// (`Refs::grid`, 12 % of `paraflex check` on a 1M-quad deck). Card ids come from the deck, not
+/// from an adversary, so SipHash's resistance to crafted collisions buys nothing here.
+pub type IdMap<V> = rustc_hash::FxHashMap<u32, V>;
+
 /// One entry of an id space: the id, the card name, where it is, and what to store.
 pub struct Entry<'a, K, T> {
     pub id: K,

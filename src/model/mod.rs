@@ -362,7 +362,7 @@ pub struct Model {
     /// Grids sorted by id.
     pub grids: Vec<GridPoint>,
     /// Grid id → index into [`Model::grids`].
-    pub grid_index: HashMap<u32, usize>,
+    pub grid_index: ids::IdMap<usize>,
     /// Scalar point ids, sorted ([`scalar_points`]).
     pub scalar_points: Vec<u32>,
     /// Scalar point id → index into [`Model::scalar_points`].
@@ -372,7 +372,7 @@ pub struct Model {
     /// Elements sorted by id.
     pub elements: Vec<Element>,
     /// Element id → index into [`Model::elements`].
-    pub element_index: HashMap<u32, usize>,
+    pub element_index: ids::IdMap<usize>,
     /// Rigid elements sorted by id.
     pub rigids: Vec<Rigid>,
     /// Property id → property (a PSOLID with the id of another property, which its solid
