@@ -210,7 +210,7 @@ fn conm2_coords_decks_agree_up_to_cord2r_rounding() {
             }
         }
         // The rest must be identical: compare with the coordinate systems taken out.
-        let (mut s, mut o) = (small.bulk.clone(), other.bulk.clone());
+        let (mut s, mut o) = ((*small.bulk).clone(), (*other.bulk).clone());
         s.coords.clear();
         o.coords.clear();
         assert_same_bulk(&s, &o, &what);

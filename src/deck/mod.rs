@@ -23,6 +23,7 @@ pub mod suggest;
 pub mod value;
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 pub use cards::BulkData;
 pub use case_control::CaseControl;
@@ -41,7 +42,8 @@ pub struct Deck {
     pub files: Vec<PathBuf>,
     pub executive: Executive,
     pub case: CaseControl,
-    pub bulk: BulkData,
+    /// The bulk data cards, shared with the [`Model`](crate::model::Model) built from them.
+    pub bulk: Arc<BulkData>,
     /// False for a bulk-data-only file (no `CEND` / `BEGIN BULK`).
     pub has_control_sections: bool,
     /// Accepted input worth mentioning.
@@ -124,7 +126,7 @@ impl Deck {
             files: walker.files,
             executive,
             case,
-            bulk,
+            bulk: Arc::new(bulk),
             has_control_sections,
             warnings,
             parts,

@@ -5,6 +5,7 @@
 //! ([`mass_check`](super::mass_check)).
 
 use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
 
 use crate::deck::cards::BulkData;
 use crate::deck::fields::RawCard;
@@ -14,7 +15,7 @@ use crate::fe::solid_midside::Midsides;
 
 use super::coords::{self, CoordSystem};
 use super::geometry::{self, ShapeReport};
-use super::ids::{entry, index};
+use super::ids::{IdMap, entry, index};
 use super::{
     Element, ElementKind, GridPoint, MaterialRef, Model, PropertyRef, Rigid, RigidKind,
     WeightedGroup,
@@ -73,10 +74,10 @@ impl Model {
         rigids.extend(super::rsscon::build(&refs, &grids, &elements, &mut errors));
         rigids.sort_by_key(|r| r.id);
         let declared_elements = element_id_space(bulk, &mut errors, &mut warnings);
-        let element_index: HashMap<u32, usize> = {
+        let element_index: IdMap<usize> = {
             // map ids to positions in the sorted element list (rigid ids are not in it); an id
             // shared by a CONM2 and another element is the other element's
-            let mut by_id: HashMap<u32, usize> = HashMap::with_capacity(elements.len());
+            let mut by_id = IdMap::with_capacity_and_hasher(elements.len(), Default::default());
             for (i, e) in elements.iter().enumerate() {
                 if e.kind != ElementKind::Conm2 {
                     by_id.insert(e.id, i);
@@ -85,10 +86,9 @@ impl Model {
             for (i, e) in elements.iter().enumerate() {
                 by_id.entry(e.id).or_insert(i);
             }
-            declared_elements
-                .keys()
-                .filter_map(|id| by_id.get(id).map(|&i| (*id, i)))
-                .collect()
+            // in place: a second map of every element was the largest block of a large deck
+            by_id.retain(|id, _| declared_elements.contains_key(id));
+            by_id
         };
 
         super::xref::check(&refs, deck, &mut errors, &mut warnings);
@@ -113,7 +113,7 @@ impl Model {
             rigids,
             properties: solid_properties.into_iter().chain(properties).collect(),
             materials,
-            bulk: bulk.clone(),
+            bulk: Arc::clone(&deck.bulk),
             subcases: deck.case.subcases(),
             params,
             mechanism,
@@ -140,7 +140,7 @@ impl Model {
 pub struct Refs<'a> {
     pub bulk: &'a BulkData,
     pub coords: &'a HashMap<u32, CoordSystem>,
-    pub grid_index: &'a HashMap<u32, usize>,
+    pub grid_index: &'a IdMap<usize>,
     /// Scalar point id → index into [`Model::scalar_points`].
     pub scalar_index: &'a HashMap<u32, usize>,
     /// Property id → property, PSOLID excepted.
@@ -218,7 +218,7 @@ fn build_grids(
     coords: &HashMap<u32, CoordSystem>,
     errors: &mut Vec<DeckError>,
     warnings: &mut Vec<Warning>,
-) -> (Vec<GridPoint>, HashMap<u32, usize>) {
+) -> (Vec<GridPoint>, IdMap<usize>) {
     let unique = index(
         bulk.grids
             .iter()
@@ -536,7 +536,8 @@ fn element_id_space(
             .iter()
             .map(|c| entry(c.id, "RSSCON", &c.loc, ())),
     );
-    e.sort_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));
+    // no two cards share a line, so an unstable sort (no scratch copy of `e`) keeps file order
+    e.sort_unstable_by(|a, b| (&*a.loc.file, a.loc.line).cmp(&(&*b.loc.file, b.loc.line)));
     let mut declared = index(e, "element", errors);
     let masses = bulk
         .conm2

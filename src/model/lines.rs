@@ -61,7 +61,7 @@ pub(super) struct LineInputs<'a> {
     pub bulk: &'a BulkData,
     pub coords: &'a HashMap<u32, CoordSystem>,
     pub grids: &'a [GridPoint],
-    pub grid_index: &'a HashMap<u32, usize>,
+    pub grid_index: &'a super::ids::IdMap<usize>,
 }
 
 impl LineInputs<'_> {

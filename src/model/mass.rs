@@ -63,22 +63,19 @@ pub struct MassPoint {
 impl Model {
     /// Mass properties of the whole model (see the module documentation for the convention).
     pub fn mass_properties(&self) -> MassProperties {
-        let points: Vec<MassPoint> = self
-            .elements
-            .iter()
-            .filter_map(|e| self.element_mass(e))
-            .collect();
-        let total: f64 = points.iter().map(|p| p.mass).sum();
-        let moment = points
-            .iter()
-            .fold([0.0; 3], |acc, p| add(acc, scale(p.point, p.mass)));
+        // two passes over the elements (the CG, then the inertia about it) rather than a list of
+        // every mass point: a million-element model would hold ~100 MB for it
+        let points = || self.elements.iter().filter_map(|e| self.element_mass(e));
+        let (total, moment) = points().fold((0.0, [0.0; 3]), |(m, s), p| {
+            (m + p.mass, add(s, scale(p.point, p.mass)))
+        });
         let cg = if total != 0.0 {
             scale(moment, 1.0 / total)
         } else {
             [0.0; 3]
         };
         let mut inertia = [[0.0; 3]; 3];
-        for p in &points {
+        for p in points() {
             let d = sub(p.point, cg);
             let d2 = dot(d, d);
             for a in 0..3 {

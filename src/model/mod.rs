@@ -54,6 +54,7 @@ pub mod values;
 pub mod xref;
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use crate::deck::case_control::Subcase;
 use crate::deck::{BulkData, Loc, Solution, Warning};
@@ -362,7 +363,7 @@ pub struct Model {
     /// Grids sorted by id.
     pub grids: Vec<GridPoint>,
     /// Grid id → index into [`Model::grids`].
-    pub grid_index: HashMap<u32, usize>,
+    pub grid_index: ids::IdMap<usize>,
     /// Scalar point ids, sorted ([`scalar_points`]).
     pub scalar_points: Vec<u32>,
     /// Scalar point id → index into [`Model::scalar_points`].
@@ -372,7 +373,7 @@ pub struct Model {
     /// Elements sorted by id.
     pub elements: Vec<Element>,
     /// Element id → index into [`Model::elements`].
-    pub element_index: HashMap<u32, usize>,
+    pub element_index: ids::IdMap<usize>,
     /// Rigid elements sorted by id.
     pub rigids: Vec<Rigid>,
     /// Property id → property (a PSOLID with the id of another property, which its solid
@@ -381,8 +382,8 @@ pub struct Model {
     /// Material id → material.
     pub materials: HashMap<u32, MaterialRef>,
     /// The cards themselves (the typed structs the references point into); later modules read
-    /// them through the typed data `Model` offers.
-    bulk: BulkData,
+    /// them through the typed data `Model` offers. Shared with the deck, not copied.
+    bulk: Arc<BulkData>,
     /// The subcases with the global defaults applied.
     pub subcases: Vec<Subcase>,
     /// Values of the PARAMs paraflex uses.

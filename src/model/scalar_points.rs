@@ -49,7 +49,7 @@ pub(super) fn scalar_element_ends(b: &BulkData) -> Vec<(&'static str, u32, [Spri
 /// also a GRID.
 pub(super) fn build(
     b: &BulkData,
-    grid_index: &HashMap<u32, usize>,
+    grid_index: &super::ids::IdMap<usize>,
     errors: &mut Vec<DeckError>,
 ) -> (Vec<u32>, HashMap<u32, usize>) {
     let mut ids: Vec<u32> = Vec::new();

@@ -434,7 +434,9 @@ mod tests {
         (nested.sid, nested.sets) = (4, vec![3]);
         let mut missing = d.bulk.spcadd[0].clone();
         (missing.sid, missing.sets) = (5, vec![1, 77]);
-        d.bulk.spcadd.extend([nested, missing]);
+        std::sync::Arc::make_mut(&mut d.bulk)
+            .spcadd
+            .extend([nested, missing]);
         let union = spc_entries(&d.bulk, 3).expect("union");
         let sets: Vec<_> = union.iter().map(|e| (e.card, e.set)).collect();
         assert_eq!(sets, [(SpcCard::Spc1, 1), (SpcCard::Spc, 2)]);
@@ -452,7 +454,9 @@ mod tests {
         (nested.sid, nested.terms) = (5, vec![(1.0, 2)]);
         let mut missing = d.bulk.load[0].clone();
         (missing.sid, missing.terms) = (6, vec![(1.0, 10), (1.0, 77)]);
-        d.bulk.load.extend([nested, missing]);
+        std::sync::Arc::make_mut(&mut d.bulk)
+            .load
+            .extend([nested, missing]);
         assert_eq!(load_members(&d.bulk, 2), Ok(vec![(3.0, 10)]));
         assert_eq!(load_members(&d.bulk, 10), Ok(vec![(1.0, 10)]));
         assert_eq!(load_members(&d.bulk, 5), Ok(vec![]));

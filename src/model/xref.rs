@@ -593,6 +593,10 @@ fn force_name(f: &crate::deck::cards::Force) -> &'static str {
 /// SENSOR REF by kind, and SURF only on shells.
 fn sensors(refs: &Refs, errors: &mut Vec<DeckError>) {
     let b = refs.bulk;
+    if b.sensors.is_empty() {
+        // the map below is of every element: not built for nothing on large models
+        return;
+    }
     let mut element_kind: HashMap<u32, &'static str> = HashMap::new();
     for (name, ids) in [
         ("CQUAD4", b.cquad4.iter().map(|c| c.id).collect::<Vec<_>>()),
