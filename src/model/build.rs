@@ -33,7 +33,7 @@ impl Model {
             // the parts placed into one bulk data section, then built as any deck
             let bulk = super::parts::assemble(deck, &mut warnings)?;
             let assembled = Deck {
-                bulk,
+                bulk: Arc::new(bulk),
                 parts: Vec::new(),
                 warnings,
                 ..deck.clone()

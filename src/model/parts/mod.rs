@@ -44,7 +44,7 @@ pub fn assemble(deck: &Deck, warnings: &mut Vec<Warning>) -> Result<BulkData, Ve
     if !errors.is_empty() {
         return Err(errors);
     }
-    let mut out = residual.clone();
+    let mut out = BulkData::clone(residual);
     let mut used = UsedIds::of_residual(residual);
     let mut owner: Vec<u32> = vec![0; residual.grids.len()];
     let mut maps: Vec<PartMap> = Vec::new();
