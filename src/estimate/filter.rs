@@ -997,6 +997,39 @@ pub(crate) mod tests {
             assert!(worst <= 1e-9 * scale, "n = {n}: {worst:e} vs {scale:e}");
         }
     }
+
+    /// [`Filter::innovation`] is y − h(x⁻) (eq. 8.25): the measurements minus what the sensor
+    /// rows read at the prediction, here q⁻ of the first DOF (DISP) and q̈⁻ of the last (ACCEL),
+    /// read through [`Filter::state`] and [`Filter::acceleration`] between the prediction and
+    /// the correction. Physical coordinates give the same numbers (bound 1e-14 of the
+    /// measurement); modal ones read H Φ z instead of H q with q = Φ z (round-off of Φ's
+    /// products: 1e-10).
+    #[test]
+    fn innovation_is_the_measurement_minus_the_predicted_reading() {
+        let n = 3;
+        for (coordinates, tol) in [(Coordinates::Physical, 1e-14), (Coordinates::Auto, 1e-10)] {
+            let mut filter = Filter::new(chain_of(n, coordinates)).unwrap();
+            let (load, y) = (vec![1.0, 0.0, -2.0], [3e-3, -5.0]);
+            filter.predict(&load).unwrap();
+            let reading = [filter.state()[0], filter.acceleration()[n - 1]];
+            filter.correct(&load, &y).unwrap();
+            let e = filter.innovation();
+            assert_eq!(e.len(), 2);
+            for r in 0..2 {
+                let expected = y[r] - reading[r];
+                assert!(
+                    (e[r] - expected).abs() <= tol * y[r].abs(),
+                    "{coordinates:?}, row {r}: {} vs {expected}",
+                    e[r]
+                );
+            }
+            // the reading is not the measurement: the check above is not 0 = 0
+            assert!(
+                (e[0] / y[0]).abs() > 0.1 && (e[1] / y[1]).abs() > 0.1,
+                "{e:?}"
+            );
+        }
+    }
 }
 
 /// Re-diagonalized modal coordinates on the chain with its grounded spring (E's part is not
