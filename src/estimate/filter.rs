@@ -529,22 +529,53 @@ pub(crate) mod tests {
     #[test]
     fn prediction_jacobian_matches_finite_differences() {
         for make in [setup, trapezoidal] {
-            jacobian_matches_finite_differences(make);
+            jacobian_matches_finite_differences(make, &X, &LOAD);
         }
     }
 
-    fn jacobian_matches_finite_differences(make: fn(&[f64]) -> FilterSetup) {
-        let mut base = Filter::new(make(&X)).unwrap();
-        base.predict(&LOAD).unwrap();
+    /// The same on the chains of 1 and 3 DOFs of [`chain_of`] (the blocks of J start elsewhere
+    /// than on the 2-DOF chain), both predictions.
+    #[test]
+    fn prediction_jacobian_matches_finite_differences_at_other_sizes() {
+        for n in [1, 3] {
+            for prediction in [Prediction::Bdf1, Prediction::Trapezoidal] {
+                let make = |x: &[f64]| FilterSetup {
+                    q0: x[..n].to_vec(),
+                    v0: x[n..2 * n].to_vec(),
+                    u0: vec![x[2 * n]],
+                    p: x[2 * n + 1..].to_vec(),
+                    prediction,
+                    ..chain_of(n, Coordinates::Physical)
+                };
+                let x: Vec<f64> = (0..n)
+                    .map(|i| 1e-3 * (1.0 + i as f64))
+                    .chain((0..n).map(|i| 0.1 - 0.05 * i as f64))
+                    .chain([4.0, 1.2, 0.9])
+                    .collect();
+                let load: Vec<f64> = (0..n).map(|i| 3.0 - 2.0 * i as f64).collect();
+                jacobian_matches_finite_differences(make, &x, &load);
+            }
+        }
+    }
+
+    fn jacobian_matches_finite_differences(
+        make: impl Fn(&[f64]) -> FilterSetup,
+        x0: &[f64],
+        load: &[f64],
+    ) {
+        let size = x0.len();
+        let mut base = Filter::new(make(x0)).unwrap();
+        base.predict(load).unwrap();
         let j = base.transition();
         let prediction = base.ekf.model.setup.prediction;
-        for c in 0..7 {
-            let h = 1e-6 * X[c].abs().max(1e-3);
+        assert_eq!((j.nrows(), j.ncols()), (size, size));
+        for c in 0..size {
+            let h = 1e-6 * x0[c].abs().max(1e-3);
             let predicted = |sign: f64| {
-                let mut x = X;
+                let mut x = x0.to_vec();
                 x[c] += sign * h;
                 let mut f = Filter::new(make(&x)).unwrap();
-                f.predict(&LOAD).unwrap();
+                f.predict(load).unwrap();
                 f.state().to_vec()
             };
             let (up, down) = (predicted(1.0), predicted(-1.0));
@@ -555,9 +586,9 @@ pub(crate) mod tests {
                 .collect();
             let scale = fd
                 .iter()
-                .chain((0..7).map(|r| &j[(r, c)]))
+                .chain((0..size).map(|r| &j[(r, c)]))
                 .fold(0.0_f64, |m, v| m.max(v.abs()));
-            for r in 0..7 {
+            for r in 0..size {
                 assert!(
                     (fd[r] - j[(r, c)]).abs() <= 1e-7 * scale,
                     "{prediction:?}: J[{r},{c}] = {} vs finite difference {}",
