@@ -439,6 +439,53 @@ fn rbe3_average_and_rigid_rotation() {
     }
 }
 
+/// The RBE3's motion is unchanged when every weight is multiplied by one factor, and so must be
+/// whether it is refused as singular: the pivot test is relative to the largest diagonal entry
+/// of A = Σ w sᵀs. Three legs observing translations, at (±1, 0, 0) and (0, δ, 0): only the
+/// third leg sees a rotation about x, and after eliminating T3 its pivot is (2/3)·w·δ² against
+/// the largest diagonal 3w, i.e. (2/9)·δ² relative to it. δ = 1e-6 (2.2e-13, below
+/// RBE3_PIVOT_TOL = 1e-10) is refused and δ = 1e-3 (2.2e-7) accepted, at weights 1e-4 … 1e4;
+/// an absolute or inversely scaled threshold flips one of them at one end of that range. The
+/// accepted ones reproduce a rigid motion of the legs (conditioning ~1e7 at δ = 1e-3, so a
+/// relative 1e-6 bound).
+#[test]
+fn rbe3_singularity_is_judged_relative_to_the_weight_scale() {
+    let theta = [0.1, -0.2, 0.3];
+    let t = [1.0, 2.0, -0.5];
+    for (delta, accepted) in [("1.-6", false), ("1.-3", true)] {
+        for w in ["1.-4", "1.", "1.+4"] {
+            let bulk = format!(
+                "GRID,1,,1.,0.,0.\nGRID,2,,-1.,0.,0.\nGRID,3,,0.,{delta},0.\n\
+                 GRID,5,,0.,0.,0.\nRBE3,9,,5,123456,{w},123,1,2,\n+,3\n"
+            );
+            let m = model(&bulk, "");
+            let map = DofMap::of_model(&m);
+            let rigid = RigidElimination::of_model(&m, &GridFrames::of_model(&m), &map);
+            let Ok(rigid) = rigid else {
+                assert!(!accepted, "δ = {delta}, w = {w}: refused");
+                continue;
+            };
+            assert!(accepted, "δ = {delta}, w = {w}: accepted");
+            let mut u_n = vec![0.0; rigid.n.len()];
+            for g in 0..3 {
+                let arm = crate::geometry::vec3::cross(theta, m.grids[g].xyz);
+                for c in 0..3 {
+                    u_n[6 * g + c] = t[c] + arm[c];
+                }
+            }
+            let u = rigid.expand(&u_n).expect("expand");
+            for (k, expected) in t.iter().chain(&theta).enumerate() {
+                assert!(
+                    (u[18 + k] - expected).abs() < 1e-6,
+                    "δ = {delta}, w = {w}, DOF {}: {} vs {expected}",
+                    k + 1,
+                    u[18 + k]
+                );
+            }
+        }
+    }
+}
+
 /// SPCADD is the union of its sets; a set without cards is an error. (Nested SPCADD and
 /// members without cards, which the model check rejects, are errors of the set resolution
 /// itself: `model::sets` tests them.)

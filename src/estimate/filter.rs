@@ -529,22 +529,53 @@ pub(crate) mod tests {
     #[test]
     fn prediction_jacobian_matches_finite_differences() {
         for make in [setup, trapezoidal] {
-            jacobian_matches_finite_differences(make);
+            jacobian_matches_finite_differences(make, &X, &LOAD);
         }
     }
 
-    fn jacobian_matches_finite_differences(make: fn(&[f64]) -> FilterSetup) {
-        let mut base = Filter::new(make(&X)).unwrap();
-        base.predict(&LOAD).unwrap();
+    /// The same on the chains of 1 and 3 DOFs of [`chain_of`] (the blocks of J start elsewhere
+    /// than on the 2-DOF chain), both predictions.
+    #[test]
+    fn prediction_jacobian_matches_finite_differences_at_other_sizes() {
+        for n in [1, 3] {
+            for prediction in [Prediction::Bdf1, Prediction::Trapezoidal] {
+                let make = |x: &[f64]| FilterSetup {
+                    q0: x[..n].to_vec(),
+                    v0: x[n..2 * n].to_vec(),
+                    u0: vec![x[2 * n]],
+                    p: x[2 * n + 1..].to_vec(),
+                    prediction,
+                    ..chain_of(n, Coordinates::Physical)
+                };
+                let x: Vec<f64> = (0..n)
+                    .map(|i| 1e-3 * (1.0 + i as f64))
+                    .chain((0..n).map(|i| 0.1 - 0.05 * i as f64))
+                    .chain([4.0, 1.2, 0.9])
+                    .collect();
+                let load: Vec<f64> = (0..n).map(|i| 3.0 - 2.0 * i as f64).collect();
+                jacobian_matches_finite_differences(make, &x, &load);
+            }
+        }
+    }
+
+    fn jacobian_matches_finite_differences(
+        make: impl Fn(&[f64]) -> FilterSetup,
+        x0: &[f64],
+        load: &[f64],
+    ) {
+        let size = x0.len();
+        let mut base = Filter::new(make(x0)).unwrap();
+        base.predict(load).unwrap();
         let j = base.transition();
         let prediction = base.ekf.model.setup.prediction;
-        for c in 0..7 {
-            let h = 1e-6 * X[c].abs().max(1e-3);
+        assert_eq!((j.nrows(), j.ncols()), (size, size));
+        for c in 0..size {
+            let h = 1e-6 * x0[c].abs().max(1e-3);
             let predicted = |sign: f64| {
-                let mut x = X;
+                let mut x = x0.to_vec();
                 x[c] += sign * h;
                 let mut f = Filter::new(make(&x)).unwrap();
-                f.predict(&LOAD).unwrap();
+                f.predict(load).unwrap();
                 f.state().to_vec()
             };
             let (up, down) = (predicted(1.0), predicted(-1.0));
@@ -555,9 +586,9 @@ pub(crate) mod tests {
                 .collect();
             let scale = fd
                 .iter()
-                .chain((0..7).map(|r| &j[(r, c)]))
+                .chain((0..size).map(|r| &j[(r, c)]))
                 .fold(0.0_f64, |m, v| m.max(v.abs()));
-            for r in 0..7 {
+            for r in 0..size {
                 assert!(
                     (fd[r] - j[(r, c)]).abs() <= 1e-7 * scale,
                     "{prediction:?}: J[{r},{c}] = {} vs finite difference {}",
@@ -895,6 +926,140 @@ pub(crate) mod tests {
         // the final covariance maps back to the physical one
         let scale = p_physical.norm_max();
         assert!((&p_physical - &p_modal).norm_max() <= 1e-9 * scale);
+    }
+
+    /// [`chain`]'s parameters on a chain of `n` DOFs with K = E K¹ (no grounded spring, so
+    /// the modes diagonalize every part and modal coordinates apply) and M = ρ M¹; a DISP row
+    /// on the first DOF, an ACCEL row and the unknown input on the last, initial covariance
+    /// p0_state = 1e-10 on q and q̇, 1 on the input, 0.1 and 0.2 on E and ρ.
+    fn chain_of(n: usize, coordinates: Coordinates) -> FilterSetup {
+        let k1 = Mat::from_fn(n, n, |i, j| match i.abs_diff(j) {
+            0 if i + 1 == n => 1e4,
+            0 => 2e4,
+            1 => -1e4,
+            _ => 0.0,
+        });
+        let m1 = Mat::from_fn(n, n, |i, j| [2.0, 0.1, 0.0][i.abs_diff(j).min(2)]);
+        let mut prom = chain();
+        prom.stiffness = vec![Mat::zeros(n, n), k1, Mat::zeros(n, n)];
+        prom.mass = vec![Mat::zeros(n, n), Mat::zeros(n, n), m1];
+        let ends = Mat::from_fn(2, n, |r, c| f64::from(c == r * (n - 1)));
+        let kinds = vec!["DISP".into(), "ACCEL".into()];
+        FilterSetup {
+            prom,
+            p: vec![1.2, 0.9],
+            unknown_params: vec![0, 1],
+            s_un: Mat::from_fn(n, 1, |i, _| f64::from(i + 1 == n)),
+            measured: SensorRows::new(vec!["D".into(), "A".into()], kinds, ends).unwrap(),
+            r: vec![1e-12, 1e-6],
+            dt: 1e-3,
+            q_state: 1e-16,
+            q_inputs: vec![1e-2],
+            q_params: vec![1e-8, 1e-8],
+            q0: vec![1e-3; n],
+            v0: vec![0.1; n],
+            u0: vec![0.0],
+            p0_state: 1e-10,
+            p0_inputs: vec![1.0],
+            p0_params: vec![0.1, 0.2],
+            coordinates,
+            prediction: Prediction::Bdf1,
+        }
+    }
+
+    /// [`Filter::covariance`] and [`Filter::variance`] report the covariance of the physical
+    /// x* = [q, q̇, u, p] in whichever coordinates the filter runs, on chains of 1 and 3 DOFs
+    /// (the q̇, u and p blocks then start elsewhere than on the 2-DOF chain of the other tests).
+    /// Before any step that is the setup's diagonal P₀ (the modal run holds T⁻¹ P₀ T⁻ᵀ and maps
+    /// it back: round-off of Φ's conditioning, bound 1e-12 of √(P₀ᵢᵢ P₀ⱼⱼ)); after five steps
+    /// the modal run's covariance equals the physical run's (the same EKF under a change of
+    /// state: round-off amplified by the gains, bound 1e-9 of the q, q̇ block's largest entry as
+    /// in `modal_path_equals_physical_path`), and each variance is its covariance's diagonal.
+    #[test]
+    fn covariance_is_reported_in_physical_coordinates_at_every_size() {
+        for n in [1, 3] {
+            let size = 2 * n + 3;
+            let p0: Vec<f64> = [1e-10]
+                .repeat(2 * n)
+                .into_iter()
+                .chain([1.0, 0.1, 0.2])
+                .collect();
+            let mut after = Vec::new();
+            for coordinates in [Coordinates::Physical, Coordinates::Auto] {
+                let mut filter = Filter::new(chain_of(n, coordinates)).unwrap();
+                assert_eq!(filter.modal(), coordinates == Coordinates::Auto, "n = {n}");
+                let p = filter.covariance();
+                assert_eq!((p.nrows(), p.ncols()), (size, size), "n = {n}");
+                for i in 0..size {
+                    for j in 0..size {
+                        let expected = if i == j { p0[i] } else { 0.0 };
+                        assert!(
+                            (p[(i, j)] - expected).abs() <= 1e-12 * (p0[i] * p0[j]).sqrt(),
+                            "n = {n}, {coordinates:?}: P[{i}, {j}] = {:e} vs {expected:e}",
+                            p[(i, j)]
+                        );
+                    }
+                    let v = filter.variance(i);
+                    assert!(
+                        (v - p0[i]).abs() <= 1e-12 * p0[i],
+                        "n = {n}: var {i} = {v:e}"
+                    );
+                }
+                for k in 1..=5 {
+                    let y = [1e-3 * (1.0 + 0.1 * k as f64), -2.0];
+                    filter.step(&vec![0.0; n], &y).unwrap();
+                }
+                let p = filter.covariance();
+                for i in 0..size {
+                    let v = filter.variance(i);
+                    assert!(
+                        (v - p[(i, i)]).abs() <= 1e-12 * p[(i, i)].abs(),
+                        "n = {n}, {coordinates:?}: var {i} = {v:e} vs {:e}",
+                        p[(i, i)]
+                    );
+                }
+                after.push(p);
+            }
+            let states = |p: &Mat<f64>| p.as_ref().submatrix(0, 0, 2 * n, 2 * n).to_owned();
+            let (physical, modal) = (states(&after[0]), states(&after[1]));
+            let scale = physical.norm_max();
+            assert!(scale > 0.0);
+            let worst = (&physical - &modal).norm_max();
+            assert!(worst <= 1e-9 * scale, "n = {n}: {worst:e} vs {scale:e}");
+        }
+    }
+
+    /// [`Filter::innovation`] is y − h(x⁻) (eq. 8.25): the measurements minus what the sensor
+    /// rows read at the prediction, here q⁻ of the first DOF (DISP) and q̈⁻ of the last (ACCEL),
+    /// read through [`Filter::state`] and [`Filter::acceleration`] between the prediction and
+    /// the correction. Physical coordinates give the same numbers (bound 1e-14 of the
+    /// measurement); modal ones read H Φ z instead of H q with q = Φ z (round-off of Φ's
+    /// products: 1e-10).
+    #[test]
+    fn innovation_is_the_measurement_minus_the_predicted_reading() {
+        let n = 3;
+        for (coordinates, tol) in [(Coordinates::Physical, 1e-14), (Coordinates::Auto, 1e-10)] {
+            let mut filter = Filter::new(chain_of(n, coordinates)).unwrap();
+            let (load, y) = (vec![1.0, 0.0, -2.0], [3e-3, -5.0]);
+            filter.predict(&load).unwrap();
+            let reading = [filter.state()[0], filter.acceleration()[n - 1]];
+            filter.correct(&load, &y).unwrap();
+            let e = filter.innovation();
+            assert_eq!(e.len(), 2);
+            for r in 0..2 {
+                let expected = y[r] - reading[r];
+                assert!(
+                    (e[r] - expected).abs() <= tol * y[r].abs(),
+                    "{coordinates:?}, row {r}: {} vs {expected}",
+                    e[r]
+                );
+            }
+            // the reading is not the measurement: the check above is not 0 = 0
+            assert!(
+                (e[0] / y[0]).abs() > 0.1 && (e[1] / y[1]).abs() > 0.1,
+                "{e:?}"
+            );
+        }
     }
 }
 

@@ -857,6 +857,40 @@ pub(crate) mod tests {
         let worst = sym.factor_llt(&a, Par::Seq).unwrap().max_pivot_ratio();
         assert!((worst.ratio - 2.0).abs() < 1e-14, "{worst:?}");
         assert_eq!(worst.index, 1);
+        // MAXRATIO refuses a ratio above it, not one equal to it (2 is exact here: L has
+        // integer entries)
+        let at = sym.clone().with_max_ratio(2.0).factor_llt(&a, Par::Seq);
+        assert!(at.is_ok(), "{:?}", at.err());
+        assert!(matches!(
+            sym.clone().with_max_ratio(1.999).factor_llt(&a, Par::Seq),
+            Err(LinalgError::NotPositiveDefinite { index: 1, ratio }) if ratio == 2.0
+        ));
+    }
+
+    /// LDLᵀ reports the largest |a_kk / d_k| and its DOF: [[4, 2], [2, 2]] has d = (4, 1), ratios
+    /// 1 and 2; the indefinite [[4, 2], [2, −2]] has d = (4, −3), ratios 1 and 2/3 (the first
+    /// row is the worst).
+    #[test]
+    fn ldlt_pivot_ratio_is_the_largest_diagonal_over_pivot() {
+        for (a11, ratio, index) in [(2.0, 2.0, 1), (-2.0, 1.0, 0)] {
+            let mut coo = CooMatrix::new(2, 2);
+            for (i, j, v) in [(0, 0, 4.0), (1, 0, 2.0), (0, 1, 2.0), (1, 1, a11)] {
+                coo.push(i, j, v);
+            }
+            let a = CscMatrix::from(&coo);
+            let sym = SymbolicFactor::analyze(a.pattern()).unwrap();
+            assert_eq!(
+                sym.permuted_to_caller(0),
+                0,
+                "the ratios above assume row 0 first"
+            );
+            let worst = sym.factor_ldlt(&a, Par::Seq).unwrap().max_pivot_ratio();
+            assert!(
+                (worst.ratio - ratio).abs() < 1e-14,
+                "a11 = {a11}: {worst:?}"
+            );
+            assert_eq!(worst.index, index, "a11 = {a11}");
+        }
     }
 
     /// One symbolic object, factors of K and K − σM computed in parallel threads, equal to the

@@ -9,7 +9,12 @@ an earlier run made elsewhere:
     {"file", "command", "commit", "cargo_mutants_version", "planned", "finished",
      "outcomes": {mutant name: CaughtMutant | MissedMutant | Timeout | Unviable},
      "offsets": {mutant name: [line − its function's first line, column]},
-     "failing_tests": {mutant name: {"first": [test, ...], "total": n}}}
+     "failing_tests": {mutant name: {"first": [test, ...], "total": n}},
+     "sample": {"shard": "k/n", "file_mutants": m}}
+
+`sample` is there only for a sampled run (run.sh's MUTANTS_SHARD: cargo-mutants' round-robin
+shard k of n, every n-th mutant): `planned` then counts the shard's mutants and `file_mutants`
+the whole file's.
 
 `failing_tests` holds, for a rerun, the tests that caught each mutant an earlier run of the module
 in the ledger had missed (a rerun is made after new tests, and the report names them), and for any
@@ -118,11 +123,12 @@ def read_run(directory: Path, ledger: Path) -> dict | None:
         return p.read_text().strip() if p.exists() else "(not recorded)"
 
     command = text("command.txt")
+    shard = re.search(r"--shard (\S+)", command)
     file = next(iter(outcomes), "").split(":", 1)[0]
     if not file:
         m = re.search(r"--file (\S+)", command)
         file = m.group(1) if m else directory.name
-    return {
+    entry = {
         "file": file,
         "command": command,
         "commit": text("commit.txt"),
@@ -133,6 +139,9 @@ def read_run(directory: Path, ledger: Path) -> dict | None:
         "offsets": offsets,
         "failing_tests": {k: {"first": v[:KEPT_TESTS], "total": len(v)} for k, v in tests.items() if v},
     }
+    if shard:
+        entry["sample"] = {"shard": shard.group(1), "file_mutants": int(text("file-mutants.txt"))}
+    return entry
 
 
 def main() -> int:

@@ -16,6 +16,10 @@ failed by then. Every mutant missed by an earlier run is listed with the tests t
 (recorded from the rerun's log: the new tests) or with its equivalence argument; one that is
 neither is flagged "UNEXPLAINED", and the script exits with status 1 so that the habit cannot
 silently lapse.
+
+A sampled module (tools/mutants/run.sh's MUTANTS_SHARD: cargo-mutants' round-robin shards) is
+reported as such: the table counts the mutants tested, names the shards and the file's whole
+mutant count, and its caught ratio is the sample's.
 """
 
 from __future__ import annotations
@@ -45,6 +49,7 @@ class Run:
     failing_tests: dict[str, dict]
     planned: int
     finished: bool
+    sample: dict | None = None
 
     def keyed(self) -> dict[tuple[str, int, int], str]:
         """Mutant key → the mutant's name in this run."""
@@ -93,11 +98,23 @@ class Module:
 
     def untested(self) -> int:
         """Mutants the latest run over the whole file (the first, or an `--iterate` rerun) did not
-        reach because it was stopped."""
+        reach because it was stopped; for a sample, those its shards' runs did not reach."""
+        if self.first.sample:
+            return sum(r.planned - len(r.outcomes) for r in self.runs() if r.sample)
         whole = [r for r in self.runs() if r is self.first or "--iterate" in r.command][-1]
         if whole is self.first:  # later partial runs may have reached some of them
             return max(0, whole.planned - len(self.final()))
         return whole.planned - len(whole.outcomes)
+
+    def shards(self) -> dict[str, int]:
+        """A sampled module's shards (`k/n`) → their mutant counts; empty for a whole file."""
+        return {r.sample["shard"]: r.planned for r in self.runs() if r.sample} if self.first.sample else {}
+
+    def unsampled(self) -> int:
+        """Mutants of a sampled file in none of its shards (0 for a file run whole)."""
+        if not self.first.sample:
+            return 0
+        return self.first.sample["file_mutants"] - sum(self.shards().values())
 
     def counts(self) -> dict[str, int]:
         final = self.final().values()
@@ -108,7 +125,7 @@ def read_run(path: Path) -> Run:
     d = json.loads(path.read_text())
     return Run(
         path.stem, d["command"], d["commit"], d["cargo_mutants_version"], d["outcomes"], d["offsets"], d["failing_tests"],
-        d["planned"], d["finished"],
+        d["planned"], d["finished"], d.get("sample"),
     )
 
 
@@ -169,6 +186,8 @@ def render(modules: list[Module], explanations: dict[str, str], order: list[str]
             continue
         c, final = m.counts(), m.final()
         tested = f"{len(final)}" + (f" ({m.untested()} not reached)" if m.untested() else "")
+        if m.first.sample:
+            tested += f" of {m.first.sample['file_mutants']}, sampled (shards {', '.join(m.shards())})"
         lines.append(
             f"| `{m.file}` | {tested} | {c['CaughtMutant']} | {c['MissedMutant']} | {c['Timeout']} "
             f"| {c['Unviable']} | {ratio(c)} | {len(m.killed_later())} |"
@@ -178,11 +197,20 @@ def render(modules: list[Module], explanations: dict[str, str], order: list[str]
         lines += ["", f"### `{m.file}`", ""]
         for label, run in [("Run", m.first)] + [("Rerun", r) for r in m.reruns]:
             done = "" if run.finished else f", stopped after {len(run.outcomes)} of its {run.planned} mutants"
+            if run.sample:
+                k, n = run.sample["shard"].split("/")
+                done += f"; a sample: round-robin shard {k} of {n}, every {n}th mutant of the file from the {k}th"
             lines.append(f"{label} at commit {run.commit} (cargo-mutants {run.version}{done}):")
             lines += ["", "```sh", run.command, "```", ""]
         final = m.final()
         if m.untested():
             lines += [f"{m.untested()} mutants of the file were not tested (the run was stopped).", ""]
+        if m.unsampled():
+            lines += [
+                f"{m.unsampled()} of the file's {m.first.sample['file_mutants']} mutants are in no shard run "
+                "so far: the caught ratio is the sample's, an estimate of the file's, not a count of it.",
+                "",
+            ]
         killed = m.killed_later()
         missed = [n for n, o, _ in final.values() if o == "MissedMutant"]
         timeouts = [(n, r) for n, o, r in final.values() if o == "Timeout"]

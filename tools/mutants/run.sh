@@ -4,6 +4,8 @@
 #   tools/mutants/run.sh FILE...                 every mutant of each file
 #   MUTANTS_RE='regex' tools/mutants/run.sh F    rerun only the mutants whose names match
 #   MUTANTS_ITERATE=1 tools/mutants/run.sh F     rerun every mutant of F not caught so far
+#   MUTANTS_SHARD=k/n tools/mutants/run.sh F     a sample: every n-th mutant of F from the k-th
+#                                                (k = 0 … n−1; cargo-mutants' round-robin shard)
 #
 # Each file is mutated in its own cargo-mutants run against the tests tools/mutants/modules.tsv
 # assigns it, and its outcomes land in mutants.out/<file, / as ->/mutants.out/ (a rerun's in
@@ -11,6 +13,10 @@
 # (commit.txt) that produced them; tools/mutants/record.py then copies the outcomes into the
 # repository's ledger (tools/mutants/ledger/, committed), from which tools/mutants/report.py
 # writes docs/mutation-testing.md.
+#
+# A sample (MUTANTS_SHARD) is a file's first run when the ledger has none yet, and a rerun
+# otherwise (another shard adds its mutants to the earlier ones); it records the file's whole
+# mutant count (file-mutants.txt) so that the report says what fraction was sampled.
 #
 # Affordability on a small shared machine: one job under `nice -n 19`, so it only takes idle CPU;
 # a target directory of its own (target/mutants, its dependencies hard-linked from target/debug
@@ -50,7 +56,8 @@ for file in "$@"; do
     name=${file#src/}
     name=${name%.rs}
     name=${name//\//-}
-    if [ -n "${MUTANTS_RE:-}${MUTANTS_ITERATE:-}" ]; then
+    if [ -n "${MUTANTS_RE:-}${MUTANTS_ITERATE:-}" ] ||
+        { [ -n "${MUTANTS_SHARD:-}" ] && [ -f "tools/mutants/ledger/$name.json" ]; }; then
         # a rerun (after new tests) is kept beside the file's full run, whose outcomes it
         # updates in the report; --iterate reads which mutants were already caught from a copy
         # of the latest run's lists
@@ -76,6 +83,10 @@ for file in "$@"; do
         --cargo-arg=--config=profile.dev.package.paraflex.debug=false)
     [ -z "${MUTANTS_RE:-}" ] || cmd+=(--re "$MUTANTS_RE")
     [ -z "${MUTANTS_ITERATE:-}" ] || cmd+=(--iterate)
+    if [ -n "${MUTANTS_SHARD:-}" ]; then
+        cmd+=(--shard "$MUTANTS_SHARD" --sharding round-robin)
+        cargo mutants --list --file "$file" --exclude-re "$exclude" | wc -l > "$out/file-mutants.txt"
+    fi
     cmd+=(-- -- "$filter")
     {
         printf 'CARGO_TARGET_DIR=%q CARGO_INCREMENTAL=1 ' "${target#"$root"/}"

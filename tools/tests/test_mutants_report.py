@@ -144,3 +144,19 @@ def test_a_rerun_after_code_moved_the_mutants_matches_them_by_place_in_their_fun
     assert "| `src/k.rs` | 2 | 2 | 0 | 0 | 0 | 100.0 % | 1 |" in page
     assert "13:5 `replace + with - in f`: missed, now killed by `k::tests::new_test`" in page
     assert "UNEXPLAINED" not in page
+
+
+def test_a_sampled_run_is_reported_as_a_sample_of_the_file(tmp_path: Path):
+    """A MUTANTS_SHARD run: the ledger keeps the shard and the file's count, the report says
+    how much of the file was sampled and that its ratio is the sample's."""
+    directory = tmp_path / "out" / "k"
+    write_run(directory, {CAUGHT: "CaughtMutant", MISSED_THEN_KILLED: "CaughtMutant"}, planned=2, finished=True,
+              command="cargo mutants --file src/k.rs --shard 0/4 --sharding round-robin")
+    (directory / "file-mutants.txt").write_text("8\n")
+    record(tmp_path, "k")
+    entry = json.loads((tmp_path / "ledger" / "k.json").read_text())
+    assert entry["sample"] == {"shard": "0/4", "file_mutants": 8}
+    code, page = run_report(tmp_path, "")
+    assert code == 0
+    assert "| `src/k.rs` | 2 of 8, sampled (shards 0/4) | 2 | 0 |" in page
+    assert "6 of the file's 8 mutants are in no shard run so far" in page
