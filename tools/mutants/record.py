@@ -158,6 +158,12 @@ def main() -> int:
             status = 1
             continue
         path = args.ledger / f"{directory.name}.json"
+        if "-rerun-" not in directory.name:
+            # a new first run supersedes the reruns of the one it replaces (they would sort after
+            # it and override its newer outcomes); git keeps them
+            for stale in args.ledger.glob(f"{directory.name}-rerun-*.json"):
+                stale.unlink()
+                print(f"removed {stale}: superseded by the new run")
         path.write_text(json.dumps(entry, indent=1, ensure_ascii=False, sort_keys=True) + "\n")
         print(f"recorded {path}: {len(entry['outcomes'])} of {entry['planned']} mutants")
     return status

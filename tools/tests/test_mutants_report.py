@@ -160,3 +160,18 @@ def test_a_sampled_run_is_reported_as_a_sample_of_the_file(tmp_path: Path):
     assert code == 0
     assert "| `src/k.rs` | 2 of 8, sampled (shards 0/4) | 2 | 0 |" in page
     assert "6 of the file's 8 mutants are in no shard run so far" in page
+
+
+def test_a_new_first_run_supersedes_the_reruns_of_the_one_it_replaces(tmp_path: Path):
+    make_runs(tmp_path)
+    # the file is mutated again from scratch (same run directory name): UNEXPLAINED, which the
+    # old rerun had still missed, is caught now and must not be overridden by that rerun
+    for path in sorted((tmp_path / "out" / "k").rglob("*"), reverse=True):
+        path.unlink() if path.is_file() else path.rmdir()
+    write_run(tmp_path / "out" / "k", {UNEXPLAINED: "CaughtMutant", CAUGHT: "CaughtMutant"},
+              planned=2, finished=True)
+    record(tmp_path, "k")
+    assert [p.name for p in (tmp_path / "ledger").glob("*.json")] == ["k.json"]
+    code, page = run_report(tmp_path, "")
+    assert code == 0
+    assert "| `src/k.rs` | 2 | 2 | 0 | 0 | 0 | 100.0 % | 0 |" in page
