@@ -358,33 +358,20 @@ impl Configuration {
 }
 
 /// t += Σₗ xₗ sₗ and r += Σₗ yₗ sₗ over the 3 × 3 blocks sₗ (9 numbers each, one after the
-/// other in `blocks`); `y` and `r` may be empty. Each entry is summed over l in order, as a
-/// plain loop would, compiled for the CPU's widest vectors (the blocks of a flexible body's
-/// n² modal moments are the largest data a residual reads).
+/// other in `blocks`); `y` and `r` may be empty. Each entry is summed over l in order; the
+/// second sum reads the blocks again while they are in the cache.
 fn contract_two(blocks: &[f64], x: &[f64], y: &[f64], t: &mut [f64], r: &mut [f64]) {
-    pulp::Arch::new().dispatch(
-        #[inline(always)]
-        || {
-            let mut acc_t = [0.0; 9];
-            for (s, &xl) in blocks.chunks_exact(9).zip(x) {
-                for c in 0..9 {
-                    acc_t[c] += xl * s[c];
-                }
+    for (out, weights) in [(t, x), (r, y)] {
+        let mut acc = [0.0; 9];
+        for (s, &wl) in blocks.chunks_exact(9).zip(weights) {
+            for c in 0..9 {
+                acc[c] += wl * s[c];
             }
-            let mut acc_r = [0.0; 9];
-            for (s, &yl) in blocks.chunks_exact(9).zip(y) {
-                for c in 0..9 {
-                    acc_r[c] += yl * s[c];
-                }
-            }
-            for (t, a) in t.iter_mut().zip(acc_t) {
-                *t += a;
-            }
-            for (r, a) in r.iter_mut().zip(acc_r) {
-                *r += a;
-            }
-        },
-    )
+        }
+        for (o, a) in out.iter_mut().zip(acc) {
+            *o += a;
+        }
+    }
 }
 
 /// M̂₂ q̇_f = Σₖ q̇ₖ Σ m ψₖ.
