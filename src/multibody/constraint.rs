@@ -211,6 +211,22 @@ impl Constraint {
         }
     }
 
+    /// The bodies whose coordinates the row depends on (each once, ascending): outside their
+    /// slices of q the row of Φ_q and of ∂(Φ_q v + Φ_t)/∂q is zero.
+    pub fn bodies(&self) -> Vec<usize> {
+        let mut bodies: Vec<usize> = match self {
+            Constraint::Normalization { body } => vec![*body],
+            Constraint::Dots { terms, .. } => terms
+                .iter()
+                .flat_map(|term| term.u.parts.iter().chain(&term.w.parts))
+                .filter_map(|(_, v)| v.body)
+                .collect(),
+        };
+        bodies.sort_unstable();
+        bodies.dedup();
+        bodies
+    }
+
     /// Φ(q, t).
     pub fn value(&self, layout: &Layout, q: &[f64], t: f64) -> f64 {
         match self {

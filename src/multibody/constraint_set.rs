@@ -7,7 +7,8 @@ use super::constraint::Constraint;
 use super::layout::Layout;
 use super::redundancy::{RankSplit, split_rows};
 use super::rotations::Rotations;
-use faer::{Mat, MatMut};
+use faer::{Mat, MatMut, MatRef};
+use std::ops::Range;
 
 /// Constraints with a name each (for reports).
 #[derive(Debug, Clone, Default)]
@@ -133,6 +134,25 @@ impl ConstraintSet {
         }
     }
 
+    /// Where each row of Φ_q (and of ∂(Φ_q v + Φ_t)/∂q) can be nonzero ([`RowSupport`]).
+    pub fn support(&self, layout: &Layout) -> RowSupport {
+        RowSupport {
+            rows: self
+                .constraints
+                .iter()
+                .map(|c| {
+                    c.bodies()
+                        .into_iter()
+                        .map(|b| {
+                            let s = layout.slice(b);
+                            s.offset..s.offset + s.len()
+                        })
+                        .collect()
+                })
+                .collect(),
+        }
+    }
+
     /// Removes the rows that are linear combinations of the others at q (tolerance `tol` on
     /// the pivots of the QR of Φ_qᵀ); returns the split (indices into the set before removal).
     pub fn remove_redundant(&mut self, layout: &Layout, q: &[f64], t: f64, tol: f64) -> RankSplit {
@@ -150,5 +170,46 @@ impl ConstraintSet {
             .map(|&i| self.labels[i].clone())
             .collect();
         split
+    }
+}
+
+/// The coordinates each constraint row depends on: the slices of its bodies, ascending. A row
+/// touches one or two bodies, so products with Φ_q over these ranges skip the zeros of the
+/// dense m × n storage; they add the same nonzero terms in the same order as the dense
+/// products, so the results are the same numbers.
+#[derive(Debug, Clone, Default)]
+pub struct RowSupport {
+    rows: Vec<Vec<Range<usize>>>,
+}
+
+impl RowSupport {
+    /// The coordinate ranges of row i.
+    pub fn row(&self, i: usize) -> &[Range<usize>] {
+        &self.rows[i]
+    }
+
+    /// y = Aᵀ x for A (m × n) zero outside the support (y overwritten).
+    pub fn transpose_mul(&self, a: MatRef<'_, f64>, x: &[f64], y: &mut [f64]) {
+        y.fill(0.0);
+        for (i, (ranges, &xi)) in self.rows.iter().zip(x).enumerate() {
+            let row = a.row(i);
+            for range in ranges {
+                for j in range.clone() {
+                    y[j] += row[j] * xi;
+                }
+            }
+        }
+    }
+
+    /// y += A x for A (m × n) zero outside the support.
+    pub fn mul_add(&self, a: MatRef<'_, f64>, x: &[f64], y: &mut [f64]) {
+        for (i, (ranges, yi)) in self.rows.iter().zip(y.iter_mut()).enumerate() {
+            let row = a.row(i);
+            for range in ranges {
+                for j in range.clone() {
+                    *yi += row[j] * x[j];
+                }
+            }
+        }
     }
 }

@@ -74,11 +74,25 @@ pub struct Configuration {
     second: Mat3,
     /// Tₖ = Σ m ψₖ ūᵀ
     mixed: Vec<Mat3>,
+    /// Rₖ = Σₗ q̇ₗ Σ m ψₖ ψₗᵀ at the rates given to [`Configuration::moving`] (empty from
+    /// [`Configuration::new`]).
+    rate_moments: Vec<Mat3>,
 }
 
 impl Configuration {
     /// The moments at (e, q_f).
     pub fn new(inv: &MassInvariants, e: &[f64; 4], qf: &[f64]) -> Self {
+        Self::build(inv, e, qf, None)
+    }
+
+    /// The moments at (e, q_f) and the rate moments Rₖ at q̇_f that
+    /// [`Configuration::quadratic_velocity`] needs, both from one pass over the n² modal
+    /// moments Σ m ψₖ ψₗᵀ (the largest data of a flexible body: 9 n² numbers).
+    pub fn moving(inv: &MassInvariants, e: &[f64; 4], qf: &[f64], qf_dot: &[f64]) -> Self {
+        Self::build(inv, e, qf, Some(qf_dot))
+    }
+
+    fn build(inv: &MassInvariants, e: &[f64; 4], qf: &[f64], qf_dot: Option<&[f64]>) -> Self {
         let n = inv.modes();
         let mut first = inv.first;
         for (k, psi) in inv.first_modal.iter().enumerate() {
@@ -86,15 +100,24 @@ impl Configuration {
                 first[i] += qf[k] * psi[i];
             }
         }
-        let mixed: Vec<Mat3> = (0..n)
-            .map(|k| {
-                let mut t = mat3::transpose(&inv.second_mixed[k]);
-                for (l, &ql) in qf.iter().enumerate() {
-                    add_scaled(&mut t, ql, &inv.second_modal[k * n + l]);
+        let mut mixed = Vec::with_capacity(n);
+        let mut rate_moments = Vec::with_capacity(if qf_dot.is_some() { n } else { 0 });
+        for k in 0..n {
+            let row = inv.second_modal[k * n..(k + 1) * n]
+                .as_flattened()
+                .as_flattened();
+            let mut t = mat3::transpose(&inv.second_mixed[k]);
+            let t_flat = t.as_flattened_mut();
+            match qf_dot {
+                Some(rates) => {
+                    let mut r = [[0.0; 3]; 3];
+                    contract_two(row, qf, rates, t_flat, r.as_flattened_mut());
+                    rate_moments.push(r);
                 }
-                t
-            })
-            .collect();
+                None => contract_two(row, qf, &[], t_flat, &mut []),
+            }
+            mixed.push(t);
+        }
         // Π = Σ m r₀r₀ᵀ + Σₖ qₖ (Σ m r₀ψₖᵀ + Tₖ), since Σₖ qₖ Tₖ holds Σₖ qₖ Σ m ψₖr₀ᵀ and
         // the quadratic part Σₖₗ qₖ qₗ Σ m ψₖψₗᵀ.
         let mut second = inv.second;
@@ -108,6 +131,7 @@ impl Configuration {
             first,
             second,
             mixed,
+            rate_moments,
         }
     }
 
@@ -208,7 +232,8 @@ impl Configuration {
     }
 
     /// The quadratic velocity vector f_v (eq. 2.47, 4.9) at the rates (ė, q̇_f) into `out`
-    /// (7 + n).
+    /// (7 + n); q̇_f must be the rates given to [`Configuration::moving`] when the moments
+    /// were built by it.
     pub fn quadratic_velocity(
         &self,
         inv: &MassInvariants,
@@ -232,12 +257,28 @@ impl Configuration {
         for a in 0..4 {
             out[3 + a] = -2.0 * frobenius(&self.partials[a], &gu);
         }
-        // Σ m γ ψₖᵀ = 2 A(ė) Tₖᵀ + 2 Ȧ Nₖ,  Nₖ = Σₗ q̇ₗ Σ m ψₗ ψₖᵀ
-        for k in 0..n {
-            let modal = modal_rate_moment(inv, qf_dot, k);
-            let mut gk = mat3::mul(&a_of_rate, &mat3::transpose(&self.mixed[k]));
-            add_scaled(&mut gk, 1.0, &mat3::mul(&a_dot, &modal));
-            out[7 + k] = -2.0 * frobenius(&self.a, &gk);
+        // Σ m γ ψₖᵀ = 2 A(ė) Tₖᵀ + 2 Ȧ Rₖᵀ,  Rₖ = Σₗ q̇ₗ Σ m ψₖ ψₗᵀ, and its product with A:
+        // tr(Aᵀ (A(ė) Tₖᵀ + Ȧ Rₖᵀ)) = tr((Aᵀ A(ė)) Tₖᵀ) + tr((Aᵀ Ȧ) Rₖᵀ)
+        let at = mat3::transpose(&self.a);
+        let (at_rate, at_dot) = (mat3::mul(&at, &a_of_rate), mat3::mul(&at, &a_dot));
+        let computed;
+        let rate_moments = if self.rate_moments.len() == n {
+            &self.rate_moments
+        } else {
+            computed = (0..n)
+                .map(|k| {
+                    scaled_sum(
+                        qf_dot
+                            .iter()
+                            .zip(&inv.second_modal[k * n..(k + 1) * n])
+                            .map(|(&r, s)| (r, *s)),
+                    )
+                })
+                .collect::<Vec<Mat3>>();
+            &computed
+        };
+        for (k, r) in rate_moments.iter().enumerate() {
+            out[7 + k] = -2.0 * (frobenius(&at_rate, &self.mixed[k]) + frobenius(&at_dot, r));
         }
     }
 
@@ -312,6 +353,23 @@ impl Configuration {
         }
         for (k, psi) in inv.first_modal.iter().enumerate() {
             out[7 + k] = vec3::dot(gravity, mat3::mul_vec(&self.a, *psi));
+        }
+    }
+}
+
+/// t += Σₗ xₗ sₗ and r += Σₗ yₗ sₗ over the 3 × 3 blocks sₗ (9 numbers each, one after the
+/// other in `blocks`); `y` and `r` may be empty. Each entry is summed over l in order; the
+/// second sum reads the blocks again while they are in the cache.
+fn contract_two(blocks: &[f64], x: &[f64], y: &[f64], t: &mut [f64], r: &mut [f64]) {
+    for (out, weights) in [(t, x), (r, y)] {
+        let mut acc = [0.0; 9];
+        for (s, &wl) in blocks.chunks_exact(9).zip(weights) {
+            for c in 0..9 {
+                acc[c] += wl * s[c];
+            }
+        }
+        for (o, a) in out.iter_mut().zip(acc) {
+            *o += a;
         }
     }
 }

@@ -55,7 +55,7 @@
 //! leaving the constraint Hessians out of the matrix (cheaper factorizations, more of them).
 
 use super::block_kkt::BlockKkt;
-use super::constraint_set::ConstraintSet;
+use super::constraint_set::{ConstraintSet, RowSupport};
 use super::correction::{CorrectionMetric, CorrectionWeight};
 use super::dense_lu::DenseLu;
 use super::error::{Dependence, MultibodyError};
@@ -161,6 +161,8 @@ struct Workspace {
     momentum: Vec<f64>,
     /// The bodies' rotation matrices at the iterate.
     rotations: Rotations,
+    /// Where the rows of Φ_q can be nonzero.
+    support: RowSupport,
 }
 
 impl Workspace {
@@ -179,6 +181,7 @@ impl Workspace {
             relative: vec![0.0; n],
             momentum: vec![0.0; n],
             rotations: Rotations::default(),
+            support: RowSupport::default(),
         }
     }
 }
@@ -189,13 +192,6 @@ fn worst(phi: &[f64]) -> (usize, f64) {
         (0, 0.0),
         |(i, a), (j, b)| if b.abs() > a { (j, b.abs()) } else { (i, a) },
     )
-}
-
-/// y = Aᵀ x (A m × n column-major, x m).
-fn transpose_mul(a: MatRef<'_, f64>, x: &[f64], y: &mut [f64]) {
-    for (j, yj) in y.iter_mut().enumerate() {
-        *yj = a.col(j).iter().zip(x).map(|(aij, xi)| aij * xi).sum();
-    }
 }
 
 /// Minimum-norm solution of A Δ = b for A (m × n) of full row rank in the metric W⁻¹ of the
@@ -277,6 +273,7 @@ impl Ggl {
         }
         let (n, m) = (system.size(), equations.constraints.len());
         let mut work = Workspace::new(n, m);
+        work.support = equations.constraints.support(&system.layout);
         // the start's projections in the metric of a BDF1 step of size h
         let mut weight = CorrectionWeight::new(settings.correction);
         weight.form(&system, step_size, step_size)?;
@@ -751,20 +748,17 @@ impl StepEquations for GglStep<'_> {
             Some((&w.relative, &mut w.momentum)),
             None,
         );
-        transpose_mul(w.phi_q.as_ref(), mu, &mut w.gq_mu);
+        w.support.transpose_mul(w.phi_q.as_ref(), mu, &mut w.gq_mu);
         self.weight.apply(&mut w.gq_mu);
-        transpose_mul(w.phi_q.as_ref(), lam, &mut w.gq_lam);
+        w.support
+            .transpose_mul(w.phi_q.as_ref(), lam, &mut w.gq_lam);
         for i in 0..n {
             r[i] = q[i] - q_hat[i] - c_q * v[i] - w.gq_mu[i];
             r[n + i] = w.momentum[i] - c_v * w.force[i] + w.gq_lam[i];
         }
         let (r3, r4) = r[2 * n..].split_at_mut(m);
         r3.copy_from_slice(&w.phi_t);
-        for (j, vj) in v.iter().enumerate() {
-            for (r3k, gkj) in r3.iter_mut().zip(w.phi_q.col(j).iter()) {
-                *r3k += gkj * vj;
-            }
-        }
+        w.support.mul_add(w.phi_q.as_ref(), v, r3);
         r4.copy_from_slice(&w.phi);
         Ok(())
     }

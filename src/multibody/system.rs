@@ -371,7 +371,7 @@ impl System {
             let inv = &body.data.invariants;
             let (e, qf) = (s.euler_parameters(q), s.modal(q));
             let (e_dot, qf_dot) = (s.euler_parameters(v), s.modal(v));
-            let configuration = inertia::Configuration::new(inv, &e, qf);
+            let configuration = inertia::Configuration::moving(inv, &e, qf, qf_dot);
             let local = &mut scratch[..s.len()];
             configuration.quadratic_velocity(inv, &e_dot, qf_dot, local);
             let out = &mut force[s.offset..s.offset + s.len()];
