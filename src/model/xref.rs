@@ -737,6 +737,7 @@ fn property_users(refs: &Refs) -> HashMap<u32, Vec<String>> {
     b.ctube.iter().for_each(|c| push(c.pid, "CTUBE", c.id));
     b.cbar.iter().for_each(|c| push(c.pid, "CBAR", c.id));
     b.cbeam.iter().for_each(|c| push(c.pid, "CBEAM", c.id));
+    b.cbend.iter().for_each(|c| push(c.pid, "CBEND", c.id));
     users
 }
 

@@ -45,8 +45,8 @@ pub use extension::{
 };
 pub use geometry::{Cord2, CordKind, Grdset, Grid};
 pub use ignored::ignored_card;
-pub use line_elements::{BeamOrientation, Cbar, Conrod, Crod, Offt};
-pub use line_properties::{Pbar, Pbarl, Pbeam, Prod, Ptube};
+pub use line_elements::{BeamOrientation, Cbar, Cbend, Conrod, Crod, Offt};
+pub use line_properties::{Pbar, Pbarl, Pbeam, Pbend, Prod, Ptube};
 pub use loads::{
     Force, ForceByGrids, Grav, Load, Pload, Pload1, Pload1Scale, Pload2, Pload4, Pload4Target,
     Sload,
@@ -105,6 +105,7 @@ pub struct BulkData {
     pub conrod: Vec<Conrod>,
     pub cbar: Vec<Cbar>,
     pub cbeam: Vec<Cbar>,
+    pub cbend: Vec<Cbend>,
     pub rbe2: Vec<Rbe2>,
     pub rbe3: Vec<Rbe3>,
     pub rsscon: Vec<Rsscon>,
@@ -129,6 +130,7 @@ pub struct BulkData {
     pub prod: Vec<Prod>,
     pub ptube: Vec<Ptube>,
     pub pbar: Vec<Pbar>,
+    pub pbend: Vec<Pbend>,
     pub pbarl: Vec<Pbarl>,
     pub pbeam: Vec<Pbeam>,
     pub pbeaml: Vec<Pbarl>,
@@ -295,6 +297,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("CONROD", |c, b| Ok(b.conrod.push(Conrod::from_card(c)?))),
     ("CBAR", |c, b| Ok(b.cbar.push(Cbar::from_card(c, false)?))),
     ("CBEAM", |c, b| Ok(b.cbeam.push(Cbar::from_card(c, true)?))),
+    ("CBEND", |c, b| Ok(b.cbend.push(Cbend::from_card(c)?))),
     ("RBE2", |c, b| Ok(b.rbe2.push(Rbe2::from_card(c)?))),
     ("RBE3", |c, b| Ok(b.rbe3.push(Rbe3::from_card(c)?))),
     ("RSSCON", |c, b| Ok(b.rsscon.push(Rsscon::from_card(c)?))),
@@ -327,6 +330,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("PROD", |c, b| Ok(b.prod.push(Prod::from_card(c)?))),
     ("PTUBE", |c, b| Ok(b.ptube.push(Ptube::from_card(c)?))),
     ("PBAR", |c, b| Ok(b.pbar.push(Pbar::from_card(c)?))),
+    ("PBEND", |c, b| Ok(b.pbend.push(Pbend::from_card(c)?))),
     ("PBARL", |c, b| {
         Ok(b.pbarl.push(Pbarl::from_card(c, false)?))
     }),
