@@ -857,3 +857,31 @@ fn bad_cbends_are_reported_with_card_and_field() {
         );
     }
 }
+
+/// PLOAD1 on a CBEND: a quarter circle of radius R clamped at A = (R, 0) under a uniform load
+/// q per unit arc length along z over the whole arc (FZ, FR 0 → 1). Reference: the unit-load
+/// method with Castigliano's energies, integrated in closed form (at the section φ the load
+/// beyond it gives V = q R (π/2 − φ), M_r = q R² (1 − sin φ), T = q R² (π/2 − φ − cos φ); a
+/// unit tip load gives 1, R cos φ, R (1 − sin φ)):
+/// w_B = q R⁴/(2 E I2) + q R⁴ (π²/8 − π/2 + 1/2)/(G J) + q R² π²/(8 K2 G A).
+/// The element's loads are exact for this model; the tolerance is round-off (1e-9).
+#[test]
+fn pload1_on_a_cbend_bends_it_like_the_unit_load_method() {
+    use std::f64::consts::PI;
+    let (r, q, a, i2, j, k2): (f64, f64, f64, f64, f64, f64) =
+        (0.6, 900.0, 2.0e-4, 2.0e-9, 4.0e-9, 0.7);
+    let g = E / (2.0 * (1.0 + NU));
+    let deck = format!(
+        "SOL 101\nCEND\nDISPLACEMENT = ALL\nSPCFORCES = ALL\nSUBCASE 1\n  LOAD = 2\nBEGIN BULK\n\
+         GRID,1,,{r:?},0.,0.,,123456\nGRID,2,,0.,{r:?},0.\n\
+         CBEND,1,11,1,2,-1.,0.,0.,1\nPBEND,11,1,{a:e},3.e-9,{i2:e},{j:e}\n,,,,,,,,\n,0.9,{k2}\n\
+         PLOAD1,2,1,FZ,FR,0.,{q:?},1.,{q:?}\n\
+         MAT1,1,{E:e},,{NU:?},{RHO:?}\nENDDATA\n"
+    );
+    let (file, _dir) = run_to_file(&deck);
+    let u = read_dataset::<f64>(&file.group("results/1/statics").unwrap(), "displacement");
+    let w = q * r.powi(4) / (2.0 * E * i2)
+        + q * r.powi(4) * (PI * PI / 8.0 - PI / 2.0 + 0.5) / (g * j)
+        + q * r * r * PI * PI / (8.0 * k2 * g * a);
+    close(u[6 + 2], w, 1e-9);
+}

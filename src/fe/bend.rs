@@ -31,6 +31,10 @@
 //! Gauss–Legendre on stretches of at most π/8: the integrand is a trigonometric polynomial of
 //! degree 4 in φ, integrated to about 1e-15 relative.
 //!
+//! # Loads along the arc
+//! [`grid_loads`]: the fixed-end reactions of a force or moment concentrated on the arc or
+//! distributed linearly in arc length, by the same force method (exact for this model).
+//!
 //! # Mass
 //! Lumped: half of (ρ A + NSM) R Θ on the translations of each end, no rotary inertia.
 //!
@@ -44,7 +48,7 @@ use super::beam::{Density, Elasticity};
 use crate::geometry::quadrature::gauss_legendre;
 use crate::geometry::vec3::{add, cross, dot, norm, scale, skew, sub};
 use faer::Mat;
-use faer::linalg::solvers::DenseSolveCore;
+use faer::linalg::solvers::{DenseSolveCore, Solve};
 
 /// How the arc follows from the ends A, B and the orientation vector v.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -324,6 +328,97 @@ pub fn affine_stiffness(
         Elasticity::Separate => return Err(BendError::SeparateModuli),
     };
     Ok(AffineMatrix { parts: vec![part] })
+}
+
+/// A load along the arc (`PLOAD1` on a CBEND): a force or moment in a fixed basic direction,
+/// concentrated or distributed linearly in arc length.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ArcLoad {
+    /// True for a moment, false for a force.
+    pub moment: bool,
+    /// Unit direction (basic).
+    pub direction: [f64; 3],
+    /// Positions from A as fractions of the arc length, `at[0] ≤ at[1]`; equal: concentrated.
+    pub at: [f64; 2],
+    /// Intensities per unit arc length at the two positions; a concentrated load is
+    /// `values[0]`.
+    pub values: [f64; 2],
+}
+
+/// The grid loads (F1 F2 F3 M1 M2 M3 at A, then at B; basic) equivalent to `load`: minus the
+/// reactions of the arc clamped at both ends, exact for the force-method element. With A
+/// clamped and B free the load moves B by δ = Σ ∫₀^φₚ B_Bᵀ D B_p R dφ · P (Castigliano, P at
+/// φₚ); clamping B takes K_BB δ, which is B's share, and A takes the rest of the load's force
+/// and of its moment about A.
+pub fn grid_loads(
+    arc: &Arc,
+    s: &BendSection,
+    e: f64,
+    g: f64,
+    load: &ArcLoad,
+) -> Result<[f64; 12], BendError> {
+    s.check()?;
+    let d = s.compliance(e, g);
+    let (pa, pb) = (arc.point(0.0), arc.point(arc.angle));
+    let [x1, x2] = load.at;
+    // (φ, amount) of the concentrated load or of the Gauss points of the stretch
+    let points: Vec<(f64, f64)> = if x2 > x1 {
+        arc.quadrature(x1 * arc.angle, x2 * arc.angle)
+            .into_iter()
+            .map(|(phi, w)| {
+                let t = (phi / arc.angle - x1) / (x2 - x1);
+                (
+                    phi,
+                    w * (load.values[0] + t * (load.values[1] - load.values[0])),
+                )
+            })
+            .collect()
+    } else {
+        vec![(x1 * arc.angle, load.values[0])]
+    };
+    let mut delta = [0.0; 6];
+    let mut total = [0.0; 6];
+    for (phi_p, amount) in points {
+        let at = arc.point(phi_p);
+        let mut p = [0.0; 6];
+        let offset = if load.moment { 3 } else { 0 };
+        p[offset..offset + 3].copy_from_slice(&scale(load.direction, amount));
+        // the load's force and its moment about A
+        let (force, moment) = ([p[0], p[1], p[2]], [p[3], p[4], p[5]]);
+        let about_a = add(moment, cross(sub(at, pa), force));
+        for k in 0..3 {
+            total[k] += force[k];
+            total[3 + k] += about_a[k];
+        }
+        for (phi, w) in arc.quadrature(0.0, phi_p) {
+            let (bb, bp) = (arc.resultants(phi, pb), arc.resultants(phi, at));
+            let sp: [f64; 6] = std::array::from_fn(|k| (0..6).map(|j| bp[k][j] * p[j]).sum());
+            for (i, di) in delta.iter_mut().enumerate() {
+                *di += w * (0..6).map(|k| bb[k][i] * d[k] * sp[k]).sum::<f64>();
+            }
+        }
+    }
+    let f = tip_flexibility(arc, s, e, g);
+    let rhs = Mat::from_fn(6, 1, |i, _| delta[i]);
+    let share = f
+        .llt(faer::Side::Lower)
+        .map_err(|_| BendError::SectionNotPositive {
+            a: s.a,
+            i1: s.i1,
+            i2: s.i2,
+            j: s.j,
+        })?
+        .solve(&rhs);
+    let at_b: [f64; 6] = std::array::from_fn(|i| share[(i, 0)]);
+    let force_b = [at_b[0], at_b[1], at_b[2]];
+    let moment_b_about_a = add([at_b[3], at_b[4], at_b[5]], cross(sub(pb, pa), force_b));
+    let mut out = [0.0; 12];
+    for k in 0..3 {
+        out[k] = total[k] - force_b[k];
+        out[3 + k] = total[3 + k] - moment_b_about_a[k];
+    }
+    out[6..].copy_from_slice(&at_b);
+    Ok(out)
 }
 
 /// Lumped mass: half of `per_length` × R Θ on each end's translations.

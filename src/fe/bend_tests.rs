@@ -230,3 +230,68 @@ fn affine_parts_and_lumped_mass() {
     let split = affine_mass(&arc, &s, Density::Parameter);
     assert_eq!(split.parts.len(), 2);
 }
+
+/// The equivalent loads of a load along the arc balance it (force, and moment about the
+/// origin), and a force at an end goes to that end alone.
+#[test]
+fn arc_loads_balance_and_end_loads_stay_at_their_end() {
+    let arc = Arc::new(
+        [0.3, -0.2, 1.0],
+        [1.1, 0.4, 0.2],
+        [0.2, 1.0, 0.5],
+        ArcRule::Angle(2.0),
+    )
+    .unwrap();
+    let (e, g) = (100.0, 40.0);
+    let direction = [0.6, 0.0, 0.8];
+    let distributed = ArcLoad {
+        moment: false,
+        direction,
+        at: [0.2, 0.9],
+        values: [3.0, -1.0],
+    };
+    let loads = grid_loads(&arc, &SECTION, e, g, &distributed).unwrap();
+    // total force: ∫ (3 + t (−1 − 3)) ds over 0.7 of the arc, t from 0 to 1
+    let total = 0.7 * arc.length() * (3.0 - 2.0);
+    // its moment about the origin: ∫ p(φ) × d q(φ) ds
+    let mut moment = [0.0; 3];
+    for (phi, w) in arc.quadrature(0.2 * arc.angle, 0.9 * arc.angle) {
+        let t = (phi / arc.angle - 0.2) / 0.7;
+        let m = cross(arc.point(phi), scale(direction, w * (3.0 - 4.0 * t)));
+        moment = add(moment, m);
+    }
+    let (pa, pb) = (arc.point(0.0), arc.point(arc.angle));
+    for k in 0..3 {
+        let f = loads[k] + loads[6 + k];
+        assert!((f - total * direction[k]).abs() < 1e-12, "{loads:?}");
+    }
+    let fa = [loads[0], loads[1], loads[2]];
+    let fb = [loads[6], loads[7], loads[8]];
+    let m_sum = add(
+        add([loads[3], loads[4], loads[5]], cross(pa, fa)),
+        add([loads[9], loads[10], loads[11]], cross(pb, fb)),
+    );
+    for k in 0..3 {
+        assert!(
+            (m_sum[k] - moment[k]).abs() < 1e-12,
+            "{m_sum:?} vs {moment:?}"
+        );
+    }
+    for (end, at) in [(0, 0.0), (1, 1.0)] {
+        let point = ArcLoad {
+            moment: false,
+            direction,
+            at: [at, at],
+            values: [5.0, 0.0],
+        };
+        let loads = grid_loads(&arc, &SECTION, e, g, &point).unwrap();
+        for (i, v) in loads.iter().enumerate() {
+            let want = if i / 6 == end && i % 6 < 3 {
+                5.0 * direction[i % 3]
+            } else {
+                0.0
+            };
+            assert!((v - want).abs() < 1e-10, "end {end}: {loads:?}");
+        }
+    }
+}
