@@ -602,7 +602,7 @@ fn bad_pload1_cards_are_reported() {
     let cases = [
         (
             "CROD,2,11,1,2\nPROD,11,1,1.e-4\nPLOAD1,3,2,FY,FR,0.5,1.\n",
-            "deck.dat:11: PLOAD1 3: EID = 2 is not a CBAR or CBEAM",
+            "deck.dat:11: PLOAD1 3: EID = 2 is not a CBAR, CBEAM or CBEND",
         ),
         (
             "PLOAD1,3,1,FY,FR,0.5,1.,1.2,1.\n",
