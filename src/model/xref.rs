@@ -409,7 +409,7 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>, warnings: &m
         for (name, id) in r.tables.named() {
             table(id, name, &card, &r.loc, errors);
         }
-        if r.tables.named().is_empty() {
+        if r.tables.is_zero() {
             errors.push(
                 DeckError::at(
                     &r.loc,

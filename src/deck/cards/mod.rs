@@ -32,7 +32,8 @@ pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd, 
 pub use design::{Ddval, Desvar};
 pub use dynamic::{
     Darea, Dload, EigenNorm, Eigrl, ExcitationKind, Freq, FreqKind, Lseq, ModalDampingUnits, Rload,
-    RloadTables, Tabdmp1, Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep, eigr_from_card,
+    RloadTables, RloadValue, Tabdmp1, Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep,
+    eigr_from_card,
 };
 pub use elements::{
     BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Cmass2, Conm2, Cpenta,
