@@ -1364,7 +1364,13 @@ mod tests {
     #[test]
     fn rload2_needs_its_amplitude_table() {
         let r = Rload::rload2(&card_from_line("RLOAD2,7,8,,30.,20,21")).unwrap();
-        assert_eq!(r.tables, RloadTables::Polar { tb: 20, tp: 21 });
+        assert_eq!(
+            r.tables,
+            RloadTables::Polar {
+                tb: RloadValue::Table(20),
+                tp: RloadValue::Table(21)
+            }
+        );
         assert_eq!(r.tables.card(), "RLOAD2");
         let m = messages(Rload::rload2(&card_from_line("RLOAD2,7,8,,30.,,21")));
         assert!(m.contains("TB"), "{m}");
