@@ -435,8 +435,8 @@ impl Pbeam {
 /// | 4 | A | real > 0 | required | area (an integer here is MSC's pipe form, FSI RM T P: refused) |
 /// | 5, 6 | I1 I2 | real > 0 | required | area moments of inertia: I1 in the plane of the arc, I2 out of it |
 /// | 7 | J | real ≥ 0 | 0.0 | torsion constant |
-/// | 8 | RB | real > 0 | blank | bend radius (needed by CBEND GEOM = 3) |
-/// | 9 | THETAB | real | blank | arc angle in degrees, 0 < THETAB < 360 (needed by GEOM = 4) |
+/// | 8 | RB | real > 0 | blank | bend radius (needed by CBEND GEOM = 3; 0.0 is blank) |
+/// | 9 | THETAB | real | blank | arc angle in degrees, 0 < THETAB < 360 (needed by GEOM = 4; 0.0 is blank) |
 /// | cont. 2–9 | C1 … F2 | real | 0.0 | stress recovery points (kept, unused) |
 /// | cont. 2, 3 | K1 K2 | real | blank | shear area factors in and out of the plane of the arc; blank or 0: rigid in shear |
 /// | cont. 4 | NSM | real | 0.0 | non-structural mass per length |
@@ -477,8 +477,9 @@ impl Pbend {
         let i1 = f.positive_real(4, "I1");
         let i2 = f.positive_real(5, "I2");
         let j = f.real_or(6, "J", 0.0);
-        let rb = f.opt_real(7, "RB");
-        let thetab = f.opt_real(8, "THETAB");
+        // 0.0 is taken as not given, as a blank
+        let rb = f.opt_real(7, "RB").filter(|&r| r != 0.0);
+        let thetab = f.opt_real(8, "THETAB").filter(|&t| t != 0.0);
         for (k, name) in ["C1", "C2", "D1", "D2", "E1", "E2", "F1", "F2"]
             .iter()
             .enumerate()
