@@ -526,7 +526,7 @@ fn harmless_cards_are_set_aside_with_a_reason_and_the_others_refused() {
          USET,U2,1,123,2,456\nUSET1,U1,123,1,2\nUSET,U2,2,1\nCBARAO,1,2,FR,0.2,0.4\n\
          PLOTEL,7,1,2\nMAT4,14,8.6\nMDLPRM,HDF5,1,H5MDL,0,OFFDEF,LROFF\nECHOOFF\n\
          DTI,MATALL,1,YIELD,2.417e5,ULTIMATE,2.7595e5\nDVPREL1,10,PSHELL,4,T\n,1,1.\n\
-         PBEND,70,1,1.,1.,.1,.1,0.,45.\nPBUSH1D,71,3000.,200.,300.\nPELAST,11,,,42\n\
+         PBUSH1D,71,3000.,200.,300.\nPELAST,11,,,42\n\
          EPOINT,103,THRU,107\nENDDATA\n",
     );
     let warned = |text: &str| deck.warnings.iter().any(|w| w.message.contains(text));
@@ -541,7 +541,6 @@ fn harmless_cards_are_set_aside_with_a_reason_and_the_others_refused() {
         "DTI accepted and ignored (1 card): a direct table is data for DMAP modules",
         "case control 'LINES' is accepted and ignored",
         "DVPREL1 accepted and ignored (1 card): Nastran's design model is read by SOL 200 only",
-        "PBEND accepted and ignored (1 card): a property of CBEND",
         "PBUSH1D accepted and ignored",
         "PELAST accepted and ignored (1 card): its nonlinear force-deflection table",
         "EPOINT accepted and ignored (1 card): extra points carry no stiffness or mass",

@@ -833,3 +833,38 @@ fn random_input_errors_name_the_card() {
         summary.warnings
     );
 }
+
+/// RLOAD1 TD given as a real (newer MSC Nastran: a constant D(f)): the SDOF deck's D table is
+/// the constant 0.5, so `TD = 0.5` must give the same closed-form response (same reference and
+/// tolerance as `sdof_direct_matches_the_closed_form`); `TD = 0.0` is no D term.
+#[test]
+fn rload1_constant_td_equals_its_constant_table() {
+    let r = reference("frf_sdof");
+    let text = std::fs::read_to_string(root().join(r["meshes"][0]["deck"].as_str().unwrap()))
+        .unwrap()
+        .replace(
+            "RLOAD1,7,8,0.01,30.0,20,21\n",
+            "RLOAD1,7,8,0.01,30.0,20,0.5\n",
+        );
+    assert!(text.contains(",20,0.5\n"));
+    let (run, dir) = run_deck(&text);
+    run.unwrap_or_else(|e| panic!("{e}"));
+    let out = read_frf(&dir.path().join("out.h5"));
+    let tol = f64s(&r["tolerance_finest"]["relative"])[0];
+    let err = worst(
+        &out.response,
+        &f64s(&r["response_re"]),
+        &f64s(&r["response_im"]),
+    );
+    assert!(err <= tol, "response {err:e}");
+    // D = 0: the response of C alone differs from the reference
+    let (run, dir) = run_deck(&text.replace(",20,0.5\n", ",20,0.0\n"));
+    run.unwrap_or_else(|e| panic!("{e}"));
+    let out = read_frf(&dir.path().join("out.h5"));
+    let err = worst(
+        &out.response,
+        &f64s(&r["response_re"]),
+        &f64s(&r["response_im"]),
+    );
+    assert!(err > 0.1, "D = 0 should change the response: {err:e}");
+}

@@ -602,7 +602,7 @@ fn bad_pload1_cards_are_reported() {
     let cases = [
         (
             "CROD,2,11,1,2\nPROD,11,1,1.e-4\nPLOAD1,3,2,FY,FR,0.5,1.\n",
-            "deck.dat:11: PLOAD1 3: EID = 2 is not a CBAR or CBEAM",
+            "deck.dat:11: PLOAD1 3: EID = 2 is not a CBAR, CBEAM or CBEND",
         ),
         (
             "PLOAD1,3,1,FY,FR,0.5,1.,1.2,1.\n",
@@ -746,4 +746,142 @@ fn heated_rods_and_offset_bars_expand_or_push_by_e_a_alpha_dt() {
             assert!((got - w).abs() < 1e-9 * f, "{element}: {q:?}");
         }
     }
+}
+
+/// Quarter-circle cantilevers of radius R, one per CBEND GEOM rule (1: v from A to the centre;
+/// 2: v along the tangent at A, here given by a grid G0; 3: PBEND RB; 4: PBEND THETAB = 90),
+/// each clamped at A = (R, 0) and loaded at B = (0, R) by P along y (in the plane of the arc)
+/// and, in a second subcase, along z. Reference: Castigliano's theorem with bending,
+/// extension, shear and torsion energies (Roark, curved beams; integrated in closed form):
+/// δ_y = (π/4) P (R³/(E I1) + R/(E A) + R/(K1 G A)),
+/// δ_z = P (π R³/(4 E I2) + (3π/4 − 2) R³/(G J) + π R/(2 K2 G A)).
+/// One CBEND is exact for this model; the tolerance is the round-off of the solve (1e-9).
+#[test]
+fn cbend_quarter_circles_deflect_like_castigliano() {
+    use std::f64::consts::PI;
+    let (r, p, a, i1, i2, j, k1, k2): (f64, f64, f64, f64, f64, f64, f64, f64) =
+        (0.8, 500.0, 2.0e-4, 3.0e-9, 2.0e-9, 4.0e-9, 0.85, 0.7);
+    let g = E / (2.0 * (1.0 + NU));
+    let pbend = |pid: u32, rb: &str, thetab: &str| {
+        format!("PBEND,{pid},1,{a:e},{i1:e},{i2:e},{j:e},{rb},{thetab}\n,,,,,,,,\n,{k1},{k2}\n")
+    };
+    let mut bulk = String::new();
+    let mut tips = Vec::new();
+    let mut ids = Vec::new();
+    // (GEOM, orientation fields, property)
+    let arcs = [
+        (1, "-1.,0.,0.".to_string(), pbend(11, "", "")),
+        (2, "G0".to_string(), pbend(12, "", "")),
+        (3, "1.,1.,0.".to_string(), pbend(13, &format!("{r:?}"), "")),
+        (4, "1.,1.,0.".to_string(), pbend(14, "", "90.")),
+    ];
+    for (k, (geom, orientation, property)) in arcs.iter().enumerate() {
+        let (ga, gb, g0) = (10 * k + 1, 10 * k + 2, 10 * k + 3);
+        let z = k as f64;
+        bulk += &format!("GRID,{ga},,{r:?},0.,{z:?},,123456\nGRID,{gb},,0.,{r:?},{z:?}\n");
+        ids.extend([ga, gb]);
+        let orientation = if orientation == "G0" {
+            ids.push(g0);
+            bulk += &format!("GRID,{g0},,{r:?},1.,{z:?}\n");
+            format!("{g0},,")
+        } else {
+            orientation.clone()
+        };
+        bulk += &format!(
+            "CBEND,{},{},{ga},{gb},{orientation},{geom}\n{property}",
+            k + 1,
+            11 + k
+        );
+        bulk += &format!("FORCE,2,{gb},,{p:?},0.,1.,0.\nFORCE,3,{gb},,{p:?},0.,0.,1.\n");
+        tips.push(gb);
+    }
+    let deck = format!(
+        "SOL 101\nCEND\nDISPLACEMENT = ALL\nSUBCASE 1\n  LOAD = 2\nSUBCASE 2\n  LOAD = 3\nBEGIN BULK\n{bulk}MAT1,1,{E:e},,{NU:?},{RHO:?}\nENDDATA\n"
+    );
+    let (file, _dir) = run_to_file(&deck);
+    // displacement rows follow the grid ids, increasing
+    ids.sort_unstable();
+    let row = |id: usize| ids.iter().position(|&g| g == id).unwrap();
+    let in_plane = read_dataset::<f64>(&file.group("results/1/statics").unwrap(), "displacement");
+    let out_of_plane =
+        read_dataset::<f64>(&file.group("results/2/statics").unwrap(), "displacement");
+    let dy = PI / 4.0 * p * (r.powi(3) / (E * i1) + r / (E * a) + r / (k1 * g * a));
+    let dz = p
+        * (PI * r.powi(3) / (4.0 * E * i2)
+            + (0.75 * PI - 2.0) * r.powi(3) / (g * j)
+            + PI * r / (2.0 * k2 * g * a));
+    for tip in tips {
+        close(in_plane[6 * row(tip) + 1], dy, 1e-9);
+        close(out_of_plane[6 * row(tip) + 2], dz, 1e-9);
+    }
+}
+
+/// Bad CBEND / PBEND input: `paraflex check` names file:line, card and field.
+#[test]
+fn bad_cbends_are_reported_with_card_and_field() {
+    let grids = "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\n";
+    let cases = [
+        (
+            "CBEND,1,10,1,2,0.,1.,0.,3\nPBEND,10,1,1.e-4,1.e-8,1.e-8,1.e-8\n",
+            "deck.dat:6: CBEND 1: field 9 (GEOM): GEOM = 3 needs RB on PBEND 10",
+        ),
+        (
+            "CBEND,1,10,1,2,0.,1.,0.,1\nPBEND,10,1,1.e-4,1.e-8,1.e-8,1.e-8\n",
+            "deck.dat:6: CBEND 1: field 6 (X1/G0): GEOM = 1 with the orientation vector perpendicular",
+        ),
+        (
+            "CBEND,1,10,1,2,1.,0.,0.,2\nPBEND,10,1,1.e-4,1.e-8,1.e-8,1.e-8\n",
+            "deck.dat:6: CBEND 1: field 6 (X1/G0): the orientation vector is parallel to the chord",
+        ),
+        (
+            "CBEND,1,10,1,2,0.,1.,0.,3\nPBEND,10,1,1.e-4,1.e-8,1.e-8,1.e-8,0.4\n",
+            "deck.dat:6: CBEND 1: field 9 (GEOM): the bend radius RB = 4e-1 is less than half the chord",
+        ),
+        (
+            "CBEND,1,10,1,2,0.,1.,0.,5\nPBEND,10,1,1.e-4,1.e-8,1.e-8,1.e-8\n",
+            "deck.dat:6: CBEND 1: field 9 (GEOM): expected 1, 2, 3 or 4, found 5",
+        ),
+        (
+            "CBEND,1,10,1,2,0.,1.,0.,3\nPBEND,10,1,2,1.,0.1,,1.\n",
+            "deck.dat:7: PBEND 10: field 4 (FSI): the pipe form of PBEND",
+        ),
+        (
+            "CBEND,1,10,1,2,0.,1.,0.,3\nPBEND,10,1,1.e-4,1.e-8,1.e-8,1.e-8,1.\n,,,,,,,,\n,,,,0.1\n",
+            "deck.dat:9: PBEND 10: field 5 of continuation 2 (RC): offsets of the centroid",
+        ),
+    ];
+    for (bulk, expected) in cases {
+        check_reports(
+            &format!("SOL 101\nCEND\nBEGIN BULK\n{grids}{bulk}MAT1,1,2.1e11,,0.3\nENDDATA\n"),
+            expected,
+        );
+    }
+}
+
+/// PLOAD1 on a CBEND: a quarter circle of radius R clamped at A = (R, 0) under a uniform load
+/// q per unit arc length along z over the whole arc (FZ, FR 0 → 1). Reference: the unit-load
+/// method with Castigliano's energies, integrated in closed form (at the section φ the load
+/// beyond it gives V = q R (π/2 − φ), M_r = q R² (1 − sin φ), T = q R² (π/2 − φ − cos φ); a
+/// unit tip load gives 1, R cos φ, R (1 − sin φ)):
+/// w_B = q R⁴/(2 E I2) + q R⁴ (π²/8 − π/2 + 1/2)/(G J) + q R² π²/(8 K2 G A).
+/// The element's loads are exact for this model; the tolerance is round-off (1e-9).
+#[test]
+fn pload1_on_a_cbend_bends_it_like_the_unit_load_method() {
+    use std::f64::consts::PI;
+    let (r, q, a, i2, j, k2): (f64, f64, f64, f64, f64, f64) =
+        (0.6, 900.0, 2.0e-4, 2.0e-9, 4.0e-9, 0.7);
+    let g = E / (2.0 * (1.0 + NU));
+    let deck = format!(
+        "SOL 101\nCEND\nDISPLACEMENT = ALL\nSPCFORCES = ALL\nSUBCASE 1\n  LOAD = 2\nBEGIN BULK\n\
+         GRID,1,,{r:?},0.,0.,,123456\nGRID,2,,0.,{r:?},0.\n\
+         CBEND,1,11,1,2,-1.,0.,0.,1\nPBEND,11,1,{a:e},3.e-9,{i2:e},{j:e}\n,,,,,,,,\n,0.9,{k2}\n\
+         PLOAD1,2,1,FZ,FR,0.,{q:?},1.,{q:?}\n\
+         MAT1,1,{E:e},,{NU:?},{RHO:?}\nENDDATA\n"
+    );
+    let (file, _dir) = run_to_file(&deck);
+    let u = read_dataset::<f64>(&file.group("results/1/statics").unwrap(), "displacement");
+    let w = q * r.powi(4) / (2.0 * E * i2)
+        + q * r.powi(4) * (PI * PI / 8.0 - PI / 2.0 + 0.5) / (g * j)
+        + q * r * r * PI * PI / (8.0 * k2 * g * a);
+    close(u[6 + 2], w, 1e-9);
 }

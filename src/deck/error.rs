@@ -11,7 +11,7 @@ use std::sync::Arc;
 /// A position in the input: file and 1-based line number.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Loc {
-    /// The file as it was named (include paths resolved relative to the including file).
+    /// The file as it was named (include paths as found by the INCLUDE search, [`super::source`]).
     pub file: Arc<Path>,
     /// 1-based line number.
     pub line: u32,

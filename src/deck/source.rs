@@ -1,5 +1,18 @@
 //! Reading deck files line by line, with `$` comments removed, tabs expanded and `INCLUDE`
-//! statements followed (relative to the including file, nested, cycles reported).
+//! statements followed (nested, cycles reported).
+//!
+//! Where an INCLUDE file is looked for: an absolute name is taken as it is. A relative name is
+//! tried in the including file's directory, then in the main deck's directory, the first file
+//! that exists being read. MSC Nastran resolves relative names from the input file's directory,
+//! so decks written for it nest INCLUDEs written relative to the main deck; paraflex's own decks
+//! (and pyNastran's writer) write them relative to the including file. When neither exists, the
+//! error lists every path tried.
+//!
+//! A name of the form `SYMBOL:rest` (a symbol of two or more letters, digits or underscores,
+//! so that a Windows drive letter is not one) uses MSC's logical symbols: `SYMBOL` is read from
+//! the environment (MSC also defines symbols with `SYMBOL=` in its RC files, which paraflex
+//! does not read) and `rest` is taken relative to its value. An undefined symbol is an error
+//! naming it.
 //!
 //! The walk is streaming: each line is handed to a visitor as soon as it is read, so a
 //! million-grid deck is never held as a list of lines.
@@ -29,19 +42,30 @@ pub trait LineVisitor {
 /// through differently spelled paths).
 const MAX_INCLUDE_DEPTH: usize = 64;
 
+/// Looks up the value of an INCLUDE logical symbol.
+pub type SymbolLookup = Box<dyn Fn(&str) -> Option<PathBuf>>;
+
 /// Walks a deck file and everything it includes.
 pub struct SourceWalker {
     stack: Vec<PathBuf>,
     /// Every file read, in order (the main deck first).
     pub files: Vec<PathBuf>,
+    /// Logical symbols of INCLUDE names (`SYMBOL:file`).
+    symbols: SymbolLookup,
 }
 
 impl SourceWalker {
-    /// A walker with nothing read yet.
+    /// A walker with nothing read yet, taking INCLUDE logical symbols from the environment.
     pub fn new() -> Self {
+        Self::with_symbols(Box::new(|name| std::env::var_os(name).map(PathBuf::from)))
+    }
+
+    /// A walker with nothing read yet, taking INCLUDE logical symbols from `symbols`.
+    pub fn with_symbols(symbols: SymbolLookup) -> Self {
         SourceWalker {
             stack: Vec::new(),
             files: Vec::new(),
+            symbols,
         }
     }
 
@@ -178,10 +202,84 @@ impl SourceWalker {
             );
             return;
         }
-        let base = loc.file.parent().unwrap_or(Path::new(""));
-        let target = base.join(&name);
-        self.walk(&target, Some(loc), visitor, diag);
+        let candidates = match self.include_candidates(loc, &name) {
+            Ok(candidates) => candidates,
+            Err(message) => {
+                diag.error(DeckError::at(loc, message).on_card("INCLUDE"));
+                return;
+            }
+        };
+        // A single candidate is read directly, so that the error is the system's reason.
+        let found = match candidates.as_slice() {
+            [only] => Some(only),
+            _ => candidates.iter().find(|c| c.is_file()),
+        };
+        match found {
+            Some(target) => self.walk(&target.clone(), Some(loc), visitor, diag),
+            None => {
+                let tried: Vec<String> = candidates
+                    .iter()
+                    .map(|c| format!("'{}'", c.display()))
+                    .collect();
+                diag.error(
+                    DeckError::at(
+                        loc,
+                        format!(
+                            "cannot find '{name}': tried {} (a relative name is looked for \
+                             beside the including file, then beside the main deck)",
+                            tried.join(", ")
+                        ),
+                    )
+                    .on_card("INCLUDE"),
+                );
+            }
+        }
     }
+
+    /// The paths an INCLUDE name may mean, in search order (see the module documentation), or
+    /// the error for an undefined logical symbol.
+    fn include_candidates(&self, loc: &Loc, name: &str) -> Result<Vec<PathBuf>, String> {
+        let (name, symbol_dir) = match logical_symbol(name) {
+            Some((symbol, rest)) => match (self.symbols)(symbol) {
+                Some(dir) => (rest, Some(dir)),
+                None => {
+                    return Err(format!(
+                        "logical symbol '{symbol}' in '{name}' is not defined (set the \
+                         environment variable {symbol} to its directory)"
+                    ));
+                }
+            },
+            None => (name, None),
+        };
+        let relative = match symbol_dir {
+            Some(dir) => dir.join(name),
+            None => PathBuf::from(name),
+        };
+        if relative.is_absolute() {
+            return Ok(vec![relative]);
+        }
+        let mut candidates = vec![loc.file.parent().unwrap_or(Path::new("")).join(&relative)];
+        if let Some(main) = self.files.first() {
+            let beside_main = main.parent().unwrap_or(Path::new("")).join(&relative);
+            if beside_main != candidates[0] {
+                candidates.push(beside_main);
+            }
+        }
+        Ok(candidates)
+    }
+}
+
+/// Splits `SYMBOL:rest` into the logical symbol and the rest, if the name starts with one (two
+/// or more ASCII letters, digits or underscores, the first not a digit: a one-letter prefix is
+/// a Windows drive).
+fn logical_symbol(name: &str) -> Option<(&str, &str)> {
+    let (symbol, rest) = name.split_once(':')?;
+    let valid = symbol.len() >= 2
+        && symbol.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+        && symbol
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_');
+    valid.then_some((symbol, rest))
 }
 
 impl Default for SourceWalker {
@@ -302,6 +400,113 @@ mod tests {
                 "main.dat:4:ENDDATA"
             ]
         );
+    }
+
+    /// The layout of decks written for MSC Nastran: a file under INCLUDE/ includes
+    /// '../../BULK/x.blk', which exists only relative to the main deck in JOBS/QS/.
+    fn msc_layout() -> tempfile::TempDir {
+        let dir = tempfile::tempdir().unwrap();
+        for sub in ["JOBS/QS", "INCLUDE", "BULK"] {
+            std::fs::create_dir_all(dir.path().join(sub)).unwrap();
+        }
+        std::fs::write(
+            dir.path().join("INCLUDE/group.dat"),
+            "CARD G\nINCLUDE '../../BULK/x.blk'\n",
+        )
+        .unwrap();
+        std::fs::write(dir.path().join("BULK/x.blk"), "CARD X\n").unwrap();
+        dir
+    }
+
+    #[test]
+    fn nested_include_falls_back_to_the_main_deck_directory() {
+        let dir = msc_layout();
+        let main = dir.path().join("JOBS/QS/main.dat");
+        std::fs::write(&main, "INCLUDE '../../INCLUDE/group.dat'\nCARD M\n").unwrap();
+        let (c, d) = walk(&main);
+        assert!(d.is_ok(), "{:?}", d.errors);
+        let texts: Vec<_> = c.0.iter().map(|(_, f, t)| format!("{f}:{t}")).collect();
+        assert_eq!(
+            texts,
+            ["group.dat:CARD G", "x.blk:CARD X", "main.dat:CARD M"]
+        );
+    }
+
+    #[test]
+    fn include_found_nowhere_lists_every_path_tried() {
+        let dir = msc_layout();
+        std::fs::remove_file(dir.path().join("BULK/x.blk")).unwrap();
+        let main = dir.path().join("JOBS/QS/main.dat");
+        std::fs::write(&main, "INCLUDE '../../INCLUDE/group.dat'\n").unwrap();
+        let (_, d) = walk(&main);
+        assert_eq!(d.errors.len(), 1);
+        let msg = d.errors[0].to_string();
+        let beside_group = dir.path().join("JOBS/QS/../../INCLUDE/../../BULK/x.blk");
+        let beside_main = dir.path().join("JOBS/QS/../../BULK/x.blk");
+        assert!(
+            msg.contains("group.dat:2: INCLUDE: cannot find '../../BULK/x.blk'")
+                && msg.contains(&format!("'{}'", beside_group.display()))
+                && msg.contains(&format!("'{}'", beside_main.display())),
+            "{msg}"
+        );
+    }
+
+    fn walk_with_symbols(path: &Path, symbols: &[(&str, PathBuf)]) -> (Collect, Diagnostics) {
+        let table: Vec<(String, PathBuf)> = symbols
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.clone()))
+            .collect();
+        let lookup = move |name: &str| {
+            table
+                .iter()
+                .find(|(k, _)| k == name)
+                .map(|(_, v)| v.clone())
+        };
+        let mut c = Collect(Vec::new());
+        let mut d = Diagnostics::default();
+        SourceWalker::with_symbols(Box::new(lookup)).walk(path, None, &mut c, &mut d);
+        (c, d)
+    }
+
+    #[test]
+    fn logical_symbols_name_directories() {
+        let dir = msc_layout();
+        let main = dir.path().join("JOBS/QS/main.dat");
+        std::fs::write(
+            &main,
+            "INCLUDE 'MY_INC:group.dat'\nINCLUDE 'MY_BULK:x.blk'\n",
+        )
+        .unwrap();
+        let symbols = [
+            ("MY_INC", dir.path().join("INCLUDE")),
+            ("MY_BULK", dir.path().join("BULK")),
+        ];
+        let (c, d) = walk_with_symbols(&main, &symbols);
+        assert!(d.is_ok(), "{:?}", d.errors);
+        let texts: Vec<_> = c.0.iter().map(|(_, f, t)| format!("{f}:{t}")).collect();
+        assert_eq!(texts, ["group.dat:CARD G", "x.blk:CARD X", "x.blk:CARD X"]);
+    }
+
+    #[test]
+    fn undefined_logical_symbol_is_named() {
+        let dir = msc_layout();
+        let main = dir.path().join("JOBS/QS/main.dat");
+        std::fs::write(&main, "CARD M\nINCLUDE 'NO_SUCH_SYM:x.blk'\n").unwrap();
+        let (_, d) = walk_with_symbols(&main, &[]);
+        assert_eq!(d.errors.len(), 1);
+        let msg = d.errors[0].to_string();
+        assert!(
+            msg.contains("main.dat:2: INCLUDE: logical symbol 'NO_SUCH_SYM'"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn a_drive_letter_is_not_a_logical_symbol() {
+        assert_eq!(logical_symbol("C:/x.bdf"), None);
+        assert_eq!(logical_symbol("9AB:x.bdf"), None);
+        assert_eq!(logical_symbol("A-B:x.bdf"), None);
+        assert_eq!(logical_symbol("AB:x.bdf"), Some(("AB", "x.bdf")));
     }
 
     #[test]

@@ -15,6 +15,7 @@
 //! | CONM2 | — | [`Conm2`] with the CG offset and inertia tensor from [`Model::element_mass`] |
 //! | CROD, CTUBE, CONROD | PROD, PTUBE / on the card + MAT1 | [`beam`] without bending (axial, torsion) |
 //! | CBAR, CBEAM | PBAR, PBARL / PBEAM, PBEAML + MAT1 | [`beam`]: offsets, orientation vector, pin flags ([`Model::line_element`]) |
+//! | CBEND | PBEND + MAT1 | [`bend`]: the arc of GEOM 1–4, force-method stiffness, lumped mass ([`Model::bend_element`]) |
 //!
 //! Shell details:
 //! - material x axis: THETA rotates the projected G1→G2 direction by θ about the element normal
@@ -69,7 +70,7 @@ use crate::fe::laminate::{
     ShellMaterial, ShellSection, affine_sections,
 };
 use crate::fe::lumped::{Conm2, ScalarSpring};
-use crate::fe::{beam, shell, shell_quadratic, solid};
+use crate::fe::{beam, bend, shell, shell_quadratic, solid};
 use crate::geometry::vec3::{normalize, sub};
 use crate::linalg::Progress;
 use crate::model::damping::Damper;
@@ -271,6 +272,7 @@ fn element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> 
         | ElementKind::Ctube
         | ElementKind::Cbar
         | ElementKind::Cbeam => line_element(ctx, e)?,
+        ElementKind::Cbend => bend_element(ctx, e)?,
     };
     if let Some(m) = built.m.as_mut()
         && wtmass != 1.0
@@ -987,6 +989,52 @@ fn line_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeEr
         .line_element(e)
         .ok_or_else(|| err(e, "not a line element"))?
         .map_err(|x| err(e, x))?;
+    let (m, target, elasticity, density) = line_material(ctx, e, &used)?;
+    let s = line.section;
+    let section = beam::LineSection {
+        a: s.a,
+        i1: s.i1,
+        i2: s.i2,
+        i12: s.i12,
+        j: s.j,
+        k1: s.k1,
+        k2: s.k2,
+        nsm: s.nsm,
+        neutral_axis: s.neutral_axis,
+    };
+    let releases = line
+        .pins
+        .map(|p| std::array::from_fn(|c| p.contains(c + 1)));
+    let geometry = line.geometry();
+    let k = beam::affine_stiffness(&geometry, &section, elasticity, &releases, (m.e, m.g))
+        .map_err(|x| err(e, x))?;
+    let form = if ctx.lumped {
+        beam::MassForm::Lumped {
+            torsion: e.kind == ElementKind::Cbeam,
+        }
+    } else {
+        beam::MassForm::Coupled
+    };
+    let mass = beam::affine_mass(&geometry, &section, density, form).map_err(|x| err(e, x))?;
+    let has_mass = m.rho * s.a + s.nsm != 0.0;
+    Ok(isotropic_built(ctx, e, target, &m, (&k, &mass), has_mass))
+}
+
+/// The MAT1 of a rod, beam or curved beam and how its matrices split by the PMPARs on it (see
+/// [`line_element`]).
+fn line_material(
+    ctx: &ElementContext,
+    e: &Element,
+    used: &MaterialUse,
+) -> Result<
+    (
+        IsotropicMaterial,
+        ParamTarget,
+        beam::Elasticity,
+        beam::Density,
+    ),
+    DiscretizeError,
+> {
     let m = match used.material {
         Some(Material::Isotropic(m)) => m,
         Some(other) => {
@@ -1000,18 +1048,6 @@ fn line_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeEr
             ));
         }
         None => return Err(err(e, format!("material {} missing", used.mid))),
-    };
-    let s = line.section;
-    let section = beam::LineSection {
-        a: s.a,
-        i1: s.i1,
-        i2: s.i2,
-        i12: s.i12,
-        j: s.j,
-        k1: s.k1,
-        k2: s.k2,
-        nsm: s.nsm,
-        neutral_axis: s.neutral_axis,
     };
     let target = ParamTarget::Material(used.mid);
     let kinds = ctx.params.kinds_on(target);
@@ -1037,21 +1073,22 @@ fn line_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeEr
     } else {
         beam::Density::Fixed { rho: m.rho }
     };
-    let releases = line
-        .pins
-        .map(|p| std::array::from_fn(|c| p.contains(c + 1)));
-    let geometry = line.geometry();
-    let k = beam::affine_stiffness(&geometry, &section, elasticity, &releases, (m.e, m.g))
+    Ok((m, target, elasticity, density))
+}
+
+/// A curved beam ([`bend`]): its force-method stiffness (one part ∝ E under a PMPAR E; NU is
+/// refused) and lumped mass (ρ part plus a constant NSM part under a PMPAR RHO).
+fn bend_element(ctx: &ElementContext, e: &Element) -> Result<Built, DiscretizeError> {
+    let (element, used) = ctx
+        .model
+        .bend_element(e)
+        .ok_or_else(|| err(e, "not a CBEND"))?
         .map_err(|x| err(e, x))?;
-    let form = if ctx.lumped {
-        beam::MassForm::Lumped {
-            torsion: e.kind == ElementKind::Cbeam,
-        }
-    } else {
-        beam::MassForm::Coupled
-    };
-    let mass = beam::affine_mass(&geometry, &section, density, form).map_err(|x| err(e, x))?;
-    let has_mass = m.rho * s.a + s.nsm != 0.0;
+    let (m, target, elasticity, density) = line_material(ctx, e, &used)?;
+    let k = bend::affine_stiffness(&element.arc, &element.section, elasticity)
+        .map_err(|x| err(e, x))?;
+    let mass = bend::affine_mass(&element.arc, &element.section, density);
+    let has_mass = m.rho * element.section.a + element.section.nsm != 0.0;
     Ok(isotropic_built(ctx, e, target, &m, (&k, &mass), has_mass))
 }
 

@@ -24,7 +24,7 @@ use super::{Constrained, Structure};
 use crate::assembly::AssemblyError;
 use crate::assembly::DofMap;
 use crate::assembly::loads::{Mass, load_vector};
-use crate::deck::cards::{ExcitationKind, RloadTables, TloadFunction};
+use crate::deck::cards::{ExcitationKind, RloadTables, RloadValue, TloadFunction};
 use crate::dynamics::pulse::Pulse;
 use crate::dynamics::table::Table;
 use crate::io::csv_table::read_columns;
@@ -437,14 +437,15 @@ pub fn frequency_inputs(
         }
         for r in rloads {
             let card = r.tables.card();
-            let table = |tid: u32| {
-                if tid == 0 {
-                    Ok(None)
-                } else {
-                    dynamic_table(model, tid)
-                        .map(Some)
-                        .map_err(|e| format!("{card} {}: {e}", r.sid))
-                }
+            let table = |value: RloadValue| match value {
+                RloadValue::Table(0) => Ok(None),
+                RloadValue::Table(tid) => dynamic_table(model, tid)
+                    .map(Some)
+                    .map_err(|e| format!("{card} {}: {e}", r.sid)),
+                // a one-point table is that value at every frequency
+                RloadValue::Constant(c) => Table::new(&[(0.0, c)])
+                    .map(Some)
+                    .map_err(|e| format!("{card} {}: {e}", r.sid)),
             };
             let p = match r.tables {
                 RloadTables::Rectangular { tc, td } => FrequencyFunction::Rectangular {

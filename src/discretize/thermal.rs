@@ -160,6 +160,16 @@ pub fn free_strain(
         }
         return isotropic(used.mid, temperature()?);
     }
+    if let Some(bend) = model.bend_element(e) {
+        let (_, used) = bend.map_err(|x| err(e, x))?;
+        if expands(used.mid) {
+            return Err(err(
+                e,
+                "thermal loads on a CBEND are not supported (its MAT1 has A ≠ 0)",
+            ));
+        }
+        return Ok(None);
+    }
     if let Some((_, used)) = model
         .solid_midsides(e)
         .and(e.property)

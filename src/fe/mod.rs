@@ -16,6 +16,7 @@ pub mod beam_load;
 pub mod beam_section;
 #[cfg(test)]
 mod beam_tests;
+pub mod bend;
 pub mod bush;
 pub mod failure;
 pub mod laminate;

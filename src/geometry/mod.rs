@@ -6,6 +6,7 @@
 //!   skew-symmetric cross-product matrix ṽ (ṽ u = v × u);
 //! - [`mat3`]: 3×3 matrices as row-major `[[f64; 3]; 3]` (`m[i][j]` = row i, column j):
 //!   products, transpose, determinant;
+//! - [`quadrature`]: Gauss–Legendre rules;
 //! - [`rotation`]: rotation matrices (orthonormal, det +1): axis–angle (Rodrigues), the
 //!   orthonormality check, tensors in a rotated frame;
 //! - [`euler_parameters`]: the Euler parameters e = (e₀, e₁, e₂, e₃) of eq. A.1, their
@@ -34,5 +35,6 @@ pub mod euler_parameters;
 #[cfg(test)]
 mod euler_parameters_tests;
 pub mod mat3;
+pub mod quadrature;
 pub mod rotation;
 pub mod vec3;

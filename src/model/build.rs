@@ -402,6 +402,12 @@ fn index_properties(
             .map(|(i, p)| entry(p.id, "PBAR", &p.loc, PropertyRef::Pbar(i))),
     );
     entries.extend(
+        bulk.pbend
+            .iter()
+            .enumerate()
+            .map(|(i, p)| entry(p.id, "PBEND", &p.loc, PropertyRef::Pbend(i))),
+    );
+    entries.extend(
         bulk.pbarl
             .iter()
             .enumerate()
@@ -529,6 +535,7 @@ fn element_id_space(
     );
     e.extend(bulk.cbar.iter().map(|c| entry(c.id, "CBAR", &c.loc, ())));
     e.extend(bulk.cbeam.iter().map(|c| entry(c.id, "CBEAM", &c.loc, ())));
+    e.extend(bulk.cbend.iter().map(|c| entry(c.id, "CBEND", &c.loc, ())));
     e.extend(bulk.rbe2.iter().map(|c| entry(c.id, "RBE2", &c.loc, ())));
     e.extend(bulk.rbe3.iter().map(|c| entry(c.id, "RBE3", &c.loc, ())));
     e.extend(
@@ -947,6 +954,7 @@ fn build_elements(
         }
     }
     build_lines(refs, grids, errors, &mut out);
+    build_bends(refs, grids, errors, &mut out);
     for (i, c) in b.conm2.iter().enumerate() {
         let card = format!("CONM2 {}", c.id);
         let node = refs.grid(c.grid, "G", &card, &c.loc, errors);
@@ -964,6 +972,47 @@ fn build_elements(
         }
     }
     out
+}
+
+/// The curved beams: grids, property, and the check of their arc.
+fn build_bends(
+    refs: &Refs,
+    grids: &[GridPoint],
+    errors: &mut Vec<DeckError>,
+    out: &mut Vec<Element>,
+) {
+    let inputs = super::lines::LineInputs {
+        bulk: refs.bulk,
+        coords: refs.coords,
+        grids,
+        grid_index: refs.grid_index,
+    };
+    for (i, c) in refs.bulk.cbend.iter().enumerate() {
+        let card = format!("CBEND {}", c.id);
+        let nodes = resolve_nodes(refs, &c.nodes, &["GA", "GB"], &card, &c.loc, errors);
+        let prop = resolve_property(refs, c.pid, &["PBEND"], &card, &c.loc, errors);
+        let Some(nodes) = nodes else { continue };
+        let element = Element {
+            id: c.id,
+            kind: ElementKind::Cbend,
+            card: i,
+            property: prop,
+            nodes,
+        };
+        if prop.is_some()
+            && let Err(reason) = inputs.resolve_bend(&element, prop)
+        {
+            let field = if reason.contains("PBEND") || reason.contains("RB") {
+                format!("{} (GEOM)", RawCard::field_label(8))
+            } else {
+                format!("{} (X1/G0)", RawCard::field_label(5))
+            };
+            let mut e = DeckError::at(&c.loc, reason).on_card(card);
+            e.field = Some(field);
+            errors.push(e);
+        }
+        out.push(element);
+    }
 }
 
 /// A rod or beam card as [`build_lines`] reads it.

@@ -40,8 +40,8 @@
 use crate::fe::shell::ShellError;
 use crate::fe::shell_quadratic::{self, Layout};
 use crate::fe::solid::JacobianRange;
+use crate::geometry::quadrature::gauss_legendre;
 use crate::geometry::vec3::{self, add, cross, dot, norm, scale, sub};
-use std::sync::OnceLock;
 
 /// Solids: Jacobian ratio (min/max det J) below which a warning is issued.
 pub const JACOBIAN_RATIO_WARN: f64 = 0.05;
@@ -61,38 +61,6 @@ pub const WARP_WARN: f64 = 0.05;
 pub const TAPER_WARN: f64 = 0.5;
 /// CQUAD4 skew warning limit (degrees), Nastran GEOMCHECK Q4_SKEW.
 pub const SKEW_MIN: f64 = 30.0;
-
-/// Gauss–Legendre rule with `n` points on [−1, 1] (1 ≤ n ≤ 8; other values are clamped):
-/// Newton iteration on Pₙ to round-off, computed once and shared.
-pub fn gauss_legendre(n: usize) -> &'static [(f64, f64)] {
-    static RULES: OnceLock<Vec<Vec<(f64, f64)>>> = OnceLock::new();
-    let rules = RULES.get_or_init(|| (0..=8).map(compute_gauss_legendre).collect());
-    &rules[n.clamp(1, 8)]
-}
-
-fn compute_gauss_legendre(n: usize) -> Vec<(f64, f64)> {
-    let mut out = Vec::with_capacity(n);
-    for i in 0..n {
-        let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-        let mut dp = 1.0;
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, x);
-            for k in 2..=n {
-                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
-            let dx = p1 / dp;
-            x -= dx;
-            if dx.abs() < 1e-16 {
-                break;
-            }
-        }
-        out.push((x, 2.0 / ((1.0 - x * x) * dp * dp)));
-    }
-    out
-}
 
 /// Exact area and centroid of a CTRIA3.
 pub fn tria_area_centroid(p: &[[f64; 3]; 3]) -> (f64, [f64; 3]) {

@@ -1,6 +1,6 @@
 //! `PLOAD1` cards resolved to grid loads: the element's placement from the model, positions
 //! and intensities in the kernel's terms, and the consistent loads of
-//! [`crate::fe::beam_load`] at its two grids.
+//! [`crate::fe::beam_load`] at its two grids (for a CBEND, of [`crate::fe::bend::grid_loads`]).
 
 use super::sets::PointLoad;
 use super::{ElementKind, Model};
@@ -10,14 +10,22 @@ use crate::fe::beam_load::{LineLoad, LineLoadKind, LoadAxes, grid_loads};
 
 impl Model {
     /// The grid loads of a `PLOAD1` (scaled by `factor`), or what is wrong with it: an element
-    /// that is not a CBAR or CBEAM, pin flags, positions beyond the element's length.
+    /// that is not a CBAR, CBEAM or CBEND, pin flags, positions beyond the element's length.
     pub fn pload1_loads(&self, card: &Pload1, factor: f64) -> Result<Vec<PointLoad>, String> {
         let element = self
             .element_index
             .get(&card.eid)
             .map(|&i| &self.elements[i])
-            .filter(|e| matches!(e.kind, ElementKind::Cbar | ElementKind::Cbeam))
-            .ok_or(format!("EID = {} is not a CBAR or CBEAM", card.eid))?;
+            .filter(|e| {
+                matches!(
+                    e.kind,
+                    ElementKind::Cbar | ElementKind::Cbeam | ElementKind::Cbend
+                )
+            })
+            .ok_or(format!("EID = {} is not a CBAR, CBEAM or CBEND", card.eid))?;
+        if element.kind == ElementKind::Cbend {
+            return self.pload1_bend_loads(card, element, factor);
+        }
         let (line, _) = self.line_element(element).ok_or("not a line element")??;
         if line.pins.iter().any(|p| *p != Dofs::NONE) {
             return Err(format!(
@@ -70,6 +78,66 @@ impl Model {
                 grid,
                 basic: loads.moment[end],
             });
+        }
+        Ok(out)
+    }
+}
+
+impl Model {
+    /// A `PLOAD1` on a CBEND: positions along the arc (LE: arc length from A, FR: its
+    /// fraction), intensities per unit arc length, directions in the basic system; the grid
+    /// loads of [`crate::fe::bend::grid_loads`].
+    fn pload1_bend_loads(
+        &self,
+        card: &Pload1,
+        element: &super::Element,
+        factor: f64,
+    ) -> Result<Vec<PointLoad>, String> {
+        if card.element_axes {
+            return Err(
+                "element-axis directions (FXE … MZE) on a CBEND are not supported; give FX … MZ (basic)"
+                    .into(),
+            );
+        }
+        if card.scale.projected() {
+            return Err("projected intensities (LEPR, FRPR) on a CBEND are not supported".into());
+        }
+        let (bend, used) = self.bend_element(element).ok_or("not a CBEND")??;
+        let Some(super::materials::Material::Isotropic(m)) = used.material else {
+            return Err(format!("MID = {} of the CBEND is not a MAT1", used.mid));
+        };
+        let length = bend.arc.length();
+        let at = if card.scale.fractional() {
+            card.x
+        } else {
+            card.x.map(|x| x / length)
+        };
+        if at[1] > 1.0 + 1e-9 {
+            return Err(format!(
+                "X2 = {} is beyond the CBEND's arc length {length:e}",
+                card.x[1]
+            ));
+        }
+        let mut direction = [0.0; 3];
+        direction[card.axis] = 1.0;
+        let load = crate::fe::bend::ArcLoad {
+            moment: card.kind == ForceKind::Moment,
+            direction,
+            at: at.map(|x| x.min(1.0)),
+            values: card.p.map(|p| p * factor),
+        };
+        let loads = crate::fe::bend::grid_loads(&bend.arc, &bend.section, m.e, m.g, &load)
+            .map_err(|e| e.to_string())?;
+        let mut out = Vec::with_capacity(4);
+        for (end, &grid) in element.nodes.iter().enumerate() {
+            for (k, kind) in [(0, ForceKind::Force), (3, ForceKind::Moment)] {
+                let o = 6 * end + k;
+                out.push(PointLoad {
+                    kind,
+                    grid,
+                    basic: [loads[o], loads[o + 1], loads[o + 2]],
+                });
+            }
         }
         Ok(out)
     }

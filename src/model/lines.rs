@@ -66,7 +66,7 @@ pub(super) struct LineInputs<'a> {
 
 impl LineInputs<'_> {
     /// A vector given in grid `g`'s displacement system, in basic.
-    fn in_basic(&self, g: &GridPoint, v: [f64; 3]) -> Result<[f64; 3], String> {
+    pub(super) fn in_basic(&self, g: &GridPoint, v: [f64; 3]) -> Result<[f64; 3], String> {
         if g.cd == 0 {
             return Ok(v);
         }

@@ -205,6 +205,19 @@ impl Model {
                     inertia: None,
                 })
             }
+            ElementKind::Cbend => {
+                let (bend, material) = self.bend_element(e)?.ok()?;
+                let rho = material.material.map_or(0.0, |m| m.rho());
+                let arc = bend.arc;
+                // the centroid of a circular arc: on its bisector at R sin(Θ/2)/(Θ/2)
+                let half = 0.5 * arc.angle;
+                let bisector = sub(arc.point(half), arc.centre);
+                Some(MassPoint {
+                    mass: (rho * bend.section.a + bend.section.nsm) * arc.length(),
+                    point: add(arc.centre, scale(bisector, half.sin() / half)),
+                    inertia: None,
+                })
+            }
         }
     }
 

@@ -22,6 +22,7 @@
 //! TLOAD1/RLOAD1 with their DAREA entries, tables), [`pmpar`] ([`Model::parameters`]),
 //! [`sensors`]; rigid elements carry their own data ([`RigidKind`]).
 
+pub mod bend;
 pub mod build;
 pub mod bush;
 pub mod case;
@@ -125,6 +126,8 @@ pub enum ElementKind {
     Ctube,
     Cbar,
     Cbeam,
+    /// CBEND: a curved beam (circular arc).
+    Cbend,
 }
 
 impl ElementKind {
@@ -159,6 +162,7 @@ impl ElementKind {
             ElementKind::Ctube => "CTUBE",
             ElementKind::Cbar => "CBAR",
             ElementKind::Cbeam => "CBEAM",
+            ElementKind::Cbend => "CBEND",
         }
     }
 
@@ -251,6 +255,7 @@ pub enum PropertyRef {
     Pbarl(usize),
     Pbeam(usize),
     Pbeaml(usize),
+    Pbend(usize),
 }
 
 impl PropertyRef {
@@ -271,6 +276,7 @@ impl PropertyRef {
             PropertyRef::Pbarl(_) => "PBARL",
             PropertyRef::Pbeam(_) => "PBEAM",
             PropertyRef::Pbeaml(_) => "PBEAML",
+            PropertyRef::Pbend(_) => "PBEND",
         }
     }
 }

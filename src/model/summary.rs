@@ -191,6 +191,7 @@ impl Model {
             ElementKind::Ctube => b.ctube.get(e.card).map(|c| c.pid),
             ElementKind::Cbar => b.cbar.get(e.card).map(|c| c.pid),
             ElementKind::Cbeam => b.cbeam.get(e.card).map(|c| c.pid),
+            ElementKind::Cbend => b.cbend.get(e.card).map(|c| c.pid),
             ElementKind::Conrod => None,
             ElementKind::Celas2
             | ElementKind::Celas4

@@ -409,7 +409,7 @@ pub fn check(refs: &Refs, deck: &Deck, errors: &mut Vec<DeckError>, warnings: &m
         for (name, id) in r.tables.named() {
             table(id, name, &card, &r.loc, errors);
         }
-        if r.tables.named().is_empty() {
+        if r.tables.is_zero() {
             errors.push(
                 DeckError::at(
                     &r.loc,
@@ -741,6 +741,7 @@ fn property_users(refs: &Refs) -> HashMap<u32, Vec<String>> {
     b.ctube.iter().for_each(|c| push(c.pid, "CTUBE", c.id));
     b.cbar.iter().for_each(|c| push(c.pid, "CBAR", c.id));
     b.cbeam.iter().for_each(|c| push(c.pid, "CBEAM", c.id));
+    b.cbend.iter().for_each(|c| push(c.pid, "CBEND", c.id));
     users
 }
 

@@ -698,8 +698,8 @@ fn tload_head(f: &mut FieldReader) -> (u32, u32, f64, ExcitationKind) {
 /// | 3 | EXCITEID | int > 0 | required | DAREA, static load set (directly or through an LSEQ), or SPCD set (TYPE DISP/VELO/ACCE) |
 /// | 4 | DELAY | real | 0.0 | time delay τ |
 /// | 5 | DPHASE | real | 0.0 | phase θ in degrees (a DPHASE card id is not supported) |
-/// | 6 | TC (RLOAD1) / TB (RLOAD2) | int ≥ 0 / int > 0 | 0 / required | table id of C(f) (0 = none) / of B(f) |
-/// | 7 | TD (RLOAD1) / TP (RLOAD2) | int ≥ 0 | 0 | table id of D(f) / of φ(f) in degrees; 0 = none |
+/// | 6 | TC (RLOAD1) / TB (RLOAD2) | int ≥ 0 or real / int > 0 or real | 0 / required | table id of C(f) (0 = none) / of B(f); a real is a constant value (newer MSC Nastran) |
+/// | 7 | TD (RLOAD1) / TP (RLOAD2) | int ≥ 0 or real | 0 | table id of D(f) / of φ(f) in degrees; 0 = none; a real is a constant value |
 /// | 8 | TYPE | `LOAD` / `DISP` / `VELO` / `ACCE` or 0–3 | LOAD | excitation type: an applied load, or the enforced displacement, velocity or acceleration of the DOFs of an SPCD set (EXCITEID) |
 ///
 /// Tables are TABLED1–TABLED4 or TABLEF.
@@ -714,13 +714,27 @@ pub struct Rload {
     pub loc: Loc,
 }
 
-/// The tables of an RLOAD's P(f) (0: none).
+/// One function of an RLOAD's P(f): a table id (0: none, the function is zero) or a constant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RloadValue {
+    Table(u32),
+    Constant(f64),
+}
+
+impl RloadValue {
+    /// True when the function is zero at every frequency (table id 0 or the constant 0).
+    pub fn is_zero(self) -> bool {
+        matches!(self, RloadValue::Table(0)) || self == RloadValue::Constant(0.0)
+    }
+}
+
+/// The functions of an RLOAD's P(f).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum RloadTables {
     /// RLOAD1: C(f) + i D(f).
-    Rectangular { tc: u32, td: u32 },
+    Rectangular { tc: RloadValue, td: RloadValue },
     /// RLOAD2: B(f) e^{i φ(f)}, φ in degrees.
-    Polar { tb: u32, tp: u32 },
+    Polar { tb: RloadValue, tp: RloadValue },
 }
 
 impl RloadTables {
@@ -732,13 +746,37 @@ impl RloadTables {
         }
     }
 
-    /// (field name, table id) of each table given (id ≠ 0).
-    pub fn named(&self) -> Vec<(&'static str, u32)> {
-        let pairs = match *self {
+    /// (field name, value) of the two functions.
+    fn pairs(&self) -> [(&'static str, RloadValue); 2] {
+        match *self {
             RloadTables::Rectangular { tc, td } => [("TC", tc), ("TD", td)],
             RloadTables::Polar { tb, tp } => [("TB", tb), ("TP", tp)],
-        };
-        pairs.into_iter().filter(|(_, id)| *id != 0).collect()
+        }
+    }
+
+    /// (field name, table id) of each table given (id ≠ 0).
+    pub fn named(&self) -> Vec<(&'static str, u32)> {
+        self.pairs()
+            .into_iter()
+            .filter_map(|(name, v)| match v {
+                RloadValue::Table(id) if id != 0 => Some((name, id)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// True when RLOAD1's C and D are both zero (no table, or constants 0).
+    pub fn is_zero(&self) -> bool {
+        matches!(self, RloadTables::Rectangular { .. })
+            && self.pairs().iter().all(|(_, v)| v.is_zero())
+    }
+}
+
+/// An RLOAD table field: a table id (int ≥ 0, blank = 0) or a real constant.
+fn rload_value(f: &mut FieldReader, i: usize, name: &str) -> RloadValue {
+    match f.value(i) {
+        Value::Real(_) => RloadValue::Constant(f.real(i, name)),
+        _ => RloadValue::Table(f.id0_or(i, name, 0)),
     }
 }
 
@@ -746,9 +784,9 @@ impl Rload {
     /// Read an `RLOAD1` card.
     pub fn rload1(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         Self::read(card, |f| {
-            let tc = f.id0_or(5, "TC", 0);
-            let td = f.id0_or(6, "TD", 0);
-            if tc == 0 && td == 0 {
+            let tc = rload_value(f, 5, "TC");
+            let td = rload_value(f, 6, "TD");
+            if tc == RloadValue::Table(0) && td == RloadValue::Table(0) {
                 f.card_error("give TC or TD (a table of the load's frequency dependence)");
             }
             RloadTables::Rectangular { tc, td }
@@ -758,8 +796,11 @@ impl Rload {
     /// Read an `RLOAD2` card.
     pub fn rload2(card: &RawCard) -> Result<Self, Vec<DeckError>> {
         Self::read(card, |f| RloadTables::Polar {
-            tb: f.id(5, "TB"),
-            tp: f.id0_or(6, "TP", 0),
+            tb: match f.value(5) {
+                Value::Real(_) => RloadValue::Constant(f.real(5, "TB")),
+                _ => RloadValue::Table(f.id(5, "TB")),
+            },
+            tp: rload_value(f, 6, "TP"),
         })
     }
 
@@ -1323,7 +1364,13 @@ mod tests {
     #[test]
     fn rload2_needs_its_amplitude_table() {
         let r = Rload::rload2(&card_from_line("RLOAD2,7,8,,30.,20,21")).unwrap();
-        assert_eq!(r.tables, RloadTables::Polar { tb: 20, tp: 21 });
+        assert_eq!(
+            r.tables,
+            RloadTables::Polar {
+                tb: RloadValue::Table(20),
+                tp: RloadValue::Table(21)
+            }
+        );
         assert_eq!(r.tables.card(), "RLOAD2");
         let m = messages(Rload::rload2(&card_from_line("RLOAD2,7,8,,30.,,21")));
         assert!(m.contains("TB"), "{m}");

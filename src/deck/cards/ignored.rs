@@ -11,7 +11,7 @@
 //! | `MAT4`, `MAT5` | thermal materials, read by heat-transfer solutions only | – |
 //! | `DTI` | a direct table is data for DMAP modules (and `SETREE` for the processing tree of reduced superelements; paraflex assembles parts unreduced); paraflex runs no DMAP | – |
 //! | `DVPREL1`, `DVPREL2`, `DVMREL1`, `DVMREL2`, `DVCREL1`, `DVCREL2`, `DLINK`, `DRESP1`, `DRESP2`, `DOPTPRM` | Nastran's design model, read by SOL 200 only (paraflex's own studies use `DVMAP`, `DOBJ`, `DCONSTR`) | – |
-//! | `PBEND`, `PBUSH1D` | properties of CBEND and CBUSH1D, which paraflex refuses: no element of a deck it runs can use them | – |
+//! | `PBUSH1D` | property of CBUSH1D, which paraflex refuses: no element of a deck it runs can use it | – |
 //! | `PELAST` | frequency-dependent (TKID) and structural-damping (TGEID) tables of a PELAS, or its nonlinear force–deflection table (TKNID, read by nonlinear solutions only) | a TKID or TGEID table |
 //! | `EPOINT` | extra points carry no stiffness or mass; only transfer functions, DMIG and loads act on them, and paraflex refuses a load or constraint on a point it does not know | – |
 //! | `SELABEL` | a superelement's label titles printed output only | – |
@@ -120,11 +120,6 @@ static IGNORED: &[(&str, &str, Option<Check>)] = &[
     (
         "DOPTPRM",
         "Nastran's design model is read by SOL 200 only (paraflex's own studies use DVMAP, DOBJ and DCONSTR)",
-        None,
-    ),
-    (
-        "PBEND",
-        "a property of CBEND, which paraflex does not support: no element of this deck can use it",
         None,
     ),
     (

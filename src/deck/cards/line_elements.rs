@@ -1,4 +1,5 @@
-//! Line elements: rods `CROD`, `CONROD`, `CTUBE` and beams `CBAR`, `CBEAM`.
+//! Line elements: rods `CROD`, `CONROD`, `CTUBE`, beams `CBAR`, `CBEAM` and the curved beam
+//! `CBEND`.
 
 use crate::card_values::Dofs;
 use crate::deck::error::{DeckError, Loc};
@@ -140,36 +141,15 @@ impl Cbar {
         f.set_id(id);
         let pid = f.opt_id(2, "PID").unwrap_or(id);
         let nodes = [f.id(3, "GA"), f.id(4, "GB")];
-        let orientation = match f.value(5) {
-            Value::Int(_) => {
-                let g0 = f.id(5, "G0");
-                if nodes.contains(&g0) {
-                    f.error(5, "G0", format!("G0 = {g0} is an end grid of the element"));
-                }
-                for (i, name) in [(6, "X2"), (7, "X3")] {
-                    if !f.value(i).is_blank() {
-                        f.error(i, name, "must be blank when G0 is given");
-                    }
-                }
-                BeamOrientation::Grid(g0)
-            }
-            Value::Blank if f.value(6).is_blank() && f.value(7).is_blank() => {
-                f.error(
-                    5,
-                    "X1/G0",
-                    format!(
-                        "give the orientation vector X1 X2 X3 or a grid G0 (the {} defaults are not supported)",
-                        if beam { "BEAMOR" } else { "BAROR" }
-                    ),
-                );
-                BeamOrientation::Vector([0.0; 3])
-            }
-            _ => BeamOrientation::Vector([
-                f.real_or(5, "X1", 0.0),
-                f.real_or(6, "X2", 0.0),
-                f.real_or(7, "X3", 0.0),
-            ]),
-        };
+        let orientation = orientation(
+            &mut f,
+            nodes,
+            if beam {
+                "the BEAMOR defaults are not supported"
+            } else {
+                "the BAROR defaults are not supported"
+            },
+        );
         let offt_text = match f.value(8) {
             Value::Real(_) if beam => {
                 f.error(
@@ -221,6 +201,84 @@ impl Cbar {
             offsets,
             loc,
         })
+    }
+}
+
+/// `CBEND` — a curved beam (circular arc) between two grids.
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | EID | int > 0 | required | element id |
+/// | 3 | PID | int > 0 | EID | PBEND id |
+/// | 4, 5 | GA GB | int > 0 | required | end grids |
+/// | 6 | X1 or G0 | real or int | required | orientation vector v (X1 X2 X3, in GA's displacement system) or grid G0 (v from GA to G0); its use depends on GEOM |
+/// | 7, 8 | X2 X3 | real | 0.0 | |
+/// | 9 | GEOM | 1–4 | required | 1: the centre of curvature is on the line from A along v; 2: the arc's tangent at A is along v, the arc on v's side of the chord AB; 3: radius RB of the PBEND, the centre on the side of AB opposite to v; 4: arc angle THETAB of the PBEND, the centre on the side of AB opposite to v |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cbend {
+    pub id: u32,
+    pub pid: u32,
+    pub nodes: [u32; 2],
+    pub orientation: BeamOrientation,
+    pub geom: u8,
+    pub loc: Loc,
+}
+
+impl Cbend {
+    /// Read a `CBEND` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "EID");
+        f.set_id(id);
+        let pid = f.opt_id(2, "PID").unwrap_or(id);
+        let nodes = [f.id(3, "GA"), f.id(4, "GB")];
+        let orientation = orientation(&mut f, nodes, "GEOM needs one");
+        let geom = f.int(8, "GEOM");
+        if !(1..=4).contains(&geom) {
+            f.error(8, "GEOM", format!("expected 1, 2, 3 or 4, found {geom}"));
+        }
+        let loc = f.loc();
+        f.finish(8)?;
+        Ok(Cbend {
+            id,
+            pid,
+            nodes,
+            orientation,
+            geom: geom.clamp(1, 4) as u8,
+            loc,
+        })
+    }
+}
+
+/// The orientation vector X1–X3 or grid G0 of fields 6–8 of a CBAR, CBEAM or CBEND; `blank`
+/// says why a blank orientation is refused.
+fn orientation(f: &mut FieldReader, nodes: [u32; 2], blank: &str) -> BeamOrientation {
+    match f.value(5) {
+        Value::Int(_) => {
+            let g0 = f.id(5, "G0");
+            if nodes.contains(&g0) {
+                f.error(5, "G0", format!("G0 = {g0} is an end grid of the element"));
+            }
+            for (i, name) in [(6, "X2"), (7, "X3")] {
+                if !f.value(i).is_blank() {
+                    f.error(i, name, "must be blank when G0 is given");
+                }
+            }
+            BeamOrientation::Grid(g0)
+        }
+        Value::Blank if f.value(6).is_blank() && f.value(7).is_blank() => {
+            f.error(
+                5,
+                "X1/G0",
+                format!("give the orientation vector X1 X2 X3 or a grid G0 ({blank})"),
+            );
+            BeamOrientation::Vector([0.0; 3])
+        }
+        _ => BeamOrientation::Vector([
+            f.real_or(5, "X1", 0.0),
+            f.real_or(6, "X2", 0.0),
+            f.real_or(7, "X3", 0.0),
+        ]),
     }
 }
 

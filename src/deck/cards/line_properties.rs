@@ -1,4 +1,4 @@
-//! Line-element properties: `PROD`, `PTUBE`, `PBAR`, `PBARL`, `PBEAM`, `PBEAML`.
+//! Line-element properties: `PROD`, `PTUBE`, `PBAR`, `PBARL`, `PBEAM`, `PBEAML`, `PBEND`.
 
 use crate::deck::error::{DeckError, Loc};
 use crate::deck::fields::RawCard;
@@ -421,6 +421,111 @@ impl Pbeam {
             k1,
             k2,
             neutral_axis: na_a,
+            loc,
+        })
+    }
+}
+
+/// `PBEND` — curved beam property (MSC's first form: the section given by its constants).
+///
+/// | field | name | type | default | meaning |
+/// |---|---|---|---|---|
+/// | 2 | PID | int > 0 | required | property id |
+/// | 3 | MID | int > 0 | required | MAT1 id |
+/// | 4 | A | real > 0 | required | area (an integer here is MSC's pipe form, FSI RM T P: refused) |
+/// | 5, 6 | I1 I2 | real > 0 | required | area moments of inertia: I1 in the plane of the arc, I2 out of it |
+/// | 7 | J | real ≥ 0 | 0.0 | torsion constant |
+/// | 8 | RB | real > 0 | blank | bend radius (needed by CBEND GEOM = 3; 0.0 is blank) |
+/// | 9 | THETAB | real | blank | arc angle in degrees, 0 < THETAB < 360 (needed by GEOM = 4; 0.0 is blank) |
+/// | cont. 2–9 | C1 … F2 | real | 0.0 | stress recovery points (kept, unused) |
+/// | cont. 2, 3 | K1 K2 | real | blank | shear area factors in and out of the plane of the arc; blank or 0: rigid in shear |
+/// | cont. 4 | NSM | real | 0.0 | non-structural mass per length |
+/// | cont. 5, 6, 7 | RC ZC DELTAN | real | 0.0 | offsets of the centroid from the grids' arc and of the neutral axis from the centroid: only 0 is supported |
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pbend {
+    pub id: u32,
+    pub mid: u32,
+    pub a: f64,
+    pub i1: f64,
+    pub i2: f64,
+    pub j: f64,
+    pub rb: Option<f64>,
+    pub thetab: Option<f64>,
+    pub k1: Option<f64>,
+    pub k2: Option<f64>,
+    pub nsm: f64,
+    pub loc: Loc,
+}
+
+impl Pbend {
+    /// Read a `PBEND` card.
+    pub fn from_card(card: &RawCard) -> Result<Self, Vec<DeckError>> {
+        let mut f = FieldReader::new(card);
+        let id = f.id(1, "PID");
+        f.set_id(id);
+        let mid = f.id(2, "MID");
+        let a = if let Value::Int(_) = f.value(3) {
+            f.error(
+                3,
+                "FSI",
+                "the pipe form of PBEND (FSI RM T P) is not supported; give A I1 I2 J",
+            );
+            0.0
+        } else {
+            f.positive_real(3, "A")
+        };
+        let i1 = f.positive_real(4, "I1");
+        let i2 = f.positive_real(5, "I2");
+        let j = f.real_or(6, "J", 0.0);
+        // 0.0 is taken as not given, as a blank
+        let rb = f.opt_real(7, "RB").filter(|&r| r != 0.0);
+        let thetab = f.opt_real(8, "THETAB").filter(|&t| t != 0.0);
+        for (k, name) in ["C1", "C2", "D1", "D2", "E1", "E2", "F1", "F2"]
+            .iter()
+            .enumerate()
+        {
+            f.opt_real(9 + k, name);
+        }
+        let factor = |k: Option<f64>| k.filter(|&k| k > 0.0);
+        let k1 = factor(f.opt_real(17, "K1"));
+        let k2 = factor(f.opt_real(18, "K2"));
+        let nsm = f.real_or(19, "NSM", 0.0);
+        for (i, name) in [(20, "RC"), (21, "ZC"), (22, "DELTAN")] {
+            if f.real_or(i, name, 0.0) != 0.0 {
+                f.error(
+                    i,
+                    name,
+                    "offsets of the centroid or neutral axis are not supported; give 0 or blank",
+                );
+            }
+        }
+        if j < 0.0 {
+            f.error(6, "J", format!("expected a real >= 0, found {j:e}"));
+        }
+        if let Some(rb) = rb.filter(|&r| !(r > 0.0)) {
+            f.error(7, "RB", format!("expected a real > 0, found {rb:e}"));
+        }
+        if let Some(t) = thetab.filter(|&t| !(t > 0.0 && t < 360.0)) {
+            f.error(
+                8,
+                "THETAB",
+                format!("expected 0 < THETAB < 360 degrees, found {t:e}"),
+            );
+        }
+        let loc = f.loc();
+        f.finish(22)?;
+        Ok(Pbend {
+            id,
+            mid,
+            a,
+            i1,
+            i2,
+            j,
+            rb,
+            thetab,
+            k1,
+            k2,
+            nsm,
             loc,
         })
     }

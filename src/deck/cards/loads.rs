@@ -506,12 +506,12 @@ impl Pload1Scale {
     }
 }
 
-/// `PLOAD1` — a concentrated or linearly distributed force or moment on a CBAR or CBEAM.
+/// `PLOAD1` — a concentrated or linearly distributed force or moment on a CBAR, CBEAM or CBEND.
 ///
 /// | field | name | type | default | meaning |
 /// |---|---|---|---|---|
 /// | 2 | SID | int > 0 | required | load set id |
-/// | 3 | EID | int > 0 | required | CBAR or CBEAM id |
+/// | 3 | EID | int > 0 | required | CBAR, CBEAM or CBEND id (on a CBEND: positions and intensities along the arc, basic TYPEs only, no PR scales) |
 /// | 4 | TYPE | FX FY FZ MX MY MZ (basic), FXE … MZE (element axes) | required | force or moment and its direction |
 /// | 5 | SCALE | LE FR LEPR FRPR | required | positions as lengths (LE) or fractions (FR) of the axis from end A; PR: intensities per unit length projected on a plane normal to the load (for an element TYPE the plane normal to that element axis: FXE/MXE projected loads are zero, FYE … MZE are not reduced) |
 /// | 6 | X1 | real ≥ 0 | required | first position |

@@ -32,7 +32,8 @@ pub use constraints::{Aset1, Mpc, MpcTerm, Mpcadd, SetUnion, Spc, Spc1, Spcadd, 
 pub use design::{Ddval, Desvar};
 pub use dynamic::{
     Darea, Dload, EigenNorm, Eigrl, ExcitationKind, Freq, FreqKind, Lseq, ModalDampingUnits, Rload,
-    RloadTables, Tabdmp1, Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep, eigr_from_card,
+    RloadTables, RloadValue, Tabdmp1, Tabled, Tabled4, Tic, Tload, TloadFunction, Tstep,
+    eigr_from_card,
 };
 pub use elements::{
     BushAxes, Cbush, Cdamp1, Cdamp2, Celas1, Celas2, Celas3, Celas4, Chexa, Cmass2, Conm2, Cpenta,
@@ -45,8 +46,8 @@ pub use extension::{
 };
 pub use geometry::{Cord2, CordKind, Grdset, Grid};
 pub use ignored::ignored_card;
-pub use line_elements::{BeamOrientation, Cbar, Conrod, Crod, Offt};
-pub use line_properties::{Pbar, Pbarl, Pbeam, Prod, Ptube};
+pub use line_elements::{BeamOrientation, Cbar, Cbend, Conrod, Crod, Offt};
+pub use line_properties::{Pbar, Pbarl, Pbeam, Pbend, Prod, Ptube};
 pub use loads::{
     Force, ForceByGrids, Grav, Load, Pload, Pload1, Pload1Scale, Pload2, Pload4, Pload4Target,
     Sload,
@@ -106,6 +107,7 @@ pub struct BulkData {
     pub conrod: Vec<Conrod>,
     pub cbar: Vec<Cbar>,
     pub cbeam: Vec<Cbar>,
+    pub cbend: Vec<Cbend>,
     pub rbe2: Vec<Rbe2>,
     pub rbe3: Vec<Rbe3>,
     pub rsscon: Vec<Rsscon>,
@@ -130,6 +132,7 @@ pub struct BulkData {
     pub prod: Vec<Prod>,
     pub ptube: Vec<Ptube>,
     pub pbar: Vec<Pbar>,
+    pub pbend: Vec<Pbend>,
     pub pbarl: Vec<Pbarl>,
     pub pbeam: Vec<Pbeam>,
     pub pbeaml: Vec<Pbarl>,
@@ -315,6 +318,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("CONROD", |c, b| Ok(b.conrod.push(Conrod::from_card(c)?))),
     ("CBAR", |c, b| Ok(b.cbar.push(Cbar::from_card(c, false)?))),
     ("CBEAM", |c, b| Ok(b.cbeam.push(Cbar::from_card(c, true)?))),
+    ("CBEND", |c, b| Ok(b.cbend.push(Cbend::from_card(c)?))),
     ("RBE2", |c, b| Ok(b.rbe2.push(Rbe2::from_card(c)?))),
     ("RBE3", |c, b| Ok(b.rbe3.push(Rbe3::from_card(c)?))),
     ("RSSCON", |c, b| Ok(b.rsscon.push(Rsscon::from_card(c)?))),
@@ -347,6 +351,7 @@ pub static PARSERS: &[(&str, CardParser)] = &[
     ("PROD", |c, b| Ok(b.prod.push(Prod::from_card(c)?))),
     ("PTUBE", |c, b| Ok(b.ptube.push(Ptube::from_card(c)?))),
     ("PBAR", |c, b| Ok(b.pbar.push(Pbar::from_card(c)?))),
+    ("PBEND", |c, b| Ok(b.pbend.push(Pbend::from_card(c)?))),
     ("PBARL", |c, b| {
         Ok(b.pbarl.push(Pbarl::from_card(c, false)?))
     }),

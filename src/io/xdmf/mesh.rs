@@ -20,7 +20,7 @@
 //! | CPYRAM (5) | Pyramid (7) | G1..G4 the base, G5 the apex, as VTK_PYRAMID |
 //! | CHEXA20, CPENTA15 | Hexahedron (9), Wedge (8) | the corner grids only: `/model` holds their corner cells (a blank mid-side grid has no grid to draw); results at the mid-side grids are in the grid datasets |
 //! | CTETRA10 | Tetrahedron_10 (38) | Nastran G5..G10 = edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4; VTK_QUADRATIC_TETRA uses edges (0,1),(1,2),(2,0),(0,3),(1,3),(2,3): identical |
-//! | CROD, CONROD, CTUBE, CBAR, CBEAM, CELAS1, CELAS2, RBE2, RBE3, other 2-node cards | Polyline, 2 nodes (2, then the node count 2) | a grounded spring repeats its grid (zero-length line); a beam is drawn between its grids (offsets are not drawn) |
+//! | CROD, CONROD, CTUBE, CBAR, CBEAM, CBEND (drawn as its chord), CELAS1, CELAS2, RBE2, RBE3, other 2-node cards | Polyline, 2 nodes (2, then the node count 2) | a grounded spring repeats its grid (zero-length line); a beam is drawn between its grids (offsets are not drawn) |
 //! | CONM2, other 1-node cards | Polyvertex; in a mixed topology a Polyline from the grid to itself (2, 2, p, p) | see below |
 //!
 //! Blocks with another card and node count, or with no elements, are left out and reported.
