@@ -90,13 +90,7 @@ impl Model {
         if e.kind != super::ElementKind::Cbend {
             return None;
         }
-        let inputs = LineInputs {
-            bulk: &self.bulk,
-            coords: &self.coords,
-            grids: &self.grids,
-            grid_index: &self.grid_index,
-        };
-        Some(inputs.resolve_bend(e, e.property).map(|bend| {
+        Some(self.line_inputs().resolve_bend(e, e.property).map(|bend| {
             let material = MaterialUse {
                 mid: bend.mid,
                 material: self.material(bend.mid),

@@ -36,18 +36,7 @@ impl Model {
         }
         let geometry = line.geometry();
         let length = crate::fe::beam::length(&geometry).map_err(|e| e.to_string())?;
-        let at = if card.scale.fractional() {
-            card.x
-        } else {
-            card.x.map(|x| x / length)
-        };
-        // a position given as a length may reach the end within round-off of the length
-        if at[1] > 1.0 + 1e-9 {
-            return Err(format!(
-                "X2 = {} is beyond the element's length {length:e}",
-                card.x[1]
-            ));
-        }
+        let at = fractions_along(card, length, "the element's length")?;
         let mut direction = [0.0; 3];
         direction[card.axis] = 1.0;
         let load = LineLoad {
@@ -107,17 +96,7 @@ impl Model {
             return Err(format!("MID = {} of the CBEND is not a MAT1", used.mid));
         };
         let length = bend.arc.length();
-        let at = if card.scale.fractional() {
-            card.x
-        } else {
-            card.x.map(|x| x / length)
-        };
-        if at[1] > 1.0 + 1e-9 {
-            return Err(format!(
-                "X2 = {} is beyond the CBEND's arc length {length:e}",
-                card.x[1]
-            ));
-        }
+        let at = fractions_along(card, length, "the CBEND's arc length")?;
         let mut direction = [0.0; 3];
         direction[card.axis] = 1.0;
         let load = crate::fe::bend::ArcLoad {
@@ -161,4 +140,19 @@ pub fn check(
                 .map(|e| crate::deck::DeckError::at(&c.loc, e).on_card(format!("PLOAD1 {}", c.sid)))
         })
         .collect()
+}
+
+/// X1, X2 of a PLOAD1 as fractions of `length` (they are already when the scale is fractional);
+/// X2 beyond the end is an error naming `what` the length is. A position given as a length
+/// may reach the end within round-off of the length.
+fn fractions_along(card: &Pload1, length: f64, what: &str) -> Result<[f64; 2], String> {
+    let at = if card.scale.fractional() {
+        card.x
+    } else {
+        card.x.map(|x| x / length)
+    };
+    if at[1] > 1.0 + 1e-9 {
+        return Err(format!("X2 = {} is beyond {what} {length:e}", card.x[1]));
+    }
+    Ok(at)
 }

@@ -268,18 +268,22 @@ pub fn property_loc(b: &BulkData, p: PropertyRef) -> Option<&crate::deck::Loc> {
 }
 
 impl Model {
+    /// What resolving a line or curved-beam element needs, from this model.
+    pub(super) fn line_inputs(&self) -> LineInputs<'_> {
+        LineInputs {
+            bulk: &self.bulk,
+            coords: &self.coords,
+            grids: &self.grids,
+            grid_index: &self.grid_index,
+        }
+    }
+
     /// The resolved data of a line element and its material (`None` for other elements).
     pub fn line_element(&self, e: &Element) -> Option<Result<(LineElement, MaterialUse), String>> {
         if !e.kind.is_line() {
             return None;
         }
-        let inputs = LineInputs {
-            bulk: &self.bulk,
-            coords: &self.coords,
-            grids: &self.grids,
-            grid_index: &self.grid_index,
-        };
-        Some(inputs.resolve(e, e.property).map(|line| {
+        Some(self.line_inputs().resolve(e, e.property).map(|line| {
             let material = MaterialUse {
                 mid: line.section.mid,
                 material: self.material(line.section.mid),
