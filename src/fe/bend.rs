@@ -299,19 +299,28 @@ fn relative_motion(arc: &Arc) -> Mat<f64> {
     s
 }
 
-/// The 12×12 stiffness (basic) at moduli E, G.
-pub fn stiffness(arc: &Arc, s: &BendSection, e: f64, g: f64) -> Result<Mat<f64>, BendError> {
-    s.check()?;
-    let f = tip_flexibility(arc, s, e, g);
-    let kbb = f
+/// The Cholesky factor of the tip flexibility; a section that does not make it positive
+/// definite is an error naming the section's values.
+fn tip_flexibility_factor(
+    arc: &Arc,
+    s: &BendSection,
+    e: f64,
+    g: f64,
+) -> Result<faer::linalg::solvers::Llt<f64>, BendError> {
+    tip_flexibility(arc, s, e, g)
         .llt(faer::Side::Lower)
         .map_err(|_| BendError::SectionNotPositive {
             a: s.a,
             i1: s.i1,
             i2: s.i2,
             j: s.j,
-        })?
-        .inverse();
+        })
+}
+
+/// The 12×12 stiffness (basic) at moduli E, G.
+pub fn stiffness(arc: &Arc, s: &BendSection, e: f64, g: f64) -> Result<Mat<f64>, BendError> {
+    s.check()?;
+    let kbb = tip_flexibility_factor(arc, s, e, g)?.inverse();
     let t = relative_motion(arc);
     Ok(t.transpose() * kbb * &t)
 }
@@ -398,17 +407,8 @@ pub fn grid_loads(
             }
         }
     }
-    let f = tip_flexibility(arc, s, e, g);
     let rhs = Mat::from_fn(6, 1, |i, _| delta[i]);
-    let share = f
-        .llt(faer::Side::Lower)
-        .map_err(|_| BendError::SectionNotPositive {
-            a: s.a,
-            i1: s.i1,
-            i2: s.i2,
-            j: s.j,
-        })?
-        .solve(&rhs);
+    let share = tip_flexibility_factor(arc, s, e, g)?.solve(&rhs);
     let at_b: [f64; 6] = std::array::from_fn(|i| share[(i, 0)]);
     let force_b = [at_b[0], at_b[1], at_b[2]];
     let moment_b_about_a = add([at_b[3], at_b[4], at_b[5]], cross(sub(pb, pa), force_b));
