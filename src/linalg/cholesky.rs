@@ -769,6 +769,39 @@ pub(crate) mod tests {
         }
     }
 
+    /// A pivot within `ZERO_PIVOT_TOL` of its diagonal counts as zero, a negative one as
+    /// negative: [[1, 1, 0], [1, 1 + ε, 0], [0, 0, −2]] has the pivots 1, ε and −2 in the
+    /// natural order (ε = 1e-14 ≤ 1e-12·(1 + ε)), whatever order the factorization takes, since
+    /// the inertia of a matrix does not depend on it (Sylvester) and ε is far below the
+    /// tolerance in any order.
+    #[test]
+    fn ldlt_inertia_counts_near_zero_and_negative_pivots() {
+        let mut coo = CooMatrix::new(3, 3);
+        for (i, j, v) in [
+            (0, 0, 1.0),
+            (0, 1, 1.0),
+            (1, 0, 1.0),
+            (1, 1, 1.0 + 1e-14),
+            (2, 2, -2.0),
+        ] {
+            coo.push(i, j, v);
+        }
+        let a = CscMatrix::from(&coo);
+        for variant in VARIANTS {
+            let sym = SymbolicFactor::analyze_with(a.pattern(), variant, Ordering::Auto).unwrap();
+            let inertia = sym.factor_ldlt(&a, Par::Seq).unwrap().inertia();
+            assert_eq!(
+                inertia,
+                Inertia {
+                    negative: 1,
+                    zero: 1,
+                    positive: 1
+                },
+                "{variant:?}"
+            );
+        }
+    }
+
     /// Inertia of a diagonal-shifted chain equals the count of analytic eigenvalues below
     /// the shift: fixed–fixed unit chain, λ_k = 4 sin²(kπ / (2(n+1))).
     #[test]
