@@ -7,6 +7,17 @@ fn quarter(r: f64, rule: ArcRule, v: [f64; 3]) -> Arc {
     Arc::new([r, 0.0, 0.0], [0.0, r, 0.0], v, rule).unwrap()
 }
 
+/// An arc of 2 rad in a general position, off every basic plane.
+fn skew_arc() -> Arc {
+    Arc::new(
+        [0.3, -0.2, 1.0],
+        [1.1, 0.4, 0.2],
+        [0.2, 1.0, 0.5],
+        ArcRule::Angle(2.0),
+    )
+    .unwrap()
+}
+
 const SECTION: BendSection = BendSection {
     a: 0.5,
     i1: 0.08,
@@ -158,13 +169,7 @@ fn end_moment_on_a_half_circle() {
 
 #[test]
 fn stiffness_is_symmetric_with_six_rigid_modes() {
-    let arc = Arc::new(
-        [0.3, -0.2, 1.0],
-        [1.1, 0.4, 0.2],
-        [0.2, 1.0, 0.5],
-        ArcRule::Angle(2.0),
-    )
-    .unwrap();
+    let arc = skew_arc();
     let k = stiffness(&arc, &SECTION, 100.0, 40.0).unwrap();
     let scale = (0..12).map(|i| k[(i, i)].abs()).fold(0.0, f64::max);
     for i in 0..12 {
@@ -235,13 +240,7 @@ fn affine_parts_and_lumped_mass() {
 /// origin), and a force at an end goes to that end alone.
 #[test]
 fn arc_loads_balance_and_end_loads_stay_at_their_end() {
-    let arc = Arc::new(
-        [0.3, -0.2, 1.0],
-        [1.1, 0.4, 0.2],
-        [0.2, 1.0, 0.5],
-        ArcRule::Angle(2.0),
-    )
-    .unwrap();
+    let arc = skew_arc();
     let (e, g) = (100.0, 40.0);
     let direction = [0.6, 0.0, 0.8];
     let distributed = ArcLoad {

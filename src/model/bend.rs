@@ -10,7 +10,6 @@ use super::properties::MaterialUse;
 use super::{Element, Model, PropertyRef};
 use crate::deck::cards::{BeamOrientation, Cbend, Pbend};
 use crate::fe::bend::{Arc, ArcRule, BendSection};
-use crate::geometry::vec3::sub;
 
 /// A CBEND resolved into the basic system.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -41,14 +40,7 @@ impl LineInputs<'_> {
             return Err("a CBEND needs two grids".into());
         };
         let v = match c.orientation {
-            BeamOrientation::Grid(g0) => {
-                let g = self
-                    .grid_index
-                    .get(&g0)
-                    .and_then(|&i| self.grids.get(i))
-                    .ok_or_else(|| format!("G0 = {g0} does not exist (no GRID {g0})"))?;
-                sub(g.xyz, ga.xyz)
-            }
+            BeamOrientation::Grid(g0) => self.towards_g0(g0, ga)?,
             BeamOrientation::Vector(v) => self.in_basic(ga, v)?,
         };
         let arc = Arc::new(ga.xyz, gb.xyz, v, arc_rule(c, p)?).map_err(|x| x.to_string())?;

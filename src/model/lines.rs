@@ -65,6 +65,16 @@ pub(super) struct LineInputs<'a> {
 }
 
 impl LineInputs<'_> {
+    /// The orientation vector from end A to the orientation grid G0, in basic.
+    pub(super) fn towards_g0(&self, g0: u32, a: &GridPoint) -> Result<[f64; 3], String> {
+        let g = self
+            .grid_index
+            .get(&g0)
+            .and_then(|&i| self.grids.get(i))
+            .ok_or_else(|| format!("G0 = {g0} does not exist (no GRID {g0})"))?;
+        Ok(sub(g.xyz, a.xyz))
+    }
+
     /// A vector given in grid `g`'s displacement system, in basic.
     pub(super) fn in_basic(&self, g: &GridPoint, v: [f64; 3]) -> Result<[f64; 3], String> {
         if g.cd == 0 {
@@ -87,14 +97,7 @@ impl LineInputs<'_> {
             self.in_basic(ends[1], c.offsets[1])?,
         ];
         let v = match c.orientation {
-            BeamOrientation::Grid(g0) => {
-                let g = self
-                    .grid_index
-                    .get(&g0)
-                    .and_then(|&i| self.grids.get(i))
-                    .ok_or_else(|| format!("G0 = {g0} does not exist (no GRID {g0})"))?;
-                sub(g.xyz, ends[0].xyz)
-            }
+            BeamOrientation::Grid(g0) => self.towards_g0(g0, ends[0])?,
             BeamOrientation::Vector(v) if c.offt.vector_in_basic => v,
             BeamOrientation::Vector(v) => self.in_basic(ends[0], v)?,
         };
